@@ -1,0 +1,97 @@
+// Data: the preallocated workspace of one simulation, sized at compile time by
+// the Variant. Grouped by the stage that writes it. Nothing here allocates.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "gimbalsim/dynamics/state.hpp"
+
+namespace gimbalsim {
+
+/// Why a step stopped; every value but Ok means the state was not advanced.
+enum class StepStatus : std::uint8_t {
+  Ok,
+  NonFinite,         ///< NaN or Inf in the state or its derivative
+  VelocityLimit,     ///< a velocity coordinate beyond integrator.velocity_limit
+  PenetrationLimit,  ///< contact penetration beyond integrator.penetration_limit
+  SubstepCap,        ///< more sub-steps than the cap in one step
+  EventNotLocated,   ///< the contact switch could not be located
+};
+
+const char* describe(StepStatus s);
+
+/// Contact quantities of the clearance joint at one evaluation.
+struct ContactEval {
+  double e = 0.0;       ///< eccentricity magnitude [m]
+  Vec2 n = Vec2::Zero();  ///< unit normal in the joint plane basis (zero when e = 0)
+  double delta = 0.0;   ///< penetration e - c [m] (negative: free)
+  double vn = 0.0;      ///< normal relative velocity = d(delta)/dt [m/s]
+  double vt = 0.0;      ///< tangential relative velocity of the material points [m/s]
+  double fn = 0.0;      ///< normal force magnitude [N]
+  double ft = 0.0;      ///< tangential (friction) force along t [N]
+};
+
+/// Counters of a run, written by the integrator.
+struct RunStats {
+  long long steps = 0;              ///< RK4 steps of size h requested
+  long long substeps = 0;           ///< RK4 evaluations taken, all kinds
+  long long event_iterations = 0;   ///< of those, spent locating switches
+  int max_substeps_in_step = 0;     ///< worst step
+  long long impacts = 0;            ///< located contact onsets
+  long long separations = 0;        ///< located contact ends
+  double last_onset_time = -1.0;    ///< [s]
+  double peak_fn = 0.0, t_peak_fn = 0.0;        ///< [N], [s]
+  double peak_contact = 0.0, t_peak_contact = 0.0;  ///< |F_n n + F_t t| [N], [s]
+  double max_penetration = 0.0;     ///< [m]
+};
+
+template <class V>
+struct Data {
+  static constexpr int NV = V::NV, NQ = V::NQ, NJ = V::NJ, NB = V::NB;
+  using VecV = Eigen::Matrix<double, NV, 1>;
+  using VecQ = Eigen::Matrix<double, NQ, 1>;
+  using MatV = Eigen::Matrix<double, NV, NV>;
+
+  explicit Data(const Model& model) { (void)model; }
+
+  // ---- kinematics (kinematics.hpp) ----
+  std::array<Transform, NJ> X{};  ///< chain body i relative to its parent
+  std::array<Vec6, NJ> S{};       ///< motion subspace of joint i, body i coords
+  Vec6 v_base = Vec6::Zero();     ///< base twist, base coords [rad/s, m/s]
+  std::array<Vec6, NJ> v{};       ///< body twists, body coords
+
+  // ---- inverse dynamics (rnea.hpp) ----
+  Vec6 a_base = Vec6::Zero();
+  std::array<Vec6, NJ> a{};       ///< spatial accelerations, body coords
+  Vec6 f_base = Vec6::Zero();
+  std::array<Vec6, NJ> f{};       ///< force transmitted by joint i to body i, body coords [N m, N]
+
+  // ---- mass matrix (crba.hpp) ----
+  std::array<SpatialInertia, NJ> Ic{};  ///< composite inertias
+  SpatialInertia Ic_base;
+  MatV M = MatV::Zero();          ///< joint-space inertia [kg, kg m, kg m^2]
+  MatV L = MatV::Zero();          ///< its Cholesky factor (lower)
+
+  // ---- forward dynamics (forward_dynamics.hpp) ----
+  VecV bias = VecV::Zero();       ///< C(q, v) v [N, N m]
+  VecV tau = VecV::Zero();        ///< generalised applied forces incl. contact
+  VecV vdot = VecV::Zero();
+  VecQ qdot = VecQ::Zero();
+  ContactEval contact;
+
+  // ---- integrator (integrator.hpp) ----
+  struct Deriv {
+    VecQ qd = VecQ::Zero();
+    VecV vd = VecV::Zero();
+  };
+  std::array<Deriv, 4> k{};       ///< RK4 stage derivatives
+  State<V> stage;                 ///< RK4 stage state
+  State<V> trial, bracket_lo, bracket_hi;
+  ContactEval contact_k1;         ///< contact at the start of the last sub-step
+  RunStats stats;
+  double fail_time = 0.0;         ///< [s] when a step failed
+  int fail_index = -1;            ///< coordinate that failed (v index, or -1)
+};
+
+}  // namespace gimbalsim

@@ -1,0 +1,55 @@
+// Forward dynamics: vdot = M(q)^-1 (tau + Q_contact - C(q, v)), with M from
+// the CRBA, C from the RNEA, and the configuration rates qdot(q, v).
+#pragma once
+
+#include <limits>
+
+#include "gimbalsim/dynamics/clearance_joint.hpp"
+#include "gimbalsim/dynamics/crba.hpp"
+#include "gimbalsim/dynamics/kinematics.hpp"
+#include "gimbalsim/dynamics/rnea.hpp"
+
+namespace gimbalsim {
+
+/// Joint torques as generalised forces (a pure couple about each joint axis).
+template <class V>
+void applyJointTorques(Data<V>& d, const Input& u) {
+  d.tau.setZero();
+  d.tau(V::NB) = u.tau(0);
+  d.tau(V::NB + V::NJ - 1) = u.tau(1);
+}
+
+/// Configuration rates: pdot_W = R_WB v_B, quaternion rate 0.5 q (0, omega_B).
+template <class V>
+void configurationRates(const State<V>& s, Data<V>& d) {
+  constexpr int QJ = State<V>::QJ, NB = V::NB, NJ = V::NJ;
+  if constexpr (V::kFloating) {
+    const Quat quat = Quat(s.q(3), s.q(4), s.q(5), s.q(6)).normalized();
+    const Vec3 w = s.v.template head<3>();
+    d.qdot.template head<3>() = quat.toRotationMatrix() * s.v.template segment<3>(3);
+    const double qw = s.q(3);
+    const Vec3 qv = s.q.template segment<3>(4);
+    d.qdot(3) = -0.5 * qv.dot(w);
+    d.qdot.template segment<3>(4) = 0.5 * (qw * w + qv.cross(w));
+  }
+  d.qdot.template segment<NJ>(QJ) = s.v.template segment<NJ>(NB);
+}
+
+/// Fills d.qdot, d.vdot (and d.contact) at state s under input u.
+template <class V>
+void forwardDynamics(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
+  kinematics(m, d, s.q, s.v);
+  rnea(m, d, s.v, Data<V>::VecV::Zero(), d.bias);
+  crba(m, d);
+  applyJointTorques(d, u);
+  if constexpr (V::kClearance) {
+    clearanceContact(m, d, s.q, s.v, s.v0);
+    addContactForces(m, d);
+  }
+  d.L = d.M;
+  d.vdot = d.tau - d.bias;
+  if (!choleskySolveInPlace(d.L, d.vdot)) d.vdot.setConstant(std::numeric_limits<double>::quiet_NaN());
+  configurationRates(s, d);
+}
+
+}  // namespace gimbalsim

@@ -1,0 +1,146 @@
+// Model: the constant description of a scene (pinocchio's Model / MuJoCo's
+// mjModel). Built once from a scene file by loadScene() (scene.hpp), validated,
+// then only ever passed as const Model&.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "gimbalsim/dynamics/spatial.hpp"
+
+namespace gimbalsim {
+
+enum class RadiusMode : std::uint8_t { Paper, Conformal };
+enum class DampingLaw : std::uint8_t { None, HuntCrossley, LankaraniNikravesh, Flores };
+enum class FrictionLaw : std::uint8_t { None, Coulomb, Ambrosio };
+enum class JointKind : std::uint8_t { Revolute, Prismatic };
+
+/// Compile-time shape of a scene. A variant without a floating base,
+/// clearance or friction compiles none of their code.
+template <bool Floating, bool Clearance, bool Friction>
+struct Variant {
+  static_assert(Clearance || !Friction, "friction needs the clearance joint");
+  static constexpr bool kFloating = Floating;
+  static constexpr bool kClearance = Clearance;
+  static constexpr bool kFriction = Friction;
+  static constexpr int NB = Floating ? 6 : 0;    ///< base velocity coordinates
+  static constexpr int NJ = Clearance ? 4 : 2;   ///< 1-dof joints of the chain
+  static constexpr int NV = NB + NJ;             ///< velocity coordinates
+  static constexpr int NQ = (Floating ? 7 : 0) + NJ;  ///< position coordinates
+  /// Chain index of joint 2's rotation (the elevation angle theta2).
+  static constexpr int kTheta2 = NJ - 1;
+};
+
+using FixedIdeal = Variant<false, false, false>;
+using FixedClearance = Variant<false, true, false>;
+using FixedClearanceFriction = Variant<false, true, true>;
+using FloatingIdeal = Variant<true, false, false>;
+using FloatingClearance = Variant<true, true, false>;
+using FloatingClearanceFriction = Variant<true, true, true>;
+
+/// Rigid body inertial parameters.
+struct BodyParams {
+  double mass = 1.0;                  ///< [kg]
+  Vec3 com = Vec3::Zero();            ///< centre of mass in the body frame [m]
+  Mat3 inertia = Mat3::Identity();    ///< about the centre of mass, body frame [kg m^2]
+};
+
+/// Journal-in-bearing contact of joint 2 (MODEL.md section 2).
+struct ContactParams {
+  double bearing_radius = 10.0e-3;    ///< R_i, on shaft 1 [m]
+  double journal_radius = 9.5e-3;     ///< R_j, on shaft 2 [m]
+  RadiusMode radius_mode = RadiusMode::Paper;
+  double E_bearing = 166e9;           ///< Young's modulus [Pa]
+  double nu_bearing = 0.28;           ///< Poisson's ratio [-]
+  double E_journal = 177e9;           ///< [Pa]
+  double nu_journal = 0.29;           ///< [-]
+  double exponent = 1.5;              ///< Hertz exponent n [-]
+  double stiffness_scale = 1.0;       ///< multiplies K (stress studies) [-]
+  DampingLaw damping = DampingLaw::LankaraniNikravesh;
+  double restitution = 0.95;          ///< c_e [-]
+  double v0_min = 1.0e-4;             ///< floor on the impact velocity in D [m/s]
+  FrictionLaw friction = FrictionLaw::Coulomb;
+  double mu = 0.25;                   ///< dynamic friction coefficient [-]
+  double v_a = 1.0e-4;                ///< Ambrosio: no friction below [m/s]
+  double v_b = 1.0e-3;                ///< Ambrosio: full friction above [m/s]
+
+  /// Derived (Model::finalize): radial clearance c = R_i - R_j [m].
+  double clearance = 0.5e-3;
+  /// Derived: Hertz stiffness K [N/m^n] (paper eq. 11 with the chosen R).
+  double K = 0.0;
+  /// Derived: hysteresis factor chi with D = chi K delta^n / v0 [-].
+  double chi = 0.0;
+};
+
+/// Numerical settings of the fixed-step integrator.
+struct IntegratorParams {
+  double step = 1.0e-3;               ///< RK4 step h [s]
+  double substep = 2.0e-5;            ///< RK4 sub-step near and in contact [s]
+  double event_tol = 1.0e-9;          ///< contact switch time tolerance [s]
+  int max_substeps = 0;               ///< cap per step; 0 = automatic
+  int max_event_iters = 60;           ///< cap on switch-location iterations
+  double velocity_limit = 1.0e4;      ///< |v_i| above this is divergence [rad/s or m/s]
+  double penetration_limit = 0.0;     ///< delta above this is divergence [m]; 0 = clearance
+};
+
+/// Initial state (MODEL.md section 1: everything at rest, journal concentric).
+struct InitialParams {
+  double theta1 = 0.0, theta2 = 0.0;    ///< [rad]
+  double dtheta1 = 0.0, dtheta2 = 0.0;  ///< [rad/s]
+  Vec2 ecc = Vec2::Zero();              ///< journal centre in the joint plane [m]
+};
+
+struct Model {
+  std::string name;
+
+  // ---- structure (picks the Variant) ----
+  bool floating_base = true;
+  bool clearance = false;
+
+  // ---- bodies ----
+  BodyParams base;    ///< base frame origin is the base centre of mass (com must be 0)
+  BodyParams shaft1;  ///< frame origin at joint 1
+  BodyParams shaft2;  ///< frame origin at joint 2 (the journal centre)
+
+  // ---- geometry (all frames parallel to the inertial one at q = 0) ----
+  Vec3 r_J1_B_B{0.0, 0.0, 0.5};     ///< joint 1 from base CoM, base frame [m]
+  Vec3 k1_B{0.0, 0.0, 1.0};         ///< joint 1 axis, base frame (unit)
+  Vec3 r_J2_S1_S1{0.0, 0.0, 1.0};   ///< joint 2 from joint 1, shaft 1 frame [m]
+  Vec3 k2_S1{0.0, 1.0, 0.0};        ///< joint 2 axis, shaft 1 frame (unit)
+  Vec3 boresight_S2{1.0, 0.0, 0.0}; ///< antenna boresight, shaft 2 frame (unit)
+
+  ContactParams contact;
+  IntegratorParams integrator;
+  InitialParams initial;
+
+  // ---- inputs and run ----
+  Vec2 torque{5.0, 10.0};           ///< constant joint torques tau1, tau2 [N m]
+  Vec2 torque_limit{1.0e3, 1.0e3};  ///< motor limit per axis [N m]
+  double duration = 5.0;            ///< simulated time [s]
+  double output_interval = 1.0e-3;  ///< CSV row spacing [s]
+
+  // ---- derived by finalize() ----
+  /// Joint-2 plane basis in shaft 1 coordinates: u1 x u2 = k2.
+  Vec3 u1_S1 = Vec3::UnitZ(), u2_S1 = Vec3::UnitX();
+  /// The 1-dof joints of the chain (2 ideal, 4 with clearance: theta1, ecc_x,
+  /// ecc_y, theta2); joint i connects chain body i-1 (or the base) to body i.
+  struct ChainJoint {
+    JointKind kind = JointKind::Revolute;
+    Vec3 axis = Vec3::UnitZ();        ///< unit, parent frame (= child frame at q=0)
+    Vec3 origin = Vec3::Zero();       ///< joint origin in the parent frame [m]
+  };
+  std::array<ChainJoint, 4> chain{};
+  std::array<SpatialInertia, 4> I_chain{};  ///< chain body i about its origin, body coords
+  SpatialInertia I_base;                    ///< base about its CoM, base coords
+  double total_mass = 0.0;            ///< [kg]
+
+  /// Derives K, chi, c, the joint-plane basis and the chain. Call after any
+  /// parameter change; loadScene() does.
+  void finalize();
+
+  /// Contact stiffness for a radius mode (paper eq. 11) [N/m^1.5].
+  static double hertzStiffness(const ContactParams& c, RadiusMode mode);
+};
+
+}  // namespace gimbalsim

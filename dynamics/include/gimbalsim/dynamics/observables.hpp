@@ -1,0 +1,157 @@
+// What a user reads off a state: world poses, momentum, energy, boresight,
+// base Euler angles, the force joint 2 transmits. Not on the step hot path.
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include "gimbalsim/dynamics/forward_dynamics.hpp"
+
+namespace gimbalsim {
+
+/// One output row. The order and names are the CSV header (kColumns).
+struct Row {
+  double t;                                    ///< [s]
+  double base_x, base_y, base_z;               ///< base CoM, inertial [m]
+  double base_vx, base_vy, base_vz;            ///< inertial [m/s]
+  double base_ax, base_ay, base_az;            ///< inertial [m/s^2]
+  double base_roll, base_pitch, base_yaw;      ///< Z-Y-X Euler angles [rad]
+  double base_wx, base_wy, base_wz;            ///< angular velocity, base frame [rad/s]
+  double base_dwx, base_dwy, base_dwz;         ///< angular acceleration, base frame [rad/s^2]
+  double theta1, theta2;                       ///< joint angles [rad]
+  double dtheta1, dtheta2;                     ///< [rad/s]
+  double ddtheta1, ddtheta2;                   ///< [rad/s^2]
+  double ecc_x, ecc_y, ecc;                    ///< eccentricity, joint-2 plane [m]
+  double delta;                                ///< penetration (0 if ideal) [m]
+  double fn, ft;                               ///< contact normal, friction force [N]
+  double joint2_force;                         ///< force joint 2 transmits [N]
+  double bore_x, bore_y, bore_z;               ///< boresight unit vector, inertial
+  double mom_px, mom_py, mom_pz;               ///< total linear momentum, inertial [N s]
+  double mom_lx, mom_ly, mom_lz;               ///< total angular momentum about O [N m s]
+  double energy;                               ///< total kinetic energy [J]
+};
+inline constexpr int kNumColumns = sizeof(Row) / sizeof(double);
+inline constexpr std::array<const char*, kNumColumns> kColumns = {
+    "t",        "base_x",   "base_y",   "base_z",     "base_vx",   "base_vy",  "base_vz",
+    "base_ax",  "base_ay",  "base_az",  "base_roll",  "base_pitch", "base_yaw", "base_wx",
+    "base_wy",  "base_wz",  "base_dwx", "base_dwy",   "base_dwz",  "theta1",   "theta2",
+    "dtheta1",  "dtheta2",  "ddtheta1", "ddtheta2",   "ecc_x",     "ecc_y",    "ecc",
+    "delta",    "fn",       "ft",       "joint2_force", "bore_x",  "bore_y",   "bore_z",
+    "mom_px",   "mom_py",   "mom_pz",   "mom_lx",     "mom_ly",    "mom_lz",   "energy"};
+inline const double* rowData(const Row& r) { return &r.t; }
+
+/// World pose of every body (base, then chain bodies).
+template <class V>
+struct WorldPoses {
+  Mat3 R_WB = Mat3::Identity();
+  Vec3 p_WB = Vec3::Zero();
+  std::array<Mat3, V::NJ> R{};
+  std::array<Vec3, V::NJ> p{};
+};
+
+/// Needs kinematics() at s.
+template <class V>
+WorldPoses<V> worldPoses(const Model& m, const Data<V>& d, const State<V>& s) {
+  WorldPoses<V> w;
+  if constexpr (V::kFloating) {
+    w.R_WB = Quat(s.q(3), s.q(4), s.q(5), s.q(6)).normalized().toRotationMatrix();
+    w.p_WB = s.q.template head<3>();
+  }
+  (void)m;
+  Mat3 R = w.R_WB;
+  Vec3 p = w.p_WB;
+  for (int i = 0; i < V::NJ; ++i) {
+    p = p + R * d.X[i].r_PC_P;
+    R = R * d.X[i].R_PC;
+    w.R[i] = R;
+    w.p[i] = p;
+  }
+  return w;
+}
+
+struct Momentum {
+  Vec3 linear = Vec3::Zero();   ///< [N s], inertial
+  Vec3 angular = Vec3::Zero();  ///< about the inertial origin [N m s]
+  double energy = 0.0;          ///< kinetic [J]
+  double scale = 0.0;           ///< sum of |angular momentum| of the bodies: drift reference [N m s]
+};
+
+/// Needs kinematics() at s.
+template <class V>
+Momentum momentum(const Model& m, const Data<V>& d, const State<V>& s) {
+  const WorldPoses<V> w = worldPoses(m, d, s);
+  Momentum out;
+  auto add = [&](const SpatialInertia& I, const Vec6& v, const Mat3& R, const Vec3& p) {
+    const Vec6 h = I * v;  // spatial momentum about the body origin, body coords
+    const Vec3 lin = R * h.template tail<3>();
+    const Vec3 ang = R * h.template head<3>() + p.cross(lin);
+    out.linear += lin;
+    out.angular += ang;
+    out.energy += 0.5 * v.dot(h);
+    out.scale += ang.norm();
+  };
+  if constexpr (V::kFloating) add(m.I_base, d.v_base, w.R_WB, w.p_WB);
+  for (int i = 0; i < V::NJ; ++i) add(m.I_chain[i], d.v[i], w.R[i], w.p[i]);
+  return out;
+}
+
+/// Antenna boresight in the inertial frame; needs kinematics() at s.
+template <class V>
+Vec3 boresight(const Model& m, const Data<V>& d, const State<V>& s) {
+  return worldPoses(m, d, s).R[V::NJ - 1] * m.boresight_S2;
+}
+
+/// Z-Y-X (yaw, pitch, roll) Euler angles of R: returns (roll, pitch, yaw) [rad].
+inline Vec3 eulerZYX(const Mat3& R) {
+  const double pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
+  return {std::atan2(R(2, 1), R(2, 2)), pitch, std::atan2(R(1, 0), R(0, 0))};
+}
+
+/// Fills an output row at s (one forward-dynamics evaluation plus one RNEA).
+template <class V>
+Row observe(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
+  constexpr int QJ = State<V>::QJ, NB = V::NB, NJ = V::NJ;
+  forwardDynamics(m, d, s, u);
+  Row r{};
+  r.t = s.t;
+  const WorldPoses<V> w = worldPoses(m, d, s);
+  if constexpr (V::kFloating) {
+    const Vec3 wB = s.v.template head<3>(), vB = s.v.template segment<3>(3);
+    const Vec3 p = w.p_WB, vel = w.R_WB * vB;
+    const Vec3 acc = w.R_WB * (d.vdot.template segment<3>(3) + wB.cross(vB));
+    const Vec3 eul = eulerZYX(w.R_WB);
+    r.base_x = p.x(), r.base_y = p.y(), r.base_z = p.z();
+    r.base_vx = vel.x(), r.base_vy = vel.y(), r.base_vz = vel.z();
+    r.base_ax = acc.x(), r.base_ay = acc.y(), r.base_az = acc.z();
+    r.base_roll = eul.x(), r.base_pitch = eul.y(), r.base_yaw = eul.z();
+    r.base_wx = wB.x(), r.base_wy = wB.y(), r.base_wz = wB.z();
+    r.base_dwx = d.vdot(0), r.base_dwy = d.vdot(1), r.base_dwz = d.vdot(2);
+  }
+  r.theta1 = s.q(QJ), r.theta2 = s.q(QJ + NJ - 1);
+  r.dtheta1 = s.v(NB), r.dtheta2 = s.v(NB + NJ - 1);
+  r.ddtheta1 = d.vdot(NB), r.ddtheta2 = d.vdot(NB + NJ - 1);
+  if constexpr (V::kClearance) {
+    const ContactEval& c = d.contact;
+    r.ecc_x = s.q(QJ + 1), r.ecc_y = s.q(QJ + 2), r.ecc = c.e;
+    r.delta = c.delta;
+    r.fn = c.fn, r.ft = c.ft;
+    r.joint2_force = std::hypot(c.fn, c.ft);
+  }
+  const Vec3 b = w.R[NJ - 1] * m.boresight_S2;
+  r.bore_x = b.x(), r.bore_y = b.y(), r.bore_z = b.z();
+  const Momentum h = momentum(m, d, s);
+  r.mom_px = h.linear.x(), r.mom_py = h.linear.y(), r.mom_pz = h.linear.z();
+  r.mom_lx = h.angular.x(), r.mom_ly = h.angular.y(), r.mom_lz = h.angular.z();
+  r.energy = h.energy;
+  if constexpr (!V::kClearance) {
+    // Ideal joint: the constraint force joint 2 transmits, from the RNEA at
+    // the actual acceleration (its moment part holds the torque couple).
+    typename Data<V>::VecV tau;
+    const typename Data<V>::VecV vdot = d.vdot;
+    rnea(m, d, s.v, vdot, tau);
+    r.joint2_force = d.f[NJ - 1].template tail<3>().norm();
+  }
+  return r;
+}
+
+}  // namespace gimbalsim

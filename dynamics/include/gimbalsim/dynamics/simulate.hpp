@@ -1,0 +1,60 @@
+// Whole-run driver: picks the Variant once from the Model, steps to the end,
+// hands each output row to a sink. The hot loop is the templated step().
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gimbalsim/dynamics/data.hpp"
+#include "gimbalsim/dynamics/model.hpp"
+#include "gimbalsim/dynamics/observables.hpp"
+
+namespace gimbalsim {
+
+/// Which compiled variant a model runs as.
+std::string variantName(const Model& m);
+/// Friction code is compiled in only when it can act.
+inline bool frictionActive(const Model& m) {
+  return m.clearance && m.contact.friction != FrictionLaw::None && m.contact.mu > 0.0;
+}
+
+/// Calls f with a default-constructed Variant tag matching the model.
+template <class F>
+decltype(auto) dispatchVariant(const Model& m, F&& f) {
+  if (m.floating_base) {
+    if (!m.clearance) return f(FloatingIdeal{});
+    if (frictionActive(m)) return f(FloatingClearanceFriction{});
+    return f(FloatingClearance{});
+  }
+  if (!m.clearance) return f(FixedIdeal{});
+  if (frictionActive(m)) return f(FixedClearanceFriction{});
+  return f(FixedClearance{});
+}
+
+/// Names of the q and v coordinates of a variant (for diagnostics and output).
+std::vector<std::string> coordinateNamesQ(const Model& m);
+std::vector<std::string> coordinateNamesV(const Model& m);
+
+struct RunResult {
+  bool ok = true;
+  std::string error;           ///< what stopped the run, when and in what
+  double t_end = 0.0;          ///< last good time [s]
+  RunStats stats;
+  bool in_contact_at_end = false;
+  std::vector<double> final_q, final_v;
+  Vec3 momentum0_linear = Vec3::Zero(), momentum0_angular = Vec3::Zero();
+  double max_drift_linear = 0.0;   ///< max |P(t) - P(0)| over output rows [N s]
+  double max_drift_angular = 0.0;  ///< max |L(t) - L(0)| [N m s]
+  double momentum_scale = 0.0;     ///< max over rows of sum |L_body|: drift reference [N m s]
+  double peak_joint2_force = 0.0, t_peak_joint2_force = 0.0;  ///< [N], [s]
+  long long rows = 0;
+  double wall_seconds = 0.0;       ///< whole run including the sink
+  double step_seconds = 0.0;       ///< inside step() only
+};
+
+/// Runs the scene's constant torques for model.duration. The sink sees every
+/// row (including t = 0); a non-finite row stops the run before reaching it.
+RunResult simulate(const Model& m, const std::function<void(const Row&)>& sink);
+
+}  // namespace gimbalsim

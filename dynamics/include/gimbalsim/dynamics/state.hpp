@@ -1,0 +1,54 @@
+// State: small, copyable; copying one is how the integrator steps back.
+#pragma once
+
+#include "gimbalsim/dynamics/model.hpp"
+
+namespace gimbalsim {
+
+/// Generalised coordinates. Floating base: q = [p_W (3) [m], quaternion
+/// (w, x, y, z) of R_WB (4), chain (NJ)], v = [omega_B (3) [rad/s], v_B (3)
+/// [m/s] (base CoM velocity, base frame), chain rates (NJ)]. Chain order:
+/// ideal [theta1, theta2], clearance [theta1, ecc_x, ecc_y, theta2]
+/// ([rad], [m], [m], [rad]); ecc is the journal centre relative to the bearing
+/// centre in the joint-2 plane basis (u1, u2).
+template <class V>
+struct State {
+  static constexpr int NQ = V::NQ, NV = V::NV, NB = V::NB, NJ = V::NJ;
+  static constexpr int QJ = V::kFloating ? 7 : 0;  ///< first chain index in q
+  using VecQ = Eigen::Matrix<double, NQ, 1>;
+  using VecV = Eigen::Matrix<double, NV, 1>;
+
+  double t = 0.0;        ///< [s]
+  VecQ q = VecQ::Zero();
+  VecV v = VecV::Zero();
+  // Discrete contact memory (clearance variants only).
+  bool in_contact = false;  ///< side of the last located switch
+  double v0 = 0.0;          ///< normal velocity at the onset of this impact [m/s]
+
+  double theta(int joint) const { return q(QJ + (joint == 0 ? 0 : NJ - 1)); }
+  double dtheta(int joint) const { return v(NB + (joint == 0 ? 0 : NJ - 1)); }
+};
+
+/// What enters the plant each step: one control-injection point.
+struct Input {
+  Vec2 tau = Vec2::Zero();  ///< joint torques tau1 (azimuth), tau2 (elevation) [N m]
+};
+
+/// Initial state of a scene: base at rest at the origin, joints as the scene says.
+template <class V>
+State<V> initialState(const Model& m) {
+  State<V> s;
+  if constexpr (V::kFloating) s.q(3) = 1.0;  // identity quaternion
+  constexpr int QJ = State<V>::QJ, NB = V::NB, NJ = V::NJ;
+  s.q(QJ) = m.initial.theta1;
+  s.q(QJ + NJ - 1) = m.initial.theta2;
+  s.v(NB) = m.initial.dtheta1;
+  s.v(NB + NJ - 1) = m.initial.dtheta2;
+  if constexpr (V::kClearance) {
+    s.q(QJ + 1) = m.initial.ecc.x();
+    s.q(QJ + 2) = m.initial.ecc.y();
+  }
+  return s;
+}
+
+}  // namespace gimbalsim
