@@ -1,0 +1,206 @@
+// Microbenchmarks of the dynamics hot path: one derivative (forwardDynamics),
+// one RK4 step (rk4), one integrator step (step(): one RK4 step away from
+// contact, up to step/substep sub-steps in contact), the contact law alone,
+// and step() through a located impact, for each compiled Variant.
+//
+// States are taken mid-run (after simulating 0.5 s of the paper scene; for
+// the clearance variants the first step boundary after that with the journal
+// in contact), so the numbers are those of a real run, not of the rest state.
+//
+//   build/bin/gimbalsim_bench                                  # quick look
+//   build/bin/gimbalsim_bench --benchmark_repetitions=9        # medians (shown
+//       with mean, stddev, cv and min; per-repetition rows are hidden on the
+//       console but kept in --benchmark_out files)
+//   tools/bench/run_bench.sh [extra args]                      # median table
+//
+// Scene files are read from GIMBALSIM_SCENE_DIR (environment), else from the
+// source tree this binary was built from.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "gimbalsim/dynamics/contact_law.hpp"
+#include "gimbalsim/dynamics/forward_dynamics.hpp"
+#include "gimbalsim/dynamics/integrator.hpp"
+#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/dynamics/simulate.hpp"
+
+#ifndef GIMBALSIM_SCENE_DIR
+#define GIMBALSIM_SCENE_DIR "tools/scenes"
+#endif
+
+namespace {
+
+using namespace gimbalsim;
+
+std::string sceneDir() {
+  const char* env = std::getenv("GIMBALSIM_SCENE_DIR");
+  return env && *env ? env : GIMBALSIM_SCENE_DIR;
+}
+
+/// Scene file and --set overrides that make a model of variant V.
+template <class V>
+Model modelFor() {
+  std::vector<std::string> sets;
+  if (!V::kFloating) sets.push_back("structure.base=fixed");
+  if (V::kClearance && !V::kFriction) sets.push_back("friction.law=none");
+  const std::string file = sceneDir() + (V::kClearance ? "/paper_clearance.yaml" : "/paper_ideal.yaml");
+  Model m = loadScene(file, sets).model;
+  bool match = false;
+  dispatchVariant(m, [&](auto tag) { match = std::is_same_v<decltype(tag), V>; });
+  if (!match) throw std::runtime_error("scene " + file + " does not load as the benchmarked variant");
+  return m;
+}
+
+/// A model, a workspace and a mid-run state of variant V, plus the state at
+/// the start of a step that contains a located impact (clearance only).
+template <class V>
+struct Fixture {
+  Model m;
+  std::unique_ptr<Data<V>> d;
+  State<V> s;           ///< mid-run; in contact for the clearance variants
+  State<V> pre_impact;  ///< start of a step during which an impact is located
+  Input u;
+
+  Fixture() : m(modelFor<V>()), d(std::make_unique<Data<V>>(m)) {
+    u.tau = m.torque;
+    s = initialState<V>(m);
+    bool have_impact = false;
+    const long long n_max = std::llround(m.duration / m.integrator.step);
+    for (long long k = 0; k < n_max; ++k) {
+      const bool past = s.t >= 0.5 - 1e-12;
+      bool in_contact = true;
+      if constexpr (V::kClearance) in_contact = s.in_contact && clearanceGap<V>(m, s.q, s.v).delta > 0.0;
+      if (past && in_contact && (!V::kClearance || have_impact)) return;
+      const State<V> before = s;
+      const long long impacts = d->stats.impacts;
+      if (step(m, *d, s, u) != StepStatus::Ok) throw std::runtime_error("set-up run failed");
+      if (V::kClearance && past && !have_impact && d->stats.impacts > impacts) {
+        pre_impact = before;
+        have_impact = true;
+      }
+    }
+    throw std::runtime_error("no suitable mid-run state found");
+  }
+};
+
+template <class V>
+Fixture<V>& fixture() {
+  static Fixture<V> f;  // built once per variant, on first use
+  return f;
+}
+
+template <class V>
+void BM_ForwardDynamics(benchmark::State& bs) {
+  Fixture<V>& f = fixture<V>();
+  for (auto _ : bs) {
+    forwardDynamics(f.m, *f.d, f.s, f.u);
+    benchmark::DoNotOptimize(f.d->vdot.data());
+    benchmark::DoNotOptimize(f.d->qdot.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+/// One RK4 step of the size step() would take here (h away from contact, the
+/// sub-step in contact): four derivatives plus the stage arithmetic.
+template <class V>
+void BM_Rk4(benchmark::State& bs) {
+  Fixture<V>& f = fixture<V>();
+  const double h = V::kClearance ? f.m.integrator.substep : f.m.integrator.step;
+  State<V> out;
+  for (auto _ : bs) {
+    rk4(f.m, *f.d, f.s, f.u, h, out);
+    benchmark::DoNotOptimize(out.q.data());
+    benchmark::DoNotOptimize(out.v.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+/// One integrator step of h from the mid-run state (the state is reset each
+/// iteration; a State copy costs a few ns).
+template <class V>
+void BM_Step(benchmark::State& bs) {
+  Fixture<V>& f = fixture<V>();
+  State<V> s;
+  const long long sub0 = f.d->stats.substeps;
+  for (auto _ : bs) {
+    s = f.s;
+    benchmark::DoNotOptimize(step(f.m, *f.d, s, f.u));
+    benchmark::DoNotOptimize(s.q.data());
+    benchmark::ClobberMemory();
+  }
+  bs.counters["substeps"] = benchmark::Counter(
+      static_cast<double>(f.d->stats.substeps - sub0), benchmark::Counter::kAvgIterations);
+}
+
+/// step() across a contact onset: sub-steps plus switch location.
+template <class V>
+void BM_StepImpact(benchmark::State& bs) {
+  Fixture<V>& f = fixture<V>();
+  State<V> s;
+  const long long sub0 = f.d->stats.substeps, imp0 = f.d->stats.impacts;
+  for (auto _ : bs) {
+    s = f.pre_impact;
+    benchmark::DoNotOptimize(step(f.m, *f.d, s, f.u));
+    benchmark::DoNotOptimize(s.q.data());
+    benchmark::ClobberMemory();
+  }
+  bs.counters["substeps"] = benchmark::Counter(
+      static_cast<double>(f.d->stats.substeps - sub0), benchmark::Counter::kAvgIterations);
+  bs.counters["impacts"] = benchmark::Counter(
+      static_cast<double>(f.d->stats.impacts - imp0), benchmark::Counter::kAvgIterations);
+}
+
+/// The contact law alone: normalForce + frictionForce at the mid-run contact.
+template <class V>
+void BM_ContactLaw(benchmark::State& bs) {
+  Fixture<V>& f = fixture<V>();
+  forwardDynamics(f.m, *f.d, f.s, f.u);
+  const ContactParams& cp = f.m.contact;
+  double delta = f.d->contact.delta, vn = f.d->contact.vn, vt = f.d->contact.vt, v0 = f.s.v0;
+  for (auto _ : bs) {
+    benchmark::DoNotOptimize(delta);  // keep the inputs opaque
+    benchmark::DoNotOptimize(vn);
+    benchmark::DoNotOptimize(vt);
+    benchmark::DoNotOptimize(v0);
+    const double fn = normalForce(cp, delta, vn, v0);
+    const double ft = frictionForce(cp, fn, vt);
+    benchmark::DoNotOptimize(fn);
+    benchmark::DoNotOptimize(ft);
+  }
+}
+
+/// Median, mean, stddev and cv are Google Benchmark's defaults; the minimum
+/// is the least noisy figure on a shared machine.
+double minimum(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
+
+void configure(benchmark::internal::Benchmark* b) {
+  b->Unit(benchmark::kNanosecond)->DisplayAggregatesOnly(true)->ComputeStatistics("min", minimum);
+}
+
+#define GIMBALSIM_BENCH_ALL_VARIANTS(fn)                               \
+  BENCHMARK_TEMPLATE(fn, FixedIdeal)->Apply(configure);                \
+  BENCHMARK_TEMPLATE(fn, FixedClearance)->Apply(configure);            \
+  BENCHMARK_TEMPLATE(fn, FixedClearanceFriction)->Apply(configure);    \
+  BENCHMARK_TEMPLATE(fn, FloatingIdeal)->Apply(configure);             \
+  BENCHMARK_TEMPLATE(fn, FloatingClearance)->Apply(configure);         \
+  BENCHMARK_TEMPLATE(fn, FloatingClearanceFriction)->Apply(configure)
+
+GIMBALSIM_BENCH_ALL_VARIANTS(BM_ForwardDynamics);
+GIMBALSIM_BENCH_ALL_VARIANTS(BM_Rk4);
+GIMBALSIM_BENCH_ALL_VARIANTS(BM_Step);
+BENCHMARK_TEMPLATE(BM_ContactLaw, FloatingClearance)->Apply(configure);
+BENCHMARK_TEMPLATE(BM_ContactLaw, FloatingClearanceFriction)->Apply(configure);
+BENCHMARK_TEMPLATE(BM_StepImpact, FloatingClearance)->Apply(configure);
+BENCHMARK_TEMPLATE(BM_StepImpact, FloatingClearanceFriction)->Apply(configure);
+BENCHMARK_TEMPLATE(BM_StepImpact, FixedClearanceFriction)->Apply(configure);
+
+}  // namespace
+
+BENCHMARK_MAIN();
