@@ -74,6 +74,7 @@ struct Momentum {
   Vec3 angular = Vec3::Zero();  ///< about the inertial origin [N m s]
   double energy = 0.0;          ///< kinetic [J]
   double scale = 0.0;           ///< sum of |angular momentum| of the bodies: drift reference [N m s]
+  double scale_linear = 0.0;    ///< sum of |linear momentum| of the bodies [N s]
 };
 
 /// Needs kinematics() at s.
@@ -89,6 +90,7 @@ Momentum momentum(const Model& m, const Data<V>& d, const State<V>& s) {
     out.angular += ang;
     out.energy += 0.5 * v.dot(h);
     out.scale += ang.norm();
+    out.scale_linear += lin.norm();
   };
   if constexpr (V::kFloating) add(m.I_base, d.v_base, w.R_WB, w.p_WB);
   for (int i = 0; i < V::NJ; ++i) add(m.I_chain[i], d.v[i], w.R[i], w.p[i]);

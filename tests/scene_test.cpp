@@ -1,0 +1,123 @@
+// Bad scene files and bad --set values are refused with a message that names
+// the key and where it was given; good ones load as written.
+#include <gtest/gtest.h>
+
+#include "test_util.hpp"
+
+namespace gimbalsim {
+namespace {
+
+/// The message of the refusal, or "" if accepted.
+std::string refusal(const std::string& yaml, const std::vector<std::string>& sets = {}) {
+  try {
+    loadSceneText(yaml, "bad.yaml", sets);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char* kGood = R"(name: t
+structure: {base: floating, joint2: clearance}
+base:
+  mass: 1000
+  inertia: [1000, 600, 600]
+)";
+
+TEST(Scene, PaperScenesLoadAndWarnAboutTheBaseInertia) {
+  for (const char* name : {"paper_ideal", "paper_clearance", "planar_ideal", "planar_clearance"}) {
+    const LoadedScene s = loadScene(test::scenePath(name));
+    EXPECT_EQ(s.model.name, name);
+    ASSERT_EQ(s.warnings.size(), 1u) << name;
+    EXPECT_NE(s.warnings[0].find("base.inertia"), std::string::npos);
+    EXPECT_NE(s.warnings[0].find("triangle inequality"), std::string::npos);
+    EXPECT_NE(s.warnings[0].find(":9:"), std::string::npos) << "line of the key: " << s.warnings[0];
+  }
+  EXPECT_TRUE(loadSceneText(kGood, "good.yaml").warnings.empty());
+}
+
+TEST(Scene, OverridesTakeEffect) {
+  const Model m = test::scene("paper_clearance", {"sim.duration=2.5", "initial.ecc=[5e-5, -2e-5]",
+                                                  "contact.clearance=1e-4", "structure.base=fixed",
+                                                  "shaft2.inertia=[0.5, 5, 5, 0.1, 0, 0]"});
+  EXPECT_EQ(m.duration, 2.5);
+  EXPECT_EQ(m.initial.ecc, Vec2(5e-5, -2e-5));
+  EXPECT_NEAR(m.contact.clearance, 1e-4, 1e-15);
+  EXPECT_NEAR(m.contact.journal_radius, 9.9e-3, 1e-15);
+  EXPECT_FALSE(m.floating_base);
+  EXPECT_EQ(m.shaft2.inertia(0, 1), 0.1);
+  EXPECT_EQ(m.shaft2.inertia(1, 0), 0.1);
+}
+
+TEST(Scene, UnknownKeyInFileNamesKeyAndLine) {
+  const std::string e = refusal(std::string(kGood) + "contact:\n  stifness: 3\n");
+  EXPECT_NE(e.find("bad.yaml:7:3: unknown key 'contact.stifness'"), std::string::npos) << e;
+}
+
+TEST(Scene, WrongTypesAreRefusedWithPosition) {
+  std::string e = refusal(std::string(kGood) + "shaft1:\n  mass: heavy\n");
+  EXPECT_NE(e.find("bad.yaml:7:3: key 'shaft1.mass': expected a number, got 'heavy'"), std::string::npos) << e;
+  e = refusal(kGood, {"shaft1.com=[1, 2]"});
+  EXPECT_NE(e.find("--set #1 'shaft1.com=[1, 2]': key 'shaft1.com': expected a list of 3 numbers"),
+            std::string::npos)
+      << e;
+  e = refusal(kGood, {"contact.damping=viscous"});
+  EXPECT_NE(e.find("key 'contact.damping': expected one of none | hunt_crossley | lankarani_nikravesh | flores"),
+            std::string::npos)
+      << e;
+  e = refusal(kGood, {"sim.step"});
+  EXPECT_NE(e.find("--set #1 'sim.step': expected key=value"), std::string::npos) << e;
+  e = refusal(kGood, {"no.such=1"});
+  EXPECT_NE(e.find("unknown key 'no.such'"), std::string::npos) << e;
+}
+
+TEST(Scene, NonPhysicalValuesAreRefused) {
+  struct Case {
+    std::vector<std::string> sets;
+    std::string expect;
+  };
+  const std::vector<Case> cases = {
+      {{"base.mass=0"}, "key 'base.mass': mass must be > 0, got 0"},
+      {{"shaft1.mass=-3"}, "key 'shaft1.mass': mass must be > 0, got -3"},
+      {{"shaft2.inertia=[1, -1, 1]"}, "key 'shaft2.inertia': inertia must be symmetric positive definite"},
+      {{"shaft2.inertia=[[1, 0.5, 0], [0, 1, 0], [0, 0, 1]]"},
+       "key 'shaft2.inertia': inertia must be symmetric positive definite"},
+      {{"contact.journal_radius=0.011"}, "key 'contact.journal_radius': journal radius (0.011 m) must be < bearing radius (0.01 m)"},
+      {{"contact.journal_radius=0.01"}, "must be < bearing radius"},
+      {{"contact.clearance=-1e-4"}, "key 'contact.clearance': clearance must not be negative"},
+      {{"contact.restitution=0"}, "key 'contact.restitution': must be in (0, 1], got 0"},
+      {{"contact.restitution=1.01"}, "key 'contact.restitution': must be in (0, 1], got 1.01"},
+      {{"base.mass=.nan"}, "key 'base.mass': must be finite, got '.nan'"},
+      {{"torque.tau1=.inf"}, "key 'torque.tau1': must be finite"},
+      {{"sim.step=1e-3", "sim.output_interval=1.5e-3"}, "key 'sim.output_interval': must be a whole multiple"},
+      {{"sim.substep=2e-3"}, "key 'sim.substep': must be in (0, sim.step]"},
+      {{"initial.ecc=[1e-3, 0]"}, "key 'initial.ecc': initial eccentricity exceeds the radial clearance"},
+  };
+  for (const Case& c : cases) {
+    const std::string e = refusal(kGood, c.sets);
+    EXPECT_NE(e.find(c.expect), std::string::npos) << "for " << c.sets[0] << " got: " << e;
+    EXPECT_NE(e.find("--set #"), std::string::npos) << "must say where: " << e;
+  }
+  // In a file, the position is the key's line and column.
+  const std::string e = refusal(std::string(kGood) + "contact:\n  restitution: 1.5\n");
+  EXPECT_NE(e.find("bad.yaml:7:3: key 'contact.restitution': must be in (0, 1], got 1.5"), std::string::npos) << e;
+}
+
+TEST(Scene, EveryProblemIsReportedAtOnce) {
+  const std::string e = refusal(kGood, {"base.mass=-1", "contact.restitution=2"});
+  EXPECT_NE(e.find("base.mass"), std::string::npos);
+  EXPECT_NE(e.find("contact.restitution"), std::string::npos);
+}
+
+TEST(Scene, BrokenYamlAndMissingFile) {
+  EXPECT_NE(refusal("base: [1, 2\n").find("bad.yaml:"), std::string::npos);
+  try {
+    loadScene("/nonexistent/scene.yaml");
+    FAIL() << "must throw";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.yaml: cannot open"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace gimbalsim
