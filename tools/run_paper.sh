@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# The main job: reproduce the paper's section-4 figures (You, Pan, Zhao 2010)
+# on a fresh Debian machine, from any working directory.
+#
+#   bash tools/run_paper.sh [key=value ...]
+#
+# 1. installs the apt packages (tools/bootstrap.sh, idempotent; needs root or sudo
+#    the first time),
+# 2. configures (once) and builds the Release build in build/,
+# 3. simulates tools/scenes/paper_ideal.yaml and paper_clearance.yaml into
+#    out/paper/{ideal,clearance}.csv and out/paper/{ideal,clearance}.json,
+# 4. plots figures 6-18 into out/paper/plots/ (tools/plot_paper.py, with
+#    /usr/bin/python3, Debian's matplotlib).
+#
+# Every extra argument is a scene override passed as `--set key=value` to BOTH
+# simulations (list the keys with `build/bin/gimbalsim keys`), e.g.
+#   bash tools/run_paper.sh sim.duration=1                 # 1 s instead of 5 s
+#   bash tools/run_paper.sh sim.duration=2 friction.mu=0.1
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+
+SETS=()
+for kv in "$@"; do
+  case "$kv" in
+    *=*) SETS+=(--set "$kv") ;;
+    *) echo "run_paper.sh: expected key=value scene overrides, got '$kv'" >&2
+       echo "usage: bash tools/run_paper.sh [key=value ...]   (e.g. sim.duration=1)" >&2
+       exit 2 ;;
+  esac
+done
+
+echo "== [1/4] packages (tools/bootstrap.sh)"
+bash tools/bootstrap.sh
+
+echo "== [2/4] Release build in build/"
+if [ -f build/CMakeCache.txt ]; then
+  echo "build/ already configured: not reconfiguring"
+else
+  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+fi
+cmake --build build -j2
+
+SIM=build/bin/gimbalsim
+OUT=out/paper
+mkdir -p "$OUT/plots"
+
+echo "== [3/4] simulations${SETS[*]:+ (overrides: ${SETS[*]})}"
+"$SIM" simulate tools/scenes/paper_ideal.yaml ${SETS[@]+"${SETS[@]}"} \
+  --out "$OUT/ideal.csv" --summary "$OUT/ideal.json"
+"$SIM" simulate tools/scenes/paper_clearance.yaml ${SETS[@]+"${SETS[@]}"} \
+  --out "$OUT/clearance.csv" --summary "$OUT/clearance.json"
+
+echo "== [4/4] plots"
+/usr/bin/python3 tools/plot_paper.py \
+  --ideal "$OUT/ideal.csv" --clearance "$OUT/clearance.csv" \
+  --ideal-summary "$OUT/ideal.json" --clearance-summary "$OUT/clearance.json" \
+  --out "$OUT/plots"
+
+echo
+echo "Outputs (under $ROOT):"
+echo "  runs     : $OUT/ideal.csv $OUT/clearance.csv"
+echo "  summaries: $OUT/ideal.json $OUT/clearance.json"
+echo "  figures  : $OUT/plots/fig06_eccentricity.png ... fig18_joint2_force.png"
+echo "  pointing : $OUT/plots/pointing_error.csv"
