@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "gimbalsim/dynamics/integrator.hpp"
+#include "gimbalsim/dynamics/reference_integrator.hpp"
 
 namespace gimbalsim {
 
@@ -50,7 +51,7 @@ bool rowFinite(const Row& r) {
 }
 
 template <class V>
-RunResult run(const Model& m, const std::function<void(const Row&)>& sink) {
+RunResult run(const Model& m, const std::function<void(const Row&)>& sink, IntegratorKind kind) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   RunResult res;
@@ -89,7 +90,27 @@ RunResult run(const Model& m, const std::function<void(const Row&)>& sink) {
     return true;
   };
 
-  if (emit(s)) {
+  if (kind == IntegratorKind::Reference) {
+    ReferenceIntegrator<V> ref(m, u);
+    if (emit(s)) {
+      const long long n_out = (n_steps + out_every - 1) / out_every;
+      for (long long k = 1; k <= n_out; ++k) {
+        const double t_next = std::min(k * out_every, n_steps) * m.integrator.step;
+        const auto a = Clock::now();
+        const bool ok = ref.advanceTo(s, t_next);
+        in_step += Clock::now() - a;
+        if (!ok) {
+          std::ostringstream os;
+          os << "reference integration stopped before t = " << t_next << " s: " << ref.failure();
+          res.ok = false;
+          res.error = os.str();
+          break;
+        }
+        if (!emit(s)) break;
+      }
+    }
+    d.stats.impacts = ref.impacts();
+  } else if (emit(s)) {
     for (long long k = 1; k <= n_steps; ++k) {
       const auto a = Clock::now();
       const StepStatus st = step(m, d, s, u);
@@ -137,8 +158,8 @@ RunResult run(const Model& m, const std::function<void(const Row&)>& sink) {
 
 }  // namespace
 
-RunResult simulate(const Model& m, const std::function<void(const Row&)>& sink) {
-  return dispatchVariant(m, [&](auto tag) { return run<decltype(tag)>(m, sink); });
+RunResult simulate(const Model& m, const std::function<void(const Row&)>& sink, IntegratorKind kind) {
+  return dispatchVariant(m, [&](auto tag) { return run<decltype(tag)>(m, sink, kind); });
 }
 
 }  // namespace gimbalsim

@@ -40,7 +40,7 @@ class CsvWriter {
 };
 
 nlohmann::json summaryJson(const gimbalsim::Model& m, const gimbalsim::RunResult& r,
-                           const std::string& scene) {
+                           const std::string& scene, const std::string& integrator_kind) {
   using nlohmann::json;
   json j;
   j["scene"] = scene;
@@ -78,7 +78,8 @@ nlohmann::json summaryJson(const gimbalsim::Model& m, const gimbalsim::RunResult
   j["max_substeps_in_a_step"] = r.stats.max_substeps_in_step;
   j["wall_time_s"] = r.wall_seconds;
   j["step_time_s"] = r.step_seconds;
-  j["integrator"] = {{"step_s", m.integrator.step},
+  j["integrator"] = {{"kind", integrator_kind},
+                     {"step_s", m.integrator.step},
                      {"substep_s", m.integrator.substep},
                      {"event_tol_s", m.integrator.event_tol}};
   return j;
@@ -97,6 +98,11 @@ int main(int argc, char** argv) {
   sim->add_option("--set", sets, "override a scene key: key=value (repeatable; see `gimbalsim keys`)");
   sim->add_option("--out", out, "CSV output path")->required();
   sim->add_option("--summary", summary, "summary JSON output path");
+  std::string integrator = "rk4";
+  sim->add_option("--integrator", integrator,
+                  "rk4 (fixed step, sub-stepping, the product) or reference (adaptive Dormand-Prince 5(4), "
+                  "tolerance 1e-12, for reference solutions)")
+      ->check(CLI::IsMember({"rk4", "reference"}));
 
   auto* keys = app.add_subcommand("keys", "list every scene key with its unit");
   bool markdown = false;
@@ -132,7 +138,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "error: cannot write %s\n", out.c_str());
     return 2;
   }
-  const gimbalsim::RunResult r = gimbalsim::simulate(m, [&](const Row& row) { csv.write(row); });
+  const gimbalsim::RunResult r =
+      gimbalsim::simulate(m, [&](const Row& row) { csv.write(row); },
+                          integrator == "reference" ? gimbalsim::IntegratorKind::Reference
+                                                    : gimbalsim::IntegratorKind::Rk4);
 
   if (!summary.empty()) {
     std::ofstream js(summary);
@@ -140,7 +149,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "error: cannot write %s\n", summary.c_str());
       return 2;
     }
-    js << summaryJson(m, r, scene).dump(2) << "\n";
+    js << summaryJson(m, r, scene, integrator).dump(2) << "\n";
   }
   std::fprintf(stderr,
                "%s [%s]: %lld rows to t = %.6g s, %lld impacts, peak contact %.6g N, %lld sub-steps, "

@@ -53,8 +53,13 @@ struct RunResult {
   double step_seconds = 0.0;       ///< inside step() only
 };
 
+enum class IntegratorKind { Rk4, Reference };
+
 /// Runs the scene's constant torques for model.duration. The sink sees every
 /// row (including t = 0); a non-finite row stops the run before reaching it.
-RunResult simulate(const Model& m, const std::function<void(const Row&)>& sink);
+/// IntegratorKind::Reference uses the adaptive Dormand-Prince reference
+/// (reference_integrator.hpp) instead of the fixed-step RK4.
+RunResult simulate(const Model& m, const std::function<void(const Row&)>& sink,
+                   IntegratorKind kind = IntegratorKind::Rk4);
 
 }  // namespace gimbalsim

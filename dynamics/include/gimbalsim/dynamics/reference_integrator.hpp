@@ -1,0 +1,148 @@
+// Independent high-accuracy integrator for reference solutions: Boost.Odeint's
+// adaptive Dormand-Prince 5(4) with dense output at tight tolerances, with the
+// same contact switch location as the RK4 (the switch time is found on the
+// dense-output interpolant, the integration restarts there with the contact
+// memory updated). Not for real time: it allocates and is slow by design.
+#pragma once
+
+#include <boost/numeric/odeint.hpp>
+#include <cmath>
+#include <vector>
+
+#include "gimbalsim/dynamics/forward_dynamics.hpp"
+
+namespace gimbalsim {
+
+struct ReferenceSettings {
+  double abs_tol = 1e-12;
+  double rel_tol = 1e-12;
+  double event_tol = 1e-13;  ///< [s]
+  double min_step = 1e-12;   ///< below this the run stops as stuck [s]
+  long long max_steps = 1'000'000;  ///< more accepted steps than this: stuck
+};
+
+template <class V>
+class ReferenceIntegrator {
+ public:
+  using Vec = std::vector<double>;
+  static constexpr int NQ = V::NQ, NV = V::NV;
+
+  ReferenceIntegrator(const Model& m, const Input& u, ReferenceSettings cfg = {})
+      : m_(m), u_(u), cfg_(cfg), d_(m) {}
+
+  /// Integrates s to time t_end (s.t < t_end). Returns false on NaN/Inf.
+  bool advanceTo(State<V>& s, double t_end) {
+    namespace ode = boost::numeric::odeint;
+    if (!started_) restart(s);
+    while (stepper_.current_time() < t_end) {
+      const double t0 = stepper_.current_time();
+      stepper_.do_step(std::ref(*this));
+      const double t1 = stepper_.current_time();
+      Vec x1 = stepper_.current_state();
+      if (!finite(x1)) {
+        failure_ = "non-finite state";
+        return false;
+      }
+      if (stepper_.current_time_step() < cfg_.min_step || ++steps_ > cfg_.max_steps) {
+        // Plain Coulomb friction's sign flip is a discontinuity an adaptive
+        // method cannot step over: it would crawl forever.
+        failure_ = "step size collapsed (below 1e-12 s, or more than 1e6 steps): a discontinuous "
+                   "right-hand side such as plain Coulomb friction; use friction.law=ambrosio for "
+                   "reference solutions";
+        return false;
+      }
+      if constexpr (V::kClearance) {
+        const bool side1 = delta(x1) > 0.0;
+        if (side1 != mode_.in_contact) {
+          // Bisection on the dense output for the first switch in (t0, t1].
+          double lo = t0, hi = t1;
+          Vec x(NQ + NV);
+          while (hi - lo > cfg_.event_tol) {
+            const double mid = 0.5 * (lo + hi);
+            stepper_.calc_state(mid, x);
+            ((delta(x) > 0.0) != mode_.in_contact ? hi : lo) = mid;
+          }
+          if (hi < t_end) {
+            stepper_.calc_state(hi, x);
+            State<V> at = toState(x, hi);
+            at.in_contact = !mode_.in_contact;
+            if (at.in_contact) {
+              at.v0 = clearanceGap<V>(m_, at.q, at.v).rate;
+              ++impacts_;
+            }
+            restart(at);
+            continue;
+          }
+        }
+      }
+      (void)t0;
+    }
+    Vec x(NQ + NV);
+    stepper_.calc_state(t_end, x);
+    s = toState(x, t_end);
+    if (!finite(x)) {
+      failure_ = "non-finite state";
+      return false;
+    }
+    return true;
+  }
+
+  /// The ODE right-hand side, for odeint.
+  void operator()(const Vec& x, Vec& dxdt, double t) {
+    const State<V> s = toState(x, t);
+    forwardDynamics(m_, d_, s, u_);
+    dxdt.resize(NQ + NV);
+    for (int i = 0; i < NQ; ++i) dxdt[i] = d_.qdot(i);
+    for (int i = 0; i < NV; ++i) dxdt[NQ + i] = d_.vdot(i);
+  }
+
+  long long impacts() const { return impacts_; }
+  /// Why advanceTo() returned false.
+  const char* failure() const { return failure_; }
+
+ private:
+  using Stepper = boost::numeric::odeint::dense_output_runge_kutta<
+      boost::numeric::odeint::controlled_runge_kutta<boost::numeric::odeint::runge_kutta_dopri5<Vec>>>;
+
+  State<V> toState(const Vec& x, double t) const {
+    State<V> s = mode_;
+    s.t = t;
+    for (int i = 0; i < NQ; ++i) s.q(i) = x[i];
+    for (int i = 0; i < NV; ++i) s.v(i) = x[NQ + i];
+    return s;
+  }
+  double delta(const Vec& x) const {
+    const State<V> s = toState(x, 0.0);
+    return clearanceGap<V>(m_, s.q, s.v).delta;
+  }
+  static bool finite(const Vec& x) {
+    for (double e : x) {
+      if (!std::isfinite(e)) return false;
+    }
+    return true;
+  }
+  void restart(State<V> s) {
+    if constexpr (V::kFloating) s.q.template segment<4>(3).normalize();
+    mode_ = s;
+    Vec x(NQ + NV);
+    for (int i = 0; i < NQ; ++i) x[i] = s.q(i);
+    for (int i = 0; i < NV; ++i) x[NQ + i] = s.v(i);
+    stepper_ = boost::numeric::odeint::make_dense_output(cfg_.abs_tol, cfg_.rel_tol,
+                                                         boost::numeric::odeint::runge_kutta_dopri5<Vec>());
+    stepper_.initialize(x, s.t, 1e-6);
+    started_ = true;
+  }
+
+  const Model& m_;
+  Input u_;
+  ReferenceSettings cfg_;
+  Data<V> d_;
+  State<V> mode_;  ///< contact memory (in_contact, v0) of the current segment
+  Stepper stepper_;
+  bool started_ = false;
+  long long impacts_ = 0;
+  long long steps_ = 0;
+  const char* failure_ = "";
+};
+
+}  // namespace gimbalsim
