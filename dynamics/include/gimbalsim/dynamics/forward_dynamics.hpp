@@ -37,9 +37,9 @@ void configurationRates(const State<V>& s, Data<V>& d) {
 
 /// Fills d.qdot, d.vdot (and d.contact) at state s under input u.
 template <class V>
-void forwardDynamics(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
+GIMBALSIM_FLATTEN void forwardDynamics(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
   kinematics(m, d, s.q, s.v);
-  rnea(m, d, s.v, Data<V>::VecV::Zero(), d.bias);
+  detail::rneaBias(m, d, s.v, d.bias);
   crba(m, d);
   applyJointTorques(d, u);
   if constexpr (V::kClearance) {

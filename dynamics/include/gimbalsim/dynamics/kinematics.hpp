@@ -1,40 +1,125 @@
 // Forward kinematics of the chain: joint transforms, motion subspaces, body
 // twists (RBDA section 4.3, first pass of the recursive Newton-Euler method).
+//
+// The chain's joint kinds are fixed per Variant (ideal [R, R], clearance
+// [R, P, P, R]), so every loop over the chain is unrolled at compile time and
+// each joint does only its own kind's work: a prismatic joint's rotation is
+// the identity, so its transforms reduce to a translation. Every skipped
+// operation is a multiplication by an exact 1 or 0 or an addition of an exact
+// 0, so the results are bit-identical to the generic 6-D formulas.
 #pragma once
+
+#include <cassert>
+#include <utility>
 
 #include "gimbalsim/dynamics/data.hpp"
 
 namespace gimbalsim {
 
+/// Kind of chain joint i of variant V (Model::finalize builds the same chain).
+template <class V>
+constexpr JointKind chainJointKind(int i) {
+  return (V::kClearance && (i == 1 || i == 2)) ? JointKind::Prismatic : JointKind::Revolute;
+}
+
+/// Chain body i of variant V is massless (the clearance joint's two virtual
+/// prismatic bodies: Model::finalize gives them a zero spatial inertia).
+template <class V>
+constexpr bool chainBodyMassless(int i) {
+  return V::kClearance && (i == 1 || i == 2);
+}
+
+/// Calls f(std::integral_constant<int, i>) for i = 0 .. N-1 (Reverse: N-1 .. 0),
+/// so that i is a compile-time constant in the body.
+template <int N, bool Reverse = false, class F>
+GIMBALSIM_INLINE void staticFor(F&& f) {
+  [&]<int... I>(std::integer_sequence<int, I...>) {
+    (f(std::integral_constant<int, Reverse ? N - 1 - I : I>{}), ...);
+  }(std::make_integer_sequence<int, N>{});
+}
+
+namespace detail {
+
+/// m_C = ^C X_P m_P for a pure translation (R_PC = I): [w; v - r x w].
+GIMBALSIM_INLINE void translateMotionToChild(const Vec3& r, const Vec6& m_P, Vec6& m_C) {
+  m_C.head<3>() = m_P.head<3>();
+  m_C.tail<3>() = m_P.tail<3>() - r.cross(m_P.head<3>());
+}
+
+/// f_P = ^P X_C^* f_C for a pure translation: [n + r x f; f].
+GIMBALSIM_INLINE void translateForceToParent(const Vec3& r, const Vec6& f_C, Vec6& f_P) {
+  f_P.tail<3>() = f_C.tail<3>();
+  f_P.head<3>() = f_C.head<3>() + r.cross(f_C.tail<3>());
+}
+
+/// X^T f of chain joint i (force from body i to its parent's coordinates).
+template <class V, int i>
+GIMBALSIM_INLINE Vec6 jointForceToParent(const Transform& X, const Vec6& f) {
+  if constexpr (chainJointKind<V>(i) == JointKind::Prismatic) {
+    Vec6 out;
+    translateForceToParent(X.r_PC_P, f, out);
+    return out;
+  } else {
+    return X.forceToParent(f);
+  }
+}
+
+/// X m of chain joint i (motion from the parent's to body i's coordinates).
+template <class V, int i>
+GIMBALSIM_INLINE Vec6 jointMotionToChild(const Transform& X, const Vec6& m) {
+  if constexpr (chainJointKind<V>(i) == JointKind::Prismatic) {
+    Vec6 out;
+    translateMotionToChild(X.r_PC_P, m, out);
+    return out;
+  } else {
+    return X.motionToChild(m);
+  }
+}
+
+/// S_i . f for chain joint i, S = [k; 0] or [0; k]: the order of Eigen's
+/// 6-vector dot product, (t0 + (t2 + t4)) + (t1 + (t3 + t5)), with its three
+/// exact zero terms dropped.
+template <class V, int i>
+GIMBALSIM_INLINE double subspaceDot(const Vec3& k, const Vec6& f) {
+  constexpr int o = chainJointKind<V>(i) == JointKind::Revolute ? 0 : 3;
+  return (k.x() * f(o) + k.z() * f(o + 2)) + k.y() * f(o + 1);
+}
+
+}  // namespace detail
+
 template <class V, class Q, class W>
-void kinematics(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
+GIMBALSIM_FLATTEN void kinematics(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
                 const Eigen::MatrixBase<W>& v) {
   constexpr int QJ = State<V>::QJ, NB = V::NB;
   if constexpr (V::kFloating) d.v_base = v.template head<6>();
-  for (int i = 0; i < V::NJ; ++i) {
+  staticFor<V::NJ>([&](auto I) {
+    constexpr int i = I;
     const Model::ChainJoint& J = m.chain[i];
+    assert(J.kind == chainJointKind<V>(i));
     Transform& X = d.X[i];
-    const double qi = q(QJ + i);
-    if (J.kind == JointKind::Revolute) {
+    const double qi = q(QJ + i), qdi = v(NB + i);
+    Vec6& vi = d.v[i];
+    if constexpr (chainJointKind<V>(i) == JointKind::Revolute) {
       X.R_PC = axisAngle(J.axis, qi);
       X.r_PC_P = J.origin;
       d.S[i] << J.axis, Vec3::Zero();
+      if constexpr (i > 0) {
+        vi = X.motionToChild(d.v[i - 1]);
+      } else if constexpr (V::kFloating) {
+        vi = X.motionToChild(d.v_base);
+      } else {
+        vi.setZero();
+      }
+      vi.template head<3>() += J.axis * qdi;  // + S qd
     } else {
+      static_assert(i > 0, "the first chain joint is revolute");
       X.R_PC.setIdentity();
       X.r_PC_P = J.origin + qi * J.axis;
       d.S[i] << Vec3::Zero(), J.axis;
+      detail::translateMotionToChild(X.r_PC_P, d.v[i - 1], vi);
+      vi.template tail<3>() += J.axis * qdi;  // + S qd
     }
-    if (i == 0) {
-      if constexpr (V::kFloating) {
-        d.v[0] = X.motionToChild(d.v_base);
-      } else {
-        d.v[0].setZero();
-      }
-    } else {
-      d.v[i] = X.motionToChild(d.v[i - 1]);
-    }
-    d.v[i] += d.S[i] * v(NB + i);
-  }
+  });
 }
 
 }  // namespace gimbalsim

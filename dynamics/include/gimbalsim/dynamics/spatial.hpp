@@ -6,6 +6,16 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+/// Forces inlining of the small hot-path helpers (GCC/Clang): at -O3 GCC
+/// otherwise keeps many of these 6-D helpers out of line.
+#if defined(__GNUC__)
+#define GIMBALSIM_INLINE inline __attribute__((always_inline))
+#define GIMBALSIM_FLATTEN __attribute__((flatten))
+#else
+#define GIMBALSIM_INLINE inline
+#define GIMBALSIM_FLATTEN
+#endif
+
 namespace gimbalsim {
 
 using Vec2 = Eigen::Vector2d;
@@ -16,16 +26,68 @@ using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Quat = Eigen::Quaterniond;
 
 /// Skew-symmetric cross-product matrix: skew(a) * b == a x b.
-inline Mat3 skew(const Vec3& a) {
+GIMBALSIM_INLINE Mat3 skew(const Vec3& a) {
   Mat3 s;
   s << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
   return s;
 }
 
+/// Exact-order 3-D kernels. Eigen (3.4, SSE2) evaluates a 3x3 column-major
+/// matrix times a vector as (t0 + t1) + t2 in rows 0 and 1 and t0 + (t1 + t2)
+/// in row 2 (two rows by packet, the last by a scalar reduction), and a
+/// transposed matrix (row-major) times a vector as (t0 + t1) + t2 in every
+/// row. The scalar kernels below reproduce those orders, so replacing the
+/// Eigen expressions by them leaves every result bit-identical while the
+/// compiler sees plain scalar code without packet shuffles.
+namespace kernel {
+
+/// y = A x, A column-major 3x3 (Eigen's order, see above).
+GIMBALSIM_INLINE void mul3(const Mat3& A, double x0, double x1, double x2, double* y) {
+  y[0] = (A(0, 0) * x0 + A(0, 1) * x1) + A(0, 2) * x2;
+  y[1] = (A(1, 0) * x0 + A(1, 1) * x1) + A(1, 2) * x2;
+  y[2] = A(2, 0) * x0 + (A(2, 1) * x1 + A(2, 2) * x2);
+}
+
+/// y = A^T x (Eigen's order for a transposed left-hand side).
+GIMBALSIM_INLINE void mul3T(const Mat3& A, double x0, double x1, double x2, double* y) {
+  y[0] = (A(0, 0) * x0 + A(1, 0) * x1) + A(2, 0) * x2;
+  y[1] = (A(0, 1) * x0 + A(1, 1) * x1) + A(2, 1) * x2;
+  y[2] = (A(0, 2) * x0 + A(1, 2) * x1) + A(2, 2) * x2;
+}
+
+/// y = a x b (Eigen's cross()).
+GIMBALSIM_INLINE void cross3(const double* a, const double* b, double* y) {
+  const double y0 = a[1] * b[2] - a[2] * b[1];
+  const double y1 = a[2] * b[0] - a[0] * b[2];
+  const double y2 = a[0] * b[1] - a[1] * b[0];
+  y[0] = y0, y[1] = y1, y[2] = y2;
+}
+
+}  // namespace kernel
+
+/// Rotation about unit axis k with c = cos(th), s = sin(th) (Rodrigues'
+/// formula c I + s [k]x + (1 - c) k k^T), written out entry by entry: the
+/// same floating-point operations, in the same order, as the matrix
+/// expression, so the result is bit-identical to it, without the temporaries.
+GIMBALSIM_INLINE Mat3 axisAngle(const Vec3& k, double c, double s) {
+  const double t = 1.0 - c;
+  const double tx = t * k.x(), ty = t * k.y(), tz = t * k.z();
+  Mat3 R;
+  R(0, 0) = c + tx * k.x();
+  R(1, 1) = c + ty * k.y();
+  R(2, 2) = c + tz * k.z();
+  R(0, 1) = s * -k.z() + tx * k.y();
+  R(1, 0) = s * k.z() + ty * k.x();
+  R(0, 2) = s * k.y() + tx * k.z();
+  R(2, 0) = s * -k.y() + tz * k.x();
+  R(1, 2) = s * -k.x() + ty * k.z();
+  R(2, 1) = s * k.x() + tz * k.y();
+  return R;
+}
+
 /// Rotation by angle th [rad] about unit axis k (Rodrigues' formula).
-inline Mat3 axisAngle(const Vec3& k, double th) {
-  const double c = std::cos(th), s = std::sin(th);
-  return c * Mat3::Identity() + s * skew(k) + (1.0 - c) * k * k.transpose();
+GIMBALSIM_INLINE Mat3 axisAngle(const Vec3& k, double th) {
+  return axisAngle(k, std::cos(th), std::sin(th));
 }
 
 /// Rigid transform between a parent frame P and a child frame C.
@@ -35,19 +97,29 @@ struct Transform {
   Mat3 R_PC = Mat3::Identity();
   Vec3 r_PC_P = Vec3::Zero();
 
-  /// Motion vector from parent to child coordinates (RBDA eq. 2.24).
-  Vec6 motionToChild(const Vec6& m_P) const {
+  /// Motion vector from parent to child coordinates (RBDA eq. 2.24):
+  /// [E w; E (v - r x w)] with E = R_PC^T.
+  GIMBALSIM_INLINE Vec6 motionToChild(const Vec6& m_P) const {
     Vec6 out;
-    out.head<3>().noalias() = R_PC.transpose() * m_P.head<3>();
-    out.tail<3>().noalias() = R_PC.transpose() * (m_P.tail<3>() - r_PC_P.cross(m_P.head<3>()));
+    const double* m = m_P.data();
+    double rw[3], u[3];
+    kernel::mul3T(R_PC, m[0], m[1], m[2], out.data());
+    kernel::cross3(r_PC_P.data(), m, rw);
+    u[0] = m[3] - rw[0], u[1] = m[4] - rw[1], u[2] = m[5] - rw[2];
+    kernel::mul3T(R_PC, u[0], u[1], u[2], out.data() + 3);
     return out;
   }
-  /// Force vector from child to parent coordinates (transpose of the above).
-  Vec6 forceToParent(const Vec6& f_C) const {
+  /// Force vector from child to parent coordinates (transpose of the above):
+  /// [R n + r x (R f); R f].
+  GIMBALSIM_INLINE Vec6 forceToParent(const Vec6& f_C) const {
     Vec6 out;
-    out.tail<3>().noalias() = R_PC * f_C.tail<3>();
-    out.head<3>().noalias() = R_PC * f_C.head<3>();
-    out.head<3>() += r_PC_P.cross(out.tail<3>());
+    const double* f = f_C.data();
+    double* o = out.data();
+    double rf[3];
+    kernel::mul3(R_PC, f[3], f[4], f[5], o + 3);
+    kernel::mul3(R_PC, f[0], f[1], f[2], o);
+    kernel::cross3(r_PC_P.data(), o + 3, rf);
+    o[0] += rf[0], o[1] += rf[1], o[2] += rf[2];
     return out;
   }
   /// 6x6 matrix of motionToChild (^C X_P).
@@ -63,18 +135,24 @@ struct Transform {
 };
 
 /// Motion cross product v x m (RBDA eq. 2.31).
-inline Vec6 crossMotion(const Vec6& v, const Vec6& m) {
+GIMBALSIM_INLINE Vec6 crossMotion(const Vec6& v, const Vec6& m) {
   Vec6 out;
-  out.head<3>() = v.head<3>().cross(m.head<3>());
-  out.tail<3>() = v.head<3>().cross(m.tail<3>()) + v.tail<3>().cross(m.head<3>());
+  double a[3], b[3];
+  kernel::cross3(v.data(), m.data(), out.data());
+  kernel::cross3(v.data(), m.data() + 3, a);
+  kernel::cross3(v.data() + 3, m.data(), b);
+  out(3) = a[0] + b[0], out(4) = a[1] + b[1], out(5) = a[2] + b[2];
   return out;
 }
 
 /// Force cross product v x* f (RBDA eq. 2.32).
-inline Vec6 crossForce(const Vec6& v, const Vec6& f) {
+GIMBALSIM_INLINE Vec6 crossForce(const Vec6& v, const Vec6& f) {
   Vec6 out;
-  out.head<3>() = v.head<3>().cross(f.head<3>()) + v.tail<3>().cross(f.tail<3>());
-  out.tail<3>() = v.head<3>().cross(f.tail<3>());
+  double a[3], b[3];
+  kernel::cross3(v.data(), f.data(), a);
+  kernel::cross3(v.data() + 3, f.data() + 3, b);
+  out(0) = a[0] + b[0], out(1) = a[1] + b[1], out(2) = a[2] + b[2];
+  kernel::cross3(v.data(), f.data() + 3, out.data() + 3);
   return out;
 }
 
@@ -107,31 +185,63 @@ struct SpatialInertia {
     const Mat3 cx = skew(c);
     return {mass, mass * c, Ic - mass * cx * cx};
   }
-  /// Momentum I v of twist v = [omega; v_o].
-  Vec6 operator*(const Vec6& v) const {
+  /// Momentum I v of twist v = [omega; v_o]: [Ibar w + h x v_o; m v_o - h x w].
+  GIMBALSIM_INLINE Vec6 operator*(const Vec6& v) const {
     Vec6 out;
-    out.head<3>().noalias() = Ibar * v.head<3>();
-    out.head<3>() += h.cross(v.tail<3>());
-    out.tail<3>() = m * v.tail<3>() - h.cross(v.head<3>());
+    const double* x = v.data();
+    double* o = out.data();
+    double hv[3], hw[3];
+    kernel::mul3(Ibar, x[0], x[1], x[2], o);
+    kernel::cross3(h.data(), x + 3, hv);
+    kernel::cross3(h.data(), x, hw);
+    o[0] += hv[0], o[1] += hv[1], o[2] += hv[2];
+    o[3] = m * x[3] - hw[0], o[4] = m * x[4] - hw[1], o[5] = m * x[5] - hw[2];
     return out;
   }
-  SpatialInertia& operator+=(const SpatialInertia& o) {
+  GIMBALSIM_INLINE SpatialInertia& operator+=(const SpatialInertia& o) {
     m += o.m;
     h += o.h;
     Ibar += o.Ibar;
     return *this;
   }
   /// The same inertia about the parent origin in parent coordinates
-  /// (X^T I X for the motion transform X = ^C X_P).
-  SpatialInertia toParent(const Transform& X) const {
+  /// (X^T I X for the motion transform X = ^C X_P):
+  /// m, R h + m r, R Ibar R^T - (m [r]x[r]x + [r]x[Rh]x + [Rh]x[r]x).
+  GIMBALSIM_INLINE SpatialInertia toParent(const Transform& X) const {
     SpatialInertia p;
-    const Vec3 Rh = X.R_PC * h;
-    const Mat3 rx = skew(X.r_PC_P), Rhx = skew(Rh);
+    const Vec3& r = X.r_PC_P;
+    Vec3 Rh;
+    kernel::mul3(X.R_PC, h.x(), h.y(), h.z(), Rh.data());
     p.m = m;
-    p.h = Rh + m * X.r_PC_P;
-    p.Ibar.noalias() = X.R_PC * Ibar * X.R_PC.transpose();
-    p.Ibar -= m * rx * rx + rx * Rhx + Rhx * rx;
+    p.h = Rh + m * r;
+    Mat3 T;  // R Ibar, then (R Ibar) R^T, each in Eigen's product order
+    for (int j = 0; j < 3; ++j) kernel::mul3(X.R_PC, Ibar(0, j), Ibar(1, j), Ibar(2, j), T.col(j).data());
+    for (int j = 0; j < 3; ++j) {
+      kernel::mul3(T, X.R_PC(j, 0), X.R_PC(j, 1), X.R_PC(j, 2), p.Ibar.col(j).data());
+    }
+    p.Ibar -= shiftTerm(m * r, r, Rh);
     return p;
+  }
+  /// m [r]x[r]x + [r]x[Rh]x + [Rh]x[r]x given mr = m r (toParent's shift).
+  /// Every entry of a product of two skew matrices has at most two non-zero
+  /// terms, so writing them out equals the 3x3 products bit for bit.
+  static GIMBALSIM_INLINE Mat3 shiftTerm(const Vec3& mr, const Vec3& r, const Vec3& Rh) {
+    Mat3 S;
+    auto entry = [&](int i, int j) {
+      if (i == j) {
+        const int k = (i + 1) % 3, l = (i + 2) % 3;
+        const int a = k < l ? k : l, b = k < l ? l : k;  // the two other indices, ascending
+        const double A = -(mr(a) * r(a)) - mr(b) * r(b);   // skew(mr) skew(r)
+        const double B = -(r(a) * Rh(a)) - r(b) * Rh(b);  // skew(r) skew(Rh)
+        const double C = -(Rh(a) * r(a)) - Rh(b) * r(b);   // skew(Rh) skew(r)
+        return (A + B) + C;
+      }
+      // (skew(a) skew(b))(i, j) = b_i a_j for i != j
+      return (r(i) * mr(j) + Rh(i) * r(j)) + r(i) * Rh(j);
+    };
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) S(i, j) = entry(i, j);
+    return S;
   }
   Mat6 matrix() const {
     Mat6 I;
@@ -144,30 +254,42 @@ struct SpatialInertia {
 };
 
 /// Solves A x = b in place for symmetric positive definite A (Cholesky,
-/// lower factor written over A). Fixed size, unrolled by the compiler; returns
-/// false when A is not positive definite (x is then meaningless).
+/// lower factor written over A). Fixed size, fully unrolled (the loop bounds
+/// are compile-time constants); returns false when A is not positive definite
+/// (x is then meaningless). The operation order is that of the textbook
+/// left-looking loops below; only the schedule is the compiler's.
 template <int N>
-bool choleskySolveInPlace(Eigen::Matrix<double, N, N>& A, Eigen::Matrix<double, N, 1>& x) {
+GIMBALSIM_INLINE bool choleskySolveInPlace(Eigen::Matrix<double, N, N>& A, Eigen::Matrix<double, N, 1>& x) {
+  bool ok = true;
+#pragma GCC unroll 16
   for (int j = 0; j < N; ++j) {
     double d = A(j, j);
+#pragma GCC unroll 16
     for (int k = 0; k < j; ++k) d -= A(j, k) * A(j, k);
-    if (!(d > 0.0)) return false;
+    ok = ok && d > 0.0;
     const double l = std::sqrt(d);
     A(j, j) = l;
     const double il = 1.0 / l;
+#pragma GCC unroll 16
     for (int i = j + 1; i < N; ++i) {
       double s = A(i, j);
+#pragma GCC unroll 16
       for (int k = 0; k < j; ++k) s -= A(i, k) * A(j, k);
       A(i, j) = s * il;
     }
   }
+  if (!ok) return false;
+#pragma GCC unroll 16
   for (int i = 0; i < N; ++i) {  // L y = b
     double s = x(i);
+#pragma GCC unroll 16
     for (int k = 0; k < i; ++k) s -= A(i, k) * x(k);
     x(i) = s / A(i, i);
   }
+#pragma GCC unroll 16
   for (int i = N - 1; i >= 0; --i) {  // L^T x = y
     double s = x(i);
+#pragma GCC unroll 16
     for (int k = i + 1; k < N; ++k) s -= A(k, i) * x(k);
     x(i) = s / A(i, i);
   }
