@@ -64,6 +64,7 @@ GIMBALSIM_FLATTEN void crba(const Model& m, Data<V>& d) {
       const SpatialInertia Ip = detail::inertiaToParent<V, i>(Ic[i], X[i]);
       if constexpr (i > 0) {
         if constexpr (chainBodyMassless<V>(i - 1)) {
+          assert(m.I_chain[i - 1].m == 0.0 && m.I_chain[i - 1].Ibar.isZero(0.0));
           Ic[i - 1] = Ip;  // 0 + Ip
         } else {
           Ic[i - 1] = m.I_chain[i - 1];

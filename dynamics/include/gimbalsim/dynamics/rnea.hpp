@@ -74,6 +74,7 @@ GIMBALSIM_INLINE void rneaImpl(const Model& m, Data<V>& d, const Eigen::MatrixBa
     jointAcceleration<V, i, parent_zero, VdotZero>(d.X[i], m.chain[i].axis, a_parent, d.v[i], v(NB + i),
                                                    VdotZero ? 0.0 : vdot(NB + i), d.a[i]);
     if constexpr (chainBodyMassless<V>(i)) {
+      assert(m.I_chain[i].m == 0.0 && m.I_chain[i].h.isZero(0.0));
       d.f[i].setZero();  // I = 0: no inertial force (set below from the child)
     } else {
       const Vec6 h = m.I_chain[i] * d.v[i];
