@@ -256,8 +256,11 @@ struct SpatialInertia {
 /// Solves A x = b in place for symmetric positive definite A (Cholesky,
 /// lower factor written over A). Fixed size, fully unrolled (the loop bounds
 /// are compile-time constants); returns false when A is not positive definite
-/// (x is then meaningless). The operation order is that of the textbook
-/// left-looking loops below; only the schedule is the compiler's.
+/// (x is then meaningless). Each entry is computed by the same operations in
+/// the same order as the textbook left-looking loops; the forward
+/// substitution of row j is moved up to just after column j is factored, so
+/// it overlaps the factorisation (the solve is latency-bound: a sqrt and a
+/// division per column, a division per row of each substitution).
 template <int N>
 GIMBALSIM_INLINE bool choleskySolveInPlace(Eigen::Matrix<double, N, N>& A, Eigen::Matrix<double, N, 1>& x) {
   bool ok = true;
@@ -270,6 +273,10 @@ GIMBALSIM_INLINE bool choleskySolveInPlace(Eigen::Matrix<double, N, N>& A, Eigen
     const double l = std::sqrt(d);
     A(j, j) = l;
     const double il = 1.0 / l;
+    double y = x(j);  // L y = b, row j (needs only columns 0..j)
+#pragma GCC unroll 16
+    for (int k = 0; k < j; ++k) y -= A(j, k) * x(k);
+    x(j) = y / l;
 #pragma GCC unroll 16
     for (int i = j + 1; i < N; ++i) {
       double s = A(i, j);
@@ -279,13 +286,6 @@ GIMBALSIM_INLINE bool choleskySolveInPlace(Eigen::Matrix<double, N, N>& A, Eigen
     }
   }
   if (!ok) return false;
-#pragma GCC unroll 16
-  for (int i = 0; i < N; ++i) {  // L y = b
-    double s = x(i);
-#pragma GCC unroll 16
-    for (int k = 0; k < i; ++k) s -= A(i, k) * x(k);
-    x(i) = s / A(i, i);
-  }
 #pragma GCC unroll 16
   for (int i = N - 1; i >= 0; --i) {  // L^T x = y
     double s = x(i);
