@@ -16,36 +16,87 @@ namespace gimbalsim {
 
 namespace detail {
 
-/// Ic.toParent(X) of chain joint i: the composite inertia of body i about its
-/// parent's origin in parent coordinates (a prismatic joint only shifts it).
-template <class V, int i>
-GIMBALSIM_INLINE SpatialInertia inertiaToParent(const SpatialInertia& I, const Transform& X) {
-  if constexpr (chainJointKind<V>(i) == JointKind::Prismatic) {
-    SpatialInertia p;  // R = identity: R h = h, R Ibar R^T = Ibar
-    const Vec3& r = X.r_PC_P;
-    p.m = I.m;
-    p.h = I.h + I.m * r;
-    p.Ibar = I.Ibar - SpatialInertia::shiftTerm(I.m * r, r, I.h);
-    return p;
-  } else {
-    return I.toParent(X);
+/// A spatial inertia as plain scalars (I column-major, like Mat3's storage):
+/// the CRBA works on these so that everything it reads was written by
+/// scalar stores (mixing scalar stores with Eigen's 16-byte packet loads of
+/// the same data stalls store forwarding).
+struct InertiaS {
+  double m;
+  double h[3];
+  double I[9];
+};
+
+GIMBALSIM_INLINE void load(const SpatialInertia& a, InertiaS& b) {
+  b.m = a.m;
+  for (int k = 0; k < 3; ++k) b.h[k] = a.h(k);
+  for (int k = 0; k < 9; ++k) b.I[k] = a.Ibar(k);
+}
+
+GIMBALSIM_INLINE void store(const InertiaS& a, SpatialInertia& b) {
+  b.m = a.m;
+  for (int k = 0; k < 3; ++k) b.h(k) = a.h[k];
+  for (int k = 0; k < 9; ++k) b.Ibar(k) = a.I[k];
+}
+
+/// p = a + b (SpatialInertia::operator+=, entry by entry).
+GIMBALSIM_INLINE void add(const SpatialInertia& a, const InertiaS& b, InertiaS& p) {
+  p.m = a.m + b.m;
+  for (int k = 0; k < 3; ++k) p.h[k] = a.h(k) + b.h[k];
+  for (int k = 0; k < 9; ++k) p.I[k] = a.Ibar(k) + b.I[k];
+}
+
+/// S = m [r]x[r]x + [r]x[Rh]x + [Rh]x[r]x (SpatialInertia::shiftTerm).
+GIMBALSIM_INLINE void shiftTerm(const double* mr, const double* r, const double* Rh, double* S) {
+  for (int j = 0; j < 3; ++j) {
+    for (int i = 0; i < 3; ++i) {
+      if (i == j) {
+        const int a = i == 0 ? 1 : 0, b = i == 2 ? 1 : 2;  // the two other indices, ascending
+        const double A = -(mr[a] * r[a]) - mr[b] * r[b];
+        const double B = -(r[a] * Rh[a]) - r[b] * Rh[b];
+        const double C = -(Rh[a] * r[a]) - Rh[b] * r[b];
+        S[i + 3 * j] = (A + B) + C;
+      } else {
+        S[i + 3 * j] = (r[i] * mr[j] + Rh[i] * r[j]) + r[i] * Rh[j];
+      }
+    }
   }
+}
+
+/// Ic.toParent(X) of chain joint i (SpatialInertia::toParent; a prismatic
+/// joint has R = identity, so it only shifts the inertia).
+template <class V, int i>
+GIMBALSIM_INLINE void inertiaToParent(const InertiaS& a, const Transform& X, InertiaS& p) {
+  const double* r = X.r_PC_P.data();
+  double Rh[3], S[9], mr[3];
+  p.m = a.m;
+  for (int k = 0; k < 3; ++k) mr[k] = a.m * r[k];
+  if constexpr (chainJointKind<V>(i) == JointKind::Prismatic) {
+    for (int k = 0; k < 3; ++k) Rh[k] = a.h[k];
+    for (int k = 0; k < 9; ++k) p.I[k] = a.I[k];
+  } else {
+    const double* R = X.R_PC.data();
+    double T[9];  // R Ibar, then (R Ibar) R^T
+    kernel::mul3(R, a.h[0], a.h[1], a.h[2], Rh);
+    for (int j = 0; j < 3; ++j) kernel::mul3(R, a.I[3 * j], a.I[3 * j + 1], a.I[3 * j + 2], T + 3 * j);
+    for (int j = 0; j < 3; ++j) kernel::mul3(T, R[j], R[j + 3], R[j + 6], p.I + 3 * j);
+  }
+  for (int k = 0; k < 3; ++k) p.h[k] = Rh[k] + mr[k];
+  shiftTerm(mr, r, Rh, S);
+  for (int k = 0; k < 9; ++k) p.I[k] -= S[k];
 }
 
 /// Ic S of chain joint i: [Ibar k; -h x k] (revolute) or [h x k; m k] (prismatic).
 template <class V, int i>
-GIMBALSIM_INLINE Vec6 inertiaTimesSubspace(const SpatialInertia& I, const Vec3& k) {
-  Vec6 F;
+GIMBALSIM_INLINE void inertiaTimesSubspace(const InertiaS& a, const Vec3& k, double* F) {
   if constexpr (chainJointKind<V>(i) == JointKind::Revolute) {
     double hk[3];
-    kernel::mul3(I.Ibar, k.x(), k.y(), k.z(), F.data());
-    kernel::cross3(I.h.data(), k.data(), hk);
-    F(3) = -hk[0], F(4) = -hk[1], F(5) = -hk[2];
+    kernel::mul3(a.I, k.x(), k.y(), k.z(), F);
+    kernel::cross3(a.h, k.data(), hk);
+    F[3] = -hk[0], F[4] = -hk[1], F[5] = -hk[2];
   } else {
-    kernel::cross3(I.h.data(), k.data(), F.data());
-    F.template tail<3>() = I.m * k;
+    kernel::cross3(a.h, k.data(), F);
+    F[3] = a.m * k.x(), F[4] = a.m * k.y(), F[5] = a.m * k.z();
   }
-  return F;
 }
 
 }  // namespace detail
@@ -53,56 +104,65 @@ GIMBALSIM_INLINE Vec6 inertiaTimesSubspace(const SpatialInertia& I, const Vec3& 
 template <class V>
 GIMBALSIM_FLATTEN void crba(const Model& m, Data<V>& d) {
   constexpr int NB = V::NB, NJ = V::NJ;
-  // Work on local copies: the stores into M below then cannot alias them.
-  const std::array<Transform, NJ> X = d.X;
-  std::array<SpatialInertia, NJ> Ic;
-  Ic[NJ - 1] = m.I_chain[NJ - 1];
-  SpatialInertia Ic_base;
+  detail::InertiaS Ic[NJ], Ic_base;
+  detail::load(m.I_chain[NJ - 1], Ic[NJ - 1]);
   staticFor<NJ, /*Reverse=*/true>([&](auto I) {
     constexpr int i = I;
     if constexpr (i > 0 || V::kFloating) {
-      const SpatialInertia Ip = detail::inertiaToParent<V, i>(Ic[i], X[i]);
+      detail::InertiaS Ip;
+      detail::inertiaToParent<V, i>(Ic[i], d.X[i], Ip);
       if constexpr (i > 0) {
         if constexpr (chainBodyMassless<V>(i - 1)) {
           assert(m.I_chain[i - 1].m == 0.0 && m.I_chain[i - 1].Ibar.isZero(0.0));
           Ic[i - 1] = Ip;  // 0 + Ip
         } else {
-          Ic[i - 1] = m.I_chain[i - 1];
-          Ic[i - 1] += Ip;
+          detail::add(m.I_chain[i - 1], Ip, Ic[i - 1]);
         }
       } else {
-        Ic_base = m.I_base;
-        Ic_base += Ip;
+        detail::add(m.I_base, Ip, Ic_base);
       }
     }
   });
   // Column i: F = Ic_i S_i carried down the chain, M(j, i) = S_j . F.
   double Mjj[NJ][NJ];
-  std::array<Vec6, NJ> Fb;  // floating base: the base rows of column i
+  double Fb[NJ][6];  // floating base: the base rows of column i
   staticFor<NJ>([&](auto I) {
     constexpr int i = I;
-    const Vec3 k_i = m.chain[i].axis;
-    Vec6 F = detail::inertiaTimesSubspace<V, i>(Ic[i], k_i);
-    Mjj[i][i] = detail::subspaceDot<V, i>(k_i, F);
+    double F[6];
+    detail::inertiaTimesSubspace<V, i>(Ic[i], m.chain[i].axis, F);
+    Mjj[i][i] = detail::subspaceDot<V, i>(m.chain[i].axis, F);
     staticFor<i, /*Reverse=*/true>([&](auto J) {  // j = i .. 1
       constexpr int j = J + 1;
-      F = detail::jointForceToParent<V, j>(X[j], F);
+      double XF[6];
+      detail::jointForceToParent<V, j>(d.X[j], F, XF);
+      for (int c = 0; c < 6; ++c) F[c] = XF[c];
       Mjj[j - 1][i] = detail::subspaceDot<V, j - 1>(m.chain[j - 1].axis, F);
     });
-    if constexpr (V::kFloating) Fb[i] = detail::jointForceToParent<V, 0>(X[0], F);
+    if constexpr (V::kFloating) {
+      detail::jointForceToParent<V, 0>(d.X[0], F, Fb[i]);
+    }
   });
   for (int i = 0; i < NJ; ++i) {
     for (int j = 0; j <= i; ++j) d.M(NB + j, NB + i) = d.M(NB + i, NB + j) = Mjj[j][i];
+    if constexpr (V::kFloating) {
+      for (int k = 0; k < 6; ++k) d.M(k, NB + i) = d.M(NB + i, k) = Fb[i][k];
+    }
   }
   if constexpr (V::kFloating) {
-    for (int i = 0; i < NJ; ++i) {
-      d.M.template block<6, 1>(0, NB + i) = Fb[i];
-      d.M.template block<1, 6>(NB + i, 0) = Fb[i].transpose();
+    // Ic_base.matrix(): [Ibar, [h]x; [h]x^T, m 1]
+    const double* h = Ic_base.h;
+    const double hx[9] = {0.0, h[2], -h[1], -h[2], 0.0, h[0], h[1], -h[0], 0.0};  // column-major [h]x
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) {
+        d.M(r, c) = Ic_base.I[r + 3 * c];
+        d.M(r, 3 + c) = hx[r + 3 * c];
+        d.M(3 + r, c) = hx[c + 3 * r];
+        d.M(3 + r, 3 + c) = r == c ? Ic_base.m : 0.0;
+      }
     }
-    d.M.template topLeftCorner<6, 6>() = Ic_base.matrix();
-    d.Ic_base = Ic_base;
+    detail::store(Ic_base, d.Ic_base);
   }
-  d.Ic = Ic;
+  for (int i = 0; i < NJ; ++i) detail::store(Ic[i], d.Ic[i]);
 }
 
 }  // namespace gimbalsim

@@ -52,6 +52,20 @@ GIMBALSIM_INLINE void translateForceToParent(const Vec3& r, const Vec6& f_C, Vec
   f_P.head<3>() = f_C.head<3>() + r.cross(f_C.tail<3>());
 }
 
+/// out = X^T f of chain joint i (force from body i's to its parent's
+/// coordinates), plain arrays; a prismatic joint only translates: [n + r x f; f].
+template <class V, int i>
+GIMBALSIM_INLINE void jointForceToParent(const Transform& X, const double* f, double* out) {
+  if constexpr (chainJointKind<V>(i) == JointKind::Prismatic) {
+    double rf[3];
+    kernel::cross3(X.r_PC_P.data(), f + 3, rf);
+    for (int c = 0; c < 3; ++c) out[c] = f[c] + rf[c];
+    for (int c = 0; c < 3; ++c) out[3 + c] = f[3 + c];
+  } else {
+    kernel::forceToParent(X.R_PC.data(), X.r_PC_P.data(), f, out);
+  }
+}
+
 /// X^T f of chain joint i (force from body i to its parent's coordinates).
 template <class V, int i>
 GIMBALSIM_INLINE Vec6 jointForceToParent(const Transform& X, const Vec6& f) {
@@ -80,9 +94,13 @@ GIMBALSIM_INLINE Vec6 jointMotionToChild(const Transform& X, const Vec6& m) {
 /// 6-vector dot product, (t0 + (t2 + t4)) + (t1 + (t3 + t5)), with its three
 /// exact zero terms dropped.
 template <class V, int i>
-GIMBALSIM_INLINE double subspaceDot(const Vec3& k, const Vec6& f) {
+GIMBALSIM_INLINE double subspaceDot(const Vec3& k, const double* f) {
   constexpr int o = chainJointKind<V>(i) == JointKind::Revolute ? 0 : 3;
-  return (k.x() * f(o) + k.z() * f(o + 2)) + k.y() * f(o + 1);
+  return (k.x() * f[o] + k.z() * f[o + 2]) + k.y() * f[o + 1];
+}
+template <class V, int i>
+GIMBALSIM_INLINE double subspaceDot(const Vec3& k, const Vec6& f) {
+  return subspaceDot<V, i>(k, f.data());
 }
 
 }  // namespace detail

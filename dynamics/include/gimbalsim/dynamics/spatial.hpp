@@ -41,18 +41,24 @@ GIMBALSIM_INLINE Mat3 skew(const Vec3& a) {
 /// compiler sees plain scalar code without packet shuffles.
 namespace kernel {
 
-/// y = A x, A column-major 3x3 (Eigen's order, see above).
+/// y = A x, A column-major 3x3 as a plain array (Eigen's order, see above).
+GIMBALSIM_INLINE void mul3(const double* A, double x0, double x1, double x2, double* y) {
+  y[0] = (A[0] * x0 + A[3] * x1) + A[6] * x2;
+  y[1] = (A[1] * x0 + A[4] * x1) + A[7] * x2;
+  y[2] = A[2] * x0 + (A[5] * x1 + A[8] * x2);
+}
 GIMBALSIM_INLINE void mul3(const Mat3& A, double x0, double x1, double x2, double* y) {
-  y[0] = (A(0, 0) * x0 + A(0, 1) * x1) + A(0, 2) * x2;
-  y[1] = (A(1, 0) * x0 + A(1, 1) * x1) + A(1, 2) * x2;
-  y[2] = A(2, 0) * x0 + (A(2, 1) * x1 + A(2, 2) * x2);
+  mul3(A.data(), x0, x1, x2, y);
 }
 
 /// y = A^T x (Eigen's order for a transposed left-hand side).
+GIMBALSIM_INLINE void mul3T(const double* A, double x0, double x1, double x2, double* y) {
+  y[0] = (A[0] * x0 + A[1] * x1) + A[2] * x2;
+  y[1] = (A[3] * x0 + A[4] * x1) + A[5] * x2;
+  y[2] = (A[6] * x0 + A[7] * x1) + A[8] * x2;
+}
 GIMBALSIM_INLINE void mul3T(const Mat3& A, double x0, double x1, double x2, double* y) {
-  y[0] = (A(0, 0) * x0 + A(1, 0) * x1) + A(2, 0) * x2;
-  y[1] = (A(0, 1) * x0 + A(1, 1) * x1) + A(2, 1) * x2;
-  y[2] = (A(0, 2) * x0 + A(1, 2) * x1) + A(2, 2) * x2;
+  mul3T(A.data(), x0, x1, x2, y);
 }
 
 /// y = a x b (Eigen's cross()).
@@ -63,25 +69,70 @@ GIMBALSIM_INLINE void cross3(const double* a, const double* b, double* y) {
   y[0] = y0, y[1] = y1, y[2] = y2;
 }
 
+// Spatial operations on plain 6-arrays [angular; linear]. The hot path keeps
+// its vectors in plain arrays written and read by scalar code: mixing scalar
+// stores with Eigen's 16-byte packet loads of the same data stalls store
+// forwarding. out must not alias the inputs.
+
+/// out = ^C X_P m = [R^T w; R^T (v - r x w)] (R = R_PC, r = r_PC_P).
+GIMBALSIM_INLINE void motionToChild(const double* R, const double* r, const double* m, double* out) {
+  double rw[3];
+  mul3T(R, m[0], m[1], m[2], out);
+  cross3(r, m, rw);
+  mul3T(R, m[3] - rw[0], m[4] - rw[1], m[5] - rw[2], out + 3);
+}
+
+/// out = ^P X_C^* f = [R n + r x (R f); R f].
+GIMBALSIM_INLINE void forceToParent(const double* R, const double* r, const double* f, double* out) {
+  double rf[3];
+  mul3(R, f[3], f[4], f[5], out + 3);
+  mul3(R, f[0], f[1], f[2], out);
+  cross3(r, out + 3, rf);
+  out[0] += rf[0], out[1] += rf[1], out[2] += rf[2];
+}
+
+/// out = v x* f = [w x n + v_o x f; w x f].
+GIMBALSIM_INLINE void crossForce(const double* v, const double* f, double* out) {
+  double a[3], b[3];
+  cross3(v, f, a);
+  cross3(v + 3, f + 3, b);
+  out[0] = a[0] + b[0], out[1] = a[1] + b[1], out[2] = a[2] + b[2];
+  cross3(v, f + 3, out + 3);
+}
+
+/// out = I v = [Ibar w + h x v_o; m v_o - h x w] for I = (m, h, Ibar).
+GIMBALSIM_INLINE void inertiaTimes(double m, const double* h, const double* Ibar, const double* v,
+                                   double* out) {
+  double hv[3], hw[3];
+  mul3(Ibar, v[0], v[1], v[2], out);
+  cross3(h, v + 3, hv);
+  cross3(h, v, hw);
+  out[0] += hv[0], out[1] += hv[1], out[2] += hv[2];
+  out[3] = m * v[3] - hw[0], out[4] = m * v[4] - hw[1], out[5] = m * v[5] - hw[2];
+}
+
 }  // namespace kernel
 
 /// Rotation about unit axis k with c = cos(th), s = sin(th) (Rodrigues'
 /// formula c I + s [k]x + (1 - c) k k^T), written out entry by entry: the
 /// same floating-point operations, in the same order, as the matrix
 /// expression, so the result is bit-identical to it, without the temporaries.
-GIMBALSIM_INLINE Mat3 axisAngle(const Vec3& k, double c, double s) {
+GIMBALSIM_INLINE void axisAngle(const Vec3& k, double c, double s, double* R) {
   const double t = 1.0 - c;
   const double tx = t * k.x(), ty = t * k.y(), tz = t * k.z();
+  R[0] = c + tx * k.x();            // (0, 0)
+  R[4] = c + ty * k.y();            // (1, 1)
+  R[8] = c + tz * k.z();            // (2, 2)
+  R[3] = s * -k.z() + tx * k.y();   // (0, 1)
+  R[1] = s * k.z() + ty * k.x();    // (1, 0)
+  R[6] = s * k.y() + tx * k.z();    // (0, 2)
+  R[2] = s * -k.y() + tz * k.x();   // (2, 0)
+  R[7] = s * -k.x() + ty * k.z();   // (1, 2)
+  R[5] = s * k.x() + tz * k.y();    // (2, 1)
+}
+GIMBALSIM_INLINE Mat3 axisAngle(const Vec3& k, double c, double s) {
   Mat3 R;
-  R(0, 0) = c + tx * k.x();
-  R(1, 1) = c + ty * k.y();
-  R(2, 2) = c + tz * k.z();
-  R(0, 1) = s * -k.z() + tx * k.y();
-  R(1, 0) = s * k.z() + ty * k.x();
-  R(0, 2) = s * k.y() + tx * k.z();
-  R(2, 0) = s * -k.y() + tz * k.x();
-  R(1, 2) = s * -k.x() + ty * k.z();
-  R(2, 1) = s * k.x() + tz * k.y();
+  axisAngle(k, c, s, R.data());
   return R;
 }
 
@@ -101,25 +152,14 @@ struct Transform {
   /// [E w; E (v - r x w)] with E = R_PC^T.
   GIMBALSIM_INLINE Vec6 motionToChild(const Vec6& m_P) const {
     Vec6 out;
-    const double* m = m_P.data();
-    double rw[3], u[3];
-    kernel::mul3T(R_PC, m[0], m[1], m[2], out.data());
-    kernel::cross3(r_PC_P.data(), m, rw);
-    u[0] = m[3] - rw[0], u[1] = m[4] - rw[1], u[2] = m[5] - rw[2];
-    kernel::mul3T(R_PC, u[0], u[1], u[2], out.data() + 3);
+    kernel::motionToChild(R_PC.data(), r_PC_P.data(), m_P.data(), out.data());
     return out;
   }
   /// Force vector from child to parent coordinates (transpose of the above):
   /// [R n + r x (R f); R f].
   GIMBALSIM_INLINE Vec6 forceToParent(const Vec6& f_C) const {
     Vec6 out;
-    const double* f = f_C.data();
-    double* o = out.data();
-    double rf[3];
-    kernel::mul3(R_PC, f[3], f[4], f[5], o + 3);
-    kernel::mul3(R_PC, f[0], f[1], f[2], o);
-    kernel::cross3(r_PC_P.data(), o + 3, rf);
-    o[0] += rf[0], o[1] += rf[1], o[2] += rf[2];
+    kernel::forceToParent(R_PC.data(), r_PC_P.data(), f_C.data(), out.data());
     return out;
   }
   /// 6x6 matrix of motionToChild (^C X_P).
@@ -148,11 +188,7 @@ GIMBALSIM_INLINE Vec6 crossMotion(const Vec6& v, const Vec6& m) {
 /// Force cross product v x* f (RBDA eq. 2.32).
 GIMBALSIM_INLINE Vec6 crossForce(const Vec6& v, const Vec6& f) {
   Vec6 out;
-  double a[3], b[3];
-  kernel::cross3(v.data(), f.data(), a);
-  kernel::cross3(v.data() + 3, f.data() + 3, b);
-  out(0) = a[0] + b[0], out(1) = a[1] + b[1], out(2) = a[2] + b[2];
-  kernel::cross3(v.data(), f.data() + 3, out.data() + 3);
+  kernel::crossForce(v.data(), f.data(), out.data());
   return out;
 }
 
@@ -188,14 +224,7 @@ struct SpatialInertia {
   /// Momentum I v of twist v = [omega; v_o]: [Ibar w + h x v_o; m v_o - h x w].
   GIMBALSIM_INLINE Vec6 operator*(const Vec6& v) const {
     Vec6 out;
-    const double* x = v.data();
-    double* o = out.data();
-    double hv[3], hw[3];
-    kernel::mul3(Ibar, x[0], x[1], x[2], o);
-    kernel::cross3(h.data(), x + 3, hv);
-    kernel::cross3(h.data(), x, hw);
-    o[0] += hv[0], o[1] += hv[1], o[2] += hv[2];
-    o[3] = m * x[3] - hw[0], o[4] = m * x[4] - hw[1], o[5] = m * x[5] - hw[2];
+    kernel::inertiaTimes(m, h.data(), Ibar.data(), v.data(), out.data());
     return out;
   }
   GIMBALSIM_INLINE SpatialInertia& operator+=(const SpatialInertia& o) {
