@@ -1,7 +1,8 @@
-// Microbenchmarks of the dynamics hot path: one derivative (forwardDynamics),
-// one RK4 step (rk4), one integrator step (step(): one RK4 step away from
-// contact, up to step/substep sub-steps in contact), the contact law alone,
-// and step() through a located impact, for each compiled Variant.
+// Microbenchmarks of the dynamics hot path: one derivative (forwardDynamics)
+// and its parts, one RK4 step (rk4), one integrator step (step(): one RK4
+// step away from contact, up to step/substep sub-steps in contact), the
+// contact law alone, and step() through a located impact, for each compiled
+// Variant.
 //
 // States are taken mid-run (after simulating 0.5 s of the paper scene; for
 // the clearance variants the first step boundary after that with the journal
@@ -176,6 +177,57 @@ void BM_ContactLaw(benchmark::State& bs) {
   }
 }
 
+/// The parts of one derivative, to see where its time goes: kinematics, the
+/// bias forces (RNEA at zero acceleration), the mass matrix (CRBA) and the
+/// Cholesky solve of M vdot = tau - C (latency-bound: a sqrt and a division
+/// per column, a division per row of each substitution).
+template <class V>
+void BM_Kinematics(benchmark::State& bs) {
+  Fixture<V>& f = fixture<V>();
+  for (auto _ : bs) {
+    kinematics(f.m, *f.d, f.s.q, f.s.v);
+    benchmark::ClobberMemory();
+  }
+}
+
+template <class V>
+void BM_BiasForces(benchmark::State& bs) {
+  Fixture<V>& f = fixture<V>();
+  kinematics(f.m, *f.d, f.s.q, f.s.v);
+  for (auto _ : bs) {
+    rnea(f.m, *f.d, f.s.v, Data<V>::VecV::Zero(), f.d->bias);
+    benchmark::ClobberMemory();
+  }
+}
+
+template <class V>
+void BM_MassMatrix(benchmark::State& bs) {
+  Fixture<V>& f = fixture<V>();
+  kinematics(f.m, *f.d, f.s.q, f.s.v);
+  for (auto _ : bs) {
+    crba(f.m, *f.d);
+    benchmark::ClobberMemory();
+  }
+}
+
+template <class V>
+void BM_CholeskySolve(benchmark::State& bs) {
+  Fixture<V>& f = fixture<V>();
+  forwardDynamics(f.m, *f.d, f.s, f.u);
+  const typename Data<V>::MatV M = f.d->M;
+  const typename Data<V>::VecV rhs = f.d->tau - f.d->bias;
+  typename Data<V>::MatV L;
+  typename Data<V>::VecV x;
+  for (auto _ : bs) {
+    L = M;  // the copy is part of forwardDynamics too
+    x = rhs;
+    benchmark::DoNotOptimize(L.data());
+    benchmark::DoNotOptimize(choleskySolveInPlace(L, x));
+    benchmark::DoNotOptimize(x.data());
+    benchmark::ClobberMemory();
+  }
+}
+
 /// Median, mean, stddev and cv are Google Benchmark's defaults; the minimum
 /// is the least noisy figure on a shared machine.
 double minimum(const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); }
@@ -192,9 +244,19 @@ void configure(benchmark::internal::Benchmark* b) {
   BENCHMARK_TEMPLATE(fn, FloatingClearance)->Apply(configure);         \
   BENCHMARK_TEMPLATE(fn, FloatingClearanceFriction)->Apply(configure)
 
+#define GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(fn)                       \
+  BENCHMARK_TEMPLATE(fn, FixedIdeal)->Apply(configure);                \
+  BENCHMARK_TEMPLATE(fn, FixedClearance)->Apply(configure);            \
+  BENCHMARK_TEMPLATE(fn, FloatingIdeal)->Apply(configure);             \
+  BENCHMARK_TEMPLATE(fn, FloatingClearance)->Apply(configure)
+
 GIMBALSIM_BENCH_ALL_VARIANTS(BM_ForwardDynamics);
 GIMBALSIM_BENCH_ALL_VARIANTS(BM_Rk4);
 GIMBALSIM_BENCH_ALL_VARIANTS(BM_Step);
+GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(BM_Kinematics);
+GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(BM_BiasForces);
+GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(BM_MassMatrix);
+GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(BM_CholeskySolve);
 BENCHMARK_TEMPLATE(BM_ContactLaw, FloatingClearance)->Apply(configure);
 BENCHMARK_TEMPLATE(BM_ContactLaw, FloatingClearanceFriction)->Apply(configure);
 BENCHMARK_TEMPLATE(BM_StepImpact, FloatingClearance)->Apply(configure);
