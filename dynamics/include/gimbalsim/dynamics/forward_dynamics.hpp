@@ -46,9 +46,10 @@ GIMBALSIM_FLATTEN void forwardDynamics(const Model& m, Data<V>& d, const State<V
     clearanceContact(m, d, s.q, s.v, s.v0);
     addContactForces(m, d);
   }
-  d.L = d.M;
-  d.vdot = d.tau - d.bias;
-  if (!choleskySolveInPlace(d.L, d.vdot)) d.vdot.setConstant(std::numeric_limits<double>::quiet_NaN());
+  // M vdot = tau - C, factor into d.L (lower) straight from d.M.
+  if (!choleskySolve(d.M, d.L, [&](int j) { return d.tau(j) - d.bias(j); }, d.vdot)) {
+    d.vdot.setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
   configurationRates(s, d);
 }
 

@@ -282,36 +282,39 @@ struct SpatialInertia {
   }
 };
 
-/// Solves A x = b in place for symmetric positive definite A (Cholesky,
-/// lower factor written over A). Fixed size, fully unrolled (the loop bounds
-/// are compile-time constants); returns false when A is not positive definite
-/// (x is then meaningless). Each entry is computed by the same operations in
-/// the same order as the textbook left-looking loops; the forward
-/// substitution of row j is moved up to just after column j is factored, so
-/// it overlaps the factorisation (the solve is latency-bound: a sqrt and a
-/// division per column, a division per row of each substitution).
-template <int N>
-GIMBALSIM_INLINE bool choleskySolveInPlace(Eigen::Matrix<double, N, N>& A, Eigen::Matrix<double, N, 1>& x) {
+/// Solves A x = b for symmetric positive definite A by Cholesky, reading A's
+/// lower triangle and writing the lower factor into L (L may be A itself),
+/// b(j) given by a callable (it may read x: b(j) is read before x(j) is
+/// written). Fixed size, fully unrolled (the loop bounds are compile-time
+/// constants); returns false when A is not positive definite (x is then
+/// meaningless). Each entry is computed by the same operations in the same
+/// order as the textbook left-looking loops; the forward substitution of row
+/// j is moved up to just after column j is factored, so it overlaps the
+/// factorisation (the solve is latency-bound: a sqrt and a division per
+/// column, a division per row of each substitution).
+template <int N, class B>
+GIMBALSIM_INLINE bool choleskySolve(const Eigen::Matrix<double, N, N>& A, Eigen::Matrix<double, N, N>& L,
+                                    const B& b, Eigen::Matrix<double, N, 1>& x) {
   bool ok = true;
 #pragma GCC unroll 16
   for (int j = 0; j < N; ++j) {
     double d = A(j, j);
 #pragma GCC unroll 16
-    for (int k = 0; k < j; ++k) d -= A(j, k) * A(j, k);
+    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
     ok = ok && d > 0.0;
     const double l = std::sqrt(d);
-    A(j, j) = l;
+    L(j, j) = l;
     const double il = 1.0 / l;
-    double y = x(j);  // L y = b, row j (needs only columns 0..j)
+    double y = b(j);  // L y = b, row j (needs only columns 0..j)
 #pragma GCC unroll 16
-    for (int k = 0; k < j; ++k) y -= A(j, k) * x(k);
+    for (int k = 0; k < j; ++k) y -= L(j, k) * x(k);
     x(j) = y / l;
 #pragma GCC unroll 16
     for (int i = j + 1; i < N; ++i) {
       double s = A(i, j);
 #pragma GCC unroll 16
-      for (int k = 0; k < j; ++k) s -= A(i, k) * A(j, k);
-      A(i, j) = s * il;
+      for (int k = 0; k < j; ++k) s -= L(i, k) * L(j, k);
+      L(i, j) = s * il;
     }
   }
   if (!ok) return false;
@@ -319,10 +322,17 @@ GIMBALSIM_INLINE bool choleskySolveInPlace(Eigen::Matrix<double, N, N>& A, Eigen
   for (int i = N - 1; i >= 0; --i) {  // L^T x = y
     double s = x(i);
 #pragma GCC unroll 16
-    for (int k = i + 1; k < N; ++k) s -= A(k, i) * x(k);
-    x(i) = s / A(i, i);
+    for (int k = i + 1; k < N; ++k) s -= L(k, i) * x(k);
+    x(i) = s / L(i, i);
   }
   return true;
+}
+
+/// Solves A x = b in place for symmetric positive definite A (Cholesky,
+/// lower factor written over A); see choleskySolve().
+template <int N>
+GIMBALSIM_INLINE bool choleskySolveInPlace(Eigen::Matrix<double, N, N>& A, Eigen::Matrix<double, N, 1>& x) {
+  return choleskySolve(A, A, [&](int j) { return x(j); }, x);
 }
 
 }  // namespace gimbalsim
