@@ -203,6 +203,14 @@ const std::vector<Spec>& specs() {
        [](Model& m, N n) { m.integrator.velocity_limit = asNumber(n); }},
       {"sim.penetration_limit", "number", "m", "penetration above this stops the run (0 = the clearance)",
        [](Model& m, N n) { m.integrator.penetration_limit = asNumber(n); }},
+      {"sensors.encoder_resolution", "number", "rad", "firmware_sim: encoder quantum (0 = unquantized)",
+       [](Model& m, N n) { m.sensors.encoder_resolution = asNumber(n); }},
+      {"sensors.encoder_noise", "number", "rad", "firmware_sim: Gaussian encoder noise sigma (0 = none)",
+       [](Model& m, N n) { m.sensors.encoder_noise = asNumber(n); }},
+      {"sensors.rate_noise", "number", "rad/s", "firmware_sim: Gaussian rate noise sigma (0 = none)",
+       [](Model& m, N n) { m.sensors.rate_noise = asNumber(n); }},
+      {"sensors.seed", "int", "-", "firmware_sim: sensor noise seed (>= 0)",
+       [](Model& m, N n) { m.sensors.seed = asInt(n); }},
   };
   return s;
 }
@@ -387,6 +395,10 @@ LoadedScene loadSceneText(const std::string& yaml, const std::string& origin,
   } else {
     refuse("sim.output_interval", "must be > 0");
   }
+  if (!(m.sensors.encoder_resolution >= 0.0)) refuse("sensors.encoder_resolution", "must be >= 0");
+  if (!(m.sensors.encoder_noise >= 0.0)) refuse("sensors.encoder_noise", "must be >= 0");
+  if (!(m.sensors.rate_noise >= 0.0)) refuse("sensors.rate_noise", "must be >= 0");
+  if (m.sensors.seed < 0) refuse("sensors.seed", "must be >= 0");
   if (m.clearance && m.initial.ecc.norm() > c.bearing_radius - c.journal_radius) {
     refuse("initial.ecc", "initial eccentricity exceeds the radial clearance");
   }

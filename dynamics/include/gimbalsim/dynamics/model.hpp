@@ -91,6 +91,15 @@ struct InitialParams {
   Vec2 ecc = Vec2::Zero();              ///< journal centre in the joint plane [m]
 };
 
+/// Sensors as the gimbal firmware reports them (firmware_sim; the dynamics
+/// never reads these).
+struct SensorParams {
+  double encoder_resolution = 5.992112452678286e-6;  ///< 2 pi / 2^20 [rad]; 0 = unquantized
+  double encoder_noise = 0.0;   ///< Gaussian encoder noise sigma, before quantization [rad]
+  double rate_noise = 0.0;      ///< Gaussian rate noise sigma [rad/s]
+  long long seed = 1;           ///< noise generator seed (>= 0)
+};
+
 struct Model {
   std::string name;
 
@@ -113,6 +122,7 @@ struct Model {
   ContactParams contact;
   IntegratorParams integrator;
   InitialParams initial;
+  SensorParams sensors;
 
   // ---- inputs and run ----
   Vec2 torque{5.0, 10.0};           ///< constant joint torques tau1, tau2 [N m]
