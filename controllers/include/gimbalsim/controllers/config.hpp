@@ -1,0 +1,33 @@
+// Controller configuration files (YAML): gains, limits, control period and the
+// target profile in one file (controllers/config/default.yaml), with
+// `--set key=value` overrides. At the edge: parsing and validation here, never
+// in update(). Errors name the file, line and key, like the scene loader.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "gimbalsim/controllers/pid.hpp"
+#include "gimbalsim/dynamics/scene.hpp"  // SceneError (the list of problems), KeyInfo
+
+namespace gimbalsim::controllers {
+
+/// Refusal of a controller configuration: every problem, each naming key and place.
+class ConfigError : public SceneError {
+ public:
+  using SceneError::SceneError;
+};
+
+/// Loads and validates a controller configuration; `overrides` are "key=value"
+/// (from --set), applied after the file. Every key is optional (defaults are
+/// those of ControllerConfig). Throws ConfigError.
+ControllerConfig loadControllerConfig(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// Same, from YAML text (`origin` names it in messages).
+ControllerConfig loadControllerConfigText(const std::string& yaml, const std::string& origin,
+                                          const std::vector<std::string>& overrides = {});
+
+/// Every configuration key with type, unit and meaning (README, --help).
+std::vector<KeyInfo> controllerKeys();
+
+}  // namespace gimbalsim::controllers

@@ -1,0 +1,56 @@
+#include "gimbalsim/controllers/pid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gimbalsim::controllers {
+
+ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measurement& meas) noexcept {
+  ControlOutput out;
+  out.ref = c.profile.at(meas.t);
+  const double Ts = c.period;
+  // First-order low-pass of the backward difference: alpha = Ts / (Ts + 1/(2 pi fc)).
+  const double alpha = Ts / (Ts + 1.0 / (2.0 * M_PI * c.rate_filter_hz));
+  for (int i = 0; i < 2; ++i) {
+    const AxisGains& g = c.axis[i];
+    double w = meas.dtheta(i);
+    if (c.rate_source == RateSource::Difference) {
+      if (s.primed) s.rate(i) += alpha * ((meas.theta(i) - s.theta_prev(i)) / Ts - s.rate(i));
+      w = s.rate(i);
+    }
+    const double e = out.ref.q(i) - meas.theta(i);
+    const double tau_u = g.inertia * out.ref.ddq(i) + g.kp * e + g.kd * (out.ref.dq(i) - w) + s.integral(i);
+    const double tau = std::clamp(tau_u, -g.torque_limit, g.torque_limit);
+    const bool sat = tau != tau_u;
+    double dI = Ts * g.ki * e;
+    switch (c.anti_windup) {
+      case AntiWindup::None: break;
+      case AntiWindup::Clamping:
+        if (sat && dI * tau_u > 0.0) dI = 0.0;  // would push further into the limit
+        break;
+      case AntiWindup::BackCalculation: dI += Ts * g.aw_gain * (tau - tau_u); break;
+    }
+    s.integral(i) = std::clamp(s.integral(i) + dI, -g.torque_limit, g.torque_limit);
+    out.tau(i) = tau;
+    out.tau_unsat(i) = tau_u;
+    out.error(i) = e;
+    out.rate(i) = w;
+    out.saturated[i] = sat;
+  }
+  s.theta_prev = meas.theta;
+  s.primed = true;
+  return out;
+}
+
+AxisGains triplePoleGains(double J, double omega, double torque_limit, double aw_gain) {
+  AxisGains g;
+  g.kd = 3.0 * J * omega;
+  g.kp = 3.0 * J * omega * omega;
+  g.ki = J * omega * omega * omega;
+  g.inertia = J;
+  g.torque_limit = torque_limit;
+  g.aw_gain = aw_gain;
+  return g;
+}
+
+}  // namespace gimbalsim::controllers
