@@ -35,7 +35,7 @@ void fields(gimbal_status_t& a, gimbal_status_t& b, F&& f) {
 }
 template <class F>
 void fields(gimbal_truth_t& a, gimbal_truth_t& b, F&& f) {
-  f(a.utime, b.utime); f(a.seq, b.seq); f(a.base_position, b.base_position);
+  f(a.utime, b.utime); f(a.seq, b.seq); f(a.sim_time, b.sim_time); f(a.base_position, b.base_position);
   f(a.base_quaternion, b.base_quaternion); f(a.base_rate, b.base_rate);
   f(a.base_velocity, b.base_velocity); f(a.joint_angle, b.joint_angle);
   f(a.joint_rate, b.joint_rate); f(a.applied_torque, b.applied_torque);
