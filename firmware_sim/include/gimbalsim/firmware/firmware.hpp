@@ -1,0 +1,355 @@
+// The gimbal firmware's behaviour and the plant it drives, without LCM,
+// threads or clocks: one tick() per control period. firmware_sim (main.cpp)
+// wraps it with LCM and a real-time or lockstep loop; the tests drive it in
+// one process.
+//
+// Tick k (control period T, time t_k = k T):
+//   1. commands received since tick k-1 were validated on arrival by
+//      receive(); the newest valid one becomes the active command now, so a
+//      command that arrives during tick k acts from tick k+1 (one-tick bus
+//      latency, like a real field bus);
+//   2. watchdog: no valid command for watchdog_timeout -> the safe command;
+//      then saturation at the scene's motor limit (torque.limit);
+//   3. status k and truth k are sampled at t_k (encoders quantized to
+//      sensors.encoder_resolution, optional seeded noise);
+//   4. the plant is stepped over [t_k, t_k+1] with the applied torque,
+//      sub-stepping T / sim.step RK4 steps. A step that fails (non-ok
+//      StepStatus) latches PLANT_FAULT: the state stays the last good one and
+//      is never stepped again.
+// tick(), receive() and receiveUndecodable() are noexcept and allocation-free.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include "gimbalsim/controllers/target_profile.hpp"
+#include "gimbalsim/dynamics/integrator.hpp"
+#include "gimbalsim/dynamics/observables.hpp"
+#include "gimbalsim/firmware/sensor_noise.hpp"
+
+namespace gimbalsim::firmware {
+
+/// Fault bits of Status::faults; the same values as gimbal_status_t's
+/// FAULT_* constants (main.cpp static_asserts it).
+enum Fault : std::int32_t {
+  kWatchdogTripped = 1,   ///< no valid command within the watchdog time: safe command applied
+  kTorqueSaturated = 2,   ///< the requested torque was clipped to the motor limit
+  kCommandRejected = 4,   ///< a command was rejected since the previous tick
+  kPlantFault = 8,        ///< plant integration failed; state frozen (latched)
+  kLockstepTimeout = 16,  ///< lockstep: no answer within the timeout (set by the loop)
+};
+
+/// Command modes (gimbal_command_t::MODE_*).
+enum Mode : std::int8_t { kModeOff = 0, kModeTorque = 1 };
+
+/// Firmware settings that are not part of the scene (command-line options).
+struct Config {
+  double control_period = 1.0e-3;     ///< T [s], a whole multiple of sim.step
+  double watchdog_timeout = 0.05;     ///< no valid command for this long -> safe command [s]
+  double torque_sanity_factor = 10.0; ///< reject |torque| > factor * torque.limit [-]
+  Vec2 safe_torque = Vec2::Zero();    ///< applied while the watchdog is tripped [N m]
+};
+
+/// A decoded command (gimbal_command_t without LCM).
+struct Command {
+  std::int64_t utime = 0;       ///< [us]
+  std::int64_t seq = 0;         ///< [-]
+  std::int64_t status_seq = 0;  ///< [-] status answered
+  std::int8_t mode = kModeOff;
+  double torque[2] = {0.0, 0.0};  ///< [N m] azimuth, elevation
+};
+
+/// Why a command was refused.
+enum class Rejection : std::uint8_t {
+  None,
+  NonFinite,     ///< NaN or Inf torque
+  OutOfRange,    ///< |torque| beyond the sanity range
+  UnknownMode,   ///< mode not OFF or TORQUE
+  StaleSeq,      ///< seq <= the last accepted seq (stale or duplicate)
+  FutureStatus,  ///< answers a status not yet published
+  Undecodable,   ///< bytes that are not a gimbal_command_t
+};
+inline constexpr int kNumRejections = 7;
+const char* describe(Rejection r);
+
+/// The firmware's status report (gimbal_status_t without LCM).
+struct Status {
+  std::int64_t utime = 0;         ///< [us]
+  std::int64_t seq = 0;           ///< [-] tick index
+  double angle[2] = {0.0, 0.0};   ///< [rad] encoder angles theta1, theta2 (quantized)
+  double rate[2] = {0.0, 0.0};    ///< [rad/s]
+  double applied_torque[2] = {0.0, 0.0};  ///< [N m] from t_k over the next period
+  std::int32_t faults = 0;        ///< Fault bits
+  std::int64_t last_command_seq = -1;
+  std::int64_t commands_received = 0, commands_rejected = 0, commands_missed = 0;
+};
+
+/// Simulator-only truth at t_k (gimbal_truth_t without LCM).
+struct Truth {
+  std::int64_t utime = 0;          ///< [us]
+  std::int64_t seq = 0;            ///< [-]
+  double sim_time = 0.0;           ///< [s]
+  double base_position[3] = {};    ///< [m] inertial
+  double base_quaternion[4] = {1.0, 0.0, 0.0, 0.0};  ///< (w, x, y, z), base -> inertial
+  double base_rate[3] = {};        ///< [rad/s] base frame
+  double base_velocity[3] = {};    ///< [m/s] inertial
+  double joint_angle[2] = {};      ///< [rad]
+  double joint_rate[2] = {};       ///< [rad/s]
+  double applied_torque[2] = {};   ///< [N m]
+  double eccentricity[2] = {};     ///< [m] joint-2 plane
+  double penetration = 0.0;        ///< [m]
+  double contact_normal_force = 0.0, contact_tangential_force = 0.0;  ///< [N]
+  double joint2_force = 0.0;       ///< [N]
+  double boresight[3] = {};        ///< unit, inertial
+  double target_boresight[3] = {}; ///< unit, inertial
+  double pointing_error = 0.0;     ///< [rad]
+  double momentum_linear[3] = {};  ///< [N s] inertial
+  double momentum_angular[3] = {}; ///< [N m s] about the inertial origin
+  double energy = 0.0;             ///< [J]
+  std::int32_t faults = 0;
+};
+
+/// Counters kept by the firmware (cumulative).
+struct Counters {
+  std::int64_t received = 0;    ///< command messages, garbage included
+  std::int64_t rejected = 0;    ///< all rejections
+  std::int64_t missed = 0;      ///< ticks (k >= 1) without a new valid command
+  std::int64_t by_reason[kNumRejections] = {};  ///< rejections per Rejection
+  std::int64_t watchdog_trips = 0;   ///< transitions into the tripped state
+  std::int64_t saturated_ticks = 0;  ///< ticks with a clipped torque
+  std::int64_t substeps = 0;         ///< RK4 evaluations, all ticks
+  int max_substeps_in_tick = 0;
+};
+
+/// Checks a Config against a scene; empty when fine, else what is wrong.
+/// On success *steps_per_tick = T / sim.step.
+std::string checkConfig(const Model& m, const Config& c, int* steps_per_tick);
+
+/// Encoder quantization: the multiple of `resolution` nearest to x (x itself if resolution is 0).
+inline double quantize(double x, double resolution) noexcept {
+  return resolution > 0.0 ? resolution * std::nearbyint(x / resolution) : x;
+}
+
+template <class V>
+class Firmware {
+ public:
+  /// m and profile must outlive the Firmware; profile may be null (then the
+  /// target is the boresight at t = 0). c must pass checkConfig().
+  Firmware(const Model& m, const Config& c, const controllers::TargetProfile* profile = nullptr)
+      : m_(m), c_(c), profile_(profile), d_(m), obs_(m), s_(initialState<V>(m)),
+        noise_(static_cast<std::uint64_t>(m.sensors.seed)) {
+    std::string err = checkConfig(m, c, &steps_per_tick_);
+    (void)err;  // the caller checked; a bad config leaves steps_per_tick_ at 1
+    if (steps_per_tick_ < 1) steps_per_tick_ = 1;
+    watchdog_ticks_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(c.watchdog_timeout / c.control_period - 1e-9)));
+    kinematics(m_, obs_, s_.q, s_.v);
+    initial_boresight_ = boresight(m_, obs_, s_);
+  }
+
+  /// Validates a decoded command on arrival. A valid one becomes the pending
+  /// command (the newest wins) and acts from the next tick.
+  Rejection receive(const Command& cmd) noexcept {
+    ++n_.received;
+    const Rejection r = validate(cmd);
+    if (r != Rejection::None) {
+      reject(r);
+      return r;
+    }
+    pending_ = cmd;
+    has_pending_ = true;
+    last_accepted_seq_ = cmd.seq;
+    return r;
+  }
+
+  /// Bytes on the command channel that are not a gimbal_command_t.
+  void receiveUndecodable() noexcept {
+    ++n_.received;
+    reject(Rejection::Undecodable);
+  }
+
+  /// One control period. utime stamps status and truth [us]; truth is
+  /// computed only when want_truth (it costs a forward-dynamics evaluation).
+  void tick(std::int64_t utime, bool want_truth = true, std::int32_t extra_faults = 0) noexcept {
+    const std::int64_t k = tick_;
+    std::int32_t faults = pending_faults_ | extra_faults;
+    pending_faults_ = 0;
+
+    // 1. command intake: the newest valid command received since the last tick.
+    if (has_pending_) {
+      active_ = pending_;
+      has_active_ = true;
+      has_pending_ = false;
+      last_valid_tick_ = k;
+    } else if (k > 0) {
+      ++n_.missed;
+    }
+
+    // 2. watchdog, mode, saturation.
+    const bool tripped = k - last_valid_tick_ >= watchdog_ticks_;
+    if (tripped && !tripped_) ++n_.watchdog_trips;
+    tripped_ = tripped;
+    Vec2 tau = Vec2::Zero();
+    if (tripped) {
+      tau = c_.safe_torque;
+      faults |= kWatchdogTripped;
+    } else if (has_active_ && active_.mode == kModeTorque) {
+      tau = Vec2(active_.torque[0], active_.torque[1]);
+    }
+    const Vec2 clipped = tau.cwiseMax(-m_.torque_limit).cwiseMin(m_.torque_limit);
+    if (clipped != tau) {
+      faults |= kTorqueSaturated;
+      ++n_.saturated_ticks;
+    }
+    u_.tau = clipped;
+    if (plant_fault_) faults |= kPlantFault;
+
+    // 3. status and truth at t_k.
+    const double t = static_cast<double>(k) * c_.control_period;
+    sampleStatus(k, utime, faults);
+    if (want_truth) sampleTruth(k, utime, t, faults);
+
+    // 4. the plant over [t_k, t_k+1].
+    if (!plant_fault_) {
+      const long long before = d_.stats.substeps;
+      for (int i = 0; i < steps_per_tick_; ++i) {
+        const StepStatus st = step(m_, d_, s_, u_);
+        if (st != StepStatus::Ok) {
+          plant_fault_ = true;
+          plant_status_ = st;
+          break;
+        }
+      }
+      const int used = static_cast<int>(d_.stats.substeps - before);
+      last_substeps_ = used;
+      n_.substeps += used;
+      n_.max_substeps_in_tick = std::max(n_.max_substeps_in_tick, used);
+    } else {
+      last_substeps_ = 0;
+    }
+    ++tick_;
+  }
+
+  const Status& status() const noexcept { return status_; }
+  const Truth& truth() const noexcept { return truth_; }
+  const Counters& counters() const noexcept { return n_; }
+  const State<V>& state() const noexcept { return s_; }
+  const Input& appliedInput() const noexcept { return u_; }
+  std::int64_t ticks() const noexcept { return tick_; }
+  int stepsPerTick() const noexcept { return steps_per_tick_; }
+  int lastSubsteps() const noexcept { return last_substeps_; }
+  std::int64_t watchdogTicks() const noexcept { return watchdog_ticks_; }
+  bool watchdogTripped() const noexcept { return tripped_; }
+  std::int64_t lastAcceptedSeq() const noexcept { return last_accepted_seq_; }
+
+  bool plantFault() const noexcept { return plant_fault_; }
+  StepStatus plantStatus() const noexcept { return plant_status_; }
+  double plantFailTime() const noexcept { return d_.fail_time; }  ///< [s]
+  int plantFailIndex() const noexcept { return d_.fail_index; }
+
+ private:
+  Rejection validate(const Command& cmd) const noexcept {
+    if (!std::isfinite(cmd.torque[0]) || !std::isfinite(cmd.torque[1])) return Rejection::NonFinite;
+    if (cmd.mode != kModeOff && cmd.mode != kModeTorque) return Rejection::UnknownMode;
+    for (int i = 0; i < 2; ++i) {
+      if (std::fabs(cmd.torque[i]) > c_.torque_sanity_factor * m_.torque_limit(i)) return Rejection::OutOfRange;
+    }
+    if (cmd.seq <= last_accepted_seq_) return Rejection::StaleSeq;
+    // Status tick_ - 1 is the newest one published (status k is sampled in tick k).
+    if (cmd.status_seq > tick_ - 1) return Rejection::FutureStatus;
+    return Rejection::None;
+  }
+
+  void reject(Rejection r) noexcept {
+    ++n_.rejected;
+    ++n_.by_reason[static_cast<int>(r)];
+    pending_faults_ |= kCommandRejected;
+  }
+
+  void sampleStatus(std::int64_t k, std::int64_t utime, std::int32_t faults) noexcept {
+    Status& o = status_;
+    o.utime = utime;
+    o.seq = k;
+    const SensorParams& sp = m_.sensors;
+    for (int j = 0; j < 2; ++j) {
+      double a = s_.theta(j), w = s_.dtheta(j);
+      if (sp.encoder_noise > 0.0) a += sp.encoder_noise * noise_.normal();
+      if (sp.rate_noise > 0.0) w += sp.rate_noise * noise_.normal();
+      o.angle[j] = quantize(a, sp.encoder_resolution);
+      o.rate[j] = w;
+      o.applied_torque[j] = u_.tau(j);
+    }
+    o.faults = faults;
+    o.last_command_seq = last_accepted_seq_;
+    o.commands_received = n_.received;
+    o.commands_rejected = n_.rejected;
+    o.commands_missed = n_.missed;
+  }
+
+  void sampleTruth(std::int64_t k, std::int64_t utime, double t, std::int32_t faults) noexcept {
+    Truth& o = truth_;
+    const Row r = observe(m_, obs_, s_, u_);  // runs kinematics at s_ in obs_
+    const Vec3 b = boresight(m_, obs_, s_);
+    Vec3 target = initial_boresight_;
+    if (profile_ != nullptr) {
+      const controllers::ProfileSample ps = profile_->at(t);
+      target = controllers::losBoresight(m_, ps.q(0), ps.q(1));
+    }
+    o.utime = utime;
+    o.seq = k;
+    o.sim_time = s_.t;
+    set3(o.base_position, r.base_x, r.base_y, r.base_z);
+    if constexpr (V::kFloating) {
+      const Quat qn = Quat(s_.q(3), s_.q(4), s_.q(5), s_.q(6)).normalized();
+      o.base_quaternion[0] = qn.w(), o.base_quaternion[1] = qn.x();
+      o.base_quaternion[2] = qn.y(), o.base_quaternion[3] = qn.z();
+    }
+    set3(o.base_rate, r.base_wx, r.base_wy, r.base_wz);
+    set3(o.base_velocity, r.base_vx, r.base_vy, r.base_vz);
+    o.joint_angle[0] = r.theta1, o.joint_angle[1] = r.theta2;
+    o.joint_rate[0] = r.dtheta1, o.joint_rate[1] = r.dtheta2;
+    o.applied_torque[0] = u_.tau(0), o.applied_torque[1] = u_.tau(1);
+    o.eccentricity[0] = r.ecc_x, o.eccentricity[1] = r.ecc_y;
+    o.penetration = r.delta;
+    o.contact_normal_force = r.fn;
+    o.contact_tangential_force = r.ft;
+    o.joint2_force = r.joint2_force;
+    set3(o.boresight, b.x(), b.y(), b.z());
+    set3(o.target_boresight, target.x(), target.y(), target.z());
+    o.pointing_error = controllers::pointingError(b, target);
+    set3(o.momentum_linear, r.mom_px, r.mom_py, r.mom_pz);
+    set3(o.momentum_angular, r.mom_lx, r.mom_ly, r.mom_lz);
+    o.energy = r.energy;
+    o.faults = faults;
+  }
+
+  static void set3(double* o, double x, double y, double z) noexcept { o[0] = x, o[1] = y, o[2] = z; }
+
+  const Model& m_;
+  Config c_;
+  const controllers::TargetProfile* profile_;
+  Data<V> d_;    ///< stepping workspace
+  Data<V> obs_;  ///< observation workspace (truth), never disturbs the stepping one
+  State<V> s_;
+  Input u_;
+  GaussianNoise noise_;
+  Vec3 initial_boresight_ = Vec3::UnitX();
+
+  int steps_per_tick_ = 1;
+  std::int64_t watchdog_ticks_ = 50;
+  std::int64_t tick_ = 0;              ///< index of the next tick
+  std::int64_t last_valid_tick_ = 0;   ///< tick that took the last valid command (0 at start)
+  std::int64_t last_accepted_seq_ = -1;
+  Command pending_, active_;
+  bool has_pending_ = false, has_active_ = false, tripped_ = false;
+  std::int32_t pending_faults_ = 0;
+  int last_substeps_ = 0;
+  bool plant_fault_ = false;
+  StepStatus plant_status_ = StepStatus::Ok;
+
+  Status status_;
+  Truth truth_;
+  Counters n_;
+};
+
+}  // namespace gimbalsim::firmware

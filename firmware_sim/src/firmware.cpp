@@ -1,0 +1,57 @@
+#include "gimbalsim/firmware/firmware.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace gimbalsim::firmware {
+
+const char* describe(Rejection r) {
+  switch (r) {
+    case Rejection::None: return "accepted";
+    case Rejection::NonFinite: return "NaN or Inf torque";
+    case Rejection::OutOfRange: return "torque beyond the sanity range";
+    case Rejection::UnknownMode: return "unknown mode";
+    case Rejection::StaleSeq: return "stale or duplicate seq";
+    case Rejection::FutureStatus: return "answers a status not yet published";
+    case Rejection::Undecodable: return "undecodable bytes (not a gimbal_command_t)";
+  }
+  return "?";
+}
+
+std::string checkConfig(const Model& m, const Config& c, int* steps_per_tick) {
+  std::ostringstream err;
+  const double h = m.integrator.step;
+  if (!(c.control_period > 0.0) || !std::isfinite(c.control_period)) {
+    err << "control period must be > 0 s, got " << c.control_period;
+    return err.str();
+  }
+  const double r = c.control_period / h;
+  const double n = std::round(r);
+  if (n < 1.0 || std::fabs(r - n) > 1e-9 * r) {
+    err.precision(17);
+    err << "control period " << c.control_period << " s is not a whole multiple of sim.step = " << h
+        << " s (the plant steps sim.step at a time inside each tick); choose a rate whose period is "
+           "k * sim.step, or --set sim.step=<period/k>";
+    return err.str();
+  }
+  if (!(c.watchdog_timeout > 0.0)) {
+    err << "watchdog timeout must be > 0 s, got " << c.watchdog_timeout;
+    return err.str();
+  }
+  if (!(c.torque_sanity_factor >= 1.0)) {
+    err << "torque sanity factor must be >= 1 (commands above factor * torque.limit are rejected), got "
+        << c.torque_sanity_factor;
+    return err.str();
+  }
+  for (int i = 0; i < 2; ++i) {
+    if (!std::isfinite(c.safe_torque(i)) || std::fabs(c.safe_torque(i)) > m.torque_limit(i)) {
+      err << "safe torque " << c.safe_torque(i) << " N m on axis " << i + 1
+          << " must be finite and within torque.limit = " << m.torque_limit(i) << " N m";
+      return err.str();
+    }
+  }
+  if (steps_per_tick) *steps_per_tick = static_cast<int>(n);
+  return {};
+}
+
+}  // namespace gimbalsim::firmware

@@ -1,0 +1,463 @@
+// The firmware core in one process (no LCM, no threads): watchdog, command
+// validation, saturation, quantization, one-tick latency, seeded noise, plant
+// fault latching, lockstep determinism, and zero allocation per tick.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "counting_new.hpp"
+#include "gimbalsim/firmware/firmware.hpp"
+#include "gimbalsim/firmware/histogram.hpp"
+#include "gimbalsim/firmware/spsc_ring.hpp"
+#include "gimbalsim/dynamics/simulate.hpp"
+#include "test_util.hpp"
+
+namespace gimbalsim::firmware {
+namespace {
+
+using test::g_allocations;
+
+Command torqueCommand(std::int64_t seq, std::int64_t status_seq, double tau1, double tau2) {
+  Command c;
+  c.seq = seq;
+  c.status_seq = status_seq;
+  c.mode = kModeTorque;
+  c.torque[0] = tau1;
+  c.torque[1] = tau2;
+  return c;
+}
+
+bool hasFault(const Status& s, Fault f) { return (s.faults & f) != 0; }
+
+template <class V>
+bool sameState(const State<V>& a, const State<V>& b) {
+  return a.t == b.t && a.q == b.q && a.v == b.v;
+}
+
+// Fixed-base ideal gimbal: the cheapest plant, for the behaviour tests.
+Model benchScene(std::vector<std::string> sets = {}) {
+  sets.insert(sets.begin(), "structure.base=fixed");
+  return test::scene("paper_ideal", sets);
+}
+using Bench = FixedIdeal;
+
+TEST(FirmwareConfig, RefusesAPeriodThatIsNotAMultipleOfTheStep) {
+  const Model m = benchScene();  // sim.step = 1 ms
+  Config c;
+  c.control_period = 1.5e-3;
+  int n = 0;
+  const std::string err = checkConfig(m, c, &n);
+  EXPECT_NE(err.find("not a whole multiple of sim.step"), std::string::npos) << err;
+  c.control_period = 0.5e-3;
+  EXPECT_FALSE(checkConfig(m, c, &n).empty());
+  c.control_period = 3e-3;
+  EXPECT_EQ(checkConfig(m, c, &n), "");
+  EXPECT_EQ(n, 3);
+  c.safe_torque = Vec2(0.0, 1e9);
+  EXPECT_NE(checkConfig(m, c, &n).find("safe torque"), std::string::npos);
+}
+
+TEST(Firmware, SubStepsThePlantInsideEachTick) {
+  // T = 4 sim.step: one tick must equal four plain steps with the same torque.
+  const Model m = benchScene({"sim.step=2.5e-4"});
+  Config c;
+  c.control_period = 1e-3;
+  Firmware<Bench> fw(m, c);
+  ASSERT_EQ(fw.stepsPerTick(), 4);
+  fw.tick(0);
+  fw.receive(torqueCommand(1, 0, 3.0, -2.0));
+  fw.tick(1000);  // applies (3, -2) over [t1, t2]
+  fw.tick(2000);
+  Data<Bench> d(m);
+  State<Bench> s = initialState<Bench>(m);
+  Input u;  // tick 0: zero torque (no command yet)
+  for (int i = 0; i < 4; ++i) ASSERT_EQ(step(m, d, s, u), StepStatus::Ok);
+  u.tau = Vec2(3.0, -2.0);
+  for (int i = 0; i < 8; ++i) ASSERT_EQ(step(m, d, s, u), StepStatus::Ok);
+  EXPECT_TRUE(sameState(s, fw.state())) << "t " << s.t << " vs " << fw.state().t;
+}
+
+TEST(Firmware, WatchdogTripsWithinItsBoundAndRecovers) {
+  const Model m = benchScene();
+  Config c;
+  c.watchdog_timeout = 0.05;  // 50 ticks at 1 kHz
+  Firmware<Bench> fw(m, c);
+  ASSERT_EQ(fw.watchdogTicks(), 50);
+  std::int64_t seq = 0;
+  const int last_cmd_tick = 100;  // the last valid command is taken at this tick
+  for (int k = 0; k <= 400; ++k) {
+    const bool sending = (k >= 1 && k <= last_cmd_tick) || k >= 300;
+    if (sending) fw.receive(torqueCommand(++seq, k - 1, 1.0, 2.0));
+    fw.tick(k * 1000);
+    const Status& s = fw.status();
+    const bool want_tripped = k > last_cmd_tick && k < 300 && k - last_cmd_tick >= 50;
+    ASSERT_EQ(hasFault(s, kWatchdogTripped), want_tripped) << "tick " << k;
+    if (want_tripped) {
+      EXPECT_EQ(s.applied_torque[0], 0.0);
+      EXPECT_EQ(s.applied_torque[1], 0.0);
+    } else if (k >= 1) {
+      // Between commands and before the trip the last command is held.
+      EXPECT_EQ(s.applied_torque[0], 1.0) << "tick " << k;
+      EXPECT_EQ(s.applied_torque[1], 2.0) << "tick " << k;
+    }
+  }
+  EXPECT_EQ(fw.counters().watchdog_trips, 1);
+  EXPECT_EQ(fw.counters().missed, 199);  // ticks 101..299
+  EXPECT_EQ(fw.counters().rejected, 0);
+}
+
+TEST(Firmware, WatchdogTripsAtStartWhenNoControllerAnswers) {
+  const Model m = benchScene();
+  Config c;
+  c.watchdog_timeout = 0.02;
+  Firmware<Bench> fw(m, c);
+  for (int k = 0; k <= 25; ++k) {
+    fw.tick(k * 1000);
+    EXPECT_EQ(hasFault(fw.status(), kWatchdogTripped), k >= 20) << "tick " << k;
+  }
+}
+
+TEST(Firmware, InvalidCommandsAreRejectedCountedFlaggedAndNeverReachThePlant) {
+  const Model m = benchScene({"torque.limit=[2, 3]"});
+  Config c;  // sanity range 10 x limit: 20, 30 N m
+  struct Bad {
+    Command cmd;
+    Rejection why;
+  };
+  const double nan = std::nan(""), inf = INFINITY;
+  // seq 1000000: if any of these were accepted, every later valid command
+  // (seq < 1000000) would be stale and the dynamics would change.
+  const std::int64_t big = 1000000;
+  Command unknown_mode = torqueCommand(big, 9, 0.5, 0.5);
+  unknown_mode.mode = 7;
+  const std::vector<Bad> bads = {
+      {torqueCommand(big, 9, nan, 0.0), Rejection::NonFinite},
+      {torqueCommand(big, 9, 0.0, inf), Rejection::NonFinite},
+      {torqueCommand(big, 9, -inf, 0.0), Rejection::NonFinite},
+      {torqueCommand(big, 9, 20.5, 0.0), Rejection::OutOfRange},
+      {torqueCommand(big, 9, 0.0, -30.5), Rejection::OutOfRange},
+      {unknown_mode, Rejection::UnknownMode},
+      {torqueCommand(5, 9, 0.7, 0.7), Rejection::StaleSeq},       // seq 5 <= last accepted 10
+      {torqueCommand(10, 9, 0.7, 0.7), Rejection::StaleSeq},      // duplicate of the last accepted
+      {torqueCommand(big, 11, 0.7, 0.7), Rejection::FutureStatus},  // newest status is 10
+  };
+  auto run = [&](bool inject, std::vector<Status>* statuses) {
+    Firmware<Bench> fw(m, c);
+    for (int k = 0; k < 40; ++k) {
+      if (k >= 1) {
+        if (inject && k == 11) {
+          for (const Bad& b : bads) EXPECT_EQ(fw.receive(b.cmd), b.why) << describe(b.why);
+          fw.receiveUndecodable();
+        }
+        fw.receive(torqueCommand(k, k - 1, 0.1 * k, -0.05 * k));
+      }
+      fw.tick(k * 1000);
+      statuses->push_back(fw.status());
+    }
+    return fw.state();
+  };
+  std::vector<Status> clean, dirty;
+  const State<Bench> a = run(false, &clean);
+  const State<Bench> b = run(true, &dirty);
+  EXPECT_TRUE(sameState(a, b)) << "a rejected command changed the dynamics";
+  for (std::size_t k = 0; k < clean.size(); ++k) {
+    EXPECT_EQ(clean[k].applied_torque[0], dirty[k].applied_torque[0]) << "tick " << k;
+    EXPECT_EQ(clean[k].applied_torque[1], dirty[k].applied_torque[1]) << "tick " << k;
+    EXPECT_EQ(clean[k].last_command_seq, dirty[k].last_command_seq) << "tick " << k;
+    EXPECT_EQ(hasFault(dirty[k], kCommandRejected), k == 11) << "tick " << k;
+    EXPECT_FALSE(hasFault(clean[k], kCommandRejected));
+  }
+  const std::int64_t n_bad = static_cast<std::int64_t>(bads.size()) + 1;
+  EXPECT_EQ(dirty.back().commands_rejected, n_bad);
+  EXPECT_EQ(dirty.back().commands_received, clean.back().commands_received + n_bad);
+  EXPECT_EQ(dirty[10].commands_rejected, 0);
+  EXPECT_EQ(dirty[11].commands_rejected, n_bad);
+  EXPECT_EQ(dirty.back().commands_missed, clean.back().commands_missed);
+}
+
+TEST(Firmware, RejectionCountsPerReason) {
+  const Model m = benchScene();
+  Firmware<Bench> fw(m, Config{});
+  fw.tick(0);
+  Command bad_mode = torqueCommand(1, 0, 0, 0);
+  bad_mode.mode = -1;
+  fw.receive(bad_mode);
+  fw.receive(torqueCommand(2, 0, std::nan(""), 0));
+  fw.receive(torqueCommand(3, 0, 0, 0));  // valid
+  fw.receive(torqueCommand(3, 0, 0, 0));  // duplicate
+  fw.receiveUndecodable();
+  const Counters& n = fw.counters();
+  EXPECT_EQ(n.received, 5);
+  EXPECT_EQ(n.rejected, 4);
+  EXPECT_EQ(n.by_reason[static_cast<int>(Rejection::UnknownMode)], 1);
+  EXPECT_EQ(n.by_reason[static_cast<int>(Rejection::NonFinite)], 1);
+  EXPECT_EQ(n.by_reason[static_cast<int>(Rejection::StaleSeq)], 1);
+  EXPECT_EQ(n.by_reason[static_cast<int>(Rejection::Undecodable)], 1);
+  EXPECT_EQ(fw.lastAcceptedSeq(), 3);
+}
+
+TEST(Firmware, TorqueSaturatesAtTheMotorLimitWithTheFlag) {
+  const Model m = benchScene({"torque.limit=[2, 3]"});
+  Firmware<Bench> fw(m, Config{});
+  fw.tick(0);
+  fw.receive(torqueCommand(1, 0, 1.5, -2.5));  // within the limit
+  fw.tick(1000);
+  EXPECT_FALSE(hasFault(fw.status(), kTorqueSaturated));
+  EXPECT_EQ(fw.status().applied_torque[0], 1.5);
+  EXPECT_EQ(fw.status().applied_torque[1], -2.5);
+  fw.receive(torqueCommand(2, 1, 5.0, -7.0));  // beyond the limit, within the sanity range
+  fw.tick(2000);
+  EXPECT_TRUE(hasFault(fw.status(), kTorqueSaturated));
+  EXPECT_EQ(fw.status().applied_torque[0], 2.0);
+  EXPECT_EQ(fw.status().applied_torque[1], -3.0);
+  EXPECT_EQ(fw.appliedInput().tau, Vec2(2.0, -3.0));
+  EXPECT_EQ(fw.counters().saturated_ticks, 1);
+  EXPECT_EQ(fw.counters().rejected, 0);
+}
+
+TEST(Firmware, EncoderAnglesAreMultiplesOfTheResolution) {
+  const double res = 1e-3;  // coarse, so quantization is visible
+  const Model m = benchScene({"sensors.encoder_resolution=1e-3"});
+  Firmware<Bench> fw(m, Config{});
+  int differs = 0;
+  for (int k = 0; k < 600; ++k) {
+    if (k >= 1) fw.receive(torqueCommand(k, k - 1, 5.0, 5.0));
+    const double true1 = fw.state().theta(0), true2 = fw.state().theta(1);
+    fw.tick(k * 1000);
+    for (int j = 0; j < 2; ++j) {
+      const double a = fw.status().angle[j];
+      EXPECT_NEAR(a / res, std::round(a / res), 1e-6) << "tick " << k << " axis " << j;
+      EXPECT_LE(std::fabs(a - (j == 0 ? true1 : true2)), 0.5 * res * (1 + 1e-9)) << "tick " << k;
+      if (a != (j == 0 ? true1 : true2)) ++differs;
+    }
+  }
+  EXPECT_GT(fw.state().theta(0), 20 * res) << "the gimbal must move across many quanta";
+  EXPECT_GT(differs, 100) << "quantization must change the reading";
+}
+
+TEST(Firmware, ACommandActsFromTheNextTickNotTheOneItArrivesIn) {
+  const Model m = benchScene();
+  const int k_change = 20;
+  auto run = [&](bool change, std::vector<State<Bench>>* states, std::vector<Status>* st) {
+    Firmware<Bench> fw(m, Config{});
+    for (int k = 0; k < 30; ++k) {
+      states->push_back(fw.state());  // state at t_k
+      fw.tick(k * 1000);
+      st->push_back(fw.status());
+      // The controller answers status k during tick k.
+      const double tau = (change && k >= k_change) ? 4.0 : 1.0;
+      fw.receive(torqueCommand(k + 1, k, tau, 0.0));
+    }
+  };
+  std::vector<State<Bench>> sa, sb;
+  std::vector<Status> ta, tb;
+  run(false, &sa, &ta);
+  run(true, &sb, &tb);
+  // The new torque is sent during tick 20: status 20 still reports the old
+  // torque, status 21 the new one; the state at t21 is untouched, t22 moved.
+  EXPECT_EQ(tb[k_change].applied_torque[0], 1.0);
+  EXPECT_EQ(tb[k_change + 1].applied_torque[0], 4.0);
+  EXPECT_TRUE(sameState(sa[k_change + 1], sb[k_change + 1]));
+  EXPECT_FALSE(sameState(sa[k_change + 2], sb[k_change + 2]));
+  EXPECT_GT(sb[k_change + 2].dtheta(0), sa[k_change + 2].dtheta(0));
+}
+
+template <class V>
+std::vector<Status> noisyRun(const Model& m, int ticks) {
+  Firmware<V> fw(m, Config{});
+  std::vector<Status> out;
+  for (int k = 0; k < ticks; ++k) {
+    if (k >= 1) fw.receive(torqueCommand(k, k - 1, 0.2, 0.1));
+    fw.tick(k * 1000);
+    out.push_back(fw.status());
+  }
+  return out;
+}
+
+TEST(Firmware, SeededSensorNoiseIsReproducibleAndSeedDependent) {
+  const std::vector<std::string> noise = {"sensors.encoder_noise=1e-4", "sensors.rate_noise=2e-3",
+                                          "sensors.encoder_resolution=0"};
+  auto with = [&](const char* seed) {
+    std::vector<std::string> s = noise;
+    s.push_back(seed);
+    return benchScene(s);
+  };
+  const Model m7 = with("sensors.seed=7"), m8 = with("sensors.seed=8");
+  const auto a = noisyRun<Bench>(m7, 2000), b = noisyRun<Bench>(m7, 2000), c = noisyRun<Bench>(m8, 2000);
+  const auto clean = noisyRun<Bench>(benchScene({"sensors.encoder_resolution=0"}), 2000);
+  int same_seed_diff = 0, other_seed_same = 0;
+  double sum2_angle = 0.0, sum2_rate = 0.0, sum_rate = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    for (int j = 0; j < 2; ++j) {
+      same_seed_diff += (a[k].angle[j] != b[k].angle[j]) + (a[k].rate[j] != b[k].rate[j]);
+      other_seed_same += (a[k].angle[j] == c[k].angle[j]);
+      // Noise-free plant (noise enters only the report): the difference is the noise.
+      const double ea = a[k].angle[j] - clean[k].angle[j], er = a[k].rate[j] - clean[k].rate[j];
+      sum2_angle += ea * ea;
+      sum2_rate += er * er;
+      sum_rate += er;
+    }
+  }
+  EXPECT_EQ(same_seed_diff, 0);
+  EXPECT_LT(other_seed_same, 10);
+  const double n = 2.0 * a.size();
+  // Sample standard deviation of 4000 normal deviates: within 5% of sigma
+  // with overwhelming probability (its relative sd is 1/sqrt(2n) = 1.1%).
+  EXPECT_NEAR(std::sqrt(sum2_angle / n), 1e-4, 5e-6);
+  EXPECT_NEAR(std::sqrt(sum2_rate / n), 2e-3, 1e-4);
+  EXPECT_NEAR(sum_rate / n, 0.0, 5 * 2e-3 / std::sqrt(n));
+}
+
+TEST(GaussianNoise, MomentsOfTheStandardNormal) {
+  GaussianNoise g(42);
+  const int n = 200000;
+  double s1 = 0, s2 = 0, s4 = 0;
+  int beyond2 = 0;
+  for (int i = 0; i < n; ++i) {
+    const double x = g.normal();
+    s1 += x, s2 += x * x, s4 += x * x * x * x;
+    beyond2 += std::fabs(x) > 2.0;
+  }
+  EXPECT_NEAR(s1 / n, 0.0, 0.01);
+  EXPECT_NEAR(s2 / n, 1.0, 0.01);
+  EXPECT_NEAR(s4 / n, 3.0, 0.06);                   // kurtosis of a normal
+  EXPECT_NEAR(beyond2 / double(n), 0.0455, 0.003);  // P(|x| > 2)
+}
+
+TEST(Firmware, PlantFaultLatchesFreezesTheStateAndNeverReportsBadNumbers) {
+  // A sub-step cap too small for the first impact makes step() fail.
+  const Model m = test::scene("paper_clearance", {"sim.max_substeps=3"});
+  Firmware<FloatingClearanceFriction> fw(m, Config{});
+  int first_fault = -1;
+  State<FloatingClearanceFriction> frozen;
+  for (int k = 0; k < 3000 && first_fault < 0; ++k) {
+    if (k >= 1) fw.receive(torqueCommand(k, k - 1, 5.0, 10.0));
+    fw.tick(k * 1000);
+    if (fw.plantFault()) {
+      first_fault = k;
+      frozen = fw.state();
+    }
+  }
+  ASSERT_GE(first_fault, 0) << "the cap must stop the plant";
+  EXPECT_EQ(fw.plantStatus(), StepStatus::SubstepCap);
+  for (int k = first_fault + 1; k < first_fault + 20; ++k) {
+    fw.receive(torqueCommand(k, k - 1, 5.0, 10.0));
+    fw.tick(k * 1000);
+    EXPECT_TRUE(hasFault(fw.status(), kPlantFault));
+    EXPECT_TRUE(hasFault(Status{.faults = fw.truth().faults}, kPlantFault));
+    EXPECT_TRUE(sameState(frozen, fw.state()));
+    for (double x : fw.truth().boresight) EXPECT_TRUE(std::isfinite(x));
+    EXPECT_TRUE(std::isfinite(fw.truth().contact_normal_force));
+    EXPECT_TRUE(std::isfinite(fw.status().angle[1]));
+  }
+}
+
+TEST(Firmware, PointingErrorAgainstTheProfileTarget) {
+  const Model m = benchScene();
+  controllers::TargetProfile p;
+  p.start = Vec2(0.1, 0.0);  // the gimbal rests at (0, 0): 0.1 rad off in azimuth
+  p.slew_start = 10.0;
+  Firmware<Bench> fw(m, Config{}, &p);
+  fw.tick(0);
+  EXPECT_NEAR(fw.truth().pointing_error, 0.1, 1e-12);
+  Firmware<Bench> none(m, Config{});
+  none.tick(0);
+  EXPECT_EQ(none.truth().pointing_error, 0.0);  // target = the initial boresight
+}
+
+template <class V>
+std::vector<Truth> lockstepRun(const Model& m, int ticks) {
+  // The core as the lockstep loop drives it: status k -> a PD law -> command
+  // answering k -> tick k+1.
+  Firmware<V> fw(m, Config{});
+  std::vector<Truth> out;
+  for (int k = 0; k < ticks; ++k) {
+    fw.tick(k * 1000);
+    out.push_back(fw.truth());
+    const Status& s = fw.status();
+    const double t1 = 30.0 * (0.3 - s.angle[0]) - 20.0 * s.rate[0];
+    const double t2 = 60.0 * (0.2 - s.angle[1]) - 30.0 * s.rate[1];
+    fw.receive(torqueCommand(k + 1, k, t1, t2));
+  }
+  return out;
+}
+
+TEST(Firmware, LockstepCoreRunsAreBitForBitRepeatable) {
+  const Model m = test::scene("paper_clearance", {"sensors.encoder_noise=1e-5", "sensors.rate_noise=1e-4"});
+  const auto a = lockstepRun<FloatingClearanceFriction>(m, 400);
+  const auto b = lockstepRun<FloatingClearanceFriction>(m, 400);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    ASSERT_EQ(std::memcmp(&a[k], &b[k], sizeof(Truth)), 0) << "tick " << k;
+  }
+  EXPECT_GT(std::fabs(a.back().joint_angle[0]), 1e-3) << "the run must do something";
+}
+
+void setEigenMallocAllowed(bool allowed) {
+#ifdef EIGEN_RUNTIME_NO_MALLOC
+  Eigen::internal::set_is_malloc_allowed(allowed);
+#else
+  (void)allowed;
+#endif
+}
+
+TEST(Firmware, TickAndReceiveAllocateNothingAfterWarmUp) {
+#if !defined(EIGEN_RUNTIME_NO_MALLOC) || defined(NDEBUG)
+  std::fprintf(stderr, "note: not the checked build; only the counting allocator is active\n");
+#endif
+  const Model m = test::scene("paper_clearance", {"sensors.encoder_noise=1e-5", "sensors.rate_noise=1e-4"});
+  controllers::TargetProfile p;
+  Firmware<FloatingClearanceFriction> fw(m, Config{}, &p);
+  std::int64_t seq = 0;
+  for (int k = 0; k < 10; ++k) {
+    fw.receive(torqueCommand(++seq, k - 1, 5.0, 10.0));
+    fw.tick(k * 1000);
+  }
+  const long long before = g_allocations.load();
+  setEigenMallocAllowed(false);
+  for (int k = 10; k < 400; ++k) {
+    fw.receive(torqueCommand(++seq, k - 1, 5.0, 10.0));
+    if (k % 50 == 0) {
+      fw.receive(torqueCommand(seq, k - 1, std::nan(""), 0.0));
+      fw.receiveUndecodable();
+    }
+    fw.tick(k * 1000, true);
+  }
+  setEigenMallocAllowed(true);
+  EXPECT_EQ(g_allocations.load() - before, 0) << "heap allocations in 390 ticks";
+  EXPECT_FALSE(fw.plantFault());
+  EXPECT_GT(fw.counters().max_substeps_in_tick, 1) << "the window must cover contact sub-stepping";
+}
+
+TEST(Histogram, QuantilesOfAKnownDistribution) {
+  Histogram h(1000);
+  for (int i = 0; i < 1000; ++i) h.add(i + 0.5);  // one sample per bin, 0.5 .. 999.5 us
+  h.add(5000.0);                                   // overflow
+  EXPECT_EQ(h.count(), 1001u);
+  EXPECT_NEAR(h.quantile(0.5), 501.0, 1.0);
+  EXPECT_NEAR(h.quantile(0.99), 991.0, 1.0);
+  EXPECT_EQ(h.quantile(1.0), 5000.0);
+  EXPECT_EQ(h.max(), 5000.0);
+  Histogram empty(10);
+  EXPECT_EQ(empty.quantile(0.5), 0.0);
+}
+
+TEST(SpscRing, KeepsOrderAndRefusesWhenFull) {
+  SpscRing<int> r(4);
+  for (int i = 0; i < 4; ++i) EXPECT_TRUE(r.push(i));
+  EXPECT_FALSE(r.push(99));
+  int x = -1;
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_TRUE(r.pop(x));
+    EXPECT_EQ(x, i);
+  }
+  EXPECT_FALSE(r.pop(x));
+  EXPECT_TRUE(r.push(5));
+  EXPECT_TRUE(r.pop(x));
+  EXPECT_EQ(x, 5);
+}
+
+}  // namespace
+}  // namespace gimbalsim::firmware
