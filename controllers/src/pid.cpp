@@ -30,7 +30,8 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
         break;
       case AntiWindup::BackCalculation: dI += Ts * g.aw_gain * (tau - tau_u); break;
     }
-    s.integral(i) = std::clamp(s.integral(i) + dI, -g.torque_limit, g.torque_limit);
+    s.integral(i) += dI;
+    if (c.anti_windup != AntiWindup::None) s.integral(i) = std::clamp(s.integral(i), -g.torque_limit, g.torque_limit);
     out.tau(i) = tau;
     out.tau_unsat(i) = tau_u;
     out.error(i) = e;

@@ -16,7 +16,8 @@
 //   none:             I += Ts ki e
 //   clamping:         as none, but not while saturated and e pushes further into it
 //   back_calculation: I += Ts (ki e + k_aw (tau - tau_u))  (Astrom & Hagglund, 2006)
-// and |I| <= limit always.
+// and, with clamping or back-calculation, |I| <= limit (none: unbounded, the
+// naive law, kept to show what windup does).
 #pragma once
 
 #include <array>

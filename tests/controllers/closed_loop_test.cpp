@@ -1,0 +1,149 @@
+// The controller closed on the dynamics in one process (closed_loop.hpp:
+// 1 ms control period = 1 sim step, quantized encoders, one-tick bus delay,
+// zero-order hold). Stated accuracy, with the default configuration
+// (controllers/config/default.yaml: triple pole at 20 rad/s, feed-forward):
+//   settling: max |joint error| < 1e-4 rad (17 encoder counts) within 0.5 s
+//             of the slew's end, and for the rest of the hold;
+//   tracking: max |joint error| < 1e-4 rad;
+//   truth:    pointing error (boresight vs the target's line of sight) < 1e-4
+//             rad on a fixed base; < 0.1 rad on the free-floating base, where
+//             it is the base's reaction rotation (about 0.07 rad after the
+//             0.5 rad azimuth slew) that encoders cannot see.
+// A sign-flipped or zero feedback gain fails these criteria (tested).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "gimbalsim/controllers/closed_loop.hpp"
+#include "gimbalsim/controllers/config.hpp"
+#include "test_util.hpp"
+
+namespace gimbalsim::controllers {
+namespace {
+
+constexpr double kSettleTol = 1e-4;      // [rad]
+constexpr double kSettleWithin = 0.5;    // [s] after the slew's end
+constexpr double kTrackJoint = 1e-4;     // [rad]
+constexpr double kTruthFixed = 1e-4;     // [rad]
+constexpr double kTruthFloating = 0.1;   // [rad]
+
+ControllerConfig defaults(const std::vector<std::string>& sets = {}) {
+  return loadControllerConfig(std::string(GIMBALSIM_CONTROLLER_CONFIG_DIR) + "/default.yaml", sets);
+}
+
+ClosedLoopResult run(const Model& m, const ControllerConfig& c, double extra_track = 3.0) {
+  ClosedLoopOptions opt;
+  opt.duration = c.profile.trackStart() + extra_track;
+  opt.settle_tol = kSettleTol;
+  return runClosedLoop(m, c, opt);
+}
+
+void print(const char* what, const ClosedLoopResult& r) {
+  std::printf("%-34s ok %d settle %.4g s, max joint err slew %.3e hold %.3e track %.3e rad, truth track max %.3e "
+              "rms %.3e rad, |tau| max %.3g %.3g N m, saturated ticks %lld\n",
+              what, r.ok, r.settle_time, r.max_joint_error_slew, r.max_joint_error_hold, r.max_joint_error_track,
+              r.max_truth_error_track, r.rms_truth_error_track, r.max_abs_tau(0), r.max_abs_tau(1), r.saturated_ticks);
+}
+
+/// The stated accuracy; returns whether every criterion holds.
+bool meetsAccuracy(const ClosedLoopResult& r, double truth_bound) {
+  return r.ok && r.settle_time <= kSettleWithin && r.max_joint_error_track < kTrackJoint &&
+         r.max_truth_error_track < truth_bound;
+}
+
+void expectAccuracy(const ClosedLoopResult& r, double truth_bound) {
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_LE(r.settle_time, kSettleWithin);
+  EXPECT_LT(r.max_joint_error_track, kTrackJoint);
+  EXPECT_LT(r.max_truth_error_track, truth_bound);
+  EXPECT_GT(r.max_truth_error_track, 0.0);
+}
+
+TEST(ClosedLoop, PaperIdealMeetsTheStatedAccuracy) {
+  const ClosedLoopResult r = run(test::scene("paper_ideal"), defaults());
+  print("paper_ideal", r);
+  expectAccuracy(r, kTruthFloating);
+  // Free floating: the pointing error is the base's rotation, far above the joint error.
+  EXPECT_GT(r.max_truth_error_track, 100 * r.max_joint_error_track);
+}
+
+TEST(ClosedLoop, PaperClearanceMeetsTheStatedAccuracy) {
+  const Model m = test::scene("paper_clearance");
+  const ClosedLoopResult r = run(m, defaults());
+  print("paper_clearance", r);
+  expectAccuracy(r, kTruthFloating);
+}
+
+TEST(ClosedLoop, FixedBaseTruthErrorIsTheJointError) {
+  for (const char* scene : {"paper_ideal", "paper_clearance"}) {
+    const ClosedLoopResult r = run(test::scene(scene, {"structure.base=fixed"}), defaults());
+    print(scene, r);
+    expectAccuracy(r, kTruthFixed);
+  }
+}
+
+TEST(ClosedLoop, DifferencedRatesAlsoMeetTheAccuracy) {
+  const ClosedLoopResult r = run(test::scene("paper_ideal"), defaults({"control.rate_source=difference"}));
+  print("paper_ideal, differenced rate", r);
+  expectAccuracy(r, kTruthFloating);
+}
+
+TEST(ClosedLoop, WrongGainsFailTheCriteria) {
+  const Model m = test::scene("paper_ideal");
+  ControllerConfig flipped = defaults();
+  flipped.axis[1].kp = -flipped.axis[1].kp;  // elevation proportional sign flip
+  const ClosedLoopResult rf = run(m, flipped);
+  print("sign-flipped elevation kp", rf);
+  EXPECT_FALSE(meetsAccuracy(rf, kTruthFloating));
+
+  ControllerConfig zero = defaults();
+  for (auto& g : zero.axis) g.kp = g.ki = g.kd = 0.0;  // feed-forward alone
+  const ClosedLoopResult rz = run(m, zero);
+  print("zero feedback gains", rz);
+  EXPECT_FALSE(meetsAccuracy(rz, kTruthFloating));
+
+  ControllerConfig weak = defaults();
+  for (auto& g : weak.axis) g = triplePoleGains(g.inertia, 2.0, g.torque_limit, g.aw_gain);
+  weak.axis[0].inertia = weak.axis[1].inertia = 0.0;  // and no acceleration feed-forward
+  const ClosedLoopResult rw = run(m, weak);
+  print("bandwidth 2 rad/s, no feed-forward", rw);
+  EXPECT_FALSE(meetsAccuracy(rw, kTruthFloating));
+}
+
+TEST(ClosedLoop, TorqueLimitIsRespected) {
+  // The default slew needs 5.774 d/T^2 J = 12.7 N m (azimuth) and 7.6 N m
+  // (elevation) of feed-forward at its peaks: limits 11 / 7 N m act.
+  const ClosedLoopResult r =
+      run(test::scene("paper_ideal"), defaults({"azimuth.torque_limit=11", "elevation.torque_limit=7"}), 1.0);
+  print("limits 11 / 7 N m", r);
+  ASSERT_TRUE(r.ok);
+  EXPECT_LE(r.max_abs_tau(0), 11.0);
+  EXPECT_LE(r.max_abs_tau(1), 7.0);
+  EXPECT_GT(r.saturated_ticks, 100);  // the limits do act
+  EXPECT_LE(r.settle_time, kSettleWithin);  // and the loop still settles
+}
+
+TEST(ClosedLoop, AntiWindupLimitsOvershootOfASaturatedSlew) {
+  // Azimuth limited to 11 N m while the slew asks 12.7 N m: the error grows
+  // during the saturated part and, without anti-windup, the integral winds up.
+  const Model m = test::scene("paper_ideal", {"structure.base=fixed"});
+  auto with = [&](const char* aw) {
+    return run(m, defaults({"azimuth.torque_limit=11", std::string("control.anti_windup=") + aw}), 0.5);
+  };
+  const ClosedLoopResult none = with("none"), clamp = with("clamping"), back = with("back_calculation");
+  print("saturated slew, no anti-windup", none);
+  print("saturated slew, clamping", clamp);
+  print("saturated slew, back-calculation", back);
+  ASSERT_TRUE(none.ok && clamp.ok && back.ok);
+  EXPECT_GT(back.saturated_ticks, 100);
+  // Overshoot after the slew (max joint error over the hold) and settling.
+  EXPECT_GT(none.max_joint_error_hold, 1e-2);
+  EXPECT_LT(back.max_joint_error_hold, 0.1 * none.max_joint_error_hold);
+  EXPECT_LT(clamp.max_joint_error_hold, 0.1 * none.max_joint_error_hold);
+  EXPECT_LE(back.settle_time, kSettleWithin);
+  EXPECT_LE(clamp.settle_time, kSettleWithin);
+  EXPECT_FALSE(none.settle_time <= kSettleWithin);
+}
+
+}  // namespace
+}  // namespace gimbalsim::controllers

@@ -1,0 +1,87 @@
+// Controller configuration files: the shipped default loads; --set overrides;
+// bad input is refused with file:line, key and reason.
+#include <gtest/gtest.h>
+
+#include "gimbalsim/controllers/config.hpp"
+
+namespace gimbalsim::controllers {
+namespace {
+
+const std::string kDefault = std::string(GIMBALSIM_CONTROLLER_CONFIG_DIR) + "/default.yaml";
+
+std::string refusal(const std::string& yaml, const std::vector<std::string>& sets = {}) {
+  try {
+    loadControllerConfigText(yaml, "cfg.yaml", sets);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+TEST(ControllerConfig, DefaultFileLoadsWithItsValues) {
+  const ControllerConfig c = loadControllerConfig(kDefault);
+  EXPECT_EQ(c.period, 1e-3);
+  EXPECT_EQ(c.anti_windup, AntiWindup::BackCalculation);
+  EXPECT_EQ(c.rate_source, RateSource::Status);
+  EXPECT_EQ(c.axis[0].inertia, 17.6);
+  EXPECT_EQ(c.axis[1].inertia, 17.5);
+  EXPECT_GT(c.axis[0].kp, 0.0);
+  EXPECT_EQ(c.profile.slew_target, Vec2(0.5, 0.3));
+}
+
+TEST(ControllerConfig, SetOverridesTheFile) {
+  const ControllerConfig c = loadControllerConfig(
+      kDefault, {"azimuth.kp=123", "profile.slew_target=[0.1, -0.2]", "control.anti_windup=clamping"});
+  EXPECT_EQ(c.axis[0].kp, 123.0);
+  EXPECT_EQ(c.profile.slew_target, Vec2(0.1, -0.2));
+  EXPECT_EQ(c.anti_windup, AntiWindup::Clamping);
+}
+
+TEST(ControllerConfig, UnknownKeyNamesFileLineAndKey) {
+  const std::string msg = refusal("azimuth:\n  kp: 1\n  kq: 2\n");
+  EXPECT_NE(msg.find("cfg.yaml:3:3: unknown key 'azimuth.kq'"), std::string::npos) << msg;
+}
+
+TEST(ControllerConfig, BadValuesAreRefusedWithTheReason) {
+  EXPECT_NE(refusal("control:\n  period: -1\n").find("cfg.yaml:2:3: key 'control.period': must be > 0, got -1"),
+            std::string::npos);
+  EXPECT_NE(refusal("elevation:\n  kd: fast\n").find("key 'elevation.kd': expected a number, got 'fast'"),
+            std::string::npos);
+  EXPECT_NE(refusal("profile:\n  start: [1]\n").find("key 'profile.start': expected [azimuth, elevation]"),
+            std::string::npos);
+  EXPECT_NE(refusal("", {"control.rate_source=guess"})
+                .find("--set #1 'control.rate_source=guess': key 'control.rate_source': expected one of "
+                      "status | difference, got 'guess'"),
+            std::string::npos);
+  EXPECT_NE(refusal("", {"azimuth.kp"}).find("--set #1 'azimuth.kp': expected key=value"), std::string::npos);
+  EXPECT_NE(refusal("control:\n  rate_filter_hz: 600\n").find("must be below the Nyquist frequency"),
+            std::string::npos);
+  EXPECT_NE(refusal("profile:\n  track_period: [1, 0]\n").find("key 'profile.track_period': must be > 0"),
+            std::string::npos);
+  EXPECT_NE(refusal("control: [1, 2\n").find("cfg.yaml:"), std::string::npos);
+  EXPECT_NE(refusal("- 1\n- 2\n").find("must be a mapping"), std::string::npos);
+}
+
+TEST(ControllerConfig, EveryProblemIsListed) {
+  try {
+    loadControllerConfigText("azimuth:\n  kp: -1\n  bogus: 1\n", "cfg.yaml", {"elevation.ki=x"});
+    FAIL() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.problems().size(), 3u) << e.what();
+  }
+}
+
+TEST(ControllerConfig, MissingFile) {
+  EXPECT_THROW(loadControllerConfig("/nonexistent/ctl.yaml"), ConfigError);
+}
+
+TEST(ControllerConfig, EveryKeyIsDocumented) {
+  for (const KeyInfo& k : controllerKeys()) {
+    EXPECT_FALSE(k.help.empty()) << k.key;
+    EXPECT_FALSE(k.type.empty()) << k.key;
+  }
+  EXPECT_EQ(controllerKeys().size(), 13u + 12u);
+}
+
+}  // namespace
+}  // namespace gimbalsim::controllers
