@@ -19,6 +19,7 @@
 // tick(), receive() and receiveUndecodable() are noexcept and allocation-free.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -168,9 +169,18 @@ class Firmware {
     reject(Rejection::Undecodable);
   }
 
-  /// One control period. utime stamps status and truth [us]; truth is
-  /// computed only when want_truth (it costs a forward-dynamics evaluation).
+  /// One control period: sample() then advance(). utime stamps status and
+  /// truth [us]; truth is computed only when want_truth (it costs a
+  /// forward-dynamics evaluation); extra_faults are or-ed into the report.
   void tick(std::int64_t utime, bool want_truth = true, std::int32_t extra_faults = 0) noexcept {
+    sample(utime, want_truth, extra_faults);
+    advance();
+  }
+
+  /// First half of a tick (steps 1-3): command intake, watchdog, saturation,
+  /// status and truth at t_k. The loop publishes the status right after it,
+  /// before the physics, so the controller's clock starts early.
+  void sample(std::int64_t utime, bool want_truth = true, std::int32_t extra_faults = 0) noexcept {
     const std::int64_t k = tick_;
     std::int32_t faults = pending_faults_ | extra_faults;
     pending_faults_ = 0;
@@ -208,8 +218,11 @@ class Firmware {
     const double t = static_cast<double>(k) * c_.control_period;
     sampleStatus(k, utime, faults);
     if (want_truth) sampleTruth(k, utime, t, faults);
+  }
 
-    // 4. the plant over [t_k, t_k+1].
+  /// Second half of a tick (step 4): the plant over [t_k, t_k+1]; then the
+  /// next tick begins. Call once after each sample().
+  void advance() noexcept {
     if (!plant_fault_) {
       const long long before = d_.stats.substeps;
       for (int i = 0; i < steps_per_tick_; ++i) {
