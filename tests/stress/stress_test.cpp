@@ -1,0 +1,246 @@
+// Fast subset of the numerical stability stress grid (issue 4), checked with
+// the same classifier as build/bin/gimbalsim_stress (tools/stress/).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "../test_util.hpp"
+#include "stress_check.hpp"
+
+namespace gimbalsim::stress {
+namespace {
+
+using test::scene;
+using test::scenePath;
+
+/// Runs a grid case and prints what the tool prints about it.
+Outcome run(const std::string& name, std::vector<std::string> sets, const std::string& duration = "0.5") {
+  sets.insert(sets.begin(), "sim.duration=" + duration);
+  const Outcome o = runCase(scenePath(name), sets, Bounds{});
+  std::printf("%s: %s, momentum drift P %.3g L %.3g, energy rise %.3g, penetration %.3g m, %.3g sub-steps/s %s\n",
+              name.c_str(), verdictName(o.verdict), o.momentum_rel_linear, o.momentum_rel_angular,
+              o.energy_rise_rel, o.max_penetration, o.substeps_per_second, o.reason.c_str());
+  return o;
+}
+
+#define EXPECT_TRUSTWORTHY(o) EXPECT_EQ((o).verdict, Verdict::Trustworthy) << (o).reason
+#define EXPECT_STOPPED_ON(o, limit)                             \
+  do {                                                          \
+    EXPECT_EQ((o).verdict, Verdict::Stopped) << (o).reason;     \
+    EXPECT_NE((o).reason.find(limit), std::string::npos) << (o).reason; \
+  } while (0)
+
+// ---- the classifier on fabricated runs ----
+
+Row row(double t, double energy, double theta1, double theta2, double delta = 0.0) {
+  Row r{};
+  r.t = t;
+  r.energy = energy;
+  r.theta1 = theta1;
+  r.theta2 = theta2;
+  r.delta = delta;
+  r.base_vx = 1e-3;  // 1 kg m/s of base momentum with the paper's 1000 kg base
+  return r;
+}
+
+TEST(StressClassifier, TorqueWorkAndHertzEnergyAreNotARise) {
+  // tau = (5, 10) N m: turning joint 1 by 0.2 rad and joint 2 by 0.1 rad does
+  // 2 J of work, which the kinetic energy may gain; energy moved into the
+  // Hertz spring is not a loss either.
+  const Model m = scene("paper_clearance");
+  EnergyMonitor e(m);
+  e.feed(row(0.0, 1.0, 0.0, 0.0));
+  e.feed(row(0.1, 3.0, 0.2, 0.1));
+  const double delta = 1e-5, U = m.contact.K * std::pow(delta, 2.5) / 2.5;
+  e.feed(row(0.2, 3.0 - U, 0.2, 0.1, delta));
+  EXPECT_LT(e.maxRise(), 1e-12);
+  EXPECT_NEAR(e.scale(), 3.0, 1e-12);
+  e.feed(row(0.3, 3.5, 0.2, 0.1));  // 0.5 J from nowhere
+  EXPECT_NEAR(e.maxRise(), 0.5, 1e-12);
+  // Falling, then rising back to below the earlier maximum is still a rise.
+  e.feed(row(0.4, 2.0, 0.2, 0.1));
+  e.feed(row(0.5, 2.1, 0.2, 0.1));
+  EXPECT_NEAR(e.maxRise(), 0.5, 1e-12);
+  EnergyMonitor f(m);
+  f.feed(row(0.0, 1.0, 0.0, 0.0));
+  f.feed(row(0.1, 0.5, 0.0, 0.0));
+  f.feed(row(0.2, 0.6, 0.0, 0.0));
+  EXPECT_NEAR(f.maxRise(), 0.1, 1e-12);
+}
+
+TEST(StressClassifier, VerdictsOfFabricatedRuns) {
+  const Model m = scene("paper_clearance", {"sim.duration=0.2"});
+  EnergyMonitor e(m);
+  e.feed(row(0.0, 1.0, 0.0, 0.0));
+  e.feed(row(0.2, 0.9, 0.0, 0.0));
+  RunResult r;
+  r.ok = true;
+  r.t_end = 0.2;
+  r.momentum_scale = 10.0;
+  r.max_drift_angular = 1e-12;
+  r.final_q = {0.0, 1.0};
+  r.final_v = {0.0};
+  EXPECT_EQ(classify(m, r, e, Bounds{}).verdict, Verdict::Trustworthy);
+  r.max_drift_angular = 1e-6;  // 1e-7 of the scale
+  Outcome o = classify(m, r, e, Bounds{});
+  EXPECT_EQ(o.verdict, Verdict::SilentlyWrong);
+  EXPECT_NE(o.reason.find("angular momentum drift 1e-07"), std::string::npos) << o.reason;
+  r.max_drift_angular = 0.0;
+  r.max_drift_linear = 1e-6;  // of 2 N s (twice the base's momentum)
+  EXPECT_EQ(classify(m, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
+  r.max_drift_linear = 0.0;
+  r.final_v = {std::nan("")};
+  EXPECT_EQ(classify(m, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
+  r.final_v = {0.0};
+  r.t_end = 0.1;  // "ok" but short
+  EXPECT_EQ(classify(m, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
+  r.stats.max_penetration = 2.0 * m.contact.clearance;
+  r.t_end = 0.2;
+  EXPECT_EQ(classify(m, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
+  r.stats.max_penetration = 0.0;
+  r.ok = false;
+  r.error = "simulation stopped at t = 0.1 s: a velocity exceeded sim.velocity_limit (diverging) (in decc_x)";
+  EXPECT_EQ(classify(m, r, e, Bounds{}).verdict, Verdict::Stopped);
+  r.error = "stopped";
+  EXPECT_EQ(classify(m, r, e, Bounds{}).verdict, Verdict::StoppedUnclear);
+  // Conservative scene: the balance must be held, a 10 % loss is wrong.
+  const Model mc = scene("paper_clearance", {"sim.duration=0.2", "contact.damping=none", "friction.law=none"});
+  ASSERT_TRUE(conservative(mc));
+  ASSERT_FALSE(conservative(m));
+  r.ok = true;
+  r.error.clear();
+  EXPECT_EQ(classify(mc, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
+}
+
+// ---- a fast subset of the grid ----
+
+TEST(StressGrid, PaperSceneTrustworthyAtDefaults) {
+  EXPECT_TRUSTWORTHY(run("paper_clearance", {}));
+  EXPECT_TRUSTWORTHY(run("planar_clearance", {"friction.law=ambrosio"}));
+  EXPECT_TRUSTWORTHY(run("paper_clearance", {"structure.base=fixed"}));
+}
+
+TEST(StressGrid, ExtremeClearancesTrustworthyAtDefaultSubstep) {
+  const Outcome small = run("paper_clearance", {"contact.clearance=5e-6"});
+  EXPECT_TRUSTWORTHY(small);
+  EXPECT_GT(small.run.stats.impacts, 3);
+  EXPECT_TRUSTWORTHY(run("paper_clearance", {"contact.clearance=5e-3"}));
+}
+
+TEST(StressGrid, StiffContactWithControlPeriodSubstepStopsNamingTheLimit) {
+  // x100 stiffness, sub-step = the 1 ms control period: far too coarse for
+  // the contact; the run must stop and say so, not finish wrong.
+  EXPECT_STOPPED_ON(run("paper_clearance", {"contact.stiffness_scale=100", "sim.substep=1e-3"}),
+                    "sim.penetration_limit");
+  EXPECT_STOPPED_ON(run("paper_clearance", {"contact.stiffness_scale=100", "sim.substep=5e-4"}),
+                    "sim.velocity_limit");
+}
+
+TEST(StressGrid, SoftContactUnderLargeTorqueStopsOnPenetration) {
+  // x0.01 stiffness, x20 torques: the journal sinks deeper than the clearance.
+  EXPECT_STOPPED_ON(run("paper_clearance", {"contact.stiffness_scale=0.01", "torque.tau1=100", "torque.tau2=200"}),
+                    "sim.penetration_limit");
+}
+
+TEST(StressGrid, SoftContactTrustworthyWithLargeSubstep) {
+  // x0.01 stiffness: the contact lasts long enough for 0.2 ms sub-steps.
+  EXPECT_TRUSTWORTHY(run("paper_clearance", {"contact.stiffness_scale=0.01", "sim.substep=2e-4"}));
+}
+
+TEST(StressGrid, EnergyOnlyFallsUnderDampingAndFriction) {
+  for (const char* law : {"coulomb", "ambrosio"}) {
+    const Outcome o = run("paper_clearance", {"torque.tau1=0", "torque.tau2=0", "initial.dtheta1=1.0",
+                                              "initial.dtheta2=-0.5", "contact.restitution=0.7",
+                                              std::string("friction.law=") + law});
+    EXPECT_TRUSTWORTHY(o);
+    EXPECT_GT(o.run.stats.impacts, 5);
+    EXPECT_LT(o.energy_final_rel, -1e-3) << "impacts and friction must take energy out";
+  }
+}
+
+TEST(StressGrid, EnergyHeldWithoutDampingOrFriction) {
+  const Outcome o = run("paper_clearance", {"contact.damping=none", "friction.law=none"});
+  EXPECT_TRUSTWORTHY(o);
+  EXPECT_GT(o.run.stats.impacts, 5);
+}
+
+TEST(StressGrid, IdealScenesTrustworthyAtControlPeriod) {
+  // The paper's torques; at x20 torques the rates are 20 times higher and a
+  // 1 ms step leaves ~2e-8 relative momentum drift (the tool lists that case).
+  for (const char* name : {"paper_ideal", "planar_ideal"}) {
+    EXPECT_TRUSTWORTHY(run(name, {"sim.step=1e-3"}, "1"));
+  }
+}
+
+TEST(StressGrid, StrongTorqueWithEachFrictionLaw) {
+  for (const char* law : {"none", "ambrosio", "coulomb"}) {
+    EXPECT_TRUSTWORTHY(run("paper_clearance", {"torque.tau1=100", "torque.tau2=200",
+                                               std::string("friction.law=") + law}, "0.3"));
+  }
+}
+
+// ---- cases the tool finds SILENTLY_WRONG today (bugs reported, not yet fixed) ----
+// Run with --gtest_also_run_disabled_tests. Each finishes "ok" while the
+// energy balance rises: an impact that begins and ends inside one plain RK4
+// step (the step's end points are both out of contact, so no switch is
+// located), or a sub-step much longer than the contact.
+
+TEST(StressGrid, DISABLED_ImpactInsideOnePlainStepIsLocated) {
+  // x100 stiffness, 5 um clearance, default sub-step: the journal creeps
+  // towards the bearing (gap rate ~1e-4 m/s, gap ~1e-7 m), the linear gap
+  // predictor takes a plain 1 ms step, and the journal bounces inside it.
+  const Outcome o = run("paper_clearance", {"contact.stiffness_scale=100", "contact.clearance=5e-6"});
+  EXPECT_TRUE(acceptable(o.verdict)) << o.reason;
+}
+
+TEST(StressGrid, DISABLED_StiffDampedImpactInsideTheRemainderOfAStep) {
+  const Outcome o = run("paper_clearance", {"contact.stiffness_scale=100", "contact.damping=flores",
+                                            "contact.restitution=0.3"});
+  EXPECT_TRUE(acceptable(o.verdict)) << o.reason;
+}
+
+TEST(StressGrid, DISABLED_ControlPeriodSubstepAtLargeClearance) {
+  const Outcome o = run("paper_clearance", {"contact.clearance=5e-3", "sim.substep=1e-3"});
+  EXPECT_TRUE(acceptable(o.verdict)) << o.reason;
+}
+
+// ---- restitution of the damping laws ----
+
+double restitution(const std::string& law, double ce, double v_in) {
+  const Model m = scene("paper_clearance", {"structure.base=fixed", "friction.law=none", "torque.tau1=0",
+                                            "torque.tau2=0", "sim.substep=1e-6", "sim.event_tol=1e-12",
+                                            "contact.damping=" + law, "contact.restitution=" + std::to_string(ce)});
+  return effectiveRestitution(m, v_in);
+}
+
+TEST(StressRestitution, FloresHoldsTheRequestedRestitutionLankaraniNikraveshDoesNot) {
+  // Lankarani-Nikravesh (and Hunt-Crossley) are derived for c_e near 1: at
+  // c_e = 0.3 they dissipate far too little; Flores et al. 2011 holds c_e
+  // over the whole range.
+  for (double ce : {0.3, 0.5, 0.7, 0.9}) {
+    const double flores = restitution("flores", ce, 0.05);
+    const double ln = restitution("lankarani_nikravesh", ce, 0.05);
+    const double hc = restitution("hunt_crossley", ce, 0.05);
+    std::printf("c_e %.2f: flores %.4f, lankarani_nikravesh %.4f, hunt_crossley %.4f\n", ce, flores, ln, hc);
+    EXPECT_NEAR(flores, ce, 0.05);
+    EXPECT_LT(std::fabs(flores - ce), std::fabs(ln - ce));
+    EXPECT_LT(std::fabs(flores - ce), std::fabs(hc - ce));
+  }
+  EXPECT_GT(restitution("lankarani_nikravesh", 0.3, 0.05), 0.6);
+  for (const char* law : {"flores", "lankarani_nikravesh", "hunt_crossley"}) {
+    EXPECT_NEAR(restitution(law, 1.0, 0.05), 1.0, 1e-6) << law;
+  }
+}
+
+TEST(StressRestitution, IndependentOfImpactVelocity) {
+  // D = chi K delta^n / v0 makes the restitution a function of chi alone.
+  for (const char* law : {"flores", "lankarani_nikravesh"}) {
+    const double slow = restitution(law, 0.5, 0.01), fast = restitution(law, 0.5, 0.2);
+    EXPECT_NEAR(slow, fast, 2e-3) << law;
+  }
+}
+
+}  // namespace
+}  // namespace gimbalsim::stress

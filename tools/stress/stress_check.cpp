@@ -1,0 +1,189 @@
+#include "stress_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "gimbalsim/dynamics/integrator.hpp"
+#include "gimbalsim/dynamics/scene.hpp"
+
+namespace gimbalsim::stress {
+
+const char* verdictName(Verdict v) {
+  switch (v) {
+    case Verdict::Trustworthy: return "TRUSTWORTHY";
+    case Verdict::Stopped: return "STOPPED";
+    case Verdict::SilentlyWrong: return "SILENTLY_WRONG";
+    case Verdict::StoppedUnclear: return "STOPPED_UNCLEAR";
+    case Verdict::Refused: return "REFUSED";
+  }
+  return "?";
+}
+
+bool conservative(const Model& m) {
+  const bool no_damping = m.contact.damping == DampingLaw::None || m.contact.chi == 0.0;
+  return !m.clearance || (no_damping && !frictionActive(m));
+}
+
+EnergyMonitor::EnergyMonitor(const Model& m) : m_(m) {}
+
+void EnergyMonitor::feed(const Row& r) {
+  const double* p = rowData(r);
+  for (int i = 0; i < kNumColumns; ++i) finite_ = finite_ && std::isfinite(p[i]);
+  const ContactParams& c = m_.contact;
+  const double U = (m_.clearance && r.delta > 0.0)
+                       ? c.K * std::pow(r.delta, c.exponent + 1.0) / (c.exponent + 1.0)
+                       : 0.0;
+  if (rows_ == 0) {
+    theta1_0_ = r.theta1;
+    theta2_0_ = r.theta2;
+  }
+  const double W = m_.torque(0) * (r.theta1 - theta1_0_) + m_.torque(1) * (r.theta2 - theta2_0_);
+  const double B = r.energy + U - W;
+  if (rows_ == 0) {
+    b0_ = b_min_ = B;
+    p0_ = std::sqrt(r.mom_px * r.mom_px + r.mom_py * r.mom_py + r.mom_pz * r.mom_pz);
+  } else {
+    max_rise_ = std::max(max_rise_, B - b_min_);
+    b_min_ = std::min(b_min_, B);
+  }
+  max_change_ = std::max(max_change_, std::fabs(B - b0_));
+  b_last_ = B;
+  scale_ = std::max({scale_, r.energy + U, std::fabs(W)});
+  const double vb = std::sqrt(r.base_vx * r.base_vx + r.base_vy * r.base_vy + r.base_vz * r.base_vz);
+  // The chain carries P - p_base, so sum_i |p_i| >= |p_base| + |P - p_base|
+  // >= 2 |p_base| - |P|: a lower bound of the bodies' momentum sum.
+  lin_scale_ = std::max(lin_scale_, p0_ + 2.0 * m_.base.mass * vb);
+  max_delta_ = std::max(max_delta_, r.delta);
+  ++rows_;
+}
+
+bool namesALimit(const std::string& error) {
+  for (const char* key : {"sim.velocity_limit", "sim.penetration_limit", "sim.max_substeps",
+                          "sim.max_event_iters", "non-finite value"}) {
+    if (error.find(key) != std::string::npos) return true;
+  }
+  return false;
+}
+
+namespace {
+std::string sci(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+// A relative measure that stays meaningful when the scale is zero (nothing moved).
+double relative(double x, double scale) {
+  if (x == 0.0) return 0.0;
+  return scale > 0.0 ? x / scale : std::numeric_limits<double>::infinity();
+}
+}  // namespace
+
+Outcome classify(const Model& m, const RunResult& run, const EnergyMonitor& e, const Bounds& b) {
+  Outcome o;
+  o.run = run;
+  o.energy_rise_rel = relative(e.maxRise(), e.scale());
+  o.energy_change_rel = relative(e.maxChange(), e.scale());
+  o.energy_final_rel = relative(e.finalChange(), e.scale());
+  o.max_penetration = std::max(run.stats.max_penetration, e.maxPenetration());
+  o.penetration_limit =
+      m.integrator.penetration_limit > 0.0 ? m.integrator.penetration_limit : m.contact.clearance;
+  o.substeps_per_second = run.t_end > 0.0 ? static_cast<double>(run.stats.substeps) / run.t_end : 0.0;
+  if (m.floating_base) {
+    o.momentum_rel_angular = relative(run.max_drift_angular, run.momentum_scale);
+    o.momentum_rel_linear = relative(run.max_drift_linear, e.linearScale());
+  }
+  if (!run.ok) {
+    o.verdict = namesALimit(run.error) ? Verdict::Stopped : Verdict::StoppedUnclear;
+    o.reason = run.error;
+    return o;
+  }
+  std::string why;
+  auto fail = [&](const std::string& s) { why += (why.empty() ? "" : "; ") + s; };
+  bool finite = e.finite();
+  for (double x : run.final_q) finite = finite && std::isfinite(x);
+  for (double x : run.final_v) finite = finite && std::isfinite(x);
+  if (!finite) fail("non-finite value in the output");
+  if (std::fabs(run.t_end - m.duration) > 1e-9 * std::max(1.0, m.duration)) {
+    fail("ended at t = " + sci(run.t_end) + " s, not at sim.duration");
+  }
+  if (m.floating_base) {
+    if (!(o.momentum_rel_angular <= b.momentum_rel)) {
+      fail("angular momentum drift " + sci(o.momentum_rel_angular) + " of its scale");
+    }
+    if (!(o.momentum_rel_linear <= b.momentum_rel)) {
+      fail("linear momentum drift " + sci(o.momentum_rel_linear) + " of its scale");
+    }
+  }
+  if (!(o.energy_rise_rel <= b.energy_rel)) {
+    fail("energy balance E + U - W rose by " + sci(o.energy_rise_rel) + " of its scale");
+  }
+  if (conservative(m) && !(o.energy_change_rel <= b.energy_rel)) {
+    fail("conservative case: energy balance changed by " + sci(o.energy_change_rel) +
+         " of its scale");
+  }
+  if (m.clearance && !(o.max_penetration <= o.penetration_limit)) {
+    fail("penetration " + sci(o.max_penetration) + " m beyond the limit");
+  }
+  o.verdict = why.empty() ? Verdict::Trustworthy : Verdict::SilentlyWrong;
+  o.reason = why;
+  return o;
+}
+
+Outcome runCase(const std::string& scene_path, const std::vector<std::string>& sets, const Bounds& b) {
+  Model m;
+  try {
+    m = loadScene(scene_path, sets).model;
+  } catch (const SceneError& err) {
+    Outcome o;
+    o.verdict = Verdict::Refused;
+    o.reason = err.what();
+    return o;
+  }
+  EnergyMonitor e(m);
+  const RunResult run = simulate(m, [&](const Row& r) { e.feed(r); });
+  return classify(m, run, e, b);
+}
+
+namespace {
+template <class V>
+double restitutionOf(const Model& m, double v_in) {
+  if constexpr (!V::kClearance) {
+    return std::numeric_limits<double>::quiet_NaN();
+  } else {
+    constexpr int NB = V::NB;
+    Data<V> d(m);
+    State<V> s = initialState<V>(m);
+    s.q(State<V>::QJ + 1) = 0.0;
+    s.q(State<V>::QJ + 2) = 0.0;
+    s.v.setZero();
+    s.v(NB + 1) = v_in;  // journal thrown along u1 from the centre
+    const Input u;        // no torque
+    double v_onset = 0.0;
+    const long long n = std::llround(0.1 / m.integrator.step);  // 0.1 s
+    for (long long k = 0; k < n; ++k) {
+      const bool was = s.in_contact;
+      const long long separations = d.stats.separations;
+      if (step(m, d, s, u) != StepStatus::Ok) break;
+      if (!was && s.in_contact) v_onset = s.v0;
+      if (d.stats.impacts >= 1 && d.stats.separations > separations) {
+        // At most one sub-step past the located separation, in free flight.
+        return -clearanceGap<V>(m, s.q, s.v).rate / v_onset;
+      }
+    }
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+}
+}  // namespace
+
+double effectiveRestitution(const Model& m, double v_in) {
+  // One sub-step per step, so the state after the separating step is at most
+  // one sub-step past the located separation.
+  Model one = m;
+  one.integrator.step = m.integrator.substep;
+  return dispatchVariant(one, [&](auto tag) { return restitutionOf<decltype(tag)>(one, v_in); });
+}
+
+}  // namespace gimbalsim::stress

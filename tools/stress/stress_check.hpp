@@ -1,0 +1,105 @@
+// Numerical stability stress checks (issue 4): run one case of the stress
+// grid and classify it. Shared by the gimbalsim_stress tool and the ctest
+// subset (tests/stress/), so both check exactly the same thing.
+//
+// A case is a scene plus "key=value" overrides. Its verdict:
+//   Trustworthy    finished, no NaN, momentum held (floating base), the energy
+//                  balance never rising (see EnergyMonitor), penetration
+//                  within the limit;
+//   Stopped        the run stopped with a diagnostic naming the limit it hit;
+//   SilentlyWrong  finished "ok" but a check failed: a failure;
+//   StoppedUnclear stopped without naming a limit: a failure;
+//   Refused        the scene was refused (a bad case definition): a failure.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "gimbalsim/dynamics/observables.hpp"
+#include "gimbalsim/dynamics/simulate.hpp"
+
+namespace gimbalsim::stress {
+
+enum class Verdict { Trustworthy, Stopped, SilentlyWrong, StoppedUnclear, Refused };
+const char* verdictName(Verdict v);
+/// Trustworthy and Stopped are acceptable outcomes; the rest are failures.
+inline bool acceptable(Verdict v) { return v == Verdict::Trustworthy || v == Verdict::Stopped; }
+
+/// Bounds of a trustworthy run. Relative quantities are fractions of the
+/// scales defined in EnergyMonitor / Outcome.
+struct Bounds {
+  double momentum_rel = 1e-9;  ///< max |L(t) - L(0)| / L scale, same for P [-]
+  double energy_rel = 1e-6;    ///< max rise of E + U - W over any earlier value / energy scale [-]
+};
+
+/// Energy balance along the output rows. B(t) = T(t) + U(t) - W(t), with T the
+/// kinetic energy (row.energy), U = K delta^(n+1) / (n+1) the energy stored in
+/// the Hertz spring, and W the work of the joint torques. The scene's torques
+/// are constant couples about the joint axes, so W = tau1 (theta1(t) -
+/// theta1(0)) + tau2 (theta2(t) - theta2(0)) exactly: no quadrature error
+/// (theta2 is the relative rotation of the journal in the bearing, which is
+/// what the joint-2 couple works on). Damping and friction only take energy
+/// out, so B never rises; when neither can act (no damping law or c_e = 1,
+/// and no friction) B is also held.
+class EnergyMonitor {
+ public:
+  explicit EnergyMonitor(const Model& m);
+  void feed(const Row& r);
+
+  double maxRise() const { return max_rise_; }      ///< max B(t_k) - min_{j<k} B(t_j) [J]
+  double maxChange() const { return max_change_; }  ///< max |B(t) - B(0)| [J]
+  double scale() const { return scale_; }           ///< max over rows of T + U, |W| [J]
+  double finalChange() const { return b_last_ - b0_; }  ///< B(end) - B(0) [J]
+  /// |P(0)| + max 2 m_base |v_base|: a lower bound of max sum_i |p_i| (the base's
+  /// momentum and the chain's, which carries the rest of P) [N s]
+  double linearScale() const { return lin_scale_; }
+  double maxPenetration() const { return max_delta_; }  ///< over rows [m]
+  bool finite() const { return finite_; }
+  long long rows() const { return rows_; }
+
+ private:
+  const Model& m_;
+  long long rows_ = 0;
+  double theta1_0_ = 0.0, theta2_0_ = 0.0;
+  double b0_ = 0.0, b_min_ = 0.0, b_last_ = 0.0;
+  double max_rise_ = 0.0, max_change_ = 0.0, scale_ = 0.0;
+  double p0_ = 0.0, lin_scale_ = 0.0, max_delta_ = 0.0;
+  bool finite_ = true;
+};
+
+/// True when no damping or friction can act, so the energy balance must be held.
+bool conservative(const Model& m);
+
+/// Everything measured about one case.
+struct Outcome {
+  Verdict verdict = Verdict::Refused;
+  std::string reason;          ///< why (the failed checks, or the stop message)
+  RunResult run;               ///< as simulate() returned it
+  double momentum_rel_angular = 0.0;  ///< max |L - L0| / RunResult::momentum_scale (floating only)
+  double momentum_rel_linear = 0.0;   ///< max |P - P0| / EnergyMonitor::linearScale (floating only)
+  double energy_rise_rel = 0.0;       ///< EnergyMonitor::maxRise / scale
+  double energy_change_rel = 0.0;     ///< EnergyMonitor::maxChange / scale
+  double energy_final_rel = 0.0;      ///< (B(end) - B(0)) / scale: < 0 dissipated
+  double max_penetration = 0.0;       ///< [m]
+  double penetration_limit = 0.0;     ///< [m]
+  double substeps_per_second = 0.0;   ///< RK4 evaluations per simulated second [1/s]
+};
+
+/// The diagnostic names a limit the integrator enforces (or NaN/Inf and where).
+bool namesALimit(const std::string& error);
+
+/// Pure classification of a finished (or stopped) run.
+Outcome classify(const Model& m, const RunResult& run, const EnergyMonitor& e, const Bounds& b);
+
+/// Loads the scene with the overrides and runs it with the RK4 integrator.
+Outcome runCase(const std::string& scene_path, const std::vector<std::string>& sets, const Bounds& b);
+
+/// Effective coefficient of restitution of one isolated impact: fixed base, no
+/// torque, no friction, the journal thrown radially at v_in [m/s] from the
+/// bearing centre; returns -(normal velocity at separation) / (at onset),
+/// measured at the located switch times. Uses the model's contact law and
+/// integrator settings (set a fine sim.substep). Returns NaN when the impact
+/// did not complete within 0.1 s or the run stopped.
+double effectiveRestitution(const Model& m, double v_in);
+
+}  // namespace gimbalsim::stress
