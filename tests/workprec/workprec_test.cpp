@@ -1,0 +1,147 @@
+// gimbalsim_workprec: the pieces, and a --quick run of the program whose CSV
+// must have its columns and show RK4's fourth order on the ideal scene.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "workprec.hpp"
+
+namespace gimbalsim::workprec {
+namespace {
+
+TEST(Workprec, ExpandsTheStepInPolicySettings) {
+  EXPECT_EQ(expandSet("sim.event_tol=1e-9", 1e-3), "sim.event_tol=1e-9");
+  const std::string s = expandSet("sim.substep={h}*0.02", 1e-3);
+  ASSERT_EQ(s.rfind("sim.substep=", 0), 0u) << s;
+  EXPECT_DOUBLE_EQ(std::stod(s.substr(12)), 2e-5) << s;
+  EXPECT_DOUBLE_EQ(std::stod(expandSet("sim.substep={h}", 5e-3).substr(12)), 5e-3);
+}
+
+TEST(Workprec, ReadsThePolicyTableAndRefusesAMalformedOne) {
+  const auto pols = loadPolicies(std::string(GIMBALSIM_WORKPREC_DIR) + "/policies.yaml");
+  ASSERT_GE(pols.size(), 3u);
+  EXPECT_EQ(pols.front().name, "plain");
+  EXPECT_FALSE(pols.front().contact_only) << "the plain curve must run on the ideal scene too";
+  const std::string bad = std::string(GIMBALSIM_TEST_TMP) + "/bad_policies.yaml";
+  std::ofstream(bad) << "policies:\n  - name: x\n    sets: [\"sim.substep=1e-5\"]\n  - name: y\n    sest: []\n";
+  try {
+    loadPolicies(bad);
+    FAIL() << "a misspelt field was accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("bad_policies.yaml:4"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("'sest'"), std::string::npos) << msg;
+  }
+}
+
+TEST(Workprec, ErrorsAreTheBoresightAngleAndJointAnglesAtEveryRow) {
+  Trajectory ref, run;
+  for (int i = 0; i < 3; ++i) {
+    ref.t.push_back(0.1 * i), run.t.push_back(0.1 * i);
+    ref.theta1.push_back(0.0), run.theta1.push_back(i == 1 ? 2e-4 : 0.0);
+    ref.theta2.push_back(0.0), run.theta2.push_back(0.0);
+    ref.bore.push_back(Vec3::UnitX());
+    const double a = i == 1 ? 3e-3 : 1e-6;  // rotated about z by a
+    run.bore.emplace_back(std::cos(a), std::sin(a), 0.0);
+  }
+  ref.peak_contact = 100.0;
+  run.peak_contact = 103.0;
+  Point p;
+  ASSERT_TRUE(compare(run, ref, p)) << p.note;
+  EXPECT_NEAR(p.bore_err_max, 3e-3, 1e-12);
+  EXPECT_NEAR(p.bore_err_end, 1e-6, 1e-12);
+  EXPECT_NEAR(p.theta1_err_max, 2e-4, 1e-15);
+  EXPECT_NEAR(p.peak_force_err_rel, 0.03, 1e-12);
+  run.t.pop_back();
+  EXPECT_FALSE(compare(run, ref, p)) << "rows that do not line up are not compared";
+}
+
+TEST(Workprec, ParetoAndCheapestSettingForATarget) {
+  auto pt = [](const char* scene, double cpu, double err, bool ok = true) {
+    Point p;
+    p.scene = scene, p.cpu_per_sim_s = cpu, p.bore_err_max = err, p.ok = ok;
+    return p;
+  };
+  std::vector<Point> pts = {pt("a", 1.0, 1e-3), pt("a", 2.0, 1e-6), pt("a", 3.0, 1e-4),
+                            pt("a", 0.5, 1e-12, false), pt("b", 5.0, 1e-2)};
+  markPareto(pts);
+  EXPECT_TRUE(pts[0].pareto);
+  EXPECT_TRUE(pts[1].pareto);
+  EXPECT_FALSE(pts[2].pareto) << "dearer and less accurate than point 1";
+  EXPECT_FALSE(pts[3].pareto) << "a failed run is never on the front";
+  EXPECT_TRUE(pts[4].pareto) << "fronts are per scene";
+  EXPECT_EQ(cheapestFor(pts, "a", 1e-3), &pts[0]);
+  EXPECT_EQ(cheapestFor(pts, "a", 1e-5), &pts[1]);
+  EXPECT_EQ(cheapestFor(pts, "a", 1e-9), nullptr) << "the failed run's error does not count";
+}
+
+/// CSV rows as maps column -> text (quotes stripped; no commas inside fields
+/// of the rows this test reads).
+std::vector<std::map<std::string, std::string>> readCsv(const std::string& path, std::vector<std::string>& header) {
+  std::ifstream in(path);
+  std::string line;
+  std::vector<std::map<std::string, std::string>> rows;
+  auto split = [](const std::string& l) {
+    std::vector<std::string> f;
+    std::string cur;
+    bool quoted = false;
+    for (char c : l) {
+      if (c == '"') quoted = !quoted;
+      else if (c == ',' && !quoted) f.push_back(cur), cur.clear();
+      else cur += c;
+    }
+    f.push_back(cur);
+    return f;
+  };
+  if (!std::getline(in, line)) return rows;
+  header = split(line);
+  while (std::getline(in, line)) {
+    const auto f = split(line);
+    std::map<std::string, std::string> r;
+    for (std::size_t i = 0; i < f.size() && i < header.size(); ++i) r[header[i]] = f[i];
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+TEST(Workprec, QuickRunWritesTheCsvAndErrorsFallAtFourthOrderOnTheIdealScene) {
+  const std::string dir = std::string(GIMBALSIM_TEST_TMP) + "/quick";
+  std::filesystem::remove_all(dir);
+  const std::string cmd = std::string(GIMBALSIM_WORKPREC_BIN) +
+                          " --quick --scenes paper_ideal,stickslip_clearance --policy plain --policy 'sub h/50'"
+                          " --out " + dir + " > " + dir + ".log 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << "see " << dir << ".log";
+  std::vector<std::string> header;
+  const auto rows = readCsv(dir + "/workprec.csv", header);
+  EXPECT_EQ(header, kCsvColumns);
+  std::vector<std::pair<double, double>> ideal;  // (h, bore_err_max)
+  bool clearance_point = false;
+  for (const auto& r : rows) {
+    if (r.at("scene") == "paper_ideal" && r.at("policy") == "plain") {
+      ASSERT_EQ(r.at("ok"), "1") << r.at("note");
+      EXPECT_GT(std::stod(r.at("cpu_s_per_sim_s")), 0.0);
+      ideal.emplace_back(std::stod(r.at("h_s")), std::stod(r.at("bore_err_max_rad")));
+    }
+    if (r.at("scene") == "stickslip_clearance" && r.at("ok") == "1") {
+      clearance_point = true;
+      EXPECT_GT(std::stoll(r.at("substeps")), 0);
+    }
+  }
+  ASSERT_EQ(ideal.size(), 3u);
+  std::sort(ideal.rbegin(), ideal.rend());  // h decreasing
+  for (std::size_t i = 0; i + 1 < ideal.size(); ++i) {
+    const double ratio = ideal[i].second / ideal[i + 1].second;
+    // Halving h divides RK4's error by about 16; demand at least 8.
+    EXPECT_GT(ratio, 8.0) << "h " << ideal[i].first << " -> " << ideal[i + 1].first << ": error "
+                          << ideal[i].second << " -> " << ideal[i + 1].second;
+  }
+  EXPECT_TRUE(clearance_point) << "no point of the stick-slip scene ran";
+}
+
+}  // namespace
+}  // namespace gimbalsim::workprec

@@ -1,0 +1,290 @@
+// gimbalsim_workprec: work-precision sweep. For each scene, each contact
+// sub-stepping policy (tools/workprec/policies.yaml) and each outer step h:
+// the median thread CPU time per simulated second of the RK4 run, and its
+// errors against the Dormand-Prince reference at every output row. Writes
+// out/workprec/workprec.csv and prints the cheapest setting per target
+// boresight accuracy. Plot: /usr/bin/python3 tools/workprec/plot_workprec.py.
+//
+//   build/bin/gimbalsim_workprec                 # full sweep (minutes)
+//   build/bin/gimbalsim_workprec --quick         # a few points (seconds)
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "gimbalsim/dynamics/scene.hpp"
+#include "workprec.hpp"
+#ifdef GIMBALSIM_HAVE_MUJOCO
+#include "mujoco_peer.hpp"
+#endif
+
+#ifndef GIMBALSIM_SCENES_DIR
+#define GIMBALSIM_SCENES_DIR "tools/scenes"
+#endif
+#ifndef GIMBALSIM_WORKPREC_DIR
+#define GIMBALSIM_WORKPREC_DIR "tools/workprec"
+#endif
+
+namespace {
+
+using namespace gimbalsim;
+using namespace gimbalsim::workprec;
+
+/// Overrides a scene always gets here, and why (printed).
+struct SceneDefaults {
+  std::vector<std::string> sets;
+  const char* why;
+};
+const std::map<std::string, SceneDefaults> kSceneDefaults = {
+    {"paper_clearance",
+     {{"friction.law=ambrosio"},
+      "plain Coulomb's sign flip stops the adaptive reference; Ambrosio's regularised law (v_a 0.1 mm/s, "
+      "v_b 1 mm/s) is used for both the reference and the runs"}},
+};
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// True when the loader refused a key it does not know (a feature not in this build).
+bool unknownKey(const SceneError& e) {
+  for (const std::string& p : e.problems()) {
+    if (p.find("unknown key") != std::string::npos) return true;
+  }
+  return false;
+}
+
+/// Shortest text that reads back as x.
+std::string fmt(double x) {
+  char buf[32];
+  for (int prec = 6; prec <= 17; ++prec) {
+    std::snprintf(buf, sizeof buf, "%.*g", prec, x);
+    if (std::stod(buf) == x) break;
+  }
+  return buf;
+}
+
+std::string join(const std::vector<std::string>& v, const char* sep) {
+  std::string s;
+  for (const std::string& x : v) s += (s.empty() ? "" : sep) + x;
+  return s;
+}
+
+void printPoint(const Point& p) {
+  if (!p.ok) {
+    std::printf("  %-22s h=%-8g %s=%-8s  -- %s\n", p.policy.c_str(), p.h,
+                p.sweep_key.empty() ? "sub" : p.sweep_key.c_str(), p.sweep_value.c_str(), p.note.c_str());
+    return;
+  }
+  std::printf("  %-22s h=%-8g sub=%-8g %s  cpu %9.3g s/s  bore max %8.2e end %8.2e  th2 %8.2e  "
+              "peakF %8.2e  drift %8.2e  substeps %lld\n",
+              p.policy.c_str(), p.h, p.substep,
+              p.sweep_key.empty() ? "" : (p.sweep_key + "=" + p.sweep_value).c_str(), p.cpu_per_sim_s,
+              p.bore_err_max, p.bore_err_end, p.theta2_err_max, p.peak_force_err_rel, p.momentum_drift_rel,
+              p.substeps);
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"gimbalsim work-precision sweep: CPU time per simulated second against error to a reference"};
+  std::vector<std::string> scenes = {"paper_ideal", "paper_clearance", "stickslip_clearance"};
+  std::string scenes_dir = GIMBALSIM_SCENES_DIR;
+  std::string policies_path = std::string(GIMBALSIM_WORKPREC_DIR) + "/policies.yaml";
+  std::vector<double> steps = {2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4};
+  std::vector<std::string> extra_sets, only_policies;
+  int repeats = 3;
+  double duration = 0.0, output_interval = 2e-2, peak_dt = 1e-6;
+  std::string out_dir = "out/workprec";
+  bool quick = false, no_mujoco = false;
+  app.add_option("--scenes", scenes, "scene names in the scenes directory")->delimiter(',');
+  app.add_option("--scenes-dir", scenes_dir, "where the scene files are");
+  app.add_option("--policies", policies_path, "policy table (YAML)");
+  app.add_option("--policy", only_policies, "only these policies (by name; repeatable)");
+  app.add_option("--steps", steps, "outer steps h [s] swept by the plain curves")->delimiter(',');
+  app.add_option("--repeats", repeats, "timed runs per point (the median is reported)")->check(CLI::Range(1, 99));
+  app.add_option("--duration", duration, "simulated time [s] (default: the scenes')");
+  app.add_option("--output-interval", output_interval, "row spacing the errors are compared at [s]");
+  app.add_option("--peak-dt", peak_dt, "sampling of the reference's peak contact force [s]");
+  app.add_option("--set", extra_sets, "key=value applied to every scene (repeatable)");
+  app.add_option("--out", out_dir, "output directory (CSV, reference cache)");
+  app.add_flag("--quick", quick, "a few short points (smoke test): 1 s, h = 0.04, 0.02, 0.01, rows every 0.04 s");
+  app.add_flag("--no-mujoco", no_mujoco, "skip the MuJoCo peer even when built with it");
+  CLI11_PARSE(app, argc, argv);
+  if (quick) {
+    steps = {4e-2, 2e-2, 1e-2};
+    output_interval = 4e-2;
+    if (duration <= 0.0) duration = 1.0;
+    peak_dt = std::max(peak_dt, 1e-5);
+  }
+
+  std::vector<Policy> policies;
+  try {
+    policies = loadPolicies(policies_path);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  }
+  if (!only_policies.empty()) {
+    std::erase_if(policies, [&](const Policy& p) {
+      return std::find(only_policies.begin(), only_policies.end(), p.name) == only_policies.end();
+    });
+  }
+  std::filesystem::create_directories(out_dir);
+  std::printf("work-precision sweep: CPU = thread CPU time (CLOCK_THREAD_CPUTIME_ID) of the stepping only, "
+              "median of %d runs; errors at every %g s row against Boost.Odeint dopri5 at 1e-12.\n"
+              "This machine's 2 cores are shared: timings are noisy.\n",
+              repeats, output_interval);
+
+  std::vector<Point> points;
+  for (const std::string& scene : scenes) {
+    const std::string path = scenes_dir + "/" + scene + ".yaml";
+    std::vector<std::string> base_sets;
+    if (auto it = kSceneDefaults.find(scene); it != kSceneDefaults.end()) {
+      base_sets = it->second.sets;
+      std::printf("\n[%s] with %s: %s\n", scene.c_str(), join(base_sets, " ").c_str(), it->second.why);
+    }
+    base_sets.insert(base_sets.end(), extra_sets.begin(), extra_sets.end());
+    if (duration > 0.0) base_sets.push_back("sim.duration=" + fmt(duration));
+    base_sets.push_back("sim.output_interval=" + fmt(output_interval));
+    Model base;
+    try {
+      base = loadScene(path, base_sets).model;
+    } catch (const SceneError& e) {
+      std::cerr << "scene " << scene << " refused:\n";
+      for (const auto& p : e.problems()) std::cerr << "  " << p << "\n";
+      return 2;
+    }
+    std::printf("\n[%s] %g s, %s, reference: ", scene.c_str(), base.duration,
+                base.floating_base ? "floating base" : "fixed base");
+    std::fflush(stdout);
+    Reference ref;
+    try {
+      ref = reference(base, readFile(path) + "\n" + join(base_sets, "\n"), out_dir, peak_dt);
+    } catch (const std::exception& e) {
+      std::printf("FAILED (%s); scene skipped\n", e.what());
+      continue;
+    }
+    if (ref.from_cache) {
+      std::printf("cached (%s)\n", out_dir.c_str());
+    } else {
+      std::printf("%.2f s CPU\n", ref.cpu_seconds);
+    }
+    if (base.clearance) {
+      std::printf("  reference peak contact force %.6g N (sampled every %g s); the two reference passes "
+                  "(rows only, every %g s) agree in boresight to %.2e rad\n",
+                  ref.rows.peak_contact, ref.peak_dt, ref.peak_dt, ref.self_consistency);
+    }
+    const StickSlip& ss = ref.stick;
+    if (ss.contact_time > 0.0) {
+      std::printf("  stick-slip (reference, every %g s): in contact %.3f s; |v_t| < v_a %.3f s, "
+                  "v_a..v_b (sticking, friction < mu F_n) %.3f s, >= v_b (slipping) %.3f s; "
+                  "%lld entries into stick, %lld reversals of v_t\n",
+                  ss.dt, ss.contact_time, ss.below_va, ss.band, ss.slip, ss.stick_entries, ss.vt_sign_changes);
+    }
+
+    for (const Policy& pol : policies) {
+      if (pol.contact_only && !base.clearance) continue;
+      std::vector<std::pair<double, std::string>> sweep;  // (h, sweep value)
+      if (pol.sweep_key.empty()) {
+        for (double h : steps) sweep.emplace_back(h, "");
+      } else {
+        double h = base.integrator.step;
+        for (const std::string& s : pol.sets) {
+          if (s.rfind("sim.step=", 0) == 0) h = std::stod(s.substr(9));
+        }
+        for (const std::string& v : pol.sweep_values) sweep.emplace_back(h, v);
+      }
+      for (const auto& [h, value] : sweep) {
+        Point p;
+        p.scene = scene;
+        p.policy = pol.name;
+        p.h = h;
+        p.sweep_key = pol.sweep_key;
+        p.sweep_value = value;
+        std::vector<std::string> sets = base_sets;
+        sets.push_back("sim.step=" + fmt(h));
+        for (const std::string& s : pol.sets) sets.push_back(expandSet(s, h));
+        if (!value.empty()) sets.push_back(pol.sweep_key + "=" + value);
+        Model m;
+        try {
+          m = loadScene(path, sets).model;
+        } catch (const SceneError& e) {
+          if (unknownKey(e)) {
+            std::printf("  %-22s skipped: this build's scene loader does not know a key it sets (%s)\n",
+                        pol.name.c_str(), e.problems().front().c_str());
+            break;
+          }
+          p.note = "refused: " + join(e.problems(), "; ");
+          points.push_back(p);
+          printPoint(p);
+          continue;
+        }
+        p.h = m.integrator.step;
+        p.substep = m.integrator.substep;
+        p.event_tol = m.integrator.event_tol;
+        p.ok = compare(runRk4(m), ref.rows, p);
+        if (p.ok) {
+          std::vector<double> cpu;
+          for (int r = 0; r < repeats && p.ok; ++r) {
+            cpu.push_back(cpuSecondsOfRun(m));
+            if (cpu.back() < 0.0) p.ok = false, p.note = "timed run stopped";
+          }
+          p.repeats = repeats;
+          if (p.ok) p.cpu_per_sim_s = median(cpu) / m.duration;
+        }
+        points.push_back(p);
+        printPoint(p);
+      }
+    }
+
+#ifdef GIMBALSIM_HAVE_MUJOCO
+    if (!no_mujoco && !base.clearance) {
+      for (Point& p : mujocoPoints(base, ref.rows, steps, repeats)) {
+        p.scene = scene;
+        points.push_back(p);
+        printPoint(p);
+      }
+    }
+#endif
+  }
+
+  markPareto(points);
+  const std::string csv = out_dir + "/workprec.csv";
+  try {
+    writeCsv(csv, points);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+  std::printf("\nwrote %s (%zu points)\n", csv.c_str(), points.size());
+
+  std::printf("\nCheapest setting per target max boresight error (median CPU; ms per simulated 5 s in brackets):\n");
+  std::printf("%-22s %-9s %-24s %-10s %-10s %-12s %-16s %s\n", "scene", "target", "policy", "h [s]",
+              "substep", "sweep", "CPU s per sim s", "bore err max");
+  std::vector<std::string> seen;
+  for (const Point& p : points) {
+    if (std::find(seen.begin(), seen.end(), p.scene) != seen.end()) continue;
+    seen.push_back(p.scene);
+    for (double target : {1e-3, 1e-6, 1e-9}) {
+      const Point* b = cheapestFor(points, p.scene, target);
+      if (!b) {
+        std::printf("%-22s %-9.0e not reached\n", p.scene.c_str(), target);
+        continue;
+      }
+      std::printf("%-22s %-9.0e %-24s %-10g %-10g %-12s %-8.3g (%6.1f ms) %.2e\n", p.scene.c_str(), target,
+                  b->policy.c_str(), b->h, b->substep, b->sweep_value.c_str(), b->cpu_per_sim_s,
+                  5e3 * b->cpu_per_sim_s, b->bore_err_max);
+    }
+  }
+  return 0;
+}

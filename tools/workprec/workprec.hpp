@@ -1,0 +1,119 @@
+// Work-precision measurement: CPU time per simulated second against error to
+// a reference solution, for each step size and contact sub-stepping policy.
+// A tool, not on the real-time path: it allocates and throws freely.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "gimbalsim/dynamics/model.hpp"
+#include "gimbalsim/dynamics/spatial.hpp"
+
+namespace gimbalsim::workprec {
+
+/// One curve of the plot: scene overrides applied on top of the scene.
+struct Policy {
+  std::string name;
+  std::vector<std::string> sets;    ///< "key=value"; "{h}" and "{h}*k" expand
+  bool contact_only = false;        ///< skipped on scenes without clearance
+  std::string sweep_key;            ///< empty: the curve sweeps the outer step h
+  std::vector<std::string> sweep_values;
+};
+
+/// Reads a policy table (tools/workprec/policies.yaml). Throws with file and
+/// entry on a malformed table.
+std::vector<Policy> loadPolicies(const std::string& path);
+
+/// Expands "{h}" / "{h}*k" in one "key=value" override with the step h [s].
+std::string expandSet(const std::string& set, double h);
+
+/// A trajectory sampled at output rows: what the errors are computed from.
+struct Trajectory {
+  std::vector<double> t;                ///< [s]
+  std::vector<double> theta1, theta2;   ///< [rad]
+  std::vector<Vec3> bore;               ///< boresight unit vector, inertial
+  double peak_contact = 0.0;            ///< max |F_n n + F_t t| over the run [N]
+  double momentum_drift_rel = 0.0;      ///< max |L(t) - L(0)| / momentum scale [-]
+  long long substeps = 0, impacts = 0;
+  bool ok = true;
+  std::string error;                    ///< why the run stopped
+};
+
+/// Stick and slip of the clearance joint, from a finely sampled run.
+struct StickSlip {
+  double dt = 0.0;                  ///< sample spacing [s]
+  double contact_time = 0.0;        ///< time in contact [s]
+  double below_va = 0.0;            ///< in contact with |v_t| < v_a [s] (no friction)
+  double band = 0.0;                ///< v_a <= |v_t| < v_b (friction below mu F_n: sticking) [s]
+  double slip = 0.0;                ///< |v_t| >= v_b (full Coulomb friction: slipping) [s]
+  long long stick_entries = 0;      ///< transitions from slip to |v_t| < v_b
+  long long vt_sign_changes = 0;    ///< reversals of v_t while in contact
+};
+
+/// The reference of one scene: rows at the output interval (Dormand-Prince
+/// at 1e-12, IntegratorKind::Reference) plus a finely sampled pass for the
+/// peak contact force and the stick-slip figures.
+struct Reference {
+  Trajectory rows;
+  double peak_dt = 0.0;          ///< sampling of the peak pass [s]
+  StickSlip stick;
+  /// Max boresight angle between the row pass and the peak pass at the row
+  /// times: two integrations of the same problem with different stopping
+  /// points, so a bound on the reference's own error [rad].
+  double self_consistency = 0.0;
+  double cpu_seconds = 0.0;      ///< to compute it (0 when read from the cache)
+  bool from_cache = false;
+};
+
+/// Computes the reference of m, or reads it from cache_dir when a file there
+/// was made from the same scene text, overrides and settings (key).
+Reference reference(const Model& m, const std::string& key, const std::string& cache_dir,
+                    double peak_dt);
+
+/// The RK4 run (sim.step and the policy's settings) sampled at output rows.
+Trajectory runRk4(const Model& m);
+
+/// Thread CPU seconds of one RK4 run of m (stepping only, no output), or a
+/// negative number when the run stops.
+double cpuSecondsOfRun(const Model& m);
+
+/// Median of v (v not empty).
+double median(std::vector<double> v);
+
+/// One point of the work-precision plot.
+struct Point {
+  std::string scene, policy;
+  double h = 0.0;                ///< outer step [s]
+  double substep = 0.0;          ///< sim.substep in effect [s]
+  double event_tol = 0.0;        ///< [s]
+  std::string sweep_key, sweep_value;  ///< what this point of the curve varies
+  bool ok = false;
+  std::string note;              ///< why not ok
+  double cpu_per_sim_s = 0.0;    ///< median thread CPU s per simulated s
+  int repeats = 0;
+  double bore_err_max = 0.0, bore_err_end = 0.0;  ///< [rad]
+  double theta1_err_max = 0.0, theta2_err_max = 0.0;  ///< [rad]
+  double peak_force_err_rel = 0.0;  ///< |peak - peak_ref| / peak_ref (NaN without contact)
+  double momentum_drift_rel = 0.0;  ///< NaN on a fixed base (the ground takes momentum)
+  long long substeps = 0, impacts = 0;
+  bool pareto = false;           ///< on the scene's Pareto front (cpu, bore_err_max)
+};
+
+/// Errors of a run against the reference at every output row; false (and a
+/// note) when the rows do not line up.
+bool compare(const Trajectory& run, const Trajectory& ref, Point& p);
+
+/// Marks the points of each scene that no other ok point of that scene beats
+/// in both CPU time and max boresight error.
+void markPareto(std::vector<Point>& points);
+
+/// The cheapest ok point of a scene with bore_err_max <= target, or nullptr.
+const Point* cheapestFor(const std::vector<Point>& points, const std::string& scene, double target);
+
+/// CSV with a header (kCsvColumns).
+void writeCsv(const std::string& path, const std::vector<Point>& points);
+extern const std::vector<std::string> kCsvColumns;
+
+}  // namespace gimbalsim::workprec
