@@ -1,0 +1,224 @@
+// pointing_controller: the controller library on the other side of LCM. It
+// subscribes to the gimbal status and answers EVERY status at once with one
+// torque command whose status_seq is that status's seq (this is what lets
+// firmware_sim --lockstep advance). Profile time is seq * control.period, the
+// plant's simulated time, so the controller may join a running bench.
+// The status handler decodes into a stack message (fixed-size arrays: no
+// allocation), runs update() and encodes into a preallocated buffer for LCM's
+// raw publish (the typed publish allocates on every call). Flags and exit
+// codes: controllers/README.md.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <lcm/lcm-cpp.hpp>
+#include <string>
+#include <vector>
+
+#include "gimbalsim/channels.hpp"
+#include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/gimbal_command_t.hpp"
+#include "gimbalsim/gimbal_status_t.hpp"
+
+namespace gimbalsim::controllers {
+namespace {
+
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitInternal = 1,  ///< unexpected exception (a bug)
+  kExitRefused = 2,   ///< bad flag, configuration or log file: nothing run
+  kExitLcm = 4,       ///< LCM could not start or failed while running
+  kExitIdle = 5,      ///< no status within --idle-exit seconds
+};
+
+std::atomic<bool> g_stop{false};
+extern "C" void onSignal(int) { g_stop.store(true); }
+
+struct Options {
+  std::string config;
+  std::vector<std::string> sets;
+  std::string lcm_url;
+  std::string prefix;
+  double duration = 0.0;   ///< [s] of profile time; 0 = until SIGINT/SIGTERM
+  double idle_exit = 0.0;  ///< [s] of wall time without a status; 0 = never
+  std::string log_csv;
+  bool keys = false;
+};
+
+/// Answers statuses; everything it needs is allocated before the first one.
+class StatusHandler {
+ public:
+  StatusHandler(const ControllerConfig& c, lcm::LCM& lcm, const Channels& ch, std::FILE* csv)
+      : c_(c), lcm_(lcm), ch_(ch), csv_(csv) {}
+
+  void onStatus(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
+    gimbal_status_t st{};
+    if (st.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) {
+      ++undecodable_;  // garbage or another type on the status channel
+      return;
+    }
+    Measurement meas;
+    meas.t = static_cast<double>(st.seq) * c_.period;
+    meas.theta = {st.angle[0], st.angle[1]};
+    meas.dtheta = {st.rate[0], st.rate[1]};
+    const ControlOutput out = update(c_, state_, meas);
+
+    gimbal_command_t cmd{};
+    cmd.utime = st.utime;
+    // Strictly increasing, and above what the firmware last accepted even
+    // when this controller replaces one that crashed.
+    cmd.seq = std::max(next_seq_, st.last_command_seq + 1);
+    next_seq_ = cmd.seq + 1;
+    cmd.status_seq = st.seq;
+    cmd.mode = gimbal_command_t::MODE_TORQUE;
+    cmd.torque[0] = out.tau(0);
+    cmd.torque[1] = out.tau(1);
+    const int n = cmd.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
+    if (n < 0 || lcm_.publish(ch_.command, buf_.data(), static_cast<unsigned>(n)) != 0) ++publish_errors_;
+    // Bookkeeping after the answer is on its way.
+    ++answered_;
+    last_t_ = meas.t;
+    faults_seen_ |= st.faults;
+    if (out.ref.segment == Segment::Track) max_track_error_ = std::max(max_track_error_, out.error.cwiseAbs().maxCoeff());
+    if (csv_) log(st, meas, out);
+  }
+
+  static void header(std::FILE* f) {
+    std::fprintf(f,
+                 "t[s],seq[-],segment[-],ref_az[rad],ref_el[rad],ref_daz[rad/s],ref_del[rad/s],ref_ddaz[rad/s^2],"
+                 "ref_ddel[rad/s^2],meas_az[rad],meas_el[rad],rate_az[rad/s],rate_el[rad/s],err_az[rad],"
+                 "err_el[rad],tau_az[N m],tau_el[N m],tau_unsat_az[N m],tau_unsat_el[N m],faults[-]\n");
+  }
+
+  long long answered() const { return answered_; }
+  long long undecodable() const { return undecodable_; }
+  long long publishErrors() const { return publish_errors_; }
+  double lastTime() const { return last_t_; }
+  int faultsSeen() const { return faults_seen_; }
+  double maxTrackError() const { return max_track_error_; }
+
+ private:
+  void log(const gimbal_status_t& st, const Measurement& m, const ControlOutput& o) {
+    const ProfileSample& r = o.ref;
+    std::fprintf(csv_, "%.6f,%lld,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
+                 "%.17g,%.17g,%.17g,%d\n",
+                 m.t, static_cast<long long>(st.seq), describe(r.segment), r.q(0), r.q(1), r.dq(0), r.dq(1), r.ddq(0),
+                 r.ddq(1), m.theta(0), m.theta(1), m.dtheta(0), m.dtheta(1), o.error(0), o.error(1), o.tau(0),
+                 o.tau(1), o.tau_unsat(0), o.tau_unsat(1), st.faults);
+  }
+
+  const ControllerConfig& c_;
+  lcm::LCM& lcm_;
+  const Channels& ch_;
+  std::FILE* csv_;
+  ControllerState state_;
+  std::array<std::uint8_t, 256> buf_{};  // a command encodes to well under 256 bytes
+  std::int64_t next_seq_ = 0;
+  long long answered_ = 0, undecodable_ = 0, publish_errors_ = 0;
+  double last_t_ = 0.0, max_track_error_ = 0.0;
+  int faults_seen_ = 0;
+};
+
+int run(int argc, char** argv) {
+  CLI::App app{"Pointing controller: answers every gimbal status with a torque command over LCM"};
+  Options o;
+  o.config = std::string(GIMBALSIM_DEFAULT_CONTROLLER_CONFIG);
+  app.add_option("config", o.config, "controller configuration (YAML): gains, limits, profile")->capture_default_str();
+  app.add_option("--set", o.sets, "configuration override key=value (repeatable); see --keys");
+  app.add_option("--lcm-url", o.lcm_url, "LCM provider URL (default: LCM_DEFAULT_URL or LCM's default)");
+  app.add_option("--channel-prefix", o.prefix, "prefix of every channel name, e.g. BENCH2_");
+  app.add_option("--duration", o.duration, "stop after answering the status at this profile time [s] (0 = until "
+                                           "SIGINT/SIGTERM)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--idle-exit", o.idle_exit, "exit (code 5) after this many wall seconds without a status (0 = never)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--log-csv", o.log_csv, "write one row per status answered: reference, measurement, torque");
+  app.add_flag("--keys", o.keys, "list every configuration key with unit and meaning, then exit");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? kExitOk : kExitRefused;
+  }
+  if (o.keys) {
+    for (const KeyInfo& k : controllerKeys()) {
+      std::printf("%-28s %-34s %-12s %s\n", k.key.c_str(), k.type.c_str(), k.unit.c_str(), k.help.c_str());
+    }
+    return kExitOk;
+  }
+  if (!Channels::validPrefix(o.prefix)) {
+    std::fprintf(stderr, "pointing_controller: --channel-prefix '%s': only A-Z, 0-9 and '_' allowed\n",
+                 o.prefix.c_str());
+    return kExitRefused;
+  }
+  ControllerConfig c;
+  try {
+    c = loadControllerConfig(o.config, o.sets);
+  } catch (const ConfigError& e) {
+    std::fprintf(stderr, "pointing_controller: configuration refused:\n%s\n", e.what());
+    return kExitRefused;
+  }
+  std::FILE* csv = nullptr;
+  if (!o.log_csv.empty()) {
+    csv = std::fopen(o.log_csv.c_str(), "w");
+    if (!csv) {
+      std::fprintf(stderr, "pointing_controller: --log-csv %s: cannot open for writing\n", o.log_csv.c_str());
+      return kExitRefused;
+    }
+    StatusHandler::header(csv);
+  }
+  lcm::LCM lcm(o.lcm_url);
+  if (!lcm.good()) {
+    std::fprintf(stderr, "pointing_controller: LCM could not start (url '%s'); in a fresh network namespace add a "
+                 "multicast route: ip link set lo up && ip route add 224.0.0.0/4 dev lo\n", o.lcm_url.c_str());
+    if (csv) std::fclose(csv);
+    return kExitLcm;
+  }
+  const Channels ch = Channels::withPrefix(o.prefix);
+  StatusHandler h(c, lcm, ch, csv);
+  lcm.subscribe(ch.status, &StatusHandler::onStatus, &h);
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  std::fprintf(stderr, "pointing_controller: %s -> %s, period %g s, profile: slew to (%g, %g) rad at %g s for %g s, "
+               "hold %g s, track from %g s\n", ch.status.c_str(), ch.command.c_str(), c.period,
+               c.profile.slew_target(0), c.profile.slew_target(1), c.profile.slew_start, c.profile.slew_time,
+               c.profile.hold_time, c.profile.trackStart());
+  int code = kExitOk;
+  double idle = 0.0;  // [s] wall time since the last status
+  constexpr int kPollMs = 100;
+  while (!g_stop.load()) {
+    const long long before = h.answered();
+    const int r = lcm.handleTimeout(kPollMs);
+    if (r < 0) {
+      std::fprintf(stderr, "pointing_controller: LCM receive failed\n");
+      code = kExitLcm;
+      break;
+    }
+    idle = h.answered() > before ? 0.0 : (r == 0 ? idle + kPollMs * 1e-3 : idle);
+    if (o.duration > 0.0 && h.answered() > 0 && h.lastTime() >= o.duration - 0.5 * c.period) break;
+    if (o.idle_exit > 0.0 && idle >= o.idle_exit) {
+      std::fprintf(stderr, "pointing_controller: no status for %g s, exiting\n", idle);
+      code = kExitIdle;
+      break;
+    }
+  }
+  if (csv) std::fclose(csv);
+  std::fprintf(stderr, "pointing_controller: answered %lld statuses (last t = %.3f s), %lld undecodable, %lld publish "
+               "errors, max |joint error| while tracking %.3e rad (encoder), status faults seen 0x%x\n",
+               h.answered(), h.lastTime(), h.undecodable(), h.publishErrors(), h.maxTrackError(), h.faultsSeen());
+  return code;
+}
+
+}  // namespace
+}  // namespace gimbalsim::controllers
+
+int main(int argc, char** argv) {
+  try {
+    return gimbalsim::controllers::run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pointing_controller: internal error: %s\n", e.what());
+    return 1;
+  }
+}
