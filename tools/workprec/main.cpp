@@ -97,7 +97,8 @@ void printPoint(const Point& p) {
 
 int main(int argc, char** argv) {
   CLI::App app{"gimbalsim work-precision sweep: CPU time per simulated second against error to a reference"};
-  std::vector<std::string> scenes = {"paper_ideal", "paper_clearance", "stickslip_clearance"};
+  std::vector<std::string> scenes = {"paper_ideal", "paper_ideal_valid_inertia", "paper_clearance",
+                                     "stickslip_clearance"};
   std::string scenes_dir = GIMBALSIM_SCENES_DIR;
   std::string policies_path = std::string(GIMBALSIM_WORKPREC_DIR) + "/policies.yaml";
   std::vector<double> steps = {2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4};
