@@ -594,7 +594,8 @@ int mainImpl(int argc, char** argv) {
   c.torque_sanity_factor = o.torque_sanity;
   c.safe_torque = Vec2(o.safe_torque[0], o.safe_torque[1]);
   if (const std::string err = checkConfig(m, c, nullptr); !err.empty()) {
-    return refuse("--rate " + CLI::detail::to_string(o.rate_hz) + " / --watchdog-ms / --safe-torque: " + err);
+    const bool rate = err.rfind("control period", 0) == 0;
+    return refuse(rate ? "--rate " + CLI::detail::to_string(o.rate_hz) + ": " + err : err);
   }
   if (!Channels::validPrefix(o.prefix)) {
     return refuse("--channel-prefix '" + o.prefix + "': only A-Z, 0-9 and '_' (channel names are UPPER_SNAKE)");
