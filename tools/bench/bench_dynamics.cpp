@@ -1,8 +1,10 @@
-// Microbenchmarks of the dynamics hot path: one derivative (forwardDynamics)
-// and its parts, one RK4 step (rk4), one integrator step (step(): one RK4
-// step away from contact, up to step/substep sub-steps in contact), the
-// contact law alone, and step() through a located impact, for each compiled
-// Variant.
+// Microbenchmarks of the dynamics hot path, named BM_<piece><Variant>: one
+// derivative (BM_ForwardDynamics) and its parts, one RK4 step (BM_Rk4), one
+// integrator step (BM_Step: one RK4 step away from contact, up to
+// step/substep sub-steps in contact) for every compiled Variant; for the four
+// clearance variants the contact law alone (BM_ContactLaw), the whole contact
+// evaluation (BM_ClearanceContact) and step() through a located impact
+// (BM_StepImpact).
 //
 // States are taken mid-run (after simulating 0.5 s of the paper scene; for
 // the clearance variants the first step boundary after that with the journal
@@ -177,6 +179,23 @@ void BM_ContactLaw(benchmark::State& bs) {
   }
 }
 
+/// The whole contact evaluation of the clearance joint at the mid-run state:
+/// geometry (eccentricity, normal, relative velocities; needs shaft 1's twist
+/// from the kinematics, done once outside the loop), the law, and the
+/// generalised forces it adds.
+template <class V>
+void BM_ClearanceContact(benchmark::State& bs) {
+  Fixture<V>& f = fixture<V>();
+  kinematics(f.m, *f.d, f.s.q, f.s.v);
+  for (auto _ : bs) {
+    f.d->tau.setZero();
+    clearanceContact<V>(f.m, *f.d, f.s.q, f.s.v, f.s.v0);
+    addContactForces(f.m, *f.d);
+    benchmark::DoNotOptimize(f.d->tau.data());
+    benchmark::ClobberMemory();
+  }
+}
+
 /// The parts of one derivative, to see where its time goes: kinematics, the
 /// bias forces (RNEA at zero acceleration), the mass matrix (CRBA) and the
 /// Cholesky solve of M vdot = tau - C (latency-bound: a sqrt and a division
@@ -244,6 +263,12 @@ void configure(benchmark::internal::Benchmark* b) {
   BENCHMARK_TEMPLATE(fn, FloatingClearance)->Apply(configure);         \
   BENCHMARK_TEMPLATE(fn, FloatingClearanceFriction)->Apply(configure)
 
+#define GIMBALSIM_BENCH_CLEARANCE_VARIANTS(fn)                         \
+  BENCHMARK_TEMPLATE(fn, FixedClearance)->Apply(configure);            \
+  BENCHMARK_TEMPLATE(fn, FixedClearanceFriction)->Apply(configure);    \
+  BENCHMARK_TEMPLATE(fn, FloatingClearance)->Apply(configure);         \
+  BENCHMARK_TEMPLATE(fn, FloatingClearanceFriction)->Apply(configure)
+
 #define GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(fn)                       \
   BENCHMARK_TEMPLATE(fn, FixedIdeal)->Apply(configure);                \
   BENCHMARK_TEMPLATE(fn, FixedClearance)->Apply(configure);            \
@@ -257,11 +282,9 @@ GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(BM_Kinematics);
 GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(BM_BiasForces);
 GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(BM_MassMatrix);
 GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(BM_CholeskySolve);
-BENCHMARK_TEMPLATE(BM_ContactLaw, FloatingClearance)->Apply(configure);
-BENCHMARK_TEMPLATE(BM_ContactLaw, FloatingClearanceFriction)->Apply(configure);
-BENCHMARK_TEMPLATE(BM_StepImpact, FloatingClearance)->Apply(configure);
-BENCHMARK_TEMPLATE(BM_StepImpact, FloatingClearanceFriction)->Apply(configure);
-BENCHMARK_TEMPLATE(BM_StepImpact, FixedClearanceFriction)->Apply(configure);
+GIMBALSIM_BENCH_CLEARANCE_VARIANTS(BM_ContactLaw);
+GIMBALSIM_BENCH_CLEARANCE_VARIANTS(BM_ClearanceContact);
+GIMBALSIM_BENCH_CLEARANCE_VARIANTS(BM_StepImpact);
 
 }  // namespace
 

@@ -1,0 +1,73 @@
+#!/usr/bin/python3
+"""Work-precision plot from gimbalsim_workprec's CSV: max boresight error
+against CPU time per simulated second, log-log, one panel per scene, one
+curve per policy (the MuJoCo peer is one more curve). Failed points are left
+out (the CSV keeps them with the reason).
+
+    /usr/bin/python3 tools/workprec/plot_workprec.py [out/workprec/workprec.csv] [--out out/workprec/workprec.png]
+"""
+import argparse
+import csv
+import math
+from collections import OrderedDict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+TARGETS = (1e-3, 1e-6, 1e-9)  # [rad], the targets the tool reports
+
+
+def read(path):
+    scenes = OrderedDict()
+    with open(path, newline="") as f:
+        for r in csv.DictReader(f):
+            if r["ok"] != "1":
+                continue
+            err, cpu = float(r["bore_err_max_rad"]), float(r["cpu_s_per_sim_s"])
+            if not (cpu > 0 and math.isfinite(err)):
+                continue
+            curves = scenes.setdefault(r["scene"], OrderedDict())
+            curves.setdefault(r["policy"], []).append((cpu, max(err, 1e-16), r["pareto"] == "1"))
+    return scenes
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("csv", nargs="?", default="out/workprec/workprec.csv")
+    ap.add_argument("--out", default=None, help="PNG path (default: beside the CSV)")
+    a = ap.parse_args()
+    out = a.out or a.csv.rsplit(".", 1)[0] + ".png"
+    scenes = read(a.csv)
+    if not scenes:
+        raise SystemExit(f"{a.csv}: no successful points to plot")
+    n = len(scenes)
+    cols = min(n, 2)
+    rows = (n + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(6.5 * cols, 4.8 * rows), squeeze=False)
+    for ax, (scene, curves) in zip(axes.flat, scenes.items()):
+        for policy, pts in curves.items():
+            pts.sort()
+            style = "s--" if policy.startswith("MuJoCo") else "o-"
+            ax.loglog([p[0] for p in pts], [p[1] for p in pts], style, ms=4, label=policy)
+        front = sorted(p for pts in curves.values() for p in pts if p[2])
+        if front:
+            ax.loglog([p[0] for p in front], [p[1] for p in front], "k:", lw=1, label="Pareto front")
+        for t in TARGETS:
+            ax.axhline(t, color="grey", lw=0.6, ls="--")
+        ax.set_title(scene)
+        ax.set_xlabel("CPU time per simulated second [s/s] (median)")
+        ax.set_ylabel("max boresight error [rad]")
+        ax.grid(True, which="major", alpha=0.3)
+        ax.legend(fontsize=7)
+    for ax in list(axes.flat)[n:]:
+        ax.set_visible(False)
+    fig.suptitle("gimbalsim work-precision: RK4 + contact sub-stepping vs Dormand-Prince reference")
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()
