@@ -3,6 +3,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -166,6 +168,37 @@ void leaves(const YAML::Node& n, const std::string& prefix, const std::string& o
 std::vector<KeyInfo> controllerKeys() {
   std::vector<KeyInfo> out;
   for (const Key& k : keys()) out.push_back({k.key, k.type, k.unit, k.help});
+  return out;
+}
+
+std::vector<std::string> configValues(const ControllerConfig& c) {
+  auto num = [](double x) {  // shortest of 15..17 digits that reads back exactly
+    char b[32];
+    for (int digits = 15; digits <= 17; ++digits) {
+      std::snprintf(b, sizeof b, "%.*g", digits, x);
+      if (std::strtod(b, nullptr) == x) break;
+    }
+    return std::string(b);
+  };
+  std::vector<std::string> out;
+  for (const Key& k : keys()) {
+    std::string v;
+    if (k.key == "control.anti_windup") {
+      v = c.anti_windup == AntiWindup::None ? "none" : c.anti_windup == AntiWindup::Clamping ? "clamping" : "back_calculation";
+    } else if (k.key == "control.rate_source") {
+      v = c.rate_source == RateSource::Status ? "status" : "difference";
+    } else if (k.pvec) {
+      const Vec2& x = c.profile.*k.pvec;
+      v = "[" + num(x(0)) + ", " + num(x(1)) + "]";
+    } else if (k.num) {
+      v = num(c.*k.num);
+    } else if (k.pnum) {
+      v = num(c.profile.*k.pnum);
+    } else {
+      v = num(c.axis[k.axis].*k.gain);
+    }
+    out.push_back(k.key + "=" + v);
+  }
   return out;
 }
 

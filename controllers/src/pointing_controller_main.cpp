@@ -46,6 +46,7 @@ struct Options {
   double idle_exit = 0.0;  ///< [s] of wall time without a status; 0 = never
   std::string log_csv;
   bool keys = false;
+  bool print_config = false;
 };
 
 /// Answers statuses; everything it needs is allocated before the first one.
@@ -137,6 +138,8 @@ int run(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--log-csv", o.log_csv, "write one row per status answered: reference, measurement, torque");
   app.add_flag("--keys", o.keys, "list every configuration key with unit and meaning, then exit");
+  app.add_flag("--print-config", o.print_config,
+               "print the configuration in effect (file + --set) as key=value lines, then exit");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -159,6 +162,10 @@ int run(int argc, char** argv) {
   } catch (const ConfigError& e) {
     std::fprintf(stderr, "pointing_controller: configuration refused:\n%s\n", e.what());
     return kExitRefused;
+  }
+  if (o.print_config) {
+    for (const std::string& kv : configValues(c)) std::printf("%s\n", kv.c_str());
+    return kExitOk;
   }
   std::FILE* csv = nullptr;
   if (!o.log_csv.empty()) {

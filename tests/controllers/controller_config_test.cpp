@@ -71,6 +71,24 @@ TEST(ControllerConfig, EveryProblemIsListed) {
   }
 }
 
+TEST(ControllerConfig, PrintedValuesLoadBackToTheSameConfiguration) {
+  const ControllerConfig a = loadControllerConfig(
+      kDefault, {"azimuth.kp=0.1", "elevation.aw_gain=3.3", "profile.track_rate=[1e-3, -0.1]",
+                 "control.rate_source=difference", "control.anti_windup=none", "profile.slew_start=0.3"});
+  const std::vector<std::string> values = configValues(a);
+  ASSERT_EQ(values.size(), controllerKeys().size());
+  const ControllerConfig b = loadControllerConfigText("", "empty", values);
+  EXPECT_EQ(configValues(b), values);
+  EXPECT_EQ(b.axis[0].kp, 0.1);
+  EXPECT_EQ(b.axis[1].aw_gain, 3.3);
+  EXPECT_EQ(b.profile.track_rate, Vec2(1e-3, -0.1));
+  EXPECT_EQ(b.profile.slew_start, 0.3);
+  EXPECT_EQ(b.rate_source, RateSource::Difference);
+  EXPECT_EQ(b.anti_windup, AntiWindup::None);
+  // And they differ from the defaults, so the check above is not vacuous.
+  EXPECT_NE(configValues(ControllerConfig{}), values);
+}
+
 TEST(ControllerConfig, MissingFile) {
   EXPECT_THROW(loadControllerConfig("/nonexistent/ctl.yaml"), ConfigError);
 }

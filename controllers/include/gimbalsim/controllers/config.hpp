@@ -30,4 +30,9 @@ ControllerConfig loadControllerConfigText(const std::string& yaml, const std::st
 /// Every configuration key with type, unit and meaning (README, --help).
 std::vector<KeyInfo> controllerKeys();
 
+/// Every key with its value in c, as "key=value" strings that
+/// loadControllerConfig accepts as overrides (numbers in the fewest digits
+/// that read back exactly, so loading them reproduces c).
+std::vector<std::string> configValues(const ControllerConfig& c);
+
 }  // namespace gimbalsim::controllers
