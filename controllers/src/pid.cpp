@@ -10,12 +10,17 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
   out.ref = c.profile.at(meas.t);
   const double Ts = c.period;
   // First-order low-pass of the backward difference: alpha = Ts / (Ts + 1/(2 pi fc)).
-  const double alpha = Ts / (Ts + 1.0 / (2.0 * M_PI * c.rate_filter_hz));
+  // The difference uses the real spacing of the samples; a gap (missed
+  // statuses, a controller joining late) of more than 10 periods or a time
+  // going backwards re-primes instead of producing a spike.
+  const double dt = meas.t - s.t_prev;
+  const bool difference_ok = s.primed && dt > 0.0 && dt <= 10.0 * Ts;
+  const double alpha = dt / (dt + 1.0 / (2.0 * M_PI * c.rate_filter_hz));
   for (int i = 0; i < 2; ++i) {
     const AxisGains& g = c.axis[i];
     double w = meas.dtheta(i);
     if (c.rate_source == RateSource::Difference) {
-      if (s.primed) s.rate(i) += alpha * ((meas.theta(i) - s.theta_prev(i)) / Ts - s.rate(i));
+      if (difference_ok) s.rate(i) += alpha * ((meas.theta(i) - s.theta_prev(i)) / dt - s.rate(i));
       w = s.rate(i);
     }
     const double e = out.ref.q(i) - meas.theta(i);
@@ -39,6 +44,7 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
     out.saturated[i] = sat;
   }
   s.theta_prev = meas.theta;
+  s.t_prev = meas.t;
   s.primed = true;
   return out;
 }

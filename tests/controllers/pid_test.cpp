@@ -118,6 +118,22 @@ TEST(Pid, DifferencedRateConvergesToTheTrueRate) {
   EXPECT_NEAR(out.rate(1), -2 * w, 1e-4 * w);
 }
 
+TEST(Pid, DifferencedRateIgnoresAGapInsteadOfSpiking) {
+  ControllerConfig c = holdAt({0.0, 0.0});
+  c.rate_source = RateSource::Difference;
+  ControllerState s;
+  Measurement m;
+  update(c, s, m);
+  m.t = 1.0;  // 1000 periods later, 0.5 rad further (a controller joining late)
+  m.theta = {0.5, 0.0};
+  EXPECT_EQ(update(c, s, m).rate(0), 0.0);  // re-primed, no 500 rad/s spike
+  m.t += c.period;
+  m.theta(0) += 1e-4;  // then differences resume: 0.1 rad/s, filtered
+  const double w = update(c, s, m).rate(0);
+  EXPECT_GT(w, 0.0);
+  EXPECT_LT(w, 0.1);
+}
+
 TEST(Pid, TriplePoleGains) {
   const AxisGains g = triplePoleGains(10.0, 4.0, 20.0, 5.0);
   // (s + 4)^3 = s^3 + 12 s^2 + 48 s + 64, times J = 10.

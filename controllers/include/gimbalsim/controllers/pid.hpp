@@ -11,7 +11,8 @@
 // J_i ddq_ref is the acceleration feed-forward (inertia estimate J_i); kd dq_ref
 // is the rate feed-forward and -kd w the derivative on measurement (no kick
 // when the reference jumps). w is the status rate, or the backward difference
-// of the encoder angle through a first-order low-pass filter.
+// of the encoder angle (over the samples' real spacing) through a first-order
+// low-pass filter.
 // The integral I (kept in torque units, so a gain change does not bump it):
 //   none:             I += Ts ki e
 //   clamping:         as none, but not while saturated and e pushes further into it
@@ -61,6 +62,7 @@ struct Measurement {
 struct ControllerState {
   Vec2 integral = Vec2::Zero();    ///< integral term I [N m]
   Vec2 theta_prev = Vec2::Zero();  ///< last encoder angles [rad]
+  double t_prev = 0.0;             ///< time of theta_prev [s]
   Vec2 rate = Vec2::Zero();        ///< filtered rate estimate [rad/s]
   bool primed = false;             ///< theta_prev holds a sample
 };
