@@ -61,6 +61,11 @@ class StatusHandler {
       ++undecodable_;  // garbage or another type on the status channel
       return;
     }
+    if (st.seq < last_status_seq_) {  // the plant restarted: start the controller afresh
+      state_ = ControllerState{};
+      ++restarts_;
+    }
+    last_status_seq_ = st.seq;
     Measurement meas;
     meas.t = static_cast<double>(st.seq) * c_.period;
     meas.theta = {st.angle[0], st.angle[1]};
@@ -95,6 +100,7 @@ class StatusHandler {
   }
 
   long long answered() const { return answered_; }
+  long long plantRestarts() const { return restarts_; }
   long long undecodable() const { return undecodable_; }
   long long publishErrors() const { return publish_errors_; }
   double lastTime() const { return last_t_; }
@@ -118,6 +124,8 @@ class StatusHandler {
   ControllerState state_;
   std::array<std::uint8_t, 256> buf_{};  // a command encodes to well under 256 bytes
   std::int64_t next_seq_ = 0;
+  std::int64_t last_status_seq_ = -1;
+  long long restarts_ = 0;  ///< statuses whose seq went backwards
   long long answered_ = 0, undecodable_ = 0, publish_errors_ = 0;
   double last_t_ = 0.0, max_track_error_ = 0.0;
   int faults_seen_ = 0;
@@ -213,8 +221,9 @@ int run(int argc, char** argv) {
   }
   if (csv) std::fclose(csv);
   std::fprintf(stderr, "pointing_controller: answered %lld statuses (last t = %.3f s), %lld undecodable, %lld publish "
-               "errors, max |joint error| while tracking %.3e rad (encoder), status faults seen 0x%x\n",
-               h.answered(), h.lastTime(), h.undecodable(), h.publishErrors(), h.maxTrackError(), h.faultsSeen());
+               "errors, %lld plant restarts, max |joint error| while tracking %.3e rad (encoder), status faults seen 0x%x\n",
+               h.answered(), h.lastTime(), h.undecodable(), h.publishErrors(), h.plantRestarts(), h.maxTrackError(),
+               h.faultsSeen());
   return code;
 }
 
