@@ -372,9 +372,11 @@ int runRealtime(Run& r) {
   const std::int64_t spin_ns = std::llround(r.o.spin_us * 1e3);
   const int truth_every = r.o.truth_every;
   std::atomic<bool> loop_done{false};
+  std::atomic<bool> setup_done{false};  // publishes r.rt_warnings and r.fifo to this thread
 
   auto loop = [&] {
     r.rt_warnings = setUpRealtimeThread(r.o.rt_priority, r.o.cpu, 256 * 1024, &r.fifo);
+    setup_done.store(true, std::memory_order_release);
     // Start on a whole period boundary a little ahead, so set-up does not count as lateness.
     std::int64_t next = (nowNs() / period_ns + 2) * period_ns;
     std::int64_t prev_wake = -1;
@@ -437,12 +439,12 @@ int runRealtime(Run& r) {
       [[maybe_unused]] const ssize_t n = ::read(efd, &v, sizeof v);
     }
     drainOut();
-    if (!warned && r.stats.ticks.load() > 0) {
+    if (!warned && setup_done.load(std::memory_order_acquire)) {
       for (const std::string& w : r.rt_warnings) std::fprintf(stderr, "firmware_sim: %s\n", w.c_str());
       warned = true;
     }
     if (nowNs() >= next_stats) {
-      r.comm.publishStats(nowNs(CLOCK_REALTIME) / 1000, r.stats, r.fifo, false);
+      r.comm.publishStats(nowNs(CLOCK_REALTIME) / 1000, r.stats, warned && r.fifo, false);
       next_stats += std::llround(r.o.stats_period * 1e9);
     }
   }
@@ -506,7 +508,7 @@ int runLockstep(Run& r) {
       }
       const std::int64_t until = first ? std::min(deadline, republish) : deadline;
       const int ms = static_cast<int>(std::max<std::int64_t>(1, (until - now + 999999) / 1000000));
-      if (r.lcm.handleTimeout(ms) < 0) {
+      if (r.lcm.handleTimeout(ms) < 0 && !g_stop.load()) {  // (a signal also interrupts it)
         std::fprintf(stderr, "firmware_sim: LCM receive failed\n");
         g_stop.store(true);
       }
