@@ -1,0 +1,96 @@
+// The two real processes (firmware_sim --lockstep and pointing_controller over
+// LCM udpm, in a private network namespace) produce the very trajectory of the
+// in-process closed loop (closed_loop.hpp), bit for bit: same quantization,
+// same one-tick latency, same controller. Skipped where `unshare -n` is not
+// allowed (needs root).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "gimbalsim/controllers/closed_loop.hpp"
+#include "gimbalsim/controllers/config.hpp"
+#include "test_util.hpp"
+
+namespace gimbalsim::controllers {
+namespace {
+
+std::vector<std::vector<std::string>> readCsv(const std::string& path, std::vector<std::string>& header) {
+  std::ifstream in(path);
+  std::string line;
+  std::vector<std::vector<std::string>> rows;
+  auto split = [](const std::string& l) {
+    std::vector<std::string> f;
+    std::stringstream ss(l);
+    std::string x;
+    while (std::getline(ss, x, ',')) f.push_back(x);
+    return f;
+  };
+  if (std::getline(in, line)) header = split(line);
+  while (std::getline(in, line)) rows.push_back(split(line));
+  return rows;
+}
+
+int column(const std::vector<std::string>& header, const std::string& name) {
+  for (size_t i = 0; i < header.size(); ++i) {
+    if (header[i] == name) return static_cast<int>(i);
+  }
+  ADD_FAILURE() << "no column " << name;
+  return 0;
+}
+
+TEST(LockstepMatchesInProcess, TruthTrajectoryIsBitIdentical) {
+  if (std::system("unshare -n true >/dev/null 2>&1") != 0) GTEST_SKIP() << "unshare -n not permitted here";
+  const std::string scene = test::scenePath("paper_clearance");
+  const std::string config = std::string(GIMBALSIM_CONTROLLER_CONFIG_DIR) + "/default.yaml";
+  const double duration = 3.0;  // [s]: wait, slew and most of the hold
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("gimbalsim_lockstep_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string truth = (dir / "truth.csv").string(), url = "'udpm://239.255.76.67:7667?ttl=0'";
+  const std::string cmd =
+      "unshare -n sh -c \"ip link set lo up && ip route add 224.0.0.0/4 dev lo && { " +
+      std::string(GIMBALSIM_POINTING_CONTROLLER) + " " + config + " --lcm-url " + url +
+      " --duration 2.999 --idle-exit 10 2>/dev/null & " + std::string(GIMBALSIM_FIRMWARE_SIM) + " " + scene +
+      " --lockstep --duration 3 --profile " + config + " --truth-csv " + truth + " --lcm-url " + url +
+      " --start-timeout 10 >" + (dir / "fw.log").string() + " 2>&1; rc=\\$?; wait; exit \\$rc; }\"";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+
+  std::vector<std::string> header;
+  const auto rows = readCsv(truth, header);
+  const int c_seq = column(header, "seq[-]"), c_t1 = column(header, "theta1[rad]"),
+            c_t2 = column(header, "theta2[rad]"), c_err = column(header, "pointing_error[rad]");
+  ASSERT_EQ(rows.size(), 3000u);
+
+  const Model m = test::scene("paper_clearance");
+  ClosedLoopOptions opt;
+  opt.duration = duration - 1e-3;
+  std::vector<TickRecord> ticks;
+  runClosedLoop(m, loadControllerConfig(config), opt, [&](const TickRecord& r) { ticks.push_back(r); });
+  ASSERT_EQ(ticks.size(), rows.size());
+  int mismatches = 0;
+  for (size_t k = 0; k < rows.size(); ++k) {
+    ASSERT_EQ(std::stoll(rows[k][c_seq]), static_cast<long long>(k));
+    const double t1 = std::strtod(rows[k][c_t1].c_str(), nullptr), t2 = std::strtod(rows[k][c_t2].c_str(), nullptr);
+    const double e = std::strtod(rows[k][c_err].c_str(), nullptr);
+    if (t1 != ticks[k].theta_true(0) || t2 != ticks[k].theta_true(1) || e != ticks[k].truth_error) {
+      if (++mismatches <= 3) {
+        ADD_FAILURE() << "tick " << k << ": lockstep theta (" << t1 << ", " << t2 << ") err " << e
+                      << ", in-process (" << ticks[k].theta_true(0) << ", " << ticks[k].theta_true(1) << ") err "
+                      << ticks[k].truth_error;
+      }
+    }
+  }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_GT(ticks.back().theta_true(0), 0.4);  // the slew did happen
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace gimbalsim::controllers
