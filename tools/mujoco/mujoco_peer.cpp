@@ -3,7 +3,6 @@
 #include <mujoco/mujoco.h>
 
 #include <cmath>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -16,12 +15,6 @@
 namespace gimbalsim::workprec {
 
 namespace {
-
-double threadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 std::string vec(const Vec3& v) {
   std::ostringstream os;

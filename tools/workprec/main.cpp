@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
   std::vector<double> steps = {2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4};
   std::vector<std::string> extra_sets, only_policies;
   int repeats = 3;
-  double duration = 0.0, output_interval = 2e-2, peak_dt = 1e-6;
+  double duration = 0.0, output_interval = 2e-2, peak_dt = 1e-6, max_run_seconds = 3.0;
   std::string out_dir = "out/workprec";
   bool quick = false, no_mujoco = false;
   app.add_option("--scenes", scenes, "scene names in the scenes directory")->delimiter(',');
@@ -116,6 +116,8 @@ int main(int argc, char** argv) {
   app.add_option("--duration", duration, "simulated time [s] (default: the scenes')");
   app.add_option("--output-interval", output_interval, "row spacing the errors are compared at [s]");
   app.add_option("--peak-dt", peak_dt, "sampling of the reference's peak contact force [s]");
+  app.add_option("--max-run-seconds", max_run_seconds,
+                 "end a curve after a point whose run takes longer than this [CPU s]");
   app.add_option("--set", extra_sets, "key=value applied to every scene (repeatable)");
   app.add_option("--out", out_dir, "output directory (CSV, reference cache)");
   app.add_flag("--quick", quick, "a few short points (smoke test): 1 s, h = 0.04, 0.02, 0.01, rows every 0.04 s");
@@ -205,7 +207,13 @@ int main(int argc, char** argv) {
         }
         for (const std::string& v : pol.sweep_values) sweep.emplace_back(h, v);
       }
+      double last_cpu = 0.0;  // [s] per run at the previous point of this curve
       for (const auto& [h, value] : sweep) {
+        if (last_cpu > max_run_seconds) {
+          std::printf("  %-22s rest of the curve skipped: the last point took %.1f s per run (--max-run-seconds)\n",
+                      pol.name.c_str(), last_cpu);
+          break;
+        }
         Point p;
         p.scene = scene;
         p.policy = pol.name;
@@ -242,6 +250,7 @@ int main(int argc, char** argv) {
           }
           p.repeats = repeats;
           if (p.ok) p.cpu_per_sim_s = median(cpu) / m.duration;
+          if (p.ok) last_cpu = median(cpu);
         }
         points.push_back(p);
         printPoint(p);

@@ -79,6 +79,9 @@ Trajectory runRk4(const Model& m);
 /// negative number when the run stops.
 double cpuSecondsOfRun(const Model& m);
 
+/// CPU time of the calling thread [s] (CLOCK_THREAD_CPUTIME_ID).
+double threadCpuSeconds();
+
 /// Median of v (v not empty).
 double median(std::vector<double> v);
 

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Work-precision sweep end to end: builds gimbalsim_workprec (Release, build/),
+# runs it (arguments are passed through, e.g. --quick, --scenes paper_ideal,
+# --repeats 5), writes out/workprec/workprec.csv and its log, and plots
+# out/workprec/workprec.png with /usr/bin/python3 (Debian's matplotlib).
+#
+#   bash tools/workprec/run_workprec.sh            # full sweep: several minutes
+#   bash tools/workprec/run_workprec.sh --quick    # seconds
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+cd "$ROOT"
+bash tools/bootstrap.sh
+[ -f build/CMakeCache.txt ] || cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j2 --target gimbalsim_workprec >/dev/null
+mkdir -p out/workprec
+build/bin/gimbalsim_workprec --out out/workprec "$@" | tee out/workprec/workprec.log
+/usr/bin/python3 tools/workprec/plot_workprec.py out/workprec/workprec.csv --out out/workprec/workprec.png
