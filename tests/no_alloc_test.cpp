@@ -70,6 +70,17 @@ TEST(NoAlloc, StepOfEveryVariantAllocatesNothing) {
   checkNoAllocation<FixedClearanceFriction>(test::scene("paper_clearance", {"structure.base=fixed"}), 300);
 }
 
+TEST(NoAlloc, AdaptivePolicyAndCoulombStickAllocateNothing) {
+  const std::string adaptive = "sim.substep_policy=adaptive";
+  checkNoAllocation<FloatingClearanceFriction>(test::scene("paper_clearance", {adaptive, "friction.law=coulomb_stick"}), 500);
+  checkNoAllocation<FloatingClearanceFriction>(test::scene("paper_clearance", {"friction.law=coulomb_stick"}), 300);
+  checkNoAllocation<FloatingClearanceFriction>(test::scene("paper_clearance", {adaptive, "friction.law=ambrosio"}), 300);
+  checkNoAllocation<FloatingClearance>(test::scene("paper_clearance", {adaptive, "friction.law=none"}), 300);
+  checkNoAllocation<FixedClearanceFriction>(
+      test::scene("paper_clearance", {adaptive, "structure.base=fixed", "friction.law=coulomb_stick"}), 300);
+  checkNoAllocation<FloatingIdeal>(test::scene("paper_ideal", {adaptive}), 300);
+}
+
 TEST(NoAlloc, FailingStepAllocatesNothingEither) {
   const Model m = test::scene("paper_clearance", {"sim.max_substeps=3"});
   Data<FloatingClearanceFriction> d(m);

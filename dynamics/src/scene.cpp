@@ -168,10 +168,12 @@ const std::vector<Spec>& specs() {
        [](Model& m, N n) { m.contact.restitution = asNumber(n); }},
       {"contact.v0_min", "number", "m/s", "floor on the impact velocity v0 in the damping",
        [](Model& m, N n) { m.contact.v0_min = asNumber(n); }},
-      {"friction.law", "none|coulomb|ambrosio", "", "tangential force law",
+      {"friction.law", "none|coulomb|ambrosio|coulomb_stick", "",
+       "tangential force law (coulomb_stick: set-valued Coulomb, stick and slip located as events)",
        [](Model& m, N n) {
          m.contact.friction = asEnum<FrictionLaw>(
-             n, {{"none", FrictionLaw::None}, {"coulomb", FrictionLaw::Coulomb}, {"ambrosio", FrictionLaw::Ambrosio}});
+             n, {{"none", FrictionLaw::None}, {"coulomb", FrictionLaw::Coulomb}, {"ambrosio", FrictionLaw::Ambrosio},
+                 {"coulomb_stick", FrictionLaw::CoulombStick}});
        }},
       {"friction.mu", "number", "-", "dynamic friction coefficient", [](Model& m, N n) { m.contact.mu = asNumber(n); }},
       {"friction.v_a", "number", "m/s", "Ambrosio: no friction below this |v_t|",
@@ -195,8 +197,20 @@ const std::vector<Spec>& specs() {
        [](Model& m, N n) { m.integrator.substep = asNumber(n); }},
       {"sim.event_tol", "number", "s", "contact switch location tolerance",
        [](Model& m, N n) { m.integrator.event_tol = asNumber(n); }},
-      {"sim.max_substeps", "int", "-", "sub-step cap per step (0 = 2 step/substep + 4 max_event_iters + 4)",
+      {"sim.max_substeps", "int", "-", "sub-step cap per step (0 = 2 step/substep + 4 max_event_iters + 4; adaptive: step/substep at least 500)",
        [](Model& m, N n) { m.integrator.max_substeps = asInt(n); }},
+      {"sim.substep_policy", "fixed|adaptive", "",
+       "contact sub-steps: fixed sim.substep, or adaptive local error control to sim.substep_tol",
+       [](Model& m, N n) {
+         m.integrator.substep_policy =
+             asEnum<SubstepPolicy>(n, {{"fixed", SubstepPolicy::Fixed}, {"adaptive", SubstepPolicy::Adaptive}});
+       }},
+      {"sim.substep_tol", "number", "-", "adaptive: local error per sub-step, max_i |err_i| / (1 + |y_i|)",
+       [](Model& m, N n) { m.integrator.substep_tol = asNumber(n); }},
+      {"sim.substep_min", "number", "s", "adaptive: smallest sub-step (taken even above tolerance, counted)",
+       [](Model& m, N n) { m.integrator.substep_min = asNumber(n); }},
+      {"sim.substep_max", "number", "s", "adaptive: largest sub-step near contact (0 = sim.step)",
+       [](Model& m, N n) { m.integrator.substep_max = asNumber(n); }},
       {"sim.max_event_iters", "int", "-", "switch location iteration cap",
        [](Model& m, N n) { m.integrator.max_event_iters = asInt(n); }},
       {"sim.velocity_limit", "number", "rad/s, m/s", "any |v_i| above this stops the run as diverging",
@@ -384,6 +398,9 @@ LoadedScene loadSceneText(const std::string& yaml, const std::string& origin,
   if (!(p.substep > 0.0 && p.substep <= p.step)) refuse("sim.substep", "must be in (0, sim.step]");
   if (!(p.event_tol > 0.0 && p.event_tol < p.substep)) refuse("sim.event_tol", "must be in (0, sim.substep)");
   if (p.max_substeps < 0) refuse("sim.max_substeps", "must be >= 0");
+  if (!(p.substep_tol > 0.0 && p.substep_tol < 1.0)) refuse("sim.substep_tol", "must be in (0, 1)");
+  if (!(p.substep_min > 0.0 && p.substep_min <= p.step)) refuse("sim.substep_min", "must be in (0, sim.step]");
+  if (!(p.substep_max >= 0.0 && p.substep_max <= p.step)) refuse("sim.substep_max", "must be in [0, sim.step]");
   if (p.max_event_iters < 1) refuse("sim.max_event_iters", "must be >= 1");
   if (!(p.velocity_limit > 0.0)) refuse("sim.velocity_limit", "must be > 0");
   if (!(p.penetration_limit >= 0.0)) refuse("sim.penetration_limit", "must be >= 0");

@@ -27,11 +27,65 @@ Gap clearanceGap(const Model& m, const Eigen::MatrixBase<Q>& q, const Eigen::Mat
   return {e - m.contact.clearance, rate};
 }
 
+/// Component along k2 of shaft 1's angular velocity [rad/s] (linear in v).
+template <class V, class Q, class W>
+double shaft1RateK2(const Model& m, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<W>& v) {
+  constexpr int QJ = State<V>::QJ, NB = V::NB;
+  const Vec3& k1 = m.chain[0].axis;
+  double w = v(NB) * k1.dot(m.k2_S1);
+  if constexpr (V::kFloating) {
+    // R_PC^T omega_B with R_PC the rotation about k1 by theta1.
+    const Vec3 wB = v.template head<3>();
+    const double c = std::cos(q(QJ)), s = std::sin(q(QJ));
+    const Vec3 wS1 = c * wB - s * k1.cross(wB) + (1.0 - c) * k1.dot(wB) * k1;
+    w += wS1.dot(m.k2_S1);
+  }
+  return w;
+}
+
+/// Tangential relative velocity of the material points v_t(q, v) [m/s] (the
+/// same quantity clearanceContact() writes to ContactEval::vt), linear in v.
+template <class V, class Q, class W>
+double tangentialVelocity(const Model& m, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<W>& v) {
+  constexpr int QJ = State<V>::QJ, NB = V::NB;
+  const double ex = q(QJ + 1), ey = q(QJ + 2);
+  const double e = std::hypot(ex, ey);
+  if (!(e > 0.0)) return 0.0;
+  const Vec2 t(-ey / e, ex / e);
+  return t.x() * v(NB + 1) + t.y() * v(NB + 2) + v(NB + 3) * m.contact.journal_radius +
+         (e - m.contact.clearance) * shaft1RateK2<V>(m, q, v);
+}
+
+/// The part of dv_t/dt that does not go through vdot: (d v_t / d q) qdot at
+/// fixed v [m/s^2]. With it, dv_t/dt = tangentialVelocity(q, vdot) + this.
+template <class V, class Q, class W>
+double tangentialVelocityRateAtFixedV(const Model& m, const Eigen::MatrixBase<Q>& q,
+                                      const Eigen::MatrixBase<W>& v) {
+  constexpr int QJ = State<V>::QJ, NB = V::NB;
+  const double ex = q(QJ + 1), ey = q(QJ + 2);
+  const double e = std::hypot(ex, ey);
+  if (!(e > 0.0)) return 0.0;
+  const Vec2 n(ex / e, ey / e), t(-n.y(), n.x());
+  const Vec2 de(v(NB + 1), v(NB + 2));
+  // dt/dt = -(de . t / e) n;  d(e - c)/dt = de . n.
+  double r = -de.dot(t) * de.dot(n) / e + de.dot(n) * shaft1RateK2<V>(m, q, v);
+  if constexpr (V::kFloating) {
+    const Vec3& k1 = m.chain[0].axis;
+    const Vec3 wB = v.template head<3>();
+    const double c = std::cos(q(QJ)), s = std::sin(q(QJ));
+    const Vec3 dwS1 = -s * wB - c * k1.cross(wB) + s * k1.dot(wB) * k1;  // d/dtheta1 of R^T wB
+    r += (e - m.contact.clearance) * v(NB) * dwS1.dot(m.k2_S1);
+  }
+  return r;
+}
+
 /// Contact quantities and forces; needs kinematics() for shaft 1's twist.
-/// v0 is the impact velocity of the current contact [m/s].
+/// v0 is the impact velocity of the current contact [m/s]; friction_mode the
+/// slip direction (+1 / -1) or 0 for stick, read by friction.law
+/// coulomb_stick only (in stick F_t is set later by stickClosure()).
 template <class V, class Q, class W>
 void clearanceContact(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
-                      const Eigen::MatrixBase<W>& v, double v0) {
+                      const Eigen::MatrixBase<W>& v, double v0, int friction_mode = 0) {
   static_assert(V::kClearance);
   constexpr int QJ = State<V>::QJ, NB = V::NB;
   const ContactParams& cp = m.contact;
@@ -53,8 +107,13 @@ void clearanceContact(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
   const double omega1_k2 = d.v[0].template head<3>().dot(m.k2_S1);
   c.vt = de.dot(t) + v(NB + 3) * cp.journal_radius + c.delta * omega1_k2;
   c.fn = normalForce(cp, c.delta, c.vn, v0);
+  c.ft_required = 0.0;
   if constexpr (V::kFriction) {
-    c.ft = frictionForce(cp, c.fn, c.vt);
+    if (cp.friction == FrictionLaw::CoulombStick) {
+      c.ft = -static_cast<double>(friction_mode) * cp.mu * c.fn;
+    } else {
+      c.ft = frictionForce(cp, c.fn, c.vt);
+    }
   } else {
     c.ft = 0.0;
   }
@@ -75,6 +134,66 @@ void addContactForces(const Model& m, Data<V>& d) {
   d.tau(NB + 1) += F.x();
   d.tau(NB + 2) += F.y();
   d.tau(NB + 3) += arm * c.ft;
+}
+
+/// Solves M x = b with the Cholesky factor L of M (lower) already in place.
+template <int N>
+void choleskySolveFactored(const Eigen::Matrix<double, N, N>& L, const Eigen::Matrix<double, N, 1>& b,
+                           Eigen::Matrix<double, N, 1>& x) {
+  for (int j = 0; j < N; ++j) {
+    double y = b(j);
+    for (int k = 0; k < j; ++k) y -= L(j, k) * x(k);
+    x(j) = y / L(j, j);
+  }
+  for (int i = N - 1; i >= 0; --i) {
+    double s = x(i);
+    for (int k = i + 1; k < N; ++k) s -= L(k, i) * x(k);
+    x(i) = s / L(i, i);
+  }
+}
+
+/// Stick closure of coulomb_stick (Filippov): dv_t/dt = a0 + b F_t is affine in
+/// F_t (the pair's generalised force is linear in F_t), so in stick F_t =
+/// -a0 / b, clamped to |F_t| <= mu F_n. Needs d.L (factor of M) and d.vdot
+/// computed with F_t = 0; adds the pair's tangential force to d.vdot and d.tau
+/// and writes ContactEval::ft and ft_required.
+template <class V, class Q, class W>
+void stickClosure(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<W>& v) {
+  constexpr int NB = V::NB;
+  ContactEval& c = d.contact;
+  if (!(c.fn > 0.0)) {
+    c.ft = c.ft_required = 0.0;
+    return;
+  }
+  const Vec2 t(-c.n.y(), c.n.x());
+  const double arm = 0.5 * (m.contact.bearing_radius + m.contact.journal_radius - c.e);
+  typename Data<V>::VecV Qt = Data<V>::VecV::Zero(), w;
+  Qt(NB + 1) = t.x();
+  Qt(NB + 2) = t.y();
+  Qt(NB + 3) = arm;
+  choleskySolveFactored<V::NV>(d.L, Qt, w);  // vdot per unit F_t
+  const double a0 = tangentialVelocity<V>(m, q, d.vdot) + tangentialVelocityRateAtFixedV<V>(m, q, v);
+  const double b = tangentialVelocity<V>(m, q, w);
+  c.ft_required = b != 0.0 ? -a0 / b : 0.0;
+  const double lim = m.contact.mu * c.fn;
+  c.ft = std::fmax(-lim, std::fmin(lim, c.ft_required));
+  d.vdot += c.ft * w;
+  d.tau += c.ft * Qt;
+}
+
+/// coulomb_stick: the friction mode consistent at a state on v_t = 0 (or on
+/// entering a contact): the slip direction sigma whose friction -sigma mu F_n
+/// drives v_t away from 0 in direction sigma, or 0 (stick) when neither does
+/// (|F_t required| <= mu F_n; b = d(dv_t/dt)/dF_t > 0 as J_t M^-1 J_t^T).
+/// Needs forwardDynamics() just run at the state in stick mode (mode 0).
+template <class V>
+int consistentFrictionMode(const Model& m, const Data<V>& d) {
+  const ContactEval& c = d.contact;
+  if (!(c.fn > 0.0)) return 0;
+  const double lim = m.contact.mu * c.fn;
+  const double fr = c.ft_required;
+  if (std::fabs(fr) <= lim) return 0;
+  return fr > 0.0 ? -1 : 1;
 }
 
 }  // namespace gimbalsim

@@ -25,7 +25,7 @@ inline double normalForce(const ContactParams& c, double delta, double vn, doubl
 
 /// Ambrosio's dynamic correction coefficient c_d from |v_t| (never signed).
 inline double frictionCorrection(const ContactParams& c, double vt_abs) {
-  if (c.friction == FrictionLaw::Coulomb) return 1.0;
+  if (c.friction != FrictionLaw::Ambrosio) return 1.0;
   if (vt_abs <= c.v_a) return 0.0;
   if (vt_abs >= c.v_b) return 1.0;
   return (vt_abs - c.v_a) / (c.v_b - c.v_a);

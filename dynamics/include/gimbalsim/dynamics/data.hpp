@@ -30,6 +30,9 @@ struct ContactEval {
   double vt = 0.0;      ///< tangential relative velocity of the material points [m/s]
   double fn = 0.0;      ///< normal force magnitude [N]
   double ft = 0.0;      ///< tangential (friction) force along t [N]
+  /// coulomb_stick in stick: the F_t that keeps dv_t/dt = 0, before the
+  /// clamp to mu F_n [N]
+  double ft_required = 0.0;
 };
 
 /// Counters of a run, written by the integrator.
@@ -44,6 +47,9 @@ struct RunStats {
   double peak_fn = 0.0, t_peak_fn = 0.0;        ///< [N], [s]
   double peak_contact = 0.0, t_peak_contact = 0.0;  ///< |F_n n + F_t t| [N], [s]
   double max_penetration = 0.0;     ///< [m]
+  long long rejected_substeps = 0;  ///< adaptive: sub-steps taken back by error control
+  long long forced_substeps = 0;    ///< adaptive: accepted at sim.substep_min above tolerance
+  long long friction_switches = 0;  ///< coulomb_stick: located v_t reversals and stick/slip switches
 };
 
 template <class V>
@@ -92,6 +98,15 @@ struct Data {
   RunStats stats;
   double fail_time = 0.0;         ///< [s] when a step failed
   int fail_index = -1;            ///< coordinate that failed (v index, or -1)
+  // adaptive sub-stepping: the sub-step to try next [s] (0 = pick one), and
+  // the derivative at the end of the last accepted sub-step (reused as the
+  // next k1 while state, mode and input are unchanged)
+  double h_next = 0.0;
+  Deriv k_last;
+  State<V> k_last_state;
+  Vec2 k_last_tau = Vec2::Zero();
+  bool k_last_valid = false;
+  ContactEval contact_last;
 };
 
 }  // namespace gimbalsim

@@ -17,11 +17,13 @@
 namespace gimbalsim {
 
 /// Sub-step cap of one step: the plain sub-steps plus room for four located
-/// switches.
+/// switches (adaptive policy: at least 500 plain sub-steps, the tolerance
+/// decides).
 inline int substepCap(const Model& m) {
   const IntegratorParams& p = m.integrator;
   if (p.max_substeps > 0) return p.max_substeps;
-  const int plain = static_cast<int>(std::ceil(p.step / p.substep - 1e-9));
+  int plain = static_cast<int>(std::ceil(p.step / p.substep - 1e-9));
+  if (p.substep_policy == SubstepPolicy::Adaptive) plain = std::max(plain, 500);
   return 2 * plain + 4 * p.max_event_iters + 4;
 }
 
@@ -104,9 +106,330 @@ void recordContactPeaks(Data<V>& d, double t) {
 }
 }  // namespace detail
 
+namespace detail {
+
+/// coulomb_stick: has a friction switch happened between the segment's start
+/// (whose mode x carries) and x? Slip: v_t changed sign against the mode.
+/// Stick: the force needed to stick exceeds mu F_n. contact_at_x: d.contact
+/// already holds forwardDynamics() at x (else it is evaluated here).
+template <class V>
+bool frictionSwitched(const Model& m, Data<V>& d, const State<V>& x, const Input& u, bool contact_at_x) {
+  if constexpr (!V::kFriction) {
+    return false;
+  } else {
+    if (m.contact.friction != FrictionLaw::CoulombStick || !x.in_contact) return false;
+    if (x.friction_mode != 0) return x.friction_mode * tangentialVelocity<V>(m, x.q, x.v) < x.vt_floor;
+    if (!contact_at_x) forwardDynamics(m, d, x, u);
+    return std::fabs(d.contact.ft_required) > m.contact.mu * d.contact.fn;
+  }
+}
+
+/// coulomb_stick: sets the friction mode to continue with from x, a state just
+/// past a located switch (or a contact onset), x.friction_mode the mode before.
+template <class V>
+void enterFrictionMode(const Model& m, Data<V>& d, State<V>& x, const Input& u, bool onset) {
+  const double vt = tangentialVelocity<V>(m, x.q, x.v);
+  int mode = 0;
+  if (onset && vt != 0.0) {
+    mode = vt > 0.0 ? 1 : -1;
+  } else {
+    State<V>& probe = d.stage;
+    probe = x;
+    probe.friction_mode = 0;
+    forwardDynamics(m, d, probe, u);
+    mode = consistentFrictionMode(m, d);
+    if (!onset && mode != 0 && mode == x.friction_mode) mode = 0;  // crossed within the tolerance
+    if (!onset && mode == 0 && x.friction_mode == 0) mode = d.contact.ft_required > 0.0 ? -1 : 1;
+  }
+  x.friction_mode = mode;
+  x.vt_floor = std::fmin(0.0, mode * vt);
+}
+
+/// Locates the first contact switch (penetration sign change) in (0, dt] of
+/// the sub-step from s (Illinois regula falsi, bisection safeguard) and moves
+/// s just past it with the contact memory updated. d.k[0] must be f(s).
+template <class V>
+StepStatus locateGapSwitch(const Model& m, Data<V>& d, State<V>& s, const Input& u, double dt, double g_hi0,
+                           int& n, int cap) {
+  const IntegratorParams& p = m.integrator;
+  double lo = 0.0, hi = dt;
+  double g_lo = clearanceGap<V>(m, s.q, s.v).delta, g_hi = g_hi0;
+  d.bracket_hi = d.trial;
+  int side_kept = 0;  // Illinois: which end stayed twice in a row
+  int it = 0;
+  while (hi - lo > p.event_tol) {
+    if (++it > p.max_event_iters) return StepStatus::EventNotLocated;
+    if (++n > cap) return StepStatus::SubstepCap;
+    double tau = lo - g_lo * (hi - lo) / (g_hi - g_lo);
+    const double w = hi - lo;
+    if (!(tau > lo + 0.01 * w && tau < hi - 0.01 * w) || it % 4 == 0) tau = 0.5 * (lo + hi);
+    rk4(m, d, s, u, tau, d.trial, /*reuse_k1=*/true);
+    ++d.stats.event_iterations;
+    if (const StepStatus st = checkState(m, d, d.trial); st != StepStatus::Ok) {
+      d.fail_time = d.trial.t;
+      return st;
+    }
+    const double g = clearanceGap<V>(m, d.trial.q, d.trial.v).delta;
+    if ((g > 0.0) != s.in_contact) {
+      hi = tau;
+      g_hi = g;
+      d.bracket_hi = d.trial;
+      if (side_kept == -1) g_lo *= 0.5;
+      side_kept = -1;
+    } else {
+      lo = tau;
+      g_lo = g;
+      if (side_kept == 1) g_hi *= 0.5;
+      side_kept = 1;
+    }
+  }
+  s = d.bracket_hi;
+  s.in_contact = !s.in_contact;
+  if (s.in_contact) {
+    s.v0 = clearanceGap<V>(m, s.q, s.v).rate;  // impact velocity at onset
+    ++d.stats.impacts;
+    d.stats.last_onset_time = s.t;
+    if constexpr (V::kFriction) {
+      if (m.contact.friction == FrictionLaw::CoulombStick) enterFrictionMode(m, d, s, u, true);
+    }
+  } else {
+    ++d.stats.separations;
+    s.friction_mode = 0;
+    s.vt_floor = 0.0;
+  }
+  return StepStatus::Ok;
+}
+
+/// coulomb_stick: locates a friction switch in (0, dt] of the sub-step from s
+/// by bisection (the switch functions v_t and mu F_n - |F_t required| are
+/// checked as predicates) and moves s just past it in its new friction mode.
+template <class V>
+StepStatus locateFrictionSwitch(const Model& m, Data<V>& d, State<V>& s, const Input& u, double dt, int& n,
+                                int cap) {
+  const IntegratorParams& p = m.integrator;
+  double lo = 0.0, hi = dt;
+  d.bracket_hi = d.trial;
+  int it = 0;
+  while (hi - lo > p.event_tol) {
+    if (++it > p.max_event_iters) return StepStatus::EventNotLocated;
+    if (++n > cap) return StepStatus::SubstepCap;
+    const double tau = 0.5 * (lo + hi);
+    rk4(m, d, s, u, tau, d.trial, /*reuse_k1=*/true);
+    ++d.stats.event_iterations;
+    if (const StepStatus st = checkState(m, d, d.trial); st != StepStatus::Ok) {
+      d.fail_time = d.trial.t;
+      return st;
+    }
+    if (frictionSwitched(m, d, d.trial, u, false)) {
+      hi = tau;
+      d.bracket_hi = d.trial;
+    } else {
+      lo = tau;
+    }
+  }
+  s = d.bracket_hi;
+  enterFrictionMode(m, d, s, u, false);
+  ++d.stats.friction_switches;
+  return StepStatus::Ok;
+}
+
+enum class SubstepEnd : std::uint8_t { Accept, Switched, Failed };
+
+/// After a sub-step from s to d.trial: locates a contact or friction switch
+/// inside it (s then moved just past it: Switched), or checks the penetration
+/// limit (Failed with why/when) and leaves the trial to accept (Accept).
+/// contact_at_trial: d.contact holds forwardDynamics() at d.trial.
+template <class V>
+SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& u, double dt, int& n, int cap,
+                          bool contact_at_trial, StepStatus& why, double& when) {
+  const IntegratorParams& p = m.integrator;
+  const double g_hi0 = clearanceGap<V>(m, d.trial.q, d.trial.v).delta;
+  StepStatus st = StepStatus::Ok;
+  if ((g_hi0 > 0.0) != s.in_contact) {
+    st = locateGapSwitch(m, d, s, u, dt, g_hi0, n, cap);
+  } else if (frictionSwitched(m, d, d.trial, u, contact_at_trial)) {
+    st = locateFrictionSwitch(m, d, s, u, dt, n, cap);
+  } else {
+    const double limit = p.penetration_limit > 0.0 ? p.penetration_limit : m.contact.clearance;
+    if (!(g_hi0 > limit)) return SubstepEnd::Accept;
+    d.fail_index = -1;
+    why = StepStatus::PenetrationLimit;
+    when = d.trial.t;
+    return SubstepEnd::Failed;
+  }
+  if (st == StepStatus::Ok) return SubstepEnd::Switched;
+  why = st;
+  when = st == StepStatus::NonFinite || st == StepStatus::VelocityLimit ? d.fail_time : s.t;
+  return SubstepEnd::Failed;
+}
+
+/// First guess of the adaptive sub-step near contact from the physics: a
+/// twentieth of the Hertz contact period T = pi sqrt(m_eff / k_lin), k_lin =
+/// n K delta_max^(n-1) at the penetration an impact at the approach speed
+/// reaches, m_eff = 1 / (n^T M^-1 n) from the last factor of M.
+template <class V>
+double physicalSubstepGuess(const Model& m, Data<V>& d, const State<V>& s) {
+  constexpr int NB = V::NB, QJ = State<V>::QJ;
+  const ContactParams& c = m.contact;
+  const double ex = s.q(QJ + 1), ey = s.q(QJ + 2), e = std::hypot(ex, ey);
+  double m_eff = m.shaft2.mass;
+  if (e > 0.0 && d.L(0, 0) > 0.0) {
+    typename Data<V>::VecV nv = Data<V>::VecV::Zero(), x;
+    nv(NB + 1) = ex / e;
+    nv(NB + 2) = ey / e;
+    choleskySolveFactored<V::NV>(d.L, nv, x);
+    const double inv = nv.dot(x);
+    if (inv > 0.0 && std::isfinite(inv)) m_eff = 1.0 / inv;
+  }
+  const double v = std::fmax(std::fmax(std::fabs(clearanceGap<V>(m, s.q, s.v).rate), std::fabs(s.v0)), 1e-3);
+  // K delta^(n+1) / (n+1) = m v^2 / 2
+  const double n = c.exponent;
+  const double delta = std::pow(0.5 * (n + 1.0) * m_eff * v * v / c.K, 1.0 / (n + 1.0));
+  const double k_lin = n * c.K * std::pow(delta, n - 1.0);
+  return 3.141592653589793 * std::sqrt(m_eff / k_lin) / 20.0;
+}
+
+/// Local error of the sub-step just taken (d.k[3] at the RK4 stage, k5 = f at
+/// the result): RK4 minus its embedded third-order companion with weights
+/// (1/6, 1/3, 1/3, 0, 1/6) is h/6 (k4 - k5); max over coordinates of
+/// |err_i| / (1 + |y_i|).
+template <class V>
+double embeddedError(const Data<V>& d, const typename Data<V>::Deriv& k5, const State<V>& y, double h) {
+  double e = 0.0;
+  for (int i = 0; i < V::NQ; ++i) {
+    e = std::fmax(e, std::fabs(d.k[3].qd(i) - k5.qd(i)) / (1.0 + std::fabs(y.q(i))));
+  }
+  for (int i = 0; i < V::NV; ++i) {
+    e = std::fmax(e, std::fabs(d.k[3].vd(i) - k5.vd(i)) / (1.0 + std::fabs(y.v(i))));
+  }
+  return e * h / 6.0;
+}
+
+template <class V>
+bool sameState(const State<V>& a, const State<V>& b) {
+  return a.t == b.t && a.q == b.q && a.v == b.v && a.in_contact == b.in_contact && a.v0 == b.v0 &&
+         a.friction_mode == b.friction_mode && a.vt_floor == b.vt_floor;
+}
+
+}  // namespace detail
+
+/// Advances s by one step h under input u (held over the step) with
+/// sub-steps chosen by local error control (sim.substep_policy adaptive):
+/// near and in contact each sub-step is accepted when the embedded RK4/3
+/// error estimate is within sim.substep_tol (the first guess from the contact
+/// period, then the usual controller h * clamp(0.9 (tol/err)^(1/4), 0.2, 4)),
+/// rejected sub-steps count against the cap too. The last sub-step lands
+/// exactly on the step's end; contact and friction switches are located to
+/// event_tol as in the fixed policy. f at the end of an accepted sub-step is
+/// the next sub-step's first stage (also across steps, while the state and
+/// the input are unchanged).
+template <class V>
+StepStatus stepAdaptive(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
+  const IntegratorParams& p = m.integrator;
+  const double t_end = s.t + p.step;
+  const double h_max = p.substep_max > 0.0 ? std::fmin(p.substep_max, p.step) : p.step;
+  const int cap = substepCap(m);
+  int n = 0;
+  ++d.stats.steps;
+  auto fail = [&](StepStatus why, double when) {
+    d.fail_time = when;
+    d.stats.substeps += std::min(n, cap);  // the refused one was not taken
+    return why;
+  };
+  // d.k[0] = f(s) ready (after a rejection, or from the previous accepted sub-step).
+  bool k1_ready = d.k_last_valid && d.k_last_tau == u.tau && detail::sameState(d.k_last_state, s);
+  if (k1_ready) {
+    d.k[0] = d.k_last;
+    d.contact_k1 = d.contact_last;
+  }
+  d.k_last_valid = false;
+  while (true) {
+    const double rem = t_end - s.t;
+    if (rem <= 1e-12 * p.step) break;
+    double dt = rem;
+    bool near = false;
+    if constexpr (V::kClearance) {
+      const Gap g = clearanceGap<V>(m, s.q, s.v);
+      near = s.in_contact || g.delta + std::fmax(g.rate, 0.0) * rem > 0.0;
+      if (near) {
+        if (!(d.h_next > 0.0)) {
+          d.h_next = std::fmin(h_max, std::fmax(p.substep_min, detail::physicalSubstepGuess(m, d, s)));
+        }
+        dt = std::fmin(d.h_next, h_max);
+        if (dt >= rem * (1.0 - 1e-9)) {
+          dt = rem;
+        } else if (dt > 0.5 * rem) {
+          dt = 0.5 * rem;  // two even sub-steps instead of a long and a sliver
+        }
+      }
+    }
+    if (++n > cap) return fail(StepStatus::SubstepCap, s.t);
+    rk4(m, d, s, u, dt, d.trial, k1_ready);
+    k1_ready = true;  // rk4 left f(s) in d.k[0]
+    if (const StepStatus st = checkState(m, d, d.trial); st != StepStatus::Ok) {
+      return fail(st, d.trial.t);
+    }
+    if constexpr (V::kClearance) {
+      if (near) {
+        rk4Derivative(m, d, d.trial, u, d.k_last);  // k5 (same mode as the sub-step)
+        const double ratio = detail::embeddedError(d, d.k_last, d.trial, dt) / p.substep_tol;
+        const double grow = ratio > 0.0 ? 0.9 * std::pow(ratio, -0.25) : 4.0;
+        if (ratio > 1.0 && dt > p.substep_min) {
+          ++d.stats.rejected_substeps;
+          d.h_next = std::fmax(p.substep_min, dt * std::fmax(0.2, grow));
+          continue;
+        }
+        if (ratio > 1.0) ++d.stats.forced_substeps;
+        const double h_new = dt * std::fmin(4.0, std::fmax(0.2, grow));
+        // A sub-step cut short to land on the grid does not shrink the next.
+        d.h_next = std::fmin(h_max, std::fmax(p.substep_min, dt < d.h_next && ratio <= 1.0
+                                                                   ? std::fmax(h_new, d.h_next)
+                                                                   : h_new));
+        d.contact_last = d.contact;
+      }
+      detail::recordContactPeaks(d, s.t);
+      const bool was_in_contact = s.in_contact;
+      StepStatus why = StepStatus::Ok;
+      double when = 0.0;
+      switch (detail::handleSwitches(m, d, s, u, dt, n, cap, near, why, when)) {
+        case detail::SubstepEnd::Failed: return fail(why, when);
+        case detail::SubstepEnd::Switched:
+          if (!was_in_contact && s.in_contact) {
+            d.h_next = std::fmin(d.h_next, std::fmax(p.substep_min, detail::physicalSubstepGuess(m, d, s)));
+          }
+          k1_ready = false;
+          continue;
+        case detail::SubstepEnd::Accept: break;
+      }
+      s = d.trial;
+      if (near) {
+        d.k[0] = d.k_last;  // first stage of the next sub-step
+        d.contact_k1 = d.contact_last;
+      } else {
+        k1_ready = false;
+      }
+    } else {
+      s = d.trial;
+      k1_ready = false;
+    }
+  }
+  s.t = t_end;
+  if (k1_ready) {
+    d.k_last = d.k[0];
+    d.contact_last = d.contact_k1;
+    d.k_last_state = s;
+    d.k_last_tau = u.tau;
+    d.k_last_valid = true;
+  }
+  d.stats.substeps += n;
+  d.stats.max_substeps_in_step = std::max(d.stats.max_substeps_in_step, n);
+  return StepStatus::Ok;
+}
+
 /// Advances s by one step h under input u (held over the step).
 template <class V>
 StepStatus step(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
+  if (m.integrator.substep_policy == SubstepPolicy::Adaptive) return stepAdaptive(m, d, s, u);
   const IntegratorParams& p = m.integrator;
   const double t_end = s.t + p.step;
   const int cap = substepCap(m);
@@ -114,7 +437,7 @@ StepStatus step(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
   ++d.stats.steps;
   auto fail = [&](StepStatus why, double when) {
     d.fail_time = when;
-    d.stats.substeps += n;
+    d.stats.substeps += std::min(n, cap);  // the refused one was not taken
     return why;
   };
   while (true) {
@@ -136,55 +459,12 @@ StepStatus step(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
     }
     if constexpr (V::kClearance) {
       detail::recordContactPeaks(d, s.t);
-      const double g_hi0 = clearanceGap<V>(m, d.trial.q, d.trial.v).delta;
-      if ((g_hi0 > 0.0) != s.in_contact) {
-        // Locate the switch in (0, dt]: g(tau) = delta(rk4(s, tau)).
-        double lo = 0.0, hi = dt;
-        double g_lo = clearanceGap<V>(m, s.q, s.v).delta, g_hi = g_hi0;
-        d.bracket_hi = d.trial;
-        int side_kept = 0;  // Illinois: which end stayed twice in a row
-        int it = 0;
-        while (hi - lo > p.event_tol) {
-          if (++it > p.max_event_iters) return fail(StepStatus::EventNotLocated, s.t);
-          if (++n > cap) return fail(StepStatus::SubstepCap, s.t);
-          double tau = lo - g_lo * (hi - lo) / (g_hi - g_lo);
-          const double w = hi - lo;
-          if (!(tau > lo + 0.01 * w && tau < hi - 0.01 * w) || it % 4 == 0) tau = 0.5 * (lo + hi);
-          rk4(m, d, s, u, tau, d.trial, /*reuse_k1=*/true);
-          ++d.stats.event_iterations;
-          if (const StepStatus st = checkState(m, d, d.trial); st != StepStatus::Ok) {
-            return fail(st, d.trial.t);
-          }
-          const double g = clearanceGap<V>(m, d.trial.q, d.trial.v).delta;
-          if ((g > 0.0) != s.in_contact) {
-            hi = tau;
-            g_hi = g;
-            d.bracket_hi = d.trial;
-            if (side_kept == -1) g_lo *= 0.5;
-            side_kept = -1;
-          } else {
-            lo = tau;
-            g_lo = g;
-            if (side_kept == 1) g_hi *= 0.5;
-            side_kept = 1;
-          }
-        }
-        s = d.bracket_hi;
-        s.in_contact = !s.in_contact;
-        if (s.in_contact) {
-          s.v0 = clearanceGap<V>(m, s.q, s.v).rate;  // impact velocity at onset
-          ++d.stats.impacts;
-          d.stats.last_onset_time = s.t;
-        } else {
-          ++d.stats.separations;
-        }
-        continue;
-      }
-      const double limit =
-          p.penetration_limit > 0.0 ? p.penetration_limit : m.contact.clearance;
-      if (g_hi0 > limit) {
-        d.fail_index = -1;
-        return fail(StepStatus::PenetrationLimit, d.trial.t);
+      StepStatus why = StepStatus::Ok;
+      double when = 0.0;
+      switch (detail::handleSwitches(m, d, s, u, dt, n, cap, false, why, when)) {
+        case detail::SubstepEnd::Failed: return fail(why, when);
+        case detail::SubstepEnd::Switched: continue;
+        case detail::SubstepEnd::Accept: break;
       }
     }
     s = d.trial;

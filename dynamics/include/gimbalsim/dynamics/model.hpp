@@ -13,7 +13,13 @@ namespace gimbalsim {
 
 enum class RadiusMode : std::uint8_t { Paper, Conformal };
 enum class DampingLaw : std::uint8_t { None, HuntCrossley, LankaraniNikravesh, Flores };
-enum class FrictionLaw : std::uint8_t { None, Coulomb, Ambrosio };
+/// CoulombStick: the set-valued Coulomb law (Filippov): slip direction kept as
+/// a mode, v_t reversals and stick/slip switches located as events, and in
+/// stick F_t is the force that keeps dv_t/dt = 0 while |F_t| <= mu F_n.
+enum class FrictionLaw : std::uint8_t { None, Coulomb, Ambrosio, CoulombStick };
+/// How the contact sub-step is chosen: Fixed = sim.substep; Adaptive = local
+/// error control (embedded RK4/3 pair) to sim.substep_tol.
+enum class SubstepPolicy : std::uint8_t { Fixed, Adaptive };
 enum class JointKind : std::uint8_t { Revolute, Prismatic };
 
 /// Compile-time shape of a scene. A variant without a floating base,
@@ -82,6 +88,12 @@ struct IntegratorParams {
   int max_event_iters = 60;           ///< cap on switch-location iterations
   double velocity_limit = 1.0e4;      ///< |v_i| above this is divergence [rad/s or m/s]
   double penetration_limit = 0.0;     ///< delta above this is divergence [m]; 0 = clearance
+  SubstepPolicy substep_policy = SubstepPolicy::Fixed;
+  /// Adaptive: local error per sub-step, max over coordinates of
+  /// |err_i| / (1 + |y_i|) (SI units: m, rad, m/s, rad/s) [-]
+  double substep_tol = 1.0e-10;
+  double substep_min = 1.0e-9;        ///< adaptive: smallest sub-step (accepted as is) [s]
+  double substep_max = 0.0;           ///< adaptive: largest sub-step near contact; 0 = step [s]
 };
 
 /// Initial state (MODEL.md section 1: everything at rest, journal concentric).

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <vector>
 
-#include "gimbalsim/dynamics/forward_dynamics.hpp"
+#include "gimbalsim/dynamics/integrator.hpp"
 
 namespace gimbalsim {
 
@@ -34,7 +34,17 @@ class ReferenceIntegrator {
   bool advanceTo(State<V>& s, double t_end) {
     namespace ode = boost::numeric::odeint;
     if (!started_) restart(s);
-    while (stepper_.current_time() < t_end) {
+    while (true) {
+      if constexpr (V::kClearance) {
+        // A switch located in the last step: output times before it come from
+        // this step's dense output, then the integration restarts there.
+        if (pending_switch_) {
+          if (pending_t_ >= t_end) break;
+          applySwitch(pending_t_);
+          continue;
+        }
+      }
+      if (stepper_.current_time() >= t_end) break;
       const double t0 = stepper_.current_time();
       stepper_.do_step(std::ref(*this));
       const double t1 = stepper_.current_time();
@@ -47,32 +57,24 @@ class ReferenceIntegrator {
         // Plain Coulomb friction's sign flip is a discontinuity an adaptive
         // method cannot step over: it would crawl forever.
         failure_ = "step size collapsed (below 1e-12 s, or more than 1e6 steps): a discontinuous "
-                   "right-hand side such as plain Coulomb friction; use friction.law=ambrosio for "
-                   "reference solutions";
+                   "right-hand side such as plain Coulomb friction; use friction.law=coulomb_stick (the "
+                   "set-valued law with located stick/slip) or ambrosio for reference solutions";
         return false;
       }
       if constexpr (V::kClearance) {
-        const bool side1 = delta(x1) > 0.0;
-        if (side1 != mode_.in_contact) {
-          // Bisection on the dense output for the first switch in (t0, t1].
+        if (switched(x1, t1)) {
+          // Bisection on the dense output for the first switch in (t0, t1]:
+          // the contact side, or (coulomb_stick) a v_t reversal or stick/slip.
           double lo = t0, hi = t1;
           Vec x(NQ + NV);
           while (hi - lo > cfg_.event_tol) {
             const double mid = 0.5 * (lo + hi);
             stepper_.calc_state(mid, x);
-            ((delta(x) > 0.0) != mode_.in_contact ? hi : lo) = mid;
+            (switched(x, mid) ? hi : lo) = mid;
           }
-          if (hi < t_end) {
-            stepper_.calc_state(hi, x);
-            State<V> at = toState(x, hi);
-            at.in_contact = !mode_.in_contact;
-            if (at.in_contact) {
-              at.v0 = clearanceGap<V>(m_, at.q, at.v).rate;
-              ++impacts_;
-            }
-            restart(at);
-            continue;
-          }
+          pending_switch_ = true;
+          pending_t_ = hi;
+          continue;
         }
       }
       (void)t0;
@@ -97,6 +99,8 @@ class ReferenceIntegrator {
   }
 
   long long impacts() const { return impacts_; }
+  /// coulomb_stick: located v_t reversals and stick/slip switches.
+  long long frictionSwitches() const { return friction_switches_; }
   /// Why advanceTo() returned false.
   const char* failure() const { return failure_; }
 
@@ -110,6 +114,37 @@ class ReferenceIntegrator {
     for (int i = 0; i < NQ; ++i) s.q(i) = x[i];
     for (int i = 0; i < NV; ++i) s.v(i) = x[NQ + i];
     return s;
+  }
+  /// Restarts at a located switch time with the contact memory updated.
+  void applySwitch(double t_switch) {
+    Vec x(NQ + NV);
+    stepper_.calc_state(t_switch, x);
+    State<V> at = toState(x, t_switch);
+    if ((delta(x) > 0.0) != mode_.in_contact) {
+      at.in_contact = !mode_.in_contact;
+      at.friction_mode = 0;
+      at.vt_floor = 0.0;
+      if (at.in_contact) {
+        at.v0 = clearanceGap<V>(m_, at.q, at.v).rate;
+        ++impacts_;
+        if (m_.contact.friction == FrictionLaw::CoulombStick && V::kFriction) {
+          detail::enterFrictionMode(m_, d_, at, u_, true);
+        }
+      }
+    } else {
+      detail::enterFrictionMode(m_, d_, at, u_, false);
+      ++friction_switches_;
+    }
+    pending_switch_ = false;
+    restart(at);
+  }
+
+  /// Has the contact side or the friction mode's switch function changed
+  /// between the current segment's start and x?
+  bool switched(const Vec& x, double t) {
+    const State<V> s = toState(x, t);
+    if ((clearanceGap<V>(m_, s.q, s.v).delta > 0.0) != mode_.in_contact) return true;
+    return detail::frictionSwitched(m_, d_, s, u_, false);
   }
   double delta(const Vec& x) const {
     const State<V> s = toState(x, 0.0);
@@ -141,6 +176,9 @@ class ReferenceIntegrator {
   Stepper stepper_;
   bool started_ = false;
   long long impacts_ = 0;
+  long long friction_switches_ = 0;
+  bool pending_switch_ = false;  ///< a located switch at pending_t_ not yet applied
+  double pending_t_ = 0.0;       ///< [s]
   long long steps_ = 0;
   const char* failure_ = "";
 };

@@ -24,6 +24,13 @@ struct State {
   // Discrete contact memory (clearance variants only).
   bool in_contact = false;  ///< side of the last located switch
   double v0 = 0.0;          ///< normal velocity at the onset of this impact [m/s]
+  /// friction.law coulomb_stick only: +1 / -1 slipping with v_t > 0 / < 0,
+  /// 0 sticking (meaningful while in_contact).
+  int friction_mode = 0;
+  /// coulomb_stick, slipping: a v_t reversal is friction_mode * v_t below
+  /// this, min(0, friction_mode * v_t) at the start of the slip (a slip that
+  /// starts from v_t = 0 may start a round-off on the wrong side) [m/s]
+  double vt_floor = 0.0;
 
   double theta(int joint) const { return q(QJ + (joint == 0 ? 0 : NJ - 1)); }
   double dtheta(int joint) const { return v(NB + (joint == 0 ? 0 : NJ - 1)); }
