@@ -24,10 +24,24 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
       w = s.rate(i);
     }
     const double e = out.ref.q(i) - meas.theta(i);
-    const double tau_u = g.inertia * out.ref.ddq(i) + g.kp * e + g.kd * (out.ref.dq(i) - w) + s.integral(i);
+    // Large-error approach (proximate time-optimal servo): the PD asks for a
+    // closing rate (kp/kd) e; above sqrt(2 a |e|), with a the deceleration the
+    // motor can give (approach_margin * limit / J), it could not stop in time
+    // and would overshoot into a limit cycle, so the closing rate is capped
+    // there. Below |e| = 2 a (kd/kp)^2 this is the plain PD, bit for bit.
+    bool approach = false;
+    double tau_pd = g.kp * e + g.kd * (out.ref.dq(i) - w);
+    if (c.approach_margin > 0.0 && g.inertia > 0.0 && g.kd > 0.0) {
+      const double v_max = std::sqrt(2.0 * c.approach_margin * g.torque_limit / g.inertia * std::fabs(e));
+      if (g.kp * std::fabs(e) > g.kd * v_max) {
+        approach = true;
+        tau_pd = g.kd * (out.ref.dq(i) + std::copysign(v_max, e) - w);
+      }
+    }
+    const double tau_u = g.inertia * out.ref.ddq(i) + tau_pd + s.integral(i);
     const double tau = std::clamp(tau_u, -g.torque_limit, g.torque_limit);
     const bool sat = tau != tau_u;
-    double dI = Ts * g.ki * e;
+    double dI = approach ? 0.0 : Ts * g.ki * e;  // integrate in the linear region only
     switch (c.anti_windup) {
       case AntiWindup::None: break;
       case AntiWindup::Clamping:

@@ -128,7 +128,8 @@ TEST(ClosedLoop, AntiWindupLimitsOvershootOfASaturatedSlew) {
   // during the saturated part and, without anti-windup, the integral winds up.
   const Model m = test::scene("paper_ideal", {"structure.base=fixed"});
   auto with = [&](const char* aw) {
-    return run(m, defaults({"azimuth.torque_limit=11", std::string("control.anti_windup=") + aw}), 0.5);
+    return run(m, defaults({"azimuth.torque_limit=11", "control.approach_margin=0",
+                            std::string("control.anti_windup=") + aw}), 0.5);
   };
   const ClosedLoopResult none = with("none"), clamp = with("clamping"), back = with("back_calculation");
   print("saturated slew, no anti-windup", none);
@@ -143,6 +144,29 @@ TEST(ClosedLoop, AntiWindupLimitsOvershootOfASaturatedSlew) {
   EXPECT_LE(back.settle_time, kSettleWithin);
   EXPECT_LE(clamp.settle_time, kSettleWithin);
   EXPECT_FALSE(none.settle_time <= kSettleWithin);
+}
+
+TEST(ClosedLoop, ApproachLimitEndsTheLimitCycleOfAStronglySaturatedSlew) {
+  // 5 N m motors for a slew asking 12.7 N m: the plain high-gain PD overshoots
+  // into a saturated limit cycle; capping the closing rate at sqrt(2 a |e|)
+  // (a = half the deceleration the motor gives) brings it back to tracking.
+  const Model m = test::scene("paper_ideal", {"structure.base=fixed"});
+  auto tailError = [&](const char* margin) {
+    const ControllerConfig c = defaults({"azimuth.torque_limit=5", "elevation.torque_limit=5",
+                                         std::string("control.approach_margin=") + margin});
+    ClosedLoopOptions opt;
+    opt.duration = 10.0;
+    double tail = 0.0;  // max |joint error| over the last 2 s [rad]
+    const ClosedLoopResult r = runClosedLoop(m, c, opt, [&](const TickRecord& t) {
+      if (t.t >= 8.0) tail = std::max(tail, (t.ref.q - t.theta_true).cwiseAbs().maxCoeff());
+    });
+    EXPECT_TRUE(r.ok) << r.error;
+    EXPECT_LE(r.max_abs_tau.maxCoeff(), 5.0);
+    std::printf("5 N m motors, approach_margin %s: max |joint error| over 8..10 s %.3e rad\n", margin, tail);
+    return tail;
+  };
+  EXPECT_GT(tailError("0"), 0.05);
+  EXPECT_LT(tailError("0.5"), 1e-4);
 }
 
 }  // namespace

@@ -98,7 +98,7 @@ TEST(ControllerConfig, EveryKeyIsDocumented) {
     EXPECT_FALSE(k.help.empty()) << k.key;
     EXPECT_FALSE(k.type.empty()) << k.key;
   }
-  EXPECT_EQ(controllerKeys().size(), 13u + 12u);
+  EXPECT_EQ(controllerKeys().size(), 14u + 12u);
 }
 
 }  // namespace

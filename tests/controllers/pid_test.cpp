@@ -3,6 +3,8 @@
 // law in pid.hpp, not by the code under test.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "gimbalsim/controllers/pid.hpp"
 
 namespace gimbalsim::controllers {
@@ -132,6 +134,20 @@ TEST(Pid, DifferencedRateIgnoresAGapInsteadOfSpiking) {
   const double w = update(c, s, m).rate(0);
   EXPECT_GT(w, 0.0);
   EXPECT_LT(w, 0.1);
+}
+
+TEST(Pid, ApproachCapsTheClosingRateAtLargeErrorsOnly) {
+  ControllerConfig c = holdAt({0.0, 0.0});
+  c.axis[0].ki = c.axis[1].ki = 0.0;
+  c.axis[0].torque_limit = c.axis[1].torque_limit = 8.0;
+  c.approach_margin = 0.5;  // a = 0.5 * 8 / 2 = 2 rad/s^2; switch at |e| = 2 a (kd/kp)^2 = 0.01 rad
+  ControllerState s;
+  Measurement m;
+  m.theta = {-1.0, -0.005};  // azimuth far (e = 1), elevation near (e = 0.005)
+  m.dtheta = {0.5, 0.0};
+  const ControlOutput out = update(c, s, m);
+  EXPECT_DOUBLE_EQ(out.tau_unsat(0), 5.0 * (std::sqrt(2.0 * 2.0 * 1.0) - 0.5));  // kd (sqrt(2 a e) - w)
+  EXPECT_DOUBLE_EQ(out.tau_unsat(1), 100.0 * 0.005);                              // plain kp e
 }
 
 TEST(Pid, TriplePoleGains) {

@@ -8,6 +8,8 @@
 // Law, per axis i (e = q_ref - q_meas, all from the profile at the measurement time):
 //   tau_u = J_i ddq_ref + kp e + kd (dq_ref - w) + I
 //   tau   = clamp(tau_u, -limit, +limit)
+// (with approach_margin > 0, large errors use kd (dq_ref + sign(e) sqrt(2 a |e|) - w)
+// instead of the PD pair where that asks for less: see pid.cpp).
 // J_i ddq_ref is the acceleration feed-forward (inertia estimate J_i); kd dq_ref
 // is the rate feed-forward and -kd w the derivative on measurement (no kick
 // when the reference jumps). w is the status rate, or the backward difference
@@ -48,6 +50,9 @@ struct ControllerConfig {
   AntiWindup anti_windup = AntiWindup::BackCalculation;
   RateSource rate_source = RateSource::Status;
   double rate_filter_hz = 100.0;     ///< low-pass cutoff of the differenced rate [Hz]
+  /// Large-error approach: closing rate capped at sqrt(2 a |e|), a = margin *
+  /// torque_limit / inertia (needs inertia > 0 and kd > 0); 0 = plain PD [-]
+  double approach_margin = 0.0;
   TargetProfile profile;
 };
 
