@@ -183,9 +183,9 @@ int main(int argc, char** argv) {
       std::printf("%.2f s CPU\n", ref.cpu_seconds);
     }
     if (base.clearance) {
-      std::printf("  reference peak contact force %.6g N (sampled every %g s); the two reference passes "
-                  "(rows only, every %g s) agree in boresight to %.2e rad\n",
-                  ref.rows.peak_contact, ref.peak_dt, ref.peak_dt, ref.self_consistency);
+      std::printf("  reference peak contact force %.6g N (sampled every %g s); that pass and the row pass "
+                  "(stops every %g s) agree in boresight to %.2e rad at the rows\n",
+                  ref.rows.peak_contact, ref.peak_dt, base.output_interval, ref.self_consistency);
     }
     const StickSlip& ss = ref.stick;
     if (ss.contact_time > 0.0) {

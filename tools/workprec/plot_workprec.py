@@ -47,8 +47,7 @@ def main():
     rows = (n + cols - 1) // cols
     fig, axes = plt.subplots(rows, cols, figsize=(6.5 * cols, 4.8 * rows), squeeze=False)
     for ax, (scene, curves) in zip(axes.flat, scenes.items()):
-        for policy, pts in curves.items():
-            pts.sort()
+        for policy, pts in curves.items():  # in sweep order (h or tolerance decreasing)
             style = "s--" if policy.startswith("MuJoCo") else "o-"
             ax.loglog([p[0] for p in pts], [p[1] for p in pts], style, ms=4, label=policy)
         front = sorted(p for pts in curves.values() for p in pts if p[2])
