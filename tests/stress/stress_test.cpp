@@ -184,6 +184,19 @@ TEST(StressGrid, StrongTorqueWithEachFrictionLaw) {
   }
 }
 
+TEST(StressGrid, AdaptivePolicyTrustworthyOrStopsOnTheCap) {
+  // Error-controlled sub-steps: trustworthy at 1e-8 with the smooth friction
+  // laws; plain Coulomb's sign flip defeats error control, and the run must
+  // stop on the sub-step cap rather than go on wrong.
+  for (const char* law : {"ambrosio", "coulomb_stick"}) {
+    EXPECT_TRUSTWORTHY(run("paper_clearance", {"sim.substep_policy=adaptive", "sim.substep_tol=1e-8",
+                                               std::string("friction.law=") + law}));
+  }
+  EXPECT_STOPPED_ON(run("paper_clearance", {"sim.substep_policy=adaptive", "sim.substep_tol=1e-8",
+                                            "friction.law=coulomb"}),
+                    "sim.max_substeps");
+}
+
 // ---- cases the tool finds SILENTLY_WRONG today (bugs reported, not yet fixed) ----
 // Run with --gtest_also_run_disabled_tests. Each finishes "ok" while the
 // energy balance rises: an impact that begins and ends inside one plain RK4

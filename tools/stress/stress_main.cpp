@@ -84,12 +84,28 @@ std::vector<Case> sweeps(const std::string& dur) {
     }
   }
   for (const char* scene : {"paper_clearance", "planar_clearance"}) {
-    for (const char* law : {"none", "ambrosio", "coulomb"}) {
+    for (const char* law : {"none", "ambrosio", "coulomb", "coulomb_stick"}) {
       add("friction", scene, {std::string("friction.law=") + law});
     }
   }
-  for (const char* law : {"none", "ambrosio", "coulomb"}) {
+  for (const char* law : {"none", "ambrosio", "coulomb", "coulomb_stick"}) {
     add("friction", "paper_clearance", {"structure.base=fixed", std::string("friction.law=") + law});
+  }
+  // The adaptive sub-step policy: tolerance x friction law, and the stiff
+  // cases the fixed policy gets wrong.
+  for (double tol : {1e-6, 1e-8, 1e-10}) {
+    for (const char* law : {"ambrosio", "coulomb_stick", "coulomb"}) {
+      add("adaptive", "paper_clearance",
+          {"sim.substep_policy=adaptive", "sim.substep_tol=" + num(tol), std::string("friction.law=") + law});
+    }
+  }
+  for (const std::vector<std::string>& extra :
+       {std::vector<std::string>{"contact.clearance=5e-6"}, {"torque.tau1=100", "torque.tau2=200"},
+        {"contact.damping=flores", "contact.restitution=0.3"}}) {
+    std::vector<std::string> sets = {"sim.substep_policy=adaptive", "sim.substep_tol=1e-10",
+                                     "friction.law=ambrosio", "contact.stiffness_scale=100"};
+    sets.insert(sets.end(), extra.begin(), extra.end());
+    add("adaptive x stiffness", "paper_clearance", sets);
   }
   // Dissipation only: no torque, moving joints; energy must only fall.
   for (const char* law : {"ambrosio", "coulomb"}) {
@@ -163,23 +179,36 @@ void printCase(const Case& c) {
   std::fflush(stdout);
 }
 
-/// A cell of the stiffness x clearance table: the walk down the sub-steps.
-/// With whole_step the RK4 step is the sub-step too (sim.step = sim.substep),
-/// otherwise sim.step stays 1 ms and only the contact sub-step is walked.
+/// How a cell walks: the fixed contact sub-step under a 1 ms step, the step
+/// itself (sim.step = sim.substep), or the adaptive policy's tolerance.
+enum class Walk { Substep, WholeStep, Adaptive };
+
+/// The adaptive policy's tolerances, walked down (Ambrosio friction: plain
+/// Coulomb's sign flip defeats error control).
+const std::vector<double> kTolerances = {1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
+
+/// A cell of the stiffness x clearance table: a walk down one grid.
 struct Cell {
   double stiffness = 1.0, clearance = 5e-4;
-  bool whole_step = false;
+  Walk mode = Walk::Substep;
   std::vector<Case> walk;  ///< runs from the largest sub-step down to the first trustworthy
   int stable = -1;         ///< index in walk of the first trustworthy run, or -1
 };
 
 void walkCell(Cell& cell, const std::string& scenes, const std::string& dur, const st::Bounds& b) {
-  for (double h : kSubsteps) {
-    Case c{cell.whole_step ? "step walk" : "substep walk", "paper_clearance",
+  const bool adaptive = cell.mode == Walk::Adaptive;
+  for (double h : adaptive ? kTolerances : kSubsteps) {
+    Case c{cell.mode == Walk::WholeStep ? "step walk" : adaptive ? "adaptive walk" : "substep walk",
+           "paper_clearance",
            {"sim.duration=" + dur, "contact.stiffness_scale=" + num(cell.stiffness),
-            "contact.clearance=" + num(cell.clearance), "sim.substep=" + num(h)},
+            "contact.clearance=" + num(cell.clearance)},
            {}};
-    if (cell.whole_step) c.sets.push_back("sim.step=" + num(h));
+    if (adaptive) {
+      c.sets.insert(c.sets.end(), {"sim.substep_policy=adaptive", "friction.law=ambrosio", "sim.substep_tol=" + num(h)});
+    } else {
+      c.sets.push_back("sim.substep=" + num(h));
+    }
+    if (cell.mode == Walk::WholeStep) c.sets.push_back("sim.step=" + num(h));
     c.out = st::runCase(scenes + "/" + c.scene + ".yaml", c.sets, b);
     printCase(c);
     cell.walk.push_back(c);
@@ -201,9 +230,12 @@ char letter(st::Verdict v) {
   return '?';
 }
 
-std::string substepName(const std::vector<std::string>& sets) {
-  for (const auto& s : sets) {
-    if (s.rfind("sim.substep=", 0) == 0) return s.substr(12);
+/// The walked value of a run: its sim.substep or sim.substep_tol.
+std::string walkedValue(const std::vector<std::string>& sets) {
+  for (const char* key : {"sim.substep=", "sim.substep_tol="}) {
+    for (const auto& s : sets) {
+      if (s.rfind(key, 0) == 0) return s.substr(std::string(key).size());
+    }
   }
   return "";
 }
@@ -241,13 +273,20 @@ std::string markdown(const std::vector<Cell>& cells, const std::vector<Restituti
      << "Trustworthy: finished, no NaN, momentum drift below " << num(b.momentum_rel)
      << " of its scale, the energy balance (kinetic + Hertz - torque work) never rising by more than "
      << num(b.energy_rel) << " of the energy scale, penetration below the clearance.\n\n";
-  for (bool whole : {false, true}) {
-    md << (whole ? "Largest trustworthy step with `sim.step = sim.substep` [s] (every step that small, "
-                   "contact or not)"
-                 : "Largest trustworthy contact sub-step `sim.substep` [s] with `sim.step` = 1 ms")
-       << ", walking down 1e-3, 5e-4, 2e-4, ... 1e-6, and the RK4 sub-steps it costs per simulated second; "
-          "then what each size did from 1e-3 down (T trustworthy, S stopped with a diagnostic naming the limit, "
-          "W silently wrong, U stopped without naming a limit):\n\n";
+  for (Walk mode : {Walk::Substep, Walk::WholeStep, Walk::Adaptive}) {
+    if (mode == Walk::Adaptive) {
+      md << "Largest trustworthy `sim.substep_tol` with `sim.substep_policy: adaptive` (Ambrosio friction, "
+            "`sim.step` = 1 ms), walking down 1e-4, 1e-6, ... 1e-12, and the RK4 sub-steps it costs per "
+            "simulated second; then what each tolerance did:\n\n";
+    } else {
+      md << (mode == Walk::WholeStep ? "Largest trustworthy step with `sim.step = sim.substep` [s] (every step "
+                                       "that small, contact or not)"
+                                     : "Largest trustworthy contact sub-step `sim.substep` [s] with `sim.step` = "
+                                       "1 ms (fixed policy)")
+         << ", walking down 1e-3, 5e-4, 2e-4, ... 1e-6, and the RK4 sub-steps it costs per simulated second; "
+            "then what each size did from 1e-3 down (T trustworthy, S stopped with a diagnostic naming the "
+            "limit, W silently wrong, U stopped without naming a limit):\n\n";
+    }
     md << "| stiffness scale (K [N/m^1.5]) |";
     for (double cl : kClearance) md << " c = " << num(cl) << " m |";
     md << "\n|---|";
@@ -258,7 +297,7 @@ std::string markdown(const std::vector<Cell>& cells, const std::vector<Restituti
       for (double cl : kClearance) {
         const Cell* cell = nullptr;
         for (const auto& c : cells) {
-          if (c.stiffness == k && c.clearance == cl && c.whole_step == whole) cell = &c;
+          if (c.stiffness == k && c.clearance == cl && c.mode == mode) cell = &c;
         }
         std::string walk;
         if (cell != nullptr) {
@@ -270,7 +309,7 @@ std::string markdown(const std::vector<Cell>& cells, const std::vector<Restituti
           md << " none " << walk << " |";
         } else {
           const Case& c = cell->walk[cell->stable];
-          md << " **" << substepName(c.sets) << "** (" << num(c.out.substeps_per_second, 2) << "/s) " << walk
+          md << " **" << walkedValue(c.sets) << "** (" << num(c.out.substeps_per_second, 2) << "/s) " << walk
              << " |";
         }
       }
@@ -398,9 +437,9 @@ int main(int argc, char** argv) {
   }
   std::vector<Cell> cells;
   if (!no_grid) {
-    for (bool whole : {false, true}) {
+    for (Walk mode : {Walk::Substep, Walk::WholeStep, Walk::Adaptive}) {
       for (double k : kStiffness) {
-        for (double cl : kClearance) cells.push_back({k, cl, whole, {}, -1});
+        for (double cl : kClearance) cells.push_back({k, cl, mode, {}, -1});
       }
     }
     parallel(cells.size(), threads, [&](std::size_t i) { walkCell(cells[i], scenes, dur, b); });
