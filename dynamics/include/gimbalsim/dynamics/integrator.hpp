@@ -148,21 +148,31 @@ void enterFrictionMode(const Model& m, Data<V>& d, State<V>& x, const Input& u, 
 /// Locates the first contact switch (penetration sign change) in (0, dt] of
 /// the sub-step from s (Illinois regula falsi, bisection safeguard) and moves
 /// s just past it with the contact memory updated. d.k[0] must be f(s).
+/// guess (in (0, dt), else unused): a close estimate of the switch time; it
+/// is tried first and then a point 1e-3 dt beyond it on the side of the root,
+/// so the bracket shrinks to ~1e-3 dt in two evaluations.
 template <class V>
 StepStatus locateGapSwitch(const Model& m, Data<V>& d, State<V>& s, const Input& u, double dt, double g_hi0,
-                           int& n, int cap) {
+                           int& n, int cap, double guess = -1.0) {
   const IntegratorParams& p = m.integrator;
   double lo = 0.0, hi = dt;
   double g_lo = clearanceGap<V>(m, s.q, s.v).delta, g_hi = g_hi0;
   d.bracket_hi = d.trial;
   int side_kept = 0;  // Illinois: which end stayed twice in a row
   int it = 0;
+  const bool guided = guess > 0.0 && guess < dt;
   while (hi - lo > p.event_tol) {
     if (++it > p.max_event_iters) return StepStatus::EventNotLocated;
     if (++n > cap) return StepStatus::SubstepCap;
     double tau = lo - g_lo * (hi - lo) / (g_hi - g_lo);
     const double w = hi - lo;
     if (!(tau > lo + 0.01 * w && tau < hi - 0.01 * w) || it % 4 == 0) tau = 0.5 * (lo + hi);
+    if (guided && it == 1) tau = guess;
+    if (guided && it == 2) {
+      const double off = std::fmax(1e-3 * dt, 0.5 * p.event_tol);
+      tau = hi == guess ? guess - off : guess + off;
+      if (!(tau > lo && tau < hi)) tau = 0.5 * (lo + hi);
+    }
     rk4(m, d, s, u, tau, d.trial, /*reuse_k1=*/true);
     ++d.stats.event_iterations;
     if (const StepStatus st = checkState(m, d, d.trial); st != StepStatus::Ok) {
@@ -205,15 +215,22 @@ StepStatus locateGapSwitch(const Model& m, Data<V>& d, State<V>& s, const Input&
 /// checked as predicates) and moves s just past it in its new friction mode.
 template <class V>
 StepStatus locateFrictionSwitch(const Model& m, Data<V>& d, State<V>& s, const Input& u, double dt, int& n,
-                                int cap) {
+                                int cap, double guess = -1.0) {
   const IntegratorParams& p = m.integrator;
   double lo = 0.0, hi = dt;
   d.bracket_hi = d.trial;
   int it = 0;
+  const bool guided = guess > 0.0 && guess < dt;  // as in locateGapSwitch()
   while (hi - lo > p.event_tol) {
     if (++it > p.max_event_iters) return StepStatus::EventNotLocated;
     if (++n > cap) return StepStatus::SubstepCap;
-    const double tau = 0.5 * (lo + hi);
+    double tau = 0.5 * (lo + hi);
+    if (guided && it == 1) tau = guess;
+    if (guided && it == 2) {
+      const double off = std::fmax(1e-3 * dt, 0.5 * p.event_tol);
+      tau = hi == guess ? guess - off : guess + off;
+      if (!(tau > lo && tau < hi)) tau = 0.5 * (lo + hi);
+    }
     rk4(m, d, s, u, tau, d.trial, /*reuse_k1=*/true);
     ++d.stats.event_iterations;
     if (const StepStatus st = checkState(m, d, d.trial); st != StepStatus::Ok) {
@@ -233,6 +250,27 @@ StepStatus locateFrictionSwitch(const Model& m, Data<V>& d, State<V>& s, const I
   return StepStatus::Ok;
 }
 
+/// Root in (0, h) of the cubic Hermite interpolant of the penetration through
+/// (0, g0, r0) and (h, g1, r1) (g0, g1 of opposite sides), or -1.
+inline double hermiteGapRoot(double h, double g0, double r0, double g1, double r1) {
+  auto g = [&](double x) {
+    const double t = x / h, t2 = t * t, t3 = t2 * t;
+    return (2 * t3 - 3 * t2 + 1) * g0 + (t3 - 2 * t2 + t) * h * r0 + (-2 * t3 + 3 * t2) * g1 + (t3 - t2) * h * r1;
+  };
+  double lo = 0.0, hi = h, glo = g0;
+  if (!((g0 > 0.0) != (g1 > 0.0))) return -1.0;
+  for (int i = 0; i < 60 && hi - lo > 1e-6 * h; ++i) {  // bisection, no dynamics evaluated
+    const double mid = 0.5 * (lo + hi), gm = g(mid);
+    if ((gm > 0.0) == (glo > 0.0)) {
+      lo = mid;
+      glo = gm;
+    } else {
+      hi = mid;
+    }
+  }
+  return 0.5 * (lo + hi);
+}
+
 enum class SubstepEnd : std::uint8_t { Accept, Switched, Failed };
 
 /// After a sub-step from s to d.trial: locates a contact or friction switch
@@ -246,9 +284,27 @@ SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& 
   const double g_hi0 = clearanceGap<V>(m, d.trial.q, d.trial.v).delta;
   StepStatus st = StepStatus::Ok;
   if ((g_hi0 > 0.0) != s.in_contact) {
-    st = locateGapSwitch(m, d, s, u, dt, g_hi0, n, cap);
+    double guess = -1.0;
+    if (contact_at_trial) {  // adaptive: guide the location with the gap's Hermite cubic
+      const Gap g0 = clearanceGap<V>(m, s.q, s.v), g1 = clearanceGap<V>(m, d.trial.q, d.trial.v);
+      guess = hermiteGapRoot(dt, g0.delta, g0.rate, g1.delta, g1.rate);
+    }
+    st = locateGapSwitch(m, d, s, u, dt, g_hi0, n, cap, guess);
   } else if (frictionSwitched(m, d, d.trial, u, contact_at_trial)) {
-    st = locateFrictionSwitch(m, d, s, u, dt, n, cap);
+    double guess = -1.0;
+    if (contact_at_trial && s.friction_mode != 0) {
+      // adaptive, slipping: Hermite cubic of sigma v_t - floor, rates from
+      // f(s) = d.k[0] and f(trial) = d.k_last
+      const double sg = s.friction_mode;
+      auto w = [&](const State<V>& x, const typename Data<V>::Deriv& f, double& rate) {
+        rate = sg * (tangentialVelocity<V>(m, x.q, f.vd) + tangentialVelocityRateAtFixedV<V>(m, x.q, x.v));
+        return sg * tangentialVelocity<V>(m, x.q, x.v) - s.vt_floor;
+      };
+      double r0 = 0.0, r1 = 0.0;
+      const double w0 = w(s, d.k[0], r0), w1 = w(d.trial, d.k_last, r1);
+      guess = hermiteGapRoot(dt, w0, r0, w1, r1);
+    }
+    st = locateFrictionSwitch(m, d, s, u, dt, n, cap, guess);
   } else {
     const double limit = p.penetration_limit > 0.0 ? p.penetration_limit : m.contact.clearance;
     if (!(g_hi0 > limit)) return SubstepEnd::Accept;
