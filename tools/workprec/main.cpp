@@ -35,16 +35,18 @@ namespace {
 using namespace gimbalsim;
 using namespace gimbalsim::workprec;
 
-/// Overrides a scene always gets here, and why (printed).
+/// Overrides a scene always gets here, and why (printed). The first
+/// alternative this build's loader accepts is used.
 struct SceneDefaults {
-  std::vector<std::string> sets;
+  std::vector<std::vector<std::string>> alternatives;
   const char* why;
 };
 const std::map<std::string, SceneDefaults> kSceneDefaults = {
     {"paper_clearance",
-     {{"friction.law=ambrosio"},
-      "plain Coulomb's sign flip stops the adaptive reference; Ambrosio's regularised law (v_a 0.1 mm/s, "
-      "v_b 1 mm/s) is used for both the reference and the runs"}},
+     {{{"friction.law=coulomb_stick"}, {"friction.law=ambrosio"}},
+      "plain Coulomb's sign flip stops the adaptive reference; the set-valued Coulomb law with located "
+      "stick/slip (coulomb_stick) is used for the reference and the runs, or Ambrosio's regularised law "
+      "where this build has no coulomb_stick"}},
 };
 
 std::string readFile(const std::string& path) {
@@ -153,7 +155,14 @@ int main(int argc, char** argv) {
     const std::string path = scenes_dir + "/" + scene + ".yaml";
     std::vector<std::string> base_sets;
     if (auto it = kSceneDefaults.find(scene); it != kSceneDefaults.end()) {
-      base_sets = it->second.sets;
+      for (const auto& alt : it->second.alternatives) {
+        base_sets = alt;
+        try {
+          loadScene(path, alt);
+          break;
+        } catch (const SceneError&) {
+        }
+      }
       std::printf("\n[%s] with %s: %s\n", scene.c_str(), join(base_sets, " ").c_str(), it->second.why);
     }
     base_sets.insert(base_sets.end(), extra_sets.begin(), extra_sets.end());
@@ -190,8 +199,8 @@ int main(int argc, char** argv) {
     const StickSlip& ss = ref.stick;
     if (ss.contact_time > 0.0) {
       std::printf("  stick-slip (reference, every %g s): in contact %.3f s; |v_t| < v_a %.3f s, "
-                  "v_a..v_b (sticking, friction < mu F_n) %.3f s, >= v_b (slipping) %.3f s; "
-                  "%lld entries into stick, %lld reversals of v_t\n",
+                  "v_a..v_b (Ambrosio: friction below mu F_n) %.3f s, >= v_b (full friction) %.3f s; "
+                  "%lld entries below v_b, %lld reversals of v_t\n",
                   ss.dt, ss.contact_time, ss.below_va, ss.band, ss.slip, ss.stick_entries, ss.vt_sign_changes);
     }
 
