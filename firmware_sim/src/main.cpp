@@ -114,10 +114,12 @@ void copyN(double (&dst)[N], const double (&src)[N]) {
 class Comm {
  public:
   Comm(lcm::LCM& lcm, Channels ch, SpscRing<Inbound>& in) : lcm_(lcm), ch_(std::move(ch)), in_(in) {
+    for (auto& x : pub_seq_) x = -1;
     lcm_.subscribe(ch_.command, &Comm::onCommand, this);
   }
 
   void onCommand(const lcm::ReceiveBuffer* rb, const std::string&) {
+    const std::int64_t now = nowNs();
     Inbound m;
     gimbal_command_t c;
     const int n = c.decode(rb->data, 0, static_cast<int>(rb->data_size));
@@ -130,6 +132,12 @@ class Comm {
       m.cmd.mode = c.mode;
       m.cmd.torque[0] = c.torque[0];
       m.cmd.torque[1] = c.torque[1];
+      // Round trip: the first answer to a status we published.
+      const std::size_t i = static_cast<std::size_t>(c.status_seq) % kRoundTripSlots;
+      if (c.status_seq >= 0 && pub_seq_[i] == c.status_seq) {
+        roundtrip.add(static_cast<double>(now - pub_ns_[i]) * 1e-3);
+        pub_seq_[i] = -1;
+      }
     }
     if (!in_.push(m)) ++dropped_in;
   }
@@ -147,6 +155,9 @@ class Comm {
     o.commands_rejected = s.commands_rejected;
     o.commands_missed = s.commands_missed;
     send(ch_.status, o);
+    const std::size_t i = static_cast<std::size_t>(s.seq) % kRoundTripSlots;
+    pub_seq_[i] = s.seq;
+    pub_ns_[i] = nowNs();
     last_status_ = s;
   }
 
@@ -193,6 +204,10 @@ class Comm {
     o.compute_p99 = st.compute.quantile(0.99);
     o.compute_max = st.compute.max();
     o.overruns = st.overruns.load();
+    o.roundtrip_p50 = roundtrip.quantile(0.5);
+    o.roundtrip_p99 = roundtrip.quantile(0.99);
+    o.roundtrip_p999 = roundtrip.quantile(0.999);
+    o.roundtrip_max = roundtrip.max();
     o.substeps_mean = o.ticks > 0 ? static_cast<double>(st.substeps.load()) / o.ticks : 0.0;
     o.substeps_max = st.substeps_max.load();
     o.commands_received = last_status_.commands_received;
@@ -203,6 +218,8 @@ class Comm {
     send(ch_.loop_stats, o);
   }
 
+  /// Status published -> command answering it received [us] (this thread only).
+  Histogram roundtrip{10000};
   long long dropped_in = 0;  ///< commands lost because the inbound ring was full
   long long publish_errors = 0;
 
@@ -218,6 +235,9 @@ class Comm {
   SpscRing<Inbound>& in_;
   Status last_status_;
   unsigned char buf_[2048];
+  static constexpr std::size_t kRoundTripSlots = 1024;
+  std::int64_t pub_seq_[kRoundTripSlots];  ///< seq of the status published in each slot (-1: answered)
+  std::int64_t pub_ns_[kRoundTripSlots];   ///< when it was published [ns, CLOCK_MONOTONIC]
 };
 
 /// Every truth message as one CSV row (%.17g, so a row round-trips exactly).
@@ -326,6 +346,12 @@ void printExitSummary(const Run& r, const Firmware<V>& fw) {
   std::printf("  compute per tick [us]: p50 %.0f  p99 %.0f  max %.1f   (1 us bins)\n", st.compute.quantile(0.5),
               st.compute.quantile(0.99), st.compute.max());
   const long long t = st.ticks.load();
+  const Histogram& rt = r.comm.roundtrip;
+  if (rt.count() > 0) {
+    std::printf("  status -> command round trip [us]: p50 %.0f  p99 %.0f  p99.9 %.0f  max %.1f  (%llu answers)\n",
+                rt.quantile(0.5), rt.quantile(0.99), rt.quantile(0.999), rt.max(),
+                static_cast<unsigned long long>(rt.count()));
+  }
   std::printf("  overruns %lld; RK4 sub-steps per tick: mean %.2f, max %d\n", static_cast<long long>(st.overruns.load()),
               t > 0 ? static_cast<double>(st.substeps.load()) / t : 0.0, st.substeps_max.load());
   std::printf("  commands: received %lld, rejected %lld, missed %lld; watchdog trips %lld; saturated ticks %lld\n",

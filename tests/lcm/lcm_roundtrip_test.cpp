@@ -56,6 +56,8 @@ void fields(gimbal_loop_stats_t& a, gimbal_loop_stats_t& b, F&& f) {
   f(a.lateness_p999, b.lateness_p999); f(a.lateness_max, b.lateness_max);
   f(a.compute_p50, b.compute_p50); f(a.compute_p99, b.compute_p99);
   f(a.compute_max, b.compute_max); f(a.overruns, b.overruns);
+  f(a.roundtrip_p50, b.roundtrip_p50); f(a.roundtrip_p99, b.roundtrip_p99);
+  f(a.roundtrip_p999, b.roundtrip_p999); f(a.roundtrip_max, b.roundtrip_max);
   f(a.substeps_mean, b.substeps_mean); f(a.substeps_max, b.substeps_max);
   f(a.commands_received, b.commands_received); f(a.commands_rejected, b.commands_rejected);
   f(a.commands_missed, b.commands_missed); f(a.realtime, b.realtime); f(a.lockstep, b.lockstep);
