@@ -26,6 +26,7 @@
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/dynamics/scene.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
+#include "gimbalsim/firmware/csv_rows.hpp"
 #include "gimbalsim/firmware/firmware.hpp"
 #include "gimbalsim/firmware/histogram.hpp"
 #include "gimbalsim/firmware/spsc_ring.hpp"
@@ -240,45 +241,18 @@ class Comm {
   std::int64_t pub_ns_[kRoundTripSlots];   ///< when it was published [ns, CLOCK_MONOTONIC]
 };
 
-/// Every truth message as one CSV row (%.17g, so a row round-trips exactly).
+/// Every truth message as one CSV row (csv_rows.hpp: %.17g, so a row
+/// round-trips exactly; gimbalsim_log2csv writes the same bytes from a log).
 class TruthCsv {
  public:
   bool open(const std::string& path) {
     f_ = std::fopen(path.c_str(), "w");
     if (!f_) return false;
-    std::fputs(
-        "utime[us],seq[-],sim_time[s],base_x[m],base_y[m],base_z[m],base_qw[-],base_qx[-],base_qy[-],"
-        "base_qz[-],base_wx[rad/s],base_wy[rad/s],base_wz[rad/s],base_vx[m/s],base_vy[m/s],base_vz[m/s],"
-        "theta1[rad],theta2[rad],dtheta1[rad/s],dtheta2[rad/s],tau1[N m],tau2[N m],ecc_x[m],ecc_y[m],"
-        "delta[m],fn[N],ft[N],joint2_force[N],bore_x[-],bore_y[-],bore_z[-],target_x[-],target_y[-],"
-        "target_z[-],pointing_error[rad],mom_px[N s],mom_py[N s],mom_pz[N s],mom_lx[N m s],mom_ly[N m s],"
-        "mom_lz[N m s],energy[J],faults[-]\n",
-        f_);
+    std::fputs(csv::kTruthHeader, f_);
     return true;
   }
   void write(const Truth& t) {
-    if (!f_) return;
-    std::fprintf(f_, "%lld,%lld", static_cast<long long>(t.utime), static_cast<long long>(t.seq));
-    put(&t.sim_time, 1);
-    put(t.base_position, 3);
-    put(t.base_quaternion, 4);
-    put(t.base_rate, 3);
-    put(t.base_velocity, 3);
-    put(t.joint_angle, 2);
-    put(t.joint_rate, 2);
-    put(t.applied_torque, 2);
-    put(t.eccentricity, 2);
-    put(&t.penetration, 1);
-    put(&t.contact_normal_force, 1);
-    put(&t.contact_tangential_force, 1);
-    put(&t.joint2_force, 1);
-    put(t.boresight, 3);
-    put(t.target_boresight, 3);
-    put(&t.pointing_error, 1);
-    put(t.momentum_linear, 3);
-    put(t.momentum_angular, 3);
-    put(&t.energy, 1);
-    std::fprintf(f_, ",%d\n", static_cast<int>(t.faults));
+    if (f_) csv::writeTruthRow(f_, t);
   }
   bool close() {
     if (!f_) return true;
@@ -289,9 +263,6 @@ class TruthCsv {
   ~TruthCsv() { close(); }
 
  private:
-  void put(const double* x, int n) {
-    for (int i = 0; i < n; ++i) std::fprintf(f_, ",%.17g", x[i]);
-  }
   std::FILE* f_ = nullptr;
 };
 

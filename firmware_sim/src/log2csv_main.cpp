@@ -1,0 +1,289 @@
+// gimbalsim_log2csv: an lcm-logger log of a gimbal bench -> one CSV per
+// channel, in the format of firmware_sim --truth-csv (csv_rows.hpp: header
+// `name[unit]`, %.17g), so a truth CSV converted from a log is byte for byte
+// the one firmware_sim writes itself. Channels are recognised by name: an
+// optional UPPER_SNAKE prefix followed by GIMBAL_TRUTH, GIMBAL_STATUS,
+// GIMBAL_COMMAND or GIMBAL_LOOP_STATS (channels.hpp). Usage: --help, and the
+// README section "Hardware-in-the-loop bench".
+#include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <lcm/lcm-cpp.hpp>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gimbalsim/channels.hpp"
+#include "gimbalsim/firmware/csv_rows.hpp"
+#include "gimbalsim/gimbal_command_t.hpp"
+#include "gimbalsim/gimbal_loop_stats_t.hpp"
+#include "gimbalsim/gimbal_status_t.hpp"
+#include "gimbalsim/gimbal_truth_t.hpp"
+
+namespace gimbalsim::firmware {
+namespace {
+
+namespace fs = std::filesystem;
+
+enum ExitCode : int { kExitOk = 0, kExitInternal = 1, kExitRefused = 2 };
+
+enum class Type { Unknown, Truth, Status, Command, LoopStats };
+
+struct TypeInfo {
+  Type type;
+  const char* name;     ///< --type spelling
+  const char* channel;  ///< base channel name
+};
+constexpr TypeInfo kTypes[] = {
+    {Type::Truth, "truth", Channels::kTruth},
+    {Type::Status, "status", Channels::kStatus},
+    {Type::Command, "command", Channels::kCommand},
+    {Type::LoopStats, "loop_stats", Channels::kLoopStats},
+};
+
+/// The type a channel name carries: <prefix><base name>, prefix UPPER_SNAKE.
+Type typeOfChannel(const std::string& ch, std::string* prefix = nullptr) {
+  for (const TypeInfo& t : kTypes) {
+    const std::string base = t.channel;
+    if (ch.size() >= base.size() && ch.compare(ch.size() - base.size(), base.size(), base) == 0) {
+      const std::string p = ch.substr(0, ch.size() - base.size());
+      if (!Channels::validPrefix(p)) continue;
+      if (prefix) *prefix = p;
+      return t.type;
+    }
+  }
+  return Type::Unknown;
+}
+
+const char* typeName(Type t) {
+  for (const TypeInfo& i : kTypes) {
+    if (i.type == t) return i.name;
+  }
+  return "unknown";
+}
+
+int refuse(const std::string& what) {
+  std::fprintf(stderr, "gimbalsim_log2csv: error: %s\n", what.c_str());
+  return kExitRefused;
+}
+
+/// One output CSV: decodes the channel's messages with type M and writes rows.
+class Sink {
+ public:
+  Sink(Type t, std::FILE* f, bool log_time) : type_(t), f_(f), log_time_(log_time) {
+    if (log_time_) std::fputs("log_utime[us],", f_);
+    switch (type_) {
+      case Type::Truth: std::fputs(csv::kTruthHeader, f_); break;
+      case Type::Status: std::fputs(csv::kStatusHeader, f_); break;
+      case Type::Command: std::fputs(csv::kCommandHeader, f_); break;
+      case Type::LoopStats: std::fputs(csv::kLoopStatsHeader, f_); break;
+      case Type::Unknown: break;
+    }
+  }
+  ~Sink() {
+    if (f_) std::fclose(f_);
+  }
+  Sink(const Sink&) = delete;
+  Sink& operator=(const Sink&) = delete;
+
+  void add(const lcm::LogEvent& e) {
+    switch (type_) {
+      case Type::Truth: row<gimbal_truth_t>(e, [this](const gimbal_truth_t& m) { csv::writeTruthRow(f_, m); }); break;
+      case Type::Status: row<gimbal_status_t>(e, [this](const gimbal_status_t& m) { csv::writeStatusRow(f_, m); }); break;
+      case Type::Command: row<gimbal_command_t>(e, [this](const gimbal_command_t& m) { csv::writeCommandRow(f_, m); }); break;
+      case Type::LoopStats:
+        row<gimbal_loop_stats_t>(e, [this](const gimbal_loop_stats_t& m) { csv::writeLoopStatsRow(f_, m); });
+        break;
+      case Type::Unknown: break;
+    }
+  }
+  bool close() {
+    const bool ok = std::fclose(f_) == 0;
+    f_ = nullptr;
+    return ok;
+  }
+  long long rows = 0, undecodable = 0;
+
+ private:
+  template <class M, class W>
+  void row(const lcm::LogEvent& e, W write) {
+    M m;
+    const int n = m.decode(e.data, 0, e.datalen);
+    if (n < 0 || n != e.datalen) {  // garbage, another type (fingerprint) or trailing bytes
+      ++undecodable;
+      return;
+    }
+    if (log_time_) std::fprintf(f_, "%lld,", static_cast<long long>(e.timestamp));
+    write(m);
+    ++rows;
+  }
+  Type type_;
+  std::FILE* f_;
+  bool log_time_;
+};
+
+/// The LCM log magic: every event starts with the sync word 0xEDA1DA01 (big endian).
+bool looksLikeLcmLog(const std::string& path, std::uintmax_t size) {
+  if (size == 0) return true;  // lcm-logger with nothing recorded leaves an empty file: a log with no events
+  std::ifstream in(path, std::ios::binary);
+  unsigned char b[4] = {0, 0, 0, 0};
+  in.read(reinterpret_cast<char*>(b), 4);
+  return in.gcount() == 4 && b[0] == 0xED && b[1] == 0xA1 && b[2] == 0xDA && b[3] == 0x01;
+}
+
+int mainImpl(int argc, char** argv) {
+  std::string log_path, out_dir, out_file, prefix, type_name;
+  std::vector<std::string> channels;
+  bool prefix_given = false, log_time = false, list = false;
+  CLI::App app{
+      "gimbalsim_log2csv: lcm-logger log of a gimbal bench -> one CSV per channel (the format of firmware_sim "
+      "--truth-csv: header name[unit], %.17g). Recognised channels: [PREFIX]GIMBAL_TRUTH, GIMBAL_STATUS, "
+      "GIMBAL_COMMAND, GIMBAL_LOOP_STATS."};
+  app.add_option("log", log_path, "the log file (lcm-logger --lcm-url=... FILE)")->required();
+  app.add_option("--out-dir", out_dir, "write <out-dir>/<log stem>_<CHANNEL>.csv (default: the log's directory)");
+  app.add_option("--out", out_file, "write the one selected channel to this file");
+  app.add_option("--channel", channels, "convert only this channel (repeatable)");
+  app.add_option("--channel-prefix", prefix, "convert only the channels of this bench prefix, e.g. BENCH2_");
+  app.add_option("--type", type_name, "decode the --channel(s) as this type: truth, status, command, loop_stats "
+                                      "(default: from the channel name)");
+  app.add_flag("--log-time", log_time, "first column log_utime[us]: when the logger received the message");
+  app.add_flag("--list", list, "list the channels in the log with message counts and types, then exit");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::printf("%s", app.help().c_str());
+    return kExitOk;
+  } catch (const CLI::ParseError& e) {
+    return refuse(std::string(e.what()) + " (see --help)");
+  }
+  prefix_given = app.count("--channel-prefix") > 0;
+  if (prefix_given && !Channels::validPrefix(prefix)) {
+    return refuse("--channel-prefix '" + prefix + "': only A-Z, 0-9 and '_' allowed");
+  }
+  Type forced = Type::Unknown;
+  if (!type_name.empty()) {
+    for (const TypeInfo& t : kTypes) {
+      if (type_name == t.name) forced = t.type;
+    }
+    if (forced == Type::Unknown) {
+      return refuse("--type '" + type_name + "': expected truth, status, command or loop_stats");
+    }
+    if (channels.empty()) return refuse("--type needs --channel (the channel(s) to decode as " + type_name + ")");
+  }
+
+  std::error_code ec;
+  const fs::file_status st = fs::status(log_path, ec);
+  if (ec || !fs::exists(st)) return refuse("log '" + log_path + "': no such file");
+  if (!fs::is_regular_file(st)) return refuse("log '" + log_path + "': not a regular file");
+  const std::uintmax_t size = fs::file_size(log_path, ec);
+  if (!looksLikeLcmLog(log_path, size)) {
+    return refuse("log '" + log_path + "': not an LCM log (the file does not start with the event sync word " +
+                  "0xEDA1DA01)");
+  }
+
+  // Pass 1: which channels the log holds.
+  std::map<std::string, long long> counts;
+  {
+    lcm::LogFile lf(log_path, "r");
+    if (!lf.good()) return refuse("log '" + log_path + "': cannot open (" + std::strerror(errno) + ")");
+    while (const lcm::LogEvent* e = lf.readNextEvent()) ++counts[e->channel];
+  }
+  auto present = [&] {
+    std::string s;
+    for (const auto& [ch, n] : counts) s += (s.empty() ? "" : ", ") + ch;
+    return s.empty() ? std::string("none: the log has no events") : s;
+  };
+  if (list) {
+    for (const auto& [ch, n] : counts) {
+      const Type t = typeOfChannel(ch);
+      std::printf("%-32s %10lld  %s\n", ch.c_str(), n, t == Type::Unknown ? "(not a gimbalsim channel)" : typeName(t));
+    }
+    return kExitOk;
+  }
+
+  // Selection: channel -> type.
+  std::map<std::string, Type> selected;
+  if (!channels.empty()) {
+    for (const std::string& ch : channels) {
+      if (counts.count(ch) == 0) return refuse("--channel '" + ch + "': not in the log (channels: " + present() + ")");
+      std::string p;
+      const Type t = forced != Type::Unknown ? forced : typeOfChannel(ch, &p);
+      if (t == Type::Unknown) {
+        return refuse("--channel '" + ch + "': not a gimbalsim channel name ([PREFIX]GIMBAL_TRUTH, ...); give --type");
+      }
+      if (prefix_given && forced == Type::Unknown && p != prefix) {
+        return refuse("--channel '" + ch + "' does not carry --channel-prefix '" + prefix + "'");
+      }
+      selected[ch] = t;
+    }
+  } else {
+    for (const auto& [ch, n] : counts) {
+      std::string p;
+      const Type t = typeOfChannel(ch, &p);
+      if (t != Type::Unknown && (!prefix_given || p == prefix)) selected[ch] = t;
+    }
+    if (selected.empty()) {
+      return refuse(std::string(prefix_given ? "no channel with --channel-prefix '" + prefix + "'" : "no gimbalsim channel") +
+                    " in the log (channels: " + present() + ")");
+    }
+  }
+  if (!out_file.empty() && selected.size() != 1) {
+    return refuse("--out needs exactly one channel, the selection has " + std::to_string(selected.size()) +
+                  " (use --channel, or --out-dir)");
+  }
+
+  // Pass 2: convert.
+  const fs::path dir = out_dir.empty() ? fs::path(log_path).parent_path() : fs::path(out_dir);
+  if (!out_dir.empty()) {
+    fs::create_directories(dir, ec);
+    if (ec) return refuse("--out-dir '" + out_dir + "': cannot create (" + ec.message() + ")");
+  }
+  const std::string stem = fs::path(log_path).stem().string();
+  std::map<std::string, std::unique_ptr<Sink>> sinks;
+  std::map<std::string, std::string> paths;
+  for (const auto& [ch, t] : selected) {
+    const std::string path = !out_file.empty() ? out_file : (dir / (stem + "_" + ch + ".csv")).string();
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    if (!f) return refuse("output '" + path + "': cannot open for writing (" + std::strerror(errno) + ")");
+    sinks[ch] = std::make_unique<Sink>(t, f, log_time);
+    paths[ch] = path;
+  }
+  {
+    lcm::LogFile lf(log_path, "r");
+    if (!lf.good()) return refuse("log '" + log_path + "': cannot open (" + std::strerror(errno) + ")");
+    while (const lcm::LogEvent* e = lf.readNextEvent()) {
+      const auto it = sinks.find(e->channel);
+      if (it != sinks.end()) it->second->add(*e);
+    }
+  }
+  int rc = kExitOk;
+  for (auto& [ch, s] : sinks) {
+    const long long rows = s->rows, bad = s->undecodable;
+    if (!s->close()) {
+      std::fprintf(stderr, "gimbalsim_log2csv: error: writing %s failed\n", paths[ch].c_str());
+      rc = kExitInternal;
+    }
+    std::printf("%s (%s): %lld rows -> %s\n", ch.c_str(), typeName(selected[ch]), rows, paths[ch].c_str());
+    if (bad > 0) {
+      std::printf("  %lld message(s) on %s are not a %s (garbage, another type or trailing bytes): skipped\n", bad,
+                  ch.c_str(), typeName(selected[ch]));
+    }
+  }
+  return rc;
+}
+
+}  // namespace
+}  // namespace gimbalsim::firmware
+
+int main(int argc, char** argv) {
+  try {
+    return gimbalsim::firmware::mainImpl(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "gimbalsim_log2csv: internal error: %s\n", e.what());
+    return 1;
+  }
+}
