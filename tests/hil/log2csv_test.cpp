@@ -1,0 +1,159 @@
+// gimbalsim_log2csv: an lcm-logger recording of a lockstep bench converts to
+// the very truth CSV firmware_sim wrote itself (byte for byte), channel
+// prefix included; status and command CSVs come out with the same
+// conventions; bad input (missing file, not a log, unknown channel, a prefix
+// not in the log) is refused with exit code 2 and a message naming it; bad
+// messages in a log are skipped and counted.
+#include <gtest/gtest.h>
+
+#include <lcm/lcm-cpp.hpp>
+#include <string>
+
+#include "gimbalsim/gimbal_command_t.hpp"
+#include "gimbalsim/gimbal_truth_t.hpp"
+#include "hil_util.hpp"
+
+namespace gimbalsim::hil {
+namespace {
+
+const std::string kTool = std::string("'") + GIMBALSIM_LOG2CSV + "'";
+
+TEST(Log2Csv, LoggedLockstepRunConvertsToTheTruthCsvFirmwareSimWrote) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("log2csv");
+  const std::string url = udpmUrl(7735), cfg = defaultConfig(), pfx = " --channel-prefix HIL_L_";
+  const bool have_logger = std::system("command -v lcm-logger >/dev/null 2>&1") == 0;
+  // Recorders first (gimbalsim_record, and lcm-logger when installed); the
+  // run; then SIGINT the recorders (both close their log cleanly).
+  const std::string body =
+      "'" + std::string(GIMBALSIM_RECORD) + "' --lcm-url '" + url + "' bench.lcmlog 2>record.log &\nR=$!\n" +
+      (have_logger ? "lcm-logger --lcm-url='" + url + "' -f -q logger.lcmlog >logger.log 2>&1 &\nL=$!\n"
+                   : std::string("L=\n")) +
+      "sleep 0.3\n" + "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "'" + pfx +
+      " --duration 0.999 --idle-exit 5 >ctl.log 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
+      sceneFile("paper_clearance") + " --lockstep --duration 1 --profile " + cfg + " --truth-csv truth.csv --lcm-url '" +
+      url + "'" + pfx + " --start-timeout 10 >fw.log 2>&1\nrc=$?\nsleep 0.3\nkill -INT $R $L\nwait\nexit $rc";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log");
+
+  int st = 0;
+  const std::string out = runCapture(kTool + " '" + (dir / "bench.lcmlog") + "' --out-dir '" + (dir / "csv") + "'", &st);
+  ASSERT_EQ(st, 0) << out;
+  EXPECT_NE(out.find("HIL_L_GIMBAL_TRUTH (truth): 1000 rows"), std::string::npos) << out;
+  const std::string truth = readFile(dir / "truth.csv");
+  ASSERT_GT(truth.size(), 1000u);
+  EXPECT_TRUE(readFile(dir / "csv/bench_HIL_L_GIMBAL_TRUTH.csv") == truth)
+      << "the truth CSV converted from the log differs from firmware_sim --truth-csv";
+
+  // lcm-logger's log converts the same way; LCM 1.3.1's lcm-logger may drop
+  // messages in lockstep on a loaded machine (30-message queue, see
+  // record_main.cpp), so: every row it has is the firmware's row, byte for byte.
+  if (have_logger) {
+    const std::string lout = runCapture(kTool + " '" + (dir / "logger.lcmlog") + "' --channel HIL_L_GIMBAL_TRUTH --out '" +
+                                            (dir / "logger_truth.csv") + "'",
+                                        &st);
+    ASSERT_EQ(st, 0) << lout;
+    const Csv fw = Csv::read(dir / "truth.csv"), lg = Csv::read(dir / "logger_truth.csv");
+    ASSERT_EQ(lg.header, fw.header);
+    ASSERT_GT(lg.rows.size(), 0u);
+    const int c_seq = fw.col("seq[-]");
+    for (size_t k = 0; k < lg.rows.size(); ++k) {
+      const long long seq = lg.integer(k, c_seq);
+      ASSERT_TRUE(seq >= 0 && seq < static_cast<long long>(fw.rows.size()));
+      EXPECT_EQ(lg.rows[k], fw.rows[static_cast<size_t>(seq)]) << "lcm-logger row of tick " << seq;
+    }
+    std::printf("lcm-logger kept %zu of %zu truth messages\n", lg.rows.size(), fw.rows.size());
+  }
+
+  // Status: one row per status published (status 0 may repeat while waiting
+  // for the controller), quantized angles, no faults; commands answer them.
+  const Csv s = Csv::read(dir / "csv/bench_HIL_L_GIMBAL_STATUS.csv");
+  ASSERT_GE(s.rows.size(), 1000u);
+  EXPECT_EQ(s.header.front(), "utime[us]");
+  EXPECT_EQ(s.integer(s.rows.size() - 1, s.col("seq[-]")), 999);
+  for (size_t k = 0; k < s.rows.size(); ++k) EXPECT_EQ(s.integer(k, s.col("faults[-]")), 0);
+  const Csv c = Csv::read(dir / "csv/bench_HIL_L_GIMBAL_COMMAND.csv");
+  ASSERT_GE(c.rows.size(), 999u);
+  EXPECT_EQ(c.integer(c.rows.size() - 1, c.col("status_seq[-]")), 999);
+  // Every answer but the last one had arrived by status 999 (status 0 may have been answered twice).
+  EXPECT_GE(s.integer(s.rows.size() - 1, s.col("commands_received[-]")), 999);
+  EXPECT_LE(s.integer(s.rows.size() - 1, s.col("commands_received[-]")), 1000);
+
+  // One channel to a chosen file, with the logger's receive time in front.
+  const std::string one = dir / "one.csv";
+  const std::string one_out = runCapture(kTool + " '" + (dir / "bench.lcmlog") +
+                                             "' --channel-prefix HIL_L_ --channel HIL_L_GIMBAL_TRUTH --log-time --out '" +
+                                             one + "'",
+                                         &st);
+  ASSERT_EQ(st, 0) << one_out;
+  const Csv o = Csv::read(one);
+  ASSERT_EQ(o.rows.size(), 1000u);
+  EXPECT_EQ(o.header.front(), "log_utime[us]");
+  EXPECT_EQ(o.header[1], "utime[us]");
+
+  // A prefix that is not in the log, and a channel that is not: exit 2, named.
+  std::string msg = runCapture(kTool + " '" + (dir / "bench.lcmlog") + "' --channel-prefix BENCH9_", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 2);
+  EXPECT_NE(msg.find("no channel with --channel-prefix 'BENCH9_' in the log (channels: HIL_L_GIMBAL_COMMAND"),
+            std::string::npos)
+      << msg;
+  msg = runCapture(kTool + " '" + (dir / "bench.lcmlog") + "' --channel GIMBAL_TRUTH", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 2);
+  EXPECT_NE(msg.find("--channel 'GIMBAL_TRUTH': not in the log"), std::string::npos) << msg;
+}
+
+TEST(Log2Csv, RefusesMissingFileAndNonLogWithExitCode2) {
+  int st = 0;
+  std::string msg = runCapture(kTool + " /nonexistent/run.lcmlog", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 2);
+  EXPECT_NE(msg.find("log '/nonexistent/run.lcmlog': no such file"), std::string::npos) << msg;
+  const std::string yaml = sceneFile("paper_clearance");
+  msg = runCapture(kTool + " '" + yaml + "'", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 2);
+  EXPECT_NE(msg.find("not an LCM log"), std::string::npos) << msg;
+  msg = runCapture(kTool + " '" + yaml + "' --type bogus --channel X", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 2);
+  EXPECT_NE(msg.find("--type 'bogus'"), std::string::npos) << msg;
+}
+
+TEST(Log2Csv, SkipsAndCountsUndecodableMessagesOnAChannel) {
+  TempDir dir("log2csv_garbage");
+  const std::string path = dir / "w.lcmlog";
+  {
+    lcm::LogFile log(path, "w");
+    ASSERT_TRUE(log.good());
+    unsigned char buf[1024];
+    auto write = [&](const std::string& ch, const void* data, int n, int64_t t) {
+      lcm::LogEvent e;
+      e.timestamp = t;
+      e.channel = ch;
+      e.datalen = n;
+      e.data = const_cast<void*>(data);
+      ASSERT_EQ(log.writeEvent(&e), 0);
+    };
+    gimbal_command_t c{};
+    c.seq = 3;
+    c.status_seq = 2;
+    c.mode = gimbal_command_t::MODE_TORQUE;
+    c.torque[0] = 0.1;
+    c.torque[1] = -1.0 / 3.0;
+    const int n = c.encode(buf, 0, sizeof buf);
+    write("GIMBAL_COMMAND", buf, n, 10);
+    const char junk[] = "not a command";
+    write("GIMBAL_COMMAND", junk, sizeof junk, 11);
+    gimbal_truth_t t{};
+    const int nt = t.encode(buf, 0, sizeof buf);
+    write("GIMBAL_COMMAND", buf, nt, 12);  // a wrong type on the command channel
+    write("OTHER_STUFF", junk, sizeof junk, 13);
+  }
+  int st = 0;
+  const std::string out = runCapture(kTool + " '" + path + "' --out-dir '" + (dir / "o") + "'", &st);
+  ASSERT_EQ(st, 0) << out;
+  EXPECT_NE(out.find("GIMBAL_COMMAND (command): 1 rows"), std::string::npos) << out;
+  EXPECT_NE(out.find("2 message(s) on GIMBAL_COMMAND are not a command"), std::string::npos) << out;
+  EXPECT_EQ(readFile(dir / "o/w_GIMBAL_COMMAND.csv"),
+            "utime[us],seq[-],status_seq[-],mode[-],tau1[N m],tau2[N m]\n0,3,2,1,0.10000000000000001,"
+            "-0.33333333333333331\n");
+}
+
+}  // namespace
+}  // namespace gimbalsim::hil
