@@ -59,7 +59,10 @@ TEST(Integrator, ImpactOnsetIsLocatedAndV0CapturedThere) {
   double t_coarse, t_fine, t_big;
   const Model coarse = test::scene("paper_clearance", {"friction.law=none"});
   const Model fine = test::scene("paper_clearance", {"friction.law=none", "sim.substep=1e-7", "sim.event_tol=1e-11"});
-  const Model big = test::scene("paper_clearance", {"friction.law=none", "sim.substep=1e-3"});
+  // (min_substeps_per_impact=0: the impact check would stop the run right
+  // after locating the onset, which is what this compares)
+  const Model big =
+      test::scene("paper_clearance", {"friction.law=none", "sim.substep=1e-3", "sim.min_substeps_per_impact=0"});
   const double v_coarse = firstImpactVelocity<FloatingClearance>(coarse, &t_coarse);
   const double v_fine = firstImpactVelocity<FloatingClearance>(fine, &t_fine);
   const double v_big = firstImpactVelocity<FloatingClearance>(big, &t_big);
@@ -108,10 +111,61 @@ TEST(Integrator, DivergenceStopsTheRunWithADiagnosticAndKeepsGoodRows) {
     for (int i = 0; i < kNumColumns; ++i) ASSERT_TRUE(std::isfinite(rowData(row)[i]));
   }
   // A torque that spins the joints past the velocity limit.
-  const Model v = test::scene("paper_ideal", {"torque.tau1=1e6", "sim.velocity_limit=100"});
+  // (invariant guards off: they would stop it first, on the momentum drift)
+  const Model v = test::scene("paper_ideal", {"torque.tau1=1e6", "sim.velocity_limit=100", "sim.momentum_tol=0",
+                                              "sim.energy_tol=0"});
   const RunResult rv = simulate(v, [](const Row&) {});
   EXPECT_FALSE(rv.ok);
   EXPECT_NE(rv.error.find("velocity"), std::string::npos) << rv.error;
+}
+
+TEST(Integrator, MomentumGuardStopsADriftingRunAndKeepsGoodRows) {
+  // x20 torques on the planar scene at a 1 ms step: RK4's truncation error
+  // drifts the momentum by ~3e-8 of its scale. The default guard (1e-9)
+  // stops the run and names the key; every row before the stop was written.
+  const std::vector<std::string> sets = {"torque.tau1=100", "torque.tau2=200", "sim.duration=1"};
+  std::vector<Row> rows;
+  const RunResult r = simulate(test::scene("planar_ideal", sets), [&](const Row& row) { rows.push_back(row); });
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("momentum drift"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("sim.momentum_tol"), std::string::npos) << r.error;
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(static_cast<long long>(rows.size()), r.rows);
+  EXPECT_LT(rows.back().t, 1.0);
+  // The guard is what stopped it: off, the same run finishes with the drift.
+  std::vector<std::string> off = sets;
+  off.push_back("sim.momentum_tol=0");
+  const RunResult r_off = simulate(test::scene("planar_ideal", off), [](const Row&) {});
+  EXPECT_TRUE(r_off.ok) << r_off.error;
+  EXPECT_GT(r_off.max_drift_angular / r_off.momentum_scale, 1e-9);
+  // A ten times shorter step holds the momentum within the default guard.
+  std::vector<std::string> fine = sets;
+  fine.push_back("sim.step=1e-4");
+  const RunResult r_fine = simulate(test::scene("planar_ideal", fine), [](const Row&) {});
+  EXPECT_TRUE(r_fine.ok) << r_fine.error;
+}
+
+TEST(Integrator, EnergyGuardStopsARunThatGainsEnergy) {
+  // x100 stiffness, fixed base, 1 ms contact sub-steps with the impact check
+  // off: impacts far too short for the sub-step add energy. The energy guard
+  // stops the run at the first row whose balance rose above sim.energy_tol.
+  const std::vector<std::string> sets = {"structure.base=fixed", "contact.stiffness_scale=100", "sim.substep=1e-3",
+                                         "sim.min_substeps_per_impact=0", "sim.duration=1"};
+  const RunResult r = simulate(test::scene("paper_clearance", sets), [](const Row&) {});
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("sim.energy_tol"), std::string::npos) << r.error;
+  EXPECT_LT(r.t_end, 1.0);
+  std::vector<std::string> off = sets;
+  off.push_back("sim.energy_tol=0");
+  const RunResult r_off = simulate(test::scene("paper_clearance", off), [](const Row&) {});
+  EXPECT_TRUE(r_off.ok) << r_off.error;
+  EXPECT_GT(r_off.energy_rise_rel, 1e-6) << "without the guard the gain goes unnoticed";
+  // With the impact check on (the default) the run stops at the first impact instead.
+  std::vector<std::string> on = sets;
+  on[3] = "sim.min_substeps_per_impact=4";
+  const RunResult r_on = simulate(test::scene("paper_clearance", on), [](const Row&) {});
+  EXPECT_FALSE(r_on.ok);
+  EXPECT_NE(r_on.error.find("sim.min_substeps_per_impact"), std::string::npos) << r_on.error;
 }
 
 TEST(Integrator, ClearanceRunReproducesThePapersQualitativeResults) {

@@ -67,6 +67,9 @@ const char* describe(StepStatus s) {
     case StepStatus::SubstepCap: return "more sub-steps in one step than sim.max_substeps allows";
     case StepStatus::EventNotLocated:
       return "contact switch not located within sim.max_event_iters iterations";
+    case StepStatus::SubstepTooLong:
+      return "sim.substep too long for the contact: an impact spans fewer sub-steps than "
+             "sim.min_substeps_per_impact (reduce sim.substep or use sim.substep_policy=adaptive)";
   }
   return "unknown";
 }

@@ -217,6 +217,15 @@ const std::vector<Spec>& specs() {
        [](Model& m, N n) { m.integrator.velocity_limit = asNumber(n); }},
       {"sim.penetration_limit", "number", "m", "penetration above this stops the run (0 = the clearance)",
        [](Model& m, N n) { m.integrator.penetration_limit = asNumber(n); }},
+      {"sim.momentum_tol", "number", "-",
+       "relative momentum drift (floating base) that stops the run, checked at output rows (0 = off)",
+       [](Model& m, N n) { m.integrator.momentum_tol = asNumber(n); }},
+      {"sim.energy_tol", "number", "-",
+       "relative rise of kinetic + Hertz - torque work that stops the run, checked at output rows (0 = off)",
+       [](Model& m, N n) { m.integrator.energy_tol = asNumber(n); }},
+      {"sim.min_substeps_per_impact", "number", "-",
+       "fixed policy: an impact lasting fewer sub-steps than this (Hertz estimate) stops the run (0 = off)",
+       [](Model& m, N n) { m.integrator.min_substeps_per_impact = asNumber(n); }},
       {"sensors.encoder_resolution", "number", "rad", "firmware_sim: encoder quantum (0 = unquantized)",
        [](Model& m, N n) { m.sensors.encoder_resolution = asNumber(n); }},
       {"sensors.encoder_noise", "number", "rad", "firmware_sim: Gaussian encoder noise sigma (0 = none)",
@@ -404,6 +413,9 @@ LoadedScene loadSceneText(const std::string& yaml, const std::string& origin,
   if (p.max_event_iters < 1) refuse("sim.max_event_iters", "must be >= 1");
   if (!(p.velocity_limit > 0.0)) refuse("sim.velocity_limit", "must be > 0");
   if (!(p.penetration_limit >= 0.0)) refuse("sim.penetration_limit", "must be >= 0");
+  if (!(p.min_substeps_per_impact >= 0.0)) refuse("sim.min_substeps_per_impact", "must be >= 0");
+  if (!(p.momentum_tol >= 0.0)) refuse("sim.momentum_tol", "must be >= 0");
+  if (!(p.energy_tol >= 0.0)) refuse("sim.energy_tol", "must be >= 0");
   if (p.step > 0.0 && m.output_interval > 0.0) {
     const double r = m.output_interval / p.step;
     if (std::fabs(r - std::round(r)) > 1e-6 * r || std::round(r) < 1.0) {

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "gimbalsim/dynamics/integrator.hpp"
+#include "gimbalsim/dynamics/invariants.hpp"
 #include "gimbalsim/dynamics/reference_integrator.hpp"
 
 namespace gimbalsim {
@@ -62,6 +63,7 @@ RunResult run(const Model& m, const std::function<void(const Row&)>& sink, Integ
   const long long n_steps = std::llround(m.duration / m.integrator.step);
   const long long out_every = std::max<long long>(1, std::llround(m.output_interval / m.integrator.step));
   Clock::duration in_step{0};
+  InvariantMonitor inv(m);
 
   auto emit = [&](const State<V>& st) -> bool {
     const Row r = observe(m, d, st, u);
@@ -77,9 +79,20 @@ RunResult run(const Model& m, const std::function<void(const Row&)>& sink, Integ
       res.momentum0_linear = P;
       res.momentum0_angular = L;
     }
-    res.max_drift_linear = std::max(res.max_drift_linear, (P - res.momentum0_linear).norm());
-    res.max_drift_angular = std::max(res.max_drift_angular, (L - res.momentum0_angular).norm());
-    res.momentum_scale = std::max(res.momentum_scale, momentum(m, d, st).scale);
+    const Momentum mo = momentum(m, d, st);
+    inv.feed(r, mo.scale, mo.scale_linear);
+    res.max_drift_linear = inv.maxDriftLinear();
+    res.max_drift_angular = inv.maxDriftAngular();
+    res.momentum_scale = inv.angularScale();
+    res.linear_scale = inv.linearScale();
+    res.energy_rise_rel = inv.energyRiseRel();
+    if (const std::string why = inv.violation(); !why.empty()) {
+      std::ostringstream os;
+      os << "simulation stopped at t = " << st.t << " s: " << why;
+      res.ok = false;
+      res.error = os.str();
+      return false;
+    }
     if (r.joint2_force > res.peak_joint2_force) {
       res.peak_joint2_force = r.joint2_force;
       res.t_peak_joint2_force = r.t;
@@ -126,8 +139,12 @@ RunResult run(const Model& m, const std::function<void(const Row&)>& sink, Integ
           if (i < 0 && -1 - i < static_cast<int>(qn.size())) os << " (in " << qn[-1 - i] << ")";
         }
         if (st == StepStatus::PenetrationLimit) {
-          os << " (max penetration so far " << d.stats.max_penetration << " m, clearance "
-             << m.contact.clearance << " m)";
+          os << " (penetration " << d.stats.max_penetration << " m, clearance " << m.contact.clearance << " m)";
+        }
+        if (st == StepStatus::SubstepTooLong) {
+          os << " (impact lasting about " << d.fail_detail << " s, " << d.fail_detail / m.integrator.substep
+             << " sub-steps of " << m.integrator.substep << " s; sim.min_substeps_per_impact "
+             << m.integrator.min_substeps_per_impact << ")";
         }
         res.ok = false;
         res.error = os.str();

@@ -76,6 +76,8 @@ nlohmann::json summaryJson(const gimbalsim::Model& m, const gimbalsim::RunResult
   j["substeps"] = r.stats.substeps;
   j["event_iterations"] = r.stats.event_iterations;
   j["max_substeps_in_a_step"] = r.stats.max_substeps_in_step;
+  j["straddle_retries"] = r.stats.straddle_retries;
+  j["min_impact_duration_s"] = r.stats.min_impact_duration > 0 ? json(r.stats.min_impact_duration) : json(nullptr);
   j["wall_time_s"] = r.wall_seconds;
   j["step_time_s"] = r.step_seconds;
   j["integrator"] = {{"kind", integrator_kind},

@@ -21,46 +21,9 @@ const char* verdictName(Verdict v) {
   return "?";
 }
 
-bool conservative(const Model& m) {
-  const bool no_damping = m.contact.damping == DampingLaw::None || m.contact.chi == 0.0;
-  return !m.clearance || (no_damping && !frictionActive(m));
-}
-
-EnergyMonitor::EnergyMonitor(const Model& m) : m_(m) {}
-
-void EnergyMonitor::feed(const Row& r) {
-  const double* p = rowData(r);
-  for (int i = 0; i < kNumColumns; ++i) finite_ = finite_ && std::isfinite(p[i]);
-  const ContactParams& c = m_.contact;
-  const double U = (m_.clearance && r.delta > 0.0)
-                       ? c.K * std::pow(r.delta, c.exponent + 1.0) / (c.exponent + 1.0)
-                       : 0.0;
-  if (rows_ == 0) {
-    theta1_0_ = r.theta1;
-    theta2_0_ = r.theta2;
-  }
-  const double W = m_.torque(0) * (r.theta1 - theta1_0_) + m_.torque(1) * (r.theta2 - theta2_0_);
-  const double B = r.energy + U - W;
-  if (rows_ == 0) {
-    b0_ = b_min_ = B;
-    p0_ = std::sqrt(r.mom_px * r.mom_px + r.mom_py * r.mom_py + r.mom_pz * r.mom_pz);
-  } else {
-    max_rise_ = std::max(max_rise_, B - b_min_);
-    b_min_ = std::min(b_min_, B);
-  }
-  max_change_ = std::max(max_change_, std::fabs(B - b0_));
-  b_last_ = B;
-  scale_ = std::max({scale_, r.energy + U, std::fabs(W)});
-  const double vb = std::sqrt(r.base_vx * r.base_vx + r.base_vy * r.base_vy + r.base_vz * r.base_vz);
-  // The chain carries P - p_base, so sum_i |p_i| >= |p_base| + |P - p_base|
-  // >= 2 |p_base| - |P|: a lower bound of the bodies' momentum sum.
-  lin_scale_ = std::max(lin_scale_, p0_ + 2.0 * m_.base.mass * vb);
-  max_delta_ = std::max(max_delta_, r.delta);
-  ++rows_;
-}
-
 bool namesALimit(const std::string& error) {
   for (const char* key : {"sim.velocity_limit", "sim.penetration_limit", "sim.max_substeps",
+                          "sim.min_substeps_per_impact", "sim.momentum_tol", "sim.energy_tol",
                           "sim.max_event_iters", "non-finite value"}) {
     if (error.find(key) != std::string::npos) return true;
   }
@@ -75,10 +38,7 @@ std::string sci(double x) {
 }
 
 // A relative measure that stays meaningful when the scale is zero (nothing moved).
-double relative(double x, double scale) {
-  if (x == 0.0) return 0.0;
-  return scale > 0.0 ? x / scale : std::numeric_limits<double>::infinity();
-}
+double relative(double x, double scale) { return InvariantMonitor::relative(x, scale); }
 }  // namespace
 
 Outcome classify(const Model& m, const RunResult& run, const EnergyMonitor& e, const Bounds& b) {
@@ -93,7 +53,7 @@ Outcome classify(const Model& m, const RunResult& run, const EnergyMonitor& e, c
   o.substeps_per_second = run.t_end > 0.0 ? static_cast<double>(run.stats.substeps) / run.t_end : 0.0;
   if (m.floating_base) {
     o.momentum_rel_angular = relative(run.max_drift_angular, run.momentum_scale);
-    o.momentum_rel_linear = relative(run.max_drift_linear, e.linearScale());
+    o.momentum_rel_linear = relative(run.max_drift_linear, std::max(e.linearScale(), run.linear_scale));
   }
   if (!run.ok) {
     o.verdict = namesALimit(run.error) ? Verdict::Stopped : Verdict::StoppedUnclear;

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "gimbalsim/dynamics/invariants.hpp"
 #include "gimbalsim/dynamics/observables.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 
@@ -32,43 +33,9 @@ struct Bounds {
   double energy_rel = 1e-6;    ///< max rise of E + U - W over any earlier value / energy scale [-]
 };
 
-/// Energy balance along the output rows. B(t) = T(t) + U(t) - W(t), with T the
-/// kinetic energy (row.energy), U = K delta^(n+1) / (n+1) the energy stored in
-/// the Hertz spring, and W the work of the joint torques. The scene's torques
-/// are constant couples about the joint axes, so W = tau1 (theta1(t) -
-/// theta1(0)) + tau2 (theta2(t) - theta2(0)) exactly: no quadrature error
-/// (theta2 is the relative rotation of the journal in the bearing, which is
-/// what the joint-2 couple works on). Damping and friction only take energy
-/// out, so B never rises; when neither can act (no damping law or c_e = 1,
-/// and no friction) B is also held.
-class EnergyMonitor {
- public:
-  explicit EnergyMonitor(const Model& m);
-  void feed(const Row& r);
-
-  double maxRise() const { return max_rise_; }      ///< max B(t_k) - min_{j<k} B(t_j) [J]
-  double maxChange() const { return max_change_; }  ///< max |B(t) - B(0)| [J]
-  double scale() const { return scale_; }           ///< max over rows of T + U, |W| [J]
-  double finalChange() const { return b_last_ - b0_; }  ///< B(end) - B(0) [J]
-  /// |P(0)| + max 2 m_base |v_base|: a lower bound of max sum_i |p_i| (the base's
-  /// momentum and the chain's, which carries the rest of P) [N s]
-  double linearScale() const { return lin_scale_; }
-  double maxPenetration() const { return max_delta_; }  ///< over rows [m]
-  bool finite() const { return finite_; }
-  long long rows() const { return rows_; }
-
- private:
-  const Model& m_;
-  long long rows_ = 0;
-  double theta1_0_ = 0.0, theta2_0_ = 0.0;
-  double b0_ = 0.0, b_min_ = 0.0, b_last_ = 0.0;
-  double max_rise_ = 0.0, max_change_ = 0.0, scale_ = 0.0;
-  double p0_ = 0.0, lin_scale_ = 0.0, max_delta_ = 0.0;
-  bool finite_ = true;
-};
-
-/// True when no damping or friction can act, so the energy balance must be held.
-bool conservative(const Model& m);
+/// The energy balance and momentum along the output rows, as simulate()
+/// checks them (gimbalsim/dynamics/invariants.hpp).
+using EnergyMonitor = InvariantMonitor;
 
 /// Everything measured about one case.
 struct Outcome {

@@ -9,7 +9,10 @@
 
 namespace gimbalsim {
 
-/// Why a step stopped; every value but Ok means the state was not advanced.
+/// Why a step stopped. Every value but Ok means the step did not reach its
+/// end: the state is left at the last accepted sub-step inside the step (a
+/// good state, but not at the step's end time); callers keep it as the last
+/// good state and do not step it again.
 enum class StepStatus : std::uint8_t {
   Ok,
   NonFinite,         ///< NaN or Inf in the state or its derivative
@@ -17,6 +20,7 @@ enum class StepStatus : std::uint8_t {
   PenetrationLimit,  ///< contact penetration beyond integrator.penetration_limit
   SubstepCap,        ///< more sub-steps than the cap in one step
   EventNotLocated,   ///< the contact switch could not be located
+  SubstepTooLong,    ///< fixed policy: an impact shorter than min_substeps_per_impact sub-steps
 };
 
 const char* describe(StepStatus s);
@@ -50,6 +54,12 @@ struct RunStats {
   long long rejected_substeps = 0;  ///< adaptive: sub-steps taken back by error control
   long long forced_substeps = 0;    ///< adaptive: accepted at sim.substep_min above tolerance
   long long friction_switches = 0;  ///< coulomb_stick: located v_t reversals and stick/slip switches
+  /// sub-steps retaken shorter because their RK4 stages met a contact that
+  /// had ended again by the sub-step's end
+  long long straddle_retries = 0;
+  /// fixed policy: shortest Hertz impact duration estimated at an onset [s]
+  /// (0 = no impact yet)
+  double min_impact_duration = 0.0;
 };
 
 template <class V>
@@ -95,9 +105,11 @@ struct Data {
   State<V> stage;                 ///< RK4 stage state
   State<V> trial, bracket_lo, bracket_hi;
   ContactEval contact_k1;         ///< contact at the start of the last sub-step
+  double stage_delta_max = 0.0;   ///< deepest penetration of the last rk4() call's stages [m]
   RunStats stats;
   double fail_time = 0.0;         ///< [s] when a step failed
   int fail_index = -1;            ///< coordinate that failed (v index, or -1)
+  double fail_detail = 0.0;       ///< SubstepTooLong: the impact duration estimate [s]
   // adaptive sub-stepping: the sub-step to try next [s] (0 = pick one), and
   // the derivative at the end of the last accepted sub-step (reused as the
   // next k1 while state, mode and input are unchanged)

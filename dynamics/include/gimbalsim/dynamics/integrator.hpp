@@ -46,19 +46,26 @@ void rk4(const Model& m, Data<V>& d, const State<V>& s, const Input& u, double h
     rk4Derivative(m, d, s, u, k[0]);
     if constexpr (V::kClearance) d.contact_k1 = d.contact;
   }
+  // Deepest penetration the stages saw (a contact that begins and ends inside
+  // the sub-step leaves both end points free; see handleSwitches()).
+  [[maybe_unused]] double stage_delta = 0.0;
+  if constexpr (V::kClearance) stage_delta = d.contact_k1.delta;
   State<V>& st = d.stage;
   st = s;
   st.t = s.t + 0.5 * h;
   st.q = s.q + (0.5 * h) * k[0].qd;
   st.v = s.v + (0.5 * h) * k[0].vd;
   rk4Derivative(m, d, st, u, k[1]);
+  if constexpr (V::kClearance) stage_delta = std::fmax(stage_delta, d.contact.delta);
   st.q = s.q + (0.5 * h) * k[1].qd;
   st.v = s.v + (0.5 * h) * k[1].vd;
   rk4Derivative(m, d, st, u, k[2]);
+  if constexpr (V::kClearance) stage_delta = std::fmax(stage_delta, d.contact.delta);
   st.t = s.t + h;
   st.q = s.q + h * k[2].qd;
   st.v = s.v + h * k[2].vd;
   rk4Derivative(m, d, st, u, k[3]);
+  if constexpr (V::kClearance) d.stage_delta_max = std::fmax(stage_delta, d.contact.delta);
   out = s;
   out.t = s.t + h;
   out.q = s.q + (h / 6.0) * (k[0].qd + 2.0 * (k[1].qd + k[2].qd) + k[3].qd);
@@ -271,11 +278,15 @@ inline double hermiteGapRoot(double h, double g0, double r0, double g1, double r
   return 0.5 * (lo + hi);
 }
 
-enum class SubstepEnd : std::uint8_t { Accept, Switched, Failed };
+enum class SubstepEnd : std::uint8_t { Accept, Switched, Failed, Retry };
 
 /// After a sub-step from s to d.trial: locates a contact or friction switch
 /// inside it (s then moved just past it: Switched), or checks the penetration
 /// limit (Failed with why/when) and leaves the trial to accept (Accept).
+/// A sub-step from a free state whose RK4 stages penetrated but whose end is
+/// free again held a whole contact (its force with a stale v0) and no switch
+/// to locate: it is refused (Retry) and the caller retakes it shorter, until
+/// the contact shows at a sub-step's end or the sub-step is below event_tol.
 /// contact_at_trial: d.contact holds forwardDynamics() at d.trial.
 template <class V>
 SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& u, double dt, int& n, int cap,
@@ -283,6 +294,10 @@ SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& 
   const IntegratorParams& p = m.integrator;
   const double g_hi0 = clearanceGap<V>(m, d.trial.q, d.trial.v).delta;
   StepStatus st = StepStatus::Ok;
+  if (!s.in_contact && !(g_hi0 > 0.0) && d.stage_delta_max > 0.0 && dt > p.event_tol) {
+    ++d.stats.straddle_retries;
+    return SubstepEnd::Retry;
+  }
   if ((g_hi0 > 0.0) != s.in_contact) {
     double guess = -1.0;
     if (contact_at_trial) {  // adaptive: guide the location with the gap's Hermite cubic
@@ -308,6 +323,7 @@ SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& 
   } else {
     const double limit = p.penetration_limit > 0.0 ? p.penetration_limit : m.contact.clearance;
     if (!(g_hi0 > limit)) return SubstepEnd::Accept;
+    d.stats.max_penetration = std::fmax(d.stats.max_penetration, g_hi0);
     d.fail_index = -1;
     why = StepStatus::PenetrationLimit;
     when = d.trial.t;
@@ -361,6 +377,23 @@ double embeddedError(const Data<V>& d, const typename Data<V>::Deriv& k5, const 
   return e * h / 6.0;
 }
 
+/// Fixed policy, at a located impact onset s: is sim.substep short enough for
+/// the impact? Its duration is estimated as the Hertz contact period (20 x
+/// physicalSubstepGuess(), which uses the factor of M left in d.L by the last
+/// evaluation, near s); recorded in stats.min_impact_duration and
+/// d.fail_detail. False when it spans fewer than min_substeps_per_impact
+/// sub-steps.
+template <class V>
+bool impactResolved(const Model& m, Data<V>& d, const State<V>& s) {
+  const IntegratorParams& p = m.integrator;
+  if (!(p.min_substeps_per_impact > 0.0)) return true;
+  const double duration = 20.0 * physicalSubstepGuess(m, d, s);
+  RunStats& st = d.stats;
+  if (st.min_impact_duration == 0.0 || duration < st.min_impact_duration) st.min_impact_duration = duration;
+  d.fail_detail = duration;
+  return p.substep * p.min_substeps_per_impact <= duration;
+}
+
 /// Same state up to time (the right-hand side does not depend on t; callers
 /// snap s.t to the step grid, which may move it by an ulp).
 template <class V>
@@ -401,6 +434,7 @@ StepStatus stepAdaptive(const Model& m, Data<V>& d, State<V>& s, const Input& u)
     d.contact_k1 = d.contact_last;
   }
   d.k_last_valid = false;
+  double dt_cap = p.step;  // shortened after a sub-step that held a whole contact
   while (true) {
     const double rem = t_end - s.t;
     if (rem <= 1e-12 * p.step) break;
@@ -421,6 +455,7 @@ StepStatus stepAdaptive(const Model& m, Data<V>& d, State<V>& s, const Input& u)
         }
       }
     }
+    dt = std::fmin(dt, dt_cap);
     if (++n > cap) return fail(StepStatus::SubstepCap, s.t);
     rk4(m, d, s, u, dt, d.trial, k1_ready);
     k1_ready = true;  // rk4 left f(s) in d.k[0]
@@ -451,7 +486,12 @@ StepStatus stepAdaptive(const Model& m, Data<V>& d, State<V>& s, const Input& u)
       double when = 0.0;
       switch (detail::handleSwitches(m, d, s, u, dt, n, cap, near, why, when)) {
         case detail::SubstepEnd::Failed: return fail(why, when);
+        case detail::SubstepEnd::Retry:
+          dt_cap = 0.5 * dt;
+          d.h_next = std::fmin(d.h_next > 0.0 ? d.h_next : dt_cap, dt_cap);
+          continue;  // d.k[0] still holds f(s)
         case detail::SubstepEnd::Switched:
+          dt_cap = p.step;
           if (!was_in_contact && s.in_contact) {
             d.h_next = std::fmin(d.h_next, std::fmax(p.substep_min, detail::physicalSubstepGuess(m, d, s)));
           }
@@ -498,6 +538,7 @@ StepStatus step(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
     d.stats.substeps += std::min(n, cap);  // the refused one was not taken
     return why;
   };
+  double dt_cap = p.step;  // shortened after a sub-step that held a whole contact
   while (true) {
     const double rem = t_end - s.t;
     if (rem <= 1e-12 * p.step) break;
@@ -509,6 +550,7 @@ StepStatus step(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
         dt = std::fmin(p.substep, rem);
         if (rem - dt < 0.01 * p.substep) dt = rem;
       }
+      dt = std::fmin(dt, dt_cap);
     }
     if (++n > cap) return fail(StepStatus::SubstepCap, s.t);
     rk4(m, d, s, u, dt, d.trial);
@@ -519,9 +561,16 @@ StepStatus step(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
       detail::recordContactPeaks(d, s.t);
       StepStatus why = StepStatus::Ok;
       double when = 0.0;
+      const bool was_in_contact = s.in_contact;
       switch (detail::handleSwitches(m, d, s, u, dt, n, cap, false, why, when)) {
         case detail::SubstepEnd::Failed: return fail(why, when);
-        case detail::SubstepEnd::Switched: continue;
+        case detail::SubstepEnd::Retry: dt_cap = 0.5 * dt; continue;
+        case detail::SubstepEnd::Switched:
+          dt_cap = p.step;
+          if (!was_in_contact && s.in_contact && !detail::impactResolved(m, d, s)) {
+            return fail(StepStatus::SubstepTooLong, s.t);
+          }
+          continue;
         case detail::SubstepEnd::Accept: break;
       }
     }

@@ -88,6 +88,17 @@ struct IntegratorParams {
   int max_event_iters = 60;           ///< cap on switch-location iterations
   double velocity_limit = 1.0e4;      ///< |v_i| above this is divergence [rad/s or m/s]
   double penetration_limit = 0.0;     ///< delta above this is divergence [m]; 0 = clearance
+  /// Fixed policy: an impact whose Hertz duration estimate spans fewer
+  /// sub-steps than this stops the run (sub-step too long for the contact);
+  /// 0 = no check [-]
+  double min_substeps_per_impact = 4.0;
+  /// simulate(): relative drift of the linear or angular momentum (floating
+  /// base) above this at an output row stops the run; 0 = no check [-]
+  double momentum_tol = 1.0e-9;
+  /// simulate(): rise of the energy balance (kinetic + Hertz - torque work)
+  /// above this fraction of the energy scale stops the run (and any change,
+  /// when no damping or friction can act); 0 = no check [-]
+  double energy_tol = 1.0e-6;
   SubstepPolicy substep_policy = SubstepPolicy::Fixed;
   /// Adaptive: local error per sub-step, max over coordinates of
   /// |err_i| / (1 + |y_i|) (SI units: m, rad, m/s, rad/s) [-]

@@ -47,6 +47,8 @@ struct RunResult {
   double max_drift_linear = 0.0;   ///< max |P(t) - P(0)| over output rows [N s]
   double max_drift_angular = 0.0;  ///< max |L(t) - L(0)| [N m s]
   double momentum_scale = 0.0;     ///< max over rows of sum |L_body|: drift reference [N m s]
+  double linear_scale = 0.0;       ///< lower bound of max sum |p_body|: drift reference [N s]
+  double energy_rise_rel = 0.0;    ///< max rise of the energy balance / its scale (invariants.hpp) [-]
   double peak_joint2_force = 0.0, t_peak_joint2_force = 0.0;  ///< [N], [s]
   long long rows = 0;
   double wall_seconds = 0.0;       ///< whole run including the sink
@@ -56,7 +58,9 @@ struct RunResult {
 enum class IntegratorKind { Rk4, Reference };
 
 /// Runs the scene's constant torques for model.duration. The sink sees every
-/// row (including t = 0); a non-finite row stops the run before reaching it.
+/// row (including t = 0); a non-finite row, or one that breaks
+/// sim.momentum_tol or sim.energy_tol (InvariantMonitor), stops the run before
+/// reaching it (ok = false, error says when and which key).
 /// IntegratorKind::Reference uses the adaptive Dormand-Prince reference
 /// (reference_integrator.hpp) instead of the fixed-step RK4.
 RunResult simulate(const Model& m, const std::function<void(const Row&)>& sink,

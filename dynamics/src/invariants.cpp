@@ -1,0 +1,96 @@
+#include "gimbalsim/dynamics/invariants.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "gimbalsim/dynamics/simulate.hpp"
+
+namespace gimbalsim {
+
+bool conservative(const Model& m) {
+  const bool no_damping = m.contact.damping == DampingLaw::None || m.contact.chi == 0.0;
+  return !m.clearance || (no_damping && !frictionActive(m));
+}
+
+InvariantMonitor::InvariantMonitor(const Model& m) : m_(m), conservative_(conservative(m)) {}
+
+double InvariantMonitor::relative(double x, double scale) {
+  if (x == 0.0) return 0.0;
+  return scale > 0.0 ? x / scale : std::numeric_limits<double>::infinity();
+}
+
+void InvariantMonitor::feed(const Row& r, double angular_scale, double linear_scale) {
+  const double* p = rowData(r);
+  for (int i = 0; i < kNumColumns; ++i) finite_ = finite_ && std::isfinite(p[i]);
+  const ContactParams& c = m_.contact;
+  const double U = (m_.clearance && r.delta > 0.0)
+                       ? c.K * std::pow(r.delta, c.exponent + 1.0) / (c.exponent + 1.0)
+                       : 0.0;
+  if (rows_ == 0) {
+    theta1_0_ = r.theta1;
+    theta2_0_ = r.theta2;
+  }
+  const double W = m_.torque(0) * (r.theta1 - theta1_0_) + m_.torque(1) * (r.theta2 - theta2_0_);
+  const double B = r.energy + U - W;
+  const double P[3] = {r.mom_px, r.mom_py, r.mom_pz}, L[3] = {r.mom_lx, r.mom_ly, r.mom_lz};
+  if (rows_ == 0) {
+    b0_ = b_min_ = B;
+    p0_ = std::sqrt(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]);
+    std::copy(P, P + 3, P0_);
+    std::copy(L, L + 3, L0_);
+  } else {
+    max_rise_ = std::max(max_rise_, B - b_min_);
+    b_min_ = std::min(b_min_, B);
+  }
+  max_change_ = std::max(max_change_, std::fabs(B - b0_));
+  b_last_ = B;
+  scale_ = std::max({scale_, r.energy + U, std::fabs(W)});
+  const double vb = std::sqrt(r.base_vx * r.base_vx + r.base_vy * r.base_vy + r.base_vz * r.base_vz);
+  // The chain carries P - p_base, so sum_i |p_i| >= |p_base| + |P - p_base|
+  // >= 2 |p_base| - |P|: a lower bound of the bodies' momentum sum.
+  lin_scale_ = std::max({lin_scale_, p0_ + 2.0 * m_.base.mass * vb, linear_scale});
+  ang_scale_ = std::max(ang_scale_, angular_scale);
+  drift_lin_ = std::max(drift_lin_, std::hypot(P[0] - P0_[0], P[1] - P0_[1], P[2] - P0_[2]));
+  drift_ang_ = std::max(drift_ang_, std::hypot(L[0] - L0_[0], L[1] - L0_[1], L[2] - L0_[2]));
+  max_delta_ = std::max(max_delta_, r.delta);
+  ++rows_;
+}
+
+std::string InvariantMonitor::violation() const {
+  const IntegratorParams& p = m_.integrator;
+  const bool chatter = m_.clearance && m_.contact.friction == FrictionLaw::Coulomb && m_.contact.mu > 0.0;
+  auto say = [&](const char* what, double x, const char* key, double tol) {
+    char num[64];
+    std::snprintf(num, sizeof num, " %.3g of its scale, above ", x);
+    std::string out = std::string(what) + num + key + " = ";
+    std::snprintf(num, sizeof num, "%.3g", tol);
+    out += std::string(num) +
+           " (a step or sub-step too long for this accuracy: reduce sim.step / sim.substep, use "
+           "sim.substep_policy=adaptive";
+    if (chatter) out += ", or friction.law=coulomb_stick (plain Coulomb chatters where the journal sticks)";
+    return out + ", or raise " + key + ")";
+  };
+  if (m_.floating_base && p.momentum_tol > 0.0) {
+    if (ang_scale_ > 0.0 && !(angularDriftRel() <= p.momentum_tol)) {
+      return say("angular momentum drift", angularDriftRel(), "sim.momentum_tol", p.momentum_tol);
+    }
+    if (!(linearDriftRel() <= p.momentum_tol)) {
+      return say("linear momentum drift", linearDriftRel(), "sim.momentum_tol", p.momentum_tol);
+    }
+  }
+  if (p.energy_tol > 0.0) {
+    if (!(energyRiseRel() <= p.energy_tol)) {
+      return say("energy balance (kinetic + Hertz - torque work) rose by", energyRiseRel(), "sim.energy_tol",
+                 p.energy_tol);
+    }
+    if (conservative_ && !(energyChangeRel() <= p.energy_tol)) {
+      return say("conservative scene: energy balance changed by", energyChangeRel(), "sim.energy_tol",
+                 p.energy_tol);
+    }
+  }
+  return {};
+}
+
+}  // namespace gimbalsim
