@@ -1,0 +1,178 @@
+#!/usr/bin/python3
+"""Speed of the hardware-in-the-loop bench on this machine (prints figures;
+not a test). firmware_sim + pointing_controller over LCM udpm (ttl=0) in a
+private network namespace (unshare -n, else unshare -rn), figures parsed from
+firmware_sim's exit summary.
+
+ (i)   rate sweep, real time, SCHED_FIFO, clearance scene with the controller:
+       per control rate, overruns, wake-up lateness p50/p99/max, compute per
+       tick p50/p99, commands missed. The period 1/rate must be a whole
+       multiple of sim.step (1 ms in the scene): above 1 kHz the run uses
+       --set sim.step=1/rate (one RK4 step per tick; contact sub-step 20 us as
+       in the scene) and the controller --set control.period=1/rate.
+       "Sustains" = zero overruns and lateness p99 < 10 % of the period over
+       the whole run. Both processes run under chrt -f 60 (--chrt) so the
+       controller and firmware_sim's LCM thread are not starved by other work
+       on this 2-core machine; the loop thread is SCHED_FIFO 80. Optionally
+       again with --spin (busy-wait the last part of each period).
+ (ii)  lockstep speed: simulated seconds per wall second, paper_ideal and
+       paper_clearance with the controller over udpm, median of 3 runs.
+ (iii) 60 s at 1 kHz real time: wake-up lateness and status -> command round
+       trip (p50/p99/p99.9/max).
+
+Usage:
+  /usr/bin/python3 tools/hil_speed.py [--seconds 10] [--rates 1000,2000,4000,5000,8000,10000]
+      [--spin 0.3] [--long 60] [--skip-sweep] [--skip-lockstep] [--skip-long]
+"""
+import argparse
+import os
+import re
+import statistics
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BIN = os.path.join(ROOT, "build/bin")
+CFG = os.path.join(ROOT, "controllers/config/default.yaml")
+SCENES = os.path.join(ROOT, "tools/scenes")
+URL = "udpm://239.255.76.67:7667?ttl=0"
+
+
+def load():
+    return open("/proc/loadavg").read().split()[:3]
+
+
+def enter_namespace():
+    """Re-run this script inside a fresh network namespace with a multicast route on lo."""
+    if os.environ.get("GIMBALSIM_SPEED_INSIDE") == "1":
+        return
+    setup = "ip link set lo up && ip route add 224.0.0.0/4 dev lo"
+    for ns in (["unshare", "-n"], ["unshare", "-rn"]):
+        if subprocess.run(ns + ["sh", "-c", setup], capture_output=True).returncode == 0:
+            os.environ["GIMBALSIM_SPEED_INSIDE"] = "1"
+            print(f"hil_speed: private network namespace ({' '.join(ns)}), {URL}", flush=True)
+            os.execvp(ns[0], ns + ["sh", "-c", setup + ' && exec /usr/bin/python3 "$0" "$@"', sys.argv[0]] + sys.argv[1:])
+    sys.exit("hil_speed: neither `unshare -n` nor `unshare -rn` gives a network namespace here")
+
+
+CHRT = []  # ["chrt", "-f", PRIO] when --chrt is allowed here
+
+
+def run_pair(scene, seconds, rate=1000, lockstep=False, fw_extra=(), ctl_extra=()):
+    """Controller + firmware_sim; returns firmware_sim's stdout (the exit summary)."""
+    rt = [] if lockstep else CHRT
+    ctl = subprocess.Popen([*rt, os.path.join(BIN, "pointing_controller"), CFG, "--lcm-url", URL, "--idle-exit", "2",
+                            *ctl_extra], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        cmd = [*rt, os.path.join(BIN, "firmware_sim"), scene, "--rate", str(rate), "--duration", str(seconds),
+               "--profile", CFG, "--lcm-url", URL, *fw_extra]
+        if lockstep:
+            cmd.append("--lockstep")
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=seconds * 20 + 60)
+        if r.returncode != 0:
+            sys.exit(f"hil_speed: firmware_sim exited {r.returncode}: {' '.join(cmd)}\n{r.stderr}")
+        return r.stdout + r.stderr
+    finally:
+        ctl.wait(timeout=30)
+
+
+def grab(text, pattern, n=1):
+    m = re.search(pattern, text)
+    if not m:
+        sys.exit(f"hil_speed: no match for {pattern!r} in\n{text}")
+    return [float(x) for x in m.groups()[:n]] if n > 1 else float(m.group(1))
+
+
+def sweep(rates, seconds, spin_fraction):
+    scene = os.path.join(SCENES, "paper_clearance.yaml")
+    title = "plain clock_nanosleep" if spin_fraction == 0 else f"--spin-us = {spin_fraction:g} x period"
+    print(f"\n(i) control rate sweep, real time, paper_clearance + pointing_controller, {seconds:g} s each, {title}"
+          f"  [load before: {' '.join(load())}]")
+    print("| rate [Hz] | period [us] | sim.step [s] | overruns (% of ticks) | lateness p50 / p99 / max [us] "
+          "| compute p50 / p99 [us] | missed cmds | sched | sustains |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    best = None
+    for rate in rates:
+        period_us = 1e6 / rate
+        step = 1e-3 if 1000 % rate == 0 else 1.0 / rate  # the scene's 1 ms when it divides the period
+        fw = ["--set", f"sim.step={step!r}"]
+        if spin_fraction > 0:
+            fw += ["--spin-us", f"{spin_fraction * period_us:g}"]
+        out = run_pair(scene, seconds, rate=rate, fw_extra=fw, ctl_extra=["--set", f"control.period={1.0 / rate!r}"])
+        lp50, lp99, lmax = grab(out, r"wake-up lateness \[us\]: p50 (\S+)  p99 (\S+)  p99\.9 \S+  max (\S+)", 3)
+        cp50, cp99 = grab(out, r"compute per tick \[us\]: p50 (\S+)  p99 (\S+)", 2)
+        over = int(grab(out, r"overruns (\d+);"))
+        missed = int(grab(out, r"missed (\d+);"))
+        fifo = "FIFO" if "SCHED_FIFO" in out else "OTHER"
+        ok = over == 0 and lp99 < 0.1 * period_us
+        if ok:
+            best = rate
+        ticks = int(grab(out, r"firmware_sim: (\d+) ticks"))
+        print(f"| {rate} | {period_us:.0f} | {step:g} | {over} ({100.0 * over / max(ticks, 1):.2g} %) | {lp50:.0f} / {lp99:.0f} / {lmax:.0f} | "
+              f"{cp50:.0f} / {cp99:.0f} | {missed} | {fifo} | {'yes' if ok else 'no'} |", flush=True)
+    print(f"highest rate sustained ({title}): {best if best else 'none of those tried'} Hz  "
+          f"[load after: {' '.join(load())}]")
+
+
+def lockstep_speed(seconds, runs=3):
+    print(f"\n(ii) lockstep speed, {seconds:g} simulated s per run, median of {runs} runs  [load before: {' '.join(load())}]")
+    print("| scene | simulated s / wall s (runs) | median |")
+    print("|---|---|---|")
+    for name in ("paper_ideal", "paper_clearance"):
+        xs = []
+        for _ in range(runs):
+            out = run_pair(os.path.join(SCENES, name + ".yaml"), seconds, lockstep=True)
+            xs.append(grab(out, r"\(([\d.]+) x real time\)"))
+        print(f"| {name} | {', '.join(f'{x:.2f}' for x in xs)} | {statistics.median(xs):.2f} |", flush=True)
+    print(f"[load after: {' '.join(load())}]")
+
+
+def long_run(seconds):
+    print(f"\n(iii) {seconds:g} s at 1 kHz real time, paper_clearance + pointing_controller  [load before: {' '.join(load())}]")
+    out = run_pair(os.path.join(SCENES, "paper_clearance.yaml"), seconds)
+    for line in out.splitlines():
+        if line.startswith("firmware_sim:") and "ticks" in line or line.startswith("  "):
+            print(line)
+    print(f"[load after: {' '.join(load())}]")
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--seconds", type=float, default=10.0, help="seconds per rate in the sweep")
+    p.add_argument("--rates", default="1000,2000,4000,5000,8000,10000")
+    p.add_argument("--spin", type=float, default=0.0,
+                   help="also sweep with --spin-us = this fraction of the period (0: only the plain sweep)")
+    p.add_argument("--lockstep-seconds", type=float, default=10.0)
+    p.add_argument("--long", type=float, default=60.0, help="seconds of the 1 kHz run")
+    p.add_argument("--chrt", type=int, default=60,
+                   help="real-time runs: start both processes under SCHED_FIFO at this priority (chrt -f; the "
+                        "firmware loop thread still raises itself to 80); 0 = SCHED_OTHER")
+    p.add_argument("--skip-sweep", action="store_true")
+    p.add_argument("--skip-lockstep", action="store_true")
+    p.add_argument("--skip-long", action="store_true")
+    a = p.parse_args()
+    for t in ("firmware_sim", "pointing_controller"):
+        if not os.access(os.path.join(BIN, t), os.X_OK):
+            sys.exit(f"hil_speed: {BIN}/{t} missing: cmake --build build -j2 --target firmware_sim pointing_controller")
+    enter_namespace()
+    if a.chrt > 0:
+        if subprocess.run(["chrt", "-f", str(a.chrt), "true"], capture_output=True).returncode == 0:
+            CHRT.extend(["chrt", "-f", str(a.chrt)])
+        else:
+            print(f"hil_speed: warning: chrt -f {a.chrt} refused here, processes run SCHED_OTHER")
+    print(f"hil_speed: {os.cpu_count()} CPUs, kernel {os.uname().release}, load {' '.join(load())}; "
+          f"real-time runs: controller and firmware_sim {'under ' + ' '.join(CHRT) if CHRT else 'SCHED_OTHER'} "
+          "(firmware loop thread SCHED_FIFO 80)")
+    rates = [int(r) for r in a.rates.split(",") if r]
+    if not a.skip_sweep:
+        sweep(rates, a.seconds, 0.0)
+        if a.spin > 0:
+            sweep(rates, a.seconds, a.spin)
+    if not a.skip_lockstep:
+        lockstep_speed(a.lockstep_seconds)
+    if not a.skip_long:
+        long_run(a.long)
+
+
+if __name__ == "__main__":
+    main()
