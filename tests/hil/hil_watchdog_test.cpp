@@ -74,31 +74,33 @@ TEST(HilWatchdog, ControllerKilledTripsWithinBoundHoldsSafeStateAndRecovers) {
   EXPECT_EQ(trips, 1) << "one trip, after the kill (the controller was up before the plant started)";
   ASSERT_GT(trip_us, 0) << "the watchdog never tripped";
   // Bound on kill -> trip: the watchdog time, plus one tick (the last command
-  // sent just before the kill acts one tick later), plus 20 ms of slack for
+  // sent just before the kill acts one tick later), plus 30 ms of slack for
   // what the bench cannot control here: a command in flight at the kill
-  // (round trip p99.9 ~2 ms), the loop's wake-up lateness (max a few ms
-  // without PREEMPT_RT, more under SCHED_OTHER when unshare -rn gives no
-  // SCHED_FIFO) and the shell's `date` -> `kill` gap on a loaded 2-core VM.
+  // (round trip p99.9 ~2-5 ms), the loop's wake-up lateness at the trip tick
+  // (max up to ~20 ms measured on this 2-core VM under load even at
+  // SCHED_FIFO 80, tools/hil_speed.py; worse under SCHED_OTHER when unshare
+  // -rn gives no SCHED_FIFO) and the shell's `date` -> `kill` gap.
   // Lower side: 10 ms before the watchdog time, since the controller may
   // already have been descheduled for a few ms when it was killed.
   const double trip_ms = static_cast<double>(trip_us - kill_us) * 1e-3;
   std::printf("kill -> watchdog trip %.2f ms (watchdog %.0f ms); restart -> fault cleared %.1f ms\n", trip_ms,
               watchdog_ms, clear_us > 0 ? static_cast<double>(clear_us - restart_us) * 1e-3 : -1.0);
-  EXPECT_LE(trip_ms, watchdog_ms + 1.0 + 20.0);
+  EXPECT_LE(trip_ms, watchdog_ms + 1.0 + 30.0);
   EXPECT_GE(trip_ms, watchdog_ms - 10.0);
   // The plant kept ticking at ~1 kHz in its safe state until the new controller.
   ASSERT_GT(clear_us, 0) << "the fault never cleared after the new controller started";
   EXPECT_GE(clear_us, restart_us);
   const double safe_ms = static_cast<double>(clear_us - trip_us) * 1e-3;
   EXPECT_GT(safe_ms, 300.0);
-  // Ticks kept coming: no stall longer than 20 ms, and at least half the
-  // 1 kHz ticks (the loop skips the deadlines of an overrun; on this loaded
-  // 2-core VM a few percent of the ticks overrun).
+  // Ticks kept coming: no stall as long as the watchdog time, and at least
+  // half the 1 kHz ticks (the loop skips the deadlines of an overrun; on this
+  // loaded 2-core VM a few percent of the ticks overrun, single wake-ups come
+  // up to ~20 ms late).
   long long max_gap_us = 0;
   for (size_t k = trip_row + 1; k <= clear_row; ++k) {
     max_gap_us = std::max(max_gap_us, c.integer(k, c_u) - c.integer(k - 1, c_u));
   }
-  EXPECT_LT(max_gap_us, 20000) << "the loop stalled while tripped";
+  EXPECT_LT(max_gap_us, 50000) << "the loop stalled while tripped";
   EXPECT_GT(static_cast<double>(safe_rows), 0.5 * safe_ms) << "ticks did not keep coming while tripped";
   EXPECT_EQ(static_cast<size_t>(safe_rows), clear_row - trip_row);
   // A new controller is accepted at once: under a second from its start
