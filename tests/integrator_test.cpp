@@ -3,6 +3,7 @@
 
 #include <limits>
 
+#include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "test_util.hpp"
 
@@ -166,6 +167,37 @@ TEST(Integrator, EnergyGuardStopsARunThatGainsEnergy) {
   const RunResult r_on = simulate(test::scene("paper_clearance", on), [](const Row&) {});
   EXPECT_FALSE(r_on.ok);
   EXPECT_NE(r_on.error.find("sim.min_substeps_per_impact"), std::string::npos) << r_on.error;
+}
+
+TEST(Integrator, HermiteGapMaxFindsATouchBetweenTheEnds) {
+  // Both ends 1 um free, approaching then receding at 10 mm/s over 1 ms:
+  // the cubic reaches +1.5 um in between.
+  EXPECT_GT(detail::hermiteGapMax(1e-3, -1e-6, 1e-2, -1e-6, -1e-2), 0.0);
+  EXPECT_NEAR(detail::hermiteGapMax(1e-3, -1e-6, 1e-2, -1e-6, -1e-2), -1e-6 + 0.25 * 1e-2 * 1e-3, 1e-12);
+  // Monotone approach: the larger end value.
+  EXPECT_DOUBLE_EQ(detail::hermiteGapMax(1e-3, -2e-6, 1e-3, -1e-6, 1e-3), -1e-6);
+  // Receding slowly: never reaches the bearing.
+  EXPECT_LT(detail::hermiteGapMax(1e-3, -1e-6, 1e-4, -1e-6, -1e-4), 0.0);
+}
+
+TEST(Integrator, LongOuterStepSeesImpactsInsideOneRk4Interval) {
+  // With a 5 ms outer step some impacts fall inside one RK4 interval whose
+  // ends are both free; the sub-step is retaken shorter (straddle_retries),
+  // so the run agrees with a 1 ms outer step (it was ~1e-3 rad off before).
+  auto finalQ = [](const char* h, long long* retries) {
+    const Model m = test::scene("paper_clearance",
+                                {std::string("sim.step=") + h, "sim.output_interval=0.01", "sim.substep=1e-4",
+                                 "friction.law=coulomb_stick", "sim.duration=2", "sim.momentum_tol=0"});
+    const RunResult r = simulate(m, [](const Row&) {});
+    EXPECT_TRUE(r.ok) << r.error;
+    *retries = r.stats.straddle_retries;
+    return r.final_q;
+  };
+  long long retries_long = 0, retries_short = 0;
+  const std::vector<double> a = finalQ("5e-3", &retries_long), b = finalQ("1e-3", &retries_short);
+  EXPECT_GT(retries_long, 0);
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-6) << "q[" << i << "]";
 }
 
 TEST(Integrator, ClearanceRunReproducesThePapersQualitativeResults) {

@@ -278,15 +278,45 @@ inline double hermiteGapRoot(double h, double g0, double r0, double g1, double r
   return 0.5 * (lo + hi);
 }
 
+/// Largest value over [0, h] of the cubic Hermite interpolant of the gap
+/// through (0, g0, r0) and (h, g1, r1) (rates r = d(gap)/dt).
+inline double hermiteGapMax(double h, double g0, double r0, double g1, double r1) {
+  // p(x) = a x^3 + b x^2 + c x + d on x = t / h in [0, 1]
+  const double a = 2.0 * g0 + h * r0 - 2.0 * g1 + h * r1;
+  const double b = -3.0 * g0 - 2.0 * h * r0 + 3.0 * g1 - h * r1;
+  const double c = h * r0;
+  auto p = [&](double x) { return ((a * x + b) * x + c) * x + g0; };
+  double best = std::fmax(g0, g1);
+  // p'(x) = 3a x^2 + 2b x + c
+  const double qa = 3.0 * a, qb = 2.0 * b;
+  if (qa == 0.0) {
+    if (qb != 0.0) {
+      const double x = -c / qb;
+      if (x > 0.0 && x < 1.0) best = std::fmax(best, p(x));
+    }
+    return best;
+  }
+  const double disc = qb * qb - 4.0 * qa * c;
+  if (disc < 0.0) return best;
+  const double sq = std::sqrt(disc);
+  for (const double x : {(-qb - sq) / (2.0 * qa), (-qb + sq) / (2.0 * qa)}) {
+    if (x > 0.0 && x < 1.0) best = std::fmax(best, p(x));
+  }
+  return best;
+}
+
 enum class SubstepEnd : std::uint8_t { Accept, Switched, Failed, Retry };
 
 /// After a sub-step from s to d.trial: locates a contact or friction switch
 /// inside it (s then moved just past it: Switched), or checks the penetration
 /// limit (Failed with why/when) and leaves the trial to accept (Accept).
-/// A sub-step from a free state whose RK4 stages penetrated but whose end is
-/// free again held a whole contact (its force with a stale v0) and no switch
-/// to locate: it is refused (Retry) and the caller retakes it shorter, until
-/// the contact shows at a sub-step's end or the sub-step is below event_tol.
+/// A sub-step from a free state whose end is free again may still have held
+/// a whole contact: when its RK4 stages penetrated (the force applied with a
+/// stale v0), or when the cubic Hermite interpolant of the gap through both
+/// ends (values and rates) reaches the bearing in between (an impact between
+/// the stage times, not seen at all). Such a sub-step is refused (Retry) and
+/// the caller retakes it shorter, until the contact shows at a sub-step's
+/// end or the sub-step is below event_tol.
 /// contact_at_trial: d.contact holds forwardDynamics() at d.trial.
 template <class V>
 SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& u, double dt, int& n, int cap,
@@ -294,9 +324,16 @@ SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& 
   const IntegratorParams& p = m.integrator;
   const double g_hi0 = clearanceGap<V>(m, d.trial.q, d.trial.v).delta;
   StepStatus st = StepStatus::Ok;
-  if (!s.in_contact && !(g_hi0 > 0.0) && d.stage_delta_max > 0.0 && dt > p.event_tol) {
-    ++d.stats.straddle_retries;
-    return SubstepEnd::Retry;
+  if (!s.in_contact && !(g_hi0 > 0.0) && dt > p.event_tol) {
+    bool touched = d.stage_delta_max > 0.0;
+    if (!touched) {
+      const Gap g0 = clearanceGap<V>(m, s.q, s.v), g1 = clearanceGap<V>(m, d.trial.q, d.trial.v);
+      touched = hermiteGapMax(dt, g0.delta, g0.rate, g1.delta, g1.rate) > 0.0;
+    }
+    if (touched) {
+      ++d.stats.straddle_retries;
+      return SubstepEnd::Retry;
+    }
   }
   if ((g_hi0 > 0.0) != s.in_contact) {
     double guess = -1.0;
