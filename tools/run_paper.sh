@@ -40,7 +40,7 @@ if [ -f build/CMakeCache.txt ]; then
 else
   cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 fi
-cmake --build build -j2
+cmake --build build -j2 --target gimbalsim
 
 SIM=build/bin/gimbalsim
 OUT=out/paper
