@@ -74,11 +74,6 @@ RunResult run(const Model& m, const std::function<void(const Row&)>& sink, Integ
       res.error = os.str();
       return false;
     }
-    const Vec3 P(r.mom_px, r.mom_py, r.mom_pz), L(r.mom_lx, r.mom_ly, r.mom_lz);
-    if (res.rows == 0) {
-      res.momentum0_linear = P;
-      res.momentum0_angular = L;
-    }
     const Momentum mo = momentum(m, d, st);
     inv.feed(r, mo.scale, mo.scale_linear);
     res.max_drift_linear = inv.maxDriftLinear();

@@ -9,41 +9,16 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "gimbalsim/controllers/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
+#include "csv_util.hpp"
 #include "test_util.hpp"
 
 namespace gimbalsim::controllers {
 namespace {
-
-std::vector<std::vector<std::string>> readCsv(const std::string& path, std::vector<std::string>& header) {
-  std::ifstream in(path);
-  std::string line;
-  std::vector<std::vector<std::string>> rows;
-  auto split = [](const std::string& l) {
-    std::vector<std::string> f;
-    std::stringstream ss(l);
-    std::string x;
-    while (std::getline(ss, x, ',')) f.push_back(x);
-    return f;
-  };
-  if (std::getline(in, line)) header = split(line);
-  while (std::getline(in, line)) rows.push_back(split(line));
-  return rows;
-}
-
-int column(const std::vector<std::string>& header, const std::string& name) {
-  for (size_t i = 0; i < header.size(); ++i) {
-    if (header[i] == name) return static_cast<int>(i);
-  }
-  ADD_FAILURE() << "no column " << name;
-  return 0;
-}
 
 TEST(LockstepMatchesInProcess, TruthTrajectoryIsBitIdentical) {
   if (std::system("unshare -n true >/dev/null 2>&1") != 0) GTEST_SKIP() << "unshare -n not permitted here";
@@ -62,10 +37,10 @@ TEST(LockstepMatchesInProcess, TruthTrajectoryIsBitIdentical) {
       " --start-timeout 10 >" + (dir / "fw.log").string() + " 2>&1; rc=\\$?; wait; exit \\$rc; }\"";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
 
-  std::vector<std::string> header;
-  const auto rows = readCsv(truth, header);
-  const int c_seq = column(header, "seq[-]"), c_t1 = column(header, "theta1[rad]"),
-            c_t2 = column(header, "theta2[rad]"), c_err = column(header, "pointing_error[rad]");
+  const test::Csv csv = test::Csv::read(truth);
+  const auto& rows = csv.rows;
+  const int c_seq = csv.col("seq[-]"), c_t1 = csv.col("theta1[rad]"), c_t2 = csv.col("theta2[rad]"),
+            c_err = csv.col("pointing_error[rad]");
   ASSERT_EQ(rows.size(), 3000u);
 
   const Model m = test::scene("paper_clearance");

@@ -43,7 +43,6 @@ struct RunResult {
   RunStats stats;
   bool in_contact_at_end = false;
   std::vector<double> final_q, final_v;
-  Vec3 momentum0_linear = Vec3::Zero(), momentum0_angular = Vec3::Zero();
   double max_drift_linear = 0.0;   ///< max |P(t) - P(0)| over output rows [N s]
   double max_drift_angular = 0.0;  ///< max |L(t) - L(0)| [N m s]
   double momentum_scale = 0.0;     ///< max over rows of sum |L_body|: drift reference [N m s]
