@@ -322,12 +322,13 @@ template <class V>
 SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& u, double dt, int& n, int cap,
                           bool contact_at_trial, StepStatus& why, double& when) {
   const IntegratorParams& p = m.integrator;
-  const double g_hi0 = clearanceGap<V>(m, d.trial.q, d.trial.v).delta;
+  const Gap g1 = clearanceGap<V>(m, d.trial.q, d.trial.v);
+  const double g_hi0 = g1.delta;
   StepStatus st = StepStatus::Ok;
   if (!s.in_contact && !(g_hi0 > 0.0) && dt > p.event_tol) {
     bool touched = d.stage_delta_max > 0.0;
     if (!touched) {
-      const Gap g0 = clearanceGap<V>(m, s.q, s.v), g1 = clearanceGap<V>(m, d.trial.q, d.trial.v);
+      const Gap g0 = clearanceGap<V>(m, s.q, s.v);
       touched = hermiteGapMax(dt, g0.delta, g0.rate, g1.delta, g1.rate) > 0.0;
     }
     if (touched) {
@@ -338,7 +339,7 @@ SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& 
   if ((g_hi0 > 0.0) != s.in_contact) {
     double guess = -1.0;
     if (contact_at_trial) {  // adaptive: guide the location with the gap's Hermite cubic
-      const Gap g0 = clearanceGap<V>(m, s.q, s.v), g1 = clearanceGap<V>(m, d.trial.q, d.trial.v);
+      const Gap g0 = clearanceGap<V>(m, s.q, s.v);
       guess = hermiteGapRoot(dt, g0.delta, g0.rate, g1.delta, g1.rate);
     }
     st = locateGapSwitch(m, d, s, u, dt, g_hi0, n, cap, guess);
