@@ -1,5 +1,5 @@
 // As the clearance shrinks with stiff contact, the clearance run approaches
-// the ideal run (MODEL.md section 5).
+// the ideal run (docs/MODEL.md section 8.7).
 #include <gtest/gtest.h>
 
 #include "test_util.hpp"
@@ -9,16 +9,16 @@ namespace {
 
 TEST(ClearanceConvergence, ShrinkingClearanceApproachesTheIdealJoint) {
   const double T = 0.5;
-  const Model mi = test::scene("paper_ideal");
-  const auto ideal = test::runTo<FloatingIdeal>(mi, T);
-  const Vec3 b_ideal = test::boresightOf(mi, ideal);
+  const Scene sci = test::scene("paper_ideal");
+  const auto ideal = test::runTo<FloatingIdeal>(sci, T);
+  const Vec3 b_ideal = test::boresightOf(sci.model, ideal);
   std::vector<double> err, err_theta;
   for (const char* c : {"5.0e-4", "5.0e-5", "5.0e-6"}) {
-    const Model m = test::scene("paper_clearance", {std::string("contact.clearance=") + c,
-                                                    "contact.radius_mode=conformal", "contact.stiffness_scale=10",
-                                                    "friction.law=none", "sim.substep=5e-6"});
-    const auto s = test::runTo<FloatingClearance>(m, T);
-    err.push_back(test::angleBetween(test::boresightOf(m, s), b_ideal));
+    const Scene sc = test::scene("paper_clearance", {std::string("contact.clearance=") + c,
+                                                     "contact.radius_mode=conformal", "contact.stiffness_scale=10",
+                                                     "friction.law=none", "sim.substep=5e-6"});
+    const auto s = test::runTo<FloatingClearance>(sc, T);
+    err.push_back(test::angleBetween(test::boresightOf(sc.model, s), b_ideal));
     err_theta.push_back(std::fabs(s.theta(1) - ideal.theta(1)) + std::fabs(s.theta(0) - ideal.theta(0)));
   }
   for (size_t i = 0; i + 1 < err.size(); ++i) {

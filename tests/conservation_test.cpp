@@ -1,4 +1,4 @@
-// Invariants any correct run satisfies (MODEL.md section 5).
+// Invariants any correct run satisfies (docs/MODEL.md section 8.7).
 #include <gtest/gtest.h>
 
 #include "test_util.hpp"
@@ -15,15 +15,17 @@ Momentum momentumOf(const Model& m, const State<V>& s) {
 
 /// Linear and angular momentum held through impacts and friction.
 template <class V>
-void checkMomentum(const Model& m, double T, bool expect_impacts, double rel_tol = 1e-12) {
+void checkMomentum(const Scene& sc, double T, bool expect_impacts, double rel_tol = 1e-12) {
+  const Model& m = sc.model;
+  const Input u{sc.run.torque};
   Data<V> d(m);
-  State<V> s = initialState<V>(m);
+  State<V> s = initialState<V>(sc.run.initial);
   const Momentum h0 = momentumOf(m, s);
   double worst_lin = 0.0, worst_ang = 0.0, scale = h0.scale;
   double lin_scale = 0.0;
   const long long n = std::llround(T / m.integrator.step);
   for (long long k = 0; k < n; ++k) {
-    ASSERT_EQ(step(m, d, s, test::sceneInput(m)), StepStatus::Ok) << "t = " << s.t;
+    ASSERT_EQ(step(m, d, s, u).status, StepStatus::Ok) << "t = " << s.t;
     const Momentum h = momentumOf(m, s);
     scale = std::max(scale, h.scale);
     worst_lin = std::max(worst_lin, (h.linear - h0.linear).norm());
@@ -42,27 +44,27 @@ TEST(Conservation, MomentumHeldThroughImpactsAndFriction) {
   // The contact force is internal, so d(momentum)/dt = 0 exactly; what RK4
   // leaves is truncation error where the right-hand side is not smooth
   // (Coulomb's sign flip, the onset of Hertz contact): it falls as h^2.
-  const Model m = test::scene("paper_clearance", {"sim.substep=1e-5"});
-  ASSERT_EQ(m.contact.friction, FrictionLaw::Coulomb);
-  checkMomentum<FloatingClearanceFriction>(m, 0.3, true, 1e-10);
+  const Scene sc = test::scene("paper_clearance", {"sim.substep=1e-5"});
+  ASSERT_EQ(sc.model.contact.friction, FrictionLaw::Coulomb);
+  checkMomentum<FloatingClearanceFriction>(sc, 0.3, true, 1e-10);
 }
 
 TEST(Conservation, MomentumHeldFromNonZeroInitialMomentum) {
-  const Model m = test::scene("paper_clearance", {"initial.dtheta1=0.7", "initial.dtheta2=-0.4",
-                                                  "initial.ecc=[1.0e-4, -2.0e-4]", "friction.law=ambrosio",
-                                                  "sim.substep=1e-5"});
-  checkMomentum<FloatingClearanceFriction>(m, 0.3, true, 1e-12);
-  const Model mi = test::scene("paper_ideal", {"initial.dtheta1=0.7", "initial.dtheta2=-0.4"});
-  checkMomentum<FloatingIdeal>(mi, 1.0, false);
-  const Model mp = test::scene("planar_clearance", {"initial.dtheta1=0.7", "friction.law=ambrosio", "sim.substep=1e-5"});
-  checkMomentum<FloatingClearanceFriction>(mp, 0.3, true, 1e-10);
+  const Scene sc = test::scene("paper_clearance", {"initial.dtheta1=0.7", "initial.dtheta2=-0.4",
+                                                   "initial.ecc=[1.0e-4, -2.0e-4]", "friction.law=ambrosio",
+                                                   "sim.substep=1e-5"});
+  checkMomentum<FloatingClearanceFriction>(sc, 0.3, true, 1e-12);
+  const Scene sci = test::scene("paper_ideal", {"initial.dtheta1=0.7", "initial.dtheta2=-0.4"});
+  checkMomentum<FloatingIdeal>(sci, 1.0, false);
+  const Scene scp = test::scene("planar_clearance", {"initial.dtheta1=0.7", "friction.law=ambrosio", "sim.substep=1e-5"});
+  checkMomentum<FloatingClearanceFriction>(scp, 0.3, true, 1e-10);
 }
 
 /// Momentum rate along the exact flow: (P(s + eps sdot) - P(s - eps sdot)) / 2 eps.
 template <class V>
-std::pair<Vec3, Vec3> momentumRate(const Model& m, const State<V>& s) {
+std::pair<Vec3, Vec3> momentumRate(const Model& m, const State<V>& s, const Input& u) {
   Data<V> d(m);
-  forwardDynamics(m, d, s, test::sceneInput(m));
+  forwardDynamics(m, d, s, u);
   const auto qd = d.qdot;
   const auto vd = d.vdot;
   const double eps = 1e-7;
@@ -77,8 +79,10 @@ TEST(Conservation, ContactAndFrictionExertNoNetForceOrMoment) {
   // Instantaneous check, no integrator: in deep contact with sliding friction
   // the momentum rate is zero to round-off, while the contact force is large.
   for (const char* name : {"paper_clearance", "planar_clearance"}) {
-    const Model m = test::scene(name, {"friction.law=coulomb", "friction.mu=0.3"});
-    State<FloatingClearanceFriction> s = initialState<FloatingClearanceFriction>(m);
+    const Scene sc = test::scene(name, {"friction.law=coulomb", "friction.mu=0.3"});
+    const Model& m = sc.model;
+    const Input u{sc.run.torque};
+    State<FloatingClearanceFriction> s = initialState<FloatingClearanceFriction>(sc.run.initial);
     s.q(7) = 0.3, s.q(10) = -0.2;  // joint angles
     s.v << 0.1, -0.2, 0.3, 0.01, -0.02, 0.03, 0.5, 0.0, 0.0, -0.7;
     const double c = m.contact.clearance;
@@ -87,10 +91,10 @@ TEST(Conservation, ContactAndFrictionExertNoNetForceOrMoment) {
     s.v0 = 0.01;
     s.in_contact = true;
     Data<FloatingClearanceFriction> d(m);
-    forwardDynamics(m, d, s, test::sceneInput(m));
+    forwardDynamics(m, d, s, u);
     ASSERT_GT(d.contact.fn, 10.0);
     ASSERT_NE(d.contact.ft, 0.0);
-    const auto [dP, dL] = momentumRate(m, s);
+    const auto [dP, dL] = momentumRate(m, s, u);
     const double F = std::hypot(d.contact.fn, d.contact.ft);
     EXPECT_LT(dP.norm(), 1e-7 * F) << name << ": dP/dt = " << dP.transpose() << " with |F| = " << F;
     EXPECT_LT(dL.norm(), 1e-7 * F) << name << ": dL/dt = " << dL.transpose();
@@ -100,27 +104,29 @@ TEST(Conservation, ContactAndFrictionExertNoNetForceOrMoment) {
 /// Kinetic energy plus stored Hertz energy minus the work of the joint
 /// torques (a constant couple: W = tau1 dtheta1 + tau2 dtheta2).
 template <class V>
-double energyBalance(const Model& m, const State<V>& s, double E0, const State<V>& s0) {
+double energyBalance(const Model& m, const Vec2& torque, const State<V>& s, double E0, const State<V>& s0) {
   double E = momentumOf(m, s).energy;
   if constexpr (V::kClearance) {
     const double delta = clearanceGap<V>(m, s.q, s.v).delta;
     if (delta > 0) E += m.contact.K * std::pow(delta, m.contact.exponent + 1) / (m.contact.exponent + 1);
   }
-  const double W = m.torque(0) * (s.theta(0) - s0.theta(0)) + m.torque(1) * (s.theta(1) - s0.theta(1));
+  const double W = torque(0) * (s.theta(0) - s0.theta(0)) + torque(1) * (s.theta(1) - s0.theta(1));
   return E - E0 - W;
 }
 
 template <class V>
-void checkEnergy(const Model& m, double T, double rel_tol) {
+void checkEnergy(const Scene& sc, double T, double rel_tol) {
+  const Model& m = sc.model;
+  const Input u{sc.run.torque};
   Data<V> d(m);
-  State<V> s = initialState<V>(m);
+  State<V> s = initialState<V>(sc.run.initial);
   const State<V> s0 = s;
   const double E0 = momentumOf(m, s).energy;
   double worst = 0.0, work_scale = 1e-12;
   const long long n = std::llround(T / m.integrator.step);
   for (long long k = 0; k < n; ++k) {
-    ASSERT_EQ(step(m, d, s, test::sceneInput(m)), StepStatus::Ok);
-    worst = std::max(worst, std::fabs(energyBalance(m, s, E0, s0)));
+    ASSERT_EQ(step(m, d, s, u).status, StepStatus::Ok);
+    worst = std::max(worst, std::fabs(energyBalance(m, sc.run.torque, s, E0, s0)));
     work_scale = std::max(work_scale, momentumOf(m, s).energy);
   }
   if constexpr (V::kClearance) EXPECT_GT(d.stats.impacts, 3);
@@ -139,15 +145,17 @@ TEST(Conservation, EnergyEqualsTorqueWorkWithoutDampingOrFriction) {
 
 TEST(Conservation, EnergyNeverRisesUnderDissipation) {
   // No torque, moving joints: impacts with damping and friction only take energy out.
-  const Model m = test::scene("paper_clearance", {"torque.tau1=0", "torque.tau2=0", "initial.dtheta1=1.0",
-                                                  "initial.dtheta2=-0.5", "contact.restitution=0.7",
-                                                  "friction.law=coulomb"});
+  const Scene sc = test::scene("paper_clearance", {"torque.tau1=0", "torque.tau2=0", "initial.dtheta1=1.0",
+                                                   "initial.dtheta2=-0.5", "contact.restitution=0.7",
+                                                   "friction.law=coulomb"});
+  const Model& m = sc.model;
+  const Input u{sc.run.torque};
   Data<FloatingClearanceFriction> d(m);
-  State<FloatingClearanceFriction> s = initialState<FloatingClearanceFriction>(m);
+  State<FloatingClearanceFriction> s = initialState<FloatingClearanceFriction>(sc.run.initial);
   const double E0 = momentumOf(m, s).energy;
   double prev = E0, worst_rise = 0.0;
   for (int k = 0; k < 500; ++k) {
-    ASSERT_EQ(step(m, d, s, test::sceneInput(m)), StepStatus::Ok);
+    ASSERT_EQ(step(m, d, s, u).status, StepStatus::Ok);
     double E = momentumOf(m, s).energy;
     const double delta = clearanceGap<FloatingClearanceFriction>(m, s.q, s.v).delta;
     if (delta > 0) E += m.contact.K * std::pow(delta, 2.5) / 2.5;

@@ -1,4 +1,4 @@
-// Contact law of the clearance joint (MODEL.md section 2).
+// Contact law of the clearance joint (docs/MODEL.md section 4).
 #include <gtest/gtest.h>
 
 #include "gimbalsim/dynamics/contact_law.hpp"
@@ -9,15 +9,15 @@ namespace {
 
 TEST(ContactLaw, HertzStiffnessOfBothRadiusModes) {
   // Paper's materials: K = 8.676e9 (paper, convex-convex R) and 5.418e10
-  // N/m^1.5 (conformal R) as computed independently in MODEL.md.
+  // N/m^1.5 (conformal R) as computed independently in docs/MODEL.md section 4.6.
   ContactParams c;
   EXPECT_NEAR(Model::hertzStiffness(c, RadiusMode::Paper), 8.676e9, 0.0005 * 8.676e9);
   EXPECT_NEAR(Model::hertzStiffness(c, RadiusMode::Conformal), 5.418e10, 0.0005 * 5.418e10);
   // The scene loader derives the same K and the clearance.
-  const Model m = test::scene("paper_clearance");
+  const Model m = test::model("paper_clearance");
   EXPECT_NEAR(m.contact.K, 8.676e9, 0.0005 * 8.676e9);
   EXPECT_NEAR(m.contact.clearance, 0.5e-3, 1e-15);
-  const Model mc = test::scene("paper_clearance", {"contact.radius_mode=conformal"});
+  const Model mc = test::model("paper_clearance", {"contact.radius_mode=conformal"});
   EXPECT_NEAR(mc.contact.K, 5.418e10, 0.0005 * 5.418e10);
 }
 

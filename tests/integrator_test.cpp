@@ -12,8 +12,8 @@ namespace {
 
 TEST(Integrator, Rk4IsFourthOrderOnTheIdealScene) {
   auto finalQ = [](double h) {
-    const Model m = test::scene("paper_ideal", {"sim.step=" + std::to_string(h), "sim.output_interval=0.016"});
-    return test::runTo<FloatingIdeal>(m, 1.6);
+    const Scene sc = test::scene("paper_ideal", {"sim.step=" + std::to_string(h), "sim.output_interval=0.016"});
+    return test::runTo<FloatingIdeal>(sc, 1.6);
   };
   const auto ref = finalQ(1.0e-4);
   std::vector<double> err;
@@ -29,11 +29,12 @@ TEST(Integrator, Rk4IsFourthOrderOnTheIdealScene) {
 }
 
 TEST(Integrator, StepAdvancesExactlyOneStep) {
-  const Model m = test::scene("paper_clearance");
+  const Scene sc = test::scene("paper_clearance");
+  const Model& m = sc.model;
   Data<FloatingClearanceFriction> d(m);
-  auto s = initialState<FloatingClearanceFriction>(m);
+  auto s = initialState<FloatingClearanceFriction>(sc.run.initial);
   for (int k = 1; k <= 100; ++k) {
-    ASSERT_EQ(step(m, d, s, test::sceneInput(m)), StepStatus::Ok);
+    ASSERT_EQ(step(m, d, s, Input{sc.run.torque}).status, StepStatus::Ok);
     EXPECT_NEAR(s.t, k * m.integrator.step, 1e-12);
   }
   EXPECT_EQ(d.stats.steps, 100);
@@ -43,11 +44,12 @@ TEST(Integrator, StepAdvancesExactlyOneStep) {
 
 /// Runs until the first located impact; returns the state at its end of step.
 template <class V>
-double firstImpactVelocity(const Model& m, double* t_onset) {
+double firstImpactVelocity(const Scene& sc, double* t_onset) {
+  const Model& m = sc.model;
   Data<V> d(m);
-  auto s = initialState<V>(m);
+  auto s = initialState<V>(sc.run.initial);
   for (int k = 0; k < 100000 && d.stats.impacts == 0; ++k) {
-    EXPECT_EQ(step(m, d, s, test::sceneInput(m)), StepStatus::Ok);
+    EXPECT_EQ(step(m, d, s, Input{sc.run.torque}).status, StepStatus::Ok);
   }
   EXPECT_EQ(d.stats.impacts, 1);
   *t_onset = d.stats.last_onset_time;
@@ -58,11 +60,11 @@ TEST(Integrator, ImpactOnsetIsLocatedAndV0CapturedThere) {
   // The same impact with a coarse and a very fine sub-step: the located onset
   // time and impact velocity agree, and v0 is a positive approach speed.
   double t_coarse, t_fine, t_big;
-  const Model coarse = test::scene("paper_clearance", {"friction.law=none"});
-  const Model fine = test::scene("paper_clearance", {"friction.law=none", "sim.substep=1e-7", "sim.event_tol=1e-11"});
+  const Scene coarse = test::scene("paper_clearance", {"friction.law=none"});
+  const Scene fine = test::scene("paper_clearance", {"friction.law=none", "sim.substep=1e-7", "sim.event_tol=1e-11"});
   // (min_substeps_per_impact=0: the impact check would stop the run right
   // after locating the onset, which is what this compares)
-  const Model big =
+  const Scene big =
       test::scene("paper_clearance", {"friction.law=none", "sim.substep=1e-3", "sim.min_substeps_per_impact=0"});
   const double v_coarse = firstImpactVelocity<FloatingClearance>(coarse, &t_coarse);
   const double v_fine = firstImpactVelocity<FloatingClearance>(fine, &t_fine);
@@ -76,33 +78,36 @@ TEST(Integrator, ImpactOnsetIsLocatedAndV0CapturedThere) {
 }
 
 TEST(Integrator, SubstepCapStopsTheStepAndSaysSo) {
-  const Model m = test::scene("paper_clearance", {"sim.max_substeps=3"});
+  const Scene sc = test::scene("paper_clearance", {"sim.max_substeps=3"});
+  const Model& m = sc.model;
   Data<FloatingClearanceFriction> d(m);
-  auto s = initialState<FloatingClearanceFriction>(m);
-  StepStatus st = StepStatus::Ok;
-  for (int k = 0; k < 1000 && st == StepStatus::Ok; ++k) st = step(m, d, s, test::sceneInput(m));
-  EXPECT_EQ(st, StepStatus::SubstepCap);
-  EXPECT_GT(d.fail_time, 0.0);
+  auto s = initialState<FloatingClearanceFriction>(sc.run.initial);
+  StepResult st;
+  for (int k = 0; k < 1000 && st.ok(); ++k) st = step(m, d, s, Input{sc.run.torque});
+  EXPECT_EQ(st.status, StepStatus::SubstepCap);
+  EXPECT_STREQ(st.key(), "sim.max_substeps");
+  EXPECT_GT(st.time, 0.0);
   EXPECT_LE(d.stats.max_substeps_in_step, 3);
 }
 
 TEST(Integrator, NonFiniteInputIsDetectedNotIntegrated) {
-  const Model m = test::scene("paper_ideal");
+  const Scene sc = test::scene("paper_ideal");
+  const Model& m = sc.model;
   Data<FloatingIdeal> d(m);
-  auto s = initialState<FloatingIdeal>(m);
+  auto s = initialState<FloatingIdeal>(sc.run.initial);
   const auto before = s;
   Input u;
   u.tau << 5.0, std::numeric_limits<double>::quiet_NaN();
-  EXPECT_EQ(step(m, d, s, u), StepStatus::NonFinite);
+  EXPECT_EQ(step(m, d, s, u).status, StepStatus::NonFinite);
   EXPECT_EQ(s.q, before.q) << "a failed step must not advance the state";
   EXPECT_EQ(s.t, before.t);
 }
 
 TEST(Integrator, DivergenceStopsTheRunWithADiagnosticAndKeepsGoodRows) {
   // Contact 1e6 times too soft: the journal sinks through the bearing.
-  const Model m = test::scene("paper_clearance", {"contact.stiffness_scale=1e-6", "sim.duration=1"});
+  const Scene sc = test::scene("paper_clearance", {"contact.stiffness_scale=1e-6", "sim.duration=1"});
   std::vector<Row> rows;
-  const RunResult r = simulate(m, [&](const Row& row) { rows.push_back(row); });
+  const RunResult r = simulate(sc, [&](const Row& row) { rows.push_back(row); });
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.error.find("penetration"), std::string::npos) << r.error;
   EXPECT_NE(r.error.find("t = "), std::string::npos) << r.error;
@@ -113,7 +118,7 @@ TEST(Integrator, DivergenceStopsTheRunWithADiagnosticAndKeepsGoodRows) {
   }
   // A torque that spins the joints past the velocity limit.
   // (invariant guards off: they would stop it first, on the momentum drift)
-  const Model v = test::scene("paper_ideal", {"torque.tau1=1e6", "sim.velocity_limit=100", "sim.momentum_tol=0",
+  const Scene v = test::scene("paper_ideal", {"torque.tau1=1e6", "sim.velocity_limit=100", "sim.momentum_tol=0",
                                               "sim.energy_tol=0"});
   const RunResult rv = simulate(v, [](const Row&) {});
   EXPECT_FALSE(rv.ok);
@@ -172,12 +177,12 @@ TEST(Integrator, EnergyGuardStopsARunThatGainsEnergy) {
 TEST(Integrator, HermiteGapMaxFindsATouchBetweenTheEnds) {
   // Both ends 1 um free, approaching then receding at 10 mm/s over 1 ms:
   // the cubic reaches +1.5 um in between.
-  EXPECT_GT(detail::hermiteGapMax(1e-3, -1e-6, 1e-2, -1e-6, -1e-2), 0.0);
-  EXPECT_NEAR(detail::hermiteGapMax(1e-3, -1e-6, 1e-2, -1e-6, -1e-2), -1e-6 + 0.25 * 1e-2 * 1e-3, 1e-12);
+  EXPECT_GT(hermiteGapMax(1e-3, -1e-6, 1e-2, -1e-6, -1e-2), 0.0);
+  EXPECT_NEAR(hermiteGapMax(1e-3, -1e-6, 1e-2, -1e-6, -1e-2), -1e-6 + 0.25 * 1e-2 * 1e-3, 1e-12);
   // Monotone approach: the larger end value.
-  EXPECT_DOUBLE_EQ(detail::hermiteGapMax(1e-3, -2e-6, 1e-3, -1e-6, 1e-3), -1e-6);
+  EXPECT_DOUBLE_EQ(hermiteGapMax(1e-3, -2e-6, 1e-3, -1e-6, 1e-3), -1e-6);
   // Receding slowly: never reaches the bearing.
-  EXPECT_LT(detail::hermiteGapMax(1e-3, -1e-6, 1e-4, -1e-6, -1e-4), 0.0);
+  EXPECT_LT(hermiteGapMax(1e-3, -1e-6, 1e-4, -1e-6, -1e-4), 0.0);
 }
 
 TEST(Integrator, LongOuterStepSeesImpactsInsideOneRk4Interval) {
@@ -185,10 +190,10 @@ TEST(Integrator, LongOuterStepSeesImpactsInsideOneRk4Interval) {
   // ends are both free; the sub-step is retaken shorter (straddle_retries),
   // so the run agrees with a 1 ms outer step (it was ~1e-3 rad off before).
   auto finalQ = [](const char* h, long long* retries) {
-    const Model m = test::scene("paper_clearance",
-                                {std::string("sim.step=") + h, "sim.output_interval=0.01", "sim.substep=1e-4",
-                                 "friction.law=coulomb_stick", "sim.duration=2", "sim.momentum_tol=0"});
-    const RunResult r = simulate(m, [](const Row&) {});
+    const Scene sc = test::scene("paper_clearance",
+                                 {std::string("sim.step=") + h, "sim.output_interval=0.01", "sim.substep=1e-4",
+                                  "friction.law=coulomb_stick", "sim.duration=2", "sim.momentum_tol=0"});
+    const RunResult r = simulate(sc, [](const Row&) {});
     EXPECT_TRUE(r.ok) << r.error;
     *retries = r.stats.straddle_retries;
     return r.final_q;
@@ -203,14 +208,14 @@ TEST(Integrator, LongOuterStepSeesImpactsInsideOneRk4Interval) {
 TEST(Integrator, ClearanceRunReproducesThePapersQualitativeResults) {
   // Paper section 4: impacts severe at first, then weaker; finally continuous
   // contact; joint force peaks about 20x the ideal joint's (we require > 5x).
-  const Model m = test::scene("paper_clearance");
+  const Scene sc = test::scene("paper_clearance");
   double early_peak = 0.0, late_peak = 0.0;
-  const RunResult r = simulate(m, [&](const Row& row) {
+  const RunResult r = simulate(sc, [&](const Row& row) {
     (row.t < 0.5 ? early_peak : late_peak) = std::max(row.t < 0.5 ? early_peak : late_peak, row.fn);
   });
   ASSERT_TRUE(r.ok) << r.error;
-  const Model mi = test::scene("paper_ideal");
-  const RunResult ri = simulate(mi, [](const Row&) {});
+  const Scene sci = test::scene("paper_ideal");
+  const RunResult ri = simulate(sci, [](const Row&) {});
   ASSERT_TRUE(ri.ok);
   EXPECT_GT(r.stats.impacts, 3);
   EXPECT_TRUE(r.in_contact_at_end);

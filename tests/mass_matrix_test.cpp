@@ -85,7 +85,8 @@ std::array<Vec6, 3> bodyVelocities(const Model& m, const typename State<V>::VecQ
 
 template <class V>
 void checkAgainstNewtonEuler(const std::string& scene_name, const std::vector<std::string>& sets) {
-  const Model m = test::scene(scene_name, sets);
+  const Scene sc = test::scene(scene_name, sets);
+  const Model& m = sc.model;
   using VecQ = typename State<V>::VecQ;
   using VecV = typename State<V>::VecV;
   using MatV = typename Data<V>::MatV;
@@ -93,7 +94,7 @@ void checkAgainstNewtonEuler(const std::string& scene_name, const std::vector<st
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   const std::array<const BodyParams*, 3> body = {&m.base, &m.shaft1, &m.shaft2};
   for (int trial = 0; trial < 3; ++trial) {
-    State<V> s = initialState<V>(m);
+    State<V> s = initialState<V>(sc.run.initial);
     for (int i = 0; i < V::NQ; ++i) s.q(i) = U(rng);
     for (int i = 0; i < V::NV; ++i) s.v(i) = U(rng);
     if constexpr (V::kFloating) s.q.template segment<4>(3).normalize();

@@ -3,55 +3,30 @@
 // on, EIGEN_RUNTIME_NO_MALLOC) Eigen's own guard aborts on one.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
+#include "alloc_guard.hpp"
 #include "test_util.hpp"
-
-namespace {
-std::atomic<long long> g_allocations{0};
-}
-
-void* operator new(std::size_t n) {
-  ++g_allocations;
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace gimbalsim {
 namespace {
 
-void setEigenMallocAllowed(bool allowed) {
-#ifdef EIGEN_RUNTIME_NO_MALLOC
-  Eigen::internal::set_is_malloc_allowed(allowed);
-#else
-  (void)allowed;
-#endif
-}
+using test::g_allocations;
+using test::setEigenMallocAllowed;
 
 TEST(NoAlloc, TheCounterSeesAllocations) {
-  const long long before = g_allocations.load();
-  std::vector<double>* volatile p = new std::vector<double>(100);
-  delete p;
-  EXPECT_GE(g_allocations.load() - before, 1);
+  EXPECT_GE(test::probeAllocations(), 1);
 }
 
 template <class V>
-void checkNoAllocation(const Model& m, int steps) {
+void checkNoAllocation(const Scene& sc, int steps) {
+  const Model& m = sc.model;
   Data<V> d(m);
-  State<V> s = initialState<V>(m);
-  const Input u = test::sceneInput(m);
-  for (int k = 0; k < 10; ++k) ASSERT_EQ(step(m, d, s, u), StepStatus::Ok);  // warm-up
+  State<V> s = initialState<V>(sc.run.initial);
+  const Input u{sc.run.torque};
+  for (int k = 0; k < 10; ++k) ASSERT_EQ(step(m, d, s, u).status, StepStatus::Ok);  // warm-up
   const long long before = g_allocations.load();
   setEigenMallocAllowed(false);
   StepStatus st = StepStatus::Ok;
-  for (int k = 0; k < steps && st == StepStatus::Ok; ++k) st = step(m, d, s, u);
+  for (int k = 0; k < steps && st == StepStatus::Ok; ++k) st = step(m, d, s, u).status;
   setEigenMallocAllowed(true);
   ASSERT_EQ(st, StepStatus::Ok);
   EXPECT_EQ(g_allocations.load() - before, 0) << "heap allocations during " << steps << " steps";
@@ -59,9 +34,7 @@ void checkNoAllocation(const Model& m, int steps) {
 }
 
 TEST(NoAlloc, StepOfEveryVariantAllocatesNothing) {
-#if !defined(EIGEN_RUNTIME_NO_MALLOC) || defined(NDEBUG)
-  std::fprintf(stderr, "note: not the checked build; only the counting allocator is active\n");
-#endif
+  test::noteIfNotCheckedBuild();
   checkNoAllocation<FloatingIdeal>(test::scene("paper_ideal"), 500);
   checkNoAllocation<FloatingClearance>(test::scene("paper_clearance", {"friction.law=none"}), 300);
   checkNoAllocation<FloatingClearanceFriction>(test::scene("paper_clearance"), 300);
@@ -82,13 +55,14 @@ TEST(NoAlloc, AdaptivePolicyAndCoulombStickAllocateNothing) {
 }
 
 TEST(NoAlloc, FailingStepAllocatesNothingEither) {
-  const Model m = test::scene("paper_clearance", {"sim.max_substeps=3"});
+  const Scene sc = test::scene("paper_clearance", {"sim.max_substeps=3"});
+  const Model& m = sc.model;
   Data<FloatingClearanceFriction> d(m);
-  auto s = initialState<FloatingClearanceFriction>(m);
+  auto s = initialState<FloatingClearanceFriction>(sc.run.initial);
   const long long before = g_allocations.load();
   setEigenMallocAllowed(false);
   StepStatus st = StepStatus::Ok;
-  for (int k = 0; k < 1000 && st == StepStatus::Ok; ++k) st = step(m, d, s, test::sceneInput(m));
+  for (int k = 0; k < 1000 && st == StepStatus::Ok; ++k) st = step(m, d, s, Input{sc.run.torque}).status;
   setEigenMallocAllowed(true);
   EXPECT_EQ(st, StepStatus::SubstepCap);
   EXPECT_EQ(g_allocations.load() - before, 0);

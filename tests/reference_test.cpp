@@ -14,14 +14,14 @@ double errorTo(const State<V>& a, const State<V>& b) {
 }
 
 TEST(Reference, Rk4ConvergesAtFourthOrderOnTheIdealScene) {
-  const Model m = test::scene("paper_ideal");
-  auto ref = initialState<FloatingIdeal>(m);
-  ReferenceIntegrator<FloatingIdeal> integ(m, test::sceneInput(m));
+  const Scene sc = test::scene("paper_ideal");
+  auto ref = initialState<FloatingIdeal>(sc.run.initial);
+  ReferenceIntegrator<FloatingIdeal> integ(sc.model, Input{sc.run.torque});
   ASSERT_TRUE(integ.advanceTo(ref, 1.6));
   std::vector<double> err;
   for (double h : {1.6e-2, 8e-3, 4e-3}) {
-    const Model mh = test::scene("paper_ideal", {"sim.step=" + std::to_string(h), "sim.output_interval=0.016"});
-    err.push_back(errorTo(test::runTo<FloatingIdeal>(mh, 1.6), ref));
+    const Scene sch = test::scene("paper_ideal", {"sim.step=" + std::to_string(h), "sim.output_interval=0.016"});
+    err.push_back(errorTo(test::runTo<FloatingIdeal>(sch, 1.6), ref));
   }
   for (size_t i = 0; i + 1 < err.size(); ++i) {
     EXPECT_GT(err[i] / err[i + 1], 13.0) << err[i] << " -> " << err[i + 1];
@@ -33,17 +33,18 @@ TEST(Reference, Rk4ConvergesOnTheClearanceSceneThroughImpacts) {
   // Observed: error ratios 4.0, 5.3, 9.5 per halving of the sub-step (order
   // about 2 to 3: F ~ delta^1.5 has an unbounded second derivative at the
   // onset, so RK4 loses order in the sub-steps after each impact).
-  const Model m = test::scene("paper_clearance", {"friction.law=none"});
-  auto ref = initialState<FloatingClearance>(m);
-  ReferenceIntegrator<FloatingClearance> integ(m, test::sceneInput(m));
+  const Scene sc = test::scene("paper_clearance", {"friction.law=none"});
+  auto ref = initialState<FloatingClearance>(sc.run.initial);
+  ReferenceIntegrator<FloatingClearance> integ(sc.model, Input{sc.run.torque});
   ASSERT_TRUE(integ.advanceTo(ref, 0.3));
   EXPECT_GE(integ.impacts(), 5);
   std::vector<double> err;
   for (const char* ss : {"4e-5", "2e-5", "1e-5", "5e-6"}) {
-    const Model mh = test::scene("paper_clearance", {"friction.law=none", std::string("sim.substep=") + ss});
+    const Scene sch = test::scene("paper_clearance", {"friction.law=none", std::string("sim.substep=") + ss});
+    const Model& mh = sch.model;
     Data<FloatingClearance> d(mh);
-    auto s = initialState<FloatingClearance>(mh);
-    test::advance(mh, d, s, 300);
+    auto s = initialState<FloatingClearance>(sch.run.initial);
+    test::advance(mh, d, s, 300, Input{sch.run.torque});
     EXPECT_EQ(d.stats.impacts, integ.impacts()) << "same impacts as the reference";
     err.push_back(errorTo(s, ref));
   }
@@ -62,11 +63,11 @@ namespace {
 TEST(Reference, PlainCoulombStopsTheReferenceWithAClearReason) {
   // The sign flip of plain Coulomb friction is a discontinuity an adaptive
   // method cannot step over; it must say so rather than crawl or return junk.
-  const Model m = test::scene("paper_clearance");
+  const Scene sc = test::scene("paper_clearance");
   ReferenceSettings cfg;
   cfg.max_steps = 20000;
-  ReferenceIntegrator<FloatingClearanceFriction> integ(m, test::sceneInput(m), cfg);
-  auto s = initialState<FloatingClearanceFriction>(m);
+  ReferenceIntegrator<FloatingClearanceFriction> integ(sc.model, Input{sc.run.torque}, cfg);
+  auto s = initialState<FloatingClearanceFriction>(sc.run.initial);
   const auto before = s;
   EXPECT_FALSE(integ.advanceTo(s, 0.1));
   EXPECT_NE(std::string(integ.failure()).find("Coulomb"), std::string::npos) << integ.failure();

@@ -26,7 +26,7 @@ base:
 
 TEST(Scene, PaperScenesLoadAndWarnAboutTheBaseInertia) {
   for (const char* name : {"paper_ideal", "paper_clearance", "planar_ideal", "planar_clearance"}) {
-    const LoadedScene s = loadScene(test::scenePath(name));
+    const Scene s = loadScene(test::scenePath(name));
     EXPECT_EQ(s.model.name, name);
     ASSERT_EQ(s.warnings.size(), 1u) << name;
     EXPECT_NE(s.warnings[0].find("base.inertia"), std::string::npos);
@@ -37,11 +37,12 @@ TEST(Scene, PaperScenesLoadAndWarnAboutTheBaseInertia) {
 }
 
 TEST(Scene, OverridesTakeEffect) {
-  const Model m = test::scene("paper_clearance", {"sim.duration=2.5", "initial.ecc=[5e-5, -2e-5]",
-                                                  "contact.clearance=1e-4", "structure.base=fixed",
-                                                  "shaft2.inertia=[0.5, 5, 5, 0.1, 0, 0]"});
-  EXPECT_EQ(m.duration, 2.5);
-  EXPECT_EQ(m.initial.ecc, Vec2(5e-5, -2e-5));
+  const Scene sc = test::scene("paper_clearance", {"sim.duration=2.5", "initial.ecc=[5e-5, -2e-5]",
+                                                   "contact.clearance=1e-4", "structure.base=fixed",
+                                                   "shaft2.inertia=[0.5, 5, 5, 0.1, 0, 0]"});
+  const Model& m = sc.model;
+  EXPECT_EQ(sc.run.duration, 2.5);
+  EXPECT_EQ(sc.run.initial.ecc, Vec2(5e-5, -2e-5));
   EXPECT_NEAR(m.contact.clearance, 1e-4, 1e-15);
   EXPECT_NEAR(m.contact.journal_radius, 9.9e-3, 1e-15);
   EXPECT_FALSE(m.floating_base);

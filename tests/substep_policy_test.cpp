@@ -19,10 +19,11 @@ struct PolicyRun {
   RunStats stats;
 };
 
-PolicyRun runScene(const Model& m, double T) {
+PolicyRun runScene(const Scene& sc, double T) {
+  const Model& m = sc.model;
   Data<V> d(m);
-  PolicyRun r{initialState<V>(m), {}};
-  test::advance(m, d, r.s, std::llround(T / m.integrator.step));
+  PolicyRun r{initialState<V>(sc.run.initial), {}};
+  test::advance(m, d, r.s, std::llround(T / m.integrator.step), Input{sc.run.torque});
   r.stats = d.stats;
   return r;
 }
@@ -30,7 +31,7 @@ PolicyRun runScene(const Model& m, double T) {
 // 0.3 s of paper_clearance holds 5 impacts (the first at 0.03 s).
 constexpr double kT = 0.3;
 
-Model paper(const std::vector<std::string>& sets) { return test::scene("paper_clearance", sets); }
+Scene paper(const std::vector<std::string>& sets) { return test::scene("paper_clearance", sets); }
 
 // Adaptive at tol 1e-12 agrees with the fixed policy at a fine sub-step
 // (2.5e-6 s: within 1e-10 m / rad of the dopri5 reference here) to 7e-10 m of
@@ -39,12 +40,12 @@ Model paper(const std::vector<std::string>& sets) { return test::scene("paper_cl
 // 2e-5 s is ~1.5e-9 m / 2e-9 rad off and would fail these bounds.)
 TEST(SubstepPolicy, AdaptiveAgreesWithFineFixedSubstep) {
   for (const char* law : {"friction.law=ambrosio", "friction.law=coulomb_stick"}) {
-    const Model fine = paper({law, "sim.substep=2.5e-6", "sim.event_tol=1e-11"});
-    const Model adapt = paper({law, "sim.substep_policy=adaptive", "sim.substep_tol=1e-12", "sim.event_tol=1e-11"});
+    const Scene fine = paper({law, "sim.substep=2.5e-6", "sim.event_tol=1e-11"});
+    const Scene adapt = paper({law, "sim.substep_policy=adaptive", "sim.substep_tol=1e-12", "sim.event_tol=1e-11"});
     const PolicyRun a = runScene(fine, kT), b = runScene(adapt, kT);
     EXPECT_GE(a.stats.impacts, 4) << law;
     EXPECT_EQ(a.stats.impacts, b.stats.impacts) << law;
-    const double err = test::angleBetween(test::boresightOf(fine, a.s), test::boresightOf(adapt, b.s));
+    const double err = test::angleBetween(test::boresightOf(fine.model, a.s), test::boresightOf(adapt.model, b.s));
     EXPECT_LT(err, 1e-9) << law;
     EXPECT_NEAR(a.s.q(State<V>::QJ + 1), b.s.q(State<V>::QJ + 1), 7e-10) << law << ": ecc_x [m]";
     EXPECT_NEAR(a.s.q(State<V>::QJ + 2), b.s.q(State<V>::QJ + 2), 7e-10) << law << ": ecc_y [m]";
@@ -54,15 +55,15 @@ TEST(SubstepPolicy, AdaptiveAgreesWithFineFixedSubstep) {
 
 // A looser tolerance must give a larger error: the control is real.
 TEST(SubstepPolicy, ToleranceControlsTheError) {
-  const Model fine = paper({"friction.law=ambrosio", "sim.substep=2.5e-6", "sim.event_tol=1e-11"});
+  const Scene fine = paper({"friction.law=ambrosio", "sim.substep=2.5e-6", "sim.event_tol=1e-11"});
   const PolicyRun ref = runScene(fine, kT);
-  const Vec3 b_ref = test::boresightOf(fine, ref.s);
+  const Vec3 b_ref = test::boresightOf(fine.model, ref.s);
   double prev_err = 0.0;
   long long prev_n = 1LL << 60;
   for (const char* tol : {"sim.substep_tol=1e-7", "sim.substep_tol=1e-11"}) {
-    const Model m = paper({"friction.law=ambrosio", "sim.substep_policy=adaptive", tol});
-    const PolicyRun r = runScene(m, kT);
-    const double err = test::angleBetween(b_ref, test::boresightOf(m, r.s));
+    const Scene sc = paper({"friction.law=ambrosio", "sim.substep_policy=adaptive", tol});
+    const PolicyRun r = runScene(sc, kT);
+    const double err = test::angleBetween(b_ref, test::boresightOf(sc.model, r.s));
     if (prev_err > 0.0) {
       EXPECT_LT(err, 0.5 * prev_err) << tol;
       EXPECT_GT(r.stats.substeps, prev_n) << tol;
@@ -76,11 +77,12 @@ TEST(SubstepPolicy, ToleranceControlsTheError) {
 // same closure, switches located on its dense output): 1e-9 rad of boresight
 // (measured ~4e-10).
 TEST(SubstepPolicy, CoulombStickAdaptiveAgreesWithReference) {
-  const Model m = paper({"friction.law=coulomb_stick", "sim.substep_policy=adaptive", "sim.substep_tol=1e-12",
-                         "sim.event_tol=1e-11"});
-  const PolicyRun r = runScene(m, kT);
-  ReferenceIntegrator<V> ref(m, test::sceneInput(m));
-  State<V> s = initialState<V>(m);
+  const Scene sc = paper({"friction.law=coulomb_stick", "sim.substep_policy=adaptive", "sim.substep_tol=1e-12",
+                          "sim.event_tol=1e-11"});
+  const Model& m = sc.model;
+  const PolicyRun r = runScene(sc, kT);
+  ReferenceIntegrator<V> ref(m, Input{sc.run.torque});
+  State<V> s = initialState<V>(sc.run.initial);
   ASSERT_TRUE(ref.advanceTo(s, kT)) << ref.failure();
   EXPECT_EQ(ref.impacts(), r.stats.impacts);
   EXPECT_GT(ref.frictionSwitches(), 0);
@@ -92,29 +94,31 @@ TEST(SubstepPolicy, CoulombStickAdaptiveAgreesWithReference) {
 // step exceeds it and the step ends exactly on the grid.
 TEST(SubstepPolicy, AdaptiveRespectsTheCapAndLandsOnTheGrid) {
   {
-    const Model m = paper({"friction.law=coulomb_stick", "sim.substep_policy=adaptive", "sim.max_substeps=4"});
+    const Scene sc = paper({"friction.law=coulomb_stick", "sim.substep_policy=adaptive", "sim.max_substeps=4"});
+    const Model& m = sc.model;
     Data<V> d(m);
-    State<V> s = initialState<V>(m);
-    const Input u = test::sceneInput(m);
-    StepStatus st = StepStatus::Ok;
+    State<V> s = initialState<V>(sc.run.initial);
+    const Input u{sc.run.torque};
+    StepResult st;
     long long before = 0;
     double t_grid = 0.0;
-    for (int k = 0; k < 100 && st == StepStatus::Ok; ++k) {
+    for (int k = 0; k < 100 && st.ok(); ++k) {
       before = d.stats.substeps;
       t_grid = s.t;
       st = step(m, d, s, u);
     }
-    EXPECT_EQ(st, StepStatus::SubstepCap);
+    EXPECT_EQ(st.status, StepStatus::SubstepCap);
     EXPECT_LE(d.stats.substeps - before, 4) << "the failing step took more than the cap";
-    EXPECT_LT(d.fail_time, t_grid + m.integrator.step);
+    EXPECT_LT(st.time, t_grid + m.integrator.step);
   }
-  const Model m = paper({"friction.law=coulomb_stick", "sim.substep_policy=adaptive", "sim.substep_tol=1e-12"});
+  const Scene sc = paper({"friction.law=coulomb_stick", "sim.substep_policy=adaptive", "sim.substep_tol=1e-12"});
+  const Model& m = sc.model;
   Data<V> d(m);
-  State<V> s = initialState<V>(m);
-  const Input u = test::sceneInput(m);
+  State<V> s = initialState<V>(sc.run.initial);
+  const Input u{sc.run.torque};
   const double h = m.integrator.step;
   for (int k = 1; k <= 100; ++k) {
-    ASSERT_EQ(step(m, d, s, u), StepStatus::Ok);
+    ASSERT_EQ(step(m, d, s, u).status, StepStatus::Ok);
     ASSERT_NEAR(s.t, k * h, 1e-15 * k);
   }
   EXPECT_GT(d.stats.impacts, 0);
@@ -124,8 +128,9 @@ TEST(SubstepPolicy, AdaptiveRespectsTheCapAndLandsOnTheGrid) {
 
 // A state in contact with the journal rolling (v_t = 0): put the contact at
 // a given penetration with v_t zeroed through dtheta2.
-State<V> rollingContactState(const Model& m, double delta) {
-  State<V> s = initialState<V>(m);
+State<V> rollingContactState(const Scene& sc, double delta) {
+  const Model& m = sc.model;
+  State<V> s = initialState<V>(sc.run.initial);
   constexpr int QJ = State<V>::QJ, NB = V::NB;
   s.q(QJ + 1) = m.contact.clearance + delta;  // along u1
   s.v(NB) = 0.3;                               // dtheta1 [rad/s]
@@ -143,10 +148,11 @@ State<V> rollingContactState(const Model& m, double delta) {
 // along the flow (independent of the closure's analytic a0 and b), against
 // the acceleration the same state has without friction.
 TEST(CoulombStick, StickClosureHoldsTheTangentialVelocity) {
-  const Model m = paper({"friction.law=coulomb_stick", "friction.mu=0.9"});
+  const Scene sc = paper({"friction.law=coulomb_stick", "friction.mu=0.9"});
+  const Model& m = sc.model;
   Data<V> d(m);
-  const State<V> s = rollingContactState(m, 2e-6);
-  const Input u = test::sceneInput(m);
+  const State<V> s = rollingContactState(sc, 2e-6);
+  const Input u{sc.run.torque};
   ASSERT_NEAR(tangentialVelocity<V>(m, s.q, s.v), 0.0, 1e-15);
   auto vtRate = [&](const State<V>& x) {
     forwardDynamics(m, d, x, u);
@@ -164,7 +170,7 @@ TEST(CoulombStick, StickClosureHoldsTheTangentialVelocity) {
   ASSERT_GT(d.contact.fn, 0.0);
   EXPECT_LT(std::fabs(d.contact.ft_required), m.contact.mu * d.contact.fn) << "this state must stick";
   EXPECT_EQ(d.contact.ft, d.contact.ft_required);
-  const Model free_m = paper({"friction.law=none"});
+  const Model free_m = paper({"friction.law=none"}).model;
   Data<FloatingClearance> df(free_m);
   State<FloatingClearance> sf;
   sf.q = s.q;
@@ -182,10 +188,11 @@ TEST(CoulombStick, StickClosureHoldsTheTangentialVelocity) {
 // With too little friction the same state cannot stick: the force is clamped
 // to mu F_n and the consistent mode is a slip in the direction v_t is driven.
 TEST(CoulombStick, SlipsWhenStickingNeedsMoreThanMuFn) {
-  const Model m = paper({"friction.law=coulomb_stick", "friction.mu=0.9"});
+  const Scene sc = paper({"friction.law=coulomb_stick", "friction.mu=0.9"});
+  const Model& m = sc.model;
   Data<V> d(m);
-  const State<V> s = rollingContactState(m, 2e-6);
-  forwardDynamics(m, d, s, test::sceneInput(m));
+  const State<V> s = rollingContactState(sc, 2e-6);
+  forwardDynamics(m, d, s, Input{sc.run.torque});
   const double needed = std::fabs(d.contact.ft_required);
   const double fn = d.contact.fn;
   ASSERT_GT(needed, 0.0);
@@ -193,15 +200,17 @@ TEST(CoulombStick, SlipsWhenStickingNeedsMoreThanMuFn) {
   const double mu_low = 0.5 * needed / fn;
   char mu_set[64];
   std::snprintf(mu_set, sizeof mu_set, "friction.mu=%.17g", mu_low);
-  const Model weak = paper({"friction.law=coulomb_stick", mu_set});
-  forwardDynamics(weak, d, s, test::sceneInput(weak));
+  const Scene weak_sc = paper({"friction.law=coulomb_stick", mu_set});
+  const Model& weak = weak_sc.model;
+  const Input u_weak{weak_sc.run.torque};
+  forwardDynamics(weak, d, s, u_weak);
   EXPECT_NEAR(std::fabs(d.contact.ft), mu_low * fn, 1e-9 * fn);
   const int mode = consistentFrictionMode(weak, d);
   ASSERT_NE(mode, 0);
   // Slipping in that mode drives v_t away from 0 in its direction.
   State<V> slip = s;
   slip.friction_mode = mode;
-  forwardDynamics(weak, d, slip, test::sceneInput(weak));
+  forwardDynamics(weak, d, slip, u_weak);
   const double a = tangentialVelocity<V>(weak, slip.q, d.vdot) + tangentialVelocityRateAtFixedV<V>(weak, slip.q, slip.v);
   EXPECT_GT(mode * a, 0.0);
 }
@@ -210,15 +219,16 @@ TEST(CoulombStick, SlipsWhenStickingNeedsMoreThanMuFn) {
 // and stick really happens in the window (fixed and adaptive policies).
 TEST(CoulombStick, MomentumHeldThroughStickSlipSwitches) {
   for (const char* pol : {"sim.substep_policy=fixed", "sim.substep_policy=adaptive"}) {
-    const Model m = paper({"friction.law=coulomb_stick", pol, "sim.substep_tol=1e-11"});
+    const Scene sc = paper({"friction.law=coulomb_stick", pol, "sim.substep_tol=1e-11"});
+    const Model& m = sc.model;
     Data<V> d(m);
-    State<V> s = initialState<V>(m);
-    const Input u = test::sceneInput(m);
+    State<V> s = initialState<V>(sc.run.initial);
+    const Input u{sc.run.torque};
     kinematics(m, d, s.q, s.v);
     const Momentum p0 = momentum(m, d, s);
     double max_dp = 0.0, max_dl = 0.0, stick_time = 0.0;
     for (int k = 0; k < 500; ++k) {
-      ASSERT_EQ(step(m, d, s, u), StepStatus::Ok) << pol;
+      ASSERT_EQ(step(m, d, s, u).status, StepStatus::Ok) << pol;
       if (s.in_contact && s.friction_mode == 0) stick_time += m.integrator.step;
       kinematics(m, d, s.q, s.v);
       const Momentum p = momentum(m, d, s);

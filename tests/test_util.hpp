@@ -9,6 +9,7 @@
 #include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/dynamics/observables.hpp"
 #include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::test {
 
@@ -16,32 +17,31 @@ inline std::string scenePath(const std::string& name) {
   return std::string(GIMBALSIM_SCENES_DIR) + "/" + name + ".yaml";
 }
 
-inline Model scene(const std::string& name, const std::vector<std::string>& sets = {}) {
-  return loadScene(scenePath(name), sets).model;
+inline Scene scene(const std::string& name, const std::vector<std::string>& sets = {}) {
+  return loadScene(scenePath(name), sets);
 }
 
-inline Input sceneInput(const Model& m) {
-  Input u;
-  u.tau = m.torque;
-  return u;
+/// The physics of a scene file (most tests need nothing else).
+inline Model model(const std::string& name, const std::vector<std::string>& sets = {}) {
+  return scene(name, sets).model;
 }
 
-/// Steps s for n steps of the model's h; fails the test on a bad status.
+/// Steps s for n steps of the model's h under input u; fails the test on a bad status.
 template <class V>
-void advance(const Model& m, Data<V>& d, State<V>& s, long long n) {
-  const Input u = sceneInput(m);
+void advance(const Model& m, Data<V>& d, State<V>& s, long long n, const Input& u) {
   for (long long k = 0; k < n; ++k) {
-    const StepStatus st = step(m, d, s, u);
-    ASSERT_EQ(st, StepStatus::Ok) << describe(st) << " at t = " << d.fail_time;
+    const StepResult st = step(m, d, s, u);
+    ASSERT_EQ(st.status, StepStatus::Ok) << describe(st.status) << " at t = " << st.time;
   }
 }
 
-/// Runs a fresh state of variant V to time T and returns it.
+/// Runs a fresh state of variant V of a scene (its constant torques) to time T.
 template <class V>
-State<V> runTo(const Model& m, double T) {
+State<V> runTo(const Scene& sc, double T) {
+  const Model& m = sc.model;
   Data<V> d(m);
-  State<V> s = initialState<V>(m);
-  advance(m, d, s, std::llround(T / m.integrator.step));
+  State<V> s = initialState<V>(sc.run.initial);
+  advance(m, d, s, std::llround(T / m.integrator.step), Input{sc.run.torque});
   return s;
 }
 
@@ -53,8 +53,7 @@ Vec3 boresightOf(const Model& m, const State<V>& s) {
   return boresight(m, d, s);
 }
 
-inline double angleBetween(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
+/// Angle between two directions [rad] (the tree's one such function).
+inline double angleBetween(const Vec3& a, const Vec3& b) { return pointing::pointingError(a, b); }
 
 }  // namespace gimbalsim::test

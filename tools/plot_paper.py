@@ -11,7 +11,7 @@ Writes DIR/fig06_eccentricity.png ... DIR/fig18_joint2_force.png and
 DIR/pointing_error.csv (t, angle_rad), and prints a short summary.
 
 Columns are read by NAME from the CSV header (SI units, angles in rad); see
-MODEL.md section 4. Only numpy and matplotlib (Agg) are needed.
+docs/MODEL.md section 8.8. Only numpy and matplotlib (Agg) are needed.
 """
 import argparse
 import csv

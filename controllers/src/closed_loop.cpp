@@ -4,88 +4,127 @@
 #include <cmath>
 
 #include "gimbalsim/dynamics/simulate.hpp"
+#include "gimbalsim/firmware/firmware.hpp"
 
 namespace gimbalsim::controllers {
 namespace {
 
-template <class V>
-ClosedLoopResult run(const Model& m, const ControllerConfig& c, const ClosedLoopOptions& opt,
-                     const std::function<void(const TickRecord&)>& sink) {
-  ClosedLoopResult r;
-  Data<V> d(m);
-  State<V> s = initialState<V>(m);
-  ControllerState cs;
-  const long long steps_per_tick = std::max(1LL, std::llround(c.period / m.integrator.step));
-  const long long ticks = std::llround(opt.duration / c.period);
-  const TargetProfile& p = c.profile;
-  Vec2 tau_pending = Vec2::Zero();  // on the bus
-  double sum_sq = 0.0;
-  long long n_track = 0;
-  double last_unsettled = p.slewEnd();  // last hold time with the error outside the band
-  bool hold_seen = false;
-  for (long long k = 0; k <= ticks; ++k) {
-    const double t = static_cast<double>(k) * c.period;
-    TickRecord rec;
-    rec.t = t;
-    rec.theta_true = {s.theta(0), s.theta(1)};
-    Measurement meas;
-    meas.t = t;
-    for (int i = 0; i < 2; ++i) meas.theta(i) = quantize(rec.theta_true(i), m.sensors.encoder_resolution);
-    meas.dtheta = {s.dtheta(0), s.dtheta(1)};
-    const ControlOutput out = update(c, cs, meas);
-    rec.ref = out.ref;
-    rec.theta_meas = meas.theta;
-    rec.tau_cmd = out.tau;
-    const Vec2 cmd = opt.one_tick_delay ? tau_pending : out.tau;
-    tau_pending = out.tau;
-    Input u;
-    for (int i = 0; i < 2; ++i) u.tau(i) = std::clamp(cmd(i), -m.torque_limit(i), m.torque_limit(i));
-    rec.tau_applied = u.tau;
+/// Running figures of a run (ClosedLoopResult), fed one tick at a time.
+class Figures {
+ public:
+  Figures(const TargetProfile& p, const ClosedLoopOptions& opt) : p_(p), opt_(opt), last_unsettled_(p.slewEnd()) {}
 
-    kinematics(m, d, s.q, s.v);
-    rec.truth_error = pointingError(boresight(m, d, s), losBoresight(m, out.ref.q(0), out.ref.q(1)));
-    const double ej = (out.ref.q - rec.theta_true).cwiseAbs().maxCoeff();
-    switch (out.ref.segment) {
+  void add(const TickRecord& rec, double period, bool saturated, ClosedLoopResult& r) {
+    const double ej = (rec.ref.q - rec.theta_true).cwiseAbs().maxCoeff();
+    switch (rec.ref.segment) {
       case Segment::Wait: break;
       case Segment::Slew: r.max_joint_error_slew = std::max(r.max_joint_error_slew, ej); break;
       case Segment::Hold:
-        hold_seen = true;
+        hold_seen_ = true;
         r.max_joint_error_hold = std::max(r.max_joint_error_hold, ej);
-        if (ej >= opt.settle_tol) last_unsettled = t + c.period;
+        if (ej >= opt_.settle_tol) last_unsettled_ = rec.t + period;
         r.max_truth_error_hold_end = rec.truth_error;
         break;
       case Segment::Track:
         r.max_joint_error_track = std::max(r.max_joint_error_track, ej);
         r.max_truth_error_track = std::max(r.max_truth_error_track, rec.truth_error);
-        sum_sq += rec.truth_error * rec.truth_error;
-        ++n_track;
+        sum_sq_ += rec.truth_error * rec.truth_error;
+        ++n_track_;
         break;
     }
-    r.max_abs_tau = r.max_abs_tau.cwiseMax(u.tau.cwiseAbs());
-    if (out.saturated[0] || out.saturated[1]) ++r.saturated_ticks;
+    r.max_abs_tau = r.max_abs_tau.cwiseMax(rec.tau_applied.cwiseAbs());
+    if (saturated) ++r.saturated_ticks;
+  }
+
+  void finish(ClosedLoopResult& r) const {
+    if (hold_seen_ && last_unsettled_ < p_.trackStart()) r.settle_time = last_unsettled_ - p_.slewEnd();
+    if (n_track_ > 0) r.rms_truth_error_track = std::sqrt(sum_sq_ / static_cast<double>(n_track_));
+  }
+
+ private:
+  const TargetProfile& p_;
+  const ClosedLoopOptions& opt_;
+  double last_unsettled_;  ///< last hold time with the error outside the band
+  bool hold_seen_ = false;
+  double sum_sq_ = 0.0;
+  long long n_track_ = 0;
+};
+
+template <class V>
+ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware::Config& fc,
+                     const ClosedLoopOptions& opt, const std::function<void(const TickRecord&)>& sink) {
+  ClosedLoopResult r;
+  firmware::Firmware<V> fw(sc, fc, &c.profile);
+  ControllerState cs;
+  Figures fig(c.profile, opt);
+  std::int64_t next_seq = 0;
+  const long long ticks = std::llround(opt.duration / c.period);
+  for (long long k = 0; k <= ticks; ++k) {
+    // The firmware's tick k up to its status and truth, as firmware_sim --lockstep.
+    const std::int64_t utime = std::llround(static_cast<double>(k) * c.period * 1e6);
+    fw.sample(utime);
+    const firmware::Status& st = fw.status();
+    const firmware::Truth& truth = fw.truth();
+    // The controller answers status k, as pointing_controller does.
+    const Answer a = answerStatus(c, cs, st, next_seq);
+
+    TickRecord rec;
+    rec.t = a.meas.t;
+    rec.ref = a.out.ref;
+    rec.theta_true = {truth.joint_angle[0], truth.joint_angle[1]};
+    rec.theta_meas = a.meas.theta;
+    rec.tau_cmd = a.out.tau;
+    rec.tau_applied = {st.applied_torque[0], st.applied_torque[1]};
+    rec.truth_error = truth.pointing_error;
+    fig.add(rec, c.period, a.out.saturated[0] || a.out.saturated[1], r);
     if (sink) sink(rec);
     r.ticks = k + 1;
-    r.t_end = t;
+    r.t_end = rec.t;
     if (k == ticks) break;
-    for (long long j = 0; j < steps_per_tick; ++j) {
-      const StepStatus st = step(m, d, s, u);
-      if (st != StepStatus::Ok) {
-        r.ok = false;
-        r.error = std::string(describe(st)) + " at t = " + std::to_string(d.fail_time) + " s";
-        return r;
-      }
+    fw.advance();
+    if (fw.plantFault()) {
+      r.ok = false;
+      r.error = std::string(describe(fw.plantStatus())) + " at t = " + std::to_string(fw.plantFailTime()) + " s";
+      return r;
     }
+    // The answer arrives while (lockstep: after) the plant advances and acts
+    // from tick k + 1 (the bus).
+    fw.receive(a.cmd);
   }
-  if (hold_seen && last_unsettled < p.trackStart()) r.settle_time = last_unsettled - p.slewEnd();
-  if (n_track > 0) r.rms_truth_error_track = std::sqrt(sum_sq / static_cast<double>(n_track));
+  fig.finish(r);
   return r;
 }
 
 }  // namespace
 
-ClosedLoopResult runClosedLoop(const Model& m, const ControllerConfig& c, const ClosedLoopOptions& opt,
+Answer answerStatus(const ControllerConfig& c, ControllerState& s, const firmware::Status& st,
+                    std::int64_t& next_seq) noexcept {
+  Answer a;
+  a.meas.t = static_cast<double>(st.seq) * c.period;
+  a.meas.theta = {st.angle[0], st.angle[1]};
+  a.meas.dtheta = {st.rate[0], st.rate[1]};
+  a.out = update(c, s, a.meas);
+  a.cmd.utime = st.utime;
+  a.cmd.seq = std::max(next_seq, st.last_command_seq + 1);
+  next_seq = a.cmd.seq + 1;
+  a.cmd.status_seq = st.seq;
+  a.cmd.mode = firmware::kModeTorque;
+  a.cmd.torque[0] = a.out.tau(0);
+  a.cmd.torque[1] = a.out.tau(1);
+  return a;
+}
+
+ClosedLoopResult runClosedLoop(const Scene& sc, const ControllerConfig& c, const ClosedLoopOptions& opt,
                                const std::function<void(const TickRecord&)>& sink) {
-  return dispatchVariant(m, [&](auto tag) { return run<decltype(tag)>(m, c, opt, sink); });
+  firmware::Config fc;
+  fc.control_period = c.period;
+  if (const firmware::ConfigCheck chk = firmware::checkConfig(sc, fc); !chk.ok()) {
+    ClosedLoopResult r;
+    r.ok = false;
+    r.error = "control.period: " + chk.message;
+    return r;
+  }
+  return dispatchVariant(sc.model, [&](auto tag) { return run<decltype(tag)>(sc, c, fc, opt, sink); });
 }
 
 }  // namespace gimbalsim::controllers

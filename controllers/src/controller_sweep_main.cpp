@@ -29,7 +29,8 @@ int main(int argc, char** argv) {
   app.add_option("--settle-tol", opt.settle_tol, "settling band on the joint error [rad]");
   CLI11_PARSE(app, argc, argv);
   try {
-    const Model m = loadScene(scene_path, scene_sets).model;
+    const Scene sc = loadScene(scene_path, scene_sets);
+    const Model& m = sc.model;
     const ControllerConfig base = loadControllerConfig(config_path, sets);
     if (opt.duration <= 0.0) opt.duration = base.profile.trackStart() + 5.0;
     std::printf("# scene %s, %g s, settle band %g rad, torque limit %g / %g N m\n", m.name.c_str(), opt.duration,
@@ -42,7 +43,7 @@ int main(int argc, char** argv) {
       for (int i = 0; i < 2; ++i) {
         c.axis[i] = triplePoleGains(base.axis[i].inertia, w, base.axis[i].torque_limit, base.axis[i].aw_gain);
       }
-      const ClosedLoopResult r = runClosedLoop(m, c, opt);
+      const ClosedLoopResult r = runClosedLoop(sc, c, opt);
       if (!r.ok) {
         std::printf("%8g  plant stopped: %s\n", w, r.error.c_str());
         ++failures;

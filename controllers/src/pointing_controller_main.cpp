@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "gimbalsim/channels.hpp"
+#include "gimbalsim/controllers/closed_loop.hpp"  // answerStatus
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
@@ -46,6 +47,7 @@ struct Options {
   double idle_exit = 0.0;  ///< [s] of wall time without a status; 0 = never
   std::string log_csv;
   bool keys = false;
+  bool markdown = false;  ///< --keys as a Markdown table
   bool print_config = false;
 };
 
@@ -66,22 +68,16 @@ class StatusHandler {
       ++restarts_;
     }
     last_status_seq_ = st.seq;
-    Measurement meas;
-    meas.t = static_cast<double>(st.seq) * c_.period;
-    meas.theta = {st.angle[0], st.angle[1]};
-    meas.dtheta = {st.rate[0], st.rate[1]};
-    const ControlOutput out = update(c_, state_, meas);
-
+    // The same answer as the in-process loop's (closed_loop.hpp): seq strictly
+    // increasing, and above what the firmware last accepted even when this
+    // controller replaces one that crashed.
+    firmware::Status status;
+    firmware::copyFields<firmware::StatusFields>(status, st);
+    const Answer a = answerStatus(c_, state_, status, next_seq_);
+    const Measurement& meas = a.meas;
+    const ControlOutput& out = a.out;
     gimbal_command_t cmd{};
-    cmd.utime = st.utime;
-    // Strictly increasing, and above what the firmware last accepted even
-    // when this controller replaces one that crashed.
-    cmd.seq = std::max(next_seq_, st.last_command_seq + 1);
-    next_seq_ = cmd.seq + 1;
-    cmd.status_seq = st.seq;
-    cmd.mode = gimbal_command_t::MODE_TORQUE;
-    cmd.torque[0] = out.tau(0);
-    cmd.torque[1] = out.tau(1);
+    firmware::copyFields<firmware::CommandFields>(cmd, a.cmd);
     const int n = cmd.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
     if (n < 0 || lcm_.publish(ch_.command, buf_.data(), static_cast<unsigned>(n)) != 0) ++publish_errors_;
     // Bookkeeping after the answer is on its way.
@@ -145,7 +141,8 @@ int run(int argc, char** argv) {
   app.add_option("--idle-exit", o.idle_exit, "exit (code 5) after this many wall seconds without a status (0 = never)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--log-csv", o.log_csv, "write one row per status answered: reference, measurement, torque");
-  app.add_flag("--keys", o.keys, "list every configuration key with unit and meaning, then exit");
+  app.add_flag("--keys", o.keys, "list every configuration key with type, unit, default, check and meaning, then exit");
+  app.add_flag("--markdown", o.markdown, "with --keys: as a Markdown table (the one in controllers/README.md)");
   app.add_flag("--print-config", o.print_config,
                "print the configuration in effect (file + --set) as key=value lines, then exit");
   try {
@@ -154,9 +151,8 @@ int run(int argc, char** argv) {
     return app.exit(e) == 0 ? kExitOk : kExitRefused;
   }
   if (o.keys) {
-    for (const KeyInfo& k : controllerKeys()) {
-      std::printf("%-28s %-34s %-12s %s\n", k.key.c_str(), k.type.c_str(), k.unit.c_str(), k.help.c_str());
-    }
+    const std::vector<KeyInfo> all = controllerKeys();
+    std::fputs((o.markdown ? keysMarkdown(all) : keysText(all)).c_str(), stdout);
     return kExitOk;
   }
   if (!Channels::validPrefix(o.prefix)) {

@@ -14,7 +14,8 @@ bool conservative(const Model& m) {
   return !m.clearance || (no_damping && !frictionActive(m));
 }
 
-InvariantMonitor::InvariantMonitor(const Model& m) : m_(m), conservative_(conservative(m)) {}
+InvariantMonitor::InvariantMonitor(const Model& m, const Vec2& torque)
+    : m_(m), torque_(torque), conservative_(conservative(m)) {}
 
 double InvariantMonitor::relative(double x, double scale) {
   if (x == 0.0) return 0.0;
@@ -22,8 +23,7 @@ double InvariantMonitor::relative(double x, double scale) {
 }
 
 void InvariantMonitor::feed(const Row& r, double angular_scale, double linear_scale) {
-  const double* p = rowData(r);
-  for (int i = 0; i < kNumColumns; ++i) finite_ = finite_ && std::isfinite(p[i]);
+  finite_ = finite_ && rowFinite(r);
   const ContactParams& c = m_.contact;
   const double U = (m_.clearance && r.delta > 0.0)
                        ? c.K * std::pow(r.delta, c.exponent + 1.0) / (c.exponent + 1.0)
@@ -32,7 +32,7 @@ void InvariantMonitor::feed(const Row& r, double angular_scale, double linear_sc
     theta1_0_ = r.theta1;
     theta2_0_ = r.theta2;
   }
-  const double W = m_.torque(0) * (r.theta1 - theta1_0_) + m_.torque(1) * (r.theta2 - theta2_0_);
+  const double W = torque_(0) * (r.theta1 - theta1_0_) + torque_(1) * (r.theta2 - theta2_0_);
   const double B = r.energy + U - W;
   const double P[3] = {r.mom_px, r.mom_py, r.mom_pz}, L[3] = {r.mom_lx, r.mom_ly, r.mom_lz};
   if (rows_ == 0) {
@@ -58,7 +58,7 @@ void InvariantMonitor::feed(const Row& r, double angular_scale, double linear_sc
   ++rows_;
 }
 
-std::string InvariantMonitor::violation() const {
+InvariantMonitor::Violation InvariantMonitor::violation() const {
   const IntegratorParams& p = m_.integrator;
   const bool chatter = m_.clearance && m_.contact.friction == FrictionLaw::Coulomb && m_.contact.mu > 0.0;
   auto say = [&](const char* what, double x, const char* key, double tol) {
@@ -70,7 +70,7 @@ std::string InvariantMonitor::violation() const {
            " (a step or sub-step too long for this accuracy: reduce sim.step / sim.substep, use "
            "sim.substep_policy=adaptive";
     if (chatter) out += ", or friction.law=coulomb_stick (plain Coulomb chatters where the journal sticks)";
-    return out + ", or raise " + key + ")";
+    return Violation{key, out + ", or raise " + key + ")"};
   };
   if (m_.floating_base && p.momentum_tol > 0.0) {
     if (ang_scale_ > 0.0 && !(angularDriftRel() <= p.momentum_tol)) {

@@ -3,7 +3,6 @@
 #include <cmath>
 
 #include "gimbalsim/dynamics/contact_law.hpp"
-#include "gimbalsim/dynamics/data.hpp"
 
 namespace gimbalsim {
 
@@ -37,7 +36,6 @@ void Model::finalize() {
   u2_S1 = k2_S1.cross(u1_S1);
 
   I_base = SpatialInertia::fromBody(base.mass, base.com, base.inertia);
-  total_mass = base.mass + shaft1.mass + shaft2.mass;
   const SpatialInertia I1 = SpatialInertia::fromBody(shaft1.mass, shaft1.com, shaft1.inertia);
   const SpatialInertia I2 = SpatialInertia::fromBody(shaft2.mass, shaft2.com, shaft2.inertia);
   chain[0] = {JointKind::Revolute, k1_B, r_J1_B_B};
@@ -55,23 +53,6 @@ void Model::finalize() {
     I_chain[2] = SpatialInertia{};
     I_chain[3] = I2;
   }
-}
-
-const char* describe(StepStatus s) {
-  switch (s) {
-    case StepStatus::Ok: return "ok";
-    case StepStatus::NonFinite: return "non-finite value (NaN or Inf) in the state";
-    case StepStatus::VelocityLimit: return "a velocity exceeded sim.velocity_limit (diverging)";
-    case StepStatus::PenetrationLimit:
-      return "contact penetration exceeded sim.penetration_limit (contact too soft or step too large)";
-    case StepStatus::SubstepCap: return "more sub-steps in one step than sim.max_substeps allows";
-    case StepStatus::EventNotLocated:
-      return "contact switch not located within sim.max_event_iters iterations";
-    case StepStatus::SubstepTooLong:
-      return "sim.substep too long for the contact: an impact spans fewer sub-steps than "
-             "sim.min_substeps_per_impact (reduce sim.substep or use sim.substep_policy=adaptive)";
-  }
-  return "unknown";
 }
 
 }  // namespace gimbalsim

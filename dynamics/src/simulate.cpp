@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/dynamics/invariants.hpp"
@@ -17,61 +18,83 @@ std::string variantName(const Model& m) {
   return s;
 }
 
-std::vector<std::string> coordinateNamesQ(const Model& m) {
+namespace {
+
+/// The base's coordinates (floating base only), then the chain's: theta1,
+/// ecc_x and ecc_y (clearance only), theta2, each chain name after `rate`.
+std::vector<std::string> coordinateNames(const Model& m, std::vector<std::string> base, const std::string& rate) {
   std::vector<std::string> n;
-  if (m.floating_base) n = {"base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy", "base_qz"};
-  n.push_back("theta1");
-  if (m.clearance) {
-    n.push_back("ecc_x");
-    n.push_back("ecc_y");
+  if (m.floating_base) n = std::move(base);
+  struct Joint {
+    const char* name;
+    bool clearance_only;
+  };
+  const Joint chain[] = {{"theta1", false}, {"ecc_x", true}, {"ecc_y", true}, {"theta2", false}};
+  for (const Joint& j : chain) {
+    if (m.clearance || !j.clearance_only) n.push_back(rate + j.name);
   }
-  n.push_back("theta2");
   return n;
 }
 
+}  // namespace
+
+std::vector<std::string> coordinateNamesQ(const Model& m) {
+  return coordinateNames(m, {"base_x", "base_y", "base_z", "base_qw", "base_qx", "base_qy", "base_qz"}, "");
+}
+
 std::vector<std::string> coordinateNamesV(const Model& m) {
-  std::vector<std::string> n;
-  if (m.floating_base) n = {"base_wx", "base_wy", "base_wz", "base_vx(base frame)", "base_vy(base frame)", "base_vz(base frame)"};
-  n.push_back("dtheta1");
-  if (m.clearance) {
-    n.push_back("decc_x");
-    n.push_back("decc_y");
-  }
-  n.push_back("dtheta2");
-  return n;
+  return coordinateNames(m,
+                         {"base_wx", "base_wy", "base_wz", "base_vx(base frame)", "base_vy(base frame)",
+                          "base_vz(base frame)"},
+                         "d");
 }
 
 namespace {
 
-bool rowFinite(const Row& r) {
-  const double* p = rowData(r);
-  for (int i = 0; i < kNumColumns; ++i) {
-    if (!std::isfinite(p[i])) return false;
+/// The message of a failed step: when, why, and in which coordinate.
+std::string describeStop(const Model& m, const StepResult& st) {
+  std::ostringstream os;
+  os << "simulation stopped at t = " << st.time << " s: " << describe(st.status);
+  const auto qn = coordinateNamesQ(m);
+  const auto vn = coordinateNamesV(m);
+  if (st.v_index >= 0 && st.v_index < static_cast<int>(vn.size())) os << " (in " << vn[st.v_index] << ")";
+  if (st.q_index >= 0 && st.q_index < static_cast<int>(qn.size())) os << " (in " << qn[st.q_index] << ")";
+  if (st.status == StepStatus::PenetrationLimit) {
+    os << " (penetration " << st.detail << " m, clearance " << m.contact.clearance << " m)";
   }
-  return true;
+  if (st.status == StepStatus::SubstepTooLong) {
+    os << " (impact lasting about " << st.detail << " s, " << st.detail / m.integrator.substep
+       << " sub-steps of " << m.integrator.substep << " s; sim.min_substeps_per_impact "
+       << m.integrator.min_substeps_per_impact << ")";
+  }
+  return os.str();
 }
 
 template <class V>
-RunResult run(const Model& m, const std::function<void(const Row&)>& sink, IntegratorKind kind) {
+RunResult run(const Model& m, const RunSpec& spec, const std::function<void(const Row&)>& sink, IntegratorKind kind) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   RunResult res;
   Data<V> d(m);
-  State<V> s = initialState<V>(m);
+  State<V> s = initialState<V>(spec.initial);
   Input u;
-  u.tau = m.torque;
-  const long long n_steps = std::llround(m.duration / m.integrator.step);
-  const long long out_every = std::max<long long>(1, std::llround(m.output_interval / m.integrator.step));
+  u.tau = spec.torque;
+  const long long n_steps = std::llround(spec.duration / m.integrator.step);
+  const long long out_every = std::max<long long>(1, std::llround(spec.output_interval / m.integrator.step));
   Clock::duration in_step{0};
-  InvariantMonitor inv(m);
+  InvariantMonitor inv(m, spec.torque);
 
+  auto stopRun = [&](RunStop stop, const std::string& why) {
+    res.ok = false;
+    res.stop = stop;
+    res.error = why;
+  };
   auto emit = [&](const State<V>& st) -> bool {
     const Row r = observe(m, d, st, u);
     if (!rowFinite(r)) {
       std::ostringstream os;
       os << "non-finite output at t = " << st.t << " s";
-      res.ok = false;
-      res.error = os.str();
+      stopRun({RunStop::Kind::NonFiniteOutput, {}, "", st.t}, os.str());
       return false;
     }
     const Momentum mo = momentum(m, d, st);
@@ -81,11 +104,10 @@ RunResult run(const Model& m, const std::function<void(const Row&)>& sink, Integ
     res.momentum_scale = inv.angularScale();
     res.linear_scale = inv.linearScale();
     res.energy_rise_rel = inv.energyRiseRel();
-    if (const std::string why = inv.violation(); !why.empty()) {
+    if (const InvariantMonitor::Violation v = inv.violation()) {
       std::ostringstream os;
-      os << "simulation stopped at t = " << st.t << " s: " << why;
-      res.ok = false;
-      res.error = os.str();
+      os << "simulation stopped at t = " << st.t << " s: " << v.message;
+      stopRun({RunStop::Kind::Invariant, {}, v.key, st.t}, os.str());
       return false;
     }
     if (r.joint2_force > res.peak_joint2_force) {
@@ -110,8 +132,7 @@ RunResult run(const Model& m, const std::function<void(const Row&)>& sink, Integ
         if (!ok) {
           std::ostringstream os;
           os << "reference integration stopped before t = " << t_next << " s: " << ref.failure();
-          res.ok = false;
-          res.error = os.str();
+          stopRun({RunStop::Kind::Reference, {}, "", s.t}, os.str());
           break;
         }
         if (!emit(s)) break;
@@ -119,37 +140,17 @@ RunResult run(const Model& m, const std::function<void(const Row&)>& sink, Integ
     }
     d.stats.impacts = ref.impacts();
   } else if (emit(s)) {
-    for (long long k = 1; k <= n_steps; ++k) {
+    for (long long k = 0; k < n_steps;) {
+      const long long k_next = std::min(k + out_every, n_steps);
       const auto a = Clock::now();
-      const StepStatus st = step(m, d, s, u);
+      const StepResult st = advanceSteps(m, d, s, u, k, k_next);
       in_step += Clock::now() - a;
-      if (st != StepStatus::Ok) {
-        std::ostringstream os;
-        os << "simulation stopped at t = " << d.fail_time << " s: " << describe(st);
-        if (st == StepStatus::NonFinite || st == StepStatus::VelocityLimit) {
-          const auto qn = coordinateNamesQ(m);
-          const auto vn = coordinateNamesV(m);
-          const int i = d.fail_index;
-          if (i >= 0 && i < static_cast<int>(vn.size())) os << " (in " << vn[i] << ")";
-          if (i < 0 && -1 - i < static_cast<int>(qn.size())) os << " (in " << qn[-1 - i] << ")";
-        }
-        if (st == StepStatus::PenetrationLimit) {
-          os << " (penetration " << d.stats.max_penetration << " m, clearance " << m.contact.clearance << " m)";
-        }
-        if (st == StepStatus::SubstepTooLong) {
-          os << " (impact lasting about " << d.fail_detail << " s, " << d.fail_detail / m.integrator.substep
-             << " sub-steps of " << m.integrator.substep << " s; sim.min_substeps_per_impact "
-             << m.integrator.min_substeps_per_impact << ")";
-        }
-        res.ok = false;
-        res.error = os.str();
+      if (!st.ok()) {
+        stopRun({RunStop::Kind::Step, st, st.key(), st.time}, describeStop(m, st));
         break;
       }
-      // Snap time to the step grid so output times do not drift.
-      s.t = static_cast<double>(k) * m.integrator.step;
-      if (k % out_every == 0 || k == n_steps) {
-        if (!emit(s)) break;
-      }
+      k = k_next;
+      if (!emit(s)) break;
     }
   }
   if constexpr (V::kClearance) {
@@ -170,8 +171,9 @@ RunResult run(const Model& m, const std::function<void(const Row&)>& sink, Integ
 
 }  // namespace
 
-RunResult simulate(const Model& m, const std::function<void(const Row&)>& sink, IntegratorKind kind) {
-  return dispatchVariant(m, [&](auto tag) { return run<decltype(tag)>(m, sink, kind); });
+RunResult simulate(const Scene& scene, const std::function<void(const Row&)>& sink, IntegratorKind kind) {
+  return dispatchVariant(scene.model,
+                         [&](auto tag) { return run<decltype(tag)>(scene.model, scene.run, sink, kind); });
 }
 
 }  // namespace gimbalsim

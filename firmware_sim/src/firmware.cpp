@@ -18,12 +18,19 @@ const char* describe(Rejection r) {
   return "?";
 }
 
-std::string checkConfig(const Model& m, const Config& c, int* steps_per_tick) {
+ConfigCheck checkConfig(const Scene& sc, const Config& c) {
+  using Setting = ConfigCheck::Setting;
+  ConfigCheck out;
   std::ostringstream err;
-  const double h = m.integrator.step;
+  auto refuse = [&](Setting s) {
+    out.wrong = s;
+    out.message = err.str();
+    return out;
+  };
+  const double h = sc.model.integrator.step;
   if (!(c.control_period > 0.0) || !std::isfinite(c.control_period)) {
     err << "control period must be > 0 s, got " << c.control_period;
-    return err.str();
+    return refuse(Setting::ControlPeriod);
   }
   const double r = c.control_period / h;
   const double n = std::round(r);
@@ -32,26 +39,26 @@ std::string checkConfig(const Model& m, const Config& c, int* steps_per_tick) {
     err << "control period " << c.control_period << " s is not a whole multiple of sim.step = " << h
         << " s (the plant steps sim.step at a time inside each tick); choose a rate whose period is "
            "k * sim.step, or --set sim.step=<period/k>";
-    return err.str();
+    return refuse(Setting::ControlPeriod);
   }
   if (!(c.watchdog_timeout > 0.0)) {
     err << "watchdog timeout must be > 0 s, got " << c.watchdog_timeout;
-    return err.str();
+    return refuse(Setting::WatchdogTimeout);
   }
   if (!(c.torque_sanity_factor >= 1.0)) {
     err << "torque sanity factor must be >= 1 (commands above factor * torque.limit are rejected), got "
         << c.torque_sanity_factor;
-    return err.str();
+    return refuse(Setting::TorqueSanityFactor);
   }
   for (int i = 0; i < 2; ++i) {
-    if (!std::isfinite(c.safe_torque(i)) || std::fabs(c.safe_torque(i)) > m.torque_limit(i)) {
+    if (!std::isfinite(c.safe_torque(i)) || std::fabs(c.safe_torque(i)) > sc.run.torque_limit(i)) {
       err << "safe torque " << c.safe_torque(i) << " N m on axis " << i + 1
-          << " must be finite and within torque.limit = " << m.torque_limit(i) << " N m";
-      return err.str();
+          << " must be finite and within torque.limit = " << sc.run.torque_limit(i) << " N m";
+      return refuse(Setting::SafeTorque);
     }
   }
-  if (steps_per_tick) *steps_per_tick = static_cast<int>(n);
-  return {};
+  out.steps_per_tick = static_cast<int>(n);
+  return out;
 }
 
 }  // namespace gimbalsim::firmware

@@ -77,10 +77,10 @@ class Sink {
   Sink(Type t, std::FILE* f, bool log_time) : type_(t), f_(f), log_time_(log_time) {
     if (log_time_) std::fputs("log_utime[us],", f_);
     switch (type_) {
-      case Type::Truth: std::fputs(csv::kTruthHeader, f_); break;
-      case Type::Status: std::fputs(csv::kStatusHeader, f_); break;
-      case Type::Command: std::fputs(csv::kCommandHeader, f_); break;
-      case Type::LoopStats: std::fputs(csv::kLoopStatsHeader, f_); break;
+      case Type::Truth: std::fputs(csv::header<TruthFields>().c_str(), f_); break;
+      case Type::Status: std::fputs(csv::header<StatusFields>().c_str(), f_); break;
+      case Type::Command: std::fputs(csv::header<CommandFields>().c_str(), f_); break;
+      case Type::LoopStats: std::fputs(csv::header<LoopStatsFields>().c_str(), f_); break;
       case Type::Unknown: break;
     }
   }
@@ -92,12 +92,10 @@ class Sink {
 
   void add(const lcm::LogEvent& e) {
     switch (type_) {
-      case Type::Truth: row<gimbal_truth_t>(e, [this](const gimbal_truth_t& m) { csv::writeTruthRow(f_, m); }); break;
-      case Type::Status: row<gimbal_status_t>(e, [this](const gimbal_status_t& m) { csv::writeStatusRow(f_, m); }); break;
-      case Type::Command: row<gimbal_command_t>(e, [this](const gimbal_command_t& m) { csv::writeCommandRow(f_, m); }); break;
-      case Type::LoopStats:
-        row<gimbal_loop_stats_t>(e, [this](const gimbal_loop_stats_t& m) { csv::writeLoopStatsRow(f_, m); });
-        break;
+      case Type::Truth: row<gimbal_truth_t, TruthFields>(e); break;
+      case Type::Status: row<gimbal_status_t, StatusFields>(e); break;
+      case Type::Command: row<gimbal_command_t, CommandFields>(e); break;
+      case Type::LoopStats: row<gimbal_loop_stats_t, LoopStatsFields>(e); break;
       case Type::Unknown: break;
     }
   }
@@ -109,8 +107,9 @@ class Sink {
   long long rows = 0, undecodable = 0;
 
  private:
-  template <class M, class W>
-  void row(const lcm::LogEvent& e, W write) {
+  /// Decodes the event as M and writes it with the field list D.
+  template <class M, class D>
+  void row(const lcm::LogEvent& e) {
     M m;
     const int n = m.decode(e.data, 0, e.datalen);
     if (n < 0 || n != e.datalen) {  // garbage, another type (fingerprint) or trailing bytes
@@ -118,7 +117,7 @@ class Sink {
       return;
     }
     if (log_time_) std::fprintf(f_, "%lld,", static_cast<long long>(e.timestamp));
-    write(m);
+    csv::writeRow<D>(f_, m);
     ++rows;
   }
   Type type_;

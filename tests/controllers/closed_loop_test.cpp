@@ -31,11 +31,11 @@ ControllerConfig defaults(const std::vector<std::string>& sets = {}) {
   return loadControllerConfig(std::string(GIMBALSIM_CONTROLLER_CONFIG_DIR) + "/default.yaml", sets);
 }
 
-ClosedLoopResult run(const Model& m, const ControllerConfig& c, double extra_track = 3.0) {
+ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, double extra_track = 3.0) {
   ClosedLoopOptions opt;
   opt.duration = c.profile.trackStart() + extra_track;
   opt.settle_tol = kSettleTol;
-  return runClosedLoop(m, c, opt);
+  return runClosedLoop(sc, c, opt);
 }
 
 void print(const char* what, const ClosedLoopResult& r) {
@@ -68,8 +68,8 @@ TEST(ClosedLoop, PaperIdealMeetsTheStatedAccuracy) {
 }
 
 TEST(ClosedLoop, PaperClearanceMeetsTheStatedAccuracy) {
-  const Model m = test::scene("paper_clearance");
-  const ClosedLoopResult r = run(m, defaults());
+  const Scene sc = test::scene("paper_clearance");
+  const ClosedLoopResult r = run(sc, defaults());
   print("paper_clearance", r);
   expectAccuracy(r, kTruthFloating);
 }
@@ -89,23 +89,23 @@ TEST(ClosedLoop, DifferencedRatesAlsoMeetTheAccuracy) {
 }
 
 TEST(ClosedLoop, WrongGainsFailTheCriteria) {
-  const Model m = test::scene("paper_ideal");
+  const Scene sc = test::scene("paper_ideal");
   ControllerConfig flipped = defaults();
   flipped.axis[1].kp = -flipped.axis[1].kp;  // elevation proportional sign flip
-  const ClosedLoopResult rf = run(m, flipped);
+  const ClosedLoopResult rf = run(sc, flipped);
   print("sign-flipped elevation kp", rf);
   EXPECT_FALSE(meetsAccuracy(rf, kTruthFloating));
 
   ControllerConfig zero = defaults();
   for (auto& g : zero.axis) g.kp = g.ki = g.kd = 0.0;  // feed-forward alone
-  const ClosedLoopResult rz = run(m, zero);
+  const ClosedLoopResult rz = run(sc, zero);
   print("zero feedback gains", rz);
   EXPECT_FALSE(meetsAccuracy(rz, kTruthFloating));
 
   ControllerConfig weak = defaults();
   for (auto& g : weak.axis) g = triplePoleGains(g.inertia, 2.0, g.torque_limit, g.aw_gain);
   weak.axis[0].inertia = weak.axis[1].inertia = 0.0;  // and no acceleration feed-forward
-  const ClosedLoopResult rw = run(m, weak);
+  const ClosedLoopResult rw = run(sc, weak);
   print("bandwidth 2 rad/s, no feed-forward", rw);
   EXPECT_FALSE(meetsAccuracy(rw, kTruthFloating));
 }
@@ -126,9 +126,9 @@ TEST(ClosedLoop, TorqueLimitIsRespected) {
 TEST(ClosedLoop, AntiWindupLimitsOvershootOfASaturatedSlew) {
   // Azimuth limited to 11 N m while the slew asks 12.7 N m: the error grows
   // during the saturated part and, without anti-windup, the integral winds up.
-  const Model m = test::scene("paper_ideal", {"structure.base=fixed"});
+  const Scene sc = test::scene("paper_ideal", {"structure.base=fixed"});
   auto with = [&](const char* aw) {
-    return run(m, defaults({"azimuth.torque_limit=11", "control.approach_margin=0",
+    return run(sc, defaults({"azimuth.torque_limit=11", "control.approach_margin=0",
                             std::string("control.anti_windup=") + aw}), 0.5);
   };
   const ClosedLoopResult none = with("none"), clamp = with("clamping"), back = with("back_calculation");
@@ -150,14 +150,14 @@ TEST(ClosedLoop, ApproachLimitEndsTheLimitCycleOfAStronglySaturatedSlew) {
   // 5 N m motors for a slew asking 12.7 N m: the plain high-gain PD overshoots
   // into a saturated limit cycle; capping the closing rate at sqrt(2 a |e|)
   // (a = half the deceleration the motor gives) brings it back to tracking.
-  const Model m = test::scene("paper_ideal", {"structure.base=fixed"});
+  const Scene sc = test::scene("paper_ideal", {"structure.base=fixed"});
   auto tailError = [&](const char* margin) {
     const ControllerConfig c = defaults({"azimuth.torque_limit=5", "elevation.torque_limit=5",
                                          std::string("control.approach_margin=") + margin});
     ClosedLoopOptions opt;
     opt.duration = 10.0;
     double tail = 0.0;  // max |joint error| over the last 2 s [rad]
-    const ClosedLoopResult r = runClosedLoop(m, c, opt, [&](const TickRecord& t) {
+    const ClosedLoopResult r = runClosedLoop(sc, c, opt, [&](const TickRecord& t) {
       if (t.t >= 8.0) tail = std::max(tail, (t.ref.q - t.theta_true).cwiseAbs().maxCoeff());
     });
     EXPECT_TRUE(r.ok) << r.error;

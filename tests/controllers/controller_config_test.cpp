@@ -95,7 +95,7 @@ TEST(ControllerConfig, MissingFile) {
 
 TEST(ControllerConfig, EveryKeyIsDocumented) {
   for (const KeyInfo& k : controllerKeys()) {
-    EXPECT_FALSE(k.help.empty()) << k.key;
+    EXPECT_FALSE(k.meaning.empty()) << k.key;
     EXPECT_FALSE(k.type.empty()) << k.key;
   }
   EXPECT_EQ(controllerKeys().size(), 14u + 12u);

@@ -4,7 +4,7 @@
 
 #include <type_traits>
 
-#include "firmware/counting_new.hpp"  // the counting global operator new (one per executable)
+#include "alloc_guard.hpp"
 #include "gimbalsim/controllers/config.hpp"
 
 namespace gimbalsim::controllers {
@@ -15,10 +15,7 @@ static_assert(noexcept(update(std::declval<const ControllerConfig&>(), std::decl
 static_assert(noexcept(std::declval<const TargetProfile&>().at(0.0)));
 
 TEST(ControllerNoAlloc, TheCounterSeesAllocations) {
-  const long long before = test::g_allocations.load();
-  std::vector<double>* volatile p = new std::vector<double>(10);
-  delete p;
-  EXPECT_GE(test::g_allocations.load() - before, 1);
+  EXPECT_GE(test::probeAllocations(), 1);
 }
 
 TEST(ControllerNoAlloc, UpdateAllocatesNothingInAnySegmentOrMode) {
@@ -30,9 +27,7 @@ TEST(ControllerNoAlloc, UpdateAllocatesNothingInAnySegmentOrMode) {
       c.anti_windup = aw;
       ControllerState s;
       const long long before = test::g_allocations.load();
-#ifdef EIGEN_RUNTIME_NO_MALLOC
-      Eigen::internal::set_is_malloc_allowed(false);
-#endif
+      test::setEigenMallocAllowed(false);
       double sink = 0.0;
       for (int k = 0; k < 10000; ++k) {  // 10 s: wait, slew, hold and track
         Measurement m;
@@ -40,9 +35,7 @@ TEST(ControllerNoAlloc, UpdateAllocatesNothingInAnySegmentOrMode) {
         m.theta = {0.001 * k * c.period, 0.0};
         sink += update(c, s, m).tau.sum();
       }
-#ifdef EIGEN_RUNTIME_NO_MALLOC
-      Eigen::internal::set_is_malloc_allowed(true);
-#endif
+      test::setEigenMallocAllowed(true);
       EXPECT_EQ(test::g_allocations.load() - before, 0);
       EXPECT_TRUE(std::isfinite(sink));
     }

@@ -1,8 +1,9 @@
 // The two real processes (firmware_sim --lockstep and pointing_controller over
 // LCM udpm, in a private network namespace) produce the very trajectory of the
-// in-process closed loop (closed_loop.hpp), bit for bit: same quantization,
-// same one-tick latency, same controller. Skipped where `unshare -n` is not
-// allowed (needs root).
+// in-process closed loop (closed_loop.hpp), bit for bit. Both run the same
+// firmware core and the same answerStatus(); this checks that nothing on the
+// way (LCM encode/decode, the bridges, the loops, the CSV) changes a bit.
+// Skipped where `unshare -n` is not allowed (needs root).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -43,11 +44,11 @@ TEST(LockstepMatchesInProcess, TruthTrajectoryIsBitIdentical) {
             c_err = csv.col("pointing_error[rad]");
   ASSERT_EQ(rows.size(), 3000u);
 
-  const Model m = test::scene("paper_clearance");
+  const Scene sc = test::scene("paper_clearance");
   ClosedLoopOptions opt;
   opt.duration = duration - 1e-3;
   std::vector<TickRecord> ticks;
-  runClosedLoop(m, loadControllerConfig(config), opt, [&](const TickRecord& r) { ticks.push_back(r); });
+  runClosedLoop(sc, loadControllerConfig(config), opt, [&](const TickRecord& r) { ticks.push_back(r); });
   ASSERT_EQ(ticks.size(), rows.size());
   int mismatches = 0;
   for (size_t k = 0; k < rows.size(); ++k) {

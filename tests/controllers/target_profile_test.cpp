@@ -5,11 +5,11 @@
 
 #include <cmath>
 
-#include "gimbalsim/controllers/target_profile.hpp"
+#include "gimbalsim/pointing/target_profile.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "test_util.hpp"
 
-namespace gimbalsim::controllers {
+namespace gimbalsim::pointing {
 namespace {
 
 TargetProfile profile() {
@@ -101,14 +101,15 @@ TEST(TargetProfile, TrackStaysWithinItsDocumentedBounds) {
 
 TEST(LosBoresight, MatchesTheDynamicsKinematicsOnAFixedBase) {
   for (const char* scene : {"paper_ideal", "paper_clearance"}) {
-    Model m = test::scene(scene, {"structure.base=fixed"});
+    Scene sc = test::scene(scene, {"structure.base=fixed"});
+    const Model& m = sc.model;
     for (double az : {-2.0, 0.0, 0.7, 3.0}) {
       for (double el : {-1.2, 0.0, 0.4}) {
-        m.initial.theta1 = az;
-        m.initial.theta2 = el;
+        sc.run.initial.theta1 = az;
+        sc.run.initial.theta2 = el;
         const Vec3 b = dispatchVariant(m, [&](auto tag) {
           using V = decltype(tag);
-          return test::boresightOf<V>(m, initialState<V>(m));
+          return test::boresightOf<V>(m, initialState<V>(sc.run.initial));
         });
         EXPECT_LT((losBoresight(m, az, el) - b).norm(), 1e-14) << scene << " az " << az << " el " << el;
       }
@@ -118,7 +119,7 @@ TEST(LosBoresight, MatchesTheDynamicsKinematicsOnAFixedBase) {
 
 TEST(LosBoresight, PaperGeometryClosedForm) {
   // Azimuth about z, elevation about y, boresight +x: Rz(az) Ry(el) x.
-  const Model m = test::scene("paper_ideal");
+  const Model m = test::model("paper_ideal");
   const double az = 0.9, el = 0.35;
   const Vec3 expected(std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), -std::sin(el));
   EXPECT_LT((losBoresight(m, az, el) - expected).norm(), 1e-15);
@@ -135,4 +136,4 @@ TEST(PointingError, ExactNearZeroAndAtRightAngles) {
 }
 
 }  // namespace
-}  // namespace gimbalsim::controllers
+}  // namespace gimbalsim::pointing

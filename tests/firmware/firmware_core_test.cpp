@@ -7,7 +7,7 @@
 #include <cstring>
 #include <vector>
 
-#include "counting_new.hpp"
+#include "alloc_guard.hpp"
 #include "gimbalsim/firmware/firmware.hpp"
 #include "gimbalsim/firmware/histogram.hpp"
 #include "gimbalsim/firmware/spsc_ring.hpp"
@@ -18,6 +18,7 @@ namespace gimbalsim::firmware {
 namespace {
 
 using test::g_allocations;
+using test::setEigenMallocAllowed;
 
 Command torqueCommand(std::int64_t seq, std::int64_t status_seq, double tau1, double tau2) {
   Command c;
@@ -37,53 +38,59 @@ bool sameState(const State<V>& a, const State<V>& b) {
 }
 
 // Fixed-base ideal gimbal: the cheapest plant, for the behaviour tests.
-Model benchScene(std::vector<std::string> sets = {}) {
+Scene benchScene(std::vector<std::string> sets = {}) {
   sets.insert(sets.begin(), "structure.base=fixed");
   return test::scene("paper_ideal", sets);
 }
 using Bench = FixedIdeal;
 
 TEST(FirmwareConfig, RefusesAPeriodThatIsNotAMultipleOfTheStep) {
-  const Model m = benchScene();  // sim.step = 1 ms
+  const Scene sc = benchScene();  // sim.step = 1 ms
   Config c;
   c.control_period = 1.5e-3;
-  int n = 0;
-  const std::string err = checkConfig(m, c, &n);
-  EXPECT_NE(err.find("not a whole multiple of sim.step"), std::string::npos) << err;
+  using Setting = ConfigCheck::Setting;
+  const ConfigCheck err = checkConfig(sc, c);
+  EXPECT_EQ(err.wrong, Setting::ControlPeriod);
+  EXPECT_NE(err.message.find("not a whole multiple of sim.step"), std::string::npos) << err.message;
   c.control_period = 0.5e-3;
-  EXPECT_FALSE(checkConfig(m, c, &n).empty());
+  EXPECT_EQ(checkConfig(sc, c).wrong, Setting::ControlPeriod);
+  EXPECT_FALSE(checkConfig(sc, c).message.empty());
   c.control_period = 3e-3;
-  EXPECT_EQ(checkConfig(m, c, &n), "");
-  EXPECT_EQ(n, 3);
+  const ConfigCheck fine = checkConfig(sc, c);
+  EXPECT_TRUE(fine.ok());
+  EXPECT_EQ(fine.message, "");
+  EXPECT_EQ(fine.steps_per_tick, 3);
   c.safe_torque = Vec2(0.0, 1e9);
-  EXPECT_NE(checkConfig(m, c, &n).find("safe torque"), std::string::npos);
+  EXPECT_EQ(checkConfig(sc, c).wrong, Setting::SafeTorque);
+  EXPECT_NE(checkConfig(sc, c).message.find("safe torque"), std::string::npos);
 }
 
 TEST(Firmware, SubStepsThePlantInsideEachTick) {
   // T = 4 sim.step: one tick must equal four plain steps with the same torque.
-  const Model m = benchScene({"sim.step=2.5e-4"});
+  const Scene sc = benchScene({"sim.step=2.5e-4"});
   Config c;
   c.control_period = 1e-3;
-  Firmware<Bench> fw(m, c);
+  Firmware<Bench> fw(sc, c);
   ASSERT_EQ(fw.stepsPerTick(), 4);
   fw.tick(0);
   fw.receive(torqueCommand(1, 0, 3.0, -2.0));
   fw.tick(1000);  // applies (3, -2) over [t1, t2]
   fw.tick(2000);
+  const Model& m = sc.model;
   Data<Bench> d(m);
-  State<Bench> s = initialState<Bench>(m);
+  State<Bench> s = initialState<Bench>(sc.run.initial);
   Input u;  // tick 0: zero torque (no command yet)
-  for (int i = 0; i < 4; ++i) ASSERT_EQ(step(m, d, s, u), StepStatus::Ok);
+  for (int i = 0; i < 4; ++i) ASSERT_EQ(step(m, d, s, u).status, StepStatus::Ok);
   u.tau = Vec2(3.0, -2.0);
-  for (int i = 0; i < 8; ++i) ASSERT_EQ(step(m, d, s, u), StepStatus::Ok);
+  for (int i = 0; i < 8; ++i) ASSERT_EQ(step(m, d, s, u).status, StepStatus::Ok);
   EXPECT_TRUE(sameState(s, fw.state())) << "t " << s.t << " vs " << fw.state().t;
 }
 
 TEST(Firmware, WatchdogTripsWithinItsBoundAndRecovers) {
-  const Model m = benchScene();
+  const Scene sc = benchScene();
   Config c;
   c.watchdog_timeout = 0.05;  // 50 ticks at 1 kHz
-  Firmware<Bench> fw(m, c);
+  Firmware<Bench> fw(sc, c);
   ASSERT_EQ(fw.watchdogTicks(), 50);
   std::int64_t seq = 0;
   const int last_cmd_tick = 100;  // the last valid command is taken at this tick
@@ -109,10 +116,10 @@ TEST(Firmware, WatchdogTripsWithinItsBoundAndRecovers) {
 }
 
 TEST(Firmware, WatchdogTripsAtStartWhenNoControllerAnswers) {
-  const Model m = benchScene();
+  const Scene sc = benchScene();
   Config c;
   c.watchdog_timeout = 0.02;
-  Firmware<Bench> fw(m, c);
+  Firmware<Bench> fw(sc, c);
   for (int k = 0; k <= 25; ++k) {
     fw.tick(k * 1000);
     EXPECT_EQ(hasFault(fw.status(), kWatchdogTripped), k >= 20) << "tick " << k;
@@ -120,7 +127,7 @@ TEST(Firmware, WatchdogTripsAtStartWhenNoControllerAnswers) {
 }
 
 TEST(Firmware, InvalidCommandsAreRejectedCountedFlaggedAndNeverReachThePlant) {
-  const Model m = benchScene({"torque.limit=[2, 3]"});
+  const Scene sc = benchScene({"torque.limit=[2, 3]"});
   Config c;  // sanity range 10 x limit: 20, 30 N m
   struct Bad {
     Command cmd;
@@ -144,7 +151,7 @@ TEST(Firmware, InvalidCommandsAreRejectedCountedFlaggedAndNeverReachThePlant) {
       {torqueCommand(big, 11, 0.7, 0.7), Rejection::FutureStatus},  // newest status is 10
   };
   auto run = [&](bool inject, std::vector<Status>* statuses) {
-    Firmware<Bench> fw(m, c);
+    Firmware<Bench> fw(sc, c);
     for (int k = 0; k < 40; ++k) {
       if (k >= 1) {
         if (inject && k == 11) {
@@ -178,8 +185,8 @@ TEST(Firmware, InvalidCommandsAreRejectedCountedFlaggedAndNeverReachThePlant) {
 }
 
 TEST(Firmware, RejectionCountsPerReason) {
-  const Model m = benchScene();
-  Firmware<Bench> fw(m, Config{});
+  const Scene sc = benchScene();
+  Firmware<Bench> fw(sc, Config{});
   fw.tick(0);
   Command bad_mode = torqueCommand(1, 0, 0, 0);
   bad_mode.mode = -1;
@@ -199,8 +206,8 @@ TEST(Firmware, RejectionCountsPerReason) {
 }
 
 TEST(Firmware, TorqueSaturatesAtTheMotorLimitWithTheFlag) {
-  const Model m = benchScene({"torque.limit=[2, 3]"});
-  Firmware<Bench> fw(m, Config{});
+  const Scene sc = benchScene({"torque.limit=[2, 3]"});
+  Firmware<Bench> fw(sc, Config{});
   fw.tick(0);
   fw.receive(torqueCommand(1, 0, 1.5, -2.5));  // within the limit
   fw.tick(1000);
@@ -219,8 +226,8 @@ TEST(Firmware, TorqueSaturatesAtTheMotorLimitWithTheFlag) {
 
 TEST(Firmware, EncoderAnglesAreMultiplesOfTheResolution) {
   const double res = 1e-3;  // coarse, so quantization is visible
-  const Model m = benchScene({"sensors.encoder_resolution=1e-3"});
-  Firmware<Bench> fw(m, Config{});
+  const Scene sc = benchScene({"sensors.encoder_resolution=1e-3"});
+  Firmware<Bench> fw(sc, Config{});
   int differs = 0;
   for (int k = 0; k < 600; ++k) {
     if (k >= 1) fw.receive(torqueCommand(k, k - 1, 5.0, 5.0));
@@ -238,10 +245,10 @@ TEST(Firmware, EncoderAnglesAreMultiplesOfTheResolution) {
 }
 
 TEST(Firmware, ACommandActsFromTheNextTickNotTheOneItArrivesIn) {
-  const Model m = benchScene();
+  const Scene sc = benchScene();
   const int k_change = 20;
   auto run = [&](bool change, std::vector<State<Bench>>* states, std::vector<Status>* st) {
-    Firmware<Bench> fw(m, Config{});
+    Firmware<Bench> fw(sc, Config{});
     for (int k = 0; k < 30; ++k) {
       states->push_back(fw.state());  // state at t_k
       fw.tick(k * 1000);
@@ -265,8 +272,8 @@ TEST(Firmware, ACommandActsFromTheNextTickNotTheOneItArrivesIn) {
 }
 
 template <class V>
-std::vector<Status> noisyRun(const Model& m, int ticks) {
-  Firmware<V> fw(m, Config{});
+std::vector<Status> noisyRun(const Scene& sc, int ticks) {
+  Firmware<V> fw(sc, Config{});
   std::vector<Status> out;
   for (int k = 0; k < ticks; ++k) {
     if (k >= 1) fw.receive(torqueCommand(k, k - 1, 0.2, 0.1));
@@ -284,8 +291,8 @@ TEST(Firmware, SeededSensorNoiseIsReproducibleAndSeedDependent) {
     s.push_back(seed);
     return benchScene(s);
   };
-  const Model m7 = with("sensors.seed=7"), m8 = with("sensors.seed=8");
-  const auto a = noisyRun<Bench>(m7, 2000), b = noisyRun<Bench>(m7, 2000), c = noisyRun<Bench>(m8, 2000);
+  const Scene sc7 = with("sensors.seed=7"), sc8 = with("sensors.seed=8");
+  const auto a = noisyRun<Bench>(sc7, 2000), b = noisyRun<Bench>(sc7, 2000), c = noisyRun<Bench>(sc8, 2000);
   const auto clean = noisyRun<Bench>(benchScene({"sensors.encoder_resolution=0"}), 2000);
   int same_seed_diff = 0, other_seed_same = 0;
   double sum2_angle = 0.0, sum2_rate = 0.0, sum_rate = 0.0;
@@ -328,8 +335,8 @@ TEST(GaussianNoise, MomentsOfTheStandardNormal) {
 
 TEST(Firmware, PlantFaultLatchesFreezesTheStateAndNeverReportsBadNumbers) {
   // A sub-step cap too small for the first impact makes step() fail.
-  const Model m = test::scene("paper_clearance", {"sim.max_substeps=3"});
-  Firmware<FloatingClearanceFriction> fw(m, Config{});
+  const Scene sc = test::scene("paper_clearance", {"sim.max_substeps=3"});
+  Firmware<FloatingClearanceFriction> fw(sc, Config{});
   int first_fault = -1;
   State<FloatingClearanceFriction> frozen;
   for (int k = 0; k < 3000 && first_fault < 0; ++k) {
@@ -355,23 +362,23 @@ TEST(Firmware, PlantFaultLatchesFreezesTheStateAndNeverReportsBadNumbers) {
 }
 
 TEST(Firmware, PointingErrorAgainstTheProfileTarget) {
-  const Model m = benchScene();
-  controllers::TargetProfile p;
+  const Scene sc = benchScene();
+  pointing::TargetProfile p;
   p.start = Vec2(0.1, 0.0);  // the gimbal rests at (0, 0): 0.1 rad off in azimuth
   p.slew_start = 10.0;
-  Firmware<Bench> fw(m, Config{}, &p);
+  Firmware<Bench> fw(sc, Config{}, &p);
   fw.tick(0);
   EXPECT_NEAR(fw.truth().pointing_error, 0.1, 1e-12);
-  Firmware<Bench> none(m, Config{});
+  Firmware<Bench> none(sc, Config{});
   none.tick(0);
   EXPECT_EQ(none.truth().pointing_error, 0.0);  // target = the initial boresight
 }
 
 template <class V>
-std::vector<Truth> lockstepRun(const Model& m, int ticks) {
+std::vector<Truth> lockstepRun(const Scene& sc, int ticks) {
   // The core as the lockstep loop drives it: status k -> a PD law -> command
   // answering k -> tick k+1.
-  Firmware<V> fw(m, Config{});
+  Firmware<V> fw(sc, Config{});
   std::vector<Truth> out;
   for (int k = 0; k < ticks; ++k) {
     fw.tick(k * 1000);
@@ -385,9 +392,9 @@ std::vector<Truth> lockstepRun(const Model& m, int ticks) {
 }
 
 TEST(Firmware, LockstepCoreRunsAreBitForBitRepeatable) {
-  const Model m = test::scene("paper_clearance", {"sensors.encoder_noise=1e-5", "sensors.rate_noise=1e-4"});
-  const auto a = lockstepRun<FloatingClearanceFriction>(m, 400);
-  const auto b = lockstepRun<FloatingClearanceFriction>(m, 400);
+  const Scene sc = test::scene("paper_clearance", {"sensors.encoder_noise=1e-5", "sensors.rate_noise=1e-4"});
+  const auto a = lockstepRun<FloatingClearanceFriction>(sc, 400);
+  const auto b = lockstepRun<FloatingClearanceFriction>(sc, 400);
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t k = 0; k < a.size(); ++k) {
     ASSERT_EQ(std::memcmp(&a[k], &b[k], sizeof(Truth)), 0) << "tick " << k;
@@ -395,21 +402,11 @@ TEST(Firmware, LockstepCoreRunsAreBitForBitRepeatable) {
   EXPECT_GT(std::fabs(a.back().joint_angle[0]), 1e-3) << "the run must do something";
 }
 
-void setEigenMallocAllowed(bool allowed) {
-#ifdef EIGEN_RUNTIME_NO_MALLOC
-  Eigen::internal::set_is_malloc_allowed(allowed);
-#else
-  (void)allowed;
-#endif
-}
-
 TEST(Firmware, TickAndReceiveAllocateNothingAfterWarmUp) {
-#if !defined(EIGEN_RUNTIME_NO_MALLOC) || defined(NDEBUG)
-  std::fprintf(stderr, "note: not the checked build; only the counting allocator is active\n");
-#endif
-  const Model m = test::scene("paper_clearance", {"sensors.encoder_noise=1e-5", "sensors.rate_noise=1e-4"});
-  controllers::TargetProfile p;
-  Firmware<FloatingClearanceFriction> fw(m, Config{}, &p);
+  test::noteIfNotCheckedBuild();
+  const Scene sc = test::scene("paper_clearance", {"sensors.encoder_noise=1e-5", "sensors.rate_noise=1e-4"});
+  pointing::TargetProfile p;
+  Firmware<FloatingClearanceFriction> fw(sc, Config{}, &p);
   std::int64_t seq = 0;
   for (int k = 0; k < 10; ++k) {
     fw.receive(torqueCommand(++seq, k - 1, 5.0, 10.0));

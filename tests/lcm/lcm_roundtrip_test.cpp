@@ -1,15 +1,23 @@
 // Every field of every message type survives encode/decode; decoding (and
 // encoding into a preallocated buffer) makes no heap allocation; bytes of the
-// wrong type or truncated bytes are refused by decode.
+// wrong type or truncated bytes are refused by decode. firmware_sim's field
+// lists (messages.hpp) cover the messages and its LCM-free structs, so a
+// message copied through them writes the same CSV row as the struct.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <string>
+#include <type_traits>
 #include <vector>
 
-#include "counting_new.hpp"
+#include "alloc_guard.hpp"
 #include "gimbalsim/channels.hpp"
+#include "gimbalsim/firmware/csv_rows.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_loop_stats_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
@@ -18,49 +26,19 @@
 namespace gimbalsim {
 namespace {
 
-// Field lists, one per type: f(a.field, b.field) for every field. The test
+// The field lists are firmware_sim's own (messages.hpp), the ones its LCM
+// bridge and CSV writers use: f(a.field, b.field) for every field. The test
 // FieldListCoversTheEncoding checks each list against the encoded size, so a
-// field added to a .lcm file and forgotten here fails the test.
-template <class F>
-void fields(gimbal_command_t& a, gimbal_command_t& b, F&& f) {
-  f(a.utime, b.utime); f(a.seq, b.seq); f(a.status_seq, b.status_seq);
-  f(a.mode, b.mode); f(a.torque, b.torque);
-}
-template <class F>
-void fields(gimbal_status_t& a, gimbal_status_t& b, F&& f) {
-  f(a.utime, b.utime); f(a.seq, b.seq); f(a.angle, b.angle); f(a.rate, b.rate);
-  f(a.applied_torque, b.applied_torque); f(a.faults, b.faults);
-  f(a.last_command_seq, b.last_command_seq); f(a.commands_received, b.commands_received);
-  f(a.commands_rejected, b.commands_rejected); f(a.commands_missed, b.commands_missed);
-}
-template <class F>
-void fields(gimbal_truth_t& a, gimbal_truth_t& b, F&& f) {
-  f(a.utime, b.utime); f(a.seq, b.seq); f(a.sim_time, b.sim_time); f(a.base_position, b.base_position);
-  f(a.base_quaternion, b.base_quaternion); f(a.base_rate, b.base_rate);
-  f(a.base_velocity, b.base_velocity); f(a.joint_angle, b.joint_angle);
-  f(a.joint_rate, b.joint_rate); f(a.applied_torque, b.applied_torque);
-  f(a.eccentricity, b.eccentricity); f(a.penetration, b.penetration);
-  f(a.contact_normal_force, b.contact_normal_force);
-  f(a.contact_tangential_force, b.contact_tangential_force);
-  f(a.joint2_force, b.joint2_force); f(a.boresight, b.boresight);
-  f(a.target_boresight, b.target_boresight); f(a.pointing_error, b.pointing_error);
-  f(a.momentum_linear, b.momentum_linear); f(a.momentum_angular, b.momentum_angular);
-  f(a.energy, b.energy); f(a.faults, b.faults);
-}
-template <class F>
-void fields(gimbal_loop_stats_t& a, gimbal_loop_stats_t& b, F&& f) {
-  f(a.utime, b.utime); f(a.ticks, b.ticks);
-  f(a.period_p50, b.period_p50); f(a.period_p99, b.period_p99);
-  f(a.period_p999, b.period_p999); f(a.period_max, b.period_max);
-  f(a.lateness_p50, b.lateness_p50); f(a.lateness_p99, b.lateness_p99);
-  f(a.lateness_p999, b.lateness_p999); f(a.lateness_max, b.lateness_max);
-  f(a.compute_p50, b.compute_p50); f(a.compute_p99, b.compute_p99);
-  f(a.compute_max, b.compute_max); f(a.overruns, b.overruns);
-  f(a.roundtrip_p50, b.roundtrip_p50); f(a.roundtrip_p99, b.roundtrip_p99);
-  f(a.roundtrip_p999, b.roundtrip_p999); f(a.roundtrip_max, b.roundtrip_max);
-  f(a.substeps_mean, b.substeps_mean); f(a.substeps_max, b.substeps_max);
-  f(a.commands_received, b.commands_received); f(a.commands_rejected, b.commands_rejected);
-  f(a.commands_missed, b.commands_missed); f(a.realtime, b.realtime); f(a.lockstep, b.lockstep);
+// field added to a .lcm file and forgotten in the list fails the test.
+template <class M> struct ListOf;
+template <> struct ListOf<gimbal_command_t> { using type = firmware::CommandFields; };
+template <> struct ListOf<gimbal_status_t> { using type = firmware::StatusFields; };
+template <> struct ListOf<gimbal_truth_t> { using type = firmware::TruthFields; };
+template <> struct ListOf<gimbal_loop_stats_t> { using type = firmware::LoopStatsFields; };
+
+template <class M, class F>
+void fields(M& a, M& b, F&& f) {
+  ListOf<M>::type::visit([&](firmware::Columns, auto& x, auto& y) { f(x, y); }, a, b);
 }
 
 // A distinct, non-trivial value for element k: uses high bits of 64-bit
@@ -158,10 +136,7 @@ long long allocationsOfDecodeAndEncode() {
 }
 
 TEST(LcmTypes, TheCounterSeesAllocations) {
-  const long long before = test::g_allocations.load();
-  std::vector<double>* volatile p = new std::vector<double>(100);
-  delete p;
-  EXPECT_GE(test::g_allocations.load() - before, 1);
+  EXPECT_GE(test::probeAllocations(), 1);
 }
 
 TEST(LcmTypes, EncodeIntoBufferAndDecodeAllocateNothing) {
@@ -183,6 +158,65 @@ TEST(LcmTypes, WrongTypeAndTruncatedBytesAreRefused) {
   good.encode(cbuf.data(), 0, static_cast<int>(cbuf.size()));
   EXPECT_LT(cmd.decode(cbuf.data(), 0, static_cast<int>(cbuf.size()) - 1), 0) << "truncated must fail";
   EXPECT_EQ(cmd.decode(cbuf.data(), 0, static_cast<int>(cbuf.size())), static_cast<int>(cbuf.size()));
+}
+
+// Each field list visits every member of firmware_sim's LCM-free struct in
+// declaration order: each field starts where the previous one ended (up to
+// alignment), and the last one ends the struct (up to its alignment).
+template <class D, class S>
+void checkStructCoverage(const char* name) {
+  S s{};
+  const auto* base = reinterpret_cast<const unsigned char*>(&s);
+  std::size_t end = 0;
+  int i = 0;
+  D::visit(
+      [&](firmware::Columns, const auto& x) {
+        const std::size_t at = static_cast<std::size_t>(reinterpret_cast<const unsigned char*>(&x) - base);
+        const std::size_t align = alignof(std::remove_all_extents_t<std::remove_reference_t<decltype(x)>>);
+        EXPECT_EQ(at, (end + align - 1) / align * align) << name << ": field #" << i << " is not the next member";
+        end = at + sizeof(x);
+        ++i;
+      },
+      s);
+  EXPECT_EQ((end + alignof(S) - 1) / alignof(S) * alignof(S), sizeof(S)) << name << ": members after the last field";
+}
+
+TEST(FirmwareMessages, FieldListsCoverTheFirmwareStructs) {
+  checkStructCoverage<firmware::CommandFields, firmware::Command>("Command");
+  checkStructCoverage<firmware::StatusFields, firmware::Status>("Status");
+  checkStructCoverage<firmware::TruthFields, firmware::Truth>("Truth");
+}
+
+template <class D, class S, class M>
+void checkStructToMessage() {
+  M filled_msg = filled<M>();
+  S s{};
+  firmware::copyFields<D>(s, filled_msg);  // message -> struct (as a decoded command)
+  M m{};
+  firmware::copyFields<D>(m, s);  // struct -> message (as status and truth)
+  fields(m, filled_msg, [&](auto& x, auto& y) { EXPECT_TRUE(same(x, y)) << M::getTypeName(); });
+  // One CSV row for the struct and the message, and as many header cells as values.
+  char* a = nullptr;
+  char* b = nullptr;
+  std::size_t na = 0, nb = 0;
+  std::FILE* fa = open_memstream(&a, &na);
+  std::FILE* fb = open_memstream(&b, &nb);
+  firmware::csv::writeRow<D>(fa, s);
+  firmware::csv::writeRow<D>(fb, m);
+  std::fclose(fa);
+  std::fclose(fb);
+  const std::string row_s(a, na), row_m(b, nb), header = firmware::csv::header<D>();
+  std::free(a);
+  std::free(b);
+  EXPECT_EQ(row_s, row_m) << M::getTypeName();
+  EXPECT_EQ(std::count(row_s.begin(), row_s.end(), ','), std::count(header.begin(), header.end(), ','))
+      << M::getTypeName() << ": " << header;
+}
+
+TEST(FirmwareMessages, StructAndMessageCarryTheSameValuesAndRows) {
+  checkStructToMessage<firmware::CommandFields, firmware::Command, gimbal_command_t>();
+  checkStructToMessage<firmware::StatusFields, firmware::Status, gimbal_status_t>();
+  checkStructToMessage<firmware::TruthFields, firmware::Truth, gimbal_truth_t>();
 }
 
 TEST(Channels, PrefixAndNames) {

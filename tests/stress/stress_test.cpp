@@ -49,8 +49,9 @@ TEST(StressClassifier, TorqueWorkAndHertzEnergyAreNotARise) {
   // tau = (5, 10) N m: turning joint 1 by 0.2 rad and joint 2 by 0.1 rad does
   // 2 J of work, which the kinetic energy may gain; energy moved into the
   // Hertz spring is not a loss either.
-  const Model m = scene("paper_clearance");
-  EnergyMonitor e(m);
+  const Scene sc = scene("paper_clearance");
+  const Model& m = sc.model;
+  EnergyMonitor e(m, sc.run.torque);
   e.feed(row(0.0, 1.0, 0.0, 0.0));
   e.feed(row(0.1, 3.0, 0.2, 0.1));
   const double delta = 1e-5, U = m.contact.K * std::pow(delta, 2.5) / 2.5;
@@ -63,7 +64,7 @@ TEST(StressClassifier, TorqueWorkAndHertzEnergyAreNotARise) {
   e.feed(row(0.4, 2.0, 0.2, 0.1));
   e.feed(row(0.5, 2.1, 0.2, 0.1));
   EXPECT_NEAR(e.maxRise(), 0.5, 1e-12);
-  EnergyMonitor f(m);
+  EnergyMonitor f(m, sc.run.torque);
   f.feed(row(0.0, 1.0, 0.0, 0.0));
   f.feed(row(0.1, 0.5, 0.0, 0.0));
   f.feed(row(0.2, 0.6, 0.0, 0.0));
@@ -71,8 +72,9 @@ TEST(StressClassifier, TorqueWorkAndHertzEnergyAreNotARise) {
 }
 
 TEST(StressClassifier, VerdictsOfFabricatedRuns) {
-  const Model m = scene("paper_clearance", {"sim.duration=0.2"});
-  EnergyMonitor e(m);
+  const Scene sc = scene("paper_clearance", {"sim.duration=0.2"});
+  const Model& m = sc.model;
+  EnergyMonitor e(m, sc.run.torque);
   e.feed(row(0.0, 1.0, 0.0, 0.0));
   e.feed(row(0.2, 0.9, 0.0, 0.0));
   RunResult r;
@@ -82,36 +84,39 @@ TEST(StressClassifier, VerdictsOfFabricatedRuns) {
   r.max_drift_angular = 1e-12;
   r.final_q = {0.0, 1.0};
   r.final_v = {0.0};
-  EXPECT_EQ(classify(m, r, e, Bounds{}).verdict, Verdict::Trustworthy);
+  EXPECT_EQ(classify(sc, r, e, Bounds{}).verdict, Verdict::Trustworthy);
   r.max_drift_angular = 1e-6;  // 1e-7 of the scale
-  Outcome o = classify(m, r, e, Bounds{});
+  Outcome o = classify(sc, r, e, Bounds{});
   EXPECT_EQ(o.verdict, Verdict::SilentlyWrong);
   EXPECT_NE(o.reason.find("angular momentum drift 1e-07"), std::string::npos) << o.reason;
   r.max_drift_angular = 0.0;
   r.max_drift_linear = 1e-6;  // of 2 N s (twice the base's momentum)
-  EXPECT_EQ(classify(m, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
+  EXPECT_EQ(classify(sc, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
   r.max_drift_linear = 0.0;
   r.final_v = {std::nan("")};
-  EXPECT_EQ(classify(m, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
+  EXPECT_EQ(classify(sc, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
   r.final_v = {0.0};
   r.t_end = 0.1;  // "ok" but short
-  EXPECT_EQ(classify(m, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
+  EXPECT_EQ(classify(sc, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
   r.stats.max_penetration = 2.0 * m.contact.clearance;
   r.t_end = 0.2;
-  EXPECT_EQ(classify(m, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
+  EXPECT_EQ(classify(sc, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
   r.stats.max_penetration = 0.0;
   r.ok = false;
-  r.error = "simulation stopped at t = 0.1 s: a velocity exceeded sim.velocity_limit (diverging) (in decc_x)";
-  EXPECT_EQ(classify(m, r, e, Bounds{}).verdict, Verdict::Stopped);
-  r.error = "stopped";
-  EXPECT_EQ(classify(m, r, e, Bounds{}).verdict, Verdict::StoppedUnclear);
+  const StepResult diverged{StepStatus::VelocityLimit, 0.1, -1, 7};
+  r.stop = RunStop{RunStop::Kind::Step, diverged, diverged.key(), 0.1};
+  EXPECT_EQ(classify(sc, r, e, Bounds{}).verdict, Verdict::Stopped);
+  r.stop = RunStop{RunStop::Kind::Step, StepResult{StepStatus::NonFinite, 0.1, 3}, "", 0.1};
+  EXPECT_EQ(classify(sc, r, e, Bounds{}).verdict, Verdict::Stopped);
+  r.stop = RunStop{RunStop::Kind::Reference, {}, "", 0.1};  // gave up without naming a limit
+  EXPECT_EQ(classify(sc, r, e, Bounds{}).verdict, Verdict::StoppedUnclear);
   // Conservative scene: the balance must be held, a 10 % loss is wrong.
-  const Model mc = scene("paper_clearance", {"sim.duration=0.2", "contact.damping=none", "friction.law=none"});
-  ASSERT_TRUE(conservative(mc));
+  const Scene scc = scene("paper_clearance", {"sim.duration=0.2", "contact.damping=none", "friction.law=none"});
+  ASSERT_TRUE(conservative(scc.model));
   ASSERT_FALSE(conservative(m));
   r.ok = true;
   r.error.clear();
-  EXPECT_EQ(classify(mc, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
+  EXPECT_EQ(classify(scc, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
 }
 
 // ---- a fast subset of the grid ----
@@ -245,9 +250,9 @@ TEST(StressGrid, ControlPeriodSubstepAtLargeClearance) {
 // ---- restitution of the damping laws ----
 
 double restitution(const std::string& law, double ce, double v_in) {
-  const Model m = scene("paper_clearance", {"structure.base=fixed", "friction.law=none", "torque.tau1=0",
-                                            "torque.tau2=0", "sim.substep=1e-6", "sim.event_tol=1e-12",
-                                            "contact.damping=" + law, "contact.restitution=" + std::to_string(ce)});
+  const Model m = test::model("paper_clearance", {"structure.base=fixed", "friction.law=none", "torque.tau1=0",
+                                                  "torque.tau2=0", "sim.substep=1e-6", "sim.event_tol=1e-12",
+                                                  "contact.damping=" + law, "contact.restitution=" + std::to_string(ce)});
   return effectiveRestitution(m, v_in);
 }
 

@@ -2,13 +2,13 @@
 // must have its columns and show RK4's fourth order on the ideal scene.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <map>
-#include <sstream>
 
+#include "../csv_util.hpp"
 #include "workprec.hpp"
 
 namespace gimbalsim::workprec {
@@ -80,35 +80,6 @@ TEST(Workprec, ParetoAndCheapestSettingForATarget) {
   EXPECT_EQ(cheapestFor(pts, "a", 1e-9), nullptr) << "the failed run's error does not count";
 }
 
-/// CSV rows as maps column -> text (quotes stripped; no commas inside fields
-/// of the rows this test reads).
-std::vector<std::map<std::string, std::string>> readCsv(const std::string& path, std::vector<std::string>& header) {
-  std::ifstream in(path);
-  std::string line;
-  std::vector<std::map<std::string, std::string>> rows;
-  auto split = [](const std::string& l) {
-    std::vector<std::string> f;
-    std::string cur;
-    bool quoted = false;
-    for (char c : l) {
-      if (c == '"') quoted = !quoted;
-      else if (c == ',' && !quoted) f.push_back(cur), cur.clear();
-      else cur += c;
-    }
-    f.push_back(cur);
-    return f;
-  };
-  if (!std::getline(in, line)) return rows;
-  header = split(line);
-  while (std::getline(in, line)) {
-    const auto f = split(line);
-    std::map<std::string, std::string> r;
-    for (std::size_t i = 0; i < f.size() && i < header.size(); ++i) r[header[i]] = f[i];
-    rows.push_back(r);
-  }
-  return rows;
-}
-
 TEST(Workprec, QuickRunWritesTheCsvAndErrorsFallAtFourthOrderOnTheIdealScene) {
   const std::string dir = std::string(GIMBALSIM_TEST_TMP) + "/quick";
   std::filesystem::remove_all(dir);
@@ -116,12 +87,11 @@ TEST(Workprec, QuickRunWritesTheCsvAndErrorsFallAtFourthOrderOnTheIdealScene) {
                           " --quick --scenes paper_ideal,stickslip_clearance --policy plain --policy 'sub h/50'"
                           " --out " + dir + " > " + dir + ".log 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << "see " << dir << ".log";
-  std::vector<std::string> header;
-  const auto rows = readCsv(dir + "/workprec.csv", header);
-  EXPECT_EQ(header, kCsvColumns);
+  const test::Csv csv = test::Csv::read(dir + "/workprec.csv");
+  EXPECT_EQ(csv.header, kCsvColumns);
   std::vector<std::pair<double, double>> ideal;  // (h, bore_err_max)
   bool clearance_point = false;
-  for (const auto& r : rows) {
+  for (const auto& r : csv.records()) {
     if (r.at("scene") == "paper_ideal" && r.at("policy") == "plain") {
       ASSERT_EQ(r.at("ok"), "1") << r.at("note");
       EXPECT_GT(std::stod(r.at("cpu_s_per_sim_s")), 0.0);

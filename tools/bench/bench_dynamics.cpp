@@ -49,33 +49,34 @@ std::string sceneDir() {
 
 /// Scene file and --set overrides that make a model of variant V.
 template <class V>
-Model modelFor() {
+Scene sceneFor() {
   std::vector<std::string> sets;
   if (!V::kFloating) sets.push_back("structure.base=fixed");
   if (V::kClearance && !V::kFriction) sets.push_back("friction.law=none");
   const std::string file = sceneDir() + (V::kClearance ? "/paper_clearance.yaml" : "/paper_ideal.yaml");
-  Model m = loadScene(file, sets).model;
+  Scene sc = loadScene(file, sets);
   bool match = false;
-  dispatchVariant(m, [&](auto tag) { match = std::is_same_v<decltype(tag), V>; });
+  dispatchVariant(sc.model, [&](auto tag) { match = std::is_same_v<decltype(tag), V>; });
   if (!match) throw std::runtime_error("scene " + file + " does not load as the benchmarked variant");
-  return m;
+  return sc;
 }
 
 /// A model, a workspace and a mid-run state of variant V, plus the state at
 /// the start of a step that contains a located impact (clearance only).
 template <class V>
 struct Fixture {
+  Scene sc;
   Model m;
   std::unique_ptr<Data<V>> d;
   State<V> s;           ///< mid-run; in contact for the clearance variants
   State<V> pre_impact;  ///< start of a step during which an impact is located
   Input u;
 
-  Fixture() : m(modelFor<V>()), d(std::make_unique<Data<V>>(m)) {
-    u.tau = m.torque;
-    s = initialState<V>(m);
+  Fixture() : sc(sceneFor<V>()), m(sc.model), d(std::make_unique<Data<V>>(m)) {
+    u.tau = sc.run.torque;
+    s = initialState<V>(sc.run.initial);
     bool have_impact = false;
-    const long long n_max = std::llround(m.duration / m.integrator.step);
+    const long long n_max = std::llround(sc.run.duration / m.integrator.step);
     for (long long k = 0; k < n_max; ++k) {
       const bool past = s.t >= 0.5 - 1e-12;
       bool in_contact = true;
@@ -83,7 +84,7 @@ struct Fixture {
       if (past && in_contact && (!V::kClearance || have_impact)) return;
       const State<V> before = s;
       const long long impacts = d->stats.impacts;
-      if (step(m, *d, s, u) != StepStatus::Ok) throw std::runtime_error("set-up run failed");
+      if (!step(m, *d, s, u).ok()) throw std::runtime_error("set-up run failed");
       if (V::kClearance && past && !have_impact && d->stats.impacts > impacts) {
         pre_impact = before;
         have_impact = true;
@@ -125,39 +126,37 @@ void BM_Rk4(benchmark::State& bs) {
   }
 }
 
-/// One integrator step of h from the mid-run state (the state is reset each
-/// iteration; a State copy costs a few ns).
+/// One integrator step of h from `start` (the state is reset each
+/// iteration; a State copy costs a few ns), with the sub-steps (and, with
+/// count_impacts, the impacts) per step as counters.
 template <class V>
-void BM_Step(benchmark::State& bs) {
+void timeStepFrom(benchmark::State& bs, const State<V>& start, bool count_impacts) {
   Fixture<V>& f = fixture<V>();
   State<V> s;
-  const long long sub0 = f.d->stats.substeps;
+  const RunStats before = f.d->stats;
   for (auto _ : bs) {
-    s = f.s;
+    s = start;
     benchmark::DoNotOptimize(step(f.m, *f.d, s, f.u));
     benchmark::DoNotOptimize(s.q.data());
     benchmark::ClobberMemory();
   }
-  bs.counters["substeps"] = benchmark::Counter(
-      static_cast<double>(f.d->stats.substeps - sub0), benchmark::Counter::kAvgIterations);
+  auto perStep = [](long long n) {
+    return benchmark::Counter(static_cast<double>(n), benchmark::Counter::kAvgIterations);
+  };
+  bs.counters["substeps"] = perStep(f.d->stats.substeps - before.substeps);
+  if (count_impacts) bs.counters["impacts"] = perStep(f.d->stats.impacts - before.impacts);
+}
+
+/// One integrator step from the mid-run state.
+template <class V>
+void BM_Step(benchmark::State& bs) {
+  timeStepFrom(bs, fixture<V>().s, /*count_impacts=*/false);
 }
 
 /// step() across a contact onset: sub-steps plus switch location.
 template <class V>
 void BM_StepImpact(benchmark::State& bs) {
-  Fixture<V>& f = fixture<V>();
-  State<V> s;
-  const long long sub0 = f.d->stats.substeps, imp0 = f.d->stats.impacts;
-  for (auto _ : bs) {
-    s = f.pre_impact;
-    benchmark::DoNotOptimize(step(f.m, *f.d, s, f.u));
-    benchmark::DoNotOptimize(s.q.data());
-    benchmark::ClobberMemory();
-  }
-  bs.counters["substeps"] = benchmark::Counter(
-      static_cast<double>(f.d->stats.substeps - sub0), benchmark::Counter::kAvgIterations);
-  bs.counters["impacts"] = benchmark::Counter(
-      static_cast<double>(f.d->stats.impacts - imp0), benchmark::Counter::kAvgIterations);
+  timeStepFrom(bs, fixture<V>().pre_impact, /*count_impacts=*/true);
 }
 
 /// The contact law alone: normalForce + frictionForce at the mid-run contact.
@@ -199,52 +198,44 @@ void BM_ClearanceContact(benchmark::State& bs) {
 /// The parts of one derivative, to see where its time goes: kinematics, the
 /// bias forces (RNEA at zero acceleration), the mass matrix (CRBA) and the
 /// Cholesky solve of M vdot = tau - C (latency-bound: a sqrt and a division
-/// per column, a division per row of each substitution).
-template <class V>
-void BM_Kinematics(benchmark::State& bs) {
+/// per column, a division per row of each substitution). Each part runs on
+/// the workspace as forwardDynamics() leaves it at the mid-run state.
+template <class V, class Part>
+void timePart(benchmark::State& bs, Part&& part) {
   Fixture<V>& f = fixture<V>();
+  forwardDynamics(f.m, *f.d, f.s, f.u);
   for (auto _ : bs) {
-    kinematics(f.m, *f.d, f.s.q, f.s.v);
+    part(f.m, *f.d, f.s);
     benchmark::ClobberMemory();
   }
+}
+
+template <class V>
+void BM_Kinematics(benchmark::State& bs) {
+  timePart<V>(bs, [](const Model& m, Data<V>& d, const State<V>& s) { kinematics(m, d, s.q, s.v); });
 }
 
 template <class V>
 void BM_BiasForces(benchmark::State& bs) {
-  Fixture<V>& f = fixture<V>();
-  kinematics(f.m, *f.d, f.s.q, f.s.v);
-  for (auto _ : bs) {
-    rnea(f.m, *f.d, f.s.v, Data<V>::VecV::Zero(), f.d->bias);
-    benchmark::ClobberMemory();
-  }
+  timePart<V>(bs, [](const Model& m, Data<V>& d, const State<V>& s) {
+    rnea(m, d, s.v, Data<V>::VecV::Zero(), d.bias);
+  });
 }
 
 template <class V>
 void BM_MassMatrix(benchmark::State& bs) {
-  Fixture<V>& f = fixture<V>();
-  kinematics(f.m, *f.d, f.s.q, f.s.v);
-  for (auto _ : bs) {
-    crba(f.m, *f.d);
-    benchmark::ClobberMemory();
-  }
+  timePart<V>(bs, [](const Model& m, Data<V>& d, const State<V>&) { crba(m, d); });
 }
 
+/// As forwardDynamics() calls it: factor d.M into L, solve for tau - bias.
 template <class V>
 void BM_CholeskySolve(benchmark::State& bs) {
-  Fixture<V>& f = fixture<V>();
-  forwardDynamics(f.m, *f.d, f.s, f.u);
-  const typename Data<V>::MatV M = f.d->M;
-  const typename Data<V>::VecV rhs = f.d->tau - f.d->bias;
   typename Data<V>::MatV L;
   typename Data<V>::VecV x;
-  for (auto _ : bs) {
-    L = M;  // the copy is part of forwardDynamics too
-    x = rhs;
-    benchmark::DoNotOptimize(L.data());
-    benchmark::DoNotOptimize(choleskySolveInPlace(L, x));
+  timePart<V>(bs, [&](const Model&, Data<V>& d, const State<V>&) {
+    benchmark::DoNotOptimize(choleskySolve(d.M, L, [&](int j) { return d.tau(j) - d.bias(j); }, x));
     benchmark::DoNotOptimize(x.data());
-    benchmark::ClobberMemory();
-  }
+  });
 }
 
 /// Median, mean, stddev and cv are Google Benchmark's defaults; the minimum

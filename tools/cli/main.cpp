@@ -1,6 +1,6 @@
 // gimbalsim: command-line front end.
 //   gimbalsim simulate SCENE [--set key=value]... --out run.csv [--summary s.json]
-//   gimbalsim keys
+//   gimbalsim keys [--markdown]
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <fstream>
@@ -39,51 +39,60 @@ class CsvWriter {
   std::FILE* f_;
 };
 
+/// x, or null when `present` is false.
+nlohmann::json valueOrNull(bool present, double x) {
+  return present ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
+
 nlohmann::json summaryJson(const gimbalsim::Model& m, const gimbalsim::RunResult& r,
                            const std::string& scene, const std::string& integrator_kind) {
   using nlohmann::json;
-  json j;
-  j["scene"] = scene;
-  j["name"] = m.name;
-  j["variant"] = gimbalsim::variantName(m);
-  j["status"] = r.ok ? "ok" : "failed";
+  const gimbalsim::RunStats& st = r.stats;
+  auto named = [](const std::vector<std::string>& names, const std::vector<double>& values) {
+    json o;
+    for (size_t i = 0; i < values.size(); ++i) o[names[i]] = values[i];
+    return o;
+  };
+  json j = {
+      {"scene", scene},
+      {"name", m.name},
+      {"variant", gimbalsim::variantName(m)},
+      {"status", r.ok ? "ok" : "failed"},
+      {"t_end_s", r.t_end},
+      {"rows", r.rows},
+      {"impacts", st.impacts},
+      {"separations", st.separations},
+      {"peak_contact_force_N", st.peak_fn},
+      {"t_peak_contact_force_s", valueOrNull(st.peak_fn > 0, st.t_peak_fn)},
+      {"peak_joint2_force_N", r.peak_joint2_force},
+      {"t_peak_joint2_force_s", r.t_peak_joint2_force},
+      {"max_penetration_m", st.max_penetration},
+      // Continuous contact: the contact that began at the last onset lasted to the end.
+      {"continuous_contact_from_s",
+       valueOrNull(m.clearance && r.in_contact_at_end && st.last_onset_time >= 0, st.last_onset_time)},
+      {"final_state",
+       {{"t", r.t_end},
+        {"q", named(gimbalsim::coordinateNamesQ(m), r.final_q)},
+        {"v", named(gimbalsim::coordinateNamesV(m), r.final_v)}}},
+      {"momentum_drift",
+       {{"linear_max_abs_Ns", r.max_drift_linear},
+        {"angular_max_abs_Nms", r.max_drift_angular},
+        {"angular_scale_Nms", r.momentum_scale},
+        {"angular_relative", r.momentum_scale > 0 ? r.max_drift_angular / r.momentum_scale : 0.0}}},
+      {"steps", st.steps},
+      {"substeps", st.substeps},
+      {"event_iterations", st.event_iterations},
+      {"max_substeps_in_a_step", st.max_substeps_in_step},
+      {"straddle_retries", st.straddle_retries},
+      {"min_impact_duration_s", valueOrNull(st.min_impact_duration > 0, st.min_impact_duration)},
+      {"wall_time_s", r.wall_seconds},
+      {"step_time_s", r.step_seconds},
+      {"integrator",
+       {{"kind", integrator_kind},
+        {"step_s", m.integrator.step},
+        {"substep_s", m.integrator.substep},
+        {"event_tol_s", m.integrator.event_tol}}}};
   if (!r.ok) j["error"] = r.error;
-  j["t_end_s"] = r.t_end;
-  j["rows"] = r.rows;
-  j["impacts"] = r.stats.impacts;
-  j["separations"] = r.stats.separations;
-  j["peak_contact_force_N"] = r.stats.peak_fn;
-  j["t_peak_contact_force_s"] = r.stats.peak_fn > 0 ? json(r.stats.t_peak_fn) : json(nullptr);
-  j["peak_joint2_force_N"] = r.peak_joint2_force;
-  j["t_peak_joint2_force_s"] = r.t_peak_joint2_force;
-  j["max_penetration_m"] = r.stats.max_penetration;
-  // Continuous contact: the contact that began at the last onset lasted to the end.
-  j["continuous_contact_from_s"] =
-      (m.clearance && r.in_contact_at_end && r.stats.last_onset_time >= 0) ? json(r.stats.last_onset_time)
-                                                                           : json(nullptr);
-  json fs;
-  fs["t"] = r.t_end;
-  const auto qn = gimbalsim::coordinateNamesQ(m), vn = gimbalsim::coordinateNamesV(m);
-  for (size_t i = 0; i < r.final_q.size(); ++i) fs["q"][qn[i]] = r.final_q[i];
-  for (size_t i = 0; i < r.final_v.size(); ++i) fs["v"][vn[i]] = r.final_v[i];
-  j["final_state"] = fs;
-  j["momentum_drift"] = {
-      {"linear_max_abs_Ns", r.max_drift_linear},
-      {"angular_max_abs_Nms", r.max_drift_angular},
-      {"angular_scale_Nms", r.momentum_scale},
-      {"angular_relative", r.momentum_scale > 0 ? r.max_drift_angular / r.momentum_scale : 0.0}};
-  j["steps"] = r.stats.steps;
-  j["substeps"] = r.stats.substeps;
-  j["event_iterations"] = r.stats.event_iterations;
-  j["max_substeps_in_a_step"] = r.stats.max_substeps_in_step;
-  j["straddle_retries"] = r.stats.straddle_retries;
-  j["min_impact_duration_s"] = r.stats.min_impact_duration > 0 ? json(r.stats.min_impact_duration) : json(nullptr);
-  j["wall_time_s"] = r.wall_seconds;
-  j["step_time_s"] = r.step_seconds;
-  j["integrator"] = {{"kind", integrator_kind},
-                     {"step_s", m.integrator.step},
-                     {"substep_s", m.integrator.substep},
-                     {"event_tol_s", m.integrator.event_tol}};
   return j;
 }
 
@@ -106,25 +115,19 @@ int main(int argc, char** argv) {
                   "tolerance 1e-12, for reference solutions)")
       ->check(CLI::IsMember({"rk4", "reference"}));
 
-  auto* keys = app.add_subcommand("keys", "list every scene key with its unit");
+  auto* keys = app.add_subcommand("keys", "list every scene key with type, unit, default, check and meaning");
   bool markdown = false;
-  keys->add_flag("--markdown", markdown, "as a Markdown table");
+  keys->add_flag("--markdown", markdown, "as a Markdown table (the one in README.md)");
 
   CLI11_PARSE(app, argc, argv);
 
   if (keys->parsed()) {
-    if (markdown) std::printf("| key | type | unit | meaning |\n|---|---|---|---|\n");
-    for (const auto& k : gimbalsim::sceneKeys()) {
-      if (markdown) {
-        std::printf("| `%s` | %s | %s | %s |\n", k.key.c_str(), k.type.c_str(), k.unit.c_str(), k.help.c_str());
-      } else {
-        std::printf("%-26s %-12s %-8s %s\n", k.key.c_str(), k.type.c_str(), k.unit.c_str(), k.help.c_str());
-      }
-    }
+    const auto all = gimbalsim::sceneKeys();
+    std::fputs((markdown ? gimbalsim::keysMarkdown(all) : gimbalsim::keysText(all)).c_str(), stdout);
     return 0;
   }
 
-  gimbalsim::LoadedScene loaded;
+  gimbalsim::Scene loaded;
   try {
     loaded = gimbalsim::loadScene(scene, sets);
   } catch (const gimbalsim::SceneError& e) {
@@ -141,7 +144,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const gimbalsim::RunResult r =
-      gimbalsim::simulate(m, [&](const Row& row) { csv.write(row); },
+      gimbalsim::simulate(loaded, [&](const Row& row) { csv.write(row); },
                           integrator == "reference" ? gimbalsim::IntegratorKind::Reference
                                                     : gimbalsim::IntegratorKind::Rk4);
 

@@ -50,7 +50,7 @@ std::unique_ptr<mjModel, MjDeleter> load(const std::string& xml, std::string& er
 }
 
 /// Initial state and torques as gimbalsim's initialState() and Input.
-void setUp(const Model& m, const mjModel* mm, mjData* d) {
+void setUp(const RunSpec& m, const mjModel* mm, mjData* d) {
   mj_resetData(mm, d);
   // qpos: base pos (3), quat w x y z (4), theta1, theta2; qvel: base linear
   // (world) 3, angular (body) 3, dtheta1, dtheta2. The base starts at rest.
@@ -88,17 +88,17 @@ std::string mjcfOf(const Model& m, double timestep) {
   return x.str();
 }
 
-std::vector<Point> mujocoPoints(const Model& m, const Trajectory& ref, const std::vector<double>& steps,
+std::vector<Point> mujocoPoints(const Scene& sc, const Trajectory& ref, const std::vector<double>& steps,
                                 int repeats) {
   std::vector<Point> out;
   for (double h : steps) {
     Point p;
     p.policy = "MuJoCo 2.2 RK4";
     p.h = p.substep = h;
-    const double r = m.output_interval / h;
+    const double r = sc.run.output_interval / h;
     if (std::fabs(r - std::round(r)) > 1e-9 * r) continue;
     std::string error;
-    auto mm = load(mjcfOf(m, h), error);
+    auto mm = load(mjcfOf(sc.model, h), error);
     if (!mm) {
       p.note = "MuJoCo refused the model: " + error;
       for (char& c : p.note) c = c == '\n' ? ' ' : c;
@@ -107,14 +107,14 @@ std::vector<Point> mujocoPoints(const Model& m, const Trajectory& ref, const std
     }
     std::unique_ptr<mjData, MjDeleter> d(mj_makeData(mm.get()));
     const int shaft2 = mj_name2id(mm.get(), mjOBJ_BODY, "shaft2");
-    const long long n = std::llround(m.duration / h), every = std::llround(r);
+    const long long n = std::llround(sc.run.duration / h), every = std::llround(r);
     // Error run: rows at the output interval.
     Trajectory run;
-    setUp(m, mm.get(), d.get());
+    setUp(sc.run, mm.get(), d.get());
     mj_forward(mm.get(), d.get());
     auto row = [&] {
       const mjtNum* R = d->xmat + 9 * shaft2;  // row-major world rotation of shaft 2
-      const Vec3 b = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(R) * m.boresight_S2;
+      const Vec3 b = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(R) * sc.model.boresight_S2;
       run.t.push_back(d->time);
       run.theta1.push_back(d->qpos[7]);
       run.theta2.push_back(d->qpos[8]);
@@ -134,14 +134,14 @@ std::vector<Point> mujocoPoints(const Model& m, const Trajectory& ref, const std
     // Timed runs: stepping only.
     std::vector<double> cpu;
     for (int i = 0; i < repeats && p.ok; ++i) {
-      setUp(m, mm.get(), d.get());
+      setUp(sc.run, mm.get(), d.get());
       const double t0 = threadCpuSeconds();
       for (long long k = 0; k < n; ++k) mj_step(mm.get(), d.get());
       cpu.push_back(threadCpuSeconds() - t0);
     }
     if (p.ok) {
       p.repeats = repeats;
-      p.cpu_per_sim_s = median(cpu) / m.duration;
+      p.cpu_per_sim_s = median(cpu) / sc.run.duration;
     }
     out.push_back(p);
   }

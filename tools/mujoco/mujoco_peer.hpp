@@ -22,7 +22,7 @@ std::string mjcfOf(const Model& m, double timestep);
 /// interval), errors against ref at every output row, median thread CPU time
 /// of `repeats` runs. A point that MuJoCo refuses (e.g. an inertia breaking
 /// the triangle inequality) comes back not ok with MuJoCo's message.
-std::vector<Point> mujocoPoints(const Model& m, const Trajectory& ref, const std::vector<double>& steps,
+std::vector<Point> mujocoPoints(const Scene& sc, const Trajectory& ref, const std::vector<double>& steps,
                                 int repeats);
 
 }  // namespace gimbalsim::workprec

@@ -21,13 +21,9 @@ const char* verdictName(Verdict v) {
   return "?";
 }
 
-bool namesALimit(const std::string& error) {
-  for (const char* key : {"sim.velocity_limit", "sim.penetration_limit", "sim.max_substeps",
-                          "sim.min_substeps_per_impact", "sim.momentum_tol", "sim.energy_tol",
-                          "sim.max_event_iters", "non-finite value"}) {
-    if (error.find(key) != std::string::npos) return true;
-  }
-  return false;
+bool namesALimit(const RunStop& stop) {
+  return *stop.key != '\0' || stop.kind == RunStop::Kind::NonFiniteOutput ||
+         (stop.kind == RunStop::Kind::Step && stop.step.status == StepStatus::NonFinite);
 }
 
 namespace {
@@ -36,12 +32,12 @@ std::string sci(double x) {
   std::snprintf(buf, sizeof buf, "%.3g", x);
   return buf;
 }
-
-// A relative measure that stays meaningful when the scale is zero (nothing moved).
-double relative(double x, double scale) { return InvariantMonitor::relative(x, scale); }
 }  // namespace
 
-Outcome classify(const Model& m, const RunResult& run, const EnergyMonitor& e, const Bounds& b) {
+Outcome classify(const Scene& sc, const RunResult& run, const EnergyMonitor& e, const Bounds& b) {
+  const Model& m = sc.model;
+  // Relative measures stay meaningful when the scale is zero (nothing moved).
+  const auto relative = &InvariantMonitor::relative;
   Outcome o;
   o.run = run;
   o.energy_rise_rel = relative(e.maxRise(), e.scale());
@@ -56,7 +52,7 @@ Outcome classify(const Model& m, const RunResult& run, const EnergyMonitor& e, c
     o.momentum_rel_linear = relative(run.max_drift_linear, std::max(e.linearScale(), run.linear_scale));
   }
   if (!run.ok) {
-    o.verdict = namesALimit(run.error) ? Verdict::Stopped : Verdict::StoppedUnclear;
+    o.verdict = namesALimit(run.stop) ? Verdict::Stopped : Verdict::StoppedUnclear;
     o.reason = run.error;
     return o;
   }
@@ -66,7 +62,7 @@ Outcome classify(const Model& m, const RunResult& run, const EnergyMonitor& e, c
   for (double x : run.final_q) finite = finite && std::isfinite(x);
   for (double x : run.final_v) finite = finite && std::isfinite(x);
   if (!finite) fail("non-finite value in the output");
-  if (std::fabs(run.t_end - m.duration) > 1e-9 * std::max(1.0, m.duration)) {
+  if (std::fabs(run.t_end - sc.run.duration) > 1e-9 * std::max(1.0, sc.run.duration)) {
     fail("ended at t = " + sci(run.t_end) + " s, not at sim.duration");
   }
   if (m.floating_base) {
@@ -93,18 +89,18 @@ Outcome classify(const Model& m, const RunResult& run, const EnergyMonitor& e, c
 }
 
 Outcome runCase(const std::string& scene_path, const std::vector<std::string>& sets, const Bounds& b) {
-  Model m;
+  Scene sc;
   try {
-    m = loadScene(scene_path, sets).model;
+    sc = loadScene(scene_path, sets);
   } catch (const SceneError& err) {
     Outcome o;
     o.verdict = Verdict::Refused;
     o.reason = err.what();
     return o;
   }
-  EnergyMonitor e(m);
-  const RunResult run = simulate(m, [&](const Row& r) { e.feed(r); });
-  return classify(m, run, e, b);
+  EnergyMonitor e(sc.model, sc.run.torque);
+  const RunResult run = simulate(sc, [&](const Row& r) { e.feed(r); });
+  return classify(sc, run, e, b);
 }
 
 namespace {
@@ -115,7 +111,7 @@ double restitutionOf(const Model& m, double v_in) {
   } else {
     constexpr int NB = V::NB;
     Data<V> d(m);
-    State<V> s = initialState<V>(m);
+    State<V> s = initialState<V>(InitialParams{});
     s.q(State<V>::QJ + 1) = 0.0;
     s.q(State<V>::QJ + 2) = 0.0;
     s.v.setZero();
@@ -126,7 +122,7 @@ double restitutionOf(const Model& m, double v_in) {
     for (long long k = 0; k < n; ++k) {
       const bool was = s.in_contact;
       const long long separations = d.stats.separations;
-      if (step(m, d, s, u) != StepStatus::Ok) break;
+      if (!step(m, d, s, u).ok()) break;
       if (!was && s.in_contact) v_onset = s.v0;
       if (d.stats.impacts >= 1 && d.stats.separations > separations) {
         // At most one sub-step past the located separation, in free flight.

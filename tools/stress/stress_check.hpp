@@ -52,11 +52,12 @@ struct Outcome {
   double substeps_per_second = 0.0;   ///< RK4 evaluations per simulated second [1/s]
 };
 
-/// The diagnostic names a limit the integrator enforces (or NaN/Inf and where).
-bool namesALimit(const std::string& error);
+/// The stop names a limit the integrator enforces (its scene key), or NaN/Inf
+/// and where: read from the stop's codes, never from its message.
+bool namesALimit(const RunStop& stop);
 
 /// Pure classification of a finished (or stopped) run.
-Outcome classify(const Model& m, const RunResult& run, const EnergyMonitor& e, const Bounds& b);
+Outcome classify(const Scene& sc, const RunResult& run, const EnergyMonitor& e, const Bounds& b);
 
 /// Loads the scene with the overrides and runs it with the RK4 integrator.
 Outcome runCase(const std::string& scene_path, const std::vector<std::string>& sets, const Bounds& b);

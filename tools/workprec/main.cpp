@@ -9,6 +9,7 @@
 //   build/bin/gimbalsim_workprec --quick         # a few points (seconds)
 #include <CLI/CLI.hpp>
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -35,18 +36,16 @@ namespace {
 using namespace gimbalsim;
 using namespace gimbalsim::workprec;
 
-/// Overrides a scene always gets here, and why (printed). The first
-/// alternative this build's loader accepts is used.
+/// Overrides a scene always gets here, and why (printed).
 struct SceneDefaults {
-  std::vector<std::vector<std::string>> alternatives;
+  std::vector<std::string> sets;
   const char* why;
 };
 const std::map<std::string, SceneDefaults> kSceneDefaults = {
     {"paper_clearance",
-     {{{"friction.law=coulomb_stick"}, {"friction.law=ambrosio"}},
+     {{"friction.law=coulomb_stick"},
       "plain Coulomb's sign flip stops the adaptive reference; the set-valued Coulomb law with located "
-      "stick/slip (coulomb_stick) is used for the reference and the runs, or Ambrosio's regularised law "
-      "where this build has no coulomb_stick"}},
+      "stick/slip (coulomb_stick) is used for the reference and the runs"}},
 };
 
 std::string readFile(const std::string& path) {
@@ -56,22 +55,10 @@ std::string readFile(const std::string& path) {
   return ss.str();
 }
 
-/// True when the loader refused a key it does not know (a feature not in this build).
-bool unknownKey(const SceneError& e) {
-  for (const std::string& p : e.problems()) {
-    if (p.find("unknown key") != std::string::npos) return true;
-  }
-  return false;
-}
-
-/// Shortest text that reads back as x.
+/// Shortest text that reads back as x (%g style).
 std::string fmt(double x) {
   char buf[32];
-  for (int prec = 6; prec <= 17; ++prec) {
-    std::snprintf(buf, sizeof buf, "%.*g", prec, x);
-    if (std::stod(buf) == x) break;
-  }
-  return buf;
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general).ptr);
 }
 
 std::string join(const std::vector<std::string>& v, const char* sep) {
@@ -155,14 +142,7 @@ int main(int argc, char** argv) {
     const std::string path = scenes_dir + "/" + scene + ".yaml";
     std::vector<std::string> base_sets;
     if (auto it = kSceneDefaults.find(scene); it != kSceneDefaults.end()) {
-      for (const auto& alt : it->second.alternatives) {
-        base_sets = alt;
-        try {
-          loadScene(path, alt);
-          break;
-        } catch (const SceneError&) {
-        }
-      }
+      base_sets = it->second.sets;
       std::printf("\n[%s] with %s: %s\n", scene.c_str(), join(base_sets, " ").c_str(), it->second.why);
     }
     // The run-time guards (invariants, impact resolution) stop runs that are
@@ -174,16 +154,16 @@ int main(int argc, char** argv) {
     base_sets.insert(base_sets.end(), extra_sets.begin(), extra_sets.end());
     if (duration > 0.0) base_sets.push_back("sim.duration=" + fmt(duration));
     base_sets.push_back("sim.output_interval=" + fmt(output_interval));
-    Model base;
+    Scene base;
     try {
-      base = loadScene(path, base_sets).model;
+      base = loadScene(path, base_sets);
     } catch (const SceneError& e) {
       std::cerr << "scene " << scene << " refused:\n";
       for (const auto& p : e.problems()) std::cerr << "  " << p << "\n";
       return 2;
     }
-    std::printf("\n[%s] %g s, %s, reference: ", scene.c_str(), base.duration,
-                base.floating_base ? "floating base" : "fixed base");
+    std::printf("\n[%s] %g s, %s, reference: ", scene.c_str(), base.run.duration,
+                base.model.floating_base ? "floating base" : "fixed base");
     std::fflush(stdout);
     Reference ref;
     try {
@@ -197,10 +177,10 @@ int main(int argc, char** argv) {
     } else {
       std::printf("%.2f s CPU\n", ref.cpu_seconds);
     }
-    if (base.clearance) {
+    if (base.model.clearance) {
       std::printf("  reference peak contact force %.6g N (sampled every %g s); that pass and the row pass "
                   "(stops every %g s) agree in boresight to %.2e rad at the rows\n",
-                  ref.rows.peak_contact, ref.peak_dt, base.output_interval, ref.self_consistency);
+                  ref.rows.peak_contact, ref.peak_dt, base.run.output_interval, ref.self_consistency);
     }
     const StickSlip& ss = ref.stick;
     if (ss.contact_time > 0.0) {
@@ -211,12 +191,12 @@ int main(int argc, char** argv) {
     }
 
     for (const Policy& pol : policies) {
-      if (pol.contact_only && !base.clearance) continue;
+      if (pol.contact_only && !base.model.clearance) continue;
       std::vector<std::pair<double, std::string>> sweep;  // (h, sweep value)
       if (pol.sweep_key.empty()) {
         for (double h : steps) sweep.emplace_back(h, "");
       } else {
-        double h = base.integrator.step;
+        double h = base.model.integrator.step;
         for (const std::string& s : pol.sets) {
           if (s.rfind("sim.step=", 0) == 0) h = std::stod(s.substr(9));
         }
@@ -239,32 +219,28 @@ int main(int argc, char** argv) {
         sets.push_back("sim.step=" + fmt(h));
         for (const std::string& s : pol.sets) sets.push_back(expandSet(s, h));
         if (!value.empty()) sets.push_back(pol.sweep_key + "=" + value);
-        Model m;
+        Scene sc;
         try {
-          m = loadScene(path, sets).model;
+          sc = loadScene(path, sets);
         } catch (const SceneError& e) {
-          if (unknownKey(e)) {
-            std::printf("  %-22s skipped: this build's scene loader does not know a key it sets (%s)\n",
-                        pol.name.c_str(), e.problems().front().c_str());
-            break;
-          }
           p.note = "refused: " + join(e.problems(), "; ");
           points.push_back(p);
           printPoint(p);
           continue;
         }
+        const Model& m = sc.model;
         p.h = m.integrator.step;
         p.substep = m.integrator.substep;
         p.event_tol = m.integrator.event_tol;
-        p.ok = compare(runRk4(m), ref.rows, p);
+        p.ok = compare(runRk4(sc), ref.rows, p);
         if (p.ok) {
           std::vector<double> cpu;
           for (int r = 0; r < repeats && p.ok; ++r) {
-            cpu.push_back(cpuSecondsOfRun(m));
+            cpu.push_back(cpuSecondsOfRun(sc));
             if (cpu.back() < 0.0) p.ok = false, p.note = "timed run stopped";
           }
           p.repeats = repeats;
-          if (p.ok) p.cpu_per_sim_s = median(cpu) / m.duration;
+          if (p.ok) p.cpu_per_sim_s = median(cpu) / sc.run.duration;
           if (p.ok) last_cpu = median(cpu);
         }
         points.push_back(p);
@@ -273,7 +249,7 @@ int main(int argc, char** argv) {
     }
 
 #ifdef GIMBALSIM_HAVE_MUJOCO
-    if (!no_mujoco && !base.clearance) {
+    if (!no_mujoco && !base.model.clearance) {
       for (Point& p : mujocoPoints(base, ref.rows, steps, repeats)) {
         p.scene = scene;
         points.push_back(p);

@@ -17,6 +17,7 @@
 #include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/dynamics/reference_integrator.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
+#include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::workprec {
 
@@ -30,7 +31,7 @@ std::string num(double x) {
   return os.str();
 }
 
-double angleBetween(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
+double angleBetween(const Vec3& a, const Vec3& b) { return pointing::pointingError(a, b); }
 
 }  // namespace
 
@@ -120,9 +121,10 @@ void record(Trajectory& tr, const Row& r) {
   tr.bore.emplace_back(r.bore_x, r.bore_y, r.bore_z);
 }
 
-Trajectory rowsOf(const Model& m, IntegratorKind kind) {
+Trajectory rowsOf(const Scene& sc, IntegratorKind kind) {
+  const Model& m = sc.model;
   Trajectory tr;
-  const RunResult res = simulate(m, [&](const Row& r) { record(tr, r); }, kind);
+  const RunResult res = simulate(sc, [&](const Row& r) { record(tr, r); }, kind);
   tr.ok = res.ok;
   tr.error = res.error;
   tr.substeps = res.stats.substeps;
@@ -136,38 +138,37 @@ Trajectory rowsOf(const Model& m, IntegratorKind kind) {
 }
 
 template <class V>
-double cpuSecondsOfRunV(const Model& m) {
+double cpuSecondsOfRunV(const Scene& sc) {
+  const Model& m = sc.model;
   Data<V> d(m);
-  State<V> s = initialState<V>(m);
+  State<V> s = initialState<V>(sc.run.initial);
   Input u;
-  u.tau = m.torque;
-  const long long n = std::llround(m.duration / m.integrator.step);
+  u.tau = sc.run.torque;
+  const long long n = std::llround(sc.run.duration / m.integrator.step);
   const double t0 = threadCpuSeconds();
-  for (long long k = 1; k <= n; ++k) {
-    if (step(m, d, s, u) != StepStatus::Ok) return -1.0;
-    s.t = static_cast<double>(k) * m.integrator.step;  // as simulate() does
-  }
+  if (!advanceSteps(m, d, s, u, 0, n).ok()) return -1.0;
   return threadCpuSeconds() - t0;
 }
 
 /// Samples the reference every dt for the peak contact force and the
 /// stick/slip of the journal (clearance variants only).
 template <class V>
-void finePass(const Model& m, double dt, Reference& r) {
+void finePass(const Scene& sc, double dt, Reference& r) {
   if constexpr (V::kClearance) {
+    const Model& m = sc.model;
     Input u;
-    u.tau = m.torque;
+    u.tau = sc.run.torque;
     ReferenceIntegrator<V> integ(m, u);
     Data<V> d(m);
-    State<V> s = initialState<V>(m);
+    State<V> s = initialState<V>(sc.run.initial);
     StickSlip& ss = r.stick;
     ss.dt = dt;
     const ContactParams& cp = m.contact;
-    const long long n = std::llround(m.duration / dt);
+    const long long n = std::llround(sc.run.duration / dt);
     bool was_slipping = true;
     double prev_vt = 0.0;
     bool prev_contact = false;
-    const long long per_row = std::llround(m.output_interval / dt);
+    const long long per_row = std::llround(sc.run.output_interval / dt);
     for (long long k = 1; k <= n; ++k) {
       if (!integ.advanceTo(s, static_cast<double>(k) * dt)) {
         throw std::runtime_error(std::string("reference (peak pass) stopped: ") + integ.failure());
@@ -197,7 +198,7 @@ void finePass(const Model& m, double dt, Reference& r) {
       prev_contact = true;
     }
   } else {
-    (void)m, (void)dt, (void)r;
+    (void)sc, (void)dt, (void)r;
   }
 }
 
@@ -246,17 +247,17 @@ void writeCache(const std::string& path, const std::string& key, const Reference
 
 }  // namespace
 
-Trajectory runRk4(const Model& m) { return rowsOf(m, IntegratorKind::Rk4); }
+Trajectory runRk4(const Scene& sc) { return rowsOf(sc, IntegratorKind::Rk4); }
 
-double cpuSecondsOfRun(const Model& m) {
-  return dispatchVariant(m, [&](auto tag) { return cpuSecondsOfRunV<decltype(tag)>(m); });
+double cpuSecondsOfRun(const Scene& sc) {
+  return dispatchVariant(sc.model, [&](auto tag) { return cpuSecondsOfRunV<decltype(tag)>(sc); });
 }
 
-Reference reference(const Model& m, const std::string& key, const std::string& cache_dir, double peak_dt) {
+Reference reference(const Scene& sc, const std::string& key, const std::string& cache_dir, double peak_dt) {
   std::ostringstream hk;
   hk << std::hex << std::hash<std::string>{}(key + " peak_dt=" + num(peak_dt) + " dopri5-1e-12 v2");
   const std::string hash = hk.str();
-  const std::string path = cache_dir + "/ref_" + m.name + "_" + hash + ".csv";
+  const std::string path = cache_dir + "/ref_" + sc.model.name + "_" + hash + ".csv";
   Reference r;
   if (readCache(path, hash, r)) {
     r.from_cache = true;
@@ -264,10 +265,10 @@ Reference reference(const Model& m, const std::string& key, const std::string& c
   }
   r = Reference{};
   const double t0 = threadCpuSeconds();
-  r.rows = rowsOf(m, IntegratorKind::Reference);
+  r.rows = rowsOf(sc, IntegratorKind::Reference);
   if (!r.rows.ok) throw std::runtime_error("reference run failed: " + r.rows.error);
   r.rows.peak_contact = 0.0;  // the row pass only sees rows; the fine pass sets it
-  dispatchVariant(m, [&](auto tag) { finePass<decltype(tag)>(m, peak_dt, r); });
+  dispatchVariant(sc.model, [&](auto tag) { finePass<decltype(tag)>(sc, peak_dt, r); });
   r.cpu_seconds = threadCpuSeconds() - t0;
   std::filesystem::create_directories(cache_dir);
   writeCache(path, hash, r);

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "gimbalsim/dynamics/model.hpp"
+#include "gimbalsim/dynamics/run_spec.hpp"
 #include "gimbalsim/dynamics/spatial.hpp"
 
 namespace gimbalsim::workprec {
@@ -69,15 +69,15 @@ struct Reference {
 
 /// Computes the reference of m, or reads it from cache_dir when a file there
 /// was made from the same scene text, overrides and settings (key).
-Reference reference(const Model& m, const std::string& key, const std::string& cache_dir,
+Reference reference(const Scene& sc, const std::string& key, const std::string& cache_dir,
                     double peak_dt);
 
 /// The RK4 run (sim.step and the policy's settings) sampled at output rows.
-Trajectory runRk4(const Model& m);
+Trajectory runRk4(const Scene& sc);
 
 /// Thread CPU seconds of one RK4 run of m (stepping only, no output), or a
 /// negative number when the run stops.
-double cpuSecondsOfRun(const Model& m);
+double cpuSecondsOfRun(const Scene& sc);
 
 /// CPU time of the calling thread [s] (CLOCK_THREAD_CPUTIME_ID).
 double threadCpuSeconds();

@@ -1,10 +1,13 @@
-// The controller closed on the dynamics in one process, as the bench would
-// run it: every control period the controller reads the encoder angles
-// (quantized to the scene's sensors.encoder_resolution) and the rates, its
-// torque reaches the plant one period later (one-tick bus latency), held
-// constant over the period (zero-order hold) and saturated at the scene's
-// torque.limit like the firmware does. Used by the tests and by the in-process
-// gain sweep; not a real-time path (the per-tick sink is a std::function).
+// The controller closed on the plant in one process, as the bench runs it:
+// the firmware model (firmware::Firmware<V>, firmware.hpp: encoders quantized
+// to sensors.encoder_resolution with the scene's optional noise, command
+// validation, watchdog, saturation at torque.limit, one-tick bus latency,
+// zero-order hold, RK4 sub-steps) ticks, and each tick the controller's
+// update() reads its status and answers with a command, exactly as
+// pointing_controller answers firmware_sim --lockstep over LCM (so the truth
+// is bit for bit the same; tests/controllers/lockstep_matches_in_process_test).
+// Used by the tests and by the in-process gain sweep; not a real-time path
+// (the per-tick sink is a std::function).
 #pragma once
 
 #include <functional>
@@ -12,17 +15,33 @@
 #include <string>
 
 #include "gimbalsim/controllers/pid.hpp"
-#include "gimbalsim/dynamics/integrator.hpp"
-#include "gimbalsim/dynamics/observables.hpp"
+#include "gimbalsim/dynamics/run_spec.hpp"
+#include "gimbalsim/firmware/messages.hpp"
 
 namespace gimbalsim::controllers {
+
+/// The controller's answer to one status.
+struct Answer {
+  Measurement meas;      ///< what update() saw
+  ControlOutput out;     ///< what it computed
+  firmware::Command cmd; ///< the command answering the status
+};
+
+/// The controller's side of a tick, the same for pointing_controller (over
+/// LCM) and the in-process loop: the measurement of status st (profile time
+/// st.seq * period, encoder angles, rates), update(), and the torque command
+/// answering it (status_seq = st.seq; seq strictly increasing and above the
+/// last seq the firmware accepted, even after a controller restart; utime =
+/// the status's). next_seq is the caller's counter (start at 0). No allocation.
+Answer answerStatus(const ControllerConfig& c, ControllerState& s, const firmware::Status& st,
+                    std::int64_t& next_seq) noexcept;
 
 /// One control tick, for logs.
 struct TickRecord {
   double t = 0.0;                  ///< [s]
   ProfileSample ref;               ///< reference at t
   Vec2 theta_true = Vec2::Zero();  ///< [rad] true joint angles
-  Vec2 theta_meas = Vec2::Zero();  ///< [rad] quantized encoder angles
+  Vec2 theta_meas = Vec2::Zero();  ///< [rad] encoder angles of the status
   Vec2 tau_cmd = Vec2::Zero();     ///< [N m] computed this tick
   Vec2 tau_applied = Vec2::Zero(); ///< [N m] acting over [t, t + Ts]
   double truth_error = 0.0;        ///< [rad] boresight vs losBoresight(ref)
@@ -31,13 +50,12 @@ struct TickRecord {
 struct ClosedLoopOptions {
   double duration = 10.0;          ///< [s]
   double settle_tol = 1.0e-3;      ///< [rad] band on max |q_ref - theta| per axis for "settled"
-  bool one_tick_delay = true;      ///< command of tick k acts over tick k+1 (the bus)
 };
 
 /// Figures of one closed-loop run. Joint errors use the true angles.
 struct ClosedLoopResult {
   bool ok = true;
-  std::string error;               ///< why the plant stopped (StepStatus), if !ok
+  std::string error;               ///< why the plant stopped (StepStatus) or the run was refused, if !ok
   double t_end = 0.0;              ///< [s]
   /// [s] after the slew's end until max |joint error| stays below settle_tol
   /// for the rest of the hold; +inf if it never does before tracking starts.
@@ -53,14 +71,12 @@ struct ClosedLoopResult {
   long long ticks = 0;
 };
 
-/// Runs the configured controller on the scene for opt.duration. The plant's
-/// constant scene torques are ignored: the controller is the only input.
-ClosedLoopResult runClosedLoop(const Model& m, const ControllerConfig& c, const ClosedLoopOptions& opt,
+/// Runs the configured controller on the scene for opt.duration (ticks 0 ..
+/// round(duration / period), the last one not stepped). The plant's constant
+/// scene torques are ignored: the controller is the only input. The firmware
+/// runs with its default settings (firmware::Config) at the controller's
+/// period, which must be a whole multiple of sim.step (else !ok, nothing run).
+ClosedLoopResult runClosedLoop(const Scene& sc, const ControllerConfig& c, const ClosedLoopOptions& opt,
                                const std::function<void(const TickRecord&)>& sink = {});
-
-/// Encoder reading of a true angle: nearest multiple of the resolution (0: exact).
-inline double quantize(double angle, double resolution) noexcept {
-  return resolution > 0.0 ? resolution * std::nearbyint(angle / resolution) : angle;
-}
 
 }  // namespace gimbalsim::controllers

@@ -1,14 +1,16 @@
 // Controller configuration files (YAML): gains, limits, control period and the
 // target profile in one file (controllers/config/default.yaml), with
 // `--set key=value` overrides. At the edge: parsing and validation here, never
-// in update(). Errors name the file, line and key, like the scene loader.
+// in update(). The keys are a KeyTable (gimbalsim/dynamics/key_registry.hpp),
+// loaded like the scene keys: errors name the file, line and key.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "gimbalsim/controllers/pid.hpp"
-#include "gimbalsim/dynamics/scene.hpp"  // SceneError (the list of problems), KeyInfo
+#include "gimbalsim/dynamics/key_registry.hpp"
+#include "gimbalsim/dynamics/scene.hpp"  // SceneError (the list of problems)
 
 namespace gimbalsim::controllers {
 
@@ -27,7 +29,12 @@ ControllerConfig loadControllerConfig(const std::string& path, const std::vector
 ControllerConfig loadControllerConfigText(const std::string& yaml, const std::string& origin,
                                           const std::vector<std::string>& overrides = {});
 
-/// Every configuration key with type, unit and meaning (README, --help).
+/// Every configuration key: control.*, profile.* (pointing::profileKeys(),
+/// gimbalsim/pointing/profile_keys.hpp), azimuth.*, elevation.*.
+const KeyTable<ControllerConfig>& controllerTable();
+
+/// Every configuration key with type, unit, check, default and meaning
+/// (`pointing_controller --keys`, controllers/README.md).
 std::vector<KeyInfo> controllerKeys();
 
 /// Every key with its value in c, as "key=value" strings that

@@ -26,9 +26,15 @@
 #include <array>
 #include <cstdint>
 
-#include "gimbalsim/controllers/target_profile.hpp"
+#include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::controllers {
+
+// The target profile lives in the pointing library (shared with the plant
+// side); the controller uses it under its own names.
+using pointing::ProfileSample;
+using pointing::Segment;
+using pointing::TargetProfile;
 
 enum class AntiWindup : std::uint8_t { None, Clamping, BackCalculation };
 enum class RateSource : std::uint8_t { Status, Difference };

@@ -1,5 +1,5 @@
-// Kinematics and contact force of the planar clearance joint (MODEL.md
-// section 2, paper eq. 1-12). The journal centre relative to the bearing
+// Kinematics and contact force of the planar clearance joint (docs/MODEL.md
+// section 4, paper eq. 1-12). The journal centre relative to the bearing
 // centre is (ecc_x, ecc_y) in the joint-plane basis (u1, u2); k2 = u1 x u2.
 #pragma once
 
@@ -9,6 +9,15 @@
 #include "gimbalsim/dynamics/data.hpp"
 
 namespace gimbalsim {
+
+/// Tangent t of the contact: the normal n turned +90 deg about k2.
+inline Vec2 contactTangent(const Vec2& n) { return Vec2(-n.y(), n.x()); }
+
+/// Arm of the tangential force about the journal centre [m]: the pair's
+/// forces act at the midpoint of Q_i and Q_j, (R_i + R_j - e) / 2 along n.
+inline double contactArm(const ContactParams& cp, double e) {
+  return 0.5 * (cp.bearing_radius + cp.journal_radius - e);
+}
 
 /// Penetration delta = e - c [m] and its rate d(delta)/dt [m/s] straight from
 /// the coordinates (no kinematics needed).
@@ -65,7 +74,7 @@ double tangentialVelocityRateAtFixedV(const Model& m, const Eigen::MatrixBase<Q>
   const double ex = q(QJ + 1), ey = q(QJ + 2);
   const double e = std::hypot(ex, ey);
   if (!(e > 0.0)) return 0.0;
-  const Vec2 n(ex / e, ey / e), t(-n.y(), n.x());
+  const Vec2 n(ex / e, ey / e), t = contactTangent(n);
   const Vec2 de(v(NB + 1), v(NB + 2));
   // dt/dt = -(de . t / e) n;  d(e - c)/dt = de . n.
   double r = -de.dot(t) * de.dot(n) / e + de.dot(n) * shaft1RateK2<V>(m, q, v);
@@ -99,10 +108,10 @@ void clearanceContact(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
     return;
   }
   c.n = Vec2(ex / c.e, ey / c.e);
-  const Vec2 t(-c.n.y(), c.n.x());  // n turned +90 deg about k2
+  const Vec2 t = contactTangent(c.n);
   const Vec2 de(v(NB + 1), v(NB + 2));
   c.vn = de.dot(c.n);
-  // Relative velocity of the material points Q_j and Q_i (MODEL.md 2):
+  // Relative velocity of the material points Q_j and Q_i (docs/MODEL.md section 4.3):
   // V = de + dtheta2 k2 x (R_j n) + omega_1 x (delta n), so along t:
   const double omega1_k2 = d.v[0].template head<3>().dot(m.k2_S1);
   c.vt = de.dot(t) + v(NB + 3) * cp.journal_radius + c.delta * omega1_k2;
@@ -120,36 +129,18 @@ void clearanceContact(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
 }
 
 /// Generalised force of the contact pair: F = -F_n n + F_t t on the journal,
-/// -F on the bearing, both at the midpoint of Q_i and Q_j (MODEL.md 2), so
+/// -F on the bearing, both at the midpoint of Q_i and Q_j (docs/MODEL.md 4.4), so
 /// only the joint-2 coordinates see it and momentum is exactly conserved.
 template <class V>
 void addContactForces(const Model& m, Data<V>& d) {
   constexpr int NB = V::NB;
   const ContactEval& c = d.contact;
   if (c.fn == 0.0 && c.ft == 0.0) return;
-  const Vec2 t(-c.n.y(), c.n.x());
-  const Vec2 F = -c.fn * c.n + c.ft * t;
-  // Midpoint lies (R_i + R_j - e)/2 along n from the journal centre.
-  const double arm = 0.5 * (m.contact.bearing_radius + m.contact.journal_radius - c.e);
+  const Vec2 F = -c.fn * c.n + c.ft * contactTangent(c.n);
+  const double arm = contactArm(m.contact, c.e);
   d.tau(NB + 1) += F.x();
   d.tau(NB + 2) += F.y();
   d.tau(NB + 3) += arm * c.ft;
-}
-
-/// Solves M x = b with the Cholesky factor L of M (lower) already in place.
-template <int N>
-void choleskySolveFactored(const Eigen::Matrix<double, N, N>& L, const Eigen::Matrix<double, N, 1>& b,
-                           Eigen::Matrix<double, N, 1>& x) {
-  for (int j = 0; j < N; ++j) {
-    double y = b(j);
-    for (int k = 0; k < j; ++k) y -= L(j, k) * x(k);
-    x(j) = y / L(j, j);
-  }
-  for (int i = N - 1; i >= 0; --i) {
-    double s = x(i);
-    for (int k = i + 1; k < N; ++k) s -= L(k, i) * x(k);
-    x(i) = s / L(i, i);
-  }
 }
 
 /// Stick closure of coulomb_stick (Filippov): dv_t/dt = a0 + b F_t is affine in
@@ -165,8 +156,8 @@ void stickClosure(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q, con
     c.ft = c.ft_required = 0.0;
     return;
   }
-  const Vec2 t(-c.n.y(), c.n.x());
-  const double arm = 0.5 * (m.contact.bearing_radius + m.contact.journal_radius - c.e);
+  const Vec2 t = contactTangent(c.n);
+  const double arm = contactArm(m.contact, c.e);
   typename Data<V>::VecV Qt = Data<V>::VecV::Zero(), w;
   Qt(NB + 1) = t.x();
   Qt(NB + 2) = t.y();

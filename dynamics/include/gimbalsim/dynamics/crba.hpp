@@ -8,16 +8,15 @@
 // non-zero half. Bit-identical to the generic 6-D recursion.
 #pragma once
 
-#include <array>
-
 #include "gimbalsim/dynamics/kinematics.hpp"
 
 namespace gimbalsim {
 
 namespace detail {
 
-/// A spatial inertia as plain scalars (I column-major, like Mat3's storage):
-/// the CRBA works on these so that everything it reads was written by
+/// A SpatialInertia as plain scalars (I = Ibar, column-major like Mat3's
+/// storage): the CRBA's composite inertias, and the only implementation of
+/// composing and shifting inertias. Everything the CRBA reads was written by
 /// scalar stores (mixing scalar stores with Eigen's 16-byte packet loads of
 /// the same data stalls store forwarding).
 struct InertiaS {
@@ -32,20 +31,17 @@ GIMBALSIM_INLINE void load(const SpatialInertia& a, InertiaS& b) {
   for (int k = 0; k < 9; ++k) b.I[k] = a.Ibar(k);
 }
 
-GIMBALSIM_INLINE void store(const InertiaS& a, SpatialInertia& b) {
-  b.m = a.m;
-  for (int k = 0; k < 3; ++k) b.h(k) = a.h[k];
-  for (int k = 0; k < 9; ++k) b.Ibar(k) = a.I[k];
-}
-
-/// p = a + b (SpatialInertia::operator+=, entry by entry).
+/// p = a + b, entry by entry.
 GIMBALSIM_INLINE void add(const SpatialInertia& a, const InertiaS& b, InertiaS& p) {
   p.m = a.m + b.m;
   for (int k = 0; k < 3; ++k) p.h[k] = a.h(k) + b.h[k];
   for (int k = 0; k < 9; ++k) p.I[k] = a.Ibar(k) + b.I[k];
 }
 
-/// S = m [r]x[r]x + [r]x[Rh]x + [Rh]x[r]x (SpatialInertia::shiftTerm).
+/// S = m [r]x[r]x + [r]x[Rh]x + [Rh]x[r]x given mr = m r (the shift of
+/// inertiaToParent). Every entry of a product of two skew matrices has at
+/// most two non-zero terms, so writing them out equals the 3x3 products bit
+/// for bit.
 GIMBALSIM_INLINE void shiftTerm(const double* mr, const double* r, const double* Rh, double* S) {
   for (int j = 0; j < 3; ++j) {
     for (int i = 0; i < 3; ++i) {
@@ -62,8 +58,11 @@ GIMBALSIM_INLINE void shiftTerm(const double* mr, const double* r, const double*
   }
 }
 
-/// Ic.toParent(X) of chain joint i (SpatialInertia::toParent; a prismatic
-/// joint has R = identity, so it only shifts the inertia).
+/// The inertia a of chain body i about the parent origin in parent
+/// coordinates (X^T I X for the motion transform X = ^C X_P): m, R h + m r,
+/// R Ibar R^T - (m [r]x[r]x + [r]x[Rh]x + [Rh]x[r]x), each product in Eigen's
+/// order (kernel::mul3). A prismatic joint has R = identity, so it only
+/// shifts the inertia.
 template <class V, int i>
 GIMBALSIM_INLINE void inertiaToParent(const InertiaS& a, const Transform& X, InertiaS& p) {
   const double* r = X.r_PC_P.data();
@@ -149,7 +148,7 @@ GIMBALSIM_FLATTEN void crba(const Model& m, Data<V>& d) {
     }
   }
   if constexpr (V::kFloating) {
-    // Ic_base.matrix(): [Ibar, [h]x; [h]x^T, m 1]
+    // Ic_base as a 6x6 matrix: [Ibar, [h]x; [h]x^T, m 1]
     const double* h = Ic_base.h;
     const double hx[9] = {0.0, h[2], -h[1], -h[2], 0.0, h[0], h[1], -h[0], 0.0};  // column-major [h]x
     for (int c = 0; c < 3; ++c) {
@@ -160,9 +159,7 @@ GIMBALSIM_FLATTEN void crba(const Model& m, Data<V>& d) {
         d.M(3 + r, 3 + c) = r == c ? Ic_base.m : 0.0;
       }
     }
-    detail::store(Ic_base, d.Ic_base);
   }
-  for (int i = 0; i < NJ; ++i) detail::store(Ic[i], d.Ic[i]);
 }
 
 }  // namespace gimbalsim

@@ -3,27 +3,11 @@
 #pragma once
 
 #include <array>
-#include <cstdint>
 
 #include "gimbalsim/dynamics/state.hpp"
+#include "gimbalsim/dynamics/step_result.hpp"
 
 namespace gimbalsim {
-
-/// Why a step stopped. Every value but Ok means the step did not reach its
-/// end: the state is left at the last accepted sub-step inside the step (a
-/// good state, but not at the step's end time); callers keep it as the last
-/// good state and do not step it again.
-enum class StepStatus : std::uint8_t {
-  Ok,
-  NonFinite,         ///< NaN or Inf in the state or its derivative
-  VelocityLimit,     ///< a velocity coordinate beyond integrator.velocity_limit
-  PenetrationLimit,  ///< contact penetration beyond integrator.penetration_limit
-  SubstepCap,        ///< more sub-steps than the cap in one step
-  EventNotLocated,   ///< the contact switch could not be located
-  SubstepTooLong,    ///< fixed policy: an impact shorter than min_substeps_per_impact sub-steps
-};
-
-const char* describe(StepStatus s);
 
 /// Contact quantities of the clearance joint at one evaluation.
 struct ContactEval {
@@ -64,7 +48,7 @@ struct RunStats {
 
 template <class V>
 struct Data {
-  static constexpr int NV = V::NV, NQ = V::NQ, NJ = V::NJ, NB = V::NB;
+  static constexpr int NV = V::NV, NQ = V::NQ, NJ = V::NJ;
   using VecV = Eigen::Matrix<double, NV, 1>;
   using VecQ = Eigen::Matrix<double, NQ, 1>;
   using MatV = Eigen::Matrix<double, NV, NV>;
@@ -73,7 +57,6 @@ struct Data {
 
   // ---- kinematics (kinematics.hpp) ----
   std::array<Transform, NJ> X{};  ///< chain body i relative to its parent
-  std::array<Vec6, NJ> S{};       ///< motion subspace of joint i, body i coords
   Vec6 v_base = Vec6::Zero();     ///< base twist, base coords [rad/s, m/s]
   std::array<Vec6, NJ> v{};       ///< body twists, body coords
 
@@ -84,8 +67,6 @@ struct Data {
   std::array<Vec6, NJ> f{};       ///< force transmitted by joint i to body i, body coords [N m, N]
 
   // ---- mass matrix (crba.hpp) ----
-  std::array<SpatialInertia, NJ> Ic{};  ///< composite inertias
-  SpatialInertia Ic_base;
   MatV M = MatV::Zero();          ///< joint-space inertia [kg, kg m, kg m^2]
   MatV L = MatV::Zero();          ///< its Cholesky factor (lower)
 
@@ -96,24 +77,21 @@ struct Data {
   VecQ qdot = VecQ::Zero();
   ContactEval contact;
 
-  // ---- integrator (integrator.hpp) ----
+  // ---- integrator (integrator.hpp): scratch, and a cache that changes no result ----
   struct Deriv {
     VecQ qd = VecQ::Zero();
     VecV vd = VecV::Zero();
   };
-  std::array<Deriv, 4> k{};       ///< RK4 stage derivatives
+  std::array<Deriv, 4> k{};       ///< RK4 stage derivatives (rk4.hpp)
   State<V> stage;                 ///< RK4 stage state
-  State<V> trial, bracket_lo, bracket_hi;
+  State<V> trial, bracket_hi;     ///< end of the sub-step tried; past-the-switch end of the bracket
   ContactEval contact_k1;         ///< contact at the start of the last sub-step
   double stage_delta_max = 0.0;   ///< deepest penetration of the last rk4() call's stages [m]
   RunStats stats;
-  double fail_time = 0.0;         ///< [s] when a step failed
-  int fail_index = -1;            ///< coordinate that failed (v index, or -1)
-  double fail_detail = 0.0;       ///< SubstepTooLong: the impact duration estimate [s]
-  // adaptive sub-stepping: the sub-step to try next [s] (0 = pick one), and
-  // the derivative at the end of the last accepted sub-step (reused as the
-  // next k1 while state, mode and input are unchanged)
-  double h_next = 0.0;
+  // Adaptive policy, first-same-as-last: f at the end of the last accepted
+  // sub-step, reused as the next k1 while state and input are unchanged. A
+  // pure cache (f depends on the state and input only): a fresh Data gives
+  // the same bits, so State alone is the checkpoint.
   Deriv k_last;
   State<V> k_last_state;
   Vec2 k_last_tau = Vec2::Zero();

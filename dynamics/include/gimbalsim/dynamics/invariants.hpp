@@ -31,7 +31,8 @@ bool conservative(const Model& m);
 /// zero total momentum would otherwise have no scale).
 class InvariantMonitor {
  public:
-  explicit InvariantMonitor(const Model& m);
+  /// torque: the constant joint torques whose work enters the energy balance [N m].
+  InvariantMonitor(const Model& m, const Vec2& torque);
   /// angular_scale, linear_scale: sums over the bodies of |L_body| [N m s]
   /// and |p_body| [N s] at this row (momentum().scale, .scale_linear); 0
   /// when unknown (the linear scale then has a lower bound from the row).
@@ -60,13 +61,19 @@ class InvariantMonitor {
   double angularDriftRel() const { return relative(drift_ang_, ang_scale_); }
 
   /// The first of sim.momentum_tol / sim.energy_tol the rows so far break
-  /// (bounds of 0 are off), as a message naming the key; empty when none.
-  std::string violation() const;
+  /// (bounds of 0 are off): its key and a message naming it; key "" when none.
+  struct Violation {
+    const char* key = "";
+    std::string message;
+    explicit operator bool() const { return *key != '\0'; }
+  };
+  Violation violation() const;
 
   static double relative(double x, double scale);
 
  private:
   const Model& m_;
+  Vec2 torque_;
   bool conservative_ = false;
   long long rows_ = 0;
   double theta1_0_ = 0.0, theta2_0_ = 0.0;

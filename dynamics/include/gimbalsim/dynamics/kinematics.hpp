@@ -46,12 +46,6 @@ GIMBALSIM_INLINE void translateMotionToChild(const Vec3& r, const Vec6& m_P, Vec
   m_C.tail<3>() = m_P.tail<3>() - r.cross(m_P.head<3>());
 }
 
-/// f_P = ^P X_C^* f_C for a pure translation: [n + r x f; f].
-GIMBALSIM_INLINE void translateForceToParent(const Vec3& r, const Vec6& f_C, Vec6& f_P) {
-  f_P.tail<3>() = f_C.tail<3>();
-  f_P.head<3>() = f_C.head<3>() + r.cross(f_C.tail<3>());
-}
-
 /// out = X^T f of chain joint i (force from body i's to its parent's
 /// coordinates), plain arrays; a prismatic joint only translates: [n + r x f; f].
 template <class V, int i>
@@ -66,16 +60,12 @@ GIMBALSIM_INLINE void jointForceToParent(const Transform& X, const double* f, do
   }
 }
 
-/// X^T f of chain joint i (force from body i to its parent's coordinates).
+/// The same on a Vec6 (rnea.hpp).
 template <class V, int i>
 GIMBALSIM_INLINE Vec6 jointForceToParent(const Transform& X, const Vec6& f) {
-  if constexpr (chainJointKind<V>(i) == JointKind::Prismatic) {
-    Vec6 out;
-    translateForceToParent(X.r_PC_P, f, out);
-    return out;
-  } else {
-    return X.forceToParent(f);
-  }
+  Vec6 out;
+  jointForceToParent<V, i>(X, f.data(), out.data());
+  return out;
 }
 
 /// X m of chain joint i (motion from the parent's to body i's coordinates).
@@ -120,7 +110,6 @@ GIMBALSIM_FLATTEN void kinematics(const Model& m, Data<V>& d, const Eigen::Matri
     if constexpr (chainJointKind<V>(i) == JointKind::Revolute) {
       X.R_PC = axisAngle(J.axis, qi);
       X.r_PC_P = J.origin;
-      d.S[i] << J.axis, Vec3::Zero();
       if constexpr (i > 0) {
         vi = X.motionToChild(d.v[i - 1]);
       } else if constexpr (V::kFloating) {
@@ -133,7 +122,6 @@ GIMBALSIM_FLATTEN void kinematics(const Model& m, Data<V>& d, const Eigen::Matri
       static_assert(i > 0, "the first chain joint is revolute");
       X.R_PC.setIdentity();
       X.r_PC_P = J.origin + qi * J.axis;
-      d.S[i] << Vec3::Zero(), J.axis;
       detail::translateMotionToChild(X.r_PC_P, d.v[i - 1], vi);
       vi.template tail<3>() += J.axis * qdi;  // + S qd
     }

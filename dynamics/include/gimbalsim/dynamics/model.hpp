@@ -34,8 +34,6 @@ struct Variant {
   static constexpr int NJ = Clearance ? 4 : 2;   ///< 1-dof joints of the chain
   static constexpr int NV = NB + NJ;             ///< velocity coordinates
   static constexpr int NQ = (Floating ? 7 : 0) + NJ;  ///< position coordinates
-  /// Chain index of joint 2's rotation (the elevation angle theta2).
-  static constexpr int kTheta2 = NJ - 1;
 };
 
 using FixedIdeal = Variant<false, false, false>;
@@ -52,7 +50,7 @@ struct BodyParams {
   Mat3 inertia = Mat3::Identity();    ///< about the centre of mass, body frame [kg m^2]
 };
 
-/// Journal-in-bearing contact of joint 2 (MODEL.md section 2).
+/// Journal-in-bearing contact of joint 2 (docs/MODEL.md section 4).
 struct ContactParams {
   double bearing_radius = 10.0e-3;    ///< R_i, on shaft 1 [m]
   double journal_radius = 9.5e-3;     ///< R_j, on shaft 2 [m]
@@ -107,22 +105,6 @@ struct IntegratorParams {
   double substep_max = 0.0;           ///< adaptive: largest sub-step near contact; 0 = step [s]
 };
 
-/// Initial state (MODEL.md section 1: everything at rest, journal concentric).
-struct InitialParams {
-  double theta1 = 0.0, theta2 = 0.0;    ///< [rad]
-  double dtheta1 = 0.0, dtheta2 = 0.0;  ///< [rad/s]
-  Vec2 ecc = Vec2::Zero();              ///< journal centre in the joint plane [m]
-};
-
-/// Sensors as the gimbal firmware reports them (firmware_sim; the dynamics
-/// never reads these).
-struct SensorParams {
-  double encoder_resolution = 5.992112452678286e-6;  ///< 2 pi / 2^20 [rad]; 0 = unquantized
-  double encoder_noise = 0.0;   ///< Gaussian encoder noise sigma, before quantization [rad]
-  double rate_noise = 0.0;      ///< Gaussian rate noise sigma [rad/s]
-  long long seed = 1;           ///< noise generator seed (>= 0)
-};
-
 struct Model {
   std::string name;
 
@@ -143,15 +125,9 @@ struct Model {
   Vec3 boresight_S2{1.0, 0.0, 0.0}; ///< antenna boresight, shaft 2 frame (unit)
 
   ContactParams contact;
+  /// How the dynamics is integrated: read by step() itself, so it lives here
+  /// and not in the run description (run_spec.hpp).
   IntegratorParams integrator;
-  InitialParams initial;
-  SensorParams sensors;
-
-  // ---- inputs and run ----
-  Vec2 torque{5.0, 10.0};           ///< constant joint torques tau1, tau2 [N m]
-  Vec2 torque_limit{1.0e3, 1.0e3};  ///< motor limit per axis [N m]
-  double duration = 5.0;            ///< simulated time [s]
-  double output_interval = 1.0e-3;  ///< CSV row spacing [s]
 
   // ---- derived by finalize() ----
   /// Joint-2 plane basis in shaft 1 coordinates: u1 x u2 = k2.
@@ -166,7 +142,6 @@ struct Model {
   std::array<ChainJoint, 4> chain{};
   std::array<SpatialInertia, 4> I_chain{};  ///< chain body i about its origin, body coords
   SpatialInertia I_base;                    ///< base about its CoM, base coords
-  double total_mass = 0.0;            ///< [kg]
 
   /// Derives K, chi, c, the joint-plane basis and the chain. Call after any
   /// parameter change; loadScene() does.

@@ -2,6 +2,7 @@
 // base Euler angles, the force joint 2 transmits. Not on the step hot path.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -39,6 +40,10 @@ inline constexpr std::array<const char*, kNumColumns> kColumns = {
     "delta",    "fn",       "ft",       "joint2_force", "bore_x",  "bore_y",   "bore_z",
     "mom_px",   "mom_py",   "mom_pz",   "mom_lx",     "mom_ly",    "mom_lz",   "energy"};
 inline const double* rowData(const Row& r) { return &r.t; }
+/// No NaN or Inf in any column.
+inline bool rowFinite(const Row& r) {
+  return std::all_of(rowData(r), rowData(r) + kNumColumns, [](double x) { return std::isfinite(x); });
+}
 
 /// World pose of every body (base, then chain bodies).
 template <class V>
@@ -51,13 +56,12 @@ struct WorldPoses {
 
 /// Needs kinematics() at s.
 template <class V>
-WorldPoses<V> worldPoses(const Model& m, const Data<V>& d, const State<V>& s) {
+WorldPoses<V> worldPoses(const Data<V>& d, const State<V>& s) {
   WorldPoses<V> w;
   if constexpr (V::kFloating) {
     w.R_WB = Quat(s.q(3), s.q(4), s.q(5), s.q(6)).normalized().toRotationMatrix();
     w.p_WB = s.q.template head<3>();
   }
-  (void)m;
   Mat3 R = w.R_WB;
   Vec3 p = w.p_WB;
   for (int i = 0; i < V::NJ; ++i) {
@@ -80,7 +84,7 @@ struct Momentum {
 /// Needs kinematics() at s.
 template <class V>
 Momentum momentum(const Model& m, const Data<V>& d, const State<V>& s) {
-  const WorldPoses<V> w = worldPoses(m, d, s);
+  const WorldPoses<V> w = worldPoses(d, s);
   Momentum out;
   auto add = [&](const SpatialInertia& I, const Vec6& v, const Mat3& R, const Vec3& p) {
     const Vec6 h = I * v;  // spatial momentum about the body origin, body coords
@@ -100,7 +104,7 @@ Momentum momentum(const Model& m, const Data<V>& d, const State<V>& s) {
 /// Antenna boresight in the inertial frame; needs kinematics() at s.
 template <class V>
 Vec3 boresight(const Model& m, const Data<V>& d, const State<V>& s) {
-  return worldPoses(m, d, s).R[V::NJ - 1] * m.boresight_S2;
+  return worldPoses(d, s).R[V::NJ - 1] * m.boresight_S2;
 }
 
 /// Z-Y-X (yaw, pitch, roll) Euler angles of R: returns (roll, pitch, yaw) [rad].
@@ -116,7 +120,7 @@ Row observe(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
   forwardDynamics(m, d, s, u);
   Row r{};
   r.t = s.t;
-  const WorldPoses<V> w = worldPoses(m, d, s);
+  const WorldPoses<V> w = worldPoses(d, s);
   if constexpr (V::kFloating) {
     const Vec3 wB = s.v.template head<3>(), vB = s.v.template segment<3>(3);
     const Vec3 p = w.p_WB, vel = w.R_WB * vB;

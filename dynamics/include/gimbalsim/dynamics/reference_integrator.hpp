@@ -9,7 +9,7 @@
 #include <cmath>
 #include <vector>
 
-#include "gimbalsim/dynamics/integrator.hpp"
+#include "gimbalsim/dynamics/event_locator.hpp"
 
 namespace gimbalsim {
 
@@ -98,9 +98,9 @@ class ReferenceIntegrator {
     for (int i = 0; i < NV; ++i) dxdt[NQ + i] = d_.vdot(i);
   }
 
-  long long impacts() const { return impacts_; }
+  long long impacts() const { return d_.stats.impacts; }
   /// coulomb_stick: located v_t reversals and stick/slip switches.
-  long long frictionSwitches() const { return friction_switches_; }
+  long long frictionSwitches() const { return d_.stats.friction_switches; }
   /// Why advanceTo() returned false.
   const char* failure() const { return failure_; }
 
@@ -120,20 +120,11 @@ class ReferenceIntegrator {
     Vec x(NQ + NV);
     stepper_.calc_state(t_switch, x);
     State<V> at = toState(x, t_switch);
-    if ((delta(x) > 0.0) != mode_.in_contact) {
-      at.in_contact = !mode_.in_contact;
-      at.friction_mode = 0;
-      at.vt_floor = 0.0;
-      if (at.in_contact) {
-        at.v0 = clearanceGap<V>(m_, at.q, at.v).rate;
-        ++impacts_;
-        if (m_.contact.friction == FrictionLaw::CoulombStick && V::kFriction) {
-          detail::enterFrictionMode(m_, d_, at, u_, true);
-        }
-      }
+    if (GapSwitch<V>{m_, mode_.in_contact}.past(at, delta(x))) {
+      enterContactSide(m_, d_, at, u_);
     } else {
-      detail::enterFrictionMode(m_, d_, at, u_, false);
-      ++friction_switches_;
+      enterFrictionMode(m_, d_, at, u_, false);
+      ++d_.stats.friction_switches;
     }
     pending_switch_ = false;
     restart(at);
@@ -143,8 +134,8 @@ class ReferenceIntegrator {
   /// between the current segment's start and x?
   bool switched(const Vec& x, double t) {
     const State<V> s = toState(x, t);
-    if ((clearanceGap<V>(m_, s.q, s.v).delta > 0.0) != mode_.in_contact) return true;
-    return detail::frictionSwitched(m_, d_, s, u_, false);
+    const GapSwitch<V> gap{m_, mode_.in_contact};
+    return gap.past(s, gap.value(s)) || FrictionSwitch<V>{m_, d_, u_}.past(s, 0.0);
   }
   double delta(const Vec& x) const {
     const State<V> s = toState(x, 0.0);
@@ -175,8 +166,6 @@ class ReferenceIntegrator {
   State<V> mode_;  ///< contact memory (in_contact, v0) of the current segment
   Stepper stepper_;
   bool started_ = false;
-  long long impacts_ = 0;
-  long long friction_switches_ = 0;
   bool pending_switch_ = false;  ///< a located switch at pending_t_ not yet applied
   double pending_t_ = 0.0;       ///< [s]
   long long steps_ = 0;

@@ -1,4 +1,5 @@
-// Scene files (YAML) -> validated Model. At the edge: parsing, validation and
+// Scene files (YAML) -> validated Scene (Model + RunSpec), through the scene
+// key table (key_registry.hpp). At the edge: parsing, validation and
 // error messages live here, never in the step.
 #pragma once
 
@@ -7,7 +8,9 @@
 #include <utility>
 #include <vector>
 
+#include "gimbalsim/dynamics/key_registry.hpp"
 #include "gimbalsim/dynamics/model.hpp"
+#include "gimbalsim/dynamics/run_spec.hpp"
 
 namespace gimbalsim {
 
@@ -21,23 +24,20 @@ class SceneError : public std::runtime_error {
   std::vector<std::string> problems_;
 };
 
-struct LoadedScene {
-  Model model;
-  std::vector<std::string> warnings;  ///< accepted but suspicious (e.g. triangle inequality)
-};
 
 /// Loads and validates a scene. `overrides` are "key=value" strings (from
 /// --set), applied after the file. Throws SceneError.
-LoadedScene loadScene(const std::string& path, const std::vector<std::string>& overrides = {});
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides = {});
 
 /// Same, from YAML text (`origin` names it in messages).
-LoadedScene loadSceneText(const std::string& yaml, const std::string& origin,
+Scene loadSceneText(const std::string& yaml, const std::string& origin,
                           const std::vector<std::string>& overrides = {});
 
-/// Every scene key with its type, unit and meaning (for `gimbalsim keys` and the README).
-struct KeyInfo {
-  std::string key, type, unit, help;
-};
+/// The scene keys (key_registry.hpp): what loadScene reads.
+const KeyTable<Scene>& sceneTable();
+
+/// Every scene key with type, unit, check, default and meaning (for
+/// `gimbalsim keys` and the README).
 std::vector<KeyInfo> sceneKeys();
 
 }  // namespace gimbalsim

@@ -2,13 +2,16 @@
 // hands each output row to a sink. The hot loop is the templated step().
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "gimbalsim/dynamics/data.hpp"
+#include "gimbalsim/dynamics/step_result.hpp"
 #include "gimbalsim/dynamics/model.hpp"
 #include "gimbalsim/dynamics/observables.hpp"
+#include "gimbalsim/dynamics/run_spec.hpp"
 
 namespace gimbalsim {
 
@@ -36,9 +39,26 @@ decltype(auto) dispatchVariant(const Model& m, F&& f) {
 std::vector<std::string> coordinateNamesQ(const Model& m);
 std::vector<std::string> coordinateNamesV(const Model& m);
 
+/// Why a run ended before its duration (RunResult::stop): read these fields,
+/// not the message.
+struct RunStop {
+  enum class Kind : std::uint8_t {
+    None,             ///< the run reached its duration
+    Step,             ///< a step failed: see step (status, time, coordinate)
+    NonFiniteOutput,  ///< an output row held NaN or Inf
+    Invariant,        ///< sim.momentum_tol or sim.energy_tol broken at an output row
+    Reference,        ///< the reference integrator gave up
+  };
+  Kind kind = Kind::None;
+  StepResult step;
+  const char* key = "";  ///< the scene key of the limit that stopped the run ("" when none names it)
+  double time = 0.0;     ///< [s]
+};
+
 struct RunResult {
   bool ok = true;
-  std::string error;           ///< what stopped the run, when and in what
+  RunStop stop;                ///< why the run ended early (when !ok)
+  std::string error;           ///< the same for people: what stopped the run, when and in what
   double t_end = 0.0;          ///< last good time [s]
   RunStats stats;
   bool in_contact_at_end = false;
@@ -56,13 +76,13 @@ struct RunResult {
 
 enum class IntegratorKind { Rk4, Reference };
 
-/// Runs the scene's constant torques for model.duration. The sink sees every
+/// Runs the scene's constant torques (run.torque) for run.duration. The sink sees every
 /// row (including t = 0); a non-finite row, or one that breaks
 /// sim.momentum_tol or sim.energy_tol (InvariantMonitor), stops the run before
 /// reaching it (ok = false, error says when and which key).
 /// IntegratorKind::Reference uses the adaptive Dormand-Prince reference
 /// (reference_integrator.hpp) instead of the fixed-step RK4.
-RunResult simulate(const Model& m, const std::function<void(const Row&)>& sink,
+RunResult simulate(const Scene& scene, const std::function<void(const Row&)>& sink,
                    IntegratorKind kind = IntegratorKind::Rk4);
 
 }  // namespace gimbalsim

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
 
 /// Forces inlining of the small hot-path helpers (GCC/Clang): at -O3 GCC
 /// otherwise keeps many of these 6-D helpers out of line.
@@ -22,7 +23,6 @@ using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat3 = Eigen::Matrix3d;
-using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Quat = Eigen::Quaterniond;
 
 /// Skew-symmetric cross-product matrix: skew(a) * b == a x b.
@@ -47,18 +47,12 @@ GIMBALSIM_INLINE void mul3(const double* A, double x0, double x1, double x2, dou
   y[1] = (A[1] * x0 + A[4] * x1) + A[7] * x2;
   y[2] = A[2] * x0 + (A[5] * x1 + A[8] * x2);
 }
-GIMBALSIM_INLINE void mul3(const Mat3& A, double x0, double x1, double x2, double* y) {
-  mul3(A.data(), x0, x1, x2, y);
-}
 
 /// y = A^T x (Eigen's order for a transposed left-hand side).
 GIMBALSIM_INLINE void mul3T(const double* A, double x0, double x1, double x2, double* y) {
   y[0] = (A[0] * x0 + A[1] * x1) + A[2] * x2;
   y[1] = (A[3] * x0 + A[4] * x1) + A[5] * x2;
   y[2] = (A[6] * x0 + A[7] * x1) + A[8] * x2;
-}
-GIMBALSIM_INLINE void mul3T(const Mat3& A, double x0, double x1, double x2, double* y) {
-  mul3T(A.data(), x0, x1, x2, y);
 }
 
 /// y = a x b (Eigen's cross()).
@@ -113,12 +107,16 @@ GIMBALSIM_INLINE void inertiaTimes(double m, const double* h, const double* Ibar
 
 }  // namespace kernel
 
-/// Rotation about unit axis k with c = cos(th), s = sin(th) (Rodrigues'
-/// formula c I + s [k]x + (1 - c) k k^T), written out entry by entry: the
-/// same floating-point operations, in the same order, as the matrix
-/// expression, so the result is bit-identical to it, without the temporaries.
-GIMBALSIM_INLINE void axisAngle(const Vec3& k, double c, double s, double* R) {
+/// Rotation by angle th [rad] about unit axis k (Rodrigues' formula
+/// c I + s [k]x + (1 - c) k k^T with c = cos(th), s = sin(th)), written out
+/// entry by entry: the same floating-point operations, in the same order, as
+/// the matrix expression, so the result is bit-identical to it, without the
+/// temporaries.
+GIMBALSIM_INLINE Mat3 axisAngle(const Vec3& k, double th) {
+  const double c = std::cos(th), s = std::sin(th);
   const double t = 1.0 - c;
+  Mat3 M;
+  double* R = M.data();
   const double tx = t * k.x(), ty = t * k.y(), tz = t * k.z();
   R[0] = c + tx * k.x();            // (0, 0)
   R[4] = c + ty * k.y();            // (1, 1)
@@ -129,16 +127,7 @@ GIMBALSIM_INLINE void axisAngle(const Vec3& k, double c, double s, double* R) {
   R[2] = s * -k.y() + tz * k.x();   // (2, 0)
   R[7] = s * -k.x() + ty * k.z();   // (1, 2)
   R[5] = s * k.x() + tz * k.y();    // (2, 1)
-}
-GIMBALSIM_INLINE Mat3 axisAngle(const Vec3& k, double c, double s) {
-  Mat3 R;
-  axisAngle(k, c, s, R.data());
-  return R;
-}
-
-/// Rotation by angle th [rad] about unit axis k (Rodrigues' formula).
-GIMBALSIM_INLINE Mat3 axisAngle(const Vec3& k, double th) {
-  return axisAngle(k, std::cos(th), std::sin(th));
+  return M;
 }
 
 /// Rigid transform between a parent frame P and a child frame C.
@@ -155,35 +144,7 @@ struct Transform {
     kernel::motionToChild(R_PC.data(), r_PC_P.data(), m_P.data(), out.data());
     return out;
   }
-  /// Force vector from child to parent coordinates (transpose of the above):
-  /// [R n + r x (R f); R f].
-  GIMBALSIM_INLINE Vec6 forceToParent(const Vec6& f_C) const {
-    Vec6 out;
-    kernel::forceToParent(R_PC.data(), r_PC_P.data(), f_C.data(), out.data());
-    return out;
-  }
-  /// 6x6 matrix of motionToChild (^C X_P).
-  Mat6 motionMatrixToChild() const {
-    Mat6 X;
-    const Mat3 E = R_PC.transpose();
-    X.topLeftCorner<3, 3>() = E;
-    X.topRightCorner<3, 3>().setZero();
-    X.bottomLeftCorner<3, 3>().noalias() = -E * skew(r_PC_P);
-    X.bottomRightCorner<3, 3>() = E;
-    return X;
-  }
 };
-
-/// Motion cross product v x m (RBDA eq. 2.31).
-GIMBALSIM_INLINE Vec6 crossMotion(const Vec6& v, const Vec6& m) {
-  Vec6 out;
-  double a[3], b[3];
-  kernel::cross3(v.data(), m.data(), out.data());
-  kernel::cross3(v.data(), m.data() + 3, a);
-  kernel::cross3(v.data() + 3, m.data(), b);
-  out(3) = a[0] + b[0], out(4) = a[1] + b[1], out(5) = a[2] + b[2];
-  return out;
-}
 
 /// Force cross product v x* f (RBDA eq. 2.32).
 GIMBALSIM_INLINE Vec6 crossForce(const Vec6& v, const Vec6& f) {
@@ -191,23 +152,6 @@ GIMBALSIM_INLINE Vec6 crossForce(const Vec6& v, const Vec6& f) {
   kernel::crossForce(v.data(), f.data(), out.data());
   return out;
 }
-
-/// Spatial inertia about a frame origin of a body of mass m [kg], centre of
-/// mass c [m] and rotational inertia Ic [kg m^2] about the centre of mass,
-/// all in that frame (RBDA eq. 2.63).
-inline Mat6 spatialInertia(double m, const Vec3& c, const Mat3& Ic) {
-  Mat6 I;
-  const Mat3 cx = skew(c);
-  I.topLeftCorner<3, 3>() = Ic + m * cx * cx.transpose();
-  I.topRightCorner<3, 3>() = m * cx;
-  I.bottomLeftCorner<3, 3>() = m * cx.transpose();
-  I.bottomRightCorner<3, 3>() = m * Mat3::Identity();
-  return I;
-}
-
-}  // namespace gimbalsim
-
-namespace gimbalsim {
 
 /// Spatial inertia about a frame origin in its compact form (RBDA eq. 2.63):
 /// mass m [kg], first moment h = m c [kg m], rotational inertia Ibar about the
@@ -227,60 +171,34 @@ struct SpatialInertia {
     kernel::inertiaTimes(m, h.data(), Ibar.data(), v.data(), out.data());
     return out;
   }
-  GIMBALSIM_INLINE SpatialInertia& operator+=(const SpatialInertia& o) {
-    m += o.m;
-    h += o.h;
-    Ibar += o.Ibar;
-    return *this;
-  }
-  /// The same inertia about the parent origin in parent coordinates
-  /// (X^T I X for the motion transform X = ^C X_P):
-  /// m, R h + m r, R Ibar R^T - (m [r]x[r]x + [r]x[Rh]x + [Rh]x[r]x).
-  GIMBALSIM_INLINE SpatialInertia toParent(const Transform& X) const {
-    SpatialInertia p;
-    const Vec3& r = X.r_PC_P;
-    Vec3 Rh;
-    kernel::mul3(X.R_PC, h.x(), h.y(), h.z(), Rh.data());
-    p.m = m;
-    p.h = Rh + m * r;
-    Mat3 T;  // R Ibar, then (R Ibar) R^T, each in Eigen's product order
-    for (int j = 0; j < 3; ++j) kernel::mul3(X.R_PC, Ibar(0, j), Ibar(1, j), Ibar(2, j), T.col(j).data());
-    for (int j = 0; j < 3; ++j) {
-      kernel::mul3(T, X.R_PC(j, 0), X.R_PC(j, 1), X.R_PC(j, 2), p.Ibar.col(j).data());
-    }
-    p.Ibar -= shiftTerm(m * r, r, Rh);
-    return p;
-  }
-  /// m [r]x[r]x + [r]x[Rh]x + [Rh]x[r]x given mr = m r (toParent's shift).
-  /// Every entry of a product of two skew matrices has at most two non-zero
-  /// terms, so writing them out equals the 3x3 products bit for bit.
-  static GIMBALSIM_INLINE Mat3 shiftTerm(const Vec3& mr, const Vec3& r, const Vec3& Rh) {
-    Mat3 S;
-    auto entry = [&](int i, int j) {
-      if (i == j) {
-        const int k = (i + 1) % 3, l = (i + 2) % 3;
-        const int a = k < l ? k : l, b = k < l ? l : k;  // the two other indices, ascending
-        const double A = -(mr(a) * r(a)) - mr(b) * r(b);   // skew(mr) skew(r)
-        const double B = -(r(a) * Rh(a)) - r(b) * Rh(b);  // skew(r) skew(Rh)
-        const double C = -(Rh(a) * r(a)) - Rh(b) * r(b);   // skew(Rh) skew(r)
-        return (A + B) + C;
-      }
-      // (skew(a) skew(b))(i, j) = b_i a_j for i != j
-      return (r(i) * mr(j) + Rh(i) * r(j)) + r(i) * Rh(j);
-    };
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 3; ++i) S(i, j) = entry(i, j);
-    return S;
-  }
-  Mat6 matrix() const {
-    Mat6 I;
-    I.topLeftCorner<3, 3>() = Ibar;
-    I.topRightCorner<3, 3>() = skew(h);
-    I.bottomLeftCorner<3, 3>() = skew(h).transpose();
-    I.bottomRightCorner<3, 3>() = m * Mat3::Identity();
-    return I;
-  }
 };
+
+namespace detail {
+
+/// Row j of the forward substitution L y = b into x: (b_j - sum_{k<j} L(j, k)
+/// x_k) / l, with l = L(j, j).
+template <int N>
+GIMBALSIM_INLINE void forwardSubstituteRow(const Eigen::Matrix<double, N, N>& L, int j, double bj, double l,
+                                           Eigen::Matrix<double, N, 1>& x) {
+  double y = bj;
+#pragma GCC unroll 16
+  for (int k = 0; k < j; ++k) y -= L(j, k) * x(k);
+  x(j) = y / l;
+}
+
+/// Back substitution L^T x = y in place (x holds y on entry).
+template <int N>
+GIMBALSIM_INLINE void backSubstitute(const Eigen::Matrix<double, N, N>& L, Eigen::Matrix<double, N, 1>& x) {
+#pragma GCC unroll 16
+  for (int i = N - 1; i >= 0; --i) {
+    double s = x(i);
+#pragma GCC unroll 16
+    for (int k = i + 1; k < N; ++k) s -= L(k, i) * x(k);
+    x(i) = s / L(i, i);
+  }
+}
+
+}  // namespace detail
 
 /// Solves A x = b for symmetric positive definite A by Cholesky, reading A's
 /// lower triangle and writing the lower factor into L (L may be A itself),
@@ -305,10 +223,7 @@ GIMBALSIM_INLINE bool choleskySolve(const Eigen::Matrix<double, N, N>& A, Eigen:
     const double l = std::sqrt(d);
     L(j, j) = l;
     const double il = 1.0 / l;
-    double y = b(j);  // L y = b, row j (needs only columns 0..j)
-#pragma GCC unroll 16
-    for (int k = 0; k < j; ++k) y -= L(j, k) * x(k);
-    x(j) = y / l;
+    detail::forwardSubstituteRow(L, j, b(j), l, x);  // L y = b, row j (needs only columns 0..j)
 #pragma GCC unroll 16
     for (int i = j + 1; i < N; ++i) {
       double s = A(i, j);
@@ -318,21 +233,16 @@ GIMBALSIM_INLINE bool choleskySolve(const Eigen::Matrix<double, N, N>& A, Eigen:
     }
   }
   if (!ok) return false;
-#pragma GCC unroll 16
-  for (int i = N - 1; i >= 0; --i) {  // L^T x = y
-    double s = x(i);
-#pragma GCC unroll 16
-    for (int k = i + 1; k < N; ++k) s -= L(k, i) * x(k);
-    x(i) = s / L(i, i);
-  }
+  detail::backSubstitute(L, x);
   return true;
 }
 
-/// Solves A x = b in place for symmetric positive definite A (Cholesky,
-/// lower factor written over A); see choleskySolve().
+/// Solves M x = b with the Cholesky factor L of M (lower) already in place.
 template <int N>
-GIMBALSIM_INLINE bool choleskySolveInPlace(Eigen::Matrix<double, N, N>& A, Eigen::Matrix<double, N, 1>& x) {
-  return choleskySolve(A, A, [&](int j) { return x(j); }, x);
+void choleskySolveFactored(const Eigen::Matrix<double, N, N>& L, const Eigen::Matrix<double, N, 1>& b,
+                           Eigen::Matrix<double, N, 1>& x) {
+  for (int j = 0; j < N; ++j) detail::forwardSubstituteRow(L, j, b(j), L(j, j), x);
+  detail::backSubstitute(L, x);
 }
 
 }  // namespace gimbalsim

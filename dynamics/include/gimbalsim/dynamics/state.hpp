@@ -1,7 +1,9 @@
-// State: small, copyable; copying one is how the integrator steps back.
+// State: small, copyable; copying one is how the integrator steps back, and
+// a copy is a checkpoint (everything that changes future results is here).
 #pragma once
 
 #include "gimbalsim/dynamics/model.hpp"
+#include "gimbalsim/dynamics/run_spec.hpp"
 
 namespace gimbalsim {
 
@@ -31,6 +33,10 @@ struct State {
   /// this, min(0, friction_mode * v_t) at the start of the slip (a slip that
   /// starts from v_t = 0 may start a round-off on the wrong side) [m/s]
   double vt_floor = 0.0;
+  /// sim.substep_policy adaptive: the contact sub-step to try next [s]
+  /// (0 = none chosen yet). Part of the state so that a copied State is a
+  /// full checkpoint: stepping the copy reproduces the run bit for bit.
+  double h_next = 0.0;
 
   double theta(int joint) const { return q(QJ + (joint == 0 ? 0 : NJ - 1)); }
   double dtheta(int joint) const { return v(NB + (joint == 0 ? 0 : NJ - 1)); }
@@ -43,17 +49,17 @@ struct Input {
 
 /// Initial state of a scene: base at rest at the origin, joints as the scene says.
 template <class V>
-State<V> initialState(const Model& m) {
+State<V> initialState(const InitialParams& init) {
   State<V> s;
   if constexpr (V::kFloating) s.q(3) = 1.0;  // identity quaternion
   constexpr int QJ = State<V>::QJ, NB = V::NB, NJ = V::NJ;
-  s.q(QJ) = m.initial.theta1;
-  s.q(QJ + NJ - 1) = m.initial.theta2;
-  s.v(NB) = m.initial.dtheta1;
-  s.v(NB + NJ - 1) = m.initial.dtheta2;
+  s.q(QJ) = init.theta1;
+  s.q(QJ + NJ - 1) = init.theta2;
+  s.v(NB) = init.dtheta1;
+  s.v(NB + NJ - 1) = init.dtheta2;
   if constexpr (V::kClearance) {
-    s.q(QJ + 1) = m.initial.ecc.x();
-    s.q(QJ + 2) = m.initial.ecc.y();
+    s.q(QJ + 1) = init.ecc.x();
+    s.q(QJ + 2) = init.ecc.y();
   }
   return s;
 }

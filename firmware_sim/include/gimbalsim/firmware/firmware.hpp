@@ -1,7 +1,8 @@
 // The gimbal firmware's behaviour and the plant it drives, without LCM,
-// threads or clocks: one tick() per control period. firmware_sim (main.cpp)
-// wraps it with LCM and a real-time or lockstep loop; the tests drive it in
-// one process.
+// threads or clocks: one tick() per control period. firmware_sim wraps it
+// with LCM and a real-time or lockstep loop (firmware_sim/src/); the
+// in-process closed loop (controllers/src/closed_loop.cpp) runs it with the
+// controller; the tests drive it in one process.
 //
 // Tick k (control period T, time t_k = k T):
 //   1. commands received since tick k-1 were validated on arrival by
@@ -24,25 +25,14 @@
 #include <cstdint>
 #include <string>
 
-#include "gimbalsim/controllers/target_profile.hpp"
 #include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/dynamics/observables.hpp"
+#include "gimbalsim/dynamics/run_spec.hpp"
+#include "gimbalsim/firmware/messages.hpp"
 #include "gimbalsim/firmware/sensor_noise.hpp"
+#include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::firmware {
-
-/// Fault bits of Status::faults; the same values as gimbal_status_t's
-/// FAULT_* constants (main.cpp static_asserts it).
-enum Fault : std::int32_t {
-  kWatchdogTripped = 1,   ///< no valid command within the watchdog time: safe command applied
-  kTorqueSaturated = 2,   ///< the requested torque was clipped to the motor limit
-  kCommandRejected = 4,   ///< a command was rejected since the previous tick
-  kPlantFault = 8,        ///< plant integration failed; state frozen (latched)
-  kLockstepTimeout = 16,  ///< lockstep: no answer within the timeout (set by the loop)
-};
-
-/// Command modes (gimbal_command_t::MODE_*).
-enum Mode : std::int8_t { kModeOff = 0, kModeTorque = 1 };
 
 /// Firmware settings that are not part of the scene (command-line options).
 struct Config {
@@ -50,15 +40,6 @@ struct Config {
   double watchdog_timeout = 0.05;     ///< no valid command for this long -> safe command [s]
   double torque_sanity_factor = 10.0; ///< reject |torque| > factor * torque.limit [-]
   Vec2 safe_torque = Vec2::Zero();    ///< applied while the watchdog is tripped [N m]
-};
-
-/// A decoded command (gimbal_command_t without LCM).
-struct Command {
-  std::int64_t utime = 0;       ///< [us]
-  std::int64_t seq = 0;         ///< [-]
-  std::int64_t status_seq = 0;  ///< [-] status answered
-  std::int8_t mode = kModeOff;
-  double torque[2] = {0.0, 0.0};  ///< [N m] azimuth, elevation
 };
 
 /// Why a command was refused.
@@ -74,43 +55,6 @@ enum class Rejection : std::uint8_t {
 inline constexpr int kNumRejections = 7;
 const char* describe(Rejection r);
 
-/// The firmware's status report (gimbal_status_t without LCM).
-struct Status {
-  std::int64_t utime = 0;         ///< [us]
-  std::int64_t seq = 0;           ///< [-] tick index
-  double angle[2] = {0.0, 0.0};   ///< [rad] encoder angles theta1, theta2 (quantized)
-  double rate[2] = {0.0, 0.0};    ///< [rad/s]
-  double applied_torque[2] = {0.0, 0.0};  ///< [N m] from t_k over the next period
-  std::int32_t faults = 0;        ///< Fault bits
-  std::int64_t last_command_seq = -1;
-  std::int64_t commands_received = 0, commands_rejected = 0, commands_missed = 0;
-};
-
-/// Simulator-only truth at t_k (gimbal_truth_t without LCM).
-struct Truth {
-  std::int64_t utime = 0;          ///< [us]
-  std::int64_t seq = 0;            ///< [-]
-  double sim_time = 0.0;           ///< [s]
-  double base_position[3] = {};    ///< [m] inertial
-  double base_quaternion[4] = {1.0, 0.0, 0.0, 0.0};  ///< (w, x, y, z), base -> inertial
-  double base_rate[3] = {};        ///< [rad/s] base frame
-  double base_velocity[3] = {};    ///< [m/s] inertial
-  double joint_angle[2] = {};      ///< [rad]
-  double joint_rate[2] = {};       ///< [rad/s]
-  double applied_torque[2] = {};   ///< [N m]
-  double eccentricity[2] = {};     ///< [m] joint-2 plane
-  double penetration = 0.0;        ///< [m]
-  double contact_normal_force = 0.0, contact_tangential_force = 0.0;  ///< [N]
-  double joint2_force = 0.0;       ///< [N]
-  double boresight[3] = {};        ///< unit, inertial
-  double target_boresight[3] = {}; ///< unit, inertial
-  double pointing_error = 0.0;     ///< [rad]
-  double momentum_linear[3] = {};  ///< [N s] inertial
-  double momentum_angular[3] = {}; ///< [N m s] about the inertial origin
-  double energy = 0.0;             ///< [J]
-  std::int32_t faults = 0;
-};
-
 /// Counters kept by the firmware (cumulative).
 struct Counters {
   std::int64_t received = 0;    ///< command messages, garbage included
@@ -123,9 +67,25 @@ struct Counters {
   int max_substeps_in_tick = 0;
 };
 
-/// Checks a Config against a scene; empty when fine, else what is wrong.
-/// On success *steps_per_tick = T / sim.step.
-std::string checkConfig(const Model& m, const Config& c, int* steps_per_tick);
+/// Result of checkConfig(): which setting is wrong (a code the caller maps to
+/// its option, e.g. firmware_sim's --rate), and the text saying why.
+struct ConfigCheck {
+  enum class Setting : std::uint8_t {
+    None,                ///< fine
+    ControlPeriod,       ///< not > 0, or not a whole multiple of sim.step
+    WatchdogTimeout,     ///< not > 0
+    TorqueSanityFactor,  ///< not >= 1
+    SafeTorque,          ///< not finite or beyond torque.limit
+  };
+  Setting wrong = Setting::None;
+  std::string message;     ///< empty when fine
+  int steps_per_tick = 0;  ///< T / sim.step when fine
+
+  bool ok() const noexcept { return wrong == Setting::None; }
+};
+
+/// Checks a Config against a scene.
+ConfigCheck checkConfig(const Scene& sc, const Config& c);
 
 /// Encoder quantization: the multiple of `resolution` nearest to x (x itself if resolution is 0).
 inline double quantize(double x, double resolution) noexcept {
@@ -135,14 +95,13 @@ inline double quantize(double x, double resolution) noexcept {
 template <class V>
 class Firmware {
  public:
-  /// m and profile must outlive the Firmware; profile may be null (then the
+  /// sc and profile must outlive the Firmware; profile may be null (then the
   /// target is the boresight at t = 0). c must pass checkConfig().
-  Firmware(const Model& m, const Config& c, const controllers::TargetProfile* profile = nullptr)
-      : m_(m), c_(c), profile_(profile), d_(m), obs_(m), s_(initialState<V>(m)),
-        noise_(static_cast<std::uint64_t>(m.sensors.seed)) {
-    std::string err = checkConfig(m, c, &steps_per_tick_);
-    (void)err;  // the caller checked; a bad config leaves steps_per_tick_ at 1
-    if (steps_per_tick_ < 1) steps_per_tick_ = 1;
+  Firmware(const Scene& sc, const Config& c, const pointing::TargetProfile* profile = nullptr)
+      : m_(sc.model), run_(sc.run), c_(c), profile_(profile), d_(m_), obs_(m_), s_(initialState<V>(sc.run.initial)),
+        noise_(static_cast<std::uint64_t>(sc.run.sensors.seed)) {
+    // The caller checked; a bad config leaves steps_per_tick_ at 1.
+    steps_per_tick_ = std::max(1, checkConfig(sc, c).steps_per_tick);
     watchdog_ticks_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(c.watchdog_timeout / c.control_period - 1e-9)));
     kinematics(m_, obs_, s_.q, s_.v);
     initial_boresight_ = boresight(m_, obs_, s_);
@@ -206,7 +165,7 @@ class Firmware {
     } else if (has_active_ && active_.mode == kModeTorque) {
       tau = Vec2(active_.torque[0], active_.torque[1]);
     }
-    const Vec2 clipped = tau.cwiseMax(-m_.torque_limit).cwiseMin(m_.torque_limit);
+    const Vec2 clipped = tau.cwiseMax(-run_.torque_limit).cwiseMin(run_.torque_limit);
     if (clipped != tau) {
       faults |= kTorqueSaturated;
       ++n_.saturated_ticks;
@@ -226,10 +185,10 @@ class Firmware {
     if (!plant_fault_) {
       const long long before = d_.stats.substeps;
       for (int i = 0; i < steps_per_tick_; ++i) {
-        const StepStatus st = step(m_, d_, s_, u_);
-        if (st != StepStatus::Ok) {
+        const StepResult st = step(m_, d_, s_, u_);
+        if (!st.ok()) {
           plant_fault_ = true;
-          plant_status_ = st;
+          plant_result_ = st;
           break;
         }
       }
@@ -256,16 +215,18 @@ class Firmware {
   std::int64_t lastAcceptedSeq() const noexcept { return last_accepted_seq_; }
 
   bool plantFault() const noexcept { return plant_fault_; }
-  StepStatus plantStatus() const noexcept { return plant_status_; }
-  double plantFailTime() const noexcept { return d_.fail_time; }  ///< [s]
-  int plantFailIndex() const noexcept { return d_.fail_index; }
+  StepStatus plantStatus() const noexcept { return plant_result_.status; }
+  /// Why the plant stopped: status, time [s], coordinate, limit key.
+  const StepResult& plantResult() const noexcept { return plant_result_; }
+  double plantFailTime() const noexcept { return plant_result_.time; }  ///< [s]
+  int plantFailIndex() const noexcept { return plant_result_.v_index; }
 
  private:
   Rejection validate(const Command& cmd) const noexcept {
     if (!std::isfinite(cmd.torque[0]) || !std::isfinite(cmd.torque[1])) return Rejection::NonFinite;
     if (cmd.mode != kModeOff && cmd.mode != kModeTorque) return Rejection::UnknownMode;
     for (int i = 0; i < 2; ++i) {
-      if (std::fabs(cmd.torque[i]) > c_.torque_sanity_factor * m_.torque_limit(i)) return Rejection::OutOfRange;
+      if (std::fabs(cmd.torque[i]) > c_.torque_sanity_factor * run_.torque_limit(i)) return Rejection::OutOfRange;
     }
     if (cmd.seq <= last_accepted_seq_) return Rejection::StaleSeq;
     // Status tick_ - 1 is the newest one published (status k is sampled in tick k).
@@ -283,7 +244,7 @@ class Firmware {
     Status& o = status_;
     o.utime = utime;
     o.seq = k;
-    const SensorParams& sp = m_.sensors;
+    const SensorParams& sp = run_.sensors;
     for (int j = 0; j < 2; ++j) {
       double a = s_.theta(j), w = s_.dtheta(j);
       if (sp.encoder_noise > 0.0) a += sp.encoder_noise * noise_.normal();
@@ -299,14 +260,16 @@ class Firmware {
     o.commands_missed = n_.missed;
   }
 
+  /// The one mapping from the plant to Truth: the observables at s_ (one
+  /// forward-dynamics evaluation) plus the target line of sight at t.
   void sampleTruth(std::int64_t k, std::int64_t utime, double t, std::int32_t faults) noexcept {
     Truth& o = truth_;
     const Row r = observe(m_, obs_, s_, u_);  // runs kinematics at s_ in obs_
-    const Vec3 b = boresight(m_, obs_, s_);
+    const Vec3 b(r.bore_x, r.bore_y, r.bore_z);
     Vec3 target = initial_boresight_;
     if (profile_ != nullptr) {
-      const controllers::ProfileSample ps = profile_->at(t);
-      target = controllers::losBoresight(m_, ps.q(0), ps.q(1));
+      const pointing::ProfileSample ps = profile_->at(t);
+      target = pointing::losBoresight(m_, ps.q(0), ps.q(1));
     }
     o.utime = utime;
     o.seq = k;
@@ -329,7 +292,7 @@ class Firmware {
     o.joint2_force = r.joint2_force;
     set3(o.boresight, b.x(), b.y(), b.z());
     set3(o.target_boresight, target.x(), target.y(), target.z());
-    o.pointing_error = controllers::pointingError(b, target);
+    o.pointing_error = pointing::pointingError(b, target);
     set3(o.momentum_linear, r.mom_px, r.mom_py, r.mom_pz);
     set3(o.momentum_angular, r.mom_lx, r.mom_ly, r.mom_lz);
     o.energy = r.energy;
@@ -339,8 +302,9 @@ class Firmware {
   static void set3(double* o, double x, double y, double z) noexcept { o[0] = x, o[1] = y, o[2] = z; }
 
   const Model& m_;
+  const RunSpec& run_;
   Config c_;
-  const controllers::TargetProfile* profile_;
+  const pointing::TargetProfile* profile_;
   Data<V> d_;    ///< stepping workspace
   Data<V> obs_;  ///< observation workspace (truth), never disturbs the stepping one
   State<V> s_;
@@ -358,7 +322,7 @@ class Firmware {
   std::int32_t pending_faults_ = 0;
   int last_substeps_ = 0;
   bool plant_fault_ = false;
-  StepStatus plant_status_ = StepStatus::Ok;
+  StepResult plant_result_;
 
   Status status_;
   Truth truth_;

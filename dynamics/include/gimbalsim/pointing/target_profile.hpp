@@ -4,6 +4,10 @@
 // which is the base frame at t = 0: the base rotates in reaction to the
 // gimbal, the encoders cannot see it, and only the truth channel (boresight
 // vs losBoresight of the target) reveals it. No LCM, no allocation.
+//
+// Library gimbalsim_pointing (links gimbalsim_dynamics only): shared by the
+// plant side (firmware_sim's truth) and the controller side, so the plant
+// never depends on the controller.
 #pragma once
 
 #include <cmath>
@@ -11,7 +15,7 @@
 
 #include "gimbalsim/dynamics/model.hpp"
 
-namespace gimbalsim::controllers {
+namespace gimbalsim::pointing {
 
 /// Which part of the profile a time falls in.
 enum class Segment : std::uint8_t {
@@ -30,7 +34,8 @@ struct ProfileSample {
   Segment segment = Segment::Wait;
 };
 
-/// Constant parameters of the profile (config keys `profile.*`).
+/// Constant parameters of the profile (config keys `profile.*`; the loader
+/// lives with the key registry, not here).
 ///
 /// Slew: minimum-jerk quintic s(u) = 10u^3 - 15u^4 + 6u^5, u = (t - t0)/T:
 /// position, rate and acceleration are continuous at both ends; peak rate
@@ -68,9 +73,10 @@ struct TargetProfile {
 Vec3 losBoresight(const Model& m, double az, double el) noexcept;
 
 /// Angle between two directions [rad]: atan2(|a x b|, a.b), exact near 0
-/// (acos loses half the digits there). Neither needs to be unit.
+/// (acos loses half the digits there). Neither needs to be unit. The one
+/// angle-between-directions function of the tree: tests and tools call it.
 inline double pointingError(const Vec3& a, const Vec3& b) noexcept {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
-}  // namespace gimbalsim::controllers
+}  // namespace gimbalsim::pointing

@@ -1,8 +1,8 @@
-#include "gimbalsim/controllers/target_profile.hpp"
+#include "gimbalsim/pointing/target_profile.hpp"
 
 #include <Eigen/Geometry>
 
-namespace gimbalsim::controllers {
+namespace gimbalsim::pointing {
 
 const char* describe(Segment s) {
   switch (s) {
@@ -58,4 +58,4 @@ Vec3 losBoresight(const Model& m, double az, double el) noexcept {
   return (R1 * (R2 * m.boresight_S2)).normalized();
 }
 
-}  // namespace gimbalsim::controllers
+}  // namespace gimbalsim::pointing

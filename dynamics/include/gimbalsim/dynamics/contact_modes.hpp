@@ -1,0 +1,71 @@
+// The discrete modes of the clearance joint, kept in State: the contact side
+// (in_contact, with the impact velocity v0 of the current contact) and the
+// slip/stick mode of friction.law coulomb_stick (friction_mode, vt_floor; the
+// set-valued Coulomb law, docs/MODEL.md 6.4). When a mode must switch, and the
+// mode to continue in just past a switch that event_locator.hpp located.
+#pragma once
+
+#include <cmath>
+
+#include "gimbalsim/dynamics/forward_dynamics.hpp"
+
+namespace gimbalsim {
+
+/// coulomb_stick: has a friction switch happened between the segment's start
+/// (whose mode x carries) and x? Slip: v_t changed sign against the mode.
+/// Stick: the force needed to stick exceeds mu F_n. contact_at_x: d.contact
+/// already holds forwardDynamics() at x (else it is evaluated here).
+template <class V>
+bool frictionSwitched(const Model& m, Data<V>& d, const State<V>& x, const Input& u, bool contact_at_x) {
+  if constexpr (!V::kFriction) {
+    return false;
+  } else {
+    if (m.contact.friction != FrictionLaw::CoulombStick || !x.in_contact) return false;
+    if (x.friction_mode != 0) return x.friction_mode * tangentialVelocity<V>(m, x.q, x.v) < x.vt_floor;
+    if (!contact_at_x) forwardDynamics(m, d, x, u);
+    return std::fabs(d.contact.ft_required) > m.contact.mu * d.contact.fn;
+  }
+}
+
+/// coulomb_stick: sets the friction mode to continue with from x, a state just
+/// past a located switch (or a contact onset), x.friction_mode the mode before.
+template <class V>
+void enterFrictionMode(const Model& m, Data<V>& d, State<V>& x, const Input& u, bool onset) {
+  const double vt = tangentialVelocity<V>(m, x.q, x.v);
+  int mode = 0;
+  if (onset && vt != 0.0) {
+    mode = vt > 0.0 ? 1 : -1;
+  } else {
+    State<V>& probe = d.stage;
+    probe = x;
+    probe.friction_mode = 0;
+    forwardDynamics(m, d, probe, u);
+    mode = consistentFrictionMode(m, d);
+    if (!onset && mode != 0 && mode == x.friction_mode) mode = 0;  // crossed within the tolerance
+    if (!onset && mode == 0 && x.friction_mode == 0) mode = d.contact.ft_required > 0.0 ? -1 : 1;
+  }
+  x.friction_mode = mode;
+  x.vt_floor = std::fmin(0.0, mode * vt);
+}
+
+/// The state just past a located contact switch: flips the contact side and
+/// sets the contact memory (impact velocity v0 at an onset, the friction
+/// mode); counts the impact or separation.
+template <class V>
+void enterContactSide(const Model& m, Data<V>& d, State<V>& x, const Input& u) {
+  x.in_contact = !x.in_contact;
+  if (x.in_contact) {
+    x.v0 = clearanceGap<V>(m, x.q, x.v).rate;  // impact velocity at onset
+    ++d.stats.impacts;
+    d.stats.last_onset_time = x.t;
+    if constexpr (V::kFriction) {
+      if (m.contact.friction == FrictionLaw::CoulombStick) enterFrictionMode(m, d, x, u, true);
+    }
+  } else {
+    ++d.stats.separations;
+    x.friction_mode = 0;
+    x.vt_floor = 0.0;
+  }
+}
+
+}  // namespace gimbalsim

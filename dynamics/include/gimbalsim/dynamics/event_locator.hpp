@@ -1,0 +1,131 @@
+// Locating a switch inside a sub-step (docs/MODEL.md 7.5, 7.6): the time at
+// which a switch function changes side, to sim.event_tol, by re-integrating
+// the sub-step from its start to trial lengths. One locator for every switch:
+// the contact gap (a signed value: Illinois regula falsi, safeguarded by
+// bisection) and the coulomb_stick slip/stick predicates (bisection).
+#pragma once
+
+#include <cmath>
+
+#include "gimbalsim/dynamics/contact_modes.hpp"
+#include "gimbalsim/dynamics/rk4.hpp"
+
+namespace gimbalsim {
+
+/// Sub-steps taken against the cap of one step: every RK4 evaluation counts,
+/// so the worst-case cost of a step is known.
+struct SubstepBudget {
+  int used = 0;
+  int cap = 0;
+  bool take() noexcept { return ++used <= cap; }
+};
+
+/// NaN/Inf, or a velocity beyond sim.velocity_limit, in s.
+template <class V>
+StepResult checkState(const Model& m, const State<V>& s) {
+  StepResult r;
+  r.time = s.t;
+  for (int i = 0; i < V::NQ; ++i) {
+    if (!std::isfinite(s.q(i))) {
+      r.status = StepStatus::NonFinite;
+      r.q_index = i;
+      return r;
+    }
+  }
+  for (int i = 0; i < V::NV; ++i) {
+    if (!std::isfinite(s.v(i)) || std::fabs(s.v(i)) > m.integrator.velocity_limit) {
+      r.status = std::isfinite(s.v(i)) ? StepStatus::VelocityLimit : StepStatus::NonFinite;
+      r.v_index = i;
+      return r;
+    }
+  }
+  r.status = StepStatus::Ok;
+  return r;
+}
+
+/// The contact switch: the penetration delta changes sign against the
+/// side the sub-step started on.
+template <class V>
+struct GapSwitch {
+  static constexpr bool kSigned = true;
+  const Model& m;
+  bool started_in_contact;
+  double value(const State<V>& x) const { return clearanceGap<V>(m, x.q, x.v).delta; }
+  bool past(const State<V>& /*x*/, double g) const { return (g > 0.0) != started_in_contact; }
+};
+
+/// coulomb_stick: a v_t reversal while slipping, or the end of stick.
+template <class V>
+struct FrictionSwitch {
+  static constexpr bool kSigned = false;
+  const Model& m;
+  Data<V>& d;
+  const Input& u;
+  double value(const State<V>& /*x*/) const { return 0.0; }
+  bool past(const State<V>& x, double /*g*/) const { return frictionSwitched(m, d, x, u, false); }
+};
+
+/// Locates the first switch of sw in (0, dt] of the sub-step from s, whose
+/// full-length end is d.trial (past the switch), and moves s to the first
+/// state found past it (within event_tol); the caller then sets the new
+/// mode. d.k[0] must hold f(s). guess (in (0, dt), else unused): a close
+/// estimate of the switch time; it is tried first and then a point 1e-3 dt
+/// beyond it on the side of the root, so the bracket shrinks to ~1e-3 dt in
+/// two evaluations.
+template <class V, class Switch>
+StepResult locateSwitch(const Model& m, Data<V>& d, State<V>& s, const Input& u, double dt, const Switch& sw,
+                        SubstepBudget& budget, double guess = -1.0) {
+  const IntegratorParams& p = m.integrator;
+  double lo = 0.0, hi = dt;
+  double g_lo = 0.0, g_hi = 0.0;
+  if constexpr (Switch::kSigned) {
+    g_lo = sw.value(s);
+    g_hi = sw.value(d.trial);
+  }
+  d.bracket_hi = d.trial;
+  int side_kept = 0;  // Illinois: which end stayed twice in a row
+  int it = 0;
+  const bool guided = guess > 0.0 && guess < dt;
+  StepResult r;
+  while (hi - lo > p.event_tol) {
+    r.time = s.t;
+    if (++it > p.max_event_iters) return r.status = StepStatus::EventNotLocated, r;
+    if (!budget.take()) return r.status = StepStatus::SubstepCap, r;
+    double tau = 0.5 * (lo + hi);
+    if constexpr (Switch::kSigned) {
+      const double w = hi - lo, rf = lo - g_lo * w / (g_hi - g_lo);
+      if (rf > lo + 0.01 * w && rf < hi - 0.01 * w && it % 4 != 0) tau = rf;
+    }
+    if (guided && it == 1) tau = guess;
+    if (guided && it == 2) {
+      const double off = std::fmax(1e-3 * dt, 0.5 * p.event_tol);
+      tau = hi == guess ? guess - off : guess + off;
+      if (!(tau > lo && tau < hi)) tau = 0.5 * (lo + hi);
+    }
+    rk4(m, d, s, u, tau, d.trial, /*reuse_k1=*/true);
+    ++d.stats.event_iterations;
+    if (r = checkState(m, d.trial); !r.ok()) return r;
+    const double g = sw.value(d.trial);
+    if (sw.past(d.trial, g)) {
+      hi = tau;
+      d.bracket_hi = d.trial;
+      if constexpr (Switch::kSigned) {
+        g_hi = g;
+        if (side_kept == -1) g_lo *= 0.5;
+        side_kept = -1;
+      }
+    } else {
+      lo = tau;
+      if constexpr (Switch::kSigned) {
+        g_lo = g;
+        if (side_kept == 1) g_hi *= 0.5;
+        side_kept = 1;
+      }
+    }
+  }
+  s = d.bracket_hi;
+  r.status = StepStatus::Ok;
+  return r;
+}
+
+}  // namespace gimbalsim

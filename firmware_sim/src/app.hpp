@@ -1,0 +1,114 @@
+// firmware_sim's pieces and how main.cpp wires them: the options, the exit
+// codes, the hand-over between the LCM side and the loop, and the context
+// (Run) that both loops take. CLI and exit codes: firmware_sim/README.md.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gimbalsim/dynamics/run_spec.hpp"
+#include "gimbalsim/firmware/firmware.hpp"
+#include "gimbalsim/firmware/spsc_ring.hpp"
+#include "loop_stats.hpp"
+
+namespace lcm {
+class LCM;
+}
+
+namespace gimbalsim::firmware {
+
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitInternal = 1,       ///< unexpected exception (a bug)
+  kExitRefused = 2,        ///< bad flag, scene, profile or output file: nothing run
+  kExitPlantFault = 3,     ///< the plant stopped on numerical trouble during the run
+  kExitLcm = 4,            ///< LCM could not start (bad --lcm-url, no multicast route)
+  kExitNoController = 5,   ///< lockstep: nobody answered status 0 within --start-timeout
+};
+
+/// Set by SIGINT/SIGTERM; the loops check it every tick.
+extern std::atomic<bool> g_stop;
+
+struct Options {
+  std::string scene;
+  std::vector<std::string> sets;
+  double rate_hz = 1000.0;
+  double duration = 0.0;
+  bool lockstep = false;
+  double lockstep_timeout_ms = 1000.0;
+  double start_timeout_s = 30.0;
+  int truth_every = 1;
+  std::string truth_csv;
+  std::string lcm_url;
+  std::string prefix;
+  int rt_priority = 80;
+  int cpu = -1;
+  double spin_us = 0.0;
+  double watchdog_ms = 50.0;
+  double torque_sanity = 10.0;
+  std::vector<double> safe_torque{0.0, 0.0};
+  std::string profile;
+  double stats_period = 1.0;
+};
+
+/// A command as it crosses from the communication thread to the loop.
+struct Inbound {
+  bool undecodable = false;
+  Command cmd;
+};
+
+/// What the loop hands back each tick.
+struct Outbound {
+  Status status;
+  bool has_truth = false;
+  Truth truth;
+};
+
+class LcmBridge;
+class TruthCsv;
+
+/// Everything a loop needs; main.cpp builds it.
+struct Run {
+  const Scene& scene;
+  const Options& o;
+  const Config& c;
+  const pointing::TargetProfile* profile;  ///< null: target = boresight at t = 0
+  lcm::LCM& lcm;
+  LcmBridge& bridge;
+  SpscRing<Inbound>& in;
+  TruthCsv& csv;
+  LoopStats stats;
+  bool fifo = false;
+  std::vector<std::string> rt_warnings;
+  double wall_seconds = 0.0;
+  long long lockstep_timeouts = 0;
+};
+
+/// Ticks to run: --duration / T, or -1 (until stopped).
+inline std::int64_t totalTicks(const Options& o, const Config& c) {
+  return o.duration > 0.0 ? static_cast<std::int64_t>(std::llround(o.duration / c.control_period)) : -1;
+}
+
+/// Hands every queued command to the firmware; *answered becomes true when one
+/// answers status `answer_to` (lockstep).
+template <class V>
+void drainInbound(Firmware<V>& fw, SpscRing<Inbound>& in, std::int64_t answer_to = -2, bool* answered = nullptr) {
+  Inbound m;
+  while (in.pop(m)) {
+    if (m.undecodable) {
+      fw.receiveUndecodable();
+    } else {
+      fw.receive(m.cmd);
+      if (answered && m.cmd.status_seq == answer_to) *answered = true;
+    }
+  }
+}
+
+/// The real-time loop (realtime_loop.cpp) and the lockstep loop
+/// (lockstep_loop.cpp); each returns the exit code.
+int runRealtime(Run& r);
+int runLockstep(Run& r);
+
+}  // namespace gimbalsim::firmware

@@ -1,0 +1,102 @@
+// Lockstep mode: one thread; tick k+1 runs once the command answering
+// status k has arrived (or a timeout), utime is simulated time, and runs are
+// bit-for-bit repeatable. README "Modes".
+#include <algorithm>
+#include <cstdio>
+#include <lcm/lcm-cpp.hpp>
+
+#include "app.hpp"
+#include "gimbalsim/channels.hpp"
+#include "gimbalsim/dynamics/simulate.hpp"
+#include "lcm_bridge.hpp"
+#include "realtime.hpp"
+#include "summary.hpp"
+#include "truth_csv.hpp"
+
+namespace gimbalsim::firmware {
+namespace {
+
+constexpr std::int64_t kRepublishNs = 200000000;  ///< status 0 again every 200 ms until answered
+
+/// Waits for the command answering status k (for status 0: re-publishes it
+/// until a controller answers, up to the start timeout). True when answered.
+template <class V>
+bool awaitAnswer(Run& r, Firmware<V>& fw, std::int64_t k) {
+  const bool first = k == 0;
+  const std::int64_t wait_ns = first ? std::llround(r.o.start_timeout_s * 1e9) : std::llround(r.o.lockstep_timeout_ms * 1e6);
+  const std::int64_t deadline = nowNs() + wait_ns;
+  std::int64_t republish = nowNs() + kRepublishNs;
+  bool answered = false;
+  while (!answered && !g_stop.load()) {
+    drainInbound(fw, r.in, k, &answered);
+    if (answered) break;
+    const std::int64_t now = nowNs();
+    if (now >= deadline) break;
+    if (first && now >= republish) {
+      r.bridge.publish(fw.status());
+      republish = now + kRepublishNs;
+    }
+    const std::int64_t until = first ? std::min(deadline, republish) : deadline;
+    const int ms = static_cast<int>(std::max<std::int64_t>(1, (until - now + 999999) / 1000000));
+    if (r.lcm.handleTimeout(ms) < 0 && !g_stop.load()) {  // (a signal also interrupts it)
+      std::fprintf(stderr, "firmware_sim: LCM receive failed\n");
+      g_stop.store(true);
+    }
+  }
+  return answered;
+}
+
+template <class V>
+int run(Run& r) {
+  Firmware<V> fw(r.scene, r.c, r.profile);
+  const std::int64_t total = totalTicks(r.o, r.c);
+  const std::int64_t wall0 = nowNs();
+  std::int32_t extra = 0;
+  std::int64_t next_stats = wall0 + std::llround(r.o.stats_period * 1e9);
+  for (std::int64_t k = 0; (total < 0 || k < total) && !g_stop.load(); ++k) {
+    const std::int64_t t0 = nowNs();
+    drainInbound(fw, r.in);
+    const std::int64_t utime = std::llround(static_cast<double>(k) * r.c.control_period * 1e6);
+    const bool want_truth = k % r.o.truth_every == 0;
+    fw.sample(utime, want_truth, extra);
+    extra = 0;
+    r.bridge.publish(fw.status());
+    if (want_truth) {
+      r.bridge.publish(fw.truth());
+      r.csv.write(fw.truth());
+    }
+    fw.advance();
+    r.stats.compute.add(static_cast<double>(nowNs() - t0) * 1e-3);
+    r.stats.addTick(k + 1, fw.lastSubsteps());
+    if (nowNs() >= next_stats) {
+      r.bridge.publishStats(utime, r.stats, false, true);
+      next_stats = nowNs() + std::llround(r.o.stats_period * 1e9);
+    }
+    if (total >= 0 && k + 1 >= total) break;  // the last status needs no answer
+
+    if (!awaitAnswer(r, fw, k) && !g_stop.load()) {
+      if (k == 0) {
+        std::fprintf(stderr,
+                     "firmware_sim: lockstep: no command answering status 0 arrived within --start-timeout %g s "
+                     "on channel %s; is the controller running with the same --lcm-url and --channel-prefix?\n",
+                     r.o.start_timeout_s, (r.o.prefix + Channels::kCommand).c_str());
+        r.wall_seconds = static_cast<double>(nowNs() - wall0) * 1e-9;
+        printExitSummary(r, outcomeOf(fw));
+        return kExitNoController;
+      }
+      extra = kLockstepTimeout;
+      ++r.lockstep_timeouts;
+    }
+  }
+  r.wall_seconds = static_cast<double>(nowNs() - wall0) * 1e-9;
+  r.bridge.publishStats(std::llround(static_cast<double>(fw.ticks()) * r.c.control_period * 1e6), r.stats, false, true);
+  return finish(r, outcomeOf(fw));
+}
+
+}  // namespace
+
+int runLockstep(Run& r) {
+  return dispatchVariant(r.scene.model, [&](auto tag) { return run<decltype(tag)>(r); });
+}
+
+}  // namespace gimbalsim::firmware

@@ -1,0 +1,34 @@
+// Statistics of firmware_sim's loop: written by the loop thread without
+// allocation, read by the communication thread (published on
+// GIMBAL_LOOP_STATS) and by the exit summary.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+
+#include "gimbalsim/firmware/histogram.hpp"
+
+namespace gimbalsim::firmware {
+
+struct LoopStats {
+  Histogram period{10000}, lateness{10000}, compute{10000};  // [us], 1 us bins to 10 ms
+  std::atomic<std::int64_t> ticks{0}, overruns{0}, substeps{0}, dropped_out{0};
+  std::atomic<int> substeps_max{0};
+
+  /// Loop thread, once per tick.
+  void addTick(std::int64_t ticks_done, int substeps_in_tick) noexcept {
+    substeps.store(substeps.load(std::memory_order_relaxed) + substeps_in_tick, std::memory_order_relaxed);
+    if (substeps_in_tick > substeps_max.load(std::memory_order_relaxed)) {
+      substeps_max.store(substeps_in_tick, std::memory_order_relaxed);
+    }
+    ticks.store(ticks_done, std::memory_order_relaxed);
+  }
+
+  /// RK4 evaluations per tick, mean over the ticks so far.
+  double substepsMean() const noexcept {
+    const std::int64_t t = ticks.load();
+    return t > 0 ? static_cast<double>(substeps.load()) / static_cast<double>(t) : 0.0;
+  }
+};
+
+}  // namespace gimbalsim::firmware

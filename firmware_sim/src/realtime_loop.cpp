@@ -1,0 +1,138 @@
+// Real-time mode: a periodic SCHED_FIFO thread runs the firmware core on
+// absolute deadlines, and the communication thread (the caller) does all LCM
+// work; the two hand data over through lock-free SPSC queues (no mutex, no
+// allocation, no network on the loop thread) and an eventfd to wake the
+// communication thread. README "Modes".
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <lcm/lcm-cpp.hpp>
+#include <thread>
+
+#include "app.hpp"
+#include "gimbalsim/dynamics/simulate.hpp"
+#include "lcm_bridge.hpp"
+#include "realtime.hpp"
+#include "summary.hpp"
+#include "truth_csv.hpp"
+
+namespace gimbalsim::firmware {
+namespace {
+
+void printWarnings(const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) std::fprintf(stderr, "firmware_sim: %s\n", w.c_str());
+}
+
+void wake(int efd) {
+  const std::uint64_t one = 1;
+  [[maybe_unused]] const ssize_t w = ::write(efd, &one, sizeof one);
+}
+
+template <class V>
+int run(Run& r) {
+  Firmware<V> fw(r.scene, r.c, r.profile);
+  SpscRing<Outbound> out(4096);
+  const int efd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+  if (efd < 0) {
+    std::fprintf(stderr, "firmware_sim: eventfd failed: %s\n", std::strerror(errno));
+    return kExitInternal;
+  }
+  const std::int64_t total = totalTicks(r.o, r.c);
+  const std::int64_t period_ns = std::llround(r.c.control_period * 1e9);
+  const std::int64_t spin_ns = std::llround(r.o.spin_us * 1e3);
+  const int truth_every = r.o.truth_every;
+  std::atomic<bool> loop_done{false};
+  std::atomic<bool> setup_done{false};  // publishes r.rt_warnings and r.fifo to this thread
+
+  auto loop = [&] {
+    r.rt_warnings = setUpRealtimeThread(r.o.rt_priority, r.o.cpu, 256 * 1024, &r.fifo);
+    setup_done.store(true, std::memory_order_release);
+    // Start on a whole period boundary a little ahead, so set-up does not count as lateness.
+    std::int64_t next = (nowNs() / period_ns + 2) * period_ns;
+    std::int64_t prev_wake = -1;
+    for (std::int64_t k = 0; (total < 0 || k < total) && !g_stop.load(std::memory_order_relaxed); ++k) {
+      const std::int64_t wake_ns = sleepUntil(next, spin_ns);
+      r.stats.lateness.add(static_cast<double>(wake_ns - next) * 1e-3);
+      if (prev_wake >= 0) r.stats.period.add(static_cast<double>(wake_ns - prev_wake) * 1e-3);
+      prev_wake = wake_ns;
+
+      drainInbound(fw, r.in);
+      const std::int64_t utime = nowNs(CLOCK_REALTIME) / 1000;
+      const bool want_truth = k % truth_every == 0;
+      fw.sample(utime, want_truth);
+      Outbound ob;
+      ob.status = fw.status();
+      ob.has_truth = want_truth;
+      if (want_truth) ob.truth = fw.truth();
+      if (!out.push(ob)) r.stats.dropped_out.fetch_add(1, std::memory_order_relaxed);
+      wake(efd);  // the communication thread
+      fw.advance();
+
+      const std::int64_t end = nowNs();
+      r.stats.compute.add(static_cast<double>(end - wake_ns) * 1e-3);
+      r.stats.addTick(k + 1, fw.lastSubsteps());
+      next += period_ns;
+      if (end > next) {  // the work ran past the next deadline: skip the missed ones
+        const std::int64_t missed = (end - next) / period_ns + 1;
+        r.stats.overruns.fetch_add(missed, std::memory_order_relaxed);
+        next += missed * period_ns;
+      }
+    }
+    loop_done.store(true);
+    wake(efd);
+  };
+
+  const std::int64_t wall0 = nowNs();
+  std::thread rt(loop);
+  // Communication thread: LCM in, drained queues out, statistics at a low rate.
+  pollfd fds[2] = {{r.lcm.getFileno(), POLLIN, 0}, {efd, POLLIN, 0}};
+  std::int64_t next_stats = nowNs() + std::llround(r.o.stats_period * 1e9);
+  bool warned = false;
+  auto drainOut = [&] {
+    Outbound ob;
+    while (out.pop(ob)) {
+      r.bridge.publish(ob.status);
+      if (ob.has_truth) {
+        r.bridge.publish(ob.truth);
+        r.csv.write(ob.truth);
+      }
+    }
+  };
+  while (!loop_done.load()) {
+    const int rc = poll(fds, 2, 100);
+    if (rc > 0 && (fds[0].revents & POLLIN)) r.lcm.handle();
+    if (rc > 0 && (fds[1].revents & POLLIN)) {
+      std::uint64_t v;
+      [[maybe_unused]] const ssize_t n = ::read(efd, &v, sizeof v);
+    }
+    drainOut();
+    if (!warned && setup_done.load(std::memory_order_acquire)) {
+      printWarnings(r.rt_warnings);
+      warned = true;
+    }
+    if (nowNs() >= next_stats) {
+      r.bridge.publishStats(nowNs(CLOCK_REALTIME) / 1000, r.stats, warned && r.fifo, false);
+      next_stats += std::llround(r.o.stats_period * 1e9);
+    }
+  }
+  rt.join();
+  drainOut();
+  r.wall_seconds = static_cast<double>(nowNs() - wall0) * 1e-9;
+  if (!warned) printWarnings(r.rt_warnings);
+  r.bridge.publishStats(nowNs(CLOCK_REALTIME) / 1000, r.stats, r.fifo, false);
+  ::close(efd);
+  return finish(r, outcomeOf(fw));
+}
+
+}  // namespace
+
+int runRealtime(Run& r) {
+  return dispatchVariant(r.scene.model, [&](auto tag) { return run<decltype(tag)>(r); });
+}
+
+}  // namespace gimbalsim::firmware

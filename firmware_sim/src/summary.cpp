@@ -1,0 +1,64 @@
+#include "summary.hpp"
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "gimbalsim/dynamics/simulate.hpp"
+#include "lcm_bridge.hpp"
+
+namespace gimbalsim::firmware {
+
+void printExitSummary(const Run& r, const Outcome& out) {
+  const LoopStats& st = r.stats;
+  const Counters& n = out.counters;
+  const double sim_s = static_cast<double>(out.ticks) * r.c.control_period;
+  std::printf("firmware_sim: %lld ticks, %.3f s simulated in %.3f s wall (%.2f x real time), %s\n",
+              static_cast<long long>(out.ticks), sim_s, r.wall_seconds,
+              r.wall_seconds > 0 ? sim_s / r.wall_seconds : 0.0,
+              r.o.lockstep ? "lockstep" : (r.fifo ? "real time, SCHED_FIFO" : "real time, SCHED_OTHER"));
+  if (!r.o.lockstep) {
+    std::printf("  wake-up lateness [us]: p50 %.0f  p99 %.0f  p99.9 %.0f  max %.1f\n", st.lateness.quantile(0.5),
+                st.lateness.quantile(0.99), st.lateness.quantile(0.999), st.lateness.max());
+    std::printf("  tick period [us]:      p50 %.0f  p99 %.0f  p99.9 %.0f  max %.1f\n", st.period.quantile(0.5),
+                st.period.quantile(0.99), st.period.quantile(0.999), st.period.max());
+  }
+  std::printf("  compute per tick [us]: p50 %.0f  p99 %.0f  max %.1f   (1 us bins)\n", st.compute.quantile(0.5),
+              st.compute.quantile(0.99), st.compute.max());
+  const Histogram& rt = r.bridge.roundtrip;
+  if (rt.count() > 0) {
+    std::printf("  status -> command round trip [us]: p50 %.0f  p99 %.0f  p99.9 %.0f  max %.1f  (%llu answers)\n",
+                rt.quantile(0.5), rt.quantile(0.99), rt.quantile(0.999), rt.max(),
+                static_cast<unsigned long long>(rt.count()));
+  }
+  std::printf("  overruns %lld; RK4 sub-steps per tick: mean %.2f, max %d\n", static_cast<long long>(st.overruns.load()),
+              st.substepsMean(), st.substeps_max.load());
+  std::printf("  commands: received %lld, rejected %lld, missed %lld; watchdog trips %lld; saturated ticks %lld\n",
+              static_cast<long long>(n.received), static_cast<long long>(n.rejected), static_cast<long long>(n.missed),
+              static_cast<long long>(n.watchdog_trips), static_cast<long long>(n.saturated_ticks));
+  for (int i = 1; i < kNumRejections; ++i) {
+    if (n.by_reason[i] > 0) {
+      std::printf("    rejected %lld: %s\n", static_cast<long long>(n.by_reason[i]), describe(static_cast<Rejection>(i)));
+    }
+  }
+  if (r.o.lockstep) std::printf("  lockstep timeouts %lld\n", r.lockstep_timeouts);
+  if (st.dropped_out.load() > 0 || r.bridge.dropped_in > 0 || r.bridge.publish_errors > 0) {
+    std::printf("  lost: %lld outbound (ring full), %lld inbound (ring full), %lld publish errors\n",
+                static_cast<long long>(st.dropped_out.load()), r.bridge.dropped_in, r.bridge.publish_errors);
+  }
+  std::fflush(stdout);
+}
+
+int reportPlantFault(const Model& m, const Outcome& out) {
+  if (!out.plant_fault) return kExitOk;
+  const std::vector<std::string> names = coordinateNamesV(m);
+  const int i = out.fail_index;
+  std::fprintf(stderr,
+               "firmware_sim: PLANT FAULT at t = %.9g s: %s%s%s; the state was frozen at the last good one "
+               "and every later status carried FAULT_PLANT_FAULT\n",
+               out.fail_time, describe(out.plant_status), i >= 0 ? " in coordinate " : "",
+               i >= 0 && i < static_cast<int>(names.size()) ? names[i].c_str() : "");
+  return kExitPlantFault;
+}
+
+}  // namespace gimbalsim::firmware

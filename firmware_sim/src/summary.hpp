@@ -1,0 +1,37 @@
+// firmware_sim's exit summary (stdout) and plant-fault report (stderr, exit 3).
+#pragma once
+
+#include <cstdint>
+
+#include "app.hpp"
+
+namespace gimbalsim::firmware {
+
+/// What the firmware core says at the end of a run.
+struct Outcome {
+  std::int64_t ticks = 0;
+  Counters counters;
+  bool plant_fault = false;
+  StepStatus plant_status = StepStatus::Ok;
+  double fail_time = 0.0;  ///< [s]
+  int fail_index = -1;     ///< coordinate that failed, -1 if none
+};
+
+template <class V>
+Outcome outcomeOf(const Firmware<V>& fw) {
+  return {fw.ticks(), fw.counters(), fw.plantFault(), fw.plantStatus(), fw.plantFailTime(), fw.plantFailIndex()};
+}
+
+/// The summary on stdout (README "At exit it prints").
+void printExitSummary(const Run& r, const Outcome& out);
+
+/// kExitOk, or the PLANT FAULT line on stderr and kExitPlantFault.
+int reportPlantFault(const Model& m, const Outcome& out);
+
+/// Both, in that order: the end of every run.
+inline int finish(const Run& r, const Outcome& out) {
+  printExitSummary(r, out);
+  return reportPlantFault(r.scene.model, out);
+}
+
+}  // namespace gimbalsim::firmware

@@ -1,0 +1,186 @@
+// The key registry (key_registry.hpp): every scene and controller key is
+// documented, every default is valid, printed values load back, and the key
+// tables in README.md and controllers/README.md are the ones the programs
+// print (`gimbalsim keys --markdown`, `pointing_controller --keys --markdown`).
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+
+#include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/pointing/profile_keys.hpp"
+
+namespace gimbalsim {
+namespace {
+
+const std::string kScenes = GIMBALSIM_SCENES_DIR;
+const std::string kSource = GIMBALSIM_SOURCE_DIR;
+
+/// The message with which load() refuses (SceneError or ConfigError), or "(accepted)".
+template <class Load>
+std::string refusalOf(Load load) {
+  try {
+    load();
+    return "(accepted)";
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+}
+
+std::string refusal(const std::string& yaml, const std::vector<std::string>& sets = {}) {
+  return refusalOf([&] { loadSceneText(yaml, "t.yaml", sets); });
+}
+
+void expectDocumented(const std::vector<KeyInfo>& keys) {
+  const std::set<std::string> numeric = {"number", "int", "vec2", "vec3", "inertia"};
+  std::set<std::string> seen;
+  for (const KeyInfo& k : keys) {
+    EXPECT_TRUE(seen.insert(k.key).second) << "twice: " << k.key;
+    EXPECT_FALSE(k.type.empty()) << k.key;
+    EXPECT_FALSE(k.meaning.empty()) << k.key;
+    if (numeric.count(k.type)) {
+      EXPECT_FALSE(k.unit.empty()) << "numeric key without a unit: " << k.key;
+    }
+  }
+}
+
+TEST(KeyRegistry, EveryKeyIsDocumented) {
+  expectDocumented(sceneKeys());
+  expectDocumented(controllers::controllerKeys());
+  EXPECT_EQ(sceneKeys().size(), sceneTable().keys.size());
+}
+
+TEST(KeyRegistry, EmptySceneLoadsToTheDefaults) {
+  const Scene loaded = loadSceneText("", "empty.yaml");
+  EXPECT_TRUE(loaded.warnings.empty());
+  EXPECT_EQ(loaded.model.name, "empty.yaml");  // the one default not from Scene{}: the file name
+  std::vector<std::string> got = sceneTable().values(loaded), want = sceneTable().values(Scene{});
+  ASSERT_EQ(got.size(), want.size());
+  ASSERT_EQ(got[0], "name=empty.yaml");
+  ASSERT_EQ(want[0], "name=");
+  got.erase(got.begin());
+  want.erase(want.begin());
+  EXPECT_EQ(got, want);
+}
+
+TEST(KeyRegistry, EmptyControllerConfigLoadsToTheDefaults) {
+  const controllers::ControllerConfig c = controllers::loadControllerConfigText("", "empty.yaml");
+  EXPECT_EQ(controllers::configValues(c), controllers::configValues(controllers::ControllerConfig{}));
+  EXPECT_EQ(controllers::configValues(c).size(), controllers::controllerKeys().size());
+}
+
+TEST(KeyRegistry, PrintedSceneValuesLoadBack) {
+  const Scene a = loadScene(kScenes + "/paper_clearance.yaml",
+                            {"shaft2.inertia=[0.5, 5, 5, 0.1, 0, 0]", "contact.clearance=1e-4", "sensors.seed=7"});
+  const std::vector<std::string> values = sceneTable().values(a);
+  const Scene b = loadSceneText("", "printed", values);
+  EXPECT_EQ(sceneTable().values(b), values);
+  EXPECT_EQ(b.model.shaft2.inertia, a.model.shaft2.inertia);
+  EXPECT_EQ(b.model.contact.journal_radius, a.model.contact.journal_radius);
+  EXPECT_EQ(b.run.sensors.seed, 7);
+}
+
+TEST(KeyRegistry, ChecksAndValuesInWords) {
+  EXPECT_EQ(greater(0).rule, "> 0");
+  EXPECT_EQ(atLeast(1).rule, ">= 1");
+  EXPECT_EQ(interval('(', 0, 1, ']').rule, "in (0, 1]");
+  EXPECT_EQ(interval('[', 0, 0.5, ')').rule, "in [0, 0.5)");
+  EXPECT_EQ(formatNumber(1e-3), "0.001");
+  EXPECT_EQ(formatNumber(0.1 + 0.2), "0.30000000000000004");  // shortest that reads back exactly
+  EXPECT_EQ(std::stod(formatNumber(5.992112452678286e-6)), 5.992112452678286e-6);
+}
+
+TEST(KeyRegistry, AlternativeKeysAndDefaultPlaces) {
+  const std::string good = "structure: {joint2: clearance}\n";
+  // Both radius forms in one file: refused, at the later one.
+  EXPECT_NE(refusal(good + "contact: {journal_radius: 9e-3, clearance: 1e-3}\n")
+                .find("t.yaml:2:33: give either contact.clearance or contact.journal_radius, not both"),
+            std::string::npos);
+  // A --set of one form replaces the other given in the file.
+  const Scene s = loadSceneText(good + "contact: {journal_radius: 9e-3}\n", "t.yaml", {"contact.clearance=1e-3"});
+  EXPECT_NEAR(s.model.contact.clearance, 1e-3, 1e-15);
+  // A derived journal radius is refused under the key that was given.
+  EXPECT_NE(refusal(good, {"contact.clearance=0.02"})
+                .find("--set #1 'contact.clearance=0.02': key 'contact.clearance': journal radius must be > 0, got -0.01"),
+            std::string::npos);
+  // A default that a given key makes wrong is named as a default.
+  EXPECT_NE(refusal(good, {"sim.step=1e-5"})
+                .find("t.yaml: (default of sim.substep): key 'sim.substep': must be in (0, sim.step]"),
+            std::string::npos);
+}
+
+TEST(KeyRegistry, ProfileSectionAloneIsTheControllersProfile) {
+  const std::string file = std::string(GIMBALSIM_SOURCE_DIR) + "/controllers/config/default.yaml";
+  const KeyTable<pointing::TargetProfile>& keys = pointing::profileKeys();
+  EXPECT_EQ(keys.values(pointing::loadTargetProfile(file)),
+            keys.values(controllers::loadControllerConfig(file).profile));
+  // Other sections are not read; the profile's keys are checked as the controller checks them.
+  EXPECT_NO_THROW(pointing::loadTargetProfileText("azimuth: {kp: -1}\nbogus: 1\n", "t.yaml"));
+  const std::string what =
+      refusalOf([] { pointing::loadTargetProfileText("profile: {slew_time: 0, slew_tim: 1}\n", "t.yaml"); });
+  EXPECT_NE(what.find("t.yaml:1:11: key 'profile.slew_time': must be > 0, got 0"), std::string::npos) << what;
+  EXPECT_NE(what.find("t.yaml:1:25: unknown key 'profile.slew_tim'"), std::string::npos) << what;
+}
+
+/// Cells of a Markdown table row: split at unescaped '|', trimmed, `\|` and code quotes undone.
+std::vector<std::string> cells(const std::string& row) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (std::size_t i = 1; i < row.size(); ++i) {
+    if (row[i] == '\\' && i + 1 < row.size() && row[i + 1] == '|') {
+      cur += '|';
+      ++i;
+    } else if (row[i] == '|') {
+      const auto b = cur.find_first_not_of(' '), e = cur.find_last_not_of(' ');
+      cur = b == std::string::npos ? "" : cur.substr(b, e - b + 1);
+      if (cur.size() >= 2 && cur.front() == '`' && cur.back() == '`') cur = cur.substr(1, cur.size() - 2);
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += row[i];
+    }
+  }
+  return out;
+}
+
+/// The rows of the key table in a Markdown file, and the text before it.
+std::vector<std::vector<std::string>> keyTable(const std::string& path, std::string& before) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in) << path;
+  std::vector<std::vector<std::string>> rows;
+  std::string line;
+  bool in_table = false;
+  while (std::getline(in, line)) {
+    if (!in_table) {
+      in_table = line == "| key | type | unit | default | check | meaning |";
+      if (!in_table) before += line + "\n";
+      continue;
+    }
+    if (line.rfind("|---", 0) == 0) continue;
+    if (line.empty() || line[0] != '|') break;
+    rows.push_back(cells(line));
+  }
+  return rows;
+}
+
+void expectReadmeTable(const std::string& path, const std::vector<KeyInfo>& keys, const std::string& command) {
+  std::string before;
+  const auto rows = keyTable(path, before);
+  EXPECT_NE(before.find(command), std::string::npos) << path << " must name the command that prints its table";
+  ASSERT_EQ(rows.size(), keys.size()) << path << ": regenerate the table with " << command;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const KeyInfo& k = keys[i];
+    EXPECT_EQ(rows[i], (std::vector<std::string>{k.key, k.type, k.unit, k.default_value, k.check, k.meaning}))
+        << path << " row " << i + 1 << ": regenerate the table with " << command;
+  }
+}
+
+TEST(KeyRegistry, ReadmeTablesAreTheRegistry) {
+  expectReadmeTable(kSource + "/README.md", sceneKeys(), "gimbalsim keys --markdown");
+  expectReadmeTable(kSource + "/controllers/README.md", controllers::controllerKeys(),
+                    "pointing_controller --keys --markdown");
+}
+
+}  // namespace
+}  // namespace gimbalsim

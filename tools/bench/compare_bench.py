@@ -1,0 +1,54 @@
+#!/usr/bin/env python3
+"""Before/after speed of two gimbalsim_bench binaries, measured in one run.
+
+    /usr/bin/python3 tools/bench/compare_bench.py OLD_BENCH NEW_BENCH \
+        [--filter 'BM_(Rk4|Step)<'] [--rounds 5] [--min-time 0.2]
+
+The two binaries run alternately, round after round (old, new, old, new, ...),
+so that load on this shared machine falls on both alike. Each round is one
+Google Benchmark pass of every matching benchmark; the table gives the median
+CPU time over the rounds per binary and the ratio new / old (below 1: faster).
+Exit 2 when a binary cannot be run or a benchmark is missing from one side.
+"""
+import argparse
+import json
+import statistics
+import subprocess
+import sys
+
+
+def one_pass(binary, flt, min_time):
+    cmd = [binary, f"--benchmark_filter={flt}", f"--benchmark_min_time={min_time}",
+           "--benchmark_format=json"]
+    try:
+        out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    except (OSError, subprocess.CalledProcessError) as e:
+        sys.exit(f"compare_bench: cannot run {binary}: {e}")
+    return {b["name"] + " [" + b["time_unit"] + "]": b["cpu_time"] for b in json.loads(out)["benchmarks"]}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("old")
+    ap.add_argument("new")
+    ap.add_argument("--filter", default="BM_(Rk4|Step)<")
+    ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--min-time", type=float, default=0.2, help="seconds per benchmark per pass")
+    a = ap.parse_args()
+    times = {"old": {}, "new": {}}
+    for _ in range(a.rounds):
+        for side in ("old", "new"):
+            for name, t in one_pass(getattr(a, side), a.filter, a.min_time).items():
+                times[side].setdefault(name, []).append(t)
+    names = sorted(set(times["old"]) | set(times["new"]))
+    missing = [n for n in names if n not in times["old"] or n not in times["new"]]
+    if missing:
+        sys.exit(f"compare_bench: missing on one side: {', '.join(missing)}")
+    print(f"{'benchmark [unit]':50s} {'old':>10s} {'new':>10s} {'new/old':>8s}   (median CPU time of {a.rounds} rounds)")
+    for n in names:
+        o, w = statistics.median(times["old"][n]), statistics.median(times["new"][n])
+        print(f"{n:50s} {o:10.1f} {w:10.1f} {w / o:8.3f}")
+
+
+if __name__ == "__main__":
+    main()
