@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "gimbalsim/dynamics/guarded_main.hpp"
 #include "gimbalsim/channels.hpp"
 #include "gimbalsim/controllers/closed_loop.hpp"  // answerStatus
 #include "gimbalsim/controllers/config.hpp"
@@ -227,10 +228,5 @@ int run(int argc, char** argv) {
 }  // namespace gimbalsim::controllers
 
 int main(int argc, char** argv) {
-  try {
-    return gimbalsim::controllers::run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "pointing_controller: internal error: %s\n", e.what());
-    return 1;
-  }
+  return gimbalsim::guardedMain("pointing_controller", [&] { return gimbalsim::controllers::run(argc, argv); });
 }

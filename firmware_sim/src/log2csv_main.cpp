@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "gimbalsim/dynamics/guarded_main.hpp"
 #include "gimbalsim/channels.hpp"
 #include "gimbalsim/firmware/csv_rows.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
@@ -279,10 +280,5 @@ int mainImpl(int argc, char** argv) {
 }  // namespace gimbalsim::firmware
 
 int main(int argc, char** argv) {
-  try {
-    return gimbalsim::firmware::mainImpl(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "gimbalsim_log2csv: internal error: %s\n", e.what());
-    return 1;
-  }
+  return gimbalsim::guardedMain("gimbalsim_log2csv", [&] { return gimbalsim::firmware::mainImpl(argc, argv); });
 }

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "app.hpp"
+#include "gimbalsim/dynamics/guarded_main.hpp"
 #include "gimbalsim/channels.hpp"
 #include "gimbalsim/dynamics/scene.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
@@ -149,10 +150,5 @@ int mainImpl(int argc, char** argv) {
 }  // namespace gimbalsim::firmware
 
 int main(int argc, char** argv) {
-  try {
-    return gimbalsim::firmware::mainImpl(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "firmware_sim: internal error: %s\n", e.what());
-    return 1;
-  }
+  return gimbalsim::guardedMain("firmware_sim", [&] { return gimbalsim::firmware::mainImpl(argc, argv); });
 }

@@ -84,6 +84,8 @@ nlohmann::json summaryJson(const gimbalsim::Model& m, const gimbalsim::RunResult
       {"event_iterations", st.event_iterations},
       {"max_substeps_in_a_step", st.max_substeps_in_step},
       {"straddle_retries", st.straddle_retries},
+      {"adaptive_rejected_substeps", st.rejected_substeps},
+      {"adaptive_forced_substeps", st.forced_substeps},
       {"min_impact_duration_s", valueOrNull(st.min_impact_duration > 0, st.min_impact_duration)},
       {"wall_time_s", r.wall_seconds},
       {"step_time_s", r.step_seconds},
@@ -92,7 +94,14 @@ nlohmann::json summaryJson(const gimbalsim::Model& m, const gimbalsim::RunResult
         {"step_s", m.integrator.step},
         {"substep_s", m.integrator.substep},
         {"event_tol_s", m.integrator.event_tol}}}};
-  if (!r.ok) j["error"] = r.error;
+  if (!r.ok) {
+    j["error"] = r.error;
+    // What stopped the run, as codes: the scene key of the limit ("" when no
+    // setting names it), the step status and the time.
+    j["stop"] = {{"key", r.stop.key},
+                 {"step_status", gimbalsim::describe(r.stop.step.status)},
+                 {"time_s", r.stop.time}};
+  }
   return j;
 }
 
