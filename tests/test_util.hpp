@@ -17,6 +17,13 @@ inline std::string scenePath(const std::string& name) {
   return std::string(GIMBALSIM_SCENES_DIR) + "/" + name + ".yaml";
 }
 
+#ifdef GIMBALSIM_CONTROLLER_CONFIG_DIR
+/// The controller's default configuration file (controllers/config/default.yaml).
+inline std::string defaultControllerConfig() {
+  return std::string(GIMBALSIM_CONTROLLER_CONFIG_DIR) + "/default.yaml";
+}
+#endif
+
 inline Scene scene(const std::string& name, const std::vector<std::string>& sets = {}) {
   return loadScene(scenePath(name), sets);
 }

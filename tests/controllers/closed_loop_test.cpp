@@ -28,7 +28,7 @@ constexpr double kTruthFixed = 1e-4;     // [rad]
 constexpr double kTruthFloating = 0.1;   // [rad]
 
 ControllerConfig defaults(const std::vector<std::string>& sets = {}) {
-  return loadControllerConfig(std::string(GIMBALSIM_CONTROLLER_CONFIG_DIR) + "/default.yaml", sets);
+  return loadControllerConfig(test::defaultControllerConfig(), sets);
 }
 
 ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, double extra_track = 3.0) {

@@ -24,7 +24,7 @@ namespace {
 TEST(LockstepMatchesInProcess, TruthTrajectoryIsBitIdentical) {
   if (std::system("unshare -n true >/dev/null 2>&1") != 0) GTEST_SKIP() << "unshare -n not permitted here";
   const std::string scene = test::scenePath("paper_clearance");
-  const std::string config = std::string(GIMBALSIM_CONTROLLER_CONFIG_DIR) + "/default.yaml";
+  const std::string config = test::defaultControllerConfig();
   const double duration = 3.0;  // [s]: wait, slew and most of the hold
   const std::filesystem::path dir = std::filesystem::temp_directory_path() /
                                     ("gimbalsim_lockstep_" + std::to_string(::getpid()));

@@ -24,12 +24,12 @@ TEST(HilGarbage, BadMessagesOnCommandChannelAreCountedAndIgnored) {
   TempDir dir("garbage");
   const int n_bad = 14;  // two cycles of hil_publish's 7 kinds
   // One udpm port per bench (see hil_lockstep_test: a shared port can drop packets under load).
-  const std::string cfg = defaultConfig();
+  const std::string cfg = defaultControllerConfig();
   auto bench = [&](const std::string& prefix, const std::string& name) {
     const std::string url = udpmUrl(prefix == "HIL_G_" ? 7734 : 7744);
     return "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' --channel-prefix " + prefix +
            " --duration 1.999 --idle-exit 5 >" + name + ".ctl 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
-           sceneFile("paper_clearance") + " --lockstep --duration 2 --profile " + cfg + " --truth-csv " + name +
+           scenePath("paper_clearance") + " --lockstep --duration 2 --profile " + cfg + " --truth-csv " + name +
            ".csv --lcm-url '" + url + "' --channel-prefix " + prefix + " --start-timeout 10 >" + name +
            ".log 2>&1";
   };

@@ -20,21 +20,21 @@ namespace {
 /// `duration` simulated seconds, truth to `truth`, stdout to `fw_log`.
 std::string lockstepPair(const std::string& url, const std::string& prefix, double duration,
                          const std::string& truth, const std::string& fw_log) {
-  const std::string cfg = defaultConfig();
+  const std::string cfg = defaultControllerConfig();
   const std::string pfx = prefix.empty() ? "" : " --channel-prefix " + prefix;
   char dur[32], ctl_dur[32];
   std::snprintf(dur, sizeof dur, "%g", duration);
   std::snprintf(ctl_dur, sizeof ctl_dur, "%g", duration - 1e-3);  // answers up to the last status but one
   return "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "'" + pfx + " --duration " +
          ctl_dur + " --idle-exit 5 >" + fw_log + ".ctl 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
-         sceneFile("paper_clearance") + " --lockstep --duration " + dur + " --profile " + cfg + " --truth-csv " +
+         scenePath("paper_clearance") + " --lockstep --duration " + dur + " --profile " + cfg + " --truth-csv " +
          truth + " --lcm-url '" + url + "'" + pfx + " --start-timeout 10 >" + fw_log + " 2>&1";
 }
 
 TEST(HilLockstep, ClearanceSlewCompletesAndPointingErrorConverges) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
   TempDir dir("lockstep_converges");
-  const auto cfg = controllers::loadControllerConfig(defaultConfig());
+  const auto cfg = controllers::loadControllerConfig(defaultControllerConfig());
   const double slew_end = cfg.profile.slew_start + cfg.profile.slew_time;  // [s] 2.5
   const double hold_end = slew_end + cfg.profile.hold_time;                // [s] 3.5: tracking starts
   const std::string body = lockstepPair(udpmUrl(7731), "", hold_end, dir / "truth.csv", dir / "fw.log") +

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "../csv_util.hpp"
+#include "../test_util.hpp"
 
 namespace gimbalsim::hil {
 
@@ -114,6 +115,8 @@ inline std::string readFile(const std::string& path) {
 }
 
 using test::Csv;
+using test::defaultControllerConfig;
+using test::scenePath;
 
 /// firmware_sim's exit summary: "commands: received N, rejected N, missed N;
 /// watchdog trips N; ..." and the other counters, by name.
@@ -136,12 +139,8 @@ inline std::map<std::string, long long> summaryCounters(const std::string& text)
   return m;
 }
 
-/// Quoted paths of the build's programs and the project's files.
+/// Quoted paths of the build's programs.
 inline std::string firmwareSim() { return std::string("'") + GIMBALSIM_FIRMWARE_SIM + "'"; }
 inline std::string pointingController() { return std::string("'") + GIMBALSIM_POINTING_CONTROLLER + "'"; }
-inline std::string sceneFile(const std::string& name) {
-  return std::string(GIMBALSIM_SCENES_DIR) + "/" + name + ".yaml";
-}
-inline std::string defaultConfig() { return std::string(GIMBALSIM_CONTROLLER_CONFIG_DIR) + "/default.yaml"; }
 
 }  // namespace gimbalsim::hil

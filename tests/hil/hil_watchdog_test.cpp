@@ -27,7 +27,7 @@ TEST(HilWatchdog, ControllerKilledTripsWithinBoundHoldsSafeStateAndRecovers) {
   TempDir dir("watchdog");
   const double watchdog_ms = 50.0;           // firmware_sim --watchdog-ms (its default)
   const double safe1 = 0.5, safe2 = -0.25;   // [N m] --safe-torque: not zero, so "safe" is recognisable
-  const std::string url = udpmUrl(7733), cfg = defaultConfig();
+  const std::string url = udpmUrl(7733), cfg = defaultControllerConfig();
   // `exec` so that $! is the controller itself (kill -9 on a `timeout`
   // wrapper would orphan a live controller); --idle-exit ends it if the plant dies.
   const std::string ctl = "exec " + pointingController() + " " + cfg + " --lcm-url '" + url + "'";
@@ -36,7 +36,7 @@ TEST(HilWatchdog, ControllerKilledTripsWithinBoundHoldsSafeStateAndRecovers) {
   // The kill time is taken just before the kill (CLOCK_REALTIME, us).
   const std::string body =
       "(" + ctl + " --idle-exit 2 >ctl1.log 2>&1) &\nC1=$!\nsleep 0.3\n" + "timeout 20 " + firmwareSim() + " " +
-      sceneFile("paper_clearance") + " --duration 1.6 --watchdog-ms 50 --safe-torque 0.5 -0.25 --profile " + cfg +
+      scenePath("paper_clearance") + " --duration 1.6 --watchdog-ms 50 --safe-torque 0.5 -0.25 --profile " + cfg +
       " --truth-csv truth.csv --lcm-url '" + url + "' >fw.log 2>&1 &\nF=$!\nsleep 0.7\n" +
       "date +%s%6N >kill_utime\nkill -9 $C1\nsleep 0.4\ndate +%s%6N >restart_utime\n(" + ctl +
       " --idle-exit 0.5 >ctl2.log 2>&1) &\nwait $F; rc=$?; wait; exit $rc";

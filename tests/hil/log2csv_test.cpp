@@ -21,7 +21,7 @@ const std::string kTool = std::string("'") + GIMBALSIM_LOG2CSV + "'";
 TEST(Log2Csv, LoggedLockstepRunConvertsToTheTruthCsvFirmwareSimWrote) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
   TempDir dir("log2csv");
-  const std::string url = udpmUrl(7735), cfg = defaultConfig(), pfx = " --channel-prefix HIL_L_";
+  const std::string url = udpmUrl(7735), cfg = defaultControllerConfig(), pfx = " --channel-prefix HIL_L_";
   const bool have_logger = std::system("command -v lcm-logger >/dev/null 2>&1") == 0;
   // Recorders first (gimbalsim_record, and lcm-logger when installed); the
   // run; then SIGINT the recorders (both close their log cleanly).
@@ -31,7 +31,7 @@ TEST(Log2Csv, LoggedLockstepRunConvertsToTheTruthCsvFirmwareSimWrote) {
                    : std::string("L=\n")) +
       "sleep 0.3\n" + "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "'" + pfx +
       " --duration 0.999 --idle-exit 5 >ctl.log 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
-      sceneFile("paper_clearance") + " --lockstep --duration 1 --profile " + cfg + " --truth-csv truth.csv --lcm-url '" +
+      scenePath("paper_clearance") + " --lockstep --duration 1 --profile " + cfg + " --truth-csv truth.csv --lcm-url '" +
       url + "'" + pfx + " --start-timeout 10 >fw.log 2>&1\nrc=$?\nsleep 0.3\nkill -INT $R $L\nwait\nexit $rc";
   ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log");
 
@@ -106,7 +106,7 @@ TEST(Log2Csv, RefusesMissingFileAndNonLogWithExitCode2) {
   std::string msg = runCapture(kTool + " /nonexistent/run.lcmlog", &st);
   EXPECT_EQ(WEXITSTATUS(st), 2);
   EXPECT_NE(msg.find("log '/nonexistent/run.lcmlog': no such file"), std::string::npos) << msg;
-  const std::string yaml = sceneFile("paper_clearance");
+  const std::string yaml = scenePath("paper_clearance");
   msg = runCapture(kTool + " '" + yaml + "'", &st);
   EXPECT_EQ(WEXITSTATUS(st), 2);
   EXPECT_NE(msg.find("not an LCM log"), std::string::npos) << msg;
