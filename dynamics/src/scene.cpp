@@ -167,8 +167,29 @@ std::vector<SceneKey> keys() {
                 field(sensors, &SensorParams::encoder_noise), atLeast(0)),
       K::number("sensors.rate_noise", "rad/s", "firmware_sim: Gaussian rate noise sigma (0 = none)",
                 field(sensors, &SensorParams::rate_noise), atLeast(0)),
-      K::integer("sensors.seed", "-", "firmware_sim: sensor noise seed", field(sensors, &SensorParams::seed),
-                 atLeast(0)),
+      K::integer("sensors.seed", "-",
+                 "firmware_sim: sensor noise seed (encoders; the gyro and star tracker streams are derived from it)",
+                 field(sensors, &SensorParams::seed), atLeast(0)),
+      K::number("sensors.star_tracker_rate", "Hz",
+                "star tracker sample rate; samples at multiples of its period (taken in the first control tick at "
+                "or after)",
+                field(sensors, &SensorParams::star_tracker_rate), greater(0)),
+      K::number("sensors.star_tracker_noise", "rad",
+                "star tracker noise: sigma per base axis of a small rotation applied to the quaternion (0 = none)",
+                field(sensors, &SensorParams::star_tracker_noise), atLeast(0)),
+      K::number("sensors.star_tracker_latency", "s",
+                "star tracker latency: a sample taken at t_s is delivered at the first tick at or after t_s + "
+                "latency, stamped t_s; < 8 star tracker periods",
+                field(sensors, &SensorParams::star_tracker_latency), atLeast(0)),
+      K::vector<2>("sensors.star_tracker_outage", "s",
+                   "star tracker outage [start, end]: no sample taken or delivered, flagged ([0, 0] = none)",
+                   field(sensors, &SensorParams::star_tracker_outage), atLeast(0), "[start, end]"),
+      K::vector<3>("sensors.gyro_bias", "rad/s", "rate gyro constant bias, base frame",
+                   field(sensors, &SensorParams::gyro_bias)),
+      K::number("sensors.gyro_bias_walk", "rad/s/sqrt(s)", "rate gyro bias random walk sigma (0 = constant bias)",
+                field(sensors, &SensorParams::gyro_bias_walk), atLeast(0)),
+      K::number("sensors.gyro_noise", "rad/s", "rate gyro white noise sigma per sample, each axis (0 = none)",
+                field(sensors, &SensorParams::gyro_noise), atLeast(0)),
   };
 }
 
@@ -206,6 +227,18 @@ void validate(const Scene& s, Given& g) {
   const double r = s.run.output_interval / p.step;
   if (std::fabs(r - std::round(r)) > 1e-6 * r || std::round(r) < 1.0) {
     g.refuse("sim.output_interval", "must be a whole multiple of sim.step (" + formatNumber(p.step) + " s)");
+  }
+  const SensorParams& sp = s.run.sensors;
+  if (!(sp.star_tracker_latency * sp.star_tracker_rate < SensorParams::kStarTrackerMaxLatencyPeriods)) {
+    g.refuse("sensors.star_tracker_latency",
+             "must be < " + std::to_string(SensorParams::kStarTrackerMaxLatencyPeriods) +
+                 " star tracker periods (" +
+                 formatNumber(SensorParams::kStarTrackerMaxLatencyPeriods / sp.star_tracker_rate) + " s at " +
+                 formatNumber(sp.star_tracker_rate) + " Hz)");
+  }
+  if (!(sp.star_tracker_outage(1) >= sp.star_tracker_outage(0))) {
+    g.refuse("sensors.star_tracker_outage", "end must be >= start, got [" + formatNumber(sp.star_tracker_outage(0)) +
+                                                ", " + formatNumber(sp.star_tracker_outage(1)) + "]");
   }
   if (m.clearance && s.run.initial.ecc.norm() > c.bearing_radius - c.journal_radius) {
     g.refuse("initial.ecc", "initial eccentricity exceeds the radial clearance");

@@ -61,6 +61,7 @@ struct Inbound {
 
 /// What the loop hands back each tick.
 struct Outbound {
+  Attitude attitude;
   Status status;
   bool has_truth = false;
   Truth truth;

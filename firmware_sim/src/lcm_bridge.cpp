@@ -2,6 +2,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_loop_stats_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
@@ -55,6 +56,12 @@ void LcmBridge::publish(const Truth& t) {
   gimbal_truth_t o;
   copyFields<TruthFields>(o, t);
   send(ch_.truth, o);
+}
+
+void LcmBridge::publish(const Attitude& a) {
+  gimbal_attitude_t o;
+  copyFields<AttitudeFields>(o, a);
+  send(ch_.attitude, o);
 }
 
 void LcmBridge::publishStats(std::int64_t utime, const LoopStats& st, bool realtime, bool lockstep) {

@@ -1,5 +1,5 @@
 // firmware_sim's LCM side: decodes gimbal_command_t into the inbound ring,
-// publishes status, truth and loop statistics from a preallocated buffer with
+// publishes status, attitude, truth and loop statistics from a preallocated buffer with
 // the raw publish (the typed one allocates on every call), and times the
 // status -> command round trip. Runs on the communication thread (real time)
 // or the only thread (lockstep); the loop thread never calls it.
@@ -25,6 +25,7 @@ class LcmBridge {
 
   void publish(const Status& s);
   void publish(const Truth& t);
+  void publish(const Attitude& a);
   void publishStats(std::int64_t utime, const LoopStats& st, bool realtime, bool lockstep);
 
   /// Status published -> command answering it received [us] (this thread only).

@@ -33,6 +33,7 @@ bool awaitAnswer(Run& r, Firmware<V>& fw, std::int64_t k) {
     const std::int64_t now = nowNs();
     if (now >= deadline) break;
     if (first && now >= republish) {
+      r.bridge.publish(fw.attitude());
       r.bridge.publish(fw.status());
       republish = now + kRepublishNs;
     }
@@ -60,6 +61,7 @@ int run(Run& r) {
     const bool want_truth = k % r.o.truth_every == 0;
     fw.sample(utime, want_truth, extra);
     extra = 0;
+    r.bridge.publish(fw.attitude());  // before the status, so a controller has it when the status comes
     r.bridge.publish(fw.status());
     if (want_truth) {
       r.bridge.publish(fw.truth());

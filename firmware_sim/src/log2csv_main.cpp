@@ -3,8 +3,8 @@
 // `name[unit]`, %.17g), so a truth CSV converted from a log is byte for byte
 // the one firmware_sim writes itself. Channels are recognised by name: an
 // optional UPPER_SNAKE prefix followed by GIMBAL_TRUTH, GIMBAL_STATUS,
-// GIMBAL_COMMAND or GIMBAL_LOOP_STATS (channels.hpp). Usage: --help, and the
-// README section "Hardware-in-the-loop bench".
+// GIMBAL_COMMAND, GIMBAL_LOOP_STATS or GIMBAL_ATTITUDE (channels.hpp). Usage:
+// --help, and the README section "Hardware-in-the-loop bench".
 #include <CLI/CLI.hpp>
 #include <cerrno>
 #include <cstdio>
@@ -20,6 +20,7 @@
 #include "gimbalsim/dynamics/guarded_main.hpp"
 #include "gimbalsim/channels.hpp"
 #include "gimbalsim/firmware/csv_rows.hpp"
+#include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_loop_stats_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
@@ -32,7 +33,7 @@ namespace fs = std::filesystem;
 
 enum ExitCode : int { kExitOk = 0, kExitInternal = 1, kExitRefused = 2 };
 
-enum class Type { Unknown, Truth, Status, Command, LoopStats };
+enum class Type { Unknown, Truth, Status, Command, LoopStats, Attitude };
 
 struct TypeInfo {
   Type type;
@@ -44,6 +45,7 @@ constexpr TypeInfo kTypes[] = {
     {Type::Status, "status", Channels::kStatus},
     {Type::Command, "command", Channels::kCommand},
     {Type::LoopStats, "loop_stats", Channels::kLoopStats},
+    {Type::Attitude, "attitude", Channels::kAttitude},
 };
 
 /// The type a channel name carries: <prefix><base name>, prefix UPPER_SNAKE.
@@ -82,6 +84,7 @@ class Sink {
       case Type::Status: std::fputs(csv::header<StatusFields>().c_str(), f_); break;
       case Type::Command: std::fputs(csv::header<CommandFields>().c_str(), f_); break;
       case Type::LoopStats: std::fputs(csv::header<LoopStatsFields>().c_str(), f_); break;
+      case Type::Attitude: std::fputs(csv::header<AttitudeFields>().c_str(), f_); break;
       case Type::Unknown: break;
     }
   }
@@ -97,6 +100,7 @@ class Sink {
       case Type::Status: row<gimbal_status_t, StatusFields>(e); break;
       case Type::Command: row<gimbal_command_t, CommandFields>(e); break;
       case Type::LoopStats: row<gimbal_loop_stats_t, LoopStatsFields>(e); break;
+      case Type::Attitude: row<gimbal_attitude_t, AttitudeFields>(e); break;
       case Type::Unknown: break;
     }
   }
@@ -142,13 +146,14 @@ int mainImpl(int argc, char** argv) {
   CLI::App app{
       "gimbalsim_log2csv: lcm-logger log of a gimbal bench -> one CSV per channel (the format of firmware_sim "
       "--truth-csv: header name[unit], %.17g). Recognised channels: [PREFIX]GIMBAL_TRUTH, GIMBAL_STATUS, "
-      "GIMBAL_COMMAND, GIMBAL_LOOP_STATS."};
+      "GIMBAL_COMMAND, GIMBAL_LOOP_STATS, GIMBAL_ATTITUDE."};
   app.add_option("log", log_path, "the log file (lcm-logger --lcm-url=... FILE)")->required();
   app.add_option("--out-dir", out_dir, "write <out-dir>/<log stem>_<CHANNEL>.csv (default: the log's directory)");
   app.add_option("--out", out_file, "write the one selected channel to this file");
   app.add_option("--channel", channels, "convert only this channel (repeatable)");
   app.add_option("--channel-prefix", prefix, "convert only the channels of this bench prefix, e.g. BENCH2_");
-  app.add_option("--type", type_name, "decode the --channel(s) as this type: truth, status, command, loop_stats "
+  app.add_option("--type", type_name, "decode the --channel(s) as this type: truth, status, command, loop_stats, "
+                                      "attitude "
                                       "(default: from the channel name)");
   app.add_flag("--log-time", log_time, "first column log_utime[us]: when the logger received the message");
   app.add_flag("--list", list, "list the channels in the log with message counts and types, then exit");
@@ -170,7 +175,7 @@ int mainImpl(int argc, char** argv) {
       if (type_name == t.name) forced = t.type;
     }
     if (forced == Type::Unknown) {
-      return refuse("--type '" + type_name + "': expected truth, status, command or loop_stats");
+      return refuse("--type '" + type_name + "': expected truth, status, command, loop_stats or attitude");
     }
     if (channels.empty()) return refuse("--type needs --channel (the channel(s) to decode as " + type_name + ")");
   }

@@ -66,6 +66,7 @@ int run(Run& r) {
       const bool want_truth = k % truth_every == 0;
       fw.sample(utime, want_truth);
       Outbound ob;
+      ob.attitude = fw.attitude();
       ob.status = fw.status();
       ob.has_truth = want_truth;
       if (want_truth) ob.truth = fw.truth();
@@ -96,6 +97,7 @@ int run(Run& r) {
   auto drainOut = [&] {
     Outbound ob;
     while (out.pop(ob)) {
+      r.bridge.publish(ob.attitude);  // before the status, so a controller has it when the status comes
       r.bridge.publish(ob.status);
       if (ob.has_truth) {
         r.bridge.publish(ob.truth);

@@ -404,7 +404,12 @@ TEST(Firmware, LockstepCoreRunsAreBitForBitRepeatable) {
 
 TEST(Firmware, TickAndReceiveAllocateNothingAfterWarmUp) {
   test::noteIfNotCheckedBuild();
-  const Scene sc = test::scene("paper_clearance", {"sensors.encoder_noise=1e-5", "sensors.rate_noise=1e-4"});
+  // Every sensor on: encoders, and the attitude sensors with noise, bias walk, latency and an outage.
+  const Scene sc = test::scene(
+      "paper_clearance", {"sensors.encoder_noise=1e-5", "sensors.rate_noise=1e-4", "sensors.star_tracker_rate=50",
+                          "sensors.star_tracker_noise=1e-4", "sensors.star_tracker_latency=0.035",
+                          "sensors.star_tracker_outage=[0.2, 0.25]", "sensors.gyro_bias=[1e-3, -2e-3, 5e-4]",
+                          "sensors.gyro_bias_walk=1e-4", "sensors.gyro_noise=1e-3"});
   pointing::TargetProfile p;
   Firmware<FloatingClearanceFriction> fw(sc, Config{}, &p);
   std::int64_t seq = 0;
@@ -415,6 +420,7 @@ TEST(Firmware, TickAndReceiveAllocateNothingAfterWarmUp) {
   // The hand-over rings of the real-time loop, in the same window.
   SpscRing<Command> in(64);
   SpscRing<Truth> out(64);
+  int star_samples = 0;
   const long long before = g_allocations.load();
   setEigenMallocAllowed(false);
   for (int k = 10; k < 400; ++k) {
@@ -427,12 +433,14 @@ TEST(Firmware, TickAndReceiveAllocateNothingAfterWarmUp) {
     }
     fw.sample(k * 1000, true);
     ASSERT_TRUE(out.push(fw.truth()));
+    star_samples += fw.attitude().star_valid;
     fw.advance();
     Truth t;
     ASSERT_TRUE(out.pop(t));
   }
   setEigenMallocAllowed(true);
   EXPECT_EQ(g_allocations.load() - before, 0) << "heap allocations in 390 ticks";
+  EXPECT_EQ(star_samples, 15) << "samples of 0 .. 0.36 s delivered 35 ms later, less the 4 lost to the outage";
   EXPECT_FALSE(fw.plantFault());
   EXPECT_GT(fw.counters().max_substeps_in_tick, 1) << "the window must cover contact sub-stepping";
 }

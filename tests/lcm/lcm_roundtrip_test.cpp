@@ -18,6 +18,7 @@
 #include "alloc_guard.hpp"
 #include "gimbalsim/channels.hpp"
 #include "gimbalsim/firmware/csv_rows.hpp"
+#include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_loop_stats_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
@@ -35,6 +36,7 @@ template <> struct ListOf<gimbal_command_t> { using type = firmware::CommandFiel
 template <> struct ListOf<gimbal_status_t> { using type = firmware::StatusFields; };
 template <> struct ListOf<gimbal_truth_t> { using type = firmware::TruthFields; };
 template <> struct ListOf<gimbal_loop_stats_t> { using type = firmware::LoopStatsFields; };
+template <> struct ListOf<gimbal_attitude_t> { using type = firmware::AttitudeFields; };
 
 template <class M, class F>
 void fields(M& a, M& b, F&& f) {
@@ -100,6 +102,7 @@ TEST(LcmTypes, EveryFieldSurvivesEncodeDecode) {
   checkRoundTrip<gimbal_status_t>();
   checkRoundTrip<gimbal_truth_t>();
   checkRoundTrip<gimbal_loop_stats_t>();
+  checkRoundTrip<gimbal_attitude_t>();
 }
 
 template <class M>
@@ -117,6 +120,7 @@ TEST(LcmTypes, FieldListCoversTheEncoding) {
   checkCoverage<gimbal_status_t>();
   checkCoverage<gimbal_truth_t>();
   checkCoverage<gimbal_loop_stats_t>();
+  checkCoverage<gimbal_attitude_t>();
 }
 
 template <class M>
@@ -144,6 +148,7 @@ TEST(LcmTypes, EncodeIntoBufferAndDecodeAllocateNothing) {
   EXPECT_EQ(allocationsOfDecodeAndEncode<gimbal_status_t>(), 0);
   EXPECT_EQ(allocationsOfDecodeAndEncode<gimbal_truth_t>(), 0);
   EXPECT_EQ(allocationsOfDecodeAndEncode<gimbal_loop_stats_t>(), 0);
+  EXPECT_EQ(allocationsOfDecodeAndEncode<gimbal_attitude_t>(), 0);
 }
 
 TEST(LcmTypes, WrongTypeAndTruncatedBytesAreRefused) {
@@ -185,6 +190,7 @@ TEST(FirmwareMessages, FieldListsCoverTheFirmwareStructs) {
   checkStructCoverage<firmware::CommandFields, firmware::Command>("Command");
   checkStructCoverage<firmware::StatusFields, firmware::Status>("Status");
   checkStructCoverage<firmware::TruthFields, firmware::Truth>("Truth");
+  checkStructCoverage<firmware::AttitudeFields, firmware::Attitude>("Attitude");
 }
 
 template <class D, class S, class M>
@@ -217,6 +223,7 @@ TEST(FirmwareMessages, StructAndMessageCarryTheSameValuesAndRows) {
   checkStructToMessage<firmware::CommandFields, firmware::Command, gimbal_command_t>();
   checkStructToMessage<firmware::StatusFields, firmware::Status, gimbal_status_t>();
   checkStructToMessage<firmware::TruthFields, firmware::Truth, gimbal_truth_t>();
+  checkStructToMessage<firmware::AttitudeFields, firmware::Attitude, gimbal_attitude_t>();
 }
 
 TEST(Channels, PrefixAndNames) {
@@ -225,9 +232,11 @@ TEST(Channels, PrefixAndNames) {
   EXPECT_EQ(plain.status, "GIMBAL_STATUS");
   EXPECT_EQ(plain.truth, "GIMBAL_TRUTH");
   EXPECT_EQ(plain.loop_stats, "GIMBAL_LOOP_STATS");
+  EXPECT_EQ(plain.attitude, "GIMBAL_ATTITUDE");
   const Channels b2 = Channels::withPrefix("BENCH2_");
   EXPECT_EQ(b2.command, "BENCH2_GIMBAL_COMMAND");
   EXPECT_EQ(b2.loop_stats, "BENCH2_GIMBAL_LOOP_STATS");
+  EXPECT_EQ(b2.attitude, "BENCH2_GIMBAL_ATTITUDE");
   EXPECT_TRUE(Channels::validPrefix("BENCH2_"));
   EXPECT_TRUE(Channels::validPrefix(""));
   EXPECT_FALSE(Channels::validPrefix("bench-2"));

@@ -12,19 +12,22 @@ struct Channels {
   static constexpr const char* kStatus = "GIMBAL_STATUS";          ///< gimbal_status_t
   static constexpr const char* kTruth = "GIMBAL_TRUTH";            ///< gimbal_truth_t
   static constexpr const char* kLoopStats = "GIMBAL_LOOP_STATS";   ///< gimbal_loop_stats_t
+  static constexpr const char* kAttitude = "GIMBAL_ATTITUDE";      ///< gimbal_attitude_t
 
   std::string command = kCommand;
   std::string status = kStatus;
   std::string truth = kTruth;
   std::string loop_stats = kLoopStats;
+  std::string attitude = kAttitude;
 
-  /// The four names with `prefix` in front (empty prefix: the plain names).
+  /// The names with `prefix` in front (empty prefix: the plain names).
   static Channels withPrefix(const std::string& prefix) {
     Channels c;
     c.command = prefix + kCommand;
     c.status = prefix + kStatus;
     c.truth = prefix + kTruth;
     c.loop_stats = prefix + kLoopStats;
+    c.attitude = prefix + kAttitude;
     return c;
   }
 

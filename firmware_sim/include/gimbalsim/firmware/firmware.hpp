@@ -28,6 +28,7 @@
 #include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/dynamics/observables.hpp"
 #include "gimbalsim/dynamics/run_spec.hpp"
+#include "gimbalsim/firmware/attitude_sensors.hpp"
 #include "gimbalsim/firmware/messages.hpp"
 #include "gimbalsim/firmware/sensor_noise.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
@@ -99,7 +100,7 @@ class Firmware {
   /// target is the boresight at t = 0). c must pass checkConfig().
   Firmware(const Scene& sc, const Config& c, const pointing::TargetProfile* profile = nullptr)
       : m_(sc.model), run_(sc.run), c_(c), profile_(profile), d_(m_), obs_(m_), s_(initialState<V>(sc.run.initial)),
-        noise_(static_cast<std::uint64_t>(sc.run.sensors.seed)) {
+        noise_(static_cast<std::uint64_t>(sc.run.sensors.seed)), attitude_sensors_(sc.run.sensors, c.control_period) {
     // The caller checked; a bad config leaves steps_per_tick_ at 1.
     steps_per_tick_ = std::max(1, checkConfig(sc, c).steps_per_tick);
     watchdog_ticks_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(c.watchdog_timeout / c.control_period - 1e-9)));
@@ -137,8 +138,9 @@ class Firmware {
   }
 
   /// First half of a tick (steps 1-3): command intake, watchdog, saturation,
-  /// status and truth at t_k. The loop publishes the status right after it,
-  /// before the physics, so the controller's clock starts early.
+  /// status, attitude sensors and truth at t_k. The loop publishes attitude
+  /// and status right after it, before the physics, so the controller's
+  /// clock starts early.
   void sample(std::int64_t utime, bool want_truth = true, std::int32_t extra_faults = 0) noexcept {
     const std::int64_t k = tick_;
     std::int32_t faults = pending_faults_ | extra_faults;
@@ -173,9 +175,10 @@ class Firmware {
     u_.tau = clipped;
     if (plant_fault_) faults |= kPlantFault;
 
-    // 3. status and truth at t_k.
+    // 3. status, attitude and truth at t_k.
     const double t = static_cast<double>(k) * c_.control_period;
     sampleStatus(k, utime, faults);
+    sampleAttitude(k, utime);
     if (want_truth) sampleTruth(k, utime, t, faults);
   }
 
@@ -204,6 +207,7 @@ class Firmware {
 
   const Status& status() const noexcept { return status_; }
   const Truth& truth() const noexcept { return truth_; }
+  const Attitude& attitude() const noexcept { return attitude_; }
   const Counters& counters() const noexcept { return n_; }
   const State<V>& state() const noexcept { return s_; }
   const Input& appliedInput() const noexcept { return u_; }
@@ -260,6 +264,17 @@ class Firmware {
     o.commands_missed = n_.missed;
   }
 
+  /// The attitude sensors measure the base attitude and rate of s_ (fixed base: identity, zero).
+  void sampleAttitude(std::int64_t k, std::int64_t utime) noexcept {
+    Quat q = Quat::Identity();
+    Vec3 w = Vec3::Zero();
+    if constexpr (V::kFloating) {
+      q = Quat(s_.q(3), s_.q(4), s_.q(5), s_.q(6)).normalized();  // as sampleTruth
+      w = s_.v.template head<3>();
+    }
+    attitude_sensors_.sample(k, utime, q, w, attitude_);
+  }
+
   /// The one mapping from the plant to Truth: the observables at s_ (one
   /// forward-dynamics evaluation) plus the target line of sight at t.
   void sampleTruth(std::int64_t k, std::int64_t utime, double t, std::int32_t faults) noexcept {
@@ -310,6 +325,7 @@ class Firmware {
   State<V> s_;
   Input u_;
   GaussianNoise noise_;
+  AttitudeSensors attitude_sensors_;
   Vec3 initial_boresight_ = Vec3::UnitX();
 
   int steps_per_tick_ = 1;
@@ -326,6 +342,7 @@ class Firmware {
 
   Status status_;
   Truth truth_;
+  Attitude attitude_;
   Counters n_;
 };
 

@@ -1,5 +1,6 @@
-// The bench messages without LCM (Command, Status, Truth: the firmware core's
-// view of gimbal_command_t, gimbal_status_t, gimbal_truth_t) and the one list
+// The bench messages without LCM (Command, Status, Truth, Attitude: the
+// firmware core's view of gimbal_command_t, gimbal_status_t, gimbal_truth_t,
+// gimbal_attitude_t) and the one list
 // of each message's fields.
 //
 // A field list names every field once, in message order, with its CSV
@@ -78,6 +79,20 @@ struct Truth {
   std::int32_t faults = 0;
 };
 
+/// The base attitude sensors of tick k (gimbal_attitude_t without LCM;
+/// attitude_sensors.hpp). Star tracker fields hold the last delivered sample
+/// when star_valid is 0.
+struct Attitude {
+  std::int64_t utime = 0;           ///< [us]
+  std::int64_t seq = 0;             ///< [-] tick index
+  double gyro_time = 0.0;           ///< [s] sample time of gyro_rate (t_k)
+  double gyro_rate[3] = {};         ///< [rad/s] base angular rate, base frame (bias and noise included)
+  std::int8_t star_valid = 0;       ///< [-] 1: a new star tracker sample was delivered this tick
+  double star_time = -1.0;          ///< [s] sample time t_s of star_quaternion (-1: none delivered yet)
+  double star_quaternion[4] = {1.0, 0.0, 0.0, 0.0};  ///< (w, x, y, z), base -> inertial
+  std::int8_t star_outage = 0;      ///< [-] 1: star tracker outage at t_k
+};
+
 /// CSV column names of one field, one per element.
 using Columns = std::initializer_list<const char*>;
 
@@ -107,6 +122,21 @@ struct TruthFields {
     f(Columns{"mom_lx[N m s]", "mom_ly[N m s]", "mom_lz[N m s]"}, m.momentum_angular...);
     f(Columns{"energy[J]"}, m.energy...);
     f(Columns{"faults[-]"}, m.faults...);
+  }
+};
+
+/// gimbal_attitude_t / Attitude.
+struct AttitudeFields {
+  template <class F, class... M>
+  static void visit(F&& f, M&... m) {
+    f(Columns{"utime[us]"}, m.utime...);
+    f(Columns{"seq[-]"}, m.seq...);
+    f(Columns{"gyro_time[s]"}, m.gyro_time...);
+    f(Columns{"gyro_wx[rad/s]", "gyro_wy[rad/s]", "gyro_wz[rad/s]"}, m.gyro_rate...);
+    f(Columns{"star_valid[-]"}, m.star_valid...);
+    f(Columns{"star_time[s]"}, m.star_time...);
+    f(Columns{"star_qw[-]", "star_qx[-]", "star_qy[-]", "star_qz[-]"}, m.star_quaternion...);
+    f(Columns{"star_outage[-]"}, m.star_outage...);
   }
 };
 

@@ -10,6 +10,23 @@
 
 namespace gimbalsim::firmware {
 
+/// splitmix64 (Vigna): advances x and returns the next well-mixed word.
+inline std::uint64_t splitmix64(std::uint64_t& x) noexcept {
+  std::uint64_t z = (x += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+/// The seed of sensor stream `stream` (1, 2, ...) derived from the one scene
+/// seed (sensors.seed), so the streams differ from each other and from the
+/// encoder stream (the seed itself), and the same seed gives the same
+/// streams everywhere.
+inline std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t stream) noexcept {
+  std::uint64_t x = seed ^ (stream * 0xd1b54a32d192ed03ULL);
+  return splitmix64(x);
+}
+
 class GaussianNoise {
  public:
   explicit GaussianNoise(std::uint64_t seed = 1) noexcept {
@@ -48,12 +65,6 @@ class GaussianNoise {
 
  private:
   static std::uint64_t rotl(std::uint64_t x, int k) noexcept { return (x << k) | (x >> (64 - k)); }
-  static std::uint64_t splitmix64(std::uint64_t& x) noexcept {
-    std::uint64_t z = (x += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
 
   std::uint64_t s_[4]{};
   double spare_ = 0.0;
