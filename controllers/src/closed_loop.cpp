@@ -33,6 +33,8 @@ class Figures {
         break;
     }
     r.max_abs_tau = r.max_abs_tau.cwiseMax(rec.tau_applied.cwiseAbs());
+    r.max_attitude_error = std::max(r.max_attitude_error, rec.attitude_error);
+    if (rec.star_outage) ++r.star_outage_ticks;
     if (saturated) ++r.saturated_ticks;
   }
 
@@ -66,7 +68,7 @@ ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware:
     const firmware::Status& st = fw.status();
     const firmware::Truth& truth = fw.truth();
     // The controller answers status k, as pointing_controller does.
-    const Answer a = answerStatus(c, cs, st, next_seq);
+    const Answer a = answerStatus(c, cs, st, fw.attitude(), next_seq);
 
     TickRecord rec;
     rec.t = a.meas.t;
@@ -76,6 +78,12 @@ ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware:
     rec.tau_cmd = a.out.tau;
     rec.tau_applied = {st.applied_torque[0], st.applied_torque[1]};
     rec.truth_error = truth.pointing_error;
+    rec.profile = a.out.profile;
+    rec.q_WB_est = a.out.q_WB_est;
+    const double* bq = truth.base_quaternion;
+    rec.q_WB_true = Quat(bq[0], bq[1], bq[2], bq[3]);
+    rec.attitude_error = logRotation(rec.q_WB_true.conjugate() * rec.q_WB_est).norm();
+    rec.star_outage = a.out.star_outage;
     fig.add(rec, c.period, a.out.saturated[0] || a.out.saturated[1], r);
     if (sink) sink(rec);
     r.ticks = k + 1;
@@ -97,12 +105,28 @@ ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware:
 
 }  // namespace
 
+AttitudeMeasurement attitudeMeasurement(const firmware::Attitude& att, std::int64_t seq) noexcept {
+  AttitudeMeasurement m;
+  m.star_outage = att.star_outage != 0;
+  if (att.seq != seq) {  // not this tick's: hold the previous rate, no star sample
+    m.gyro_valid = false;
+    return m;
+  }
+  m.gyro = {att.gyro_rate[0], att.gyro_rate[1], att.gyro_rate[2]};
+  m.star_valid = att.star_valid != 0;
+  m.star_time = att.star_time;
+  const double* q = att.star_quaternion;
+  m.star_q = Quat(q[0], q[1], q[2], q[3]);
+  return m;
+}
+
 Answer answerStatus(const ControllerConfig& c, ControllerState& s, const firmware::Status& st,
-                    std::int64_t& next_seq) noexcept {
+                    const firmware::Attitude& att, std::int64_t& next_seq) noexcept {
   Answer a;
   a.meas.t = static_cast<double>(st.seq) * c.period;
   a.meas.theta = {st.angle[0], st.angle[1]};
   a.meas.dtheta = {st.rate[0], st.rate[1]};
+  a.meas.att = attitudeMeasurement(att, st.seq);
   a.out = update(c, s, a.meas);
   a.cmd.utime = st.utime;
   a.cmd.seq = std::max(next_seq, st.last_command_seq + 1);

@@ -38,6 +38,30 @@ std::vector<Key<ControllerConfig>> keys() {
                 "large-error approach: closing rate <= sqrt(2 a |e|), a = margin torque_limit / inertia (0: plain PD)",
                 field(&ControllerConfig::approach_margin), atLeast(0)),
   };
+  v.push_back(K::choice<PointingMode>(
+      "pointing.mode",
+      "inertial: joint references from the inertial target through the estimated base attitude and the gimbal IK; "
+      "joint: the profile's angles as joint references (the base's reaction rotation unseen)",
+      field(&ControllerConfig::pointing_mode), {{"inertial", PointingMode::Inertial}, {"joint", PointingMode::Joint}}));
+  v.push_back(K::choice<PointingTarget>(
+      "pointing.target",
+      "inertial target (inertial mode): profile: the profile's azimuth, elevation as a direction at the initial base "
+      "pose (as the truth); fixed: pointing.fixed_direction",
+      field(&ControllerConfig::target), {{"profile", PointingTarget::Profile}, {"fixed", PointingTarget::Fixed}}));
+  v.push_back(K::vector<3>("pointing.fixed_direction", "-",
+                           "inertial target direction with pointing.target = fixed (inertial = base frame at t = 0)",
+                           field(&ControllerConfig::fixed_direction), nonZero().saying("must be non-zero")));
+  v.push_back(K::vector<3>("gimbal.joint1_axis", "-", "azimuth axis the controller assumes, base frame",
+                           [](auto& c) -> auto& { return c.gimbal.joint1_axis; }, nonZero().saying("must be non-zero")));
+  v.push_back(K::vector<3>("gimbal.joint2_axis", "-", "elevation axis the controller assumes, shaft 1 frame",
+                           [](auto& c) -> auto& { return c.gimbal.joint2_axis; }, nonZero().saying("must be non-zero")));
+  v.push_back(K::vector<3>("gimbal.boresight", "-", "antenna boresight the controller assumes, shaft 2 frame",
+                           [](auto& c) -> auto& { return c.gimbal.boresight; }, nonZero().saying("must be non-zero")));
+  v.push_back(K::number("estimator.k_p", "1/s", "attitude estimator correction gain (star tracker bandwidth)",
+                        [](auto& c) -> auto& { return c.estimator.k_p; }, atLeast(0)));
+  v.push_back(K::number("estimator.k_i", "1/s^2",
+                        "attitude estimator gyro-bias integral gain (error poles: s^2 + k_p s + k_i)",
+                        [](auto& c) -> auto& { return c.estimator.k_i; }, atLeast(0)));
   embed(v, "profile.", pointing::profileKeys().keys, [](auto& c) -> auto& { return c.profile; });
   embed(v, "azimuth.", gainKeys(), [](auto& c) -> auto& { return c.axis[0]; });
   embed(v, "elevation.", gainKeys(), [](auto& c) -> auto& { return c.axis[1]; });
@@ -49,6 +73,8 @@ void validate(const ControllerConfig& c, Given& g) {
   if (!(c.rate_filter_hz < 0.5 / c.period)) {
     g.refuse("control.rate_filter_hz", "must be below the Nyquist frequency 1/(2 control.period)");
   }
+  const Vec3 k1 = c.gimbal.joint1_axis.normalized(), k2 = c.gimbal.joint2_axis.normalized();
+  if (k1.cross(k2).norm() < 1e-6) g.refuse("gimbal.joint2_axis", "must not be parallel to gimbal.joint1_axis");
 }
 
 }  // namespace

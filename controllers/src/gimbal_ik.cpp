@@ -42,10 +42,14 @@ Vec2 closedForm(const GimbalGeometry& g, const Vec3& d, const Vec2& prev, bool s
 }  // namespace
 
 GimbalGeometry gimbalGeometry(const Model& m) noexcept {
+  return gimbalGeometry(m.k1_B, m.k2_S1, m.boresight_S2);
+}
+
+GimbalGeometry gimbalGeometry(const Vec3& k1_B, const Vec3& k2_S1, const Vec3& boresight_S2) noexcept {
   GimbalGeometry g;
-  g.k1_B = m.k1_B.normalized();
-  g.k2_S1 = m.k2_S1.normalized();
-  g.b_S2 = m.boresight_S2.normalized();
+  g.k1_B = k1_B.normalized();
+  g.k2_S1 = k2_S1.normalized();
+  g.b_S2 = boresight_S2.normalized();
   g.closed_form = std::abs(g.k1_B.dot(g.k2_S1)) < kOrthogonalTol && std::abs(g.b_S2.dot(g.k2_S1)) < kOrthogonalTol;
   if (g.closed_form) {
     g.e3 = g.k1_B;

@@ -7,7 +7,7 @@ namespace gimbalsim::controllers {
 
 ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measurement& meas) noexcept {
   ControlOutput out;
-  out.ref = c.profile.at(meas.t);
+  jointReference(c, s, meas, out);  // inertial_reference.cpp
   const double Ts = c.period;
   // First-order low-pass of the backward difference: alpha = Ts / (Ts + 1/(2 pi fc)).
   // The difference uses the real spacing of the samples; a gap (missed

@@ -2,7 +2,10 @@
 // subscribes to the gimbal status and answers EVERY status at once with one
 // torque command whose status_seq is that status's seq (this is what lets
 // firmware_sim --lockstep advance). Profile time is seq * control.period, the
-// plant's simulated time, so the controller may join a running bench.
+// plant's simulated time, so the controller may join a running bench. The
+// attitude message (GIMBAL_ATTITUDE, published just before the status of the
+// same tick) is kept; the status uses it when the seqs match, else the gyro
+// sample counts as missing (answerStatus), exactly as the in-process loop.
 // The status handler decodes into a stack message (fixed-size arrays: no
 // allocation), runs update() and encodes into a preallocated buffer for LCM's
 // raw publish (the typed publish allocates on every call). Flags and exit
@@ -22,6 +25,7 @@
 #include "gimbalsim/channels.hpp"
 #include "gimbalsim/controllers/closed_loop.hpp"  // answerStatus
 #include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
 
@@ -58,6 +62,15 @@ class StatusHandler {
   StatusHandler(const ControllerConfig& c, lcm::LCM& lcm, const Channels& ch, std::FILE* csv)
       : c_(c), lcm_(lcm), ch_(ch), csv_(csv) {}
 
+  void onAttitude(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
+    gimbal_attitude_t m{};
+    if (m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) {
+      ++undecodable_;
+      return;
+    }
+    firmware::copyFields<firmware::AttitudeFields>(attitude_, m);
+  }
+
   void onStatus(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
     gimbal_status_t st{};
     if (st.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) {
@@ -74,7 +87,8 @@ class StatusHandler {
     // controller replaces one that crashed.
     firmware::Status status;
     firmware::copyFields<firmware::StatusFields>(status, st);
-    const Answer a = answerStatus(c_, state_, status, next_seq_);
+    if (attitude_.seq != status.seq) ++unpaired_;
+    const Answer a = answerStatus(c_, state_, status, attitude_, next_seq_);
     const Measurement& meas = a.meas;
     const ControlOutput& out = a.out;
     gimbal_command_t cmd{};
@@ -85,6 +99,7 @@ class StatusHandler {
     ++answered_;
     last_t_ = meas.t;
     faults_seen_ |= st.faults;
+    if (out.star_outage) ++outage_statuses_;
     if (out.ref.segment == Segment::Track) max_track_error_ = std::max(max_track_error_, out.error.cwiseAbs().maxCoeff());
     if (csv_) log(st, meas, out);
   }
@@ -93,7 +108,9 @@ class StatusHandler {
     std::fprintf(f,
                  "t[s],seq[-],segment[-],ref_az[rad],ref_el[rad],ref_daz[rad/s],ref_del[rad/s],ref_ddaz[rad/s^2],"
                  "ref_ddel[rad/s^2],meas_az[rad],meas_el[rad],rate_az[rad/s],rate_el[rad/s],err_az[rad],"
-                 "err_el[rad],tau_az[N m],tau_el[N m],tau_unsat_az[N m],tau_unsat_el[N m],faults[-]\n");
+                 "err_el[rad],tau_az[N m],tau_el[N m],tau_unsat_az[N m],tau_unsat_el[N m],faults[-],prof_az[rad],"
+                 "prof_el[rad],est_qw[-],est_qx[-],est_qy[-],est_qz[-],est_wx[rad/s],est_wy[rad/s],est_wz[rad/s],"
+                 "star_outage[-],attitude_paired[-]\n");
   }
 
   long long answered() const { return answered_; }
@@ -103,15 +120,19 @@ class StatusHandler {
   double lastTime() const { return last_t_; }
   int faultsSeen() const { return faults_seen_; }
   double maxTrackError() const { return max_track_error_; }
+  long long unpaired() const { return unpaired_; }
+  long long outageStatuses() const { return outage_statuses_; }
 
  private:
   void log(const gimbal_status_t& st, const Measurement& m, const ControlOutput& o) {
     const ProfileSample& r = o.ref;
     std::fprintf(csv_, "%.6f,%lld,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
-                 "%.17g,%.17g,%.17g,%d\n",
+                 "%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d\n",
                  m.t, static_cast<long long>(st.seq), describe(r.segment), r.q(0), r.q(1), r.dq(0), r.dq(1), r.ddq(0),
                  r.ddq(1), m.theta(0), m.theta(1), m.dtheta(0), m.dtheta(1), o.error(0), o.error(1), o.tau(0),
-                 o.tau(1), o.tau_unsat(0), o.tau_unsat(1), st.faults);
+                 o.tau(1), o.tau_unsat(0), o.tau_unsat(1), st.faults, o.profile.q(0), o.profile.q(1),
+                 o.q_WB_est.w(), o.q_WB_est.x(), o.q_WB_est.y(), o.q_WB_est.z(), o.omega_B_est(0), o.omega_B_est(1),
+                 o.omega_B_est(2), o.star_outage ? 1 : 0, attitude_.seq == st.seq ? 1 : 0);
   }
 
   const ControllerConfig& c_;
@@ -119,6 +140,9 @@ class StatusHandler {
   const Channels& ch_;
   std::FILE* csv_;
   ControllerState state_;
+  firmware::Attitude attitude_{.seq = -1};  ///< the newest attitude message (seq -1: none yet)
+  long long unpaired_ = 0;        ///< statuses without the attitude of their tick (gyro rate held)
+  long long outage_statuses_ = 0; ///< statuses answered during a star tracker outage
   std::array<std::uint8_t, 256> buf_{};  // a command encodes to well under 256 bytes
   std::int64_t next_seq_ = 0;
   std::int64_t last_status_seq_ = -1;
@@ -190,6 +214,7 @@ int run(int argc, char** argv) {
   }
   const Channels ch = Channels::withPrefix(o.prefix);
   StatusHandler h(c, lcm, ch, csv);
+  lcm.subscribe(ch.attitude, &StatusHandler::onAttitude, &h);
   lcm.subscribe(ch.status, &StatusHandler::onStatus, &h);
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
@@ -218,9 +243,10 @@ int run(int argc, char** argv) {
   }
   if (csv) std::fclose(csv);
   std::fprintf(stderr, "pointing_controller: answered %lld statuses (last t = %.3f s), %lld undecodable, %lld publish "
-               "errors, %lld plant restarts, max |joint error| while tracking %.3e rad (encoder), status faults seen 0x%x\n",
+               "errors, %lld plant restarts, max |joint error| while tracking %.3e rad (encoder), status faults seen 0x%x, "
+               "%lld statuses without their attitude (gyro held), %lld in a star tracker outage\n",
                h.answered(), h.lastTime(), h.undecodable(), h.publishErrors(), h.plantRestarts(), h.maxTrackError(),
-               h.faultsSeen());
+               h.faultsSeen(), h.unpaired(), h.outageStatuses());
   return code;
 }
 

@@ -98,7 +98,36 @@ TEST(ControllerConfig, EveryKeyIsDocumented) {
     EXPECT_FALSE(k.meaning.empty()) << k.key;
     EXPECT_FALSE(k.type.empty()) << k.key;
   }
-  EXPECT_EQ(controllerKeys().size(), 14u + 12u);
+  EXPECT_EQ(controllerKeys().size(), 14u + 12u + 8u);  // + pointing.* 3, gimbal.* 3, estimator.* 2
+}
+
+TEST(ControllerConfig, PointingKeysLoadAndAreChecked) {
+  const ControllerConfig d = loadControllerConfigText("{}", "empty");
+  EXPECT_EQ(d.pointing_mode, PointingMode::Inertial);
+  EXPECT_EQ(d.target, PointingTarget::Profile);
+  const ControllerConfig c = loadControllerConfigText(
+      "pointing: {mode: joint, target: fixed, fixed_direction: [0, 1, 0]}\nestimator: {k_p: 2, k_i: 0.5}\n"
+      "gimbal: {joint1_axis: [0, 0, 2], joint2_axis: [1, 0, 0], boresight: [0, 1, 0]}\n",
+      "text");
+  EXPECT_EQ(c.pointing_mode, PointingMode::Joint);
+  EXPECT_EQ(c.target, PointingTarget::Fixed);
+  EXPECT_EQ(c.fixed_direction, Vec3(0, 1, 0));
+  EXPECT_EQ(c.estimator.k_p, 2.0);
+  EXPECT_EQ(c.estimator.k_i, 0.5);
+  EXPECT_EQ(c.gimbal.joint1_axis, Vec3(0, 0, 2));
+  auto refused = [](const std::vector<std::string>& sets) {
+    try {
+      loadControllerConfigText("{}", "empty", sets);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(refused({"gimbal.joint2_axis=[0, 0, -1]"}).find("must not be parallel to gimbal.joint1_axis"),
+            std::string::npos);
+  EXPECT_NE(refused({"pointing.fixed_direction=[0, 0, 0]"}).find("must be non-zero"), std::string::npos);
+  EXPECT_NE(refused({"estimator.k_p=-1"}).find("must be >= 0"), std::string::npos);
+  EXPECT_NE(refused({"pointing.mode=sideways"}).find("pointing.mode"), std::string::npos);
 }
 
 }  // namespace

@@ -19,12 +19,20 @@ TEST(ControllerNoAlloc, TheCounterSeesAllocations) {
 }
 
 TEST(ControllerNoAlloc, UpdateAllocatesNothingInAnySegmentOrMode) {
+  // Every rate source, anti-windup and pointing mode, with the attitude
+  // estimator fed gyro and (late) star samples, an outage and missing gyro samples.
   const ControllerConfig base = loadControllerConfig(std::string(GIMBALSIM_CONTROLLER_CONFIG_DIR) + "/default.yaml");
+  for (int variant = 0; variant < 4; ++variant)
   for (auto rs : {RateSource::Status, RateSource::Difference}) {
     for (auto aw : {AntiWindup::None, AntiWindup::Clamping, AntiWindup::BackCalculation}) {
       ControllerConfig c = base;
       c.rate_source = rs;
       c.anti_windup = aw;
+      // inertial (profile target), inertial with a tilted elevation axis (Gauss-Newton IK),
+      // inertial with a fixed target, joint
+      c.pointing_mode = variant == 3 ? PointingMode::Joint : PointingMode::Inertial;
+      if (variant == 1) c.gimbal.joint2_axis = Vec3(0.0, 1.0, 0.1);
+      if (variant == 2) c.target = PointingTarget::Fixed;
       ControllerState s;
       const long long before = test::g_allocations.load();
       test::setEigenMallocAllowed(false);
@@ -33,11 +41,22 @@ TEST(ControllerNoAlloc, UpdateAllocatesNothingInAnySegmentOrMode) {
         Measurement m;
         m.t = k * c.period;
         m.theta = {0.001 * k * c.period, 0.0};
+        // The attitude sensors: a turning base, a star sample every 100 ms
+        // (20 ms late), an outage over 6..7 s, the gyro missing every 50th period.
+        const double t = m.t;
+        m.att.gyro = {1e-3, -2e-3, 5e-3};
+        m.att.gyro_valid = k % 50 != 7;
+        m.att.star_outage = t >= 6.0 && t <= 7.0;
+        m.att.star_valid = k % 100 == 20 && !m.att.star_outage;
+        m.att.star_time = t - 0.02;
+        m.att.star_q = expRotation(Vec3(1e-3, -2e-3, 5e-3) * m.att.star_time);
         sink += update(c, s, m).tau.sum();
       }
       test::setEigenMallocAllowed(true);
       EXPECT_EQ(test::g_allocations.load() - before, 0);
       EXPECT_TRUE(std::isfinite(sink));
+      EXPECT_GT(s.estimator.samples_used, 50);
+      EXPECT_EQ(s.star_outage_periods, 1001);
     }
   }
 }

@@ -1,8 +1,11 @@
 // Lockstep bench: firmware_sim --lockstep and pointing_controller, the two
 // real processes, over LCM udpm (ttl=0) in a private network namespace, on
-// the clearance scene with the default controller configuration.
+// the clearance scene with the default controller configuration (inertial
+// pointing: the controller reads GIMBAL_ATTITUDE too).
 //  - the slew completes and the truth pointing error converges, within the
-//    accuracy controllers/README.md states for paper_clearance (free-floating);
+//    accuracy controllers/README.md states for paper_clearance (free-floating,
+//    inertial mode), the joints having turned away from the profile's angles
+//    by the base's reaction rotation they compensate;
 //  - two runs give byte-identical truth CSVs (run side by side).
 #include <gtest/gtest.h>
 
@@ -50,7 +53,7 @@ TEST(HilLockstep, ClearanceSlewCompletesAndPointingErrorConverges) {
             c_th2 = c.col("theta2[rad]"), c_err = c.col("pointing_error[rad]"), c_f = c.col("faults[-]");
   ASSERT_EQ(c.rows.size(), static_cast<size_t>(std::llround(hold_end * 1000)));
   const double az = cfg.profile.slew_target(0), el = cfg.profile.slew_target(1);
-  double max_err_after_slew = 0.0, max_joint_err_settled = 0.0;
+  double max_err_after_slew = 0.0, max_err_settled = 0.0;
   double err_lo = 1e9, err_hi = -1e9;
   for (size_t k = 0; k < c.rows.size(); ++k) {
     ASSERT_EQ(c.integer(k, c_seq), static_cast<long long>(k));  // every tick, in order
@@ -59,21 +62,20 @@ TEST(HilLockstep, ClearanceSlewCompletesAndPointingErrorConverges) {
     if (t >= slew_end) max_err_after_slew = std::max(max_err_after_slew, e);
     // Settled: the README's criterion, joint error < 1e-4 rad within 0.5 s of the slew's end.
     if (t >= slew_end + 0.5) {
-      max_joint_err_settled =
-          std::max({max_joint_err_settled, std::abs(c.num(k, c_th1) - az), std::abs(c.num(k, c_th2) - el)});
+      max_err_settled = std::max(max_err_settled, e);
       err_lo = std::min(err_lo, e);
       err_hi = std::max(err_hi, e);
     }
   }
-  // The final joint angles are the slew target.
-  EXPECT_LT(max_joint_err_settled, 1e-4);
-  EXPECT_NEAR(c.num(c.rows.size() - 1, c_th1), az, 1e-4);
-  EXPECT_NEAR(c.num(c.rows.size() - 1, c_th2), el, 1e-4);
-  // Truth pointing error after the slew: below the README's free-floating
-  // bound (0.1 rad; it is the base's reaction rotation, ~0.06 rad, which the
-  // encoders cannot see) ...
-  EXPECT_LT(max_err_after_slew, 0.1);
-  EXPECT_GT(max_err_after_slew, 0.01) << "free-floating base: the slew must turn the satellite";
+  // The base turned under the slew and the joints compensate it: the final
+  // azimuth is off the profile's by the base's reaction rotation (~0.06 rad) ...
+  const size_t last = c.rows.size() - 1;
+  EXPECT_GT(std::abs(c.num(last, c_th1) - az) + std::abs(c.num(last, c_th2) - el), 0.01)
+      << "free-floating base: the slew must turn the satellite";
+  // ... while the truth pointing error, inertial, is small: at most 2e-4 rad
+  // after the slew and 1e-4 rad once settled (the README's joint-error band) ...
+  EXPECT_LT(max_err_after_slew, 2e-4);
+  EXPECT_LT(max_err_settled, 1e-4);
   // ... and converged: constant to 1e-5 rad over the second half of the hold.
   EXPECT_LT(err_hi - err_lo, 1e-5) << "pointing error still moving: " << err_lo << " .. " << err_hi;
 }

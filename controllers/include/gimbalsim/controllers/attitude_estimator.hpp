@@ -1,7 +1,7 @@
 // Attitude estimator of the base: a multiplicative complementary filter
 // (Mahony, Hamel & Pflimlin, IEEE TAC 2008, in its discrete, star-tracker
-// form). A building block of the inertial pointing controller (not wired into
-// update() yet). Pure, allocation-free, noexcept; the state is a small
+// form). A building block of the inertial pointing controller (inertial_reference.cpp
+// runs it every period). Pure, allocation-free, noexcept; the state is a small
 // copyable struct with a fixed-size ring, the parameters a const struct.
 //
 // Why this filter and not a multiplicative EKF: two gains (k_p, k_i) with a

@@ -32,11 +32,18 @@ struct Answer {
 /// st.seq * period, encoder angles, rates), update(), and the torque command
 /// answering it (status_seq = st.seq; seq strictly increasing and above the
 /// last seq the firmware accepted, even after a controller restart; utime =
-/// the status's). next_seq is the caller's counter (start at 0). No allocation.
+/// the status's). att is the newest attitude message received: used when
+/// att.seq == st.seq (the same tick); otherwise the gyro sample counts as
+/// missing (the previous rate is held, ControllerState::gyro_missing) and no
+/// star sample is used. next_seq is the caller's counter (start at 0). No allocation.
 Answer answerStatus(const ControllerConfig& c, ControllerState& s, const firmware::Status& st,
-                    std::int64_t& next_seq) noexcept;
+                    const firmware::Attitude& att, std::int64_t& next_seq) noexcept;
 
-/// One control tick, for logs.
+/// The controller's view of an attitude message of tick seq (see answerStatus).
+AttitudeMeasurement attitudeMeasurement(const firmware::Attitude& att, std::int64_t seq) noexcept;
+
+/// One control tick, for logs. ref is the joint reference tracked (inertial
+/// mode: the IK's), so joint errors are tracking errors.
 struct TickRecord {
   double t = 0.0;                  ///< [s]
   ProfileSample ref;               ///< reference at t
@@ -44,7 +51,12 @@ struct TickRecord {
   Vec2 theta_meas = Vec2::Zero();  ///< [rad] encoder angles of the status
   Vec2 tau_cmd = Vec2::Zero();     ///< [N m] computed this tick
   Vec2 tau_applied = Vec2::Zero(); ///< [N m] acting over [t, t + Ts]
-  double truth_error = 0.0;        ///< [rad] boresight vs losBoresight(ref)
+  double truth_error = 0.0;        ///< [rad] boresight vs losBoresight(profile)
+  ProfileSample profile;           ///< the profile at t (ref is the joint reference tracked: = profile in joint mode)
+  Quat q_WB_est = Quat::Identity();///< estimated base attitude
+  Quat q_WB_true = Quat::Identity();///< true base attitude
+  double attitude_error = 0.0;     ///< [rad] angle between the estimated and true base attitudes
+  bool star_outage = false;        ///< the star tracker was in an outage (the estimate coasts)
 };
 
 struct ClosedLoopOptions {
@@ -68,6 +80,8 @@ struct ClosedLoopResult {
   double max_truth_error_hold_end = 0.0;  ///< [rad] at the end of the hold
   Vec2 max_abs_tau = Vec2::Zero();     ///< [N m] applied
   long long saturated_ticks = 0;       ///< ticks with a limited command (either axis)
+  double max_attitude_error = 0.0;     ///< [rad] estimated vs true base attitude, whole run
+  long long star_outage_ticks = 0;     ///< ticks the controller flagged a star tracker outage
   long long ticks = 0;
 };
 

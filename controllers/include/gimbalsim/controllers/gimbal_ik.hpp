@@ -1,7 +1,7 @@
 // Inverse kinematics of the two-axis gimbal: which joint angles (theta1
 // azimuth, theta2 elevation) put the antenna boresight along a wanted line of
 // sight, and which joint rates follow it. A building block of the inertial
-// pointing controller (not wired into update() yet). Pure, allocation-free,
+// pointing controller (inertial_reference.cpp). Pure, allocation-free,
 // noexcept; fixed-size Eigen types only.
 //
 // Frames (docs/MODEL.md 1.3, 8.2): B base, S1 shaft 1, S2 shaft 2, W inertial,
@@ -53,6 +53,8 @@ inline constexpr double kOrthogonalTol = 1e-12;  ///< [-] (cosine of the axes' a
 
 /// Geometry of the model's gimbal (k1_B, k2_S1, boresight_S2).
 GimbalGeometry gimbalGeometry(const Model& m) noexcept;
+/// The same from the three vectors (any length > 0): the controller's gimbal.* keys.
+GimbalGeometry gimbalGeometry(const Vec3& k1_B, const Vec3& k2_S1, const Vec3& boresight_S2) noexcept;
 
 /// Boresight in the base frame at joint angles theta [rad] (unit vector).
 Vec3 boresightB(const GimbalGeometry& g, const Vec2& theta) noexcept;

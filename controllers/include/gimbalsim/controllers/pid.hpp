@@ -5,7 +5,12 @@
 // called once per control period on what real firmware reports (quantized
 // encoder angles, rates from status). No LCM, no allocation, no exception.
 //
-// Law, per axis i (e = q_ref - q_meas, all from the profile at the measurement time):
+// Reference (pointing.mode, inertial_reference.cpp): inertial (default) turns
+// the inertial target direction into joint references through the estimated
+// base attitude and the gimbal's inverse kinematics (q_ref, dq_ref; ddq_ref is
+// the profile's, a feed-forward only); joint uses the profile's (q, dq, ddq)
+// as joint angles directly (the old law: the base's reaction rotation is not
+// seen). Law, per axis i (e = q_ref - q_meas):
 //   tau_u = J_i ddq_ref + kp e + kd (dq_ref - w) + I
 //   tau   = clamp(tau_u, -limit, +limit)
 // (with approach_margin > 0, large errors use kd (dq_ref + sign(e) sqrt(2 a |e|) - w)
@@ -26,6 +31,7 @@
 #include <array>
 #include <cstdint>
 
+#include "gimbalsim/controllers/attitude_estimator.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::controllers {
@@ -38,6 +44,17 @@ using pointing::TargetProfile;
 
 enum class AntiWindup : std::uint8_t { None, Clamping, BackCalculation };
 enum class RateSource : std::uint8_t { Status, Difference };
+/// What the joint law tracks: inertial pointing (IK through the estimated attitude) or the profile's joint angles.
+enum class PointingMode : std::uint8_t { Inertial, Joint };
+/// The inertial target: the profile's (az, el) turned into a direction at the initial base pose, or a fixed one.
+enum class PointingTarget : std::uint8_t { Profile, Fixed };
+
+/// The gimbal geometry the controller assumes (keys gimbal.*; the paper's z, y, x).
+struct GimbalAxes {
+  Vec3 joint1_axis = Vec3::UnitZ();  ///< azimuth axis, base frame
+  Vec3 joint2_axis = Vec3::UnitY();  ///< elevation axis, shaft 1 frame
+  Vec3 boresight = Vec3::UnitX();    ///< boresight, shaft 2 frame
+};
 
 /// Gains and limits of one axis (config keys `azimuth.*`, `elevation.*`).
 struct AxisGains {
@@ -60,6 +77,21 @@ struct ControllerConfig {
   /// torque_limit / inertia (needs inertia > 0 and kd > 0); 0 = plain PD [-]
   double approach_margin = 0.0;
   TargetProfile profile;
+  PointingMode pointing_mode = PointingMode::Inertial;
+  PointingTarget target = PointingTarget::Profile;
+  Vec3 fixed_direction = Vec3::UnitX();  ///< inertial target direction with target = fixed (any length > 0)
+  GimbalAxes gimbal;
+  AttitudeEstimatorParams estimator;     ///< k_p, k_i are keys; the rest its defaults
+};
+
+/// The base attitude sensors of the same tick (firmware::Attitude, as the controller uses it).
+struct AttitudeMeasurement {
+  bool gyro_valid = true;          ///< false: no gyro sample this period (the previous rate is held)
+  Vec3 gyro = Vec3::Zero();        ///< rate gyro, base frame, bias included [rad/s]
+  bool star_valid = false;         ///< a new star tracker sample this period
+  double star_time = -1.0;         ///< its sample time t_s [s]
+  Quat star_q = Quat::Identity();  ///< its attitude, base -> inertial
+  bool star_outage = false;        ///< the star tracker reports an outage
 };
 
 /// What the controller sees each period.
@@ -67,6 +99,7 @@ struct Measurement {
   double t = 0.0;             ///< time of the sample [s] (profile time)
   Vec2 theta = Vec2::Zero();  ///< encoder angles theta1, theta2 [rad] (quantized)
   Vec2 dtheta = Vec2::Zero(); ///< reported rates [rad/s] (used when rate_source = status)
+  AttitudeMeasurement att;    ///< base attitude sensors (default: no star sample, zero rate)
 };
 
 /// Memory between calls (the controller's "State"); copyable, reset by assignment.
@@ -76,6 +109,12 @@ struct ControllerState {
   double t_prev = 0.0;             ///< time of theta_prev [s]
   Vec2 rate = Vec2::Zero();        ///< filtered rate estimate [rad/s]
   bool primed = false;             ///< theta_prev holds a sample
+  AttitudeEstimatorState estimator; ///< base attitude estimate
+  Vec3 gyro_prev = Vec3::Zero();   ///< last gyro rate used [rad/s]
+  Vec2 ref_prev = Vec2::Zero();    ///< last IK solution (branch continuity) [rad]
+  bool ref_primed = false;         ///< ref_prev / gyro_prev / estimator.t hold a period
+  long long gyro_missing = 0;      ///< periods with the gyro rate held
+  long long star_outage_periods = 0; ///< periods with the star tracker in outage
 };
 
 /// One update's result; tau is the command.
@@ -84,9 +123,20 @@ struct ControlOutput {
   Vec2 tau_unsat = Vec2::Zero();   ///< before the limit [N m]
   Vec2 error = Vec2::Zero();       ///< q_ref - theta [rad]
   Vec2 rate = Vec2::Zero();        ///< rate used in the derivative term [rad/s]
-  ProfileSample ref;               ///< the reference at the measurement time
+  ProfileSample ref;               ///< the joint reference tracked (inertial: IK; joint: the profile)
   std::array<bool, 2> saturated{}; ///< |tau_unsat| > limit
+  ProfileSample profile;           ///< the profile at the measurement time
+  Quat q_WB_est = Quat::Identity();///< estimated base attitude, base -> inertial
+  Vec3 omega_B_est = Vec3::Zero(); ///< bias-corrected base rate used [rad/s]
+  bool star_outage = false;        ///< star tracker outage: the estimate coasts on the gyro
+  bool ik_singular = false;        ///< target along the azimuth axis (keyhole)
 };
+
+/// Inertial mode: the estimator step and the joint reference (q, dq from the
+/// IK, ddq = the profile's) into out (ref, profile, estimate, flags); joint
+/// mode: ref = profile (the estimator still runs, for the log). noexcept, no allocation.
+void jointReference(const ControllerConfig& c, ControllerState& s, const Measurement& meas,
+                    ControlOutput& out) noexcept;
 
 ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measurement& meas) noexcept;
 

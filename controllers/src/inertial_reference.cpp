@@ -1,0 +1,73 @@
+// The joint reference of the pointing law (pid.hpp): the attitude estimator's
+// step each period, then, in inertial mode, the inverse kinematics of the
+// inertial target seen from the estimated base.
+//
+// Per period, at t = seq Ts, with the gyro sample w_k (held when missing):
+//   estimator: propagate to t on (w_{k-1} + w_k) / 2 (trapezoid: second
+//              order), then omega_B = w_k - bias; correct with a new star
+//              sample (its own stamp t_s, possibly late) (attitude_estimator.hpp)
+//   target:    profile: d_W = b(q_p), dd_W = J(q_p) dq_p (b, J: boresight and
+//              its Jacobian at the initial base pose, the truth's losBoresight
+//              with the configured gimbal.* geometry); fixed: d_W = the
+//              configured direction, dd_W = 0
+//   in base:   d_B = R^T d_W, d_B_dot = R^T dd_W - omega_B x d_B  (R = R(q_WB_est))
+//   joints:    q_ref = solveAngles(d_B, previous q_ref), dq_ref = solveRates(q_ref, d_B_dot),
+//              ddq_ref = ddq_p (the profile's acceleration as feed-forward;
+//              the base's angular acceleration is left to the feedback)
+#include <cmath>
+
+#include "gimbalsim/controllers/gimbal_ik.hpp"
+#include "gimbalsim/controllers/pid.hpp"
+
+namespace gimbalsim::controllers {
+
+void jointReference(const ControllerConfig& c, ControllerState& s, const Measurement& meas,
+                    ControlOutput& out) noexcept {
+  out.profile = c.profile.at(meas.t);
+  const AttitudeMeasurement& att = meas.att;
+
+  // Attitude estimate at meas.t.
+  AttitudeEstimatorState& e = s.estimator;
+  const Vec3 gyro = att.gyro_valid || !s.ref_primed ? att.gyro : s.gyro_prev;
+  if (!att.gyro_valid) ++s.gyro_missing;
+  if (!s.ref_primed) {
+    e.t = meas.t;  // a controller joining late starts its estimate now
+  } else {
+    propagate(c.estimator, e, meas.t, 0.5 * (s.gyro_prev + gyro));
+  }
+  propagate(c.estimator, e, meas.t, gyro);  // no time step: omega_B = gyro - bias
+  s.gyro_prev = gyro;
+  if (att.star_valid && !att.star_outage) correct(c.estimator, e, att.star_time, att.star_q);
+  out.star_outage = att.star_outage;
+  if (att.star_outage) ++s.star_outage_periods;
+  out.q_WB_est = e.q_WB;
+  out.omega_B_est = e.omega_B;
+
+  if (c.pointing_mode == PointingMode::Joint) {
+    out.ref = out.profile;
+    s.ref_primed = true;
+    return;
+  }
+
+  const GimbalGeometry g = gimbalGeometry(c.gimbal.joint1_axis, c.gimbal.joint2_axis, c.gimbal.boresight);
+  Vec3 d_W, dd_W;
+  if (c.target == PointingTarget::Fixed) {
+    d_W = c.fixed_direction.normalized();
+    dd_W.setZero();
+  } else {
+    d_W = boresightB(g, out.profile.q);
+    dd_W = boresightJacobian(g, out.profile.q) * out.profile.dq;
+  }
+  const LosInBase los = losInBase(d_W, dd_W, e.q_WB.toRotationMatrix(), e.omega_B);
+  const Vec2 prev = s.ref_primed ? s.ref_prev : (c.target == PointingTarget::Profile ? out.profile.q : meas.theta);
+  const IkSolution sol = solveAngles(g, los.d_B, prev);
+  out.ref.q = sol.theta;
+  out.ref.dq = solveRates(g, sol.theta, los.d_B_dot);
+  out.ref.ddq = c.target == PointingTarget::Profile ? out.profile.ddq : Vec2::Zero();
+  out.ref.segment = out.profile.segment;
+  out.ik_singular = sol.singular;
+  s.ref_prev = sol.theta;
+  s.ref_primed = true;
+}
+
+}  // namespace gimbalsim::controllers

@@ -1,0 +1,92 @@
+// gimbalsim_pointing_study --quick: the summary has its columns and one row
+// per run (ideal + two clearances), the time series one column per run, and
+// the ideal joint's peak tracking error is finite and positive. Bad arguments
+// and an unwritable output directory are refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <utility>
+#include <vector>
+#include <sys/wait.h>
+
+#include "../csv_util.hpp"
+
+namespace {
+
+int run(const std::string& args, const std::string& log) {
+  const std::string cmd = std::string(GIMBALSIM_POINTING_STUDY_BIN) + " " + args + " > " + log + " 2>&1";
+  const int st = std::system(cmd.c_str());
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+TEST(PointingStudy, QuickRunWritesOneSummaryRowPerRun) {
+  const std::string dir = std::string(GIMBALSIM_TEST_TMP) + "/quick";
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(run("--quick --out " + dir, dir + ".log"), 0) << "see " << dir << ".log";
+  const gimbalsim::test::Csv sum = gimbalsim::test::Csv::read(dir + "/summary.csv");
+  const std::vector<std::string> cols{"run",          "scene",        "clearance_m", "peak_track_rad",
+                                      "rms_track_rad", "peak_run_rad", "track_ticks", "status",
+                                      "stop_reason"};
+  EXPECT_EQ(sum.header, cols);
+  ASSERT_EQ(sum.rows.size(), 3u);
+  const auto rec = sum.records();
+  EXPECT_EQ(rec[0].at("run"), "ideal");
+  EXPECT_EQ(rec[0].at("scene"), "paper_ideal");
+  EXPECT_EQ(rec[0].at("status"), "ok") << rec[0].at("stop_reason");
+  const double peak = std::stod(rec[0].at("peak_track_rad"));
+  EXPECT_TRUE(std::isfinite(peak));
+  EXPECT_GT(peak, 0.0);
+  EXPECT_GT(std::stoll(rec[0].at("track_ticks")), 0);
+  for (int i = 1; i < 3; ++i) {
+    EXPECT_EQ(rec[i].at("scene"), "paper_clearance");
+    EXPECT_GT(std::stod(rec[i].at("clearance_m")), 0.0);
+  }
+  const gimbalsim::test::Csv ts = gimbalsim::test::Csv::read(dir + "/pointing_error.csv");
+  ASSERT_EQ(ts.header.size(), 4u);
+  EXPECT_EQ(ts.header[0], "t[s]");
+  EXPECT_EQ(ts.header[1], "ideal");
+  EXPECT_EQ(ts.header[2], rec[1].at("run"));
+  EXPECT_GT(ts.rows.size(), 100u);
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(PointingStudy, RefusesBadArgumentsNamingTheOption) {
+  const std::string log = std::string(GIMBALSIM_TEST_TMP) + "/refused.log";
+  const std::string out = " --out " + std::string(GIMBALSIM_TEST_TMP) + "/refused";
+  for (const auto& [args, option] : std::vector<std::pair<std::string, std::string>>{
+           {"--duration -1", "--duration"},
+           {"--duration abc", "--duration"},
+           {"--clearances 0.1e-3,-1", "--clearances"},
+           {"--set no.such_key=1", "--set"},
+           {"--scene-set contact.clearance=0.02", "--scene-set"},
+           {"--bogus", "--bogus"}}) {
+    EXPECT_EQ(run(args + out, log), 2) << args;
+    EXPECT_NE(slurp(log).find(option), std::string::npos) << args << ": " << slurp(log);
+  }
+}
+
+TEST(PointingStudy, FailedWritesAreReportedNamingTheFile) {
+  const std::string tmp = std::string(GIMBALSIM_TEST_TMP);
+  // The output directory cannot be created: a file stands in its way.
+  std::filesystem::remove_all(tmp + "/blocker");
+  std::fclose(std::fopen((tmp + "/blocker").c_str(), "w"));
+  EXPECT_NE(run("--duration 0.01 --clearances 0.5e-3 --out " + tmp + "/blocker/sub", tmp + "/blocker.log"), 0);
+  // summary.csv cannot be opened: a directory has its name.
+  const std::string dir = tmp + "/unwritable";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir + "/summary.csv");
+  EXPECT_NE(run("--duration 0.01 --clearances 0.5e-3 --out " + dir, dir + ".log"), 0);
+  const std::string text = slurp(dir + ".log");
+  EXPECT_NE(text.find(dir + "/summary.csv"), std::string::npos) << text;
+}
+
+}  // namespace

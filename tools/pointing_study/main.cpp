@@ -1,0 +1,252 @@
+// gimbalsim_pointing_study: the paper's question (how much does the radial
+// clearance of the elevation joint cost in pointing?) answered in closed loop.
+// One in-process closed-loop run (runClosedLoop: firmware model + pointing
+// controller, the same truth as the LCM bench in lockstep) on the ideal joint
+// and one per clearance, all with the same controller configuration, profile
+// and duration. Writes, in --out:
+//   pointing_error.csv  t and the truth pointing error of every run, one column each
+//   summary.csv         one row per run: peak / RMS while tracking, peak over the run, plant status
+//   config.txt          the controller configuration in effect (key=value)
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "gimbalsim/controllers/closed_loop.hpp"
+#include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/dynamics/step_result.hpp"
+
+using namespace gimbalsim;
+using namespace gimbalsim::controllers;
+
+namespace {
+
+constexpr int kExitRefused = 2;   // bad argument, scene or configuration
+constexpr int kExitWrite = 3;     // an output file could not be written
+constexpr int kExitStopped = 4;   // a plant stopped (results still written)
+
+/// One closed-loop run and what it measured.
+struct Study {
+  std::string label;        ///< column name: "ideal", "c=0.25mm"
+  std::string scene;        ///< scene name
+  double clearance = 0.0;   ///< [m], 0 for the ideal joint
+  std::vector<double> err;  ///< truth pointing error per tick [rad]
+  double peak_track = 0.0, rms_track = 0.0, peak_run = 0.0;
+  long long track_ticks = 0;
+  bool ok = true;
+  std::string stop_key;     ///< the scene key of the limit that stopped the plant ("" if none)
+  std::string reason;       ///< why it stopped
+};
+
+std::string num(double x) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.9g", x);
+  return b;
+}
+
+std::string clearanceLabel(double c) {
+  char b[40];
+  std::snprintf(b, sizeof b, "c=%gmm", c * 1e3);
+  return b;
+}
+
+/// The scene key named by the stop message (describe(StepStatus) + " at t = ...").
+std::string stopKey(const std::string& error) {
+  for (StepStatus s : {StepStatus::NonFinite, StepStatus::VelocityLimit, StepStatus::PenetrationLimit,
+                       StepStatus::SubstepCap, StepStatus::EventNotLocated, StepStatus::SubstepTooLong}) {
+    if (error.rfind(describe(s), 0) == 0) return *limitKey(s) ? limitKey(s) : "non_finite";
+  }
+  return "refused";
+}
+
+std::string csvQuote(const std::string& s) {
+  std::string q = "\"";
+  for (char ch : s) q += (ch == '"') ? std::string("\"\"") : std::string(1, ch);
+  return q + "\"";
+}
+
+/// Writes text to path; false (and a message naming the file) on any failure.
+bool writeFile(const std::filesystem::path& path, const std::string& text) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) {
+    std::fprintf(stderr, "gimbalsim_pointing_study: cannot open %s for writing: %s\n", path.c_str(),
+                 std::strerror(errno));
+    return false;
+  }
+  const bool wrote = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  const int err = errno;
+  const bool closed = std::fclose(f) == 0;
+  if (!wrote || !closed) {
+    std::fprintf(stderr, "gimbalsim_pointing_study: write to %s failed: %s\n", path.c_str(),
+                 std::strerror(wrote ? errno : err));
+    return false;
+  }
+  return true;
+}
+
+Study runOne(const Scene& sc, const ControllerConfig& c, const ClosedLoopOptions& opt, std::string label,
+             double clearance) {
+  Study s;
+  s.label = std::move(label);
+  s.scene = sc.model.name;
+  s.clearance = clearance;
+  double sum_sq = 0.0;
+  const ClosedLoopResult r = runClosedLoop(sc, c, opt, [&](const TickRecord& t) {
+    s.err.push_back(t.truth_error);
+    s.peak_run = std::max(s.peak_run, t.truth_error);
+    if (t.ref.segment == pointing::Segment::Track) {
+      s.peak_track = std::max(s.peak_track, t.truth_error);
+      sum_sq += t.truth_error * t.truth_error;
+      ++s.track_ticks;
+    }
+  });
+  if (s.track_ticks > 0) s.rms_track = std::sqrt(sum_sq / static_cast<double>(s.track_ticks));
+  s.ok = r.ok;
+  if (!r.ok) {
+    s.stop_key = stopKey(r.error);
+    s.reason = r.error;
+  }
+  return s;
+}
+
+std::string timeSeriesCsv(const std::vector<Study>& runs, double period) {
+  std::size_t n = 0;
+  std::string out = "t[s]";
+  for (const Study& s : runs) {
+    out += ',';
+    out += s.label;
+    n = std::max(n, s.err.size());
+  }
+  out += "\n";
+  for (std::size_t k = 0; k < n; ++k) {
+    out += num(static_cast<double>(k) * period);
+    for (const Study& s : runs) {
+      out += ',';
+      if (k < s.err.size()) out += num(s.err[k]);
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+std::string summaryCsv(const std::vector<Study>& runs) {
+  std::string out =
+      "run,scene,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,status,stop_reason\n";
+  for (const Study& s : runs) {
+    out += s.label + "," + s.scene + "," + num(s.clearance) + "," + num(s.peak_track) + "," + num(s.rms_track) +
+           "," + num(s.peak_run) + "," + std::to_string(s.track_ticks) + "," +
+           (s.ok ? std::string("ok") : "stop:" + s.stop_key) + "," + csvQuote(s.reason) + "\n";
+  }
+  return out;
+}
+
+int refuse(const std::string& option, const std::string& why) {
+  std::fprintf(stderr, "gimbalsim_pointing_study: %s: %s\n", option.c_str(), why.c_str());
+  return kExitRefused;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Closed-loop truth pointing error on the ideal joint and against the elevation-joint clearance"};
+  std::string ideal_path = GIMBALSIM_SCENES_DIR "/paper_ideal.yaml";
+  std::string clearance_path = GIMBALSIM_SCENES_DIR "/paper_clearance.yaml";
+  std::string config_path = GIMBALSIM_CONTROLLER_CONFIG_DIR "/default.yaml";
+  std::string out_dir = "out/pointing_study";
+  std::vector<std::string> scene_sets, sets;
+  std::vector<double> clearances{0.1e-3, 0.25e-3, 0.5e-3, 0.8e-3};
+  double duration = 0.0;
+  bool quick = false;
+  app.add_option("--ideal-scene", ideal_path, "scene with the ideal joint");
+  app.add_option("--clearance-scene", clearance_path, "scene with the clearance joint");
+  app.add_option("--config", config_path, "controller configuration file");
+  app.add_option("--set", sets, "controller override key=value (repeatable)");
+  app.add_option("--scene-set", scene_sets, "scene override key=value for every run (repeatable)");
+  app.add_option("--clearances", clearances, "radial clearances [m] (contact.clearance), comma-separated")
+      ->delimiter(',');
+  app.add_option("--duration", duration, "simulated time [s] (default: the profile's track start + 5 s)");
+  app.add_option("--out", out_dir, "output directory (the last one given counts)")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  app.add_flag("--quick", quick, "smoke run: track start + 0.5 s, clearances 0.25 and 0.5 mm (unless given)");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : kExitRefused;
+  }
+  if (app.count("--duration") && !(duration > 0.0 && std::isfinite(duration))) {
+    return refuse("--duration", "must be a positive number of seconds, got " + num(duration));
+  }
+  if (quick && !app.count("--clearances")) clearances = {0.25e-3, 0.5e-3};
+  for (double c : clearances) {
+    if (!(c > 0.0 && std::isfinite(c))) return refuse("--clearances", "each must be > 0 [m], got " + num(c));
+  }
+  if (out_dir.empty()) return refuse("--out", "empty directory name");
+
+  ControllerConfig cfg;
+  std::vector<std::pair<Scene, double>> scenes;  // (scene, clearance)
+  try {
+    cfg = loadControllerConfig(config_path, sets);
+  } catch (const SceneError& e) {
+    std::string why;
+    for (const auto& p : e.problems()) why += "\n  " + p;
+    return refuse("--config/--set", "configuration refused:" + why);
+  }
+  try {
+    scenes.emplace_back(loadScene(ideal_path, scene_sets), 0.0);
+    for (double c : clearances) {
+      std::vector<std::string> s = scene_sets;
+      s.push_back("contact.clearance=" + num(c));
+      scenes.emplace_back(loadScene(clearance_path, s), c);
+    }
+  } catch (const SceneError& e) {
+    std::string why;
+    for (const auto& p : e.problems()) why += "\n  " + p;
+    return refuse("--ideal-scene/--clearance-scene/--scene-set/--clearances", "scene refused:" + why);
+  }
+
+  ClosedLoopOptions opt;
+  const double track_start = cfg.profile.trackStart();
+  opt.duration = duration > 0.0 ? duration : track_start + (quick ? 0.5 : 5.0);
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) {
+    std::fprintf(stderr, "gimbalsim_pointing_study: cannot create %s: %s\n", out_dir.c_str(),
+                 ec.message().c_str());
+    return kExitWrite;
+  }
+  const std::filesystem::path dir(out_dir);
+
+  std::string config_text, mode = "joint-space (no pointing.mode key)";
+  for (const std::string& kv : configValues(cfg)) {
+    config_text += kv + "\n";
+    if (kv.rfind("pointing.mode=", 0) == 0) mode = kv.substr(14);
+  }
+  if (!writeFile(dir / "config.txt", config_text)) return kExitWrite;
+  std::printf("# %g s per run (tracking from %g s), control period %g s, controller mode: %s\n", opt.duration,
+              track_start, cfg.period, mode.c_str());
+  std::printf("%-10s %-16s %11s %13s %13s %13s  %s\n", "run", "scene", "clearance[m]", "peak_trk[rad]",
+              "rms_trk[rad]", "peak_run[rad]", "status");
+
+  std::vector<Study> runs;
+  for (const auto& [sc, c] : scenes) {
+    runs.push_back(runOne(sc, cfg, opt, c > 0.0 ? clearanceLabel(c) : std::string("ideal"), c));
+    const Study& s = runs.back();
+    std::printf("%-10s %-16s %11.3g %13.4e %13.4e %13.4e  %s\n", s.label.c_str(), s.scene.c_str(), s.clearance,
+                s.peak_track, s.rms_track, s.peak_run, s.ok ? "ok" : ("stop: " + s.reason).c_str());
+    std::fflush(stdout);
+  }
+  if (!writeFile(dir / "pointing_error.csv", timeSeriesCsv(runs, cfg.period)) ||
+      !writeFile(dir / "summary.csv", summaryCsv(runs))) {
+    return kExitWrite;
+  }
+  std::printf("wrote %s, %s, %s\n", (dir / "pointing_error.csv").c_str(), (dir / "summary.csv").c_str(),
+              (dir / "config.txt").c_str());
+  const bool all_ok = std::all_of(runs.begin(), runs.end(), [](const Study& s) { return s.ok; });
+  return all_ok ? 0 : kExitStopped;
+}
