@@ -61,12 +61,12 @@ GimbalGeometry gimbalGeometry(const Vec3& k1_B, const Vec3& k2_S1, const Vec3& b
 }
 
 Vec3 boresightB(const GimbalGeometry& g, const Vec2& theta) noexcept {
-  return axisAngle(g.k1_B, theta(0)) * (axisAngle(g.k2_S1, theta(1)) * g.b_S2);
+  return pointing::gimbalBoresight(g.k1_B, g.k2_S1, g.b_S2, theta(0), theta(1));
 }
 
 Mat32 boresightJacobian(const GimbalGeometry& g, const Vec2& theta) noexcept {
   const Mat3 R1 = axisAngle(g.k1_B, theta(0));
-  const Vec3 b = R1 * (axisAngle(g.k2_S1, theta(1)) * g.b_S2);
+  const Vec3 b = boresightB(g, theta);
   Mat32 J;
   J.col(0) = g.k1_B.cross(b);
   J.col(1) = (R1 * g.k2_S1).cross(b);

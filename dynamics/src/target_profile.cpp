@@ -54,8 +54,12 @@ ProfileSample TargetProfile::at(double t) const noexcept {
 }
 
 Vec3 losBoresight(const Model& m, double az, double el) noexcept {
-  const Eigen::AngleAxisd R1(az, m.k1_B.normalized()), R2(el, m.k2_S1.normalized());
-  return (R1 * (R2 * m.boresight_S2)).normalized();
+  return gimbalBoresight(m.k1_B, m.k2_S1, m.boresight_S2, az, el);
+}
+
+Vec3 gimbalBoresight(const Vec3& k1_B, const Vec3& k2_S1, const Vec3& b_S2, double az, double el) noexcept {
+  const Eigen::AngleAxisd R1(az, k1_B.normalized()), R2(el, k2_S1.normalized());
+  return (R1 * (R2 * b_S2)).normalized();
 }
 
 }  // namespace gimbalsim::pointing

@@ -72,6 +72,12 @@ struct TargetProfile {
 /// the journal but does not rotate it, so it plays no part.
 Vec3 losBoresight(const Model& m, double az, double el) noexcept;
 
+/// The same for any two-axis geometry: joint 1 axis k1_B (base frame), joint
+/// 2 axis k2_S1 (shaft 1 frame), boresight b_S2 (shaft 2 frame), all frames
+/// parallel at zero angles; the boresight in the base frame, unit. The one
+/// formula the plant's truth and the controller's inverse kinematics share.
+Vec3 gimbalBoresight(const Vec3& k1_B, const Vec3& k2_S1, const Vec3& b_S2, double az, double el) noexcept;
+
 /// Angle between two directions [rad]: atan2(|a x b|, a.b), exact near 0
 /// (acos loses half the digits there). Neither needs to be unit. The one
 /// angle-between-directions function of the tree: tests and tools call it.
