@@ -96,7 +96,7 @@ ControllerConfig loadControllerConfigText(const std::string& yaml, const std::st
 
 ControllerConfig loadControllerConfig(const std::string& path, const std::vector<std::string>& overrides) {
   std::string text;
-  if (!readFile(path, text)) throw ConfigError({path + ": cannot open controller configuration file"});
+  if (!readFile(path, text)) throw ConfigError(path + ": cannot open controller configuration file");
   return loadControllerConfigText(text, path, overrides);
 }
 

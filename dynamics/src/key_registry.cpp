@@ -152,10 +152,42 @@ Check positiveDefinite() {
 
 // ---- the values given: one file reader, one --set parser ----
 
+/// Where a value was given: a file position or a --set index.
+struct Given::Place {
+  std::string file;          ///< origin; "" for --set
+  int line = 0, column = 0;  ///< 1-based; 0 = none
+  int set_index = 0;         ///< 1-based; 0 = not --set
+  std::string set_text;      ///< the --set argument
+
+  static Place inFile(const std::string& origin, int line = 0, int column = 0) {
+    Place p;
+    p.file = origin;
+    p.line = line;
+    p.column = column;
+    return p;
+  }
+  static Place inSet(int index, const std::string& text) {
+    Place p;
+    p.set_index = index;
+    p.set_text = text;
+    return p;
+  }
+
+  std::string str() const {
+    if (set_index > 0) return "--set #" + std::to_string(set_index) + " '" + set_text + "'";
+    if (line > 0) return file + ":" + std::to_string(line) + ":" + std::to_string(column);
+    return file;
+  }
+  /// "<place>: <msg>" as a Problem about `key`.
+  Problem problem(const std::string& key, const std::string& msg) const {
+    return {str() + ": " + msg, key, set_index > 0 ? "" : file, line, column, set_index};
+  }
+};
+
 namespace {
 struct Value {
   YAML::Node node;
-  std::string where;  ///< "file:line:col" or "--set #k '...'"
+  Given::Place where;
 };
 }  // namespace
 
@@ -167,9 +199,9 @@ struct Given::Impl {
 
 namespace {
 
-std::string place(const std::string& origin, const YAML::Mark& mk) {
-  if (mk.line < 0) return origin;
-  return origin + ":" + std::to_string(mk.line + 1) + ":" + std::to_string(mk.column + 1);
+Given::Place place(const std::string& origin, const YAML::Mark& mk) {
+  if (mk.line < 0) return Given::Place::inFile(origin);
+  return Given::Place::inFile(origin, mk.line + 1, mk.column + 1);
 }
 
 /// Leaves of nested sections as "a.b" -> (value, place of its key).
@@ -197,10 +229,10 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
     if (root.IsMap()) {
       flatten(root, "", origin, values);
     } else if (root.IsDefined() && !root.IsNull()) {
-      problems.push_back(origin + ": " + words.document + " must be a mapping of sections");
+      problems.push_back(Place::inFile(origin).problem("", words.document + " must be a mapping of sections"));
     }
   } catch (const YAML::Exception& e) {
-    problems.push_back(place(origin, e.mark) + ": not valid YAML: " + e.msg);
+    problems.push_back(place(origin, e.mark).problem("", "not valid YAML: " + e.msg));
   }
   if (!problems.empty()) {
     unreadable_ = true;
@@ -211,8 +243,8 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
     known.insert(key);
     if (!alt.empty()) impl_->alternative[key] = alt;
   }
-  auto unknown = [&](const std::string& where, const std::string& key) {
-    problems.push_back(where + ": unknown key '" + key + "' (see " + words.see + ")");
+  auto unknown = [&](const Place& where, const std::string& key) {
+    problems.push_back(where.problem(key, "unknown key '" + key + "' (see " + words.see + ")"));
   };
   const std::string& only = words.section;
   for (auto it = values.begin(); it != values.end();) {
@@ -227,10 +259,10 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
   }
   for (std::size_t i = 0; i < overrides.size(); ++i) {
     const std::string& o = overrides[i];
-    const std::string where = "--set #" + std::to_string(i + 1) + " '" + o + "'";
+    const Place where = Place::inSet(static_cast<int>(i + 1), o);
     const auto eq = o.find('=');
     if (eq == std::string::npos || eq == 0) {
-      problems.push_back(where + ": expected key=value");
+      problems.push_back(where.problem("", "expected key=value"));
       continue;
     }
     const std::string key = o.substr(0, eq);
@@ -243,13 +275,13 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
       if (auto a = impl_->alternative.find(key); a != impl_->alternative.end()) values.erase(a->second);
       values[key] = std::move(v);  // a later --set of either alternative wins
     } catch (const YAML::Exception& e) {
-      problems.push_back(where + ": value is not valid: " + e.msg);
+      problems.push_back(where.problem(key, "key '" + key + "': value is not valid YAML: " + e.msg));
     }
   }
   std::set<std::string> seen;
   for (const auto& [key, alt] : keys) {
     if (seen.count(alt) && has(key) && has(alt)) {
-      problems.push_back(values[key].where + ": give either " + key + " or " + alt + ", not both");
+      problems.push_back(values[key].where.problem(key, "give either " + key + " or " + alt + ", not both"));
     }
     seen.insert(key);
   }
@@ -265,24 +297,26 @@ void Given::apply(const std::string& key, const std::function<void(const YAML::N
   try {
     set(it->second.node);
   } catch (const ConvertError& e) {
-    problems.push_back(it->second.where + ": key '" + key + "': " + e.msg);
+    problems.push_back(it->second.where.problem(key, "key '" + key + "': " + e.msg));
   } catch (const YAML::Exception& e) {
-    problems.push_back(it->second.where + ": key '" + key + "': " + e.msg);
+    problems.push_back(it->second.where.problem(key, "key '" + key + "': " + e.msg));
   }
 }
 
-std::string Given::at(const std::string& key) const {
+Problem Given::problemAt(const std::string& key, const std::string& msg) const {
   const auto& v = impl_->values;
-  if (const auto it = v.find(key); it != v.end()) return it->second.where + ": key '" + key + "': ";
+  if (const auto it = v.find(key); it != v.end()) return it->second.where.problem(key, "key '" + key + "': " + msg);
   if (const auto a = impl_->alternative.find(key); a != impl_->alternative.end()) {
-    if (const auto it = v.find(a->second); it != v.end()) return it->second.where + ": key '" + a->second + "': ";
+    if (const auto it = v.find(a->second); it != v.end()) {
+      return it->second.where.problem(a->second, "key '" + a->second + "': " + msg);
+    }
   }
-  return impl_->origin + ": (default of " + key + "): key '" + key + "': ";
+  return Place::inFile(impl_->origin).problem(key, "(default of " + key + "): key '" + key + "': " + msg);
 }
 
-void Given::refuse(const std::string& key, const std::string& msg) { problems.push_back(at(key) + msg); }
+void Given::refuse(const std::string& key, const std::string& msg) { problems.push_back(problemAt(key, msg)); }
 
-void Given::warn(const std::string& key, const std::string& msg) { warnings.push_back(at(key) + msg); }
+void Given::warn(const std::string& key, const std::string& msg) { warnings.push_back(problemAt(key, msg).text); }
 
 bool readFile(const std::string& path, std::string& text) {
   std::ifstream in(path);

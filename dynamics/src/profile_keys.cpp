@@ -53,7 +53,7 @@ TargetProfile loadTargetProfileText(const std::string& yaml, const std::string& 
 
 TargetProfile loadTargetProfile(const std::string& path) {
   std::string text;
-  if (!readFile(path, text)) throw SceneError({path + ": cannot open profile file"});
+  if (!readFile(path, text)) throw SceneError(path + ": cannot open profile file");
   return loadTargetProfileText(text, path);
 }
 

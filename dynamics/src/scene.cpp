@@ -5,13 +5,21 @@
 
 namespace gimbalsim {
 
-SceneError::SceneError(std::vector<std::string> problems)
+SceneError::SceneError(std::vector<Problem> problems)
     : std::runtime_error([&] {
         std::string all;
-        for (const auto& p : problems) all += (all.empty() ? "" : "\n") + p;
+        for (const auto& p : problems) all += (all.empty() ? "" : "\n") + p.text;
         return all;
       }()),
-      problems_(std::move(problems)) {}
+      details_(std::move(problems)) {
+  for (const auto& p : details_) texts_.push_back(p.text);
+}
+
+SceneError::SceneError(const std::string& problem) : SceneError([&] {
+        Problem p;
+        p.text = problem;
+        return std::vector<Problem>{p};
+      }()) {}
 
 namespace {
 
@@ -265,7 +273,7 @@ Scene loadSceneText(const std::string& yaml, const std::string& origin, const st
 
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
   std::string text;
-  if (!readFile(path, text)) throw SceneError({path + ": cannot open scene file"});
+  if (!readFile(path, text)) throw SceneError(path + ": cannot open scene file");
   return loadSceneText(text, path, overrides);
 }
 

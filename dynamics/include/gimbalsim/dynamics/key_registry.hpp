@@ -29,6 +29,16 @@ class Node;
 
 namespace gimbalsim {
 
+/// One refusal: the message as printed, and where it points, as fields (for
+/// programs: the Python package's SceneError, tests).
+struct Problem {
+  std::string text;          ///< "<place>: key '<key>': <why>", as printed
+  std::string key;           ///< the key refused; "" when none (YAML syntax, not a mapping, unreadable file)
+  std::string file;          ///< the document's origin (path); "" for a --set value
+  int line = 0, column = 0;  ///< 1-based position in the file; 0 when not a file position
+  int set_index = 0;         ///< 1-based --set index; 0 when not from --set
+};
+
 /// A key as the listings and the README show it.
 struct KeyInfo {
   std::string key, type, unit, check, default_value, meaning;
@@ -86,6 +96,7 @@ struct TableWords {
 /// --set overrides), each with its place, and the problems found so far.
 class Given {
  public:
+  struct Place;
   /// keys: (key, alternative key or "") in table order. Two alternative keys
   /// set one field: a --set of one drops the other, giving both is refused.
   Given(const TableWords& words, const std::vector<std::pair<std::string, std::string>>& keys,
@@ -104,10 +115,11 @@ class Given {
   void refuse(const std::string& key, const std::string& msg);
   void warn(const std::string& key, const std::string& msg);
 
-  std::vector<std::string> problems, warnings;
+  std::vector<Problem> problems;
+  std::vector<std::string> warnings;
 
  private:
-  std::string at(const std::string& key) const;
+  Problem problemAt(const std::string& key, const std::string& msg) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
   bool unreadable_ = false;

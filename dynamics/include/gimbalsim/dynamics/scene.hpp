@@ -17,11 +17,17 @@ namespace gimbalsim {
 /// Refusal of a scene: every problem found, each naming key and position.
 class SceneError : public std::runtime_error {
  public:
-  explicit SceneError(std::vector<std::string> problems);
-  const std::vector<std::string>& problems() const { return problems_; }
+  explicit SceneError(std::vector<Problem> problems);
+  /// A refusal of the whole document (e.g. "<path>: cannot open scene file").
+  explicit SceneError(const std::string& problem);
+  /// The messages, as printed.
+  const std::vector<std::string>& problems() const { return texts_; }
+  /// The same with key and place as fields.
+  const std::vector<Problem>& details() const { return details_; }
 
  private:
-  std::vector<std::string> problems_;
+  std::vector<Problem> details_;
+  std::vector<std::string> texts_;
 };
 
 
