@@ -1,0 +1,29 @@
+// What a run writes: the CSV text of its rows and its summary JSON. One
+// formatter for the command line and the Python package, so both write the
+// same bytes for the same scene.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <span>
+#include <string>
+
+#include "gimbalsim/dynamics/observables.hpp"
+#include "gimbalsim/dynamics/simulate.hpp"
+
+namespace gimbalsim::io {
+
+/// The CSV header line (kColumns joined by ',', then '\n').
+std::string csvHeader();
+
+/// Appends one row (kNumColumns values, "%.12g" each) and '\n' to `out`.
+void appendCsvRow(std::string& out, std::span<const double, kNumColumns> row);
+inline void appendCsvRow(std::string& out, const Row& r) {
+  appendCsvRow(out, std::span<const double, kNumColumns>(rowData(r), kNumColumns));
+}
+
+/// The summary of a run, as `gimbalsim simulate --summary` writes it (dump(2)).
+/// `scene` is the scene file as given; `integrator_kind` "rk4" or "reference".
+nlohmann::json runSummary(const Model& m, const RunResult& r, const std::string& scene,
+                          const std::string& integrator_kind);
+
+}  // namespace gimbalsim::io
