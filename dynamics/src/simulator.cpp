@@ -1,0 +1,124 @@
+#include "gimbalsim/dynamics/simulator.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "gimbalsim/dynamics/integrator.hpp"
+#include "gimbalsim/dynamics/simulate.hpp"
+
+namespace gimbalsim {
+
+struct Simulator::Impl {
+  explicit Impl(const Model& model) : m(model) {}
+  virtual ~Impl() = default;
+  virtual StepResult step(const Vec2& tau, long long n) noexcept = 0;
+  virtual StepResult run(const double* tau, long long n, double* rows, long long& done) noexcept = 0;
+  virtual Row output() noexcept = 0;
+  virtual double time() const noexcept = 0;
+  virtual SavedState save() const = 0;
+  virtual void restore(const SavedState& saved) = 0;
+  Model m;
+};
+
+namespace {
+
+template <class V>
+struct VariantSimulator final : Simulator::Impl {
+  VariantSimulator(const Model& model, const InitialParams& init, const Vec2& tau0)
+      : Simulator::Impl(model), d(m), s(initialState<V>(init)) {
+    u.tau = tau0;
+  }
+
+  StepResult step(const Vec2& tau, long long n) noexcept override {
+    u.tau = tau;
+    const StepResult r = advanceSteps(m, d, s, u, k, k + n);
+    k = std::llround(s.t / m.integrator.step);
+    return r;
+  }
+
+  StepResult run(const double* tau, long long n, double* rows, long long& done) noexcept override {
+    done = 0;
+    for (long long i = 0; i < n; ++i) {
+      u.tau = Vec2(tau[2 * i], tau[2 * i + 1]);
+      const StepResult r = advanceSteps(m, d, s, u, k, k + 1);
+      if (!r.ok()) return r;
+      ++k;
+      const Row row = observe(m, d, s, u);
+      const double* p = rowData(row);
+      std::copy(p, p + kNumColumns, rows + i * kNumColumns);
+      ++done;
+    }
+    return {StepStatus::Ok, s.t};
+  }
+
+  Row output() noexcept override { return observe(m, d, s, u); }
+  double time() const noexcept override { return s.t; }
+
+  SavedState save() const override {
+    SavedState out;
+    out.variant = variantName(m);
+    out.t = s.t;
+    out.q.assign(s.q.data(), s.q.data() + V::NQ);
+    out.v.assign(s.v.data(), s.v.data() + V::NV);
+    out.in_contact = s.in_contact;
+    out.v0 = s.v0;
+    out.friction_mode = s.friction_mode;
+    out.vt_floor = s.vt_floor;
+    out.h_next = s.h_next;
+    return out;
+  }
+
+  void restore(const SavedState& in) override {
+    if (in.variant != variantName(m)) {
+      throw std::invalid_argument("state of variant " + in.variant + " given to a simulator of variant " +
+                                  variantName(m));
+    }
+    if (in.q.size() != static_cast<std::size_t>(V::NQ) || in.v.size() != static_cast<std::size_t>(V::NV)) {
+      throw std::invalid_argument("state holds " + std::to_string(in.q.size()) + " q and " +
+                                  std::to_string(in.v.size()) + " v values; variant " + in.variant + " has " +
+                                  std::to_string(V::NQ) + " and " + std::to_string(V::NV));
+    }
+    if (!std::isfinite(in.t) || in.t < 0.0 || in.friction_mode < -1 || in.friction_mode > 1) {
+      throw std::invalid_argument("state has t = " + std::to_string(in.t) + " and friction_mode " +
+                                  std::to_string(in.friction_mode) + " (need t >= 0, friction_mode in {-1, 0, 1})");
+    }
+    State<V> r;
+    r.t = in.t;
+    r.q = Eigen::Map<const typename State<V>::VecQ>(in.q.data());
+    r.v = Eigen::Map<const typename State<V>::VecV>(in.v.data());
+    r.in_contact = in.in_contact;
+    r.v0 = in.v0;
+    r.friction_mode = in.friction_mode;
+    r.vt_floor = in.vt_floor;
+    r.h_next = in.h_next;
+    s = r;
+    k = std::llround(s.t / m.integrator.step);  // advanceSteps puts t on the grid t = k h
+  }
+
+  Data<V> d;
+  State<V> s;
+  Input u;
+  long long k = 0;  ///< steps taken: s.t = k sim.step
+};
+
+}  // namespace
+
+Simulator::Simulator(const Scene& scene)
+    : impl_(dispatchVariant(scene.model, [&](auto tag) -> std::unique_ptr<Impl> {
+        return std::make_unique<VariantSimulator<decltype(tag)>>(scene.model, scene.run.initial,
+                                                           scene.run.torque);
+      })) {}
+
+Simulator::~Simulator() = default;
+
+const Model& Simulator::model() const { return impl_->m; }
+double Simulator::time() const noexcept { return impl_->time(); }
+StepResult Simulator::step(const Vec2& tau, long long n) noexcept { return impl_->step(tau, n); }
+StepResult Simulator::run(const double* tau, long long n, double* rows, long long& done) noexcept {
+  return impl_->run(tau, n, rows, done);
+}
+Row Simulator::output() noexcept { return impl_->output(); }
+SavedState Simulator::save() const { return impl_->save(); }
+void Simulator::restore(const SavedState& saved) { impl_->restore(saved); }
+
+}  // namespace gimbalsim

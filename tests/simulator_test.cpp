@@ -1,0 +1,104 @@
+// The call-by-call Simulator (simulator.hpp, behind the Python package):
+// stepping it gives the rows simulate() gives, its checkpoints restore
+// bit for bit, a wrong checkpoint is refused, and step(), run() and output()
+// allocate nothing once built.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <stdexcept>
+#include <vector>
+
+#include "alloc_guard.hpp"
+#include "gimbalsim/dynamics/simulate.hpp"
+#include "gimbalsim/dynamics/simulator.hpp"
+#include "test_util.hpp"
+
+namespace gimbalsim {
+namespace {
+
+using test::g_allocations;
+
+std::vector<double> simulateRows(const Scene& sc) {
+  std::vector<double> rows;
+  const RunResult r =
+      simulate(sc, [&](const Row& row) { rows.insert(rows.end(), rowData(row), rowData(row) + kNumColumns); });
+  EXPECT_TRUE(r.ok) << r.error;
+  return rows;
+}
+
+bool sameBits(const double* a, const double* b, std::size_t n) { return std::memcmp(a, b, n * sizeof(double)) == 0; }
+
+TEST(Simulator, StepsGiveTheRowsOfSimulate) {
+  for (const char* policy : {"fixed", "adaptive"}) {
+    SCOPED_TRACE(policy);
+    const Scene sc = test::scene("paper_clearance", {"sim.duration=0.4", "friction.law=coulomb_stick",
+                                                     std::string("sim.substep_policy=") + policy});
+    const std::vector<double> expected = simulateRows(sc);
+    Simulator sim(sc);
+    const long long n = static_cast<long long>(expected.size() / kNumColumns) - 1;
+    std::vector<double> tau(2 * n), rows(n * kNumColumns);
+    for (long long i = 0; i < n; ++i) {
+      tau[2 * i] = sc.run.torque(0);
+      tau[2 * i + 1] = sc.run.torque(1);
+    }
+    const Row first = sim.output();
+    EXPECT_TRUE(sameBits(rowData(first), expected.data(), kNumColumns));
+    long long done = 0;
+    ASSERT_TRUE(sim.run(tau.data(), n, rows.data(), done).ok());
+    EXPECT_EQ(done, n);
+    EXPECT_TRUE(sameBits(rows.data(), expected.data() + kNumColumns, rows.size()));
+    EXPECT_DOUBLE_EQ(sim.time(), static_cast<double>(n) * sc.model.integrator.step);
+  }
+}
+
+TEST(Simulator, RestoredCheckpointResumesBitForBit) {
+  const Scene sc = test::scene("paper_clearance", {"friction.law=coulomb_stick"});
+  Simulator a(sc), b(sc);
+  ASSERT_TRUE(a.step(sc.run.torque, 150).ok());
+  const SavedState saved = a.save();
+  ASSERT_TRUE(a.step(sc.run.torque, 200).ok());
+  b.restore(saved);  // b has a fresh workspace and had never stepped
+  ASSERT_TRUE(b.step(sc.run.torque, 200).ok());
+  const Row ra = a.output(), rb = b.output();
+  EXPECT_TRUE(sameBits(rowData(ra), rowData(rb), kNumColumns));
+  EXPECT_GT(ra.ecc, 0.0);
+}
+
+TEST(Simulator, RefusesACheckpointOfAnotherVariant) {
+  Simulator clearance(test::scene("paper_clearance"));
+  Simulator ideal(test::scene("paper_ideal"));
+  EXPECT_THROW(clearance.restore(ideal.save()), std::invalid_argument);
+  SavedState bad = clearance.save();
+  bad.q.pop_back();
+  EXPECT_THROW(clearance.restore(bad), std::invalid_argument);
+  bad = clearance.save();
+  bad.friction_mode = 7;
+  EXPECT_THROW(clearance.restore(bad), std::invalid_argument);
+}
+
+TEST(Simulator, StepRunAndOutputAllocateNothing) {
+  test::noteIfNotCheckedBuild();
+  ASSERT_GT(test::probeAllocations(), 0) << "the counting allocator is not linked";
+  for (const char* policy : {"fixed", "adaptive"}) {
+    SCOPED_TRACE(policy);
+    // (adaptive error control needs a friction law without plain Coulomb's jump)
+    const Scene sc = test::scene("paper_clearance", {std::string("sim.substep_policy=") + policy,
+                                                     "friction.law=coulomb_stick"});
+    Simulator sim(sc);
+    constexpr long long kN = 200;
+    std::vector<double> tau(2 * kN, 10.0), rows(kN * kNumColumns);
+    long long done = 0;
+    const long long before = g_allocations.load();
+    test::setEigenMallocAllowed(false);
+    const StepResult a = sim.step(sc.run.torque, 300);
+    const StepResult b = sim.run(tau.data(), kN, rows.data(), done);
+    const Row r = sim.output();
+    test::setEigenMallocAllowed(true);
+    EXPECT_EQ(g_allocations.load() - before, 0);
+    EXPECT_TRUE(a.ok() && b.ok());
+    EXPECT_GT(r.t, 0.0);
+  }
+}
+
+}  // namespace
+}  // namespace gimbalsim
