@@ -92,6 +92,7 @@ ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware:
     fw.advance();
     if (fw.plantFault()) {
       r.ok = false;
+      r.stop_status = fw.plantStatus();
       r.error = std::string(describe(fw.plantStatus())) + " at t = " + std::to_string(fw.plantFailTime()) + " s";
       return r;
     }

@@ -16,6 +16,7 @@
 
 #include "gimbalsim/controllers/pid.hpp"
 #include "gimbalsim/dynamics/run_spec.hpp"
+#include "gimbalsim/dynamics/step_result.hpp"
 #include "gimbalsim/firmware/messages.hpp"
 
 namespace gimbalsim::controllers {
@@ -68,6 +69,7 @@ struct ClosedLoopOptions {
 struct ClosedLoopResult {
   bool ok = true;
   std::string error;               ///< why the plant stopped (StepStatus) or the run was refused, if !ok
+  StepStatus stop_status = StepStatus::Ok;  ///< the plant's step status when it stopped
   double t_end = 0.0;              ///< [s]
   /// [s] after the slew's end until max |joint error| stays below settle_tol
   /// for the rest of the hold; +inf if it never does before tracking starts.

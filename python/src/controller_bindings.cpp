@@ -1,0 +1,164 @@
+// The project's pointing controller (configuration, update law) and the
+// in-process closed loop (runClosedLoop: firmware model + controller).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <vector>
+
+#include "bindings.hpp"
+#include "errors.hpp"
+#include "key_dicts.hpp"
+#include "gimbalsim/controllers/closed_loop.hpp"
+#include "gimbalsim/controllers/config.hpp"
+
+namespace gimbalsim::py {
+
+namespace pyb = pybind11;
+using namespace gimbalsim::controllers;
+
+namespace {
+
+/// A controller configuration, the file it came from, and the law's memory.
+struct PyController {
+  ControllerConfig config;
+  ControllerState state;
+  std::string path;  ///< "" = the built-in defaults
+};
+
+PyController loadController(const std::string& path, const std::vector<std::string>& overrides) {
+  try {
+    if (path.empty()) return {loadControllerConfigText("", "<defaults>", overrides), {}, ""};
+    return {loadControllerConfig(path, overrides), {}, path};
+  } catch (const SceneError& e) {
+    raiseSceneError(e);
+  }
+}
+
+/// Per-tick columns of a closed-loop run, filled without the GIL.
+struct Ticks {
+  static constexpr const char* kNames[] = {
+      "t",          "ref1",         "ref2",         "profile1",       "profile2",       "theta1_true",
+      "theta2_true", "theta1_meas", "theta2_meas",  "tau1_cmd",       "tau2_cmd",       "tau1_applied",
+      "tau2_applied", "truth_error", "attitude_error", "star_outage", "segment"};
+  static constexpr int kN = sizeof(kNames) / sizeof(kNames[0]);
+  std::vector<double> data;
+  void add(const TickRecord& r) {
+    const double row[kN] = {r.t,
+                            r.ref.q(0),
+                            r.ref.q(1),
+                            r.profile.q(0),
+                            r.profile.q(1),
+                            r.theta_true(0),
+                            r.theta_true(1),
+                            r.theta_meas(0),
+                            r.theta_meas(1),
+                            r.tau_cmd(0),
+                            r.tau_cmd(1),
+                            r.tau_applied(0),
+                            r.tau_applied(1),
+                            r.truth_error,
+                            r.attitude_error,
+                            r.star_outage ? 1.0 : 0.0,
+                            static_cast<double>(r.profile.segment)};
+    data.insert(data.end(), row, row + kN);
+  }
+};
+
+pyb::dict resultDict(const ClosedLoopResult& r) {
+  pyb::dict d;
+  d["ok"] = r.ok;
+  d["error"] = r.error;
+  d["stop_key"] = r.ok ? "" : (r.stop_status == StepStatus::Ok ? "refused" : limitKey(r.stop_status));
+  d["t_end_s"] = r.t_end;
+  d["settle_time_s"] = r.settle_time;
+  d["max_joint_error_slew_rad"] = r.max_joint_error_slew;
+  d["max_joint_error_hold_rad"] = r.max_joint_error_hold;
+  d["max_joint_error_track_rad"] = r.max_joint_error_track;
+  d["max_truth_error_track_rad"] = r.max_truth_error_track;
+  d["rms_truth_error_track_rad"] = r.rms_truth_error_track;
+  d["max_truth_error_hold_end_rad"] = r.max_truth_error_hold_end;
+  d["max_abs_tau_Nm"] = pyb::make_tuple(r.max_abs_tau(0), r.max_abs_tau(1));
+  d["saturated_ticks"] = r.saturated_ticks;
+  d["max_attitude_error_rad"] = r.max_attitude_error;
+  d["star_outage_ticks"] = r.star_outage_ticks;
+  d["ticks"] = r.ticks;
+  return d;
+}
+
+}  // namespace
+
+void bindController(pyb::module_& m) {
+  pyb::class_<PyController>(m, "Controller",
+                            "The project's pointing controller: its configuration (the keys of "
+                            "`pointing_controller --keys`) and its update law with its memory")
+      .def(pyb::init(&loadController), pyb::arg("path"), pyb::arg("overrides"))
+      .def_property_readonly("path", [](const PyController& c) { return c.path; })
+      .def_property_readonly("period", [](const PyController& c) { return c.config.period; },
+                             "control.period [s]")
+      .def("values", [](const PyController& c) { return keyValueDict(configValues(c.config)); },
+           "every key with its value, as text the overrides read back exactly")
+      .def("reset", [](PyController& c) { c.state = ControllerState{}; }, "forget the law's memory")
+      .def(
+          "update",
+          [](PyController& c, double t, double theta1, double theta2, double dtheta1, double dtheta2,
+             std::optional<std::array<double, 3>> gyro) {
+            Measurement meas;
+            meas.t = t;
+            meas.theta = {theta1, theta2};
+            meas.dtheta = {dtheta1, dtheta2};
+            if (gyro) {
+              meas.att.gyro = {(*gyro)[0], (*gyro)[1], (*gyro)[2]};
+            } else {
+              meas.att.gyro_valid = false;
+            }
+            const ControlOutput out = update(c.config, c.state, meas);
+            pyb::dict d;
+            d["tau"] = pyb::make_tuple(out.tau(0), out.tau(1));
+            d["tau_unsat"] = pyb::make_tuple(out.tau_unsat(0), out.tau_unsat(1));
+            d["error"] = pyb::make_tuple(out.error(0), out.error(1));
+            d["ref"] = pyb::make_tuple(out.ref.q(0), out.ref.q(1));
+            d["saturated"] = pyb::make_tuple(out.saturated[0], out.saturated[1]);
+            return d;
+          },
+          pyb::arg("t"), pyb::arg("theta1"), pyb::arg("theta2"), pyb::arg("dtheta1") = 0.0,
+          pyb::arg("dtheta2") = 0.0, pyb::arg("gyro") = pyb::none(),
+          "one control period: time [s], encoder angles [rad], rates [rad/s], base rate gyro [rad/s] "
+          "(base frame; None = no sample); returns the command tau [N m] and what it saw")
+      .def(pyb::pickle([](const PyController& c) { return pyb::make_tuple(c.path, configValues(c.config)); },
+                       [](const pyb::tuple& t) {
+                         if (t.size() != 2) throw std::runtime_error("Controller pickle: expected (path, values)");
+                         PyController c = loadController("", t[1].cast<std::vector<std::string>>());
+                         c.path = t[0].cast<std::string>();
+                         return c;
+                       }));
+
+  m.def("_controller_keys", [] { return keyInfoList(controllerKeys()); });
+
+  m.def(
+      "_closed_loop",
+      [](const PyScene& s, const PyController& c, double duration, double settle_tol) {
+        if (!(duration > 0.0 && duration < 1e9)) throw pyb::value_error("duration must be in (0, 1e9) s");
+        ClosedLoopOptions opt;
+        opt.duration = duration;
+        opt.settle_tol = settle_tol;
+        Ticks ticks;
+        ClosedLoopResult r;
+        {
+          pyb::gil_scoped_release nogil;
+          r = runClosedLoop(s.scene, c.config, opt, [&](const TickRecord& rec) { ticks.add(rec); });
+        }
+        pyb::dict cols;
+        const pyb::ssize_t n = static_cast<pyb::ssize_t>(ticks.data.size() / Ticks::kN);
+        for (int j = 0; j < Ticks::kN; ++j) {
+          pyb::array_t<double> a(n);
+          double* p = a.mutable_data();
+          for (pyb::ssize_t i = 0; i < n; ++i) p[i] = ticks.data[static_cast<std::size_t>(i * Ticks::kN + j)];
+          cols[Ticks::kNames[j]] = a;
+        }
+        return pyb::make_tuple(resultDict(r), cols);
+      },
+      pyb::arg("scene"), pyb::arg("controller"), pyb::arg("duration"), pyb::arg("settle_tol"));
+}
+
+}  // namespace gimbalsim::py

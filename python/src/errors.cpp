@@ -1,0 +1,40 @@
+#include "errors.hpp"
+
+#include <sstream>
+
+namespace gimbalsim::py {
+
+namespace pyb = pybind11;
+
+namespace {
+[[noreturn]] void raise(const char* type, pyb::object instance) {
+  const pyb::object cls = pyb::module_::import("gimbalsim._errors").attr(type);
+  PyErr_SetObject(cls.ptr(), instance.ptr());
+  throw pyb::error_already_set();
+}
+}  // namespace
+
+void raiseSceneError(const SceneError& e) {
+  pyb::list problems;
+  for (const Problem& p : e.details()) {
+    pyb::dict d;
+    d["text"] = p.text;
+    d["key"] = p.key.empty() ? pyb::object(pyb::none()) : pyb::object(pyb::str(p.key));
+    d["file"] = p.file.empty() ? pyb::object(pyb::none()) : pyb::object(pyb::str(p.file));
+    d["line"] = p.line > 0 ? pyb::object(pyb::int_(p.line)) : pyb::object(pyb::none());
+    d["column"] = p.column > 0 ? pyb::object(pyb::int_(p.column)) : pyb::object(pyb::none());
+    d["set_index"] = p.set_index > 0 ? pyb::object(pyb::int_(p.set_index)) : pyb::object(pyb::none());
+    problems.append(d);
+  }
+  const pyb::object cls = pyb::module_::import("gimbalsim._errors").attr("SceneError");
+  raise("SceneError", cls(e.what(), problems));
+}
+
+void raiseStopped(const StepResult& r, const std::string& message, pyb::dict extra) {
+  const pyb::object cls = pyb::module_::import("gimbalsim._errors").attr("SimulationStopped");
+  pyb::object ex = cls(message, r.key(), describe(r.status), r.time);
+  for (auto item : extra) pyb::setattr(ex, item.first, item.second);
+  raise("SimulationStopped", ex);
+}
+
+}  // namespace gimbalsim::py

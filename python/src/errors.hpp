@@ -1,0 +1,19 @@
+// Raising the package's Python exceptions (gimbalsim._errors) from C++ with
+// their fields set, so a program reads the key and place, not the text.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/dynamics/step_result.hpp"
+
+namespace gimbalsim::py {
+
+/// Raises gimbalsim.SceneError (a ValueError) for a refused scene or configuration.
+[[noreturn]] void raiseSceneError(const SceneError& e);
+
+/// Raises gimbalsim.SimulationStopped naming the step's status, limit key and time.
+/// `message` is the text; `extra` entries become attributes (e.g. outputs, steps_done).
+[[noreturn]] void raiseStopped(const StepResult& r, const std::string& message, pybind11::dict extra = {});
+
+}  // namespace gimbalsim::py

@@ -1,0 +1,10 @@
+#include <pybind11/pybind11.h>
+
+#include "bindings.hpp"
+
+PYBIND11_MODULE(_gimbalsim, m) {
+  m.doc() = "gimbalsim's C++ core: scenes, runs, the stepping simulator, the pointing controller";
+  gimbalsim::py::bindScene(m);
+  gimbalsim::py::bindSimulator(m);
+  gimbalsim::py::bindController(m);
+}

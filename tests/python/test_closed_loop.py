@@ -1,0 +1,63 @@
+"""Controller and closed_loop: the same numbers as the C++ in-process closed
+loop (gimbalsim_pointing_study writes its truth pointing error per tick), and
+configurations refused as the controller process refuses them."""
+import csv
+import pickle
+import subprocess
+
+import numpy as np
+import pytest
+
+import gimbalsim
+from conftest import BIN, CONTROLLER_CONFIG, scene_path
+
+
+def test_closed_loop_equals_the_cpp_closed_loop(tmp):
+    duration, c = 1.2, 2.5e-4
+    out = tmp / "study"
+    p = subprocess.run([str(BIN / "gimbalsim_pointing_study"), "--config", str(CONTROLLER_CONFIG),
+                        "--clearances", str(c), "--duration", str(duration), "--out", str(out)],
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    with open(out / "pointing_error.csv") as f:
+        rows = list(csv.reader(f))
+    header, body = rows[0], rows[1:]
+    ctrl = gimbalsim.Controller(CONTROLLER_CONFIG)
+    runs = {"ideal": gimbalsim.closed_loop(gimbalsim.load_scene(scene_path("paper_ideal")), ctrl, duration),
+            header[2]: gimbalsim.closed_loop(
+                gimbalsim.load_scene(scene_path("paper_clearance"), {"contact.clearance": c}), ctrl, duration)}
+    for j, label in enumerate(header[1:], start=1):
+        run = runs[label]
+        assert run.ok
+        assert len(run.columns["truth_error"]) == len(body)
+        assert ["%.9g" % x for x in run.columns["truth_error"]] == [r[j] for r in body]
+    clearance = runs[header[2]].columns["truth_error"]
+    assert clearance.max() > runs["ideal"].columns["truth_error"].max()  # the clearance costs pointing
+
+
+def test_controller_values_overrides_pickle_and_refusals():
+    ctrl = gimbalsim.Controller(CONTROLLER_CONFIG, {"azimuth.kp": 1234.5})
+    v = ctrl.values()
+    assert v["azimuth.kp"] == "1234.5" and ctrl.path == str(CONTROLLER_CONFIG)
+    back = pickle.loads(pickle.dumps(ctrl))
+    assert back.values() == v
+    with pytest.raises(gimbalsim.SceneError) as e:
+        gimbalsim.Controller(CONTROLLER_CONFIG, {"azimuth.kp": -1, "control.nonsense": 1})
+    assert set(e.value.keys) == {"azimuth.kp", "control.nonsense"}
+    p = subprocess.run([str(BIN / "pointing_controller"), str(CONTROLLER_CONFIG), "--set",
+                        "azimuth.kp=-1", "--set", "control.nonsense=1", "--print-config"],
+                       capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2
+    for prob in e.value.problems:
+        assert prob["text"] in p.stderr
+    keys = {k["key"] for k in gimbalsim.controller_keys()}
+    assert {"azimuth.kp", "control.period", "pointing.mode"} <= keys
+
+
+def test_update_is_the_law_with_memory():
+    ctrl = gimbalsim.Controller(CONTROLLER_CONFIG, {"pointing.mode": "joint"})
+    a = ctrl.update(0.0, 0.0, 0.0)
+    b = ctrl.update(1.0e-3, 0.01, 0.0)
+    assert a["tau"] != b["tau"]
+    ctrl.reset()
+    assert ctrl.update(0.0, 0.0, 0.0)["tau"] == a["tau"]

@@ -1,0 +1,72 @@
+"""simulate() and Run.to_csv against `gimbalsim simulate`: the very bytes of
+the CSV, the same summary (all but the wall-clock times), the same stop."""
+import json
+
+import pytest
+
+import gimbalsim
+from conftest import run_cli, scene_path
+
+CASES = [
+    ("paper_ideal", {}),
+    ("paper_clearance", {}),
+    ("paper_clearance", {"friction.mu": 0.1, "contact.clearance": 3.0e-4, "sim.substep_policy": "adaptive",
+                         "friction.law": "coulomb_stick",
+                         "initial.ecc": [1.0e-4, -5.0e-5], "sim.duration": 2.0}),
+    ("stickslip_clearance", {"sim.duration": 1.0}),
+]
+TIMES = {"wall_time_s", "step_time_s"}
+
+
+def cli_run(name, overrides, tmp):
+    sets = [a for kv in gimbalsim.as_overrides(overrides) for a in ("--set", kv)]
+    out, summ = tmp / f"cli_{name}.csv", tmp / f"cli_{name}.json"
+    p = run_cli("simulate", scene_path(name), *sets, "--out", out, "--summary", summ, check=False)
+    return p, out.read_bytes(), json.loads(summ.read_text())
+
+
+@pytest.mark.parametrize("name,overrides", CASES, ids=[f"{n}{'+sets' if o else ''}" for n, o in CASES])
+def test_csv_bytes_and_summary_equal_the_command_line(name, overrides, tmp):
+    p, cli_csv, cli_summary = cli_run(name, overrides, tmp)
+    assert p.returncode == 0, p.stderr
+    run = gimbalsim.simulate(gimbalsim.load_scene(scene_path(name), overrides))
+    run.to_csv(tmp / "py.csv")
+    assert (tmp / "py.csv").read_bytes() == cli_csv
+    strip = lambda s: {k: v for k, v in s.items() if k not in TIMES}
+    py_summary = dict(run.summary, scene=cli_summary["scene"])
+    assert strip(py_summary) == strip(cli_summary)
+    assert run.rows.shape == (cli_summary["rows"], len(gimbalsim.COLUMNS))
+    assert list(run.columns) == cli_csv.split(b"\n", 1)[0].decode().split(",")
+
+
+def test_a_stopped_run_keeps_its_good_rows_and_names_the_limit(tmp):
+    overrides = {"sim.max_substeps": 3}
+    p, cli_csv, cli_summary = cli_run("paper_clearance", overrides, tmp)
+    assert p.returncode == 3
+    run = gimbalsim.simulate(gimbalsim.load_scene(scene_path("paper_clearance"), overrides))
+    assert not run.ok
+    assert run.summary["status"] == "failed"
+    assert run.summary["stop"] == cli_summary["stop"]
+    assert run.summary["stop"]["key"] == "sim.max_substeps"
+    assert 0 < len(run.rows) == cli_summary["rows"]
+    run.to_csv(tmp / "py.csv")
+    assert (tmp / "py.csv").read_bytes() == cli_csv
+
+
+def test_reference_integrator_matches_the_command_line(tmp):
+    overrides = {"sim.duration": 0.05, "friction.law": "ambrosio"}  # the reference needs a continuous law
+    sets = [a for kv in gimbalsim.as_overrides(overrides) for a in ("--set", kv)]
+    run_cli("simulate", scene_path("paper_clearance"), *sets, "--integrator", "reference", "--out", tmp / "c.csv")
+    run = gimbalsim.simulate(gimbalsim.load_scene(scene_path("paper_clearance"), overrides), integrator="reference")
+    run.to_csv(tmp / "p.csv")
+    assert (tmp / "p.csv").read_bytes() == (tmp / "c.csv").read_bytes()
+    with pytest.raises(ValueError, match="integrator"):
+        gimbalsim.simulate(gimbalsim.load_scene(scene_path("paper_ideal")), integrator="euler")
+
+
+def test_to_csv_refuses_an_unwritable_path_naming_it(tmp):
+    run = gimbalsim.simulate(gimbalsim.load_scene(scene_path("paper_ideal"), {"sim.duration": 0.01}))
+    target = tmp / "no_such_dir" / "run.csv"
+    with pytest.raises(OSError) as e:
+        run.to_csv(target)
+    assert str(target) in str(e.value)

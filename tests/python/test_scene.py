@@ -1,0 +1,134 @@
+"""load_scene, keys() and Scene: overrides as --set reads them, every refusal
+the command line makes is a SceneError naming the same key and place, and a
+pickled Scene is the same scene."""
+import pickle
+import re
+
+import numpy as np
+import pytest
+
+import gimbalsim
+from conftest import run_cli, scene_path
+
+KEYS = gimbalsim.keys()
+CLEARANCE = scene_path("paper_clearance")
+VECTOR_SIZE = {"vec2": 2, "vec3": 3, "inertia": 3}
+
+
+def violating(k):
+    """A value the key's own check (or type) refuses."""
+    size = VECTOR_SIZE.get(k["type"])
+    bad = {"> 0": 0.0, ">= 0": -1.0, ">= 1": 0.0, "in [0, 0.5)": 0.5, "in [1, 3]": 4.0, "in (0, 1]": 1.5,
+           "in (0, 1)": 1.0, "non-zero": 0.0}.get(k["check"])
+    if k["check"] == "symmetric positive definite":
+        return [1.0, -1.0, 1.0]
+    if bad is not None:
+        return [bad] * size if size else bad
+    if "|" in k["type"]:
+        return "bogus"
+    if k["type"] == "int":
+        return 1.5
+    if k["type"] == "string":
+        return [1, 2]
+    return [1.0] * (size + 1) if size else "abc"
+
+
+CASES = [{k["key"]: violating(k)} for k in KEYS]
+CASES += [
+    {"contact.stifness_scale": 2.0},                 # unknown key
+    {"sim.substep": 2.0e-3, "sim.step": 1.0e-3},    # across keys
+    {"sim.output_interval": 1.5e-3},                # not a multiple of sim.step
+    ["sim.step"],                                     # no '='
+    ["sim.step=[1, 2"],                               # not YAML
+]
+
+
+def cli_problems(overrides, path=CLEARANCE):
+    sets = [a for kv in gimbalsim.as_overrides(overrides) for a in ("--set", kv)]
+    p = run_cli("simulate", path, *sets, "--out", "/dev/null", check=False)
+    lines = [l[len("error: "):] for l in p.stderr.splitlines() if l.startswith("error: ")]
+    return p.returncode, lines
+
+
+def named_key(text):
+    m = re.search(r"(?:unknown )?key '([^']+)'", text)
+    return m.group(1) if m else None
+
+
+@pytest.mark.parametrize("overrides", CASES, ids=[str(c)[:60] for c in CASES])
+def test_every_refusal_is_a_scene_error_with_the_same_key(overrides):
+    code, cli = cli_problems(overrides)
+    assert code == 2, f"the command line accepted {overrides}"
+    with pytest.raises(gimbalsim.SceneError) as e:
+        gimbalsim.load_scene(CLEARANCE, overrides)
+    assert isinstance(e.value, ValueError)
+    assert [p["text"] for p in e.value.problems] == cli
+    assert [p["key"] for p in e.value.problems] == [named_key(t) for t in cli]
+    if isinstance(overrides, dict):
+        assert set(e.value.keys) <= set(overrides) | {None}
+        assert e.value.key in overrides
+
+
+def test_file_refusals_name_line_and_column(tmp):
+    bad = tmp / "bad.yaml"
+    bad.write_text("sim:\n  step: 1.0e-3\n  duration: -2\ncontact:\n  restitution: 1.5\n  nonsense: 1\n")
+    code, cli = cli_problems({}, bad)
+    assert code == 2
+    with pytest.raises(gimbalsim.SceneError) as e:
+        gimbalsim.load_scene(bad)
+    assert [p["text"] for p in e.value.problems] == cli
+    where = {p["key"]: (p["file"], p["line"], p["column"]) for p in e.value.problems}
+    assert where["contact.nonsense"] == (str(bad), 6, 3)
+    assert where["sim.duration"] == (str(bad), 3, 3)
+    assert where["contact.restitution"] == (str(bad), 5, 3)
+    for p in e.value.problems:
+        assert p["text"].startswith(f"{bad}:{p['line']}:{p['column']}: ")
+
+
+def test_yaml_syntax_and_unreadable_files(tmp):
+    broken = tmp / "broken.yaml"
+    broken.write_text("sim: {step: [1\n")
+    code, cli = cli_problems({}, broken)
+    with pytest.raises(gimbalsim.SceneError) as e:
+        gimbalsim.load_scene(broken)
+    assert code == 2 and [p["text"] for p in e.value.problems] == cli
+    assert e.value.key is None and e.value.line is not None
+    missing = tmp / "missing.yaml"
+    code, cli = cli_problems({}, missing)
+    with pytest.raises(gimbalsim.SceneError) as e:
+        gimbalsim.load_scene(missing)
+    assert code == 2 and [p["text"] for p in e.value.problems] == cli
+
+
+def test_override_values_are_read_as_the_command_line_reads_them():
+    s = gimbalsim.load_scene(CLEARANCE, {"contact.clearance": 2.5e-4, "initial.ecc": np.array([1e-4, 0.0]),
+                                         "sim.max_substeps": 5000, "friction.law": "ambrosio",
+                                         "sim.step": 0.1 + 0.2 - 0.3 + 1e-3})
+    v = s.values()
+    assert float(v["contact.journal_radius"]) == float(gimbalsim.load_scene(CLEARANCE).values()["contact.bearing_radius"]) - 2.5e-4
+    assert [float(x) for x in v["initial.ecc"].strip("[]").split(",")] == [1e-4, 0.0]
+    assert v["sim.max_substeps"] == "5000" and v["friction.law"] == "ambrosio"
+    assert float(v["sim.step"]) == 0.1 + 0.2 - 0.3 + 1e-3     # every bit of the float survives
+    with pytest.raises(TypeError, match="sim.step"):
+        gimbalsim.load_scene(CLEARANCE, {"sim.step": object()})
+
+
+def test_keys_lists_every_key_with_type_unit_and_meaning():
+    names = [k["key"] for k in KEYS]
+    assert len(names) == len(set(names)) > 50
+    assert {"contact.clearance", "friction.mu", "sim.step", "initial.ecc"} <= set(names)
+    for k in KEYS:
+        assert k["type"] and k["meaning"], k
+    assert next(k for k in KEYS if k["key"] == "sim.step")["unit"] == "s"
+    cli = run_cli("keys").stdout
+    for name in names:
+        assert name in cli
+
+
+def test_pickled_scene_is_the_same_scene():
+    s = gimbalsim.load_scene(CLEARANCE, {"sim.duration": 0.3, "friction.mu": 0.17, "name": "mine"})
+    t = pickle.loads(pickle.dumps(s))
+    assert t.values() == s.values() and t.name == "mine" and t.path == s.path and t.variant == s.variant
+    assert np.array_equal(gimbalsim.simulate(t).rows, gimbalsim.simulate(s).rows)
+    r = s.replace({"friction.mu": 0.3})
+    assert r.values()["friction.mu"] == "0.3" and s.values()["friction.mu"] == "0.17"

@@ -1,0 +1,143 @@
+"""Simulator: step and run give simulate()'s rows; a pickled State resumes
+bit for bit (mid-impact, mid-stick, both sub-step policies); numerical
+trouble raises SimulationStopped naming the limit; threads stepping their own
+Simulators give the results of one after the other; a long loop does not grow
+the process's memory."""
+import pickle
+import threading
+
+import numpy as np
+import pytest
+
+import gimbalsim
+from conftest import scene_path
+
+COL = {name: i for i, name in enumerate(gimbalsim.COLUMNS)}
+
+
+def scene(name="paper_clearance", **overrides):
+    return gimbalsim.load_scene(scene_path(name), {k.replace("__", "."): v for k, v in overrides.items()})
+
+
+def test_run_gives_the_rows_of_simulate():
+    s = scene(sim__duration=0.5, friction__law="coulomb_stick")
+    expected = gimbalsim.simulate(s).rows
+    sim = gimbalsim.Simulator(s)
+    first = sim._output_array()
+    tau = np.tile([5.0, 10.0], (len(expected) - 1, 1))
+    rows = sim.run(tau)
+    assert first.tobytes() == expected[0].tobytes()
+    assert rows.tobytes() == expected[1:].tobytes()
+    assert sim.t == pytest.approx(0.5, abs=1e-12)
+    # step() with n gives the same end state as run() (same bits)
+    other = gimbalsim.Simulator(s)
+    other.step(5.0, 10.0, n=len(expected) - 1)
+    assert other._output_array().tobytes() == expected[-1].tobytes()
+    assert list(other.output()) == list(gimbalsim.COLUMNS)
+
+
+CHECKPOINTS = {
+    # in contact and penetrating: an impact is under way
+    "mid-impact": lambda st, out: st.in_contact and out[COL["delta"]] > 0.0,
+    # in contact, the journal sticking (coulomb_stick friction mode 0)
+    "mid-stick": lambda st, out: st.in_contact and st.friction_mode == 0 and st.t > 0.1,
+}
+
+
+@pytest.mark.parametrize("policy", ["fixed", "adaptive"])
+@pytest.mark.parametrize("where", list(CHECKPOINTS))
+def test_pickled_state_resumes_bit_for_bit(policy, where):
+    overrides = {"friction.law": "coulomb_stick", "sim.substep_policy": policy}
+    if policy == "adaptive":
+        overrides["sim.substep_tol"] = 1.0e-8
+    s = gimbalsim.load_scene(scene_path("paper_clearance"), overrides)
+    sim = gimbalsim.Simulator(s)
+    while True:
+        sim.step(5.0, 10.0)
+        if CHECKPOINTS[where](sim.state, sim._output_array()):
+            break
+        assert sim.t < 4.0, "the checkpoint condition never held"
+    saved = pickle.dumps(sim.state)
+    scene_bytes = pickle.dumps(s)
+    tau = np.tile([5.0, 10.0], (300, 1))
+    tau[150:] = [-3.0, 20.0]  # the torques change after the checkpoint too
+    original = sim.run(tau)
+    resumed = gimbalsim.Simulator(pickle.loads(scene_bytes))  # another simulator, fresh workspace
+    resumed.state = pickle.loads(saved)
+    again = resumed.run(tau)
+    assert again.tobytes() == original.tobytes()
+    assert np.any(original[:, COL["fn"]] > 0.0)
+    back = pickle.loads(saved)
+    assert back.variant == sim.variant and back.q.tobytes() == pickle.loads(saved).q.tobytes()
+
+
+def test_a_state_of_another_variant_is_refused():
+    sim = gimbalsim.Simulator(scene())
+    with pytest.raises(ValueError, match="variant"):
+        sim.state = gimbalsim.Simulator(scene("paper_ideal")).state
+
+
+def test_numerical_trouble_raises_simulation_stopped_naming_the_limit():
+    sim = gimbalsim.Simulator(scene(sim__max_substeps=3))
+    with pytest.raises(gimbalsim.SimulationStopped) as e:
+        sim.step(5.0, 10.0, n=5000)
+    assert e.value.key == "sim.max_substeps" and 0.0 < e.value.time < 5.0
+    good = sim.state
+    assert np.all(np.isfinite(good.q))
+    batch = gimbalsim.Simulator(scene(sim__max_substeps=3))
+    with pytest.raises(gimbalsim.SimulationStopped) as e:
+        batch.run(np.tile([5.0, 10.0], (5000, 1)))
+    assert e.value.key == "sim.max_substeps"
+    assert e.value.outputs.shape == (e.value.steps_done, len(gimbalsim.COLUMNS)) and e.value.steps_done > 0
+    with pytest.raises(ValueError):
+        batch.run(np.zeros((3, 3)))
+    with pytest.raises(ValueError):
+        batch.step(0.0, 0.0, n=-1)
+
+
+def _work(s, n, out, i):
+    sim = gimbalsim.Simulator(s)
+    tau = np.tile([5.0, 10.0], (n, 1))
+    rows = sim.run(tau[: n // 2])
+    for _ in range(n // 4):
+        sim.step(5.0, 10.0)
+    sim.step(5.0, 10.0, n=n - n // 2 - n // 4)
+    out[i] = (rows, sim._output_array())
+
+
+def test_two_threads_give_the_results_of_one_after_the_other():
+    scenes = [scene(), scene(sim__substep_policy="adaptive", friction__law="coulomb_stick")]
+    n = 1500
+    serial = [None, None]
+    for i, s in enumerate(scenes):
+        _work(s, n, serial, i)
+    parallel = [None, None]
+    threads = [threading.Thread(target=_work, args=(s, n, parallel, i)) for i, s in enumerate(scenes)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for a, b in zip(serial, parallel):
+        assert a[0].tobytes() == b[0].tobytes() and a[1].tobytes() == b[1].tobytes()
+
+
+def _rss_kib():
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1])
+    raise AssertionError("no VmRSS")
+
+
+def test_a_long_loop_does_not_grow_memory():
+    sim = gimbalsim.Simulator(scene())
+    for _ in range(10_000):  # warm up: interpreter caches, allocator pools
+        sim.step(5.0, 10.0)
+        sim.output()
+    before = _rss_kib()
+    for _ in range(100_000):
+        sim.step(5.0, 10.0)
+        sim.output()
+    grown = _rss_kib() - before
+    assert grown < 1024, f"RSS grew by {grown} KiB over 10^5 steps"
+    assert sim.t == pytest.approx(110.0, abs=1e-9)
