@@ -1,0 +1,184 @@
+"""Dispersed parameters: the distributions a spec gives for scene (or
+controller) keys, and the draw of sample i, which depends only on (seed, i)
+and the key: each key has its own random stream, PCG64 seeded by
+SeedSequence(seed, spawn_key=(i, crc32(key))), so the draws are the same on
+any machine, in any order, and adding a parameter does not change the others.
+
+Distributions (the spec's syntax):
+    key: {uniform: [lo, hi]}
+    key: {loguniform: [lo, hi]}                       # 0 < lo <= hi
+    key: {normal: {mean: m, sd: s, min: a, max: b}}   # truncated by redrawing; min, max optional
+    key: {choice: [v1, v2, ...]}                      # numbers, names or vectors
+    key: {disk: {radius: r}}                          # vec2 keys: a point uniform in a disk
+    key: {disk: {within: contact.clearance, fraction: 0.95}}   # radius = fraction x that key's value
+"""
+import itertools
+import math
+import zlib
+
+import numpy as np
+
+NUMERIC = ("number", "int")
+DISTRIBUTIONS = ("uniform", "loguniform", "normal", "choice", "disk")
+
+
+class Parameter:
+    """One dispersed key: ``key``, ``kind``, ``args``, and where the spec gave it."""
+
+    def __init__(self, key, kind, args, key_type, node):
+        self.key, self.kind, self.args, self.type, self.node = key, kind, args, key_type, node
+        self.stream = zlib.crc32(key.encode())
+
+    def columns(self):
+        if self.type == "vec2":
+            return [f"{self.key}[0]", f"{self.key}[1]"]
+        if self.type == "vec3":
+            return [f"{self.key}[0]", f"{self.key}[1]", f"{self.key}[2]"]
+        return [self.key]
+
+    def row_values(self, value):
+        return list(value) if isinstance(value, (list, tuple)) else [value]
+
+    def draw(self, rng, context):
+        a = self.args
+        if self.kind == "uniform":
+            x = float(rng.uniform(a[0], a[1]))
+        elif self.kind == "loguniform":
+            x = float(math.exp(rng.uniform(math.log(a[0]), math.log(a[1]))))
+        elif self.kind == "normal":
+            for _ in range(100_000):
+                x = float(rng.normal(a["mean"], a["sd"]))
+                if a["min"] <= x <= a["max"]:
+                    break
+            else:
+                raise RuntimeError(f"{self.key}: no normal draw inside [min, max] in 100000 tries")
+        elif self.kind == "choice":
+            return a[int(rng.integers(len(a)))]
+        else:  # disk
+            radius = a["radius"] if "radius" in a else a["fraction"] * float(context[a["within"]])
+            r, phi = radius * math.sqrt(rng.uniform()), rng.uniform(0.0, 2.0 * math.pi)
+            c = a.get("center", [0.0, 0.0])
+            return [c[0] + r * math.cos(phi), c[1] + r * math.sin(phi)]
+        return int(round(x)) if self.type == "int" else x
+
+    def extremes(self):
+        """Values at the ends of the range, to try on the scene before anything runs."""
+        a = self.args
+        if self.kind in ("uniform", "loguniform"):
+            return list(a)
+        if self.kind == "normal":
+            return [v for v in (a["min"], a["max"]) if math.isfinite(v)] or [a["mean"]]
+        if self.kind == "choice":
+            return list(a)
+        if "radius" in a:
+            c = a.get("center", [0.0, 0.0])
+            return [[c[0] + a["radius"], c[1]], [c[0], c[1] - a["radius"]]]
+        return []
+
+
+def parse_parameter(spec, section, key, node, key_types):
+    """A Parameter from `key: {distribution: args}` in spec section `section`;
+    refuses (SpecError) an unknown key, distribution or argument."""
+    where = f"{section}.{key}"
+    if key not in key_types:
+        spec.refuse(where, "not a key of the scene (see gimbalsim.keys() or `gimbalsim keys`)", node)
+    ktype = key_types[key]
+    body = spec.mapping(where, node)
+    if len(body) != 1:
+        spec.refuse(where, f"give one distribution: {{{' | '.join(DISTRIBUTIONS)}: ...}}", node)
+    kind, arg = next(iter(body.items()))
+    if kind not in DISTRIBUTIONS:
+        spec.refuse(where, f"unknown distribution '{kind}' (expected one of {', '.join(DISTRIBUTIONS)})", arg)
+    plain = arg.plain()
+    if kind in ("uniform", "loguniform", "normal") and ktype not in NUMERIC:
+        spec.refuse(where, f"{kind} needs a number key; {key} is {ktype}", arg)
+    if kind in ("uniform", "loguniform"):
+        if (not isinstance(plain, list) or len(plain) != 2 or not all(_is_number(v) for v in plain)
+                or not plain[0] <= plain[1]):
+            spec.refuse(where, f"{kind} expects [lo, hi] with lo <= hi", arg)
+        if kind == "loguniform" and not plain[0] > 0:
+            spec.refuse(where, "loguniform expects 0 < lo", arg)
+        args = [float(v) for v in plain]
+    elif kind == "normal":
+        if not isinstance(plain, dict) or set(plain) - {"mean", "sd", "min", "max"} or not {"mean", "sd"} <= set(plain):
+            spec.refuse(where, "normal expects {mean: m, sd: s, min: a, max: b} (min, max optional)", arg)
+        if not all(_is_number(v) for v in plain.values()):
+            spec.refuse(where, "normal: mean, sd, min and max must be numbers", arg)
+        args = {"mean": float(plain["mean"]), "sd": float(plain["sd"]),
+                "min": float(plain.get("min", -math.inf)), "max": float(plain.get("max", math.inf))}
+        if not args["sd"] > 0 or not args["min"] < args["max"]:
+            spec.refuse(where, "normal needs sd > 0 and min < max", arg)
+        lo, hi = (args["min"] - args["mean"]) / args["sd"], (args["max"] - args["mean"]) / args["sd"]
+        if 0.5 * (math.erf(hi / math.sqrt(2)) - math.erf(lo / math.sqrt(2))) < 1e-3:
+            spec.refuse(where, "normal: [min, max] holds less than 0.1 % of the distribution", arg)
+    elif kind == "choice":
+        if not isinstance(plain, list) or not plain:
+            spec.refuse(where, "choice expects a non-empty list of values", arg)
+        args = plain
+    else:
+        if ktype != "vec2":
+            spec.refuse(where, f"disk needs a vec2 key; {key} is {ktype}", arg)
+        if not isinstance(plain, dict) or not (set(plain) <= {"radius", "within", "fraction", "center"}) \
+                or (("radius" in plain) == ("within" in plain)):
+            spec.refuse(where, "disk expects {radius: r} or {within: key, fraction: f} (center optional)", arg)
+        if "radius" in plain and not (_is_number(plain["radius"]) and plain["radius"] >= 0):
+            spec.refuse(where, "disk: radius must be a number >= 0", arg)
+        if "within" in plain:
+            if key_types.get(plain["within"]) not in NUMERIC:
+                spec.refuse(where, f"disk: within must name a number key, got {plain['within']!r}", arg)
+            plain.setdefault("fraction", 1.0)
+            if not (_is_number(plain["fraction"]) and 0 <= plain["fraction"] <= 1):
+                spec.refuse(where, "disk: fraction must be in [0, 1]", arg)
+        if "center" in plain and not (isinstance(plain["center"], list) and len(plain["center"]) == 2
+                                      and all(_is_number(v) for v in plain["center"])):
+            spec.refuse(where, "disk: center must be [x, y]", arg)
+        args = plain
+    return Parameter(key, kind, args, ktype, node)
+
+
+def _is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+class Design:
+    """The samples of a sweep: ``samples`` random draws of the parameters at
+    each grid point (grid points in the spec's order, the first key slowest).
+    Sample i is grid point i // samples with draw j = i % samples: every grid
+    point sees the same draws (common random numbers)."""
+
+    def __init__(self, parameters, grid, samples, seed, base_values):
+        self.parameters = parameters          # [Parameter]
+        self.grid_keys = [k for k, _ in grid]  # [(key, [values])]
+        self.grid_points = list(itertools.product(*[v for _, v in grid])) or [()]
+        self.samples, self.seed = samples, seed
+        self.base_values = base_values        # scene values as text (for disk `within` of an undispersed key)
+        self.grid_types = {}
+
+    def __len__(self):
+        return self.samples * len(self.grid_points)
+
+    def columns(self):
+        cols = list(self.grid_keys)
+        for p in self.parameters:
+            cols += p.columns()
+        return cols
+
+    def draw(self, i):
+        """Sample i's values: {key: value}, grid keys first, in spec order."""
+        if not 0 <= i < len(self):
+            raise IndexError(i)
+        g, j = divmod(i, self.samples)
+        values = dict(zip(self.grid_keys, self.grid_points[g]))
+        context = {k: v for k, v in self.base_values.items()}
+        context.update(values)
+        # disks that take their radius from another key are drawn after it
+        for p in sorted(self.parameters, key=lambda p: p.kind == "disk" and "within" in p.args):
+            rng = np.random.Generator(np.random.PCG64(np.random.SeedSequence(self.seed, spawn_key=(j, p.stream))))
+            values[p.key] = context[p.key] = p.draw(rng, context)
+        return {k: values[k] for k in self.grid_keys + [p.key for p in self.parameters]}
+
+    def row_values(self, values):
+        out = [values[k] for k in self.grid_keys]
+        for p in self.parameters:
+            out += p.row_values(values[p.key])
+        return out

@@ -1,0 +1,209 @@
+"""gimbalsim.sweep on Dask: the same results.csv (all but wall_time) with 1
+or 2 local workers, on a real dask-scheduler with two dask-worker processes,
+with a worker killed mid-sweep, and after an interrupted sweep resumed; spec
+refusals name the spec's key and line."""
+import csv
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+
+import psutil
+import pytest
+
+from conftest import SCENES
+
+SPEC = f"""
+scene: {SCENES}/paper_clearance.yaml
+set: {{sim.duration: 0.3}}
+samples: 30
+seed: 7
+parameters:
+  contact.clearance: {{uniform: [1.0e-4, 8.0e-4]}}
+  friction.mu: {{normal: {{mean: 0.25, sd: 0.05, min: 0.05, max: 0.5}}}}
+  contact.restitution: {{uniform: [0.8, 0.98]}}
+  initial.ecc: {{disk: {{within: contact.clearance, fraction: 0.9}}}}
+grid:
+  torque.tau2: [5.0, 20.0]
+"""
+N = 60
+
+
+def sweep_cmd(spec, out, *args):
+    return [sys.executable, "-m", "gimbalsim.sweep", str(spec), "--out", str(out), "--no-progress", *args]
+
+
+def run_sweep(spec, out, *args, check=True):
+    p = subprocess.run(sweep_cmd(spec, out, *args), capture_output=True, text=True, timeout=600)
+    if check:
+        assert p.returncode == 0, p.stderr
+    return p
+
+
+def results(out):
+    """results.csv without wall_time."""
+    with open(out / "results.csv") as f:
+        rows = list(csv.reader(f))
+    w = rows[0].index("wall_time")
+    return [r[:w] + r[w + 1:] for r in rows]
+
+
+@pytest.fixture(scope="module")
+def spec(tmp_path_factory):
+    d = tmp_path_factory.mktemp("spec")
+    (d / "spec.yaml").write_text(SPEC)
+    return d / "spec.yaml"
+
+
+@pytest.fixture(scope="module")
+def reference(spec, tmp_path_factory):
+    out = tmp_path_factory.mktemp("ref")
+    run_sweep(spec, out, "--workers", "1")
+    return results(out)
+
+
+def test_one_worker_results_are_whole_and_sorted(reference, spec):
+    header, rows = reference[0], reference[1:]
+    assert header[:8] == ["sample", "torque.tau2", "contact.clearance", "friction.mu", "contact.restitution",
+                          "initial.ecc[0]", "initial.ecc[1]", "status"]
+    assert [int(r[0]) for r in rows] == list(range(N))
+    ok = [r for r in rows if r[7] == "ok"]
+    assert len(ok) == N  # the disk is inside the clearance: every sample runs
+    col = header.index("pointing_error_max")
+    assert all(0.0 < float(r[col]) < 0.01 for r in ok)
+    # common random numbers: grid point 1 sees the draws of grid point 0
+    assert [r[2:7] for r in rows[:30]] == [r[2:7] for r in rows[30:]]
+    assert {r[1] for r in rows[:30]} == {"5.0"} and {r[1] for r in rows[30:]} == {"20.0"}
+
+
+def test_two_workers_and_other_batches_give_the_same_results(reference, spec, tmp_path):
+    run_sweep(spec, tmp_path / "a", "--workers", "2", "--batch", "3")
+    assert results(tmp_path / "a") == reference
+    summary = json.loads((tmp_path / "a" / "summary.json").read_text())
+    assert summary["status"] == {"ok": N}
+    assert summary["engine"]["workers"] == 2 and summary["engine"]["ran_this_invocation"] == N
+    p = summary["percentiles_of_ok_samples"]["pointing_error_max"]
+    assert p["p50"] <= p["p90"] <= p["p99"] <= p["max"]
+    assert (tmp_path / "a" / "plots" / "pointing_error_distribution.png").stat().st_size > 5000
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_a_real_scheduler_with_two_workers_gives_the_same_results(reference, spec, tmp_path):
+    port = free_port()
+    addr = f"tcp://127.0.0.1:{port}"
+    env = dict(os.environ)
+    procs = [subprocess.Popen(["dask-scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
+                              env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        time.sleep(1.0)
+        for _ in range(2):
+            procs.append(subprocess.Popen(["dask-worker", addr, "--nthreads", "1", "--no-dashboard",
+                                           "--host", "127.0.0.1"], env=env, stdout=subprocess.DEVNULL,
+                                          stderr=subprocess.DEVNULL))
+        from distributed import Client
+        with Client(addr, timeout="30s") as c:
+            c.wait_for_workers(2, timeout=60)
+        run_sweep(spec, tmp_path / "s", "--scheduler", addr)
+        assert results(tmp_path / "s") == reference
+        assert json.loads((tmp_path / "s" / "summary.json").read_text())["engine"]["workers"] == 2
+    finally:
+        for p in reversed(procs):
+            p.terminate()
+        for p in procs:
+            p.wait(timeout=30)
+
+
+def journal_rows(out):
+    try:
+        return max(0, (out / "results.partial.csv").read_text().count("\n") - 1)
+    except FileNotFoundError:
+        return 0
+
+
+def wait_for_rows(out, proc, n, timeout=120):
+    t0 = time.time()
+    while journal_rows(out) < n:
+        assert proc.poll() is None, "the sweep ended before the test could interrupt it"
+        assert time.time() - t0 < timeout
+        time.sleep(0.02)
+
+
+def test_a_worker_killed_mid_sweep_loses_no_sample(reference, spec, tmp_path):
+    out = tmp_path / "k"
+    proc = subprocess.Popen(sweep_cmd(spec, out, "--workers", "2", "--batch", "1"), stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    wait_for_rows(out, proc, 5)
+    workers = [c for c in psutil.Process(proc.pid).children() if "spawn_main" in " ".join(c.cmdline())]
+    assert len(workers) == 2
+    workers[0].kill()
+    _, err = proc.communicate(timeout=600)
+    assert proc.returncode == 0, err
+    assert journal_rows(out) == 0 and results(out) == reference  # every sample exactly once, the same values
+
+
+def test_resume_runs_only_what_is_missing(reference, spec, tmp_path):
+    out = tmp_path / "r"
+    proc = subprocess.Popen(sweep_cmd(spec, out, "--workers", "1", "--batch", "1"), stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, start_new_session=True)
+    wait_for_rows(out, proc, 10)
+    os.killpg(proc.pid, signal.SIGKILL)  # as a crash or a power cut: no clean-up at all
+    proc.wait()
+    done = journal_rows(out)
+    assert 10 <= done < N and not (out / "results.csv").exists()
+    refused = run_sweep(spec, out, "--workers", "1", check=False)
+    assert refused.returncode == 2 and "--resume" in refused.stderr
+    p = run_sweep(spec, out, "--workers", "2", "--resume")
+    assert f"{done} already done, {N - done} to run" in p.stderr
+    assert json.loads((out / "summary.json").read_text())["engine"]["ran_this_invocation"] == N - done
+    assert results(out) == reference
+    again = run_sweep(spec, out, "--resume")  # nothing left: runs nothing, same results
+    assert f"{N} already done, 0 to run" in again.stderr and results(out) == reference
+
+
+BAD = [
+    ("parameters:\n  contact.clearance: {triangular: [1, 2]}\n", "parameters.contact.clearance", 7,
+     "unknown distribution"),
+    ("parameters:\n  contact.clearence: {uniform: [1.0e-4, 2.0e-4]}\n", "parameters.contact.clearence", 7,
+     "not a key of the scene"),
+    ("parameters:\n  contact.restitution: {uniform: [0.5, 1.5]}\n", "parameters.contact.restitution", 7,
+     "the scene refuses"),
+    ("parameters:\n  friction.mu: {disk: {radius: 1}}\n", "parameters.friction.mu", 7, "disk needs a vec2 key"),
+    ("parameters:\n  friction.mu: {normal: {mean: 0.2, sd: -1}}\n", "parameters.friction.mu", 7, "sd > 0"),
+    ("grid:\n  friction.law: [coulomb, sticky]\n", "grid.friction.law", 7, "the scene refuses"),
+    ("set: {sim.durration: 2}\nparameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n", "set.sim.durration", 6,
+     "not a key of the scene"),
+]
+
+
+@pytest.mark.parametrize("tail,key,line,why", BAD, ids=[b[1] + ":" + b[3] for b in BAD])
+def test_spec_refusals_name_the_key_and_line(tail, key, line, why, tmp_path):
+    head = f"scene: {SCENES}/paper_clearance.yaml\nsamples: 3\nseed: 1\n\n\n"
+    (tmp_path / "bad.yaml").write_text(head + tail)
+    p = run_sweep(tmp_path / "bad.yaml", tmp_path / "o", check=False)
+    assert p.returncode == 2, p.stderr
+    assert f"bad.yaml:{line}:" in p.stderr and f"key '{key}'" in p.stderr and why in p.stderr, p.stderr
+    assert not (tmp_path / "o" / "results.csv").exists()
+
+
+def test_missing_or_malformed_specs_are_refused(tmp_path):
+    (tmp_path / "a.yaml").write_text(f"scene: {SCENES}/paper_clearance.yaml\nseed: 1\n")
+    p = run_sweep(tmp_path / "a.yaml", tmp_path / "o", check=False)
+    assert p.returncode == 2 and "key 'samples': missing" in p.stderr
+    (tmp_path / "b.yaml").write_text("samples: [1,\n")
+    p = run_sweep(tmp_path / "b.yaml", tmp_path / "o", check=False)
+    assert p.returncode == 2 and "not valid YAML" in p.stderr
+    (tmp_path / "c.yaml").write_text("a: &x [1, 2]\nb: &y [*x, *x, *x, *x, *x, *x, *x, *x, *x, *x]\n"
+                                     "c: &z [*y, *y, *y, *y, *y, *y, *y, *y, *y, *y]\n"
+                                     "d: &w [*z, *z, *z, *z, *z, *z, *z, *z, *z, *z]\n"
+                                     "e: &v [*w, *w, *w, *w, *w, *w, *w, *w, *w, *w]\n"
+                                     "f: [*v, *v, *v, *v, *v, *v, *v, *v, *v, *v]\n")
+    p = run_sweep(tmp_path / "c.yaml", tmp_path / "o", check=False)
+    assert p.returncode == 2 and "values" in p.stderr
