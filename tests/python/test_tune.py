@@ -1,0 +1,71 @@
+"""gimbalsim.tune: a short study writes trials.csv and a best.yaml that
+pointing_controller loads as it is, holding the best feasible trial's gains;
+tuning specs are refused naming the key."""
+import csv
+import subprocess
+import sys
+
+import pytest
+
+from conftest import BIN, CONTROLLER_CONFIG, SCENES
+
+SPEC = f"""
+scene: {SCENES}/paper_clearance.yaml
+controller: {CONTROLLER_CONFIG}
+duration: 3.7
+trials: 5
+parallel_trials: 2
+seed: 3
+batch: 2
+objective: {{metric: max_track, percentile: 90}}
+max_saturation: 0.0
+gains:
+  azimuth.kp: {{loguniform: [5000, 80000]}}
+  elevation.kd: {{uniform: [300, 3000]}}
+plants:
+  contact.clearance: {{uniform: [1.0e-4, 8.0e-4]}}
+  sensors.star_tracker_noise: {{uniform: [0.0, 2.0e-5]}}
+"""
+
+
+def tune(spec, out, *args):
+    return subprocess.run([sys.executable, "-m", "gimbalsim.tune", str(spec), "--out", str(out), "--no-progress",
+                           *args], capture_output=True, text=True, timeout=600)
+
+
+def test_a_short_study_writes_a_loadable_best_yaml_with_the_best_score(tmp_path):
+    (tmp_path / "t.yaml").write_text(SPEC)
+    p = tune(tmp_path / "t.yaml", tmp_path / "o", "--workers", "2")
+    assert p.returncode == 0, p.stderr
+    with open(tmp_path / "o" / "trials.csv") as f:
+        trials = list(csv.DictReader(f))
+    assert [int(t["trial"]) for t in trials] == list(range(5))
+    complete = [t for t in trials if t["state"] == "COMPLETE"]
+    feasible = [t for t in complete if float(t["constraint"]) <= 0.0]
+    assert complete and all(t["plants_ok"] == "2" for t in complete)
+    best = min(feasible or complete, key=lambda t: float(t["score"]))
+    text = (tmp_path / "o" / "best.yaml").read_text()
+    assert f"trial {best['trial']} " in text.splitlines()[0] and repr(float(best["score"])) in text.splitlines()[0]
+    q = subprocess.run([str(BIN / "pointing_controller"), str(tmp_path / "o" / "best.yaml"), "--print-config"],
+                       capture_output=True, text=True, timeout=60)
+    assert q.returncode == 0, q.stderr
+    printed = dict(line.split("=", 1) for line in q.stdout.splitlines())
+    assert float(printed["azimuth.kp"]) == float(best["azimuth.kp"])
+    assert float(printed["elevation.kd"]) == float(best["elevation.kd"])
+    assert float(printed["azimuth.kd"]) == 1056.0  # untuned keys keep the base configuration's values
+    assert (tmp_path / "o" / "progress.png").stat().st_size > 5000
+
+
+@pytest.mark.parametrize("change,key", [
+    (("azimuth.kp: {loguniform: [5000, 80000]}", "azimuth.kpp: {loguniform: [5000, 80000]}"), "gains.azimuth.kpp"),
+    (("azimuth.kp: {loguniform: [5000, 80000]}", "azimuth.kp: {uniform: [-10, 80000]}"), "gains.azimuth.kp"),
+    (("azimuth.kp: {loguniform: [5000, 80000]}", "azimuth.kp: {normal: {mean: 1, sd: 1}}"), "gains.azimuth.kp"),
+    (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "contact.clearance: {uniform: [-1.0e-4, 8.0e-4]}"),
+     "plants.contact.clearance"),
+    (("duration: 3.7", "duration: 3.7004"), "duration"),
+    (("metric: max_track", "metric: worst"), "objective.metric"),
+])
+def test_tuning_spec_refusals_name_the_key(change, key, tmp_path):
+    (tmp_path / "t.yaml").write_text(SPEC.replace(*change))
+    p = tune(tmp_path / "t.yaml", tmp_path / "o", "--workers", "1")
+    assert p.returncode == 2 and f"key '{key}'" in p.stderr and "t.yaml:" in p.stderr, p.stderr
