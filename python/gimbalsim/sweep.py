@@ -316,7 +316,8 @@ def _run_on_cluster(spec, todo, jf, done, workers, scheduler, batch, progress):
     from tqdm import tqdm
 
     with _cluster.dask_client(workers, scheduler) as (client, n_workers):
-        size = batch or max(1, min(50, math.ceil(len(todo) / (n_workers * 8))))
+        # about 8 tasks per worker, at most 10 samples each: rows arrive often and a killed worker loses little
+        size = batch or max(1, min(10, math.ceil(len(todo) / (n_workers * 8))))
         chunks = [todo[k:k + size] for k in range(0, len(todo), size)]
         base = client.scatter(spec.base, broadcast=True)
         t0 = time.perf_counter()
@@ -363,7 +364,7 @@ def main(argv=None):
     ap.add_argument("--out", required=True, help="output directory")
     _cluster.add_cluster_arguments(ap)
     ap.add_argument("--resume", action="store_true", help="finish an interrupted sweep in --out")
-    ap.add_argument("--batch", type=int, default=None, help="samples per task (default: about 8 tasks per worker)")
+    ap.add_argument("--batch", type=int, default=None, help="samples per task (default: about 8 tasks per worker, at most 10)")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
     a = ap.parse_args(argv)
     if a.workers is not None and a.workers < 1:

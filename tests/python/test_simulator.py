@@ -141,3 +141,39 @@ def test_a_long_loop_does_not_grow_memory():
     grown = _rss_kib() - before
     assert grown < 1024, f"RSS grew by {grown} KiB over 10^5 steps"
     assert sim.t == pytest.approx(110.0, abs=1e-9)
+
+
+@pytest.mark.parametrize("call", ["step", "run", "simulate", "closed_loop"])
+def test_long_calls_release_the_gil(call):
+    """While a long C++ call runs in one thread, this thread keeps taking turns
+    through the whole call. With the GIL held it could take turns only in the
+    few milliseconds around the call (Python's switch interval), not across it."""
+    import time
+
+    s = scene(sim__duration=1.0)
+    sim = gimbalsim.Simulator(s)
+    ctrl = gimbalsim.Controller(scene_path("x").parents[2] / "controllers" / "config" / "default.yaml")
+    work = {"step": lambda: sim.step(5.0, 10.0, n=2000),
+            "run": lambda: sim.run(np.tile([5.0, 10.0], (2000, 1))),
+            "simulate": lambda: gimbalsim.simulate(s),
+            "closed_loop": lambda: gimbalsim.closed_loop(s, ctrl, 1.5)}
+    window = {}
+
+    def job():
+        window["start"] = time.perf_counter()
+        work[call]()
+        window["end"] = time.perf_counter()
+
+    t = threading.Thread(target=job)
+    t.start()
+    first = last = None
+    while t.is_alive():
+        now = time.perf_counter()
+        if "start" in window and "end" not in window:
+            first = first or now
+            last = now
+    t.join()
+    duration = window["end"] - window["start"]
+    assert duration > 0.05, "the call is too short to tell"
+    assert first is not None and last - first > 0.5 * duration, \
+        f"this thread ran only {0 if first is None else last - first:.4f} s of the call's {duration:.4f} s"
