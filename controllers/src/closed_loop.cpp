@@ -56,10 +56,11 @@ template <class V>
 ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware::Config& fc,
                      const ClosedLoopOptions& opt, const std::function<void(const TickRecord&)>& sink) {
   ClosedLoopResult r;
-  firmware::Firmware<V> fw(sc, fc, &c.profile);
+  firmware::Firmware<V> fw(sc, fc, &c.profile, opt.faults);
   ControllerState cs;
   Figures fig(c.profile, opt);
   std::int64_t next_seq = 0;
+  Answer last;  // the controller's last answer (what the record shows while no status comes)
   const long long ticks = std::llround(opt.duration / c.period);
   for (long long k = 0; k <= ticks; ++k) {
     // The firmware's tick k up to its status and truth, as firmware_sim --lockstep.
@@ -67,11 +68,20 @@ ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware:
     fw.sample(utime);
     const firmware::Status& st = fw.status();
     const firmware::Truth& truth = fw.truth();
-    // The controller answers status k, as pointing_controller does.
-    const Answer a = answerStatus(c, cs, st, fw.attitude(), next_seq);
+    // The controller answers the status delivered this tick, as pointing_controller
+    // does; none when the fault schedule dropped or still holds it.
+    const bool delivered = fw.statusDelivered();
+    Answer a = last;
+    a.flags = MonitorFlags{};
+    if (delivered) last = a = answerStatus(c, cs, st, fw.attitude(), next_seq);
 
     TickRecord rec;
-    rec.t = a.meas.t;
+    rec.answered = delivered;
+    rec.flags = a.flags;
+    rec.injected_faults = truth.injected_faults;
+    rec.momentum_linear = Vec3(truth.momentum_linear[0], truth.momentum_linear[1], truth.momentum_linear[2]);
+    rec.momentum_angular = Vec3(truth.momentum_angular[0], truth.momentum_angular[1], truth.momentum_angular[2]);
+    rec.t = static_cast<double>(k) * c.period;
     rec.ref = a.out.ref;
     rec.theta_true = {truth.joint_angle[0], truth.joint_angle[1]};
     rec.theta_meas = a.meas.theta;
@@ -97,7 +107,7 @@ ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware:
     }
     // The answer arrives while (lockstep: after) the plant advances and acts
     // from tick k + 1 (the bus).
-    fw.receive(a.cmd);
+    if (delivered) fw.receive(a.cmd);
   }
   fig.finish(r);
   return r;
@@ -127,7 +137,15 @@ Answer answerStatus(const ControllerConfig& c, ControllerState& s, const firmwar
   a.meas.theta = {st.angle[0], st.angle[1]};
   a.meas.dtheta = {st.rate[0], st.rate[1]};
   a.meas.att = attitudeMeasurement(att, st.seq);
+  a.flags = observeStatus(c.monitor, s.monitor, c.period, st.seq, st.angle, st.rate, att.seq, att.star_outage != 0);
+  const Vec2 integral = s.integral;
   a.out = update(c, s, a.meas);
+  if (a.flags.stale) {  // hold the last command from a fresh status (safe torque after hold_ticks); no integration
+    s.integral = integral;
+    for (int i = 0; i < 2; ++i) a.out.tau(i) = a.flags.safe ? 0.0 : s.monitor.hold_tau[i];
+  } else {
+    for (int i = 0; i < 2; ++i) s.monitor.hold_tau[i] = a.out.tau(i);
+  }
   a.cmd.utime = st.utime;
   a.cmd.seq = std::max(next_seq, st.last_command_seq + 1);
   next_seq = a.cmd.seq + 1;

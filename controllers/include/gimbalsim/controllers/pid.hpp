@@ -32,6 +32,7 @@
 #include <cstdint>
 
 #include "gimbalsim/controllers/attitude_estimator.hpp"
+#include "gimbalsim/controllers/fault_monitor.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::controllers {
@@ -82,6 +83,7 @@ struct ControllerConfig {
   Vec3 fixed_direction = Vec3::UnitX();  ///< inertial target direction with target = fixed (any length > 0)
   GimbalAxes gimbal;
   AttitudeEstimatorParams estimator;     ///< k_p, k_i are keys; the rest its defaults
+  MonitorConfig monitor;                 ///< what counts as a stale status or a suspect encoder (fault_monitor.hpp)
 };
 
 /// The base attitude sensors of the same tick (firmware::Attitude, as the controller uses it).
@@ -115,6 +117,7 @@ struct ControllerState {
   bool ref_primed = false;         ///< ref_prev / gyro_prev / estimator.t hold a period
   long long gyro_missing = 0;      ///< periods with the gyro rate held
   long long star_outage_periods = 0; ///< periods with the star tracker in outage
+  MonitorState monitor;            ///< fault detection (fault_monitor.hpp); monitor.suspect[i]: axis i on rate feedback only
 };
 
 /// One update's result; tau is the command.
