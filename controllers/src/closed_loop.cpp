@@ -73,7 +73,11 @@ ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware:
     const bool delivered = fw.statusDelivered();
     Answer a = last;
     a.flags = MonitorFlags{};
-    if (delivered) last = a = answerStatus(c, cs, st, fw.attitude(), next_seq);
+    if (delivered) {
+      last = a = answerStatus(c, cs, st, fw.attitude(), next_seq);
+    } else {
+      noteAttitude(cs, fw.attitude());  // the attitude message still came
+    }
 
     TickRecord rec;
     rec.answered = delivered;
@@ -130,14 +134,26 @@ AttitudeMeasurement attitudeMeasurement(const firmware::Attitude& att, std::int6
   return m;
 }
 
+void noteAttitude(ControllerState& s, const firmware::Attitude& att) noexcept {
+  if (att.seq < 0) return;
+  const int i = static_cast<int>(att.seq % AttitudeHistory::kSize);
+  s.attitudes.seq[i] = att.seq;
+  s.attitudes.att[i] = attitudeMeasurement(att, att.seq);
+  s.attitudes.newest = std::max(s.attitudes.newest, att.seq);
+}
+
 Answer answerStatus(const ControllerConfig& c, ControllerState& s, const firmware::Status& st,
                     const firmware::Attitude& att, std::int64_t& next_seq) noexcept {
   Answer a;
   a.meas.t = static_cast<double>(st.seq) * c.period;
   a.meas.theta = {st.angle[0], st.angle[1]};
   a.meas.dtheta = {st.rate[0], st.rate[1]};
-  a.meas.att = attitudeMeasurement(att, st.seq);
-  a.flags = observeStatus(c.monitor, s.monitor, c.period, st.seq, st.angle, st.rate, att.seq, att.star_outage != 0);
+  noteAttitude(s, att);
+  // The attitude of the status's own tick (a late status finds it in the history).
+  const int slot = static_cast<int>((st.seq >= 0 ? st.seq : 0) % AttitudeHistory::kSize);
+  a.meas.att = s.attitudes.seq[slot] == st.seq ? s.attitudes.att[slot] : attitudeMeasurement(att, st.seq);
+  a.flags = observeStatus(c.monitor, s.monitor, c.period, st.seq, st.angle, st.rate, s.attitudes.newest,
+                          att.star_outage != 0);
   const Vec2 integral = s.integral;
   a.out = update(c, s, a.meas);
   if (a.flags.stale) {  // hold the last command from a fresh status (safe torque after hold_ticks); no integration

@@ -69,6 +69,7 @@ class StatusHandler {
       return;
     }
     firmware::copyFields<firmware::AttitudeFields>(attitude_, m);
+    noteAttitude(state_, attitude_);  // a late status finds the attitude of its tick (fault_monitor.hpp)
   }
 
   void onStatus(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {

@@ -45,6 +45,10 @@ struct Answer {
 Answer answerStatus(const ControllerConfig& c, ControllerState& s, const firmware::Status& st,
                     const firmware::Attitude& att, std::int64_t& next_seq) noexcept;
 
+/// Keeps an attitude message (every one received, also while no status
+/// comes) in s.attitudes; answerStatus() notes the one it is given too.
+void noteAttitude(ControllerState& s, const firmware::Attitude& att) noexcept;
+
 /// The controller's view of an attitude message of tick seq (see answerStatus).
 AttitudeMeasurement attitudeMeasurement(const firmware::Attitude& att, std::int64_t seq) noexcept;
 

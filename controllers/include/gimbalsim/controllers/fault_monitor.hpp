@@ -27,8 +27,8 @@ namespace gimbalsim::controllers {
 
 /// Keys monitor.* (config.cpp).
 struct MonitorConfig {
-  int stale_ticks = 3;        ///< status this many ticks older than the newest attitude: stale [ticks]
-  int hold_ticks = 20;        ///< stale this many statuses in a row: safe torque [ticks]
+  int stale_ticks = 40;       ///< status this many ticks older than the newest attitude: stale [ticks]
+  int hold_ticks = 200;       ///< stale this many statuses in a row: safe torque [ticks]
   int stuck_window = 20;      ///< statuses per encoder/rate comparison [-]
   double stuck_tol = 5.0e-5;  ///< [rad] |encoder motion - integrated rate| above this: encoder suspect
 };

@@ -96,6 +96,22 @@ struct AttitudeMeasurement {
   bool star_outage = false;        ///< the star tracker reports an outage
 };
 
+/// The attitude messages of the last kSize ticks by seq, so that a late
+/// status (fault_monitor.hpp) is paired with the gyro sample of its own tick.
+struct AttitudeHistory {
+  static constexpr int kSize = 64;
+  std::array<std::int64_t, kSize> seq = filled(-1);  ///< seq held in each slot (-1: none)
+  std::array<AttitudeMeasurement, kSize> att{};
+  std::int64_t newest = -1;                          ///< newest seq noted
+
+ private:
+  static std::array<std::int64_t, kSize> filled(std::int64_t v) {
+    std::array<std::int64_t, kSize> a;
+    a.fill(v);
+    return a;
+  }
+};
+
 /// What the controller sees each period.
 struct Measurement {
   double t = 0.0;             ///< time of the sample [s] (profile time)
@@ -118,6 +134,7 @@ struct ControllerState {
   long long gyro_missing = 0;      ///< periods with the gyro rate held
   long long star_outage_periods = 0; ///< periods with the star tracker in outage
   MonitorState monitor;            ///< fault detection (fault_monitor.hpp); monitor.suspect[i]: axis i on rate feedback only
+  AttitudeHistory attitudes;       ///< recent attitude messages (noteAttitude, closed_loop.hpp)
 };
 
 /// One update's result; tau is the command.
