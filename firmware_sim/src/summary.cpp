@@ -30,7 +30,8 @@ void printExitSummary(const Run& r, const Outcome& out) {
     std::printf("  late ticks %lld (run at once after an overrun, holding the last command, to keep wall-clock time)",
                 static_cast<long long>(st.late_ticks.load()));
     if (st.late.count() > 0) {
-      std::printf(": late by p50 %.0f  p99 %.0f  max %.1f us", st.late.quantile(0.5), st.late.quantile(0.99), st.late.max());
+      std::printf(": late by p50 %.0f  p99 %.0f  max %.0f us (10 us bins)", 10.0 * st.late.quantile(0.5),
+                  10.0 * st.late.quantile(0.99), 10.0 * st.late.max());
     }
     std::printf("\n");
   }

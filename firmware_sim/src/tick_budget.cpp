@@ -70,12 +70,14 @@ std::string describeTickBudget(const TickBudget& b) {
 
 std::string tickBudgetWarning(const TickBudget& b) {
   if (!b.exceeds()) return "";
-  char line[400];
+  char line[480];
   std::snprintf(line, sizeof line,
-                "warning: the worst-case tick (%.0f us) exceeds the control period (%.0f us): a tick that uses "
-                "the whole sub-step cap overruns; raise sim.substep, lower sim.max_substeps, or lengthen the "
-                "period (--rate, with sim.step)",
-                b.worst_tick_us, b.period_us);
+                "warning: the worst-case tick (%.0f us) exceeds the control period (%.0f us): %s",
+                b.worst_tick_us, b.period_us,
+                b.substep_cap > 1 ? "a tick that uses the whole sub-step cap overruns; raise sim.substep, lower "
+                                    "sim.max_substeps, or lengthen the period (--rate, a whole multiple of sim.step)"
+                                  : "every tick overruns; lengthen sim.step (fewer RK4 steps per tick) or the "
+                                    "period (--rate)");
   return line;
 }
 
