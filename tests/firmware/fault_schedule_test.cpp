@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "alloc_guard.hpp"
+#include "firmware_test_util.hpp"
 #include "gimbalsim/firmware/fault_schedule_io.hpp"
 #include "gimbalsim/firmware/firmware.hpp"
 #include "test_util.hpp"
@@ -21,15 +22,9 @@ namespace {
 
 const std::string kDemo = std::string(GIMBALSIM_SOURCE_DIR) + "/tools/faults/demo.yaml";
 
-Command torqueCommand(std::int64_t seq, std::int64_t status_seq, double tau1, double tau2) {
-  Command c;
-  c.seq = seq;
-  c.status_seq = status_seq;
-  c.mode = kModeTorque;
-  c.torque[0] = tau1;
-  c.torque[1] = tau2;
-  return c;
-}
+using test_helpers::Bench;
+using test_helpers::benchScene;
+using test_helpers::torqueCommand;
 
 /// The refusal text of a schedule (all problems, one per line); "" if accepted.
 std::string refusal(const std::string& yaml) {
@@ -45,12 +40,6 @@ std::string refusal(const std::string& yaml) {
 
 FaultSchedule schedule(const std::string& yaml) { return loadFaultScheduleText(yaml, "test"); }
 
-// Fixed-base ideal gimbal: the cheapest plant, for the behaviour tests.
-Scene benchScene(std::vector<std::string> sets = {}) {
-  sets.insert(sets.begin(), "structure.base=fixed");
-  return test::scene("paper_ideal", sets);
-}
-using Bench = FixedIdeal;
 
 TEST(FaultScheduleFile, TheDemoScheduleLoadsWithEveryKind) {
   const FaultSchedule s = loadFaultSchedule(kDemo);
