@@ -210,6 +210,39 @@ TEST(FaultResponse, EncoderDropoutIsSeenTooWhenTheAxisMoves) {
   EXPECT_LT(w.err_during, 1e-2);  // measured 4.6e-3 rad (mid-slew, 0.1 s on the rate alone)
 }
 
+TEST(FaultResponse, EncoderBiasStepAndNoiseBurst) {
+  const std::string bias = one("{type: encoder_bias, axis: elevation, start: 4.0, end: 4.5, bias: 1e-3}");
+  const std::string noise = one("{type: encoder_noise, axis: elevation, start: 4.0, end: 4.5, sigma: 5e-6}");
+  const std::string loud = one("{type: encoder_noise, axis: elevation, start: 4.0, end: 4.5, sigma: 2e-5}");
+  const Outcome b = run(bias, 5.5, 4.0, 4.5, injectedBit(FaultKind::EncoderBias, 1));
+  const Outcome b_blind = run(bias, 5.5, 4.0, 4.5, injectedBit(FaultKind::EncoderBias, 1), defaults({"monitor.stuck_tol=1e3"}));
+  const Outcome n = run(noise, 5.5, 4.0, 4.5, injectedBit(FaultKind::EncoderNoise, 1));
+  const Outcome l = run(loud, 5.5, 4.0, 4.5, injectedBit(FaultKind::EncoderNoise, 1));
+  const Outcome clean = run("", 5.5, 4.0, 4.5, 0);
+  print("encoder_bias el 1 mrad", b);
+  print("encoder_bias el, no monitor", b_blind);
+  print("encoder_noise el 5 urad", n);
+  print("encoder_noise el 20 urad", l);
+  print("clean", clean);
+  expectInvariants(b);
+  expectInvariants(n);
+  // Position feedback on a biased encoder moves the antenna by the bias; the
+  // step looks like an encoder jumping without motion, so the monitor drops
+  // the position term and the axis keeps tracking on its rate.
+  EXPECT_GT(b_blind.err_during, 0.5e-3);
+  EXPECT_GE(b.suspect_in[1], 400) << "flagged at the step";
+  EXPECT_LT(b.err_during, 0.2 * b_blind.err_during);
+  // A burst well below monitor.stuck_tol (the window compares two noisy
+  // samples: sigma sqrt 2) is not flagged and shakes the pointing a little;
+  // one of 2e-5 rad (2.8e-5 against 5e-5) is flagged part of the time.
+  EXPECT_EQ(n.suspect_in[1] + n.suspect_out[1], 0);
+  EXPECT_GT(n.err_during, clean.err_during);
+  EXPECT_LT(n.err_during, 1e-4);
+  EXPECT_GT(l.suspect_in[1], 0);
+  EXPECT_LT(l.suspect_in[1], 500);
+  expectInvariants(l);
+}
+
 TEST(FaultResponse, StarTrackerOutageIsFlaggedByTheControllerOnEveryTickOfIt) {
   const Outcome w = run(one("{type: star_tracker_outage, start: 3.6, end: 4.6}"), 5.0, 3.6, 4.6,
                         injectedBit(FaultKind::StarTrackerOutage, -1));
