@@ -203,6 +203,7 @@ struct LoopStatsFields {
     f(Columns{"commands_missed[-]"}, m.commands_missed...);
     f(Columns{"realtime[-]"}, m.realtime...);
     f(Columns{"lockstep[-]"}, m.lockstep...);
+    f(Columns{"late_ticks[-]"}, m.late_ticks...);
   }
 };
 
