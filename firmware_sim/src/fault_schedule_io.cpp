@@ -60,6 +60,12 @@ class Reader {
           problems_.push_back(place(origin_, kv.second.Mark()) + ": key 'faults': must be a list of faults");
           continue;
         }
+        if (kv.second.size() > static_cast<std::size_t>(kMaxFaults)) {
+          problems_.push_back(place(origin_, kv.second.Mark()) + ": key 'faults': at most " +
+                              std::to_string(kMaxFaults) + " faults (every tick evaluates each), got " +
+                              std::to_string(kv.second.size()));
+          continue;
+        }
         int i = 0;
         for (const YAML::Node& e : kv.second) readFault(e, ++i, s.faults);
       } else {

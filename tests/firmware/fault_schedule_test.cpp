@@ -98,6 +98,11 @@ TEST(FaultScheduleFile, RefusalsNameLineColumnEntryAndKey) {
   EXPECT_NE(two.find("f.yaml:3:32: fault #2 (torque_limit): key 'axis': expected one of azimuth | elevation, got 'up'"),
             std::string::npos)
       << two;
+  std::string many = "faults:\n";
+  for (int i = 0; i <= kMaxFaults; ++i) many += "  - {type: status_drop}\n";
+  EXPECT_NE(refusal(many).find("f.yaml:2:3: key 'faults': at most 256 faults (every tick evaluates each), got 257"),
+            std::string::npos)
+      << refusal(many).substr(0, 200);
   EXPECT_EQ(refusal("seed: 3\nfaults: []\n"), "");
 }
 

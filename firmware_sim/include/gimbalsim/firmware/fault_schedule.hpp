@@ -60,6 +60,9 @@ inline std::int32_t injectedBit(FaultKind k, int axis) noexcept {
 inline constexpr double kForever = std::numeric_limits<double>::infinity();
 /// Longest status or command delay [ticks] (the firmware's fixed queues).
 inline constexpr int kMaxFaultDelayTicks = 1000;
+/// Most entries in a schedule: every tick evaluates every entry, so the
+/// count bounds the cost a schedule adds to a tick.
+inline constexpr int kMaxFaults = 256;
 
 /// One entry of a schedule.
 struct FaultSpec {
