@@ -20,9 +20,17 @@ firmware_sim's exit summary.
  (iii) 60 s at 1 kHz real time: wake-up lateness and status -> command round
        trip (p50/p99/p99.9/max).
 
+The machine's floor: in (i) and (iii) cyclictest (Debian rt-tests) runs at
+the same period, SCHED_FIFO priority and CPU as firmware_sim's loop thread
+(--cpu, default 1, passed to both), half of its time just before and half
+just after each firmware_sim run (interleaved in the same minutes); the
+tables give firmware_sim's wake-up lateness percentiles (p50, p99, p99.9,
+max) next to cyclictest's and their ratios (firmware_sim / cyclictest: 1 =
+the machine's own floor).
+
 Usage:
   /usr/bin/python3 tools/hil_speed.py [--seconds 10] [--rates 1000,2000,4000,5000,8000,10000]
-      [--spin 0.3] [--long 60] [--skip-sweep] [--skip-lockstep] [--skip-long]
+      [--spin 0.3] [--long 60] [--cpu 1] [--build build] [--skip-sweep] [--skip-lockstep] [--skip-long]
 """
 import argparse
 import os
@@ -32,7 +40,7 @@ import subprocess
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-BIN = os.path.join(ROOT, "build/bin")
+BIN = os.path.join(ROOT, "build/bin")  # --build changes it
 CFG = os.path.join(ROOT, "controllers/config/default.yaml")
 SCENES = os.path.join(ROOT, "tools/scenes")
 URL = "udpm://239.255.76.67:7667?ttl=0"
@@ -76,6 +84,71 @@ def run_pair(scene, seconds, rate=1000, lockstep=False, fw_extra=(), ctl_extra=(
         ctl.wait(timeout=30)
 
 
+RT_PRIORITY = 80  # firmware_sim's loop thread (its --rt-priority default) and cyclictest's
+CPU = [1]         # --cpu: firmware_sim's loop thread and cyclictest's thread
+
+
+def cyclictest(period_us, seconds):
+    """cyclictest's wake-up latency histogram [us] -> {us: count} (one thread, SCHED_FIFO RT_PRIORITY, pinned)."""
+    cmd = ["cyclictest", "-m", "-q", "-t", "1", "-p", str(RT_PRIORITY), "-i", str(int(round(period_us))),
+           "-D", f"{max(1, int(round(seconds)))}", "-h", "100000"]
+    if CPU[0] >= 0:
+        cmd += ["-a", str(CPU[0])]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=seconds + 60)
+    if r.returncode != 0:
+        sys.exit(f"hil_speed: cyclictest failed ({' '.join(cmd)}): {r.stderr}")
+    hist, mx = {}, 0.0
+    for line in r.stdout.splitlines():
+        m = re.match(r"^(\d+) (\d+)$", line)
+        if m and int(m.group(2)) > 0:
+            hist[int(m.group(1))] = hist.get(int(m.group(1)), 0) + int(m.group(2))
+        m = re.match(r"^# Max Latencies: (\d+)", line)
+        if m:
+            mx = max(mx, float(m.group(1)))
+    hist["max"] = mx
+    return hist
+
+
+def merge(a, b):
+    out = dict(a)
+    for k, v in b.items():
+        out[k] = max(out.get(k, 0), v) if k == "max" else out.get(k, 0) + v
+    return out
+
+
+def quantiles(hist):
+    """p50, p99, p99.9 [us] as firmware_sim's histogram reports them (upper edge of the 1 us bin), and the max."""
+    n = sum(v for k, v in hist.items() if k != "max")
+    out = []
+    for p in (0.5, 0.99, 0.999):
+        want, acc = max(1.0, p * n), 0
+        for k in sorted(k for k in hist if k != "max"):
+            acc += hist[k]
+            if acc >= want:
+                out.append(min(k + 1.0, hist["max"]))
+                break
+        else:
+            out.append(hist["max"])
+    return out + [hist["max"]]
+
+
+def with_floor(period_us, seconds, run):
+    """cyclictest for seconds/2, run(), cyclictest for seconds/2: run's output and the merged histogram's quantiles."""
+    a = cyclictest(period_us, seconds / 2)
+    out = run()
+    b = cyclictest(period_us, seconds / 2)
+    return out, quantiles(merge(a, b))
+
+
+def lateness(out):
+    """firmware_sim's wake-up lateness p50, p99, p99.9, max [us] from its exit summary."""
+    return grab(out, r"wake-up lateness \[us\]: p50 (\S+)  p99 (\S+)  p99\.9 (\S+)  max (\S+)", 4)
+
+
+def ratios(fw, floor):
+    return " / ".join(f"{f / c:.2g}" if c > 0 else "inf" for f, c in zip(fw, floor))
+
+
 def grab(text, pattern, n=1):
     m = re.search(pattern, text)
     if not m:
@@ -88,9 +161,10 @@ def sweep(rates, seconds, spin_fraction):
     title = "plain clock_nanosleep" if spin_fraction == 0 else f"--spin-us = {spin_fraction:g} x period"
     print(f"\n(i) control rate sweep, real time, paper_clearance + pointing_controller, {seconds:g} s each, {title}"
           f"  [load before: {' '.join(load())}]")
-    print("| rate [Hz] | period [us] | sim.step [s] | overruns (% of ticks) | lateness p50 / p99 / max [us] "
-          "| compute p50 / p99 [us] | missed cmds | sched | sustains |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("| rate [Hz] | period [us] | sim.step [s] | overruns (% of ticks) | late ticks | lateness p50 / p99 / p99.9 / max [us] "
+          "| cyclictest p50 / p99 / p99.9 / max [us] | ratio p50 / p99 / p99.9 / max | compute p50 / p99 / max [us] "
+          "| worst-case tick [us] | missed cmds | sched | sustains |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     best = None
     for rate in rates:
         period_us = 1e6 / rate
@@ -98,18 +172,25 @@ def sweep(rates, seconds, spin_fraction):
         fw = ["--set", f"sim.step={step!r}"]
         if spin_fraction > 0:
             fw += ["--spin-us", f"{spin_fraction * period_us:g}"]
-        out = run_pair(scene, seconds, rate=rate, fw_extra=fw, ctl_extra=["--set", f"control.period={1.0 / rate!r}"])
-        lp50, lp99, lmax = grab(out, r"wake-up lateness \[us\]: p50 (\S+)  p99 (\S+)  p99\.9 \S+  max (\S+)", 3)
-        cp50, cp99 = grab(out, r"compute per tick \[us\]: p50 (\S+)  p99 (\S+)", 2)
-        over = int(grab(out, r"overruns (\d+);"))
+        if CPU[0] >= 0:
+            fw += ["--cpu", str(CPU[0])]
+        out, floor = with_floor(period_us, seconds, lambda: run_pair(
+            scene, seconds, rate=rate, fw_extra=fw, ctl_extra=["--set", f"control.period={1.0 / rate!r}"]))
+        lat = lateness(out)
+        lp50, lp99 = lat[0], lat[1]
+        cp50, cp99, cmax = grab(out, r"compute per tick \[us\]: p50 (\S+)  p99 (\S+)  max (\S+)", 3)
+        bound = grab(out, r"worst-case bound (\S+)")
+        late = int(grab(out, r"late ticks (\d+)"))
+        over = int(grab(out, r"overruns (\d+)"))
         missed = int(grab(out, r"missed (\d+);"))
         fifo = "FIFO" if "SCHED_FIFO" in out else "OTHER"
         ok = over == 0 and lp99 < 0.1 * period_us
         if ok:
             best = rate
         ticks = int(grab(out, r"firmware_sim: (\d+) ticks"))
-        print(f"| {rate} | {period_us:.0f} | {step:g} | {over} ({100.0 * over / max(ticks, 1):.2g} %) | {lp50:.0f} / {lp99:.0f} / {lmax:.0f} | "
-              f"{cp50:.0f} / {cp99:.0f} | {missed} | {fifo} | {'yes' if ok else 'no'} |", flush=True)
+        print(f"| {rate} | {period_us:.0f} | {step:g} | {over} ({100.0 * over / max(ticks, 1):.2g} %) | {late} | "
+              f"{' / '.join(f'{x:.0f}' for x in lat)} | {' / '.join(f'{x:.0f}' for x in floor)} | {ratios(lat, floor)} | "
+              f"{cp50:.0f} / {cp99:.0f} / {cmax:.0f} | {bound:.0f} | {missed} | {fifo} | {'yes' if ok else 'no'} |", flush=True)
     print(f"highest rate sustained ({title}): {best if best else 'none of those tried'} Hz  "
           f"[load after: {' '.join(load())}]")
 
@@ -129,10 +210,16 @@ def lockstep_speed(seconds, runs=3):
 
 def long_run(seconds):
     print(f"\n(iii) {seconds:g} s at 1 kHz real time, paper_clearance + pointing_controller  [load before: {' '.join(load())}]")
-    out = run_pair(os.path.join(SCENES, "paper_clearance.yaml"), seconds)
+    fw = ["--cpu", str(CPU[0])] if CPU[0] >= 0 else []
+    out, floor = with_floor(1000.0, seconds, lambda: run_pair(os.path.join(SCENES, "paper_clearance.yaml"), seconds,
+                                                              fw_extra=fw))
     for line in out.splitlines():
         if line.startswith("firmware_sim:") and "ticks" in line or line.startswith("  "):
             print(line)
+    lat = lateness(out)
+    print(f"  cyclictest (same period, priority {RT_PRIORITY}, CPU {CPU[0]}, {seconds / 2:g} s before + {seconds / 2:g} s after) "
+          f"[us]: p50 {floor[0]:.0f}  p99 {floor[1]:.0f}  p99.9 {floor[2]:.0f}  max {floor[3]:.0f}")
+    print(f"  firmware_sim / cyclictest: p50 / p99 / p99.9 / max = {ratios(lat, floor)}")
     print(f"[load after: {' '.join(load())}]")
 
 
@@ -147,10 +234,16 @@ def main():
     p.add_argument("--chrt", type=int, default=60,
                    help="real-time runs: start both processes under SCHED_FIFO at this priority (chrt -f; the "
                         "firmware loop thread still raises itself to 80); 0 = SCHED_OTHER")
+    p.add_argument("--cpu", type=int, default=1,
+                   help="CPU of firmware_sim's loop thread and of cyclictest's thread (-1: no pinning)")
+    p.add_argument("--build", default="build", help="build directory holding bin/ (relative to the source tree)")
     p.add_argument("--skip-sweep", action="store_true")
     p.add_argument("--skip-lockstep", action="store_true")
     p.add_argument("--skip-long", action="store_true")
     a = p.parse_args()
+    global BIN
+    BIN = os.path.join(ROOT, a.build, "bin")
+    CPU[0] = a.cpu
     for t in ("firmware_sim", "pointing_controller"):
         if not os.access(os.path.join(BIN, t), os.X_OK):
             sys.exit(f"hil_speed: {BIN}/{t} missing: cmake --build build -j2 --target firmware_sim pointing_controller")

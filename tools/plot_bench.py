@@ -3,9 +3,11 @@
 
 The truth CSV is what `firmware_sim --truth-csv FILE` writes, or what
 `gimbalsim_log2csv LOG` makes of the <PREFIX>GIMBAL_TRUTH channel of an
-lcm-logger log (same columns, `name[unit]` header). One figure, four panels
-against simulated time: truth pointing error (log scale), joint angles,
-applied torques, fault flags (one row per FAULT_* bit).
+lcm-logger log (same columns, `name[unit]` header). One figure against
+simulated time: truth pointing error (log scale), joint angles, applied
+torques, firmware fault flags (one row per FAULT_* bit) and, when the run had
+a fault schedule (firmware_sim --faults), the scheduled faults active at each
+tick (column injected_faults: one row per fault seen).
 
 Usage:
   /usr/bin/python3 tools/plot_bench.py truth.csv --out bench.png [--title TEXT]
@@ -25,6 +27,19 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 FAULTS = [(1, "watchdog"), (2, "saturated"), (4, "cmd rejected"), (8, "plant fault"), (16, "lockstep timeout")]
+# Scheduled fault kinds in the order of FaultKind (firmware_sim/include/gimbalsim/firmware/fault_schedule.hpp):
+# kind k, axis a sets bit 2 k + a of injected_faults (kinds without an axis: bit 2 k).
+FAULT_KINDS = ["encoder_dropout", "encoder_stuck", "encoder_bias", "encoder_noise", "status_delay", "status_drop",
+               "command_delay", "command_drop", "torque_limit", "motor_failure", "star_tracker_outage",
+               "gyro_bias_jump", "bearing_wear", "friction_rise"]
+AXIS_KINDS = {"encoder_dropout", "encoder_stuck", "encoder_bias", "encoder_noise", "torque_limit", "motor_failure"}
+
+
+def injected_name(bit):
+    kind = FAULT_KINDS[bit // 2] if bit // 2 < len(FAULT_KINDS) else f"bit {bit}"
+    if kind in AXIS_KINDS:
+        return f"{kind} {'el' if bit % 2 else 'az'}"
+    return kind
 NEEDED = ["sim_time[s]", "theta1[rad]", "theta2[rad]", "tau1[N m]", "tau2[N m]", "pointing_error[rad]", "faults[-]"]
 
 
@@ -43,7 +58,8 @@ def read(path):
     if not data:
         sys.exit(f"plot_bench: {path}: no rows")
     cols = {}
-    for c in NEEDED:
+    wanted = NEEDED + (["injected_faults[-]"] if "injected_faults[-]" in header else [])
+    for c in wanted:
         i = header.index(c)
         try:
             cols[c] = np.array([float(r[i]) for r in data])
@@ -63,9 +79,13 @@ def main():
     t = c["sim_time[s]"]
     err = c["pointing_error[rad]"]
     faults = c["faults[-]"].astype(np.int64)
+    injected = c["injected_faults[-]"].astype(np.int64) if "injected_faults[-]" in c else np.zeros_like(faults)
+    seen = [b for b in range(31) if ((injected >> b) & 1).any()]
 
-    fig, ax = plt.subplots(4, 1, figsize=(9, 10), sharex=True,
-                           gridspec_kw={"height_ratios": [3, 2, 2, 1.2]})
+    panels = 5 if seen else 4
+    ratios = [3, 2, 2, 1.2] + ([0.3 * len(seen) + 0.6] if seen else [])
+    fig, ax = plt.subplots(panels, 1, figsize=(9, 10 + (0.25 * len(seen) if seen else 0)), sharex=True,
+                           gridspec_kw={"height_ratios": ratios})
     ax[0].semilogy(t, np.maximum(err, 1e-12), lw=0.8)
     ax[0].set_ylabel("pointing error [rad]")
     ax[0].grid(True, which="both", alpha=0.3)
@@ -85,8 +105,18 @@ def main():
     ax[3].set_yticks(range(len(FAULTS)))
     ax[3].set_yticklabels([n for _, n in FAULTS], fontsize=7)
     ax[3].set_ylim(-0.6, len(FAULTS) - 0.4)
-    ax[3].set_xlabel("simulated time [s]")
+    ax[3].set_ylabel("firmware")
     ax[3].grid(True, axis="x", alpha=0.3)
+    if seen:
+        for row, bit in enumerate(seen):
+            on = ((injected >> bit) & 1) != 0
+            ax[4].fill_between(t, row - 0.4, row + 0.4, where=on, step="post", alpha=0.8, color="tab:red")
+        ax[4].set_yticks(range(len(seen)))
+        ax[4].set_yticklabels([injected_name(b) for b in seen], fontsize=7)
+        ax[4].set_ylim(-0.6, len(seen) - 0.4)
+        ax[4].set_ylabel("scheduled")
+        ax[4].grid(True, axis="x", alpha=0.3)
+    ax[-1].set_xlabel("simulated time [s]")
     fig.suptitle(a.title or a.truth, fontsize=10)
     fig.tight_layout()
     fig.savefig(a.out, dpi=120)
@@ -96,6 +126,8 @@ def main():
     tail = f"max after {a.after:g} s {after.max():.3e} rad" if after.size else f"(run ends before {a.after:g} s)"
     print(f"  pointing error: end {err[-1]:.3e} rad, {tail}")
     print("  fault ticks: " + ", ".join(f"{name} {int(((faults & bit) != 0).sum())}" for bit, name in FAULTS))
+    if seen:
+        print("  scheduled fault ticks: " + ", ".join(f"{injected_name(b)} {int(((injected >> b) & 1).sum())}" for b in seen))
 
 
 if __name__ == "__main__":

@@ -56,10 +56,11 @@ template <class V>
 ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware::Config& fc,
                      const ClosedLoopOptions& opt, const std::function<void(const TickRecord&)>& sink) {
   ClosedLoopResult r;
-  firmware::Firmware<V> fw(sc, fc, &c.profile);
+  firmware::Firmware<V> fw(sc, fc, &c.profile, opt.faults);
   ControllerState cs;
   Figures fig(c.profile, opt);
   std::int64_t next_seq = 0;
+  Answer last;  // the controller's last answer (what the record shows while no status comes)
   const long long ticks = std::llround(opt.duration / c.period);
   for (long long k = 0; k <= ticks; ++k) {
     // The firmware's tick k up to its status and truth, as firmware_sim --lockstep.
@@ -67,11 +68,24 @@ ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware:
     fw.sample(utime);
     const firmware::Status& st = fw.status();
     const firmware::Truth& truth = fw.truth();
-    // The controller answers status k, as pointing_controller does.
-    const Answer a = answerStatus(c, cs, st, fw.attitude(), next_seq);
+    // The controller answers the status delivered this tick, as pointing_controller
+    // does; none when the fault schedule dropped or still holds it.
+    const bool delivered = fw.statusDelivered();
+    Answer a = last;
+    a.flags = MonitorFlags{};
+    if (delivered) {
+      last = a = answerStatus(c, cs, st, fw.attitude(), next_seq);
+    } else {
+      noteAttitude(cs, fw.attitude());  // the attitude message still came
+    }
 
     TickRecord rec;
-    rec.t = a.meas.t;
+    rec.answered = delivered;
+    rec.flags = a.flags;
+    rec.injected_faults = truth.injected_faults;
+    rec.momentum_linear = Vec3(truth.momentum_linear[0], truth.momentum_linear[1], truth.momentum_linear[2]);
+    rec.momentum_angular = Vec3(truth.momentum_angular[0], truth.momentum_angular[1], truth.momentum_angular[2]);
+    rec.t = static_cast<double>(k) * c.period;
     rec.ref = a.out.ref;
     rec.theta_true = {truth.joint_angle[0], truth.joint_angle[1]};
     rec.theta_meas = a.meas.theta;
@@ -98,7 +112,7 @@ ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware:
     }
     // The answer arrives while (lockstep: after) the plant advances and acts
     // from tick k + 1 (the bus).
-    fw.receive(a.cmd);
+    if (delivered) fw.receive(a.cmd);
   }
   fig.finish(r);
   return r;
@@ -121,14 +135,34 @@ AttitudeMeasurement attitudeMeasurement(const firmware::Attitude& att, std::int6
   return m;
 }
 
+void noteAttitude(ControllerState& s, const firmware::Attitude& att) noexcept {
+  if (att.seq < 0) return;
+  const int i = static_cast<int>(att.seq % AttitudeHistory::kSize);
+  s.attitudes.seq[i] = att.seq;
+  s.attitudes.att[i] = attitudeMeasurement(att, att.seq);
+  s.attitudes.newest = std::max(s.attitudes.newest, att.seq);
+}
+
 Answer answerStatus(const ControllerConfig& c, ControllerState& s, const firmware::Status& st,
                     const firmware::Attitude& att, std::int64_t& next_seq) noexcept {
   Answer a;
   a.meas.t = static_cast<double>(st.seq) * c.period;
   a.meas.theta = {st.angle[0], st.angle[1]};
   a.meas.dtheta = {st.rate[0], st.rate[1]};
-  a.meas.att = attitudeMeasurement(att, st.seq);
+  noteAttitude(s, att);
+  // The attitude of the status's own tick (a late status finds it in the history).
+  const int slot = static_cast<int>((st.seq >= 0 ? st.seq : 0) % AttitudeHistory::kSize);
+  a.meas.att = s.attitudes.seq[slot] == st.seq ? s.attitudes.att[slot] : attitudeMeasurement(att, st.seq);
+  a.flags = observeStatus(c.monitor, s.monitor, c.period, st.seq, st.angle, st.rate, s.attitudes.newest,
+                          att.star_outage != 0);
+  const Vec2 integral = s.integral;
   a.out = update(c, s, a.meas);
+  if (a.flags.stale) {  // hold the last command from a fresh status (safe torque after hold_ticks); no integration
+    s.integral = integral;
+    for (int i = 0; i < 2; ++i) a.out.tau(i) = a.flags.safe ? 0.0 : s.monitor.hold_tau[i];
+  } else {
+    for (int i = 0; i < 2; ++i) s.monitor.hold_tau[i] = a.out.tau(i);
+  }
   a.cmd.utime = st.utime;
   a.cmd.seq = std::max(next_seq, st.last_command_seq + 1);
   next_seq = a.cmd.seq + 1;

@@ -62,6 +62,18 @@ std::vector<Key<ControllerConfig>> keys() {
   v.push_back(K::number("estimator.k_i", "1/s^2",
                         "attitude estimator gyro-bias integral gain (error poles: s^2 + k_p s + k_i)",
                         [](auto& c) -> auto& { return c.estimator.k_i; }, atLeast(0)));
+  v.push_back(K::integer("monitor.stale_ticks", "ticks",
+                         "a status this many ticks older than the newest attitude message is stale: the last command is held",
+                         [](auto& c) -> auto& { return c.monitor.stale_ticks; }, atLeast(1)));
+  v.push_back(K::integer("monitor.hold_ticks", "ticks", "stale statuses in a row beyond this: safe (zero) torque",
+                         [](auto& c) -> auto& { return c.monitor.hold_ticks; }, atLeast(0)));
+  v.push_back(K::integer("monitor.stuck_window", "-",
+                         "consecutive statuses over which each axis's encoder motion is compared with its integrated rate",
+                         [](auto& c) -> auto& { return c.monitor.stuck_window; }, atLeast(2)));
+  v.push_back(K::number("monitor.stuck_tol", "rad",
+                        "encoder motion and integrated rate differing by more than this over a window: encoder suspect, "
+                        "the axis runs on rate feedback only",
+                        [](auto& c) -> auto& { return c.monitor.stuck_tol; }, greater(0)));
   embed(v, "profile.", pointing::profileKeys().keys, [](auto& c) -> auto& { return c.profile; });
   embed(v, "azimuth.", gainKeys(), [](auto& c) -> auto& { return c.axis[0]; });
   embed(v, "elevation.", gainKeys(), [](auto& c) -> auto& { return c.axis[1]; });

@@ -30,8 +30,10 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
     // and would overshoot into a limit cycle, so the closing rate is capped
     // there. Below |e| = 2 a (kd/kp)^2 this is the plain PD, bit for bit.
     bool approach = false;
-    double tau_pd = g.kp * e + g.kd * (out.ref.dq(i) - w);
-    if (c.approach_margin > 0.0 && g.inertia > 0.0 && g.kd > 0.0) {
+    // A suspect encoder (fault_monitor.hpp): no position feedback on this axis, only the rate's.
+    const bool suspect = s.monitor.suspect[i];
+    double tau_pd = (suspect ? 0.0 : g.kp * e) + g.kd * (out.ref.dq(i) - w);
+    if (!suspect && c.approach_margin > 0.0 && g.inertia > 0.0 && g.kd > 0.0) {
       const double v_max = std::sqrt(2.0 * c.approach_margin * g.torque_limit / g.inertia * std::fabs(e));
       if (g.kp * std::fabs(e) > g.kd * v_max) {
         approach = true;
@@ -41,7 +43,7 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
     const double tau_u = g.inertia * out.ref.ddq(i) + tau_pd + s.integral(i);
     const double tau = std::clamp(tau_u, -g.torque_limit, g.torque_limit);
     const bool sat = tau != tau_u;
-    double dI = approach ? 0.0 : Ts * g.ki * e;  // integrate in the linear region only
+    double dI = approach || suspect ? 0.0 : Ts * g.ki * e;  // integrate in the linear region only
     switch (c.anti_windup) {
       case AntiWindup::None: break;
       case AntiWindup::Clamping:

@@ -69,6 +69,7 @@ class StatusHandler {
       return;
     }
     firmware::copyFields<firmware::AttitudeFields>(attitude_, m);
+    noteAttitude(state_, attitude_);  // a late status finds the attitude of its tick (fault_monitor.hpp)
   }
 
   void onStatus(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
@@ -101,7 +102,7 @@ class StatusHandler {
     faults_seen_ |= st.faults;
     if (out.star_outage) ++outage_statuses_;
     if (out.ref.segment == Segment::Track) max_track_error_ = std::max(max_track_error_, out.error.cwiseAbs().maxCoeff());
-    if (csv_) log(st, meas, out);
+    if (csv_) log(st, meas, out, a.flags);
   }
 
   static void header(std::FILE* f) {
@@ -110,7 +111,7 @@ class StatusHandler {
                  "ref_ddel[rad/s^2],meas_az[rad],meas_el[rad],rate_az[rad/s],rate_el[rad/s],err_az[rad],"
                  "err_el[rad],tau_az[N m],tau_el[N m],tau_unsat_az[N m],tau_unsat_el[N m],faults[-],prof_az[rad],"
                  "prof_el[rad],est_qw[-],est_qx[-],est_qy[-],est_qz[-],est_wx[rad/s],est_wy[rad/s],est_wz[rad/s],"
-                 "star_outage[-],attitude_paired[-]\n");
+                 "star_outage[-],attitude_paired[-],stale[-],safe[-],suspect_az[-],suspect_el[-]\n");
   }
 
   long long answered() const { return answered_; }
@@ -122,17 +123,19 @@ class StatusHandler {
   double maxTrackError() const { return max_track_error_; }
   long long unpaired() const { return unpaired_; }
   long long outageStatuses() const { return outage_statuses_; }
+  const MonitorState& monitor() const { return state_.monitor; }
 
  private:
-  void log(const gimbal_status_t& st, const Measurement& m, const ControlOutput& o) {
+  void log(const gimbal_status_t& st, const Measurement& m, const ControlOutput& o, const MonitorFlags& f) {
     const ProfileSample& r = o.ref;
     std::fprintf(csv_, "%.6f,%lld,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
-                 "%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d\n",
+                 "%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d,%d,%d,%d,%d\n",
                  m.t, static_cast<long long>(st.seq), describe(r.segment), r.q(0), r.q(1), r.dq(0), r.dq(1), r.ddq(0),
                  r.ddq(1), m.theta(0), m.theta(1), m.dtheta(0), m.dtheta(1), o.error(0), o.error(1), o.tau(0),
                  o.tau(1), o.tau_unsat(0), o.tau_unsat(1), st.faults, o.profile.q(0), o.profile.q(1),
                  o.q_WB_est.w(), o.q_WB_est.x(), o.q_WB_est.y(), o.q_WB_est.z(), o.omega_B_est(0), o.omega_B_est(1),
-                 o.omega_B_est(2), o.star_outage ? 1 : 0, attitude_.seq == st.seq ? 1 : 0);
+                 o.omega_B_est(2), o.star_outage ? 1 : 0, attitude_.seq == st.seq ? 1 : 0, f.stale ? 1 : 0,
+                 f.safe ? 1 : 0, f.encoder_suspect[0] ? 1 : 0, f.encoder_suspect[1] ? 1 : 0);
   }
 
   const ControllerConfig& c_;
@@ -247,6 +250,10 @@ int run(int argc, char** argv) {
                "%lld statuses without their attitude (gyro held), %lld in a star tracker outage\n",
                h.answered(), h.lastTime(), h.undecodable(), h.publishErrors(), h.plantRestarts(), h.maxTrackError(),
                h.faultsSeen(), h.unpaired(), h.outageStatuses());
+  const MonitorState& mon = h.monitor();
+  std::fprintf(stderr, "pointing_controller: fault monitor: %lld stale statuses (%lld with safe torque), %lld statuses "
+               "missing, encoder suspect %lld times on azimuth, %lld on elevation\n",
+               mon.stale_statuses, mon.safe_statuses, mon.missing_statuses, mon.suspect_onsets[0], mon.suspect_onsets[1]);
   return code;
 }
 

@@ -51,6 +51,7 @@ struct Options {
   std::vector<double> safe_torque{0.0, 0.0};
   std::string profile;
   double stats_period = 1.0;
+  std::string faults;  ///< fault schedule file (--faults), "" = none
 };
 
 /// A command as it crosses from the communication thread to the loop.
@@ -62,6 +63,7 @@ struct Inbound {
 /// What the loop hands back each tick.
 struct Outbound {
   Attitude attitude;
+  bool has_status = true;  ///< false: a scheduled status drop or delay left none this tick
   Status status;
   bool has_truth = false;
   Truth truth;
@@ -85,6 +87,8 @@ struct Run {
   std::vector<std::string> rt_warnings;
   double wall_seconds = 0.0;
   long long lockstep_timeouts = 0;
+  const FaultSchedule* faults = nullptr;  ///< --faults, null = none
+  double worst_tick_us = 0.0;  ///< [us] the sub-step cap's bound on a tick (tick_budget.hpp), measured at start
 };
 
 /// Ticks to run: --duration / T, or -1 (until stopped).

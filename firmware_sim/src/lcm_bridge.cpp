@@ -80,6 +80,7 @@ void LcmBridge::publishStats(std::int64_t utime, const LoopStats& st, bool realt
   o.compute_p99 = st.compute.quantile(0.99);
   o.compute_max = st.compute.max();
   o.overruns = st.overruns.load();
+  o.late_ticks = st.late_ticks.load();
   o.roundtrip_p50 = roundtrip.quantile(0.5);
   o.roundtrip_p99 = roundtrip.quantile(0.99);
   o.roundtrip_p999 = roundtrip.quantile(0.999);

@@ -18,8 +18,9 @@ namespace {
 
 constexpr std::int64_t kRepublishNs = 200000000;  ///< status 0 again every 200 ms until answered
 
-/// Waits for the command answering status k (for status 0: re-publishes it
-/// until a controller answers, up to the start timeout). True when answered.
+/// Waits for the command answering status k, the one published this tick
+/// (for status 0: re-publishes it until a controller answers, up to the
+/// start timeout). True when answered.
 template <class V>
 bool awaitAnswer(Run& r, Firmware<V>& fw, std::int64_t k) {
   const bool first = k == 0;
@@ -49,7 +50,7 @@ bool awaitAnswer(Run& r, Firmware<V>& fw, std::int64_t k) {
 
 template <class V>
 int run(Run& r) {
-  Firmware<V> fw(r.scene, r.c, r.profile);
+  Firmware<V> fw(r.scene, r.c, r.profile, r.faults);
   const std::int64_t total = totalTicks(r.o, r.c);
   const std::int64_t wall0 = nowNs();
   std::int32_t extra = 0;
@@ -62,7 +63,7 @@ int run(Run& r) {
     fw.sample(utime, want_truth, extra);
     extra = 0;
     r.bridge.publish(fw.attitude());  // before the status, so a controller has it when the status comes
-    r.bridge.publish(fw.status());
+    if (fw.statusDelivered()) r.bridge.publish(fw.status());
     if (want_truth) {
       r.bridge.publish(fw.truth());
       r.csv.write(fw.truth());
@@ -75,9 +76,11 @@ int run(Run& r) {
       next_stats = nowNs() + std::llround(r.o.stats_period * 1e9);
     }
     if (total >= 0 && k + 1 >= total) break;  // the last status needs no answer
+    // A status dropped or still held by the fault schedule: nothing to answer, the next tick follows.
+    if (!fw.statusDelivered()) continue;
 
-    if (!awaitAnswer(r, fw, k) && !g_stop.load()) {
-      if (k == 0) {
+    if (!awaitAnswer(r, fw, fw.status().seq) && !g_stop.load()) {
+      if (fw.status().seq == 0) {
         std::fprintf(stderr,
                      "firmware_sim: lockstep: no command answering status 0 arrived within --start-timeout %g s "
                      "on channel %s; is the controller running with the same --lcm-url and --channel-prefix?\n",

@@ -12,6 +12,11 @@ namespace gimbalsim::firmware {
 
 struct LoopStats {
   Histogram period{10000}, lateness{10000}, compute{10000};  // [us], 1 us bins to 10 ms
+  /// Real time: ticks run after their deadline had passed (catching up with
+  /// wall-clock time after an overrun), and by how much, in units of 10 us
+  /// (10 us bins to 1 s, exact max): add(late_us / 10), quantile() * 10.
+  Histogram late{100000};
+  std::atomic<std::int64_t> late_ticks{0};
   std::atomic<std::int64_t> ticks{0}, overruns{0}, substeps{0}, dropped_out{0};
   std::atomic<int> substeps_max{0};
 

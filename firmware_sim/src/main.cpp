@@ -20,9 +20,11 @@
 #include "gimbalsim/channels.hpp"
 #include "gimbalsim/dynamics/scene.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
+#include "gimbalsim/firmware/fault_schedule_io.hpp"
 #include "lcm_bridge.hpp"
 #include "gimbalsim/pointing/profile_keys.hpp"
 #include "realtime.hpp"
+#include "tick_budget.hpp"
 #include "truth_csv.hpp"
 
 namespace gimbalsim::firmware {
@@ -71,6 +73,7 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--profile", o.profile, "file whose profile: section (a pointing_controller config) defines the pointing error");
   app.add_option("--stats-period", o.stats_period, "loop statistics publication period [s]")
       ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--faults", o.faults, "fault schedule file (YAML, README \"Fault schedule\"), e.g. tools/faults/demo.yaml");
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
@@ -112,6 +115,19 @@ int mainImpl(int argc, char** argv) {
       return refuse("--profile " + o.profile + " refused");
     }
   }
+  FaultSchedule faults;
+  if (!o.faults.empty()) {
+    try {
+      faults = loadFaultSchedule(o.faults);
+    } catch (const SceneError& e) {
+      for (const std::string& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
+      return refuse("--faults " + o.faults + " refused");
+    }
+    if (const auto problems = checkFaultsAgainstScene(faults, scene, o.faults); !problems.empty()) {
+      for (const std::string& p : problems) std::fprintf(stderr, "error: %s\n", p.c_str());
+      return refuse("--faults " + o.faults + " refused for scene " + o.scene);
+    }
+  }
   TruthCsv csv;
   if (!o.truth_csv.empty() && !csv.open(o.truth_csv)) {
     return refuse("--truth-csv " + o.truth_csv + ": cannot open for writing (" + std::strerror(errno) + ")");
@@ -138,6 +154,15 @@ int mainImpl(int argc, char** argv) {
                m.integrator.step, o.lockstep ? "lockstep" : "real time", (o.prefix + "GIMBAL_").c_str());
 
   Run r{scene, o, c, profile.get(), lcm, bridge, in, csv, {}, false, {}, 0.0, 0};
+  const TickBudget budget = measureTickBudget(scene, c);
+  r.worst_tick_us = budget.worst_tick_us;
+  std::fprintf(stderr, "firmware_sim: %s\n", describeTickBudget(budget).c_str());
+  if (const std::string w = tickBudgetWarning(budget); !w.empty()) std::fprintf(stderr, "firmware_sim: %s\n", w.c_str());
+  if (!faults.empty()) {
+    r.faults = &faults;
+    std::fprintf(stderr, "firmware_sim: fault schedule %s: %zu faults, seed %llu\n", o.faults.c_str(),
+                 faults.faults.size(), static_cast<unsigned long long>(faults.seed));
+  }
   const int rc = o.lockstep ? runLockstep(r) : runRealtime(r);
   if (!csv.close()) {
     std::fprintf(stderr, "firmware_sim: error: writing %s failed\n", o.truth_csv.c_str());

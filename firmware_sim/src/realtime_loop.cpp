@@ -3,6 +3,14 @@
 // work; the two hand data over through lock-free SPSC queues (no mutex, no
 // allocation, no network on the loop thread) and an eventfd to wake the
 // communication thread. README "Modes".
+//
+// Wall-clock policy: tick k belongs to deadline t0 + k T and simulated time
+// k T, always. A tick whose deadline has already passed when it starts (the
+// previous one overran) runs at once, without sleeping and without taking
+// new commands (the motor drivers hold the last accepted one), so the plant
+// catches up with wall-clock time and every period still gets its status
+// and truth; such ticks are counted as late, with how late. README
+// "Wall-clock time".
 #include <poll.h>
 #include <sys/eventfd.h>
 #include <unistd.h>
@@ -35,7 +43,7 @@ void wake(int efd) {
 
 template <class V>
 int run(Run& r) {
-  Firmware<V> fw(r.scene, r.c, r.profile);
+  Firmware<V> fw(r.scene, r.c, r.profile, r.faults);
   SpscRing<Outbound> out(4096);
   const int efd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (efd < 0) {
@@ -54,19 +62,28 @@ int run(Run& r) {
     setup_done.store(true, std::memory_order_release);
     // Start on a whole period boundary a little ahead, so set-up does not count as lateness.
     std::int64_t next = (nowNs() / period_ns + 2) * period_ns;
+    const std::int64_t realtime_offset = nowNs(CLOCK_REALTIME) - nowNs();  // stamps: the deadline on the wall clock
     std::int64_t prev_wake = -1;
     for (std::int64_t k = 0; (total < 0 || k < total) && !g_stop.load(std::memory_order_relaxed); ++k) {
-      const std::int64_t wake_ns = sleepUntil(next, spin_ns);
-      r.stats.lateness.add(static_cast<double>(wake_ns - next) * 1e-3);
-      if (prev_wake >= 0) r.stats.period.add(static_cast<double>(wake_ns - prev_wake) * 1e-3);
-      prev_wake = wake_ns;
-
-      drainInbound(fw, r.in);
-      const std::int64_t utime = nowNs(CLOCK_REALTIME) / 1000;
+      const std::int64_t start_ns = nowNs();
+      const bool late = start_ns > next;  // the previous tick overran this deadline: catch up
+      std::int64_t wake_ns = start_ns;
+      if (late) {
+        r.stats.late.add(static_cast<double>(start_ns - next) * 1e-4);  // [10 us]
+        r.stats.late_ticks.fetch_add(1, std::memory_order_relaxed);
+      } else {
+        wake_ns = sleepUntil(next, spin_ns);
+        r.stats.lateness.add(static_cast<double>(wake_ns - next) * 1e-3);
+        if (prev_wake >= 0) r.stats.period.add(static_cast<double>(wake_ns - prev_wake) * 1e-3);
+        prev_wake = wake_ns;
+        drainInbound(fw, r.in);  // catch-up ticks hold the last accepted command
+      }
+      const std::int64_t utime = (next + realtime_offset) / 1000;
       const bool want_truth = k % truth_every == 0;
       fw.sample(utime, want_truth);
       Outbound ob;
       ob.attitude = fw.attitude();
+      ob.has_status = fw.statusDelivered();
       ob.status = fw.status();
       ob.has_truth = want_truth;
       if (want_truth) ob.truth = fw.truth();
@@ -78,11 +95,7 @@ int run(Run& r) {
       r.stats.compute.add(static_cast<double>(end - wake_ns) * 1e-3);
       r.stats.addTick(k + 1, fw.lastSubsteps());
       next += period_ns;
-      if (end > next) {  // the work ran past the next deadline: skip the missed ones
-        const std::int64_t missed = (end - next) / period_ns + 1;
-        r.stats.overruns.fetch_add(missed, std::memory_order_relaxed);
-        next += missed * period_ns;
-      }
+      if (end > next) r.stats.overruns.fetch_add(1, std::memory_order_relaxed);  // the next tick starts late
     }
     loop_done.store(true);
     wake(efd);
@@ -98,7 +111,7 @@ int run(Run& r) {
     Outbound ob;
     while (out.pop(ob)) {
       r.bridge.publish(ob.attitude);  // before the status, so a controller has it when the status comes
-      r.bridge.publish(ob.status);
+      if (ob.has_status) r.bridge.publish(ob.status);
       if (ob.has_truth) {
         r.bridge.publish(ob.truth);
         r.csv.write(ob.truth);

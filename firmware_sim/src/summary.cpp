@@ -23,15 +23,25 @@ void printExitSummary(const Run& r, const Outcome& out) {
     std::printf("  tick period [us]:      p50 %.0f  p99 %.0f  p99.9 %.0f  max %.1f\n", st.period.quantile(0.5),
                 st.period.quantile(0.99), st.period.quantile(0.999), st.period.max());
   }
-  std::printf("  compute per tick [us]: p50 %.0f  p99 %.0f  max %.1f   (1 us bins)\n", st.compute.quantile(0.5),
-              st.compute.quantile(0.99), st.compute.max());
+  std::printf("  compute per tick [us]: p50 %.0f  p99 %.0f  max %.1f   (1 us bins); worst-case bound %.0f (max %.1f %% of it)\n",
+              st.compute.quantile(0.5), st.compute.quantile(0.99), st.compute.max(), r.worst_tick_us,
+              r.worst_tick_us > 0 ? 100.0 * st.compute.max() / r.worst_tick_us : 0.0);
+  if (!r.o.lockstep) {
+    std::printf("  late ticks %lld (run at once after an overrun, holding the last command, to keep wall-clock time)",
+                static_cast<long long>(st.late_ticks.load()));
+    if (st.late.count() > 0) {
+      std::printf(": late by p50 %.0f  p99 %.0f  max %.0f us (10 us bins)", 10.0 * st.late.quantile(0.5),
+                  10.0 * st.late.quantile(0.99), 10.0 * st.late.max());
+    }
+    std::printf("\n");
+  }
   const Histogram& rt = r.bridge.roundtrip;
   if (rt.count() > 0) {
     std::printf("  status -> command round trip [us]: p50 %.0f  p99 %.0f  p99.9 %.0f  max %.1f  (%llu answers)\n",
                 rt.quantile(0.5), rt.quantile(0.99), rt.quantile(0.999), rt.max(),
                 static_cast<unsigned long long>(rt.count()));
   }
-  std::printf("  overruns %lld; RK4 sub-steps per tick: mean %.2f, max %d\n", static_cast<long long>(st.overruns.load()),
+  std::printf("  overruns %lld (ticks whose work ended after the next deadline); RK4 sub-steps per tick: mean %.2f, max %d\n", static_cast<long long>(st.overruns.load()),
               st.substepsMean(), st.substeps_max.load());
   std::printf("  commands: received %lld, rejected %lld, missed %lld; watchdog trips %lld; saturated ticks %lld\n",
               static_cast<long long>(n.received), static_cast<long long>(n.rejected), static_cast<long long>(n.missed),
@@ -42,6 +52,12 @@ void printExitSummary(const Run& r, const Outcome& out) {
     }
   }
   if (r.o.lockstep) std::printf("  lockstep timeouts %lld\n", r.lockstep_timeouts);
+  if (r.faults != nullptr) {
+    std::printf("  scheduled faults: active in %lld ticks; commands dropped %lld, delayed %lld; statuses dropped %lld, delayed %lld\n",
+                static_cast<long long>(n.fault_ticks), static_cast<long long>(n.fault_commands_dropped),
+                static_cast<long long>(n.fault_commands_delayed), static_cast<long long>(n.fault_status_dropped),
+                static_cast<long long>(n.fault_status_delayed));
+  }
   if (st.dropped_out.load() > 0 || r.bridge.dropped_in > 0 || r.bridge.publish_errors > 0) {
     std::printf("  lost: %lld outbound (ring full), %lld inbound (ring full), %lld publish errors\n",
                 static_cast<long long>(st.dropped_out.load()), r.bridge.dropped_in, r.bridge.publish_errors);

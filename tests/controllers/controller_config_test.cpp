@@ -98,7 +98,7 @@ TEST(ControllerConfig, EveryKeyIsDocumented) {
     EXPECT_FALSE(k.meaning.empty()) << k.key;
     EXPECT_FALSE(k.type.empty()) << k.key;
   }
-  EXPECT_EQ(controllerKeys().size(), 14u + 12u + 8u);  // + pointing.* 3, gimbal.* 3, estimator.* 2
+  EXPECT_EQ(controllerKeys().size(), 14u + 12u + 8u + 4u);  // + pointing.* 3, gimbal.* 3, estimator.* 2; monitor.* 4
 }
 
 TEST(ControllerConfig, PointingKeysLoadAndAreChecked) {

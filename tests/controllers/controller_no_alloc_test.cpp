@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "alloc_guard.hpp"
+#include "gimbalsim/controllers/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
 
 namespace gimbalsim::controllers {
@@ -59,6 +60,43 @@ TEST(ControllerNoAlloc, UpdateAllocatesNothingInAnySegmentOrMode) {
       EXPECT_EQ(s.star_outage_periods, 1001);
     }
   }
+}
+
+TEST(ControllerNoAlloc, AnswerStatusWithItsFaultMonitorAllocatesNothing) {
+  // The controller's side of a tick as the bench runs it (answerStatus):
+  // stale statuses (held, then safe), a stuck azimuth encoder (suspect: rate
+  // feedback only), attitudes noted without a status.
+  static_assert(noexcept(answerStatus(std::declval<const ControllerConfig&>(), std::declval<ControllerState&>(),
+                                      std::declval<const firmware::Status&>(),
+                                      std::declval<const firmware::Attitude&>(), std::declval<std::int64_t&>())));
+  const ControllerConfig c = loadControllerConfig(std::string(GIMBALSIM_CONTROLLER_CONFIG_DIR) + "/default.yaml");
+  ControllerState s;
+  std::int64_t next_seq = 0;
+  long long stale = 0, safe = 0, suspect = 0;
+  const long long before = test::g_allocations.load();
+  test::setEigenMallocAllowed(false);
+  for (int k = 0; k < 4000; ++k) {
+    firmware::Attitude att;
+    att.seq = k;
+    att.gyro_rate[2] = 1e-3;
+    noteAttitude(s, att);
+    if (k >= 1000 && k < 1300 && k % 2 == 0) continue;  // no status this tick
+    firmware::Status st;
+    st.seq = k >= 1000 && k < 1300 ? k - 60 : k;  // 60 ticks late for 0.3 s
+    const double w = 0.1;                         // [rad/s] both axes turn
+    st.rate[0] = st.rate[1] = w;
+    st.angle[0] = k >= 2000 && k < 2500 ? w * 2.0 : w * st.seq * c.period;  // stuck over 2..2.5 s
+    st.angle[1] = w * st.seq * c.period;
+    const Answer a = answerStatus(c, s, st, att, next_seq);
+    stale += a.flags.stale;
+    safe += a.flags.safe;
+    suspect += a.flags.encoder_suspect[0];
+  }
+  test::setEigenMallocAllowed(true);
+  EXPECT_EQ(test::g_allocations.load() - before, 0);
+  EXPECT_GT(stale, 100);
+  EXPECT_EQ(safe, 0);
+  EXPECT_GT(suspect, 400);
 }
 
 }  // namespace

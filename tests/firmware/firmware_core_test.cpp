@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "alloc_guard.hpp"
+#include "firmware_test_util.hpp"
 #include "gimbalsim/firmware/firmware.hpp"
 #include "gimbalsim/firmware/histogram.hpp"
 #include "gimbalsim/firmware/spsc_ring.hpp"
@@ -20,15 +21,9 @@ namespace {
 using test::g_allocations;
 using test::setEigenMallocAllowed;
 
-Command torqueCommand(std::int64_t seq, std::int64_t status_seq, double tau1, double tau2) {
-  Command c;
-  c.seq = seq;
-  c.status_seq = status_seq;
-  c.mode = kModeTorque;
-  c.torque[0] = tau1;
-  c.torque[1] = tau2;
-  return c;
-}
+using test_helpers::Bench;
+using test_helpers::benchScene;
+using test_helpers::torqueCommand;
 
 bool hasFault(const Status& s, Fault f) { return (s.faults & f) != 0; }
 
@@ -37,12 +32,6 @@ bool sameState(const State<V>& a, const State<V>& b) {
   return a.t == b.t && a.q == b.q && a.v == b.v;
 }
 
-// Fixed-base ideal gimbal: the cheapest plant, for the behaviour tests.
-Scene benchScene(std::vector<std::string> sets = {}) {
-  sets.insert(sets.begin(), "structure.base=fixed");
-  return test::scene("paper_ideal", sets);
-}
-using Bench = FixedIdeal;
 
 TEST(FirmwareConfig, RefusesAPeriodThatIsNotAMultipleOfTheStep) {
   const Scene sc = benchScene();  // sim.step = 1 ms

@@ -14,9 +14,11 @@
 #include <limits>
 #include <string>
 
+#include "gimbalsim/controllers/fault_monitor.hpp"
 #include "gimbalsim/controllers/pid.hpp"
 #include "gimbalsim/dynamics/run_spec.hpp"
 #include "gimbalsim/dynamics/step_result.hpp"
+#include "gimbalsim/firmware/fault_schedule.hpp"
 #include "gimbalsim/firmware/messages.hpp"
 
 namespace gimbalsim::controllers {
@@ -26,6 +28,7 @@ struct Answer {
   Measurement meas;      ///< what update() saw
   ControlOutput out;     ///< what it computed
   firmware::Command cmd; ///< the command answering the status
+  MonitorFlags flags;    ///< what the fault monitor saw, and whether the command is held or safe
 };
 
 /// The controller's side of a tick, the same for pointing_controller (over
@@ -33,12 +36,19 @@ struct Answer {
 /// st.seq * period, encoder angles, rates), update(), and the torque command
 /// answering it (status_seq = st.seq; seq strictly increasing and above the
 /// last seq the firmware accepted, even after a controller restart; utime =
-/// the status's). att is the newest attitude message received: used when
+/// the status's). Before the law the fault monitor (fault_monitor.hpp) looks
+/// at the status against att.seq: a stale status gets the held command (or
+/// the safe one), a suspect encoder rate feedback only on its axis.
+/// att is the newest attitude message received: used when
 /// att.seq == st.seq (the same tick); otherwise the gyro sample counts as
 /// missing (the previous rate is held, ControllerState::gyro_missing) and no
 /// star sample is used. next_seq is the caller's counter (start at 0). No allocation.
 Answer answerStatus(const ControllerConfig& c, ControllerState& s, const firmware::Status& st,
                     const firmware::Attitude& att, std::int64_t& next_seq) noexcept;
+
+/// Keeps an attitude message (every one received, also while no status
+/// comes) in s.attitudes; answerStatus() notes the one it is given too.
+void noteAttitude(ControllerState& s, const firmware::Attitude& att) noexcept;
 
 /// The controller's view of an attitude message of tick seq (see answerStatus).
 AttitudeMeasurement attitudeMeasurement(const firmware::Attitude& att, std::int64_t seq) noexcept;
@@ -58,11 +68,18 @@ struct TickRecord {
   Quat q_WB_true = Quat::Identity();///< true base attitude
   double attitude_error = 0.0;     ///< [rad] angle between the estimated and true base attitudes
   bool star_outage = false;        ///< the star tracker was in an outage (the estimate coasts)
+  bool answered = true;            ///< false: no status delivered this tick (fault schedule), no command sent
+  MonitorFlags flags;              ///< the controller's fault monitor for this status
+  std::int32_t injected_faults = 0;///< the faults scheduled in the plant this tick (truth)
+  Vec3 momentum_linear = Vec3::Zero();   ///< [N s] truth, inertial
+  Vec3 momentum_angular = Vec3::Zero();  ///< [N m s] truth, about the inertial origin
 };
 
 struct ClosedLoopOptions {
   double duration = 10.0;          ///< [s]
   double settle_tol = 1.0e-3;      ///< [rad] band on max |q_ref - theta| per axis for "settled"
+  /// Faults the plant injects (null: none), as firmware_sim --faults; must outlive the run.
+  const firmware::FaultSchedule* faults = nullptr;
 };
 
 /// Figures of one closed-loop run. Joint errors use the true angles.

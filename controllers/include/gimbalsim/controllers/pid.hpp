@@ -32,6 +32,7 @@
 #include <cstdint>
 
 #include "gimbalsim/controllers/attitude_estimator.hpp"
+#include "gimbalsim/controllers/fault_monitor.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::controllers {
@@ -82,6 +83,7 @@ struct ControllerConfig {
   Vec3 fixed_direction = Vec3::UnitX();  ///< inertial target direction with target = fixed (any length > 0)
   GimbalAxes gimbal;
   AttitudeEstimatorParams estimator;     ///< k_p, k_i are keys; the rest its defaults
+  MonitorConfig monitor;                 ///< what counts as a stale status or a suspect encoder (fault_monitor.hpp)
 };
 
 /// The base attitude sensors of the same tick (firmware::Attitude, as the controller uses it).
@@ -92,6 +94,22 @@ struct AttitudeMeasurement {
   double star_time = -1.0;         ///< its sample time t_s [s]
   Quat star_q = Quat::Identity();  ///< its attitude, base -> inertial
   bool star_outage = false;        ///< the star tracker reports an outage
+};
+
+/// The attitude messages of the last kSize ticks by seq, so that a late
+/// status (fault_monitor.hpp) is paired with the gyro sample of its own tick.
+struct AttitudeHistory {
+  static constexpr int kSize = 64;
+  std::array<std::int64_t, kSize> seq = filled(-1);  ///< seq held in each slot (-1: none)
+  std::array<AttitudeMeasurement, kSize> att{};
+  std::int64_t newest = -1;                          ///< newest seq noted
+
+ private:
+  static std::array<std::int64_t, kSize> filled(std::int64_t v) {
+    std::array<std::int64_t, kSize> a;
+    a.fill(v);
+    return a;
+  }
 };
 
 /// What the controller sees each period.
@@ -115,6 +133,8 @@ struct ControllerState {
   bool ref_primed = false;         ///< ref_prev / gyro_prev / estimator.t hold a period
   long long gyro_missing = 0;      ///< periods with the gyro rate held
   long long star_outage_periods = 0; ///< periods with the star tracker in outage
+  MonitorState monitor;            ///< fault detection (fault_monitor.hpp); monitor.suspect[i]: axis i on rate feedback only
+  AttitudeHistory attitudes;       ///< recent attitude messages (noteAttitude, closed_loop.hpp)
 };
 
 /// One update's result; tau is the command.

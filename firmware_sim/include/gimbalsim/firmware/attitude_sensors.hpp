@@ -51,13 +51,15 @@ class AttitudeSensors {
   }
 
   /// Measures tick k (t_k = k T) from the true attitude q_true (base ->
-  /// inertial) and rate w_true (base frame [rad/s]) into out.
-  void sample(std::int64_t k, std::int64_t utime, const Quat& q_true, const Vec3& w_true, Attitude& out) noexcept {
+  /// inertial) and rate w_true (base frame [rad/s]) into out. extra_outage:
+  /// an outage from the fault schedule (fault_schedule.hpp) at this tick.
+  void sample(std::int64_t k, std::int64_t utime, const Quat& q_true, const Vec3& w_true, Attitude& out,
+              bool extra_outage = false) noexcept {
     const double t = static_cast<double>(k) * T_;
     out.utime = utime;
     out.seq = k;
     sampleGyro(t, w_true, out);
-    const bool outage = inOutage(t);
+    const bool outage = inOutage(t) || extra_outage;
     out.star_outage = outage ? 1 : 0;
     out.star_valid = 0;
     if (k >= next_tick_) {

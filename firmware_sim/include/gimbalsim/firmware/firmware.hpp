@@ -17,6 +17,14 @@
 //      sub-stepping T / sim.step RK4 steps. A step that fails (non-ok
 //      StepStatus) latches PLANT_FAULT: the state stays the last good one and
 //      is never stepped again.
+// Scheduled faults (fault_schedule.hpp, optional) enter at tick k's start:
+// bearing wear and friction rise change the firmware's own copy of the Model
+// (contact parameters only, between ticks: the step still sees a const Model
+// for its whole duration); commands lost or held on the bus in receive(),
+// released at intake; torque limit and motor failure at saturation; encoder
+// faults in the status; status delay or drop at delivery (status() is the
+// status delivered this tick, statusDelivered() whether there is one); star
+// tracker outage and gyro bias jump in the attitude message.
 // tick(), receive() and receiveUndecodable() are noexcept and allocation-free.
 #pragma once
 
@@ -24,11 +32,13 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/dynamics/observables.hpp"
 #include "gimbalsim/dynamics/run_spec.hpp"
 #include "gimbalsim/firmware/attitude_sensors.hpp"
+#include "gimbalsim/firmware/fault_schedule.hpp"
 #include "gimbalsim/firmware/messages.hpp"
 #include "gimbalsim/firmware/sensor_noise.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
@@ -66,6 +76,10 @@ struct Counters {
   std::int64_t saturated_ticks = 0;  ///< ticks with a clipped torque
   std::int64_t substeps = 0;         ///< RK4 evaluations, all ticks
   int max_substeps_in_tick = 0;
+  // Scheduled faults (fault_schedule.hpp) on the bus and the status channel.
+  std::int64_t fault_commands_dropped = 0, fault_commands_delayed = 0;
+  std::int64_t fault_status_dropped = 0, fault_status_delayed = 0;
+  std::int64_t fault_ticks = 0;      ///< ticks with any scheduled fault active
 };
 
 /// Result of checkConfig(): which setting is wrong (a code the caller maps to
@@ -96,11 +110,18 @@ inline double quantize(double x, double resolution) noexcept {
 template <class V>
 class Firmware {
  public:
-  /// sc and profile must outlive the Firmware; profile may be null (then the
-  /// target is the boresight at t = 0). c must pass checkConfig().
-  Firmware(const Scene& sc, const Config& c, const pointing::TargetProfile* profile = nullptr)
+  /// sc, profile and faults must outlive the Firmware; profile may be null
+  /// (then the target is the boresight at t = 0), faults too (none). c must
+  /// pass checkConfig(); faults checkFaultsAgainstScene().
+  Firmware(const Scene& sc, const Config& c, const pointing::TargetProfile* profile = nullptr,
+           const FaultSchedule* faults = nullptr)
       : m_(sc.model), run_(sc.run), c_(c), profile_(profile), d_(m_), obs_(m_), s_(initialState<V>(sc.run.initial)),
-        noise_(static_cast<std::uint64_t>(sc.run.sensors.seed)), attitude_sensors_(sc.run.sensors, c.control_period) {
+        noise_(static_cast<std::uint64_t>(sc.run.sensors.seed)), attitude_sensors_(sc.run.sensors, c.control_period),
+        clock_(faults, c.control_period, sc.model.contact.clearance, sc.model.contact.mu) {
+    if (clock_.any()) {  // the fault queues, sized once (the tick never allocates)
+      status_queue_.resize(kMaxFaultDelayTicks + 2);
+      command_queue_.resize(4 * (kMaxFaultDelayTicks + 2));
+    }
     // The caller checked; a bad config leaves steps_per_tick_ at 1.
     steps_per_tick_ = std::max(1, checkConfig(sc, c).steps_per_tick);
     watchdog_ticks_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(c.watchdog_timeout / c.control_period - 1e-9)));
@@ -111,6 +132,7 @@ class Firmware {
   /// Validates a decoded command on arrival. A valid one becomes the pending
   /// command (the newest wins) and acts from the next tick.
   Rejection receive(const Command& cmd) noexcept {
+    if (onFaultyBus(cmd)) return Rejection::None;  // lost or held on the bus (fault schedule)
     ++n_.received;
     const Rejection r = validate(cmd);
     if (r != Rejection::None) {
@@ -143,6 +165,8 @@ class Firmware {
   /// clock starts early.
   void sample(std::int64_t utime, bool want_truth = true, std::int32_t extra_faults = 0) noexcept {
     const std::int64_t k = tick_;
+    const ActiveFaults& af = clock_.at(k);
+    if (clock_.any()) enterFaults(k, af);
     std::int32_t faults = pending_faults_ | extra_faults;
     pending_faults_ = 0;
 
@@ -167,19 +191,26 @@ class Firmware {
     } else if (has_active_ && active_.mode == kModeTorque) {
       tau = Vec2(active_.torque[0], active_.torque[1]);
     }
-    const Vec2 clipped = tau.cwiseMax(-run_.torque_limit).cwiseMin(run_.torque_limit);
+    const Vec2 limit = run_.torque_limit.cwiseMin(Vec2(af.torque_limit[0], af.torque_limit[1]));
+    const Vec2 clipped = tau.cwiseMax(-limit).cwiseMin(limit);
     if (clipped != tau) {
       faults |= kTorqueSaturated;
       ++n_.saturated_ticks;
     }
+    driver_tau_ = clipped;  // what the firmware commands; a failed motor gives none of it
     u_.tau = clipped;
+    for (int j = 0; j < 2; ++j) {
+      if (af.motor_failed[j]) u_.tau(j) = 0.0;
+    }
     if (plant_fault_) faults |= kPlantFault;
 
     // 3. status, attitude and truth at t_k.
     const double t = static_cast<double>(k) * c_.control_period;
-    sampleStatus(k, utime, faults);
-    sampleAttitude(k, utime);
+    sampleStatus(k, utime, faults, af);
+    deliverStatus(k, af);
+    sampleAttitude(k, utime, af);
     if (want_truth) sampleTruth(k, utime, t, faults);
+    truth_.injected_faults = af.bits;
   }
 
   /// Second half of a tick (step 4): the plant over [t_k, t_k+1]; then the
@@ -205,7 +236,14 @@ class Firmware {
     ++tick_;
   }
 
+  /// The status delivered this tick (without faults: the one sampled).
   const Status& status() const noexcept { return status_; }
+  /// False when a scheduled status drop or delay left nothing to deliver this tick.
+  bool statusDelivered() const noexcept { return status_delivered_; }
+  /// The scheduled faults active in the last sample().
+  const ActiveFaults& activeFaults() const noexcept { return clock_.current(); }
+  /// The Model the plant steps (the scene's, with bearing wear and friction rise applied).
+  const Model& model() const noexcept { return m_; }
   const Truth& truth() const noexcept { return truth_; }
   const Attitude& attitude() const noexcept { return attitude_; }
   const Counters& counters() const noexcept { return n_; }
@@ -244,8 +282,8 @@ class Firmware {
     pending_faults_ |= kCommandRejected;
   }
 
-  void sampleStatus(std::int64_t k, std::int64_t utime, std::int32_t faults) noexcept {
-    Status& o = status_;
+  void sampleStatus(std::int64_t k, std::int64_t utime, std::int32_t faults, const ActiveFaults& af) noexcept {
+    Status& o = sampled_;
     o.utime = utime;
     o.seq = k;
     const SensorParams& sp = run_.sensors;
@@ -253,10 +291,22 @@ class Firmware {
       double a = s_.theta(j), w = s_.dtheta(j);
       if (sp.encoder_noise > 0.0) a += sp.encoder_noise * noise_.normal();
       if (sp.rate_noise > 0.0) w += sp.rate_noise * noise_.normal();
-      o.angle[j] = quantize(a, sp.encoder_resolution);
+      o.angle[j] = quantize(a + af.encoder_bias[j] + af.encoder_noise[j], sp.encoder_resolution);
       o.rate[j] = w;
-      o.applied_torque[j] = u_.tau(j);
+      if (af.encoder_stuck[j]) {  // the angle sticks where it was at onset; the rate sensor still works
+        if (!stuck_[j]) stuck_angle_[j] = o.angle[j];
+        o.angle[j] = stuck_angle_[j];
+      }
+      stuck_[j] = af.encoder_stuck[j];
+      if (af.encoder_dropout[j] && k > 0) {  // no new sample: the last one again
+        o.angle[j] = last_angle_[j];
+        o.rate[j] = last_rate_[j];
+      }
+      last_angle_[j] = o.angle[j];
+      last_rate_[j] = o.rate[j];
+      o.applied_torque[j] = driver_tau_(j);
     }
+    o.injected_faults = af.bits;
     o.faults = faults;
     o.last_command_seq = last_accepted_seq_;
     o.commands_received = n_.received;
@@ -265,14 +315,107 @@ class Firmware {
   }
 
   /// The attitude sensors measure the base attitude and rate of s_ (fixed base: identity, zero).
-  void sampleAttitude(std::int64_t k, std::int64_t utime) noexcept {
+  void sampleAttitude(std::int64_t k, std::int64_t utime, const ActiveFaults& af) noexcept {
     Quat q = Quat::Identity();
     Vec3 w = Vec3::Zero();
     if constexpr (V::kFloating) {
       q = Quat(s_.q(3), s_.q(4), s_.q(5), s_.q(6)).normalized();  // as sampleTruth
       w = s_.v.template head<3>();
     }
-    attitude_sensors_.sample(k, utime, q, w, attitude_);
+    attitude_sensors_.sample(k, utime, q, w, attitude_, af.star_outage);
+    for (int i = 0; i < 3; ++i) attitude_.gyro_rate[i] += af.gyro_bias(i);
+  }
+
+  /// Scheduled faults at tick k's start: ramps of the contact parameters,
+  /// then the commands held on the bus that are due.
+  void enterFaults(std::int64_t k, const ActiveFaults& af) noexcept {
+    if (af.bits != 0) ++n_.fault_ticks;
+    if constexpr (V::kClearance) {
+      ContactParams& cp = m_.contact;
+      const bool wear = af.clearance >= 0.0 && af.clearance != cp.clearance;
+      const bool rise = af.mu >= 0.0 && af.mu != cp.mu;
+      if (wear) {  // the journal is what wears: R_j = R_i - c, and K follows R_j (Model::finalize's formula)
+        cp.clearance = af.clearance;
+        cp.journal_radius = cp.bearing_radius - af.clearance;
+        cp.K = cp.stiffness_scale * Model::hertzStiffness(cp, cp.radius_mode);
+      }
+      if (rise) cp.mu = af.mu;
+      if (wear || rise) {
+        d_.k_last_valid = false;  // the cached f(s) belongs to the old parameters
+        // A journal in contact whose bearing receded past it is free now.
+        if (s_.in_contact && !(clearanceGap<V>(m_, s_.q, s_.v).delta > 0.0)) enterContactSide(m_, d_, s_, u_);
+      }
+    }
+    releasing_ = true;  // the due commands go through receive() past the bus
+    while (cmd_count_ > 0 && command_queue_[cmd_head_].due <= k) {
+      receive(command_queue_[cmd_head_].cmd);
+      cmd_head_ = (cmd_head_ + 1) % command_queue_.size();
+      --cmd_count_;
+    }
+    releasing_ = false;
+  }
+
+  /// A command on the bus while a command fault is active: lost (true), held
+  /// for the delay (true) or passed on (false).
+  bool onFaultyBus(const Command& cmd) noexcept {
+    if (!clock_.any() || releasing_) return false;
+    const ActiveFaults& af = clock_.current();
+    if (af.command_drop) {
+      ++n_.fault_commands_dropped;
+      return true;
+    }
+    if (af.command_delay <= 0 && cmd_count_ == 0) return false;
+    if (cmd_count_ == command_queue_.size()) {  // full: the oldest is lost
+      cmd_head_ = (cmd_head_ + 1) % command_queue_.size();
+      --cmd_count_;
+      ++n_.fault_commands_dropped;
+    }
+    // Behind the ones held, in order (a bus is a FIFO), never due before them.
+    std::int64_t due = tick_ + af.command_delay;
+    if (cmd_count_ > 0) due = std::max(due, command_queue_[(cmd_head_ + cmd_count_ - 1) % command_queue_.size()].due);
+    command_queue_[(cmd_head_ + cmd_count_) % command_queue_.size()] = {cmd, due};
+    ++cmd_count_;
+    if (af.command_delay > 0) ++n_.fault_commands_delayed;
+    return true;
+  }
+
+  /// The status of tick k to the channel: at once, after the scheduled
+  /// delay, or not at all (drop). When several are due, the newest is
+  /// delivered and the older ones are lost (a late message is superseded).
+  void deliverStatus(std::int64_t k, const ActiveFaults& af) noexcept {
+    if (!clock_.any()) {
+      status_ = sampled_;
+      status_delivered_ = true;
+      return;
+    }
+    status_delivered_ = false;
+    if (af.status_drop) {
+      ++n_.fault_status_dropped;
+    } else if (af.status_delay == 0 && st_count_ == 0) {
+      status_ = sampled_;
+      status_delivered_ = true;
+      return;
+    } else {
+      if (st_count_ == status_queue_.size()) {
+        st_head_ = (st_head_ + 1) % status_queue_.size();
+        --st_count_;
+        ++n_.fault_status_dropped;
+      }
+      status_queue_[(st_head_ + st_count_) % status_queue_.size()] = {sampled_, k + af.status_delay};
+      ++st_count_;
+      if (af.status_delay > 0) ++n_.fault_status_delayed;
+    }
+    // The newest due entry; the ones before it are superseded.
+    std::size_t last_due = status_queue_.size();
+    for (std::size_t i = 0; i < st_count_; ++i) {
+      if (status_queue_[(st_head_ + i) % status_queue_.size()].due <= k) last_due = i;
+    }
+    if (last_due == status_queue_.size()) return;
+    status_ = status_queue_[(st_head_ + last_due) % status_queue_.size()].status;
+    status_delivered_ = true;
+    n_.fault_status_dropped += static_cast<std::int64_t>(last_due);
+    st_head_ = (st_head_ + last_due + 1) % status_queue_.size();
+    st_count_ -= last_due + 1;
   }
 
   /// The one mapping from the plant to Truth: the observables at s_ (one
@@ -316,7 +459,7 @@ class Firmware {
 
   static void set3(double* o, double x, double y, double z) noexcept { o[0] = x, o[1] = y, o[2] = z; }
 
-  const Model& m_;
+  Model m_;  ///< the firmware's own copy: faults change its contact parameters between ticks
   const RunSpec& run_;
   Config c_;
   const pointing::TargetProfile* profile_;
@@ -340,7 +483,24 @@ class Firmware {
   bool plant_fault_ = false;
   StepResult plant_result_;
 
-  Status status_;
+  FaultClock clock_;
+  Vec2 driver_tau_ = Vec2::Zero();  ///< [N m] torque the firmware commands (status); u_.tau is what acts
+  bool stuck_[2] = {}, releasing_ = false, status_delivered_ = true;
+  double stuck_angle_[2] = {}, last_angle_[2] = {}, last_rate_[2] = {};
+  struct HeldStatus {
+    Status status;
+    std::int64_t due = 0;
+  };
+  struct HeldCommand {
+    Command cmd;
+    std::int64_t due = 0;
+  };
+  std::vector<HeldStatus> status_queue_;    ///< ring, sized at construction when faults are scheduled
+  std::vector<HeldCommand> command_queue_;  ///< ring, idem
+  std::size_t st_head_ = 0, st_count_ = 0, cmd_head_ = 0, cmd_count_ = 0;
+
+  Status sampled_;  ///< the status sampled this tick
+  Status status_;   ///< the status delivered this tick
   Truth truth_;
   Attitude attitude_;
   Counters n_;

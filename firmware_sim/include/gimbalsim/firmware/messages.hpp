@@ -52,6 +52,7 @@ struct Status {
   std::int32_t faults = 0;        ///< Fault bits
   std::int64_t last_command_seq = -1;
   std::int64_t commands_received = 0, commands_rejected = 0, commands_missed = 0;
+  std::int32_t injected_faults = 0; ///< fault_schedule.hpp injectedBit() of every scheduled fault active in this tick
 };
 
 /// Simulator-only truth at t_k (gimbal_truth_t without LCM).
@@ -77,6 +78,7 @@ struct Truth {
   double momentum_angular[3] = {}; ///< [N m s] about the inertial origin
   double energy = 0.0;             ///< [J]
   std::int32_t faults = 0;
+  std::int32_t injected_faults = 0; ///< as Status::injected_faults
 };
 
 /// The base attitude sensors of tick k (gimbal_attitude_t without LCM;
@@ -122,6 +124,7 @@ struct TruthFields {
     f(Columns{"mom_lx[N m s]", "mom_ly[N m s]", "mom_lz[N m s]"}, m.momentum_angular...);
     f(Columns{"energy[J]"}, m.energy...);
     f(Columns{"faults[-]"}, m.faults...);
+    f(Columns{"injected_faults[-]"}, m.injected_faults...);
   }
 };
 
@@ -154,6 +157,7 @@ struct StatusFields {
     f(Columns{"commands_received[-]"}, m.commands_received...);
     f(Columns{"commands_rejected[-]"}, m.commands_rejected...);
     f(Columns{"commands_missed[-]"}, m.commands_missed...);
+    f(Columns{"injected_faults[-]"}, m.injected_faults...);
   }
 };
 
@@ -199,6 +203,7 @@ struct LoopStatsFields {
     f(Columns{"commands_missed[-]"}, m.commands_missed...);
     f(Columns{"realtime[-]"}, m.realtime...);
     f(Columns{"lockstep[-]"}, m.lockstep...);
+    f(Columns{"late_ticks[-]"}, m.late_ticks...);
   }
 };
 

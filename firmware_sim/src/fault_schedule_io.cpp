@@ -1,0 +1,244 @@
+#include "gimbalsim/firmware/fault_schedule_io.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <set>
+
+#include "gimbalsim/dynamics/key_registry.hpp"
+
+namespace gimbalsim::firmware {
+namespace {
+
+/// The parameter key of each kind (none: "").
+const char* paramKey(FaultKind k) {
+  switch (k) {
+    case FaultKind::EncoderBias: return "bias";
+    case FaultKind::EncoderNoise: return "sigma";
+    case FaultKind::StatusDelay:
+    case FaultKind::CommandDelay: return "ticks";
+    case FaultKind::TorqueLimit: return "limit";
+    case FaultKind::GyroBiasJump: return "bias";
+    case FaultKind::BearingWear: return "clearance";
+    case FaultKind::FrictionRise: return "mu";
+    default: return "";
+  }
+}
+
+bool isRamp(FaultKind k) { return k == FaultKind::BearingWear || k == FaultKind::FrictionRise; }
+
+std::string place(const std::string& origin, const YAML::Mark& m) {
+  return origin + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
+}
+
+class Reader {
+ public:
+  explicit Reader(std::string origin) : origin_(std::move(origin)) {}
+
+  FaultSchedule read(const std::string& yaml) {
+    FaultSchedule s;
+    YAML::Node root;
+    try {
+      root = YAML::Load(yaml);
+    } catch (const YAML::Exception& e) {
+      problems_.push_back(place(origin_, e.mark) + ": not valid YAML: " + e.msg);
+      return s;
+    }
+    if (!root.IsMap()) {
+      problems_.push_back(origin_ + ": a fault schedule must be a mapping with keys seed and faults");
+      return s;
+    }
+    for (const auto& kv : root) {
+      const std::string key = kv.first.Scalar();
+      if (key == "seed") {
+        convert(kv.second, "", "seed", [&](const YAML::Node& n) {
+          const int v = asInt(n);
+          if (v < 0) throw ConvertError{"must be >= 0, got " + std::to_string(v)};
+          s.seed = static_cast<std::uint64_t>(v);
+        });
+      } else if (key == "faults") {
+        if (!kv.second.IsSequence()) {
+          problems_.push_back(place(origin_, kv.second.Mark()) + ": key 'faults': must be a list of faults");
+          continue;
+        }
+        if (kv.second.size() > static_cast<std::size_t>(kMaxFaults)) {
+          problems_.push_back(place(origin_, kv.second.Mark()) + ": key 'faults': at most " +
+                              std::to_string(kMaxFaults) + " faults (every tick evaluates each), got " +
+                              std::to_string(kv.second.size()));
+          continue;
+        }
+        int i = 0;
+        for (const YAML::Node& e : kv.second) readFault(e, ++i, s.faults);
+      } else {
+        problems_.push_back(place(origin_, kv.first.Mark()) + ": unknown key '" + key +
+                            "' (a fault schedule has seed and faults; README \"Fault schedule\")");
+      }
+    }
+    return s;
+  }
+
+  std::vector<std::string> problems_;
+
+ private:
+  template <class F>
+  void convert(const YAML::Node& n, const std::string& entry, const std::string& key, F set) {
+    try {
+      set(n);
+    } catch (const ConvertError& e) {
+      problems_.push_back(place(origin_, n.Mark()) + ": " + entry + "key '" + key + "': " + e.msg);
+    }
+  }
+
+  void readFault(const YAML::Node& e, int index, std::vector<FaultSpec>& out) {
+    const std::string where = place(origin_, e.Mark());
+    std::string entry = "fault #" + std::to_string(index) + ": ";
+    if (!e.IsMap()) {
+      problems_.push_back(where + ": " + entry + "must be a mapping (type, start, ...)");
+      return;
+    }
+    const std::size_t before = problems_.size();
+    FaultSpec f;
+    f.line = e.Mark().line + 1;
+    const YAML::Node type = e["type"];
+    if (!type) {
+      problems_.push_back(where + ": " + entry + "key 'type' is missing");
+      return;
+    }
+    std::vector<std::string> names;
+    for (int k = 0; k < kNumFaultKinds; ++k) names.push_back(faultTypeName(static_cast<FaultKind>(k)));
+    bool typed = false;
+    convert(type, entry, "type", [&](const YAML::Node& n) {
+      f.kind = static_cast<FaultKind>(asChoice(n, names));
+      typed = true;
+    });
+    if (!typed) return;
+    entry = "fault #" + std::to_string(index) + " (" + faultTypeName(f.kind) + "): ";
+    const std::string param = paramKey(f.kind);
+    std::set<std::string> seen;
+    for (const auto& kv : e) {
+      const std::string key = kv.first.Scalar();
+      seen.insert(key);
+      const YAML::Node& n = kv.second;
+      if (key == "type") continue;
+      if (key == "axis" && faultHasAxis(f.kind)) {
+        convert(n, entry, key, [&](const YAML::Node& v) { f.axis = static_cast<int>(asChoice(v, {"azimuth", "elevation"})); });
+      } else if (key == "start") {
+        convert(n, entry, key, [&](const YAML::Node& v) {
+          f.start = asNumber(v);
+          if (!(f.start >= 0.0)) throw ConvertError{"must be >= 0 s, got " + formatNumber(f.start)};
+        });
+      } else if (key == "end") {
+        convert(n, entry, key, [&](const YAML::Node& v) { f.end = asNumber(v); });
+      } else if (key == "probability" && !isRamp(f.kind)) {
+        convert(n, entry, key, [&](const YAML::Node& v) {
+          f.probability = asNumber(v);
+          if (!(f.probability > 0.0 && f.probability <= 1.0)) {
+            throw ConvertError{"must be in (0, 1] (per tick), got " + formatNumber(f.probability)};
+          }
+        });
+      } else if (!param.empty() && key == param) {
+        convert(n, entry, key, [&](const YAML::Node& v) { readParam(f, v); });
+      } else {
+        std::string allowed = "type, start, end";
+        if (faultHasAxis(f.kind)) allowed += ", axis";
+        if (!isRamp(f.kind)) allowed += ", probability";
+        if (!param.empty()) allowed += ", " + param;
+        problems_.push_back(place(origin_, kv.first.Mark()) + ": " + entry + "unknown key '" + key + "' (" +
+                            faultTypeName(f.kind) + " takes " + allowed + ")");
+      }
+    }
+    if (faultHasAxis(f.kind) && !seen.count("axis")) {
+      problems_.push_back(where + ": " + entry + "key 'axis' is missing (azimuth or elevation)");
+    }
+    if (!param.empty() && !seen.count(param)) {
+      problems_.push_back(where + ": " + entry + "key '" + param + "' is missing");
+    }
+    if (f.kind == FaultKind::BearingWear && !seen.count("end")) {
+      problems_.push_back(where + ": " + entry + "key 'end' is missing (the wear grows over [start, end])");
+    }
+    if (isRamp(f.kind) && !seen.count("end")) f.end = f.start;  // friction rise: a step
+    if (seen.count("end") && problems_.size() == before) {
+      const bool ok = isRamp(f.kind) ? f.end >= f.start : f.end > f.start;
+      if (!ok) {
+        problems_.push_back(place(origin_, e["end"].Mark()) + ": " + entry + "key 'end': must be " +
+                            (isRamp(f.kind) ? ">= start" : "> start") + ", got " + formatNumber(f.end) +
+                            " (start " + formatNumber(f.start) + ")");
+      }
+    }
+    if (problems_.size() == before) out.push_back(f);
+  }
+
+  static void readParam(FaultSpec& f, const YAML::Node& v) {
+    switch (f.kind) {
+      case FaultKind::EncoderBias: f.value = asNumber(v); break;
+      case FaultKind::EncoderNoise:
+        f.value = asNumber(v);
+        if (!(f.value > 0.0)) throw ConvertError{"must be > 0 rad, got " + formatNumber(f.value)};
+        break;
+      case FaultKind::StatusDelay:
+      case FaultKind::CommandDelay:
+        f.ticks = asInt(v);
+        if (f.ticks < 1 || f.ticks > kMaxFaultDelayTicks) {
+          throw ConvertError{"must be in [1, " + std::to_string(kMaxFaultDelayTicks) + "] ticks, got " +
+                             std::to_string(f.ticks)};
+        }
+        break;
+      case FaultKind::TorqueLimit:
+        f.value = asNumber(v);
+        if (!(f.value >= 0.0)) throw ConvertError{"must be >= 0 N m, got " + formatNumber(f.value)};
+        break;
+      case FaultKind::GyroBiasJump: f.vector = asVector<3>(v, "[x, y, z] in rad/s"); break;
+      case FaultKind::BearingWear:
+        f.value = asNumber(v);
+        if (!(f.value > 0.0)) throw ConvertError{"must be > 0 m, got " + formatNumber(f.value)};
+        break;
+      case FaultKind::FrictionRise:
+        f.value = asNumber(v);
+        if (!(f.value >= 0.0)) throw ConvertError{"must be >= 0, got " + formatNumber(f.value)};
+        break;
+      default: break;
+    }
+  }
+
+  std::string origin_;
+};
+
+}  // namespace
+
+FaultSchedule loadFaultScheduleText(const std::string& yaml, const std::string& origin) {
+  Reader r(origin);
+  FaultSchedule s = r.read(yaml);
+  if (!r.problems_.empty()) throw FaultScheduleError(r.problems_);
+  return s;
+}
+
+FaultSchedule loadFaultSchedule(const std::string& path) {
+  std::string text;
+  if (!readFile(path, text)) throw FaultScheduleError({path + ": cannot open fault schedule file"});
+  return loadFaultScheduleText(text, path);
+}
+
+std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const Scene& sc, const std::string& origin) {
+  std::vector<std::string> out;
+  const ContactParams& c = sc.model.contact;
+  int i = 0;
+  for (const FaultSpec& f : s.faults) {
+    ++i;
+    const std::string at = origin + ":" + std::to_string(f.line) + ": fault #" + std::to_string(i) + " (" +
+                           faultTypeName(f.kind) + "): ";
+    if (isRamp(f.kind) && !sc.model.clearance) {
+      out.push_back(at + "needs the clearance joint (scene key structure.joint2 = clearance)");
+      continue;
+    }
+    if (f.kind == FaultKind::BearingWear && !(f.value > c.clearance && f.value < c.bearing_radius)) {
+      out.push_back(at + "key 'clearance': must be above the scene's clearance " + formatNumber(c.clearance) +
+                    " m and below contact.bearing_radius " + formatNumber(c.bearing_radius) + " m, got " +
+                    formatNumber(f.value));
+    }
+    if (f.kind == FaultKind::FrictionRise && c.friction == FrictionLaw::None) {
+      out.push_back(at + "needs a friction law (scene key friction.law is none)");
+    }
+  }
+  return out;
+}
+
+}  // namespace gimbalsim::firmware

@@ -1,0 +1,32 @@
+// The worst-case compute of one tick, bounded by the sub-step cap and
+// measured at start: firmware_sim times one derivative (forward dynamics) of
+// its variant and multiplies by the most derivatives a tick may take, so a
+// bench engineer knows before running whether the plant can miss a deadline
+// by itself. README "Worst-case compute per tick".
+#pragma once
+
+#include <string>
+
+#include "app.hpp"
+
+namespace gimbalsim::firmware {
+
+struct TickBudget {
+  double derivative_us = 0.0;   ///< [us] one forward-dynamics evaluation (the slower of free and in contact)
+  int steps_per_tick = 1;       ///< T / sim.step
+  int substep_cap = 0;          ///< sub-steps per step at most (sim.max_substeps or its automatic value)
+  int evals_per_substep = 4;    ///< RK4 stages per sub-step (adaptive: + the embedded estimate)
+  double worst_tick_us = 0.0;   ///< [us] steps_per_tick substep_cap evals_per_substep derivative_us (+1 for the truth)
+  double period_us = 0.0;       ///< [us] control period
+  bool exceeds() const noexcept { return worst_tick_us > period_us; }
+};
+
+/// Times the derivative at the scene's initial state (and, with clearance,
+/// pressed into the bearing) and derives the bound.
+TickBudget measureTickBudget(const Scene& sc, const Config& c);
+
+/// The start line, and the warning naming the keys when the bound exceeds the period ("" if not).
+std::string describeTickBudget(const TickBudget& b);
+std::string tickBudgetWarning(const TickBudget& b);
+
+}  // namespace gimbalsim::firmware

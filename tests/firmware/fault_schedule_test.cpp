@@ -1,0 +1,404 @@
+// The fault schedule (fault_schedule.hpp, fault_schedule_io.hpp) and where
+// each fault enters the firmware core (firmware.hpp), in one process: the
+// YAML reader's refusals name file:line:column and the key; every kind does
+// what README "Fault schedule" says, at the ticks it says, flagged in status
+// and truth; probabilistic faults follow their seed; a run with faults is
+// bit for bit repeatable and allocates nothing per tick.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "alloc_guard.hpp"
+#include "firmware_test_util.hpp"
+#include "gimbalsim/firmware/fault_schedule_io.hpp"
+#include "gimbalsim/firmware/firmware.hpp"
+#include "test_util.hpp"
+
+namespace gimbalsim::firmware {
+namespace {
+
+const std::string kDemo = std::string(GIMBALSIM_SOURCE_DIR) + "/tools/faults/demo.yaml";
+
+using test_helpers::Bench;
+using test_helpers::benchScene;
+using test_helpers::torqueCommand;
+
+/// The refusal text of a schedule (all problems, one per line); "" if accepted.
+std::string refusal(const std::string& yaml) {
+  try {
+    loadFaultScheduleText(yaml, "f.yaml");
+  } catch (const FaultScheduleError& e) {
+    std::string s;
+    for (const std::string& p : e.problems()) s += p + "\n";
+    return s;
+  }
+  return "";
+}
+
+FaultSchedule schedule(const std::string& yaml) { return loadFaultScheduleText(yaml, "test"); }
+
+
+TEST(FaultScheduleFile, TheDemoScheduleLoadsWithEveryKind) {
+  const FaultSchedule s = loadFaultSchedule(kDemo);
+  EXPECT_EQ(s.seed, 7u);
+  ASSERT_EQ(s.faults.size(), static_cast<std::size_t>(kNumFaultKinds));
+  std::vector<bool> seen(kNumFaultKinds, false);
+  for (const FaultSpec& f : s.faults) seen[static_cast<int>(f.kind)] = true;
+  for (int k = 0; k < kNumFaultKinds; ++k) EXPECT_TRUE(seen[k]) << faultTypeName(static_cast<FaultKind>(k));
+  EXPECT_EQ(s.faults[0].kind, FaultKind::EncoderNoise);
+  EXPECT_EQ(s.faults[0].axis, 0);
+  EXPECT_EQ(s.faults[0].value, 2.0e-5);
+  EXPECT_GT(s.faults[0].line, 4);
+  EXPECT_TRUE(checkFaultsAgainstScene(s, test::scene("paper_clearance"), kDemo).empty());
+}
+
+TEST(FaultScheduleFile, RefusalsNameLineColumnEntryAndKey) {
+  EXPECT_NE(refusal("faults:\n  - {type: encoder_stuk, axis: azimuth}\n")
+                .find("f.yaml:2:12: fault #1: key 'type': expected one of encoder_dropout |"),
+            std::string::npos)
+      << refusal("faults:\n  - {type: encoder_stuk, axis: azimuth}\n");
+  EXPECT_NE(refusal("faults:\n  - type: encoder_stuck\n    start: 1\n")
+                .find("f.yaml:2:5: fault #1 (encoder_stuck): key 'axis' is missing"),
+            std::string::npos);
+  EXPECT_NE(refusal("faults:\n  - {type: status_drop, probability: 1.5}\n")
+                .find("f.yaml:2:38: fault #1 (status_drop): key 'probability': must be in (0, 1]"),
+            std::string::npos)
+      << refusal("faults:\n  - {type: status_drop, probability: 1.5}\n");
+  EXPECT_NE(refusal("faults:\n  - {type: status_delay, ticks: 0}\n").find("key 'ticks': must be in [1, 1000] ticks, got 0"),
+            std::string::npos);
+  EXPECT_NE(refusal("faults:\n  - {type: status_delay}\n").find("key 'ticks' is missing"), std::string::npos);
+  EXPECT_NE(refusal("faults:\n  - {type: command_drop, start: 2, end: 1}\n")
+                .find("fault #1 (command_drop): key 'end': must be > start, got 1 (start 2)"),
+            std::string::npos);
+  EXPECT_NE(refusal("faults:\n  - {type: motor_failure, axis: elevation, limit: 3}\n")
+                .find("f.yaml:2:44: fault #1 (motor_failure): unknown key 'limit' (motor_failure takes type, start, end, "
+                      "axis, probability)"),
+            std::string::npos)
+      << refusal("faults:\n  - {type: motor_failure, axis: elevation, limit: 3}\n");
+  EXPECT_NE(refusal("faults:\n  - {type: bearing_wear, start: 1, clearance: 1e-3}\n")
+                .find("key 'end' is missing (the wear grows over [start, end])"),
+            std::string::npos);
+  EXPECT_NE(refusal("faults:\n  - {type: friction_rise, mu: 0.5, probability: 0.5}\n").find("unknown key 'probability'"),
+            std::string::npos);
+  EXPECT_NE(refusal("faults:\n  - {type: gyro_bias_jump, bias: [1, 2]}\n").find("key 'bias': expected [x, y, z] in rad/s"),
+            std::string::npos)
+      << refusal("faults:\n  - {type: gyro_bias_jump, bias: [1, 2]}\n");
+  EXPECT_NE(refusal("seed: -1\n").find("f.yaml:1:7: key 'seed': must be >= 0"), std::string::npos) << refusal("seed: -1\n");
+  EXPECT_NE(refusal("sead: 1\n").find("f.yaml:1:1: unknown key 'sead'"), std::string::npos);
+  EXPECT_NE(refusal("faults: {type: status_drop}\n").find("key 'faults': must be a list of faults"), std::string::npos);
+  EXPECT_NE(refusal("faults: [\n").find("f.yaml:"), std::string::npos);
+  EXPECT_NE(refusal("faults: [\n").find("not valid YAML"), std::string::npos);
+  EXPECT_NE(refusal("- 1\n").find("must be a mapping with keys seed and faults"), std::string::npos);
+  // Every problem of a file at once.
+  const std::string two = refusal("faults:\n  - {type: status_drop, start: -1}\n  - {type: torque_limit, axis: up, limit: 1}\n");
+  EXPECT_NE(two.find("fault #1 (status_drop): key 'start': must be >= 0 s, got -1"), std::string::npos) << two;
+  EXPECT_NE(two.find("f.yaml:3:32: fault #2 (torque_limit): key 'axis': expected one of azimuth | elevation, got 'up'"),
+            std::string::npos)
+      << two;
+  std::string many = "faults:\n";
+  for (int i = 0; i <= kMaxFaults; ++i) many += "  - {type: status_drop}\n";
+  EXPECT_NE(refusal(many).find("f.yaml:2:3: key 'faults': at most 256 faults (every tick evaluates each), got 257"),
+            std::string::npos)
+      << refusal(many).substr(0, 200);
+  EXPECT_EQ(refusal("seed: 3\nfaults: []\n"), "");
+}
+
+TEST(FaultScheduleFile, SceneChecksNameTheLineAndTheSceneKey) {
+  const FaultSchedule wear = schedule("faults:\n  - {type: bearing_wear, start: 1, end: 2, clearance: 0.4e-3}\n");
+  const auto on_ideal = checkFaultsAgainstScene(wear, test::scene("paper_ideal"), "w.yaml");
+  ASSERT_EQ(on_ideal.size(), 1u);
+  EXPECT_NE(on_ideal[0].find("w.yaml:2: fault #1 (bearing_wear): needs the clearance joint"), std::string::npos) << on_ideal[0];
+  const auto below = checkFaultsAgainstScene(wear, test::scene("paper_clearance"), "w.yaml");
+  ASSERT_EQ(below.size(), 1u);
+  EXPECT_NE(below[0].find("key 'clearance': must be above the scene's clearance 0.0005"), std::string::npos) << below[0];
+  const FaultSchedule rise = schedule("faults:\n  - {type: friction_rise, start: 1, mu: 0.5}\n");
+  EXPECT_EQ(checkFaultsAgainstScene(rise, test::scene("paper_clearance", {"friction.law=none"}), "r.yaml").size(), 1u);
+  EXPECT_TRUE(checkFaultsAgainstScene(rise, test::scene("paper_clearance"), "r.yaml").empty());
+}
+
+/// Runs the bench scene with a constant command (answered every tick) and
+/// the schedule; statuses, truths and the delivered flags per tick.
+struct Trace {
+  std::vector<Status> status;
+  std::vector<bool> delivered;
+  std::vector<Truth> truth;
+  std::vector<Attitude> attitude;
+  std::vector<Vec2> tau_true;
+  Counters n;
+};
+template <class V = Bench>
+Trace run(const Scene& sc, const FaultSchedule* f, int ticks, double tau1 = 2.0, double tau2 = 1.0) {
+  Firmware<V> fw(sc, Config{}, nullptr, f);
+  Trace t;
+  for (int k = 0; k < ticks; ++k) {
+    fw.tick(k * 1000);
+    t.status.push_back(fw.status());
+    t.delivered.push_back(fw.statusDelivered());
+    t.truth.push_back(fw.truth());
+    t.attitude.push_back(fw.attitude());
+    t.tau_true.push_back(fw.appliedInput().tau);
+    fw.receive(torqueCommand(k + 1, k, tau1, tau2));
+  }
+  t.n = fw.counters();
+  return t;
+}
+
+TEST(FaultInjection, StuckEncoderHoldsItsAngleWhileTheRateSensorWorks) {
+  const Scene sc = benchScene();
+  const FaultSchedule f = schedule("faults:\n  - {type: encoder_stuck, axis: elevation, start: 0.1, end: 0.2}\n");
+  const Trace clean = run(sc, nullptr, 300), t = run(sc, &f, 300);
+  const std::int32_t bit = injectedBit(FaultKind::EncoderStuck, 1);
+  for (int k = 0; k < 300; ++k) {
+    const bool active = k >= 100 && k < 200;
+    EXPECT_EQ(t.status[k].injected_faults, active ? bit : 0) << k;
+    EXPECT_EQ(t.truth[k].injected_faults, active ? bit : 0) << k;
+    EXPECT_EQ(t.status[k].angle[0], clean.status[k].angle[0]) << "the other axis is untouched, tick " << k;
+    EXPECT_EQ(t.status[k].rate[1], clean.status[k].rate[1]) << "the rate sensor still works, tick " << k;
+    EXPECT_EQ(t.status[k].angle[1], active ? clean.status[100].angle[1] : clean.status[k].angle[1]) << k;
+  }
+  EXPECT_GT(clean.status[199].angle[1] - clean.status[100].angle[1], 5e-4) << "the axis moves while its encoder sticks";
+}
+
+TEST(FaultInjection, DropoutRepeatsTheLastAngleAndRate) {
+  const Scene sc = benchScene();
+  const FaultSchedule f = schedule("faults:\n  - {type: encoder_dropout, axis: azimuth, start: 0.05, end: 0.06}\n");
+  const Trace clean = run(sc, nullptr, 80), t = run(sc, &f, 80);
+  for (int k = 50; k < 60; ++k) {
+    EXPECT_EQ(t.status[k].angle[0], clean.status[49].angle[0]) << k;
+    EXPECT_EQ(t.status[k].rate[0], clean.status[49].rate[0]) << k;
+    EXPECT_EQ(t.status[k].angle[1], clean.status[k].angle[1]) << k;
+  }
+  EXPECT_EQ(t.status[60].angle[0], clean.status[60].angle[0]);
+  EXPECT_NE(clean.status[59].rate[0], clean.status[49].rate[0]);
+}
+
+TEST(FaultInjection, BiasStepAndNoiseBurstOnTheEncoder) {
+  const Scene sc = benchScene({"sensors.encoder_resolution=0"});
+  const FaultSchedule f = schedule(
+      "seed: 3\nfaults:\n  - {type: encoder_bias, axis: azimuth, start: 0.01, bias: 1e-3}\n"
+      "  - {type: encoder_noise, axis: elevation, start: 0.02, end: 0.52, sigma: 1e-4}\n");
+  const Trace clean = run(sc, nullptr, 600), t = run(sc, &f, 600);
+  double sum2 = 0.0;
+  for (int k = 0; k < 600; ++k) {
+    EXPECT_NEAR(t.status[k].angle[0] - clean.status[k].angle[0], k >= 10 ? 1e-3 : 0.0, 1e-15) << k;
+    const double n = t.status[k].angle[1] - clean.status[k].angle[1];
+    if (k >= 20 && k < 520) sum2 += n * n;
+    else EXPECT_EQ(n, 0.0) << k;
+  }
+  EXPECT_NEAR(std::sqrt(sum2 / 500), 1e-4, 0.15e-4) << "burst sigma";
+  const Trace again = run(sc, &f, 600);
+  for (int k = 0; k < 600; ++k) EXPECT_EQ(again.status[k].angle[1], t.status[k].angle[1]) << "seeded, tick " << k;
+}
+
+TEST(FaultInjection, StatusDelayDeliversOldStatusesAndDropDeliversNone) {
+  const Scene sc = benchScene();
+  const FaultSchedule f = schedule(
+      "faults:\n  - {type: status_delay, start: 0.01, end: 0.03, ticks: 4}\n  - {type: status_drop, start: 0.05, end: 0.053}\n");
+  const Trace t = run(sc, &f, 70);
+  for (int k = 0; k < 70; ++k) {
+    if (k < 10 || (k >= 30 && k < 50) || k >= 53) {
+      EXPECT_TRUE(t.delivered[k]) << k;
+      EXPECT_EQ(t.status[k].seq, k) << k;
+    } else if (k < 14) {
+      EXPECT_FALSE(t.delivered[k]) << "status 10 is due at 14, tick " << k;
+    } else if (k < 30) {
+      EXPECT_TRUE(t.delivered[k]) << k;
+      EXPECT_EQ(t.status[k].seq, k - 4) << k;
+      EXPECT_EQ(t.status[k].injected_faults, injectedBit(FaultKind::StatusDelay, -1)) << "flags of its own tick";
+    } else {
+      EXPECT_FALSE(t.delivered[k]) << "dropped, tick " << k;
+    }
+    EXPECT_EQ(t.truth[k].seq, k) << "truth is never delayed";
+  }
+  // At 30 the delay ends: status 30 goes at once and supersedes 26..29, still held.
+  EXPECT_EQ(t.n.fault_status_delayed, 20);
+  EXPECT_EQ(t.n.fault_status_dropped, 3 + 4);
+}
+
+TEST(FaultInjection, CommandsLostOrLateOnTheBus) {
+  const Scene sc = benchScene();
+  const FaultSchedule drop = schedule("faults:\n  - {type: command_drop, start: 0.02, end: 0.025}\n");
+  const FaultSchedule late = schedule("faults:\n  - {type: command_delay, start: 0.02, end: 0.021, ticks: 3}\n");
+  for (const FaultSchedule* f : {&drop, &late}) {
+    Firmware<Bench> fw(sc, Config{}, nullptr, f);
+    std::vector<double> applied;
+    for (int k = 0; k < 40; ++k) {
+      fw.tick(k * 1000);
+      applied.push_back(fw.status().applied_torque[0]);
+      fw.receive(torqueCommand(k + 1, k, 1.0 + k, 0.0));  // torque = 1 + the status answered
+    }
+    for (int k = 1; k < 40; ++k) {
+      double want = k;  // the answer to status k - 1
+      if (f == &drop && k >= 21 && k <= 25) want = 20;  // answers 20..24 were lost: the last one held
+      if (f == &late && k >= 21 && k <= 23) want = 20;  // answer 20 is held 3 ticks, then acts at 24 ...
+      if (f == &late && k == 24) want = 24;             // ... superseded at once by the newer 23
+      EXPECT_EQ(applied[k], want) << (f == &drop ? "drop" : "delay") << ", tick " << k;
+    }
+    EXPECT_EQ(fw.counters().fault_commands_dropped, f == &drop ? 5 : 0);
+    EXPECT_EQ(fw.counters().rejected, 0);
+  }
+}
+
+TEST(FaultInjection, TorqueLimitAndMotorFailure) {
+  const Scene sc = benchScene();
+  const FaultSchedule f = schedule(
+      "faults:\n  - {type: torque_limit, axis: azimuth, start: 0.01, end: 0.02, limit: 0.5}\n"
+      "  - {type: motor_failure, axis: elevation, start: 0.03, end: 0.04}\n");
+  const Trace t = run(sc, &f, 50, 2.0, -1.0), clean = run(sc, nullptr, 50, 2.0, -1.0);
+  for (int k = 1; k < 50; ++k) {
+    const bool limited = k >= 10 && k < 20, failed = k >= 30 && k < 40;
+    EXPECT_EQ(t.status[k].applied_torque[0], limited ? 0.5 : 2.0) << k;
+    EXPECT_EQ((t.status[k].faults & kTorqueSaturated) != 0, limited) << k;
+    // A failed motor: the firmware commands the torque (status), the motor gives none (truth, physics).
+    EXPECT_EQ(t.status[k].applied_torque[1], -1.0) << k;
+    EXPECT_EQ(t.truth[k].applied_torque[1], failed ? 0.0 : -1.0) << k;
+    EXPECT_EQ(t.tau_true[k](1), failed ? 0.0 : -1.0) << k;
+  }
+  // Without its motor the elevation axis is hardly accelerated (only through the azimuth's coupling).
+  const double dw = t.truth[40].joint_rate[1] - t.truth[30].joint_rate[1];
+  const double dw_clean = clean.truth[40].joint_rate[1] - clean.truth[30].joint_rate[1];
+  EXPECT_LT(std::fabs(dw), 0.1 * std::fabs(dw_clean)) << dw << " vs " << dw_clean;
+}
+
+TEST(FaultInjection, StarTrackerOutageAndGyroBiasJumpInTheAttitudeMessage) {
+  const Scene sc = test::scene("paper_ideal", {"sensors.star_tracker_rate=100"});
+  const FaultSchedule f = schedule(
+      "faults:\n  - {type: star_tracker_outage, start: 0.1, end: 0.2}\n"
+      "  - {type: gyro_bias_jump, start: 0.15, bias: [1e-3, 0, -2e-3]}\n");
+  const Trace clean = run<FloatingIdeal>(sc, nullptr, 300), t = run<FloatingIdeal>(sc, &f, 300);
+  int samples_in_outage = 0;
+  for (int k = 0; k < 300; ++k) {
+    const bool outage = k >= 100 && k < 200;
+    EXPECT_EQ(t.attitude[k].star_outage, outage ? 1 : 0) << k;
+    if (outage) samples_in_outage += t.attitude[k].star_valid;
+    else EXPECT_EQ(t.attitude[k].star_valid, clean.attitude[k].star_valid) << k;
+    EXPECT_NEAR(t.attitude[k].gyro_rate[0] - clean.attitude[k].gyro_rate[0], k >= 150 ? 1e-3 : 0.0, 1e-15) << k;
+    EXPECT_NEAR(t.attitude[k].gyro_rate[2] - clean.attitude[k].gyro_rate[2], k >= 150 ? -2e-3 : 0.0, 1e-15) << k;
+  }
+  EXPECT_EQ(samples_in_outage, 0);
+  EXPECT_EQ(t.truth[120].injected_faults, injectedBit(FaultKind::StarTrackerOutage, -1));
+  EXPECT_EQ(t.truth[160].injected_faults,
+            injectedBit(FaultKind::StarTrackerOutage, -1) | injectedBit(FaultKind::GyroBiasJump, -1));
+}
+
+TEST(FaultInjection, BearingWearAndFrictionRiseChangeOnlyTheFirmwaresModelCopy) {
+  const Scene sc = test::scene("paper_clearance", {"structure.base=fixed"});
+  const FaultSchedule f = schedule(
+      "faults:\n  - {type: bearing_wear, start: 0.1, end: 0.3, clearance: 0.9e-3}\n"
+      "  - {type: friction_rise, start: 0.2, mu: 0.6}\n");
+  Firmware<FixedClearanceFriction> fw(sc, Config{}, nullptr, &f);
+  const double c0 = sc.model.contact.clearance, mu0 = sc.model.contact.mu;
+  for (int k = 0; k < 400; ++k) {
+    fw.tick(k * 1000);
+    fw.receive(torqueCommand(k + 1, k, 3.0, 6.0));
+    const double t = k * 1e-3;
+    const double want_c = c0 + std::clamp((t - 0.1) / 0.2, 0.0, 1.0) * (0.9e-3 - c0);
+    const ContactParams& cp = fw.model().contact;
+    ASSERT_NEAR(cp.clearance, want_c, 1e-15) << k;
+    ASSERT_EQ(cp.mu, k >= 200 ? 0.6 : mu0) << k;
+    // The wear is the journal's; K as Model::finalize derives it.
+    Model m = sc.model;
+    m.contact.journal_radius = m.contact.bearing_radius - cp.clearance;
+    m.finalize();
+    ASSERT_NEAR(cp.K, m.contact.K, 1e-12 * m.contact.K) << k;
+    ASSERT_NEAR(cp.journal_radius, m.contact.journal_radius, 1e-18);
+  }
+  EXPECT_EQ(sc.model.contact.clearance, c0) << "the scene's Model is never touched";
+  EXPECT_FALSE(fw.plantFault());
+  EXPECT_EQ(fw.truth().injected_faults, injectedBit(FaultKind::BearingWear, -1) | injectedBit(FaultKind::FrictionRise, -1));
+}
+
+TEST(FaultInjection, ProbabilisticFaultsFollowTheirSeed) {
+  const Scene sc = benchScene();
+  auto ticks = [&](int seed) {
+    const FaultSchedule f = schedule("seed: " + std::to_string(seed) +
+                                     "\nfaults:\n  - {type: status_drop, start: 0.1, end: 2.1, probability: 0.25}\n");
+    const Trace t = run(sc, &f, 2200);
+    std::vector<bool> dropped;
+    for (int k = 0; k < 2200; ++k) {
+      EXPECT_EQ(t.truth[k].injected_faults != 0, !t.delivered[k]) << "flagged exactly when dropped, tick " << k;
+      dropped.push_back(!t.delivered[k]);
+    }
+    return dropped;
+  };
+  const auto a = ticks(11), b = ticks(11), c = ticks(12);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+  long long n = 0;
+  for (int k = 0; k < 2200; ++k) {
+    if (k < 100 || k >= 2100) EXPECT_FALSE(a[k]) << k;
+    n += a[k];
+  }
+  // Binomial(2000, 0.25): mean 500, sd 19.4; 5 sd either side.
+  EXPECT_GT(n, 403);
+  EXPECT_LT(n, 597);
+}
+
+TEST(FaultInjection, ARunWithEveryFaultIsRepeatableAndAllocatesNothingPerTick) {
+  test::noteIfNotCheckedBuild();
+  const Scene sc = test::scene("paper_clearance", {"sensors.star_tracker_rate=50", "sensors.gyro_noise=1e-4"});
+  // The demo schedule moved into the first 0.4 s, probabilities included.
+  const FaultSchedule f = schedule(
+      "seed: 5\nfaults:\n"
+      "  - {type: encoder_noise, axis: azimuth, start: 0.02, end: 0.1, sigma: 2.0e-5}\n"
+      "  - {type: encoder_bias, axis: elevation, start: 0.03, end: 0.2, bias: 1.0e-4}\n"
+      "  - {type: status_drop, start: 0.05, end: 0.3, probability: 0.2}\n"
+      "  - {type: status_delay, start: 0.06, end: 0.09, ticks: 5}\n"
+      "  - {type: command_drop, start: 0.1, end: 0.2, probability: 0.3}\n"
+      "  - {type: command_delay, start: 0.15, end: 0.25, ticks: 3}\n"
+      "  - {type: encoder_stuck, axis: azimuth, start: 0.12, end: 0.2}\n"
+      "  - {type: encoder_dropout, axis: elevation, start: 0.2, end: 0.25}\n"
+      "  - {type: torque_limit, axis: azimuth, start: 0.22, end: 0.3, limit: 2}\n"
+      "  - {type: motor_failure, axis: elevation, start: 0.26, end: 0.3}\n"
+      "  - {type: star_tracker_outage, start: 0.1, end: 0.2}\n"
+      "  - {type: gyro_bias_jump, start: 0.1, bias: [0, 0, 2.0e-5]}\n"
+      "  - {type: bearing_wear, start: 0.05, end: 0.35, clearance: 0.8e-3}\n"
+      "  - {type: friction_rise, start: 0.1, end: 0.3, mu: 0.4}\n");
+  pointing::TargetProfile p;
+  auto go = [&](bool guard, std::vector<Truth>* truths, std::vector<Status>* statuses) {
+    Firmware<FloatingClearanceFriction> fw(sc, Config{}, &p, &f);
+    std::int64_t seq = 0;
+    for (int k = 0; k < 10; ++k) {
+      fw.receive(torqueCommand(++seq, k - 1, 5.0, 10.0));
+      fw.tick(k * 1000);
+    }
+    const long long before = test::g_allocations.load();
+    if (guard) test::setEigenMallocAllowed(false);
+    for (int k = 10; k < 400; ++k) {
+      fw.receive(torqueCommand(++seq, fw.statusDelivered() ? fw.status().seq : k - 2, 5.0, 10.0));
+      fw.sample(k * 1000, true);
+      if (truths != nullptr) {
+        truths->push_back(fw.truth());
+        statuses->push_back(fw.status());
+      }
+      fw.advance();
+    }
+    if (guard) {
+      test::setEigenMallocAllowed(true);
+      EXPECT_EQ(test::g_allocations.load() - before, 0) << "heap allocations in 390 ticks with every fault";
+    }
+    EXPECT_FALSE(fw.plantFault()) << describe(fw.plantStatus());
+    EXPECT_GT(fw.counters().fault_ticks, 300);
+  };
+  go(true, nullptr, nullptr);
+  std::vector<Truth> a, b;
+  std::vector<Status> sa, sb;
+  go(false, &a, &sa);
+  go(false, &b, &sb);
+  ASSERT_EQ(a.size(), b.size());
+  std::int32_t all = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    ASSERT_EQ(std::memcmp(&a[k], &b[k], sizeof(Truth)), 0) << "tick " << k;
+    ASSERT_EQ(std::memcmp(&sa[k], &sb[k], sizeof(Status)), 0) << "tick " << k;
+    all |= a[k].injected_faults;
+  }
+  for (int kind = 0; kind < kNumFaultKinds; ++kind) {
+    EXPECT_NE(all & (3 << (2 * kind)), 0) << faultTypeName(static_cast<FaultKind>(kind)) << " never flagged";
+  }
+}
+
+}  // namespace
+}  // namespace gimbalsim::firmware
