@@ -15,6 +15,16 @@ SceneError::SceneError(std::vector<Problem> problems)
   for (const auto& p : details_) texts_.push_back(p.text);
 }
 
+SceneError::SceneError(const std::vector<std::string>& texts) : SceneError([&] {
+        std::vector<Problem> out;
+        for (const std::string& t : texts) {
+          Problem p;
+          p.text = t;
+          out.push_back(p);
+        }
+        return out;
+      }()) {}
+
 SceneError::SceneError(const std::string& problem) : SceneError([&] {
         Problem p;
         p.text = problem;

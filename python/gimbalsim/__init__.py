@@ -139,13 +139,15 @@ class ClosedLoopRun:
         return f"<gimbalsim.ClosedLoopRun ok={self.ok} ticks={self.summary['ticks']}>"
 
 
-def closed_loop(scene, controller_config, duration, settle_tol=1.0e-3):
+def closed_loop(scene, controller_config, duration, settle_tol=1.0e-3, faults=None):
     """The project's controller closed on the scene's plant in one process
     (firmware model + controller, as the bench in lockstep): the same numbers
     as the C++ in-process closed loop. controller_config is a Controller or a
-    configuration file path."""
+    configuration file path; faults a fault schedule file (as firmware_sim
+    --faults; its flags in columns["injected_faults"])."""
     ctrl = controller_config
     if not isinstance(ctrl, _gimbalsim.Controller):
         ctrl = Controller(controller_config)
-    summary, columns = _gimbalsim._closed_loop(scene, ctrl, float(duration), float(settle_tol))
+    summary, columns = _gimbalsim._closed_loop(scene, ctrl, float(duration), float(settle_tol),
+                                               "" if faults is None else str(faults))
     return ClosedLoopRun(summary, columns)

@@ -11,6 +11,7 @@
 #include "key_dicts.hpp"
 #include "gimbalsim/controllers/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/firmware/fault_schedule_io.hpp"
 
 namespace gimbalsim::py {
 
@@ -40,7 +41,7 @@ struct Ticks {
   static constexpr const char* kNames[] = {
       "t",          "ref1",         "ref2",         "profile1",       "profile2",       "theta1_true",
       "theta2_true", "theta1_meas", "theta2_meas",  "tau1_cmd",       "tau2_cmd",       "tau1_applied",
-      "tau2_applied", "truth_error", "attitude_error", "star_outage", "segment"};
+      "tau2_applied", "truth_error", "attitude_error", "star_outage", "segment",     "injected_faults"};
   static constexpr int kN = sizeof(kNames) / sizeof(kNames[0]);
   std::vector<double> data;
   void add(const TickRecord& r) {
@@ -60,7 +61,8 @@ struct Ticks {
                             r.truth_error,
                             r.attitude_error,
                             r.star_outage ? 1.0 : 0.0,
-                            static_cast<double>(r.profile.segment)};
+                            static_cast<double>(r.profile.segment),
+                            static_cast<double>(r.injected_faults)};
     data.insert(data.end(), row, row + kN);
   }
 };
@@ -137,11 +139,26 @@ void bindController(pyb::module_& m) {
 
   m.def(
       "_closed_loop",
-      [](const PyScene& s, const PyController& c, double duration, double settle_tol) {
+      [](const PyScene& s, const PyController& c, double duration, double settle_tol, const std::string& faults) {
         if (!(duration > 0.0 && duration < 1e9)) throw pyb::value_error("duration must be in (0, 1e9) s");
         ClosedLoopOptions opt;
         opt.duration = duration;
         opt.settle_tol = settle_tol;
+        firmware::FaultSchedule schedule;
+        if (!faults.empty()) {
+          try {
+            schedule = firmware::loadFaultSchedule(faults);
+            const std::vector<std::string> bad = firmware::checkFaultsAgainstScene(schedule, s.scene, faults);
+            if (!bad.empty()) {
+              std::vector<Problem> problems;
+              for (const std::string& b : bad) problems.push_back(Problem{b, "", faults, 0, 0, 0});
+              throw SceneError(problems);
+            }
+          } catch (const SceneError& e) {
+            raiseSceneError(e);
+          }
+          opt.faults = &schedule;
+        }
         Ticks ticks;
         ClosedLoopResult r;
         {
@@ -158,7 +175,7 @@ void bindController(pyb::module_& m) {
         }
         return pyb::make_tuple(resultDict(r), cols);
       },
-      pyb::arg("scene"), pyb::arg("controller"), pyb::arg("duration"), pyb::arg("settle_tol"));
+      pyb::arg("scene"), pyb::arg("controller"), pyb::arg("duration"), pyb::arg("settle_tol"), pyb::arg("faults"));
 }
 
 }  // namespace gimbalsim::py

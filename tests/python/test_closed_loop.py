@@ -61,3 +61,18 @@ def test_update_is_the_law_with_memory():
     assert a["tau"] != b["tau"]
     ctrl.reset()
     assert ctrl.update(0.0, 0.0, 0.0)["tau"] == a["tau"]
+
+
+def test_closed_loop_takes_a_fault_schedule(tmp):
+    from conftest import SOURCE
+    scene = gimbalsim.load_scene(scene_path("paper_clearance"))
+    ctrl = gimbalsim.Controller(CONTROLLER_CONFIG)
+    clean = gimbalsim.closed_loop(scene, ctrl, 2.0)
+    faulty = gimbalsim.closed_loop(scene, ctrl, 2.0, faults=SOURCE / "tools" / "faults" / "demo.yaml")
+    assert not clean.columns["injected_faults"].any()
+    assert faulty.columns["injected_faults"].any()
+    assert not np.array_equal(clean.columns["truth_error"], faulty.columns["truth_error"])
+    (tmp / "bad.yaml").write_text("faults:\n  - {type: encoder_stuck, axis: 7, start: 0.1}\n")
+    with pytest.raises(gimbalsim.SceneError) as e:
+        gimbalsim.closed_loop(scene, ctrl, 1.0, faults=tmp / "bad.yaml")
+    assert "bad.yaml:2:" in str(e.value) and "axis" in str(e.value)

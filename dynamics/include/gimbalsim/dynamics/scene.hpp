@@ -20,6 +20,8 @@ class SceneError : public std::runtime_error {
   explicit SceneError(std::vector<Problem> problems);
   /// A refusal of the whole document (e.g. "<path>: cannot open scene file").
   explicit SceneError(const std::string& problem);
+  /// Problems known only as their printed text (readers of other formats).
+  explicit SceneError(const std::vector<std::string>& texts);
   /// The messages, as printed.
   const std::vector<std::string>& problems() const { return texts_; }
   /// The same with key and place as fields.
