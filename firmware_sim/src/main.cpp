@@ -33,6 +33,9 @@ namespace {
 
 extern "C" void onSignal(int) { g_stop.store(true); }
 
+constexpr int kRecvBufferBytes = 4 << 20;  ///< socket receive buffer asked for: rides out a burst [bytes]
+constexpr std::size_t kInboundCapacity = 1024;  ///< decoded commands between two ticks
+
 int refuse(const std::string& what) {
   std::fprintf(stderr, "firmware_sim: error: %s\nfirmware_sim: refused, nothing run (exit 2)\n", what.c_str());
   return kExitRefused;
@@ -113,8 +116,8 @@ int mainImpl(int argc, char** argv) {
     }
   }
   TruthCsv csv;
-  if (!o.truth_csv.empty() && !csv.open(o.truth_csv)) {
-    return refuse("--truth-csv " + o.truth_csv + ": cannot open for writing (" + std::strerror(errno) + ")");
+  if (std::string why; !o.truth_csv.empty() && !csv.open(o.truth_csv, {o.scene, o.profile}, &why)) {
+    return refuse("--truth-csv: " + why);
   }
 
   if (!o.lockstep) {
@@ -128,20 +131,32 @@ int mainImpl(int argc, char** argv) {
                  o.lcm_url.c_str());
     return kExitLcm;
   }
-  SpscRing<Inbound> in(1024);
-  LcmBridge bridge(lcm, Channels::withPrefix(o.prefix), in);
+  // Receiving is ours (bench_io), not LCM's receive thread: LCM 1.3.1 crashes
+  // on malformed fragments and queues 30 messages per subscription.
+  const Channels channels = Channels::withPrefix(o.prefix);
+  bench_io::UdpmReceiver rx(LcmBridge::receiveLimits(), bench_io::ChannelFilter({channels.command}));
+  if (std::string why; !rx.open(o.lcm_url, kRecvBufferBytes, &why)) {
+    std::fprintf(stderr, "firmware_sim: error: cannot receive: %s\n", why.c_str());
+    return kExitLcm;
+  }
+  SpscRing<Inbound> in(kInboundCapacity);
+  LcmBridge bridge(lcm, rx, channels, in);
 
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  // sigaction without SA_RESTART: a blocking wait returns at once (EINTR).
+  struct sigaction sa {};
+  sa.sa_handler = onSignal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
   std::fprintf(stderr, "firmware_sim: scene '%s' (%s), %g Hz (%d RK4 steps of %g s per tick), %s, channels %s*\n",
                m.name.c_str(), variantName(m).c_str(), o.rate_hz, static_cast<int>(std::llround(c.control_period / m.integrator.step)),
                m.integrator.step, o.lockstep ? "lockstep" : "real time", (o.prefix + "GIMBAL_").c_str());
 
   Run r{scene, o, c, profile.get(), lcm, bridge, in, csv, {}, false, {}, 0.0, 0};
   const int rc = o.lockstep ? runLockstep(r) : runRealtime(r);
-  if (!csv.close()) {
-    std::fprintf(stderr, "firmware_sim: error: writing %s failed\n", o.truth_csv.c_str());
-    return rc == kExitOk ? kExitInternal : rc;
+  if (std::string why; !csv.close(&why)) {
+    std::fprintf(stderr, "firmware_sim: error: --truth-csv: %s\n", why.c_str());
+    return rc == kExitOk ? kExitOutput : rc;
   }
   return rc;
 }

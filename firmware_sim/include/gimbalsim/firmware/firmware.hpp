@@ -29,6 +29,7 @@
 #include "gimbalsim/dynamics/observables.hpp"
 #include "gimbalsim/dynamics/run_spec.hpp"
 #include "gimbalsim/firmware/attitude_sensors.hpp"
+#include "gimbalsim/firmware/command_gate.hpp"
 #include "gimbalsim/firmware/messages.hpp"
 #include "gimbalsim/firmware/sensor_noise.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
@@ -49,11 +50,12 @@ enum class Rejection : std::uint8_t {
   NonFinite,     ///< NaN or Inf torque
   OutOfRange,    ///< |torque| beyond the sanity range
   UnknownMode,   ///< mode not OFF or TORQUE
-  StaleSeq,      ///< seq <= the last accepted seq (stale or duplicate)
+  StaleSeq,      ///< seq <= the last seq accepted from the bound source (stale or duplicate)
   FutureStatus,  ///< answers a status not yet published
   Undecodable,   ///< bytes that are not a gimbal_command_t
+  WrongSource,   ///< from another source than the one bound (command_gate.hpp)
 };
-inline constexpr int kNumRejections = 7;
+inline constexpr int kNumRejections = 8;
 const char* describe(Rejection r);
 
 /// Counters kept by the firmware (cumulative).
@@ -104,15 +106,17 @@ class Firmware {
     // The caller checked; a bad config leaves steps_per_tick_ at 1.
     steps_per_tick_ = std::max(1, checkConfig(sc, c).steps_per_tick);
     watchdog_ticks_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(c.watchdog_timeout / c.control_period - 1e-9)));
+    gate_ = CommandGate(watchdog_ticks_);  // the binding lasts as long as the watchdog
     kinematics(m_, obs_, s_.q, s_.v);
     initial_boresight_ = boresight(m_, obs_, s_);
   }
 
-  /// Validates a decoded command on arrival. A valid one becomes the pending
-  /// command (the newest wins) and acts from the next tick.
-  Rejection receive(const Command& cmd) noexcept {
+  /// Validates a decoded command from `src` on arrival. A valid one becomes
+  /// the pending command (the newest wins) and acts from the next tick; a
+  /// rejected one changes nothing but the counters and the rejection flag.
+  Rejection receive(const Command& cmd, SourceId src = kInProcessSource) noexcept {
     ++n_.received;
-    const Rejection r = validate(cmd);
+    const Rejection r = validate(cmd, src);
     if (r != Rejection::None) {
       reject(r);
       return r;
@@ -120,6 +124,7 @@ class Firmware {
     pending_ = cmd;
     has_pending_ = true;
     last_accepted_seq_ = cmd.seq;
+    gate_.accept(src, cmd.seq, tick_);
     return r;
   }
 
@@ -226,13 +231,17 @@ class Firmware {
   int plantFailIndex() const noexcept { return plant_result_.v_index; }
 
  private:
-  Rejection validate(const Command& cmd) const noexcept {
+  Rejection validate(const Command& cmd, SourceId src) const noexcept {
     if (!std::isfinite(cmd.torque[0]) || !std::isfinite(cmd.torque[1])) return Rejection::NonFinite;
     if (cmd.mode != kModeOff && cmd.mode != kModeTorque) return Rejection::UnknownMode;
     for (int i = 0; i < 2; ++i) {
       if (std::fabs(cmd.torque[i]) > c_.torque_sanity_factor * run_.torque_limit(i)) return Rejection::OutOfRange;
     }
-    if (cmd.seq <= last_accepted_seq_) return Rejection::StaleSeq;
+    switch (gate_.check(src, cmd.seq, tick_)) {
+      case CommandGate::Verdict::WrongSource: return Rejection::WrongSource;
+      case CommandGate::Verdict::StaleSeq: return Rejection::StaleSeq;
+      case CommandGate::Verdict::Accept: break;
+    }
     // Status tick_ - 1 is the newest one published (status k is sampled in tick k).
     if (cmd.status_seq > tick_ - 1) return Rejection::FutureStatus;
     return Rejection::None;
@@ -333,6 +342,7 @@ class Firmware {
   std::int64_t tick_ = 0;              ///< index of the next tick
   std::int64_t last_valid_tick_ = 0;   ///< tick that took the last valid command (0 at start)
   std::int64_t last_accepted_seq_ = -1;
+  CommandGate gate_{1};
   Command pending_, active_;
   bool has_pending_ = false, has_active_ = false, tripped_ = false;
   std::int32_t pending_faults_ = 0;
