@@ -50,10 +50,13 @@ Reassembler::Reassembler(const ReassemblyLimits& limits, ChannelFilter filter)
   const auto np = static_cast<std::size_t>(lim_.max_partials);
   arena_.assign(np * lim_.max_message_bytes, 0);
   seen_arena_.assign(np * seen_words_, 0);
+  const auto nf = static_cast<std::size_t>(lim_.max_fragments);
+  range_arena_.assign(np * 2 * nf, 0);
   partials_.resize(np);
   for (std::size_t i = 0; i < np; ++i) {
     partials_[i].data = arena_.data() + i * lim_.max_message_bytes;
     partials_[i].seen = seen_arena_.data() + i * seen_words_;
+    partials_[i].range = range_arena_.data() + i * 2 * nf;
   }
 }
 
@@ -147,7 +150,6 @@ const Message* Reassembler::feedFragment(const std::uint8_t* d, std::size_t n, S
       p->size = size;
       p->count = count;
       p->got = 0;
-      p->bytes = 0;
       p->started_ns = now_ns;
       p->channel_len = static_cast<std::uint8_t>(clen);
       std::memcpy(p->channel, channel.data(), channel.size());
@@ -165,10 +167,18 @@ const Message* Reassembler::feedFragment(const std::uint8_t* d, std::size_t n, S
   if (std::uint64_t{offset} + len > p->size) return dropped(Drop::BadFragment);
   std::memcpy(p->data + offset, payload, len);
   word |= bit;
+  p->range[2 * frag_no] = offset;
+  p->range[2 * frag_no + 1] = static_cast<std::uint32_t>(len);
   ++p->got;
-  p->bytes += len;
   if (p->got < p->count) return nullptr;
-  if (p->bytes != p->size) {  // overlapping fragments left a hole
+  // LCM cuts a message into consecutive pieces in fragment order: they must
+  // tile [0, size) exactly (no overlap, no hole of stale bytes).
+  std::uint64_t end = 0;
+  for (std::uint16_t i = 0; i < p->count; ++i) {
+    if (p->range[2 * i] != end) break;
+    end += p->range[2 * i + 1];
+  }
+  if (end != p->size) {
     release(*p, Drop::Inconsistent);
     return nullptr;
   }

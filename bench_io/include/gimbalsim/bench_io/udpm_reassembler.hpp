@@ -55,7 +55,7 @@ enum class Drop : std::uint8_t {
   BadFragment,    ///< fragment number >= count, count 0, size 0, data beyond the message size, fragment 0 not at offset 0
   Orphan,         ///< a fragment of a message whose fragment 0 was not seen (or was already dropped)
   Duplicate,      ///< a fragment already received
-  Inconsistent,   ///< fragment count differs within one message, or all fragments in but bytes != size
+  Inconsistent,   ///< fragment count differs within one message, or the fragments do not tile the message
   Superseded,     ///< a partial message abandoned: its sender started another one
   Evicted,        ///< a partial message abandoned: every reassembly buffer was busy and it was the oldest
   TimedOut,       ///< a partial message abandoned: not complete within partial_timeout_ns
@@ -140,13 +140,13 @@ class Reassembler {
     bool used = false;
     Source src;
     std::uint32_t seqno = 0, size = 0;
-    std::uint64_t bytes = 0;  ///< received so far (overlaps counted twice)
     std::uint16_t count = 0, got = 0;
     std::int64_t started_ns = 0;
     std::uint8_t channel_len = 0;
     char channel[kMaxChannelBytes + 1] = {};
     std::uint8_t* data = nullptr;   ///< max_message_bytes in the arena
     std::uint64_t* seen = nullptr;  ///< one bit per fragment
+    std::uint32_t* range = nullptr; ///< offset and length of each fragment, by fragment number
   };
 
   const Message* dropped(Drop d) noexcept {
@@ -162,6 +162,7 @@ class Reassembler {
   std::size_t seen_words_ = 1;
   std::vector<std::uint8_t> arena_;
   std::vector<std::uint64_t> seen_arena_;
+  std::vector<std::uint32_t> range_arena_;
   std::vector<Partial> partials_;
   Message out_;
   ReassemblyCounters n_;

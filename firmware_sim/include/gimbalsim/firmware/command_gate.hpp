@@ -4,8 +4,8 @@
 // as the kernel reports it; in process: kInProcessSource). While bound,
 // commands from any other source are refused (WrongSource) and seq is checked
 // against the bound source's own history only, so a stranger's seq, however
-// extreme, is never recorded. The binding lasts until no command has been
-// accepted for `binding_ticks` (the watchdog time): then the next valid
+// extreme, is never recorded. The binding lasts until the watchdog has
+// tripped (no command accepted for more than `binding_ticks`): then the next valid
 // command binds afresh, with a fresh seq history, so even an extreme seq from
 // the bound source locks nobody out for longer than the watchdog. A refused
 // command changes nothing here. Ticks and seqs are int64: comparisons only,
@@ -29,7 +29,9 @@ class CommandGate {
   /// Would a command (seq) from `src`, arriving before tick `tick` (the index
   /// of the next tick), be accepted? Changes nothing.
   Verdict check(SourceId src, std::int64_t seq, std::int64_t tick) const noexcept {
-    const bool live = bound_ && tick - accepted_tick_ < binding_ticks_;
+    // Command accepted before tick a acts from tick a; the watchdog trips at
+    // tick a + binding_ticks; from the next tick on, the binding is over.
+    const bool live = bound_ && tick - accepted_tick_ <= binding_ticks_;
     if (live && src != source_) return Verdict::WrongSource;
     const std::int64_t last = live ? last_seq_ : -1;  // a new binding starts a fresh history
     return seq <= last ? Verdict::StaleSeq : Verdict::Accept;
