@@ -88,6 +88,8 @@ int main(int argc, char** argv) {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  std::fprintf(stderr, "gimbalsim_record: recording %s -> %s until SIGINT/SIGTERM%s\n", url.empty() ? "(default URL)" : url.c_str(),
+               path.c_str(), duration > 0.0 ? " or --duration" : "");
 
   long long failed = 0;
   auto write = [&](const io::Message& m, std::int64_t recv_utime) {

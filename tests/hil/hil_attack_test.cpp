@@ -126,9 +126,11 @@ TEST(HilAttack, RealTimePlantKeepsItsControllerUnderFlood) {
   TempDir dir("attack_realtime");
   const std::string cfg = defaultControllerConfig(), url = udpmUrl(7771);
   const double flood_pps = 50000;  // the rate stated in the README as sustained
+  // The controller is up before the plant starts (else the watchdog trips at the start, attack or not).
   const std::string body =
-      "timeout 30 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' --idle-exit 1 >ctl.log 2>&1 &\n"
-      "C=$!\nsleep 0.3\n" + attacker(7771, flood_pps) + " >attack.log 2>&1 &\nA=$!\n" + "timeout 30 " +
+      kStartedFn + std::string("timeout 30 ") + pointingController() + " " + cfg + " --lcm-url '" + url +
+      "' --idle-exit 1 >ctl.log 2>&1 &\nC=$!\nstarted ctl.log 'pointing_controller: GIMBAL_STATUS' || exit 90\n" +
+      attacker(7771, flood_pps) + " >attack.log 2>&1 &\nA=$!\n" + "timeout 30 " +
       firmwareSim() + " " + scenePath("paper_clearance") + " --duration 1.5 --profile " + cfg +
       " --truth-csv truth.csv --lcm-url '" + url + "' >fw.log 2>&1\nrf=$?; wait $C; rc=$?; wait $A; ra=$?; wait\n"
       "echo \"rf $rf rc $rc ra $ra\"\n[ $rf -eq 0 ] && [ $rc -eq 5 ] && [ $ra -eq 0 ]";  // controller: 5 = idle after the plant's end
