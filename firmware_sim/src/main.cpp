@@ -47,14 +47,15 @@ int mainImpl(int argc, char** argv) {
   app.add_option("scene", o.scene, "scene file (YAML), e.g. tools/scenes/paper_clearance.yaml")->required();
   app.add_option("--set", o.sets, "scene override key=value (repeatable); see `gimbalsim keys`");
   app.add_option("--rate", o.rate_hz, "control rate [Hz]; 1/rate must be a whole multiple of sim.step")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(1e-3, 1e6));
+  // Upper bounds on every time: each becomes an int64 count of ticks or ns (no overflow).
   app.add_option("--duration", o.duration, "simulated seconds to run (0 = until SIGINT/SIGTERM)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(CLI::NonNegativeNumber)->check(CLI::Range(0.0, 1e9));
   app.add_flag("--lockstep", o.lockstep, "lockstep: tick k+1 waits for the command answering status k");
   app.add_option("--lockstep-timeout-ms", o.lockstep_timeout_ms, "lockstep: wait at most this for an answer [ms]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e9));
   app.add_option("--start-timeout", o.start_timeout_s, "lockstep: wait at most this for the first answer [s]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e6));
   app.add_option("--truth-every", o.truth_every, "publish truth every N ticks")
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--truth-csv", o.truth_csv, "write every truth message to this CSV file");
@@ -66,14 +67,14 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--spin-us", o.spin_us, "busy-wait the last N us before each deadline")
       ->capture_default_str()->check(CLI::Range(0.0, 100000.0));
   app.add_option("--watchdog-ms", o.watchdog_ms, "no valid command for this long -> safe command [ms]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e9));
   app.add_option("--torque-sanity", o.torque_sanity, "reject commands with |torque| > this x torque.limit")
       ->capture_default_str()->check(CLI::Range(1.0, 1e6));
   app.add_option("--safe-torque", o.safe_torque, "torque applied while the watchdog is tripped [N m] (2 values)")
       ->expected(2)->capture_default_str();
   app.add_option("--profile", o.profile, "file whose profile: section (a pointing_controller config) defines the pointing error");
   app.add_option("--stats-period", o.stats_period, "loop statistics publication period [s]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e6));
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
