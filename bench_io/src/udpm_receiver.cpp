@@ -122,6 +122,9 @@ bool UdpmReceiver::open(const std::string& url, int recv_buf_bytes, std::string*
   }
   socklen_t len = sizeof rcvbuf_;
   getsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &rcvbuf_, &len);
+  // The kernel's count of datagrams dropped because this buffer was full
+  // comes with each datagram (SO_RXQ_OVFL): no drop goes uncounted.
+  setsockopt(fd_, SOL_SOCKET, SO_RXQ_OVFL, &one, sizeof one);
   // Bound to the group, not INADDR_ANY: unicast datagrams to the port and
   // other groups' traffic on it never reach this socket.
   sockaddr_in sa{};
@@ -154,16 +157,30 @@ const Message* UdpmReceiver::readOne(bool* empty, std::int64_t* recv_utime) noex
   *empty = true;
   if (fd_ < 0) return nullptr;
   sockaddr_in from{};
-  socklen_t fromlen = sizeof from;
+  iovec iov{buf_.data(), buf_.size()};
+  alignas(cmsghdr) char control[CMSG_SPACE(sizeof(std::uint32_t))];
+  msghdr msg{};
+  msg.msg_name = &from;
+  msg.msg_namelen = sizeof from;
+  msg.msg_iov = &iov;
+  msg.msg_iovlen = 1;
+  msg.msg_control = control;
+  msg.msg_controllen = sizeof control;
   // MSG_TRUNC: the datagram's real length, so an oversized one is seen and counted.
-  const ssize_t n = ::recvfrom(fd_, buf_.data(), buf_.size(), MSG_DONTWAIT | MSG_TRUNC,
-                               reinterpret_cast<sockaddr*>(&from), &fromlen);
+  const ssize_t n = ::recvmsg(fd_, &msg, MSG_DONTWAIT | MSG_TRUNC);
   if (n < 0) {
     if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) ++socket_errors_;
     return nullptr;
   }
   *empty = false;
   if (recv_utime) *recv_utime = realtimeUs();
+  for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
+    if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) {
+      std::uint32_t total = 0;  // cumulative for the socket
+      std::memcpy(&total, CMSG_DATA(c), sizeof total);
+      kernel_drops_ = total;
+    }
+  }
   if (static_cast<std::size_t>(n) > buf_.size()) {
     rs_.count(Drop::Truncated);
     return nullptr;
@@ -184,6 +201,7 @@ std::string UdpmReceiver::summary() const {
       sep = ", ";
     }
   }
+  s << "; " << kernel_drops_ << " lost in the kernel (socket buffer of " << rcvbuf_ << " bytes full)";
   if (socket_errors_ > 0) s << "; socket errors " << socket_errors_;
   return s.str();
 }

@@ -291,7 +291,7 @@ int run(int argc, char** argv) {
     if (o.duration > 0.0 && h.answered() > 0 && h.lastTime() >= o.duration - 0.5 * c.period) break;
     const double idle = static_cast<double>(now - last_answer_ns) * 1e-9;  // [s] wall time since the last status
     if (o.idle_exit > 0.0 && idle >= o.idle_exit) {
-      std::fprintf(stderr, "pointing_controller: no status for %g s, exiting\n", idle);
+      std::fprintf(stderr, "pointing_controller: no status for %g s, exiting\n", o.idle_exit);
       code = kExitIdle;
       break;
     }

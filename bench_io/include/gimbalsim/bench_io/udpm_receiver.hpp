@@ -71,6 +71,8 @@ class UdpmReceiver {
   const ReassemblyCounters& counters() const noexcept { return rs_.counters(); }
   const Reassembler& reassembler() const noexcept { return rs_; }
   std::uint64_t socketErrors() const noexcept { return socket_errors_; }
+  /// Datagrams the kernel dropped because the socket buffer was full (SO_RXQ_OVFL, as of the last datagram read).
+  std::uint64_t kernelDrops() const noexcept { return kernel_drops_; }
   /// The socket's receive buffer as granted by the kernel [bytes] (0: no socket).
   int recvBufferBytes() const noexcept { return rcvbuf_; }
   /// One line for an exit summary: datagrams, messages, drops by reason.
@@ -81,6 +83,7 @@ class UdpmReceiver {
   int fd_ = -1;
   int rcvbuf_ = 0;
   std::uint64_t socket_errors_ = 0;
+  std::uint64_t kernel_drops_ = 0;
   std::vector<std::uint8_t> buf_;
 };
 
