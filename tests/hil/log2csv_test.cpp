@@ -188,27 +188,29 @@ TEST(Log2Csv, SkipsAndCountsUndecodableMessagesOnAChannel) {
 namespace gimbalsim::hil {
 namespace {
 
+/// A log with one gimbal_command_t event, by liblcm's writer; its size in bytes (0: failed).
+long writeOneCommandLog(const std::string& path) {
+  lcm::LogFile log(path, "w");
+  if (!log.good()) return 0;
+  unsigned char buf[256];
+  gimbal_command_t c{};
+  const int n = c.encode(buf, 0, sizeof buf);
+  lcm::LogEvent e;
+  e.timestamp = 1;
+  e.channel = "GIMBAL_COMMAND";
+  e.datalen = n;
+  e.data = buf;
+  return log.writeEvent(&e) == 0 ? 28 + static_cast<long>(e.channel.size()) + n : 0;
+}
+
 // A log whose second event header declares 2 GB of data (LCM 1.3.1's reader
 // trusts it and crashes): refused with exit 2, the byte offset of that event,
 // and no CSV written; the log itself is never an output.
 TEST(Log2Csv, RefusesAMalformedLogWithTheByteOffsetAndWritesNothing) {
   TempDir dir("log2csv_malformed");
   const std::string path = dir / "m.lcmlog";
-  long first_event_bytes = 0;
-  {
-    lcm::LogFile log(path, "w");
-    ASSERT_TRUE(log.good());
-    unsigned char buf[256];
-    gimbal_command_t c{};
-    const int n = c.encode(buf, 0, sizeof buf);
-    lcm::LogEvent e;
-    e.timestamp = 1;
-    e.channel = "GIMBAL_COMMAND";
-    e.datalen = n;
-    e.data = buf;
-    ASSERT_EQ(log.writeEvent(&e), 0);
-    first_event_bytes = 28 + static_cast<long>(e.channel.size()) + n;
-  }
+  const long first_event_bytes = writeOneCommandLog(path);
+  ASSERT_GT(first_event_bytes, 0);
   {
     std::FILE* f = std::fopen(path.c_str(), "ab");
     const unsigned char hdr[28] = {0xED, 0xA1, 0xDA, 0x01, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0,
@@ -231,18 +233,7 @@ TEST(Log2Csv, RefusesAMalformedLogWithTheByteOffsetAndWritesNothing) {
 TEST(Log2Csv, NeverWritesOverTheLogOrThroughASymlink) {
   TempDir dir("log2csv_outputs");
   const std::string path = dir / "w.lcmlog";
-  {
-    lcm::LogFile log(path, "w");
-    unsigned char buf[256];
-    gimbal_command_t c{};
-    const int n = c.encode(buf, 0, sizeof buf);
-    lcm::LogEvent e;
-    e.timestamp = 1;
-    e.channel = "GIMBAL_COMMAND";
-    e.datalen = n;
-    e.data = buf;
-    ASSERT_EQ(log.writeEvent(&e), 0);
-  }
+  ASSERT_GT(writeOneCommandLog(path), 0);
   const std::string before = readFile(path);
   int st = 0;
   std::string msg = runCapture(kTool + " '" + path + "' --channel GIMBAL_COMMAND --out '" + path + "'", &st);
