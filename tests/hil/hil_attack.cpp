@@ -16,7 +16,9 @@
 //                      command channel from this process (another source
 //                      than the controller): seq INT64_MAX and the seq the
 //                      controller will use next, both answering the newest
-//                      status seen, with a large valid torque.
+//                      status seen, with a large valid torque; and a spoofed
+//                      status (seq and last_command_seq INT64_MAX) for the
+//                      controller, which must ignore it (another source than its plant).
 // Time-driven, not status-driven: under its own flood on a loaded machine the
 // attacker sees few statuses, and the attack must go on regardless.
 // Runs --seconds of wall time, or until no status came for --idle-exit
@@ -164,7 +166,7 @@ int main(int argc, char** argv) {
   bad.push_back(fragment(6, 100, 0, 0, 2, ch.command, 200));                     // beyond the size
   bad.push_back(Bytes{'L', 'C', '0', '9', 1, 2, 3, 4, 5, 6, 7, 8});              // bad magic
 
-  long long statuses = 0, spoofs = 0, malformed = 0;
+  long long statuses = 0, spoofs = 0, malformed = 0, fake_statuses = 0;
   gimbalsim::gimbal_status_t st{};  // the newest status seen
   st.seq = -1;
   using Clock = std::chrono::steady_clock;
@@ -172,6 +174,7 @@ int main(int argc, char** argv) {
   auto onStatus = [&](const io::Message& m, std::int64_t) {
     gimbalsim::gimbal_status_t s{};
     if (s.decode(m.data, 0, static_cast<int>(m.size)) < 0) return;
+    if (s.seq == std::numeric_limits<std::int64_t>::max()) return;  // our own spoofed status
     last_status = Clock::now();
     if (s.seq <= st.seq) return;
     st = s;
@@ -194,6 +197,14 @@ int main(int argc, char** argv) {
         tx.send(shortMsg(ch.command, buf, static_cast<std::size_t>(n)), 7);
         ++spoofs;
     }
+    gimbalsim::gimbal_status_t fake = st;
+    fake.seq = std::numeric_limits<std::int64_t>::max();
+    fake.last_command_seq = std::numeric_limits<std::int64_t>::max();
+    fake.angle[0] = 1.0;
+    std::uint8_t buf[512];
+    const int n = fake.encode(buf, 0, sizeof buf);
+    tx.send(shortMsg(ch.status, buf, static_cast<std::size_t>(n)), 6);
+    ++fake_statuses;
   };
 
   const Clock::time_point t0 = Clock::now();
@@ -230,7 +241,7 @@ int main(int argc, char** argv) {
   }
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
   std::printf("hil_attack: %.2f s: flood %lld datagrams (%.0f per s), %lld malformed, %lld spoofed commands, "
-              "%lld statuses seen, %lld send failures\n",
-              wall, flooded, static_cast<double>(flooded) / wall, malformed, spoofs, statuses, tx.failed);
+              "%lld spoofed statuses, %lld statuses seen, %lld send failures\n",
+              wall, flooded, static_cast<double>(flooded) / wall, malformed, spoofs, fake_statuses, statuses, tx.failed);
   return 0;
 }

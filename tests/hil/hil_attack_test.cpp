@@ -4,8 +4,8 @@
 // fragment flood (fragment 0s that never complete, from 8 ports, orphans,
 // unsubscribed channels, 4 GB declarations), every kind of malformed
 // datagram (among them the short fragment that crashes LCM 1.3.1's receive
-// thread) and spoofed commands from another source with seq INT64_MAX and
-// with the controller's next seq.
+// thread), spoofed commands from another source with seq INT64_MAX and
+// with the controller's next seq, and spoofed statuses for the controller.
 //  - Lockstep: the attacked bench's truth equals a clean bench's run side by
 //    side, bit for bit, except the COMMAND_REJECTED flag of the ticks that
 //    rejected a spoof; no lockstep timeout, no watchdog trip; every spoof
@@ -76,6 +76,10 @@ TEST(HilAttack, LockstepRunUnderAttackEqualsACleanRun) {
   EXPECT_LE(rejected, spoofs);
   EXPECT_EQ(bad.at("reason: from another source than the bound controller"), rejected) << "spoofs, and nothing else";
   EXPECT_EQ(bad.at("received"), clean.at("received") + rejected) << "no command of the controller lost";
+  // The controller ignored the spoofed statuses (else it would have restarted on the next real one).
+  const std::string ctl = readFile(dir / "attacked.ctl");
+  EXPECT_GT(number(ctl, "(\\d+) from another source than the plant"), 0) << ctl;
+  EXPECT_EQ(number(ctl, "(\\d+) plant restarts"), 0) << ctl;
   EXPECT_EQ(bad.at("missed"), clean.at("missed"));
   EXPECT_EQ(bad.at("watchdog_trips"), 0);
   EXPECT_EQ(bad.at("lockstep_timeouts"), 0);
