@@ -59,7 +59,8 @@ enum class Drop : std::uint8_t {
   Superseded,     ///< a partial message abandoned: its sender started another one
   Evicted,        ///< a partial message abandoned: every reassembly buffer was busy and it was the oldest
   TimedOut,       ///< a partial message abandoned: not complete within partial_timeout_ns
-  Truncated,      ///< a datagram larger than the receive buffer (the socket layer counts it)
+  Truncated,      ///< a datagram larger than the receive buffer (the socket layer counts it; defensive:
+                  ///< the buffer holds 65535 bytes, more than any IPv4 UDP payload)
 };
 inline constexpr int kNumDrops = 13;
 const char* describe(Drop d) noexcept;
