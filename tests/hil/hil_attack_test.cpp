@@ -138,7 +138,9 @@ TEST(HilAttack, LockstepRunUnderAttackEqualsACleanRun) {
   const long long kernel_lost = number(readFile(dir / "rec.log"), "(\\d+) lost in the kernel");
   std::printf("recorder: %zu of %zu truth rows, %lld datagrams lost in the kernel\n", r.rows.size(), b.rows.size(),
               kernel_lost);
-  if (r.rows.size() < b.rows.size()) EXPECT_GT(kernel_lost, 0) << "truth rows missing from the log, uncounted";
+  if (r.rows.size() < b.rows.size()) {
+    EXPECT_GT(kernel_lost, 0) << "truth rows missing from the log, uncounted";
+  }
 }
 
 TEST(HilAttack, RealTimePlantKeepsItsControllerUnderFlood) {
@@ -148,7 +150,7 @@ TEST(HilAttack, RealTimePlantKeepsItsControllerUnderFlood) {
   const double flood_pps = 50000;  // the rate stated in the README as sustained
   // The controller is up before the plant starts (else the watchdog trips at the start, attack or not).
   const std::string body =
-      kStartedFn + std::string("timeout 30 ") + pointingController() + " " + cfg + " --lcm-url '" + url +
+      std::string(kStartedFn) + "timeout 30 " + pointingController() + " " + cfg + " --lcm-url '" + url +
       "' --idle-exit 1 >ctl.log 2>&1 &\nC=$!\nstarted ctl.log 'pointing_controller: GIMBAL_STATUS' || exit 90\n" +
       attacker(7771, flood_pps) + " >attack.log 2>&1 &\nA=$!\n" + "timeout 30 " +
       firmwareSim() + " " + scenePath("paper_clearance") + " --duration 1.5 --profile " + cfg +

@@ -30,7 +30,7 @@ TEST(HilStop, SigintAndSigtermEndEveryProgramCleanlyWithWholeOutputs) {
   TempDir dir("stop");
   const std::string url = udpmUrl(7781), cfg = defaultControllerConfig();
   const std::string body =
-      kStartedFn + std::string("'") + std::string(GIMBALSIM_RECORD) + "' --lcm-url '" + url + "' run.lcmlog >rec.log 2>&1 &\nR=$!\n" +
+      std::string(kStartedFn) + "'" + std::string(GIMBALSIM_RECORD) + "' --lcm-url '" + url + "' run.lcmlog >rec.log 2>&1 &\nR=$!\n" +
       pointingController() + " " + cfg + " --lcm-url '" + url + "' --log-csv ctl.csv >ctl.log 2>&1 &\nC=$!\n" +
       "started rec.log recording && started ctl.log 'pointing_controller: GIMBAL_STATUS' || exit 90\n" +
       firmwareSim() + " " + scenePath("paper_clearance") + " --profile " + cfg +
