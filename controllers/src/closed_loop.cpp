@@ -1,6 +1,7 @@
 #include "gimbalsim/controllers/closed_loop.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 
 #include "gimbalsim/dynamics/simulate.hpp"
@@ -164,8 +165,10 @@ Answer answerStatus(const ControllerConfig& c, ControllerState& s, const firmwar
     for (int i = 0; i < 2; ++i) s.monitor.hold_tau[i] = a.out.tau(i);
   }
   a.cmd.utime = st.utime;
-  a.cmd.seq = std::max(next_seq, st.last_command_seq + 1);
-  next_seq = a.cmd.seq + 1;
+  // Saturating: an extreme last_command_seq (a bug, a spoofed status) must not overflow.
+  constexpr std::int64_t kMaxSeq = std::numeric_limits<std::int64_t>::max();
+  a.cmd.seq = std::max(next_seq, st.last_command_seq < kMaxSeq ? st.last_command_seq + 1 : kMaxSeq);
+  next_seq = a.cmd.seq < kMaxSeq ? a.cmd.seq + 1 : kMaxSeq;
   a.cmd.status_seq = st.seq;
   a.cmd.mode = firmware::kModeTorque;
   a.cmd.torque[0] = a.out.tau(0);

@@ -8,8 +8,12 @@
 // sample counts as missing (answerStatus), exactly as the in-process loop.
 // The status handler decodes into a stack message (fixed-size arrays: no
 // allocation), runs update() and encodes into a preallocated buffer for LCM's
-// raw publish (the typed publish allocates on every call). Flags and exit
-// codes: controllers/README.md.
+// raw publish (the typed publish allocates on every call). Receiving is our
+// bounded UDP receiver (bench_io/udpm_receiver.hpp), not LCM's receive
+// thread, which LCM 1.3.1 lets crash on one malformed fragment. Statuses are
+// taken from one plant (the source of the first, until it has been silent
+// for kRebindNs), so a spoofed status cannot reset or steer the controller.
+// Flags and exit codes: controllers/README.md.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
@@ -20,6 +24,10 @@
 #include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <vector>
+
+#include "gimbalsim/bench_io/output_file.hpp"
+#include "gimbalsim/bench_io/peak_memory.hpp"
+#include "gimbalsim/bench_io/udpm_receiver.hpp"
 
 #include "gimbalsim/dynamics/guarded_main.hpp"
 #include "gimbalsim/channels.hpp"
@@ -38,6 +46,7 @@ enum ExitCode : int {
   kExitRefused = 2,   ///< bad flag, configuration or log file: nothing run
   kExitLcm = 4,       ///< LCM could not start or failed while running
   kExitIdle = 5,      ///< no status within --idle-exit seconds
+  kExitOutput = 6,    ///< --log-csv could not be written (the target is untouched)
 };
 
 std::atomic<bool> g_stop{false};
@@ -62,9 +71,17 @@ class StatusHandler {
   StatusHandler(const ControllerConfig& c, lcm::LCM& lcm, const Channels& ch, std::FILE* csv)
       : c_(c), lcm_(lcm), ch_(ch), csv_(csv) {}
 
-  void onAttitude(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
+  /// One received message; the channel says which handler. now_ns: CLOCK_MONOTONIC.
+  void onMessage(const bench_io::Message& m, std::int64_t now_ns) {
+    if (!fromPlant(m.source, now_ns)) return;
+    const int size = static_cast<int>(m.size);  // bounded by the receiver's limit
+    if (m.channel == ch_.status) onStatus(m.data, size);
+    else if (m.channel == ch_.attitude) onAttitude(m.data, size);
+  }
+
+  void onAttitude(const std::uint8_t* data, int size) {
     gimbal_attitude_t m{};
-    if (m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) {
+    if (m.decode(data, 0, size) != size) {
       ++undecodable_;
       return;
     }
@@ -72,10 +89,10 @@ class StatusHandler {
     noteAttitude(state_, attitude_);  // a late status finds the attitude of its tick (fault_monitor.hpp)
   }
 
-  void onStatus(const lcm::ReceiveBuffer* rbuf, const std::string& /*channel*/) {
+  void onStatus(const std::uint8_t* data, int size) {
     gimbal_status_t st{};
-    if (st.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) < 0) {
-      ++undecodable_;  // garbage or another type on the status channel
+    if (st.decode(data, 0, size) != size) {
+      ++undecodable_;  // garbage, another type or trailing bytes on the status channel
       return;
     }
     if (st.seq < last_status_seq_) {  // the plant restarted: start the controller afresh
@@ -114,7 +131,21 @@ class StatusHandler {
                  "star_outage[-],attitude_paired[-],stale[-],safe[-],suspect_az[-],suspect_el[-]\n");
   }
 
+  /// The plant is the source of the first message; another source is taken
+  /// only after the bound one has been silent for kRebindNs (a restarted plant).
+  bool fromPlant(bench_io::Source src, std::int64_t now_ns) {
+    if (bound_ && !(src == plant_) && now_ns - plant_heard_ns_ < kRebindNs) {
+      ++foreign_;
+      return false;
+    }
+    bound_ = true;
+    plant_ = src;
+    plant_heard_ns_ = now_ns;
+    return true;
+  }
+
   long long answered() const { return answered_; }
+  long long foreign() const { return foreign_; }
   long long plantRestarts() const { return restarts_; }
   long long undecodable() const { return undecodable_; }
   long long publishErrors() const { return publish_errors_; }
@@ -147,6 +178,11 @@ class StatusHandler {
   long long unpaired_ = 0;        ///< statuses without the attitude of their tick (gyro rate held)
   long long outage_statuses_ = 0; ///< statuses answered during a star tracker outage
   std::array<std::uint8_t, 256> buf_{};  // a command encodes to well under 256 bytes
+  static constexpr std::int64_t kRebindNs = 500000000;  ///< plant silent this long -> another may bind [ns]
+  bool bound_ = false;
+  bench_io::Source plant_;
+  std::int64_t plant_heard_ns_ = 0;
+  long long foreign_ = 0;  ///< messages from another source than the bound plant (ignored)
   std::int64_t next_seq_ = 0;
   std::int64_t last_status_seq_ = -1;
   long long restarts_ = 0;  ///< statuses whose seq went backwards
@@ -199,52 +235,76 @@ int run(int argc, char** argv) {
     for (const std::string& kv : configValues(c)) std::printf("%s\n", kv.c_str());
     return kExitOk;
   }
+  // --log-csv: a temporary file renamed over the target at exit (also after
+  // SIGINT/SIGTERM), never through a link, never over the configuration.
+  bench_io::OutputFile log_out;
   std::FILE* csv = nullptr;
   if (!o.log_csv.empty()) {
-    csv = std::fopen(o.log_csv.c_str(), "w");
-    if (!csv) {
-      std::fprintf(stderr, "pointing_controller: --log-csv %s: cannot open for writing\n", o.log_csv.c_str());
+    if (std::string why; !log_out.open(o.log_csv, &why, {o.config})) {
+      std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", why.c_str());
       return kExitRefused;
     }
+    csv = log_out.file();
     StatusHandler::header(csv);
   }
   lcm::LCM lcm(o.lcm_url);
   if (!lcm.good()) {
     std::fprintf(stderr, "pointing_controller: LCM could not start (url '%s'); in a fresh network namespace add a "
                  "multicast route: ip link set lo up && ip route add 224.0.0.0/4 dev lo\n", o.lcm_url.c_str());
-    if (csv) std::fclose(csv);
     return kExitLcm;
   }
   const Channels ch = Channels::withPrefix(o.prefix);
   StatusHandler h(c, lcm, ch, csv);
-  lcm.subscribe(ch.attitude, &StatusHandler::onAttitude, &h);
-  lcm.subscribe(ch.status, &StatusHandler::onStatus, &h);
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  bench_io::ReassemblyLimits lim;  // statuses and attitudes are < 1 kB
+  lim.max_message_bytes = 4096;
+  bench_io::UdpmReceiver rx(lim, bench_io::ChannelFilter({ch.status, ch.attitude}));
+  if (std::string why; !rx.open(o.lcm_url, 4 << 20, &why)) {
+    std::fprintf(stderr, "pointing_controller: cannot receive: %s\n", why.c_str());
+    return kExitLcm;
+  }
+  // sigaction without SA_RESTART: the wait returns at once on SIGINT/SIGTERM.
+  struct sigaction sa {};
+  sa.sa_handler = onSignal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
   std::fprintf(stderr, "pointing_controller: %s -> %s, period %g s, profile: slew to (%g, %g) rad at %g s for %g s, "
                "hold %g s, track from %g s\n", ch.status.c_str(), ch.command.c_str(), c.period,
                c.profile.slew_target(0), c.profile.slew_target(1), c.profile.slew_start, c.profile.slew_time,
                c.profile.hold_time, c.profile.trackStart());
   int code = kExitOk;
-  double idle = 0.0;  // [s] wall time since the last status
   constexpr int kPollMs = 100;
+  constexpr int kDrainMax = 256;  // datagrams per round: a flood cannot hold the loop
+  std::int64_t last_answer_ns = bench_io::monotonicNs();
   while (!g_stop.load()) {
-    const long long before = h.answered();
-    const int r = lcm.handleTimeout(kPollMs);
-    if (r < 0) {
-      std::fprintf(stderr, "pointing_controller: LCM receive failed\n");
+    if (rx.wait(kPollMs) < 0) {
+      std::fprintf(stderr, "pointing_controller: receive failed (socket error)\n");
       code = kExitLcm;
       break;
     }
-    idle = h.answered() > before ? 0.0 : (r == 0 ? idle + kPollMs * 1e-3 : idle);
+    const long long before = h.answered();
+    rx.drain([&h](const bench_io::Message& m, std::int64_t) { h.onMessage(m, bench_io::monotonicNs()); }, kDrainMax);
+    const std::int64_t now = bench_io::monotonicNs();
+    if (h.answered() > before) last_answer_ns = now;
+    if (csv && !log_out.ok()) {
+      std::fprintf(stderr, "pointing_controller: --log-csv %s: write failed, stopping\n", o.log_csv.c_str());
+      code = kExitOutput;
+      break;
+    }
     if (o.duration > 0.0 && h.answered() > 0 && h.lastTime() >= o.duration - 0.5 * c.period) break;
+    const double idle = static_cast<double>(now - last_answer_ns) * 1e-9;  // [s] wall time since the last status
     if (o.idle_exit > 0.0 && idle >= o.idle_exit) {
-      std::fprintf(stderr, "pointing_controller: no status for %g s, exiting\n", idle);
+      std::fprintf(stderr, "pointing_controller: no status for %g s, exiting\n", o.idle_exit);
       code = kExitIdle;
       break;
     }
   }
-  if (csv) std::fclose(csv);
+  if (csv) {
+    if (std::string why; !log_out.commit(&why)) {
+      std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", why.c_str());
+      if (code == kExitOk) code = kExitOutput;
+    }
+  }
   std::fprintf(stderr, "pointing_controller: answered %lld statuses (last t = %.3f s), %lld undecodable, %lld publish "
                "errors, %lld plant restarts, max |joint error| while tracking %.3e rad (encoder), status faults seen 0x%x, "
                "%lld statuses without their attitude (gyro held), %lld in a star tracker outage\n",
@@ -254,6 +314,8 @@ int run(int argc, char** argv) {
   std::fprintf(stderr, "pointing_controller: fault monitor: %lld stale statuses (%lld with safe torque), %lld statuses "
                "missing, encoder suspect %lld times on azimuth, %lld on elevation\n",
                mon.stale_statuses, mon.safe_statuses, mon.missing_statuses, mon.suspect_onsets[0], mon.suspect_onsets[1]);
+  std::fprintf(stderr, "pointing_controller: receive: %s; %lld from another source than the plant (ignored); peak "
+               "memory (VmHWM) %ld kB\n", rx.summary().c_str(), h.foreign(), bench_io::peakRssKb());
   return code;
 }
 

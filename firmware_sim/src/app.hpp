@@ -26,6 +26,7 @@ enum ExitCode : int {
   kExitPlantFault = 3,     ///< the plant stopped on numerical trouble during the run
   kExitLcm = 4,            ///< LCM could not start (bad --lcm-url, no multicast route)
   kExitNoController = 5,   ///< lockstep: nobody answered status 0 within --start-timeout
+  kExitOutput = 6,         ///< an output file could not be written (the run stopped; the target is untouched)
 };
 
 /// Set by SIGINT/SIGTERM; the loops check it every tick.
@@ -58,6 +59,7 @@ struct Options {
 struct Inbound {
   bool undecodable = false;
   Command cmd;
+  SourceId source = kInProcessSource;  ///< the sender (bench_io::Source::id())
 };
 
 /// What the loop hands back each tick.
@@ -96,8 +98,9 @@ inline std::int64_t totalTicks(const Options& o, const Config& c) {
   return o.duration > 0.0 ? static_cast<std::int64_t>(std::llround(o.duration / c.control_period)) : -1;
 }
 
-/// Hands every queued command to the firmware; *answered becomes true when one
-/// answers status `answer_to` (lockstep).
+/// Hands every queued command to the firmware; *answered becomes true when an
+/// accepted one answers status `answer_to` (lockstep: a rejected command,
+/// e.g. a spoof or a NaN torque, never releases the gate).
 template <class V>
 void drainInbound(Firmware<V>& fw, SpscRing<Inbound>& in, std::int64_t answer_to = -2, bool* answered = nullptr) {
   Inbound m;
@@ -105,8 +108,8 @@ void drainInbound(Firmware<V>& fw, SpscRing<Inbound>& in, std::int64_t answer_to
     if (m.undecodable) {
       fw.receiveUndecodable();
     } else {
-      fw.receive(m.cmd);
-      if (answered && m.cmd.status_seq == answer_to) *answered = true;
+      const Rejection r = fw.receive(m.cmd, m.source);
+      if (answered && r == Rejection::None && m.cmd.status_seq == answer_to) *answered = true;
     }
   }
 }

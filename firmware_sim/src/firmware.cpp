@@ -14,6 +14,7 @@ const char* describe(Rejection r) {
     case Rejection::StaleSeq: return "stale or duplicate seq";
     case Rejection::FutureStatus: return "answers a status not yet published";
     case Rejection::Undecodable: return "undecodable bytes (not a gimbal_command_t)";
+    case Rejection::WrongSource: return "from another source than the bound controller";
   }
   return "?";
 }

@@ -18,17 +18,38 @@ static_assert(int{kPlantFault} == int{gimbal_status_t::FAULT_PLANT_FAULT});
 static_assert(int{kLockstepTimeout} == int{gimbal_status_t::FAULT_LOCKSTEP_TIMEOUT});
 static_assert(kModeOff == gimbal_command_t::MODE_OFF && kModeTorque == gimbal_command_t::MODE_TORQUE);
 
-LcmBridge::LcmBridge(lcm::LCM& lcm, Channels ch, SpscRing<Inbound>& in) : lcm_(lcm), ch_(std::move(ch)), in_(in) {
+LcmBridge::LcmBridge(lcm::LCM& lcm, bench_io::UdpmReceiver& rx, Channels ch, SpscRing<Inbound>& in)
+    : lcm_(lcm), rx_(rx), ch_(std::move(ch)), in_(in) {
   for (auto& x : pub_seq_) x = -1;
-  lcm_.subscribe(ch_.command, &LcmBridge::onCommand, this);
 }
 
-void LcmBridge::onCommand(const lcm::ReceiveBuffer* rb, const std::string&) {
+bench_io::ReassemblyLimits LcmBridge::receiveLimits() {
+  bench_io::ReassemblyLimits l;
+  l.max_message_bytes = 4096;  // gimbal_command_t is 49 bytes; room for another sender's fragmenting
+  l.max_partials = 4;
+  l.max_fragments = 64;
+  l.partial_timeout_ns = 100000000;
+  return l;
+}
+
+void LcmBridge::drain() {
+  rx_.drain([this](const bench_io::Message& m, std::int64_t) { onCommand(m); }, kDrainMax);
+}
+
+bool LcmBridge::receive(int timeout_ms) {
+  const int w = rx_.wait(timeout_ms);
+  if (w > 0) drain();
+  return w >= 0;
+}
+
+void LcmBridge::onCommand(const bench_io::Message& msg) {
   const std::int64_t now = nowNs();
   Inbound m;
+  m.source = msg.source.id();
   gimbal_command_t c;
-  const int n = c.decode(rb->data, 0, static_cast<int>(rb->data_size));
-  if (n < 0 || n != static_cast<int>(rb->data_size)) {
+  const int size = static_cast<int>(msg.size);  // <= receiveLimits().max_message_bytes
+  const int n = c.decode(msg.data, 0, size);
+  if (n < 0 || n != size) {
     m.undecodable = true;  // garbage, a wrong type (fingerprint mismatch) or trailing bytes
   } else {
     copyFields<CommandFields>(m.cmd, c);

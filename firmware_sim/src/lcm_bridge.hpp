@@ -1,4 +1,6 @@
-// firmware_sim's LCM side: decodes gimbal_command_t into the inbound ring,
+// firmware_sim's LCM side: receives with our bounded UDP receiver
+// (bench_io/udpm_receiver.hpp, not LCM's receive thread: see there why),
+// decodes gimbal_command_t into the inbound ring with its sender,
 // publishes status, attitude, truth and loop statistics from a preallocated buffer with
 // the raw publish (the typed one allocates on every call), and times the
 // status -> command round trip. Runs on the communication thread (real time)
@@ -9,19 +11,27 @@
 #include <string>
 
 #include "app.hpp"
+#include "gimbalsim/bench_io/udpm_receiver.hpp"
 #include "gimbalsim/channels.hpp"
 #include "gimbalsim/firmware/histogram.hpp"
-
-namespace lcm {
-class ReceiveBuffer;
-}
 
 namespace gimbalsim::firmware {
 
 class LcmBridge {
  public:
-  /// Subscribes to the command channel; decoded commands go to `in`.
-  LcmBridge(lcm::LCM& lcm, Channels ch, SpscRing<Inbound>& in);
+  /// Receives the command channel through `rx` (opened on the same URL as
+  /// `lcm`, filtering that channel); decoded commands go to `in`.
+  LcmBridge(lcm::LCM& lcm, bench_io::UdpmReceiver& rx, Channels ch, SpscRing<Inbound>& in);
+
+  /// The receiver's limits for firmware_sim: bench messages are < 1 kB.
+  static bench_io::ReassemblyLimits receiveLimits();
+
+  /// Reads the datagrams waiting (at most kDrainMax) into the inbound ring.
+  void drain();
+  /// Waits up to timeout_ms for datagrams, then drain(). False on a socket error.
+  bool receive(int timeout_ms);
+  int fd() const noexcept { return rx_.fd(); }
+  const bench_io::UdpmReceiver& receiver() const noexcept { return rx_; }
 
   void publish(const Status& s);
   void publish(const Truth& t);
@@ -30,15 +40,17 @@ class LcmBridge {
 
   /// Status published -> command answering it received [us] (this thread only).
   Histogram roundtrip{10000};
-  long long dropped_in = 0;  ///< commands lost because the inbound ring was full
+  long long dropped_in = 0;  ///< commands lost because the inbound ring was full (counted, never silent)
   long long publish_errors = 0;
 
  private:
-  void onCommand(const lcm::ReceiveBuffer* rb, const std::string& channel);
+  void onCommand(const bench_io::Message& msg);
+  static constexpr int kDrainMax = 256;  ///< datagrams per drain(): a flood cannot starve publishing
   template <class M>
   void send(const std::string& channel, const M& msg);
 
   lcm::LCM& lcm_;
+  bench_io::UdpmReceiver& rx_;
   Channels ch_;
   SpscRing<Inbound>& in_;
   Status last_status_;

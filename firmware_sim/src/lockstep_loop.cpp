@@ -3,7 +3,6 @@
 // bit-for-bit repeatable. README "Modes".
 #include <algorithm>
 #include <cstdio>
-#include <lcm/lcm-cpp.hpp>
 
 #include "app.hpp"
 #include "gimbalsim/channels.hpp"
@@ -40,8 +39,8 @@ bool awaitAnswer(Run& r, Firmware<V>& fw, std::int64_t k) {
     }
     const std::int64_t until = first ? std::min(deadline, republish) : deadline;
     const int ms = static_cast<int>(std::max<std::int64_t>(1, (until - now + 999999) / 1000000));
-    if (r.lcm.handleTimeout(ms) < 0 && !g_stop.load()) {  // (a signal also interrupts it)
-      std::fprintf(stderr, "firmware_sim: LCM receive failed\n");
+    if (!r.bridge.receive(ms) && !g_stop.load()) {  // (a signal interrupts the wait: not an error)
+      std::fprintf(stderr, "firmware_sim: receive failed (socket error)\n");
       g_stop.store(true);
     }
   }
@@ -66,7 +65,7 @@ int run(Run& r) {
     if (fw.statusDelivered()) r.bridge.publish(fw.status());
     if (want_truth) {
       r.bridge.publish(fw.truth());
-      r.csv.write(fw.truth());
+      if (!r.csv.write(fw.truth())) g_stop.store(true);  // a failed write stops the run (exit 6)
     }
     fw.advance();
     r.stats.compute.add(static_cast<double>(nowNs() - t0) * 1e-3);

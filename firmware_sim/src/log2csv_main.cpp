@@ -5,18 +5,23 @@
 // optional UPPER_SNAKE prefix followed by GIMBAL_TRUTH, GIMBAL_STATUS,
 // GIMBAL_COMMAND, GIMBAL_LOOP_STATS or GIMBAL_ATTITUDE (channels.hpp). Usage:
 // --help, and the README section "Hardware-in-the-loop bench".
+// The log is read with our validating reader (bench_io/lcm_log.hpp), never
+// LCM's, which trusts the lengths in an event header: a malformed log is
+// refused (exit 2) with the byte offset of the bad event, before any output is
+// written. Outputs are bench_io::OutputFile: temporary + rename, checked
+// writes, never through a link or over the log.
 #include <CLI/CLI.hpp>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "gimbalsim/bench_io/lcm_log.hpp"
+#include "gimbalsim/bench_io/output_file.hpp"
 #include "gimbalsim/dynamics/guarded_main.hpp"
 #include "gimbalsim/channels.hpp"
 #include "gimbalsim/firmware/csv_rows.hpp"
@@ -31,7 +36,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-enum ExitCode : int { kExitOk = 0, kExitInternal = 1, kExitRefused = 2 };
+enum ExitCode : int { kExitOk = 0, kExitInternal = 1, kExitRefused = 2, kExitOutput = 6 };
 
 enum class Type { Unknown, Truth, Status, Command, LoopStats, Attitude };
 
@@ -78,6 +83,7 @@ int refuse(const std::string& what) {
 class Sink {
  public:
   Sink(Type t, std::FILE* f, bool log_time) : type_(t), f_(f), log_time_(log_time) {
+    // f: an OutputFile's stream; its owner checks and commits it.
     if (log_time_) std::fputs("log_utime[us],", f_);
     switch (type_) {
       case Type::Truth: std::fputs(csv::header<TruthFields>().c_str(), f_); break;
@@ -88,13 +94,10 @@ class Sink {
       case Type::Unknown: break;
     }
   }
-  ~Sink() {
-    if (f_) std::fclose(f_);
-  }
   Sink(const Sink&) = delete;
   Sink& operator=(const Sink&) = delete;
 
-  void add(const lcm::LogEvent& e) {
+  void add(const bench_io::LogEvent& e) {
     switch (type_) {
       case Type::Truth: row<gimbal_truth_t, TruthFields>(e); break;
       case Type::Status: row<gimbal_status_t, StatusFields>(e); break;
@@ -104,20 +107,20 @@ class Sink {
       case Type::Unknown: break;
     }
   }
-  bool close() {
-    const bool ok = std::fclose(f_) == 0;
-    f_ = nullptr;
-    return ok;
-  }
   long long rows = 0, undecodable = 0;
 
  private:
   /// Decodes the event as M and writes it with the field list D.
   template <class M, class D>
-  void row(const lcm::LogEvent& e) {
+  void row(const bench_io::LogEvent& e) {
     M m;
-    const int n = m.decode(e.data, 0, e.datalen);
-    if (n < 0 || n != e.datalen) {  // garbage, another type (fingerprint) or trailing bytes
+    if (e.size > (1u << 20)) {  // far beyond any bench message: not one (and an int below)
+      ++undecodable;
+      return;
+    }
+    const int size = static_cast<int>(e.size);
+    const int n = m.decode(e.data, 0, size);
+    if (n < 0 || n != size) {  // garbage, another type (fingerprint) or trailing bytes
       ++undecodable;
       return;
     }
@@ -129,15 +132,6 @@ class Sink {
   std::FILE* f_;
   bool log_time_;
 };
-
-/// The LCM log magic: every event starts with the sync word 0xEDA1DA01 (big endian).
-bool looksLikeLcmLog(const std::string& path, std::uintmax_t size) {
-  if (size == 0) return true;  // lcm-logger with nothing recorded leaves an empty file: a log with no events
-  std::ifstream in(path, std::ios::binary);
-  unsigned char b[4] = {0, 0, 0, 0};
-  in.read(reinterpret_cast<char*>(b), 4);
-  return in.gcount() == 4 && b[0] == 0xED && b[1] == 0xA1 && b[2] == 0xDA && b[3] == 0x01;
-}
 
 int mainImpl(int argc, char** argv) {
   std::string log_path, out_dir, out_file, prefix, type_name;
@@ -184,18 +178,19 @@ int mainImpl(int argc, char** argv) {
   const fs::file_status st = fs::status(log_path, ec);
   if (ec || !fs::exists(st)) return refuse("log '" + log_path + "': no such file");
   if (!fs::is_regular_file(st)) return refuse("log '" + log_path + "': not a regular file");
-  const std::uintmax_t size = fs::file_size(log_path, ec);
-  if (!looksLikeLcmLog(log_path, size)) {
-    return refuse("log '" + log_path + "': not an LCM log (the file does not start with the event sync word " +
-                  "0xEDA1DA01)");
-  }
-
-  // Pass 1: which channels the log holds.
+  // Pass 1: every event header validated (bench_io::LogReader), and which channels the log holds.
+  // (An empty file is a log with no events: lcm-logger with nothing recorded leaves one.)
   std::map<std::string, long long> counts;
   {
-    lcm::LogFile lf(log_path, "r");
-    if (!lf.good()) return refuse("log '" + log_path + "': cannot open (" + std::strerror(errno) + ")");
-    while (const lcm::LogEvent* e = lf.readNextEvent()) ++counts[e->channel];
+    bench_io::LogReader lr;
+    if (std::string why; !lr.open(log_path, &why)) return refuse(why);
+    bench_io::LogEvent e;
+    while (lr.next(&e)) ++counts[std::string(e.channel)];
+    if (!lr.error().empty()) {
+      const bool first = lr.errorOffset() == 0;
+      return refuse("log '" + log_path + "': " + (first ? "not an LCM log: " : "") + lr.error() +
+                    "; nothing written");
+    }
   }
   auto present = [&] {
     std::string s;
@@ -248,29 +243,33 @@ int mainImpl(int argc, char** argv) {
     if (ec) return refuse("--out-dir '" + out_dir + "': cannot create (" + ec.message() + ")");
   }
   const std::string stem = fs::path(log_path).stem().string();
+  std::map<std::string, std::unique_ptr<bench_io::OutputFile>> files;
   std::map<std::string, std::unique_ptr<Sink>> sinks;
   std::map<std::string, std::string> paths;
   for (const auto& [ch, t] : selected) {
     const std::string path = !out_file.empty() ? out_file : (dir / (stem + "_" + ch + ".csv")).string();
-    std::FILE* f = std::fopen(path.c_str(), "w");
-    if (!f) return refuse("output '" + path + "': cannot open for writing (" + std::strerror(errno) + ")");
-    sinks[ch] = std::make_unique<Sink>(t, f, log_time);
+    auto f = std::make_unique<bench_io::OutputFile>();
+    if (std::string why; !f->open(path, &why, {log_path})) return refuse(why);
+    sinks[ch] = std::make_unique<Sink>(t, f->file(), log_time);
+    files[ch] = std::move(f);
     paths[ch] = path;
   }
   {
-    lcm::LogFile lf(log_path, "r");
-    if (!lf.good()) return refuse("log '" + log_path + "': cannot open (" + std::strerror(errno) + ")");
-    while (const lcm::LogEvent* e = lf.readNextEvent()) {
-      const auto it = sinks.find(e->channel);
-      if (it != sinks.end()) it->second->add(*e);
+    bench_io::LogReader lr;
+    if (std::string why; !lr.open(log_path, &why)) return refuse(why);
+    bench_io::LogEvent e;
+    while (lr.next(&e)) {
+      const auto it = sinks.find(std::string(e.channel));
+      if (it != sinks.end()) it->second->add(e);
     }
+    if (!lr.error().empty()) return refuse("log '" + log_path + "' changed while read: " + lr.error());
   }
   int rc = kExitOk;
   for (auto& [ch, s] : sinks) {
     const long long rows = s->rows, bad = s->undecodable;
-    if (!s->close()) {
-      std::fprintf(stderr, "gimbalsim_log2csv: error: writing %s failed\n", paths[ch].c_str());
-      rc = kExitInternal;
+    if (std::string why; !files[ch]->commit(&why)) {
+      std::fprintf(stderr, "gimbalsim_log2csv: error: %s\n", why.c_str());
+      rc = kExitOutput;
     }
     std::printf("%s (%s): %lld rows -> %s\n", ch.c_str(), typeName(selected[ch]), rows, paths[ch].c_str());
     if (bad > 0) {

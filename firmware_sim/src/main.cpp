@@ -35,6 +35,9 @@ namespace {
 
 extern "C" void onSignal(int) { g_stop.store(true); }
 
+constexpr int kRecvBufferBytes = 4 << 20;  ///< socket receive buffer asked for: rides out a burst [bytes]
+constexpr std::size_t kInboundCapacity = 1024;  ///< decoded commands between two ticks
+
 int refuse(const std::string& what) {
   std::fprintf(stderr, "firmware_sim: error: %s\nfirmware_sim: refused, nothing run (exit 2)\n", what.c_str());
   return kExitRefused;
@@ -46,14 +49,15 @@ int mainImpl(int argc, char** argv) {
   app.add_option("scene", o.scene, "scene file (YAML), e.g. tools/scenes/paper_clearance.yaml")->required();
   app.add_option("--set", o.sets, "scene override key=value (repeatable); see `gimbalsim keys`");
   app.add_option("--rate", o.rate_hz, "control rate [Hz]; 1/rate must be a whole multiple of sim.step")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(1e-3, 1e6));
+  // Upper bounds on every time: each becomes an int64 count of ticks or ns (no overflow).
   app.add_option("--duration", o.duration, "simulated seconds to run (0 = until SIGINT/SIGTERM)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
+      ->capture_default_str()->check(CLI::NonNegativeNumber)->check(CLI::Range(0.0, 1e9));
   app.add_flag("--lockstep", o.lockstep, "lockstep: tick k+1 waits for the command answering status k");
   app.add_option("--lockstep-timeout-ms", o.lockstep_timeout_ms, "lockstep: wait at most this for an answer [ms]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e9));
   app.add_option("--start-timeout", o.start_timeout_s, "lockstep: wait at most this for the first answer [s]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e6));
   app.add_option("--truth-every", o.truth_every, "publish truth every N ticks")
       ->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--truth-csv", o.truth_csv, "write every truth message to this CSV file");
@@ -65,14 +69,14 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--spin-us", o.spin_us, "busy-wait the last N us before each deadline")
       ->capture_default_str()->check(CLI::Range(0.0, 100000.0));
   app.add_option("--watchdog-ms", o.watchdog_ms, "no valid command for this long -> safe command [ms]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e9));
   app.add_option("--torque-sanity", o.torque_sanity, "reject commands with |torque| > this x torque.limit")
       ->capture_default_str()->check(CLI::Range(1.0, 1e6));
   app.add_option("--safe-torque", o.safe_torque, "torque applied while the watchdog is tripped [N m] (2 values)")
       ->expected(2)->capture_default_str();
   app.add_option("--profile", o.profile, "file whose profile: section (a pointing_controller config) defines the pointing error");
   app.add_option("--stats-period", o.stats_period, "loop statistics publication period [s]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e6));
   app.add_option("--faults", o.faults, "fault schedule file (YAML, README \"Fault schedule\"), e.g. tools/faults/demo.yaml");
   try {
     app.parse(argc, argv);
@@ -129,8 +133,8 @@ int mainImpl(int argc, char** argv) {
     }
   }
   TruthCsv csv;
-  if (!o.truth_csv.empty() && !csv.open(o.truth_csv)) {
-    return refuse("--truth-csv " + o.truth_csv + ": cannot open for writing (" + std::strerror(errno) + ")");
+  if (std::string why; !o.truth_csv.empty() && !csv.open(o.truth_csv, {o.scene, o.profile, o.faults}, &why)) {
+    return refuse("--truth-csv: " + why);
   }
 
   if (!o.lockstep) {
@@ -144,11 +148,23 @@ int mainImpl(int argc, char** argv) {
                  o.lcm_url.c_str());
     return kExitLcm;
   }
-  SpscRing<Inbound> in(1024);
-  LcmBridge bridge(lcm, Channels::withPrefix(o.prefix), in);
+  // Receiving is ours (bench_io), not LCM's receive thread: LCM 1.3.1 crashes
+  // on malformed fragments and queues 30 messages per subscription.
+  const Channels channels = Channels::withPrefix(o.prefix);
+  bench_io::UdpmReceiver rx(LcmBridge::receiveLimits(), bench_io::ChannelFilter({channels.command}));
+  if (std::string why; !rx.open(o.lcm_url, kRecvBufferBytes, &why)) {
+    std::fprintf(stderr, "firmware_sim: error: cannot receive: %s\n", why.c_str());
+    return kExitLcm;
+  }
+  SpscRing<Inbound> in(kInboundCapacity);
+  LcmBridge bridge(lcm, rx, channels, in);
 
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
+  // sigaction without SA_RESTART: a blocking wait returns at once (EINTR).
+  struct sigaction sa {};
+  sa.sa_handler = onSignal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
   std::fprintf(stderr, "firmware_sim: scene '%s' (%s), %g Hz (%d RK4 steps of %g s per tick), %s, channels %s*\n",
                m.name.c_str(), variantName(m).c_str(), o.rate_hz, static_cast<int>(std::llround(c.control_period / m.integrator.step)),
                m.integrator.step, o.lockstep ? "lockstep" : "real time", (o.prefix + "GIMBAL_").c_str());
@@ -164,9 +180,9 @@ int mainImpl(int argc, char** argv) {
                  faults.faults.size(), static_cast<unsigned long long>(faults.seed));
   }
   const int rc = o.lockstep ? runLockstep(r) : runRealtime(r);
-  if (!csv.close()) {
-    std::fprintf(stderr, "firmware_sim: error: writing %s failed\n", o.truth_csv.c_str());
-    return rc == kExitOk ? kExitInternal : rc;
+  if (std::string why; !csv.close(&why)) {
+    std::fprintf(stderr, "firmware_sim: error: --truth-csv: %s\n", why.c_str());
+    return rc == kExitOk ? kExitOutput : rc;
   }
   return rc;
 }

@@ -19,7 +19,6 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <lcm/lcm-cpp.hpp>
 #include <thread>
 
 #include "app.hpp"
@@ -104,7 +103,7 @@ int run(Run& r) {
   const std::int64_t wall0 = nowNs();
   std::thread rt(loop);
   // Communication thread: LCM in, drained queues out, statistics at a low rate.
-  pollfd fds[2] = {{r.lcm.getFileno(), POLLIN, 0}, {efd, POLLIN, 0}};
+  pollfd fds[2] = {{r.bridge.fd(), POLLIN, 0}, {efd, POLLIN, 0}};  // fd -1 (memq://): poll skips it
   std::int64_t next_stats = nowNs() + std::llround(r.o.stats_period * 1e9);
   bool warned = false;
   auto drainOut = [&] {
@@ -114,13 +113,13 @@ int run(Run& r) {
       if (ob.has_status) r.bridge.publish(ob.status);
       if (ob.has_truth) {
         r.bridge.publish(ob.truth);
-        r.csv.write(ob.truth);
+        if (!r.csv.write(ob.truth)) g_stop.store(true);  // a failed write stops the run (exit 6)
       }
     }
   };
   while (!loop_done.load()) {
     const int rc = poll(fds, 2, 100);
-    if (rc > 0 && (fds[0].revents & POLLIN)) r.lcm.handle();
+    if (rc > 0 && (fds[0].revents & POLLIN)) r.bridge.drain();  // bounded: the statuses below still go out
     if (rc > 0 && (fds[1].revents & POLLIN)) {
       std::uint64_t v;
       [[maybe_unused]] const ssize_t n = ::read(efd, &v, sizeof v);

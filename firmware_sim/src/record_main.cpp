@@ -1,44 +1,45 @@
 // gimbalsim_record: writes every LCM message of a bench to an LCM log file
 // (the lcm-logger format: lcm-logplayer, lcm-spy and gimbalsim_log2csv read
 // it). Why not lcm-logger: LCM 1.3.1 queues at most 30 messages per
-// subscription and lcm-logger does not raise that, so in lockstep (as fast as
-// the pair goes) a logger that is off the CPU for ~10 ms drops messages; seen
-// on a loaded 2-core machine. This recorder subscribes with a queue of 1e6
-// messages and asks for a 4 MB socket buffer unless the URL sets one.
+// subscription (lcm-logger drops the rest when it is off the CPU for ~10 ms,
+// seen on a loaded 2-core machine) and its receive thread crashes on one
+// malformed fragment. This recorder receives with our bounded receiver
+// (bench_io/udpm_receiver.hpp: a 16 MB socket buffer unless the URL sets one,
+// messages up to kMaxMessageBytes, kMaxPartials in reassembly at once, every
+// drop counted) and writes with a checked writer into a temporary file that
+// is renamed over FILE when it stops, so FILE is always a whole log.
 //
 //   gimbalsim_record --lcm-url URL [--channel REGEX] [--duration S] FILE
 //
 // Stops on SIGINT/SIGTERM (or after --duration wall seconds) and prints how
-// many messages it wrote. Exit 0 ok, 2 bad arguments or file, 4 LCM failed.
+// many messages it wrote and what the receiver dropped. Exit 0 ok, 2 bad
+// arguments or output file, 4 cannot receive on the URL, 6 writing the log failed.
 #include <CLI/CLI.hpp>
 #include <atomic>
-#include <cerrno>
-#include <chrono>
 #include <csignal>
 #include <cstdio>
-#include <cstring>
-#include <lcm/lcm-cpp.hpp>
+#include <regex>
 #include <string>
 
+#include "gimbalsim/bench_io/lcm_log.hpp"
+#include "gimbalsim/bench_io/peak_memory.hpp"
+#include "gimbalsim/bench_io/udpm_receiver.hpp"
+
 namespace {
+
+namespace io = gimbalsim::bench_io;
 
 std::atomic<bool> g_stop{false};
 extern "C" void onSignal(int) { g_stop.store(true); }
 
-struct Recorder {
-  lcm::LogFile* log = nullptr;
-  long long written = 0, failed = 0;
-  void onMessage(const lcm::ReceiveBuffer* rb, const std::string& channel) {
-    lcm::LogEvent e;
-    e.eventnum = 0;  // set by the writer
-    e.timestamp = rb->recv_utime;
-    e.channel = channel;
-    e.datalen = static_cast<int32_t>(rb->data_size);
-    e.data = rb->data;
-    if (log->writeEvent(&e) == 0) ++written;
-    else ++failed;
-  }
-};
+constexpr std::size_t kMaxMessageBytes = 1 << 20;  ///< larger messages are dropped (counted) [bytes]
+constexpr int kMaxPartials = 8;                    ///< so at most 8 MiB of reassembly buffers
+constexpr int kRecvBufferBytes = 16 << 20;         ///< socket receive buffer asked for: rides out ~0.5 s off the CPU under a flood [bytes]
+
+/// The --channel regex as the receiver's filter: only matching channels are reassembled.
+bool matches(void* re, std::string_view channel) {
+  return std::regex_match(channel.begin(), channel.end(), *static_cast<const std::regex*>(re));
+}
 
 }  // namespace
 
@@ -47,11 +48,11 @@ int main(int argc, char** argv) {
   double duration = 0.0;
   CLI::App app{"gimbalsim_record: every LCM message of a bench to an LCM log file (lcm-logger format), "
                "without lcm-logger's 30-message queue limit"};
-  app.add_option("file", path, "log file to write (overwritten)")->required();
+  app.add_option("file", path, "log file to write (replaced when the recording ends)")->required();
   app.add_option("--lcm-url", url, "LCM provider URL, e.g. udpm://239.255.76.67:7667?ttl=0");
   app.add_option("--channel", regex, "channel regex to record")->capture_default_str();
   app.add_option("--duration", duration, "stop after this many wall seconds (0 = at SIGINT/SIGTERM)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber)->check(CLI::Range(0.0, 1e9));  // (as int64 ns: no overflow)
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
@@ -61,37 +62,58 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "gimbalsim_record: error: %s (see --help)\n", e.what());
     return 2;
   }
-  if (url.rfind("udpm://", 0) == 0 && url.find("recv_buf_size") == std::string::npos) {
-    url += (url.find('?') == std::string::npos ? "?" : "&") + std::string("recv_buf_size=4194304");
-  }
-  lcm::LogFile log(path, "w");
-  if (!log.good()) {
-    std::fprintf(stderr, "gimbalsim_record: error: cannot open '%s' for writing (%s)\n", path.c_str(),
-                 std::strerror(errno));
+  std::regex re;
+  try {
+    re = std::regex(regex);
+  } catch (const std::regex_error& e) {
+    std::fprintf(stderr, "gimbalsim_record: error: --channel '%s': not a regex (%s)\n", regex.c_str(), e.what());
     return 2;
   }
-  lcm::LCM lcm(url);
-  if (!lcm.good()) {
-    std::fprintf(stderr, "gimbalsim_record: error: LCM could not start with URL '%s'\n", url.c_str());
+  io::LogWriter log;
+  if (std::string why; !log.open(path, &why)) {
+    std::fprintf(stderr, "gimbalsim_record: error: %s\n", why.c_str());
+    return 2;
+  }
+  io::ReassemblyLimits lim;
+  lim.max_message_bytes = kMaxMessageBytes;
+  lim.max_partials = kMaxPartials;
+  lim.max_fragments = 1024;  // 1 MiB in fragments of LCM's smallest payload (1423 bytes, macOS senders)
+  io::UdpmReceiver rx(lim, io::ChannelFilter(&matches, &re));
+  if (std::string why; !rx.open(url, kRecvBufferBytes, &why)) {
+    std::fprintf(stderr, "gimbalsim_record: error: cannot receive: %s\n", why.c_str());
     return 4;
   }
-  Recorder r;
-  r.log = &log;
-  lcm::Subscription* sub = lcm.subscribe(regex, &Recorder::onMessage, &r);
-  sub->setQueueCapacity(1000000);
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(duration);
-  while (!g_stop.load() && (duration <= 0.0 || std::chrono::steady_clock::now() < end)) {
-    if (lcm.handleTimeout(100) < 0 && !g_stop.load()) {
-      std::fprintf(stderr, "gimbalsim_record: error: LCM receive failed\n");
-      return 4;
+  struct sigaction sa {};
+  sa.sa_handler = onSignal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  std::fprintf(stderr, "gimbalsim_record: recording %s -> %s until SIGINT/SIGTERM%s\n", url.empty() ? "(default URL)" : url.c_str(),
+               path.c_str(), duration > 0.0 ? " or --duration" : "");
+
+  long long failed = 0;
+  auto write = [&](const io::Message& m, std::int64_t recv_utime) {
+    if (!log.write(recv_utime, m.channel, m.data, m.size)) ++failed;
+  };
+  const std::int64_t end = io::monotonicNs() + static_cast<std::int64_t>(duration * 1e9);
+  int rc = 0;
+  while (!g_stop.load() && failed == 0 && (duration <= 0.0 || io::monotonicNs() < end)) {
+    if (rx.wait(100) < 0) {
+      std::fprintf(stderr, "gimbalsim_record: error: receive failed (socket error)\n");
+      rc = 4;
+      break;
     }
+    rx.drain(write, 1024);
   }
-  // Whatever LCM has queued already is still written.
-  while (lcm.handleTimeout(0) > 0) {
+  // What the socket holds already is still written (bounded: a flood cannot keep it going).
+  if (failed == 0) rx.drain(write, 1 << 16);
+  std::string why;
+  if (failed > 0 || !log.commit(&why)) {
+    std::fprintf(stderr, "gimbalsim_record: error: writing %s failed%s%s; the file was not replaced\n", path.c_str(),
+                 why.empty() ? "" : ": ", why.c_str());
+    rc = 6;
   }
-  std::fprintf(stderr, "gimbalsim_record: %lld messages -> %s%s\n", r.written, path.c_str(),
-               r.failed ? " (some writes FAILED)" : "");
-  return r.failed ? 1 : 0;
+  std::fprintf(stderr, "gimbalsim_record: %lld messages -> %s; receive: %s; peak memory (VmHWM) %ld kB\n",
+               static_cast<long long>(log.events()), path.c_str(), rx.summary().c_str(), io::peakRssKb());
+  return rc;
 }

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "gimbalsim/bench_io/peak_memory.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "lcm_bridge.hpp"
 
@@ -62,6 +63,8 @@ void printExitSummary(const Run& r, const Outcome& out) {
     std::printf("  lost: %lld outbound (ring full), %lld inbound (ring full), %lld publish errors\n",
                 static_cast<long long>(st.dropped_out.load()), r.bridge.dropped_in, r.bridge.publish_errors);
   }
+  std::printf("  receive: %s\n", r.bridge.receiver().summary().c_str());
+  std::printf("  peak memory (VmHWM) %ld kB\n", bench_io::peakRssKb());
   std::fflush(stdout);
 }
 

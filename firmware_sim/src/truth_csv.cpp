@@ -4,22 +4,19 @@
 
 namespace gimbalsim::firmware {
 
-bool TruthCsv::open(const std::string& path) {
-  f_ = std::fopen(path.c_str(), "w");
-  if (!f_) return false;
-  std::fputs(csv::header<TruthFields>().c_str(), f_);
-  return true;
+bool TruthCsv::open(const std::string& path, const std::vector<std::string>& inputs, std::string* why) {
+  return out_.open(path, why, inputs) && out_.puts(csv::header<TruthFields>().c_str());
 }
 
-void TruthCsv::write(const Truth& t) {
-  if (f_) csv::writeRow<TruthFields>(f_, t);
+bool TruthCsv::write(const Truth& t) {
+  if (!out_.isOpen()) return true;
+  csv::writeRow<TruthFields>(out_.file(), t);
+  return out_.ok();
 }
 
-bool TruthCsv::close() {
-  if (!f_) return true;
-  const bool ok = std::fclose(f_) == 0;
-  f_ = nullptr;
-  return ok;
+bool TruthCsv::close(std::string* why) {
+  if (!out_.isOpen()) return true;
+  return out_.commit(why);
 }
 
 }  // namespace gimbalsim::firmware

@@ -1,31 +1,33 @@
 // --truth-csv: every truth message as one CSV row (csv_rows.hpp: header
 // `name[unit]`, %.17g, so a row round-trips exactly; gimbalsim_log2csv
-// writes the same bytes from a log).
+// writes the same bytes from a log). Written through bench_io::OutputFile:
+// checked writes into a temporary file renamed over the target at the end of
+// the run (also after SIGINT/SIGTERM), so the file under the requested name
+// is always whole rows of a finished run; never through a symbolic link, never
+// over an input.
 #pragma once
 
-#include <cstdio>
 #include <string>
+#include <vector>
 
+#include "gimbalsim/bench_io/output_file.hpp"
 #include "gimbalsim/firmware/messages.hpp"
 
 namespace gimbalsim::firmware {
 
 class TruthCsv {
  public:
-  TruthCsv() = default;
-  TruthCsv(const TruthCsv&) = delete;
-  TruthCsv& operator=(const TruthCsv&) = delete;
-  ~TruthCsv() { close(); }
-
-  /// Creates the file and writes the header; false (errno set) when it cannot.
-  bool open(const std::string& path);
-  /// One row; nothing when no file is open.
-  void write(const Truth& t);
-  /// False when writing failed; true when no file was open.
-  bool close();
+  /// Creates the temporary file and writes the header; false with *why.
+  bool open(const std::string& path, const std::vector<std::string>& inputs, std::string* why);
+  /// One row; nothing when no file is open. False once a write failed.
+  bool write(const Truth& t);
+  /// Renames the finished file over the target; false with *why when a write
+  /// or the rename failed (the target is then untouched). True when none was open.
+  bool close(std::string* why);
+  const std::string& path() const noexcept { return out_.path(); }
 
  private:
-  std::FILE* f_ = nullptr;
+  bench_io::OutputFile out_;
 };
 
 }  // namespace gimbalsim::firmware

@@ -139,6 +139,15 @@ inline std::map<std::string, long long> summaryCounters(const std::string& text)
   return m;
 }
 
+/// A shell function for test scripts: `started FILE TEXT` waits (at most
+/// 20 s) until FILE contains TEXT. The programs print their start line after
+/// installing their signal handlers and opening their sockets, so a script
+/// that waits for it never signals or feeds a program that is not yet up
+/// (a loaded machine can take long to get there).
+inline const char* kStartedFn =
+    "started() { i=0; until grep -q \"$2\" \"$1\" 2>/dev/null; do i=$((i+1)); [ $i -gt 400 ] && return 1; "
+    "sleep 0.05; done; }\n";
+
 /// Quoted paths of the build's programs.
 inline std::string firmwareSim() { return std::string("'") + GIMBALSIM_FIRMWARE_SIM + "'"; }
 inline std::string pointingController() { return std::string("'") + GIMBALSIM_POINTING_CONTROLLER + "'"; }

@@ -184,3 +184,68 @@ TEST(Log2Csv, SkipsAndCountsUndecodableMessagesOnAChannel) {
 
 }  // namespace
 }  // namespace gimbalsim::hil
+
+namespace gimbalsim::hil {
+namespace {
+
+/// A log with one gimbal_command_t event, by liblcm's writer; its size in bytes (0: failed).
+long writeOneCommandLog(const std::string& path) {
+  lcm::LogFile log(path, "w");
+  if (!log.good()) return 0;
+  unsigned char buf[256];
+  gimbal_command_t c{};
+  const int n = c.encode(buf, 0, sizeof buf);
+  lcm::LogEvent e;
+  e.timestamp = 1;
+  e.channel = "GIMBAL_COMMAND";
+  e.datalen = n;
+  e.data = buf;
+  return log.writeEvent(&e) == 0 ? 28 + static_cast<long>(e.channel.size()) + n : 0;
+}
+
+// A log whose second event header declares 2 GB of data (LCM 1.3.1's reader
+// trusts it and crashes): refused with exit 2, the byte offset of that event,
+// and no CSV written; the log itself is never an output.
+TEST(Log2Csv, RefusesAMalformedLogWithTheByteOffsetAndWritesNothing) {
+  TempDir dir("log2csv_malformed");
+  const std::string path = dir / "m.lcmlog";
+  const long first_event_bytes = writeOneCommandLog(path);
+  ASSERT_GT(first_event_bytes, 0);
+  {
+    std::FILE* f = std::fopen(path.c_str(), "ab");
+    const unsigned char hdr[28] = {0xED, 0xA1, 0xDA, 0x01, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0,
+                                   0,    0,    0,    2,    0, 0, 0, 14, 0x7F, 0xFF, 0xFF, 0xFF};
+    std::fwrite(hdr, 1, sizeof hdr, f);
+    std::fputs("GIMBAL_COMMAND", f);
+    std::fclose(f);
+  }
+  int st = 0;
+  std::string msg = runCapture(kTool + " '" + path + "' --out-dir '" + (dir / "o") + "'", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 2) << msg;
+  EXPECT_NE(msg.find("malformed LCM log at byte offset " + std::to_string(first_event_bytes)), std::string::npos)
+      << msg;
+  EXPECT_NE(msg.find("data length 2147483647"), std::string::npos) << msg;
+  EXPECT_FALSE(std::filesystem::exists(dir / "o/m_GIMBAL_COMMAND.csv"));
+  msg = runCapture(kTool + " '" + path + "' --channel GIMBAL_COMMAND --out '" + path + "'", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 2) << msg;
+}
+
+TEST(Log2Csv, NeverWritesOverTheLogOrThroughASymlink) {
+  TempDir dir("log2csv_outputs");
+  const std::string path = dir / "w.lcmlog";
+  ASSERT_GT(writeOneCommandLog(path), 0);
+  const std::string before = readFile(path);
+  int st = 0;
+  std::string msg = runCapture(kTool + " '" + path + "' --channel GIMBAL_COMMAND --out '" + path + "'", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 2) << msg;
+  EXPECT_NE(msg.find("is the input"), std::string::npos) << msg;
+  std::filesystem::create_symlink(dir / "elsewhere.txt", dir / "link.csv");
+  msg = runCapture(kTool + " '" + path + "' --channel GIMBAL_COMMAND --out '" + (dir / "link.csv") + "'", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 2) << msg;
+  EXPECT_NE(msg.find("symbolic link"), std::string::npos) << msg;
+  EXPECT_FALSE(std::filesystem::exists(dir / "elsewhere.txt"));
+  EXPECT_EQ(readFile(path), before);
+}
+
+}  // namespace
+}  // namespace gimbalsim::hil

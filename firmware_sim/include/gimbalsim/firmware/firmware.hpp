@@ -38,6 +38,7 @@
 #include "gimbalsim/dynamics/observables.hpp"
 #include "gimbalsim/dynamics/run_spec.hpp"
 #include "gimbalsim/firmware/attitude_sensors.hpp"
+#include "gimbalsim/firmware/command_gate.hpp"
 #include "gimbalsim/firmware/fault_schedule.hpp"
 #include "gimbalsim/firmware/messages.hpp"
 #include "gimbalsim/firmware/sensor_noise.hpp"
@@ -59,11 +60,12 @@ enum class Rejection : std::uint8_t {
   NonFinite,     ///< NaN or Inf torque
   OutOfRange,    ///< |torque| beyond the sanity range
   UnknownMode,   ///< mode not OFF or TORQUE
-  StaleSeq,      ///< seq <= the last accepted seq (stale or duplicate)
+  StaleSeq,      ///< seq <= the last seq accepted from the bound source (stale or duplicate)
   FutureStatus,  ///< answers a status not yet published
   Undecodable,   ///< bytes that are not a gimbal_command_t
+  WrongSource,   ///< from another source than the one bound (command_gate.hpp)
 };
-inline constexpr int kNumRejections = 7;
+inline constexpr int kNumRejections = 8;
 const char* describe(Rejection r);
 
 /// Counters kept by the firmware (cumulative).
@@ -125,16 +127,20 @@ class Firmware {
     // The caller checked; a bad config leaves steps_per_tick_ at 1.
     steps_per_tick_ = std::max(1, checkConfig(sc, c).steps_per_tick);
     watchdog_ticks_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(c.watchdog_timeout / c.control_period - 1e-9)));
+    gate_ = CommandGate(watchdog_ticks_);  // the binding lasts as long as the watchdog
     kinematics(m_, obs_, s_.q, s_.v);
     initial_boresight_ = boresight(m_, obs_, s_);
   }
 
-  /// Validates a decoded command on arrival. A valid one becomes the pending
-  /// command (the newest wins) and acts from the next tick.
-  Rejection receive(const Command& cmd) noexcept {
-    if (onFaultyBus(cmd)) return Rejection::None;  // lost or held on the bus (fault schedule)
+  /// Validates a decoded command from `src` on arrival. A valid one becomes
+  /// the pending command (the newest wins) and acts from the next tick; a
+  /// rejected one changes nothing but the counters and the rejection flag.
+  /// Under a command fault it may first be lost or held on the bus, and is
+  /// then validated, with its source, when the bus releases it.
+  Rejection receive(const Command& cmd, SourceId src = kInProcessSource) noexcept {
+    if (onFaultyBus(cmd, src)) return Rejection::None;  // lost or held on the bus (fault schedule)
     ++n_.received;
-    const Rejection r = validate(cmd);
+    const Rejection r = validate(cmd, src);
     if (r != Rejection::None) {
       reject(r);
       return r;
@@ -142,6 +148,7 @@ class Firmware {
     pending_ = cmd;
     has_pending_ = true;
     last_accepted_seq_ = cmd.seq;
+    gate_.accept(src, cmd.seq, tick_);
     return r;
   }
 
@@ -264,13 +271,17 @@ class Firmware {
   int plantFailIndex() const noexcept { return plant_result_.v_index; }
 
  private:
-  Rejection validate(const Command& cmd) const noexcept {
+  Rejection validate(const Command& cmd, SourceId src) const noexcept {
     if (!std::isfinite(cmd.torque[0]) || !std::isfinite(cmd.torque[1])) return Rejection::NonFinite;
     if (cmd.mode != kModeOff && cmd.mode != kModeTorque) return Rejection::UnknownMode;
     for (int i = 0; i < 2; ++i) {
       if (std::fabs(cmd.torque[i]) > c_.torque_sanity_factor * run_.torque_limit(i)) return Rejection::OutOfRange;
     }
-    if (cmd.seq <= last_accepted_seq_) return Rejection::StaleSeq;
+    switch (gate_.check(src, cmd.seq, tick_)) {
+      case CommandGate::Verdict::WrongSource: return Rejection::WrongSource;
+      case CommandGate::Verdict::StaleSeq: return Rejection::StaleSeq;
+      case CommandGate::Verdict::Accept: break;
+    }
     // Status tick_ - 1 is the newest one published (status k is sampled in tick k).
     if (cmd.status_seq > tick_ - 1) return Rejection::FutureStatus;
     return Rejection::None;
@@ -348,7 +359,7 @@ class Firmware {
     }
     releasing_ = true;  // the due commands go through receive() past the bus
     while (cmd_count_ > 0 && command_queue_[cmd_head_].due <= k) {
-      receive(command_queue_[cmd_head_].cmd);
+      receive(command_queue_[cmd_head_].cmd, command_queue_[cmd_head_].src);
       cmd_head_ = (cmd_head_ + 1) % command_queue_.size();
       --cmd_count_;
     }
@@ -357,7 +368,7 @@ class Firmware {
 
   /// A command on the bus while a command fault is active: lost (true), held
   /// for the delay (true) or passed on (false).
-  bool onFaultyBus(const Command& cmd) noexcept {
+  bool onFaultyBus(const Command& cmd, SourceId src) noexcept {
     if (!clock_.any() || releasing_) return false;
     const ActiveFaults& af = clock_.current();
     if (af.command_drop) {
@@ -373,7 +384,7 @@ class Firmware {
     // Behind the ones held, in order (a bus is a FIFO), never due before them.
     std::int64_t due = tick_ + af.command_delay;
     if (cmd_count_ > 0) due = std::max(due, command_queue_[(cmd_head_ + cmd_count_ - 1) % command_queue_.size()].due);
-    command_queue_[(cmd_head_ + cmd_count_) % command_queue_.size()] = {cmd, due};
+    command_queue_[(cmd_head_ + cmd_count_) % command_queue_.size()] = {cmd, due, src};
     ++cmd_count_;
     if (af.command_delay > 0) ++n_.fault_commands_delayed;
     return true;
@@ -476,6 +487,7 @@ class Firmware {
   std::int64_t tick_ = 0;              ///< index of the next tick
   std::int64_t last_valid_tick_ = 0;   ///< tick that took the last valid command (0 at start)
   std::int64_t last_accepted_seq_ = -1;
+  CommandGate gate_{1};
   Command pending_, active_;
   bool has_pending_ = false, has_active_ = false, tripped_ = false;
   std::int32_t pending_faults_ = 0;
@@ -494,6 +506,7 @@ class Firmware {
   struct HeldCommand {
     Command cmd;
     std::int64_t due = 0;
+    SourceId src = kInProcessSource;  ///< its sender: validated against the binding when released
   };
   std::vector<HeldStatus> status_queue_;    ///< ring, sized at construction when faults are scheduled
   std::vector<HeldCommand> command_queue_;  ///< ring, idem

@@ -1,0 +1,70 @@
+// Our receiver against liblcm's own sender: what lcm_publish puts on the
+// wire (a short message, and a 200 kB message that LCM cuts into LC03
+// fragments) arrives through bench_io::UdpmReceiver byte for byte, and a
+// channel the receiver does not subscribe to is counted, not delivered. Runs
+// inside a private network namespace: the outer test re-runs this executable
+// there with GIMBALSIM_IN_NETNS=1, which the inner test requires.
+#include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
+
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "gimbalsim/bench_io/udpm_receiver.hpp"
+#include "hil_util.hpp"
+
+namespace gimbalsim::hil {
+namespace {
+
+namespace io = bench_io;
+
+TEST(UdpmInterop, LiblcmMessagesShortAndFragmentedArriveWhole) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("interop");
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  const int rc = runInNetns(dir, "GIMBALSIM_IN_NETNS=1 '" + self + "' --gtest_filter='UdpmInteropInNetns.*'");
+  EXPECT_EQ(rc, 0) << readFile(dir / "run.log");
+  EXPECT_NE(readFile(dir / "run.log").find("[  PASSED  ] 1 test"), std::string::npos) << readFile(dir / "run.log");
+}
+
+TEST(UdpmInteropInNetns, Inner) {
+  if (std::getenv("GIMBALSIM_IN_NETNS") == nullptr) GTEST_SKIP() << "runs inside UdpmInterop's network namespace";
+  const std::string url = udpmUrl(7791);
+  io::ReassemblyLimits lim;
+  lim.max_message_bytes = 256 * 1024;
+  lim.max_fragments = 16;
+  io::UdpmReceiver rx(lim, io::ChannelFilter({"SMALL", "BIG"}));
+  std::string why;
+  ASSERT_TRUE(rx.open(url, 4 << 20, &why)) << why;
+  lcm::LCM lcm(url);
+  ASSERT_TRUE(lcm.good());
+  std::vector<std::uint8_t> small(100), big(200000);
+  for (std::size_t i = 0; i < small.size(); ++i) small[i] = static_cast<std::uint8_t>(i);
+  for (std::size_t i = 0; i < big.size(); ++i) big[i] = static_cast<std::uint8_t>(i * 7 + i / 256);
+  ASSERT_EQ(lcm.publish("SMALL", small.data(), static_cast<unsigned>(small.size())), 0);
+  ASSERT_EQ(lcm.publish("OTHER", small.data(), static_cast<unsigned>(small.size())), 0);
+  ASSERT_EQ(lcm.publish("BIG", big.data(), static_cast<unsigned>(big.size())), 0);
+  std::vector<std::pair<std::string, std::vector<std::uint8_t>>> got;
+  for (int i = 0; i < 50 && got.size() < 2; ++i) {
+    if (rx.wait(100) > 0) {
+      rx.drain([&](const io::Message& m, std::int64_t) {
+        got.emplace_back(std::string(m.channel), std::vector<std::uint8_t>(m.data, m.data + m.size));
+      }, 100);
+    }
+  }
+  ASSERT_EQ(got.size(), 2u) << rx.summary();
+  EXPECT_EQ(got[0].first, "SMALL");
+  EXPECT_EQ(got[0].second, small);
+  EXPECT_EQ(got[1].first, "BIG");
+  EXPECT_EQ(got[1].second, big);
+  const io::ReassemblyCounters& c = rx.counters();
+  EXPECT_EQ(c.reassembled, 1u);
+  EXPECT_EQ(c.datagrams, 2u + 4u) << "200000 bytes in fragments of 65487: 4 datagrams; " << rx.summary();
+  EXPECT_EQ(c.drops[static_cast<int>(io::Drop::NotSubscribed)], 1u);
+  EXPECT_EQ(c.dropped(), 1u);
+}
+
+}  // namespace
+}  // namespace gimbalsim::hil
