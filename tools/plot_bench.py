@@ -16,6 +16,7 @@ matplotlib (Debian: python3-numpy python3-matplotlib, for /usr/bin/python3).
 """
 import argparse
 import csv
+import os
 import sys
 
 import numpy as np
@@ -23,6 +24,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from output_file import savefig  # noqa: E402  (temporary + rename, tools/output_file.py)
 
 FAULTS = [(1, "watchdog"), (2, "saturated"), (4, "cmd rejected"), (8, "plant fault"), (16, "lockstep timeout")]
 NEEDED = ["sim_time[s]", "theta1[rad]", "theta2[rad]", "tau1[N m]", "tau2[N m]", "pointing_error[rad]", "faults[-]"]
@@ -89,7 +92,7 @@ def main():
     ax[3].grid(True, axis="x", alpha=0.3)
     fig.suptitle(a.title or a.truth, fontsize=10)
     fig.tight_layout()
-    fig.savefig(a.out, dpi=120)
+    savefig(fig, a.out, dpi=120)
 
     after = err[t >= a.after]
     print(f"plot_bench: {len(t)} rows, t = {t[0]:.3f} .. {t[-1]:.3f} s -> {a.out}")

@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/io/stop_signal.hpp"
 #include "workprec.hpp"
 #ifdef GIMBALSIM_HAVE_MUJOCO
 #include "mujoco_peer.hpp"
@@ -138,7 +139,10 @@ int main(int argc, char** argv) {
               repeats, output_interval);
 
   std::vector<Point> points;
+  // SIGINT/SIGTERM: the point being measured is dropped, the CSV holds every whole point before it.
+  gimbalsim::io::installStopHandlers();
   for (const std::string& scene : scenes) {
+    if (gimbalsim::io::stopRequested()) break;
     const std::string path = scenes_dir + "/" + scene + ".yaml";
     std::vector<std::string> base_sets;
     if (auto it = kSceneDefaults.find(scene); it != kSceneDefaults.end()) {
@@ -204,6 +208,7 @@ int main(int argc, char** argv) {
       }
       double last_cpu = 0.0;  // [s] per run at the previous point of this curve
       for (const auto& [h, value] : sweep) {
+        if (gimbalsim::io::stopRequested()) break;
         if (last_cpu > max_run_seconds) {
           std::printf("  %-22s rest of the curve skipped: the last point took %.1f s per run (--max-run-seconds)\n",
                       pol.name.c_str(), last_cpu);
@@ -243,6 +248,7 @@ int main(int argc, char** argv) {
           if (p.ok) p.cpu_per_sim_s = median(cpu) / sc.run.duration;
           if (p.ok) last_cpu = median(cpu);
         }
+        if (gimbalsim::io::stopRequested()) break;  // this point's runs were cut short
         points.push_back(p);
         printPoint(p);
       }
@@ -265,9 +271,14 @@ int main(int argc, char** argv) {
     writeCsv(csv, points);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 1;
+    return 4;  // an output could not be written (README "Exit codes")
   }
   std::printf("\nwrote %s (%zu points)\n", csv.c_str(), points.size());
+  if (gimbalsim::io::stopRequested()) {
+    std::fprintf(stderr, "gimbalsim_workprec: interrupted by %s; the CSV holds the %zu whole points before it\n",
+                 gimbalsim::io::stopSignalName(), points.size());
+    return gimbalsim::io::stopExitCode();
+  }
 
   std::printf("\nCheapest setting per target max boresight error (median CPU; ms per simulated 5 s in brackets):\n");
   std::printf("%-22s %-9s %-24s %-10s %-10s %-12s %-16s %s\n", "scene", "target", "policy", "h [s]",
