@@ -437,6 +437,20 @@ void Given::refuse(const std::string& key, const std::string& msg) { problems.pu
 
 void Given::warn(const std::string& key, const std::string& msg) { warnings.push_back(problemAt(key, msg).text); }
 
+bool loadDocument(const std::string& text, const std::string& origin, YAML::Node& out, Problem& why) {
+  try {
+    out = loadBounded(text);
+    return true;
+  } catch (const PrescanRefusal& r) {
+    why = place(origin, r.mark).problem(r.key, (r.key.empty() ? "" : "key '" + r.key + "': ") + r.msg);
+  } catch (const YAML::Exception& e) {
+    why = place(origin, e.mark).problem("", "not valid YAML: " + e.msg);
+  } catch (const std::exception& e) {
+    why = Given::Place::inFile(origin).problem("", "not readable as YAML: " + std::string(e.what()));
+  }
+  return false;
+}
+
 bool readFile(const std::string& path, std::string& text, std::string* why) {
   auto fail = [&](const std::string& w) {
     if (why) *why = w;

@@ -120,6 +120,12 @@ int main(int argc, char** argv) {
     peak_dt = std::max(peak_dt, 1e-5);
   }
 
+  // Counts derived from these (reference samples, rows) must fit a long long: refused with exit 2.
+  if (!(peak_dt > 0.0 && output_interval >= peak_dt && output_interval / peak_dt <= 1e9 && duration >= 0.0 &&
+        duration <= 1e6)) {
+    std::cerr << "error: need 0 < --peak-dt <= --output-interval <= 1e9 --peak-dt and 0 <= --duration <= 1e6 s\n";
+    return 2;
+  }
   std::vector<Policy> policies;
   try {
     policies = loadPolicies(policies_path);
@@ -164,6 +170,10 @@ int main(int argc, char** argv) {
     } catch (const SceneError& e) {
       std::cerr << "scene " << scene << " refused:\n";
       for (const auto& p : e.problems()) std::cerr << "  " << p << "\n";
+      return 2;
+    }
+    if (!(base.run.duration / peak_dt <= 1e10)) {
+      std::cerr << "scene " << scene << ": sim.duration / --peak-dt is more than 1e10 reference samples\n";
       return 2;
     }
     std::printf("\n[%s] %g s, %s, reference: ", scene.c_str(), base.run.duration,

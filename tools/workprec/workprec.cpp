@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "gimbalsim/dynamics/integrator.hpp"
+#include "gimbalsim/dynamics/key_registry.hpp"
 #include "gimbalsim/dynamics/reference_integrator.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/io/output_file.hpp"
@@ -40,11 +41,10 @@ double angleBetween(const Vec3& a, const Vec3& b) { return pointing::pointingErr
 
 std::vector<Policy> loadPolicies(const std::string& path) {
   YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(path + ": " + e.what());
-  }
+  std::string text, why;
+  Problem refused;
+  if (!readFile(path, text, &why)) throw std::runtime_error(path + ": cannot open policy file: " + why);
+  if (!loadDocument(text, path, root, refused)) throw std::runtime_error(refused.text);
   const YAML::Node list = root["policies"];
   if (!list || !list.IsSequence()) throw std::runtime_error(path + ": expected a list 'policies:'");
   std::vector<Policy> out;

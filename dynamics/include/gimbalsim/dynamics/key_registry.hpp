@@ -203,6 +203,10 @@ struct InputBounds {
   // Anchors (&a), aliases (*a) and more than one document are refused: no expansion to bound.
 };
 
+/// A YAML document that is not a key table (workprec's policy list) under the
+/// same bounds and prescan as the tables; false and the refusal (its place) if not.
+bool loadDocument(const std::string& text, const std::string& origin, YAML::Node& out, Problem& why);
+
 /// The file's text; false (and why, naming the cause) if it is not a regular,
 /// readable file of at most InputBounds::kMaxFileBytes. Never blocks on a FIFO
 /// or reads a device.
