@@ -6,10 +6,27 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "gimbalsim/dynamics/scene.hpp"
 
 namespace gimbalsim::fuzz {
+
+/// The documented bounds as libFuzzer flags, placed before the caller's own
+/// (a later flag wins): one input may take at most 5 s and the process 512 MB,
+/// else libFuzzer reports a timeout or out-of-memory as a failure. Inputs are
+/// capped at 64 KiB (the loaders' file bound is 1 MiB; longer adds no paths).
+inline int withBounds(int* argc, char*** argv) {
+  static std::vector<char*> args;
+  static char rss[] = "-rss_limit_mb=512", timeout[] = "-timeout=5", len[] = "-max_len=65536";
+  args.assign(*argv, *argv + 1);
+  args.insert(args.end(), {rss, timeout, len});
+  args.insert(args.end(), *argv + 1, *argv + *argc);
+  args.push_back(nullptr);
+  *argc = static_cast<int>(args.size()) - 1;
+  *argv = args.data();
+  return 0;
+}
 
 inline void fail(const char* why, const Problem& p) {
   std::fprintf(stderr, "fuzz check failed: %s\n  problem: %s\n", why, p.text.c_str());

@@ -7,6 +7,8 @@
 #include "fuzz_check.hpp"
 #include "gimbalsim/controllers/config.hpp"
 
+extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) { return gimbalsim::fuzz::withBounds(argc, argv); }
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size > static_cast<std::size_t>(gimbalsim::InputBounds::kMaxFileBytes)) return -1;
   const std::string text(reinterpret_cast<const char*>(data), size);

@@ -9,6 +9,8 @@
 #include "fuzz_check.hpp"
 #include "gimbalsim/dynamics/scene.hpp"
 
+extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) { return gimbalsim::fuzz::withBounds(argc, argv); }
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   std::vector<std::string> sets;
