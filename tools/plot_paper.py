@@ -25,6 +25,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from output_file import savefig  # noqa: E402  (temporary + rename, tools/output_file.py)
 
 # Columns this script reads (the simulator writes more; extra ones are ignored).
 REQUIRED = [
@@ -181,7 +183,7 @@ def continuous_contact_from(cols):
 
 def save(fig, out_dir, name, written):
     path = os.path.join(out_dir, name)
-    fig.savefig(path, dpi=110)
+    savefig(fig, path, dpi=110)
     plt.close(fig)
     written.append(path)
 

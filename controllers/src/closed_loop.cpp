@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 #include <cmath>
+#include <stdexcept>
 
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/firmware/firmware.hpp"
@@ -61,6 +62,10 @@ ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware:
   ControllerState cs;
   Figures fig(c.profile, opt);
   std::int64_t next_seq = 0;
+  // Refused before the loop: llround of a tick count beyond long long is undefined.
+  if (!(opt.duration / c.period <= 1e12)) {
+    throw std::invalid_argument("closed loop: duration / control.period is more than 1e12 ticks");
+  }
   Answer last;  // the controller's last answer (what the record shows while no status comes)
   const long long ticks = std::llround(opt.duration / c.period);
   for (long long k = 0; k <= ticks; ++k) {

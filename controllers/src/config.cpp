@@ -108,7 +108,8 @@ ControllerConfig loadControllerConfigText(const std::string& yaml, const std::st
 
 ControllerConfig loadControllerConfig(const std::string& path, const std::vector<std::string>& overrides) {
   std::string text;
-  if (!readFile(path, text)) throw ConfigError(path + ": cannot open controller configuration file");
+  std::string why;
+  if (!readFile(path, text, &why)) throw ConfigError(path + ": cannot open controller configuration file: " + why);
   return loadControllerConfigText(text, path, overrides);
 }
 

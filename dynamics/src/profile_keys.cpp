@@ -53,7 +53,8 @@ TargetProfile loadTargetProfileText(const std::string& yaml, const std::string& 
 
 TargetProfile loadTargetProfile(const std::string& path) {
   std::string text;
-  if (!readFile(path, text)) throw SceneError(path + ": cannot open profile file");
+  std::string why;
+  if (!readFile(path, text, &why)) throw SceneError(path + ": cannot open profile file: " + why);
   return loadTargetProfileText(text, path);
 }
 

@@ -40,7 +40,7 @@ nlohmann::json runSummary(const Model& m, const RunResult& r, const std::string&
       {"scene", scene},
       {"name", m.name},
       {"variant", variantName(m)},
-      {"status", r.ok ? "ok" : "failed"},
+      {"status", r.ok ? "ok" : r.stop.kind == RunStop::Kind::Interrupted ? "interrupted" : "failed"},
       {"t_end_s", r.t_end},
       {"rows", r.rows},
       {"impacts", st.impacts},

@@ -3,6 +3,8 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
+#include "gimbalsim/dynamics/observables.hpp"
+
 namespace gimbalsim {
 
 SceneError::SceneError(std::vector<Problem> problems)
@@ -242,9 +244,26 @@ void validate(const Scene& s, Given& g) {
   if (!(p.event_tol < p.substep)) g.refuse("sim.event_tol", "must be in (0, sim.substep)");
   if (!(p.substep_min <= p.step)) g.refuse("sim.substep_min", "must be in (0, sim.step]");
   if (!(p.substep_max <= p.step)) g.refuse("sim.substep_max", "must be in [0, sim.step]");
+  // Derived counts (steps, rows, sub-step cap) must fit their integers, and
+  // the CSV the disk: refused here, before anything runs (RunBounds).
+  const double n_steps = s.run.duration / p.step;
   const double r = s.run.output_interval / p.step;
-  if (std::fabs(r - std::round(r)) > 1e-6 * r || std::round(r) < 1.0) {
+  if (!(n_steps <= RunBounds::kMaxSteps)) {
+    g.refuse("sim.duration", "gives " + formatNumber(n_steps) + " steps of sim.step = " + formatNumber(p.step) +
+                                 " s, more than " + formatNumber(RunBounds::kMaxSteps));
+  } else if (!(r <= RunBounds::kMaxSteps) || std::fabs(r - std::round(r)) > 1e-6 * r || std::round(r) < 1.0) {
     g.refuse("sim.output_interval", "must be a whole multiple of sim.step (" + formatNumber(p.step) + " s)");
+  } else if (const double bytes = (std::floor(n_steps / std::round(r)) + 2) * kNumColumns * RunBounds::kCsvValueBytes;
+             !(bytes <= RunBounds::kMaxOutputBytes)) {
+    g.refuse("sim.duration", "would write up to " + formatNumber(bytes) + " bytes of CSV (more than " +
+                                 formatNumber(RunBounds::kMaxOutputBytes) + "): shorten it or raise sim.output_interval");
+  }
+  if (!(p.step / p.substep <= RunBounds::kMaxSubstepsPerStep)) {
+    g.refuse("sim.substep", "gives " + formatNumber(p.step / p.substep) + " sub-steps per step, more than " +
+                                formatNumber(RunBounds::kMaxSubstepsPerStep));
+  }
+  if (p.max_event_iters > RunBounds::kMaxEventIters) {
+    g.refuse("sim.max_event_iters", "must be <= " + std::to_string(RunBounds::kMaxEventIters));
   }
   const SensorParams& sp = s.run.sensors;
   if (!(sp.star_tracker_latency * sp.star_tracker_rate < SensorParams::kStarTrackerMaxLatencyPeriods)) {
@@ -283,7 +302,8 @@ Scene loadSceneText(const std::string& yaml, const std::string& origin, const st
 
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
   std::string text;
-  if (!readFile(path, text)) throw SceneError(path + ": cannot open scene file");
+  std::string why;
+  if (!readFile(path, text, &why)) throw SceneError(path + ": cannot open scene file: " + why);
   return loadSceneText(text, path, overrides);
 }
 

@@ -71,7 +71,8 @@ std::string describeStop(const Model& m, const StepResult& st) {
 }
 
 template <class V>
-RunResult run(const Model& m, const RunSpec& spec, const std::function<void(const Row&)>& sink, IntegratorKind kind) {
+RunResult run(const Model& m, const RunSpec& spec, const std::function<void(const Row&)>& sink, IntegratorKind kind,
+              const std::function<bool()>& stop) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   RunResult res;
@@ -117,6 +118,12 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
     ++res.rows;
     res.t_end = st.t;
     sink(r);
+    if (stop && stop()) {
+      std::ostringstream os;
+      os << "interrupted at t = " << st.t << " s";
+      stopRun({RunStop::Kind::Interrupted, {}, "", st.t}, os.str());
+      return false;
+    }
     return true;
   };
 
@@ -171,9 +178,10 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
 
 }  // namespace
 
-RunResult simulate(const Scene& scene, const std::function<void(const Row&)>& sink, IntegratorKind kind) {
+RunResult simulate(const Scene& scene, const std::function<void(const Row&)>& sink, IntegratorKind kind,
+                   const std::function<bool()>& stop) {
   return dispatchVariant(scene.model,
-                         [&](auto tag) { return run<decltype(tag)>(scene.model, scene.run, sink, kind); });
+                         [&](auto tag) { return run<decltype(tag)>(scene.model, scene.run, sink, kind, stop); });
 }
 
 }  // namespace gimbalsim

@@ -11,6 +11,7 @@
 #include "errors.hpp"
 #include "key_dicts.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
+#include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/io/run_output.hpp"
 
 namespace gimbalsim::py {
@@ -49,19 +50,12 @@ void writeCsv(const std::string& path, pyb::array_t<double, pyb::array::c_style 
   for (pyb::ssize_t i = 0; i < rows.shape(0); ++i) {
     io::appendCsvRow(text, std::span<const double, kNumColumns>(p + i * kNumColumns, kNumColumns));
   }
-  // Written whole to a temporary beside it, then renamed: a file under the
-  // requested name is never a cut-off CSV.
-  const std::string tmp = path + ".partial";
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  bool ok = f != nullptr;
-  if (ok) ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-  if (f) ok = (std::fclose(f) == 0) && ok;
-  if (ok) ok = std::rename(tmp.c_str(), path.c_str()) == 0;
-  if (!ok) {
-    const int err = errno;
-    std::remove(tmp.c_str());
-    errno = err;
-    PyErr_SetFromErrnoWithFilename(PyExc_OSError, path.c_str());
+  // io::writeFileAtomically: a temporary beside it, renamed when whole; a
+  // symlink or non-regular file under the name is refused.
+  try {
+    io::writeFileAtomically(path, text);
+  } catch (const io::OutputError& e) {
+    PyErr_SetString(PyExc_OSError, e.what());
     throw pyb::error_already_set();
   }
 }

@@ -3,37 +3,42 @@
 //   gimbalsim keys [--markdown]
 #include <CLI/CLI.hpp>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
+#include <optional>
 
 #include "gimbalsim/dynamics/scene.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
+#include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/io/run_output.hpp"
+#include "gimbalsim/io/stop_signal.hpp"
 
 namespace {
 
 using gimbalsim::Row;
 
-/// Writes rows as they come, so a run that stops keeps what it computed.
+/// Writes rows as they come into the output's temporary, so a run that stops
+/// keeps what it computed; the name appears when the run has ended.
 class CsvWriter {
  public:
-  explicit CsvWriter(const std::string& path) : f_(std::fopen(path.c_str(), "w")) {
-    if (f_) std::fputs(gimbalsim::io::csvHeader().c_str(), f_);
-  }
-  ~CsvWriter() {
-    if (f_) std::fclose(f_);
-  }
-  bool ok() const { return f_ != nullptr; }
+  explicit CsvWriter(const std::string& path) : file_(path) { file_.write(gimbalsim::io::csvHeader()); }
+  bool ok() const { return file_.ok(); }
   void write(const Row& r) {
     line_.clear();
     gimbalsim::io::appendCsvRow(line_, r);
-    std::fwrite(line_.data(), 1, line_.size(), f_);
+    file_.write(line_);
   }
+  bool commit() { return file_.commit(); }
+  const std::string& error() const { return file_.error(); }
 
  private:
-  std::FILE* f_;
+  gimbalsim::io::OutputFile file_;
   std::string line_;
 };
+
+// Exit codes (README "Exit codes").
+constexpr int kExitRefused = 2;      // scene, --set or output path refused; nothing run
+constexpr int kExitStopped = 3;      // the run stopped on numerical trouble; outputs complete up to it
+constexpr int kExitOutputFailed = 4;  // an output could not be written; no file under its name
 
 }  // namespace
 
@@ -72,28 +77,40 @@ int main(int argc, char** argv) {
   } catch (const gimbalsim::SceneError& e) {
     for (const auto& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
     std::fprintf(stderr, "gimbalsim: scene refused, nothing simulated\n");
-    return 2;
+    return kExitRefused;
   }
   for (const auto& w : loaded.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const gimbalsim::Model& m = loaded.model;
 
-  CsvWriter csv(out);
-  if (!csv.ok()) {
-    std::fprintf(stderr, "error: cannot write %s\n", out.c_str());
-    return 2;
+  std::optional<CsvWriter> csv;
+  try {
+    gimbalsim::io::checkOutputPaths({out, summary}, {scene});
+    csv.emplace(out);
+  } catch (const gimbalsim::io::OutputError& e) {
+    std::fprintf(stderr, "error: %s\ngimbalsim: output refused, nothing simulated\n", e.what());
+    return kExitRefused;
   }
-  const gimbalsim::RunResult r =
-      gimbalsim::simulate(loaded, [&](const Row& row) { csv.write(row); },
-                          integrator == "reference" ? gimbalsim::IntegratorKind::Reference
-                                                    : gimbalsim::IntegratorKind::Rk4);
+  gimbalsim::io::installStopHandlers();
+  // Checked after each row: a signal, or a CSV write that failed, ends the run there.
+  const auto stop = [&] { return gimbalsim::io::stopRequested() || !csv->ok(); };
+  gimbalsim::RunResult r = gimbalsim::simulate(
+      loaded, [&](const Row& row) { csv->write(row); },
+      integrator == "reference" ? gimbalsim::IntegratorKind::Reference : gimbalsim::IntegratorKind::Rk4, stop);
+  if (!csv->ok() || !csv->commit()) {
+    std::fprintf(stderr, "error: %s\ngimbalsim: the run was stopped; no CSV and no summary written\n",
+                 csv->error().c_str());
+    return kExitOutputFailed;
+  }
+  const bool interrupted = r.stop.kind == gimbalsim::RunStop::Kind::Interrupted;
+  if (interrupted) r.error += std::string(" by ") + gimbalsim::io::stopSignalName();
 
   if (!summary.empty()) {
-    std::ofstream js(summary);
-    if (!js) {
-      std::fprintf(stderr, "error: cannot write %s\n", summary.c_str());
-      return 2;
+    try {
+      gimbalsim::io::writeFileAtomically(summary, gimbalsim::io::runSummary(m, r, scene, integrator).dump(2) + "\n");
+    } catch (const gimbalsim::io::OutputError& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return kExitOutputFailed;
     }
-    js << gimbalsim::io::runSummary(m, r, scene, integrator).dump(2) << "\n";
   }
   std::fprintf(stderr,
                "%s [%s]: %lld rows to t = %.6g s, %lld impacts, peak contact %.6g N, %lld sub-steps, "
@@ -101,9 +118,9 @@ int main(int argc, char** argv) {
                m.name.c_str(), gimbalsim::variantName(m).c_str(), r.rows, r.t_end, r.stats.impacts,
                r.stats.peak_fn, r.stats.substeps, r.wall_seconds, r.step_seconds);
   if (!r.ok) {
-    std::fprintf(stderr, "error: %s\n", r.error.c_str());
+    std::fprintf(stderr, "%s: %s\n", interrupted ? "gimbalsim" : "error", r.error.c_str());
     std::fprintf(stderr, "gimbalsim: the CSV holds the %lld good rows up to t = %.6g s\n", r.rows, r.t_end);
-    return 3;
+    return interrupted ? gimbalsim::io::stopExitCode() : kExitStopped;
   }
   return 0;
 }

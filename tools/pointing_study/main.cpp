@@ -21,6 +21,8 @@
 #include "gimbalsim/controllers/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/dynamics/step_result.hpp"
+#include "gimbalsim/io/output_file.hpp"
+#include "gimbalsim/io/stop_signal.hpp"
 
 using namespace gimbalsim;
 using namespace gimbalsim::controllers;
@@ -71,20 +73,12 @@ std::string csvQuote(const std::string& s) {
   return q + "\"";
 }
 
-/// Writes text to path; false (and a message naming the file) on any failure.
+/// Writes text to path (io::writeFileAtomically); false (and a message naming the file) on any failure.
 bool writeFile(const std::filesystem::path& path, const std::string& text) {
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) {
-    std::fprintf(stderr, "gimbalsim_pointing_study: cannot open %s for writing: %s\n", path.c_str(),
-                 std::strerror(errno));
-    return false;
-  }
-  const bool wrote = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-  const int err = errno;
-  const bool closed = std::fclose(f) == 0;
-  if (!wrote || !closed) {
-    std::fprintf(stderr, "gimbalsim_pointing_study: write to %s failed: %s\n", path.c_str(),
-                 std::strerror(wrote ? errno : err));
+  try {
+    gimbalsim::io::writeFileAtomically(path.string(), text);
+  } catch (const gimbalsim::io::OutputError& e) {
+    std::fprintf(stderr, "gimbalsim_pointing_study: %s\n", e.what());
     return false;
   }
   return true;
@@ -221,6 +215,16 @@ int main(int argc, char** argv) {
     return kExitWrite;
   }
   const std::filesystem::path dir(out_dir);
+  if (!(opt.duration / cfg.period <= 1e9)) {
+    return refuse("--duration", "gives more than 1e9 control periods of " + num(cfg.period) + " s");
+  }
+  try {
+    gimbalsim::io::checkOutputPaths(
+        {(dir / "config.txt").string(), (dir / "pointing_error.csv").string(), (dir / "summary.csv").string()},
+        {ideal_path, clearance_path, config_path});
+  } catch (const gimbalsim::io::OutputError& e) {
+    return refuse("--out", e.what());
+  }
 
   std::string config_text, mode = "joint-space (no pointing.mode key)";
   for (const std::string& kv : configValues(cfg)) {
@@ -234,7 +238,10 @@ int main(int argc, char** argv) {
               "rms_trk[rad]", "peak_run[rad]", "status");
 
   std::vector<Study> runs;
+  // SIGINT/SIGTERM: the run in progress finishes, the CSVs hold the whole runs before the signal.
+  gimbalsim::io::installStopHandlers();
   for (const auto& [sc, c] : scenes) {
+    if (gimbalsim::io::stopRequested()) break;
     runs.push_back(runOne(sc, cfg, opt, c > 0.0 ? clearanceLabel(c) : std::string("ideal"), c));
     const Study& s = runs.back();
     std::printf("%-10s %-16s %11.3g %13.4e %13.4e %13.4e  %s\n", s.label.c_str(), s.scene.c_str(), s.clearance,
@@ -247,6 +254,11 @@ int main(int argc, char** argv) {
   }
   std::printf("wrote %s, %s, %s\n", (dir / "pointing_error.csv").c_str(), (dir / "summary.csv").c_str(),
               (dir / "config.txt").c_str());
+  if (gimbalsim::io::stopRequested()) {
+    std::fprintf(stderr, "gimbalsim_pointing_study: interrupted by %s after %zu whole runs\n",
+                 gimbalsim::io::stopSignalName(), runs.size());
+    return gimbalsim::io::stopExitCode();
+  }
   const bool all_ok = std::all_of(runs.begin(), runs.end(), [](const Study& s) { return s.ok; });
   return all_ok ? 0 : kExitStopped;
 }

@@ -18,6 +18,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from output_file import savefig  # noqa: E402  (temporary + rename, tools/output_file.py)
 import numpy as np  # noqa: E402
 
 
@@ -57,7 +59,7 @@ def plot_time(head, cols, summary, out):
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(out, dpi=120)
+    savefig(fig, out, dpi=120)
     plt.close(fig)
 
 
@@ -79,7 +81,7 @@ def plot_clearance(summary, out):
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(out, dpi=120)
+    savefig(fig, out, dpi=120)
     plt.close(fig)
 
 

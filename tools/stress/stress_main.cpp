@@ -28,6 +28,8 @@
 #include <vector>
 
 #include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/io/output_file.hpp"
+#include "gimbalsim/io/stop_signal.hpp"
 #include "stress_check.hpp"
 
 namespace gs = gimbalsim;
@@ -48,6 +50,7 @@ struct Case {
   std::string scene;              ///< scene file stem
   std::vector<std::string> sets;  ///< overrides
   st::Outcome out;
+  bool ran = false;  ///< false: skipped after SIGINT/SIGTERM
 };
 
 std::string joined(const std::vector<std::string>& v, const char* sep = " ") {
@@ -198,6 +201,7 @@ struct Cell {
 void walkCell(Cell& cell, const std::string& scenes, const std::string& dur, const st::Bounds& b) {
   const bool adaptive = cell.mode == Walk::Adaptive;
   for (double h : adaptive ? kTolerances : kSubsteps) {
+    if (gimbalsim::io::stopRequested()) return;  // the walk keeps its whole cases
     Case c{cell.mode == Walk::WholeStep ? "step walk" : adaptive ? "adaptive walk" : "substep walk",
            "paper_clearance",
            {"sim.duration=" + dur, "contact.stiffness_scale=" + num(cell.stiffness),
@@ -210,6 +214,7 @@ void walkCell(Cell& cell, const std::string& scenes, const std::string& dur, con
     }
     if (cell.mode == Walk::WholeStep) c.sets.push_back("sim.step=" + num(h));
     c.out = st::runCase(scenes + "/" + c.scene + ".yaml", c.sets, b);
+    c.ran = true;
     printCase(c);
     cell.walk.push_back(c);
     if (c.out.verdict == st::Verdict::Trustworthy) {
@@ -348,14 +353,19 @@ bool updateReadme(const std::string& path, const std::string& table) {
   const auto a = text.find(begin), z = text.find(end);
   if (a == std::string::npos || z == std::string::npos || z < a) return false;
   text = text.substr(0, a + begin.size()) + "\n" + table + text.substr(z);
-  std::ofstream out(path);
-  out << text;
-  return static_cast<bool>(out);
+  try {
+    gimbalsim::io::writeFileAtomically(path, text);
+  } catch (const gimbalsim::io::OutputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return false;
+  }
+  return true;
 }
 
+/// Throws io::OutputError naming the file.
 void writeCsv(const std::string& path, const std::vector<const Case*>& all) {
-  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
-  std::ofstream f(path);
+  if (const auto dir = std::filesystem::path(path).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
+  std::ostringstream f;
   f << "group,scene,sets,verdict,reason,t_end_s,impacts,substeps,substeps_per_s,max_substeps_in_step,"
        "momentum_rel_linear,momentum_rel_angular,energy_rise_rel,energy_change_rel,energy_final_rel,"
        "max_penetration_m,penetration_limit_m,wall_s\n";
@@ -375,6 +385,7 @@ void writeCsv(const std::string& path, const std::vector<const Case*>& all) {
       << o.energy_final_rel << "," << o.max_penetration << "," << o.penetration_limit << ","
       << o.run.wall_seconds << "\n";
   }
+  gimbalsim::io::writeFileAtomically(path, f.str());
 }
 
 }  // namespace
@@ -424,6 +435,8 @@ int main(int argc, char** argv) {
     return st::acceptable(c.out.verdict) ? 0 : 1;
   }
   if (long_only) no_grid = no_sweeps = long_run = true;
+  // SIGINT/SIGTERM: cases running finish, the rest are skipped, the CSV holds the whole cases.
+  gimbalsim::io::installStopHandlers();
 
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<const Case*> all;
@@ -431,10 +444,14 @@ int main(int argc, char** argv) {
   if (!no_sweeps) {
     sw = sweeps(dur);
     parallel(sw.size(), threads, [&](std::size_t i) {
+      if (gimbalsim::io::stopRequested()) return;
       sw[i].out = st::runCase(scenes + "/" + sw[i].scene + ".yaml", sw[i].sets, b);
+      sw[i].ran = true;
       printCase(sw[i]);
     });
-    for (const auto& c : sw) all.push_back(&c);
+    for (const auto& c : sw) {
+      if (c.ran) all.push_back(&c);
+    }
   }
   std::vector<Cell> cells;
   if (!no_grid) {
@@ -449,7 +466,7 @@ int main(int argc, char** argv) {
     }
   }
   std::vector<Case> longc;
-  if (long_run) {
+  if (long_run && !gimbalsim::io::stopRequested()) {
     std::vector<std::string> sets = {"sim.duration=3600", "sim.output_interval=0.01"};
     sets.insert(sets.end(), long_sets.begin(), long_sets.end());
     longc.push_back({"long run", long_scene, sets, {}});
@@ -464,7 +481,17 @@ int main(int argc, char** argv) {
                 o.energy_rise_rel, o.energy_final_rel);
     all.push_back(&longc[0]);
   }
-  if (!csv.empty() && !all.empty()) writeCsv(csv, all);
+  try {
+    if (!csv.empty() && !all.empty()) writeCsv(csv, all);
+  } catch (const std::exception& e) {  // io::OutputError, or the directory not creatable
+    std::cerr << "error: " << e.what() << "\n";
+    return 4;  // an output could not be written (README "Exit codes")
+  }
+  if (gimbalsim::io::stopRequested()) {
+    std::fprintf(stderr, "gimbalsim_stress: interrupted by %s after %zu whole runs (in the CSV); no table written\n",
+                 gimbalsim::io::stopSignalName(), all.size());
+    return gimbalsim::io::stopExitCode();
+  }
 
   std::vector<RestitutionRow> rest;
   if (!no_sweeps) rest = restitutionTable(scenes, v_in);

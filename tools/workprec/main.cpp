@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/io/stop_signal.hpp"
 #include "workprec.hpp"
 #ifdef GIMBALSIM_HAVE_MUJOCO
 #include "mujoco_peer.hpp"
@@ -119,6 +120,12 @@ int main(int argc, char** argv) {
     peak_dt = std::max(peak_dt, 1e-5);
   }
 
+  // Counts derived from these (reference samples, rows) must fit a long long: refused with exit 2.
+  if (!(peak_dt > 0.0 && output_interval >= peak_dt && output_interval / peak_dt <= 1e9 && duration >= 0.0 &&
+        duration <= 1e6)) {
+    std::cerr << "error: need 0 < --peak-dt <= --output-interval <= 1e9 --peak-dt and 0 <= --duration <= 1e6 s\n";
+    return 2;
+  }
   std::vector<Policy> policies;
   try {
     policies = loadPolicies(policies_path);
@@ -138,7 +145,10 @@ int main(int argc, char** argv) {
               repeats, output_interval);
 
   std::vector<Point> points;
+  // SIGINT/SIGTERM: the point being measured is dropped, the CSV holds every whole point before it.
+  gimbalsim::io::installStopHandlers();
   for (const std::string& scene : scenes) {
+    if (gimbalsim::io::stopRequested()) break;
     const std::string path = scenes_dir + "/" + scene + ".yaml";
     std::vector<std::string> base_sets;
     if (auto it = kSceneDefaults.find(scene); it != kSceneDefaults.end()) {
@@ -160,6 +170,10 @@ int main(int argc, char** argv) {
     } catch (const SceneError& e) {
       std::cerr << "scene " << scene << " refused:\n";
       for (const auto& p : e.problems()) std::cerr << "  " << p << "\n";
+      return 2;
+    }
+    if (!(base.run.duration / peak_dt <= 1e10)) {
+      std::cerr << "scene " << scene << ": sim.duration / --peak-dt is more than 1e10 reference samples\n";
       return 2;
     }
     std::printf("\n[%s] %g s, %s, reference: ", scene.c_str(), base.run.duration,
@@ -204,6 +218,7 @@ int main(int argc, char** argv) {
       }
       double last_cpu = 0.0;  // [s] per run at the previous point of this curve
       for (const auto& [h, value] : sweep) {
+        if (gimbalsim::io::stopRequested()) break;
         if (last_cpu > max_run_seconds) {
           std::printf("  %-22s rest of the curve skipped: the last point took %.1f s per run (--max-run-seconds)\n",
                       pol.name.c_str(), last_cpu);
@@ -243,6 +258,7 @@ int main(int argc, char** argv) {
           if (p.ok) p.cpu_per_sim_s = median(cpu) / sc.run.duration;
           if (p.ok) last_cpu = median(cpu);
         }
+        if (gimbalsim::io::stopRequested()) break;  // this point's runs were cut short
         points.push_back(p);
         printPoint(p);
       }
@@ -265,9 +281,14 @@ int main(int argc, char** argv) {
     writeCsv(csv, points);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 1;
+    return 4;  // an output could not be written (README "Exit codes")
   }
   std::printf("\nwrote %s (%zu points)\n", csv.c_str(), points.size());
+  if (gimbalsim::io::stopRequested()) {
+    std::fprintf(stderr, "gimbalsim_workprec: interrupted by %s; the CSV holds the %zu whole points before it\n",
+                 gimbalsim::io::stopSignalName(), points.size());
+    return gimbalsim::io::stopExitCode();
+  }
 
   std::printf("\nCheapest setting per target max boresight error (median CPU; ms per simulated 5 s in brackets):\n");
   std::printf("%-22s %-9s %-24s %-10s %-10s %-12s %-16s %s\n", "scene", "target", "policy", "h [s]",

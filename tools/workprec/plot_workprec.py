@@ -9,12 +9,16 @@ out (the CSV keeps them with the reason).
 import argparse
 import csv
 import math
+import os
+import sys
 from collections import OrderedDict
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from output_file import savefig  # noqa: E402  (temporary + rename, tools/output_file.py)
 
 TARGETS = (1e-3, 1e-6, 1e-9)  # [rad], the targets the tool reports
 
@@ -64,7 +68,7 @@ def main():
         ax.set_visible(False)
     fig.suptitle("gimbalsim work-precision: RK4 + contact sub-stepping vs Dormand-Prince reference")
     fig.tight_layout()
-    fig.savefig(out, dpi=120)
+    savefig(fig, out, dpi=120)
     print(f"wrote {out}")
 
 

@@ -15,8 +15,10 @@
 #include <stdexcept>
 
 #include "gimbalsim/dynamics/integrator.hpp"
+#include "gimbalsim/dynamics/key_registry.hpp"
 #include "gimbalsim/dynamics/reference_integrator.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
+#include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::workprec {
@@ -39,11 +41,10 @@ double angleBetween(const Vec3& a, const Vec3& b) { return pointing::pointingErr
 
 std::vector<Policy> loadPolicies(const std::string& path) {
   YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(path + ": " + e.what());
-  }
+  std::string text, why;
+  Problem refused;
+  if (!readFile(path, text, &why)) throw std::runtime_error(path + ": cannot open policy file: " + why);
+  if (!loadDocument(text, path, root, refused)) throw std::runtime_error(refused.text);
   const YAML::Node list = root["policies"];
   if (!list || !list.IsSequence()) throw std::runtime_error(path + ": expected a list 'policies:'");
   std::vector<Policy> out;
@@ -230,7 +231,7 @@ bool readCache(const std::string& path, const std::string& key, Reference& r) {
 }
 
 void writeCache(const std::string& path, const std::string& key, const Reference& r) {
-  std::ofstream out(path);
+  std::ostringstream out;
   out << std::setprecision(17);
   const StickSlip& ss = r.stick;
   out << "# " << key << ' ' << r.self_consistency << ' ' << r.rows.peak_contact << ' ' << r.peak_dt << ' ' << ss.dt << ' '
@@ -242,7 +243,7 @@ void writeCache(const std::string& path, const std::string& key, const Reference
     out << tr.t[i] << ',' << tr.theta1[i] << ',' << tr.theta2[i] << ',' << tr.bore[i].x() << ','
         << tr.bore[i].y() << ',' << tr.bore[i].z() << '\n';
   }
-  if (!out) throw std::runtime_error("cannot write the reference cache " + path);
+  io::writeFileAtomically(path, out.str());  // throws io::OutputError naming the file
 }
 
 }  // namespace
@@ -343,7 +344,7 @@ const std::vector<std::string> kCsvColumns = {
     "peak_force_err_rel", "momentum_drift_rel", "substeps", "impacts", "pareto", "note"};
 
 void writeCsv(const std::string& path, const std::vector<Point>& points) {
-  std::ofstream out(path);
+  std::ostringstream out;
   out << std::setprecision(10);
   for (std::size_t i = 0; i < kCsvColumns.size(); ++i) out << (i ? "," : "") << kCsvColumns[i];
   out << '\n';
@@ -359,7 +360,7 @@ void writeCsv(const std::string& path, const std::vector<Point>& points) {
         << p.peak_force_err_rel << ',' << p.momentum_drift_rel << ',' << p.substeps << ',' << p.impacts
         << ',' << (p.pareto ? 1 : 0) << ',' << quoted(p.note) << '\n';
   }
-  if (!out) throw std::runtime_error("cannot write " + path);
+  io::writeFileAtomically(path, out.str());  // throws io::OutputError naming the file
 }
 
 }  // namespace gimbalsim::workprec

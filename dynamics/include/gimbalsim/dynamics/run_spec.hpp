@@ -38,6 +38,17 @@ struct SensorParams {
   static constexpr int kStarTrackerMaxLatencyPeriods = 8;
 };
 
+/// What a run may ask for, checked by the scene's validate() before running
+/// (naming the key), so every derived count fits a long long and an output
+/// cannot fill a disk many times over.
+struct RunBounds {
+  static constexpr double kMaxSteps = 1e12;          ///< sim.duration / sim.step
+  static constexpr double kMaxSubstepsPerStep = 1e7;  ///< sim.step / sim.substep (the sub-step cap is an int)
+  static constexpr int kMaxEventIters = 1000000;      ///< sim.max_event_iters
+  static constexpr double kCsvValueBytes = 20.0;     ///< worst "%.12g," per CSV value
+  static constexpr double kMaxOutputBytes = 1e11;    ///< rows x columns x kCsvValueBytes: 100 GB
+};
+
 struct RunSpec {
   double duration = 5.0;            ///< simulated time [s]
   double output_interval = 1.0e-3;  ///< CSV row spacing [s], a multiple of sim.step

@@ -48,6 +48,7 @@ struct RunStop {
     NonFiniteOutput,  ///< an output row held NaN or Inf
     Invariant,        ///< sim.momentum_tol or sim.energy_tol broken at an output row
     Reference,        ///< the reference integrator gave up
+    Interrupted,      ///< the caller's stop predicate asked, after an output row (a signal)
   };
   Kind kind = Kind::None;
   StepResult step;
@@ -82,7 +83,9 @@ enum class IntegratorKind { Rk4, Reference };
 /// reaching it (ok = false, error says when and which key).
 /// IntegratorKind::Reference uses the adaptive Dormand-Prince reference
 /// (reference_integrator.hpp) instead of the fixed-step RK4.
+/// `stop`, when given, is asked after each row the sink took; true ends the
+/// run there (RunStop::Kind::Interrupted), the step itself never sees it.
 RunResult simulate(const Scene& scene, const std::function<void(const Row&)>& sink,
-                   IntegratorKind kind = IntegratorKind::Rk4);
+                   IntegratorKind kind = IntegratorKind::Rk4, const std::function<bool()>& stop = {});
 
 }  // namespace gimbalsim

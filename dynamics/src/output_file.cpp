@@ -1,0 +1,147 @@
+#include "gimbalsim/io/output_file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+
+namespace gimbalsim::io {
+
+namespace {
+
+std::string dirOf(const std::string& path) {
+  const auto slash = path.rfind('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+std::string baseOf(const std::string& path) {
+  const auto slash = path.rfind('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+/// The file a path names: (device, inode) of the file if it exists, else of
+/// its directory plus its name, so two spellings of one new file compare equal.
+struct Identity {
+  dev_t dev = 0;
+  ino_t ino = 0;
+  std::string name;  ///< "" when the file exists
+  bool operator==(const Identity&) const = default;
+};
+
+bool identify(const std::string& path, Identity& id) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) {
+    id = {st.st_dev, st.st_ino, ""};
+    return true;
+  }
+  if (::stat(dirOf(path).c_str(), &st) != 0) return false;
+  id = {st.st_dev, st.st_ino, baseOf(path)};
+  return true;
+}
+
+/// The checks of one output path on its own; throws OutputError.
+void checkOne(const std::string& path) {
+  if (path.empty()) throw OutputError("output path is empty");
+  if (baseOf(path).empty() || baseOf(path) == "." || baseOf(path) == "..") {
+    throw OutputError(path + ": not a file name");
+  }
+  struct stat st {};
+  if (::lstat(path.c_str(), &st) == 0) {
+    if (S_ISLNK(st.st_mode)) throw OutputError(path + ": is a symbolic link; not written through (give its target)");
+    if (!S_ISREG(st.st_mode)) throw OutputError(path + ": exists and is not a regular file; not written");
+  } else if (errno != ENOENT) {
+    throw OutputError(path + ": " + std::strerror(errno));
+  }
+  struct stat dir {};
+  if (::stat(dirOf(path).c_str(), &dir) != 0 || !S_ISDIR(dir.st_mode)) {
+    throw OutputError(path + ": its directory " + dirOf(path) + " does not exist");
+  }
+}
+
+}  // namespace
+
+void checkOutputPaths(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs) {
+  std::vector<std::pair<std::string, Identity>> seen;
+  for (const std::string& out : outputs) {
+    if (out.empty()) continue;
+    checkOne(out);
+    Identity id;
+    if (!identify(out, id)) throw OutputError(out + ": " + std::strerror(errno));
+    for (const auto& [other, oid] : seen) {
+      if (oid == id) throw OutputError(out + ": the same file as another output (" + other + ")");
+    }
+    for (const std::string& in : inputs) {
+      Identity iid;
+      if (!in.empty() && identify(in, iid) && iid == id) {
+        throw OutputError(out + ": the same file as the input " + in + "; not overwritten");
+      }
+    }
+    seen.emplace_back(out, id);
+  }
+}
+
+OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
+  checkOne(path_);
+  static std::atomic<unsigned> counter{0};
+  for (int attempt = 0; attempt < 100 && !f_; ++attempt) {
+    tmp_ = dirOf(path_) + "/." + baseOf(path_) + "." + std::to_string(::getpid()) + "." +
+           std::to_string(counter++) + ".tmp";
+    // O_EXCL | O_NOFOLLOW: a fresh file of our own, never an existing one or a link's target.
+    const int fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd < 0) {
+      if (errno == EEXIST) continue;
+      throw OutputError(path_ + ": cannot create a temporary in " + dirOf(path_) + ": " + std::strerror(errno));
+    }
+    f_ = ::fdopen(fd, "wb");
+    if (!f_) {
+      const int err = errno;
+      ::close(fd);
+      ::unlink(tmp_.c_str());
+      throw OutputError(path_ + ": " + std::strerror(err));
+    }
+  }
+  if (!f_) throw OutputError(path_ + ": cannot create a temporary (100 names taken)");
+}
+
+OutputFile::~OutputFile() {
+  if (f_) std::fclose(f_);
+  if (!committed_) ::unlink(tmp_.c_str());
+}
+
+void OutputFile::fail(const char* what) noexcept {
+  if (error_.empty()) {
+    try {
+      error_ = path_ + ": " + what + ": " + std::strerror(errno);
+    } catch (...) {
+    }
+  }
+}
+
+bool OutputFile::write(std::string_view bytes) noexcept {
+  if (!error_.empty() || !f_) return false;
+  if (std::fwrite(bytes.data(), 1, bytes.size(), f_) != bytes.size()) fail("write failed");
+  return error_.empty();
+}
+
+bool OutputFile::commit() noexcept {
+  if (!f_ || committed_) return false;
+  if (error_.empty() && std::fflush(f_) != 0) fail("write failed");
+  const bool closed = std::fclose(f_) == 0;
+  f_ = nullptr;
+  if (error_.empty() && !closed) fail("close failed");
+  if (error_.empty() && std::rename(tmp_.c_str(), path_.c_str()) != 0) fail("rename failed");
+  committed_ = error_.empty();
+  return committed_;
+}
+
+void writeFileAtomically(const std::string& path, std::string_view content) {
+  OutputFile f(path);
+  f.write(content);
+  if (!f.commit()) throw OutputError(f.error());
+}
+
+}  // namespace gimbalsim::io

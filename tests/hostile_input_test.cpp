@@ -1,0 +1,202 @@
+// Issue 13, scene files and --set: every malformed document of the issue's
+// list is refused with its place (file:line:column or --set index) and, where
+// one applies, its key, within the bounds of InputBounds and RunBounds; paths
+// that are not regular files are refused unread. The controller configuration
+// and the profile go through the same loader (checked once each).
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/dynamics/scene.hpp"
+
+namespace gimbalsim {
+namespace {
+
+/// The single problem of a refused document (fails if accepted or if several).
+Problem refusedOnce(const std::string& yaml, const std::vector<std::string>& sets = {}) {
+  try {
+    loadSceneText(yaml, "bad.yaml", sets);
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.details().size(), 1u) << e.what();
+    return e.details().front();
+  }
+  ADD_FAILURE() << "accepted: " << yaml;
+  return {};
+}
+
+TEST(HostileInput, NonScalarMappingKeyIsRefusedWithItsPlace) {
+  const Problem flow = refusedOnce("[a, b]: 1\n");
+  EXPECT_EQ(flow.line, 1);
+  EXPECT_NE(flow.text.find("bad.yaml:1:1: a mapping key must be a plain name"), std::string::npos) << flow.text;
+  const Problem block = refusedOnce("sim:\n  ? {a: 1}\n  : 2\n");
+  EXPECT_EQ(block.key, "sim");
+  EXPECT_EQ(block.line, 2);
+  EXPECT_NE(block.text.find("bad.yaml:2:5: key 'sim': a mapping key must be a plain name"), std::string::npos)
+      << block.text;
+}
+
+TEST(HostileInput, AnchorsAndAliasesAreRefusedBeforeExpansion) {
+  const Problem self = refusedOnce("sim: &a\n  duration: *a\n");
+  EXPECT_EQ(self.key, "sim");
+  EXPECT_NE(self.text.find("bad.yaml:1:6: key 'sim': anchors (&name) are not accepted"), std::string::npos)
+      << self.text;
+  EXPECT_NE(refusedOnce("&a [*a]\n").text.find("anchors"), std::string::npos);
+  // "Billion laughs": 9 levels of 10 aliases would expand to 1e9 nodes.
+  std::string laughs = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
+  for (int i = 1; i < 9; ++i) {
+    laughs += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [";
+    for (int j = 0; j < 10; ++j) laughs += (j ? ", *a" : "*a") + std::to_string(i - 1);
+    laughs += "]\n";
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const Problem p = refusedOnce(laughs);
+  EXPECT_EQ(p.key, "a0");
+  EXPECT_EQ(p.line, 1);
+  // Not a timing gate: a refusal at the first anchor reads one line (reported for the record).
+  RecordProperty("laughs_refused_us",
+                 static_cast<int>(std::chrono::duration_cast<std::chrono::microseconds>(
+                                      std::chrono::steady_clock::now() - t0)
+                                      .count()));
+  // An alias alone (its anchor undefined) is a syntax error with a place, not a crash.
+  EXPECT_EQ(refusedOnce("sim:\n  duration: *nowhere\n").line, 2);
+}
+
+TEST(HostileInput, NestingDeeperThanTheBoundIsRefused) {
+  const int n = 100000;  // yaml-cpp's recursive descent would need this many frames
+  const Problem seq = refusedOnce("a: " + std::string(n, '[') + std::string(n, ']') + "\n");
+  EXPECT_EQ(seq.key, "a");
+  EXPECT_NE(seq.text.find("nested deeper than " + std::to_string(InputBounds::kMaxDepth) + " levels"),
+            std::string::npos)
+      << seq.text;
+  std::string maps = "a: ";
+  for (int i = 0; i < 1000; ++i) maps += "{b: ";
+  maps += "1" + std::string(1000, '}') + "\n";
+  EXPECT_NE(refusedOnce(maps).text.find("nested deeper"), std::string::npos);
+  // Exactly at the bound is still read (then refused only as an unknown key).
+  std::string ok = "a: " + std::string(InputBounds::kMaxDepth - 1, '[') + "1" +
+                   std::string(InputBounds::kMaxDepth - 1, ']') + "\n";
+  EXPECT_NE(refusedOnce(ok).text.find("unknown key 'a'"), std::string::npos);
+}
+
+TEST(HostileInput, SizeBoundsOnValuesAndNodes) {
+  const Problem longValue = refusedOnce("name: \"" + std::string(InputBounds::kMaxScalarBytes + 1, 'x') + "\"\n");
+  EXPECT_EQ(longValue.key, "name");
+  EXPECT_NE(longValue.text.find("bad.yaml:1:7: key 'name': a value of 4097 bytes (at most 4096)"), std::string::npos)
+      << longValue.text;
+  // At the bound the value is read.
+  EXPECT_NO_THROW(loadSceneText("name: \"" + std::string(InputBounds::kMaxScalarBytes, 'x') + "\"\n", "ok.yaml", {}));
+}
+
+TEST(HostileInput, ManyNodesAreRefused) {
+  std::string wide = "a: [";
+  for (long long i = 0; i < InputBounds::kMaxNodes + 1; ++i) wide += i ? ",1" : "1";
+  wide += "]\n";
+  const Problem p = refusedOnce(wide);
+  EXPECT_NE(p.text.find("more than 100000 keys, values and list items"), std::string::npos) << p.text;
+}
+
+TEST(HostileInput, OneDocumentAndNoDuplicateKeys) {
+  const Problem docs = refusedOnce("sim:\n  duration: 1\n---\nsim:\n  duration: 2\n");
+  EXPECT_EQ(docs.line, 3);
+  EXPECT_NE(docs.text.find("more than one YAML document"), std::string::npos);
+  const Problem dup = refusedOnce("sim:\n  duration: 1\n  duration: 2\n");
+  EXPECT_EQ(dup.key, "sim.duration");
+  EXPECT_EQ(dup.line, 3);
+  EXPECT_NE(dup.text.find("given twice (first at bad.yaml:2:3)"), std::string::npos) << dup.text;
+}
+
+TEST(HostileInput, SetValuesGetTheSameBoundsWithTheirIndex) {
+  const Problem alias = refusedOnce("", {"sim.duration=1", "sim.step=&a 1"});
+  EXPECT_EQ(alias.set_index, 2);
+  EXPECT_EQ(alias.key, "sim.step");
+  EXPECT_EQ(alias.text.rfind("--set #2 'sim.step=&a 1': key 'sim.step': anchors", 0), 0u) << alias.text;
+  const Problem key = refusedOnce("", {"sim.duration={[a]: 1}"});
+  EXPECT_EQ(key.set_index, 1);
+  EXPECT_NE(key.text.find("a mapping key must be a plain name"), std::string::npos);
+  const Problem big = refusedOnce("", {"name=" + std::string(InputBounds::kMaxSetBytes, 'x')});
+  EXPECT_EQ(big.set_index, 1);
+  EXPECT_NE(big.text.find("a --set value of 65541 bytes"), std::string::npos) << big.text.substr(0, 200);
+}
+
+TEST(HostileInput, DerivedCountsThatWouldOverflowAreRefusedNamingTheKey) {
+  const Problem steps = refusedOnce("sim:\n  duration: 1e300\n");
+  EXPECT_EQ(steps.key, "sim.duration");
+  EXPECT_EQ(steps.line, 2);
+  EXPECT_NE(steps.text.find("more than 1e+12"), std::string::npos) << steps.text;
+  const Problem rows = refusedOnce("", {"sim.duration=1e6", "sim.step=1e-5", "sim.substep=1e-5", "sim.event_tol=1e-9",
+                                        "sim.output_interval=1e-5"});
+  EXPECT_EQ(rows.key, "sim.duration");
+  EXPECT_NE(rows.text.find("bytes of CSV"), std::string::npos) << rows.text;
+  const Problem sub = refusedOnce("", {"sim.substep=1e-200", "sim.event_tol=1e-201"});
+  EXPECT_EQ(sub.key, "sim.substep");
+  EXPECT_NE(sub.text.find("sub-steps per step"), std::string::npos) << sub.text;
+  const Problem iters = refusedOnce("", {"sim.max_event_iters=1000000000"});
+  EXPECT_EQ(iters.key, "sim.max_event_iters");
+  const Problem interval = refusedOnce("", {"sim.output_interval=1e300"});
+  EXPECT_EQ(interval.key, "sim.output_interval");
+  // A long run within the bounds is accepted (a whole 1e9-step run writing 1e6 rows).
+  EXPECT_NO_THROW(loadSceneText("", "ok.yaml", {"sim.duration=1e6", "sim.output_interval=1"}));
+}
+
+class Paths : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("gimbalsim_hostile_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string refusal(const std::string& path) {
+    try {
+      loadScene(path);
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+    return "";
+  }
+  std::filesystem::path dir_;
+};
+
+TEST_F(Paths, NotARegularFileIsRefusedUnread) {
+  EXPECT_NE(refusal(dir_.string()).find(": cannot open scene file: a directory, not a regular file"), std::string::npos);
+  EXPECT_NE(refusal("/dev/zero").find("/dev/zero: cannot open scene file: a character device"), std::string::npos);
+  const std::string fifo = (dir_ / "fifo").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  // No writer: a blocking open would wait for ever; the loader must return.
+  EXPECT_NE(refusal(fifo).find("a FIFO, not a regular file"), std::string::npos);
+}
+
+TEST_F(Paths, LargerThanTheBoundIsRefusedUnread) {
+  const std::string big = (dir_ / "big.yaml").string();
+  {
+    std::ofstream f(big);
+    f << "name: x\n" << std::string(InputBounds::kMaxFileBytes, '#') << "\n";
+  }
+  EXPECT_NE(refusal(big).find("larger than 1048576"), std::string::npos) << refusal(big);
+  // A symlink to a good scene file is an input, and read (only outputs refuse links).
+  const std::string link = (dir_ / "link.yaml").string();
+  std::filesystem::create_symlink(std::filesystem::path(GIMBALSIM_SCENES_DIR) / "paper_ideal.yaml", link);
+  EXPECT_EQ(refusal(link), "");
+}
+
+TEST(HostileInput, ControllerConfigAndItsPathGoThroughTheSameBounds) {
+  try {
+    controllers::loadControllerConfigText("gains: &g\n  kp: 1\n", "c.yaml", {});
+    FAIL() << "accepted an anchor";
+  } catch (const controllers::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("c.yaml:1:8:"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(controllers::loadControllerConfig("/dev/zero", {}), controllers::ConfigError);
+}
+
+}  // namespace
+}  // namespace gimbalsim
