@@ -12,7 +12,7 @@
 
 #include "gimbalsim/firmware/command_gate.hpp"
 #include "gimbalsim/firmware/firmware.hpp"
-#include "test_util.hpp"
+#include "firmware_test_util.hpp"
 
 namespace gimbalsim::firmware {
 namespace {
@@ -66,19 +66,10 @@ TEST(CommandGate, CheckChangesNothing) {
   EXPECT_EQ(g.check(kReal, 6, 2), V::Accept);
 }
 
-// The firmware: fixed-base ideal gimbal (the cheapest plant).
-Scene benchScene() { return test::scene("paper_ideal", {"structure.base=fixed"}); }
-using Bench = FixedIdeal;
-
-Command cmd(std::int64_t seq, std::int64_t status_seq, double tau1, double tau2) {
-  Command c;
-  c.seq = seq;
-  c.status_seq = status_seq;
-  c.mode = kModeTorque;
-  c.torque[0] = tau1;
-  c.torque[1] = tau2;
-  return c;
-}
+// The firmware: the shared bench plant and command builder (firmware_test_util.hpp).
+using test_helpers::benchScene;
+using test_helpers::Bench;
+constexpr auto cmd = test_helpers::torqueCommand;
 
 TEST(CommandAcceptance, ASpoofedExtremeSeqFromAnotherSourceNeverLocksOutTheController) {
   const Scene sc = benchScene();
