@@ -1,7 +1,8 @@
-// io::OutputFile and io::checkOutputPaths (output_file.hpp): a result appears
-// under its name only whole; a failed write leaves the name untouched and
-// says which file; symlinks, non-regular files, an input and a second output
-// under another spelling are refused before anything is written.
+// io::OutputFile and io::checkOutputPaths (output_file.hpp), the one way every
+// program writes a file: a result appears under its name only whole; a failed
+// write (direct or formatted) leaves the name untouched and says which file;
+// symlinks, non-regular files, an input and a second output under another
+// spelling are refused before anything is written.
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -18,6 +19,19 @@ namespace gimbalsim::io {
 namespace {
 
 namespace fs = std::filesystem;
+
+/// A full disk, without root: past `bytes`, write() fails with EFBIG.
+struct FileSizeLimit {
+  rlimit old{};
+  explicit FileSizeLimit(rlim_t bytes) {
+    std::signal(SIGXFSZ, SIG_IGN);
+    EXPECT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+    rlimit small = old;
+    small.rlim_cur = bytes;
+    EXPECT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+  }
+  ~FileSizeLimit() { EXPECT_EQ(::setrlimit(RLIMIT_FSIZE, &old), 0); }
+};
 
 class OutputPolicy : public ::testing::Test {
  protected:
@@ -63,17 +77,11 @@ TEST_F(OutputPolicy, AnUncommittedFileLeavesNothing) {
 }
 
 TEST_F(OutputPolicy, AFailedWriteNamesTheFileAndLeavesTheNameAlone) {
-  // A full disk, without root: the file size limit makes write() fail with EFBIG.
   const std::string p = path("full.csv");
-  std::signal(SIGXFSZ, SIG_IGN);
-  rlimit old{};
-  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
-  rlimit small = old;
-  small.rlim_cur = 4096;
-  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
   bool wrote_all = true;
   std::string error;
   {
+    const FileSizeLimit full(4096);
     OutputFile f(p);
     const std::string row(100, 'x');
     for (int i = 0; i < 1000 && wrote_all; ++i) wrote_all = f.write(row);
@@ -81,12 +89,53 @@ TEST_F(OutputPolicy, AFailedWriteNamesTheFileAndLeavesTheNameAlone) {
     error = f.error();
     EXPECT_FALSE(committed);
   }
-  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &old), 0);
   EXPECT_FALSE(wrote_all) << "a write past the limit must report failure";
   EXPECT_EQ(error.rfind(p + ": write failed: File too large", 0), 0u) << error;
   EXPECT_FALSE(fs::exists(p));
   EXPECT_EQ(entries(), 0u);
   EXPECT_THROW(writeFileAtomically(path("dir/nope.csv"), "x"), OutputError);
+}
+
+TEST_F(OutputPolicy, AFailedFormattedWriteFailsTheCommit) {
+  // Rows written with fprintf on stream() (firmware_sim's truth, log2csv):
+  // the stream's error flag is what ok() and commit() see.
+  const std::string p = path("rows.csv");
+  {
+    std::ofstream(p) << "old\n";
+  }
+  bool ok_after_rows = true, committed = true;
+  std::string error;
+  {
+    const FileSizeLimit full(4096);
+    OutputFile f(p);
+    for (int i = 0; i < 1000; ++i) std::fprintf(f.stream(), "%d,%.17g\n", i, 0.1 * i);
+    ok_after_rows = f.ok();
+    committed = f.commit();
+    error = f.error();
+  }
+  EXPECT_FALSE(ok_after_rows) << "rows past the limit must show in ok()";
+  EXPECT_FALSE(committed);
+  EXPECT_EQ(error.rfind(p + ": write failed", 0), 0u) << error;
+  EXPECT_EQ(read(p), "old\n") << "the previous file stays";
+  EXPECT_EQ(entries(), 1u) << "no temporary left";
+}
+
+TEST_F(OutputPolicy, TheConstructorRefusesAnInput) {
+  const std::string scene = path("scene.yaml");
+  {
+    std::ofstream(scene) << "name: x\n";
+  }
+  try {
+    OutputFile f(scene, {path("other.yaml"), scene});
+    FAIL() << "wrote over an input";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.yaml: the same file as the input"), std::string::npos) << e.what();
+  }
+  fs::create_hard_link(scene, path("alias.yaml"));
+  EXPECT_THROW(OutputFile(path("alias.yaml"), {scene}), OutputError);
+  EXPECT_NO_THROW(OutputFile(path("out.csv"), {scene}));
+  EXPECT_EQ(read(scene), "name: x\n");
+  EXPECT_EQ(entries(), 2u) << "an uncommitted output leaves nothing";
 }
 
 TEST_F(OutputPolicy, SymlinksAndNonRegularFilesAreRefused) {
@@ -103,6 +152,7 @@ TEST_F(OutputPolicy, SymlinksAndNonRegularFilesAreRefused) {
   }
   EXPECT_EQ(read(target), "keep\n");
   EXPECT_THROW(OutputFile("/dev/full"), OutputError);
+  EXPECT_THROW(OutputFile(""), OutputError);
   EXPECT_THROW(OutputFile(dir_.string()), OutputError);
   EXPECT_THROW(checkOutputPaths({"/dev/null"}), OutputError);
 }

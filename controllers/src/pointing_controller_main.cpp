@@ -23,9 +23,10 @@
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
+#include <optional>
 #include <vector>
 
-#include "gimbalsim/bench_io/output_file.hpp"
+#include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/bench_io/peak_memory.hpp"
 #include "gimbalsim/bench_io/udpm_receiver.hpp"
 
@@ -237,14 +238,16 @@ int run(int argc, char** argv) {
   }
   // --log-csv: a temporary file renamed over the target at exit (also after
   // SIGINT/SIGTERM), never through a link, never over the configuration.
-  bench_io::OutputFile log_out;
+  std::optional<io::OutputFile> log_out;
   std::FILE* csv = nullptr;
   if (!o.log_csv.empty()) {
-    if (std::string why; !log_out.open(o.log_csv, &why, {o.config})) {
-      std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", why.c_str());
+    try {
+      log_out.emplace(o.log_csv, std::vector<std::string>{o.config});
+    } catch (const io::OutputError& e) {
+      std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", e.what());
       return kExitRefused;
     }
-    csv = log_out.file();
+    csv = log_out->stream();
     StatusHandler::header(csv);
   }
   lcm::LCM lcm(o.lcm_url);
@@ -286,7 +289,7 @@ int run(int argc, char** argv) {
     rx.drain([&h](const bench_io::Message& m, std::int64_t) { h.onMessage(m, bench_io::monotonicNs()); }, kDrainMax);
     const std::int64_t now = bench_io::monotonicNs();
     if (h.answered() > before) last_answer_ns = now;
-    if (csv && !log_out.ok()) {
+    if (log_out && !log_out->ok()) {
       std::fprintf(stderr, "pointing_controller: --log-csv %s: write failed, stopping\n", o.log_csv.c_str());
       code = kExitOutput;
       break;
@@ -299,11 +302,9 @@ int run(int argc, char** argv) {
       break;
     }
   }
-  if (csv) {
-    if (std::string why; !log_out.commit(&why)) {
-      std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", why.c_str());
-      if (code == kExitOk) code = kExitOutput;
-    }
+  if (log_out && !log_out->commit()) {
+    std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", log_out->error().c_str());
+    if (code == kExitOk) code = kExitOutput;
   }
   std::fprintf(stderr, "pointing_controller: answered %lld statuses (last t = %.3f s), %lld undecodable, %lld publish "
                "errors, %lld plant restarts, max |joint error| while tracking %.3e rad (encoder), status faults seen 0x%x, "

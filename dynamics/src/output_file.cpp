@@ -84,8 +84,9 @@ void checkOutputPaths(const std::vector<std::string>& outputs, const std::vector
   }
 }
 
-OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
-  checkOne(path_);
+OutputFile::OutputFile(std::string path, const std::vector<std::string>& inputs) : path_(std::move(path)) {
+  if (path_.empty()) throw OutputError("output path is empty");
+  checkOutputPaths({path_}, inputs);
   static std::atomic<unsigned> counter{0};
   for (int attempt = 0; attempt < 100 && !f_; ++attempt) {
     tmp_ = dirOf(path_) + "/." + baseOf(path_) + "." + std::to_string(::getpid()) + "." +
@@ -108,33 +109,44 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
 }
 
 OutputFile::~OutputFile() {
-  if (f_) std::fclose(f_);
-  if (!committed_) ::unlink(tmp_.c_str());
+  if (!committed_) discard();
 }
 
-void OutputFile::fail(const char* what) noexcept {
-  if (error_.empty()) {
-    try {
-      error_ = path_ + ": " + what + ": " + std::strerror(errno);
-    } catch (...) {
-    }
+void OutputFile::discard() noexcept {
+  if (f_) std::fclose(f_);
+  f_ = nullptr;
+  if (!tmp_.empty()) ::unlink(tmp_.c_str());
+  tmp_.clear();
+}
+
+void OutputFile::fail(const char* what, int err) noexcept {
+  if (!error_.empty()) return;
+  try {
+    error_ = path_ + ": " + what + (err != 0 ? std::string(": ") + std::strerror(err) : std::string());
+  } catch (...) {
   }
 }
 
 bool OutputFile::write(std::string_view bytes) noexcept {
-  if (!error_.empty() || !f_) return false;
-  if (std::fwrite(bytes.data(), 1, bytes.size(), f_) != bytes.size()) fail("write failed");
-  return error_.empty();
+  if (!ok() || !f_) return false;
+  if (std::fwrite(bytes.data(), 1, bytes.size(), f_) != bytes.size()) fail("write failed", errno);
+  return ok();
 }
 
 bool OutputFile::commit() noexcept {
   if (!f_ || committed_) return false;
-  if (error_.empty() && std::fflush(f_) != 0) fail("write failed");
+  const bool stream_failed = std::ferror(f_) != 0;
+  // A failed formatted write (stream()) leaves the flag; flushing again gives its errno.
+  if (error_.empty() && std::fflush(f_) != 0) fail("write failed", errno);
+  if (error_.empty() && stream_failed) fail("write failed", 0);
+  if (error_.empty() && ::fsync(::fileno(f_)) != 0) fail("sync failed", errno);
   const bool closed = std::fclose(f_) == 0;
+  const int close_err = errno;
   f_ = nullptr;
-  if (error_.empty() && !closed) fail("close failed");
-  if (error_.empty() && std::rename(tmp_.c_str(), path_.c_str()) != 0) fail("rename failed");
+  if (error_.empty() && !closed) fail("close failed", close_err);
+  if (error_.empty() && std::rename(tmp_.c_str(), path_.c_str()) != 0) fail("rename failed", errno);
   committed_ = error_.empty();
+  if (!committed_) discard();
   return committed_;
 }
 

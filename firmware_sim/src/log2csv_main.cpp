@@ -8,7 +8,7 @@
 // The log is read with our validating reader (bench_io/lcm_log.hpp), never
 // LCM's, which trusts the lengths in an event header: a malformed log is
 // refused (exit 2) with the byte offset of the bad event, before any output is
-// written. Outputs are bench_io::OutputFile: temporary + rename, checked
+// written. Outputs are io::OutputFile: temporary + rename, checked
 // writes, never through a link or over the log.
 #include <CLI/CLI.hpp>
 #include <cerrno>
@@ -21,10 +21,10 @@
 #include <vector>
 
 #include "gimbalsim/bench_io/lcm_log.hpp"
-#include "gimbalsim/bench_io/output_file.hpp"
 #include "gimbalsim/dynamics/guarded_main.hpp"
 #include "gimbalsim/channels.hpp"
 #include "gimbalsim/firmware/csv_rows.hpp"
+#include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_loop_stats_t.hpp"
@@ -243,14 +243,18 @@ int mainImpl(int argc, char** argv) {
     if (ec) return refuse("--out-dir '" + out_dir + "': cannot create (" + ec.message() + ")");
   }
   const std::string stem = fs::path(log_path).stem().string();
-  std::map<std::string, std::unique_ptr<bench_io::OutputFile>> files;
+  std::map<std::string, std::unique_ptr<io::OutputFile>> files;
   std::map<std::string, std::unique_ptr<Sink>> sinks;
   std::map<std::string, std::string> paths;
   for (const auto& [ch, t] : selected) {
     const std::string path = !out_file.empty() ? out_file : (dir / (stem + "_" + ch + ".csv")).string();
-    auto f = std::make_unique<bench_io::OutputFile>();
-    if (std::string why; !f->open(path, &why, {log_path})) return refuse(why);
-    sinks[ch] = std::make_unique<Sink>(t, f->file(), log_time);
+    std::unique_ptr<io::OutputFile> f;
+    try {
+      f = std::make_unique<io::OutputFile>(path, std::vector<std::string>{log_path});
+    } catch (const io::OutputError& e) {
+      return refuse(e.what());
+    }
+    sinks[ch] = std::make_unique<Sink>(t, f->stream(), log_time);
     files[ch] = std::move(f);
     paths[ch] = path;
   }
@@ -267,8 +271,8 @@ int mainImpl(int argc, char** argv) {
   int rc = kExitOk;
   for (auto& [ch, s] : sinks) {
     const long long rows = s->rows, bad = s->undecodable;
-    if (std::string why; !files[ch]->commit(&why)) {
-      std::fprintf(stderr, "gimbalsim_log2csv: error: %s\n", why.c_str());
+    if (!files[ch]->commit()) {
+      std::fprintf(stderr, "gimbalsim_log2csv: error: %s\n", files[ch]->error().c_str());
       rc = kExitOutput;
     }
     std::printf("%s (%s): %lld rows -> %s\n", ch.c_str(), typeName(selected[ch]), rows, paths[ch].c_str());

@@ -27,7 +27,7 @@
 
 namespace {
 
-namespace io = gimbalsim::bench_io;
+namespace bio = gimbalsim::bench_io;
 
 std::atomic<bool> g_stop{false};
 extern "C" void onSignal(int) { g_stop.store(true); }
@@ -69,16 +69,16 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "gimbalsim_record: error: --channel '%s': not a regex (%s)\n", regex.c_str(), e.what());
     return 2;
   }
-  io::LogWriter log;
+  bio::LogWriter log;
   if (std::string why; !log.open(path, &why)) {
     std::fprintf(stderr, "gimbalsim_record: error: %s\n", why.c_str());
     return 2;
   }
-  io::ReassemblyLimits lim;
+  bio::ReassemblyLimits lim;
   lim.max_message_bytes = kMaxMessageBytes;
   lim.max_partials = kMaxPartials;
   lim.max_fragments = 1024;  // 1 MiB in fragments of LCM's smallest payload (1423 bytes, macOS senders)
-  io::UdpmReceiver rx(lim, io::ChannelFilter(&matches, &re));
+  bio::UdpmReceiver rx(lim, bio::ChannelFilter(&matches, &re));
   if (std::string why; !rx.open(url, kRecvBufferBytes, &why)) {
     std::fprintf(stderr, "gimbalsim_record: error: cannot receive: %s\n", why.c_str());
     return 4;
@@ -92,12 +92,12 @@ int main(int argc, char** argv) {
                path.c_str(), duration > 0.0 ? " or --duration" : "");
 
   long long failed = 0;
-  auto write = [&](const io::Message& m, std::int64_t recv_utime) {
+  auto write = [&](const bio::Message& m, std::int64_t recv_utime) {
     if (!log.write(recv_utime, m.channel, m.data, m.size)) ++failed;
   };
-  const std::int64_t end = io::monotonicNs() + static_cast<std::int64_t>(duration * 1e9);
+  const std::int64_t end = bio::monotonicNs() + static_cast<std::int64_t>(duration * 1e9);
   int rc = 0;
-  while (!g_stop.load() && failed == 0 && (duration <= 0.0 || io::monotonicNs() < end)) {
+  while (!g_stop.load() && failed == 0 && (duration <= 0.0 || bio::monotonicNs() < end)) {
     if (rx.wait(100) < 0) {
       std::fprintf(stderr, "gimbalsim_record: error: receive failed (socket error)\n");
       rc = 4;
@@ -114,6 +114,6 @@ int main(int argc, char** argv) {
     rc = 6;
   }
   std::fprintf(stderr, "gimbalsim_record: %lld messages -> %s; receive: %s; peak memory (VmHWM) %ld kB\n",
-               static_cast<long long>(log.events()), path.c_str(), rx.summary().c_str(), io::peakRssKb());
+               static_cast<long long>(log.events()), path.c_str(), rx.summary().c_str(), bio::peakRssKb());
   return rc;
 }

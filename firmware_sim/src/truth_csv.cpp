@@ -5,18 +5,25 @@
 namespace gimbalsim::firmware {
 
 bool TruthCsv::open(const std::string& path, const std::vector<std::string>& inputs, std::string* why) {
-  return out_.open(path, why, inputs) && out_.puts(csv::header<TruthFields>().c_str());
+  try {
+    out_.emplace(path, inputs);
+  } catch (const io::OutputError& e) {
+    if (why) *why = e.what();
+    return false;
+  }
+  return out_->write(csv::header<TruthFields>());
 }
 
 bool TruthCsv::write(const Truth& t) {
-  if (!out_.isOpen()) return true;
-  csv::writeRow<TruthFields>(out_.file(), t);
-  return out_.ok();
+  if (!out_) return true;
+  csv::writeRow<TruthFields>(out_->stream(), t);
+  return out_->ok();
 }
 
 bool TruthCsv::close(std::string* why) {
-  if (!out_.isOpen()) return true;
-  return out_.commit(why);
+  if (!out_ || out_->commit()) return true;
+  if (why) *why = out_->error();
+  return false;
 }
 
 }  // namespace gimbalsim::firmware

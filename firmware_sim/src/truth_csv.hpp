@@ -1,16 +1,17 @@
 // --truth-csv: every truth message as one CSV row (csv_rows.hpp: header
 // `name[unit]`, %.17g, so a row round-trips exactly; gimbalsim_log2csv
-// writes the same bytes from a log). Written through bench_io::OutputFile:
+// writes the same bytes from a log). Written through io::OutputFile:
 // checked writes into a temporary file renamed over the target at the end of
 // the run (also after SIGINT/SIGTERM), so the file under the requested name
 // is always whole rows of a finished run; never through a symbolic link, never
 // over an input.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
-#include "gimbalsim/bench_io/output_file.hpp"
+#include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/firmware/messages.hpp"
 
 namespace gimbalsim::firmware {
@@ -24,10 +25,9 @@ class TruthCsv {
   /// Renames the finished file over the target; false with *why when a write
   /// or the rename failed (the target is then untouched). True when none was open.
   bool close(std::string* why);
-  const std::string& path() const noexcept { return out_.path(); }
 
  private:
-  bench_io::OutputFile out_;
+  std::optional<io::OutputFile> out_;
 };
 
 }  // namespace gimbalsim::firmware

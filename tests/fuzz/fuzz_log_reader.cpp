@@ -8,20 +8,20 @@
 
 #include "gimbalsim/bench_io/lcm_log.hpp"
 
-namespace io = gimbalsim::bench_io;
+namespace bio = gimbalsim::bench_io;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   // A copy of exactly `size` bytes, so ASan sees any read beyond the file.
   std::uint8_t* copy = static_cast<std::uint8_t*>(std::malloc(size ? size : 1));
   if (size) std::memcpy(copy, data, size);
-  io::LogReader r;
+  bio::LogReader r;
   r.openMemory(copy, size);
-  io::LogEvent e;
+  bio::LogEvent e;
   std::uint64_t next = 0;
   while (r.next(&e)) {
     if (e.offset != next) std::abort();
-    if (e.channel.empty() || e.channel.size() > static_cast<std::size_t>(io::kMaxLogChannelBytes)) std::abort();
-    next = e.offset + io::kLogHeaderBytes + e.channel.size() + e.size;
+    if (e.channel.empty() || e.channel.size() > static_cast<std::size_t>(bio::kMaxLogChannelBytes)) std::abort();
+    next = e.offset + bio::kLogHeaderBytes + e.channel.size() + e.size;
     if (next > size) std::abort();
   }
   if (r.error().empty() ? next != size : (r.errorOffset() != next || r.errorOffset() >= size)) std::abort();

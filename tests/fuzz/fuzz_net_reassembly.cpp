@@ -11,7 +11,7 @@
 
 #include "gimbalsim/bench_io/udpm_reassembler.hpp"
 
-namespace io = gimbalsim::bench_io;
+namespace bio = gimbalsim::bench_io;
 
 #define FUZZ_CHECK(c) \
   do {                \
@@ -19,19 +19,19 @@ namespace io = gimbalsim::bench_io;
   } while (0)
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  io::ReassemblyLimits lim;
+  bio::ReassemblyLimits lim;
   lim.max_message_bytes = 4096;
   lim.max_partials = 3;
   lim.max_fragments = 16;
   lim.partial_timeout_ns = 1000;
-  static io::ChannelFilter* filter = new io::ChannelFilter({"GIMBAL_COMMAND", "C"});
-  io::Reassembler r(lim, *filter);
+  static bio::ChannelFilter* filter = new bio::ChannelFilter({"GIMBAL_COMMAND", "C"});
+  bio::Reassembler r(lim, *filter);
   std::int64_t now = 0;
   std::uint64_t fed = 0, delivered = 0;
   std::size_t pos = 0;
   while (pos + 4 <= size) {
     const std::size_t len = (std::size_t{data[pos]} << 8 | data[pos + 1]);
-    const io::Source src{data[pos + 2] & 3u, 7};
+    const bio::Source src{data[pos + 2] & 3u, 7};
     now += data[pos + 3] * 10;
     pos += 4;
     const std::size_t n = len < size - pos ? len : size - pos;
@@ -39,7 +39,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::uint8_t* d = static_cast<std::uint8_t*>(std::malloc(n ? n : 1));
     if (n) std::memcpy(d, data + pos, n);
     pos += n;
-    const io::Message* m = r.feed(d, n, src, now);
+    const bio::Message* m = r.feed(d, n, src, now);
     ++fed;
     if (m != nullptr) {
       ++delivered;

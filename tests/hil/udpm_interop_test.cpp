@@ -18,7 +18,7 @@
 namespace gimbalsim::hil {
 namespace {
 
-namespace io = bench_io;
+namespace bio = bench_io;
 
 TEST(UdpmInterop, LiblcmMessagesShortAndFragmentedArriveWhole) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
@@ -32,10 +32,10 @@ TEST(UdpmInterop, LiblcmMessagesShortAndFragmentedArriveWhole) {
 TEST(UdpmInteropInNetns, Inner) {
   if (std::getenv("GIMBALSIM_IN_NETNS") == nullptr) GTEST_SKIP() << "runs inside UdpmInterop's network namespace";
   const std::string url = udpmUrl(7791);
-  io::ReassemblyLimits lim;
+  bio::ReassemblyLimits lim;
   lim.max_message_bytes = 256 * 1024;
   lim.max_fragments = 16;
-  io::UdpmReceiver rx(lim, io::ChannelFilter({"SMALL", "BIG"}));
+  bio::UdpmReceiver rx(lim, bio::ChannelFilter({"SMALL", "BIG"}));
   std::string why;
   ASSERT_TRUE(rx.open(url, 4 << 20, &why)) << why;
   lcm::LCM lcm(url);
@@ -49,7 +49,7 @@ TEST(UdpmInteropInNetns, Inner) {
   std::vector<std::pair<std::string, std::vector<std::uint8_t>>> got;
   for (int i = 0; i < 50 && got.size() < 2; ++i) {
     if (rx.wait(100) > 0) {
-      rx.drain([&](const io::Message& m, std::int64_t) {
+      rx.drain([&](const bio::Message& m, std::int64_t) {
         got.emplace_back(std::string(m.channel), std::vector<std::uint8_t>(m.data, m.data + m.size));
       }, 100);
     }
@@ -59,10 +59,10 @@ TEST(UdpmInteropInNetns, Inner) {
   EXPECT_EQ(got[0].second, small);
   EXPECT_EQ(got[1].first, "BIG");
   EXPECT_EQ(got[1].second, big);
-  const io::ReassemblyCounters& c = rx.counters();
+  const bio::ReassemblyCounters& c = rx.counters();
   EXPECT_EQ(c.reassembled, 1u);
   EXPECT_EQ(c.datagrams, 2u + 4u) << "200000 bytes in fragments of 65487: 4 datagrams; " << rx.summary();
-  EXPECT_EQ(c.drops[static_cast<int>(io::Drop::NotSubscribed)], 1u);
+  EXPECT_EQ(c.drops[static_cast<int>(bio::Drop::NotSubscribed)], 1u);
   EXPECT_EQ(c.dropped(), 1u);
 }
 

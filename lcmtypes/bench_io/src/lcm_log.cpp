@@ -122,9 +122,28 @@ bool LogWriter::write(std::int64_t timestamp_us, std::string_view channel, const
   putBe(h + 12, static_cast<std::uint64_t>(timestamp_us), 8);
   putBe(h + 20, channel.size(), 4);
   putBe(h + 24, n, 4);
-  const bool ok = out_.write(h, sizeof h) && out_.write(channel.data(), channel.size()) && out_.write(data, n);
+  if (!out_) return false;
+  const bool ok = out_->write({reinterpret_cast<const char*>(h), sizeof h}) && out_->write(channel) &&
+                  out_->write({reinterpret_cast<const char*>(data), n});
   if (ok) ++next_;
   return ok;
+}
+
+bool LogWriter::open(const std::string& path, std::string* why) {
+  try {
+    out_.emplace(path);
+  } catch (const io::OutputError& e) {
+    if (why) *why = e.what();
+    return false;
+  }
+  next_ = 0;
+  return true;
+}
+
+bool LogWriter::commit(std::string* why) {
+  if (out_ && out_->commit()) return true;
+  if (why) *why = out_ ? out_->error() : "the log was never opened";
+  return false;
 }
 
 }  // namespace gimbalsim::bench_io

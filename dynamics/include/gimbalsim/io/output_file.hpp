@@ -1,12 +1,13 @@
-// How every gimbalsim program writes a result file: into a temporary beside
-// the requested name, every write and the close checked, renamed onto the
-// name only when complete. A file under the requested name is therefore
-// never a cut-off or corrupt result posing as a whole one. The path policy:
-// an existing symbolic link or non-regular file (directory, device, FIFO) is
-// refused, and so is an output that is the same file as an input or as
-// another output of the same run (st_dev/st_ino of the file or, before it
-// exists, of its directory plus its name). No fsync: the rename protects
-// against a program that stops half-way, not against a power cut.
+// How every gimbalsim program writes a result file (the command line, the
+// tools, firmware_sim's CSVs, the recorder, log2csv, the controller's log, the
+// Python package): into a temporary beside the requested name, every write
+// checked, flushed, synced and renamed onto the name only when complete. A
+// file under the requested name is therefore never a cut-off or corrupt result
+// posing as a whole one, not even after a power cut (fsync before rename).
+// The path policy: an existing symbolic link or non-regular file (directory,
+// device, FIFO) is refused, and so is an output that is the same file as an
+// input or as another output of the same run (st_dev/st_ino of the file or,
+// before it exists, of its directory plus its name).
 #pragma once
 
 #include <cstdio>
@@ -27,27 +28,35 @@ struct OutputError : std::runtime_error {
 /// against each input. Empty paths are skipped. Throws OutputError.
 void checkOutputPaths(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs = {});
 
-/// One output being written. The constructor checks the path (policy above)
-/// and creates the temporary "<dir>/.<name>.<pid>.<n>.tmp"; the destructor
-/// removes the temporary unless commit() succeeded.
+/// One output being written. The constructor checks the path against the
+/// policy and against `inputs`, and creates the temporary
+/// "<dir>/.<name>.<pid>.<n>.tmp"; the destructor removes the temporary unless
+/// commit() succeeded. Only the constructor throws: writes and commit report
+/// by return value, so a real-time loop can write rows without exceptions.
 class OutputFile {
  public:
-  explicit OutputFile(std::string path);  ///< throws OutputError
+  explicit OutputFile(std::string path, const std::vector<std::string>& inputs = {});  ///< throws OutputError
   ~OutputFile();
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
 
   /// Appends bytes (buffered); false from the first failure on (error() says).
   bool write(std::string_view bytes) noexcept;
-  /// Flushes, closes and renames onto path(); false if any of it failed.
+  /// The open stream, for formatted writers (fprintf); a failure there sets
+  /// the stream's error flag, which ok() and commit() see. Null after commit().
+  std::FILE* stream() noexcept { return f_; }
+  /// Flushes, syncs, closes and renames onto path(); false if any of it or
+  /// any earlier write failed (then the name is untouched, the temporary gone).
   bool commit() noexcept;
-  bool ok() const { return error_.empty(); }
-  /// "<path>: <reason>", empty while ok.
-  const std::string& error() const { return error_; }
-  const std::string& path() const { return path_; }
+  /// No write has failed so far (the stream's error flag included).
+  bool ok() const noexcept { return error_.empty() && !(f_ && std::ferror(f_)); }
+  /// "<path>: <reason>", empty while ok (a failed formatted write is named at commit()).
+  const std::string& error() const noexcept { return error_; }
+  const std::string& path() const noexcept { return path_; }
 
  private:
-  void fail(const char* what) noexcept;
+  void fail(const char* what, int err) noexcept;
+  void discard() noexcept;
   std::string path_, tmp_;
   std::FILE* f_ = nullptr;
   bool committed_ = false;

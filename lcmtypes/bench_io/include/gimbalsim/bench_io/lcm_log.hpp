@@ -14,11 +14,12 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "gimbalsim/bench_io/output_file.hpp"
+#include "gimbalsim/io/output_file.hpp"
 
 namespace gimbalsim::bench_io {
 
@@ -68,18 +69,20 @@ class LogReader {
   bool done_ = false;
 };
 
-/// Writes events in the same format (the recorder), through an OutputFile.
+/// Writes events in the same format (the recorder), through io::OutputFile:
+/// the log appears under its name only when committed whole.
 class LogWriter {
  public:
-  bool open(const std::string& path, std::string* why) { return out_.open(path, why); }
-  /// False when the write failed (the file's error flag stays set).
+  /// False with *why (naming the file) when the output is refused.
+  bool open(const std::string& path, std::string* why);
+  /// False when the event is out of the format's bounds or the write failed.
   bool write(std::int64_t timestamp_us, std::string_view channel, const std::uint8_t* data, std::size_t n);
-  bool commit(std::string* why) { return out_.commit(why); }
+  /// Flush, sync, rename; false with *why (the file is then not replaced).
+  bool commit(std::string* why);
   std::int64_t events() const noexcept { return next_; }
-  const std::string& path() const noexcept { return out_.path(); }
 
  private:
-  OutputFile out_;
+  std::optional<io::OutputFile> out_;
   std::int64_t next_ = 0;
 };
 
