@@ -1,20 +1,15 @@
 #include "gimbalsim/dynamics/key_registry.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstring>
 #include <map>
 #include <set>
-#include <sstream>
+
+#include "bounded_yaml.hpp"
 
 namespace gimbalsim {
 
@@ -209,97 +204,6 @@ Given::Place place(const std::string& origin, const YAML::Mark& mk) {
   return Given::Place::inFile(origin, mk.line + 1, mk.column + 1);
 }
 
-/// A document refused before yaml-cpp built it: where, which key (dotted path
-/// of the mapping keys above; "" at the top), why.
-struct PrescanRefusal {
-  YAML::Mark mark;
-  std::string key;
-  std::string msg;
-};
-
-/// Walks the parser's events (no tree, no alias expansion) and throws
-/// PrescanRefusal at the first thing InputBounds refuses. yaml-cpp's parser
-/// recurses per nesting level; refusing at kMaxDepth bounds its stack too.
-class Prescan : public YAML::EventHandler {
- public:
-  void OnDocumentStart(const YAML::Mark& mk) override {
-    if (++documents_ > 1) refuse(mk, "more than one YAML document ('---'); give one");
-  }
-  void OnDocumentEnd() override {}
-  void OnNull(const YAML::Mark& mk, YAML::anchor_t a) override { node(mk, a, false, ""); }
-  void OnAlias(const YAML::Mark& mk, YAML::anchor_t) override {
-    refuse(mk, "aliases (*name) are not accepted: write the value out");
-  }
-  void OnScalar(const YAML::Mark& mk, const std::string&, YAML::anchor_t a, const std::string& v) override {
-    if (v.size() > InputBounds::kMaxScalarBytes) {
-      refuse(mk, "a value of " + std::to_string(v.size()) + " bytes (at most " +
-                     std::to_string(InputBounds::kMaxScalarBytes) + ")");
-    }
-    node(mk, a, true, v);
-  }
-  void OnSequenceStart(const YAML::Mark& mk, const std::string&, YAML::anchor_t a, YAML::EmitterStyle::value) override {
-    open(mk, a, false);
-  }
-  void OnSequenceEnd() override { frames_.pop_back(); }
-  void OnMapStart(const YAML::Mark& mk, const std::string&, YAML::anchor_t a, YAML::EmitterStyle::value) override {
-    open(mk, a, true);
-  }
-  void OnMapEnd() override { frames_.pop_back(); }
-  void OnAnchor(const YAML::Mark& mk, const std::string&) override {
-    refuse(mk, "anchors (&name) are not accepted: write the value out");
-  }
-
- private:
-  struct Frame {
-    bool map;
-    long long entries = 0;  ///< nodes seen inside; in a mapping, even = key
-    std::string key;        ///< the mapping's current key
-  };
-  [[noreturn]] void refuse(const YAML::Mark& mk, const std::string& msg) const {
-    std::string path;
-    for (const Frame& f : frames_) {
-      if (f.map && !f.key.empty()) path += (path.empty() ? "" : ".") + f.key;
-    }
-    throw PrescanRefusal{mk, path, msg};
-  }
-  /// Every node: counted, anchors refused, mapping keys must be non-empty scalars.
-  void node(const YAML::Mark& mk, YAML::anchor_t anchor, bool scalar, const std::string& value) {
-    if (anchor != YAML::NullAnchor) refuse(mk, "anchors (&name) are not accepted: write the value out");
-    if (++nodes_ > InputBounds::kMaxNodes) {
-      refuse(mk, "more than " + std::to_string(InputBounds::kMaxNodes) + " keys, values and list items");
-    }
-    if (frames_.empty()) return;
-    Frame& f = frames_.back();
-    if (f.map && f.entries % 2 == 0) {
-      if (!scalar) refuse(mk, "a mapping key must be a plain name, not a list or mapping");
-      if (value.empty()) refuse(mk, "a mapping key must not be empty");
-      f.key = value;
-    }
-    ++f.entries;
-  }
-  void open(const YAML::Mark& mk, YAML::anchor_t anchor, bool map) {
-    node(mk, anchor, false, "");
-    if (static_cast<int>(frames_.size()) >= InputBounds::kMaxDepth) {
-      refuse(mk, "nested deeper than " + std::to_string(InputBounds::kMaxDepth) + " levels");
-    }
-    frames_.push_back({map, 0, ""});
-  }
-  std::vector<Frame> frames_;
-  long long nodes_ = 0;
-  int documents_ = 0;
-};
-
-/// The document parsed into a tree after the prescan passed. Throws
-/// PrescanRefusal, YAML::Exception (syntax, with its mark) or std::exception.
-YAML::Node loadBounded(const std::string& text) {
-  std::istringstream in(text);
-  YAML::Parser parser(in);
-  Prescan scan;
-  while (parser.HandleNextDocument(scan)) {
-  }
-  return YAML::Load(text);
-}
-
 /// Leaves of nested sections as "a.b" -> (value, place of its key); a key
 /// given twice is a problem at its second place (yaml-cpp keeps one silently).
 void flatten(const YAML::Node& n, const std::string& prefix, const std::string& origin,
@@ -324,19 +228,13 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
     : impl_(std::make_unique<Impl>()) {
   impl_->origin = origin;
   auto& values = impl_->values;
-  try {
-    const YAML::Node root = loadBounded(yaml);
-    if (root.IsMap()) {
-      flatten(root, "", origin, values, problems);
-    } else if (root.IsDefined() && !root.IsNull()) {
-      problems.push_back(Place::inFile(origin).problem("", words.document + " must be a mapping of sections"));
-    }
-  } catch (const PrescanRefusal& r) {
-    problems.push_back(place(origin, r.mark).problem(r.key, (r.key.empty() ? "" : "key '" + r.key + "': ") + r.msg));
-  } catch (const YAML::Exception& e) {
-    problems.push_back(place(origin, e.mark).problem("", "not valid YAML: " + e.msg));
-  } catch (const std::exception& e) {  // yaml-cpp may throw others (bad_alloc, out_of_range)
-    problems.push_back(Place::inFile(origin).problem("", "not readable as YAML: " + std::string(e.what())));
+  YAML::Node root;
+  if (Problem why; !loadDocument(yaml, origin, root, why)) {
+    problems.push_back(std::move(why));
+  } else if (root.IsMap()) {
+    flatten(root, "", origin, values, problems);
+  } else if (root.IsDefined() && !root.IsNull()) {
+    problems.push_back(Place::inFile(origin).problem("", words.document + " must be a mapping of sections"));
   }
   if (!problems.empty()) {
     unreadable_ = true;
@@ -449,47 +347,6 @@ bool loadDocument(const std::string& text, const std::string& origin, YAML::Node
     why = Given::Place::inFile(origin).problem("", "not readable as YAML: " + std::string(e.what()));
   }
   return false;
-}
-
-bool readFile(const std::string& path, std::string& text, std::string* why) {
-  auto fail = [&](const std::string& w) {
-    if (why) *why = w;
-    return false;
-  };
-  // O_NONBLOCK: opening a FIFO without a writer must not wait; fstat then refuses it.
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
-  if (fd < 0) return fail(std::strerror(errno));
-  struct Closer {
-    int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
-  struct stat st {};
-  if (::fstat(fd, &st) != 0) return fail(std::strerror(errno));
-  if (!S_ISREG(st.st_mode)) {
-    return fail(S_ISDIR(st.st_mode)    ? "a directory, not a regular file"
-                : S_ISFIFO(st.st_mode) ? "a FIFO, not a regular file"
-                : S_ISCHR(st.st_mode)  ? "a character device, not a regular file"
-                                       : "not a regular file");
-  }
-  if (st.st_size > InputBounds::kMaxFileBytes) {
-    return fail(std::to_string(st.st_size) + " bytes, larger than " + std::to_string(InputBounds::kMaxFileBytes));
-  }
-  // Read at most one byte past the bound: a file that grew since fstat is refused too.
-  std::string buf(static_cast<std::size_t>(InputBounds::kMaxFileBytes) + 1, '\0');
-  std::size_t got = 0;
-  while (got < buf.size()) {
-    const ssize_t n = ::read(fd, buf.data() + got, buf.size() - got);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) return fail(std::strerror(errno));
-    if (n == 0) break;
-    got += static_cast<std::size_t>(n);
-  }
-  if (got > static_cast<std::size_t>(InputBounds::kMaxFileBytes)) {
-    return fail("larger than " + std::to_string(InputBounds::kMaxFileBytes) + " bytes");
-  }
-  buf.resize(got);
-  text = std::move(buf);
-  return true;
 }
 
 // ---- listings ----
