@@ -55,9 +55,9 @@ void printExitSummary(const Run& r, const Outcome& out) {
   if (r.o.lockstep) std::printf("  lockstep timeouts %lld\n", r.lockstep_timeouts);
   if (r.faults != nullptr) {
     std::printf("  scheduled faults: active in %lld ticks; commands dropped %lld, delayed %lld; statuses dropped %lld, delayed %lld\n",
-                static_cast<long long>(n.fault_ticks), static_cast<long long>(n.fault_commands_dropped),
-                static_cast<long long>(n.fault_commands_delayed), static_cast<long long>(n.fault_status_dropped),
-                static_cast<long long>(n.fault_status_delayed));
+                static_cast<long long>(n.fault_ticks), static_cast<long long>(n.bus.commands_dropped),
+                static_cast<long long>(n.bus.commands_delayed), static_cast<long long>(n.bus.status_dropped),
+                static_cast<long long>(n.bus.status_delayed));
   }
   if (st.dropped_out.load() > 0 || r.bridge.dropped_in > 0 || r.bridge.publish_errors > 0) {
     std::printf("  lost: %lld outbound (ring full), %lld inbound (ring full), %lld publish errors\n",

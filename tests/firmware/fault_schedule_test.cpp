@@ -214,8 +214,8 @@ TEST(FaultInjection, StatusDelayDeliversOldStatusesAndDropDeliversNone) {
     EXPECT_EQ(t.truth[k].seq, k) << "truth is never delayed";
   }
   // At 30 the delay ends: status 30 goes at once and supersedes 26..29, still held.
-  EXPECT_EQ(t.n.fault_status_delayed, 20);
-  EXPECT_EQ(t.n.fault_status_dropped, 3 + 4);
+  EXPECT_EQ(t.n.bus.status_delayed, 20);
+  EXPECT_EQ(t.n.bus.status_dropped, 3 + 4);
 }
 
 TEST(FaultInjection, CommandsLostOrLateOnTheBus) {
@@ -237,7 +237,7 @@ TEST(FaultInjection, CommandsLostOrLateOnTheBus) {
       if (f == &late && k == 24) want = 24;             // ... superseded at once by the newer 23
       EXPECT_EQ(applied[k], want) << (f == &drop ? "drop" : "delay") << ", tick " << k;
     }
-    EXPECT_EQ(fw.counters().fault_commands_dropped, f == &drop ? 5 : 0);
+    EXPECT_EQ(fw.counters().bus.commands_dropped, f == &drop ? 5 : 0);
     EXPECT_EQ(fw.counters().rejected, 0);
   }
 }

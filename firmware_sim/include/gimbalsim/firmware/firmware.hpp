@@ -20,8 +20,8 @@
 // Scheduled faults (fault_schedule.hpp, optional) enter at tick k's start:
 // bearing wear and friction rise change the firmware's own copy of the Model
 // (contact parameters only, between ticks: the step still sees a const Model
-// for its whole duration); commands lost or held on the bus in receive(),
-// released at intake; torque limit and motor failure at saturation; encoder
+// for its whole duration); commands lost or held on the bus (fault_bus.hpp) in
+// receive(), released at intake; torque limit and motor failure at saturation; encoder
 // faults in the status; status delay or drop at delivery (status() is the
 // status delivered this tick, statusDelivered() whether there is one); star
 // tracker outage and gyro bias jump in the attitude message.
@@ -39,6 +39,7 @@
 #include "gimbalsim/dynamics/run_spec.hpp"
 #include "gimbalsim/firmware/attitude_sensors.hpp"
 #include "gimbalsim/firmware/command_gate.hpp"
+#include "gimbalsim/firmware/fault_bus.hpp"
 #include "gimbalsim/firmware/fault_schedule.hpp"
 #include "gimbalsim/firmware/messages.hpp"
 #include "gimbalsim/firmware/sensor_noise.hpp"
@@ -78,9 +79,7 @@ struct Counters {
   std::int64_t saturated_ticks = 0;  ///< ticks with a clipped torque
   std::int64_t substeps = 0;         ///< RK4 evaluations, all ticks
   int max_substeps_in_tick = 0;
-  // Scheduled faults (fault_schedule.hpp) on the bus and the status channel.
-  std::int64_t fault_commands_dropped = 0, fault_commands_delayed = 0;
-  std::int64_t fault_status_dropped = 0, fault_status_delayed = 0;
+  BusFaultCounts bus;                ///< scheduled faults on the bus and the status channel (fault_bus.hpp)
   std::int64_t fault_ticks = 0;      ///< ticks with any scheduled fault active
 };
 
@@ -119,11 +118,7 @@ class Firmware {
            const FaultSchedule* faults = nullptr)
       : m_(sc.model), run_(sc.run), c_(c), profile_(profile), d_(m_), obs_(m_), s_(initialState<V>(sc.run.initial)),
         noise_(static_cast<std::uint64_t>(sc.run.sensors.seed)), attitude_sensors_(sc.run.sensors, c.control_period),
-        clock_(faults, c.control_period, sc.model.contact.clearance, sc.model.contact.mu) {
-    if (clock_.any()) {  // the fault queues, sized once (the tick never allocates)
-      status_queue_.resize(kMaxFaultDelayTicks + 2);
-      command_queue_.resize(4 * (kMaxFaultDelayTicks + 2));
-    }
+        clock_(faults, c.control_period, sc.model.contact.clearance, sc.model.contact.mu), bus_(clock_.any()) {
     // The caller checked; a bad config leaves steps_per_tick_ at 1.
     steps_per_tick_ = std::max(1, checkConfig(sc, c).steps_per_tick);
     watchdog_ticks_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(c.watchdog_timeout / c.control_period - 1e-9)));
@@ -138,7 +133,7 @@ class Firmware {
   /// Under a command fault it may first be lost or held on the bus, and is
   /// then validated, with its source, when the bus releases it.
   Rejection receive(const Command& cmd, SourceId src = kInProcessSource) noexcept {
-    if (onFaultyBus(cmd, src)) return Rejection::None;  // lost or held on the bus (fault schedule)
+    if (bus_.take(cmd, src, tick_, clock_.current(), n_.bus)) return Rejection::None;  // lost or held on the bus
     ++n_.received;
     const Rejection r = validate(cmd, src);
     if (r != Rejection::None) {
@@ -214,7 +209,9 @@ class Firmware {
     // 3. status, attitude and truth at t_k.
     const double t = static_cast<double>(k) * c_.control_period;
     sampleStatus(k, utime, faults, af);
-    deliverStatus(k, af);
+    const Status* delivered = bus_.deliverStatus(k, sampled_, af, n_.bus);
+    status_delivered_ = delivered != nullptr;
+    if (delivered) status_ = *delivered;
     sampleAttitude(k, utime, af);
     if (want_truth) sampleTruth(k, utime, t, faults);
     truth_.injected_faults = af.bits;
@@ -357,76 +354,7 @@ class Firmware {
         if (s_.in_contact && !(clearanceGap<V>(m_, s_.q, s_.v).delta > 0.0)) enterContactSide(m_, d_, s_, u_);
       }
     }
-    releasing_ = true;  // the due commands go through receive() past the bus
-    while (cmd_count_ > 0 && command_queue_[cmd_head_].due <= k) {
-      receive(command_queue_[cmd_head_].cmd, command_queue_[cmd_head_].src);
-      cmd_head_ = (cmd_head_ + 1) % command_queue_.size();
-      --cmd_count_;
-    }
-    releasing_ = false;
-  }
-
-  /// A command on the bus while a command fault is active: lost (true), held
-  /// for the delay (true) or passed on (false).
-  bool onFaultyBus(const Command& cmd, SourceId src) noexcept {
-    if (!clock_.any() || releasing_) return false;
-    const ActiveFaults& af = clock_.current();
-    if (af.command_drop) {
-      ++n_.fault_commands_dropped;
-      return true;
-    }
-    if (af.command_delay <= 0 && cmd_count_ == 0) return false;
-    if (cmd_count_ == command_queue_.size()) {  // full: the oldest is lost
-      cmd_head_ = (cmd_head_ + 1) % command_queue_.size();
-      --cmd_count_;
-      ++n_.fault_commands_dropped;
-    }
-    // Behind the ones held, in order (a bus is a FIFO), never due before them.
-    std::int64_t due = tick_ + af.command_delay;
-    if (cmd_count_ > 0) due = std::max(due, command_queue_[(cmd_head_ + cmd_count_ - 1) % command_queue_.size()].due);
-    command_queue_[(cmd_head_ + cmd_count_) % command_queue_.size()] = {cmd, due, src};
-    ++cmd_count_;
-    if (af.command_delay > 0) ++n_.fault_commands_delayed;
-    return true;
-  }
-
-  /// The status of tick k to the channel: at once, after the scheduled
-  /// delay, or not at all (drop). When several are due, the newest is
-  /// delivered and the older ones are lost (a late message is superseded).
-  void deliverStatus(std::int64_t k, const ActiveFaults& af) noexcept {
-    if (!clock_.any()) {
-      status_ = sampled_;
-      status_delivered_ = true;
-      return;
-    }
-    status_delivered_ = false;
-    if (af.status_drop) {
-      ++n_.fault_status_dropped;
-    } else if (af.status_delay == 0 && st_count_ == 0) {
-      status_ = sampled_;
-      status_delivered_ = true;
-      return;
-    } else {
-      if (st_count_ == status_queue_.size()) {
-        st_head_ = (st_head_ + 1) % status_queue_.size();
-        --st_count_;
-        ++n_.fault_status_dropped;
-      }
-      status_queue_[(st_head_ + st_count_) % status_queue_.size()] = {sampled_, k + af.status_delay};
-      ++st_count_;
-      if (af.status_delay > 0) ++n_.fault_status_delayed;
-    }
-    // The newest due entry; the ones before it are superseded.
-    std::size_t last_due = status_queue_.size();
-    for (std::size_t i = 0; i < st_count_; ++i) {
-      if (status_queue_[(st_head_ + i) % status_queue_.size()].due <= k) last_due = i;
-    }
-    if (last_due == status_queue_.size()) return;
-    status_ = status_queue_[(st_head_ + last_due) % status_queue_.size()].status;
-    status_delivered_ = true;
-    n_.fault_status_dropped += static_cast<std::int64_t>(last_due);
-    st_head_ = (st_head_ + last_due + 1) % status_queue_.size();
-    st_count_ -= last_due + 1;
+    bus_.releaseDue(k, [this](const Command& cmd, SourceId src) { receive(cmd, src); });
   }
 
   /// The one mapping from the plant to Truth: the observables at s_ (one
@@ -497,21 +425,9 @@ class Firmware {
 
   FaultClock clock_;
   Vec2 driver_tau_ = Vec2::Zero();  ///< [N m] torque the firmware commands (status); u_.tau is what acts
-  bool stuck_[2] = {}, releasing_ = false, status_delivered_ = true;
+  FaultBus bus_;
+  bool stuck_[2] = {}, status_delivered_ = true;
   double stuck_angle_[2] = {}, last_angle_[2] = {}, last_rate_[2] = {};
-  struct HeldStatus {
-    Status status;
-    std::int64_t due = 0;
-  };
-  struct HeldCommand {
-    Command cmd;
-    std::int64_t due = 0;
-    SourceId src = kInProcessSource;  ///< its sender: validated against the binding when released
-  };
-  std::vector<HeldStatus> status_queue_;    ///< ring, sized at construction when faults are scheduled
-  std::vector<HeldCommand> command_queue_;  ///< ring, idem
-  std::size_t st_head_ = 0, st_count_ = 0, cmd_head_ = 0, cmd_count_ = 0;
-
   Status sampled_;  ///< the status sampled this tick
   Status status_;   ///< the status delivered this tick
   Truth truth_;
