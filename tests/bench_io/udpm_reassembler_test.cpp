@@ -1,8 +1,8 @@
 // The bounded receive path (bench_io/udpm_reassembler.hpp): short messages and
 // reassembly as LCM sends them, every bound, every drop reason, the partial
-// timeout, and no allocation per datagram. Datagrams are built here byte by
-// byte from the wire format (udpm_util.h of LCM 1.3.1), independently of the
-// parser; tests/hil/udpm_interop_test.cpp checks against liblcm's own sender.
+// timeout, and no allocation per datagram. Datagrams are built byte by byte
+// from the wire format (lcm_datagrams.hpp), independently of the parser;
+// tests/hil/udpm_interop_test.cpp checks against liblcm's own sender.
 #include "gimbalsim/bench_io/udpm_reassembler.hpp"
 
 #include <gtest/gtest.h>
@@ -12,46 +12,15 @@
 #include <vector>
 
 #include "alloc_guard.hpp"
+#include "bench_io/lcm_datagrams.hpp"
 
 namespace gimbalsim::bench_io {
 namespace {
 
-using Bytes = std::vector<std::uint8_t>;
+using datagrams::Bytes;
+using datagrams::fragment;
 
-void put32(Bytes& b, std::uint32_t v) {
-  for (int s = 24; s >= 0; s -= 8) b.push_back(static_cast<std::uint8_t>(v >> s));
-}
-void put16(Bytes& b, std::uint16_t v) {
-  b.push_back(static_cast<std::uint8_t>(v >> 8));
-  b.push_back(static_cast<std::uint8_t>(v));
-}
-void putStr(Bytes& b, const std::string& s, bool nul = true) {
-  b.insert(b.end(), s.begin(), s.end());
-  if (nul) b.push_back(0);
-}
-
-Bytes shortMsg(const std::string& ch, const Bytes& payload, std::uint32_t seq = 1) {
-  Bytes b;
-  put32(b, kMagicShort);
-  put32(b, seq);
-  putStr(b, ch);
-  b.insert(b.end(), payload.begin(), payload.end());
-  return b;
-}
-
-Bytes fragment(std::uint32_t seq, std::uint32_t size, std::uint32_t offset, std::uint16_t no, std::uint16_t count,
-               const std::string& ch, const Bytes& data) {
-  Bytes b;
-  put32(b, kMagicFragment);
-  put32(b, seq);
-  put32(b, size);
-  put32(b, offset);
-  put16(b, no);
-  put16(b, count);
-  if (no == 0) putStr(b, ch);
-  b.insert(b.end(), data.begin(), data.end());
-  return b;
-}
+Bytes shortMsg(const std::string& ch, const Bytes& payload) { return datagrams::shortMessage(ch, payload); }
 
 Bytes pattern(std::size_t n, std::uint8_t salt = 0) {
   Bytes b(n);
@@ -111,10 +80,7 @@ TEST(UdpmReassembler, MalformedShortDatagramsAreDroppedByReason) {
   EXPECT_EQ(rx.feed(bad), nullptr);
   EXPECT_EQ(rx.drops(Drop::BadMagic), 1u);
   EXPECT_EQ(rx.feed(shortMsg("", pattern(8))), nullptr);                   // empty channel
-  Bytes unterminated;
-  put32(unterminated, kMagicShort);
-  put32(unterminated, 1);
-  putStr(unterminated, "CMD", false);  // the datagram ends inside the name
+  const Bytes unterminated = datagrams::shortMessage("CMD", {}, 1, false);  // the datagram ends inside the name
   EXPECT_EQ(rx.feed(unterminated), nullptr);
   EXPECT_EQ(rx.feed(shortMsg(std::string(64, 'C'), pattern(8))), nullptr);  // 64 > 63 bytes
   EXPECT_EQ(rx.drops(Drop::BadChannel), 3u);

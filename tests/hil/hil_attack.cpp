@@ -39,6 +39,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_io/lcm_datagrams.hpp"
 #include "gimbalsim/bench_io/udpm_receiver.hpp"
 #include "gimbalsim/channels.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
@@ -46,47 +47,23 @@
 
 namespace {
 
-namespace io = gimbalsim::bench_io;
-using Bytes = std::vector<std::uint8_t>;
+namespace bio = gimbalsim::bench_io;
+using bio::datagrams::Bytes;
 
-void put32(Bytes& b, std::uint32_t v) {
-  for (int s = 24; s >= 0; s -= 8) b.push_back(static_cast<std::uint8_t>(v >> s));
-}
-void put16(Bytes& b, std::uint16_t v) {
-  b.push_back(static_cast<std::uint8_t>(v >> 8));
-  b.push_back(static_cast<std::uint8_t>(v));
-}
+/// An LC03 fragment carrying `data` bytes of filler.
 Bytes fragment(std::uint32_t seq, std::uint32_t size, std::uint32_t off, std::uint16_t no, std::uint16_t count,
                const std::string& ch, std::size_t data) {
-  Bytes b;
-  put32(b, io::kMagicFragment);
-  put32(b, seq);
-  put32(b, size);
-  put32(b, off);
-  put16(b, no);
-  put16(b, count);
-  if (no == 0) {
-    b.insert(b.end(), ch.begin(), ch.end());
-    b.push_back(0);
-  }
-  b.resize(b.size() + data, 0xAB);
-  return b;
+  return bio::datagrams::fragment(seq, size, off, no, count, ch, Bytes(data, 0xAB));
 }
 Bytes shortMsg(const std::string& ch, const std::uint8_t* data, std::size_t n, bool terminate = true) {
-  Bytes b;
-  put32(b, io::kMagicShort);
-  put32(b, 1);
-  b.insert(b.end(), ch.begin(), ch.end());
-  if (terminate) b.push_back(0);
-  b.insert(b.end(), data, data + n);
-  return b;
+  return bio::datagrams::shortMessage(ch, Bytes(data, data + n), 1, terminate);
 }
 
 struct Sender {
   std::vector<int> fds;
   sockaddr_in group{};
   long long sent = 0, failed = 0;
-  bool open(const io::LcmUrl& u, int sockets) {
+  bool open(const bio::LcmUrl& u, int sockets) {
     group.sin_family = AF_INET;
     group.sin_addr.s_addr = u.group;
     group.sin_port = htons(u.port);
@@ -133,14 +110,14 @@ int main(int argc, char** argv) {
     }
   }
   std::string why;
-  const io::LcmUrl u = io::parseLcmUrl(url, &why);
-  if (u.kind != io::LcmUrl::Kind::Udpm || !gimbalsim::Channels::validPrefix(prefix)) {
+  const bio::LcmUrl u = bio::parseLcmUrl(url, &why);
+  if (u.kind != bio::LcmUrl::Kind::Udpm || !gimbalsim::Channels::validPrefix(prefix)) {
     std::fprintf(stderr, "hil_attack: need a udpm URL and a valid prefix: %s\n", why.c_str());
     return 2;
   }
   const gimbalsim::Channels ch = gimbalsim::Channels::withPrefix(prefix);
   Sender tx;
-  io::UdpmReceiver rx(io::ReassemblyLimits{}, io::ChannelFilter({ch.status}));
+  bio::UdpmReceiver rx(bio::ReassemblyLimits{}, bio::ChannelFilter({ch.status}));
   if (!tx.open(u, 8) || !rx.open(url, 1 << 20, &why)) {
     std::fprintf(stderr, "hil_attack: no socket: %s\n", why.c_str());
     return 4;
@@ -171,7 +148,7 @@ int main(int argc, char** argv) {
   st.seq = -1;
   using Clock = std::chrono::steady_clock;
   Clock::time_point last_status = Clock::now();
-  auto onStatus = [&](const io::Message& m, std::int64_t) {
+  auto onStatus = [&](const bio::Message& m, std::int64_t) {
     gimbalsim::gimbal_status_t s{};
     if (s.decode(m.data, 0, static_cast<int>(m.size)) < 0) return;
     if (s.seq == std::numeric_limits<std::int64_t>::max()) return;  // our own spoofed status
