@@ -2,9 +2,10 @@
 # The sanitizer build: every target compiled with AddressSanitizer and
 # UndefinedBehaviorSanitizer (-DGIMBALSIM_SANITIZE=address,undefined, any
 # finding fatal; only LCM users excused from UBSan's vptr check, see
-# CMakeLists.txt), then the tests that fit CI's time on 2 cores. The Python
-# package is not built here (an ASan extension needs libasan preloaded into
-# the interpreter): its C++ code is the same library the gtests run.
+# CMakeLists.txt), then the tests that fit CI's time on 2 cores. Given a regex
+# (e.g. '.', the whole suite), every target is built, the Python package too:
+# its pytest suites run with ASan's runtime preloaded into the interpreter
+# (tests/python/CMakeLists.txt).
 # Usage: tools/run_sanitizers.sh [ctest regex]   (default: the CI subset below)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -16,10 +17,11 @@ build=${GIMBALSIM_SANITIZE_BUILD:-build-sanitize}
 targets=(gimbalsim hostile_input_test output_policy_test scene_test key_registry_test simulator_test
          checkpoint_test no_alloc_test)
 regex=${1:-'^(HostileInput|Paths|OutputPolicy|Scene|KeyRegistry|Simulator|Checkpoint|NoAlloc)\.|^cli_'}
-if [[ $# -gt 0 ]]; then targets=(all); fi
+python=OFF
+if [[ $# -gt 0 ]]; then targets=(all); python=ON; fi
 # -O1: the sanitizers' usual level, and far cheaper to compile than -O3 under ASan.
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -g1" -DGIMBALSIM_CHECKED=ON \
-  -DGIMBALSIM_SANITIZE=address,undefined -DGIMBALSIM_PYTHON=OFF >/dev/null
+  -DGIMBALSIM_SANITIZE=address,undefined -DGIMBALSIM_PYTHON=$python >/dev/null
 start=$(date +%s)
 cmake --build "$build" -j2 --target "${targets[@]}"
 built=$(date +%s)

@@ -16,6 +16,7 @@
 //    under kMaxRssKb and within kMaxGrowthKb of the clean run's.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <regex>
 #include <string>
 
@@ -25,7 +26,14 @@ namespace gimbalsim::hil {
 namespace {
 
 constexpr int kCommandRejected = 4;  // gimbal_status_t::FAULT_COMMAND_REJECTED
+#ifdef GIMBALSIM_SANITIZED
+// ASan's shadow memory and quarantine (freed blocks held back, by design) are
+// not the program's and add 40-70 MB whatever arrives: the absolute bound is
+// the normal build's; the growth against the clean run is checked in both.
+constexpr long kMaxRssKb = std::numeric_limits<long>::max();
+#else
 constexpr long kMaxRssKb = 48 * 1024;   // the stated bound (measured: 7-21 MB)
+#endif
 constexpr long kMaxGrowthKb = 2 * 1024; // attacked minus clean
 
 std::string attacker(int port, double pps) {
