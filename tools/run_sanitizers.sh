@@ -10,13 +10,19 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 build=${GIMBALSIM_SANITIZE_BUILD:-build-sanitize}
-# The CI subset: the loaders and outputs (issue 13), the dynamics core (the
-# step without allocation, checkpoints, the simulator) and the command line;
-# only the targets they need. The rest of the suite builds and runs the same
-# way with a regex argument (e.g. '.'), given the time.
+# The CI subset: what meets hostile input (issue 13: the loaders, the outputs,
+# the network receive path, the log reader and writer, the command gate, the
+# fault schedule reader, the controller's configuration), the firmware core
+# and the dynamics core (the step without allocation, checkpoints, the
+# simulator) and the command line; only the targets they need. The rest of the
+# suite builds and runs the same way with a regex argument (e.g. '.').
 targets=(gimbalsim hostile_input_test output_policy_test scene_test key_registry_test simulator_test
-         checkpoint_test no_alloc_test)
-regex=${1:-'^(HostileInput|Paths|OutputPolicy|Scene|KeyRegistry|Simulator|Checkpoint|NoAlloc)\.|^cli_'}
+         checkpoint_test no_alloc_test udpm_reassembler_test lcm_log_test lcm_url_test command_gate_test
+         fault_schedule_test firmware_core_test controller_config_test)
+suites='HostileInput|Paths|OutputPolicy|Scene|KeyRegistry|Simulator|Checkpoint|NoAlloc'
+suites+='|UdpmReassembler|LcmLog|LcmUrl|CommandAcceptance|CommandGate|FaultInjection|FaultScheduleFile'
+suites+='|Firmware|FirmwareConfig|GaussianNoise|Histogram|SpscRing|ControllerConfig'
+regex=${1:-"^($suites)\\.|^cli_"}
 python=OFF
 if [[ $# -gt 0 ]]; then targets=(all); python=ON; fi
 # -O1: the sanitizers' usual level, and far cheaper to compile than -O3 under ASan.
