@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "gimbalsim/controllers/config.hpp"
-#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/scene/scene.hpp"
 
 namespace gimbalsim {
 namespace {

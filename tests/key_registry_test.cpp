@@ -8,7 +8,7 @@
 #include <set>
 
 #include "gimbalsim/controllers/config.hpp"
-#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/pointing/profile_keys.hpp"
 
 namespace gimbalsim {
@@ -17,13 +17,13 @@ namespace {
 const std::string kScenes = GIMBALSIM_SCENES_DIR;
 const std::string kSource = GIMBALSIM_SOURCE_DIR;
 
-/// The message with which load() refuses (SceneError or ConfigError), or "(accepted)".
+/// The message with which load() refuses (an InputError: scene, configuration or profile), or "(accepted)".
 template <class Load>
 std::string refusalOf(Load load) {
   try {
     load();
     return "(accepted)";
-  } catch (const SceneError& e) {
+  } catch (const InputError& e) {
     return e.what();
   }
 }

@@ -8,7 +8,7 @@
 
 #include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/dynamics/observables.hpp"
-#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::test {

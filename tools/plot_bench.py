@@ -30,7 +30,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from output_file import savefig  # noqa: E402  (temporary + rename, tools/output_file.py)
 
 FAULTS = [(1, "watchdog"), (2, "saturated"), (4, "cmd rejected"), (8, "plant fault"), (16, "lockstep timeout")]
-# Scheduled fault kinds in the order of FaultKind (firmware_sim/include/gimbalsim/firmware/fault_schedule.hpp):
+# Scheduled fault kinds in the order of FaultKind (firmware_sim/include/gimbalsim/firmware_sim/fault_schedule.hpp):
 # kind k, axis a sets bit 2 k + a of injected_faults (kinds without an axis: bit 2 k).
 FAULT_KINDS = ["encoder_dropout", "encoder_stuck", "encoder_bias", "encoder_noise", "status_delay", "status_drop",
                "command_delay", "command_drop", "torque_limit", "motor_failure", "star_tracker_outage",

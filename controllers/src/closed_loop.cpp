@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "gimbalsim/dynamics/simulate.hpp"
-#include "gimbalsim/firmware/firmware.hpp"
+#include "gimbalsim/firmware_sim/firmware.hpp"
 
 namespace gimbalsim::controllers {
 namespace {
@@ -72,8 +72,8 @@ ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware:
     // The firmware's tick k up to its status and truth, as firmware_sim --lockstep.
     const std::int64_t utime = std::llround(static_cast<double>(k) * c.period * 1e6);
     fw.sample(utime);
-    const firmware::Status& st = fw.status();
-    const firmware::Truth& truth = fw.truth();
+    const contract::Status& st = fw.status();
+    const contract::Truth& truth = fw.truth();
     // The controller answers the status delivered this tick, as pointing_controller
     // does; none when the fault schedule dropped or still holds it.
     const bool delivered = fw.statusDelivered();
@@ -126,7 +126,7 @@ ClosedLoopResult run(const Scene& sc, const ControllerConfig& c, const firmware:
 
 }  // namespace
 
-AttitudeMeasurement attitudeMeasurement(const firmware::Attitude& att, std::int64_t seq) noexcept {
+AttitudeMeasurement attitudeMeasurement(const contract::Attitude& att, std::int64_t seq) noexcept {
   AttitudeMeasurement m;
   m.star_outage = att.star_outage != 0;
   if (att.seq != seq) {  // not this tick's: hold the previous rate, no star sample
@@ -141,7 +141,7 @@ AttitudeMeasurement attitudeMeasurement(const firmware::Attitude& att, std::int6
   return m;
 }
 
-void noteAttitude(ControllerState& s, const firmware::Attitude& att) noexcept {
+void noteAttitude(ControllerState& s, const contract::Attitude& att) noexcept {
   if (att.seq < 0) return;
   const int i = static_cast<int>(att.seq % AttitudeHistory::kSize);
   s.attitudes.seq[i] = att.seq;
@@ -149,8 +149,8 @@ void noteAttitude(ControllerState& s, const firmware::Attitude& att) noexcept {
   s.attitudes.newest = std::max(s.attitudes.newest, att.seq);
 }
 
-Answer answerStatus(const ControllerConfig& c, ControllerState& s, const firmware::Status& st,
-                    const firmware::Attitude& att, std::int64_t& next_seq) noexcept {
+Answer answerStatus(const ControllerConfig& c, ControllerState& s, const contract::Status& st,
+                    const contract::Attitude& att, std::int64_t& next_seq) noexcept {
   Answer a;
   a.meas.t = static_cast<double>(st.seq) * c.period;
   a.meas.theta = {st.angle[0], st.angle[1]};
@@ -175,7 +175,7 @@ Answer answerStatus(const ControllerConfig& c, ControllerState& s, const firmwar
   a.cmd.seq = std::max(next_seq, st.last_command_seq < kMaxSeq ? st.last_command_seq + 1 : kMaxSeq);
   next_seq = a.cmd.seq < kMaxSeq ? a.cmd.seq + 1 : kMaxSeq;
   a.cmd.status_seq = st.seq;
-  a.cmd.mode = firmware::kModeTorque;
+  a.cmd.mode = contract::kModeTorque;
   a.cmd.torque[0] = a.out.tau(0);
   a.cmd.torque[1] = a.out.tau(1);
   return a;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/controllers/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
 
@@ -54,7 +55,7 @@ int main(int argc, char** argv) {
                   r.rms_truth_error_track, r.max_abs_tau(0), r.max_abs_tau(1));
     }
     return failures ? 3 : 0;
-  } catch (const SceneError& e) {
+  } catch (const InputError& e) {
     std::cerr << e.what() << "\n";
     return 2;
   }

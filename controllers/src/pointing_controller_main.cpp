@@ -30,8 +30,8 @@
 #include "gimbalsim/bench_io/peak_memory.hpp"
 #include "gimbalsim/bench_io/udpm_receiver.hpp"
 
-#include "gimbalsim/dynamics/guarded_main.hpp"
-#include "gimbalsim/channels.hpp"
+#include "gimbalsim/program/guarded_main.hpp"
+#include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/controllers/closed_loop.hpp"  // answerStatus
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
@@ -69,7 +69,7 @@ struct Options {
 /// Answers statuses; everything it needs is allocated before the first one.
 class StatusHandler {
  public:
-  StatusHandler(const ControllerConfig& c, lcm::LCM& lcm, const Channels& ch, std::FILE* csv)
+  StatusHandler(const ControllerConfig& c, lcm::LCM& lcm, const contract::Channels& ch, std::FILE* csv)
       : c_(c), lcm_(lcm), ch_(ch), csv_(csv) {}
 
   /// One received message; the channel says which handler. now_ns: CLOCK_MONOTONIC.
@@ -86,7 +86,7 @@ class StatusHandler {
       ++undecodable_;
       return;
     }
-    firmware::copyFields<firmware::AttitudeFields>(attitude_, m);
+    contract::copyFields<contract::AttitudeFields>(attitude_, m);
     noteAttitude(state_, attitude_);  // a late status finds the attitude of its tick (fault_monitor.hpp)
   }
 
@@ -104,14 +104,14 @@ class StatusHandler {
     // The same answer as the in-process loop's (closed_loop.hpp): seq strictly
     // increasing, and above what the firmware last accepted even when this
     // controller replaces one that crashed.
-    firmware::Status status;
-    firmware::copyFields<firmware::StatusFields>(status, st);
+    contract::Status status;
+    contract::copyFields<contract::StatusFields>(status, st);
     if (attitude_.seq != status.seq) ++unpaired_;
     const Answer a = answerStatus(c_, state_, status, attitude_, next_seq_);
     const Measurement& meas = a.meas;
     const ControlOutput& out = a.out;
     gimbal_command_t cmd{};
-    firmware::copyFields<firmware::CommandFields>(cmd, a.cmd);
+    contract::copyFields<contract::CommandFields>(cmd, a.cmd);
     const int n = cmd.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
     if (n < 0 || lcm_.publish(ch_.command, buf_.data(), static_cast<unsigned>(n)) != 0) ++publish_errors_;
     // Bookkeeping after the answer is on its way.
@@ -172,10 +172,10 @@ class StatusHandler {
 
   const ControllerConfig& c_;
   lcm::LCM& lcm_;
-  const Channels& ch_;
+  const contract::Channels& ch_;
   std::FILE* csv_;
   ControllerState state_;
-  firmware::Attitude attitude_{.seq = -1};  ///< the newest attitude message (seq -1: none yet)
+  contract::Attitude attitude_{.seq = -1};  ///< the newest attitude message (seq -1: none yet)
   long long unpaired_ = 0;        ///< statuses without the attitude of their tick (gyro rate held)
   long long outage_statuses_ = 0; ///< statuses answered during a star tracker outage
   std::array<std::uint8_t, 256> buf_{};  // a command encodes to well under 256 bytes
@@ -220,7 +220,7 @@ int run(int argc, char** argv) {
     std::fputs((o.markdown ? keysMarkdown(all) : keysText(all)).c_str(), stdout);
     return kExitOk;
   }
-  if (!Channels::validPrefix(o.prefix)) {
+  if (!contract::Channels::validPrefix(o.prefix)) {
     std::fprintf(stderr, "pointing_controller: --channel-prefix '%s': only A-Z, 0-9 and '_' allowed\n",
                  o.prefix.c_str());
     return kExitRefused;
@@ -256,7 +256,7 @@ int run(int argc, char** argv) {
                  "multicast route: ip link set lo up && ip route add 224.0.0.0/4 dev lo\n", o.lcm_url.c_str());
     return kExitLcm;
   }
-  const Channels ch = Channels::withPrefix(o.prefix);
+  const contract::Channels ch = contract::Channels::withPrefix(o.prefix);
   StatusHandler h(c, lcm, ch, csv);
   bench_io::ReassemblyLimits lim;  // statuses and attitudes are < 1 kB
   lim.max_message_bytes = 4096;

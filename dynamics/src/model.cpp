@@ -40,7 +40,7 @@ void Model::finalize() {
   const SpatialInertia I2 = SpatialInertia::fromBody(shaft2.mass, shaft2.com, shaft2.inertia);
   chain[0] = {JointKind::Revolute, k1_B, r_J1_B_B};
   I_chain[0] = I1;
-  if (!clearance) {
+  if (!clearance_joint) {
     chain[1] = {JointKind::Revolute, k2_S1, r_J2_S1_S1};
     I_chain[1] = I2;
   } else {

@@ -11,12 +11,6 @@
 
 namespace gimbalsim {
 
-std::string variantName(const Model& m) {
-  std::string s = m.floating_base ? "floating" : "fixed";
-  s += m.clearance ? "_clearance" : "_ideal";
-  if (frictionActive(m)) s += "_friction";
-  return s;
-}
 
 namespace {
 
@@ -31,7 +25,7 @@ std::vector<std::string> coordinateNames(const Model& m, std::vector<std::string
   };
   const Joint chain[] = {{"theta1", false}, {"ecc_x", true}, {"ecc_y", true}, {"theta2", false}};
   for (const Joint& j : chain) {
-    if (m.clearance || !j.clearance_only) n.push_back(rate + j.name);
+    if (m.clearance_joint || !j.clearance_only) n.push_back(rate + j.name);
   }
   return n;
 }

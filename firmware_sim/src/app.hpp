@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "gimbalsim/dynamics/run_spec.hpp"
-#include "gimbalsim/firmware/firmware.hpp"
-#include "gimbalsim/firmware/spsc_ring.hpp"
+#include "gimbalsim/firmware_sim/firmware.hpp"
+#include "gimbalsim/firmware_sim/spsc_ring.hpp"
 #include "loop_stats.hpp"
 
 namespace lcm {

@@ -1,4 +1,4 @@
-#include "gimbalsim/firmware/fault_schedule.hpp"
+#include "gimbalsim/firmware_sim/fault_schedule.hpp"
 
 namespace gimbalsim::firmware {
 

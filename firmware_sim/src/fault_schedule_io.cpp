@@ -1,10 +1,10 @@
-#include "gimbalsim/firmware/fault_schedule_io.hpp"
+#include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 
 #include <yaml-cpp/yaml.h>
 
 #include <set>
 
-#include "gimbalsim/dynamics/key_registry.hpp"
+#include "gimbalsim/input/key_registry.hpp"
 
 namespace gimbalsim::firmware {
 namespace {
@@ -225,7 +225,7 @@ std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const S
     ++i;
     const std::string at = origin + ":" + std::to_string(f.line) + ": fault #" + std::to_string(i) + " (" +
                            faultTypeName(f.kind) + "): ";
-    if (isRamp(f.kind) && !sc.model.clearance) {
+    if (isRamp(f.kind) && !sc.model.clearance_joint) {
       out.push_back(at + "needs the clearance joint (scene key structure.joint2 = clearance)");
       continue;
     }

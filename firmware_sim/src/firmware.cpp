@@ -1,4 +1,4 @@
-#include "gimbalsim/firmware/firmware.hpp"
+#include "gimbalsim/firmware_sim/firmware.hpp"
 
 #include <cmath>
 #include <sstream>

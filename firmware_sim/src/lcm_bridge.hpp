@@ -12,8 +12,8 @@
 
 #include "app.hpp"
 #include "gimbalsim/bench_io/udpm_receiver.hpp"
-#include "gimbalsim/channels.hpp"
-#include "gimbalsim/firmware/histogram.hpp"
+#include "gimbalsim/contract/channels.hpp"
+#include "gimbalsim/firmware_sim/histogram.hpp"
 
 namespace gimbalsim::firmware {
 

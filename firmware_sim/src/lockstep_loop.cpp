@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "app.hpp"
-#include "gimbalsim/channels.hpp"
+#include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "lcm_bridge.hpp"
 #include "realtime.hpp"

@@ -21,9 +21,9 @@
 #include <vector>
 
 #include "gimbalsim/bench_io/lcm_log.hpp"
-#include "gimbalsim/dynamics/guarded_main.hpp"
-#include "gimbalsim/channels.hpp"
-#include "gimbalsim/firmware/csv_rows.hpp"
+#include "gimbalsim/program/guarded_main.hpp"
+#include "gimbalsim/contract/channels.hpp"
+#include "gimbalsim/firmware_sim/csv_rows.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
@@ -32,6 +32,7 @@
 #include "gimbalsim/gimbal_truth_t.hpp"
 
 namespace gimbalsim::firmware {
+using namespace gimbalsim::contract;  // NOLINT: the message field lists
 namespace {
 
 namespace fs = std::filesystem;

@@ -6,7 +6,7 @@
 #include <atomic>
 #include <cstdint>
 
-#include "gimbalsim/firmware/histogram.hpp"
+#include "gimbalsim/firmware_sim/histogram.hpp"
 
 namespace gimbalsim::firmware {
 

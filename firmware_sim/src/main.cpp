@@ -16,11 +16,11 @@
 #include <vector>
 
 #include "app.hpp"
-#include "gimbalsim/dynamics/guarded_main.hpp"
-#include "gimbalsim/channels.hpp"
-#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/program/guarded_main.hpp"
+#include "gimbalsim/contract/channels.hpp"
+#include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
-#include "gimbalsim/firmware/fault_schedule_io.hpp"
+#include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 #include "lcm_bridge.hpp"
 #include "gimbalsim/pointing/profile_keys.hpp"
 #include "realtime.hpp"
@@ -90,7 +90,7 @@ int mainImpl(int argc, char** argv) {
   Scene scene;
   try {
     scene = loadScene(o.scene, o.sets);
-  } catch (const SceneError& e) {
+  } catch (const InputError& e) {
     for (const std::string& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
     return refuse("scene " + o.scene + " refused");
   }
@@ -114,7 +114,7 @@ int mainImpl(int argc, char** argv) {
   if (!o.profile.empty()) {
     try {
       profile = std::make_unique<pointing::TargetProfile>(pointing::loadTargetProfile(o.profile));
-    } catch (const SceneError& e) {
+    } catch (const InputError& e) {
       for (const std::string& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
       return refuse("--profile " + o.profile + " refused");
     }
@@ -123,7 +123,7 @@ int mainImpl(int argc, char** argv) {
   if (!o.faults.empty()) {
     try {
       faults = loadFaultSchedule(o.faults);
-    } catch (const SceneError& e) {
+    } catch (const InputError& e) {
       for (const std::string& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
       return refuse("--faults " + o.faults + " refused");
     }

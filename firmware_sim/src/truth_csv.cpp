@@ -1,6 +1,6 @@
 #include "truth_csv.hpp"
 
-#include "gimbalsim/firmware/csv_rows.hpp"
+#include "gimbalsim/firmware_sim/csv_rows.hpp"
 
 namespace gimbalsim::firmware {
 

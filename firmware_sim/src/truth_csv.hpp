@@ -12,9 +12,11 @@
 #include <vector>
 
 #include "gimbalsim/io/output_file.hpp"
-#include "gimbalsim/firmware/messages.hpp"
+#include "gimbalsim/contract/messages.hpp"
 
 namespace gimbalsim::firmware {
+// The bench messages are the contract's (lcmtypes/contract), shared with the controller.
+using namespace gimbalsim::contract;  // NOLINT(google-build-using-namespace)
 
 class TruthCsv {
  public:

@@ -5,7 +5,7 @@
 
 #include <pybind11/pybind11.h>
 
-#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/scene/scene.hpp"
 
 namespace gimbalsim::py {
 

@@ -11,7 +11,7 @@
 #include "key_dicts.hpp"
 #include "gimbalsim/controllers/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
-#include "gimbalsim/firmware/fault_schedule_io.hpp"
+#include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 
 namespace gimbalsim::py {
 
@@ -31,7 +31,7 @@ PyController loadController(const std::string& path, const std::vector<std::stri
   try {
     if (path.empty()) return {loadControllerConfigText("", "<defaults>", overrides), {}, ""};
     return {loadControllerConfig(path, overrides), {}, path};
-  } catch (const SceneError& e) {
+  } catch (const InputError& e) {
     raiseSceneError(e);
   }
 }
@@ -154,7 +154,7 @@ void bindController(pyb::module_& m) {
               for (const std::string& b : bad) problems.push_back(Problem{b, "", faults, 0, 0, 0});
               throw SceneError(problems);
             }
-          } catch (const SceneError& e) {
+          } catch (const InputError& e) {
             raiseSceneError(e);
           }
           opt.faults = &schedule;

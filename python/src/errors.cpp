@@ -14,7 +14,7 @@ namespace {
 }
 }  // namespace
 
-void raiseSceneError(const SceneError& e) {
+void raiseSceneError(const InputError& e) {
   pyb::list problems;
   for (const Problem& p : e.details()) {
     pyb::dict d;

@@ -4,13 +4,13 @@
 
 #include <pybind11/pybind11.h>
 
-#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/dynamics/step_result.hpp"
 
 namespace gimbalsim::py {
 
 /// Raises gimbalsim.SceneError (a ValueError) for a refused scene or configuration.
-[[noreturn]] void raiseSceneError(const SceneError& e);
+[[noreturn]] void raiseSceneError(const InputError& e);
 
 /// Raises gimbalsim.SimulationStopped naming the step's status, limit key and time.
 /// `message` is the text; `extra` entries become attributes (e.g. outputs, steps_done).

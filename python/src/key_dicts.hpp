@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "gimbalsim/dynamics/key_registry.hpp"
+#include "gimbalsim/input/key_registry.hpp"
 
 namespace gimbalsim::py {
 

@@ -12,7 +12,7 @@
 #include "key_dicts.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/io/output_file.hpp"
-#include "gimbalsim/io/run_output.hpp"
+#include "gimbalsim/run_output/run_output.hpp"
 
 namespace gimbalsim::py {
 
@@ -23,7 +23,7 @@ namespace {
 PyScene load(const std::string& path, const std::vector<std::string>& overrides) {
   try {
     return PyScene{loadScene(path, overrides), path};
-  } catch (const SceneError& e) {
+  } catch (const InputError& e) {
     raiseSceneError(e);
   }
 }
@@ -35,7 +35,7 @@ PyScene replaced(const PyScene& s, const std::vector<std::string>& overrides) {
   try {
     PyScene out{loadSceneText("", s.path, all), s.path};
     return out;
-  } catch (const SceneError& e) {
+  } catch (const InputError& e) {
     raiseSceneError(e);
   }
 }
@@ -83,7 +83,7 @@ void bindScene(pyb::module_& m) {
             PyScene base{Scene{}, t[0].cast<std::string>()};
             try {
               return PyScene{loadSceneText("", base.path, t[1].cast<std::vector<std::string>>()), base.path};
-            } catch (const SceneError& e) {
+            } catch (const InputError& e) {
               raiseSceneError(e);
             }
           }));
@@ -93,7 +93,7 @@ void bindScene(pyb::module_& m) {
                                const std::vector<std::string>& overrides) {
     try {
       return PyScene{loadSceneText(yaml, origin, overrides), origin};
-    } catch (const SceneError& e) {
+    } catch (const InputError& e) {
       raiseSceneError(e);
     }
   });

@@ -67,8 +67,8 @@ TEST(ControllerNoAlloc, AnswerStatusWithItsFaultMonitorAllocatesNothing) {
   // stale statuses (held, then safe), a stuck azimuth encoder (suspect: rate
   // feedback only), attitudes noted without a status.
   static_assert(noexcept(answerStatus(std::declval<const ControllerConfig&>(), std::declval<ControllerState&>(),
-                                      std::declval<const firmware::Status&>(),
-                                      std::declval<const firmware::Attitude&>(), std::declval<std::int64_t&>())));
+                                      std::declval<const contract::Status&>(),
+                                      std::declval<const contract::Attitude&>(), std::declval<std::int64_t&>())));
   const ControllerConfig c = loadControllerConfig(std::string(GIMBALSIM_CONTROLLER_CONFIG_DIR) + "/default.yaml");
   ControllerState s;
   std::int64_t next_seq = 0;
@@ -76,12 +76,12 @@ TEST(ControllerNoAlloc, AnswerStatusWithItsFaultMonitorAllocatesNothing) {
   const long long before = test::g_allocations.load();
   test::setEigenMallocAllowed(false);
   for (int k = 0; k < 4000; ++k) {
-    firmware::Attitude att;
+    contract::Attitude att;
     att.seq = k;
     att.gyro_rate[2] = 1e-3;
     noteAttitude(s, att);
     if (k >= 1000 && k < 1300 && k % 2 == 0) continue;  // no status this tick
-    firmware::Status st;
+    contract::Status st;
     st.seq = k >= 1000 && k < 1300 ? k - 60 : k;  // 60 ticks late for 0.3 s
     const double w = 0.1;                         // [rad/s] both axes turn
     st.rate[0] = st.rate[1] = w;

@@ -17,7 +17,7 @@
 
 #include "gimbalsim/controllers/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
-#include "gimbalsim/firmware/fault_schedule_io.hpp"
+#include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 #include "test_util.hpp"
 
 namespace gimbalsim::controllers {

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "gimbalsim/firmware/attitude_sensors.hpp"
-#include "gimbalsim/firmware/firmware.hpp"
+#include "gimbalsim/firmware_sim/attitude_sensors.hpp"
+#include "gimbalsim/firmware_sim/firmware.hpp"
 #include "test_util.hpp"
 
 namespace gimbalsim::firmware {

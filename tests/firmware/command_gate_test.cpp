@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "gimbalsim/firmware/command_gate.hpp"
-#include "gimbalsim/firmware/firmware.hpp"
+#include "gimbalsim/firmware_sim/command_gate.hpp"
+#include "gimbalsim/firmware_sim/firmware.hpp"
 #include "firmware_test_util.hpp"
 
 namespace gimbalsim::firmware {

@@ -13,8 +13,8 @@
 
 #include "alloc_guard.hpp"
 #include "firmware_test_util.hpp"
-#include "gimbalsim/firmware/fault_schedule_io.hpp"
-#include "gimbalsim/firmware/firmware.hpp"
+#include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
+#include "gimbalsim/firmware_sim/firmware.hpp"
 #include "test_util.hpp"
 
 namespace gimbalsim::firmware {

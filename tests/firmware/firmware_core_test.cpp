@@ -9,9 +9,9 @@
 
 #include "alloc_guard.hpp"
 #include "firmware_test_util.hpp"
-#include "gimbalsim/firmware/firmware.hpp"
-#include "gimbalsim/firmware/histogram.hpp"
-#include "gimbalsim/firmware/spsc_ring.hpp"
+#include "gimbalsim/firmware_sim/firmware.hpp"
+#include "gimbalsim/firmware_sim/histogram.hpp"
+#include "gimbalsim/firmware_sim/spsc_ring.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "test_util.hpp"
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "gimbalsim/firmware/firmware.hpp"
+#include "gimbalsim/firmware_sim/firmware.hpp"
 #include "test_util.hpp"
 
 namespace gimbalsim::firmware::test_helpers {

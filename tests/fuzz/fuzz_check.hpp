@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/scene/scene.hpp"
 
 namespace gimbalsim::fuzz {
 

@@ -14,8 +14,8 @@
 #include <cstring>
 #include <vector>
 
-#include "gimbalsim/dynamics/scene.hpp"
-#include "gimbalsim/firmware/firmware.hpp"
+#include "gimbalsim/scene/scene.hpp"
+#include "gimbalsim/firmware_sim/firmware.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 
 namespace fw = gimbalsim::firmware;

@@ -11,7 +11,7 @@
 
 #include "gimbalsim/controllers/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
-#include "gimbalsim/firmware/messages.hpp"
+#include "gimbalsim/contract/messages.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "fuzz_check.hpp"
-#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/scene/scene.hpp"
 
 extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) { return gimbalsim::fuzz::withBounds(argc, argv); }
 

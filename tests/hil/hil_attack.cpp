@@ -41,7 +41,7 @@
 
 #include "bench_io/lcm_datagrams.hpp"
 #include "gimbalsim/bench_io/udpm_receiver.hpp"
-#include "gimbalsim/channels.hpp"
+#include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
 
@@ -111,11 +111,11 @@ int main(int argc, char** argv) {
   }
   std::string why;
   const bio::LcmUrl u = bio::parseLcmUrl(url, &why);
-  if (u.kind != bio::LcmUrl::Kind::Udpm || !gimbalsim::Channels::validPrefix(prefix)) {
+  if (u.kind != bio::LcmUrl::Kind::Udpm || !gimbalsim::contract::Channels::validPrefix(prefix)) {
     std::fprintf(stderr, "hil_attack: need a udpm URL and a valid prefix: %s\n", why.c_str());
     return 2;
   }
-  const gimbalsim::Channels ch = gimbalsim::Channels::withPrefix(prefix);
+  const gimbalsim::contract::Channels ch = gimbalsim::contract::Channels::withPrefix(prefix);
   Sender tx;
   bio::UdpmReceiver rx(bio::ReassemblyLimits{}, bio::ChannelFilter({ch.status}));
   if (!tx.open(u, 8) || !rx.open(url, 1 << 20, &why)) {

@@ -13,7 +13,7 @@
 
 #include "gimbalsim/controllers/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
-#include "gimbalsim/firmware/fault_schedule_io.hpp"
+#include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 #include "hil_util.hpp"
 
 namespace gimbalsim::hil {

@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "gimbalsim/channels.hpp"
+#include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
 #include "gimbalsim/gimbal_truth_t.hpp"
@@ -121,7 +121,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (p.every < 1 || p.count < 0 || !gimbalsim::Channels::validPrefix(prefix)) {
+  if (p.every < 1 || p.count < 0 || !gimbalsim::contract::Channels::validPrefix(prefix)) {
     std::fprintf(stderr, "hil_publish: bad --every, --count or --channel-prefix\n");
     return 2;
   }
@@ -130,7 +130,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hil_publish: LCM could not start with '%s'\n", url.c_str());
     return 4;
   }
-  const gimbalsim::Channels ch = gimbalsim::Channels::withPrefix(prefix);
+  const gimbalsim::contract::Channels ch = gimbalsim::contract::Channels::withPrefix(prefix);
   p.lcm = &lcm;
   p.command_channel = ch.command;
   lcm.subscribe(ch.status, &Publisher::onStatus, &p);

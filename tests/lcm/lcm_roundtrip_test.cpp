@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "alloc_guard.hpp"
-#include "gimbalsim/channels.hpp"
-#include "gimbalsim/firmware/csv_rows.hpp"
+#include "gimbalsim/contract/channels.hpp"
+#include "gimbalsim/firmware_sim/csv_rows.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_loop_stats_t.hpp"
@@ -25,6 +25,7 @@
 #include "gimbalsim/gimbal_truth_t.hpp"
 
 namespace gimbalsim {
+using namespace contract;  // NOLINT: the message contract under test
 namespace {
 
 // The field lists are firmware_sim's own (messages.hpp), the ones its LCM
@@ -32,15 +33,15 @@ namespace {
 // FieldListCoversTheEncoding checks each list against the encoded size, so a
 // field added to a .lcm file and forgotten in the list fails the test.
 template <class M> struct ListOf;
-template <> struct ListOf<gimbal_command_t> { using type = firmware::CommandFields; };
-template <> struct ListOf<gimbal_status_t> { using type = firmware::StatusFields; };
-template <> struct ListOf<gimbal_truth_t> { using type = firmware::TruthFields; };
-template <> struct ListOf<gimbal_loop_stats_t> { using type = firmware::LoopStatsFields; };
-template <> struct ListOf<gimbal_attitude_t> { using type = firmware::AttitudeFields; };
+template <> struct ListOf<gimbal_command_t> { using type = contract::CommandFields; };
+template <> struct ListOf<gimbal_status_t> { using type = contract::StatusFields; };
+template <> struct ListOf<gimbal_truth_t> { using type = contract::TruthFields; };
+template <> struct ListOf<gimbal_loop_stats_t> { using type = contract::LoopStatsFields; };
+template <> struct ListOf<gimbal_attitude_t> { using type = contract::AttitudeFields; };
 
 template <class M, class F>
 void fields(M& a, M& b, F&& f) {
-  ListOf<M>::type::visit([&](firmware::Columns, auto& x, auto& y) { f(x, y); }, a, b);
+  ListOf<M>::type::visit([&](contract::Columns, auto& x, auto& y) { f(x, y); }, a, b);
 }
 
 // A distinct, non-trivial value for element k: uses high bits of 64-bit
@@ -175,7 +176,7 @@ void checkStructCoverage(const char* name) {
   std::size_t end = 0;
   int i = 0;
   D::visit(
-      [&](firmware::Columns, const auto& x) {
+      [&](contract::Columns, const auto& x) {
         const std::size_t at = static_cast<std::size_t>(reinterpret_cast<const unsigned char*>(&x) - base);
         const std::size_t align = alignof(std::remove_all_extents_t<std::remove_reference_t<decltype(x)>>);
         EXPECT_EQ(at, (end + align - 1) / align * align) << name << ": field #" << i << " is not the next member";
@@ -187,19 +188,19 @@ void checkStructCoverage(const char* name) {
 }
 
 TEST(FirmwareMessages, FieldListsCoverTheFirmwareStructs) {
-  checkStructCoverage<firmware::CommandFields, firmware::Command>("Command");
-  checkStructCoverage<firmware::StatusFields, firmware::Status>("Status");
-  checkStructCoverage<firmware::TruthFields, firmware::Truth>("Truth");
-  checkStructCoverage<firmware::AttitudeFields, firmware::Attitude>("Attitude");
+  checkStructCoverage<contract::CommandFields, contract::Command>("Command");
+  checkStructCoverage<contract::StatusFields, contract::Status>("Status");
+  checkStructCoverage<contract::TruthFields, contract::Truth>("Truth");
+  checkStructCoverage<contract::AttitudeFields, contract::Attitude>("Attitude");
 }
 
 template <class D, class S, class M>
 void checkStructToMessage() {
   M filled_msg = filled<M>();
   S s{};
-  firmware::copyFields<D>(s, filled_msg);  // message -> struct (as a decoded command)
+  contract::copyFields<D>(s, filled_msg);  // message -> struct (as a decoded command)
   M m{};
-  firmware::copyFields<D>(m, s);  // struct -> message (as status and truth)
+  contract::copyFields<D>(m, s);  // struct -> message (as status and truth)
   fields(m, filled_msg, [&](auto& x, auto& y) { EXPECT_TRUE(same(x, y)) << M::getTypeName(); });
   // One CSV row for the struct and the message, and as many header cells as values.
   char* a = nullptr;
@@ -220,10 +221,10 @@ void checkStructToMessage() {
 }
 
 TEST(FirmwareMessages, StructAndMessageCarryTheSameValuesAndRows) {
-  checkStructToMessage<firmware::CommandFields, firmware::Command, gimbal_command_t>();
-  checkStructToMessage<firmware::StatusFields, firmware::Status, gimbal_status_t>();
-  checkStructToMessage<firmware::TruthFields, firmware::Truth, gimbal_truth_t>();
-  checkStructToMessage<firmware::AttitudeFields, firmware::Attitude, gimbal_attitude_t>();
+  checkStructToMessage<contract::CommandFields, contract::Command, gimbal_command_t>();
+  checkStructToMessage<contract::StatusFields, contract::Status, gimbal_status_t>();
+  checkStructToMessage<contract::TruthFields, contract::Truth, gimbal_truth_t>();
+  checkStructToMessage<contract::AttitudeFields, contract::Attitude, gimbal_attitude_t>();
 }
 
 TEST(Channels, PrefixAndNames) {

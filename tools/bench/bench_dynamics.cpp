@@ -31,7 +31,7 @@
 #include "gimbalsim/dynamics/contact_law.hpp"
 #include "gimbalsim/dynamics/forward_dynamics.hpp"
 #include "gimbalsim/dynamics/integrator.hpp"
-#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 
 #ifndef GIMBALSIM_SCENE_DIR

@@ -6,11 +6,11 @@
 #include <iostream>
 #include <optional>
 
-#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/io/output_file.hpp"
-#include "gimbalsim/io/run_output.hpp"
-#include "gimbalsim/io/stop_signal.hpp"
+#include "gimbalsim/run_output/run_output.hpp"
+#include "gimbalsim/program/stop_signal.hpp"
 
 namespace {
 
@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
   gimbalsim::Scene loaded;
   try {
     loaded = gimbalsim::loadScene(scene, sets);
-  } catch (const gimbalsim::SceneError& e) {
+  } catch (const gimbalsim::InputError& e) {
     for (const auto& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
     std::fprintf(stderr, "gimbalsim: scene refused, nothing simulated\n");
     return kExitRefused;

@@ -18,11 +18,12 @@
 #include <string>
 #include <vector>
 
+#include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/controllers/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/dynamics/step_result.hpp"
 #include "gimbalsim/io/output_file.hpp"
-#include "gimbalsim/io/stop_signal.hpp"
+#include "gimbalsim/program/stop_signal.hpp"
 
 using namespace gimbalsim;
 using namespace gimbalsim::controllers;
@@ -186,7 +187,7 @@ int main(int argc, char** argv) {
   std::vector<std::pair<Scene, double>> scenes;  // (scene, clearance)
   try {
     cfg = loadControllerConfig(config_path, sets);
-  } catch (const SceneError& e) {
+  } catch (const InputError& e) {
     std::string why;
     for (const auto& p : e.problems()) why += "\n  " + p;
     return refuse("--config/--set", "configuration refused:" + why);
@@ -198,7 +199,7 @@ int main(int argc, char** argv) {
       s.push_back("contact.clearance=" + num(c));
       scenes.emplace_back(loadScene(clearance_path, s), c);
     }
-  } catch (const SceneError& e) {
+  } catch (const InputError& e) {
     std::string why;
     for (const auto& p : e.problems()) why += "\n  " + p;
     return refuse("--ideal-scene/--clearance-scene/--scene-set/--clearances", "scene refused:" + why);

@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "gimbalsim/dynamics/integrator.hpp"
-#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/scene/scene.hpp"
 
 namespace gimbalsim::stress {
 
@@ -80,7 +80,7 @@ Outcome classify(const Scene& sc, const RunResult& run, const EnergyMonitor& e, 
     fail("conservative case: energy balance changed by " + sci(o.energy_change_rel) +
          " of its scale");
   }
-  if (m.clearance && !(o.max_penetration <= o.penetration_limit)) {
+  if (m.clearance_joint && !(o.max_penetration <= o.penetration_limit)) {
     fail("penetration " + sci(o.max_penetration) + " m beyond the limit");
   }
   o.verdict = why.empty() ? Verdict::Trustworthy : Verdict::SilentlyWrong;
@@ -92,7 +92,7 @@ Outcome runCase(const std::string& scene_path, const std::vector<std::string>& s
   Scene sc;
   try {
     sc = loadScene(scene_path, sets);
-  } catch (const SceneError& err) {
+  } catch (const InputError& err) {
     Outcome o;
     o.verdict = Verdict::Refused;
     o.reason = err.what();

@@ -27,9 +27,9 @@
 #include <thread>
 #include <vector>
 
-#include "gimbalsim/dynamics/scene.hpp"
+#include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/io/output_file.hpp"
-#include "gimbalsim/io/stop_signal.hpp"
+#include "gimbalsim/program/stop_signal.hpp"
 #include "stress_check.hpp"
 
 namespace gs = gimbalsim;

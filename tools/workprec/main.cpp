@@ -18,8 +18,8 @@
 #include <map>
 #include <sstream>
 
-#include "gimbalsim/dynamics/scene.hpp"
-#include "gimbalsim/io/stop_signal.hpp"
+#include "gimbalsim/scene/scene.hpp"
+#include "gimbalsim/program/stop_signal.hpp"
 #include "workprec.hpp"
 #ifdef GIMBALSIM_HAVE_MUJOCO
 #include "mujoco_peer.hpp"
@@ -167,7 +167,7 @@ int main(int argc, char** argv) {
     Scene base;
     try {
       base = loadScene(path, base_sets);
-    } catch (const SceneError& e) {
+    } catch (const InputError& e) {
       std::cerr << "scene " << scene << " refused:\n";
       for (const auto& p : e.problems()) std::cerr << "  " << p << "\n";
       return 2;
@@ -191,7 +191,7 @@ int main(int argc, char** argv) {
     } else {
       std::printf("%.2f s CPU\n", ref.cpu_seconds);
     }
-    if (base.model.clearance) {
+    if (base.model.clearance_joint) {
       std::printf("  reference peak contact force %.6g N (sampled every %g s); that pass and the row pass "
                   "(stops every %g s) agree in boresight to %.2e rad at the rows\n",
                   ref.rows.peak_contact, ref.peak_dt, base.run.output_interval, ref.self_consistency);
@@ -205,7 +205,7 @@ int main(int argc, char** argv) {
     }
 
     for (const Policy& pol : policies) {
-      if (pol.contact_only && !base.model.clearance) continue;
+      if (pol.contact_only && !base.model.clearance_joint) continue;
       std::vector<std::pair<double, std::string>> sweep;  // (h, sweep value)
       if (pol.sweep_key.empty()) {
         for (double h : steps) sweep.emplace_back(h, "");
@@ -237,7 +237,7 @@ int main(int argc, char** argv) {
         Scene sc;
         try {
           sc = loadScene(path, sets);
-        } catch (const SceneError& e) {
+        } catch (const InputError& e) {
           p.note = "refused: " + join(e.problems(), "; ");
           points.push_back(p);
           printPoint(p);
@@ -265,7 +265,7 @@ int main(int argc, char** argv) {
     }
 
 #ifdef GIMBALSIM_HAVE_MUJOCO
-    if (!no_mujoco && !base.model.clearance) {
+    if (!no_mujoco && !base.model.clearance_joint) {
       for (Point& p : mujocoPoints(base, ref.rows, steps, repeats)) {
         p.scene = scene;
         points.push_back(p);

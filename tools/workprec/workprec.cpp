@@ -15,7 +15,7 @@
 #include <stdexcept>
 
 #include "gimbalsim/dynamics/integrator.hpp"
-#include "gimbalsim/dynamics/key_registry.hpp"
+#include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/dynamics/reference_integrator.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/io/output_file.hpp"
@@ -132,7 +132,7 @@ Trajectory rowsOf(const Scene& sc, IntegratorKind kind) {
   tr.impacts = res.stats.impacts;
   // For the clearance joint joint2_force is the contact force, tracked at
   // every sub-step as well as at the rows.
-  tr.peak_contact = m.clearance ? res.peak_joint2_force : 0.0;
+  tr.peak_contact = m.clearance_joint ? res.peak_joint2_force : 0.0;
   tr.momentum_drift_rel =
       m.floating_base && res.momentum_scale > 0.0 ? res.max_drift_angular / res.momentum_scale : kNaN;
   return tr;

@@ -18,8 +18,8 @@
 #include "gimbalsim/controllers/pid.hpp"
 #include "gimbalsim/dynamics/run_spec.hpp"
 #include "gimbalsim/dynamics/step_result.hpp"
-#include "gimbalsim/firmware/fault_schedule.hpp"
-#include "gimbalsim/firmware/messages.hpp"
+#include "gimbalsim/firmware_sim/fault_schedule.hpp"
+#include "gimbalsim/contract/messages.hpp"
 
 namespace gimbalsim::controllers {
 
@@ -27,7 +27,7 @@ namespace gimbalsim::controllers {
 struct Answer {
   Measurement meas;      ///< what update() saw
   ControlOutput out;     ///< what it computed
-  firmware::Command cmd; ///< the command answering the status
+  contract::Command cmd; ///< the command answering the status
   MonitorFlags flags;    ///< what the fault monitor saw, and whether the command is held or safe
 };
 
@@ -43,15 +43,15 @@ struct Answer {
 /// att.seq == st.seq (the same tick); otherwise the gyro sample counts as
 /// missing (the previous rate is held, ControllerState::gyro_missing) and no
 /// star sample is used. next_seq is the caller's counter (start at 0). No allocation.
-Answer answerStatus(const ControllerConfig& c, ControllerState& s, const firmware::Status& st,
-                    const firmware::Attitude& att, std::int64_t& next_seq) noexcept;
+Answer answerStatus(const ControllerConfig& c, ControllerState& s, const contract::Status& st,
+                    const contract::Attitude& att, std::int64_t& next_seq) noexcept;
 
 /// Keeps an attitude message (every one received, also while no status
 /// comes) in s.attitudes; answerStatus() notes the one it is given too.
-void noteAttitude(ControllerState& s, const firmware::Attitude& att) noexcept;
+void noteAttitude(ControllerState& s, const contract::Attitude& att) noexcept;
 
 /// The controller's view of an attitude message of tick seq (see answerStatus).
-AttitudeMeasurement attitudeMeasurement(const firmware::Attitude& att, std::int64_t seq) noexcept;
+AttitudeMeasurement attitudeMeasurement(const contract::Attitude& att, std::int64_t seq) noexcept;
 
 /// One control tick, for logs. ref is the joint reference tracked (inertial
 /// mode: the IK's), so joint errors are tracking errors.

@@ -1,7 +1,7 @@
 // Controller configuration files (YAML): gains, limits, control period and the
 // target profile in one file (controllers/config/default.yaml), with
 // `--set key=value` overrides. At the edge: parsing and validation here, never
-// in update(). The keys are a KeyTable (gimbalsim/dynamics/key_registry.hpp),
+// in update(). The keys are a KeyTable (gimbalsim/input/key_registry.hpp),
 // loaded like the scene keys: errors name the file, line and key.
 #pragma once
 
@@ -9,15 +9,15 @@
 #include <vector>
 
 #include "gimbalsim/controllers/pid.hpp"
-#include "gimbalsim/dynamics/key_registry.hpp"
-#include "gimbalsim/dynamics/scene.hpp"  // SceneError (the list of problems)
+#include "gimbalsim/input/key_registry.hpp"
+#include "gimbalsim/input/input_error.hpp"
 
 namespace gimbalsim::controllers {
 
 /// Refusal of a controller configuration: every problem, each naming key and place.
-class ConfigError : public SceneError {
+class ConfigError : public InputError {
  public:
-  using SceneError::SceneError;
+  using InputError::InputError;
 };
 
 /// Loads and validates a controller configuration; `overrides` are "key=value"

@@ -86,7 +86,7 @@ struct ControllerConfig {
   MonitorConfig monitor;                 ///< what counts as a stale status or a suspect encoder (fault_monitor.hpp)
 };
 
-/// The base attitude sensors of the same tick (firmware::Attitude, as the controller uses it).
+/// The base attitude sensors of the same tick (contract::Attitude, as the controller uses it).
 struct AttitudeMeasurement {
   bool gyro_valid = true;          ///< false: no gyro sample this period (the previous rate is held)
   Vec3 gyro = Vec3::Zero();        ///< rate gyro, base frame, bias included [rad/s]

@@ -22,27 +22,6 @@ enum class FrictionLaw : std::uint8_t { None, Coulomb, Ambrosio, CoulombStick };
 enum class SubstepPolicy : std::uint8_t { Fixed, Adaptive };
 enum class JointKind : std::uint8_t { Revolute, Prismatic };
 
-/// Compile-time shape of a scene. A variant without a floating base,
-/// clearance or friction compiles none of their code.
-template <bool Floating, bool Clearance, bool Friction>
-struct Variant {
-  static_assert(Clearance || !Friction, "friction needs the clearance joint");
-  static constexpr bool kFloating = Floating;
-  static constexpr bool kClearance = Clearance;
-  static constexpr bool kFriction = Friction;
-  static constexpr int NB = Floating ? 6 : 0;    ///< base velocity coordinates
-  static constexpr int NJ = Clearance ? 4 : 2;   ///< 1-dof joints of the chain
-  static constexpr int NV = NB + NJ;             ///< velocity coordinates
-  static constexpr int NQ = (Floating ? 7 : 0) + NJ;  ///< position coordinates
-};
-
-using FixedIdeal = Variant<false, false, false>;
-using FixedClearance = Variant<false, true, false>;
-using FixedClearanceFriction = Variant<false, true, true>;
-using FloatingIdeal = Variant<true, false, false>;
-using FloatingClearance = Variant<true, true, false>;
-using FloatingClearanceFriction = Variant<true, true, true>;
-
 /// Rigid body inertial parameters.
 struct BodyParams {
   double mass = 1.0;                  ///< [kg]
@@ -110,7 +89,7 @@ struct Model {
 
   // ---- structure (picks the Variant) ----
   bool floating_base = true;
-  bool clearance = false;
+  bool clearance_joint = false;  ///< joint 2 with clearance (else ideal); the size is contact.clearance
 
   // ---- bodies ----
   BodyParams base;    ///< base frame origin is the base centre of mass (com must be 0)

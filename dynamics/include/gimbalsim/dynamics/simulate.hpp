@@ -12,28 +12,9 @@
 #include "gimbalsim/dynamics/model.hpp"
 #include "gimbalsim/dynamics/observables.hpp"
 #include "gimbalsim/dynamics/run_spec.hpp"
+#include "gimbalsim/dynamics/variant.hpp"
 
 namespace gimbalsim {
-
-/// Which compiled variant a model runs as.
-std::string variantName(const Model& m);
-/// Friction code is compiled in only when it can act.
-inline bool frictionActive(const Model& m) {
-  return m.clearance && m.contact.friction != FrictionLaw::None && m.contact.mu > 0.0;
-}
-
-/// Calls f with a default-constructed Variant tag matching the model.
-template <class F>
-decltype(auto) dispatchVariant(const Model& m, F&& f) {
-  if (m.floating_base) {
-    if (!m.clearance) return f(FloatingIdeal{});
-    if (frictionActive(m)) return f(FloatingClearanceFriction{});
-    return f(FloatingClearance{});
-  }
-  if (!m.clearance) return f(FixedIdeal{});
-  if (frictionActive(m)) return f(FixedClearanceFriction{});
-  return f(FixedClearance{});
-}
 
 /// Names of the q and v coordinates of a variant (for diagnostics and output).
 std::vector<std::string> coordinateNamesQ(const Model& m);

@@ -2,7 +2,7 @@
 // a copy is a checkpoint (everything that changes future results is here).
 #pragma once
 
-#include "gimbalsim/dynamics/model.hpp"
+#include "gimbalsim/dynamics/variant.hpp"
 #include "gimbalsim/dynamics/run_spec.hpp"
 
 namespace gimbalsim {

@@ -1,0 +1,317 @@
+// One key registry for the YAML files the programs read (scene files,
+// controller configurations): a KeyTable<Target> lists every key with its
+// type, unit, check, default and meaning, and binds it to a field of Target.
+// The loaders, `gimbalsim keys`, `pointing_controller --keys` and the README
+// key tables all come from one. Defaults are read from a default-constructed
+// Target: the struct initializers are the only place they are written.
+//
+// Loading (loadKeys): the YAML text's nested sections are flattened to dotted
+// keys with their file:line:column, then the `--set key=value` overrides
+// (place "--set #k 'key=value'") are laid over them; every key given is
+// converted and set in table order, every key's own check is run on the
+// result (given or default), and if all passed, the table's validate() checks
+// across keys. Every problem is collected, each naming place and key.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "gimbalsim/input/input_error.hpp"
+
+namespace YAML {
+class Node;
+}
+
+namespace gimbalsim {
+
+using Mat3 = Eigen::Matrix3d;  // the same alias as the dynamics' (spatial.hpp)
+
+/// A key as the listings and the README show it.
+struct KeyInfo {
+  std::string key, type, unit, check, default_value, meaning;
+};
+
+// ---- converters from a YAML value (throw ConvertError with the reason) ----
+struct ConvertError {
+  std::string msg;
+};
+double asNumber(const YAML::Node& n);  ///< finite
+int asInt(const YAML::Node& n);        ///< whole, |x| <= 1e9
+/// A list of N numbers; `expected` names the shape in the refusal ("expected <it>").
+template <int N>
+Eigen::Matrix<double, N, 1> asVector(const YAML::Node& n, const char* expected = nullptr);
+/// [Ixx, Iyy, Izz], [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] or a 3x3 list of lists.
+Mat3 asInertia(const YAML::Node& n);
+std::string asString(const YAML::Node& n);
+/// Index of the name given among `names`.
+std::size_t asChoice(const YAML::Node& n, const std::vector<std::string>& names);
+
+// ---- formatting: what --set reads back exactly ----
+std::string formatNumber(double x);                ///< shortest round trip (std::to_chars)
+std::string formatList(std::span<const double> v);  ///< "[a, b, c]"
+std::string formatInertia(const Mat3& I);           ///< diagonal, 6-list or 3x3, as asInertia reads it
+std::string join(const std::vector<std::string>& parts, const std::string& sep);
+
+/// A key's own check, on every component of its value.
+struct Check {
+  std::string rule;  ///< in words for the tables ("> 0", "in (0, 1]"); "" = none
+  std::string says;  ///< the refusal; "" = "must be <rule>"
+  std::function<bool(std::span<const double>)> holds;
+
+  Check saying(std::string s) const {
+    Check c = *this;
+    c.says = std::move(s);
+    return c;
+  }
+  std::string refusal() const { return says.empty() ? "must be " + rule : says; }
+};
+Check greater(double lo);                                     ///< "> lo"
+Check atLeast(double lo);                                     ///< ">= lo"
+Check interval(char open, double lo, double hi, char close);  ///< "in (lo, hi]" etc.
+Check nonZero();                                              ///< |v| >= 1e-12
+Check positiveDefinite();                                     ///< a symmetric positive definite 3x3
+
+/// Names for a table's documents in messages.
+struct TableWords {
+  std::string document;  ///< "a scene": "<origin>: a scene must be a mapping of sections"
+  std::string file;      ///< "scene file": "<path>: cannot open scene file"
+  std::string see;       ///< where keys are listed: "unknown key 'x' (see `gimbalsim keys`)"
+  std::string section;   ///< "" = the whole document; else only this section is read, the rest ignored
+};
+
+/// The values given for a table's keys (the document's leaves, then the
+/// --set overrides), each with its place, and the problems found so far.
+class Given {
+ public:
+  struct Place;
+  /// keys: (key, alternative key or "") in table order. Two alternative keys
+  /// set one field: a --set of one drops the other, giving both is refused.
+  Given(const TableWords& words, const std::vector<std::pair<std::string, std::string>>& keys,
+        const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides);
+  ~Given();
+  Given(const Given&) = delete;
+  Given& operator=(const Given&) = delete;
+
+  /// The document was not read (not YAML, not a mapping): nothing else is checked.
+  bool unreadable() const { return unreadable_; }
+  bool has(const std::string& key) const;
+  /// Calls set(value) if key was given; a ConvertError is a problem at its place.
+  void apply(const std::string& key, const std::function<void(const YAML::Node&)>& set);
+  /// "<place>: key '<key>': <msg>", the place where key was given (else where
+  /// its alternative was, named so; else "<origin>: (default of <key>)").
+  void refuse(const std::string& key, const std::string& msg);
+  void warn(const std::string& key, const std::string& msg);
+
+  std::vector<Problem> problems;
+  std::vector<std::string> warnings;
+
+ private:
+  Problem problemAt(const std::string& key, const std::string& msg) const;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  bool unreadable_ = false;
+};
+
+/// One key bound to a field of Target.
+template <class Target>
+struct Key {
+  Key() = default;
+  Key(std::string k, std::string t, std::string u, std::string c, std::string m)
+      : key(std::move(k)), type(std::move(t)), unit(std::move(u)), check(std::move(c)), meaning(std::move(m)) {}
+  std::string key, type, unit, check, meaning;
+  std::function<void(Target&, const YAML::Node&)> set;  ///< throws ConvertError
+  std::function<std::string(const Target&)> get;       ///< value as --set reads it; none for derived keys
+  std::function<std::string(const Target&)> refusal;   ///< why `check` fails, "" if it holds; none if no check
+  std::string alternative;                             ///< another key setting the same field
+
+  Key alternativeTo(std::string other) const {
+    Key k = *this;
+    k.alternative = std::move(other);
+    return k;
+  }
+};
+
+template <class Target>
+struct KeyTable {
+  TableWords words;
+  std::vector<Key<Target>> keys;
+  /// Checks across keys, run when every key passed its own check.
+  std::function<void(const Target&, Given&)> validate;
+
+  /// Every key, its default read from Target{}.
+  std::vector<KeyInfo> info() const {
+    const Target d{};
+    std::vector<KeyInfo> out;
+    for (const auto& k : keys) out.push_back({k.key, k.type, k.unit, k.check, k.get ? k.get(d) : "", k.meaning});
+    return out;
+  }
+  /// "key=value" for every key with a value, as --set reads them back.
+  std::vector<std::string> values(const Target& t) const {
+    std::vector<std::string> out;
+    for (const auto& k : keys) {
+      if (k.get) out.push_back(k.key + "=" + k.get(t));
+    }
+    return out;
+  }
+};
+
+/// Loads YAML text and overrides onto a default Target; throws Error(problems).
+template <class Error, class Target>
+Target loadKeys(const KeyTable<Target>& table, const std::string& yaml, const std::string& origin,
+                const std::vector<std::string>& overrides, std::vector<std::string>* warnings = nullptr) {
+  std::vector<std::pair<std::string, std::string>> names;
+  for (const auto& k : table.keys) names.emplace_back(k.key, k.alternative);
+  Given given(table.words, names, yaml, origin, overrides);
+  if (given.unreadable()) throw Error(given.problems);
+  Target t{};
+  for (const auto& k : table.keys) given.apply(k.key, [&](const YAML::Node& n) { k.set(t, n); });
+  for (const auto& k : table.keys) {
+    if (!k.refusal) continue;
+    if (const std::string why = k.refusal(t); !why.empty()) given.refuse(k.key, why);
+  }
+  if (given.problems.empty() && table.validate) table.validate(t, given);
+  if (!given.problems.empty()) throw Error(given.problems);
+  if (warnings) *warnings = std::move(given.warnings);
+  return t;
+}
+
+/// What a document (file or --set value) may hold: checked on the parser's
+/// events before yaml-cpp builds a tree, because yaml-cpp 0.7 aborts or
+/// recurses without end on some inputs (a key that is not a scalar, an alias
+/// to its own anchor) and expands nested aliases exponentially. The scene
+/// files, controller configurations and profiles need none of what is refused.
+struct InputBounds {
+  static constexpr long long kMaxFileBytes = 1 << 20;     ///< a file larger than 1 MiB is refused unread
+  static constexpr std::size_t kMaxSetBytes = 64 << 10;   ///< one --set argument: 64 KiB
+  static constexpr std::size_t kMaxOverrides = 10000;     ///< --set arguments per run
+  static constexpr int kMaxDepth = 16;                    ///< nested mappings and lists
+  static constexpr long long kMaxNodes = 100000;          ///< keys, values and list items in a document
+  static constexpr std::size_t kMaxScalarBytes = 4096;    ///< one key or value
+  // Anchors (&a), aliases (*a) and more than one document are refused: no expansion to bound.
+};
+
+/// A YAML document that is not a key table (workprec's policy list) under the
+/// same bounds and prescan as the tables; false and the refusal (its place) if not.
+bool loadDocument(const std::string& text, const std::string& origin, YAML::Node& out, Problem& why);
+
+/// The file's text; false (and why, naming the cause) if it is not a regular,
+/// readable file of at most InputBounds::kMaxFileBytes. Never blocks on a FIFO
+/// or reads a device.
+bool readFile(const std::string& path, std::string& text, std::string* why = nullptr);
+
+/// Key listings: aligned columns, or the Markdown table of the READMEs.
+std::string keysText(const std::vector<KeyInfo>& keys);
+std::string keysMarkdown(const std::vector<KeyInfo>& keys);
+
+// ---- building tables ----
+
+/// Field accessor for the builders: member m of what part(target) returns.
+template <class Part, class M>
+auto field(Part part, M m) {
+  return [part, m](auto& t) -> auto& { return part(t).*m; };
+}
+/// Member m of the target itself.
+template <class M>
+auto field(M m) {
+  return [m](auto& t) -> auto& { return t.*m; };
+}
+
+/// Key builders for a Target; `f` is a field accessor (field() or a lambda
+/// `[](auto& t) -> auto& { return ...; }`).
+template <class Target>
+struct Keys {
+  using K = Key<Target>;
+
+  template <class F, class Conv, class Show>
+  static K bind(std::string key, std::string type, std::string unit, std::string meaning, F f, Conv conv,
+                Show show, const Check& check) {
+    K k(std::move(key), std::move(type), std::move(unit), check.rule, std::move(meaning));
+    k.set = [f, conv](Target& t, const YAML::Node& n) { f(t) = conv(n); };
+    k.get = [f, show](const Target& t) { return std::string(show(f(t))); };
+    if (check.holds) {
+      k.refusal = [f, show, check](const Target& t) -> std::string {
+        const auto& v = f(t);
+        return holds(check, v) ? std::string() : check.refusal() + ", got " + show(v);
+      };
+    }
+    return k;
+  }
+  /// check on the components of a number, vector or matrix (other values have no check).
+  template <class V>
+  static bool holds(const Check& check, const V& v) {
+    if constexpr (std::is_arithmetic_v<V>) {
+      const double x = static_cast<double>(v);
+      return check.holds(std::span<const double>(&x, 1));
+    } else if constexpr (std::is_base_of_v<Eigen::MatrixBase<V>, V>) {
+      return check.holds(std::span<const double>(v.data(), static_cast<std::size_t>(v.size())));
+    } else {
+      return true;
+    }
+  }
+  template <class F>
+  static K number(std::string key, std::string unit, std::string meaning, F f, const Check& c = {}) {
+    return bind(std::move(key), "number", std::move(unit), std::move(meaning), f, asNumber, formatNumber, c);
+  }
+  template <class F>
+  static K integer(std::string key, std::string unit, std::string meaning, F f, const Check& c = {}) {
+    return bind(std::move(key), "int", std::move(unit), std::move(meaning), f, asInt,
+                [](long long x) { return std::to_string(x); }, c);
+  }
+  template <int N, class F>
+  static K vector(std::string key, std::string unit, std::string meaning, F f, const Check& c = {},
+                  const char* expected = nullptr) {
+    return bind(
+        std::move(key), "vec" + std::to_string(N), std::move(unit), std::move(meaning), f,
+        [expected](const YAML::Node& n) { return asVector<N>(n, expected); },
+        [](const Eigen::Matrix<double, N, 1>& v) { return formatList({v.data(), static_cast<std::size_t>(N)}); },
+        c);
+  }
+  template <class F>
+  static K inertia(std::string key, std::string meaning, F f) {
+    return bind(std::move(key), "inertia", "kg m^2", std::move(meaning), f, asInertia, formatInertia,
+                positiveDefinite().saying("inertia must be symmetric positive definite"));
+  }
+  template <class F>
+  static K text(std::string key, std::string meaning, F f) {
+    return bind(std::move(key), "string", "", std::move(meaning), f, asString,
+                [](const std::string& s) { return s; }, Check{});
+  }
+  template <class E, class F>
+  static K choice(std::string key, std::string meaning, F f, std::vector<std::pair<std::string, E>> names) {
+    std::vector<std::string> words;
+    for (const auto& nv : names) words.push_back(nv.first);
+    return bind(
+        std::move(key), join(words, "|"), "", std::move(meaning), f,
+        [names, words](const YAML::Node& n) { return names[asChoice(n, words)].second; },
+        [names](E e) {
+          for (const auto& [name, value] : names) {
+            if (value == e) return name;
+          }
+          return std::string("?");
+        },
+        Check{});
+  }
+};
+
+/// Appends the keys of a part of Outer (part(outer) -> Inner&) under `prefix`.
+template <class Outer, class Inner, class Part>
+void embed(std::vector<Key<Outer>>& out, const std::string& prefix, const std::vector<Key<Inner>>& inner,
+           Part part) {
+  for (const Key<Inner>& k : inner) {
+    Key<Outer> o(prefix + k.key, k.type, k.unit, k.check, k.meaning);
+    o.set = [set = k.set, part](Outer& t, const YAML::Node& n) { set(part(t), n); };
+    if (k.get) o.get = [get = k.get, part](const Outer& t) { return get(part(t)); };
+    if (k.refusal) o.refusal = [r = k.refusal, part](const Outer& t) { return r(part(t)); };
+    if (!k.alternative.empty()) o.alternative = prefix + k.alternative;
+    out.push_back(std::move(o));
+  }
+}
+
+}  // namespace gimbalsim

@@ -1,0 +1,143 @@
+#include "bounded_yaml.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <yaml-cpp/eventhandler.h>
+
+#include <cerrno>
+#include <cstring>
+#include <sstream>
+#include <vector>
+
+#include "gimbalsim/input/key_registry.hpp"
+
+namespace gimbalsim {
+
+namespace {
+
+/// Walks the parser's events (no tree, no alias expansion) and throws
+/// PrescanRefusal at the first thing InputBounds refuses. yaml-cpp's parser
+/// recurses per nesting level; refusing at kMaxDepth bounds its stack too.
+class Prescan : public YAML::EventHandler {
+ public:
+  void OnDocumentStart(const YAML::Mark& mk) override {
+    if (++documents_ > 1) refuse(mk, "more than one YAML document ('---'); give one");
+  }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& mk, YAML::anchor_t a) override { node(mk, a, false, ""); }
+  void OnAlias(const YAML::Mark& mk, YAML::anchor_t) override {
+    refuse(mk, "aliases (*name) are not accepted: write the value out");
+  }
+  void OnScalar(const YAML::Mark& mk, const std::string&, YAML::anchor_t a, const std::string& v) override {
+    if (v.size() > InputBounds::kMaxScalarBytes) {
+      refuse(mk, "a value of " + std::to_string(v.size()) + " bytes (at most " +
+                     std::to_string(InputBounds::kMaxScalarBytes) + ")");
+    }
+    node(mk, a, true, v);
+  }
+  void OnSequenceStart(const YAML::Mark& mk, const std::string&, YAML::anchor_t a, YAML::EmitterStyle::value) override {
+    open(mk, a, false);
+  }
+  void OnSequenceEnd() override { frames_.pop_back(); }
+  void OnMapStart(const YAML::Mark& mk, const std::string&, YAML::anchor_t a, YAML::EmitterStyle::value) override {
+    open(mk, a, true);
+  }
+  void OnMapEnd() override { frames_.pop_back(); }
+  void OnAnchor(const YAML::Mark& mk, const std::string&) override {
+    refuse(mk, "anchors (&name) are not accepted: write the value out");
+  }
+
+ private:
+  struct Frame {
+    bool map;
+    long long entries = 0;  ///< nodes seen inside; in a mapping, even = key
+    std::string key;        ///< the mapping's current key
+  };
+  [[noreturn]] void refuse(const YAML::Mark& mk, const std::string& msg) const {
+    std::string path;
+    for (const Frame& f : frames_) {
+      if (f.map && !f.key.empty()) path += (path.empty() ? "" : ".") + f.key;
+    }
+    throw PrescanRefusal{mk, path, msg};
+  }
+  /// Every node: counted, anchors refused, mapping keys must be non-empty scalars.
+  void node(const YAML::Mark& mk, YAML::anchor_t anchor, bool scalar, const std::string& value) {
+    if (anchor != YAML::NullAnchor) refuse(mk, "anchors (&name) are not accepted: write the value out");
+    if (++nodes_ > InputBounds::kMaxNodes) {
+      refuse(mk, "more than " + std::to_string(InputBounds::kMaxNodes) + " keys, values and list items");
+    }
+    if (frames_.empty()) return;
+    Frame& f = frames_.back();
+    if (f.map && f.entries % 2 == 0) {
+      if (!scalar) refuse(mk, "a mapping key must be a plain name, not a list or mapping");
+      if (value.empty()) refuse(mk, "a mapping key must not be empty");
+      f.key = value;
+    }
+    ++f.entries;
+  }
+  void open(const YAML::Mark& mk, YAML::anchor_t anchor, bool map) {
+    node(mk, anchor, false, "");
+    if (static_cast<int>(frames_.size()) >= InputBounds::kMaxDepth) {
+      refuse(mk, "nested deeper than " + std::to_string(InputBounds::kMaxDepth) + " levels");
+    }
+    frames_.push_back({map, 0, ""});
+  }
+  std::vector<Frame> frames_;
+  long long nodes_ = 0;
+  int documents_ = 0;
+};
+
+}  // namespace
+
+YAML::Node loadBounded(const std::string& text) {
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  Prescan scan;
+  while (parser.HandleNextDocument(scan)) {
+  }
+  return YAML::Load(text);
+}
+
+bool readFile(const std::string& path, std::string& text, std::string* why) {
+  auto fail = [&](const std::string& w) {
+    if (why) *why = w;
+    return false;
+  };
+  // O_NONBLOCK: opening a FIFO without a writer must not wait; fstat then refuses it.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+  if (fd < 0) return fail(std::strerror(errno));
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) return fail(std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) {
+    return fail(S_ISDIR(st.st_mode)    ? "a directory, not a regular file"
+                : S_ISFIFO(st.st_mode) ? "a FIFO, not a regular file"
+                : S_ISCHR(st.st_mode)  ? "a character device, not a regular file"
+                                       : "not a regular file");
+  }
+  if (st.st_size > InputBounds::kMaxFileBytes) {
+    return fail(std::to_string(st.st_size) + " bytes, larger than " + std::to_string(InputBounds::kMaxFileBytes));
+  }
+  // Read at most one byte past the bound: a file that grew since fstat is refused too.
+  std::string buf(static_cast<std::size_t>(InputBounds::kMaxFileBytes) + 1, '\0');
+  std::size_t got = 0;
+  while (got < buf.size()) {
+    const ssize_t n = ::read(fd, buf.data() + got, buf.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return fail(std::strerror(errno));
+    if (n == 0) break;
+    got += static_cast<std::size_t>(n);
+  }
+  if (got > static_cast<std::size_t>(InputBounds::kMaxFileBytes)) {
+    return fail("larger than " + std::to_string(InputBounds::kMaxFileBytes) + " bytes");
+  }
+  buf.resize(got);
+  text = std::move(buf);
+  return true;
+}
+
+}  // namespace gimbalsim

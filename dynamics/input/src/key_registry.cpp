@@ -1,0 +1,398 @@
+#include "gimbalsim/input/key_registry.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "bounded_yaml.hpp"
+
+namespace gimbalsim {
+
+// ---- converters ----
+
+double asNumber(const YAML::Node& n) {
+  if (!n.IsScalar()) throw ConvertError{"expected a number"};
+  double x;
+  if (!YAML::convert<double>::decode(n, x)) throw ConvertError{"expected a number, got '" + n.Scalar() + "'"};
+  if (!std::isfinite(x)) throw ConvertError{"must be finite, got '" + n.Scalar() + "'"};
+  return x;
+}
+
+int asInt(const YAML::Node& n) {
+  const double x = asNumber(n);
+  if (x != std::floor(x) || std::fabs(x) > 1e9) throw ConvertError{"expected a whole number"};
+  return static_cast<int>(x);
+}
+
+template <int N>
+Eigen::Matrix<double, N, 1> asVector(const YAML::Node& n, const char* expected) {
+  if (!n.IsSequence() || static_cast<int>(n.size()) != N) {
+    throw ConvertError{expected ? std::string("expected ") + expected
+                                : "expected a list of " + std::to_string(N) + " numbers"};
+  }
+  Eigen::Matrix<double, N, 1> v;
+  for (int i = 0; i < N; ++i) v(i) = asNumber(n[i]);
+  return v;
+}
+template Eigen::Vector2d asVector<2>(const YAML::Node&, const char*);
+template Eigen::Vector3d asVector<3>(const YAML::Node&, const char*);
+
+Mat3 asInertia(const YAML::Node& n) {
+  Mat3 I = Mat3::Zero();
+  if (n.IsSequence() && n.size() == 3 && n[0].IsSequence()) {
+    for (int r = 0; r < 3; ++r) {
+      if (!n[r].IsSequence() || n[r].size() != 3) throw ConvertError{"expected a 3x3 matrix"};
+      for (int c = 0; c < 3; ++c) I(r, c) = asNumber(n[r][c]);
+    }
+    return I;
+  }
+  if (n.IsSequence() && n.size() == 3) {
+    I.diagonal() = asVector<3>(n);
+    return I;
+  }
+  if (n.IsSequence() && n.size() == 6) {
+    const auto v = asVector<6>(n);
+    I << v(0), v(3), v(4), v(3), v(1), v(5), v(4), v(5), v(2);
+    return I;
+  }
+  throw ConvertError{"expected [Ixx, Iyy, Izz], [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] or a 3x3 matrix"};
+}
+
+std::string asString(const YAML::Node& n) {
+  if (!n.IsScalar()) throw ConvertError{"expected a string"};
+  return n.Scalar();
+}
+
+std::size_t asChoice(const YAML::Node& n, const std::vector<std::string>& names) {
+  const std::string s = n.IsScalar() ? n.Scalar() : std::string();
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (s == names[i]) return i;
+  }
+  throw ConvertError{"expected one of " + join(names, " | ") + (s.empty() ? "" : ", got '" + s + "'")};
+}
+
+// ---- formatting ----
+
+std::string formatNumber(double x) {
+  char b[32];
+  const auto r = std::to_chars(b, b + sizeof b, x);
+  return std::string(b, r.ptr);
+}
+
+std::string formatList(std::span<const double> v) {
+  std::vector<std::string> parts;
+  for (double x : v) parts.push_back(formatNumber(x));
+  return "[" + join(parts, ", ") + "]";
+}
+
+std::string formatInertia(const Mat3& I) {
+  if (I.isDiagonal(0.0)) {
+    const Eigen::Vector3d d = I.diagonal();
+    return formatList({d.data(), 3});
+  }
+  if (I == I.transpose()) {
+    const double v[6] = {I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2)};
+    return formatList(v);
+  }
+  std::vector<std::string> rows;
+  for (int r = 0; r < 3; ++r) {
+    const Eigen::Vector3d row = I.row(r).transpose();
+    rows.push_back(formatList({row.data(), 3}));
+  }
+  return "[" + join(rows, ", ") + "]";
+}
+
+std::string join(const std::vector<std::string>& parts, const std::string& sep) {
+  std::string out;
+  for (std::size_t i = 0; i < parts.size(); ++i) out += (i ? sep : "") + parts[i];
+  return out;
+}
+
+// ---- checks ----
+
+namespace {
+Check each(std::string rule, std::function<bool(double)> ok) {
+  return {std::move(rule), "", [ok](std::span<const double> v) { return std::all_of(v.begin(), v.end(), ok); }};
+}
+}  // namespace
+
+Check greater(double lo) {
+  return each("> " + formatNumber(lo), [lo](double x) { return x > lo; });
+}
+
+Check atLeast(double lo) {
+  return each(">= " + formatNumber(lo), [lo](double x) { return x >= lo; });
+}
+
+Check interval(char open, double lo, double hi, char close) {
+  const std::string rule = "in " + std::string(1, open) + formatNumber(lo) + ", " + formatNumber(hi) + close;
+  return each(rule, [=](double x) { return (open == '(' ? x > lo : x >= lo) && (close == ')' ? x < hi : x <= hi); });
+}
+
+Check nonZero() {
+  return {"non-zero", "", [](std::span<const double> v) {
+            double s = 0.0;
+            for (double x : v) s += x * x;
+            return std::sqrt(s) >= 1e-12;
+          }};
+}
+
+Check positiveDefinite() {
+  return {"symmetric positive definite", "", [](std::span<const double> v) {
+            const Eigen::Map<const Mat3> I(v.data());
+            if (!I.isApprox(I.transpose(), 1e-12)) return false;
+            return Eigen::SelfAdjointEigenSolver<Mat3>(I).eigenvalues().minCoeff() > 0.0;
+          }};
+}
+
+// ---- the values given: one file reader, one --set parser ----
+
+/// Where a value was given: a file position or a --set index.
+struct Given::Place {
+  std::string file;          ///< origin; "" for --set
+  int line = 0, column = 0;  ///< 1-based; 0 = none
+  int set_index = 0;         ///< 1-based; 0 = not --set
+  std::string set_text;      ///< the --set argument
+
+  static Place inFile(const std::string& origin, int line = 0, int column = 0) {
+    Place p;
+    p.file = origin;
+    p.line = line;
+    p.column = column;
+    return p;
+  }
+  static Place inSet(int index, const std::string& text) {
+    Place p;
+    p.set_index = index;
+    p.set_text = text;
+    return p;
+  }
+
+  std::string str() const {
+    if (set_index > 0) return "--set #" + std::to_string(set_index) + " '" + set_text + "'";
+    if (line > 0) return file + ":" + std::to_string(line) + ":" + std::to_string(column);
+    return file;
+  }
+  /// "<place>: <msg>" as a Problem about `key`.
+  Problem problem(const std::string& key, const std::string& msg) const {
+    return {str() + ": " + msg, key, set_index > 0 ? "" : file, line, column, set_index};
+  }
+};
+
+namespace {
+struct Value {
+  YAML::Node node;
+  Given::Place where;
+};
+}  // namespace
+
+struct Given::Impl {
+  std::map<std::string, Value> values;
+  std::map<std::string, std::string> alternative;
+  std::string origin;
+};
+
+namespace {
+
+Given::Place place(const std::string& origin, const YAML::Mark& mk) {
+  if (mk.line < 0) return Given::Place::inFile(origin);
+  return Given::Place::inFile(origin, mk.line + 1, mk.column + 1);
+}
+
+/// Leaves of nested sections as "a.b" -> (value, place of its key); a key
+/// given twice is a problem at its second place (yaml-cpp keeps one silently).
+void flatten(const YAML::Node& n, const std::string& prefix, const std::string& origin,
+             std::map<std::string, Value>& out, std::vector<Problem>& problems) {
+  for (const auto& kv : n) {
+    const std::string full = (prefix.empty() ? "" : prefix + ".") + kv.first.Scalar();
+    if (kv.second.IsMap()) {
+      flatten(kv.second, full, origin, out, problems);
+    } else if (const auto [it, fresh] = out.try_emplace(full, Value{kv.second, place(origin, kv.first.Mark())});
+               !fresh) {
+      problems.push_back(place(origin, kv.first.Mark())
+                             .problem(full, "key '" + full + "': given twice (first at " + it->second.where.str() +
+                                                ")"));
+    }
+  }
+}
+
+}  // namespace
+
+Given::Given(const TableWords& words, const std::vector<std::pair<std::string, std::string>>& keys,
+             const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->origin = origin;
+  auto& values = impl_->values;
+  YAML::Node root;
+  if (Problem why; !loadDocument(yaml, origin, root, why)) {
+    problems.push_back(std::move(why));
+  } else if (root.IsMap()) {
+    flatten(root, "", origin, values, problems);
+  } else if (root.IsDefined() && !root.IsNull()) {
+    problems.push_back(Place::inFile(origin).problem("", words.document + " must be a mapping of sections"));
+  }
+  if (!problems.empty()) {
+    unreadable_ = true;
+    return;
+  }
+  std::set<std::string> known;
+  for (const auto& [key, alt] : keys) {
+    known.insert(key);
+    if (!alt.empty()) impl_->alternative[key] = alt;
+  }
+  auto unknown = [&](const Place& where, const std::string& key) {
+    problems.push_back(where.problem(key, "unknown key '" + key + "' (see " + words.see + ")"));
+  };
+  const std::string& only = words.section;
+  for (auto it = values.begin(); it != values.end();) {
+    if (!only.empty() && it->first != only && it->first.rfind(only + ".", 0) != 0) {
+      it = values.erase(it);  // another reader's section
+    } else if (known.count(it->first)) {
+      ++it;
+    } else {
+      unknown(it->second.where, it->first);
+      it = values.erase(it);
+    }
+  }
+  if (overrides.size() > InputBounds::kMaxOverrides) {
+    problems.push_back(Place::inSet(static_cast<int>(InputBounds::kMaxOverrides + 1), "")
+                           .problem("", "more than " + std::to_string(InputBounds::kMaxOverrides) + " --set values"));
+    return;
+  }
+  for (std::size_t i = 0; i < overrides.size(); ++i) {
+    const std::string& o = overrides[i];
+    if (o.size() > InputBounds::kMaxSetBytes) {
+      const Place where = Place::inSet(static_cast<int>(i + 1), o.substr(0, 40) + "...");
+      problems.push_back(where.problem("", "a --set value of " + std::to_string(o.size()) + " bytes (at most " +
+                                               std::to_string(InputBounds::kMaxSetBytes) + ")"));
+      continue;
+    }
+    const Place where = Place::inSet(static_cast<int>(i + 1), o);
+    const auto eq = o.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      problems.push_back(where.problem("", "expected key=value"));
+      continue;
+    }
+    const std::string key = o.substr(0, eq);
+    if (!known.count(key)) {
+      unknown(where, key);
+      continue;
+    }
+    try {
+      Value v{loadBounded(o.substr(eq + 1)), where};
+      if (auto a = impl_->alternative.find(key); a != impl_->alternative.end()) values.erase(a->second);
+      values[key] = std::move(v);  // a later --set of either alternative wins
+    } catch (const PrescanRefusal& r) {
+      problems.push_back(where.problem(key, "key '" + key + "': " + r.msg));
+    } catch (const YAML::Exception& e) {
+      problems.push_back(where.problem(key, "key '" + key + "': value is not valid YAML: " + e.msg));
+    } catch (const std::exception& e) {
+      problems.push_back(where.problem(key, "key '" + key + "': value not readable as YAML: " + e.what()));
+    }
+  }
+  std::set<std::string> seen;
+  for (const auto& [key, alt] : keys) {
+    if (seen.count(alt) && has(key) && has(alt)) {
+      problems.push_back(values[key].where.problem(key, "give either " + key + " or " + alt + ", not both"));
+    }
+    seen.insert(key);
+  }
+}
+
+Given::~Given() = default;
+
+bool Given::has(const std::string& key) const { return impl_->values.count(key) > 0; }
+
+void Given::apply(const std::string& key, const std::function<void(const YAML::Node&)>& set) {
+  const auto it = impl_->values.find(key);
+  if (it == impl_->values.end()) return;
+  try {
+    set(it->second.node);
+  } catch (const ConvertError& e) {
+    problems.push_back(it->second.where.problem(key, "key '" + key + "': " + e.msg));
+  } catch (const YAML::Exception& e) {
+    problems.push_back(it->second.where.problem(key, "key '" + key + "': " + e.msg));
+  }
+}
+
+Problem Given::problemAt(const std::string& key, const std::string& msg) const {
+  const auto& v = impl_->values;
+  if (const auto it = v.find(key); it != v.end()) return it->second.where.problem(key, "key '" + key + "': " + msg);
+  if (const auto a = impl_->alternative.find(key); a != impl_->alternative.end()) {
+    if (const auto it = v.find(a->second); it != v.end()) {
+      return it->second.where.problem(a->second, "key '" + a->second + "': " + msg);
+    }
+  }
+  return Place::inFile(impl_->origin).problem(key, "(default of " + key + "): key '" + key + "': " + msg);
+}
+
+void Given::refuse(const std::string& key, const std::string& msg) { problems.push_back(problemAt(key, msg)); }
+
+void Given::warn(const std::string& key, const std::string& msg) { warnings.push_back(problemAt(key, msg).text); }
+
+bool loadDocument(const std::string& text, const std::string& origin, YAML::Node& out, Problem& why) {
+  try {
+    out = loadBounded(text);
+    return true;
+  } catch (const PrescanRefusal& r) {
+    why = place(origin, r.mark).problem(r.key, (r.key.empty() ? "" : "key '" + r.key + "': ") + r.msg);
+  } catch (const YAML::Exception& e) {
+    why = place(origin, e.mark).problem("", "not valid YAML: " + e.msg);
+  } catch (const std::exception& e) {
+    why = Given::Place::inFile(origin).problem("", "not readable as YAML: " + std::string(e.what()));
+  }
+  return false;
+}
+
+// ---- listings ----
+
+namespace {
+std::vector<std::vector<std::string>> rows(const std::vector<KeyInfo>& keys) {
+  std::vector<std::vector<std::string>> out = {{"key", "type", "unit", "default", "check", "meaning"}};
+  for (const KeyInfo& k : keys) out.push_back({k.key, k.type, k.unit, k.default_value, k.check, k.meaning});
+  return out;
+}
+}  // namespace
+
+std::string keysText(const std::vector<KeyInfo>& keys) {
+  const auto table = rows(keys);
+  constexpr std::size_t kMaxWidth = 28;  // a longer cell pushes the rest of its row
+  std::vector<std::size_t> width(table[0].size(), 0);
+  for (const auto& row : table) {
+    for (std::size_t c = 0; c < row.size(); ++c) width[c] = std::max(width[c], std::min(row[c].size(), kMaxWidth));
+  }
+  std::string out;
+  for (const auto& row : table) {
+    std::string line;
+    for (std::size_t c = 0; c + 1 < row.size(); ++c) line += row[c] + std::string(std::max(width[c], row[c].size()) - row[c].size() + 2, ' ');
+    out += line + row.back() + "\n";
+  }
+  return out;
+}
+
+std::string keysMarkdown(const std::vector<KeyInfo>& keys) {
+  auto cell = [](const std::string& s) {
+    std::string e;
+    for (char ch : s) e += ch == '|' ? std::string("\\|") : std::string(1, ch);
+    return e;
+  };
+  auto code = [&](const std::string& s) {
+    std::string c;
+    if (!s.empty()) c.append("`").append(cell(s)).append("`");
+    return c;
+  };
+  const auto table = rows(keys);
+  std::string out = "| " + join(table[0], " | ") + " |\n|---|---|---|---|---|---|\n";
+  for (std::size_t r = 1; r < table.size(); ++r) {
+    const auto& k = table[r];
+    out += "| " + join({code(k[0]), cell(k[1]), cell(k[2]), code(k[3]), cell(k[4]), cell(k[5])}, " | ") + " |\n";
+  }
+  return out;
+}
+
+}  // namespace gimbalsim

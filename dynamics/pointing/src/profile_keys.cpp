@@ -1,0 +1,61 @@
+#include "gimbalsim/pointing/profile_keys.hpp"
+
+#include "gimbalsim/input/input_error.hpp"
+
+namespace gimbalsim::pointing {
+namespace {
+
+using P = TargetProfile;
+
+/// A pair (azimuth, elevation), refused as such when malformed.
+template <class F>
+Key<P> azEl(std::string key, std::string unit, std::string meaning, F f, const Check& check = {}) {
+  return Keys<P>::vector<2>(std::move(key), std::move(unit), std::move(meaning), f, check, "[azimuth, elevation]");
+}
+
+/// The profile keys as a controller configuration names them, reading only its `profile:` section.
+const KeyTable<P>& profileSection() {
+  static const KeyTable<P> table = [] {
+    KeyTable<P> t{{"a controller configuration", "profile file", "controllers/README.md", "profile"},
+                  {},
+                  profileKeys().validate};
+    embed(t.keys, "profile.", profileKeys().keys, [](auto& p) -> auto& { return p; });
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
+
+const KeyTable<P>& profileKeys() {
+  using K = Keys<P>;
+  static const KeyTable<P> table{
+      {"a target profile", "profile file", "controllers/README.md", ""},
+      {
+          azEl("start", "rad", "azimuth, elevation before the slew", field(&P::start)),
+          K::number("slew_start", "s", "time the slew begins", field(&P::slew_start), atLeast(0)),
+          azEl("slew_target", "rad", "azimuth, elevation at the slew's end", field(&P::slew_target)),
+          K::number("slew_time", "s", "minimum-jerk slew duration", field(&P::slew_time), greater(0)),
+          K::number("hold_time", "s", "hold at the slew target", field(&P::hold_time), atLeast(0)),
+          azEl("track_rate", "rad/s", "pass rate r of the tracked target", field(&P::track_rate)),
+          K::number("track_ramp_time", "s", "pass-rate ramp-in time constant T_r", field(&P::track_ramp_time),
+                    greater(0)),
+          azEl("track_amplitude", "rad", "nutation amplitude A", field(&P::track_amplitude)),
+          azEl("track_period", "s", "nutation period P", field(&P::track_period), greater(0)),
+      },
+      nullptr};
+  return table;
+}
+
+TargetProfile loadTargetProfileText(const std::string& yaml, const std::string& origin) {
+  return loadKeys<InputError>(profileSection(), yaml, origin, {});
+}
+
+TargetProfile loadTargetProfile(const std::string& path) {
+  std::string text;
+  std::string why;
+  if (!readFile(path, text, &why)) throw InputError(path + ": cannot open profile file: " + why);
+  return loadTargetProfileText(text, path);
+}
+
+}  // namespace gimbalsim::pointing

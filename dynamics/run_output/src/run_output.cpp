@@ -1,0 +1,87 @@
+#include "gimbalsim/run_output/run_output.hpp"
+
+#include <cstdio>
+
+namespace gimbalsim::io {
+
+std::string csvHeader() {
+  std::string h;
+  for (int i = 0; i < kNumColumns; ++i) h.append(i ? "," : "").append(kColumns[i]);
+  return h + "\n";
+}
+
+void appendCsvRow(std::string& out, std::span<const double, kNumColumns> row) {
+  char buf[32];
+  for (int i = 0; i < kNumColumns; ++i) {
+    if (i) out += ',';
+    const int n = std::snprintf(buf, sizeof buf, "%.12g", row[i]);
+    out.append(buf, static_cast<std::size_t>(n));
+  }
+  out += '\n';
+}
+
+namespace {
+/// x, or null when `present` is false.
+nlohmann::json valueOrNull(bool present, double x) {
+  return present ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
+}  // namespace
+
+nlohmann::json runSummary(const Model& m, const RunResult& r, const std::string& scene,
+                          const std::string& integrator_kind) {
+  using nlohmann::json;
+  const RunStats& st = r.stats;
+  auto named = [](const std::vector<std::string>& names, const std::vector<double>& values) {
+    json o;
+    for (size_t i = 0; i < values.size(); ++i) o[names[i]] = values[i];
+    return o;
+  };
+  json j = {
+      {"scene", scene},
+      {"name", m.name},
+      {"variant", variantName(m)},
+      {"status", r.ok ? "ok" : r.stop.kind == RunStop::Kind::Interrupted ? "interrupted" : "failed"},
+      {"t_end_s", r.t_end},
+      {"rows", r.rows},
+      {"impacts", st.impacts},
+      {"separations", st.separations},
+      {"peak_contact_force_N", st.peak_fn},
+      {"t_peak_contact_force_s", valueOrNull(st.peak_fn > 0, st.t_peak_fn)},
+      {"peak_joint2_force_N", r.peak_joint2_force},
+      {"t_peak_joint2_force_s", r.t_peak_joint2_force},
+      {"max_penetration_m", st.max_penetration},
+      // Continuous contact: the contact that began at the last onset lasted to the end.
+      {"continuous_contact_from_s",
+       valueOrNull(m.clearance_joint && r.in_contact_at_end && st.last_onset_time >= 0, st.last_onset_time)},
+      {"final_state",
+       {{"t", r.t_end}, {"q", named(coordinateNamesQ(m), r.final_q)}, {"v", named(coordinateNamesV(m), r.final_v)}}},
+      {"momentum_drift",
+       {{"linear_max_abs_Ns", r.max_drift_linear},
+        {"angular_max_abs_Nms", r.max_drift_angular},
+        {"angular_scale_Nms", r.momentum_scale},
+        {"angular_relative", r.momentum_scale > 0 ? r.max_drift_angular / r.momentum_scale : 0.0}}},
+      {"steps", st.steps},
+      {"substeps", st.substeps},
+      {"event_iterations", st.event_iterations},
+      {"max_substeps_in_a_step", st.max_substeps_in_step},
+      {"straddle_retries", st.straddle_retries},
+      {"adaptive_rejected_substeps", st.rejected_substeps},
+      {"adaptive_forced_substeps", st.forced_substeps},
+      {"min_impact_duration_s", valueOrNull(st.min_impact_duration > 0, st.min_impact_duration)},
+      {"wall_time_s", r.wall_seconds},
+      {"step_time_s", r.step_seconds},
+      {"integrator",
+       {{"kind", integrator_kind},
+        {"step_s", m.integrator.step},
+        {"substep_s", m.integrator.substep},
+        {"event_tol_s", m.integrator.event_tol}}}};
+  if (!r.ok) {
+    j["error"] = r.error;
+    // What stopped the run, as codes: the scene key of the limit ("" when no
+    // setting names it), the step status and the time.
+    j["stop"] = {{"key", r.stop.key}, {"step_status", describe(r.stop.step.status)}, {"time_s", r.stop.time}};
+  }
+  return j;
+}
+
+}  // namespace gimbalsim::io

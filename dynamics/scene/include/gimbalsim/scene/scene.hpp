@@ -1,0 +1,40 @@
+// Scene files (YAML) -> validated Scene (Model + RunSpec), through the scene
+// key table (key_registry.hpp). At the edge: parsing, validation and
+// error messages live here, never in the step.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gimbalsim/input/input_error.hpp"
+#include "gimbalsim/input/key_registry.hpp"
+#include "gimbalsim/dynamics/model.hpp"
+#include "gimbalsim/dynamics/run_spec.hpp"
+
+namespace gimbalsim {
+
+/// Refusal of a scene: every problem found, each naming key and position.
+class SceneError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
+
+/// Loads and validates a scene. `overrides` are "key=value" strings (from
+/// --set), applied after the file. Throws SceneError.
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// Same, from YAML text (`origin` names it in messages).
+Scene loadSceneText(const std::string& yaml, const std::string& origin,
+                          const std::vector<std::string>& overrides = {});
+
+/// The scene keys (key_registry.hpp): what loadScene reads.
+const KeyTable<Scene>& sceneTable();
+
+/// Every scene key with type, unit, check, default and meaning (for
+/// `gimbalsim keys` and the README).
+std::vector<KeyInfo> sceneKeys();
+
+}  // namespace gimbalsim

@@ -1,0 +1,284 @@
+#include "gimbalsim/scene/scene.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+#include "gimbalsim/dynamics/observables.hpp"
+
+namespace gimbalsim {
+
+namespace {
+
+using K = Keys<Scene>;
+using SceneKey = Key<Scene>;
+
+// The parts of a scene the keys bind to.
+constexpr auto model = [](auto& s) -> auto& { return s.model; };
+constexpr auto base = [](auto& s) -> auto& { return s.model.base; };
+constexpr auto shaft1 = [](auto& s) -> auto& { return s.model.shaft1; };
+constexpr auto shaft2 = [](auto& s) -> auto& { return s.model.shaft2; };
+constexpr auto contact = [](auto& s) -> auto& { return s.model.contact; };
+constexpr auto integ = [](auto& s) -> auto& { return s.model.integrator; };
+constexpr auto run = [](auto& s) -> auto& { return s.run; };
+constexpr auto initial = [](auto& s) -> auto& { return s.run.initial; };
+constexpr auto sensors = [](auto& s) -> auto& { return s.run.sensors; };
+
+/// contact.clearance: another way to give contact.journal_radius (derived, no value of its own).
+SceneKey clearanceKey() {
+  SceneKey k("contact.clearance", "number", "m", "",
+         "radial clearance c; sets journal_radius = bearing_radius - c (give this or journal_radius)");
+  k.set = [](Scene& s, const YAML::Node& n) {
+    s.model.contact.journal_radius = s.model.contact.bearing_radius - asNumber(n);
+  };
+  k.alternative = "contact.journal_radius";
+  return k;
+}
+
+std::vector<SceneKey> keys() {
+  // Applied in this order: contact.clearance after the bearing radius it depends on.
+  return {
+      K::text("name", "scene name (default: the file name)", field(model, &Model::name)),
+      K::choice<bool>("structure.base", "free-floating base or gimbal on a ground bench",
+                      field(model, &Model::floating_base), {{"floating", true}, {"fixed", false}}),
+      K::choice<bool>("structure.joint2", "elevation joint model", field(model, &Model::clearance_joint),
+                      {{"ideal", false}, {"clearance", true}}),
+      K::number("base.mass", "kg", "base (satellite) mass", field(base, &BodyParams::mass),
+                greater(0).saying("mass must be > 0")),
+      K::inertia("base.inertia", "about the base CoM, base frame", field(base, &BodyParams::inertia)),
+      K::number("shaft1.mass", "kg", "shaft 1 mass", field(shaft1, &BodyParams::mass),
+                greater(0).saying("mass must be > 0")),
+      K::vector<3>("shaft1.com", "m", "shaft 1 CoM from joint 1, shaft 1 frame", field(shaft1, &BodyParams::com)),
+      K::inertia("shaft1.inertia", "about shaft 1's CoM, shaft 1 frame", field(shaft1, &BodyParams::inertia)),
+      K::number("shaft2.mass", "kg", "shaft 2 + antenna mass", field(shaft2, &BodyParams::mass),
+                greater(0).saying("mass must be > 0")),
+      K::vector<3>("shaft2.com", "m", "shaft 2 CoM from joint 2 (journal centre), shaft 2 frame",
+                   field(shaft2, &BodyParams::com)),
+      K::inertia("shaft2.inertia", "about shaft 2's CoM, shaft 2 frame", field(shaft2, &BodyParams::inertia)),
+      K::vector<3>("geometry.joint1_position", "m", "joint 1 from the base CoM, base frame",
+                   field(model, &Model::r_J1_B_B)),
+      K::vector<3>("geometry.joint1_axis", "-", "joint 1 (azimuth) axis, base frame", field(model, &Model::k1_B),
+                   nonZero().saying("axis must be non-zero")),
+      K::vector<3>("geometry.joint2_position", "m", "joint 2 (bearing centre) from joint 1, shaft 1 frame",
+                   field(model, &Model::r_J2_S1_S1)),
+      K::vector<3>("geometry.joint2_axis", "-", "joint 2 (elevation) axis, shaft 1 frame",
+                   field(model, &Model::k2_S1), nonZero().saying("axis must be non-zero")),
+      K::vector<3>("geometry.boresight", "-", "antenna boresight, shaft 2 frame", field(model, &Model::boresight_S2),
+                   nonZero().saying("boresight must be non-zero")),
+      K::number("contact.bearing_radius", "m", "R_i, bearing (on shaft 1)",
+                field(contact, &ContactParams::bearing_radius), greater(0)),
+      K::number("contact.journal_radius", "m", "R_j, journal (on shaft 2), < bearing_radius; or give contact.clearance",
+                field(contact, &ContactParams::journal_radius), greater(0).saying("journal radius must be > 0"))
+          .alternativeTo("contact.clearance"),
+      clearanceKey(),
+      K::choice<RadiusMode>("contact.radius_mode", "R in the Hertz stiffness", field(contact, &ContactParams::radius_mode),
+                            {{"paper", RadiusMode::Paper}, {"conformal", RadiusMode::Conformal}}),
+      K::number("contact.E_bearing", "Pa", "Young's modulus, bearing", field(contact, &ContactParams::E_bearing),
+                greater(0)),
+      K::number("contact.nu_bearing", "-", "Poisson's ratio, bearing", field(contact, &ContactParams::nu_bearing),
+                interval('[', 0, 0.5, ')')),
+      K::number("contact.E_journal", "Pa", "Young's modulus, journal", field(contact, &ContactParams::E_journal),
+                greater(0)),
+      K::number("contact.nu_journal", "-", "Poisson's ratio, journal", field(contact, &ContactParams::nu_journal),
+                interval('[', 0, 0.5, ')')),
+      K::number("contact.exponent", "-", "Hertz exponent n", field(contact, &ContactParams::exponent),
+                interval('[', 1, 3, ']')),
+      K::number("contact.stiffness_scale", "-", "multiplies the Hertz stiffness K",
+                field(contact, &ContactParams::stiffness_scale), greater(0)),
+      K::choice<DampingLaw>("contact.damping", "hysteresis damping law", field(contact, &ContactParams::damping),
+                            {{"none", DampingLaw::None},
+                             {"hunt_crossley", DampingLaw::HuntCrossley},
+                             {"lankarani_nikravesh", DampingLaw::LankaraniNikravesh},
+                             {"flores", DampingLaw::Flores}}),
+      K::number("contact.restitution", "-", "coefficient of restitution c_e",
+                field(contact, &ContactParams::restitution), interval('(', 0, 1, ']')),
+      K::number("contact.v0_min", "m/s", "floor on the impact velocity v0 in the damping",
+                field(contact, &ContactParams::v0_min), greater(0)),
+      K::choice<FrictionLaw>(
+          "friction.law", "tangential force law (coulomb_stick: set-valued Coulomb, stick and slip located as events)",
+          field(contact, &ContactParams::friction),
+          {{"none", FrictionLaw::None},
+           {"coulomb", FrictionLaw::Coulomb},
+           {"ambrosio", FrictionLaw::Ambrosio},
+           {"coulomb_stick", FrictionLaw::CoulombStick}}),
+      K::number("friction.mu", "-", "dynamic friction coefficient", field(contact, &ContactParams::mu), atLeast(0)),
+      K::number("friction.v_a", "m/s", "Ambrosio: no friction below this |v_t|", field(contact, &ContactParams::v_a),
+                atLeast(0)),
+      K::number("friction.v_b", "m/s", "Ambrosio: full friction above this |v_t|, > friction.v_a",
+                field(contact, &ContactParams::v_b), greater(0)),
+      K::number("torque.tau1", "N m", "constant joint 1 (azimuth) torque",
+                [](auto& s) -> auto& { return s.run.torque(0); }),
+      K::number("torque.tau2", "N m", "constant joint 2 (elevation) torque",
+                [](auto& s) -> auto& { return s.run.torque(1); }),
+      K::vector<2>("torque.limit", "N m", "motor torque limit per axis", field(run, &RunSpec::torque_limit),
+                   greater(0)),
+      K::number("initial.theta1", "rad", "initial joint 1 angle", field(initial, &InitialParams::theta1)),
+      K::number("initial.theta2", "rad", "initial joint 2 angle", field(initial, &InitialParams::theta2)),
+      K::number("initial.dtheta1", "rad/s", "initial joint 1 rate", field(initial, &InitialParams::dtheta1)),
+      K::number("initial.dtheta2", "rad/s", "initial joint 2 rate", field(initial, &InitialParams::dtheta2)),
+      K::vector<2>("initial.ecc", "m",
+                   "initial journal eccentricity in the joint-2 plane (u1, u2), |ecc| <= the clearance",
+                   field(initial, &InitialParams::ecc)),
+      K::number("sim.duration", "s", "simulated time", field(run, &RunSpec::duration), greater(0)),
+      K::number("sim.step", "s", "RK4 step h", field(integ, &IntegratorParams::step), greater(0)),
+      K::number("sim.output_interval", "s", "CSV row spacing, a multiple of sim.step",
+                field(run, &RunSpec::output_interval), greater(0)),
+      K::number("sim.substep", "s", "RK4 sub-step near and in contact, <= sim.step",
+                field(integ, &IntegratorParams::substep), greater(0)),
+      K::number("sim.event_tol", "s", "contact switch location tolerance, < sim.substep",
+                field(integ, &IntegratorParams::event_tol), greater(0)),
+      K::integer("sim.max_substeps", "-",
+                 "sub-step cap per step (0 = 2 step/substep + 4 max_event_iters + 4; adaptive: step/substep at "
+                 "least 500)",
+                 field(integ, &IntegratorParams::max_substeps), atLeast(0)),
+      K::choice<SubstepPolicy>(
+          "sim.substep_policy", "contact sub-steps: fixed sim.substep, or adaptive local error control to sim.substep_tol",
+          field(integ, &IntegratorParams::substep_policy),
+          {{"fixed", SubstepPolicy::Fixed}, {"adaptive", SubstepPolicy::Adaptive}}),
+      K::number("sim.substep_tol", "-", "adaptive: local error per sub-step, max_i |err_i| / (1 + |y_i|)",
+                field(integ, &IntegratorParams::substep_tol), interval('(', 0, 1, ')')),
+      K::number("sim.substep_min", "s", "adaptive: smallest sub-step (taken even above tolerance, counted), <= sim.step",
+                field(integ, &IntegratorParams::substep_min), greater(0)),
+      K::number("sim.substep_max", "s", "adaptive: largest sub-step near contact (0 = sim.step), <= sim.step",
+                field(integ, &IntegratorParams::substep_max), atLeast(0)),
+      K::integer("sim.max_event_iters", "-", "switch location iteration cap",
+                 field(integ, &IntegratorParams::max_event_iters), atLeast(1)),
+      K::number("sim.velocity_limit", "rad/s, m/s", "any |v_i| above this stops the run as diverging",
+                field(integ, &IntegratorParams::velocity_limit), greater(0)),
+      K::number("sim.penetration_limit", "m", "penetration above this stops the run (0 = the clearance)",
+                field(integ, &IntegratorParams::penetration_limit), atLeast(0)),
+      K::number("sim.momentum_tol", "-",
+                "relative momentum drift (floating base) that stops the run, checked at output rows (0 = off)",
+                field(integ, &IntegratorParams::momentum_tol), atLeast(0)),
+      K::number("sim.energy_tol", "-",
+                "relative rise of kinetic + Hertz - torque work that stops the run, checked at output rows (0 = off)",
+                field(integ, &IntegratorParams::energy_tol), atLeast(0)),
+      K::number("sim.min_substeps_per_impact", "-",
+                "fixed policy: an impact lasting fewer sub-steps than this (Hertz estimate) stops the run (0 = off)",
+                field(integ, &IntegratorParams::min_substeps_per_impact), atLeast(0)),
+      K::number("sensors.encoder_resolution", "rad", "firmware_sim: encoder quantum (0 = unquantized)",
+                field(sensors, &SensorParams::encoder_resolution), atLeast(0)),
+      K::number("sensors.encoder_noise", "rad", "firmware_sim: Gaussian encoder noise sigma (0 = none)",
+                field(sensors, &SensorParams::encoder_noise), atLeast(0)),
+      K::number("sensors.rate_noise", "rad/s", "firmware_sim: Gaussian rate noise sigma (0 = none)",
+                field(sensors, &SensorParams::rate_noise), atLeast(0)),
+      K::integer("sensors.seed", "-",
+                 "firmware_sim: sensor noise seed (encoders; the gyro and star tracker streams are derived from it)",
+                 field(sensors, &SensorParams::seed), atLeast(0)),
+      K::number("sensors.star_tracker_rate", "Hz",
+                "star tracker sample rate; samples at multiples of its period (taken in the first control tick at "
+                "or after)",
+                field(sensors, &SensorParams::star_tracker_rate), greater(0)),
+      K::number("sensors.star_tracker_noise", "rad",
+                "star tracker noise: sigma per base axis of a small rotation applied to the quaternion (0 = none)",
+                field(sensors, &SensorParams::star_tracker_noise), atLeast(0)),
+      K::number("sensors.star_tracker_latency", "s",
+                "star tracker latency: a sample taken at t_s is delivered at the first tick at or after t_s + "
+                "latency, stamped t_s; < 8 star tracker periods",
+                field(sensors, &SensorParams::star_tracker_latency), atLeast(0)),
+      K::vector<2>("sensors.star_tracker_outage", "s",
+                   "star tracker outage [start, end]: no sample taken or delivered, flagged ([0, 0] = none)",
+                   field(sensors, &SensorParams::star_tracker_outage), atLeast(0), "[start, end]"),
+      K::vector<3>("sensors.gyro_bias", "rad/s", "rate gyro constant bias, base frame",
+                   field(sensors, &SensorParams::gyro_bias)),
+      K::number("sensors.gyro_bias_walk", "rad/s/sqrt(s)", "rate gyro bias random walk sigma (0 = constant bias)",
+                field(sensors, &SensorParams::gyro_bias_walk), atLeast(0)),
+      K::number("sensors.gyro_noise", "rad/s", "rate gyro white noise sigma per sample, each axis (0 = none)",
+                field(sensors, &SensorParams::gyro_noise), atLeast(0)),
+  };
+}
+
+/// Checks across keys (every key has passed its own check).
+void validate(const Scene& s, Given& g) {
+  const Model& m = s.model;
+  const std::pair<const char*, const BodyParams*> bodies[] = {
+      {"base.inertia", &m.base}, {"shaft1.inertia", &m.shaft1}, {"shaft2.inertia", &m.shaft2}};
+  for (const auto& [key, b] : bodies) {
+    const Vec3 p = Eigen::SelfAdjointEigenSolver<Mat3>(b->inertia).eigenvalues();
+    for (int i = 0; i < 3; ++i) {
+      if (p(i) > p((i + 1) % 3) + p((i + 2) % 3) * (1.0 + 1e-12)) {
+        g.warn(key,
+               "principal moments break the triangle inequality (no real rigid body has them); the equations "
+               "stay well defined, continuing");
+        break;
+      }
+    }
+  }
+  const ContactParams& c = m.contact;
+  // Named as given: contact.clearance stands for journal_radius when it was given instead.
+  if (g.has("contact.clearance") && !(c.bearing_radius - c.journal_radius >= 0.0)) {
+    g.refuse("contact.clearance", "clearance must not be negative");
+  } else if (!(c.journal_radius < c.bearing_radius)) {
+    g.refuse("contact.journal_radius", "journal radius (" + formatNumber(c.journal_radius) +
+                                           " m) must be < bearing radius (" + formatNumber(c.bearing_radius) +
+                                           " m)");
+  }
+  if (!(c.v_b > c.v_a)) g.refuse("friction.v_b", "must be > friction.v_a");
+  const IntegratorParams& p = m.integrator;
+  if (!(p.substep <= p.step)) g.refuse("sim.substep", "must be in (0, sim.step]");
+  if (!(p.event_tol < p.substep)) g.refuse("sim.event_tol", "must be in (0, sim.substep)");
+  if (!(p.substep_min <= p.step)) g.refuse("sim.substep_min", "must be in (0, sim.step]");
+  if (!(p.substep_max <= p.step)) g.refuse("sim.substep_max", "must be in [0, sim.step]");
+  // Derived counts (steps, rows, sub-step cap) must fit their integers, and
+  // the CSV the disk: refused here, before anything runs (RunBounds).
+  const double n_steps = s.run.duration / p.step;
+  const double r = s.run.output_interval / p.step;
+  if (!(n_steps <= RunBounds::kMaxSteps)) {
+    g.refuse("sim.duration", "gives " + formatNumber(n_steps) + " steps of sim.step = " + formatNumber(p.step) +
+                                 " s, more than " + formatNumber(RunBounds::kMaxSteps));
+  } else if (!(r <= RunBounds::kMaxSteps) || std::fabs(r - std::round(r)) > 1e-6 * r || std::round(r) < 1.0) {
+    g.refuse("sim.output_interval", "must be a whole multiple of sim.step (" + formatNumber(p.step) + " s)");
+  } else if (const double bytes = (std::floor(n_steps / std::round(r)) + 2) * kNumColumns * RunBounds::kCsvValueBytes;
+             !(bytes <= RunBounds::kMaxOutputBytes)) {
+    g.refuse("sim.duration", "would write up to " + formatNumber(bytes) + " bytes of CSV (more than " +
+                                 formatNumber(RunBounds::kMaxOutputBytes) + "): shorten it or raise sim.output_interval");
+  }
+  if (!(p.step / p.substep <= RunBounds::kMaxSubstepsPerStep)) {
+    g.refuse("sim.substep", "gives " + formatNumber(p.step / p.substep) + " sub-steps per step, more than " +
+                                formatNumber(RunBounds::kMaxSubstepsPerStep));
+  }
+  if (p.max_event_iters > RunBounds::kMaxEventIters) {
+    g.refuse("sim.max_event_iters", "must be <= " + std::to_string(RunBounds::kMaxEventIters));
+  }
+  const SensorParams& sp = s.run.sensors;
+  if (!(sp.star_tracker_latency * sp.star_tracker_rate < SensorParams::kStarTrackerMaxLatencyPeriods)) {
+    g.refuse("sensors.star_tracker_latency",
+             "must be < " + std::to_string(SensorParams::kStarTrackerMaxLatencyPeriods) +
+                 " star tracker periods (" +
+                 formatNumber(SensorParams::kStarTrackerMaxLatencyPeriods / sp.star_tracker_rate) + " s at " +
+                 formatNumber(sp.star_tracker_rate) + " Hz)");
+  }
+  if (!(sp.star_tracker_outage(1) >= sp.star_tracker_outage(0))) {
+    g.refuse("sensors.star_tracker_outage", "end must be >= start, got [" + formatNumber(sp.star_tracker_outage(0)) +
+                                                ", " + formatNumber(sp.star_tracker_outage(1)) + "]");
+  }
+  if (m.clearance_joint && s.run.initial.ecc.norm() > c.bearing_radius - c.journal_radius) {
+    g.refuse("initial.ecc", "initial eccentricity exceeds the radial clearance");
+  }
+}
+
+}  // namespace
+
+const KeyTable<Scene>& sceneTable() {
+  static const KeyTable<Scene> table{{"a scene", "scene file", "`gimbalsim keys`", ""}, keys(), validate};
+  return table;
+}
+
+std::vector<KeyInfo> sceneKeys() { return sceneTable().info(); }
+
+Scene loadSceneText(const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides) {
+  std::vector<std::string> warnings;
+  Scene out = loadKeys<SceneError>(sceneTable(), yaml, origin, overrides, &warnings);
+  out.warnings = std::move(warnings);
+  out.model.finalize();
+  if (out.model.name.empty()) out.model.name = origin;
+  return out;
+}
+
+Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::string text;
+  std::string why;
+  if (!readFile(path, text, &why)) throw SceneError(path + ": cannot open scene file: " + why);
+  return loadSceneText(text, path, overrides);
+}
+
+}  // namespace gimbalsim

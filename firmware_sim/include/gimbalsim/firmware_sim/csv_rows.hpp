@@ -1,0 +1,57 @@
+// CSV rows of the bench messages, one format for everyone who writes them:
+// firmware_sim --truth-csv (from its Truth struct) and gimbalsim_log2csv
+// (from the decoded LCM types of a log). Header and rows both come from the
+// message's field list (messages.hpp), so the columns are listed once and the
+// two programs write the same bytes for the same message. Header cells are
+// `name[unit]`; numbers are %.17g (a row round-trips exactly), integers %lld.
+#pragma once
+
+#include <cstdio>
+#include <string>
+#include <type_traits>
+
+#include "gimbalsim/contract/messages.hpp"
+
+namespace gimbalsim::firmware::csv {
+using namespace gimbalsim::contract;  // NOLINT(google-build-using-namespace): the message field lists
+
+namespace detail {
+template <class T>
+void put(std::FILE* f, const T& x, const char* sep) {
+  if constexpr (std::is_floating_point_v<T>) {
+    std::fprintf(f, "%s%.17g", sep, x);
+  } else {
+    static_assert(std::is_integral_v<T>);
+    std::fprintf(f, "%s%lld", sep, static_cast<long long>(x));
+  }
+}
+template <class T, std::size_t N>
+void put(std::FILE* f, const T (&x)[N], const char* sep) {
+  for (std::size_t i = 0; i < N; ++i) put(f, x[i], i == 0 ? sep : ",");
+}
+}  // namespace detail
+
+/// The header line of message type D (TruthFields, StatusFields, ...), with newline.
+template <class D>
+std::string header() {
+  std::string h;
+  D::visit([&](Columns cols) {
+    for (const char* c : cols) (h.empty() ? h : h += ',') += c;
+  });
+  return h + '\n';
+}
+
+/// One row of m (a firmware struct or the LCM type) as the field list D orders it.
+template <class D, class M>
+void writeRow(std::FILE* f, const M& m) {
+  const char* sep = "";
+  D::visit(
+      [&](Columns, const auto& x) {
+        detail::put(f, x, sep);
+        sep = ",";
+      },
+      m);
+  std::fputc('\n', f);
+}
+
+}  // namespace gimbalsim::firmware::csv

@@ -1,0 +1,171 @@
+// Faults on purpose: a schedule of hardware faults the plant injects (a YAML
+// file, fault_schedule_io.hpp; firmware_sim --faults, the in-process closed
+// loop's ClosedLoopOptions::faults) and FaultClock, which turns the schedule
+// into what is active at each tick. The firmware core (firmware.hpp) applies
+// what FaultClock reports where each fault enters (README "Fault schedule",
+// docs/ARCHITECTURE.md). FaultClock::at() is noexcept and allocation-free:
+// every buffer is sized in the constructor.
+//
+// A fault is active at tick k (t_k = k T) when start <= t_k < end (to 1e-9 T)
+// and, with probability p < 1, a uniform draw of its own seeded stream is
+// below p (one draw per tick inside the window, so the same schedule and
+// seed give the same ticks). bearing_wear and friction_rise ramp their
+// parameter from the scene's value at start to the fault's at end and keep
+// it: they stay active (flagged) from start on.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "gimbalsim/dynamics/spatial.hpp"
+#include "gimbalsim/firmware_sim/sensor_noise.hpp"
+
+namespace gimbalsim::firmware {
+
+/// The kinds of fault (the YAML `type:` names in faultTypeName()).
+enum class FaultKind : std::uint8_t {
+  EncoderDropout,     ///< axis: no new encoder sample: angle and rate repeat the last reported ones
+  EncoderStuck,       ///< axis: the angle sticks at its value at onset; the rate sensor still works
+  EncoderBias,        ///< axis: value [rad] added to the angle (a step)
+  EncoderNoise,       ///< axis: Gaussian noise of sigma value [rad] added to the angle (a burst)
+  StatusDelay,        ///< status messages delivered `ticks` ticks late
+  StatusDrop,         ///< status messages not delivered
+  CommandDelay,       ///< commands reach the firmware `ticks` ticks late
+  CommandDrop,        ///< commands lost on the bus
+  TorqueLimit,        ///< axis: motor limit reduced to value [N m]
+  MotorFailure,       ///< axis: the motor gives zero torque (the firmware does not know)
+  StarTrackerOutage,  ///< no star tracker sample taken or delivered, star_outage set
+  GyroBiasJump,       ///< vector [rad/s] added to the gyro bias (a step), base frame
+  BearingWear,        ///< clearance grows from the scene's to value [m] over [start, end], then stays
+  FrictionRise,       ///< friction mu rises from the scene's to value [-] over [start, end] (a step if end = start)
+};
+inline constexpr int kNumFaultKinds = 14;
+
+/// The YAML name of a kind ("encoder_dropout", ...).
+const char* faultTypeName(FaultKind k);
+/// Whether a kind acts on one axis (then `axis:` is required).
+bool faultHasAxis(FaultKind k);
+
+/// The bit of a fault in the injected_faults mask of gimbal_status_t and
+/// gimbal_truth_t: 1 << (2 kind + axis) (axis 0: azimuth, 1: elevation;
+/// kinds without an axis use the even bit). 28 bits.
+inline std::int32_t injectedBit(FaultKind k, int axis) noexcept {
+  return std::int32_t{1} << (2 * static_cast<int>(k) + (axis == 1 ? 1 : 0));
+}
+
+inline constexpr double kForever = std::numeric_limits<double>::infinity();
+/// Longest status or command delay [ticks] (the firmware's fixed queues).
+inline constexpr int kMaxFaultDelayTicks = 1000;
+/// Most entries in a schedule: every tick evaluates every entry, so the
+/// count bounds the cost a schedule adds to a tick.
+inline constexpr int kMaxFaults = 256;
+
+/// One entry of a schedule.
+struct FaultSpec {
+  FaultKind kind = FaultKind::EncoderDropout;
+  int axis = -1;              ///< 0 azimuth, 1 elevation; -1 for kinds without an axis
+  double start = 0.0;         ///< [s]
+  double end = kForever;      ///< [s] (ramps: the end of the ramp)
+  double probability = 1.0;   ///< per tick inside [start, end) [-]
+  int ticks = 0;              ///< delays [ticks]
+  double value = 0.0;         ///< bias or sigma [rad], torque limit [N m], clearance [m], mu [-]
+  Vec3 vector = Vec3::Zero(); ///< gyro bias jump [rad/s]
+  int line = 0;               ///< line in the schedule file (0: built in code)
+};
+
+struct FaultSchedule {
+  std::uint64_t seed = 1;        ///< seeds every probabilistic fault and every noise burst
+  std::vector<FaultSpec> faults;
+  bool empty() const noexcept { return faults.empty(); }
+};
+
+/// What the faults active at one tick do (the sum of the active entries:
+/// biases add, noise sigmas add in quadrature, limits take the lowest,
+/// delays the longest; ramps take the last entry of their kind).
+struct ActiveFaults {
+  std::int32_t bits = 0;                 ///< injectedBit() of every active entry
+  bool encoder_dropout[2] = {}, encoder_stuck[2] = {};
+  double encoder_bias[2] = {};           ///< [rad]
+  double encoder_noise[2] = {};          ///< this tick's noise sample [rad]
+  int status_delay = 0;                  ///< [ticks]
+  bool status_drop = false;
+  int command_delay = 0;                 ///< [ticks]
+  bool command_drop = false;
+  double torque_limit[2] = {kForever, kForever};  ///< [N m]
+  bool motor_failed[2] = {};
+  bool star_outage = false;
+  Vec3 gyro_bias = Vec3::Zero();         ///< [rad/s] added to the gyro
+  double clearance = -1.0;               ///< [m] bearing wear: the clearance now (< 0: the scene's)
+  double mu = -1.0;                      ///< [-] friction rise: mu now (< 0: the scene's)
+};
+
+/// The schedule tick by tick. Call at(k) once per tick, k = 0, 1, 2, ...
+class FaultClock {
+ public:
+  /// s may be null (no faults). clearance0, mu0: the scene's values (ramp starts).
+  FaultClock(const FaultSchedule* s, double control_period, double clearance0, double mu0)
+      : s_(s), T_(control_period > 0.0 ? control_period : 1.0), clearance0_(clearance0), mu0_(mu0) {
+    if (s_ == nullptr) return;
+    rng_.reserve(s_->faults.size());
+    for (std::size_t i = 0; i < s_->faults.size(); ++i) rng_.emplace_back(streamSeed(s_->seed, 100 + i));
+  }
+
+  bool any() const noexcept { return s_ != nullptr && !s_->faults.empty(); }
+
+  const ActiveFaults& at(std::int64_t k) noexcept {
+    a_ = ActiveFaults{};
+    if (!any()) return a_;
+    const double t = static_cast<double>(k) * T_, tol = 1e-9 * T_;
+    for (std::size_t i = 0; i < s_->faults.size(); ++i) {
+      const FaultSpec& f = s_->faults[i];
+      const bool ramp = f.kind == FaultKind::BearingWear || f.kind == FaultKind::FrictionRise;
+      if (t < f.start - tol) continue;
+      if (ramp) {
+        const double span = f.end - f.start;
+        const double x = span > tol ? std::clamp((t - f.start) / span, 0.0, 1.0) : 1.0;
+        if (f.kind == FaultKind::BearingWear) a_.clearance = clearance0_ + x * (f.value - clearance0_);
+        if (f.kind == FaultKind::FrictionRise) a_.mu = mu0_ + x * (f.value - mu0_);
+        a_.bits |= injectedBit(f.kind, f.axis);
+        continue;
+      }
+      if (t >= f.end - tol) continue;
+      if (f.probability < 1.0 && !(rng_[i].uniform() <= f.probability)) continue;
+      a_.bits |= injectedBit(f.kind, f.axis);
+      const int j = f.axis == 1 ? 1 : 0;
+      switch (f.kind) {
+        case FaultKind::EncoderDropout: a_.encoder_dropout[j] = true; break;
+        case FaultKind::EncoderStuck: a_.encoder_stuck[j] = true; break;
+        case FaultKind::EncoderBias: a_.encoder_bias[j] += f.value; break;
+        case FaultKind::EncoderNoise: {
+          a_.encoder_noise[j] += f.value * rng_[i].normal();  // independent bursts: variances add
+          break;
+        }
+        case FaultKind::StatusDelay: a_.status_delay = std::max(a_.status_delay, f.ticks); break;
+        case FaultKind::StatusDrop: a_.status_drop = true; break;
+        case FaultKind::CommandDelay: a_.command_delay = std::max(a_.command_delay, f.ticks); break;
+        case FaultKind::CommandDrop: a_.command_drop = true; break;
+        case FaultKind::TorqueLimit: a_.torque_limit[j] = std::min(a_.torque_limit[j], f.value); break;
+        case FaultKind::MotorFailure: a_.motor_failed[j] = true; break;
+        case FaultKind::StarTrackerOutage: a_.star_outage = true; break;
+        case FaultKind::GyroBiasJump: a_.gyro_bias += f.vector; break;
+        case FaultKind::BearingWear:
+        case FaultKind::FrictionRise: break;  // handled above
+      }
+    }
+    return a_;
+  }
+
+  const ActiveFaults& current() const noexcept { return a_; }
+
+ private:
+  const FaultSchedule* s_;
+  double T_, clearance0_, mu0_;
+  std::vector<GaussianNoise> rng_;  ///< one stream per entry (draws and noise)
+  ActiveFaults a_;
+};
+
+}  // namespace gimbalsim::firmware

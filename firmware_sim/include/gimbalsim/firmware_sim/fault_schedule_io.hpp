@@ -1,0 +1,36 @@
+// Reading a fault schedule (fault_schedule.hpp) from YAML: the edge, never
+// the tick. The file is a list of faults, so it has its own small reader over
+// the key registry's converters (asNumber, asInt, asVector, asChoice:
+// gimbalsim/input/key_registry.hpp) and yaml-cpp's marks; every problem
+// is collected and names file:line:column, the entry and the key, as the
+// scene loader does. Format: README "Fault schedule".
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "gimbalsim/dynamics/run_spec.hpp"
+#include "gimbalsim/input/input_error.hpp"
+#include "gimbalsim/scene/scene.hpp"
+#include "gimbalsim/firmware_sim/fault_schedule.hpp"
+
+namespace gimbalsim::firmware {
+
+/// A refused schedule: every problem, each naming place, entry and key.
+class FaultScheduleError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
+/// Loads and checks a schedule file (throws FaultScheduleError).
+FaultSchedule loadFaultSchedule(const std::string& path);
+/// Same, from YAML text (`origin` names it in messages).
+FaultSchedule loadFaultScheduleText(const std::string& yaml, const std::string& origin);
+
+/// The checks that need the scene (bearing wear and friction rise need the
+/// clearance joint, a wear clearance above the scene's and below the bearing
+/// radius, friction rise a friction law): problems naming origin:line, the
+/// entry and the key; empty when fine.
+std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const Scene& sc, const std::string& origin);
+
+}  // namespace gimbalsim::firmware

@@ -1,0 +1,440 @@
+// The gimbal firmware's behaviour and the plant it drives, without LCM,
+// threads or clocks: one tick() per control period. firmware_sim wraps it
+// with LCM and a real-time or lockstep loop (firmware_sim/src/); the
+// in-process closed loop (controllers/src/closed_loop.cpp) runs it with the
+// controller; the tests drive it in one process.
+//
+// Tick k (control period T, time t_k = k T):
+//   1. commands received since tick k-1 were validated on arrival by
+//      receive(); the newest valid one becomes the active command now, so a
+//      command that arrives during tick k acts from tick k+1 (one-tick bus
+//      latency, like a real field bus);
+//   2. watchdog: no valid command for watchdog_timeout -> the safe command;
+//      then saturation at the scene's motor limit (torque.limit);
+//   3. status k and truth k are sampled at t_k (encoders quantized to
+//      sensors.encoder_resolution, optional seeded noise);
+//   4. the plant is stepped over [t_k, t_k+1] with the applied torque,
+//      sub-stepping T / sim.step RK4 steps. A step that fails (non-ok
+//      StepStatus) latches PLANT_FAULT: the state stays the last good one and
+//      is never stepped again.
+// Scheduled faults (fault_schedule.hpp, optional) enter at tick k's start:
+// bearing wear and friction rise change the firmware's own copy of the Model
+// (contact parameters only, between ticks: the step still sees a const Model
+// for its whole duration); commands lost or held on the bus (fault_bus.hpp) in
+// receive(), released at intake; torque limit and motor failure at saturation; encoder
+// faults in the status; status delay or drop at delivery (status() is the
+// status delivered this tick, statusDelivered() whether there is one); star
+// tracker outage and gyro bias jump in the attitude message.
+// tick(), receive() and receiveUndecodable() are noexcept and allocation-free.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gimbalsim/dynamics/integrator.hpp"
+#include "gimbalsim/dynamics/observables.hpp"
+#include "gimbalsim/dynamics/run_spec.hpp"
+#include "gimbalsim/firmware_sim/attitude_sensors.hpp"
+#include "gimbalsim/firmware_sim/command_gate.hpp"
+#include "gimbalsim/firmware_sim/fault_bus.hpp"
+#include "gimbalsim/firmware_sim/fault_schedule.hpp"
+#include "gimbalsim/contract/messages.hpp"
+#include "gimbalsim/firmware_sim/sensor_noise.hpp"
+#include "gimbalsim/pointing/target_profile.hpp"
+
+namespace gimbalsim::firmware {
+// The bench messages are the contract's (lcmtypes/contract), shared with the controller.
+using namespace gimbalsim::contract;  // NOLINT(google-build-using-namespace)
+
+/// Firmware settings that are not part of the scene (command-line options).
+struct Config {
+  double control_period = 1.0e-3;     ///< T [s], a whole multiple of sim.step
+  double watchdog_timeout = 0.05;     ///< no valid command for this long -> safe command [s]
+  double torque_sanity_factor = 10.0; ///< reject |torque| > factor * torque.limit [-]
+  Vec2 safe_torque = Vec2::Zero();    ///< applied while the watchdog is tripped [N m]
+};
+
+/// Why a command was refused.
+enum class Rejection : std::uint8_t {
+  None,
+  NonFinite,     ///< NaN or Inf torque
+  OutOfRange,    ///< |torque| beyond the sanity range
+  UnknownMode,   ///< mode not OFF or TORQUE
+  StaleSeq,      ///< seq <= the last seq accepted from the bound source (stale or duplicate)
+  FutureStatus,  ///< answers a status not yet published
+  Undecodable,   ///< bytes that are not a gimbal_command_t
+  WrongSource,   ///< from another source than the one bound (command_gate.hpp)
+};
+inline constexpr int kNumRejections = 8;
+const char* describe(Rejection r);
+
+/// Counters kept by the firmware (cumulative).
+struct Counters {
+  std::int64_t received = 0;    ///< command messages, garbage included
+  std::int64_t rejected = 0;    ///< all rejections
+  std::int64_t missed = 0;      ///< ticks (k >= 1) without a new valid command
+  std::int64_t by_reason[kNumRejections] = {};  ///< rejections per Rejection
+  std::int64_t watchdog_trips = 0;   ///< transitions into the tripped state
+  std::int64_t saturated_ticks = 0;  ///< ticks with a clipped torque
+  std::int64_t substeps = 0;         ///< RK4 evaluations, all ticks
+  int max_substeps_in_tick = 0;
+  BusFaultCounts bus;                ///< scheduled faults on the bus and the status channel (fault_bus.hpp)
+  std::int64_t fault_ticks = 0;      ///< ticks with any scheduled fault active
+};
+
+/// Result of checkConfig(): which setting is wrong (a code the caller maps to
+/// its option, e.g. firmware_sim's --rate), and the text saying why.
+struct ConfigCheck {
+  enum class Setting : std::uint8_t {
+    None,                ///< fine
+    ControlPeriod,       ///< not > 0, or not a whole multiple of sim.step
+    WatchdogTimeout,     ///< not > 0
+    TorqueSanityFactor,  ///< not >= 1
+    SafeTorque,          ///< not finite or beyond torque.limit
+  };
+  Setting wrong = Setting::None;
+  std::string message;     ///< empty when fine
+  int steps_per_tick = 0;  ///< T / sim.step when fine
+
+  bool ok() const noexcept { return wrong == Setting::None; }
+};
+
+/// Checks a Config against a scene.
+ConfigCheck checkConfig(const Scene& sc, const Config& c);
+
+/// Encoder quantization: the multiple of `resolution` nearest to x (x itself if resolution is 0).
+inline double quantize(double x, double resolution) noexcept {
+  return resolution > 0.0 ? resolution * std::nearbyint(x / resolution) : x;
+}
+
+template <class V>
+class Firmware {
+ public:
+  /// sc, profile and faults must outlive the Firmware; profile may be null
+  /// (then the target is the boresight at t = 0), faults too (none). c must
+  /// pass checkConfig(); faults checkFaultsAgainstScene().
+  Firmware(const Scene& sc, const Config& c, const pointing::TargetProfile* profile = nullptr,
+           const FaultSchedule* faults = nullptr)
+      : m_(sc.model), run_(sc.run), c_(c), profile_(profile), d_(m_), obs_(m_), s_(initialState<V>(sc.run.initial)),
+        noise_(static_cast<std::uint64_t>(sc.run.sensors.seed)), attitude_sensors_(sc.run.sensors, c.control_period),
+        clock_(faults, c.control_period, sc.model.contact.clearance, sc.model.contact.mu), bus_(clock_.any()) {
+    // The caller checked; a bad config leaves steps_per_tick_ at 1.
+    steps_per_tick_ = std::max(1, checkConfig(sc, c).steps_per_tick);
+    watchdog_ticks_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(c.watchdog_timeout / c.control_period - 1e-9)));
+    gate_ = CommandGate(watchdog_ticks_);  // the binding lasts as long as the watchdog
+    kinematics(m_, obs_, s_.q, s_.v);
+    initial_boresight_ = boresight(m_, obs_, s_);
+  }
+
+  /// Validates a decoded command from `src` on arrival. A valid one becomes
+  /// the pending command (the newest wins) and acts from the next tick; a
+  /// rejected one changes nothing but the counters and the rejection flag.
+  /// Under a command fault it may first be lost or held on the bus, and is
+  /// then validated, with its source, when the bus releases it.
+  Rejection receive(const Command& cmd, SourceId src = kInProcessSource) noexcept {
+    if (bus_.take(cmd, src, tick_, clock_.current(), n_.bus)) return Rejection::None;  // lost or held on the bus
+    ++n_.received;
+    const Rejection r = validate(cmd, src);
+    if (r != Rejection::None) {
+      reject(r);
+      return r;
+    }
+    pending_ = cmd;
+    has_pending_ = true;
+    last_accepted_seq_ = cmd.seq;
+    gate_.accept(src, cmd.seq, tick_);
+    return r;
+  }
+
+  /// Bytes on the command channel that are not a gimbal_command_t.
+  void receiveUndecodable() noexcept {
+    ++n_.received;
+    reject(Rejection::Undecodable);
+  }
+
+  /// One control period: sample() then advance(). utime stamps status and
+  /// truth [us]; truth is computed only when want_truth (it costs a
+  /// forward-dynamics evaluation); extra_faults are or-ed into the report.
+  void tick(std::int64_t utime, bool want_truth = true, std::int32_t extra_faults = 0) noexcept {
+    sample(utime, want_truth, extra_faults);
+    advance();
+  }
+
+  /// First half of a tick (steps 1-3): command intake, watchdog, saturation,
+  /// status, attitude sensors and truth at t_k. The loop publishes attitude
+  /// and status right after it, before the physics, so the controller's
+  /// clock starts early.
+  void sample(std::int64_t utime, bool want_truth = true, std::int32_t extra_faults = 0) noexcept {
+    const std::int64_t k = tick_;
+    const ActiveFaults& af = clock_.at(k);
+    if (clock_.any()) enterFaults(k, af);
+    std::int32_t faults = pending_faults_ | extra_faults;
+    pending_faults_ = 0;
+
+    // 1. command intake: the newest valid command received since the last tick.
+    if (has_pending_) {
+      active_ = pending_;
+      has_active_ = true;
+      has_pending_ = false;
+      last_valid_tick_ = k;
+    } else if (k > 0) {
+      ++n_.missed;
+    }
+
+    // 2. watchdog, mode, saturation.
+    const bool tripped = k - last_valid_tick_ >= watchdog_ticks_;
+    if (tripped && !tripped_) ++n_.watchdog_trips;
+    tripped_ = tripped;
+    Vec2 tau = Vec2::Zero();
+    if (tripped) {
+      tau = c_.safe_torque;
+      faults |= kWatchdogTripped;
+    } else if (has_active_ && active_.mode == kModeTorque) {
+      tau = Vec2(active_.torque[0], active_.torque[1]);
+    }
+    const Vec2 limit = run_.torque_limit.cwiseMin(Vec2(af.torque_limit[0], af.torque_limit[1]));
+    const Vec2 clipped = tau.cwiseMax(-limit).cwiseMin(limit);
+    if (clipped != tau) {
+      faults |= kTorqueSaturated;
+      ++n_.saturated_ticks;
+    }
+    driver_tau_ = clipped;  // what the firmware commands; a failed motor gives none of it
+    u_.tau = clipped;
+    for (int j = 0; j < 2; ++j) {
+      if (af.motor_failed[j]) u_.tau(j) = 0.0;
+    }
+    if (plant_fault_) faults |= kPlantFault;
+
+    // 3. status, attitude and truth at t_k.
+    const double t = static_cast<double>(k) * c_.control_period;
+    sampleStatus(k, utime, faults, af);
+    const Status* delivered = bus_.deliverStatus(k, sampled_, af, n_.bus);
+    status_delivered_ = delivered != nullptr;
+    if (delivered) status_ = *delivered;
+    sampleAttitude(k, utime, af);
+    if (want_truth) sampleTruth(k, utime, t, faults);
+    truth_.injected_faults = af.bits;
+  }
+
+  /// Second half of a tick (step 4): the plant over [t_k, t_k+1]; then the
+  /// next tick begins. Call once after each sample().
+  void advance() noexcept {
+    if (!plant_fault_) {
+      const long long before = d_.stats.substeps;
+      for (int i = 0; i < steps_per_tick_; ++i) {
+        const StepResult st = step(m_, d_, s_, u_);
+        if (!st.ok()) {
+          plant_fault_ = true;
+          plant_result_ = st;
+          break;
+        }
+      }
+      const int used = static_cast<int>(d_.stats.substeps - before);
+      last_substeps_ = used;
+      n_.substeps += used;
+      n_.max_substeps_in_tick = std::max(n_.max_substeps_in_tick, used);
+    } else {
+      last_substeps_ = 0;
+    }
+    ++tick_;
+  }
+
+  /// The status delivered this tick (without faults: the one sampled).
+  const Status& status() const noexcept { return status_; }
+  /// False when a scheduled status drop or delay left nothing to deliver this tick.
+  bool statusDelivered() const noexcept { return status_delivered_; }
+  /// The scheduled faults active in the last sample().
+  const ActiveFaults& activeFaults() const noexcept { return clock_.current(); }
+  /// The Model the plant steps (the scene's, with bearing wear and friction rise applied).
+  const Model& model() const noexcept { return m_; }
+  const Truth& truth() const noexcept { return truth_; }
+  const Attitude& attitude() const noexcept { return attitude_; }
+  const Counters& counters() const noexcept { return n_; }
+  const State<V>& state() const noexcept { return s_; }
+  const Input& appliedInput() const noexcept { return u_; }
+  std::int64_t ticks() const noexcept { return tick_; }
+  int stepsPerTick() const noexcept { return steps_per_tick_; }
+  int lastSubsteps() const noexcept { return last_substeps_; }
+  std::int64_t watchdogTicks() const noexcept { return watchdog_ticks_; }
+  bool watchdogTripped() const noexcept { return tripped_; }
+  std::int64_t lastAcceptedSeq() const noexcept { return last_accepted_seq_; }
+
+  bool plantFault() const noexcept { return plant_fault_; }
+  StepStatus plantStatus() const noexcept { return plant_result_.status; }
+  /// Why the plant stopped: status, time [s], coordinate, limit key.
+  const StepResult& plantResult() const noexcept { return plant_result_; }
+  double plantFailTime() const noexcept { return plant_result_.time; }  ///< [s]
+  int plantFailIndex() const noexcept { return plant_result_.v_index; }
+
+ private:
+  Rejection validate(const Command& cmd, SourceId src) const noexcept {
+    if (!std::isfinite(cmd.torque[0]) || !std::isfinite(cmd.torque[1])) return Rejection::NonFinite;
+    if (cmd.mode != kModeOff && cmd.mode != kModeTorque) return Rejection::UnknownMode;
+    for (int i = 0; i < 2; ++i) {
+      if (std::fabs(cmd.torque[i]) > c_.torque_sanity_factor * run_.torque_limit(i)) return Rejection::OutOfRange;
+    }
+    switch (gate_.check(src, cmd.seq, tick_)) {
+      case CommandGate::Verdict::WrongSource: return Rejection::WrongSource;
+      case CommandGate::Verdict::StaleSeq: return Rejection::StaleSeq;
+      case CommandGate::Verdict::Accept: break;
+    }
+    // Status tick_ - 1 is the newest one published (status k is sampled in tick k).
+    if (cmd.status_seq > tick_ - 1) return Rejection::FutureStatus;
+    return Rejection::None;
+  }
+
+  void reject(Rejection r) noexcept {
+    ++n_.rejected;
+    ++n_.by_reason[static_cast<int>(r)];
+    pending_faults_ |= kCommandRejected;
+  }
+
+  void sampleStatus(std::int64_t k, std::int64_t utime, std::int32_t faults, const ActiveFaults& af) noexcept {
+    Status& o = sampled_;
+    o.utime = utime;
+    o.seq = k;
+    const SensorParams& sp = run_.sensors;
+    for (int j = 0; j < 2; ++j) {
+      double a = s_.theta(j), w = s_.dtheta(j);
+      if (sp.encoder_noise > 0.0) a += sp.encoder_noise * noise_.normal();
+      if (sp.rate_noise > 0.0) w += sp.rate_noise * noise_.normal();
+      o.angle[j] = quantize(a + af.encoder_bias[j] + af.encoder_noise[j], sp.encoder_resolution);
+      o.rate[j] = w;
+      if (af.encoder_stuck[j]) {  // the angle sticks where it was at onset; the rate sensor still works
+        if (!stuck_[j]) stuck_angle_[j] = o.angle[j];
+        o.angle[j] = stuck_angle_[j];
+      }
+      stuck_[j] = af.encoder_stuck[j];
+      if (af.encoder_dropout[j] && k > 0) {  // no new sample: the last one again
+        o.angle[j] = last_angle_[j];
+        o.rate[j] = last_rate_[j];
+      }
+      last_angle_[j] = o.angle[j];
+      last_rate_[j] = o.rate[j];
+      o.applied_torque[j] = driver_tau_(j);
+    }
+    o.injected_faults = af.bits;
+    o.faults = faults;
+    o.last_command_seq = last_accepted_seq_;
+    o.commands_received = n_.received;
+    o.commands_rejected = n_.rejected;
+    o.commands_missed = n_.missed;
+  }
+
+  /// The attitude sensors measure the base attitude and rate of s_ (fixed base: identity, zero).
+  void sampleAttitude(std::int64_t k, std::int64_t utime, const ActiveFaults& af) noexcept {
+    Quat q = Quat::Identity();
+    Vec3 w = Vec3::Zero();
+    if constexpr (V::kFloating) {
+      q = Quat(s_.q(3), s_.q(4), s_.q(5), s_.q(6)).normalized();  // as sampleTruth
+      w = s_.v.template head<3>();
+    }
+    attitude_sensors_.sample(k, utime, q, w, attitude_, af.star_outage);
+    for (int i = 0; i < 3; ++i) attitude_.gyro_rate[i] += af.gyro_bias(i);
+  }
+
+  /// Scheduled faults at tick k's start: ramps of the contact parameters,
+  /// then the commands held on the bus that are due.
+  void enterFaults(std::int64_t k, const ActiveFaults& af) noexcept {
+    if (af.bits != 0) ++n_.fault_ticks;
+    if constexpr (V::kClearance) {
+      ContactParams& cp = m_.contact;
+      const bool wear = af.clearance >= 0.0 && af.clearance != cp.clearance;
+      const bool rise = af.mu >= 0.0 && af.mu != cp.mu;
+      if (wear) {  // the journal is what wears: R_j = R_i - c, and K follows R_j (Model::finalize's formula)
+        cp.clearance = af.clearance;
+        cp.journal_radius = cp.bearing_radius - af.clearance;
+        cp.K = cp.stiffness_scale * Model::hertzStiffness(cp, cp.radius_mode);
+      }
+      if (rise) cp.mu = af.mu;
+      if (wear || rise) {
+        d_.k_last_valid = false;  // the cached f(s) belongs to the old parameters
+        // A journal in contact whose bearing receded past it is free now.
+        if (s_.in_contact && !(clearanceGap<V>(m_, s_.q, s_.v).delta > 0.0)) enterContactSide(m_, d_, s_, u_);
+      }
+    }
+    bus_.releaseDue(k, [this](const Command& cmd, SourceId src) { receive(cmd, src); });
+  }
+
+  /// The one mapping from the plant to Truth: the observables at s_ (one
+  /// forward-dynamics evaluation) plus the target line of sight at t.
+  void sampleTruth(std::int64_t k, std::int64_t utime, double t, std::int32_t faults) noexcept {
+    Truth& o = truth_;
+    const Row r = observe(m_, obs_, s_, u_);  // runs kinematics at s_ in obs_
+    const Vec3 b(r.bore_x, r.bore_y, r.bore_z);
+    Vec3 target = initial_boresight_;
+    if (profile_ != nullptr) {
+      const pointing::ProfileSample ps = profile_->at(t);
+      target = pointing::losBoresight(m_, ps.q(0), ps.q(1));
+    }
+    o.utime = utime;
+    o.seq = k;
+    o.sim_time = s_.t;
+    set3(o.base_position, r.base_x, r.base_y, r.base_z);
+    if constexpr (V::kFloating) {
+      const Quat qn = Quat(s_.q(3), s_.q(4), s_.q(5), s_.q(6)).normalized();
+      o.base_quaternion[0] = qn.w(), o.base_quaternion[1] = qn.x();
+      o.base_quaternion[2] = qn.y(), o.base_quaternion[3] = qn.z();
+    }
+    set3(o.base_rate, r.base_wx, r.base_wy, r.base_wz);
+    set3(o.base_velocity, r.base_vx, r.base_vy, r.base_vz);
+    o.joint_angle[0] = r.theta1, o.joint_angle[1] = r.theta2;
+    o.joint_rate[0] = r.dtheta1, o.joint_rate[1] = r.dtheta2;
+    o.applied_torque[0] = u_.tau(0), o.applied_torque[1] = u_.tau(1);
+    o.eccentricity[0] = r.ecc_x, o.eccentricity[1] = r.ecc_y;
+    o.penetration = r.delta;
+    o.contact_normal_force = r.fn;
+    o.contact_tangential_force = r.ft;
+    o.joint2_force = r.joint2_force;
+    set3(o.boresight, b.x(), b.y(), b.z());
+    set3(o.target_boresight, target.x(), target.y(), target.z());
+    o.pointing_error = pointing::pointingError(b, target);
+    set3(o.momentum_linear, r.mom_px, r.mom_py, r.mom_pz);
+    set3(o.momentum_angular, r.mom_lx, r.mom_ly, r.mom_lz);
+    o.energy = r.energy;
+    o.faults = faults;
+  }
+
+  static void set3(double* o, double x, double y, double z) noexcept { o[0] = x, o[1] = y, o[2] = z; }
+
+  Model m_;  ///< the firmware's own copy: faults change its contact parameters between ticks
+  const RunSpec& run_;
+  Config c_;
+  const pointing::TargetProfile* profile_;
+  Data<V> d_;    ///< stepping workspace
+  Data<V> obs_;  ///< observation workspace (truth), never disturbs the stepping one
+  State<V> s_;
+  Input u_;
+  GaussianNoise noise_;
+  AttitudeSensors attitude_sensors_;
+  Vec3 initial_boresight_ = Vec3::UnitX();
+
+  int steps_per_tick_ = 1;
+  std::int64_t watchdog_ticks_ = 50;
+  std::int64_t tick_ = 0;              ///< index of the next tick
+  std::int64_t last_valid_tick_ = 0;   ///< tick that took the last valid command (0 at start)
+  std::int64_t last_accepted_seq_ = -1;
+  CommandGate gate_{1};
+  Command pending_, active_;
+  bool has_pending_ = false, has_active_ = false, tripped_ = false;
+  std::int32_t pending_faults_ = 0;
+  int last_substeps_ = 0;
+  bool plant_fault_ = false;
+  StepResult plant_result_;
+
+  FaultClock clock_;
+  Vec2 driver_tau_ = Vec2::Zero();  ///< [N m] torque the firmware commands (status); u_.tau is what acts
+  FaultBus bus_;
+  bool stuck_[2] = {}, status_delivered_ = true;
+  double stuck_angle_[2] = {}, last_angle_[2] = {}, last_rate_[2] = {};
+  Status sampled_;  ///< the status sampled this tick
+  Status status_;   ///< the status delivered this tick
+  Truth truth_;
+  Attitude attitude_;
+  Counters n_;
+};
+
+}  // namespace gimbalsim::firmware
