@@ -1,7 +1,8 @@
 // The key registry (key_registry.hpp): every scene and controller key is
 // documented, every default is valid, printed values load back, and the key
-// tables in README.md and controllers/README.md are the ones the programs
-// print (`gimbalsim keys --markdown`, `pointing_controller --keys --markdown`).
+// tables in docs/scene_keys.md and docs/controller_keys.md are the ones the
+// programs print (`gimbalsim keys --markdown`, `pointing_controller --keys
+// --markdown`; tools/gen_key_docs.py writes them there).
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -164,22 +165,24 @@ std::vector<std::vector<std::string>> keyTable(const std::string& path, std::str
   return rows;
 }
 
-void expectReadmeTable(const std::string& path, const std::vector<KeyInfo>& keys, const std::string& command) {
+void expectDocTable(const std::string& path, const std::vector<KeyInfo>& keys, const std::string& command) {
+  const std::string regenerate = ": regenerate the table with /usr/bin/python3 tools/gen_key_docs.py (it runs " +
+                                 command + ")";
   std::string before;
   const auto rows = keyTable(path, before);
   EXPECT_NE(before.find(command), std::string::npos) << path << " must name the command that prints its table";
-  ASSERT_EQ(rows.size(), keys.size()) << path << ": regenerate the table with " << command;
+  ASSERT_EQ(rows.size(), keys.size()) << path << regenerate;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const KeyInfo& k = keys[i];
     EXPECT_EQ(rows[i], (std::vector<std::string>{k.key, k.type, k.unit, k.default_value, k.check, k.meaning}))
-        << path << " row " << i + 1 << ": regenerate the table with " << command;
+        << path << " row " << i + 1 << regenerate;
   }
 }
 
-TEST(KeyRegistry, ReadmeTablesAreTheRegistry) {
-  expectReadmeTable(kSource + "/README.md", sceneKeys(), "gimbalsim keys --markdown");
-  expectReadmeTable(kSource + "/controllers/README.md", controllers::controllerKeys(),
-                    "pointing_controller --keys --markdown");
+TEST(KeyRegistry, KeyDocsAreTheRegistry) {
+  expectDocTable(kSource + "/docs/scene_keys.md", sceneKeys(), "gimbalsim keys --markdown");
+  expectDocTable(kSource + "/docs/controller_keys.md", controllers::controllerKeys(),
+                 "pointing_controller --keys --markdown");
 }
 
 }  // namespace

@@ -35,7 +35,7 @@ class CsvWriter {
   std::string line_;
 };
 
-// Exit codes (README "Exit codes").
+// Exit codes (docs/usage.md "Exit codes").
 constexpr int kExitRefused = 2;      // scene, --set or output path refused; nothing run
 constexpr int kExitStopped = 3;      // the run stopped on numerical trouble; outputs complete up to it
 constexpr int kExitOutputFailed = 4;  // an output could not be written; no file under its name
@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
 
   auto* keys = app.add_subcommand("keys", "list every scene key with type, unit, default, check and meaning");
   bool markdown = false;
-  keys->add_flag("--markdown", markdown, "as a Markdown table (the one in README.md)");
+  keys->add_flag("--markdown", markdown, "as a Markdown table (the one in docs/scene_keys.md)");
 
   CLI11_PARSE(app, argc, argv);
 
