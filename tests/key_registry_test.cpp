@@ -9,6 +9,7 @@
 #include <set>
 
 #include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
 #include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/pointing/profile_keys.hpp"
 
@@ -47,7 +48,7 @@ void expectDocumented(const std::vector<KeyInfo>& keys) {
 }
 
 TEST(KeyRegistry, EveryKeyIsDocumented) {
-  expectDocumented(sceneKeys());
+  expectDocumented(firmware::plantTable().info());
   expectDocumented(controllers::controllerKeys());
   EXPECT_EQ(sceneKeys().size(), sceneTable().keys.size());
 }
@@ -72,14 +73,15 @@ TEST(KeyRegistry, EmptyControllerConfigLoadsToTheDefaults) {
 }
 
 TEST(KeyRegistry, PrintedSceneValuesLoadBack) {
-  const Scene a = loadScene(kScenes + "/paper_clearance.yaml",
-                            {"shaft2.inertia=[0.5, 5, 5, 0.1, 0, 0]", "contact.clearance=1e-4", "sensors.seed=7"});
-  const std::vector<std::string> values = sceneTable().values(a);
-  const Scene b = loadSceneText("", "printed", values);
-  EXPECT_EQ(sceneTable().values(b), values);
-  EXPECT_EQ(b.model.shaft2.inertia, a.model.shaft2.inertia);
-  EXPECT_EQ(b.model.contact.journal_radius, a.model.contact.journal_radius);
-  EXPECT_EQ(b.run.sensors.seed, 7);
+  const firmware::PlantScene a = firmware::loadPlantScene(
+      kScenes + "/paper_clearance.yaml",
+      {"shaft2.inertia=[0.5, 5, 5, 0.1, 0, 0]", "contact.clearance=1e-4", "sensors.seed=7"});
+  const std::vector<std::string> values = firmware::plantTable().values(a);
+  const firmware::PlantScene b = firmware::loadPlantSceneText("", "printed", values);
+  EXPECT_EQ(firmware::plantTable().values(b), values);
+  EXPECT_EQ(b.scene.model.shaft2.inertia, a.scene.model.shaft2.inertia);
+  EXPECT_EQ(b.scene.model.contact.journal_radius, a.scene.model.contact.journal_radius);
+  EXPECT_EQ(b.sensors.seed, 7);
 }
 
 TEST(KeyRegistry, ChecksAndValuesInWords) {
@@ -180,7 +182,7 @@ void expectDocTable(const std::string& path, const std::vector<KeyInfo>& keys, c
 }
 
 TEST(KeyRegistry, KeyDocsAreTheRegistry) {
-  expectDocTable(kSource + "/docs/scene_keys.md", sceneKeys(), "gimbalsim keys --markdown");
+  expectDocTable(kSource + "/docs/scene_keys.md", firmware::plantTable().info(), "gimbalsim keys --markdown");
   expectDocTable(kSource + "/docs/controller_keys.md", controllers::controllerKeys(),
                  "pointing_controller --keys --markdown");
 }

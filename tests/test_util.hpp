@@ -9,6 +9,9 @@
 #include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/dynamics/observables.hpp"
 #include "gimbalsim/scene/scene.hpp"
+#ifdef GIMBALSIM_TEST_PLANT
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
+#endif
 #include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::test {
@@ -27,6 +30,13 @@ inline std::string defaultControllerConfig() {
 inline Scene scene(const std::string& name, const std::vector<std::string>& sets = {}) {
   return loadScene(scenePath(name), sets);
 }
+
+#ifdef GIMBALSIM_TEST_PLANT
+/// A scene file as the plant loads it (with its sensors.* keys).
+inline firmware::PlantScene plant(const std::string& name, const std::vector<std::string>& sets = {}) {
+  return firmware::loadPlantScene(scenePath(name), sets);
+}
+#endif
 
 /// The physics of a scene file (most tests need nothing else).
 inline Model model(const std::string& name, const std::vector<std::string>& sets = {}) {

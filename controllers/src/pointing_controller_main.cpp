@@ -32,7 +32,7 @@
 
 #include "gimbalsim/program/guarded_main.hpp"
 #include "gimbalsim/contract/channels.hpp"
-#include "gimbalsim/controllers/closed_loop.hpp"  // answerStatus
+#include "gimbalsim/controllers/answer.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
@@ -101,7 +101,7 @@ class StatusHandler {
       ++restarts_;
     }
     last_status_seq_ = st.seq;
-    // The same answer as the in-process loop's (closed_loop.hpp): seq strictly
+    // The same answer as the in-process loop's (PointingController): seq strictly
     // increasing, and above what the firmware last accepted even when this
     // controller replaces one that crashed.
     contract::Status status;

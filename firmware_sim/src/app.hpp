@@ -10,6 +10,7 @@
 
 #include "gimbalsim/dynamics/run_spec.hpp"
 #include "gimbalsim/firmware_sim/firmware.hpp"
+#include "gimbalsim/firmware_sim/observed_truth.hpp"
 #include "gimbalsim/firmware_sim/spsc_ring.hpp"
 #include "loop_stats.hpp"
 
@@ -76,7 +77,7 @@ class TruthCsv;
 
 /// Everything a loop needs; main.cpp builds it.
 struct Run {
-  const Scene& scene;
+  const PlantScene& plant;
   const Options& o;
   const Config& c;
   const pointing::TargetProfile* profile;  ///< null: target = boresight at t = 0

@@ -49,7 +49,8 @@ bool awaitAnswer(Run& r, Firmware<V>& fw, std::int64_t k) {
 
 template <class V>
 int run(Run& r) {
-  Firmware<V> fw(r.scene, r.c, r.profile, r.faults);
+  Firmware<V> fw(r.plant, r.c, r.faults);
+  const pointing::TruthObserver observer(r.plant.scene.model, r.profile, fw.initialBoresight());
   const std::int64_t total = totalTicks(r.o, r.c);
   const std::int64_t wall0 = nowNs();
   std::int32_t extra = 0;
@@ -64,8 +65,9 @@ int run(Run& r) {
     r.bridge.publish(fw.attitude());  // before the status, so a controller has it when the status comes
     if (fw.statusDelivered()) r.bridge.publish(fw.status());
     if (want_truth) {
-      r.bridge.publish(fw.truth());
-      if (!r.csv.write(fw.truth())) g_stop.store(true);  // a failed write stops the run (exit 6)
+      const Truth truth = observedTruth(fw.truth(), observer, static_cast<double>(k) * r.c.control_period);
+      r.bridge.publish(truth);
+      if (!r.csv.write(truth)) g_stop.store(true);  // a failed write stops the run (exit 6)
     }
     fw.advance();
     r.stats.compute.add(static_cast<double>(nowNs() - t0) * 1e-3);
@@ -100,7 +102,7 @@ int run(Run& r) {
 }  // namespace
 
 int runLockstep(Run& r) {
-  return dispatchVariant(r.scene.model, [&](auto tag) { return run<decltype(tag)>(r); });
+  return dispatchVariant(r.plant.scene.model, [&](auto tag) { return run<decltype(tag)>(r); });
 }
 
 }  // namespace gimbalsim::firmware

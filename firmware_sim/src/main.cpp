@@ -18,7 +18,7 @@
 #include "app.hpp"
 #include "gimbalsim/program/guarded_main.hpp"
 #include "gimbalsim/contract/channels.hpp"
-#include "gimbalsim/scene/scene.hpp"
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 #include "lcm_bridge.hpp"
@@ -87,13 +87,14 @@ int mainImpl(int argc, char** argv) {
     return refuse(std::string(e.what()) + " (see --help)");
   }
 
-  Scene scene;
+  PlantScene plant;
   try {
-    scene = loadScene(o.scene, o.sets);
+    plant = loadPlantScene(o.scene, o.sets);
   } catch (const InputError& e) {
     for (const std::string& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
     return refuse("scene " + o.scene + " refused");
   }
+  const Scene& scene = plant.scene;
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const Model& m = scene.model;
 
@@ -169,7 +170,7 @@ int mainImpl(int argc, char** argv) {
                m.name.c_str(), variantName(m).c_str(), o.rate_hz, static_cast<int>(std::llround(c.control_period / m.integrator.step)),
                m.integrator.step, o.lockstep ? "lockstep" : "real time", (o.prefix + "GIMBAL_").c_str());
 
-  Run r{scene, o, c, profile.get(), lcm, bridge, in, csv, {}, false, {}, 0.0, 0};
+  Run r{plant, o, c, profile.get(), lcm, bridge, in, csv, {}, false, {}, 0.0, 0};
   const TickBudget budget = measureTickBudget(scene, c);
   r.worst_tick_us = budget.worst_tick_us;
   std::fprintf(stderr, "firmware_sim: %s\n", describeTickBudget(budget).c_str());

@@ -42,7 +42,8 @@ void wake(int efd) {
 
 template <class V>
 int run(Run& r) {
-  Firmware<V> fw(r.scene, r.c, r.profile, r.faults);
+  Firmware<V> fw(r.plant, r.c, r.faults);
+  const pointing::TruthObserver observer(r.plant.scene.model, r.profile, fw.initialBoresight());
   SpscRing<Outbound> out(4096);
   const int efd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (efd < 0) {
@@ -85,7 +86,7 @@ int run(Run& r) {
       ob.has_status = fw.statusDelivered();
       ob.status = fw.status();
       ob.has_truth = want_truth;
-      if (want_truth) ob.truth = fw.truth();
+      if (want_truth) ob.truth = observedTruth(fw.truth(), observer, static_cast<double>(k) * r.c.control_period);
       if (!out.push(ob)) r.stats.dropped_out.fetch_add(1, std::memory_order_relaxed);
       wake(efd);  // the communication thread
       fw.advance();
@@ -146,7 +147,7 @@ int run(Run& r) {
 }  // namespace
 
 int runRealtime(Run& r) {
-  return dispatchVariant(r.scene.model, [&](auto tag) { return run<decltype(tag)>(r); });
+  return dispatchVariant(r.plant.scene.model, [&](auto tag) { return run<decltype(tag)>(r); });
 }
 
 }  // namespace gimbalsim::firmware

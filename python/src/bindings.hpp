@@ -5,15 +5,21 @@
 
 #include <pybind11/pybind11.h>
 
-#include "gimbalsim/scene/scene.hpp"
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
 
 namespace gimbalsim::py {
 
-/// A loaded scene and the path it was loaded from (the summary's "scene").
+/// A loaded scene (the plant's: the Scene and its sensors) and the path it
+/// was loaded from (the summary's "scene").
 struct PyScene {
-  Scene scene;
+  firmware::PlantScene plant;
   std::string path;
+  const Scene& scene() const { return plant.scene; }
 };
+
+/// Loads a plant scene from YAML text (empty: the defaults, then the
+/// overrides); a refusal becomes the Python SceneError.
+PyScene loadPyScene(const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides);
 
 void bindScene(pybind11::module_& m);       ///< Scene, load_scene, keys, simulate, write_csv
 void bindSimulator(pybind11::module_& m);   ///< State, Simulator

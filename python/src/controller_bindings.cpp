@@ -1,5 +1,6 @@
 // The project's pointing controller (configuration, update law) and the
-// in-process closed loop (runClosedLoop: firmware model + controller).
+// in-process closed loop (firmware::runClosedLoop: the plant with this
+// controller wired to its port).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -9,14 +10,18 @@
 #include "bindings.hpp"
 #include "errors.hpp"
 #include "key_dicts.hpp"
-#include "gimbalsim/controllers/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/controllers/pointing_controller.hpp"
+#include "gimbalsim/firmware_sim/closed_loop.hpp"
 #include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 
 namespace gimbalsim::py {
 
 namespace pyb = pybind11;
 using namespace gimbalsim::controllers;
+using firmware::ClosedLoopOptions;
+using firmware::ClosedLoopResult;
+using firmware::TickRecord;
 
 namespace {
 
@@ -148,7 +153,7 @@ void bindController(pyb::module_& m) {
         if (!faults.empty()) {
           try {
             schedule = firmware::loadFaultSchedule(faults);
-            const std::vector<std::string> bad = firmware::checkFaultsAgainstScene(schedule, s.scene, faults);
+            const std::vector<std::string> bad = firmware::checkFaultsAgainstScene(schedule, s.scene(), faults);
             if (!bad.empty()) {
               std::vector<Problem> problems;
               for (const std::string& b : bad) problems.push_back(Problem{b, "", faults, 0, 0, 0});
@@ -163,7 +168,9 @@ void bindController(pyb::module_& m) {
         ClosedLoopResult r;
         {
           pyb::gil_scoped_release nogil;
-          r = runClosedLoop(s.scene, c.config, opt, [&](const TickRecord& rec) { ticks.add(rec); });
+          PointingController controller(c.config);
+          r = firmware::runClosedLoop(s.plant, controller, c.config.profile, opt,
+                                      [&](const firmware::TickRecord& rec) { ticks.add(rec); });
         }
         pyb::dict cols;
         const pyb::ssize_t n = static_cast<pyb::ssize_t>(ticks.data.size() / Ticks::kN);

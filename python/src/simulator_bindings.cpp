@@ -77,7 +77,7 @@ void bindSimulator(pyb::module_& m) {
   pyb::class_<Simulator>(m, "Simulator",
                          "The scene's plant stepped call by call (sim.step per step, sub-stepping inside). "
                          "Stepping releases the GIL.")
-      .def(pyb::init([](const PyScene& s) { return std::make_unique<Simulator>(s.scene); }), pyb::arg("scene"))
+      .def(pyb::init([](const PyScene& s) { return std::make_unique<Simulator>(s.scene()); }), pyb::arg("scene"))
       .def_property_readonly("t", &Simulator::time, "simulated time [s]")
       .def_property_readonly("variant", [](const Simulator& s) { return variantName(s.model()); })
       .def_property_readonly("step_size", [](const Simulator& s) { return s.model().integrator.step; },

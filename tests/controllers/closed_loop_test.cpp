@@ -16,7 +16,7 @@
 
 #include <cstdio>
 
-#include "gimbalsim/controllers/closed_loop.hpp"
+#include "controllers/closed_loop_util.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "test_util.hpp"
 

@@ -5,7 +5,7 @@
 #include <type_traits>
 
 #include "alloc_guard.hpp"
-#include "gimbalsim/controllers/closed_loop.hpp"
+#include "controllers/closed_loop_util.hpp"
 #include "gimbalsim/controllers/config.hpp"
 
 namespace gimbalsim::controllers {

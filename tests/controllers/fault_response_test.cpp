@@ -15,7 +15,7 @@
 #include <cstdio>
 #include <string>
 
-#include "gimbalsim/controllers/closed_loop.hpp"
+#include "controllers/closed_loop_util.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 #include "test_util.hpp"

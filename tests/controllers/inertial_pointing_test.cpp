@@ -28,7 +28,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "gimbalsim/controllers/closed_loop.hpp"
+#include "controllers/closed_loop_util.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/controllers/gimbal_ik.hpp"
 #include "test_util.hpp"
@@ -52,7 +52,7 @@ struct Windowed {
 };
 
 /// Runs to duration; windows: [t0 - 1, t0), [t0, t1], [t1 + tail_from, end].
-Windowed run(const Scene& sc, const ControllerConfig& c, double duration, double t0 = 1e9, double t1 = 1e9,
+Windowed run(const firmware::PlantScene& sc, const ControllerConfig& c, double duration, double t0 = 1e9, double t1 = 1e9,
              double tail_from = 0.0) {
   Windowed w;
   ClosedLoopOptions opt;
@@ -82,8 +82,8 @@ void print(const char* what, const ClosedLoopResult& r) {
 
 TEST(InertialPointing, PerfectSensorsFreeFloatingIsNearTheFixedBaseFigure) {
   const ControllerConfig c = defaults();
-  const ClosedLoopResult fixed = run(test::scene("paper_ideal", {"structure.base=fixed"}), c, trackingRun(c)).r;
-  const ClosedLoopResult free = run(test::scene("paper_ideal"), c, trackingRun(c)).r;
+  const ClosedLoopResult fixed = run(test::plant("paper_ideal", {"structure.base=fixed"}), c, trackingRun(c)).r;
+  const ClosedLoopResult free = run(test::plant("paper_ideal"), c, trackingRun(c)).r;
   print("fixed base, inertial mode", fixed);
   print("free floating, inertial mode", free);
   ASSERT_TRUE(fixed.ok && free.ok) << fixed.error << free.error;
@@ -102,8 +102,8 @@ TEST(InertialPointing, PerfectSensorsFreeFloatingIsNearTheFixedBaseFigure) {
 // joint, ratio 2.4; tools/pointing_study for the whole clearance range).
 TEST(InertialPointing, ClearanceJointRaisesThePointingError) {
   const ControllerConfig c = defaults();
-  const ClosedLoopResult ideal = run(test::scene("paper_ideal"), c, trackingRun(c)).r;
-  const ClosedLoopResult gap = run(test::scene("paper_clearance"), c, trackingRun(c)).r;
+  const ClosedLoopResult ideal = run(test::plant("paper_ideal"), c, trackingRun(c)).r;
+  const ClosedLoopResult gap = run(test::plant("paper_clearance"), c, trackingRun(c)).r;
   print("free floating, ideal joint", ideal);
   print("free floating, clearance joint", gap);
   ASSERT_TRUE(ideal.ok && gap.ok) << ideal.error << gap.error;
@@ -115,7 +115,7 @@ TEST(InertialPointing, ErrorGrowsWithStarTrackerNoise) {
   const ControllerConfig c = defaults();
   auto rms = [&](const char* noise) {
     const ClosedLoopResult r =
-        run(test::scene("paper_ideal", {std::string("sensors.star_tracker_noise=") + noise}), c, trackingRun(c)).r;
+        run(test::plant("paper_ideal", {std::string("sensors.star_tracker_noise=") + noise}), c, trackingRun(c)).r;
     print((std::string("star tracker noise ") + noise).c_str(), r);
     EXPECT_TRUE(r.ok) << r.error;
     return r.rms_truth_error_track;
@@ -129,7 +129,7 @@ TEST(InertialPointing, ErrorGrowsWithStarTrackerNoise) {
 TEST(InertialPointing, OutageIsFlaggedAndTheEstimateCoasts) {
   const ControllerConfig c = defaults();
   const double t0 = 4.0, t1 = 5.0;  // [s] outage, during the tracking (from 3.5 s)
-  const Scene sc = test::scene("paper_ideal", {"sensors.star_tracker_outage=[4, 5]", "sensors.gyro_bias=[1e-5, -1e-5, 1e-5]"});
+  const firmware::PlantScene sc = test::plant("paper_ideal", {"sensors.star_tracker_outage=[4, 5]", "sensors.gyro_bias=[1e-5, -1e-5, 1e-5]"});
   const Windowed w = run(sc, c, 10.0, t0, t1, 3.0);
   print("outage [4, 5] s, gyro bias 1e-5 rad/s", w.r);
   std::printf("truth error: max over the second before %.3e, during %.3e (estimate %.3e), from 3 s after %.3e rad; "
@@ -147,7 +147,7 @@ TEST(InertialPointing, OutageIsFlaggedAndTheEstimateCoasts) {
 
 TEST(InertialPointing, JointModeKeepsTheBaseRotationError) {
   const ControllerConfig ci = defaults(), cj = defaults({"pointing.mode=joint"});
-  const Scene sc = test::scene("paper_ideal");
+  const firmware::PlantScene sc = test::plant("paper_ideal");
   const ClosedLoopResult ri = run(sc, ci, trackingRun(ci)).r, rj = run(sc, cj, trackingRun(cj)).r;
   print("pointing.mode=inertial", ri);
   print("pointing.mode=joint", rj);
@@ -163,8 +163,8 @@ TEST(InertialPointing, FixedTargetDirectionIsHeld) {
   // initial pose; the profile holds those angles, so the truth error measures
   // the boresight against that direction. From a 0.36 rad step at t = 0 it
   // converges and stays there while the base turns.
-  const Scene sc = test::scene("paper_ideal");
-  const Vec3 dir = boresightB(gimbalGeometry(sc.model), Vec2(0.3, 0.2));
+  const firmware::PlantScene sc = test::plant("paper_ideal");
+  const Vec3 dir = boresightB(gimbalGeometry(sc.scene.model), Vec2(0.3, 0.2));
   char set[160];
   std::snprintf(set, sizeof set, "pointing.fixed_direction=[%.17g, %.17g, %.17g]", dir.x(), dir.y(), dir.z());
   const ControllerConfig c = defaults({"pointing.target=fixed", set, "profile.start=[0.3, 0.2]",

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "gimbalsim/controllers/closed_loop.hpp"
+#include "controllers/closed_loop_util.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "csv_util.hpp"
 #include "test_util.hpp"

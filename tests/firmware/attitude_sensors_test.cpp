@@ -192,7 +192,7 @@ Command torqueCommand(std::int64_t seq, std::int64_t status_seq) {
 }
 
 TEST(FirmwareAttitudeSensors, PerfectSensorsByDefaultGiveTheTruthExactly) {
-  const Scene sc = test::scene("paper_clearance");
+  const PlantScene sc = test::plant("paper_clearance");
   const SensorParams d{};
   EXPECT_EQ(d.star_tracker_noise, 0.0);
   EXPECT_EQ(d.star_tracker_latency, 0.0);
@@ -220,7 +220,7 @@ TEST(FirmwareAttitudeSensors, PerfectSensorsByDefaultGiveTheTruthExactly) {
 }
 
 TEST(FirmwareAttitudeSensors, FixedBaseReadsIdentityAndZeroRate) {
-  const Scene sc = test::scene("paper_ideal", {"structure.base=fixed", "sensors.gyro_bias=[0.1, 0.2, 0.3]"});
+  const PlantScene sc = test::plant("paper_ideal", {"structure.base=fixed", "sensors.gyro_bias=[0.1, 0.2, 0.3]"});
   Firmware<FixedIdeal> fw(sc, Config{});
   fw.tick(0);
   EXPECT_EQ(fw.attitude().gyro_rate[1], 0.2);
@@ -229,7 +229,7 @@ TEST(FirmwareAttitudeSensors, FixedBaseReadsIdentityAndZeroRate) {
 
 std::string refusal(const std::string& set) {
   try {
-    test::scene("paper_ideal", {set});
+    test::plant("paper_ideal", {set});
   } catch (const SceneError& e) {
     return e.what();
   }
@@ -254,9 +254,9 @@ TEST(FirmwareAttitudeKeys, BadValuesAreRefusedNamingTheKey) {
     EXPECT_NE(why.find(says), std::string::npos) << set << " -> " << why;
     EXPECT_NE(why.find(std::string("--set #1 '") + set + "'"), std::string::npos) << why;
   }
-  const Scene ok = test::scene("paper_ideal", {"sensors.star_tracker_rate=50", "sensors.star_tracker_latency=0.15",
+  const PlantScene ok = test::plant("paper_ideal", {"sensors.star_tracker_rate=50", "sensors.star_tracker_latency=0.15",
                                                "sensors.star_tracker_outage=[1, 2.5]", "sensors.gyro_bias=[1e-3, 0, 0]"});
-  EXPECT_EQ(ok.run.sensors.star_tracker_outage, Vec2(1.0, 2.5));
+  EXPECT_EQ(ok.sensors.star_tracker_outage, Vec2(1.0, 2.5));
 }
 
 }  // namespace

@@ -72,7 +72,7 @@ using test_helpers::Bench;
 constexpr auto cmd = test_helpers::torqueCommand;
 
 TEST(CommandAcceptance, ASpoofedExtremeSeqFromAnotherSourceNeverLocksOutTheController) {
-  const Scene sc = benchScene();
+  const PlantScene sc = benchScene();
   Config c;  // 1 kHz, watchdog 50 ms
   Firmware<Bench> fw(sc, c);
   fw.tick(0);
@@ -87,7 +87,7 @@ TEST(CommandAcceptance, ASpoofedExtremeSeqFromAnotherSourceNeverLocksOutTheContr
 }
 
 TEST(CommandAcceptance, AfterTheWatchdogTripsANewSourceIsAccepted) {
-  const Scene sc = benchScene();
+  const PlantScene sc = benchScene();
   Config c;
   Firmware<Bench> fw(sc, c);
   fw.tick(0);
@@ -107,7 +107,7 @@ TEST(CommandAcceptance, RejectedCommandsChangeNothingInThePlant) {
   // Two firmwares get the same valid commands; one also gets every kind of
   // rejected command in between. Their states must stay identical bit for
   // bit, and the applied torque too; only the counters and the flag differ.
-  const Scene sc = benchScene();
+  const PlantScene sc = benchScene();
   Config c;
   Firmware<Bench> clean(sc, c), attacked(sc, c);
   const double nan = std::nan("");

@@ -52,7 +52,7 @@ TEST(FaultScheduleFile, TheDemoScheduleLoadsWithEveryKind) {
   EXPECT_EQ(s.faults[0].axis, 0);
   EXPECT_EQ(s.faults[0].value, 2.0e-5);
   EXPECT_GT(s.faults[0].line, 4);
-  EXPECT_TRUE(checkFaultsAgainstScene(s, test::scene("paper_clearance"), kDemo).empty());
+  EXPECT_TRUE(checkFaultsAgainstScene(s, test::plant("paper_clearance").scene, kDemo).empty());
 }
 
 TEST(FaultScheduleFile, RefusalsNameLineColumnEntryAndKey) {
@@ -108,15 +108,15 @@ TEST(FaultScheduleFile, RefusalsNameLineColumnEntryAndKey) {
 
 TEST(FaultScheduleFile, SceneChecksNameTheLineAndTheSceneKey) {
   const FaultSchedule wear = schedule("faults:\n  - {type: bearing_wear, start: 1, end: 2, clearance: 0.4e-3}\n");
-  const auto on_ideal = checkFaultsAgainstScene(wear, test::scene("paper_ideal"), "w.yaml");
+  const auto on_ideal = checkFaultsAgainstScene(wear, test::plant("paper_ideal").scene, "w.yaml");
   ASSERT_EQ(on_ideal.size(), 1u);
   EXPECT_NE(on_ideal[0].find("w.yaml:2: fault #1 (bearing_wear): needs the clearance joint"), std::string::npos) << on_ideal[0];
-  const auto below = checkFaultsAgainstScene(wear, test::scene("paper_clearance"), "w.yaml");
+  const auto below = checkFaultsAgainstScene(wear, test::plant("paper_clearance").scene, "w.yaml");
   ASSERT_EQ(below.size(), 1u);
   EXPECT_NE(below[0].find("key 'clearance': must be above the scene's clearance 0.0005"), std::string::npos) << below[0];
   const FaultSchedule rise = schedule("faults:\n  - {type: friction_rise, start: 1, mu: 0.5}\n");
-  EXPECT_EQ(checkFaultsAgainstScene(rise, test::scene("paper_clearance", {"friction.law=none"}), "r.yaml").size(), 1u);
-  EXPECT_TRUE(checkFaultsAgainstScene(rise, test::scene("paper_clearance"), "r.yaml").empty());
+  EXPECT_EQ(checkFaultsAgainstScene(rise, test::plant("paper_clearance", {"friction.law=none"}).scene, "r.yaml").size(), 1u);
+  EXPECT_TRUE(checkFaultsAgainstScene(rise, test::plant("paper_clearance").scene, "r.yaml").empty());
 }
 
 /// Runs the bench scene with a constant command (answered every tick) and
@@ -130,8 +130,8 @@ struct Trace {
   Counters n;
 };
 template <class V = Bench>
-Trace run(const Scene& sc, const FaultSchedule* f, int ticks, double tau1 = 2.0, double tau2 = 1.0) {
-  Firmware<V> fw(sc, Config{}, nullptr, f);
+Trace run(const PlantScene& sc, const FaultSchedule* f, int ticks, double tau1 = 2.0, double tau2 = 1.0) {
+  Firmware<V> fw(sc, Config{}, f);
   Trace t;
   for (int k = 0; k < ticks; ++k) {
     fw.tick(k * 1000);
@@ -147,7 +147,7 @@ Trace run(const Scene& sc, const FaultSchedule* f, int ticks, double tau1 = 2.0,
 }
 
 TEST(FaultInjection, StuckEncoderHoldsItsAngleWhileTheRateSensorWorks) {
-  const Scene sc = benchScene();
+  const PlantScene sc = benchScene();
   const FaultSchedule f = schedule("faults:\n  - {type: encoder_stuck, axis: elevation, start: 0.1, end: 0.2}\n");
   const Trace clean = run(sc, nullptr, 300), t = run(sc, &f, 300);
   const std::int32_t bit = injectedBit(FaultKind::EncoderStuck, 1);
@@ -163,7 +163,7 @@ TEST(FaultInjection, StuckEncoderHoldsItsAngleWhileTheRateSensorWorks) {
 }
 
 TEST(FaultInjection, DropoutRepeatsTheLastAngleAndRate) {
-  const Scene sc = benchScene();
+  const PlantScene sc = benchScene();
   const FaultSchedule f = schedule("faults:\n  - {type: encoder_dropout, axis: azimuth, start: 0.05, end: 0.06}\n");
   const Trace clean = run(sc, nullptr, 80), t = run(sc, &f, 80);
   for (int k = 50; k < 60; ++k) {
@@ -176,7 +176,7 @@ TEST(FaultInjection, DropoutRepeatsTheLastAngleAndRate) {
 }
 
 TEST(FaultInjection, BiasStepAndNoiseBurstOnTheEncoder) {
-  const Scene sc = benchScene({"sensors.encoder_resolution=0"});
+  const PlantScene sc = benchScene({"sensors.encoder_resolution=0"});
   const FaultSchedule f = schedule(
       "seed: 3\nfaults:\n  - {type: encoder_bias, axis: azimuth, start: 0.01, bias: 1e-3}\n"
       "  - {type: encoder_noise, axis: elevation, start: 0.02, end: 0.52, sigma: 1e-4}\n");
@@ -194,7 +194,7 @@ TEST(FaultInjection, BiasStepAndNoiseBurstOnTheEncoder) {
 }
 
 TEST(FaultInjection, StatusDelayDeliversOldStatusesAndDropDeliversNone) {
-  const Scene sc = benchScene();
+  const PlantScene sc = benchScene();
   const FaultSchedule f = schedule(
       "faults:\n  - {type: status_delay, start: 0.01, end: 0.03, ticks: 4}\n  - {type: status_drop, start: 0.05, end: 0.053}\n");
   const Trace t = run(sc, &f, 70);
@@ -219,11 +219,11 @@ TEST(FaultInjection, StatusDelayDeliversOldStatusesAndDropDeliversNone) {
 }
 
 TEST(FaultInjection, CommandsLostOrLateOnTheBus) {
-  const Scene sc = benchScene();
+  const PlantScene sc = benchScene();
   const FaultSchedule drop = schedule("faults:\n  - {type: command_drop, start: 0.02, end: 0.025}\n");
   const FaultSchedule late = schedule("faults:\n  - {type: command_delay, start: 0.02, end: 0.021, ticks: 3}\n");
   for (const FaultSchedule* f : {&drop, &late}) {
-    Firmware<Bench> fw(sc, Config{}, nullptr, f);
+    Firmware<Bench> fw(sc, Config{}, f);
     std::vector<double> applied;
     for (int k = 0; k < 40; ++k) {
       fw.tick(k * 1000);
@@ -243,7 +243,7 @@ TEST(FaultInjection, CommandsLostOrLateOnTheBus) {
 }
 
 TEST(FaultInjection, TorqueLimitAndMotorFailure) {
-  const Scene sc = benchScene();
+  const PlantScene sc = benchScene();
   const FaultSchedule f = schedule(
       "faults:\n  - {type: torque_limit, axis: azimuth, start: 0.01, end: 0.02, limit: 0.5}\n"
       "  - {type: motor_failure, axis: elevation, start: 0.03, end: 0.04}\n");
@@ -264,7 +264,7 @@ TEST(FaultInjection, TorqueLimitAndMotorFailure) {
 }
 
 TEST(FaultInjection, StarTrackerOutageAndGyroBiasJumpInTheAttitudeMessage) {
-  const Scene sc = test::scene("paper_ideal", {"sensors.star_tracker_rate=100"});
+  const PlantScene sc = test::plant("paper_ideal", {"sensors.star_tracker_rate=100"});
   const FaultSchedule f = schedule(
       "faults:\n  - {type: star_tracker_outage, start: 0.1, end: 0.2}\n"
       "  - {type: gyro_bias_jump, start: 0.15, bias: [1e-3, 0, -2e-3]}\n");
@@ -285,12 +285,12 @@ TEST(FaultInjection, StarTrackerOutageAndGyroBiasJumpInTheAttitudeMessage) {
 }
 
 TEST(FaultInjection, BearingWearAndFrictionRiseChangeOnlyTheFirmwaresModelCopy) {
-  const Scene sc = test::scene("paper_clearance", {"structure.base=fixed"});
+  const PlantScene sc = test::plant("paper_clearance", {"structure.base=fixed"});
   const FaultSchedule f = schedule(
       "faults:\n  - {type: bearing_wear, start: 0.1, end: 0.3, clearance: 0.9e-3}\n"
       "  - {type: friction_rise, start: 0.2, mu: 0.6}\n");
-  Firmware<FixedClearanceFriction> fw(sc, Config{}, nullptr, &f);
-  const double c0 = sc.model.contact.clearance, mu0 = sc.model.contact.mu;
+  Firmware<FixedClearanceFriction> fw(sc, Config{}, &f);
+  const double c0 = sc.scene.model.contact.clearance, mu0 = sc.scene.model.contact.mu;
   for (int k = 0; k < 400; ++k) {
     fw.tick(k * 1000);
     fw.receive(torqueCommand(k + 1, k, 3.0, 6.0));
@@ -300,19 +300,19 @@ TEST(FaultInjection, BearingWearAndFrictionRiseChangeOnlyTheFirmwaresModelCopy) 
     ASSERT_NEAR(cp.clearance, want_c, 1e-15) << k;
     ASSERT_EQ(cp.mu, k >= 200 ? 0.6 : mu0) << k;
     // The wear is the journal's; K as Model::finalize derives it.
-    Model m = sc.model;
+    Model m = sc.scene.model;
     m.contact.journal_radius = m.contact.bearing_radius - cp.clearance;
     m.finalize();
     ASSERT_NEAR(cp.K, m.contact.K, 1e-12 * m.contact.K) << k;
     ASSERT_NEAR(cp.journal_radius, m.contact.journal_radius, 1e-18);
   }
-  EXPECT_EQ(sc.model.contact.clearance, c0) << "the scene's Model is never touched";
+  EXPECT_EQ(sc.scene.model.contact.clearance, c0) << "the scene's Model is never touched";
   EXPECT_FALSE(fw.plantFault());
   EXPECT_EQ(fw.truth().injected_faults, injectedBit(FaultKind::BearingWear, -1) | injectedBit(FaultKind::FrictionRise, -1));
 }
 
 TEST(FaultInjection, ProbabilisticFaultsFollowTheirSeed) {
-  const Scene sc = benchScene();
+  const PlantScene sc = benchScene();
   auto ticks = [&](int seed) {
     const FaultSchedule f = schedule("seed: " + std::to_string(seed) +
                                      "\nfaults:\n  - {type: status_drop, start: 0.1, end: 2.1, probability: 0.25}\n");
@@ -339,7 +339,7 @@ TEST(FaultInjection, ProbabilisticFaultsFollowTheirSeed) {
 
 TEST(FaultInjection, ARunWithEveryFaultIsRepeatableAndAllocatesNothingPerTick) {
   test::noteIfNotCheckedBuild();
-  const Scene sc = test::scene("paper_clearance", {"sensors.star_tracker_rate=50", "sensors.gyro_noise=1e-4"});
+  const PlantScene sc = test::plant("paper_clearance", {"sensors.star_tracker_rate=50", "sensors.gyro_noise=1e-4"});
   // The demo schedule moved into the first 0.4 s, probabilities included.
   const FaultSchedule f = schedule(
       "seed: 5\nfaults:\n"
@@ -357,9 +357,8 @@ TEST(FaultInjection, ARunWithEveryFaultIsRepeatableAndAllocatesNothingPerTick) {
       "  - {type: gyro_bias_jump, start: 0.1, bias: [0, 0, 2.0e-5]}\n"
       "  - {type: bearing_wear, start: 0.05, end: 0.35, clearance: 0.8e-3}\n"
       "  - {type: friction_rise, start: 0.1, end: 0.3, mu: 0.4}\n");
-  pointing::TargetProfile p;
   auto go = [&](bool guard, std::vector<Truth>* truths, std::vector<Status>* statuses) {
-    Firmware<FloatingClearanceFriction> fw(sc, Config{}, &p, &f);
+    Firmware<FloatingClearanceFriction> fw(sc, Config{}, &f);
     std::int64_t seq = 0;
     for (int k = 0; k < 10; ++k) {
       fw.receive(torqueCommand(++seq, k - 1, 5.0, 10.0));

@@ -10,6 +10,7 @@
 #include "alloc_guard.hpp"
 #include "firmware_test_util.hpp"
 #include "gimbalsim/firmware_sim/firmware.hpp"
+#include "gimbalsim/firmware_sim/observed_truth.hpp"
 #include "gimbalsim/firmware_sim/histogram.hpp"
 #include "gimbalsim/firmware_sim/spsc_ring.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
@@ -34,29 +35,29 @@ bool sameState(const State<V>& a, const State<V>& b) {
 
 
 TEST(FirmwareConfig, RefusesAPeriodThatIsNotAMultipleOfTheStep) {
-  const Scene sc = benchScene();  // sim.step = 1 ms
+  const PlantScene sc = benchScene();  // sim.step = 1 ms
   Config c;
   c.control_period = 1.5e-3;
   using Setting = ConfigCheck::Setting;
-  const ConfigCheck err = checkConfig(sc, c);
+  const ConfigCheck err = checkConfig(sc.scene, c);
   EXPECT_EQ(err.wrong, Setting::ControlPeriod);
   EXPECT_NE(err.message.find("not a whole multiple of sim.step"), std::string::npos) << err.message;
   c.control_period = 0.5e-3;
-  EXPECT_EQ(checkConfig(sc, c).wrong, Setting::ControlPeriod);
-  EXPECT_FALSE(checkConfig(sc, c).message.empty());
+  EXPECT_EQ(checkConfig(sc.scene, c).wrong, Setting::ControlPeriod);
+  EXPECT_FALSE(checkConfig(sc.scene, c).message.empty());
   c.control_period = 3e-3;
-  const ConfigCheck fine = checkConfig(sc, c);
+  const ConfigCheck fine = checkConfig(sc.scene, c);
   EXPECT_TRUE(fine.ok());
   EXPECT_EQ(fine.message, "");
   EXPECT_EQ(fine.steps_per_tick, 3);
   c.safe_torque = Vec2(0.0, 1e9);
-  EXPECT_EQ(checkConfig(sc, c).wrong, Setting::SafeTorque);
-  EXPECT_NE(checkConfig(sc, c).message.find("safe torque"), std::string::npos);
+  EXPECT_EQ(checkConfig(sc.scene, c).wrong, Setting::SafeTorque);
+  EXPECT_NE(checkConfig(sc.scene, c).message.find("safe torque"), std::string::npos);
 }
 
 TEST(Firmware, SubStepsThePlantInsideEachTick) {
   // T = 4 sim.step: one tick must equal four plain steps with the same torque.
-  const Scene sc = benchScene({"sim.step=2.5e-4"});
+  const PlantScene sc = benchScene({"sim.step=2.5e-4"});
   Config c;
   c.control_period = 1e-3;
   Firmware<Bench> fw(sc, c);
@@ -65,9 +66,9 @@ TEST(Firmware, SubStepsThePlantInsideEachTick) {
   fw.receive(torqueCommand(1, 0, 3.0, -2.0));
   fw.tick(1000);  // applies (3, -2) over [t1, t2]
   fw.tick(2000);
-  const Model& m = sc.model;
+  const Model& m = sc.scene.model;
   Data<Bench> d(m);
-  State<Bench> s = initialState<Bench>(sc.run.initial);
+  State<Bench> s = initialState<Bench>(sc.scene.run.initial);
   Input u;  // tick 0: zero torque (no command yet)
   for (int i = 0; i < 4; ++i) ASSERT_EQ(step(m, d, s, u).status, StepStatus::Ok);
   u.tau = Vec2(3.0, -2.0);
@@ -76,7 +77,7 @@ TEST(Firmware, SubStepsThePlantInsideEachTick) {
 }
 
 TEST(Firmware, WatchdogTripsWithinItsBoundAndRecovers) {
-  const Scene sc = benchScene();
+  const PlantScene sc = benchScene();
   Config c;
   c.watchdog_timeout = 0.05;  // 50 ticks at 1 kHz
   Firmware<Bench> fw(sc, c);
@@ -105,7 +106,7 @@ TEST(Firmware, WatchdogTripsWithinItsBoundAndRecovers) {
 }
 
 TEST(Firmware, WatchdogTripsAtStartWhenNoControllerAnswers) {
-  const Scene sc = benchScene();
+  const PlantScene sc = benchScene();
   Config c;
   c.watchdog_timeout = 0.02;
   Firmware<Bench> fw(sc, c);
@@ -116,7 +117,7 @@ TEST(Firmware, WatchdogTripsAtStartWhenNoControllerAnswers) {
 }
 
 TEST(Firmware, InvalidCommandsAreRejectedCountedFlaggedAndNeverReachThePlant) {
-  const Scene sc = benchScene({"torque.limit=[2, 3]"});
+  const PlantScene sc = benchScene({"torque.limit=[2, 3]"});
   Config c;  // sanity range 10 x limit: 20, 30 N m
   struct Bad {
     Command cmd;
@@ -174,7 +175,7 @@ TEST(Firmware, InvalidCommandsAreRejectedCountedFlaggedAndNeverReachThePlant) {
 }
 
 TEST(Firmware, RejectionCountsPerReason) {
-  const Scene sc = benchScene();
+  const PlantScene sc = benchScene();
   Firmware<Bench> fw(sc, Config{});
   fw.tick(0);
   Command bad_mode = torqueCommand(1, 0, 0, 0);
@@ -195,7 +196,7 @@ TEST(Firmware, RejectionCountsPerReason) {
 }
 
 TEST(Firmware, TorqueSaturatesAtTheMotorLimitWithTheFlag) {
-  const Scene sc = benchScene({"torque.limit=[2, 3]"});
+  const PlantScene sc = benchScene({"torque.limit=[2, 3]"});
   Firmware<Bench> fw(sc, Config{});
   fw.tick(0);
   fw.receive(torqueCommand(1, 0, 1.5, -2.5));  // within the limit
@@ -215,7 +216,7 @@ TEST(Firmware, TorqueSaturatesAtTheMotorLimitWithTheFlag) {
 
 TEST(Firmware, EncoderAnglesAreMultiplesOfTheResolution) {
   const double res = 1e-3;  // coarse, so quantization is visible
-  const Scene sc = benchScene({"sensors.encoder_resolution=1e-3"});
+  const PlantScene sc = benchScene({"sensors.encoder_resolution=1e-3"});
   Firmware<Bench> fw(sc, Config{});
   int differs = 0;
   for (int k = 0; k < 600; ++k) {
@@ -234,7 +235,7 @@ TEST(Firmware, EncoderAnglesAreMultiplesOfTheResolution) {
 }
 
 TEST(Firmware, ACommandActsFromTheNextTickNotTheOneItArrivesIn) {
-  const Scene sc = benchScene();
+  const PlantScene sc = benchScene();
   const int k_change = 20;
   auto run = [&](bool change, std::vector<State<Bench>>* states, std::vector<Status>* st) {
     Firmware<Bench> fw(sc, Config{});
@@ -261,7 +262,7 @@ TEST(Firmware, ACommandActsFromTheNextTickNotTheOneItArrivesIn) {
 }
 
 template <class V>
-std::vector<Status> noisyRun(const Scene& sc, int ticks) {
+std::vector<Status> noisyRun(const PlantScene& sc, int ticks) {
   Firmware<V> fw(sc, Config{});
   std::vector<Status> out;
   for (int k = 0; k < ticks; ++k) {
@@ -280,7 +281,7 @@ TEST(Firmware, SeededSensorNoiseIsReproducibleAndSeedDependent) {
     s.push_back(seed);
     return benchScene(s);
   };
-  const Scene sc7 = with("sensors.seed=7"), sc8 = with("sensors.seed=8");
+  const PlantScene sc7 = with("sensors.seed=7"), sc8 = with("sensors.seed=8");
   const auto a = noisyRun<Bench>(sc7, 2000), b = noisyRun<Bench>(sc7, 2000), c = noisyRun<Bench>(sc8, 2000);
   const auto clean = noisyRun<Bench>(benchScene({"sensors.encoder_resolution=0"}), 2000);
   int same_seed_diff = 0, other_seed_same = 0;
@@ -324,7 +325,7 @@ TEST(GaussianNoise, MomentsOfTheStandardNormal) {
 
 TEST(Firmware, PlantFaultLatchesFreezesTheStateAndNeverReportsBadNumbers) {
   // A sub-step cap too small for the first impact makes step() fail.
-  const Scene sc = test::scene("paper_clearance", {"sim.max_substeps=3"});
+  const PlantScene sc = test::plant("paper_clearance", {"sim.max_substeps=3"});
   Firmware<FloatingClearanceFriction> fw(sc, Config{});
   int first_fault = -1;
   State<FloatingClearanceFriction> frozen;
@@ -351,20 +352,22 @@ TEST(Firmware, PlantFaultLatchesFreezesTheStateAndNeverReportsBadNumbers) {
 }
 
 TEST(Firmware, PointingErrorAgainstTheProfileTarget) {
-  const Scene sc = benchScene();
+  const PlantScene sc = benchScene();
   pointing::TargetProfile p;
   p.start = Vec2(0.1, 0.0);  // the gimbal rests at (0, 0): 0.1 rad off in azimuth
   p.slew_start = 10.0;
-  Firmware<Bench> fw(sc, Config{}, &p);
+  // The plant knows no target: the truth observer measures against the profile.
+  Firmware<Bench> fw(sc, Config{});
   fw.tick(0);
-  EXPECT_NEAR(fw.truth().pointing_error, 0.1, 1e-12);
-  Firmware<Bench> none(sc, Config{});
-  none.tick(0);
-  EXPECT_EQ(none.truth().pointing_error, 0.0);  // target = the initial boresight
+  EXPECT_EQ(fw.truth().pointing_error, 0.0);
+  const pointing::TruthObserver with(sc.scene.model, &p, fw.initialBoresight());
+  EXPECT_NEAR(observedTruth(fw.truth(), with, 0.0).pointing_error, 0.1, 1e-12);
+  const pointing::TruthObserver none(sc.scene.model, nullptr, fw.initialBoresight());
+  EXPECT_EQ(observedTruth(fw.truth(), none, 0.0).pointing_error, 0.0);  // target = the initial boresight
 }
 
 template <class V>
-std::vector<Truth> lockstepRun(const Scene& sc, int ticks) {
+std::vector<Truth> lockstepRun(const PlantScene& sc, int ticks) {
   // The core as the lockstep loop drives it: status k -> a PD law -> command
   // answering k -> tick k+1.
   Firmware<V> fw(sc, Config{});
@@ -381,7 +384,7 @@ std::vector<Truth> lockstepRun(const Scene& sc, int ticks) {
 }
 
 TEST(Firmware, LockstepCoreRunsAreBitForBitRepeatable) {
-  const Scene sc = test::scene("paper_clearance", {"sensors.encoder_noise=1e-5", "sensors.rate_noise=1e-4"});
+  const PlantScene sc = test::plant("paper_clearance", {"sensors.encoder_noise=1e-5", "sensors.rate_noise=1e-4"});
   const auto a = lockstepRun<FloatingClearanceFriction>(sc, 400);
   const auto b = lockstepRun<FloatingClearanceFriction>(sc, 400);
   ASSERT_EQ(a.size(), b.size());
@@ -394,13 +397,14 @@ TEST(Firmware, LockstepCoreRunsAreBitForBitRepeatable) {
 TEST(Firmware, TickAndReceiveAllocateNothingAfterWarmUp) {
   test::noteIfNotCheckedBuild();
   // Every sensor on: encoders, and the attitude sensors with noise, bias walk, latency and an outage.
-  const Scene sc = test::scene(
+  const PlantScene sc = test::plant(
       "paper_clearance", {"sensors.encoder_noise=1e-5", "sensors.rate_noise=1e-4", "sensors.star_tracker_rate=50",
                           "sensors.star_tracker_noise=1e-4", "sensors.star_tracker_latency=0.035",
                           "sensors.star_tracker_outage=[0.2, 0.25]", "sensors.gyro_bias=[1e-3, -2e-3, 5e-4]",
                           "sensors.gyro_bias_walk=1e-4", "sensors.gyro_noise=1e-3"});
   pointing::TargetProfile p;
-  Firmware<FloatingClearanceFriction> fw(sc, Config{}, &p);
+  Firmware<FloatingClearanceFriction> fw(sc, Config{});
+  const pointing::TruthObserver observer(sc.scene.model, &p, fw.initialBoresight());
   std::int64_t seq = 0;
   for (int k = 0; k < 10; ++k) {
     fw.receive(torqueCommand(++seq, k - 1, 5.0, 10.0));
@@ -421,7 +425,7 @@ TEST(Firmware, TickAndReceiveAllocateNothingAfterWarmUp) {
       fw.receiveUndecodable();
     }
     fw.sample(k * 1000, true);
-    ASSERT_TRUE(out.push(fw.truth()));
+    ASSERT_TRUE(out.push(observedTruth(fw.truth(), observer, k * 1e-3)));
     star_samples += fw.attitude().star_valid;
     fw.advance();
     Truth t;

@@ -22,9 +22,9 @@ inline Command torqueCommand(std::int64_t seq, std::int64_t status_seq, double t
 }
 
 /// Fixed-base ideal gimbal: the cheapest plant, for the behaviour tests.
-inline Scene benchScene(std::vector<std::string> sets = {}) {
+inline PlantScene benchScene(std::vector<std::string> sets = {}) {
   sets.insert(sets.begin(), "structure.base=fixed");
-  return test::scene("paper_ideal", sets);
+  return test::plant("paper_ideal", sets);
 }
 using Bench = FixedIdeal;
 

@@ -33,7 +33,7 @@ inline void fail(const char* why, const Problem& p) {
   std::abort();
 }
 
-inline void checkRefusal(const SceneError& e, const std::string& origin) {
+inline void checkRefusal(const InputError& e, const std::string& origin) {
   if (e.details().empty()) {
     std::fprintf(stderr, "fuzz check failed: a refusal without problems\n");
     std::abort();

@@ -14,7 +14,7 @@
 #include <cstring>
 #include <vector>
 
-#include "gimbalsim/scene/scene.hpp"
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
 #include "gimbalsim/firmware_sim/firmware.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 
@@ -22,8 +22,8 @@ namespace fw = gimbalsim::firmware;
 using Bench = gimbalsim::FixedIdeal;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const gimbalsim::Scene* scene = new gimbalsim::Scene(
-      gimbalsim::loadScene(std::string(GIMBALSIM_SCENES_DIR) + "/paper_ideal.yaml", {"structure.base=fixed"}));
+  static const fw::PlantScene* scene = new fw::PlantScene(
+      fw::loadPlantScene(std::string(GIMBALSIM_SCENES_DIR) + "/paper_ideal.yaml", {"structure.base=fixed"}));
   fw::Config c;
   c.watchdog_timeout = 0.005;  // 5 ticks: bindings expire within a fuzz input
   fw::Firmware<Bench> a(*scene, c), shadow(*scene, c);

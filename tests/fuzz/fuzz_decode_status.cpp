@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "gimbalsim/controllers/closed_loop.hpp"
+#include "gimbalsim/controllers/answer.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/contract/messages.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"

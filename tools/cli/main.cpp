@@ -6,7 +6,7 @@
 #include <iostream>
 #include <optional>
 
-#include "gimbalsim/scene/scene.hpp"
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/run_output/run_output.hpp"
@@ -66,14 +66,14 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   if (keys->parsed()) {
-    const auto all = gimbalsim::sceneKeys();
+    const auto all = gimbalsim::firmware::plantTable().info();  // the scene's keys and its sensors'
     std::fputs((markdown ? gimbalsim::keysMarkdown(all) : gimbalsim::keysText(all)).c_str(), stdout);
     return 0;
   }
 
   gimbalsim::Scene loaded;
   try {
-    loaded = gimbalsim::loadScene(scene, sets);
+    loaded = gimbalsim::firmware::loadPlantScene(scene, sets).scene;  // sensors.* accepted, unused here
   } catch (const gimbalsim::InputError& e) {
     for (const auto& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
     std::fprintf(stderr, "gimbalsim: scene refused, nothing simulated\n");

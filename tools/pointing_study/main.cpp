@@ -19,7 +19,8 @@
 #include <vector>
 
 #include "gimbalsim/scene/scene.hpp"
-#include "gimbalsim/controllers/closed_loop.hpp"
+#include "gimbalsim/controllers/pointing_controller.hpp"
+#include "gimbalsim/firmware_sim/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/dynamics/step_result.hpp"
 #include "gimbalsim/io/output_file.hpp"
@@ -85,14 +86,16 @@ bool writeFile(const std::filesystem::path& path, const std::string& text) {
   return true;
 }
 
-Study runOne(const Scene& sc, const ControllerConfig& c, const ClosedLoopOptions& opt, std::string label,
-             double clearance) {
+Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const firmware::ClosedLoopOptions& opt,
+             std::string label, double clearance) {
   Study s;
   s.label = std::move(label);
-  s.scene = sc.model.name;
+  s.scene = ps.scene.model.name;
   s.clearance = clearance;
   double sum_sq = 0.0;
-  const ClosedLoopResult r = runClosedLoop(sc, c, opt, [&](const TickRecord& t) {
+  PointingController controller(c);
+  const firmware::ClosedLoopResult r = firmware::runClosedLoop(ps, controller, c.profile, opt,
+                                                               [&](const firmware::TickRecord& t) {
     s.err.push_back(t.truth_error);
     s.peak_run = std::max(s.peak_run, t.truth_error);
     if (t.ref.segment == pointing::Segment::Track) {
@@ -184,7 +187,7 @@ int main(int argc, char** argv) {
   if (out_dir.empty()) return refuse("--out", "empty directory name");
 
   ControllerConfig cfg;
-  std::vector<std::pair<Scene, double>> scenes;  // (scene, clearance)
+  std::vector<std::pair<firmware::PlantScene, double>> scenes;  // (scene, clearance)
   try {
     cfg = loadControllerConfig(config_path, sets);
   } catch (const InputError& e) {
@@ -193,11 +196,11 @@ int main(int argc, char** argv) {
     return refuse("--config/--set", "configuration refused:" + why);
   }
   try {
-    scenes.emplace_back(loadScene(ideal_path, scene_sets), 0.0);
+    scenes.emplace_back(firmware::loadPlantScene(ideal_path, scene_sets), 0.0);
     for (double c : clearances) {
       std::vector<std::string> s = scene_sets;
       s.push_back("contact.clearance=" + num(c));
-      scenes.emplace_back(loadScene(clearance_path, s), c);
+      scenes.emplace_back(firmware::loadPlantScene(clearance_path, s), c);
     }
   } catch (const InputError& e) {
     std::string why;
@@ -205,7 +208,7 @@ int main(int argc, char** argv) {
     return refuse("--ideal-scene/--clearance-scene/--scene-set/--clearances", "scene refused:" + why);
   }
 
-  ClosedLoopOptions opt;
+  firmware::ClosedLoopOptions opt;
   const double track_start = cfg.profile.trackStart();
   opt.duration = duration > 0.0 ? duration : track_start + (quick ? 0.5 : 5.0);
   std::error_code ec;

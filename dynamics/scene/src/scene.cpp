@@ -21,7 +21,6 @@ constexpr auto contact = [](auto& s) -> auto& { return s.model.contact; };
 constexpr auto integ = [](auto& s) -> auto& { return s.model.integrator; };
 constexpr auto run = [](auto& s) -> auto& { return s.run; };
 constexpr auto initial = [](auto& s) -> auto& { return s.run.initial; };
-constexpr auto sensors = [](auto& s) -> auto& { return s.run.sensors; };
 
 /// contact.clearance: another way to give contact.journal_radius (derived, no value of its own).
 SceneKey clearanceKey() {
@@ -155,35 +154,6 @@ std::vector<SceneKey> keys() {
       K::number("sim.min_substeps_per_impact", "-",
                 "fixed policy: an impact lasting fewer sub-steps than this (Hertz estimate) stops the run (0 = off)",
                 field(integ, &IntegratorParams::min_substeps_per_impact), atLeast(0)),
-      K::number("sensors.encoder_resolution", "rad", "firmware_sim: encoder quantum (0 = unquantized)",
-                field(sensors, &SensorParams::encoder_resolution), atLeast(0)),
-      K::number("sensors.encoder_noise", "rad", "firmware_sim: Gaussian encoder noise sigma (0 = none)",
-                field(sensors, &SensorParams::encoder_noise), atLeast(0)),
-      K::number("sensors.rate_noise", "rad/s", "firmware_sim: Gaussian rate noise sigma (0 = none)",
-                field(sensors, &SensorParams::rate_noise), atLeast(0)),
-      K::integer("sensors.seed", "-",
-                 "firmware_sim: sensor noise seed (encoders; the gyro and star tracker streams are derived from it)",
-                 field(sensors, &SensorParams::seed), atLeast(0)),
-      K::number("sensors.star_tracker_rate", "Hz",
-                "star tracker sample rate; samples at multiples of its period (taken in the first control tick at "
-                "or after)",
-                field(sensors, &SensorParams::star_tracker_rate), greater(0)),
-      K::number("sensors.star_tracker_noise", "rad",
-                "star tracker noise: sigma per base axis of a small rotation applied to the quaternion (0 = none)",
-                field(sensors, &SensorParams::star_tracker_noise), atLeast(0)),
-      K::number("sensors.star_tracker_latency", "s",
-                "star tracker latency: a sample taken at t_s is delivered at the first tick at or after t_s + "
-                "latency, stamped t_s; < 8 star tracker periods",
-                field(sensors, &SensorParams::star_tracker_latency), atLeast(0)),
-      K::vector<2>("sensors.star_tracker_outage", "s",
-                   "star tracker outage [start, end]: no sample taken or delivered, flagged ([0, 0] = none)",
-                   field(sensors, &SensorParams::star_tracker_outage), atLeast(0), "[start, end]"),
-      K::vector<3>("sensors.gyro_bias", "rad/s", "rate gyro constant bias, base frame",
-                   field(sensors, &SensorParams::gyro_bias)),
-      K::number("sensors.gyro_bias_walk", "rad/s/sqrt(s)", "rate gyro bias random walk sigma (0 = constant bias)",
-                field(sensors, &SensorParams::gyro_bias_walk), atLeast(0)),
-      K::number("sensors.gyro_noise", "rad/s", "rate gyro white noise sigma per sample, each axis (0 = none)",
-                field(sensors, &SensorParams::gyro_noise), atLeast(0)),
   };
 }
 
@@ -239,18 +209,6 @@ void validate(const Scene& s, Given& g) {
   if (p.max_event_iters > RunBounds::kMaxEventIters) {
     g.refuse("sim.max_event_iters", "must be <= " + std::to_string(RunBounds::kMaxEventIters));
   }
-  const SensorParams& sp = s.run.sensors;
-  if (!(sp.star_tracker_latency * sp.star_tracker_rate < SensorParams::kStarTrackerMaxLatencyPeriods)) {
-    g.refuse("sensors.star_tracker_latency",
-             "must be < " + std::to_string(SensorParams::kStarTrackerMaxLatencyPeriods) +
-                 " star tracker periods (" +
-                 formatNumber(SensorParams::kStarTrackerMaxLatencyPeriods / sp.star_tracker_rate) + " s at " +
-                 formatNumber(sp.star_tracker_rate) + " Hz)");
-  }
-  if (!(sp.star_tracker_outage(1) >= sp.star_tracker_outage(0))) {
-    g.refuse("sensors.star_tracker_outage", "end must be >= start, got [" + formatNumber(sp.star_tracker_outage(0)) +
-                                                ", " + formatNumber(sp.star_tracker_outage(1)) + "]");
-  }
   if (m.clearance_joint && s.run.initial.ecc.norm() > c.bearing_radius - c.journal_radius) {
     g.refuse("initial.ecc", "initial eccentricity exceeds the radial clearance");
   }
@@ -265,20 +223,28 @@ const KeyTable<Scene>& sceneTable() {
 
 std::vector<KeyInfo> sceneKeys() { return sceneTable().info(); }
 
+void finishScene(Scene& sc, const std::string& origin, std::vector<std::string> warnings) {
+  sc.warnings = std::move(warnings);
+  sc.model.finalize();
+  if (sc.model.name.empty()) sc.model.name = origin;
+}
+
+std::string readSceneFile(const std::string& path) {
+  std::string text;
+  std::string why;
+  if (!readFile(path, text, &why)) throw SceneError(path + ": cannot open scene file: " + why);
+  return text;
+}
+
 Scene loadSceneText(const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides) {
   std::vector<std::string> warnings;
   Scene out = loadKeys<SceneError>(sceneTable(), yaml, origin, overrides, &warnings);
-  out.warnings = std::move(warnings);
-  out.model.finalize();
-  if (out.model.name.empty()) out.model.name = origin;
+  finishScene(out, origin, std::move(warnings));
   return out;
 }
 
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides) {
-  std::string text;
-  std::string why;
-  if (!readFile(path, text, &why)) throw SceneError(path + ": cannot open scene file: " + why);
-  return loadSceneText(text, path, overrides);
+  return loadSceneText(readSceneFile(path), path, overrides);
 }
 
 }  // namespace gimbalsim

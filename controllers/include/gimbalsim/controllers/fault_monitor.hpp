@@ -1,6 +1,6 @@
 // What the pointing controller can see of a misbehaving gimbal, from the
 // messages alone (never from the simulator's injected_faults field), and the
-// state it keeps for that. answerStatus() (closed_loop.hpp) runs it before
+// state it keeps for that. answerStatus() (answer.hpp) runs it before
 // the law and applies the reactions (controllers/README.md "Faults the
 // controller detects"):
 //  - stale status: the status is older than the newest attitude message by
@@ -23,6 +23,8 @@
 
 #include <cstdint>
 
+#include "gimbalsim/contract/controller_port.hpp"
+
 namespace gimbalsim::controllers {
 
 /// Keys monitor.* (config.cpp).
@@ -33,14 +35,8 @@ struct MonitorConfig {
   double stuck_tol = 5.0e-5;  ///< [rad] |encoder motion - integrated rate| above this: encoder suspect
 };
 
-/// What the monitor concluded for one status.
-struct MonitorFlags {
-  bool stale = false;                 ///< status older than stale_ticks: command held
-  bool safe = false;                  ///< stale for more than hold_ticks: safe (zero) torque
-  bool encoder_suspect[2] = {};       ///< axis runs on rate feedback only
-  bool star_outage = false;           ///< the star tracker reports an outage
-  std::int64_t age = 0;               ///< [ticks] newest attitude seq - status seq (0 if not older)
-};
+/// What the monitor concluded for one status (part of the controller's report, the contract's).
+using contract::MonitorFlags;
 
 struct MonitorState {
   std::int64_t last_seq = -1;         ///< seq of the last status seen

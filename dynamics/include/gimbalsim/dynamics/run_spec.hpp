@@ -1,6 +1,6 @@
 // RunSpec: how a scene is run, as opposed to what it is (Model). The
-// dynamics never reads it; simulate(), firmware_sim, the closed loop and the
-// tools do. Loaded from the same scene file (scene.hpp).
+// step never reads it; simulate(), firmware_sim, the closed loop and the
+// tools do. The sensors are the firmware's (firmware_sim/sensor_params.hpp). Loaded from the same scene file (scene.hpp).
 #pragma once
 
 #include <string>
@@ -15,27 +15,6 @@ struct InitialParams {
   double theta1 = 0.0, theta2 = 0.0;    ///< [rad]
   double dtheta1 = 0.0, dtheta2 = 0.0;  ///< [rad/s]
   Vec2 ecc = Vec2::Zero();              ///< journal centre in the joint plane [m]
-};
-
-/// Sensors as the gimbal firmware reports them (firmware_sim and the closed loop).
-struct SensorParams {
-  double encoder_resolution = 5.992112452678286e-6;  ///< 2 pi / 2^20 [rad]; 0 = unquantized
-  double encoder_noise = 0.0;   ///< Gaussian encoder noise sigma, before quantization [rad]
-  double rate_noise = 0.0;      ///< Gaussian rate noise sigma [rad/s]
-  long long seed = 1;           ///< noise generator seed (>= 0); one stream per sensor is derived from it
-
-  // Attitude sensors (firmware/attitude_sensors.hpp). The defaults are perfect
-  // sensors: no noise, no bias, no latency, no outage.
-  double star_tracker_rate = 10.0;     ///< star tracker sample rate [Hz], > 0
-  double star_tracker_noise = 0.0;     ///< small-rotation noise sigma per base axis [rad]
-  double star_tracker_latency = 0.0;   ///< sample at t_s delivered at t_s + latency [s], < kStarTrackerMaxLatencyPeriods / rate
-  Vec2 star_tracker_outage = Vec2::Zero();  ///< [start, end] [s] without star tracker samples; end <= start = none
-  Vec3 gyro_bias = Vec3::Zero();       ///< constant rate gyro bias, base frame [rad/s]
-  double gyro_bias_walk = 0.0;         ///< bias random walk sigma [rad/s/sqrt(s)]
-  double gyro_noise = 0.0;             ///< white rate noise sigma per sample [rad/s]
-
-  /// Longest star tracker latency, in star tracker periods (fixed queue of samples in flight).
-  static constexpr int kStarTrackerMaxLatencyPeriods = 8;
 };
 
 /// What a run may ask for, checked by the scene's validate() before running
@@ -55,7 +34,6 @@ struct RunSpec {
   Vec2 torque{5.0, 10.0};           ///< constant joint torques tau1, tau2 [N m] (simulate only)
   Vec2 torque_limit{1.0e3, 1.0e3};  ///< motor limit per axis [N m] (firmware, closed loop)
   InitialParams initial;
-  SensorParams sensors;
 };
 
 /// A loaded scene (scene.hpp): the physics (Model) and how to run it (RunSpec).

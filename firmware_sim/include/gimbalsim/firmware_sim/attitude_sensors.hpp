@@ -27,6 +27,7 @@
 #include <cstdint>
 
 #include "gimbalsim/dynamics/run_spec.hpp"
+#include "gimbalsim/firmware_sim/sensor_params.hpp"
 #include "gimbalsim/contract/messages.hpp"
 #include "gimbalsim/firmware_sim/sensor_noise.hpp"
 

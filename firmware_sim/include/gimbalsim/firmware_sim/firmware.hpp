@@ -1,8 +1,8 @@
 // The gimbal firmware's behaviour and the plant it drives, without LCM,
 // threads or clocks: one tick() per control period. firmware_sim wraps it
 // with LCM and a real-time or lockstep loop (firmware_sim/src/); the
-// in-process closed loop (controllers/src/closed_loop.cpp) runs it with the
-// controller; the tests drive it in one process.
+// in-process closed loop (closed_loop.hpp) runs it with a
+// controller port; the tests drive it in one process.
 //
 // Tick k (control period T, time t_k = k T):
 //   1. commands received since tick k-1 were validated on arrival by
@@ -37,73 +37,18 @@
 #include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/dynamics/observables.hpp"
 #include "gimbalsim/dynamics/run_spec.hpp"
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
 #include "gimbalsim/firmware_sim/attitude_sensors.hpp"
 #include "gimbalsim/firmware_sim/command_gate.hpp"
 #include "gimbalsim/firmware_sim/fault_bus.hpp"
 #include "gimbalsim/firmware_sim/fault_schedule.hpp"
+#include "gimbalsim/firmware_sim/firmware_types.hpp"
 #include "gimbalsim/contract/messages.hpp"
 #include "gimbalsim/firmware_sim/sensor_noise.hpp"
-#include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::firmware {
 // The bench messages are the contract's (lcmtypes/contract), shared with the controller.
 using namespace gimbalsim::contract;  // NOLINT(google-build-using-namespace)
-
-/// Firmware settings that are not part of the scene (command-line options).
-struct Config {
-  double control_period = 1.0e-3;     ///< T [s], a whole multiple of sim.step
-  double watchdog_timeout = 0.05;     ///< no valid command for this long -> safe command [s]
-  double torque_sanity_factor = 10.0; ///< reject |torque| > factor * torque.limit [-]
-  Vec2 safe_torque = Vec2::Zero();    ///< applied while the watchdog is tripped [N m]
-};
-
-/// Why a command was refused.
-enum class Rejection : std::uint8_t {
-  None,
-  NonFinite,     ///< NaN or Inf torque
-  OutOfRange,    ///< |torque| beyond the sanity range
-  UnknownMode,   ///< mode not OFF or TORQUE
-  StaleSeq,      ///< seq <= the last seq accepted from the bound source (stale or duplicate)
-  FutureStatus,  ///< answers a status not yet published
-  Undecodable,   ///< bytes that are not a gimbal_command_t
-  WrongSource,   ///< from another source than the one bound (command_gate.hpp)
-};
-inline constexpr int kNumRejections = 8;
-const char* describe(Rejection r);
-
-/// Counters kept by the firmware (cumulative).
-struct Counters {
-  std::int64_t received = 0;    ///< command messages, garbage included
-  std::int64_t rejected = 0;    ///< all rejections
-  std::int64_t missed = 0;      ///< ticks (k >= 1) without a new valid command
-  std::int64_t by_reason[kNumRejections] = {};  ///< rejections per Rejection
-  std::int64_t watchdog_trips = 0;   ///< transitions into the tripped state
-  std::int64_t saturated_ticks = 0;  ///< ticks with a clipped torque
-  std::int64_t substeps = 0;         ///< RK4 evaluations, all ticks
-  int max_substeps_in_tick = 0;
-  BusFaultCounts bus;                ///< scheduled faults on the bus and the status channel (fault_bus.hpp)
-  std::int64_t fault_ticks = 0;      ///< ticks with any scheduled fault active
-};
-
-/// Result of checkConfig(): which setting is wrong (a code the caller maps to
-/// its option, e.g. firmware_sim's --rate), and the text saying why.
-struct ConfigCheck {
-  enum class Setting : std::uint8_t {
-    None,                ///< fine
-    ControlPeriod,       ///< not > 0, or not a whole multiple of sim.step
-    WatchdogTimeout,     ///< not > 0
-    TorqueSanityFactor,  ///< not >= 1
-    SafeTorque,          ///< not finite or beyond torque.limit
-  };
-  Setting wrong = Setting::None;
-  std::string message;     ///< empty when fine
-  int steps_per_tick = 0;  ///< T / sim.step when fine
-
-  bool ok() const noexcept { return wrong == Setting::None; }
-};
-
-/// Checks a Config against a scene.
-ConfigCheck checkConfig(const Scene& sc, const Config& c);
 
 /// Encoder quantization: the multiple of `resolution` nearest to x (x itself if resolution is 0).
 inline double quantize(double x, double resolution) noexcept {
@@ -113,16 +58,16 @@ inline double quantize(double x, double resolution) noexcept {
 template <class V>
 class Firmware {
  public:
-  /// sc, profile and faults must outlive the Firmware; profile may be null
-  /// (then the target is the boresight at t = 0), faults too (none). c must
-  /// pass checkConfig(); faults checkFaultsAgainstScene().
-  Firmware(const Scene& sc, const Config& c, const pointing::TargetProfile* profile = nullptr,
-           const FaultSchedule* faults = nullptr)
-      : m_(sc.model), run_(sc.run), c_(c), profile_(profile), d_(m_), obs_(m_), s_(initialState<V>(sc.run.initial)),
-        noise_(static_cast<std::uint64_t>(sc.run.sensors.seed)), attitude_sensors_(sc.run.sensors, c.control_period),
-        clock_(faults, c.control_period, sc.model.contact.clearance, sc.model.contact.mu), bus_(clock_.any()) {
+  /// ps and faults must outlive the Firmware; faults may be null (none). c
+  /// must pass checkConfig(); faults checkFaultsAgainstScene().
+  Firmware(const PlantScene& ps, const Config& c, const FaultSchedule* faults = nullptr)
+      : m_(ps.scene.model), run_(ps.scene.run), sensors_(ps.sensors), c_(c), d_(m_), obs_(m_),
+        s_(initialState<V>(ps.scene.run.initial)), noise_(static_cast<std::uint64_t>(ps.sensors.seed)),
+        attitude_sensors_(ps.sensors, c.control_period),
+        clock_(faults, c.control_period, ps.scene.model.contact.clearance, ps.scene.model.contact.mu),
+        bus_(clock_.any()) {
     // The caller checked; a bad config leaves steps_per_tick_ at 1.
-    steps_per_tick_ = std::max(1, checkConfig(sc, c).steps_per_tick);
+    steps_per_tick_ = std::max(1, checkConfig(ps.scene, c).steps_per_tick);
     watchdog_ticks_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(c.watchdog_timeout / c.control_period - 1e-9)));
     gate_ = CommandGate(watchdog_ticks_);  // the binding lasts as long as the watchdog
     kinematics(m_, obs_, s_.q, s_.v);
@@ -209,13 +154,12 @@ class Firmware {
     if (plant_fault_) faults |= kPlantFault;
 
     // 3. status, attitude and truth at t_k.
-    const double t = static_cast<double>(k) * c_.control_period;
     sampleStatus(k, utime, faults, af);
     const Status* delivered = bus_.deliverStatus(k, sampled_, af, n_.bus);
     status_delivered_ = delivered != nullptr;
     if (delivered) status_ = *delivered;
     sampleAttitude(k, utime, af);
-    if (want_truth) sampleTruth(k, utime, t, faults);
+    if (want_truth) sampleTruth(k, utime, faults);
     truth_.injected_faults = af.bits;
   }
 
@@ -251,6 +195,9 @@ class Firmware {
   /// The Model the plant steps (the scene's, with bearing wear and friction rise applied).
   const Model& model() const noexcept { return m_; }
   const Truth& truth() const noexcept { return truth_; }
+  /// Where the antenna pointed at t = 0 (unit, inertial): the truth
+  /// observer's target when there is no profile.
+  const Vec3& initialBoresight() const noexcept { return initial_boresight_; }
   const Attitude& attitude() const noexcept { return attitude_; }
   const Counters& counters() const noexcept { return n_; }
   const State<V>& state() const noexcept { return s_; }
@@ -296,7 +243,7 @@ class Firmware {
     Status& o = sampled_;
     o.utime = utime;
     o.seq = k;
-    const SensorParams& sp = run_.sensors;
+    const SensorParams& sp = sensors_;
     for (int j = 0; j < 2; ++j) {
       double a = s_.theta(j), w = s_.dtheta(j);
       if (sp.encoder_noise > 0.0) a += sp.encoder_noise * noise_.normal();
@@ -360,16 +307,11 @@ class Firmware {
   }
 
   /// The one mapping from the plant to Truth: the observables at s_ (one
-  /// forward-dynamics evaluation) plus the target line of sight at t.
-  void sampleTruth(std::int64_t k, std::int64_t utime, double t, std::int32_t faults) noexcept {
+  /// forward-dynamics evaluation). The target and the pointing error are an
+  /// observer's (pointing/truth_observer.hpp): the plant knows no target.
+  void sampleTruth(std::int64_t k, std::int64_t utime, std::int32_t faults) noexcept {
     Truth& o = truth_;
     const Row r = observe(m_, obs_, s_, u_);  // runs kinematics at s_ in obs_
-    const Vec3 b(r.bore_x, r.bore_y, r.bore_z);
-    Vec3 target = initial_boresight_;
-    if (profile_ != nullptr) {
-      const pointing::ProfileSample ps = profile_->at(t);
-      target = pointing::losBoresight(m_, ps.q(0), ps.q(1));
-    }
     o.utime = utime;
     o.seq = k;
     o.sim_time = s_.t;
@@ -389,9 +331,7 @@ class Firmware {
     o.contact_normal_force = r.fn;
     o.contact_tangential_force = r.ft;
     o.joint2_force = r.joint2_force;
-    set3(o.boresight, b.x(), b.y(), b.z());
-    set3(o.target_boresight, target.x(), target.y(), target.z());
-    o.pointing_error = pointing::pointingError(b, target);
+    set3(o.boresight, r.bore_x, r.bore_y, r.bore_z);
     set3(o.momentum_linear, r.mom_px, r.mom_py, r.mom_pz);
     set3(o.momentum_angular, r.mom_lx, r.mom_ly, r.mom_lz);
     o.energy = r.energy;
@@ -402,8 +342,8 @@ class Firmware {
 
   Model m_;  ///< the firmware's own copy: faults change its contact parameters between ticks
   const RunSpec& run_;
+  const SensorParams& sensors_;
   Config c_;
-  const pointing::TargetProfile* profile_;
   Data<V> d_;    ///< stepping workspace
   Data<V> obs_;  ///< observation workspace (truth), never disturbs the stepping one
   State<V> s_;

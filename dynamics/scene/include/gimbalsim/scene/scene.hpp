@@ -30,6 +30,14 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
 Scene loadSceneText(const std::string& yaml, const std::string& origin,
                           const std::vector<std::string>& overrides = {});
 
+/// The text of a scene file; throws SceneError "<path>: cannot open scene file: <why>".
+std::string readSceneFile(const std::string& path);
+
+/// After a table holding a Scene was loaded: the Model's derived terms, the
+/// default name (origin), the warnings. Loaders of larger scenes (the
+/// plant's, firmware_sim/plant_scene.hpp) call it as loadScene does.
+void finishScene(Scene& sc, const std::string& origin, std::vector<std::string> warnings);
+
 /// The scene keys (key_registry.hpp): what loadScene reads.
 const KeyTable<Scene>& sceneTable();
 

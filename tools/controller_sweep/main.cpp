@@ -7,12 +7,14 @@
 #include <cstdio>
 #include <iostream>
 
-#include "gimbalsim/scene/scene.hpp"
-#include "gimbalsim/controllers/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/controllers/pointing_controller.hpp"
+#include "gimbalsim/firmware_sim/closed_loop.hpp"
 
 using namespace gimbalsim;
 using namespace gimbalsim::controllers;
+using firmware::ClosedLoopOptions;
+using firmware::ClosedLoopResult;
 
 int main(int argc, char** argv) {
   CLI::App app{"In-process gain sweep of the pointing controller on a scene"};
@@ -30,8 +32,8 @@ int main(int argc, char** argv) {
   app.add_option("--settle-tol", opt.settle_tol, "settling band on the joint error [rad]");
   CLI11_PARSE(app, argc, argv);
   try {
-    const Scene sc = loadScene(scene_path, scene_sets);
-    const Model& m = sc.model;
+    const firmware::PlantScene ps = firmware::loadPlantScene(scene_path, scene_sets);
+    const Model& m = ps.scene.model;
     const ControllerConfig base = loadControllerConfig(config_path, sets);
     if (opt.duration <= 0.0) opt.duration = base.profile.trackStart() + 5.0;
     std::printf("# scene %s, %g s, settle band %g rad, torque limit %g / %g N m\n", m.name.c_str(), opt.duration,
@@ -44,7 +46,8 @@ int main(int argc, char** argv) {
       for (int i = 0; i < 2; ++i) {
         c.axis[i] = triplePoleGains(base.axis[i].inertia, w, base.axis[i].torque_limit, base.axis[i].aw_gain);
       }
-      const ClosedLoopResult r = runClosedLoop(sc, c, opt);
+      PointingController controller(c);
+      const ClosedLoopResult r = firmware::runClosedLoop(ps, controller, c.profile, opt);
       if (!r.ok) {
         std::printf("%8g  plant stopped: %s\n", w, r.error.c_str());
         ++failures;

@@ -1,0 +1,63 @@
+#include "gimbalsim/controllers/answer.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace gimbalsim::controllers {
+
+AttitudeMeasurement attitudeMeasurement(const contract::Attitude& att, std::int64_t seq) noexcept {
+  AttitudeMeasurement m;
+  m.star_outage = att.star_outage != 0;
+  if (att.seq != seq) {  // not this tick's: hold the previous rate, no star sample
+    m.gyro_valid = false;
+    return m;
+  }
+  m.gyro = {att.gyro_rate[0], att.gyro_rate[1], att.gyro_rate[2]};
+  m.star_valid = att.star_valid != 0;
+  m.star_time = att.star_time;
+  const double* q = att.star_quaternion;
+  m.star_q = Quat(q[0], q[1], q[2], q[3]);
+  return m;
+}
+
+void noteAttitude(ControllerState& s, const contract::Attitude& att) noexcept {
+  if (att.seq < 0) return;
+  const int i = static_cast<int>(att.seq % AttitudeHistory::kSize);
+  s.attitudes.seq[i] = att.seq;
+  s.attitudes.att[i] = attitudeMeasurement(att, att.seq);
+  s.attitudes.newest = std::max(s.attitudes.newest, att.seq);
+}
+
+Answer answerStatus(const ControllerConfig& c, ControllerState& s, const contract::Status& st,
+                    const contract::Attitude& att, std::int64_t& next_seq) noexcept {
+  Answer a;
+  a.meas.t = static_cast<double>(st.seq) * c.period;
+  a.meas.theta = {st.angle[0], st.angle[1]};
+  a.meas.dtheta = {st.rate[0], st.rate[1]};
+  noteAttitude(s, att);
+  // The attitude of the status's own tick (a late status finds it in the history).
+  const int slot = static_cast<int>((st.seq >= 0 ? st.seq : 0) % AttitudeHistory::kSize);
+  a.meas.att = s.attitudes.seq[slot] == st.seq ? s.attitudes.att[slot] : attitudeMeasurement(att, st.seq);
+  a.flags = observeStatus(c.monitor, s.monitor, c.period, st.seq, st.angle, st.rate, s.attitudes.newest,
+                          att.star_outage != 0);
+  const Vec2 integral = s.integral;
+  a.out = update(c, s, a.meas);
+  if (a.flags.stale) {  // hold the last command from a fresh status (safe torque after hold_ticks); no integration
+    s.integral = integral;
+    for (int i = 0; i < 2; ++i) a.out.tau(i) = a.flags.safe ? 0.0 : s.monitor.hold_tau[i];
+  } else {
+    for (int i = 0; i < 2; ++i) s.monitor.hold_tau[i] = a.out.tau(i);
+  }
+  a.cmd.utime = st.utime;
+  // Saturating: an extreme last_command_seq (a bug, a spoofed status) must not overflow.
+  constexpr std::int64_t kMaxSeq = std::numeric_limits<std::int64_t>::max();
+  a.cmd.seq = std::max(next_seq, st.last_command_seq < kMaxSeq ? st.last_command_seq + 1 : kMaxSeq);
+  next_seq = a.cmd.seq < kMaxSeq ? a.cmd.seq + 1 : kMaxSeq;
+  a.cmd.status_seq = st.seq;
+  a.cmd.mode = contract::kModeTorque;
+  a.cmd.torque[0] = a.out.tau(0);
+  a.cmd.torque[1] = a.out.tau(1);
+  return a;
+}
+
+}  // namespace gimbalsim::controllers

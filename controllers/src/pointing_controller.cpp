@@ -1,0 +1,19 @@
+#include "gimbalsim/controllers/pointing_controller.hpp"
+
+namespace gimbalsim::controllers {
+
+contract::Command PointingController::answer(const contract::Status& st, const contract::Attitude& att,
+                                             contract::ControllerReport& report) noexcept {
+  const Answer a = answerStatus(c_, s_, st, att, next_seq_);
+  report.ref = a.out.ref;
+  report.theta_meas = a.meas.theta;
+  report.tau_cmd = a.out.tau;
+  report.q_WB_est = a.out.q_WB_est;
+  report.star_outage = a.out.star_outage;
+  report.saturated[0] = a.out.saturated[0];
+  report.saturated[1] = a.out.saturated[1];
+  report.flags = a.flags;
+  return a.cmd;
+}
+
+}  // namespace gimbalsim::controllers

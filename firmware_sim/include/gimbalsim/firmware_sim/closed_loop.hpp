@@ -1,0 +1,89 @@
+// A controller closed on the plant in one process, as the bench runs it:
+// the firmware model (Firmware<V>, firmware.hpp: encoders quantized to
+// sensors.encoder_resolution with the scene's optional noise, command
+// validation, watchdog, saturation at torque.limit, one-tick bus latency,
+// zero-order hold, RK4 sub-steps) ticks, and each tick the controller port
+// (contract/controller_port.hpp) answers its status with a command, exactly
+// as pointing_controller answers firmware_sim --lockstep over LCM (so the
+// truth is bit for bit the same; tests/controllers/lockstep_matches_in_process_test).
+// The truth pointing error is the observer's (pointing/truth_observer.hpp).
+// The caller wires a controller to it (the plant never includes one). Used by
+// the tests, the Python package and the tools; not a real-time path (the
+// per-tick sink is a std::function).
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <string>
+
+#include "gimbalsim/contract/controller_port.hpp"
+#include "gimbalsim/dynamics/step_result.hpp"
+#include "gimbalsim/firmware_sim/fault_schedule.hpp"
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
+#include "gimbalsim/pointing/target_profile.hpp"
+
+namespace gimbalsim::firmware {
+
+/// One control tick, for logs. ref is the joint reference tracked (inertial
+/// mode: the IK's), so joint errors are tracking errors.
+struct TickRecord {
+  double t = 0.0;                  ///< [s]
+  pointing::ProfileSample ref;     ///< the joint reference the controller tracked (its report)
+  Vec2 theta_true = Vec2::Zero();  ///< [rad] true joint angles
+  Vec2 theta_meas = Vec2::Zero();  ///< [rad] encoder angles of the status
+  Vec2 tau_cmd = Vec2::Zero();     ///< [N m] computed this tick
+  Vec2 tau_applied = Vec2::Zero(); ///< [N m] acting over [t, t + Ts]
+  double truth_error = 0.0;        ///< [rad] boresight vs the profile's line of sight (TruthObserver)
+  pointing::ProfileSample profile; ///< the target profile at t (the truth observer's)
+  Quat q_WB_est = Quat::Identity();///< estimated base attitude
+  Quat q_WB_true = Quat::Identity();///< true base attitude
+  double attitude_error = 0.0;     ///< [rad] angle between the estimated and true base attitudes
+  bool star_outage = false;        ///< the star tracker was in an outage (the estimate coasts)
+  bool answered = true;            ///< false: no status delivered this tick (fault schedule), no command sent
+  contract::MonitorFlags flags;    ///< the controller's fault monitor for this status (its report)
+  std::int32_t injected_faults = 0;///< the faults scheduled in the plant this tick (truth)
+  Vec3 momentum_linear = Vec3::Zero();   ///< [N s] truth, inertial
+  Vec3 momentum_angular = Vec3::Zero();  ///< [N m s] truth, about the inertial origin
+};
+
+struct ClosedLoopOptions {
+  double duration = 10.0;          ///< [s]
+  double settle_tol = 1.0e-3;      ///< [rad] band on max |q_ref - theta| per axis for "settled"
+  /// Faults the plant injects (null: none), as firmware_sim --faults; must outlive the run.
+  const FaultSchedule* faults = nullptr;
+};
+
+/// Figures of one closed-loop run. Joint errors use the true angles.
+struct ClosedLoopResult {
+  bool ok = true;
+  std::string error;               ///< why the plant stopped (StepStatus) or the run was refused, if !ok
+  StepStatus stop_status = StepStatus::Ok;  ///< the plant's step status when it stopped
+  double t_end = 0.0;              ///< [s]
+  /// [s] after the slew's end until max |joint error| stays below settle_tol
+  /// for the rest of the hold; +inf if it never does before tracking starts.
+  double settle_time = std::numeric_limits<double>::infinity();
+  double max_joint_error_slew = 0.0;   ///< [rad] during the slew
+  double max_joint_error_hold = 0.0;   ///< [rad] during the hold (overshoot and settling)
+  double max_joint_error_track = 0.0;  ///< [rad] during tracking
+  double max_truth_error_track = 0.0;  ///< [rad] truth pointing error during tracking
+  double rms_truth_error_track = 0.0;  ///< [rad]
+  double max_truth_error_hold_end = 0.0;  ///< [rad] at the end of the hold
+  Vec2 max_abs_tau = Vec2::Zero();     ///< [N m] applied
+  long long saturated_ticks = 0;       ///< ticks with a limited command (either axis)
+  double max_attitude_error = 0.0;     ///< [rad] estimated vs true base attitude, whole run
+  long long star_outage_ticks = 0;     ///< ticks the controller flagged a star tracker outage
+  long long ticks = 0;
+};
+
+/// Runs the controller on the plant for opt.duration (ticks 0 ..
+/// round(duration / period), the last one not stepped); the truth pointing
+/// error is against `profile` (the controller's target), whose segments
+/// (slew, hold, track) the figures use. The plant's constant scene torques
+/// are ignored: the controller is the only input. The firmware runs with its
+/// default settings (Config) at the controller's period, which must be a
+/// whole multiple of sim.step (else !ok, nothing run).
+ClosedLoopResult runClosedLoop(const PlantScene& ps, contract::ControllerPort& controller,
+                               const pointing::TargetProfile& profile, const ClosedLoopOptions& opt,
+                               const std::function<void(const TickRecord&)>& sink = {});
+
+}  // namespace gimbalsim::firmware

@@ -1,0 +1,40 @@
+// The gimbal's sensors as the firmware reports them: encoders, rate
+// sensors, star tracker and rate gyro. Owned by the plant (firmware_sim):
+// the scene file's sensors.* keys, read by loadPlantScene (plant_scene.hpp).
+#pragma once
+
+#include <vector>
+
+#include "gimbalsim/dynamics/spatial.hpp"
+#include "gimbalsim/input/key_registry.hpp"
+
+namespace gimbalsim::firmware {
+
+/// Sensors as the gimbal firmware reports them (firmware_sim and the closed loop).
+struct SensorParams {
+  double encoder_resolution = 5.992112452678286e-6;  ///< 2 pi / 2^20 [rad]; 0 = unquantized
+  double encoder_noise = 0.0;   ///< Gaussian encoder noise sigma, before quantization [rad]
+  double rate_noise = 0.0;      ///< Gaussian rate noise sigma [rad/s]
+  long long seed = 1;           ///< noise generator seed (>= 0); one stream per sensor is derived from it
+
+  // Attitude sensors (attitude_sensors.hpp). The defaults are perfect
+  // sensors: no noise, no bias, no latency, no outage.
+  double star_tracker_rate = 10.0;     ///< star tracker sample rate [Hz], > 0
+  double star_tracker_noise = 0.0;     ///< small-rotation noise sigma per base axis [rad]
+  double star_tracker_latency = 0.0;   ///< sample at t_s delivered at t_s + latency [s], < kStarTrackerMaxLatencyPeriods / rate
+  Vec2 star_tracker_outage = Vec2::Zero();  ///< [start, end] [s] without star tracker samples; end <= start = none
+  Vec3 gyro_bias = Vec3::Zero();       ///< constant rate gyro bias, base frame [rad/s]
+  double gyro_bias_walk = 0.0;         ///< bias random walk sigma [rad/s/sqrt(s)]
+  double gyro_noise = 0.0;             ///< white rate noise sigma per sample [rad/s]
+
+  /// Longest star tracker latency, in star tracker periods (fixed queue of samples in flight).
+  static constexpr int kStarTrackerMaxLatencyPeriods = 8;
+};
+
+/// The sensors.* keys (without the prefix), bound to SensorParams.
+std::vector<Key<SensorParams>> sensorKeys();
+
+/// Checks across the sensor keys (each key has passed its own check); names keys with `prefix`.
+void validateSensors(const SensorParams& sp, Given& g, const std::string& prefix);
+
+}  // namespace gimbalsim::firmware

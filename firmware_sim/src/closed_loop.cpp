@@ -1,0 +1,149 @@
+#include "gimbalsim/firmware_sim/closed_loop.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "gimbalsim/dynamics/variant.hpp"
+#include "gimbalsim/firmware_sim/firmware.hpp"
+#include "gimbalsim/firmware_sim/observed_truth.hpp"
+
+namespace gimbalsim::firmware {
+namespace {
+
+/// Running figures of a run (ClosedLoopResult), fed one tick at a time.
+class Figures {
+ public:
+  Figures(const pointing::TargetProfile& p, const ClosedLoopOptions& opt) : p_(p), opt_(opt), last_unsettled_(p.slewEnd()) {}
+
+  void add(const TickRecord& rec, double period, bool saturated, ClosedLoopResult& r) {
+    const double ej = (rec.ref.q - rec.theta_true).cwiseAbs().maxCoeff();
+    switch (rec.ref.segment) {
+      case pointing::Segment::Wait: break;
+      case pointing::Segment::Slew: r.max_joint_error_slew = std::max(r.max_joint_error_slew, ej); break;
+      case pointing::Segment::Hold:
+        hold_seen_ = true;
+        r.max_joint_error_hold = std::max(r.max_joint_error_hold, ej);
+        if (ej >= opt_.settle_tol) last_unsettled_ = rec.t + period;
+        r.max_truth_error_hold_end = rec.truth_error;
+        break;
+      case pointing::Segment::Track:
+        r.max_joint_error_track = std::max(r.max_joint_error_track, ej);
+        r.max_truth_error_track = std::max(r.max_truth_error_track, rec.truth_error);
+        sum_sq_ += rec.truth_error * rec.truth_error;
+        ++n_track_;
+        break;
+    }
+    r.max_abs_tau = r.max_abs_tau.cwiseMax(rec.tau_applied.cwiseAbs());
+    r.max_attitude_error = std::max(r.max_attitude_error, rec.attitude_error);
+    if (rec.star_outage) ++r.star_outage_ticks;
+    if (saturated) ++r.saturated_ticks;
+  }
+
+  void finish(ClosedLoopResult& r) const {
+    if (hold_seen_ && last_unsettled_ < p_.trackStart()) r.settle_time = last_unsettled_ - p_.slewEnd();
+    if (n_track_ > 0) r.rms_truth_error_track = std::sqrt(sum_sq_ / static_cast<double>(n_track_));
+  }
+
+ private:
+  const pointing::TargetProfile& p_;
+  const ClosedLoopOptions& opt_;
+  double last_unsettled_;  ///< last hold time with the error outside the band
+  bool hold_seen_ = false;
+  double sum_sq_ = 0.0;
+  long long n_track_ = 0;
+};
+
+template <class V>
+ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const pointing::TargetProfile& profile,
+                     const Config& fc, const ClosedLoopOptions& opt,
+                     const std::function<void(const TickRecord&)>& sink) {
+  ClosedLoopResult r;
+  Firmware<V> fw(ps, fc, opt.faults);
+  const pointing::TruthObserver observer(ps.scene.model, &profile, fw.initialBoresight());
+  Figures fig(profile, opt);
+  const double period = fc.control_period;
+  // Refused before the loop: llround of a tick count beyond long long is undefined.
+  if (!(opt.duration / period <= 1e12)) {
+    throw std::invalid_argument("closed loop: duration / control.period is more than 1e12 ticks");
+  }
+  contract::ControllerReport last;  // the controller's last report (what the record shows while no status comes)
+  contract::Command cmd;
+  const long long ticks = std::llround(opt.duration / period);
+  for (long long k = 0; k <= ticks; ++k) {
+    // The firmware's tick k up to its status and truth, as firmware_sim --lockstep.
+    const std::int64_t utime = std::llround(static_cast<double>(k) * period * 1e6);
+    fw.sample(utime);
+    const Status& st = fw.status();
+    const double t = static_cast<double>(k) * period;
+    const Truth truth = observedTruth(fw.truth(), observer, t);
+    // The controller answers the status delivered this tick, as pointing_controller
+    // does; none when the fault schedule dropped or still holds it.
+    const bool delivered = fw.statusDelivered();
+    contract::ControllerReport a = last;
+    a.flags = contract::MonitorFlags{};
+    if (delivered) {
+      cmd = ctrl.answer(st, fw.attitude(), a);
+      last = a;
+    } else {
+      ctrl.noteAttitude(fw.attitude());  // the attitude message still came
+    }
+
+    TickRecord rec;
+    rec.answered = delivered;
+    rec.flags = a.flags;
+    rec.injected_faults = truth.injected_faults;
+    rec.momentum_linear = Vec3(truth.momentum_linear[0], truth.momentum_linear[1], truth.momentum_linear[2]);
+    rec.momentum_angular = Vec3(truth.momentum_angular[0], truth.momentum_angular[1], truth.momentum_angular[2]);
+    rec.t = t;
+    rec.ref = a.ref;
+    rec.theta_true = {truth.joint_angle[0], truth.joint_angle[1]};
+    rec.theta_meas = a.theta_meas;
+    rec.tau_cmd = a.tau_cmd;
+    rec.tau_applied = {st.applied_torque[0], st.applied_torque[1]};
+    rec.truth_error = truth.pointing_error;
+    rec.profile = observer.sample(t);
+    rec.q_WB_est = a.q_WB_est;
+    const double* bq = truth.base_quaternion;
+    rec.q_WB_true = Quat(bq[0], bq[1], bq[2], bq[3]);
+    rec.attitude_error = pointing::attitudeError(rec.q_WB_true, rec.q_WB_est);
+    rec.star_outage = a.star_outage;
+    fig.add(rec, period, a.saturated[0] || a.saturated[1], r);
+    if (sink) sink(rec);
+    r.ticks = k + 1;
+    r.t_end = rec.t;
+    if (k == ticks) break;
+    fw.advance();
+    if (fw.plantFault()) {
+      r.ok = false;
+      r.stop_status = fw.plantStatus();
+      r.error = std::string(describe(fw.plantStatus())) + " at t = " + std::to_string(fw.plantFailTime()) + " s";
+      return r;
+    }
+    // The answer arrives while (lockstep: after) the plant advances and acts
+    // from tick k + 1 (the bus).
+    if (delivered) fw.receive(cmd);
+  }
+  fig.finish(r);
+  return r;
+}
+
+}  // namespace
+
+ClosedLoopResult runClosedLoop(const PlantScene& ps, contract::ControllerPort& controller,
+                               const pointing::TargetProfile& profile, const ClosedLoopOptions& opt,
+                               const std::function<void(const TickRecord&)>& sink) {
+  Config fc;
+  fc.control_period = controller.period();
+  if (const ConfigCheck chk = checkConfig(ps.scene, fc); !chk.ok()) {
+    ClosedLoopResult r;
+    r.ok = false;
+    r.error = "control.period: " + chk.message;
+    return r;
+  }
+  return dispatchVariant(ps.scene.model,
+                         [&](auto tag) { return run<decltype(tag)>(ps, controller, profile, fc, opt, sink); });
+}
+
+}  // namespace gimbalsim::firmware

@@ -1,0 +1,32 @@
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
+
+namespace gimbalsim::firmware {
+
+const KeyTable<PlantScene>& plantTable() {
+  static const KeyTable<PlantScene> table = [] {
+    KeyTable<PlantScene> t;
+    t.words = sceneTable().words;
+    embed(t.keys, "", sceneTable().keys, [](auto& p) -> auto& { return p.scene; });
+    embed(t.keys, "sensors.", sensorKeys(), [](auto& p) -> auto& { return p.sensors; });
+    t.validate = [](const PlantScene& p, Given& g) {
+      sceneTable().validate(p.scene, g);
+      validateSensors(p.sensors, g, "sensors.");
+    };
+    return t;
+  }();
+  return table;
+}
+
+PlantScene loadPlantSceneText(const std::string& yaml, const std::string& origin,
+                              const std::vector<std::string>& overrides) {
+  std::vector<std::string> warnings;
+  PlantScene out = loadKeys<SceneError>(plantTable(), yaml, origin, overrides, &warnings);
+  finishScene(out.scene, origin, std::move(warnings));
+  return out;
+}
+
+PlantScene loadPlantScene(const std::string& path, const std::vector<std::string>& overrides) {
+  return loadPlantSceneText(readSceneFile(path), path, overrides);
+}
+
+}  // namespace gimbalsim::firmware

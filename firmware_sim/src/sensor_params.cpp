@@ -1,0 +1,56 @@
+#include "gimbalsim/firmware_sim/sensor_params.hpp"
+
+#include <string>
+
+namespace gimbalsim::firmware {
+
+std::vector<Key<SensorParams>> sensorKeys() {
+  using K = Keys<SensorParams>;
+  return {
+      K::number("encoder_resolution", "rad", "firmware_sim: encoder quantum (0 = unquantized)",
+                field(&SensorParams::encoder_resolution), atLeast(0)),
+      K::number("encoder_noise", "rad", "firmware_sim: Gaussian encoder noise sigma (0 = none)",
+                field(&SensorParams::encoder_noise), atLeast(0)),
+      K::number("rate_noise", "rad/s", "firmware_sim: Gaussian rate noise sigma (0 = none)",
+                field(&SensorParams::rate_noise), atLeast(0)),
+      K::integer("seed", "-",
+                 "firmware_sim: sensor noise seed (encoders; the gyro and star tracker streams are derived from it)",
+                 field(&SensorParams::seed), atLeast(0)),
+      K::number("star_tracker_rate", "Hz",
+                "star tracker sample rate; samples at multiples of its period (taken in the first control tick at "
+                "or after)",
+                field(&SensorParams::star_tracker_rate), greater(0)),
+      K::number("star_tracker_noise", "rad",
+                "star tracker noise: sigma per base axis of a small rotation applied to the quaternion (0 = none)",
+                field(&SensorParams::star_tracker_noise), atLeast(0)),
+      K::number("star_tracker_latency", "s",
+                "star tracker latency: a sample taken at t_s is delivered at the first tick at or after t_s + "
+                "latency, stamped t_s; < 8 star tracker periods",
+                field(&SensorParams::star_tracker_latency), atLeast(0)),
+      K::vector<2>("star_tracker_outage", "s",
+                   "star tracker outage [start, end]: no sample taken or delivered, flagged ([0, 0] = none)",
+                   field(&SensorParams::star_tracker_outage), atLeast(0), "[start, end]"),
+      K::vector<3>("gyro_bias", "rad/s", "rate gyro constant bias, base frame",
+                   field(&SensorParams::gyro_bias)),
+      K::number("gyro_bias_walk", "rad/s/sqrt(s)", "rate gyro bias random walk sigma (0 = constant bias)",
+                field(&SensorParams::gyro_bias_walk), atLeast(0)),
+      K::number("gyro_noise", "rad/s", "rate gyro white noise sigma per sample, each axis (0 = none)",
+                field(&SensorParams::gyro_noise), atLeast(0)),
+  };
+}
+
+void validateSensors(const SensorParams& sp, Given& g, const std::string& prefix) {
+  if (!(sp.star_tracker_latency * sp.star_tracker_rate < SensorParams::kStarTrackerMaxLatencyPeriods)) {
+    g.refuse(prefix + "star_tracker_latency",
+             "must be < " + std::to_string(SensorParams::kStarTrackerMaxLatencyPeriods) +
+                 " star tracker periods (" +
+                 formatNumber(SensorParams::kStarTrackerMaxLatencyPeriods / sp.star_tracker_rate) + " s at " +
+                 formatNumber(sp.star_tracker_rate) + " Hz)");
+  }
+  if (!(sp.star_tracker_outage(1) >= sp.star_tracker_outage(0))) {
+    g.refuse(prefix + "star_tracker_outage", "end must be >= start, got [" + formatNumber(sp.star_tracker_outage(0)) +
+                                                ", " + formatNumber(sp.star_tracker_outage(1)) + "]");
+  }
+}
+
+}  // namespace gimbalsim::firmware
