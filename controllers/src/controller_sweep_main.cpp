@@ -5,16 +5,18 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
-#include <iostream>
 
 #include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/controllers/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/program/program.hpp"
 
 using namespace gimbalsim;
 using namespace gimbalsim::controllers;
 
-int main(int argc, char** argv) {
+namespace {
+
+int mainImpl(int argc, char** argv) {
   CLI::App app{"In-process gain sweep of the pointing controller on a scene"};
   std::string scene_path, config_path;
   std::vector<std::string> scene_sets, sets;
@@ -28,7 +30,7 @@ int main(int argc, char** argv) {
   app.add_option("--omega", omegas, "closed-loop bandwidths [rad/s] (triple pole)")->delimiter(',');
   app.add_option("--duration", opt.duration, "simulated time [s] (default: the track start + 5 s)");
   app.add_option("--settle-tol", opt.settle_tol, "settling band on the joint error [rad]");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = program::parse(app, argc, argv, "controller_sweep")) return *rc;
   try {
     const Scene sc = loadScene(scene_path, scene_sets);
     const Model& m = sc.model;
@@ -54,9 +56,14 @@ int main(int argc, char** argv) {
                   c.axis[0].ki, r.settle_time, r.max_joint_error_track, r.max_truth_error_track,
                   r.rms_truth_error_track, r.max_abs_tau(0), r.max_abs_tau(1));
     }
-    return failures ? 3 : 0;
+    return failures ? program::kStopped : program::kOk;
   } catch (const InputError& e) {
-    std::cerr << e.what() << "\n";
-    return 2;
+    return program::refuse("controller_sweep", e);
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return program::guardedMain("controller_sweep", [&] { return mainImpl(argc, argv); });
 }

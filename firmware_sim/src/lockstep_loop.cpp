@@ -65,7 +65,7 @@ int run(Run& r) {
     if (fw.statusDelivered()) r.bridge.publish(fw.status());
     if (want_truth) {
       r.bridge.publish(fw.truth());
-      if (!r.csv.write(fw.truth())) g_stop.store(true);  // a failed write stops the run (exit 6)
+      if (!r.csv.write(fw.truth())) g_stop.store(true);  // a failed write stops the run (exit 4)
     }
     fw.advance();
     r.stats.compute.add(static_cast<double>(nowNs() - t0) * 1e-3);
