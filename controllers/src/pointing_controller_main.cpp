@@ -13,13 +13,11 @@
 // thread, which LCM 1.3.1 lets crash on one malformed fragment. Statuses are
 // taken from one plant (the source of the first, until it has been silent
 // for kRebindNs), so a spoofed status cannot reset or steer the controller.
-// Flags and exit codes: controllers/README.md.
+// Flags: docs/usage.md; exit codes: the one table (program.hpp, docs/usage.md "Exit codes").
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
@@ -30,7 +28,7 @@
 #include "gimbalsim/bench_io/peak_memory.hpp"
 #include "gimbalsim/bench_io/udpm_receiver.hpp"
 
-#include "gimbalsim/program/guarded_main.hpp"
+#include "gimbalsim/program/program.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/controllers/answer.hpp"
 #include "gimbalsim/controllers/config.hpp"
@@ -40,18 +38,6 @@
 
 namespace gimbalsim::controllers {
 namespace {
-
-enum ExitCode : int {
-  kExitOk = 0,
-  kExitInternal = 1,  ///< unexpected exception (a bug)
-  kExitRefused = 2,   ///< bad flag, configuration or log file: nothing run
-  kExitLcm = 4,       ///< LCM could not start or failed while running
-  kExitIdle = 5,      ///< no status within --idle-exit seconds
-  kExitOutput = 6,    ///< --log-csv could not be written (the target is untouched)
-};
-
-std::atomic<bool> g_stop{false};
-extern "C" void onSignal(int) { g_stop.store(true); }
 
 struct Options {
   std::string config;
@@ -203,38 +189,33 @@ int run(int argc, char** argv) {
   app.add_option("--duration", o.duration, "stop after answering the status at this profile time [s] (0 = until "
                                            "SIGINT/SIGTERM)")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--idle-exit", o.idle_exit, "exit (code 5) after this many wall seconds without a status (0 = never)")
+  app.add_option("--idle-exit", o.idle_exit, "exit (code 6) after this many wall seconds without a status (0 = never)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--log-csv", o.log_csv, "write one row per status answered: reference, measurement, torque");
   app.add_flag("--keys", o.keys, "list every configuration key with type, unit, default, check and meaning, then exit");
   app.add_flag("--markdown", o.markdown, "with --keys: as a Markdown table (the one in controllers/README.md)");
   app.add_flag("--print-config", o.print_config,
                "print the configuration in effect (file + --set) as key=value lines, then exit");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? kExitOk : kExitRefused;
-  }
+  if (const auto rc = program::parse(app, argc, argv, "pointing_controller")) return *rc;
   if (o.keys) {
     const std::vector<KeyInfo> all = controllerKeys();
     std::fputs((o.markdown ? keysMarkdown(all) : keysText(all)).c_str(), stdout);
-    return kExitOk;
+    return program::kOk;
   }
   if (!contract::Channels::validPrefix(o.prefix)) {
-    std::fprintf(stderr, "pointing_controller: --channel-prefix '%s': only A-Z, 0-9 and '_' allowed\n",
-                 o.prefix.c_str());
-    return kExitRefused;
+    return program::refuse("pointing_controller",
+                           "--channel-prefix '" + o.prefix + "': only A-Z, 0-9 and '_' allowed");
   }
   ControllerConfig c;
   try {
     c = loadControllerConfig(o.config, o.sets);
   } catch (const ConfigError& e) {
     std::fprintf(stderr, "pointing_controller: configuration refused:\n%s\n", e.what());
-    return kExitRefused;
+    return program::kRefused;
   }
   if (o.print_config) {
     for (const std::string& kv : configValues(c)) std::printf("%s\n", kv.c_str());
-    return kExitOk;
+    return program::kOk;
   }
   // --log-csv: a temporary file renamed over the target at exit (also after
   // SIGINT/SIGTERM), never through a link, never over the configuration.
@@ -245,7 +226,7 @@ int run(int argc, char** argv) {
       log_out.emplace(o.log_csv, std::vector<std::string>{o.config});
     } catch (const io::OutputError& e) {
       std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", e.what());
-      return kExitRefused;
+      return program::kRefused;
     }
     csv = log_out->stream();
     StatusHandler::header(csv);
@@ -254,7 +235,7 @@ int run(int argc, char** argv) {
   if (!lcm.good()) {
     std::fprintf(stderr, "pointing_controller: LCM could not start (url '%s'); in a fresh network namespace add a "
                  "multicast route: ip link set lo up && ip route add 224.0.0.0/4 dev lo\n", o.lcm_url.c_str());
-    return kExitLcm;
+    return program::kNetwork;
   }
   const contract::Channels ch = contract::Channels::withPrefix(o.prefix);
   StatusHandler h(c, lcm, ch, csv);
@@ -263,26 +244,22 @@ int run(int argc, char** argv) {
   bench_io::UdpmReceiver rx(lim, bench_io::ChannelFilter({ch.status, ch.attitude}));
   if (std::string why; !rx.open(o.lcm_url, 4 << 20, &why)) {
     std::fprintf(stderr, "pointing_controller: cannot receive: %s\n", why.c_str());
-    return kExitLcm;
+    return program::kNetwork;
   }
   // sigaction without SA_RESTART: the wait returns at once on SIGINT/SIGTERM.
-  struct sigaction sa {};
-  sa.sa_handler = onSignal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  io::installStopHandlers();
   std::fprintf(stderr, "pointing_controller: %s -> %s, period %g s, profile: slew to (%g, %g) rad at %g s for %g s, "
                "hold %g s, track from %g s\n", ch.status.c_str(), ch.command.c_str(), c.period,
                c.profile.slew_target(0), c.profile.slew_target(1), c.profile.slew_start, c.profile.slew_time,
                c.profile.hold_time, c.profile.trackStart());
-  int code = kExitOk;
+  int code = program::kOk;
   constexpr int kPollMs = 100;
   constexpr int kDrainMax = 256;  // datagrams per round: a flood cannot hold the loop
   std::int64_t last_answer_ns = bench_io::monotonicNs();
-  while (!g_stop.load()) {
+  while (!io::stopRequested()) {
     if (rx.wait(kPollMs) < 0) {
       std::fprintf(stderr, "pointing_controller: receive failed (socket error)\n");
-      code = kExitLcm;
+      code = program::kNetwork;
       break;
     }
     const long long before = h.answered();
@@ -291,20 +268,20 @@ int run(int argc, char** argv) {
     if (h.answered() > before) last_answer_ns = now;
     if (log_out && !log_out->ok()) {
       std::fprintf(stderr, "pointing_controller: --log-csv %s: write failed, stopping\n", o.log_csv.c_str());
-      code = kExitOutput;
+      code = program::kOutput;
       break;
     }
     if (o.duration > 0.0 && h.answered() > 0 && h.lastTime() >= o.duration - 0.5 * c.period) break;
     const double idle = static_cast<double>(now - last_answer_ns) * 1e-9;  // [s] wall time since the last status
     if (o.idle_exit > 0.0 && idle >= o.idle_exit) {
       std::fprintf(stderr, "pointing_controller: no status for %g s, exiting\n", o.idle_exit);
-      code = kExitIdle;
+      code = program::kNoPeer;
       break;
     }
   }
   if (log_out && !log_out->commit()) {
     std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", log_out->error().c_str());
-    if (code == kExitOk) code = kExitOutput;
+    if (code == program::kOk) code = program::kOutput;
   }
   std::fprintf(stderr, "pointing_controller: answered %lld statuses (last t = %.3f s), %lld undecodable, %lld publish "
                "errors, %lld plant restarts, max |joint error| while tracking %.3e rad (encoder), status faults seen 0x%x, "
@@ -317,12 +294,13 @@ int run(int argc, char** argv) {
                mon.stale_statuses, mon.safe_statuses, mon.missing_statuses, mon.suspect_onsets[0], mon.suspect_onsets[1]);
   std::fprintf(stderr, "pointing_controller: receive: %s; %lld from another source than the plant (ignored); peak "
                "memory (VmHWM) %ld kB\n", rx.summary().c_str(), h.foreign(), bench_io::peakRssKb());
-  return code;
+  // Stopped by SIGINT/SIGTERM, --log-csv whole: 128 + the signal.
+  return code == program::kOk && io::stopRequested() ? io::stopExitCode() : code;
 }
 
 }  // namespace
 }  // namespace gimbalsim::controllers
 
 int main(int argc, char** argv) {
-  return gimbalsim::guardedMain("pointing_controller", [&] { return gimbalsim::controllers::run(argc, argv); });
+  return gimbalsim::program::guardedMain("pointing_controller", [&] { return gimbalsim::controllers::run(argc, argv); });
 }

@@ -12,6 +12,7 @@
 #include "gimbalsim/firmware_sim/firmware.hpp"
 #include "gimbalsim/firmware_sim/observed_truth.hpp"
 #include "gimbalsim/firmware_sim/spsc_ring.hpp"
+#include "gimbalsim/program/program.hpp"
 #include "loop_stats.hpp"
 
 namespace lcm {
@@ -20,17 +21,18 @@ class LCM;
 
 namespace gimbalsim::firmware {
 
+/// The exit codes, named for firmware_sim: the one table (program.hpp, docs/usage.md "Exit codes").
 enum ExitCode : int {
-  kExitOk = 0,
-  kExitInternal = 1,       ///< unexpected exception (a bug)
-  kExitRefused = 2,        ///< bad flag, scene, profile or output file: nothing run
-  kExitPlantFault = 3,     ///< the plant stopped on numerical trouble during the run
-  kExitLcm = 4,            ///< LCM could not start (bad --lcm-url, no multicast route)
-  kExitNoController = 5,   ///< lockstep: nobody answered status 0 within --start-timeout
-  kExitOutput = 6,         ///< an output file could not be written (the run stopped; the target is untouched)
+  kExitOk = program::kOk,
+  kExitInternal = program::kInternal,      ///< unexpected exception (a bug)
+  kExitRefused = program::kRefused,        ///< bad flag, scene, profile or output file: nothing run
+  kExitPlantFault = program::kStopped,     ///< the plant stopped on numerical trouble during the run
+  kExitLcm = program::kNetwork,            ///< LCM could not start (bad --lcm-url, no multicast route)
+  kExitNoController = program::kNoPeer,    ///< lockstep: nobody answered status 0 within --start-timeout
+  kExitOutput = program::kOutput,          ///< an output file could not be written (the run stopped; the target is untouched)
 };
 
-/// Set by SIGINT/SIGTERM; the loops check it every tick.
+/// Set by SIGINT/SIGTERM (and by a failed write); the loops check it every tick.
 extern std::atomic<bool> g_stop;
 
 struct Options {

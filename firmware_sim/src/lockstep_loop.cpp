@@ -67,7 +67,7 @@ int run(Run& r) {
     if (want_truth) {
       const Truth truth = observedTruth(fw.truth(), observer, static_cast<double>(k) * r.c.control_period);
       r.bridge.publish(truth);
-      if (!r.csv.write(truth)) g_stop.store(true);  // a failed write stops the run (exit 6)
+      if (!r.csv.write(truth)) g_stop.store(true);  // a failed write stops the run (exit 4)
     }
     fw.advance();
     r.stats.compute.add(static_cast<double>(nowNs() - t0) * 1e-3);

@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "gimbalsim/bench_io/lcm_log.hpp"
-#include "gimbalsim/program/guarded_main.hpp"
+#include "gimbalsim/program/program.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/firmware_sim/csv_rows.hpp"
 #include "gimbalsim/io/output_file.hpp"
@@ -36,8 +36,6 @@ using namespace gimbalsim::contract;  // NOLINT: the message field lists
 namespace {
 
 namespace fs = std::filesystem;
-
-enum ExitCode : int { kExitOk = 0, kExitInternal = 1, kExitRefused = 2, kExitOutput = 6 };
 
 enum class Type { Unknown, Truth, Status, Command, LoopStats, Attitude };
 
@@ -75,10 +73,7 @@ const char* typeName(Type t) {
   return "unknown";
 }
 
-int refuse(const std::string& what) {
-  std::fprintf(stderr, "gimbalsim_log2csv: error: %s\n", what.c_str());
-  return kExitRefused;
-}
+int refuse(const std::string& what) { return program::refuse("gimbalsim_log2csv", what); }
 
 /// One output CSV: decodes the channel's messages with type M and writes rows.
 class Sink {
@@ -152,14 +147,7 @@ int mainImpl(int argc, char** argv) {
                                       "(default: from the channel name)");
   app.add_flag("--log-time", log_time, "first column log_utime[us]: when the logger received the message");
   app.add_flag("--list", list, "list the channels in the log with message counts and types, then exit");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::printf("%s", app.help().c_str());
-    return kExitOk;
-  } catch (const CLI::ParseError& e) {
-    return refuse(std::string(e.what()) + " (see --help)");
-  }
+  if (const auto rc = program::parse(app, argc, argv, "gimbalsim_log2csv")) return *rc;
   prefix_given = app.count("--channel-prefix") > 0;
   if (prefix_given && !Channels::validPrefix(prefix)) {
     return refuse("--channel-prefix '" + prefix + "': only A-Z, 0-9 and '_' allowed");
@@ -203,7 +191,7 @@ int mainImpl(int argc, char** argv) {
       const Type t = typeOfChannel(ch);
       std::printf("%-32s %10lld  %s\n", ch.c_str(), n, t == Type::Unknown ? "(not a gimbalsim channel)" : typeName(t));
     }
-    return kExitOk;
+    return program::kOk;
   }
 
   // Selection: channel -> type.
@@ -269,12 +257,12 @@ int mainImpl(int argc, char** argv) {
     }
     if (!lr.error().empty()) return refuse("log '" + log_path + "' changed while read: " + lr.error());
   }
-  int rc = kExitOk;
+  int rc = program::kOk;
   for (auto& [ch, s] : sinks) {
     const long long rows = s->rows, bad = s->undecodable;
     if (!files[ch]->commit()) {
       std::fprintf(stderr, "gimbalsim_log2csv: error: %s\n", files[ch]->error().c_str());
-      rc = kExitOutput;
+      rc = program::kOutput;
     }
     std::printf("%s (%s): %lld rows -> %s\n", ch.c_str(), typeName(selected[ch]), rows, paths[ch].c_str());
     if (bad > 0) {
@@ -289,5 +277,5 @@ int mainImpl(int argc, char** argv) {
 }  // namespace gimbalsim::firmware
 
 int main(int argc, char** argv) {
-  return gimbalsim::guardedMain("gimbalsim_log2csv", [&] { return gimbalsim::firmware::mainImpl(argc, argv); });
+  return gimbalsim::program::guardedMain("gimbalsim_log2csv", [&] { return gimbalsim::firmware::mainImpl(argc, argv); });
 }

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "app.hpp"
-#include "gimbalsim/program/guarded_main.hpp"
+#include "gimbalsim/program/program.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/firmware_sim/plant_scene.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
@@ -33,15 +33,10 @@ std::atomic<bool> g_stop{false};
 
 namespace {
 
-extern "C" void onSignal(int) { g_stop.store(true); }
-
 constexpr int kRecvBufferBytes = 4 << 20;  ///< socket receive buffer asked for: rides out a burst [bytes]
 constexpr std::size_t kInboundCapacity = 1024;  ///< decoded commands between two ticks
 
-int refuse(const std::string& what) {
-  std::fprintf(stderr, "firmware_sim: error: %s\nfirmware_sim: refused, nothing run (exit 2)\n", what.c_str());
-  return kExitRefused;
-}
+int refuse(const std::string& what) { return program::refuse("firmware_sim", what); }
 
 int mainImpl(int argc, char** argv) {
   Options o;
@@ -78,14 +73,7 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--stats-period", o.stats_period, "loop statistics publication period [s]")
       ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e6));
   app.add_option("--faults", o.faults, "fault schedule file (YAML, README \"Fault schedule\"), e.g. tools/faults/demo.yaml");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::printf("%s", app.help().c_str());
-    return kExitOk;
-  } catch (const CLI::ParseError& e) {
-    return refuse(std::string(e.what()) + " (see --help)");
-  }
+  if (const auto rc = program::parse(app, argc, argv, "firmware_sim")) return *rc;
 
   PlantScene plant;
   try {
@@ -160,12 +148,8 @@ int mainImpl(int argc, char** argv) {
   SpscRing<Inbound> in(kInboundCapacity);
   LcmBridge bridge(lcm, rx, channels, in);
 
-  // sigaction without SA_RESTART: a blocking wait returns at once (EINTR).
-  struct sigaction sa {};
-  sa.sa_handler = onSignal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  // sigaction without SA_RESTART: a blocking wait returns at once (EINTR); the loops see g_stop.
+  io::installStopHandlers([] { g_stop.store(true); });
   std::fprintf(stderr, "firmware_sim: scene '%s' (%s), %g Hz (%d RK4 steps of %g s per tick), %s, channels %s*\n",
                m.name.c_str(), variantName(m).c_str(), o.rate_hz, static_cast<int>(std::llround(c.control_period / m.integrator.step)),
                m.integrator.step, o.lockstep ? "lockstep" : "real time", (o.prefix + "GIMBAL_").c_str());
@@ -185,12 +169,13 @@ int mainImpl(int argc, char** argv) {
     std::fprintf(stderr, "firmware_sim: error: --truth-csv: %s\n", why.c_str());
     return rc == kExitOk ? kExitOutput : rc;
   }
-  return rc;
+  // Stopped by SIGINT/SIGTERM, outputs whole: 128 + the signal.
+  return rc == kExitOk && io::stopRequested() ? io::stopExitCode() : rc;
 }
 
 }  // namespace
 }  // namespace gimbalsim::firmware
 
 int main(int argc, char** argv) {
-  return gimbalsim::guardedMain("firmware_sim", [&] { return gimbalsim::firmware::mainImpl(argc, argv); });
+  return gimbalsim::program::guardedMain("firmware_sim", [&] { return gimbalsim::firmware::mainImpl(argc, argv); });
 }

@@ -114,7 +114,7 @@ int run(Run& r) {
       if (ob.has_status) r.bridge.publish(ob.status);
       if (ob.has_truth) {
         r.bridge.publish(ob.truth);
-        if (!r.csv.write(ob.truth)) g_stop.store(true);  // a failed write stops the run (exit 6)
+        if (!r.csv.write(ob.truth)) g_stop.store(true);  // a failed write stops the run (exit 4)
       }
     }
   };

@@ -12,11 +12,10 @@
 //   gimbalsim_record --lcm-url URL [--channel REGEX] [--duration S] FILE
 //
 // Stops on SIGINT/SIGTERM (or after --duration wall seconds) and prints how
-// many messages it wrote and what the receiver dropped. Exit 0 ok, 2 bad
-// arguments or output file, 4 cannot receive on the URL, 6 writing the log failed.
+// many messages it wrote and what the receiver dropped. Exit codes
+// (docs/usage.md): 0 ok, 2 bad arguments or output file, 4 writing the log
+// failed, 5 cannot receive on the URL, 128 + N stopped by signal N.
 #include <CLI/CLI.hpp>
-#include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <regex>
 #include <string>
@@ -24,13 +23,13 @@
 #include "gimbalsim/bench_io/lcm_log.hpp"
 #include "gimbalsim/bench_io/peak_memory.hpp"
 #include "gimbalsim/bench_io/udpm_receiver.hpp"
+#include "gimbalsim/program/program.hpp"
 
 namespace {
 
 namespace bio = gimbalsim::bench_io;
-
-std::atomic<bool> g_stop{false};
-extern "C" void onSignal(int) { g_stop.store(true); }
+namespace program = gimbalsim::program;
+namespace io = gimbalsim::io;
 
 constexpr std::size_t kMaxMessageBytes = 1 << 20;  ///< larger messages are dropped (counted) [bytes]
 constexpr int kMaxPartials = 8;                    ///< so at most 8 MiB of reassembly buffers
@@ -41,9 +40,7 @@ bool matches(void* re, std::string_view channel) {
   return std::regex_match(channel.begin(), channel.end(), *static_cast<const std::regex*>(re));
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int mainImpl(int argc, char** argv) {
   std::string url, regex = ".*", path;
   double duration = 0.0;
   CLI::App app{"gimbalsim_record: every LCM message of a bench to an LCM log file (lcm-logger format), "
@@ -53,27 +50,15 @@ int main(int argc, char** argv) {
   app.add_option("--channel", regex, "channel regex to record")->capture_default_str();
   app.add_option("--duration", duration, "stop after this many wall seconds (0 = at SIGINT/SIGTERM)")
       ->check(CLI::NonNegativeNumber)->check(CLI::Range(0.0, 1e9));  // (as int64 ns: no overflow)
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::printf("%s", app.help().c_str());
-    return 0;
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "gimbalsim_record: error: %s (see --help)\n", e.what());
-    return 2;
-  }
+  if (const auto rc = program::parse(app, argc, argv, "gimbalsim_record")) return *rc;
   std::regex re;
   try {
     re = std::regex(regex);
   } catch (const std::regex_error& e) {
-    std::fprintf(stderr, "gimbalsim_record: error: --channel '%s': not a regex (%s)\n", regex.c_str(), e.what());
-    return 2;
+    return program::refuse("gimbalsim_record", "--channel '" + regex + "': not a regex (" + e.what() + ")");
   }
   bio::LogWriter log;
-  if (std::string why; !log.open(path, &why)) {
-    std::fprintf(stderr, "gimbalsim_record: error: %s\n", why.c_str());
-    return 2;
-  }
+  if (std::string why; !log.open(path, &why)) return program::refuse("gimbalsim_record", why);
   bio::ReassemblyLimits lim;
   lim.max_message_bytes = kMaxMessageBytes;
   lim.max_partials = kMaxPartials;
@@ -81,13 +66,9 @@ int main(int argc, char** argv) {
   bio::UdpmReceiver rx(lim, bio::ChannelFilter(&matches, &re));
   if (std::string why; !rx.open(url, kRecvBufferBytes, &why)) {
     std::fprintf(stderr, "gimbalsim_record: error: cannot receive: %s\n", why.c_str());
-    return 4;
+    return program::kNetwork;
   }
-  struct sigaction sa {};
-  sa.sa_handler = onSignal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  io::installStopHandlers();  // without SA_RESTART: the wait returns at once
   std::fprintf(stderr, "gimbalsim_record: recording %s -> %s until SIGINT/SIGTERM%s\n", url.empty() ? "(default URL)" : url.c_str(),
                path.c_str(), duration > 0.0 ? " or --duration" : "");
 
@@ -96,11 +77,11 @@ int main(int argc, char** argv) {
     if (!log.write(recv_utime, m.channel, m.data, m.size)) ++failed;
   };
   const std::int64_t end = bio::monotonicNs() + static_cast<std::int64_t>(duration * 1e9);
-  int rc = 0;
-  while (!g_stop.load() && failed == 0 && (duration <= 0.0 || bio::monotonicNs() < end)) {
+  int rc = program::kOk;
+  while (!io::stopRequested() && failed == 0 && (duration <= 0.0 || bio::monotonicNs() < end)) {
     if (rx.wait(100) < 0) {
       std::fprintf(stderr, "gimbalsim_record: error: receive failed (socket error)\n");
-      rc = 4;
+      rc = program::kNetwork;
       break;
     }
     rx.drain(write, 1024);
@@ -111,9 +92,16 @@ int main(int argc, char** argv) {
   if (failed > 0 || !log.commit(&why)) {
     std::fprintf(stderr, "gimbalsim_record: error: writing %s failed%s%s; the file was not replaced\n", path.c_str(),
                  why.empty() ? "" : ": ", why.c_str());
-    rc = 6;
+    rc = program::kOutput;
   }
   std::fprintf(stderr, "gimbalsim_record: %lld messages -> %s; receive: %s; peak memory (VmHWM) %ld kB\n",
                static_cast<long long>(log.events()), path.c_str(), rx.summary().c_str(), bio::peakRssKb());
-  return rc;
+  // Stopped by SIGINT/SIGTERM, the log whole: 128 + the signal.
+  return rc == program::kOk && io::stopRequested() ? io::stopExitCode() : rc;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return program::guardedMain("gimbalsim_record", [&] { return mainImpl(argc, argv); });
 }

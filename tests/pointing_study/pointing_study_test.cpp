@@ -76,15 +76,15 @@ TEST(PointingStudy, RefusesBadArgumentsNamingTheOption) {
 
 TEST(PointingStudy, FailedWritesAreReportedNamingTheFile) {
   const std::string tmp = std::string(GIMBALSIM_TEST_TMP);
-  // The output directory cannot be created: a file stands in its way.
+  // The output directory cannot be created: a file stands in its way (exit 4, an output not written).
   std::filesystem::remove_all(tmp + "/blocker");
   std::fclose(std::fopen((tmp + "/blocker").c_str(), "w"));
-  EXPECT_NE(run("--duration 0.01 --clearances 0.5e-3 --out " + tmp + "/blocker/sub", tmp + "/blocker.log"), 0);
-  // summary.csv cannot be opened: a directory has its name.
+  EXPECT_EQ(run("--duration 0.01 --clearances 0.5e-3 --out " + tmp + "/blocker/sub", tmp + "/blocker.log"), 4);
+  // summary.csv cannot be opened: a directory has its name (refused before running: exit 2).
   const std::string dir = tmp + "/unwritable";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir + "/summary.csv");
-  EXPECT_NE(run("--duration 0.01 --clearances 0.5e-3 --out " + dir, dir + ".log"), 0);
+  EXPECT_EQ(run("--duration 0.01 --clearances 0.5e-3 --out " + dir, dir + ".log"), 2);
   const std::string text = slurp(dir + ".log");
   EXPECT_NE(text.find(dir + "/summary.csv"), std::string::npos) << text;
 }

@@ -10,7 +10,7 @@
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/run_output/run_output.hpp"
-#include "gimbalsim/program/stop_signal.hpp"
+#include "gimbalsim/program/program.hpp"
 
 namespace {
 
@@ -35,14 +35,13 @@ class CsvWriter {
   std::string line_;
 };
 
-// Exit codes (docs/usage.md "Exit codes").
-constexpr int kExitRefused = 2;      // scene, --set or output path refused; nothing run
-constexpr int kExitStopped = 3;      // the run stopped on numerical trouble; outputs complete up to it
-constexpr int kExitOutputFailed = 4;  // an output could not be written; no file under its name
+// Exit codes: docs/usage.md "Exit codes" (program.hpp).
+using gimbalsim::program::kOk;
+using gimbalsim::program::kOutput;
+using gimbalsim::program::kRefused;
+using gimbalsim::program::kStopped;
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int mainImpl(int argc, char** argv) {
   CLI::App app{"gimbalsim: two-axis antenna pointing mechanism on a free-floating satellite"};
   app.require_subcommand(1);
 
@@ -63,12 +62,12 @@ int main(int argc, char** argv) {
   bool markdown = false;
   keys->add_flag("--markdown", markdown, "as a Markdown table (the one in docs/scene_keys.md)");
 
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = gimbalsim::program::parse(app, argc, argv, "gimbalsim")) return *rc;
 
   if (keys->parsed()) {
     const auto all = gimbalsim::firmware::plantTable().info();  // the scene's keys and its sensors'
     std::fputs((markdown ? gimbalsim::keysMarkdown(all) : gimbalsim::keysText(all)).c_str(), stdout);
-    return 0;
+    return kOk;
   }
 
   gimbalsim::Scene loaded;
@@ -77,7 +76,7 @@ int main(int argc, char** argv) {
   } catch (const gimbalsim::InputError& e) {
     for (const auto& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
     std::fprintf(stderr, "gimbalsim: scene refused, nothing simulated\n");
-    return kExitRefused;
+    return kRefused;
   }
   for (const auto& w : loaded.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const gimbalsim::Model& m = loaded.model;
@@ -88,7 +87,7 @@ int main(int argc, char** argv) {
     csv.emplace(out);
   } catch (const gimbalsim::io::OutputError& e) {
     std::fprintf(stderr, "error: %s\ngimbalsim: output refused, nothing simulated\n", e.what());
-    return kExitRefused;
+    return kRefused;
   }
   gimbalsim::io::installStopHandlers();
   // Checked after each row: a signal, or a CSV write that failed, ends the run there.
@@ -99,7 +98,7 @@ int main(int argc, char** argv) {
   if (!csv->ok() || !csv->commit()) {
     std::fprintf(stderr, "error: %s\ngimbalsim: the run was stopped; no CSV and no summary written\n",
                  csv->error().c_str());
-    return kExitOutputFailed;
+    return kOutput;
   }
   const bool interrupted = r.stop.kind == gimbalsim::RunStop::Kind::Interrupted;
   if (interrupted) r.error += std::string(" by ") + gimbalsim::io::stopSignalName();
@@ -109,7 +108,7 @@ int main(int argc, char** argv) {
       gimbalsim::io::writeFileAtomically(summary, gimbalsim::io::runSummary(m, r, scene, integrator).dump(2) + "\n");
     } catch (const gimbalsim::io::OutputError& e) {
       std::fprintf(stderr, "error: %s\n", e.what());
-      return kExitOutputFailed;
+      return kOutput;
     }
   }
   std::fprintf(stderr,
@@ -120,7 +119,13 @@ int main(int argc, char** argv) {
   if (!r.ok) {
     std::fprintf(stderr, "%s: %s\n", interrupted ? "gimbalsim" : "error", r.error.c_str());
     std::fprintf(stderr, "gimbalsim: the CSV holds the %lld good rows up to t = %.6g s\n", r.rows, r.t_end);
-    return interrupted ? gimbalsim::io::stopExitCode() : kExitStopped;
+    return interrupted ? gimbalsim::io::stopExitCode() : kStopped;
   }
-  return 0;
+  return kOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return gimbalsim::program::guardedMain("gimbalsim", [&] { return mainImpl(argc, argv); });
 }

@@ -5,18 +5,20 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
-#include <iostream>
 
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/controllers/pointing_controller.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
+#include "gimbalsim/program/program.hpp"
 
 using namespace gimbalsim;
 using namespace gimbalsim::controllers;
 using firmware::ClosedLoopOptions;
 using firmware::ClosedLoopResult;
 
-int main(int argc, char** argv) {
+namespace {
+
+int mainImpl(int argc, char** argv) {
   CLI::App app{"In-process gain sweep of the pointing controller on a scene"};
   std::string scene_path, config_path;
   std::vector<std::string> scene_sets, sets;
@@ -30,7 +32,7 @@ int main(int argc, char** argv) {
   app.add_option("--omega", omegas, "closed-loop bandwidths [rad/s] (triple pole)")->delimiter(',');
   app.add_option("--duration", opt.duration, "simulated time [s] (default: the track start + 5 s)");
   app.add_option("--settle-tol", opt.settle_tol, "settling band on the joint error [rad]");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = program::parse(app, argc, argv, "controller_sweep")) return *rc;
   try {
     const firmware::PlantScene ps = firmware::loadPlantScene(scene_path, scene_sets);
     const Model& m = ps.scene.model;
@@ -57,9 +59,14 @@ int main(int argc, char** argv) {
                   c.axis[0].ki, r.settle_time, r.max_joint_error_track, r.max_truth_error_track,
                   r.rms_truth_error_track, r.max_abs_tau(0), r.max_abs_tau(1));
     }
-    return failures ? 3 : 0;
+    return failures ? program::kStopped : program::kOk;
   } catch (const InputError& e) {
-    std::cerr << e.what() << "\n";
-    return 2;
+    return program::refuse("controller_sweep", e);
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return program::guardedMain("controller_sweep", [&] { return mainImpl(argc, argv); });
 }

@@ -24,16 +24,17 @@
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/dynamics/step_result.hpp"
 #include "gimbalsim/io/output_file.hpp"
-#include "gimbalsim/program/stop_signal.hpp"
+#include "gimbalsim/program/program.hpp"
 
 using namespace gimbalsim;
 using namespace gimbalsim::controllers;
 
 namespace {
 
-constexpr int kExitRefused = 2;   // bad argument, scene or configuration
-constexpr int kExitWrite = 3;     // an output file could not be written
-constexpr int kExitStopped = 4;   // a plant stopped (results still written)
+// Exit codes: the one table (program.hpp, docs/usage.md "Exit codes").
+constexpr int kExitRefused = program::kRefused;  // bad argument, scene or configuration
+constexpr int kExitWrite = program::kOutput;     // an output file could not be written
+constexpr int kExitStopped = program::kStopped;  // a plant stopped (results still written)
 
 /// One closed-loop run and what it measured.
 struct Study {
@@ -145,13 +146,10 @@ std::string summaryCsv(const std::vector<Study>& runs) {
 }
 
 int refuse(const std::string& option, const std::string& why) {
-  std::fprintf(stderr, "gimbalsim_pointing_study: %s: %s\n", option.c_str(), why.c_str());
-  return kExitRefused;
+  return program::refuse("gimbalsim_pointing_study", option + ": " + why);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int mainImpl(int argc, char** argv) {
   CLI::App app{"Closed-loop truth pointing error on the ideal joint and against the elevation-joint clearance"};
   std::string ideal_path = GIMBALSIM_SCENES_DIR "/paper_ideal.yaml";
   std::string clearance_path = GIMBALSIM_SCENES_DIR "/paper_clearance.yaml";
@@ -172,11 +170,7 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_dir, "output directory (the last one given counts)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.add_flag("--quick", quick, "smoke run: track start + 0.5 s, clearances 0.25 and 0.5 mm (unless given)");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : kExitRefused;
-  }
+  if (const auto rc = program::parse(app, argc, argv, "gimbalsim_pointing_study")) return *rc;
   if (app.count("--duration") && !(duration > 0.0 && std::isfinite(duration))) {
     return refuse("--duration", "must be a positive number of seconds, got " + num(duration));
   }
@@ -265,4 +259,10 @@ int main(int argc, char** argv) {
   }
   const bool all_ok = std::all_of(runs.begin(), runs.end(), [](const Study& s) { return s.ok; });
   return all_ok ? 0 : kExitStopped;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return program::guardedMain("gimbalsim_pointing_study", [&] { return mainImpl(argc, argv); });
 }

@@ -21,7 +21,7 @@ cmake --build "$BUILD" -j2 --target gimbalsim_pointing_study
 status=0
 # The default --out first: a --out among the arguments comes later and counts.
 "$BUILD/bin/gimbalsim_pointing_study" --out "$OUT" "$@" || status=$?
-# Exit 4: a plant stopped; the results of the other runs are still written and plotted.
-if [ "$status" -ne 0 ] && [ "$status" -ne 4 ]; then exit "$status"; fi
+# Exit 3: a plant stopped; the results of the other runs are still written and plotted.
+if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
 /usr/bin/python3 "$ROOT/tools/pointing_study/plot_pointing_study.py" "$OUT"
 exit "$status"

@@ -19,7 +19,7 @@
 #include <sstream>
 
 #include "gimbalsim/scene/scene.hpp"
-#include "gimbalsim/program/stop_signal.hpp"
+#include "gimbalsim/program/program.hpp"
 #include "workprec.hpp"
 #ifdef GIMBALSIM_HAVE_MUJOCO
 #include "mujoco_peer.hpp"
@@ -83,9 +83,7 @@ void printPoint(const Point& p) {
   std::fflush(stdout);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int mainImpl(int argc, char** argv) {
   CLI::App app{"gimbalsim work-precision sweep: CPU time per simulated second against error to a reference"};
   std::vector<std::string> scenes = {"paper_ideal", "paper_ideal_valid_inertia", "paper_clearance",
                                      "stickslip_clearance"};
@@ -112,7 +110,7 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_dir, "output directory (CSV, reference cache)");
   app.add_flag("--quick", quick, "a few short points (smoke test): 1 s, h = 0.04, 0.02, 0.01, rows every 0.04 s");
   app.add_flag("--no-mujoco", no_mujoco, "skip the MuJoCo peer even when built with it");
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = program::parse(app, argc, argv, "gimbalsim_workprec")) return *rc;
   if (quick) {
     steps = {4e-2, 2e-2, 1e-2};
     output_interval = 4e-2;
@@ -123,15 +121,14 @@ int main(int argc, char** argv) {
   // Counts derived from these (reference samples, rows) must fit a long long: refused with exit 2.
   if (!(peak_dt > 0.0 && output_interval >= peak_dt && output_interval / peak_dt <= 1e9 && duration >= 0.0 &&
         duration <= 1e6)) {
-    std::cerr << "error: need 0 < --peak-dt <= --output-interval <= 1e9 --peak-dt and 0 <= --duration <= 1e6 s\n";
-    return 2;
+    return program::refuse("gimbalsim_workprec",
+                           "need 0 < --peak-dt <= --output-interval <= 1e9 --peak-dt and 0 <= --duration <= 1e6 s");
   }
   std::vector<Policy> policies;
   try {
     policies = loadPolicies(policies_path);
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
+    return program::refuse("gimbalsim_workprec", e.what());
   }
   if (!only_policies.empty()) {
     std::erase_if(policies, [&](const Policy& p) {
@@ -169,12 +166,11 @@ int main(int argc, char** argv) {
       base = loadScene(path, base_sets);
     } catch (const InputError& e) {
       std::cerr << "scene " << scene << " refused:\n";
-      for (const auto& p : e.problems()) std::cerr << "  " << p << "\n";
-      return 2;
+      return program::refuse("gimbalsim_workprec", e);
     }
     if (!(base.run.duration / peak_dt <= 1e10)) {
-      std::cerr << "scene " << scene << ": sim.duration / --peak-dt is more than 1e10 reference samples\n";
-      return 2;
+      return program::refuse("gimbalsim_workprec",
+                             "scene " + scene + ": sim.duration / --peak-dt is more than 1e10 reference samples");
     }
     std::printf("\n[%s] %g s, %s, reference: ", scene.c_str(), base.run.duration,
                 base.model.floating_base ? "floating base" : "fixed base");
@@ -281,7 +277,7 @@ int main(int argc, char** argv) {
     writeCsv(csv, points);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 4;  // an output could not be written (README "Exit codes")
+    return program::kOutput;
   }
   std::printf("\nwrote %s (%zu points)\n", csv.c_str(), points.size());
   if (gimbalsim::io::stopRequested()) {
@@ -308,5 +304,11 @@ int main(int argc, char** argv) {
                   5e3 * b->cpu_per_sim_s, b->bore_err_max);
     }
   }
-  return 0;
+  return program::kOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return gimbalsim::program::guardedMain("gimbalsim_workprec", [&] { return mainImpl(argc, argv); });
 }

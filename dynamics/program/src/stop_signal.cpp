@@ -1,16 +1,23 @@
 #include "gimbalsim/program/stop_signal.hpp"
 
+#include <atomic>
 #include <csignal>
 
 namespace gimbalsim::io {
 
 namespace {
-volatile std::sig_atomic_t g_signal = 0;
+std::atomic<int> g_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler stores it");
+void (*g_also)() = nullptr;  // set before the handler is installed
 
-extern "C" void onStopSignal(int sig) { g_signal = sig; }
+extern "C" void onStopSignal(int sig) {
+  g_signal.store(sig);
+  if (g_also != nullptr) g_also();
+}
 }  // namespace
 
-void installStopHandlers() noexcept {
+void installStopHandlers(void (*also)()) noexcept {
+  g_also = also;
   struct sigaction sa {};
   sa.sa_handler = onStopSignal;
   sigemptyset(&sa.sa_mask);
@@ -19,12 +26,12 @@ void installStopHandlers() noexcept {
   sigaction(SIGTERM, &sa, nullptr);
 }
 
-bool stopRequested() noexcept { return g_signal != 0; }
+bool stopRequested() noexcept { return g_signal.load(std::memory_order_relaxed) != 0; }
 
-int stopSignal() noexcept { return g_signal; }
+int stopSignal() noexcept { return g_signal.load(); }
 
 const char* stopSignalName() noexcept {
-  switch (g_signal) {
+  switch (g_signal.load()) {
     case SIGINT:
       return "SIGINT";
     case SIGTERM:

@@ -1,13 +1,16 @@
-// SIGINT and SIGTERM as a request to stop: the handler only sets a
-// sig_atomic_t flag; the programs check it between output rows (simulate()'s
-// stop predicate, a sweep's loop), finish the row, write complete outputs and
-// a summary saying "interrupted", and exit with stopExitCode().
+// SIGINT and SIGTERM as a request to stop: the handler only sets a lock-free
+// atomic flag (readable from any thread); the programs check it between
+// output rows (simulate()'s stop predicate, a sweep's loop, a bench's tick),
+// finish the row, write complete outputs and a summary saying "interrupted",
+// and exit with stopExitCode().
 #pragma once
 
 namespace gimbalsim::io {
 
 /// Installs the handler for SIGINT and SIGTERM (sigaction, no SA_RESTART).
-void installStopHandlers() noexcept;
+/// `also`, if given, is called by the handler after the flag is set: it must
+/// be async-signal-safe (e.g. a lock-free atomic store of a program's own flag).
+void installStopHandlers(void (*also)() = nullptr) noexcept;
 /// A stop was requested (async-signal-safe read of the flag).
 bool stopRequested() noexcept;
 /// The signal that asked (0 if none).

@@ -1,0 +1,77 @@
+// The one program entry. Why it exists: every program used to repeat its own
+// CLI11 block and its own exit codes, and CLI11's codes leaked out (an unknown
+// flag gave 106, a bad value 104). Here, once for all of them: the exit-code
+// table of docs/usage.md "Exit codes", the parse (--help -> 0, any refused
+// argument -> "<program>: error: <what>" and 2), the refusal of an input, and
+// the outermost guard of main() (an escaped exception -> one line and 1).
+//
+//   int mainImpl(int argc, char** argv) {
+//     CLI::App app{"..."};  // options
+//     if (const auto rc = gimbalsim::program::parse(app, argc, argv, "name")) return *rc;
+//     ...  // a gimbalsim::InputError thrown here is refused with 2 by the guard
+//   }
+//   int main(int argc, char** argv) {
+//     return gimbalsim::program::guardedMain("name", [&] { return mainImpl(argc, argv); });
+//   }
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <new>
+#include <optional>
+#include <string>
+
+#include "gimbalsim/input/input_error.hpp"
+#include "gimbalsim/program/stop_signal.hpp"
+
+namespace gimbalsim::program {
+
+/// The exit codes of every program (docs/usage.md "Exit codes").
+enum Exit : int {
+  kOk = 0,        ///< success
+  kInternal = 1,  ///< a bug, memory exhausted (the guard)
+  kRefused = 2,   ///< bad arguments, scene, configuration, fault schedule, log or spec: nothing run
+  kStopped = 3,   ///< the run stopped (numerical trouble, a plant stop); outputs whole up to it
+  kOutput = 4,    ///< an output file could not be written; nothing under its name
+  kNetwork = 5,   ///< LCM or the network could not start, or failed
+  kNoPeer = 6,    ///< no peer: --idle-exit elapsed, or no controller answered within --start-timeout
+};
+/// Stopped by signal N (outputs whole): 128 + N, i.e. 130 for SIGINT, 143 for SIGTERM.
+constexpr int signalExit(int signal) { return 128 + signal; }
+
+/// Parses argv into app. nullopt: go on. Otherwise the code main() returns:
+/// kOk after --help (printed on stdout), kRefused after any refused argument
+/// (unknown flag, bad or missing value, failed check), printed on stderr as
+/// "<program>: error: <what> (see --help)".
+std::optional<int> parse(CLI::App& app, int argc, char** argv, const char* program);
+
+/// "<program>: error: <what>" and "<program>: refused, nothing run" on stderr; kRefused.
+int refuse(const char* program, const std::string& what);
+/// Every problem as "error: <problem>", then "<program>: refused, nothing run"; kRefused.
+int refuse(const char* program, const InputError& e);
+
+/// The outermost frame of main(): body()'s code; an InputError (or a
+/// CLI::ParseError) that escaped is refused (kRefused); any other exception
+/// is a bug or exhausted memory: "<program>: internal error: ..." and kInternal.
+template <class Body>
+int guardedMain(const char* program, Body&& body) noexcept {
+  try {
+    try {
+      return body();
+    } catch (const InputError& e) {
+      return refuse(program, e);
+    } catch (const CLI::ParseError& e) {
+      return refuse(program, e.what());
+    }
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "%s: internal error: memory exhausted\n", program);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: internal error: %s\n", program, e.what());
+  } catch (...) {
+    std::fprintf(stderr, "%s: internal error (unknown exception)\n", program);
+  }
+  return kInternal;
+}
+
+}  // namespace gimbalsim::program
