@@ -28,7 +28,7 @@ def main():
         rows = list(csv.DictReader(f))
     log = (d / "study.log").read_text() if (d / "study.log").exists() else ""
     setup = next((line.lstrip("# ").strip() for line in log.splitlines() if line.startswith("# ")), "")
-    config = (d / "config.txt").read_text().split() if (d / "config.txt").exists() else []
+    config = (d / "config.txt").read_text().splitlines() if (d / "config.txt").exists() else []
     ideal = next((r for r in rows if float(r["clearance_m"]) == 0.0), None)
     md = ["`build/bin/gimbalsim_pointing_study` (tools/pointing_study/): the in-process closed loop (firmware model "
           "+ pointing controller, `controllers/config/default.yaml`, the truth of the lockstep bench) on "
@@ -44,8 +44,8 @@ def main():
             rel = (f"{float(r['peak_track_rad']) / float(ideal['peak_track_rad']):.2g}",
                    f"{float(r['rms_track_rad']) / float(ideal['rms_track_rad']):.2g}")
         status = r["status"] + (f" ({r['stop_reason']})" if r.get("stop_reason") else "")
-        md.append(f"| {r['run']} | {'-' if c == 0 else f'{c * 1e3:g}'} | {float(r['peak_track_rad']):.3g} | "
-                  f"{float(r['rms_track_rad']):.3g} | {float(r['peak_run_rad']):.3g} | {rel[0]} | {rel[1]} | "
+        md.append(f"| {r['run']} | {'-' if c == 0 else f'{c * 1e3:g}'} | {float(r['peak_track_rad']):.2e} | "
+                  f"{float(r['rms_track_rad']):.2e} | {float(r['peak_run_rad']):.2e} | {rel[0]} | {rel[1]} | "
                   f"{status} |")
     md += ["", "Per tick: out/pointing_study/pointing_error.csv; figures: out/pointing_study/pointing_error_vs_time.png "
            "and pointing_error_vs_clearance.png (tools/pointing_study/plot_pointing_study.py).", ""]
