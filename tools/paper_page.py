@@ -70,7 +70,7 @@ def main():
     figs = []
     for src, dst, caption in FIGURES:
         small_copy(d / "plots" / src, out / dst)
-        figs.append(f"![{caption}]({dst})\n\n{caption}\n")
+        figs.append(f"![{src.split('_')[0]}]({dst})\n\n{caption}\n")
     overrides = ", ".join(f"`{s}`" for s in a.set) if a.set else "none (the scenes as committed)"
     body = f"""The paper's scene (You, Pan & Zhao 2010, section 4): `tools/scenes/paper_ideal.yaml` (ideal elevation
 joint) and `tools/scenes/paper_clearance.yaml` (radial clearance in joint 2), the same open-loop torques, simulated
@@ -91,7 +91,7 @@ three below are copies at {DPI_TO} dpi). Overrides given to both runs: {override
 {chr(10).join(figs)}"""
     first = next((line for line in summary.splitlines() if "max pointing error" in line), "")
     results_page.write_page(out / "paper.md", "Paper scene: ideal joint against clearance joint", a.command, body,
-                            summary=("pointing error " + first.split(":", 1)[1].strip()) if first else "",
+                            summary=("max pointing error " + first.split(":", 1)[1].strip()) if first else "",
                             t0=a.t0, load0=a.load0)
     print(f"paper_page: wrote {out / 'paper.md'} and {', '.join(f[1] for f in FIGURES)}")
     return 0
