@@ -56,8 +56,10 @@ def main():
           "are from this run only. The 2 cores are shared (see the load average above): absolute times move "
           "by tens of percent with the load, ratios measured in one run far less.", "",
           "## Dynamics micro-benchmarks (Google Benchmark)", "",
-          f"`build/bin/gimbalsim_bench` (tools/bench/bench_dynamics.cpp), {reps} repetitions, CPU time per call "
-          f"(Google Benchmark {ctx.get('library_version', '')}, library build {ctx.get('library_build_type', '?')}). "
+          f"`build/bin/gimbalsim_bench` (tools/bench/bench_dynamics.cpp, Release build), {reps} repetitions, median "
+          f"and minimum CPU time per call and the coefficient of variation over the repetitions (Google Benchmark "
+          f"from Debian's libbenchmark-dev, which reports itself as a {ctx.get('library_build_type', '?')} build: "
+          "that is its own timing loop, not the code measured). "
           "Variants: Fixed/Floating base, Ideal/Clearance joint, with or without friction; states taken mid-run "
           "of the paper scene. BM_ForwardDynamics: one derivative; BM_Rk4: one RK4 step; BM_Step: one integrator "
           "step (sub-steps in contact); BM_ContactLaw, BM_ClearanceContact, BM_StepImpact: the contact pieces.", "",
