@@ -269,6 +269,10 @@ def page_body(text):
             out.append("")
             if kind == "code":
                 out.append("```")
+        if kind == "text" and line.startswith("("):  # (i), (ii), (iii): a section each
+            out += ["", "### " + line.strip()]
+            mode = "heading"
+            continue
         out.append(line if kind != "text" else line.strip())
         mode = kind
     if mode == "code":
@@ -331,6 +335,7 @@ def main():
         ratio = next((line.split("=", 1)[1].strip() for line in text.splitlines() if "firmware_sim / cyclictest" in line), "")
         best = next((line.split("):", 1)[1].split("[")[0].strip() for line in text.splitlines()
                      if line.startswith("highest rate sustained (plain")), "")
+        best = best if best[:1].isdigit() else best.removesuffix(" Hz")
         summary = "; ".join(x for x in (f"highest rate sustained: {best}" if best else "",
                                         f"1 kHz run, firmware_sim / cyclictest lateness p50 / p99 / p99.9 / max = {ratio}"
                                         if ratio else "") if x)
