@@ -54,7 +54,8 @@ def main():
     table, reps, ctx = bench_table(a.bench_json)
     md = ["Both parts below ran in one run of the command above on the machine in the header; medians and ratios "
           "are from this run only. The 2 cores are shared (see the load average above): absolute times move "
-          "by tens of percent with the load, ratios measured in one run far less.", "",
+          "by tens of percent with the load, and on this VM even the ratios of one run move by up to a quarter "
+          "between runs minutes apart; re-run on a quiet machine before quoting a figure.", "",
           "## Dynamics micro-benchmarks (Google Benchmark)", "",
           f"`build/bin/gimbalsim_bench` (tools/bench/bench_dynamics.cpp, Release build), {reps} repetitions, median "
           f"and minimum CPU time per call and the coefficient of variation over the repetitions (Google Benchmark "
