@@ -16,17 +16,24 @@
 # simulations (list the keys with `build/bin/gimbalsim keys`), e.g.
 #   bash tools/run_paper.sh sim.duration=1                 # 1 s instead of 5 s
 #   bash tools/run_paper.sh sim.duration=2 friction.mu=0.1
+#
+# --results also writes docs/results/paper.md (headline figures; header by
+# tools/results_page.py) and three of the figures, small, into docs/results/
+# (paper_pointing.png, paper_joint2_force.png, paper_eccentricity.png).
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 
-SETS=()
+T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
+COMMAND="bash tools/run_paper.sh$(printf ' %q' "$@")"
+SETS=() RESULTS=0 PAGE_SETS=()
 for kv in "$@"; do
   case "$kv" in
-    *=*) SETS+=(--set "$kv") ;;
+    --results) RESULTS=1 ;;
+    *=*) SETS+=(--set "$kv"); PAGE_SETS+=(--set "$kv") ;;
     *) echo "run_paper.sh: expected key=value scene overrides, got '$kv'" >&2
-       echo "usage: bash tools/run_paper.sh [key=value ...]   (e.g. sim.duration=1)" >&2
+       echo "usage: bash tools/run_paper.sh [--results] [key=value ...]   (e.g. sim.duration=1)" >&2
        exit 2 ;;
   esac
 done
@@ -56,7 +63,7 @@ echo "== [4/4] plots"
 /usr/bin/python3 tools/plot_paper.py \
   --ideal "$OUT/ideal.csv" --clearance "$OUT/clearance.csv" \
   --ideal-summary "$OUT/ideal.json" --clearance-summary "$OUT/clearance.json" \
-  --out "$OUT/plots"
+  --out "$OUT/plots" | tee "$OUT/plot_summary.txt"
 
 echo
 echo "Outputs (under $ROOT):"
@@ -64,3 +71,7 @@ echo "  runs     : $OUT/ideal.csv $OUT/clearance.csv"
 echo "  summaries: $OUT/ideal.json $OUT/clearance.json"
 echo "  figures  : $OUT/plots/fig06_eccentricity.png ... fig18_joint2_force.png"
 echo "  pointing : $OUT/plots/pointing_error.csv"
+if [ "$RESULTS" = 1 ]; then
+  /usr/bin/python3 tools/paper_page.py --dir "$OUT" --command "$COMMAND" --t0 "$T0" --load0 "$LOAD0" \
+    ${PAGE_SETS[@]+"${PAGE_SETS[@]}"}
+fi

@@ -1,15 +1,26 @@
 #!/usr/bin/env bash
 # Runs gimbalsim_bench with repetitions and prints one line per benchmark:
 # median and minimum CPU time per call [ns] (plus the per-call counters).
-#   tools/bench/run_bench.sh [--benchmark_filter=REGEX] [other benchmark flags]
+#   tools/bench/run_bench.sh [--results] [--benchmark_filter=REGEX] [other benchmark flags]
 # Environment: BENCH (binary, default build/bin/gimbalsim_bench), REPS (default 5),
 # OUT (keep the JSON there).
+# --results: also measures MuJoCo's RK4 against ours (gimbalsim_workprec on
+# paper_ideal_valid_inertia, MUJOCO_REPEATS runs per point, default 5) and
+# writes docs/results/speed.md (tools/bench/speed_page.py).
 set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
+COMMAND="bash tools/bench/run_bench.sh$(printf ' %q' "$@")"
+for v in REPS MUJOCO_REPEATS; do [ -n "${!v:-}" ] && COMMAND="$v=${!v} $COMMAND"; done
+RESULTS=0 ARGS=()
+for a in "$@"; do
+  if [ "$a" = --results ]; then RESULTS=1; else ARGS+=("$a"); fi
+done
 BIN=${BENCH:-build/bin/gimbalsim_bench}
 REPS=${REPS:-5}
 OUT=${OUT:-$(mktemp /tmp/gimbalsim_bench.XXXXXX.json)}
 "$BIN" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
-  --benchmark_out="$OUT" --benchmark_out_format=json "$@" >/dev/null
+  --benchmark_out="$OUT" --benchmark_out_format=json ${ARGS[@]+"${ARGS[@]}"} >/dev/null
 python3 - "$OUT" <<'PY'
 import json, sys
 runs = json.load(open(sys.argv[1]))["benchmarks"]
@@ -26,3 +37,13 @@ for name, row in rows.items():
     extra = " ".join(f"{k}={v:g}" for k, v in row.get("counters", {}).items())
     print(f"{name:48s} {row.get('median', float('nan')):12.1f} {row.get('min', float('nan')):12.1f} {extra}")
 PY
+[ "$RESULTS" = 1 ] || exit 0
+cd "$ROOT"
+MJ=(--no-mujoco "this build has no MuJoCo peer: Debian's libmujoco-dev and libqhull-dev were not installed when build/ was configured (apt-get install libmujoco-dev libqhull-dev, then reconfigure)")
+if grep -q '^mujoco_DIR:PATH=/' build/CMakeCache.txt 2>/dev/null; then  # found at configure time
+  mkdir -p out/speed/mujoco
+  build/bin/gimbalsim_workprec --scenes paper_ideal_valid_inertia --policy plain --steps 1e-2,5e-3,2e-3,1e-3 \
+    --repeats "${MUJOCO_REPEATS:-5}" --out out/speed/mujoco | tee out/speed/mujoco/workprec.log
+  MJ=(--mujoco-dir out/speed/mujoco)
+fi
+/usr/bin/python3 tools/bench/speed_page.py --bench-json "$OUT" "${MJ[@]}" --command "$COMMAND" --t0 "$T0" --load0 "$LOAD0"

@@ -3,11 +3,18 @@
 # gimbalsim_pointing_study (configuring build/ if needed), runs it and plots.
 # Arguments go to the tool (e.g. --clearances 0.2e-3,0.5e-3 --duration 6
 # --set KEY=VALUE --scene-set KEY=VALUE --out DIR). BUILD_DIR overrides build/.
+# --results also writes docs/results/closed_loop_clearance.md
+# (tools/pointing_study/pointing_page.py).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 BUILD="${BUILD_DIR:-$ROOT/build}"
-OUT="out/pointing_study"
-args=("$@")
+T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
+COMMAND="bash tools/pointing_study/run_pointing_study.sh$(printf ' %q' "$@")"
+OUT="out/pointing_study" RESULTS=0
+args=()
+for a in "$@"; do
+  if [ "$a" = --results ]; then RESULTS=1; else args+=("$a"); fi
+done
 for ((i = 0; i < ${#args[@]}; i++)); do
   case "${args[i]}" in
     --out) OUT="${args[i + 1]:-}" ;;
@@ -19,9 +26,14 @@ if [ ! -f "$BUILD/CMakeCache.txt" ]; then
 fi
 cmake --build "$BUILD" -j2 --target gimbalsim_pointing_study
 status=0
+mkdir -p "$OUT"
 # The default --out first: a --out among the arguments comes later and counts.
-"$BUILD/bin/gimbalsim_pointing_study" --out "$OUT" "$@" || status=$?
+"$BUILD/bin/gimbalsim_pointing_study" --out "$OUT" ${args[@]+"${args[@]}"} | tee "$OUT/study.log" || status=$?
 # Exit 3: a plant stopped; the results of the other runs are still written and plotted.
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
 /usr/bin/python3 "$ROOT/tools/pointing_study/plot_pointing_study.py" "$OUT"
+if [ "$RESULTS" = 1 ]; then
+  /usr/bin/python3 "$ROOT/tools/pointing_study/pointing_page.py" --dir "$(realpath "$OUT")" --command "$COMMAND" \
+     --t0 "$T0" --load0 "$LOAD0"
+fi
 exit "$status"

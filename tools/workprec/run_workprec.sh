@@ -3,15 +3,26 @@
 # runs it (arguments are passed through, e.g. --quick, --scenes paper_ideal,
 # --repeats 5), writes out/workprec/workprec.csv and its log, and plots
 # out/workprec/workprec.png with /usr/bin/python3 (Debian's matplotlib).
+# --results also writes docs/results/workprec.md (tools/workprec/workprec_page.py).
 #
 #   bash tools/workprec/run_workprec.sh            # full sweep: several minutes
 #   bash tools/workprec/run_workprec.sh --quick    # seconds
+#   bash tools/workprec/run_workprec.sh --results  # full sweep and its results page
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 cd "$ROOT"
+T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
+COMMAND="bash tools/workprec/run_workprec.sh$(printf ' %q' "$@")"
+RESULTS=0 ARGS=()
+for a in "$@"; do
+  if [ "$a" = --results ]; then RESULTS=1; else ARGS+=("$a"); fi
+done
 bash tools/bootstrap.sh
 [ -f build/CMakeCache.txt ] || cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2 --target gimbalsim_workprec >/dev/null
 mkdir -p out/workprec
-build/bin/gimbalsim_workprec --out out/workprec "$@" | tee out/workprec/workprec.log
+build/bin/gimbalsim_workprec --out out/workprec ${ARGS[@]+"${ARGS[@]}"} | tee out/workprec/workprec.log
 /usr/bin/python3 tools/workprec/plot_workprec.py out/workprec/workprec.csv --out out/workprec/workprec.png
+if [ "$RESULTS" = 1 ]; then
+  /usr/bin/python3 tools/workprec/workprec_page.py --dir out/workprec --command "$COMMAND" --t0 "$T0" --load0 "$LOAD0"
+fi

@@ -1,0 +1,106 @@
+"""tools/results_page.py, the writer of every page in docs/results/: the
+header has the regenerate command, machine, commit and date lines; the write
+is atomic (an existing page is untouched when the write fails); the index
+lists the pages."""
+import errno
+import os
+import platform
+import re
+import subprocess
+import sys
+
+import pytest
+
+from conftest import SOURCE
+
+sys.path.insert(0, str(SOURCE / "tools"))
+import results_page  # noqa: E402
+
+WRITER = SOURCE / "tools" / "results_page.py"
+
+
+def test_header_has_command_machine_commit_date_and_load(tmp_path):
+    page = tmp_path / "study.md"
+    results_page.write_page(page, "A study", "bash tools/run_study.sh --quick", "| a | b |\n|---|---|\n| 1 | 2 |\n",
+                            summary="one line", t0="0", load0="0.50 0.40 0.30 1/100 42")
+    lines = page.read_text().splitlines()
+    assert lines[0] == results_page.MARK
+    assert lines[1] == "# A study"
+    assert lines[3] == "Regenerate: `bash tools/run_study.sh --quick`"
+    machine, com, date, run = lines[5:9]
+    m = re.fullmatch(r"- Machine: (.+), (\d+) cores?, kernel (\S+)", machine)
+    assert m, machine
+    assert int(m.group(2)) == os.cpu_count()
+    assert m.group(3) == platform.release()
+    if os.path.exists("/proc/cpuinfo") and "model name" in open("/proc/cpuinfo").read():
+        assert m.group(1) == results_page.cpu_model()
+    assert re.fullmatch(r"- Commit: ([0-9a-f]{4,40}(-dirty)?|unknown \(not a git work tree\))", com), com
+    head = subprocess.run(["git", "-C", str(SOURCE), "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
+    if head.returncode == 0:
+        assert com.split()[-1].removesuffix("-dirty") == head.stdout.strip()
+    assert re.fullmatch(r"- Date: \d{4}-\d\d-\d\d \d\d:\d\d UTC", date), date
+    assert run.startswith("- Run: ") and "0.50 0.40 0.30 at start" in run and "s wall" in run
+    assert "| 1 | 2 |" in lines
+    # The index beside it lists the page with its title, summary and command.
+    index = (tmp_path / "README.md").read_text()
+    assert "[A study](study.md): one line" in index
+    assert "`bash tools/run_study.sh --quick`" in index
+
+
+def test_failed_write_leaves_the_existing_page_untouched(tmp_path, monkeypatch):
+    page = tmp_path / "study.md"
+    page.write_text("the committed page\n")
+
+    def full_disk(fd):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(results_page.os, "fsync", full_disk)
+    with pytest.raises(OSError):
+        results_page.write_page(page, "A study", "cmd", "new body", index=False)
+    assert page.read_text() == "the committed page\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["study.md"], "no temporary left behind"
+
+
+def test_symlinked_page_is_refused_and_its_target_untouched(tmp_path):
+    target = tmp_path / "elsewhere.md"
+    target.write_text("keep\n")
+    (tmp_path / "study.md").symlink_to(target)
+    with pytest.raises(OSError, match="symbolic link"):
+        results_page.write_page(tmp_path / "study.md", "A study", "cmd", "body", index=False)
+    assert target.read_text() == "keep\n"
+
+
+def test_command_line_writes_the_page_and_exits_4_on_a_failed_write(tmp_path):
+    body = tmp_path / "body.md"
+    body.write_text("Body text.\n")
+    out = tmp_path / "results" / "x.md"
+    p = subprocess.run([sys.executable, str(WRITER), "--page", str(out), "--title", "X", "--command", "make x",
+                        "--body", str(body), "--summary", "s"], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    text = out.read_text()
+    assert text.splitlines()[3] == "Regenerate: `make x`" and text.rstrip().endswith("Body text.")
+    assert (out.parent / "README.md").exists()
+    # The page's folder is a file: nothing written, exit 4 naming the problem.
+    blocker = tmp_path / "blocker"
+    blocker.write_text("")
+    p = subprocess.run([sys.executable, str(WRITER), "--page", str(blocker / "x.md"), "--title", "X", "--command",
+                        "make x", "--body", str(body)], capture_output=True, text=True)
+    assert p.returncode == 4 and "results_page:" in p.stderr
+
+
+def test_dirty_ignores_the_results_folder_only(tmp_path):
+    # A scratch repository: a committed tool and a committed page.
+    def git(*a):
+        subprocess.run(["git", "-C", str(tmp_path), *a], check=True, capture_output=True)
+
+    git("init", "-q")
+    (tmp_path / "docs" / "results").mkdir(parents=True)
+    (tmp_path / "tool.py").write_text("x = 1\n")
+    (tmp_path / "docs" / "results" / "p.md").write_text("page\n")
+    git("add", ".")
+    git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-q", "-m", "c")
+    assert not results_page.commit(tmp_path).endswith("-dirty")
+    (tmp_path / "docs" / "results" / "p.md").write_text("regenerated page\n")
+    assert not results_page.commit(tmp_path).endswith("-dirty")
+    (tmp_path / "tool.py").write_text("x = 2\n")
+    assert results_page.commit(tmp_path).endswith("-dirty")

@@ -1,0 +1,96 @@
+#!/usr/bin/python3
+"""docs/results/speed.md (called by tools/bench/run_bench.sh --results): the
+Google Benchmark medians of gimbalsim_bench, and the MuJoCo peer's ratio to
+our RK4 from a gimbalsim_workprec run of the ideal scene (both measured in the
+same script run; the load average at start and end is in the header).
+
+    /usr/bin/python3 tools/bench/speed_page.py --bench-json B.json [--mujoco-dir DIR | --no-mujoco REASON]
+        --command CMD [--t0 T0 --load0 L]
+"""
+import argparse
+import json
+import pathlib
+import statistics
+import sys
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tools"))
+sys.path.insert(0, str(ROOT / "tools" / "workprec"))
+import results_page  # noqa: E402
+import workprec_page  # noqa: E402
+
+
+def bench_table(path):
+    data = json.loads(pathlib.Path(path).read_text())
+    rows = {}
+    for r in data["benchmarks"]:
+        if r.get("run_type") != "aggregate":
+            continue
+        row = rows.setdefault(r["run_name"], {})
+        row[r["aggregate_name"]] = r["cpu_time"]
+        row["unit"] = r.get("time_unit", "ns")
+        row["reps"] = r.get("repetitions", "")
+    ctx = data.get("context", {})
+    md = [f"| benchmark | median CPU per call [ns] | min [ns] | cv |", "|---|---|---|---|"]
+    for name, row in rows.items():
+        if row.get("unit") != "ns":
+            continue
+        cv = row.get("cv")
+        md.append(f"| {name} | {row.get('median', float('nan')):.1f} | {row.get('min', float('nan')):.1f} | "
+                  f"{'' if cv is None else f'{cv:.1%}'} |")
+    reps = next((r["reps"] for r in rows.values()), "")
+    return "\n".join(md) + "\n", reps, ctx
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--bench-json", required=True)
+    ap.add_argument("--mujoco-dir")
+    ap.add_argument("--no-mujoco", help="why there is no MuJoCo figure")
+    ap.add_argument("--command", required=True)
+    ap.add_argument("--t0")
+    ap.add_argument("--load0")
+    a = ap.parse_args()
+    table, reps, ctx = bench_table(a.bench_json)
+    md = ["Both parts below ran in one run of the command above on the machine in the header; medians and ratios "
+          "are from this run only. The 2 cores are shared (see the load average above): absolute times move "
+          "by tens of percent with the load, and on this VM even the ratios of one run move by up to a quarter "
+          "between runs minutes apart; re-run on a quiet machine before quoting a figure.", "",
+          "## Dynamics micro-benchmarks (Google Benchmark)", "",
+          f"`build/bin/gimbalsim_bench` (tools/bench/bench_dynamics.cpp, Release build), {reps} repetitions, median "
+          f"and minimum CPU time per call and the coefficient of variation over the repetitions (Google Benchmark "
+          f"from Debian's libbenchmark-dev, which reports itself as a {ctx.get('library_build_type', '?')} build: "
+          "that is its own timing loop, not the code measured). "
+          "Variants: Fixed/Floating base, Ideal/Clearance joint, with or without friction; states taken mid-run "
+          "of the paper scene. BM_ForwardDynamics: one derivative; BM_Rk4: one RK4 step; BM_Step: one integrator "
+          "step (sub-steps in contact); BM_ContactLaw, BM_ClearanceContact, BM_StepImpact: the contact pieces.", "",
+          table, "## MuJoCo peer", ""]
+    summary = ""
+    if a.mujoco_dir:
+        rows = workprec_page.load(pathlib.Path(a.mujoco_dir) / "workprec.csv")
+        mj = workprec_page.mujoco_table(rows)
+        ratios = [m["cpu_s_per_sim_s"] / o["cpu_s_per_sim_s"] for m in rows if m["ok"] and m["policy"].startswith("MuJoCo")
+                  for o in rows if o["ok"] and o["policy"] == "plain" and o["scene"] == m["scene"]
+                  and abs(o["h_s"] - m["h_s"]) < 1e-12]
+        if mj and ratios:
+            med = statistics.median(ratios)
+            summary = f"MuJoCo 2.2 RK4 step / ours: median {med:.2f} over {len(ratios)} step sizes"
+            md += ["MuJoCo 2.2's RK4 (Debian's libmujoco-dev; tools/mujoco/mujoco_peer.cpp builds the same gimbal "
+                   "as an MJCF model) against our plain RK4 on `paper_ideal_valid_inertia` (the paper's scene with "
+                   "base inertia diag(1000, 600, 600): MuJoCo refuses the paper's, which violates the triangle "
+                   "inequality), same steps, same Dormand-Prince reference, thread CPU time of the stepping, "
+                   "measured by `gimbalsim_workprec` in this run:", "", mj,
+                   f"**MuJoCo / ours, CPU time per simulated second: median {med:.2f}** "
+                   f"(range {min(ratios):.2f} to {max(ratios):.2f}).", ""]
+        else:
+            md += ["The MuJoCo run produced no comparable points (see out/speed/mujoco/workprec.log).", ""]
+    else:
+        md += [f"Not measured: {a.no_mujoco or 'no MuJoCo'}.", ""]
+    results_page.write_page(ROOT / "docs/results/speed.md", "Speed: dynamics micro-benchmarks and the MuJoCo ratio",
+                            a.command, "\n".join(md), summary=summary, t0=a.t0, load0=a.load0)
+    print("speed_page: wrote docs/results/speed.md")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,65 @@
+#!/usr/bin/python3
+"""docs/results/closed_loop_clearance.md from a gimbalsim_pointing_study run
+(called by tools/pointing_study/run_pointing_study.sh --results): the truth
+pointing error in closed loop, ideal joint against each clearance, from DIR's
+summary.csv, config.txt and the tool's log.
+
+    /usr/bin/python3 tools/pointing_study/pointing_page.py --dir out/pointing_study --command CMD [--t0 T --load0 L]
+"""
+import argparse
+import csv
+import pathlib
+import sys
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tools"))
+import results_page  # noqa: E402
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--dir", default="out/pointing_study")
+    ap.add_argument("--command", required=True)
+    ap.add_argument("--t0")
+    ap.add_argument("--load0")
+    a = ap.parse_args()
+    d = ROOT / a.dir
+    with open(d / "summary.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    log = (d / "study.log").read_text() if (d / "study.log").exists() else ""
+    setup = next((line.lstrip("# ").strip() for line in log.splitlines() if line.startswith("# ")), "")
+    config = (d / "config.txt").read_text().splitlines() if (d / "config.txt").exists() else []
+    ideal = next((r for r in rows if float(r["clearance_m"]) == 0.0), None)
+    md = ["`build/bin/gimbalsim_pointing_study` (tools/pointing_study/): the in-process closed loop (firmware model "
+          "+ pointing controller, `controllers/config/default.yaml`, the truth of the lockstep bench) on "
+          "`paper_ideal` and on `paper_clearance` at each clearance (`contact.clearance`), same profile and "
+          "duration; the truth pointing error (boresight against the target's line of sight, inertial) every tick. "
+          f"{setup[0].upper() + setup[1:] if setup else ''}.", "",
+          "| run | clearance [mm] | peak while tracking [rad] | RMS while tracking [rad] | peak over the run [rad] "
+          "| peak / ideal | RMS / ideal | plant |", "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        c = float(r["clearance_m"])
+        rel = ("-", "-")
+        if ideal is not None and r is not ideal and float(ideal["peak_track_rad"]) > 0:
+            rel = (f"{float(r['peak_track_rad']) / float(ideal['peak_track_rad']):.2g}",
+                   f"{float(r['rms_track_rad']) / float(ideal['rms_track_rad']):.2g}")
+        status = r["status"] + (f" ({r['stop_reason']})" if r.get("stop_reason") else "")
+        md.append(f"| {r['run']} | {'-' if c == 0 else f'{c * 1e3:g}'} | {float(r['peak_track_rad']):.2e} | "
+                  f"{float(r['rms_track_rad']):.2e} | {float(r['peak_run_rad']):.2e} | {rel[0]} | {rel[1]} | "
+                  f"{status} |")
+    md += ["", "Per tick: out/pointing_study/pointing_error.csv; figures: out/pointing_study/pointing_error_vs_time.png "
+           "and pointing_error_vs_clearance.png (tools/pointing_study/plot_pointing_study.py).", ""]
+    if config:
+        md += ["Controller configuration in effect (config.txt):", "", "```", *config, "```", ""]
+    worst = max(rows, key=lambda r: float(r["peak_track_rad"]))
+    summary = (f"{len(rows)} runs; peak error while tracking {float(ideal['peak_track_rad']):.3g} rad ideal, "
+               f"up to {float(worst['peak_track_rad']):.3g} rad ({worst['run']})" if ideal else f"{len(rows)} runs")
+    results_page.write_page(ROOT / "docs/results/closed_loop_clearance.md",
+                            "Closed-loop pointing error against clearance", a.command, "\n".join(md),
+                            summary=summary, t0=a.t0, load0=a.load0)
+    print("pointing_page: wrote docs/results/closed_loop_clearance.md")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

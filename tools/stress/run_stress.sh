@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# The numerical stability stress grid end to end: builds gimbalsim_stress
+# (Release, build/), runs it with the arguments given (e.g. --long-run,
+# --duration 0.5, --threads 1), writes out/stress/stress.csv and, with
+# --results, the page docs/results/stress.md (header by tools/results_page.py).
+#
+#   bash tools/stress/run_stress.sh [--results] [gimbalsim_stress options]
+#   bash tools/stress/run_stress.sh --results --long-run     # the committed page
+#
+# Exit status: gimbalsim_stress's (1 when a run is silently wrong or stopped
+# unclearly; the page is still written and lists them).
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+cd "$ROOT"
+T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
+COMMAND="bash tools/stress/run_stress.sh$(printf ' %q' "$@")"
+RESULTS=0 ARGS=()
+for a in "$@"; do
+  if [ "$a" = --results ]; then RESULTS=1; else ARGS+=("$a"); fi
+done
+[ -f build/CMakeCache.txt ] || cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j2 --target gimbalsim_stress >/dev/null
+mkdir -p out/stress
+status=0
+build/bin/gimbalsim_stress --csv out/stress/stress.csv --page-body out/stress/page_body.md ${ARGS[@]+"${ARGS[@]}"} \
+  | tee out/stress/stress.log || status=$?
+if [ "$RESULTS" = 1 ] && [ -f out/stress/page_body.md ] && { [ "$status" -eq 0 ] || [ "$status" -eq 1 ]; }; then
+  summary=$(grep -m1 -o '^\*\*[^*]*\*\*' out/stress/page_body.md | tr -d '*')
+  /usr/bin/python3 tools/results_page.py --page docs/results/stress.md --title "Numerical stability stress grid" \
+    --summary "$summary." --command "$COMMAND" --body out/stress/page_body.md --t0 "$T0" --load0 "$LOAD0"
+fi
+exit "$status"

@@ -1,0 +1,40 @@
+// The stress grid's CSV: see stress_csv.hpp.
+#include "stress_csv.hpp"
+
+#include <filesystem>
+#include <sstream>
+
+#include "gimbalsim/io/output_file.hpp"
+
+namespace gimbalsim::stress {
+
+std::string csvText(const std::vector<const Case*>& all) {
+  std::ostringstream f;
+  f << "group,scene,sets,verdict,reason,t_end_s,impacts,substeps,substeps_per_s,max_substeps_in_step,"
+       "momentum_rel_linear,momentum_rel_angular,energy_rise_rel,energy_change_rel,energy_final_rel,"
+       "max_penetration_m,penetration_limit_m,wall_s\n";
+  auto q = [](std::string s) {
+    for (auto& ch : s) {
+      if (ch == '"') ch = '\'';
+    }
+    return "\"" + s + "\"";
+  };
+  f.precision(6);
+  for (const Case* c : all) {
+    const Outcome& o = c->out;
+    f << q(c->group) << "," << c->scene << "," << q(joined(c->sets)) << "," << verdictName(o.verdict) << ","
+      << q(o.reason) << "," << o.run.t_end << "," << o.run.stats.impacts << "," << o.run.stats.substeps << ","
+      << o.substeps_per_second << "," << o.run.stats.max_substeps_in_step << "," << o.momentum_rel_linear << ","
+      << o.momentum_rel_angular << "," << o.energy_rise_rel << "," << o.energy_change_rel << ","
+      << o.energy_final_rel << "," << o.max_penetration << "," << o.penetration_limit << ","
+      << o.run.wall_seconds << "\n";
+  }
+  return f.str();
+}
+
+void writeCsv(const std::string& path, const std::vector<const Case*>& all) {
+  if (const auto dir = std::filesystem::path(path).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
+  io::writeFileAtomically(path, csvText(all));
+}
+
+}  // namespace gimbalsim::stress
