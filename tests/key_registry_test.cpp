@@ -5,6 +5,7 @@
 // --markdown`; tools/gen_key_docs.py writes them there).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <set>
 
@@ -92,6 +93,24 @@ TEST(KeyRegistry, ChecksAndValuesInWords) {
   EXPECT_EQ(formatNumber(1e-3), "0.001");
   EXPECT_EQ(formatNumber(0.1 + 0.2), "0.30000000000000004");  // shortest that reads back exactly
   EXPECT_EQ(std::stod(formatNumber(5.992112452678286e-6)), 5.992112452678286e-6);
+}
+
+TEST(KeyRegistry, ClearanceDoesNotDependOnTheTablesOrder) {
+  // contact.clearance stands for journal_radius = bearing_radius - c, with
+  // the bearing radius given, whichever of the two keys the table sets first.
+  KeyTable<Scene> first = sceneTable(), last = sceneTable();
+  auto at = [](KeyTable<Scene>& t) {
+    return std::find_if(t.keys.begin(), t.keys.end(), [](const auto& k) { return k.key == "contact.clearance"; });
+  };
+  std::rotate(first.keys.begin(), at(first), at(first) + 1);  // contact.clearance set before every other key
+  std::rotate(at(last), at(last) + 1, last.keys.end());       // and after every other key
+  ASSERT_EQ(first.keys.front().key, "contact.clearance");
+  ASSERT_EQ(last.keys.back().key, "contact.clearance");
+  const std::string yaml = "structure: {joint2: clearance}\ncontact: {clearance: 2.0e-4, bearing_radius: 0.03}\n";
+  for (const KeyTable<Scene>* t : std::initializer_list<const KeyTable<Scene>*>{&first, &last, &sceneTable()}) {
+    const Scene s = loadKeys<SceneError>(*t, yaml, "t.yaml", {});
+    EXPECT_EQ(s.model.contact.journal_radius, 0.03 - 2.0e-4);
+  }
 }
 
 TEST(KeyRegistry, AlternativeKeysAndDefaultPlaces) {

@@ -7,7 +7,6 @@ printed, and three of its figures copied small into docs/results/
     /usr/bin/python3 tools/paper_page.py --dir out/paper --command "bash tools/run_paper.sh --results" \\
         [--t0 T0 --load0 LOAD0] [--set key=value ...]
 """
-import argparse
 import json
 import pathlib
 import re
@@ -52,11 +51,7 @@ def summary_table(text):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--dir", default="out/paper")
-    ap.add_argument("--command", required=True)
-    ap.add_argument("--t0")
-    ap.add_argument("--load0")
+    ap = results_page.page_arguments(__doc__, "out/paper")
     ap.add_argument("--set", action="append", default=[], help="the overrides given to both runs")
     a = ap.parse_args()
     d = ROOT / a.dir

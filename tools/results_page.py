@@ -87,6 +87,17 @@ def loadavg():
         return "unknown"
 
 
+def page_arguments(doc, default_dir):
+    """The options every study's page script takes: its output folder, the
+    regenerate command, and the start time and load its run script noted."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--dir", default=default_dir)
+    ap.add_argument("--command", required=True)
+    ap.add_argument("--t0")
+    ap.add_argument("--load0")
+    return ap
+
+
 def header(title, command, t0=None, load0=None, now=None):
     now = now or datetime.datetime.now(datetime.timezone.utc)
     lines = [MARK, f"# {title}", "", f"Regenerate: `{command}`", "",

@@ -6,7 +6,6 @@ summary.csv, config.txt and the tool's log.
 
     /usr/bin/python3 tools/pointing_study/pointing_page.py --dir out/pointing_study --command CMD [--t0 T --load0 L]
 """
-import argparse
 import csv
 import pathlib
 import sys
@@ -17,11 +16,7 @@ import results_page  # noqa: E402
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--dir", default="out/pointing_study")
-    ap.add_argument("--command", required=True)
-    ap.add_argument("--t0")
-    ap.add_argument("--load0")
+    ap = results_page.page_arguments(__doc__, "out/pointing_study")
     a = ap.parse_args()
     d = ROOT / a.dir
     with open(d / "summary.csv", newline="") as f:

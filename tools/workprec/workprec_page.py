@@ -6,7 +6,6 @@ against our RK4 at the same steps, from out/workprec/workprec.csv and its log.
 
     /usr/bin/python3 tools/workprec/workprec_page.py --dir out/workprec --command CMD [--t0 T0 --load0 L]
 """
-import argparse
 import csv
 import pathlib
 import sys
@@ -114,11 +113,7 @@ def body(rows, log, command):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--dir", default="out/workprec")
-    ap.add_argument("--command", required=True)
-    ap.add_argument("--t0")
-    ap.add_argument("--load0")
+    ap = results_page.page_arguments(__doc__, "out/workprec")
     a = ap.parse_args()
     d = ROOT / a.dir
     rows = load(d / "workprec.csv")

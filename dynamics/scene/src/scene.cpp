@@ -26,15 +26,13 @@ constexpr auto initial = [](auto& s) -> auto& { return s.run.initial; };
 SceneKey clearanceKey() {
   SceneKey k("contact.clearance", "number", "m", "",
          "radial clearance c; sets journal_radius = bearing_radius - c (give this or journal_radius)");
-  k.set = [](Scene& s, const YAML::Node& n) {
-    s.model.contact.journal_radius = s.model.contact.bearing_radius - asNumber(n);
-  };
+  // Held in the derived field until every key is set (deriveJournal); finalize() recomputes it.
+  k.set = [](Scene& s, const YAML::Node& n) { s.model.contact.clearance = asNumber(n); };
   k.alternative = "contact.journal_radius";
   return k;
 }
 
 std::vector<SceneKey> keys() {
-  // Applied in this order: contact.clearance after the bearing radius it depends on.
   return {
       K::text("name", "scene name (default: the file name)", field(model, &Model::name)),
       K::choice<bool>("structure.base", "free-floating base or gimbal on a ground bench",
@@ -214,10 +212,18 @@ void validate(const Scene& s, Given& g) {
   }
 }
 
+
+
+/// contact.clearance, when given, stands for journal_radius = bearing_radius - c.
+void deriveJournal(Scene& s, const Given& g) {
+  ContactParams& c = s.model.contact;
+  if (g.has("contact.clearance")) c.journal_radius = c.bearing_radius - c.clearance;
+}
+
 }  // namespace
 
 const KeyTable<Scene>& sceneTable() {
-  static const KeyTable<Scene> table{{"a scene", "scene file", "`gimbalsim keys`", ""}, keys(), validate};
+  static const KeyTable<Scene> table{{"a scene", "scene file", "`gimbalsim keys`", ""}, keys(), validate, deriveJournal};
   return table;
 }
 

@@ -144,6 +144,9 @@ struct KeyTable {
   std::vector<Key<Target>> keys;
   /// Checks across keys, run when every key passed its own check.
   std::function<void(const Target&, Given&)> validate;
+  /// Derived keys resolved once every key is set (so a key standing for
+  /// another, e.g. contact.clearance, does not depend on the table's order).
+  std::function<void(Target&, const Given&)> derive;
 
   /// Every key, its default read from Target{}.
   std::vector<KeyInfo> info() const {
@@ -172,6 +175,7 @@ Target loadKeys(const KeyTable<Target>& table, const std::string& yaml, const st
   if (given.unreadable()) throw Error(given.problems);
   Target t{};
   for (const auto& k : table.keys) given.apply(k.key, [&](const YAML::Node& n) { k.set(t, n); });
+  if (table.derive) table.derive(t, given);
   for (const auto& k : table.keys) {
     if (!k.refusal) continue;
     if (const std::string why = k.refusal(t); !why.empty()) given.refuse(k.key, why);

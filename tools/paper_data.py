@@ -1,0 +1,141 @@
+"""The two runs plot_paper.py compares: the CSV columns it needs (read by
+name), the summaries, their common time grid, and the derived signals
+(boresight angle, contact starts). No plotting here.
+"""
+import csv
+import json
+import math
+import os
+
+import numpy as np
+
+# Columns this script reads (the simulator writes more; extra ones are ignored).
+REQUIRED = [
+    "t",
+    "base_x", "base_y", "base_z",
+    "base_vx", "base_vy", "base_vz",
+    "base_ax", "base_ay", "base_az",
+    "base_roll", "base_pitch", "base_yaw",
+    "base_wx", "base_wy", "base_wz",
+    "base_dwx", "base_dwy", "base_dwz",
+    "theta1", "theta2", "dtheta1", "dtheta2", "ddtheta1", "ddtheta2",
+    "ecc_x", "ecc_y", "ecc", "delta", "fn", "joint2_force",
+    "bore_x", "bore_y", "bore_z",
+]
+
+class InputError(Exception):
+    pass
+
+
+# ----------------------------------------------------------------------------
+# Input
+# ----------------------------------------------------------------------------
+def load_csv(path):
+    """Return {column name: float array}, checked for the REQUIRED columns."""
+    if not os.path.isfile(path):
+        raise InputError(f"{path}: no such file")
+    with open(path, newline="") as f:
+        header = next(csv.reader(f), None)
+    if not header:
+        raise InputError(f"{path}: empty file (no CSV header)")
+    header = [h.strip() for h in header]
+    missing = [c for c in REQUIRED if c not in header]
+    if missing:
+        raise InputError(f"{path}: missing column(s) {', '.join(repr(m) for m in missing)} "
+                         f"(header has: {','.join(header)})")
+    data = np.genfromtxt(path, delimiter=",", skip_header=1, dtype=float, ndmin=2)
+    if data.size == 0 or data.shape[0] < 2:
+        raise InputError(f"{path}: fewer than 2 data rows")
+    if data.shape[1] != len(header):
+        raise InputError(f"{path}: {data.shape[1]} values per row but {len(header)} header names")
+    cols = {name: data[:, k] for k, name in enumerate(header)}
+    for name in REQUIRED:
+        if not np.all(np.isfinite(cols[name])):
+            bad = int(np.argmax(~np.isfinite(cols[name])))
+            raise InputError(f"{path}: column {name!r} has a non-finite value at data row {bad + 1}")
+    if np.any(np.diff(cols["t"]) <= 0):
+        raise InputError(f"{path}: column 't' is not strictly increasing")
+    return cols
+
+
+def load_summary(path):
+    if path is None:
+        return {}
+    if not os.path.isfile(path):
+        raise InputError(f"{path}: no such file")
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except json.JSONDecodeError as e:
+        raise InputError(f"{path}: not valid JSON ({e})")
+
+
+def summary_number(summary, *keys):
+    """First finite number found under any of the (possibly dotted) keys."""
+    for key in keys:
+        node = summary
+        for part in key.split("."):
+            node = node.get(part) if isinstance(node, dict) else None
+        if isinstance(node, (int, float)) and not isinstance(node, bool) and math.isfinite(node):
+            return float(node)
+    return None
+
+
+def common_grid(ideal, clear):
+    """Return (t, clearance columns on that grid, note). The ideal grid is the
+    reference; the clearance run is linearly interpolated onto it if needed."""
+    ti, tc = ideal["t"], clear["t"]
+    tol = 1e-9 * max(1.0, abs(ti[-1]))
+    if ti.shape == tc.shape and np.allclose(ti, tc, rtol=0.0, atol=tol):
+        return ideal, clear, None
+    lo, hi = max(ti[0], tc[0]), min(ti[-1], tc[-1])
+    keep = (ti >= lo - tol) & (ti <= hi + tol)
+    if keep.sum() < 2:
+        raise InputError("the two runs do not overlap in time "
+                         f"(ideal {ti[0]:g}..{ti[-1]:g} s, clearance {tc[0]:g}..{tc[-1]:g} s)")
+    ideal_c = {k: v[keep] for k, v in ideal.items()}
+    t = ideal_c["t"]
+    clear_i = {k: np.interp(t, tc, v) for k, v in clear.items()}
+    clear_i["t"] = t.copy()
+    # Interpolated unit vectors are a little short: renormalise the boresight.
+    b = np.stack([clear_i["bore_x"], clear_i["bore_y"], clear_i["bore_z"]], axis=1)
+    b /= np.linalg.norm(b, axis=1, keepdims=True)
+    clear_i["bore_x"], clear_i["bore_y"], clear_i["bore_z"] = b.T
+    note = (f"NOTE: the t grids differ (ideal {len(ti)} rows, clearance {len(tc)} rows); "
+            f"the clearance run was linearly interpolated onto the ideal grid over "
+            f"{t[0]:g}..{t[-1]:g} s for differences and pointing error "
+            f"(single-run panels use each run's own samples).")
+    return ideal_c, clear_i, note
+
+
+# ----------------------------------------------------------------------------
+# Helpers
+# ----------------------------------------------------------------------------
+def wrap_pi(a):
+    return (a + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def boresight(cols):
+    return np.stack([cols["bore_x"], cols["bore_y"], cols["bore_z"]], axis=1)
+
+
+def angle_between(a, b):
+    """Angle between unit-vector rows, robust near 0 and pi: atan2(|a x b|, a.b)."""
+    return np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.sum(a * b, axis=1))
+
+
+def contact_starts(cols):
+    """Times (CSV samples) at which delta goes from <= 0 to > 0."""
+    inside = cols["delta"] > 0.0
+    k = np.flatnonzero(~inside[:-1] & inside[1:]) + 1
+    return cols["t"][k]
+
+
+def continuous_contact_from(cols):
+    """CSV estimate of the start of the final, unbroken contact (None if the run
+    does not end in contact or never separated after a first impact)."""
+    inside = cols["delta"] > 0.0
+    if not inside[-1] or inside.all():
+        return None
+    last_out = int(np.flatnonzero(~inside)[-1])
+    return float(cols["t"][last_out + 1])
