@@ -7,7 +7,7 @@
 
 #include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/dynamics/invariants.hpp"
-#include "gimbalsim/dynamics/reference_integrator.hpp"
+#include "gimbalsim/dynamics/stepper.hpp"
 
 namespace gimbalsim {
 
@@ -121,38 +121,27 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
     return true;
   };
 
+  // One output loop for both integrators (stepper.hpp); each reports its own failure.
+  auto rows = [&](auto& stepper) {
+    if (!emit(s)) return;
+    const Advance a = forEachRow(stepper, s, m.integrator.step, n_steps, out_every,
+                                 [&](const State<V>& st, long long) { return emit(st); }, &in_step);
+    if (a.ok) return;
+    if (kind == IntegratorKind::Reference) {
+      std::ostringstream os;
+      os << "reference integration stopped before t = " << a.t_target << " s: " << a.failure;
+      stopRun({RunStop::Kind::Reference, {}, "", s.t}, os.str());
+    } else {
+      stopRun({RunStop::Kind::Step, a.step, a.step.key(), a.step.time}, describeStop(m, a.step));
+    }
+  };
   if (kind == IntegratorKind::Reference) {
-    ReferenceIntegrator<V> ref(m, u);
-    if (emit(s)) {
-      const long long n_out = (n_steps + out_every - 1) / out_every;
-      for (long long k = 1; k <= n_out; ++k) {
-        const double t_next = std::min(k * out_every, n_steps) * m.integrator.step;
-        const auto a = Clock::now();
-        const bool ok = ref.advanceTo(s, t_next);
-        in_step += Clock::now() - a;
-        if (!ok) {
-          std::ostringstream os;
-          os << "reference integration stopped before t = " << t_next << " s: " << ref.failure();
-          stopRun({RunStop::Kind::Reference, {}, "", s.t}, os.str());
-          break;
-        }
-        if (!emit(s)) break;
-      }
-    }
+    ReferenceStepper<V> ref(m, u);
+    rows(ref);
     d.stats.impacts = ref.impacts();
-  } else if (emit(s)) {
-    for (long long k = 0; k < n_steps;) {
-      const long long k_next = std::min(k + out_every, n_steps);
-      const auto a = Clock::now();
-      const StepResult st = advanceSteps(m, d, s, u, k, k_next);
-      in_step += Clock::now() - a;
-      if (!st.ok()) {
-        stopRun({RunStop::Kind::Step, st, st.key(), st.time}, describeStop(m, st));
-        break;
-      }
-      k = k_next;
-      if (!emit(s)) break;
-    }
+  } else {
+    Rk4Stepper<V> rk4(m, d, u);
+    rows(rk4);
   }
   if constexpr (V::kClearance) {
     // The peak force between output rows, tracked at every sub-step.

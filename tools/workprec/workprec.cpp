@@ -16,7 +16,7 @@
 
 #include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/input/key_registry.hpp"
-#include "gimbalsim/dynamics/reference_integrator.hpp"
+#include "gimbalsim/dynamics/stepper.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
@@ -146,8 +146,9 @@ double cpuSecondsOfRunV(const Scene& sc) {
   Input u;
   u.tau = sc.run.torque;
   const long long n = std::llround(sc.run.duration / m.integrator.step);
+  Rk4Stepper<V> rk4(m, d, u);
   const double t0 = threadCpuSeconds();
-  if (!advanceSteps(m, d, s, u, 0, n).ok()) return -1.0;
+  if (!rk4.advance(s, 0, n, m.integrator.step).ok) return -1.0;
   return threadCpuSeconds() - t0;
 }
 
@@ -159,7 +160,7 @@ void finePass(const Scene& sc, double dt, Reference& r) {
     const Model& m = sc.model;
     Input u;
     u.tau = sc.run.torque;
-    ReferenceIntegrator<V> integ(m, u);
+    ReferenceStepper<V> integ(m, u);
     Data<V> d(m);
     State<V> s = initialState<V>(sc.run.initial);
     StickSlip& ss = r.stick;
@@ -170,17 +171,15 @@ void finePass(const Scene& sc, double dt, Reference& r) {
     double prev_vt = 0.0;
     bool prev_contact = false;
     const long long per_row = std::llround(sc.run.output_interval / dt);
-    for (long long k = 1; k <= n; ++k) {
-      if (!integ.advanceTo(s, static_cast<double>(k) * dt)) {
-        throw std::runtime_error(std::string("reference (peak pass) stopped: ") + integ.failure());
-      }
+    // Every dt a row of the one output loop (stepper.hpp).
+    const Advance done = forEachRow(integ, s, dt, n, 1, [&](const State<V>&, long long k) {
       if (const auto row = static_cast<std::size_t>(k / per_row); k % per_row == 0 && row < r.rows.bore.size()) {
         kinematics(m, d, s.q, s.v);
         r.self_consistency = std::max(r.self_consistency, angleBetween(boresight(m, d, s), r.rows.bore[row]));
       }
       if (clearanceGap<V>(m, s.q, s.v).delta <= 0.0) {
         prev_contact = false;
-        continue;
+        return true;
       }
       forwardDynamics(m, d, s, u);
       const ContactEval& c = d.contact;
@@ -197,7 +196,9 @@ void finePass(const Scene& sc, double dt, Reference& r) {
         prev_vt = c.vt;
       }
       prev_contact = true;
-    }
+      return true;
+    });
+    if (!done.ok) throw std::runtime_error(std::string("reference (peak pass) stopped: ") + done.failure);
   } else {
     (void)sc, (void)dt, (void)r;
   }
