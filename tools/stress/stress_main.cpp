@@ -72,7 +72,7 @@ void printLong(const st::Case& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"gimbalsim_stress: numerical stability stress grid (issue 4)"};
+  CLI::App app{"gimbalsim_stress: numerical stability stress grid"};
   std::string scenes = GIMBALSIM_SCENES_DIR, csv = "out/stress/stress.csv", page_body, dur = "1";
   std::string long_scene = "paper_clearance";
   // The hour: no torque (a constant torque would spin the shafts up without
