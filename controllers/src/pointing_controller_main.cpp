@@ -193,7 +193,7 @@ int run(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--log-csv", o.log_csv, "write one row per status answered: reference, measurement, torque");
   app.add_flag("--keys", o.keys, "list every configuration key with type, unit, default, check and meaning, then exit");
-  app.add_flag("--markdown", o.markdown, "with --keys: as a Markdown table (the one in controllers/README.md)");
+  app.add_flag("--markdown", o.markdown, "with --keys: as a Markdown table (the one in docs/controller_keys.md)");
   app.add_flag("--print-config", o.print_config,
                "print the configuration in effect (file + --set) as key=value lines, then exit");
   if (const auto rc = program::parse(app, argc, argv, "pointing_controller")) return *rc;

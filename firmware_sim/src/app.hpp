@@ -1,6 +1,6 @@
 // firmware_sim's pieces and how main.cpp wires them: the options, the exit
 // codes, the hand-over between the LCM side and the loop, and the context
-// (Run) that both loops take. CLI and exit codes: firmware_sim/README.md.
+// (Run) that both loops take. CLI: docs/usage.md; exit codes: program.hpp.
 #pragma once
 
 #include <atomic>

@@ -70,7 +70,7 @@ class Reader {
         for (const YAML::Node& e : kv.second) readFault(e, ++i, s.faults);
       } else {
         problems_.push_back(place(origin_, kv.first.Mark()) + ": unknown key '" + key +
-                            "' (a fault schedule has seed and faults; README \"Fault schedule\")");
+                            "' (a fault schedule has seed and faults; docs/bench.md \"Fault schedule\")");
       }
     }
     return s;

@@ -1,6 +1,6 @@
 // Lockstep mode: one thread; tick k+1 runs once the command answering
 // status k has arrived (or a timeout), utime is simulated time, and runs are
-// bit-for-bit repeatable. README "Modes".
+// bit-for-bit repeatable. docs/bench.md "Real time and lockstep".
 #include <algorithm>
 #include <cstdio>
 

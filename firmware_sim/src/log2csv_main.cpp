@@ -4,7 +4,7 @@
 // the one firmware_sim writes itself. Channels are recognised by name: an
 // optional UPPER_SNAKE prefix followed by GIMBAL_TRUTH, GIMBAL_STATUS,
 // GIMBAL_COMMAND, GIMBAL_LOOP_STATS or GIMBAL_ATTITUDE (channels.hpp). Usage:
-// --help, and the README section "Hardware-in-the-loop bench".
+// --help, and docs/bench.md "Recording and reading logs".
 // The log is read with our validating reader (bench_io/lcm_log.hpp), never
 // LCM's, which trusts the lengths in an event header: a malformed log is
 // refused (exit 2) with the byte offset of the bad event, before any output is

@@ -2,8 +2,8 @@
 // gimbal's firmware. This file parses the options, loads the scene and the
 // profile, checks the settings and wires the pieces: lcm_bridge (LCM in and
 // out), realtime_loop / lockstep_loop (the two modes), truth_csv
-// (--truth-csv), summary (exit summary and plant fault). CLI and exit codes:
-// firmware_sim/README.md.
+// (--truth-csv), summary (exit summary and plant fault). CLI: docs/usage.md;
+// exit codes: gimbalsim/program/program.hpp.
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <cerrno>
@@ -72,7 +72,7 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--profile", o.profile, "file whose profile: section (a pointing_controller config) defines the pointing error");
   app.add_option("--stats-period", o.stats_period, "loop statistics publication period [s]")
       ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e6));
-  app.add_option("--faults", o.faults, "fault schedule file (YAML, README \"Fault schedule\"), e.g. tools/faults/demo.yaml");
+  app.add_option("--faults", o.faults, "fault schedule file (YAML, docs/bench.md \"Fault schedule\"), e.g. tools/faults/demo.yaml");
   if (const auto rc = program::parse(app, argc, argv, "firmware_sim")) return *rc;
 
   PlantScene plant;

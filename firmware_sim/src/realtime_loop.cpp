@@ -2,15 +2,15 @@
 // absolute deadlines, and the communication thread (the caller) does all LCM
 // work; the two hand data over through lock-free SPSC queues (no mutex, no
 // allocation, no network on the loop thread) and an eventfd to wake the
-// communication thread. README "Modes".
+// communication thread. docs/bench.md "Real time and lockstep".
 //
 // Wall-clock policy: tick k belongs to deadline t0 + k T and simulated time
 // k T, always. A tick whose deadline has already passed when it starts (the
 // previous one overran) runs at once, without sleeping and without taking
 // new commands (the motor drivers hold the last accepted one), so the plant
 // catches up with wall-clock time and every period still gets its status
-// and truth; such ticks are counted as late, with how late. README
-// "Wall-clock time".
+// and truth; such ticks are counted as late, with how late. docs/bench.md
+// "Real time (the default)".
 #include <poll.h>
 #include <sys/eventfd.h>
 #include <unistd.h>

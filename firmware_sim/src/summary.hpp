@@ -22,7 +22,7 @@ Outcome outcomeOf(const Firmware<V>& fw) {
   return {fw.ticks(), fw.counters(), fw.plantFault(), fw.plantStatus(), fw.plantFailTime(), fw.plantFailIndex()};
 }
 
-/// The summary on stdout (README "At exit it prints").
+/// The summary on stdout (docs/bench.md "The exit summary").
 void printExitSummary(const Run& r, const Outcome& out);
 
 /// kExitOk, or the PLANT FAULT line on stderr and kExitPlantFault.

@@ -2,7 +2,7 @@
 // measured at start: firmware_sim times one derivative (forward dynamics) of
 // its variant and multiplies by the most derivatives a tick may take, so a
 // bench engineer knows before running whether the plant can miss a deadline
-// by itself. README "Worst-case compute per tick".
+// by itself. docs/bench.md "Worst-case compute per tick".
 #pragma once
 
 #include <string>

@@ -2,7 +2,7 @@
 // ClosedLoopOptions::faults: the firmware model firmware_sim runs, and the
 // controller's answerStatus, as pointing_controller runs it): what it does to
 // the pointing, what the controller detects and how it reacts
-// (controllers/README.md "Faults the controller detects"), and that the
+// (docs/bench.md "Faults the controller detects"), and that the
 // plant's invariants hold through it: free floating with internal joint
 // torques only, the total linear and angular momentum stay at their initial
 // values (measured drift printed; the bound is 1e-9 of the momentum scale

@@ -367,11 +367,11 @@ def test_injected_links_in_a_copy_of_the_tree(tmp_path):
         f.write('\n# injected by test_check_deps.py\n'
                 'target_link_libraries(gimbalsim_pointing PRIVATE gimbalsim_lcmtypes)\n'
                 'target_link_libraries(gimbalsim_bench_io PUBLIC gimbalsim_dynamics)\n'
-                'target_link_libraries(gimbalsim_record PRIVATE gimbalsim_stress_check)\n')
+                'target_link_libraries(gimbalsim_record PRIVATE gimbalsim_stress_lib)\n')
     status, violations, out = check('--source', str(root), '--build-dir', build)
     assert status == 1, out
     for expected in [
             'rule 1: dynamics/pointing -> lcmtypes (target gimbalsim_pointing links gimbalsim_lcmtypes)',
             'rule 5: lcmtypes/bench_io -> dynamics (target gimbalsim_bench_io links gimbalsim_dynamics)',
-            'rule 4: firmware_sim -> tools/stress (target gimbalsim_record links gimbalsim_stress_check)']:
+            'rule 4: firmware_sim -> tools/stress (target gimbalsim_record links gimbalsim_stress_lib)']:
         assert expected in violations, out

@@ -59,7 +59,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       shadow.tick(utime);
       const fw::Status& s = a.status();
       for (int j = 0; j < 2; ++j) {
-        if (!std::isfinite(s.applied_torque[j]) || std::fabs(s.applied_torque[j]) > scene->run.torque_limit(j)) {
+        if (!std::isfinite(s.applied_torque[j]) || std::fabs(s.applied_torque[j]) > scene->scene.run.torque_limit(j)) {
           std::abort();
         }
       }

@@ -16,7 +16,7 @@
 #include "gimbalsim/gimbal_status_t.hpp"
 
 namespace gc = gimbalsim::controllers;
-namespace fw = gimbalsim::firmware;
+namespace fw = gimbalsim::contract;  // the message contract
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const gc::ControllerConfig* config =

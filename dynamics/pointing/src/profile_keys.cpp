@@ -16,7 +16,7 @@ Key<P> azEl(std::string key, std::string unit, std::string meaning, F f, const C
 /// The profile keys as a controller configuration names them, reading only its `profile:` section.
 const KeyTable<P>& profileSection() {
   static const KeyTable<P> table = [] {
-    KeyTable<P> t{{"a controller configuration", "profile file", "controllers/README.md", "profile"},
+    KeyTable<P> t{{"a controller configuration", "profile file", "`pointing_controller --keys`, docs/controller_keys.md", "profile"},
                   {},
                   profileKeys().validate, {}};
     embed(t.keys, "profile.", profileKeys().keys, [](auto& p) -> auto& { return p; });
@@ -30,7 +30,7 @@ const KeyTable<P>& profileSection() {
 const KeyTable<P>& profileKeys() {
   using K = Keys<P>;
   static const KeyTable<P> table{
-      {"a target profile", "profile file", "controllers/README.md", ""},
+      {"a target profile", "profile file", "`pointing_controller --keys`, docs/controller_keys.md", ""},
       {
           azEl("start", "rad", "azimuth, elevation before the slew", field(&P::start)),
           K::number("slew_start", "s", "time the slew begins", field(&P::slew_start), atLeast(0)),

@@ -34,7 +34,7 @@ ControllerConfig loadControllerConfigText(const std::string& yaml, const std::st
 const KeyTable<ControllerConfig>& controllerTable();
 
 /// Every configuration key with type, unit, check, default and meaning
-/// (`pointing_controller --keys`, controllers/README.md).
+/// (`pointing_controller --keys`, docs/controller_keys.md).
 std::vector<KeyInfo> controllerKeys();
 
 /// Every key with its value in c, as "key=value" strings that

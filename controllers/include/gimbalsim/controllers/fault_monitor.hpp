@@ -1,7 +1,7 @@
 // What the pointing controller can see of a misbehaving gimbal, from the
 // messages alone (never from the simulator's injected_faults field), and the
 // state it keeps for that. answerStatus() (answer.hpp) runs it before
-// the law and applies the reactions (controllers/README.md "Faults the
+// the law and applies the reactions (docs/bench.md "Faults the
 // controller detects"):
 //  - stale status: the status is older than the newest attitude message by
 //    monitor.stale_ticks or more (the attitude of every tick comes first and
