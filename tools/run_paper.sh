@@ -31,6 +31,10 @@ SETS=() RESULTS=0 PAGE_SETS=()
 for kv in "$@"; do
   case "$kv" in
     --results) RESULTS=1 ;;
+    -h|--help) echo "usage: bash tools/run_paper.sh [--results] [key=value ...]   (e.g. sim.duration=1)"
+               echo "  the paper's scene, ideal and clearance joint, plots in out/paper/plots/;"
+               echo "  key=value overrides a scene key in both runs; --results writes docs/results/paper.md"
+               exit 0 ;;
     *=*) SETS+=(--set "$kv"); PAGE_SETS+=(--set "$kv") ;;
     *) echo "run_paper.sh: expected key=value scene overrides, got '$kv'" >&2
        echo "usage: bash tools/run_paper.sh [--results] [key=value ...]   (e.g. sim.duration=1)" >&2

@@ -189,7 +189,7 @@ int run(int argc, char** argv) {
   app.add_option("--duration", o.duration, "stop after answering the status at this profile time [s] (0 = until "
                                            "SIGINT/SIGTERM)")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--idle-exit", o.idle_exit, "exit (code 6) after this many wall seconds without a status (0 = never)")
+  app.add_option("--idle-exit", o.idle_exit, "exit after this many wall seconds without a status (0 = never): 0 if statuses came before, 6 (no peer) if none did")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--log-csv", o.log_csv, "write one row per status answered: reference, measurement, torque");
   app.add_flag("--keys", o.keys, "list every configuration key with type, unit, default, check and meaning, then exit");
@@ -275,7 +275,8 @@ int run(int argc, char** argv) {
     const double idle = static_cast<double>(now - last_answer_ns) * 1e-9;  // [s] wall time since the last status
     if (o.idle_exit > 0.0 && idle >= o.idle_exit) {
       std::fprintf(stderr, "pointing_controller: no status for %g s, exiting\n", o.idle_exit);
-      code = program::kNoPeer;
+      // A plant that came and went is a bench run's normal end; none at all is no peer.
+      code = h.answered() > 0 ? program::kOk : program::kNoPeer;
       break;
     }
   }

@@ -127,6 +127,16 @@ class Spec:
         return node.value
 
 
+def check_out_dir(out, spec_path):
+    """--out must be a folder (existing or not) and not the spec itself: refused
+    (SpecError, exit 2) before anything runs."""
+    import pathlib
+    out = pathlib.Path(out)
+    if out.exists() and not out.is_dir():
+        same = pathlib.Path(spec_path).exists() and out.resolve() == pathlib.Path(spec_path).resolve()
+        raise SpecError(f"--out {out}: " + ("is the spec file itself" if same else "exists and is not a folder"))
+
+
 def _scalar(n):
     """A scalar by YAML's resolver (numbers, booleans, null, strings)."""
     loader = yaml.SafeLoader("")

@@ -34,7 +34,7 @@ import numpy as np
 
 import gimbalsim
 from . import _cluster
-from ._spec import Spec, SpecError
+from ._spec import Spec, SpecError, check_out_dir
 from .dispersion import Design, parse_parameter
 
 METRICS = ["pointing_error_max", "pointing_error_final", "peak_contact_force", "peak_joint2_force", "impacts",
@@ -372,6 +372,7 @@ def main(argv=None):
     if a.batch is not None and a.batch < 1:
         ap.error("--batch must be >= 1")
     try:
+        check_out_dir(a.out, a.spec)
         spec = SweepSpec(a.spec)
         s = sweep(spec, pathlib.Path(a.out), a.workers, a.scheduler, a.resume, a.batch, not a.no_progress)
     except SpecError as e:

@@ -41,7 +41,7 @@ import numpy as np
 
 import gimbalsim
 from . import _cluster
-from ._spec import Spec, SpecError
+from ._spec import Spec, SpecError, check_out_dir
 from .dispersion import Design, parse_parameter
 from .sweep import write_atomic
 
@@ -301,6 +301,7 @@ def main(argv=None):
     ap.add_argument("--no-progress", action="store_true")
     a = ap.parse_args(argv)
     try:
+        check_out_dir(a.out, a.spec)
         spec = TuneSpec(a.spec)
         summary, rows = tune(spec, pathlib.Path(a.out), a.workers, a.scheduler, not a.no_progress)
     except SpecError as e:

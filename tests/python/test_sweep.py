@@ -207,3 +207,13 @@ def test_missing_or_malformed_specs_are_refused(tmp_path):
                                      "f: [*v, *v, *v, *v, *v, *v, *v, *v, *v, *v]\n")
     p = run_sweep(tmp_path / "c.yaml", tmp_path / "o", check=False)
     assert p.returncode == 2 and "values" in p.stderr
+
+
+def test_an_out_that_is_a_file_is_refused_and_left_alone(spec, tmp_path):
+    before = spec.read_bytes()
+    p = run_sweep(spec, spec, check=False)  # --out is the spec itself
+    assert p.returncode == 2 and "is the spec file itself" in p.stderr, p.stderr
+    assert spec.read_bytes() == before
+    (tmp_path / "f").write_text("x")
+    p = run_sweep(spec, tmp_path / "f", check=False)
+    assert p.returncode == 2 and "exists and is not a folder" in p.stderr, p.stderr

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <string>
 
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/controllers/pointing_controller.hpp"
@@ -18,6 +19,23 @@ using firmware::ClosedLoopResult;
 
 namespace {
 
+/// A bandwidth: a number > 0 (a negative one would give negative gains), said plainly.
+CLI::Validator positiveNumber() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::size_t used = 0;
+        double v = 0.0;
+        try {
+          v = std::stod(text, &used);
+        } catch (const std::exception&) {
+          return "not a number: " + text;
+        }
+        if (used != text.size()) return "not a number: " + text;
+        return v > 0.0 ? std::string() : "must be > 0, got " + text;
+      },
+      "NUMBER > 0");
+}
+
 int mainImpl(int argc, char** argv) {
   CLI::App app{"In-process gain sweep of the pointing controller on a scene"};
   std::string scene_path, config_path;
@@ -29,7 +47,7 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--config", config_path, "controller configuration file")->required();
   app.add_option("--scene-set", scene_sets, "scene override key=value");
   app.add_option("--set", sets, "controller override key=value");
-  app.add_option("--omega", omegas, "closed-loop bandwidths [rad/s] (triple pole)")->delimiter(',');
+  app.add_option("--omega", omegas, "closed-loop bandwidths [rad/s] (triple pole)")->delimiter(',')->check(positiveNumber());
   app.add_option("--duration", opt.duration, "simulated time [s] (default: the track start + 5 s)");
   app.add_option("--settle-tol", opt.settle_tol, "settling band on the joint error [rad]");
   if (const auto rc = program::parse(app, argc, argv, "controller_sweep")) return *rc;

@@ -16,6 +16,7 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -23,6 +24,7 @@
 #include <vector>
 
 #include "gimbalsim/io/output_file.hpp"
+#include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/program/program.hpp"
 #include "gimbalsim/program/stop_signal.hpp"
 #include "stress_csv.hpp"
@@ -69,9 +71,27 @@ void printLong(const st::Case& c) {
               o.energy_final_rel);
 }
 
-}  // namespace
+/// Refused before anything runs (exit 2): a scenes folder that is not one,
+/// the scenes of --case and of the long run with their overrides (loaded
+/// here, so a refusal names key and place), and an output that is an input.
+void checkInputs(const std::string& scenes, const std::vector<std::string>& scene_paths,
+                 const std::vector<std::vector<std::string>>& sets, const std::vector<std::string>& outputs) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_directory(scenes, ec)) throw gimbalsim::InputError("--scenes " + scenes + ": not a folder");
+  std::vector<std::string> inputs = scene_paths;
+  for (const auto& e : fs::directory_iterator(scenes, ec)) {
+    if (e.path().extension() == ".yaml") inputs.push_back(e.path().string());
+  }
+  for (std::size_t i = 0; i < scene_paths.size(); ++i) gimbalsim::loadScene(scene_paths[i], sets[i]);
+  try {
+    io::checkOutputPaths(outputs, inputs);
+  } catch (const io::OutputError& e) {
+    throw gimbalsim::InputError(e.what());
+  }
+}
 
-int main(int argc, char** argv) {
+int mainImpl(int argc, char** argv) {
   CLI::App app{"gimbalsim_stress: numerical stability stress grid"};
   std::string scenes = GIMBALSIM_SCENES_DIR, csv = "out/stress/stress.csv", page_body, dur = "1";
   std::string long_scene = "paper_clearance";
@@ -108,16 +128,32 @@ int main(int argc, char** argv) {
   app.add_option("--case", one_scene, "classify one run of this scene (stem or path) and exit");
   app.add_option("--set", one_sets, "override of --case (repeatable)");
   if (const auto rc = gimbalsim::program::parse(app, argc, argv, "gimbalsim_stress")) return *rc;
+  if (long_only) no_grid = no_sweeps = long_run = true;
+  {
+    std::vector<std::string> paths, outputs;
+    std::vector<std::vector<std::string>> sets;
+    if (!one_scene.empty()) {
+      paths.push_back(st::scenePath(scenes, one_scene));
+      sets.push_back(one_sets);
+    } else {
+      if (long_run) {
+        paths.push_back(st::scenePath(scenes, long_scene));
+        sets.push_back(st::longCase(long_scene, long_sets).sets);
+      }
+      for (const std::string& o : {csv, page_body}) {
+        if (!o.empty()) outputs.push_back(o);
+      }
+    }
+    checkInputs(scenes, paths, sets, outputs);
+  }
   if (!one_scene.empty()) {
     st::Case c{"case", one_scene, one_sets, {}};
-    const std::string path = one_scene.find('/') == std::string::npos ? scenes + "/" + one_scene + ".yaml" : one_scene;
-    c.out = st::runCase(path, one_sets, b);
+    c.out = st::runCase(st::scenePath(scenes, one_scene), one_sets, b);
     st::printCase(c);
     std::printf("impacts %lld, sub-steps %lld, energy balance change %.3g (final %.3g) of scale\n",
                 c.out.run.stats.impacts, c.out.run.stats.substeps, c.out.energy_change_rel, c.out.energy_final_rel);
     return st::acceptable(c.out.verdict) ? 0 : 1;
   }
-  if (long_only) no_grid = no_sweeps = long_run = true;
   // SIGINT/SIGTERM: cases running finish, the rest are skipped, the CSV holds the whole cases.
   io::installStopHandlers();
 
@@ -150,7 +186,7 @@ int main(int argc, char** argv) {
     if (!csv.empty() && !all.empty()) st::writeCsv(csv, all);
   } catch (const std::exception& e) {  // io::OutputError, or the directory not creatable
     std::cerr << "error: " << e.what() << "\n";
-    return 4;  // an output could not be written (README "Exit codes")
+    return gimbalsim::program::kOutput;
   }
   if (io::stopRequested()) {
     std::fprintf(stderr, "gimbalsim_stress: interrupted by %s after %zu whole runs (in the CSV); no page written\n",
@@ -168,9 +204,15 @@ int main(int argc, char** argv) {
       io::writeFileAtomically(page_body, body);
     } catch (const io::OutputError& e) {
       std::cerr << "error: " << e.what() << "\n";
-      return 4;
+      return gimbalsim::program::kOutput;
     }
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report(all, wall) > 0 ? 1 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return gimbalsim::program::guardedMain("gimbalsim_stress", [&] { return mainImpl(argc, argv); });
 }

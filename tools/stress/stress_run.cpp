@@ -37,8 +37,12 @@ void printCase(const Case& c) {
   std::fflush(stdout);
 }
 
+std::string scenePath(const std::string& scenes, const std::string& scene) {
+  return scene.find('/') == std::string::npos ? scenes + "/" + scene + ".yaml" : scene;
+}
+
 void runCase(Case& c, const std::string& scenes, const Bounds& b) {
-  c.out = stress::runCase(scenes + "/" + c.scene + ".yaml", c.sets, b);
+  c.out = stress::runCase(scenePath(scenes, c.scene), c.sets, b);
   c.ran = true;
   printCase(c);
 }

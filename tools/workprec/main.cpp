@@ -11,6 +11,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -130,12 +131,20 @@ int mainImpl(int argc, char** argv) {
   } catch (const std::exception& e) {
     return program::refuse("gimbalsim_workprec", e.what());
   }
+  for (const std::string& name : only_policies) {  // a --policy the table does not hold is refused, never ignored
+    if (std::none_of(policies.begin(), policies.end(), [&](const Policy& p) { return p.name == name; })) {
+      return program::refuse("gimbalsim_workprec", "--policy " + name + ": no such policy in " + policies_path);
+    }
+  }
   if (!only_policies.empty()) {
     std::erase_if(policies, [&](const Policy& p) {
       return std::find(only_policies.begin(), only_policies.end(), p.name) == only_policies.end();
     });
   }
-  std::filesystem::create_directories(out_dir);
+  if (std::error_code ec; !std::filesystem::create_directories(out_dir, ec) && !std::filesystem::is_directory(out_dir)) {
+    return program::refuse("gimbalsim_workprec", "--out " + out_dir + ": not a folder that can be created" +
+                                                      (ec ? " (" + ec.message() + ")" : std::string()));
+  }
   std::printf("work-precision sweep: CPU = thread CPU time (CLOCK_THREAD_CPUTIME_ID) of the stepping only, "
               "median of %d runs; errors at every %g s row against Boost.Odeint dopri5 at 1e-12.\n"
               "This machine's 2 cores are shared: timings are noisy.\n",
