@@ -9,7 +9,7 @@ PKGS=(
   liblcm-dev liblcm-bin libglib2.0-dev
   libcli11-dev libyaml-cpp-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3-matplotlib python3-numpy python3-yaml
+  python3-matplotlib python3-numpy python3-scipy python3-yaml
   pybind11-dev python3-pybind11 python3-dev python3-pytest
   python3-dask python3-distributed python3-optuna python3-tqdm
   python3-setuptools python3-wheel python3-build python3-venv python3-pip

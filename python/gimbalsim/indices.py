@@ -1,0 +1,267 @@
+"""Pointing indices as ECSS-E-ST-60-10C defines them, per run and over an
+ensemble of units.
+
+Per run (one unit), over one phase [t_start, t_end) of a uniformly sampled
+error signal e(t) (rad; one column per axis, the norm is taken):
+
+- APE, absolute performance error: the worst |e(t)| in the phase.
+- RPE, relative performance error over windows of length dt_window: the
+  worst |e(t) - mean of e over a window containing t|, over every window of
+  that length inside the phase (sliding by one sample).
+- PDE, performance drift error: the worst |mean of e over a window -
+  mean of e over the window dt_separation later|, both inside the phase.
+- Knowledge error (AKE): the APE of the estimate's error against truth,
+  i.e. of (estimated error - true error).
+
+The statistical interpretation is "worst time in the phase" per unit and
+"ensemble of units" across the sweep: the index at level p (default
+99.73 %) is the p-quantile of the units' worst values. Its confidence bounds
+come from order statistics, which hold for any distribution: the number of
+units below the true quantile is Binomial(n, p), so [X_(r), X_(s)] covers it
+with probability sum_{k=r}^{s-1} C(n,k) p^k (1-p)^(n-k).
+
+A figure over a window the run did not reach is NaN with a reason
+(IndexValue.reason), never 0.
+"""
+
+from dataclasses import dataclass
+import functools
+import math
+
+import numpy as np
+from scipy import stats
+
+LEVEL_3SIGMA = 0.9973  # the budget's default level: "3 sigma" in ECSS tables
+
+
+@dataclass(frozen=True)
+class IndexValue:
+    """One index of one unit: value [rad], or NaN and the reason it has none."""
+    value: float
+    reason: str = ""
+
+    @property
+    def ok(self):
+        return math.isfinite(self.value)
+
+
+def _nan(reason):
+    return IndexValue(float("nan"), reason)
+
+
+def _phase_slice(t_s, t_start, t_end):
+    """Rows of t_s in [t_start, t_end), after checking the time base is uniform."""
+    t_s = np.asarray(t_s, dtype=float)
+    if t_s.ndim != 1 or len(t_s) < 2:
+        raise ValueError("t_s: need a 1-D time base of at least 2 samples")
+    step = np.diff(t_s)
+    dt = float(np.median(step))
+    if not dt > 0 or np.max(np.abs(step - dt)) > 1e-9 * max(1.0, abs(t_s[-1])):
+        raise ValueError("t_s: the samples must be uniformly spaced in time")
+    if not t_end > t_start:
+        raise ValueError(f"phase [{t_start}, {t_end}) s: the end must lie after the start")
+    rows = np.flatnonzero((t_s >= t_start - 1e-12) & (t_s < t_end - 1e-12))
+    return rows, dt
+
+
+def _window_samples(length_s, dt, name):
+    """A window length as a whole number of samples; refuses one that is not."""
+    n = round(length_s / dt)
+    if n < 1 or abs(n * dt - length_s) > 1e-9 * max(1.0, length_s):
+        raise ValueError(f"{name} = {length_s} s is not a whole number of samples of {dt} s")
+    return n
+
+
+def _as_columns(e):
+    e = np.asarray(e, dtype=float)
+    return e[:, None] if e.ndim == 1 else e
+
+
+def _coverage_reason(rows, t_s, t_start, t_end, dt):
+    """Why a phase has no samples, or "" when the run covered it whole."""
+    if len(rows) == 0:
+        return f"the run ({t_s[0]:g} to {t_s[-1]:g} s) never reached the phase [{t_start:g}, {t_end:g}) s"
+    if t_s[rows[-1]] + dt < t_end - 1e-9:
+        return f"the run ended at {t_s[-1]:g} s, inside the phase [{t_start:g}, {t_end:g}) s"
+    return ""
+
+
+def _phase_signal(t_s, e, t_start, t_end):
+    rows, dt = _phase_slice(t_s, t_start, t_end)
+    e = _as_columns(e)
+    if len(e) != len(np.asarray(t_s)):
+        raise ValueError("e: need one row per time sample")
+    return rows, dt, e[rows], _coverage_reason(rows, np.asarray(t_s, dtype=float), t_start, t_end, dt)
+
+
+def _checked(value, seg):
+    if not np.all(np.isfinite(seg)):
+        return _nan("the error signal is not finite inside the phase")
+    return IndexValue(float(value))
+
+
+def ape(t_s, e, t_start, t_end):
+    """Absolute performance error: max |e| over the phase [rad]."""
+    rows, _, seg, why = _phase_signal(t_s, e, t_start, t_end)
+    if why:
+        return _nan(why)
+    return _checked(np.max(np.linalg.norm(seg, axis=1)), seg)
+
+
+def knowledge(t_s, e_estimate, e_truth, t_start, t_end):
+    """Knowledge error: max |estimated error - true error| over the phase [rad]."""
+    diff = _as_columns(e_estimate) - _as_columns(e_truth)
+    return ape(t_s, diff, t_start, t_end)
+
+
+def _window_means(seg, m):
+    """Mean of every window of m consecutive rows (sliding by one)."""
+    c = np.vstack([np.zeros((1, seg.shape[1])), np.cumsum(seg, axis=0)])
+    return (c[m:] - c[:-m]) / m
+
+
+def rpe(t_s, e, t_start, t_end, window_s, chunk_rows=1 << 22):
+    """Relative performance error over windows of window_s inside the phase [rad]."""
+    rows, dt, seg, why = _phase_signal(t_s, e, t_start, t_end)
+    if why:
+        return _nan(why)
+    m = _window_samples(window_s, dt, "RPE window")
+    if len(seg) < m:
+        return _nan(f"the phase [{t_start:g}, {t_end:g}) s is shorter than the RPE window {window_s:g} s")
+    if not np.all(np.isfinite(seg)):
+        return _nan("the error signal is not finite inside the phase")
+    means = _window_means(seg, m)
+    views = np.lib.stride_tricks.sliding_window_view(seg, m, axis=0)  # (windows, axes, m)
+    worst = 0.0
+    step = max(1, chunk_rows // max(1, m * seg.shape[1]))  # bounds the memory of one chunk
+    for i in range(0, len(means), step):
+        dev = views[i:i + step] - means[i:i + step, :, None]
+        worst = max(worst, float(np.max(np.sqrt(np.sum(dev * dev, axis=1)))))
+    return IndexValue(worst)
+
+
+def pde(t_s, e, t_start, t_end, window_s, separation_s):
+    """Performance drift error: max |mean over a window - mean over the window
+    separation_s later| with both windows inside the phase [rad]."""
+    rows, dt, seg, why = _phase_signal(t_s, e, t_start, t_end)
+    if why:
+        return _nan(why)
+    m = _window_samples(window_s, dt, "PDE window")
+    k = _window_samples(separation_s, dt, "PDE separation")
+    if len(seg) < m + k:
+        return _nan(f"the phase [{t_start:g}, {t_end:g}) s is shorter than the PDE window "
+                    f"plus separation {window_s + separation_s:g} s")
+    if not np.all(np.isfinite(seg)):
+        return _nan("the error signal is not finite inside the phase")
+    means = _window_means(seg, m)
+    drift = means[k:] - means[:-k]
+    return IndexValue(float(np.max(np.linalg.norm(drift, axis=1))))
+
+
+# --- ensemble statistics ---------------------------------------------------
+
+def coverage(n, level, r, s):
+    """Exact probability that [X_(r), X_(s)] (1-based order statistics of n
+    independent units, X_(0) = -inf, X_(n+1) = +inf) contains the level-quantile:
+    P(r <= Binomial(n, level) <= s - 1)."""
+    return float(stats.binom.cdf(s - 1, n, level) - stats.binom.cdf(r - 1, n, level))
+
+
+@dataclass(frozen=True)
+class QuantileBound:
+    """The level-quantile of an ensemble with its distribution-free bounds."""
+    n: int                 # units counted (a unit with no figure counts as worst)
+    n_missing: int         # units whose figure is NaN (treated as +inf: unknown is not good)
+    level: float           # the quantile's level, e.g. 0.9973
+    confidence: float      # the bounds' confidence, e.g. 0.95
+    estimate: float        # X_(ceil(n level)): the empirical quantile
+    upper: float           # one-sided upper confidence bound X_(s), or NaN
+    upper_rank: int        # s (1-based), or 0 when n cannot support the bound
+    low: float             # two-sided interval [low, high], or NaN
+    high: float
+    supported: bool        # n is large enough for the one-sided bound at this confidence
+    reason: str            # why a figure is NaN
+
+    @property
+    def min_units(self):
+        """Fewest units for which even the worst one bounds the quantile."""
+        return min_units(self.level, self.confidence)
+
+
+def min_units(level, confidence):
+    """Smallest n with P(max of n units >= the level-quantile) >= confidence:
+    1 - level^n >= confidence."""
+    return math.ceil(math.log(1.0 - confidence) / math.log(level))
+
+
+@functools.lru_cache(maxsize=256)
+def _ranks(n, level, confidence):
+    """Order-statistic ranks (1-based) for n units: s, the one-sided upper
+    bound's (smallest s with P(Bin(n, level) <= s - 1) >= confidence), and
+    (r, s2) the equal-tailed two-sided interval's; a rank of n + 1 means
+    "beyond the worst unit", r = 0 "below the best"."""
+    cdf = stats.binom.cdf(np.arange(n + 1), n, level)  # cdf[k] = P(Bin <= k)
+    s = int(np.searchsorted(cdf, confidence, side="left")) + 1
+    tail = (1.0 - confidence) / 2.0
+    r = int(np.searchsorted(cdf, tail, side="right"))  # largest r with P(Bin <= r - 1) <= tail
+    s2 = int(np.searchsorted(cdf, 1.0 - tail, side="left")) + 1
+    return s, r, s2
+
+
+def quantile_bound(values, level=LEVEL_3SIGMA, confidence=0.95):
+    """The level-quantile of the per-unit values, with its order-statistics
+    confidence bounds. NaN values count as +inf (a unit without a figure is
+    never assumed good)."""
+    if not 0.0 < level < 1.0 or not 0.0 < confidence < 1.0:
+        raise ValueError("level and confidence must lie strictly between 0 and 1")
+    x = np.asarray(values, dtype=float).ravel()
+    n = len(x)
+    if n == 0:
+        return QuantileBound(0, 0, level, confidence, *([float("nan")] * 2), 0,
+                             float("nan"), float("nan"), False, "no units")
+    missing = int(np.count_nonzero(~np.isfinite(x)))
+    xs = np.sort(np.where(np.isfinite(x), x, np.inf))
+    estimate = float(xs[min(n, max(1, math.ceil(n * level))) - 1])
+    s, r, s2 = _ranks(n, level, confidence)
+    supported = s <= n
+    upper = float(xs[s - 1]) if supported else float("nan")
+    two_sided = r >= 1 and s2 <= n
+    low = float(xs[r - 1]) if two_sided else float("nan")
+    high = float(xs[s2 - 1]) if two_sided else float("nan")
+    reason = ""
+    if not supported:
+        reason = (f"{n} units cannot bound the {level:.4%} quantile at {confidence:.0%} "
+                  f"confidence (at least {min_units(level, confidence)} are needed)")
+    elif not two_sided:
+        reason = f"{n} units give only a one-sided bound at {confidence:.0%} confidence"
+    return QuantileBound(n, missing, level, confidence, estimate, upper, s if supported else 0,
+                         low, high, supported, reason)
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """A requirement against an ensemble: PASS when, at the stated confidence,
+    at least `level` of all units meet it."""
+    requirement: float     # [rad]
+    n: int
+    n_meeting: int
+    fraction: float        # n_meeting / n
+    lower: float           # Clopper-Pearson lower bound of the fraction at `confidence`
+    level: float
+    confidence: float
+    passed: bool
+
+    @property
+    def text(self):
+        return "PASS" if self.passed else "FAIL"
+
+
+def requirement_verdict(values, requirement, level=LEVEL_3SIGMA, confidence=0.95):
+    """PASS/FAIL of `requirement` [rad] with the probability that a unit meets it.
+    NaN values count as not meeting it."""
+    x = np.asarray(values, dtype=float).ravel()
+    n = len(x)
+    k = int(np.count_nonzero(np.isfinite(x) & (x <= requirement)))
+    lower = 0.0 if k == 0 else float(stats.beta.ppf(1.0 - confidence, k, n - k + 1))
+    return Verdict(float(requirement), n, k, k / n if n else float("nan"), lower, level,
+                   confidence, n > 0 and lower >= level)

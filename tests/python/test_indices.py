@@ -1,0 +1,147 @@
+"""The ECSS pointing indices on signals whose APE, RPE and PDE are known in
+closed form, empty windows as NaN with a reason, and the order-statistics
+bounds against their exact binomial coverage (computed here independently,
+with math.comb) and against sampling."""
+import math
+
+import numpy as np
+import pytest
+
+from gimbalsim import indices
+
+DT = 1e-3
+T = np.arange(0, 4000) * DT  # 0 .. 3.999 s
+
+
+def test_constant_bias():
+    e = np.tile([3e-5, -4e-5], (len(T), 1))  # |e| = 5e-5 rad
+    assert indices.ape(T, e, 1.0, 3.0).value == pytest.approx(5e-5, rel=1e-12)
+    # Window means come from running sums: round-off of order 1e-13 of the signal.
+    assert indices.rpe(T, e, 1.0, 3.0, 0.2).value < 1e-12 * 5e-5
+    assert indices.pde(T, e, 1.0, 3.0, 0.2, 0.5).value < 1e-12 * 5e-5
+
+
+def test_sine_over_whole_periods():
+    a, f = 7e-6, 2.0  # a window of 0.5 s holds one period: its mean is zero
+    e = a * np.sin(2 * np.pi * f * T)
+    assert indices.ape(T, e, 0.0, 4.0).value == pytest.approx(a, rel=1e-12)
+    assert indices.rpe(T, e, 0.0, 4.0, 0.5).value == pytest.approx(a, rel=1e-9)
+    assert indices.pde(T, e, 0.0, 4.0, 0.5, 1.0).value < 1e-12 * a
+
+
+def test_ramp():
+    r = 2e-5  # rad/s
+    e = r * T
+    # APE: the last sample inside [1, 3).
+    assert indices.ape(T, e, 1.0, 3.0).value == pytest.approx(r * 2.999, rel=1e-12)
+    # RPE: a window of m samples of a ramp deviates from its mean by r dt (m - 1) / 2 at its ends.
+    m = 200
+    assert indices.rpe(T, e, 1.0, 3.0, m * DT).value == pytest.approx(r * DT * (m - 1) / 2, rel=1e-9)
+    # PDE: two window means 0.5 s apart differ by r * 0.5.
+    assert indices.pde(T, e, 1.0, 3.0, 0.1, 0.5).value == pytest.approx(r * 0.5, rel=1e-9)
+
+
+def test_knowledge_is_estimate_against_truth():
+    truth = 1e-5 * np.sin(T)
+    estimate = truth + 3e-6
+    assert indices.knowledge(T, estimate, truth, 0.0, 4.0).value == pytest.approx(3e-6, rel=1e-9)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: indices.ape(T, T, 5.0, 6.0),
+    lambda: indices.rpe(T, T, 5.0, 6.0, 0.1),
+    lambda: indices.pde(T, T, 5.0, 6.0, 0.1, 0.2),
+])
+def test_a_phase_the_run_never_reached_is_nan_with_a_reason(call):
+    v = call()
+    assert math.isnan(v.value) and not v.ok
+    assert "never reached" in v.reason
+
+
+def test_a_run_ending_inside_the_phase_is_nan():
+    v = indices.ape(T, T, 3.0, 5.0)
+    assert math.isnan(v.value) and "ended at 3.999 s" in v.reason
+
+
+def test_a_phase_shorter_than_its_window_is_nan():
+    v = indices.rpe(T, T, 1.0, 1.1, 0.2)
+    assert math.isnan(v.value) and "shorter than the RPE window" in v.reason
+    v = indices.pde(T, T, 1.0, 1.5, 0.2, 0.4)
+    assert math.isnan(v.value) and "shorter than the PDE window" in v.reason
+
+
+def test_a_non_finite_signal_is_nan_not_a_number():
+    e = T.copy()
+    e[2500] = np.nan
+    for v in (indices.ape(T, e, 2.0, 3.0), indices.rpe(T, e, 2.0, 3.0, 0.1),
+              indices.pde(T, e, 2.0, 3.0, 0.1, 0.2)):
+        assert math.isnan(v.value) and "not finite" in v.reason
+
+
+def test_a_window_that_is_not_whole_samples_is_refused():
+    with pytest.raises(ValueError, match="RPE window"):
+        indices.rpe(T, T, 0.0, 4.0, 0.0105)
+    with pytest.raises(ValueError, match="uniformly spaced"):
+        indices.ape(np.array([0.0, 0.001, 0.003]), np.zeros(3), 0.0, 1.0)
+
+
+def _coverage_by_comb(n, p, r, s):
+    """P(r <= Binomial(n, p) <= s - 1), term by term in logarithms (no scipy)."""
+    def log_term(k):
+        return (math.lgamma(n + 1) - math.lgamma(k + 1) - math.lgamma(n - k + 1)
+                + k * math.log(p) + (n - k) * math.log1p(-p))
+    return sum(math.exp(log_term(k)) for k in range(r, s))
+
+
+@pytest.mark.parametrize("n,level", [(30, 0.9), (200, 0.95), (2000, 0.9973)])
+def test_bounds_cover_at_least_the_confidence_exactly(n, level):
+    rng = np.random.default_rng(1)
+    q = indices.quantile_bound(rng.random(n), level, 0.95)
+    assert q.supported
+    s = q.upper_rank
+    # P(X_(s) >= quantile) = P(Bin(n, level) <= s - 1): at least 95 %, and s is the smallest such rank.
+    assert _coverage_by_comb(n, level, 0, s) >= 0.95
+    assert _coverage_by_comb(n, level, 0, s - 1) < 0.95
+    assert indices.coverage(n, level, 0, s) == pytest.approx(_coverage_by_comb(n, level, 0, s), abs=1e-12)
+
+
+def test_upper_bound_coverage_by_sampling():
+    # Uniform(0, 1) units: the level-quantile is the level itself.
+    n, level, trials = 300, 0.99, 4000
+    rng = np.random.default_rng(7)
+    hits = 0
+    for _ in range(trials):
+        q = indices.quantile_bound(rng.random(n), level, 0.9)
+        hits += q.upper >= level
+    exact = indices.coverage(n, level, 0, q.upper_rank)
+    se = math.sqrt(exact * (1 - exact) / trials)
+    assert abs(hits / trials - exact) < 4 * se
+    assert exact >= 0.9
+
+
+def test_too_few_units_is_marked_never_printed_bare():
+    q = indices.quantile_bound(np.linspace(0, 1, 20), indices.LEVEL_3SIGMA, 0.95)
+    assert not q.supported and math.isnan(q.upper)
+    m = indices.min_units(0.9973, 0.95)
+    assert 1 - 0.9973**m >= 0.95 > 1 - 0.9973 ** (m - 1)  # the worst of m units bounds it, of m - 1 not
+    assert f"at least {m} are needed" in q.reason
+
+
+def test_missing_units_count_as_worst():
+    n = 2000
+    s = indices.quantile_bound(np.zeros(n)).upper_rank
+    above = n - s  # units sorted above the bound's rank
+    q = indices.quantile_bound(np.r_[np.zeros(n - above), np.full(above, np.nan)])
+    assert q.n_missing == above and q.upper == 0.0
+    q = indices.quantile_bound(np.r_[np.zeros(n - above - 1), np.full(above + 1, np.nan)])
+    assert q.upper == math.inf  # one more unit without a figure reaches the bound
+
+
+def test_requirement_verdict_clopper_pearson():
+    # All n units meet it: the one-sided lower bound is (1 - c)^(1/n).
+    v = indices.requirement_verdict(np.zeros(2000), 1e-5)
+    assert v.lower == pytest.approx(0.05 ** (1 / 2000), rel=1e-9) and v.passed
+    v = indices.requirement_verdict(np.zeros(500), 1e-5)
+    assert v.lower == pytest.approx(0.05 ** (1 / 500), rel=1e-9) and not v.passed
+    v = indices.requirement_verdict(np.r_[np.zeros(1990), np.ones(10)], 0.5)
+    assert v.n_meeting == 1990 and not v.passed
