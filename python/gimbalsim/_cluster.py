@@ -5,6 +5,8 @@ needs this package on its PYTHONPATH."""
 import contextlib
 import logging
 import os
+import signal
+import threading
 
 
 @contextlib.contextmanager
@@ -21,14 +23,46 @@ def dask_client(workers=None, scheduler=None):
             client.close()
         return
     n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR)
-    client = Client(cluster)
+    # Ctrl-C reaches the whole process group: worker processes started while
+    # SIGINT is ignored keep ignoring it (no worker tracebacks); this process
+    # takes it and shuts them down.
+    main = threading.current_thread() is threading.main_thread()
+    handler = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.ERROR)
+        client = Client(cluster)
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, handler)
     try:
         yield client, n
-    finally:
-        client.close()
-        cluster.close()
+    except BaseException:
+        # interrupted or failed: shut down without the cluster's own complaints
+        logging.getLogger("distributed").setLevel(logging.CRITICAL)
+        with contextlib.suppress(Exception):
+            client.close()
+        with contextlib.suppress(Exception):
+            cluster.close()
+        raise
+    client.close()
+    cluster.close()
+
+
+class Interrupted(BaseException):
+    """SIGINT or SIGTERM: ``signum``; the program exits 128 + signum."""
+
+    def __init__(self, signum):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+def raise_on_signals():
+    """SIGINT and SIGTERM raise Interrupted in the main thread."""
+    def handler(signum, frame):
+        raise Interrupted(signum)
+    signal.signal(signal.SIGINT, handler)
+    signal.signal(signal.SIGTERM, handler)
 
 
 def add_cluster_arguments(parser):
