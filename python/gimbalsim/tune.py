@@ -111,10 +111,6 @@ class TuneSpec:
                 spec.refuse(f"gains.{key}", f"{p.kind}: gains take {', '.join(GAIN_DISTRIBUTIONS)}", node)
             if p.kind == "choice" and not all(isinstance(v, (int, float, str)) for v in p.args):
                 spec.refuse(f"gains.{key}", "choice: a gain's choices are numbers or names", node)
-            if p.type == "int" and p.kind != "choice" and (
-                    math.ceil(p.args[0]) > math.floor(p.args[1]) or (p.kind == "loguniform" and p.args[0] < 1)):
-                spec.refuse(f"gains.{key}", f"{key} is a whole number: the range must hold one"
-                            + (" and start at 1 or more (loguniform)" if p.kind == "loguniform" else ""), node)
             for v in p.extremes():
                 try:
                     gimbalsim.Controller(self.controller_path, {**self.controller_set, key: v})
