@@ -195,12 +195,14 @@ def _shown(v):
 class SpecLoader(yaml.SafeLoader):
     """YAML 1.2's core schema for numbers, as the scene loader reads them:
     `1e-4` is a number (YAML 1.1 wants `1.0e-4`), `010` is ten, `1:20` and
-    `1_000` are names. Dates and binary are not resolved (a plain `2024-01-01` is a name)."""
+    `1_000` are names. Dates, merge keys (`<<`) and `=` are not resolved: a
+plain `2024-01-01` is a name."""
 
 
 SpecLoader.yaml_implicit_resolvers = {
     first: [(tag, rx) for tag, rx in resolvers
-            if tag not in ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float", "tag:yaml.org,2002:timestamp")]
+            if tag not in ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float", "tag:yaml.org,2002:timestamp",
+                           "tag:yaml.org,2002:merge", "tag:yaml.org,2002:value")]
     for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()}
 _INT_RE = re.compile(r"^[-+]?[0-9]+$")
 _FLOAT_RE = re.compile(r"^(?:[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?"

@@ -342,7 +342,11 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
     results = out / "results.csv"
     fingerprint = out / "spec.json"
     if resume:
-        if fingerprint.exists() and fingerprint.read_text() != spec.fingerprint:
+        try:
+            same = not fingerprint.exists() or fingerprint.read_text() == spec.fingerprint
+        except (OSError, UnicodeDecodeError) as e:
+            raise SpecError(f"{fingerprint}: cannot read it ({e}); --resume needs the spec it names")
+        if not same:
             raise SpecError(f"{out} holds a sweep of another spec; --resume needs the same spec")
     elif journal.exists() or results.exists():
         raise SpecError(f"{out} already holds a sweep: give --resume to finish it, or another --out")
