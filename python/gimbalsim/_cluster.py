@@ -7,6 +7,7 @@ import logging
 import os
 import signal
 import threading
+import warnings
 
 
 @contextlib.contextmanager
@@ -29,8 +30,12 @@ def dask_client(workers=None, scheduler=None):
     main = threading.current_thread() is threading.main_thread()
     handler = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
     try:
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.ERROR)
+        with warnings.catch_warnings():
+            # with no dashboard the scheduler still serves HTTP, on 8787 if free: another cluster's port is no news
+            warnings.filterwarnings("ignore", message="Port .* is already in use")
+            # worker logs off: a task's failure reaches us as its exception; at shutdown they are only noise
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                                   silence_logs=logging.CRITICAL)
         client = Client(cluster)
     finally:
         if main:
