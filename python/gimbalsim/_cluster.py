@@ -27,6 +27,9 @@ def dask_client(workers=None, scheduler=None):
     # Ctrl-C reaches the whole process group: worker processes started while
     # SIGINT is ignored keep ignoring it (no worker tracebacks); this process
     # takes it and shuts them down.
+    # the worker processes' own logging (set up at their start, from the environment): errors only,
+    # not the INFO lines of a start after a killed cluster (stale lock files purged)
+    os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
     main = threading.current_thread() is threading.main_thread()
     handler = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
     try:
