@@ -17,8 +17,10 @@ Writes DIR/results.csv (one row per sample, sorted by sample), DIR/summary.json
 (counts per status, percentiles, the engine's figures) and DIR/plots/. Sample
 i's parameters depend only on (seed, i): the results are the same whatever the
 workers, machines, order or resumes (all columns but wall_time). Rows are
-journaled to DIR/results.partial.csv as they arrive; --resume runs only the
-missing samples. Exit codes: 0 done, 2 spec refused, 4 an output not written (the journal
+journaled to DIR/results.partial.csv as they arrive (appended and synced per
+task; never cut in place); --resume runs only the missing samples, after
+dropping, counting and rerunning any journal row the design did not draw.
+Exit codes: 0 done, 2 spec refused, 4 an output not written (the journal
 kept), 130 / 143 interrupted by SIGINT / SIGTERM (the journal kept).
 """
 import argparse
