@@ -5,6 +5,9 @@ needs this package on its PYTHONPATH."""
 import contextlib
 import logging
 import os
+import signal
+import threading
+import warnings
 
 
 @contextlib.contextmanager
@@ -21,14 +24,53 @@ def dask_client(workers=None, scheduler=None):
             client.close()
         return
     n = workers or os.cpu_count() or 1
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR)
-    client = Client(cluster)
+    # Ctrl-C reaches the whole process group: worker processes started while
+    # SIGINT is ignored keep ignoring it (no worker tracebacks); this process
+    # takes it and shuts them down.
+    # the worker processes' own logging (set up at their start, from the environment): errors only,
+    # not the INFO lines of a start after a killed cluster (stale lock files purged)
+    os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
+    main = threading.current_thread() is threading.main_thread()
+    handler = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        with warnings.catch_warnings():
+            # with no dashboard the scheduler still serves HTTP, on 8787 if free: another cluster's port is no news
+            warnings.filterwarnings("ignore", message="Port .* is already in use")
+            # worker logs off: a task's failure reaches us as its exception; at shutdown they are only noise
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                                   silence_logs=logging.CRITICAL)
+        client = Client(cluster)
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, handler)
     try:
         yield client, n
-    finally:
-        client.close()
-        cluster.close()
+    except BaseException:
+        # interrupted or failed: shut down without the cluster's own complaints
+        logging.getLogger("distributed").setLevel(logging.CRITICAL)
+        with contextlib.suppress(Exception):
+            client.close()
+        with contextlib.suppress(Exception):
+            cluster.close()
+        raise
+    client.close()
+    cluster.close()
+
+
+class Interrupted(BaseException):
+    """SIGINT or SIGTERM: ``signum``; the program exits 128 + signum."""
+
+    def __init__(self, signum):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+def raise_on_signals():
+    """SIGINT and SIGTERM raise Interrupted in the main thread."""
+    def handler(signum, frame):
+        raise Interrupted(signum)
+    signal.signal(signal.SIGINT, handler)
+    signal.signal(signal.SIGTERM, handler)
 
 
 def add_cluster_arguments(parser):

@@ -1,6 +1,8 @@
 """Spec files of the sweep and the tuner: YAML read with the position of
 every key, and refusals that name the spec's key, line and column."""
+import math
 import pathlib
+import re
 
 import yaml
 
@@ -49,10 +51,17 @@ class Spec:
             raise SpecError("not a readable file", file=str(path))
         if self.path.stat().st_size > MAX_SPEC_BYTES:
             raise SpecError(f"larger than {MAX_SPEC_BYTES} bytes", file=str(path))
-        text = self.path.read_text()
+        data = self.path.read_bytes()
         try:
-            # SafeLoader's composer: no object construction; aliases are refused below.
-            tree = yaml.compose(text, Loader=yaml.SafeLoader)
+            text = data.decode("utf-8")
+        except UnicodeDecodeError as e:
+            line = data[:e.start].count(b"\n") + 1
+            column = e.start - (data.rfind(b"\n", 0, e.start) + 1) + 1
+            raise SpecError(f"not UTF-8 text (byte 0x{data[e.start]:02x} at offset {e.start})", file=str(path),
+                            line=line, column=column)
+        try:
+            # The composer only: no object construction; values are built node by node below.
+            tree = yaml.compose(text, Loader=SpecLoader)
         except yaml.YAMLError as e:
             mark = getattr(e, "problem_mark", None)
             raise SpecError(f"not valid YAML: {getattr(e, 'problem', e)}", file=str(path),
@@ -69,7 +78,12 @@ class Spec:
             raise SpecError(f"more than {MAX_SPEC_NODES} values", key=key, file=str(self.path), line=line, column=col)
         if depth > 16:
             raise SpecError("nested too deeply", key=key, file=str(self.path), line=line, column=col)
+        if n.tag not in _STANDARD_TAGS:
+            raise SpecError(f"unsupported tag {n.tag} (a spec takes numbers, names, lists and mappings)",
+                            key=key, file=str(self.path), line=line, column=col)
         if isinstance(n, yaml.MappingNode):
+            if n.tag != _MAP:
+                raise SpecError(f"a mapping tagged {n.tag}", key=key, file=str(self.path), line=line, column=col)
             out = {}
             for k, v in n.value:
                 if not isinstance(k, yaml.ScalarNode):
@@ -84,8 +98,14 @@ class Spec:
                 out[name] = Node(child.value, child_line, child_col)
             return Node(out, line, col)
         if isinstance(n, yaml.SequenceNode):
+            if n.tag != _SEQ:
+                raise SpecError(f"a list tagged {n.tag}", key=key, file=str(self.path), line=line, column=col)
             return Node([self._convert(v, key, depth + 1) for v in n.value], line, col)
-        return Node(_scalar(n), line, col)
+        try:
+            return Node(_scalar(n), line, col)
+        except (ValueError, yaml.YAMLError) as e:
+            raise SpecError(f"{n.tag.rsplit(':', 1)[-1]} '{n.value[:40]}' does not read: {e}", key=key,
+                            file=str(self.path), line=line, column=col)
 
     def refuse(self, key, message, node=None):
         raise SpecError(message, key=key, file=str(self.path), line=node.line if node else None,
@@ -126,21 +146,95 @@ class Spec:
             self.refuse(name, "expected a mapping", node)
         return node.value
 
+    def text(self, name, node):
+        if not isinstance(node.value, str):
+            self.refuse(name, f"expected a name, got {_shown(node.value)}", node)
+        return node.value
+
+    def value(self, name, node):
+        """A key's value as `--set` takes it: a number, a name, true/false, or a
+        vector (a list of numbers); None, mappings and nested lists are refused."""
+        v = node.value
+        if isinstance(v, list):
+            if not v or not all(_is_number(e.value) for e in v):
+                self.refuse(name, f"expected a number, a name or a list of numbers, got {_shown(node.plain())}",
+                            node)
+            return node.plain()
+        if v is None or isinstance(v, dict):
+            self.refuse(name, f"expected a number, a name or a list of numbers, got {_shown(node.plain())}", node)
+        return v
+
 
 def check_out_dir(out, spec_path):
     """--out must be a folder (existing or not) and not the spec itself: refused
     (SpecError, exit 2) before anything runs."""
-    import pathlib
     out = pathlib.Path(out)
     if out.exists() and not out.is_dir():
         same = pathlib.Path(spec_path).exists() and out.resolve() == pathlib.Path(spec_path).resolve()
         raise SpecError(f"--out {out}: " + ("is the spec file itself" if same else "exists and is not a folder"))
+    for parent in out.absolute().parents:  # the folder is made later: no file may stand in its way
+        if parent.exists():
+            if not parent.is_dir():
+                raise SpecError(f"--out {out}: {parent} is a file, not a folder")
+            break
+
+
+def _is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _shown(v):
+    if v is None:
+        return "null (nothing)"
+    if isinstance(v, dict):
+        return "a mapping"
+    text = repr(v)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+class SpecLoader(yaml.SafeLoader):
+    """YAML 1.2's core schema for numbers, as the scene loader reads them:
+    `1e-4` is a number (YAML 1.1 wants `1.0e-4`), `010` is ten, `1:20` and
+    `1_000` are names. Dates, merge keys (`<<`) and `=` are not resolved: a
+plain `2024-01-01` is a name."""
+
+
+SpecLoader.yaml_implicit_resolvers = {
+    first: [(tag, rx) for tag, rx in resolvers
+            if tag not in ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float", "tag:yaml.org,2002:timestamp",
+                           "tag:yaml.org,2002:merge", "tag:yaml.org,2002:value")]
+    for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()}
+_INT_RE = re.compile(r"^[-+]?[0-9]+$")
+_FLOAT_RE = re.compile(r"^(?:[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?"
+                       r"|[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$")
+SpecLoader.add_implicit_resolver("tag:yaml.org,2002:int", _INT_RE, list("-+0123456789"))
+SpecLoader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT_RE, list("-+0123456789."))
+
+_MAP, _SEQ, _STR = "tag:yaml.org,2002:map", "tag:yaml.org,2002:seq", "tag:yaml.org,2002:str"
+_STANDARD_TAGS = {_MAP, _SEQ, _STR, "tag:yaml.org,2002:int", "tag:yaml.org,2002:float",
+                  "tag:yaml.org,2002:bool", "tag:yaml.org,2002:null"}
+_BOOLS = {"yes": True, "no": False, "true": True, "false": False, "on": True, "off": False}
 
 
 def _scalar(n):
-    """A scalar by YAML's resolver (numbers, booleans, null, strings)."""
-    loader = yaml.SafeLoader("")
-    try:
-        return loader.construct_object(n, deep=True)
-    finally:
-        loader.dispose()
+    """A scalar by its (resolved or explicit) standard tag; anything else was
+    refused before. ValueError when the text does not read as its tag."""
+    text = n.value
+    if n.tag == _STR:
+        return text
+    if n.tag == "tag:yaml.org,2002:null":
+        if text not in ("", "~", "null", "Null", "NULL"):
+            raise ValueError("not a null")
+        return None
+    if n.tag == "tag:yaml.org,2002:bool":
+        if text.lower() not in _BOOLS:
+            raise ValueError("not true or false")
+        return _BOOLS[text.lower()]
+    if n.tag == "tag:yaml.org,2002:int":
+        if not _INT_RE.match(text):
+            raise ValueError("not a whole number")
+        return int(text)
+    if not _FLOAT_RE.match(text):  # an explicit !!float on something else
+        raise ValueError("not a number")
+    special = {".inf": math.inf, "+.inf": math.inf, "-.inf": -math.inf, ".nan": math.nan}
+    return special.get(text.lower(), None) if text.lower() in special else float(text)

@@ -12,7 +12,6 @@ Distributions (the spec's syntax):
     key: {disk: {radius: r}}                          # vec2 keys: a point uniform in a disk
     key: {disk: {within: contact.clearance, fraction: 0.95}}   # radius = fraction x that key's value
 """
-import itertools
 import math
 import zlib
 
@@ -112,9 +111,9 @@ def parse_parameter(spec, section, key, node, key_types):
         if 0.5 * (math.erf(hi / math.sqrt(2)) - math.erf(lo / math.sqrt(2))) < 1e-3:
             spec.refuse(where, "normal: [min, max] holds less than 0.1 % of the distribution", arg)
     elif kind == "choice":
-        if not isinstance(plain, list) or not plain:
+        if not isinstance(arg.value, list) or not arg.value:
             spec.refuse(where, "choice expects a non-empty list of values", arg)
-        args = plain
+        args = [spec.value(where, v) for v in arg.value]
     else:
         if ktype != "vec2":
             spec.refuse(where, f"disk needs a vec2 key; {key} is {ktype}", arg)
@@ -124,7 +123,7 @@ def parse_parameter(spec, section, key, node, key_types):
         if "radius" in plain and not (_is_number(plain["radius"]) and plain["radius"] >= 0):
             spec.refuse(where, "disk: radius must be a number >= 0", arg)
         if "within" in plain:
-            if key_types.get(plain["within"]) not in NUMERIC:
+            if not isinstance(plain["within"], str) or key_types.get(plain["within"]) not in NUMERIC:
                 spec.refuse(where, f"disk: within must name a number key, got {plain['within']!r}", arg)
             plain.setdefault("fraction", 1.0)
             if not (_is_number(plain["fraction"]) and 0 <= plain["fraction"] <= 1):
@@ -140,22 +139,36 @@ def _is_number(v):
     return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
 
 
+def design_size(grid, samples):
+    """Samples in a design, counted without building it."""
+    return samples * math.prod(len(values) for _, values in grid)
+
+
 class Design:
     """The samples of a sweep: ``samples`` random draws of the parameters at
     each grid point (grid points in the spec's order, the first key slowest).
     Sample i is grid point i // samples with draw j = i % samples: every grid
-    point sees the same draws (common random numbers)."""
+    point sees the same draws (common random numbers). Grid points are
+    computed from their index, never listed."""
 
     def __init__(self, parameters, grid, samples, seed, base_values):
         self.parameters = parameters          # [Parameter]
         self.grid_keys = [k for k, _ in grid]  # [(key, [values])]
-        self.grid_points = list(itertools.product(*[v for _, v in grid])) or [()]
+        self.grid_values = [v for _, v in grid]
         self.samples, self.seed = samples, seed
+        self.size = design_size(grid, samples)
         self.base_values = base_values        # scene values as text (for disk `within` of an undispersed key)
-        self.grid_types = {}
 
     def __len__(self):
-        return self.samples * len(self.grid_points)
+        return self.size
+
+    def grid_point(self, g):
+        """Grid point g's values, the first key slowest (as itertools.product)."""
+        point = []
+        for values in reversed(self.grid_values):
+            g, k = divmod(g, len(values))
+            point.append(values[k])
+        return point[::-1]
 
     def columns(self):
         cols = list(self.grid_keys)
@@ -168,7 +181,7 @@ class Design:
         if not 0 <= i < len(self):
             raise IndexError(i)
         g, j = divmod(i, self.samples)
-        values = dict(zip(self.grid_keys, self.grid_points[g]))
+        values = dict(zip(self.grid_keys, self.grid_point(g)))
         context = {k: v for k, v in self.base_values.items()}
         context.update(values)
         # disks that take their radius from another key are drawn after it
@@ -182,3 +195,20 @@ class Design:
         for p in self.parameters:
             out += p.row_values(values[p.key])
         return out
+
+
+def check_within(spec, section, parameters, grid_keys, base_values):
+    """A disk's `within` key not dispersed takes the scene's value: it must
+    have one that is a number >= 0 (refused at the disk's line otherwise)."""
+    dispersed = set(grid_keys) | {p.key for p in parameters}
+    for p in parameters:
+        if p.kind != "disk" or "within" not in p.args or p.args["within"] in dispersed:
+            continue
+        within = p.args["within"]
+        try:
+            radius = p.args["fraction"] * float(base_values[within])
+        except (KeyError, ValueError):
+            radius = math.nan
+        if not radius >= 0:
+            spec.refuse(f"{section}.{p.key}", f"disk: within {within} is not dispersed and the scene gives it "
+                        f"no number >= 0 (got {base_values.get(within)!r}): disperse it or give radius", p.node)

@@ -17,8 +17,11 @@ Writes DIR/results.csv (one row per sample, sorted by sample), DIR/summary.json
 (counts per status, percentiles, the engine's figures) and DIR/plots/. Sample
 i's parameters depend only on (seed, i): the results are the same whatever the
 workers, machines, order or resumes (all columns but wall_time). Rows are
-journaled to DIR/results.partial.csv as they arrive; --resume runs only the
-missing samples. Exit codes: 0 done, 2 spec refused, 130 interrupted.
+journaled to DIR/results.partial.csv as they arrive (appended and synced per
+task; never cut in place); --resume runs only the missing samples, after
+dropping, counting and rerunning any journal row the design did not draw.
+Exit codes: 0 done, 2 spec refused, 4 an output not written (the journal
+kept), 130 / 143 interrupted by SIGINT / SIGTERM (the journal kept).
 """
 import argparse
 import csv
@@ -35,7 +38,7 @@ import numpy as np
 import gimbalsim
 from . import _cluster
 from ._spec import Spec, SpecError, check_out_dir
-from .dispersion import Design, parse_parameter
+from .dispersion import Design, check_within, design_size, parse_parameter
 
 METRICS = ["pointing_error_max", "pointing_error_final", "peak_contact_force", "peak_joint2_force", "impacts",
            "continuous_contact_from"]
@@ -64,14 +67,8 @@ class SweepSpec:
         for key, node in sets.items():
             if key not in key_types:
                 spec.refuse(f"set.{key}", "not a key of the scene", node)
-        self.set = {k: n.plain() for k, n in sets.items()}
-        try:
-            self.base = gimbalsim.load_scene(self.scene_path, self.set)
-        except gimbalsim.SceneError as e:
-            node = sets.get(e.key) if e.set_index else None
-            spec.refuse(f"set.{e.key}" if node else "scene", str(e), node or root["scene"])
+        self.set = {k: spec.value(f"set.{k}", n) for k, n in sets.items()}
         params = spec.mapping("parameters", root["parameters"]) if "parameters" in root else {}
-        self.parameters = [parse_parameter(spec, "parameters", k, n, key_types) for k, n in params.items()]
         grid = spec.mapping("grid", root["grid"]) if "grid" in root else {}
         self.grid = []
         for key, node in grid.items():
@@ -81,9 +78,22 @@ class SweepSpec:
                 spec.refuse(f"grid.{key}", "also under parameters: give it in one place", node)
             if not isinstance(node.value, list) or not node.value:
                 spec.refuse(f"grid.{key}", "expected a non-empty list of values", node)
-            self.grid.append((key, node.plain()))
+            self.grid.append((key, [spec.value(f"grid.{key}", v) for v in node.value]))
+        # counted before anything is built or tried: a grid can multiply to more than memory holds
+        size = design_size(self.grid, self.samples)
+        if size > MAX_SAMPLES:
+            spec.refuse("grid" if self.grid else "samples",
+                        f"{size} samples in all (samples x grid points), more than the limit {MAX_SAMPLES}",
+                        root["grid"] if self.grid else root["samples"])
+        try:
+            self.base = gimbalsim.load_scene(self.scene_path, self.set)
+        except gimbalsim.SceneError as e:
+            node = sets.get(e.key) if e.set_index else None
+            spec.refuse(f"set.{e.key}" if node else "scene", str(e), node or root["scene"])
+        self.parameters = [parse_parameter(spec, "parameters", k, n, key_types) for k, n in params.items()]
         if not self.parameters and not self.grid:
             spec.refuse("parameters", "nothing is dispersed: give parameters or grid")
+        check_within(spec, "parameters", self.parameters, [k for k, _ in self.grid], self.base.values())
         # Values the scene would refuse are refused now, at the spec's line.
         for p in self.parameters:
             for v in p.extremes():
@@ -92,8 +102,6 @@ class SweepSpec:
             for v in values:
                 self._try(spec, f"grid.{key}", {key: v}, node)
         self.design = Design(self.parameters, self.grid, self.samples, self.seed, self.base.values())
-        if len(self.design) > MAX_SAMPLES:
-            spec.refuse("grid", f"{len(self.design)} samples in all, more than {MAX_SAMPLES}")
         self.spec_path = spec.path
         self.fingerprint = json.dumps({"scene": self.base.values(), "seed": self.seed, "samples": self.samples,
                                        "parameters": {p.key: [p.kind, p.args] for p in self.parameters},
@@ -179,33 +187,87 @@ def row_values(spec, values, result):
         [result.get(m) for m in METRICS] + [result["wall_time"]]
 
 
-def read_journal(path, header):
-    """Rows already journaled, by sample (the last incomplete line, from an
-    interrupted write, is dropped; a sample written twice counts once)."""
-    done = {}
+class OutputError(Exception):
+    """An output could not be written (exit 4); what was journaled is kept."""
+
+
+def _is_float(text):
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
+def check_row(spec, row, n_columns):
+    """Why a journal row is not to be trusted, or None: the sample index in
+    range, the parameters equal to the design's draw, the figures numbers."""
+    if len(row) != n_columns:
+        return "wrong number of columns"
+    if not row[0].isdigit() or not int(row[0]) < len(spec.design):
+        return "sample index outside the design"
+    i = int(row[0])
+    drawn = [fmt(v) for v in spec.design.row_values(spec.design.draw(i))]
+    if row[1:1 + len(drawn)] != drawn:
+        return "parameters differ from the design's draw"
+    figures = row[2 + len(drawn):]
+    if not row[1 + len(drawn)] or not all(v == "" or _is_float(v) for v in figures) or not _is_float(figures[-1]):
+        return "status or figures unreadable"
+    return None
+
+
+def read_journal(spec, path, header):
+    """The journal's trusted rows by sample, what was dropped ({reason:
+    count}), and whether the file can be appended to as it is. A last line
+    without its newline (cut by an interruption) is dropped; a sample written
+    twice counts once."""
+    done, dropped = {}, {}
     if not path.exists():
-        return done
-    text = path.read_text()
-    lines = text.split("\n")
-    if lines and lines[-1] != "":
-        lines = lines[:-1]  # no newline: cut off mid-write
-    reader = csv.reader(lines)
-    first = next(reader, None)
-    if first != header:
+        return done, dropped, False
+    try:
+        data = path.read_bytes()
+    except OSError as e:
+        raise OutputError(f"cannot read the journal {path}: {e.strerror}")
+    lines = data.decode("utf-8", errors="replace").split("\n")
+    torn = lines.pop() != ""  # the text after the last newline: empty when the last write was whole
+    if torn:
+        dropped["last line cut by an interruption"] = 1
+    if not lines:  # killed before the header was whole: nothing was journaled
+        return done, dropped, False
+    if next(csv.reader(lines[:1]), None) != header:
         raise SpecError(f"{path} was written by another spec (its header differs); use another --out")
-    for row in reader:
-        if len(row) == len(header) and row[0].isdigit():
-            done.setdefault(int(row[0]), row)
-    return done
+    for row in csv.reader(lines[1:]):
+        why = check_row(spec, row, len(header))
+        if why is None and int(row[0]) in done:
+            why = "sample already journaled" if row == done[int(row[0])] else "sample journaled twice, differently"
+        if why is not None:
+            dropped[why] = dropped.get(why, 0) + 1
+            continue
+        done[int(row[0])] = row
+    return done, dropped, not dropped
 
 
 def write_atomic(path, text):
+    """Writes text to path whole or not at all: a temporary file beside it,
+    synced, then renamed over it (the folder synced too, for a power cut)."""
     tmp = path.with_name(path.name + ".tmp")
-    with open(tmp, "w") as f:
-        f.write(text)
-        f.flush()
-        os.fsync(f.fileno())
-    os.replace(tmp, path)
+    try:
+        with open(tmp, "w") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+        fd = os.open(path.parent, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+    except OSError as e:
+        try:
+            tmp.unlink()
+        except OSError:
+            pass
+        raise OutputError(f"cannot write {path}: {e.strerror or e}") from None
 
 
 def percentiles(x):
@@ -277,41 +339,60 @@ def plot(spec, rows, out):
 # ---- the sweep ----
 
 def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, progress=True):
-    out.mkdir(parents=True, exist_ok=True)
     header = spec.header()
     journal = out / JOURNAL
     results = out / "results.csv"
     fingerprint = out / "spec.json"
     if resume:
-        if fingerprint.exists() and fingerprint.read_text() != spec.fingerprint:
+        try:
+            same = not fingerprint.exists() or fingerprint.read_text() == spec.fingerprint
+        except (OSError, UnicodeDecodeError) as e:
+            raise SpecError(f"{fingerprint}: cannot read it ({e}); --resume needs the spec it names")
+        if not same:
             raise SpecError(f"{out} holds a sweep of another spec; --resume needs the same spec")
     elif journal.exists() or results.exists():
         raise SpecError(f"{out} already holds a sweep: give --resume to finish it, or another --out")
+    done, dropped, appendable = read_journal(spec, journal, header)
+    if results.exists() and resume and not done and not dropped:
+        done, dropped, _ = read_journal(spec, results, header)
+        appendable = False
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
     write_atomic(fingerprint, spec.fingerprint)
-    done = read_journal(journal, header)
-    if results.exists() and resume and not done:
-        done = read_journal(results, header)
+    if not appendable:
+        # The journal is never cut in place: its trusted rows go to a new file that replaces it whole.
+        write_atomic(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
     todo = [i for i in range(len(spec.design)) if i not in done]
-    with open(journal, "w") as jf:  # the kept rows again: drops a line cut off by an interruption
-        jf.write(csv_line(header))
-        for i in sorted(done):
-            jf.write(csv_line(done[i]))
-        jf.flush()
-        print(f"sweep: {len(spec.design)} samples, {len(done)} already done, {len(todo)} to run", file=sys.stderr)
-        engine = {"ran_this_invocation": 0}
-        if todo:
-            engine = _run_on_cluster(spec, todo, jf, done, workers, scheduler, batch, progress)
+    for why, n in dropped.items():
+        print(f"sweep: dropped {n} journal row{'s' * (n != 1)} ({why}); their samples run again", file=sys.stderr)
+    print(f"sweep: {len(spec.design)} samples, {len(done)} already done, {len(todo)} to run", file=sys.stderr)
+    engine = {"ran_this_invocation": 0}
+    if todo:
+        try:  # unbuffered: a failed write leaves nothing behind to fail again at close
+            fd = os.open(journal, os.O_WRONLY | os.O_APPEND)
+        except OSError as e:
+            raise OutputError(f"cannot open the journal {journal}: {e.strerror}") from None
+        try:
+            engine = _run_on_cluster(spec, todo, fd, journal, done, workers, scheduler, batch, progress)
+        finally:
+            os.close(fd)
     rows = [done[i] for i in sorted(done)]
     rows = [[str(v) for v in r] for r in rows]
     write_atomic(results, "".join(csv_line(r) for r in [header] + rows))
     summary = summarize(spec, rows, engine)
-    summary["plots"] = [str(p) for p in plot(spec, rows, out / "plots")]
+    summary["journal_rows_dropped"] = dropped
+    try:
+        summary["plots"] = [str(p) for p in plot(spec, rows, out / "plots")]
+    except OSError as e:
+        raise OutputError(f"cannot write the plots in {out / 'plots'}: {e.strerror}") from None
     write_atomic(out / "summary.json", json.dumps(summary, indent=2) + "\n")
     journal.unlink()
     return summary
 
 
-def _run_on_cluster(spec, todo, jf, done, workers, scheduler, batch, progress):
+def _run_on_cluster(spec, todo, fd, journal, done, workers, scheduler, batch, progress):
     from distributed import as_completed
     from tqdm import tqdm
 
@@ -329,24 +410,23 @@ def _run_on_cluster(spec, todo, jf, done, workers, scheduler, batch, progress):
             for fut in as_completed(futures):
                 results, t_task = fut.result()
                 inside += t_task
+                lines = {}
                 for r in results:
-                    i = r["sample"]
-                    if i in done:
-                        continue
-                    line = row_values(spec, spec.design.draw(i), r)
-                    done[i] = [fmt(v) for v in line]
-                    jf.write(csv_line(line))
-                    ran += 1
-                jf.flush()
-                os.fsync(jf.fileno())
+                    if r["sample"] not in done:
+                        lines[r["sample"]] = [fmt(v) for v in row_values(spec, spec.design.draw(r["sample"]), r)]
+                try:  # a task's rows in one append, synced: a cut can only tear the last line
+                    data = "".join(csv_line(line) for line in lines.values()).encode()
+                    while data:
+                        data = data[os.write(fd, data):]
+                    os.fsync(fd)
+                except OSError as e:
+                    raise OutputError(f"cannot write the journal {journal}: {e.strerror}") from None
+                done.update(lines)
+                ran += len(lines)
                 bar.update(len(results))
                 fut.release()
-        except KeyboardInterrupt:
+        finally:
             bar.close()
-            client.cancel(futures)
-            print(f"\nsweep: interrupted with {len(done)} samples done; run again with --resume", file=sys.stderr)
-            raise
-        bar.close()
         elapsed = time.perf_counter() - t0
     run_time = sum(float(done[i][len(done[i]) - 1]) for i in todo)
     return {"workers": n_workers, "batch": size, "tasks": len(chunks), "ran_this_invocation": ran,
@@ -355,6 +435,14 @@ def _run_on_cluster(spec, todo, jf, done, workers, scheduler, batch, progress):
             # time the workers were busy with something other than our tasks, per sample
             "engine_overhead_per_sample_s": (elapsed * n_workers - inside) / ran if ran else None,
             "task_overhead_per_sample_s": (inside - run_time) / ran if ran else None}
+
+
+def _kept(out):
+    """Samples in the journal now (for the one line after an interruption)."""
+    try:
+        return max(0, (out / JOURNAL).read_bytes().count(b"\n") - 1)
+    except OSError:
+        return 0
 
 
 def main(argv=None):
@@ -371,15 +459,23 @@ def main(argv=None):
         ap.error("--workers must be >= 1")
     if a.batch is not None and a.batch < 1:
         ap.error("--batch must be >= 1")
+    _cluster.raise_on_signals()
+    out = pathlib.Path(a.out)
     try:
         check_out_dir(a.out, a.spec)
         spec = SweepSpec(a.spec)
-        s = sweep(spec, pathlib.Path(a.out), a.workers, a.scheduler, a.resume, a.batch, not a.no_progress)
+        s = sweep(spec, out, a.workers, a.scheduler, a.resume, a.batch, not a.no_progress)
     except SpecError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        return 130
+    except OutputError as e:
+        print(f"error: {e}; {_kept(out)} samples kept in {out / JOURNAL}: free the space and run again with "
+              f"--resume", file=sys.stderr)
+        return 4
+    except _cluster.Interrupted as e:
+        print(f"sweep: interrupted ({e}): {_kept(out)} samples kept in {out / JOURNAL}; run again with "
+              f"--resume to finish", file=sys.stderr)
+        return 128 + e.signum
     e = s["engine"]
     pct = s["percentiles_of_ok_samples"]["pointing_error_max"]
     print(f"sweep: {s['samples']} samples, status {s['status']}; pointing_error_max p50 "

@@ -25,7 +25,8 @@ TUNE (YAML):
 Writes DIR/trials.csv (one row per trial), DIR/best.yaml (the whole controller
 configuration with the best feasible trial's gains: `pointing_controller
 DIR/best.yaml` loads it as it is) and DIR/progress.png. Exit codes: 0, 2 spec
-refused, 3 no trial completed.
+refused, 3 no trial completed, 4 an output not written, 130 / 143 interrupted
+by SIGINT / SIGTERM (trials.csv keeps the finished trials).
 """
 import argparse
 import csv
@@ -42,8 +43,8 @@ import numpy as np
 import gimbalsim
 from . import _cluster
 from ._spec import Spec, SpecError, check_out_dir
-from .dispersion import Design, parse_parameter
-from .sweep import write_atomic
+from .dispersion import Design, check_within, parse_parameter
+from .sweep import OutputError, write_atomic
 
 METRICS = {"max_track": "max_truth_error_track_rad", "rms_track": "rms_truth_error_track_rad"}
 GAIN_DISTRIBUTIONS = ("uniform", "loguniform", "choice")
@@ -73,7 +74,7 @@ class TuneSpec:
         for k, n in obj.items():
             if k not in ("metric", "percentile"):
                 spec.refuse(f"objective.{k}", "unknown key (expected metric, percentile)", n)
-        self.metric = obj["metric"].value if "metric" in obj else "max_track"
+        self.metric = spec.text("objective.metric", obj["metric"]) if "metric" in obj else "max_track"
         if self.metric not in METRICS:
             spec.refuse("objective.metric", f"expected one of {', '.join(METRICS)}, got {self.metric!r}", obj["metric"])
         self.percentile = spec.number("objective.percentile", obj["percentile"], 0.0, 100.0) \
@@ -85,7 +86,7 @@ class TuneSpec:
             if k not in scene_types:
                 spec.refuse(f"set.{k}", "not a key of the scene", n)
         try:
-            self.base = gimbalsim.load_scene(self.scene_path, {k: n.plain() for k, n in sets.items()})
+            self.base = gimbalsim.load_scene(self.scene_path, {k: spec.value(f"set.{k}", n) for k, n in sets.items()})
         except gimbalsim.SceneError as e:
             spec.refuse(f"set.{e.key}" if e.key in sets else "scene", str(e), sets.get(e.key, root["scene"]))
         ctrl_types = {k["key"]: k["type"] for k in gimbalsim.controller_keys()}
@@ -93,7 +94,7 @@ class TuneSpec:
         for k, n in csets.items():
             if k not in ctrl_types:
                 spec.refuse(f"controller_set.{k}", "not a controller key (see pointing_controller --keys)", n)
-        self.controller_set = {k: n.plain() for k, n in csets.items()}
+        self.controller_set = {k: spec.value(f"controller_set.{k}", n) for k, n in csets.items()}
         try:
             self.controller = gimbalsim.Controller(self.controller_path, self.controller_set)
         except gimbalsim.SceneError as e:
@@ -108,6 +109,8 @@ class TuneSpec:
             p = parse_parameter(spec, "gains", key, node, ctrl_types)
             if p.kind not in GAIN_DISTRIBUTIONS:
                 spec.refuse(f"gains.{key}", f"{p.kind}: gains take {', '.join(GAIN_DISTRIBUTIONS)}", node)
+            if p.kind == "choice" and not all(isinstance(v, (int, float, str)) for v in p.args):
+                spec.refuse(f"gains.{key}", "choice: a gain's choices are numbers or names", node)
             for v in p.extremes():
                 try:
                     gimbalsim.Controller(self.controller_path, {**self.controller_set, key: v})
@@ -118,6 +121,7 @@ class TuneSpec:
             spec.refuse("gains", "no gain to tune", root["gains"])
         plants = spec.mapping("plants", root["plants"]) if "plants" in root else {}
         params = [parse_parameter(spec, "plants", k, n, scene_types) for k, n in plants.items()]
+        check_within(spec, "plants", params, [], self.base.values())
         for p in params:
             for v in p.extremes():
                 try:
@@ -171,7 +175,7 @@ def suggest(trial, p):
     if p.kind == "choice":
         return trial.suggest_categorical(p.key, p.args)
     if p.type == "int":
-        return trial.suggest_int(p.key, int(p.args[0]), int(p.args[1]), log=p.kind == "loguniform")
+        return trial.suggest_int(p.key, math.ceil(p.args[0]), math.floor(p.args[1]), log=p.kind == "loguniform")
     return trial.suggest_float(p.key, p.args[0], p.args[1], log=p.kind == "loguniform")
 
 
@@ -183,7 +187,10 @@ def tune(spec, out, workers=None, scheduler=None, progress=True):
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     # constant_liar and constraints_func are marked experimental in Optuna 3.1: used knowingly.
     warnings.filterwarnings("ignore", category=optuna.exceptions.ExperimentalWarning)
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
     sampler = optuna.samplers.TPESampler(
         seed=spec.seed, constant_liar=True, n_startup_trials=max(1, min(10, spec.trials // 3)),
         constraints_func=lambda t: (t.user_attrs.get("constraint", 1.0),))
@@ -227,7 +234,10 @@ def tune(spec, out, workers=None, scheduler=None, progress=True):
             f"(p{spec.percentile:g} of {spec.metric} over {spec.batch} plants), "
             f"{'feasible' if feasible else 'NO FEASIBLE TRIAL: the least bad'}\n") + nested_yaml(best_ctrl.values())
     write_atomic(out / "best.yaml", text)
-    _plot(out, rows, spec)
+    try:
+        _plot(out, rows, spec)
+    except OSError as e:
+        raise OutputError(f"cannot write {out / 'progress.png'}: {e.strerror}") from None
     summary = {"best_trial": best.number, "best_score": best.value, "feasible": bool(feasible),
                "best_gains": {k: best.params[k] for k in gain_names}, "trials": len(rows),
                "complete": len(done), "feasible_trials": len(feasible)}
@@ -292,6 +302,13 @@ def _plot(out, rows, spec):
     plt.close(fig)
 
 
+def _trials_kept(out):
+    try:
+        return max(0, (out / "trials.csv").read_bytes().count(b"\n") - 1)
+    except OSError:
+        return 0
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python3 -m gimbalsim.tune", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -300,15 +317,22 @@ def main(argv=None):
     _cluster.add_cluster_arguments(ap)
     ap.add_argument("--no-progress", action="store_true")
     a = ap.parse_args(argv)
+    _cluster.raise_on_signals()
+    out = pathlib.Path(a.out)
     try:
         check_out_dir(a.out, a.spec)
         spec = TuneSpec(a.spec)
-        summary, rows = tune(spec, pathlib.Path(a.out), a.workers, a.scheduler, not a.no_progress)
+        summary, rows = tune(spec, out, a.workers, a.scheduler, not a.no_progress)
     except SpecError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        return 130
+    except OutputError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 4
+    except _cluster.Interrupted as e:
+        print(f"tune: interrupted ({e}): {_trials_kept(out)} finished trials kept in {out / 'trials.csv'}; "
+              f"a study does not resume: run again for a new one", file=sys.stderr)
+        return 128 + e.signum
     if summary is None:
         print(f"tune: no trial completed ({len(rows)} failed); see {a.out}/trials.csv", file=sys.stderr)
         return 3

@@ -217,3 +217,78 @@ def test_an_out_that_is_a_file_is_refused_and_left_alone(spec, tmp_path):
     (tmp_path / "f").write_text("x")
     p = run_sweep(spec, tmp_path / "f", check=False)
     assert p.returncode == 2 and "exists and is not a folder" in p.stderr, p.stderr
+
+
+# ---- every class of spec value that once crashed the reader: exit 2, the spec's file and line, no files ----
+
+HEAD = f"scene: {SCENES}/paper_clearance.yaml\nsamples: 3\nseed: 1\n"
+CRASHED = [
+    ("set: {sim.duration: null}\nparameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n", 4, "set.sim.duration", "null"),
+    ("set: {sim.duration: {a: 1}}\nparameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n", 4, "set.sim.duration",
+     "a mapping"),
+    ("grid:\n  friction.mu: [0.1, null]\n", 5, "grid.friction.mu", "null"),
+    ("grid:\n  friction.mu: [0.1, 2024-01-01]\n", 5, "grid.friction.mu", "the scene refuses"),
+    ("grid:\n  friction.mu: [0.1, !!binary aGVsbG8=]\n", 5, "grid.friction.mu", "unsupported tag"),
+    ("grid:\n  friction.mu: [0.1, !!timestamp 2024-01-01]\n", 5, "grid.friction.mu", "unsupported tag"),
+    ("grid:\n  friction.mu: [0.1, {a: 1}]\n", 5, "grid.friction.mu", "a mapping"),
+    ("parameters:\n  friction.law: {choice: [coulomb, !custom x]}\n", 5, "parameters.friction.law.choice",
+     "unsupported tag"),
+    ("parameters:\n  friction.mu: {choice: [0.1, null]}\n", 5, "parameters.friction.mu", "null"),
+    ("parameters:\n  friction.mu: {choice: [0.1, {a: 1}]}\n", 5, "parameters.friction.mu", "a mapping"),
+    ("parameters:\n  friction.mu: !!python/object:os.system {uniform: [0.1, 0.2]}\n", 5, "parameters.friction.mu",
+     "unsupported tag"),
+    ("set: {sim.duration: !!int x}\nparameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n", 4, "set.sim.duration",
+     "does not read"),
+    # the scene gives no contact.clearance (journal_radius instead): a disk within it has no radius
+    ("set: {contact.journal_radius: 9.0e-3}\nparameters:\n  initial.ecc: {disk: {within: contact.clearance}}\n", 6,
+     "parameters.initial.ecc", "not dispersed"),
+]
+
+
+@pytest.mark.parametrize("tail,line,key,why", CRASHED, ids=[c[2] + ":" + c[3] for c in CRASHED])
+def test_spec_values_that_crashed_are_refused_before_anything_runs(tail, line, key, why, tmp_path):
+    (tmp_path / "bad.yaml").write_text(HEAD + tail)
+    p = run_sweep(tmp_path / "bad.yaml", tmp_path / "o", check=False)
+    assert p.returncode == 2, p.stderr
+    assert f"bad.yaml:{line}:" in p.stderr and f"key '{key}'" in p.stderr and why in p.stderr, p.stderr
+    assert "Traceback" not in p.stderr and not (tmp_path / "o").exists()
+
+
+def test_a_spec_that_is_not_utf8_is_refused_at_its_line(tmp_path):
+    (tmp_path / "bad.yaml").write_bytes(HEAD.encode() + b"parameters:\n  friction.mu: {uniform: [0.1, 0.\xe92]}\n")
+    p = run_sweep(tmp_path / "bad.yaml", tmp_path / "o", check=False)
+    assert p.returncode == 2 and "bad.yaml:5:" in p.stderr and "not UTF-8" in p.stderr, p.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_numbers_read_as_the_scene_reads_them(tmp_path):
+    # YAML 1.1 reads 1e-4 as a string and 010 as eight: the scene loader reads 0.0001 and ten
+    from gimbalsim.sweep import SweepSpec
+    (tmp_path / "s.yaml").write_text(HEAD + "set: {sim.duration: 1e-1}\nparameters:\n"
+                                     "  contact.clearance: {uniform: [1e-4, 8E-4]}\ngrid:\n  torque.tau2: [010]\n")
+    s = SweepSpec(tmp_path / "s.yaml")
+    assert s.set == {"sim.duration": 0.1} and s.parameters[0].args == [1e-4, 8e-4] and s.grid == [("torque.tau2", [10])]
+
+
+def test_an_out_under_a_file_is_refused_before_anything_runs(spec, tmp_path):
+    (tmp_path / "f").write_text("x")
+    p = run_sweep(spec, tmp_path / "f" / "sub", check=False)
+    assert p.returncode == 2 and "is a file, not a folder" in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert (tmp_path / "f").read_text() == "x"
+
+
+def test_a_grid_too_large_is_counted_not_built(tmp_path):
+    # 10^12 points: building the product first would take all memory; counting takes none
+    tau = "[" + ", ".join(f"{1 + k * 1e-3:.3f}" for k in range(10_000)) + "]"
+    restitution = "[" + ", ".join(f"{0.5 + k * 1e-4:.4f}" for k in range(1000)) + "]"
+    (tmp_path / "g.yaml").write_text(HEAD.replace("samples: 3", "samples: 10000") +
+                                     f"grid:\n  torque.tau2: {tau}\n  friction.mu: [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, "
+                                     f"0.7, 0.8, 0.9, 0.95]\n  contact.restitution: {restitution}\n")
+    import resource
+    limit = lambda: resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))  # far below 10^12 tuples
+    p = subprocess.run(sweep_cmd(tmp_path / "g.yaml", tmp_path / "o"), capture_output=True, text=True,
+                       timeout=120, preexec_fn=limit)
+    assert p.returncode == 2, p.stderr
+    assert "g.yaml:4:" in p.stderr and "key 'grid'" in p.stderr, p.stderr
+    assert "1000000000000 samples" in p.stderr and "more than the limit 10000000" in p.stderr, p.stderr
+    assert not (tmp_path / "o").exists()

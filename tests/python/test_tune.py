@@ -69,3 +69,24 @@ def test_tuning_spec_refusals_name_the_key(change, key, tmp_path):
     (tmp_path / "t.yaml").write_text(SPEC.replace(*change))
     p = tune(tmp_path / "t.yaml", tmp_path / "o", "--workers", "1")
     assert p.returncode == 2 and f"key '{key}'" in p.stderr and "t.yaml:" in p.stderr, p.stderr
+
+
+@pytest.mark.parametrize("change,key,why", [
+    (("metric: max_track", "metric: [max_track]"), "objective.metric", "expected a name"),
+    (("max_saturation: 0.0", "max_saturation: {a: 1}"), "max_saturation", "expected a number"),
+    (("max_saturation: 0.0", "controller_set: {azimuth.kd: null}"), "controller_set.azimuth.kd", "null"),
+    (("max_saturation: 0.0", "set: {sim.duration: [[1]]}"), "set.sim.duration", "list of numbers"),
+    (("azimuth.kp: {loguniform: [5000, 80000]}", "azimuth.kp: {choice: [!!binary aGVsbG8=]}"),
+     "gains.azimuth.kp.choice", "unsupported tag"),
+    (("azimuth.kp: {loguniform: [5000, 80000]}", "gimbal.boresight: {choice: [[1, 0, 0], [0, 1, 0]]}"),
+     "gains.gimbal.boresight", "numbers or names"),
+    # the plant gives no contact.clearance (journal_radius instead): a disk within it has no radius
+    (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}\n  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}",
+      "initial.ecc: {disk: {within: contact.clearance}}\nset: {contact.journal_radius: 9.0e-3}"),
+     "plants.initial.ecc", "not dispersed"),
+])
+def test_tuning_spec_values_that_crashed_are_refused_before_anything_runs(change, key, why, tmp_path):
+    (tmp_path / "t.yaml").write_text(SPEC.replace(*change))
+    p = tune(tmp_path / "t.yaml", tmp_path / "o", "--workers", "1")
+    assert p.returncode == 2 and f"key '{key}'" in p.stderr and why in p.stderr and "t.yaml:" in p.stderr, p.stderr
+    assert "Traceback" not in p.stderr and not (tmp_path / "o").exists()

@@ -1,0 +1,246 @@
+"""The sweep's journal (results.partial.csv): a resume killed at the worst
+moment or refused space loses no row; rows the design did not draw are
+dropped, counted and run again; Ctrl-C and SIGTERM keep the journal, shut
+the cluster down quietly and say how to resume (sweep and tune)."""
+import csv
+import json
+import os
+import resource
+import signal
+import subprocess
+import sys
+import time
+
+import psutil
+import pytest
+
+from conftest import CONTROLLER_CONFIG, SCENES
+
+N = 24
+SPEC = f"""
+scene: {SCENES}/paper_clearance.yaml
+set: {{sim.duration: 0.1}}
+samples: {N}
+seed: 11
+parameters:
+  contact.clearance: {{uniform: [1.0e-4, 8.0e-4]}}
+  friction.mu: {{uniform: [0.15, 0.35]}}
+  initial.ecc: {{disk: {{within: contact.clearance, fraction: 0.9}}}}
+"""
+
+
+def sweep_cmd(spec, out, *args, workers=1):
+    return [sys.executable, "-m", "gimbalsim.sweep", str(spec), "--out", str(out), "--no-progress",
+            "--workers", str(workers), *args]
+
+
+@pytest.fixture
+def spec(tmp_path):
+    (tmp_path / "spec.yaml").write_text(SPEC)
+    return tmp_path / "spec.yaml"
+
+
+def forged_journal(spec, out, rows, tail=b""):
+    """A journal of `rows` samples whose parameters are the design's draws and
+    whose figures are marked (pointing_error_max = 100 + sample): a row that
+    survives a resume is recognised in results.csv."""
+    from gimbalsim.sweep import SweepSpec, csv_line, fmt
+
+    s = SweepSpec(spec)
+    out.mkdir()
+    (out / "spec.json").write_text(s.fingerprint)
+    header = s.header()
+    lines = [csv_line(header)]
+    for i in rows:
+        r = dict(zip(header, [i] + s.design.row_values(s.design.draw(i))))
+        r.update(status="ok", pointing_error_max=100.0 + i, pointing_error_final=1.0, peak_contact_force=2.0,
+                 peak_joint2_force=3.0, impacts=4, continuous_contact_from="", wall_time=0.5)
+        lines.append(csv_line([fmt(r[h]) for h in header]))
+    (out / "results.partial.csv").write_bytes("".join(lines).encode() + tail)
+    return s, header
+
+
+def trusted_rows(path):
+    """The journal's whole rows after its header, as text lines."""
+    text = path.read_text()
+    return [line for line in text.split("\n")[1:-1]]
+
+
+def marked_samples(out):
+    with open(out / "results.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert [int(r["sample"]) for r in rows] == list(range(N))
+    return {int(r["sample"]) for r in rows if float(r["pointing_error_max"]) >= 100.0}
+
+
+def killer(when):
+    """A python -c prefix that SIGKILLs the sweep at a moment of its journal's life."""
+    code = f"""
+import builtins, os, signal, sys
+WHEN = {when!r}
+real_open, real_replace = builtins.open, os.replace
+def die():
+    os.kill(os.getpid(), signal.SIGKILL)
+def open_(file, mode="r", *a, **k):
+    f = real_open(file, mode, *a, **k)
+    if "w" in mode and "results.partial.csv" in str(file) and WHEN == "journal opened for writing":
+        die()
+    return f
+def replace_(a, b, **k):
+    if "results.partial.csv" in str(b):
+        if WHEN == "before the rename":
+            die()
+        real_replace(a, b, **k)
+        if WHEN == "after the rename":
+            die()
+        return
+    real_replace(a, b, **k)
+builtins.open, os.replace = open_, replace_
+import runpy
+sys.argv[0] = "gimbalsim.sweep"
+runpy.run_module("gimbalsim.sweep", run_name="__main__")
+"""
+    return ("-c", code)
+
+
+@pytest.mark.parametrize("when", ["journal opened for writing", "before the rename", "after the rename"])
+def test_a_resume_killed_while_it_rewrites_the_journal_loses_no_row(spec, tmp_path, when):
+    out = tmp_path / "o"
+    # a cut last line makes the resume rewrite the journal: the worst moment to die
+    forged_journal(spec, out, range(18), tail=b"18,0.000")
+    before = trusted_rows(out / "results.partial.csv")
+    cmd = sweep_cmd(spec, out, "--resume")
+    p = subprocess.run([sys.executable, *killer(when), *cmd[3:]], capture_output=True, text=True, timeout=300)
+    assert p.returncode == -signal.SIGKILL, p.stderr
+    assert trusted_rows(out / "results.partial.csv")[:18] == before  # every row still there, header too
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert marked_samples(out) == set(range(18))
+
+
+def test_a_resume_refused_space_loses_no_row(spec, tmp_path):
+    out = tmp_path / "o"
+    forged_journal(spec, out, range(20), tail=b"20,0.0")
+    before = (out / "results.partial.csv").read_bytes()
+    limit = len(before) - 200  # the rewrite cannot fit: every write beyond it fails (EFBIG)
+    p = subprocess.run(sweep_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=300,
+                       preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit)))
+    assert p.returncode == 4, p.stderr
+    assert "Traceback" not in p.stderr and "--resume" in p.stderr.splitlines()[-1], p.stderr
+    assert (out / "results.partial.csv").read_bytes() == before
+    # a whole journal is appended to: refused space there keeps every row as well
+    (out / "results.partial.csv").write_bytes(before[:before.rindex(b"\n") + 1])
+    whole = (out / "results.partial.csv").read_bytes()
+    limit = len(whole) + 10
+    p = subprocess.run(sweep_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=300,
+                       preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit)))
+    assert p.returncode == 4, p.stderr
+    assert (out / "results.partial.csv").read_bytes()[:len(whole)] == whole
+    p = subprocess.run(sweep_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert marked_samples(out) == set(range(20))
+
+
+def test_rows_the_design_did_not_draw_are_dropped_counted_and_run_again(spec, tmp_path):
+    out = tmp_path / "o"
+    s, header = forged_journal(spec, out, range(10))
+    lines = (out / "results.partial.csv").read_text().split("\n")
+    rows = list(csv.reader(lines[1:-1]))
+    mu = header.index("friction.mu")
+    outside = [str(N + 5)] + rows[0][1:]                  # a sample beyond the design
+    rows[3][mu] = repr(float(rows[3][mu]) * 1.01)         # parameters that are not sample 3's draw
+    rows[4][header.index("impacts")] = "lots"             # a figure that is no number
+    text = lines[0] + "\n" + "".join(",".join(r) + "\n" for r in rows + [outside]) + "7,0.00"  # and a cut line
+    (out / "results.partial.csv").write_text(text)
+    p = subprocess.run(sweep_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    for why in ("1 journal row (sample index outside the design)", "1 journal row (parameters differ",
+                "1 journal row (status or figures unreadable)", "1 journal row (last line cut"):
+        assert f"dropped {why}" in p.stderr, p.stderr
+    assert "8 already done, 16 to run" in p.stderr
+    assert marked_samples(out) == set(range(10)) - {3, 4}
+    with open(out / "results.csv") as f:
+        for r in csv.DictReader(f):
+            drawn = s.design.row_values(s.design.draw(int(r["sample"])))
+            assert [float(r[c]) for c in s.design.columns()] == drawn
+    dropped = json.loads((out / "summary.json").read_text())["journal_rows_dropped"]
+    assert dropped == {"sample index outside the design": 1, "parameters differ from the design's draw": 1,
+                       "status or figures unreadable": 1, "last line cut by an interruption": 1}
+
+
+def journal_rows(out):
+    try:
+        return max(0, (out / "results.partial.csv").read_text().count("\n") - 1)
+    except FileNotFoundError:
+        return 0
+
+
+def wait_for(cond, proc, timeout=300):
+    t0 = time.time()
+    while not cond():
+        assert proc.poll() is None, "the program ended before the test could interrupt it"
+        assert time.time() - t0 < timeout
+        time.sleep(0.05)
+
+
+def descendants(proc):
+    return [c for c in psutil.Process(proc.pid).children(recursive=True)]
+
+
+def all_gone(procs, timeout=60):
+    gone, alive = psutil.wait_procs(procs, timeout=timeout)
+    return not alive
+
+
+@pytest.mark.parametrize("sig,group", [(signal.SIGINT, True), (signal.SIGTERM, False)],
+                         ids=["ctrl-c to the process group", "sigterm to the program"])
+def test_an_interrupted_sweep_says_one_line_and_keeps_its_journal(spec, tmp_path, sig, group):
+    out = tmp_path / "o"
+    proc = subprocess.Popen(sweep_cmd(spec, out, "--batch", "1", workers=2),
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    wait_for(lambda: journal_rows(out) >= 3, proc)
+    kids = descendants(proc)
+    os.killpg(proc.pid, sig) if group else proc.send_signal(sig)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 128 + sig, err
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 2 and lines[0].startswith("sweep: 24 samples"), err
+    kept = journal_rows(out)
+    assert f"{kept} samples kept" in lines[1] and "--resume" in lines[1], err
+    assert kept >= 3 and all_gone(kids)  # the cluster's processes were shut down
+    p = subprocess.run(sweep_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0 and f"{kept} already done" in p.stderr, p.stderr
+
+
+TUNE = f"""
+scene: {SCENES}/paper_clearance.yaml
+controller: {CONTROLLER_CONFIG}
+duration: 3.7
+trials: 200
+parallel_trials: 1
+seed: 3
+batch: 1
+gains:
+  azimuth.kp: {{loguniform: [5000, 80000]}}
+"""
+
+
+@pytest.mark.parametrize("sig,group", [(signal.SIGINT, True), (signal.SIGTERM, False)],
+                         ids=["ctrl-c to the process group", "sigterm to the program"])
+def test_an_interrupted_tune_says_one_line_and_keeps_its_trials(tmp_path, sig, group):
+    (tmp_path / "t.yaml").write_text(TUNE)
+    out = tmp_path / "o"
+    proc = subprocess.Popen([sys.executable, "-m", "gimbalsim.tune", str(tmp_path / "t.yaml"), "--out", str(out),
+                             "--no-progress", "--workers", "2"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, start_new_session=True)
+    wait_for(lambda: (out / "trials.csv").exists(), proc)
+    kids = descendants(proc)
+    os.killpg(proc.pid, sig) if group else proc.send_signal(sig)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 128 + sig, err
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and "trials kept in" in lines[0], err
+    kept = int(lines[0].split("): ")[1].split()[0])
+    with open(out / "trials.csv") as f:
+        assert kept >= 1 and len(list(csv.DictReader(f))) == kept
+    assert all_gone(kids)
