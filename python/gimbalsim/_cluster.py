@@ -9,6 +9,8 @@ import signal
 import threading
 import warnings
 
+LOOPBACK = "127.0.0.1"
+
 
 @contextlib.contextmanager
 def dask_client(workers=None, scheduler=None):
@@ -34,10 +36,14 @@ def dask_client(workers=None, scheduler=None):
     handler = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
     try:
         with warnings.catch_warnings():
-            # with no dashboard the scheduler still serves HTTP, on 8787 if free: another cluster's port is no news
             warnings.filterwarnings("ignore", message="Port .* is already in use")
-            # worker logs off: a task's failure reaches us as its exception; at shutdown they are only noise
-            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+            # Loopback only: scheduler, nannies, workers and their HTTP servers
+            # (which otherwise listen on every interface, the scheduler's on
+            # 8787 even with no dashboard asked for). Other machines join a
+            # scheduler the user starts and names with --scheduler.
+            # Worker logs off: a task's failure reaches us as its exception.
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host=LOOPBACK,
+                                   dashboard_address=f"{LOOPBACK}:0", worker_dashboard_address=f"{LOOPBACK}:0",
                                    silence_logs=logging.CRITICAL)
         client = Client(cluster)
     finally:
