@@ -10,11 +10,22 @@ import threading
 import warnings
 
 LOOPBACK = "127.0.0.1"
+ALLOWED_FAILURES = 1
+# Test hook, read in the worker: the sample (sweep) or plant (tune) whose
+# index it names kills its worker process, as a crash in the C++ core would.
+CRASH_HOOK = "GIMBALSIM_TEST_KILL_WORKER_AT"
+
+
+def crash_hook(index):
+    """Kills this worker process when the test hook names index."""
+    if os.environ.get(CRASH_HOOK) == str(index):
+        os.kill(os.getpid(), signal.SIGKILL)
 
 
 @contextlib.contextmanager
 def dask_client(workers=None, scheduler=None):
     """Yields (client, number of workers)."""
+    import dask
     from distributed import Client, LocalCluster
 
     if scheduler:
@@ -35,7 +46,12 @@ def dask_client(workers=None, scheduler=None):
     main = threading.current_thread() is threading.main_thread()
     handler = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
     try:
-        with warnings.catch_warnings():
+        # A task on a worker that dies twice raises KilledWorker (Dask's default:
+        # four deaths), so a sample that kills its worker is retried once, then
+        # reported. One task at a time per worker (saturation 1): a death
+        # accuses only the task that was running, not one queued behind it.
+        with warnings.catch_warnings(), dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES,
+                                                         "distributed.scheduler.worker-saturation": 1.0}):
             warnings.filterwarnings("ignore", message="Port .* is already in use")
             # Loopback only: scheduler, nannies, workers and their HTTP servers
             # (which otherwise listen on every interface, the scheduler's on

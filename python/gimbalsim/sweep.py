@@ -159,6 +159,7 @@ def run_batch(base, items):
     cache, rows = {}, []
     for i, overrides in items:
         t0 = time.perf_counter()
+        _cluster.crash_hook(i)
         r = run_sample(base, overrides, cache)
         r["sample"] = i
         r["wall_time"] = time.perf_counter() - t0
@@ -392,23 +393,45 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
     return summary
 
 
+def crashed(i):
+    """The row of a sample whose task killed its worker process twice: its
+    parameters, status `crashed`, no figures."""
+    return {"sample": i, "status": "crashed", "wall_time": math.nan}
+
+
 def _run_on_cluster(spec, todo, fd, journal, done, workers, scheduler, batch, progress):
     from distributed import as_completed
+    from distributed.scheduler import KilledWorker
     from tqdm import tqdm
 
     with _cluster.dask_client(workers, scheduler) as (client, n_workers):
         # about 8 tasks per worker, at most 10 samples each: rows arrive often and a killed worker loses little
         size = batch or max(1, min(10, math.ceil(len(todo) / (n_workers * 8))))
         chunks = [todo[k:k + size] for k in range(0, len(todo), size)]
-        base = client.scatter(spec.base, broadcast=True)
+        # the base scene (2 kB) goes in each task, not scattered: scattered data dies with the workers
+        # holding it, and the tasks needing it then fail; a task's own arguments are resent on a retry
         t0 = time.perf_counter()
-        futures = [client.submit(run_batch, base, [(i, spec.design.draw(i)) for i in c], pure=False)
-                   for c in chunks]
+        submit = lambda c: client.submit(run_batch, spec.base, [(i, spec.design.draw(i)) for i in c], pure=False)
+        samples_of = {}  # future -> the samples it runs
+        for c in chunks:
+            samples_of[submit(c)] = c
         bar = tqdm(total=len(todo), unit="sample", disable=not progress, file=sys.stderr, smoothing=0.1)
         inside, ran = 0.0, 0
         try:
-            for fut in as_completed(futures):
-                results, t_task = fut.result()
+            tasks = as_completed(list(samples_of))
+            for fut in tasks:
+                samples = samples_of.pop(fut)
+                try:
+                    results, t_task = fut.result()
+                except KilledWorker:
+                    if len(samples) > 1:  # which sample killed it? each runs alone, so only that one is crashed
+                        for i in samples:
+                            f = submit([i])
+                            samples_of[f] = [i]
+                            tasks.add(f)
+                        fut.release()
+                        continue
+                    results, t_task = [crashed(samples[0])], 0.0
                 inside += t_task
                 lines = {}
                 for r in results:
@@ -428,7 +451,7 @@ def _run_on_cluster(spec, todo, fd, journal, done, workers, scheduler, batch, pr
         finally:
             bar.close()
         elapsed = time.perf_counter() - t0
-    run_time = sum(float(done[i][len(done[i]) - 1]) for i in todo)
+    run_time = sum(t for t in (float(done[i][len(done[i]) - 1]) for i in todo) if math.isfinite(t))
     return {"workers": n_workers, "batch": size, "tasks": len(chunks), "ran_this_invocation": ran,
             "elapsed_s": elapsed, "samples_per_s": ran / elapsed if elapsed > 0 else None,
             "mean_run_s": run_time / ran if ran else None,
@@ -478,6 +501,10 @@ def main(argv=None):
         return 128 + e.signum
     e = s["engine"]
     pct = s["percentiles_of_ok_samples"]["pointing_error_max"]
+    if s["status"].get("crashed"):
+        n = s["status"]["crashed"]
+        print(f"sweep: {n} crashed sample{'s' * (n != 1)} (each killed a worker process twice): status crashed "
+              f"in results.csv, with the parameters; the other samples ran", file=sys.stderr)
     print(f"sweep: {s['samples']} samples, status {s['status']}; pointing_error_max p50 "
           f"{pct['p50'] if pct else float('nan'):.3e} p99 {pct['p99'] if pct else float('nan'):.3e} rad; "
           f"results in {a.out}/results.csv", file=sys.stderr)

@@ -1,0 +1,74 @@
+"""A sample that kills its worker process (the test hook of _cluster.py, a
+real SIGKILL of the worker) is retried once, then recorded as `crashed` with
+its parameters, and the sweep finishes; with batches, only the guilty sample
+is crashed: its batch is rerun one sample at a time."""
+import csv
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+from conftest import SCENES
+
+N = 12
+GUILTY = 5
+SPEC = f"""
+scene: {SCENES}/paper_clearance.yaml
+set: {{sim.duration: 0.1}}
+samples: {N}
+seed: 5
+parameters:
+  contact.clearance: {{uniform: [1.0e-4, 8.0e-4]}}
+  friction.mu: {{uniform: [0.15, 0.35]}}
+"""
+
+
+def sweep(spec, out, *args, env=None):
+    return subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(spec), "--out", str(out), "--no-progress",
+                           *args], capture_output=True, text=True, timeout=300, env={**os.environ, **(env or {})})
+
+
+def rows(out):
+    with open(out / "results.csv") as f:
+        return list(csv.DictReader(f))
+
+
+@pytest.fixture(scope="module")
+def spec(tmp_path_factory):
+    path = tmp_path_factory.mktemp("spec") / "spec.yaml"
+    path.write_text(SPEC)
+    return path
+
+
+@pytest.fixture(scope="module")
+def reference(spec, tmp_path_factory):
+    out = tmp_path_factory.mktemp("ref") / "o"
+    p = sweep(spec, out, "--workers", "2")
+    assert p.returncode == 0, p.stderr
+    return rows(out)
+
+
+@pytest.mark.parametrize("batch", ["1", "4"])
+def test_a_sample_that_kills_its_worker_is_crashed_and_the_sweep_finishes(spec, reference, batch, tmp_path):
+    out = tmp_path / "o"
+    p = sweep(spec, out, "--workers", "2", "--batch", batch, env={"GIMBALSIM_TEST_KILL_WORKER_AT": str(GUILTY)})
+    assert p.returncode == 0, p.stderr
+    got = rows(out)
+    assert [int(r["sample"]) for r in got] == list(range(N))
+    assert [r["status"] for r in got] == ["crashed" if i == GUILTY else "ok" for i in range(N)]
+    crashed = got[GUILTY]
+    for key in ("contact.clearance", "friction.mu"):  # its parameters, as the design drew them
+        assert crashed[key] == reference[GUILTY][key] and crashed[key] != ""
+    assert crashed["pointing_error_max"] == "" and crashed["impacts"] == ""
+    strip = lambda r: {k: v for k, v in r.items() if k != "wall_time"}
+    assert [strip(r) for i, r in enumerate(got) if i != GUILTY] == \
+        [strip(r) for i, r in enumerate(reference) if i != GUILTY]
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == {"ok": N - 1, "crashed": 1}
+    assert "1 crashed sample" in p.stderr
+    # a resume keeps the crashed row: its sample is not run again
+    q = sweep(spec, out, "--workers", "1", "--resume")
+    assert q.returncode == 0 and "0 to run" in q.stderr, q.stderr
+    assert rows(out)[GUILTY]["status"] == "crashed"
