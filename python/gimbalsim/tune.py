@@ -130,6 +130,21 @@ class TuneSpec:
                     spec.refuse(f"plants.{p.key}", f"the scene refuses {p.key}={v!r}: {e.problems[0]['text']}",
                                 p.node)
         self.plants = Design(params, [], self.batch, self.seed, self.base.values())
+        # Trial 0 is the baseline: the configuration's own gains, which the ranges must hold.
+        own = self.controller.values()
+        self.baseline = {}
+        for p in self.gains:
+            v = float(own[p.key]) if p.type == "number" else int(own[p.key]) if p.type == "int" else own[p.key]
+            if not (v in p.args if p.kind == "choice" else p.args[0] <= v <= p.args[1]):
+                spec.refuse(f"gains.{p.key}", f"the range leaves out the configuration's own value {v!r}: trial 0 "
+                            "runs the configuration's gains (the baseline)", p.node)
+            self.baseline[p.key] = v
+        # what a resumed study must share (the trial count may grow)
+        self.fingerprint = json.dumps({"scene": self.base.values(), "controller": own, "duration": self.duration,
+                                       "seed": self.seed, "batch": self.batch, "metric": self.metric,
+                                       "percentile": self.percentile, "max_saturation": self.max_saturation,
+                                       "gains": {p.key: [p.kind, p.args] for p in self.gains},
+                                       "plants": [[p.key, p.kind, p.args] for p in params]}, sort_keys=True)
 
 
 def run_plants(base, controller, duration, items):
@@ -179,51 +194,98 @@ def suggest(trial, p):
     return trial.suggest_float(p.key, p.args[0], p.args[1], log=p.kind == "loguniform")
 
 
-def tune(spec, out, workers=None, scheduler=None, progress=True):
+STUDY_FILE = "study.db"
+STUDY_NAME = "gimbalsim.tune"
+PLANT_FIGURES = ("max_truth_error_track_rad", "rms_truth_error_track_rad", "saturated_ticks", "ticks")
+
+
+def open_study(spec, out, resume, sampler):
+    """The study stored in out/study.db (Optuna's RDB storage on SQLite):
+    created with the baseline as its first trial, or, with resume, loaded;
+    then trials left RUNNING by a killed tuner are marked FAIL (`killed`) and
+    queued again with the same gains."""
+    import optuna
+
+    db = out / STUDY_FILE
+    if not resume and (db.exists() or (out / "trials.csv").exists()):
+        raise SpecError(f"{out} already holds a study ({db.name}, trials.csv): give --resume to continue it, "
+                        f"or another --out")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
+    storage = optuna.storages.RDBStorage(f"sqlite:///{db.resolve()}")
+    study = optuna.create_study(storage=storage, study_name=STUDY_NAME, direction="minimize", sampler=sampler,
+                                load_if_exists=True)
+    fingerprint = study.user_attrs.get("fingerprint")
+    if fingerprint is None:  # new (or killed before its fingerprint, the last step of its making)
+        if not study.trials:
+            study.enqueue_trial(spec.baseline, user_attrs={"origin": "baseline"})
+        study.set_user_attr("fingerprint", spec.fingerprint)
+    elif fingerprint != spec.fingerprint:
+        raise SpecError(f"{db} holds a study of another spec; --resume needs the same spec (the trial count "
+                        f"may differ)")
+    for t in study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,)):
+        storage.set_trial_user_attr(t._trial_id, "row", {"trial": t.number, "state": "FAIL", "reason": "killed",
+                                                        "origin": t.user_attrs.get("origin", ""), **t.params})
+        storage.set_trial_state_values(t._trial_id, optuna.trial.TrialState.FAIL)
+        study.enqueue_trial(t.params, user_attrs={"origin": f"retry of {t.number}"})
+    return study
+
+
+def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
     import optuna
     from distributed import wait
+    from distributed.scheduler import KilledWorker
     from tqdm import tqdm
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     # constant_liar and constraints_func are marked experimental in Optuna 3.1: used knowingly.
     warnings.filterwarnings("ignore", category=optuna.exceptions.ExperimentalWarning)
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
     sampler = optuna.samplers.TPESampler(
         seed=spec.seed, constant_liar=True, n_startup_trials=max(1, min(10, spec.trials // 3)),
         constraints_func=lambda t: (t.user_attrs.get("constraint", 1.0),))
-    study = optuna.create_study(direction="minimize", sampler=sampler)
+    study = open_study(spec, out, resume, sampler)
     gain_names = [p.key for p in spec.gains]
-    header = ["trial", "state", "score", "constraint", *gain_names, "plants_ok", "reason", "wall_time"]
-    rows = []
+    header = ["trial", "state", "origin", "score", "constraint", *gain_names, "plants_ok", "reason", "wall_time"] + \
+        [f"plant{j}.{c}" for j in range(spec.batch) for c in ("status",) + PLANT_FIGURES]
+    if resume:  # the kills marked, the rows of trials told before a kill but not yet written
+        _write_trials(out, header, study)
+    # the requested count is of finished trials; a trial killed with the tuner is not one (its retry is)
+    finished = sum(1 for t in study.trials if t.state.is_finished() and t.user_attrs.get("row", {}).get("reason")
+                   != "killed")
     plants = [(j, spec.plants.draw(j)) for j in range(spec.batch)]
     with _cluster.dask_client(workers, scheduler) as (client, n_workers):
         parallel = spec.parallel or n_workers
         chunk = max(1, math.ceil(spec.batch / max(1, n_workers)))
-        base = client.scatter(spec.base, broadcast=True)
         in_flight = {}  # trial number -> (trial, futures, gains, t0)
-        asked = 0
-        bar = tqdm(total=spec.trials, unit="trial", disable=not progress, file=sys.stderr)
-        while asked < spec.trials or in_flight:
-            while asked < spec.trials and len(in_flight) < parallel:
+        bar = tqdm(total=spec.trials, initial=min(finished, spec.trials), unit="trial", disable=not progress,
+                   file=sys.stderr)
+        while finished + len(in_flight) < spec.trials or in_flight:
+            while finished + len(in_flight) < spec.trials and len(in_flight) < parallel:
                 trial = study.ask()
                 gains = {p.key: suggest(trial, p) for p in spec.gains}
                 ctrl = gimbalsim.Controller(spec.controller_path, {**spec.controller_set, **gains})
-                futs = [client.submit(run_plants, base, ctrl, spec.duration, plants[k:k + chunk], pure=False)
-                        for k in range(0, len(plants), chunk)]
+                # the scene goes in each task: scattered data would die with its workers
+                futs = [(client.submit(run_plants, spec.base, ctrl, spec.duration, plants[k:k + chunk], pure=False),
+                         plants[k:k + chunk]) for k in range(0, len(plants), chunk)]
                 in_flight[trial.number] = (trial, futs, gains, time.perf_counter())
-                asked += 1
-            wait([f for _, fs, _, _ in in_flight.values() for f in fs], return_when="FIRST_COMPLETED")
-            for number in [n for n, (_, fs, _, _) in in_flight.items() if all(f.done() for f in fs)]:
+            wait([f for _, fs, _, _ in in_flight.values() for f, _ in fs], return_when="FIRST_COMPLETED")
+            for number in [n for n, (_, fs, _, _) in in_flight.items() if all(f.done() for f, _ in fs)]:
                 trial, futs, gains, t0 = in_flight.pop(number)
-                results = [r for f in futs for r in f.result()]
-                rows.append(_finish(study, trial, gains, results, spec, time.perf_counter() - t0))
+                results = []
+                for f, items in futs:
+                    try:
+                        results += f.result()
+                    except KilledWorker:  # a plant that kills its worker twice fails the trial, not the study
+                        results += [{"plant": j, "ok": False, "stop_key": "crashed"} for j, _ in items]
+                _finish(study, trial, gains, results, spec, time.perf_counter() - t0)
+                finished += 1
                 bar.update(1)
-                _write_trials(out, header, rows)
+                _write_trials(out, header, study)
         bar.close()
     done = [t for t in study.trials if t.state == optuna.trial.TrialState.COMPLETE]
+    rows = [t.user_attrs["row"] for t in study.trials if "row" in t.user_attrs]
     if not done:
         return None, rows
     feasible = [t for t in done if t.user_attrs["constraint"] <= 0.0]
@@ -246,31 +308,41 @@ def tune(spec, out, workers=None, scheduler=None, progress=True):
 
 
 def _finish(study, trial, gains, results, spec, wall):
+    """Scores a trial, keeps its row (every plant's figures) in the study, and tells the study."""
     import optuna
 
     ok = [r for r in results if r["ok"]]
     worst_sat = max((r["saturated_ticks"] / max(1, r["ticks"]) for r in ok), default=1.0)
     constraint = worst_sat - spec.max_saturation
-    trial.set_user_attr("constraint", constraint)
-    row = {"trial": trial.number, "constraint": constraint, **gains, "plants_ok": len(ok), "wall_time": wall}
+    row = {"trial": trial.number, "origin": trial.user_attrs.get("origin", ""), "constraint": constraint, **gains,
+           "plants_ok": len(ok), "wall_time": wall}
+    for r in results:
+        row[f"plant{r['plant']}.status"] = "ok" if r["ok"] else r["stop_key"]
+        row.update({f"plant{r['plant']}.{c}": r[c] for c in PLANT_FIGURES if c in r})
     if len(ok) < len(results):
         why = sorted({r["stop_key"] for r in results if not r["ok"]})
+        row.update(state="FAIL", score="", reason="plant stopped: " + " ".join(why))
+    else:
+        row.update(state="COMPLETE", score=float(np.percentile([r[METRICS[spec.metric]] for r in ok],
+                                                               spec.percentile)), reason="")
+    trial.set_user_attr("constraint", constraint)
+    trial.set_user_attr("row", row)
+    if row["state"] == "FAIL":
         study.tell(trial, state=optuna.trial.TrialState.FAIL)
-        return {**row, "state": "FAIL", "score": "", "reason": "plant stopped: " + " ".join(why)}
-    score = float(np.percentile([r[METRICS[spec.metric]] for r in ok], spec.percentile))
-    study.tell(trial, score)
-    return {**row, "state": "COMPLETE", "score": score, "reason": ""}
+    else:
+        study.tell(trial, row["score"])
 
 
 def _fmt(v):
     return repr(v) if isinstance(v, float) else str(v)
 
 
-def _write_trials(out, header, rows):
+def _write_trials(out, header, study):
+    """trials.csv from the study: every finished trial, in trial order."""
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(header)
-    for r in sorted(rows, key=lambda r: r["trial"]):
+    for r in [t.user_attrs["row"] for t in study.get_trials(deepcopy=False) if "row" in t.user_attrs]:
         w.writerow([_fmt(r.get(h, "")) for h in header])
     write_atomic(out / "trials.csv", buf.getvalue())
 
@@ -315,6 +387,7 @@ def main(argv=None):
     ap.add_argument("spec", help="tuning spec (YAML)")
     ap.add_argument("--out", required=True, help="output directory")
     _cluster.add_cluster_arguments(ap)
+    ap.add_argument("--resume", action="store_true", help="continue the study stored in --out")
     ap.add_argument("--no-progress", action="store_true")
     a = ap.parse_args(argv)
     _cluster.raise_on_signals()
@@ -322,7 +395,7 @@ def main(argv=None):
     try:
         check_out_dir(a.out, a.spec)
         spec = TuneSpec(a.spec)
-        summary, rows = tune(spec, out, a.workers, a.scheduler, not a.no_progress)
+        summary, rows = tune(spec, out, a.workers, a.scheduler, not a.no_progress, a.resume)
     except SpecError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
@@ -331,7 +404,7 @@ def main(argv=None):
         return 4
     except _cluster.Interrupted as e:
         print(f"tune: interrupted ({e}): {_trials_kept(out)} finished trials kept in {out / 'trials.csv'}; "
-              f"a study does not resume: run again for a new one", file=sys.stderr)
+              f"the study is in {out / STUDY_FILE}: run again with --resume to continue it", file=sys.stderr)
         return 128 + e.signum
     if summary is None:
         print(f"tune: no trial completed ({len(rows)} failed); see {a.out}/trials.csv", file=sys.stderr)

@@ -1,0 +1,135 @@
+"""gimbalsim.tune keeps its evidence: each trial's per-plant results in
+trials.csv, trial 0 the configuration's own gains, the study stored in
+OUT/study.db so that --resume continues it after a SIGKILL (the killed trial
+failed and run again, the numbering continued, the requested count reached),
+and a study folder never overwritten without --resume."""
+import csv
+import os
+import signal
+import sqlite3
+import subprocess
+import sys
+import time
+
+import pytest
+
+import gimbalsim
+from conftest import CONTROLLER_CONFIG, SCENES
+
+CLEARANCE = 3.0e-4
+DURATION = 3.7
+# One plant value (a choice of one): the test computes the plants' runs itself.
+SPEC = f"""
+scene: {SCENES}/paper_clearance.yaml
+controller: {CONTROLLER_CONFIG}
+duration: {DURATION}
+trials: TRIALS
+parallel_trials: 1
+seed: 3
+batch: 2
+objective: {{metric: max_track, percentile: 90}}
+gains:
+  azimuth.kp: {{loguniform: [5000, 80000]}}
+  elevation.kd: {{uniform: [300, 3000]}}
+plants:
+  contact.clearance: {{choice: [{CLEARANCE}]}}
+"""
+GAINS = ("azimuth.kp", "elevation.kd")
+FIGURES = ("max_truth_error_track_rad", "rms_truth_error_track_rad", "saturated_ticks", "ticks")
+
+
+def tune_cmd(spec, out, *args):
+    return [sys.executable, "-m", "gimbalsim.tune", str(spec), "--out", str(out), "--no-progress", "--workers", "1",
+            *args]
+
+
+def write_spec(tmp_path, trials):
+    (tmp_path / "t.yaml").write_text(SPEC.replace("TRIALS", str(trials)))
+    return tmp_path / "t.yaml"
+
+
+def trials(out):
+    with open(out / "trials.csv") as f:
+        return list(csv.DictReader(f))
+
+
+def direct(gains):
+    """The plant's closed loop through the Python API, with these gains over the configuration."""
+    scene = gimbalsim.load_scene(SCENES / "paper_clearance.yaml", {"contact.clearance": CLEARANCE})
+    return gimbalsim.closed_loop(scene, gimbalsim.Controller(CONTROLLER_CONFIG, gains), DURATION).summary
+
+
+def test_trials_hold_each_plant_and_trial_0_is_the_configuration(tmp_path):
+    spec = write_spec(tmp_path, 3)
+    p = subprocess.run(tune_cmd(spec, tmp_path / "o"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    rows = trials(tmp_path / "o")
+    assert [int(r["trial"]) for r in rows] == [0, 1, 2]
+    own = gimbalsim.Controller(CONTROLLER_CONFIG).values()
+    assert rows[0]["origin"] == "baseline"
+    assert [float(rows[0][g]) for g in GAINS] == [float(own[g]) for g in GAINS]
+    baseline = direct({})  # the configuration as it is: no gain laid over it
+    for j in range(2):
+        assert rows[0][f"plant{j}.status"] == "ok"
+        assert [float(rows[0][f"plant{j}.{c}"]) for c in FIGURES] == [float(baseline[c]) for c in FIGURES]
+    r = rows[2]
+    assert [float(r[g]) for g in GAINS] != [float(own[g]) for g in GAINS]
+    s = direct({g: float(r[g]) for g in GAINS})
+    for j in range(2):
+        assert [float(r[f"plant{j}.{c}"]) for c in FIGURES] == [float(s[c]) for c in FIGURES]
+
+
+def test_a_study_folder_is_not_overwritten_without_resume(tmp_path):
+    spec = write_spec(tmp_path, 1)
+    out = tmp_path / "o"
+    p = subprocess.run(tune_cmd(spec, out), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    before = {f: (out / f).read_bytes() for f in ("study.db", "trials.csv", "best.yaml")}
+    p = subprocess.run(tune_cmd(spec, out), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2 and str(out) in p.stderr and "--resume" in p.stderr, p.stderr
+    assert {f: (out / f).read_bytes() for f in before} == before
+
+
+def test_a_gain_range_without_the_configurations_value_is_refused_at_its_line(tmp_path):
+    (tmp_path / "t.yaml").write_text(SPEC.replace("TRIALS", "2").replace("[5000, 80000]", "[30000, 80000]"))
+    p = subprocess.run(tune_cmd(tmp_path / "t.yaml", tmp_path / "o"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2 and "key 'gains.azimuth.kp'" in p.stderr and "t.yaml:11:" in p.stderr and "21120" in p.stderr, p.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def running_trial(db):
+    """The number of a RUNNING trial with its gains drawn, after a finished one, read from the study, or None."""
+    try:
+        with sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=1) as c:
+            states = dict(c.execute("SELECT number, state FROM trials").fetchall())
+            drawn = dict(c.execute("SELECT t.number, count(*) FROM trials t JOIN trial_params p "
+                                   "ON p.trial_id = t.trial_id GROUP BY t.number").fetchall())
+    except sqlite3.Error:
+        return None
+    running = [n for n, s in states.items() if s == "RUNNING" and drawn.get(n) == len(GAINS)]
+    return running[0] if running and "COMPLETE" in states.values() else None
+
+
+def test_a_resume_after_sigkill_retries_the_killed_trial_and_finishes_the_count(tmp_path):
+    spec = write_spec(tmp_path, 4)
+    out = tmp_path / "o"
+    proc = subprocess.Popen(tune_cmd(spec, out), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    t0 = time.time()
+    while (killed := running_trial(out / "study.db")) is None:
+        assert proc.poll() is None and time.time() - t0 < 300, "no trial running after a finished one"
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGKILL)  # the tuner and its workers, mid-trial
+    proc.communicate(timeout=60)
+    p = subprocess.run(tune_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    rows = trials(out)
+    numbers = [int(r["trial"]) for r in rows]
+    assert numbers == list(range(5))  # no duplicates, numbering continued: 4 finished + the killed one
+    dead = rows[killed]
+    assert dead["state"] == "FAIL" and dead["reason"] == "killed"
+    retry = [r for r in rows if r["origin"] == f"retry of {killed}"]
+    assert len(retry) == 1 and retry[0]["state"] == "COMPLETE"
+    assert [retry[0][g] for g in GAINS] == [dead[g] for g in GAINS]
+    assert sum(r["state"] == "COMPLETE" for r in rows) == 4
+    assert rows[0]["origin"] == "baseline"
