@@ -152,6 +152,7 @@ def run_plants(base, controller, duration, items):
     out = []
     for j, overrides in items:
         t0 = time.perf_counter()
+        _cluster.crash_hook(j)
         try:
             scene = base.replace(overrides)
         except gimbalsim.SceneError as e:

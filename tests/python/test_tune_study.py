@@ -133,3 +133,15 @@ def test_a_resume_after_sigkill_retries_the_killed_trial_and_finishes_the_count(
     assert [retry[0][g] for g in GAINS] == [dead[g] for g in GAINS]
     assert sum(r["state"] == "COMPLETE" for r in rows) == 4
     assert rows[0]["origin"] == "baseline"
+
+
+def test_a_plant_that_kills_its_worker_fails_its_trials_not_the_study(tmp_path):
+    spec = write_spec(tmp_path, 2)
+    p = subprocess.run(tune_cmd(spec, tmp_path / "o")[:-1] + ["2"], capture_output=True, text=True, timeout=600,
+                       env={**os.environ, "GIMBALSIM_TEST_KILL_WORKER_AT": "1"})
+    assert p.returncode == 3 and "no trial completed" in p.stderr, p.stderr  # every trial meets plant 1
+    rows = trials(tmp_path / "o")
+    assert [int(r["trial"]) for r in rows] == [0, 1]
+    for r in rows:
+        assert r["state"] == "FAIL" and r["reason"] == "plant stopped: crashed", r
+        assert r["plant0.status"] == "ok" and r["plant1.status"] == "crashed"
