@@ -20,7 +20,9 @@ workers, machines, order or resumes (all columns but wall_time). Rows are
 journaled to DIR/results.partial.csv as they arrive (appended and synced per
 task; never cut in place); --resume runs only the missing samples, after
 dropping, counting and rerunning any journal row the design did not draw.
-Exit codes: 0 done, 2 spec refused, 4 an output not written (the journal
+A sample that kills its worker twice is recorded as `crashed` (its parameters,
+no figures) and the sweep goes on (a batch is split to find it).
+Exit codes: 0 done (crashed samples included), 2 spec refused, 4 an output not written (the journal
 kept), 130 / 143 interrupted by SIGINT / SIGTERM (the journal kept).
 """
 import argparse

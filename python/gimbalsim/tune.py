@@ -4,7 +4,7 @@ pointing controller) on a batch of dispersed plants, and scores a percentile
 of the closed-loop inertial pointing error; commands beyond the torque limit
 are a constraint.
 
-    python3 -m gimbalsim.tune TUNE.yaml --out DIR [--workers N | --scheduler tcp://HOST:PORT]
+    python3 -m gimbalsim.tune TUNE.yaml --out DIR [--workers N | --scheduler tcp://HOST:PORT] [--resume]
 
 TUNE (YAML):
     scene: tools/scenes/paper_clearance.yaml     # the plant (against the spec's folder, then the current directory)
@@ -22,11 +22,14 @@ TUNE (YAML):
     plants:                                       # scene keys, the sweep's syntax (sensors included)
       contact.clearance: {uniform: [1.0e-4, 8.0e-4]}
 
-Writes DIR/trials.csv (one row per trial), DIR/best.yaml (the whole controller
-configuration with the best feasible trial's gains: `pointing_controller
-DIR/best.yaml` loads it as it is) and DIR/progress.png. Exit codes: 0, 2 spec
-refused, 3 no trial completed, 4 an output not written, 130 / 143 interrupted
-by SIGINT / SIGTERM (trials.csv keeps the finished trials).
+Writes DIR/study.db (the Optuna study, SQLite), DIR/trials.csv (one row per
+trial with every plant's figures; trial 0 is the configuration's own gains),
+DIR/best.yaml (the whole controller configuration with the best feasible
+trial's gains: `pointing_controller DIR/best.yaml` loads it as it is) and
+DIR/progress.png. --resume continues the study in DIR: trials a killed tuner
+left running are marked FAIL and run again; without it a DIR holding a study
+is refused. Exit codes: 0, 2 spec refused, 3 no trial completed, 4 an output
+not written, 130 / 143 interrupted by SIGINT / SIGTERM (the study kept).
 """
 import argparse
 import csv
@@ -215,9 +218,14 @@ def open_study(spec, out, resume, sampler):
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
         raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
-    storage = optuna.storages.RDBStorage(f"sqlite:///{db.resolve()}")
-    study = optuna.create_study(storage=storage, study_name=STUDY_NAME, direction="minimize", sampler=sampler,
-                                load_if_exists=True)
+    import sqlalchemy.exc
+
+    try:
+        storage = optuna.storages.RDBStorage(f"sqlite:///{db.resolve()}")
+        study = optuna.create_study(storage=storage, study_name=STUDY_NAME, direction="minimize", sampler=sampler,
+                                    load_if_exists=True)
+    except (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError) as e:
+        raise SpecError(f"{db}: cannot open it as a study ({str(e).splitlines()[0]}); use another --out") from None
     fingerprint = study.user_attrs.get("fingerprint")
     if fingerprint is None:  # new (or killed before its fingerprint, the last step of its making)
         if not study.trials:
@@ -382,6 +390,13 @@ def _trials_kept(out):
         return 0
 
 
+def _study_write_errors():
+    """The exceptions of a failed write to the study's storage."""
+    import optuna
+    import sqlalchemy.exc
+    return optuna.exceptions.StorageInternalError, sqlalchemy.exc.SQLAlchemyError
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python3 -m gimbalsim.tune", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -393,6 +408,7 @@ def main(argv=None):
     a = ap.parse_args(argv)
     _cluster.raise_on_signals()
     out = pathlib.Path(a.out)
+    study_write_errors = _study_write_errors()
     try:
         check_out_dir(a.out, a.spec)
         spec = TuneSpec(a.spec)
@@ -402,6 +418,10 @@ def main(argv=None):
         return 2
     except OutputError as e:
         print(f"error: {e}", file=sys.stderr)
+        return 4
+    except study_write_errors as e:  # the study's file refused a write (a full disk): what was told is kept
+        print(f"error: cannot write the study {out / STUDY_FILE}: {str(e).splitlines()[0]}; free the space and "
+              f"run again with --resume", file=sys.stderr)
         return 4
     except _cluster.Interrupted as e:
         print(f"tune: interrupted ({e}): {_trials_kept(out)} finished trials kept in {out / 'trials.csv'}; "

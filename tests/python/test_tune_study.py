@@ -5,6 +5,7 @@ failed and run again, the numbering continued, the requested count reached),
 and a study folder never overwritten without --resume."""
 import csv
 import os
+import resource
 import signal
 import sqlite3
 import subprocess
@@ -145,3 +146,37 @@ def test_a_plant_that_kills_its_worker_fails_its_trials_not_the_study(tmp_path):
     for r in rows:
         assert r["state"] == "FAIL" and r["reason"] == "plant stopped: crashed", r
         assert r["plant0.status"] == "ok" and r["plant1.status"] == "crashed"
+
+
+def test_a_resume_of_another_spec_or_of_no_study_is_refused(tmp_path):
+    spec = write_spec(tmp_path, 1)
+    out = tmp_path / "o"
+    assert subprocess.run(tune_cmd(spec, out), capture_output=True, timeout=600).returncode == 0
+    before = (out / "study.db").read_bytes()
+    (tmp_path / "t2.yaml").write_text(spec.read_text().replace("seed: 3", "seed: 4"))
+    p = subprocess.run(tune_cmd(tmp_path / "t2.yaml", out, "--resume"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2 and "study.db holds a study of another spec" in p.stderr, p.stderr
+    assert (out / "study.db").read_bytes() == before
+    (tmp_path / "bad").mkdir()
+    (tmp_path / "bad" / "study.db").write_bytes(b"not a database, " * 100)
+    p = subprocess.run(tune_cmd(spec, tmp_path / "bad", "--resume"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2 and "study.db: cannot open it as a study" in p.stderr, p.stderr
+    assert "Traceback" not in p.stderr
+
+
+def test_a_study_refused_space_exits_4_and_resumes(tmp_path):
+    spec = write_spec(tmp_path, 1)
+    out = tmp_path / "o"
+    assert subprocess.run(tune_cmd(spec, out), capture_output=True, timeout=600).returncode == 0
+    more = write_spec(tmp_path, 40)
+    limit = (out / "study.db").stat().st_size + 8192  # room for a trial or two, not for 40
+    p = subprocess.run(tune_cmd(more, out, "--resume"), capture_output=True, text=True, timeout=600,
+                       preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit)))
+    assert p.returncode == 4 and "cannot write the study" in p.stderr and "Traceback" not in p.stderr, p.stderr
+    kept = [int(r["trial"]) for r in trials(out)]
+    p = subprocess.run(tune_cmd(write_spec(tmp_path, 3), out, "--resume"), capture_output=True, text=True,
+                       timeout=600)
+    assert p.returncode == 0, p.stderr
+    rows = trials(out)
+    assert [int(r["trial"]) for r in rows][:len(kept)] == kept and len(rows) >= 3
+    assert sum(r["state"] == "COMPLETE" for r in rows) >= 3
