@@ -220,11 +220,14 @@ def open_study(spec, out, resume, sampler):
         raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
     import sqlalchemy.exc
 
+    existed = db.exists()
     try:
         storage = optuna.storages.RDBStorage(f"sqlite:///{db.resolve()}")
         study = optuna.create_study(storage=storage, study_name=STUDY_NAME, direction="minimize", sampler=sampler,
                                     load_if_exists=True)
     except (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError) as e:
+        if not existed:  # a new study not written (a full disk): exit 4 in main
+            raise
         raise SpecError(f"{db}: cannot open it as a study ({str(e).splitlines()[0]}); use another --out") from None
     fingerprint = study.user_attrs.get("fingerprint")
     if fingerprint is None:  # new (or killed before its fingerprint, the last step of its making)
