@@ -453,10 +453,11 @@ def _run_on_cluster(spec, todo, fd, journal, done, workers, scheduler, batch, pr
         finally:
             bar.close()
         elapsed = time.perf_counter() - t0
-    run_time = sum(t for t in (float(done[i][len(done[i]) - 1]) for i in todo) if math.isfinite(t))
+    times = [t for t in (float(done[i][len(done[i]) - 1]) for i in todo) if math.isfinite(t)]  # crashed: nan
+    run_time = sum(times)
     return {"workers": n_workers, "batch": size, "tasks": len(chunks), "ran_this_invocation": ran,
             "elapsed_s": elapsed, "samples_per_s": ran / elapsed if elapsed > 0 else None,
-            "mean_run_s": run_time / ran if ran else None,
+            "mean_run_s": run_time / len(times) if times else None,
             # time the workers were busy with something other than our tasks, per sample
             "engine_overhead_per_sample_s": (elapsed * n_workers - inside) / ran if ran else None,
             "task_overhead_per_sample_s": (inside - run_time) / ran if ran else None}
