@@ -23,6 +23,7 @@
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/dynamics/step_result.hpp"
+#include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/program/program.hpp"
 
@@ -76,10 +77,11 @@ std::string csvQuote(const std::string& s) {
   return q + "\"";
 }
 
-/// Writes text to path (io::writeFileAtomically); false (and a message naming the file) on any failure.
-bool writeFile(const std::filesystem::path& path, const std::string& text) {
+/// Writes the study's files as one commit group (all or none); false (and a
+/// message naming the file) on any failure.
+bool writeFiles(const std::vector<std::pair<std::string, std::string>>& files) {
   try {
-    gimbalsim::io::writeFileAtomically(path.string(), text);
+    gimbalsim::io::writeFilesTogether(files);
   } catch (const gimbalsim::io::OutputError& e) {
     std::fprintf(stderr, "gimbalsim_pointing_study: %s\n", e.what());
     return false;
@@ -205,6 +207,11 @@ int mainImpl(int argc, char** argv) {
   firmware::ClosedLoopOptions opt;
   const double track_start = cfg.profile.trackStart();
   opt.duration = duration > 0.0 ? duration : track_start + (quick ? 0.5 : 5.0);
+  // The loop runs whole control periods: a duration between two is refused, not rounded.
+  if (const std::string why = wholeMultipleProblem(opt.duration, cfg.period, "the control period (control.period)");
+      !why.empty()) {
+    return refuse("--duration", why);
+  }
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) {
@@ -229,7 +236,6 @@ int mainImpl(int argc, char** argv) {
     config_text += kv + "\n";
     if (kv.rfind("pointing.mode=", 0) == 0) mode = kv.substr(14);
   }
-  if (!writeFile(dir / "config.txt", config_text)) return kExitWrite;
   std::printf("# %g s per run (tracking from %g s), control period %g s, controller mode: %s\n", opt.duration,
               track_start, cfg.period, mode.c_str());
   std::printf("%-10s %-16s %11s %13s %13s %13s  %s\n", "run", "scene", "clearance[m]", "peak_trk[rad]",
@@ -246,8 +252,9 @@ int mainImpl(int argc, char** argv) {
                 s.peak_track, s.rms_track, s.peak_run, s.ok ? "ok" : ("stop: " + s.reason).c_str());
     std::fflush(stdout);
   }
-  if (!writeFile(dir / "pointing_error.csv", timeSeriesCsv(runs, cfg.period)) ||
-      !writeFile(dir / "summary.csv", summaryCsv(runs))) {
+  if (!writeFiles({{(dir / "config.txt").string(), config_text},
+                   {(dir / "pointing_error.csv").string(), timeSeriesCsv(runs, cfg.period)},
+                   {(dir / "summary.csv").string(), summaryCsv(runs)}})) {
     return kExitWrite;
   }
   std::printf("wrote %s, %s, %s\n", (dir / "pointing_error.csv").c_str(), (dir / "summary.csv").c_str(),
