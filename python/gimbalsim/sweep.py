@@ -360,6 +360,7 @@ def _run_on_cluster(spec, todo, jf, done, workers, scheduler, batch, progress):
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python3 -m gimbalsim.sweep", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--version", action="version", version="gimbalsim.sweep " + gimbalsim.__version__)
     ap.add_argument("spec", help="sweep spec (YAML)")
     ap.add_argument("--out", required=True, help="output directory")
     _cluster.add_cluster_arguments(ap)
