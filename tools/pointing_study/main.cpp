@@ -24,6 +24,7 @@
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/dynamics/step_result.hpp"
 #include "gimbalsim/input/key_registry.hpp"
+#include "gimbalsim/io/csv_format.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/program/program.hpp"
 
@@ -54,6 +55,26 @@ std::string num(double x) {
   char b[40];
   std::snprintf(b, sizeof b, "%.9g", x);
   return b;
+}
+
+/// A CSV number (io::appendCsvNumber: round trip, no -0).
+std::string csvNum(double x) {
+  std::string s;
+  gimbalsim::io::appendCsvNumber(s, x);
+  return s;
+}
+
+/// A run's error column in the CSV convention: "c=0.25mm" -> "error_c0p25mm_rad".
+std::string errorColumn(const std::string& label) {
+  std::string c = "error_";
+  for (char ch : label) {
+    if (ch == '.') {
+      c += 'p';
+    } else if (ch != '=') {
+      c += ch;
+    }
+  }
+  return c + "_rad";
 }
 
 std::string clearanceLabel(double c) {
@@ -118,18 +139,18 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
 
 std::string timeSeriesCsv(const std::vector<Study>& runs, double period) {
   std::size_t n = 0;
-  std::string out = "t[s]";
+  std::string out = "t_s";
   for (const Study& s : runs) {
     out += ',';
-    out += s.label;
+    out += errorColumn(s.label);
     n = std::max(n, s.err.size());
   }
   out += "\n";
   for (std::size_t k = 0; k < n; ++k) {
-    out += num(static_cast<double>(k) * period);
+    out += csvNum(static_cast<double>(k) * period);
     for (const Study& s : runs) {
       out += ',';
-      if (k < s.err.size()) out += num(s.err[k]);
+      if (k < s.err.size()) out += csvNum(s.err[k]);
     }
     out += "\n";
   }
@@ -140,8 +161,8 @@ std::string summaryCsv(const std::vector<Study>& runs) {
   std::string out =
       "run,scene,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,status,stop_reason\n";
   for (const Study& s : runs) {
-    out += s.label + "," + s.scene + "," + num(s.clearance) + "," + num(s.peak_track) + "," + num(s.rms_track) +
-           "," + num(s.peak_run) + "," + std::to_string(s.track_ticks) + "," +
+    out += s.label + "," + s.scene + "," + csvNum(s.clearance) + "," + csvNum(s.peak_track) + "," +
+           csvNum(s.rms_track) + "," + csvNum(s.peak_run) + "," + std::to_string(s.track_ticks) + "," +
            (s.ok ? std::string("ok") : "stop:" + s.stop_key) + "," + csvQuote(s.reason) + "\n";
   }
   return out;

@@ -2,20 +2,20 @@
 
 #include <cstdio>
 
+#include "gimbalsim/io/csv_format.hpp"
+
 namespace gimbalsim::io {
 
 std::string csvHeader() {
   std::string h;
-  for (int i = 0; i < kNumColumns; ++i) h.append(i ? "," : "").append(kColumns[i]);
+  for (int i = 0; i < kNumColumns; ++i) h.append(i ? "," : "").append(csvName(kColumns[i], kColumnUnits[i]));
   return h + "\n";
 }
 
 void appendCsvRow(std::string& out, std::span<const double, kNumColumns> row) {
-  char buf[32];
   for (int i = 0; i < kNumColumns; ++i) {
     if (i) out += ',';
-    const int n = std::snprintf(buf, sizeof buf, "%.12g", row[i]);
-    out.append(buf, static_cast<std::size_t>(n));
+    appendCsvNumber(out, row[i]);
   }
   out += '\n';
 }
