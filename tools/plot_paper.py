@@ -8,7 +8,7 @@ Usage:
       --out DIR [--ideal-summary ideal.json] [--clearance-summary clearance.json]
 
 Writes DIR/fig06_eccentricity.png ... DIR/fig18_joint2_force.png and
-DIR/pointing_error.csv (t, angle_rad), and prints a short summary.
+DIR/pointing_error.csv (t_s, pointing_error_rad), and prints a short summary.
 
 Columns are read by NAME from the CSV header (SI units, angles in rad); see
 docs/MODEL.md section 8.8. Only numpy and matplotlib (Agg) are needed.
@@ -24,7 +24,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from output_file import savefig  # noqa: E402  (temporary + rename, tools/output_file.py)
+from output_file import output_path, savefig  # noqa: E402  (temporary + rename, tools/output_file.py)
 from paper_data import (InputError, angle_between, boresight, common_grid, contact_starts,  # noqa: E402
                         continuous_contact_from, load_csv, load_summary, summary_number, wrap_pi)
 
@@ -219,18 +219,18 @@ def main(argv=None):
     xyz = ("x", "y", "z")
     specs = [
         ("fig08_base_position.png", "Fig. 8  Base centre-of-mass position (inertial frame)",
-         [(f"base_{k}", k) for k in xyz], "mm", 1e3, False, False),
+         [(f"base_{k}_m", k) for k in xyz], "mm", 1e3, False, False),
         ("fig09_base_velocity.png", "Fig. 9  Base centre-of-mass velocity",
-         [(f"base_v{k}", f"v_{k}") for k in xyz], "mm/s", 1e3, False, False),
+         [(f"base_v{k}_m_per_s", f"v_{k}") for k in xyz], "mm/s", 1e3, False, False),
         ("fig10_base_acceleration.png", "Fig. 10  Base centre-of-mass acceleration",
-         [(f"base_a{k}", f"a_{k}") for k in xyz], "mm/s\u00b2", 1e3, False, True),
+         [(f"base_a{k}_m_per_s2", f"a_{k}") for k in xyz], "mm/s\u00b2", 1e3, False, True),
         ("fig11_base_euler.png", "Fig. 11  Base attitude, Z-Y-X Euler angles",
          [("base_roll_rad", "roll"), ("base_pitch_rad", "pitch"), ("base_yaw_rad", "yaw")],
          "rad", 1.0, True, False),
         ("fig12_base_rates.png", "Fig. 12  Base angular velocity (base frame)",
-         [(f"base_w{k}", f"\u03c9_{k}") for k in xyz], "rad/s", 1.0, False, False),
+         [(f"base_w{k}_rad_per_s", f"\u03c9_{k}") for k in xyz], "rad/s", 1.0, False, False),
         ("fig13_base_angular_acceleration.png", "Fig. 13  Base angular acceleration (base frame)",
-         [(f"base_dw{k}", f"d\u03c9_{k}/dt") for k in xyz], "rad/s\u00b2", 1.0, False, True),
+         [(f"base_dw{k}_rad_per_s2", f"d\u03c9_{k}/dt") for k in xyz], "rad/s\u00b2", 1.0, False, True),
         ("fig14_joint_angles.png", "Fig. 14  Joint angles (shaft 1 azimuth, shaft 2 elevation)",
          [("theta1_rad", "\u03b8\u2081"), ("theta2_rad", "\u03b8\u2082")], "rad", 1.0, False, False),
         ("fig15_joint_rates.png", "Fig. 15  Joint angular velocities",
@@ -250,8 +250,10 @@ def main(argv=None):
     k_max = int(np.argmax(err))
     err_max, t_err_max, err_final = float(err[k_max]), float(t[k_max]), float(err[-1])
     pe_path = os.path.join(a.out, "pointing_error.csv")
-    np.savetxt(pe_path, np.column_stack([t, err]), delimiter=",", header="t,angle_rad",
-               comments="", fmt="%.12g")
+    # The CSV convention (docs/usage.md "CSV files"): unit-suffixed names, round-trip numbers (repr).
+    with output_path(pe_path) as tmp, open(tmp, "w") as f:
+        f.write("t_s,pointing_error_rad\n")
+        f.writelines(f"{float(ti)!r},{float(e) + 0.0!r}\n" for ti, e in zip(t, err))
     fig, ax = plt.subplots(figsize=(11, 4.8), constrained_layout=True)
     pos = err > 0.0  # a log axis cannot show exact zeros (e.g. t = 0)
     ax.set_yscale("log")
@@ -338,10 +340,10 @@ def main(argv=None):
     else:
         impacts_txt = f"{int(impacts)} (summary)"
     if pk_fn is None:
-        pk_fn_txt = (f"{np.max(clear['fn']):.1f} N at t = {t_c[np.argmax(clear['fn'])]:.4g} s "
+        pk_fn_txt = (f"{np.max(clear['fn_N']):.1f} N at t = {t_c[np.argmax(clear['fn_N'])]:.4g} s "
                      f"(CSV samples)")
     else:
-        pk_fn_txt = f"{pk_fn:.1f} N at t = {t_pk_fn:.4g} s (summary); CSV samples max {np.max(clear['fn']):.1f} N"
+        pk_fn_txt = f"{pk_fn:.1f} N at t = {t_pk_fn:.4g} s (summary); CSV samples max {np.max(clear['fn_N']):.1f} N"
     print("gimbalsim paper figures")
     print(f"  clearance c                 : {c*1e3:.4g} mm (from {c_src})")
     print(f"  peak contact force          : {pk_fn_txt}")
