@@ -1,5 +1,5 @@
 // Test helper: a CSV with a header row (firmware_sim --truth-csv and
-// gimbalsim_log2csv with `name[unit]` columns, gimbalsim_workprec), kept as
+// gimbalsim_log2csv with `name_unit` columns, gimbalsim_workprec), kept as
 // text (exact comparisons) with numeric access by column name.
 #pragma once
 

@@ -68,6 +68,55 @@ TEST_F(OutputPolicy, TheNameAppearsOnlyAtCommit) {
   EXPECT_EQ(entries(), 1u) << "no temporary left";
 }
 
+// A run's outputs commit together: when the second one's directory vanished
+// during the run (its temporary with it), the first is not left behind either.
+TEST_F(OutputPolicy, AGroupWhoseSecondMemberFailsLeavesNoName) {
+  fs::create_directories(dir_ / "sub");
+  const std::string csv = path("run.csv"), summary = (dir_ / "sub" / "summary.json").string();
+  {
+    OutputFile a(csv), b(summary);
+    EXPECT_TRUE(a.write("t_s\n0\n"));
+    EXPECT_TRUE(b.write("{}\n"));
+    fs::remove_all(dir_ / "sub");
+    CommitGroup group({&a, &b});
+    EXPECT_FALSE(group.commit());
+    EXPECT_NE(group.error().find(summary), std::string::npos) << group.error();
+  }
+  EXPECT_FALSE(fs::exists(csv));
+  EXPECT_EQ(entries(), 0u);  // no temporary either
+}
+
+TEST_F(OutputPolicy, AGroupWhoseFirstMemberFailsLeavesNoName) {
+  fs::create_directories(dir_ / "sub");
+  const std::string csv = (dir_ / "sub" / "run.csv").string(), summary = path("summary.json");
+  {
+    OutputFile a(csv), b(summary);
+    EXPECT_TRUE(a.write("t_s\n0\n"));
+    EXPECT_TRUE(b.write("{}\n"));
+    fs::remove_all(dir_ / "sub");
+    CommitGroup group({&a, &b});
+    EXPECT_FALSE(group.commit());
+    EXPECT_NE(group.error().find(csv), std::string::npos) << group.error();
+  }
+  EXPECT_FALSE(fs::exists(summary));
+  EXPECT_EQ(entries(), 0u);
+}
+
+TEST_F(OutputPolicy, AWholeGroupAppearsAtCommit) {
+  const std::string csv = path("run.csv"), summary = path("summary.json");
+  {
+    OutputFile a(csv), b(summary);
+    EXPECT_TRUE(a.write("t_s\n"));
+    EXPECT_TRUE(b.write("{}\n"));
+    CommitGroup group({&a, nullptr, &b});
+    EXPECT_FALSE(fs::exists(csv));
+    EXPECT_TRUE(group.commit()) << group.error();
+  }
+  EXPECT_EQ(read(csv), "t_s\n");
+  EXPECT_EQ(read(summary), "{}\n");
+  EXPECT_EQ(entries(), 2u);
+}
+
 TEST_F(OutputPolicy, AnUncommittedFileLeavesNothing) {
   {
     OutputFile f(path("cut.csv"));

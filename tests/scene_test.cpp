@@ -92,6 +92,15 @@ TEST(Scene, NonPhysicalValuesAreRefused) {
       {{"torque.tau1=.inf"}, "key 'torque.tau1': must be finite"},
       {{"sim.step=1e-3", "sim.output_interval=1.5e-3"}, "key 'sim.output_interval': must be a whole multiple"},
       {{"sim.substep=2e-3"}, "key 'sim.substep': must be in (0, sim.step]"},
+      // Adaptive sub-steps cannot cross plain Coulomb's jump: refused, naming both keys and the cure.
+      {{"sim.substep_policy=adaptive"},
+       "key 'sim.substep_policy': adaptive cannot step over plain Coulomb friction's jump (friction.law=coulomb): "
+       "use friction.law=coulomb_stick or ambrosio"},
+      // A duration is whole steps, or refused with the nearest valid ones (never rounded).
+      {{"sim.step=1e-3", "sim.duration=0.0025"},
+       "key 'sim.duration': must be a whole multiple of sim.step (0.001 s), at least one: 0.002 or 0.003"},
+      {{"sim.step=1e-3", "sim.duration=4e-4"},
+       "key 'sim.duration': must be a whole multiple of sim.step (0.001 s), at least one: 0.001"},
       {{"initial.ecc=[1e-3, 0]"}, "key 'initial.ecc': initial eccentricity exceeds the radial clearance"},
   };
   for (const Case& c : cases) {
@@ -102,6 +111,18 @@ TEST(Scene, NonPhysicalValuesAreRefused) {
   // In a file, the position is the key's line and column.
   const std::string e = refusal(std::string(kGood) + "contact:\n  restitution: 1.5\n");
   EXPECT_NE(e.find("bad.yaml:7:3: key 'contact.restitution': must be in (0, 1], got 1.5"), std::string::npos) << e;
+}
+
+TEST(Scene, ShippedDurationsAreWholeSteps) {
+  // The shipped scenes and run_paper.sh's sim.duration=0.5 (and 1, 2 of the README) stay valid.
+  for (const char* name : {"paper_ideal", "paper_clearance", "planar_ideal", "planar_clearance",
+                           "paper_ideal_valid_inertia", "stickslip_clearance"}) {
+    for (const char* d : {"sim.duration=0.5", "sim.duration=1", "sim.duration=2"}) {
+      EXPECT_NO_THROW(loadScene(test::scenePath(name), {d})) << name << " " << d;
+    }
+    EXPECT_NO_THROW(loadScene(test::scenePath(name))) << name;
+  }
+  EXPECT_NO_THROW(loadSceneText(kGood, "good.yaml", {"sim.step=1e-3", "sim.duration=0.3"}));  // 0.3/1e-3 is not exact
 }
 
 TEST(Scene, EveryProblemIsReportedAtOnce) {

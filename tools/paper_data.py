@@ -11,15 +11,15 @@ import numpy as np
 
 # Columns this script reads (the simulator writes more; extra ones are ignored).
 REQUIRED = [
-    "t",
-    "base_x", "base_y", "base_z",
-    "base_vx", "base_vy", "base_vz",
-    "base_ax", "base_ay", "base_az",
-    "base_roll", "base_pitch", "base_yaw",
-    "base_wx", "base_wy", "base_wz",
-    "base_dwx", "base_dwy", "base_dwz",
-    "theta1", "theta2", "dtheta1", "dtheta2", "ddtheta1", "ddtheta2",
-    "ecc_x", "ecc_y", "ecc", "delta", "fn", "joint2_force",
+    "t_s",
+    "base_x_m", "base_y_m", "base_z_m",
+    "base_vx_m_per_s", "base_vy_m_per_s", "base_vz_m_per_s",
+    "base_ax_m_per_s2", "base_ay_m_per_s2", "base_az_m_per_s2",
+    "base_roll_rad", "base_pitch_rad", "base_yaw_rad",
+    "base_wx_rad_per_s", "base_wy_rad_per_s", "base_wz_rad_per_s",
+    "base_dwx_rad_per_s2", "base_dwy_rad_per_s2", "base_dwz_rad_per_s2",
+    "theta1_rad", "theta2_rad", "dtheta1_rad_per_s", "dtheta2_rad_per_s", "ddtheta1_rad_per_s2", "ddtheta2_rad_per_s2",
+    "ecc_x_m", "ecc_y_m", "ecc_m", "delta_m", "fn_N", "joint2_force_N",
     "bore_x", "bore_y", "bore_z",
 ]
 
@@ -53,8 +53,8 @@ def load_csv(path):
         if not np.all(np.isfinite(cols[name])):
             bad = int(np.argmax(~np.isfinite(cols[name])))
             raise InputError(f"{path}: column {name!r} has a non-finite value at data row {bad + 1}")
-    if np.any(np.diff(cols["t"]) <= 0):
-        raise InputError(f"{path}: column 't' is not strictly increasing")
+    if np.any(np.diff(cols["t_s"]) <= 0):
+        raise InputError(f"{path}: column 't_s' is not strictly increasing")
     return cols
 
 
@@ -84,7 +84,7 @@ def summary_number(summary, *keys):
 def common_grid(ideal, clear):
     """Return (t, clearance columns on that grid, note). The ideal grid is the
     reference; the clearance run is linearly interpolated onto it if needed."""
-    ti, tc = ideal["t"], clear["t"]
+    ti, tc = ideal["t_s"], clear["t_s"]
     tol = 1e-9 * max(1.0, abs(ti[-1]))
     if ti.shape == tc.shape and np.allclose(ti, tc, rtol=0.0, atol=tol):
         return ideal, clear, None
@@ -94,9 +94,9 @@ def common_grid(ideal, clear):
         raise InputError("the two runs do not overlap in time "
                          f"(ideal {ti[0]:g}..{ti[-1]:g} s, clearance {tc[0]:g}..{tc[-1]:g} s)")
     ideal_c = {k: v[keep] for k, v in ideal.items()}
-    t = ideal_c["t"]
+    t = ideal_c["t_s"]
     clear_i = {k: np.interp(t, tc, v) for k, v in clear.items()}
-    clear_i["t"] = t.copy()
+    clear_i["t_s"] = t.copy()
     # Interpolated unit vectors are a little short: renormalise the boresight.
     b = np.stack([clear_i["bore_x"], clear_i["bore_y"], clear_i["bore_z"]], axis=1)
     b /= np.linalg.norm(b, axis=1, keepdims=True)
@@ -126,16 +126,16 @@ def angle_between(a, b):
 
 def contact_starts(cols):
     """Times (CSV samples) at which delta goes from <= 0 to > 0."""
-    inside = cols["delta"] > 0.0
+    inside = cols["delta_m"] > 0.0
     k = np.flatnonzero(~inside[:-1] & inside[1:]) + 1
-    return cols["t"][k]
+    return cols["t_s"][k]
 
 
 def continuous_contact_from(cols):
     """CSV estimate of the start of the final, unbroken contact (None if the run
     does not end in contact or never separated after a first impact)."""
-    inside = cols["delta"] > 0.0
+    inside = cols["delta_m"] > 0.0
     if not inside[-1] or inside.all():
         return None
     last_out = int(np.flatnonzero(~inside)[-1])
-    return float(cols["t"][last_out + 1])
+    return float(cols["t_s"][last_out + 1])

@@ -3,7 +3,7 @@
 
 The truth CSV is what `firmware_sim --truth-csv FILE` writes, or what
 `gimbalsim_log2csv LOG` makes of the <PREFIX>GIMBAL_TRUTH channel of an
-lcm-logger log (same columns, `name[unit]` header). One figure against
+lcm-logger log (same columns, `name_unit` header). One figure against
 simulated time: truth pointing error (log scale), joint angles, applied
 torques, firmware fault flags (one row per FAULT_* bit) and, when the run had
 a fault schedule (firmware_sim --faults), the scheduled faults active at each
@@ -43,7 +43,7 @@ def injected_name(bit):
     if kind in AXIS_KINDS:
         return f"{kind} {'el' if bit % 2 else 'az'}"
     return kind
-NEEDED = ["sim_time[s]", "theta1[rad]", "theta2[rad]", "tau1[N m]", "tau2[N m]", "pointing_error[rad]", "faults[-]"]
+NEEDED = ["sim_time_s", "theta1_rad", "theta2_rad", "tau1_Nm", "tau2_Nm", "pointing_error_rad", "faults"]
 
 
 def read(path):
@@ -61,7 +61,7 @@ def read(path):
     if not data:
         sys.exit(f"plot_bench: {path}: no rows")
     cols = {}
-    wanted = NEEDED + (["injected_faults[-]"] if "injected_faults[-]" in header else [])
+    wanted = NEEDED + (["injected_faults"] if "injected_faults" in header else [])
     for c in wanted:
         i = header.index(c)
         try:
@@ -79,10 +79,10 @@ def main():
     p.add_argument("--after", type=float, default=2.5, help="report the max pointing error after this time [s]")
     a = p.parse_args()
     c = read(a.truth)
-    t = c["sim_time[s]"]
-    err = c["pointing_error[rad]"]
-    faults = c["faults[-]"].astype(np.int64)
-    injected = c["injected_faults[-]"].astype(np.int64) if "injected_faults[-]" in c else np.zeros_like(faults)
+    t = c["sim_time_s"]
+    err = c["pointing_error_rad"]
+    faults = c["faults"].astype(np.int64)
+    injected = c["injected_faults"].astype(np.int64) if "injected_faults" in c else np.zeros_like(faults)
     seen = [b for b in range(31) if ((injected >> b) & 1).any()]
 
     panels = 5 if seen else 4
@@ -92,13 +92,13 @@ def main():
     ax[0].semilogy(t, np.maximum(err, 1e-12), lw=0.8)
     ax[0].set_ylabel("pointing error [rad]")
     ax[0].grid(True, which="both", alpha=0.3)
-    ax[1].plot(t, c["theta1[rad]"], label="theta1 (azimuth)", lw=0.9)
-    ax[1].plot(t, c["theta2[rad]"], label="theta2 (elevation)", lw=0.9)
+    ax[1].plot(t, c["theta1_rad"], label="theta1 (azimuth)", lw=0.9)
+    ax[1].plot(t, c["theta2_rad"], label="theta2 (elevation)", lw=0.9)
     ax[1].set_ylabel("joint angle [rad]")
     ax[1].legend(loc="best", fontsize=8)
     ax[1].grid(True, alpha=0.3)
-    ax[2].plot(t, c["tau1[N m]"], label="tau1", lw=0.7)
-    ax[2].plot(t, c["tau2[N m]"], label="tau2", lw=0.7)
+    ax[2].plot(t, c["tau1_Nm"], label="tau1", lw=0.7)
+    ax[2].plot(t, c["tau2_Nm"], label="tau2", lw=0.7)
     ax[2].set_ylabel("applied torque [N m]")
     ax[2].legend(loc="best", fontsize=8)
     ax[2].grid(True, alpha=0.3)

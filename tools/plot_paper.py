@@ -8,7 +8,7 @@ Usage:
       --out DIR [--ideal-summary ideal.json] [--clearance-summary clearance.json]
 
 Writes DIR/fig06_eccentricity.png ... DIR/fig18_joint2_force.png and
-DIR/pointing_error.csv (t, angle_rad), and prints a short summary.
+DIR/pointing_error.csv (t_s, pointing_error_rad), and prints a short summary.
 
 Columns are read by NAME from the CSV header (SI units, angles in rad); see
 docs/MODEL.md section 8.8. Only numpy and matplotlib (Agg) are needed.
@@ -24,7 +24,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from output_file import savefig  # noqa: E402  (temporary + rename, tools/output_file.py)
+from output_file import output_path, savefig  # noqa: E402  (temporary + rename, tools/output_file.py)
 from paper_data import (InputError, angle_between, boresight, common_grid, contact_starts,  # noqa: E402
                         continuous_contact_from, load_csv, load_summary, summary_number, wrap_pi)
 
@@ -70,11 +70,11 @@ def fig_components(out_dir, written, fname, title, ideal, clear, ideal_g, clear_
     fig.suptitle(title, fontsize=13)
     for r, (col, label) in enumerate(comps):
         ax_i, ax_c, ax_d = axes[r]
-        ax_i.plot(ideal["t"], ideal[col] * factor, color=C_IDEAL, lw=1.0)
+        ax_i.plot(ideal["t_s"], ideal[col] * factor, color=C_IDEAL, lw=1.0)
         if spiky:
-            ax_c.plot(ideal["t"], ideal[col] * factor, color="0.55", lw=1.6,
+            ax_c.plot(ideal["t_s"], ideal[col] * factor, color="0.55", lw=1.6,
                       label="ideal (reference)", zorder=1)
-        ax_c.plot(clear["t"], clear[col] * factor, color=C_CLEAR, lw=0.8,
+        ax_c.plot(clear["t_s"], clear[col] * factor, color=C_CLEAR, lw=0.8,
                   label="clearance", zorder=2)
         if spiky:
             ax_c.legend(loc="best", fontsize=8)
@@ -88,7 +88,7 @@ def fig_components(out_dir, written, fname, title, ideal, clear, ideal_g, clear_
         if is_angle:
             d = wrap_pi(d)
         dfac, dunit = auto_scale(d, unit_base(unit), base_factor=1.0)
-        ax_d.plot(ideal_g["t"], d * dfac, color=C_DIFF, lw=0.8)
+        ax_d.plot(ideal_g["t_s"], d * dfac, color=C_DIFF, lw=0.8)
         ax_d.axhline(0.0, color="0.6", lw=0.6)
         ax_i.set_ylabel(f"{label} [{unit}]")
         ax_c.set_ylabel(f"{label} [{unit}]")
@@ -134,14 +134,14 @@ def main(argv=None):
     if grid_note:
         print(grid_note)
     written = []
-    t_i, t_c = ideal["t"], clear["t"]
+    t_i, t_c = ideal["t_s"], clear["t_s"]
 
     # Radial clearance c: from the summary if it carries it, else ecc - delta.
     c = summary_number(s_clear, "clearance_m", "clearance", "contact.clearance_m",
                        "contact.clearance")
     c_src = "summary"
     if c is None:
-        c = float(np.max(clear["ecc"] - clear["delta"]))
+        c = float(np.max(clear["ecc_m"] - clear["delta_m"]))
         c_src = "max(ecc - delta)"
     t_cont = summary_number(s_clear, "continuous_contact_from_s")
     if t_cont is None and not a.clearance_summary:
@@ -158,9 +158,9 @@ def main(argv=None):
                  fontsize=13)
     for ax, tmax in ((ax1, t_c[-1]), (ax2, t_zoom)):
         m = t_c <= tmax
-        ax.plot(t_c[m], clear["ecc"][m] * 1e3, color=C_CLEAR, lw=0.8, label="e (clearance run)")
+        ax.plot(t_c[m], clear["ecc_m"][m] * 1e3, color=C_CLEAR, lw=0.8, label="e (clearance run)")
         ax.axhline(c * 1e3, color="k", ls="--", lw=1.0, label=f"clearance c = {c*1e3:.3g} mm")
-        ax.plot(t_i[t_i <= tmax], ideal["ecc"][t_i <= tmax] * 1e3, color=C_IDEAL, lw=1.0,
+        ax.plot(t_i[t_i <= tmax], ideal["ecc_m"][t_i <= tmax] * 1e3, color=C_IDEAL, lw=1.0,
                 label="e (ideal run)")
         ax.set_xlabel("t [s]")
         ax.set_ylabel("eccentricity e [mm]")
@@ -173,9 +173,9 @@ def main(argv=None):
     ax2.legend(loc="lower right", fontsize=8)
     th = np.linspace(0, 2 * np.pi, 361)
     ax3.plot(c * 1e3 * np.cos(th), c * 1e3 * np.sin(th), "k--", lw=1.0, label="e = c")
-    ax3.plot(clear["ecc_x"] * 1e3, clear["ecc_y"] * 1e3, color=C_CLEAR, lw=0.6,
+    ax3.plot(clear["ecc_x_m"] * 1e3, clear["ecc_y_m"] * 1e3, color=C_CLEAR, lw=0.6,
              label="journal centre")
-    ax3.plot(clear["ecc_x"][0] * 1e3, clear["ecc_y"][0] * 1e3, "o", color="k", ms=4, label="start")
+    ax3.plot(clear["ecc_x_m"][0] * 1e3, clear["ecc_y_m"][0] * 1e3, "o", color="k", ms=4, label="start")
     ax3.set_aspect("equal")
     ax3.set_xlabel("ecc_x, along joint-plane axis u1 [mm]")
     ax3.set_ylabel("ecc_y, along u2 = k2 \u00d7 u1 [mm]")
@@ -190,13 +190,13 @@ def main(argv=None):
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), constrained_layout=True)
     fig.suptitle("Fig. 7  Joint-2 force: ideal joint reaction vs clearance contact normal force F_n",
                  fontsize=13)
-    ymax = 1.05 * max(np.max(clear["fn"]), np.max(ideal["joint2_force"]), pk_fn or 0.0)
-    axes[0].plot(t_i, ideal["joint2_force"], color=C_IDEAL, lw=1.0)
+    ymax = 1.05 * max(np.max(clear["fn_N"]), np.max(ideal["joint2_force_N"]), pk_fn or 0.0)
+    axes[0].plot(t_i, ideal["joint2_force_N"], color=C_IDEAL, lw=1.0)
     axes[0].set_title("ideal joint 2: |joint force|")
     axes[0].set_ylabel("|joint 2 force| [N]")
     for ax, tmax in ((axes[1], t_c[-1]), (axes[2], t_zoom)):
         m = t_c <= tmax
-        ax.plot(t_c[m], clear["fn"][m], color=C_CLEAR, lw=0.7,
+        ax.plot(t_c[m], clear["fn_N"][m], color=C_CLEAR, lw=0.7,
                 label=f"F_n (CSV, sampled every {dt_out*1e3:.3g} ms)")
         if pk_fn is not None and t_pk_fn is not None and t_pk_fn <= tmax:
             ax.plot([t_pk_fn], [pk_fn], "kv", ms=7,
@@ -219,25 +219,25 @@ def main(argv=None):
     xyz = ("x", "y", "z")
     specs = [
         ("fig08_base_position.png", "Fig. 8  Base centre-of-mass position (inertial frame)",
-         [(f"base_{k}", k) for k in xyz], "mm", 1e3, False, False),
+         [(f"base_{k}_m", k) for k in xyz], "mm", 1e3, False, False),
         ("fig09_base_velocity.png", "Fig. 9  Base centre-of-mass velocity",
-         [(f"base_v{k}", f"v_{k}") for k in xyz], "mm/s", 1e3, False, False),
+         [(f"base_v{k}_m_per_s", f"v_{k}") for k in xyz], "mm/s", 1e3, False, False),
         ("fig10_base_acceleration.png", "Fig. 10  Base centre-of-mass acceleration",
-         [(f"base_a{k}", f"a_{k}") for k in xyz], "mm/s\u00b2", 1e3, False, True),
+         [(f"base_a{k}_m_per_s2", f"a_{k}") for k in xyz], "mm/s\u00b2", 1e3, False, True),
         ("fig11_base_euler.png", "Fig. 11  Base attitude, Z-Y-X Euler angles",
-         [("base_roll", "roll"), ("base_pitch", "pitch"), ("base_yaw", "yaw")],
+         [("base_roll_rad", "roll"), ("base_pitch_rad", "pitch"), ("base_yaw_rad", "yaw")],
          "rad", 1.0, True, False),
         ("fig12_base_rates.png", "Fig. 12  Base angular velocity (base frame)",
-         [(f"base_w{k}", f"\u03c9_{k}") for k in xyz], "rad/s", 1.0, False, False),
+         [(f"base_w{k}_rad_per_s", f"\u03c9_{k}") for k in xyz], "rad/s", 1.0, False, False),
         ("fig13_base_angular_acceleration.png", "Fig. 13  Base angular acceleration (base frame)",
-         [(f"base_dw{k}", f"d\u03c9_{k}/dt") for k in xyz], "rad/s\u00b2", 1.0, False, True),
+         [(f"base_dw{k}_rad_per_s2", f"d\u03c9_{k}/dt") for k in xyz], "rad/s\u00b2", 1.0, False, True),
         ("fig14_joint_angles.png", "Fig. 14  Joint angles (shaft 1 azimuth, shaft 2 elevation)",
-         [("theta1", "\u03b8\u2081"), ("theta2", "\u03b8\u2082")], "rad", 1.0, False, False),
+         [("theta1_rad", "\u03b8\u2081"), ("theta2_rad", "\u03b8\u2082")], "rad", 1.0, False, False),
         ("fig15_joint_rates.png", "Fig. 15  Joint angular velocities",
-         [("dtheta1", "d\u03b8\u2081/dt"), ("dtheta2", "d\u03b8\u2082/dt")], "rad/s", 1.0,
+         [("dtheta1_rad_per_s", "d\u03b8\u2081/dt"), ("dtheta2_rad_per_s", "d\u03b8\u2082/dt")], "rad/s", 1.0,
          False, False),
         ("fig16_joint_accelerations.png", "Fig. 16  Joint angular accelerations",
-         [("ddtheta1", "d\u00b2\u03b8\u2081/dt\u00b2"), ("ddtheta2", "d\u00b2\u03b8\u2082/dt\u00b2")],
+         [("ddtheta1_rad_per_s2", "d\u00b2\u03b8\u2081/dt\u00b2"), ("ddtheta2_rad_per_s2", "d\u00b2\u03b8\u2082/dt\u00b2")],
          "rad/s\u00b2", 1.0, False, True),
     ]
     for fname, title, comps, unit, factor, is_angle, spiky in specs:
@@ -245,13 +245,15 @@ def main(argv=None):
                        comps, unit, factor, is_angle=is_angle, spiky=spiky)
 
     # -- Fig 17: pointing error ------------------------------------------------
-    t = ideal_g["t"]
+    t = ideal_g["t_s"]
     err = angle_between(boresight(ideal_g), boresight(clear_g))
     k_max = int(np.argmax(err))
     err_max, t_err_max, err_final = float(err[k_max]), float(t[k_max]), float(err[-1])
     pe_path = os.path.join(a.out, "pointing_error.csv")
-    np.savetxt(pe_path, np.column_stack([t, err]), delimiter=",", header="t,angle_rad",
-               comments="", fmt="%.12g")
+    # The CSV convention (docs/usage.md "CSV files"): unit-suffixed names, round-trip numbers (repr).
+    with output_path(pe_path) as tmp, open(tmp, "w") as f:
+        f.write("t_s,pointing_error_rad\n")
+        f.writelines(f"{float(ti)!r},{float(e) + 0.0!r}\n" for ti, e in zip(t, err))
     fig, ax = plt.subplots(figsize=(11, 4.8), constrained_layout=True)
     pos = err > 0.0  # a log axis cannot show exact zeros (e.g. t = 0)
     ax.set_yscale("log")
@@ -279,7 +281,7 @@ def main(argv=None):
     save(fig, a.out, "fig17_pointing_error.png", written)
 
     # -- Fig 18: joint-2 force ---------------------------------------------------
-    pk_c_csv, pk_i_csv = float(np.max(clear["joint2_force"])), float(np.max(ideal["joint2_force"]))
+    pk_c_csv, pk_i_csv = float(np.max(clear["joint2_force_N"])), float(np.max(ideal["joint2_force_N"]))
     pk_c = summary_number(s_clear, "peak_joint2_force_N")
     t_pk_c = summary_number(s_clear, "t_peak_joint2_force_s")
     pk_i = summary_number(s_ideal, "peak_joint2_force_N")
@@ -287,15 +289,15 @@ def main(argv=None):
     src = "summary (all sub-steps)"
     if pk_c is None or pk_i is None:
         pk_c, pk_i, src = pk_c_csv, pk_i_csv, "CSV samples"
-        t_pk_c = float(t_c[np.argmax(clear["joint2_force"])])
-        t_pk_i = float(t_i[np.argmax(ideal["joint2_force"])])
+        t_pk_c = float(t_c[np.argmax(clear["joint2_force_N"])])
+        t_pk_i = float(t_i[np.argmax(ideal["joint2_force_N"])])
     ratio = pk_c / pk_i if pk_i > 0 else float("inf")
     if abs(t_i[-1] - t_c[-1]) > 1e-9 * max(1.0, t_i[-1]):
         print(f"WARNING: the runs end at different times (ideal {t_i[-1]:g} s, clearance "
               f"{t_c[-1]:g} s): the joint-force peaks below cover different durations.")
     # The ideal joint force grows with the spin-up; compare also with the ideal
     # force at the moment of the clearance peak.
-    f_i_at_pk = float(np.interp(t_pk_c, t_i, ideal["joint2_force"])) if t_pk_c is not None else None
+    f_i_at_pk = float(np.interp(t_pk_c, t_i, ideal["joint2_force_N"])) if t_pk_c is not None else None
     ratio_same_t = pk_c / f_i_at_pk if f_i_at_pk else None
 
     fig, axes = plt.subplots(1, 2, figsize=(15, 4.8), constrained_layout=True,
@@ -308,9 +310,9 @@ def main(argv=None):
         mc, mi = t_c <= tmax, t_i <= tmax
         # Ideal drawn broad and underneath, so the clearance run's thin curve stays
         # visible where the two coincide (continuous contact).
-        ax.plot(t_i[mi], ideal["joint2_force"][mi], color=C_IDEAL, lw=3.0, alpha=0.6,
+        ax.plot(t_i[mi], ideal["joint2_force_N"][mi], color=C_IDEAL, lw=3.0, alpha=0.6,
                 label="ideal joint", zorder=1)
-        ax.plot(t_c[mc], clear["joint2_force"][mc], color=C_CLEAR, lw=0.7,
+        ax.plot(t_c[mc], clear["joint2_force_N"][mc], color=C_CLEAR, lw=0.7,
                 label="clearance joint (CSV samples)", zorder=2)
         if t_pk_c is not None and t_pk_c <= tmax:
             ax.plot([t_pk_c], [pk_c], "v", color="darkred", ms=7,
@@ -338,10 +340,10 @@ def main(argv=None):
     else:
         impacts_txt = f"{int(impacts)} (summary)"
     if pk_fn is None:
-        pk_fn_txt = (f"{np.max(clear['fn']):.1f} N at t = {t_c[np.argmax(clear['fn'])]:.4g} s "
+        pk_fn_txt = (f"{np.max(clear['fn_N']):.1f} N at t = {t_c[np.argmax(clear['fn_N'])]:.4g} s "
                      f"(CSV samples)")
     else:
-        pk_fn_txt = f"{pk_fn:.1f} N at t = {t_pk_fn:.4g} s (summary); CSV samples max {np.max(clear['fn']):.1f} N"
+        pk_fn_txt = f"{pk_fn:.1f} N at t = {t_pk_fn:.4g} s (summary); CSV samples max {np.max(clear['fn_N']):.1f} N"
     print("gimbalsim paper figures")
     print(f"  clearance c                 : {c*1e3:.4g} mm (from {c_src})")
     print(f"  peak contact force          : {pk_fn_txt}")

@@ -123,18 +123,18 @@ def metrics(args, cfg, ctl, truth, duration, wall):
     track_start = slew_end + float(cfg["profile.hold_time"])
     last_unsettled, hold_seen, max_err_track = slew_end, False, 0.0
     for row in ctl:
-        e = max(abs(float(row["err_az[rad]"])), abs(float(row["err_el[rad]"])))
-        if row["segment[-]"] == "hold":
+        e = max(abs(float(row["err_az_rad"])), abs(float(row["err_el_rad"])))
+        if row["segment"] == "hold":
             hold_seen = True
             if e >= args.settle_tol:
-                last_unsettled = float(row["t[s]"]) + period
-        elif row["segment[-]"] == "track":
+                last_unsettled = float(row["t_s"]) + period
+        elif row["segment"] == "track":
             max_err_track = max(max_err_track, e)
     settle = last_unsettled - slew_end if hold_seen and last_unsettled < track_start - 0.5 * period else math.inf
-    errs = [float(r["pointing_error[rad]"]) for r in truth if int(r["seq[-]"]) * period >= track_start - 0.5 * period]
+    errs = [float(r["pointing_error_rad"]) for r in truth if int(r["seq"]) * period >= track_start - 0.5 * period]
     rms = math.sqrt(sum(e * e for e in errs) / len(errs)) if errs else math.nan
-    tau1 = max(abs(float(r["tau1[N m]"])) for r in truth)
-    tau2 = max(abs(float(r["tau2[N m]"])) for r in truth)
+    tau1 = max(abs(float(r["tau1_Nm"])) for r in truth)
+    tau2 = max(abs(float(r["tau2_Nm"])) for r in truth)
     return dict(settle=settle, rms=rms, max_truth=max(errs) if errs else math.nan, max_err=max_err_track,
                 tau1=tau1, tau2=tau2, speed=duration / wall, answered=len(ctl))
 
@@ -153,7 +153,7 @@ def main():
     base = print_config(args, [])
     print(f"# lockstep over LCM udpm (private network namespace): scene {os.path.basename(args.scene)}, "
           f"config {os.path.relpath(args.config, ROOT)}, settle band {args.settle_tol:g} rad")
-    hdr = f"{'gain set':<34} {'settle[s]':>9} {'rms_truth':>10} {'max_truth':>10} {'max_e_trk':>10} " \
+    hdr = f"{'gain set':<34} {'settle_s':>9} {'rms_truth':>10} {'max_truth':>10} {'max_e_trk':>10} " \
           f"{'tau1max':>8} {'tau2max':>8} {'x_real':>7}"
     print(hdr)
     failures = 0

@@ -24,6 +24,7 @@
 #include <optional>
 #include <vector>
 
+#include "gimbalsim/io/csv_format.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/bench_io/peak_memory.hpp"
 #include "gimbalsim/bench_io/udpm_receiver.hpp"
@@ -110,12 +111,24 @@ class StatusHandler {
   }
 
   static void header(std::FILE* f) {
-    std::fprintf(f,
-                 "t[s],seq[-],segment[-],ref_az[rad],ref_el[rad],ref_daz[rad/s],ref_del[rad/s],ref_ddaz[rad/s^2],"
-                 "ref_ddel[rad/s^2],meas_az[rad],meas_el[rad],rate_az[rad/s],rate_el[rad/s],err_az[rad],"
-                 "err_el[rad],tau_az[N m],tau_el[N m],tau_unsat_az[N m],tau_unsat_el[N m],faults[-],prof_az[rad],"
-                 "prof_el[rad],est_qw[-],est_qx[-],est_qy[-],est_qz[-],est_wx[rad/s],est_wy[rad/s],est_wz[rad/s],"
-                 "star_outage[-],attitude_paired[-],stale[-],safe[-],suspect_az[-],suspect_el[-]\n");
+    // The cells as name[unit], written in the project's CSV names (io::csvNameOf: t_s, tau_az_Nm).
+    static constexpr const char* kCells =
+        "t[s],seq[-],segment[-],ref_az[rad],ref_el[rad],ref_daz[rad/s],ref_del[rad/s],ref_ddaz[rad/s^2],"
+        "ref_ddel[rad/s^2],meas_az[rad],meas_el[rad],rate_az[rad/s],rate_el[rad/s],err_az[rad],"
+        "err_el[rad],tau_az[N m],tau_el[N m],tau_unsat_az[N m],tau_unsat_el[N m],faults[-],prof_az[rad],"
+        "prof_el[rad],est_qw[-],est_qx[-],est_qy[-],est_qz[-],est_wx[rad/s],est_wy[rad/s],est_wz[rad/s],"
+        "star_outage[-],attitude_paired[-],stale[-],safe[-],suspect_az[-],suspect_el[-]";
+    std::string h, cell;
+    for (const char* c = kCells;; ++c) {
+      if (*c == ',' || *c == '\0') {
+        (h.empty() ? h : h += ',') += io::csvNameOf(cell);
+        cell.clear();
+        if (*c == '\0') break;
+      } else {
+        cell += *c;
+      }
+    }
+    std::fputs((h + "\n").c_str(), f);
   }
 
   /// The plant is the source of the first message; another source is taken
@@ -146,14 +159,29 @@ class StatusHandler {
  private:
   void log(const gimbal_status_t& st, const Measurement& m, const ControlOutput& o, const MonitorFlags& f) {
     const ProfileSample& r = o.ref;
-    std::fprintf(csv_, "%.6f,%lld,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
-                 "%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d,%d,%d,%d,%d\n",
-                 m.t, static_cast<long long>(st.seq), describe(r.segment), r.q(0), r.q(1), r.dq(0), r.dq(1), r.ddq(0),
-                 r.ddq(1), m.theta(0), m.theta(1), m.dtheta(0), m.dtheta(1), o.error(0), o.error(1), o.tau(0),
-                 o.tau(1), o.tau_unsat(0), o.tau_unsat(1), st.faults, o.profile.q(0), o.profile.q(1),
-                 o.q_WB_est.w(), o.q_WB_est.x(), o.q_WB_est.y(), o.q_WB_est.z(), o.omega_B_est(0), o.omega_B_est(1),
-                 o.omega_B_est(2), o.star_outage ? 1 : 0, attitude_.seq == st.seq ? 1 : 0, f.stale ? 1 : 0,
-                 f.safe ? 1 : 0, f.encoder_suspect[0] ? 1 : 0, f.encoder_suspect[1] ? 1 : 0);
+    // One line in a fixed buffer (no allocation on the answer path); doubles as io::formatCsvNumber.
+    char line[2048];
+    int n = std::snprintf(line, sizeof line, "%.6f,%lld,%s", m.t, static_cast<long long>(st.seq), describe(r.segment));
+    auto num = [&](double x) {
+      line[n++] = ',';
+      n += io::formatCsvNumber(line + n, x);
+    };
+    auto flag = [&](int v) { n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), ",%d", v); };
+    for (double x : {r.q(0), r.q(1), r.dq(0), r.dq(1), r.ddq(0), r.ddq(1), m.theta(0), m.theta(1), m.dtheta(0),
+                     m.dtheta(1), o.error(0), o.error(1), o.tau(0), o.tau(1), o.tau_unsat(0), o.tau_unsat(1)}) {
+      num(x);
+    }
+    flag(st.faults);
+    for (double x : {o.profile.q(0), o.profile.q(1), o.q_WB_est.w(), o.q_WB_est.x(), o.q_WB_est.y(),
+                     o.q_WB_est.z(), o.omega_B_est(0), o.omega_B_est(1), o.omega_B_est(2)}) {
+      num(x);
+    }
+    for (bool b : {o.star_outage, attitude_.seq == st.seq, f.stale, f.safe, f.encoder_suspect[0],
+                   f.encoder_suspect[1]}) {
+      flag(b ? 1 : 0);
+    }
+    line[n++] = '\n';
+    std::fwrite(line, 1, static_cast<std::size_t>(n), csv_);
   }
 
   const ControllerConfig& c_;

@@ -78,6 +78,7 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
   const long long out_every = std::max<long long>(1, std::llround(spec.output_interval / m.integrator.step));
   Clock::duration in_step{0};
   InvariantMonitor inv(m, spec.torque);
+  RunStats at_rows;  // the contact peaks at the output rows, merged into the stepper's below
 
   auto stopRun = [&](RunStop stop, const std::string& why) {
     res.ok = false;
@@ -105,6 +106,11 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
       stopRun({RunStop::Kind::Invariant, {}, v.key, st.t}, os.str());
       return false;
     }
+    if (r.fn > at_rows.peak_fn) {
+      at_rows.peak_fn = r.fn;
+      at_rows.t_peak_fn = r.t;
+    }
+    at_rows.max_penetration = std::max(at_rows.max_penetration, r.delta);
     if (r.joint2_force > res.peak_joint2_force) {
       res.peak_joint2_force = r.joint2_force;
       res.t_peak_joint2_force = r.t;
@@ -135,10 +141,11 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
       stopRun({RunStop::Kind::Step, a.step, a.step.key(), a.step.time}, describeStop(m, a.step));
     }
   };
+  res.integrator = kind;
   if (kind == IntegratorKind::Reference) {
     ReferenceStepper<V> ref(m, u);
     rows(ref);
-    d.stats.impacts = ref.impacts();
+    d.stats = ref.stats();  // its own counts and peaks; the RK4's step counters stay 0
   } else {
     Rk4Stepper<V> rk4(m, d, u);
     rows(rk4);
@@ -150,6 +157,12 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
       res.t_peak_joint2_force = d.stats.t_peak_contact;
     }
   }
+  // A row's state is a step's end, which the steppers' peaks (taken at step starts) may miss.
+  if (at_rows.peak_fn > d.stats.peak_fn) {
+    d.stats.peak_fn = at_rows.peak_fn;
+    d.stats.t_peak_fn = at_rows.t_peak_fn;
+  }
+  d.stats.max_penetration = std::max(d.stats.max_penetration, at_rows.max_penetration);
   res.stats = d.stats;
   res.in_contact_at_end = s.in_contact;
   res.final_q.assign(s.q.data(), s.q.data() + V::NQ);

@@ -1,6 +1,6 @@
 // gimbalsim_log2csv: an lcm-logger log of a gimbal bench -> one CSV per
 // channel, in the format of firmware_sim --truth-csv (csv_rows.hpp: header
-// `name[unit]`, %.17g), so a truth CSV converted from a log is byte for byte
+// names `name_unit`, round-trip numbers), so a truth CSV converted from a log is byte for byte
 // the one firmware_sim writes itself. Channels are recognised by name: an
 // optional UPPER_SNAKE prefix followed by GIMBAL_TRUTH, GIMBAL_STATUS,
 // GIMBAL_COMMAND, GIMBAL_LOOP_STATS or GIMBAL_ATTITUDE (channels.hpp). Usage:
@@ -80,7 +80,7 @@ class Sink {
  public:
   Sink(Type t, std::FILE* f, bool log_time) : type_(t), f_(f), log_time_(log_time) {
     // f: an OutputFile's stream; its owner checks and commits it.
-    if (log_time_) std::fputs("log_utime[us],", f_);
+    if (log_time_) std::fputs("log_utime_us,", f_);
     switch (type_) {
       case Type::Truth: std::fputs(csv::header<TruthFields>().c_str(), f_); break;
       case Type::Status: std::fputs(csv::header<StatusFields>().c_str(), f_); break;
@@ -135,7 +135,7 @@ int mainImpl(int argc, char** argv) {
   bool prefix_given = false, log_time = false, list = false;
   CLI::App app{
       "gimbalsim_log2csv: lcm-logger log of a gimbal bench -> one CSV per channel (the format of firmware_sim "
-      "--truth-csv: header name[unit], %.17g). Recognised channels: [PREFIX]GIMBAL_TRUTH, GIMBAL_STATUS, "
+      "--truth-csv: the CSV convention of docs/usage.md). Recognised channels: [PREFIX]GIMBAL_TRUTH, GIMBAL_STATUS, "
       "GIMBAL_COMMAND, GIMBAL_LOOP_STATS, GIMBAL_ATTITUDE."};
   app.add_option("log", log_path, "the log file (lcm-logger --lcm-url=... FILE)")->required();
   app.add_option("--out-dir", out_dir, "write <out-dir>/<log stem>_<CHANNEL>.csv (default: the log's directory)");
@@ -145,7 +145,7 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--type", type_name, "decode the --channel(s) as this type: truth, status, command, loop_stats, "
                                       "attitude "
                                       "(default: from the channel name)");
-  app.add_flag("--log-time", log_time, "first column log_utime[us]: when the logger received the message");
+  app.add_flag("--log-time", log_time, "first column log_utime_us: when the logger received the message");
   app.add_flag("--list", list, "list the channels in the log with message counts and types, then exit");
   if (const auto rc = program::parse(app, argc, argv, "gimbalsim_log2csv")) return *rc;
   prefix_given = app.count("--channel-prefix") > 0;

@@ -1,5 +1,5 @@
 // --truth-csv: every truth message as one CSV row (csv_rows.hpp: header
-// `name[unit]`, %.17g, so a row round-trips exactly; gimbalsim_log2csv
+// `name_unit`, round-trip numbers (io/csv_format.hpp); gimbalsim_log2csv
 // writes the same bytes from a log). Written through io::OutputFile:
 // checked writes into a temporary file renamed over the target at the end of
 // the run (also after SIGINT/SIGTERM), so the file under the requested name

@@ -21,6 +21,8 @@ from . import _gimbalsim
 from ._errors import SceneError, SimulationStopped
 from ._gimbalsim import COLUMNS, Scene, Simulator, State
 
+__version__ = _gimbalsim.__version__  # the one version string, also every program's --version
+
 __all__ = [
     "COLUMNS", "Scene", "Simulator", "State", "Controller", "Run", "ClosedLoopRun",
     "SceneError", "SimulationStopped",

@@ -474,6 +474,7 @@ def _kept(out):
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python3 -m gimbalsim.sweep", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--version", action="version", version="gimbalsim.sweep " + gimbalsim.__version__)
     ap.add_argument("spec", help="sweep spec (YAML)")
     ap.add_argument("--out", required=True, help="output directory")
     _cluster.add_cluster_arguments(ap)

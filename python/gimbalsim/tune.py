@@ -403,6 +403,7 @@ def _study_write_errors():
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python3 -m gimbalsim.tune", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--version", action="version", version="gimbalsim.tune " + gimbalsim.__version__)
     ap.add_argument("spec", help="tuning spec (YAML)")
     ap.add_argument("--out", required=True, help="output directory")
     _cluster.add_cluster_arguments(ap)

@@ -1,10 +1,12 @@
 #include <pybind11/pybind11.h>
 
 #include "bindings.hpp"
+#include "gimbalsim/program/version.hpp"
 
 PYBIND11_MODULE(_gimbalsim, m) {
   m.doc() = "gimbalsim's C++ core: scenes, runs, the stepping simulator, the pointing controller";
   gimbalsim::py::bindScene(m);
   gimbalsim::py::bindSimulator(m);
   gimbalsim::py::bindController(m);
+  m.attr("__version__") = gimbalsim::program::kVersion;  // the programs' --version string
 }

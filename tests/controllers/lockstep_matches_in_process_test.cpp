@@ -40,8 +40,8 @@ TEST(LockstepMatchesInProcess, TruthTrajectoryIsBitIdentical) {
 
   const test::Csv csv = test::Csv::read(truth);
   const auto& rows = csv.rows;
-  const int c_seq = csv.col("seq[-]"), c_t1 = csv.col("theta1[rad]"), c_t2 = csv.col("theta2[rad]"),
-            c_err = csv.col("pointing_error[rad]");
+  const int c_seq = csv.col("seq"), c_t1 = csv.col("theta1_rad"), c_t2 = csv.col("theta2_rad"),
+            c_err = csv.col("pointing_error_rad");
   ASSERT_EQ(rows.size(), 3000u);
 
   const Scene sc = test::scene("paper_clearance");

@@ -48,7 +48,7 @@ TEST(WallClock, OverrunTicksCatchUpWithOneTruthPerPeriodStampedWithItsDeadline) 
 
   const test::Csv c = test::Csv::read(csv);
   ASSERT_EQ(c.rows.size(), 200u) << "one truth per period, none skipped";
-  const int c_seq = c.col("seq[-]"), c_t = c.col("sim_time[s]"), c_u = c.col("utime[us]");
+  const int c_seq = c.col("seq"), c_t = c.col("sim_time_s"), c_u = c.col("utime_us");
   const long long u0 = c.integer(0, c_u);
   for (std::size_t k = 0; k < c.rows.size(); ++k) {
     ASSERT_EQ(c.integer(k, c_seq), static_cast<long long>(k));

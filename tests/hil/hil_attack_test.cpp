@@ -98,7 +98,7 @@ TEST(HilAttack, LockstepRunUnderAttackEqualsACleanRun) {
   ASSERT_EQ(a.header, b.header);
   ASSERT_EQ(a.rows.size(), 3000u);
   ASSERT_EQ(b.rows.size(), a.rows.size());
-  const int c_f = a.col("faults[-]");
+  const int c_f = a.col("faults");
   int differing = 0, flagged = 0;
   for (size_t k = 0; k < a.rows.size(); ++k) {
     for (size_t j = 0; j < a.rows[k].size(); ++j) {
@@ -114,7 +114,7 @@ TEST(HilAttack, LockstepRunUnderAttackEqualsACleanRun) {
   // A tick that rejected spoofs is flagged (one tick can take several pairs).
   EXPECT_GE(flagged, 1);
   EXPECT_LE(flagged, rejected);
-  EXPECT_GT(a.num(2999, a.col("theta1[rad]")), 0.1) << "the slew was under way";
+  EXPECT_GT(a.num(2999, a.col("theta1_rad")), 0.1) << "the slew was under way";
 
   // Memory: bounded, and no growth under attack.
   const long clean_kb = peakKb(readFile(dir / "clean.log")), bad_kb = peakKb(fw);
@@ -183,8 +183,8 @@ TEST(HilAttack, RealTimePlantKeepsItsControllerUnderFlood) {
   const Csv c = Csv::read(dir / "truth.csv");
   ASSERT_EQ(c.rows.size(), 1500u) << "the plant kept ticking";
   for (size_t k = 0; k < c.rows.size(); ++k) {
-    ASSERT_EQ(c.integer(k, c.col("seq[-]")), static_cast<long long>(k));
-    ASSERT_EQ(c.integer(k, c.col("faults[-]")) & 1, 0) << "watchdog tripped at tick " << k;
+    ASSERT_EQ(c.integer(k, c.col("seq")), static_cast<long long>(k));
+    ASSERT_EQ(c.integer(k, c.col("faults")) & 1, 0) << "watchdog tripped at tick " << k;
   }
   EXPECT_LT(peakKb(fw), kMaxRssKb);
 }

@@ -64,8 +64,8 @@ TEST(HilFaults, TheDemoScheduleGivesByteIdenticalRunsEqualToTheInProcessLoop) {
   ASSERT_TRUE(r.ok) << r.error;
   const Csv c = Csv::read(dir / "a.csv");
   ASSERT_EQ(c.rows.size(), ticks.size());
-  const int c_seq = c.col("seq[-]"), c_th1 = c.col("theta1[rad]"), c_th2 = c.col("theta2[rad]"),
-            c_inj = c.col("injected_faults[-]");
+  const int c_seq = c.col("seq"), c_th1 = c.col("theta1_rad"), c_th2 = c.col("theta2_rad"),
+            c_inj = c.col("injected_faults");
   int mismatches = 0;
   std::int32_t all = 0;
   for (std::size_t k = 0; k < c.rows.size(); ++k) {

@@ -49,8 +49,8 @@ TEST(HilLockstep, ClearanceSlewCompletesAndPointingErrorConverges) {
   EXPECT_EQ(n.at("rejected"), 0);
 
   const Csv c = Csv::read(dir / "truth.csv");
-  const int c_seq = c.col("seq[-]"), c_t = c.col("sim_time[s]"), c_th1 = c.col("theta1[rad]"),
-            c_th2 = c.col("theta2[rad]"), c_err = c.col("pointing_error[rad]"), c_f = c.col("faults[-]");
+  const int c_seq = c.col("seq"), c_t = c.col("sim_time_s"), c_th1 = c.col("theta1_rad"),
+            c_th2 = c.col("theta2_rad"), c_err = c.col("pointing_error_rad"), c_f = c.col("faults");
   ASSERT_EQ(c.rows.size(), static_cast<size_t>(std::llround(hold_end * 1000)));
   const double az = cfg.profile.slew_target(0), el = cfg.profile.slew_target(1);
   double max_err_after_slew = 0.0, max_err_settled = 0.0;
@@ -100,7 +100,7 @@ TEST(HilLockstep, TwoRunsGiveByteIdenticalTruthCsv) {
   const std::string a = readFile(dir / "a.csv"), b = readFile(dir / "b.csv");
   const Csv ca = Csv::read(dir / "a.csv");
   ASSERT_EQ(ca.rows.size(), 3000u);
-  EXPECT_GT(ca.num(2999, ca.col("theta1[rad]")), 0.4) << "the slew did happen";
+  EXPECT_GT(ca.num(2999, ca.col("theta1_rad")), 0.4) << "the slew did happen";
   ASSERT_EQ(a.size(), b.size());
   EXPECT_TRUE(a == b) << "truth CSVs of two lockstep runs differ";
 }

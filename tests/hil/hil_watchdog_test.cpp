@@ -45,8 +45,8 @@ TEST(HilWatchdog, ControllerKilledTripsWithinBoundHoldsSafeStateAndRecovers) {
   const long long restart_us = std::stoll(readFile(dir / "restart_utime"));
 
   const Csv c = Csv::read(dir / "truth.csv");
-  const int c_u = c.col("utime[us]"), c_seq = c.col("seq[-]"), c_f = c.col("faults[-]"), c_tau1 = c.col("tau1[N m]"),
-            c_tau2 = c.col("tau2[N m]");
+  const int c_u = c.col("utime_us"), c_seq = c.col("seq"), c_f = c.col("faults"), c_tau1 = c.col("tau1_Nm"),
+            c_tau2 = c.col("tau2_Nm");
   ASSERT_GT(c.rows.size(), 1000u);
   long long trip_us = -1, clear_us = -1;
   size_t trip_row = 0, clear_row = 0;

@@ -48,9 +48,9 @@ TEST(PointingStudy, QuickRunWritesOneSummaryRowPerRun) {
   }
   const gimbalsim::test::Csv ts = gimbalsim::test::Csv::read(dir + "/pointing_error.csv");
   ASSERT_EQ(ts.header.size(), 4u);
-  EXPECT_EQ(ts.header[0], "t[s]");
-  EXPECT_EQ(ts.header[1], "ideal");
-  EXPECT_EQ(ts.header[2], rec[1].at("run"));
+  EXPECT_EQ(ts.header[0], "t_s");
+  EXPECT_EQ(ts.header[1], "error_ideal_rad");
+  EXPECT_EQ(ts.header[2], "error_c0p25mm_rad");  // the run c=0.25mm
   EXPECT_GT(ts.rows.size(), 100u);
 }
 

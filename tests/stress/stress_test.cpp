@@ -194,17 +194,15 @@ TEST(StressGrid, StrongTorqueWithEachFrictionLaw) {
   }
 }
 
-TEST(StressGrid, AdaptivePolicyTrustworthyOrStopsOnTheCap) {
+TEST(StressGrid, AdaptivePolicyTrustworthyOrRefused) {
   // Error-controlled sub-steps: trustworthy at 1e-8 with the smooth friction
-  // laws; plain Coulomb's sign flip defeats error control, and the run must
-  // stop on the sub-step cap rather than go on wrong.
+  // laws; plain Coulomb's sign flip defeats error control (every run stopped
+  // on the sub-step cap), so the scene refuses that pair before it runs.
   for (const char* law : {"ambrosio", "coulomb_stick"}) {
     EXPECT_TRUSTWORTHY(run("paper_clearance", {"sim.substep_policy=adaptive", "sim.substep_tol=1e-8",
                                                std::string("friction.law=") + law}));
   }
-  EXPECT_STOPPED_ON(run("paper_clearance", {"sim.substep_policy=adaptive", "sim.substep_tol=1e-8",
-                                            "friction.law=coulomb"}),
-                    "sim.max_substeps");
+  EXPECT_THROW(test::scene("paper_clearance", {"sim.substep_policy=adaptive", "friction.law=coulomb"}), SceneError);
 }
 
 // ---- cases the tool found SILENTLY_WRONG before the integrator learnt to see them ----

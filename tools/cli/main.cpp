@@ -27,7 +27,7 @@ class CsvWriter {
     gimbalsim::io::appendCsvRow(line_, r);
     file_.write(line_);
   }
-  bool commit() { return file_.commit(); }
+  gimbalsim::io::OutputFile& file() { return file_; }
   const std::string& error() const { return file_.error(); }
 
  private:
@@ -81,10 +81,13 @@ int mainImpl(int argc, char** argv) {
   for (const auto& w : loaded.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const gimbalsim::Model& m = loaded.model;
 
+  // Both outputs' temporaries exist from the start and commit together (CommitGroup).
   std::optional<CsvWriter> csv;
+  std::optional<gimbalsim::io::OutputFile> summary_file;
   try {
     gimbalsim::io::checkOutputPaths({out, summary}, {scene});
     csv.emplace(out);
+    if (!summary.empty()) summary_file.emplace(summary);
   } catch (const gimbalsim::io::OutputError& e) {
     std::fprintf(stderr, "error: %s\ngimbalsim: output refused, nothing simulated\n", e.what());
     return kRefused;
@@ -95,27 +98,22 @@ int mainImpl(int argc, char** argv) {
   gimbalsim::RunResult r = gimbalsim::simulate(
       loaded, [&](const Row& row) { csv->write(row); },
       integrator == "reference" ? gimbalsim::IntegratorKind::Reference : gimbalsim::IntegratorKind::Rk4, stop);
-  if (!csv->ok() || !csv->commit()) {
-    std::fprintf(stderr, "error: %s\ngimbalsim: the run was stopped; no CSV and no summary written\n",
-                 csv->error().c_str());
-    return kOutput;
-  }
   const bool interrupted = r.stop.kind == gimbalsim::RunStop::Kind::Interrupted;
   if (interrupted) r.error += std::string(" by ") + gimbalsim::io::stopSignalName();
-
-  if (!summary.empty()) {
-    try {
-      gimbalsim::io::writeFileAtomically(summary, gimbalsim::io::runSummary(m, r, scene, integrator).dump(2) + "\n");
-    } catch (const gimbalsim::io::OutputError& e) {
-      std::fprintf(stderr, "error: %s\n", e.what());
-      return kOutput;
-    }
+  if (summary_file) summary_file->write(gimbalsim::io::runSummary(m, r, scene, integrator).dump(2) + "\n");
+  gimbalsim::io::CommitGroup outputs({&csv->file(), summary_file ? &*summary_file : nullptr});
+  if (!outputs.commit()) {
+    std::fprintf(stderr, "error: %s\ngimbalsim: the run was stopped; no CSV and no summary written\n",
+                 outputs.error().c_str());
+    return kOutput;
   }
+  // Sub-steps are the RK4's; the reference has none to report.
+  const std::string substeps =
+      r.integrator == gimbalsim::IntegratorKind::Rk4 ? std::to_string(r.stats.substeps) + " sub-steps, " : "";
   std::fprintf(stderr,
-               "%s [%s]: %lld rows to t = %.6g s, %lld impacts, peak contact %.6g N, %lld sub-steps, "
-               "wall %.3f s (stepping %.3f s)\n",
+               "%s [%s]: %lld rows to t = %.6g s, %lld impacts, peak contact %.6g N, %swall %.3f s (stepping %.3f s)\n",
                m.name.c_str(), gimbalsim::variantName(m).c_str(), r.rows, r.t_end, r.stats.impacts,
-               r.stats.peak_fn, r.stats.substeps, r.wall_seconds, r.step_seconds);
+               r.stats.peak_fn, substeps.c_str(), r.wall_seconds, r.step_seconds);
   if (!r.ok) {
     std::fprintf(stderr, "%s: %s\n", interrupted ? "gimbalsim" : "error", r.error.c_str());
     std::fprintf(stderr, "gimbalsim: the CSV holds the %lld good rows up to t = %.6g s\n", r.rows, r.t_end);

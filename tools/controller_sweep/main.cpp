@@ -9,6 +9,7 @@
 
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/controllers/pointing_controller.hpp"
+#include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
 #include "gimbalsim/program/program.hpp"
 
@@ -56,6 +57,11 @@ int mainImpl(int argc, char** argv) {
     const Model& m = ps.scene.model;
     const ControllerConfig base = loadControllerConfig(config_path, sets);
     if (opt.duration <= 0.0) opt.duration = base.profile.trackStart() + 5.0;
+    // The loop runs whole control periods: a duration between two is refused, not rounded.
+    if (const std::string why = wholeMultipleProblem(opt.duration, base.period, "the control period (control.period)");
+        !why.empty()) {
+      return program::refuse("controller_sweep", "--duration: " + why);
+    }
     std::printf("# scene %s, %g s, settle band %g rad, torque limit %g / %g N m\n", m.name.c_str(), opt.duration,
                 opt.settle_tol, base.axis[0].torque_limit, base.axis[1].torque_limit);
     std::printf("%8s %9s %9s %9s %11s %11s %11s %11s %9s %9s\n", "omega", "kp_az", "kd_az", "ki_az", "settle[s]",

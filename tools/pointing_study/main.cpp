@@ -23,6 +23,8 @@
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/dynamics/step_result.hpp"
+#include "gimbalsim/input/key_registry.hpp"
+#include "gimbalsim/io/csv_format.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/program/program.hpp"
 
@@ -55,6 +57,26 @@ std::string num(double x) {
   return b;
 }
 
+/// A CSV number (io::appendCsvNumber: round trip, no -0).
+std::string csvNum(double x) {
+  std::string s;
+  gimbalsim::io::appendCsvNumber(s, x);
+  return s;
+}
+
+/// A run's error column in the CSV convention: "c=0.25mm" -> "error_c0p25mm_rad".
+std::string errorColumn(const std::string& label) {
+  std::string c = "error_";
+  for (char ch : label) {
+    if (ch == '.') {
+      c += 'p';
+    } else if (ch != '=') {
+      c += ch;
+    }
+  }
+  return c + "_rad";
+}
+
 std::string clearanceLabel(double c) {
   char b[40];
   std::snprintf(b, sizeof b, "c=%gmm", c * 1e3);
@@ -76,10 +98,11 @@ std::string csvQuote(const std::string& s) {
   return q + "\"";
 }
 
-/// Writes text to path (io::writeFileAtomically); false (and a message naming the file) on any failure.
-bool writeFile(const std::filesystem::path& path, const std::string& text) {
+/// Writes the study's files as one commit group (all or none); false (and a
+/// message naming the file) on any failure.
+bool writeFiles(const std::vector<std::pair<std::string, std::string>>& files) {
   try {
-    gimbalsim::io::writeFileAtomically(path.string(), text);
+    gimbalsim::io::writeFilesTogether(files);
   } catch (const gimbalsim::io::OutputError& e) {
     std::fprintf(stderr, "gimbalsim_pointing_study: %s\n", e.what());
     return false;
@@ -116,18 +139,18 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
 
 std::string timeSeriesCsv(const std::vector<Study>& runs, double period) {
   std::size_t n = 0;
-  std::string out = "t[s]";
+  std::string out = "t_s";
   for (const Study& s : runs) {
     out += ',';
-    out += s.label;
+    out += errorColumn(s.label);
     n = std::max(n, s.err.size());
   }
   out += "\n";
   for (std::size_t k = 0; k < n; ++k) {
-    out += num(static_cast<double>(k) * period);
+    out += csvNum(static_cast<double>(k) * period);
     for (const Study& s : runs) {
       out += ',';
-      if (k < s.err.size()) out += num(s.err[k]);
+      if (k < s.err.size()) out += csvNum(s.err[k]);
     }
     out += "\n";
   }
@@ -138,8 +161,8 @@ std::string summaryCsv(const std::vector<Study>& runs) {
   std::string out =
       "run,scene,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,status,stop_reason\n";
   for (const Study& s : runs) {
-    out += s.label + "," + s.scene + "," + num(s.clearance) + "," + num(s.peak_track) + "," + num(s.rms_track) +
-           "," + num(s.peak_run) + "," + std::to_string(s.track_ticks) + "," +
+    out += s.label + "," + s.scene + "," + csvNum(s.clearance) + "," + csvNum(s.peak_track) + "," +
+           csvNum(s.rms_track) + "," + csvNum(s.peak_run) + "," + std::to_string(s.track_ticks) + "," +
            (s.ok ? std::string("ok") : "stop:" + s.stop_key) + "," + csvQuote(s.reason) + "\n";
   }
   return out;
@@ -205,6 +228,11 @@ int mainImpl(int argc, char** argv) {
   firmware::ClosedLoopOptions opt;
   const double track_start = cfg.profile.trackStart();
   opt.duration = duration > 0.0 ? duration : track_start + (quick ? 0.5 : 5.0);
+  // The loop runs whole control periods: a duration between two is refused, not rounded.
+  if (const std::string why = wholeMultipleProblem(opt.duration, cfg.period, "the control period (control.period)");
+      !why.empty()) {
+    return refuse("--duration", why);
+  }
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) {
@@ -229,7 +257,6 @@ int mainImpl(int argc, char** argv) {
     config_text += kv + "\n";
     if (kv.rfind("pointing.mode=", 0) == 0) mode = kv.substr(14);
   }
-  if (!writeFile(dir / "config.txt", config_text)) return kExitWrite;
   std::printf("# %g s per run (tracking from %g s), control period %g s, controller mode: %s\n", opt.duration,
               track_start, cfg.period, mode.c_str());
   std::printf("%-10s %-16s %11s %13s %13s %13s  %s\n", "run", "scene", "clearance[m]", "peak_trk[rad]",
@@ -246,8 +273,9 @@ int mainImpl(int argc, char** argv) {
                 s.peak_track, s.rms_track, s.peak_run, s.ok ? "ok" : ("stop: " + s.reason).c_str());
     std::fflush(stdout);
   }
-  if (!writeFile(dir / "pointing_error.csv", timeSeriesCsv(runs, cfg.period)) ||
-      !writeFile(dir / "summary.csv", summaryCsv(runs))) {
+  if (!writeFiles({{(dir / "config.txt").string(), config_text},
+                   {(dir / "pointing_error.csv").string(), timeSeriesCsv(runs, cfg.period)},
+                   {(dir / "summary.csv").string(), summaryCsv(runs)}})) {
     return kExitWrite;
   }
   std::printf("wrote %s, %s, %s\n", (dir / "pointing_error.csv").c_str(), (dir / "summary.csv").c_str(),

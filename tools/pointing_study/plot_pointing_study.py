@@ -46,7 +46,9 @@ def plot_time(head, cols, summary, out):
     t = cols[head[0]]
     for name in head[1:]:
         y = np.where(cols[name] > 0, cols[name], np.nan)
-        ax.semilogy(t, y, lw=1.6 if name == "ideal" else 0.9, color="k" if name == "ideal" else None, label=name)
+        label = name.removeprefix("error_").removesuffix("_rad")  # error_c0p25mm_rad -> c0p25mm
+        ideal = label == "ideal"
+        ax.semilogy(t, y, lw=1.6 if ideal else 0.9, color="k" if ideal else None, label=label)
     ideal = [r for r in summary if r["run"] == "ideal"]
     if ideal and int(ideal[0]["track_ticks"]) > 0:
         n = len(t) - int(ideal[0]["track_ticks"])

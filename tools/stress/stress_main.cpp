@@ -182,13 +182,24 @@ int mainImpl(int argc, char** argv) {
     printLong(longc[0]);
     all.push_back(&longc[0]);
   }
-  try {
-    if (!csv.empty() && !all.empty()) st::writeCsv(csv, all);
-  } catch (const std::exception& e) {  // io::OutputError, or the directory not creatable
-    std::cerr << "error: " << e.what() << "\n";
-    return gimbalsim::program::kOutput;
-  }
+  // The CSV and the page commit together (io::CommitGroup); an interrupted run writes the CSV alone.
+  auto write = [&](bool with_page, const std::string& body) {
+    std::vector<std::pair<std::string, std::string>> files;
+    if (!csv.empty() && !all.empty()) {
+      if (const auto dir = std::filesystem::path(csv).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
+      files.emplace_back(csv, st::csvText(all));
+    }
+    if (with_page && !page_body.empty()) files.emplace_back(page_body, body);
+    try {
+      io::writeFilesTogether(files);
+    } catch (const std::exception& e) {  // io::OutputError, or the directory not creatable
+      std::cerr << "error: " << e.what() << "\n";
+      return false;
+    }
+    return true;
+  };
   if (io::stopRequested()) {
+    if (!write(false, "")) return gimbalsim::program::kOutput;
     std::fprintf(stderr, "gimbalsim_stress: interrupted by %s after %zu whole runs (in the CSV); no page written\n",
                  io::stopSignalName(), all.size());
     return io::stopExitCode();
@@ -199,14 +210,7 @@ int mainImpl(int argc, char** argv) {
   st::PageInput page{all, &cells, &rest, longc.empty() ? nullptr : &longc[0], v_in, dur, b};
   const std::string body = st::pageBody(page);
   if (md) std::cout << "\n" << body;
-  if (!page_body.empty()) {
-    try {
-      io::writeFileAtomically(page_body, body);
-    } catch (const io::OutputError& e) {
-      std::cerr << "error: " << e.what() << "\n";
-      return gimbalsim::program::kOutput;
-    }
-  }
+  if (!write(true, body)) return gimbalsim::program::kOutput;
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return report(all, wall) > 0 ? 1 : 0;
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 
@@ -82,6 +83,20 @@ std::string formatNumber(double x) {
   char b[32];
   const auto r = std::to_chars(b, b + sizeof b, x);
   return std::string(b, r.ptr);
+}
+
+std::string wholeMultipleProblem(double value, double unit, const std::string& unit_name) {
+  const double n = value / unit;
+  // A relative 1e-6 absorbs the decimal spelling (0.3 / 0.1 is 2.9999999999999996).
+  if (std::isfinite(n) && std::round(n) >= 1.0 && std::fabs(n - std::round(n)) <= 1e-6 * n) return "";
+  auto multiple = [&](double k) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.12g", k * unit);
+    return std::string(b);
+  };
+  std::string nearest = multiple(1.0);
+  if (std::isfinite(n) && n > 1.0) nearest = multiple(std::floor(n)) + " or " + multiple(std::floor(n) + 1.0);
+  return "must be a whole multiple of " + unit_name + " (" + formatNumber(unit) + " s), at least one: " + nearest;
 }
 
 std::string formatList(std::span<const double> v) {

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <memory>
 
 namespace gimbalsim::io {
 
@@ -133,8 +134,10 @@ bool OutputFile::write(std::string_view bytes) noexcept {
   return ok();
 }
 
-bool OutputFile::commit() noexcept {
-  if (!f_ || committed_) return false;
+bool OutputFile::commit() noexcept { return seal() && publish(); }
+
+bool OutputFile::seal() noexcept {
+  if (!f_ || committed_ || sealed_) return false;
   const bool stream_failed = std::ferror(f_) != 0;
   // A failed formatted write (stream()) leaves the flag; flushing again gives its errno.
   if (error_.empty() && std::fflush(f_) != 0) fail("write failed", errno);
@@ -144,16 +147,62 @@ bool OutputFile::commit() noexcept {
   const int close_err = errno;
   f_ = nullptr;
   if (error_.empty() && !closed) fail("close failed", close_err);
-  if (error_.empty() && std::rename(tmp_.c_str(), path_.c_str()) != 0) fail("rename failed", errno);
+  sealed_ = error_.empty();
+  if (!sealed_) discard();
+  return sealed_;
+}
+
+bool OutputFile::publish() noexcept {
+  if (!sealed_ || committed_) return false;
+  if (std::rename(tmp_.c_str(), path_.c_str()) != 0) fail("rename failed", errno);
   committed_ = error_.empty();
   if (!committed_) discard();
   return committed_;
+}
+
+void OutputFile::withdraw() noexcept {
+  if (!committed_) return;
+  ::unlink(path_.c_str());
+  committed_ = false;
+  tmp_.clear();  // renamed away: nothing left to discard
+}
+
+bool CommitGroup::commit() noexcept {
+  auto failWith = [&](const OutputFile& f) {
+    try {
+      error_ = f.error().empty() ? f.path() + ": not committed" : f.error();
+    } catch (...) {
+    }
+    for (OutputFile* g : files_) {
+      if (g) g->withdraw();  // published ones leave their name; the destructors remove the temporaries
+    }
+    return false;
+  };
+  for (OutputFile* f : files_) {
+    if (f && !f->seal()) return failWith(*f);
+  }
+  for (OutputFile* f : files_) {
+    if (f && !f->publish()) return failWith(*f);
+  }
+  return true;
 }
 
 void writeFileAtomically(const std::string& path, std::string_view content) {
   OutputFile f(path);
   f.write(content);
   if (!f.commit()) throw OutputError(f.error());
+}
+
+void writeFilesTogether(const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<std::unique_ptr<OutputFile>> open;
+  std::vector<OutputFile*> members;
+  for (const auto& [path, content] : files) {
+    open.push_back(std::make_unique<OutputFile>(path));
+    open.back()->write(content);
+    members.push_back(open.back().get());
+  }
+  CommitGroup group(members);
+  if (!group.commit()) throw OutputError(group.error());
 }
 
 }  // namespace gimbalsim::io

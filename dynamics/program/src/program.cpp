@@ -2,9 +2,13 @@
 
 #include <limits>
 
+#include "gimbalsim/program/version.hpp"
+
 namespace gimbalsim::program {
 
 std::optional<int> parse(CLI::App& app, int argc, char** argv, const char* program) {
+  // Every program's --version: the one string of version.hpp, as "<program> <version>".
+  app.set_version_flag("--version", std::string(program) + " " + kVersion);
   try {
     app.parse(argc, argv);
     return std::nullopt;

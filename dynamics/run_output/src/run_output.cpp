@@ -2,20 +2,20 @@
 
 #include <cstdio>
 
+#include "gimbalsim/io/csv_format.hpp"
+
 namespace gimbalsim::io {
 
 std::string csvHeader() {
   std::string h;
-  for (int i = 0; i < kNumColumns; ++i) h.append(i ? "," : "").append(kColumns[i]);
+  for (int i = 0; i < kNumColumns; ++i) h.append(i ? "," : "").append(csvName(kColumns[i], kColumnUnits[i]));
   return h + "\n";
 }
 
 void appendCsvRow(std::string& out, std::span<const double, kNumColumns> row) {
-  char buf[32];
   for (int i = 0; i < kNumColumns; ++i) {
     if (i) out += ',';
-    const int n = std::snprintf(buf, sizeof buf, "%.12g", row[i]);
-    out.append(buf, static_cast<std::size_t>(n));
+    appendCsvNumber(out, row[i]);
   }
   out += '\n';
 }
@@ -60,21 +60,22 @@ nlohmann::json runSummary(const Model& m, const RunResult& r, const std::string&
         {"angular_max_abs_Nms", r.max_drift_angular},
         {"angular_scale_Nms", r.momentum_scale},
         {"angular_relative", r.momentum_scale > 0 ? r.max_drift_angular / r.momentum_scale : 0.0}}},
-      {"steps", st.steps},
-      {"substeps", st.substeps},
-      {"event_iterations", st.event_iterations},
-      {"max_substeps_in_a_step", st.max_substeps_in_step},
-      {"straddle_retries", st.straddle_retries},
-      {"adaptive_rejected_substeps", st.rejected_substeps},
-      {"adaptive_forced_substeps", st.forced_substeps},
-      {"min_impact_duration_s", valueOrNull(st.min_impact_duration > 0, st.min_impact_duration)},
       {"wall_time_s", r.wall_seconds},
       {"step_time_s", r.step_seconds},
-      {"integrator",
-       {{"kind", integrator_kind},
-        {"step_s", m.integrator.step},
-        {"substep_s", m.integrator.substep},
-        {"event_tol_s", m.integrator.event_tol}}}};
+      {"integrator", {{"kind", integrator_kind}, {"step_s", m.integrator.step}}}};
+  if (r.integrator == IntegratorKind::Rk4) {
+    // The RK4's own counters and settings; the reference has none of them.
+    j["steps"] = st.steps;
+    j["substeps"] = st.substeps;
+    j["event_iterations"] = st.event_iterations;
+    j["max_substeps_in_a_step"] = st.max_substeps_in_step;
+    j["straddle_retries"] = st.straddle_retries;
+    j["adaptive_rejected_substeps"] = st.rejected_substeps;
+    j["adaptive_forced_substeps"] = st.forced_substeps;
+    j["min_impact_duration_s"] = valueOrNull(st.min_impact_duration > 0, st.min_impact_duration);
+    j["integrator"]["substep_s"] = m.integrator.substep;
+    j["integrator"]["event_tol_s"] = m.integrator.event_tol;
+  }
   if (!r.ok) {
     j["error"] = r.error;
     // What stopped the run, as codes: the scene key of the limit ("" when no

@@ -128,7 +128,9 @@ std::vector<SceneKey> keys() {
                  "least 500)",
                  field(integ, &IntegratorParams::max_substeps), atLeast(0)),
       K::choice<SubstepPolicy>(
-          "sim.substep_policy", "contact sub-steps: fixed sim.substep, or adaptive local error control to sim.substep_tol",
+          "sim.substep_policy",
+          "contact sub-steps: fixed sim.substep, or adaptive local error control to sim.substep_tol (adaptive "
+          "is refused with plain friction.law=coulomb: use coulomb_stick or ambrosio)",
           field(integ, &IntegratorParams::substep_policy),
           {{"fixed", SubstepPolicy::Fixed}, {"adaptive", SubstepPolicy::Adaptive}}),
       K::number("sim.substep_tol", "-", "adaptive: local error per sub-step, max_i |err_i| / (1 + |y_i|)",
@@ -182,6 +184,13 @@ void validate(const Scene& s, Given& g) {
   }
   if (!(c.v_b > c.v_a)) g.refuse("friction.v_b", "must be > friction.v_a");
   const IntegratorParams& p = m.integrator;
+  // Plain Coulomb's sign flip at v_t = 0 is a jump no local error control can
+  // step over: every such run ended on sim.max_substeps. Refused, with the cure.
+  if (m.clearance_joint && c.friction == FrictionLaw::Coulomb && c.mu > 0.0 &&
+      p.substep_policy == SubstepPolicy::Adaptive) {
+    g.refuse("sim.substep_policy", "adaptive cannot step over plain Coulomb friction's jump (friction.law=coulomb): "
+                                   "use friction.law=coulomb_stick or ambrosio, or sim.substep_policy=fixed");
+  }
   if (!(p.substep <= p.step)) g.refuse("sim.substep", "must be in (0, sim.step]");
   if (!(p.event_tol < p.substep)) g.refuse("sim.event_tol", "must be in (0, sim.substep)");
   if (!(p.substep_min <= p.step)) g.refuse("sim.substep_min", "must be in (0, sim.step]");
@@ -190,11 +199,15 @@ void validate(const Scene& s, Given& g) {
   // the CSV the disk: refused here, before anything runs (RunBounds).
   const double n_steps = s.run.duration / p.step;
   const double r = s.run.output_interval / p.step;
+  // Durations and intervals are whole steps, or refused (wholeMultipleProblem): never rounded.
   if (!(n_steps <= RunBounds::kMaxSteps)) {
     g.refuse("sim.duration", "gives " + formatNumber(n_steps) + " steps of sim.step = " + formatNumber(p.step) +
                                  " s, more than " + formatNumber(RunBounds::kMaxSteps));
-  } else if (!(r <= RunBounds::kMaxSteps) || std::fabs(r - std::round(r)) > 1e-6 * r || std::round(r) < 1.0) {
-    g.refuse("sim.output_interval", "must be a whole multiple of sim.step (" + formatNumber(p.step) + " s)");
+  } else if (const std::string why = wholeMultipleProblem(s.run.duration, p.step, "sim.step"); !why.empty()) {
+    g.refuse("sim.duration", why);
+  } else if (const std::string why_out = wholeMultipleProblem(s.run.output_interval, p.step, "sim.step");
+             !(r <= RunBounds::kMaxSteps) || !why_out.empty()) {
+    g.refuse("sim.output_interval", why_out.empty() ? "gives more than " + formatNumber(RunBounds::kMaxSteps) + " steps" : why_out);
   } else if (const double bytes = (std::floor(n_steps / std::round(r)) + 2) * kNumColumns * RunBounds::kCsvValueBytes;
              !(bytes <= RunBounds::kMaxOutputBytes)) {
     g.refuse("sim.duration", "would write up to " + formatNumber(bytes) + " bytes of CSV (more than " +

@@ -39,6 +39,14 @@ inline constexpr std::array<const char*, kNumColumns> kColumns = {
     "dtheta1",  "dtheta2",  "ddtheta1", "ddtheta2",   "ecc_x",     "ecc_y",    "ecc",
     "delta",    "fn",       "ft",       "joint2_force", "bore_x",  "bore_y",   "bore_z",
     "mom_px",   "mom_py",   "mom_pz",   "mom_lx",     "mom_ly",    "mom_lz",   "energy"};
+/// The unit of each column ("-": none), for the CSV header (io::csvName: t_s, base_x_m, bore_x).
+inline constexpr std::array<const char*, kNumColumns> kColumnUnits = {
+    "s",       "m",       "m",       "m",       "m/s",     "m/s",     "m/s",
+    "m/s^2",   "m/s^2",   "m/s^2",   "rad",     "rad",     "rad",     "rad/s",
+    "rad/s",   "rad/s",   "rad/s^2", "rad/s^2", "rad/s^2", "rad",     "rad",
+    "rad/s",   "rad/s",   "rad/s^2", "rad/s^2", "m",       "m",       "m",
+    "m",       "N",       "N",       "N",       "-",       "-",       "-",
+    "N s",     "N s",     "N s",     "N m s",   "N m s",   "N m s",   "J"};
 inline const double* rowData(const Row& r) { return &r.t; }
 /// No NaN or Inf in any column.
 inline bool rowFinite(const Row& r) {

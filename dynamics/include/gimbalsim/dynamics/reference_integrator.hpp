@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gimbalsim/dynamics/event_locator.hpp"
+#include "gimbalsim/dynamics/integrator.hpp"
 
 namespace gimbalsim {
 
@@ -76,6 +77,7 @@ class ReferenceIntegrator {
           pending_t_ = hi;
           continue;
         }
+        recordContact(toState(x1, t1));
       }
       (void)t0;
     }
@@ -99,6 +101,10 @@ class ReferenceIntegrator {
   }
 
   long long impacts() const { return d_.stats.impacts; }
+  /// What the reference counts and tracks: impacts, separations, the last
+  /// onset, and the contact peaks and penetration at every accepted step's
+  /// end and switch; the RK4's step and sub-step counters stay 0.
+  const RunStats& stats() const { return d_.stats; }
   /// coulomb_stick: located v_t reversals and stick/slip switches.
   long long frictionSwitches() const { return d_.stats.friction_switches; }
   /// Why advanceTo() returned false.
@@ -115,11 +121,18 @@ class ReferenceIntegrator {
     for (int i = 0; i < NV; ++i) s.v(i) = x[NQ + i];
     return s;
   }
+  /// The contact peaks (the RK4's recordContactPeaks) at s, in its segment's mode.
+  void recordContact(const State<V>& s) {
+    forwardDynamics(m_, d_, s, u_);
+    d_.contact_k1 = d_.contact;
+    detail::recordContactPeaks(d_, s.t);
+  }
   /// Restarts at a located switch time with the contact memory updated.
   void applySwitch(double t_switch) {
     Vec x(NQ + NV);
     stepper_.calc_state(t_switch, x);
     State<V> at = toState(x, t_switch);
+    recordContact(at);
     if (GapSwitch<V>{m_, mode_.in_contact}.past(at, delta(x))) {
       enterContactSide(m_, d_, at, u_);
     } else {

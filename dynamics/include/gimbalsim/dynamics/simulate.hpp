@@ -37,8 +37,13 @@ struct RunStop {
   double time = 0.0;     ///< [s]
 };
 
+enum class IntegratorKind { Rk4, Reference };
+
 struct RunResult {
   bool ok = true;
+  /// Which integrator ran: the Reference has no RK4 steps or sub-steps
+  /// (stats.steps, substeps, ... stay 0 and the summary leaves them out).
+  IntegratorKind integrator = IntegratorKind::Rk4;
   RunStop stop;                ///< why the run ended early (when !ok)
   std::string error;           ///< the same for people: what stopped the run, when and in what
   double t_end = 0.0;          ///< last good time [s]
@@ -55,8 +60,6 @@ struct RunResult {
   double wall_seconds = 0.0;       ///< whole run including the sink
   double step_seconds = 0.0;       ///< inside step() only
 };
-
-enum class IntegratorKind { Rk4, Reference };
 
 /// Runs the scene's constant torques (run.torque) for run.duration. The sink sees every
 /// row (including t = 0); a non-finite row, or one that breaks

@@ -54,6 +54,7 @@ class ReferenceStepper {
     return a;
   }
   long long impacts() const { return integ_.impacts(); }
+  const RunStats& stats() const { return integ_.stats(); }
 
  private:
   ReferenceIntegrator<V> integ_;

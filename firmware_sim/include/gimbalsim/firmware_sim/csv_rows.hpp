@@ -2,8 +2,9 @@
 // firmware_sim --truth-csv (from its Truth struct) and gimbalsim_log2csv
 // (from the decoded LCM types of a log). Header and rows both come from the
 // message's field list (messages.hpp), so the columns are listed once and the
-// two programs write the same bytes for the same message. Header cells are
-// `name[unit]`; numbers are %.17g (a row round-trips exactly), integers %lld.
+// two programs write the same bytes for the same message. The field lists'
+// `name[unit]` become the project's CSV names (io::csvNameOf: `name_unit`);
+// numbers are io::formatCsvNumber (a row round-trips exactly), integers %lld.
 #pragma once
 
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include <type_traits>
 
 #include "gimbalsim/contract/messages.hpp"
+#include "gimbalsim/io/csv_format.hpp"
 
 namespace gimbalsim::firmware::csv {
 using namespace gimbalsim::contract;  // NOLINT(google-build-using-namespace): the message field lists
@@ -19,7 +21,9 @@ namespace detail {
 template <class T>
 void put(std::FILE* f, const T& x, const char* sep) {
   if constexpr (std::is_floating_point_v<T>) {
-    std::fprintf(f, "%s%.17g", sep, x);
+    char buf[32];
+    const int n = io::formatCsvNumber(buf, static_cast<double>(x));
+    std::fprintf(f, "%s%.*s", sep, n, buf);
   } else {
     static_assert(std::is_integral_v<T>);
     std::fprintf(f, "%s%lld", sep, static_cast<long long>(x));
@@ -36,7 +40,7 @@ template <class D>
 std::string header() {
   std::string h;
   D::visit([&](Columns cols) {
-    for (const char* c : cols) (h.empty() ? h : h += ',') += c;
+    for (const char* c : cols) (h.empty() ? h : h += ',') += io::csvNameOf(c);
   });
   return h + '\n';
 }

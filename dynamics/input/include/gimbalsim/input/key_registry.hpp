@@ -59,6 +59,12 @@ std::string formatList(std::span<const double> v);  ///< "[a, b, c]"
 std::string formatInertia(const Mat3& I);           ///< diagonal, 6-list or 3x3, as asInertia reads it
 std::string join(const std::vector<std::string>& parts, const std::string& sep);
 
+/// The one rule for a time that must be whole steps (a duration, a row
+/// interval): "" when `value` is a whole multiple (>= 1) of `unit`, else the
+/// problem, naming the unit and the nearest valid values, e.g. "must be a whole
+/// multiple of sim.step (0.001 s): 0.002 or 0.003".
+std::string wholeMultipleProblem(double value, double unit, const std::string& unit_name);
+
 /// A key's own check, on every component of its value.
 struct Check {
   std::string rule;  ///< in words for the tables ("> 0", "in (0, 1]"); "" = none

@@ -7,13 +7,15 @@
 // The path policy: an existing symbolic link or non-regular file (directory,
 // device, FIFO) is refused, and so is an output that is the same file as an
 // input or as another output of the same run (st_dev/st_ino of the file or,
-// before it exists, of its directory plus its name).
+// before it exists, of its directory plus its name). A run with several
+// outputs commits them as one CommitGroup: all of them, or none.
 #pragma once
 
 #include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace gimbalsim::io {
@@ -47,7 +49,15 @@ class OutputFile {
   std::FILE* stream() noexcept { return f_; }
   /// Flushes, syncs, closes and renames onto path(); false if any of it or
   /// any earlier write failed (then the name is untouched, the temporary gone).
+  /// The same as seal() then publish().
   bool commit() noexcept;
+  /// Phase one of commit(): flushes, syncs and closes the temporary, which stays.
+  bool seal() noexcept;
+  /// Phase two: renames the sealed temporary onto path().
+  bool publish() noexcept;
+  /// After publish(): removes the file under path() again (a CommitGroup
+  /// member whose partner could not be published).
+  void withdraw() noexcept;
   /// No write has failed so far (the stream's error flag included).
   bool ok() const noexcept { return error_.empty() && !(f_ && std::ferror(f_)); }
   /// "<path>: <reason>", empty while ok (a failed formatted write is named at commit()).
@@ -59,11 +69,33 @@ class OutputFile {
   void discard() noexcept;
   std::string path_, tmp_;
   std::FILE* f_ = nullptr;
+  bool sealed_ = false;
   bool committed_ = false;
+  std::string error_;
+};
+
+/// The outputs of one run, which appear together or not at all: commit()
+/// seals every file, then publishes them one by one; when a seal or a rename
+/// fails, the files already published are withdrawn and the temporaries
+/// removed, so nothing is left under any requested name.
+class CommitGroup {
+ public:
+  /// The members (null ones are skipped); they must outlive the group's commit().
+  explicit CommitGroup(std::vector<OutputFile*> files) : files_(std::move(files)) {}
+  /// True when every member is under its name; false: error() names the first failure.
+  bool commit() noexcept;
+  const std::string& error() const noexcept { return error_; }
+
+ private:
+  std::vector<OutputFile*> files_;
   std::string error_;
 };
 
 /// The whole content at once through an OutputFile; throws OutputError.
 void writeFileAtomically(const std::string& path, std::string_view content);
+
+/// Several whole files (path, content) as one CommitGroup: all or none;
+/// throws OutputError naming the first file that failed.
+void writeFilesTogether(const std::vector<std::pair<std::string, std::string>>& files);
 
 }  // namespace gimbalsim::io

@@ -40,8 +40,9 @@ enum Exit : int {
 /// Stopped by signal N (outputs whole): 128 + N, i.e. 130 for SIGINT, 143 for SIGTERM.
 constexpr int signalExit(int signal) { return 128 + signal; }
 
-/// Parses argv into app. nullopt: go on. Otherwise the code main() returns:
-/// kOk after --help (printed on stdout), kRefused after any refused argument
+/// Parses argv into app (adding --version: "<program> <kVersion>", version.hpp).
+/// nullopt: go on. Otherwise the code main() returns:
+/// kOk after --help or --version (printed on stdout), kRefused after any refused argument
 /// (unknown flag, bad or missing value, failed check), printed on stderr as
 /// "<program>: error: <what> (see --help)".
 std::optional<int> parse(CLI::App& app, int argc, char** argv, const char* program);

@@ -12,10 +12,10 @@
 
 namespace gimbalsim::io {
 
-/// The CSV header line (kColumns joined by ',', then '\n').
+/// The CSV header line (each of kColumns with its unit, io::csvName, joined by ',', then '\n').
 std::string csvHeader();
 
-/// Appends one row (kNumColumns values, "%.12g" each) and '\n' to `out`.
+/// Appends one row (kNumColumns values, io::appendCsvNumber each) and '\n' to `out`.
 void appendCsvRow(std::string& out, std::span<const double, kNumColumns> row);
 inline void appendCsvRow(std::string& out, const Row& r) {
   appendCsvRow(out, std::span<const double, kNumColumns>(rowData(r), kNumColumns));

@@ -4,7 +4,8 @@
 // of each message's fields.
 //
 // A field list names every field once, in message order, with its CSV
-// columns (`name[unit]`, one per element). It is a visitor over any number of
+// columns (`name[unit]`, one per element; the CSV writes them `name_unit`,
+// io::csvNameOf). It is a visitor over any number of
 // objects that share the field names (the struct here and the lcm-gen type):
 //   TruthFields::visit(f, a, b)  calls  f(Columns{"utime[us]"}, a.utime, b.utime), ...
 // Everything that maps a message field by field goes through it: the copy

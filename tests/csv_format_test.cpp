@@ -1,0 +1,71 @@
+// The one CSV convention (io/csv_format.hpp): names with the unit as a
+// suffix, identifiers numpy keeps as they are; numbers that read back as the
+// same double, never -0; and every bench message's CSV header (the truth CSV,
+// gimbalsim_log2csv's files) and the simulate CSV's header in it.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "gimbalsim/firmware_sim/csv_rows.hpp"
+#include "gimbalsim/io/csv_format.hpp"
+#include "gimbalsim/run_output/run_output.hpp"
+
+namespace gimbalsim::io {
+namespace {
+
+std::string number(double x) {
+  char buf[32];
+  return std::string(buf, static_cast<std::size_t>(formatCsvNumber(buf, x)));
+}
+
+TEST(CsvFormat, NamesCarryTheUnitAsASuffix) {
+  EXPECT_EQ(csvName("t", "s"), "t_s");
+  EXPECT_EQ(csvName("bore_x", "-"), "bore_x");
+  EXPECT_EQ(csvName("dtheta1", "rad/s"), "dtheta1_rad_per_s");
+  EXPECT_EQ(csvName("base_ax", "m/s^2"), "base_ax_m_per_s2");
+  EXPECT_EQ(csvName("mom_lx", "N m s"), "mom_lx_Nms");
+  EXPECT_EQ(csvNameOf("tau1[N m]"), "tau1_Nm");
+  EXPECT_EQ(csvNameOf("seq[-]"), "seq");
+  EXPECT_EQ(csvNameOf("plain"), "plain");
+}
+
+TEST(CsvFormat, NumbersRoundTripAndNeverMinusZero) {
+  EXPECT_EQ(number(-0.0), "0");
+  EXPECT_EQ(number(0.1), "0.1");
+  for (double x : {0.1, -1.0 / 3.0, 1e-300, 6.02214076e23, 846.78181646028451, 5e-324}) {
+    EXPECT_EQ(std::strtod(number(x).c_str(), nullptr), x) << number(x);
+  }
+}
+
+/// Every cell of a header line is an identifier (what numpy's
+/// genfromtxt(names=True) keeps unchanged), and no two are equal.
+void expectIdentifiers(const std::string& header) {
+  ASSERT_FALSE(header.empty());
+  EXPECT_EQ(header.back(), '\n');
+  std::stringstream ss(header.substr(0, header.size() - 1));
+  std::string cell;
+  std::set<std::string> seen;
+  const std::regex id("[A-Za-z_][A-Za-z0-9_]*");
+  while (std::getline(ss, cell, ',')) {
+    EXPECT_TRUE(std::regex_match(cell, id)) << cell << " in " << header;
+    EXPECT_TRUE(seen.insert(cell).second) << "repeated " << cell;
+  }
+}
+
+TEST(CsvFormat, EveryHeaderTheProjectWritesIsIdentifiers) {
+  using namespace gimbalsim::firmware::csv;
+  expectIdentifiers(header<TruthFields>());
+  expectIdentifiers(header<StatusFields>());
+  expectIdentifiers(header<CommandFields>());
+  expectIdentifiers(header<LoopStatsFields>());
+  expectIdentifiers(header<AttitudeFields>());
+  expectIdentifiers(csvHeader());
+  EXPECT_EQ(csvHeader().rfind("t_s,base_x_m,", 0), 0u) << csvHeader();
+}
+
+}  // namespace
+}  // namespace gimbalsim::io
