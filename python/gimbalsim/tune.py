@@ -85,7 +85,8 @@ class TuneSpec:
             if k not in scene_types:
                 spec.refuse(f"set.{k}", "not a key of the scene", n)
         try:
-            self.base = gimbalsim.load_scene(self.scene_path, {k: n.plain() for k, n in sets.items()})
+            self.base = gimbalsim.load_scene(self.scene_path, {k: n.plain() for k, n in sets.items()},
+                                             sources={k: (spec.path, n.line) for k, n in sets.items()})
         except gimbalsim.SceneError as e:
             spec.refuse(f"set.{e.key}" if e.key in sets else "scene", str(e), sets.get(e.key, root["scene"]))
         ctrl_types = {k["key"]: k["type"] for k in gimbalsim.controller_keys()}
@@ -95,7 +96,8 @@ class TuneSpec:
                 spec.refuse(f"controller_set.{k}", "not a controller key (see pointing_controller --keys)", n)
         self.controller_set = {k: n.plain() for k, n in csets.items()}
         try:
-            self.controller = gimbalsim.Controller(self.controller_path, self.controller_set)
+            self.controller = gimbalsim.Controller(self.controller_path, self.controller_set,
+                                                   sources={k: (spec.path, n.line) for k, n in csets.items()})
         except gimbalsim.SceneError as e:
             spec.refuse(f"controller_set.{e.key}" if e.key in csets else "controller", str(e),
                         csets.get(e.key, root["controller"]))
@@ -110,7 +112,9 @@ class TuneSpec:
                 spec.refuse(f"gains.{key}", f"{p.kind}: gains take {', '.join(GAIN_DISTRIBUTIONS)}", node)
             for v in p.extremes():
                 try:
-                    gimbalsim.Controller(self.controller_path, {**self.controller_set, key: v})
+                    gimbalsim.Controller(self.controller_path, {**self.controller_set, key: v},
+                                         sources={**{k: (spec.path, n.line) for k, n in csets.items()},
+                                                  key: (spec.path, node.line)})
                 except gimbalsim.SceneError as e:
                     spec.refuse(f"gains.{key}", f"the controller refuses {key}={v!r}: {e.problems[0]['text']}", node)
             self.gains.append(p)
@@ -121,7 +125,7 @@ class TuneSpec:
         for p in params:
             for v in p.extremes():
                 try:
-                    self.base.replace({p.key: v})
+                    self.base.replace({p.key: v}, sources={p.key: (spec.path, p.node.line)})
                 except gimbalsim.SceneError as e:
                     spec.refuse(f"plants.{p.key}", f"the scene refuses {p.key}={v!r}: {e.problems[0]['text']}",
                                 p.node)
