@@ -130,9 +130,12 @@ def _replace(self, overrides, sources=None):
     """A new scene: this one's every value, then the overrides (dict or
     "key=value" list; sources as for load_scene)."""
     texts, labels = _overrides_and_labels(overrides, sources)
-    base = [f"{k}={v}" for k, v in self.values().items()]
-    return _labelled_call(lambda: self._replaced(texts), base + texts,
-                          [f"{self.path}: {t.split('=', 1)[0]}" for t in base] + labels)
+    try:
+        return self._replaced(texts)
+    except SceneError as e:
+        # _replaced lays the overrides after every value of this scene: their indices follow those
+        base = [f"{k}={v}" for k, v in self.values().items()]
+        raise _relabelled(e, base + texts, [f"{self.path}: {t.split('=', 1)[0]}" for t in base] + labels) from None
 
 
 def _scene_repr(self):
