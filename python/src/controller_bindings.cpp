@@ -84,7 +84,12 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
   pyb::dict d;
   d["ok"] = r.ok;
   d["error"] = r.error;
-  d["stop_key"] = r.ok ? "" : (r.stop_status == StepStatus::Ok ? "refused" : limitKey(r.stop_status));
+  // Why it stopped, never "" when not ok: the limit's key, non_finite (no
+  // setting causes it), or refused (nothing ran).
+  const char* stop = r.stop_status == StepStatus::Ok            ? "refused"
+                     : r.stop_status == StepStatus::NonFinite ? "non_finite"
+                                                              : limitKey(r.stop_status);
+  d["stop_key"] = r.ok ? "" : stop;
   d["t_end_s"] = r.t_end;
   d["settle_time_s"] = r.settle_time;
   d["max_joint_error_slew_rad"] = r.max_joint_error_slew;
