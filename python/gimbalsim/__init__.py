@@ -9,7 +9,7 @@ out, the same numbers as the command line.
     run.to_csv("run.csv")       # the bytes `gimbalsim simulate` writes
 
 Stepping, simulating and closed loops release the GIL: separate Simulators
-run in parallel threads.
+run in parallel threads; calls on one Simulator run one after the other.
 """
 
 import json
