@@ -54,7 +54,9 @@ void writeCsv(const std::string& path, pyb::array_t<double, pyb::array::c_style 
   }
   try {
     io::OutputFile out(path, inputs);
-    if (!out.write(text) || !out.commit()) throw io::OutputError(out.error().empty() ? path + ": write failed" : out.error());
+    if (!out.write(text) || !out.commit()) {
+      throw io::OutputError(out.error().empty() ? path + ": write failed" : out.error());
+    }
   } catch (const io::OutputError& e) {
     PyErr_SetString(PyExc_OSError, e.what());
     throw pyb::error_already_set();

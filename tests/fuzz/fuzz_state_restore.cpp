@@ -101,7 +101,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (with_scene) fail("restore refused what the check accepted", s);
     if (std::string(e.what()).rfind("State.", 0) != 0) fail("a refusal that names no field", s);
     const SavedState after = sim.save();
-    if (after.t != before.t || after.q != before.q || after.v != before.v) fail("a refused state changed the simulator", s);
+    if (after.t != before.t || after.q != before.q || after.v != before.v) {
+      fail("a refused state changed the simulator", s);
+    }
     return 0;
   }
   if (!with_scene) fail("restore accepted what the check refused", s);

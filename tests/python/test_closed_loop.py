@@ -50,7 +50,8 @@ def test_controller_values_overrides_pickle_and_refusals():
     assert p.returncode == 2
     # the same problems, an override named as its dict entry rather than "--set #k"
     labels = {"azimuth.kp": ("--set #1 'azimuth.kp=-1'", "overrides['azimuth.kp'] (azimuth.kp=-1)"),
-              "control.nonsense": ("--set #2 'control.nonsense=1'", "overrides['control.nonsense'] (control.nonsense=1)")}
+              "control.nonsense": ("--set #2 'control.nonsense=1'",
+                                   "overrides['control.nonsense'] (control.nonsense=1)")}
     for prob in e.value.problems:
         cli, python = labels[prob["key"]]
         assert prob["text"].startswith(python) and prob["text"].replace(python, cli, 1) in p.stderr, prob
