@@ -229,7 +229,7 @@ def tune(spec, out, workers=None, scheduler=None, progress=True):
                                                              **{k: best.params[k] for k in gain_names}})
     text = (f"# gimbalsim.tune: trial {best.number} of {spec.spec_path.name}, score {best.value!r} rad "
             f"(p{spec.percentile:g} of {spec.metric} over {spec.batch} plants), "
-            f"{'feasible' if feasible else 'NO FEASIBLE TRIAL: the least bad'}\n") + nested_yaml(best_ctrl.values())
+            f"{'feasible' if feasible else 'NO FEASIBLE TRIAL: the least bad'}\n") + nested_yaml(best_ctrl._values_text())
     write_atomic(out / "best.yaml", text)
     _plot(out, rows, spec)
     summary = {"best_trial": best.number, "best_score": best.value, "feasible": bool(feasible),
