@@ -4,12 +4,15 @@
 // allocate nothing once built.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <string>
 #include <stdexcept>
 #include <vector>
 
 #include "alloc_guard.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
+#include "gimbalsim/dynamics/saved_state.hpp"
 #include "gimbalsim/dynamics/simulator.hpp"
 #include "test_util.hpp"
 
@@ -74,6 +77,40 @@ TEST(Simulator, RefusesACheckpointOfAnotherVariant) {
   bad = clearance.save();
   bad.friction_mode = 7;
   EXPECT_THROW(clearance.restore(bad), std::invalid_argument);
+}
+
+// A checkpoint from outside is checked as a scene is (saved_state.hpp): the
+// issue's t = 1e300 (one step later t was -9.2e15) and v0 = NaN are refused
+// naming the field, and leave the simulator as it was.
+TEST(Simulator, RefusesAStateFromOutsideNamingTheField) {
+  const Scene sc = test::scene("paper_clearance");
+  Simulator sim(sc);
+  const SavedState good = sim.save();
+  auto refusal = [&](SavedState bad) {
+    try {
+      sim.restore(bad);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  SavedState bad = good;
+  bad.t = 1e300;
+  EXPECT_EQ(refusal(bad).rfind("State.t = 1", 0), 0u) << refusal(bad);
+  EXPECT_NE(refusal(bad).find("e+300 s: beyond what the step counter reaches"), std::string::npos) << refusal(bad);
+  bad = good;
+  bad.v0 = std::nan("");
+  EXPECT_EQ(refusal(bad), "State.v0 = nan: must be finite");
+  bad = good;
+  bad.q[3] = 2.0;  // the base quaternion's w
+  EXPECT_NE(refusal(bad).find("State.q[3:7]"), std::string::npos) << refusal(bad);
+  EXPECT_EQ(sim.save().t, good.t);
+  // the largest time the check lets through steps on, forward
+  bad = good;
+  bad.t = static_cast<double>(kMaxRestoredStepIndex) * sc.model.integrator.step;
+  sim.restore(bad);
+  ASSERT_TRUE(sim.step(Vec2::Zero(), 2).ok());
+  EXPECT_GT(sim.time(), bad.t);
 }
 
 TEST(Simulator, StepRunAndOutputAllocateNothing) {

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "gimbalsim/dynamics/integrator.hpp"
+#include "gimbalsim/dynamics/saved_state.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 
 namespace gimbalsim {
@@ -69,19 +70,7 @@ struct VariantSimulator final : Simulator::Impl {
   }
 
   void restore(const SavedState& in) override {
-    if (in.variant != variantName(m)) {
-      throw std::invalid_argument("state of variant " + in.variant + " given to a simulator of variant " +
-                                  variantName(m));
-    }
-    if (in.q.size() != static_cast<std::size_t>(V::NQ) || in.v.size() != static_cast<std::size_t>(V::NV)) {
-      throw std::invalid_argument("state holds " + std::to_string(in.q.size()) + " q and " +
-                                  std::to_string(in.v.size()) + " v values; variant " + in.variant + " has " +
-                                  std::to_string(V::NQ) + " and " + std::to_string(V::NV));
-    }
-    if (!std::isfinite(in.t) || in.t < 0.0 || in.friction_mode < -1 || in.friction_mode > 1) {
-      throw std::invalid_argument("state has t = " + std::to_string(in.t) + " and friction_mode " +
-                                  std::to_string(in.friction_mode) + " (need t >= 0, friction_mode in {-1, 0, 1})");
-    }
+    checkSavedState(in, &m);  // from outside: validated like a scene, each field by name
     State<V> r;
     r.t = in.t;
     r.q = Eigen::Map<const typename State<V>::VecQ>(in.q.data());

@@ -9,11 +9,12 @@ out, the same numbers as the command line.
     run.to_csv("run.csv")       # the bytes `gimbalsim simulate` writes
 
 Stepping, simulating and closed loops release the GIL: separate Simulators
-run in parallel threads.
+run in parallel threads; calls on one Simulator run one after the other.
 """
 
 import json
 import numbers
+import os
 
 import numpy as np
 
@@ -50,32 +51,103 @@ def format_value(value, key="?"):
 
 def as_overrides(overrides):
     """A dict {key: value} (or an iterable of "key=value") as "key=value" strings, in order."""
+    return _overrides_and_labels(overrides)[0]
+
+
+def _overrides_and_labels(overrides, sources=None):
+    """The "key=value" strings and, for each, where it came from in messages:
+    sources[key] (a label, or (file, line) of a spec), else "overrides['key']"
+    for a dict entry and "overrides[i]" for a list item."""
     if overrides is None:
-        return []
+        return [], []
+    sources = sources or {}
     if isinstance(overrides, dict):
-        return [f"{k}={format_value(v, k)}" for k, v in overrides.items()]
+        texts = [f"{k}={format_value(v, k)}" for k, v in overrides.items()]
+        return texts, [sources.get(k, f"overrides[{k!r}]") for k in overrides]
     if isinstance(overrides, str):
         raise TypeError("overrides: give a dict {key: value} or a list of 'key=value' strings")
-    return [str(o) for o in overrides]
+    texts = [str(o) for o in overrides]
+    return texts, [sources.get(t.split("=", 1)[0], f"overrides[{i}]") for i, t in enumerate(texts)]
 
 
-def load_scene(path, overrides=None):
+def _relabelled(error, texts, labels):
+    """SceneError `error` with each "--set #k 'text'" (the command line's place
+    of an override) replaced by the override's own label: "overrides['key']
+    (text)" or "spec.yaml:LINE (text)", whose file and line then fill the
+    problem's fields."""
+    message = str(error)
+    problems = []
+    for p in error.problems:
+        p = dict(p)
+        k = p.get("set_index")
+        if k and 0 < k <= len(labels):
+            label = labels[k - 1]
+            if isinstance(label, tuple):
+                p["file"], p["line"] = str(label[0]), int(label[1])
+                label = f"{label[0]}:{label[1]}"
+            old, new = f"--set #{k} '{texts[k - 1]}'", f"{label} ({texts[k - 1]})"
+            p["text"] = p["text"].replace(old, new, 1)
+            p["source"] = label
+            message = message.replace(old, new)
+        problems.append(p)
+    return SceneError(message, problems)
+
+
+def _labelled_call(call, texts, labels):
+    """call() with a refusal's override places relabelled."""
+    try:
+        return call()
+    except SceneError as e:
+        raise _relabelled(e, texts, labels) from None
+
+
+def _check_path(path, what):
+    """A path argument as str; one holding a NUL byte is refused (the C
+    library would read the file named by the part before it)."""
+    path = os.fspath(path)
+    if isinstance(path, bytes):
+        path = os.fsdecode(path)
+    if "\0" in path:
+        raise ValueError(f"{what} {path!r} holds a NUL byte: refused")
+    return path
+
+
+def load_scene(path, overrides=None, sources=None):
     """Loads and validates a scene file; overrides is a dict of scene keys to
-    values, applied after the file (what `--set` accepts). Raises SceneError."""
-    return _gimbalsim._load_scene(str(path), as_overrides(overrides))
+    values, applied after the file (what `--set` accepts). Raises SceneError;
+    a problem with an override names it overrides['key'], or sources[key]
+    when given (a label, or (file, line) of a spec's entry)."""
+    path = _check_path(path, "scene path")
+    texts, labels = _overrides_and_labels(overrides, sources)
+    return _labelled_call(lambda: _gimbalsim._load_scene(path, texts), texts, labels)
 
 
-def load_scene_text(yaml_text, origin="<text>", overrides=None):
+def load_scene_text(yaml_text, origin="<text>", overrides=None, sources=None):
     """The same from YAML text; `origin` names it in messages."""
-    return _gimbalsim._load_scene_text(yaml_text, origin, as_overrides(overrides))
+    texts, labels = _overrides_and_labels(overrides, sources)
+    return _labelled_call(lambda: _gimbalsim._load_scene_text(yaml_text, origin, texts), texts, labels)
 
 
-def _replace(self, overrides):
-    """A new scene: this one's every value, then the overrides (dict or "key=value" list)."""
-    return self._replaced(as_overrides(overrides))
+def _replace(self, overrides, sources=None):
+    """A new scene: this one's every value, then the overrides (dict or
+    "key=value" list; sources as for load_scene)."""
+    texts, labels = _overrides_and_labels(overrides, sources)
+    try:
+        return self._replaced(texts)
+    except SceneError as e:
+        # _replaced lays the overrides after every value of this scene: their indices follow those
+        base = [f"{k}={v}" for k, v in self.values().items()]
+        raise _relabelled(e, base + texts, [f"{self.path}: {t.split('=', 1)[0]}" for t in base] + labels) from None
+
+
+def _scene_repr(self):
+    differs = self._non_default()
+    return (f"<gimbalsim.Scene {self.path!r} ({self.variant}): "
+            + (f"differs from the defaults in {', '.join(differs)}>" if differs else "the defaults>"))
 
 
 Scene.replace = _replace
+Scene.__repr__ = _scene_repr
 
 
 def keys():
@@ -90,13 +162,15 @@ def controller_keys():
 
 class Run:
     """A whole run: ``rows`` (N, len(COLUMNS)), ``columns`` (dict of numpy
-    arrays named as the CSV columns), ``summary`` (the summary JSON as a dict).
-    A run stopped by numerical trouble holds the good rows; ``summary["status"]``
-    is "failed" and ``summary["stop"]`` names the limit, as on the command line."""
+    arrays named as the CSV columns), ``summary`` (the summary JSON as a dict),
+    ``scene`` (the Scene it ran). A run stopped by numerical trouble holds the
+    good rows; ``summary["status"]`` is "failed" and ``summary["stop"]`` names
+    the limit, as on the command line."""
 
-    def __init__(self, rows, summary):
+    def __init__(self, rows, summary, scene=None):
         self.rows = rows
         self.summary = summary
+        self.scene = scene
         self.columns = {name: rows[:, i] for i, name in enumerate(COLUMNS)}
 
     @property
@@ -104,24 +178,68 @@ class Run:
         return self.summary["status"] == "ok"
 
     def to_csv(self, path):
-        """Writes the CSV `gimbalsim simulate --out` writes for the same scene, byte for byte."""
-        _gimbalsim._write_csv(str(path), self.rows)
+        """Writes the CSV `gimbalsim simulate --out` writes for the same scene,
+        byte for byte, by the command line's output rules (OSError): its
+        folder must exist; a link, a non-file or the run's scene file is refused."""
+        inputs = [self.scene.path] if self.scene is not None else []
+        _gimbalsim._write_csv(_check_path(path, "output path"), self.rows, inputs)
 
     def __repr__(self):
-        return f"<gimbalsim.Run {self.summary['name']!r} {self.summary['status']}: {len(self.rows)} rows>"
+        scene = self.summary.get("scene") or (self.scene.path if self.scene is not None else "?")
+        t_end = float(self.rows[-1, 0]) if len(self.rows) else 0.0
+        stop = self.summary.get("stop") or {}
+        why = f" ({stop.get('key') or stop.get('step_status')})" if not self.ok and stop else ""
+        return (f"<gimbalsim.Run {self.summary.get('name', '')!r} of {scene!r}: {t_end:g} s, "
+                f"{len(self.rows)} rows, {self.summary['status']}{why}>")
 
 
 def simulate(scene, integrator="rk4"):
     """Runs the scene's constant torques for sim.duration (as `gimbalsim simulate`)."""
     rows, summary = _gimbalsim._simulate(scene, integrator)
-    return Run(rows, json.loads(summary))
+    return Run(rows, json.loads(summary), scene)
 
 
-def Controller(config_path=None, overrides=None):
+def _typed(text, key_type):
+    """A value's --set text as the Python value of its key's type."""
+    if key_type == "number":
+        return float(text)
+    if key_type == "int":
+        return int(text)
+    if key_type == "bool":
+        return text == "true"
+    if key_type.startswith("vec") or key_type == "inertia":
+        return [float(x) for x in text.replace("[", " ").replace("]", " ").replace(",", " ").split()]
+    return text
+
+
+def _controller_values(self):
+    """Every key with its value, typed as the key is (float, int, bool, str;
+    a list of floats for a vector); Controller's overrides read them back exactly."""
+    types = {k["key"]: k["type"] for k in _gimbalsim._controller_keys()}
+    return {k: _typed(v, types.get(k, "string")) for k, v in self._values_text().items()}
+
+
+_gimbalsim.Controller.values = _controller_values
+
+
+def Controller(config_path=None, overrides=None, sources=None):
     """The project's pointing controller with the configuration at config_path
     (None: the built-in defaults) and overrides (dict of controller keys, as
-    `pointing_controller --set`). Raises SceneError for a refused configuration."""
-    return _gimbalsim.Controller("" if config_path is None else str(config_path), as_overrides(overrides))
+    `pointing_controller --set`; sources as for load_scene). Raises SceneError
+    for a refused configuration."""
+    path = "" if config_path is None else _check_path(config_path, "controller configuration path")
+    texts, labels = _overrides_and_labels(overrides, sources)
+    return _labelled_call(lambda: _gimbalsim.Controller(path, texts), texts, labels)
+
+
+def _unpickle_scene(path, values):
+    """A pickled Scene: its values loaded again (checked as any scene)."""
+    return _gimbalsim._unpickle_scene(path, values)
+
+
+def _unpickle_controller(path, values):
+    """A pickled Controller: its values loaded again (checked as any configuration)."""
+    return _gimbalsim._unpickle_controller(path, values)
 
 
 class ClosedLoopRun:
@@ -150,6 +268,6 @@ def closed_loop(scene, controller_config, duration, settle_tol=1.0e-3, faults=No
     ctrl = controller_config
     if not isinstance(ctrl, _gimbalsim.Controller):
         ctrl = Controller(controller_config)
-    summary, columns = _gimbalsim._closed_loop(scene, ctrl, float(duration), float(settle_tol),
-                                               "" if faults is None else str(faults))
+    faults = "" if faults is None else _check_path(faults, "fault schedule path")
+    summary, columns = _gimbalsim._closed_loop(scene, ctrl, float(duration), float(settle_tol), faults)
     return ClosedLoopRun(summary, columns)

@@ -7,7 +7,10 @@ class SceneError(ValueError):
     ``problems`` lists every problem found, each a dict with ``text`` (the
     message as the command line prints it), ``key``, ``file``, ``line``,
     ``column`` (1-based; None when not a file position) and ``set_index``
-    (1-based index among the overrides; None when not an override).
+    (1-based index among the overrides; None when not an override); a problem
+    with an override also has ``source``, the label its text starts with
+    (``overrides['key']``, or ``spec.yaml:LINE`` from a spec, which then fills
+    ``file`` and ``line``).
     ``key``, ``file``, ``line`` and ``column`` are the first problem's.
     """
 

@@ -88,7 +88,8 @@ class SweepSpec:
                         f"{size} samples in all (samples x grid points), more than the limit {MAX_SAMPLES}",
                         root["grid"] if self.grid else root["samples"])
         try:
-            self.base = gimbalsim.load_scene(self.scene_path, self.set)
+            self.base = gimbalsim.load_scene(self.scene_path, self.set,
+                                             sources={k: (spec.path, n.line) for k, n in sets.items()})
         except gimbalsim.SceneError as e:
             node = sets.get(e.key) if e.set_index else None
             spec.refuse(f"set.{e.key}" if node else "scene", str(e), node or root["scene"])
@@ -111,7 +112,7 @@ class SweepSpec:
 
     def _try(self, spec, where, overrides, node):
         try:
-            self.base.replace(overrides)
+            self.base.replace(overrides, sources={k: (spec.path, node.line) for k in overrides})
         except gimbalsim.SceneError as e:
             spec.refuse(where, f"the scene refuses {overrides}: {e.problems[0]['text'] if e.problems else e}", node)
 

@@ -89,7 +89,8 @@ class TuneSpec:
             if k not in scene_types:
                 spec.refuse(f"set.{k}", "not a key of the scene", n)
         try:
-            self.base = gimbalsim.load_scene(self.scene_path, {k: spec.value(f"set.{k}", n) for k, n in sets.items()})
+            self.base = gimbalsim.load_scene(self.scene_path, {k: spec.value(f"set.{k}", n) for k, n in sets.items()},
+                                             sources={k: (spec.path, n.line) for k, n in sets.items()})
         except gimbalsim.SceneError as e:
             spec.refuse(f"set.{e.key}" if e.key in sets else "scene", str(e), sets.get(e.key, root["scene"]))
         ctrl_types = {k["key"]: k["type"] for k in gimbalsim.controller_keys()}
@@ -99,7 +100,8 @@ class TuneSpec:
                 spec.refuse(f"controller_set.{k}", "not a controller key (see pointing_controller --keys)", n)
         self.controller_set = {k: spec.value(f"controller_set.{k}", n) for k, n in csets.items()}
         try:
-            self.controller = gimbalsim.Controller(self.controller_path, self.controller_set)
+            self.controller = gimbalsim.Controller(self.controller_path, self.controller_set,
+                                                   sources={k: (spec.path, n.line) for k, n in csets.items()})
         except gimbalsim.SceneError as e:
             spec.refuse(f"controller_set.{e.key}" if e.key in csets else "controller", str(e),
                         csets.get(e.key, root["controller"]))
@@ -116,7 +118,9 @@ class TuneSpec:
                 spec.refuse(f"gains.{key}", "choice: a gain's choices are numbers or names", node)
             for v in p.extremes():
                 try:
-                    gimbalsim.Controller(self.controller_path, {**self.controller_set, key: v})
+                    gimbalsim.Controller(self.controller_path, {**self.controller_set, key: v},
+                                         sources={**{k: (spec.path, n.line) for k, n in csets.items()},
+                                                  key: (spec.path, node.line)})
                 except gimbalsim.SceneError as e:
                     spec.refuse(f"gains.{key}", f"the controller refuses {key}={v!r}: {e.problems[0]['text']}", node)
             self.gains.append(p)
@@ -128,7 +132,7 @@ class TuneSpec:
         for p in params:
             for v in p.extremes():
                 try:
-                    self.base.replace({p.key: v})
+                    self.base.replace({p.key: v}, sources={p.key: (spec.path, p.node.line)})
                 except gimbalsim.SceneError as e:
                     spec.refuse(f"plants.{p.key}", f"the scene refuses {p.key}={v!r}: {e.problems[0]['text']}",
                                 p.node)
@@ -306,7 +310,7 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
                                                              **{k: best.params[k] for k in gain_names}})
     text = (f"# gimbalsim.tune: trial {best.number} of {spec.spec_path.name}, score {best.value!r} rad "
             f"(p{spec.percentile:g} of {spec.metric} over {spec.batch} plants), "
-            f"{'feasible' if feasible else 'NO FEASIBLE TRIAL: the least bad'}\n") + nested_yaml(best_ctrl.values())
+            f"{'feasible' if feasible else 'NO FEASIBLE TRIAL: the least bad'}\n") + nested_yaml(best_ctrl._values_text())
     write_atomic(out / "best.yaml", text)
     try:
         _plot(out, rows, spec)

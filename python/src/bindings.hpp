@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 
 #include "gimbalsim/firmware_sim/plant_scene.hpp"
+#include "guarded_caster.hpp"
 
 namespace gimbalsim::py {
 
@@ -21,8 +22,14 @@ struct PyScene {
 /// overrides); a refusal becomes the Python SceneError.
 PyScene loadPyScene(const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides);
 
+/// Refuses (ValueError) a path holding a NUL byte: the C library would read
+/// only the part before it, a file the caller did not name. `what` names the argument.
+void checkPath(const std::string& path, const char* what);
+
 void bindScene(pybind11::module_& m);       ///< Scene, load_scene, keys, simulate, write_csv
 void bindSimulator(pybind11::module_& m);   ///< State, Simulator
 void bindController(pybind11::module_& m);  ///< Controller, closed_loop
 
 }  // namespace gimbalsim::py
+
+GIMBALSIM_GUARDED_CASTER(gimbalsim::py::PyScene)

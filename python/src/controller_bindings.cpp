@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <vector>
 
 #include "bindings.hpp"
@@ -17,6 +18,19 @@
 
 namespace gimbalsim::py {
 
+/// A controller configuration, the file it came from, and the law's memory.
+struct PyController {
+  controllers::ControllerConfig config;
+  controllers::ControllerState state;
+  std::string path;  ///< "" = the built-in defaults
+};
+
+}  // namespace gimbalsim::py
+
+GIMBALSIM_GUARDED_CASTER(gimbalsim::py::PyController)
+
+namespace gimbalsim::py {
+
 namespace pyb = pybind11;
 using namespace gimbalsim::controllers;
 using firmware::ClosedLoopOptions;
@@ -25,14 +39,8 @@ using firmware::TickRecord;
 
 namespace {
 
-/// A controller configuration, the file it came from, and the law's memory.
-struct PyController {
-  ControllerConfig config;
-  ControllerState state;
-  std::string path;  ///< "" = the built-in defaults
-};
-
 PyController loadController(const std::string& path, const std::vector<std::string>& overrides) {
+  checkPath(path, "controller configuration path");
   try {
     if (path.empty()) return {loadControllerConfigText("", "<defaults>", overrides), {}, ""};
     return {loadControllerConfig(path, overrides), {}, path};
@@ -76,7 +84,12 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
   pyb::dict d;
   d["ok"] = r.ok;
   d["error"] = r.error;
-  d["stop_key"] = r.ok ? "" : (r.stop_status == StepStatus::Ok ? "refused" : limitKey(r.stop_status));
+  // Why it stopped, never "" when not ok: the limit's key, non_finite (no
+  // setting causes it), or refused (nothing ran).
+  const char* stop = r.stop_status == StepStatus::Ok            ? "refused"
+                     : r.stop_status == StepStatus::NonFinite ? "non_finite"
+                                                              : limitKey(r.stop_status);
+  d["stop_key"] = r.ok ? "" : stop;
   d["t_end_s"] = r.t_end;
   d["settle_time_s"] = r.settle_time;
   d["max_joint_error_slew_rad"] = r.max_joint_error_slew;
@@ -93,6 +106,33 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
   return d;
 }
 
+/// The figures of the summary computed over the ticks (every one but ok,
+/// error, stop_key, t_end_s and ticks).
+constexpr const char* kTickFigures[] = {
+    "settle_time_s",           "max_joint_error_slew_rad",    "max_joint_error_hold_rad", "max_joint_error_track_rad",
+    "max_truth_error_track_rad", "rms_truth_error_track_rad", "max_truth_error_hold_end_rad", "max_abs_tau_Nm",
+    "saturated_ticks",         "max_attitude_error_rad"};
+
+/// A non-finite value in any tick is a stop with its reason, and no figure
+/// is reported over it (a max over NaN reads as 0.0): the figures become None.
+void guardNonFinite(const Ticks& ticks, pyb::dict& summary) {
+  for (std::size_t i = 0; i < ticks.data.size(); ++i) {
+    if (std::isfinite(ticks.data[i])) continue;
+    const std::size_t row = i / Ticks::kN;
+    const std::string what = std::string("non-finite ") + Ticks::kNames[i % Ticks::kN] + " at t = " +
+                             std::to_string(ticks.data[row * Ticks::kN]) + " s (tick " + std::to_string(row) + ")";
+    if (summary["ok"].cast<bool>()) {
+      summary["ok"] = false;
+      summary["stop_key"] = "non_finite";
+      summary["error"] = what;
+    } else {
+      summary["error"] = summary["error"].cast<std::string>() + "; " + what;
+    }
+    for (const char* figure : kTickFigures) summary[figure] = pyb::none();
+    return;
+  }
+}
+
 }  // namespace
 
 void bindController(pyb::module_& m) {
@@ -103,7 +143,7 @@ void bindController(pyb::module_& m) {
       .def_property_readonly("path", [](const PyController& c) { return c.path; })
       .def_property_readonly("period", [](const PyController& c) { return c.config.period; },
                              "control.period [s]")
-      .def("values", [](const PyController& c) { return keyValueDict(configValues(c.config)); },
+      .def("_values_text", [](const PyController& c) { return keyValueDict(configValues(c.config)); },
            "every key with its value, as text the overrides read back exactly")
       .def("reset", [](PyController& c) { c.state = ControllerState{}; }, "forget the law's memory")
       .def(
@@ -132,13 +172,18 @@ void bindController(pyb::module_& m) {
           pyb::arg("dtheta2") = 0.0, pyb::arg("gyro") = pyb::none(),
           "one control period: time [s], encoder angles [rad], rates [rad/s], base rate gyro [rad/s] "
           "(base frame; None = no sample); returns the command tau [N m] and what it saw")
-      .def(pyb::pickle([](const PyController& c) { return pyb::make_tuple(c.path, configValues(c.config)); },
-                       [](const pyb::tuple& t) {
-                         if (t.size() != 2) throw std::runtime_error("Controller pickle: expected (path, values)");
-                         PyController c = loadController("", t[1].cast<std::vector<std::string>>());
-                         c.path = t[0].cast<std::string>();
-                         return c;
-                       }));
+      // Pickled as a call of gimbalsim._unpickle_controller (any protocol, 0
+      // to 5): the values are loaded again, so an unpickled controller is checked.
+      .def("__reduce__", [](const PyController& c) {
+        return pyb::make_tuple(pyb::module_::import("gimbalsim").attr("_unpickle_controller"),
+                               pyb::make_tuple(c.path, configValues(c.config)));
+      });
+
+  m.def("_unpickle_controller", [](const std::string& path, const std::vector<std::string>& values) {
+    PyController c = loadController("", values);
+    c.path = path;
+    return c;
+  });
 
   m.def("_controller_keys", [] { return keyInfoList(controllerKeys()); });
 
@@ -150,6 +195,7 @@ void bindController(pyb::module_& m) {
         opt.duration = duration;
         opt.settle_tol = settle_tol;
         firmware::FaultSchedule schedule;
+        checkPath(faults, "fault schedule path");
         if (!faults.empty()) {
           try {
             schedule = firmware::loadFaultSchedule(faults);
@@ -172,6 +218,8 @@ void bindController(pyb::module_& m) {
           r = firmware::runClosedLoop(s.plant, controller, c.config.profile, opt,
                                       [&](const firmware::TickRecord& rec) { ticks.add(rec); });
         }
+        pyb::dict summary = resultDict(r);
+        guardNonFinite(ticks, summary);
         pyb::dict cols;
         const pyb::ssize_t n = static_cast<pyb::ssize_t>(ticks.data.size() / Ticks::kN);
         for (int j = 0; j < Ticks::kN; ++j) {
@@ -180,7 +228,7 @@ void bindController(pyb::module_& m) {
           for (pyb::ssize_t i = 0; i < n; ++i) p[i] = ticks.data[static_cast<std::size_t>(i * Ticks::kN + j)];
           cols[Ticks::kNames[j]] = a;
         }
-        return pyb::make_tuple(resultDict(r), cols);
+        return pyb::make_tuple(summary, cols);
       },
       pyb::arg("scene"), pyb::arg("controller"), pyb::arg("duration"), pyb::arg("settle_tol"), pyb::arg("faults"));
 }

@@ -3,6 +3,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <stdexcept>
@@ -21,6 +22,7 @@ namespace pyb = pybind11;
 namespace {
 
 PyScene load(const std::string& path, const std::vector<std::string>& overrides) {
+  checkPath(path, "scene path");
   try {
     return PyScene{firmware::loadPlantScene(path, overrides), path};
   } catch (const InputError& e) {
@@ -35,8 +37,13 @@ PyScene replaced(const PyScene& s, const std::vector<std::string>& overrides) {
   return loadPyScene("", s.path, all);
 }
 
-/// Writes the CSV text of rows (n x kNumColumns) to path; raises OSError naming the file.
-void writeCsv(const std::string& path, pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast> rows) {
+/// Writes the CSV text of rows (n x kNumColumns) to path, by the rules of
+/// every output (io/output_file.hpp: its folder must exist, no link, never
+/// one of `inputs`); raises OSError naming the file.
+void writeCsv(const std::string& path, pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast> rows,
+              const std::vector<std::string>& inputs) {
+  checkPath(path, "output path");
+  for (const std::string& in : inputs) checkPath(in, "input path");
   if (rows.ndim() != 2 || rows.shape(1) != kNumColumns) {
     throw std::invalid_argument("rows must be an (N, " + std::to_string(kNumColumns) + ") array");
   }
@@ -45,17 +52,36 @@ void writeCsv(const std::string& path, pyb::array_t<double, pyb::array::c_style 
   for (pyb::ssize_t i = 0; i < rows.shape(0); ++i) {
     io::appendCsvRow(text, std::span<const double, kNumColumns>(p + i * kNumColumns, kNumColumns));
   }
-  // io::writeFileAtomically: a temporary beside it, renamed when whole; a
-  // symlink or non-regular file under the name is refused.
   try {
-    io::writeFileAtomically(path, text);
+    io::OutputFile out(path, inputs);
+    if (!out.write(text) || !out.commit()) {
+      throw io::OutputError(out.error().empty() ? path + ": write failed" : out.error());
+    }
   } catch (const io::OutputError& e) {
     PyErr_SetString(PyExc_OSError, e.what());
     throw pyb::error_already_set();
   }
 }
 
+/// "key=value" for every key whose value differs from the built-in default.
+std::vector<std::string> nonDefault(const PyScene& s) {
+  static const std::vector<std::string> defaults =
+      firmware::plantTable().values(firmware::loadPlantSceneText("", "<defaults>", {}));
+  std::vector<std::string> out;
+  for (const std::string& kv : firmware::plantTable().values(s.plant)) {
+    if (std::find(defaults.begin(), defaults.end(), kv) == defaults.end()) out.push_back(kv);
+  }
+  return out;
+}
+
 }  // namespace
+
+void checkPath(const std::string& path, const char* what) {
+  if (path.find('\0') != std::string::npos) {
+    throw pyb::value_error(std::string(what) + " holds a NUL byte at position " + std::to_string(path.find('\0')) +
+                           ": refused (the file before it would be used)");
+  }
+}
 
 PyScene loadPyScene(const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides) {
   try {
@@ -79,13 +105,18 @@ void bindScene(pyb::module_& m) {
       .def("values", [](const PyScene& s) { return keyValueDict(firmware::plantTable().values(s.plant)); },
            "every key with its value, as text that load_scene's overrides read back exactly")
       .def("_replaced", &replaced, pyb::arg("overrides"))
-      .def(pyb::pickle(
-          [](const PyScene& s) { return pyb::make_tuple(s.path, firmware::plantTable().values(s.plant)); },
-          [](const pyb::tuple& t) {
-            if (t.size() != 2) throw std::runtime_error("Scene pickle: expected (path, values)");
-            return loadPyScene("", t[0].cast<std::string>(), t[1].cast<std::vector<std::string>>());
-          }));
+      .def("_non_default", &nonDefault, "'key=value' for every key that differs from the built-in default")
+      // Pickled as a call of gimbalsim._unpickle_scene (any protocol, 0 to 5;
+      // a Python function, as pickle cannot name a pybind11 one): the values
+      // are loaded again, so an unpickled scene is checked as a loaded one.
+      .def("__reduce__", [](const PyScene& s) {
+        return pyb::make_tuple(pyb::module_::import("gimbalsim").attr("_unpickle_scene"),
+                               pyb::make_tuple(s.path, firmware::plantTable().values(s.plant)));
+      });
 
+  m.def("_unpickle_scene", [](const std::string& path, const std::vector<std::string>& values) {
+    return loadPyScene("", path, values);
+  });
   m.def("_load_scene", &load, pyb::arg("path"), pyb::arg("overrides"));
   m.def("_load_scene_text", &loadPyScene, pyb::arg("yaml"), pyb::arg("origin"), pyb::arg("overrides"));
   m.def("_keys", [] { return keyInfoList(firmware::plantTable().info()); });
@@ -117,7 +148,7 @@ void bindScene(pyb::module_& m) {
       },
       pyb::arg("scene"), pyb::arg("integrator"));
 
-  m.def("_write_csv", &writeCsv, pyb::arg("path"), pyb::arg("rows"));
+  m.def("_write_csv", &writeCsv, pyb::arg("path"), pyb::arg("rows"), pyb::arg("inputs"));
 }
 
 }  // namespace gimbalsim::py

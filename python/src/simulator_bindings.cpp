@@ -3,13 +3,33 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <limits>
 #include <memory>
+#include <mutex>
 
 #include "bindings.hpp"
 #include "errors.hpp"
+#include "guarded_caster.hpp"
+#include "gimbalsim/dynamics/saved_state.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/dynamics/simulator.hpp"
+
+namespace gimbalsim::py {
+
+/// A Simulator and the lock that serialises calls on it: stepping releases
+/// the GIL, so two threads may call one object; the second waits (without
+/// the GIL) until the first is done, and each call sees a whole state.
+struct PySimulator {
+  explicit PySimulator(const Scene& scene) : sim(scene) {}
+  Simulator sim;
+  std::mutex busy;
+};
+
+}  // namespace gimbalsim::py
+
+GIMBALSIM_GUARDED_CASTER(gimbalsim::SavedState)
+GIMBALSIM_GUARDED_CASTER(gimbalsim::py::PySimulator)
 
 namespace gimbalsim::py {
 
@@ -30,21 +50,63 @@ pyb::array_t<double> vec(const std::vector<double>& x) {
   return a;
 }
 
-std::string stopMessage(const Simulator& sim, const StepResult& r) {
+std::string stopMessage(const StepResult& r) {
   std::string msg = std::string("simulation stopped at t = ") + std::to_string(r.time) + " s: " + describe(r.status);
   if (*r.key()) msg += std::string(" (limit: ") + r.key() + ")";
-  (void)sim;
   return msg;
 }
 
 constexpr long long kMaxSteps = 1LL << 40;  ///< per call: far past any run, far from overflow of k
 
+/// f(sim) with the GIL released and the object's lock held (lock after
+/// release, unlock before reacquiring: no thread ever waits holding both).
+template <class F>
+auto locked(PySimulator& p, F&& f) {
+  pyb::gil_scoped_release nogil;
+  std::lock_guard<std::mutex> lock(p.busy);
+  return f(p.sim);
+}
+
+/// A State from its fields (a pickle, a user's arrays): checked as any state
+/// from outside is (saved_state.hpp), ValueError naming each bad field.
+SavedState makeState(const std::string& variant, double t, const std::vector<double>& q,
+                     const std::vector<double>& v, bool in_contact, double v0, int friction_mode, double vt_floor,
+                     double h_next) {
+  SavedState s;
+  s.variant = variant;
+  s.t = t;
+  s.q = q;
+  s.v = v;
+  s.in_contact = in_contact;
+  s.v0 = v0;
+  s.friction_mode = friction_mode;
+  s.vt_floor = vt_floor;
+  s.h_next = h_next;
+  try {
+    checkSavedState(s);
+  } catch (const std::invalid_argument& e) {
+    throw pyb::value_error(e.what());
+  }
+  return s;
+}
+
+void checkTorque(double tau1, double tau2) {
+  if (!std::isfinite(tau1) || !std::isfinite(tau2)) {
+    throw pyb::value_error("torques must be finite, got tau1 = " + std::to_string(tau1) +
+                           ", tau2 = " + std::to_string(tau2) + " [N m]");
+  }
+}
+
 }  // namespace
 
 void bindSimulator(pyb::module_& m) {
-  pyb::class_<SavedState>(m, "State",
-                          "A full checkpoint of a Simulator: restore it and step on, the same bits as never "
-                          "having stopped. Picklable.")
+  pyb::class_<SavedState> state(m, "State",
+                                "A full checkpoint of a Simulator: restore it and step on, the same bits as never "
+                                "having stopped. Picklable. Made from fields, it is checked as a scene is.");
+  state
+      .def(pyb::init(&makeState), pyb::arg("variant"), pyb::arg("t"), pyb::arg("q"), pyb::arg("v"),
+           pyb::arg("in_contact") = false, pyb::arg("v0") = 0.0, pyb::arg("friction_mode") = 0,
+           pyb::arg("vt_floor") = 0.0, pyb::arg("h_next") = 0.0)
       .def_readonly("variant", &SavedState::variant)
       .def_readonly("t", &SavedState::t, "[s]")
       .def_property_readonly("q", [](const SavedState& s) { return vec(s.q); }, "generalised coordinates")
@@ -54,89 +116,84 @@ void bindSimulator(pyb::module_& m) {
       .def_readonly("friction_mode", &SavedState::friction_mode)
       .def_readonly("vt_floor", &SavedState::vt_floor, "[m/s]")
       .def_readonly("h_next", &SavedState::h_next, "adaptive: next contact sub-step to try [s]")
-      .def(pyb::pickle(
-          [](const SavedState& s) {
-            return pyb::make_tuple(s.variant, s.t, s.q, s.v, s.in_contact, s.v0, s.friction_mode, s.vt_floor,
-                                   s.h_next);
-          },
-          [](const pyb::tuple& t) {
-            if (t.size() != 9) throw std::runtime_error("State pickle: expected 9 fields");
-            SavedState s;
-            s.variant = t[0].cast<std::string>();
-            s.t = t[1].cast<double>();
-            s.q = t[2].cast<std::vector<double>>();
-            s.v = t[3].cast<std::vector<double>>();
-            s.in_contact = t[4].cast<bool>();
-            s.v0 = t[5].cast<double>();
-            s.friction_mode = t[6].cast<int>();
-            s.vt_floor = t[7].cast<double>();
-            s.h_next = t[8].cast<double>();
-            return s;
-          }));
+      // Pickled as a call of the class with its fields (any protocol, 0 to 5),
+      // so an unpickled State is checked as a constructed one.
+      .def("__reduce__", [state](const SavedState& s) {
+        return pyb::make_tuple(state, pyb::make_tuple(s.variant, s.t, s.q, s.v, s.in_contact, s.v0, s.friction_mode,
+                                                      s.vt_floor, s.h_next));
+      });
 
-  pyb::class_<Simulator>(m, "Simulator",
-                         "The scene's plant stepped call by call (sim.step per step, sub-stepping inside). "
-                         "Stepping releases the GIL.")
-      .def(pyb::init([](const PyScene& s) { return std::make_unique<Simulator>(s.scene()); }), pyb::arg("scene"))
-      .def_property_readonly("t", &Simulator::time, "simulated time [s]")
-      .def_property_readonly("variant", [](const Simulator& s) { return variantName(s.model()); })
-      .def_property_readonly("step_size", [](const Simulator& s) { return s.model().integrator.step; },
+  pyb::class_<PySimulator>(m, "Simulator",
+                           "The scene's plant stepped call by call (sim.step per step, sub-stepping inside). "
+                           "Stepping releases the GIL; calls on one Simulator from several threads run one "
+                           "after the other.")
+      .def(pyb::init([](const PyScene& s) { return std::make_unique<PySimulator>(s.scene()); }), pyb::arg("scene"))
+      .def_property_readonly("t", [](PySimulator& p) { return locked(p, [](Simulator& s) { return s.time(); }); },
+                             "simulated time [s]")
+      .def_property_readonly("variant", [](const PySimulator& p) { return variantName(p.sim.model()); })
+      .def_property_readonly("step_size", [](const PySimulator& p) { return p.sim.model().integrator.step; },
                              "sim.step [s]")
       .def(
           "step",
-          [](Simulator& sim, double tau1, double tau2, long long n) {
+          [](PySimulator& p, double tau1, double tau2, long long n) {
             if (n < 0 || n > kMaxSteps) throw pyb::value_error("n must be in [0, 2^40], got " + std::to_string(n));
-            StepResult r;
-            {
-              pyb::gil_scoped_release nogil;
-              r = sim.step(Vec2(tau1, tau2), n);
-            }
-            if (!r.ok()) raiseStopped(r, stopMessage(sim, r));
+            checkTorque(tau1, tau2);
+            const StepResult r = locked(p, [&](Simulator& s) { return s.step(Vec2(tau1, tau2), n); });
+            if (!r.ok()) raiseStopped(r, stopMessage(r));
           },
           pyb::arg("tau1"), pyb::arg("tau2"), pyb::arg("n") = 1,
           "advance n steps with joint torques tau1, tau2 [N m] held; raises SimulationStopped on numerical "
           "trouble (the state is then the last good one)")
       .def(
           "run",
-          [](Simulator& sim, pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast> tau) {
+          [](PySimulator& p, pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast> tau) {
             if (tau.ndim() != 2 || tau.shape(1) != 2) throw pyb::value_error("torques must be an (N, 2) array [N m]");
             const long long n = tau.shape(0);
+            for (long long i = 0; i < n; ++i) {
+              const double* row = tau.data(i, 0);
+              if (!std::isfinite(row[0]) || !std::isfinite(row[1])) {
+                throw pyb::value_error("torques row " + std::to_string(i) + " is not finite (" +
+                                       std::to_string(row[0]) + ", " + std::to_string(row[1]) + ") [N m]");
+              }
+            }
             pyb::array_t<double> rows({static_cast<pyb::ssize_t>(n), static_cast<pyb::ssize_t>(kNumColumns)});
             long long done = 0;
-            StepResult r;
-            {
-              pyb::gil_scoped_release nogil;
-              r = sim.run(tau.data(), n, rows.mutable_data(), done);
-            }
+            const double* in = tau.data();
+            double* out = rows.mutable_data();
+            const StepResult r = locked(p, [&](Simulator& s) { return s.run(in, n, out, done); });
             if (!r.ok()) {
               pyb::dict extra;
               extra["steps_done"] = done;
               extra["outputs"] = rows[pyb::slice(0, done, 1)];
-              raiseStopped(r, stopMessage(sim, r), extra);
+              raiseStopped(r, stopMessage(r), extra);
             }
             return rows;
           },
           pyb::arg("torques"),
           "one step per row of torques (N, 2) [N m]; returns the (N, len(COLUMNS)) output rows after each step")
-      .def("output", [](Simulator& sim) { return rowDict(sim.output()); },
+      .def("output", [](PySimulator& p) { return rowDict(locked(p, [](Simulator& s) { return s.output(); })); },
            "the current output row (the CSV columns) as a dict")
       .def("_output_array",
-           [](Simulator& sim) {
-             const Row r = sim.output();
+           [](PySimulator& p) {
+             const Row r = locked(p, [](Simulator& s) { return s.output(); });
              pyb::array_t<double> a(kNumColumns);
              std::copy(rowData(r), rowData(r) + kNumColumns, a.mutable_data());
              return a;
            })
       .def_property(
-          "state", [](const Simulator& sim) { return sim.save(); },
-          [](Simulator& sim, const SavedState& s) {
-            try {
-              sim.restore(s);
-            } catch (const std::invalid_argument& e) {
-              throw pyb::value_error(e.what());
-            }
+          "state", [](PySimulator& p) { return locked(p, [](Simulator& s) { return s.save(); }); },
+          [](PySimulator& p, const SavedState& saved) {
+            const std::string refused = locked(p, [&](Simulator& s) {
+              try {
+                s.restore(saved);  // checked against this simulator's scene (saved_state.hpp)
+              } catch (const std::invalid_argument& e) {
+                return std::string(e.what());
+              }
+              return std::string();
+            });
+            if (!refused.empty()) throw pyb::value_error(refused);
           },
-          "the full checkpoint (get: a copy; set: restore)");
+          "the full checkpoint (get: a copy; set: restore, checked against this simulator's scene)");
 }
 
 }  // namespace gimbalsim::py

@@ -38,7 +38,7 @@ def test_closed_loop_equals_the_cpp_closed_loop(tmp):
 def test_controller_values_overrides_pickle_and_refusals():
     ctrl = gimbalsim.Controller(CONTROLLER_CONFIG, {"azimuth.kp": 1234.5})
     v = ctrl.values()
-    assert v["azimuth.kp"] == "1234.5" and ctrl.path == str(CONTROLLER_CONFIG)
+    assert v["azimuth.kp"] == 1234.5 and ctrl.path == str(CONTROLLER_CONFIG)
     back = pickle.loads(pickle.dumps(ctrl))
     assert back.values() == v
     with pytest.raises(gimbalsim.SceneError) as e:
@@ -48,8 +48,13 @@ def test_controller_values_overrides_pickle_and_refusals():
                         "azimuth.kp=-1", "--set", "control.nonsense=1", "--print-config"],
                        capture_output=True, text=True, timeout=60)
     assert p.returncode == 2
+    # the same problems, an override named as its dict entry rather than "--set #k"
+    labels = {"azimuth.kp": ("--set #1 'azimuth.kp=-1'", "overrides['azimuth.kp'] (azimuth.kp=-1)"),
+              "control.nonsense": ("--set #2 'control.nonsense=1'",
+                                   "overrides['control.nonsense'] (control.nonsense=1)")}
     for prob in e.value.problems:
-        assert prob["text"] in p.stderr
+        cli, python = labels[prob["key"]]
+        assert prob["text"].startswith(python) and prob["text"].replace(python, cli, 1) in p.stderr, prob
     keys = {k["key"] for k in gimbalsim.controller_keys()}
     assert {"azimuth.kp", "control.period", "pointing.mode"} <= keys
 

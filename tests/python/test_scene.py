@@ -1,6 +1,6 @@
 """load_scene, keys() and Scene: overrides as --set reads them, every refusal
-the command line makes is a SceneError naming the same key and place, and a
-pickled Scene is the same scene."""
+the command line makes is a SceneError naming the same key and place (an
+override named as the dict entry it was), and a pickled Scene is the same scene."""
 import pickle
 import re
 
@@ -50,6 +50,19 @@ def cli_problems(overrides, path=CLEARANCE):
     return p.returncode, lines
 
 
+def as_python(line, overrides):
+    """A command-line refusal as Python words it: the override's place "--set
+    #k 'key=value'" becomes the dict entry or list item, "overrides['key']
+    (key=value)" or "overrides[i] (key=value)"."""
+    texts = gimbalsim.as_overrides(overrides)
+    m = re.match(r"--set #(\d+) '", line)
+    if not m:
+        return line
+    k = int(m.group(1))
+    label = f"overrides[{list(overrides)[k - 1]!r}]" if isinstance(overrides, dict) else f"overrides[{k - 1}]"
+    return line.replace(f"--set #{k} '{texts[k - 1]}'", f"{label} ({texts[k - 1]})", 1)
+
+
 def named_key(text):
     m = re.search(r"(?:unknown )?key '([^']+)'", text)
     return m.group(1) if m else None
@@ -62,8 +75,9 @@ def test_every_refusal_is_a_scene_error_with_the_same_key(overrides):
     with pytest.raises(gimbalsim.SceneError) as e:
         gimbalsim.load_scene(CLEARANCE, overrides)
     assert isinstance(e.value, ValueError)
-    assert [p["text"] for p in e.value.problems] == cli
+    assert [p["text"] for p in e.value.problems] == [as_python(t, overrides) for t in cli]
     assert [p["key"] for p in e.value.problems] == [named_key(t) for t in cli]
+    assert not any("--set" in p["text"] for p in e.value.problems)
     if isinstance(overrides, dict):
         assert set(e.value.keys) <= set(overrides) | {None}
         assert e.value.key in overrides

@@ -56,7 +56,7 @@ class Simulator {
   Row output() noexcept;
 
   SavedState save() const;
-  /// Throws std::invalid_argument if the checkpoint is of another variant or malformed.
+  /// Throws std::invalid_argument naming each bad field (checkSavedState, saved_state.hpp).
   void restore(const SavedState& saved);
 
   struct Impl;

@@ -1,0 +1,124 @@
+#include "gimbalsim/dynamics/saved_state.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "gimbalsim/dynamics/variant.hpp"
+
+namespace gimbalsim {
+
+namespace {
+
+std::string num(double x) {
+  std::ostringstream o;
+  o.precision(17);
+  o << x;
+  return o.str();
+}
+
+struct Shape {
+  bool floating = false, clearance = false;
+  int nq = 0, nv = 0;
+};
+
+/// The shape a variant name stands for (variantName's spelling); false if none.
+bool shapeOf(const std::string& name, Shape& out) {
+  for (const bool floating : {false, true}) {
+    for (const bool clearance : {false, true}) {
+      for (const bool friction : {false, true}) {
+        if (friction && !clearance) continue;
+        std::string n = floating ? "floating" : "fixed";
+        n += clearance ? "_clearance" : "_ideal";
+        if (friction) n += "_friction";
+        if (n != name) continue;
+        const int nj = clearance ? 4 : 2;
+        out = {floating, clearance, (floating ? 7 : 0) + nj, (floating ? 6 : 0) + nj};
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<std::string> savedStateProblems(const SavedState& s, const Model* m) {
+  std::vector<std::string> bad;
+  auto refuse = [&](const std::string& field, const std::string& why) { bad.push_back("State." + field + " " + why); };
+  auto finite = [&](const std::string& field, double x) {
+    if (std::isfinite(x)) return true;
+    refuse(field, "= " + num(x) + ": must be finite");
+    return false;
+  };
+
+  Shape shape;
+  if (!shapeOf(s.variant, shape)) {
+    refuse("variant", "'" + s.variant + "': not a variant (e.g. fixed_clearance_friction)");
+  } else if (m && s.variant != variantName(*m)) {
+    refuse("variant", "'" + s.variant + "': this simulator runs variant " + variantName(*m));
+  }
+  if (finite("t", s.t)) {
+    if (s.t < 0.0) refuse("t", "= " + num(s.t) + " s: must be >= 0");
+    if (m && m->integrator.step > 0.0 && s.t / m->integrator.step > static_cast<double>(kMaxRestoredStepIndex)) {
+      refuse("t", "= " + num(s.t) + " s: beyond what the step counter reaches with sim.step = " +
+                      num(m->integrator.step) + " s (at most 2^50 steps, t <= " +
+                      num(static_cast<double>(kMaxRestoredStepIndex) * m->integrator.step) + " s)");
+    }
+  }
+  const bool sized = !shape.nq || (s.q.size() == static_cast<std::size_t>(shape.nq) &&
+                                   s.v.size() == static_cast<std::size_t>(shape.nv));
+  if (!sized) {
+    refuse("q", "and State.v hold " + std::to_string(s.q.size()) + " and " + std::to_string(s.v.size()) +
+                    " values; variant " + s.variant + " has " + std::to_string(shape.nq) + " and " +
+                    std::to_string(shape.nv));
+  }
+  bool all_finite = true;
+  for (std::size_t i = 0; i < s.q.size(); ++i) all_finite &= finite("q[" + std::to_string(i) + "]", s.q[i]);
+  for (std::size_t i = 0; i < s.v.size(); ++i) all_finite &= finite("v[" + std::to_string(i) + "]", s.v[i]);
+  if (shape.nq && sized && all_finite) {
+    if (shape.floating) {
+      // q[3..6] is the base attitude quaternion: a rotation only at unit norm.
+      const double norm = std::sqrt(s.q[3] * s.q[3] + s.q[4] * s.q[4] + s.q[5] * s.q[5] + s.q[6] * s.q[6]);
+      if (!(std::fabs(norm - 1.0) <= 1e-9)) {
+        refuse("q[3:7]", "(base attitude quaternion) has norm " + num(norm) + ": must be 1");
+      }
+    }
+    if (shape.clearance && m) {
+      // The journal centre (ecc) stays inside the bearing; beyond its radius
+      // the contact law has no meaning.
+      const int qj = shape.floating ? 7 : 0;
+      const double ecc = std::hypot(s.q[qj + 1], s.q[qj + 2]);
+      if (!(ecc <= m->contact.bearing_radius)) {
+        refuse("q", "holds |ecc| = " + num(ecc) + " m: beyond the bearing radius " + num(m->contact.bearing_radius) +
+                        " m");
+      }
+    }
+  }
+  finite("v0", s.v0);
+  if (finite("vt_floor", s.vt_floor) && s.vt_floor > 0.0) {
+    refuse("vt_floor", "= " + num(s.vt_floor) + " m/s: must be <= 0");
+  }
+  if (s.friction_mode < -1 || s.friction_mode > 1) {
+    refuse("friction_mode", "= " + std::to_string(s.friction_mode) + ": must be -1, 0 or 1");
+  }
+  if (finite("h_next", s.h_next)) {
+    if (s.h_next < 0.0) refuse("h_next", "= " + num(s.h_next) + " s: must be >= 0 (0: none chosen yet)");
+    if (m && s.h_next != 0.0 &&
+        !(s.h_next >= m->integrator.substep_min && s.h_next <= m->integrator.step)) {
+      refuse("h_next", "= " + num(s.h_next) + " s: must be 0 or in [sim.substep_min, sim.step] = [" +
+                           num(m->integrator.substep_min) + ", " + num(m->integrator.step) + "] s");
+    }
+  }
+  return bad;
+}
+
+void checkSavedState(const SavedState& s, const Model* m) {
+  const std::vector<std::string> bad = savedStateProblems(s, m);
+  if (bad.empty()) return;
+  std::string text;
+  for (const std::string& b : bad) text += (text.empty() ? "" : "\n") + b;
+  throw std::invalid_argument(text);
+}
+
+}  // namespace gimbalsim

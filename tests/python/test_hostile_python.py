@@ -1,0 +1,431 @@
+"""Careless and hostile calls of the Python package: no call kills the
+interpreter (pickles of every protocol, instances made by __new__ without
+__init__); one Simulator stepped from two threads runs the calls one after
+the other; a State from outside is checked as a scene is; output methods
+follow the command line's output rules and no path may hold a NUL; a closed
+loop gone NaN is a stop with its reason; values are typed and objects print
+usefully; an override's problem names the override, not "--set #k"."""
+import math
+import os
+import pickle
+import re
+import subprocess
+import sys
+import textwrap
+import threading
+
+import numpy as np
+import pytest
+
+import gimbalsim
+from conftest import CONTROLLER_CONFIG, SCENES, scene_path
+
+
+def scene(name="paper_clearance", overrides=None):
+    return gimbalsim.load_scene(scene_path(name), overrides)
+
+
+def run_python(code):
+    """Runs code in a fresh interpreter (a crash there is not ours); returns the CompletedProcess."""
+    return subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True,
+                          timeout=300, env=os.environ)
+
+
+# ---- no call kills the interpreter ----
+
+PICKLABLE = f"""
+import pickle, gimbalsim
+scene = gimbalsim.load_scene({str(scene_path("paper_clearance"))!r}, {{"sim.duration": 0.01}})
+objects = {{"Scene": scene, "State": gimbalsim.Simulator(scene).state,
+            "Controller": gimbalsim.Controller({str(CONTROLLER_CONFIG)!r})}}
+"""
+
+
+def test_every_pickle_protocol_round_trips_every_picklable_class():
+    p = run_python(PICKLABLE + textwrap.dedent("""
+        for name, obj in objects.items():
+            for protocol in range(pickle.HIGHEST_PROTOCOL + 1):
+                back = pickle.loads(pickle.dumps(obj, protocol=protocol))
+                assert type(back) is type(obj), (name, protocol)
+                if name == "State":
+                    assert back.q.tobytes() == obj.q.tobytes() and back.t == obj.t, protocol
+                else:
+                    assert back.values() == obj.values() and back.path == obj.path, (name, protocol)
+        print("round-tripped", pickle.HIGHEST_PROTOCOL + 1)
+        """))
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.strip() == "round-tripped 6"
+
+
+# Every public method or property of every class, called on an instance made
+# by __new__ alone: each must raise TypeError, none may crash.
+CALLS = {
+    "Scene": ["s.path", "s.name", "s.variant", "s.warnings", "s.step", "s.duration", "s.output_interval",
+              "s.values()", "s._non_default()", "s._replaced([])", "s.__reduce__()", "repr(s)",
+              "gimbalsim.simulate(s)", "gimbalsim.Simulator(s)",
+              "gimbalsim.closed_loop(s, gimbalsim.Controller(), 0.1)", "pickle.dumps(s)"],
+    "State": ["s.variant", "s.t", "s.q", "s.v", "s.in_contact", "s.v0", "s.friction_mode", "s.vt_floor",
+              "s.h_next", "s.__reduce__()", "pickle.dumps(s)", "setattr(good_sim, 'state', s)"],
+    "Simulator": ["s.t", "s.variant", "s.step_size", "s.step(1.0, 2.0)", "s.step(1.0, 2.0, n=10)",
+                  "s.run(np.zeros((3, 2)))", "s.output()", "s._output_array()", "s.state",
+                  "setattr(s, 'state', good_sim.state)"],
+    "Controller": ["s.path", "s.period", "s._values_text()", "s.values()", "s.reset()", "s.update(0.0, 0.1, 0.2)",
+                   "s.__reduce__()", "pickle.dumps(s)",
+                   "gimbalsim.closed_loop(gimbalsim.load_scene_text(''), s, 0.1)"],
+}
+
+
+@pytest.mark.parametrize("cls", list(CALLS))
+def test_an_instance_made_by_new_alone_raises_and_never_crashes(cls):
+    calls = "\n".join(f"""
+try:
+    {c}
+    print("NO ERROR", {c!r})
+except TypeError as e:
+    assert "not initialised" in str(e) or "incompatible" in str(e), ({c!r}, str(e))
+    print("refused", {c!r})
+""" for c in CALLS[cls])
+    p = run_python(f"""
+import pickle, numpy as np, gimbalsim
+from gimbalsim import _gimbalsim
+good_sim = gimbalsim.Simulator(gimbalsim.load_scene_text(""))
+s = _gimbalsim.{cls}.__new__(_gimbalsim.{cls})
+{calls}
+""")
+    assert p.returncode == 0, f"died with {p.returncode}: {p.stderr[-2000:]}"
+    assert "NO ERROR" not in p.stdout, p.stdout
+    assert p.stdout.count("refused") == len(CALLS[cls]), p.stdout
+
+
+def test_init_called_again_on_a_live_object_does_not_crash():
+    p = run_python(f"""
+import gimbalsim
+from gimbalsim import _gimbalsim
+scene = gimbalsim.load_scene({str(scene_path("paper_clearance"))!r})
+sim = gimbalsim.Simulator(scene)
+sim.step(1.0, 2.0, n=10)
+sim.__init__(scene)
+sim.step(1.0, 2.0, n=10)
+c = gimbalsim.Controller()
+c.__init__("", [])
+print(sim.t > 0.0, c.period > 0)
+""")
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.split() == ["True", "True"]
+
+
+# ---- one Simulator, two threads ----
+
+def test_one_simulator_stepped_from_two_threads_runs_the_calls_one_after_the_other():
+    s = scene(overrides={"sim.duration": 10.0})
+    sim = gimbalsim.Simulator(s)
+    n, calls = 200, 10
+    errors = []
+
+    def work():
+        try:
+            for _ in range(calls):
+                sim.step(5.0, 10.0, n=n)
+                sim.run(np.tile([5.0, 10.0], (n, 1)))
+                sim.output()
+                sim.state
+        except Exception as e:  # noqa: BLE001 - any error is the finding
+            errors.append(e)
+
+    threads = [threading.Thread(target=work) for _ in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert errors == []
+    # One thread doing all the calls in turn reaches the same time and state.
+    alone = gimbalsim.Simulator(s)
+    for _ in range(2 * calls):
+        alone.step(5.0, 10.0, n=n)
+        alone.run(np.tile([5.0, 10.0], (n, 1)))
+    assert sim.t == alone.t == pytest.approx(2 * calls * 2 * n * s.step)
+    assert sim._output_array().tobytes() == alone._output_array().tobytes()
+
+
+def test_one_simulator_restored_while_another_thread_steps_stays_whole():
+    s = scene()
+    sim = gimbalsim.Simulator(s)
+    start = sim.state
+    errors = []
+
+    def stepper():
+        try:
+            for _ in range(50):
+                sim.step(5.0, 10.0, n=20)
+        except Exception as e:  # noqa: BLE001
+            errors.append(e)
+
+    def restorer():
+        try:
+            for _ in range(50):
+                sim.state = start
+                st = sim.state
+                assert st.t == pytest.approx(round(st.t / s.step) * s.step, abs=1e-12)
+        except Exception as e:  # noqa: BLE001
+            errors.append(e)
+
+    threads = [threading.Thread(target=stepper), threading.Thread(target=restorer)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert errors == []
+    assert 0.0 <= sim.t <= 50 * 20 * s.step + 1e-12
+
+
+# ---- a State from outside is checked ----
+
+def good_fields():
+    st = gimbalsim.Simulator(scene()).state
+    return dict(variant=st.variant, t=st.t, q=list(st.q), v=list(st.v), in_contact=st.in_contact, v0=st.v0,
+                friction_mode=st.friction_mode, vt_floor=st.vt_floor, h_next=st.h_next)
+
+
+def _set(field, i, x):
+    def change(f):
+        f[field] = list(f[field])
+        f[field][i] = x
+    return change
+
+
+# (change of the fields of a good State of paper_clearance (floating_clearance_friction: q holds
+# p (3), the base quaternion (4), theta1, ecc (2), theta2), the field named, refused already
+# without a scene (else only when restored into this scene))
+BAD_STATES = [
+    ({"t": 1e300}, "State.t", False),  # beyond what the step counter reaches
+    ({"t": -1.0}, "State.t", True),
+    ({"t": math.inf}, "State.t", True),
+    ({"v0": math.nan}, "State.v0", True),
+    ({"vt_floor": math.nan}, "State.vt_floor", True),
+    ({"vt_floor": 1.0}, "State.vt_floor", True),
+    ({"h_next": -1e-6}, "State.h_next", True),
+    ({"h_next": 1.0}, "State.h_next", False),  # beyond sim.step
+    ({"friction_mode": 7}, "State.friction_mode", True),
+    ({"variant": "warp_drive"}, "State.variant", True),
+    ({"variant": "fixed_clearance_friction"}, "State.q", True),  # sizes of another variant
+    ({"variant": "floating_ideal"}, "State.variant", False),  # sizes of another variant
+    (_set("q", 0, math.nan), "State.q[0]", True),
+    (_set("v", 1, math.inf), "State.v[1]", True),
+    (_set("q", 3, 2.0), "State.q[3:7]", True),  # not a unit quaternion
+    (_set("q", 8, 1.0), "State.q", False),  # |ecc| 1 m: outside the bearing
+]
+
+
+@pytest.mark.parametrize("change,field,at_construction", BAD_STATES,
+                         ids=[f"{b[1]}-{i}" for i, b in enumerate(BAD_STATES)])
+def test_a_state_from_outside_is_refused_naming_the_field(change, field, at_construction):
+    fields = good_fields()
+    if callable(change):
+        change(fields)
+    else:
+        fields.update(change)
+    if fields["variant"] == "floating_ideal":
+        fields["q"], fields["v"] = fields["q"][:9], fields["v"][:8]
+    sim = gimbalsim.Simulator(scene())
+    before = sim._output_array().tobytes()
+    named = re.escape(field)
+    if at_construction:
+        with pytest.raises(ValueError, match=named):
+            gimbalsim.State(**fields)
+        # the same fields in a pickle (what a foreign file can hold) are refused too
+        with pytest.raises(ValueError, match=named):
+            pickle.loads(pickle.dumps(_Crafted(fields)))
+    else:
+        state = gimbalsim.State(**fields)  # nothing wrong without a scene ...
+        with pytest.raises(ValueError, match=named):
+            sim.state = state  # ... but this scene cannot run it
+    assert sim._output_array().tobytes() == before  # a refused state changes nothing
+
+
+class _Crafted:
+    """Pickles as gimbalsim.State called with any fields: what a foreign pickle can hold."""
+
+    def __init__(self, fields):
+        self.fields = fields
+
+    def __reduce__(self):
+        f = self.fields
+        return gimbalsim.State, (f["variant"], f["t"], f["q"], f["v"], f["in_contact"], f["v0"],
+                                 f["friction_mode"], f["vt_floor"], f["h_next"])
+
+
+def test_a_restored_time_near_the_limit_steps_on():
+    s = scene()
+    sim = gimbalsim.Simulator(s)
+    far = {**good_fields(), "t": 2.0**40 * s.step}
+    sim.state = gimbalsim.State(**far)
+    sim.step(0.0, 0.0, n=3)
+    assert sim.t == (2.0**40 + 3) * s.step
+
+
+def test_non_finite_torques_are_refused_before_stepping():
+    sim = gimbalsim.Simulator(scene())
+    with pytest.raises(ValueError, match="finite"):
+        sim.step(math.nan, 0.0)
+    tau = np.zeros((5, 2))
+    tau[3, 1] = math.inf
+    with pytest.raises(ValueError, match="row 3"):
+        sim.run(tau)
+    assert sim.t == 0.0
+
+
+# ---- outputs and paths ----
+
+def test_run_to_csv_refuses_its_scene_file_and_a_missing_folder(tmp_path):
+    path = tmp_path / "scene.yaml"
+    path.write_text(scene_path("paper_clearance").read_text())
+    original = path.read_bytes()
+    run = gimbalsim.simulate(gimbalsim.load_scene(path, {"sim.duration": 0.01}))
+    with pytest.raises(OSError, match="the same file as the input"):
+        run.to_csv(path)
+    with pytest.raises(OSError, match="the same file as the input"):
+        run.to_csv(tmp_path / "." / "scene.yaml")  # another spelling of it
+    assert path.read_bytes() == original
+    with pytest.raises(OSError, match="does not exist"):
+        run.to_csv(tmp_path / "missing" / "run.csv")
+    assert not (tmp_path / "missing").exists()
+    os.symlink(tmp_path / "target.csv", tmp_path / "link.csv")
+    with pytest.raises(OSError, match="symbolic link"):
+        run.to_csv(tmp_path / "link.csv")
+    run.to_csv(tmp_path / "run.csv")
+    assert (tmp_path / "run.csv").read_text().count("\n") == len(run.rows) + 1
+
+
+def test_a_path_with_a_nul_is_refused_everywhere(tmp_path):
+    good = str(scene_path("paper_clearance"))
+    s = gimbalsim.load_scene(good, {"sim.duration": 0.01})
+    run = gimbalsim.simulate(s)
+    (tmp_path / "out.csv").write_text("keep")
+    calls = {
+        "load_scene": lambda: gimbalsim.load_scene(good + "\0.txt"),
+        "Controller": lambda: gimbalsim.Controller(str(CONTROLLER_CONFIG) + "\0x"),
+        "closed_loop faults": lambda: gimbalsim.closed_loop(s, gimbalsim.Controller(), 0.1,
+                                                            faults=str(SCENES) + "\0x"),
+        "Run.to_csv": lambda: run.to_csv(str(tmp_path / "out.csv") + "\0.bak"),
+        "_load_scene": lambda: gimbalsim._gimbalsim._load_scene(good + "\0x", []),
+        "_write_csv": lambda: gimbalsim._gimbalsim._write_csv(str(tmp_path / "out.csv") + "\0x", run.rows, []),
+        "_Controller": lambda: gimbalsim._gimbalsim.Controller(str(CONTROLLER_CONFIG) + "\0x", []),
+    }
+    for name, call in calls.items():
+        with pytest.raises(ValueError, match="NUL"):
+            call()
+    assert (tmp_path / "out.csv").read_text() == "keep"
+
+
+# ---- NaN is a stop, not a figure ----
+
+@pytest.mark.parametrize("how", ["subnormal encoder resolution", "huge gyro bias"])
+def test_a_closed_loop_gone_nan_is_a_stop_and_reports_no_figure(how, tmp_path):
+    # A subnormal encoder resolution turns the measured angles (and then the
+    # commands) into NaN; so does a gyro bias of 1e300 rad/s through the attitude estimate.
+    faults = None
+    if how == "huge gyro bias":
+        faults = tmp_path / "faults.yaml"
+        faults.write_text("seed: 1\nfaults:\n  - {type: gyro_bias_jump, start: 0.2, bias: [0, 0, 1.0e300]}\n")
+        s = scene()
+    else:
+        s = scene(overrides={"sensors.encoder_resolution": 1e-310})
+    loop = gimbalsim.closed_loop(s, gimbalsim.Controller(CONTROLLER_CONFIG), duration=1.5, faults=faults)
+    assert loop.ok is False
+    assert loop.summary["stop_key"] != "", loop.summary
+    assert "finite" in loop.summary["error"].lower() or "nan" in loop.summary["error"].lower(), loop.summary
+    # no figure over NaN: with a non-finite value among the ticks recorded, the
+    # figures are None (a loop that stops at the first one records none)
+    if all(np.isfinite(c).all() for c in loop.columns.values()):
+        return
+    for figure in ("max_joint_error_track_rad", "max_truth_error_track_rad", "rms_truth_error_track_rad",
+                   "max_attitude_error_rad", "max_abs_tau_Nm", "settle_time_s"):
+        assert loop.summary[figure] is None, (figure, loop.summary[figure])
+
+
+# ---- typed values and useful reprs ----
+
+def test_controller_values_are_typed_as_their_keys():
+    c = gimbalsim.Controller(CONTROLLER_CONFIG)
+    values = c.values()
+    types = {k["key"]: k["type"] for k in gimbalsim.controller_keys()}
+    assert set(values) == set(types)
+    for key, v in values.items():
+        t = types[key]
+        if t == "number":
+            assert type(v) is float, (key, v)
+        elif t == "int":
+            assert type(v) is int, (key, v)
+        elif t.startswith("vec"):
+            assert isinstance(v, list) and len(v) == int(t[3:]) and all(type(x) is float for x in v), (key, v)
+        else:
+            assert type(v) is str, (key, v)
+    assert values["control.period"] == c.period
+    # the typed values read back exactly
+    assert gimbalsim.Controller(None, values).values() == values
+
+
+def test_scene_and_run_print_what_they_are():
+    s = scene(overrides={"friction.mu": 0.2, "sim.duration": 0.01})
+    text = repr(s)
+    assert str(scene_path("paper_clearance")) in text and "friction.mu=0.2" in text and "sim.duration=0.01" in text
+    default = gimbalsim.load_scene_text("")
+    assert "friction.mu" not in repr(default) and "the defaults" in repr(default)
+    run = gimbalsim.simulate(s)
+    text = repr(run)
+    assert str(scene_path("paper_clearance")) in text and "0.01 s" in text
+    assert f"{len(run.rows)} rows" in text and "ok" in text
+
+
+# ---- an override's problem names the override ----
+
+def test_a_dict_override_is_named_as_the_dict_entry():
+    with pytest.raises(gimbalsim.SceneError) as e:
+        scene(overrides={"sim.duration": 0.1, "contact.restitution": 1.5})
+    msg = str(e.value)
+    assert "overrides['contact.restitution'] (contact.restitution=1.5)" in msg and "--set" not in msg, msg
+    assert e.value.problems[0]["source"] == "overrides['contact.restitution']"
+    with pytest.raises(gimbalsim.SceneError) as e:
+        scene().replace({"friction.mu": -1})
+    assert "overrides['friction.mu'] (friction.mu=-1)" in str(e.value) and "--set" not in str(e.value), str(e.value)
+    with pytest.raises(gimbalsim.SceneError) as e:
+        gimbalsim.Controller(CONTROLLER_CONFIG, {"azimuth.kp": -5.0})
+    assert "overrides['azimuth.kp'] (azimuth.kp=-5.0)" in str(e.value) and "--set" not in str(e.value), str(e.value)
+    with pytest.raises(gimbalsim.SceneError) as e:
+        gimbalsim.load_scene_text("", overrides=["sim.step=0.001", "sim.step=-1"])
+    assert "overrides[1] (sim.step=-1)" in str(e.value) and "--set" not in str(e.value), str(e.value)
+
+
+SWEEP_HEAD = f"scene: {SCENES}/paper_clearance.yaml\nsamples: 3\nseed: 1\n"
+
+
+def test_a_sweep_spec_override_is_named_by_its_line(tmp_path):
+    from gimbalsim.sweep import SweepSpec, SpecError
+    bad = tmp_path / "spec.yaml"
+    bad.write_text(SWEEP_HEAD + "set:\n  sim.duration: 0.1\n  contact.restitution: 1.5\n"
+                   "parameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n")
+    with pytest.raises(SpecError) as e:
+        SweepSpec(bad)
+    assert f"{bad}:6 (contact.restitution=1.5)" in str(e.value) and "--set" not in str(e.value), str(e.value)
+    bad.write_text(SWEEP_HEAD + "parameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n"
+                   "grid:\n  contact.restitution: [0.5, 1.5]\n")
+    with pytest.raises(SpecError) as e:
+        SweepSpec(bad)
+    assert f"{bad}:7 (contact.restitution=1.5)" in str(e.value) and "--set" not in str(e.value), str(e.value)
+
+
+def test_a_tune_spec_override_is_named_by_its_line(tmp_path):
+    from gimbalsim.tune import TuneSpec, SpecError
+    spec = (f"scene: {SCENES}/paper_clearance.yaml\ncontroller: {CONTROLLER_CONFIG}\nduration: 3.7\n"
+            "trials: 2\nseed: 3\nbatch: 2\n"
+            "controller_set:\n  azimuth.kp: -5\n"
+            "gains:\n  elevation.kd: {uniform: [300, 3000]}\n")
+    bad = tmp_path / "t.yaml"
+    bad.write_text(spec)
+    with pytest.raises(SpecError) as e:
+        TuneSpec(bad)
+    assert f"{bad}:8 (azimuth.kp=-5)" in str(e.value) and "--set" not in str(e.value), str(e.value)
+    bad.write_text(spec.replace("controller_set:\n  azimuth.kp: -5\n", "set:\n  contact.restitution: 1.5\n"))
+    with pytest.raises(SpecError) as e:
+        TuneSpec(bad)
+    assert f"{bad}:8 (contact.restitution=1.5)" in str(e.value) and "--set" not in str(e.value), str(e.value)
