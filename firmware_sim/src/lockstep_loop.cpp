@@ -65,12 +65,16 @@ int run(Run& r) {
     r.bridge.publish(fw.attitude());  // before the status, so a controller has it when the status comes
     if (fw.statusDelivered()) r.bridge.publish(fw.status());
     if (want_truth) {
-      const Truth truth = observedTruth(fw.truth(), observer, static_cast<double>(k) * r.c.control_period);
+      const double t = static_cast<double>(k) * r.c.control_period;
+      const Truth truth = observedTruth(fw.truth(), observer, t);
+      r.pointing.add(truth.pointing_error, r.profile != nullptr && observer.sample(t).segment == pointing::Segment::Track);
       r.bridge.publish(truth);
       if (!r.csv.write(truth)) g_stop.store(true);  // a failed write stops the run (exit 4)
     }
     fw.advance();
-    r.stats.compute.add(static_cast<double>(nowNs() - t0) * 1e-3);
+    const std::int64_t t1 = nowNs();
+    r.stats.compute.add(static_cast<double>(t1 - t0) * 1e-3);
+    r.compute_seconds += static_cast<double>(t1 - t0) * 1e-9;
     r.stats.addTick(k + 1, fw.lastSubsteps());
     if (nowNs() >= next_stats) {
       r.bridge.publishStats(utime, r.stats, false, true);
