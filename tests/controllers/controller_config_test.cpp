@@ -130,7 +130,7 @@ TEST(ControllerConfig, PointingKeysLoadAndAreChecked) {
   EXPECT_NE(refused({"gimbal.joint2_axis=[0, 0, -1]"}).find("must not be parallel to gimbal.joint1_axis"),
             std::string::npos);
   EXPECT_NE(refused({"pointing.fixed_direction=[0, 0, 0]"}).find("must be non-zero"), std::string::npos);
-  EXPECT_NE(refused({"estimator.k_p=-1"}).find("must be >= 0"), std::string::npos);
+  EXPECT_NE(refused({"estimator.k_p=-1"}).find("must be in [0, 1000]"), std::string::npos);
   EXPECT_NE(refused({"pointing.mode=sideways"}).find("pointing.mode"), std::string::npos);
 }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "gimbalsim/controllers/pid.hpp"
 
@@ -176,7 +177,7 @@ TEST(Pid, ANonFiniteReadingIsRejectedAndLeavesTheStateAsItWas) {
   m2.dtheta = {0.3, -0.1};
   const ControlOutput first = update(c, clean, m1);
   update(c, hit, m1);
-  for (const double bad : {std::nan(""), INFINITY}) {
+  for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
     Measurement m = m2;
     m.theta(1) = bad;
     const ControlOutput held = update(c, hit, m);

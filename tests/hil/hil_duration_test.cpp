@@ -43,5 +43,27 @@ TEST(HilDuration, ControllerWhosePlantIsKilledSaysSoAndExitsSix) {
   EXPECT_NE(ctl.find("answered"), std::string::npos) << "its summary";
 }
 
+
+// The other side: a lockstep plant whose controller has gone (here: it ended
+// its shorter run) stops after --start-timeout without an answer, exit 6,
+// instead of paying --lockstep-timeout-ms on every tick for ever.
+TEST(HilDuration, LockstepPlantWhoseControllerHasGoneSaysSoAndExitsSix) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("controller_gone");
+  const std::string url = udpmUrl(7793), cfg = defaultControllerConfig();
+  const std::string body =
+      "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' --duration 0.5 >ctl.log 2>&1 &\nC=$!\n" +
+      "timeout 60 " + firmwareSim() + " " + scenePath("paper_ideal") + " --lockstep --duration 100 --profile " + cfg +
+      " --lcm-url '" + url + "' --lockstep-timeout-ms 50 --start-timeout 2 --truth-csv truth.csv >fw.log 2>&1\n"
+      "rf=$?\nwait $C; rc=$?\necho \"rf $rf rc $rc\"\n[ $rf -eq 6 ] && [ $rc -eq 0 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log") << readFile(dir / "ctl.log");
+  const std::string fw = readFile(dir / "fw.log");
+  EXPECT_NE(fw.find("firmware_sim: lockstep: no command answered the last 40 statuses (2 s of --lockstep-timeout-ms 50): "
+                    "the controller has gone; stopping at t = 0.540 s"),
+            std::string::npos)
+      << fw;
+  EXPECT_NE(fw.find("commands: received 500"), std::string::npos) << "its summary\n" << fw;
+}
+
 }  // namespace
 }  // namespace gimbalsim::hil
