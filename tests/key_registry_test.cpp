@@ -138,7 +138,10 @@ TEST(KeyRegistry, ProfileSectionAloneIsTheControllersProfile) {
   EXPECT_EQ(keys.values(pointing::loadTargetProfile(file)),
             keys.values(controllers::loadControllerConfig(file).profile));
   // Other sections are not read; the profile's keys are checked as the controller checks them.
-  EXPECT_NO_THROW(pointing::loadTargetProfileText("azimuth: {kp: -1}\nbogus: 1\n", "t.yaml"));
+  EXPECT_NO_THROW(pointing::loadTargetProfileText("azimuth: {kp: -1}\nbogus: 1\nprofile: {}\n", "t.yaml"));
+  // A file without the section (a scene) is refused, naming the file and the key.
+  const std::string none = refusalOf([] { pointing::loadTargetProfileText("contact: {clearance: 1e-4}\n", "s.yaml"); });
+  EXPECT_NE(none.find("s.yaml: key 'profile': missing"), std::string::npos) << none;
   const std::string what =
       refusalOf([] { pointing::loadTargetProfileText("profile: {slew_time: 0, slew_tim: 1}\n", "t.yaml"); });
   EXPECT_NE(what.find("t.yaml:1:11: key 'profile.slew_time': must be > 0, got 0"), std::string::npos) << what;

@@ -82,7 +82,8 @@ if [ "$LOG" = 1 ]; then
   sleep 0.3
 fi
 PERIOD=$(awk -v r="$RATE" 'BEGIN { printf "%.17g", 1.0 / r }')
-"$BIN/pointing_controller" "$CONFIG" --set control.period="$PERIOD" --lcm-url "$URL" --idle-exit 2 \
+# The same --duration as the plant: both end by themselves (docs/bench.md "Two terminals").
+"$BIN/pointing_controller" "$CONFIG" --set control.period="$PERIOD" --lcm-url "$URL" --duration "$DURATION" --idle-exit 10 \
     --log-csv controller.csv 2>controller.txt &
 CTL=$!; pids+=("$CTL")
 sleep 0.2

@@ -98,7 +98,7 @@ def run_lockstep(args, cfg, workdir):
             f.write(f"{k}: {v}\n")
     ctl_csv, truth_csv = os.path.join(workdir, "controller.csv"), os.path.join(workdir, "truth.csv")
     pc = [os.path.join(args.bin, "pointing_controller"), cfg_path, "--lcm-url", URL, "--log-csv", ctl_csv,
-          "--duration", repr(duration - period), "--idle-exit", "10"]
+          "--duration", repr(duration), "--idle-exit", "10"]
     fw = [os.path.join(args.bin, "firmware_sim"), args.scene, "--lockstep", "--duration", repr(duration),
           "--rate", repr(1.0 / period), "--profile", cfg_path, "--truth-csv", truth_csv, "--lcm-url", URL,
           "--start-timeout", "10"]

@@ -38,8 +38,13 @@ Answer answerStatus(const ControllerConfig& c, ControllerState& s, const contrac
   // The attitude of the status's own tick (a late status finds it in the history).
   const int slot = static_cast<int>((st.seq >= 0 ? st.seq : 0) % AttitudeHistory::kSize);
   a.meas.att = s.attitudes.seq[slot] == st.seq ? s.attitudes.att[slot] : attitudeMeasurement(att, st.seq);
-  a.flags = observeStatus(c.monitor, s.monitor, c.period, st.seq, st.angle, st.rate, s.attitudes.newest,
-                          att.star_outage != 0);
+  // A reading with a NaN or Inf is rejected by update() (last command held);
+  // the fault monitor does not see it either.
+  const bool finite = a.meas.theta.allFinite() && a.meas.dtheta.allFinite();
+  if (finite) {
+    a.flags = observeStatus(c.monitor, s.monitor, c.period, st.seq, st.angle, st.rate, s.attitudes.newest,
+                            att.star_outage != 0);
+  }
   const Vec2 integral = s.integral;
   a.out = update(c, s, a.meas);
   if (a.flags.stale) {  // hold the last command from a fresh status (safe torque after hold_ticks); no integration

@@ -9,13 +9,15 @@ namespace {
 std::vector<Key<AxisGains>> gainKeys() {
   using K = Keys<AxisGains>;
   return {
-      K::number("kp", "N m/rad", "proportional gain", field(&AxisGains::kp), atLeast(0)),
-      K::number("ki", "N m/(rad s)", "integral gain", field(&AxisGains::ki), atLeast(0)),
-      K::number("kd", "N m s/rad", "derivative gain", field(&AxisGains::kd), atLeast(0)),
+      // Upper bounds keep every product of the law finite (gain x error, inertia x acceleration).
+      K::number("kp", "N m/rad", "proportional gain", field(&AxisGains::kp), interval('[', 0.0, 1e9, ']')),
+      K::number("ki", "N m/(rad s)", "integral gain", field(&AxisGains::ki), interval('[', 0.0, 1e12, ']')),
+      K::number("kd", "N m s/rad", "derivative gain", field(&AxisGains::kd), interval('[', 0.0, 1e9, ']')),
       K::number("inertia", "kg m^2", "acceleration feed-forward inertia estimate (0: none)",
-                field(&AxisGains::inertia), atLeast(0)),
-      K::number("torque_limit", "N m", "command limit", field(&AxisGains::torque_limit), greater(0)),
-      K::number("aw_gain", "1/s", "back-calculation anti-windup gain 1/T_t", field(&AxisGains::aw_gain), atLeast(0)),
+                field(&AxisGains::inertia), interval('[', 0.0, 1e6, ']')),
+      K::number("torque_limit", "N m", "command limit", field(&AxisGains::torque_limit), interval('(', 0.0, 1e6, ']')),
+      K::number("aw_gain", "1/s", "back-calculation anti-windup gain 1/T_t", field(&AxisGains::aw_gain),
+                interval('[', 0.0, 1e6, ']')),
   };
 }
 
@@ -23,7 +25,7 @@ std::vector<Key<ControllerConfig>> keys() {
   using K = Keys<ControllerConfig>;
   std::vector<Key<ControllerConfig>> v = {
       K::number("control.period", "s", "control period Ts; profile time of status k is k Ts",
-                field(&ControllerConfig::period), greater(0)),
+                field(&ControllerConfig::period), interval('[', 1e-6, 1e3, ']')),
       K::choice<AntiWindup>("control.anti_windup", "integrator anti-windup", field(&ControllerConfig::anti_windup),
                             {{"none", AntiWindup::None},
                              {"clamping", AntiWindup::Clamping},
@@ -33,10 +35,10 @@ std::vector<Key<ControllerConfig>> keys() {
           "rate in the derivative term: the status rates, or the filtered difference of the encoder angles",
           field(&ControllerConfig::rate_source), {{"status", RateSource::Status}, {"difference", RateSource::Difference}}),
       K::number("control.rate_filter_hz", "Hz", "low-pass cutoff of the differenced rate, < 1/(2 control.period)",
-                field(&ControllerConfig::rate_filter_hz), greater(0)),
+                field(&ControllerConfig::rate_filter_hz), interval('(', 0.0, 1e6, ']')),
       K::number("control.approach_margin", "-",
                 "large-error approach: closing rate <= sqrt(2 a |e|), a = margin torque_limit / inertia (0: plain PD)",
-                field(&ControllerConfig::approach_margin), atLeast(0)),
+                field(&ControllerConfig::approach_margin), interval('[', 0.0, 100.0, ']')),
   };
   v.push_back(K::choice<PointingMode>(
       "pointing.mode",
@@ -58,10 +60,10 @@ std::vector<Key<ControllerConfig>> keys() {
   v.push_back(K::vector<3>("gimbal.boresight", "-", "antenna boresight the controller assumes, shaft 2 frame",
                            [](auto& c) -> auto& { return c.gimbal.boresight; }, nonZero().saying("must be non-zero")));
   v.push_back(K::number("estimator.k_p", "1/s", "attitude estimator correction gain (star tracker bandwidth)",
-                        [](auto& c) -> auto& { return c.estimator.k_p; }, atLeast(0)));
+                        [](auto& c) -> auto& { return c.estimator.k_p; }, interval('[', 0.0, 1e3, ']')));
   v.push_back(K::number("estimator.k_i", "1/s^2",
                         "attitude estimator gyro-bias integral gain (error poles: s^2 + k_p s + k_i)",
-                        [](auto& c) -> auto& { return c.estimator.k_i; }, atLeast(0)));
+                        [](auto& c) -> auto& { return c.estimator.k_i; }, interval('[', 0.0, 1e6, ']')));
   v.push_back(K::integer("monitor.stale_ticks", "ticks",
                          "a status this many ticks older than the newest attitude message is stale: the last command is held",
                          [](auto& c) -> auto& { return c.monitor.stale_ticks; }, atLeast(1)));
@@ -73,7 +75,7 @@ std::vector<Key<ControllerConfig>> keys() {
   v.push_back(K::number("monitor.stuck_tol", "rad",
                         "encoder motion and integrated rate differing by more than this over a window: encoder suspect, "
                         "the axis runs on rate feedback only",
-                        [](auto& c) -> auto& { return c.monitor.stuck_tol; }, greater(0)));
+                        [](auto& c) -> auto& { return c.monitor.stuck_tol; }, interval('(', 0.0, 1e3, ']')));
   embed(v, "profile.", pointing::profileKeys().keys, [](auto& c) -> auto& { return c.profile; });
   embed(v, "azimuth.", gainKeys(), [](auto& c) -> auto& { return c.axis[0]; });
   embed(v, "elevation.", gainKeys(), [](auto& c) -> auto& { return c.axis[1]; });

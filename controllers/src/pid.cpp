@@ -5,7 +5,44 @@
 
 namespace gimbalsim::controllers {
 
-ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measurement& meas) noexcept {
+namespace {
+
+bool finite2(const Vec2& v) noexcept { return std::isfinite(v(0)) && std::isfinite(v(1)); }
+
+/// The answer to a rejected reading: the last command, the reference the
+/// controller last tracked (inertial: the last IK solution), state untouched.
+ControlOutput held(const ControllerConfig& c, const ControllerState& s, double t) noexcept {
+  ControlOutput out;
+  out.rejected = true;
+  out.tau = s.last_tau;
+  out.tau_unsat = s.last_tau;
+  if (std::isfinite(t)) out.profile = c.profile.at(t);
+  out.ref = out.profile;
+  if (c.pointing_mode == PointingMode::Inertial && s.ref_primed) out.ref.q = s.ref_prev;
+  out.q_WB_est = s.estimator.q_WB;
+  out.omega_B_est = s.estimator.omega_B;
+  return out;
+}
+
+}  // namespace
+
+ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measurement& reading) noexcept {
+  // A NaN or Inf would stay in the integral, the filter and the estimate for
+  // good: reject it before it touches the state.
+  if (!std::isfinite(reading.t) || !finite2(reading.theta) || !finite2(reading.dtheta)) {
+    ++s.rejected_readings;
+    return held(c, s, reading.t);
+  }
+  Measurement meas = reading;
+  AttitudeMeasurement& att = meas.att;
+  if (att.gyro_valid && !att.gyro.allFinite()) {
+    att.gyro_valid = false;  // held as a missing gyro sample
+    ++s.rejected_readings;
+  }
+  if (att.star_valid && (!std::isfinite(att.star_time) || !att.star_q.coeffs().allFinite())) {
+    att.star_valid = false;
+    ++s.rejected_readings;
+  }
   ControlOutput out;
   jointReference(c, s, meas, out);  // inertial_reference.cpp
   const double Ts = c.period;
@@ -62,6 +99,7 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
   s.theta_prev = meas.theta;
   s.t_prev = meas.t;
   s.primed = true;
+  s.last_tau = out.tau;
   return out;
 }
 

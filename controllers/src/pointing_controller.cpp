@@ -4,6 +4,7 @@ namespace gimbalsim::controllers {
 
 contract::Command PointingController::answer(const contract::Status& st, const contract::Attitude& att,
                                              contract::ControllerReport& report) noexcept {
+  const long long rejected_before = s_.rejected_readings;
   const Answer a = answerStatus(c_, s_, st, att, next_seq_);
   report.ref = a.out.ref;
   report.theta_meas = a.meas.theta;
@@ -13,6 +14,7 @@ contract::Command PointingController::answer(const contract::Status& st, const c
   report.saturated[0] = a.out.saturated[0];
   report.saturated[1] = a.out.saturated[1];
   report.flags = a.flags;
+  report.reading_rejected = a.out.rejected || s_.rejected_readings != rejected_before;
   return a.cmd;
 }
 

@@ -45,8 +45,9 @@ struct Options {
   std::vector<std::string> sets;
   std::string lcm_url;
   std::string prefix;
-  double duration = 0.0;   ///< [s] of profile time; 0 = until SIGINT/SIGTERM
-  double idle_exit = 0.0;  ///< [s] of wall time without a status; 0 = never
+  double duration = 0.0;   ///< [s] of a run (firmware_sim --duration); 0 = until SIGINT/SIGTERM
+  double idle_exit = 0.0;  ///< [s] of wall time waiting for the first status; 0 = forever
+  double plant_timeout = 3.0;  ///< [s] of wall time without a status after the first: the plant has gone; 0 = never
   std::string log_csv;
   bool keys = false;
   bool markdown = false;  ///< --keys as a Markdown table
@@ -145,6 +146,7 @@ class StatusHandler {
   }
 
   long long answered() const { return answered_; }
+  std::int64_t lastSeq() const { return last_status_seq_; }
   long long foreign() const { return foreign_; }
   long long plantRestarts() const { return restarts_; }
   long long undecodable() const { return undecodable_; }
@@ -155,6 +157,7 @@ class StatusHandler {
   long long unpaired() const { return unpaired_; }
   long long outageStatuses() const { return outage_statuses_; }
   const MonitorState& monitor() const { return state_.monitor; }
+  long long rejectedReadings() const { return state_.rejected_readings; }
 
  private:
   void log(const gimbal_status_t& st, const Measurement& m, const ControlOutput& o, const MonitorFlags& f) {
@@ -214,11 +217,16 @@ int run(int argc, char** argv) {
   app.add_option("--set", o.sets, "configuration override key=value (repeatable); see --keys");
   app.add_option("--lcm-url", o.lcm_url, "LCM provider URL (default: LCM_DEFAULT_URL or LCM's default)");
   app.add_option("--channel-prefix", o.prefix, "prefix of every channel name, e.g. BENCH2_");
-  app.add_option("--duration", o.duration, "stop after answering the status at this profile time [s] (0 = until "
-                                           "SIGINT/SIGTERM)")
-      ->check(CLI::NonNegativeNumber);
-  app.add_option("--idle-exit", o.idle_exit, "exit after this many wall seconds without a status (0 = never): 0 if statuses came before, 6 (no peer) if none did")
-      ->check(CLI::NonNegativeNumber);
+  // The same ticks as firmware_sim --duration: statuses 0 .. round(T / period) - 1.
+  app.add_option("--duration", o.duration, "stop after answering the last status of a run of this length [s], as "
+                                           "firmware_sim --duration counts it (0 = until SIGINT/SIGTERM)")
+      ->check(CLI::NonNegativeNumber)->check(CLI::Range(0.0, 1e9));
+  app.add_option("--idle-exit", o.idle_exit, "wait at most this many wall seconds for the first status, then exit 6 "
+                                             "(no peer) (0 = wait forever)")
+      ->check(CLI::NonNegativeNumber)->check(CLI::Range(0.0, 1e9));
+  app.add_option("--plant-timeout", o.plant_timeout, "after the first status, this many wall seconds without one "
+                                                     "mean the plant has gone: say so, exit 6 (0 = never)")
+      ->capture_default_str()->check(CLI::NonNegativeNumber)->check(CLI::Range(0.0, 1e9));
   app.add_option("--log-csv", o.log_csv, "write one row per status answered: reference, measurement, torque");
   app.add_flag("--keys", o.keys, "list every configuration key with type, unit, default, check and meaning, then exit");
   app.add_flag("--markdown", o.markdown, "with --keys: as a Markdown table (the one in docs/controller_keys.md)");
@@ -283,6 +291,8 @@ int run(int argc, char** argv) {
   int code = program::kOk;
   constexpr int kPollMs = 100;
   constexpr int kDrainMax = 256;  // datagrams per round: a flood cannot hold the loop
+  // The last status of a run of --duration T is seq round(T / period) - 1 (firmware_sim's count).
+  const std::int64_t last_seq = o.duration > 0.0 ? std::llround(o.duration / c.period) - 1 : -1;
   std::int64_t last_answer_ns = bench_io::monotonicNs();
   while (!io::stopRequested()) {
     if (rx.wait(kPollMs) < 0) {
@@ -295,16 +305,24 @@ int run(int argc, char** argv) {
     const std::int64_t now = bench_io::monotonicNs();
     if (h.answered() > before) last_answer_ns = now;
     if (log_out && !log_out->ok()) {
-      std::fprintf(stderr, "pointing_controller: --log-csv %s: write failed, stopping\n", o.log_csv.c_str());
+      std::fprintf(stderr, "pointing_controller: --log-csv %s: %s; stopping\n", o.log_csv.c_str(),
+                   log_out->error().empty() ? "write failed" : log_out->error().c_str());
       code = program::kOutput;
       break;
     }
-    if (o.duration > 0.0 && h.answered() > 0 && h.lastTime() >= o.duration - 0.5 * c.period) break;
+    if (last_seq >= 0 && h.answered() > 0 && h.lastSeq() >= last_seq) break;
     const double idle = static_cast<double>(now - last_answer_ns) * 1e-9;  // [s] wall time since the last status
-    if (o.idle_exit > 0.0 && idle >= o.idle_exit) {
-      std::fprintf(stderr, "pointing_controller: no status for %g s, exiting\n", o.idle_exit);
-      // A plant that came and went is a bench run's normal end; none at all is no peer.
-      code = h.answered() > 0 ? program::kOk : program::kNoPeer;
+    if (h.answered() == 0 && o.idle_exit > 0.0 && idle >= o.idle_exit) {
+      std::fprintf(stderr, "pointing_controller: no status for %g s, exiting: no plant on %s\n", o.idle_exit,
+                   ch.status.c_str());
+      code = program::kNoPeer;
+      break;
+    }
+    if (h.answered() > 0 && o.plant_timeout > 0.0 && idle >= o.plant_timeout) {
+      std::fprintf(stderr, "pointing_controller: the plant has gone: no status for %g s (--plant-timeout) after "
+                   "status %lld at t = %.3f s%s\n", o.plant_timeout, static_cast<long long>(h.lastSeq()), h.lastTime(),
+                   last_seq >= 0 ? ", before the end of --duration" : "");
+      code = program::kNoPeer;
       break;
     }
   }
@@ -314,9 +332,10 @@ int run(int argc, char** argv) {
   }
   std::fprintf(stderr, "pointing_controller: answered %lld statuses (last t = %.3f s), %lld undecodable, %lld publish "
                "errors, %lld plant restarts, max |joint error| while tracking %.3e rad (encoder), status faults seen 0x%x, "
-               "%lld statuses without their attitude (gyro held), %lld in a star tracker outage\n",
+               "%lld statuses without their attitude (gyro held), %lld in a star tracker outage, %lld readings "
+               "rejected (NaN or Inf: the last command held)\n",
                h.answered(), h.lastTime(), h.undecodable(), h.publishErrors(), h.plantRestarts(), h.maxTrackError(),
-               h.faultsSeen(), h.unpaired(), h.outageStatuses());
+               h.faultsSeen(), h.unpaired(), h.outageStatuses(), h.rejectedReadings());
   const MonitorState& mon = h.monitor();
   std::fprintf(stderr, "pointing_controller: fault monitor: %lld stale statuses (%lld with safe torque), %lld statuses "
                "missing, encoder suspect %lld times on azimuth, %lld on elevation\n",

@@ -77,6 +77,26 @@ struct Outbound {
 class LcmBridge;
 class TruthCsv;
 
+/// The truth pointing error over the truths of a run, and while tracking (the
+/// profile's Track segment); added by the loop thread, no allocation.
+struct PointingErrorStats {
+  double max_rad = 0.0, sum_sq = 0.0, last_rad = 0.0;  ///< [rad], [rad^2]
+  long long n = 0;
+  double max_track_rad = 0.0, sum_sq_track = 0.0;
+  long long n_track = 0;
+  void add(double e_rad, bool tracking) noexcept {
+    max_rad = e_rad > max_rad ? e_rad : max_rad;
+    sum_sq += e_rad * e_rad;
+    last_rad = e_rad;
+    ++n;
+    if (tracking) {
+      max_track_rad = e_rad > max_track_rad ? e_rad : max_track_rad;
+      sum_sq_track += e_rad * e_rad;
+      ++n_track;
+    }
+  }
+};
+
 /// Everything a loop needs; main.cpp builds it.
 struct Run {
   const PlantScene& plant;
@@ -94,6 +114,8 @@ struct Run {
   long long lockstep_timeouts = 0;
   const FaultSchedule* faults = nullptr;  ///< --faults, null = none
   double worst_tick_us = 0.0;  ///< [us] the sub-step cap's bound on a tick (tick_budget.hpp), measured at start
+  double compute_seconds = 0.0;  ///< [s] wall time of the plant's own work (ticks, not the waits)
+  PointingErrorStats pointing;   ///< the truth pointing error (written by the loop, read after it)
 };
 
 /// Ticks to run: --duration / T, or -1 (until stopped).

@@ -55,6 +55,20 @@ class Figures {
   long long n_track_ = 0;
 };
 
+/// The first non-finite value of a tick's record ("" if none): what the
+/// figures are computed over, so none of them silently skips a NaN.
+const char* nonFinite(const TickRecord& r) {
+  if (!r.tau_cmd.allFinite()) return "commanded torque";
+  if (!r.tau_applied.allFinite()) return "applied torque";
+  if (!r.theta_meas.allFinite()) return "measured joint angle";
+  if (!r.theta_true.allFinite()) return "true joint angle";
+  if (!r.ref.q.allFinite() || !r.ref.dq.allFinite() || !r.ref.ddq.allFinite()) return "joint reference";
+  if (!std::isfinite(r.truth_error)) return "truth pointing error";
+  if (!r.q_WB_est.coeffs().allFinite()) return "estimated base attitude";
+  if (!std::isfinite(r.attitude_error)) return "attitude error";
+  return "";
+}
+
 template <class V>
 ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const pointing::TargetProfile& profile,
                      const Config& fc, const ClosedLoopOptions& opt,
@@ -109,6 +123,16 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     rec.q_WB_true = Quat(bq[0], bq[1], bq[2], bq[3]);
     rec.attitude_error = pointing::attitudeError(rec.q_WB_true, rec.q_WB_est);
     rec.star_outage = a.star_outage;
+    if (delivered && a.reading_rejected) ++r.rejected_readings;
+    if (const char* bad = nonFinite(rec); *bad) {
+      r.ok = false;
+      r.stop_status = StepStatus::NonFinite;
+      r.error = std::string(describe(StepStatus::NonFinite)) + " of the closed loop: " + bad + " at t = " +
+                std::to_string(t) + " s";
+      r.t_end = t;
+      fig.finish(r);
+      return r;
+    }
     fig.add(rec, period, a.saturated[0] || a.saturated[1], r);
     if (sink) sink(rec);
     r.ticks = k + 1;

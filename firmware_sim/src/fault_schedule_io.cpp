@@ -36,11 +36,11 @@ class Reader {
 
   FaultSchedule read(const std::string& yaml) {
     FaultSchedule s;
+    // The bounded reader of every input (one document, no aliases, bounded
+    // size and depth): a second document ('---') is refused, not ignored.
     YAML::Node root;
-    try {
-      root = YAML::Load(yaml);
-    } catch (const YAML::Exception& e) {
-      problems_.push_back(place(origin_, e.mark) + ": not valid YAML: " + e.msg);
+    if (Problem why; !loadDocument(yaml, origin_, root, why)) {
+      problems_.push_back(why.text);
       return s;
     }
     if (!root.IsMap()) {
@@ -124,10 +124,17 @@ class Reader {
       } else if (key == "start") {
         convert(n, entry, key, [&](const YAML::Node& v) {
           f.start = asNumber(v);
-          if (!(f.start >= 0.0)) throw ConvertError{"must be >= 0 s, got " + formatNumber(f.start)};
+          if (!(f.start >= 0.0 && f.start <= kMaxFaultTime)) {
+            throw ConvertError{"must be in [0, " + formatNumber(kMaxFaultTime) + "] s, got " + formatNumber(f.start)};
+          }
         });
       } else if (key == "end") {
-        convert(n, entry, key, [&](const YAML::Node& v) { f.end = asNumber(v); });
+        convert(n, entry, key, [&](const YAML::Node& v) {
+          f.end = asNumber(v);
+          if (!(f.end >= 0.0 && f.end <= kMaxFaultTime)) {
+            throw ConvertError{"must be in [0, " + formatNumber(kMaxFaultTime) + "] s, got " + formatNumber(f.end)};
+          }
+        });
       } else if (key == "probability" && !isRamp(f.kind)) {
         convert(n, entry, key, [&](const YAML::Node& v) {
           f.probability = asNumber(v);
@@ -167,12 +174,23 @@ class Reader {
     if (problems_.size() == before) out.push_back(f);
   }
 
+  /// One parameter, within a range the plant and the controller honour (no
+  /// value that overflows a sensor reading or a force to Inf).
   static void readParam(FaultSpec& f, const YAML::Node& v) {
+    auto within = [](double x, double lo, double hi, const char* unit) {
+      if (!(x >= lo && x <= hi)) {
+        throw ConvertError{"must be in [" + formatNumber(lo) + ", " + formatNumber(hi) + "]" + unit + ", got " +
+                           formatNumber(x)};
+      }
+      return x;
+    };
     switch (f.kind) {
-      case FaultKind::EncoderBias: f.value = asNumber(v); break;
+      case FaultKind::EncoderBias: f.value = within(asNumber(v), -kMaxEncoderBias, kMaxEncoderBias, " rad"); break;
       case FaultKind::EncoderNoise:
         f.value = asNumber(v);
-        if (!(f.value > 0.0)) throw ConvertError{"must be > 0 rad, got " + formatNumber(f.value)};
+        if (!(f.value > 0.0 && f.value <= kMaxEncoderBias)) {
+          throw ConvertError{"must be in (0, " + formatNumber(kMaxEncoderBias) + "] rad, got " + formatNumber(f.value)};
+        }
         break;
       case FaultKind::StatusDelay:
       case FaultKind::CommandDelay:
@@ -182,22 +200,26 @@ class Reader {
                              std::to_string(f.ticks)};
         }
         break;
-      case FaultKind::TorqueLimit:
-        f.value = asNumber(v);
-        if (!(f.value >= 0.0)) throw ConvertError{"must be >= 0 N m, got " + formatNumber(f.value)};
+      case FaultKind::TorqueLimit: f.value = within(asNumber(v), 0.0, kMaxFaultTorque, " N m"); break;
+      case FaultKind::GyroBiasJump:
+        f.vector = asVector<3>(v, "[x, y, z] in rad/s");
+        for (int i = 0; i < 3; ++i) within(f.vector(i), -kMaxGyroBiasJump, kMaxGyroBiasJump, " rad/s (each axis)");
         break;
-      case FaultKind::GyroBiasJump: f.vector = asVector<3>(v, "[x, y, z] in rad/s"); break;
       case FaultKind::BearingWear:
         f.value = asNumber(v);
         if (!(f.value > 0.0)) throw ConvertError{"must be > 0 m, got " + formatNumber(f.value)};
         break;
-      case FaultKind::FrictionRise:
-        f.value = asNumber(v);
-        if (!(f.value >= 0.0)) throw ConvertError{"must be >= 0, got " + formatNumber(f.value)};
-        break;
+      case FaultKind::FrictionRise: f.value = within(asNumber(v), 0.0, kMaxFrictionMu, ""); break;
       default: break;
     }
   }
+
+  // The ranges of the parameters (docs/bench.md "Fault schedule").
+  static constexpr double kMaxFaultTime = 1e9;      ///< [s] start, end (firmware_sim --duration's bound)
+  static constexpr double kMaxEncoderBias = 100.0;  ///< [rad] encoder bias and noise sigma
+  static constexpr double kMaxFaultTorque = 1e6;    ///< [N m] torque limit
+  static constexpr double kMaxGyroBiasJump = 1.0;   ///< [rad/s] per axis, as sensors.gyro_bias
+  static constexpr double kMaxFrictionMu = 10.0;    ///< [-] friction coefficient
 
   std::string origin_;
 };
@@ -213,7 +235,8 @@ FaultSchedule loadFaultScheduleText(const std::string& yaml, const std::string& 
 
 FaultSchedule loadFaultSchedule(const std::string& path) {
   std::string text;
-  if (!readFile(path, text)) throw FaultScheduleError({path + ": cannot open fault schedule file"});
+  std::string why;
+  if (!readFile(path, text, &why)) throw FaultScheduleError({path + ": cannot open fault schedule file: " + why});
   return loadFaultScheduleText(text, path);
 }
 

@@ -54,6 +54,7 @@ int run(Run& r) {
   const std::int64_t total = totalTicks(r.o, r.c);
   const std::int64_t wall0 = nowNs();
   std::int32_t extra = 0;
+  long long timeouts_in_a_row = 0;  // lockstep timeouts since the last answer
   std::int64_t next_stats = wall0 + std::llround(r.o.stats_period * 1e9);
   for (std::int64_t k = 0; (total < 0 || k < total) && !g_stop.load(); ++k) {
     const std::int64_t t0 = nowNs();
@@ -65,12 +66,16 @@ int run(Run& r) {
     r.bridge.publish(fw.attitude());  // before the status, so a controller has it when the status comes
     if (fw.statusDelivered()) r.bridge.publish(fw.status());
     if (want_truth) {
-      const Truth truth = observedTruth(fw.truth(), observer, static_cast<double>(k) * r.c.control_period);
+      const double t = static_cast<double>(k) * r.c.control_period;
+      const Truth truth = observedTruth(fw.truth(), observer, t);
+      r.pointing.add(truth.pointing_error, r.profile != nullptr && observer.sample(t).segment == pointing::Segment::Track);
       r.bridge.publish(truth);
       if (!r.csv.write(truth)) g_stop.store(true);  // a failed write stops the run (exit 4)
     }
     fw.advance();
-    r.stats.compute.add(static_cast<double>(nowNs() - t0) * 1e-3);
+    const std::int64_t t1 = nowNs();
+    r.stats.compute.add(static_cast<double>(t1 - t0) * 1e-3);
+    r.compute_seconds += static_cast<double>(t1 - t0) * 1e-9;
     r.stats.addTick(k + 1, fw.lastSubsteps());
     if (nowNs() >= next_stats) {
       r.bridge.publishStats(utime, r.stats, false, true);
@@ -92,6 +97,20 @@ int run(Run& r) {
       }
       extra = kLockstepTimeout;
       ++r.lockstep_timeouts;
+      // A controller that has gone would cost --lockstep-timeout-ms per tick for ever: after
+      // --start-timeout without any answer, say so and end (the no-peer code).
+      if (++timeouts_in_a_row * r.o.lockstep_timeout_ms * 1e-3 >= r.o.start_timeout_s) {
+        std::fprintf(stderr,
+                     "firmware_sim: lockstep: no command answered the last %lld statuses (%g s of --lockstep-timeout-ms "
+                     "%g): the controller has gone; stopping at t = %.3f s\n",
+                     timeouts_in_a_row, static_cast<double>(timeouts_in_a_row) * r.o.lockstep_timeout_ms * 1e-3,
+                     r.o.lockstep_timeout_ms, static_cast<double>(fw.ticks()) * r.c.control_period);
+        r.wall_seconds = static_cast<double>(nowNs() - wall0) * 1e-9;
+        printExitSummary(r, outcomeOf(fw));
+        return kExitNoController;
+      }
+    } else {
+      timeouts_in_a_row = 0;
     }
   }
   r.wall_seconds = static_cast<double>(nowNs() - wall0) * 1e-9;

@@ -8,7 +8,9 @@
 // The log is read with our validating reader (bench_io/lcm_log.hpp), never
 // LCM's, which trusts the lengths in an event header: a malformed log is
 // refused (exit 2) with the byte offset of the bad event, before any output is
-// written. Outputs are io::OutputFile: temporary + rename, checked
+// written; a log cut inside its last event (a killed logger) is converted up
+// to its last whole event, the cut reported, exit 7 (program.hpp kPartial).
+// Outputs are io::OutputFile: temporary + rename, checked
 // writes, never through a link or over the log.
 #include <CLI/CLI.hpp>
 #include <cerrno>
@@ -170,16 +172,30 @@ int mainImpl(int argc, char** argv) {
   // Pass 1: every event header validated (bench_io::LogReader), and which channels the log holds.
   // (An empty file is a log with no events: lcm-logger with nothing recorded leaves one.)
   std::map<std::string, long long> counts;
+  std::uint64_t cut_bytes = 0, cut_offset = 0;  // a truncated log: its partial last event
   {
     bench_io::LogReader lr;
     if (std::string why; !lr.open(log_path, &why)) return refuse(why);
     bench_io::LogEvent e;
     while (lr.next(&e)) ++counts[std::string(e.channel)];
-    if (!lr.error().empty()) {
+    if (lr.truncated()) {
+      cut_bytes = lr.cutBytes();
+      cut_offset = lr.errorOffset();
+    } else if (!lr.error().empty()) {
       const bool first = lr.errorOffset() == 0;
       return refuse("log '" + log_path + "': " + (first ? "not an LCM log: " : "") + lr.error() +
                     "; nothing written");
     }
+  }
+  long long whole_events = 0;
+  for (const auto& [ch, n] : counts) whole_events += n;
+  if (cut_bytes > 0) {
+    std::fprintf(stderr,
+                 "gimbalsim_log2csv: warning: log '%s' is cut inside its last event (a killed logger leaves one): "
+                 "the last %llu bytes, from byte offset %llu, are dropped; the %lld whole events before them are "
+                 "converted (exit %d)\n",
+                 log_path.c_str(), static_cast<unsigned long long>(cut_bytes),
+                 static_cast<unsigned long long>(cut_offset), whole_events, program::kPartial);
   }
   auto present = [&] {
     std::string s;
@@ -191,7 +207,7 @@ int mainImpl(int argc, char** argv) {
       const Type t = typeOfChannel(ch);
       std::printf("%-32s %10lld  %s\n", ch.c_str(), n, t == Type::Unknown ? "(not a gimbalsim channel)" : typeName(t));
     }
-    return program::kOk;
+    return cut_bytes > 0 ? program::kPartial : program::kOk;
   }
 
   // Selection: channel -> type.
@@ -227,9 +243,10 @@ int mainImpl(int argc, char** argv) {
 
   // Pass 2: convert.
   const fs::path dir = out_dir.empty() ? fs::path(log_path).parent_path() : fs::path(out_dir);
-  if (!out_dir.empty()) {
-    fs::create_directories(dir, ec);
-    if (ec) return refuse("--out-dir '" + out_dir + "': cannot create (" + ec.message() + ")");
+  // An output folder is never created: one that is missing is refused (the rule of every program).
+  if (!out_dir.empty() && !fs::is_directory(dir, ec)) {
+    return refuse("--out-dir '" + out_dir + "': " + (fs::exists(dir, ec) ? "not a folder" : "no such folder") +
+                  " (create it first)");
   }
   const std::string stem = fs::path(log_path).stem().string();
   std::map<std::string, std::unique_ptr<io::OutputFile>> files;
@@ -255,14 +272,16 @@ int mainImpl(int argc, char** argv) {
       const auto it = sinks.find(std::string(e.channel));
       if (it != sinks.end()) it->second->add(e);
     }
-    if (!lr.error().empty()) return refuse("log '" + log_path + "' changed while read: " + lr.error());
+    if (!lr.error().empty() && !(lr.truncated() && lr.errorOffset() == cut_offset)) {
+      return refuse("log '" + log_path + "' changed while read: " + lr.error());
+    }
   }
-  int rc = program::kOk;
+  int rc = cut_bytes > 0 ? program::kPartial : program::kOk;
   for (auto& [ch, s] : sinks) {
     const long long rows = s->rows, bad = s->undecodable;
     if (!files[ch]->commit()) {
       std::fprintf(stderr, "gimbalsim_log2csv: error: %s\n", files[ch]->error().c_str());
-      rc = program::kOutput;
+      rc = program::kOutput;  // a lost output outranks a cut input
     }
     std::printf("%s (%s): %lld rows -> %s\n", ch.c_str(), typeName(selected[ch]), rows, paths[ch].c_str());
     if (bad > 0) {

@@ -154,7 +154,15 @@ int mainImpl(int argc, char** argv) {
                m.name.c_str(), variantName(m).c_str(), o.rate_hz, static_cast<int>(std::llround(c.control_period / m.integrator.step)),
                m.integrator.step, o.lockstep ? "lockstep" : "real time", (o.prefix + "GIMBAL_").c_str());
 
-  Run r{plant, o, c, profile.get(), lcm, bridge, in, csv, {}, false, {}, 0.0, 0};
+  Run r{plant, o, c, profile.get(), lcm, bridge, in, csv, {}, false, {}, 0.0, 0, nullptr, 0.0, 0.0, {}};
+  // Say which target the truth pointing error is measured against.
+  if (profile) {
+    std::fprintf(stderr, "firmware_sim: truth pointing error against the profile: section of %s (tracking from "
+                 "t = %g s)\n", o.profile.c_str(), profile->trackStart());
+  } else {
+    std::fprintf(stderr, "firmware_sim: truth pointing error against the boresight at t = 0, a fixed direction (no "
+                 "--profile); give --profile CONFIG for the controller's target\n");
+  }
   const TickBudget budget = measureTickBudget(scene, c);
   r.worst_tick_us = budget.worst_tick_us;
   std::fprintf(stderr, "firmware_sim: %s\n", describeTickBudget(budget).c_str());

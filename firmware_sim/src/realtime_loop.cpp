@@ -86,13 +86,19 @@ int run(Run& r) {
       ob.has_status = fw.statusDelivered();
       ob.status = fw.status();
       ob.has_truth = want_truth;
-      if (want_truth) ob.truth = observedTruth(fw.truth(), observer, static_cast<double>(k) * r.c.control_period);
+      if (want_truth) {
+        const double t = static_cast<double>(k) * r.c.control_period;
+        ob.truth = observedTruth(fw.truth(), observer, t);
+        r.pointing.add(ob.truth.pointing_error,
+                       r.profile != nullptr && observer.sample(t).segment == pointing::Segment::Track);
+      }
       if (!out.push(ob)) r.stats.dropped_out.fetch_add(1, std::memory_order_relaxed);
       wake(efd);  // the communication thread
       fw.advance();
 
       const std::int64_t end = nowNs();
       r.stats.compute.add(static_cast<double>(end - wake_ns) * 1e-3);
+      r.compute_seconds += static_cast<double>(end - wake_ns) * 1e-9;
       r.stats.addTick(k + 1, fw.lastSubsteps());
       next += period_ns;
       if (end > next) r.stats.overruns.fetch_add(1, std::memory_order_relaxed);  // the next tick starts late

@@ -3,39 +3,56 @@
 #include <string>
 
 namespace gimbalsim::firmware {
+namespace {
 
+/// 0 (off) or in [lo, hi]: a quantum below lo would make angle / quantum overflow.
+Check zeroOr(double lo, double hi) {
+  const std::string rule = "0 or in [" + formatNumber(lo) + ", " + formatNumber(hi) + "]";
+  return {rule, "", [=](std::span<const double> v) {
+            for (double x : v) {
+              if (!(x == 0.0 || (x >= lo && x <= hi))) return false;
+            }
+            return true;
+          }};
+}
+
+}  // namespace
+
+// Every range is one the loop honours: no sensor value can overflow to Inf,
+// and the star tracker's sample index stays far from int64's end (rate <= 1e6
+// Hz and a run <= 1e9 s: j < 1e15).
 std::vector<Key<SensorParams>> sensorKeys() {
   using K = Keys<SensorParams>;
   return {
       K::number("encoder_resolution", "rad", "firmware_sim: encoder quantum (0 = unquantized)",
-                field(&SensorParams::encoder_resolution), atLeast(0)),
+                field(&SensorParams::encoder_resolution), zeroOr(1e-12, 1.0)),
       K::number("encoder_noise", "rad", "firmware_sim: Gaussian encoder noise sigma (0 = none)",
-                field(&SensorParams::encoder_noise), atLeast(0)),
+                field(&SensorParams::encoder_noise), interval('[', 0.0, 1.0, ']')),
       K::number("rate_noise", "rad/s", "firmware_sim: Gaussian rate noise sigma (0 = none)",
-                field(&SensorParams::rate_noise), atLeast(0)),
+                field(&SensorParams::rate_noise), interval('[', 0.0, 100.0, ']')),
       K::integer("seed", "-",
                  "firmware_sim: sensor noise seed (encoders; the gyro and star tracker streams are derived from it)",
                  field(&SensorParams::seed), atLeast(0)),
       K::number("star_tracker_rate", "Hz",
                 "star tracker sample rate; samples at multiples of its period (taken in the first control tick at "
                 "or after)",
-                field(&SensorParams::star_tracker_rate), greater(0)),
+                field(&SensorParams::star_tracker_rate), interval('[', 1e-6, 1e6, ']')),
       K::number("star_tracker_noise", "rad",
                 "star tracker noise: sigma per base axis of a small rotation applied to the quaternion (0 = none)",
-                field(&SensorParams::star_tracker_noise), atLeast(0)),
+                field(&SensorParams::star_tracker_noise), interval('[', 0.0, 1.0, ']')),
       K::number("star_tracker_latency", "s",
                 "star tracker latency: a sample taken at t_s is delivered at the first tick at or after t_s + "
                 "latency, stamped t_s; < 8 star tracker periods",
-                field(&SensorParams::star_tracker_latency), atLeast(0)),
+                field(&SensorParams::star_tracker_latency), interval('[', 0.0, 1e6, ']')),
       K::vector<2>("star_tracker_outage", "s",
                    "star tracker outage [start, end]: no sample taken or delivered, flagged ([0, 0] = none)",
-                   field(&SensorParams::star_tracker_outage), atLeast(0), "[start, end]"),
+                   field(&SensorParams::star_tracker_outage), interval('[', 0.0, 1e9, ']'), "[start, end]"),
       K::vector<3>("gyro_bias", "rad/s", "rate gyro constant bias, base frame",
-                   field(&SensorParams::gyro_bias)),
+                   field(&SensorParams::gyro_bias), interval('[', -1.0, 1.0, ']')),
       K::number("gyro_bias_walk", "rad/s/sqrt(s)", "rate gyro bias random walk sigma (0 = constant bias)",
-                field(&SensorParams::gyro_bias_walk), atLeast(0)),
+                field(&SensorParams::gyro_bias_walk), interval('[', 0.0, 1.0, ']')),
       K::number("gyro_noise", "rad/s", "rate gyro white noise sigma per sample, each axis (0 = none)",
-                field(&SensorParams::gyro_noise), atLeast(0)),
+                field(&SensorParams::gyro_noise), interval('[', 0.0, 100.0, ']')),
   };
 }
 

@@ -1,5 +1,6 @@
 #include "summary.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -14,10 +15,26 @@ void printExitSummary(const Run& r, const Outcome& out) {
   const LoopStats& st = r.stats;
   const Counters& n = out.counters;
   const double sim_s = static_cast<double>(out.ticks) * r.c.control_period;
+  // Two speeds: the whole loop (in lockstep it waits for the controller) and the plant's own work.
   std::printf("firmware_sim: %lld ticks, %.3f s simulated in %.3f s wall (%.2f x real time), %s\n",
               static_cast<long long>(out.ticks), sim_s, r.wall_seconds,
               r.wall_seconds > 0 ? sim_s / r.wall_seconds : 0.0,
               r.o.lockstep ? "lockstep" : (r.fifo ? "real time, SCHED_FIFO" : "real time, SCHED_OTHER"));
+  std::printf("  speed: whole loop %.2f x real time%s; the plant's own compute %.3f s, %.2f x real time\n",
+              r.wall_seconds > 0 ? sim_s / r.wall_seconds : 0.0,
+              r.o.lockstep ? " (with the waits for the controller)" : "", r.compute_seconds,
+              r.compute_seconds > 0 ? sim_s / r.compute_seconds : 0.0);
+  const PointingErrorStats& pe = r.pointing;
+  if (pe.n > 0) {
+    std::printf("  truth pointing error [rad] against %s: max %.3e, RMS %.3e, final %.3e",
+                r.profile ? "the profile" : "the boresight at t = 0 (no --profile)", pe.max_rad,
+                std::sqrt(pe.sum_sq / static_cast<double>(pe.n)), pe.last_rad);
+    if (pe.n_track > 0) {
+      std::printf("; while tracking: max %.3e, RMS %.3e", pe.max_track_rad,
+                  std::sqrt(pe.sum_sq_track / static_cast<double>(pe.n_track)));
+    }
+    std::printf("\n");
+  }
   if (!r.o.lockstep) {
     std::printf("  wake-up lateness [us]: p50 %.0f  p99 %.0f  p99.9 %.0f  max %.1f\n", st.lateness.quantile(0.5),
                 st.lateness.quantile(0.99), st.lateness.quantile(0.999), st.lateness.max());

@@ -41,7 +41,8 @@ Bytes event(std::int64_t num, std::int64_t t, const std::string& ch, const Bytes
   return b;
 }
 
-std::string readError(const Bytes& log, std::uint64_t* offset = nullptr, int* events = nullptr) {
+std::string readError(const Bytes& log, std::uint64_t* offset = nullptr, int* events = nullptr,
+                      std::uint64_t* cut = nullptr) {
   LogReader r;
   r.openMemory(log.data(), log.size());
   LogEvent e;
@@ -49,6 +50,7 @@ std::string readError(const Bytes& log, std::uint64_t* offset = nullptr, int* ev
   while (r.next(&e)) ++n;
   if (offset) *offset = r.errorOffset();
   if (events) *events = n;
+  if (cut) *cut = r.truncated() ? r.cutBytes() : 0;
   return r.error();
 }
 
@@ -126,6 +128,7 @@ TEST(LcmLog, EveryMalformedHeaderIsRefusedWithItsByteOffset) {
     const char* what;
     Bytes log;
     const char* message;
+    std::uint64_t cut = 0;  ///< a cut tail (a killed logger): its bytes; 0 = malformed
   };
   const std::vector<Case> cases = {
       {"bad sync word", after(event(1, 2, "CH", {1}, 0xEDA1DA02)), "bad sync word 0xEDA1DA02"},
@@ -133,18 +136,22 @@ TEST(LcmLog, EveryMalformedHeaderIsRefusedWithItsByteOffset) {
       {"negative data length", after(event(1, 2, "CH", {1}, kLogSync, -1, 0xFFFFFFFF)), "data length -1 outside"},
       {"zero channel length", after(event(1, 2, "CH", {1}, kLogSync, 0)), "channel length 0 outside [1, 999]"},
       {"channel length 1000", after(event(1, 2, "CH", {1}, kLogSync, 1000)), "channel length 1000 outside"},
+      // A file that ends inside its last event is a cut tail, told apart from a malformed one.
       {"lengths beyond the file", after(event(1, 2, "CH", {1}, kLogSync, -1, 1000)),
-       "declares 2 channel + 1000 data bytes, but only 3 bytes follow"},
-      {"truncated header", after(Bytes(good.begin(), good.begin() + 27)), "truncated event header (27 of 28 bytes)"},
+       "declares 2 channel + 1000 data bytes, but only 3 bytes follow", 28 + 3},
+      {"truncated header", after(Bytes(good.begin(), good.begin() + 27)), "truncated event header (27 of 28 bytes)", 27},
+      {"a header cut after garbage", after(Bytes{0x00, 0x01, 0x02}), "truncated event header (3 of 28 bytes)"},
   };
   for (const Case& c : cases) {
-    std::uint64_t off = 0;
+    std::uint64_t off = 0, cut = 0;
     int events = 0;
-    const std::string err = readError(c.log, &off, &events);
+    const std::string err = readError(c.log, &off, &events, &cut);
     EXPECT_EQ(off, second) << c.what;
     EXPECT_EQ(events, 1) << c.what << ": the good event before it was read";
-    EXPECT_NE(err.find("malformed LCM log at byte offset " + std::to_string(second)), std::string::npos) << err;
+    const std::string kind = c.cut > 0 ? "truncated" : "malformed";
+    EXPECT_NE(err.find(kind + " LCM log at byte offset " + std::to_string(second)), std::string::npos) << err;
     EXPECT_NE(err.find(c.message), std::string::npos) << c.what << ": " << err;
+    EXPECT_EQ(cut, c.cut) << c.what;
   }
   // At the very start: offset 0.
   std::uint64_t off = 1;

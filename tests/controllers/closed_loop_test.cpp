@@ -14,6 +14,7 @@
 // A sign-flipped or zero feedback gain fails these criteria (tested).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "controllers/closed_loop_util.hpp"
@@ -172,6 +173,49 @@ TEST(ClosedLoop, ApproachLimitEndsTheLimitCycleOfAStronglySaturatedSlew) {
   };
   EXPECT_GT(tailError("0"), 0.05);
   EXPECT_LT(tailError("0.5"), 1e-4);
+}
+
+
+/// The project's controller, whose commands turn NaN from `from` [s] on (a
+/// controller with a bug, or one fed a reading it cannot handle).
+class NanFrom final : public contract::ControllerPort {
+ public:
+  NanFrom(const ControllerConfig& c, double from) : inner_(c), from_(from), period_(c.period) {}
+  double period() const noexcept override { return period_; }
+  contract::Command answer(const contract::Status& st, const contract::Attitude& att,
+                           contract::ControllerReport& report) noexcept override {
+    contract::Command cmd = inner_.answer(st, att, report);
+    if (static_cast<double>(st.seq) * period_ >= from_ - 1e-12) {
+      cmd.torque[0] = std::nan("");
+      report.tau_cmd(0) = cmd.torque[0];
+    }
+    return cmd;
+  }
+  void noteAttitude(const contract::Attitude& att) noexcept override { inner_.noteAttitude(att); }
+
+ private:
+  PointingController inner_;
+  double from_, period_;
+};
+
+// A NaN anywhere in a run stops it with its reason; no figure is computed over
+// it as if it were a number (std::max skips a NaN silently: "ok, error 0").
+TEST(ClosedLoop, ANonFiniteCommandStopsTheRunNamingItAndTheFiguresStayFinite) {
+  const ControllerConfig c = defaults();
+  const Scene sc = test::scene("paper_ideal");
+  NanFrom controller(c, 1.0);
+  ClosedLoopOptions opt;
+  opt.duration = 2.0;
+  long long ticks = 0;
+  const ClosedLoopResult r = firmware::runClosedLoop(firmware::PlantScene{sc, {}}, controller, c.profile, opt,
+                                                     [&](const TickRecord&) { ++ticks; });
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.stop_status, StepStatus::NonFinite);
+  EXPECT_NE(r.error.find("commanded torque at t = 1.0"), std::string::npos) << r.error;
+  EXPECT_NEAR(r.t_end, 1.0, 1e-12);
+  EXPECT_EQ(ticks, 1000) << "the ticks before the NaN only";
+  EXPECT_TRUE(std::isfinite(r.max_joint_error_slew) && std::isfinite(r.max_attitude_error));
+  EXPECT_TRUE(r.max_abs_tau.allFinite());
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // operator new, and Eigen's malloc guard in the checked build.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <type_traits>
 
 #include "alloc_guard.hpp"
@@ -51,13 +52,17 @@ TEST(ControllerNoAlloc, UpdateAllocatesNothingInAnySegmentOrMode) {
         m.att.star_valid = k % 100 == 20 && !m.att.star_outage;
         m.att.star_time = t - 0.02;
         m.att.star_q = expRotation(Vec3(1e-3, -2e-3, 5e-3) * m.att.star_time);
+        // Rejected readings (a NaN angle, an Inf gyro sample) take their own path: no allocation there either.
+        if (k % 997 == 5) m.theta(1) = std::nan("");
+        if (k % 991 == 3) m.att.gyro(0) = HUGE_VAL;
         sink += update(c, s, m).tau.sum();
       }
       test::setEigenMallocAllowed(true);
       EXPECT_EQ(test::g_allocations.load() - before, 0);
       EXPECT_TRUE(std::isfinite(sink));
       EXPECT_GT(s.estimator.samples_used, 50);
-      EXPECT_EQ(s.star_outage_periods, 1001);
+      EXPECT_EQ(s.star_outage_periods, 1001 - 1);  // less the rejected reading at k = 6984 (kept no state)
+      EXPECT_EQ(s.rejected_readings, 11 + 11);  // k = 5 + 997 j and 3 + 991 j below 10000, j = 0..10
     }
   }
 }

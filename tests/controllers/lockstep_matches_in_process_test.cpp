@@ -33,7 +33,7 @@ TEST(LockstepMatchesInProcess, TruthTrajectoryIsBitIdentical) {
   const std::string cmd =
       "unshare -n sh -c \"ip link set lo up && ip route add 224.0.0.0/4 dev lo && { " +
       std::string(GIMBALSIM_POINTING_CONTROLLER) + " " + config + " --lcm-url " + url +
-      " --duration 2.999 --idle-exit 10 2>/dev/null & " + std::string(GIMBALSIM_FIRMWARE_SIM) + " " + scene +
+      " --duration 3 --idle-exit 10 2>/dev/null & " + std::string(GIMBALSIM_FIRMWARE_SIM) + " " + scene +
       " --lockstep --duration 3 --profile " + config + " --truth-csv " + truth + " --lcm-url " + url +
       " --start-timeout 10 >" + (dir / "fw.log").string() + " 2>&1; rc=\\$?; wait; exit \\$rc; }\"";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;

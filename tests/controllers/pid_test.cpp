@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "gimbalsim/controllers/pid.hpp"
 
@@ -158,6 +159,42 @@ TEST(Pid, TriplePoleGains) {
   EXPECT_DOUBLE_EQ(g.kp, 480.0);
   EXPECT_DOUBLE_EQ(g.ki, 640.0);
   EXPECT_DOUBLE_EQ(g.inertia, 10.0);
+}
+
+
+// A NaN or Inf reading would stay in the integral, the filter and the
+// estimate for good: it is rejected (counted, the last command held) and the
+// controller goes on exactly as if it had never come.
+TEST(Pid, ANonFiniteReadingIsRejectedAndLeavesTheStateAsItWas) {
+  ControllerConfig c = holdAt({0.1, -0.2});
+  c.rate_source = RateSource::Difference;
+  ControllerState clean, hit;
+  Measurement m1, m2;
+  m1.t = 0.0;
+  m1.theta = {0.01, -0.02};
+  m2.t = 1e-3;
+  m2.theta = {0.02, -0.03};
+  m2.dtheta = {0.3, -0.1};
+  const ControlOutput first = update(c, clean, m1);
+  update(c, hit, m1);
+  for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    Measurement m = m2;
+    m.theta(1) = bad;
+    const ControlOutput held = update(c, hit, m);
+    EXPECT_TRUE(held.rejected);
+    EXPECT_EQ(held.tau, first.tau) << "the last command is held";
+  }
+  Measurement rate_nan = m2;
+  rate_nan.dtheta(0) = std::nan("");
+  EXPECT_TRUE(update(c, hit, rate_nan).rejected);
+  EXPECT_EQ(hit.rejected_readings, 3);
+  EXPECT_EQ(clean.rejected_readings, 0);
+  const ControlOutput a = update(c, clean, m2), b = update(c, hit, m2);
+  EXPECT_FALSE(b.rejected);
+  EXPECT_TRUE(b.tau.allFinite());
+  EXPECT_EQ(a.tau, b.tau) << "the rejected readings left no trace";
+  EXPECT_EQ(clean.integral, hit.integral);
+  EXPECT_EQ(clean.rate, hit.rate);
 }
 
 }  // namespace

@@ -238,16 +238,20 @@ std::string refusal(const std::string& set) {
 
 TEST(FirmwareAttitudeKeys, BadValuesAreRefusedNamingTheKey) {
   const std::pair<const char*, const char*> cases[] = {
-      {"sensors.star_tracker_rate=0", "key 'sensors.star_tracker_rate': must be > 0, got 0"},
-      {"sensors.star_tracker_noise=-0.5", "key 'sensors.star_tracker_noise': must be >= 0, got -0.5"},
-      {"sensors.star_tracker_latency=-0.01", "key 'sensors.star_tracker_latency': must be >= 0, got -0.01"},
+      {"sensors.star_tracker_rate=0", "key 'sensors.star_tracker_rate': must be in [1e-06, 1e+06], got 0"},
+      // Ranges the loop honours: a rate at which the sample index overflowed and the loop hung; NaN-making values.
+      {"sensors.star_tracker_rate=1e20", "key 'sensors.star_tracker_rate': must be in [1e-06, 1e+06], got 1e+20"},
+      {"sensors.encoder_resolution=1e-310", "key 'sensors.encoder_resolution': must be 0 or in [1e-12, 1], got 1e-310"},
+      {"sensors.gyro_bias=[1e300, 0, 0]", "key 'sensors.gyro_bias': must be in [-1, 1]"},
+      {"sensors.star_tracker_noise=-0.5", "key 'sensors.star_tracker_noise': must be in [0, 1], got -0.5"},
+      {"sensors.star_tracker_latency=-0.01", "key 'sensors.star_tracker_latency': must be in [0, 1e+06], got -0.01"},
       {"sensors.star_tracker_latency=0.8",
        "key 'sensors.star_tracker_latency': must be < 8 star tracker periods (0.8 s at 10 Hz)"},
       {"sensors.star_tracker_outage=[2, 1]", "key 'sensors.star_tracker_outage': end must be >= start, got [2, 1]"},
-      {"sensors.star_tracker_outage=[-1, 1]", "key 'sensors.star_tracker_outage': must be >= 0"},
+      {"sensors.star_tracker_outage=[-1, 1]", "key 'sensors.star_tracker_outage': must be in [0, 1e+09]"},
       {"sensors.gyro_bias=[1, 2]", "key 'sensors.gyro_bias'"},
-      {"sensors.gyro_bias_walk=-1", "key 'sensors.gyro_bias_walk': must be >= 0, got -1"},
-      {"sensors.gyro_noise=-1", "key 'sensors.gyro_noise': must be >= 0, got -1"},
+      {"sensors.gyro_bias_walk=-1", "key 'sensors.gyro_bias_walk': must be in [0, 1], got -1"},
+      {"sensors.gyro_noise=-1", "key 'sensors.gyro_noise': must be in [0, 100], got -1"},
   };
   for (const auto& [set, says] : cases) {
     const std::string why = refusal(set);

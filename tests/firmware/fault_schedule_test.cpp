@@ -92,9 +92,22 @@ TEST(FaultScheduleFile, RefusalsNameLineColumnEntryAndKey) {
   EXPECT_NE(refusal("faults: [\n").find("f.yaml:"), std::string::npos);
   EXPECT_NE(refusal("faults: [\n").find("not valid YAML"), std::string::npos);
   EXPECT_NE(refusal("- 1\n").find("must be a mapping with keys seed and faults"), std::string::npos);
+  // The bounded reader: a second document is refused, not silently ignored.
+  EXPECT_NE(refusal("seed: 1\n---\nseed: 2\n").find("more than one YAML document"), std::string::npos)
+      << refusal("seed: 1\n---\nseed: 2\n");
+  // Ranges the plant and the controller honour (a huge gyro bias jump made the loop's commands NaN).
+  EXPECT_NE(refusal("faults:\n  - {type: gyro_bias_jump, bias: [1e300, 0, 0]}\n")
+                .find("key 'bias': must be in [-1, 1] rad/s (each axis), got 1e+300"),
+            std::string::npos)
+      << refusal("faults:\n  - {type: gyro_bias_jump, bias: [1e300, 0, 0]}\n");
+  EXPECT_NE(refusal("faults:\n  - {type: encoder_bias, axis: azimuth, bias: 1e308}\n")
+                .find("key 'bias': must be in [-100, 100] rad, got 1e+308"),
+            std::string::npos);
+  EXPECT_NE(refusal("faults:\n  - {type: status_drop, end: 1e300}\n").find("key 'end': must be in [0, 1e+09] s"),
+            std::string::npos);
   // Every problem of a file at once.
   const std::string two = refusal("faults:\n  - {type: status_drop, start: -1}\n  - {type: torque_limit, axis: up, limit: 1}\n");
-  EXPECT_NE(two.find("fault #1 (status_drop): key 'start': must be >= 0 s, got -1"), std::string::npos) << two;
+  EXPECT_NE(two.find("fault #1 (status_drop): key 'start': must be in [0, 1e+09] s, got -1"), std::string::npos) << two;
   EXPECT_NE(two.find("f.yaml:3:32: fault #2 (torque_limit): key 'axis': expected one of azimuth | elevation, got 'up'"),
             std::string::npos)
       << two;

@@ -57,7 +57,7 @@ TEST(HilAttack, LockstepRunUnderAttackEqualsACleanRun) {
   auto bench = [&](int port, const std::string& name) {
     const std::string url = udpmUrl(port);
     return "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url +
-           "' --duration 2.999 --idle-exit 5 >" + name + ".ctl 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
+           "' --duration 3 --idle-exit 5 >" + name + ".ctl 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
            scenePath("paper_clearance") + " --lockstep --duration 3 --profile " + cfg + " --truth-csv " + name +
            ".csv --lcm-url '" + url + "' --start-timeout 10 >" + name + ".log 2>&1";
   };
@@ -160,11 +160,11 @@ TEST(HilAttack, RealTimePlantKeepsItsControllerUnderFlood) {
   // The controller is up before the plant starts (else the watchdog trips at the start, attack or not).
   const std::string body =
       std::string(kStartedFn) + "timeout 30 " + pointingController() + " " + cfg + " --lcm-url '" + url +
-      "' --idle-exit 1 >ctl.log 2>&1 &\nC=$!\nstarted ctl.log 'pointing_controller: GIMBAL_STATUS' || exit 90\n" +
+      "' --duration 1.5 --idle-exit 1 >ctl.log 2>&1 &\nC=$!\nstarted ctl.log 'pointing_controller: GIMBAL_STATUS' || exit 90\n" +
       attacker(7771, flood_pps) + " >attack.log 2>&1 &\nA=$!\n" + "timeout 30 " +
       firmwareSim() + " " + scenePath("paper_clearance") + " --duration 1.5 --profile " + cfg +
       " --truth-csv truth.csv --lcm-url '" + url + "' >fw.log 2>&1\nrf=$?; wait $C; rc=$?; wait $A; ra=$?; wait\n"
-      "echo \"rf $rf rc $rc ra $ra\"\n[ $rf -eq 0 ] && [ $rc -eq 0 ] && [ $ra -eq 0 ]";  // controller: idle after the plant's end is a normal end (0)
+      "echo \"rf $rf rc $rc ra $ra\"\n[ $rf -eq 0 ] && [ $rc -eq 0 ] && [ $ra -eq 0 ]";  // controller: ends with the plant's last status (0)
   ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log")
                                       << readFile(dir / "ctl.log") << readFile(dir / "attack.log");
   const std::string attack = readFile(dir / "attack.log"), fw = readFile(dir / "fw.log");

@@ -26,7 +26,7 @@ std::string lockstepPair(const std::string& url, const std::string& prefix, doub
   const std::string cfg = defaultControllerConfig();
   char dur[32], ctl_dur[32];
   std::snprintf(dur, sizeof dur, "%g", duration);
-  std::snprintf(ctl_dur, sizeof ctl_dur, "%g", duration - 1e-3);
+  std::snprintf(ctl_dur, sizeof ctl_dur, "%g", duration);
   return "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' --channel-prefix " + prefix +
          " --duration " + ctl_dur + " --idle-exit 5 >" + fw_log + ".ctl 2>&1 &\n" + "timeout 60 " + firmwareSim() +
          " " + scenePath("paper_clearance") + " --lockstep --duration " + dur + " --profile " + cfg +

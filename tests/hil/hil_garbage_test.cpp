@@ -28,7 +28,7 @@ TEST(HilGarbage, BadMessagesOnCommandChannelAreCountedAndIgnored) {
   auto bench = [&](const std::string& prefix, const std::string& name) {
     const std::string url = udpmUrl(prefix == "HIL_G_" ? 7734 : 7744);
     return "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' --channel-prefix " + prefix +
-           " --duration 1.999 --idle-exit 5 >" + name + ".ctl 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
+           " --duration 2 --idle-exit 5 >" + name + ".ctl 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
            scenePath("paper_clearance") + " --lockstep --duration 2 --profile " + cfg + " --truth-csv " + name +
            ".csv --lcm-url '" + url + "' --channel-prefix " + prefix + " --start-timeout 10 >" + name +
            ".log 2>&1";

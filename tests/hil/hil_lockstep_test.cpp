@@ -27,7 +27,7 @@ std::string lockstepPair(const std::string& url, const std::string& prefix, doub
   const std::string pfx = prefix.empty() ? "" : " --channel-prefix " + prefix;
   char dur[32], ctl_dur[32];
   std::snprintf(dur, sizeof dur, "%g", duration);
-  std::snprintf(ctl_dur, sizeof ctl_dur, "%g", duration - 1e-3);  // answers up to the last status but one
+  std::snprintf(ctl_dur, sizeof ctl_dur, "%g", duration);  // the same run length: both end by themselves
   return "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "'" + pfx + " --duration " +
          ctl_dur + " --idle-exit 5 >" + fw_log + ".ctl 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
          scenePath("paper_clearance") + " --lockstep --duration " + dur + " --profile " + cfg + " --truth-csv " +

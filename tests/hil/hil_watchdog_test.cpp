@@ -29,7 +29,7 @@ TEST(HilWatchdog, ControllerKilledTripsWithinBoundHoldsSafeStateAndRecovers) {
   const double safe1 = 0.5, safe2 = -0.25;   // [N m] --safe-torque: not zero, so "safe" is recognisable
   const std::string url = udpmUrl(7733), cfg = defaultControllerConfig();
   // `exec` so that $! is the controller itself (kill -9 on a `timeout`
-  // wrapper would orphan a live controller); --idle-exit ends it if the plant dies.
+  // wrapper would orphan a live controller); --plant-timeout ends it once the plant has gone.
   const std::string ctl = "exec " + pointingController() + " " + cfg + " --lcm-url '" + url + "'";
   // Controller first (so the plant never starts unattended), plant 1.6 s of
   // real time; kill -9 the controller 0.7 s in; a new controller 0.4 s later.
@@ -39,7 +39,7 @@ TEST(HilWatchdog, ControllerKilledTripsWithinBoundHoldsSafeStateAndRecovers) {
       scenePath("paper_clearance") + " --duration 1.6 --watchdog-ms 50 --safe-torque 0.5 -0.25 --profile " + cfg +
       " --truth-csv truth.csv --lcm-url '" + url + "' >fw.log 2>&1 &\nF=$!\nsleep 0.7\n" +
       "date +%s%6N >kill_utime\nkill -9 $C1\nsleep 0.4\ndate +%s%6N >restart_utime\n(" + ctl +
-      " --idle-exit 0.5 >ctl2.log 2>&1) &\nwait $F; rc=$?; wait; exit $rc";
+      " --plant-timeout 0.5 >ctl2.log 2>&1) &\nwait $F; rc=$?; wait; exit $rc";
   ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log");
   const long long kill_us = std::stoll(readFile(dir / "kill_utime"));
   const long long restart_us = std::stoll(readFile(dir / "restart_utime"));

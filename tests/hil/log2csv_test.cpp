@@ -30,12 +30,13 @@ TEST(Log2Csv, LoggedLockstepRunConvertsToTheTruthCsvFirmwareSimWrote) {
       (have_logger ? "lcm-logger --lcm-url='" + url + "' -f -q logger.lcmlog >logger.log 2>&1 &\nL=$!\n"
                    : std::string("L=\n")) +
       "sleep 0.3\n" + "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "'" + pfx +
-      " --duration 0.999 --idle-exit 5 >ctl.log 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
+      " --duration 1 --idle-exit 5 >ctl.log 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
       scenePath("paper_clearance") + " --lockstep --duration 1 --profile " + cfg + " --truth-csv truth.csv --lcm-url '" +
       url + "'" + pfx + " --start-timeout 10 >fw.log 2>&1\nrc=$?\nsleep 0.3\nkill -INT $R $L\nwait\nexit $rc";
   ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log");
 
   int st = 0;
+  std::filesystem::create_directories(dir / "csv");
   const std::string out = runCapture(kTool + " '" + (dir / "bench.lcmlog") + "' --out-dir '" + (dir / "csv") + "'", &st);
   ASSERT_EQ(st, 0) << out;
   EXPECT_NE(out.find("HIL_L_GIMBAL_TRUTH (truth): 1000 rows"), std::string::npos) << out;
@@ -173,6 +174,7 @@ TEST(Log2Csv, SkipsAndCountsUndecodableMessagesOnAChannel) {
     write("OTHER_STUFF", junk, sizeof junk, 13);
   }
   int st = 0;
+  std::filesystem::create_directories(dir / "o");
   const std::string out = runCapture(kTool + " '" + path + "' --out-dir '" + (dir / "o") + "'", &st);
   ASSERT_EQ(st, 0) << out;
   EXPECT_NE(out.find("GIMBAL_COMMAND (command): 1 rows"), std::string::npos) << out;
@@ -245,6 +247,61 @@ TEST(Log2Csv, NeverWritesOverTheLogOrThroughASymlink) {
   EXPECT_NE(msg.find("symbolic link"), std::string::npos) << msg;
   EXPECT_FALSE(std::filesystem::exists(dir / "elsewhere.txt"));
   EXPECT_EQ(readFile(path), before);
+}
+
+
+// A log cut inside its last event (a killed logger leaves one; lcm-logplayer
+// plays the rest): every whole event is converted, the cut is reported in
+// bytes, and the exit code says the input was partial (7).
+TEST(Log2Csv, SalvagesEveryWholeEventOfATruncatedLogAndSaysHowMuchWasCut) {
+  TempDir dir("log2csv_truncated");
+  const std::string path = dir / "t.lcmlog";
+  long event_bytes = 0;
+  {
+    lcm::LogFile log(path, "w");
+    ASSERT_TRUE(log.good());
+    unsigned char buf[256];
+    for (int i = 0; i < 3; ++i) {
+      gimbal_command_t c{};
+      c.seq = i;
+      const int n = c.encode(buf, 0, sizeof buf);
+      lcm::LogEvent e;
+      e.timestamp = i;
+      e.channel = "GIMBAL_COMMAND";
+      e.datalen = n;
+      e.data = buf;
+      ASSERT_EQ(log.writeEvent(&e), 0);
+      event_bytes = 28 + static_cast<long>(e.channel.size()) + n;
+    }
+  }
+  std::filesystem::resize_file(path, static_cast<std::uintmax_t>(3 * event_bytes - 10));  // the third event cut
+  std::filesystem::create_directories(dir / "o");
+  int st = 0;
+  std::string msg = runCapture(kTool + " '" + path + "' --out-dir '" + (dir / "o") + "'", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 7) << msg;
+  EXPECT_NE(msg.find("the last " + std::to_string(event_bytes - 10) + " bytes, from byte offset " +
+                     std::to_string(2 * event_bytes) + ", are dropped; the 2 whole events before them are converted"),
+            std::string::npos)
+      << msg;
+  EXPECT_EQ(test::Csv::read(dir / "o/t_GIMBAL_COMMAND.csv").rows.size(), 2u);
+  // Cut inside a header: the sync word's first bytes only.
+  std::filesystem::resize_file(path, static_cast<std::uintmax_t>(2 * event_bytes + 3));
+  msg = runCapture(kTool + " '" + path + "' --channel GIMBAL_COMMAND --out '" + (dir / "h.csv") + "'", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 7) << msg;
+  EXPECT_NE(msg.find("the last 3 bytes"), std::string::npos) << msg;
+  EXPECT_EQ(test::Csv::read(dir / "h.csv").rows.size(), 2u);
+}
+
+// An output folder is never created: a missing one is refused, named (the rule of every program).
+TEST(Log2Csv, RefusesAMissingOutputFolderNamingIt) {
+  TempDir dir("log2csv_missing_dir");
+  const std::string path = dir / "w.lcmlog";
+  ASSERT_GT(writeOneCommandLog(path), 0);
+  int st = 0;
+  const std::string msg = runCapture(kTool + " '" + path + "' --out-dir '" + (dir / "missing/dir") + "'", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 2) << msg;
+  EXPECT_NE(msg.find("--out-dir '" + (dir / "missing/dir") + "': no such folder"), std::string::npos) << msg;
+  EXPECT_FALSE(std::filesystem::exists(dir / "missing"));
 }
 
 }  // namespace

@@ -27,6 +27,7 @@ int run(const std::string& args, const std::string& log) {
 TEST(PointingStudy, QuickRunWritesOneSummaryRowPerRun) {
   const std::string dir = std::string(GIMBALSIM_TEST_TMP) + "/quick";
   std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
   ASSERT_EQ(run("--quick --out " + dir, dir + ".log"), 0) << "see " << dir << ".log";
   const gimbalsim::test::Csv sum = gimbalsim::test::Csv::read(dir + "/summary.csv");
   const std::vector<std::string> cols{"run",          "scene",        "clearance_m", "peak_track_rad",
@@ -61,7 +62,7 @@ std::string slurp(const std::string& path) {
 
 TEST(PointingStudy, RefusesBadArgumentsNamingTheOption) {
   const std::string log = std::string(GIMBALSIM_TEST_TMP) + "/refused.log";
-  const std::string out = " --out " + std::string(GIMBALSIM_TEST_TMP) + "/refused";
+  const std::string out = " --out " + std::string(GIMBALSIM_TEST_TMP);
   for (const auto& [args, option] : std::vector<std::pair<std::string, std::string>>{
            {"--duration -1", "--duration"},
            {"--duration abc", "--duration"},
@@ -76,10 +77,12 @@ TEST(PointingStudy, RefusesBadArgumentsNamingTheOption) {
 
 TEST(PointingStudy, FailedWritesAreReportedNamingTheFile) {
   const std::string tmp = std::string(GIMBALSIM_TEST_TMP);
-  // The output directory cannot be created: a file stands in its way (exit 4, an output not written).
-  std::filesystem::remove_all(tmp + "/blocker");
-  std::fclose(std::fopen((tmp + "/blocker").c_str(), "w"));
-  EXPECT_EQ(run("--duration 0.01 --clearances 0.5e-3 --out " + tmp + "/blocker/sub", tmp + "/blocker.log"), 4);
+  // A missing output folder is refused before running, naming it (exit 2): no program creates one.
+  std::filesystem::remove_all(tmp + "/missing");
+  EXPECT_EQ(run("--duration 0.01 --clearances 0.5e-3 --out " + tmp + "/missing/sub", tmp + "/missing.log"), 2);
+  EXPECT_NE(slurp(tmp + "/missing.log").find(tmp + "/missing/sub': no such folder"), std::string::npos)
+      << slurp(tmp + "/missing.log");
+  EXPECT_FALSE(std::filesystem::exists(tmp + "/missing"));
   // summary.csv cannot be opened: a directory has its name (refused before running: exit 2).
   const std::string dir = tmp + "/unwritable";
   std::filesystem::remove_all(dir);

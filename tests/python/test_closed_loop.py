@@ -15,6 +15,7 @@ from conftest import BIN, CONTROLLER_CONFIG, scene_path
 def test_closed_loop_equals_the_cpp_closed_loop(tmp):
     duration, c = 1.2, 2.5e-4
     out = tmp / "study"
+    out.mkdir()  # an output folder given is never created by the program
     p = subprocess.run([str(BIN / "gimbalsim_pointing_study"), "--config", str(CONTROLLER_CONFIG),
                         "--clearances", str(c), "--duration", str(duration), "--out", str(out)],
                        capture_output=True, text=True, timeout=300)

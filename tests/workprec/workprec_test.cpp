@@ -83,6 +83,7 @@ TEST(Workprec, ParetoAndCheapestSettingForATarget) {
 TEST(Workprec, QuickRunWritesTheCsvAndErrorsFallAtFourthOrderOnTheIdealScene) {
   const std::string dir = std::string(GIMBALSIM_TEST_TMP) + "/quick";
   std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
   const std::string cmd = std::string(GIMBALSIM_WORKPREC_BIN) +
                           " --quick --scenes paper_ideal,stickslip_clearance --policy plain --policy 'sub h/50'"
                           " --out " + dir + " > " + dir + ".log 2>&1";

@@ -33,7 +33,6 @@ std::string csvText(const std::vector<const Case*>& all) {
 }
 
 void writeCsv(const std::string& path, const std::vector<const Case*>& all) {
-  if (const auto dir = std::filesystem::path(path).parent_path(); !dir.empty()) std::filesystem::create_directories(dir);
   io::writeFileAtomically(path, csvText(all));
 }
 

@@ -1,5 +1,7 @@
 #include "gimbalsim/pointing/profile_keys.hpp"
 
+#include <yaml-cpp/yaml.h>
+
 #include "gimbalsim/input/input_error.hpp"
 
 namespace gimbalsim::pointing {
@@ -48,6 +50,14 @@ const KeyTable<P>& profileKeys() {
 }
 
 TargetProfile loadTargetProfileText(const std::string& yaml, const std::string& origin) {
+  // A file without the section (a scene, say) would give the default profile
+  // silently: a truth pointing error against a target nobody chose.
+  YAML::Node root;
+  if (Problem why; loadDocument(yaml, origin, root, why) && root.IsMap() && !root["profile"]) {
+    throw InputError(std::vector<Problem>{{origin + ": key 'profile': missing: a target profile needs the profile: "
+                                           "section of a controller configuration (e.g. controllers/config/default.yaml)",
+                                           "profile", origin, 0, 0, 0}});
+  }
   return loadKeys<InputError>(profileSection(), yaml, origin, {});
 }
 

@@ -56,9 +56,16 @@ bool LogReader::readAt(std::uint64_t off, void* dst, std::size_t n) {
   return std::fseek(f_, static_cast<long>(off), SEEK_SET) == 0 && std::fread(dst, 1, n, f_) == n;
 }
 
-bool LogReader::fail(std::uint64_t off, const std::string& what) {
-  error_ = "malformed LCM log at byte offset " + std::to_string(off) + ": " + what;
+std::string LogReader::readError() const {
+  const int err = f_ && std::ferror(f_) ? errno : 0;
+  return std::string("read error") + (err != 0 ? std::string(" (") + std::strerror(err) + ")" : " (the file shrank)");
+}
+
+bool LogReader::fail(std::uint64_t off, const std::string& what, bool truncated) {
+  error_ = (truncated ? "truncated LCM log at byte offset " : "malformed LCM log at byte offset ") +
+           std::to_string(off) + ": " + what;
   error_offset_ = off;
+  truncated_ = truncated;
   done_ = true;
   return false;
 }
@@ -72,11 +79,16 @@ bool LogReader::next(LogEvent* e) {
   }
   const std::uint64_t left = size_ - off;
   if (left < kLogHeaderBytes) {
+    // A partial header is a cut tail only if what is there still starts like one.
+    std::uint8_t part[kLogHeaderBytes] = {};
+    if (!readAt(off, part, static_cast<std::size_t>(left))) return fail(off, readError());
+    bool sync_prefix = true;
+    for (std::uint64_t i = 0; i < left && i < 4; ++i) sync_prefix = sync_prefix && part[i] == ((kLogSync >> (24 - 8 * i)) & 0xFF);
     return fail(off, "truncated event header (" + std::to_string(left) + " of " + std::to_string(kLogHeaderBytes) +
-                         " bytes)");
+                         " bytes)", sync_prefix);
   }
   std::uint8_t h[kLogHeaderBytes];
-  if (!readAt(off, h, sizeof h)) return fail(off, "read error");
+  if (!readAt(off, h, sizeof h)) return fail(off, readError());
   const std::uint32_t sync = static_cast<std::uint32_t>(be(h, 4));
   if (sync != kLogSync) {
     char hex[16];
@@ -97,10 +109,10 @@ bool LogReader::next(LogEvent* e) {
   if (body > left - kLogHeaderBytes) {
     return fail(off, "event declares " + std::to_string(channel_len) + " channel + " + std::to_string(data_len) +
                          " data bytes, but only " + std::to_string(left - kLogHeaderBytes) +
-                         " bytes follow its header in the file");
+                         " bytes follow its header in the file", true);
   }
   buf_.resize(static_cast<std::size_t>(body));
-  if (!readAt(off + kLogHeaderBytes, buf_.data(), buf_.size())) return fail(off, "read error");
+  if (!readAt(off + kLogHeaderBytes, buf_.data(), buf_.size())) return fail(off, readError());
   e->offset = off;
   e->eventnum = static_cast<std::int64_t>(be(h + 4, 8));
   e->timestamp = static_cast<std::int64_t>(be(h + 12, 8));

@@ -135,6 +135,8 @@ struct ControllerState {
   long long star_outage_periods = 0; ///< periods with the star tracker in outage
   MonitorState monitor;            ///< fault detection (fault_monitor.hpp); monitor.suspect[i]: axis i on rate feedback only
   AttitudeHistory attitudes;       ///< recent attitude messages (noteAttitude, closed_loop.hpp)
+  Vec2 last_tau = Vec2::Zero();    ///< the last command computed [N m]: held when a reading is rejected
+  long long rejected_readings = 0; ///< measurements with a NaN or Inf: the whole one (time, angle, rate) or its gyro or star sample
 };
 
 /// One update's result; tau is the command.
@@ -150,6 +152,7 @@ struct ControlOutput {
   Vec3 omega_B_est = Vec3::Zero(); ///< bias-corrected base rate used [rad/s]
   bool star_outage = false;        ///< star tracker outage: the estimate coasts on the gyro
   bool ik_singular = false;        ///< target along the azimuth axis (keyhole)
+  bool rejected = false;           ///< the measurement had a NaN or Inf: state kept, last command held
 };
 
 /// Inertial mode: the estimator step and the joint reference (q, dq from the
@@ -158,6 +161,11 @@ struct ControlOutput {
 void jointReference(const ControllerConfig& c, ControllerState& s, const Measurement& meas,
                     ControlOutput& out) noexcept;
 
+/// One control period. A non-finite time, angle or rate is rejected: the
+/// state is kept, the last command held, out.rejected set and the reading
+/// counted (s.rejected_readings); a non-finite gyro or star sample alone is
+/// dropped (counted) and the period runs without it. One bad reading never
+/// enters the integral, the filter or the estimate.
 ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measurement& meas) noexcept;
 
 /// Gains placing the closed-loop poles of J s^3 + kd s^2 + kp s + ki at a

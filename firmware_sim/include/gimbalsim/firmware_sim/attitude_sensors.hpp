@@ -138,13 +138,21 @@ class AttitudeSensors {
     ++count_;
   }
 
-  /// The next sample index j whose tick is after k.
+  /// The next sample index j whose tick is after k. The index jumps straight
+  /// to the first instant after t_k (no count one by one: at a rate far above
+  /// the control rate that would be ~rate x T steps per tick), clamped below
+  /// int64's end; the loop then only steps over rounding, a bounded few times.
   void advanceSampleIndex(std::int64_t k) noexcept {
     const double P = 1.0 / p_.star_tracker_rate;
     const double t = static_cast<double>(k) * T_;
-    next_j_ = std::max(next_j_ + 1, static_cast<std::int64_t>(std::floor(t / P)));
-    while ((next_tick_ = ticksAtOrAfter(static_cast<double>(next_j_) * P)) <= k) ++next_j_;
+    const double j = std::min(std::floor(t / P), 4e18);
+    next_j_ = std::max(next_j_ + 1, static_cast<std::int64_t>(j));
+    for (int i = 0; i < kMaxIndexSteps && (next_tick_ = ticksAtOrAfter(static_cast<double>(next_j_) * P)) <= k; ++i) {
+      ++next_j_;
+    }
+    if (next_tick_ <= k) next_tick_ = k + 1;  // P below double's resolution at t: one sample per tick
   }
+  static constexpr int kMaxIndexSteps = 4;  ///< floor(t / P) is off by at most one or two in rounding
 
   SensorParams p_;
   double T_;

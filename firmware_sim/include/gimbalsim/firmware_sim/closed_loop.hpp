@@ -72,6 +72,7 @@ struct ClosedLoopResult {
   long long saturated_ticks = 0;       ///< ticks with a limited command (either axis)
   double max_attitude_error = 0.0;     ///< [rad] estimated vs true base attitude, whole run
   long long star_outage_ticks = 0;     ///< ticks the controller flagged a star tracker outage
+  long long rejected_readings = 0;     ///< statuses whose reading the controller rejected (NaN or Inf)
   long long ticks = 0;
 };
 
@@ -81,7 +82,10 @@ struct ClosedLoopResult {
 /// (slew, hold, track) the figures use. The plant's constant scene torques
 /// are ignored: the controller is the only input. The firmware runs with its
 /// default settings (Config) at the controller's period, which must be a
-/// whole multiple of sim.step (else !ok, nothing run).
+/// whole multiple of sim.step (else !ok, nothing run). A NaN or Inf in a
+/// tick's record (command, measurement, truth, estimate) stops the run there
+/// (!ok, stop_status NonFinite, error naming the value and the time): the
+/// figures cover the finite ticks before it only.
 ClosedLoopResult runClosedLoop(const PlantScene& ps, contract::ControllerPort& controller,
                                const pointing::TargetProfile& profile, const ClosedLoopOptions& opt,
                                const std::function<void(const TickRecord&)>& sink = {});

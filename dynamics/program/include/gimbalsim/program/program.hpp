@@ -35,7 +35,8 @@ enum Exit : int {
   kStopped = 3,   ///< the run stopped (numerical trouble, a plant stop); outputs whole up to it
   kOutput = 4,    ///< an output file could not be written; nothing under its name
   kNetwork = 5,   ///< LCM or the network could not start, or failed
-  kNoPeer = 6,    ///< no peer: --idle-exit elapsed, or no controller answered within --start-timeout
+  kNoPeer = 6,    ///< no peer: no plant within --idle-exit, the plant gone (--plant-timeout), no controller within --start-timeout
+  kPartial = 7,   ///< the input was cut short (a truncated log): every whole part converted, the cut reported
 };
 /// Stopped by signal N (outputs whole): 128 + N, i.e. 130 for SIGINT, 143 for SIGTERM.
 constexpr int signalExit(int signal) { return 128 + signal; }

@@ -8,7 +8,9 @@
 // validates every header before reading the event: the sync word, the channel
 // length in [1, kMaxLogChannelBytes] and the data length in [0,
 // kMaxLogEventBytes], and both within the bytes left in the file. A malformed
-// log stops the read with a message naming the byte offset of the bad event.
+// log stops the read with a message naming the byte offset of the bad event;
+// a log that merely ends inside its last event (a killed logger) says so
+// (truncated()), so a caller can keep the whole events before it.
 // Memory: one event at a time, at most kMaxLogChannelBytes + kMaxLogEventBytes.
 #pragma once
 
@@ -54,11 +56,17 @@ class LogReader {
   bool next(LogEvent* e);
   const std::string& error() const noexcept { return error_; }
   std::uint64_t errorOffset() const noexcept { return error_offset_; }
+  /// The error is a cut tail: the file ends inside the event at errorOffset()
+  /// (a header or body shorter than declared), as a killed logger leaves it;
+  /// every event before it was whole. cutBytes(): the bytes of that partial event.
+  bool truncated() const noexcept { return truncated_; }
+  std::uint64_t cutBytes() const noexcept { return truncated_ ? size_ - error_offset_ : 0; }
   std::uint64_t fileSize() const noexcept { return size_; }
 
  private:
   bool readAt(std::uint64_t off, void* dst, std::size_t n);
-  bool fail(std::uint64_t off, const std::string& what);
+  std::string readError() const;  ///< "read error (<strerror>)" after a failed readAt
+  bool fail(std::uint64_t off, const std::string& what, bool truncated = false);
 
   std::FILE* f_ = nullptr;
   const std::uint8_t* mem_ = nullptr;
@@ -66,6 +74,7 @@ class LogReader {
   std::vector<std::uint8_t> buf_;
   std::string error_;
   std::uint64_t error_offset_ = 0;
+  bool truncated_ = false;
   bool done_ = false;
 };
 

@@ -30,6 +30,7 @@ struct ControllerReport {
   bool star_outage = false;            ///< the attitude estimate coasts on the gyro
   bool saturated[2] = {};              ///< the command hit the controller's own limit, per axis
   MonitorFlags flags;                  ///< its fault monitor's view of the status
+  bool reading_rejected = false;       ///< a NaN or Inf in the status or its attitude: rejected, the last command held
 };
 
 /// A controller, as the in-process loop sees it. Calls are noexcept and

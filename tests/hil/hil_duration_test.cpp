@@ -1,0 +1,69 @@
+// How a bench run ends: firmware_sim and pointing_controller started with the
+// same --duration both end by themselves (the controller counts the run's
+// statuses as the plant does: 0 .. T / period - 1), and a controller whose
+// plant has gone says so and exits with the no-peer code (6) by itself.
+// Every wait is bounded (timeout), so a hang fails instead of blocking.
+#include "hil_util.hpp"
+
+namespace gimbalsim::hil {
+namespace {
+
+TEST(HilDuration, LockstepPairWithTheSameDurationBothEndByThemselves) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("duration");
+  const std::string url = udpmUrl(7791), cfg = defaultControllerConfig();
+  // No --idle-exit, no kill: each process must end on its own within the bound (timeout gives 124).
+  const std::string body =
+      "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' --duration 1 >ctl.log 2>&1 &\nC=$!\n" +
+      "timeout 60 " + firmwareSim() + " " + scenePath("paper_clearance") + " --lockstep --duration 1 --profile " + cfg +
+      " --lcm-url '" + url + "' --start-timeout 20 >fw.log 2>&1\nrf=$?\nwait $C; rc=$?\necho \"rf $rf rc $rc\"\n"
+      "[ $rf -eq 0 ] && [ $rc -eq 0 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log") << readFile(dir / "ctl.log");
+  EXPECT_NE(readFile(dir / "ctl.log").find("answered 1000 statuses (last t = 0.999 s)"), std::string::npos)
+      << readFile(dir / "ctl.log");
+  EXPECT_NE(readFile(dir / "fw.log").find("lockstep timeouts 0"), std::string::npos) << readFile(dir / "fw.log");
+}
+
+TEST(HilDuration, ControllerWhosePlantIsKilledSaysSoAndExitsSix) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("plant_gone");
+  const std::string url = udpmUrl(7792), cfg = defaultControllerConfig();
+  // The plant runs until killed (no --duration); the controller has no flag that would end it but its default.
+  const std::string body =
+      std::string(kStartedFn) + "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url +
+      "' >ctl.log 2>&1 &\nC=$!\nstarted ctl.log 'pointing_controller: GIMBAL_STATUS' || exit 90\n" + firmwareSim() +
+      " " + scenePath("paper_ideal") + " --rt-priority 0 --lcm-url '" + url + "' >fw.log 2>&1 &\nF=$!\n" +
+      "started fw.log 'firmware_sim: scene' || exit 91\nsleep 0.5\nkill -9 $F\nwait $C; rc=$?\necho \"rc $rc\"\n"
+      "[ $rc -eq 6 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "ctl.log");
+  const std::string ctl = readFile(dir / "ctl.log");
+  EXPECT_NE(ctl.find("pointing_controller: the plant has gone: no status for 3 s (--plant-timeout) after status"),
+            std::string::npos)
+      << ctl;
+  EXPECT_NE(ctl.find("answered"), std::string::npos) << "its summary";
+}
+
+
+// The other side: a lockstep plant whose controller has gone (here: it ended
+// its shorter run) stops after --start-timeout without an answer, exit 6,
+// instead of paying --lockstep-timeout-ms on every tick for ever.
+TEST(HilDuration, LockstepPlantWhoseControllerHasGoneSaysSoAndExitsSix) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("controller_gone");
+  const std::string url = udpmUrl(7793), cfg = defaultControllerConfig();
+  const std::string body =
+      "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' --duration 0.5 >ctl.log 2>&1 &\nC=$!\n" +
+      "timeout 60 " + firmwareSim() + " " + scenePath("paper_ideal") + " --lockstep --duration 100 --profile " + cfg +
+      " --lcm-url '" + url + "' --lockstep-timeout-ms 50 --start-timeout 2 --truth-csv truth.csv >fw.log 2>&1\n"
+      "rf=$?\nwait $C; rc=$?\necho \"rf $rf rc $rc\"\n[ $rf -eq 6 ] && [ $rc -eq 0 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log") << readFile(dir / "ctl.log");
+  const std::string fw = readFile(dir / "fw.log");
+  EXPECT_NE(fw.find("firmware_sim: lockstep: no command answered the last 40 statuses (2 s of --lockstep-timeout-ms 50): "
+                    "the controller has gone; stopping at t = 0.540 s"),
+            std::string::npos)
+      << fw;
+  EXPECT_NE(fw.find("commands: received 500"), std::string::npos) << "its summary\n" << fw;
+}
+
+}  // namespace
+}  // namespace gimbalsim::hil
