@@ -44,6 +44,8 @@ from .dispersion import Design, check_within, design_size, parse_parameter
 
 METRICS = ["pointing_error_max", "pointing_error_final", "peak_contact_force", "peak_joint2_force", "impacts",
            "continuous_contact_from"]
+METRIC_UNITS = {"pointing_error_max": "rad", "pointing_error_final": "rad", "peak_contact_force": "N",
+                "peak_joint2_force": "N", "impacts": "", "continuous_contact_from": "s", "wall_time": "s"}
 JOURNAL = "results.partial.csv"
 MAX_SAMPLES = 10_000_000
 
@@ -117,7 +119,19 @@ class SweepSpec:
             spec.refuse(where, f"the scene refuses {overrides}: {e.problems[0]['text'] if e.problems else e}", node)
 
     def header(self):
+        """The columns by the names the code uses (scene keys, metric names)."""
         return ["sample"] + self.design.columns() + ["status"] + METRICS + ["wall_time"]
+
+    def csv_header(self):
+        """header() as the journal and results.csv name it: the project's CSV
+        convention (docs/usage.md), e.g. contact.clearance -> contact_clearance_m."""
+        units = {k["key"]: k["unit"] for k in gimbalsim.keys()}
+        csv_name = gimbalsim._gimbalsim.csv_name
+        names = ["sample"]
+        for c in self.design.columns():  # "initial.ecc[0]" -> initial_ecc_0_m
+            plain = c.replace(".", "_").replace("[", "_").replace("]", "")
+            names.append(csv_name(plain, units.get(c.split("[")[0], "")))
+        return names + ["status"] + [csv_name(m, METRIC_UNITS[m]) for m in METRICS + ["wall_time"]]
 
 
 # ---- one sample (runs on a worker) ----
@@ -343,7 +357,7 @@ def plot(spec, rows, out):
 # ---- the sweep ----
 
 def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, progress=True):
-    header = spec.header()
+    header = spec.csv_header()
     journal = out / JOURNAL
     results = out / "results.csv"
     fingerprint = out / "spec.json"

@@ -353,11 +353,19 @@ def _fmt(v):
     return repr(v) if isinstance(v, float) else str(v)
 
 
+def _csv_names(header):
+    """trials.csv's header in the project's CSV convention (docs/usage.md):
+    azimuth.kp -> azimuth_kp_Nm_per_rad, plant0.status -> plant0_status."""
+    units = {k["key"]: k["unit"] for k in gimbalsim.controller_keys()}
+    units["wall_time"] = "s"
+    return [gimbalsim._gimbalsim.csv_name(h.replace(".", "_"), units.get(h, "")) for h in header]
+
+
 def _write_trials(out, header, study):
     """trials.csv from the study: every finished trial, in trial order."""
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(header)
+    w.writerow(_csv_names(header))
     for r in [t.user_attrs["row"] for t in study.get_trials(deepcopy=False) if "row" in t.user_attrs]:
         w.writerow([_fmt(r.get(h, "")) for h in header])
     write_atomic(out / "trials.csv", buf.getvalue())

@@ -1,6 +1,7 @@
 #include <pybind11/pybind11.h>
 
 #include "bindings.hpp"
+#include "gimbalsim/io/csv_format.hpp"
 #include "gimbalsim/program/version.hpp"
 
 PYBIND11_MODULE(_gimbalsim, m) {
@@ -9,4 +10,7 @@ PYBIND11_MODULE(_gimbalsim, m) {
   gimbalsim::py::bindSimulator(m);
   gimbalsim::py::bindController(m);
   m.attr("__version__") = gimbalsim::program::kVersion;  // the programs' --version string
+  // The CSV convention's column names, the C++ writers' own rule (sweep and tune use it).
+  m.def("csv_name", [](const std::string& name, const std::string& unit) { return gimbalsim::io::csvName(name, unit); },
+        pybind11::arg("name"), pybind11::arg("unit") = "");
 }

@@ -61,6 +61,7 @@ def test_firmware_sim_truth_csv(tmp):
 
 def test_pointing_study_csvs(tmp):
     out = tmp / "study"
+    out.mkdir()  # no program creates a folder it is given
     p = subprocess.run([str(BIN / "gimbalsim_pointing_study"), "--config", str(CONTROLLER_CONFIG),
                         "--clearances", "2.5e-4", "--duration", "0.2", "--out", str(out)],
                        capture_output=True, text=True, timeout=300)

@@ -47,7 +47,7 @@ def results(out):
     """results.csv without wall_time."""
     with open(out / "results.csv") as f:
         rows = list(csv.reader(f))
-    w = rows[0].index("wall_time")
+    w = rows[0].index("wall_time_s")
     return [r[:w] + r[w + 1:] for r in rows]
 
 
@@ -62,17 +62,20 @@ def spec(tmp_path_factory):
 def reference(spec, tmp_path_factory):
     out = tmp_path_factory.mktemp("ref")
     run_sweep(spec, out, "--workers", "1")
+    from test_csv_convention import check_convention
+    check_convention(out / "results.csv")  # the project's CSV convention: numpy and csv read the same names
     return results(out)
 
 
 def test_one_worker_results_are_whole_and_sorted(reference, spec):
     header, rows = reference[0], reference[1:]
-    assert header[:8] == ["sample", "torque.tau2", "contact.clearance", "friction.mu", "contact.restitution",
-                          "initial.ecc[0]", "initial.ecc[1]", "status"]
+    # the project's CSV convention: identifiers, the key's unit as a suffix
+    assert header[:8] == ["sample", "torque_tau2_Nm", "contact_clearance_m", "friction_mu", "contact_restitution",
+                          "initial_ecc_0_m", "initial_ecc_1_m", "status"]
     assert [int(r[0]) for r in rows] == list(range(N))
     ok = [r for r in rows if r[7] == "ok"]
     assert len(ok) == N  # the disk is inside the clearance: every sample runs
-    col = header.index("pointing_error_max")
+    col = header.index("pointing_error_max_rad")
     assert all(0.0 < float(r[col]) < 0.01 for r in ok)
     # common random numbers: grid point 1 sees the draws of grid point 0
     assert [r[2:7] for r in rows[:30]] == [r[2:7] for r in rows[30:]]

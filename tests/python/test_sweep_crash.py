@@ -59,10 +59,10 @@ def test_a_sample_that_kills_its_worker_is_crashed_and_the_sweep_finishes(spec, 
     assert [int(r["sample"]) for r in got] == list(range(N))
     assert [r["status"] for r in got] == ["crashed" if i == GUILTY else "ok" for i in range(N)]
     crashed = got[GUILTY]
-    for key in ("contact.clearance", "friction.mu"):  # its parameters, as the design drew them
+    for key in ("contact_clearance_m", "friction_mu"):  # its parameters, as the design drew them
         assert crashed[key] == reference[GUILTY][key] and crashed[key] != ""
-    assert crashed["pointing_error_max"] == "" and crashed["impacts"] == ""
-    strip = lambda r: {k: v for k, v in r.items() if k != "wall_time"}
+    assert crashed["pointing_error_max_rad"] == "" and crashed["impacts"] == ""
+    strip = lambda r: {k: v for k, v in r.items() if k != "wall_time_s"}
     assert [strip(r) for i, r in enumerate(got) if i != GUILTY] == \
         [strip(r) for i, r in enumerate(reference) if i != GUILTY]
     summary = json.loads((out / "summary.json").read_text())

@@ -50,7 +50,7 @@ def forged_journal(spec, out, rows, tail=b""):
     out.mkdir()
     (out / "spec.json").write_text(s.fingerprint)
     header = s.header()
-    lines = [csv_line(header)]
+    lines = [csv_line(s.csv_header())]
     for i in rows:
         r = dict(zip(header, [i] + s.design.row_values(s.design.draw(i))))
         r.update(status="ok", pointing_error_max=100.0 + i, pointing_error_final=1.0, peak_contact_force=2.0,
@@ -70,7 +70,7 @@ def marked_samples(out):
     with open(out / "results.csv") as f:
         rows = list(csv.DictReader(f))
     assert [int(r["sample"]) for r in rows] == list(range(N))
-    return {int(r["sample"]) for r in rows if float(r["pointing_error_max"]) >= 100.0}
+    return {int(r["sample"]) for r in rows if float(r["pointing_error_max_rad"]) >= 100.0}
 
 
 def killer(when):
@@ -159,10 +159,11 @@ def test_rows_the_design_did_not_draw_are_dropped_counted_and_run_again(spec, tm
         assert f"dropped {why}" in p.stderr, p.stderr
     assert "8 already done, 16 to run" in p.stderr
     assert marked_samples(out) == set(range(10)) - {3, 4}
+    column = dict(zip(s.header(), s.csv_header()))  # contact.clearance -> contact_clearance_m
     with open(out / "results.csv") as f:
         for r in csv.DictReader(f):
             drawn = s.design.row_values(s.design.draw(int(r["sample"])))
-            assert [float(r[c]) for c in s.design.columns()] == drawn
+            assert [float(r[column[c]]) for c in s.design.columns()] == drawn
     dropped = json.loads((out / "summary.json").read_text())["journal_rows_dropped"]
     assert dropped == {"sample index outside the design": 1, "parameters differ from the design's draw": 1,
                        "status or figures unreadable": 1, "last line cut by an interruption": 1}

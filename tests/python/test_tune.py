@@ -50,8 +50,8 @@ def test_a_short_study_writes_a_loadable_best_yaml_with_the_best_score(tmp_path)
                        capture_output=True, text=True, timeout=60)
     assert q.returncode == 0, q.stderr
     printed = dict(line.split("=", 1) for line in q.stdout.splitlines())
-    assert float(printed["azimuth.kp"]) == float(best["azimuth.kp"])
-    assert float(printed["elevation.kd"]) == float(best["elevation.kd"])
+    assert float(printed["azimuth.kp"]) == float(best["azimuth_kp_Nm_per_rad"])
+    assert float(printed["elevation.kd"]) == float(best["elevation_kd_Nms_per_rad"])
     assert float(printed["azimuth.kd"]) == 1056.0  # untuned keys keep the base configuration's values
     assert (tmp_path / "o" / "progress.png").stat().st_size > 5000
 

@@ -36,6 +36,7 @@ plants:
   contact.clearance: {{choice: [{CLEARANCE}]}}
 """
 GAINS = ("azimuth.kp", "elevation.kd")
+COLUMN = {"azimuth.kp": "azimuth_kp_Nm_per_rad", "elevation.kd": "elevation_kd_Nms_per_rad"}  # trials.csv
 FIGURES = ("max_truth_error_track_rad", "rms_truth_error_track_rad", "saturated_ticks", "ticks")
 
 
@@ -50,6 +51,8 @@ def write_spec(tmp_path, trials):
 
 
 def trials(out):
+    from test_csv_convention import check_convention
+    check_convention(out / "trials.csv")  # the project's CSV convention: numpy and csv read the same names
     with open(out / "trials.csv") as f:
         return list(csv.DictReader(f))
 
@@ -68,16 +71,16 @@ def test_trials_hold_each_plant_and_trial_0_is_the_configuration(tmp_path):
     assert [int(r["trial"]) for r in rows] == [0, 1, 2]
     own = gimbalsim.Controller(CONTROLLER_CONFIG).values()
     assert rows[0]["origin"] == "baseline"
-    assert [float(rows[0][g]) for g in GAINS] == [float(own[g]) for g in GAINS]
+    assert [float(rows[0][COLUMN[g]]) for g in GAINS] == [float(own[g]) for g in GAINS]
     baseline = direct({})  # the configuration as it is: no gain laid over it
     for j in range(2):
-        assert rows[0][f"plant{j}.status"] == "ok"
-        assert [float(rows[0][f"plant{j}.{c}"]) for c in FIGURES] == [float(baseline[c]) for c in FIGURES]
+        assert rows[0][f"plant{j}_status"] == "ok"
+        assert [float(rows[0][f"plant{j}_{c}"]) for c in FIGURES] == [float(baseline[c]) for c in FIGURES]
     r = rows[2]
-    assert [float(r[g]) for g in GAINS] != [float(own[g]) for g in GAINS]
-    s = direct({g: float(r[g]) for g in GAINS})
+    assert [float(r[COLUMN[g]]) for g in GAINS] != [float(own[g]) for g in GAINS]
+    s = direct({g: float(r[COLUMN[g]]) for g in GAINS})
     for j in range(2):
-        assert [float(r[f"plant{j}.{c}"]) for c in FIGURES] == [float(s[c]) for c in FIGURES]
+        assert [float(r[f"plant{j}_{c}"]) for c in FIGURES] == [float(s[c]) for c in FIGURES]
 
 
 def test_a_study_folder_is_not_overwritten_without_resume(tmp_path):
@@ -131,7 +134,7 @@ def test_a_resume_after_sigkill_retries_the_killed_trial_and_finishes_the_count(
     assert dead["state"] == "FAIL" and dead["reason"] == "killed"
     retry = [r for r in rows if r["origin"] == f"retry of {killed}"]
     assert len(retry) == 1 and retry[0]["state"] == "COMPLETE"
-    assert [retry[0][g] for g in GAINS] == [dead[g] for g in GAINS]
+    assert [retry[0][COLUMN[g]] for g in GAINS] == [dead[COLUMN[g]] for g in GAINS]
     assert sum(r["state"] == "COMPLETE" for r in rows) == 4
     assert rows[0]["origin"] == "baseline"
 
@@ -145,7 +148,7 @@ def test_a_plant_that_kills_its_worker_fails_its_trials_not_the_study(tmp_path):
     assert [int(r["trial"]) for r in rows] == [0, 1]
     for r in rows:
         assert r["state"] == "FAIL" and r["reason"] == "plant stopped: crashed", r
-        assert r["plant0.status"] == "ok" and r["plant1.status"] == "crashed"
+        assert r["plant0_status"] == "ok" and r["plant1_status"] == "crashed"
 
 
 def test_a_resume_of_another_spec_or_of_no_study_is_refused(tmp_path):
