@@ -320,27 +320,20 @@ def test_a_path_with_a_nul_is_refused_everywhere(tmp_path):
 # ---- NaN is a stop, not a figure ----
 
 @pytest.mark.parametrize("how", ["subnormal encoder resolution", "huge gyro bias"])
-def test_a_closed_loop_gone_nan_is_a_stop_and_reports_no_figure(how, tmp_path):
-    # A subnormal encoder resolution turns the measured angles (and then the
-    # commands) into NaN; so does a gyro bias of 1e300 rad/s through the attitude estimate.
-    faults = None
+def test_inputs_that_turned_a_closed_loop_nan_are_refused_naming_the_key(how, tmp_path):
+    # A subnormal encoder resolution turned the measured angles (and then the
+    # commands) into NaN, a gyro bias of 1e300 rad/s the attitude estimate; the
+    # loop reported ok. Both are refused at load now, naming the key and the
+    # place; a loop that meets a non-finite value anyway stops there
+    # (ClosedLoop.ANonFiniteCommandStopsTheRunNamingItAndTheFiguresStayFinite).
     if how == "huge gyro bias":
         faults = tmp_path / "faults.yaml"
         faults.write_text("seed: 1\nfaults:\n  - {type: gyro_bias_jump, start: 0.2, bias: [0, 0, 1.0e300]}\n")
-        s = scene()
+        with pytest.raises(gimbalsim.SceneError, match=r"faults.yaml:3:\d+: .*key 'bias': must be in"):
+            gimbalsim.closed_loop(scene(), gimbalsim.Controller(CONTROLLER_CONFIG), duration=1.5, faults=faults)
     else:
-        s = scene(overrides={"sensors.encoder_resolution": 1e-310})
-    loop = gimbalsim.closed_loop(s, gimbalsim.Controller(CONTROLLER_CONFIG), duration=1.5, faults=faults)
-    assert loop.ok is False
-    assert loop.summary["stop_key"] != "", loop.summary
-    assert "finite" in loop.summary["error"].lower() or "nan" in loop.summary["error"].lower(), loop.summary
-    # no figure over NaN: with a non-finite value among the ticks recorded, the
-    # figures are None (a loop that stops at the first one records none)
-    if all(np.isfinite(c).all() for c in loop.columns.values()):
-        return
-    for figure in ("max_joint_error_track_rad", "max_truth_error_track_rad", "rms_truth_error_track_rad",
-                   "max_attitude_error_rad", "max_abs_tau_Nm", "settle_time_s"):
-        assert loop.summary[figure] is None, (figure, loop.summary[figure])
+        with pytest.raises(gimbalsim.SceneError, match=r"key 'sensors.encoder_resolution': must be"):
+            scene(overrides={"sensors.encoder_resolution": 1e-310})
 
 
 # ---- typed values and useful reprs ----
