@@ -167,7 +167,9 @@ class Spec:
 
 def check_out_dir(out, spec_path):
     """--out must be a folder (existing or not) and not the spec itself: refused
-    (SpecError, exit 2) before anything runs."""
+    (SpecError, exit 2) before anything runs. The folder is the sweep's or the
+    study's own output: it is made if missing, but the folder it goes in must
+    exist, as for every output of the project (docs/usage.md "Output files")."""
     out = pathlib.Path(out)
     if out.exists() and not out.is_dir():
         same = pathlib.Path(spec_path).exists() and out.resolve() == pathlib.Path(spec_path).resolve()
@@ -177,6 +179,9 @@ def check_out_dir(out, spec_path):
             if not parent.is_dir():
                 raise SpecError(f"--out {out}: {parent} is a file, not a folder")
             break
+    parent = out.absolute().parent
+    if not out.exists() and not parent.is_dir():
+        raise SpecError(f"--out {out}: the folder it goes in, {parent}, does not exist (create it first)")
 
 
 def _is_number(v):

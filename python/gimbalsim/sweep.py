@@ -375,7 +375,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         done, dropped, _ = read_journal(spec, results, header)
         appendable = False
     try:
-        out.mkdir(parents=True, exist_ok=True)
+        out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
     except OSError as e:
         raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
     write_atomic(fingerprint, spec.fingerprint)

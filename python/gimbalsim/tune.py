@@ -219,7 +219,7 @@ def open_study(spec, out, resume, sampler):
         raise SpecError(f"{out} already holds a study ({db.name}, trials.csv): give --resume to continue it, "
                         f"or another --out")
     try:
-        out.mkdir(parents=True, exist_ok=True)
+        out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
     except OSError as e:
         raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
     import sqlalchemy.exc

@@ -280,6 +280,13 @@ def test_an_out_under_a_file_is_refused_before_anything_runs(spec, tmp_path):
     assert (tmp_path / "f").read_text() == "x"
 
 
+def test_an_out_whose_folder_is_missing_is_refused_not_made(spec, tmp_path):
+    # a sweep makes its own folder, never the ones above it (the rule of every output)
+    p = run_sweep(spec, tmp_path / "missing" / "o", check=False)
+    assert p.returncode == 2 and "does not exist (create it first)" in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert not (tmp_path / "missing").exists()
+
+
 def test_a_grid_too_large_is_counted_not_built(tmp_path):
     # 10^12 points: building the product first would take all memory; counting takes none
     tau = "[" + ", ".join(f"{1 + k * 1e-3:.3f}" for k in range(10_000)) + "]"
