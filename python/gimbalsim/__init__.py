@@ -162,7 +162,7 @@ def controller_keys():
 
 class Run:
     """A whole run: ``rows`` (N, len(COLUMNS)), ``columns`` (dict of numpy
-    arrays named as the CSV columns), ``summary`` (the summary JSON as a dict),
+    arrays named as ``COLUMNS``: the CSV columns without their unit suffix), ``summary`` (the summary JSON as a dict),
     ``scene`` (the Scene it ran). A run stopped by numerical trouble holds the
     good rows; ``summary["status"]`` is "failed" and ``summary["stop"]`` names
     the limit, as on the command line."""

@@ -172,7 +172,7 @@ void bindSimulator(pyb::module_& m) {
           pyb::arg("torques"),
           "one step per row of torques (N, 2) [N m]; returns the (N, len(COLUMNS)) output rows after each step")
       .def("output", [](PySimulator& p) { return rowDict(locked(p, [](Simulator& s) { return s.output(); })); },
-           "the current output row (the CSV columns) as a dict")
+           "the current output row as a dict (keys as COLUMNS: the CSV columns without their unit suffix)")
       .def("_output_array",
            [](PySimulator& p) {
              const Row r = locked(p, [](Simulator& s) { return s.output(); });
