@@ -33,6 +33,7 @@
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/controllers/answer.hpp"
 #include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
@@ -248,6 +249,11 @@ int run(int argc, char** argv) {
   } catch (const ConfigError& e) {
     std::fprintf(stderr, "pointing_controller: configuration refused:\n%s\n", e.what());
     return program::kRefused;
+  }
+  // Whole control periods, as firmware_sim counts them: a duration between two is refused, never rounded.
+  if (const std::string why = wholeMultipleProblem(o.duration, c.period, "the control period (control.period)");
+      o.duration != 0.0 && !why.empty()) {
+    return program::refuse("pointing_controller", "--duration: " + why);
   }
   if (o.print_config) {
     for (const std::string& kv : configValues(c)) std::printf("%s\n", kv.c_str());

@@ -8,6 +8,7 @@
 #include "gimbalsim/dynamics/variant.hpp"
 #include "gimbalsim/firmware_sim/firmware.hpp"
 #include "gimbalsim/firmware_sim/observed_truth.hpp"
+#include "gimbalsim/input/key_registry.hpp"
 
 namespace gimbalsim::firmware {
 namespace {
@@ -81,6 +82,11 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
   // Refused before the loop: llround of a tick count beyond long long is undefined.
   if (!(opt.duration / period <= 1e12)) {
     throw std::invalid_argument("closed loop: duration / control.period is more than 1e12 ticks");
+  }
+  // Whole control periods, as every duration of the project: refused, never rounded.
+  if (const std::string why = wholeMultipleProblem(opt.duration, period, "the control period (control.period)");
+      !why.empty()) {
+    throw std::invalid_argument("closed loop: duration " + formatNumber(opt.duration) + " s " + why);
   }
   contract::ControllerReport last;  // the controller's last report (what the record shows while no status comes)
   contract::Command cmd;

@@ -21,6 +21,7 @@
 #include "gimbalsim/firmware_sim/plant_scene.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
+#include "gimbalsim/input/key_registry.hpp"
 #include "lcm_bridge.hpp"
 #include "gimbalsim/pointing/profile_keys.hpp"
 #include "realtime.hpp"
@@ -95,6 +96,11 @@ int mainImpl(int argc, char** argv) {
     // Only the rate is both a flag and a derived setting (the period): name the flag.
     const bool rate = chk.wrong == ConfigCheck::Setting::ControlPeriod;
     return refuse(rate ? "--rate " + CLI::detail::to_string(o.rate_hz) + ": " + chk.message : chk.message);
+  }
+  // The loop runs whole control periods: a duration between two is refused, never rounded.
+  if (const std::string why = wholeMultipleProblem(o.duration, c.control_period, "the control period (1 / --rate)");
+      o.duration != 0.0 && !why.empty()) {
+    return refuse("--duration " + CLI::detail::to_string(o.duration) + ": " + why);
   }
   if (!Channels::validPrefix(o.prefix)) {
     return refuse("--channel-prefix '" + o.prefix + "': only A-Z, 0-9 and '_' (channel names are UPPER_SNAKE)");

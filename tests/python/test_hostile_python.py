@@ -422,3 +422,9 @@ def test_a_tune_spec_override_is_named_by_its_line(tmp_path):
     with pytest.raises(SpecError) as e:
         TuneSpec(bad)
     assert f"{bad}:8 (contact.restitution=1.5)" in str(e.value) and "--set" not in str(e.value), str(e.value)
+
+
+def test_a_closed_loop_duration_between_control_periods_is_refused():
+    # every duration of the project is whole steps or refused, never rounded (usage.md "Durations")
+    with pytest.raises(ValueError, match=r"duration 0.0025 s must be a whole multiple of the control period"):
+        gimbalsim.closed_loop(scene(), gimbalsim.Controller(CONTROLLER_CONFIG), duration=0.0025)

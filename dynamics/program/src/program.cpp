@@ -1,16 +1,44 @@
 #include "gimbalsim/program/program.hpp"
 
+#include <cmath>
+#include <cstdlib>
 #include <limits>
 
 #include "gimbalsim/program/version.hpp"
 
 namespace gimbalsim::program {
 
+namespace {
+
+// CLI11's Range, PositiveNumber and NonNegativeNumber let NaN through (NaN
+// compares false with every bound): a value given to a floating-point option
+// of any program is a finite number, checked here once for all of them.
+std::string nonFiniteOption(const CLI::App& app) {
+  for (const CLI::Option* opt : app.get_options()) {
+    if (opt->get_type_name().find("FLOAT") == std::string::npos) continue;
+    for (const std::string& r : opt->results()) {
+      char* end = nullptr;
+      const double x = std::strtod(r.c_str(), &end);
+      if (end != r.c_str() && !std::isfinite(x)) return opt->get_name() + ": '" + r + "' is not a finite number";
+    }
+  }
+  for (const CLI::App* sub : app.get_subcommands()) {
+    if (std::string why = nonFiniteOption(*sub); !why.empty()) return why;
+  }
+  return "";
+}
+
+}  // namespace
+
 std::optional<int> parse(CLI::App& app, int argc, char** argv, const char* program) {
   // Every program's --version: the one string of version.hpp, as "<program> <version>".
   app.set_version_flag("--version", std::string(program) + " " + kVersion);
   try {
     app.parse(argc, argv);
+    if (const std::string why = nonFiniteOption(app); !why.empty()) {
+      std::fprintf(stderr, "%s: error: %s (see --help)\n", program, why.c_str());
+      return kRefused;
+    }
     return std::nullopt;
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) {  // --help, --help-all, --version

@@ -44,7 +44,7 @@ constexpr int signalExit(int signal) { return 128 + signal; }
 /// Parses argv into app (adding --version: "<program> <kVersion>", version.hpp).
 /// nullopt: go on. Otherwise the code main() returns:
 /// kOk after --help or --version (printed on stdout), kRefused after any refused argument
-/// (unknown flag, bad or missing value, failed check), printed on stderr as
+/// (unknown flag, bad or missing value, failed check, a NaN or infinite number), printed on stderr as
 /// "<program>: error: <what> (see --help)".
 std::optional<int> parse(CLI::App& app, int argc, char** argv, const char* program);
 
