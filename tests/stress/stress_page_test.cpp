@@ -88,6 +88,11 @@ TEST(StressCsv, OneRowPerRunWithTheVerdict) {
   EXPECT_NE(csv.find("\"torque\",paper_clearance,\"sim.duration=1 contact.clearance=5e-06\",STOPPED,\"cap 'hit'\""),
             std::string::npos)
       << csv;
+  // '#' starts a comment for numpy's genfromtxt, even inside quotes: none in any cell.
+  const Case r = fabricated("torque", Verdict::Refused, "", "--set #1 'sim.duration=0.0025': refused");
+  const std::string refused = csvText({&r});
+  EXPECT_EQ(refused.find('#'), std::string::npos) << refused;
+  EXPECT_NE(refused.find("\"--set no. 1 'sim.duration=0.0025': refused\""), std::string::npos) << refused;
 }
 
 }  // namespace

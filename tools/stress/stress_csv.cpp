@@ -13,11 +13,18 @@ std::string csvText(const std::vector<const Case*>& all) {
   f << "group,scene,sets,verdict,reason,t_end_s,impacts,substeps,substeps_per_s,max_substeps_in_step,"
        "momentum_rel_linear,momentum_rel_angular,energy_rise_rel,energy_change_rel,energy_final_rel,"
        "max_penetration_m,penetration_limit_m,wall_s\n";
-  auto q = [](std::string s) {
-    for (auto& ch : s) {
-      if (ch == '"') ch = '\'';
+  // Text cells hold no '"' and no '#' (numpy's genfromtxt reads '#' as the
+  // start of a comment, even inside quotes): "--set #1" reads "--set no. 1".
+  auto q = [](const std::string& s) {
+    std::string out = "\"";
+    for (char ch : s) {
+      if (ch == '#') {
+        out += "no. ";
+      } else {
+        out += ch == '"' ? '\'' : ch;
+      }
     }
-    return "\"" + s + "\"";
+    return out + "\"";
   };
   f.precision(6);
   for (const Case* c : all) {

@@ -148,6 +148,18 @@ int mainImpl(int argc, char** argv) {
     }
     checkInputs(scenes, paths, sets, outputs);
   }
+  // Every sweep and grid run is paper_clearance with sim.duration = --duration:
+  // a duration the scene refuses is refused here, once, naming the flag.
+  if (one_scene.empty() && (!no_sweeps || !no_grid)) {
+    try {
+      gimbalsim::loadScene(st::scenePath(scenes, "paper_clearance"), {"sim.duration=" + dur});
+    } catch (const gimbalsim::InputError& e) {
+      std::string why = e.problems().empty() ? e.what() : e.problems().front();
+      const auto at = why.find("': ");  // drop the "--set #1 '...'" place: the flag is named instead
+      if (why.rfind("--set #", 0) == 0 && at != std::string::npos) why.erase(0, at + 3);
+      return gimbalsim::program::refuse("gimbalsim_stress", "--duration " + dur + ": " + why);
+    }
+  }
   if (!one_scene.empty()) {
     st::Case c{"case", one_scene, one_sets, {}};
     c.out = st::runCase(st::scenePath(scenes, one_scene), one_sets, b);
