@@ -4,13 +4,16 @@
 // gimbalsim_log2csv's files) and the simulate CSV's header in it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <regex>
 #include <set>
 #include <sstream>
 #include <string>
 
+#include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/firmware_sim/csv_rows.hpp"
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
 #include "gimbalsim/io/csv_format.hpp"
 #include "gimbalsim/run_output/run_output.hpp"
 
@@ -31,6 +34,22 @@ TEST(CsvFormat, NamesCarryTheUnitAsASuffix) {
   EXPECT_EQ(csvNameOf("tau1[N m]"), "tau1_Nm");
   EXPECT_EQ(csvNameOf("seq[-]"), "seq");
   EXPECT_EQ(csvNameOf("plain"), "plain");
+  EXPECT_EQ(csvName("azimuth_ki", "N m/(rad s)"), "azimuth_ki_Nm_per_rad_s");
+}
+
+TEST(CsvFormat, EveryKeyOfTheSceneAndTheControllerNamesAColumn) {
+  // The sweep's and the tuner's tables name a column per dispersed key: key
+  // with '.' -> '_', its unit a suffix. Each must be an identifier.
+  const std::regex id("[A-Za-z_][A-Za-z0-9_]*");
+  std::vector<KeyInfo> keys = firmware::plantTable().info();
+  for (KeyInfo& k : controllers::controllerKeys()) keys.push_back(std::move(k));
+  ASSERT_GT(keys.size(), 100u);
+  for (const KeyInfo& k : keys) {
+    std::string name = k.key;
+    std::replace(name.begin(), name.end(), '.', '_');
+    const std::string column = csvName(name, k.unit);
+    EXPECT_TRUE(std::regex_match(column, id)) << k.key << " [" << k.unit << "] -> " << column;
+  }
 }
 
 TEST(CsvFormat, NumbersRoundTripAndNeverMinusZero) {

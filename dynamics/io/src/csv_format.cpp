@@ -8,11 +8,18 @@ std::string csvName(std::string_view name, std::string_view unit) {
   std::string out(name);
   if (unit.empty() || unit == "-") return out;
   out += '_';
+  // Every unit of the key tables reads as an identifier: "N m/(rad s)" -> Nm_per_rad_s.
+  int depth = 0;  // inside parentheses a space separates factors of one denominator
   for (char c : unit) {
+    const bool word = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9');
     if (c == '/') {
       out += "_per_";
-    } else if (c != ' ' && c != '^') {
+    } else if (c == '(' || c == ')') {
+      depth += c == '(' ? 1 : -1;
+    } else if (word) {
       out += c;
+    } else if (c != '^' && (c != ' ' || depth > 0) && out.back() != '_') {
+      out += '_';  // any other character: a separator, never kept
     }
   }
   return out;

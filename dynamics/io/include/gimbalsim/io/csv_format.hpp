@@ -12,7 +12,9 @@
 namespace gimbalsim::io {
 
 /// `name` with `unit` as its suffix: "" or "-" adds nothing; '/' reads
-/// "_per_", spaces and '^' are dropped ("rad/s^2" -> "rad_per_s2", "N m" -> "Nm").
+/// "_per_", spaces and '^' are dropped ("rad/s^2" -> "rad_per_s2", "N m" -> "Nm"),
+/// parentheses too, a space inside them reads '_' ("N m/(rad s)" -> "Nm_per_rad_s");
+/// any other character becomes '_'.
 std::string csvName(std::string_view name, std::string_view unit);
 
 /// "name[unit]" (the message field lists' spelling) as csvName(name, unit);
