@@ -189,6 +189,10 @@ int mainImpl(int argc, char** argv) {
   }
   long long whole_events = 0;
   for (const auto& [ch, n] : counts) whole_events += n;
+  if (cut_bytes > 0 && whole_events == 0) {  // nothing to salvage: a refusal, not a partial result
+    return refuse("log '" + log_path + "': cut inside its first event (" + std::to_string(cut_bytes) +
+                  " bytes): no whole event to convert; nothing written");
+  }
   if (cut_bytes > 0) {
     std::fprintf(stderr,
                  "gimbalsim_log2csv: warning: log '%s' is cut inside its last event (a killed logger leaves one): "

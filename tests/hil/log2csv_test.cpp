@@ -290,6 +290,12 @@ TEST(Log2Csv, SalvagesEveryWholeEventOfATruncatedLogAndSaysHowMuchWasCut) {
   EXPECT_EQ(WEXITSTATUS(st), 7) << msg;
   EXPECT_NE(msg.find("the last 3 bytes"), std::string::npos) << msg;
   EXPECT_EQ(test::Csv::read(dir / "h.csv").rows.size(), 2u);
+  // Cut inside the first event: nothing to salvage, a refusal (exit 2), not a partial result.
+  std::filesystem::resize_file(path, 10);
+  msg = runCapture(kTool + " '" + path + "' --out-dir '" + (dir / "o") + "'", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 2) << msg;
+  EXPECT_NE(msg.find("cut inside its first event (10 bytes): no whole event to convert"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("exit 7"), std::string::npos) << msg;
 }
 
 // An output folder is never created: a missing one is refused, named (the rule of every program).
