@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "gimbalsim/dynamics/contact_law.hpp"
+#include "gimbalsim/program/version.hpp"
 #include "gimbalsim/dynamics/forward_dynamics.hpp"
 #include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/scene/scene.hpp"
@@ -279,4 +280,18 @@ GIMBALSIM_BENCH_CLEARANCE_VARIANTS(BM_StepImpact);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+// Google Benchmark's main, plus the project's --version and exit codes: an
+// argument it does not know is refused with 2 (it returned 1), as every program does.
+int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--version") {
+      std::printf("gimbalsim_bench %s\n", gimbalsim::program::kVersion);
+      return 0;
+    }
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 2;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
