@@ -16,7 +16,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 MODE=lockstep DURATION=8 SCENE="$ROOT/tools/scenes/paper_clearance.yaml" CONFIG="$ROOT/controllers/config/default.yaml"
-RATE=1000 LOG=0 OUT="$ROOT/out/bench" PLOT=1 PORT=7667 EXTRA=()
+RATE=1000 LOG=0 OUT="$ROOT/out/bench" OUT_GIVEN=0 PLOT=1 PORT=7667 EXTRA=()
 usage() { sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -27,7 +27,7 @@ while [ $# -gt 0 ]; do
     --config) CONFIG="$2"; shift ;;
     --rate) RATE="$2"; shift ;;
     --log) LOG=1 ;;
-    --out) OUT="$2"; shift ;;
+    --out) OUT="$2"; OUT_GIVEN=1; shift ;;
     --no-plot) PLOT=0 ;;
     --port) PORT="$2"; shift ;;
     -h|--help) usage 0 ;;
@@ -48,6 +48,9 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
       break
     fi
   done
+  # Its own folder is made (the default out/bench included), never the ones above it (usage.md "Output files").
+  parent="$(dirname "$OUT")"
+  [ "$OUT_GIVEN" = 0 ] || [ -d "$parent" ] || { echo "run_hil_bench.sh: --out $OUT: the folder it goes in, $parent, does not exist (create it first)" >&2; exit 2; }
   mkdir -p "$OUT"
   OUT="$(cd "$OUT" && pwd)"
   SCENE="$(realpath "$SCENE")" CONFIG="$(realpath "$CONFIG")"
@@ -94,13 +97,15 @@ set +e
 "${fw[@]}" "${EXTRA[@]}" 2>&1 | tee firmware.txt
 rc=${PIPESTATUS[0]}
 set -e
-wait "$CTL" 2>/dev/null || true
+ctl_rc=0
+wait "$CTL" 2>/dev/null || ctl_rc=$?
 if [ "$LOG" = 1 ]; then
   sleep 0.2; kill -INT "$LOGGER"; wait "$LOGGER" 2>/dev/null || true
   "$BIN/gimbalsim_log2csv" bench.lcmlog --out-dir "$OUT"
 fi
 trap - EXIT
 if [ "$rc" -ne 0 ]; then echo "run_hil_bench.sh: firmware_sim exited with $rc (see $OUT/firmware.txt)" >&2; exit "$rc"; fi
+if [ "$ctl_rc" -ne 0 ]; then echo "run_hil_bench.sh: pointing_controller exited with $ctl_rc (see $OUT/controller.txt)" >&2; exit "$ctl_rc"; fi
 if [ "$PLOT" = 1 ]; then
   /usr/bin/python3 "$ROOT/tools/plot_bench.py" truth.csv --out bench.png \
       --title "$(basename "$SCENE") $MODE, $RATE Hz, $DURATION s"
