@@ -217,16 +217,23 @@ int mainImpl(int argc, char** argv) {
     for (const auto& p : e.problems()) why += "\n  " + p;
     return refuse("--config/--set", "configuration refused:" + why);
   }
+  // Overrides named as the user gave them: --scene-set #k, or --clearances (not "--set #k").
+  std::vector<std::string> labels;
+  for (std::size_t k = 0; k < scene_sets.size(); ++k) {
+    labels.push_back("--scene-set #" + std::to_string(k + 1) + " '" + scene_sets[k] + "'");
+  }
   try {
     scenes.emplace_back(firmware::loadPlantScene(ideal_path, scene_sets), 0.0);
     for (double c : clearances) {
       std::vector<std::string> s = scene_sets;
       s.push_back("contact.clearance=" + num(c));
+      labels.resize(scene_sets.size());
+      labels.push_back("--clearances " + num(c) + " [m]");
       scenes.emplace_back(firmware::loadPlantScene(clearance_path, s), c);
     }
   } catch (const InputError& e) {
     std::string why;
-    for (const auto& p : e.problems()) why += "\n  " + p;
+    for (const auto& p : relabelledProblems(e, labels)) why += "\n  " + p;
     return refuse("--ideal-scene/--clearance-scene/--scene-set/--clearances", "scene refused:" + why);
   }
 

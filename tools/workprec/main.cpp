@@ -177,8 +177,22 @@ int mainImpl(int argc, char** argv) {
     try {
       base = loadScene(path, base_sets);
     } catch (const InputError& e) {
+      // Each override named as the user gave it: a flag, or the user's own --set #k (not its place in base_sets).
+      std::vector<std::string> labels;
+      const std::size_t own = base_sets.size() - extra_sets.size() - (duration > 0.0 ? 2 : 1);
+      for (std::size_t i = 0; i < base_sets.size(); ++i) {
+        const std::string& s = base_sets[i];
+        if (i < own) {
+          labels.push_back("gimbalsim_workprec's own setting '" + s + "' of scene " + scene);
+        } else if (i < own + extra_sets.size()) {
+          labels.push_back("--set #" + std::to_string(i - own + 1) + " '" + s + "'");
+        } else {
+          labels.push_back(s.rfind("sim.duration=", 0) == 0 ? "--duration" : "--output-interval");
+        }
+      }
       std::cerr << "scene " << scene << " refused:\n";
-      return program::refuse("gimbalsim_workprec", e);
+      for (const std::string& p : relabelledProblems(e, labels)) std::cerr << "error: " << p << "\n";
+      return program::refuse("gimbalsim_workprec", "scene " + scene + " refused");
     }
     if (!(base.run.duration / peak_dt <= 1e10)) {
       return program::refuse("gimbalsim_workprec",

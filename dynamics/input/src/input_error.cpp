@@ -31,4 +31,20 @@ InputError::InputError(const std::vector<std::string>& texts) : InputError(fromT
 
 InputError::InputError(const std::string& problem) : InputError(std::vector<std::string>{problem}) {}
 
+std::vector<std::string> relabelledProblems(const InputError& e, const std::vector<std::string>& labels) {
+  std::vector<std::string> out;
+  for (const Problem& p : e.details()) {
+    std::string text = p.text;
+    const std::size_t k = static_cast<std::size_t>(p.set_index);
+    const std::size_t end = text.find("': ");
+    if (k >= 1 && k <= labels.size() && !labels[k - 1].empty() && text.rfind("--set #", 0) == 0 &&
+        end != std::string::npos) {
+      text = labels[k - 1] + text.substr(end + 1);
+    }
+    out.push_back(std::move(text));
+  }
+  if (e.details().empty()) out = e.problems();
+  return out;
+}
+
 }  // namespace gimbalsim

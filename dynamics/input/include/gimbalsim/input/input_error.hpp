@@ -37,4 +37,9 @@ class InputError : public std::runtime_error {
   std::vector<std::string> texts_;
 };
 
+/// The problems as printed, each place "--set #k 'key=value'" replaced by
+/// labels[k - 1] when that is given: a program that turns its own flags into
+/// overrides names the flag (or the user's --set by the user's own count).
+std::vector<std::string> relabelledProblems(const InputError& e, const std::vector<std::string>& labels);
+
 }  // namespace gimbalsim
