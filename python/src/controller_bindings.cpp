@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "bindings.hpp"
@@ -127,7 +128,8 @@ constexpr const char* kTickFigures[] = {
     "saturated_ticks",         "max_attitude_error_rad"};
 
 /// A non-finite value in any tick is a stop with its reason, and no figure
-/// is reported over it (a max over NaN reads as 0.0): the figures become None.
+/// is reported over it (a max over NaN reads as 0.0): the figures become NaN
+/// with that reason.
 void guardNonFinite(const Ticks& ticks, pyb::dict& summary) {
   for (std::size_t i = 0; i < ticks.data.size(); ++i) {
     if (std::isfinite(ticks.data[i])) continue;
@@ -141,7 +143,14 @@ void guardNonFinite(const Ticks& ticks, pyb::dict& summary) {
     } else {
       summary["error"] = summary["error"].cast<std::string>() + "; " + what;
     }
-    for (const char* figure : kTickFigures) summary[figure] = pyb::none();
+    // The summary's one convention for a figure without a value: NaN and its reason.
+    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+    pyb::dict reasons = summary["reasons"];
+    for (const char* figure : kTickFigures) {
+      summary[figure] = std::string(figure) == "max_abs_tau_Nm" ? pyb::object(pyb::make_tuple(kNaN, kNaN))
+                                                                 : pyb::object(pyb::float_(kNaN));
+      reasons[figure] = what;
+    }
     return;
   }
 }
