@@ -121,7 +121,7 @@ def metrics(args, cfg, ctl, truth, duration, wall):
     period = float(cfg["control.period"])
     slew_end = float(cfg["profile.slew_start"]) + float(cfg["profile.slew_time"])
     track_start = slew_end + float(cfg["profile.hold_time"])
-    last_unsettled, hold_seen, max_err_track = slew_end, False, 0.0
+    last_unsettled, hold_seen, max_err_track = slew_end, False, math.nan  # nan: no track row (never 0)
     for row in ctl:
         e = max(abs(float(row["err_az_rad"])), abs(float(row["err_el_rad"])))
         if row["segment"] == "hold":
@@ -129,7 +129,7 @@ def metrics(args, cfg, ctl, truth, duration, wall):
             if e >= args.settle_tol:
                 last_unsettled = float(row["t_s"]) + period
         elif row["segment"] == "track":
-            max_err_track = max(max_err_track, e)
+            max_err_track = e if math.isnan(max_err_track) else max(max_err_track, e)
     settle = last_unsettled - slew_end if hold_seen and last_unsettled < track_start - 0.5 * period else math.inf
     errs = [float(r["pointing_error_rad"]) for r in truth if int(r["seq"]) * period >= track_start - 0.5 * period]
     rms = math.sqrt(sum(e * e for e in errs) / len(errs)) if errs else math.nan
@@ -151,6 +151,11 @@ def main():
             sys.exit("tune_sweep: --gain-set needs the lockstep mode (controller_sweep takes --omega only)")
         return subprocess.run(cmd).returncode
     base = print_config(args, [])
+    track_start = float(base["profile.slew_start"]) + float(base["profile.slew_time"]) + float(base["profile.hold_time"])
+    if 0 < args.duration <= track_start:  # every figure but the torques is the track's (as controller_sweep refuses)
+        print(f"tune_sweep: error: --duration: track window [{track_start:g}, inf) s not reached: run ended at "
+              f"{args.duration:g} s", file=sys.stderr)
+        return 2
     print(f"# lockstep over LCM udpm (private network namespace): scene {os.path.basename(args.scene)}, "
           f"config {os.path.relpath(args.config, ROOT)}, settle band {args.settle_tol:g} rad")
     hdr = f"{'gain set':<34} {'settle_s':>9} {'rms_truth':>10} {'max_truth':>10} {'max_e_trk':>10} " \

@@ -34,6 +34,7 @@
 #include "gimbalsim/controllers/answer.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/input/key_registry.hpp"
+#include "gimbalsim/pointing/profile_windows.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
@@ -336,11 +337,17 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", log_out->error().c_str());
     if (code == program::kOk) code = program::kOutput;
   }
+  // A run that ended before the track has no tracking figure: n/a with the reason, never 0.
+  const std::string track_error = pointing::figureText(
+      h.maxTrackError(),
+      pointing::windowNotReached(pointing::profileWindow(c.profile, Segment::Track), pointing::WindowNeed::Part,
+                                 h.answered() > 0 ? h.lastTime() : 0.0),
+      "%.3e rad");
   std::fprintf(stderr, "pointing_controller: answered %lld statuses (last t = %.3f s), %lld undecodable, %lld publish "
-               "errors, %lld plant restarts, max |joint error| while tracking %.3e rad (encoder), status faults seen 0x%x, "
+               "errors, %lld plant restarts, max |joint error| while tracking %s (encoder), status faults seen 0x%x, "
                "%lld statuses without their attitude (gyro held), %lld in a star tracker outage, %lld readings "
                "rejected (NaN or Inf: the last command held)\n",
-               h.answered(), h.lastTime(), h.undecodable(), h.publishErrors(), h.plantRestarts(), h.maxTrackError(),
+               h.answered(), h.lastTime(), h.undecodable(), h.publishErrors(), h.plantRestarts(), track_error.c_str(),
                h.faultsSeen(), h.unpaired(), h.outageStatuses(), h.rejectedReadings());
   const MonitorState& mon = h.monitor();
   std::fprintf(stderr, "pointing_controller: fault monitor: %lld stale statuses (%lld with safe torque), %lld statuses "

@@ -9,9 +9,26 @@
 #include "gimbalsim/firmware_sim/firmware.hpp"
 #include "gimbalsim/firmware_sim/observed_truth.hpp"
 #include "gimbalsim/input/key_registry.hpp"
+#include "gimbalsim/pointing/profile_windows.hpp"
 
 namespace gimbalsim::firmware {
 namespace {
+
+/// Every figure over a window the run did not reach (or, for a figure at
+/// the window's end, whose end it did not reach) becomes NaN with the reason.
+void markUnreached(const pointing::TargetProfile& p, ClosedLoopResult& r) {
+  using pointing::Segment;
+  using pointing::WindowNeed;
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  r.slew_reason = pointing::windowNotReached(pointing::profileWindow(p, Segment::Slew), WindowNeed::Part, r.t_end);
+  r.hold_reason = pointing::windowNotReached(pointing::profileWindow(p, Segment::Hold), WindowNeed::Part, r.t_end);
+  r.hold_end_reason = pointing::windowNotReached(pointing::profileWindow(p, Segment::Hold), WindowNeed::End, r.t_end);
+  r.track_reason = pointing::windowNotReached(pointing::profileWindow(p, Segment::Track), WindowNeed::Part, r.t_end);
+  if (!r.slew_reason.empty()) r.max_joint_error_slew = kNaN;
+  if (!r.hold_reason.empty()) r.max_joint_error_hold = kNaN;
+  if (!r.hold_end_reason.empty()) r.max_truth_error_hold_end = r.settle_time = kNaN;
+  if (!r.track_reason.empty()) r.max_joint_error_track = r.max_truth_error_track = r.rms_truth_error_track = kNaN;
+}
 
 /// Running figures of a run (ClosedLoopResult), fed one tick at a time.
 class Figures {
@@ -45,6 +62,7 @@ class Figures {
   void finish(ClosedLoopResult& r) const {
     if (hold_seen_ && last_unsettled_ < p_.trackStart()) r.settle_time = last_unsettled_ - p_.slewEnd();
     if (n_track_ > 0) r.rms_truth_error_track = std::sqrt(sum_sq_ / static_cast<double>(n_track_));
+    markUnreached(p_, r);
   }
 
  private:
@@ -149,6 +167,7 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
       r.ok = false;
       r.stop_status = fw.plantStatus();
       r.error = std::string(describe(fw.plantStatus())) + " at t = " + std::to_string(fw.plantFailTime()) + " s";
+      fig.finish(r);
       return r;
     }
     // The answer arrives while (lockstep: after) the plant advances and acts
@@ -170,6 +189,7 @@ ClosedLoopResult runClosedLoop(const PlantScene& ps, contract::ControllerPort& c
     ClosedLoopResult r;
     r.ok = false;
     r.error = "control.period: " + chk.message;
+    markUnreached(profile, r);  // nothing ran: no figure has a value
     return r;
   }
   return dispatchVariant(ps.scene.model,

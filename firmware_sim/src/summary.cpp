@@ -7,6 +7,7 @@
 
 #include "gimbalsim/bench_io/peak_memory.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
+#include "gimbalsim/pointing/profile_windows.hpp"
 #include "lcm_bridge.hpp"
 
 namespace gimbalsim::firmware {
@@ -29,9 +30,17 @@ void printExitSummary(const Run& r, const Outcome& out) {
     std::printf("  truth pointing error [rad] against %s: max %.3e, RMS %.3e, final %.3e",
                 r.profile ? "the profile" : "the boresight at t = 0 (no --profile)", pe.max_rad,
                 std::sqrt(pe.sum_sq / static_cast<double>(pe.n)), pe.last_rad);
-    if (pe.n_track > 0) {
-      std::printf("; while tracking: max %.3e, RMS %.3e", pe.max_track_rad,
-                  std::sqrt(pe.sum_sq_track / static_cast<double>(pe.n_track)));
+    if (r.profile) {
+      // A run that ended before the track has no tracking figure: n/a with the reason, never 0.
+      const double t_last = static_cast<double>(out.ticks - 1) * r.c.control_period;
+      const std::string why = pointing::windowNotReached(
+          pointing::profileWindow(*r.profile, pointing::Segment::Track), pointing::WindowNeed::Part, t_last);
+      if (!why.empty() || pe.n_track == 0) {
+        std::printf("; while tracking: n/a (%s)", why.empty() ? "no tracking tick" : why.c_str());
+      } else {
+        std::printf("; while tracking: max %.3e, RMS %.3e", pe.max_track_rad,
+                    std::sqrt(pe.sum_sq_track / static_cast<double>(pe.n_track)));
+      }
     }
     std::printf("\n");
   }

@@ -243,7 +243,9 @@ def _unpickle_controller(path, values):
 
 
 class ClosedLoopRun:
-    """A closed-loop run: ``summary`` (dict: ok, stop_key, errors, peaks) and
+    """A closed-loop run: ``summary`` (dict: ok, stop_key, errors, peaks; a
+    figure over a window the run did not reach is NaN and ``reasons`` maps
+    its name to why) and
     ``columns`` (per control tick: t, references, true and measured angles,
     commanded and applied torques, truth pointing error [rad], ...)."""
 

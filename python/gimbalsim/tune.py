@@ -50,6 +50,7 @@ from .dispersion import Design, check_within, parse_parameter
 from .sweep import OutputError, write_atomic
 
 METRICS = {"max_track": "max_truth_error_track_rad", "rms_track": "rms_truth_error_track_rad"}
+METRIC_WINDOWS = {"max_track": "track", "rms_track": "track"}  # the profile window each metric is over
 GAIN_DISTRIBUTIONS = ("uniform", "loguniform", "choice")
 
 
@@ -108,6 +109,13 @@ class TuneSpec:
         period = self.controller.period
         if abs(round(self.duration / period) * period - self.duration) > 1e-9 * max(1.0, self.duration):
             spec.refuse("duration", f"must be a whole number of control periods ({period} s)", root["duration"])
+        # The score is over the profile's track (Controller.windows, the closed loop's own boundaries):
+        # a run that ends before it would score NaN for every trial.
+        track_start, track_end = self.controller.windows[METRIC_WINDOWS[self.metric]]
+        if not self.duration > track_start:
+            spec.refuse("duration", f"the run ends at {self.duration:g} s, before the "
+                        f"{METRIC_WINDOWS[self.metric]} window [{track_start:g}, {track_end:g}) s of "
+                        f"objective.metric {self.metric}", root["duration"])
 
         self.gains = []
         for key, node in spec.mapping("gains", root["gains"]).items():
@@ -335,9 +343,13 @@ def _finish(study, trial, gains, results, spec, wall):
     for r in results:
         row[f"plant{r['plant']}.status"] = "ok" if r["ok"] else r["stop_key"]
         row.update({f"plant{r['plant']}.{c}": r[c] for c in PLANT_FIGURES if c in r})
+    metric = METRICS[spec.metric]
+    unscored = sorted({r.get("reasons", {}).get(metric, "not finite") for r in ok if not math.isfinite(r[metric])})
     if len(ok) < len(results):
         why = sorted({r["stop_key"] for r in results if not r["ok"]})
         row.update(state="FAIL", score="", reason="plant stopped: " + " ".join(why))
+    elif unscored:  # a figure with no value is no score, never 0 (the spec check makes it rare)
+        row.update(state="FAIL", score="", reason=f"no {metric}: " + "; ".join(unscored))
     else:
         row.update(state="COMPLETE", score=float(np.percentile([r[METRICS[spec.metric]] for r in ok],
                                                                spec.percentile)), reason="")

@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "bindings.hpp"
@@ -15,6 +16,7 @@
 #include "gimbalsim/controllers/pointing_controller.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
 #include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
+#include "gimbalsim/pointing/profile_windows.hpp"
 
 namespace gimbalsim::py {
 
@@ -103,6 +105,18 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
   d["max_attitude_error_rad"] = r.max_attitude_error;
   d["star_outage_ticks"] = r.star_outage_ticks;
   d["ticks"] = r.ticks;
+  // A figure over a window the run did not reach is NaN; "reasons" says why,
+  // one entry per such figure (IndexValue's convention, docs/python.md).
+  pyb::dict reasons;
+  const std::pair<const char*, const std::string*> why[] = {
+      {"settle_time_s", &r.hold_end_reason},         {"max_joint_error_slew_rad", &r.slew_reason},
+      {"max_joint_error_hold_rad", &r.hold_reason},  {"max_joint_error_track_rad", &r.track_reason},
+      {"max_truth_error_track_rad", &r.track_reason}, {"rms_truth_error_track_rad", &r.track_reason},
+      {"max_truth_error_hold_end_rad", &r.hold_end_reason}};
+  for (const auto& [field, reason] : why) {
+    if (!reason->empty()) reasons[field] = *reason;
+  }
+  d["reasons"] = reasons;
   return d;
 }
 
@@ -114,7 +128,8 @@ constexpr const char* kTickFigures[] = {
     "saturated_ticks",         "max_attitude_error_rad"};
 
 /// A non-finite value in any tick is a stop with its reason, and no figure
-/// is reported over it (a max over NaN reads as 0.0): the figures become None.
+/// is reported over it (a max over NaN reads as 0.0): the figures become NaN
+/// with that reason.
 void guardNonFinite(const Ticks& ticks, pyb::dict& summary) {
   for (std::size_t i = 0; i < ticks.data.size(); ++i) {
     if (std::isfinite(ticks.data[i])) continue;
@@ -128,7 +143,14 @@ void guardNonFinite(const Ticks& ticks, pyb::dict& summary) {
     } else {
       summary["error"] = summary["error"].cast<std::string>() + "; " + what;
     }
-    for (const char* figure : kTickFigures) summary[figure] = pyb::none();
+    // The summary's one convention for a figure without a value: NaN and its reason.
+    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+    pyb::dict reasons = summary["reasons"];
+    for (const char* figure : kTickFigures) {
+      summary[figure] = std::string(figure) == "max_abs_tau_Nm" ? pyb::object(pyb::make_tuple(kNaN, kNaN))
+                                                                 : pyb::object(pyb::float_(kNaN));
+      reasons[figure] = what;
+    }
     return;
   }
 }
@@ -143,6 +165,18 @@ void bindController(pyb::module_& m) {
       .def_property_readonly("path", [](const PyController& c) { return c.path; })
       .def_property_readonly("period", [](const PyController& c) { return c.config.period; },
                              "control.period [s]")
+      .def_property_readonly(
+          "windows",
+          [](const PyController& c) {
+            // The profile's windows as every tool computes them (pointing/profile_windows.hpp).
+            pyb::dict d;
+            for (auto seg : {pointing::Segment::Slew, pointing::Segment::Hold, pointing::Segment::Track}) {
+              const pointing::ProfileWindow w = pointing::profileWindow(c.config.profile, seg);
+              d[pointing::describe(seg)] = pyb::make_tuple(w.start_s, w.end_s);
+            }
+            return d;
+          },
+          "the profile's windows {'slew': (start, end), 'hold': ..., 'track': (start, inf)} [s]")
       .def("_values_text", [](const PyController& c) { return keyValueDict(configValues(c.config)); },
            "every key with its value, as text the overrides read back exactly")
       .def("reset", [](PyController& c) { c.state = ControllerState{}; }, "forget the law's memory")

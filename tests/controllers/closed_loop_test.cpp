@@ -218,5 +218,28 @@ TEST(ClosedLoop, ANonFiniteCommandStopsTheRunNamingItAndTheFiguresStayFinite) {
   EXPECT_TRUE(r.max_abs_tau.allFinite());
 }
 
+// A run that ends before a window has no figure over it: NaN with the
+// window and the run's end, never 0.0 (a max over no tick); the run is ok.
+TEST(ClosedLoop, AFigureOverAWindowTheRunDidNotReachIsNaNWithItsReason) {
+  const ControllerConfig c = defaults();  // slew [0.5, 2.5), hold [2.5, 3.5), track from 3.5 s
+  ClosedLoopOptions opt;
+  opt.duration = 3.0;  // inside the hold
+  const ClosedLoopResult r = runClosedLoop(test::scene("paper_ideal"), c, opt);
+  EXPECT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(std::isnan(r.max_truth_error_track) && std::isnan(r.rms_truth_error_track) &&
+              std::isnan(r.max_joint_error_track));
+  EXPECT_EQ(r.track_reason, "track window [3.5, inf) s not reached: run ended at 3 s");
+  // The hold was reached in part: its max has a value; its end (and the settling time) not.
+  EXPECT_TRUE(r.hold_reason.empty() && std::isfinite(r.max_joint_error_hold) && r.max_joint_error_hold > 0.0);
+  EXPECT_TRUE(std::isnan(r.max_truth_error_hold_end) && std::isnan(r.settle_time));
+  EXPECT_EQ(r.hold_end_reason, "end of the hold window [2.5, 3.5) s not reached: run ended at 3 s");
+  EXPECT_TRUE(r.slew_reason.empty() && std::isfinite(r.max_joint_error_slew));
+  // A run that reaches every window has every figure and no reason.
+  const ClosedLoopResult whole = run(test::scene("paper_ideal"), c, 0.5);
+  EXPECT_TRUE(whole.track_reason.empty() && whole.hold_end_reason.empty() && whole.hold_reason.empty() &&
+              whole.slew_reason.empty());
+  EXPECT_TRUE(std::isfinite(whole.max_truth_error_track) && std::isfinite(whole.max_truth_error_hold_end));
+}
+
 }  // namespace
 }  // namespace gimbalsim::controllers

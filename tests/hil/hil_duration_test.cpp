@@ -22,6 +22,11 @@ TEST(HilDuration, LockstepPairWithTheSameDurationBothEndByThemselves) {
   EXPECT_NE(readFile(dir / "ctl.log").find("answered 1000 statuses (last t = 0.999 s)"), std::string::npos)
       << readFile(dir / "ctl.log");
   EXPECT_NE(readFile(dir / "fw.log").find("lockstep timeouts 0"), std::string::npos) << readFile(dir / "fw.log");
+  // A run of 1 s ends before the track (from 3.5 s): both summaries say n/a and why, never an error of 0.
+  const std::string why = "n/a (track window [3.5, inf) s not reached: run ended at 0.999 s)";
+  EXPECT_NE(readFile(dir / "ctl.log").find("max |joint error| while tracking " + why), std::string::npos)
+      << readFile(dir / "ctl.log");
+  EXPECT_NE(readFile(dir / "fw.log").find("; while tracking: " + why), std::string::npos) << readFile(dir / "fw.log");
 }
 
 TEST(HilDuration, ControllerWhosePlantIsKilledSaysSoAndExitsSix) {

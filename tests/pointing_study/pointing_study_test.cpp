@@ -32,7 +32,7 @@ TEST(PointingStudy, QuickRunWritesOneSummaryRowPerRun) {
   const gimbalsim::test::Csv sum = gimbalsim::test::Csv::read(dir + "/summary.csv");
   const std::vector<std::string> cols{"run",          "scene",        "clearance_m", "peak_track_rad",
                                       "rms_track_rad", "peak_run_rad", "track_ticks", "status",
-                                      "stop_reason"};
+                                      "stop_reason", "track_reason"};
   EXPECT_EQ(sum.header, cols);
   ASSERT_EQ(sum.rows.size(), 3u);
   const auto rec = sum.records();
@@ -43,6 +43,7 @@ TEST(PointingStudy, QuickRunWritesOneSummaryRowPerRun) {
   EXPECT_TRUE(std::isfinite(peak));
   EXPECT_GT(peak, 0.0);
   EXPECT_GT(std::stoll(rec[0].at("track_ticks")), 0);
+  EXPECT_EQ(rec[0].at("track_reason"), "");
   for (int i = 1; i < 3; ++i) {
     EXPECT_EQ(rec[i].at("scene"), "paper_clearance");
     EXPECT_GT(std::stod(rec[i].at("clearance_m")), 0.0);
@@ -73,6 +74,27 @@ TEST(PointingStudy, RefusesBadArgumentsNamingTheOption) {
     EXPECT_EQ(run(args + out, log), 2) << args;
     EXPECT_NE(slurp(log).find(option), std::string::npos) << args << ": " << slurp(log);
   }
+}
+
+// A run that ends before the track has no tracking figure: nan and the
+// reason in summary.csv, n/a on the console, never 0; the time series and the
+// peak over the run (which need no window) are still written, exit 0.
+TEST(PointingStudy, ARunThatEndsBeforeTheTrackHasNanTrackFiguresWithTheReason) {
+  const std::string dir = std::string(GIMBALSIM_TEST_TMP) + "/short";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  ASSERT_EQ(run("--duration 2 --clearances 0.5e-3 --out " + dir, dir + ".log"), 0) << slurp(dir + ".log");
+  const std::string why = "track window [3.5, inf) s not reached: run ended at 2 s";
+  const auto rec = gimbalsim::test::Csv::read(dir + "/summary.csv").records();
+  ASSERT_EQ(rec.size(), 2u);
+  for (const auto& r : rec) {
+    EXPECT_EQ(r.at("peak_track_rad"), "nan");
+    EXPECT_EQ(r.at("rms_track_rad"), "nan");
+    EXPECT_EQ(r.at("track_reason"), "track window [3.5; inf) s not reached: run ended at 2 s");  // no comma in a cell
+    EXPECT_EQ(r.at("status"), "ok");
+    EXPECT_GT(std::stod(r.at("peak_run_rad")), 0.0);
+  }
+  EXPECT_NE(slurp(dir + ".log").find("n/a (" + why + ")"), std::string::npos) << slurp(dir + ".log");
 }
 
 TEST(PointingStudy, FailedWritesAreReportedNamingTheFile) {

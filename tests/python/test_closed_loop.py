@@ -36,6 +36,20 @@ def test_closed_loop_equals_the_cpp_closed_loop(tmp):
     assert clearance.max() > runs[header[1]].columns["truth_error"].max()  # the clearance costs pointing
 
 
+def test_a_figure_over_a_window_the_run_did_not_reach_is_nan_with_its_reason():
+    ctrl = gimbalsim.Controller(CONTROLLER_CONFIG)
+    assert ctrl.windows == {"slew": (0.5, 2.5), "hold": (2.5, 3.5), "track": (3.5, float("inf"))}
+    s = gimbalsim.closed_loop(gimbalsim.load_scene(scene_path("paper_ideal")), ctrl, 3.0).summary
+    assert s["ok"]  # the run is ok; its missing figures are marked
+    why = "track window [3.5, inf) s not reached: run ended at 3 s"
+    for k in ("max_truth_error_track_rad", "rms_truth_error_track_rad", "max_joint_error_track_rad"):
+        assert np.isnan(s[k]) and s["reasons"][k] == why, (k, s[k], s["reasons"])
+    assert np.isnan(s["max_truth_error_hold_end_rad"]) and np.isnan(s["settle_time_s"])
+    assert "end of the hold window [2.5, 3.5) s" in s["reasons"]["settle_time_s"]
+    assert s["max_joint_error_hold_rad"] > 0.0 and "max_joint_error_hold_rad" not in s["reasons"]
+    assert gimbalsim.closed_loop(gimbalsim.load_scene(scene_path("paper_ideal")), ctrl, 3.6).summary["reasons"] == {}
+
+
 def test_controller_values_overrides_pickle_and_refusals():
     ctrl = gimbalsim.Controller(CONTROLLER_CONFIG, {"azimuth.kp": 1234.5})
     v = ctrl.values()

@@ -90,3 +90,14 @@ def test_tuning_spec_values_that_crashed_are_refused_before_anything_runs(change
     p = tune(tmp_path / "t.yaml", tmp_path / "o", "--workers", "1")
     assert p.returncode == 2 and f"key '{key}'" in p.stderr and why in p.stderr and "t.yaml:" in p.stderr, p.stderr
     assert "Traceback" not in p.stderr and not (tmp_path / "o").exists()
+
+
+def test_a_duration_that_ends_before_the_score_window_is_refused_at_its_line(tmp_path):
+    # Every trial would score a max over no tick: refused at the spec's line, nothing run.
+    (tmp_path / "t.yaml").write_text(SPEC.replace("duration: 3.7", "duration: 2.0"))
+    p = tune(tmp_path / "t.yaml", tmp_path / "o", "--workers", "1")
+    line = SPEC.splitlines().index("duration: 3.7") + 1
+    assert p.returncode == 2, p.stderr
+    assert f"t.yaml:{line}:" in p.stderr and "key 'duration'" in p.stderr, p.stderr
+    assert "track window [3.5, inf) s of objective.metric max_track" in p.stderr, p.stderr
+    assert not (tmp_path / "o").exists()

@@ -11,6 +11,7 @@
 #include "gimbalsim/controllers/pointing_controller.hpp"
 #include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
+#include "gimbalsim/pointing/profile_windows.hpp"
 #include "gimbalsim/program/program.hpp"
 
 using namespace gimbalsim;
@@ -62,6 +63,12 @@ int mainImpl(int argc, char** argv) {
         !why.empty()) {
       return program::refuse("controller_sweep", "--duration: " + why);
     }
+    // Its figures are the tracking errors: a run that never reaches the track is refused before any work.
+    if (const std::string why = pointing::windowNotReached(
+            pointing::profileWindow(base.profile, pointing::Segment::Track), pointing::WindowNeed::Part, opt.duration);
+        !why.empty()) {
+      return program::refuse("controller_sweep", "--duration: " + why + " (the table's figures are over the track)");
+    }
     std::printf("# scene %s, %g s, settle band %g rad, torque limit %g / %g N m\n", m.name.c_str(), opt.duration,
                 opt.settle_tol, base.axis[0].torque_limit, base.axis[1].torque_limit);
     std::printf("%8s %9s %9s %9s %11s %11s %11s %11s %9s %9s\n", "omega", "kp_az", "kd_az", "ki_az", "settle[s]",
@@ -79,9 +86,13 @@ int mainImpl(int argc, char** argv) {
         ++failures;
         continue;
       }
-      std::printf("%8g %9.4g %9.4g %9.4g %11.4g %11.3e %11.3e %11.3e %9.4g %9.4g\n", w, c.axis[0].kp, c.axis[0].kd,
-                  c.axis[0].ki, r.settle_time, r.max_joint_error_track, r.max_truth_error_track,
-                  r.rms_truth_error_track, r.max_abs_tau(0), r.max_abs_tau(1));
+      using pointing::figureText;
+      std::printf("%8g %9.4g %9.4g %9.4g %11s %11s %11s %11s %9.4g %9.4g\n", w, c.axis[0].kp, c.axis[0].kd,
+                  c.axis[0].ki, figureText(r.settle_time, r.hold_end_reason, "%.4g").c_str(),
+                  figureText(r.max_joint_error_track, r.track_reason, "%.3e").c_str(),
+                  figureText(r.max_truth_error_track, r.track_reason, "%.3e").c_str(),
+                  figureText(r.rms_truth_error_track, r.track_reason, "%.3e").c_str(), r.max_abs_tau(0),
+                  r.max_abs_tau(1));
     }
     return failures ? program::kStopped : program::kOk;
   } catch (const InputError& e) {

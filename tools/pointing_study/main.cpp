@@ -26,6 +26,7 @@
 #include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/io/csv_format.hpp"
 #include "gimbalsim/io/output_file.hpp"
+#include "gimbalsim/pointing/profile_windows.hpp"
 #include "gimbalsim/program/program.hpp"
 
 using namespace gimbalsim;
@@ -44,8 +45,9 @@ struct Study {
   std::string scene;        ///< scene name
   double clearance = 0.0;   ///< [m], 0 for the ideal joint
   std::vector<double> err;  ///< truth pointing error per tick [rad]
-  double peak_track = 0.0, rms_track = 0.0, peak_run = 0.0;
+  double peak_track = 0.0, rms_track = 0.0, peak_run = 0.0;  ///< the track's: NaN with track_reason if not reached
   long long track_ticks = 0;
+  std::string track_reason;  ///< why the track figures are NaN ("" if they have values)
   bool ok = true;
   std::string stop_key;     ///< the scene key of the limit that stopped the plant ("" if none)
   std::string reason;       ///< why it stopped
@@ -92,6 +94,12 @@ std::string stopKey(const std::string& error) {
   return "refused";
 }
 
+/// A text cell without commas (numpy's genfromtxt does not read quotes): ',' reads ';'.
+std::string csvText(std::string s) {
+  std::replace(s.begin(), s.end(), ',', ';');
+  return s;
+}
+
 std::string csvQuote(const std::string& s) {
   std::string q = "\"";
   for (char ch : s) q += (ch == '"') ? std::string("\"\"") : std::string(1, ch);
@@ -116,19 +124,17 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   s.label = std::move(label);
   s.scene = ps.scene.model.name;
   s.clearance = clearance;
-  double sum_sq = 0.0;
   PointingController controller(c);
   const firmware::ClosedLoopResult r = firmware::runClosedLoop(ps, controller, c.profile, opt,
                                                                [&](const firmware::TickRecord& t) {
     s.err.push_back(t.truth_error);
     s.peak_run = std::max(s.peak_run, t.truth_error);
-    if (t.ref.segment == pointing::Segment::Track) {
-      s.peak_track = std::max(s.peak_track, t.truth_error);
-      sum_sq += t.truth_error * t.truth_error;
-      ++s.track_ticks;
-    }
+    if (t.ref.segment == pointing::Segment::Track) ++s.track_ticks;
   });
-  if (s.track_ticks > 0) s.rms_track = std::sqrt(sum_sq / static_cast<double>(s.track_ticks));
+  // The closed loop's own track figures: one definition of the window and of "not reached".
+  s.peak_track = r.max_truth_error_track;
+  s.rms_track = r.rms_truth_error_track;
+  s.track_reason = r.track_reason;
   s.ok = r.ok;
   if (!r.ok) {
     s.stop_key = stopKey(r.error);
@@ -159,11 +165,12 @@ std::string timeSeriesCsv(const std::vector<Study>& runs, double period) {
 
 std::string summaryCsv(const std::vector<Study>& runs) {
   std::string out =
-      "run,scene,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,status,stop_reason\n";
+      "run,scene,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,status,stop_reason,track_reason\n";
   for (const Study& s : runs) {
     out += s.label + "," + s.scene + "," + csvNum(s.clearance) + "," + csvNum(s.peak_track) + "," +
            csvNum(s.rms_track) + "," + csvNum(s.peak_run) + "," + std::to_string(s.track_ticks) + "," +
-           (s.ok ? std::string("ok") : "stop:" + s.stop_key) + "," + csvQuote(s.reason) + "\n";
+           (s.ok ? std::string("ok") : "stop:" + s.stop_key) + "," + csvQuote(s.reason) + "," +
+           csvQuote(csvText(s.track_reason)) + "\n";
   }
   return out;
 }
@@ -281,8 +288,10 @@ int mainImpl(int argc, char** argv) {
     if (gimbalsim::io::stopRequested()) break;
     runs.push_back(runOne(sc, cfg, opt, c > 0.0 ? clearanceLabel(c) : std::string("ideal"), c));
     const Study& s = runs.back();
-    std::printf("%-10s %-16s %11.3g %13.4e %13.4e %13.4e  %s\n", s.label.c_str(), s.scene.c_str(), s.clearance,
-                s.peak_track, s.rms_track, s.peak_run, s.ok ? "ok" : ("stop: " + s.reason).c_str());
+    std::printf("%-10s %-16s %11.3g %13s %13s %13.4e  %s\n", s.label.c_str(), s.scene.c_str(), s.clearance,
+                pointing::figureText(s.peak_track, s.track_reason, "%.4e").c_str(),
+                pointing::figureText(s.rms_track, s.track_reason, "%.4e").c_str(), s.peak_run,
+                s.ok ? "ok" : ("stop: " + s.reason).c_str());
     std::fflush(stdout);
   }
   if (!writeFiles({{(dir / "config.txt").string(), config_text},

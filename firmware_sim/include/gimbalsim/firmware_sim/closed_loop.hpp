@@ -53,7 +53,10 @@ struct ClosedLoopOptions {
   const FaultSchedule* faults = nullptr;
 };
 
-/// Figures of one closed-loop run. Joint errors use the true angles.
+/// Figures of one closed-loop run. Joint errors use the true angles. A
+/// figure over a window of the profile (pointing/profile_windows.hpp) the run
+/// did not reach is NaN and its window's reason says why (docs/usage.md
+/// "Figures over a window"); the run itself stays ok.
 struct ClosedLoopResult {
   bool ok = true;
   std::string error;               ///< why the plant stopped (StepStatus) or the run was refused, if !ok
@@ -68,6 +71,10 @@ struct ClosedLoopResult {
   double max_truth_error_track = 0.0;  ///< [rad] truth pointing error during tracking
   double rms_truth_error_track = 0.0;  ///< [rad]
   double max_truth_error_hold_end = 0.0;  ///< [rad] at the end of the hold
+  /// Why the figures of a window are NaN ("" when they have values): slew
+  /// (max_joint_error_slew), hold (max_joint_error_hold), hold_end
+  /// (max_truth_error_hold_end, settle_time), track (the three *_track).
+  std::string slew_reason, hold_reason, hold_end_reason, track_reason;
   Vec2 max_abs_tau = Vec2::Zero();     ///< [N m] applied
   long long saturated_ticks = 0;       ///< ticks with a limited command (either axis)
   double max_attitude_error = 0.0;     ///< [rad] estimated vs true base attitude, whole run
