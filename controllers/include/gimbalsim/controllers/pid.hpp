@@ -68,16 +68,27 @@ struct AxisGains {
 };
 
 /// Constant configuration of the controller (the controller's "Model").
+/// Its defaults ARE the default controller: controllers/config/default.yaml
+/// states the same values with their derivation (a test compares every key),
+/// and a program given no file runs these.
 struct ControllerConfig {
-  std::array<AxisGains, 2> axis{};   ///< 0 azimuth (theta1), 1 elevation (theta2)
+  /// 0 azimuth (theta1), 1 elevation (theta2): triple pole at -20 rad/s (default.yaml says why).
+  std::array<AxisGains, 2> axis{AxisGains{.kp = 21120.0, .ki = 140800.0, .kd = 1056.0, .inertia = 17.6,
+                                          .torque_limit = 50.0, .aw_gain = 20.0},
+                                AxisGains{.kp = 21000.0, .ki = 140000.0, .kd = 1050.0, .inertia = 17.5,
+                                          .torque_limit = 50.0, .aw_gain = 20.0}};
   double period = 1.0e-3;            ///< control period Ts [s]
   AntiWindup anti_windup = AntiWindup::BackCalculation;
   RateSource rate_source = RateSource::Status;
   double rate_filter_hz = 100.0;     ///< low-pass cutoff of the differenced rate [Hz]
   /// Large-error approach: closing rate capped at sqrt(2 a |e|), a = margin *
   /// torque_limit / inertia (needs inertia > 0 and kd > 0); 0 = plain PD [-]
-  double approach_margin = 0.0;
-  TargetProfile profile;
+  double approach_margin = 0.5;
+  TargetProfile profile = [] {
+    TargetProfile p;
+    p.slew_start = 0.5;  // [s] a still start before the slew
+    return p;
+  }();
   PointingMode pointing_mode = PointingMode::Inertial;
   PointingTarget target = PointingTarget::Profile;
   Vec3 fixed_direction = Vec3::UnitX();  ///< inertial target direction with target = fixed (any length > 0)
