@@ -8,7 +8,8 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 BUILD="${BUILD_DIR:-$ROOT/build}"
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
-COMMAND="bash tools/pointing_study/run_controller_floor.sh$(printf ' %q' "$@")"
+COMMAND="bash tools/pointing_study/run_controller_floor.sh"
+if [ $# -gt 0 ]; then COMMAND+="$(printf ' %q' "$@")"; fi
 OUT="out/controller_floor"
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
