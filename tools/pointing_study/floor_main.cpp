@@ -213,7 +213,9 @@ int mainImpl(int argc, char** argv) {
       rows.push_back(runOne(ps, cfg, T, label));
       all_ok = all_ok && rows.back().ok;
     }
-    const std::string title = name == "before" ? "before (the default with --before-set)" : "after (the default)";
+    std::string overrides;
+    for (const std::string& kv : before_sets) overrides += (overrides.empty() ? "" : ", ") + kv;
+    const std::string title = name == "before" ? "before (the default with " + overrides + ")" : "after (the default)";
     std::fputs(table(title, rows, false).c_str(), stdout);
     std::fflush(stdout);
     md += table(title, rows, true);
