@@ -53,12 +53,27 @@ std::vector<Key<ControllerConfig>> keys() {
   v.push_back(K::vector<3>("pointing.fixed_direction", "-",
                            "inertial target direction with pointing.target = fixed (inertial = base frame at t = 0)",
                            field(&ControllerConfig::fixed_direction), nonZero().saying("must be non-zero")));
+  v.push_back(K::choice<AccelFeedForward>(
+      "pointing.accel_feedforward",
+      "what the acceleration feed-forward inertia x a takes for a (inertial mode): profile: the profile's joint "
+      "acceleration; inertial: each shaft's inertial angular acceleration about its joint, from the IK's second "
+      "derivative (its curvature, the base's rate and angular acceleration)",
+      field(&ControllerConfig::accel_feedforward),
+      {{"profile", AccelFeedForward::Profile}, {"inertial", AccelFeedForward::Inertial}}));
+  v.push_back(K::number("pointing.base_accel_filter_hz", "Hz",
+                        "low-pass cutoff of the base's angular acceleration (the bias-corrected gyro rate differenced "
+                        "over the period), < 1/(2 control.period)",
+                        field(&ControllerConfig::base_accel_filter_hz), interval('(', 0.0, 1e6, ']')));
   v.push_back(K::vector<3>("gimbal.joint1_axis", "-", "azimuth axis the controller assumes, base frame",
                            [](auto& c) -> auto& { return c.gimbal.joint1_axis; }, nonZero().saying("must be non-zero")));
   v.push_back(K::vector<3>("gimbal.joint2_axis", "-", "elevation axis the controller assumes, shaft 1 frame",
                            [](auto& c) -> auto& { return c.gimbal.joint2_axis; }, nonZero().saying("must be non-zero")));
   v.push_back(K::vector<3>("gimbal.boresight", "-", "antenna boresight the controller assumes, shaft 2 frame",
                            [](auto& c) -> auto& { return c.gimbal.boresight; }, nonZero().saying("must be non-zero")));
+  v.push_back(K::number("gimbal.azimuth_inertia_cos2", "kg m^2",
+                        "elevation dependence C of the azimuth inertia the feed-forward assumes: J1(theta2) = "
+                        "azimuth.inertia + C (cos 2 theta2 - 1), with its velocity-product torques (0: constant)",
+                        [](auto& c) -> auto& { return c.gimbal.azimuth_inertia_cos2; }, interval('[', -1e6, 1e6, ']')));
   v.push_back(K::number("estimator.k_p", "1/s", "attitude estimator correction gain (star tracker bandwidth)",
                         [](auto& c) -> auto& { return c.estimator.k_p; }, interval('[', 0.0, 1e3, ']')));
   v.push_back(K::number("estimator.k_i", "1/s^2",
@@ -86,6 +101,9 @@ std::vector<Key<ControllerConfig>> keys() {
 void validate(const ControllerConfig& c, Given& g) {
   if (!(c.rate_filter_hz < 0.5 / c.period)) {
     g.refuse("control.rate_filter_hz", "must be below the Nyquist frequency 1/(2 control.period)");
+  }
+  if (!(c.base_accel_filter_hz < 0.5 / c.period)) {
+    g.refuse("pointing.base_accel_filter_hz", "must be below the Nyquist frequency 1/(2 control.period)");
   }
   const Vec3 k1 = c.gimbal.joint1_axis.normalized(), k2 = c.gimbal.joint2_axis.normalized();
   if (k1.cross(k2).norm() < 1e-6) g.refuse("gimbal.joint2_axis", "must not be parallel to gimbal.joint1_axis");

@@ -73,6 +73,14 @@ Mat32 boresightJacobian(const GimbalGeometry& g, const Vec2& theta) noexcept {
   return J;
 }
 
+Vec3 boresightCurvature(const GimbalGeometry& g, const Vec2& theta, const Vec2& dtheta) noexcept {
+  const Vec3 b = boresightB(g, theta);
+  const Vec3 k2 = axisAngle(g.k1_B, theta(0)) * g.k2_S1;  // joint 2 axis, base frame
+  const Vec3 b_dot = dtheta(0) * g.k1_B.cross(b) + dtheta(1) * k2.cross(b);
+  const Vec3 k2_dot = dtheta(0) * g.k1_B.cross(k2);
+  return dtheta(0) * g.k1_B.cross(b_dot) + dtheta(1) * (k2_dot.cross(b) + k2.cross(b_dot));
+}
+
 IkSolution solveAngles(const GimbalGeometry& g, const Vec3& d_B, const Vec2& theta_prev,
                        const IkOptions& o) noexcept {
   const Vec3 d = d_B.normalized();
@@ -99,6 +107,20 @@ IkSolution solveAngles(const GimbalGeometry& g, const Vec3& d_B, const Vec2& the
 Vec2 solveRates(const GimbalGeometry& g, const Vec2& theta, const Vec3& d_B_dot, const IkOptions& o) noexcept {
   const Mat32 J = boresightJacobian(g, theta);
   return leastSquares(J, d_B_dot, J.col(0).norm() < o.singular_tol);
+}
+
+Vec2 solveAccelerations(const GimbalGeometry& g, const Vec2& theta, const Vec2& dtheta, const Vec3& d_B_ddot,
+                        const IkOptions& o) noexcept {
+  const Mat32 J = boresightJacobian(g, theta);
+  return leastSquares(J, d_B_ddot - boresightCurvature(g, theta, dtheta), J.col(0).norm() < o.singular_tol);
+}
+
+LosInBase losInBase(const Vec3& d_W, const Vec3& dd_W, const Vec3& ddd_W, const Mat3& R_WB, const Vec3& omega_B,
+                    const Vec3& alpha_B) noexcept {
+  LosInBase l = losInBase(d_W, dd_W, R_WB, omega_B);
+  l.d_B_ddot = R_WB.transpose() * ddd_W - omega_B.cross(R_WB.transpose() * dd_W) - alpha_B.cross(l.d_B) -
+               omega_B.cross(l.d_B_dot);
+  return l;
 }
 
 LosInBase losInBase(const Vec3& d_W, const Vec3& dd_W, const Mat3& R_WB, const Vec3& omega_B) noexcept {

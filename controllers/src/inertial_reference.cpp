@@ -12,8 +12,16 @@
 //              configured direction, dd_W = 0
 //   in base:   d_B = R^T d_W, d_B_dot = R^T dd_W - omega_B x d_B  (R = R(q_WB_est))
 //   joints:    q_ref = solveAngles(d_B, previous q_ref), dq_ref = solveRates(q_ref, d_B_dot),
-//              ddq_ref = ddq_p (the profile's acceleration as feed-forward;
-//              the base's angular acceleration is left to the feedback)
+//   feed-forward acceleration a (pointing.accel_feedforward):
+//     profile:  a = ddq_ref = ddq_p (the profile's acceleration; the base's
+//               reaction and the IK's curvature are left to the feedback)
+//     inertial: ddq_ref = solveAccelerations(q_ref, dq_ref, d_B_ddot), with
+//               ddd_W = J(q_p) ddq_p + curvature(q_p, dq_p) and alpha_B the
+//               base's angular acceleration (the gyro's rate differenced over
+//               the period, low-passed); a = each shaft's inertial angular
+//               acceleration about its joint (J_i a_i is the torque that gives it):
+//                 a1 = ddq1 + k1.alpha_B
+//                 a2 = ddq2 + k2.alpha_B + dq1 k2.(omega_B x k1)   (k2 = R1(q1) k2_S1)
 #include <cmath>
 
 #include "gimbalsim/controllers/gimbal_ik.hpp"
@@ -42,28 +50,51 @@ void jointReference(const ControllerConfig& c, ControllerState& s, const Measure
   if (att.star_outage) ++s.star_outage_periods;
   out.q_WB_est = e.q_WB;
   out.omega_B_est = e.omega_B;
+  // The base's angular acceleration: the corrected rate differenced over the period, low-passed.
+  const double dt = meas.t - s.t_alpha_prev;
+  if (s.ref_primed && dt > 0.0 && dt <= 10.0 * c.period) {
+    const double k = dt / (dt + 1.0 / (2.0 * M_PI * c.base_accel_filter_hz));
+    s.alpha_B += k * ((e.omega_B - s.omega_B_prev) / dt - s.alpha_B);
+  } else {
+    s.alpha_B.setZero();
+  }
+  s.omega_B_prev = e.omega_B;
+  s.t_alpha_prev = meas.t;
 
+  const Vec2& ddq_p = out.profile.ddq;
   if (c.pointing_mode == PointingMode::Joint) {
     out.ref = out.profile;
+    out.accel_ff = ddq_p;
     s.ref_primed = true;
     return;
   }
 
   const GimbalGeometry g = gimbalGeometry(c.gimbal.joint1_axis, c.gimbal.joint2_axis, c.gimbal.boresight);
-  Vec3 d_W, dd_W;
+  Vec3 d_W, dd_W, ddd_W;
   if (c.target == PointingTarget::Fixed) {
     d_W = c.fixed_direction.normalized();
     dd_W.setZero();
+    ddd_W.setZero();
   } else {
     d_W = boresightB(g, out.profile.q);
-    dd_W = boresightJacobian(g, out.profile.q) * out.profile.dq;
+    const Mat32 J_p = boresightJacobian(g, out.profile.q);
+    dd_W = J_p * out.profile.dq;
+    ddd_W = J_p * ddq_p + boresightCurvature(g, out.profile.q, out.profile.dq);
   }
-  const LosInBase los = losInBase(d_W, dd_W, e.q_WB.toRotationMatrix(), e.omega_B);
+  const LosInBase los = losInBase(d_W, dd_W, ddd_W, e.q_WB.toRotationMatrix(), e.omega_B, s.alpha_B);
   const Vec2 prev = s.ref_primed ? s.ref_prev : (c.target == PointingTarget::Profile ? out.profile.q : meas.theta);
   const IkSolution sol = solveAngles(g, los.d_B, prev);
   out.ref.q = sol.theta;
   out.ref.dq = solveRates(g, sol.theta, los.d_B_dot);
-  out.ref.ddq = c.target == PointingTarget::Profile ? out.profile.ddq : Vec2::Zero();
+  if (c.accel_feedforward == AccelFeedForward::Inertial) {
+    out.ref.ddq = solveAccelerations(g, sol.theta, out.ref.dq, los.d_B_ddot);
+    const Vec3 k2 = axisAngle(g.k1_B, sol.theta(0)) * g.k2_S1;
+    out.accel_ff(0) = out.ref.ddq(0) + g.k1_B.dot(s.alpha_B);
+    out.accel_ff(1) = out.ref.ddq(1) + k2.dot(s.alpha_B) + out.ref.dq(0) * k2.dot(e.omega_B.cross(g.k1_B));
+  } else {
+    out.ref.ddq = c.target == PointingTarget::Profile ? ddq_p : Vec2::Zero();
+    out.accel_ff = out.ref.ddq;
+  }
   out.ref.segment = out.profile.segment;
   out.ik_singular = sol.singular;
   s.ref_prev = sol.theta;

@@ -50,6 +50,14 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
   // The difference uses the real spacing of the samples; a gap (missed
   // statuses, a controller joining late) of more than 10 periods or a time
   // going backwards re-primes instead of producing a spike.
+  // Feed-forward torque of the gimbal's own dynamics (fixed-base Lagrangian of
+  // M = diag(J1(theta2), J2), at the reference): J1(theta2) = J1_0 + C (cos 2 theta2 - 1),
+  //   tau1 = J1(theta2) a1 + J1'(theta2) w1 w2,   tau2 = J2 a2 - J1'(theta2) w1^2 / 2.
+  const double C = c.gimbal.azimuth_inertia_cos2, th2 = out.ref.q(1);
+  const double dJ1 = -2.0 * C * std::sin(2.0 * th2);
+  const double w1 = out.ref.dq(0), w2 = out.ref.dq(1);
+  const Vec2 tau_ff{(c.axis[0].inertia + C * (std::cos(2.0 * th2) - 1.0)) * out.accel_ff(0) + dJ1 * w1 * w2,
+                    c.axis[1].inertia * out.accel_ff(1) - 0.5 * dJ1 * w1 * w1};
   const double dt = meas.t - s.t_prev;
   const bool difference_ok = s.primed && dt > 0.0 && dt <= 10.0 * Ts;
   const double alpha = dt / (dt + 1.0 / (2.0 * M_PI * c.rate_filter_hz));
@@ -77,7 +85,7 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
         tau_pd = g.kd * (out.ref.dq(i) + std::copysign(v_max, e) - w);
       }
     }
-    const double tau_u = g.inertia * out.ref.ddq(i) + tau_pd + s.integral(i);
+    const double tau_u = tau_ff(i) + tau_pd + s.integral(i);
     const double tau = std::clamp(tau_u, -g.torque_limit, g.torque_limit);
     const bool sat = tau != tau_u;
     double dI = approach || suspect ? 0.0 : Ts * g.ki * e;  // integrate in the linear region only

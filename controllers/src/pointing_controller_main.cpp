@@ -214,8 +214,9 @@ class StatusHandler {
 int run(int argc, char** argv) {
   CLI::App app{"Pointing controller: answers every gimbal status with a torque command over LCM"};
   Options o;
-  o.config = std::string(GIMBALSIM_DEFAULT_CONTROLLER_CONFIG);
-  app.add_option("config", o.config, "controller configuration (YAML): gains, limits, profile")->capture_default_str();
+  app.add_option("config", o.config,
+                 "controller configuration (YAML): gains, limits, profile (default: the built-in default "
+                 "configuration, the values of controllers/config/default.yaml)");
   app.add_option("--set", o.sets, "configuration override key=value (repeatable); see --keys");
   app.add_option("--lcm-url", o.lcm_url, "LCM provider URL (default: LCM_DEFAULT_URL or LCM's default)");
   app.add_option("--channel-prefix", o.prefix, "prefix of every channel name, e.g. BENCH2_");
@@ -246,7 +247,9 @@ int run(int argc, char** argv) {
   }
   ControllerConfig c;
   try {
-    c = loadControllerConfig(o.config, o.sets);
+    // No file: the built-in defaults (ControllerConfig's), never a path baked in at build time.
+    c = o.config.empty() ? loadControllerConfigText("", "the built-in default configuration", o.sets)
+                         : loadControllerConfig(o.config, o.sets);
   } catch (const ConfigError& e) {
     std::fprintf(stderr, "pointing_controller: configuration refused:\n%s\n", e.what());
     return program::kRefused;
@@ -266,7 +269,7 @@ int run(int argc, char** argv) {
   std::FILE* csv = nullptr;
   if (!o.log_csv.empty()) {
     try {
-      log_out.emplace(o.log_csv, std::vector<std::string>{o.config});
+      log_out.emplace(o.log_csv, o.config.empty() ? std::vector<std::string>{} : std::vector<std::string>{o.config});
     } catch (const io::OutputError& e) {
       std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", e.what());
       return program::kRefused;

@@ -224,7 +224,8 @@ _gimbalsim.Controller.values = _controller_values
 
 def Controller(config_path=None, overrides=None, sources=None):
     """The project's pointing controller with the configuration at config_path
-    (None: the built-in defaults) and overrides (dict of controller keys, as
+    (None: the built-in defaults, = controllers/config/default.yaml) and
+    overrides (dict of controller keys, as
     `pointing_controller --set`; sources as for load_scene). Raises SceneError
     for a refused configuration."""
     path = "" if config_path is None else _check_path(config_path, "controller configuration path")

@@ -24,7 +24,7 @@ namespace gimbalsim::py {
 struct PyController {
   controllers::ControllerConfig config;
   controllers::ControllerState state;
-  std::string path;  ///< "" = the built-in defaults
+  std::string path;  ///< "" = the built-in defaults (= controllers/config/default.yaml)
 };
 
 }  // namespace gimbalsim::py
@@ -44,7 +44,7 @@ namespace {
 PyController loadController(const std::string& path, const std::vector<std::string>& overrides) {
   checkPath(path, "controller configuration path");
   try {
-    if (path.empty()) return {loadControllerConfigText("", "<defaults>", overrides), {}, ""};
+    if (path.empty()) return {loadControllerConfigText("", "the built-in default configuration", overrides), {}, ""};
     return {loadControllerConfig(path, overrides), {}, path};
   } catch (const InputError& e) {
     raiseSceneError(e);

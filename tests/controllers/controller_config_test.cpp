@@ -23,8 +23,10 @@ TEST(ControllerConfig, DefaultFileLoadsWithItsValues) {
   EXPECT_EQ(c.period, 1e-3);
   EXPECT_EQ(c.anti_windup, AntiWindup::BackCalculation);
   EXPECT_EQ(c.rate_source, RateSource::Status);
-  EXPECT_EQ(c.axis[0].inertia, 17.6);
-  EXPECT_EQ(c.axis[1].inertia, 17.5);
+  EXPECT_EQ(c.axis[0].inertia, 17.01);
+  EXPECT_EQ(c.axis[1].inertia, 16.91);
+  EXPECT_EQ(c.gimbal.azimuth_inertia_cos2, 8.205);
+  EXPECT_EQ(c.accel_feedforward, AccelFeedForward::Inertial);
   EXPECT_GT(c.axis[0].kp, 0.0);
   EXPECT_EQ(c.profile.slew_target, Vec2(0.5, 0.3));
 }
@@ -102,7 +104,8 @@ TEST(ControllerConfig, EveryKeyIsDocumented) {
     EXPECT_FALSE(k.meaning.empty()) << k.key;
     EXPECT_FALSE(k.type.empty()) << k.key;
   }
-  EXPECT_EQ(controllerKeys().size(), 14u + 12u + 8u + 4u);  // + pointing.* 3, gimbal.* 3, estimator.* 2; monitor.* 4
+  // + pointing.* 5, gimbal.* 4, estimator.* 2; monitor.* 4
+  EXPECT_EQ(controllerKeys().size(), 14u + 12u + 8u + 4u + 3u);
 }
 
 TEST(ControllerConfig, PointingKeysLoadAndAreChecked) {

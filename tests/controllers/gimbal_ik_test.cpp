@@ -1,8 +1,10 @@
 // Gimbal inverse kinematics (gimbal_ik.hpp): the boresight the dynamics'
 // own kinematics produce at known joint angles gives those angles back (and
 // their branch); the joint rates match a finite difference of the angles; the
-// base-rate feed-forward matches a finite difference of R_WB(t)^T d_W(t); a
-// tilted joint-2 axis converges by Gauss-Newton; the keyhole keeps the azimuth.
+// base-rate feed-forward matches a finite difference of R_WB(t)^T d_W(t); the
+// curvature and the joint accelerations (base angular acceleration included)
+// match second differences; a tilted joint-2 axis converges by Gauss-Newton;
+// the keyhole keeps the azimuth.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -168,6 +170,50 @@ TEST(GimbalIk, JointRatesOfAnInertialTargetFromARotatingBase) {
     const Vec2 th = angles(t, prev);
     const Vec2 fd = (angles(t + h, th) - angles(t - h, th)) / (2.0 * h);
     EXPECT_LT((solveRates(g, th, l.d_B_dot) - fd).cwiseAbs().maxCoeff(), 1e-8) << "t = " << t;
+    prev = th;
+  }
+}
+
+TEST(GimbalIk, CurvatureMatchesASecondDifferenceOfTheBoresight) {
+  // Joint angles moving at constant rates: b'' is the curvature term alone.
+  const GimbalGeometry g = gimbalGeometry(test::model("paper_ideal"));
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  const double h = 1e-4;
+  for (int k = 0; k < 50; ++k) {
+    const Vec2 th = randomAngles(rng), w{u(rng), u(rng)};
+    const Vec3 fd = (boresightB(g, th + h * w) - 2.0 * boresightB(g, th) + boresightB(g, th - h * w)) / (h * h);
+    EXPECT_LT((boresightCurvature(g, th, w) - fd).norm(), 1e-6 * (1.0 + w.squaredNorm())) << "k = " << k;
+  }
+}
+
+TEST(GimbalIk, JointAccelerationsOfAnInertialTargetFromAnAcceleratingBase) {
+  // The whole second-derivative feed-forward (target acceleration, base rate
+  // and base angular acceleration, the IK's curvature) against the second
+  // difference of the IK's angles; omega_B of RotatingBase turns in the base
+  // frame, so its derivative alpha_B (a difference of the closed form here) is not zero.
+  const GimbalGeometry g = gimbalGeometry(test::model("paper_ideal"));
+  const RotatingBase base;
+  const TurningDirection dir;
+  auto angles = [&](double t, const Vec2& prev) {
+    return solveAngles(g, base.R(t).transpose() * dir.at(t), prev).theta;
+  };
+  const double h = 1e-4, e = 1e-6;
+  Vec2 prev = angles(0.0, Vec2::Zero());
+  for (double t = 0.0; t < 8.0; t += 0.1) {
+    const Vec3 alpha = (base.omega(t + e) - base.omega(t - e)) / (2.0 * e);
+    ASSERT_GT(alpha.norm(), 1e-4);
+    const Vec3 accel = dir.w * dir.a.cross(dir.rate(t));  // the target's inertial acceleration
+    const LosInBase l = losInBase(dir.at(t), dir.rate(t), accel, base.R(t), base.omega(t), alpha);
+    const auto dB = [&](double s) { return Vec3(base.R(s).transpose() * dir.at(s)); };
+    EXPECT_LT((l.d_B_ddot - (dB(t + h) - 2.0 * dB(t) + dB(t - h)) / (h * h)).norm(), 1e-6) << "t = " << t;
+    const Vec2 th = angles(t, prev);
+    const Vec2 th_p = angles(t + h, th), th_m = angles(t - h, th);
+    const Vec2 rate = (th_p - th_m) / (2.0 * h), acc = (th_p - 2.0 * th + th_m) / (h * h);
+    EXPECT_LT((solveAccelerations(g, th, solveRates(g, th, l.d_B_dot), l.d_B_ddot) - acc).cwiseAbs().maxCoeff(),
+              1e-5 * (1.0 + acc.cwiseAbs().maxCoeff()))
+        << "t = " << t;
+    EXPECT_LT((solveRates(g, th, l.d_B_dot) - rate).cwiseAbs().maxCoeff(), 1e-6) << "t = " << t;
     prev = th;
   }
 }

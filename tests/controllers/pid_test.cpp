@@ -15,6 +15,9 @@ namespace {
 ControllerConfig holdAt(const Vec2& q) {
   ControllerConfig c;
   c.pointing_mode = PointingMode::Joint;  // the joint law alone (inertial mode: inertial_pointing_test)
+  // The plain PID with a constant-inertia feed-forward (the defaults are the default controller's).
+  c.approach_margin = 0.0;
+  c.gimbal.azimuth_inertia_cos2 = 0.0;
   c.profile.start = q;
   c.profile.slew_start = 1e9;
   for (auto& g : c.axis) g = AxisGains{.kp = 100.0, .ki = 10.0, .kd = 5.0, .inertia = 2.0, .torque_limit = 1e6};

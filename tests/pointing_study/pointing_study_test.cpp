@@ -19,7 +19,10 @@
 namespace {
 
 int run(const std::string& args, const std::string& log) {
-  const std::string cmd = std::string(GIMBALSIM_POINTING_STUDY_BIN) + " " + args + " > " + log + " 2>&1";
+  // The scenes named: the program reads no source folder unasked.
+  const std::string cmd = std::string(GIMBALSIM_POINTING_STUDY_BIN) + " --ideal-scene " GIMBALSIM_SCENES_DIR
+                          "/paper_ideal.yaml --clearance-scene " GIMBALSIM_SCENES_DIR "/paper_clearance.yaml " + args +
+                          " > " + log + " 2>&1";
   const int st = std::system(cmd.c_str());
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }

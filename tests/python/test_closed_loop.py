@@ -17,6 +17,8 @@ def test_closed_loop_equals_the_cpp_closed_loop(tmp):
     out = tmp / "study"
     out.mkdir()  # an output folder given is never created by the program
     p = subprocess.run([str(BIN / "gimbalsim_pointing_study"), "--config", str(CONTROLLER_CONFIG),
+                        "--ideal-scene", str(scene_path("paper_ideal")),
+                        "--clearance-scene", str(scene_path("paper_clearance")),
                         "--clearances", str(c), "--duration", str(duration), "--out", str(out)],
                        capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr

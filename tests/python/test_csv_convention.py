@@ -63,6 +63,8 @@ def test_pointing_study_csvs(tmp):
     out = tmp / "study"
     out.mkdir()  # no program creates a folder it is given
     p = subprocess.run([str(BIN / "gimbalsim_pointing_study"), "--config", str(CONTROLLER_CONFIG),
+                        "--ideal-scene", str(scene_path("paper_ideal")),
+                        "--clearance-scene", str(scene_path("paper_clearance")),
                         "--clearances", "2.5e-4", "--duration", "0.2", "--out", str(out)],
                        capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr

@@ -10,7 +10,8 @@ import pytest
 from conftest import BIN, SOURCE
 
 PROGRAMS = ["gimbalsim", "firmware_sim", "gimbalsim_record", "gimbalsim_log2csv", "pointing_controller",
-            "gimbalsim_workprec", "gimbalsim_stress", "gimbalsim_pointing_study", "controller_sweep", "gimbalsim_bench"]
+            "gimbalsim_workprec", "gimbalsim_stress", "gimbalsim_pointing_study", "gimbalsim_controller_floor", "controller_sweep",
+            "gimbalsim_bench"]
 
 
 def project_version():

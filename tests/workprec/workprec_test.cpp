@@ -85,6 +85,7 @@ TEST(Workprec, QuickRunWritesTheCsvAndErrorsFallAtFourthOrderOnTheIdealScene) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const std::string cmd = std::string(GIMBALSIM_WORKPREC_BIN) +
+                          " --scenes-dir " GIMBALSIM_SCENES_DIR " --policies " GIMBALSIM_WORKPREC_DIR "/policies.yaml"
                           " --quick --scenes paper_ideal,stickslip_clearance --policy plain --policy 'sub h/50'"
                           " --out " + dir + " > " + dir + ".log 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << "see " << dir << ".log";

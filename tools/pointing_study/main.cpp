@@ -181,17 +181,18 @@ int refuse(const std::string& option, const std::string& why) {
 
 int mainImpl(int argc, char** argv) {
   CLI::App app{"Closed-loop truth pointing error on the ideal joint and against the elevation-joint clearance"};
-  std::string ideal_path = GIMBALSIM_SCENES_DIR "/paper_ideal.yaml";
-  std::string clearance_path = GIMBALSIM_SCENES_DIR "/paper_clearance.yaml";
-  std::string config_path = GIMBALSIM_CONTROLLER_CONFIG_DIR "/default.yaml";
+  // Defaults relative to the working directory (the repository root), never a source path baked in.
+  std::string ideal_path = "tools/scenes/paper_ideal.yaml";
+  std::string clearance_path = "tools/scenes/paper_clearance.yaml";
+  std::string config_path;  // "": the built-in default controller (= controllers/config/default.yaml)
   std::string out_dir = "out/pointing_study";
   std::vector<std::string> scene_sets, sets;
   std::vector<double> clearances{0.1e-3, 0.25e-3, 0.5e-3, 0.8e-3};
   double duration = 0.0;
   bool quick = false;
-  app.add_option("--ideal-scene", ideal_path, "scene with the ideal joint");
-  app.add_option("--clearance-scene", clearance_path, "scene with the clearance joint");
-  app.add_option("--config", config_path, "controller configuration file");
+  app.add_option("--ideal-scene", ideal_path, "scene with the ideal joint")->capture_default_str();
+  app.add_option("--clearance-scene", clearance_path, "scene with the clearance joint")->capture_default_str();
+  app.add_option("--config", config_path, "controller configuration file (default: the built-in defaults)");
   app.add_option("--set", sets, "controller override key=value (repeatable)");
   app.add_option("--scene-set", scene_sets, "scene override key=value for every run (repeatable)");
   app.add_option("--clearances", clearances, "radial clearances [m] (contact.clearance), comma-separated")
@@ -218,7 +219,8 @@ int mainImpl(int argc, char** argv) {
   ControllerConfig cfg;
   std::vector<std::pair<firmware::PlantScene, double>> scenes;  // (scene, clearance)
   try {
-    cfg = loadControllerConfig(config_path, sets);
+    cfg = config_path.empty() ? loadControllerConfigText("", "the built-in default configuration", sets)
+                              : loadControllerConfig(config_path, sets);
   } catch (const InputError& e) {
     std::string why;
     for (const auto& p : e.problems()) why += "\n  " + p;
@@ -266,7 +268,8 @@ int mainImpl(int argc, char** argv) {
   try {
     gimbalsim::io::checkOutputPaths(
         {(dir / "config.txt").string(), (dir / "pointing_error.csv").string(), (dir / "summary.csv").string()},
-        {ideal_path, clearance_path, config_path});
+        config_path.empty() ? std::vector<std::string>{ideal_path, clearance_path}
+                            : std::vector<std::string>{ideal_path, clearance_path, config_path});
   } catch (const gimbalsim::io::OutputError& e) {
     return refuse("--out", e.what());
   }

@@ -28,7 +28,8 @@ cmake --build "$BUILD" -j2 --target gimbalsim_pointing_study
 status=0
 mkdir -p "$OUT"
 # The default --out first: a --out among the arguments comes later and counts.
-"$BUILD/bin/gimbalsim_pointing_study" --out "$OUT" ${args[@]+"${args[@]}"} | tee "$OUT/study.log" || status=$?
+"$BUILD/bin/gimbalsim_pointing_study" --out "$OUT" --ideal-scene "$ROOT/tools/scenes/paper_ideal.yaml" \
+  --clearance-scene "$ROOT/tools/scenes/paper_clearance.yaml" ${args[@]+"${args[@]}"} | tee "$OUT/study.log" || status=$?
 # Exit 3: a plant stopped; the results of the other runs are still written and plotted.
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
 /usr/bin/python3 "$ROOT/tools/pointing_study/plot_pointing_study.py" "$OUT"

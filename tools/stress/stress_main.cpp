@@ -93,7 +93,7 @@ void checkInputs(const std::string& scenes, const std::vector<std::string>& scen
 
 int mainImpl(int argc, char** argv) {
   CLI::App app{"gimbalsim_stress: numerical stability stress grid"};
-  std::string scenes = GIMBALSIM_SCENES_DIR, csv = "out/stress/stress.csv", page_body, dur = "1";
+  std::string scenes = "tools/scenes", csv = "out/stress/stress.csv", page_body, dur = "1";
   std::string long_scene = "paper_clearance";
   // The hour: no torque (a constant torque would spin the shafts up without
   // bound), both joints turning, Ambrosio friction; the journal settles into

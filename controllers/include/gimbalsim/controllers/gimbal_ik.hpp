@@ -62,6 +62,12 @@ Vec3 boresightB(const GimbalGeometry& g, const Vec2& theta) noexcept;
 /// J = d b_B / d theta at theta [1/rad], base frame.
 Mat32 boresightJacobian(const GimbalGeometry& g, const Vec2& theta) noexcept;
 
+/// The boresight's curvature along a joint path: d^2 b_B/dt^2 at joint rates
+/// dtheta and zero joint accelerations, i.e. (dJ/dt) dtheta [1/s^2], base frame:
+///   theta1' k1 x b' + theta2' ((theta1' k1 x R1 k2) x b + R1 k2 x b'),  b' = J dtheta.
+/// So b'' = J ddtheta + curvature: what the inverse kinematics' second derivative needs.
+Vec3 boresightCurvature(const GimbalGeometry& g, const Vec2& theta, const Vec2& dtheta) noexcept;
+
 struct IkOptions {
   double singular_tol = 1e-6;   ///< rho = |k1 x d| below this: azimuth kept [-]
   int max_iterations = 20;      ///< Gauss-Newton steps (non-orthogonal geometry) [-]
@@ -88,10 +94,17 @@ IkSolution solveAngles(const GimbalGeometry& g, const Vec3& d_B, const Vec2& the
 Vec2 solveRates(const GimbalGeometry& g, const Vec2& theta, const Vec3& d_B_dot,
                 const IkOptions& o = {}) noexcept;
 
+/// Joint accelerations [rad/s^2] at theta, dtheta that give the boresight the
+/// acceleration d_B_ddot (base frame, [1/s^2]): least squares
+/// J ddtheta = d_B_ddot - boresightCurvature(theta, dtheta); keyhole as solveRates.
+Vec2 solveAccelerations(const GimbalGeometry& g, const Vec2& theta, const Vec2& dtheta, const Vec3& d_B_ddot,
+                        const IkOptions& o = {}) noexcept;
+
 /// A line of sight and its rate in the base frame.
 struct LosInBase {
   Vec3 d_B = Vec3::UnitX();       ///< direction, base frame (unit if d_W is)
   Vec3 d_B_dot = Vec3::Zero();    ///< its time derivative seen in the base frame [1/s]
+  Vec3 d_B_ddot = Vec3::Zero();   ///< its second derivative seen in the base frame [1/s^2] (losInBaseAcceleration)
 };
 
 /// An inertial target direction d_W (unit) and its inertial rate dd_W [1/s],
@@ -101,5 +114,13 @@ struct LosInBase {
 /// (d/dt R_WB^T = -[omega_B]x R_WB^T): the second term is the feed-forward of
 /// the base's rotation.
 LosInBase losInBase(const Vec3& d_W, const Vec3& dd_W, const Mat3& R_WB, const Vec3& omega_B) noexcept;
+
+/// The same with the second derivative: the target's inertial acceleration
+/// ddd_W [1/s^2] and the base's angular acceleration alpha_B (base frame) [rad/s^2]:
+///   d_B_ddot = R^T ddd_W - omega_B x (R^T dd_W) - alpha_B x d_B - omega_B x d_B_dot
+/// (the derivative of d_B_dot; the alpha_B term is the feed-forward of the
+/// base's angular acceleration, the reaction the gimbal's own motion induces).
+LosInBase losInBase(const Vec3& d_W, const Vec3& dd_W, const Vec3& ddd_W, const Mat3& R_WB, const Vec3& omega_B,
+                    const Vec3& alpha_B) noexcept;
 
 }  // namespace gimbalsim::controllers

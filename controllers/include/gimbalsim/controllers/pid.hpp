@@ -7,15 +7,16 @@
 //
 // Reference (pointing.mode, inertial_reference.cpp): inertial (default) turns
 // the inertial target direction into joint references through the estimated
-// base attitude and the gimbal's inverse kinematics (q_ref, dq_ref; ddq_ref is
-// the profile's, a feed-forward only); joint uses the profile's (q, dq, ddq)
+// base attitude and the gimbal's inverse kinematics (q_ref, dq_ref, and
+// ddq_ref, a feed-forward only: see pointing.accel_feedforward); joint uses the profile's (q, dq, ddq)
 // as joint angles directly (the old law: the base's reaction rotation is not
 // seen). Law, per axis i (e = q_ref - q_meas):
-//   tau_u = J_i ddq_ref + kp e + kd (dq_ref - w) + I
+//   tau_u = J_i a_i + kp e + kd (dq_ref - w) + I
 //   tau   = clamp(tau_u, -limit, +limit)
 // (with approach_margin > 0, large errors use kd (dq_ref + sign(e) sqrt(2 a |e|) - w)
 // instead of the PD pair where that asks for less: see pid.cpp).
-// J_i ddq_ref is the acceleration feed-forward (inertia estimate J_i); kd dq_ref
+// J_i a_i is the acceleration feed-forward (inertia estimate J_i; a_i the
+// profile's ddq, or the shaft's inertial angular acceleration: inertial_reference.cpp); kd dq_ref
 // is the rate feed-forward and -kd w the derivative on measurement (no kick
 // when the reference jumps). w is the status rate, or the backward difference
 // of the encoder angle (over the samples' real spacing) through a first-order
@@ -49,12 +50,20 @@ enum class RateSource : std::uint8_t { Status, Difference };
 enum class PointingMode : std::uint8_t { Inertial, Joint };
 /// The inertial target: the profile's (az, el) turned into a direction at the initial base pose, or a fixed one.
 enum class PointingTarget : std::uint8_t { Profile, Fixed };
+/// What the acceleration feed-forward J_i a_i takes for a_i (inertial mode): the profile's joint
+/// acceleration, or each shaft's inertial angular acceleration about its joint from the IK's second
+/// derivative (curvature, base rate and the base's angular acceleration, the reaction included).
+enum class AccelFeedForward : std::uint8_t { Profile, Inertial };
 
 /// The gimbal geometry the controller assumes (keys gimbal.*; the paper's z, y, x).
 struct GimbalAxes {
   Vec3 joint1_axis = Vec3::UnitZ();  ///< azimuth axis, base frame
   Vec3 joint2_axis = Vec3::UnitY();  ///< elevation axis, shaft 1 frame
   Vec3 boresight = Vec3::UnitX();    ///< boresight, shaft 2 frame
+  /// The azimuth inertia's elevation dependence C [kg m^2]: J1(theta2) =
+  /// azimuth.inertia + C (cos 2 theta2 - 1), with its velocity-product
+  /// feed-forward (0: constant J1, the old law; controllers/config/default.yaml says why).
+  double azimuth_inertia_cos2 = 8.205;
 };
 
 /// Gains and limits of one axis (config keys `azimuth.*`, `elevation.*`).
@@ -68,19 +77,32 @@ struct AxisGains {
 };
 
 /// Constant configuration of the controller (the controller's "Model").
+/// Its defaults ARE the default controller: controllers/config/default.yaml
+/// states the same values with their derivation (a test compares every key),
+/// and a program given no file runs these.
 struct ControllerConfig {
-  std::array<AxisGains, 2> axis{};   ///< 0 azimuth (theta1), 1 elevation (theta2)
+  /// 0 azimuth (theta1), 1 elevation (theta2): triple pole at -20 rad/s (default.yaml says why).
+  std::array<AxisGains, 2> axis{AxisGains{.kp = 21120.0, .ki = 140800.0, .kd = 1056.0, .inertia = 17.01,
+                                          .torque_limit = 50.0, .aw_gain = 20.0},
+                                AxisGains{.kp = 21000.0, .ki = 140000.0, .kd = 1050.0, .inertia = 16.91,
+                                          .torque_limit = 50.0, .aw_gain = 20.0}};
   double period = 1.0e-3;            ///< control period Ts [s]
   AntiWindup anti_windup = AntiWindup::BackCalculation;
   RateSource rate_source = RateSource::Status;
   double rate_filter_hz = 100.0;     ///< low-pass cutoff of the differenced rate [Hz]
   /// Large-error approach: closing rate capped at sqrt(2 a |e|), a = margin *
   /// torque_limit / inertia (needs inertia > 0 and kd > 0); 0 = plain PD [-]
-  double approach_margin = 0.0;
-  TargetProfile profile;
+  double approach_margin = 0.5;
+  TargetProfile profile = [] {
+    TargetProfile p;
+    p.slew_start = 0.5;  // [s] a still start before the slew
+    return p;
+  }();
   PointingMode pointing_mode = PointingMode::Inertial;
   PointingTarget target = PointingTarget::Profile;
   Vec3 fixed_direction = Vec3::UnitX();  ///< inertial target direction with target = fixed (any length > 0)
+  AccelFeedForward accel_feedforward = AccelFeedForward::Inertial;
+  double base_accel_filter_hz = 50.0;    ///< low-pass cutoff of the differenced base rate (alpha_B) [Hz]
   GimbalAxes gimbal;
   AttitudeEstimatorParams estimator;     ///< k_p, k_i are keys; the rest its defaults
   MonitorConfig monitor;                 ///< what counts as a stale status or a suspect encoder (fault_monitor.hpp)
@@ -130,6 +152,9 @@ struct ControllerState {
   AttitudeEstimatorState estimator; ///< base attitude estimate
   Vec3 gyro_prev = Vec3::Zero();   ///< last gyro rate used [rad/s]
   Vec2 ref_prev = Vec2::Zero();    ///< last IK solution (branch continuity) [rad]
+  Vec3 omega_B_prev = Vec3::Zero(); ///< last bias-corrected base rate [rad/s]
+  Vec3 alpha_B = Vec3::Zero();     ///< filtered base angular acceleration, base frame [rad/s^2]
+  double t_alpha_prev = 0.0;       ///< time of omega_B_prev [s]
   bool ref_primed = false;         ///< ref_prev / gyro_prev / estimator.t hold a period
   long long gyro_missing = 0;      ///< periods with the gyro rate held
   long long star_outage_periods = 0; ///< periods with the star tracker in outage
@@ -146,6 +171,7 @@ struct ControlOutput {
   Vec2 error = Vec2::Zero();       ///< q_ref - theta [rad]
   Vec2 rate = Vec2::Zero();        ///< rate used in the derivative term [rad/s]
   ProfileSample ref;               ///< the joint reference tracked (inertial: IK; joint: the profile)
+  Vec2 accel_ff = Vec2::Zero();    ///< the acceleration the feed-forward torque J_i a_i is for [rad/s^2]
   std::array<bool, 2> saturated{}; ///< |tau_unsat| > limit
   ProfileSample profile;           ///< the profile at the measurement time
   Quat q_WB_est = Quat::Identity();///< estimated base attitude, base -> inertial

@@ -1,0 +1,237 @@
+// gimbalsim_controller_floor: is the controller's own pointing floor below
+// the bearing's signature? The in-process closed loop (runClosedLoop, as
+// gimbalsim_pointing_study) with PERFECT sensors (no encoder quantum, no
+// noise, no gyro bias, no star tracker latency) on the ideal joint and at each
+// elevation-joint clearance, one table: the truth pointing error's max and RMS
+// while tracking and after the slew (hold + track), the joint tracking error
+// and the attitude estimate's error (where a floor comes from), and the ratio
+// ideal / first clearance. With --before-set the same runs of a second
+// controller (the default + those overrides) come first: a before/after table.
+// --markdown FILE writes the table as the body of docs/results/controller_floor.md
+// (tools/pointing_study/run_controller_floor.sh adds the stamped header).
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/controllers/pointing_controller.hpp"
+#include "gimbalsim/firmware_sim/closed_loop.hpp"
+#include "gimbalsim/input/key_registry.hpp"
+#include "gimbalsim/io/output_file.hpp"
+#include "gimbalsim/program/program.hpp"
+
+using namespace gimbalsim;
+using namespace gimbalsim::controllers;
+
+namespace {
+
+constexpr const char* kProgram = "gimbalsim_controller_floor";
+
+/// Max and RMS of a signal over a window (count 0: the window was not reached).
+struct Stat {
+  double max = 0.0, sum_sq = 0.0;
+  long long n = 0;
+  void add(double x) {
+    max = std::max(max, x);
+    sum_sq += x * x;
+    ++n;
+  }
+  double rms() const { return n > 0 ? std::sqrt(sum_sq / static_cast<double>(n)) : std::nan(""); }
+  double peak() const { return n > 0 ? max : std::nan(""); }
+};
+
+struct Row {
+  std::string label;
+  Stat track, after_slew;       ///< truth pointing error [rad]
+  Stat joint_track;             ///< max over axes |q_ref - theta_true| while tracking [rad]
+  Stat attitude_track;          ///< estimated vs true base attitude while tracking [rad]
+  bool ok = true;
+  std::string why;
+};
+
+Row runOne(const firmware::PlantScene& ps, const ControllerConfig& c, double duration, std::string label) {
+  Row r;
+  r.label = std::move(label);
+  PointingController controller(c);
+  firmware::ClosedLoopOptions opt;
+  opt.duration = duration;
+  const double slew_end = c.profile.slewEnd();
+  const firmware::ClosedLoopResult res =
+      firmware::runClosedLoop(ps, controller, c.profile, opt, [&](const firmware::TickRecord& t) {
+        if (t.t >= slew_end) r.after_slew.add(t.truth_error);
+        if (t.profile.segment == pointing::Segment::Track) {
+          r.track.add(t.truth_error);
+          r.joint_track.add((t.ref.q - t.theta_true).cwiseAbs().maxCoeff());
+          r.attitude_track.add(t.attitude_error);
+        }
+      });
+  r.ok = res.ok;
+  r.why = res.error;
+  return r;
+}
+
+std::string sci(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3e", x);
+  return b;
+}
+
+std::string ratio(double a, double b) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", a / b);
+  return buf;
+}
+
+/// One controller's block: a row per scene, then the ratio ideal / first clearance.
+std::string table(const std::string& title, const std::vector<Row>& rows, bool markdown) {
+  std::string s;
+  if (markdown) {
+    s += "**" + title + "**\n\n";
+    s += "| run | track max [rad] | track RMS [rad] | after-slew max [rad] | after-slew RMS [rad] | joint err track max "
+         "[rad] | attitude err track max [rad] | plant |\n|---|---|---|---|---|---|---|---|\n";
+  } else {
+    char b[256];
+    std::snprintf(b, sizeof b, "# %s\n%-10s %13s %13s %13s %13s %13s %13s  %s\n", title.c_str(), "run", "trk_max",
+                  "trk_rms", "slew+_max", "slew+_rms", "joint_trk", "att_trk", "plant");
+    s += b;
+  }
+  for (const Row& r : rows) {
+    const std::string plant = r.ok ? "ok" : "stop: " + r.why;
+    if (markdown) {
+      s += "| " + r.label + " | " + sci(r.track.peak()) + " | " + sci(r.track.rms()) + " | " + sci(r.after_slew.peak()) +
+           " | " + sci(r.after_slew.rms()) + " | " + sci(r.joint_track.peak()) + " | " + sci(r.attitude_track.peak()) +
+           " | " + plant + " |\n";
+    } else {
+      char b[512];
+      std::snprintf(b, sizeof b, "%-10s %13.3e %13.3e %13.3e %13.3e %13.3e %13.3e  %s\n", r.label.c_str(),
+                    r.track.peak(), r.track.rms(), r.after_slew.peak(), r.after_slew.rms(), r.joint_track.peak(),
+                    r.attitude_track.peak(), plant.c_str());
+      s += b;
+    }
+  }
+  if (rows.size() >= 2) {
+    const Row &i = rows[0], &c = rows[1];
+    const std::string line = "ideal / " + c.label + ": track max " + ratio(i.track.peak(), c.track.peak()) +
+                             ", track RMS " + ratio(i.track.rms(), c.track.rms()) + ", after-slew max " +
+                             ratio(i.after_slew.peak(), c.after_slew.peak()) + ", after-slew RMS " +
+                             ratio(i.after_slew.rms(), c.after_slew.rms()) + " (goal: each <= 0.2)";
+    s += markdown ? "\n" + line + "\n\n" : line + "\n";
+  }
+  return s;
+}
+
+int mainImpl(int argc, char** argv) {
+  CLI::App app{"The controller's own pointing floor (ideal joint, perfect sensors) against the clearances'"};
+  std::string ideal_path = "tools/scenes/paper_ideal.yaml", clearance_path = "tools/scenes/paper_clearance.yaml";
+  std::string config_path, markdown_path;
+  std::vector<std::string> sets, before_sets, scene_sets;
+  std::vector<double> clearances{0.1e-3, 0.2e-3, 0.4e-3, 0.8e-3};
+  double duration = 0.0;
+  app.add_option("--ideal-scene", ideal_path, "scene with the ideal joint")->capture_default_str();
+  app.add_option("--clearance-scene", clearance_path, "scene with the clearance joint")->capture_default_str();
+  app.add_option("--config", config_path, "controller configuration file (default: the built-in defaults)");
+  app.add_option("--set", sets, "controller override key=value (repeatable)");
+  app.add_option("--before-set", before_sets,
+                 "override of a second controller run first, the 'before' (repeatable; none: no before block)");
+  app.add_option("--scene-set", scene_sets, "scene override key=value after the perfect sensors (repeatable)");
+  app.add_option("--clearances", clearances, "radial clearances [m], comma-separated")->delimiter(',');
+  app.add_option("--duration", duration, "simulated time [s] (default: the profile's track start + 5 s)");
+  app.add_option("--markdown", markdown_path, "also write the tables as Markdown to this file");
+  if (const auto rc = program::parse(app, argc, argv, kProgram)) return *rc;
+  if (app.count("--duration") && !(duration > 0.0 && std::isfinite(duration))) {
+    return program::refuse(kProgram, "--duration: must be a positive number of seconds");
+  }
+  for (double c : clearances) {
+    if (!(c > 0.0 && std::isfinite(c))) return program::refuse(kProgram, "--clearances: each must be > 0 [m]");
+  }
+  auto load = [&](const std::vector<std::string>& extra) {
+    std::vector<std::string> all = sets;
+    all.insert(all.end(), extra.begin(), extra.end());
+    return config_path.empty() ? loadControllerConfigText("", "the built-in default configuration", all)
+                               : loadControllerConfig(config_path, all);
+  };
+  // Perfect sensors: the truth the controller sees, only the 1 kHz sampling left.
+  std::vector<std::string> perfect{"sensors.encoder_resolution=0", "sensors.encoder_noise=0", "sensors.rate_noise=0",
+                                   "sensors.gyro_noise=0",         "sensors.gyro_bias=[0,0,0]", "sensors.gyro_bias_walk=0",
+                                   "sensors.star_tracker_noise=0", "sensors.star_tracker_latency=0"};
+  perfect.insert(perfect.end(), scene_sets.begin(), scene_sets.end());
+  std::vector<std::pair<std::string, ControllerConfig>> controllers;
+  std::vector<std::pair<std::string, firmware::PlantScene>> scenes;
+  try {
+    if (!before_sets.empty()) controllers.emplace_back("before", load(before_sets));
+    controllers.emplace_back("after", load({}));
+    scenes.emplace_back("ideal", firmware::loadPlantScene(ideal_path, perfect));
+    for (double c : clearances) {
+      std::vector<std::string> s = perfect;
+      char kv[64], label[32];
+      std::snprintf(kv, sizeof kv, "contact.clearance=%.17g", c);
+      std::snprintf(label, sizeof label, "c=%gmm", c * 1e3);
+      s.push_back(kv);
+      scenes.emplace_back(label, firmware::loadPlantScene(clearance_path, s));
+    }
+  } catch (const InputError& e) {
+    std::string why;
+    for (const auto& p : e.problems()) why += "\n  " + p;
+    return program::refuse(kProgram, "refused:" + why);
+  }
+  const ControllerConfig& main_cfg = controllers.back().second;
+  const double T = duration > 0.0 ? duration : main_cfg.profile.trackStart() + 5.0;
+  if (const std::string why = wholeMultipleProblem(T, main_cfg.period, "the control period (control.period)");
+      !why.empty()) {
+    return program::refuse(kProgram, "--duration: " + why);
+  }
+  std::optional<io::OutputFile> md_out;
+  if (!markdown_path.empty()) {
+    try {
+      std::vector<std::string> inputs{ideal_path, clearance_path};
+      if (!config_path.empty()) inputs.push_back(config_path);
+      md_out.emplace(markdown_path, inputs);
+    } catch (const io::OutputError& e) {
+      return program::refuse(kProgram, std::string("--markdown: ") + e.what());
+    }
+  }
+  std::printf("# %g s per run, tracking from %g s, slew ends at %g s; perfect sensors; truth pointing error\n", T,
+              main_cfg.profile.trackStart(), main_cfg.profile.slewEnd());
+  char setup[512];
+  std::snprintf(setup, sizeof setup,
+                "`build/bin/gimbalsim_controller_floor` (tools/pointing_study/floor_main.cpp): the in-process closed "
+                "loop with perfect sensors on `paper_ideal` and on `paper_clearance` at each clearance, %g s per run "
+                "(slew ends at %g s, tracking from %g s); the truth pointing error (boresight against the target's "
+                "line of sight). Goal: the ideal joint's figures at most 1/5 of the first clearance's.\n\n",
+                T, main_cfg.profile.slewEnd(), main_cfg.profile.trackStart());
+  std::string md = setup;
+  bool all_ok = true;
+  for (const auto& [name, cfg] : controllers) {
+    std::vector<Row> rows;
+    for (const auto& [label, ps] : scenes) {
+      rows.push_back(runOne(ps, cfg, T, label));
+      all_ok = all_ok && rows.back().ok;
+    }
+    std::string overrides;
+    for (const std::string& kv : before_sets) overrides += (overrides.empty() ? "" : ", ") + kv;
+    const std::string title = name == "before" ? "before (the default with " + overrides + ")" : "after (the default)";
+    std::fputs(table(title, rows, false).c_str(), stdout);
+    std::fflush(stdout);
+    md += table(title, rows, true);
+  }
+  if (md_out) {
+    std::fputs(md.c_str(), md_out->stream());
+    if (!md_out->commit()) {
+      std::fprintf(stderr, "%s: --markdown: %s\n", kProgram, md_out->error().c_str());
+      return program::kOutput;
+    }
+  }
+  return all_ok ? program::kOk : program::kStopped;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return program::guardedMain(kProgram, [&] { return mainImpl(argc, argv); });
+}
