@@ -245,7 +245,10 @@ def _unpickle_controller(path, values):
 class ClosedLoopRun:
     """A closed-loop run: ``summary`` (dict: ok, stop_key, errors, peaks) and
     ``columns`` (per control tick: t, references, true and measured angles,
-    commanded and applied torques, truth pointing error [rad], ...)."""
+    commanded and applied torques, truth pointing error [rad], ...; the error
+    as a vector: los_error_x/y/z, the rotation [rad, inertial] from the target
+    line of sight to the true boresight, and los_error_est_x/y/z, to the
+    boresight the controller's estimate and encoders give)."""
 
     def __init__(self, summary, columns):
         self.summary = summary
