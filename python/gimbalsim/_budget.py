@@ -16,7 +16,7 @@ def _json(x):
 
 
 def _g(x):
-    return "none" if x is None else f"{x:.3g}"
+    return "n/a" if x is None else f"{x:.3g}"
 
 
 def _pct(p):

@@ -5,9 +5,14 @@ dispersed parameter with the index, and the worst five units' parameters).
 tools/sweeps/run_pointing_budget.sh stamps it into docs/results/."""
 import math
 
+import pathlib
+
 import numpy as np
 
 from . import _budget
+from . import indices as ix
+
+SUPPORTED_LEVEL = 0.95  # a second column every budget of 59 units or more supports (at 95 %)
 
 
 def _numeric_columns(spec, rows):
@@ -20,6 +25,14 @@ def _numeric_columns(spec, rows):
         except ValueError:
             continue
     return out
+
+
+def _is_number(text):
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
 
 
 def _usable(spec, rows):
@@ -87,15 +100,21 @@ def worst_units(spec, rows, metric, k=5):
 def body(spec, rows, entries, plots, engine):
     """The report's Markdown (image links relative to the report)."""
     c = spec.closed
-    lines = [f"Closed-loop sweep of `{spec.scene_path.name}` with the controller `{c.controller_path or 'default'}`"
+    controller = pathlib.Path(c.controller_path).name if c.controller_path else "default (built in)"
+    lines = [f"Closed-loop sweep of `{spec.scene_path.name}` with the controller `{controller}`"
              f" ({c.duration_s:g} s per run), {len(rows)} units; statistical interpretation: "
              f"**{_budget.INTERPRETATION}** (ECSS-E-ST-60-10C). Each index is the quantile at its level of the "
              "units' worst value in the phase; its interval comes from order statistics (distribution-free). "
              "A unit without a figure (a stopped run, a window it missed) counts as worst.", ""]
-    lines += ["| index | phase | level | n | value [rad] (CI at confidence) | requirement |", "|---|---|---|---|---|---|"]
+    lines += ["| index | phase | level | n | value [rad] (CI at confidence) | "
+              f"at {100 * SUPPORTED_LEVEL:.4g} % [rad] (CI) | requirement |", "|---|---|---|---|---|---|---|"]
     for e in entries:
+        values = _budget.column_values(spec, rows, f"{e['index']}_{e['phase']}")
+        b = ix.quantile_bound(values, SUPPORTED_LEVEL, e["confidence"])
+        lower = (f"{b.estimate:.3g} [{b.low:.3g}, {b.high:.3g}]" if b.supported and math.isfinite(b.high)
+                 else f"not supported (n={b.n} < {b.min_units})" if not b.supported else f"{b.estimate:.3g}")
         lines.append(f"| {e['index']} | {e['phase']} | {100 * e['level']:.4g} % | {e['n']} | {_budget.cell(e)} | "
-                     f"{_budget.verdict_text(e) or '-'} |")
+                     f"{lower} | {_budget.verdict_text(e) or '-'} |")
     unsupported = [e for e in entries if not e["supported"]]
     if unsupported:
         need = max(e["min_units"] for e in unsupported)
@@ -123,5 +142,6 @@ def body(spec, rows, entries, plots, engine):
                   "| sample | " + metric + " [rad] | " + " | ".join(cols) + " |",
                   "|---|---|" + "---|" * len(cols)]
         for sample, value, params in worst_units(spec, rows, metric):
-            lines.append(f"| {sample} | {value:.3g} | " + " | ".join(params) + " |")
+            shown = [f"{float(v):.3g}" if _is_number(v) else v for v in params]
+            lines.append(f"| {sample} | {value:.3g} | " + " | ".join(shown) + " |")
     return "\n".join(lines) + "\n"
