@@ -15,10 +15,10 @@ def _bore_angles(a, b):
     return np.arctan2(np.linalg.norm(np.cross(u, v), axis=1), np.einsum("ij,ij->i", u, v))
 
 
-def run_sample(base, overrides, ideal_cache):
+def run_sample(base, overrides, ideal_cache, series=False):
     """Sample's metrics: status and METRICS (dict). The ideal-joint run with
     the same parameters is the pointing reference (cached: it does not depend
-    on the joint's parameters)."""
+    on the joint's parameters). With series, the run too, under "run"."""
     try:
         scene = base.replace(overrides)
     except gimbalsim.SceneError as e:
@@ -31,7 +31,7 @@ def run_sample(base, overrides, ideal_cache):
     err = _bore_angles(run.rows, ideal_cache[key])
     s = run.summary
     status = "ok" if run.ok else (s["stop"]["key"] or s["stop"]["step_status"].replace(" ", "_"))
-    return {"status": status,
+    return {"status": status, **({"run": run} if series else {}),
             "pointing_error_max": float(err.max()) if len(err) else math.nan,
             "pointing_error_final": float(err[-1]) if len(err) else math.nan,
             "peak_contact_force": s["peak_contact_force_N"],

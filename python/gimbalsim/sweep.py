@@ -56,16 +56,23 @@ JOURNAL = "results.partial.csv"
 def run_one(base, closed, overrides, cache=None, series=False):
     """One sample from its values (spec.design.draw(i)): the open loop's
     metrics, or the closed loop's indices (closed: the spec's ClosedLoopSpec);
-    with series (closed loop), its run too, under "run"."""
+    with series, its run too, under "run"."""
     if closed is not None:
         return run_closed_sample(base, closed, overrides, series)
-    return run_sample(base, overrides, {} if cache is None else cache)
+    return run_sample(base, overrides, {} if cache is None else cache, series)
 
 
-def run_index(spec, i, series=False):
-    """Sample i of a checked spec alone, as the sweep runs it (its row's
-    figures; with series, a closed loop's run too): the seam a replay uses."""
-    return run_one(spec.base, spec.closed, spec.design.draw(i), series=series)
+def sample_alone(spec, i):
+    """Sample i of a checked spec run alone in this process, as a worker runs
+    it (open or closed loop): its row as results.csv holds it (text) and the
+    run it made (None when the scene or the controller refused the sample).
+    The seam a replay uses."""
+    values = spec.design.draw(i)
+    t0 = time.perf_counter()
+    r = run_one(spec.base, spec.closed, values, series=True)
+    run = r.pop("run", None)
+    r["sample"], r["wall_time"] = i, time.perf_counter() - t0
+    return [fmt(v) for v in row_values(spec, values, r)], run
 
 
 def run_batch(base, closed, items):

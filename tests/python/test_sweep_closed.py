@@ -283,3 +283,12 @@ def test_the_shipped_budget_spec_is_accepted():
             "sensors.gyro_bias"} <= dispersed
     bias = spec.design.draw(0)["sensors.gyro_bias"]
     assert len(bias) == 3 and 0 < np.linalg.norm(bias) <= 1.0e-5
+
+
+def test_sample_alone_reproduces_its_row_and_returns_its_run(reference, spec):
+    from gimbalsim.sweep import SweepSpec, sample_alone
+    header, rows = read(reference[0])
+    row, run = sample_alone(SweepSpec(spec), 3)
+    w = SweepSpec(spec).header().index("wall_time")
+    assert row[:w] + row[w + 1:] == rows[3]
+    assert run.ok and len(run.columns["los_error_x"]) == round(DURATION / 1e-3) + 1
