@@ -203,7 +203,8 @@ def _run_on_cluster(spec, todo, fd, journal, done, workers, scheduler, batch, pr
         # the base scene (2 kB) goes in each task, not scattered: scattered data dies with the workers
         # holding it, and the tasks needing it then fail; a task's own arguments are resent on a retry
         t0 = time.perf_counter()
-        submit = lambda c: client.submit(run_batch, spec.base, spec.closed, [(i, spec.design.draw(i)) for i in c], pure=False)
+        submit = lambda c: client.submit(run_batch, spec.base, spec.closed, [(i, spec.design.draw(i)) for i in c],
+                                         pure=False)
         samples_of = {}  # future -> the samples it runs
         for c in chunks:
             samples_of[submit(c)] = c

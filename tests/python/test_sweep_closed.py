@@ -227,7 +227,8 @@ def test_until_stops_by_the_cap_and_by_width_and_does_not_depend_on_batches(tmp_
 
 
 REFUSALS = [
-    ("controller_set: {profile.slew_start: 0.0,", "controller_set: {nope.key: 1,", "controller_set.nope.key", "not a key of the controller"),
+    ("controller_set: {profile.slew_start: 0.0,", "controller_set: {nope.key: 1,", "controller_set.nope.key",
+     "not a key of the controller"),
     ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.nope: {uniform: [1.0, 2.0]}",
      "parameters.controller.nope", "not a key"),
     ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.azimuth.kp: {uniform: [-5.0, 4000.0]}",
@@ -244,8 +245,9 @@ REFUSALS = [
     (f"controller: {CONTROLLER_CONFIG}", "controller: no_such.yaml", "controller", "no such file"),
     (f"controller: {CONTROLLER_CONFIG}\n", "", "controller_set", "only for a closed-loop sweep"),
     (f"set: {{sim.duration: 0.5}}\ncontroller: {CONTROLLER_CONFIG}\ncontroller_set: {{profile.slew_start: 0.0, "
-     "profile.slew_time: 0.2, profile.hold_time: 0.1}", f"set: {{sim.duration: 0.501}}\ncontroller: {CONTROLLER_CONFIG}\n"
-     "controller_set: {control.period: 0.002}", "set.sim.duration", "whole control periods"),
+     "profile.slew_time: 0.2, profile.hold_time: 0.1}",
+     f"set: {{sim.duration: 0.501}}\ncontroller: {CONTROLLER_CONFIG}\ncontroller_set: {{control.period: 0.002}}",
+     "set.sim.duration", "whole control periods"),
 ]
 
 
