@@ -294,3 +294,16 @@ def test_sample_alone_reproduces_its_row_and_returns_its_run(reference, spec):
     w = SweepSpec(spec).header().index("wall_time")
     assert row[:w] + row[w + 1:] == rows[3]
     assert run.ok and len(run.columns["los_error_x"]) == round(DURATION / 1e-3) + 1
+
+
+def test_resume_reads_the_closed_loops_journal_back(reference, spec, tmp_path):
+    ref_out = reference[0]
+    out = tmp_path / "resumed"
+    out.mkdir()
+    (out / "spec.json").write_text((ref_out / "spec.json").read_text())
+    lines = (ref_out / "results.csv").read_text().splitlines(keepends=True)
+    (out / "results.partial.csv").write_text("".join(lines[:4]))  # the header and samples 0 to 2, reasons included
+    p = run_sweep(spec, out, "--workers", "1", "--resume")
+    assert "6 samples, 3 already done, 3 to run" in p.stderr
+    assert "dropped" not in p.stderr
+    assert read(out) == read(ref_out)
