@@ -66,7 +66,7 @@ class ClosedLoopSpec:
                 spec.refuse(f"controller_set.{key}", "not a key of the controller (see "
                             "`pointing_controller --keys`)", n)
         self.set = {k: spec.value(f"controller_set.{k}", n) for k, n in sets.items()}
-        self.controller = self.load(spec, "controller_set" if sets else "controller", {}, node)
+        self.controller = self.load(spec, "controller", {}, node, sets)
         self.values = self.controller.values()
         self.period_s = float(self.values["control.period"])
         self.duration_s = duration_s
@@ -78,13 +78,16 @@ class ClosedLoopSpec:
         self.phases = self._phases(spec, root)
         self.indices = self._indices(spec, root)
 
-    def load(self, spec, where, extra, node):
-        """The controller with the spec's overrides and `extra`; refused at node."""
+    def load(self, spec, where, extra, node, sets=None):
+        """The controller with the spec's overrides and `extra`; refused at
+        node, or at the controller_set key the controller names."""
         overrides = dict(self.set)
         overrides.update(extra)
         try:
             return gimbalsim.Controller(self.controller_path, overrides)
         except gimbalsim.SceneError as e:
+            if sets and e.key in sets:
+                where, node = f"controller_set.{e.key}", sets[e.key]
             spec.refuse(where, f"the controller refuses {extra or overrides}: "
                         f"{e.problems[0]['text'] if e.problems else e}", node)
 

@@ -233,6 +233,8 @@ REFUSALS = [
      "parameters.controller.nope", "not a key"),
     ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.azimuth.kp: {uniform: [-5.0, 4000.0]}",
      "parameters.controller.azimuth.kp", "the controller refuses"),
+    ("controller_set: {profile.slew_start: 0.0,", "controller_set: {azimuth.kp: -1.0, profile.slew_start: 0.0,",
+     "controller_set.azimuth.kp", "the controller refuses"),
     ("  rpe: {window: 0.05}", "  rpe: {}", "indices.rpe.window", "missing"),
     ("  rpe: {window: 0.05}", "  rpe: {window: 0.0505}", "indices.rpe.window", "whole number of control periods"),
     ("  rpe: {window: 0.05}", "  rpe: {window: 0.05, span: 2}", "indices.rpe.span", "unknown key"),
