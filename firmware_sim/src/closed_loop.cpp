@@ -74,6 +74,14 @@ class Figures {
   long long n_track_ = 0;
 };
 
+/// Rotation vector [rad] taking direction `target` onto `bore` (both unit):
+/// axis target x bore, angle pointingError (exact near 0, as the scalar).
+Vec3 losErrorVector(const Vec3& target, const Vec3& bore) noexcept {
+  const Vec3 axis = target.cross(bore);
+  const double n = axis.norm();
+  return n > 0.0 ? Vec3(axis * (pointing::pointingError(target, bore) / n)) : Vec3::Zero();
+}
+
 /// The first non-finite value of a tick's record ("" if none): what the
 /// figures are computed over, so none of them silently skips a NaN.
 const char* nonFinite(const TickRecord& r) {
@@ -85,6 +93,7 @@ const char* nonFinite(const TickRecord& r) {
   if (!std::isfinite(r.truth_error)) return "truth pointing error";
   if (!r.q_WB_est.coeffs().allFinite()) return "estimated base attitude";
   if (!std::isfinite(r.attitude_error)) return "attitude error";
+  if (!r.los_error_true.allFinite() || !r.los_error_est.allFinite()) return "line-of-sight error vector";
   return "";
 }
 
@@ -141,11 +150,16 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     rec.tau_cmd = a.tau_cmd;
     rec.tau_applied = {st.applied_torque[0], st.applied_torque[1]};
     rec.truth_error = truth.pointing_error;
+    const Vec3 target(truth.target_boresight[0], truth.target_boresight[1], truth.target_boresight[2]);
+    rec.los_error_true = losErrorVector(target, Vec3(truth.boresight[0], truth.boresight[1], truth.boresight[2]));
     rec.profile = observer.sample(t);
     rec.q_WB_est = a.q_WB_est;
     const double* bq = truth.base_quaternion;
     rec.q_WB_true = Quat(bq[0], bq[1], bq[2], bq[3]);
     rec.attitude_error = pointing::attitudeError(rec.q_WB_true, rec.q_WB_est);
+    // What the controller can know: its attitude estimate and the encoders (clearance invisible to it).
+    const Vec3 bore_est = rec.q_WB_est * pointing::losBoresight(ps.scene.model, rec.theta_meas(0), rec.theta_meas(1));
+    rec.los_error_est = losErrorVector(target, bore_est.normalized());
     rec.star_outage = a.star_outage;
     if (delivered && a.reading_rejected) ++r.rejected_readings;
     if (const char* bad = nonFinite(rec); *bad) {

@@ -248,7 +248,10 @@ class ClosedLoopRun:
     figure over a window the run did not reach is NaN and ``reasons`` maps
     its name to why) and
     ``columns`` (per control tick: t, references, true and measured angles,
-    commanded and applied torques, truth pointing error [rad], ...)."""
+    commanded and applied torques, truth pointing error [rad], ...; the error
+    as a vector: los_error_x/y/z, the rotation [rad, inertial] from the target
+    line of sight to the true boresight, and los_error_est_x/y/z, to the
+    boresight the controller's estimate and encoders give)."""
 
     def __init__(self, summary, columns):
         self.summary = summary

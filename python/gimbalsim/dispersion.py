@@ -11,6 +11,7 @@ Distributions (the spec's syntax):
     key: {choice: [v1, v2, ...]}                      # numbers, names or vectors
     key: {disk: {radius: r}}                          # vec2 keys: a point uniform in a disk
     key: {disk: {within: contact.clearance, fraction: 0.95}}   # radius = fraction x that key's value
+    key: {ball: {radius: r}}                          # vec3 keys: a point uniform in a ball (a gyro bias)
 """
 import math
 import zlib
@@ -18,7 +19,7 @@ import zlib
 import numpy as np
 
 NUMERIC = ("number", "int")
-DISTRIBUTIONS = ("uniform", "loguniform", "normal", "choice", "disk")
+DISTRIBUTIONS = ("uniform", "loguniform", "normal", "choice", "disk", "ball")
 
 
 class Parameter:
@@ -53,6 +54,10 @@ class Parameter:
                 raise RuntimeError(f"{self.key}: no normal draw inside [min, max] in 100000 tries")
         elif self.kind == "choice":
             return a[int(rng.integers(len(a)))]
+        elif self.kind == "ball":  # uniform in the ball: a uniform direction, radius R u^(1/3)
+            d = rng.normal(size=3)
+            d *= a["radius"] * rng.uniform() ** (1.0 / 3.0) / max(np.linalg.norm(d), 1e-300)
+            return [float(v) for v in d]
         else:  # disk
             radius = a["radius"] if "radius" in a else a["fraction"] * float(context[a["within"]])
             r, phi = radius * math.sqrt(rng.uniform()), rng.uniform(0.0, 2.0 * math.pi)
@@ -69,6 +74,8 @@ class Parameter:
             return [v for v in (a["min"], a["max"]) if math.isfinite(v)] or [a["mean"]]
         if self.kind == "choice":
             return list(a)
+        if self.kind == "ball":
+            return [[a["radius"], 0.0, 0.0], [0.0, 0.0, -a["radius"]]]
         if "radius" in a:
             c = a.get("center", [0.0, 0.0])
             return [[c[0] + a["radius"], c[1]], [c[0], c[1] - a["radius"]]]
@@ -114,6 +121,13 @@ def parse_parameter(spec, section, key, node, key_types):
         if not isinstance(arg.value, list) or not arg.value:
             spec.refuse(where, "choice expects a non-empty list of values", arg)
         args = [spec.value(where, v) for v in arg.value]
+    elif kind == "ball":
+        if ktype != "vec3":
+            spec.refuse(where, f"ball needs a vec3 key; {key} is {ktype}", arg)
+        if not (isinstance(plain, dict) and set(plain) == {"radius"} and _is_number(plain["radius"])
+                and plain["radius"] >= 0):
+            spec.refuse(where, "ball expects {radius: r} with r >= 0", arg)
+        args = plain
     else:
         if ktype != "vec2":
             spec.refuse(where, f"disk needs a vec2 key; {key} is {ktype}", arg)

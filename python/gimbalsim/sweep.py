@@ -13,8 +13,13 @@ SPEC (YAML):
     grid:                                      # optional: every grid point gets `samples` draws
       torque.tau2: [5.0, 10.0, 20.0]
 
+A spec naming a controller runs each sample in closed loop and reports the
+pointing indices per phase (docs/python.md, "Closed-loop sweeps"; --until
+INDEX:PHASE:RELWIDTH [--max-samples N] grows it until an interval is narrow).
+
 Writes DIR/results.csv (one row per sample, sorted by sample), DIR/summary.json
-(counts per status, percentiles, the engine's figures) and DIR/plots/. Sample
+(counts per status, percentiles, the engine's figures; a closed loop's budget),
+DIR/plots/ and, in closed loop, DIR/report.md. Sample
 i's parameters depend only on (seed, i): the results are the same whatever the
 workers, machines, order or resumes (all columns but wall_time). Rows are
 journaled to DIR/results.partial.csv as they arrive (appended and synced per
@@ -26,8 +31,6 @@ Exit codes: 0 done (crashed samples included), 2 spec refused, 4 an output not w
 kept), 130 / 143 interrupted by SIGINT / SIGTERM (the journal kept).
 """
 import argparse
-import csv
-import io
 import json
 import math
 import os
@@ -35,141 +38,44 @@ import pathlib
 import sys
 import time
 
-import numpy as np
-
 import gimbalsim
-from . import _cluster
-from ._spec import Spec, SpecError, check_out_dir
-from .dispersion import Design, check_within, design_size, parse_parameter
+from . import _budget, _budget_report, _cluster
+from ._closed_sample import run_closed_sample
+from ._journal import OutputError, check_row, csv_line, fmt, read_journal, write_atomic  # noqa: F401 (API)
+from ._open_sample import run_sample
+from ._spec import SpecError, check_out_dir
+from ._summary import plot, summarize
+from ._sweep_spec import MAX_SAMPLES, METRICS, SweepSpec  # noqa: F401 (the module's API)
+from ._until import Until
 
-METRICS = ["pointing_error_max", "pointing_error_final", "peak_contact_force", "peak_joint2_force", "impacts",
-           "continuous_contact_from"]
-METRIC_UNITS = {"pointing_error_max": "rad", "pointing_error_final": "rad", "peak_contact_force": "N",
-                "peak_joint2_force": "N", "impacts": "", "continuous_contact_from": "s", "wall_time": "s"}
 JOURNAL = "results.partial.csv"
-MAX_SAMPLES = 10_000_000
-
-
-# ---- the spec ----
-
-class SweepSpec:
-    """A checked sweep spec: the base scene (file + set), the design, and a
-    fingerprint that a resume must match."""
-
-    def __init__(self, path):
-        spec = Spec(path)
-        spec.check_keys({"scene", "set", "samples", "seed", "parameters", "grid"})
-        root = spec.root.value
-        for required in ("scene", "samples", "seed"):
-            if required not in root:
-                spec.refuse(required, "missing")
-        self.scene_path = spec.path_of("scene", root["scene"])
-        self.samples = spec.integer("samples", root["samples"], 1, MAX_SAMPLES)
-        self.seed = spec.integer("seed", root["seed"], 0, 2**63 - 1)
-        key_types = {k["key"]: k["type"] for k in gimbalsim.keys()}
-        sets = spec.mapping("set", root["set"]) if "set" in root else {}
-        for key, node in sets.items():
-            if key not in key_types:
-                spec.refuse(f"set.{key}", "not a key of the scene", node)
-        self.set = {k: spec.value(f"set.{k}", n) for k, n in sets.items()}
-        params = spec.mapping("parameters", root["parameters"]) if "parameters" in root else {}
-        grid = spec.mapping("grid", root["grid"]) if "grid" in root else {}
-        self.grid = []
-        for key, node in grid.items():
-            if key not in key_types:
-                spec.refuse(f"grid.{key}", "not a key of the scene", node)
-            if key in params:
-                spec.refuse(f"grid.{key}", "also under parameters: give it in one place", node)
-            if not isinstance(node.value, list) or not node.value:
-                spec.refuse(f"grid.{key}", "expected a non-empty list of values", node)
-            self.grid.append((key, [spec.value(f"grid.{key}", v) for v in node.value]))
-        # counted before anything is built or tried: a grid can multiply to more than memory holds
-        size = design_size(self.grid, self.samples)
-        if size > MAX_SAMPLES:
-            spec.refuse("grid" if self.grid else "samples",
-                        f"{size} samples in all (samples x grid points), more than the limit {MAX_SAMPLES}",
-                        root["grid"] if self.grid else root["samples"])
-        try:
-            self.base = gimbalsim.load_scene(self.scene_path, self.set,
-                                             sources={k: (spec.path, n.line) for k, n in sets.items()})
-        except gimbalsim.SceneError as e:
-            node = sets.get(e.key) if e.set_index else None
-            spec.refuse(f"set.{e.key}" if node else "scene", str(e), node or root["scene"])
-        self.parameters = [parse_parameter(spec, "parameters", k, n, key_types) for k, n in params.items()]
-        if not self.parameters and not self.grid:
-            spec.refuse("parameters", "nothing is dispersed: give parameters or grid")
-        check_within(spec, "parameters", self.parameters, [k for k, _ in self.grid], self.base.values())
-        # Values the scene would refuse are refused now, at the spec's line.
-        for p in self.parameters:
-            for v in p.extremes():
-                self._try(spec, f"parameters.{p.key}", {p.key: v}, p.node)
-        for (key, values), node in zip(self.grid, grid.values()):
-            for v in values:
-                self._try(spec, f"grid.{key}", {key: v}, node)
-        self.design = Design(self.parameters, self.grid, self.samples, self.seed, self.base.values())
-        self.spec_path = spec.path
-        self.fingerprint = json.dumps({"scene": self.base.values(), "seed": self.seed, "samples": self.samples,
-                                       "parameters": {p.key: [p.kind, p.args] for p in self.parameters},
-                                       "grid": self.grid}, sort_keys=True)
-
-    def _try(self, spec, where, overrides, node):
-        try:
-            self.base.replace(overrides, sources={k: (spec.path, node.line) for k in overrides})
-        except gimbalsim.SceneError as e:
-            spec.refuse(where, f"the scene refuses {overrides}: {e.problems[0]['text'] if e.problems else e}", node)
-
-    def header(self):
-        """The columns by the names the code uses (scene keys, metric names)."""
-        return ["sample"] + self.design.columns() + ["status"] + METRICS + ["wall_time"]
-
-    def csv_header(self):
-        """header() as the journal and results.csv name it: the project's CSV
-        convention (docs/usage.md), e.g. contact.clearance -> contact_clearance_m."""
-        units = {k["key"]: k["unit"] for k in gimbalsim.keys()}
-        csv_name = gimbalsim._gimbalsim.csv_name
-        names = ["sample"]
-        for c in self.design.columns():  # "initial.ecc[0]" -> initial_ecc_0_m
-            plain = c.replace(".", "_").replace("[", "_").replace("]", "")
-            names.append(csv_name(plain, units.get(c.split("[")[0], "")))
-        return names + ["status"] + [csv_name(m, METRIC_UNITS[m]) for m in METRICS + ["wall_time"]]
 
 
 # ---- one sample (runs on a worker) ----
 
-def _bore_angles(a, b):
-    """Angle [rad] between the boresight rows of two runs, row by row."""
-    i = [gimbalsim.COLUMNS.index(c) for c in ("bore_x", "bore_y", "bore_z")]
-    n = min(len(a), len(b))
-    u, v = a[:n][:, i], b[:n][:, i]
-    return np.arctan2(np.linalg.norm(np.cross(u, v), axis=1), np.einsum("ij,ij->i", u, v))
+def run_one(base, closed, overrides, cache=None, series=False):
+    """One sample from its values (spec.design.draw(i)): the open loop's
+    metrics, or the closed loop's indices (closed: the spec's ClosedLoopSpec);
+    with series, its run too, under "run"."""
+    if closed is not None:
+        return run_closed_sample(base, closed, overrides, series)
+    return run_sample(base, overrides, {} if cache is None else cache, series)
 
 
-def run_sample(base, overrides, ideal_cache):
-    """Sample's metrics: status and METRICS (dict). The ideal-joint run with
-    the same parameters is the pointing reference (cached: it does not depend
-    on the joint's parameters)."""
-    try:
-        scene = base.replace(overrides)
-    except gimbalsim.SceneError as e:
-        return {"status": f"refused:{e.key or ''}"}
-    run = gimbalsim.simulate(scene)
-    ideal = scene.replace({"structure.joint2": "ideal"})
-    key = tuple(sorted(ideal.values().items()))
-    if key not in ideal_cache:
-        ideal_cache[key] = gimbalsim.simulate(ideal).rows
-    err = _bore_angles(run.rows, ideal_cache[key])
-    s = run.summary
-    status = "ok" if run.ok else (s["stop"]["key"] or s["stop"]["step_status"].replace(" ", "_"))
-    return {"status": status,
-            "pointing_error_max": float(err.max()) if len(err) else math.nan,
-            "pointing_error_final": float(err[-1]) if len(err) else math.nan,
-            "peak_contact_force": s["peak_contact_force_N"],
-            "peak_joint2_force": s["peak_joint2_force_N"],
-            "impacts": s["impacts"],
-            "continuous_contact_from": s["continuous_contact_from_s"]}
+def sample_alone(spec, i):
+    """Sample i of a checked spec run alone in this process, as a worker runs
+    it (open or closed loop): its row as results.csv holds it (text) and the
+    run it made (None when the scene or the controller refused the sample).
+    The seam a replay uses."""
+    values = spec.design.draw(i)
+    t0 = time.perf_counter()
+    r = run_one(spec.base, spec.closed, values, series=True)
+    run = r.pop("run", None)
+    r["sample"], r["wall_time"] = i, time.perf_counter() - t0
+    return [fmt(v) for v in row_values(spec, values, r)], run
 
 
-def run_batch(base, items):
+def run_batch(base, closed, items):
     """A task: samples [(i, overrides)] in turn, the C++ runs with the GIL
     released. Returns ([row dict], seconds inside this task)."""
     t_task = time.perf_counter()
@@ -177,7 +83,7 @@ def run_batch(base, items):
     for i, overrides in items:
         t0 = time.perf_counter()
         _cluster.crash_hook(i)
-        r = run_sample(base, overrides, cache)
+        r = run_one(base, closed, overrides, cache)
         r["sample"] = i
         r["wall_time"] = time.perf_counter() - t0
         rows.append(r)
@@ -186,177 +92,14 @@ def run_batch(base, items):
 
 # ---- results ----
 
-def fmt(v):
-    if v is None:
-        return ""
-    if isinstance(v, float):
-        return "nan" if math.isnan(v) else repr(v)
-    return str(v)
-
-
-def csv_line(values):
-    buf = io.StringIO()
-    csv.writer(buf, lineterminator="\n").writerow([fmt(v) for v in values])
-    return buf.getvalue()
-
-
 def row_values(spec, values, result):
     return [result["sample"]] + spec.design.row_values(values) + [result["status"]] + \
-        [result.get(m) for m in METRICS] + [result["wall_time"]]
-
-
-class OutputError(Exception):
-    """An output could not be written (exit 4); what was journaled is kept."""
-
-
-def _is_float(text):
-    try:
-        float(text)
-        return True
-    except ValueError:
-        return False
-
-
-def check_row(spec, row, n_columns):
-    """Why a journal row is not to be trusted, or None: the sample index in
-    range, the parameters equal to the design's draw, the figures numbers."""
-    if len(row) != n_columns:
-        return "wrong number of columns"
-    if not row[0].isdigit() or not int(row[0]) < len(spec.design):
-        return "sample index outside the design"
-    i = int(row[0])
-    drawn = [fmt(v) for v in spec.design.row_values(spec.design.draw(i))]
-    if row[1:1 + len(drawn)] != drawn:
-        return "parameters differ from the design's draw"
-    figures = row[2 + len(drawn):]
-    if not row[1 + len(drawn)] or not all(v == "" or _is_float(v) for v in figures) or not _is_float(figures[-1]):
-        return "status or figures unreadable"
-    return None
-
-
-def read_journal(spec, path, header):
-    """The journal's trusted rows by sample, what was dropped ({reason:
-    count}), and whether the file can be appended to as it is. A last line
-    without its newline (cut by an interruption) is dropped; a sample written
-    twice counts once."""
-    done, dropped = {}, {}
-    if not path.exists():
-        return done, dropped, False
-    try:
-        data = path.read_bytes()
-    except OSError as e:
-        raise OutputError(f"cannot read the journal {path}: {e.strerror}")
-    lines = data.decode("utf-8", errors="replace").split("\n")
-    torn = lines.pop() != ""  # the text after the last newline: empty when the last write was whole
-    if torn:
-        dropped["last line cut by an interruption"] = 1
-    if not lines:  # killed before the header was whole: nothing was journaled
-        return done, dropped, False
-    if next(csv.reader(lines[:1]), None) != header:
-        raise SpecError(f"{path} was written by another spec (its header differs); use another --out")
-    for row in csv.reader(lines[1:]):
-        why = check_row(spec, row, len(header))
-        if why is None and int(row[0]) in done:
-            why = "sample already journaled" if row == done[int(row[0])] else "sample journaled twice, differently"
-        if why is not None:
-            dropped[why] = dropped.get(why, 0) + 1
-            continue
-        done[int(row[0])] = row
-    return done, dropped, not dropped
-
-
-def write_atomic(path, text):
-    """Writes text to path whole or not at all: a temporary file beside it,
-    synced, then renamed over it (the folder synced too, for a power cut)."""
-    tmp = path.with_name(path.name + ".tmp")
-    try:
-        with open(tmp, "w") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-        fd = os.open(path.parent, os.O_RDONLY)
-        try:
-            os.fsync(fd)
-        finally:
-            os.close(fd)
-    except OSError as e:
-        try:
-            tmp.unlink()
-        except OSError:
-            pass
-        raise OutputError(f"cannot write {path}: {e.strerror or e}") from None
-
-
-def percentiles(x):
-    x = np.asarray([v for v in x if v is not None and math.isfinite(v)], dtype=float)
-    if not len(x):
-        return None
-    return {"p50": float(np.percentile(x, 50)), "p90": float(np.percentile(x, 90)),
-            "p99": float(np.percentile(x, 99)), "max": float(x.max()), "n": int(len(x))}
-
-
-def summarize(spec, rows, engine):
-    header = spec.header()
-    col = {c: header.index(c) for c in header}
-    status = {}
-    for r in rows:
-        status[r[col["status"]]] = status.get(r[col["status"]], 0) + 1
-    ok = [r for r in rows if r[col["status"]] == "ok"]
-    num = lambda r, c: float(r[col[c]]) if r[col[c]] not in ("", "nan") else None
-    return {"spec": str(spec.spec_path), "scene": str(spec.scene_path), "samples": len(rows), "status": status,
-            "percentiles_of_ok_samples": {m: percentiles([num(r, m) for r in ok]) for m in METRICS + ["wall_time"]},
-            "engine": engine}
-
-
-def plot(spec, rows, out):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    header = spec.header()
-    col = {c: header.index(c) for c in header}
-    ok = [r for r in rows if r[col["status"]] == "ok"]
-    if not ok:
-        return []
-    out.mkdir(parents=True, exist_ok=True)
-    written = []
-    val = lambda c: np.array([float(r[col[c]]) for r in ok])
-    for metric, unit, name in (("pointing_error_max", "rad", "pointing_error"),
-                               ("peak_joint2_force", "N", "peak_force")):
-        x = np.sort(val(metric))
-        fig, ax = plt.subplots(1, 2, figsize=(10, 4))
-        ax[0].hist(x, bins=min(50, max(5, len(x) // 10)))
-        ax[0].set_xlabel(f"{metric} [{unit}]")
-        ax[0].set_ylabel("samples")
-        ax[1].step(x, np.arange(1, len(x) + 1) / len(x), where="post")
-        ax[1].set_xlabel(f"{metric} [{unit}]")
-        ax[1].set_ylabel("empirical CDF")
-        ax[1].axhline(0.99, ls=":", c="gray")
-        fig.suptitle(f"{len(x)} samples ({spec.scene_path.name})")
-        fig.tight_layout()
-        written.append(out / f"{name}_distribution.png")
-        fig.savefig(written[-1], dpi=110)
-        plt.close(fig)
-    for c in spec.design.columns():
-        try:
-            x = val(c)
-        except ValueError:  # names (a choice of strings): no axis
-            continue
-        fig, ax = plt.subplots(figsize=(6, 4))
-        ax.plot(x, val("pointing_error_max"), ".", ms=3)
-        ax.set_xlabel(c)
-        ax.set_ylabel("pointing_error_max [rad]")
-        fig.tight_layout()
-        written.append(out / f"pointing_error_vs_{c.replace('[', '_').replace(']', '')}.png")
-        fig.savefig(written[-1], dpi=110)
-        plt.close(fig)
-    return written
+        [result.get("reason", "")] * spec.text_columns + [result.get(m) for m in spec.metrics] + [result["wall_time"]]
 
 
 # ---- the sweep ----
 
-def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, progress=True):
+def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, progress=True, until=None):
     header = spec.csv_header()
     journal = out / JOURNAL
     results = out / "results.csv"
@@ -382,25 +125,36 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
     if not appendable:
         # The journal is never cut in place: its trusted rows go to a new file that replaces it whole.
         write_atomic(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
-    todo = [i for i in range(len(spec.design)) if i not in done]
     for why, n in dropped.items():
         print(f"sweep: dropped {n} journal row{'s' * (n != 1)} ({why}); their samples run again", file=sys.stderr)
-    print(f"sweep: {len(spec.design)} samples, {len(done)} already done, {len(todo)} to run", file=sys.stderr)
-    engine = {"ran_this_invocation": 0}
-    if todo:
-        try:  # unbuffered: a failed write leaves nothing behind to fail again at close
-            fd = os.open(journal, os.O_WRONLY | os.O_APPEND)
-        except OSError as e:
-            raise OutputError(f"cannot open the journal {journal}: {e.strerror}") from None
-        try:
-            engine = _run_on_cluster(spec, todo, fd, journal, done, workers, scheduler, batch, progress)
-        finally:
-            os.close(fd)
-    rows = [done[i] for i in sorted(done)]
-    rows = [[str(v) for v in r] for r in rows]
+    engine, grown = {"ran_this_invocation": 0}, None
+    while True:
+        todo = [i for i in range(len(spec.design)) if i not in done]
+        print(f"sweep: {len(spec.design)} samples, {len(done)} already done, {len(todo)} to run", file=sys.stderr)
+        if todo:
+            try:  # unbuffered: a failed write leaves nothing behind to fail again at close
+                fd = os.open(journal, os.O_WRONLY | os.O_APPEND)
+            except OSError as e:
+                raise OutputError(f"cannot open the journal {journal}: {e.strerror}") from None
+            try:
+                engine = _merge(engine, _run_on_cluster(spec, todo, fd, journal, done, workers, scheduler, batch,
+                                                        progress))
+            finally:
+                os.close(fd)
+        rows = [[str(v) for v in done[i]] for i in sorted(done) if i < len(spec.design)]
+        if until is None:
+            break
+        stop, grown = until.check(spec, rows)
+        if stop:
+            break
+        until.grow(spec)
     write_atomic(results, "".join(csv_line(r) for r in [header] + rows))
     summary = summarize(spec, rows, engine)
     summary["journal_rows_dropped"] = dropped
+    if grown is not None:
+        summary["until"] = grown
+    if spec.closed:
+        summary["report"] = str(write_report(spec, rows, summary, out))
     try:
         summary["plots"] = [str(p) for p in plot(spec, rows, out / "plots")]
     except OSError as e:
@@ -408,6 +162,27 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
     write_atomic(out / "summary.json", json.dumps(summary, indent=2) + "\n")
     journal.unlink()
     return summary
+
+
+def _merge(a, b):
+    """The engine figures of two rounds of --until as one."""
+    if not a.get("ran_this_invocation"):
+        return b
+    ran = a["ran_this_invocation"] + b["ran_this_invocation"]
+    elapsed = a["elapsed_s"] + b["elapsed_s"]
+    return {**b, "tasks": a["tasks"] + b["tasks"], "ran_this_invocation": ran, "elapsed_s": elapsed,
+            "samples_per_s": ran / elapsed if elapsed > 0 else None}
+
+
+def write_report(spec, rows, summary, out):
+    """OUT/report.md and its CDF plots (closed loop)."""
+    try:
+        plots = _budget_report.cdf_plots(spec, rows, summary["budget"], out / "plots")
+        text = _budget_report.body(spec, rows, summary["budget"], plots, summary["engine"])
+    except OSError as e:
+        raise OutputError(f"cannot write the plots in {out / 'plots'}: {e.strerror}") from None
+    write_atomic(out / "report.md", text)
+    return out / "report.md"
 
 
 def crashed(i):
@@ -428,7 +203,8 @@ def _run_on_cluster(spec, todo, fd, journal, done, workers, scheduler, batch, pr
         # the base scene (2 kB) goes in each task, not scattered: scattered data dies with the workers
         # holding it, and the tasks needing it then fail; a task's own arguments are resent on a retry
         t0 = time.perf_counter()
-        submit = lambda c: client.submit(run_batch, spec.base, [(i, spec.design.draw(i)) for i in c], pure=False)
+        submit = lambda c: client.submit(run_batch, spec.base, spec.closed, [(i, spec.design.draw(i)) for i in c],
+                                         pure=False)
         samples_of = {}  # future -> the samples it runs
         for c in chunks:
             samples_of[submit(c)] = c
@@ -496,7 +272,14 @@ def main(argv=None):
     ap.add_argument("--resume", action="store_true", help="finish an interrupted sweep in --out")
     ap.add_argument("--batch", type=int, default=None, help="samples per task (default: about 8 tasks per worker, at most 10)")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
+    ap.add_argument("--until", metavar="INDEX:PHASE:RELWIDTH",
+                    help="closed loop: add batches of the spec's samples until the index's confidence interval in "
+                         "the phase is at most RELWIDTH of its value (e.g. ape:track:0.2), or --max-samples")
+    ap.add_argument("--max-samples", type=int, default=None,
+                    help="with --until: the cap (default: 20 times the spec's samples)")
     a = ap.parse_args(argv)
+    if a.max_samples is not None and (a.until is None or a.max_samples < 1):
+        ap.error("--max-samples goes with --until, and must be >= 1")
     if a.workers is not None and a.workers < 1:
         ap.error("--workers must be >= 1")
     if a.batch is not None and a.batch < 1:
@@ -506,7 +289,10 @@ def main(argv=None):
     try:
         check_out_dir(a.out, a.spec)
         spec = SweepSpec(a.spec)
-        s = sweep(spec, out, a.workers, a.scheduler, a.resume, a.batch, not a.no_progress)
+        until = None
+        if a.until is not None:
+            until = Until(a.until, spec, a.max_samples or min(MAX_SAMPLES, 20 * spec.samples))
+        s = sweep(spec, out, a.workers, a.scheduler, a.resume, a.batch, not a.no_progress, until)
     except SpecError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
@@ -519,14 +305,24 @@ def main(argv=None):
               f"--resume to finish", file=sys.stderr)
         return 128 + e.signum
     e = s["engine"]
-    pct = s["percentiles_of_ok_samples"]["pointing_error_max"]
     if s["status"].get("crashed"):
         n = s["status"]["crashed"]
         print(f"sweep: {n} crashed sample{'s' * (n != 1)} (each killed a worker process twice): status crashed "
               f"in results.csv, with the parameters; the other samples ran", file=sys.stderr)
-    print(f"sweep: {s['samples']} samples, status {s['status']}; pointing_error_max p50 "
-          f"{pct['p50'] if pct else float('nan'):.3e} p99 {pct['p99'] if pct else float('nan'):.3e} rad; "
-          f"results in {a.out}/results.csv", file=sys.stderr)
+    if spec.closed:
+        print(f"sweep: {s['samples']} samples, status {s['status']}; results in {a.out}/results.csv, report in "
+              f"{s['report']}", file=sys.stderr)
+        print("\n".join("sweep: " + line for line in _budget.console_lines(s["budget"])), file=sys.stderr)
+        if "until" in s:
+            u = s["until"]
+            print(f"sweep: --until {u['until']}: stopped by the {u['stopped_by']} at {u['samples']} samples "
+                  f"(relative width {u['relative_width']:.3g}, target {u['relative_width_target']:.3g})",
+                  file=sys.stderr)
+    else:
+        pct = s["percentiles_of_ok_samples"]["pointing_error_max"]
+        print(f"sweep: {s['samples']} samples, status {s['status']}; pointing_error_max p50 "
+              f"{pct['p50'] if pct else float('nan'):.3e} p99 {pct['p99'] if pct else float('nan'):.3e} rad; "
+              f"results in {a.out}/results.csv", file=sys.stderr)
     if e.get("ran_this_invocation"):
         print(f"sweep: {e['ran_this_invocation']} samples in {e['elapsed_s']:.1f} s on {e['workers']} workers "
               f"({e['samples_per_s']:.1f}/s); mean run {e['mean_run_s']*1e3:.1f} ms, engine overhead "

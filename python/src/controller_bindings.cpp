@@ -56,7 +56,8 @@ struct Ticks {
   static constexpr const char* kNames[] = {
       "t",          "ref1",         "ref2",         "profile1",       "profile2",       "theta1_true",
       "theta2_true", "theta1_meas", "theta2_meas",  "tau1_cmd",       "tau2_cmd",       "tau1_applied",
-      "tau2_applied", "truth_error", "attitude_error", "star_outage", "segment",     "injected_faults"};
+      "tau2_applied", "truth_error", "attitude_error", "star_outage", "segment",     "injected_faults",
+      "los_error_x", "los_error_y", "los_error_z", "los_error_est_x", "los_error_est_y", "los_error_est_z"};
   static constexpr int kN = sizeof(kNames) / sizeof(kNames[0]);
   std::vector<double> data;
   void add(const TickRecord& r) {
@@ -77,7 +78,13 @@ struct Ticks {
                             r.attitude_error,
                             r.star_outage ? 1.0 : 0.0,
                             static_cast<double>(r.profile.segment),
-                            static_cast<double>(r.injected_faults)};
+                            static_cast<double>(r.injected_faults),
+                            r.los_error_true(0),
+                            r.los_error_true(1),
+                            r.los_error_true(2),
+                            r.los_error_est(0),
+                            r.los_error_est(1),
+                            r.los_error_est(2)};
     data.insert(data.end(), row, row + kN);
   }
 };

@@ -34,6 +34,12 @@ struct TickRecord {
   Vec2 tau_cmd = Vec2::Zero();     ///< [N m] computed this tick
   Vec2 tau_applied = Vec2::Zero(); ///< [N m] acting over [t, t + Ts]
   double truth_error = 0.0;        ///< [rad] boresight vs the profile's line of sight (TruthObserver)
+  /// [rad] rotation vector (inertial) from the target line of sight to the
+  /// true boresight, |.| = truth_error: a vector, so window means (RPE, PDE) mean something.
+  Vec3 los_error_true = Vec3::Zero();
+  /// [rad] the same for the boresight the controller believes in (its base
+  /// attitude estimate and the encoder angles): knowledge error = est - true.
+  Vec3 los_error_est = Vec3::Zero();
   pointing::ProfileSample profile; ///< the target profile at t (the truth observer's)
   Quat q_WB_est = Quat::Identity();///< estimated base attitude
   Quat q_WB_true = Quat::Identity();///< true base attitude

@@ -1,0 +1,95 @@
+"""The pointing budget of a closed-loop sweep: each index per phase over the
+ensemble of units, at its level with its distribution-free confidence
+interval (indices.quantile_bound), and the requirement's verdict
+(indices.requirement_verdict). A quantile the sample count cannot support is
+marked as such, never given bare."""
+import math
+
+from . import indices as ix
+
+INTERPRETATION = "ensemble of units, worst time in the phase"
+
+
+def _json(x):
+    """A figure for summary.json: null when there is none (NaN, or +inf for units without one)."""
+    return float(x) if math.isfinite(x) else None
+
+
+def _g(x):
+    return "n/a" if x is None else f"{x:.3g}"
+
+
+def _pct(p):
+    return f"{100 * p:.4g} %"
+
+
+def column_values(spec, rows, metric):
+    """A metric of every row but the crashed and refused (NaN for a run that
+    stopped or a window it missed: such a unit counts as worst, never good)."""
+    col = spec.header().index(metric)
+    values = []
+    for r in rows:
+        status = r[spec.header().index("status")]
+        if status == "crashed" or status.startswith("refused"):
+            continue
+        values.append(float(r[col]) if r[col] not in ("", "nan") else math.nan)
+    return values
+
+
+def entry(spec, rows, index, phase):
+    """One cell of the table: the index at its level over the units, as a dict."""
+    values = column_values(spec, rows, f"{index.name}_{phase}")
+    b = ix.quantile_bound(values, index.level, index.confidence)
+    e = {"index": index.name, "phase": phase, "interpretation": INTERPRETATION, "level": index.level,
+         "confidence": index.confidence, "n": b.n, "n_missing": b.n_missing, "min_units": b.min_units,
+         "supported": b.supported, "estimate_rad": _json(b.estimate), "upper_bound_rad": _json(b.upper),
+         "interval_rad": [_json(b.low), _json(b.high)], "note": b.reason}
+    if not b.supported:
+        e["note"] = (f"not supported: n={b.n} < {b.min_units} needed for {_pct(index.level)} at "
+                     f"{_pct(index.confidence)}")
+    if index.requirement is not None:
+        v = ix.requirement_verdict(values, index.requirement, index.level, index.confidence)
+        e["requirement"] = {"requirement_rad": v.requirement, "verdict": v.text, "n_meeting": v.n_meeting,
+                            "fraction_meeting": v.fraction, "fraction_lower_bound": v.lower}
+    return e
+
+
+def table(spec, rows):
+    """Every index of the spec in every phase: [entry]."""
+    return [entry(spec, rows, index, phase) for phase, _ in spec.closed.phases for index in spec.closed.indices]
+
+
+def relative_width(e):
+    """(high - low) / estimate of an entry's interval; inf when it has none."""
+    lo, hi = e["interval_rad"]
+    if lo is None or hi is None or not e["estimate_rad"]:
+        return math.inf
+    return (hi - lo) / e["estimate_rad"]
+
+
+def cell(e):
+    """The index as text: the estimate with its interval, or why there is none."""
+    if not e["supported"]:
+        return f"{e['note']} (empirical {_pct(e['level'])} quantile {_g(e['estimate_rad'])} rad)"
+    lo, hi = e["interval_rad"]
+    ci = f"[{_g(lo)}, {_g(hi)}]" if lo is not None and hi is not None else "(one-sided only)"
+    return (f"{_g(e['estimate_rad'])} rad, {_pct(e['confidence'])} CI {ci}, upper bound "
+            f"{_g(e['upper_bound_rad'])} rad")
+
+
+def verdict_text(e):
+    r = e.get("requirement")
+    if r is None:
+        return ""
+    return (f"{r['verdict']} against {r['requirement_rad']:.3g} rad: {r['n_meeting']}/{e['n']} units meet it, "
+            f"P(a unit meets it) >= {r['fraction_lower_bound']:.4f} at {_pct(e['confidence'])} "
+            f"(needs {e['level']:.4f})")
+
+
+def console_lines(entries):
+    lines = [f"budget ({INTERPRETATION}):"]
+    for e in entries:
+        v = verdict_text(e)
+        lines.append(f"  {e['index']} {e['phase']} at {_pct(e['level'])}: {cell(e)}; n={e['n']}"
+                     + (f"; {v}" if v else ""))
+    return lines

@@ -1,0 +1,147 @@
+"""The report of a closed-loop sweep (OUT/report.md and OUT/plots/): the
+budget's table per phase, a CDF of each index with its requirement line, and
+the parameters that drive the worst units (Spearman rank correlation of each
+dispersed parameter with the index, and the worst five units' parameters).
+tools/sweeps/run_pointing_budget.sh stamps it into docs/results/."""
+import math
+
+import pathlib
+
+import numpy as np
+
+from . import _budget
+from . import indices as ix
+
+SUPPORTED_LEVEL = 0.95  # a second column every budget of 59 units or more supports (at 95 %)
+
+
+def _numeric_columns(spec, rows):
+    """{design column: values} of the dispersed numbers (a choice of names has no rank)."""
+    header = spec.header()
+    out = {}
+    for c in spec.design.columns():
+        try:
+            out[c] = np.array([float(r[header.index(c)]) for r in rows])
+        except ValueError:
+            continue
+    return out
+
+
+def _is_number(text):
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
+def _usable(spec, rows):
+    status = spec.header().index("status")
+    return [r for r in rows if r[status] != "crashed" and not r[status].startswith("refused")]
+
+
+def cdf_plots(spec, rows, entries, out_dir, prefix=""):
+    """One PNG per index and phase: the units' empirical CDF, the level, the
+    requirement line. Returns the files written."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    written = []
+    for e in entries:
+        metric = f"{e['index']}_{e['phase']}"
+        x = np.sort(np.array(_budget.column_values(spec, rows, metric)))
+        x = x[np.isfinite(x)]
+        if not len(x):
+            continue
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ax.step(x, np.arange(1, len(x) + 1) / len(x), where="post", label=f"{len(x)} units")
+        ax.axhline(e["level"], ls=":", c="gray", label=f"level {100 * e['level']:.4g} %")
+        if "requirement" in e:
+            ax.axvline(e["requirement"]["requirement_rad"], c="r", ls="--",
+                       label=f"requirement ({e['requirement']['verdict']})")
+        ax.set_xscale("log" if x[0] > 0 else "linear")
+        ax.set_xlabel(f"{metric} [rad] (worst time in the phase, per unit)")
+        ax.set_ylabel("fraction of units")
+        ax.legend(loc="lower right")
+        fig.tight_layout()
+        written.append(out_dir / f"{prefix}{metric}_cdf.png")
+        fig.savefig(written[-1], dpi=100)
+        plt.close(fig)
+    return written
+
+
+def drivers(spec, rows, metric):
+    """[(parameter, Spearman rho)] by |rho|, the worst first; NaN units rank worst."""
+    from scipy import stats
+
+    rows = _usable(spec, rows)
+    y = np.array(_budget.column_values(spec, rows, metric))
+    y = np.where(np.isfinite(y), y, np.inf)
+    out = []
+    for c, x in _numeric_columns(spec, rows).items():
+        if len(x) < 3 or np.all(x == x[0]) or np.all(y == y[0]):
+            continue
+        rho = float(stats.spearmanr(x, y).statistic)
+        out.append((c, rho))
+    return sorted(out, key=lambda p: -abs(p[1]) if math.isfinite(p[1]) else 0.0)
+
+
+def worst_units(spec, rows, metric, k=5):
+    rows = _usable(spec, rows)
+    header = spec.header()
+    y = np.array(_budget.column_values(spec, rows, metric))
+    order = np.argsort(np.where(np.isfinite(y), -y, -np.inf), kind="stable")[:k]
+    cols = spec.design.columns()
+    return [(rows[i][0], y[i], [rows[i][header.index(c)] for c in cols]) for i in order]
+
+
+def body(spec, rows, entries, plots, engine):
+    """The report's Markdown (image links relative to the report)."""
+    c = spec.closed
+    controller = pathlib.Path(c.controller_path).name if c.controller_path else "default (built in)"
+    lines = [f"Closed-loop sweep of `{spec.scene_path.name}` with the controller `{controller}`"
+             f" ({c.duration_s:g} s per run), {len(rows)} units; statistical interpretation: "
+             f"**{_budget.INTERPRETATION}** (ECSS-E-ST-60-10C). Each index is the quantile at its level of the "
+             "units' worst value in the phase; its interval comes from order statistics (distribution-free). "
+             "A unit without a figure (a stopped run, a window it missed) counts as worst.", ""]
+    lines += ["| index | phase | level | n | value [rad] (CI at confidence) | "
+              f"at {100 * SUPPORTED_LEVEL:.4g} % [rad] (CI) | requirement |", "|---|---|---|---|---|---|---|"]
+    for e in entries:
+        values = _budget.column_values(spec, rows, f"{e['index']}_{e['phase']}")
+        b = ix.quantile_bound(values, SUPPORTED_LEVEL, e["confidence"])
+        lower = (f"{b.estimate:.3g} [{b.low:.3g}, {b.high:.3g}]" if b.supported and math.isfinite(b.high)
+                 else f"not supported (n={b.n} < {b.min_units})" if not b.supported else f"{b.estimate:.3g}")
+        lines.append(f"| {e['index']} | {e['phase']} | {100 * e['level']:.4g} % | {e['n']} | {_budget.cell(e)} | "
+                     f"{lower} | {_budget.verdict_text(e) or '-'} |")
+    unsupported = [e for e in entries if not e["supported"]]
+    if unsupported:
+        need = max(e["min_units"] for e in unsupported)
+        lines += ["", f"Some quantiles are not supported by {len(rows)} units: `samples: {need}` in the spec "
+                  f"(or `--until INDEX:PHASE:WIDTH --max-samples {need}`) would support them."]
+    if engine.get("samples_per_s"):
+        lines += ["", f"Speed: {engine['ran_this_invocation']} samples in {engine['elapsed_s']:.1f} s on "
+                  f"{engine['workers']} workers ({engine['samples_per_s']:.2f} samples/s)."]
+    lines += ["", "## Distributions", ""]
+    lines += [f"![{p.stem}]({p.name})" if p.parent.name != "plots" else f"![{p.stem}](plots/{p.name})"
+              for p in plots]
+    lines += ["", "## What drives the worst units", ""]
+    for e in entries:
+        metric = f"{e['index']}_{e['phase']}"
+        d = drivers(spec, rows, metric)
+        if not d:
+            continue
+        lines.append(f"- {metric}: Spearman rank correlation " +
+                     ", ".join(f"{name} {rho:+.2f}" for name, rho in d))
+    track = next((e for e in entries if e["index"] == "ape" and e["phase"] == "track"), entries[0] if entries else None)
+    if track is not None:
+        metric = f"{track['index']}_{track['phase']}"
+        cols = spec.design.columns()
+        lines += ["", f"Worst five units by {metric}:", "",
+                  "| sample | " + metric + " [rad] | " + " | ".join(cols) + " |",
+                  "|---|---|" + "---|" * len(cols)]
+        for sample, value, params in worst_units(spec, rows, metric):
+            shown = [f"{float(v):.3g}" if _is_number(v) else v for v in params]
+            lines.append(f"| {sample} | {value:.3g} | " + " | ".join(shown) + " |")
+    return "\n".join(lines) + "\n"

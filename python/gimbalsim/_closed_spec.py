@@ -1,0 +1,168 @@
+"""The closed-loop part of a sweep spec: the controller (a configuration file
+or the built-in default, its overrides), the phases and the pointing indices
+(ECSS-E-ST-60-10C) each sample reports, all checked at the spec's lines.
+
+    controller: default                 # or a configuration file, against the spec's folder
+    controller_set: {azimuth.kp: 900}   # controller overrides for every sample
+    phases: [slew, hold, track, {settled: [4.0, 6.0]}]   # the profile's segments or [t0, t1) in s
+    indices:
+      ape: {level: 0.9973, confidence: 0.95, requirement: 1.0e-4}
+      rpe: {window: 0.1}
+      pde: {window: 0.1, separation: 0.5}
+      knowledge: {}
+
+A dispersed controller key is named `controller.<key>` (e.g.
+controller.azimuth.kp): scene and controller keys cannot be confused.
+"""
+import math
+
+import gimbalsim
+from .indices import LEVEL_3SIGMA
+
+PROFILE_PHASES = ("slew", "hold", "track")
+INDICES = ("ape", "rpe", "pde", "knowledge")
+INDEX_KEYS = {"ape": set(), "knowledge": set(), "rpe": {"window"}, "pde": {"window", "separation"}}
+CONTROLLER_PREFIX = "controller."
+
+
+def profile_phases(values, duration_s):
+    """The profile's phases {name: (t0, t1)} [s] from a controller's values
+    (slew from slew_start for slew_time, hold for hold_time, then track to
+    the run's end, its last tick included): where the run did not go, as the
+    ticks' segment column (TargetProfile::at) places them where it did."""
+    slew0 = float(values["profile.slew_start"])
+    slew1 = slew0 + float(values["profile.slew_time"])
+    track0 = slew1 + float(values["profile.hold_time"])
+    end = duration_s + float(values["control.period"])
+    return {"slew": (slew0, slew1), "hold": (slew1, track0), "track": (track0, max(end, track0 + 1e-9))}
+
+
+class IndexSpec:
+    """One index: its window [s], separation [s] (PDE), level, confidence and
+    optional requirement [rad]."""
+
+    def __init__(self, name, window=None, separation=None, level=LEVEL_3SIGMA, confidence=0.95, requirement=None):
+        self.name, self.window, self.separation = name, window, separation
+        self.level, self.confidence, self.requirement = level, confidence, requirement
+
+    def plain(self):
+        return {"window_s": self.window, "separation_s": self.separation, "level": self.level,
+                "confidence": self.confidence, "requirement_rad": self.requirement}
+
+
+class ClosedLoopSpec:
+    """The controller, its overrides, the phases and the indices of a closed-loop sweep."""
+
+    def __init__(self, spec, root, duration_s):
+        node = root["controller"]
+        if node.value == "default":
+            self.controller_path = None
+        else:
+            self.controller_path = spec.path_of("controller", node)
+        sets = spec.mapping("controller_set", root["controller_set"]) if "controller_set" in root else {}
+        self.key_types = {k["key"]: k["type"] for k in gimbalsim._gimbalsim._controller_keys()}
+        for key, n in sets.items():
+            if key not in self.key_types:
+                spec.refuse(f"controller_set.{key}", "not a key of the controller (see "
+                            "`pointing_controller --keys`)", n)
+        self.set = {k: spec.value(f"controller_set.{k}", n) for k, n in sets.items()}
+        self.controller = self.load(spec, "controller", {}, node, sets)
+        self.values = self.controller.values()
+        self.period_s = float(self.values["control.period"])
+        self.duration_s = duration_s
+        ticks = duration_s / self.period_s
+        if not abs(ticks - round(ticks)) <= 1e-9 * max(1.0, ticks):
+            spec.refuse("set.sim.duration" if "set" in root else "scene",
+                        f"the closed loop runs whole control periods: sim.duration {duration_s:g} s is not a "
+                        f"multiple of control.period {self.period_s:g} s", root.get("set") or root["scene"])
+        self.phases = self._phases(spec, root)
+        self.indices = self._indices(spec, root)
+
+    def load(self, spec, where, extra, node, sets=None):
+        """The controller with the spec's overrides and `extra`; refused at
+        node, or at the controller_set key the controller names."""
+        overrides = dict(self.set)
+        overrides.update(extra)
+        try:
+            return gimbalsim.Controller(self.controller_path, overrides)
+        except gimbalsim.SceneError as e:
+            if sets and e.key in sets:
+                where, node = f"controller_set.{e.key}", sets[e.key]
+            spec.refuse(where, f"the controller refuses {extra or overrides}: "
+                        f"{e.problems[0]['text'] if e.problems else e}", node)
+
+    def _phases(self, spec, root):
+        """[(name, (t0, t1) or None for the profile's own)]."""
+        if "phases" not in root:
+            return [(p, None) for p in PROFILE_PHASES]
+        node = root["phases"]
+        if not isinstance(node.value, list) or not node.value:
+            spec.refuse("phases", f"expected a list of {', '.join(PROFILE_PHASES)} or {{name: [t0, t1]}}", node)
+        phases = []
+        for item in node.value:
+            if isinstance(item.value, str):
+                if item.value not in PROFILE_PHASES:
+                    spec.refuse("phases", f"unknown phase '{item.value}' (the profile's are "
+                                f"{', '.join(PROFILE_PHASES)}; give others as {{name: [t0, t1]}})", item)
+                phases.append((item.value, None))
+                continue
+            body = spec.mapping("phases", item)
+            if len(body) != 1:
+                spec.refuse("phases", "give one phase per item: {name: [t0, t1]}", item)
+            name, window = next(iter(body.items()))
+            if not name.isidentifier() or not name.islower():
+                spec.refuse(f"phases.{name}", "a phase's name is a lower-case identifier (it names columns)", item)
+            t = window.plain()
+            if not (isinstance(t, list) and len(t) == 2 and all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                                                and math.isfinite(v) for v in t) and 0 <= t[0] < t[1]):
+                spec.refuse(f"phases.{name}", f"expected [t0, t1] in s with 0 <= t0 < t1, got {t!r}", window)
+            phases.append((name, (float(t[0]), float(t[1]))))
+        names = [p for p, _ in phases]
+        for name in names:
+            if names.count(name) > 1:
+                spec.refuse("phases", f"phase '{name}' given twice", node)
+        return phases
+
+    def _whole_periods(self, spec, where, value, node):
+        n = value / self.period_s
+        if not (value > 0 and abs(n - round(n)) <= 1e-9 * max(1.0, n)):
+            spec.refuse(where, f"{value!r} s is not a positive whole number of control periods "
+                        f"({self.period_s:g} s)", node)
+        return value
+
+    def _indices(self, spec, root):
+        if "indices" not in root:
+            return [IndexSpec("ape"), IndexSpec("knowledge")]
+        body = spec.mapping("indices", root["indices"])
+        out = []
+        for name, node in body.items():
+            where = f"indices.{name}"
+            if name not in INDICES:
+                spec.refuse(where, f"unknown index (expected one of {', '.join(INDICES)})", node)
+            opts = spec.mapping(where, node) if node.value is not None else {}
+            allowed = INDEX_KEYS[name] | {"level", "confidence", "requirement"}
+            for k, n in opts.items():
+                if k not in allowed:
+                    spec.refuse(f"{where}.{k}", f"unknown key (expected one of {', '.join(sorted(allowed))})", n)
+            for k in sorted(INDEX_KEYS[name]):
+                if k not in opts:
+                    spec.refuse(f"{where}.{k}", "missing (in s)", node)
+            kw = {k: self._whole_periods(spec, f"{where}.{k}", spec.number(f"{where}.{k}", opts[k]), opts[k])
+                  for k in INDEX_KEYS[name]}
+            for k in ("level", "confidence"):
+                if k in opts:
+                    kw[k] = spec.number(f"{where}.{k}", opts[k], 1e-9, 1 - 1e-9)
+            if "requirement" in opts:
+                kw["requirement"] = spec.number(f"{where}.requirement", opts["requirement"], 0.0)
+            out.append(IndexSpec(name, **kw))
+        if not out:
+            spec.refuse("indices", "no index named: give one or more of " + ", ".join(INDICES), root["indices"])
+        return out
+
+    def metrics(self):
+        """Per-sample columns: index_phase [rad], in phase order."""
+        return [f"{ix.name}_{p}" for p, _ in self.phases for ix in self.indices]
+
+    def plain(self):
+        return {"controller": str(self.controller_path or "default"), "values": self.values,
+                "phases": [[p, w] for p, w in self.phases], "indices": {ix.name: ix.plain() for ix in self.indices}}

@@ -1,0 +1,105 @@
+"""The sweep's files: the CSV text of a row, the journal read back (every
+row checked against the design), and whole-or-nothing writes."""
+import csv
+import io
+import math
+import os
+
+from ._spec import SpecError
+
+
+def fmt(v):
+    if v is None:
+        return ""
+    if isinstance(v, float):
+        return "nan" if math.isnan(v) else repr(v)
+    return str(v)
+
+
+def csv_line(values):
+    buf = io.StringIO()
+    csv.writer(buf, lineterminator="\n").writerow([fmt(v) for v in values])
+    return buf.getvalue()
+
+
+class OutputError(Exception):
+    """An output could not be written (exit 4); what was journaled is kept."""
+
+
+def _is_float(text):
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
+def check_row(spec, row, n_columns):
+    """Why a journal row is not to be trusted, or None: the sample index in
+    range, the parameters equal to the design's draw, the figures numbers."""
+    if len(row) != n_columns:
+        return "wrong number of columns"
+    if not row[0].isdigit() or not int(row[0]) < len(spec.design):
+        return "sample index outside the design"
+    i = int(row[0])
+    drawn = [fmt(v) for v in spec.design.row_values(spec.design.draw(i))]
+    if row[1:1 + len(drawn)] != drawn:
+        return "parameters differ from the design's draw"
+    figures = row[2 + len(drawn) + spec.text_columns:]  # after status (and a closed loop's reason)
+    if not row[1 + len(drawn)] or not all(v == "" or _is_float(v) for v in figures) or not _is_float(figures[-1]):
+        return "status or figures unreadable"
+    return None
+
+
+def read_journal(spec, path, header):
+    """The journal's trusted rows by sample, what was dropped ({reason:
+    count}), and whether the file can be appended to as it is. A last line
+    without its newline (cut by an interruption) is dropped; a sample written
+    twice counts once."""
+    done, dropped = {}, {}
+    if not path.exists():
+        return done, dropped, False
+    try:
+        data = path.read_bytes()
+    except OSError as e:
+        raise OutputError(f"cannot read the journal {path}: {e.strerror}")
+    lines = data.decode("utf-8", errors="replace").split("\n")
+    torn = lines.pop() != ""  # the text after the last newline: empty when the last write was whole
+    if torn:
+        dropped["last line cut by an interruption"] = 1
+    if not lines:  # killed before the header was whole: nothing was journaled
+        return done, dropped, False
+    if next(csv.reader(lines[:1]), None) != header:
+        raise SpecError(f"{path} was written by another spec (its header differs); use another --out")
+    for row in csv.reader(lines[1:]):
+        why = check_row(spec, row, len(header))
+        if why is None and int(row[0]) in done:
+            why = "sample already journaled" if row == done[int(row[0])] else "sample journaled twice, differently"
+        if why is not None:
+            dropped[why] = dropped.get(why, 0) + 1
+            continue
+        done[int(row[0])] = row
+    return done, dropped, not dropped
+
+
+def write_atomic(path, text):
+    """Writes text to path whole or not at all: a temporary file beside it,
+    synced, then renamed over it (the folder synced too, for a power cut)."""
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        with open(tmp, "w") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+        fd = os.open(path.parent, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+    except OSError as e:
+        try:
+            tmp.unlink()
+        except OSError:
+            pass
+        raise OutputError(f"cannot write {path}: {e.strerror or e}") from None

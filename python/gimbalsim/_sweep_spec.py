@@ -1,0 +1,123 @@
+"""A sweep spec checked whole before anything runs: the base scene, the
+design of dispersed keys, the closed loop's controller, phases and indices
+(_closed_spec.py), and the fingerprint a resume must match."""
+import json
+
+import gimbalsim
+from ._closed_spec import CONTROLLER_PREFIX, ClosedLoopSpec
+from ._spec import Spec
+from .dispersion import Design, check_within, design_size, parse_parameter
+
+METRICS = ["pointing_error_max", "pointing_error_final", "peak_contact_force", "peak_joint2_force", "impacts",
+           "continuous_contact_from"]
+METRIC_UNITS = {"pointing_error_max": "rad", "pointing_error_final": "rad", "peak_contact_force": "N",
+                "peak_joint2_force": "N", "impacts": "", "continuous_contact_from": "s", "wall_time": "s",
+                "t_end": "s"}  # a closed loop's index_phase columns are in rad
+MAX_SAMPLES = 10_000_000
+
+
+class SweepSpec:
+    """A checked sweep spec: the base scene (file + set), the design, and a
+    fingerprint that a resume must match."""
+
+    def __init__(self, path):
+        spec = Spec(path)
+        spec.check_keys({"scene", "set", "samples", "seed", "parameters", "grid", "controller", "controller_set",
+                         "phases", "indices"})
+        root = spec.root.value
+        for closed_only in ("controller_set", "phases", "indices"):
+            if closed_only in root and "controller" not in root:
+                spec.refuse(closed_only, "only for a closed-loop sweep: name its controller (controller: default "
+                            "or a configuration file)", root[closed_only])
+        for required in ("scene", "samples", "seed"):
+            if required not in root:
+                spec.refuse(required, "missing")
+        self.scene_path = spec.path_of("scene", root["scene"])
+        self.samples = spec.integer("samples", root["samples"], 1, MAX_SAMPLES)
+        self.seed = spec.integer("seed", root["seed"], 0, 2**63 - 1)
+        key_types = {k["key"]: k["type"] for k in gimbalsim.keys()}
+        sets = spec.mapping("set", root["set"]) if "set" in root else {}
+        for key, node in sets.items():
+            if key not in key_types:
+                spec.refuse(f"set.{key}", "not a key of the scene", node)
+        self.set = {k: spec.value(f"set.{k}", n) for k, n in sets.items()}
+        params = spec.mapping("parameters", root["parameters"]) if "parameters" in root else {}
+        grid = spec.mapping("grid", root["grid"]) if "grid" in root else {}
+        self.grid = []
+        for key, node in grid.items():
+            if key not in key_types:
+                spec.refuse(f"grid.{key}", "not a key of the scene", node)
+            if key in params:
+                spec.refuse(f"grid.{key}", "also under parameters: give it in one place", node)
+            if not isinstance(node.value, list) or not node.value:
+                spec.refuse(f"grid.{key}", "expected a non-empty list of values", node)
+            self.grid.append((key, [spec.value(f"grid.{key}", v) for v in node.value]))
+        # counted before anything is built or tried: a grid can multiply to more than memory holds
+        size = design_size(self.grid, self.samples)
+        if size > MAX_SAMPLES:
+            spec.refuse("grid" if self.grid else "samples",
+                        f"{size} samples in all (samples x grid points), more than the limit {MAX_SAMPLES}",
+                        root["grid"] if self.grid else root["samples"])
+        try:
+            self.base = gimbalsim.load_scene(self.scene_path, self.set,
+                                             sources={k: (spec.path, n.line) for k, n in sets.items()})
+        except gimbalsim.SceneError as e:
+            node = sets.get(e.key) if e.set_index else None
+            spec.refuse(f"set.{e.key}" if node else "scene", str(e), node or root["scene"])
+        # closed loop: controller keys are dispersed as controller.<key>, never confused with the scene's
+        self.closed = None
+        if "controller" in root:
+            self.closed = ClosedLoopSpec(spec, root, float(self.base.values()["sim.duration"]))
+            key_types.update({CONTROLLER_PREFIX + k: t for k, t in self.closed.key_types.items()})
+        self.parameters = [parse_parameter(spec, "parameters", k, n, key_types) for k, n in params.items()]
+        if not self.parameters and not self.grid:
+            spec.refuse("parameters", "nothing is dispersed: give parameters or grid")
+        check_within(spec, "parameters", self.parameters, [k for k, _ in self.grid], self.base.values())
+        # Values the scene would refuse are refused now, at the spec's line.
+        for p in self.parameters:
+            for v in p.extremes():
+                if p.key.startswith(CONTROLLER_PREFIX):
+                    self.closed.load(spec, f"parameters.{p.key}", {p.key[len(CONTROLLER_PREFIX):]: v}, p.node)
+                else:
+                    self._try(spec, f"parameters.{p.key}", {p.key: v}, p.node)
+        for (key, values), node in zip(self.grid, grid.values()):
+            for v in values:
+                if key.startswith(CONTROLLER_PREFIX):
+                    self.closed.load(spec, f"grid.{key}", {key[len(CONTROLLER_PREFIX):]: v}, node)
+                else:
+                    self._try(spec, f"grid.{key}", {key: v}, node)
+        self.design = Design(self.parameters, self.grid, self.samples, self.seed, self.base.values())
+        self.spec_path = spec.path
+        self.fingerprint = json.dumps({"scene": self.base.values(), "seed": self.seed, "samples": self.samples,
+                                       "parameters": {p.key: [p.kind, p.args] for p in self.parameters},
+                                       "grid": self.grid,
+                                       **({"closed_loop": self.closed.plain()} if self.closed else {})},
+                                      sort_keys=True)
+        # open loop: the metrics against the ideal-joint twin; closed loop: an index per phase, and why one is NaN
+        self.metrics = self.closed.metrics() + ["t_end"] if self.closed else METRICS
+        self.text_columns = 1 if self.closed else 0
+
+    def _try(self, spec, where, overrides, node):
+        try:
+            self.base.replace(overrides, sources={k: (spec.path, node.line) for k in overrides})
+        except gimbalsim.SceneError as e:
+            spec.refuse(where, f"the scene refuses {overrides}: {e.problems[0]['text'] if e.problems else e}", node)
+
+    def header(self):
+        """The columns by the names the code uses (scene keys, metric names)."""
+        return ["sample"] + self.design.columns() + ["status"] + ["reason"] * self.text_columns + self.metrics + \
+            ["wall_time"]
+
+    def csv_header(self):
+        """header() as the journal and results.csv name it: the project's CSV
+        convention (docs/usage.md), e.g. contact.clearance -> contact_clearance_m."""
+        units = {k["key"]: k["unit"] for k in gimbalsim.keys()}
+        if self.closed:
+            units.update({CONTROLLER_PREFIX + k["key"]: k["unit"] for k in gimbalsim._gimbalsim._controller_keys()})
+        csv_name = gimbalsim._gimbalsim.csv_name
+        names = ["sample"]
+        for c in self.design.columns():  # "initial.ecc[0]" -> initial_ecc_0_m
+            plain = c.replace(".", "_").replace("[", "_").replace("]", "")
+            names.append(csv_name(plain, units.get(c.split("[")[0], "")))
+        return names + ["status"] + ["reason"] * self.text_columns + \
+            [csv_name(m, METRIC_UNITS.get(m, "rad")) for m in self.metrics + ["wall_time"]]

@@ -1,0 +1,49 @@
+"""--until INDEX:PHASE:RELWIDTH: a closed-loop sweep grows in batches of the
+spec's `samples` until that index's confidence interval, relative to its
+estimate, is at most RELWIDTH, or --max-samples. Sample i's values depend only
+on (seed, i), so the rows do not depend on where the batches fell."""
+import math
+
+from . import _budget
+from ._spec import SpecError
+
+
+class Until:
+    def __init__(self, text, spec, max_samples):
+        parts = text.split(":")
+        if spec.closed is None:
+            raise SpecError("--until needs a closed-loop sweep (a spec naming its controller)")
+        if spec.grid:
+            raise SpecError("--until grows the random draws: not with a grid (every grid point would move)")
+        if len(parts) != 3:
+            raise SpecError(f"--until {text!r}: expected INDEX:PHASE:RELWIDTH, e.g. ape:track:0.2")
+        names = [ix.name for ix in spec.closed.indices]
+        phases = [p for p, _ in spec.closed.phases]
+        if parts[0] not in names:
+            raise SpecError(f"--until {text!r}: index {parts[0]!r} is not one of the spec's ({', '.join(names)})")
+        if parts[1] not in phases:
+            raise SpecError(f"--until {text!r}: phase {parts[1]!r} is not one of the spec's ({', '.join(phases)})")
+        try:
+            self.width = float(parts[2])
+        except ValueError:
+            self.width = math.nan
+        if not self.width > 0:
+            raise SpecError(f"--until {text!r}: RELWIDTH must be a number > 0 (e.g. 0.2 for 20 %)")
+        if max_samples < spec.samples:
+            raise SpecError(f"--max-samples {max_samples} is below the spec's samples {spec.samples}")
+        self.index = spec.closed.indices[names.index(parts[0])]
+        self.phase, self.max_samples, self.text = parts[1], max_samples, text
+
+    def check(self, spec, rows):
+        """(stop?, a dict for the summary) after the rows so far."""
+        e = _budget.entry(spec, rows, self.index, self.phase)
+        width = _budget.relative_width(e)
+        stopped = "width" if width <= self.width else ("cap" if len(rows) >= self.max_samples else None)
+        return stopped is not None, {"until": self.text, "relative_width_target": self.width,
+                                     "relative_width": width, "samples": len(rows), "max_samples": self.max_samples,
+                                     "stopped_by": stopped}
+
+    def grow(self, spec):
+        """The design with one more batch of the spec's samples (capped)."""
+        n = min(self.max_samples, len(spec.design) + spec.samples)
+        spec.design.samples = spec.design.size = n

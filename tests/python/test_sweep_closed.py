@@ -1,0 +1,311 @@
+"""Closed-loop sweeps: per-sample pointing indices (ECSS-E-ST-60-10C) equal
+indices.py applied here to the run's own ticks, phases from the profile,
+NaN with a reason past the run's end, the budget table with its intervals
+and "not supported" marks, requirement verdicts, --until, refusals at the
+spec's line, and the same results with 1 and 2 workers and a real scheduler."""
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+from scipy import stats
+
+import gimbalsim
+from gimbalsim import indices
+from conftest import CONTROLLER_CONFIG, SCENES
+
+DURATION = 0.5
+SPEC = f"""
+scene: {SCENES}/paper_clearance.yaml
+set: {{sim.duration: {DURATION}}}
+controller: {CONTROLLER_CONFIG}
+controller_set: {{profile.slew_start: 0.0, profile.slew_time: 0.2, profile.hold_time: 0.1}}
+samples: 6
+seed: 11
+parameters:
+  contact.clearance: {{uniform: [1.0e-4, 8.0e-4]}}
+  sensors.star_tracker_noise: {{uniform: [0.0, 2.0e-5]}}
+  controller.azimuth.kp: {{uniform: [2000.0, 4000.0]}}
+phases: [slew, hold, track, {{late: [5.0, 6.0]}}]
+indices:
+  ape: {{level: 0.5, confidence: 0.5, requirement: 1.0}}
+  rpe: {{window: 0.05}}
+  pde: {{window: 0.02, separation: 0.05}}
+  knowledge: {{requirement: 1.0e-12}}
+"""
+PHASES = ["slew", "hold", "track", "late"]
+INDICES = ["ape", "rpe", "pde", "knowledge"]
+
+
+def sweep_cmd(spec, out, *args):
+    return [sys.executable, "-m", "gimbalsim.sweep", str(spec), "--out", str(out), "--no-progress", *args]
+
+
+def run_sweep(spec, out, *args):
+    p = subprocess.run(sweep_cmd(spec, out, *args), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    return p
+
+
+def read(out):
+    """results.csv without wall_time: (header, rows)."""
+    with open(out / "results.csv") as f:
+        rows = list(csv.reader(f))
+    w = rows[0].index("wall_time_s")
+    rows = [r[:w] + r[w + 1:] for r in rows]
+    return rows[0], rows[1:]
+
+
+@pytest.fixture(scope="module")
+def spec(tmp_path_factory):
+    d = tmp_path_factory.mktemp("spec")
+    (d / "spec.yaml").write_text(SPEC)
+    return d / "spec.yaml"
+
+
+@pytest.fixture(scope="module")
+def reference(spec, tmp_path_factory):
+    out = tmp_path_factory.mktemp("ref")
+    p = run_sweep(spec, out, "--workers", "1")
+    from test_csv_convention import check_convention
+    check_convention(out / "results.csv")
+    return out, p.stderr
+
+
+def test_columns_follow_the_csv_convention(reference):
+    header, rows = read(reference[0])
+    assert header[:3] == ["sample", "contact_clearance_m", "sensors_star_tracker_noise_rad"]
+    assert header[3].startswith("controller_azimuth_kp") and header[4] == "status"
+    assert header[header.index("status") + 1] == "reason"
+    for p in PHASES:
+        for i in INDICES:
+            assert f"{i}_{p}_rad" in header
+    assert [int(r[0]) for r in rows] == list(range(6))
+
+
+def independent_indices(run, dt):
+    """indices.py on the run's ticks, the phases found from the ticks' own
+    segment column (the profile the firmware ran: 1 slew, 2 hold, 3 track)."""
+    c = run.columns
+    t = np.asarray(c["t"])
+    seg = np.asarray(c["segment"])
+    e = np.column_stack([c["los_error_x"], c["los_error_y"], c["los_error_z"]])
+    k = np.column_stack([c["los_error_est_x"], c["los_error_est_y"], c["los_error_est_z"]])
+    windows = {}
+    for name, code in (("slew", 1), ("hold", 2), ("track", 3)):
+        ts = t[seg == code]
+        windows[name] = (ts.min(), ts.max() + dt)
+    windows["late"] = (5.0, 6.0)
+    out = {}
+    for p, (t0, t1) in windows.items():
+        out[f"ape_{p}_rad"] = indices.ape(t, e, t0, t1)
+        out[f"rpe_{p}_rad"] = indices.rpe(t, e, t0, t1, 0.05)
+        out[f"pde_{p}_rad"] = indices.pde(t, e, t0, t1, 0.02, 0.05)
+        out[f"knowledge_{p}_rad"] = indices.knowledge(t, k, e, t0, t1)
+    return out
+
+
+def test_per_sample_indices_equal_indices_py_on_the_runs_own_ticks(reference, spec):
+    header, rows = read(reference[0])
+    for row in rows[:2]:
+        v = dict(zip(header, row))
+        kp = float(row[3])  # controller.azimuth.kp, with its unit suffix
+        scene = gimbalsim.load_scene(SCENES / "paper_clearance.yaml",
+                                     {"sim.duration": DURATION, "contact.clearance": float(v["contact_clearance_m"]),
+                                      "sensors.star_tracker_noise": float(v["sensors_star_tracker_noise_rad"])})
+        ctrl = gimbalsim.Controller(CONTROLLER_CONFIG, {"profile.slew_start": 0.0, "profile.slew_time": 0.2,
+                                                        "profile.hold_time": 0.1, "azimuth.kp": kp})
+        run = gimbalsim.closed_loop(scene, ctrl, DURATION)
+        assert run.ok and v["status"] == "ok"
+        # the error vector's length is the scalar truth error
+        e = np.column_stack([run.columns[f"los_error_{a}"] for a in "xyz"])
+        np.testing.assert_allclose(np.linalg.norm(e, axis=1), run.columns["truth_error"], rtol=1e-9, atol=1e-15)
+        assert np.abs(e).max() > 0
+        expected = independent_indices(run, ctrl.period)
+        for col, value in expected.items():
+            if value.ok:
+                assert float(v[col]) == value.value, col
+            else:
+                assert v[col] == "nan", col
+        # every index of the profile's phases is a number; the late phase is past the run's end
+        assert all(math.isfinite(float(v[f"{i}_{p}_rad"])) for i in INDICES for p in ("slew", "hold", "track"))
+        assert all(v[f"{i}_late_rad"] == "nan" for i in INDICES)
+        assert "ape_late: the run" in v["reason"]
+        assert "never reached the phase [5; 6) s" in v["reason"]
+
+
+def test_the_budget_table_marks_what_n_cannot_support_and_gives_verdicts(reference):
+    out, stderr = reference
+    header, rows = read(out)
+    s = json.loads((out / "summary.json").read_text())
+    table = {(e["index"], e["phase"]): e for e in s["budget"]}
+    assert set(table) == {(i, p) for i in INDICES for p in PHASES}
+    # the default level 99.73 % at 95 %: 6 units cannot support it, and say so
+    rpe = table[("rpe", "track")]
+    assert rpe["level"] == 0.9973 and not rpe["supported"]
+    assert rpe["note"] == "not supported: n=6 < 1109 needed for 99.73 % at 95 %"
+    assert rpe["interpretation"] == "ensemble of units, worst time in the phase"
+    assert "rpe track at 99.73 %: not supported: n=6 < 1109 needed" in stderr
+    # the median at 50 %: the interval from order statistics, computed here from the binomial
+    ape = table[("ape", "track")]
+    x = np.sort([float(r[header.index("ape_track_rad")]) for r in rows])
+    cdf = stats.binom.cdf(np.arange(7), 6, 0.5)
+    r = max(k for k in range(7) if k == 0 or cdf[k - 1] <= 0.25)
+    s2 = min(k for k in range(1, 8) if cdf[k - 1] >= 0.75)
+    assert ape["supported"] and ape["n"] == 6
+    assert ape["estimate_rad"] == x[2] and ape["interval_rad"] == [x[r - 1], x[s2 - 1]]
+    # requirements: 1 rad met by all (PASS at 50 %), 1e-12 rad by none (FAIL)
+    assert ape["requirement"]["verdict"] == "PASS" and ape["requirement"]["n_meeting"] == 6
+    assert ape["requirement"]["fraction_lower_bound"] == pytest.approx(0.5 ** (1 / 6))
+    know = table[("knowledge", "track")]
+    assert know["requirement"]["verdict"] == "FAIL" and know["requirement"]["n_meeting"] == 0
+    # a phase no unit reached: every unit counts as worst, nothing is bounded
+    late = table[("ape", "late")]
+    assert late["n_missing"] == 6 and late["estimate_rad"] is None and late["interval_rad"] == [None, None]
+    report = (out / "report.md").read_text()
+    assert "not supported: n=6 < 1109 needed for 99.73 % at 95 %" in report
+    assert (out / "plots" / "ape_track_cdf.png").stat().st_size > 5000
+    assert "Spearman" in report
+
+
+def test_one_and_two_workers_and_a_real_scheduler_give_the_same_results(reference, spec, tmp_path):
+    ref = read(reference[0])
+    run_sweep(spec, tmp_path / "two", "--workers", "2", "--batch", "1")
+    assert read(tmp_path / "two") == ref
+    from test_sweep import free_port
+    port = free_port()
+    addr = f"tcp://127.0.0.1:{port}"
+    procs = [subprocess.Popen(["dask-scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        time.sleep(1.0)
+        for _ in range(2):
+            procs.append(subprocess.Popen(["dask-worker", addr, "--nthreads", "1", "--no-dashboard",
+                                           "--host", "127.0.0.1"], stdout=subprocess.DEVNULL,
+                                          stderr=subprocess.DEVNULL, env=dict(os.environ)))
+        from distributed import Client
+        with Client(addr, timeout="30s") as c:
+            c.wait_for_workers(2, timeout=60)
+        run_sweep(spec, tmp_path / "s", "--scheduler", addr)
+        assert read(tmp_path / "s") == ref
+        assert json.loads((tmp_path / "s" / "summary.json").read_text())["engine"]["workers"] == 2
+    finally:
+        for p in reversed(procs):
+            p.terminate()
+        for p in procs:
+            p.wait(timeout=30)
+
+
+def small_spec(tmp_path, samples):
+    text = SPEC.replace("samples: 6", f"samples: {samples}")
+    path = tmp_path / f"spec{samples}.yaml"
+    path.write_text(text)
+    return path
+
+
+def test_until_stops_by_the_cap_and_by_width_and_does_not_depend_on_batches(tmp_path):
+    run_sweep(small_spec(tmp_path, 9), tmp_path / "nine", "--workers", "1")
+    nine = read(tmp_path / "nine")
+    # a width no interval reaches: batches of 3 up to the cap of 9, the same rows as 9 at once
+    p = run_sweep(small_spec(tmp_path, 3), tmp_path / "cap", "--workers", "1", "--until", "ape:track:1e-9",
+                  "--max-samples", "9")
+    assert read(tmp_path / "cap") == nine
+    u = json.loads((tmp_path / "cap" / "summary.json").read_text())["until"]
+    assert u["stopped_by"] == "cap" and u["samples"] == 9
+    assert "stopped by the cap at 9 samples" in p.stderr
+    # a width the first interval meets (the median of 4 units has a two-sided interval): no batch added
+    run_sweep(small_spec(tmp_path, 4), tmp_path / "width", "--workers", "1", "--until", "ape:track:1e9",
+              "--max-samples", "9")
+    u = json.loads((tmp_path / "width" / "summary.json").read_text())["until"]
+    assert u["stopped_by"] == "width" and u["samples"] == 4
+    assert read(tmp_path / "width")[1] == nine[1][:4]
+
+
+REFUSALS = [
+    ("controller_set: {profile.slew_start: 0.0,", "controller_set: {nope.key: 1,", "controller_set.nope.key",
+     "not a key of the controller"),
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.nope: {uniform: [1.0, 2.0]}",
+     "parameters.controller.nope", "not a key"),
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.azimuth.kp: {uniform: [-5.0, 4000.0]}",
+     "parameters.controller.azimuth.kp", "the controller refuses"),
+    ("controller_set: {profile.slew_start: 0.0,", "controller_set: {azimuth.kp: -1.0, profile.slew_start: 0.0,",
+     "controller_set.azimuth.kp", "the controller refuses"),
+    ("  rpe: {window: 0.05}", "  rpe: {}", "indices.rpe.window", "missing"),
+    ("  rpe: {window: 0.05}", "  rpe: {window: 0.0505}", "indices.rpe.window", "whole number of control periods"),
+    ("  rpe: {window: 0.05}", "  rpe: {window: 0.05, span: 2}", "indices.rpe.span", "unknown key"),
+    ("  rpe: {window: 0.05}", "  rms: {window: 0.05}", "indices.rms", "unknown index"),
+    ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 1.5}", "indices.ape.level",
+     "expected a number"),
+    ("phases: [slew, hold, track, {late: [5.0, 6.0]}]", "phases: [slew, cruise]", "phases", "unknown phase 'cruise'"),
+    ("phases: [slew, hold, track, {late: [5.0, 6.0]}]", "phases: [{late: [6.0, 5.0]}]", "phases.late",
+     "expected [t0, t1]"),
+    (f"controller: {CONTROLLER_CONFIG}", "controller: no_such.yaml", "controller", "no such file"),
+    (f"controller: {CONTROLLER_CONFIG}\n", "", "controller_set", "only for a closed-loop sweep"),
+    (f"set: {{sim.duration: 0.5}}\ncontroller: {CONTROLLER_CONFIG}\ncontroller_set: {{profile.slew_start: 0.0, "
+     "profile.slew_time: 0.2, profile.hold_time: 0.1}",
+     f"set: {{sim.duration: 0.501}}\ncontroller: {CONTROLLER_CONFIG}\ncontroller_set: {{control.period: 0.002}}",
+     "set.sim.duration", "whole control periods"),
+]
+
+
+@pytest.mark.parametrize("old,new,key,message", REFUSALS)
+def test_a_bad_key_is_refused_at_its_line(tmp_path, old, new, key, message):
+    from gimbalsim.sweep import SpecError, SweepSpec
+    text = SPEC.replace(f"set: {{sim.duration: {DURATION}}}", "set: {sim.duration: 0.5}")
+    assert old in text
+    text = text.replace(old, new)
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    with pytest.raises(SpecError) as e:
+        SweepSpec(path)
+    assert e.value.key == key, str(e.value)
+    assert message in str(e.value)
+    lines = text.split("\n")
+    mark = new.strip().split("\n")[0] or key
+    assert e.value.line == next(n for n, line in enumerate(lines, 1) if mark in line), str(e.value)
+
+
+def test_until_refused_for_an_index_the_spec_does_not_name(spec, tmp_path):
+    p = subprocess.run(sweep_cmd(spec, tmp_path / "u", "--until", "ape:cruise:0.1"), capture_output=True,
+                       text=True, timeout=120)
+    assert p.returncode == 2 and "phase 'cruise' is not one of the spec's" in p.stderr
+    assert not (tmp_path / "u").exists()
+
+
+def test_the_shipped_budget_spec_is_accepted():
+    from conftest import SOURCE
+    from gimbalsim.sweep import SweepSpec
+    spec = SweepSpec(SOURCE / "tools" / "sweeps" / "pointing_budget.yaml")
+    assert spec.closed is not None and spec.closed.controller_path is None  # the default controller
+    dispersed = {p.key for p in spec.parameters}
+    assert {"contact.clearance", "friction.mu", "contact.restitution", "initial.ecc", "sensors.star_tracker_noise",
+            "sensors.gyro_bias"} <= dispersed
+    bias = spec.design.draw(0)["sensors.gyro_bias"]
+    assert len(bias) == 3 and 0 < np.linalg.norm(bias) <= 1.0e-5
+
+
+def test_sample_alone_reproduces_its_row_and_returns_its_run(reference, spec):
+    from gimbalsim.sweep import SweepSpec, sample_alone
+    header, rows = read(reference[0])
+    row, run = sample_alone(SweepSpec(spec), 3)
+    w = SweepSpec(spec).header().index("wall_time")
+    assert row[:w] + row[w + 1:] == rows[3]
+    assert run.ok and len(run.columns["los_error_x"]) == round(DURATION / 1e-3) + 1
+
+
+def test_resume_reads_the_closed_loops_journal_back(reference, spec, tmp_path):
+    ref_out = reference[0]
+    out = tmp_path / "resumed"
+    out.mkdir()
+    (out / "spec.json").write_text((ref_out / "spec.json").read_text())
+    lines = (ref_out / "results.csv").read_text().splitlines(keepends=True)
+    (out / "results.partial.csv").write_text("".join(lines[:4]))  # the header and samples 0 to 2, reasons included
+    p = run_sweep(spec, out, "--workers", "1", "--resume")
+    assert "6 samples, 3 already done, 3 to run" in p.stderr
+    assert "dropped" not in p.stderr
+    assert read(out) == read(ref_out)
