@@ -23,12 +23,12 @@ def split_overrides(overrides):
 SEGMENT_CODES = {"slew": 1, "hold": 2, "track": 3}  # pointing::Segment, the ticks' segment column
 
 
-def phase_windows(closed, controller_values, columns):
+def phase_windows(closed, controller, columns):
     """{phase: (t0, t1)} [s] for this sample. A profile phase runs from its
     first tick to the next phase's first tick as the firmware's own profile
     (TargetProfile::at, the ticks' segment column) placed them; a phase the
     run did not reach or finish ends where the profile's keys put it."""
-    nominal = profile_phases(controller_values, closed.duration_s)
+    nominal = profile_phases(controller, closed.duration_s)
     t, seg = np.asarray(columns["t"]), np.asarray(columns["segment"])
     out = {}
     for name, window in closed.phases:
@@ -82,7 +82,7 @@ def run_closed_sample(base, closed, overrides, series=False):
     run = gimbalsim.closed_loop(scene, ctrl, closed.duration_s)
     s = run.summary
     status = "ok" if s["ok"] else (s["stop_key"] or "stopped")
-    values = sample_indices(closed, run.columns, phase_windows(closed, ctrl.values(), run.columns))
+    values = sample_indices(closed, run.columns, phase_windows(closed, ctrl, run.columns))
     reasons = [f"{k}: {v.reason}" for k, v in values.items() if not v.ok]
     if not s["ok"]:
         reasons.insert(0, s["error"])

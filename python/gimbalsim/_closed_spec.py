@@ -25,16 +25,15 @@ INDEX_KEYS = {"ape": set(), "knowledge": set(), "rpe": {"window"}, "pde": {"wind
 CONTROLLER_PREFIX = "controller."
 
 
-def profile_phases(values, duration_s):
-    """The profile's phases {name: (t0, t1)} [s] from a controller's values
-    (slew from slew_start for slew_time, hold for hold_time, then track to
-    the run's end, its last tick included): where the run did not go, as the
-    ticks' segment column (TargetProfile::at) places them where it did."""
-    slew0 = float(values["profile.slew_start"])
-    slew1 = slew0 + float(values["profile.slew_time"])
-    track0 = slew1 + float(values["profile.hold_time"])
-    end = duration_s + float(values["control.period"])
-    return {"slew": (slew0, slew1), "hold": (slew1, track0), "track": (track0, max(end, track0 + 1e-9))}
+def profile_phases(controller, duration_s):
+    """The profile's phases {name: (t0, t1)} [s] for a run of duration_s:
+    the controller's own windows (Controller.windows, the one definition the
+    firmware and every tool use), the track ending with the run's last tick."""
+    windows = controller.windows
+    track0 = windows["track"][0]
+    end = duration_s + controller.period
+    return {"slew": tuple(windows["slew"]), "hold": tuple(windows["hold"]),
+            "track": (track0, max(end, track0 + 1e-9))}
 
 
 class IndexSpec:
