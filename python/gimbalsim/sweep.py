@@ -38,7 +38,7 @@ import time
 import numpy as np
 
 import gimbalsim
-from . import _cluster
+from . import _cluster, _provenance
 from ._spec import Spec, SpecError, check_out_dir
 from .dispersion import Design, check_within, design_size, parse_parameter
 
@@ -56,8 +56,8 @@ class SweepSpec:
     """A checked sweep spec: the base scene (file + set), the design, and a
     fingerprint that a resume must match."""
 
-    def __init__(self, path):
-        spec = Spec(path)
+    def __init__(self, path, folder=None):
+        spec = Spec(path, folder)  # folder: where its paths are read from (a replay's copy: the original's)
         spec.check_keys({"scene", "set", "samples", "seed", "parameters", "grid"})
         root = spec.root.value
         for required in ("scene", "samples", "seed"):
@@ -108,6 +108,7 @@ class SweepSpec:
                 self._try(spec, f"grid.{key}", {key: v}, node)
         self.design = Design(self.parameters, self.grid, self.samples, self.seed, self.base.values())
         self.spec_path = spec.path
+        self.spec_text, self.spec_folder = spec.text, spec.folder.absolute()  # for the replay's copy
         self.fingerprint = json.dumps({"scene": self.base.values(), "seed": self.seed, "samples": self.samples,
                                        "parameters": {p.key: [p.kind, p.args] for p in self.parameters},
                                        "grid": self.grid}, sort_keys=True)
@@ -120,7 +121,7 @@ class SweepSpec:
 
     def header(self):
         """The columns by the names the code uses (scene keys, metric names)."""
-        return ["sample"] + self.design.columns() + ["status"] + METRICS + ["wall_time"]
+        return ["sample"] + self.design.columns() + ["status"] + METRICS + ["wall_time"] + _provenance.columns(self)
 
     def csv_header(self):
         """header() as the journal and results.csv name it: the project's CSV
@@ -131,7 +132,8 @@ class SweepSpec:
         for c in self.design.columns():  # "initial.ecc[0]" -> initial_ecc_0_m
             plain = c.replace(".", "_").replace("[", "_").replace("]", "")
             names.append(csv_name(plain, units.get(c.split("[")[0], "")))
-        return names + ["status"] + [csv_name(m, METRIC_UNITS[m]) for m in METRICS + ["wall_time"]]
+        return (names + ["status"] + [csv_name(m, METRIC_UNITS[m]) for m in METRICS + ["wall_time"]]
+                + _provenance.csv_names(self, csv_name, units))
 
 
 # ---- one sample (runs on a worker) ----
@@ -144,15 +146,20 @@ def _bore_angles(a, b):
     return np.arctan2(np.linalg.norm(np.cross(u, v), axis=1), np.einsum("ij,ij->i", u, v))
 
 
-def run_sample(base, overrides, ideal_cache):
-    """Sample's metrics: status and METRICS (dict). The ideal-joint run with
-    the same parameters is the pointing reference (cached: it does not depend
-    on the joint's parameters)."""
+def run_sample(base, overrides, ideal_cache, keep=None):
+    """Sample's metrics: status and METRICS (dict), and `applied`: the
+    dispersed keys as the loaded scene holds them (_provenance.applied). The
+    ideal-joint run with the same parameters is the pointing reference
+    (cached: it does not depend on the joint's parameters). keep (a dict), if
+    given, gets the run."""
     try:
         scene = base.replace(overrides)
     except gimbalsim.SceneError as e:
         return {"status": f"refused:{e.key or ''}"}
+    applied = _provenance.applied(scene.values(), overrides)  # as loaded, not as drawn
     run = gimbalsim.simulate(scene)
+    if keep is not None:
+        keep["run"] = run
     ideal = scene.replace({"structure.joint2": "ideal"})
     key = tuple(sorted(ideal.values().items()))
     if key not in ideal_cache:
@@ -160,7 +167,7 @@ def run_sample(base, overrides, ideal_cache):
     err = _bore_angles(run.rows, ideal_cache[key])
     s = run.summary
     status = "ok" if run.ok else (s["stop"]["key"] or s["stop"]["step_status"].replace(" ", "_"))
-    return {"status": status,
+    return {"status": status, "applied": applied,
             "pointing_error_max": float(err.max()) if len(err) else math.nan,
             "pointing_error_final": float(err[-1]) if len(err) else math.nan,
             "peak_contact_force": s["peak_contact_force_N"],
@@ -202,7 +209,20 @@ def csv_line(values):
 
 def row_values(spec, values, result):
     return [result["sample"]] + spec.design.row_values(values) + [result["status"]] + \
-        [result.get(m) for m in METRICS] + [result["wall_time"]]
+        [result.get(m) for m in METRICS] + [result["wall_time"]] + \
+        _provenance.values(spec, result)
+
+
+def sample_alone(spec, i):
+    """Sample i of the spec run alone in this process, as a worker runs it:
+    its row as results.csv holds it (text) and the run it made (None when the
+    scene refused the sample). The seam of --replay (replay.py)."""
+    values = spec.design.draw(i)
+    keep = {}
+    t0 = time.perf_counter()
+    r = run_sample(spec.base, values, {}, keep)
+    r["sample"], r["wall_time"] = i, time.perf_counter() - t0
+    return [fmt(v) for v in row_values(spec, values, r)], keep.get("run")
 
 
 class OutputError(Exception):
@@ -228,7 +248,7 @@ def check_row(spec, row, n_columns):
     drawn = [fmt(v) for v in spec.design.row_values(spec.design.draw(i))]
     if row[1:1 + len(drawn)] != drawn:
         return "parameters differ from the design's draw"
-    figures = row[2 + len(drawn):]
+    figures = row[2 + len(drawn):n_columns - len(_provenance.columns(spec))]
     if not row[1 + len(drawn)] or not all(v == "" or _is_float(v) for v in figures) or not _is_float(figures[-1]):
         return "status or figures unreadable"
     return None
@@ -306,6 +326,8 @@ def summarize(spec, rows, engine):
     num = lambda r, c: float(r[col[c]]) if r[col[c]] not in ("", "nan") else None
     return {"spec": str(spec.spec_path), "scene": str(spec.scene_path), "samples": len(rows), "status": status,
             "percentiles_of_ok_samples": {m: percentiles([num(r, m) for r in ok]) for m in METRICS + ["wall_time"]},
+            "fingerprints": _provenance.fingerprints(spec),
+            "applied_differs": sum(1 for r in rows if r[col[_provenance.DIFFERS]]),
             "engine": engine}
 
 
@@ -379,6 +401,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
     except OSError as e:
         raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
     write_atomic(fingerprint, spec.fingerprint)
+    _provenance.record_inputs(spec, out, write_atomic)
     if not appendable:
         # The journal is never cut in place: its trusted rows go to a new file that replaces it whole.
         write_atomic(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
@@ -468,7 +491,8 @@ def _run_on_cluster(spec, todo, fd, journal, done, workers, scheduler, batch, pr
         finally:
             bar.close()
         elapsed = time.perf_counter() - t0
-    times = [t for t in (float(done[i][len(done[i]) - 1]) for i in todo) if math.isfinite(t)]  # crashed: nan
+    w = spec.header().index("wall_time")
+    times = [t for t in (float(done[i][w]) for i in todo) if math.isfinite(t)]  # crashed: nan
     run_time = sum(times)
     return {"workers": n_workers, "batch": size, "tasks": len(chunks), "ran_this_invocation": ran,
             "elapsed_s": elapsed, "samples_per_s": ran / elapsed if elapsed > 0 else None,
@@ -524,6 +548,9 @@ def main(argv=None):
         n = s["status"]["crashed"]
         print(f"sweep: {n} crashed sample{'s' * (n != 1)} (each killed a worker process twice): status crashed "
               f"in results.csv, with the parameters; the other samples ran", file=sys.stderr)
+    if s["applied_differs"]:
+        print(f"sweep: {s['applied_differs']} sample(s) ran with a value the scene changed from the drawn one: "
+              f"see column {_provenance.DIFFERS} in results.csv", file=sys.stderr)
     print(f"sweep: {s['samples']} samples, status {s['status']}; pointing_error_max p50 "
           f"{pct['p50'] if pct else float('nan'):.3e} p99 {pct['p99'] if pct else float('nan'):.3e} rad; "
           f"results in {a.out}/results.csv", file=sys.stderr)
