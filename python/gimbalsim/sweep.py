@@ -1,6 +1,7 @@
 """Monte Carlo sweep of a scene over dispersed parameters, on a Dask cluster.
 
     python3 -m gimbalsim.sweep SPEC.yaml --out DIR [--workers N | --scheduler tcp://HOST:PORT] [--resume]
+    python3 -m gimbalsim.sweep DIR --replay I --out run.csv [--plot run.png]   # sample I alone (replay.py)
 
 SPEC (YAML):
     scene: tools/scenes/paper_clearance.yaml   # against the spec's folder, then the current directory
@@ -514,8 +515,10 @@ def main(argv=None):
     ap = argparse.ArgumentParser(prog="python3 -m gimbalsim.sweep", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--version", action="version", version="gimbalsim.sweep " + gimbalsim.__version__)
-    ap.add_argument("spec", help="sweep spec (YAML)")
-    ap.add_argument("--out", required=True, help="output directory")
+    ap.add_argument("spec", help="sweep spec (YAML); with --replay, the sweep's output directory")
+    ap.add_argument("--out", required=True, help="output directory; with --replay, the time series CSV")
+    ap.add_argument("--replay", type=int, default=None, metavar="I", help="run sample I of the sweep in SPEC alone")
+    ap.add_argument("--plot", default=None, help="with --replay: the plot (default: --out with .png)")
     _cluster.add_cluster_arguments(ap)
     ap.add_argument("--resume", action="store_true", help="finish an interrupted sweep in --out")
     ap.add_argument("--batch", type=int, default=None, help="samples per task (default: about 8 tasks per worker, at most 10)")
@@ -526,6 +529,9 @@ def main(argv=None):
     if a.batch is not None and a.batch < 1:
         ap.error("--batch must be >= 1")
     _cluster.raise_on_signals()
+    if a.replay is not None:
+        from . import replay
+        return replay.main(a.spec, a.replay, a.out, a.plot)
     out = pathlib.Path(a.out)
     try:
         check_out_dir(a.out, a.spec)
