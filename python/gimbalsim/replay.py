@@ -136,7 +136,8 @@ def replay(folder, i, out, plot_path=None):
               f"process, which it may kill too", file=sys.stderr)
     row, run = sweep.sample_alone(spec, i)
     # a crashed row holds the parameters and fingerprints only: those are compared
-    compared = [k for k, name in enumerate(header) if name not in NOT_COMPARED and (status != "crashed" or recorded[k])]
+    compared = [k for k, name in enumerate(header) if name not in NOT_COMPARED
+                and (status != "crashed" or (recorded[k] and name != "status"))]
     differ = [header[k] for k in compared if row[k] != recorded[k]]
     replay_status = row[header.index("status")]
     if run is None:
