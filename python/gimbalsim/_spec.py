@@ -62,7 +62,7 @@ class Spec:
             column = e.start - (data.rfind(b"\n", 0, e.start) + 1) + 1
             raise SpecError(f"not UTF-8 text (byte 0x{data[e.start]:02x} at offset {e.start})", file=str(path),
                             line=line, column=column)
-        self.text = text
+        self.source_text = text  # as read (a sweep keeps a copy)
         try:
             # The composer only: no object construction; values are built node by node below.
             tree = yaml.compose(text, Loader=SpecLoader)

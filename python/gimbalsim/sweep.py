@@ -109,7 +109,7 @@ class SweepSpec:
                 self._try(spec, f"grid.{key}", {key: v}, node)
         self.design = Design(self.parameters, self.grid, self.samples, self.seed, self.base.values())
         self.spec_path = spec.path
-        self.spec_text, self.spec_folder = spec.text, spec.folder.absolute()  # for the replay's copy
+        self.spec_text, self.spec_folder = spec.source_text, spec.folder.absolute()  # for the replay's copy
         self.fingerprint = json.dumps({"scene": self.base.values(), "seed": self.seed, "samples": self.samples,
                                        "parameters": {p.key: [p.kind, p.args] for p in self.parameters},
                                        "grid": self.grid}, sort_keys=True)
