@@ -178,25 +178,30 @@ def _report(differ, header, recorded, row, i, source):
     return 1
 
 
+# The plot's panels: (y label, columns), each drawn when the run has its columns
+# (an open-loop Run, or a closed loop's ticks).
+PANELS = [("joint angle [rad]", ("theta1", "theta2")), ("eccentricity [m]", ("ecc",)),
+          ("joint-2 force [N]", ("joint2_force",)), ("truth pointing error [rad]", ("truth_error",))]
+
+
 def _plot(run, spec, i, status, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     c = run.columns
-    fig, ax = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
-    ax[0].plot(c["t"], c["theta1"], label="theta1")
-    ax[0].plot(c["t"], c["theta2"], label="theta2")
-    ax[0].set_ylabel("joint angle [rad]")
-    ax[0].legend()
-    ax[1].plot(c["t"], c["ecc"], label="ecc")
-    ax[1].axhline(float(run.scene.values()["contact.bearing_radius"]) -
-                  float(run.scene.values()["contact.journal_radius"]), ls=":", c="gray", label="clearance")
-    ax[1].set_ylabel("eccentricity [m]")
-    ax[1].legend()
-    ax[2].plot(c["t"], c["joint2_force"])
-    ax[2].set_ylabel("joint-2 force [N]")
-    ax[2].set_xlabel("t [s]")
+    panels = [(label, names) for label, names in PANELS if all(n in c for n in names)]
+    fig, axes = plt.subplots(len(panels), 1, figsize=(8, 2.7 * len(panels)), sharex=True, squeeze=False)
+    for ax, (label, names) in zip(axes[:, 0], panels):
+        for n in names:
+            ax.plot(c["t"], c[n], label=n)
+        if names == ("ecc",) and getattr(run, "scene", None) is not None:
+            v = run.scene.values()
+            ax.axhline(float(v["contact.bearing_radius"]) - float(v["contact.journal_radius"]), ls=":", c="gray",
+                       label="clearance")
+        ax.set_ylabel(label)
+        ax.legend()
+    axes[-1, 0].set_xlabel("t [s]")
     fig.suptitle(f"sample {i} of {spec.spec_path.name} ({status})")
     fig.tight_layout()
     tmp = path.with_name(path.name + ".tmp.png")  # whole or not at all
@@ -207,7 +212,6 @@ def _plot(run, spec, i, status, path):
         plt.close(fig)
         if tmp.exists():
             tmp.unlink()
-
 
 def main(folder, i, out, plot_path):
     """--replay's exit code, its refusals and interruptions as the sweep's."""
