@@ -143,6 +143,10 @@ def replay(folder, i, out, plot_path=None):
     if run is None:
         print(f"replay: the scene refuses sample {i} ({replay_status}): nothing ran, nothing written", file=sys.stderr)
         return 2 if not differ else _report(differ, header, recorded, row, i, source)
+    if not hasattr(run, "to_csv"):  # the seam's contract: a run writes its own series by the CSV convention
+        print(f"error: sample {i}'s run ({type(run).__name__}) cannot write its time series (no to_csv)",
+              file=sys.stderr)
+        return 1
     try:
         run.to_csv(out)
     except OSError as e:

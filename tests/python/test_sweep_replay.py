@@ -206,6 +206,10 @@ def test_changed_base_scene_is_refused_and_a_changed_spec_is_replayed_from_the_c
     assert "base_scene_sha256 differs from the sweep's" in p.stderr
     assert "contact.restitution 0.95 -> 0.9" in p.stderr
     assert not (tmp_path / "run2.csv").exists()
+    scene.unlink()  # gone: refused at the copy's `scene:` line
+    p = sweep(out, "--replay", 0, "--out", tmp_path / "run2.csv")
+    assert p.returncode == 2, p.stderr
+    assert f"{out / 'spec.yaml'}:2:1: key 'scene': no such file: scene.yaml" in p.stderr, p.stderr
 
 
 def test_a_crashed_sample_is_replayed_alone_and_reported(tmp_path):
