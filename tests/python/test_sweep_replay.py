@@ -221,3 +221,23 @@ def test_a_crashed_sample_is_replayed_alone_and_reported(tmp_path):
     assert p.returncode == 0, p.stderr
     assert "recorded crashed" in p.stderr and "ran alone to status ok" in p.stderr
     assert (tmp_path / "run.csv").exists()
+
+
+def test_closed_loop_provenance_reads_the_loaded_controller():
+    """What a closed-loop sweep (a spec with a `controller`) gets from the
+    provenance module: the controller's fingerprint and its keys as loaded."""
+    from types import SimpleNamespace
+
+    from conftest import CONTROLLER_CONFIG
+    from gimbalsim import _provenance
+
+    ctrl = gimbalsim.Controller(CONTROLLER_CONFIG, {"azimuth.kp": 900.0})
+    scene = gimbalsim.load_scene(SCENES / "paper_clearance.yaml", SET)
+    spec = SimpleNamespace(base=scene, controller=ctrl)
+    v = ctrl._values_text()  # the --set text of each key, as scene.values() gives a scene's
+    expected = hashlib.sha256("".join(f"{k}={v[k]}\n" for k in sorted(v)).encode())
+    assert _provenance.fingerprints(spec) == {"base_scene_sha256": fingerprint(scene),
+                                              "controller_config_sha256": expected.hexdigest()}
+    loaded = {**scene.values(), **ctrl._values_text()}
+    assert _provenance.applied(loaded, {"azimuth.kp": 900.0, "friction.mu": 0.25}) == [900.0, 0.25, ""]
+    assert _provenance.applied(loaded, {"azimuth.kp": 901.0}) == [900.0, "azimuth.kp"]
