@@ -15,6 +15,7 @@ import gimbalsim
 APPLIED = "applied."       # code name of a column: applied.<design column>
 DIFFERS = "applied_differs"  # the keys whose applied value is not the drawn one, space-separated
 SCENE_FINGERPRINT = "base_scene_sha256"
+CONTROLLER_PREFIX = "controller."  # a closed-loop design's name of a controller key
 CONTROLLER_FINGERPRINT = "controller_config_sha256"
 
 
@@ -28,8 +29,13 @@ def fingerprint(values):
 
 
 def controller_of(spec):
-    """The spec's base controller (a closed-loop sweep), or None."""
-    return getattr(spec, "controller", None)
+    """The spec's base controller (a closed-loop sweep), or None: a loaded
+    `controller`, or one loaded from `closed` (controller_path and set)."""
+    ctrl = getattr(spec, "controller", None)
+    closed = getattr(spec, "closed", None)
+    if ctrl is None and closed is not None:
+        ctrl = gimbalsim.Controller(closed.controller_path, closed.set)
+    return ctrl
 
 
 def fingerprints(spec):
@@ -63,7 +69,8 @@ def csv_names(spec, csv_name, units):
 @functools.lru_cache(maxsize=None)
 def _key_types():
     types = {k["key"]: k["type"] for k in gimbalsim.keys()}
-    types.update({k["key"]: k["type"] for k in gimbalsim.controller_keys()})
+    for k in gimbalsim.controller_keys():  # as given, and as a closed-loop design names them
+        types[k["key"]] = types[CONTROLLER_PREFIX + k["key"]] = k["type"]
     return types
 
 

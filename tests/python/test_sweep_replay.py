@@ -241,3 +241,9 @@ def test_closed_loop_provenance_reads_the_loaded_controller():
     loaded = {**scene.values(), **ctrl._values_text()}
     assert _provenance.applied(loaded, {"azimuth.kp": 900.0, "friction.mu": 0.25}) == [900.0, 0.25, ""]
     assert _provenance.applied(loaded, {"azimuth.kp": 901.0}) == [900.0, "azimuth.kp"]
+    # a closed-loop design names controller keys controller.<key>
+    prefixed = {**scene.values(), **{"controller." + k: t for k, t in ctrl._values_text().items()}}
+    assert _provenance.applied(prefixed, {"controller.azimuth.kp": 900.0}) == [900.0, ""]
+    # a spec that gives its controller as a file and overrides (`closed`) is fingerprinted the same
+    closed = SimpleNamespace(controller_path=str(CONTROLLER_CONFIG), set={"azimuth.kp": 900.0})
+    assert _provenance.fingerprints(SimpleNamespace(base=scene, closed=closed)) == _provenance.fingerprints(spec)
