@@ -247,3 +247,21 @@ def test_closed_loop_provenance_reads_the_loaded_controller():
     # a spec that gives its controller as a file and overrides (`closed`) is fingerprinted the same
     closed = SimpleNamespace(controller_path=str(CONTROLLER_CONFIG), set={"azimuth.kp": 900.0})
     assert _provenance.fingerprints(SimpleNamespace(base=scene, closed=closed)) == _provenance.fingerprints(spec)
+
+
+def test_a_sample_whose_run_stopped_reproduces_and_exits_3(tmp_path):
+    folder = tmp_path / "s"
+    folder.mkdir()
+    shutil.copy(SCENES / "paper_clearance.yaml", folder / "scene.yaml")
+    stopping = SPEC.replace("{sim.duration: 0.15}", "{sim.duration: 0.15, sim.velocity_limit: 0.01}")
+    (folder / "spec.yaml").write_text(stopping)
+    p = sweep(folder / "spec.yaml", "--out", folder / "out", "--workers", "1", "--no-progress")
+    assert p.returncode == 0, p.stderr
+    row = rows_of(folder / "out" / "results.csv")[1]
+    assert row["status"] == "sim.velocity_limit"
+    p = sweep(folder / "out", "--replay", 1, "--out", tmp_path / "run.csv")
+    assert p.returncode == 3, p.stderr
+    assert "reproduces its row" in p.stderr and "the run stopped" in p.stderr and "sim.velocity_limit" in p.stderr
+    with open(tmp_path / "run.csv") as f:
+        n = sum(1 for _ in f) - 1
+    assert 0 < n < round(0.15 / 0.001) + 1  # the rows up to the stop
