@@ -13,6 +13,7 @@ run in parallel threads; calls on one Simulator run one after the other.
 """
 
 import json
+import math
 import numbers
 import os
 
@@ -243,6 +244,25 @@ def _unpickle_controller(path, values):
     return _gimbalsim._unpickle_controller(path, values)
 
 
+# The closed loop's tick columns that are not angles [rad] (to_csv names them by unit).
+_TICK_UNITS = {"t": "s", "tau1_cmd": "Nm", "tau2_cmd": "Nm", "tau1_applied": "Nm", "tau2_applied": "Nm",
+               "star_outage": "", "segment": "", "injected_faults": ""}
+
+
+def _csv_number(x):
+    """A number as the CSV convention writes it (io/csv_format.hpp): the
+    shortest text that reads back as the same double, integers as integers,
+    never -0, nan for no value."""
+    x = float(x)
+    if math.isnan(x):
+        return "nan"
+    if x == 0.0:
+        return "0"
+    if x.is_integer() and abs(x) < 1e15:
+        return str(int(x))
+    return repr(x)
+
+
 class ClosedLoopRun:
     """A closed-loop run: ``summary`` (dict: ok, stop_key, errors, peaks; a
     figure over a window the run did not reach is NaN and ``reasons`` maps
@@ -260,6 +280,34 @@ class ClosedLoopRun:
     @property
     def ok(self):
         return self.summary["ok"]
+
+    @property
+    def rows(self):
+        """The ticks as an (N, columns) array, in the order of ``columns``."""
+        return np.column_stack([np.asarray(v, dtype=float) for v in self.columns.values()])
+
+    def to_csv(self, path):
+        """Writes the ticks by the project's CSV convention (docs/usage.md
+        "CSV files": names with their unit, numbers that read back exactly,
+        never -0), whole or not at all; OSError when it cannot (its folder
+        must exist; a folder or a link at path is refused)."""
+        path = _check_path(path, "output path")
+        folder = os.path.dirname(os.path.abspath(path))
+        if not os.path.isdir(folder):
+            raise OSError(f"{path}: its folder {folder} does not exist")
+        if os.path.islink(path) or os.path.isdir(path):
+            raise OSError(f"{path}: is a link or a folder, not a file to write")
+        names = [_gimbalsim.csv_name(n, _TICK_UNITS.get(n, "rad")) for n in self.columns]
+        lines = [",".join(names)] + [",".join(_csv_number(x) for x in row) for row in self.rows]
+        tmp = path + ".tmp"
+        try:
+            with open(tmp, "w") as f:
+                f.write("\n".join(lines) + "\n")
+            os.replace(tmp, path)
+        except OSError as e:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+            raise OSError(f"{path}: cannot write it ({e.strerror or e})") from None
 
     def __repr__(self):
         return f"<gimbalsim.ClosedLoopRun ok={self.ok} ticks={self.summary['ticks']}>"

@@ -6,7 +6,7 @@ import math
 import numpy as np
 
 import gimbalsim
-from . import indices as ix
+from . import _provenance, indices as ix
 from ._closed_spec import CONTROLLER_PREFIX, profile_phases
 
 TRUE_ERROR = ("los_error_x", "los_error_y", "los_error_z")
@@ -79,6 +79,8 @@ def run_closed_sample(base, closed, overrides, series=False):
         ctrl = gimbalsim.Controller(closed.controller_path, {**closed.set, **ctrl_ov})
     except gimbalsim.SceneError as e:
         return {"status": f"refused:controller.{e.key or ''}", "reason": str(e).replace(",", ";")}
+    loaded = {**scene.values(), **{CONTROLLER_PREFIX + k: t for k, t in ctrl._values_text().items()}}
+    applied = _provenance.applied(loaded, overrides)  # as loaded, not as drawn
     run = gimbalsim.closed_loop(scene, ctrl, closed.duration_s)
     s = run.summary
     status = "ok" if s["ok"] else (s["stop_key"] or "stopped")
@@ -87,7 +89,8 @@ def run_closed_sample(base, closed, overrides, series=False):
     if not s["ok"]:
         reasons.insert(0, s["error"])
     # no commas in the text: the CSV stays one the project's readers (numpy) split right
-    result = {"status": status, "reason": " | ".join(reasons).replace(",", ";"), "t_end": float(s["t_end_s"])}
+    result = {"status": status, "reason": " | ".join(reasons).replace(",", ";"), "t_end": float(s["t_end_s"]),
+              "applied": applied}
     result.update({k: v.value for k, v in values.items()})
     if series:
         result["run"] = run

@@ -5,6 +5,7 @@ import io
 import math
 import os
 
+from . import _provenance
 from ._spec import SpecError
 
 
@@ -45,7 +46,8 @@ def check_row(spec, row, n_columns):
     drawn = [fmt(v) for v in spec.design.row_values(spec.design.draw(i))]
     if row[1:1 + len(drawn)] != drawn:
         return "parameters differ from the design's draw"
-    figures = row[2 + len(drawn) + spec.text_columns:]  # after status (and a closed loop's reason)
+    # after status (and a closed loop's reason), up to the provenance columns (text: applied values, hashes)
+    figures = row[2 + len(drawn) + spec.text_columns:n_columns - len(_provenance.columns(spec))]
     if not row[1 + len(drawn)] or not all(v == "" or _is_float(v) for v in figures) or not _is_float(figures[-1]):
         return "status or figures unreadable"
     return None

@@ -5,6 +5,7 @@ import math
 import numpy as np
 
 import gimbalsim
+from . import _provenance
 
 
 def _bore_angles(a, b):
@@ -16,13 +17,15 @@ def _bore_angles(a, b):
 
 
 def run_sample(base, overrides, ideal_cache, series=False):
-    """Sample's metrics: status and METRICS (dict). The ideal-joint run with
+    """Sample's metrics: status and METRICS (dict), and `applied`: the
+    dispersed keys as the loaded scene holds them (_provenance.applied). The ideal-joint run with
     the same parameters is the pointing reference (cached: it does not depend
     on the joint's parameters). With series, the run too, under "run"."""
     try:
         scene = base.replace(overrides)
     except gimbalsim.SceneError as e:
         return {"status": f"refused:{e.key or ''}"}
+    applied = _provenance.applied(scene.values(), overrides)  # as loaded, not as drawn
     run = gimbalsim.simulate(scene)
     ideal = scene.replace({"structure.joint2": "ideal"})
     key = tuple(sorted(ideal.values().items()))
@@ -31,7 +34,7 @@ def run_sample(base, overrides, ideal_cache, series=False):
     err = _bore_angles(run.rows, ideal_cache[key])
     s = run.summary
     status = "ok" if run.ok else (s["stop"]["key"] or s["stop"]["step_status"].replace(" ", "_"))
-    return {"status": status, **({"run": run} if series else {}),
+    return {"status": status, "applied": applied, **({"run": run} if series else {}),
             "pointing_error_max": float(err.max()) if len(err) else math.nan,
             "pointing_error_final": float(err[-1]) if len(err) else math.nan,
             "peak_contact_force": s["peak_contact_force_N"],

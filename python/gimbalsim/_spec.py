@@ -43,10 +43,13 @@ MAX_SPEC_NODES = 100_000  # values after alias expansion
 
 class Spec:
     """A spec file: ``root`` (a Node), ``path``, and ``refuse(key, message,
-    node)`` raising SpecError at the node's position."""
+    node)`` raising SpecError at the node's position. Its paths are read
+    against ``folder`` (default: the spec's own; a replay reads a sweep's copy
+    of its spec against the original's)."""
 
-    def __init__(self, path):
+    def __init__(self, path, folder=None):
         self.path = pathlib.Path(path)
+        self.folder = pathlib.Path(folder) if folder is not None else self.path.parent
         if not self.path.is_file():
             raise SpecError("not a readable file", file=str(path))
         if self.path.stat().st_size > MAX_SPEC_BYTES:
@@ -59,6 +62,7 @@ class Spec:
             column = e.start - (data.rfind(b"\n", 0, e.start) + 1) + 1
             raise SpecError(f"not UTF-8 text (byte 0x{data[e.start]:02x} at offset {e.start})", file=str(path),
                             line=line, column=column)
+        self.source_text = text  # as read (a sweep keeps a copy)
         try:
             # The composer only: no object construction; values are built node by node below.
             tree = yaml.compose(text, Loader=SpecLoader)
@@ -124,7 +128,7 @@ class Spec:
         if not isinstance(node.value, str):
             self.refuse(name, "expected a file path", node)
         p = pathlib.Path(node.value)
-        for candidate in ([p] if p.is_absolute() else [self.path.parent / p, pathlib.Path.cwd() / p]):
+        for candidate in ([p] if p.is_absolute() else [self.folder / p, pathlib.Path.cwd() / p]):
             if candidate.is_file():
                 return candidate.resolve()
         self.refuse(name, f"no such file: {node.value} (looked beside the spec, then in the current directory)", node)

@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from . import _budget
+from . import _budget, _provenance
 
 
 def percentiles(x):
@@ -27,6 +27,8 @@ def summarize(spec, rows, engine):
             "percentiles_of_ok_samples": {m: percentiles([num(r, m) for r in ok])
                                           for m in spec.metrics + ["wall_time"]},
             **({"budget": _budget.table(spec, rows)} if spec.closed else {}),
+            "fingerprints": _provenance.fingerprints(spec),
+            "applied_differs": sum(1 for r in rows if r[col[_provenance.DIFFERS]]),
             "engine": engine}
 
 

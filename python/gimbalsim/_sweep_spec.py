@@ -4,6 +4,7 @@ design of dispersed keys, the closed loop's controller, phases and indices
 import json
 
 import gimbalsim
+from . import _provenance
 from ._closed_spec import CONTROLLER_PREFIX, ClosedLoopSpec
 from ._spec import Spec
 from .dispersion import Design, check_within, design_size, parse_parameter
@@ -20,8 +21,8 @@ class SweepSpec:
     """A checked sweep spec: the base scene (file + set), the design, and a
     fingerprint that a resume must match."""
 
-    def __init__(self, path):
-        spec = Spec(path)
+    def __init__(self, path, folder=None):
+        spec = Spec(path, folder)  # folder: where its paths are read from (a replay's copy: the original's)
         spec.check_keys({"scene", "set", "samples", "seed", "parameters", "grid", "controller", "controller_set",
                          "phases", "indices"})
         root = spec.root.value
@@ -88,6 +89,7 @@ class SweepSpec:
                     self._try(spec, f"grid.{key}", {key: v}, node)
         self.design = Design(self.parameters, self.grid, self.samples, self.seed, self.base.values())
         self.spec_path = spec.path
+        self.spec_text, self.spec_folder = spec.source_text, spec.folder.absolute()  # for the replay's copy
         self.fingerprint = json.dumps({"scene": self.base.values(), "seed": self.seed, "samples": self.samples,
                                        "parameters": {p.key: [p.kind, p.args] for p in self.parameters},
                                        "grid": self.grid,
@@ -106,7 +108,7 @@ class SweepSpec:
     def header(self):
         """The columns by the names the code uses (scene keys, metric names)."""
         return ["sample"] + self.design.columns() + ["status"] + ["reason"] * self.text_columns + self.metrics + \
-            ["wall_time"]
+            ["wall_time"] + _provenance.columns(self)
 
     def csv_header(self):
         """header() as the journal and results.csv name it: the project's CSV
@@ -120,4 +122,5 @@ class SweepSpec:
             plain = c.replace(".", "_").replace("[", "_").replace("]", "")
             names.append(csv_name(plain, units.get(c.split("[")[0], "")))
         return names + ["status"] + ["reason"] * self.text_columns + \
-            [csv_name(m, METRIC_UNITS.get(m, "rad")) for m in self.metrics + ["wall_time"]]
+            [csv_name(m, METRIC_UNITS.get(m, "rad")) for m in self.metrics + ["wall_time"]] + \
+            _provenance.csv_names(self, csv_name, units)

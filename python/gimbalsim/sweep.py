@@ -1,6 +1,7 @@
 """Monte Carlo sweep of a scene over dispersed parameters, on a Dask cluster.
 
     python3 -m gimbalsim.sweep SPEC.yaml --out DIR [--workers N | --scheduler tcp://HOST:PORT] [--resume]
+    python3 -m gimbalsim.sweep DIR --replay I --out run.csv [--plot run.png]   # sample I alone (replay.py)
 
 SPEC (YAML):
     scene: tools/scenes/paper_clearance.yaml   # against the spec's folder, then the current directory
@@ -39,7 +40,7 @@ import sys
 import time
 
 import gimbalsim
-from . import _budget, _budget_report, _cluster
+from . import _budget, _budget_report, _cluster, _provenance
 from ._closed_sample import run_closed_sample
 from ._journal import OutputError, check_row, csv_line, fmt, read_journal, write_atomic  # noqa: F401 (API)
 from ._open_sample import run_sample
@@ -94,7 +95,8 @@ def run_batch(base, closed, items):
 
 def row_values(spec, values, result):
     return [result["sample"]] + spec.design.row_values(values) + [result["status"]] + \
-        [result.get("reason", "")] * spec.text_columns + [result.get(m) for m in spec.metrics] + [result["wall_time"]]
+        [result.get("reason", "")] * spec.text_columns + [result.get(m) for m in spec.metrics] + \
+        [result["wall_time"]] + _provenance.values(spec, result)
 
 
 # ---- the sweep ----
@@ -122,6 +124,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
     except OSError as e:
         raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
     write_atomic(fingerprint, spec.fingerprint)
+    _provenance.record_inputs(spec, out, write_atomic)
     if not appendable:
         # The journal is never cut in place: its trusted rows go to a new file that replaces it whole.
         write_atomic(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
@@ -244,7 +247,8 @@ def _run_on_cluster(spec, todo, fd, journal, done, workers, scheduler, batch, pr
         finally:
             bar.close()
         elapsed = time.perf_counter() - t0
-    times = [t for t in (float(done[i][len(done[i]) - 1]) for i in todo) if math.isfinite(t)]  # crashed: nan
+    w = spec.header().index("wall_time")
+    times = [t for t in (float(done[i][w]) for i in todo) if math.isfinite(t)]  # crashed: nan
     run_time = sum(times)
     return {"workers": n_workers, "batch": size, "tasks": len(chunks), "ran_this_invocation": ran,
             "elapsed_s": elapsed, "samples_per_s": ran / elapsed if elapsed > 0 else None,
@@ -266,8 +270,11 @@ def main(argv=None):
     ap = argparse.ArgumentParser(prog="python3 -m gimbalsim.sweep", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--version", action="version", version="gimbalsim.sweep " + gimbalsim.__version__)
-    ap.add_argument("spec", help="sweep spec (YAML)")
-    ap.add_argument("--out", required=True, help="output directory")
+    ap.add_argument("spec", help="sweep spec (YAML); with --replay, the sweep's output directory")
+    ap.add_argument("--out", required=True, help="output directory; with --replay, the time series CSV")
+    ap.add_argument("--replay", type=int, default=None, metavar="I",
+                    help="run sample I of the sweep in SPEC alone")
+    ap.add_argument("--plot", default=None, help="with --replay: the plot (default: --out with .png)")
     _cluster.add_cluster_arguments(ap)
     ap.add_argument("--resume", action="store_true", help="finish an interrupted sweep in --out")
     ap.add_argument("--batch", type=int, default=None, help="samples per task (default: about 8 tasks per worker, at most 10)")
@@ -285,6 +292,9 @@ def main(argv=None):
     if a.batch is not None and a.batch < 1:
         ap.error("--batch must be >= 1")
     _cluster.raise_on_signals()
+    if a.replay is not None:
+        from . import replay
+        return replay.main(a.spec, a.replay, a.out, a.plot)
     out = pathlib.Path(a.out)
     try:
         check_out_dir(a.out, a.spec)
@@ -309,6 +319,9 @@ def main(argv=None):
         n = s["status"]["crashed"]
         print(f"sweep: {n} crashed sample{'s' * (n != 1)} (each killed a worker process twice): status crashed "
               f"in results.csv, with the parameters; the other samples ran", file=sys.stderr)
+    if s["applied_differs"]:
+        print(f"sweep: {s['applied_differs']} sample(s) ran with a value the scene changed from the drawn one: "
+              f"see column {_provenance.DIFFERS} in results.csv", file=sys.stderr)
     if spec.closed:
         print(f"sweep: {s['samples']} samples, status {s['status']}; results in {a.out}/results.csv, report in "
               f"{s['report']}", file=sys.stderr)

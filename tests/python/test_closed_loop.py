@@ -98,3 +98,21 @@ def test_closed_loop_takes_a_fault_schedule(tmp):
     with pytest.raises(gimbalsim.SceneError) as e:
         gimbalsim.closed_loop(scene, ctrl, 1.0, faults=tmp / "bad.yaml")
     assert "bad.yaml:2:" in str(e.value) and "axis" in str(e.value)
+
+
+def test_closed_loop_run_to_csv_follows_the_convention_and_the_output_rules(tmp):
+    from test_csv_convention import check_convention
+
+    run = gimbalsim.closed_loop(gimbalsim.load_scene(scene_path("paper_ideal")), gimbalsim.Controller(None), 0.05)
+    out = tmp / "ticks.csv"
+    run.to_csv(out)
+    check_convention(out)
+    data = np.genfromtxt(out, delimiter=",", names=True)
+    assert len(data) == len(run.columns["t"]) == run.rows.shape[0]
+    assert np.array_equal(data["t_s"], run.columns["t"])
+    assert np.array_equal(data["tau1_cmd_Nm"], run.columns["tau1_cmd"])
+    assert np.array_equal(data["truth_error_rad"], run.columns["truth_error"])
+    with pytest.raises(OSError, match="does not exist"):
+        run.to_csv(tmp / "missing" / "ticks.csv")
+    with pytest.raises(OSError, match="folder"):
+        run.to_csv(tmp)

@@ -55,7 +55,7 @@ def forged_journal(spec, out, rows, tail=b""):
         r = dict(zip(header, [i] + s.design.row_values(s.design.draw(i))))
         r.update(status="ok", pointing_error_max=100.0 + i, pointing_error_final=1.0, peak_contact_force=2.0,
                  peak_joint2_force=3.0, impacts=4, continuous_contact_from="", wall_time=0.5)
-        lines.append(csv_line([fmt(r[h]) for h in header]))
+        lines.append(csv_line([fmt(r.get(h)) for h in header]))
     (out / "results.partial.csv").write_bytes("".join(lines).encode() + tail)
     return s, header
 

@@ -1,0 +1,148 @@
+"""What a sweep's sample really ran with: each dispersed key as the loaded
+scene (or controller) applied it, read back after loading, and fingerprints of
+the base scene and controller configuration, so that a replay can tell whether
+its inputs are still the sweep's (docs/python.md "Sweeps").
+
+A fingerprint is the SHA-256 (hex) of the UTF-8 text `key=value\\n` of every key
+of the loaded object, sorted by key, each value as `values()` gives it (the
+text `--set` reads back exactly)."""
+import functools
+import hashlib
+import math
+
+import gimbalsim
+
+APPLIED = "applied."       # code name of a column: applied.<design column>
+DIFFERS = "applied_differs"  # the keys whose applied value is not the drawn one, space-separated
+SCENE_FINGERPRINT = "base_scene_sha256"
+CONTROLLER_PREFIX = "controller."  # a closed-loop design's name of a controller key
+CONTROLLER_FINGERPRINT = "controller_config_sha256"
+
+
+def canonical_text(values):
+    """The text a fingerprint hashes: `key=value` lines, sorted by key."""
+    return "".join(f"{k}={values[k]}\n" for k in sorted(values))
+
+
+def fingerprint(values):
+    return hashlib.sha256(canonical_text(values).encode("utf-8")).hexdigest()
+
+
+def controller_of(spec):
+    """The spec's base controller (a closed-loop sweep), or None: a loaded
+    `controller`, or one loaded from `closed` (controller_path and set)."""
+    ctrl = getattr(spec, "controller", None)
+    closed = getattr(spec, "closed", None)
+    if ctrl is None and closed is not None:
+        ctrl = gimbalsim.Controller(closed.controller_path, closed.set)
+    return ctrl
+
+
+def fingerprints(spec):
+    """{column: fingerprint} of the spec's base scene and, for a closed-loop
+    spec, its controller configuration; the columns in this order (computed
+    once per spec)."""
+    if getattr(spec, "_fingerprints", None) is None:
+        out = {SCENE_FINGERPRINT: fingerprint(spec.base.values())}
+        ctrl = controller_of(spec)
+        if ctrl is not None:
+            out[CONTROLLER_FINGERPRINT] = fingerprint(ctrl._values_text())
+        spec._fingerprints = out
+    return spec._fingerprints
+
+
+def columns(spec):
+    """The provenance columns' code names, after the sweep's own columns."""
+    return [APPLIED + c for c in spec.design.columns()] + [DIFFERS] + list(fingerprints(spec))
+
+
+def csv_names(spec, csv_name, units):
+    """columns() by the CSV convention: applied.contact.clearance ->
+    applied_contact_clearance_m, applied.initial.ecc[0] -> applied_initial_ecc_0_m."""
+    names = []
+    for c in spec.design.columns():
+        plain = c.replace(".", "_").replace("[", "_").replace("]", "")
+        names.append(csv_name("applied_" + plain, units.get(c.split("[")[0], "")))
+    return names + [DIFFERS] + list(fingerprints(spec))
+
+
+@functools.lru_cache(maxsize=None)
+def _key_types():
+    types = {k["key"]: k["type"] for k in gimbalsim.keys()}
+    for k in gimbalsim.controller_keys():  # as given, and as a closed-loop design names them
+        types[k["key"]] = types[CONTROLLER_PREFIX + k["key"]] = k["type"]
+    return types
+
+
+# Keys with no value of their own: the scene sets another key from them. For
+# each, (the value the model runs with, from the loaded values; the key it
+# sets and the value that key gets when the draw is applied as drawn).
+_DERIVED = {
+    "contact.clearance": (
+        lambda v: float(v["contact.bearing_radius"]) - float(v["contact.journal_radius"]),
+        "contact.journal_radius", lambda v, c: float(v["contact.bearing_radius"]) - float(c)),
+}
+
+
+def _same(drawn, applied):
+    number = lambda v: isinstance(v, (int, float)) and not isinstance(v, bool)
+    if number(drawn) and number(applied):
+        return float(drawn) == float(applied)
+    return gimbalsim.format_value(drawn) == gimbalsim.format_value(applied)
+
+
+def applied(scene_values, drawn):
+    """The applied columns of a sample: each drawn key ({key: value}, in the
+    design's order) as the loaded object holds it (scene_values: {key: --set
+    text}, scene and controller keys together), one value per vector element;
+    then the keys the load did not apply as drawn, space-separated (equal
+    after the text round trip counts as applied). A derived key records the
+    value the model runs with (contact.clearance: bearing_radius -
+    journal_radius, which may differ from the draw in the last bit) and is
+    checked on the key it sets (journal_radius == bearing_radius - drawn)."""
+    types = _key_types()
+    values, differs = [], []
+    for key, want in drawn.items():
+        want = list(want) if isinstance(want, (list, tuple)) else [want]
+        if key in _DERIVED:
+            model_value, sets, expected = _DERIVED[key]
+            got = [model_value(scene_values)]
+            ok = float(scene_values[sets]) == expected(scene_values, want[0])
+        else:
+            got = gimbalsim._typed(scene_values[key], types.get(key, "string"))
+            got = list(got) if isinstance(got, list) else [got]
+            ok = len(got) == len(want) and all(_same(w, g) for w, g in zip(want, got))
+            got = (got + [None] * len(want))[:len(want)]  # a column per drawn element, whatever was loaded
+        values += got
+        if not ok:
+            differs.append(key)
+    return values + [" ".join(differs)]
+
+
+def values(spec, result):
+    """The provenance columns' values of a sample: result["applied"] (from
+    applied(), None when no scene was loaded: refused or crashed) and the base
+    fingerprints."""
+    a = result.get("applied")
+    if a is None:
+        a = [None] * (len(spec.design.columns()) + 1)
+    return list(a) + list(fingerprints(spec).values())
+
+
+SPEC_COPY = "spec.yaml"
+INPUTS = "inputs.json"
+
+
+def record_inputs(spec, out, write):
+    """At a sweep's start, what a replay needs beside results.csv: a copy of
+    the spec (DIR/spec.yaml) and DIR/inputs.json (where the spec was, whose
+    folder its paths are read against, and the base fingerprints). write(path,
+    text) writes a file whole or raises."""
+    import json
+    import pathlib
+
+    write(out / SPEC_COPY, spec.spec_text)
+    spec_path = pathlib.Path(spec.spec_path).absolute()
+    write(out / INPUTS, json.dumps({"spec": str(spec_path), "spec_folder": str(spec.spec_folder),
+                                    "scene": str(spec.scene_path), "fingerprints": fingerprints(spec)},
+                                   indent=2) + "\n")

@@ -1,0 +1,236 @@
+"""One sample of a finished (or interrupted) sweep, run again alone:
+
+    python3 -m gimbalsim.sweep DIR --replay I --out run.csv [--plot run.png]
+
+reads DIR's copy of its spec (spec.yaml, its paths against the original's
+folder, inputs.json) and its row of sample I (results.csv, else the journal),
+refuses (exit 2, naming what changed) when the base scene's or controller's
+fingerprint is no longer the sweep's, runs the sample in this process through
+the sweep's own seam (sweep.sample_alone), compares every column of the row
+as text (wall_time_s aside: a duration), and writes the sample's full time
+series (run.csv, the project's CSV convention) and a plot beside it.
+Exit codes: 0 reproduced, 1 the row did not reproduce (the columns named; the
+time series is written all the same), 2 refused, 3 reproduced, but the sample's
+run stopped (its status names why), 4 an output not written (docs/python.md "Replay")."""
+import csv
+import json
+import os
+import pathlib
+import sys
+
+from . import _provenance
+from ._spec import SpecError
+
+NOT_COMPARED = ("wall_time_s",)  # how long it took, not what it computed
+
+
+class ReplayError(Exception):
+    """A replay that did not reproduce its row (exit 1)."""
+
+
+def _refuse(message):
+    raise SpecError(message)
+
+
+def _read_rows(folder):
+    """(file, header, {sample: row}) of results.csv, else of the journal."""
+    from .sweep import JOURNAL
+
+    for name in ("results.csv", JOURNAL):
+        path = folder / name
+        if path.is_file():
+            try:
+                with open(path, newline="", encoding="utf-8") as f:
+                    lines = list(csv.reader(f))
+            except (OSError, UnicodeDecodeError) as e:
+                _refuse(f"{path}: cannot read it ({e})")
+            if not lines:
+                _refuse(f"{path} is empty: the sweep wrote nothing yet")
+            rows = {}
+            for r in lines[1:]:
+                if r and r[0].isdigit():
+                    rows.setdefault(int(r[0]), r)
+            return path, lines[0], rows
+    _refuse(f"{folder} holds neither results.csv nor the journal {JOURNAL}: no sample to replay")
+
+
+def _check_output(path, folder, what):
+    """An output of the replay: not a folder, not one of the sweep's own
+    files, in a folder that exists (docs/usage.md "Output files")."""
+    p = pathlib.Path(path)
+    if p.is_dir():
+        _refuse(f"{what} {path}: is a folder; give a file name")
+    if p.resolve().parent == folder.resolve() or folder.resolve() in p.resolve().parents:
+        _refuse(f"{what} {path}: inside the sweep's folder {folder}; its files are the sweep's, write elsewhere")
+    if not p.absolute().parent.is_dir():
+        _refuse(f"{what} {path}: the folder it goes in, {p.absolute().parent}, does not exist (create it first)")
+    return p
+
+
+def _changed_keys(old, new):
+    """'key old -> new' for each key whose value differs."""
+    keys = sorted(set(old) | set(new))
+    return [f"{k} {old.get(k, '(none)')} -> {new.get(k, '(none)')}" for k in keys if old.get(k) != new.get(k)]
+
+
+def load(folder):
+    """The sweep spec of DIR (its copy, paths against the original's folder),
+    checked against the fingerprints the sweep recorded."""
+    from .sweep import SweepSpec
+
+    folder = pathlib.Path(folder)
+    if not folder.is_dir():
+        _refuse(f"{folder}: no such sweep folder")
+    copy, inputs_path = folder / _provenance.SPEC_COPY, folder / _provenance.INPUTS
+    if not copy.is_file() or not inputs_path.is_file():
+        _refuse(f"{folder} has no {_provenance.SPEC_COPY} and {_provenance.INPUTS}: not a sweep folder, or one "
+                f"made before sweeps recorded their inputs")
+    try:
+        inputs = json.loads(inputs_path.read_text(encoding="utf-8"))
+        spec_folder, recorded = inputs["spec_folder"], inputs["fingerprints"]
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError) as e:
+        _refuse(f"{inputs_path}: unreadable ({e})")
+    spec = SweepSpec(copy, folder=spec_folder)
+    now = _provenance.fingerprints(spec)
+    if now != recorded:
+        what = [k for k in sorted(set(now) | set(recorded)) if now.get(k) != recorded.get(k)]
+        detail = ""
+        try:  # the sweep's base values are in its spec.json (the resume fingerprint)
+            old = json.loads((folder / "spec.json").read_text(encoding="utf-8"))["scene"]
+            detail = "; changed: " + ", ".join(_changed_keys(old, spec.base.values()))
+        except (OSError, ValueError, KeyError, TypeError):
+            pass
+        if _provenance.SCENE_FINGERPRINT in what:
+            _refuse(f"{', '.join(what)} differs from the sweep's: {spec.scene_path} (with the spec's set) is not "
+                    f"the scene the sweep ran{detail}")
+        closed = getattr(spec, "closed", None)
+        source = (closed.controller_path or "the built-in default") if closed is not None else "?"
+        _refuse(f"{', '.join(what)} differs from the sweep's: the controller configuration {source} (with the "
+                f"spec's controller_set) is not the one the sweep ran")
+    original = pathlib.Path(inputs.get("spec", ""))
+    try:
+        if original.is_file() and original.read_text(encoding="utf-8") != spec.spec_text:
+            print(f"replay: {original} changed since the sweep; replaying from the sweep's copy {copy}",
+                  file=sys.stderr)
+    except (OSError, UnicodeDecodeError):
+        pass
+    return spec
+
+
+def replay(folder, i, out, plot_path=None):
+    """Replays sample i of the sweep in folder; returns the exit code."""
+    from . import sweep
+
+    folder = pathlib.Path(folder)
+    spec = load(folder)
+    out = _check_output(out, folder, "--out")
+    plot_path = _check_output(plot_path or out.with_suffix(".png"), folder, "--plot")
+    if plot_path.resolve() == out.resolve():
+        _refuse(f"--plot {plot_path}: the same file as --out")
+    if not 0 <= i < len(spec.design):
+        _refuse(f"--replay {i}: outside the sweep's samples 0..{len(spec.design) - 1}")
+    source, header, rows = _read_rows(folder)
+    if header != spec.csv_header():
+        _refuse(f"{source}: its columns are not those of the spec copy {folder / _provenance.SPEC_COPY}")
+    if i not in rows:
+        _refuse(f"--replay {i}: sample {i} has no row in {source} (not run yet: finish the sweep with --resume)")
+    recorded = rows[i]
+    status = recorded[header.index("status")]
+    if status == "crashed":
+        print(f"replay: sample {i} was recorded crashed (it killed its worker twice); running it alone in this "
+              f"process, which it may kill too", file=sys.stderr)
+    row, run = sweep.sample_alone(spec, i)
+    # a crashed row holds the parameters and fingerprints only: those are compared
+    compared = [k for k, name in enumerate(header) if name not in NOT_COMPARED
+                and (status != "crashed" or (recorded[k] and name != "status"))]
+    differ = [header[k] for k in compared if row[k] != recorded[k]]
+    replay_status = row[header.index("status")]
+    if run is None:
+        print(f"replay: the scene refuses sample {i} ({replay_status}): nothing ran, nothing written", file=sys.stderr)
+        return 2 if not differ else _report(differ, header, recorded, row, i, source)
+    if not hasattr(run, "to_csv"):  # the seam's contract: a run writes its own series by the CSV convention
+        print(f"error: sample {i}'s run ({type(run).__name__}) cannot write its time series (no to_csv)",
+              file=sys.stderr)
+        return 1
+    try:
+        run.to_csv(out)
+    except OSError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 4
+    try:
+        _plot(run, spec, i, replay_status, plot_path)
+    except OSError as e:
+        print(f"error: cannot write the plot {plot_path}: {e.strerror or e}", file=sys.stderr)
+        return 4
+    print(f"replay: sample {i}: {len(run.rows)} rows in {out}, plot {plot_path}", file=sys.stderr)
+    if differ:
+        return _report(differ, header, recorded, row, i, source)
+    if status == "crashed":
+        print(f"replay: sample {i} ran alone to status {replay_status}; its parameters and fingerprints are the "
+              f"row's", file=sys.stderr)
+    else:
+        print(f"replay: sample {i} reproduces its row of {source}, every column but "
+              f"{', '.join(NOT_COMPARED)}, bit for bit", file=sys.stderr)
+    if replay_status != "ok":
+        stop = run.summary.get("stop") or {}
+        print(f"replay: the run stopped at t = {run.rows[-1, 0] if len(run.rows) else 0.0:g} s: status "
+              f"{replay_status} ({stop.get('step_status', '')})", file=sys.stderr)
+        return 3
+    return 0
+
+
+def _report(differ, header, recorded, row, i, source):
+    detail = "; ".join(f"{c}: {recorded[header.index(c)]!r} in the sweep, {row[header.index(c)]!r} now"
+                       for c in differ)
+    print(f"error: sample {i} does not reproduce its row of {source}: {len(differ)} column"
+          f"{'s' * (len(differ) != 1)} differ: {detail}", file=sys.stderr)
+    return 1
+
+
+# The plot's panels: (y label, columns), each drawn when the run has its columns
+# (an open-loop Run, or a closed loop's ticks).
+PANELS = [("joint angle [rad]", ("theta1", "theta2")), ("eccentricity [m]", ("ecc",)),
+          ("joint-2 force [N]", ("joint2_force",)), ("truth pointing error [rad]", ("truth_error",))]
+
+
+def _plot(run, spec, i, status, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    c = run.columns
+    panels = [(label, names) for label, names in PANELS if all(n in c for n in names)]
+    fig, axes = plt.subplots(len(panels), 1, figsize=(8, 2.7 * len(panels)), sharex=True, squeeze=False)
+    for ax, (label, names) in zip(axes[:, 0], panels):
+        for n in names:
+            ax.plot(c["t"], c[n], label=n)
+        if names == ("ecc",) and getattr(run, "scene", None) is not None:
+            v = run.scene.values()
+            ax.axhline(float(v["contact.bearing_radius"]) - float(v["contact.journal_radius"]), ls=":", c="gray",
+                       label="clearance")
+        ax.set_ylabel(label)
+        ax.legend()
+    axes[-1, 0].set_xlabel("t [s]")
+    fig.suptitle(f"sample {i} of {spec.spec_path.name} ({status})")
+    fig.tight_layout()
+    tmp = path.with_name(path.name + ".tmp.png")  # whole or not at all
+    try:
+        fig.savefig(tmp, dpi=110)
+        os.replace(tmp, path)
+    finally:
+        plt.close(fig)
+        if tmp.exists():
+            tmp.unlink()
+
+def main(folder, i, out, plot_path):
+    """--replay's exit code, its refusals and interruptions as the sweep's."""
+    from . import _cluster
+
+    try:
+        return replay(folder, i, out, plot_path)
+    except SpecError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    except _cluster.Interrupted as e:
+        print(f"replay: interrupted ({e})", file=sys.stderr)
+        return 128 + e.signum
