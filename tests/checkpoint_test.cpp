@@ -52,7 +52,7 @@ void expectCheckpointResumes(const Scene& sc, const std::function<bool(const Sta
     ASSERT_EQ(b.status, StepStatus::Ok);
     ASSERT_TRUE(sameBits(s, copy)) << "diverged " << j + 1 << " steps after the checkpoint at t = " << s.t;
   }
-  if constexpr (V::kClearance) EXPECT_GT(d.stats.impacts + fresh.stats.impacts, 0);
+  if constexpr (V::kContact) EXPECT_GT(d.stats.impacts + fresh.stats.impacts, 0);
 }
 
 std::vector<std::string> variantSets(bool floating, bool clearance, bool friction, bool adaptive) {
@@ -68,7 +68,7 @@ std::vector<std::string> variantSets(bool floating, bool clearance, bool frictio
 template <class V>
 Scene sceneOf(bool adaptive) {
   const Scene sc =
-      test::scene("paper_clearance", variantSets(V::kFloating, V::kClearance, V::kFriction, adaptive));
+      test::scene("paper_clearance", variantSets(V::kFloating, V::kContact, V::kFriction, adaptive));
   bool match = false;
   dispatchVariant(sc.model, [&](auto tag) { match = std::is_same_v<decltype(tag), V>; });
   EXPECT_TRUE(match) << "the scene does not load as the variant under test";
@@ -79,7 +79,7 @@ template <class V>
 void checkVariant(bool adaptive) {
   SCOPED_TRACE(std::string(adaptive ? "adaptive" : "fixed") + " policy, " + variantName(sceneOf<V>(adaptive).model));
   const Scene sc = sceneOf<V>(adaptive);
-  if constexpr (!V::kClearance) {
+  if constexpr (!V::kContact) {
     expectCheckpointResumes<V>(sc, [](const State<V>& s) { return s.t >= 0.25; }, 1.0, 200);
   } else {
     const Model& m = sc.model;

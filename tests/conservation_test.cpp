@@ -106,7 +106,7 @@ TEST(Conservation, ContactAndFrictionExertNoNetForceOrMoment) {
 template <class V>
 double energyBalance(const Model& m, const Vec2& torque, const State<V>& s, double E0, const State<V>& s0) {
   double E = momentumOf(m, s).energy;
-  if constexpr (V::kClearance) {
+  if constexpr (V::kContact) {
     const double delta = clearanceGap<V>(m, s.q, s.v).delta;
     if (delta > 0) E += m.contact.K * std::pow(delta, m.contact.exponent + 1) / (m.contact.exponent + 1);
   }
@@ -129,7 +129,7 @@ void checkEnergy(const Scene& sc, double T, double rel_tol) {
     worst = std::max(worst, std::fabs(energyBalance(m, sc.run.torque, s, E0, s0)));
     work_scale = std::max(work_scale, momentumOf(m, s).energy);
   }
-  if constexpr (V::kClearance) EXPECT_GT(d.stats.impacts, 3);
+  if constexpr (V::kContact) EXPECT_GT(d.stats.impacts, 3);
   EXPECT_LT(worst / work_scale, rel_tol) << "energy imbalance " << worst << " J of " << work_scale << " J";
 }
 

@@ -17,22 +17,43 @@ struct Pose {
   Vec3 c;  // centre of mass, inertial [m]
 };
 
+/// Joint j's relative motion at q, from the definition of its coordinates
+/// (docs/MODEL.md): journal centre p_x u1 + p_y u2 and R = Rot(u1, alpha)
+/// Rot(u2, beta) Rot(k, theta), in the parent's frame (ideal: p = 0, R = Rot(k, theta)).
+template <class V, int j>
+void jointMotion(const Vec3& k, const Vec3& u1, const Vec3& u2, const typename State<V>::VecQ& q, Mat3& R,
+                 Vec3& p) {
+  int i = State<V>::QJ + V::group(j);
+  R.setIdentity();
+  p.setZero();
+  if constexpr (V::kind(j) != ClearanceKind::Ideal) {
+    p = q(i) * u1 + q(i + 1) * u2;
+    i += 2;
+  }
+  if constexpr (V::kind(j) == ClearanceKind::Spatial) {
+    R = Eigen::AngleAxisd(q(i), u1).toRotationMatrix() * Eigen::AngleAxisd(q(i + 1), u2).toRotationMatrix();
+    i += 2;
+  }
+  R = R * Eigen::AngleAxisd(q(i), k).toRotationMatrix();
+}
+
 /// Body poses (base, shaft 1, shaft 2) written directly from the geometry.
 template <class V>
 std::array<Pose, 3> poses(const Model& m, const typename State<V>::VecQ& q) {
-  constexpr int QJ = State<V>::QJ, NJ = V::NJ;
   Mat3 R0 = Mat3::Identity();
   Vec3 p0 = Vec3::Zero();
   if constexpr (V::kFloating) {
     R0 = Eigen::Quaterniond(q(3), q(4), q(5), q(6)).normalized().toRotationMatrix();
     p0 = q.template head<3>();
   }
-  const Mat3 R1 = R0 * Eigen::AngleAxisd(q(QJ), m.k1_B).toRotationMatrix();
-  const Vec3 j1 = p0 + R0 * m.r_J1_B_B;
-  Vec3 j2_S1 = m.r_J2_S1_S1;
-  if constexpr (V::kClearance) j2_S1 += q(QJ + 1) * m.u1_S1 + q(QJ + 2) * m.u2_S1;
-  const Mat3 R2 = R1 * Eigen::AngleAxisd(q(QJ + NJ - 1), m.k2_S1).toRotationMatrix();
-  const Vec3 j2 = j1 + R1 * j2_S1;
+  Mat3 Rj1, Rj2;
+  Vec3 pj1, pj2;
+  jointMotion<V, 0>(m.k1_B, m.u1_B, m.u2_B, q, Rj1, pj1);
+  jointMotion<V, 1>(m.k2_S1, m.u1_S1, m.u2_S1, q, Rj2, pj2);
+  const Mat3 R1 = R0 * Rj1;
+  const Vec3 j1 = p0 + R0 * (m.r_J1_B_B + pj1);
+  const Mat3 R2 = R1 * Rj2;
+  const Vec3 j2 = j1 + R1 * (m.r_J2_S1_S1 + pj2);
   return {Pose{R0, p0 + R0 * m.base.com}, Pose{R1, j1 + R1 * m.shaft1.com}, Pose{R2, j2 + R2 * m.shaft2.com}};
 }
 
@@ -83,10 +104,33 @@ std::array<Vec6, 3> bodyVelocities(const Model& m, const typename State<V>::VecQ
   return out;
 }
 
+/// chainJointKind<V> and chainBodyMassless<V> at every chain index.
+template <class V>
+std::array<JointKind, V::NJ> kindsOf() {
+  std::array<JointKind, V::NJ> k{};
+  staticFor<V::NJ>([&](auto I) { k[I] = chainJointKind<V>(I); });
+  return k;
+}
+template <class V>
+std::array<bool, V::NJ> masslessOf() {
+  std::array<bool, V::NJ> k{};
+  staticFor<V::NJ>([&](auto I) { k[I] = chainBodyMassless<V>(I); });
+  return k;
+}
+
 template <class V>
 void checkAgainstNewtonEuler(const std::string& scene_name, const std::vector<std::string>& sets) {
   const Scene sc = test::scene(scene_name, sets);
-  const Model& m = sc.model;
+  // The joint kinds of V, whichever the scene file names (the scene keys
+  // reach only some of them).
+  Model m = sc.model;
+  m.joint1_kind = V::kKind1;
+  m.joint2_kind = V::kKind2;
+  m.finalize();
+  for (int i = 0; i < V::NJ; ++i) {
+    ASSERT_EQ(m.chain[i].kind, (kindsOf<V>()[i])) << "chain joint " << i;
+    ASSERT_EQ(m.I_chain[i].m == 0.0, (masslessOf<V>()[i])) << "chain body " << i;
+  }
   using VecQ = typename State<V>::VecQ;
   using VecV = typename State<V>::VecV;
   using MatV = typename Data<V>::MatV;
@@ -98,10 +142,8 @@ void checkAgainstNewtonEuler(const std::string& scene_name, const std::vector<st
     for (int i = 0; i < V::NQ; ++i) s.q(i) = U(rng);
     for (int i = 0; i < V::NV; ++i) s.v(i) = U(rng);
     if constexpr (V::kFloating) s.q.template segment<4>(3).normalize();
-    if constexpr (V::kClearance) {
-      constexpr int QJ = State<V>::QJ;
-      s.q(QJ + 1) *= 4e-4;
-      s.q(QJ + 2) *= 4e-4;
+    for (int i = 0; i < V::NJ; ++i) {  // journal centres within a clearance's size
+      if (m.chain[i].kind == JointKind::Prismatic) s.q(State<V>::QJ + i) *= 4e-4;
     }
     Data<V> d(m);
     kinematics(m, d, s.q, s.v);
@@ -170,6 +212,20 @@ TEST(MassMatrix, FixedClearanceAgreesWithNewtonEuler) {
 }
 TEST(MassMatrix, PlanarClearanceAgreesWithNewtonEuler) {
   checkAgainstNewtonEuler<FloatingClearance>("planar_clearance", {"friction.law=none"});
+}
+
+// Every joint kind in either joint (planar: [p_x, p_y, theta]; spatial:
+// [p_x, p_y, alpha, beta, theta]), including a prismatic first chain joint.
+using CK = ClearanceKind;
+TEST(MassMatrix, ClearanceJoint1AgreesWithNewtonEuler) {
+  checkAgainstNewtonEuler<Variant<true, CK::Planar, CK::Ideal, false>>("paper_ideal", {});
+  checkAgainstNewtonEuler<Variant<false, CK::Planar, CK::Planar, false>>("paper_ideal", {"structure.base=fixed"});
+}
+TEST(MassMatrix, SpatialJointsAgreeWithNewtonEuler) {
+  checkAgainstNewtonEuler<Variant<true, CK::Ideal, CK::Spatial, false>>("paper_ideal", {});
+  checkAgainstNewtonEuler<Variant<true, CK::Spatial, CK::Planar, false>>("paper_ideal", {});
+  checkAgainstNewtonEuler<Variant<true, CK::Spatial, CK::Spatial, false>>("paper_ideal", {});
+  checkAgainstNewtonEuler<Variant<false, CK::Spatial, CK::Spatial, false>>("paper_ideal", {"structure.base=fixed"});
 }
 
 }  // namespace

@@ -11,7 +11,7 @@ namespace gimbalsim {
 
 bool conservative(const Model& m) {
   const bool no_damping = m.contact.damping == DampingLaw::None || m.contact.chi == 0.0;
-  return !m.clearance_joint || (no_damping && !frictionActive(m));
+  return !m.hasClearance() || (no_damping && !frictionActive(m));
 }
 
 InvariantMonitor::InvariantMonitor(const Model& m, const Vec2& torque)
@@ -25,7 +25,7 @@ double InvariantMonitor::relative(double x, double scale) {
 void InvariantMonitor::feed(const Row& r, double angular_scale, double linear_scale) {
   finite_ = finite_ && rowFinite(r);
   const ContactParams& c = m_.contact;
-  const double U = (m_.clearance_joint && r.delta > 0.0)
+  const double U = (m_.hasClearance() && r.delta > 0.0)
                        ? c.K * std::pow(r.delta, c.exponent + 1.0) / (c.exponent + 1.0)
                        : 0.0;
   if (rows_ == 0) {
@@ -60,7 +60,7 @@ void InvariantMonitor::feed(const Row& r, double angular_scale, double linear_sc
 
 InvariantMonitor::Violation InvariantMonitor::violation() const {
   const IntegratorParams& p = m_.integrator;
-  const bool chatter = m_.clearance_joint && m_.contact.friction == FrictionLaw::Coulomb && m_.contact.mu > 0.0;
+  const bool chatter = m_.hasClearance() && m_.contact.friction == FrictionLaw::Coulomb && m_.contact.mu > 0.0;
   auto say = [&](const char* what, double x, const char* key, double tol) {
     char num[64];
     std::snprintf(num, sizeof num, " %.3g of its scale, above ", x);

@@ -14,19 +14,26 @@ namespace gimbalsim {
 
 namespace {
 
-/// The base's coordinates (floating base only), then the chain's: theta1,
-/// ecc_x and ecc_y (clearance only), theta2, each chain name after `rate`.
+/// The base's coordinates (floating base only), then the chain's, one group
+/// per joint (variant.hpp): joint 1 [theta1] or [ecc1_x, ecc1_y, theta1]
+/// (+ alpha1, beta1 before theta1 when spatial), joint 2 the same with
+/// ecc_x, ecc_y, alpha2, beta2, theta2; each chain name after `rate`.
 std::vector<std::string> coordinateNames(const Model& m, std::vector<std::string> base, const std::string& rate) {
   std::vector<std::string> n;
   if (m.floating_base) n = std::move(base);
-  struct Joint {
-    const char* name;
-    bool clearance_only;
+  const auto group = [&](ClearanceKind kind, const std::string& ecc, const std::string& j) {
+    if (kind != ClearanceKind::Ideal) {
+      n.push_back(rate + ecc + "_x");
+      n.push_back(rate + ecc + "_y");
+    }
+    if (kind == ClearanceKind::Spatial) {
+      n.push_back(rate + "alpha" + j);
+      n.push_back(rate + "beta" + j);
+    }
+    n.push_back(rate + "theta" + j);
   };
-  const Joint chain[] = {{"theta1", false}, {"ecc_x", true}, {"ecc_y", true}, {"theta2", false}};
-  for (const Joint& j : chain) {
-    if (m.clearance_joint || !j.clearance_only) n.push_back(rate + j.name);
-  }
+  group(m.joint1_kind, "ecc1", "1");
+  group(m.joint2_kind, "ecc", "2");
   return n;
 }
 
@@ -150,7 +157,7 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
     Rk4Stepper<V> rk4(m, d, u);
     rows(rk4);
   }
-  if constexpr (V::kClearance) {
+  if constexpr (V::kContact) {
     // The peak force between output rows, tracked at every sub-step.
     if (d.stats.peak_contact > res.peak_joint2_force) {
       res.peak_joint2_force = d.stats.peak_contact;

@@ -248,7 +248,7 @@ std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const S
     ++i;
     const std::string at = origin + ":" + std::to_string(f.line) + ": fault #" + std::to_string(i) + " (" +
                            faultTypeName(f.kind) + "): ";
-    if (isRamp(f.kind) && !sc.model.clearance_joint) {
+    if (isRamp(f.kind) && !sc.model.hasClearance()) {
       out.push_back(at + "needs the clearance joint (scene key structure.joint2 = clearance)");
       continue;
     }

@@ -32,7 +32,7 @@ template <class V>
 double derivativeCost(const Model& m, const RunSpec& run) {
   State<V> s = initialState<V>(run.initial);
   double cost = timeDerivative(m, s);
-  if constexpr (V::kClearance) {
+  if constexpr (V::kContact) {
     // Pressed into the bearing along u1 and sliding, so the contact and friction laws run too.
     constexpr int QJ = State<V>::QJ, NB = V::NB;
     s.q(QJ + 1) = 1.001 * m.contact.clearance;
@@ -52,7 +52,7 @@ TickBudget measureTickBudget(const Scene& sc, const Config& c) {
   TickBudget b;
   b.derivative_us = dispatchVariant(m, [&](auto tag) { return derivativeCost<decltype(tag)>(m, sc.run); });
   b.steps_per_tick = std::max(1, checkConfig(sc, c).steps_per_tick);
-  b.substep_cap = m.clearance_joint ? substepCap(m) : 1;  // without clearance a step is one RK4 step
+  b.substep_cap = m.hasClearance() ? substepCap(m) : 1;  // without clearance a step is one RK4 step
   b.evals_per_substep = m.integrator.substep_policy == SubstepPolicy::Adaptive ? 5 : 4;
   b.worst_tick_us = (static_cast<double>(b.steps_per_tick) * b.substep_cap * b.evals_per_substep + 1.0) * b.derivative_us;
   b.period_us = c.control_period * 1e6;

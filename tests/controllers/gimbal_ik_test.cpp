@@ -41,7 +41,7 @@ Vec3 dynamicsBoresightB(const Model& m, const Vec2& th, const Quat& q_WB, double
   s.q(3) = q_WB.w(), s.q(4) = q_WB.x(), s.q(5) = q_WB.y(), s.q(6) = q_WB.z();
   s.q(QJ) = th(0);
   s.q(QJ + V::NJ - 1) = th(1);
-  if constexpr (V::kClearance) s.q(QJ + 1) = ecc, s.q(QJ + 2) = -0.5 * ecc;
+  if constexpr (V::kContact) s.q(QJ + 1) = ecc, s.q(QJ + 2) = -0.5 * ecc;
   return q_WB.toRotationMatrix().transpose() * test::boresightOf(m, s);
 }
 

@@ -53,8 +53,8 @@ template <class V>
 Scene sceneFor() {
   std::vector<std::string> sets;
   if (!V::kFloating) sets.push_back("structure.base=fixed");
-  if (V::kClearance && !V::kFriction) sets.push_back("friction.law=none");
-  const std::string file = sceneDir() + (V::kClearance ? "/paper_clearance.yaml" : "/paper_ideal.yaml");
+  if (V::kContact && !V::kFriction) sets.push_back("friction.law=none");
+  const std::string file = sceneDir() + (V::kContact ? "/paper_clearance.yaml" : "/paper_ideal.yaml");
   Scene sc = loadScene(file, sets);
   bool match = false;
   dispatchVariant(sc.model, [&](auto tag) { match = std::is_same_v<decltype(tag), V>; });
@@ -81,12 +81,12 @@ struct Fixture {
     for (long long k = 0; k < n_max; ++k) {
       const bool past = s.t >= 0.5 - 1e-12;
       bool in_contact = true;
-      if constexpr (V::kClearance) in_contact = s.in_contact && clearanceGap<V>(m, s.q, s.v).delta > 0.0;
-      if (past && in_contact && (!V::kClearance || have_impact)) return;
+      if constexpr (V::kContact) in_contact = s.in_contact && clearanceGap<V>(m, s.q, s.v).delta > 0.0;
+      if (past && in_contact && (!V::kContact || have_impact)) return;
       const State<V> before = s;
       const long long impacts = d->stats.impacts;
       if (!step(m, *d, s, u).ok()) throw std::runtime_error("set-up run failed");
-      if (V::kClearance && past && !have_impact && d->stats.impacts > impacts) {
+      if (V::kContact && past && !have_impact && d->stats.impacts > impacts) {
         pre_impact = before;
         have_impact = true;
       }
@@ -117,7 +117,7 @@ void BM_ForwardDynamics(benchmark::State& bs) {
 template <class V>
 void BM_Rk4(benchmark::State& bs) {
   Fixture<V>& f = fixture<V>();
-  const double h = V::kClearance ? f.m.integrator.substep : f.m.integrator.step;
+  const double h = V::kContact ? f.m.integrator.substep : f.m.integrator.step;
   State<V> out;
   for (auto _ : bs) {
     rk4(f.m, *f.d, f.s, f.u, h, out);

@@ -65,7 +65,7 @@ void setUp(const RunSpec& m, const mjModel* mm, mjData* d) {
 }  // namespace
 
 std::string mjcfOf(const Model& m, double timestep) {
-  if (!m.floating_base || m.clearance_joint) throw std::invalid_argument("the MuJoCo peer models a floating base with ideal joints");
+  if (!m.floating_base || m.hasClearance()) throw std::invalid_argument("the MuJoCo peer models a floating base with ideal joints");
   if (m.base.com.norm() != 0.0) throw std::invalid_argument("base CoM must be the base frame origin");
   std::ostringstream x;
   x.precision(17);

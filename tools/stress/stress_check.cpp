@@ -80,7 +80,7 @@ Outcome classify(const Scene& sc, const RunResult& run, const EnergyMonitor& e, 
     fail("conservative case: energy balance changed by " + sci(o.energy_change_rel) +
          " of its scale");
   }
-  if (m.clearance_joint && !(o.max_penetration <= o.penetration_limit)) {
+  if (m.hasClearance() && !(o.max_penetration <= o.penetration_limit)) {
     fail("penetration " + sci(o.max_penetration) + " m beyond the limit");
   }
   o.verdict = why.empty() ? Verdict::Trustworthy : Verdict::SilentlyWrong;
@@ -106,7 +106,7 @@ Outcome runCase(const std::string& scene_path, const std::vector<std::string>& s
 namespace {
 template <class V>
 double restitutionOf(const Model& m, double v_in) {
-  if constexpr (!V::kClearance) {
+  if constexpr (!V::kContact) {
     return std::numeric_limits<double>::quiet_NaN();
   } else {
     constexpr int NB = V::NB;

@@ -213,7 +213,7 @@ int mainImpl(int argc, char** argv) {
     } else {
       std::printf("%.2f s CPU\n", ref.cpu_seconds);
     }
-    if (base.model.clearance_joint) {
+    if (base.model.hasClearance()) {
       std::printf("  reference peak contact force %.6g N (sampled every %g s); that pass and the row pass "
                   "(stops every %g s) agree in boresight to %.2e rad at the rows\n",
                   ref.rows.peak_contact, ref.peak_dt, base.run.output_interval, ref.self_consistency);
@@ -227,7 +227,7 @@ int mainImpl(int argc, char** argv) {
     }
 
     for (const Policy& pol : policies) {
-      if (pol.contact_only && !base.model.clearance_joint) continue;
+      if (pol.contact_only && !base.model.hasClearance()) continue;
       std::vector<std::pair<double, std::string>> sweep;  // (h, sweep value)
       if (pol.sweep_key.empty()) {
         for (double h : steps) sweep.emplace_back(h, "");
@@ -287,7 +287,7 @@ int mainImpl(int argc, char** argv) {
     }
 
 #ifdef GIMBALSIM_HAVE_MUJOCO
-    if (!no_mujoco && !base.model.clearance_joint) {
+    if (!no_mujoco && !base.model.hasClearance()) {
       for (Point& p : mujocoPoints(base, ref.rows, steps, repeats)) {
         p.scene = scene;
         points.push_back(p);

@@ -132,7 +132,7 @@ Trajectory rowsOf(const Scene& sc, IntegratorKind kind) {
   tr.impacts = res.stats.impacts;
   // For the clearance joint joint2_force is the contact force, tracked at
   // every sub-step as well as at the rows.
-  tr.peak_contact = m.clearance_joint ? res.peak_joint2_force : 0.0;
+  tr.peak_contact = m.hasClearance() ? res.peak_joint2_force : 0.0;
   tr.momentum_drift_rel =
       m.floating_base && res.momentum_scale > 0.0 ? res.max_drift_angular / res.momentum_scale : kNaN;
   return tr;
@@ -156,7 +156,7 @@ double cpuSecondsOfRunV(const Scene& sc) {
 /// stick/slip of the journal (clearance variants only).
 template <class V>
 void finePass(const Scene& sc, double dt, Reference& r) {
-  if constexpr (V::kClearance) {
+  if constexpr (V::kContact) {
     const Model& m = sc.model;
     Input u;
     u.tau = sc.run.torque;

@@ -52,7 +52,7 @@ nlohmann::json runSummary(const Model& m, const RunResult& r, const std::string&
       {"max_penetration_m", st.max_penetration},
       // Continuous contact: the contact that began at the last onset lasted to the end.
       {"continuous_contact_from_s",
-       valueOrNull(m.clearance_joint && r.in_contact_at_end && st.last_onset_time >= 0, st.last_onset_time)},
+       valueOrNull(m.hasClearance() && r.in_contact_at_end && st.last_onset_time >= 0, st.last_onset_time)},
       {"final_state",
        {{"t", r.t_end}, {"q", named(coordinateNamesQ(m), r.final_q)}, {"v", named(coordinateNamesV(m), r.final_v)}}},
       {"momentum_drift",

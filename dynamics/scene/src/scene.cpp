@@ -37,8 +37,8 @@ std::vector<SceneKey> keys() {
       K::text("name", "scene name (default: the file name)", field(model, &Model::name)),
       K::choice<bool>("structure.base", "free-floating base or gimbal on a ground bench",
                       field(model, &Model::floating_base), {{"floating", true}, {"fixed", false}}),
-      K::choice<bool>("structure.joint2", "elevation joint model", field(model, &Model::clearance_joint),
-                      {{"ideal", false}, {"clearance", true}}),
+      K::choice<ClearanceKind>("structure.joint2", "elevation joint model", field(model, &Model::joint2_kind),
+                               {{"ideal", ClearanceKind::Ideal}, {"clearance", ClearanceKind::Planar}}),
       K::number("base.mass", "kg", "base (satellite) mass", field(base, &BodyParams::mass),
                 greater(0).saying("mass must be > 0")),
       K::inertia("base.inertia", "about the base CoM, base frame", field(base, &BodyParams::inertia)),
@@ -186,7 +186,7 @@ void validate(const Scene& s, Given& g) {
   const IntegratorParams& p = m.integrator;
   // Plain Coulomb's sign flip at v_t = 0 is a jump no local error control can
   // step over: every such run ended on sim.max_substeps. Refused, with the cure.
-  if (m.clearance_joint && c.friction == FrictionLaw::Coulomb && c.mu > 0.0 &&
+  if (m.hasClearance() && c.friction == FrictionLaw::Coulomb && c.mu > 0.0 &&
       p.substep_policy == SubstepPolicy::Adaptive) {
     g.refuse("sim.substep_policy", "adaptive cannot step over plain Coulomb friction's jump (friction.law=coulomb): "
                                    "use friction.law=coulomb_stick or ambrosio, or sim.substep_policy=fixed");
@@ -220,7 +220,7 @@ void validate(const Scene& s, Given& g) {
   if (p.max_event_iters > RunBounds::kMaxEventIters) {
     g.refuse("sim.max_event_iters", "must be <= " + std::to_string(RunBounds::kMaxEventIters));
   }
-  if (m.clearance_joint && s.run.initial.ecc.norm() > c.bearing_radius - c.journal_radius) {
+  if (m.hasClearance() && s.run.initial.ecc.norm() > c.bearing_radius - c.journal_radius) {
     g.refuse("initial.ecc", "initial eccentricity exceeds the radial clearance");
   }
 }

@@ -1,6 +1,9 @@
 // Kinematics and contact force of the planar clearance joint (docs/MODEL.md
 // section 4, paper eq. 1-12). The journal centre relative to the bearing
-// centre is (ecc_x, ecc_y) in the joint-plane basis (u1, u2); k2 = u1 x u2.
+// centre is (ecc_x, ecc_y) in the joint-plane basis (u1, u2); k = u1 x u2.
+// Written for either gimbal joint through its group of chain coordinates
+// [ecc_x, ecc_y, theta] (variant.hpp): joint 2's bearing is on shaft 1,
+// joint 1's on the base.
 #pragma once
 
 #include <cmath>
@@ -9,6 +12,26 @@
 #include "gimbalsim/dynamics/data.hpp"
 
 namespace gimbalsim {
+
+/// The one planar clearance joint of a variant with a single contact end
+/// (0: azimuth, 1: elevation). Variants with more ends (two clearance joints,
+/// a spatial joint's two ends) keep per-end memory and are not served here yet.
+template <class V>
+constexpr int planarJoint() {
+  static_assert(V::NC == 1, "a single planar clearance joint");
+  return V::kKind1 == ClearanceKind::Planar ? 0 : 1;
+}
+
+/// Layout of that joint's group: ecc_x, ecc_y at q(QE), q(QE + 1) and
+/// v(VE), v(VE + 1), its angle's rate at v(VE + 2); the parent body's
+/// twist and the joint axis (in the parent's coordinates).
+template <class V>
+struct PlanarGroup {
+  static constexpr int J = planarJoint<V>();
+  static constexpr int QE = State<V>::QJ + V::group(J);
+  static constexpr int VE = V::NB + V::group(J);
+  static const Vec3& axis(const Model& m) { return J == 0 ? m.k1_B : m.k2_S1; }
+};
 
 /// Tangent t of the contact: the normal n turned +90 deg about k2.
 inline Vec2 contactTangent(const Vec2& n) { return Vec2(-n.y(), n.x()); }
@@ -28,41 +51,48 @@ struct Gap {
 
 template <class V, class Q, class W>
 Gap clearanceGap(const Model& m, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<W>& v) {
-  static_assert(V::kClearance);
-  constexpr int QJ = State<V>::QJ, NB = V::NB;
-  const double ex = q(QJ + 1), ey = q(QJ + 2);
+  using G = PlanarGroup<V>;
+  const double ex = q(G::QE), ey = q(G::QE + 1);
   const double e = std::hypot(ex, ey);
-  const double rate = e > 0.0 ? (ex * v(NB + 1) + ey * v(NB + 2)) / e : 0.0;
+  const double rate = e > 0.0 ? (ex * v(G::VE) + ey * v(G::VE + 1)) / e : 0.0;
   return {e - m.contact.clearance, rate};
 }
 
-/// Component along k2 of shaft 1's angular velocity [rad/s] (linear in v).
+/// Component along the joint axis k of the bearing body's angular velocity
+/// [rad/s] (linear in v): shaft 1 for joint 2, the base for joint 1.
 template <class V, class Q, class W>
-double shaft1RateK2(const Model& m, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<W>& v) {
-  constexpr int QJ = State<V>::QJ, NB = V::NB;
-  const Vec3& k1 = m.chain[0].axis;
-  double w = v(NB) * k1.dot(m.k2_S1);
-  if constexpr (V::kFloating) {
-    // R_PC^T omega_B with R_PC the rotation about k1 by theta1.
-    const Vec3 wB = v.template head<3>();
-    const double c = std::cos(q(QJ)), s = std::sin(q(QJ));
-    const Vec3 wS1 = c * wB - s * k1.cross(wB) + (1.0 - c) * k1.dot(wB) * k1;
-    w += wS1.dot(m.k2_S1);
+double parentRateAlongAxis(const Model& m, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<W>& v) {
+  using G = PlanarGroup<V>;
+  if constexpr (G::J == 0) {
+    if constexpr (V::kFloating) return v.template head<3>().dot(m.k1_B);
+    return 0.0;
+  } else {
+    // theta1 is the last coordinate of joint 1's group.
+    constexpr int QT1 = State<V>::QJ + V::N1 - 1, VT1 = V::NB + V::N1 - 1;
+    const Vec3& k1 = m.chain[V::N1 - 1].axis;
+    double w = v(VT1) * k1.dot(m.k2_S1);
+    if constexpr (V::kFloating) {
+      // R_PC^T omega_B with R_PC the rotation about k1 by theta1.
+      const Vec3 wB = v.template head<3>();
+      const double c = std::cos(q(QT1)), s = std::sin(q(QT1));
+      const Vec3 wS1 = c * wB - s * k1.cross(wB) + (1.0 - c) * k1.dot(wB) * k1;
+      w += wS1.dot(m.k2_S1);
+    }
+    return w;
   }
-  return w;
 }
 
 /// Tangential relative velocity of the material points v_t(q, v) [m/s] (the
 /// same quantity clearanceContact() writes to ContactEval::vt), linear in v.
 template <class V, class Q, class W>
 double tangentialVelocity(const Model& m, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<W>& v) {
-  constexpr int QJ = State<V>::QJ, NB = V::NB;
-  const double ex = q(QJ + 1), ey = q(QJ + 2);
+  using G = PlanarGroup<V>;
+  const double ex = q(G::QE), ey = q(G::QE + 1);
   const double e = std::hypot(ex, ey);
   if (!(e > 0.0)) return 0.0;
   const Vec2 t(-ey / e, ex / e);
-  return t.x() * v(NB + 1) + t.y() * v(NB + 2) + v(NB + 3) * m.contact.journal_radius +
-         (e - m.contact.clearance) * shaft1RateK2<V>(m, q, v);
+  return t.x() * v(G::VE) + t.y() * v(G::VE + 1) + v(G::VE + 2) * m.contact.journal_radius +
+         (e - m.contact.clearance) * parentRateAlongAxis<V>(m, q, v);
 }
 
 /// The part of dv_t/dt that does not go through vdot: (d v_t / d q) qdot at
@@ -70,20 +100,22 @@ double tangentialVelocity(const Model& m, const Eigen::MatrixBase<Q>& q, const E
 template <class V, class Q, class W>
 double tangentialVelocityRateAtFixedV(const Model& m, const Eigen::MatrixBase<Q>& q,
                                       const Eigen::MatrixBase<W>& v) {
-  constexpr int QJ = State<V>::QJ, NB = V::NB;
-  const double ex = q(QJ + 1), ey = q(QJ + 2);
+  using G = PlanarGroup<V>;
+  const double ex = q(G::QE), ey = q(G::QE + 1);
   const double e = std::hypot(ex, ey);
   if (!(e > 0.0)) return 0.0;
   const Vec2 n(ex / e, ey / e), t = contactTangent(n);
-  const Vec2 de(v(NB + 1), v(NB + 2));
+  const Vec2 de(v(G::VE), v(G::VE + 1));
   // dt/dt = -(de . t / e) n;  d(e - c)/dt = de . n.
-  double r = -de.dot(t) * de.dot(n) / e + de.dot(n) * shaft1RateK2<V>(m, q, v);
-  if constexpr (V::kFloating) {
-    const Vec3& k1 = m.chain[0].axis;
+  double r = -de.dot(t) * de.dot(n) / e + de.dot(n) * parentRateAlongAxis<V>(m, q, v);
+  if constexpr (V::kFloating && G::J == 1) {
+    // shaft 1's rate along k2 turns with theta1 (the base's along k1 does not)
+    constexpr int QT1 = State<V>::QJ + V::N1 - 1, VT1 = V::NB + V::N1 - 1;
+    const Vec3& k1 = m.chain[V::N1 - 1].axis;
     const Vec3 wB = v.template head<3>();
-    const double c = std::cos(q(QJ)), s = std::sin(q(QJ));
+    const double c = std::cos(q(QT1)), s = std::sin(q(QT1));
     const Vec3 dwS1 = -s * wB - c * k1.cross(wB) + s * k1.dot(wB) * k1;  // d/dtheta1 of R^T wB
-    r += (e - m.contact.clearance) * v(NB) * dwS1.dot(m.k2_S1);
+    r += (e - m.contact.clearance) * v(VT1) * dwS1.dot(m.k2_S1);
   }
   return r;
 }
@@ -95,11 +127,10 @@ double tangentialVelocityRateAtFixedV(const Model& m, const Eigen::MatrixBase<Q>
 template <class V, class Q, class W>
 void clearanceContact(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
                       const Eigen::MatrixBase<W>& v, double v0, int friction_mode = 0) {
-  static_assert(V::kClearance);
-  constexpr int QJ = State<V>::QJ, NB = V::NB;
+  using G = PlanarGroup<V>;
   const ContactParams& cp = m.contact;
   ContactEval& c = d.contact;
-  const double ex = q(QJ + 1), ey = q(QJ + 2);
+  const double ex = q(G::QE), ey = q(G::QE + 1);
   c.e = std::hypot(ex, ey);
   c.delta = c.e - cp.clearance;
   if (!(c.e > 0.0)) {
@@ -109,12 +140,17 @@ void clearanceContact(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
   }
   c.n = Vec2(ex / c.e, ey / c.e);
   const Vec2 t = contactTangent(c.n);
-  const Vec2 de(v(NB + 1), v(NB + 2));
+  const Vec2 de(v(G::VE), v(G::VE + 1));
   c.vn = de.dot(c.n);
   // Relative velocity of the material points Q_j and Q_i (docs/MODEL.md section 4.3):
-  // V = de + dtheta2 k2 x (R_j n) + omega_1 x (delta n), so along t:
-  const double omega1_k2 = d.v[0].template head<3>().dot(m.k2_S1);
-  c.vt = de.dot(t) + v(NB + 3) * cp.journal_radius + c.delta * omega1_k2;
+  // V = de + dtheta k x (R_j n) + omega_P x (delta n), P the bearing body, so along t:
+  double omegaP_k = 0.0;
+  if constexpr (V::group(G::J) > 0) {
+    omegaP_k = d.v[V::group(G::J) - 1].template head<3>().dot(G::axis(m));
+  } else if constexpr (V::kFloating) {
+    omegaP_k = d.v_base.template head<3>().dot(G::axis(m));
+  }
+  c.vt = de.dot(t) + v(G::VE + 2) * cp.journal_radius + c.delta * omegaP_k;
   c.fn = normalForce(cp, c.delta, c.vn, v0);
   c.ft_required = 0.0;
   if constexpr (V::kFriction) {
@@ -130,17 +166,17 @@ void clearanceContact(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
 
 /// Generalised force of the contact pair: F = -F_n n + F_t t on the journal,
 /// -F on the bearing, both at the midpoint of Q_i and Q_j (docs/MODEL.md 4.4), so
-/// only the joint-2 coordinates see it and momentum is exactly conserved.
+/// only the clearance joint's own coordinates see it and momentum is exactly conserved.
 template <class V>
 void addContactForces(const Model& m, Data<V>& d) {
-  constexpr int NB = V::NB;
+  using G = PlanarGroup<V>;
   const ContactEval& c = d.contact;
   if (c.fn == 0.0 && c.ft == 0.0) return;
   const Vec2 F = -c.fn * c.n + c.ft * contactTangent(c.n);
   const double arm = contactArm(m.contact, c.e);
-  d.tau(NB + 1) += F.x();
-  d.tau(NB + 2) += F.y();
-  d.tau(NB + 3) += arm * c.ft;
+  d.tau(G::VE) += F.x();
+  d.tau(G::VE + 1) += F.y();
+  d.tau(G::VE + 2) += arm * c.ft;
 }
 
 /// Stick closure of coulomb_stick (Filippov): dv_t/dt = a0 + b F_t is affine in
@@ -150,7 +186,7 @@ void addContactForces(const Model& m, Data<V>& d) {
 /// and writes ContactEval::ft and ft_required.
 template <class V, class Q, class W>
 void stickClosure(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<W>& v) {
-  constexpr int NB = V::NB;
+  using G = PlanarGroup<V>;
   ContactEval& c = d.contact;
   if (!(c.fn > 0.0)) {
     c.ft = c.ft_required = 0.0;
@@ -159,9 +195,9 @@ void stickClosure(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q, con
   const Vec2 t = contactTangent(c.n);
   const double arm = contactArm(m.contact, c.e);
   typename Data<V>::VecV Qt = Data<V>::VecV::Zero(), w;
-  Qt(NB + 1) = t.x();
-  Qt(NB + 2) = t.y();
-  Qt(NB + 3) = arm;
+  Qt(G::VE) = t.x();
+  Qt(G::VE + 1) = t.y();
+  Qt(G::VE + 2) = arm;
   choleskySolveFactored<V::NV>(d.L, Qt, w);  // vdot per unit F_t
   const double a0 = tangentialVelocity<V>(m, q, d.vdot) + tangentialVelocityRateAtFixedV<V>(m, q, v);
   const double b = tangentialVelocity<V>(m, q, w);

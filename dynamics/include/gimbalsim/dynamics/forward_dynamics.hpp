@@ -15,8 +15,8 @@ namespace gimbalsim {
 template <class V>
 void applyJointTorques(Data<V>& d, const Input& u) {
   d.tau.setZero();
-  d.tau(V::NB) = u.tau(0);
-  d.tau(V::NB + V::NJ - 1) = u.tau(1);
+  d.tau(V::NB + V::theta(0)) = u.tau(0);
+  d.tau(V::NB + V::theta(1)) = u.tau(1);
 }
 
 /// Configuration rates: pdot_W = R_WB v_B, quaternion rate 0.5 q (0, omega_B).
@@ -42,7 +42,7 @@ GIMBALSIM_FLATTEN void forwardDynamics(const Model& m, Data<V>& d, const State<V
   detail::rneaBias(m, d, s.v, d.bias);
   crba(m, d);
   applyJointTorques(d, u);
-  if constexpr (V::kClearance) {
+  if constexpr (V::kContact) {
     clearanceContact(m, d, s.q, s.v, s.v0, s.in_contact ? s.friction_mode : 0);
     addContactForces(m, d);
   }

@@ -150,17 +150,17 @@ StepResult stepWith(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
     const double rem = t_end - s.t;
     if (rem <= 1e-12 * p.step) break;
     bool near = false;
-    if constexpr (V::kClearance) {
+    if constexpr (V::kContact) {
       const Gap g = clearanceGap<V>(m, s.q, s.v);
       near = s.in_contact || g.delta + std::fmax(g.rate, 0.0) * rem > 0.0;
     }
     double dt = P::choose(m, d, s, u, rem, near, h_next);
-    if constexpr (V::kClearance) dt = std::fmin(dt, dt_cap);
+    if constexpr (V::kContact) dt = std::fmin(dt, dt_cap);
     if (!budget.take()) return stop({StepStatus::SubstepCap, s.t});
     rk4(m, d, s, u, dt, d.trial, k1_ready);
     k1_ready = P::kReusesK1;  // rk4 left f(s) in d.k[0]
     if (StepResult r = checkState(m, d.trial); !r.ok()) return stop(r);
-    if constexpr (V::kClearance) {
+    if constexpr (V::kContact) {
       if (near && !P::accept(m, d, u, dt, h_next)) continue;
       recordContactPeaks(d, s.t);
       const bool was_in_contact = s.in_contact;

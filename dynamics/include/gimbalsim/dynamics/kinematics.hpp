@@ -1,8 +1,8 @@
 // Forward kinematics of the chain: joint transforms, motion subspaces, body
 // twists (RBDA section 4.3, first pass of the recursive Newton-Euler method).
 //
-// The chain's joint kinds are fixed per Variant (ideal [R, R], clearance
-// [R, P, P, R]), so every loop over the chain is unrolled at compile time and
+// The chain's joint kinds are fixed per Variant (one group per gimbal joint:
+// ideal [R], planar [P, P, R], spatial [P, P, R, R, R]), so every loop over the chain is unrolled at compile time and
 // each joint does only its own kind's work: a prismatic joint's rotation is
 // the identity, so its transforms reduce to a translation. Every skipped
 // operation is a multiplication by an exact 1 or 0 or an addition of an exact
@@ -16,17 +16,28 @@
 
 namespace gimbalsim {
 
-/// Kind of chain joint i of variant V (Model::finalize builds the same chain).
+/// The joint (0: azimuth, 1: elevation) whose group holds chain joint i, and
+/// i's place in that group.
+template <class V>
+constexpr int chainGroupOf(int i) { return i < V::G2 ? 0 : 1; }
+template <class V>
+constexpr int chainPlaceInGroup(int i) { return i - V::group(chainGroupOf<V>(i)); }
+
+/// Kind of chain joint i of variant V (Model::finalize builds the same
+/// chain): a clearance group is [P, P, R] (planar) or [P, P, R, R, R]
+/// (spatial), the first two prismatic.
 template <class V>
 constexpr JointKind chainJointKind(int i) {
-  return (V::kClearance && (i == 1 || i == 2)) ? JointKind::Prismatic : JointKind::Revolute;
+  const bool clearance = V::kind(chainGroupOf<V>(i)) != ClearanceKind::Ideal;
+  return (clearance && chainPlaceInGroup<V>(i) < 2) ? JointKind::Prismatic : JointKind::Revolute;
 }
 
-/// Chain body i of variant V is massless (the clearance joint's two virtual
-/// prismatic bodies: Model::finalize gives them a zero spatial inertia).
+/// Chain body i of variant V is massless: every body of a group but its last
+/// (the clearance joint's virtual bodies: Model::finalize gives them a zero
+/// spatial inertia).
 template <class V>
 constexpr bool chainBodyMassless(int i) {
-  return V::kClearance && (i == 1 || i == 2);
+  return i != V::group(chainGroupOf<V>(i)) + (chainGroupOf<V>(i) == 0 ? V::N1 : V::N2) - 1;
 }
 
 /// Calls f(std::integral_constant<int, i>) for i = 0 .. N-1 (Reverse: N-1 .. 0),
@@ -119,10 +130,15 @@ GIMBALSIM_FLATTEN void kinematics(const Model& m, Data<V>& d, const Eigen::Matri
       }
       vi.template head<3>() += J.axis * qdi;  // + S qd
     } else {
-      static_assert(i > 0, "the first chain joint is revolute");
       X.R_PC.setIdentity();
       X.r_PC_P = J.origin + qi * J.axis;
-      detail::translateMotionToChild(X.r_PC_P, d.v[i - 1], vi);
+      if constexpr (i > 0) {
+        detail::translateMotionToChild(X.r_PC_P, d.v[i - 1], vi);
+      } else if constexpr (V::kFloating) {
+        detail::translateMotionToChild(X.r_PC_P, d.v_base, vi);
+      } else {
+        vi.setZero();
+      }
       vi.template tail<3>() += J.axis * qdi;  // + S qd
     }
   });

@@ -21,6 +21,10 @@ enum class FrictionLaw : std::uint8_t { None, Coulomb, Ambrosio, CoulombStick };
 /// error control (embedded RK4/3 pair) to sim.substep_tol.
 enum class SubstepPolicy : std::uint8_t { Fixed, Adaptive };
 enum class JointKind : std::uint8_t { Revolute, Prismatic };
+/// How a gimbal joint is modelled (docs/MODEL.md section 2): ideal, the
+/// paper's planar clearance (journal centre in the plane normal to the axis),
+/// or spatial clearance (that plane and a tilt of the journal axis).
+enum class ClearanceKind : std::uint8_t { Ideal, Planar, Spatial };
 
 /// Rigid body inertial parameters.
 struct BodyParams {
@@ -89,7 +93,12 @@ struct Model {
 
   // ---- structure (picks the Variant) ----
   bool floating_base = true;
-  bool clearance_joint = false;  ///< joint 2 with clearance (else ideal); the size is contact.clearance
+  ClearanceKind joint1_kind = ClearanceKind::Ideal;  ///< azimuth joint
+  ClearanceKind joint2_kind = ClearanceKind::Ideal;  ///< elevation joint; the size is contact.clearance
+  /// Any joint with clearance (a contact to resolve).
+  bool hasClearance() const {
+    return joint1_kind != ClearanceKind::Ideal || joint2_kind != ClearanceKind::Ideal;
+  }
 
   // ---- bodies ----
   BodyParams base;    ///< base frame origin is the base centre of mass (com must be 0)
@@ -109,20 +118,26 @@ struct Model {
   IntegratorParams integrator;
 
   // ---- derived by finalize() ----
+  /// Joint-1 plane basis in base coordinates: u1 x u2 = k1 (base x, base y
+  /// for k1 = base z).
+  Vec3 u1_B = Vec3::UnitX(), u2_B = Vec3::UnitY();
   /// Joint-2 plane basis in shaft 1 coordinates: u1 x u2 = k2.
   Vec3 u1_S1 = Vec3::UnitZ(), u2_S1 = Vec3::UnitX();
-  /// The 1-dof joints of the chain (2 ideal, 4 with clearance: theta1, ecc_x,
-  /// ecc_y, theta2); joint i connects chain body i-1 (or the base) to body i.
+  /// Most 1-dof chain joints a scene can have (two spatial clearance joints).
+  static constexpr int kMaxChain = 10;
+  /// The 1-dof joints of the chain, one group per gimbal joint (variant.hpp:
+  /// ideal [theta], planar [p_x, p_y, theta], spatial [p_x, p_y, alpha, beta,
+  /// theta]); joint i connects chain body i-1 (or the base) to body i.
   struct ChainJoint {
     JointKind kind = JointKind::Revolute;
     Vec3 axis = Vec3::UnitZ();        ///< unit, parent frame (= child frame at q=0)
     Vec3 origin = Vec3::Zero();       ///< joint origin in the parent frame [m]
   };
-  std::array<ChainJoint, 4> chain{};
-  std::array<SpatialInertia, 4> I_chain{};  ///< chain body i about its origin, body coords
+  std::array<ChainJoint, kMaxChain> chain{};
+  std::array<SpatialInertia, kMaxChain> I_chain{};  ///< chain body i about its origin, body coords
   SpatialInertia I_base;                    ///< base about its CoM, base coords
 
-  /// Derives K, chi, c, the joint-plane basis and the chain. Call after any
+  /// Derives K, chi, c, the joint-plane bases and the chain. Call after any
   /// parameter change; loadScene() does.
   void finalize();
 

@@ -141,12 +141,12 @@ Row observe(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
     r.base_wx = wB.x(), r.base_wy = wB.y(), r.base_wz = wB.z();
     r.base_dwx = d.vdot(0), r.base_dwy = d.vdot(1), r.base_dwz = d.vdot(2);
   }
-  r.theta1 = s.q(QJ), r.theta2 = s.q(QJ + NJ - 1);
-  r.dtheta1 = s.v(NB), r.dtheta2 = s.v(NB + NJ - 1);
-  r.ddtheta1 = d.vdot(NB), r.ddtheta2 = d.vdot(NB + NJ - 1);
-  if constexpr (V::kClearance) {
+  r.theta1 = s.q(QJ + V::theta(0)), r.theta2 = s.q(QJ + V::theta(1));
+  r.dtheta1 = s.v(NB + V::theta(0)), r.dtheta2 = s.v(NB + V::theta(1));
+  r.ddtheta1 = d.vdot(NB + V::theta(0)), r.ddtheta2 = d.vdot(NB + V::theta(1));
+  if constexpr (V::kContact) {
     const ContactEval& c = d.contact;
-    r.ecc_x = s.q(QJ + 1), r.ecc_y = s.q(QJ + 2), r.ecc = c.e;
+    r.ecc_x = s.q(PlanarGroup<V>::QE), r.ecc_y = s.q(PlanarGroup<V>::QE + 1), r.ecc = c.e;
     r.delta = c.delta;
     r.fn = c.fn, r.ft = c.ft;
     r.joint2_force = std::hypot(c.fn, c.ft);
@@ -157,7 +157,7 @@ Row observe(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
   r.mom_px = h.linear.x(), r.mom_py = h.linear.y(), r.mom_pz = h.linear.z();
   r.mom_lx = h.angular.x(), r.mom_ly = h.angular.y(), r.mom_lz = h.angular.z();
   r.energy = h.energy;
-  if constexpr (!V::kClearance) {
+  if constexpr (!V::kContact) {
     // Ideal joint: the constraint force joint 2 transmits, from the RNEA at
     // the actual acceleration (its moment part holds the torque couple).
     typename Data<V>::VecV tau;

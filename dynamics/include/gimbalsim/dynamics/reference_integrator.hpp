@@ -36,7 +36,7 @@ class ReferenceIntegrator {
     namespace ode = boost::numeric::odeint;
     if (!started_) restart(s);
     while (true) {
-      if constexpr (V::kClearance) {
+      if constexpr (V::kContact) {
         // A switch located in the last step: output times before it come from
         // this step's dense output, then the integration restarts there.
         if (pending_switch_) {
@@ -62,7 +62,7 @@ class ReferenceIntegrator {
                    "set-valued law with located stick/slip) or ambrosio for reference solutions";
         return false;
       }
-      if constexpr (V::kClearance) {
+      if constexpr (V::kContact) {
         if (switched(x1, t1)) {
           // Bisection on the dense output for the first switch in (t0, t1]:
           // the contact side, or (coulomb_stick) a v_t reversal or stick/slip.

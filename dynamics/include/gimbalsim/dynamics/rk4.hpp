@@ -45,10 +45,10 @@ void rk4(const Model& m, Data<V>& d, const State<V>& s, const Input& u, double h
   auto& k = d.k;
   if (!reuse_k1) {
     evalDerivative(m, d, s, u, k[0]);
-    if constexpr (V::kClearance) d.contact_k1 = d.contact;
+    if constexpr (V::kContact) d.contact_k1 = d.contact;
   }
   [[maybe_unused]] double stage_delta = 0.0;
-  if constexpr (V::kClearance) stage_delta = d.contact_k1.delta;
+  if constexpr (V::kContact) stage_delta = d.contact_k1.delta;
   State<V>& st = d.stage;
   st = s;
   for (int i = 1; i < 4; ++i) {
@@ -56,9 +56,9 @@ void rk4(const Model& m, Data<V>& d, const State<V>& s, const Input& u, double h
     st.q = s.q + (T::a[i - 1] * h) * k[i - 1].qd;
     st.v = s.v + (T::a[i - 1] * h) * k[i - 1].vd;
     evalDerivative(m, d, st, u, k[i]);
-    if constexpr (V::kClearance) stage_delta = std::fmax(stage_delta, d.contact.delta);
+    if constexpr (V::kContact) stage_delta = std::fmax(stage_delta, d.contact.delta);
   }
-  if constexpr (V::kClearance) d.stage_delta_max = stage_delta;
+  if constexpr (V::kContact) d.stage_delta_max = stage_delta;
   out = s;
   out.t = s.t + h;
   out.q = s.q + (h / T::kWeightDen) * (k[0].qd + T::b[1] * (k[1].qd + k[2].qd) + k[3].qd);

@@ -9,10 +9,11 @@ namespace gimbalsim {
 
 /// Generalised coordinates. Floating base: q = [p_W (3) [m], quaternion
 /// (w, x, y, z) of R_WB (4), chain (NJ)], v = [omega_B (3) [rad/s], v_B (3)
-/// [m/s] (base CoM velocity, base frame), chain rates (NJ)]. Chain order:
-/// ideal [theta1, theta2], clearance [theta1, ecc_x, ecc_y, theta2]
-/// ([rad], [m], [m], [rad]); ecc is the journal centre relative to the bearing
-/// centre in the joint-2 plane basis (u1, u2).
+/// [m/s] (base CoM velocity, base frame), chain rates (NJ)]. The chain is
+/// joint 1's group then joint 2's (variant.hpp), e.g. ideal [theta1, theta2],
+/// planar joint 2 [theta1, ecc_x, ecc_y, theta2] ([rad], [m], [m], [rad]);
+/// ecc is the journal centre relative to the bearing centre in the joint's
+/// plane basis (u1, u2).
 template <class V>
 struct State {
   static constexpr int NQ = V::NQ, NV = V::NV, NB = V::NB, NJ = V::NJ;
@@ -23,7 +24,9 @@ struct State {
   double t = 0.0;        ///< [s]
   VecQ q = VecQ::Zero();
   VecV v = VecV::Zero();
-  // Discrete contact memory (clearance variants only).
+  // Discrete contact memory of the one contact end of a single planar
+  // clearance joint (clearance_joint.hpp's planarJoint()); variants with more
+  // ends do not step yet (WIP_SPATIAL.md).
   bool in_contact = false;  ///< side of the last located switch
   double v0 = 0.0;          ///< normal velocity at the onset of this impact [m/s]
   /// friction.law coulomb_stick only: +1 / -1 slipping with v_t > 0 / < 0,
@@ -38,8 +41,8 @@ struct State {
   /// full checkpoint: stepping the copy reproduces the run bit for bit.
   double h_next = 0.0;
 
-  double theta(int joint) const { return q(QJ + (joint == 0 ? 0 : NJ - 1)); }
-  double dtheta(int joint) const { return v(NB + (joint == 0 ? 0 : NJ - 1)); }
+  double theta(int joint) const { return q(QJ + V::theta(joint)); }
+  double dtheta(int joint) const { return v(NB + V::theta(joint)); }
 };
 
 /// What enters the plant each step: one control-injection point.
@@ -52,14 +55,14 @@ template <class V>
 State<V> initialState(const InitialParams& init) {
   State<V> s;
   if constexpr (V::kFloating) s.q(3) = 1.0;  // identity quaternion
-  constexpr int QJ = State<V>::QJ, NB = V::NB, NJ = V::NJ;
-  s.q(QJ) = init.theta1;
-  s.q(QJ + NJ - 1) = init.theta2;
-  s.v(NB) = init.dtheta1;
-  s.v(NB + NJ - 1) = init.dtheta2;
-  if constexpr (V::kClearance) {
-    s.q(QJ + 1) = init.ecc.x();
-    s.q(QJ + 2) = init.ecc.y();
+  constexpr int QJ = State<V>::QJ, NB = V::NB;
+  s.q(QJ + V::theta(0)) = init.theta1;
+  s.q(QJ + V::theta(1)) = init.theta2;
+  s.v(NB + V::theta(0)) = init.dtheta1;
+  s.v(NB + V::theta(1)) = init.dtheta2;
+  if constexpr (V::kKind2 != ClearanceKind::Ideal) {  // initial.ecc: joint 2's journal
+    s.q(QJ + V::G2) = init.ecc.x();
+    s.q(QJ + V::G2 + 1) = init.ecc.y();
   }
   return s;
 }

@@ -22,15 +22,15 @@ namespace gimbalsim {
 /// Returned as T / 20, the adaptive first guess.
 template <class V>
 double contactPeriodOver20(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
-  constexpr int NB = V::NB, QJ = State<V>::QJ;
+  using G = PlanarGroup<V>;
   const ContactParams& c = m.contact;
   forwardDynamics(m, d, s, u);  // leaves the Cholesky factor of M(s.q) in d.L
-  const double ex = s.q(QJ + 1), ey = s.q(QJ + 2), e = std::hypot(ex, ey);
+  const double ex = s.q(G::QE), ey = s.q(G::QE + 1), e = std::hypot(ex, ey);
   double m_eff = m.shaft2.mass;
   if (e > 0.0 && d.L(0, 0) > 0.0) {
     typename Data<V>::VecV nv = Data<V>::VecV::Zero(), x;
-    nv(NB + 1) = ex / e;
-    nv(NB + 2) = ey / e;
+    nv(G::VE) = ex / e;
+    nv(G::VE + 1) = ey / e;
     choleskySolveFactored<V::NV>(d.L, nv, x);
     const double inv = nv.dot(x);
     if (inv > 0.0 && std::isfinite(inv)) m_eff = 1.0 / inv;
@@ -84,7 +84,7 @@ struct AdaptiveSubsteps {
   }
   static double choose(const Model& m, Data<V>& d, const State<V>& s, const Input& u, double rem, bool near,
                        double& h_next) {
-    if constexpr (!V::kClearance) {
+    if constexpr (!V::kContact) {
       return rem;  // never near: no contact to resolve
     } else {
       if (!near) return rem;

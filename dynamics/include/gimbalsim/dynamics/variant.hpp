@@ -8,43 +8,67 @@
 
 namespace gimbalsim {
 
-/// Compile-time shape of a scene. A variant without a floating base,
-/// clearance or friction compiles none of their code.
-template <bool Floating, bool Clearance, bool Friction>
+/// Chain coordinates of a joint of this kind (its group): ideal [theta],
+/// planar [p_x, p_y, theta], spatial [p_x, p_y, alpha, beta, theta].
+constexpr int groupSize(ClearanceKind k) {
+  return k == ClearanceKind::Ideal ? 1 : k == ClearanceKind::Planar ? 3 : 5;
+}
+/// Contact ends of a joint of this kind: none, the one planar contact, the
+/// spatial bearing's two end planes.
+constexpr int contactEnds(ClearanceKind k) {
+  return k == ClearanceKind::Ideal ? 0 : k == ClearanceKind::Planar ? 1 : 2;
+}
+
+/// Compile-time shape of a scene: base, the kind of each joint, friction. A
+/// variant without a floating base, contact or friction compiles none of
+/// their code.
+template <bool Floating, ClearanceKind K1, ClearanceKind K2, bool Friction>
 struct Variant {
-  static_assert(Clearance || !Friction, "friction needs the clearance joint");
   static constexpr bool kFloating = Floating;
-  static constexpr bool kClearance = Clearance;
+  static constexpr ClearanceKind kKind1 = K1, kKind2 = K2;
   static constexpr bool kFriction = Friction;
+  static constexpr int N1 = groupSize(K1), N2 = groupSize(K2);  ///< chain coordinates per joint
+  static constexpr int G1 = 0, G2 = N1;          ///< first chain index of each joint's group
+  static constexpr int NC = contactEnds(K1) + contactEnds(K2);  ///< contact ends
+  static constexpr bool kContact = NC > 0;       ///< any clearance joint
   static constexpr int NB = Floating ? 6 : 0;    ///< base velocity coordinates
-  static constexpr int NJ = Clearance ? 4 : 2;   ///< 1-dof joints of the chain
+  static constexpr int NJ = N1 + N2;             ///< 1-dof joints of the chain
   static constexpr int NV = NB + NJ;             ///< velocity coordinates
   static constexpr int NQ = (Floating ? 7 : 0) + NJ;  ///< position coordinates
+  static_assert(kContact || !Friction, "friction needs a clearance joint");
+  /// The kind and the group offset of joint j (0: azimuth, 1: elevation).
+  static constexpr ClearanceKind kind(int j) { return j == 0 ? K1 : K2; }
+  static constexpr int group(int j) { return j == 0 ? G1 : G2; }
+  /// Chain index of joint j's angle theta_j: the last of its group.
+  static constexpr int theta(int j) { return j == 0 ? N1 - 1 : NJ - 1; }
 };
 
-using FixedIdeal = Variant<false, false, false>;
-using FixedClearance = Variant<false, true, false>;
-using FixedClearanceFriction = Variant<false, true, true>;
-using FloatingIdeal = Variant<true, false, false>;
-using FloatingClearance = Variant<true, true, false>;
-using FloatingClearanceFriction = Variant<true, true, true>;
+using FixedIdeal = Variant<false, ClearanceKind::Ideal, ClearanceKind::Ideal, false>;
+using FixedClearance = Variant<false, ClearanceKind::Ideal, ClearanceKind::Planar, false>;
+using FixedClearanceFriction = Variant<false, ClearanceKind::Ideal, ClearanceKind::Planar, true>;
+using FloatingIdeal = Variant<true, ClearanceKind::Ideal, ClearanceKind::Ideal, false>;
+using FloatingClearance = Variant<true, ClearanceKind::Ideal, ClearanceKind::Planar, false>;
+using FloatingClearanceFriction = Variant<true, ClearanceKind::Ideal, ClearanceKind::Planar, true>;
 
 /// Which compiled variant a model runs as.
 std::string variantName(const Model& m);
 /// Friction code is compiled in only when it can act.
 inline bool frictionActive(const Model& m) {
-  return m.clearance_joint && m.contact.friction != FrictionLaw::None && m.contact.mu > 0.0;
+  return m.hasClearance() && m.contact.friction != FrictionLaw::None && m.contact.mu > 0.0;
 }
 
-/// Calls f with a default-constructed Variant tag matching the model.
+/// Calls f with a default-constructed Variant tag matching the model. The
+/// shapes compiled so far: joint 1 ideal, joint 2 ideal or planar (the scene
+/// loader refuses the others until their contact is built).
 template <class F>
 decltype(auto) dispatchVariant(const Model& m, F&& f) {
+  const bool planar2 = m.joint2_kind == ClearanceKind::Planar;
   if (m.floating_base) {
-    if (!m.clearance_joint) return f(FloatingIdeal{});
+    if (!planar2) return f(FloatingIdeal{});
     if (frictionActive(m)) return f(FloatingClearanceFriction{});
     return f(FloatingClearance{});
   }
-  if (!m.clearance_joint) return f(FixedIdeal{});
+  if (!planar2) return f(FixedIdeal{});
   if (frictionActive(m)) return f(FixedClearanceFriction{});
   return f(FixedClearance{});
 }

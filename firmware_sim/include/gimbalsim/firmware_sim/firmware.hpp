@@ -287,7 +287,7 @@ class Firmware {
   /// then the commands held on the bus that are due.
   void enterFaults(std::int64_t k, const ActiveFaults& af) noexcept {
     if (af.bits != 0) ++n_.fault_ticks;
-    if constexpr (V::kClearance) {
+    if constexpr (V::kContact) {
       ContactParams& cp = m_.contact;
       const bool wear = af.clearance >= 0.0 && af.clearance != cp.clearance;
       const bool rise = af.mu >= 0.0 && af.mu != cp.mu;
