@@ -24,7 +24,8 @@ bool sameBits(const State<V>& a, const State<V>& b) {
   for (int i = 0; i < V::NV; ++i) {
     if (!eq(a.v(i), b.v(i))) return false;
   }
-  return eq(a.t, b.t) && a.in_contact == b.in_contact && eq(a.v0, b.v0) && a.friction_mode == b.friction_mode &&
+  return eq(a.t, b.t) && a.in_contact == b.in_contact &&
+         std::memcmp(a.v0.data(), b.v0.data(), sizeof a.v0) == 0 && a.friction_mode == b.friction_mode &&
          eq(a.vt_floor, b.vt_floor) && eq(a.h_next, b.h_next);
 }
 
@@ -94,11 +95,11 @@ void checkVariant(bool adaptive) {
         0.1, 300);
     // Mid-impact: in contact and penetrating, soon after an onset.
     expectCheckpointResumes<V>(
-        sc, [&](const State<V>& s) { return s.in_contact && clearanceGap<V>(m, s.q, s.v).delta > 1e-7; }, 2.0, 100);
+        sc, [&](const State<V>& s) { return s.in_contact[0] && clearanceGap<V>(m, s.q, s.v).delta > 1e-7; }, 2.0, 100);
     if constexpr (V::kFriction) {
       // Mid-stick: in contact with the journal sticking (coulomb_stick mode 0).
       expectCheckpointResumes<V>(
-          sc, [&](const State<V>& s) { return s.in_contact && s.friction_mode == 0 && s.t > 0.1; }, 4.0, 100);
+          sc, [&](const State<V>& s) { return s.in_contact[0] && s.friction_mode == 0 && s.t > 0.1; }, 4.0, 100);
     }
   }
 }
@@ -111,6 +112,27 @@ TEST_P(Checkpoint, FixedClearanceFriction) { checkVariant<FixedClearanceFriction
 TEST_P(Checkpoint, FloatingIdeal) { checkVariant<FloatingIdeal>(GetParam()); }
 TEST_P(Checkpoint, FloatingClearance) { checkVariant<FloatingClearance>(GetParam()); }
 TEST_P(Checkpoint, FloatingClearanceFriction) { checkVariant<FloatingClearanceFriction>(GetParam()); }
+
+// A State carries each contact end's memory (two spatial joints: four ends),
+// and a copy carries all of it.
+TEST(CheckpointMemory, StateKeepsTheMemoryOfEveryContactEnd) {
+  using CK = ClearanceKind;
+  using V = Variant<true, CK::Spatial, CK::Spatial, false>;
+  State<V> s;
+  ASSERT_EQ(s.in_contact.size(), 4u);
+  ASSERT_EQ(s.v0.size(), 4u);
+  EXPECT_FALSE(s.anyInContact());
+  s.in_contact[3] = true;
+  s.v0[3] = 0.02;
+  s.v0[1] = -0.01;
+  const State<V> copy = s;
+  EXPECT_TRUE(sameBits(s, copy));
+  EXPECT_TRUE(copy.anyInContact());
+  EXPECT_EQ(copy.v0[1], -0.01);
+  State<Variant<false, CK::Planar, CK::Ideal, false>> one;
+  EXPECT_EQ(one.in_contact.size(), 1u);
+  EXPECT_EQ((State<FixedIdeal>{}.in_contact.size()), 0u);
+}
 
 INSTANTIATE_TEST_SUITE_P(Policies, Checkpoint, ::testing::Values(false, true),
                          [](const ::testing::TestParamInfo<bool>& p) { return p.param ? "Adaptive" : "Fixed"; });

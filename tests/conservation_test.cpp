@@ -88,8 +88,8 @@ TEST(Conservation, ContactAndFrictionExertNoNetForceOrMoment) {
     const double c = m.contact.clearance;
     s.q(8) = 0.6 * (c + 2e-6), s.q(9) = 0.8 * (c + 2e-6);  // 2 um penetration
     s.v(7) = 0.6 * 0.01, s.v(8) = 0.8 * 0.01;              // approaching at 1 cm/s
-    s.v0 = 0.01;
-    s.in_contact = true;
+    s.v0[0] = 0.01;
+    s.in_contact[0] = true;
     Data<FloatingClearanceFriction> d(m);
     forwardDynamics(m, d, s, u);
     ASSERT_GT(d.contact.fn, 10.0);

@@ -53,7 +53,7 @@ double firstImpactVelocity(const Scene& sc, double* t_onset) {
   }
   EXPECT_EQ(d.stats.impacts, 1);
   *t_onset = d.stats.last_onset_time;
-  return s.v0;
+  return s.v0[0];
 }
 
 TEST(Integrator, ImpactOnsetIsLocatedAndV0CapturedThere) {

@@ -138,8 +138,8 @@ State<V> rollingContactState(const Scene& sc, double delta) {
   s.v.template head<3>() << 0.01, -0.02, 0.03;  // base rates [rad/s]
   s.v(NB + 3) = 0.0;
   s.v(NB + 3) = -tangentialVelocity<V>(m, s.q, s.v) / m.contact.journal_radius;
-  s.in_contact = true;
-  s.v0 = 0.01;
+  s.in_contact[0] = true;
+  s.v0[0] = 0.01;
   s.friction_mode = 0;
   return s;
 }
@@ -175,8 +175,8 @@ TEST(CoulombStick, StickClosureHoldsTheTangentialVelocity) {
   State<FloatingClearance> sf;
   sf.q = s.q;
   sf.v = s.v;
-  sf.in_contact = true;
-  sf.v0 = s.v0;
+  sf.in_contact[0] = true;
+  sf.v0[0] = s.v0[0];
   forwardDynamics(free_m, df, sf, u);
   const double a_free = tangentialVelocity<FloatingClearance>(free_m, sf.q, df.vdot) +
                         tangentialVelocityRateAtFixedV<FloatingClearance>(free_m, sf.q, sf.v);
@@ -229,7 +229,7 @@ TEST(CoulombStick, MomentumHeldThroughStickSlipSwitches) {
     double max_dp = 0.0, max_dl = 0.0, stick_time = 0.0;
     for (int k = 0; k < 500; ++k) {
       ASSERT_EQ(step(m, d, s, u).status, StepStatus::Ok) << pol;
-      if (s.in_contact && s.friction_mode == 0) stick_time += m.integrator.step;
+      if (s.in_contact[0] && s.friction_mode == 0) stick_time += m.integrator.step;
       kinematics(m, d, s.q, s.v);
       const Momentum p = momentum(m, d, s);
       max_dp = std::max(max_dp, (p.linear - p0.linear).norm());

@@ -171,7 +171,7 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
   }
   d.stats.max_penetration = std::max(d.stats.max_penetration, at_rows.max_penetration);
   res.stats = d.stats;
-  res.in_contact_at_end = s.in_contact;
+  res.in_contact_at_end = s.anyInContact();
   res.final_q.assign(s.q.data(), s.q.data() + V::NQ);
   res.final_v.assign(s.v.data(), s.v.data() + V::NV);
   res.step_seconds = std::chrono::duration<double>(in_step).count();

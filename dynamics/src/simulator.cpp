@@ -61,8 +61,12 @@ struct VariantSimulator final : Simulator::Impl {
     out.t = s.t;
     out.q.assign(s.q.data(), s.q.data() + V::NQ);
     out.v.assign(s.v.data(), s.v.data() + V::NV);
-    out.in_contact = s.in_contact;
-    out.v0 = s.v0;
+    // One contact end's memory in a SavedState so far (WIP_SPATIAL.md).
+    static_assert(V::NC <= 1, "a SavedState holds one contact end");
+    if constexpr (V::NC == 1) {
+      out.in_contact = s.in_contact[0];
+      out.v0 = s.v0[0];
+    }
     out.friction_mode = s.friction_mode;
     out.vt_floor = s.vt_floor;
     out.h_next = s.h_next;
@@ -75,8 +79,10 @@ struct VariantSimulator final : Simulator::Impl {
     r.t = in.t;
     r.q = Eigen::Map<const typename State<V>::VecQ>(in.q.data());
     r.v = Eigen::Map<const typename State<V>::VecV>(in.v.data());
-    r.in_contact = in.in_contact;
-    r.v0 = in.v0;
+    if constexpr (V::NC == 1) {
+      r.in_contact[0] = in.in_contact;
+      r.v0[0] = in.v0;
+    }
     r.friction_mode = in.friction_mode;
     r.vt_floor = in.vt_floor;
     r.h_next = in.h_next;

@@ -38,8 +38,8 @@ double derivativeCost(const Model& m, const RunSpec& run) {
     s.q(QJ + 1) = 1.001 * m.contact.clearance;
     s.q(QJ + 2) = 0.0;
     s.v(NB + 2) = 1e-3;
-    s.in_contact = true;
-    s.v0 = 1e-3;
+    s.in_contact[0] = true;
+    s.v0[0] = 1e-3;
     cost = std::max(cost, timeDerivative(m, s));
   }
   return cost;

@@ -81,7 +81,7 @@ struct Fixture {
     for (long long k = 0; k < n_max; ++k) {
       const bool past = s.t >= 0.5 - 1e-12;
       bool in_contact = true;
-      if constexpr (V::kContact) in_contact = s.in_contact && clearanceGap<V>(m, s.q, s.v).delta > 0.0;
+      if constexpr (V::kContact) in_contact = s.in_contact[0] && clearanceGap<V>(m, s.q, s.v).delta > 0.0;
       if (past && in_contact && (!V::kContact || have_impact)) return;
       const State<V> before = s;
       const long long impacts = d->stats.impacts;
@@ -166,7 +166,7 @@ void BM_ContactLaw(benchmark::State& bs) {
   Fixture<V>& f = fixture<V>();
   forwardDynamics(f.m, *f.d, f.s, f.u);
   const ContactParams& cp = f.m.contact;
-  double delta = f.d->contact.delta, vn = f.d->contact.vn, vt = f.d->contact.vt, v0 = f.s.v0;
+  double delta = f.d->contact.delta, vn = f.d->contact.vn, vt = f.d->contact.vt, v0 = f.s.v0[0];
   for (auto _ : bs) {
     benchmark::DoNotOptimize(delta);  // keep the inputs opaque
     benchmark::DoNotOptimize(vn);
@@ -189,7 +189,7 @@ void BM_ClearanceContact(benchmark::State& bs) {
   kinematics(f.m, *f.d, f.s.q, f.s.v);
   for (auto _ : bs) {
     f.d->tau.setZero();
-    clearanceContact<V>(f.m, *f.d, f.s.q, f.s.v, f.s.v0);
+    clearanceContact<V>(f.m, *f.d, f.s.q, f.s.v, f.s.v0[0]);
     addContactForces(f.m, *f.d);
     benchmark::DoNotOptimize(f.d->tau.data());
     benchmark::ClobberMemory();

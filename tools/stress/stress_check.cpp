@@ -120,10 +120,10 @@ double restitutionOf(const Model& m, double v_in) {
     double v_onset = 0.0;
     const long long n = std::llround(0.1 / m.integrator.step);  // 0.1 s
     for (long long k = 0; k < n; ++k) {
-      const bool was = s.in_contact;
+      const bool was = s.in_contact[0];
       const long long separations = d.stats.separations;
       if (!step(m, d, s, u).ok()) break;
-      if (!was && s.in_contact) v_onset = s.v0;
+      if (!was && s.in_contact[0]) v_onset = s.v0[0];
       if (d.stats.impacts >= 1 && d.stats.separations > separations) {
         // At most one sub-step past the located separation, in free flight.
         return -clearanceGap<V>(m, s.q, s.v).rate / v_onset;

@@ -20,7 +20,7 @@ bool frictionSwitched(const Model& m, Data<V>& d, const State<V>& x, const Input
   if constexpr (!V::kFriction) {
     return false;
   } else {
-    if (m.contact.friction != FrictionLaw::CoulombStick || !x.in_contact) return false;
+    if (m.contact.friction != FrictionLaw::CoulombStick || !x.in_contact[0]) return false;
     if (x.friction_mode != 0) return x.friction_mode * tangentialVelocity<V>(m, x.q, x.v) < x.vt_floor;
     if (!contact_at_x) forwardDynamics(m, d, x, u);
     return std::fabs(d.contact.ft_required) > m.contact.mu * d.contact.fn;
@@ -53,9 +53,9 @@ void enterFrictionMode(const Model& m, Data<V>& d, State<V>& x, const Input& u, 
 /// mode); counts the impact or separation.
 template <class V>
 void enterContactSide(const Model& m, Data<V>& d, State<V>& x, const Input& u) {
-  x.in_contact = !x.in_contact;
-  if (x.in_contact) {
-    x.v0 = clearanceGap<V>(m, x.q, x.v).rate;  // impact velocity at onset
+  x.in_contact[0] = !x.in_contact[0];
+  if (x.in_contact[0]) {
+    x.v0[0] = clearanceGap<V>(m, x.q, x.v).rate;  // impact velocity at onset
     ++d.stats.impacts;
     d.stats.last_onset_time = x.t;
     if constexpr (V::kFriction) {

@@ -43,14 +43,14 @@ GIMBALSIM_FLATTEN void forwardDynamics(const Model& m, Data<V>& d, const State<V
   crba(m, d);
   applyJointTorques(d, u);
   if constexpr (V::kContact) {
-    clearanceContact(m, d, s.q, s.v, s.v0, s.in_contact ? s.friction_mode : 0);
+    clearanceContact(m, d, s.q, s.v, s.v0[0], s.in_contact[0] ? s.friction_mode : 0);
     addContactForces(m, d);
   }
   // M vdot = tau - C, factor into d.L (lower) straight from d.M.
   if (!choleskySolve(d.M, d.L, [&](int j) { return d.tau(j) - d.bias(j); }, d.vdot)) {
     d.vdot.setConstant(std::numeric_limits<double>::quiet_NaN());
   } else if constexpr (V::kFriction) {
-    if (m.contact.friction == FrictionLaw::CoulombStick && s.in_contact && s.friction_mode == 0) {
+    if (m.contact.friction == FrictionLaw::CoulombStick && s.in_contact[0] && s.friction_mode == 0) {
       stickClosure(m, d, s.q, s.v);
     }
   }

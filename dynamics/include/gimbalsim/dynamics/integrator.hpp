@@ -66,7 +66,7 @@ SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& 
                           SubstepBudget& budget, bool trial_evaluated, StepResult& r) {
   const IntegratorParams& p = m.integrator;
   const Gap g1 = clearanceGap<V>(m, d.trial.q, d.trial.v);
-  if (!s.in_contact && !(g1.delta > 0.0) && dt > p.event_tol) {
+  if (!s.in_contact[0] && !(g1.delta > 0.0) && dt > p.event_tol) {
     bool touched = d.stage_delta_max > 0.0;
     if (!touched) {
       const Gap g0 = clearanceGap<V>(m, s.q, s.v);
@@ -77,13 +77,13 @@ SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& 
       return SubstepEnd::Retry;
     }
   }
-  if ((g1.delta > 0.0) != s.in_contact) {
+  if ((g1.delta > 0.0) != s.in_contact[0]) {
     double guess = -1.0;
     if (trial_evaluated) {
       const Gap g0 = clearanceGap<V>(m, s.q, s.v);
       guess = hermiteGapRoot(dt, g0.delta, g0.rate, g1.delta, g1.rate);
     }
-    r = locateSwitch(m, d, s, u, dt, GapSwitch<V>{m, s.in_contact}, budget, guess);
+    r = locateSwitch(m, d, s, u, dt, GapSwitch<V>{m, s.in_contact[0]}, budget, guess);
     if (r.ok()) enterContactSide(m, d, s, u);
   } else if (frictionSwitched(m, d, d.trial, u, trial_evaluated)) {
     double guess = -1.0;
@@ -152,7 +152,7 @@ StepResult stepWith(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
     bool near = false;
     if constexpr (V::kContact) {
       const Gap g = clearanceGap<V>(m, s.q, s.v);
-      near = s.in_contact || g.delta + std::fmax(g.rate, 0.0) * rem > 0.0;
+      near = s.in_contact[0] || g.delta + std::fmax(g.rate, 0.0) * rem > 0.0;
     }
     double dt = P::choose(m, d, s, u, rem, near, h_next);
     if constexpr (V::kContact) dt = std::fmin(dt, dt_cap);
@@ -163,7 +163,7 @@ StepResult stepWith(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
     if constexpr (V::kContact) {
       if (near && !P::accept(m, d, u, dt, h_next)) continue;
       recordContactPeaks(d, s.t);
-      const bool was_in_contact = s.in_contact;
+      const bool was_in_contact = s.in_contact[0];
       StepResult r;
       switch (handleSwitches(m, d, s, u, dt, budget, P::kReusesK1 && near, r)) {
         case SubstepEnd::Failed: return stop(r);
@@ -174,7 +174,7 @@ StepResult stepWith(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
         case SubstepEnd::Switched:
           dt_cap = p.step;
           k1_ready = false;
-          if (!was_in_contact && s.in_contact && !P::onOnset(m, d, s, u, h_next, r)) {
+          if (!was_in_contact && s.in_contact[0] && !P::onOnset(m, d, s, u, h_next, r)) {
             r.status = StepStatus::SubstepTooLong;
             r.time = s.t;
             return stop(r);

@@ -133,7 +133,7 @@ class ReferenceIntegrator {
     stepper_.calc_state(t_switch, x);
     State<V> at = toState(x, t_switch);
     recordContact(at);
-    if (GapSwitch<V>{m_, mode_.in_contact}.past(at, delta(x))) {
+    if (GapSwitch<V>{m_, mode_.in_contact[0]}.past(at, delta(x))) {
       enterContactSide(m_, d_, at, u_);
     } else {
       enterFrictionMode(m_, d_, at, u_, false);
@@ -147,7 +147,7 @@ class ReferenceIntegrator {
   /// between the current segment's start and x?
   bool switched(const Vec& x, double t) {
     const State<V> s = toState(x, t);
-    const GapSwitch<V> gap{m_, mode_.in_contact};
+    const GapSwitch<V> gap{m_, mode_.in_contact[0]};
     return gap.past(s, gap.value(s)) || FrictionSwitch<V>{m_, d_, u_}.past(s, 0.0);
   }
   double delta(const Vec& x) const {

@@ -2,6 +2,8 @@
 // a copy is a checkpoint (everything that changes future results is here).
 #pragma once
 
+#include <array>
+
 #include "gimbalsim/dynamics/variant.hpp"
 #include "gimbalsim/dynamics/run_spec.hpp"
 
@@ -24,13 +26,13 @@ struct State {
   double t = 0.0;        ///< [s]
   VecQ q = VecQ::Zero();
   VecV v = VecV::Zero();
-  // Discrete contact memory of the one contact end of a single planar
-  // clearance joint (clearance_joint.hpp's planarJoint()); variants with more
-  // ends do not step yet (WIP_SPATIAL.md).
-  bool in_contact = false;  ///< side of the last located switch
-  double v0 = 0.0;          ///< normal velocity at the onset of this impact [m/s]
-  /// friction.law coulomb_stick only: +1 / -1 slipping with v_t > 0 / < 0,
-  /// 0 sticking (meaningful while in_contact).
+  // Discrete contact memory, one entry per contact end (V::NC: a planar
+  // joint has one end, a spatial joint two, joint 1's first), changed only
+  // at located switches.
+  std::array<bool, V::NC> in_contact{};  ///< side of each end's last located switch
+  std::array<double, V::NC> v0{};        ///< normal velocity at the onset of each end's impact [m/s]
+  /// friction.law coulomb_stick only (one planar contact end): +1 / -1
+  /// slipping with v_t > 0 / < 0, 0 sticking (meaningful while in_contact).
   int friction_mode = 0;
   /// coulomb_stick, slipping: a v_t reversal is friction_mode * v_t below
   /// this, min(0, friction_mode * v_t) at the start of the slip (a slip that
@@ -41,6 +43,13 @@ struct State {
   /// full checkpoint: stepping the copy reproduces the run bit for bit.
   double h_next = 0.0;
 
+  /// Any contact end in contact.
+  bool anyInContact() const {
+    for (const bool c : in_contact) {
+      if (c) return true;
+    }
+    return false;
+  }
   double theta(int joint) const { return q(QJ + V::theta(joint)); }
   double dtheta(int joint) const { return v(NB + V::theta(joint)); }
 };

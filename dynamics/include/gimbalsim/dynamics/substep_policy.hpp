@@ -35,7 +35,7 @@ double contactPeriodOver20(const Model& m, Data<V>& d, const State<V>& s, const 
     const double inv = nv.dot(x);
     if (inv > 0.0 && std::isfinite(inv)) m_eff = 1.0 / inv;
   }
-  const double v = std::fmax(std::fmax(std::fabs(clearanceGap<V>(m, s.q, s.v).rate), std::fabs(s.v0)), 1e-3);
+  const double v = std::fmax(std::fmax(std::fabs(clearanceGap<V>(m, s.q, s.v).rate), std::fabs(s.v0[0])), 1e-3);
   const double n = c.exponent;
   const double delta = std::pow(0.5 * (n + 1.0) * m_eff * v * v / c.K, 1.0 / (n + 1.0));
   const double k_lin = n * c.K * std::pow(delta, n - 1.0);

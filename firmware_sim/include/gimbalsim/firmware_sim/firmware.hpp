@@ -300,7 +300,7 @@ class Firmware {
       if (wear || rise) {
         d_.k_last_valid = false;  // the cached f(s) belongs to the old parameters
         // A journal in contact whose bearing receded past it is free now.
-        if (s_.in_contact && !(clearanceGap<V>(m_, s_.q, s_.v).delta > 0.0)) enterContactSide(m_, d_, s_, u_);
+        if (s_.in_contact[0] && !(clearanceGap<V>(m_, s_.q, s_.v).delta > 0.0)) enterContactSide(m_, d_, s_, u_);
       }
     }
     bus_.releaseDue(k, [this](const Command& cmd, SourceId src) { receive(cmd, src); });
