@@ -276,7 +276,7 @@ seed: 5
 parameters:
   contact.clearance: {uniform: [1.0e-4, 8.0e-4]}
   controller.azimuth.kp: {uniform: [800.0, 1200.0]}
-phases: [slew]
+phases: [{first: [0.0, 1.0]}]   # the run is shorter than the profile's slew
 indices:
   ape: {}
 """
