@@ -42,11 +42,11 @@ import time
 import gimbalsim
 from . import _budget, _budget_report, _cluster, _provenance
 from ._closed_sample import run_closed_sample
-from ._journal import OutputError, check_row, csv_line, fmt, read_journal, write_atomic  # noqa: F401 (API)
+from ._journal import OutputError, csv_line, fmt, read_journal, write_atomic  # noqa: F401 (csv_line, fmt: API)
 from ._open_sample import run_sample
 from ._spec import SpecError, check_out_dir
 from ._summary import plot, summarize
-from ._sweep_spec import MAX_SAMPLES, METRICS, SweepSpec  # noqa: F401 (the module's API)
+from ._sweep_spec import MAX_SAMPLES, SweepSpec
 from ._until import Until
 
 JOURNAL = "results.partial.csv"
