@@ -58,12 +58,8 @@ class ClosedLoopSpec:
             self.controller_path = None
         else:
             self.controller_path = spec.path_of("controller", node)
-        sets = spec.mapping("controller_set", root["controller_set"]) if "controller_set" in root else {}
-        self.key_types = {k["key"]: k["type"] for k in gimbalsim._gimbalsim._controller_keys()}
-        for key, n in sets.items():
-            if key not in self.key_types:
-                spec.refuse(f"controller_set.{key}", "not a key of the controller (see "
-                            "`pointing_controller --keys`)", n)
+        self.key_types = {k["key"]: k["type"] for k in gimbalsim.controller_keys()}
+        sets = spec.known_mapping("controller_set", self.key_types, "controller (see `pointing_controller --keys`)")
         self.set = {k: spec.value(f"controller_set.{k}", n) for k, n in sets.items()}
         self.controller = self.load(spec, "controller", {}, node, sets)
         self.values = self.controller.values()

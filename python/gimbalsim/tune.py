@@ -85,20 +85,14 @@ class TuneSpec:
             if "percentile" in obj else 99.0
 
         scene_types = {k["key"]: k["type"] for k in gimbalsim.keys()}
-        sets = spec.mapping("set", root["set"]) if "set" in root else {}
-        for k, n in sets.items():
-            if k not in scene_types:
-                spec.refuse(f"set.{k}", "not a key of the scene", n)
+        sets = spec.known_mapping("set", scene_types, "scene")
         try:
             self.base = gimbalsim.load_scene(self.scene_path, {k: spec.value(f"set.{k}", n) for k, n in sets.items()},
                                              sources={k: (spec.path, n.line) for k, n in sets.items()})
         except gimbalsim.SceneError as e:
             spec.refuse(f"set.{e.key}" if e.key in sets else "scene", str(e), sets.get(e.key, root["scene"]))
         ctrl_types = {k["key"]: k["type"] for k in gimbalsim.controller_keys()}
-        csets = spec.mapping("controller_set", root["controller_set"]) if "controller_set" in root else {}
-        for k, n in csets.items():
-            if k not in ctrl_types:
-                spec.refuse(f"controller_set.{k}", "not a controller key (see pointing_controller --keys)", n)
+        csets = spec.known_mapping("controller_set", ctrl_types, "controller (see `pointing_controller --keys`)")
         self.controller_set = {k: spec.value(f"controller_set.{k}", n) for k, n in csets.items()}
         try:
             self.controller = gimbalsim.Controller(self.controller_path, self.controller_set,
