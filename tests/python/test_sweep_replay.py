@@ -322,6 +322,11 @@ def test_a_closed_loop_sample_is_replayed_bit_for_bit_and_its_controller_fingerp
     assert len(ticks) == len(run.columns["t"])
     assert [float(t["truth_error_rad"]) for t in ticks] == [float(x) for x in run.columns["truth_error"]]
     assert (tmp_path / "run.png").stat().st_size > 0
+    # the closed loop's plot shows its own columns: true joint angles, applied torques, truth error
+    from types import SimpleNamespace
+    from gimbalsim import replay
+    drawn = replay._plot(run, SimpleNamespace(spec_path=tmp_path / "out" / "spec.yaml"), 1, "ok", tmp_path / "p.png")
+    assert drawn == ["joint angle [rad]", "applied torque [N m]", "truth pointing error [rad]"]
 
     text = (tmp_path / "ctrl.yaml").read_text()
     assert text.count("kd: 1050") == 1  # the elevation's derivative gain, changed since the sweep
