@@ -230,6 +230,25 @@ def test_until_stops_by_the_cap_and_by_width_and_does_not_depend_on_batches(tmp_
     assert read(tmp_path / "width")[1] == nine[1][:4]
 
 
+def test_until_keeps_one_cluster_for_all_its_rounds(tmp_path, monkeypatch):
+    import contextlib
+    from gimbalsim import _cluster, sweep
+    from gimbalsim._until import Until
+    starts = []
+    real = _cluster.dask_client
+
+    @contextlib.contextmanager
+    def counted(*args, **kwargs):
+        starts.append(args)
+        with real(*args, **kwargs) as cluster:
+            yield cluster
+    monkeypatch.setattr(_cluster, "dask_client", counted)
+    spec = sweep.SweepSpec(small_spec(tmp_path, 2))
+    s = sweep.sweep(spec, tmp_path / "o", workers=1, progress=False, until=Until("ape:track:1e-9", spec, 6))
+    assert s["until"]["samples"] == 6 and s["until"]["stopped_by"] == "cap"
+    assert len(starts) == 1  # three rounds of two samples, one cluster
+
+
 REFUSALS = [
     ("controller_set: {profile.slew_start: 0.0,", "controller_set: {nope.key: 1,", "controller_set.nope.key",
      "not a key of the controller"),
