@@ -53,6 +53,18 @@ class OutputPolicy : public ::testing::Test {
   fs::path dir_;
 };
 
+TEST_F(OutputPolicy, AFolderTheUserNamedMustExistTheDefaultOneIsMade) {
+  const std::string missing = (dir_ / "missing" / "sub").string();
+  EXPECT_EQ(outputFolderProblem(missing, true), "no such folder (create it first)");
+  EXPECT_FALSE(fs::exists(dir_ / "missing"));
+  { std::ofstream(dir_ / "file") << "x"; }
+  EXPECT_EQ(outputFolderProblem((dir_ / "file").string(), true), "not a folder");
+  EXPECT_EQ(outputFolderProblem(dir_.string(), true), "");
+  EXPECT_EQ(outputFolderProblem(missing, false), "");
+  EXPECT_TRUE(fs::is_directory(missing));
+  EXPECT_EQ(outputFolderProblem((dir_ / "file" / "sub").string(), false).rfind("cannot make it: ", 0), 0u);
+}
+
 TEST_F(OutputPolicy, TheNameAppearsOnlyAtCommit) {
   const std::string p = path("run.csv");
   {

@@ -57,9 +57,17 @@ std::vector<Key<ControllerConfig>> keys() {
       "pointing.accel_feedforward",
       "what the acceleration feed-forward inertia x a takes for a (inertial mode): profile: the profile's joint "
       "acceleration; inertial: each shaft's inertial angular acceleration about its joint, from the IK's second "
-      "derivative (its curvature, the base's rate and angular acceleration)",
+      "derivative (its curvature, the base's rate and angular acceleration), times the inertias azimuth.inertia, "
+      "elevation.inertia, gimbal.azimuth_inertia_cos2; model: the computed torque of the free-floating plant's "
+      "rigid-body model (plant.*), the base's reaction predicted by it",
       field(&ControllerConfig::accel_feedforward),
-      {{"profile", AccelFeedForward::Profile}, {"inertial", AccelFeedForward::Inertial}}));
+      {{"profile", AccelFeedForward::Profile},
+       {"inertial", AccelFeedForward::Inertial},
+       {"model", AccelFeedForward::Model}}));
+  v.push_back(K::number("pointing.feedforward_lead", "s",
+                        "the feed-forward torque is extrapolated this far ahead by its backward difference (a "
+                        "command acts from the next tick on, over one period: 1.5 control.period; 0: none)",
+                        field(&ControllerConfig::feedforward_lead), interval('[', 0.0, 1.0, ']')));
   v.push_back(K::number("pointing.base_accel_filter_hz", "Hz",
                         "low-pass cutoff of the base's angular acceleration (the bias-corrected gyro rate differenced "
                         "over the period), < 1/(2 control.period)",
@@ -74,6 +82,28 @@ std::vector<Key<ControllerConfig>> keys() {
                         "elevation dependence C of the azimuth inertia the feed-forward assumes: J1(theta2) = "
                         "azimuth.inertia + C (cos 2 theta2 - 1), with its velocity-product torques (0: constant)",
                         [](auto& c) -> auto& { return c.gimbal.azimuth_inertia_cos2; }, interval('[', -1e6, 1e6, ']')));
+  // The plant model of accel_feedforward = model: the scene's mass keys, same frames.
+  constexpr auto plant = [](auto& c) -> auto& { return c.plant; };
+  constexpr auto base = [](auto& c) -> auto& { return c.plant.base; };
+  constexpr auto shaft1 = [](auto& c) -> auto& { return c.plant.shaft1; };
+  constexpr auto shaft2 = [](auto& c) -> auto& { return c.plant.shaft2; };
+  v.push_back(K::number("plant.base_mass", "kg", "base (satellite) mass", field(base, &BodyParams::mass),
+                        interval('(', 0.0, 1e9, ']')));
+  v.push_back(K::inertia("plant.base_inertia", "about the base's CoM, base frame", field(base, &BodyParams::inertia)));
+  v.push_back(K::number("plant.shaft1_mass", "kg", "shaft 1 mass", field(shaft1, &BodyParams::mass),
+                        interval('(', 0.0, 1e9, ']')));
+  v.push_back(K::vector<3>("plant.shaft1_com", "m", "shaft 1 CoM from joint 1, shaft 1 frame",
+                           field(shaft1, &BodyParams::com)));
+  v.push_back(K::inertia("plant.shaft1_inertia", "about shaft 1's CoM, shaft 1 frame", field(shaft1, &BodyParams::inertia)));
+  v.push_back(K::number("plant.shaft2_mass", "kg", "shaft 2 + antenna mass", field(shaft2, &BodyParams::mass),
+                        interval('(', 0.0, 1e9, ']')));
+  v.push_back(K::vector<3>("plant.shaft2_com", "m", "shaft 2 CoM from joint 2, shaft 2 frame",
+                           field(shaft2, &BodyParams::com)));
+  v.push_back(K::inertia("plant.shaft2_inertia", "about shaft 2's CoM, shaft 2 frame", field(shaft2, &BodyParams::inertia)));
+  v.push_back(K::vector<3>("plant.joint1_position", "m", "joint 1 from the base CoM, base frame",
+                           field(plant, &PlantMass::joint1_position_B)));
+  v.push_back(K::vector<3>("plant.joint2_position", "m", "joint 2 from joint 1, shaft 1 frame",
+                           field(plant, &PlantMass::joint2_position_S1)));
   v.push_back(K::number("estimator.k_p", "1/s", "attitude estimator correction gain (star tracker bandwidth)",
                         [](auto& c) -> auto& { return c.estimator.k_p; }, interval('[', 0.0, 1e3, ']')));
   v.push_back(K::number("estimator.k_i", "1/s^2",
@@ -121,9 +151,15 @@ std::vector<KeyInfo> controllerKeys() { return controllerTable().info(); }
 
 std::vector<std::string> configValues(const ControllerConfig& c) { return controllerTable().values(c); }
 
+void finalizePlant(ControllerConfig& c) {
+  c.plant_model = plantModel(c.plant, c.gimbal.joint1_axis, c.gimbal.joint2_axis, c.gimbal.boresight);
+}
+
 ControllerConfig loadControllerConfigText(const std::string& yaml, const std::string& origin,
                                           const std::vector<std::string>& overrides) {
-  return loadKeys<ConfigError>(controllerTable(), yaml, origin, overrides);
+  ControllerConfig c = loadKeys<ConfigError>(controllerTable(), yaml, origin, overrides);
+  finalizePlant(c);
+  return c;
 }
 
 ControllerConfig loadControllerConfig(const std::string& path, const std::vector<std::string>& overrides) {

@@ -22,9 +22,12 @@
 //               acceleration about its joint (J_i a_i is the torque that gives it):
 //                 a1 = ddq1 + k1.alpha_B
 //                 a2 = ddq2 + k2.alpha_B + dq1 k2.(omega_B x k1)   (k2 = R1(q1) k2_S1)
+//     model:    ddq_ref and the torque from the free-floating plant model, the
+//               base's reaction predicted, not measured (model_feedforward.hpp)
 #include <cmath>
 
 #include "gimbalsim/controllers/gimbal_ik.hpp"
+#include "gimbalsim/controllers/model_feedforward.hpp"
 #include "gimbalsim/controllers/pid.hpp"
 
 namespace gimbalsim::controllers {
@@ -65,6 +68,10 @@ void jointReference(const ControllerConfig& c, ControllerState& s, const Measure
   if (c.pointing_mode == PointingMode::Joint) {
     out.ref = out.profile;
     out.accel_ff = ddq_p;
+    if (c.accel_feedforward == AccelFeedForward::Model) {
+      const ReducedDynamics r = reducedDynamics(c.plant_model, out.ref.q, out.ref.dq, e.omega_B);
+      out.tau_ff = r.H * ddq_p + r.c;
+    }
     s.ref_primed = true;
     return;
   }
@@ -86,7 +93,13 @@ void jointReference(const ControllerConfig& c, ControllerState& s, const Measure
   const IkSolution sol = solveAngles(g, los.d_B, prev);
   out.ref.q = sol.theta;
   out.ref.dq = solveRates(g, sol.theta, los.d_B_dot);
-  if (c.accel_feedforward == AccelFeedForward::Inertial) {
+  if (c.accel_feedforward == AccelFeedForward::Model) {
+    const ReducedDynamics r = reducedDynamics(c.plant_model, sol.theta, out.ref.dq, e.omega_B);
+    const LosInBase los0 = losInBase(d_W, dd_W, ddd_W, e.q_WB.toRotationMatrix(), e.omega_B, Vec3::Zero());
+    out.ref.ddq = pointingAccelerations(g, r, sol.theta, out.ref.dq, los0.d_B, los0.d_B_ddot);
+    out.accel_ff = out.ref.ddq;
+    out.tau_ff = r.H * out.ref.ddq + r.c;
+  } else if (c.accel_feedforward == AccelFeedForward::Inertial) {
     out.ref.ddq = solveAccelerations(g, sol.theta, out.ref.dq, los.d_B_ddot);
     const Vec3 k2 = axisAngle(g.k1_B, sol.theta(0)) * g.k2_S1;
     out.accel_ff(0) = out.ref.ddq(0) + g.k1_B.dot(s.alpha_B);

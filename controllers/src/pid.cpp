@@ -50,17 +50,25 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
   // The difference uses the real spacing of the samples; a gap (missed
   // statuses, a controller joining late) of more than 10 periods or a time
   // going backwards re-primes instead of producing a spike.
-  // Feed-forward torque of the gimbal's own dynamics (fixed-base Lagrangian of
-  // M = diag(J1(theta2), J2), at the reference): J1(theta2) = J1_0 + C (cos 2 theta2 - 1),
+  // Feed-forward torque: model: the computed torque of the free-floating
+  // plant (inertial_reference.cpp filled out.tau_ff); otherwise the gimbal's
+  // own dynamics (fixed-base Lagrangian of M = diag(J1(theta2), J2), at the
+  // reference): J1(theta2) = J1_0 + C (cos 2 theta2 - 1),
   //   tau1 = J1(theta2) a1 + J1'(theta2) w1 w2,   tau2 = J2 a2 - J1'(theta2) w1^2 / 2.
-  const double C = c.gimbal.azimuth_inertia_cos2, th2 = out.ref.q(1);
-  const double dJ1 = -2.0 * C * std::sin(2.0 * th2);
-  const double w1 = out.ref.dq(0), w2 = out.ref.dq(1);
-  const Vec2 tau_ff{(c.axis[0].inertia + C * (std::cos(2.0 * th2) - 1.0)) * out.accel_ff(0) + dJ1 * w1 * w2,
-                    c.axis[1].inertia * out.accel_ff(1) - 0.5 * dJ1 * w1 * w1};
+  if (c.accel_feedforward != AccelFeedForward::Model) {
+    const double C = c.gimbal.azimuth_inertia_cos2, th2 = out.ref.q(1);
+    const double dJ1 = -2.0 * C * std::sin(2.0 * th2);
+    const double w1 = out.ref.dq(0), w2 = out.ref.dq(1);
+    out.tau_ff = {(c.axis[0].inertia + C * (std::cos(2.0 * th2) - 1.0)) * out.accel_ff(0) + dJ1 * w1 * w2,
+                  c.axis[1].inertia * out.accel_ff(1) - 0.5 * dJ1 * w1 * w1};
+  }
   const double dt = meas.t - s.t_prev;
   const bool difference_ok = s.primed && dt > 0.0 && dt <= 10.0 * Ts;
   const double alpha = dt / (dt + 1.0 / (2.0 * M_PI * c.rate_filter_hz));
+  // The command computed now acts over the next period: the feed-forward
+  // extrapolated by its backward difference to feedforward_lead ahead.
+  const Vec2 tau_ff = difference_ok ? Vec2(out.tau_ff + (c.feedforward_lead / dt) * (out.tau_ff - s.tau_ff_prev))
+                                    : out.tau_ff;
   for (int i = 0; i < 2; ++i) {
     const AxisGains& g = c.axis[i];
     double w = meas.dtheta(i);
@@ -108,6 +116,7 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
   s.t_prev = meas.t;
   s.primed = true;
   s.last_tau = out.tau;
+  s.tau_ff_prev = out.tau_ff;
   return out;
 }
 

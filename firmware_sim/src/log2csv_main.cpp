@@ -247,10 +247,10 @@ int mainImpl(int argc, char** argv) {
 
   // Pass 2: convert.
   const fs::path dir = out_dir.empty() ? fs::path(log_path).parent_path() : fs::path(out_dir);
-  // An output folder is never created: one that is missing is refused (the rule of every program).
-  if (!out_dir.empty() && !fs::is_directory(dir, ec)) {
-    return refuse("--out-dir '" + out_dir + "': " + (fs::exists(dir, ec) ? "not a folder" : "no such folder") +
-                  " (create it first)");
+  if (!out_dir.empty()) {
+    if (const std::string why = io::outputFolderProblem(out_dir, true); !why.empty()) {
+      return refuse("--out-dir '" + out_dir + "': " + why);
+    }
   }
   const std::string stem = fs::path(log_path).stem().string();
   std::map<std::string, std::unique_ptr<io::OutputFile>> files;

@@ -12,6 +12,7 @@ Stepping, simulating and closed loops release the GIL: separate Simulators
 run in parallel threads; calls on one Simulator run one after the other.
 """
 
+import functools
 import json
 import math
 import numbers
@@ -281,9 +282,10 @@ class ClosedLoopRun:
     def ok(self):
         return self.summary["ok"]
 
-    @property
+    @functools.cached_property
     def rows(self):
-        """The ticks as an (N, columns) array, in the order of ``columns``."""
+        """The ticks as an (N, columns) array, in the order of ``columns``
+        (stacked once, on first use)."""
         return np.column_stack([np.asarray(v, dtype=float) for v in self.columns.values()])
 
     def to_csv(self, path):

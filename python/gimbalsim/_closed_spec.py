@@ -4,7 +4,7 @@ or the built-in default, its overrides), the phases and the pointing indices
 
     controller: default                 # or a configuration file, against the spec's folder
     controller_set: {azimuth.kp: 900}   # controller overrides for every sample
-    phases: [slew, hold, track, {settled: [4.0, 6.0]}]   # the profile's segments or [t0, t1) in s
+    phases: [slew, hold, track, {settled: [4.0, 5.0]}]   # the profile's segments or [t0, t1) in s
     indices:
       ape: {level: 0.9973, confidence: 0.95, requirement: 1.0e-4}
       rpe: {window: 0.1}
@@ -58,12 +58,8 @@ class ClosedLoopSpec:
             self.controller_path = None
         else:
             self.controller_path = spec.path_of("controller", node)
-        sets = spec.mapping("controller_set", root["controller_set"]) if "controller_set" in root else {}
-        self.key_types = {k["key"]: k["type"] for k in gimbalsim._gimbalsim._controller_keys()}
-        for key, n in sets.items():
-            if key not in self.key_types:
-                spec.refuse(f"controller_set.{key}", "not a key of the controller (see "
-                            "`pointing_controller --keys`)", n)
+        self.key_types = {k["key"]: k["type"] for k in gimbalsim.controller_keys()}
+        sets = spec.known_mapping("controller_set", self.key_types, "controller (see `pointing_controller --keys`)")
         self.set = {k: spec.value(f"controller_set.{k}", n) for k, n in sets.items()}
         self.controller = self.load(spec, "controller", {}, node, sets)
         self.values = self.controller.values()
@@ -76,6 +72,7 @@ class ClosedLoopSpec:
                         f"multiple of control.period {self.period_s:g} s", root.get("set") or root["scene"])
         self.phases = self._phases(spec, root)
         self.indices = self._indices(spec, root)
+        self._check_reached(spec, root)
 
     def load(self, spec, where, extra, node, sets=None):
         """The controller with the spec's overrides and `extra`; refused at
@@ -121,6 +118,35 @@ class ClosedLoopSpec:
             if names.count(name) > 1:
                 spec.refuse("phases", f"phase '{name}' given twice", node)
         return phases
+
+    def _check_reached(self, spec, root):
+        """Every phase, and every index's window inside it, lies within the
+        run: a run that ends before (or inside) a phase would give every
+        sample NaN there, so the spec is refused at its line instead."""
+        nominal = profile_phases(self.controller, self.duration_s)
+        sets = root["set"].value if "set" in root and isinstance(root["set"].value, dict) else {}
+        duration_node = sets.get("sim.duration", root["scene"])
+        items = {}
+        if "phases" in root:
+            for item in root["phases"].value:
+                items[item.value if isinstance(item.value, str) else next(iter(item.value))] = item
+        tol = 1e-9 * max(1.0, self.duration_s)
+        for name, window in self.phases:
+            where = items.get(name, duration_node)
+            t0, t1 = window if window is not None else nominal[name]
+            ends_with_run = window is None and name == "track"
+            if self.duration_s <= t0 + tol or (not ends_with_run and self.duration_s < t1 - tol):
+                spec.refuse(f"phases.{name}" if items else "sim.duration",
+                            f"the run ends at sim.duration {self.duration_s:g} s, "
+                            f"{'before' if self.duration_s <= t0 + tol else 'inside'} phase '{name}' "
+                            f"[{t0:g}, {t1:g}) s: its indices would be NaN for every sample", where)
+            length = (self.duration_s if ends_with_run else t1) - t0
+            for ix in self.indices:
+                need = (ix.window or 0.0) + (ix.separation or 0.0)
+                if need > length + tol:
+                    spec.refuse(f"indices.{ix.name}", f"the window{' plus separation' if ix.separation else ''} "
+                                f"{need:g} s is longer than phase '{name}' ({length:g} s of this run)",
+                                root["indices"].value[ix.name])
 
     def _whole_periods(self, spec, where, value, node):
         n = value / self.period_s

@@ -87,12 +87,27 @@ class Interrupted(BaseException):
         self.signum = signum
 
 
+class _DropInterrupted(logging.Filter):
+    """A signal that lands inside a library's cleanup (SQLAlchemy resetting
+    the study's connection from a finalizer) is logged there with its
+    traceback on its way out; the program reports it itself, in one line."""
+
+    def filter(self, record):
+        return not (record.exc_info and isinstance(record.exc_info[1], Interrupted))
+
+
+_DROP_INTERRUPTED = _DropInterrupted()
+
+
 def raise_on_signals():
-    """SIGINT and SIGTERM raise Interrupted in the main thread."""
+    """SIGINT and SIGTERM raise Interrupted in the main thread (and no
+    library's log repeats it on the console)."""
     def handler(signum, frame):
         raise Interrupted(signum)
     signal.signal(signal.SIGINT, handler)
     signal.signal(signal.SIGTERM, handler)
+    if logging.lastResort is not None and _DROP_INTERRUPTED not in logging.lastResort.filters:
+        logging.lastResort.addFilter(_DROP_INTERRUPTED)
 
 
 def add_cluster_arguments(parser):

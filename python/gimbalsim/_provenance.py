@@ -8,7 +8,6 @@ of the loaded object, sorted by key, each value as `values()` gives it (the
 text `--set` reads back exactly)."""
 import functools
 import hashlib
-import math
 
 import gimbalsim
 
@@ -28,25 +27,14 @@ def fingerprint(values):
     return hashlib.sha256(canonical_text(values).encode("utf-8")).hexdigest()
 
 
-def controller_of(spec):
-    """The spec's base controller (a closed-loop sweep), or None: a loaded
-    `controller`, or one loaded from `closed` (controller_path and set)."""
-    ctrl = getattr(spec, "controller", None)
-    closed = getattr(spec, "closed", None)
-    if ctrl is None and closed is not None:
-        ctrl = gimbalsim.Controller(closed.controller_path, closed.set)
-    return ctrl
-
-
 def fingerprints(spec):
     """{column: fingerprint} of the spec's base scene and, for a closed-loop
     spec, its controller configuration; the columns in this order (computed
     once per spec)."""
     if getattr(spec, "_fingerprints", None) is None:
         out = {SCENE_FINGERPRINT: fingerprint(spec.base.values())}
-        ctrl = controller_of(spec)
-        if ctrl is not None:
-            out[CONTROLLER_FINGERPRINT] = fingerprint(ctrl._values_text())
+        if spec.closed is not None:  # the controller the closed-loop spec loaded
+            out[CONTROLLER_FINGERPRINT] = fingerprint(spec.closed.controller._values_text())
         spec._fingerprints = out
     return spec._fingerprints
 

@@ -150,6 +150,17 @@ class Spec:
             self.refuse(name, "expected a mapping", node)
         return node.value
 
+    def known_mapping(self, name, known, what):
+        """The top-level mapping `name` ({} when absent) whose keys must all be
+        in `known`; an unknown one is refused at its line as "not a key of
+        the <what>"."""
+        node = self.get(name)
+        body = self.mapping(name, node) if node is not None else {}
+        for key, n in body.items():
+            if key not in known:
+                self.refuse(f"{name}.{key}", f"not a key of the {what}", n)
+        return body
+
     def text(self, name, node):
         if not isinstance(node.value, str):
             self.refuse(name, f"expected a name, got {_shown(node.value)}", node)

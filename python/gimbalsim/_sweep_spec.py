@@ -37,17 +37,12 @@ class SweepSpec:
         self.samples = spec.integer("samples", root["samples"], 1, MAX_SAMPLES)
         self.seed = spec.integer("seed", root["seed"], 0, 2**63 - 1)
         key_types = {k["key"]: k["type"] for k in gimbalsim.keys()}
-        sets = spec.mapping("set", root["set"]) if "set" in root else {}
-        for key, node in sets.items():
-            if key not in key_types:
-                spec.refuse(f"set.{key}", "not a key of the scene", node)
+        sets = spec.known_mapping("set", key_types, "scene")
         self.set = {k: spec.value(f"set.{k}", n) for k, n in sets.items()}
         params = spec.mapping("parameters", root["parameters"]) if "parameters" in root else {}
-        grid = spec.mapping("grid", root["grid"]) if "grid" in root else {}
+        grid = spec.known_mapping("grid", key_types, "scene")
         self.grid = []
         for key, node in grid.items():
-            if key not in key_types:
-                spec.refuse(f"grid.{key}", "not a key of the scene", node)
             if key in params:
                 spec.refuse(f"grid.{key}", "also under parameters: give it in one place", node)
             if not isinstance(node.value, list) or not node.value:
@@ -115,7 +110,7 @@ class SweepSpec:
         convention (docs/usage.md), e.g. contact.clearance -> contact_clearance_m."""
         units = {k["key"]: k["unit"] for k in gimbalsim.keys()}
         if self.closed:
-            units.update({CONTROLLER_PREFIX + k["key"]: k["unit"] for k in gimbalsim._gimbalsim._controller_keys()})
+            units.update({CONTROLLER_PREFIX + k["key"]: k["unit"] for k in gimbalsim.controller_keys()})
         csv_name = gimbalsim._gimbalsim.csv_name
         names = ["sample"]
         for c in self.design.columns():  # "initial.ecc[0]" -> initial_ecc_0_m

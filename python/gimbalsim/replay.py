@@ -189,11 +189,13 @@ def _report(differ, header, recorded, row, i, source):
 
 # The plot's panels: (y label, columns), each drawn when the run has its columns
 # (an open-loop Run, or a closed loop's ticks).
-PANELS = [("joint angle [rad]", ("theta1", "theta2")), ("eccentricity [m]", ("ecc",)),
+PANELS = [("joint angle [rad]", ("theta1", "theta2")), ("joint angle [rad]", ("theta1_true", "theta2_true")),
+          ("applied torque [N m]", ("tau1_applied", "tau2_applied")), ("eccentricity [m]", ("ecc",)),
           ("joint-2 force [N]", ("joint2_force",)), ("truth pointing error [rad]", ("truth_error",))]
 
 
 def _plot(run, spec, i, status, path):
+    """Draws the panels the run has columns for into path; returns their labels."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -211,7 +213,7 @@ def _plot(run, spec, i, status, path):
         ax.set_ylabel(label)
         ax.legend()
     axes[-1, 0].set_xlabel("t [s]")
-    fig.suptitle(f"sample {i} of {spec.spec_path.name} ({status})")
+    fig.suptitle(f"sample {i} of the sweep in {spec.spec_path.parent.name}/ ({status})")
     fig.tight_layout()
     tmp = path.with_name(path.name + ".tmp.png")  # whole or not at all
     try:
@@ -221,6 +223,8 @@ def _plot(run, spec, i, status, path):
         plt.close(fig)
         if tmp.exists():
             tmp.unlink()
+    return [label for label, _ in panels]
+
 
 def main(folder, i, out, plot_path):
     """--replay's exit code, its refusals and interruptions as the sweep's."""

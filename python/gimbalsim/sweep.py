@@ -32,6 +32,7 @@ Exit codes: 0 done (crashed samples included), 2 spec refused, 4 an output not w
 kept), 130 / 143 interrupted by SIGINT / SIGTERM (the journal kept).
 """
 import argparse
+import contextlib
 import json
 import math
 import os
@@ -42,11 +43,11 @@ import time
 import gimbalsim
 from . import _budget, _budget_report, _cluster, _provenance
 from ._closed_sample import run_closed_sample
-from ._journal import OutputError, check_row, csv_line, fmt, read_journal, write_atomic  # noqa: F401 (API)
+from ._journal import OutputError, csv_line, fmt, read_journal, write_atomic  # noqa: F401 (csv_line, fmt: API)
 from ._open_sample import run_sample
 from ._spec import SpecError, check_out_dir
 from ._summary import plot, summarize
-from ._sweep_spec import MAX_SAMPLES, METRICS, SweepSpec  # noqa: F401 (the module's API)
+from ._sweep_spec import MAX_SAMPLES, SweepSpec
 from ._until import Until
 
 JOURNAL = "results.partial.csv"
@@ -131,26 +132,30 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
     for why, n in dropped.items():
         print(f"sweep: dropped {n} journal row{'s' * (n != 1)} ({why}); their samples run again", file=sys.stderr)
     engine, grown = {"ran_this_invocation": 0}, None
-    while True:
-        todo = [i for i in range(len(spec.design)) if i not in done]
-        print(f"sweep: {len(spec.design)} samples, {len(done)} already done, {len(todo)} to run", file=sys.stderr)
-        if todo:
-            try:  # unbuffered: a failed write leaves nothing behind to fail again at close
-                fd = os.open(journal, os.O_WRONLY | os.O_APPEND)
-            except OSError as e:
-                raise OutputError(f"cannot open the journal {journal}: {e.strerror}") from None
-            try:
-                engine = _merge(engine, _run_on_cluster(spec, todo, fd, journal, done, workers, scheduler, batch,
-                                                        progress))
-            finally:
-                os.close(fd)
-        rows = [[str(v) for v in done[i]] for i in sorted(done) if i < len(spec.design)]
-        if until is None:
-            break
-        stop, grown = until.check(spec, rows)
-        if stop:
-            break
-        until.grow(spec)
+    with contextlib.ExitStack() as stack:
+        cluster = None  # started for the first sample to run, and kept for every round of --until
+        while True:
+            todo = [i for i in range(len(spec.design)) if i not in done]
+            print(f"sweep: {len(spec.design)} samples, {len(done)} already done, {len(todo)} to run",
+                  file=sys.stderr)
+            if todo:
+                if cluster is None:
+                    cluster = stack.enter_context(_cluster.dask_client(workers, scheduler))
+                try:  # unbuffered: a failed write leaves nothing behind to fail again at close
+                    fd = os.open(journal, os.O_WRONLY | os.O_APPEND)
+                except OSError as e:
+                    raise OutputError(f"cannot open the journal {journal}: {e.strerror}") from None
+                try:
+                    engine = _merge(engine, _run_on_cluster(spec, todo, fd, journal, done, cluster, batch, progress))
+                finally:
+                    os.close(fd)
+            rows = [[str(v) for v in done[i]] for i in sorted(done) if i < len(spec.design)]
+            if until is None:
+                break
+            stop, grown = until.check(spec, rows)
+            if stop:
+                break
+            until.grow(spec)
     write_atomic(results, "".join(csv_line(r) for r in [header] + rows))
     summary = summarize(spec, rows, engine)
     summary["journal_rows_dropped"] = dropped
@@ -194,59 +199,61 @@ def crashed(i):
     return {"sample": i, "status": "crashed", "wall_time": math.nan}
 
 
-def _run_on_cluster(spec, todo, fd, journal, done, workers, scheduler, batch, progress):
+def _run_on_cluster(spec, todo, fd, journal, done, cluster, batch, progress):
+    """Runs the samples todo on cluster = (client, n_workers), appending each
+    task's rows to the journal as they arrive; the engine's figures."""
     from distributed import as_completed
     from distributed.scheduler import KilledWorker
     from tqdm import tqdm
 
-    with _cluster.dask_client(workers, scheduler) as (client, n_workers):
-        # about 8 tasks per worker, at most 10 samples each: rows arrive often and a killed worker loses little
-        size = batch or max(1, min(10, math.ceil(len(todo) / (n_workers * 8))))
-        chunks = [todo[k:k + size] for k in range(0, len(todo), size)]
-        # the base scene (2 kB) goes in each task, not scattered: scattered data dies with the workers
-        # holding it, and the tasks needing it then fail; a task's own arguments are resent on a retry
-        t0 = time.perf_counter()
-        submit = lambda c: client.submit(run_batch, spec.base, spec.closed, [(i, spec.design.draw(i)) for i in c],
-                                         pure=False)
-        samples_of = {}  # future -> the samples it runs
-        for c in chunks:
-            samples_of[submit(c)] = c
-        bar = tqdm(total=len(todo), unit="sample", disable=not progress, file=sys.stderr, smoothing=0.1)
-        inside, ran = 0.0, 0
-        try:
-            tasks = as_completed(list(samples_of))
-            for fut in tasks:
-                samples = samples_of.pop(fut)
-                try:
-                    results, t_task = fut.result()
-                except KilledWorker:
-                    if len(samples) > 1:  # which sample killed it? each runs alone, so only that one is crashed
-                        for i in samples:
-                            f = submit([i])
-                            samples_of[f] = [i]
-                            tasks.add(f)
-                        fut.release()
-                        continue
-                    results, t_task = [crashed(samples[0])], 0.0
-                inside += t_task
-                lines = {}
-                for r in results:
-                    if r["sample"] not in done:
-                        lines[r["sample"]] = [fmt(v) for v in row_values(spec, spec.design.draw(r["sample"]), r)]
-                try:  # a task's rows in one append, synced: a cut can only tear the last line
-                    data = "".join(csv_line(line) for line in lines.values()).encode()
-                    while data:
-                        data = data[os.write(fd, data):]
-                    os.fsync(fd)
-                except OSError as e:
-                    raise OutputError(f"cannot write the journal {journal}: {e.strerror}") from None
-                done.update(lines)
-                ran += len(lines)
-                bar.update(len(results))
-                fut.release()
-        finally:
-            bar.close()
-        elapsed = time.perf_counter() - t0
+    client, n_workers = cluster
+    # about 8 tasks per worker, at most 10 samples each: rows arrive often and a killed worker loses little
+    size = batch or max(1, min(10, math.ceil(len(todo) / (n_workers * 8))))
+    chunks = [todo[k:k + size] for k in range(0, len(todo), size)]
+    # the base scene (2 kB) goes in each task, not scattered: scattered data dies with the workers
+    # holding it, and the tasks needing it then fail; a task's own arguments are resent on a retry
+    t0 = time.perf_counter()
+    submit = lambda c: client.submit(run_batch, spec.base, spec.closed, [(i, spec.design.draw(i)) for i in c],
+                                     pure=False)
+    samples_of = {}  # future -> the samples it runs
+    for c in chunks:
+        samples_of[submit(c)] = c
+    bar = tqdm(total=len(todo), unit="sample", disable=not progress, file=sys.stderr, smoothing=0.1)
+    inside, ran = 0.0, 0
+    try:
+        tasks = as_completed(list(samples_of))
+        for fut in tasks:
+            samples = samples_of.pop(fut)
+            try:
+                results, t_task = fut.result()
+            except KilledWorker:
+                if len(samples) > 1:  # which sample killed it? each runs alone, so only that one is crashed
+                    for i in samples:
+                        f = submit([i])
+                        samples_of[f] = [i]
+                        tasks.add(f)
+                    fut.release()
+                    continue
+                results, t_task = [crashed(samples[0])], 0.0
+            inside += t_task
+            lines = {}
+            for r in results:
+                if r["sample"] not in done:
+                    lines[r["sample"]] = [fmt(v) for v in row_values(spec, spec.design.draw(r["sample"]), r)]
+            try:  # a task's rows in one append, synced: a cut can only tear the last line
+                data = "".join(csv_line(line) for line in lines.values()).encode()
+                while data:
+                    data = data[os.write(fd, data):]
+                os.fsync(fd)
+            except OSError as e:
+                raise OutputError(f"cannot write the journal {journal}: {e.strerror}") from None
+            done.update(lines)
+            ran += len(lines)
+            bar.update(len(results))
+            fut.release()
+    finally:
+        bar.close()
+    elapsed = time.perf_counter() - t0
     w = spec.header().index("wall_time")
     times = [t for t in (float(done[i][w]) for i in todo) if math.isfinite(t)]  # crashed: nan
     run_time = sum(times)

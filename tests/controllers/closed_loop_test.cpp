@@ -102,13 +102,15 @@ TEST(ClosedLoop, WrongGainsFailTheCriteria) {
   print("sign-flipped elevation kp", rf);
   EXPECT_FALSE(meetsAccuracy(rf, kTruthFloating));
 
-  ControllerConfig zero = defaults();
-  for (auto& g : zero.axis) g.kp = g.ki = g.kd = 0.0;  // feed-forward alone
+  // Feed-forward alone, its model 10 % off in the antenna's mass (with the
+  // exact model the ideal plant alone drifts only 3.9e-5 rad in this run).
+  ControllerConfig zero = defaults({"plant.shaft2_mass=45"});
+  for (auto& g : zero.axis) g.kp = g.ki = g.kd = 0.0;
   const ClosedLoopResult rz = run(sc, zero);
   print("zero feedback gains", rz);
   EXPECT_FALSE(meetsAccuracy(rz, kTruthFloating));
 
-  ControllerConfig weak = defaults();
+  ControllerConfig weak = defaults({"pointing.accel_feedforward=profile"});
   for (auto& g : weak.axis) g = triplePoleGains(g.inertia, 2.0, g.torque_limit, g.aw_gain);
   weak.axis[0].inertia = weak.axis[1].inertia = 0.0;  // and no acceleration feed-forward
   const ClosedLoopResult rw = run(sc, weak);

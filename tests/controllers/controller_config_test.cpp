@@ -26,7 +26,13 @@ TEST(ControllerConfig, DefaultFileLoadsWithItsValues) {
   EXPECT_EQ(c.axis[0].inertia, 17.01);
   EXPECT_EQ(c.axis[1].inertia, 16.91);
   EXPECT_EQ(c.gimbal.azimuth_inertia_cos2, 8.205);
-  EXPECT_EQ(c.accel_feedforward, AccelFeedForward::Inertial);
+  EXPECT_EQ(c.accel_feedforward, AccelFeedForward::Model);
+  EXPECT_EQ(c.feedforward_lead, 1.5e-3);
+  // The plant model of the feed-forward is the paper scene's (tools/scenes/paper_ideal.yaml).
+  EXPECT_EQ(c.plant.base.mass, 1000.0);
+  EXPECT_EQ(c.plant.base.inertia, Vec3(1000.0, 100.0, 100.0).asDiagonal().toDenseMatrix());
+  EXPECT_EQ(c.plant.shaft2.com, Vec3(0.5, 0.0, 0.0));
+  EXPECT_EQ(c.plant_model.shaft2.mass, 50.0);
   EXPECT_GT(c.axis[0].kp, 0.0);
   EXPECT_EQ(c.profile.slew_target, Vec2(0.5, 0.3));
 }
@@ -37,6 +43,19 @@ TEST(ControllerConfig, SetOverridesTheFile) {
   EXPECT_EQ(c.axis[0].kp, 123.0);
   EXPECT_EQ(c.profile.slew_target, Vec2(0.1, -0.2));
   EXPECT_EQ(c.anti_windup, AntiWindup::Clamping);
+}
+
+TEST(ControllerConfig, PlantKeysRebuildTheFeedForwardModelAndAreChecked) {
+  const ControllerConfig c = loadControllerConfig(kDefault, {"plant.shaft2_mass=25", "plant.base_inertia=[900, 90, 80]"});
+  EXPECT_EQ(c.plant_model.shaft2.mass, 25.0);
+  EXPECT_EQ(c.plant_model.I_chain[1].m, 25.0);
+  EXPECT_EQ(c.plant_model.base.inertia(2, 2), 80.0);
+  EXPECT_NE(refusal("plant:\n  shaft1_mass: 0\n").find("cfg.yaml:2:3: key 'plant.shaft1_mass': must be in (0, 1e+09]"),
+            std::string::npos)
+      << refusal("plant:\n  shaft1_mass: 0\n");
+  EXPECT_NE(refusal("plant:\n  base_inertia: [1, -1, 1]\n").find("key 'plant.base_inertia'"), std::string::npos);
+  EXPECT_NE(refusal("", {"pointing.feedforward_lead=-1e-3"}).find("key 'pointing.feedforward_lead': must be in [0, 1]"),
+            std::string::npos);
 }
 
 TEST(ControllerConfig, UnknownKeyNamesFileLineAndKey) {
@@ -104,8 +123,8 @@ TEST(ControllerConfig, EveryKeyIsDocumented) {
     EXPECT_FALSE(k.meaning.empty()) << k.key;
     EXPECT_FALSE(k.type.empty()) << k.key;
   }
-  // + pointing.* 5, gimbal.* 4, estimator.* 2; monitor.* 4
-  EXPECT_EQ(controllerKeys().size(), 14u + 12u + 8u + 4u + 3u);
+  // + pointing.* 6, gimbal.* 4, estimator.* 2; monitor.* 4; plant.* 10
+  EXPECT_EQ(controllerKeys().size(), 14u + 12u + 8u + 4u + 3u + 1u + 10u);
 }
 
 TEST(ControllerConfig, PointingKeysLoadAndAreChecked) {

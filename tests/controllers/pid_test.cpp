@@ -18,6 +18,8 @@ ControllerConfig holdAt(const Vec2& q) {
   // The plain PID with a constant-inertia feed-forward (the defaults are the default controller's).
   c.approach_margin = 0.0;
   c.gimbal.azimuth_inertia_cos2 = 0.0;
+  c.accel_feedforward = AccelFeedForward::Profile;
+  c.feedforward_lead = 0.0;
   c.profile.start = q;
   c.profile.slew_start = 1e9;
   for (auto& g : c.axis) g = AxisGains{.kp = 100.0, .ki = 10.0, .kd = 5.0, .inertia = 2.0, .torque_limit = 1e6};

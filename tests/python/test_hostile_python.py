@@ -351,6 +351,8 @@ def test_controller_values_are_typed_as_their_keys():
             assert type(v) is int, (key, v)
         elif t.startswith("vec"):
             assert isinstance(v, list) and len(v) == int(t[3:]) and all(type(x) is float for x in v), (key, v)
+        elif t == "inertia":  # the principal moments of a diagonal inertia (plant.*)
+            assert isinstance(v, list) and len(v) == 3 and all(type(x) is float for x in v), (key, v)
         else:
             assert type(v) is str, (key, v)
     assert values["control.period"] == c.period

@@ -1,6 +1,7 @@
 """Closed-loop sweeps: per-sample pointing indices (ECSS-E-ST-60-10C) equal
 indices.py applied here to the run's own ticks, phases from the profile,
-NaN with a reason past the run's end, the budget table with its intervals
+NaN with a reason past the run's end (and a spec whose run ends before a
+phase refused at its line), the budget table with its intervals
 and "not supported" marks, requirement verdicts, --until, refusals at the
 spec's line, and the same results with 1 and 2 workers and a real scheduler."""
 import csv
@@ -31,7 +32,7 @@ parameters:
   contact.clearance: {{uniform: [1.0e-4, 8.0e-4]}}
   sensors.star_tracker_noise: {{uniform: [0.0, 2.0e-5]}}
   controller.azimuth.kp: {{uniform: [2000.0, 4000.0]}}
-phases: [slew, hold, track, {{late: [5.0, 6.0]}}]
+phases: [slew, hold, track, {{late: [0.4, 0.5]}}]
 indices:
   ape: {{level: 0.5, confidence: 0.5, requirement: 1.0}}
   rpe: {{window: 0.05}}
@@ -100,7 +101,7 @@ def independent_indices(run, dt):
     for name, code in (("slew", 1), ("hold", 2), ("track", 3)):
         ts = t[seg == code]
         windows[name] = (ts.min(), ts.max() + dt)
-    windows["late"] = (5.0, 6.0)
+    windows["late"] = (0.4, 0.5)
     out = {}
     for p, (t0, t1) in windows.items():
         out[f"ape_{p}_rad"] = indices.ape(t, e, t0, t1)
@@ -132,11 +133,15 @@ def test_per_sample_indices_equal_indices_py_on_the_runs_own_ticks(reference, sp
                 assert float(v[col]) == value.value, col
             else:
                 assert v[col] == "nan", col
-        # every index of the profile's phases is a number; the late phase is past the run's end
-        assert all(math.isfinite(float(v[f"{i}_{p}_rad"])) for i in INDICES for p in ("slew", "hold", "track"))
-        assert all(v[f"{i}_late_rad"] == "nan" for i in INDICES)
-        assert "ape_late: the run" in v["reason"]
-        assert "never reached the phase [5; 6) s" in v["reason"]
+        # every index of every phase is a number (the spec's phases all lie within the run)
+        assert all(math.isfinite(float(v[f"{i}_{p}_rad"])) for i in INDICES for p in PHASES)
+        assert v["reason"] == ""
+        # a phase a sample's run never reached (one that stopped early) is NaN with its reason
+        from gimbalsim._closed_sample import sample_indices
+        from gimbalsim.sweep import SweepSpec
+        past = sample_indices(SweepSpec(spec).closed, run.columns, {p: (5.0, 6.0) for p in PHASES})
+        assert all(not past[f"{i}_{p}"].ok and math.isnan(past[f"{i}_{p}"].value) for i in INDICES for p in PHASES)
+        assert "never reached the phase [5, 6) s" in past["ape_late"].reason
 
 
 def test_the_budget_table_marks_what_n_cannot_support_and_gives_verdicts(reference):
@@ -164,9 +169,8 @@ def test_the_budget_table_marks_what_n_cannot_support_and_gives_verdicts(referen
     assert ape["requirement"]["fraction_lower_bound"] == pytest.approx(0.5 ** (1 / 6))
     know = table[("knowledge", "track")]
     assert know["requirement"]["verdict"] == "FAIL" and know["requirement"]["n_meeting"] == 0
-    # a phase no unit reached: every unit counts as worst, nothing is bounded
     late = table[("ape", "late")]
-    assert late["n_missing"] == 6 and late["estimate_rad"] is None and late["interval_rad"] == [None, None]
+    assert late["n_missing"] == 0 and late["n"] == 6
     report = (out / "report.md").read_text()
     assert "not supported: n=6 < 1109 needed for 99.73 % at 95 %" in report
     assert (out / "plots" / "ape_track_cdf.png").stat().st_size > 5000
@@ -226,6 +230,25 @@ def test_until_stops_by_the_cap_and_by_width_and_does_not_depend_on_batches(tmp_
     assert read(tmp_path / "width")[1] == nine[1][:4]
 
 
+def test_until_keeps_one_cluster_for_all_its_rounds(tmp_path, monkeypatch):
+    import contextlib
+    from gimbalsim import _cluster, sweep
+    from gimbalsim._until import Until
+    starts = []
+    real = _cluster.dask_client
+
+    @contextlib.contextmanager
+    def counted(*args, **kwargs):
+        starts.append(args)
+        with real(*args, **kwargs) as cluster:
+            yield cluster
+    monkeypatch.setattr(_cluster, "dask_client", counted)
+    spec = sweep.SweepSpec(small_spec(tmp_path, 2))
+    s = sweep.sweep(spec, tmp_path / "o", workers=1, progress=False, until=Until("ape:track:1e-9", spec, 6))
+    assert s["until"]["samples"] == 6 and s["until"]["stopped_by"] == "cap"
+    assert len(starts) == 1  # three rounds of two samples, one cluster
+
+
 REFUSALS = [
     ("controller_set: {profile.slew_start: 0.0,", "controller_set: {nope.key: 1,", "controller_set.nope.key",
      "not a key of the controller"),
@@ -241,9 +264,16 @@ REFUSALS = [
     ("  rpe: {window: 0.05}", "  rms: {window: 0.05}", "indices.rms", "unknown index"),
     ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 1.5}", "indices.ape.level",
      "expected a number"),
-    ("phases: [slew, hold, track, {late: [5.0, 6.0]}]", "phases: [slew, cruise]", "phases", "unknown phase 'cruise'"),
-    ("phases: [slew, hold, track, {late: [5.0, 6.0]}]", "phases: [{late: [6.0, 5.0]}]", "phases.late",
+    ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [slew, cruise]", "phases", "unknown phase 'cruise'"),
+    ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [{late: [6.0, 5.0]}]", "phases.late",
      "expected [t0, t1]"),
+    # a run that ends before or inside a phase, or a phase shorter than an index's window
+    ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [slew, hold, track, {late: [5.0, 6.0]}]",
+     "phases.late", "the run ends at sim.duration 0.5 s, before phase 'late' [5, 6) s"),
+    ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [slew, {late: [0.4, 0.6]}]",
+     "phases.late", "the run ends at sim.duration 0.5 s, inside phase 'late' [0.4, 0.6) s"),
+    ("  pde: {window: 0.02, separation: 0.05}", "  pde: {window: 0.06, separation: 0.05}", "indices.pde",
+     "the window plus separation 0.11 s is longer than phase 'hold' (0.1 s of this run)"),
     (f"controller: {CONTROLLER_CONFIG}", "controller: no_such.yaml", "controller", "no such file"),
     (f"controller: {CONTROLLER_CONFIG}\n", "", "controller_set", "only for a closed-loop sweep"),
     (f"set: {{sim.duration: 0.5}}\ncontroller: {CONTROLLER_CONFIG}\ncontroller_set: {{profile.slew_start: 0.0, "
@@ -268,6 +298,22 @@ def test_a_bad_key_is_refused_at_its_line(tmp_path, old, new, key, message):
     lines = text.split("\n")
     mark = new.strip().split("\n")[0] or key
     assert e.value.line == next(n for n, line in enumerate(lines, 1) if mark in line), str(e.value)
+
+
+def test_a_run_ending_before_the_profiles_track_is_refused_at_its_duration(tmp_path):
+    from gimbalsim.sweep import SpecError, SweepSpec
+    # no phases key: the profile's slew [0, 0.2), hold [0.2, 0.3) and track from 0.3 s
+    text = SPEC.replace(f"set: {{sim.duration: {DURATION}}}", "set: {sim.duration: 0.3}")
+    text = text.replace("phases: [slew, hold, track, {late: [0.4, 0.5]}]\n", "")
+    text = text.replace("  rpe: {window: 0.05}\n  pde: {window: 0.02, separation: 0.05}\n", "")
+    path = tmp_path / "short.yaml"
+    path.write_text(text)
+    with pytest.raises(SpecError) as e:
+        SweepSpec(path)
+    assert e.value.key == "sim.duration" and "before phase 'track' [0.3, 0.3" in str(e.value), str(e.value)
+    assert e.value.line == text.split("\n").index("set: {sim.duration: 0.3}") + 1
+    (tmp_path / "ok.yaml").write_text(text.replace("sim.duration: 0.3", "sim.duration: 0.32"))
+    assert [p for p, _ in SweepSpec(tmp_path / "ok.yaml").closed.phases] == ["slew", "hold", "track"]
 
 
 def test_until_refused_for_an_index_the_spec_does_not_name(spec, tmp_path):

@@ -226,6 +226,32 @@ gains:
 """
 
 
+def test_a_signal_inside_a_librarys_cleanup_is_not_logged_again(capsys):
+    """The race CI met: SIGINT landed in SQLAlchemy's connection reset (a
+    finalizer), which logs the exception with its traceback through the
+    last-resort handler before passing it on; the console keeps the
+    program's one line, and other errors still show."""
+    import logging
+    from gimbalsim import _cluster
+    old = signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)
+    try:
+        _cluster.raise_on_signals()
+    finally:
+        signal.signal(signal.SIGINT, old[0])
+        signal.signal(signal.SIGTERM, old[1])
+
+    def record(exc):
+        try:
+            raise exc
+        except BaseException:
+            return logging.LogRecord("sqlalchemy.pool.impl.QueuePool", logging.ERROR, __file__, 1,
+                                     "Exception during reset or similar", None, sys.exc_info())
+    logging.lastResort.handle(record(_cluster.Interrupted(signal.SIGINT)))
+    assert capsys.readouterr().err == ""
+    logging.lastResort.handle(record(ValueError("a real error")))
+    assert "a real error" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("sig,group", [(signal.SIGINT, True), (signal.SIGTERM, False)],
                          ids=["ctrl-c to the process group", "sigterm to the program"])
 def test_an_interrupted_tune_says_one_line_and_keeps_its_trials(tmp_path, sig, group):

@@ -223,30 +223,33 @@ def test_a_crashed_sample_is_replayed_alone_and_reported(tmp_path):
     assert (tmp_path / "run.csv").exists()
 
 
-def test_closed_loop_provenance_reads_the_loaded_controller():
+def test_closed_loop_provenance_reads_the_loaded_controller(tmp_path):
     """What a closed-loop sweep (a spec with a `controller`) gets from the
-    provenance module: the controller's fingerprint and its keys as loaded."""
-    from types import SimpleNamespace
-
+    provenance module: the controller's fingerprint (its file with the
+    spec's overrides) and its keys as loaded."""
     from conftest import CONTROLLER_CONFIG
     from gimbalsim import _provenance
+    from gimbalsim.sweep import SweepSpec
 
+    shutil.copy(SCENES / "paper_clearance.yaml", tmp_path / "scene.yaml")
+    shutil.copy(CONTROLLER_CONFIG, tmp_path / "ctrl.yaml")
+    (tmp_path / "spec.yaml").write_text(CLOSED_SPEC.replace("controller: ctrl.yaml",
+                                                            "controller: ctrl.yaml\ncontroller_set: {azimuth.kp: 900.0}"))
+    spec = SweepSpec(tmp_path / "spec.yaml")
     ctrl = gimbalsim.Controller(CONTROLLER_CONFIG, {"azimuth.kp": 900.0})
-    scene = gimbalsim.load_scene(SCENES / "paper_clearance.yaml", SET)
-    spec = SimpleNamespace(base=scene, controller=ctrl)
+    scene = gimbalsim.load_scene(tmp_path / "scene.yaml", {"sim.duration": 1.0})
     v = ctrl._values_text()  # the --set text of each key, as scene.values() gives a scene's
     expected = hashlib.sha256("".join(f"{k}={v[k]}\n" for k in sorted(v)).encode())
     assert _provenance.fingerprints(spec) == {"base_scene_sha256": fingerprint(scene),
                                               "controller_config_sha256": expected.hexdigest()}
+    v0 = gimbalsim.Controller(CONTROLLER_CONFIG)._values_text()  # without the spec's override
+    assert expected.hexdigest() != hashlib.sha256("".join(f"{k}={v0[k]}\n" for k in sorted(v0)).encode()).hexdigest()
     loaded = {**scene.values(), **ctrl._values_text()}
     assert _provenance.applied(loaded, {"azimuth.kp": 900.0, "friction.mu": 0.25}) == [900.0, 0.25, ""]
     assert _provenance.applied(loaded, {"azimuth.kp": 901.0}) == [900.0, "azimuth.kp"]
     # a closed-loop design names controller keys controller.<key>
     prefixed = {**scene.values(), **{"controller." + k: t for k, t in ctrl._values_text().items()}}
     assert _provenance.applied(prefixed, {"controller.azimuth.kp": 900.0}) == [900.0, ""]
-    # a spec that gives its controller as a file and overrides (`closed`) is fingerprinted the same
-    closed = SimpleNamespace(controller_path=str(CONTROLLER_CONFIG), set={"azimuth.kp": 900.0})
-    assert _provenance.fingerprints(SimpleNamespace(base=scene, closed=closed)) == _provenance.fingerprints(spec)
 
 
 def test_a_sample_whose_run_stopped_reproduces_and_exits_3(tmp_path):
@@ -276,7 +279,7 @@ seed: 5
 parameters:
   contact.clearance: {uniform: [1.0e-4, 8.0e-4]}
   controller.azimuth.kp: {uniform: [800.0, 1200.0]}
-phases: [slew]
+phases: [{first: [0.0, 1.0]}]   # the run is shorter than the profile's slew
 indices:
   ape: {}
 """
@@ -319,6 +322,11 @@ def test_a_closed_loop_sample_is_replayed_bit_for_bit_and_its_controller_fingerp
     assert len(ticks) == len(run.columns["t"])
     assert [float(t["truth_error_rad"]) for t in ticks] == [float(x) for x in run.columns["truth_error"]]
     assert (tmp_path / "run.png").stat().st_size > 0
+    # the closed loop's plot shows its own columns: true joint angles, applied torques, truth error
+    from types import SimpleNamespace
+    from gimbalsim import replay
+    drawn = replay._plot(run, SimpleNamespace(spec_path=tmp_path / "out" / "spec.yaml"), 1, "ok", tmp_path / "p.png")
+    assert drawn == ["joint angle [rad]", "applied torque [N m]", "truth pointing error [rad]"]
 
     text = (tmp_path / "ctrl.yaml").read_text()
     assert text.count("kd: 1050") == 1  # the elevation's derivative gain, changed since the sweep

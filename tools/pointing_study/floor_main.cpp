@@ -3,7 +3,8 @@
 // gimbalsim_pointing_study) with PERFECT sensors (no encoder quantum, no
 // noise, no gyro bias, no star tracker latency) on the ideal joint and at each
 // elevation-joint clearance, one table: the truth pointing error's max and RMS
-// while tracking and after the slew (hold + track), the joint tracking error
+// while tracking and after the slew (hold + track; and when the after-slew max
+// occurred), the joint tracking error
 // and the attitude estimate's error (where a floor comes from), and the ratio
 // ideal / first clearance. With --before-set the same runs of a second
 // controller (the default + those overrides) come first: a before/after table.
@@ -36,9 +37,10 @@ constexpr const char* kProgram = "gimbalsim_controller_floor";
 /// Max and RMS of a signal over a window (count 0: the window was not reached).
 struct Stat {
   double max = 0.0, sum_sq = 0.0;
+  double t_max_s = 0.0;  ///< when the max occurred [s]
   long long n = 0;
-  void add(double x) {
-    max = std::max(max, x);
+  void add(double x, double t_s = 0.0) {
+    if (n == 0 || x > max) max = x, t_max_s = t_s;
     sum_sq += x * x;
     ++n;
   }
@@ -64,7 +66,7 @@ Row runOne(const firmware::PlantScene& ps, const ControllerConfig& c, double dur
   const double slew_end = c.profile.slewEnd();
   const firmware::ClosedLoopResult res =
       firmware::runClosedLoop(ps, controller, c.profile, opt, [&](const firmware::TickRecord& t) {
-        if (t.t >= slew_end) r.after_slew.add(t.truth_error);
+        if (t.t >= slew_end) r.after_slew.add(t.truth_error, t.t);
         if (t.profile.segment == pointing::Segment::Track) {
           r.track.add(t.truth_error);
           r.joint_track.add((t.ref.q - t.theta_true).cwiseAbs().maxCoeff());
@@ -93,25 +95,27 @@ std::string table(const std::string& title, const std::vector<Row>& rows, bool m
   std::string s;
   if (markdown) {
     s += "**" + title + "**\n\n";
-    s += "| run | track max [rad] | track RMS [rad] | after-slew max [rad] | after-slew RMS [rad] | joint err track max "
-         "[rad] | attitude err track max [rad] | plant |\n|---|---|---|---|---|---|---|---|\n";
+    s += "| run | track max [rad] | track RMS [rad] | after-slew max [rad] | at [s] | after-slew RMS [rad] | joint err "
+         "track max [rad] | attitude err track max [rad] | plant |\n|---|---|---|---|---|---|---|---|---|\n";
   } else {
     char b[256];
-    std::snprintf(b, sizeof b, "# %s\n%-10s %13s %13s %13s %13s %13s %13s  %s\n", title.c_str(), "run", "trk_max",
-                  "trk_rms", "slew+_max", "slew+_rms", "joint_trk", "att_trk", "plant");
+    std::snprintf(b, sizeof b, "# %s\n%-10s %13s %13s %13s %7s %13s %13s %13s  %s\n", title.c_str(), "run",
+                  "trk_max", "trk_rms", "slew+_max", "at_s", "slew+_rms", "joint_trk", "att_trk", "plant");
     s += b;
   }
   for (const Row& r : rows) {
     const std::string plant = r.ok ? "ok" : "stop: " + r.why;
     if (markdown) {
+      char at[32];
+      std::snprintf(at, sizeof at, "%.3f", r.after_slew.t_max_s);
       s += "| " + r.label + " | " + sci(r.track.peak()) + " | " + sci(r.track.rms()) + " | " + sci(r.after_slew.peak()) +
-           " | " + sci(r.after_slew.rms()) + " | " + sci(r.joint_track.peak()) + " | " + sci(r.attitude_track.peak()) +
-           " | " + plant + " |\n";
+           " | " + at + " | " + sci(r.after_slew.rms()) + " | " + sci(r.joint_track.peak()) + " | " +
+           sci(r.attitude_track.peak()) + " | " + plant + " |\n";
     } else {
       char b[512];
-      std::snprintf(b, sizeof b, "%-10s %13.3e %13.3e %13.3e %13.3e %13.3e %13.3e  %s\n", r.label.c_str(),
-                    r.track.peak(), r.track.rms(), r.after_slew.peak(), r.after_slew.rms(), r.joint_track.peak(),
-                    r.attitude_track.peak(), plant.c_str());
+      std::snprintf(b, sizeof b, "%-10s %13.3e %13.3e %13.3e %7.3f %13.3e %13.3e %13.3e  %s\n", r.label.c_str(),
+                    r.track.peak(), r.track.rms(), r.after_slew.peak(), r.after_slew.t_max_s, r.after_slew.rms(),
+                    r.joint_track.peak(), r.attitude_track.peak(), plant.c_str());
       s += b;
     }
   }
@@ -198,13 +202,15 @@ int mainImpl(int argc, char** argv) {
   }
   std::printf("# %g s per run, tracking from %g s, slew ends at %g s; perfect sensors; truth pointing error\n", T,
               main_cfg.profile.trackStart(), main_cfg.profile.slewEnd());
-  char setup[512];
+  char setup[1024];
   std::snprintf(setup, sizeof setup,
                 "`build/bin/gimbalsim_controller_floor` (tools/pointing_study/floor_main.cpp): the in-process closed "
                 "loop with perfect sensors on `paper_ideal` and on `paper_clearance` at each clearance, %g s per run "
                 "(slew ends at %g s, tracking from %g s); the truth pointing error (boresight against the target's "
-                "line of sight). Goal: the ideal joint's figures at most 1/5 of the first clearance's.\n\n",
-                T, main_cfg.profile.slewEnd(), main_cfg.profile.trackStart());
+                "line of sight). \"After the slew\" is [%g, %g] s: the hold, with the settling from the slew's end, "
+                "and the track; \"at\" is the time of its max. Goal: the ideal joint's figures at most 1/5 of the "
+                "first clearance's.\n\n",
+                T, main_cfg.profile.slewEnd(), main_cfg.profile.trackStart(), main_cfg.profile.slewEnd(), T);
   std::string md = setup;
   bool all_ok = true;
   for (const auto& [name, cfg] : controllers) {

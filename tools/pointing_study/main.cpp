@@ -210,10 +210,11 @@ int mainImpl(int argc, char** argv) {
     if (!(c > 0.0 && std::isfinite(c))) return refuse("--clearances", "each must be > 0 [m], got " + num(c));
   }
   if (out_dir.empty()) return refuse("--out", "empty directory name");
-  // An output folder named on the command line must exist; only the default one is made.
-  if (std::error_code ec; app.count("--out") && !std::filesystem::is_directory(out_dir, ec)) {
-    return refuse("--out", "'" + out_dir + "': " + (std::filesystem::exists(out_dir, ec) ? "not a folder" : "no such folder") +
-                               " (create it first)");
+  // The default folder is made only after every check (below): a refused run leaves nothing.
+  if (app.count("--out")) {
+    if (const std::string why = gimbalsim::io::outputFolderProblem(out_dir, true); !why.empty()) {
+      return refuse("--out", "'" + out_dir + "': " + why);
+    }
   }
 
   ControllerConfig cfg;

@@ -1,9 +1,10 @@
 #!/bin/bash
 # The controller's own floor against the bearing: builds and runs
 # gimbalsim_controller_floor (ideal joint and clearances 0.1-0.8 mm, perfect
-# sensors; "before" = the default controller with the old law's acceleration
-# feed-forward), then writes docs/results/controller_floor.md with the stamped
-# header (tools/results_page.py). Arguments go to the tool. BUILD_DIR overrides build/.
+# sensors; "before" = the default controller with the inertia law's
+# feed-forward: constant reduced inertias, no lead), then writes
+# docs/results/controller_floor.md with the stamped header
+# (tools/results_page.py). Arguments go to the tool. BUILD_DIR overrides build/.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 BUILD="${BUILD_DIR:-$ROOT/build}"
@@ -17,8 +18,8 @@ fi
 cmake --build "$BUILD" -j2 --target gimbalsim_controller_floor
 mkdir -p "$OUT"
 "$BUILD/bin/gimbalsim_controller_floor" --ideal-scene "$ROOT/tools/scenes/paper_ideal.yaml" \
-  --clearance-scene "$ROOT/tools/scenes/paper_clearance.yaml" --before-set pointing.accel_feedforward=profile --before-set gimbal.azimuth_inertia_cos2=0 \
-  --before-set azimuth.inertia=17.6 --before-set elevation.inertia=17.5 \
+  --clearance-scene "$ROOT/tools/scenes/paper_clearance.yaml" --before-set pointing.accel_feedforward=inertial \
+  --before-set pointing.feedforward_lead=0 \
   --markdown "$OUT/body.md" "$@" | tee "$OUT/floor.log"
 /usr/bin/python3 "$ROOT/tools/results_page.py" --page "$ROOT/docs/results/controller_floor.md" \
   --title "Controller floor against the bearing" \

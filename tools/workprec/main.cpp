@@ -19,8 +19,9 @@
 #include <map>
 #include <sstream>
 
-#include "gimbalsim/scene/scene.hpp"
+#include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/program/program.hpp"
+#include "gimbalsim/scene/scene.hpp"
 #include "workprec.hpp"
 #ifdef GIMBALSIM_HAVE_MUJOCO
 #include "mujoco_peer.hpp"
@@ -141,12 +142,8 @@ int mainImpl(int argc, char** argv) {
       return std::find(only_policies.begin(), only_policies.end(), p.name) == only_policies.end();
     });
   }
-  // An output folder named on the command line must exist; only the default one is made.
-  if (std::error_code ec; !app.count("--out")) std::filesystem::create_directories(out_dir, ec);
-  if (std::error_code ec; !std::filesystem::is_directory(out_dir, ec)) {
-    return program::refuse("gimbalsim_workprec", "--out " + out_dir + ": " +
-                                                      (std::filesystem::exists(out_dir, ec) ? "not a folder" : "no such folder") +
-                                                      " (create it first)");
+  if (const std::string why = gimbalsim::io::outputFolderProblem(out_dir, app.count("--out") > 0); !why.empty()) {
+    return program::refuse("gimbalsim_workprec", "--out " + out_dir + ": " + why);
   }
   std::printf("work-precision sweep: CPU = thread CPU time (CLOCK_THREAD_CPUTIME_ID) of the stepping only, "
               "median of %d runs; errors at every %g s row against Boost.Odeint dopri5 at 1e-12.\n"

@@ -2,11 +2,8 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <set>
 
@@ -75,94 +72,6 @@ std::size_t asChoice(const YAML::Node& n, const std::vector<std::string>& names)
     if (s == names[i]) return i;
   }
   throw ConvertError{"expected one of " + join(names, " | ") + (s.empty() ? "" : ", got '" + s + "'")};
-}
-
-// ---- formatting ----
-
-std::string formatNumber(double x) {
-  char b[32];
-  const auto r = std::to_chars(b, b + sizeof b, x);
-  return std::string(b, r.ptr);
-}
-
-std::string wholeMultipleProblem(double value, double unit, const std::string& unit_name) {
-  const double n = value / unit;
-  // A relative 1e-6 absorbs the decimal spelling (0.3 / 0.1 is 2.9999999999999996).
-  if (std::isfinite(n) && std::round(n) >= 1.0 && std::fabs(n - std::round(n)) <= 1e-6 * n) return "";
-  auto multiple = [&](double k) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.12g", k * unit);
-    return std::string(b);
-  };
-  std::string nearest = multiple(1.0);
-  if (std::isfinite(n) && n > 1.0) nearest = multiple(std::floor(n)) + " or " + multiple(std::floor(n) + 1.0);
-  return "must be a whole multiple of " + unit_name + " (" + formatNumber(unit) + " s), at least one: " + nearest;
-}
-
-std::string formatList(std::span<const double> v) {
-  std::vector<std::string> parts;
-  for (double x : v) parts.push_back(formatNumber(x));
-  return "[" + join(parts, ", ") + "]";
-}
-
-std::string formatInertia(const Mat3& I) {
-  if (I.isDiagonal(0.0)) {
-    const Eigen::Vector3d d = I.diagonal();
-    return formatList({d.data(), 3});
-  }
-  if (I == I.transpose()) {
-    const double v[6] = {I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2)};
-    return formatList(v);
-  }
-  std::vector<std::string> rows;
-  for (int r = 0; r < 3; ++r) {
-    const Eigen::Vector3d row = I.row(r).transpose();
-    rows.push_back(formatList({row.data(), 3}));
-  }
-  return "[" + join(rows, ", ") + "]";
-}
-
-std::string join(const std::vector<std::string>& parts, const std::string& sep) {
-  std::string out;
-  for (std::size_t i = 0; i < parts.size(); ++i) out += (i ? sep : "") + parts[i];
-  return out;
-}
-
-// ---- checks ----
-
-namespace {
-Check each(std::string rule, std::function<bool(double)> ok) {
-  return {std::move(rule), "", [ok](std::span<const double> v) { return std::all_of(v.begin(), v.end(), ok); }};
-}
-}  // namespace
-
-Check greater(double lo) {
-  return each("> " + formatNumber(lo), [lo](double x) { return x > lo; });
-}
-
-Check atLeast(double lo) {
-  return each(">= " + formatNumber(lo), [lo](double x) { return x >= lo; });
-}
-
-Check interval(char open, double lo, double hi, char close) {
-  const std::string rule = "in " + std::string(1, open) + formatNumber(lo) + ", " + formatNumber(hi) + close;
-  return each(rule, [=](double x) { return (open == '(' ? x > lo : x >= lo) && (close == ')' ? x < hi : x <= hi); });
-}
-
-Check nonZero() {
-  return {"non-zero", "", [](std::span<const double> v) {
-            double s = 0.0;
-            for (double x : v) s += x * x;
-            return std::sqrt(s) >= 1e-12;
-          }};
-}
-
-Check positiveDefinite() {
-  return {"symmetric positive definite", "", [](std::span<const double> v) {
-            const Eigen::Map<const Mat3> I(v.data());
-            if (!I.isApprox(I.transpose(), 1e-12)) return false;
-            return Eigen::SelfAdjointEigenSolver<Mat3>(I).eigenvalues().minCoeff() > 0.0;
-          }};
 }
 
 // ---- the values given: one file reader, one --set parser ----

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 
 namespace gimbalsim::io {
@@ -203,6 +204,16 @@ void writeFilesTogether(const std::vector<std::pair<std::string, std::string>>& 
   }
   CommitGroup group(members);
   if (!group.commit()) throw OutputError(group.error());
+}
+
+std::string outputFolderProblem(const std::string& dir, bool named_by_user) {
+  std::error_code ec;
+  if (!named_by_user && !std::filesystem::is_directory(dir, ec)) {
+    std::filesystem::create_directories(dir, ec);
+    if (ec) return "cannot make it: " + ec.message();
+  }
+  if (std::filesystem::is_directory(dir, ec)) return "";
+  return std::filesystem::exists(dir, ec) ? "not a folder" : "no such folder (create it first)";
 }
 
 }  // namespace gimbalsim::io

@@ -29,6 +29,10 @@ ControllerConfig loadControllerConfig(const std::string& path, const std::vector
 ControllerConfig loadControllerConfigText(const std::string& yaml, const std::string& origin,
                                           const std::vector<std::string>& overrides = {});
 
+/// Rebuilds c.plant_model from c.plant and c.gimbal (the loaders do; call it
+/// after changing either in code).
+void finalizePlant(ControllerConfig& c);
+
 /// Every configuration key: control.*, profile.* (pointing::profileKeys(),
 /// gimbalsim/pointing/profile_keys.hpp), azimuth.*, elevation.*.
 const KeyTable<ControllerConfig>& controllerTable();

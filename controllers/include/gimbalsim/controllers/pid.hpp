@@ -15,8 +15,11 @@
 //   tau   = clamp(tau_u, -limit, +limit)
 // (with approach_margin > 0, large errors use kd (dq_ref + sign(e) sqrt(2 a |e|) - w)
 // instead of the PD pair where that asks for less: see pid.cpp).
-// J_i a_i is the acceleration feed-forward (inertia estimate J_i; a_i the
-// profile's ddq, or the shaft's inertial angular acceleration: inertial_reference.cpp); kd dq_ref
+// J_i a_i stands for the feed-forward torque tau_ff, extrapolated
+// feedforward_lead ahead (the command acts over the next period): by default
+// the free-floating plant model's computed torque (model_feedforward.hpp),
+// else inertia estimate J_i times a_i, the profile's ddq or the shaft's
+// inertial angular acceleration (inertial_reference.cpp); kd dq_ref
 // is the rate feed-forward and -kd w the derivative on measurement (no kick
 // when the reference jumps). w is the status rate, or the backward difference
 // of the encoder angle (over the samples' real spacing) through a first-order
@@ -34,6 +37,7 @@
 
 #include "gimbalsim/controllers/attitude_estimator.hpp"
 #include "gimbalsim/controllers/fault_monitor.hpp"
+#include "gimbalsim/controllers/model_feedforward.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::controllers {
@@ -53,7 +57,8 @@ enum class PointingTarget : std::uint8_t { Profile, Fixed };
 /// What the acceleration feed-forward J_i a_i takes for a_i (inertial mode): the profile's joint
 /// acceleration, or each shaft's inertial angular acceleration about its joint from the IK's second
 /// derivative (curvature, base rate and the base's angular acceleration, the reaction included).
-enum class AccelFeedForward : std::uint8_t { Profile, Inertial };
+/// Model: the computed torque of the free-floating plant's rigid-body model (model_feedforward.hpp).
+enum class AccelFeedForward : std::uint8_t { Profile, Inertial, Model };
 
 /// The gimbal geometry the controller assumes (keys gimbal.*; the paper's z, y, x).
 struct GimbalAxes {
@@ -101,9 +106,15 @@ struct ControllerConfig {
   PointingMode pointing_mode = PointingMode::Inertial;
   PointingTarget target = PointingTarget::Profile;
   Vec3 fixed_direction = Vec3::UnitX();  ///< inertial target direction with target = fixed (any length > 0)
-  AccelFeedForward accel_feedforward = AccelFeedForward::Inertial;
+  AccelFeedForward accel_feedforward = AccelFeedForward::Model;
   double base_accel_filter_hz = 50.0;    ///< low-pass cutoff of the differenced base rate (alpha_B) [Hz]
+  /// How far ahead the feed-forward torque is extrapolated (its backward
+  /// difference): a command acts from the next tick on, over one period [s]
+  double feedforward_lead = 1.5e-3;
   GimbalAxes gimbal;
+  PlantMass plant = paperPlantMass();    ///< mass properties for accel_feedforward = model (keys plant.*)
+  /// Derived from plant and gimbal at load (finalizePlant, config.hpp): the model the feed-forward runs.
+  Model plant_model = plantModel(paperPlantMass(), Vec3::UnitZ(), Vec3::UnitY(), Vec3::UnitX());
   AttitudeEstimatorParams estimator;     ///< k_p, k_i are keys; the rest its defaults
   MonitorConfig monitor;                 ///< what counts as a stale status or a suspect encoder (fault_monitor.hpp)
 };
@@ -161,6 +172,7 @@ struct ControllerState {
   MonitorState monitor;            ///< fault detection (fault_monitor.hpp); monitor.suspect[i]: axis i on rate feedback only
   AttitudeHistory attitudes;       ///< recent attitude messages (noteAttitude, closed_loop.hpp)
   Vec2 last_tau = Vec2::Zero();    ///< the last command computed [N m]: held when a reading is rejected
+  Vec2 tau_ff_prev = Vec2::Zero(); ///< last feed-forward torque before the lead [N m] (t_prev: its time)
   long long rejected_readings = 0; ///< measurements with a NaN or Inf: the whole one (time, angle, rate) or its gyro or star sample
 };
 
@@ -172,6 +184,7 @@ struct ControlOutput {
   Vec2 rate = Vec2::Zero();        ///< rate used in the derivative term [rad/s]
   ProfileSample ref;               ///< the joint reference tracked (inertial: IK; joint: the profile)
   Vec2 accel_ff = Vec2::Zero();    ///< the acceleration the feed-forward torque J_i a_i is for [rad/s^2]
+  Vec2 tau_ff = Vec2::Zero();      ///< feed-forward torque at the measurement time, before the lead [N m]
   std::array<bool, 2> saturated{}; ///< |tau_unsat| > limit
   ProfileSample profile;           ///< the profile at the measurement time
   Quat q_WB_est = Quat::Identity();///< estimated base attitude, base -> inertial

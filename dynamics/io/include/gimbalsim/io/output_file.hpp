@@ -30,6 +30,12 @@ struct OutputError : std::runtime_error {
 /// against each input. Empty paths are skipped. Throws OutputError.
 void checkOutputPaths(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs = {});
 
+/// The output folder of a tool: one the user named must already exist (a
+/// typo must not scatter results into a new folder), the default one is
+/// made. Returns "" when dir is a folder now, else why not ("no such folder
+/// (create it first)", "not a folder", or the reason it could not be made).
+std::string outputFolderProblem(const std::string& dir, bool named_by_user);
+
 /// One output being written. The constructor checks the path against the
 /// policy and against `inputs`, and creates the temporary
 /// "<dir>/.<name>.<pid>.<n>.tmp"; the destructor removes the temporary unless

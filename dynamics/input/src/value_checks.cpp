@@ -1,0 +1,46 @@
+// The checks a key's value must pass (Check: its rule as text and the test),
+// shared by every key table.
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+#include "gimbalsim/input/key_registry.hpp"
+
+namespace gimbalsim {
+
+namespace {
+Check each(std::string rule, std::function<bool(double)> ok) {
+  return {std::move(rule), "", [ok](std::span<const double> v) { return std::all_of(v.begin(), v.end(), ok); }};
+}
+}  // namespace
+
+Check greater(double lo) {
+  return each("> " + formatNumber(lo), [lo](double x) { return x > lo; });
+}
+
+Check atLeast(double lo) {
+  return each(">= " + formatNumber(lo), [lo](double x) { return x >= lo; });
+}
+
+Check interval(char open, double lo, double hi, char close) {
+  const std::string rule = "in " + std::string(1, open) + formatNumber(lo) + ", " + formatNumber(hi) + close;
+  return each(rule, [=](double x) { return (open == '(' ? x > lo : x >= lo) && (close == ')' ? x < hi : x <= hi); });
+}
+
+Check nonZero() {
+  return {"non-zero", "", [](std::span<const double> v) {
+            double s = 0.0;
+            for (double x : v) s += x * x;
+            return std::sqrt(s) >= 1e-12;
+          }};
+}
+
+Check positiveDefinite() {
+  return {"symmetric positive definite", "", [](std::span<const double> v) {
+            const Eigen::Map<const Mat3> I(v.data());
+            if (!I.isApprox(I.transpose(), 1e-12)) return false;
+            return Eigen::SelfAdjointEigenSolver<Mat3>(I).eigenvalues().minCoeff() > 0.0;
+          }};
+}
+
+}  // namespace gimbalsim

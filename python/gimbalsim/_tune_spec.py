@@ -1,0 +1,114 @@
+"""The tuning spec (TUNE.yaml of gimbalsim.tune): the plant and its
+dispersed batch, the controller and the gains to tune, the objective and
+its constraint, every value checked at the spec's line before anything runs."""
+import json
+
+import gimbalsim
+from ._spec import Spec
+from .dispersion import Design, check_within, parse_parameter
+
+METRICS = {"max_track": "max_truth_error_track_rad", "rms_track": "rms_truth_error_track_rad"}
+METRIC_WINDOWS = {"max_track": "track", "rms_track": "track"}  # the profile window each metric is over
+GAIN_DISTRIBUTIONS = ("uniform", "loguniform", "choice")
+
+
+class TuneSpec:
+    def __init__(self, path):
+        spec = Spec(path)
+        spec.check_keys({"scene", "set", "controller", "controller_set", "duration", "trials", "parallel_trials",
+                         "seed", "batch", "objective", "max_saturation", "gains", "plants"})
+        root = spec.root.value
+        for required in ("scene", "controller", "duration", "trials", "seed", "batch", "gains"):
+            if required not in root:
+                spec.refuse(required, "missing")
+        self.spec_path = spec.path
+        self.scene_path = spec.path_of("scene", root["scene"])
+        self.controller_path = spec.path_of("controller", root["controller"])
+        self.duration = spec.number("duration", root["duration"], 1e-3, 1e5)
+        self.trials = spec.integer("trials", root["trials"], 1, 100_000)
+        self.parallel = spec.integer("parallel_trials", root["parallel_trials"], 1, 1000) \
+            if "parallel_trials" in root else None
+        self.seed = spec.integer("seed", root["seed"], 0, 2**32 - 1)
+        self.batch = spec.integer("batch", root["batch"], 1, 100_000)
+        self.max_saturation = spec.number("max_saturation", root["max_saturation"], 0.0, 1.0) \
+            if "max_saturation" in root else 0.0
+        obj = spec.mapping("objective", root["objective"]) if "objective" in root else {}
+        for k, n in obj.items():
+            if k not in ("metric", "percentile"):
+                spec.refuse(f"objective.{k}", "unknown key (expected metric, percentile)", n)
+        self.metric = spec.text("objective.metric", obj["metric"]) if "metric" in obj else "max_track"
+        if self.metric not in METRICS:
+            spec.refuse("objective.metric", f"expected one of {', '.join(METRICS)}, got {self.metric!r}", obj["metric"])
+        self.percentile = spec.number("objective.percentile", obj["percentile"], 0.0, 100.0) \
+            if "percentile" in obj else 99.0
+
+        scene_types = {k["key"]: k["type"] for k in gimbalsim.keys()}
+        sets = spec.known_mapping("set", scene_types, "scene")
+        try:
+            self.base = gimbalsim.load_scene(self.scene_path, {k: spec.value(f"set.{k}", n) for k, n in sets.items()},
+                                             sources={k: (spec.path, n.line) for k, n in sets.items()})
+        except gimbalsim.SceneError as e:
+            spec.refuse(f"set.{e.key}" if e.key in sets else "scene", str(e), sets.get(e.key, root["scene"]))
+        ctrl_types = {k["key"]: k["type"] for k in gimbalsim.controller_keys()}
+        csets = spec.known_mapping("controller_set", ctrl_types, "controller (see `pointing_controller --keys`)")
+        self.controller_set = {k: spec.value(f"controller_set.{k}", n) for k, n in csets.items()}
+        try:
+            self.controller = gimbalsim.Controller(self.controller_path, self.controller_set,
+                                                   sources={k: (spec.path, n.line) for k, n in csets.items()})
+        except gimbalsim.SceneError as e:
+            spec.refuse(f"controller_set.{e.key}" if e.key in csets else "controller", str(e),
+                        csets.get(e.key, root["controller"]))
+        period = self.controller.period
+        if abs(round(self.duration / period) * period - self.duration) > 1e-9 * max(1.0, self.duration):
+            spec.refuse("duration", f"must be a whole number of control periods ({period} s)", root["duration"])
+        # The score is over the profile's track (Controller.windows, the closed loop's own boundaries):
+        # a run that ends before it would score NaN for every trial.
+        track_start, track_end = self.controller.windows[METRIC_WINDOWS[self.metric]]
+        if not self.duration > track_start:
+            spec.refuse("duration", f"the run ends at {self.duration:g} s, before the "
+                        f"{METRIC_WINDOWS[self.metric]} window [{track_start:g}, {track_end:g}) s of "
+                        f"objective.metric {self.metric}", root["duration"])
+
+        self.gains = []
+        for key, node in spec.mapping("gains", root["gains"]).items():
+            p = parse_parameter(spec, "gains", key, node, ctrl_types)
+            if p.kind not in GAIN_DISTRIBUTIONS:
+                spec.refuse(f"gains.{key}", f"{p.kind}: gains take {', '.join(GAIN_DISTRIBUTIONS)}", node)
+            if p.kind == "choice" and not all(isinstance(v, (int, float, str)) for v in p.args):
+                spec.refuse(f"gains.{key}", "choice: a gain's choices are numbers or names", node)
+            for v in p.extremes():
+                try:
+                    gimbalsim.Controller(self.controller_path, {**self.controller_set, key: v},
+                                         sources={**{k: (spec.path, n.line) for k, n in csets.items()},
+                                                  key: (spec.path, node.line)})
+                except gimbalsim.SceneError as e:
+                    spec.refuse(f"gains.{key}", f"the controller refuses {key}={v!r}: {e.problems[0]['text']}", node)
+            self.gains.append(p)
+        if not self.gains:
+            spec.refuse("gains", "no gain to tune", root["gains"])
+        plants = spec.mapping("plants", root["plants"]) if "plants" in root else {}
+        params = [parse_parameter(spec, "plants", k, n, scene_types) for k, n in plants.items()]
+        check_within(spec, "plants", params, [], self.base.values())
+        for p in params:
+            for v in p.extremes():
+                try:
+                    self.base.replace({p.key: v}, sources={p.key: (spec.path, p.node.line)})
+                except gimbalsim.SceneError as e:
+                    spec.refuse(f"plants.{p.key}", f"the scene refuses {p.key}={v!r}: {e.problems[0]['text']}",
+                                p.node)
+        self.plants = Design(params, [], self.batch, self.seed, self.base.values())
+        # Trial 0 is the baseline: the configuration's own gains, which the ranges must hold.
+        own = self.controller.values()
+        self.baseline = {}
+        for p in self.gains:
+            v = float(own[p.key]) if p.type == "number" else int(own[p.key]) if p.type == "int" else own[p.key]
+            if not (v in p.args if p.kind == "choice" else p.args[0] <= v <= p.args[1]):
+                spec.refuse(f"gains.{p.key}", f"the range leaves out the configuration's own value {v!r}: trial 0 "
+                            "runs the configuration's gains (the baseline)", p.node)
+            self.baseline[p.key] = v
+        # what a resumed study must share (the trial count may grow)
+        self.fingerprint = json.dumps({"scene": self.base.values(), "controller": own, "duration": self.duration,
+                                       "seed": self.seed, "batch": self.batch, "metric": self.metric,
+                                       "percentile": self.percentile, "max_saturation": self.max_saturation,
+                                       "gains": {p.key: [p.kind, p.args] for p in self.gains},
+                                       "plants": [[p.key, p.kind, p.args] for p in params]}, sort_keys=True)
