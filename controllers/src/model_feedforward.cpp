@@ -28,7 +28,8 @@ Model plantModel(const PlantMass& p, const Vec3& joint1_axis_B, const Vec3& join
   Model m;
   m.name = "controller plant model";
   m.floating_base = true;
-  m.clearance_joint = false;
+  m.joint1_kind = ClearanceKind::Ideal;  // the controller models ideal joints
+  m.joint2_kind = ClearanceKind::Ideal;
   m.base = p.base;
   m.base.com.setZero();  // the base frame's origin is its CoM
   m.shaft1 = p.shaft1;
