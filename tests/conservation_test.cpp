@@ -6,12 +6,7 @@
 namespace gimbalsim {
 namespace {
 
-template <class V>
-Momentum momentumOf(const Model& m, const State<V>& s) {
-  Data<V> d(m);
-  kinematics(m, d, s.q, s.v);
-  return momentum(m, d, s);
-}
+using test::momentumOf;
 
 /// Linear and angular momentum held through impacts and friction.
 template <class V>
@@ -92,10 +87,10 @@ TEST(Conservation, ContactAndFrictionExertNoNetForceOrMoment) {
     s.in_contact[0] = true;
     Data<FloatingClearanceFriction> d(m);
     forwardDynamics(m, d, s, u);
-    ASSERT_GT(d.contact.fn, 10.0);
-    ASSERT_NE(d.contact.ft, 0.0);
+    ASSERT_GT(d.contact[0].fn, 10.0);
+    ASSERT_NE(d.contact[0].ft, 0.0);
     const auto [dP, dL] = momentumRate(m, s, u);
-    const double F = std::hypot(d.contact.fn, d.contact.ft);
+    const double F = std::hypot(d.contact[0].fn, d.contact[0].ft);
     EXPECT_LT(dP.norm(), 1e-7 * F) << name << ": dP/dt = " << dP.transpose() << " with |F| = " << F;
     EXPECT_LT(dL.norm(), 1e-7 * F) << name << ": dL/dt = " << dL.transpose();
   }

@@ -167,9 +167,9 @@ TEST(CoulombStick, StickClosureHoldsTheTangentialVelocity) {
     return (tangentialVelocity<V>(m, p.q, p.v) - tangentialVelocity<V>(m, q.q, q.v)) / (2 * eps);
   };
   const double a_stick = vtRate(s);
-  ASSERT_GT(d.contact.fn, 0.0);
-  EXPECT_LT(std::fabs(d.contact.ft_required), m.contact.mu * d.contact.fn) << "this state must stick";
-  EXPECT_EQ(d.contact.ft, d.contact.ft_required);
+  ASSERT_GT(d.contact[0].fn, 0.0);
+  EXPECT_LT(std::fabs(d.contact[0].ft_required), m.contact.mu * d.contact[0].fn) << "this state must stick";
+  EXPECT_EQ(d.contact[0].ft, d.contact[0].ft_required);
   const Model free_m = paper({"friction.law=none"}).model;
   Data<FloatingClearance> df(free_m);
   State<FloatingClearance> sf;
@@ -193,8 +193,8 @@ TEST(CoulombStick, SlipsWhenStickingNeedsMoreThanMuFn) {
   Data<V> d(m);
   const State<V> s = rollingContactState(sc, 2e-6);
   forwardDynamics(m, d, s, Input{sc.run.torque});
-  const double needed = std::fabs(d.contact.ft_required);
-  const double fn = d.contact.fn;
+  const double needed = std::fabs(d.contact[0].ft_required);
+  const double fn = d.contact[0].fn;
   ASSERT_GT(needed, 0.0);
   // A mu just below what sticking needs.
   const double mu_low = 0.5 * needed / fn;
@@ -204,7 +204,7 @@ TEST(CoulombStick, SlipsWhenStickingNeedsMoreThanMuFn) {
   const Model& weak = weak_sc.model;
   const Input u_weak{weak_sc.run.torque};
   forwardDynamics(weak, d, s, u_weak);
-  EXPECT_NEAR(std::fabs(d.contact.ft), mu_low * fn, 1e-9 * fn);
+  EXPECT_NEAR(std::fabs(d.contact[0].ft), mu_low * fn, 1e-9 * fn);
   const int mode = consistentFrictionMode(weak, d);
   ASSERT_NE(mode, 0);
   // Slipping in that mode drives v_t away from 0 in its direction.

@@ -62,6 +62,14 @@ State<V> runTo(const Scene& sc, double T) {
   return s;
 }
 
+/// Momentum and kinetic energy of a state.
+template <class V>
+Momentum momentumOf(const Model& m, const State<V>& s) {
+  Data<V> d(m);
+  kinematics(m, d, s.q, s.v);
+  return momentum(m, d, s);
+}
+
 /// Boresight of a state (inertial frame).
 template <class V>
 Vec3 boresightOf(const Model& m, const State<V>& s) {

@@ -60,10 +60,11 @@ double Model::hertzStiffness(const ContactParams& c, RadiusMode mode) {
 }
 
 void Model::finalize() {
-  ContactParams& c = contact;
-  c.clearance = c.bearing_radius - c.journal_radius;
-  c.K = c.stiffness_scale * hertzStiffness(c, c.radius_mode);
-  c.chi = dampingFactor(c.damping, c.restitution);
+  for (ContactParams* c : {&contact, &contact1}) {
+    c->clearance = c->bearing_radius - c->journal_radius;
+    c->K = c->stiffness_scale * hertzStiffness(*c, c->radius_mode);
+    c->chi = dampingFactor(c->damping, c->restitution);
+  }
 
   k1_B.normalize();
   k2_S1.normalize();

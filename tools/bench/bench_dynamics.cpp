@@ -166,7 +166,7 @@ void BM_ContactLaw(benchmark::State& bs) {
   Fixture<V>& f = fixture<V>();
   forwardDynamics(f.m, *f.d, f.s, f.u);
   const ContactParams& cp = f.m.contact;
-  double delta = f.d->contact.delta, vn = f.d->contact.vn, vt = f.d->contact.vt, v0 = f.s.v0[0];
+  double delta = f.d->contact[0].delta, vn = f.d->contact[0].vn, vt = f.d->contact[0].vt, v0 = f.s.v0[0];
   for (auto _ : bs) {
     benchmark::DoNotOptimize(delta);  // keep the inputs opaque
     benchmark::DoNotOptimize(vn);

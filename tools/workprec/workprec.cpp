@@ -182,7 +182,7 @@ void finePass(const Scene& sc, double dt, Reference& r) {
         return true;
       }
       forwardDynamics(m, d, s, u);
-      const ContactEval& c = d.contact;
+      const ContactEval& c = d.contact[0];
       r.peak_dt = dt;
       r.rows.peak_contact = std::max(r.rows.peak_contact, std::hypot(c.fn, c.ft));
       if constexpr (V::kFriction) {

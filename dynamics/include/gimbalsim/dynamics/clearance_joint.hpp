@@ -14,22 +14,22 @@
 namespace gimbalsim {
 
 /// The one planar clearance joint of a variant with a single contact end
-/// (0: azimuth, 1: elevation). Variants with more ends (two clearance joints,
-/// a spatial joint's two ends) keep per-end memory and are not served here yet.
+/// (0: azimuth, 1: elevation): the default joint of the functions below.
 template <class V>
 constexpr int planarJoint() {
   static_assert(V::NC == 1, "a single planar clearance joint");
   return V::kKind1 == ClearanceKind::Planar ? 0 : 1;
 }
 
-/// Layout of that joint's group: ecc_x, ecc_y at q(QE), q(QE + 1) and
-/// v(VE), v(VE + 1), its angle's rate at v(VE + 2); the parent body's
-/// twist and the joint axis (in the parent's coordinates).
-template <class V>
+/// Layout of planar joint J's group: ecc_x, ecc_y at q(QE), q(QE + 1) and
+/// v(VE), v(VE + 1), its angle's rate at v(VE + 2); the joint axis (in the
+/// bearing body's coordinates) and its contact end.
+template <class V, int J>
 struct PlanarGroup {
-  static constexpr int J = planarJoint<V>();
+  static_assert(V::kind(J) == ClearanceKind::Planar, "joint J is a planar clearance joint");
   static constexpr int QE = State<V>::QJ + V::group(J);
   static constexpr int VE = V::NB + V::group(J);
+  static constexpr int END = V::firstEnd(J);
   static const Vec3& axis(const Model& m) { return J == 0 ? m.k1_B : m.k2_S1; }
 };
 
@@ -49,21 +49,20 @@ struct Gap {
   double rate;
 };
 
-template <class V, class Q, class W>
+template <class V, int J = planarJoint<V>(), class Q, class W>
 Gap clearanceGap(const Model& m, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<W>& v) {
-  using G = PlanarGroup<V>;
+  using G = PlanarGroup<V, J>;
   const double ex = q(G::QE), ey = q(G::QE + 1);
   const double e = std::hypot(ex, ey);
   const double rate = e > 0.0 ? (ex * v(G::VE) + ey * v(G::VE + 1)) / e : 0.0;
-  return {e - m.contact.clearance, rate};
+  return {e - m.contactOf(J).clearance, rate};
 }
 
 /// Component along the joint axis k of the bearing body's angular velocity
 /// [rad/s] (linear in v): shaft 1 for joint 2, the base for joint 1.
-template <class V, class Q, class W>
+template <class V, int J, class Q, class W>
 double parentRateAlongAxis(const Model& m, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<W>& v) {
-  using G = PlanarGroup<V>;
-  if constexpr (G::J == 0) {
+  if constexpr (J == 0) {
     if constexpr (V::kFloating) return v.template head<3>().dot(m.k1_B);
     return 0.0;
   } else {
@@ -84,52 +83,55 @@ double parentRateAlongAxis(const Model& m, const Eigen::MatrixBase<Q>& q, const 
 
 /// Tangential relative velocity of the material points v_t(q, v) [m/s] (the
 /// same quantity clearanceContact() writes to ContactEval::vt), linear in v.
-template <class V, class Q, class W>
+template <class V, int J = planarJoint<V>(), class Q, class W>
 double tangentialVelocity(const Model& m, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<W>& v) {
-  using G = PlanarGroup<V>;
+  using G = PlanarGroup<V, J>;
+  const ContactParams& cp = m.contactOf(J);
   const double ex = q(G::QE), ey = q(G::QE + 1);
   const double e = std::hypot(ex, ey);
   if (!(e > 0.0)) return 0.0;
   const Vec2 t(-ey / e, ex / e);
-  return t.x() * v(G::VE) + t.y() * v(G::VE + 1) + v(G::VE + 2) * m.contact.journal_radius +
-         (e - m.contact.clearance) * parentRateAlongAxis<V>(m, q, v);
+  return t.x() * v(G::VE) + t.y() * v(G::VE + 1) + v(G::VE + 2) * cp.journal_radius +
+         (e - cp.clearance) * parentRateAlongAxis<V, J>(m, q, v);
 }
 
 /// The part of dv_t/dt that does not go through vdot: (d v_t / d q) qdot at
 /// fixed v [m/s^2]. With it, dv_t/dt = tangentialVelocity(q, vdot) + this.
-template <class V, class Q, class W>
+template <class V, int J = planarJoint<V>(), class Q, class W>
 double tangentialVelocityRateAtFixedV(const Model& m, const Eigen::MatrixBase<Q>& q,
                                       const Eigen::MatrixBase<W>& v) {
-  using G = PlanarGroup<V>;
+  using G = PlanarGroup<V, J>;
+  const double c_J = m.contactOf(J).clearance;
   const double ex = q(G::QE), ey = q(G::QE + 1);
   const double e = std::hypot(ex, ey);
   if (!(e > 0.0)) return 0.0;
   const Vec2 n(ex / e, ey / e), t = contactTangent(n);
   const Vec2 de(v(G::VE), v(G::VE + 1));
   // dt/dt = -(de . t / e) n;  d(e - c)/dt = de . n.
-  double r = -de.dot(t) * de.dot(n) / e + de.dot(n) * parentRateAlongAxis<V>(m, q, v);
-  if constexpr (V::kFloating && G::J == 1) {
+  double r = -de.dot(t) * de.dot(n) / e + de.dot(n) * parentRateAlongAxis<V, J>(m, q, v);
+  if constexpr (V::kFloating && J == 1) {
     // shaft 1's rate along k2 turns with theta1 (the base's along k1 does not)
     constexpr int QT1 = State<V>::QJ + V::N1 - 1, VT1 = V::NB + V::N1 - 1;
     const Vec3& k1 = m.chain[V::N1 - 1].axis;
     const Vec3 wB = v.template head<3>();
     const double c = std::cos(q(QT1)), s = std::sin(q(QT1));
     const Vec3 dwS1 = -s * wB - c * k1.cross(wB) + s * k1.dot(wB) * k1;  // d/dtheta1 of R^T wB
-    r += (e - m.contact.clearance) * v(VT1) * dwS1.dot(m.k2_S1);
+    r += (e - c_J) * v(VT1) * dwS1.dot(m.k2_S1);
   }
   return r;
 }
 
-/// Contact quantities and forces; needs kinematics() for shaft 1's twist.
+/// Contact quantities and forces of planar joint J into its end's
+/// d.contact; needs kinematics() for the bearing body's twist.
 /// v0 is the impact velocity of the current contact [m/s]; friction_mode the
 /// slip direction (+1 / -1) or 0 for stick, read by friction.law
 /// coulomb_stick only (in stick F_t is set later by stickClosure()).
-template <class V, class Q, class W>
+template <class V, int J = planarJoint<V>(), class Q, class W>
 void clearanceContact(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
                       const Eigen::MatrixBase<W>& v, double v0, int friction_mode = 0) {
-  using G = PlanarGroup<V>;
-  const ContactParams& cp = m.contact;
-  ContactEval& c = d.contact;
+  using G = PlanarGroup<V, J>;
+  const ContactParams& cp = m.contactOf(J);
+  ContactEval& c = d.contact[G::END];
   const double ex = q(G::QE), ey = q(G::QE + 1);
   c.e = std::hypot(ex, ey);
   c.delta = c.e - cp.clearance;
@@ -145,8 +147,8 @@ void clearanceContact(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
   // Relative velocity of the material points Q_j and Q_i (docs/MODEL.md section 4.3):
   // V = de + dtheta k x (R_j n) + omega_P x (delta n), P the bearing body, so along t:
   double omegaP_k = 0.0;
-  if constexpr (V::group(G::J) > 0) {
-    omegaP_k = d.v[V::group(G::J) - 1].template head<3>().dot(G::axis(m));
+  if constexpr (V::group(J) > 0) {
+    omegaP_k = d.v[V::group(J) - 1].template head<3>().dot(G::axis(m));
   } else if constexpr (V::kFloating) {
     omegaP_k = d.v_base.template head<3>().dot(G::axis(m));
   }
@@ -154,7 +156,7 @@ void clearanceContact(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
   c.fn = normalForce(cp, c.delta, c.vn, v0);
   c.ft_required = 0.0;
   if constexpr (V::kFriction) {
-    if (cp.friction == FrictionLaw::CoulombStick) {
+    if (V::kStick && cp.friction == FrictionLaw::CoulombStick) {
       c.ft = -static_cast<double>(friction_mode) * cp.mu * c.fn;
     } else {
       c.ft = frictionForce(cp, c.fn, c.vt);
@@ -167,13 +169,13 @@ void clearanceContact(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
 /// Generalised force of the contact pair: F = -F_n n + F_t t on the journal,
 /// -F on the bearing, both at the midpoint of Q_i and Q_j (docs/MODEL.md 4.4), so
 /// only the clearance joint's own coordinates see it and momentum is exactly conserved.
-template <class V>
+template <class V, int J = planarJoint<V>()>
 void addContactForces(const Model& m, Data<V>& d) {
-  using G = PlanarGroup<V>;
-  const ContactEval& c = d.contact;
+  using G = PlanarGroup<V, J>;
+  const ContactEval& c = d.contact[G::END];
   if (c.fn == 0.0 && c.ft == 0.0) return;
   const Vec2 F = -c.fn * c.n + c.ft * contactTangent(c.n);
-  const double arm = contactArm(m.contact, c.e);
+  const double arm = contactArm(m.contactOf(J), c.e);
   d.tau(G::VE) += F.x();
   d.tau(G::VE + 1) += F.y();
   d.tau(G::VE + 2) += arm * c.ft;
@@ -183,11 +185,12 @@ void addContactForces(const Model& m, Data<V>& d) {
 /// F_t (the pair's generalised force is linear in F_t), so in stick F_t =
 /// -a0 / b, clamped to |F_t| <= mu F_n. Needs d.L (factor of M) and d.vdot
 /// computed with F_t = 0; adds the pair's tangential force to d.vdot and d.tau
-/// and writes ContactEval::ft and ft_required.
+/// and writes ContactEval::ft and ft_required. The one planar contact of a
+/// stick-capable variant (V::kStick).
 template <class V, class Q, class W>
 void stickClosure(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<W>& v) {
-  using G = PlanarGroup<V>;
-  ContactEval& c = d.contact;
+  using G = PlanarGroup<V, planarJoint<V>()>;
+  ContactEval& c = d.contact[0];
   if (!(c.fn > 0.0)) {
     c.ft = c.ft_required = 0.0;
     return;
@@ -215,7 +218,7 @@ void stickClosure(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q, con
 /// Needs forwardDynamics() just run at the state in stick mode (mode 0).
 template <class V>
 int consistentFrictionMode(const Model& m, const Data<V>& d) {
-  const ContactEval& c = d.contact;
+  const ContactEval& c = d.contact[0];
   if (!(c.fn > 0.0)) return 0;
   const double lim = m.contact.mu * c.fn;
   const double fr = c.ft_required;

@@ -4,20 +4,24 @@
 
 #include <array>
 
+#include "gimbalsim/dynamics/spatial_joint.hpp"
 #include "gimbalsim/dynamics/state.hpp"
 #include "gimbalsim/dynamics/step_result.hpp"
 
 namespace gimbalsim {
 
-/// Contact quantities of the clearance joint at one evaluation.
+/// Contact quantities of one contact end at one evaluation (a planar
+/// joint's contact, or one end plane of a spatial joint's bearing).
 struct ContactEval {
-  double e = 0.0;       ///< eccentricity magnitude [m]
+  double e = 0.0;       ///< eccentricity magnitude (spatial: in the end plane) [m]
   Vec2 n = Vec2::Zero();  ///< unit normal in the joint plane basis (zero when e = 0)
   double delta = 0.0;   ///< penetration e - c [m] (negative: free)
-  double vn = 0.0;      ///< normal relative velocity = d(delta)/dt [m/s]
-  double vt = 0.0;      ///< tangential relative velocity of the material points [m/s]
+  double vn = 0.0;      ///< normal relative velocity of the material points [m/s]
+  /// tangential relative velocity of the material points: along t (planar),
+  /// its magnitude in the tangent plane (spatial) [m/s]
+  double vt = 0.0;
   double fn = 0.0;      ///< normal force magnitude [N]
-  double ft = 0.0;      ///< tangential (friction) force along t [N]
+  double ft = 0.0;      ///< friction force: along t (planar), magnitude (spatial) [N]
   /// coulomb_stick in stick: the F_t that keeps dv_t/dt = 0, before the
   /// clamp to mu F_n [N]
   double ft_required = 0.0;
@@ -29,8 +33,11 @@ struct RunStats {
   long long substeps = 0;           ///< RK4 evaluations taken, all kinds
   long long event_iterations = 0;   ///< of those, spent locating switches
   int max_substeps_in_step = 0;     ///< worst step
-  long long impacts = 0;            ///< located contact onsets
-  long long separations = 0;        ///< located contact ends
+  long long impacts = 0;            ///< located contact onsets, every end
+  long long separations = 0;        ///< located contact ends, every end
+  std::array<long long, 2> impacts_joint{};  ///< onsets per gimbal joint (azimuth, elevation)
+  std::array<double, 2> peak_fn_joint{};     ///< largest F_n at any end of each joint [N]
+  std::array<double, 2> max_tilt_joint{};    ///< largest tilt angle gamma of each spatial joint [rad]
   double last_onset_time = -1.0;    ///< [s]
   double peak_fn = 0.0, t_peak_fn = 0.0;        ///< [N], [s]
   double peak_contact = 0.0, t_peak_contact = 0.0;  ///< |F_n n + F_t t| [N], [s]
@@ -49,6 +56,9 @@ struct RunStats {
 template <class V>
 struct Data {
   static constexpr int NV = V::NV, NQ = V::NQ, NJ = V::NJ;
+  static constexpr int NE = V::NC > 0 ? V::NC : 1;  ///< contact ends kept (one, unused, without clearance)
+  static constexpr bool kSpatial = V::kKind1 == ClearanceKind::Spatial || V::kKind2 == ClearanceKind::Spatial;
+  using Contacts = std::array<ContactEval, NE>;
   using VecV = Eigen::Matrix<double, NV, 1>;
   using VecQ = Eigen::Matrix<double, NQ, 1>;
   using MatV = Eigen::Matrix<double, NV, NV>;
@@ -75,7 +85,9 @@ struct Data {
   VecV tau = VecV::Zero();        ///< generalised applied forces incl. contact
   VecV vdot = VecV::Zero();
   VecQ qdot = VecQ::Zero();
-  ContactEval contact;
+  Contacts contact{};             ///< each contact end (V::NC), joint 1's first
+  /// each spatial joint's contact in full (index: the joint), with its tilt
+  std::array<SpatialContact, kSpatial ? 2 : 0> spatial{};
 
   // ---- integrator (integrator.hpp): scratch, and a cache that changes no result ----
   struct Deriv {
@@ -85,8 +97,9 @@ struct Data {
   std::array<Deriv, 4> k{};       ///< RK4 stage derivatives (rk4.hpp)
   State<V> stage;                 ///< RK4 stage state
   State<V> trial, bracket_hi;     ///< end of the sub-step tried; past-the-switch end of the bracket
-  ContactEval contact_k1;         ///< contact at the start of the last sub-step
-  double stage_delta_max = 0.0;   ///< deepest penetration of the last rk4() call's stages [m]
+  Contacts contact_k1{};          ///< contact at the start of the last sub-step
+  /// deepest penetration of each end over the last rk4() call's stages [m]
+  std::array<double, NE> stage_delta_max{};
   RunStats stats;
   // Adaptive policy, first-same-as-last: f at the end of the last accepted
   // sub-step, reused as the next k1 while state and input are unchanged. A
@@ -96,7 +109,7 @@ struct Data {
   State<V> k_last_state;
   Vec2 k_last_tau = Vec2::Zero();
   bool k_last_valid = false;
-  ContactEval contact_last;
+  Contacts contact_last{};
 };
 
 }  // namespace gimbalsim

@@ -5,6 +5,7 @@
 // bisection) and the coulomb_stick slip/stick predicates (bisection).
 #pragma once
 
+#include <array>
 #include <cmath>
 
 #include "gimbalsim/dynamics/contact_modes.hpp"
@@ -43,21 +44,47 @@ StepResult checkState(const Model& m, const State<V>& s) {
   return r;
 }
 
-/// The contact switch: the penetration delta changes sign against the
-/// side the sub-step started on.
+/// The contact switch: some end's penetration delta changes sign against
+/// the side that end started the sub-step on. With one end changing side
+/// over the sub-step its delta is the signed switch function (regula
+/// falsi); with several, the earliest is found by bisection on past().
 template <class V>
 struct GapSwitch {
-  static constexpr bool kSigned = true;
   const Model& m;
-  bool started_in_contact;
-  double value(const State<V>& x) const { return clearanceGap<V>(m, x.q, x.v).delta; }
-  bool past(const State<V>& /*x*/, double g) const { return (g > 0.0) != started_in_contact; }
+  std::array<bool, Data<V>::NE> started_in_contact{};
+  int only = -1;  ///< the one end whose side changed over the sub-step, or -1
+  bool signedValue() const { return only >= 0; }
+  double value(const State<V>& x) const { return only >= 0 ? endGap<V>(m, only, x.q, x.v).delta : 0.0; }
+  bool past(const State<V>& x, double g) const {
+    for (int e = 0; e < V::NC; ++e) {
+      const double ge = e == only ? g : endGap<V>(m, e, x.q, x.v).delta;
+      if ((ge > 0.0) != started_in_contact[e]) return true;
+    }
+    return false;
+  }
 };
+
+/// The contact switch of a sub-step from s (its ends' sides) to `end`, and
+/// how many ends changed side over it.
+template <class V>
+GapSwitch<V> gapSwitchOver(const Model& m, const State<V>& s, const State<V>& end, int& changed) {
+  GapSwitch<V> sw{m};
+  changed = 0;
+  for (int e = 0; e < V::NC; ++e) {
+    sw.started_in_contact[e] = s.in_contact[e];
+    if ((endGap<V>(m, e, end.q, end.v).delta > 0.0) != s.in_contact[e]) {
+      sw.only = e;
+      ++changed;
+    }
+  }
+  if (changed > 1) sw.only = -1;
+  return sw;
+}
 
 /// coulomb_stick: a v_t reversal while slipping, or the end of stick.
 template <class V>
 struct FrictionSwitch {
-  static constexpr bool kSigned = false;
+  bool signedValue() const { return false; }
   const Model& m;
   Data<V>& d;
   const Input& u;
@@ -78,7 +105,8 @@ StepResult locateSwitch(const Model& m, Data<V>& d, State<V>& s, const Input& u,
   const IntegratorParams& p = m.integrator;
   double lo = 0.0, hi = dt;
   double g_lo = 0.0, g_hi = 0.0;
-  if constexpr (Switch::kSigned) {
+  const bool is_signed = sw.signedValue();
+  if (is_signed) {
     g_lo = sw.value(s);
     g_hi = sw.value(d.trial);
   }
@@ -92,7 +120,7 @@ StepResult locateSwitch(const Model& m, Data<V>& d, State<V>& s, const Input& u,
     if (++it > p.max_event_iters) return r.status = StepStatus::EventNotLocated, r;
     if (!budget.take()) return r.status = StepStatus::SubstepCap, r;
     double tau = 0.5 * (lo + hi);
-    if constexpr (Switch::kSigned) {
+    if (is_signed) {
       const double w = hi - lo, rf = lo - g_lo * w / (g_hi - g_lo);
       if (rf > lo + 0.01 * w && rf < hi - 0.01 * w && it % 4 != 0) tau = rf;
     }
@@ -109,14 +137,14 @@ StepResult locateSwitch(const Model& m, Data<V>& d, State<V>& s, const Input& u,
     if (sw.past(d.trial, g)) {
       hi = tau;
       d.bracket_hi = d.trial;
-      if constexpr (Switch::kSigned) {
+      if (is_signed) {
         g_hi = g;
         if (side_kept == -1) g_lo *= 0.5;
         side_kept = -1;
       }
     } else {
       lo = tau;
-      if constexpr (Switch::kSigned) {
+      if (is_signed) {
         g_lo = g;
         if (side_kept == 1) g_hi *= 0.5;
         side_kept = 1;

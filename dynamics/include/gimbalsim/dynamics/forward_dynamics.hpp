@@ -4,7 +4,7 @@
 
 #include <limits>
 
-#include "gimbalsim/dynamics/clearance_joint.hpp"
+#include "gimbalsim/dynamics/contact_ends.hpp"
 #include "gimbalsim/dynamics/crba.hpp"
 #include "gimbalsim/dynamics/kinematics.hpp"
 #include "gimbalsim/dynamics/rnea.hpp"
@@ -13,10 +13,10 @@ namespace gimbalsim {
 
 /// Joint torques as generalised forces (a pure couple about each joint axis).
 template <class V>
-void applyJointTorques(Data<V>& d, const Input& u) {
+void applyJointTorques(Data<V>& d, const State<V>& s, const Input& u) {
   d.tau.setZero();
-  d.tau(V::NB + V::theta(0)) = u.tau(0);
-  d.tau(V::NB + V::theta(1)) = u.tau(1);
+  applyJointTorque<V, 0>(d, s, u.tau(0));
+  applyJointTorque<V, 1>(d, s, u.tau(1));
 }
 
 /// Configuration rates: pdot_W = R_WB v_B, quaternion rate 0.5 q (0, omega_B).
@@ -41,15 +41,12 @@ GIMBALSIM_FLATTEN void forwardDynamics(const Model& m, Data<V>& d, const State<V
   kinematics(m, d, s.q, s.v);
   detail::rneaBias(m, d, s.v, d.bias);
   crba(m, d);
-  applyJointTorques(d, u);
-  if constexpr (V::kContact) {
-    clearanceContact(m, d, s.q, s.v, s.v0[0], s.in_contact[0] ? s.friction_mode : 0);
-    addContactForces(m, d);
-  }
+  applyJointTorques(d, s, u);
+  if constexpr (V::kContact) allContacts(m, d, s);
   // M vdot = tau - C, factor into d.L (lower) straight from d.M.
   if (!choleskySolve(d.M, d.L, [&](int j) { return d.tau(j) - d.bias(j); }, d.vdot)) {
     d.vdot.setConstant(std::numeric_limits<double>::quiet_NaN());
-  } else if constexpr (V::kFriction) {
+  } else if constexpr (V::kStick) {
     if (m.contact.friction == FrictionLaw::CoulombStick && s.in_contact[0] && s.friction_mode == 0) {
       stickClosure(m, d, s.q, s.v);
     }

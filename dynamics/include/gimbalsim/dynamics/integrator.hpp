@@ -33,18 +33,28 @@ namespace detail {
 
 template <class V>
 void recordContactPeaks(Data<V>& d, double t) {
-  const ContactEval& c = d.contact_k1;
   RunStats& st = d.stats;
-  if (c.fn > st.peak_fn) {
-    st.peak_fn = c.fn;
-    st.t_peak_fn = t;
+  for (int e = 0; e < V::NC; ++e) {
+    const ContactEval& c = d.contact_k1[e];
+    if (c.fn > st.peak_fn) {
+      st.peak_fn = c.fn;
+      st.t_peak_fn = t;
+    }
+    const double f = std::hypot(c.fn, c.ft);
+    if (f > st.peak_contact) {
+      st.peak_contact = f;
+      st.t_peak_contact = t;
+    }
+    st.max_penetration = std::max(st.max_penetration, c.delta);
+    double& peak_j = st.peak_fn_joint[V::endJoint(e)];
+    peak_j = std::max(peak_j, c.fn);
   }
-  const double f = std::hypot(c.fn, c.ft);
-  if (f > st.peak_contact) {
-    st.peak_contact = f;
-    st.t_peak_contact = t;
+  if constexpr (Data<V>::kSpatial) {
+    // the tilt at the sub-step's start (d.spatial holds the last evaluation's)
+    for (int j = 0; j < 2; ++j) {
+      if (V::kind(j) == ClearanceKind::Spatial) st.max_tilt_joint[j] = std::max(st.max_tilt_joint[j], d.spatial[j].gamma);
+    }
   }
-  st.max_penetration = std::max(st.max_penetration, c.delta);
 }
 
 enum class SubstepEnd : std::uint8_t { Accept, Switched, Failed, Retry };
@@ -65,53 +75,76 @@ template <class V>
 SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& u, double dt,
                           SubstepBudget& budget, bool trial_evaluated, StepResult& r) {
   const IntegratorParams& p = m.integrator;
-  const Gap g1 = clearanceGap<V>(m, d.trial.q, d.trial.v);
-  if (!s.in_contact[0] && !(g1.delta > 0.0) && dt > p.event_tol) {
-    bool touched = d.stage_delta_max > 0.0;
-    if (!touched) {
-      const Gap g0 = clearanceGap<V>(m, s.q, s.v);
-      touched = hermiteGapMax(dt, g0.delta, g0.rate, g1.delta, g1.rate) > 0.0;
-    }
-    if (touched) {
-      ++d.stats.straddle_retries;
-      return SubstepEnd::Retry;
+  // An end free at both ends of the sub-step may have held a whole contact.
+  if (dt > p.event_tol) {
+    for (int e = 0; e < V::NC; ++e) {
+      if (s.in_contact[e]) continue;
+      const Gap g1 = endGap<V>(m, e, d.trial.q, d.trial.v);
+      if (g1.delta > 0.0) continue;
+      bool touched = d.stage_delta_max[e] > 0.0;
+      if (!touched) {
+        const Gap g0 = endGap<V>(m, e, s.q, s.v);
+        touched = hermiteGapMax(dt, g0.delta, g0.rate, g1.delta, g1.rate) > 0.0;
+      }
+      if (touched) {
+        ++d.stats.straddle_retries;
+        return SubstepEnd::Retry;
+      }
     }
   }
-  if ((g1.delta > 0.0) != s.in_contact[0]) {
+  int changed = 0;
+  const GapSwitch<V> gap = gapSwitchOver(m, s, d.trial, changed);
+  if (changed > 0) {
     double guess = -1.0;
-    if (trial_evaluated) {
-      const Gap g0 = clearanceGap<V>(m, s.q, s.v);
+    if (trial_evaluated && gap.only >= 0) {
+      const Gap g0 = endGap<V>(m, gap.only, s.q, s.v), g1 = endGap<V>(m, gap.only, d.trial.q, d.trial.v);
       guess = hermiteGapRoot(dt, g0.delta, g0.rate, g1.delta, g1.rate);
     }
-    r = locateSwitch(m, d, s, u, dt, GapSwitch<V>{m, s.in_contact[0]}, budget, guess);
-    if (r.ok()) enterContactSide(m, d, s, u);
-  } else if (frictionSwitched(m, d, d.trial, u, trial_evaluated)) {
-    double guess = -1.0;
-    if (trial_evaluated && s.friction_mode != 0) {
-      // slipping: Hermite cubic of sigma v_t - floor, rates from f(s) = d.k[0]
-      // and f(trial) = d.k_last
-      const double sg = s.friction_mode;
-      auto w = [&](const State<V>& x, const typename Data<V>::Deriv& f, double& rate) {
-        rate = sg * (tangentialVelocity<V>(m, x.q, f.vd) + tangentialVelocityRateAtFixedV<V>(m, x.q, x.v));
-        return sg * tangentialVelocity<V>(m, x.q, x.v) - s.vt_floor;
-      };
-      double r0 = 0.0, r1 = 0.0;
-      const double w0 = w(s, d.k[0], r0), w1 = w(d.trial, d.k_last, r1);
-      guess = hermiteGapRoot(dt, w0, r0, w1, r1);
+    r = locateSwitch(m, d, s, u, dt, gap, budget, guess);
+    if (r.ok()) enterSwitchedEnds(m, d, s, u);
+    return r.ok() ? SubstepEnd::Switched : SubstepEnd::Failed;
+  }
+  if constexpr (V::kStick) {
+    if (frictionSwitched(m, d, d.trial, u, trial_evaluated)) {
+      double guess = -1.0;
+      if (trial_evaluated && s.friction_mode != 0) {
+        // slipping: Hermite cubic of sigma v_t - floor, rates from f(s) = d.k[0]
+        // and f(trial) = d.k_last
+        const double sg = s.friction_mode;
+        auto w = [&](const State<V>& x, const typename Data<V>::Deriv& f, double& rate) {
+          rate = sg * (tangentialVelocity<V>(m, x.q, f.vd) + tangentialVelocityRateAtFixedV<V>(m, x.q, x.v));
+          return sg * tangentialVelocity<V>(m, x.q, x.v) - s.vt_floor;
+        };
+        double r0 = 0.0, r1 = 0.0;
+        const double w0 = w(s, d.k[0], r0), w1 = w(d.trial, d.k_last, r1);
+        guess = hermiteGapRoot(dt, w0, r0, w1, r1);
+      }
+      r = locateSwitch(m, d, s, u, dt, FrictionSwitch<V>{m, d, u}, budget, guess);
+      if (r.ok()) {
+        enterFrictionMode(m, d, s, u, false);
+        ++d.stats.friction_switches;
+      }
+      return r.ok() ? SubstepEnd::Switched : SubstepEnd::Failed;
     }
-    r = locateSwitch(m, d, s, u, dt, FrictionSwitch<V>{m, d, u}, budget, guess);
-    if (r.ok()) {
-      enterFrictionMode(m, d, s, u, false);
-      ++d.stats.friction_switches;
-    }
-  } else {
-    const double limit = p.penetration_limit > 0.0 ? p.penetration_limit : m.contact.clearance;
-    if (!(g1.delta > limit)) return SubstepEnd::Accept;
-    d.stats.max_penetration = std::fmax(d.stats.max_penetration, g1.delta);
-    r = StepResult{StepStatus::PenetrationLimit, d.trial.t, -1, -1, g1.delta};
+  }
+  for (int e = 0; e < V::NC; ++e) {
+    const double limit = p.penetration_limit > 0.0 ? p.penetration_limit : m.contactOf(V::endJoint(e)).clearance;
+    const double delta = endGap<V>(m, e, d.trial.q, d.trial.v).delta;
+    if (!(delta > limit)) continue;
+    d.stats.max_penetration = std::fmax(d.stats.max_penetration, delta);
+    r = StepResult{StepStatus::PenetrationLimit, d.trial.t, -1, -1, delta};
     return SubstepEnd::Failed;
   }
-  return r.ok() ? SubstepEnd::Switched : SubstepEnd::Failed;
+  return SubstepEnd::Accept;
+}
+
+/// Some end entered contact between the two sets of sides.
+template <std::size_t N>
+bool newOnset(const std::array<bool, N>& before, const std::array<bool, N>& after) {
+  for (std::size_t e = 0; e < N; ++e) {
+    if (!before[e] && after[e]) return true;
+  }
+  return false;
 }
 
 /// Same state up to time (the right-hand side does not depend on t; callers
@@ -151,8 +184,10 @@ StepResult stepWith(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
     if (rem <= 1e-12 * p.step) break;
     bool near = false;
     if constexpr (V::kContact) {
-      const Gap g = clearanceGap<V>(m, s.q, s.v);
-      near = s.in_contact[0] || g.delta + std::fmax(g.rate, 0.0) * rem > 0.0;
+      for (int e = 0; e < V::NC && !near; ++e) {
+        const Gap g = endGap<V>(m, e, s.q, s.v);
+        near = s.in_contact[e] || g.delta + std::fmax(g.rate, 0.0) * rem > 0.0;
+      }
     }
     double dt = P::choose(m, d, s, u, rem, near, h_next);
     if constexpr (V::kContact) dt = std::fmin(dt, dt_cap);
@@ -163,7 +198,7 @@ StepResult stepWith(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
     if constexpr (V::kContact) {
       if (near && !P::accept(m, d, u, dt, h_next)) continue;
       recordContactPeaks(d, s.t);
-      const bool was_in_contact = s.in_contact[0];
+      const auto was_in_contact = s.in_contact;
       StepResult r;
       switch (handleSwitches(m, d, s, u, dt, budget, P::kReusesK1 && near, r)) {
         case SubstepEnd::Failed: return stop(r);
@@ -174,7 +209,7 @@ StepResult stepWith(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
         case SubstepEnd::Switched:
           dt_cap = p.step;
           k1_ready = false;
-          if (!was_in_contact && s.in_contact[0] && !P::onOnset(m, d, s, u, h_next, r)) {
+          if (newOnset(was_in_contact, s.in_contact) && !P::onOnset(m, d, s, u, h_next, r)) {
             r.status = StepStatus::SubstepTooLong;
             r.time = s.t;
             return stop(r);

@@ -33,7 +33,7 @@ struct BodyParams {
   Mat3 inertia = Mat3::Identity();    ///< about the centre of mass, body frame [kg m^2]
 };
 
-/// Journal-in-bearing contact of joint 2 (docs/MODEL.md section 4).
+/// Journal-in-bearing contact of a clearance joint (docs/MODEL.md section 4).
 struct ContactParams {
   double bearing_radius = 10.0e-3;    ///< R_i, on shaft 1 [m]
   double journal_radius = 9.5e-3;     ///< R_j, on shaft 2 [m]
@@ -51,6 +51,9 @@ struct ContactParams {
   double mu = 0.25;                   ///< dynamic friction coefficient [-]
   double v_a = 1.0e-4;                ///< Ambrosio: no friction below [m/s]
   double v_b = 1.0e-3;                ///< Ambrosio: full friction above [m/s]
+  /// Spatial clearance: the bearing's length along its axis; contact is at
+  /// its two end planes (docs/MODEL.md section 2.7) [m]
+  double bearing_length = 0.05;
 
   /// Derived (Model::finalize): radial clearance c = R_i - R_j [m].
   double clearance = 0.5e-3;
@@ -112,7 +115,10 @@ struct Model {
   Vec3 k2_S1{0.0, 1.0, 0.0};        ///< joint 2 axis, shaft 1 frame (unit)
   Vec3 boresight_S2{1.0, 0.0, 0.0}; ///< antenna boresight, shaft 2 frame (unit)
 
-  ContactParams contact;
+  ContactParams contact;   ///< joint 2's bearing
+  ContactParams contact1;  ///< joint 1's bearing (used when joint 1 has clearance)
+  /// The contact parameters of joint j (0: azimuth, 1: elevation).
+  const ContactParams& contactOf(int j) const { return j == 0 ? contact1 : contact; }
   /// How the dynamics is integrated: read by step() itself, so it lives here
   /// and not in the run description (run_spec.hpp).
   IntegratorParams integrator;

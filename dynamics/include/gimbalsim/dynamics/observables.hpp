@@ -144,12 +144,23 @@ Row observe(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
   r.theta1 = s.q(QJ + V::theta(0)), r.theta2 = s.q(QJ + V::theta(1));
   r.dtheta1 = s.v(NB + V::theta(0)), r.dtheta2 = s.v(NB + V::theta(1));
   r.ddtheta1 = d.vdot(NB + V::theta(0)), r.ddtheta2 = d.vdot(NB + V::theta(1));
-  if constexpr (V::kContact) {
-    const ContactEval& c = d.contact;
-    r.ecc_x = s.q(PlanarGroup<V>::QE), r.ecc_y = s.q(PlanarGroup<V>::QE + 1), r.ecc = c.e;
+  if constexpr (V::kKind2 == ClearanceKind::Planar) {
+    const ContactEval& c = d.contact[V::firstEnd(1)];
+    r.ecc_x = s.q(PlanarGroup<V, 1>::QE), r.ecc_y = s.q(PlanarGroup<V, 1>::QE + 1), r.ecc = c.e;
     r.delta = c.delta;
     r.fn = c.fn, r.ft = c.ft;
     r.joint2_force = std::hypot(c.fn, c.ft);
+  } else if constexpr (V::kKind2 == ClearanceKind::Spatial) {
+    // Mid-plane eccentricity; the deeper end's penetration; both ends' forces.
+    const int qg = QJ + V::G2;
+    const SpatialContact& sc = d.spatial[1];
+    r.ecc_x = s.q(qg), r.ecc_y = s.q(qg + 1), r.ecc = std::hypot(r.ecc_x, r.ecc_y);
+    r.delta = std::fmax(sc.end[0].delta, sc.end[1].delta);
+    r.fn = sc.end[0].fn + sc.end[1].fn;
+    r.ft = sc.end[0].ft_B.norm() + sc.end[1].ft_B.norm();
+    Vec3 F = Vec3::Zero();
+    for (const SpatialEnd& e : sc.end) F += -e.fn * e.n_B + e.ft_B;
+    r.joint2_force = F.norm();
   }
   const Vec3 b = w.R[NJ - 1] * m.boresight_S2;
   r.bore_x = b.x(), r.bore_y = b.y(), r.bore_z = b.z();
@@ -157,7 +168,7 @@ Row observe(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
   r.mom_px = h.linear.x(), r.mom_py = h.linear.y(), r.mom_pz = h.linear.z();
   r.mom_lx = h.angular.x(), r.mom_ly = h.angular.y(), r.mom_lz = h.angular.z();
   r.energy = h.energy;
-  if constexpr (!V::kContact) {
+  if constexpr (V::kKind2 == ClearanceKind::Ideal) {
     // Ideal joint: the constraint force joint 2 transmits, from the RNEA at
     // the actual acceleration (its moment part holds the torque couple).
     typename Data<V>::VecV tau;

@@ -133,9 +133,9 @@ class ReferenceIntegrator {
     stepper_.calc_state(t_switch, x);
     State<V> at = toState(x, t_switch);
     recordContact(at);
-    if (GapSwitch<V>{m_, mode_.in_contact[0]}.past(at, delta(x))) {
-      enterContactSide(m_, d_, at, u_);
-    } else {
+    if (gapSwitch().past(at, 0.0)) {
+      enterSwitchedEnds(m_, d_, at, u_);
+    } else if constexpr (V::kStick) {
       enterFrictionMode(m_, d_, at, u_, false);
       ++d_.stats.friction_switches;
     }
@@ -147,12 +147,13 @@ class ReferenceIntegrator {
   /// between the current segment's start and x?
   bool switched(const Vec& x, double t) {
     const State<V> s = toState(x, t);
-    const GapSwitch<V> gap{m_, mode_.in_contact[0]};
-    return gap.past(s, gap.value(s)) || FrictionSwitch<V>{m_, d_, u_}.past(s, 0.0);
+    return gapSwitch().past(s, 0.0) || FrictionSwitch<V>{m_, d_, u_}.past(s, 0.0);
   }
-  double delta(const Vec& x) const {
-    const State<V> s = toState(x, 0.0);
-    return clearanceGap<V>(m_, s.q, s.v).delta;
+  /// The contact switch of the current segment: any end leaving its side.
+  GapSwitch<V> gapSwitch() const {
+    GapSwitch<V> sw{m_};
+    for (int e = 0; e < V::NC; ++e) sw.started_in_contact[e] = mode_.in_contact[e];
+    return sw;
   }
   static bool finite(const Vec& x) {
     for (double e : x) {

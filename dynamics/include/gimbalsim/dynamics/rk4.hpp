@@ -3,6 +3,7 @@
 // section 7.1). No allocation, no exception.
 #pragma once
 
+#include <array>
 #include <cmath>
 
 #include "gimbalsim/dynamics/forward_dynamics.hpp"
@@ -47,8 +48,11 @@ void rk4(const Model& m, Data<V>& d, const State<V>& s, const Input& u, double h
     evalDerivative(m, d, s, u, k[0]);
     if constexpr (V::kContact) d.contact_k1 = d.contact;
   }
-  [[maybe_unused]] double stage_delta = 0.0;
-  if constexpr (V::kContact) stage_delta = d.contact_k1.delta;
+  // deepest penetration of each end over the stages
+  [[maybe_unused]] std::array<double, Data<V>::NE> stage_delta{};
+  if constexpr (V::kContact) {
+    for (int e = 0; e < V::NC; ++e) stage_delta[e] = d.contact_k1[e].delta;
+  }
   State<V>& st = d.stage;
   st = s;
   for (int i = 1; i < 4; ++i) {
@@ -56,7 +60,9 @@ void rk4(const Model& m, Data<V>& d, const State<V>& s, const Input& u, double h
     st.q = s.q + (T::a[i - 1] * h) * k[i - 1].qd;
     st.v = s.v + (T::a[i - 1] * h) * k[i - 1].vd;
     evalDerivative(m, d, st, u, k[i]);
-    if constexpr (V::kContact) stage_delta = std::fmax(stage_delta, d.contact.delta);
+    if constexpr (V::kContact) {
+      for (int e = 0; e < V::NC; ++e) stage_delta[e] = std::fmax(stage_delta[e], d.contact[e].delta);
+    }
   }
   if constexpr (V::kContact) d.stage_delta_max = stage_delta;
   out = s;

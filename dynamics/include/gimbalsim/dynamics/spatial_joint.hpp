@@ -3,8 +3,8 @@
 // mid-plane and the journal axis tilted by alpha, beta, so the journal can
 // touch the bearing at either end. Everything here is in the bearing frame B
 // (x_B = u1, y_B = u2, z_B = k, origin at the bearing centre), from the
-// joint's own five coordinates: a pure function, not yet called by the
-// integrator (WIP_SPATIAL.md).
+// joint's own five coordinates: pure functions; contact_ends.hpp maps a
+// joint's group and the bearing body's motion into them.
 #pragma once
 
 #include <array>
@@ -49,6 +49,26 @@ inline std::array<Vec3, 3> spatialHingeAxes(double alpha, double beta) {
   return {Vec3::UnitX(), Vec3(0.0, std::cos(alpha), std::sin(alpha)), journalAxis(alpha, beta)};
 }
 
+/// Where the journal axis meets the end plane z_B = z_end: A = p + (z_end /
+/// z_J . z_B) z_J, in B [m]. Its x, y are the end's eccentricity vector.
+inline Vec3 spatialEndPoint(const Vec3& p, const Vec3& zJ, double z_end) { return p + (z_end / zJ.z()) * zJ; }
+
+/// Penetration delta_s = |A_s| - c [m] of end s (-1 or +1) and its time
+/// derivative [m/s] (geometric, for locating the switch; the contact law uses
+/// the material points' v_n instead, docs/MODEL.md section 2.7).
+inline void spatialEndGap(double clearance, double L, double s, const SpatialCoords& q, const SpatialCoords& v,
+                          double& delta, double& rate) {
+  const double z_end = 0.5 * s * L;
+  const Vec3 A = spatialEndPoint(Vec3(q(0), q(1), 0.0), journalAxis(q(2), q(3)), z_end);
+  const double e = std::hypot(A.x(), A.y());
+  delta = e - clearance;
+  // A = p + z_end (tan(beta) / cos(alpha), -tan(alpha), 1), differentiated.
+  const double ca = std::cos(q(2)), ta = std::tan(q(2)), cb = std::cos(q(3)), tb = std::tan(q(3));
+  const double dx = v(0) + z_end * (v(3) / (cb * cb * ca) + v(2) * tb * ta / ca);
+  const double dy = v(1) - z_end * v(2) / (ca * ca);
+  rate = e > 0.0 ? (A.x() * dx + A.y() * dy) / e : 0.0;
+}
+
 /// Generalised force on the five coordinates of the motor couple tau z_J on
 /// the journal (and -tau z_J on the bearing): tau times the hinge axes' z_J
 /// components, so alpha gets tau sin(beta) and beta nothing [N m].
@@ -77,7 +97,7 @@ inline void spatialContact(const ContactParams& cp, double L, const SpatialCoord
     const double s = i == 0 ? -1.0 : 1.0;
     SpatialEnd& c = out.end[i];
     const double z_end = 0.5 * s * L;
-    const Vec3 A = p + (z_end / zJ.z()) * zJ;  // journal axis meets the end plane
+    const Vec3 A = spatialEndPoint(p, zJ, z_end);
     c.e = std::hypot(A.x(), A.y());
     c.delta = c.e - cp.clearance;
     c.n_B = c.e > 0.0 ? Vec3(A.x() / c.e, A.y() / c.e, 0.0) : Vec3::Zero();

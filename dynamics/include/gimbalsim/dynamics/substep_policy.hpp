@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "gimbalsim/dynamics/rk4.hpp"
 
@@ -18,28 +19,32 @@ namespace gimbalsim {
 /// The Hertz contact period at the onset state s: T = pi sqrt(m_eff / k_lin),
 /// k_lin = n K delta_max^(n-1) at the penetration an impact at the approach
 /// speed reaches (K delta^(n+1) / (n+1) = m_eff v^2 / 2), m_eff =
-/// 1 / (n^T M^-1 n) along the contact normal, M factored at s itself.
-/// Returned as T / 20, the adaptive first guess.
+/// 1 / (J M^-1 J^T) with J the generalised direction of the end's normal
+/// force, M factored at s itself. The shortest over the ends (a spatial end
+/// has stiffness K / 2), returned as T / 20, the adaptive first guess.
 template <class V>
 double contactPeriodOver20(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
-  using G = PlanarGroup<V>;
-  const ContactParams& c = m.contact;
   forwardDynamics(m, d, s, u);  // leaves the Cholesky factor of M(s.q) in d.L
-  const double ex = s.q(G::QE), ey = s.q(G::QE + 1), e = std::hypot(ex, ey);
-  double m_eff = m.shaft2.mass;
-  if (e > 0.0 && d.L(0, 0) > 0.0) {
+  double period = std::numeric_limits<double>::infinity();
+  for (int e = 0; e < V::NC; ++e) {
+    const int j = V::endJoint(e);
+    const ContactParams& c = m.contactOf(j);
+    const bool spatial = V::kind(j) == ClearanceKind::Spatial;
     typename Data<V>::VecV nv = Data<V>::VecV::Zero(), x;
-    nv(G::VE) = ex / e;
-    nv(G::VE + 1) = ey / e;
-    choleskySolveFactored<V::NV>(d.L, nv, x);
-    const double inv = nv.dot(x);
-    if (inv > 0.0 && std::isfinite(inv)) m_eff = 1.0 / inv;
+    if (!endNormalDirection<V>(m, d, s, e, nv) || !(d.L(0, 0) > 0.0)) nv.setZero();
+    double m_eff = m.shaft2.mass;
+    if (!nv.isZero(0.0)) {
+      choleskySolveFactored<V::NV>(d.L, nv, x);
+      const double inv = nv.dot(x);
+      if (inv > 0.0 && std::isfinite(inv)) m_eff = 1.0 / inv;
+    }
+    const double v = std::fmax(std::fmax(std::fabs(endGap<V>(m, e, s.q, s.v).rate), std::fabs(s.v0[e])), 1e-3);
+    const double n = c.exponent, K = spatial ? 0.5 * c.K : c.K;
+    const double delta = std::pow(0.5 * (n + 1.0) * m_eff * v * v / K, 1.0 / (n + 1.0));
+    const double k_lin = n * K * std::pow(delta, n - 1.0);
+    period = std::fmin(period, 3.141592653589793 * std::sqrt(m_eff / k_lin) / 20.0);
   }
-  const double v = std::fmax(std::fmax(std::fabs(clearanceGap<V>(m, s.q, s.v).rate), std::fabs(s.v0[0])), 1e-3);
-  const double n = c.exponent;
-  const double delta = std::pow(0.5 * (n + 1.0) * m_eff * v * v / c.K, 1.0 / (n + 1.0));
-  const double k_lin = n * c.K * std::pow(delta, n - 1.0);
-  return 3.141592653589793 * std::sqrt(m_eff / k_lin) / 20.0;
+  return period;
 }
 
 template <class V>

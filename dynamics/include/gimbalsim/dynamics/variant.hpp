@@ -41,6 +41,13 @@ struct Variant {
   static constexpr int group(int j) { return j == 0 ? G1 : G2; }
   /// Chain index of joint j's angle theta_j: the last of its group.
   static constexpr int theta(int j) { return j == 0 ? N1 - 1 : NJ - 1; }
+  /// Contact ends: joint 1's first, a spatial joint's s = -1 then s = +1.
+  static constexpr int firstEnd(int j) { return j == 0 ? 0 : contactEnds(K1); }
+  static constexpr int endJoint(int e) { return e < contactEnds(K1) ? 0 : 1; }
+  /// friction.law coulomb_stick (set-valued friction with located stick/slip)
+  /// is built for one planar contact: a planar joint 2 with an ideal joint 1.
+  static constexpr bool kStick =
+      Friction && K1 == ClearanceKind::Ideal && K2 == ClearanceKind::Planar;
 };
 
 using FixedIdeal = Variant<false, ClearanceKind::Ideal, ClearanceKind::Ideal, false>;

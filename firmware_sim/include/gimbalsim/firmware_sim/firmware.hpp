@@ -288,19 +288,28 @@ class Firmware {
   void enterFaults(std::int64_t k, const ActiveFaults& af) noexcept {
     if (af.bits != 0) ++n_.fault_ticks;
     if constexpr (V::kContact) {
-      ContactParams& cp = m_.contact;
-      const bool wear = af.clearance >= 0.0 && af.clearance != cp.clearance;
-      const bool rise = af.mu >= 0.0 && af.mu != cp.mu;
-      if (wear) {  // the journal is what wears: R_j = R_i - c, and K follows R_j (Model::finalize's formula)
-        cp.clearance = af.clearance;
-        cp.journal_radius = cp.bearing_radius - af.clearance;
-        cp.K = cp.stiffness_scale * Model::hertzStiffness(cp, cp.radius_mode);
+      // Wear and friction rise act on every bearing with clearance.
+      bool wear = false, rise = false;
+      for (int j = 0; j < 2; ++j) {
+        if (V::kind(j) == ClearanceKind::Ideal) continue;
+        ContactParams& cp = j == 0 ? m_.contact1 : m_.contact;
+        const bool wear_j = af.clearance >= 0.0 && af.clearance != cp.clearance;
+        const bool rise_j = af.mu >= 0.0 && af.mu != cp.mu;
+        if (wear_j) {  // the journal is what wears: R_j = R_i - c, and K follows R_j (Model::finalize's formula)
+          cp.clearance = af.clearance;
+          cp.journal_radius = cp.bearing_radius - af.clearance;
+          cp.K = cp.stiffness_scale * Model::hertzStiffness(cp, cp.radius_mode);
+        }
+        if (rise_j) cp.mu = af.mu;
+        wear = wear || wear_j;
+        rise = rise || rise_j;
       }
-      if (rise) cp.mu = af.mu;
       if (wear || rise) {
         d_.k_last_valid = false;  // the cached f(s) belongs to the old parameters
         // A journal in contact whose bearing receded past it is free now.
-        if (s_.in_contact[0] && !(clearanceGap<V>(m_, s_.q, s_.v).delta > 0.0)) enterContactSide(m_, d_, s_, u_);
+        for (int e = 0; e < V::NC; ++e) {
+          if (s_.in_contact[e] && !(endGap<V>(m_, e, s_.q, s_.v).delta > 0.0)) enterContactSide(m_, d_, s_, u_, e);
+        }
       }
     }
     bus_.releaseDue(k, [this](const Command& cmd, SourceId src) { receive(cmd, src); });

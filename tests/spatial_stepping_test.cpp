@@ -1,0 +1,176 @@
+// Clearance in either joint, planar or spatial, through the integrator
+// (docs/MODEL.md 2.7 and 8): the physics page's checks on the variants
+// instantiated directly. Each end's contact is located and remembered on its
+// own; these runs hold impacts at both ends of a spatial bearing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "test_util.hpp"
+
+namespace gimbalsim {
+namespace {
+
+using CK = ClearanceKind;
+template <CK K1, CK K2, bool Floating = true>
+using Shape = Variant<Floating, K1, K2, true>;
+
+/// The scene with these joint kinds, joint 1's bearing the same as joint 2's.
+Scene withKinds(Scene sc, CK k1, CK k2) {
+  sc.model.contact1 = sc.model.contact;
+  sc.model.joint1_kind = k1;
+  sc.model.joint2_kind = k2;
+  sc.model.finalize();
+  return sc;
+}
+
+/// Steps sc for T seconds from its initial state; calls f(s, d) after each step.
+template <class V, class F>
+State<V> runFor(const Scene& sc, double T, Data<V>& d, F&& f) {
+  const Model& m = sc.model;
+  const Input u{sc.run.torque};
+  State<V> s = initialState<V>(sc.run.initial);
+  const long long n = std::llround(T / m.integrator.step);
+  for (long long k = 1; k <= n; ++k) {
+    const StepResult r = step(m, d, s, u);
+    EXPECT_EQ(r.status, StepStatus::Ok) << "t = " << s.t << ": " << describe(r.status);
+    if (!r.ok()) break;
+    s.t = static_cast<double>(k) * m.integrator.step;
+    f(s, d);
+  }
+  return s;
+}
+
+/// The joint-2 group's coordinates of a spatial variant: p_x, p_y, alpha, beta, theta.
+template <class V>
+Eigen::Matrix<double, 5, 1> group2(const State<V>& s) {
+  return s.q.template segment<5>(State<V>::QJ + V::G2);
+}
+
+// Check 1: in the planar scene (every axis along base z, every CoM in the
+// base plane) a spatial joint 2 started centred and untilted stays untilted
+// by symmetry, and the run is the planar-clearance run to the integrator's
+// accuracy: with the regularised friction law to 1e-9; with plain Coulomb
+// (whose jump makes the run sensitive to the located switch times) within the
+// planar run's own change when the sub-step is halved.
+TEST(SpatialStepping, PlanarSceneSpatialJointStaysUntiltedAndEqualsPlanar) {
+  using VP = Shape<CK::Ideal, CK::Planar>;
+  using VS = Shape<CK::Ideal, CK::Spatial>;
+  struct Result {
+    double theta1, theta2, ecc_x, ecc_y;
+  };
+  auto planarRun = [](const Scene& sc, long long& impacts) {
+    Data<VP> d(sc.model);
+    const State<VP> s = runFor<VP>(sc, 1.0, d, [](const State<VP>&, Data<VP>&) {});
+    impacts = d.stats.impacts;
+    return Result{s.theta(0), s.theta(1), s.q(State<VP>::QJ + 1), s.q(State<VP>::QJ + 2)};
+  };
+  // Apart in the joint angles [rad] and in the eccentricity [m].
+  auto angles = [](const Result& a, const Result& b) {
+    return std::max(std::fabs(a.theta1 - b.theta1), std::fabs(a.theta2 - b.theta2));
+  };
+  auto ecc = [](const Result& a, const Result& b) { return std::hypot(a.ecc_x - b.ecc_x, a.ecc_y - b.ecc_y); };
+  for (const char* law : {"ambrosio", "coulomb"}) {
+    const Scene planar = test::scene("planar_clearance", {std::string("friction.law=") + law, "sim.substep=1e-5"});
+    const Scene spatial = withKinds(planar, CK::Ideal, CK::Spatial);
+    long long impacts = 0, impacts_fine = 0;
+    const Result rp = planarRun(planar, impacts);
+    Data<VS> ds(spatial.model);
+    double max_tilt = 0.0;
+    const State<VS> ss = runFor<VS>(spatial, 1.0, ds, [&](const State<VS>& s, Data<VS>&) {
+      const auto g = group2(s);
+      max_tilt = std::max({max_tilt, std::fabs(g(2)), std::fabs(g(3))});
+    });
+    const auto g = group2(ss);
+    const Result rs{ss.theta(0), ss.theta(1), g(0), g(1)};
+    EXPECT_EQ(max_tilt, 0.0) << law << ": the symmetric pair of end forces cannot tilt the journal";
+    ASSERT_GT(impacts, 5) << law;
+    // Each planar impact is one onset at each of the two ends, at once.
+    EXPECT_EQ(ds.stats.impacts, 2 * impacts) << law;
+    EXPECT_EQ(ds.stats.impacts_joint[1], ds.stats.impacts) << law;
+    const Result rf = planarRun(test::scene("planar_clearance", {std::string("friction.law=") + law,
+                                                                  "sim.substep=5e-6"}), impacts_fine);
+    std::printf("%s: spatial - planar %.3g rad, %.3g m; planar h - h/2 %.3g rad, %.3g m; impacts %lld\n", law,
+                angles(rs, rp), ecc(rs, rp), angles(rf, rp), ecc(rf, rp), impacts);
+    if (std::string(law) == "ambrosio") {
+      EXPECT_LT(angles(rs, rp), 1e-9) << law;
+      EXPECT_LT(ecc(rs, rp), 1e-10) << law;
+    } else {
+      EXPECT_LT(angles(rs, rp), angles(rf, rp)) << law << ": further apart than the integrator's own error";
+      EXPECT_LT(ecc(rs, rp), ecc(rf, rp)) << law << ": further apart than the integrator's own error";
+    }
+  }
+}
+
+/// Largest relative drift of the linear and angular momentum over a run.
+template <class V>
+void expectMomentumHeld(const Scene& sc, double T, const char* what) {
+  Data<V> d(sc.model);
+  const Momentum h0 = test::momentumOf(sc.model, initialState<V>(sc.run.initial));
+  double lin = 0.0, ang = 0.0, lin_scale = 0.0, ang_scale = h0.scale;
+  runFor<V>(sc, T, d, [&](const State<V>& s, Data<V>&) {
+    const Momentum h = test::momentumOf(sc.model, s);
+    lin = std::max(lin, (h.linear - h0.linear).norm());
+    ang = std::max(ang, (h.angular - h0.angular).norm());
+    lin_scale = std::max(lin_scale, h.scale_linear);
+    ang_scale = std::max(ang_scale, h.scale);
+  });
+  std::printf("%s: impacts joint 1 %lld, joint 2 %lld; momentum drift linear %.3g, angular %.3g (relative)\n", what,
+              d.stats.impacts_joint[0], d.stats.impacts_joint[1], lin / lin_scale, ang / ang_scale);
+  for (int j = 0; j < 2; ++j) {
+    if (V::kind(j) != CK::Ideal) EXPECT_GT(d.stats.impacts_joint[j], 0) << what << ": joint " << j + 1;
+  }
+  EXPECT_LT(lin / lin_scale, 1e-10) << what;
+  EXPECT_LT(ang / ang_scale, 1e-10) << what;
+}
+
+// Check 2: the contact pair is internal, so momentum is held through impacts
+// at every end of every clearance joint.
+TEST(SpatialStepping, MomentumHeldThroughImpactsAtEveryEnd) {
+  const Scene sc = test::scene("paper_clearance", {"sim.substep=1e-5", "initial.dtheta1=0.3",
+                                                   "initial.ecc=[1.0e-4, -2.0e-4]"});
+  expectMomentumHeld<Shape<CK::Ideal, CK::Spatial>>(withKinds(sc, CK::Ideal, CK::Spatial), 0.3, "spatial 2");
+  expectMomentumHeld<Shape<CK::Planar, CK::Planar>>(withKinds(sc, CK::Planar, CK::Planar), 0.3, "planar 1+2");
+  expectMomentumHeld<Shape<CK::Spatial, CK::Spatial>>(withKinds(sc, CK::Spatial, CK::Spatial), 0.3,
+                                                       "spatial 1+2");
+  expectMomentumHeld<Shape<CK::Planar, CK::Ideal>>(withKinds(sc, CK::Planar, CK::Ideal), 0.3, "planar 1");
+}
+
+/// Kinetic energy plus the Hertz springs' energy, relative to the kinetic
+/// energy scale: its largest change over a run without torque.
+template <class V>
+double energyChange(const Scene& sc, double T, long long& impacts) {
+  Data<V> d(sc.model);
+  auto total = [&](const State<V>& s) {
+    return test::momentumOf(sc.model, s).energy + hertzEnergy<V>(sc.model, s.q, s.v);
+  };
+  const double E0 = total(initialState<V>(sc.run.initial));
+  double worst = 0.0;
+  runFor<V>(sc, T, d, [&](const State<V>& s, Data<V>&) { worst = std::max(worst, std::fabs(total(s) - E0)); });
+  impacts = d.stats.impacts;
+  return worst / E0;
+}
+
+// Check 3: without damping and friction energy is held: exactly (to the
+// integrator) for the planar kinds, to about 1e-5 of the kinetic energy for
+// the spatial kind (its journal point is first order in the tilt).
+TEST(SpatialStepping, EnergyHeldWithoutDampingOrFriction) {
+  Scene sc = test::scene("paper_clearance", {"contact.damping=none", "friction.law=none", "sim.substep=1e-5",
+                                             "initial.dtheta1=0.5", "initial.dtheta2=-0.8",
+                                             "initial.ecc=[1.0e-4, -2.0e-4]"});
+  sc.run.torque.setZero();
+  long long n = 0;
+  const double planar = energyChange<Shape<CK::Planar, CK::Planar>>(withKinds(sc, CK::Planar, CK::Planar), 0.3, n);
+  std::printf("planar 1+2: energy change %.3g of E0, impacts %lld\n", planar, n);
+  EXPECT_GT(n, 3);
+  EXPECT_LT(planar, 1e-8);
+  const double spatial =
+      energyChange<Shape<CK::Spatial, CK::Spatial>>(withKinds(sc, CK::Spatial, CK::Spatial), 0.3, n);
+  std::printf("spatial 1+2: energy change %.3g of E0, impacts %lld\n", spatial, n);
+  EXPECT_GT(n, 3);
+  EXPECT_LT(spatial, 1e-5);
+}
+
+}  // namespace
+}  // namespace gimbalsim
