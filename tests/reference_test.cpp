@@ -104,7 +104,7 @@ void expectRk4MeetsTheReference(const Scene& sc, double T, double final_tol) {
 
 // Without damping: with the hysteresis damping on, a spatial joint's RK4 run
 // stalls about 5e-5 from the reference (paper_spatial2, 0.3 s) while the
-// planar kinds converge; under study (WIP_SPATIAL.md).
+// planar kinds converge; under study.
 TEST(Reference, Rk4MeetsTheReferenceWithClearanceInEitherJoint) {
   using CK = ClearanceKind;
   expectRk4MeetsTheReference<Variant<true, CK::Ideal, CK::Spatial, false>>(
