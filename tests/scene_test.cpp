@@ -119,7 +119,7 @@ TEST(Scene, ShippedDurationsAreWholeSteps) {
   // The shipped scenes and run_paper.sh's sim.duration=0.5 (and 1, 2 of the README) stay valid.
   for (const char* name : {"paper_ideal", "paper_clearance", "planar_ideal", "planar_clearance",
                            "paper_ideal_valid_inertia", "stickslip_clearance", "paper_spatial2", "paper_both_planar",
-                           "paper_both_spatial", "planar_spatial2"}) {
+                           "paper_both_spatial", "planar_spatial2", "paper_planar1", "paper_spatial1"}) {
     for (const char* d : {"sim.duration=0.5", "sim.duration=1", "sim.duration=2"}) {
       EXPECT_NO_THROW(loadScene(test::scenePath(name), {d})) << name << " " << d;
     }
@@ -133,7 +133,9 @@ TEST(Scene, JointKindsAndJoint1BearingDefaultToJoint2s) {
   const std::pair<const char*, const char*> shipped[] = {{"paper_spatial2", "floating_spatial_friction"},
                                                          {"paper_both_planar", "floating_planar1_clearance_friction"},
                                                          {"paper_both_spatial", "floating_spatial1_spatial_friction"},
-                                                         {"planar_spatial2", "floating_spatial_friction"}};
+                                                         {"planar_spatial2", "floating_spatial_friction"},
+                                                         {"paper_planar1", "floating_planar1_ideal_friction"},
+                                                         {"paper_spatial1", "floating_spatial1_ideal_friction"}};
   for (const auto& [name, variant] : shipped) {
     const Scene s = loadScene(test::scenePath(name));
     EXPECT_EQ(variantName(s.model), variant) << name;
