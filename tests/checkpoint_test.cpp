@@ -113,6 +113,31 @@ TEST_P(Checkpoint, FloatingIdeal) { checkVariant<FloatingIdeal>(GetParam()); }
 TEST_P(Checkpoint, FloatingClearance) { checkVariant<FloatingClearance>(GetParam()); }
 TEST_P(Checkpoint, FloatingClearanceFriction) { checkVariant<FloatingClearanceFriction>(GetParam()); }
 
+/// Mid-impact at each contact end in turn (its side in contact, penetrating):
+/// the copy resumes bit for bit, whichever end is mid-impact.
+template <class V>
+void checkEveryEnd(const Scene& sc) {
+  const Model& m = sc.model;
+  ASSERT_EQ(variantName(m), shapeName(V::kFloating, V::kKind1, V::kKind2, V::kFriction));
+  for (int e = 0; e < V::NC; ++e) {
+    SCOPED_TRACE(variantName(m) + ", end " + std::to_string(e) + " mid-impact");
+    expectCheckpointResumes<V>(
+        sc, [&](const State<V>& s) { return s.in_contact[e] && endGap<V>(m, e, s.q, s.v).delta > 1e-7; }, 3.0, 100);
+  }
+}
+
+TEST(CheckpointEnds, BothJointsSpatial) {
+  using CK = ClearanceKind;
+  checkEveryEnd<Variant<true, CK::Spatial, CK::Spatial, true>>(test::scene("paper_both_spatial"));
+}
+
+TEST(CheckpointEnds, PlanarJoint1SpatialJoint2OnAFixedBase) {
+  using CK = ClearanceKind;
+  checkEveryEnd<Variant<false, CK::Planar, CK::Spatial, true>>(
+      test::scene("paper_spatial2", {"structure.base=fixed", "structure.joint1=planar", "friction.law=ambrosio",
+                                     "sim.substep_policy=adaptive", "sim.substep_tol=1e-8"}));
+}
+
 // A State carries each contact end's memory (two spatial joints: four ends),
 // and a copy carries all of it.
 TEST(CheckpointMemory, StateKeepsTheMemoryOfEveryContactEnd) {

@@ -54,6 +54,18 @@ TEST(NoAlloc, AdaptivePolicyAndCoulombStickAllocateNothing) {
   checkNoAllocation<FloatingIdeal>(test::scene("paper_ideal", {adaptive}), 300);
 }
 
+TEST(NoAlloc, StepOfTheClearanceInEitherJointShapesAllocatesNothing) {
+  // The shipped scenes of those shapes, each through its impacts at either end.
+  using CK = ClearanceKind;
+  checkNoAllocation<Variant<true, CK::Ideal, CK::Spatial, true>>(test::scene("paper_spatial2"), 500);
+  checkNoAllocation<Variant<true, CK::Planar, CK::Planar, true>>(test::scene("paper_both_planar"), 500);
+  checkNoAllocation<Variant<true, CK::Spatial, CK::Spatial, true>>(test::scene("paper_both_spatial"), 800);
+  checkNoAllocation<Variant<false, CK::Spatial, CK::Planar, false>>(
+      test::scene("paper_both_planar", {"structure.base=fixed", "structure.joint1=spatial", "friction.law=none",
+                                        "sim.substep_policy=adaptive"}),
+      500);
+}
+
 TEST(NoAlloc, FailingStepAllocatesNothingEither) {
   const Scene sc = test::scene("paper_clearance", {"sim.max_substeps=3"});
   const Model& m = sc.model;

@@ -2,6 +2,8 @@
 // Dormand-Prince 5(4), tolerance 1e-12, same contact switch location).
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include "gimbalsim/dynamics/reference_integrator.hpp"
 #include "test_util.hpp"
 
@@ -74,6 +76,45 @@ TEST(Reference, PlainCoulombStopsTheReferenceWithAClearReason) {
   EXPECT_FALSE(integ.advanceTo(s, 0.1));
   EXPECT_NE(std::string(integ.failure()).find("Coulomb"), std::string::npos) << integ.failure();
   EXPECT_EQ(s.q, before.q) << "no state is handed back from a failed reference run";
+}
+
+/// RK4 against the reference on a scene of clearance in either joint, no
+/// friction: the same impacts, and an error falling with the sub-step.
+template <class V>
+void expectRk4MeetsTheReference(const Scene& sc, double T, double final_tol) {
+  auto ref = initialState<V>(sc.run.initial);
+  ReferenceIntegrator<V> integ(sc.model, Input{sc.run.torque});
+  ASSERT_TRUE(integ.advanceTo(ref, T)) << integ.failure();
+  EXPECT_GE(integ.impacts(), 4);
+  std::vector<double> err;
+  for (const double ss : {2e-5, 1e-5, 5e-6}) {
+    Model mh = sc.model;
+    mh.integrator.substep = ss;
+    Data<V> d(mh);
+    auto s = initialState<V>(sc.run.initial);
+    test::advance(mh, d, s, std::llround(T / mh.integrator.step), Input{sc.run.torque});
+    EXPECT_EQ(d.stats.impacts, integ.impacts()) << "same impacts as the reference, sub-step " << ss;
+    err.push_back(errorTo(s, ref));
+  }
+  std::printf("%s: RK4 against the reference at %.2f s: %.3g, %.3g, %.3g; %lld impacts\n",
+              variantName(sc.model).c_str(), T, err[0], err[1], err[2], integ.impacts());
+  for (size_t i = 0; i + 1 < err.size(); ++i) EXPECT_GT(err[i] / err[i + 1], 2.0) << err[i] << " -> " << err[i + 1];
+  EXPECT_LT(err.back(), final_tol);
+}
+
+// Without damping: with the hysteresis damping on, a spatial joint's RK4 run
+// stalls about 5e-5 from the reference (paper_spatial2, 0.3 s) while the
+// planar kinds converge; under study.
+TEST(Reference, Rk4MeetsTheReferenceWithClearanceInEitherJoint) {
+  using CK = ClearanceKind;
+  expectRk4MeetsTheReference<Variant<true, CK::Ideal, CK::Spatial, false>>(
+      test::scene("paper_spatial2", {"friction.law=none", "contact.damping=none"}), 0.3, 1e-6);
+  expectRk4MeetsTheReference<Variant<true, CK::Planar, CK::Planar, false>>(
+      test::scene("paper_both_planar", {"friction.law=none"}), 0.3, 1e-6);  // damped
+  expectRk4MeetsTheReference<Variant<true, CK::Spatial, CK::Spatial, false>>(
+      // 46 impacts in 0.1 s at four ends: the error falls at order 2.5 (as through
+      // any Hertz onset) from 8e-3 at 2e-5 s to 2.6e-4 at 5e-6 s.
+      test::scene("paper_both_spatial", {"friction.law=none", "contact.damping=none"}), 0.1, 1e-3);
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 // the key and where it was given; good ones load as written.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "test_util.hpp"
 
 namespace gimbalsim {
@@ -116,13 +118,70 @@ TEST(Scene, NonPhysicalValuesAreRefused) {
 TEST(Scene, ShippedDurationsAreWholeSteps) {
   // The shipped scenes and run_paper.sh's sim.duration=0.5 (and 1, 2 of the README) stay valid.
   for (const char* name : {"paper_ideal", "paper_clearance", "planar_ideal", "planar_clearance",
-                           "paper_ideal_valid_inertia", "stickslip_clearance"}) {
+                           "paper_ideal_valid_inertia", "stickslip_clearance", "paper_spatial2", "paper_both_planar",
+                           "paper_both_spatial", "planar_spatial2", "paper_planar1", "paper_spatial1"}) {
     for (const char* d : {"sim.duration=0.5", "sim.duration=1", "sim.duration=2"}) {
       EXPECT_NO_THROW(loadScene(test::scenePath(name), {d})) << name << " " << d;
     }
     EXPECT_NO_THROW(loadScene(test::scenePath(name))) << name;
   }
   EXPECT_NO_THROW(loadSceneText(kGood, "good.yaml", {"sim.step=1e-3", "sim.duration=0.3"}));  // 0.3/1e-3 is not exact
+}
+
+TEST(Scene, JointKindsAndJoint1BearingDefaultToJoint2s) {
+  // The shipped scenes of clearance in either joint load as their names say.
+  const std::pair<const char*, const char*> shipped[] = {{"paper_spatial2", "floating_spatial_friction"},
+                                                         {"paper_both_planar", "floating_planar1_clearance_friction"},
+                                                         {"paper_both_spatial", "floating_spatial1_spatial_friction"},
+                                                         {"planar_spatial2", "floating_spatial_friction"},
+                                                         {"paper_planar1", "floating_planar1_ideal_friction"},
+                                                         {"paper_spatial1", "floating_spatial1_ideal_friction"}};
+  for (const auto& [name, variant] : shipped) {
+    const Scene s = loadScene(test::scenePath(name));
+    EXPECT_EQ(variantName(s.model), variant) << name;
+    EXPECT_EQ(s.model.contact.bearing_length, 0.05) << name;
+  }
+  // Joint 1's bearing is joint 2's, but for the contact1.* / friction1.* keys given.
+  const Scene both = test::scene("paper_clearance", {"structure.joint1=planar", "contact.restitution=0.8",
+                                                     "contact1.clearance=2e-4", "friction1.mu=0.1"});
+  const ContactParams &c1 = both.model.contact1, &c2 = both.model.contact;
+  EXPECT_EQ(both.model.joint1_kind, ClearanceKind::Planar);
+  EXPECT_EQ(both.model.joint2_kind, ClearanceKind::Planar);  // "clearance" is planar
+  EXPECT_EQ(c1.restitution, 0.8);
+  EXPECT_EQ(c2.restitution, 0.8);
+  EXPECT_NEAR(c1.clearance, 2e-4, 1e-15);
+  EXPECT_NEAR(c2.clearance, 5e-4, 1e-15);
+  EXPECT_EQ(c1.mu, 0.1);
+  EXPECT_EQ(c2.mu, 0.25);
+  const double k_ratio = std::sqrt((c1.journal_radius / (c1.journal_radius + c1.bearing_radius)) /
+                                   (c2.journal_radius / (c2.journal_radius + c2.bearing_radius)));
+  EXPECT_NEAR(c1.K / c2.K, k_ratio, 1e-12) << "joint 1's stiffness follows its own radii (K ~ sqrt(R))";
+  EXPECT_NE(c1.K, c2.K);
+  EXPECT_EQ(variantName(test::scene("paper_clearance", {"structure.joint2=spatial", "structure.base=fixed",
+                                                        "friction.law=none"}).model),
+            "fixed_spatial");
+  // Set-valued friction is for a planar joint 2 with an ideal joint 1 only, named at its key.
+  std::string e = refusal(kGood, {"structure.joint2=spatial", "friction.law=coulomb_stick"});
+  EXPECT_NE(e.find("friction.law"), std::string::npos) << e;
+  EXPECT_NE(e.find("planar joint 2 with an ideal joint 1"), std::string::npos) << e;
+  e = refusal(kGood, {"structure.joint1=planar", "friction1.law=coulomb_stick"});
+  EXPECT_NE(e.find("friction1.law"), std::string::npos) << e;
+  // Joint 1's bearing is checked when joint 1 has clearance, naming its keys.
+  e = refusal(kGood, {"structure.joint1=spatial", "contact1.journal_radius=0.02"});
+  EXPECT_NE(e.find("contact1.journal_radius"), std::string::npos) << e;
+  EXPECT_EQ(refusal(kGood, {"contact1.journal_radius=0.02"}), "") << "ideal joint 1: its bearing's radii are not used";
+  e = refusal(kGood, {"contact1.restitution=2"});
+  EXPECT_NE(e.find("contact1.restitution"), std::string::npos) << "a bad value is refused, used or not: " << e;
+  // A bad joint-2 value is refused once, at its key, not again as joint 1's default.
+  e = refusal(kGood, {"structure.joint1=planar", "contact.restitution=2"});
+  EXPECT_NE(e.find("contact.restitution"), std::string::npos) << e;
+  EXPECT_EQ(e.find("contact1.restitution"), std::string::npos) << e;
+  e = refusal(kGood, {"structure.joint1=planar", "contact1.restitution=2"});
+  EXPECT_NE(e.find("contact1.restitution"), std::string::npos) << e;
+  e = refusal(kGood, {"structure.joint2=spatial", "contact.bearing_length=0"});
+  EXPECT_NE(e.find("contact.bearing_length"), std::string::npos) << e;
+  e = refusal(kGood, {"structure.joint1=tilted"});
+  EXPECT_NE(e.find("structure.joint1"), std::string::npos) << e;
 }
 
 TEST(Scene, EveryProblemIsReportedAtOnce) {

@@ -99,8 +99,13 @@ TEST(Simulator, RefusesAStateFromOutsideNamingTheField) {
   EXPECT_EQ(refusal(bad).rfind("State.t = 1", 0), 0u) << refusal(bad);
   EXPECT_NE(refusal(bad).find("e+300 s: beyond what the step counter reaches"), std::string::npos) << refusal(bad);
   bad = good;
-  bad.v0 = std::nan("");
-  EXPECT_EQ(refusal(bad), "State.v0 = nan: must be finite");
+  ASSERT_EQ(bad.v0.size(), 1u);  // one planar contact end
+  bad.v0[0] = std::nan("");
+  EXPECT_EQ(refusal(bad), "State.v0[0] = nan: must be finite");
+  bad = good;
+  bad.v0.push_back(0.0);
+  bad.in_contact.push_back(false);
+  EXPECT_EQ(refusal(bad).rfind("State.in_contact and State.v0 hold 2 and 2 values", 0), 0u) << refusal(bad);
   bad = good;
   bad.q[3] = 2.0;  // the base quaternion's w
   EXPECT_NE(refusal(bad).find("State.q[3:7]"), std::string::npos) << refusal(bad);

@@ -81,15 +81,24 @@ TEST(SpatialJoint, TiltAngleBetweenTheAxes) {
 }
 
 /// A state touching at the +L/2 end only (tilted journal), random rates.
-void touchingState(std::mt19937& rng, SpatialCoords& q, SpatialCoords& v, Vec3& omegaP) {
+/// A random state with the journal 3 um into the bearing at its +L/2 end,
+/// free at the -L/2 end, and the contact evaluated there.
+struct Touching {
+  SpatialCoords q, v;
+  Vec3 omegaP;  ///< the bearing body's angular velocity [rad/s], bearing frame
+  SpatialContact out;
+};
+
+Touching touching(std::mt19937& rng, const ContactParams& c) {
   std::uniform_real_distribution<double> U(-1.0, 1.0);
-  const ContactParams c = bearing();
-  // Tilt about x by alpha moves the +L/2 end by -L/2 tan(alpha) along y:
-  // 3 um into the bearing there, free at the -L/2 end.
-  q << 1e-5 * U(rng), -0.2 * c.clearance, 0.0, 1e-4 * U(rng), U(rng);
-  q(2) = std::atan((0.8 * c.clearance + 3e-6) / (0.5 * kLength));
-  for (int j = 0; j < 5; ++j) v(j) = (j < 2 ? 1e-2 : 0.5) * U(rng);
-  omegaP = Vec3(U(rng), U(rng), U(rng));
+  Touching t;
+  // Tilt about x by alpha moves the +L/2 end by -L/2 tan(alpha) along y.
+  t.q << 1e-5 * U(rng), -0.2 * c.clearance, 0.0, 1e-4 * U(rng), U(rng);
+  t.q(2) = std::atan((0.8 * c.clearance + 3e-6) / (0.5 * kLength));
+  for (int j = 0; j < 5; ++j) t.v(j) = (j < 2 ? 1e-2 : 0.5) * U(rng);
+  t.omegaP = Vec3(U(rng), U(rng), U(rng));
+  spatialContact(c, kLength, t.q, t.v, t.omegaP, {0.1, 0.1}, t.out);
+  return t;
 }
 
 TEST(SpatialJoint, RelativeVelocityOfTheMaterialPoints) {
@@ -98,11 +107,7 @@ TEST(SpatialJoint, RelativeVelocityOfTheMaterialPoints) {
   std::mt19937 rng(3);
   const ContactParams c = bearing();
   for (int trial = 0; trial < 5; ++trial) {
-    SpatialCoords q, v;
-    Vec3 omegaP;
-    touchingState(rng, q, v, omegaP);
-    SpatialContact out;
-    spatialContact(c, kLength, q, v, omegaP, {0.1, 0.1}, out);
+    const auto [q, v, omegaP, out] = touching(rng, c);
     const SpatialEnd& e = out.end[1];
     ASSERT_GT(e.delta, 0.0);
     ASSERT_LT(out.end[0].delta, 0.0);
@@ -125,11 +130,7 @@ TEST(SpatialJoint, GeneralisedForceIsTheVirtualWork) {
   std::mt19937 rng(5);
   const ContactParams c = bearing(FrictionLaw::Coulomb);
   for (int trial = 0; trial < 5; ++trial) {
-    SpatialCoords q, v;
-    Vec3 omegaP;
-    touchingState(rng, q, v, omegaP);
-    SpatialContact out;
-    spatialContact(c, kLength, q, v, omegaP, {0.1, 0.1}, out);
+    const auto [q, v, omegaP, out] = touching(rng, c);
     ASSERT_GT(out.end[1].fn, 0.0);
     ASSERT_GT(out.end[1].ft_B.norm(), 0.0);
     const Pose P = pose(q);

@@ -81,6 +81,37 @@ INSTANTIATE_TEST_SUITE_P(Integrators, Summary,
 
 // Both integrators find the same impacts and peak force (measured: 846.78 N
 // and 846.86 N, 1e-4 apart; the reference's used to be 0).
+TEST(Summary, ClearanceJointsCountTheirOwnImpactsAndTilt) {
+  // Both joints with clearance: each joint's impacts add up to the run's; the
+  // elevation journal's tilt is bounded by its bearing (2 c / L, plus the
+  // penetration's share); a planar joint reports no tilt.
+  // (the momentum guard off: a free azimuth journal's first steps drift by more
+  // than 1e-9 of the still tiny momenta; this test is about the joints' fields)
+  const Scene sc =
+      test::scene("paper_spatial2", {"sim.duration=0.5", "structure.joint1=planar", "sim.momentum_tol=0"});
+  const RunResult r = simulate(sc, [](const Row&) {});
+  ASSERT_TRUE(r.ok) << r.error;
+  const nlohmann::json j = io::runSummary(sc.model, r, "paper_spatial2.yaml", "rk4");
+  const nlohmann::json& c = j["clearance_joints"];
+  ASSERT_TRUE(c.contains("joint1") && c.contains("joint2")) << c.dump();
+  EXPECT_EQ(c["joint1"]["kind"], "planar");
+  EXPECT_EQ(c["joint2"]["kind"], "spatial");
+  EXPECT_FALSE(c["joint1"].contains("max_tilt_rad"));
+  const long long i1 = c["joint1"]["impacts"].get<long long>(), i2 = c["joint2"]["impacts"].get<long long>();
+  EXPECT_GT(i2, 0);
+  EXPECT_EQ(i1 + i2, j["impacts"].get<long long>());
+  const double tilt = c["joint2"]["max_tilt_rad"].get<double>();
+  const ContactParams& cp = sc.model.contact;
+  EXPECT_GT(tilt, 0.1 * 2.0 * cp.clearance / cp.bearing_length) << "the paper's manoeuvre tilts the journal";
+  EXPECT_LT(tilt, 1.2 * 2.0 * cp.clearance / cp.bearing_length);
+  EXPECT_LE(c["joint2"]["peak_contact_force_N"].get<double>(), j["peak_contact_force_N"].get<double>());
+  const nlohmann::json ideal =
+      io::runSummary(test::scene("paper_ideal").model, simulate(test::scene("paper_ideal", {"sim.duration=0.01"}),
+                                                                [](const Row&) {}),
+                     "paper_ideal.yaml", "rk4");
+  EXPECT_FALSE(ideal.contains("clearance_joints"));
+}
+
 TEST(Summary, ThePeakForceOfBothIntegratorsAgrees) {
   const Scene sc = test::scene("paper_clearance", {"sim.duration=0.3", "friction.law=coulomb_stick"});
   const RunResult a = simulate(sc, [](const Row&) {}, IntegratorKind::Rk4);

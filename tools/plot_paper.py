@@ -1,14 +1,19 @@
 #!/usr/bin/python3
 """Plot the paper's figures 6-16 (You, Pan, Zhao 2010, section 4) from two
 gimbalsim runs, ideal joint 2 and clearance joint 2, plus the antenna pointing
-error between them (fig 17) and the joint-2 force comparison (fig 18).
+error between them (fig 17) and the joint-2 force comparison (fig 18); given
+a third run with a spatial joint 2 (paper_spatial2), the joint kinds compared
+(fig 19: pointing error against the ideal joint, mid-plane eccentricity,
+largest tilt).
 
 Usage:
   /usr/bin/python3 tools/plot_paper.py --ideal ideal.csv --clearance clearance.csv \
-      --out DIR [--ideal-summary ideal.json] [--clearance-summary clearance.json]
+      --out DIR [--ideal-summary ideal.json] [--clearance-summary clearance.json] \
+      [--spatial spatial.csv [--spatial-summary spatial.json]]
 
-Writes DIR/fig06_eccentricity.png ... DIR/fig18_joint2_force.png and
-DIR/pointing_error.csv (t_s, pointing_error_rad), and prints a short summary.
+Writes DIR/fig06_eccentricity.png ... DIR/fig18_joint2_force.png (and
+fig19_joint_kinds.png) and DIR/pointing_error.csv (t_s, pointing_error_rad,
+and pointing_error_spatial_rad with a spatial run), and prints a short summary.
 
 Columns are read by NAME from the CSV header (SI units, angles in rad); see
 docs/MODEL.md section 8.8. Only numpy and matplotlib (Agg) are needed.
@@ -103,6 +108,42 @@ def fig_components(out_dir, written, fname, title, ideal, clear, ideal_g, clear_
     save(fig, out_dir, fname, written)
 
 
+def _spatial_tilt(summary):
+    """Largest tilt of joint 2 [rad] from a summary's clearance_joints, or None."""
+    try:
+        return float(summary["clearance_joints"]["joint2"]["max_tilt_rad"])
+    except (TypeError, KeyError, ValueError):
+        return None
+
+
+def fig_joint_kinds(out_dir, written, t, err_planar, err_spatial, clear, spatial, s_spatial, c):
+    """Fig 19: the same scene with joint 2 ideal, planar and spatial clearance."""
+    C_SPATIAL = "tab:green"
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(15, 4.8), constrained_layout=True)
+    tilt = _spatial_tilt(s_spatial)
+    tilt_txt = f"; largest tilt of the spatial journal {tilt:.3g} rad" if tilt is not None else ""
+    fig.suptitle("Fig. 19  Joint 2 ideal, planar clearance, spatial clearance (the journal may tilt)"
+                 + tilt_txt, fontsize=13)
+    ax1.set_yscale("log")
+    for e, color, name in ((err_planar, C_CLEAR, "planar clearance"), (err_spatial, C_SPATIAL, "spatial clearance")):
+        pos = e > 0.0  # a log axis cannot show exact zeros (e.g. t = 0)
+        ax1.plot(t[pos], e[pos], color=color, lw=1.0, label=f"{name}: {float(e[-1]):.3g} rad at {t[-1]:.3g} s")
+    ax1.set_xlabel("t [s]")
+    ax1.set_ylabel("pointing error against the ideal joint [rad]")
+    ax1.set_title("antenna boresight against the ideal joint's")
+    ax1.grid(True, which="both", alpha=0.3)
+    ax1.legend(loc="lower right", fontsize=9)
+    ax2.plot(clear["t_s"], clear["ecc_m"] * 1e3, color=C_CLEAR, lw=0.7, label="planar clearance")
+    ax2.plot(spatial["t_s"], spatial["ecc_m"] * 1e3, color=C_SPATIAL, lw=0.7, label="spatial: at the mid-plane")
+    ax2.axhline(c * 1e3, color="k", ls="--", lw=1.0, label=f"clearance c = {c*1e3:.3g} mm")
+    ax2.set_xlabel("t [s]")
+    ax2.set_ylabel("journal eccentricity [mm]")
+    ax2.set_title("journal centre (a tilted journal touches at the bearing's ends)")
+    ax2.grid(True, alpha=0.3)
+    ax2.legend(loc="lower right", fontsize=8)
+    save(fig, out_dir, "fig19_joint_kinds.png", written)
+
+
 def unit_base(unit):
     """The SI unit behind a display unit, for auto-scaling differences."""
     return {"mm": "m", "mm/s": "m/s", "mm/s\u00b2": "m/s\u00b2"}.get(unit, unit)
@@ -119,7 +160,11 @@ def main(argv=None):
     p.add_argument("--out", required=True, help="output directory for the PNGs")
     p.add_argument("--ideal-summary", help="summary JSON of the ideal run (optional)")
     p.add_argument("--clearance-summary", help="summary JSON of the clearance run (optional)")
+    p.add_argument("--spatial", help="CSV of the same scene with a spatial joint 2 (optional): fig 19")
+    p.add_argument("--spatial-summary", help="summary JSON of the spatial run (optional)")
     a = p.parse_args(argv)
+    if a.spatial_summary and not a.spatial:
+        p.error("--spatial-summary needs --spatial")
 
     try:
         ideal = load_csv(a.ideal)
@@ -127,6 +172,14 @@ def main(argv=None):
         s_ideal = load_summary(a.ideal_summary)
         s_clear = load_summary(a.clearance_summary)
         ideal_g, clear_g, grid_note = common_grid(ideal, clear)
+        spatial = s_spatial = spatial_g = None
+        if a.spatial:
+            spatial, s_spatial = load_csv(a.spatial), load_summary(a.spatial_summary)
+            ideal_s, spatial_g, _ = common_grid(ideal, spatial)
+            if ideal_s["t_s"].shape != ideal_g["t_s"].shape:
+                raise InputError(f"{a.spatial}: the spatial run covers {spatial['t_s'][0]:g}..{spatial['t_s'][-1]:g} s, "
+                                 f"the clearance run {clear['t_s'][0]:g}..{clear['t_s'][-1]:g} s: "
+                                 "run both over the same time")
     except InputError as e:
         print(f"plot_paper.py: error: {e}", file=sys.stderr)
         return 2
@@ -249,11 +302,17 @@ def main(argv=None):
     err = angle_between(boresight(ideal_g), boresight(clear_g))
     k_max = int(np.argmax(err))
     err_max, t_err_max, err_final = float(err[k_max]), float(t[k_max]), float(err[-1])
+    err_sp = angle_between(boresight(ideal_g), boresight(spatial_g)) if spatial is not None else None
     pe_path = os.path.join(a.out, "pointing_error.csv")
     # The CSV convention (docs/usage.md "CSV files"): unit-suffixed names, round-trip numbers (repr).
     with output_path(pe_path) as tmp, open(tmp, "w") as f:
-        f.write("t_s,pointing_error_rad\n")
-        f.writelines(f"{float(ti)!r},{float(e) + 0.0!r}\n" for ti, e in zip(t, err))
+        if err_sp is None:
+            f.write("t_s,pointing_error_rad\n")
+            f.writelines(f"{float(ti)!r},{float(e) + 0.0!r}\n" for ti, e in zip(t, err))
+        else:
+            f.write("t_s,pointing_error_rad,pointing_error_spatial_rad\n")
+            f.writelines(f"{float(ti)!r},{float(e) + 0.0!r},{float(es) + 0.0!r}\n"
+                         for ti, e, es in zip(t, err, err_sp))
     fig, ax = plt.subplots(figsize=(11, 4.8), constrained_layout=True)
     pos = err > 0.0  # a log axis cannot show exact zeros (e.g. t = 0)
     ax.set_yscale("log")
@@ -333,6 +392,9 @@ def main(argv=None):
     axes[1].legend(loc="upper right", fontsize=8)
     save(fig, a.out, "fig18_joint2_force.png", written)
 
+    if spatial is not None:
+        fig_joint_kinds(a.out, written, t, err, err_sp, clear, spatial, s_spatial, c)
+
     # -- Text summary ----------------------------------------------------------
     impacts = summary_number(s_clear, "impacts")
     if impacts is None:
@@ -359,6 +421,11 @@ def main(argv=None):
     if ratio_same_t is not None:
         print(f"    vs ideal at the same time : ideal {f_i_at_pk:.1f} N at t = {t_pk_c:.4g} s "
               f"-> ratio {ratio_same_t:.1f}")
+    if err_sp is not None:
+        tilt = _spatial_tilt(s_spatial)
+        print(f"  spatial joint 2             : pointing error {float(err_sp[-1]):.4g} rad at t = {t[-1]:.4g} s "
+              f"(planar {err_final:.4g} rad), max {float(np.max(err_sp)):.4g} rad; largest tilt "
+              + (f"{tilt:.4g} rad" if tilt is not None else "not in a summary"))
     print(f"  wrote {len(written)} figures and {pe_path} into {a.out}")
     return 0
 

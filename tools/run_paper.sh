@@ -7,12 +7,13 @@
 # 1. installs the apt packages (tools/bootstrap.sh, idempotent; needs root or sudo
 #    the first time),
 # 2. configures (once) and builds the Release build in build/,
-# 3. simulates tools/scenes/paper_ideal.yaml and paper_clearance.yaml into
-#    out/paper/{ideal,clearance}.csv and out/paper/{ideal,clearance}.json,
-# 4. plots figures 6-18 into out/paper/plots/ (tools/plot_paper.py, with
+# 3. simulates tools/scenes/paper_ideal.yaml, paper_clearance.yaml and
+#    paper_spatial2.yaml (joint 2 spatial: the journal may tilt) into
+#    out/paper/{ideal,clearance,spatial}.csv and .json,
+# 4. plots figures 6-19 into out/paper/plots/ (tools/plot_paper.py, with
 #    /usr/bin/python3, Debian's matplotlib).
 #
-# Every extra argument is a scene override passed as `--set key=value` to BOTH
+# Every extra argument is a scene override passed as `--set key=value` to ALL
 # simulations (list the keys with `build/bin/gimbalsim keys`), e.g.
 #   bash tools/run_paper.sh sim.duration=1                 # 1 s instead of 5 s
 #   bash tools/run_paper.sh sim.duration=2 friction.mu=0.1
@@ -32,8 +33,8 @@ for kv in "$@"; do
   case "$kv" in
     --results) RESULTS=1 ;;
     -h|--help) echo "usage: bash tools/run_paper.sh [--results] [key=value ...]   (e.g. sim.duration=1)"
-               echo "  the paper's scene, ideal and clearance joint, plots in out/paper/plots/;"
-               echo "  key=value overrides a scene key in both runs; --results writes docs/results/paper.md"
+               echo "  the paper's scene with joint 2 ideal, planar and spatial clearance, plots in out/paper/plots/;"
+               echo "  key=value overrides a scene key in every run; --results writes docs/results/paper.md"
                exit 0 ;;
     *=*) SETS+=(--set "$kv"); PAGE_SETS+=(--set "$kv") ;;
     *) echo "run_paper.sh: expected key=value scene overrides, got '$kv'" >&2
@@ -62,18 +63,21 @@ echo "== [3/4] simulations${SETS[*]:+ (overrides: ${SETS[*]})}"
   --out "$OUT/ideal.csv" --summary "$OUT/ideal.json"
 "$SIM" simulate tools/scenes/paper_clearance.yaml ${SETS[@]+"${SETS[@]}"} \
   --out "$OUT/clearance.csv" --summary "$OUT/clearance.json"
+"$SIM" simulate tools/scenes/paper_spatial2.yaml ${SETS[@]+"${SETS[@]}"} \
+  --out "$OUT/spatial.csv" --summary "$OUT/spatial.json"
 
 echo "== [4/4] plots"
 /usr/bin/python3 tools/plot_paper.py \
   --ideal "$OUT/ideal.csv" --clearance "$OUT/clearance.csv" \
   --ideal-summary "$OUT/ideal.json" --clearance-summary "$OUT/clearance.json" \
+  --spatial "$OUT/spatial.csv" --spatial-summary "$OUT/spatial.json" \
   --out "$OUT/plots" | tee "$OUT/plot_summary.txt"
 
 echo
 echo "Outputs (under $ROOT):"
-echo "  runs     : $OUT/ideal.csv $OUT/clearance.csv"
-echo "  summaries: $OUT/ideal.json $OUT/clearance.json"
-echo "  figures  : $OUT/plots/fig06_eccentricity.png ... fig18_joint2_force.png"
+echo "  runs     : $OUT/ideal.csv $OUT/clearance.csv $OUT/spatial.csv"
+echo "  summaries: $OUT/ideal.json $OUT/clearance.json $OUT/spatial.json"
+echo "  figures  : $OUT/plots/fig06_eccentricity.png ... fig19_joint_kinds.png"
 echo "  pointing : $OUT/plots/pointing_error.csv"
 if [ "$RESULTS" = 1 ]; then
   /usr/bin/python3 tools/paper_page.py --dir "$OUT" --command "$COMMAND" --t0 "$T0" --load0 "$LOAD0" \

@@ -18,26 +18,22 @@ std::string num(double x) {
 }
 
 struct Shape {
-  bool floating = false, clearance = false;
-  int nq = 0, nv = 0;
+  bool floating = false;
+  ClearanceKind kind[2] = {ClearanceKind::Ideal, ClearanceKind::Ideal};
+  int group[2] = {0, 0};  ///< first chain index of each joint's group
+  int nq = 0, nv = 0, nc = 0;
 };
 
 /// The shape a variant name stands for (variantName's spelling); false if none.
 bool shapeOf(const std::string& name, Shape& out) {
-  for (const bool floating : {false, true}) {
-    for (const bool clearance : {false, true}) {
-      for (const bool friction : {false, true}) {
-        if (friction && !clearance) continue;
-        std::string n = floating ? "floating" : "fixed";
-        n += clearance ? "_clearance" : "_ideal";
-        if (friction) n += "_friction";
-        if (n != name) continue;
-        const int nj = clearance ? 4 : 2;
-        out = {floating, clearance, (floating ? 7 : 0) + nj, (floating ? 6 : 0) + nj};
-        return true;
-      }
-    }
+#define GIMBALSIM_SHAPE_NAMED(FL, K1, K2, FR)                                                            \
+  if (name == shapeName(FL, ClearanceKind::K1, ClearanceKind::K2, FR)) {                                 \
+    using V = GIMBALSIM_SHAPE(FL, K1, K2, FR);                                                            \
+    out = {FL, {ClearanceKind::K1, ClearanceKind::K2}, {V::G1, V::G2}, V::NQ, V::NV, V::NC};             \
+    return true;                                                                                         \
   }
+  GIMBALSIM_FOR_EACH_SHAPE(GIMBALSIM_SHAPE_NAMED)
+#undef GIMBALSIM_SHAPE_NAMED
   return false;
 }
 
@@ -84,18 +80,32 @@ std::vector<std::string> savedStateProblems(const SavedState& s, const Model* m)
         refuse("q[3:7]", "(base attitude quaternion) has norm " + num(norm) + ": must be 1");
       }
     }
-    if (shape.clearance && m) {
+    const int qj = shape.floating ? 7 : 0;
+    for (int j = 0; j < 2; ++j) {
+      if (shape.kind[j] == ClearanceKind::Ideal) continue;
+      const std::string joint = " (joint " + std::to_string(j + 1) + ")";
+      const int g = qj + shape.group[j];
       // The journal centre (ecc) stays inside the bearing; beyond its radius
       // the contact law has no meaning.
-      const int qj = shape.floating ? 7 : 0;
-      const double ecc = std::hypot(s.q[qj + 1], s.q[qj + 2]);
-      if (!(ecc <= m->contact.bearing_radius)) {
-        refuse("q", "holds |ecc| = " + num(ecc) + " m: beyond the bearing radius " + num(m->contact.bearing_radius) +
-                        " m");
+      const double ecc = std::hypot(s.q[g], s.q[g + 1]);
+      if (m && !(ecc <= m->contactOf(j).bearing_radius)) {
+        refuse("q", "holds |ecc| = " + num(ecc) + " m" + joint + ": beyond the bearing radius " +
+                        num(m->contactOf(j).bearing_radius) + " m");
+      }
+      // A spatial journal's axis must cross the bearing's end planes.
+      if (shape.kind[j] == ClearanceKind::Spatial && !(std::cos(s.q[g + 2]) * std::cos(s.q[g + 3]) >= 0.5)) {
+        refuse("q", "holds a tilt alpha = " + num(s.q[g + 2]) + ", beta = " + num(s.q[g + 3]) + " rad" + joint +
+                        ": beyond 60 degrees, no bearing allows it");
       }
     }
   }
-  finite("v0", s.v0);
+  if (shape.nq && (s.in_contact.size() != static_cast<std::size_t>(shape.nc) ||
+                   s.v0.size() != static_cast<std::size_t>(shape.nc))) {
+    refuse("in_contact", "and State.v0 hold " + std::to_string(s.in_contact.size()) + " and " +
+                             std::to_string(s.v0.size()) + " values; variant " + s.variant + " has " +
+                             std::to_string(shape.nc) + " contact ends");
+  }
+  for (std::size_t i = 0; i < s.v0.size(); ++i) finite("v0[" + std::to_string(i) + "]", s.v0[i]);
   if (finite("vt_floor", s.vt_floor) && s.vt_floor > 0.0) {
     refuse("vt_floor", "= " + num(s.vt_floor) + " m/s: must be <= 0");
   }

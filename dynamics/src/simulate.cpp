@@ -101,7 +101,7 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
       return false;
     }
     const Momentum mo = momentum(m, d, st);
-    inv.feed(r, mo.scale, mo.scale_linear);
+    inv.feed(r, hertzEnergy<V>(m, st.q, st.v), mo.scale, mo.scale_linear);
     res.max_drift_linear = inv.maxDriftLinear();
     res.max_drift_angular = inv.maxDriftAngular();
     res.momentum_scale = inv.angularScale();

@@ -61,12 +61,8 @@ struct VariantSimulator final : Simulator::Impl {
     out.t = s.t;
     out.q.assign(s.q.data(), s.q.data() + V::NQ);
     out.v.assign(s.v.data(), s.v.data() + V::NV);
-    // One contact end's memory in a SavedState so far (WIP_SPATIAL.md).
-    static_assert(V::NC <= 1, "a SavedState holds one contact end");
-    if constexpr (V::NC == 1) {
-      out.in_contact = s.in_contact[0];
-      out.v0 = s.v0[0];
-    }
+    out.in_contact.assign(s.in_contact.begin(), s.in_contact.end());
+    out.v0.assign(s.v0.begin(), s.v0.end());
     out.friction_mode = s.friction_mode;
     out.vt_floor = s.vt_floor;
     out.h_next = s.h_next;
@@ -79,9 +75,9 @@ struct VariantSimulator final : Simulator::Impl {
     r.t = in.t;
     r.q = Eigen::Map<const typename State<V>::VecQ>(in.q.data());
     r.v = Eigen::Map<const typename State<V>::VecV>(in.v.data());
-    if constexpr (V::NC == 1) {
-      r.in_contact[0] = in.in_contact;
-      r.v0[0] = in.v0;
+    for (int e = 0; e < V::NC; ++e) {  // sizes checked above
+      r.in_contact[e] = in.in_contact[e];
+      r.v0[e] = in.v0[e];
     }
     r.friction_mode = in.friction_mode;
     r.vt_floor = in.vt_floor;

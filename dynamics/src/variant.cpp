@@ -2,16 +2,18 @@
 
 namespace gimbalsim {
 
-std::string variantName(const Model& m) {
-  std::string s = m.floating_base ? "floating" : "fixed";
-  // Today's names for joint 1 ideal; a clearance joint 1 adds its kind.
+std::string shapeName(bool floating, ClearanceKind k1, ClearanceKind k2, bool friction) {
+  std::string s = floating ? "floating" : "fixed";
+  // The paper's names for joint 1 ideal; a clearance joint 1 adds its kind.
   static const char* const kKind[] = {"ideal", "planar", "spatial"};
-  if (m.joint1_kind != ClearanceKind::Ideal) s += std::string("_") + kKind[static_cast<int>(m.joint1_kind)] + "1";
-  s += m.joint2_kind == ClearanceKind::Ideal   ? "_ideal"
-       : m.joint2_kind == ClearanceKind::Planar ? "_clearance"
-                                                : "_spatial";
-  if (frictionActive(m)) s += "_friction";
+  if (k1 != ClearanceKind::Ideal) s += std::string("_") + kKind[static_cast<int>(k1)] + "1";
+  s += k2 == ClearanceKind::Ideal ? "_ideal" : k2 == ClearanceKind::Planar ? "_clearance" : "_spatial";
+  if (friction) s += "_friction";
   return s;
+}
+
+std::string variantName(const Model& m) {
+  return shapeName(m.floating_base, m.joint1_kind, m.joint2_kind, frictionActive(m));
 }
 
 }  // namespace gimbalsim

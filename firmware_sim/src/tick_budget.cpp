@@ -35,11 +35,14 @@ double derivativeCost(const Model& m, const RunSpec& run) {
   if constexpr (V::kContact) {
     // Pressed into the bearing along u1 and sliding, so the contact and friction laws run too.
     constexpr int QJ = State<V>::QJ, NB = V::NB;
-    s.q(QJ + 1) = 1.001 * m.contact.clearance;
-    s.q(QJ + 2) = 0.0;
-    s.v(NB + 2) = 1e-3;
-    s.in_contact[0] = true;
-    s.v0[0] = 1e-3;
+    for (int j = 0; j < 2; ++j) {
+      if (V::kind(j) == ClearanceKind::Ideal) continue;
+      s.q(QJ + V::group(j)) = 1.001 * m.contactOf(j).clearance;
+      s.q(QJ + V::group(j) + 1) = 0.0;
+      s.v(NB + V::group(j) + 1) = 1e-3;
+    }
+    s.in_contact.fill(true);
+    s.v0.fill(1e-3);
     cost = std::max(cost, timeDerivative(m, s));
   }
   return cost;

@@ -27,7 +27,7 @@ def run_sample(base, overrides, ideal_cache, series=False):
         return {"status": f"refused:{e.key or ''}"}
     applied = _provenance.applied(scene.values(), overrides)  # as loaded, not as drawn
     run = gimbalsim.simulate(scene)
-    ideal = scene.replace({"structure.joint2": "ideal"})
+    ideal = scene.replace({"structure.joint1": "ideal", "structure.joint2": "ideal"})
     key = tuple(sorted(ideal.values().items()))
     if key not in ideal_cache:
         ideal_cache[key] = gimbalsim.simulate(ideal).rows

@@ -70,7 +70,8 @@ auto locked(PySimulator& p, F&& f) {
 /// A State from its fields (a pickle, a user's arrays): checked as any state
 /// from outside is (saved_state.hpp), ValueError naming each bad field.
 SavedState makeState(const std::string& variant, double t, const std::vector<double>& q,
-                     const std::vector<double>& v, bool in_contact, double v0, int friction_mode, double vt_floor,
+                     const std::vector<double>& v, const std::vector<bool>& in_contact,
+                     const std::vector<double>& v0, int friction_mode, double vt_floor,
                      double h_next) {
   SavedState s;
   s.variant = variant;
@@ -105,14 +106,17 @@ void bindSimulator(pyb::module_& m) {
                                 "having stopped. Picklable. Made from fields, it is checked as a scene is.");
   state
       .def(pyb::init(&makeState), pyb::arg("variant"), pyb::arg("t"), pyb::arg("q"), pyb::arg("v"),
-           pyb::arg("in_contact") = false, pyb::arg("v0") = 0.0, pyb::arg("friction_mode") = 0,
+           pyb::arg("in_contact") = std::vector<bool>{}, pyb::arg("v0") = std::vector<double>{},
+           pyb::arg("friction_mode") = 0,
            pyb::arg("vt_floor") = 0.0, pyb::arg("h_next") = 0.0)
       .def_readonly("variant", &SavedState::variant)
       .def_readonly("t", &SavedState::t, "[s]")
       .def_property_readonly("q", [](const SavedState& s) { return vec(s.q); }, "generalised coordinates")
       .def_property_readonly("v", [](const SavedState& s) { return vec(s.v); }, "generalised velocities")
-      .def_readonly("in_contact", &SavedState::in_contact)
-      .def_readonly("v0", &SavedState::v0, "normal velocity at the onset of this impact [m/s]")
+      .def_property_readonly("in_contact", [](const SavedState& s) { return s.in_contact; },
+                             "each contact end's side (joint 1's ends first; a spatial joint has two)")
+      .def_property_readonly("v0", [](const SavedState& s) { return s.v0; },
+                             "each contact end's normal velocity at the onset of its impact [m/s]")
       .def_readonly("friction_mode", &SavedState::friction_mode)
       .def_readonly("vt_floor", &SavedState::vt_floor, "[m/s]")
       .def_readonly("h_next", &SavedState::h_next, "adaptive: next contact sub-step to try [s]")

@@ -7,8 +7,10 @@
 //
 // Layout: [0] scene (mod 6), [1] variant name (mod 8: 0-5 the six names,
 // 6-7 the scene's own), [2] q size (mod 16), [3] v size (mod 16),
-// [4] in_contact (bit 0), [5] friction_mode (int8), [6] steps (1 + mod 4),
-// then float64s: t, v0, vt_floor, h_next, tau1, tau2, q..., v... (missing: 0).
+// [4] contact ends (bits 0-2, mod 5) and their sides (bits 3-6),
+// [5] friction_mode (int8), [6] steps (1 + mod 4),
+// then float64s: t, v0 (every end's), vt_floor, h_next, tau1, tau2, q..., v...
+// (missing: 0).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -78,11 +80,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   SavedState s;
   s.variant = name < 6 ? kVariants[name] : gimbalsim::variantName(scene.model);
   const int nq = in.byte() % 16, nv = in.byte() % 16;
-  s.in_contact = in.byte() & 1;
+  const std::uint8_t ends = in.byte();
+  for (int e = 0; e < (ends & 7) % 5; ++e) s.in_contact.push_back((ends >> (3 + e)) & 1);
   s.friction_mode = static_cast<std::int8_t>(in.byte());
   const long long steps = 1 + in.byte() % 4;
   s.t = in.number();
-  s.v0 = in.number();
+  s.v0.assign(s.in_contact.size(), in.number());
   s.vt_floor = in.number();
   s.h_next = in.number();
   const double tau1 = in.number(), tau2 = in.number();

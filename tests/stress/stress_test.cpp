@@ -52,22 +52,22 @@ TEST(StressClassifier, TorqueWorkAndHertzEnergyAreNotARise) {
   const Scene sc = scene("paper_clearance");
   const Model& m = sc.model;
   EnergyMonitor e(m, sc.run.torque);
-  e.feed(row(0.0, 1.0, 0.0, 0.0));
-  e.feed(row(0.1, 3.0, 0.2, 0.1));
+  e.feed(row(0.0, 1.0, 0.0, 0.0), 0.0);
+  e.feed(row(0.1, 3.0, 0.2, 0.1), 0.0);
   const double delta = 1e-5, U = m.contact.K * std::pow(delta, 2.5) / 2.5;
-  e.feed(row(0.2, 3.0 - U, 0.2, 0.1, delta));
+  e.feed(row(0.2, 3.0 - U, 0.2, 0.1, delta), U);  // the spring's energy, from the state
   EXPECT_LT(e.maxRise(), 1e-12);
   EXPECT_NEAR(e.scale(), 3.0, 1e-12);
-  e.feed(row(0.3, 3.5, 0.2, 0.1));  // 0.5 J from nowhere
+  e.feed(row(0.3, 3.5, 0.2, 0.1), 0.0);  // 0.5 J from nowhere
   EXPECT_NEAR(e.maxRise(), 0.5, 1e-12);
   // Falling, then rising back to below the earlier maximum is still a rise.
-  e.feed(row(0.4, 2.0, 0.2, 0.1));
-  e.feed(row(0.5, 2.1, 0.2, 0.1));
+  e.feed(row(0.4, 2.0, 0.2, 0.1), 0.0);
+  e.feed(row(0.5, 2.1, 0.2, 0.1), 0.0);
   EXPECT_NEAR(e.maxRise(), 0.5, 1e-12);
   EnergyMonitor f(m, sc.run.torque);
-  f.feed(row(0.0, 1.0, 0.0, 0.0));
-  f.feed(row(0.1, 0.5, 0.0, 0.0));
-  f.feed(row(0.2, 0.6, 0.0, 0.0));
+  f.feed(row(0.0, 1.0, 0.0, 0.0), 0.0);
+  f.feed(row(0.1, 0.5, 0.0, 0.0), 0.0);
+  f.feed(row(0.2, 0.6, 0.0, 0.0), 0.0);
   EXPECT_NEAR(f.maxRise(), 0.1, 1e-12);
 }
 
@@ -75,8 +75,8 @@ TEST(StressClassifier, VerdictsOfFabricatedRuns) {
   const Scene sc = scene("paper_clearance", {"sim.duration=0.2"});
   const Model& m = sc.model;
   EnergyMonitor e(m, sc.run.torque);
-  e.feed(row(0.0, 1.0, 0.0, 0.0));
-  e.feed(row(0.2, 0.9, 0.0, 0.0));
+  e.feed(row(0.0, 1.0, 0.0, 0.0), 0.0);
+  e.feed(row(0.2, 0.9, 0.0, 0.0), 0.0);
   RunResult r;
   r.ok = true;
   r.t_end = 0.2;

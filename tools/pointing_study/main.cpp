@@ -1,9 +1,9 @@
 // gimbalsim_pointing_study: the paper's question (how much does the radial
-// clearance of the elevation joint cost in pointing?) answered in closed loop.
+// clearance of a bearing cost in pointing?) answered in closed loop.
 // One in-process closed-loop run (runClosedLoop: firmware model + pointing
 // controller, the same truth as the LCM bench in lockstep) on the ideal joint
-// and one per clearance, all with the same controller configuration, profile
-// and duration. Writes, in --out:
+// and one per clearance scene and clearance, all with the same controller
+// configuration, profile and duration. Writes, in --out:
 //   pointing_error.csv  t and the truth pointing error of every run, one column each
 //   summary.csv         one row per run: peak / RMS while tracking, peak over the run, plant status
 //   config.txt          the controller configuration in effect (key=value)
@@ -41,17 +41,26 @@ constexpr int kExitStopped = program::kStopped;  // a plant stopped (results sti
 
 /// One closed-loop run and what it measured.
 struct Study {
-  std::string label;        ///< column name: "ideal", "c=0.25mm"
+  std::string label;        ///< column name: "ideal", "c=0.25mm" (one clearance scene), "paper_spatial2_c=0.25mm"
   std::string scene;        ///< scene name
+  std::string sensors;      ///< "perfect" (the scene's sensors) or "realistic" (kRealisticSensors)
   double clearance = 0.0;   ///< [m], 0 for the ideal joint
   std::vector<double> err;  ///< truth pointing error per tick [rad]
   double peak_track = 0.0, rms_track = 0.0, peak_run = 0.0;  ///< the track's: NaN with track_reason if not reached
   long long track_ticks = 0;
+  long long saturated_ticks = 0;  ///< ticks with a torque command at its limit (either axis)
   std::string track_reason;  ///< why the track figures are NaN ("" if they have values)
   bool ok = true;
   std::string stop_key;     ///< the scene key of the limit that stopped the plant ("" if none)
   std::string reason;       ///< why it stopped
 };
+
+/// The realistic sensors: the pointing budget's upper bounds
+/// (tools/sweeps/pointing_budget.yaml), star tracker noise 2e-5 rad per axis,
+/// gyro bias 1e-5 rad/s (equal parts on the three base axes). "Perfect" is
+/// the scene's own: no noise in the shipped scenes, encoders quantised.
+const std::vector<std::string> kRealisticSensors{"sensors.star_tracker_noise=2e-5",
+                                                 "sensors.gyro_bias=[5.7735e-6, 5.7735e-6, 5.7735e-6]"};
 
 std::string num(double x) {
   char b[40];
@@ -119,10 +128,11 @@ bool writeFiles(const std::vector<std::pair<std::string, std::string>>& files) {
 }
 
 Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const firmware::ClosedLoopOptions& opt,
-             std::string label, double clearance) {
+             std::string label, double clearance, std::string sensors) {
   Study s;
   s.label = std::move(label);
   s.scene = ps.scene.model.name;
+  s.sensors = std::move(sensors);
   s.clearance = clearance;
   PointingController controller(c);
   const firmware::ClosedLoopResult r = firmware::runClosedLoop(ps, controller, c.profile, opt,
@@ -135,6 +145,7 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   s.peak_track = r.max_truth_error_track;
   s.rms_track = r.rms_truth_error_track;
   s.track_reason = r.track_reason;
+  s.saturated_ticks = r.saturated_ticks;
   s.ok = r.ok;
   if (!r.ok) {
     s.stop_key = stopKey(r.error);
@@ -165,10 +176,12 @@ std::string timeSeriesCsv(const std::vector<Study>& runs, double period) {
 
 std::string summaryCsv(const std::vector<Study>& runs) {
   std::string out =
-      "run,scene,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,status,stop_reason,track_reason\n";
+      "run,scene,sensors,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,saturated_ticks,status,"
+      "stop_reason,track_reason\n";
   for (const Study& s : runs) {
-    out += s.label + "," + s.scene + "," + csvNum(s.clearance) + "," + csvNum(s.peak_track) + "," +
+    out += s.label + "," + s.scene + "," + s.sensors + "," + csvNum(s.clearance) + "," + csvNum(s.peak_track) + "," +
            csvNum(s.rms_track) + "," + csvNum(s.peak_run) + "," + std::to_string(s.track_ticks) + "," +
+           std::to_string(s.saturated_ticks) + "," +
            (s.ok ? std::string("ok") : "stop:" + s.stop_key) + "," + csvQuote(s.reason) + "," +
            csvQuote(csvText(s.track_reason)) + "\n";
   }
@@ -180,18 +193,21 @@ int refuse(const std::string& option, const std::string& why) {
 }
 
 int mainImpl(int argc, char** argv) {
-  CLI::App app{"Closed-loop truth pointing error on the ideal joint and against the elevation-joint clearance"};
+  CLI::App app{"Closed-loop truth pointing error on the ideal joint and against bearing clearance"};
   // Defaults relative to the working directory (the repository root), never a source path baked in.
   std::string ideal_path = "tools/scenes/paper_ideal.yaml";
-  std::string clearance_path = "tools/scenes/paper_clearance.yaml";
+  std::vector<std::string> clearance_paths{"tools/scenes/paper_clearance.yaml"};
   std::string config_path;  // "": the built-in default controller (= controllers/config/default.yaml)
   std::string out_dir = "out/pointing_study";
   std::vector<std::string> scene_sets, sets;
   std::vector<double> clearances{0.1e-3, 0.25e-3, 0.5e-3, 0.8e-3};
   double duration = 0.0;
   bool quick = false;
+  std::string sensors = "perfect";
   app.add_option("--ideal-scene", ideal_path, "scene with the ideal joint")->capture_default_str();
-  app.add_option("--clearance-scene", clearance_path, "scene with the clearance joint")->capture_default_str();
+  app.add_option("--clearance-scene", clearance_paths,
+                 "scene with clearance, each run at every clearance (repeatable; joint kinds: structure.joint1/joint2)")
+      ->capture_default_str();
   app.add_option("--config", config_path, "controller configuration file (default: the built-in defaults)");
   app.add_option("--set", sets, "controller override key=value (repeatable)");
   app.add_option("--scene-set", scene_sets, "scene override key=value for every run (repeatable)");
@@ -200,6 +216,11 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--duration", duration, "simulated time [s] (default: the profile's track start + 5 s)");
   app.add_option("--out", out_dir, "output directory (the last one given counts)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  app.add_option("--sensors", sensors,
+                 "perfect (the scene's), realistic (star tracker 2e-5 rad, gyro bias 1e-5 rad/s) or both")
+      ->check(CLI::IsMember({"perfect", "realistic", "both"}))
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast)  // the last one given counts, as for --out
+      ->capture_default_str();
   app.add_flag("--quick", quick, "smoke run: track start + 0.5 s, clearances 0.25 and 0.5 mm (unless given)");
   if (const auto rc = program::parse(app, argc, argv, "gimbalsim_pointing_study")) return *rc;
   if (app.count("--duration") && !(duration > 0.0 && std::isfinite(duration))) {
@@ -218,7 +239,12 @@ int mainImpl(int argc, char** argv) {
   }
 
   ControllerConfig cfg;
-  std::vector<std::pair<firmware::PlantScene, double>> scenes;  // (scene, clearance)
+  struct Planned {
+    firmware::PlantScene scene;
+    double clearance = 0.0;  ///< [m], 0 for the ideal joint
+    std::string label, sensors;
+  };
+  std::vector<Planned> scenes;
   try {
     cfg = config_path.empty() ? loadControllerConfigText("", "the built-in default configuration", sets)
                               : loadControllerConfig(config_path, sets);
@@ -227,24 +253,51 @@ int mainImpl(int argc, char** argv) {
     for (const auto& p : e.problems()) why += "\n  " + p;
     return refuse("--config/--set", "configuration refused:" + why);
   }
-  // Overrides named as the user gave them: --scene-set #k, or --clearances (not "--set #k").
+  std::vector<std::string> cases{"perfect", "realistic"};
+  if (sensors != "both") cases = {sensors};
+  // Overrides named as the user gave them: --sensors, --scene-set #k, or --clearances (not "--set #k").
   std::vector<std::string> labels;
-  for (std::size_t k = 0; k < scene_sets.size(); ++k) {
-    labels.push_back("--scene-set #" + std::to_string(k + 1) + " '" + scene_sets[k] + "'");
-  }
   try {
-    scenes.emplace_back(firmware::loadPlantScene(ideal_path, scene_sets), 0.0);
-    for (double c : clearances) {
-      std::vector<std::string> s = scene_sets;
-      s.push_back("contact.clearance=" + num(c));
-      labels.resize(scene_sets.size());
-      labels.push_back("--clearances " + num(c) + " [m]");
-      scenes.emplace_back(firmware::loadPlantScene(clearance_path, s), c);
+    for (const std::string& sensor_case : cases) {
+      std::vector<std::string> base;
+      labels.clear();
+      if (sensor_case == "realistic") {
+        base = kRealisticSensors;
+        for (const std::string& kv : base) labels.push_back("--sensors realistic '" + kv + "'");
+      }
+      for (std::size_t k = 0; k < scene_sets.size(); ++k) {
+        base.push_back(scene_sets[k]);
+        labels.push_back("--scene-set #" + std::to_string(k + 1) + " '" + scene_sets[k] + "'");
+      }
+      const std::string suffix = cases.size() > 1 ? "_" + sensor_case : "";
+      scenes.push_back({firmware::loadPlantScene(ideal_path, base), 0.0, "ideal" + suffix, sensor_case});
+      for (const std::string& path : clearance_paths) {
+        for (double c : clearances) {
+          std::vector<std::string> s = base;
+          s.push_back("contact.clearance=" + num(c));
+          labels.resize(base.size());
+          labels.push_back("--clearances " + num(c) + " [m]");
+          firmware::PlantScene ps = firmware::loadPlantScene(path, s);
+          // One clearance scene keeps the short labels; several are told apart by scene name.
+          std::string label = clearanceLabel(c);
+          if (clearance_paths.size() > 1) label = ps.scene.model.name + "_" + label;
+          scenes.push_back({std::move(ps), c, label + suffix, sensor_case});
+        }
+      }
     }
   } catch (const InputError& e) {
     std::string why;
     for (const auto& p : relabelledProblems(e, labels)) why += "\n  " + p;
-    return refuse("--ideal-scene/--clearance-scene/--scene-set/--clearances", "scene refused:" + why);
+    return refuse("--ideal-scene/--clearance-scene/--scene-set/--clearances/--sensors", "scene refused:" + why);
+  }
+
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (scenes[i].label == scenes[j].label) {
+        return refuse("--clearance-scene/--clearances", "two runs would both be '" + scenes[i].label +
+                                                            "' (a scene or a clearance given twice)");
+      }
+    }
   }
 
   firmware::ClosedLoopOptions opt;
@@ -267,10 +320,12 @@ int mainImpl(int argc, char** argv) {
     return refuse("--duration", "gives more than 1e9 control periods of " + num(cfg.period) + " s");
   }
   try {
+    std::vector<std::string> inputs{ideal_path};
+    inputs.insert(inputs.end(), clearance_paths.begin(), clearance_paths.end());
+    if (!config_path.empty()) inputs.push_back(config_path);
     gimbalsim::io::checkOutputPaths(
         {(dir / "config.txt").string(), (dir / "pointing_error.csv").string(), (dir / "summary.csv").string()},
-        config_path.empty() ? std::vector<std::string>{ideal_path, clearance_path}
-                            : std::vector<std::string>{ideal_path, clearance_path, config_path});
+        inputs);
   } catch (const gimbalsim::io::OutputError& e) {
     return refuse("--out", e.what());
   }
@@ -282,17 +337,17 @@ int mainImpl(int argc, char** argv) {
   }
   std::printf("# %g s per run (tracking from %g s), control period %g s, controller mode: %s\n", opt.duration,
               track_start, cfg.period, mode.c_str());
-  std::printf("%-10s %-16s %11s %13s %13s %13s  %s\n", "run", "scene", "clearance[m]", "peak_trk[rad]",
+  std::printf("%-34s %-18s %11s %13s %13s %13s  %s\n", "run", "scene", "clearance[m]", "peak_trk[rad]",
               "rms_trk[rad]", "peak_run[rad]", "status");
 
   std::vector<Study> runs;
   // SIGINT/SIGTERM: the run in progress finishes, the CSVs hold the whole runs before the signal.
   gimbalsim::io::installStopHandlers();
-  for (const auto& [sc, c] : scenes) {
+  for (const Planned& p : scenes) {
     if (gimbalsim::io::stopRequested()) break;
-    runs.push_back(runOne(sc, cfg, opt, c > 0.0 ? clearanceLabel(c) : std::string("ideal"), c));
+    runs.push_back(runOne(p.scene, cfg, opt, p.label, p.clearance, p.sensors));
     const Study& s = runs.back();
-    std::printf("%-10s %-16s %11.3g %13s %13s %13.4e  %s\n", s.label.c_str(), s.scene.c_str(), s.clearance,
+    std::printf("%-34s %-18s %11.3g %13s %13s %13.4e  %s\n", s.label.c_str(), s.scene.c_str(), s.clearance,
                 pointing::figureText(s.peak_track, s.track_reason, "%.4e").c_str(),
                 pointing::figureText(s.rms_track, s.track_reason, "%.4e").c_str(), s.peak_run,
                 s.ok ? "ok" : ("stop: " + s.reason).c_str());

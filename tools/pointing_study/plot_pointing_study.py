@@ -2,9 +2,12 @@
 """Figures of gimbalsim_pointing_study's output directory.
 
   pointing_error_vs_time.png       truth pointing error against time (log scale),
-                                   the ideal joint and each clearance
-  pointing_error_vs_clearance.png  peak and RMS truth pointing error while tracking
-                                   against the clearance; the ideal joint as
+                                   the ideal joint and each clearance (with several
+                                   clearance scenes or sensor sets: the ideal joint
+                                   and each scene's largest clearance, perfect sensors)
+  pointing_error_vs_clearance.png  RMS (solid) and peak (dotted) truth pointing error
+                                   while tracking against the clearance, one line per
+                                   scene and sensor set; the ideal joint as
                                    horizontal lines
 
 Usage: /usr/bin/python3 tools/pointing_study/plot_pointing_study.py [DIR]  (default out/pointing_study)
@@ -41,15 +44,36 @@ def read_summary(path):
         return list(csv.DictReader(f))
 
 
+def error_column(run):
+    """The time series' column of a run (gimbalsim_pointing_study): c=0.25mm -> error_c0p25mm_rad."""
+    return "error_" + run.replace(".", "p").replace("=", "") + "_rad"
+
+
+def shown_in_time_plot(summary):
+    """Runs drawn against time: all of one scene and sensor set; else the ideal
+    joint and each scene's largest clearance, perfect sensors."""
+    groups = {(r["scene"], r.get("sensors", "perfect")) for r in summary if float(r["clearance_m"]) > 0}
+    if len(groups) <= 1 and len({r.get("sensors", "perfect") for r in summary}) <= 1:
+        return [r["run"] for r in summary]
+    perfect = [r for r in summary if r.get("sensors", "perfect") == "perfect"]
+    shown = [r["run"] for r in perfect if float(r["clearance_m"]) == 0]
+    for scene in dict.fromkeys(r["scene"] for r in perfect if float(r["clearance_m"]) > 0):
+        runs = [r for r in perfect if r["scene"] == scene]
+        shown.append(max(runs, key=lambda r: float(r["clearance_m"]))["run"])
+    return shown
+
+
 def plot_time(head, cols, summary, out):
     fig, ax = plt.subplots(figsize=(9, 5))
     t = cols[head[0]]
-    for name in head[1:]:
+    for run in shown_in_time_plot(summary):
+        name = error_column(run)
+        if name not in cols:
+            continue
         y = np.where(cols[name] > 0, cols[name], np.nan)
-        label = name.removeprefix("error_").removesuffix("_rad")  # error_c0p25mm_rad -> c0p25mm
-        ideal = label == "ideal"
-        ax.semilogy(t, y, lw=1.6 if ideal else 0.9, color="k" if ideal else None, label=label)
-    ideal = [r for r in summary if r["run"] == "ideal"]
+        ideal = run.startswith("ideal")
+        ax.semilogy(t, y, lw=1.6 if ideal else 0.9, color="k" if ideal else None, label=run)
+    ideal = [r for r in summary if float(r["clearance_m"]) == 0]
     if ideal and int(ideal[0]["track_ticks"]) > 0:
         n = len(t) - int(ideal[0]["track_ticks"])
         if 0 <= n < len(t):
@@ -57,31 +81,37 @@ def plot_time(head, cols, summary, out):
             ax.text(t[n], ax.get_ylim()[1], " tracking", va="top", fontsize=8, color="0.4")
     ax.set_xlabel("t [s]")
     ax.set_ylabel("truth pointing error [rad]")
-    ax.set_title("Closed-loop truth pointing error: ideal joint and elevation-joint clearances")
+    ax.set_title("Closed-loop truth pointing error: ideal joint and bearing clearance")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7)
     fig.tight_layout()
     savefig(fig, out, dpi=120)
     plt.close(fig)
 
 
 def plot_clearance(summary, out):
-    ideal = [r for r in summary if r["run"] == "ideal"]
-    runs = sorted((r for r in summary if r["run"] != "ideal" and r["status"] == "ok"),
-                  key=lambda r: float(r["clearance_m"]))
-    fig, ax = plt.subplots(figsize=(7, 5))
-    c_mm = [1e3 * float(r["clearance_m"]) for r in runs]
-    for key, label, color in (("peak_track_rad", "peak while tracking", "C0"), ("rms_track_rad", "RMS while tracking", "C1")):
-        ax.plot(c_mm, [float(r[key]) for r in runs], "o-", color=color, label=label)
-        if ideal:
-            ax.axhline(float(ideal[0][key]), color=color, ls="--", lw=1, label=label + ", ideal joint")
+    fig, ax = plt.subplots(figsize=(11, 5.5))
+    ok = [r for r in summary if r["status"] == "ok"]
+    groups = dict.fromkeys((r["scene"], r.get("sensors", "perfect")) for r in ok if float(r["clearance_m"]) > 0)
+    scenes = list(dict.fromkeys(scene for scene, _ in groups))
+    for scene, sensors in groups:  # a colour per scene, a marker per sensor set
+        runs = sorted((r for r in ok if r["scene"] == scene and r.get("sensors", "perfect") == sensors
+                       and float(r["clearance_m"]) > 0), key=lambda r: float(r["clearance_m"]))
+        c_mm = [1e3 * float(r["clearance_m"]) for r in runs]
+        color, marker = f"C{scenes.index(scene) % 10}", "o" if sensors == "perfect" else "s"
+        ax.semilogy(c_mm, [float(r["rms_track_rad"]) for r in runs], marker + "-", color=color,
+                    label=f"{scene}, {sensors} sensors: RMS (peak dotted)")
+        ax.semilogy(c_mm, [float(r["peak_track_rad"]) for r in runs], marker + ":", color=color, lw=0.8)
+    for r in (r for r in ok if float(r["clearance_m"]) == 0):
+        ax.axhline(float(r["rms_track_rad"]), color="k", ls="--" if r.get("sensors", "perfect") == "perfect" else "-.",
+                   lw=1, label=f"ideal joint, {r.get('sensors', 'perfect')} sensors: RMS")
     stopped = [r for r in summary if r["status"] != "ok"]
     if stopped:
         ax.set_title("stopped (not plotted): " + ", ".join(f"{r['run']} ({r['status']})" for r in stopped), fontsize=8)
     ax.set_xlabel("radial clearance [mm]")
-    ax.set_ylabel("truth pointing error [rad]")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.set_ylabel("truth pointing error while tracking [rad]")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     fig.tight_layout()
     savefig(fig, out, dpi=120)
     plt.close(fig)

@@ -1,5 +1,6 @@
 #!/bin/bash
-# Closed-loop pointing error against the elevation-joint clearance: builds
+# Closed-loop pointing error against bearing clearance (elevation, azimuth,
+# both; planar and spatial; perfect and realistic sensors): builds
 # gimbalsim_pointing_study (configuring build/ if needed), runs it and plots.
 # Arguments go to the tool (e.g. --clearances 0.2e-3,0.5e-3 --duration 6
 # --set KEY=VALUE --scene-set KEY=VALUE --out DIR). BUILD_DIR overrides build/.
@@ -28,8 +29,19 @@ cmake --build "$BUILD" -j2 --target gimbalsim_pointing_study
 status=0
 mkdir -p "$OUT"
 # The default --out first: a --out among the arguments comes later and counts.
+# Clearance in the elevation joint, the azimuth joint, both; planar and spatial;
+# perfect and realistic sensors. A --clearance-scene or --sensors among the
+# arguments replaces these (CLI11 keeps the last --sensors; --clearance-scene
+# lists add up, so the defaults are given only when none is).
+scenes=()
+case " ${args[*]-} " in
+  *" --clearance-scene"*) ;;
+  *) for s in paper_clearance paper_planar1 paper_both_planar paper_spatial2 paper_spatial1 paper_both_spatial; do
+       scenes+=(--clearance-scene "$ROOT/tools/scenes/$s.yaml")
+     done ;;
+esac
 "$BUILD/bin/gimbalsim_pointing_study" --out "$OUT" --ideal-scene "$ROOT/tools/scenes/paper_ideal.yaml" \
-  --clearance-scene "$ROOT/tools/scenes/paper_clearance.yaml" ${args[@]+"${args[@]}"} | tee "$OUT/study.log" || status=$?
+  --sensors both ${scenes[@]+"${scenes[@]}"} ${args[@]+"${args[@]}"} | tee "$OUT/study.log" || status=$?
 # Exit 3: a plant stopped; the results of the other runs are still written and plotted.
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
 /usr/bin/python3 "$ROOT/tools/pointing_study/plot_pointing_study.py" "$OUT"

@@ -177,14 +177,20 @@ void finePass(const Scene& sc, double dt, Reference& r) {
         kinematics(m, d, s.q, s.v);
         r.self_consistency = std::max(r.self_consistency, angleBetween(boresight(m, d, s), r.rows.bore[row]));
       }
-      if (clearanceGap<V>(m, s.q, s.v).delta <= 0.0) {
+      bool touching = false;
+      for (int e = 0; e < V::NC; ++e) touching = touching || endGap<V>(m, e, s.q, s.v).delta > 0.0;
+      if (!touching) {
         prev_contact = false;
         return true;
       }
       forwardDynamics(m, d, s, u);
-      const ContactEval& c = d.contact[0];
+      int deepest = 0;  // the stick/slip statistics follow the end that carries the most
+      for (int e = 0; e < V::NC; ++e) {
+        r.rows.peak_contact = std::max(r.rows.peak_contact, std::hypot(d.contact[e].fn, d.contact[e].ft));
+        if (d.contact[e].fn > d.contact[deepest].fn) deepest = e;
+      }
+      const ContactEval& c = d.contact[deepest];
       r.peak_dt = dt;
-      r.rows.peak_contact = std::max(r.rows.peak_contact, std::hypot(c.fn, c.ft));
       if constexpr (V::kFriction) {
         const double a = std::fabs(c.vt);
         ss.contact_time += dt;

@@ -63,6 +63,18 @@ nlohmann::json runSummary(const Model& m, const RunResult& r, const std::string&
       {"wall_time_s", r.wall_seconds},
       {"step_time_s", r.step_seconds},
       {"integrator", {{"kind", integrator_kind}, {"step_s", m.integrator.step}}}};
+  // Per clearance joint: its kind, impacts at its ends, largest normal force
+  // at any of its ends and, for a spatial joint, the largest tilt angle.
+  static const char* const kKind[] = {"ideal", "planar", "spatial"};
+  for (int jt = 0; jt < 2; ++jt) {
+    const ClearanceKind kind = jt == 0 ? m.joint1_kind : m.joint2_kind;
+    if (kind == ClearanceKind::Ideal) continue;
+    json o = {{"kind", kKind[static_cast<int>(kind)]},
+              {"impacts", st.impacts_joint[jt]},
+              {"peak_contact_force_N", st.peak_fn_joint[jt]}};
+    if (kind == ClearanceKind::Spatial) o["max_tilt_rad"] = st.max_tilt_joint[jt];
+    j["clearance_joints"][jt == 0 ? "joint1" : "joint2"] = o;
+  }
   if (r.integrator == IntegratorKind::Rk4) {
     // The RK4's own counters and settings; the reference has none of them.
     j["steps"] = st.steps;

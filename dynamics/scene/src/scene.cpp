@@ -1,6 +1,8 @@
 #include "gimbalsim/scene/scene.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <functional>
 #include <cmath>
 
 #include "gimbalsim/dynamics/observables.hpp"
@@ -17,28 +19,142 @@ constexpr auto model = [](auto& s) -> auto& { return s.model; };
 constexpr auto base = [](auto& s) -> auto& { return s.model.base; };
 constexpr auto shaft1 = [](auto& s) -> auto& { return s.model.shaft1; };
 constexpr auto shaft2 = [](auto& s) -> auto& { return s.model.shaft2; };
-constexpr auto contact = [](auto& s) -> auto& { return s.model.contact; };
 constexpr auto integ = [](auto& s) -> auto& { return s.model.integrator; };
 constexpr auto run = [](auto& s) -> auto& { return s.run; };
 constexpr auto initial = [](auto& s) -> auto& { return s.run.initial; };
 
-/// contact.clearance: another way to give contact.journal_radius (derived, no value of its own).
-SceneKey clearanceKey() {
-  SceneKey k("contact.clearance", "number", "m", "",
-         "radial clearance c; sets journal_radius = bearing_radius - c (give this or journal_radius)");
+/// What a bearing's keys are called and bind to: joint 2's (contact.*,
+/// friction.*, Model::contact) or joint 1's (contact1.*, friction1.*,
+/// Model::contact1, joint 2's values unless given).
+struct Bearing {
+  const char* contact;   ///< key prefix of the contact parameters
+  const char* friction;  ///< key prefix of the friction parameters
+  const char* whose;     ///< prefix of each meaning
+  ContactParams Model::*params;
+};
+constexpr Bearing kJoint2Bearing{"contact.", "friction.", "", &Model::contact};
+constexpr Bearing kJoint1Bearing{"contact1.", "friction1.", "joint 1 (default: joint 2's): ", &Model::contact1};
+
+/// <prefix>clearance: another way to give <prefix>journal_radius (derived, no value of its own).
+SceneKey clearanceKey(const Bearing& b) {
+  const std::string prefix = b.contact;
+  SceneKey k(prefix + "clearance", "number", "m", "",
+             std::string(b.whose) + "radial clearance c; sets journal_radius = bearing_radius - c (give this or journal_radius)");
   // Held in the derived field until every key is set (deriveJournal); finalize() recomputes it.
-  k.set = [](Scene& s, const YAML::Node& n) { s.model.contact.clearance = asNumber(n); };
-  k.alternative = "contact.journal_radius";
+  ContactParams Model::*const params = b.params;
+  k.set = [params](Scene& s, const YAML::Node& n) { (s.model.*params).clearance = asNumber(n); };
+  k.alternative = prefix + "journal_radius";
   return k;
 }
 
-std::vector<SceneKey> keys() {
+/// A bearing key, how to copy its field from one bearing to another and
+/// whether two bearings hold the same value there.
+struct BearingKey {
+  SceneKey key;
+  std::function<void(ContactParams& to, const ContactParams& from)> copy;
+  std::function<bool(const ContactParams& a, const ContactParams& b)> same;
+};
+
+template <class M>
+BearingKey bearingKey(SceneKey key, M ContactParams::*member) {
+  return {std::move(key), [member](ContactParams& to, const ContactParams& from) { to.*member = from.*member; },
+          [member](const ContactParams& a, const ContactParams& b) { return a.*member == b.*member; }};
+}
+
+/// The contact and friction keys of a bearing.
+std::vector<BearingKey> bearingKeys(const Bearing& b) {
+  ContactParams Model::*const params = b.params;
+  const auto contact = [params](auto& s) -> auto& { return s.model.*params; };
+  const std::string c = b.contact, f = b.friction, w = b.whose;
+  using CP = ContactParams;
   return {
+      bearingKey(K::number(c + "bearing_radius", "m", w + "R_i, bearing (on the parent body)",
+                           field(contact, &CP::bearing_radius), greater(0)),
+                 &CP::bearing_radius),
+      bearingKey(K::number(c + "journal_radius", "m", w + "R_j, journal, < bearing_radius; or give " + c + "clearance",
+                           field(contact, &CP::journal_radius), greater(0).saying("journal radius must be > 0"))
+                     .alternativeTo(c + "clearance"),
+                 &CP::journal_radius),
+      bearingKey(clearanceKey(b), &CP::clearance),
+      bearingKey(K::number(c + "bearing_length", "m",
+                           w + "spatial clearance: bearing length; contact at its two end planes (joint kind spatial)",
+                           field(contact, &CP::bearing_length), greater(0)),
+                 &CP::bearing_length),
+      bearingKey(K::choice<RadiusMode>(c + "radius_mode", w + "R in the Hertz stiffness", field(contact, &CP::radius_mode),
+                                       {{"paper", RadiusMode::Paper}, {"conformal", RadiusMode::Conformal}}),
+                 &CP::radius_mode),
+      bearingKey(K::number(c + "E_bearing", "Pa", w + "Young's modulus, bearing", field(contact, &CP::E_bearing),
+                           greater(0)),
+                 &CP::E_bearing),
+      bearingKey(K::number(c + "nu_bearing", "-", w + "Poisson's ratio, bearing", field(contact, &CP::nu_bearing),
+                           interval('[', 0, 0.5, ')')),
+                 &CP::nu_bearing),
+      bearingKey(K::number(c + "E_journal", "Pa", w + "Young's modulus, journal", field(contact, &CP::E_journal),
+                           greater(0)),
+                 &CP::E_journal),
+      bearingKey(K::number(c + "nu_journal", "-", w + "Poisson's ratio, journal", field(contact, &CP::nu_journal),
+                           interval('[', 0, 0.5, ')')),
+                 &CP::nu_journal),
+      bearingKey(K::number(c + "exponent", "-", w + "Hertz exponent n", field(contact, &CP::exponent),
+                           interval('[', 1, 3, ']')),
+                 &CP::exponent),
+      bearingKey(K::number(c + "stiffness_scale", "-", w + "multiplies the Hertz stiffness K",
+                           field(contact, &CP::stiffness_scale), greater(0)),
+                 &CP::stiffness_scale),
+      bearingKey(K::choice<DampingLaw>(c + "damping", w + "hysteresis damping law", field(contact, &CP::damping),
+                                       {{"none", DampingLaw::None},
+                                        {"hunt_crossley", DampingLaw::HuntCrossley},
+                                        {"lankarani_nikravesh", DampingLaw::LankaraniNikravesh},
+                                        {"flores", DampingLaw::Flores}}),
+                 &CP::damping),
+      bearingKey(K::number(c + "restitution", "-", w + "coefficient of restitution c_e",
+                           field(contact, &CP::restitution), interval('(', 0, 1, ']')),
+                 &CP::restitution),
+      bearingKey(K::number(c + "v0_min", "m/s", w + "floor on the impact velocity v0 in the damping",
+                           field(contact, &CP::v0_min), greater(0)),
+                 &CP::v0_min),
+      bearingKey(K::choice<FrictionLaw>(f + "law",
+                                        w + "tangential force law (coulomb_stick: set-valued Coulomb, stick and slip "
+                                            "located as events; a planar joint 2 with an ideal joint 1 only)",
+                                        field(contact, &CP::friction),
+                                        {{"none", FrictionLaw::None},
+                                         {"coulomb", FrictionLaw::Coulomb},
+                                         {"ambrosio", FrictionLaw::Ambrosio},
+                                         {"coulomb_stick", FrictionLaw::CoulombStick}}),
+                 &CP::friction),
+      bearingKey(K::number(f + "mu", "-", w + "dynamic friction coefficient", field(contact, &CP::mu), atLeast(0)),
+                 &CP::mu),
+      bearingKey(K::number(f + "v_a", "m/s", w + "Ambrosio: no friction below this |v_t|", field(contact, &CP::v_a),
+                           atLeast(0)),
+                 &CP::v_a),
+      bearingKey(K::number(f + "v_b", "m/s", w + "Ambrosio: full friction above this |v_t|, > " + f + "v_a",
+                           field(contact, &CP::v_b), greater(0)),
+                 &CP::v_b),
+  };
+}
+
+const std::vector<BearingKey>& joint1BearingKeys() {
+  static const std::vector<BearingKey> keys = bearingKeys(kJoint1Bearing);
+  return keys;
+}
+
+std::vector<SceneKey> keys() {
+  std::vector<SceneKey> out = {
       K::text("name", "scene name (default: the file name)", field(model, &Model::name)),
       K::choice<bool>("structure.base", "free-floating base or gimbal on a ground bench",
                       field(model, &Model::floating_base), {{"floating", true}, {"fixed", false}}),
-      K::choice<ClearanceKind>("structure.joint2", "elevation joint model", field(model, &Model::joint2_kind),
-                               {{"ideal", ClearanceKind::Ideal}, {"clearance", ClearanceKind::Planar}}),
+      K::choice<ClearanceKind>("structure.joint1",
+                               "azimuth joint model: ideal, planar clearance, or spatial clearance (the journal "
+                               "may also tilt); its bearing is contact1.*, friction1.*",
+                               field(model, &Model::joint1_kind),
+                               {{"ideal", ClearanceKind::Ideal}, {"planar", ClearanceKind::Planar},
+                                {"spatial", ClearanceKind::Spatial}}),
+      K::choice<ClearanceKind>("structure.joint2",
+                               "elevation joint model: ideal, clearance (planar, the paper's), planar (the same), or "
+                               "spatial clearance (the journal may also tilt); its bearing is contact.*, friction.*",
+                               field(model, &Model::joint2_kind),
+                               {{"ideal", ClearanceKind::Ideal}, {"clearance", ClearanceKind::Planar},
+                                {"planar", ClearanceKind::Planar}, {"spatial", ClearanceKind::Spatial}}),
       K::number("base.mass", "kg", "base (satellite) mass", field(base, &BodyParams::mass),
                 greater(0).saying("mass must be > 0")),
       K::inertia("base.inertia", "about the base CoM, base frame", field(base, &BodyParams::inertia)),
@@ -61,47 +177,6 @@ std::vector<SceneKey> keys() {
                    field(model, &Model::k2_S1), nonZero().saying("axis must be non-zero")),
       K::vector<3>("geometry.boresight", "-", "antenna boresight, shaft 2 frame", field(model, &Model::boresight_S2),
                    nonZero().saying("boresight must be non-zero")),
-      K::number("contact.bearing_radius", "m", "R_i, bearing (on shaft 1)",
-                field(contact, &ContactParams::bearing_radius), greater(0)),
-      K::number("contact.journal_radius", "m", "R_j, journal (on shaft 2), < bearing_radius; or give contact.clearance",
-                field(contact, &ContactParams::journal_radius), greater(0).saying("journal radius must be > 0"))
-          .alternativeTo("contact.clearance"),
-      clearanceKey(),
-      K::choice<RadiusMode>("contact.radius_mode", "R in the Hertz stiffness", field(contact, &ContactParams::radius_mode),
-                            {{"paper", RadiusMode::Paper}, {"conformal", RadiusMode::Conformal}}),
-      K::number("contact.E_bearing", "Pa", "Young's modulus, bearing", field(contact, &ContactParams::E_bearing),
-                greater(0)),
-      K::number("contact.nu_bearing", "-", "Poisson's ratio, bearing", field(contact, &ContactParams::nu_bearing),
-                interval('[', 0, 0.5, ')')),
-      K::number("contact.E_journal", "Pa", "Young's modulus, journal", field(contact, &ContactParams::E_journal),
-                greater(0)),
-      K::number("contact.nu_journal", "-", "Poisson's ratio, journal", field(contact, &ContactParams::nu_journal),
-                interval('[', 0, 0.5, ')')),
-      K::number("contact.exponent", "-", "Hertz exponent n", field(contact, &ContactParams::exponent),
-                interval('[', 1, 3, ']')),
-      K::number("contact.stiffness_scale", "-", "multiplies the Hertz stiffness K",
-                field(contact, &ContactParams::stiffness_scale), greater(0)),
-      K::choice<DampingLaw>("contact.damping", "hysteresis damping law", field(contact, &ContactParams::damping),
-                            {{"none", DampingLaw::None},
-                             {"hunt_crossley", DampingLaw::HuntCrossley},
-                             {"lankarani_nikravesh", DampingLaw::LankaraniNikravesh},
-                             {"flores", DampingLaw::Flores}}),
-      K::number("contact.restitution", "-", "coefficient of restitution c_e",
-                field(contact, &ContactParams::restitution), interval('(', 0, 1, ']')),
-      K::number("contact.v0_min", "m/s", "floor on the impact velocity v0 in the damping",
-                field(contact, &ContactParams::v0_min), greater(0)),
-      K::choice<FrictionLaw>(
-          "friction.law", "tangential force law (coulomb_stick: set-valued Coulomb, stick and slip located as events)",
-          field(contact, &ContactParams::friction),
-          {{"none", FrictionLaw::None},
-           {"coulomb", FrictionLaw::Coulomb},
-           {"ambrosio", FrictionLaw::Ambrosio},
-           {"coulomb_stick", FrictionLaw::CoulombStick}}),
-      K::number("friction.mu", "-", "dynamic friction coefficient", field(contact, &ContactParams::mu), atLeast(0)),
-      K::number("friction.v_a", "m/s", "Ambrosio: no friction below this |v_t|", field(contact, &ContactParams::v_a),
-                atLeast(0)),
-      K::number("friction.v_b", "m/s", "Ambrosio: full friction above this |v_t|, > friction.v_a",
-                field(contact, &ContactParams::v_b), greater(0)),
       K::number("torque.tau1", "N m", "constant joint 1 (azimuth) torque",
                 [](auto& s) -> auto& { return s.run.torque(0); }),
       K::number("torque.tau2", "N m", "constant joint 2 (elevation) torque",
@@ -155,6 +230,23 @@ std::vector<SceneKey> keys() {
                 "fixed policy: an impact lasting fewer sub-steps than this (Hertz estimate) stops the run (0 = off)",
                 field(integ, &IntegratorParams::min_substeps_per_impact), atLeast(0)),
   };
+  // The bearings' keys after the geometry: joint 2's, then joint 1's.
+  const auto at = std::find_if(out.begin(), out.end(), [](const SceneKey& k) { return k.key == "torque.tau1"; });
+  std::vector<SceneKey> bearings;
+  for (const Bearing& b : {kJoint2Bearing, kJoint1Bearing}) {
+    for (BearingKey& k : bearingKeys(b)) {
+      if (b.params == &Model::contact1 && k.key.refusal) {
+        // Joint 1's value is checked where it is its own (set apart from
+        // joint 2's, which is checked at its own key), used or not.
+        k.key.refusal = [check = k.key.refusal, same = k.same](const Scene& s) {
+          return same(s.model.contact1, s.model.contact) ? std::string() : check(s);
+        };
+      }
+      bearings.push_back(std::move(k.key));
+    }
+  }
+  out.insert(at, bearings.begin(), bearings.end());
+  return out;
 }
 
 /// Checks across keys (every key has passed its own check).
@@ -174,22 +266,36 @@ void validate(const Scene& s, Given& g) {
     }
   }
   const ContactParams& c = m.contact;
-  // Named as given: contact.clearance stands for journal_radius when it was given instead.
-  if (g.has("contact.clearance") && !(c.bearing_radius - c.journal_radius >= 0.0)) {
-    g.refuse("contact.clearance", "clearance must not be negative");
-  } else if (!(c.journal_radius < c.bearing_radius)) {
-    g.refuse("contact.journal_radius", "journal radius (" + formatNumber(c.journal_radius) +
-                                           " m) must be < bearing radius (" + formatNumber(c.bearing_radius) +
-                                           " m)");
-  }
-  if (!(c.v_b > c.v_a)) g.refuse("friction.v_b", "must be > friction.v_a");
   const IntegratorParams& p = m.integrator;
-  // Plain Coulomb's sign flip at v_t = 0 is a jump no local error control can
-  // step over: every such run ended on sim.max_substeps. Refused, with the cure.
-  if (m.hasClearance() && c.friction == FrictionLaw::Coulomb && c.mu > 0.0 &&
-      p.substep_policy == SubstepPolicy::Adaptive) {
-    g.refuse("sim.substep_policy", "adaptive cannot step over plain Coulomb friction's jump (friction.law=coulomb): "
-                                   "use friction.law=coulomb_stick or ambrosio, or sim.substep_policy=fixed");
+  for (const Bearing& b : {kJoint2Bearing, kJoint1Bearing}) {
+    const int joint = b.params == &Model::contact ? 1 : 0;
+    const ContactParams& cb = m.contactOf(joint);
+    const ClearanceKind kind = joint == 0 ? m.joint1_kind : m.joint2_kind;
+    const std::string cp = b.contact, fp = b.friction;
+    // joint 1's bearing is checked where it is used (its keys may be joint 2's values)
+    if (joint == 0 && kind == ClearanceKind::Ideal) continue;
+    // Named as given: <prefix>clearance stands for journal_radius when it was given instead.
+    if (g.has(cp + "clearance") && !(cb.bearing_radius - cb.journal_radius >= 0.0)) {
+      g.refuse(cp + "clearance", "clearance must not be negative");
+    } else if (!(cb.journal_radius < cb.bearing_radius)) {
+      g.refuse(cp + "journal_radius", "journal radius (" + formatNumber(cb.journal_radius) +
+                                          " m) must be < bearing radius (" + formatNumber(cb.bearing_radius) + " m)");
+    }
+    if (!(cb.v_b > cb.v_a)) g.refuse(fp + "v_b", "must be > " + fp + "v_a");
+    if (kind == ClearanceKind::Ideal) continue;
+    // Plain Coulomb's sign flip at v_t = 0 is a jump no local error control can
+    // step over: every such run ended on sim.max_substeps. Refused, with the cure.
+    if (cb.friction == FrictionLaw::Coulomb && cb.mu > 0.0 && p.substep_policy == SubstepPolicy::Adaptive) {
+      g.refuse("sim.substep_policy", "adaptive cannot step over plain Coulomb friction's jump (" + fp +
+                                         "law=coulomb): use " + fp + "law=coulomb_stick or ambrosio, or "
+                                         "sim.substep_policy=fixed");
+    }
+    // Set-valued friction is built for one planar contact: a planar joint 2 with an ideal joint 1.
+    const bool stick_shape = m.joint1_kind == ClearanceKind::Ideal && m.joint2_kind == ClearanceKind::Planar;
+    if (cb.friction == FrictionLaw::CoulombStick && cb.mu > 0.0 && !stick_shape) {
+      g.refuse(fp + "law", "coulomb_stick (set-valued friction) is built for a planar joint 2 with an ideal "
+                           "joint 1 only: use coulomb or ambrosio with these joint kinds");
+    }
   }
   if (!(p.substep <= p.step)) g.refuse("sim.substep", "must be in (0, sim.step]");
   if (!(p.event_tol < p.substep)) g.refuse("sim.event_tol", "must be in (0, sim.substep)");
@@ -220,23 +326,31 @@ void validate(const Scene& s, Given& g) {
   if (p.max_event_iters > RunBounds::kMaxEventIters) {
     g.refuse("sim.max_event_iters", "must be <= " + std::to_string(RunBounds::kMaxEventIters));
   }
-  if (m.hasClearance() && s.run.initial.ecc.norm() > c.bearing_radius - c.journal_radius) {
+  if (m.joint2_kind != ClearanceKind::Ideal && s.run.initial.ecc.norm() > c.bearing_radius - c.journal_radius) {
     g.refuse("initial.ecc", "initial eccentricity exceeds the radial clearance");
   }
 }
 
 
 
-/// contact.clearance, when given, stands for journal_radius = bearing_radius - c.
-void deriveJournal(Scene& s, const Given& g) {
+/// <prefix>clearance, when given, stands for journal_radius = bearing_radius - c;
+/// joint 1's bearing is joint 2's but for the contact1.* / friction1.* keys given.
+void deriveBearings(Scene& s, const Given& g) {
   ContactParams& c = s.model.contact;
   if (g.has("contact.clearance")) c.journal_radius = c.bearing_radius - c.clearance;
+  const ContactParams own = s.model.contact1;
+  s.model.contact1 = c;
+  for (const BearingKey& k : joint1BearingKeys()) {
+    if (g.has(k.key.key)) k.copy(s.model.contact1, own);
+  }
+  ContactParams& c1 = s.model.contact1;
+  if (g.has("contact1.clearance")) c1.journal_radius = c1.bearing_radius - c1.clearance;
 }
 
 }  // namespace
 
 const KeyTable<Scene>& sceneTable() {
-  static const KeyTable<Scene> table{{"a scene", "scene file", "`gimbalsim keys`", ""}, keys(), validate, deriveJournal};
+  static const KeyTable<Scene> table{{"a scene", "scene file", "`gimbalsim keys`", ""}, keys(), validate, deriveBearings};
   return table;
 }
 

@@ -121,6 +121,14 @@ double tangentialVelocityRateAtFixedV(const Model& m, const Eigen::MatrixBase<Q>
   return r;
 }
 
+/// The bearing body's angular velocity in its own coordinates [rad/s]:
+/// shaft 1 for joint 2, the base for joint 1. Needs kinematics().
+template <class V, int J>
+Vec3 bearingBodyRate(const Data<V>& d) {
+  if constexpr (J == 1) return d.v[V::G2 - 1].template head<3>();
+  return V::kFloating ? Vec3(d.v_base.template head<3>()) : Vec3::Zero();
+}
+
 /// Contact quantities and forces of planar joint J into its end's
 /// d.contact; needs kinematics() for the bearing body's twist.
 /// v0 is the impact velocity of the current contact [m/s]; friction_mode the
@@ -146,12 +154,7 @@ void clearanceContact(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
   c.vn = de.dot(c.n);
   // Relative velocity of the material points Q_j and Q_i (docs/MODEL.md section 4.3):
   // V = de + dtheta k x (R_j n) + omega_P x (delta n), P the bearing body, so along t:
-  double omegaP_k = 0.0;
-  if constexpr (V::group(J) > 0) {
-    omegaP_k = d.v[V::group(J) - 1].template head<3>().dot(G::axis(m));
-  } else if constexpr (V::kFloating) {
-    omegaP_k = d.v_base.template head<3>().dot(G::axis(m));
-  }
+  const double omegaP_k = bearingBodyRate<V, J>(d).dot(G::axis(m));
   c.vt = de.dot(t) + v(G::VE + 2) * cp.journal_radius + c.delta * omegaP_k;
   c.fn = normalForce(cp, c.delta, c.vn, v0);
   c.ft_required = 0.0;

@@ -25,14 +25,6 @@ struct SpatialGroup {
   }
 };
 
-/// The bearing body's angular velocity in its own coordinates [rad/s]:
-/// shaft 1 for joint 2, the base for joint 1. Needs kinematics().
-template <class V, int J>
-Vec3 bearingBodyRate(const Data<V>& d) {
-  if constexpr (J == 1) return d.v[V::G2 - 1].template head<3>();
-  return V::kFloating ? Vec3(d.v_base.template head<3>()) : Vec3::Zero();
-}
-
 /// Gap of end `side` (0: s = -1, 1: s = +1 for a spatial joint; 0 for a
 /// planar one) of clearance joint J: delta [m] and its time derivative [m/s].
 template <class V, int J, class Q, class W>

@@ -272,4 +272,18 @@ StepResult advanceSteps(const Model& m, Data<V>& d, State<V>& s, const Input& u,
   return {StepStatus::Ok, s.t};
 }
 
+// Every shape's step and forward dynamics are compiled once, in
+// dynamics/src/shapes.inc; a file that runs a scene calls them.
+#ifndef GIMBALSIM_COMPILING_SHAPES
+#define GIMBALSIM_EXTERN_STEP(FL, K1, K2, FR)                                                              \
+  extern template StepResult step<GIMBALSIM_SHAPE(FL, K1, K2, FR)>(                                      \
+      const Model&, Data<GIMBALSIM_SHAPE(FL, K1, K2, FR)>&, State<GIMBALSIM_SHAPE(FL, K1, K2, FR)>&,      \
+      const Input&);                                                                                       \
+  extern template void forwardDynamics<GIMBALSIM_SHAPE(FL, K1, K2, FR)>(                                 \
+      const Model&, Data<GIMBALSIM_SHAPE(FL, K1, K2, FR)>&, const State<GIMBALSIM_SHAPE(FL, K1, K2, FR)>&, \
+      const Input&);
+GIMBALSIM_FOR_EACH_SHAPE(GIMBALSIM_EXTERN_STEP)
+#undef GIMBALSIM_EXTERN_STEP
+#endif
+
 }  // namespace gimbalsim

@@ -179,4 +179,14 @@ Row observe(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
   return r;
 }
 
+// Compiled once per shape in dynamics/src/shapes.inc.
+#ifndef GIMBALSIM_COMPILING_SHAPES
+#define GIMBALSIM_EXTERN_OBSERVE(FL, K1, K2, FR)                                                  \
+  extern template Row observe<GIMBALSIM_SHAPE(FL, K1, K2, FR)>(                                 \
+      const Model&, Data<GIMBALSIM_SHAPE(FL, K1, K2, FR)>&, const State<GIMBALSIM_SHAPE(FL, K1, K2, FR)>&, \
+      const Input&);
+GIMBALSIM_FOR_EACH_SHAPE(GIMBALSIM_EXTERN_OBSERVE)
+#undef GIMBALSIM_EXTERN_OBSERVE
+#endif
+
 }  // namespace gimbalsim

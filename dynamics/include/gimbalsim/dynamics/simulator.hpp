@@ -21,8 +21,10 @@ struct SavedState {
   std::string variant;           ///< variantName() of the model it was taken from
   double t = 0.0;                ///< [s]
   std::vector<double> q, v;      ///< generalised coordinates and velocities (state.hpp)
-  bool in_contact = false;
-  double v0 = 0.0;               ///< [m/s]
+  /// each contact end's side and impact velocity [m/s] (state.hpp: joint 1's
+  /// ends first; none for ideal joints, one per planar joint, two per spatial)
+  std::vector<bool> in_contact;
+  std::vector<double> v0;
   int friction_mode = 0;
   double vt_floor = 0.0;         ///< [m/s]
   double h_next = 0.0;           ///< [s]

@@ -57,27 +57,45 @@ using FloatingIdeal = Variant<true, ClearanceKind::Ideal, ClearanceKind::Ideal, 
 using FloatingClearance = Variant<true, ClearanceKind::Ideal, ClearanceKind::Planar, false>;
 using FloatingClearanceFriction = Variant<true, ClearanceKind::Ideal, ClearanceKind::Planar, true>;
 
+/// The name of a shape: floating|fixed, then _planar1|_spatial1 for a
+/// clearance joint 1, _ideal|_clearance (planar)|_spatial for joint 2,
+/// _friction (e.g. floating_clearance_friction, fixed_spatial1_spatial).
+std::string shapeName(bool floating, ClearanceKind k1, ClearanceKind k2, bool friction);
 /// Which compiled variant a model runs as.
 std::string variantName(const Model& m);
 /// Friction code is compiled in only when it can act.
 inline bool frictionActive(const Model& m) {
-  return m.hasClearance() && m.contact.friction != FrictionLaw::None && m.contact.mu > 0.0;
+  const auto acts = [](const ContactParams& c) { return c.friction != FrictionLaw::None && c.mu > 0.0; };
+  return (m.joint1_kind != ClearanceKind::Ideal && acts(m.contact1)) ||
+         (m.joint2_kind != ClearanceKind::Ideal && acts(m.contact));
 }
 
-/// Calls f with a default-constructed Variant tag matching the model. The
-/// shapes compiled so far: joint 1 ideal, joint 2 ideal or planar (the scene
-/// loader refuses the others until their contact is built).
+/// Every compiled shape, X(floating, kind 1, kind 2, friction): both bases,
+/// each pair of joint kinds, with and without friction where there is
+/// contact (2 x (1 + 8 x 2) = 34). The one list behind the dispatch below and
+/// the explicit instantiations of the step (dynamics/src/shapes.cpp).
+#define GIMBALSIM_CONTACT_SHAPES(X, FL, FR)                                                              \
+  X(FL, Ideal, Planar, FR) X(FL, Ideal, Spatial, FR) X(FL, Planar, Ideal, FR) X(FL, Planar, Planar, FR) \
+  X(FL, Planar, Spatial, FR) X(FL, Spatial, Ideal, FR) X(FL, Spatial, Planar, FR) X(FL, Spatial, Spatial, FR)
+#define GIMBALSIM_FOR_EACH_SHAPE(X)                                                                       \
+  X(true, Ideal, Ideal, false) X(false, Ideal, Ideal, false) GIMBALSIM_CONTACT_SHAPES(X, true, false)    \
+  GIMBALSIM_CONTACT_SHAPES(X, true, true) GIMBALSIM_CONTACT_SHAPES(X, false, false)                      \
+  GIMBALSIM_CONTACT_SHAPES(X, false, true)
+#define GIMBALSIM_SHAPE(FL, K1, K2, FR) ::gimbalsim::Variant<FL, ::gimbalsim::ClearanceKind::K1, ::gimbalsim::ClearanceKind::K2, FR>
+
+/// Calls f with a default-constructed Variant tag matching the model (every
+/// shape of GIMBALSIM_FOR_EACH_SHAPE; f's result type must not depend on it).
 template <class F>
 decltype(auto) dispatchVariant(const Model& m, F&& f) {
-  const bool planar2 = m.joint2_kind == ClearanceKind::Planar;
-  if (m.floating_base) {
-    if (!planar2) return f(FloatingIdeal{});
-    if (frictionActive(m)) return f(FloatingClearanceFriction{});
-    return f(FloatingClearance{});
-  }
-  if (!planar2) return f(FixedIdeal{});
-  if (frictionActive(m)) return f(FixedClearanceFriction{});
-  return f(FixedClearance{});
+  const bool friction = frictionActive(m);
+  using R = decltype(f(FloatingIdeal{}));
+#define GIMBALSIM_DISPATCH_ONE(FL, K1, K2, FR)                                                       \
+  if (m.floating_base == FL && m.joint1_kind == ClearanceKind::K1 && m.joint2_kind == ClearanceKind::K2 && \
+      (friction == FR || !GIMBALSIM_SHAPE(FL, K1, K2, FR)::kContact))                                  \
+    return static_cast<R>(f(GIMBALSIM_SHAPE(FL, K1, K2, FR){}));
+  GIMBALSIM_FOR_EACH_SHAPE(GIMBALSIM_DISPATCH_ONE)
+#undef GIMBALSIM_DISPATCH_ONE
+  return static_cast<R>(f(FloatingIdeal{}));  // not reached: every kind pair is listed
 }
 
 }  // namespace gimbalsim

@@ -1,0 +1,62 @@
+"""The main job's figures (tools/plot_paper.py) with the spatial run: fig 19
+and the spatial column of pointing_error.csv, checked against the angle
+computed here from the runs' own boresight columns; mismatched runs refused."""
+import csv
+import subprocess
+import sys
+
+import numpy as np
+
+from conftest import SOURCE, run_cli, scene_path
+
+PLOT = SOURCE / "tools" / "plot_paper.py"
+
+
+def simulate(tmp, scene, duration):
+    out = tmp / f"{scene}.csv"
+    run_cli("simulate", scene_path(scene), "--set", f"sim.duration={duration}", "--out", out,
+            "--summary", tmp / f"{scene}.json")
+    return out
+
+
+def plot(*args):
+    return subprocess.run([sys.executable, str(PLOT), *map(str, args)], capture_output=True, text=True, timeout=300)
+
+
+def columns(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+
+
+def test_spatial_run_gives_fig19_and_its_pointing_error(tmp):
+    ideal, clear, spatial = (simulate(tmp, s, 0.1) for s in ("paper_ideal", "paper_clearance", "paper_spatial2"))
+    out = tmp / "plots"
+    p = plot("--ideal", ideal, "--clearance", clear, "--spatial", spatial,
+             "--spatial-summary", tmp / "paper_spatial2.json", "--out", out)
+    assert p.returncode == 0, p.stderr
+    assert (out / "fig19_joint_kinds.png").stat().st_size > 10_000
+    pe = columns(out / "pointing_error.csv")
+    a, b = columns(ideal), columns(spatial)
+    bi = np.stack([a["bore_x"], a["bore_y"], a["bore_z"]], axis=1)
+    bs = np.stack([b["bore_x"], b["bore_y"], b["bore_z"]], axis=1)
+    cos = np.clip(np.sum(bi * bs, axis=1), -1.0, 1.0)
+    expected = np.arccos(cos)  # the angle between unit vectors, another formula than the tool's
+    assert np.allclose(pe["t_s"], a["t_s"])
+    assert np.max(np.abs(pe["pointing_error_spatial_rad"] - expected)) < 1e-7
+    assert expected[-1] > 1e-4  # the spatial journal tilts: the antenna moves off the ideal's
+    assert "largest tilt" in p.stdout and "spatial joint 2" in p.stdout
+
+
+def test_spatial_run_over_another_time_is_refused(tmp):
+    ideal, clear = simulate(tmp, "paper_ideal", 0.1), simulate(tmp, "paper_clearance", 0.1)
+    spatial = simulate(tmp, "paper_spatial2", 0.05)
+    p = plot("--ideal", ideal, "--clearance", clear, "--spatial", spatial, "--out", tmp / "plots")
+    assert p.returncode == 2
+    assert str(spatial) in p.stderr and "same time" in p.stderr
+
+
+def test_spatial_summary_without_spatial_run_is_refused(tmp):
+    p = plot("--ideal", "a.csv", "--clearance", "b.csv", "--spatial-summary", "s.json", "--out", tmp)
+    assert p.returncode == 2
+    assert "--spatial-summary needs --spatial" in p.stderr
