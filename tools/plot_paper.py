@@ -30,6 +30,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from output_file import output_path, savefig  # noqa: E402  (temporary + rename, tools/output_file.py)
+from plot_joint_kinds import fig_joint_kinds, spatial_tilt  # noqa: E402  (fig 19)
 from paper_data import (InputError, angle_between, boresight, common_grid, contact_starts,  # noqa: E402
                         continuous_contact_from, load_csv, load_summary, summary_number, wrap_pi)
 
@@ -106,42 +107,6 @@ def fig_components(out_dir, written, fname, title, ideal, clear, ideal_g, clear_
     for ax in axes[-1]:
         ax.set_xlabel("t [s]")
     save(fig, out_dir, fname, written)
-
-
-def _spatial_tilt(summary):
-    """Largest tilt of joint 2 [rad] from a summary's clearance_joints, or None."""
-    try:
-        return float(summary["clearance_joints"]["joint2"]["max_tilt_rad"])
-    except (TypeError, KeyError, ValueError):
-        return None
-
-
-def fig_joint_kinds(out_dir, written, t, err_planar, err_spatial, clear, spatial, s_spatial, c):
-    """Fig 19: the same scene with joint 2 ideal, planar and spatial clearance."""
-    C_SPATIAL = "tab:green"
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(15, 4.8), constrained_layout=True)
-    tilt = _spatial_tilt(s_spatial)
-    tilt_txt = f"; largest tilt of the spatial journal {tilt:.3g} rad" if tilt is not None else ""
-    fig.suptitle("Fig. 19  Joint 2 ideal, planar clearance, spatial clearance (the journal may tilt)"
-                 + tilt_txt, fontsize=13)
-    ax1.set_yscale("log")
-    for e, color, name in ((err_planar, C_CLEAR, "planar clearance"), (err_spatial, C_SPATIAL, "spatial clearance")):
-        pos = e > 0.0  # a log axis cannot show exact zeros (e.g. t = 0)
-        ax1.plot(t[pos], e[pos], color=color, lw=1.0, label=f"{name}: {float(e[-1]):.3g} rad at {t[-1]:.3g} s")
-    ax1.set_xlabel("t [s]")
-    ax1.set_ylabel("pointing error against the ideal joint [rad]")
-    ax1.set_title("antenna boresight against the ideal joint's")
-    ax1.grid(True, which="both", alpha=0.3)
-    ax1.legend(loc="lower right", fontsize=9)
-    ax2.plot(clear["t_s"], clear["ecc_m"] * 1e3, color=C_CLEAR, lw=0.7, label="planar clearance")
-    ax2.plot(spatial["t_s"], spatial["ecc_m"] * 1e3, color=C_SPATIAL, lw=0.7, label="spatial: at the mid-plane")
-    ax2.axhline(c * 1e3, color="k", ls="--", lw=1.0, label=f"clearance c = {c*1e3:.3g} mm")
-    ax2.set_xlabel("t [s]")
-    ax2.set_ylabel("journal eccentricity [mm]")
-    ax2.set_title("journal centre (a tilted journal touches at the bearing's ends)")
-    ax2.grid(True, alpha=0.3)
-    ax2.legend(loc="lower right", fontsize=8)
-    save(fig, out_dir, "fig19_joint_kinds.png", written)
 
 
 def unit_base(unit):
@@ -306,13 +271,12 @@ def main(argv=None):
     pe_path = os.path.join(a.out, "pointing_error.csv")
     # The CSV convention (docs/usage.md "CSV files"): unit-suffixed names, round-trip numbers (repr).
     with output_path(pe_path) as tmp, open(tmp, "w") as f:
-        if err_sp is None:
-            f.write("t_s,pointing_error_rad\n")
-            f.writelines(f"{float(ti)!r},{float(e) + 0.0!r}\n" for ti, e in zip(t, err))
-        else:
-            f.write("t_s,pointing_error_rad,pointing_error_spatial_rad\n")
-            f.writelines(f"{float(ti)!r},{float(e) + 0.0!r},{float(es) + 0.0!r}\n"
-                         for ti, e, es in zip(t, err, err_sp))
+        cols = {"pointing_error_rad": err}
+        if err_sp is not None:
+            cols["pointing_error_spatial_rad"] = err_sp
+        f.write(",".join(["t_s", *cols]) + "\n")
+        f.writelines(",".join([repr(float(ti))] + [repr(float(e[k]) + 0.0) for e in cols.values()]) + "\n"
+                     for k, ti in enumerate(t))
     fig, ax = plt.subplots(figsize=(11, 4.8), constrained_layout=True)
     pos = err > 0.0  # a log axis cannot show exact zeros (e.g. t = 0)
     ax.set_yscale("log")
@@ -393,7 +357,8 @@ def main(argv=None):
     save(fig, a.out, "fig18_joint2_force.png", written)
 
     if spatial is not None:
-        fig_joint_kinds(a.out, written, t, err, err_sp, clear, spatial, s_spatial, c)
+        fig_joint_kinds(lambda fig, name: save(fig, a.out, name, written), t, err, err_sp, clear, spatial,
+                        s_spatial, c, C_CLEAR)
 
     # -- Text summary ----------------------------------------------------------
     impacts = summary_number(s_clear, "impacts")
@@ -422,7 +387,7 @@ def main(argv=None):
         print(f"    vs ideal at the same time : ideal {f_i_at_pk:.1f} N at t = {t_pk_c:.4g} s "
               f"-> ratio {ratio_same_t:.1f}")
     if err_sp is not None:
-        tilt = _spatial_tilt(s_spatial)
+        tilt = spatial_tilt(s_spatial)
         print(f"  spatial joint 2             : pointing error {float(err_sp[-1]):.4g} rad at t = {t[-1]:.4g} s "
               f"(planar {err_final:.4g} rad), max {float(np.max(err_sp)):.4g} rad; largest tilt "
               + (f"{tilt:.4g} rad" if tilt is not None else "not in a summary"))
