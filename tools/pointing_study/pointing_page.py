@@ -46,7 +46,7 @@ def main():
                "the same sensors):", "",
                "| scene | " + " | ".join(f"{cs} sensors [rad]" for cs in cases) + " |",
                "|---|" + "---|" * len(cases)]
-        for sc in ["paper_ideal"] + scenes:
+        for sc in list(dict.fromkeys(r["scene"] for r in ideals.values())) + scenes:
             cells = []
             for cs in cases:
                 r = next((r for r in rows if r["scene"] == sc and sensors(r) == cs
