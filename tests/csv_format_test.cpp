@@ -82,8 +82,48 @@ TEST(CsvFormat, EveryHeaderTheProjectWritesIsIdentifiers) {
   expectIdentifiers(header<CommandFields>());
   expectIdentifiers(header<LoopStatsFields>());
   expectIdentifiers(header<AttitudeFields>());
-  expectIdentifiers(csvHeader());
-  EXPECT_EQ(csvHeader().rfind("t_s,base_x_m,", 0), 0u) << csvHeader();
+  using K = ClearanceKind;
+  for (K k1 : {K::Ideal, K::Planar, K::Spatial}) {
+    for (K k2 : {K::Ideal, K::Planar, K::Spatial}) {
+      const std::string h = csvHeader(outputColumns(k1, k2));
+      expectIdentifiers(h);
+      EXPECT_EQ(h.rfind("t_s,base_x_m,", 0), 0u) << h;
+    }
+  }
+}
+
+/// The names of a header line, without units.
+std::string headerTail(const std::string& h, const std::string& after) {
+  const std::size_t at = h.find(after);
+  return at == std::string::npos ? "(no " + after + ")" : h.substr(at + after.size());
+}
+
+TEST(CsvFormat, AScenesColumnsFollowItsJointKinds) {
+  // The paper's kinds (an ideal joint 1) write the 42 columns they always
+  // did; a clearance joint 1 adds its six, each spatial joint its five, in
+  // this order after the energy.
+  using K = ClearanceKind;
+  for (K k2 : {K::Ideal, K::Planar}) {
+    const std::string h = csvHeader(outputColumns(K::Ideal, k2));
+    EXPECT_EQ(std::count(h.begin(), h.end(), ','), 41) << h;
+    EXPECT_EQ(headerTail(h, ",mom_lz_Nms,"), "energy_J\n");
+  }
+  EXPECT_EQ(headerTail(csvHeader(outputColumns(K::Planar, K::Planar)), ",energy_J,"),
+            "ecc1_x_m,ecc1_y_m,ecc1_m,delta1_m,fn1_N,ft1_N\n");
+  EXPECT_EQ(headerTail(csvHeader(outputColumns(K::Ideal, K::Spatial)), ",energy_J,"),
+            "tilt2_rad,delta2_minus_m,delta2_plus_m,fn2_minus_N,fn2_plus_N\n");
+  EXPECT_EQ(headerTail(csvHeader(outputColumns(K::Spatial, K::Planar)), ",ft1_N,"),
+            "tilt1_rad,delta1_minus_m,delta1_plus_m,fn1_minus_N,fn1_plus_N\n");
+  const std::string both = csvHeader(outputColumns(K::Spatial, K::Spatial));
+  EXPECT_EQ(std::count(both.begin(), both.end(), ','), 42 + 6 + 5 + 5 - 1) << both;
+  // A row writes the same columns as its header.
+  Row r{};
+  r.tilt2 = 0.5;
+  std::string line;
+  appendCsvRow(line, r, outputColumns(K::Ideal, K::Spatial));
+  EXPECT_EQ(std::count(line.begin(), line.end(), ','), 46) << line;
+  const std::string tail = ",0,0.5,0,0,0,0\n";  // energy, then tilt2 .. fn2_plus
+  EXPECT_EQ(line.substr(line.size() - tail.size()), tail) << line;
 }
 
 }  // namespace

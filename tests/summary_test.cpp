@@ -112,6 +112,69 @@ TEST(Summary, ClearanceJointsCountTheirOwnImpactsAndTilt) {
   EXPECT_FALSE(ideal.contains("clearance_joints"));
 }
 
+TEST(Summary, EachBearingEndAgreesWithTheRowsAndTheGeometry) {
+  // Both joints spatial, a row every step: the per-end columns and the
+  // summary's ends hold together, and each row obeys the bearing's geometry.
+  // The two end points of the journal axis lie L tan(gamma) apart in the end
+  // planes' projection and the mid-plane centre p is their midpoint, so
+  // |delta_plus - delta_minus| <= L tan(gamma) and |p| <= c + mean delta.
+  const Scene sc = test::scene("paper_both_spatial", {"sim.duration=0.4", "sim.output_interval=2.5e-4"});
+  std::vector<Row> rows;
+  const RunResult r = simulate(sc, [&](const Row& row) { rows.push_back(row); });
+  ASSERT_TRUE(r.ok) << r.error;
+  const nlohmann::json j = io::runSummary(sc.model, r, "paper_both_spatial.yaml", "rk4");
+  struct JointCols {
+    double Row::*ecc, Row::*delta, Row::*fn, Row::*tilt, Row::*d_minus, Row::*d_plus, Row::*f_minus, Row::*f_plus;
+    const char* name;
+    const ContactParams& cp;
+  };
+  const JointCols joints[2] = {
+      {&Row::ecc1, &Row::delta1, &Row::fn1, &Row::tilt1, &Row::delta1_minus, &Row::delta1_plus, &Row::fn1_minus,
+       &Row::fn1_plus, "joint1", sc.model.contact1},
+      {&Row::ecc, &Row::delta, &Row::fn, &Row::tilt2, &Row::delta2_minus, &Row::delta2_plus, &Row::fn2_minus,
+       &Row::fn2_plus, "joint2", sc.model.contact}};
+  long long all_ends = 0;
+  for (const JointCols& jc : joints) {
+    SCOPED_TRACE(jc.name);
+    const nlohmann::json& o = j["clearance_joints"][jc.name];
+    ASSERT_TRUE(o.contains("ends")) << o.dump();
+    const long long n_minus = o["ends"]["minus"]["impacts"].get<long long>();
+    const long long n_plus = o["ends"]["plus"]["impacts"].get<long long>();
+    EXPECT_EQ(n_minus + n_plus, o["impacts"].get<long long>());
+    all_ends += n_minus + n_plus;
+    const double L = jc.cp.bearing_length, c = jc.cp.clearance;
+    double peak_minus = 0.0, peak_plus = 0.0, max_tilt = 0.0;
+    long long onsets_minus = 0, onsets_plus = 0, asymmetric = 0;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const Row& w = rows[i];
+      const double dm = w.*jc.d_minus, dp = w.*jc.d_plus, tilt = w.*jc.tilt;
+      ASSERT_LE(std::abs(dp - dm), L * std::tan(tilt) * (1.0 + 1e-9) + 1e-15) << "t = " << w.t;
+      ASSERT_LE(w.*jc.ecc, c + 0.5 * (dm + dp) + 1e-15) << "t = " << w.t;
+      EXPECT_EQ(w.*jc.delta, std::max(dm, dp));
+      // Hertz: a force only where the end penetrates.
+      if (!(dm > 0.0)) EXPECT_EQ(w.*jc.f_minus, 0.0) << "t = " << w.t;
+      if (!(dp > 0.0)) EXPECT_EQ(w.*jc.f_plus, 0.0) << "t = " << w.t;
+      EXPECT_NEAR(w.*jc.fn, w.*jc.f_minus + w.*jc.f_plus, 1e-12 * (1.0 + w.*jc.fn));
+      if (dm > 0.0 && !(dp > 0.0)) ++asymmetric;
+      peak_minus = std::max(peak_minus, w.*jc.f_minus), peak_plus = std::max(peak_plus, w.*jc.f_plus);
+      max_tilt = std::max(max_tilt, tilt);
+      if (i > 0 && dm > 0.0 && !((rows[i - 1].*jc.d_minus) > 0.0)) ++onsets_minus;
+      if (i > 0 && dp > 0.0 && !((rows[i - 1].*jc.d_plus) > 0.0)) ++onsets_plus;
+    }
+    EXPECT_GT(asymmetric, 0) << "a tilted journal touches at one end alone";
+    EXPECT_GE(n_minus, onsets_minus);
+    EXPECT_GE(n_plus, onsets_plus);
+    EXPECT_GT(onsets_minus + onsets_plus, 0);
+    EXPECT_GE(o["ends"]["minus"]["peak_contact_force_N"].get<double>(), peak_minus);
+    EXPECT_GE(o["ends"]["plus"]["peak_contact_force_N"].get<double>(), peak_plus);
+    EXPECT_EQ(o["peak_contact_force_N"].get<double>(), std::max(o["ends"]["minus"]["peak_contact_force_N"].get<double>(),
+                                                                 o["ends"]["plus"]["peak_contact_force_N"].get<double>()));
+    EXPECT_GE(o["max_tilt_rad"].get<double>(), max_tilt);
+    EXPECT_GT(max_tilt, 0.0);
+  }
+  EXPECT_EQ(all_ends, j["impacts"].get<long long>());
+}
+
 TEST(Summary, ThePeakForceOfBothIntegratorsAgrees) {
   const Scene sc = test::scene("paper_clearance", {"sim.duration=0.3", "friction.law=coulomb_stick"});
   const RunResult a = simulate(sc, [](const Row&) {}, IntegratorKind::Rk4);

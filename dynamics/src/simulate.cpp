@@ -71,6 +71,21 @@ std::string describeStop(const Model& m, const StepResult& st) {
   return os.str();
 }
 
+/// The normal force at each contact end of V in row r (joint 1's ends
+/// first, as RunStats::peak_fn_end).
+template <class V>
+std::array<double, 4> endForces(const Row& r) {
+  std::array<double, 4> f{};
+  auto put = [&f](int j, ClearanceKind k, double sum, double minus, double plus) {
+    const int e = V::firstEnd(j);
+    if (k == ClearanceKind::Planar) f[e] = sum;
+    if (k == ClearanceKind::Spatial) f[e] = minus, f[e + 1] = plus;
+  };
+  put(0, V::kKind1, r.fn1, r.fn1_minus, r.fn1_plus);
+  put(1, V::kKind2, r.fn, r.fn2_minus, r.fn2_plus);
+  return f;
+}
+
 template <class V>
 RunResult run(const Model& m, const RunSpec& spec, const std::function<void(const Row&)>& sink, IntegratorKind kind,
               const std::function<bool()>& stop) {
@@ -118,6 +133,13 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
       at_rows.t_peak_fn = r.t;
     }
     at_rows.max_penetration = std::max(at_rows.max_penetration, r.delta);
+    const std::array<double, 4> fe = endForces<V>(r);
+    for (int e = 0; e < V::NC; ++e) {
+      at_rows.peak_fn_end[e] = std::max(at_rows.peak_fn_end[e], fe[e]);
+      at_rows.peak_fn_joint[V::endJoint(e)] = std::max(at_rows.peak_fn_joint[V::endJoint(e)], fe[e]);
+    }
+    at_rows.max_tilt_joint[0] = std::max(at_rows.max_tilt_joint[0], r.tilt1);
+    at_rows.max_tilt_joint[1] = std::max(at_rows.max_tilt_joint[1], r.tilt2);
     if (r.joint2_force > res.peak_joint2_force) {
       res.peak_joint2_force = r.joint2_force;
       res.t_peak_joint2_force = r.t;
@@ -170,6 +192,11 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
     d.stats.t_peak_fn = at_rows.t_peak_fn;
   }
   d.stats.max_penetration = std::max(d.stats.max_penetration, at_rows.max_penetration);
+  for (int j = 0; j < 2; ++j) {
+    d.stats.peak_fn_joint[j] = std::max(d.stats.peak_fn_joint[j], at_rows.peak_fn_joint[j]);
+    d.stats.max_tilt_joint[j] = std::max(d.stats.max_tilt_joint[j], at_rows.max_tilt_joint[j]);
+  }
+  for (int e = 0; e < 4; ++e) d.stats.peak_fn_end[e] = std::max(d.stats.peak_fn_end[e], at_rows.peak_fn_end[e]);
   res.stats = d.stats;
   res.in_contact_at_end = s.anyInContact();
   res.final_q.assign(s.q.data(), s.q.data() + V::NQ);

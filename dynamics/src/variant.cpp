@@ -2,11 +2,15 @@
 
 namespace gimbalsim {
 
+const char* kindName(ClearanceKind k) {
+  static const char* const kKind[] = {"ideal", "planar", "spatial"};
+  return kKind[static_cast<int>(k)];
+}
+
 std::string shapeName(bool floating, ClearanceKind k1, ClearanceKind k2, bool friction) {
   std::string s = floating ? "floating" : "fixed";
   // The paper's names for joint 1 ideal; a clearance joint 1 adds its kind.
-  static const char* const kKind[] = {"ideal", "planar", "spatial"};
-  if (k1 != ClearanceKind::Ideal) s += std::string("_") + kKind[static_cast<int>(k1)] + "1";
+  if (k1 != ClearanceKind::Ideal) s += std::string("_") + kindName(k1) + "1";
   s += k2 == ClearanceKind::Ideal ? "_ideal" : k2 == ClearanceKind::Planar ? "_clearance" : "_spatial";
   if (friction) s += "_friction";
   return s;

@@ -164,7 +164,8 @@ def controller_keys():
 
 class Run:
     """A whole run: ``rows`` (N, len(COLUMNS)), ``columns`` (dict of numpy
-    arrays named as ``COLUMNS``: the CSV columns without their unit suffix), ``summary`` (the summary JSON as a dict),
+    arrays named as its scene's ``Scene.columns``: the CSV columns without
+    their unit suffix), ``summary`` (the summary JSON as a dict),
     ``scene`` (the Scene it ran). A run stopped by numerical trouble holds the
     good rows; ``summary["status"]`` is "failed" and ``summary["stop"]`` names
     the limit, as on the command line."""
@@ -173,7 +174,8 @@ class Run:
         self.rows = rows
         self.summary = summary
         self.scene = scene
-        self.columns = {name: rows[:, i] for i, name in enumerate(COLUMNS)}
+        names = scene.columns if scene is not None else COLUMNS
+        self.columns = {name: rows[:, COLUMNS.index(name)] for name in names}
 
     @property
     def ok(self):
@@ -184,7 +186,7 @@ class Run:
         byte for byte, by the command line's output rules (OSError): its
         folder must exist; a link, a non-file or the run's scene file is refused."""
         inputs = [self.scene.path] if self.scene is not None else []
-        _gimbalsim._write_csv(_check_path(path, "output path"), self.rows, inputs)
+        _gimbalsim._write_csv(_check_path(path, "output path"), self.rows, inputs, list(self.columns))
 
     def __repr__(self):
         scene = self.summary.get("scene") or (self.scene.path if self.scene is not None else "?")

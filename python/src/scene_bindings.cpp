@@ -37,20 +37,35 @@ PyScene replaced(const PyScene& s, const std::vector<std::string>& overrides) {
   return loadPyScene("", s.path, all);
 }
 
-/// Writes the CSV text of rows (n x kNumColumns) to path, by the rules of
-/// every output (io/output_file.hpp: its folder must exist, no link, never
-/// one of `inputs`); raises OSError naming the file.
+/// The column set of `names` (each one of kColumns, in Row order): the
+/// columns a Run's CSV shows (Scene.columns).
+ColumnSet columnSet(const std::vector<std::string>& names) {
+  ColumnSet cols;
+  int next = 0;
+  for (const std::string& name : names) {
+    const auto* it = std::find(kColumns.begin() + next, kColumns.end(), std::string_view(name));
+    if (it == kColumns.end()) throw std::invalid_argument("columns: '" + name + "' is not a column, or out of order");
+    next = static_cast<int>(it - kColumns.begin());
+    cols.index[cols.count++] = next++;
+  }
+  return cols;
+}
+
+/// Writes the CSV text of the columns `names` of rows (n x kNumColumns) to
+/// path, by the rules of every output (io/output_file.hpp: its folder must
+/// exist, no link, never one of `inputs`); raises OSError naming the file.
 void writeCsv(const std::string& path, pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast> rows,
-              const std::vector<std::string>& inputs) {
+              const std::vector<std::string>& inputs, const std::vector<std::string>& names) {
   checkPath(path, "output path");
   for (const std::string& in : inputs) checkPath(in, "input path");
   if (rows.ndim() != 2 || rows.shape(1) != kNumColumns) {
     throw std::invalid_argument("rows must be an (N, " + std::to_string(kNumColumns) + ") array");
   }
-  std::string text = io::csvHeader();
+  const ColumnSet cols = columnSet(names);
+  std::string text = io::csvHeader(cols);
   const double* p = rows.data();
   for (pyb::ssize_t i = 0; i < rows.shape(0); ++i) {
-    io::appendCsvRow(text, std::span<const double, kNumColumns>(p + i * kNumColumns, kNumColumns));
+    io::appendCsvRow(text, std::span<const double, kNumColumns>(p + i * kNumColumns, kNumColumns), cols);
   }
   try {
     io::OutputFile out(path, inputs);
@@ -98,6 +113,16 @@ void bindScene(pyb::module_& m) {
       .def_property_readonly("variant", [](const PyScene& s) { return variantName(s.scene().model); },
                              "the compiled variant it runs as, e.g. floating_clearance_friction")
       .def_property_readonly("warnings", [](const PyScene& s) { return s.scene().warnings; })
+      .def_property_readonly(
+          "columns",
+          [](const PyScene& s) {
+            const ColumnSet cols = io::outputColumns(s.scene().model);
+            pyb::tuple t(cols.count);
+            for (int k = 0; k < cols.count; ++k) t[k] = pyb::str(kColumns[cols.index[k]]);
+            return t;
+          },
+          "the output columns this scene writes, a subset of COLUMNS in its order (the CSV's, without units): "
+          "joint 1's when it has clearance, tilt and per-end ones for a spatial joint")
       .def_property_readonly("step", [](const PyScene& s) { return s.scene().model.integrator.step; }, "sim.step [s]")
       .def_property_readonly("duration", [](const PyScene& s) { return s.scene().run.duration; }, "sim.duration [s]")
       .def_property_readonly("output_interval", [](const PyScene& s) { return s.scene().run.output_interval; },
@@ -148,7 +173,7 @@ void bindScene(pyb::module_& m) {
       },
       pyb::arg("scene"), pyb::arg("integrator"));
 
-  m.def("_write_csv", &writeCsv, pyb::arg("path"), pyb::arg("rows"), pyb::arg("inputs"));
+  m.def("_write_csv", &writeCsv, pyb::arg("path"), pyb::arg("rows"), pyb::arg("inputs"), pyb::arg("columns"));
 }
 
 }  // namespace gimbalsim::py

@@ -14,6 +14,7 @@
 #include "gimbalsim/dynamics/saved_state.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/dynamics/simulator.hpp"
+#include "gimbalsim/run_output/run_output.hpp"
 
 namespace gimbalsim::py {
 
@@ -37,10 +38,11 @@ namespace pyb = pybind11;
 
 namespace {
 
-pyb::dict rowDict(const Row& r) {
+/// The columns of r the simulator's scene writes (io::outputColumns), by name.
+pyb::dict rowDict(const Row& r, const ColumnSet& cols) {
   pyb::dict d;
   const double* p = rowData(r);
-  for (int i = 0; i < kNumColumns; ++i) d[kColumns[i]] = p[i];
+  for (int k = 0; k < cols.count; ++k) d[kColumns[cols.index[k]]] = p[cols.index[k]];
   return d;
 }
 
@@ -175,8 +177,11 @@ void bindSimulator(pyb::module_& m) {
           },
           pyb::arg("torques"),
           "one step per row of torques (N, 2) [N m]; returns the (N, len(COLUMNS)) output rows after each step")
-      .def("output", [](PySimulator& p) { return rowDict(locked(p, [](Simulator& s) { return s.output(); })); },
-           "the current output row as a dict (keys as COLUMNS: the CSV columns without their unit suffix)")
+      .def("output",
+           [](PySimulator& p) {
+             return rowDict(locked(p, [](Simulator& s) { return s.output(); }), io::outputColumns(p.sim.model()));
+           },
+           "the current output row as a dict: the scene's CSV columns without their unit suffix (Scene.columns)")
       .def("_output_array",
            [](PySimulator& p) {
              const Row r = locked(p, [](Simulator& s) { return s.output(); });

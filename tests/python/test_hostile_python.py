@@ -310,7 +310,7 @@ def test_a_path_with_a_nul_is_refused_everywhere(tmp_path):
                                                             faults=str(SCENES) + "\0x"),
         "Run.to_csv": lambda: run.to_csv(str(tmp_path / "out.csv") + "\0.bak"),
         "_load_scene": lambda: gimbalsim._gimbalsim._load_scene(good + "\0x", []),
-        "_write_csv": lambda: gimbalsim._gimbalsim._write_csv(str(tmp_path / "out.csv") + "\0x", run.rows, []),
+        "_write_csv": lambda: gimbalsim._gimbalsim._write_csv(str(tmp_path / "out.csv") + "\0x", run.rows, [], list(run.columns)),
         "_Controller": lambda: gimbalsim._gimbalsim.Controller(str(CONTROLLER_CONFIG) + "\0x", []),
     }
     for name, call in calls.items():

@@ -14,6 +14,7 @@ CASES = [
                          "friction.law": "coulomb_stick",
                          "initial.ecc": [1.0e-4, -5.0e-5], "sim.duration": 2.0}),
     ("stickslip_clearance", {"sim.duration": 1.0}),
+    ("paper_both_spatial", {"sim.duration": 0.3, "structure.joint1": "planar"}),  # joint 1's and the per-end columns
 ]
 TIMES = {"wall_time_s", "step_time_s"}
 
@@ -40,6 +41,36 @@ def test_csv_bytes_and_summary_equal_the_command_line(name, overrides, tmp):
     header = cli_csv.split(b"\n", 1)[0].decode().split(",")
     assert len(header) == len(run.columns)
     assert all(h == c or h.startswith(c + "_") for c, h in zip(run.columns, header)), header
+    assert tuple(run.columns) == run.scene.columns
+
+
+def test_a_scenes_columns_follow_its_joint_kinds():
+    # The paper's kinds keep their 42 columns; a clearance joint 1 adds its six, a spatial joint its five.
+    def cols(name, **over):
+        return gimbalsim.load_scene(scene_path(name), over).columns
+    paper = cols("paper_clearance")
+    assert len(paper) == 42 and paper[-1] == "energy" and cols("paper_ideal") == paper
+    assert cols("paper_both_planar")[42:] == ("ecc1_x", "ecc1_y", "ecc1", "delta1", "fn1", "ft1")
+    assert cols("paper_spatial2")[42:] == ("tilt2", "delta2_minus", "delta2_plus", "fn2_minus", "fn2_plus")
+    both = cols("paper_both_spatial")
+    assert both == tuple(c for c in gimbalsim.COLUMNS if c in both) and len(both) == len(gimbalsim.COLUMNS)
+    sim = gimbalsim.Simulator(gimbalsim.load_scene(scene_path("paper_spatial2")))
+    assert tuple(sim.output()) == cols("paper_spatial2")
+
+
+def test_the_tilt_column_is_the_journals_tilt(tmp):
+    # A spatial elevation journal tilts in the paper's manoeuvre, up to about its bearing's 2c/L.
+    scene = gimbalsim.load_scene(scene_path("paper_spatial2"), {"sim.duration": 0.5})
+    run = gimbalsim.simulate(scene)
+    assert run.ok, run.summary.get("error")
+    tilt = run.columns["tilt2"]
+    v = {k: float(x) for k, x in scene.values().items() if k in ("contact.bearing_radius", "contact.journal_radius",
+                                                                  "contact.bearing_length")}
+    limit = 2 * (v["contact.bearing_radius"] - v["contact.journal_radius"]) / v["contact.bearing_length"]
+    assert 0.1 * limit < tilt.max() < 1.2 * limit
+    assert tilt.max() <= run.summary["clearance_joints"]["joint2"]["max_tilt_rad"]
+    ends = run.summary["clearance_joints"]["joint2"]["ends"]
+    assert ends["minus"]["impacts"] + ends["plus"]["impacts"] == run.summary["impacts"]
 
 
 def test_a_stopped_run_keeps_its_good_rows_and_names_the_limit(tmp):

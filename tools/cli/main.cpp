@@ -20,11 +20,13 @@ using gimbalsim::Row;
 /// keeps what it computed; the name appears when the run has ended.
 class CsvWriter {
  public:
-  explicit CsvWriter(const std::string& path) : file_(path) { file_.write(gimbalsim::io::csvHeader()); }
+  CsvWriter(const std::string& path, const gimbalsim::ColumnSet& cols) : file_(path), cols_(cols) {
+    file_.write(gimbalsim::io::csvHeader(cols_));
+  }
   bool ok() const { return file_.ok(); }
   void write(const Row& r) {
     line_.clear();
-    gimbalsim::io::appendCsvRow(line_, r);
+    gimbalsim::io::appendCsvRow(line_, r, cols_);
     file_.write(line_);
   }
   gimbalsim::io::OutputFile& file() { return file_; }
@@ -32,6 +34,7 @@ class CsvWriter {
 
  private:
   gimbalsim::io::OutputFile file_;
+  gimbalsim::ColumnSet cols_;  ///< the scene's columns (joint kinds)
   std::string line_;
 };
 
@@ -86,7 +89,7 @@ int mainImpl(int argc, char** argv) {
   std::optional<gimbalsim::io::OutputFile> summary_file;
   try {
     gimbalsim::io::checkOutputPaths({out, summary}, {scene});
-    csv.emplace(out);
+    csv.emplace(out, gimbalsim::io::outputColumns(m));
     if (!summary.empty()) summary_file.emplace(summary);
   } catch (const gimbalsim::io::OutputError& e) {
     std::fprintf(stderr, "error: %s\ngimbalsim: output refused, nothing simulated\n", e.what());

@@ -6,16 +6,19 @@
 
 namespace gimbalsim::io {
 
-std::string csvHeader() {
+std::string csvHeader(const ColumnSet& cols) {
   std::string h;
-  for (int i = 0; i < kNumColumns; ++i) h.append(i ? "," : "").append(csvName(kColumns[i], kColumnUnits[i]));
+  for (int k = 0; k < cols.count; ++k) {
+    const int i = cols.index[k];
+    h.append(k ? "," : "").append(csvName(kColumns[i], kColumnUnits[i]));
+  }
   return h + "\n";
 }
 
-void appendCsvRow(std::string& out, std::span<const double, kNumColumns> row) {
-  for (int i = 0; i < kNumColumns; ++i) {
-    if (i) out += ',';
-    appendCsvNumber(out, row[i]);
+void appendCsvRow(std::string& out, std::span<const double, kNumColumns> row, const ColumnSet& cols) {
+  for (int k = 0; k < cols.count; ++k) {
+    if (k) out += ',';
+    appendCsvNumber(out, row[cols.index[k]]);
   }
   out += '\n';
 }
@@ -65,14 +68,21 @@ nlohmann::json runSummary(const Model& m, const RunResult& r, const std::string&
       {"integrator", {{"kind", integrator_kind}, {"step_s", m.integrator.step}}}};
   // Per clearance joint: its kind, impacts at its ends, largest normal force
   // at any of its ends and, for a spatial joint, the largest tilt angle.
-  static const char* const kKind[] = {"ideal", "planar", "spatial"};
   for (int jt = 0; jt < 2; ++jt) {
     const ClearanceKind kind = jt == 0 ? m.joint1_kind : m.joint2_kind;
     if (kind == ClearanceKind::Ideal) continue;
-    json o = {{"kind", kKind[static_cast<int>(kind)]},
+    json o = {{"kind", kindName(kind)},
               {"impacts", st.impacts_joint[jt]},
               {"peak_contact_force_N", st.peak_fn_joint[jt]}};
-    if (kind == ClearanceKind::Spatial) o["max_tilt_rad"] = st.max_tilt_joint[jt];
+    if (kind == ClearanceKind::Spatial) {
+      // Its two bearing ends, -L/2 and +L/2 along the bearing axis k.
+      const int e0 = jt == 0 ? 0 : contactEnds(m.joint1_kind);
+      o["max_tilt_rad"] = st.max_tilt_joint[jt];
+      for (int side = 0; side < 2; ++side) {
+        o["ends"][side == 0 ? "minus" : "plus"] = {{"impacts", st.impacts_end[e0 + side]},
+                                                   {"peak_contact_force_N", st.peak_fn_end[e0 + side]}};
+      }
+    }
     j["clearance_joints"][jt == 0 ? "joint1" : "joint2"] = o;
   }
   if (r.integrator == IntegratorKind::Rk4) {

@@ -314,7 +314,9 @@ void validate(const Scene& s, Given& g) {
   } else if (const std::string why_out = wholeMultipleProblem(s.run.output_interval, p.step, "sim.step");
              !(r <= RunBounds::kMaxSteps) || !why_out.empty()) {
     g.refuse("sim.output_interval", why_out.empty() ? "gives more than " + formatNumber(RunBounds::kMaxSteps) + " steps" : why_out);
-  } else if (const double bytes = (std::floor(n_steps / std::round(r)) + 2) * kNumColumns * RunBounds::kCsvValueBytes;
+  } else if (const double bytes = (std::floor(n_steps / std::round(r)) + 2) *
+                                  outputColumns(s.model.joint1_kind, s.model.joint2_kind).count *
+                                  RunBounds::kCsvValueBytes;
              !(bytes <= RunBounds::kMaxOutputBytes)) {
     g.refuse("sim.duration", "would write up to " + formatNumber(bytes) + " bytes of CSV (more than " +
                                  formatNumber(RunBounds::kMaxOutputBytes) + "): shorten it or raise sim.output_interval");

@@ -69,6 +69,7 @@ void enterContactSide(const Model& m, Data<V>& d, State<V>& x, const Input& u, i
     x.v0[e] = onsetVelocity(m, d, x, u, e);
     ++d.stats.impacts;
     ++d.stats.impacts_joint[V::endJoint(e)];
+    ++d.stats.impacts_end[e];
     d.stats.last_onset_time = x.t;
     if constexpr (V::kStick) {
       if (m.contact.friction == FrictionLaw::CoulombStick) enterFrictionMode(m, d, x, u, true);

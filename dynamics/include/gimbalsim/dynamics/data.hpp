@@ -38,6 +38,9 @@ struct RunStats {
   std::array<long long, 2> impacts_joint{};  ///< onsets per gimbal joint (azimuth, elevation)
   std::array<double, 2> peak_fn_joint{};     ///< largest F_n at any end of each joint [N]
   std::array<double, 2> max_tilt_joint{};    ///< largest tilt angle gamma of each spatial joint [rad]
+  /// per contact end (joint 1's first, a spatial joint's -L/2 end then +L/2):
+  std::array<long long, 4> impacts_end{};    ///< onsets
+  std::array<double, 4> peak_fn_end{};       ///< largest F_n [N]
   double last_onset_time = -1.0;    ///< [s]
   double peak_fn = 0.0, t_peak_fn = 0.0;        ///< [N], [s]
   double peak_contact = 0.0, t_peak_contact = 0.0;  ///< |F_n n + F_t t| [N], [s]

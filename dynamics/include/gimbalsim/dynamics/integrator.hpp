@@ -48,6 +48,7 @@ void recordContactPeaks(Data<V>& d, double t) {
     st.max_penetration = std::max(st.max_penetration, c.delta);
     double& peak_j = st.peak_fn_joint[V::endJoint(e)];
     peak_j = std::max(peak_j, c.fn);
+    st.peak_fn_end[e] = std::max(st.peak_fn_end[e], c.fn);
   }
   if constexpr (Data<V>::kSpatial) {
     // the tilt at the sub-step's start (d.spatial holds the last evaluation's)

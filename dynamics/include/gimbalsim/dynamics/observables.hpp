@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string_view>
 
 #include "gimbalsim/dynamics/forward_dynamics.hpp"
 
@@ -30,6 +31,15 @@ struct Row {
   double mom_px, mom_py, mom_pz;               ///< total linear momentum, inertial [N s]
   double mom_lx, mom_ly, mom_lz;               ///< total angular momentum about O [N m s]
   double energy;                               ///< total kinetic energy [J]
+  // Joint 1 (azimuth) with clearance, as ecc_x .. ft for joint 2, in joint
+  // 1's bearing basis (u1, u2); a spatial joint's are those of its mid-plane.
+  double ecc1_x, ecc1_y, ecc1;                 ///< eccentricity, joint-1 mid-plane [m]
+  double delta1;                               ///< deeper end's penetration [m]
+  double fn1, ft1;                             ///< normal, friction force summed over its ends [N]
+  // Spatial joints: the tilt angle gamma and each bearing end's penetration
+  // and normal force, the end at -L/2 along k ("minus") and at +L/2 ("plus").
+  double tilt1, delta1_minus, delta1_plus, fn1_minus, fn1_plus;  ///< [rad], [m], [m], [N], [N]
+  double tilt2, delta2_minus, delta2_plus, fn2_minus, fn2_plus;  ///< [rad], [m], [m], [N], [N]
 };
 inline constexpr int kNumColumns = sizeof(Row) / sizeof(double);
 inline constexpr std::array<const char*, kNumColumns> kColumns = {
@@ -38,7 +48,10 @@ inline constexpr std::array<const char*, kNumColumns> kColumns = {
     "base_wy",  "base_wz",  "base_dwx", "base_dwy",   "base_dwz",  "theta1",   "theta2",
     "dtheta1",  "dtheta2",  "ddtheta1", "ddtheta2",   "ecc_x",     "ecc_y",    "ecc",
     "delta",    "fn",       "ft",       "joint2_force", "bore_x",  "bore_y",   "bore_z",
-    "mom_px",   "mom_py",   "mom_pz",   "mom_lx",     "mom_ly",    "mom_lz",   "energy"};
+    "mom_px",   "mom_py",   "mom_pz",   "mom_lx",     "mom_ly",    "mom_lz",   "energy",
+    "ecc1_x",   "ecc1_y",   "ecc1",     "delta1",     "fn1",       "ft1",
+    "tilt1",    "delta1_minus", "delta1_plus", "fn1_minus", "fn1_plus",
+    "tilt2",    "delta2_minus", "delta2_plus", "fn2_minus", "fn2_plus"};
 /// The unit of each column ("-": none), for the CSV header (io::csvName: t_s, base_x_m, bore_x).
 inline constexpr std::array<const char*, kNumColumns> kColumnUnits = {
     "s",       "m",       "m",       "m",       "m/s",     "m/s",     "m/s",
@@ -46,8 +59,33 @@ inline constexpr std::array<const char*, kNumColumns> kColumnUnits = {
     "rad/s",   "rad/s",   "rad/s^2", "rad/s^2", "rad/s^2", "rad",     "rad",
     "rad/s",   "rad/s",   "rad/s^2", "rad/s^2", "m",       "m",       "m",
     "m",       "N",       "N",       "N",       "-",       "-",       "-",
-    "N s",     "N s",     "N s",     "N m s",   "N m s",   "N m s",   "J"};
+    "N s",     "N s",     "N s",     "N m s",   "N m s",   "N m s",   "J",
+    "m",       "m",       "m",       "m",       "N",       "N",
+    "rad",     "m",       "m",       "N",       "N",
+    "rad",     "m",       "m",       "N",       "N"};
 inline const double* rowData(const Row& r) { return &r.t; }
+
+/// Columns a run writes: the first kBaseColumns always (an ideal joint 2's
+/// ecc .. ft are 0), joint 1's six when it has clearance, the five tilt and
+/// per-end columns of each spatial joint. A row keeps every column (0 where
+/// the shape has none); the CSV and the Python package show this set.
+inline constexpr int kBaseColumns = 42;
+static_assert(kColumns[kBaseColumns - 1] == std::string_view("energy"), "base columns end at energy");
+struct ColumnSet {
+  std::array<int, kNumColumns> index{};  ///< into Row / kColumns, ascending
+  int count = 0;
+};
+constexpr ColumnSet outputColumns(ClearanceKind joint1, ClearanceKind joint2) {
+  ColumnSet c;
+  auto take = [&c](int first, int n) {
+    for (int i = first; i < first + n; ++i) c.index[c.count++] = i;
+  };
+  take(0, kBaseColumns);
+  if (joint1 != ClearanceKind::Ideal) take(kBaseColumns, 6);
+  if (joint1 == ClearanceKind::Spatial) take(kBaseColumns + 6, 5);
+  if (joint2 == ClearanceKind::Spatial) take(kBaseColumns + 11, 5);
+  return c;
+}
 /// No NaN or Inf in any column.
 inline bool rowFinite(const Row& r) {
   return std::all_of(rowData(r), rowData(r) + kNumColumns, [](double x) { return std::isfinite(x); });
@@ -161,6 +199,27 @@ Row observe(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
     Vec3 F = Vec3::Zero();
     for (const SpatialEnd& e : sc.end) F += -e.fn * e.n_B + e.ft_B;
     r.joint2_force = F.norm();
+  }
+  if constexpr (V::kKind1 == ClearanceKind::Planar) {
+    const ContactEval& c = d.contact[V::firstEnd(0)];
+    r.ecc1_x = s.q(PlanarGroup<V, 0>::QE), r.ecc1_y = s.q(PlanarGroup<V, 0>::QE + 1), r.ecc1 = c.e;
+    r.delta1 = c.delta;
+    r.fn1 = c.fn, r.ft1 = c.ft;
+  } else if constexpr (V::kKind1 == ClearanceKind::Spatial) {
+    const SpatialContact& sc = d.spatial[0];
+    r.ecc1_x = s.q(QJ + V::G1), r.ecc1_y = s.q(QJ + V::G1 + 1), r.ecc1 = std::hypot(r.ecc1_x, r.ecc1_y);
+    r.delta1 = std::fmax(sc.end[0].delta, sc.end[1].delta);
+    r.fn1 = sc.end[0].fn + sc.end[1].fn;
+    r.ft1 = sc.end[0].ft_B.norm() + sc.end[1].ft_B.norm();
+    r.tilt1 = sc.gamma;
+    r.delta1_minus = sc.end[0].delta, r.delta1_plus = sc.end[1].delta;
+    r.fn1_minus = sc.end[0].fn, r.fn1_plus = sc.end[1].fn;
+  }
+  if constexpr (V::kKind2 == ClearanceKind::Spatial) {
+    const SpatialContact& sc = d.spatial[1];
+    r.tilt2 = sc.gamma;
+    r.delta2_minus = sc.end[0].delta, r.delta2_plus = sc.end[1].delta;
+    r.fn2_minus = sc.end[0].fn, r.fn2_plus = sc.end[1].fn;
   }
   const Vec3 b = w.R[NJ - 1] * m.boresight_S2;
   r.bore_x = b.x(), r.bore_y = b.y(), r.bore_z = b.z();

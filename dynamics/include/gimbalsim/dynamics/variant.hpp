@@ -57,6 +57,8 @@ using FloatingIdeal = Variant<true, ClearanceKind::Ideal, ClearanceKind::Ideal, 
 using FloatingClearance = Variant<true, ClearanceKind::Ideal, ClearanceKind::Planar, false>;
 using FloatingClearanceFriction = Variant<true, ClearanceKind::Ideal, ClearanceKind::Planar, true>;
 
+/// "ideal", "planar" or "spatial", as the scene keys structure.joint1/2 name it.
+const char* kindName(ClearanceKind k);
 /// The name of a shape: floating|fixed, then _planar1|_spatial1 for a
 /// clearance joint 1, _ideal|_clearance (planar)|_spatial for joint 2,
 /// _friction (e.g. floating_clearance_friction, fixed_spatial1_spatial).

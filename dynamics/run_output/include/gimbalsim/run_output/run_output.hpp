@@ -12,13 +12,18 @@
 
 namespace gimbalsim::io {
 
-/// The CSV header line (each of kColumns with its unit, io::csvName, joined by ',', then '\n').
-std::string csvHeader();
+/// The columns a run of this model writes (observables.hpp, outputColumns).
+inline ColumnSet outputColumns(const Model& m) { return gimbalsim::outputColumns(m.joint1_kind, m.joint2_kind); }
 
-/// Appends one row (kNumColumns values, io::appendCsvNumber each) and '\n' to `out`.
-void appendCsvRow(std::string& out, std::span<const double, kNumColumns> row);
-inline void appendCsvRow(std::string& out, const Row& r) {
-  appendCsvRow(out, std::span<const double, kNumColumns>(rowData(r), kNumColumns));
+/// The CSV header line: each column of `cols` with its unit (io::csvName),
+/// joined by ',', then '\n'.
+std::string csvHeader(const ColumnSet& cols);
+
+/// Appends the columns `cols` of one full row (kNumColumns values, in Row
+/// order; io::appendCsvNumber each) and '\n' to `out`.
+void appendCsvRow(std::string& out, std::span<const double, kNumColumns> row, const ColumnSet& cols);
+inline void appendCsvRow(std::string& out, const Row& r, const ColumnSet& cols) {
+  appendCsvRow(out, std::span<const double, kNumColumns>(rowData(r), kNumColumns), cols);
 }
 
 /// The summary of a run, as `gimbalsim simulate --summary` writes it (dump(2)).
