@@ -55,6 +55,7 @@ class Figures {
     }
     r.max_abs_tau = r.max_abs_tau.cwiseMax(rec.tau_applied.cwiseAbs());
     r.max_attitude_error = std::max(r.max_attitude_error, rec.attitude_error);
+    r.max_tilt = r.max_tilt.cwiseMax(rec.tilt);
     if (rec.star_outage) ++r.star_outage_ticks;
     if (saturated) ++r.saturated_ticks;
   }
@@ -94,6 +95,7 @@ const char* nonFinite(const TickRecord& r) {
   if (!r.q_WB_est.coeffs().allFinite()) return "estimated base attitude";
   if (!std::isfinite(r.attitude_error)) return "attitude error";
   if (!r.los_error_true.allFinite() || !r.los_error_est.allFinite()) return "line-of-sight error vector";
+  if (!r.tilt.allFinite()) return "journal tilt";
   return "";
 }
 
@@ -146,6 +148,7 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     rec.t = t;
     rec.ref = a.ref;
     rec.theta_true = {truth.joint_angle[0], truth.joint_angle[1]};
+    rec.tilt = {truth.tilt[0], truth.tilt[1]};
     rec.theta_meas = a.theta_meas;
     rec.tau_cmd = a.tau_cmd;
     rec.tau_applied = {st.applied_torque[0], st.applied_torque[1]};

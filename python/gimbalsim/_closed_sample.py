@@ -90,7 +90,7 @@ def run_closed_sample(base, closed, overrides, series=False):
         reasons.insert(0, s["error"])
     # no commas in the text: the CSV stays one the project's readers (numpy) split right
     result = {"status": status, "reason": " | ".join(reasons).replace(",", ";"), "t_end": float(s["t_end_s"]),
-              "applied": applied}
+              "applied": applied, "max_tilt1": float(s["max_tilt_rad"][0]), "max_tilt2": float(s["max_tilt_rad"][1])}
     result.update({k: v.value for k, v in values.items()})
     if series:
         result["run"] = run

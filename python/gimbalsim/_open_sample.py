@@ -40,4 +40,15 @@ def run_sample(base, overrides, ideal_cache, series=False):
             "peak_contact_force": s["peak_contact_force_N"],
             "peak_joint2_force": s["peak_joint2_force_N"],
             "impacts": s["impacts"],
-            "continuous_contact_from": s["continuous_contact_from_s"]}
+            "continuous_contact_from": s["continuous_contact_from_s"],
+            **joint_metrics(s)}
+
+
+def joint_metrics(summary):
+    """impacts_joint1/2 and max_tilt1/2 from a run summary's clearance_joints."""
+    out = {}
+    for j in (1, 2):
+        o = summary.get("clearance_joints", {}).get(f"joint{j}", {})
+        out[f"impacts_joint{j}"] = o.get("impacts", 0)
+        out[f"max_tilt{j}"] = o.get("max_tilt_rad", 0.0)
+    return out

@@ -10,10 +10,14 @@ from ._spec import Spec
 from .dispersion import Design, check_within, design_size, parse_parameter
 
 METRICS = ["pointing_error_max", "pointing_error_final", "peak_contact_force", "peak_joint2_force", "impacts",
-           "continuous_contact_from"]
+           "continuous_contact_from", "impacts_joint1", "impacts_joint2", "max_tilt1", "max_tilt2"]
+# Per joint: impacts at its ends and the largest tilt of its journal (0 for a
+# joint without clearance or a planar one: it cannot tilt).
+JOINT_METRICS = ["max_tilt1", "max_tilt2"]  # a closed loop's, from the truth at its ticks
 METRIC_UNITS = {"pointing_error_max": "rad", "pointing_error_final": "rad", "peak_contact_force": "N",
                 "peak_joint2_force": "N", "impacts": "", "continuous_contact_from": "s", "wall_time": "s",
-                "t_end": "s"}  # a closed loop's index_phase columns are in rad
+                "t_end": "s", "impacts_joint1": "", "impacts_joint2": "", "max_tilt1": "rad",
+                "max_tilt2": "rad"}  # a closed loop's index_phase columns are in rad
 MAX_SAMPLES = 10_000_000
 
 
@@ -91,7 +95,7 @@ class SweepSpec:
                                        **({"closed_loop": self.closed.plain()} if self.closed else {})},
                                       sort_keys=True)
         # open loop: the metrics against the ideal-joint twin; closed loop: an index per phase, and why one is NaN
-        self.metrics = self.closed.metrics() + ["t_end"] if self.closed else METRICS
+        self.metrics = self.closed.metrics() + JOINT_METRICS + ["t_end"] if self.closed else METRICS
         self.text_columns = 1 if self.closed else 0
 
     def _try(self, spec, where, overrides, node):

@@ -57,7 +57,8 @@ struct Ticks {
       "t",          "ref1",         "ref2",         "profile1",       "profile2",       "theta1_true",
       "theta2_true", "theta1_meas", "theta2_meas",  "tau1_cmd",       "tau2_cmd",       "tau1_applied",
       "tau2_applied", "truth_error", "attitude_error", "star_outage", "segment",     "injected_faults",
-      "los_error_x", "los_error_y", "los_error_z", "los_error_est_x", "los_error_est_y", "los_error_est_z"};
+      "los_error_x", "los_error_y", "los_error_z", "los_error_est_x", "los_error_est_y", "los_error_est_z",
+      "tilt1",       "tilt2"};
   static constexpr int kN = sizeof(kNames) / sizeof(kNames[0]);
   std::vector<double> data;
   void add(const TickRecord& r) {
@@ -84,7 +85,9 @@ struct Ticks {
                             r.los_error_true(2),
                             r.los_error_est(0),
                             r.los_error_est(1),
-                            r.los_error_est(2)};
+                            r.los_error_est(2),
+                            r.tilt(0),
+                            r.tilt(1)};
     data.insert(data.end(), row, row + kN);
   }
 };
@@ -110,6 +113,7 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
   d["max_abs_tau_Nm"] = pyb::make_tuple(r.max_abs_tau(0), r.max_abs_tau(1));
   d["saturated_ticks"] = r.saturated_ticks;
   d["max_attitude_error_rad"] = r.max_attitude_error;
+  d["max_tilt_rad"] = pyb::make_tuple(r.max_tilt(0), r.max_tilt(1));
   d["star_outage_ticks"] = r.star_outage_ticks;
   d["ticks"] = r.ticks;
   // A figure over a window the run did not reach is NaN; "reasons" says why,
@@ -132,7 +136,7 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
 constexpr const char* kTickFigures[] = {
     "settle_time_s",           "max_joint_error_slew_rad",    "max_joint_error_hold_rad", "max_joint_error_track_rad",
     "max_truth_error_track_rad", "rms_truth_error_track_rad", "max_truth_error_hold_end_rad", "max_abs_tau_Nm",
-    "saturated_ticks",         "max_attitude_error_rad"};
+    "saturated_ticks",         "max_attitude_error_rad",    "max_tilt_rad"};
 
 /// A non-finite value in any tick is a stop with its reason, and no figure
 /// is reported over it (a max over NaN reads as 0.0): the figures become NaN
@@ -154,8 +158,8 @@ void guardNonFinite(const Ticks& ticks, pyb::dict& summary) {
     constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
     pyb::dict reasons = summary["reasons"];
     for (const char* figure : kTickFigures) {
-      summary[figure] = std::string(figure) == "max_abs_tau_Nm" ? pyb::object(pyb::make_tuple(kNaN, kNaN))
-                                                                 : pyb::object(pyb::float_(kNaN));
+      const bool pair = std::string(figure) == "max_abs_tau_Nm" || std::string(figure) == "max_tilt_rad";
+      summary[figure] = pair ? pyb::object(pyb::make_tuple(kNaN, kNaN)) : pyb::object(pyb::float_(kNaN));
       reasons[figure] = what;
     }
     return;

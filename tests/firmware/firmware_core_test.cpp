@@ -234,6 +234,43 @@ TEST(Firmware, EncoderAnglesAreMultiplesOfTheResolution) {
   EXPECT_GT(differs, 100) << "quantization must change the reading";
 }
 
+TEST(Firmware, ASpatialJointsEncoderReadsThetaAndTheTruthCarriesItsTilt) {
+  // paper_spatial2 without friction, torques that drive the journal into its
+  // bearing: the encoder reads the spin theta only, while the truth carries
+  // the tilt gamma of the journal axis z = Rot(x, alpha) Rot(y, beta) e_z =
+  // (sin b, -sin a cos b, cos a cos b) and each end's force. gamma =
+  // acos(cos a cos b), written as an atan2 so it keeps its digits near 0.
+  using Spatial = Variant<true, ClearanceKind::Ideal, ClearanceKind::Spatial, false>;
+  const double res = 1e-6;
+  const PlantScene sc = test::plant("paper_spatial2", {"friction.law=none", "sensors.encoder_resolution=1e-6"});
+  Firmware<Spatial> fw(sc, Config{});
+  constexpr int qg = State<Spatial>::QJ + Spatial::G2;  // [p_x, p_y, alpha, beta, theta]
+  double max_tilt = 0.0, max_fn = 0.0;
+  int one_end = 0;
+  for (int k = 0; k < 400; ++k) {
+    if (k >= 1) fw.receive(torqueCommand(k, k - 1, 5.0, 10.0));
+    const State<Spatial> x = fw.state();
+    fw.tick(k * 1000);
+    const Truth& t = fw.truth();
+    ASSERT_EQ(t.joint_angle[1], x.q(qg + 4)) << "tick " << k;
+    EXPECT_LE(std::fabs(fw.status().angle[1] - x.q(qg + 4)), 0.5 * res * (1 + 1e-9)) << "tick " << k;
+    const double a = x.q(qg + 2), b = x.q(qg + 3);
+    const double gamma = std::atan2(std::hypot(std::sin(b), std::sin(a) * std::cos(b)), std::cos(a) * std::cos(b));
+    EXPECT_NEAR(t.tilt[1], gamma, 1e-15) << "tick " << k;
+    EXPECT_EQ(t.tilt[0], 0.0);
+    EXPECT_EQ(t.eccentricity1[0], 0.0);
+    EXPECT_EQ(t.end_normal_force[0] + t.end_normal_force[1], 0.0) << "joint 1 is ideal";
+    EXPECT_NEAR(t.end_normal_force[2] + t.end_normal_force[3], t.contact_normal_force,
+                1e-12 * (1.0 + t.contact_normal_force));
+    EXPECT_EQ(t.penetration, std::max(t.end_penetration[2], t.end_penetration[3]));
+    if ((t.end_normal_force[2] > 0.0) != (t.end_normal_force[3] > 0.0)) ++one_end;
+    max_tilt = std::max(max_tilt, t.tilt[1]), max_fn = std::max(max_fn, t.contact_normal_force);
+  }
+  EXPECT_GT(max_tilt, 1e-3) << "the journal must tilt";
+  EXPECT_GT(max_fn, 0.0) << "and touch its bearing";
+  EXPECT_GT(one_end, 0) << "at one end alone";
+}
+
 TEST(Firmware, ACommandActsFromTheNextTickNotTheOneItArrivesIn) {
   const PlantScene sc = benchScene();
   const int k_change = 20;

@@ -35,7 +35,8 @@ TEST(PointingStudy, QuickRunWritesOneSummaryRowPerRun) {
   const gimbalsim::test::Csv sum = gimbalsim::test::Csv::read(dir + "/summary.csv");
   const std::vector<std::string> cols{"run",           "scene",        "sensors",     "clearance_m",
                                       "peak_track_rad", "rms_track_rad", "peak_run_rad", "track_ticks",
-                                      "saturated_ticks", "status",      "stop_reason",  "track_reason"};
+                                      "saturated_ticks", "joints",      "max_tilt1_rad", "max_tilt2_rad",
+                                      "status",        "stop_reason",  "track_reason"};
   EXPECT_EQ(sum.header, cols);
   ASSERT_EQ(sum.rows.size(), 3u);
   const auto rec = sum.records();
@@ -145,6 +146,14 @@ TEST(PointingStudy, SeveralClearanceScenesAreLabelledByScene) {
   // azimuth command at the limit most of the time; the planar play never.
   EXPECT_EQ(rec[1].at("saturated_ticks"), "0");
   EXPECT_GT(std::stoll(rec[2].at("saturated_ticks")), 100);
+  // The tilt behind it, from the plant's truth: the spatial journal rides
+  // near its bearing's 2c/L = 0.02 rad; the planar one and joint 1 never tilt.
+  EXPECT_EQ(rec[1].at("joints"), "ideal/planar");
+  EXPECT_EQ(rec[2].at("joints"), "ideal/spatial");
+  EXPECT_EQ(rec[1].at("max_tilt2_rad"), "0");
+  EXPECT_EQ(rec[2].at("max_tilt1_rad"), "0");
+  EXPECT_GT(std::stod(rec[2].at("max_tilt2_rad")), 0.005);
+  EXPECT_LT(std::stod(rec[2].at("max_tilt2_rad")), 0.024);
   const gimbalsim::test::Csv ts = gimbalsim::test::Csv::read(dir + "/pointing_error.csv");
   ASSERT_EQ(ts.header.size(), 4u);
   EXPECT_EQ(ts.header[3], "error_paper_spatial2_c0p5mm_rad");

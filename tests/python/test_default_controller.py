@@ -73,6 +73,21 @@ def test_closed_loop_with_the_default_controller_points():
     assert np.max(after) < 1e-4  # [rad]; the paper's controller settles to microradians
 
 
+def test_closed_loop_sees_the_tilt_no_encoder_sees():
+    # The plant's truth carries each journal's tilt: a spatial elevation journal
+    # tilts under the controller, a planar one never does.
+    def loop(name):
+        run = gimbalsim.closed_loop(gimbalsim.load_scene(scene_path(name)), None, 4.0)
+        assert run.ok, run.summary["error"]
+        return run
+    spatial, planar = loop("paper_spatial2"), loop("paper_clearance")
+    t1, t2 = spatial.summary["max_tilt_rad"]
+    assert t1 == 0.0 and t2 > 1e-3
+    assert t2 == np.max(spatial.columns["tilt2"])
+    assert planar.summary["max_tilt_rad"] == (0.0, 0.0)
+    assert not np.any(planar.columns["tilt2"])
+
+
 def _source_strings(binary):
     """Every NUL-terminated string in the binary that starts with the source folder."""
     data = binary.read_bytes()

@@ -67,6 +67,29 @@ def reference(spec, tmp_path_factory):
     return results(out)
 
 
+def test_a_spatial_bearings_sweep_reports_each_joints_impacts_and_tilt(tmp_path):
+    # The elevation journal tilts, up to about its bearing's 2c/L; the
+    # azimuth joint is ideal: no impacts, no tilt.
+    (tmp_path / "s.yaml").write_text(f"""
+scene: {SCENES}/paper_spatial2.yaml
+set: {{sim.duration: 0.3}}
+samples: 3
+seed: 1
+parameters:
+  contact.bearing_length: {{uniform: [0.04, 0.06]}}
+""")
+    run_sweep(tmp_path / "s.yaml", tmp_path / "o", "--workers", "1")
+    with open(tmp_path / "o" / "results.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 3
+    for r in rows:
+        assert r["status"] == "ok", r
+        limit = 2 * 0.5e-3 / float(r["contact_bearing_length_m"])  # c = R_i - R_j of the scene
+        assert 0.1 * limit < float(r["max_tilt2_rad"]) < 1.2 * limit, r
+        assert float(r["max_tilt1_rad"]) == 0.0 and int(r["impacts_joint1"]) == 0
+        assert int(r["impacts_joint2"]) == int(r["impacts"]) > 0
+
+
 def test_one_worker_results_are_whole_and_sorted(reference, spec):
     header, rows = reference[0], reference[1:]
     # the project's CSV convention: identifiers, the key's unit as a suffix

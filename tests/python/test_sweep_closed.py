@@ -87,6 +87,10 @@ def test_columns_follow_the_csv_convention(reference):
         for i in INDICES:
             assert f"{i}_{p}_rad" in header
     assert [int(r[0]) for r in rows] == list(range(6))
+    # Each journal's largest tilt, from the truth: a planar bearing never tilts.
+    t1, t2 = header.index("max_tilt1_rad"), header.index("max_tilt2_rad")
+    assert header[t2 + 1] == "t_end_s"
+    assert all(float(r[t1]) == 0.0 and float(r[t2]) == 0.0 for r in rows if r[4] == "ok")
 
 
 def independent_indices(run, dt):

@@ -23,6 +23,7 @@
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/dynamics/step_result.hpp"
+#include "gimbalsim/dynamics/variant.hpp"
 #include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/io/csv_format.hpp"
 #include "gimbalsim/io/output_file.hpp"
@@ -49,6 +50,8 @@ struct Study {
   double peak_track = 0.0, rms_track = 0.0, peak_run = 0.0;  ///< the track's: NaN with track_reason if not reached
   long long track_ticks = 0;
   long long saturated_ticks = 0;  ///< ticks with a torque command at its limit (either axis)
+  std::string joints;       ///< the joints' kinds, "ideal/spatial" (azimuth/elevation)
+  double max_tilt[2] = {};  ///< [rad] largest tilt of each joint's journal at the ticks (0 unless spatial)
   std::string track_reason;  ///< why the track figures are NaN ("" if they have values)
   bool ok = true;
   std::string stop_key;     ///< the scene key of the limit that stopped the plant ("" if none)
@@ -132,6 +135,7 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   Study s;
   s.label = std::move(label);
   s.scene = ps.scene.model.name;
+  s.joints = std::string(kindName(ps.scene.model.joint1_kind)) + "/" + kindName(ps.scene.model.joint2_kind);
   s.sensors = std::move(sensors);
   s.clearance = clearance;
   PointingController controller(c);
@@ -146,6 +150,7 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   s.rms_track = r.rms_truth_error_track;
   s.track_reason = r.track_reason;
   s.saturated_ticks = r.saturated_ticks;
+  s.max_tilt[0] = r.max_tilt(0), s.max_tilt[1] = r.max_tilt(1);
   s.ok = r.ok;
   if (!r.ok) {
     s.stop_key = stopKey(r.error);
@@ -176,12 +181,13 @@ std::string timeSeriesCsv(const std::vector<Study>& runs, double period) {
 
 std::string summaryCsv(const std::vector<Study>& runs) {
   std::string out =
-      "run,scene,sensors,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,saturated_ticks,status,"
-      "stop_reason,track_reason\n";
+      "run,scene,sensors,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,saturated_ticks,joints,"
+      "max_tilt1_rad,max_tilt2_rad,status,stop_reason,track_reason\n";
   for (const Study& s : runs) {
     out += s.label + "," + s.scene + "," + s.sensors + "," + csvNum(s.clearance) + "," + csvNum(s.peak_track) + "," +
            csvNum(s.rms_track) + "," + csvNum(s.peak_run) + "," + std::to_string(s.track_ticks) + "," +
-           std::to_string(s.saturated_ticks) + "," +
+           std::to_string(s.saturated_ticks) + "," + s.joints + "," + csvNum(s.max_tilt[0]) + "," +
+           csvNum(s.max_tilt[1]) + "," +
            (s.ok ? std::string("ok") : "stop:" + s.stop_key) + "," + csvQuote(s.reason) + "," +
            csvQuote(csvText(s.track_reason)) + "\n";
   }

@@ -28,6 +28,11 @@ def main():
     def sensors(r):
         return r.get("sensors", "perfect")
 
+    def tilts(r):  # the tilts of the spatial joints ("-" for a joint that cannot tilt)
+        kinds = r.get("joints", "").split("/")
+        return " / ".join(f"{float(r[f'max_tilt{j + 1}_rad']):.3g}" if j < len(kinds) and kinds[j] == "spatial"
+                          else "-" for j in range(2))
+
     ideals = {sensors(r): r for r in rows if float(r["clearance_m"]) == 0.0}
     scenes = list(dict.fromkeys(r["scene"] for r in rows if float(r["clearance_m"]) > 0.0))
     md = ["`build/bin/gimbalsim_pointing_study` (tools/pointing_study/): the in-process closed loop (firmware model "
@@ -64,15 +69,16 @@ def main():
     if (d / "pointing_error.csv").exists():
         ticks = sum(1 for _ in open(d / "pointing_error.csv")) - 1
     limited = [r for r in rows if ticks > 0 and int(r.get("saturated_ticks") or 0) > 0.1 * ticks]
-    if limited:
+    if limited and all(r.get("joints", "").endswith("/spatial") for r in limited):
         md += [f"In {len(limited)} of the {len(rows)} runs a torque command sits at its limit for more than 10 % "
                f"of the {ticks} ticks (" + ", ".join(sorted({r['scene'] for r in limited})) + "): the controller, "
                "tuned for the rigid chain, limit-cycles. A spatial elevation journal's tilt lets shaft 1 turn about "
                "the azimuth axis against the antenna by up to 2c/L (backlash between the azimuth encoder and the "
                "antenna), so the azimuth loop drives the light shaft 1 alone across that play.", ""]
     md += ["| run | scene | sensors | clearance [mm] | peak while tracking [rad] | RMS while tracking [rad] "
-           "| peak over the run [rad] | peak / ideal | RMS / ideal | torque at its limit [ticks] | plant |",
-           "|---|---|---|---|---|---|---|---|---|---|---|"]
+           "| peak over the run [rad] | peak / ideal | RMS / ideal | torque at its limit [ticks] "
+           "| largest tilt, joint 1 / 2 [rad] | plant |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         c = float(r["clearance_m"])
         rel = ("-", "-")
@@ -83,7 +89,7 @@ def main():
         status = r["status"] + (f" ({r['stop_reason']})" if r.get("stop_reason") else "")
         md.append(f"| {r['run']} | {r['scene']} | {sensors(r)} | {'-' if c == 0 else f'{c * 1e3:g}'} | "
                   f"{float(r['peak_track_rad']):.2e} | {float(r['rms_track_rad']):.2e} | {float(r['peak_run_rad']):.2e} | "
-                  f"{rel[0]} | {rel[1]} | {r.get('saturated_ticks', '-')} | {status} |")
+                  f"{rel[0]} | {rel[1]} | {r.get('saturated_ticks', '-')} | {tilts(r)} | {status} |")
     md += ["", "Per tick: out/pointing_study/pointing_error.csv; figures: out/pointing_study/pointing_error_vs_time.png "
            "and pointing_error_vs_clearance.png (tools/pointing_study/plot_pointing_study.py).", ""]
     if config:

@@ -50,6 +50,9 @@ struct TickRecord {
   std::int32_t injected_faults = 0;///< the faults scheduled in the plant this tick (truth)
   Vec3 momentum_linear = Vec3::Zero();   ///< [N s] truth, inertial
   Vec3 momentum_angular = Vec3::Zero();  ///< [N m s] truth, about the inertial origin
+  /// [rad] truth: tilt angle gamma of joint 1's, joint 2's journal (0 unless
+  /// spatial clearance): play between the encoder and the antenna
+  Vec2 tilt = Vec2::Zero();
 };
 
 struct ClosedLoopOptions {
@@ -84,6 +87,7 @@ struct ClosedLoopResult {
   Vec2 max_abs_tau = Vec2::Zero();     ///< [N m] applied
   long long saturated_ticks = 0;       ///< ticks with a limited command (either axis)
   double max_attitude_error = 0.0;     ///< [rad] estimated vs true base attitude, whole run
+  Vec2 max_tilt = Vec2::Zero();        ///< [rad] largest tilt of each joint's journal at the ticks, whole run
   long long star_outage_ticks = 0;     ///< ticks the controller flagged a star tracker outage
   long long rejected_readings = 0;     ///< statuses whose reading the controller rejected (NaN or Inf)
   long long ticks = 0;

@@ -340,6 +340,15 @@ class Firmware {
     o.contact_normal_force = r.fn;
     o.contact_tangential_force = r.ft;
     o.joint2_force = r.joint2_force;
+    o.eccentricity1[0] = r.ecc1_x, o.eccentricity1[1] = r.ecc1_y;
+    o.penetration1 = r.delta1;
+    o.contact_normal_force1 = r.fn1;
+    o.contact_tangential_force1 = r.ft1;
+    o.tilt[0] = r.tilt1, o.tilt[1] = r.tilt2;
+    o.end_penetration[0] = r.delta1_minus, o.end_penetration[1] = r.delta1_plus;
+    o.end_penetration[2] = r.delta2_minus, o.end_penetration[3] = r.delta2_plus;
+    o.end_normal_force[0] = r.fn1_minus, o.end_normal_force[1] = r.fn1_plus;
+    o.end_normal_force[2] = r.fn2_minus, o.end_normal_force[3] = r.fn2_plus;
     set3(o.boresight, r.bore_x, r.bore_y, r.bore_z);
     set3(o.momentum_linear, r.mom_px, r.mom_py, r.mom_pz);
     set3(o.momentum_angular, r.mom_lx, r.mom_ly, r.mom_lz);

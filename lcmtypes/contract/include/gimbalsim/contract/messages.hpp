@@ -72,6 +72,12 @@ struct Truth {
   double penetration = 0.0;        ///< [m]
   double contact_normal_force = 0.0, contact_tangential_force = 0.0;  ///< [N]
   double joint2_force = 0.0;       ///< [N]
+  double eccentricity1[2] = {};    ///< [m] joint-1 mid-plane, joint-1 bearing basis
+  double penetration1 = 0.0;       ///< [m]
+  double contact_normal_force1 = 0.0, contact_tangential_force1 = 0.0;  ///< [N], summed over joint 1's ends
+  double tilt[2] = {};             ///< [rad] gamma of each spatial joint's journal
+  double end_penetration[4] = {};  ///< [m] joint 1 at -L/2, +L/2, then joint 2
+  double end_normal_force[4] = {}; ///< [N] the same ends
   double boresight[3] = {};        ///< unit, inertial
   double target_boresight[3] = {}; ///< unit, inertial
   double pointing_error = 0.0;     ///< [rad]
@@ -118,6 +124,13 @@ struct TruthFields {
     f(Columns{"fn[N]"}, m.contact_normal_force...);
     f(Columns{"ft[N]"}, m.contact_tangential_force...);
     f(Columns{"joint2_force[N]"}, m.joint2_force...);
+    f(Columns{"ecc1_x[m]", "ecc1_y[m]"}, m.eccentricity1...);
+    f(Columns{"delta1[m]"}, m.penetration1...);
+    f(Columns{"fn1[N]"}, m.contact_normal_force1...);
+    f(Columns{"ft1[N]"}, m.contact_tangential_force1...);
+    f(Columns{"tilt1[rad]", "tilt2[rad]"}, m.tilt...);
+    f(Columns{"delta1_minus[m]", "delta1_plus[m]", "delta2_minus[m]", "delta2_plus[m]"}, m.end_penetration...);
+    f(Columns{"fn1_minus[N]", "fn1_plus[N]", "fn2_minus[N]", "fn2_plus[N]"}, m.end_normal_force...);
     f(Columns{"bore_x[-]", "bore_y[-]", "bore_z[-]"}, m.boresight...);
     f(Columns{"target_x[-]", "target_y[-]", "target_z[-]"}, m.target_boresight...);
     f(Columns{"pointing_error[rad]"}, m.pointing_error...);
