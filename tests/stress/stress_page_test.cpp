@@ -3,6 +3,7 @@
 // the same runs), the page body written to docs/results/stress.md, the CSV.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -16,9 +17,12 @@ namespace {
 TEST(StressGridDefinition, SweepsAndCellsAsBefore) {
   // 86 sweep runs and 3 x 5 x 4 cells (issue 19 split the tool by job; the
   // grid it makes is unchanged but for the three adaptive runs with plain
-  // Coulomb friction, which the scene now refuses).
+  // Coulomb friction, which the scene now refuses), then 30 over the joint
+  // kinds: 6 scenes x (3 friction laws + strong torques), 2 conservative,
+  // 2 x 2 stiffness extremes.
   const std::vector<Case> sw = sweeps("1");
-  EXPECT_EQ(sw.size(), 86u);
+  EXPECT_EQ(sw.size(), 86u + 6 * 4 + 2 + 4);
+  EXPECT_EQ(std::count_if(sw.begin(), sw.end(), [](const Case& c) { return c.scene == "paper_both_spatial"; }), 4);
   for (const Case& c : sw) EXPECT_EQ(c.sets.front(), "sim.duration=1");
   const std::vector<Cell> cells = gridCells();
   EXPECT_EQ(cells.size(), 60u);

@@ -179,6 +179,39 @@ TEST(StressGrid, EnergyHeldWithoutDampingOrFriction) {
   EXPECT_GT(o.run.stats.impacts, 5);
 }
 
+TEST(StressGrid, EnergyHeldWithPlanarPlayInBothJoints) {
+  // Both springs in the balance: joint 1's from the row's delta1, joint 2's
+  // from its delta (rowHertzEnergy). Leaving either out breaks it at impact.
+  const Outcome o = run("paper_both_planar", {"contact.damping=none", "friction.law=none"});
+  EXPECT_TRUSTWORTHY(o);
+  EXPECT_GT(o.run.stats.impacts_joint[0], 2);
+  EXPECT_GT(o.run.stats.impacts_joint[1], 2);
+}
+
+TEST(StressGrid, EveryJointKindTrustworthyOrStoppedNamingTheLimit) {
+  // At the grid's momentum bound (1e-9, as the run's own sim.momentum_tol)
+  // no run may finish wrong. Where it can hold that bound it must: with no
+  // friction or the smooth law and no spatial joint 1. Plain Coulomb's
+  // chatter breaks it in planar_spatial2; a spatial joint 1 breaks it in
+  // the first milliseconds, when the momenta are still tiny (the reason
+  // paper_spatial1 and paper_both_spatial ship with sim.momentum_tol 1e-5).
+  for (const char* name : {"paper_planar1", "paper_both_planar", "paper_spatial2", "paper_spatial1",
+                           "paper_both_spatial", "planar_spatial2"}) {
+    for (const char* law : {"none", "ambrosio", "coulomb"}) {
+      const Outcome o = run(name, {"sim.momentum_tol=1e-9", std::string("friction.law=") + law}, "0.3");
+      EXPECT_TRUE(acceptable(o.verdict)) << name << " " << law << ": " << verdictName(o.verdict) << " " << o.reason;
+      if (o.verdict == Verdict::Stopped) {
+        EXPECT_EQ(o.run.stop.key, std::string("sim.momentum_tol")) << name << " " << law;
+      }
+      const bool spatial1 = test::scene(name).model.joint1_kind == ClearanceKind::Spatial;
+      if (std::string(law) != "coulomb" && !spatial1) {
+        EXPECT_TRUSTWORTHY(o) << name << " " << law;
+        EXPECT_GT(o.run.stats.impacts, 0) << name << " " << law;
+      }
+    }
+  }
+}
+
 TEST(StressGrid, IdealScenesTrustworthyAtControlPeriod) {
   // The paper's torques; at x20 torques the rates are 20 times higher and a
   // 1 ms step leaves ~2e-8 relative momentum drift (the tool lists that case).

@@ -56,6 +56,11 @@ struct Outcome {
 /// and where: read from the stop's codes, never from its message.
 bool namesALimit(const RunStop& stop);
 
+/// The energy in every contact end's Hertz spring at an output row [J]:
+/// K delta^(n+1) / (n+1) per end, K / 2 at each end of a spatial joint
+/// (as the integrator's hertzEnergy at the row's state).
+double rowHertzEnergy(const Model& m, const Row& r);
+
 /// Pure classification of a finished (or stopped) run.
 Outcome classify(const Scene& sc, const RunResult& run, const EnergyMonitor& e, const Bounds& b);
 

@@ -85,6 +85,24 @@ std::vector<Case> sweeps(const std::string& dur) {
     add("step", "planar_ideal", {H, O});
     add("step", "paper_clearance", {H, O, "sim.substep=" + num(std::min(h, 2e-5))});
   }
+  // Every pair of joint kinds the shipped scenes use, with each friction law
+  // that acts on a spatial joint (coulomb_stick is a planar joint 2's only).
+  // The grid's momentum bound is the run's own: paper_spatial1 and
+  // paper_both_spatial ship with a looser sim.momentum_tol (a spatial joint
+  // 1 drifts by 1e-9 of the still tiny momenta of the first milliseconds).
+  for (const char* scene : {"paper_planar1", "paper_both_planar", "paper_spatial2", "paper_spatial1",
+                            "paper_both_spatial", "planar_spatial2"}) {
+    for (const char* law : {"none", "ambrosio", "coulomb"}) {
+      add("joint kinds", scene, {"sim.momentum_tol=1e-9", std::string("friction.law=") + law});
+    }
+    add("joint kinds", scene, {"sim.momentum_tol=1e-9", "torque.tau1=50", "torque.tau2=100"});
+  }
+  add("conservative", "paper_both_planar", {"contact.damping=none", "friction.law=none"});
+  add("conservative", "paper_planar1", {"contact.damping=none", "friction.law=none"});
+  for (double k : {0.01, 100.0}) {
+    add("joint kinds x stiffness", "paper_spatial2", {"contact.stiffness_scale=" + num(k)});
+    add("joint kinds x stiffness", "paper_both_planar", {"contact.stiffness_scale=" + num(k)});
+  }
   // Pairs.
   for (double k : {0.01, 100.0}) {
     for (double x : {0.1, 20.0}) {

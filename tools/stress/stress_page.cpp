@@ -138,12 +138,15 @@ std::string pageBody(const PageInput& in) {
   const Bounds& b = in.bounds;
   md << "`build/bin/gimbalsim_stress` (tools/stress/): the paper scenes with one parameter changed at a time "
         "and in pairs (contact stiffness, clearance, torques, restitution per damping law, friction law, step, "
-        "the adaptive policy's tolerance), and for each contact stiffness and clearance a walk down the "
+        "the adaptive policy's tolerance), every pair of joint kinds the scenes use (clearance in joint 1, in both, "
+        "spatial) with each friction law, and for each contact stiffness and clearance a walk down the "
         "sub-step until the run is trustworthy; sim.duration = "
-     << in.duration << " s, sim.step = 1 ms, torques 5 / 10 N m unless a run changes them. The CSV of every run "
+     << in.duration << " s, sim.step = 1 ms (2.5e-4 s in paper_spatial1 and paper_both_spatial), torques 5 / 10 "
+     << "N m unless a run changes them. The CSV of every run "
      << "is out/stress/stress.csv.\n\nTRUSTWORTHY: finished, no NaN, momentum drift below " << num(b.momentum_rel)
      << " of its scale, the energy balance (kinetic + Hertz - torque work) never rising by more than "
-     << num(b.energy_rel) << " of the energy scale, penetration below the limit. STOPPED: stopped with a "
+     << num(b.energy_rel) << " of the energy scale (not an invariant with a spatial joint, so not checked there), "
+     << "penetration below the limit. STOPPED: stopped with a "
      << "diagnostic naming the limit it hit (acceptable).\n\n";
   if (!in.all.empty()) verdicts(md, in.all);
   if (in.cells != nullptr && !in.cells->empty()) {
