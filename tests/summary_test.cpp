@@ -173,6 +173,14 @@ TEST(Summary, EachBearingEndAgreesWithTheRowsAndTheGeometry) {
     EXPECT_GT(max_tilt, 0.0);
   }
   EXPECT_EQ(all_ends, j["impacts"].get<long long>());
+  // The run's peak is one end's force, the largest of the four ends' peaks.
+  double ends_peak = 0.0;
+  for (const char* jn : {"joint1", "joint2"}) {
+    for (const char* side : {"minus", "plus"}) {
+      ends_peak = std::max(ends_peak, j["clearance_joints"][jn]["ends"][side]["peak_contact_force_N"].get<double>());
+    }
+  }
+  EXPECT_EQ(j["peak_contact_force_N"].get<double>(), ends_peak);
 }
 
 TEST(Summary, ThePeakForceOfBothIntegratorsAgrees) {

@@ -128,13 +128,14 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
       stopRun({RunStop::Kind::Invariant, {}, v.key, st.t}, os.str());
       return false;
     }
-    if (r.fn > at_rows.peak_fn) {
-      at_rows.peak_fn = r.fn;
-      at_rows.t_peak_fn = r.t;
-    }
     at_rows.max_penetration = std::max(at_rows.max_penetration, r.delta);
+    // Peaks are per contact end (a spatial joint's fn column sums two ends).
     const std::array<double, 4> fe = endForces<V>(r);
     for (int e = 0; e < V::NC; ++e) {
+      if (fe[e] > at_rows.peak_fn) {
+        at_rows.peak_fn = fe[e];
+        at_rows.t_peak_fn = r.t;
+      }
       at_rows.peak_fn_end[e] = std::max(at_rows.peak_fn_end[e], fe[e]);
       at_rows.peak_fn_joint[V::endJoint(e)] = std::max(at_rows.peak_fn_joint[V::endJoint(e)], fe[e]);
     }

@@ -162,6 +162,18 @@ def controller_keys():
     return _gimbalsim._controller_keys()
 
 
+class _Columns(dict):
+    """A run's columns by name; a name of COLUMNS its scene does not write
+    says so (a joint without clearance has no joint-1 columns, a joint that
+    is not spatial no tilt)."""
+
+    def __missing__(self, name):
+        if name in COLUMNS:
+            raise KeyError(f"{name!r}: not a column of this run (its scene's joints have none; "
+                           f"Scene.columns lists what it writes)")
+        raise KeyError(name)
+
+
 class Run:
     """A whole run: ``rows`` (N, len(COLUMNS)), ``columns`` (dict of numpy
     arrays named as its scene's ``Scene.columns``: the CSV columns without
@@ -175,7 +187,7 @@ class Run:
         self.summary = summary
         self.scene = scene
         names = scene.columns if scene is not None else COLUMNS
-        self.columns = {name: rows[:, COLUMNS.index(name)] for name in names}
+        self.columns = _Columns({name: rows[:, COLUMNS.index(name)] for name in names})
 
     @property
     def ok(self):

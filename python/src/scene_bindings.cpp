@@ -37,18 +37,20 @@ PyScene replaced(const PyScene& s, const std::vector<std::string>& overrides) {
   return loadPyScene("", s.path, all);
 }
 
-/// The column set of `names` (each one of kColumns, in Row order): the
-/// columns a Run's CSV shows (Scene.columns).
+/// The column set of `names`, which must be the columns of some scene's
+/// joint kinds (Scene.columns), so that a CSV is always one a run writes.
 ColumnSet columnSet(const std::vector<std::string>& names) {
-  ColumnSet cols;
-  int next = 0;
-  for (const std::string& name : names) {
-    const auto* it = std::find(kColumns.begin() + next, kColumns.end(), std::string_view(name));
-    if (it == kColumns.end()) throw std::invalid_argument("columns: '" + name + "' is not a column, or out of order");
-    next = static_cast<int>(it - kColumns.begin());
-    cols.index[cols.count++] = next++;
+  using K = ClearanceKind;
+  for (K k1 : {K::Ideal, K::Planar, K::Spatial}) {
+    for (K k2 : {K::Ideal, K::Planar, K::Spatial}) {
+      const ColumnSet cols = outputColumns(k1, k2);
+      bool same = static_cast<int>(names.size()) == cols.count;
+      for (int k = 0; same && k < cols.count; ++k) same = names[k] == kColumns[cols.index[k]];
+      if (same) return cols;
+    }
   }
-  return cols;
+  throw std::invalid_argument("columns must be a scene's output columns (Scene.columns), got " +
+                              std::to_string(names.size()) + " names");
 }
 
 /// Writes the CSV text of the columns `names` of rows (n x kNumColumns) to

@@ -44,7 +44,7 @@ def test_csv_bytes_and_summary_equal_the_command_line(name, overrides, tmp):
     assert tuple(run.columns) == run.scene.columns
 
 
-def test_a_scenes_columns_follow_its_joint_kinds():
+def test_a_scenes_columns_follow_its_joint_kinds(tmp_path):
     # The paper's kinds keep their 42 columns; a clearance joint 1 adds its six, a spatial joint its five.
     def cols(name, **over):
         return gimbalsim.load_scene(scene_path(name), over).columns
@@ -56,6 +56,15 @@ def test_a_scenes_columns_follow_its_joint_kinds():
     assert both == tuple(c for c in gimbalsim.COLUMNS if c in both) and len(both) == len(gimbalsim.COLUMNS)
     sim = gimbalsim.Simulator(gimbalsim.load_scene(scene_path("paper_spatial2")))
     assert tuple(sim.output()) == cols("paper_spatial2")
+    # A column the scene does not write says so; a CSV is only ever a scene's columns.
+    run = gimbalsim.simulate(gimbalsim.load_scene(scene_path("paper_spatial2"), {"sim.duration": 0.01}))
+    with pytest.raises(KeyError, match="not a column of this run"):
+        run.columns["tilt1"]
+    wrong = list(run.columns)[:-5] + ["tilt1", "delta1_minus", "delta1_plus", "fn1_minus", "fn1_plus"]
+    for bad in (wrong, []):
+        with pytest.raises(ValueError, match="a scene's output columns"):
+            gimbalsim._gimbalsim._write_csv(str(tmp_path / "x.csv"), run.rows, [], bad)
+    assert not (tmp_path / "x.csv").exists()
 
 
 def test_the_tilt_column_is_the_journals_tilt(tmp):
