@@ -198,8 +198,8 @@ void BM_ClearanceContact(benchmark::State& bs) {
 
 /// The parts of one derivative, to see where its time goes: kinematics, the
 /// bias forces (RNEA at zero acceleration), the mass matrix (CRBA) and the
-/// Cholesky solve of M vdot = tau - C (latency-bound: a sqrt and a division
-/// per column, a division per row of each substitution). Each part runs on
+/// solve of M vdot = tau - C (BM_MassSolve, as forwardDynamics() does it;
+/// BM_CholeskySolve, the dense cross-check). Each part runs on
 /// the workspace as forwardDynamics() leaves it at the mid-run state.
 template <class V, class Part>
 void timePart(benchmark::State& bs, Part&& part) {
@@ -228,7 +228,20 @@ void BM_MassMatrix(benchmark::State& bs) {
   timePart<V>(bs, [](const Model& m, Data<V>& d, const State<V>&) { crba(m, d); });
 }
 
-/// As forwardDynamics() calls it: factor d.M into L, solve for tau - bias.
+/// As forwardDynamics() calls it: factor d.M (closed-form base block, Schur
+/// complement over the chain: mass_factor.hpp) and solve for tau - bias.
+template <class V>
+void BM_MassSolve(benchmark::State& bs) {
+  MassFactor<V> F;
+  typename Data<V>::VecV x;
+  timePart<V>(bs, [&](const Model&, Data<V>& d, const State<V>&) {
+    benchmark::DoNotOptimize(factorMass(d.M, F));
+    solveMass(F, (d.tau - d.bias).eval(), x);
+    benchmark::DoNotOptimize(x.data());
+  });
+}
+
+/// The cross-check's dense solve: Cholesky of the whole d.M, for tau - bias.
 template <class V>
 void BM_CholeskySolve(benchmark::State& bs) {
   typename Data<V>::MatV L;
@@ -273,6 +286,7 @@ GIMBALSIM_BENCH_ALL_VARIANTS(BM_Step);
 GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(BM_Kinematics);
 GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(BM_BiasForces);
 GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(BM_MassMatrix);
+GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(BM_MassSolve);
 GIMBALSIM_BENCH_NO_FRICTION_VARIANTS(BM_CholeskySolve);
 GIMBALSIM_BENCH_CLEARANCE_VARIANTS(BM_ContactLaw);
 GIMBALSIM_BENCH_CLEARANCE_VARIANTS(BM_ClearanceContact);

@@ -186,7 +186,7 @@ void addContactForces(const Model& m, Data<V>& d) {
 
 /// Stick closure of coulomb_stick (Filippov): dv_t/dt = a0 + b F_t is affine in
 /// F_t (the pair's generalised force is linear in F_t), so in stick F_t =
-/// -a0 / b, clamped to |F_t| <= mu F_n. Needs d.L (factor of M) and d.vdot
+/// -a0 / b, clamped to |F_t| <= mu F_n. Needs d.mass (factor of M) and d.vdot
 /// computed with F_t = 0; adds the pair's tangential force to d.vdot and d.tau
 /// and writes ContactEval::ft and ft_required. The one planar contact of a
 /// stick-capable variant (V::kStick).
@@ -204,7 +204,7 @@ void stickClosure(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q, con
   Qt(G::VE) = t.x();
   Qt(G::VE + 1) = t.y();
   Qt(G::VE + 2) = arm;
-  choleskySolveFactored<V::NV>(d.L, Qt, w);  // vdot per unit F_t
+  solveMass(d.mass, Qt, w);  // vdot per unit F_t
   const double a0 = tangentialVelocity<V>(m, q, d.vdot) + tangentialVelocityRateAtFixedV<V>(m, q, v);
   const double b = tangentialVelocity<V>(m, q, w);
   c.ft_required = b != 0.0 ? -a0 / b : 0.0;

@@ -4,6 +4,7 @@
 
 #include <array>
 
+#include "gimbalsim/dynamics/mass_factor.hpp"
 #include "gimbalsim/dynamics/spatial_joint.hpp"
 #include "gimbalsim/dynamics/state.hpp"
 #include "gimbalsim/dynamics/step_result.hpp"
@@ -81,7 +82,7 @@ struct Data {
 
   // ---- mass matrix (crba.hpp) ----
   MatV M = MatV::Zero();          ///< joint-space inertia [kg, kg m, kg m^2]
-  MatV L = MatV::Zero();          ///< its Cholesky factor (lower)
+  MassFactor<V> mass;             ///< its factorisation (mass_factor.hpp)
 
   // ---- forward dynamics (forward_dynamics.hpp) ----
   VecV bias = VecV::Zero();       ///< C(q, v) v [N, N m]

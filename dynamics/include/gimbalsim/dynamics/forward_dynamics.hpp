@@ -1,5 +1,6 @@
 // Forward dynamics: vdot = M(q)^-1 (tau + Q_contact - C(q, v)), with M from
-// the CRBA, C from the RNEA, and the configuration rates qdot(q, v).
+// the CRBA, C from the RNEA, M^-1 by mass_factor.hpp, and the configuration
+// rates qdot(q, v).
 #pragma once
 
 #include <limits>
@@ -43,8 +44,10 @@ GIMBALSIM_FLATTEN void forwardDynamics(const Model& m, Data<V>& d, const State<V
   crba(m, d);
   applyJointTorques(d, s, u);
   if constexpr (V::kContact) allContacts(m, d, s);
-  // M vdot = tau - C, factor into d.L (lower) straight from d.M.
-  if (!choleskySolve(d.M, d.L, [&](int j) { return d.tau(j) - d.bias(j); }, d.vdot)) {
+  // M vdot = tau - C, M factored into d.mass (base block in closed form, Schur complement).
+  const bool spd = factorMass(d.M, d.mass);
+  solveMass(d.mass, (d.tau - d.bias).eval(), d.vdot);
+  if (!spd) {
     d.vdot.setConstant(std::numeric_limits<double>::quiet_NaN());
   } else if constexpr (V::kStick) {
     if (m.contact.friction == FrictionLaw::CoulombStick && s.in_contact[0] && s.friction_mode == 0) {

@@ -206,7 +206,8 @@ GIMBALSIM_INLINE void backSubstitute(const Eigen::Matrix<double, N, N>& L, Eigen
 
 }  // namespace detail
 
-/// Solves A x = b for symmetric positive definite A by Cholesky, reading A's
+/// Solves A x = b for symmetric positive definite A by Cholesky (forward
+/// dynamics uses mass_factor.hpp; this dense solve is its cross-check), reading A's
 /// lower triangle and writing the lower factor into L (L may be A itself),
 /// b(j) given by a callable (it may read x: b(j) is read before x(j) is
 /// written). Fixed size, fully unrolled (the loop bounds are compile-time
@@ -241,14 +242,6 @@ GIMBALSIM_INLINE bool choleskySolve(const Eigen::Matrix<double, N, N>& A, Eigen:
   if (!ok) return false;
   detail::backSubstitute(L, x);
   return true;
-}
-
-/// Solves M x = b with the Cholesky factor L of M (lower) already in place.
-template <int N>
-void choleskySolveFactored(const Eigen::Matrix<double, N, N>& L, const Eigen::Matrix<double, N, 1>& b,
-                           Eigen::Matrix<double, N, 1>& x) {
-  for (int j = 0; j < N; ++j) detail::forwardSubstituteRow(L, j, b(j), L(j, j), x);
-  detail::backSubstitute(L, x);
 }
 
 }  // namespace gimbalsim

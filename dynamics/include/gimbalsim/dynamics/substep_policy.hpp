@@ -24,17 +24,17 @@ namespace gimbalsim {
 /// has stiffness K / 2), returned as T / 20, the adaptive first guess.
 template <class V>
 double contactPeriodOver20(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
-  forwardDynamics(m, d, s, u);  // leaves the Cholesky factor of M(s.q) in d.L
+  forwardDynamics(m, d, s, u);  // leaves the factor of M(s.q) in d.mass
   double period = std::numeric_limits<double>::infinity();
   for (int e = 0; e < V::NC; ++e) {
     const int j = V::endJoint(e);
     const ContactParams& c = m.contactOf(j);
     const bool spatial = V::kind(j) == ClearanceKind::Spatial;
     typename Data<V>::VecV nv = Data<V>::VecV::Zero(), x;
-    if (!endNormalDirection<V>(m, d, s, e, nv) || !(d.L(0, 0) > 0.0)) nv.setZero();
+    if (!endNormalDirection<V>(m, d, s, e, nv) || !d.mass.ok) nv.setZero();
     double m_eff = m.shaft2.mass;
     if (!nv.isZero(0.0)) {
-      choleskySolveFactored<V::NV>(d.L, nv, x);
+      solveMass(d.mass, nv, x);
       const double inv = nv.dot(x);
       if (inv > 0.0 && std::isfinite(inv)) m_eff = 1.0 / inv;
     }
