@@ -58,6 +58,7 @@ int run(Run& r) {
   std::int64_t next_stats = wall0 + std::llround(r.o.stats_period * 1e9);
   for (std::int64_t k = 0; (total < 0 || k < total) && !g_stop.load(); ++k) {
     const std::int64_t t0 = nowNs();
+    const std::int64_t cpu0 = nowNs(CLOCK_THREAD_CPUTIME_ID);  // the CPU span inside the wall span
     drainInbound(fw, r.in);
     const std::int64_t utime = std::llround(static_cast<double>(k) * r.c.control_period * 1e6);
     const bool want_truth = k % r.o.truth_every == 0;
@@ -73,8 +74,10 @@ int run(Run& r) {
       if (!r.csv.write(truth)) g_stop.store(true);  // a failed write stops the run (exit 4)
     }
     fw.advance();
+    const std::int64_t cpu1 = nowNs(CLOCK_THREAD_CPUTIME_ID);
     const std::int64_t t1 = nowNs();
     r.stats.compute.add(static_cast<double>(t1 - t0) * 1e-3);
+    r.stats.addComputeCpu(k, static_cast<double>(cpu1 - cpu0) * 1e-3, fw.lastSubsteps());
     r.compute_seconds += static_cast<double>(t1 - t0) * 1e-9;
     r.stats.addTick(k + 1, fw.lastSubsteps());
     if (nowNs() >= next_stats) {

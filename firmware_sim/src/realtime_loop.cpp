@@ -78,6 +78,8 @@ int run(Run& r) {
         prev_wake = wake_ns;
         drainInbound(fw, r.in);  // catch-up ticks hold the last accepted command
       }
+      // Read after the wake-up and before `end` below: the CPU span lies inside the wall span.
+      const std::int64_t wake_cpu_ns = nowNs(CLOCK_THREAD_CPUTIME_ID);
       const std::int64_t utime = (next + realtime_offset) / 1000;
       const bool want_truth = k % truth_every == 0;
       fw.sample(utime, want_truth);
@@ -96,8 +98,10 @@ int run(Run& r) {
       wake(efd);  // the communication thread
       fw.advance();
 
+      const std::int64_t end_cpu_ns = nowNs(CLOCK_THREAD_CPUTIME_ID);
       const std::int64_t end = nowNs();
       r.stats.compute.add(static_cast<double>(end - wake_ns) * 1e-3);
+      r.stats.addComputeCpu(k, static_cast<double>(end_cpu_ns - wake_cpu_ns) * 1e-3, fw.lastSubsteps());
       r.compute_seconds += static_cast<double>(end - wake_ns) * 1e-9;
       r.stats.addTick(k + 1, fw.lastSubsteps());
       next += period_ns;

@@ -8,7 +8,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <array>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <filesystem>
 #include <regex>
 #include <string>
@@ -56,6 +59,37 @@ TEST(WallClock, OverrunTicksCatchUpWithOneTruthPerPeriodStampedWithItsDeadline) 
     ASSERT_EQ(c.integer(k, c_u) - u0, static_cast<long long>(k) * 1000) << "stamped with its own deadline, tick " << k;
   }
   std::filesystem::remove(csv);
+}
+
+/// The summary's "<label> [us]: p50 A  p99 B  max C" figures, or NaNs.
+std::array<double, 3> computeLine(const std::string& out, const std::string& label) {
+  std::smatch m;
+  if (!std::regex_search(out, m, std::regex(label + " \\[us\\]: p50 (\\S+)  p99 (\\S+)  max (\\S+)"))) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    return {nan, nan, nan};
+  }
+  return {std::stod(m[1]), std::stod(m[2]), std::stod(m[3])};
+}
+
+// Each tick's compute is reported in wall time and in the loop thread's CPU
+// time over the same span, read inside it: per tick the CPU time cannot
+// exceed the wall time (a process-wide clock, which also counts the
+// communication thread, could), and it is not zero.
+TEST(WallClock, ComputePerTickInThreadCpuTimeLiesWithinItsWallTime) {
+  int st = 0;
+  const std::string out = runCapture(std::string(GIMBALSIM_FIRMWARE_SIM) + " " + test::scenePath("paper_clearance") +
+                                         " --duration 0.3 --lcm-url memq:// --rt-priority 0",
+                                     &st);
+  ASSERT_EQ(st, 0) << out;
+  const auto wall = computeLine(out, "compute per tick");
+  const auto cpu = computeLine(out, "compute per tick, thread CPU");
+  ASSERT_TRUE(std::isfinite(wall[2]) && std::isfinite(cpu[2])) << out;
+  EXPECT_GT(cpu[2], 0.0) << out;
+  // 1 us: the bins of the quantiles, and the two clocks' sources may differ by parts per million.
+  EXPECT_LE(cpu[0], wall[0] + 1.0) << out;
+  EXPECT_LE(cpu[1], wall[1] + 1.0) << out;
+  EXPECT_LE(cpu[2], wall[2] + 1.0) << out;
+  EXPECT_NE(out.find("(preemption not counted); worst-case bound"), std::string::npos) << out;
 }
 
 }  // namespace
