@@ -46,7 +46,8 @@ GIMBALSIM_FLATTEN void forwardDynamics(const Model& m, Data<V>& d, const State<V
   if constexpr (V::kContact) allContacts(m, d, s);
   // M vdot = tau - C, M factored into d.mass (base block in closed form, Schur complement).
   const bool spd = factorMass(d.M, d.mass);
-  solveMass(d.mass, (d.tau - d.bias).eval(), d.vdot);
+  d.vdot = d.tau - d.bias;
+  solveMass(d.mass, d.vdot, d.vdot);
   if (!spd) {
     d.vdot.setConstant(std::numeric_limits<double>::quiet_NaN());
   } else if constexpr (V::kStick) {

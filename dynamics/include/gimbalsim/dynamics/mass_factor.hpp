@@ -137,7 +137,7 @@ GIMBALSIM_INLINE bool factorMass(const Eigen::Matrix<double, V::NV, V::NV>& M, M
   return ok;
 }
 
-/// x = M^-1 b with M factored by factorMass() (b and x may not alias).
+/// x = M^-1 b with M factored by factorMass(); x may be b (b is read in full first).
 template <class V>
 GIMBALSIM_INLINE void solveMass(const MassFactor<V>& F, const typename MassFactor<V>::VecV& b,
                                 typename MassFactor<V>::VecV& x) {
