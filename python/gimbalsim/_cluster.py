@@ -6,6 +6,7 @@ import contextlib
 import logging
 import os
 import signal
+import sys
 import threading
 import warnings
 
@@ -99,15 +100,42 @@ class _DropInterrupted(logging.Filter):
 _DROP_INTERRUPTED = _DropInterrupted()
 
 
+_received = []  # every SIGINT / SIGTERM seen, in order
+
+
+def _quiet_unraisable(u):
+    """Python prints and drops an exception raised inside a finalizer; an
+    Interrupted there is kept in _received and raised again by the loops
+    (raise_if_interrupted), so it is not printed. Anything else is."""
+    if not isinstance(u.exc_value, Interrupted):
+        _quiet_unraisable.default(u)
+
+
+_quiet_unraisable.default = sys.unraisablehook
+
+
 def raise_on_signals():
     """SIGINT and SIGTERM raise Interrupted in the main thread (and no
     library's log repeats it on the console)."""
     def handler(signum, frame):
+        _received.append(signum)
         raise Interrupted(signum)
     signal.signal(signal.SIGINT, handler)
     signal.signal(signal.SIGTERM, handler)
+    if sys.unraisablehook is not _quiet_unraisable:
+        _quiet_unraisable.default = sys.unraisablehook
+        sys.unraisablehook = _quiet_unraisable
     if logging.lastResort is not None and _DROP_INTERRUPTED not in logging.lastResort.filters:
         logging.lastResort.addFilter(_DROP_INTERRUPTED)
+
+
+def raise_if_interrupted():
+    """Raises Interrupted for a signal already received. A signal that lands
+    inside a finalizer (SQLAlchemy's cleanup of the study's session) has its
+    exception printed and dropped by Python; the loops call this at each
+    step so the run still stops for it."""
+    if _received:
+        raise Interrupted(_received[0])
 
 
 def add_cluster_arguments(parser):

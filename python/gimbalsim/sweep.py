@@ -149,6 +149,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
                     engine = _merge(engine, _run_on_cluster(spec, todo, fd, journal, done, cluster, batch, progress))
                 finally:
                     os.close(fd)
+                _cluster.raise_if_interrupted()
             rows = [[str(v) for v in done[i]] for i in sorted(done) if i < len(spec.design)]
             if until is None:
                 break

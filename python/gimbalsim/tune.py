@@ -173,6 +173,7 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
         bar = tqdm(total=spec.trials, initial=min(finished, spec.trials), unit="trial", disable=not progress,
                    file=sys.stderr)
         while finished + len(in_flight) < spec.trials or in_flight:
+            _cluster.raise_if_interrupted()
             while finished + len(in_flight) < spec.trials and len(in_flight) < parallel:
                 trial = study.ask()
                 gains = {p.key: suggest(trial, p) for p in spec.gains}
@@ -195,6 +196,7 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
                 bar.update(1)
                 _write_trials(out, header, study)
         bar.close()
+        _cluster.raise_if_interrupted()
     done = [t for t in study.trials if t.state == optuna.trial.TrialState.COMPLETE]
     rows = [t.user_attrs["row"] for t in study.trials if "row" in t.user_attrs]
     if not done:
