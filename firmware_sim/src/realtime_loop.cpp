@@ -76,10 +76,11 @@ int run(Run& r) {
         r.stats.lateness.add(static_cast<double>(wake_ns - next) * 1e-3);
         if (prev_wake >= 0) r.stats.period.add(static_cast<double>(wake_ns - prev_wake) * 1e-3);
         prev_wake = wake_ns;
-        drainInbound(fw, r.in);  // catch-up ticks hold the last accepted command
       }
-      // Read after the wake-up and before `end` below: the CPU span lies inside the wall span.
+      // Read after the wake-up and before `end` below: the CPU span lies inside the wall span
+      // and, like it, counts the command intake.
       const std::int64_t wake_cpu_ns = nowNs(CLOCK_THREAD_CPUTIME_ID);
+      if (!late) drainInbound(fw, r.in);  // catch-up ticks hold the last accepted command
       const std::int64_t utime = (next + realtime_offset) / 1000;
       const bool want_truth = k % truth_every == 0;
       fw.sample(utime, want_truth);
