@@ -9,7 +9,9 @@ const char* describe(StepStatus s) {
     case StepStatus::VelocityLimit: return "a velocity exceeded sim.velocity_limit (diverging)";
     case StepStatus::PenetrationLimit:
       return "contact penetration exceeded sim.penetration_limit (contact too soft or step too large)";
-    case StepStatus::SubstepCap: return "more sub-steps in one step than sim.max_substeps allows";
+    case StepStatus::SubstepCap:
+      return "more work in one step than sim.max_substeps allows (the automatic cap has room for 4 located "
+             "contact switches per step; a journal rattling faster needs a higher sim.max_substeps)";
     case StepStatus::EventNotLocated:
       return "contact switch not located within sim.max_event_iters iterations";
     case StepStatus::SubstepTooLong:

@@ -56,7 +56,7 @@ TickBudget measureTickBudget(const Scene& sc, const Config& c) {
   b.derivative_us = dispatchVariant(m, [&](auto tag) { return derivativeCost<decltype(tag)>(m, sc.run); });
   b.steps_per_tick = std::max(1, checkConfig(sc, c).steps_per_tick);
   b.substep_cap = m.hasClearance() ? substepCap(m) : 1;  // without clearance a step is one RK4 step
-  b.evals_per_substep = m.integrator.substep_policy == SubstepPolicy::Adaptive ? 5 : 4;
+  b.evals_per_substep = dispatchVariant(m, [&](auto tag) { return derivativesPerUnit<decltype(tag)>(m); });
   b.worst_tick_us = (static_cast<double>(b.steps_per_tick) * b.substep_cap * b.evals_per_substep + 1.0) * b.derivative_us;
   b.period_us = c.control_period * 1e6;
   return b;
@@ -65,7 +65,7 @@ TickBudget measureTickBudget(const Scene& sc, const Config& c) {
 std::string describeTickBudget(const TickBudget& b) {
   char line[320];
   std::snprintf(line, sizeof line,
-                "worst-case tick %.0f us = (%d steps x %d sub-steps (cap) x %d derivatives + 1) x %.2f us per "
+                "worst-case tick %.0f us = (%d steps x %d work units (cap) x %d derivatives + 1) x %.2f us per "
                 "derivative (measured now); period %.0f us",
                 b.worst_tick_us, b.steps_per_tick, b.substep_cap, b.evals_per_substep, b.derivative_us, b.period_us);
   return line;

@@ -14,8 +14,8 @@ namespace gimbalsim::firmware {
 struct TickBudget {
   double derivative_us = 0.0;   ///< [us] one forward-dynamics evaluation (the slower of free and in contact)
   int steps_per_tick = 1;       ///< T / sim.step
-  int substep_cap = 0;          ///< sub-steps per step at most (sim.max_substeps or its automatic value)
-  int evals_per_substep = 4;    ///< RK4 stages per sub-step (adaptive: + the embedded estimate)
+  int substep_cap = 0;          ///< work units per step at most (sim.max_substeps or its automatic value)
+  int evals_per_substep = 4;    ///< derivatives per work unit at most (derivativesPerUnit)
   double worst_tick_us = 0.0;   ///< [us] steps_per_tick substep_cap evals_per_substep derivative_us (+1 for the truth)
   double period_us = 0.0;       ///< [us] control period
   bool exceeds() const noexcept { return worst_tick_us > period_us; }

@@ -199,8 +199,8 @@ std::vector<SceneKey> keys() {
       K::number("sim.event_tol", "s", "contact switch location tolerance, < sim.substep",
                 field(integ, &IntegratorParams::event_tol), greater(0)),
       K::integer("sim.max_substeps", "-",
-                 "sub-step cap per step (0 = 2 step/substep + 4 max_event_iters + 4; adaptive: step/substep at "
-                 "least 500)",
+                 "work-unit cap per step (0 = automatic: step/substep + room for 4 located switches and one "
+                 "retake; docs/MODEL.md 7.8)",
                  field(integ, &IntegratorParams::max_substeps), atLeast(0)),
       K::choice<SubstepPolicy>(
           "sim.substep_policy",

@@ -33,7 +33,9 @@ struct RunStats {
   long long steps = 0;              ///< RK4 steps of size h requested
   long long substeps = 0;           ///< RK4 evaluations taken, all kinds
   long long event_iterations = 0;   ///< of those, spent locating switches
-  int max_substeps_in_step = 0;     ///< worst step
+  long long derivatives = 0;        ///< forwardDynamics evaluations, all callers
+  long long mode_entries = 0;       ///< mode entries after located switches (a work unit each)
+  int max_substeps_in_step = 0;     ///< worst step, in work units (sub-steps, trials, mode entries)
   long long impacts = 0;            ///< located contact onsets, every end
   long long separations = 0;        ///< located contact ends, every end
   std::array<long long, 2> impacts_joint{};  ///< onsets per gimbal joint (azimuth, elevation)
@@ -50,7 +52,8 @@ struct RunStats {
   long long forced_substeps = 0;    ///< adaptive: accepted at sim.substep_min above tolerance
   long long friction_switches = 0;  ///< coulomb_stick: located v_t reversals and stick/slip switches
   /// sub-steps retaken shorter because their RK4 stages met a contact that
-  /// had ended again by the sub-step's end
+  /// had ended again by the sub-step's end, or (fixed policy) a far
+  /// sub-step reached the bearing
   long long straddle_retries = 0;
   /// fixed policy: shortest Hertz impact duration estimated at an onset [s]
   /// (0 = no impact yet)

@@ -2,24 +2,48 @@
 // which a switch function changes side, to sim.event_tol, by re-integrating
 // the sub-step from its start to trial lengths. One locator for every switch:
 // the contact gap (a signed value: Illinois regula falsi, safeguarded by
-// bisection) and the coulomb_stick slip/stick predicates (bisection).
+// bisection) and the coulomb_stick slip/stick predicates (bisection). Every
+// trial is projected into a shrinking ball about the bracket's midpoint
+// (the ITP method's projection), so a switch is located within
+// locateIterations() trials whatever the switch function does.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
+#include <limits>
 
 #include "gimbalsim/dynamics/contact_modes.hpp"
 #include "gimbalsim/dynamics/rk4.hpp"
 
 namespace gimbalsim {
 
-/// Sub-steps taken against the cap of one step: every RK4 evaluation counts,
-/// so the worst-case cost of a step is known.
+/// Work units taken against the cap of one step: every RK4 sub-step or
+/// locator trial (used), and the mode entry after each located switch
+/// (entries, whose evaluations of the derivative are not an RK4), so the
+/// worst-case cost of a step is known (integrator.hpp, derivativesPerUnit).
 struct SubstepBudget {
   int used = 0;
   int cap = 0;
-  bool take() noexcept { return ++used <= cap; }
+  int entries = 0;
+  bool take() noexcept { return ++used + entries <= cap; }
+  bool takeEntry() noexcept { return used + ++entries <= cap; }
 };
+
+/// Trials beyond bisection's count that the locator may spend on regula
+/// falsi (ITP's n0): two let it approach the root from one side and then step
+/// across, which typically locates a contact switch in 3 trials.
+inline constexpr int kLocateSlack = 2;
+
+/// The most trials locating a switch in a sub-step of length dt can take:
+/// bisection's ceil(log2(dt / event_tol)) plus kLocateSlack (docs/MODEL.md
+/// 7.5), at most sim.max_event_iters.
+inline int locateIterations(const IntegratorParams& p, double dt) {
+  const double halvings = dt > p.event_tol ? std::ceil(std::log2(dt / p.event_tol)) : 0.0;
+  return static_cast<int>(std::min(halvings + kLocateSlack, static_cast<double>(p.max_event_iters)));
+}
 
 /// NaN/Inf, or a velocity beyond sim.velocity_limit, in s.
 template <class V>
@@ -46,15 +70,25 @@ StepResult checkState(const Model& m, const State<V>& s) {
 
 /// The contact switch: some end's penetration delta changes sign against
 /// the side that end started the sub-step on. With one end changing side
-/// over the sub-step its delta is the signed switch function (regula
-/// falsi); with several, the earliest is found by bisection on past().
+/// over the sub-step its delta is the signed switch function; with several,
+/// the largest of the ends' signed distances past their side (delta for an
+/// end that started free, -delta for one in contact), positive once the
+/// earliest end is past. Either is located by regula falsi.
 template <class V>
 struct GapSwitch {
   const Model& m;
   std::array<bool, Data<V>::NE> started_in_contact{};
   int only = -1;  ///< the one end whose side changed over the sub-step, or -1
-  bool signedValue() const { return only >= 0; }
-  double value(const State<V>& x) const { return only >= 0 ? endGap<V>(m, only, x.q, x.v).delta : 0.0; }
+  bool signedValue() const { return true; }
+  double value(const State<V>& x) const {
+    if (only >= 0) return endGap<V>(m, only, x.q, x.v).delta;
+    double past_by = -std::numeric_limits<double>::infinity();
+    for (int e = 0; e < V::NC; ++e) {
+      const double delta = endGap<V>(m, e, x.q, x.v).delta;
+      past_by = std::fmax(past_by, started_in_contact[e] ? -delta : delta);
+    }
+    return past_by;
+  }
   bool past(const State<V>& x, double g) const {
     for (int e = 0; e < V::NC; ++e) {
       const double ge = e == only ? g : endGap<V>(m, e, x.q, x.v).delta;
@@ -114,26 +148,37 @@ StepResult locateSwitch(const Model& m, Data<V>& d, State<V>& s, const Input& u,
   int side_kept = 0;  // Illinois: which end stayed twice in a row
   int it = 0;
   const bool guided = guess > 0.0 && guess < dt;
+  // ITP's guarantee: trial k lies within radius_k of the midpoint, so the
+  // bracket after it is at most event_tol 2^(n_max - k - 1) long.
+  const double halvings = dt > p.event_tol ? std::ceil(std::log2(dt / p.event_tol)) : 0.0;
+  const int n_max = static_cast<int>(halvings) + kLocateSlack;
   StepResult r;
   while (hi - lo > p.event_tol) {
     r.time = s.t;
+    if (it >= n_max) break;  // event_tol long up to round-off: the guarantee is met
     if (++it > p.max_event_iters) return r.status = StepStatus::EventNotLocated, r;
     if (!budget.take()) return r.status = StepStatus::SubstepCap, r;
-    double tau = 0.5 * (lo + hi);
+    const double mid = 0.5 * (lo + hi);
+    double tau = mid;
     if (is_signed) {
       const double w = hi - lo, rf = lo - g_lo * w / (g_hi - g_lo);
-      if (rf > lo + 0.01 * w && rf < hi - 0.01 * w && it % 4 != 0) tau = rf;
+      // At least half a tolerance from either end: once one end sits next to the root,
+      // regula falsi lands on it again, and the step across closes the bracket instead.
+      if (rf > lo && rf < hi && it % 4 != 0) tau = std::clamp(rf, lo + 0.5 * p.event_tol, hi - 0.5 * p.event_tol);
     }
     if (guided && it == 1) tau = guess;
     if (guided && it == 2) {
       const double off = std::fmax(1e-3 * dt, 0.5 * p.event_tol);
       tau = hi == guess ? guess - off : guess + off;
-      if (!(tau > lo && tau < hi)) tau = 0.5 * (lo + hi);
+      if (!(tau > lo && tau < hi)) tau = mid;
     }
+    const double radius = std::fmax(0.0, std::ldexp(0.5 * p.event_tol, n_max - it + 1) - 0.5 * (hi - lo));
+    tau = std::clamp(tau, mid - radius, mid + radius);
     rk4(m, d, s, u, tau, d.trial, /*reuse_k1=*/true);
     ++d.stats.event_iterations;
     if (r = checkState(m, d.trial); !r.ok()) return r;
     const double g = sw.value(d.trial);
+    if (std::getenv("DBG_LOC")) std::fprintf(stderr, "it %d signed %d tau/dt %.12f w/tol %.1f g %.3e past %d\n", it, (int)is_signed, tau / dt, (hi - lo) / p.event_tol, g, (int)sw.past(d.trial, g));
     if (sw.past(d.trial, g)) {
       hi = tau;
       d.bracket_hi = d.trial;

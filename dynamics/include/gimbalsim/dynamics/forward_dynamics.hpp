@@ -39,6 +39,7 @@ void configurationRates(const State<V>& s, Data<V>& d) {
 /// Fills d.qdot, d.vdot (and d.contact) at state s under input u.
 template <class V>
 GIMBALSIM_FLATTEN void forwardDynamics(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
+  ++d.stats.derivatives;
   kinematics(m, d, s.q, s.v);
   detail::rneaBias(m, d, s.v, d.bias);
   crba(m, d);

@@ -18,15 +18,53 @@
 
 namespace gimbalsim {
 
-/// Sub-step cap of one step: the plain sub-steps plus room for four located
-/// switches (adaptive policy: at least 500 plain sub-steps, the tolerance
-/// decides).
+/// Longest sub-step in which a switch is located: the fixed policy's
+/// sub-step (a far sub-step that reaches the bearing is retaken at it), the
+/// adaptive policy's longest sub-step.
+inline double longestLocated(const IntegratorParams& p) {
+  if (p.substep_policy == SubstepPolicy::Adaptive) return p.substep_max > 0.0 ? std::fmin(p.substep_max, p.step) : p.step;
+  return 1.01 * p.substep;  // FixedSubsteps::choose merges a sliver under 0.01 substep
+}
+
+/// Work-unit cap of one step (SubstepBudget): the plain sub-steps, room for
+/// four located switches (each: its trials, its mode entry and the extra
+/// sub-step it splits off), one far sub-step refused and one straddle
+/// retaken down to event_tol. docs/MODEL.md 7.8.
 inline int substepCap(const Model& m) {
   const IntegratorParams& p = m.integrator;
   if (p.max_substeps > 0) return p.max_substeps;
-  int plain = static_cast<int>(std::ceil(p.step / p.substep - 1e-9));
-  if (p.substep_policy == SubstepPolicy::Adaptive) plain = std::max(plain, 500);
-  return 2 * plain + 4 * p.max_event_iters + 4;
+  const double longest = longestLocated(p);
+  const int plain = static_cast<int>(std::ceil(p.step / p.substep - 1e-9));
+  const int retakes = locateIterations(p, longest);  // halvings to event_tol, plus one
+  const int per_switch = locateIterations(p, longest) + 2;
+  if (p.substep_policy == SubstepPolicy::Adaptive) return 2 * std::max(plain, 500) + 4 * per_switch + retakes;
+  return plain + 4 * per_switch + retakes;
+}
+
+/// The most derivative evaluations (forwardDynamics calls) one work unit of
+/// shape V takes: an RK4 sub-step 4 (adaptive: + the error estimate's and
+/// the contact period's), a locator trial 3 (k1 reused), a mode entry the
+/// onset velocity of each spatial end, the friction mode (coulomb_stick) and
+/// the contact period; coulomb_stick adds the stick test to a sub-step and a
+/// trial.
+/// substepCap(m) x this is a true upper bound of one step's evaluations.
+template <class V>
+int derivativesPerUnit(const Model& m) {
+  if constexpr (!V::kContact) {
+    (void)m;
+    return 4;
+  } else {
+    const IntegratorParams& p = m.integrator;
+    const bool adaptive = p.substep_policy == SubstepPolicy::Adaptive;
+    const int stick = V::kStick && m.contact.friction == FrictionLaw::CoulombStick ? 1 : 0;
+    int spatial_ends = 0;
+    for (int e = 0; e < V::NC; ++e) spatial_ends += V::kind(V::endJoint(e)) == ClearanceKind::Spatial ? 1 : 0;
+    const int period = adaptive || p.min_substeps_per_impact > 0.0 ? 1 : 0;
+    const int rk4_step = adaptive ? 4 + 1 + 1 : 4 + stick;
+    const int trial = 3 + stick;
+    const int entry = spatial_ends + stick + period;
+    return std::max({rk4_step, trial, entry});
+  }
 }
 
 namespace detail {
@@ -72,6 +110,9 @@ enum class SubstepEnd : std::uint8_t { Accept, Switched, Failed, Retry };
 /// at a sub-step's end or the sub-step is below event_tol.
 /// trial_evaluated: d.contact and d.k_last hold f at d.trial (adaptive); the
 /// switch is then guided by a Hermite-cubic first guess.
+/// A sub-step longer than longestLocated() (a far one, fixed policy) whose
+/// end changed side is refused too (Retry), so every switch is located in a
+/// sub-step short enough for the cap's iteration count.
 template <class V>
 SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& u, double dt,
                           SubstepBudget& budget, bool trial_evaluated, StepResult& r) {
@@ -96,12 +137,17 @@ SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& 
   int changed = 0;
   const GapSwitch<V> gap = gapSwitchOver(m, s, d.trial, changed);
   if (changed > 0) {
+    if (dt > longestLocated(p)) {
+      ++d.stats.straddle_retries;
+      return SubstepEnd::Retry;
+    }
     double guess = -1.0;
     if (trial_evaluated && gap.only >= 0) {
       const Gap g0 = endGap<V>(m, gap.only, s.q, s.v), g1 = endGap<V>(m, gap.only, d.trial.q, d.trial.v);
       guess = hermiteGapRoot(dt, g0.delta, g0.rate, g1.delta, g1.rate);
     }
     r = locateSwitch(m, d, s, u, dt, gap, budget, guess);
+    if (r.ok() && !budget.takeEntry()) r = StepResult{StepStatus::SubstepCap, s.t};
     if (r.ok()) enterSwitchedEnds(m, d, s, u);
     return r.ok() ? SubstepEnd::Switched : SubstepEnd::Failed;
   }
@@ -121,6 +167,7 @@ SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& 
         guess = hermiteGapRoot(dt, w0, r0, w1, r1);
       }
       r = locateSwitch(m, d, s, u, dt, FrictionSwitch<V>{m, d, u}, budget, guess);
+      if (r.ok() && !budget.takeEntry()) r = StepResult{StepStatus::SubstepCap, s.t};
       if (r.ok()) {
         enterFrictionMode(m, d, s, u, false);
         ++d.stats.friction_switches;
@@ -166,6 +213,7 @@ StepResult stepWith(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
   ++d.stats.steps;
   auto stop = [&](StepResult r) {
     d.stats.substeps += std::min(budget.used, budget.cap);  // a refused one was not taken
+    d.stats.mode_entries += budget.entries;
     s.h_next = h_next;
     return r;
   };
@@ -204,7 +252,7 @@ StepResult stepWith(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
       switch (handleSwitches(m, d, s, u, dt, budget, P::kReusesK1 && near, r)) {
         case SubstepEnd::Failed: return stop(r);
         case SubstepEnd::Retry:
-          dt_cap = 0.5 * dt;
+          dt_cap = dt > longestLocated(p) ? p.substep : 0.5 * dt;  // a far sub-step: retaken near
           P::onRetry(dt_cap, h_next);
           continue;  // d.k[0] still holds f(s)
         case SubstepEnd::Switched:
@@ -242,7 +290,8 @@ StepResult stepWith(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
     }
   }
   d.stats.substeps += budget.used;
-  d.stats.max_substeps_in_step = std::max(d.stats.max_substeps_in_step, budget.used);
+  d.stats.mode_entries += budget.entries;
+  d.stats.max_substeps_in_step = std::max(d.stats.max_substeps_in_step, budget.used + budget.entries);
   return {StepStatus::Ok, s.t};
 }
 
