@@ -97,12 +97,14 @@ int run(Run& r) {
       }
       if (!out.push(ob)) r.stats.dropped_out.fetch_add(1, std::memory_order_relaxed);
       wake(efd);  // the communication thread
+      const std::int64_t step_cpu_ns = nowNs(CLOCK_THREAD_CPUTIME_ID);
       fw.advance();
 
       const std::int64_t end_cpu_ns = nowNs(CLOCK_THREAD_CPUTIME_ID);
       const std::int64_t end = nowNs();
       r.stats.compute.add(static_cast<double>(end - wake_ns) * 1e-3);
-      r.stats.addComputeCpu(k, static_cast<double>(end_cpu_ns - wake_cpu_ns) * 1e-3, fw.lastSubsteps());
+      r.stats.addComputeCpu(k, static_cast<double>(end_cpu_ns - wake_cpu_ns) * 1e-3,
+                            static_cast<double>(end_cpu_ns - step_cpu_ns) * 1e-3, fw.lastSubsteps());
       r.compute_seconds += static_cast<double>(end - wake_ns) * 1e-9;
       r.stats.addTick(k + 1, fw.lastSubsteps());
       next += period_ns;
