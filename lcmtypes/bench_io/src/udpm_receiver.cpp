@@ -1,6 +1,7 @@
 #include "gimbalsim/bench_io/udpm_receiver.hpp"
 
 #include <arpa/inet.h>
+#include <linux/filter.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -21,6 +22,47 @@ std::int64_t monotonicNs() noexcept {
 }
 
 namespace {
+
+// The kernel's socket filter (classic BPF, SO_ATTACH_FILTER): a UDP socket's
+// program sees the datagram from its UDP header, so the LCM payload starts at
+// byte 8 (magic), the LC02 channel name at byte 16 (after the sequence number).
+constexpr std::uint32_t kUdpHeader = 8, kChannelAt = kUdpHeader + 8;
+constexpr std::size_t kMaxFilterChannels = 16, kMaxFilterName = 255;
+
+sock_filter stmt(std::uint16_t code, std::uint32_t k) { return sock_filter{code, 0, 0, k}; }
+sock_filter jeq(std::uint32_t k, std::uint8_t jf) { return sock_filter{BPF_JMP | BPF_JEQ | BPF_K, 0, jf, k}; }
+
+/// The program: a datagram that is not LC02 passes; an LC02 one passes when
+/// its channel (NUL included) equals one of `names`, word by word; else it is
+/// dropped. Empty when the names do not fit the instruction set's jumps.
+std::vector<sock_filter> channelProgram(const std::vector<std::string>& names) {
+  std::vector<sock_filter> p;
+  if (names.empty() || names.size() > kMaxFilterChannels) return p;
+  p.push_back(stmt(BPF_LD | BPF_W | BPF_ABS, kUdpHeader));
+  p.push_back(sock_filter{BPF_JMP | BPF_JEQ | BPF_K, 1, 0, kMagicShort});
+  p.push_back(stmt(BPF_RET | BPF_K, 0xFFFFFFFFu));  // not a whole LCM message: up to the reassembler
+  for (const std::string& name : names) {
+    if (name.size() > kMaxFilterName) return {};
+    const std::string z = name + '\0';
+    std::vector<sock_filter> block;  // compare z at kChannelAt; jf targets patched below
+    for (std::size_t at = 0; at < z.size();) {
+      const std::size_t len = z.size() - at >= 4 ? 4 : z.size() - at >= 2 ? 2 : 1;
+      std::uint32_t v = 0;
+      for (std::size_t i = 0; i < len; ++i) v = v << 8 | static_cast<std::uint8_t>(z[at + i]);
+      const std::uint16_t size = len == 4 ? BPF_W : len == 2 ? BPF_H : BPF_B;
+      block.push_back(stmt(BPF_LD | size | BPF_ABS, kChannelAt + static_cast<std::uint32_t>(at)));
+      block.push_back(jeq(v, 0));
+      at += len;
+    }
+    block.push_back(stmt(BPF_RET | BPF_K, 0xFFFFFFFFu));  // this channel: pass
+    for (std::size_t i = 0; i < block.size(); ++i) {
+      if (BPF_CLASS(block[i].code) == BPF_JMP) block[i].jf = static_cast<std::uint8_t>(block.size() - 1 - i);
+    }
+    p.insert(p.end(), block.begin(), block.end());
+  }
+  p.push_back(stmt(BPF_RET | BPF_K, 0));  // another channel's whole message: dropped
+  return p;
+}
 
 std::int64_t realtimeUs() noexcept {
   timespec ts{};
@@ -95,7 +137,7 @@ LcmUrl parseLcmUrl(const std::string& given, std::string* why) {
 }
 
 UdpmReceiver::UdpmReceiver(const ReassemblyLimits& limits, ChannelFilter filter)
-    : rs_(limits, std::move(filter)), buf_(kMaxDatagramBytes + 1) {}
+    : rs_(limits, filter), kernel_channels_(filter.names()), buf_(kMaxDatagramBytes + 1) {}
 
 UdpmReceiver::~UdpmReceiver() {
   if (fd_ >= 0) ::close(fd_);
@@ -136,6 +178,12 @@ bool UdpmReceiver::open(const std::string& url, int recv_buf_bytes, std::string*
   mreq.imr_multiaddr.s_addr = u.group;
   mreq.imr_interface.s_addr = htonl(INADDR_ANY);
   if (setsockopt(fd_, IPPROTO_IP, IP_ADD_MEMBERSHIP, &mreq, sizeof mreq) < 0) return fail("IP_ADD_MEMBERSHIP");
+  // A refused filter only costs wake-ups: the reassembler's channel filter still applies.
+  std::vector<sock_filter> prog = channelProgram(kernel_channels_);
+  if (!prog.empty()) {
+    const sock_fprog fp{static_cast<unsigned short>(prog.size()), prog.data()};
+    kernel_filter_ = setsockopt(fd_, SOL_SOCKET, SO_ATTACH_FILTER, &fp, sizeof fp) == 0;
+  }
   return true;
 }
 
@@ -202,6 +250,7 @@ std::string UdpmReceiver::summary() const {
     }
   }
   s << "; " << kernel_drops_ << " lost in the kernel (socket buffer of " << rcvbuf_ << " bytes full)";
+  if (kernel_filter_) s << "; other channels' whole messages dropped by the kernel's socket filter (not counted)";
   if (socket_errors_ > 0) s << "; socket errors " << socket_errors_;
   return s.str();
 }

@@ -82,6 +82,8 @@ class ChannelFilter {
   ChannelFilter() = default;
   explicit ChannelFilter(std::vector<std::string> names) : names_(std::move(names)) {}
   ChannelFilter(Predicate p, void* ctx) : pred_(p), ctx_(ctx) {}
+  /// The channel names, when the filter is a list (empty for a predicate).
+  const std::vector<std::string>& names() const noexcept { return names_; }
   bool wants(std::string_view channel) const noexcept {
     if (pred_ != nullptr) return pred_(ctx_, channel);
     for (const std::string& n : names_) {

@@ -38,6 +38,10 @@ class UdpmReceiver {
 
   /// Opens the receive side of `url`; recv_buf_bytes is the socket buffer to
   /// ask for when the URL does not set one. False with *why on failure.
+  /// With a filter of channel names, a socket filter in the kernel drops the
+  /// whole (LC02) messages on other channels before they are queued, so the
+  /// bench's other traffic (a plant's own statuses and truths) wakes nobody;
+  /// fragments and non-LCM datagrams still come up to be checked and counted.
   bool open(const std::string& url, int recv_buf_bytes, std::string* why);
 
   /// The socket to poll for POLLIN; -1 when there is none (memq://).
@@ -75,11 +79,15 @@ class UdpmReceiver {
   std::uint64_t kernelDrops() const noexcept { return kernel_drops_; }
   /// The socket's receive buffer as granted by the kernel [bytes] (0: no socket).
   int recvBufferBytes() const noexcept { return rcvbuf_; }
+  /// The kernel drops other channels' whole messages (open() attached the filter).
+  bool kernelFilter() const noexcept { return kernel_filter_; }
   /// One line for an exit summary: datagrams, messages, drops by reason.
   std::string summary() const;
 
  private:
   Reassembler rs_;
+  std::vector<std::string> kernel_channels_;  ///< names the kernel filter lets through (empty: no filter)
+  bool kernel_filter_ = false;                ///< the socket filter is attached
   int fd_ = -1;
   int rcvbuf_ = 0;
   std::uint64_t socket_errors_ = 0;
