@@ -22,7 +22,8 @@ firmware_sim's exit summary.
 
 The machine's floor: in (i) and (iii) cyclictest (Debian rt-tests) runs at
 the same period, SCHED_FIFO priority and CPU as firmware_sim's loop thread
-(--cpu, default 1, passed to both), half of its time just before and half
+(--cpu, default 1, passed to both; the controller and firmware_sim's
+communication thread run on the other CPUs), half of its time just before and half
 just after each firmware_sim run (interleaved in the same minutes); the
 tables give firmware_sim's wake-up lateness percentiles (p50, p99, p99.9,
 max) next to cyclictest's and their ratios (firmware_sim / cyclictest: 1 =
@@ -76,7 +77,10 @@ CHRT = []  # ["chrt", "-f", PRIO] when --chrt is allowed here
 def run_pair(scene, seconds, rate=1000, lockstep=False, fw_extra=(), ctl_extra=()):
     """Controller + firmware_sim; returns firmware_sim's stdout (the exit summary)."""
     rt = [] if lockstep else CHRT
-    ctl = subprocess.Popen([*rt, os.path.join(BIN, "pointing_controller"), CFG, "--lcm-url", URL, "--idle-exit", "2",
+    # Real time: the controller on the other CPUs, as a bench keeps the plant's loop CPU to itself.
+    others = sorted(os.sched_getaffinity(0) - {CPU[0]})
+    pin = ["taskset", "-c", ",".join(map(str, others))] if not lockstep and CPU[0] >= 0 and others else []
+    ctl = subprocess.Popen([*pin, *rt, os.path.join(BIN, "pointing_controller"), CFG, "--lcm-url", URL, "--idle-exit", "2",
                             *ctl_extra], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         cmd = [*rt, os.path.join(BIN, "firmware_sim"), scene, "--rate", str(rate), "--duration", str(seconds),
@@ -246,7 +250,8 @@ class Tee(io.TextIOBase):
 
 PREAMBLE = """`tools/hil_speed.py`: firmware_sim + pointing_controller over LCM udpm (ttl=0) in a private network
 namespace, paper_clearance with the controller; figures parsed from firmware_sim's exit summary. Real-time runs:
-both processes under `chrt -f 60`, firmware_sim's loop thread SCHED_FIFO 80 pinned to `--cpu`. The machine's floor:
+both processes under `chrt -f 60`, firmware_sim's loop thread SCHED_FIFO 80 pinned to `--cpu`, the controller
+and firmware_sim's communication thread on the other CPUs. The machine's floor:
 cyclictest (Debian's rt-tests) at the same period, priority and CPU, half of its time just before and half just
 after each firmware_sim run; ratio = firmware_sim / cyclictest (1 = the machine's own floor). Lateness = wake-up
 lateness of the loop thread; "sustains" = zero overruns and lateness p99 below 10 % of the period. The kernel is

@@ -61,7 +61,7 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--channel-prefix", o.prefix, "prefix of every channel name, e.g. BENCH2_");
   app.add_option("--rt-priority", o.rt_priority, "SCHED_FIFO priority of the loop thread (0 = SCHED_OTHER)")
       ->capture_default_str()->check(CLI::Range(0, 99));
-  app.add_option("--cpu", o.cpu, "pin the loop thread to this CPU (-1 = no pin)")->capture_default_str()->check(CLI::Range(-1, 1023));
+  app.add_option("--cpu", o.cpu, "pin the loop thread to this CPU and keep the communication thread off it (-1 = no pin)")->capture_default_str()->check(CLI::Range(-1, 1023));
   app.add_option("--spin-us", o.spin_us, "busy-wait the last N us before each deadline")
       ->capture_default_str()->check(CLI::Range(0.0, 100000.0));
   app.add_option("--watchdog-ms", o.watchdog_ms, "no valid command for this long -> safe command [ms]")

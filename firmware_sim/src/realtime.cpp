@@ -59,6 +59,20 @@ std::vector<std::string> setUpRealtimeThread(int priority, int cpu, std::size_t 
   return warnings;
 }
 
+std::string keepOffCpu(int cpu) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (pthread_getaffinity_np(pthread_self(), sizeof set, &set) != 0 || cpu < 0 || cpu >= CPU_SETSIZE ||
+      !CPU_ISSET(cpu, &set) || CPU_COUNT(&set) < 2) {
+    return {};  // nothing to move away from
+  }
+  CPU_CLR(cpu, &set);
+  const int rc = pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+  if (rc == 0) return {};
+  return "warning: cannot keep the communication thread off CPU " + std::to_string(cpu) + " (" + std::strerror(rc) +
+         "); it shares the loop thread's CPU";
+}
+
 std::int64_t sleepUntil(std::int64_t deadline_ns, std::int64_t spin_ns) {
   const timespec ts = fromNs(deadline_ns - spin_ns);
   while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {

@@ -18,6 +18,12 @@ std::string lockMemory();
 /// Returns the warnings; *fifo says whether SCHED_FIFO was granted.
 std::vector<std::string> setUpRealtimeThread(int priority, int cpu, std::size_t stack_bytes, bool* fifo);
 
+/// For the calling thread: every CPU it may run on except `cpu`, so its
+/// system calls and the network work they start (loopback delivery runs in
+/// softirq on the sender's CPU) stay off the loop thread's CPU. Empty on
+/// success or when `cpu` is the only one allowed, else a warning line.
+std::string keepOffCpu(int cpu);
+
 inline std::int64_t toNs(const timespec& t) { return std::int64_t{t.tv_sec} * 1000000000 + t.tv_nsec; }
 inline timespec fromNs(std::int64_t ns) {
   timespec t;

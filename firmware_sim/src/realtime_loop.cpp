@@ -115,7 +115,10 @@ int run(Run& r) {
   };
 
   const std::int64_t wall0 = nowNs();
-  std::thread rt(loop);
+  std::thread rt(loop);  // created first: it inherits this thread's CPUs before they shrink
+  if (r.o.cpu >= 0) {
+    if (const std::string w = keepOffCpu(r.o.cpu); !w.empty()) std::fprintf(stderr, "firmware_sim: %s\n", w.c_str());
+  }
   // Communication thread: LCM in, drained queues out, statistics at a low rate.
   pollfd fds[2] = {{r.bridge.fd(), POLLIN, 0}, {efd, POLLIN, 0}};  // fd -1 (memq://): poll skips it
   std::int64_t next_stats = nowNs() + std::llround(r.o.stats_period * 1e9);

@@ -1,8 +1,9 @@
-// The worst-case compute of one tick, bounded by the sub-step cap and
-// measured at start: firmware_sim times one derivative (forward dynamics) of
-// its variant and multiplies by the most derivatives a tick may take, so a
-// bench engineer knows before running whether the plant can miss a deadline
-// by itself. docs/bench.md "Worst-case compute per tick".
+// The worst-case compute of one tick, bounded by the work cap and measured
+// at start: firmware_sim times a work unit of its variant (an RK4 sub-step
+// pressed into the bearing, a whole free step) and multiplies by the most
+// units a tick may take, so a bench engineer knows before running whether the
+// plant can miss a deadline by itself. docs/bench.md "Worst-case compute per
+// tick".
 #pragma once
 
 #include <string>
@@ -13,15 +14,18 @@ namespace gimbalsim::firmware {
 
 struct TickBudget {
   double derivative_us = 0.0;   ///< [us] one forward-dynamics evaluation (the slower of free and in contact)
+  double unit_us = 0.0;         ///< [us] one work unit: the slower of an RK4 sub-step pressed and a free step,
+                                ///< scaled by evals_per_substep / 4 when a unit may take more derivatives
+  double fixed_us = 0.0;        ///< [us] per tick: the truth's derivative and one read of the thread CPU clock
   int steps_per_tick = 1;       ///< T / sim.step
   int substep_cap = 0;          ///< work units per step at most (sim.max_substeps or its automatic value)
   int evals_per_substep = 4;    ///< derivatives per work unit at most (derivativesPerUnit)
-  double worst_tick_us = 0.0;   ///< [us] steps_per_tick substep_cap evals_per_substep derivative_us (+1 for the truth)
+  double worst_tick_us = 0.0;   ///< [us] steps_per_tick substep_cap unit_us + fixed_us
   double period_us = 0.0;       ///< [us] control period
   bool exceeds() const noexcept { return worst_tick_us > period_us; }
 };
 
-/// Times the derivative at the scene's initial state (and, with clearance,
+/// Times a work unit at the scene's initial state (and, with clearance,
 /// pressed into the bearing) and derives the bound.
 TickBudget measureTickBudget(const Scene& sc, const Config& c);
 
