@@ -249,8 +249,13 @@ std::string UdpmReceiver::summary() const {
       sep = ", ";
     }
   }
-  s << "; " << kernel_drops_ << " lost in the kernel (socket buffer of " << rcvbuf_ << " bytes full)";
-  if (kernel_filter_) s << "; other channels' whole messages dropped by the kernel's socket filter (not counted)";
+  if (kernel_filter_) {
+    // The kernel adds the filter's drops to the same counter as buffer overflows.
+    s << "; " << kernel_drops_ << " dropped in the kernel (other channels' whole messages, by the socket filter, "
+      << "and any overflow of the " << rcvbuf_ << "-byte socket buffer: the kernel counts both together)";
+  } else {
+    s << "; " << kernel_drops_ << " lost in the kernel (socket buffer of " << rcvbuf_ << " bytes full)";
+  }
   if (socket_errors_ > 0) s << "; socket errors " << socket_errors_;
   return s.str();
 }

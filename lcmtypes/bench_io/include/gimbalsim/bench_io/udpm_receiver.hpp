@@ -75,7 +75,8 @@ class UdpmReceiver {
   const ReassemblyCounters& counters() const noexcept { return rs_.counters(); }
   const Reassembler& reassembler() const noexcept { return rs_; }
   std::uint64_t socketErrors() const noexcept { return socket_errors_; }
-  /// Datagrams the kernel dropped because the socket buffer was full (SO_RXQ_OVFL, as of the last datagram read).
+  /// Datagrams the kernel dropped because the socket buffer was full (SO_RXQ_OVFL, as of the last datagram read);
+  /// with the kernel filter, its drops too (the kernel counts them together).
   std::uint64_t kernelDrops() const noexcept { return kernel_drops_; }
   /// The socket's receive buffer as granted by the kernel [bytes] (0: no socket).
   int recvBufferBytes() const noexcept { return rcvbuf_; }
