@@ -114,6 +114,7 @@ struct Run {
   long long lockstep_timeouts = 0;
   const FaultSchedule* faults = nullptr;  ///< --faults, null = none
   double worst_tick_us = 0.0;  ///< [us] the sub-step cap's bound on a tick (tick_budget.hpp), measured at start
+  long long worst_tick_derivatives = 0;  ///< the bound's count: derivative evaluations of one tick's stepping at most
   double compute_seconds = 0.0;  ///< [s] wall time of the plant's own work (ticks, not the waits)
   PointingErrorStats pointing;   ///< the truth pointing error (written by the loop, read after it)
 };

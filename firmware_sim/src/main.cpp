@@ -171,6 +171,7 @@ int mainImpl(int argc, char** argv) {
   }
   const TickBudget budget = measureTickBudget(scene, c);
   r.worst_tick_us = budget.worst_tick_us;
+  r.worst_tick_derivatives = static_cast<long long>(budget.steps_per_tick) * budget.substep_cap * budget.evals_per_substep;
   std::fprintf(stderr, "firmware_sim: %s\n", describeTickBudget(budget).c_str());
   if (const std::string w = tickBudgetWarning(budget); !w.empty()) std::fprintf(stderr, "firmware_sim: %s\n", w.c_str());
   if (!faults.empty()) {

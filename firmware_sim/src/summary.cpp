@@ -61,6 +61,12 @@ void printExitSummary(const Run& r, const Outcome& out) {
               st.stepping_cpu.quantile(0.5), st.stepping_cpu.quantile(0.99), st.stepping_cpu.max(), r.worst_tick_us,
               r.worst_tick_us > 0 ? 100.0 * st.stepping_cpu.max() / r.worst_tick_us : 0.0,
               static_cast<long long>(st.stepping_cpu_max_tick.load()), st.stepping_cpu_max_substeps.load());
+  if (r.worst_tick_derivatives > 0) {
+    std::printf("  stepping per tick, derivative evaluations: max %lld of the bound's %lld (%.1f %%)\n",
+                out.counters.max_derivatives_in_tick, r.worst_tick_derivatives,
+                100.0 * static_cast<double>(out.counters.max_derivatives_in_tick) /
+                    static_cast<double>(r.worst_tick_derivatives));
+  }
   if (!r.o.lockstep) {
     std::printf("  late ticks %lld (run at once after an overrun, holding the last command, to keep wall-clock time)",
                 static_cast<long long>(st.late_ticks.load()));

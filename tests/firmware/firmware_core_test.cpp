@@ -473,6 +473,11 @@ TEST(Firmware, TickAndReceiveAllocateNothingAfterWarmUp) {
   EXPECT_EQ(star_samples, 15) << "samples of 0 .. 0.36 s delivered 35 ms later, less the 4 lost to the outage";
   EXPECT_FALSE(fw.plantFault());
   EXPECT_GT(fw.counters().max_substeps_in_tick, 1) << "the window must cover contact sub-stepping";
+  // The count firmware_sim's worst-case bound multiplies: never exceeded (one step per tick here).
+  const Model& m = sc.scene.model;
+  EXPECT_GT(fw.counters().max_derivatives_in_tick, 4);
+  EXPECT_LE(fw.counters().max_derivatives_in_tick,
+            static_cast<long long>(substepCap(m)) * derivativesPerUnit<FloatingClearanceFriction>(m));
 }
 
 TEST(Histogram, QuantilesOfAKnownDistribution) {

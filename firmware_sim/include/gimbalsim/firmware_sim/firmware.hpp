@@ -167,7 +167,7 @@ class Firmware {
   /// next tick begins. Call once after each sample().
   void advance() noexcept {
     if (!plant_fault_) {
-      const long long before = d_.stats.substeps;
+      const long long before = d_.stats.substeps, derivatives_before = d_.stats.derivatives;
       for (int i = 0; i < steps_per_tick_; ++i) {
         const StepResult st = step(m_, d_, s_, u_);
         if (!st.ok()) {
@@ -180,6 +180,7 @@ class Firmware {
       last_substeps_ = used;
       n_.substeps += used;
       n_.max_substeps_in_tick = std::max(n_.max_substeps_in_tick, used);
+      n_.max_derivatives_in_tick = std::max(n_.max_derivatives_in_tick, d_.stats.derivatives - derivatives_before);
     } else {
       last_substeps_ = 0;
     }

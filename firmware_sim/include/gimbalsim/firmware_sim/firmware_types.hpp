@@ -42,6 +42,8 @@ struct Counters {
   std::int64_t saturated_ticks = 0;  ///< ticks with a clipped torque
   std::int64_t substeps = 0;         ///< RK4 evaluations, all ticks
   int max_substeps_in_tick = 0;
+  /// The most forward-dynamics evaluations one tick's stepping took (the count the worst-case bound bounds).
+  long long max_derivatives_in_tick = 0;
   BusFaultCounts bus;                ///< scheduled faults on the bus and the status channel (fault_bus.hpp)
   std::int64_t fault_ticks = 0;      ///< ticks with any scheduled fault active
 };
