@@ -129,8 +129,11 @@ class Spec:
             self.refuse(name, "expected a file path", node)
         p = pathlib.Path(node.value)
         for candidate in ([p] if p.is_absolute() else [self.folder / p, pathlib.Path.cwd() / p]):
-            if candidate.is_file():
-                return candidate.resolve()
+            try:
+                if candidate.is_file():
+                    return candidate.resolve()
+            except OSError as e:  # a name too long, a loop of links: not a path the spec can mean
+                self.refuse(name, f"not a usable file path ({e.strerror}): {node.value[:80]}", node)
         self.refuse(name, f"no such file: {node.value} (looked beside the spec, then in the current directory)", node)
 
     def integer(self, name, node, lo, hi):

@@ -279,6 +279,9 @@ REFUSALS = [
     ("  pde: {window: 0.02, separation: 0.05}", "  pde: {window: 0.06, separation: 0.05}", "indices.pde",
      "the window plus separation 0.11 s is longer than phase 'hold' (0.1 s of this run)"),
     (f"controller: {CONTROLLER_CONFIG}", "controller: no_such.yaml", "controller", "no such file"),
+    # a name longer than the file system allows (found by fuzz_spec): refused, not an OSError
+    (f"controller: {CONTROLLER_CONFIG}", "controller: " + "x" * 300 + ".yaml", "controller",
+     "not a usable file path (File name too long)"),
     (f"controller: {CONTROLLER_CONFIG}\n", "", "controller_set", "only for a closed-loop sweep"),
     (f"set: {{sim.duration: 0.5}}\ncontroller: {CONTROLLER_CONFIG}\ncontroller_set: {{profile.slew_start: 0.0, "
      "profile.slew_time: 0.2, profile.hold_time: 0.1}",
