@@ -16,7 +16,13 @@ firmware_sim's exit summary.
        on this 2-core machine; the loop thread is SCHED_FIFO 80. Optionally
        again with --spin (busy-wait the last part of each period).
  (ii)  lockstep speed: simulated seconds per wall second, paper_ideal and
-       paper_clearance with the controller over udpm, median of 3 runs.
+       paper_clearance with the controller over udpm, median of 3 runs, in
+       three ways: both processes sleeping in poll() between messages (the
+       default), both held to one CPU (taskset -c CPU), both busy-polling
+       (--spin-us 100). Against the in-process closed loop (controller_sweep
+       --omega 20, the default configuration's bandwidth; its start-up
+       subtracted: a 4 s run) it gives the process boundary per tick: lockstep wall
+       time per tick minus the in-process loop's.
  (iii) 60 s at 1 kHz real time: wake-up lateness and status -> command round
        trip (p50/p99/p99.9/max).
 
@@ -74,16 +80,16 @@ def enter_namespace():
 CHRT = []  # ["chrt", "-f", PRIO] when --chrt is allowed here
 
 
-def run_pair(scene, seconds, rate=1000, lockstep=False, fw_extra=(), ctl_extra=()):
-    """Controller + firmware_sim; returns firmware_sim's stdout (the exit summary)."""
+def run_pair(scene, seconds, rate=1000, lockstep=False, fw_extra=(), ctl_extra=(), both=()):
+    """Controller + firmware_sim, each started under `both` (e.g. taskset); returns firmware_sim's stdout (the exit summary)."""
     rt = [] if lockstep else CHRT
     # Real time: the controller on the other CPUs, as a bench keeps the plant's loop CPU to itself.
     others = sorted(os.sched_getaffinity(0) - {CPU[0]})
     pin = ["taskset", "-c", ",".join(map(str, others))] if not lockstep and CPU[0] >= 0 and others else []
-    ctl = subprocess.Popen([*pin, *rt, os.path.join(BIN, "pointing_controller"), CFG, "--lcm-url", URL, "--idle-exit", "2",
-                            *ctl_extra], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    ctl = subprocess.Popen([*both, *pin, *rt, os.path.join(BIN, "pointing_controller"), CFG, "--lcm-url", URL,
+                            "--idle-exit", "2", *ctl_extra], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
-        cmd = [*rt, os.path.join(BIN, "firmware_sim"), scene, "--rate", str(rate), "--duration", str(seconds),
+        cmd = [*both, *rt, os.path.join(BIN, "firmware_sim"), scene, "--rate", str(rate), "--duration", str(seconds),
                "--profile", CFG, "--lcm-url", URL, *fw_extra]
         if lockstep:
             cmd.append("--lockstep")
@@ -206,16 +212,42 @@ def sweep(rates, seconds, spin_fraction):
           f"[load after: {' '.join(load())}]")
 
 
+def in_process_us_per_tick(scene, seconds, runs=3):
+    """Wall time per 1 ms tick of the in-process closed loop [us]: controller_sweep over 4 + `seconds`
+    minus a 4 s run (the start-up; its figures need the track, from 3.5 s), median of `runs` pairs."""
+    def wall(duration):
+        t0 = time.perf_counter()
+        subprocess.run([os.path.join(BIN, "controller_sweep"), "--scene", scene, "--config", CFG, "--omega", "20",
+                        "--duration", f"{duration:g}"], check=True, capture_output=True)
+        return time.perf_counter() - t0
+    xs = [(wall(4.0 + seconds) - wall(4.0)) / (seconds * 1000.0) * 1e6 for _ in range(runs)]
+    return statistics.median(xs)
+
+
+LOCKSTEP_WAYS = (  # (name, prefix of both commands, flags of both processes)
+    ("sleeping (default)", lambda: [], []),
+    ("one CPU (taskset -c CPU, both)", lambda: ["taskset", "-c", str(max(CPU[0], 0))], []),
+    ("busy-polling (--spin-us 100, both)", lambda: [], ["--spin-us", "100"]),
+)
+
+
 def lockstep_speed(seconds, runs=3):
     print(f"\n(ii) lockstep speed, {seconds:g} simulated s per run, median of {runs} runs  [load before: {' '.join(load())}]")
-    print("| scene | simulated s / wall s (runs) | median |")
-    print("|---|---|---|")
+    print("| scene | the two processes | simulated s / wall s (runs) | median | wall per tick [us] | "
+          "in-process loop per tick [us] | process boundary per tick [us] |")
+    print("|---|---|---|---|---|---|---|")
     for name in ("paper_ideal", "paper_clearance"):
-        xs = []
-        for _ in range(runs):
-            out = run_pair(os.path.join(SCENES, name + ".yaml"), seconds, lockstep=True)
-            xs.append(grab(out, r"\(([\d.]+) x real time\)"))
-        print(f"| {name} | {', '.join(f'{x:.2f}' for x in xs)} | {statistics.median(xs):.2f} |", flush=True)
+        scene = os.path.join(SCENES, name + ".yaml")
+        inproc = in_process_us_per_tick(scene, seconds)
+        for way, both, flags in LOCKSTEP_WAYS:
+            xs = []
+            for _ in range(runs):
+                out = run_pair(scene, seconds, lockstep=True, fw_extra=flags, ctl_extra=flags, both=both())
+                xs.append(grab(out, r"\(([\d.]+) x real time\)"))
+            x = statistics.median(xs)
+            per_tick = 1000.0 / x  # [us] of wall time per 1 ms tick
+            print(f"| {name} | {way} | {', '.join(f'{x:.2f}' for x in xs)} | {x:.2f} | {per_tick:.1f} | {inproc:.1f} | "
+                  f"{per_tick - inproc:.1f} |", flush=True)
     print(f"[load after: {' '.join(load())}]")
 
 

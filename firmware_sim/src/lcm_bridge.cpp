@@ -36,8 +36,8 @@ void LcmBridge::drain() {
   rx_.drain([this](const bench_io::Message& m, std::int64_t) { onCommand(m); }, kDrainMax);
 }
 
-bool LcmBridge::receive(int timeout_ms) {
-  const int w = rx_.wait(timeout_ms);
+bool LcmBridge::receive(int timeout_ms, std::int64_t spin_ns) {
+  const int w = rx_.wait(timeout_ms, spin_ns);
   if (w > 0) drain();
   return w >= 0;
 }

@@ -28,8 +28,9 @@ class LcmBridge {
 
   /// Reads the datagrams waiting (at most kDrainMax) into the inbound ring.
   void drain();
-  /// Waits up to timeout_ms for datagrams, then drain(). False on a socket error.
-  bool receive(int timeout_ms);
+  /// Waits up to timeout_ms for datagrams (busy-polling the first spin_ns),
+  /// then drain(). False on a socket error.
+  bool receive(int timeout_ms, std::int64_t spin_ns = 0);
   int fd() const noexcept { return rx_.fd(); }
   const bench_io::UdpmReceiver& receiver() const noexcept { return rx_; }
 

@@ -17,11 +17,24 @@ namespace {
 
 constexpr std::int64_t kRepublishNs = 200000000;  ///< status 0 again every 200 ms until answered
 
+/// --spin-us in lockstep: busy-poll for the answer, unless this process may
+/// run on one CPU only, where spinning would hold the CPU the controller
+/// needs to answer (and every wait would last the whole spin).
+std::int64_t lockstepSpinNs(double spin_us) {
+  if (spin_us <= 0.0) return 0;
+  if (bench_io::pinnedToOneCpu()) {
+    std::fprintf(stderr, "firmware_sim: warning: --spin-us %g ignored in lockstep: this process may run on one CPU "
+                 "only, where busy-polling would hold the CPU the controller needs\n", spin_us);
+    return 0;
+  }
+  return std::llround(spin_us * 1e3);
+}
+
 /// Waits for the command answering status k, the one published this tick
 /// (for status 0: re-publishes it until a controller answers, up to the
 /// start timeout). True when answered.
 template <class V>
-bool awaitAnswer(Run& r, Firmware<V>& fw, std::int64_t k) {
+bool awaitAnswer(Run& r, Firmware<V>& fw, std::int64_t k, std::int64_t spin_ns) {
   const bool first = k == 0;
   const std::int64_t wait_ns = first ? std::llround(r.o.start_timeout_s * 1e9) : std::llround(r.o.lockstep_timeout_ms * 1e6);
   const std::int64_t deadline = nowNs() + wait_ns;
@@ -39,7 +52,7 @@ bool awaitAnswer(Run& r, Firmware<V>& fw, std::int64_t k) {
     }
     const std::int64_t until = first ? std::min(deadline, republish) : deadline;
     const int ms = static_cast<int>(std::max<std::int64_t>(1, (until - now + 999999) / 1000000));
-    if (!r.bridge.receive(ms) && !g_stop.load()) {  // (a signal interrupts the wait: not an error)
+    if (!r.bridge.receive(ms, spin_ns) && !g_stop.load()) {  // (a signal interrupts the wait: not an error)
       std::fprintf(stderr, "firmware_sim: receive failed (socket error)\n");
       g_stop.store(true);
     }
@@ -54,6 +67,7 @@ int run(Run& r) {
   const std::int64_t total = totalTicks(r.o, r.c);
   const std::int64_t wall0 = nowNs();
   std::int32_t extra = 0;
+  const std::int64_t spin_ns = lockstepSpinNs(r.o.spin_us);
   long long timeouts_in_a_row = 0;  // lockstep timeouts since the last answer
   std::int64_t next_stats = wall0 + std::llround(r.o.stats_period * 1e9);
   for (std::int64_t k = 0; (total < 0 || k < total) && !g_stop.load(); ++k) {
@@ -90,7 +104,7 @@ int run(Run& r) {
     // A status dropped or still held by the fault schedule: nothing to answer, the next tick follows.
     if (!fw.statusDelivered()) continue;
 
-    if (!awaitAnswer(r, fw, fw.status().seq) && !g_stop.load()) {
+    if (!awaitAnswer(r, fw, fw.status().seq, spin_ns) && !g_stop.load()) {
       if (fw.status().seq == 0) {
         std::fprintf(stderr,
                      "firmware_sim: lockstep: no command answering status 0 arrived within --start-timeout %g s "

@@ -62,7 +62,8 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--rt-priority", o.rt_priority, "SCHED_FIFO priority of the loop thread (0 = SCHED_OTHER)")
       ->capture_default_str()->check(CLI::Range(0, 99));
   app.add_option("--cpu", o.cpu, "pin the loop thread to this CPU and keep the communication thread off it (-1 = no pin)")->capture_default_str()->check(CLI::Range(-1, 1023));
-  app.add_option("--spin-us", o.spin_us, "busy-wait the last N us before each deadline")
+  app.add_option("--spin-us", o.spin_us, "real time: busy-wait the last N us before each deadline; lockstep: "
+                 "busy-poll up to N us for the answer before sleeping (needs a second CPU)")
       ->capture_default_str()->check(CLI::Range(0.0, 100000.0));
   app.add_option("--watchdog-ms", o.watchdog_ms, "no valid command for this long -> safe command [ms]")
       ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e9));
@@ -160,7 +161,7 @@ int mainImpl(int argc, char** argv) {
                m.name.c_str(), variantName(m).c_str(), o.rate_hz, static_cast<int>(std::llround(c.control_period / m.integrator.step)),
                m.integrator.step, o.lockstep ? "lockstep" : "real time", (o.prefix + "GIMBAL_").c_str());
 
-  Run r{plant, o, c, profile.get(), lcm, bridge, in, csv, {}, false, {}, 0.0, 0, nullptr, 0.0, 0.0, {}};
+  Run r{plant, o, c, profile.get(), lcm, bridge, in, csv, {}, false, {}, 0.0, 0, nullptr, 0.0, 0, 0.0, {}};
   // Say which target the truth pointing error is measured against.
   if (profile) {
     std::fprintf(stderr, "firmware_sim: truth pointing error against the profile: section of %s (tracking from "

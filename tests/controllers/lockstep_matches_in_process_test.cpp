@@ -10,7 +10,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "controllers/closed_loop_util.hpp"
@@ -21,8 +24,16 @@
 namespace gimbalsim::controllers {
 namespace {
 
-TEST(LockstepMatchesInProcess, TruthTrajectoryIsBitIdentical) {
-  if (std::system("unshare -n true >/dev/null 2>&1") != 0) GTEST_SKIP() << "unshare -n not permitted here";
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream f(p);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+/// Runs the pair in lockstep for 3 s, both processes started under `pin`
+/// (e.g. "taskset -c 0 ") with `flags` (e.g. " --spin-us 100"), and checks
+/// the truth CSV against the in-process loop bit for bit. Returns the
+/// concatenated logs of both processes.
+std::string expectLockstepEqualsInProcess(const std::string& pin, const std::string& flags) {
   const std::string scene = test::scenePath("paper_clearance");
   const std::string config = test::defaultControllerConfig();
   const double duration = 3.0;  // [s]: wait, slew and most of the hold
@@ -31,28 +42,32 @@ TEST(LockstepMatchesInProcess, TruthTrajectoryIsBitIdentical) {
   std::filesystem::create_directories(dir);
   const std::string truth = (dir / "truth.csv").string(), url = "'udpm://239.255.76.67:7667?ttl=0'";
   const std::string cmd =
-      "unshare -n sh -c \"ip link set lo up && ip route add 224.0.0.0/4 dev lo && { " +
-      std::string(GIMBALSIM_POINTING_CONTROLLER) + " " + config + " --lcm-url " + url +
-      " --duration 3 --idle-exit 10 2>/dev/null & " + std::string(GIMBALSIM_FIRMWARE_SIM) + " " + scene +
-      " --lockstep --duration 3 --profile " + config + " --truth-csv " + truth + " --lcm-url " + url +
-      " --start-timeout 10 >" + (dir / "fw.log").string() + " 2>&1; rc=\\$?; wait; exit \\$rc; }\"";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+      "unshare -n sh -c \"ip link set lo up && ip route add 224.0.0.0/4 dev lo && { " + pin +
+      std::string(GIMBALSIM_POINTING_CONTROLLER) + " " + config + " --lcm-url " + url + flags +
+      " --duration 3 --idle-exit 10 2>" + (dir / "ctl.log").string() + " & " + pin +
+      std::string(GIMBALSIM_FIRMWARE_SIM) + " " + scene + " --lockstep --duration 3 --profile " + config + flags +
+      " --truth-csv " + truth + " --lcm-url " + url + " --start-timeout 10 >" + (dir / "fw.log").string() +
+      " 2>&1; rc=\\$?; wait; exit \\$rc; }\"";
+  const int rc = std::system(cmd.c_str());
+  const std::string logs = slurp(dir / "fw.log") + slurp(dir / "ctl.log");
+  EXPECT_EQ(rc, 0) << cmd << "\n" << logs;
+  if (rc != 0) return logs;
 
   const test::Csv csv = test::Csv::read(truth);
   const auto& rows = csv.rows;
   const int c_seq = csv.col("seq"), c_t1 = csv.col("theta1_rad"), c_t2 = csv.col("theta2_rad"),
             c_err = csv.col("pointing_error_rad");
-  ASSERT_EQ(rows.size(), 3000u);
+  EXPECT_EQ(rows.size(), 3000u);
 
   const Scene sc = test::scene("paper_clearance");
   ClosedLoopOptions opt;
   opt.duration = duration - 1e-3;
   std::vector<TickRecord> ticks;
   runClosedLoop(sc, loadControllerConfig(config), opt, [&](const TickRecord& r) { ticks.push_back(r); });
-  ASSERT_EQ(ticks.size(), rows.size());
+  EXPECT_EQ(ticks.size(), rows.size());
   int mismatches = 0;
-  for (size_t k = 0; k < rows.size(); ++k) {
-    ASSERT_EQ(std::stoll(rows[k][c_seq]), static_cast<long long>(k));
+  for (size_t k = 0; k < rows.size() && k < ticks.size(); ++k) {
+    EXPECT_EQ(std::stoll(rows[k][c_seq]), static_cast<long long>(k));
     const double t1 = std::strtod(rows[k][c_t1].c_str(), nullptr), t2 = std::strtod(rows[k][c_t2].c_str(), nullptr);
     const double e = std::strtod(rows[k][c_err].c_str(), nullptr);
     if (t1 != ticks[k].theta_true(0) || t2 != ticks[k].theta_true(1) || e != ticks[k].truth_error) {
@@ -66,6 +81,33 @@ TEST(LockstepMatchesInProcess, TruthTrajectoryIsBitIdentical) {
   EXPECT_EQ(mismatches, 0);
   EXPECT_GT(ticks.back().theta_true(0), 0.4);  // the slew did happen
   std::filesystem::remove_all(dir);
+  return logs;
+}
+
+TEST(LockstepMatchesInProcess, TruthTrajectoryIsBitIdentical) {
+  if (std::system("unshare -n true >/dev/null 2>&1") != 0) GTEST_SKIP() << "unshare -n not permitted here";
+  expectLockstepEqualsInProcess("", "");
+}
+
+// Busy-polling for the peer (--spin-us, docs/bench.md "Lockstep speed") only
+// changes when a wait ends, never what is computed.
+TEST(LockstepMatchesInProcess, BusyPollingChangesNoBit) {
+  if (std::system("unshare -n true >/dev/null 2>&1") != 0) GTEST_SKIP() << "unshare -n not permitted here";
+  const std::string logs = expectLockstepEqualsInProcess("", " --spin-us 100");
+  if (std::thread::hardware_concurrency() >= 2) {
+    EXPECT_EQ(logs.find("--spin-us 100 ignored"), std::string::npos) << logs;
+  }
+}
+
+// Both processes held to one CPU: each refuses to spin there (it would hold
+// the CPU its peer needs), says so, and the run is still the same.
+TEST(LockstepMatchesInProcess, OneCpuRefusesToSpin) {
+  if (std::system("unshare -n true >/dev/null 2>&1") != 0) GTEST_SKIP() << "unshare -n not permitted here";
+  const std::string logs = expectLockstepEqualsInProcess("taskset -c 0 ", " --spin-us 100");
+  EXPECT_NE(logs.find("firmware_sim: warning: --spin-us 100 ignored in lockstep: this process may run on one CPU"),
+            std::string::npos) << logs;
+  EXPECT_NE(logs.find("pointing_controller: warning: --spin-us 100 ignored: this process may run on one CPU"),
+            std::string::npos) << logs;
 }
 
 }  // namespace

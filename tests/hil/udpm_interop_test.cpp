@@ -3,7 +3,8 @@
 // fragments) arrives through bench_io::UdpmReceiver byte for byte, and a
 // channel the receiver does not subscribe to never reaches it: the kernel's
 // socket filter drops it (names sharing a prefix included), while a non-LCM
-// datagram still comes up to be counted. Runs
+// datagram still comes up to be counted; a busy-polling wait sees a
+// message that arrives during its spin. Runs
 // inside a private network namespace: the outer test re-runs this executable
 // there with GIMBALSIM_IN_NETNS=1, which the inner test requires.
 #include <gtest/gtest.h>
@@ -12,9 +13,11 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "gimbalsim/bench_io/udpm_receiver.hpp"
@@ -94,6 +97,18 @@ TEST(UdpmInteropInNetns, Inner) {
   EXPECT_EQ(c.drops[static_cast<int>(bio::Drop::NotSubscribed)], 0u) << rx.summary();
   EXPECT_EQ(c.drops[static_cast<int>(bio::Drop::BadMagic)], 1u) << rx.summary();
   EXPECT_EQ(c.dropped(), 1u) << rx.summary();
+
+  // Busy-polling (lockstep --spin-us): with nothing sent the spin ends empty;
+  // a message sent 5 ms into a spin with no sleeping part (timeout 0) is seen
+  // by the spin itself.
+  EXPECT_EQ(rx.wait(0, 2000000), 0) << "2 ms spin, nothing sent";
+  std::thread late([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    lcm.publish("SMALL", small.data(), static_cast<unsigned>(small.size()));
+  });
+  const int spun = rx.wait(0, 5000000000LL);  // up to 5 s: ends when the message arrives
+  late.join();
+  EXPECT_EQ(spun, 1);
 }
 
 }  // namespace

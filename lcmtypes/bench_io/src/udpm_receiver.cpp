@@ -4,6 +4,7 @@
 #include <linux/filter.h>
 #include <netinet/in.h>
 #include <poll.h>
+#include <sched.h>
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
@@ -19,6 +20,12 @@ std::int64_t monotonicNs() noexcept {
   timespec ts{};
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return std::int64_t{ts.tv_sec} * 1000000000 + ts.tv_nsec;
+}
+
+bool pinnedToOneCpu() noexcept {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  return sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) <= 1;
 }
 
 namespace {
@@ -187,7 +194,15 @@ bool UdpmReceiver::open(const std::string& url, int recv_buf_bytes, std::string*
   return true;
 }
 
-int UdpmReceiver::wait(int timeout_ms) noexcept {
+int UdpmReceiver::wait(int timeout_ms, std::int64_t spin_ns) noexcept {
+  if (fd_ >= 0 && spin_ns > 0) {
+    pollfd p{fd_, POLLIN, 0};
+    const std::int64_t until = monotonicNs() + spin_ns;
+    do {
+      const int r = ::poll(&p, 1, 0);
+      if (r != 0) return r > 0 ? 1 : (errno == EINTR ? 0 : -1);
+    } while (monotonicNs() < until);
+  }
   if (fd_ < 0) {
     if (timeout_ms > 0) {
       const timespec ts{timeout_ms / 1000, (timeout_ms % 1000) * 1000000L};

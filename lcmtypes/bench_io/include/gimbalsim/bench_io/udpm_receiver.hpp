@@ -49,7 +49,10 @@ class UdpmReceiver {
 
   /// Waits up to timeout_ms for a datagram: 1 one is waiting, 0 timeout or a
   /// signal (EINTR), -1 a socket error. Without a socket it just sleeps.
-  int wait(int timeout_ms) noexcept;
+  /// spin_ns > 0 polls without sleeping for that long first: a lockstep peer
+  /// that answers within it is seen without waking a halted CPU, which costs
+  /// tens of us on a virtual machine (docs/bench.md "Lockstep speed").
+  int wait(int timeout_ms, std::int64_t spin_ns = 0) noexcept;
 
   /// Reads one waiting datagram without blocking. Returns the message it
   /// completes or null; *empty is true when nothing was waiting (or on an error).
@@ -98,5 +101,9 @@ class UdpmReceiver {
 
 /// CLOCK_MONOTONIC [ns] (the reassembler's timeout clock).
 std::int64_t monotonicNs() noexcept;
+
+/// True when this thread may run on one CPU only: busy-polling there would
+/// hold the very CPU its lockstep peer needs to answer.
+bool pinnedToOneCpu() noexcept;
 
 }  // namespace gimbalsim::bench_io
