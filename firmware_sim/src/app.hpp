@@ -50,6 +50,7 @@ struct Options {
   int rt_priority = 80;
   int cpu = -1;
   double spin_us = 0.0;
+  int cpu_dma_latency_us = 0;  ///< [us] real time: PM QoS CPU latency request held for the run (-1: none)
   double watchdog_ms = 50.0;
   double torque_sanity = 10.0;
   std::vector<double> safe_torque{0.0, 0.0};

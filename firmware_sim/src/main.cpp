@@ -65,6 +65,9 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--spin-us", o.spin_us, "real time: busy-wait the last N us before each deadline; lockstep: "
                  "busy-poll up to N us for the answer before sleeping (needs a second CPU)")
       ->capture_default_str()->check(CLI::Range(0.0, 100000.0));
+  app.add_option("--cpu-dma-latency-us", o.cpu_dma_latency_us, "real time: hold idle CPUs to this wake-up latency "
+                 "for the run (/dev/cpu_dma_latency, as cyclictest does; 0 = idle by polling, -1 = do not ask)")
+      ->capture_default_str()->check(CLI::Range(-1, 1000000));
   app.add_option("--watchdog-ms", o.watchdog_ms, "no valid command for this long -> safe command [ms]")
       ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e9));
   app.add_option("--torque-sanity", o.torque_sanity, "reject commands with |torque| > this x torque.limit")
@@ -133,8 +136,10 @@ int mainImpl(int argc, char** argv) {
     return refuse("--truth-csv: " + why);
   }
 
+  const CpuLatencyRequest cpu_latency(o.lockstep ? -1 : o.cpu_dma_latency_us);
   if (!o.lockstep) {
     if (const std::string w = lockMemory(); !w.empty()) std::fprintf(stderr, "firmware_sim: %s\n", w.c_str());
+    if (!cpu_latency.warning().empty()) std::fprintf(stderr, "firmware_sim: %s\n", cpu_latency.warning().c_str());
   }
   lcm::LCM lcm(o.lcm_url);
   if (!lcm.good()) {

@@ -5,6 +5,9 @@
 #include <sys/mman.h>
 #include <sys/prctl.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstring>
 
@@ -16,6 +19,24 @@ std::string lockMemory() {
            "): pages may fault during the loop; run as root or raise RLIMIT_MEMLOCK";
   }
   return {};
+}
+
+CpuLatencyRequest::CpuLatencyRequest(int us) {
+  if (us < 0) return;
+  // The request lasts while the file stays open; the value is a binary s32.
+  fd_ = ::open("/dev/cpu_dma_latency", O_WRONLY | O_CLOEXEC);
+  const std::int32_t value = us;
+  if (fd_ < 0 || ::write(fd_, &value, sizeof value) != static_cast<ssize_t>(sizeof value)) {
+    warning_ = "warning: cannot hold idle CPUs to " + std::to_string(us) + " us of wake-up latency (/dev/cpu_dma_latency: " +
+               std::strerror(errno) + "): a wake-up may first wait for a halted CPU; run as root, or "
+               "--cpu-dma-latency-us -1 to not ask";
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+  }
+}
+
+CpuLatencyRequest::~CpuLatencyRequest() {
+  if (fd_ >= 0) ::close(fd_);
 }
 
 namespace {

@@ -13,6 +13,25 @@ namespace gimbalsim::firmware {
 /// mlockall(MCL_CURRENT | MCL_FUTURE). Empty on success, else a warning line.
 std::string lockMemory();
 
+/// The kernel's CPU latency request (PM QoS, /dev/cpu_dma_latency), held
+/// while this object lives: idle CPUs keep to idle states that wake within
+/// `us` microseconds (0: they poll instead of halting, as cyclictest asks),
+/// so a deadline does not first wait for a halted CPU to come back, which a
+/// virtual machine's halt makes cost tens of microseconds. us < 0: no request.
+class CpuLatencyRequest {
+ public:
+  explicit CpuLatencyRequest(int us);
+  ~CpuLatencyRequest();
+  CpuLatencyRequest(const CpuLatencyRequest&) = delete;
+  CpuLatencyRequest& operator=(const CpuLatencyRequest&) = delete;
+  /// Empty when held (or none asked), else a warning line.
+  const std::string& warning() const { return warning_; }
+
+ private:
+  int fd_ = -1;
+  std::string warning_;
+};
+
 /// For the calling thread: SCHED_FIFO at `priority` (0: leave SCHED_OTHER),
 /// pin to `cpu` (-1: no pin), timer slack 1 ns, prefault `stack_bytes` of stack.
 /// Returns the warnings; *fifo says whether SCHED_FIFO was granted.
