@@ -12,6 +12,21 @@
 
 namespace gimbalsim::firmware {
 
+namespace {
+/// "p50 A  p99 B  [p99.9 C  ]max D" of a histogram [us]: the summary's one
+/// format for a spread (the tools read these lines).
+std::string spread(const Histogram& h, bool with_p999) {
+  char buf[160];
+  if (with_p999) {
+    std::snprintf(buf, sizeof buf, "p50 %.0f  p99 %.0f  p99.9 %.0f  max %.1f", h.quantile(0.5), h.quantile(0.99),
+                  h.quantile(0.999), h.max());
+  } else {
+    std::snprintf(buf, sizeof buf, "p50 %.0f  p99 %.0f  max %.1f", h.quantile(0.5), h.quantile(0.99), h.max());
+  }
+  return buf;
+}
+}  // namespace
+
 void printExitSummary(const Run& r, const Outcome& out) {
   const LoopStats& st = r.stats;
   const Counters& n = out.counters;
@@ -45,20 +60,18 @@ void printExitSummary(const Run& r, const Outcome& out) {
     std::printf("\n");
   }
   if (!r.o.lockstep) {
-    std::printf("  wake-up lateness [us]: p50 %.0f  p99 %.0f  p99.9 %.0f  max %.1f\n", st.lateness.quantile(0.5),
-                st.lateness.quantile(0.99), st.lateness.quantile(0.999), st.lateness.max());
-    std::printf("  tick period [us]:      p50 %.0f  p99 %.0f  p99.9 %.0f  max %.1f\n", st.period.quantile(0.5),
-                st.period.quantile(0.99), st.period.quantile(0.999), st.period.max());
+    std::printf("  wake-up lateness [us]: %s\n", spread(st.lateness, true).c_str());
+    std::printf("  tick period [us]:      %s\n", spread(st.period, true).c_str());
   }
-  std::printf("  compute per tick [us]: p50 %.0f  p99 %.0f  max %.1f   (1 us bins); worst-case bound %.0f (max %.1f %% of it)\n",
-              st.compute.quantile(0.5), st.compute.quantile(0.99), st.compute.max(), r.worst_tick_us,
+  std::printf("  compute per tick [us]: %s   (1 us bins); worst-case bound %.0f (max %.1f %% of it)\n",
+              spread(st.compute, false).c_str(), r.worst_tick_us,
               r.worst_tick_us > 0 ? 100.0 * st.compute.max() / r.worst_tick_us : 0.0);
-  std::printf("  compute per tick, thread CPU [us]: p50 %.0f  p99 %.0f  max %.1f   (preemption not counted; the "
+  std::printf("  compute per tick, thread CPU [us]: %s   (preemption not counted; the "
               "stepping and the tick's fixed work: commands, sensors, truth, messages)\n",
-              st.compute_cpu.quantile(0.5), st.compute_cpu.quantile(0.99), st.compute_cpu.max());
-  std::printf("  stepping per tick, thread CPU [us]: p50 %.0f  p99 %.0f  max %.1f; worst-case bound %.0f (max %.1f %% of "
+              spread(st.compute_cpu, false).c_str());
+  std::printf("  stepping per tick, thread CPU [us]: %s; worst-case bound %.0f (max %.1f %% of "
               "it); the max at tick %lld (%d sub-steps)\n",
-              st.stepping_cpu.quantile(0.5), st.stepping_cpu.quantile(0.99), st.stepping_cpu.max(), r.worst_tick_us,
+              spread(st.stepping_cpu, false).c_str(), r.worst_tick_us,
               r.worst_tick_us > 0 ? 100.0 * st.stepping_cpu.max() / r.worst_tick_us : 0.0,
               static_cast<long long>(st.stepping_cpu_max_tick.load()), st.stepping_cpu_max_substeps.load());
   if (r.worst_tick_derivatives > 0) {
@@ -78,8 +91,7 @@ void printExitSummary(const Run& r, const Outcome& out) {
   }
   const Histogram& rt = r.bridge.roundtrip;
   if (rt.count() > 0) {
-    std::printf("  status -> command round trip [us]: p50 %.0f  p99 %.0f  p99.9 %.0f  max %.1f  (%llu answers)\n",
-                rt.quantile(0.5), rt.quantile(0.99), rt.quantile(0.999), rt.max(),
+    std::printf("  status -> command round trip [us]: %s  (%llu answers)\n", spread(rt, true).c_str(),
                 static_cast<unsigned long long>(rt.count()));
   }
   std::printf("  overruns %lld (ticks whose work ended after the next deadline); RK4 sub-steps per tick: mean %.2f, max %d\n", static_cast<long long>(st.overruns.load()),

@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "bench_io/lcm_datagrams.hpp"
+#include "bench_io/multicast_sender.hpp"
 #include "gimbalsim/bench_io/udpm_receiver.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
@@ -58,35 +59,6 @@ Bytes fragment(std::uint32_t seq, std::uint32_t size, std::uint32_t off, std::ui
 Bytes shortMsg(const std::string& ch, const std::uint8_t* data, std::size_t n, bool terminate = true) {
   return bio::datagrams::shortMessage(ch, Bytes(data, data + n), 1, terminate);
 }
-
-struct Sender {
-  std::vector<int> fds;
-  sockaddr_in group{};
-  long long sent = 0, failed = 0;
-  bool open(const bio::LcmUrl& u, int sockets) {
-    group.sin_family = AF_INET;
-    group.sin_addr.s_addr = u.group;
-    group.sin_port = htons(u.port);
-    for (int i = 0; i < sockets; ++i) {
-      const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-      if (fd < 0) return false;
-      const int ttl = 0, loop = 1;
-      setsockopt(fd, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, sizeof ttl);
-      setsockopt(fd, IPPROTO_IP, IP_MULTICAST_LOOP, &loop, sizeof loop);
-      fds.push_back(fd);
-    }
-    return true;
-  }
-  void send(const Bytes& b, int socket = 0) {
-    const int fd = fds[static_cast<std::size_t>(socket) % fds.size()];
-    if (::sendto(fd, b.data(), b.size(), 0, reinterpret_cast<const sockaddr*>(&group), sizeof group) ==
-        static_cast<ssize_t>(b.size())) {
-      ++sent;
-    } else {
-      ++failed;
-    }
-  }
-};
 
 }  // namespace
 
@@ -116,7 +88,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const gimbalsim::contract::Channels ch = gimbalsim::contract::Channels::withPrefix(prefix);
-  Sender tx;
+  bio::MulticastSender tx;
   bio::UdpmReceiver rx(bio::ReassemblyLimits{}, bio::ChannelFilter({ch.status}));
   if (!tx.open(u, 8) || !rx.open(url, 1 << 20, &why)) {
     std::fprintf(stderr, "hil_attack: no socket: %s\n", why.c_str());

@@ -9,9 +9,6 @@
 // there with GIMBALSIM_IN_NETNS=1, which the inner test requires.
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdint>
@@ -20,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "../bench_io/multicast_sender.hpp"
 #include "gimbalsim/bench_io/udpm_receiver.hpp"
 #include "hil_util.hpp"
 
@@ -27,22 +25,6 @@ namespace gimbalsim::hil {
 namespace {
 
 namespace bio = bench_io;
-
-/// One UDP datagram to the URL's group and port (not LCM: no magic).
-void sendRawDatagram(const std::string& url, const std::string& bytes) {
-  const bio::LcmUrl u = bio::parseLcmUrl(url, nullptr);
-  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-  ASSERT_GE(fd, 0);
-  sockaddr_in group{};
-  group.sin_family = AF_INET;
-  group.sin_addr.s_addr = u.group;
-  group.sin_port = htons(u.port);
-  const int ttl = 0;
-  setsockopt(fd, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, sizeof ttl);
-  const ssize_t n = ::sendto(fd, bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&group), sizeof group);
-  ::close(fd);
-  ASSERT_EQ(n, static_cast<ssize_t>(bytes.size()));
-}
 
 TEST(UdpmInterop, LiblcmMessagesShortAndFragmentedArriveWhole) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
@@ -72,7 +54,10 @@ TEST(UdpmInteropInNetns, Inner) {
   for (const char* other : {"OTHER", "SMALLER", "SMAL", "BIGS", "S"}) {
     ASSERT_EQ(lcm.publish(other, small.data(), static_cast<unsigned>(small.size())), 0);
   }
-  sendRawDatagram(url, "not an LCM datagram");
+  bio::MulticastSender raw;  // not LCM: no magic
+  ASSERT_TRUE(raw.open(bio::parseLcmUrl(url, nullptr)));
+  const std::string garbage = "not an LCM datagram";
+  ASSERT_TRUE(raw.send(garbage.data(), garbage.size()));
   ASSERT_EQ(lcm.publish("BIG", big.data(), static_cast<unsigned>(big.size())), 0);
   std::vector<std::pair<std::string, std::vector<std::uint8_t>>> got;
   for (int i = 0; i < 50 && got.size() < 2; ++i) {

@@ -37,12 +37,19 @@ struct SubstepBudget {
 /// across, which typically locates a contact switch in 3 trials.
 inline constexpr int kLocateSlack = 2;
 
-/// The most trials locating a switch in a sub-step of length dt can take:
-/// bisection's ceil(log2(dt / event_tol)) plus kLocateSlack (docs/MODEL.md
-/// 7.5), at most sim.max_event_iters.
-inline int locateIterations(const IntegratorParams& p, double dt) {
+namespace detail {
+/// ITP's trial budget n_max for a bracket of length dt: bisection's
+/// ceil(log2(dt / event_tol)) plus kLocateSlack (docs/MODEL.md 7.5).
+inline int locateBudget(const IntegratorParams& p, double dt) {
   const double halvings = dt > p.event_tol ? std::ceil(std::log2(dt / p.event_tol)) : 0.0;
-  return static_cast<int>(std::min(halvings + kLocateSlack, static_cast<double>(p.max_event_iters)));
+  return static_cast<int>(std::fmin(halvings, 4096.0)) + kLocateSlack;  // fmin: an infinite dt stays an int
+}
+}  // namespace detail
+
+/// The most trials locating a switch in a sub-step of length dt can take:
+/// locateBudget, at most sim.max_event_iters.
+inline int locateIterations(const IntegratorParams& p, double dt) {
+  return std::min(detail::locateBudget(p, dt), p.max_event_iters);
 }
 
 /// NaN/Inf, or a velocity beyond sim.velocity_limit, in s.
@@ -150,8 +157,7 @@ StepResult locateSwitch(const Model& m, Data<V>& d, State<V>& s, const Input& u,
   const bool guided = guess > 0.0 && guess < dt;
   // ITP's guarantee: trial k lies within radius_k of the midpoint, so the
   // bracket after it is at most event_tol 2^(n_max - k - 1) long.
-  const double halvings = dt > p.event_tol ? std::ceil(std::log2(dt / p.event_tol)) : 0.0;
-  const int n_max = static_cast<int>(halvings) + kLocateSlack;
+  const int n_max = detail::locateBudget(p, dt);
   StepResult r;
   while (hi - lo > p.event_tol) {
     r.time = s.t;

@@ -35,10 +35,10 @@ inline int substepCap(const Model& m) {
   if (p.max_substeps > 0) return p.max_substeps;
   const double longest = longestLocated(p);
   const int plain = static_cast<int>(std::ceil(p.step / p.substep - 1e-9));
-  const int retakes = locateIterations(p, longest);  // halvings to event_tol, plus one
-  const int per_switch = locateIterations(p, longest) + 2;
-  if (p.substep_policy == SubstepPolicy::Adaptive) return 2 * std::max(plain, 500) + 4 * per_switch + retakes;
-  return plain + 4 * per_switch + retakes;
+  const int trials = locateIterations(p, longest);  // one switch located; also a straddle retaken to event_tol
+  const int per_switch = trials + 2;                 // + its mode entry and the sub-step it splits off
+  if (p.substep_policy == SubstepPolicy::Adaptive) return 2 * std::max(plain, 500) + 4 * per_switch + trials;
+  return plain + 4 * per_switch + trials;
 }
 
 /// The most derivative evaluations (forwardDynamics calls) one work unit of
