@@ -232,9 +232,9 @@ int run(int argc, char** argv) {
                                                      "mean the plant has gone: say so, exit 6 (0 = never)")
       ->capture_default_str()->check(CLI::NonNegativeNumber)->check(CLI::Range(0.0, 1e9));
   app.add_option("--log-csv", o.log_csv, "write one row per status answered: reference, measurement, torque");
-  app.add_option("--spin-us", o.spin_us, "busy-poll up to N us for the next status before sleeping: a lockstep "
-                                         "plant's next status comes within microseconds (needs a second CPU)")
-      ->capture_default_str()->check(CLI::Range(0.0, 100000.0));
+  app.add_option("--spin-us", o.spin_us, "busy-poll up to US for the next status before sleeping: a lockstep "
+                                         "plant's next status comes within microseconds [us, at most 100000]")
+      ->capture_default_str()->check(CLI::Number)->check(CLI::Range(0.0, 100000.0));
   app.add_flag("--keys", o.keys, "list every configuration key with type, unit, default, check and meaning, then exit");
   app.add_flag("--markdown", o.markdown, "with --keys: as a Markdown table (the one in docs/controller_keys.md)");
   app.add_flag("--print-config", o.print_config,
@@ -308,12 +308,7 @@ int run(int argc, char** argv) {
   // The last status of a run of --duration T is seq round(T / period) - 1 (firmware_sim's count).
   const std::int64_t last_seq = o.duration > 0.0 ? std::llround(o.duration / c.period) - 1 : -1;
   std::int64_t last_answer_ns = bench_io::monotonicNs();
-  std::int64_t spin_ns = std::llround(o.spin_us * 1e3);
-  if (spin_ns > 0 && bench_io::pinnedToOneCpu()) {  // spinning would hold the CPU the plant needs
-    std::fprintf(stderr, "pointing_controller: warning: --spin-us %g ignored: this process may run on one CPU only, "
-                 "where busy-polling would hold the CPU the plant needs\n", o.spin_us);
-    spin_ns = 0;
-  }
+  const std::int64_t spin_ns = std::llround(o.spin_us * 1e3);
   while (!io::stopRequested()) {
     if (rx.wait(kPollMs, spin_ns) < 0) {
       std::fprintf(stderr, "pointing_controller: receive failed (socket error)\n");

@@ -2,6 +2,7 @@
 // status k has arrived (or a timeout), utime is simulated time, and runs are
 // bit-for-bit repeatable. docs/bench.md "Real time and lockstep".
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "app.hpp"
@@ -16,19 +17,6 @@ namespace gimbalsim::firmware {
 namespace {
 
 constexpr std::int64_t kRepublishNs = 200000000;  ///< status 0 again every 200 ms until answered
-
-/// --spin-us in lockstep: busy-poll for the answer, unless this process may
-/// run on one CPU only, where spinning would hold the CPU the controller
-/// needs to answer (and every wait would last the whole spin).
-std::int64_t lockstepSpinNs(double spin_us) {
-  if (spin_us <= 0.0) return 0;
-  if (bench_io::pinnedToOneCpu()) {
-    std::fprintf(stderr, "firmware_sim: warning: --spin-us %g ignored in lockstep: this process may run on one CPU "
-                 "only, where busy-polling would hold the CPU the controller needs\n", spin_us);
-    return 0;
-  }
-  return std::llround(spin_us * 1e3);
-}
 
 /// Waits for the command answering status k, the one published this tick
 /// (for status 0: re-publishes it until a controller answers, up to the
@@ -67,7 +55,7 @@ int run(Run& r) {
   const std::int64_t total = totalTicks(r.o, r.c);
   const std::int64_t wall0 = nowNs();
   std::int32_t extra = 0;
-  const std::int64_t spin_ns = lockstepSpinNs(r.o.spin_us);
+  const std::int64_t spin_ns = std::llround(r.o.spin_us * 1e3);  // --spin-us: busy-poll for the answer
   long long timeouts_in_a_row = 0;  // lockstep timeouts since the last answer
   std::int64_t next_stats = wall0 + std::llround(r.o.stats_period * 1e9);
   for (std::int64_t k = 0; (total < 0 || k < total) && !g_stop.load(); ++k) {

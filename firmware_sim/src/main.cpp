@@ -55,19 +55,21 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--start-timeout", o.start_timeout_s, "lockstep: wait at most this for the first answer [s]")
       ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e6));
   app.add_option("--truth-every", o.truth_every, "publish truth every N ticks")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(program::wholeNumber())->check(CLI::PositiveNumber);
   app.add_option("--truth-csv", o.truth_csv, "write every truth message to this CSV file");
   app.add_option("--lcm-url", o.lcm_url, "LCM provider URL (default: LCM_DEFAULT_URL or LCM's default)");
   app.add_option("--channel-prefix", o.prefix, "prefix of every channel name, e.g. BENCH2_");
   app.add_option("--rt-priority", o.rt_priority, "SCHED_FIFO priority of the loop thread (0 = SCHED_OTHER)")
-      ->capture_default_str()->check(CLI::Range(0, 99));
-  app.add_option("--cpu", o.cpu, "pin the loop thread to this CPU and keep the communication thread off it (-1 = no pin)")->capture_default_str()->check(CLI::Range(-1, 1023));
-  app.add_option("--spin-us", o.spin_us, "real time: busy-wait the last N us before each deadline; lockstep: "
-                 "busy-poll up to N us for the answer before sleeping (needs a second CPU)")
-      ->capture_default_str()->check(CLI::Range(0.0, 100000.0));
+      ->capture_default_str()->check(program::wholeNumber())->check(CLI::Range(0, 99));
+  app.add_option("--cpu", o.cpu, "real time: pin the loop thread to this CPU and keep the communication thread off it "
+                 "(-1 = no pin)")->capture_default_str()->check(program::wholeNumber())->check(CLI::Range(-1, 1023));
+  app.add_option("--spin-us", o.spin_us, "real time: busy-wait the last US before each deadline; lockstep: "
+                 "busy-poll up to US for the answer before sleeping [us, at most 100000]")
+      ->capture_default_str()->check(CLI::Number)->check(CLI::Range(0.0, 100000.0));
   app.add_option("--cpu-dma-latency-us", o.cpu_dma_latency_us, "real time: hold idle CPUs to this wake-up latency "
-                 "for the run (/dev/cpu_dma_latency, as cyclictest does; 0 = idle by polling, -1 = do not ask)")
-      ->capture_default_str()->check(CLI::Range(-1, 1000000));
+                 "for the run (/dev/cpu_dma_latency, as cyclictest does; 0 = idle by polling, -1 = do not ask) "
+                 "[us, at most 1000000]")
+      ->capture_default_str()->check(program::wholeNumber())->check(CLI::Range(-1, 1000000));
   app.add_option("--watchdog-ms", o.watchdog_ms, "no valid command for this long -> safe command [ms]")
       ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e9));
   app.add_option("--torque-sanity", o.torque_sanity, "reject commands with |torque| > this x torque.limit")
@@ -79,6 +81,11 @@ int mainImpl(int argc, char** argv) {
       ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e6));
   app.add_option("--faults", o.faults, "fault schedule file (YAML, docs/bench.md \"Fault schedule\"), e.g. tools/faults/demo.yaml");
   if (const auto rc = program::parse(app, argc, argv, "firmware_sim")) return *rc;
+  if (o.lockstep) {  // one thread, no deadlines: the real-time set-up is not done
+    for (const char* flag : {"--rt-priority", "--cpu", "--cpu-dma-latency-us"}) {
+      if (app.count(flag) > 0) std::fprintf(stderr, "firmware_sim: warning: %s applies to real time only; ignored in lockstep\n", flag);
+    }
+  }
 
   PlantScene plant;
   try {
@@ -140,6 +147,10 @@ int mainImpl(int argc, char** argv) {
   if (!o.lockstep) {
     if (const std::string w = lockMemory(); !w.empty()) std::fprintf(stderr, "firmware_sim: %s\n", w.c_str());
     if (!cpu_latency.warning().empty()) std::fprintf(stderr, "firmware_sim: %s\n", cpu_latency.warning().c_str());
+    if (cpu_latency.held()) {
+      std::fprintf(stderr, "firmware_sim: idle CPUs held to %d us of wake-up latency while this runs (machine-wide, "
+                   "/dev/cpu_dma_latency; --cpu-dma-latency-us -1 to not ask)\n", o.cpu_dma_latency_us);
+    }
   }
   lcm::LCM lcm(o.lcm_url);
   if (!lcm.good()) {

@@ -26,6 +26,7 @@ class CpuLatencyRequest {
   CpuLatencyRequest& operator=(const CpuLatencyRequest&) = delete;
   /// Empty when held (or none asked), else a warning line.
   const std::string& warning() const { return warning_; }
+  bool held() const { return fd_ >= 0; }
 
  private:
   int fd_ = -1;

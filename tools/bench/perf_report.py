@@ -91,24 +91,29 @@ def mujoco_section(a):
     med = statistics.median(ratios)
     md += ["MuJoCo 2.2's RK4 (Debian's libmujoco-dev, the same gimbal as an MJCF model, tools/mujoco/) against "
            "our plain RK4 on `paper_ideal_valid_inertia` (MuJoCo refuses the paper's base inertia), steps 10, 5, 2 "
-           f"and 1 ms, thread CPU time of the stepping per simulated second, {a.rounds} repeats per point "
-           "(`gimbalsim_workprec`):", "", workprec_page.mujoco_table(rows),
+           f"and 1 ms, thread CPU time of the stepping per simulated second (ms), {a.rounds} repeats per point "
+           "(`gimbalsim_workprec`). The error columns are each integrator's largest boresight error [rad] against "
+           "a tight Dormand-Prince reference of the same scene (docs/results/workprec.md):", "",
+           workprec_page.mujoco_table(rows),
            f"**MuJoCo / ours: median {med:.2f}** (range {min(ratios):.2f} to {max(ratios):.2f}; above 1: ours faster).",
            ""]
     return md, f"MuJoCo / ours {med:.2f}"
 
 
-def bound_section(a):
-    rates = [int(r) for r in a.rates.split(",")]
-    md = ["## 3. firmware_sim's worst-case tick", "",
-          "The bound firmware_sim states at start (docs/bench.md): steps per tick x the step's work cap x a work "
-          "unit timed at start, plus the truth's derivative. Above 1 kHz the scene runs with sim.step = 1/rate "
-          "(one RK4 step per tick). Share = bound / period; above 100 % firmware_sim warns that it cannot "
-          "guarantee the rate.", "",
-          "| scene | " + " | ".join(f"{r} Hz: bound [us] (share)" for r in rates) + " | work units per step |",
-          "|---|" + "---|" * (len(rates) + 1)]
+def bound_section(a, rates):
+    md = ["## 3. firmware_sim's bound on a tick's stepping", "",
+          "The worst-case figure firmware_sim states at start (\"worst-case tick\", docs/bench.md): steps per "
+          "tick x the step's work cap x the cost of one work unit, timed at start, plus the truth's derivative "
+          "and a clock read. A work unit is an RK4 sub-step, a switch-locating trial or a mode entry after a "
+          "located switch (docs/MODEL.md 7.8); the cap is the most units any step may take before it stops. It "
+          "bounds the stepping, not the tick's fixed work (commands, sensors, messages: a few us, measured by "
+          "firmware_sim's exit summary), nor time the CPU spends elsewhere. Above 1 kHz the scene runs with "
+          "sim.step = 1/rate (one RK4 step per tick). Share = bound / period; above 100 % firmware_sim warns "
+          "that it cannot guarantee the rate.", "",
+          "| scene | " + " | ".join(f"{r} Hz: bound [us] (share; work units per step)" for r in rates) + " |",
+          "|---|" + "---|" * len(rates)]
     for scene in SCENES:
-        cells, cap = [], ""
+        cells = []
         for rate in rates:
             cmd = [str(ROOT / a.build / "bin/firmware_sim"), str(ROOT / "tools/scenes" / f"{scene}.yaml"),
                    "--lockstep", "--lcm-url", "memq://", "--rate", str(rate), "--duration", repr(1.0 / rate)]
@@ -120,9 +125,8 @@ def bound_section(a):
                 cells.append(f"not stated (exit {r.returncode})")
                 continue
             bound, period = float(m.group(1)), 1e6 / rate
-            cells.append(f"{bound:.0f} ({100 * bound / period:.0f} %)")
-            cap = m.group(3)
-        md.append(f"| {scene} | " + " | ".join(cells) + f" | {cap} |")
+            cells.append(f"{bound:.0f} ({100 * bound / period:.1f} %; {m.group(3)})")
+        md.append(f"| {scene} | " + " | ".join(cells) + " |")
     return md + [""]
 
 
@@ -130,9 +134,8 @@ def hil_section(a):
     md = ["## 4. The bench: lockstep and real-time wake-ups", ""]
     if a.skip_hil:
         return md + ["Not measured in this run (--skip-hil).", ""], ""
-    cmd = ["/usr/bin/python3", str(ROOT / "tools/hil_speed.py"), "--skip-sweep", "--long", str(a.hil_long),
-           "--build", a.build]
-    r = subprocess.run(cmd, capture_output=True, text=True, timeout=3600)
+    cmd = ["/usr/bin/python3", "tools/hil_speed.py", "--skip-sweep", "--long", f"{a.hil_long:g}", "--build", a.build]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=3600, cwd=ROOT)
     if r.returncode != 0:
         return md + [f"Not measured: tools/hil_speed.py exited {r.returncode}: {r.stdout[-500:]}{r.stderr[-500:]}", ""], ""
     body = [line for line in r.stdout.splitlines() if not line.startswith("hil_speed: private")]
@@ -161,12 +164,26 @@ def main():
     for f in (bench, str(ROOT / a.build / "bin/firmware_sim")):
         if not os.access(f, os.X_OK):
             p.error(f"{f} is missing: cmake --build {a.build} -j2 --target gimbalsim_bench firmware_sim")
-    if a.baseline_bench and not os.access(a.baseline_bench, os.X_OK):
-        p.error(f"--baseline-bench {a.baseline_bench}: not an executable file")
+    if a.baseline_bench:
+        if not (os.path.isfile(a.baseline_bench) and os.access(a.baseline_bench, os.X_OK)):
+            p.error(f"--baseline-bench {a.baseline_bench}: not an executable file")
+        listed = subprocess.run([a.baseline_bench, "--benchmark_list_tests"], capture_output=True, text=True).stdout
+        if "BM_Rk4<" not in listed:
+            p.error(f"--baseline-bench {a.baseline_bench}: lists no BM_Rk4 benchmark; not a gimbalsim_bench")
+    elif a.baseline_name != "baseline":
+        p.error("--baseline-name names the --baseline-bench, which was not given")
+    try:
+        rates = [int(r) for r in a.rates.split(",")]
+    except ValueError:
+        rates = []
+    if not rates or min(rates) <= 0:
+        p.error(f"--rates {a.rates}: a comma-separated list of whole control rates above 0 [Hz]")
+    if not a.hil_long > 0:
+        p.error(f"--hil-long {a.hil_long}: must be above 0 s")
     t0, load0 = time.time(), open("/proc/loadavg").read()
     dyn, s_dyn = dynamics_section(a, bench)
     mj, s_mj = mujoco_section(a)
-    bound = bound_section(a)
+    bound = bound_section(a, rates)
     hil, s_hil = hil_section(a)
     body = ["Every figure below comes from the one run of the command above, on the machine in the header. The "
             "2 cores are shared: absolute times move with the load (see the load average), so compare figures "

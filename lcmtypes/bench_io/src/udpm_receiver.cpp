@@ -22,12 +22,6 @@ std::int64_t monotonicNs() noexcept {
   return std::int64_t{ts.tv_sec} * 1000000000 + ts.tv_nsec;
 }
 
-bool pinnedToOneCpu() noexcept {
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  return sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) <= 1;
-}
-
 namespace {
 
 // The kernel's socket filter (classic BPF, SO_ATTACH_FILTER): a UDP socket's
@@ -201,6 +195,7 @@ int UdpmReceiver::wait(int timeout_ms, std::int64_t spin_ns) noexcept {
     do {
       const int r = ::poll(&p, 1, 0);
       if (r != 0) return r > 0 ? 1 : (errno == EINTR ? 0 : -1);
+      sched_yield();  // a peer on this CPU gets it at once; alone, this returns at once
     } while (monotonicNs() < until);
   }
   if (fd_ < 0) {

@@ -48,6 +48,21 @@ constexpr int signalExit(int signal) { return 128 + signal; }
 /// "<program>: error: <what> (see --help)".
 std::optional<int> parse(CLI::App& app, int argc, char** argv, const char* program);
 
+/// A CLI11 check for an integer option, put before its CLI::Range: a range
+/// check alone calls "1.5" or "abc" out of range instead of not whole.
+inline CLI::Validator wholeNumber() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        std::size_t i = s.size() > 1 && (s[0] == '-' || s[0] == '+') ? 1 : 0;
+        if (i == s.size()) return "'" + s + "' is not a whole number";
+        for (; i < s.size(); ++i) {
+          if (s[i] < '0' || s[i] > '9') return "'" + s + "' is not a whole number";
+        }
+        return {};
+      },
+      "INT");
+}
+
 /// "<program>: error: <what>" and "<program>: refused, nothing run" on stderr; kRefused.
 int refuse(const char* program, const std::string& what);
 /// Every problem as "error: <problem>", then "<program>: refused, nothing run"; kRefused.

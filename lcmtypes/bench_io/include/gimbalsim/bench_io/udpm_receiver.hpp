@@ -49,9 +49,10 @@ class UdpmReceiver {
 
   /// Waits up to timeout_ms for a datagram: 1 one is waiting, 0 timeout or a
   /// signal (EINTR), -1 a socket error. Without a socket it just sleeps.
-  /// spin_ns > 0 polls without sleeping for that long first: a lockstep peer
-  /// that answers within it is seen without waking a halted CPU, which costs
-  /// tens of us on a virtual machine (docs/bench.md "Lockstep speed").
+  /// spin_ns > 0 polls without sleeping for that long first, yielding the CPU
+  /// between polls: a lockstep peer that answers within it is seen without
+  /// waking a halted CPU, which costs tens of us on a virtual machine, and a
+  /// peer on the same CPU runs at once (docs/bench.md "Lockstep speed").
   int wait(int timeout_ms, std::int64_t spin_ns = 0) noexcept;
 
   /// Reads one waiting datagram without blocking. Returns the message it
@@ -102,8 +103,5 @@ class UdpmReceiver {
 /// CLOCK_MONOTONIC [ns] (the reassembler's timeout clock).
 std::int64_t monotonicNs() noexcept;
 
-/// True when this thread may run on one CPU only: busy-polling there would
-/// hold the very CPU its lockstep peer needs to answer.
-bool pinnedToOneCpu() noexcept;
 
 }  // namespace gimbalsim::bench_io
