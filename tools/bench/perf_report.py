@@ -6,6 +6,12 @@ measured in this one run of the tool on this machine.
     Benchmark medians, build/bin/gimbalsim_bench). With --baseline-bench BIN
     (the same benchmark built from an older commit) both binaries run
     alternately, --rounds passes each, and the page gives ours / baseline.
+    Build the baseline in a worktree of its own, for example:
+        git worktree add /tmp/base COMMIT
+        cmake -S /tmp/base -B /tmp/base/build -DCMAKE_BUILD_TYPE=Release
+        cmake --build /tmp/base/build -j2 --target gimbalsim_bench
+    then pass --baseline-bench /tmp/base/build/bin/gimbalsim_bench
+    --baseline-name COMMIT (and git worktree remove /tmp/base afterwards).
  2. MuJoCo's RK4 against ours (gimbalsim_workprec on paper_ideal_valid_inertia,
     when the build has the MuJoCo peer: Debian's libmujoco-dev).
  3. firmware_sim's stated worst-case tick, per scene and control rate
@@ -84,8 +90,7 @@ def mujoco_section(a):
                         "--policy", "plain", "--steps", "1e-2,5e-3,2e-3,1e-3", "--repeats", str(a.rounds), "--out", out],
                        check=True, capture_output=True)
         rows = workprec_page.load(pathlib.Path(out) / "workprec.csv")
-    ratios = [m["cpu_s_per_sim_s"] / o["cpu_s_per_sim_s"] for m in rows if m["ok"] and m["policy"].startswith("MuJoCo")
-              for o in rows if o["ok"] and o["policy"] == "plain" and abs(o["h_s"] - m["h_s"]) < 1e-12]
+    ratios = workprec_page.mujoco_ratios(rows)
     if not ratios:
         return md + ["The MuJoCo run gave no comparable points.", ""], ""
     med = statistics.median(ratios)

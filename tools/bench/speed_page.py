@@ -69,9 +69,7 @@ def main():
     if a.mujoco_dir:
         rows = workprec_page.load(pathlib.Path(a.mujoco_dir) / "workprec.csv")
         mj = workprec_page.mujoco_table(rows)
-        ratios = [m["cpu_s_per_sim_s"] / o["cpu_s_per_sim_s"] for m in rows if m["ok"] and m["policy"].startswith("MuJoCo")
-                  for o in rows if o["ok"] and o["policy"] == "plain" and o["scene"] == m["scene"]
-                  and abs(o["h_s"] - m["h_s"]) < 1e-12]
+        ratios = workprec_page.mujoco_ratios(rows)
         if mj and ratios:
             med = statistics.median(ratios)
             summary = f"MuJoCo 2.2 RK4 step / ours: median {med:.2f} over {len(ratios)} step sizes"
