@@ -131,7 +131,6 @@ void checkAgainstNewtonEuler(const std::string& scene_name, const std::vector<st
     ASSERT_EQ(m.chain[i].kind, (kindsOf<V>()[i])) << "chain joint " << i;
     ASSERT_EQ(m.I_chain[i].m == 0.0, (masslessOf<V>()[i])) << "chain body " << i;
   }
-  using VecQ = typename State<V>::VecQ;
   using VecV = typename State<V>::VecV;
   using MatV = typename Data<V>::MatV;
   std::mt19937 rng(7);

@@ -35,8 +35,8 @@ using namespace gimbalsim::controllers;
 
 namespace {
 
-// Exit codes: the one table (program.hpp, docs/usage.md "Exit codes").
-constexpr int kExitRefused = program::kRefused;  // bad argument, scene or configuration
+// Exit codes: the one table (program.hpp, docs/usage.md "Exit codes"); refusals
+// (bad argument, scene or configuration) leave through program::kRefused.
 constexpr int kExitWrite = program::kOutput;     // an output file could not be written
 constexpr int kExitStopped = program::kStopped;  // a plant stopped (results still written)
 
