@@ -1,6 +1,7 @@
 // The fixed-step RK4: order, switch location, caps and failure reporting.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 
 #include "gimbalsim/dynamics/integrator.hpp"
@@ -179,6 +180,12 @@ TEST(Integrator, HermiteGapMaxFindsATouchBetweenTheEnds) {
   // the cubic reaches +1.5 um in between.
   EXPECT_GT(hermiteGapMax(1e-3, -1e-6, 1e-2, -1e-6, -1e-2), 0.0);
   EXPECT_NEAR(hermiteGapMax(1e-3, -1e-6, 1e-2, -1e-6, -1e-2), -1e-6 + 0.25 * 1e-2 * 1e-3, 1e-12);
+  // The same graze with the receding rate one ulp larger: the cubic term is
+  // round-off (a ~ 1e-21), and the maximum (+0.1 um) must not be lost to
+  // cancellation in the quadratic formula (which gave -0.18 um: no touch).
+  const double r_away = -std::nextafter(1e-2, 1.0);
+  EXPECT_GT(hermiteGapMax(1e-3, -2.4e-6, 1e-2, -2.4e-6, r_away), 0.0);
+  EXPECT_NEAR(hermiteGapMax(1e-3, -2.4e-6, 1e-2, -2.4e-6, r_away), -2.4e-6 + 0.25 * 1e-2 * 1e-3, 1e-12);
   // Monotone approach: the larger end value.
   EXPECT_DOUBLE_EQ(hermiteGapMax(1e-3, -2e-6, 1e-3, -1e-6, 1e-3), -1e-6);
   // Receding slowly: never reaches the bearing.

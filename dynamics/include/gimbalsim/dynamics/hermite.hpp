@@ -50,8 +50,12 @@ inline double hermiteGapMax(double h, double g0, double r0, double g1, double r1
   }
   const double disc = qb * qb - 4.0 * qa * c;
   if (disc < 0.0) return best;
-  const double sq = std::sqrt(disc);
-  for (const double x : {(-qb - sq) / (2.0 * qa), (-qb + sq) / (2.0 * qa)}) {
+  // The roots as q / qa and c / q: (-qb +- sqrt(disc)) / (2 qa) loses the
+  // small root to cancellation when qa is round-off next to qb, and that root
+  // is the maximum of a symmetric approach and recession (a graze).
+  const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+  if (q == 0.0) return best;  // qb = c = 0: p' = qa x^2, no interior extremum
+  for (const double x : {q / qa, c / q}) {
     if (x > 0.0 && x < 1.0) best = std::fmax(best, p(x));
   }
   return best;
