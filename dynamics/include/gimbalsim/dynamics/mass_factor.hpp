@@ -1,7 +1,7 @@
 // The joint-space inertia M's factorisation, specialised to this tree: the
 // floating base's 6x6 block is the whole system's composite rigid-body
 // inertia, inverted in closed form about its centre of mass, and the NJ chain
-// coordinates are solved by the Cholesky factor of the small Schur
+// coordinates are solved by the L D L^T factors of the small Schur
 // complement S = Mjj - Mjb Mbb^-1 Mbj (docs/MODEL.md 3.6). A dense Cholesky
 // of the (6 + NJ)-square M spends most of its work, and its latency chain of
 // square roots and divisions, on the base block, whose inverse is known.
@@ -21,8 +21,8 @@ struct MassFactor {
   Vec3 c_B = Vec3::Zero();                   ///< centre of mass h / m, base coordinates [m]
   Mat3 Icom_inv = Mat3::Zero();              ///< inverse rotational inertia about the centre of mass [1/(kg m^2)]
   Eigen::Matrix<double, 6, NJ> Y = Eigen::Matrix<double, 6, NJ>::Zero();  ///< Mbb^-1 Mbj
-  Eigen::Matrix<double, NJ, NJ> L = Eigen::Matrix<double, NJ, NJ>::Zero();  ///< Cholesky factor of S (lower)
-  Eigen::Matrix<double, NJ, 1> inv_diag = Eigen::Matrix<double, NJ, 1>::Zero();  ///< 1 / L(j, j)
+  Eigen::Matrix<double, NJ, NJ> L = Eigen::Matrix<double, NJ, NJ>::Zero();  ///< S = L D L^T: L unit lower
+  Eigen::Matrix<double, NJ, 1> inv_d = Eigen::Matrix<double, NJ, 1>::Zero();  ///< 1 / D(j, j)
   bool ok = false;  ///< M was positive definite when factored
 };
 
@@ -56,53 +56,60 @@ GIMBALSIM_INLINE bool symmetricInverse3(const Mat3& A, Mat3& inv) {
   return A(0, 0) > 0.0 && minor2 > 0.0 && det > 0.0;
 }
 
-/// Lower Cholesky factor of symmetric S (its lower triangle) with the
-/// reciprocals of its diagonal: the solves then multiply where a division
-/// would sit on the latency chain. False unless S is positive definite.
-/// Kept apart from spatial.hpp's dense choleskySolve on purpose: that one is
-/// the tests' independent cross-check of this solve.
+/// S = L D L^T for symmetric S (its lower triangle): L unit lower
+/// triangular, and the reciprocals of D's diagonal. No square root sits on
+/// the latency chain, one division per column, and the solves multiply
+/// where a division would sit. False unless S is positive definite (every
+/// pivot > 0). Kept apart from spatial.hpp's dense choleskySolve on purpose:
+/// that one is the tests' independent cross-check of this solve.
 template <int N>
-GIMBALSIM_INLINE bool choleskyFactor(const Eigen::Matrix<double, N, N>& S, Eigen::Matrix<double, N, N>& L,
-                                     Eigen::Matrix<double, N, 1>& inv_diag) {
+GIMBALSIM_INLINE bool ldltFactor(const Eigen::Matrix<double, N, N>& S, Eigen::Matrix<double, N, N>& L,
+                                 Eigen::Matrix<double, N, 1>& inv_d) {
   bool ok = true;
+  double W[N][N];  // W[i][k] = L(i, k) d_k, k < i
 #pragma GCC unroll 16
   for (int j = 0; j < N; ++j) {
     double d = S(j, j);
 #pragma GCC unroll 16
-    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
+    for (int k = 0; k < j; ++k) d -= W[j][k] * L(j, k);
     ok = ok && d > 0.0;
-    L(j, j) = std::sqrt(d);
-    const double il = 1.0 / L(j, j);
-    inv_diag(j) = il;
+    const double id = 1.0 / d;
+    inv_d(j) = id;
+    L(j, j) = 1.0;
 #pragma GCC unroll 16
     for (int i = j + 1; i < N; ++i) {
       double s = S(i, j);
 #pragma GCC unroll 16
-      for (int k = 0; k < j; ++k) s -= L(i, k) * L(j, k);
-      L(i, j) = s * il;
+      for (int k = 0; k < j; ++k) s -= W[i][k] * L(j, k);
+      W[i][j] = s;
+      L(i, j) = s * id;
     }
   }
   return ok;
 }
 
-/// x = (L L^T)^-1 x in place, L from choleskyFactor().
+/// x = (L D L^T)^-1 x in place, L and 1/D from ldltFactor().
 template <int N>
-GIMBALSIM_INLINE void choleskySolveInPlace(const Eigen::Matrix<double, N, N>& L,
-                                           const Eigen::Matrix<double, N, 1>& inv_diag,
-                                           Eigen::Matrix<double, N, 1>& x) {
+GIMBALSIM_INLINE void ldltSolveInPlace(const Eigen::Matrix<double, N, N>& L,
+                                       const Eigen::Matrix<double, N, 1>& inv_d,
+                                       Eigen::Matrix<double, N, 1>& x) {
+  double z[N];  // L z = x, then D^-1 z
 #pragma GCC unroll 16
   for (int j = 0; j < N; ++j) {
     double y = x(j);
 #pragma GCC unroll 16
-    for (int k = 0; k < j; ++k) y -= L(j, k) * x(k);
-    x(j) = y * inv_diag(j);
+    for (int k = 0; k < j; ++k) y -= L(j, k) * z[k];
+    z[j] = y;
   }
 #pragma GCC unroll 16
-  for (int i = N - 1; i >= 0; --i) {
-    double y = x(i);
+  for (int j = 0; j < N; ++j) z[j] *= inv_d(j);
 #pragma GCC unroll 16
-    for (int k = i + 1; k < N; ++k) y -= L(k, i) * x(k);
-    x(i) = y * inv_diag(i);
+  for (int i = N - 1; i >= 0; --i) {
+    double y = z[i];
+#pragma GCC unroll 16
+    for (int k = i + 1; k < N; ++k) y -= L(k, i) * z[k];
+    z[i] = y;
+    x(i) = y;
   }
 }
 
@@ -132,7 +139,7 @@ GIMBALSIM_INLINE bool factorMass(const Eigen::Matrix<double, V::NV, V::NV>& M, M
       for (int i = j; i < NJ; ++i) S(i, j) -= M.col(NB + i).template head<6>().dot(F.Y.col(j));
     }
   }
-  ok = detail::choleskyFactor<NJ>(S, F.L, F.inv_diag) && ok;
+  ok = detail::ldltFactor<NJ>(S, F.L, F.inv_d) && ok;
   F.ok = ok;
   return ok;
 }
@@ -149,7 +156,7 @@ GIMBALSIM_INLINE void solveMass(const MassFactor<V>& F, const typename MassFacto
     // Mjb Mbb^-1 = Y^T (Mbb is symmetric)
     xj.noalias() -= F.Y.transpose() * b.template head<6>();
   }
-  detail::choleskySolveInPlace<NJ>(F.L, F.inv_diag, xj);
+  detail::ldltSolveInPlace<NJ>(F.L, F.inv_d, xj);
   x.template tail<NJ>() = xj;
   if constexpr (V::kFloating) {
     const Vec6 xb = Eigen::Map<const Vec6>(y) - F.Y * xj;
