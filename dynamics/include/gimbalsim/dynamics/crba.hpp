@@ -105,7 +105,7 @@ GIMBALSIM_FLATTEN void crba(const Model& m, Data<V>& d) {
   constexpr int NB = V::NB, NJ = V::NJ;
   detail::InertiaS Ic[NJ], Ic_base;
   detail::load(m.I_chain[NJ - 1], Ic[NJ - 1]);
-  staticFor<NJ, /*Reverse=*/true>([&](auto I) {
+  staticFor<NJ, /*Reverse=*/true>([&](auto I) GIMBALSIM_FLATTEN_LAMBDA {
     constexpr int i = I;
     if constexpr (i > 0 || V::kFloating) {
       detail::InertiaS Ip;
@@ -125,12 +125,12 @@ GIMBALSIM_FLATTEN void crba(const Model& m, Data<V>& d) {
   // Column i: F = Ic_i S_i carried down the chain, M(j, i) = S_j . F.
   double Mjj[NJ][NJ];
   double Fb[NJ][6];  // floating base: the base rows of column i
-  staticFor<NJ>([&](auto I) {
+  staticFor<NJ>([&](auto I) GIMBALSIM_FLATTEN_LAMBDA {
     constexpr int i = I;
     double F[6];
     detail::inertiaTimesSubspace<V, i>(Ic[i], m.chain[i].axis, F);
     Mjj[i][i] = detail::subspaceDot<V, i>(m.chain[i].axis, F);
-    staticFor<i, /*Reverse=*/true>([&](auto J) {  // j = i .. 1
+    staticFor<i, /*Reverse=*/true>([&](auto J) GIMBALSIM_FLATTEN_LAMBDA {  // j = i .. 1
       constexpr int j = J + 1;
       double XF[6];
       detail::jointForceToParent<V, j>(d.X[j], F, XF);

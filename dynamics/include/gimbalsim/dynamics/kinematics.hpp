@@ -44,7 +44,7 @@ constexpr bool chainBodyMassless(int i) {
 /// so that i is a compile-time constant in the body.
 template <int N, bool Reverse = false, class F>
 GIMBALSIM_INLINE void staticFor(F&& f) {
-  [&]<int... I>(std::integer_sequence<int, I...>) {
+  [&]<int... I>(std::integer_sequence<int, I...>) GIMBALSIM_FLATTEN_LAMBDA {
     (f(std::integral_constant<int, Reverse ? N - 1 - I : I>{}), ...);
   }(std::make_integer_sequence<int, N>{});
 }
@@ -111,7 +111,7 @@ GIMBALSIM_FLATTEN void kinematics(const Model& m, Data<V>& d, const Eigen::Matri
                 const Eigen::MatrixBase<W>& v) {
   constexpr int QJ = State<V>::QJ, NB = V::NB;
   if constexpr (V::kFloating) d.v_base = v.template head<6>();
-  staticFor<V::NJ>([&](auto I) {
+  staticFor<V::NJ>([&](auto I) GIMBALSIM_FLATTEN_LAMBDA {
     constexpr int i = I;
     const Model::ChainJoint& J = m.chain[i];
     assert(J.kind == chainJointKind<V>(i));

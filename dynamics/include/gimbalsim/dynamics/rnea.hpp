@@ -67,7 +67,7 @@ GIMBALSIM_INLINE void rneaImpl(const Model& m, Data<V>& d, const Eigen::MatrixBa
       d.f_base = m.I_base * d.a_base + crossForce(d.v_base, m.I_base * d.v_base);
     }
   }
-  staticFor<NJ>([&](auto I) {
+  staticFor<NJ>([&](auto I) GIMBALSIM_FLATTEN_LAMBDA {
     constexpr int i = I;
     constexpr bool parent_zero = i == 0 && (VdotZero || !V::kFloating);
     const Vec6& a_parent = i > 0 ? d.a[i > 0 ? i - 1 : 0] : d.a_base;
@@ -81,7 +81,7 @@ GIMBALSIM_INLINE void rneaImpl(const Model& m, Data<V>& d, const Eigen::MatrixBa
       d.f[i] = m.I_chain[i] * d.a[i] + crossForce(d.v[i], h);
     }
   });
-  staticFor<NJ, /*Reverse=*/true>([&](auto I) {
+  staticFor<NJ, /*Reverse=*/true>([&](auto I) GIMBALSIM_FLATTEN_LAMBDA {
     constexpr int i = I;
     tau(NB + i) = subspaceDot<V, i>(m.chain[i].axis, d.f[i]);
     if constexpr (i > 0) {
