@@ -45,6 +45,7 @@ struct Options {
   double start_timeout_s = 30.0;
   int truth_every = 1;
   std::string truth_csv;
+  std::string tick_log;  ///< --tick-log CSV, "" = none
   std::string lcm_url;
   std::string prefix;
   int rt_priority = 80;
@@ -77,6 +78,7 @@ struct Outbound {
 
 class LcmBridge;
 class TruthCsv;
+class TickLog;
 
 /// The truth pointing error over the truths of a run, and while tracking (the
 /// profile's Track segment); added by the loop thread, no allocation.
@@ -108,6 +110,7 @@ struct Run {
   LcmBridge& bridge;
   SpscRing<Inbound>& in;
   TruthCsv& csv;
+  TickLog& tick_log;  ///< --tick-log (filled by the loop thread, written after the run)
   LoopStats stats;
   bool fifo = false;
   std::vector<std::string> rt_warnings;

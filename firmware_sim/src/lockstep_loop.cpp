@@ -11,6 +11,7 @@
 #include "lcm_bridge.hpp"
 #include "realtime.hpp"
 #include "summary.hpp"
+#include "tick_log.hpp"
 #include "truth_csv.hpp"
 
 namespace gimbalsim::firmware {
@@ -82,6 +83,7 @@ int run(Run& r) {
     r.stats.compute.add(static_cast<double>(t1 - t0) * 1e-3);
     r.stats.addComputeCpu(k, static_cast<double>(cpu1 - cpu0) * 1e-3, static_cast<double>(cpu1 - cpu_step) * 1e-3,
                           fw.lastSubsteps());
+    r.tick_log.add(tickRecord(fw, cpu1 - cpu_step, cpu1 - cpu0, t1 - t0));
     r.compute_seconds += static_cast<double>(t1 - t0) * 1e-9;
     r.stats.addTick(k + 1, fw.lastSubsteps());
     if (nowNs() >= next_stats) {

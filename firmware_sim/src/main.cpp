@@ -26,6 +26,7 @@
 #include "gimbalsim/pointing/profile_keys.hpp"
 #include "realtime.hpp"
 #include "tick_budget.hpp"
+#include "tick_log.hpp"
 #include "truth_csv.hpp"
 
 namespace gimbalsim::firmware {
@@ -57,6 +58,8 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--truth-every", o.truth_every, "publish truth every N ticks")
       ->capture_default_str()->check(program::wholeNumber())->check(CLI::PositiveNumber);
   app.add_option("--truth-csv", o.truth_csv, "write every truth message to this CSV file");
+  app.add_option("--tick-log", o.tick_log, "write each tick's sub-steps, derivatives and compute times (CPU and wall) "
+                 "to this CSV file after the run (needs --duration; at most 2e6 ticks)");
   app.add_option("--lcm-url", o.lcm_url, "LCM provider URL (default: LCM_DEFAULT_URL or LCM's default)");
   app.add_option("--channel-prefix", o.prefix, "prefix of every channel name, e.g. BENCH2_");
   app.add_option("--rt-priority", o.rt_priority, "SCHED_FIFO priority of the loop thread (0 = SCHED_OTHER)")
@@ -138,9 +141,19 @@ int mainImpl(int argc, char** argv) {
       return refuse("--faults " + o.faults + " refused for scene " + o.scene);
     }
   }
+  const std::vector<std::string> inputs{o.scene, o.profile, o.faults};
   TruthCsv csv;
-  if (std::string why; !o.truth_csv.empty() && !csv.open(o.truth_csv, {o.scene, o.profile, o.faults}, &why)) {
+  if (std::string why; !o.truth_csv.empty() && !csv.open(o.truth_csv, inputs, &why)) {
     return refuse("--truth-csv: " + why);
+  }
+  TickLog tick_log;
+  if (std::string why; !o.tick_log.empty() && !tick_log.open(o.tick_log, totalTicks(o, c), inputs, &why)) {
+    return refuse("--tick-log: " + why);
+  }
+  try {
+    io::checkOutputPaths({o.truth_csv, o.tick_log});  // each alone passed above; not one file for both
+  } catch (const io::OutputError& e) {
+    return refuse(std::string("--truth-csv and --tick-log: ") + e.what());
   }
 
   const CpuLatencyRequest cpu_latency(o.lockstep ? -1 : o.cpu_dma_latency_us);
@@ -177,7 +190,7 @@ int mainImpl(int argc, char** argv) {
                m.name.c_str(), variantName(m).c_str(), o.rate_hz, static_cast<int>(std::llround(c.control_period / m.integrator.step)),
                m.integrator.step, o.lockstep ? "lockstep" : "real time", (o.prefix + "GIMBAL_").c_str());
 
-  Run r{plant, o, c, profile.get(), lcm, bridge, in, csv, {}, false, {}, 0.0, 0, nullptr, 0.0, 0, 0.0, {}};
+  Run r{plant, o, c, profile.get(), lcm, bridge, in, csv, tick_log, {}, false, {}, 0.0, 0, nullptr, 0.0, 0, 0.0, {}};
   // Say which target the truth pointing error is measured against.
   if (profile) {
     std::fprintf(stderr, "firmware_sim: truth pointing error against the profile: section of %s (tracking from "
@@ -197,8 +210,10 @@ int mainImpl(int argc, char** argv) {
                  faults.faults.size(), static_cast<unsigned long long>(faults.seed));
   }
   const int rc = o.lockstep ? runLockstep(r) : runRealtime(r);
-  if (std::string why; !csv.close(&why)) {
-    std::fprintf(stderr, "firmware_sim: error: --truth-csv: %s\n", why.c_str());
+  // The outputs appear together or not at all (a failed write leaves neither under its name).
+  io::CommitGroup outputs({csv.file(), tick_log.file()});
+  if (std::string why; !tick_log.writeRows(&why) || !outputs.commit()) {
+    std::fprintf(stderr, "firmware_sim: error: %s\n", why.empty() ? outputs.error().c_str() : why.c_str());
     return rc == kExitOk ? kExitOutput : rc;
   }
   // Stopped by SIGINT/SIGTERM, outputs whole: 128 + the signal.

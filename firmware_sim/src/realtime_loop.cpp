@@ -26,6 +26,7 @@
 #include "lcm_bridge.hpp"
 #include "realtime.hpp"
 #include "summary.hpp"
+#include "tick_log.hpp"
 #include "truth_csv.hpp"
 
 namespace gimbalsim::firmware {
@@ -105,6 +106,7 @@ int run(Run& r) {
       r.stats.compute.add(static_cast<double>(end - wake_ns) * 1e-3);
       r.stats.addComputeCpu(k, static_cast<double>(end_cpu_ns - wake_cpu_ns) * 1e-3,
                             static_cast<double>(end_cpu_ns - step_cpu_ns) * 1e-3, fw.lastSubsteps());
+      r.tick_log.add(tickRecord(fw, end_cpu_ns - step_cpu_ns, end_cpu_ns - wake_cpu_ns, end - wake_ns));
       r.compute_seconds += static_cast<double>(end - wake_ns) * 1e-9;
       r.stats.addTick(k + 1, fw.lastSubsteps());
       next += period_ns;

@@ -16,7 +16,8 @@ struct TickBudget {
   double derivative_us = 0.0;   ///< [us] one forward-dynamics evaluation (the slower of free and in contact)
   double unit_us = 0.0;         ///< [us] one work unit: the slower of an RK4 sub-step pressed and a free step,
                                 ///< scaled by evals_per_substep / 4 when a unit may take more derivatives
-  double fixed_us = 0.0;        ///< [us] per tick: the truth's derivative and one read of the thread CPU clock
+  double cold_us = 0.0;         ///< [us] per tick: what the first unit costs more with cold caches and TLB
+  double fixed_us = 0.0;        ///< [us] per tick: the truth's derivative, cold_us and one read of the thread CPU clock
   int steps_per_tick = 1;       ///< T / sim.step
   int substep_cap = 0;          ///< work units per step at most (sim.max_substeps or its automatic value)
   int evals_per_substep = 4;    ///< derivatives per work unit at most (derivativesPerUnit)

@@ -20,10 +20,4 @@ bool TruthCsv::write(const Truth& t) {
   return out_->ok();
 }
 
-bool TruthCsv::close(std::string* why) {
-  if (!out_ || out_->commit()) return true;
-  if (why) *why = out_->error();
-  return false;
-}
-
 }  // namespace gimbalsim::firmware

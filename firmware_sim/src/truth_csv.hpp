@@ -2,7 +2,7 @@
 // `name_unit`, round-trip numbers (io/csv_format.hpp); gimbalsim_log2csv
 // writes the same bytes from a log). Written through io::OutputFile:
 // checked writes into a temporary file renamed over the target at the end of
-// the run (also after SIGINT/SIGTERM), so the file under the requested name
+// the run (also after SIGINT/SIGTERM), together with --tick-log, so the file under the requested name
 // is always whole rows of a finished run; never through a symbolic link, never
 // over an input.
 #pragma once
@@ -24,9 +24,9 @@ class TruthCsv {
   bool open(const std::string& path, const std::vector<std::string>& inputs, std::string* why);
   /// One row; nothing when no file is open. False once a write failed.
   bool write(const Truth& t);
-  /// Renames the finished file over the target; false with *why when a write
-  /// or the rename failed (the target is then untouched). True when none was open.
-  bool close(std::string* why);
+  /// The open file (null when none), committed with the run's other outputs
+  /// as one io::CommitGroup (main.cpp).
+  io::OutputFile* file() noexcept { return out_ ? &*out_ : nullptr; }
 
  private:
   std::optional<io::OutputFile> out_;

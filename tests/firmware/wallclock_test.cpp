@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -102,6 +103,41 @@ TEST(WallClock, ComputePerTickInThreadCpuTimeLiesWithinItsWallTime) {
   EXPECT_LE(stepping[1], cpu[1] + 1.0) << out;
   EXPECT_LE(stepping[2], cpu[2] + 1.0) << out;
   EXPECT_NE(out.find("; worst-case bound"), std::string::npos) << out;
+}
+
+// --tick-log holds every tick, and its figures are the ones the summary's
+// statistics were built from: the longest stepping and the most derivatives.
+// Per tick the spans nest: stepping <= the tick's CPU time <= its wall time.
+TEST(WallClock, TickLogHasEveryTickAndAgreesWithTheSummary) {
+  const std::string log = (std::filesystem::temp_directory_path() / ("gimbalsim_ticklog_" + std::to_string(::getpid()) + ".csv")).string();
+  int st = 0;
+  const std::string out = runCapture(std::string(GIMBALSIM_FIRMWARE_SIM) + " " + test::scenePath("paper_clearance") +
+                                         " --duration 0.3 --lcm-url memq:// --rt-priority 0 --watchdog-ms 1 --safe-torque 5 10 --tick-log " + log,
+                                     &st);
+  ASSERT_EQ(st, 0) << out;
+  const test::Csv c = test::Csv::read(log);
+  ASSERT_EQ(c.rows.size(), 300u) << "one row per tick";
+  const int c_tick = c.col("tick"), c_sub = c.col("substeps"), c_der = c.col("derivatives"),
+            c_step = c.col("stepping_cpu_us"), c_cpu = c.col("compute_cpu_us"), c_wall = c.col("compute_wall_us");
+  double step_max = 0.0;
+  long long der_max = 0, substeps = 0;
+  for (std::size_t k = 0; k < c.rows.size(); ++k) {
+    ASSERT_EQ(c.integer(k, c_tick), static_cast<long long>(k));
+    EXPECT_EQ(c.integer(k, c_der) > 0, c.integer(k, c_sub) > 0) << "tick " << k;
+    EXPECT_LE(c.num(k, c_step), c.num(k, c_cpu)) << "tick " << k;
+    EXPECT_LE(c.num(k, c_cpu), c.num(k, c_wall) + 1.0) << "tick " << k;  // two clocks: 1 us
+    step_max = std::max(step_max, c.num(k, c_step));
+    der_max = std::max(der_max, c.integer(k, c_der));
+    substeps += c.integer(k, c_sub);
+  }
+  EXPECT_GT(substeps, 300) << "the safe torque drives the joint into its bearing: sub-steps in contact";
+  const auto stepping = computeLine(out, "stepping per tick, thread CPU");
+  EXPECT_NEAR(step_max, stepping[2], 0.05 + 1e-9) << out;  // the summary prints 0.1 us
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(out, m, std::regex("derivative evaluations: max (\\d+) of the bound's (\\d+)"))) << out;
+  EXPECT_EQ(der_max, std::stoll(m[1])) << out;
+  EXPECT_LE(der_max, std::stoll(m[2])) << "every tick's count within the bound's";
+  std::filesystem::remove(log);
 }
 
 }  // namespace

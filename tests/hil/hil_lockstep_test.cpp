@@ -20,9 +20,10 @@ namespace gimbalsim::hil {
 namespace {
 
 /// Shell lines: controller in the background, firmware_sim in lockstep for
-/// `duration` simulated seconds, truth to `truth`, stdout to `fw_log`.
+/// `duration` simulated seconds, truth to `truth`, stdout to `fw_log`,
+/// `fw_args` added to firmware_sim's.
 std::string lockstepPair(const std::string& url, const std::string& prefix, double duration,
-                         const std::string& truth, const std::string& fw_log) {
+                         const std::string& truth, const std::string& fw_log, const std::string& fw_args = "") {
   const std::string cfg = defaultControllerConfig();
   const std::string pfx = prefix.empty() ? "" : " --channel-prefix " + prefix;
   char dur[32], ctl_dur[32];
@@ -31,7 +32,7 @@ std::string lockstepPair(const std::string& url, const std::string& prefix, doub
   return "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "'" + pfx + " --duration " +
          ctl_dur + " --idle-exit 5 >" + fw_log + ".ctl 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
          scenePath("paper_clearance") + " --lockstep --duration " + dur + " --profile " + cfg + " --truth-csv " +
-         truth + " --lcm-url '" + url + "'" + pfx + " --start-timeout 10 >" + fw_log + " 2>&1";
+         truth + " --lcm-url '" + url + "'" + pfx + " --start-timeout 10" + fw_args + " >" + fw_log + " 2>&1";
 }
 
 TEST(HilLockstep, ClearanceSlewCompletesAndPointingErrorConverges) {
@@ -88,8 +89,10 @@ TEST(HilLockstep, TwoRunsGiveByteIdenticalTruthCsv) {
   // the other bench's traffic: on a loaded 2-core machine a descheduled
   // process can overflow its socket buffer, lose a command, and the lockstep
   // timeout that follows makes the run differ; seen here).
-  const std::string body = lockstepPair(udpmUrl(7732), "HIL_A_", 3.0, dir / "a.csv", dir / "a.log") + " &\nA=$!\n" +
-                           lockstepPair(udpmUrl(7742), "HIL_B_", 3.0, dir / "b.csv", dir / "b.log") +
+  const std::string body =
+      lockstepPair(udpmUrl(7732), "HIL_A_", 3.0, dir / "a.csv", dir / "a.log", " --tick-log " + (dir / "a_ticks.csv")) +
+      " &\nA=$!\n" +
+      lockstepPair(udpmUrl(7742), "HIL_B_", 3.0, dir / "b.csv", dir / "b.log", " --tick-log " + (dir / "b_ticks.csv")) +
                            "\nrb=$?; wait $A; ra=$?; wait; [ $ra -eq 0 ] && [ $rb -eq 0 ]";
   ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "a.log") << readFile(dir / "b.log");
   for (const char* log : {"a.log", "b.log"}) {
@@ -103,6 +106,18 @@ TEST(HilLockstep, TwoRunsGiveByteIdenticalTruthCsv) {
   EXPECT_GT(ca.num(2999, ca.col("theta1_rad")), 0.4) << "the slew did happen";
   ASSERT_EQ(a.size(), b.size());
   EXPECT_TRUE(a == b) << "truth CSVs of two lockstep runs differ";
+  // The same work tick by tick (what tools/worst_tick.py relies on to tell a
+  // tick's work from the machine's): sub-steps and derivatives per tick agree.
+  const Csv ta = Csv::read(dir / "a_ticks.csv"), tb = Csv::read(dir / "b_ticks.csv");
+  ASSERT_EQ(ta.rows.size(), 3000u);
+  ASSERT_EQ(tb.rows.size(), 3000u);
+  long long busy_ticks = 0;
+  for (size_t k = 0; k < ta.rows.size(); ++k) {
+    ASSERT_EQ(ta.integer(k, ta.col("substeps")), tb.integer(k, tb.col("substeps"))) << "tick " << k;
+    ASSERT_EQ(ta.integer(k, ta.col("derivatives")), tb.integer(k, tb.col("derivatives"))) << "tick " << k;
+    busy_ticks += ta.integer(k, ta.col("substeps")) > 1;
+  }
+  EXPECT_GT(busy_ticks, 100) << "the slew must reach the bearing (ticks of more than one sub-step)";
 }
 
 }  // namespace

@@ -108,9 +108,10 @@ def mujoco_section(a):
 def bound_section(a, rates):
     md = ["## 3. firmware_sim's bound on a tick's stepping", "",
           "The worst-case figure firmware_sim states at start (\"worst-case tick\", docs/bench.md): steps per "
-          "tick x the step's work cap x the cost of one work unit, timed at start, plus the truth's derivative "
-          "and a clock read. A work unit is an RK4 sub-step, a switch-locating trial or a mode entry after a "
-          "located switch (docs/MODEL.md 7.8); the cap is the most units any step may take before it stops. It "
+          "tick x the step's work cap x the cost of one work unit, timed at start, plus the truth's derivative, "
+          "the extra cost of a first unit on cold caches, and a clock read. A work unit is an RK4 sub-step, a "
+          "switch-locating trial or a mode entry after a located switch (docs/MODEL.md 7.8); the cap is the most "
+          "units any step may take before it stops. It "
           "bounds the stepping, not the tick's fixed work (commands, sensors, messages: a few us, measured by "
           "firmware_sim's exit summary), nor time the CPU spends elsewhere. Above 1 kHz the scene runs with "
           "sim.step = 1/rate (one RK4 step per tick). Share = bound / period; above 100 % firmware_sim warns "

@@ -180,9 +180,11 @@ class Firmware {
       last_substeps_ = used;
       n_.substeps += used;
       n_.max_substeps_in_tick = std::max(n_.max_substeps_in_tick, used);
-      n_.max_derivatives_in_tick = std::max(n_.max_derivatives_in_tick, d_.stats.derivatives - derivatives_before);
+      last_derivatives_ = d_.stats.derivatives - derivatives_before;
+      n_.max_derivatives_in_tick = std::max(n_.max_derivatives_in_tick, last_derivatives_);
     } else {
       last_substeps_ = 0;
+      last_derivatives_ = 0;
     }
     ++tick_;
   }
@@ -206,6 +208,8 @@ class Firmware {
   std::int64_t ticks() const noexcept { return tick_; }
   int stepsPerTick() const noexcept { return steps_per_tick_; }
   int lastSubsteps() const noexcept { return last_substeps_; }
+  /// Forward-dynamics evaluations of the last advance().
+  long long lastDerivatives() const noexcept { return last_derivatives_; }
   std::int64_t watchdogTicks() const noexcept { return watchdog_ticks_; }
   bool watchdogTripped() const noexcept { return tripped_; }
   std::int64_t lastAcceptedSeq() const noexcept { return last_accepted_seq_; }
@@ -381,6 +385,7 @@ class Firmware {
   bool has_pending_ = false, has_active_ = false, tripped_ = false;
   std::int32_t pending_faults_ = 0;
   int last_substeps_ = 0;
+  long long last_derivatives_ = 0;
   bool plant_fault_ = false;
   StepResult plant_result_;
 

@@ -1,0 +1,45 @@
+#include "tick_log.hpp"
+
+#include <cinttypes>
+#include <cstdio>
+
+namespace gimbalsim::firmware {
+
+bool TickLog::open(const std::string& path, std::int64_t ticks, const std::vector<std::string>& inputs,
+                   std::string* why) {
+  if (ticks <= 0) {
+    *why = "needs a bounded run (--duration > 0): the table of ticks is reserved before the loop starts";
+    return false;
+  }
+  if (ticks > kMaxTicks) {
+    *why = std::to_string(ticks) + " ticks asked; it holds at most " + std::to_string(kMaxTicks) +
+           " (20 bytes each, reserved at start): shorten --duration or lower --rate";
+    return false;
+  }
+  try {
+    file_.emplace(path, inputs);
+  } catch (const io::OutputError& e) {
+    *why = e.what();
+    return false;
+  }
+  rows_.reserve(static_cast<std::size_t>(ticks));
+  return true;
+}
+
+bool TickLog::writeRows(std::string* why) {
+  if (!file_) return true;
+  std::FILE* f = file_->stream();
+  std::fputs("tick,substeps,derivatives,stepping_cpu_us,compute_cpu_us,compute_wall_us\n", f);
+  // [us] with the ns digits: every digit measured, none made up.
+  const auto us = [](std::int32_t ns) { return std::to_string(ns / 1000) + "." + std::to_string(1000 + ns % 1000).substr(1); };
+  for (std::size_t k = 0; k < rows_.size(); ++k) {
+    const TickRecord& r = rows_[k];
+    std::fprintf(f, "%zu,%" PRId32 ",%" PRId32 ",%s,%s,%s\n", k, r.substeps, r.derivatives,
+                 us(r.stepping_cpu_ns).c_str(), us(r.compute_cpu_ns).c_str(), us(r.compute_wall_ns).c_str());
+  }
+  if (file_->ok()) return true;
+  *why = file_->error().empty() ? file_->path() + ": a write failed" : file_->error();
+  return false;
+}
+
+}  // namespace gimbalsim::firmware
