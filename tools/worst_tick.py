@@ -24,8 +24,8 @@ Verdict per row, for the two parts of the bound: the count (the most
 derivative evaluations of one tick's stepping, counted by the dynamics,
 against steps x cap x derivatives per unit: exact, no clock involved) and the
 time (the stepping's CPU time max against the bound in microseconds, max /
-bound <= 100 % as firmware_sim computes it from the unrounded bound). In lockstep each scene
-runs twice with --tick-log: the runs do the same work tick by tick, so per
+bound <= 100 % as firmware_sim computes it from the unrounded bound). In
+lockstep each scene runs twice with --tick-log: the runs do the same work tick by tick, so per
 tick the better of the two CPU times is the tick's own cost with what the
 machine added to one run taken out ("repeat"). The last line sums up.
 
@@ -69,9 +69,9 @@ firmware_sim's start line and exit summary (helpers of `tools/hil_speed.py`).
 
 The bound is firmware_sim's worst-case tick: steps per tick x work-unit cap x the time of one work unit, + the truth's
 derivative, the extra cost of a first unit on cold caches and a clock read. The count of units and of derivatives per
-unit is a proven bound (tests/work_bound_test.cpp); the time of a unit is measured by firmware_sim at start, in wall time (median of 7
-batches of 200: the slower of a whole free step and an RK4 sub-step pressed into the bearing and sliding, scaled by
-derivatives per unit / 4 where a unit may take more than an RK4 sub-step's 4).
+unit is a proven bound (tests/work_bound_test.cpp); the time of a unit is measured by firmware_sim at start, in wall
+time (median of 7 batches of 200: the slower of a whole free step and an RK4 sub-step pressed into the bearing and
+sliding, scaled by derivatives per unit / 4 where a unit may take more than an RK4 sub-step's 4).
 
 Measured against it: the loop thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`) of the stepping span of each tick (the
 plant's steps), which preemption does not inflate. "Whole tick" is the same clock over the tick's whole compute span
@@ -89,7 +89,8 @@ is any stall of the VM's virtual CPU that the host does not report as steal time
 tick: a max far above p99, at a tick that did no more work than usual (its sub-steps in the table; 50 = 1 ms /
 `sim.substep` is the common count). Lockstep tells the two apart: each scene runs twice (`--tick-log`), the two runs
 do the same work at every tick (same sub-steps and derivatives, checked), and "repeat" is the largest over the ticks
-of the smaller of the two runs' stepping CPU times: what is left when a one-off of one run is taken out. The summary line also counts the rows whose p99 is within the bound. A scene
+of the smaller of the two runs' stepping CPU times: what is left when a one-off of one run is taken out. The summary
+line also counts the rows whose p99 is within the bound. A scene
 without clearance has a bound of about 2 us here, so one interrupt in a tick is enough to exceed it. The tables give
 the max as measured; nothing is filtered out.
 """
@@ -146,11 +147,12 @@ def repeat(name, seconds, r, logs):
     best = [min(x[1], y[1]) for x, y in zip(a, b)]
     k = max(range(len(best)), key=best.__getitem__)
     bound = r["smax"] * 100.0 / r["pct"] if r["pct"] > 0 else float("nan")  # firmware_sim's unrounded bound
-    return {"max": best[k], "tick": k, "pct": 100.0 * best[k] / bound}
+    pct = 100.0 * best[k] / bound
+    return {"max": best[k], "tick": k, "pct": pct, "within": pct <= 100.0}
 
 
 def row(name, r, realtime):
-    n = len(COLUMNS) + 1 + realtime + (not realtime)
+    n = len(COLUMNS) + 2  # + overruns (real time) or repeat (lockstep), + verdict
     if isinstance(r, str):
         return f"| {name} | could not run: {r.replace('|', '/')} |" + " |" * (n - 2)
     cells = [name, f"{r['ticks']:.0f}", f"{r['speed']:.2f}", f"{r['deriv']:.2f}", f"{r['steps']:.0f}",
@@ -167,8 +169,8 @@ def row(name, r, realtime):
         cells.append(str(rep).replace("|", "/"))
     cells.append(("count within" if r["dmax"] <= r["dbound"] else "count EXCEEDS") + ", " +
                  ("time within" if r["within"] else "time EXCEEDS") +
-                 ("" if realtime else ", repeat " + ("within" if isinstance(rep, dict) and rep["pct"] <= 100.0
-                                                     else "EXCEEDS" if isinstance(rep, dict) else "not shown")))
+                 ("" if realtime else ", repeat " + ("not shown" if not isinstance(rep, dict)
+                                                     else "within" if rep["within"] else "EXCEEDS")))
     return "| " + " | ".join(cells) + " |"
 
 
@@ -183,7 +185,8 @@ def table(title, names, seconds, lockstep, fw_extra=()):
     with tempfile.TemporaryDirectory() as tmp:
         for name in names:
             logs = [os.path.join(tmp, f"{name}_{i}.csv") for i in (1, 2)]
-            results[name] = measure(name, seconds, lockstep, tuple(fw_extra) + (("--tick-log", logs[0]) if lockstep else ()))
+            extra = tuple(fw_extra) + (("--tick-log", logs[0]) if lockstep else ())
+            results[name] = measure(name, seconds, lockstep, extra)
             if lockstep and not isinstance(results[name], str):
                 results[name]["repeat"] = repeat(name, seconds, results[name], logs)
             print(row(name, results[name], not lockstep), flush=True)
@@ -203,7 +206,7 @@ def summary(parts):
                f"stepping CPU time max within it in {within} (p99 in {p99})")
         reps = [v["repeat"] for v in ran.values() if "repeat" in v]
         if reps:
-            ok = sum(1 for x in reps if isinstance(x, dict) and x["pct"] <= 100.0)
+            ok = sum(1 for x in reps if isinstance(x, dict) and x["within"])
             bit += f"; repeat (better of 2 runs per tick) within it in {ok} of {len(reps)}"
         if len(ran) < len(res):
             bit += f", {len(res) - len(ran)} could not run ({', '.join(k for k in res if k not in ran)})"

@@ -14,18 +14,24 @@
 namespace gimbalsim::firmware {
 namespace {
 
-/// Median over 7 batches of the time per call of f [us] (the median shrugs off a descheduled batch).
-template <class F>
-double medianUs(F&& f) {
-  constexpr int kBatch = 200, kBatches = 7;
+/// Median over 7 batches of the time per call of f [us] (the median shrugs
+/// off a descheduled batch); before() runs ahead of each batch, untimed.
+template <class F, class Before>
+double medianUs(F&& f, int batch, Before&& before) {
+  constexpr int kBatches = 7;
   double per[kBatches];
-  for (int b = 0; b < kBatches; ++b) {
+  for (double& t : per) {
+    before();
     const std::int64_t t0 = nowNs();
-    for (int i = 0; i < kBatch; ++i) f();
-    per[b] = static_cast<double>(nowNs() - t0) * 1e-3 / kBatch;
+    for (int i = 0; i < batch; ++i) f();
+    t = static_cast<double>(nowNs() - t0) * 1e-3 / batch;
   }
   std::sort(per, per + kBatches);
   return per[kBatches / 2];
+}
+template <class F>
+double medianUs(F&& f) {
+  return medianUs(f, 200, [] {});
 }
 
 /// Evicts this CPU's caches and TLB as a tick finds them after the loop
@@ -47,21 +53,6 @@ class CacheEvictor {
   std::vector<unsigned char> buf_;
 };
 
-/// Median over 7 calls of f, each right after an eviction, of its time [us].
-template <class F>
-double coldUs(CacheEvictor& cache, F&& f) {
-  constexpr int kRuns = 7;
-  double per[kRuns];
-  for (double& t : per) {
-    cache.evict();
-    const std::int64_t t0 = nowNs();
-    f();
-    t = static_cast<double>(nowNs() - t0) * 1e-3;
-  }
-  std::sort(per, per + kRuns);
-  return per[kRuns / 2];
-}
-
 struct UnitCosts {
   double derivative_us = 0.0;  ///< one forwardDynamics, the slower of free and pressed
   double unit_us = 0.0;        ///< one work unit: a whole step in free flight, or an RK4 sub-step pressed
@@ -81,15 +72,14 @@ UnitCosts unitCosts(const Model& m, const RunSpec& run) {
   State<V> x = s0;
   UnitCosts c;
   c.derivative_us = medianUs([&] { forwardDynamics(m, d, s0, u); });
-  c.unit_us = medianUs([&] {
+  const auto free_step = [&] {
     x = s0;
     step(m, d, x, u);
-  });
+  };
   CacheEvictor cache;
-  c.cold_us = coldUs(cache, [&] {
-    x = s0;
-    step(m, d, x, u);
-  }) - c.unit_us;
+  const auto evict = [&] { cache.evict(); };
+  c.unit_us = medianUs(free_step);
+  c.cold_us = medianUs(free_step, 1, evict) - c.unit_us;
   if constexpr (V::kContact) {
     State<V> pressed = s0;
     constexpr int QJ = State<V>::QJ, NB = V::NB;
@@ -102,9 +92,10 @@ UnitCosts unitCosts(const Model& m, const RunSpec& run) {
     pressed.in_contact.fill(true);
     pressed.v0.fill(1e-3);
     c.derivative_us = std::max(c.derivative_us, medianUs([&] { forwardDynamics(m, d, pressed, u); }));
-    const double pressed_us = medianUs([&] { rk4(m, d, pressed, u, m.integrator.substep, d.trial); });
+    const auto pressed_substep = [&] { rk4(m, d, pressed, u, m.integrator.substep, d.trial); };
+    const double pressed_us = medianUs(pressed_substep);
     c.unit_us = std::max(c.unit_us, pressed_us);
-    c.cold_us = std::max(c.cold_us, coldUs(cache, [&] { rk4(m, d, pressed, u, m.integrator.substep, d.trial); }) - pressed_us);
+    c.cold_us = std::max(c.cold_us, medianUs(pressed_substep, 1, evict) - pressed_us);
   }
   c.cold_us = std::max(0.0, c.cold_us);
   return c;
@@ -135,8 +126,8 @@ std::string describeTickBudget(const TickBudget& b) {
   char line[480];
   std::snprintf(line, sizeof line,
                 "worst-case tick %.0f us = %d steps x %d work units (cap) x %.2f us per unit (%d derivatives at most; "
-                "an RK4 sub-step timed now) + %.2f us (the truth's derivative, %.2f us, cold caches, %.2f us, and a clock "
-                "read); period %.0f us",
+                "an RK4 sub-step timed now) + %.2f us (the truth's derivative, %.2f us, cold caches, %.2f us, and a "
+                "clock read); period %.0f us",
                 b.worst_tick_us, b.steps_per_tick, b.substep_cap, b.unit_us, b.evals_per_substep, b.fixed_us,
                 b.derivative_us, b.cold_us, b.period_us);
   return line;

@@ -30,12 +30,14 @@ bool TickLog::writeRows(std::string* why) {
   if (!file_) return true;
   std::FILE* f = file_->stream();
   std::fputs("tick,substeps,derivatives,stepping_cpu_us,compute_cpu_us,compute_wall_us\n", f);
-  // [us] with the ns digits: every digit measured, none made up.
-  const auto us = [](std::int32_t ns) { return std::to_string(ns / 1000) + "." + std::to_string(1000 + ns % 1000).substr(1); };
+  // [us] with the ns digits (the spans are >= 0): every digit measured, none made up.
   for (std::size_t k = 0; k < rows_.size(); ++k) {
     const TickRecord& r = rows_[k];
-    std::fprintf(f, "%zu,%" PRId32 ",%" PRId32 ",%s,%s,%s\n", k, r.substeps, r.derivatives,
-                 us(r.stepping_cpu_ns).c_str(), us(r.compute_cpu_ns).c_str(), us(r.compute_wall_ns).c_str());
+    std::fprintf(f, "%zu,%" PRId32 ",%" PRId32, k, r.substeps, r.derivatives);
+    for (const std::int32_t ns : {r.stepping_cpu_ns, r.compute_cpu_ns, r.compute_wall_ns}) {
+      std::fprintf(f, ",%" PRId32 ".%03" PRId32, ns / 1000, ns % 1000);
+    }
+    std::fputc('\n', f);
   }
   if (file_->ok()) return true;
   *why = file_->error().empty() ? file_->path() + ": a write failed" : file_->error();

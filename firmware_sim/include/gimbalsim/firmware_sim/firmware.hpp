@@ -166,26 +166,19 @@ class Firmware {
   /// Second half of a tick (step 4): the plant over [t_k, t_k+1]; then the
   /// next tick begins. Call once after each sample().
   void advance() noexcept {
-    if (!plant_fault_) {
-      const long long before = d_.stats.substeps, derivatives_before = d_.stats.derivatives;
-      for (int i = 0; i < steps_per_tick_; ++i) {
-        const StepResult st = step(m_, d_, s_, u_);
-        if (!st.ok()) {
-          plant_fault_ = true;
-          plant_result_ = st;
-          break;
-        }
+    const long long substeps0 = d_.stats.substeps, derivatives0 = d_.stats.derivatives;
+    for (int i = 0; i < steps_per_tick_ && !plant_fault_; ++i) {  // a faulted plant is never stepped again
+      const StepResult st = step(m_, d_, s_, u_);
+      if (!st.ok()) {
+        plant_fault_ = true;
+        plant_result_ = st;
       }
-      const int used = static_cast<int>(d_.stats.substeps - before);
-      last_substeps_ = used;
-      n_.substeps += used;
-      n_.max_substeps_in_tick = std::max(n_.max_substeps_in_tick, used);
-      last_derivatives_ = d_.stats.derivatives - derivatives_before;
-      n_.max_derivatives_in_tick = std::max(n_.max_derivatives_in_tick, last_derivatives_);
-    } else {
-      last_substeps_ = 0;
-      last_derivatives_ = 0;
     }
+    last_substeps_ = static_cast<int>(d_.stats.substeps - substeps0);
+    last_derivatives_ = d_.stats.derivatives - derivatives0;
+    n_.substeps += last_substeps_;
+    n_.max_substeps_in_tick = std::max(n_.max_substeps_in_tick, last_substeps_);
+    n_.max_derivatives_in_tick = std::max(n_.max_derivatives_in_tick, last_derivatives_);
     ++tick_;
   }
 
