@@ -54,10 +54,11 @@ Answer answerStatus(const ControllerConfig& c, ControllerState& s, const contrac
     for (int i = 0; i < 2; ++i) s.monitor.hold_tau[i] = a.out.tau(i);
   }
   a.cmd.utime = st.utime;
-  // Saturating: an extreme last_command_seq (a bug, a spoofed status) must not overflow.
-  constexpr std::int64_t kMaxSeq = std::numeric_limits<std::int64_t>::max();
-  a.cmd.seq = std::max(next_seq, st.last_command_seq < kMaxSeq ? st.last_command_seq + 1 : kMaxSeq);
-  next_seq = a.cmd.seq < kMaxSeq ? a.cmd.seq + 1 : kMaxSeq;
+  // Our own counter only, never the status's last_command_seq: that may be a
+  // stranger's extreme seq (one that held the plant's binding), and the plant
+  // gives each new binding a fresh seq history (command_gate.hpp).
+  a.cmd.seq = next_seq;
+  if (next_seq < std::numeric_limits<std::int64_t>::max()) ++next_seq;
   a.cmd.status_seq = st.seq;
   a.cmd.mode = contract::kModeTorque;
   a.cmd.torque[0] = a.out.tau(0);

@@ -92,9 +92,8 @@ class StatusHandler {
       ++restarts_;
     }
     last_status_seq_ = st.seq;
-    // The same answer as the in-process loop's (PointingController): seq strictly
-    // increasing, and above what the firmware last accepted even when this
-    // controller replaces one that crashed.
+    // The same answer as the in-process loop's (PointingController): seq from
+    // this process's own counter, strictly increasing.
     contract::Status status;
     contract::copyFields<contract::StatusFields>(status, st);
     if (attitude_.seq != status.seq) ++unpaired_;

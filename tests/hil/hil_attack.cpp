@@ -7,18 +7,21 @@
 //                      reassembly buffer is taken and evicted), orphan
 //                      fragments, fragments of unsubscribed channels, and
 //                      fragments declaring 4 GB;
-//   --malformed-every-ms T  every T ms of wall time once a status with seq >= 1
-//                      was seen, one datagram of each malformed kind: an LC03 shorter
+//   --malformed-every-ms T  every T ms of wall time once the plant has accepted
+//                      a command, one datagram of each malformed kind: an LC03 shorter
 //                      than its header (what crashes LCM 1.3.1), LC02/LC03
 //                      with unterminated or 64-byte channel names, fragment_no
 //                      >= count, count 0, data beyond the declared size, a bad magic;
-//   --spoof-every-ms T every T ms likewise, two well-formed commands on the
+//   --spoof-every-ms T every T ms once the plant has accepted a command (a
+//                      status with last_command_seq >= 0), two well-formed commands on the
 //                      command channel from this process (another source
 //                      than the controller): seq INT64_MAX and the seq the
 //                      controller will use next, both answering the newest
 //                      status seen, with a large valid torque; and a spoofed
 //                      status (seq and last_command_seq INT64_MAX) for the
 //                      controller, which must ignore it (another source than its plant).
+//   --spoof-at-once    spoof from the first status on, racing the controller
+//                      for the plant's binding (a stranger that comes first).
 // Time-driven, not status-driven: under its own flood on a loaded machine the
 // attacker sees few statuses, and the attack must go on regardless.
 // Runs --seconds of wall time, or until no status came for --idle-exit
@@ -66,6 +69,7 @@ int main(int argc, char** argv) {
   std::string url, prefix;
   double seconds = 5.0, flood_pps = 0.0, idle_exit = 0.0;
   double malformed_ms = 0.0, spoof_ms = 0.0;
+  bool spoof_at_once = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has = i + 1 < argc;
@@ -76,6 +80,7 @@ int main(int argc, char** argv) {
     else if (a == "--idle-exit" && has) idle_exit = std::atof(argv[++i]);
     else if (a == "--malformed-every-ms" && has) malformed_ms = std::atof(argv[++i]);
     else if (a == "--spoof-every-ms" && has) spoof_ms = std::atof(argv[++i]);
+    else if (a == "--spoof-at-once") spoof_at_once = true;
     else {
       std::fprintf(stderr, "hil_attack: bad argument '%s'\n", a.c_str());
       return 2;
@@ -118,6 +123,7 @@ int main(int argc, char** argv) {
   long long statuses = 0, spoofs = 0, malformed = 0, fake_statuses = 0;
   gimbalsim::gimbal_status_t st{};  // the newest status seen
   st.seq = -1;
+  st.last_command_seq = -1;  // nothing accepted yet
   using Clock = std::chrono::steady_clock;
   Clock::time_point last_status = Clock::now();
   auto onStatus = [&](const bio::Message& m, std::int64_t) {
@@ -133,7 +139,8 @@ int main(int argc, char** argv) {
     for (const Bytes& b : bad) tx.send(b, static_cast<int>(malformed++ % 8));
   };
   auto sendSpoofs = [&] {
-    for (std::int64_t seq : {std::numeric_limits<std::int64_t>::max(), st.last_command_seq + 1}) {
+    constexpr std::int64_t kMax = std::numeric_limits<std::int64_t>::max();
+    for (std::int64_t seq : {kMax, st.last_command_seq < kMax ? st.last_command_seq + 1 : kMax}) {
         gimbalsim::gimbal_command_t c{};
         c.utime = st.utime;
         c.seq = seq;
@@ -165,13 +172,15 @@ int main(int argc, char** argv) {
   while (Clock::now() < end) {
     if (idle_exit > 0.0 && statuses > 0 && Clock::now() - last_status > std::chrono::duration<double>(idle_exit)) break;
     rx.drain(onStatus, 1024);
-    // The controller has bound the plant only after answering status 0.
-    const bool bound = st.seq >= 1;
+    // The plant has bound the controller once a status says it accepted a
+    // command (a status 1 sent before the answer to status 0 arrived does not:
+    // a spoof then could win the binding, which --spoof-at-once does on purpose).
+    const bool bound = st.last_command_seq >= 0;
     if (bound && malformed_ms > 0.0 && Clock::now() >= next_bad) {
       sendMalformed();
       next_bad = Clock::now() + every(malformed_ms);
     }
-    if (bound && spoof_ms > 0.0 && Clock::now() >= next_spoof) {
+    if ((bound || (spoof_at_once && st.seq >= 0)) && spoof_ms > 0.0 && Clock::now() >= next_spoof) {
       sendSpoofs();
       next_spoof = Clock::now() + every(spoof_ms);
     }

@@ -13,6 +13,9 @@
 //    truth equals firmware_sim's.
 //  - Real time: the watchdog never trips, the plant exits 0 (the controller
 //    6: no peer once the plant has ended).
+//  - A stranger that commands the plant before the controller starts holds
+//    it (and leaves INT64_MAX as the plant's last accepted seq) only until
+//    its binding lapses; then the controller takes the plant and keeps it.
 //  - Memory: each process's peak RSS (VmHWM, from its own exit summary) stays
 //    under kMaxRssKb and within kMaxGrowthKb of the clean run's.
 #include <gtest/gtest.h>
@@ -187,6 +190,51 @@ TEST(HilAttack, RealTimePlantKeepsItsControllerUnderFlood) {
     ASSERT_EQ(c.integer(k, c.col("faults")) & 1, 0) << "watchdog tripped at tick " << k;
   }
   EXPECT_LT(peakKb(fw), kMaxRssKb);
+}
+
+TEST(HilAttack, RealTimeStrangerThatCommandsFirstLosesThePlantWhenItsBindingLapses) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("attack_first");
+  const std::string cfg = defaultControllerConfig(), url = udpmUrl(7781);
+  // No flood: the stranger spoofs every 10 ms from the plant's first status
+  // on; the controller joins 0.4 s later, while every status says
+  // last_command_seq INT64_MAX.
+  const std::string body =
+      "'" + std::string(GIMBALSIM_HIL_ATTACK) + "' --lcm-url '" + url +
+      "' --seconds 30 --idle-exit 1 --spoof-every-ms 10 --spoof-at-once >attack.log 2>&1 &\nA=$!\nsleep 0.2\n" +
+      "timeout 30 " + firmwareSim() + " " + scenePath("paper_clearance") + " --duration 1.6 --profile " + cfg +
+      " --truth-csv truth.csv --lcm-url '" + url + "' >fw.log 2>&1 &\nF=$!\nsleep 0.4\n" + "timeout 30 " +
+      pointingController() + " " + cfg + " --lcm-url '" + url + "' --duration 1.6 --idle-exit 1 >ctl.log 2>&1 &\n" +
+      "C=$!\nwait $F; rf=$?; wait $C; rc=$?; wait $A; ra=$?\necho \"rf $rf rc $rc ra $ra\"\n"
+      "[ $rf -eq 0 ] && [ $rc -eq 0 ] && [ $ra -eq 0 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log")
+                                      << readFile(dir / "ctl.log") << readFile(dir / "attack.log");
+  const std::string fw = readFile(dir / "fw.log"), ctl = readFile(dir / "ctl.log");
+  std::printf("%s%s%s", readFile(dir / "attack.log").c_str(), fw.c_str(), ctl.c_str());
+  const auto n = summaryCounters(fw);
+  auto count = [&](const std::string& key) { return n.count(key) ? n.at(key) : 0; };
+  const long long stale = count("reason: stale or duplicate seq");
+  const long long foreign = count("reason: from another source than the bound controller");
+  // Stale refusals come from the bound source only, and the controller's seq
+  // only rises: they are the stranger's second spoofs while it held the plant.
+  EXPECT_GT(stale, 0) << "the stranger never held the plant: the test proves nothing";
+  EXPECT_GT(foreign, 0) << "the controller or the stranger was refused as the other's source";
+  EXPECT_EQ(stale + foreign, count("rejected")) << "no other refusal";
+  EXPECT_EQ(number(ctl, "(\\d+) plant restarts"), 0) << "the stranger's statuses were ignored";
+
+  const Csv c = Csv::read(dir / "truth.csv");
+  ASSERT_EQ(c.rows.size(), 1600u);
+  const int c_f = c.col("faults");
+  long long last_tripped = -1;
+  for (size_t k = 0; k < c.rows.size(); ++k) {
+    if (c.integer(k, c_f) & 1) last_tripped = static_cast<long long>(k);
+  }
+  std::printf("watchdog trips %lld, last tripped tick %lld\n", count("watchdog_trips"), last_tripped);
+  EXPECT_GE(last_tripped, 0) << "the plant ran unattended by its controller at first";
+  // The controller joined after about 0.4-0.6 s; one lapse later it holds the
+  // plant. A controller that followed last_command_seq would send INT64_MAX
+  // for good and trip the watchdog every 51 ticks to the end.
+  EXPECT_LT(last_tripped, 1100) << "the controller did not keep the plant for the last 0.5 s";
 }
 
 }  // namespace

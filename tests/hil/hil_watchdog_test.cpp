@@ -6,8 +6,9 @@
 //  - the watchdog trips within --watchdog-ms of the kill (bound below);
 //  - while tripped the plant keeps ticking in its safe state: every tick
 //    applies --safe-torque, no plant fault, no gap in seq;
-//  - the new controller's commands are accepted at once (pointing_controller
-//    answers with seq above the status's last_command_seq) and the fault clears.
+//  - the new controller's commands are accepted at once (the old binding
+//    lapsed with the trip, so its own seq 0 starts a fresh history) and the
+//    fault clears.
 #include <gtest/gtest.h>
 
 #include <algorithm>

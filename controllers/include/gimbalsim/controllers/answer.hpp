@@ -22,9 +22,9 @@ struct Answer {
 /// The controller's side of a tick, the same for pointing_controller (over
 /// LCM) and the in-process loop: the measurement of status st (profile time
 /// st.seq * period, encoder angles, rates), update(), and the torque command
-/// answering it (status_seq = st.seq; seq strictly increasing and above the
-/// last seq the firmware accepted, even after a controller restart; utime =
-/// the status's). Before the law the fault monitor (fault_monitor.hpp) looks
+/// answering it (status_seq = st.seq; seq = next_seq, the controller's own
+/// strictly increasing counter, whatever the status's last_command_seq says;
+/// utime = the status's). Before the law the fault monitor (fault_monitor.hpp) looks
 /// at the status against att.seq: a stale status gets the held command (or
 /// the safe one), a suspect encoder rate feedback only on its axis.
 /// att is the newest attitude message received: used when
