@@ -59,6 +59,7 @@ int run(Run& r) {
   const std::int64_t spin_ns = std::llround(r.o.spin_us * 1e3);  // --spin-us: busy-poll for the answer
   long long timeouts_in_a_row = 0;  // lockstep timeouts since the last answer
   std::int64_t next_stats = wall0 + std::llround(r.o.stats_period * 1e9);
+  warmUp(fw);
   for (std::int64_t k = 0; (total < 0 || k < total) && !g_stop.load(); ++k) {
     const std::int64_t t0 = nowNs();
     const std::int64_t cpu0 = nowNs(CLOCK_THREAD_CPUTIME_ID);  // the CPU span inside the wall span

@@ -69,9 +69,9 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--spin-us", o.spin_us, "real time: busy-wait the last US before each deadline; lockstep: "
                  "busy-poll up to US for the answer before sleeping [us, at most 100000]")
       ->capture_default_str()->check(CLI::Number)->check(CLI::Range(0.0, 100000.0));
-  app.add_option("--cpu-dma-latency-us", o.cpu_dma_latency_us, "real time: hold idle CPUs to this wake-up latency "
-                 "for the run (/dev/cpu_dma_latency, as cyclictest does; 0 = idle by polling, -1 = do not ask) "
-                 "[us, at most 1000000]")
+  app.add_option("--cpu-dma-latency-us", o.cpu_dma_latency_us, "hold idle CPUs to this wake-up latency for the run "
+                 "(/dev/cpu_dma_latency, as cyclictest does; 0 = idle by polling, -1 = do not ask; lockstep too: a "
+                 "CPU that halts between ticks comes back slower than the tick budget was timed) [us, at most 1000000]")
       ->capture_default_str()->check(program::wholeNumber())->check(CLI::Range(-1, 1000000));
   app.add_option("--watchdog-ms", o.watchdog_ms, "no valid command for this long -> safe command [ms]")
       ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e9));
@@ -85,7 +85,7 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--faults", o.faults, "fault schedule file (YAML, docs/bench.md \"Fault schedule\"), e.g. tools/faults/demo.yaml");
   if (const auto rc = program::parse(app, argc, argv, "firmware_sim")) return *rc;
   if (o.lockstep) {  // one thread, no deadlines: the real-time set-up is not done
-    for (const char* flag : {"--rt-priority", "--cpu", "--cpu-dma-latency-us"}) {
+    for (const char* flag : {"--rt-priority", "--cpu"}) {
       if (app.count(flag) > 0) std::fprintf(stderr, "firmware_sim: warning: %s applies to real time only; ignored in lockstep\n", flag);
     }
   }
@@ -156,14 +156,14 @@ int mainImpl(int argc, char** argv) {
     return refuse(std::string("--truth-csv and --tick-log: ") + e.what());
   }
 
-  const CpuLatencyRequest cpu_latency(o.lockstep ? -1 : o.cpu_dma_latency_us);
+  const CpuLatencyRequest cpu_latency(o.cpu_dma_latency_us);
   if (!o.lockstep) {
     if (const std::string w = lockMemory(); !w.empty()) std::fprintf(stderr, "firmware_sim: %s\n", w.c_str());
-    if (!cpu_latency.warning().empty()) std::fprintf(stderr, "firmware_sim: %s\n", cpu_latency.warning().c_str());
-    if (cpu_latency.held()) {
-      std::fprintf(stderr, "firmware_sim: idle CPUs held to %d us of wake-up latency while this runs (machine-wide, "
-                   "/dev/cpu_dma_latency; --cpu-dma-latency-us -1 to not ask)\n", o.cpu_dma_latency_us);
-    }
+  }
+  if (!cpu_latency.warning().empty()) std::fprintf(stderr, "firmware_sim: %s\n", cpu_latency.warning().c_str());
+  if (cpu_latency.held()) {
+    std::fprintf(stderr, "firmware_sim: idle CPUs held to %d us of wake-up latency while this runs (machine-wide, "
+                 "/dev/cpu_dma_latency; --cpu-dma-latency-us -1 to not ask)\n", o.cpu_dma_latency_us);
   }
   lcm::LCM lcm(o.lcm_url);
   if (!lcm.good()) {

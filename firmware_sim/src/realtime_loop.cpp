@@ -61,6 +61,7 @@ int run(Run& r) {
   auto loop = [&] {
     r.rt_warnings = setUpRealtimeThread(r.o.rt_priority, r.o.cpu, 256 * 1024, &r.fifo);
     setup_done.store(true, std::memory_order_release);
+    warmUp(fw);
     // Start on a whole period boundary a little ahead, so set-up does not count as lateness.
     std::int64_t next = (nowNs() / period_ns + 2) * period_ns;
     const std::int64_t realtime_offset = nowNs(CLOCK_REALTIME) - nowNs();  // stamps: the deadline on the wall clock
