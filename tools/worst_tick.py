@@ -18,7 +18,10 @@ preemption does not inflate.
      A scene firmware_sim cannot run at 1 kHz gets a row saying why.
  (B) real time: --realtime-seconds at 1 kHz (0 skips) for --realtime-scenes,
      firmware_sim's loop thread SCHED_FIFO 80 pinned to --cpu, both processes
-     under chrt -f 60 when allowed; the same columns plus overruns.
+     under chrt -f 60 when allowed; the same columns plus overruns, and the
+     replay: the run's truth CSV fed back by torque_replay (tools/bench) to 3
+     lockstep runs, whose dynamics then follow the real-time run bit for bit
+     (same derivatives per tick, checked).
 
 Verdict per row, for the two parts of the bound: the count (the most
 derivative evaluations of one tick's stepping, counted by the dynamics,
@@ -89,7 +92,11 @@ is any stall of the VM's virtual CPU that the host does not report as steal time
 tick: a max far above p99, at a tick that did no more work than usual (its sub-steps in the table; 50 = 1 ms /
 `sim.substep` is the common count). Lockstep tells the two apart: each scene runs 3 times (`--tick-log`), the runs
 do the same work at every tick (same sub-steps and derivatives, checked), and "repeat" is the largest over the ticks
-of the smallest of the runs' stepping CPU times: what is left when a one-off of some runs is taken out. The summary
+of the smallest of the runs' stepping CPU times: what is left when a one-off of some runs is taken out. A real-time
+run cannot be run again (timing decides its commands), but its work can: `torque_replay` answers a lockstep
+firmware_sim with the torques the real-time run applied (its truth CSV), so the replay's dynamics are the run's bit
+for bit, and "replay" is the largest over the ticks of the smallest of the real-time run's and 3 replays' stepping
+CPU times (the derivatives per tick are checked equal). The summary
 line also counts the rows whose p99 is within the bound. A scene
 without clearance has a bound of about 1.5 us here, so one interrupt in a tick is enough to exceed it. The tables give
 the max as measured; nothing is filtered out. firmware_sim holds idle CPUs awake in both modes (`--cpu-dma-latency-us`
@@ -138,15 +145,32 @@ def tick_log(path):
         return [(int(x["derivatives"]), float(x["stepping_cpu_us"])) for x in csv.DictReader(f)]
 
 
-RUNS = 3  # lockstep runs per scene: the first is the row's, the others the repeat's
+RUNS = 3  # lockstep runs of the same work per scene: the row's and 2 more; in real time, 3 lockstep replays
 
 
-def repeat(name, seconds, r, logs):
-    """Lockstep: the scene RUNS - 1 times again; per tick the smallest stepping CPU time of the runs, its max against the bound."""
+def replay(name, seconds, truth, log):
+    """Lockstep firmware_sim answered by torque_replay with the torques of a recorded run (its truth CSV), so every
+    tick does the recorded run's work; writes the tick log `log`. None, or why it could not run."""
+    rep = subprocess.Popen([os.path.join(hil_speed.BIN, "torque_replay"), truth, "--lcm-url", hil_speed.URL],
+                           stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        cmd = [os.path.join(hil_speed.BIN, "firmware_sim"), os.path.join(hil_speed.SCENES, name + ".yaml"), "--lockstep",
+               "--duration", str(seconds), "--profile", hil_speed.CFG, "--lcm-url", hil_speed.URL, "--tick-log", log]
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=seconds * 20 + 60)
+    finally:
+        err = rep.communicate(timeout=60)[1]
+    if r.returncode != 0:
+        return f"firmware_sim exited {r.returncode}: {r.stderr.strip().splitlines()[-1:]}"
+    return None if rep.returncode == 0 else f"torque_replay exited {rep.returncode}: {err.strip()[-200:]}"
+
+
+def repeat(r, logs, again):
+    """Per tick the smallest stepping CPU time over the runs of `logs` (the first has run; again(log) runs another
+    that does the same work and returns None, or why it could not), its max against the row's bound."""
     for log in logs[1:]:
-        again = measure(name, seconds, True, ("--tick-log", log))
-        if isinstance(again, str):
-            return f"repeat could not run: {again}"
+        why = again(log)
+        if why:
+            return f"repeat could not run: {why}"
     runs = [tick_log(log) for log in logs]
     if any(len(x) != len(runs[0]) or any(a[0] != b[0] for a, b in zip(x, runs[0])) for x in runs[1:]):
         return "the repeat did other work (derivatives per tick differ)"
@@ -158,7 +182,7 @@ def repeat(name, seconds, r, logs):
 
 
 def row(name, r, realtime):
-    n = len(COLUMNS) + 2  # + overruns (real time) or repeat (lockstep), + verdict
+    n = len(COLUMNS) + (3 if realtime else 2)  # + overruns (real time), repeat or replay, verdict
     if isinstance(r, str):
         return f"| {name} | could not run: {r.replace('|', '/')} |" + " |" * (n - 2)
     cells = [name, f"{r['ticks']:.0f}", f"{r['speed']:.2f}", f"{r['deriv']:.2f}", f"{r['steps']:.0f}",
@@ -169,14 +193,13 @@ def row(name, r, realtime):
     rep = r.get("repeat")
     if realtime:
         cells.append(f"{r['overruns']:.0f}")
-    elif isinstance(rep, dict):
+    if isinstance(rep, dict):
         cells.append(f"{rep['max']:.1f} ({rep['pct']:.1f} %, tick {rep['tick']})")
     else:
         cells.append(str(rep).replace("|", "/"))
     cells.append(("count within" if r["dmax"] <= r["dbound"] else "count EXCEEDS") + ", " +
-                 ("time within" if r["within"] else "time EXCEEDS") +
-                 ("" if realtime else ", repeat " + ("not shown" if not isinstance(rep, dict)
-                                                     else "within" if rep["within"] else "EXCEEDS")))
+                 ("time within" if r["within"] else "time EXCEEDS") + (", replay " if realtime else ", repeat ") +
+                 ("not shown" if not isinstance(rep, dict) else "within" if rep["within"] else "EXCEEDS"))
     return "| " + " | ".join(cells) + " |"
 
 
@@ -184,17 +207,25 @@ def table(title, names, seconds, lockstep, fw_extra=()):
     """Runs each scene, prints its row as soon as it is measured; returns {name: figures or why not}."""
     print(f"\n{title}  [load before: {' '.join(load())}]")
     cols = COLUMNS + ([f"repeat: max over ticks of the best of {RUNS} runs [us] (of bound)"] if lockstep
-                      else ["overruns"]) + ["verdict"]
+                      else ["overruns", f"replay: max over ticks of the best of the run and {RUNS} lockstep replays "
+                            "[us] (of bound)"]) + ["verdict"]
     print("| " + " | ".join(cols) + " |")
     print("|" + "---|" * len(cols))
     results = {}
     with tempfile.TemporaryDirectory() as tmp:
         for name in names:
-            logs = [os.path.join(tmp, f"{name}_{i}.csv") for i in range(RUNS)]
-            extra = tuple(fw_extra) + (("--tick-log", logs[0]) if lockstep else ())
+            logs = [os.path.join(tmp, f"{name}_{i}.csv") for i in range(RUNS if lockstep else RUNS + 1)]
+            truth = os.path.join(tmp, f"{name}_truth.csv")
+            extra = tuple(fw_extra) + ("--tick-log", logs[0]) + (() if lockstep else ("--truth-csv", truth))
             results[name] = measure(name, seconds, lockstep, extra)
-            if lockstep and not isinstance(results[name], str):
-                results[name]["repeat"] = repeat(name, seconds, results[name], logs)
+            if not isinstance(results[name], str):
+                def again(log, name=name, truth=truth):
+                    """Lockstep: the scene once more; real time: a lockstep replay of the run's torques."""
+                    if not lockstep:
+                        return replay(name, seconds, truth, log)
+                    x = measure(name, seconds, True, ("--tick-log", log))
+                    return x if isinstance(x, str) else None
+                results[name]["repeat"] = repeat(results[name], logs, again)
             print(row(name, results[name], not lockstep), flush=True)
     print(f"[load after: {' '.join(load())}]")
     return results
@@ -213,7 +244,9 @@ def summary(parts):
         reps = [v["repeat"] for v in ran.values() if "repeat" in v]
         if reps:
             ok = sum(1 for x in reps if isinstance(x, dict) and x["within"])
-            bit += f"; repeat (best of {RUNS} runs per tick) within it in {ok} of {len(reps)}"
+            how = f"repeat (best of {RUNS} runs per tick)" if label == "lockstep" else \
+                f"replay (best of the run and {RUNS} lockstep replays per tick)"
+            bit += f"; {how} within it in {ok} of {len(reps)}"
         if len(ran) < len(res):
             bit += f", {len(res) - len(ran)} could not run ({', '.join(k for k in res if k not in ran)})"
         bits.append(bit)
@@ -257,10 +290,10 @@ def main():
     os.environ.setdefault("GIMBALSIM_RESULTS_LOAD0", open("/proc/loadavg").read())
     hil_speed.BIN = os.path.join(ROOT, a.build, "bin")
     hil_speed.CPU[0] = a.cpu
-    for t in ("firmware_sim", "pointing_controller"):
+    for t in ("firmware_sim", "pointing_controller", "torque_replay"):
         if not os.access(os.path.join(hil_speed.BIN, t), os.X_OK):
             sys.exit(f"worst_tick: {hil_speed.BIN}/{t} missing: cmake --build {a.build} -j2 "
-                     "--target firmware_sim pointing_controller")
+                     "--target firmware_sim pointing_controller torque_replay")
     names = sorted(os.path.basename(f)[:-len(".yaml")] for f in glob.glob(os.path.join(hil_speed.SCENES, "*.yaml")))
     rt_names = [x for x in a.realtime_scenes.split(",") if x] if a.realtime_seconds > 0 else []
     for x in rt_names:

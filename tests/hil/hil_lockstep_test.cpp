@@ -6,11 +6,15 @@
 //    accuracy controllers/README.md states for paper_clearance (free-floating,
 //    inertial mode), the joints having turned away from the profile's angles
 //    by the base's reaction rotation they compensate;
-//  - two runs give byte-identical truth CSVs (run side by side).
+//  - two runs give byte-identical truth CSVs (run side by side);
+//  - a real-time run replayed in lockstep by torque_replay (its applied
+//    torques, tick by tick) has the same dynamics bit for bit and the same
+//    work per tick (what tools/worst_tick.py's replay relies on).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <string>
 
 #include "gimbalsim/controllers/config.hpp"
@@ -33,6 +37,21 @@ std::string lockstepPair(const std::string& url, const std::string& prefix, doub
          ctl_dur + " --idle-exit 5 >" + fw_log + ".ctl 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
          scenePath("paper_clearance") + " --lockstep --duration " + dur + " --profile " + cfg + " --truth-csv " +
          truth + " --lcm-url '" + url + "'" + pfx + " --start-timeout 10" + fw_args + " >" + fw_log + " 2>&1";
+}
+
+/// Two --tick-log files of `ticks` rows: the same sub-steps and derivatives at
+/// every tick, and enough ticks in contact that the comparison means something.
+void expectSameWorkPerTick(const std::string& a, const std::string& b, size_t ticks) {
+  const Csv ta = Csv::read(a), tb = Csv::read(b);
+  ASSERT_EQ(ta.rows.size(), ticks);
+  ASSERT_EQ(tb.rows.size(), ticks);
+  long long busy_ticks = 0;
+  for (size_t k = 0; k < ta.rows.size(); ++k) {
+    ASSERT_EQ(ta.integer(k, ta.col("substeps")), tb.integer(k, tb.col("substeps"))) << "tick " << k;
+    ASSERT_EQ(ta.integer(k, ta.col("derivatives")), tb.integer(k, tb.col("derivatives"))) << "tick " << k;
+    busy_ticks += ta.integer(k, ta.col("substeps")) > 1;
+  }
+  EXPECT_GT(busy_ticks, 100) << "the slew must reach the bearing (ticks of more than one sub-step)";
 }
 
 TEST(HilLockstep, ClearanceSlewCompletesAndPointingErrorConverges) {
@@ -107,17 +126,70 @@ TEST(HilLockstep, TwoRunsGiveByteIdenticalTruthCsv) {
   ASSERT_EQ(a.size(), b.size());
   EXPECT_TRUE(a == b) << "truth CSVs of two lockstep runs differ";
   // The same work tick by tick (what tools/worst_tick.py relies on to tell a
-  // tick's work from the machine's): sub-steps and derivatives per tick agree.
-  const Csv ta = Csv::read(dir / "a_ticks.csv"), tb = Csv::read(dir / "b_ticks.csv");
-  ASSERT_EQ(ta.rows.size(), 3000u);
-  ASSERT_EQ(tb.rows.size(), 3000u);
-  long long busy_ticks = 0;
-  for (size_t k = 0; k < ta.rows.size(); ++k) {
-    ASSERT_EQ(ta.integer(k, ta.col("substeps")), tb.integer(k, tb.col("substeps"))) << "tick " << k;
-    ASSERT_EQ(ta.integer(k, ta.col("derivatives")), tb.integer(k, tb.col("derivatives"))) << "tick " << k;
-    busy_ticks += ta.integer(k, ta.col("substeps")) > 1;
+  // tick's work from the machine's).
+  expectSameWorkPerTick(dir / "a_ticks.csv", dir / "b_ticks.csv", 3000);
+}
+
+TEST(HilLockstep, RealTimeRunReplayedInLockstepHasTheSameDynamicsAndWork) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("lockstep_replay");
+  const std::string cfg = defaultControllerConfig(), url = udpmUrl(7752);
+  const std::string fw = "timeout 60 " + firmwareSim() + " " + scenePath("paper_clearance") +
+                         " --duration 2 --profile " + cfg + " --lcm-url '" + url + "'";
+  const std::string body =
+      std::string(kStartedFn) + "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url +
+      "' --duration 2 --idle-exit 5 >ctl.log 2>&1 &\nC=$!\nstarted ctl.log 'pointing_controller: GIMBAL_STATUS' || exit 90\n" +
+      fw + " --truth-csv rt.csv --tick-log rt_ticks.csv >rt.log 2>&1\nrf=$?; wait $C\n" + "timeout 60 '" +
+      std::string(GIMBALSIM_TORQUE_REPLAY) + "' rt.csv --lcm-url '" + url + "' >replay.log 2>&1 &\nR=$!\n" + fw +
+      " --lockstep --start-timeout 10 --truth-csv ls.csv --tick-log ls_ticks.csv >ls.log 2>&1\nrl=$?; wait $R; rr=$?\n"
+      "echo \"rf $rf rl $rl rr $rr\"\n[ $rf -eq 0 ] && [ $rl -eq 0 ] && [ $rr -eq 0 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "rt.log") << readFile(dir / "ls.log")
+                                      << readFile(dir / "replay.log");
+  const Csv rt = Csv::read(dir / "rt.csv"), ls = Csv::read(dir / "ls.csv");
+  ASSERT_EQ(rt.header, ls.header);
+  ASSERT_EQ(rt.rows.size(), 2000u);
+  ASSERT_EQ(ls.rows.size(), rt.rows.size());
+  // Everything but the time stamps (wall clock against simulated time) and
+  // the fault flags (a real-time tick may miss its command; the replay never does).
+  const int c_u = rt.col("utime_us"), c_f = rt.col("faults");
+  int differing = 0;
+  for (size_t k = 0; k < rt.rows.size(); ++k) {
+    for (size_t j = 0; j < rt.header.size(); ++j) {
+      if (static_cast<int>(j) != c_u && static_cast<int>(j) != c_f && rt.rows[k][j] != ls.rows[k][j] &&
+          ++differing <= 3) {
+        ADD_FAILURE() << "tick " << k << " " << rt.header[j] << ": real time " << rt.rows[k][j] << ", replay "
+                      << ls.rows[k][j];
+      }
+    }
   }
-  EXPECT_GT(busy_ticks, 100) << "the slew must reach the bearing (ticks of more than one sub-step)";
+  EXPECT_EQ(differing, 0);
+  expectSameWorkPerTick(dir / "rt_ticks.csv", dir / "ls_ticks.csv", 2000);
+}
+
+// torque_replay refuses what it cannot replay, naming the file, the line and the column.
+TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
+  TempDir dir("replay_refusals");
+  const std::string prog = "'" + std::string(GIMBALSIM_TORQUE_REPLAY) + "' ";
+  auto write = [&](const char* name, const char* text) {
+    std::ofstream(dir / name) << text;
+    return dir / name;
+  };
+  const struct {
+    std::string path, expected;
+  } cases[] = {
+      {dir / "none.csv", "none.csv: cannot open"},
+      {scenePath("paper_clearance"), "paper_clearance.yaml:1: no tau1_Nm and tau2_Nm columns"},
+      {write("word.csv", "seq,tau1_Nm,tau2_Nm\n0,0.5,0\n1,abc,0\n"), "word.csv:3: column tau1_Nm: not a finite number"},
+      {write("short.csv", "seq,tau1_Nm,tau2_Nm\n0,0.5\n"), "short.csv:2: column tau2_Nm: not a finite number"},
+      {write("nan.csv", "seq,tau1_Nm,tau2_Nm\n0,0,nan\n"), "nan.csv:2: column tau2_Nm: not a finite number"},
+      {write("one.csv", "seq,tau1_Nm,tau2_Nm\n0,0,0\n"), "one.csv: fewer than 2 rows: nothing to replay"},
+  };
+  for (const auto& c : cases) {
+    int st = 0;
+    const std::string out = runCapture(prog + "'" + c.path + "' --lcm-url memq:// 2>&1", &st);
+    EXPECT_EQ(WEXITSTATUS(st), 2) << out;
+    EXPECT_NE(out.find(c.expected), std::string::npos) << out;
+  }
 }
 
 }  // namespace
