@@ -8,7 +8,7 @@
 // the machine added to it. Answers status k with the torque of row k + 1 (a
 // command answering status k acts from tick k + 1); tick 0 ran before any
 // command in both runs. Exit 0 after answering the last status the CSV
-// covers; 2 refused input; 5 network; 6 no plant within --idle-exit.
+// covers; 2 refused input; 5 network (a failed send too); 6 no plant within --idle-exit.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdint>
@@ -99,10 +99,12 @@ int main(int argc, char** argv) {
   const auto last = static_cast<std::int64_t>(t.tau1.size()) - 2;  // the last status that has a next row
   std::int64_t answered = -1, seq = 0;
   std::int64_t heard_ns = gimbalsim::bench_io::monotonicNs();
-  while (answered < last) {
+  bool sent = true;
+  while (answered < last && sent) {
     if (rx.wait(100, 0) < 0) return gimbalsim::program::kNetwork;
     rx.drain([&](const gimbalsim::bench_io::Message& m, std::int64_t) {
       gimbalsim::gimbal_status_t st{};
+      if (!sent) return;
       if (st.decode(m.data, 0, static_cast<int>(m.size)) != static_cast<int>(m.size)) return;
       heard_ns = gimbalsim::bench_io::monotonicNs();
       if (st.seq <= answered || st.seq > last) return;  // a repeat (status 0 is re-sent until answered), or past the CSV
@@ -113,7 +115,7 @@ int main(int argc, char** argv) {
       c.mode = gimbalsim::gimbal_command_t::MODE_TORQUE;
       c.torque[0] = t.tau1[static_cast<std::size_t>(st.seq) + 1];
       c.torque[1] = t.tau2[static_cast<std::size_t>(st.seq) + 1];
-      lcm.publish(ch.command, &c);
+      sent = lcm.publish(ch.command, &c) == 0;  // a lost answer would stall the plant: stop and say so
       answered = st.seq;
     }, 256);
     if (static_cast<double>(gimbalsim::bench_io::monotonicNs() - heard_ns) * 1e-9 > idle_exit) {
@@ -121,6 +123,10 @@ int main(int argc, char** argv) {
                    static_cast<long long>(answered));
       return gimbalsim::program::kNoPeer;
     }
+  }
+  if (!sent) {
+    std::fprintf(stderr, "torque_replay: publishing the answer to status %lld failed\n", static_cast<long long>(answered));
+    return gimbalsim::program::kNetwork;
   }
   std::fprintf(stderr, "torque_replay: answered statuses 0..%lld from %s\n", static_cast<long long>(last), truth.c_str());
   return gimbalsim::program::kOk;
