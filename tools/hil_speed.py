@@ -18,7 +18,8 @@ firmware_sim's exit summary.
  (ii)  lockstep speed: simulated seconds per wall second, paper_ideal and
        paper_clearance with the controller over udpm, median of 3 runs, in
        three ways: both processes sleeping in poll() between messages (the
-       default), both held to one CPU (taskset -c CPU), both busy-polling
+       default; firmware_sim holds idle CPUs awake, --cpu-dma-latency-us 0),
+       both held to one CPU (taskset -c CPU), both busy-polling
        (--spin-us 100). Against the in-process closed loop (controller_sweep
        --omega 20, the default configuration's bandwidth; its start-up
        subtracted: a 4 s run) it gives the process boundary per tick: lockstep wall
