@@ -81,14 +81,16 @@ def enter_namespace():
 CHRT = []  # ["chrt", "-f", PRIO] when --chrt is allowed here
 
 
-def run_pair(scene, seconds, rate=1000, lockstep=False, fw_extra=(), ctl_extra=(), both=()):
-    """Controller + firmware_sim, each started under `both` (e.g. taskset); returns firmware_sim's stdout (the exit summary)."""
+def run_pair(scene, seconds, rate=1000, lockstep=False, fw_extra=(), ctl_extra=(), both=(), controller=None):
+    """Controller + firmware_sim, each started under `both` (e.g. taskset); returns firmware_sim's stdout (the exit
+    summary). `controller`: the argv of a stand-in for pointing_controller (torque_replay), which must exit 0."""
     rt = [] if lockstep else CHRT
     # Real time: the controller on the other CPUs, as a bench keeps the plant's loop CPU to itself.
     others = sorted(os.sched_getaffinity(0) - {CPU[0]})
     pin = ["taskset", "-c", ",".join(map(str, others))] if not lockstep and CPU[0] >= 0 and others else []
-    ctl = subprocess.Popen([*both, *pin, *rt, os.path.join(BIN, "pointing_controller"), CFG, "--lcm-url", URL,
-                            "--idle-exit", "2", *ctl_extra], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    ctl_cmd = controller or [os.path.join(BIN, "pointing_controller"), CFG, "--lcm-url", URL, "--idle-exit", "2"]
+    ctl = subprocess.Popen([*both, *pin, *rt, *ctl_cmd, *ctl_extra], stdout=subprocess.DEVNULL,
+                           stderr=subprocess.PIPE if controller else subprocess.DEVNULL, text=True)
     try:
         cmd = [*both, *rt, os.path.join(BIN, "firmware_sim"), scene, "--rate", str(rate), "--duration", str(seconds),
                "--profile", CFG, "--lcm-url", URL, *fw_extra]
@@ -97,9 +99,11 @@ def run_pair(scene, seconds, rate=1000, lockstep=False, fw_extra=(), ctl_extra=(
         r = subprocess.run(cmd, capture_output=True, text=True, timeout=seconds * 20 + 60)
         if r.returncode != 0:
             sys.exit(f"hil_speed: firmware_sim exited {r.returncode}: {' '.join(cmd)}\n{r.stderr}")
-        return r.stdout + r.stderr
     finally:
-        ctl.wait(timeout=30)
+        err = ctl.communicate(timeout=30)[1]
+    if controller and ctl.returncode != 0:
+        sys.exit(f"hil_speed: {os.path.basename(ctl_cmd[0])} exited {ctl.returncode}: {err.strip()[-300:]}")
+    return r.stdout + r.stderr
 
 
 RT_PRIORITY = 80  # firmware_sim's loop thread (its --rt-priority default) and cyclictest's

@@ -120,10 +120,11 @@ def reason(message):
     return head.removeprefix("hil_speed: ")[:300]
 
 
-def measure(name, seconds, lockstep, fw_extra=()):
+def measure(name, seconds, lockstep, fw_extra=(), controller=None):
     """firmware_sim's figures for one run as a dict, or a string saying why there are none."""
     try:
-        out = run_pair(os.path.join(hil_speed.SCENES, name + ".yaml"), seconds, lockstep=lockstep, fw_extra=fw_extra)
+        out = run_pair(os.path.join(hil_speed.SCENES, name + ".yaml"), seconds, lockstep=lockstep, fw_extra=fw_extra,
+                       controller=controller)
         r = dict(zip(("bound0", "steps", "cap", "deriv", "per_unit"), grab(out, START, 5)))
         r.update(zip(("s50", "s99", "smax", "bound", "pct", "tick", "subs"), grab(out, STEPPING, 7)))
         r.update(zip(("c50", "c99", "cmax"), grab(out, WHOLE, 3)))
@@ -146,22 +147,6 @@ def tick_log(path):
 
 
 RUNS = 3  # lockstep runs of the same work per scene: the row's and 2 more; in real time, 3 lockstep replays
-
-
-def replay(name, seconds, truth, log):
-    """Lockstep firmware_sim answered by torque_replay with the torques of a recorded run (its truth CSV), so every
-    tick does the recorded run's work; writes the tick log `log`. None, or why it could not run."""
-    rep = subprocess.Popen([os.path.join(hil_speed.BIN, "torque_replay"), truth, "--lcm-url", hil_speed.URL],
-                           stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    try:
-        cmd = [os.path.join(hil_speed.BIN, "firmware_sim"), os.path.join(hil_speed.SCENES, name + ".yaml"), "--lockstep",
-               "--duration", str(seconds), "--profile", hil_speed.CFG, "--lcm-url", hil_speed.URL, "--tick-log", log]
-        r = subprocess.run(cmd, capture_output=True, text=True, timeout=seconds * 20 + 60)
-    finally:
-        err = rep.communicate(timeout=60)[1]
-    if r.returncode != 0:
-        return f"firmware_sim exited {r.returncode}: {r.stderr.strip().splitlines()[-1:]}"
-    return None if rep.returncode == 0 else f"torque_replay exited {rep.returncode}: {err.strip()[-200:]}"
 
 
 def repeat(r, logs, again):
@@ -220,10 +205,11 @@ def table(title, names, seconds, lockstep, fw_extra=()):
             results[name] = measure(name, seconds, lockstep, extra)
             if not isinstance(results[name], str):
                 def again(log, name=name, truth=truth):
-                    """Lockstep: the scene once more; real time: a lockstep replay of the run's torques."""
-                    if not lockstep:
-                        return replay(name, seconds, truth, log)
-                    x = measure(name, seconds, True, ("--tick-log", log))
+                    """Lockstep: the scene once more; real time: a lockstep run answered by torque_replay with the
+                    run's torques (its truth CSV), so every tick does the run's work."""
+                    ctl = None if lockstep else [os.path.join(hil_speed.BIN, "torque_replay"), truth, "--lcm-url",
+                                                 hil_speed.URL]
+                    x = measure(name, seconds, True, ("--tick-log", log), ctl)
                     return x if isinstance(x, str) else None
                 results[name]["repeat"] = repeat(results[name], logs, again)
             print(row(name, results[name], not lockstep), flush=True)
