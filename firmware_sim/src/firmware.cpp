@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "gimbalsim/input/key_registry.hpp"
+
 namespace gimbalsim::firmware {
 
 const char* describe(Rejection r) {
@@ -33,9 +35,7 @@ ConfigCheck checkConfig(const Scene& sc, const Config& c) {
     err << "control period must be > 0 s, got " << c.control_period;
     return refuse(Setting::ControlPeriod);
   }
-  const double r = c.control_period / h;
-  const double n = std::round(r);
-  if (n < 1.0 || std::fabs(r - n) > 1e-9 * r) {
+  if (!isWholeMultiple(c.control_period, h)) {
     err.precision(17);
     err << "control period " << c.control_period << " s is not a whole multiple of sim.step = " << h
         << " s (the plant steps sim.step at a time inside each tick); choose a rate whose period is "
@@ -58,7 +58,7 @@ ConfigCheck checkConfig(const Scene& sc, const Config& c) {
       return refuse(Setting::SafeTorque);
     }
   }
-  out.steps_per_tick = static_cast<int>(n);
+  out.steps_per_tick = static_cast<int>(std::round(c.control_period / h));
   return out;
 }
 

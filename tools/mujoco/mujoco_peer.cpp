@@ -12,6 +12,8 @@
 
 #include <unistd.h>
 
+#include "gimbalsim/input/key_registry.hpp"
+
 namespace gimbalsim::workprec {
 
 namespace {
@@ -96,7 +98,7 @@ std::vector<Point> mujocoPoints(const Scene& sc, const Trajectory& ref, const st
     p.policy = "MuJoCo 2.2 RK4";
     p.h = p.substep = h;
     const double r = sc.run.output_interval / h;
-    if (std::fabs(r - std::round(r)) > 1e-9 * r) continue;
+    if (!isWholeMultiple(sc.run.output_interval, h)) continue;
     std::string error;
     auto mm = load(mjcfOf(sc.model, h), error);
     if (!mm) {

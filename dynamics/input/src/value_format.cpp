@@ -14,10 +14,14 @@ std::string formatNumber(double x) {
   return std::string(b, r.ptr);
 }
 
+bool isWholeMultiple(double value, double unit) {
+  const double n = value / unit;
+  return std::isfinite(n) && std::round(n) >= 1.0 && std::fabs(n - std::round(n)) <= 1e-12 * n;
+}
+
 std::string wholeMultipleProblem(double value, double unit, const std::string& unit_name) {
   const double n = value / unit;
-  // A relative 1e-6 absorbs the decimal spelling (0.3 / 0.1 is 2.9999999999999996).
-  if (std::isfinite(n) && std::round(n) >= 1.0 && std::fabs(n - std::round(n)) <= 1e-6 * n) return "";
+  if (isWholeMultiple(value, unit)) return "";
   auto multiple = [&](double k) {
     char b[32];
     std::snprintf(b, sizeof b, "%.12g", k * unit);
