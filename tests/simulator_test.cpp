@@ -64,7 +64,24 @@ TEST(Simulator, RestoredCheckpointResumesBitForBit) {
   ASSERT_TRUE(b.step(sc.run.torque, 200).ok());
   const Row ra = a.output(), rb = b.output();
   EXPECT_TRUE(sameBits(rowData(ra), rowData(rb), kNumColumns));
-  EXPECT_GT(ra.ecc, 0.0);
+  EXPECT_GT(ra.ecc2, 0.0);
+}
+
+TEST(Simulator, ACheckpointUnderItsVariantsOldNameRestores) {
+  // Saved before both joints were named alike: floating_clearance_friction is floating_ideal_planar_friction.
+  const Scene sc = test::scene("paper_clearance");
+  Simulator a(sc), b(sc);
+  ASSERT_TRUE(a.step(sc.run.torque, 100).ok());
+  SavedState saved = a.save();
+  EXPECT_EQ(saved.variant, "floating_ideal_planar_friction");
+  saved.variant = "floating_clearance_friction";
+  b.restore(saved);
+  ASSERT_TRUE(a.step(sc.run.torque, 50).ok());
+  ASSERT_TRUE(b.step(sc.run.torque, 50).ok());
+  const Row ra = a.output(), rb = b.output();
+  EXPECT_TRUE(sameBits(rowData(ra), rowData(rb), kNumColumns));
+  saved.variant = "floating_spatial1_ideal_friction";  // an old name of another variant
+  EXPECT_THROW(b.restore(saved), std::invalid_argument);
 }
 
 TEST(Simulator, RefusesACheckpointOfAnotherVariant) {

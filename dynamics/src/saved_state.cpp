@@ -24,12 +24,15 @@ struct Shape {
   int nq = 0, nv = 0, nc = 0;
 };
 
-/// The shape a variant name stands for (variantName's spelling); false if none.
-bool shapeOf(const std::string& name, Shape& out) {
+/// The shape a variant name stands for (variantName's spelling, or the one
+/// before both joints were named alike) and its name now; false if none.
+bool shapeOf(const std::string& name, Shape& out, std::string& canonical) {
 #define GIMBALSIM_SHAPE_NAMED(FL, K1, K2, FR)                                                            \
-  if (name == shapeName(FL, ClearanceKind::K1, ClearanceKind::K2, FR)) {                                 \
+  if (name == shapeName(FL, ClearanceKind::K1, ClearanceKind::K2, FR) ||                                 \
+      name == legacyShapeName(FL, ClearanceKind::K1, ClearanceKind::K2, FR)) {                           \
     using V = GIMBALSIM_SHAPE(FL, K1, K2, FR);                                                            \
     out = {FL, {ClearanceKind::K1, ClearanceKind::K2}, {V::G1, V::G2}, V::NQ, V::NV, V::NC};             \
+    canonical = shapeName(FL, ClearanceKind::K1, ClearanceKind::K2, FR);                                  \
     return true;                                                                                         \
   }
   GIMBALSIM_FOR_EACH_SHAPE(GIMBALSIM_SHAPE_NAMED)
@@ -49,9 +52,10 @@ std::vector<std::string> savedStateProblems(const SavedState& s, const Model* m)
   };
 
   Shape shape;
-  if (!shapeOf(s.variant, shape)) {
-    refuse("variant", "'" + s.variant + "': not a variant (e.g. fixed_clearance_friction)");
-  } else if (m && s.variant != variantName(*m)) {
+  std::string variant;
+  if (!shapeOf(s.variant, shape, variant)) {
+    refuse("variant", "'" + s.variant + "': not a variant (e.g. fixed_ideal_planar_friction)");
+  } else if (m && variant != variantName(*m)) {
     refuse("variant", "'" + s.variant + "': this simulator runs variant " + variantName(*m));
   }
   if (finite("t", s.t)) {
@@ -88,9 +92,9 @@ std::vector<std::string> savedStateProblems(const SavedState& s, const Model* m)
       // The journal centre (ecc) stays inside the bearing; beyond its radius
       // the contact law has no meaning.
       const double ecc = std::hypot(s.q[g], s.q[g + 1]);
-      if (m && !(ecc <= m->contactOf(j).bearing_radius)) {
+      if (m && !(ecc <= m->bearing[j].bearing_radius)) {
         refuse("q", "holds |ecc| = " + num(ecc) + " m" + joint + ": beyond the bearing radius " +
-                        num(m->contactOf(j).bearing_radius) + " m");
+                        num(m->bearing[j].bearing_radius) + " m");
       }
       // A spatial journal's axis must cross the bearing's end planes.
       if (shape.kind[j] == ClearanceKind::Spatial && !(std::cos(s.q[g + 2]) * std::cos(s.q[g + 3]) >= 0.5)) {

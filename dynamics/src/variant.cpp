@@ -8,8 +8,12 @@ const char* kindName(ClearanceKind k) {
 }
 
 std::string shapeName(bool floating, ClearanceKind k1, ClearanceKind k2, bool friction) {
+  return std::string(floating ? "floating" : "fixed") + "_" + kindName(k1) + "_" + kindName(k2) +
+         (friction ? "_friction" : "");
+}
+
+std::string legacyShapeName(bool floating, ClearanceKind k1, ClearanceKind k2, bool friction) {
   std::string s = floating ? "floating" : "fixed";
-  // The paper's names for joint 1 ideal; a clearance joint 1 adds its kind.
   if (k1 != ClearanceKind::Ideal) s += std::string("_") + kindName(k1) + "1";
   s += k2 == ClearanceKind::Ideal ? "_ideal" : k2 == ClearanceKind::Planar ? "_clearance" : "_spatial";
   if (friction) s += "_friction";

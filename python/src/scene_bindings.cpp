@@ -113,7 +113,7 @@ void bindScene(pyb::module_& m) {
       .def_property_readonly("path", [](const PyScene& s) { return s.path; }, "the file it was loaded from")
       .def_property_readonly("name", [](const PyScene& s) { return s.scene().model.name; })
       .def_property_readonly("variant", [](const PyScene& s) { return variantName(s.scene().model); },
-                             "the compiled variant it runs as, e.g. floating_clearance_friction")
+                             "the compiled variant it runs as, e.g. floating_ideal_planar_friction")
       .def_property_readonly("warnings", [](const PyScene& s) { return s.scene().warnings; })
       .def_property_readonly(
           "columns",

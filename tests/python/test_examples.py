@@ -16,7 +16,7 @@ def run_example(name, *args, cwd):
 def test_paper_scene_writes_its_plot(tmp):
     out = run_example("paper_scene.py", "--duration", "0.2", "--out", str(tmp / "p.png"), cwd=tmp)
     assert (tmp / "p.png").stat().st_size > 10_000
-    assert "paper_clearance: floating_clearance_friction" in out
+    assert "paper_clearance: floating_ideal_planar_friction" in out
 
 
 def test_python_controller_reaches_its_target(tmp):

@@ -193,7 +193,7 @@ def _set(field, i, x):
     return change
 
 
-# (change of the fields of a good State of paper_clearance (floating_clearance_friction: q holds
+# (change of the fields of a good State of paper_clearance (floating_ideal_planar_friction: q holds
 # p (3), the base quaternion (4), theta1, ecc (2), theta2), the field named, refused already
 # without a scene (else only when restored into this scene))
 BAD_STATES = [
@@ -208,8 +208,8 @@ BAD_STATES = [
     ({"h_next": 1.0}, "State.h_next", False),  # beyond sim.step
     ({"friction_mode": 7}, "State.friction_mode", True),
     ({"variant": "warp_drive"}, "State.variant", True),
-    ({"variant": "fixed_clearance_friction"}, "State.q", True),  # sizes of another variant
-    ({"variant": "floating_ideal"}, "State.variant", False),  # sizes of another variant
+    ({"variant": "fixed_ideal_planar_friction"}, "State.q", True),  # sizes of another variant
+    ({"variant": "floating_ideal_ideal"}, "State.variant", False),  # sizes of another variant
     (_set("q", 0, math.nan), "State.q[0]", True),
     (_set("v", 1, math.inf), "State.v[1]", True),
     (_set("q", 3, 2.0), "State.q[3:7]", True),  # not a unit quaternion
@@ -225,7 +225,7 @@ def test_a_state_from_outside_is_refused_naming_the_field(change, field, at_cons
         change(fields)
     else:
         fields.update(change)
-    if fields["variant"] == "floating_ideal":  # its sizes: no contact end
+    if fields["variant"] == "floating_ideal_ideal":  # its sizes: no contact end
         fields["q"], fields["v"] = fields["q"][:9], fields["v"][:8]
         fields["in_contact"], fields["v0"] = [], []
     sim = gimbalsim.Simulator(scene())

@@ -59,17 +59,19 @@ using FloatingClearanceFriction = Variant<true, ClearanceKind::Ideal, ClearanceK
 
 /// "ideal", "planar" or "spatial", as the scene keys structure.joint1/2 name it.
 const char* kindName(ClearanceKind k);
-/// The name of a shape: floating|fixed, then _planar1|_spatial1 for a
-/// clearance joint 1, _ideal|_clearance (planar)|_spatial for joint 2,
-/// _friction (e.g. floating_clearance_friction, fixed_spatial1_spatial).
+/// The name of a shape: floating|fixed, each joint's kind (joint 1's, then
+/// joint 2's), _friction (e.g. floating_ideal_planar_friction, fixed_spatial_spatial).
 std::string shapeName(bool floating, ClearanceKind k1, ClearanceKind k2, bool friction);
+/// The name before both joints were named alike (floating_clearance_friction,
+/// fixed_spatial1_spatial): still read from a saved state.
+std::string legacyShapeName(bool floating, ClearanceKind k1, ClearanceKind k2, bool friction);
 /// Which compiled variant a model runs as.
 std::string variantName(const Model& m);
 /// Friction code is compiled in only when it can act.
 inline bool frictionActive(const Model& m) {
   const auto acts = [](const ContactParams& c) { return c.friction != FrictionLaw::None && c.mu > 0.0; };
-  return (m.joint1_kind != ClearanceKind::Ideal && acts(m.contact1)) ||
-         (m.joint2_kind != ClearanceKind::Ideal && acts(m.contact));
+  return (m.joint1_kind != ClearanceKind::Ideal && acts(m.bearing[0])) ||
+         (m.joint2_kind != ClearanceKind::Ideal && acts(m.bearing[1]));
 }
 
 /// Every compiled shape, X(floating, kind 1, kind 2, friction): both bases,
