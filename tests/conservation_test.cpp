@@ -40,13 +40,13 @@ TEST(Conservation, MomentumHeldThroughImpactsAndFriction) {
   // leaves is truncation error where the right-hand side is not smooth
   // (Coulomb's sign flip, the onset of Hertz contact): it falls as h^2.
   const Scene sc = test::scene("paper_clearance", {"sim.substep=1e-5"});
-  ASSERT_EQ(sc.model.contact.friction, FrictionLaw::Coulomb);
+  ASSERT_EQ(sc.model.bearing[1].friction, FrictionLaw::Coulomb);
   checkMomentum<FloatingClearanceFriction>(sc, 0.3, true, 1e-10);
 }
 
 TEST(Conservation, MomentumHeldFromNonZeroInitialMomentum) {
   const Scene sc = test::scene("paper_clearance", {"initial.dtheta1=0.7", "initial.dtheta2=-0.4",
-                                                   "initial.ecc=[1.0e-4, -2.0e-4]", "friction.law=ambrosio",
+                                                   "initial.ecc2=[1.0e-4, -2.0e-4]", "friction.law=ambrosio",
                                                    "sim.substep=1e-5"});
   checkMomentum<FloatingClearanceFriction>(sc, 0.3, true, 1e-12);
   const Scene sci = test::scene("paper_ideal", {"initial.dtheta1=0.7", "initial.dtheta2=-0.4"});
@@ -80,7 +80,7 @@ TEST(Conservation, ContactAndFrictionExertNoNetForceOrMoment) {
     State<FloatingClearanceFriction> s = initialState<FloatingClearanceFriction>(sc.run.initial);
     s.q(7) = 0.3, s.q(10) = -0.2;  // joint angles
     s.v << 0.1, -0.2, 0.3, 0.01, -0.02, 0.03, 0.5, 0.0, 0.0, -0.7;
-    const double c = m.contact.clearance;
+    const double c = m.bearing[1].clearance;
     s.q(8) = 0.6 * (c + 2e-6), s.q(9) = 0.8 * (c + 2e-6);  // 2 um penetration
     s.v(7) = 0.6 * 0.01, s.v(8) = 0.8 * 0.01;              // approaching at 1 cm/s
     s.v0[0] = 0.01;
@@ -103,7 +103,7 @@ double energyBalance(const Model& m, const Vec2& torque, const State<V>& s, doub
   double E = momentumOf(m, s).energy;
   if constexpr (V::kContact) {
     const double delta = clearanceGap<V>(m, s.q, s.v).delta;
-    if (delta > 0) E += m.contact.K * std::pow(delta, m.contact.exponent + 1) / (m.contact.exponent + 1);
+    if (delta > 0) E += m.bearing[1].K * std::pow(delta, m.bearing[1].exponent + 1) / (m.bearing[1].exponent + 1);
   }
   const double W = torque(0) * (s.theta(0) - s0.theta(0)) + torque(1) * (s.theta(1) - s0.theta(1));
   return E - E0 - W;
@@ -153,7 +153,7 @@ TEST(Conservation, EnergyNeverRisesUnderDissipation) {
     ASSERT_EQ(step(m, d, s, u).status, StepStatus::Ok);
     double E = momentumOf(m, s).energy;
     const double delta = clearanceGap<FloatingClearanceFriction>(m, s.q, s.v).delta;
-    if (delta > 0) E += m.contact.K * std::pow(delta, 2.5) / 2.5;
+    if (delta > 0) E += m.bearing[1].K * std::pow(delta, 2.5) / 2.5;
     worst_rise = std::max(worst_rise, E - prev);
     prev = E;
   }

@@ -15,8 +15,8 @@ TEST(ContactLaw, HertzStiffnessOfBothRadiusModes) {
   EXPECT_NEAR(Model::hertzStiffness(c, RadiusMode::Conformal), 5.418e10, 0.0005 * 5.418e10);
   // The scene loader derives the same K and the clearance.
   const Model m = test::model("paper_clearance");
-  EXPECT_NEAR(m.contact.K, 8.676e9, 0.0005 * 8.676e9);
-  EXPECT_NEAR(m.contact.clearance, 0.5e-3, 1e-15);
+  EXPECT_NEAR(m.bearing[1].K, 8.676e9, 0.0005 * 8.676e9);
+  EXPECT_NEAR(m.bearing[1].clearance, 0.5e-3, 1e-15);
   const Model mc = test::model("paper_clearance", {"contact.radius_mode=conformal"});
   EXPECT_NEAR(mc.contact.K, 5.418e10, 0.0005 * 5.418e10);
 }

@@ -218,7 +218,7 @@ TEST(Integrator, ClearanceRunReproducesThePapersQualitativeResults) {
   const Scene sc = test::scene("paper_clearance");
   double early_peak = 0.0, late_peak = 0.0;
   const RunResult r = simulate(sc, [&](const Row& row) {
-    (row.t < 0.5 ? early_peak : late_peak) = std::max(row.t < 0.5 ? early_peak : late_peak, row.fn);
+    (row.t < 0.5 ? early_peak : late_peak) = std::max(row.t < 0.5 ? early_peak : late_peak, row.fn2);
   });
   ASSERT_TRUE(r.ok) << r.error;
   const Scene sci = test::scene("paper_ideal");

@@ -81,7 +81,7 @@ TEST(KeyRegistry, PrintedSceneValuesLoadBack) {
   const firmware::PlantScene b = firmware::loadPlantSceneText("", "printed", values);
   EXPECT_EQ(firmware::plantTable().values(b), values);
   EXPECT_EQ(b.scene.model.shaft2.inertia, a.scene.model.shaft2.inertia);
-  EXPECT_EQ(b.scene.model.contact.journal_radius, a.scene.model.contact.journal_radius);
+  EXPECT_EQ(b.scene.model.bearing[1].journal_radius, a.scene.model.bearing[1].journal_radius);
   EXPECT_EQ(b.sensors.seed, 7);
 }
 
@@ -109,7 +109,7 @@ TEST(KeyRegistry, ClearanceDoesNotDependOnTheTablesOrder) {
   const std::string yaml = "structure: {joint2: clearance}\ncontact: {clearance: 2.0e-4, bearing_radius: 0.03}\n";
   for (const KeyTable<Scene>* t : std::initializer_list<const KeyTable<Scene>*>{&first, &last, &sceneTable()}) {
     const Scene s = loadKeys<SceneError>(*t, yaml, "t.yaml", {});
-    EXPECT_EQ(s.model.contact.journal_radius, 0.03 - 2.0e-4);
+    EXPECT_EQ(s.model.bearing[1].journal_radius, 0.03 - 2.0e-4);
   }
 }
 
@@ -121,7 +121,7 @@ TEST(KeyRegistry, AlternativeKeysAndDefaultPlaces) {
             std::string::npos);
   // A --set of one form replaces the other given in the file.
   const Scene s = loadSceneText(good + "contact: {journal_radius: 9e-3}\n", "t.yaml", {"contact.clearance=1e-3"});
-  EXPECT_NEAR(s.model.contact.clearance, 1e-3, 1e-15);
+  EXPECT_NEAR(s.model.bearing[1].clearance, 1e-3, 1e-15);
   // A derived journal radius is refused under the key that was given.
   EXPECT_NE(refusal(good, {"contact.clearance=0.02"})
                 .find("--set #1 'contact.clearance=0.02': key 'contact.clearance': journal radius must be > 0, got -0.01"),
@@ -207,6 +207,26 @@ TEST(KeyRegistry, KeyDocsAreTheRegistry) {
   expectDocTable(kSource + "/docs/scene_keys.md", firmware::plantTable().info(), "gimbalsim keys --markdown");
   expectDocTable(kSource + "/docs/controller_keys.md", controllers::controllerKeys(),
                  "pointing_controller --keys --markdown");
+}
+
+TEST(KeyRegistry, EveryOldSpellingIsAKeyAndIsListedInTheDocs) {
+  std::ifstream in(kSource + "/docs/scene_keys.md");
+  const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::set<std::string> names;
+  for (const KeyInfo& k : firmware::plantTable().info()) names.insert(k.key);
+  ASSERT_FALSE(sceneTable().aliases.empty());
+  EXPECT_EQ(firmware::plantTable().aliases, sceneTable().aliases) << "the plant reads the scene's old spellings";
+  for (const auto& [alias, key] : sceneTable().aliases) {
+    EXPECT_TRUE(names.count(key)) << alias << " stands for " << key << ", which is not a key";
+    EXPECT_FALSE(names.count(alias)) << alias << " is a key of its own";
+    // The doc lists each old prefix with its key's: "| `contact1.*` ... | `joint1.contact.*` |".
+    const std::string old_prefix = "`" + alias.substr(0, alias.find('.')) + ".*`";
+    const std::string new_prefix = "`" + key.substr(0, key.rfind('.')) + ".*`";
+    const auto row = doc.find("| " + old_prefix);
+    ASSERT_NE(row, std::string::npos) << old_prefix << " is not listed in docs/scene_keys.md";
+    EXPECT_NE(doc.substr(row, doc.find('\n', row) - row).find(new_prefix), std::string::npos)
+        << old_prefix << " must be listed with " << new_prefix;
+  }
 }
 
 }  // namespace

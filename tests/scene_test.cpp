@@ -2,6 +2,7 @@
 // the key and where it was given; good ones load as written.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "test_util.hpp"
@@ -44,9 +45,9 @@ TEST(Scene, OverridesTakeEffect) {
                                                    "shaft2.inertia=[0.5, 5, 5, 0.1, 0, 0]"});
   const Model& m = sc.model;
   EXPECT_EQ(sc.run.duration, 2.5);
-  EXPECT_EQ(sc.run.initial.ecc, Vec2(5e-5, -2e-5));
-  EXPECT_NEAR(m.contact.clearance, 1e-4, 1e-15);
-  EXPECT_NEAR(m.contact.journal_radius, 9.9e-3, 1e-15);
+  EXPECT_EQ(sc.run.initial.ecc[1], Vec2(5e-5, -2e-5));
+  EXPECT_NEAR(m.bearing[1].clearance, 1e-4, 1e-15);
+  EXPECT_NEAR(m.bearing[1].journal_radius, 9.9e-3, 1e-15);
   EXPECT_FALSE(m.floating_base);
   EXPECT_EQ(m.shaft2.inertia(0, 1), 0.1);
   EXPECT_EQ(m.shaft2.inertia(1, 0), 0.1);
@@ -101,9 +102,11 @@ TEST(Scene, NonPhysicalValuesAreRefused) {
       // A duration is whole steps, or refused with the nearest valid ones (never rounded).
       {{"sim.step=1e-3", "sim.duration=0.0025"},
        "key 'sim.duration': must be a whole multiple of sim.step (0.001 s), at least one: 0.002 or 0.003"},
+      // One rule for every whole multiple: half a step off is refused however long the run.
+      {{"sim.step=1e-3", "sim.duration=1000.0005"}, "key 'sim.duration': must be a whole multiple of sim.step"},
       {{"sim.step=1e-3", "sim.duration=4e-4"},
        "key 'sim.duration': must be a whole multiple of sim.step (0.001 s), at least one: 0.001"},
-      {{"initial.ecc=[1e-3, 0]"}, "key 'initial.ecc': initial eccentricity exceeds the radial clearance"},
+      {{"initial.ecc=[1e-3, 0]"}, "key 'initial.ecc': initial eccentricity exceeds the radial clearance of joint 2"},
   };
   for (const Case& c : cases) {
     const std::string e = refusal(kGood, c.sets);
@@ -130,21 +133,21 @@ TEST(Scene, ShippedDurationsAreWholeSteps) {
 
 TEST(Scene, JointKindsAndJoint1BearingDefaultToJoint2s) {
   // The shipped scenes of clearance in either joint load as their names say.
-  const std::pair<const char*, const char*> shipped[] = {{"paper_spatial2", "floating_spatial_friction"},
-                                                         {"paper_both_planar", "floating_planar1_clearance_friction"},
-                                                         {"paper_both_spatial", "floating_spatial1_spatial_friction"},
-                                                         {"planar_spatial2", "floating_spatial_friction"},
-                                                         {"paper_planar1", "floating_planar1_ideal_friction"},
-                                                         {"paper_spatial1", "floating_spatial1_ideal_friction"}};
+  const std::pair<const char*, const char*> shipped[] = {{"paper_spatial2", "floating_ideal_spatial_friction"},
+                                                         {"paper_both_planar", "floating_planar_planar_friction"},
+                                                         {"paper_both_spatial", "floating_spatial_spatial_friction"},
+                                                         {"planar_spatial2", "floating_ideal_spatial_friction"},
+                                                         {"paper_planar1", "floating_planar_ideal_friction"},
+                                                         {"paper_spatial1", "floating_spatial_ideal_friction"}};
   for (const auto& [name, variant] : shipped) {
     const Scene s = loadScene(test::scenePath(name));
     EXPECT_EQ(variantName(s.model), variant) << name;
-    EXPECT_EQ(s.model.contact.bearing_length, 0.05) << name;
+    EXPECT_EQ(s.model.bearing[1].bearing_length, 0.05) << name;
   }
-  // Joint 1's bearing is joint 2's, but for the contact1.* / friction1.* keys given.
+  // Joint 1's bearing is the shared one (contact.*, friction.*), but for its own keys given (old spellings).
   const Scene both = test::scene("paper_clearance", {"structure.joint1=planar", "contact.restitution=0.8",
                                                      "contact1.clearance=2e-4", "friction1.mu=0.1"});
-  const ContactParams &c1 = both.model.contact1, &c2 = both.model.contact;
+  const ContactParams &c1 = both.model.bearing[0], &c2 = both.model.bearing[1];
   EXPECT_EQ(both.model.joint1_kind, ClearanceKind::Planar);
   EXPECT_EQ(both.model.joint2_kind, ClearanceKind::Planar);  // "clearance" is planar
   EXPECT_EQ(c1.restitution, 0.8);
@@ -159,7 +162,7 @@ TEST(Scene, JointKindsAndJoint1BearingDefaultToJoint2s) {
   EXPECT_NE(c1.K, c2.K);
   EXPECT_EQ(variantName(test::scene("paper_clearance", {"structure.joint2=spatial", "structure.base=fixed",
                                                         "friction.law=none"}).model),
-            "fixed_spatial");
+            "fixed_ideal_spatial");
   // Set-valued friction is for a planar joint 2 with an ideal joint 1 only, named at its key.
   std::string e = refusal(kGood, {"structure.joint2=spatial", "friction.law=coulomb_stick"});
   EXPECT_NE(e.find("friction.law"), std::string::npos) << e;
@@ -172,7 +175,7 @@ TEST(Scene, JointKindsAndJoint1BearingDefaultToJoint2s) {
   EXPECT_EQ(refusal(kGood, {"contact1.journal_radius=0.02"}), "") << "ideal joint 1: its bearing's radii are not used";
   e = refusal(kGood, {"contact1.restitution=2"});
   EXPECT_NE(e.find("contact1.restitution"), std::string::npos) << "a bad value is refused, used or not: " << e;
-  // A bad joint-2 value is refused once, at its key, not again as joint 1's default.
+  // A bad shared value is refused once, at its key, not again as joint 1's.
   e = refusal(kGood, {"structure.joint1=planar", "contact.restitution=2"});
   EXPECT_NE(e.find("contact.restitution"), std::string::npos) << e;
   EXPECT_EQ(e.find("contact1.restitution"), std::string::npos) << e;
@@ -182,6 +185,72 @@ TEST(Scene, JointKindsAndJoint1BearingDefaultToJoint2s) {
   EXPECT_NE(e.find("contact.bearing_length"), std::string::npos) << e;
   e = refusal(kGood, {"structure.joint1=tilted"});
   EXPECT_NE(e.find("structure.joint1"), std::string::npos) << e;
+}
+
+TEST(Scene, BothJointsAreNamedAlike) {
+  // A joint's own key overrides the shared one for that joint only.
+  const Scene both = test::scene("paper_both_planar", {"joint2.contact.clearance=3e-4", "joint1.friction.mu=0.1",
+                                                       "contact.restitution=0.8", "joint2.contact.restitution=0.7"});
+  const ContactParams &c1 = both.model.bearing[0], &c2 = both.model.bearing[1];
+  EXPECT_NEAR(c1.clearance, 5e-4, 1e-15);
+  EXPECT_NEAR(c2.clearance, 3e-4, 1e-15);
+  EXPECT_EQ(c1.mu, 0.1);
+  EXPECT_EQ(c2.mu, 0.25);
+  EXPECT_EQ(c1.restitution, 0.8);
+  EXPECT_EQ(c2.restitution, 0.7);
+  // The old spellings are the same keys: the same Model, and both at once in a file is a key given twice.
+  const Scene old = test::scene("paper_both_planar", {"contact1.clearance=2e-4", "friction1.mu=0.1"});
+  const Scene now = test::scene("paper_both_planar", {"joint1.contact.clearance=2e-4", "joint1.friction.mu=0.1"});
+  EXPECT_EQ(old.model.bearing[0].journal_radius, now.model.bearing[0].journal_radius);
+  EXPECT_EQ(old.model.bearing[0].K, now.model.bearing[0].K);
+  EXPECT_EQ(old.model.bearing[0].mu, now.model.bearing[0].mu);
+  std::string e = refusal(std::string(kGood) + "friction1:\n  mu: 0.1\njoint1:\n  friction:\n    mu: 0.2\n");
+  EXPECT_NE(e.find("given twice"), std::string::npos) << e;
+  // A refusal names the key as the user spelled it, and the joint's bearing it acts on.
+  e = refusal(kGood, {"structure.joint1=planar", "joint1.contact.journal_radius=0.02"});
+  EXPECT_NE(e.find("key 'joint1.contact.journal_radius': journal radius (0.02 m) must be < bearing radius"),
+            std::string::npos)
+      << e;
+  // A sub-key of contact1 with no counterpart stays unknown.
+  EXPECT_NE(refusal(kGood, {"contact1.bogus=1"}).find("unknown key 'contact1.bogus'"), std::string::npos);
+  // A joint's own bearing keys for an ideal joint are not used: accepted with a warning naming the key.
+  const Scene ideal = test::scene("paper_clearance", {"joint1.contact.clearance=1e-4"});
+  const auto unused = std::find_if(ideal.warnings.begin(), ideal.warnings.end(), [](const std::string& w) {
+    return w.find("key 'joint1.contact.clearance': joint 1 is ideal") != std::string::npos;
+  });
+  EXPECT_NE(unused, ideal.warnings.end()) << "warnings: " << ideal.warnings.size();
+}
+
+TEST(Scene, EachJournalStartsWhereItsOwnKeySays) {
+  // initial.ecc is both journals' unless a joint gives its own; each acts on its joint's state.
+  const Scene planar1 = test::scene("paper_planar1", {"initial.ecc=[1e-4, -5e-5]"});
+  using V1 = GIMBALSIM_SHAPE(true, Planar, Ideal, true);
+  const State<V1> s1 = initialState<V1>(planar1.run.initial);
+  EXPECT_EQ(s1.q(State<V1>::QJ + V1::G1), 1e-4) << "paper_planar1's journal is joint 1's";
+  EXPECT_EQ(s1.q(State<V1>::QJ + V1::G1 + 1), -5e-5);
+  const Scene both = test::scene("paper_both_planar", {"initial.ecc=[1e-4, 0]", "initial.ecc2=[0, 2e-4]"});
+  using V2 = GIMBALSIM_SHAPE(true, Planar, Planar, true);
+  const State<V2> s2 = initialState<V2>(both.run.initial);
+  EXPECT_EQ(s2.q(State<V2>::QJ + V2::G1), 1e-4);
+  EXPECT_EQ(s2.q(State<V2>::QJ + V2::G2), 0.0);
+  EXPECT_EQ(s2.q(State<V2>::QJ + V2::G2 + 1), 2e-4);
+  // Checked against the bearing it acts on, named as given.
+  std::string e = refusal(kGood, {"structure.joint1=planar", "joint1.contact.clearance=1e-4", "initial.ecc1=[2e-4, 0]"});
+  EXPECT_NE(e.find("key 'initial.ecc1': initial eccentricity exceeds the radial clearance of joint 1"),
+            std::string::npos)
+      << e;
+  e = refusal(kGood, {"structure.joint1=planar", "joint1.contact.clearance=1e-4", "initial.ecc=[2e-4, 0]"});
+  EXPECT_NE(e.find("key 'initial.ecc': initial eccentricity exceeds the radial clearance of joint 1"), std::string::npos)
+      << e;
+  // An eccentricity that cannot act is refused (zero is fine: paper_planar1 gives initial.ecc: [0, 0]).
+  e = refusal(kGood, {"initial.ecc1=[1e-4, 0]"});
+  EXPECT_NE(e.find("key 'initial.ecc1': joint 1 is ideal (structure.joint1): its journal has no eccentricity"),
+            std::string::npos)
+      << e;
+  e = refusal(kGood, {"structure.joint2=ideal", "initial.ecc=[1e-4, 0]"});
+  EXPECT_NE(e.find("key 'initial.ecc': no joint has clearance"), std::string::npos) << e;
+  EXPECT_EQ(e.find("no joint has clearance"), e.rfind("no joint has clearance")) << "refused once: " << e;
+  EXPECT_NO_THROW(test::scene("paper_planar1", {"initial.ecc=[0, 0]", "initial.ecc2=[0, 0]"}));
 }
 
 TEST(Scene, EveryProblemIsReportedAtOnce) {

@@ -21,7 +21,7 @@ using Shape = Variant<Floating, K1, K2, true>;
 
 /// The scene with these joint kinds, joint 1's bearing the same as joint 2's.
 Scene withKinds(Scene sc, CK k1, CK k2) {
-  sc.model.contact1 = sc.model.contact;
+  sc.model.bearing[0] = sc.model.bearing[1];
   sc.model.joint1_kind = k1;
   sc.model.joint2_kind = k2;
   sc.model.finalize();
@@ -93,7 +93,7 @@ TEST(SpatialStepping, PlanarSceneSpatialJointStaysUntiltedAndEqualsPlanar) {
     const auto g = group2(ss);
     const Result rs{ss.theta(0), ss.theta(1), g(0), g(1)};
     Scene nudged = spatial;
-    nudged.run.initial.ecc.x() += 1e-15;  // [m]
+    nudged.run.initial.ecc[1].x() += 1e-15;  // [m]
     Data<VS> dn(nudged.model);
     const State<VS> sn = runFor<VS>(nudged, 1.0, dn, [](const State<VS>&, Data<VS>&) {});
     const auto gn = group2(sn);
@@ -146,7 +146,7 @@ void expectMomentumHeld(const Scene& sc, double T, const char* what) {
 // at every end of every clearance joint.
 TEST(SpatialStepping, MomentumHeldThroughImpactsAtEveryEnd) {
   const Scene sc = test::scene("paper_clearance", {"sim.substep=1e-5", "initial.dtheta1=0.3",
-                                                   "initial.ecc=[1.0e-4, -2.0e-4]"});
+                                                   "initial.ecc2=[1.0e-4, -2.0e-4]"});
   expectMomentumHeld<Shape<CK::Ideal, CK::Spatial>>(withKinds(sc, CK::Ideal, CK::Spatial), 0.3, "spatial 2");
   expectMomentumHeld<Shape<CK::Planar, CK::Planar>>(withKinds(sc, CK::Planar, CK::Planar), 0.3, "planar 1+2");
   expectMomentumHeld<Shape<CK::Spatial, CK::Spatial>>(withKinds(sc, CK::Spatial, CK::Spatial), 0.3,
@@ -175,7 +175,7 @@ double energyChange(const Scene& sc, double T, long long& impacts) {
 TEST(SpatialStepping, EnergyHeldWithoutDampingOrFriction) {
   Scene sc = test::scene("paper_clearance", {"contact.damping=none", "friction.law=none", "sim.substep=1e-5",
                                              "initial.dtheta1=0.5", "initial.dtheta2=-0.8",
-                                             "initial.ecc=[1.0e-4, -2.0e-4]"});
+                                             "initial.ecc2=[1.0e-4, -2.0e-4]"});
   sc.run.torque.setZero();
   long long n = 0;
   const double planar = energyChange<Shape<CK::Planar, CK::Planar>>(withKinds(sc, CK::Planar, CK::Planar), 0.3, n);
@@ -267,10 +267,10 @@ TEST(SpatialStepping, BothSpatialIsChaoticButItsStatisticsSettle) {
   const double t0 = 0.5, T = 3.0;
   std::vector<ChaosStats> runs;
   for (const char* ecc : {"[0, 0]", "[1e-12, 0]", "[0, 1e-12]"}) {
-    runs.push_back(chaosStats<V>(test::scene("paper_both_spatial", {std::string("initial.ecc=") + ecc}), t0, T));
+    runs.push_back(chaosStats<V>(test::scene("paper_both_spatial", {std::string("initial.ecc2=") + ecc}), t0, T));
   }
   const Scene sc = test::scene("paper_both_spatial");
-  const double limit = std::atan(2.0 * sc.model.contact.clearance / sc.model.contact.bearing_length);
+  const double limit = std::atan(2.0 * sc.model.bearing[1].clearance / sc.model.bearing[1].bearing_length);
   for (std::size_t k = 1; k < runs.size(); ++k) {
     const double early = test::angleBetween(runs[0].bore_t0, runs[k].bore_t0);
     const double late = test::angleBetween(runs[0].bore_T, runs[k].bore_T);

@@ -132,12 +132,12 @@ State<V> rollingContactState(const Scene& sc, double delta) {
   const Model& m = sc.model;
   State<V> s = initialState<V>(sc.run.initial);
   constexpr int QJ = State<V>::QJ, NB = V::NB;
-  s.q(QJ + 1) = m.contact.clearance + delta;  // along u1
+  s.q(QJ + 1) = m.bearing[1].clearance + delta;  // along u1
   s.v(NB) = 0.3;                               // dtheta1 [rad/s]
   s.v(NB + 2) = 0.01;                          // tangential journal slide [m/s]
   s.v.template head<3>() << 0.01, -0.02, 0.03;  // base rates [rad/s]
   s.v(NB + 3) = 0.0;
-  s.v(NB + 3) = -tangentialVelocity<V>(m, s.q, s.v) / m.contact.journal_radius;
+  s.v(NB + 3) = -tangentialVelocity<V>(m, s.q, s.v) / m.bearing[1].journal_radius;
   s.in_contact[0] = true;
   s.v0[0] = 0.01;
   s.friction_mode = 0;
@@ -168,7 +168,7 @@ TEST(CoulombStick, StickClosureHoldsTheTangentialVelocity) {
   };
   const double a_stick = vtRate(s);
   ASSERT_GT(d.contact[0].fn, 0.0);
-  EXPECT_LT(std::fabs(d.contact[0].ft_required), m.contact.mu * d.contact[0].fn) << "this state must stick";
+  EXPECT_LT(std::fabs(d.contact[0].ft_required), m.bearing[1].mu * d.contact[0].fn) << "this state must stick";
   EXPECT_EQ(d.contact[0].ft, d.contact[0].ft_required);
   const Model free_m = paper({"friction.law=none"}).model;
   Data<FloatingClearance> df(free_m);

@@ -36,10 +36,10 @@ TEST_P(Summary, EveryFieldAgreesWithTheRows) {
   double max_fn = 0.0, max_delta = 0.0, max_j2 = 0.0;
   long long onsets = 0;
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    max_fn = std::max(max_fn, rows[i].fn);
-    max_delta = std::max(max_delta, rows[i].delta);
+    max_fn = std::max(max_fn, rows[i].fn2);
+    max_delta = std::max(max_delta, rows[i].delta2);
     max_j2 = std::max(max_j2, rows[i].joint2_force);
-    if (i > 0 && rows[i].delta > 0.0 && !(rows[i - 1].delta > 0.0)) ++onsets;
+    if (i > 0 && rows[i].delta2 > 0.0 && !(rows[i - 1].delta2 > 0.0)) ++onsets;
   }
   ASSERT_GT(onsets, 0) << "the scene must hit the bearing in 0.3 s";
   ASSERT_GT(max_fn, 0.0);
@@ -101,7 +101,7 @@ TEST(Summary, ClearanceJointsCountTheirOwnImpactsAndTilt) {
   EXPECT_GT(i2, 0);
   EXPECT_EQ(i1 + i2, j["impacts"].get<long long>());
   const double tilt = c["joint2"]["max_tilt_rad"].get<double>();
-  const ContactParams& cp = sc.model.contact;
+  const ContactParams& cp = sc.model.bearing[1];
   EXPECT_GT(tilt, 0.1 * 2.0 * cp.clearance / cp.bearing_length) << "the paper's manoeuvre tilts the journal";
   EXPECT_LT(tilt, 1.2 * 2.0 * cp.clearance / cp.bearing_length);
   EXPECT_LE(c["joint2"]["peak_contact_force_N"].get<double>(), j["peak_contact_force_N"].get<double>());
@@ -130,9 +130,9 @@ TEST(Summary, EachBearingEndAgreesWithTheRowsAndTheGeometry) {
   };
   const JointCols joints[2] = {
       {&Row::ecc1, &Row::delta1, &Row::fn1, &Row::tilt1, &Row::delta1_minus, &Row::delta1_plus, &Row::fn1_minus,
-       &Row::fn1_plus, "joint1", sc.model.contact1},
-      {&Row::ecc, &Row::delta, &Row::fn, &Row::tilt2, &Row::delta2_minus, &Row::delta2_plus, &Row::fn2_minus,
-       &Row::fn2_plus, "joint2", sc.model.contact}};
+       &Row::fn1_plus, "joint1", sc.model.bearing[0]},
+      {&Row::ecc2, &Row::delta2, &Row::fn2, &Row::tilt2, &Row::delta2_minus, &Row::delta2_plus, &Row::fn2_minus,
+       &Row::fn2_plus, "joint2", sc.model.bearing[1]}};
   long long all_ends = 0;
   for (const JointCols& jc : joints) {
     SCOPED_TRACE(jc.name);

@@ -19,7 +19,7 @@ REQUIRED = [
     "base_wx_rad_per_s", "base_wy_rad_per_s", "base_wz_rad_per_s",
     "base_dwx_rad_per_s2", "base_dwy_rad_per_s2", "base_dwz_rad_per_s2",
     "theta1_rad", "theta2_rad", "dtheta1_rad_per_s", "dtheta2_rad_per_s", "ddtheta1_rad_per_s2", "ddtheta2_rad_per_s2",
-    "ecc_x_m", "ecc_y_m", "ecc_m", "delta_m", "fn_N", "joint2_force_N",
+    "ecc2_x_m", "ecc2_y_m", "ecc2_m", "delta2_m", "fn2_N", "joint2_force_N",
     "bore_x", "bore_y", "bore_z",
 ]
 
@@ -126,7 +126,7 @@ def angle_between(a, b):
 
 def contact_starts(cols):
     """Times (CSV samples) at which delta goes from <= 0 to > 0."""
-    inside = cols["delta_m"] > 0.0
+    inside = cols["delta2_m"] > 0.0
     k = np.flatnonzero(~inside[:-1] & inside[1:]) + 1
     return cols["t_s"][k]
 
@@ -134,7 +134,7 @@ def contact_starts(cols):
 def continuous_contact_from(cols):
     """CSV estimate of the start of the final, unbroken contact (None if the run
     does not end in contact or never separated after a first impact)."""
-    inside = cols["delta_m"] > 0.0
+    inside = cols["delta2_m"] > 0.0
     if not inside[-1] or inside.all():
         return None
     last_out = int(np.flatnonzero(~inside)[-1])

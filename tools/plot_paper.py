@@ -159,7 +159,7 @@ def main(argv=None):
                        "contact.clearance")
     c_src = "summary"
     if c is None:
-        c = float(np.max(clear["ecc_m"] - clear["delta_m"]))
+        c = float(np.max(clear["ecc2_m"] - clear["delta2_m"]))
         c_src = "max(ecc - delta)"
     t_cont = summary_number(s_clear, "continuous_contact_from_s")
     if t_cont is None and not a.clearance_summary:
@@ -176,9 +176,9 @@ def main(argv=None):
                  fontsize=13)
     for ax, tmax in ((ax1, t_c[-1]), (ax2, t_zoom)):
         m = t_c <= tmax
-        ax.plot(t_c[m], clear["ecc_m"][m] * 1e3, color=C_CLEAR, lw=0.8, label="e (clearance run)")
+        ax.plot(t_c[m], clear["ecc2_m"][m] * 1e3, color=C_CLEAR, lw=0.8, label="e (clearance run)")
         ax.axhline(c * 1e3, color="k", ls="--", lw=1.0, label=f"clearance c = {c*1e3:.3g} mm")
-        ax.plot(t_i[t_i <= tmax], ideal["ecc_m"][t_i <= tmax] * 1e3, color=C_IDEAL, lw=1.0,
+        ax.plot(t_i[t_i <= tmax], ideal["ecc2_m"][t_i <= tmax] * 1e3, color=C_IDEAL, lw=1.0,
                 label="e (ideal run)")
         ax.set_xlabel("t [s]")
         ax.set_ylabel("eccentricity e [mm]")
@@ -191,9 +191,9 @@ def main(argv=None):
     ax2.legend(loc="lower right", fontsize=8)
     th = np.linspace(0, 2 * np.pi, 361)
     ax3.plot(c * 1e3 * np.cos(th), c * 1e3 * np.sin(th), "k--", lw=1.0, label="e = c")
-    ax3.plot(clear["ecc_x_m"] * 1e3, clear["ecc_y_m"] * 1e3, color=C_CLEAR, lw=0.6,
+    ax3.plot(clear["ecc2_x_m"] * 1e3, clear["ecc2_y_m"] * 1e3, color=C_CLEAR, lw=0.6,
              label="journal centre")
-    ax3.plot(clear["ecc_x_m"][0] * 1e3, clear["ecc_y_m"][0] * 1e3, "o", color="k", ms=4, label="start")
+    ax3.plot(clear["ecc2_x_m"][0] * 1e3, clear["ecc2_y_m"][0] * 1e3, "o", color="k", ms=4, label="start")
     ax3.set_aspect("equal")
     ax3.set_xlabel("ecc_x, along joint-plane axis u1 [mm]")
     ax3.set_ylabel("ecc_y, along u2 = k2 \u00d7 u1 [mm]")
@@ -208,13 +208,13 @@ def main(argv=None):
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6), constrained_layout=True)
     fig.suptitle("Fig. 7  Joint-2 force: ideal joint reaction vs clearance contact normal force F_n",
                  fontsize=13)
-    ymax = 1.05 * max(np.max(clear["fn_N"]), np.max(ideal["joint2_force_N"]), pk_fn or 0.0)
+    ymax = 1.05 * max(np.max(clear["fn2_N"]), np.max(ideal["joint2_force_N"]), pk_fn or 0.0)
     axes[0].plot(t_i, ideal["joint2_force_N"], color=C_IDEAL, lw=1.0)
     axes[0].set_title("ideal joint 2: |joint force|")
     axes[0].set_ylabel("|joint 2 force| [N]")
     for ax, tmax in ((axes[1], t_c[-1]), (axes[2], t_zoom)):
         m = t_c <= tmax
-        ax.plot(t_c[m], clear["fn_N"][m], color=C_CLEAR, lw=0.7,
+        ax.plot(t_c[m], clear["fn2_N"][m], color=C_CLEAR, lw=0.7,
                 label=f"F_n (CSV, sampled every {dt_out*1e3:.3g} ms)")
         if pk_fn is not None and t_pk_fn is not None and t_pk_fn <= tmax:
             ax.plot([t_pk_fn], [pk_fn], "kv", ms=7,
@@ -367,10 +367,10 @@ def main(argv=None):
     else:
         impacts_txt = f"{int(impacts)} (summary)"
     if pk_fn is None:
-        pk_fn_txt = (f"{np.max(clear['fn_N']):.1f} N at t = {t_c[np.argmax(clear['fn_N'])]:.4g} s "
+        pk_fn_txt = (f"{np.max(clear['fn2_N']):.1f} N at t = {t_c[np.argmax(clear['fn2_N'])]:.4g} s "
                      f"(CSV samples)")
     else:
-        pk_fn_txt = f"{pk_fn:.1f} N at t = {t_pk_fn:.4g} s (summary); CSV samples max {np.max(clear['fn_N']):.1f} N"
+        pk_fn_txt = f"{pk_fn:.1f} N at t = {t_pk_fn:.4g} s (summary); CSV samples max {np.max(clear['fn2_N']):.1f} N"
     print("gimbalsim paper figures")
     print(f"  clearance c                 : {c*1e3:.4g} mm (from {c_src})")
     print(f"  peak contact force          : {pk_fn_txt}")

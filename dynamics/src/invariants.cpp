@@ -11,8 +11,8 @@ namespace gimbalsim {
 
 bool conservative(const Model& m) {
   const auto undamped = [](const ContactParams& c) { return c.damping == DampingLaw::None || c.chi == 0.0; };
-  const bool no_damping = (m.joint1_kind == ClearanceKind::Ideal || undamped(m.contact1)) &&
-                          (m.joint2_kind == ClearanceKind::Ideal || undamped(m.contact));
+  const bool no_damping = (m.joint1_kind == ClearanceKind::Ideal || undamped(m.bearing[0])) &&
+                          (m.joint2_kind == ClearanceKind::Ideal || undamped(m.bearing[1]));
   return !m.hasClearance() || (no_damping && !frictionActive(m));
 }
 
@@ -57,14 +57,14 @@ void InvariantMonitor::feed(const Row& r, double hertz_energy, double angular_sc
   ang_scale_ = std::max(ang_scale_, angular_scale);
   drift_lin_ = std::max(drift_lin_, std::hypot(P[0] - P0_[0], P[1] - P0_[1], P[2] - P0_[2]));
   drift_ang_ = std::max(drift_ang_, std::hypot(L[0] - L0_[0], L[1] - L0_[1], L[2] - L0_[2]));
-  max_delta_ = std::max(max_delta_, r.delta);
+  max_delta_ = std::max({max_delta_, r.delta1, r.delta2});  // either joint's
   ++rows_;
 }
 
 InvariantMonitor::Violation InvariantMonitor::violation() const {
   const IntegratorParams& p = m_.integrator;
-  const bool chatter = m_.joint2_kind != ClearanceKind::Ideal && m_.contact.friction == FrictionLaw::Coulomb &&
-                       m_.contact.mu > 0.0;
+  const bool chatter = m_.joint2_kind != ClearanceKind::Ideal && m_.bearing[1].friction == FrictionLaw::Coulomb &&
+                       m_.bearing[1].mu > 0.0;
   auto say = [&](const char* what, double x, const char* key, double tol) {
     char num[64];
     std::snprintf(num, sizeof num, " %.3g of its scale, above ", x);

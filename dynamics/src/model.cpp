@@ -59,12 +59,20 @@ double Model::hertzStiffness(const ContactParams& c, RadiusMode mode) {
   return 4.0 * std::sqrt(R) / (3.0 * M_PI * (hi + hj));
 }
 
+void deriveBearing(ContactParams& c) {
+  c.clearance = c.bearing_radius - c.journal_radius;
+  c.K = c.stiffness_scale * Model::hertzStiffness(c, c.radius_mode);
+  c.chi = dampingFactor(c.damping, c.restitution);
+}
+
+void setClearance(ContactParams& b, double c) {
+  b.journal_radius = b.bearing_radius - c;
+  deriveBearing(b);
+  b.clearance = c;  // as asked, not R_i - R_j rounded
+}
+
 void Model::finalize() {
-  for (ContactParams* c : {&contact, &contact1}) {
-    c->clearance = c->bearing_radius - c->journal_radius;
-    c->K = c->stiffness_scale * hertzStiffness(*c, c->radius_mode);
-    c->chi = dampingFactor(c->damping, c->restitution);
-  }
+  for (ContactParams& c : bearing) deriveBearing(c);
 
   k1_B.normalize();
   k2_S1.normalize();

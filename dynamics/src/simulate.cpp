@@ -33,7 +33,7 @@ std::vector<std::string> coordinateNames(const Model& m, std::vector<std::string
     n.push_back(rate + "theta" + j);
   };
   group(m.joint1_kind, "ecc1", "1");
-  group(m.joint2_kind, "ecc", "2");
+  group(m.joint2_kind, "ecc2", "2");
   return n;
 }
 
@@ -61,7 +61,7 @@ std::string describeStop(const Model& m, const StepResult& st) {
   if (st.v_index >= 0 && st.v_index < static_cast<int>(vn.size())) os << " (in " << vn[st.v_index] << ")";
   if (st.q_index >= 0 && st.q_index < static_cast<int>(qn.size())) os << " (in " << qn[st.q_index] << ")";
   if (st.status == StepStatus::PenetrationLimit) {
-    os << " (penetration " << st.detail << " m, clearance " << m.contact.clearance << " m)";
+    os << " (penetration " << st.detail << " m, clearance " << m.bearing[1].clearance << " m)";
   }
   if (st.status == StepStatus::SubstepTooLong) {
     os << " (impact lasting about " << st.detail << " s, " << st.detail / m.integrator.substep
@@ -82,7 +82,7 @@ std::array<double, 4> endForces(const Row& r) {
     if (k == ClearanceKind::Spatial) f[e] = minus, f[e + 1] = plus;
   };
   put(0, V::kKind1, r.fn1, r.fn1_minus, r.fn1_plus);
-  put(1, V::kKind2, r.fn, r.fn2_minus, r.fn2_plus);
+  put(1, V::kKind2, r.fn2, r.fn2_minus, r.fn2_plus);
   return f;
 }
 
@@ -128,7 +128,7 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
       stopRun({RunStop::Kind::Invariant, {}, v.key, st.t}, os.str());
       return false;
     }
-    at_rows.max_penetration = std::max(at_rows.max_penetration, r.delta);
+    at_rows.max_penetration = std::max({at_rows.max_penetration, r.delta1, r.delta2});
     // Peaks are per contact end (a spatial joint's fn column sums two ends).
     const std::array<double, 4> fe = endForces<V>(r);
     for (int e = 0; e < V::NC; ++e) {

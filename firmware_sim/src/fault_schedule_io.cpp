@@ -24,7 +24,6 @@ const char* paramKey(FaultKind k) {
   }
 }
 
-bool isRamp(FaultKind k) { return k == FaultKind::BearingWear || k == FaultKind::FrictionRise; }
 
 std::string place(const std::string& origin, const YAML::Mark& m) {
   return origin + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
@@ -119,7 +118,7 @@ class Reader {
       seen.insert(key);
       const YAML::Node& n = kv.second;
       if (key == "type") continue;
-      if (key == "axis" && faultHasAxis(f.kind)) {
+      if (key == "axis" && (faultHasAxis(f.kind) || faultIsRamp(f.kind))) {
         convert(n, entry, key, [&](const YAML::Node& v) { f.axis = static_cast<int>(asChoice(v, {"azimuth", "elevation"})); });
       } else if (key == "start") {
         convert(n, entry, key, [&](const YAML::Node& v) {
@@ -135,7 +134,7 @@ class Reader {
             throw ConvertError{"must be in [0, " + formatNumber(kMaxFaultTime) + "] s, got " + formatNumber(f.end)};
           }
         });
-      } else if (key == "probability" && !isRamp(f.kind)) {
+      } else if (key == "probability" && !faultIsRamp(f.kind)) {
         convert(n, entry, key, [&](const YAML::Node& v) {
           f.probability = asNumber(v);
           if (!(f.probability > 0.0 && f.probability <= 1.0)) {
@@ -146,8 +145,8 @@ class Reader {
         convert(n, entry, key, [&](const YAML::Node& v) { readParam(f, v); });
       } else {
         std::string allowed = "type, start, end";
-        if (faultHasAxis(f.kind)) allowed += ", axis";
-        if (!isRamp(f.kind)) allowed += ", probability";
+        if (faultHasAxis(f.kind) || faultIsRamp(f.kind)) allowed += ", axis";
+        if (!faultIsRamp(f.kind)) allowed += ", probability";
         if (!param.empty()) allowed += ", " + param;
         problems_.push_back(place(origin_, kv.first.Mark()) + ": " + entry + "unknown key '" + key + "' (" +
                             faultTypeName(f.kind) + " takes " + allowed + ")");
@@ -162,12 +161,12 @@ class Reader {
     if (f.kind == FaultKind::BearingWear && !seen.count("end")) {
       problems_.push_back(where + ": " + entry + "key 'end' is missing (the wear grows over [start, end])");
     }
-    if (isRamp(f.kind) && !seen.count("end")) f.end = f.start;  // friction rise: a step
+    if (faultIsRamp(f.kind) && !seen.count("end")) f.end = f.start;  // friction rise: a step
     if (seen.count("end") && problems_.size() == before) {
-      const bool ok = isRamp(f.kind) ? f.end >= f.start : f.end > f.start;
+      const bool ok = faultIsRamp(f.kind) ? f.end >= f.start : f.end > f.start;
       if (!ok) {
         problems_.push_back(place(origin_, e["end"].Mark()) + ": " + entry + "key 'end': must be " +
-                            (isRamp(f.kind) ? ">= start" : "> start") + ", got " + formatNumber(f.end) +
+                            (faultIsRamp(f.kind) ? ">= start" : "> start") + ", got " + formatNumber(f.end) +
                             " (start " + formatNumber(f.start) + ")");
       }
     }
@@ -242,23 +241,37 @@ FaultSchedule loadFaultSchedule(const std::string& path) {
 
 std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const Scene& sc, const std::string& origin) {
   std::vector<std::string> out;
-  const ContactParams& c = sc.model.contact;
+  const Model& m = sc.model;
   int i = 0;
   for (const FaultSpec& f : s.faults) {
     ++i;
     const std::string at = origin + ":" + std::to_string(f.line) + ": fault #" + std::to_string(i) + " (" +
                            faultTypeName(f.kind) + "): ";
-    if (isRamp(f.kind) && !sc.model.hasClearance()) {
-      out.push_back(at + "needs the clearance joint (scene key structure.joint2 = clearance)");
+    if (!faultIsRamp(f.kind)) continue;
+    if (f.axis >= 0 && m.jointKind(f.axis) == ClearanceKind::Ideal) {
+      const std::string joint = "joint" + std::to_string(f.axis + 1);
+      out.push_back(at + "key 'axis': the " + (f.axis == 0 ? "azimuth" : "elevation") +
+                    " joint is ideal (scene key structure." + joint + "): it has no bearing to act on");
       continue;
     }
-    if (f.kind == FaultKind::BearingWear && !(f.value > c.clearance && f.value < c.bearing_radius)) {
-      out.push_back(at + "key 'clearance': must be above the scene's clearance " + formatNumber(c.clearance) +
-                    " m and below contact.bearing_radius " + formatNumber(c.bearing_radius) + " m, got " +
-                    formatNumber(f.value));
+    if (f.axis < 0 && !m.hasClearance()) {
+      out.push_back(at + "needs a joint with clearance (scene key structure.joint1 or structure.joint2 = planar "
+                         "or spatial)");
+      continue;
     }
-    if (f.kind == FaultKind::FrictionRise && c.friction == FrictionLaw::None) {
-      out.push_back(at + "needs a friction law (scene key friction.law is none)");
+    // Checked against each bearing it acts on.
+    for (int j = 0; j < 2; ++j) {
+      if (!(f.axis == j || (f.axis < 0 && m.jointKind(j) != ClearanceKind::Ideal))) continue;
+      const ContactParams& c = m.bearing[j];
+      const std::string joint = "joint" + std::to_string(j + 1);
+      if (f.kind == FaultKind::BearingWear && !(f.value > c.clearance && f.value < c.bearing_radius)) {
+        out.push_back(at + "key 'clearance': must be above " + joint + "'s clearance " + formatNumber(c.clearance) +
+                      " m and below " + joint + ".contact.bearing_radius " + formatNumber(c.bearing_radius) +
+                      " m, got " + formatNumber(f.value));
+      }
+      if (f.kind == FaultKind::FrictionRise && c.friction == FrictionLaw::None) {
+        out.push_back(at + "needs a friction law on " + joint + " (scene key " + joint + ".friction.law is none)");
+      }
     }
   }
   return out;

@@ -9,6 +9,7 @@ const KeyTable<PlantScene>& plantTable() {
     embed(t.keys, "", sceneTable().keys, [](auto& p) -> auto& { return p.scene; });
     embed(t.keys, "sensors.", sensorKeys(), [](auto& p) -> auto& { return p.sensors; });
     t.derive = [](PlantScene& p, const Given& g) { sceneTable().derive(p.scene, g); };
+    t.aliases = sceneTable().aliases;
     t.validate = [](const PlantScene& p, Given& g) {
       sceneTable().validate(p.scene, g);
       validateSensors(p.sensors, g, "sensors.");

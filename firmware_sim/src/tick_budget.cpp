@@ -85,7 +85,7 @@ UnitCosts unitCosts(const Model& m, const RunSpec& run) {
     constexpr int QJ = State<V>::QJ, NB = V::NB;
     for (int j = 0; j < 2; ++j) {
       if (V::kind(j) == ClearanceKind::Ideal) continue;
-      pressed.q(QJ + V::group(j)) = 1.001 * m.contactOf(j).clearance;
+      pressed.q(QJ + V::group(j)) = 1.001 * m.bearing[j].clearance;
       pressed.q(QJ + V::group(j) + 1) = 0.0;
       pressed.v(NB + V::group(j) + 1) = 1e-3;
     }

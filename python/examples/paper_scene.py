@@ -31,7 +31,7 @@ for name in ("paper_ideal", "paper_clearance"):
 
 fig, ax = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
 c = runs["paper_clearance"].columns
-ax[0].plot(c["t"], c["ecc"] * 1e3)
+ax[0].plot(c["t"], c["ecc2"] * 1e3)
 ax[0].set_ylabel("eccentricity [mm]")
 for name, run in runs.items():
     ax[1].plot(run.columns["t"], run.columns["joint2_force"], label=name)

@@ -28,7 +28,7 @@ for _ in range(round(2.0 / period)):
     sim.step(tau[0], tau[1], n=steps)
     errors.append(np.abs(target - theta).max())
 print(f"Python PD: joint error {errors[0]:.3f} rad at start, {errors[-1]:.2e} rad after {sim.t:.1f} s; "
-      f"eccentricity now {sim.output()['ecc']*1e3:.3f} mm")
+      f"eccentricity now {sim.output()['ecc2']*1e3:.3f} mm")
 
 run = gimbalsim.closed_loop(scene, gimbalsim.Controller(ROOT / "controllers" / "config" / "default.yaml"), 2.0)
 err = run.columns["truth_error"]

@@ -123,10 +123,10 @@ TEST(FaultScheduleFile, SceneChecksNameTheLineAndTheSceneKey) {
   const FaultSchedule wear = schedule("faults:\n  - {type: bearing_wear, start: 1, end: 2, clearance: 0.4e-3}\n");
   const auto on_ideal = checkFaultsAgainstScene(wear, test::plant("paper_ideal").scene, "w.yaml");
   ASSERT_EQ(on_ideal.size(), 1u);
-  EXPECT_NE(on_ideal[0].find("w.yaml:2: fault #1 (bearing_wear): needs the clearance joint"), std::string::npos) << on_ideal[0];
+  EXPECT_NE(on_ideal[0].find("w.yaml:2: fault #1 (bearing_wear): needs a joint with clearance"), std::string::npos) << on_ideal[0];
   const auto below = checkFaultsAgainstScene(wear, test::plant("paper_clearance").scene, "w.yaml");
   ASSERT_EQ(below.size(), 1u);
-  EXPECT_NE(below[0].find("key 'clearance': must be above the scene's clearance 0.0005"), std::string::npos) << below[0];
+  EXPECT_NE(below[0].find("key 'clearance': must be above joint2's clearance 0.0005"), std::string::npos) << below[0];
   const FaultSchedule rise = schedule("faults:\n  - {type: friction_rise, start: 1, mu: 0.5}\n");
   EXPECT_EQ(checkFaultsAgainstScene(rise, test::plant("paper_clearance", {"friction.law=none"}).scene, "r.yaml").size(), 1u);
   EXPECT_TRUE(checkFaultsAgainstScene(rise, test::plant("paper_clearance").scene, "r.yaml").empty());
@@ -303,25 +303,77 @@ TEST(FaultInjection, BearingWearAndFrictionRiseChangeOnlyTheFirmwaresModelCopy) 
       "faults:\n  - {type: bearing_wear, start: 0.1, end: 0.3, clearance: 0.9e-3}\n"
       "  - {type: friction_rise, start: 0.2, mu: 0.6}\n");
   Firmware<FixedClearanceFriction> fw(sc, Config{}, &f);
-  const double c0 = sc.scene.model.contact.clearance, mu0 = sc.scene.model.contact.mu;
+  const double c0 = sc.scene.model.bearing[1].clearance, mu0 = sc.scene.model.bearing[1].mu;
   for (int k = 0; k < 400; ++k) {
     fw.tick(k * 1000);
     fw.receive(torqueCommand(k + 1, k, 3.0, 6.0));
     const double t = k * 1e-3;
     const double want_c = c0 + std::clamp((t - 0.1) / 0.2, 0.0, 1.0) * (0.9e-3 - c0);
-    const ContactParams& cp = fw.model().contact;
+    const ContactParams& cp = fw.model().bearing[1];
     ASSERT_NEAR(cp.clearance, want_c, 1e-15) << k;
     ASSERT_EQ(cp.mu, k >= 200 ? 0.6 : mu0) << k;
     // The wear is the journal's; K as Model::finalize derives it.
     Model m = sc.scene.model;
-    m.contact.journal_radius = m.contact.bearing_radius - cp.clearance;
+    m.bearing[1].journal_radius = m.bearing[1].bearing_radius - cp.clearance;
     m.finalize();
-    ASSERT_NEAR(cp.K, m.contact.K, 1e-12 * m.contact.K) << k;
-    ASSERT_NEAR(cp.journal_radius, m.contact.journal_radius, 1e-18);
+    ASSERT_NEAR(cp.K, m.bearing[1].K, 1e-12 * m.bearing[1].K) << k;
+    ASSERT_NEAR(cp.journal_radius, m.bearing[1].journal_radius, 1e-18);
   }
-  EXPECT_EQ(sc.scene.model.contact.clearance, c0) << "the scene's Model is never touched";
+  EXPECT_EQ(sc.scene.model.bearing[1].clearance, c0) << "the scene's Model is never touched";
   EXPECT_FALSE(fw.plantFault());
   EXPECT_EQ(fw.truth().injected_faults, injectedBit(FaultKind::BearingWear, -1) | injectedBit(FaultKind::FrictionRise, -1));
+}
+
+TEST(FaultSchedule, BearingFaultsAreCheckedAgainstTheBearingTheyActOn) {
+  // Joint 1's bearing is 5 mm in radius, joint 2's (ideal) the default 10 mm:
+  // a wear to 9.9 mm would put joint 1's journal outside its bearing.
+  const Scene planar1 =
+      test::plant("paper_planar1", {"joint1.contact.bearing_radius=5e-3", "joint1.contact.journal_radius=4.5e-3"}).scene;
+  const FaultSchedule wear = schedule("faults:\n  - {type: bearing_wear, start: 1, end: 2, clearance: 9.9e-3}\n");
+  const auto p = checkFaultsAgainstScene(wear, planar1, "w.yaml");
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_NE(p[0].find("below joint1.contact.bearing_radius 0.005 m"), std::string::npos) << p[0];
+  // With an axis it acts on that joint's bearing only, which must have clearance.
+  const FaultSchedule on_azimuth =
+      schedule("faults:\n  - {type: bearing_wear, axis: azimuth, start: 1, end: 2, clearance: 0.8e-3}\n");
+  const auto ideal_axis = checkFaultsAgainstScene(on_azimuth, test::plant("paper_clearance").scene, "w.yaml");
+  ASSERT_EQ(ideal_axis.size(), 1u);
+  EXPECT_NE(ideal_axis[0].find("key 'axis': the azimuth joint is ideal (scene key structure.joint1)"),
+            std::string::npos)
+      << ideal_axis[0];
+  EXPECT_TRUE(checkFaultsAgainstScene(on_azimuth, test::plant("paper_planar1").scene, "w.yaml").empty());
+  // Friction rise needs a friction law on the bearing it acts on.
+  const FaultSchedule rise = schedule("faults:\n  - {type: friction_rise, axis: elevation, start: 1, mu: 0.5}\n");
+  const auto no_law = checkFaultsAgainstScene(
+      rise, test::plant("paper_both_planar", {"joint2.friction.law=none"}).scene, "r.yaml");
+  ASSERT_EQ(no_law.size(), 1u);
+  EXPECT_NE(no_law[0].find("joint2.friction.law is none"), std::string::npos) << no_law[0];
+}
+
+TEST(FaultInjection, BearingWearRampsEachBearingFromItsOwnClearance) {
+  // Two planar bearings of different clearance: a wear without an axis ramps
+  // each from its own value; one with an axis only its own.
+  const PlantScene sc = test::plant("paper_both_planar", {"structure.base=fixed", "joint1.contact.clearance=2e-4"});
+  const double c1 = sc.scene.model.bearing[0].clearance, c2 = sc.scene.model.bearing[1].clearance;
+  ASSERT_NEAR(c1, 2e-4, 1e-15);
+  ASSERT_NEAR(c2, 5e-4, 1e-15);
+  const FaultSchedule both = schedule("faults:\n  - {type: bearing_wear, start: 0.1, end: 0.3, clearance: 0.9e-3}\n");
+  const FaultSchedule elevation =
+      schedule("faults:\n  - {type: bearing_wear, axis: elevation, start: 0.1, end: 0.3, clearance: 0.9e-3}\n");
+  using V = GIMBALSIM_SHAPE(false, Planar, Planar, true);
+  Firmware<V> fw_both(sc, Config{}, &both), fw_elev(sc, Config{}, &elevation);
+  for (int k = 0; k < 400; ++k) {
+    for (Firmware<V>* fw : {&fw_both, &fw_elev}) {
+      fw->tick(k * 1000);
+      fw->receive(torqueCommand(k + 1, k, 3.0, 6.0));
+    }
+    const double x = std::clamp((k * 1e-3 - 0.1) / 0.2, 0.0, 1.0);
+    ASSERT_NEAR(fw_both.model().bearing[0].clearance, c1 + x * (0.9e-3 - c1), 1e-15) << k;
+    ASSERT_NEAR(fw_both.model().bearing[1].clearance, c2 + x * (0.9e-3 - c2), 1e-15) << k;
+    ASSERT_EQ(fw_elev.model().bearing[0].clearance, c1) << k;
+    ASSERT_NEAR(fw_elev.model().bearing[1].clearance, c2 + x * (0.9e-3 - c2), 1e-15) << k;
+  }
+  EXPECT_EQ(fw_elev.truth().injected_faults, injectedBit(FaultKind::BearingWear, 1));
 }
 
 TEST(FaultInjection, ProbabilisticFaultsFollowTheirSeed) {

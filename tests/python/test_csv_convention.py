@@ -41,7 +41,7 @@ def test_simulate_csv_and_run_to_csv(tmp):
     run.to_csv(tmp / "py.csv")
     assert (tmp / "cli.csv").read_bytes() == (tmp / "py.csv").read_bytes()
     names, rows = check_convention(tmp / "cli.csv")
-    for n in ("t_s", "theta1_rad", "dtheta1_rad_per_s", "ecc_m", "fn_N", "bore_x", "mom_lx_Nms", "energy_J"):
+    for n in ("t_s", "theta1_rad", "dtheta1_rad_per_s", "ecc2_m", "fn2_N", "bore_x", "mom_lx_Nms", "energy_J"):
         assert n in names
     # Round trip: the CSV's numbers are the run's doubles of its columns, bit for bit.
     shown = [gimbalsim.COLUMNS.index(c) for c in run.columns]

@@ -39,7 +39,7 @@ def test_run_gives_the_rows_of_simulate():
 
 CHECKPOINTS = {
     # in contact and penetrating: an impact is under way
-    "mid-impact": lambda st, out: any(st.in_contact) and out[COL["delta"]] > 0.0,
+    "mid-impact": lambda st, out: any(st.in_contact) and out[COL["delta2"]] > 0.0,
     # in contact, the journal sticking (coulomb_stick friction mode 0)
     "mid-stick": lambda st, out: any(st.in_contact) and st.friction_mode == 0 and st.t > 0.1,
 }
@@ -67,7 +67,7 @@ def test_pickled_state_resumes_bit_for_bit(policy, where):
     resumed.state = pickle.loads(saved)
     again = resumed.run(tau)
     assert again.tobytes() == original.tobytes()
-    assert np.any(original[:, COL["fn"]] > 0.0)
+    assert np.any(original[:, COL["fn2"]] > 0.0)
     back = pickle.loads(saved)
     assert back.variant == sim.variant and back.q.tobytes() == pickle.loads(saved).q.tobytes()
 

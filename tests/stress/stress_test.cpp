@@ -40,7 +40,7 @@ Row row(double t, double energy, double theta1, double theta2, double delta = 0.
   r.energy = energy;
   r.theta1 = theta1;
   r.theta2 = theta2;
-  r.delta = delta;
+  r.delta2 = delta;
   r.base_vx = 1e-3;  // 1 kg m/s of base momentum with the paper's 1000 kg base
   return r;
 }
@@ -54,7 +54,7 @@ TEST(StressClassifier, TorqueWorkAndHertzEnergyAreNotARise) {
   EnergyMonitor e(m, sc.run.torque);
   e.feed(row(0.0, 1.0, 0.0, 0.0), 0.0);
   e.feed(row(0.1, 3.0, 0.2, 0.1), 0.0);
-  const double delta = 1e-5, U = m.contact.K * std::pow(delta, 2.5) / 2.5;
+  const double delta = 1e-5, U = m.bearing[1].K * std::pow(delta, 2.5) / 2.5;
   e.feed(row(0.2, 3.0 - U, 0.2, 0.1, delta), U);  // the spring's energy, from the state
   EXPECT_LT(e.maxRise(), 1e-12);
   EXPECT_NEAR(e.scale(), 3.0, 1e-12);
@@ -98,7 +98,7 @@ TEST(StressClassifier, VerdictsOfFabricatedRuns) {
   r.final_v = {0.0};
   r.t_end = 0.1;  // "ok" but short
   EXPECT_EQ(classify(sc, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
-  r.stats.max_penetration = 2.0 * m.contact.clearance;
+  r.stats.max_penetration = 2.0 * m.bearing[1].clearance;
   r.t_end = 0.2;
   EXPECT_EQ(classify(sc, r, e, Bounds{}).verdict, Verdict::SilentlyWrong);
   r.stats.max_penetration = 0.0;

@@ -165,7 +165,7 @@ template <class V>
 void BM_ContactLaw(benchmark::State& bs) {
   Fixture<V>& f = fixture<V>();
   forwardDynamics(f.m, *f.d, f.s, f.u);
-  const ContactParams& cp = f.m.contact;
+  const ContactParams& cp = f.m.bearing[1];
   double delta = f.d->contact[0].delta, vn = f.d->contact[0].vn, vt = f.d->contact[0].vt, v0 = f.s.v0[0];
   for (auto _ : bs) {
     benchmark::DoNotOptimize(delta);  // keep the inputs opaque

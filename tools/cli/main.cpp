@@ -70,6 +70,12 @@ int mainImpl(int argc, char** argv) {
   if (keys->parsed()) {
     const auto all = gimbalsim::firmware::plantTable().info();  // the scene's keys and its sensors'
     std::fputs((markdown ? gimbalsim::keysMarkdown(all) : gimbalsim::keysText(all)).c_str(), stdout);
+    if (!markdown) {  // the Markdown table is the doc's; its aliases are listed beside it
+      std::puts("\nold spellings, still read (docs/scene_keys.md):");
+      for (const auto& [alias, key] : gimbalsim::firmware::plantTable().aliases) {
+        std::printf("  %s = %s\n", alias.c_str(), key.c_str());
+      }
+    }
     return kOk;
   }
 

@@ -31,10 +31,10 @@ double rowHertzEnergy(const Model& m, const Row& r) {
     return delta > 0.0 ? K * std::pow(delta, c.exponent + 1.0) / (c.exponent + 1.0) : 0.0;
   };
   double U = 0.0;
-  const ContactParams &c1 = m.contact1, &c2 = m.contact;
+  const ContactParams &c1 = m.bearing[0], &c2 = m.bearing[1];
   if (m.joint1_kind == ClearanceKind::Planar) U += spring(c1, c1.K, r.delta1);
   if (m.joint1_kind == ClearanceKind::Spatial) U += spring(c1, 0.5 * c1.K, r.delta1_minus) + spring(c1, 0.5 * c1.K, r.delta1_plus);
-  if (m.joint2_kind == ClearanceKind::Planar) U += spring(c2, c2.K, r.delta);
+  if (m.joint2_kind == ClearanceKind::Planar) U += spring(c2, c2.K, r.delta2);
   if (m.joint2_kind == ClearanceKind::Spatial) U += spring(c2, 0.5 * c2.K, r.delta2_minus) + spring(c2, 0.5 * c2.K, r.delta2_plus);
   return U;
 }
@@ -59,8 +59,8 @@ Outcome classify(const Scene& sc, const RunResult& run, const EnergyMonitor& e, 
   o.max_penetration = std::max(run.stats.max_penetration, e.maxPenetration());
   // The run's deepest end against the larger bearing clearance (the
   // integrator's own guard holds each end to its joint's).
-  const double clearance = std::max(m.joint2_kind != ClearanceKind::Ideal ? m.contact.clearance : 0.0,
-                                    m.joint1_kind != ClearanceKind::Ideal ? m.contact1.clearance : 0.0);
+  const double clearance = std::max(m.joint2_kind != ClearanceKind::Ideal ? m.bearing[1].clearance : 0.0,
+                                    m.joint1_kind != ClearanceKind::Ideal ? m.bearing[0].clearance : 0.0);
   o.penetration_limit = m.integrator.penetration_limit > 0.0 ? m.integrator.penetration_limit : clearance;
   o.substeps_per_second = run.t_end > 0.0 ? static_cast<double>(run.stats.substeps) / run.t_end : 0.0;
   if (m.floating_base) {

@@ -165,7 +165,7 @@ void finePass(const Scene& sc, double dt, Reference& r) {
     State<V> s = initialState<V>(sc.run.initial);
     StickSlip& ss = r.stick;
     ss.dt = dt;
-    const ContactParams& cp = m.contact;
+    const ContactParams& cp = m.bearing[1];
     const long long n = std::llround(sc.run.duration / dt);
     bool was_slipping = true;
     double prev_vt = 0.0;

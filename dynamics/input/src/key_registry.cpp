@@ -112,6 +112,7 @@ namespace {
 struct Value {
   YAML::Node node;
   Given::Place where;
+  std::string spelled;  ///< the alias it was given as; "" = the key itself
 };
 }  // namespace
 
@@ -136,7 +137,7 @@ void flatten(const YAML::Node& n, const std::string& prefix, const std::string& 
     const std::string full = (prefix.empty() ? "" : prefix + ".") + kv.first.Scalar();
     if (kv.second.IsMap()) {
       flatten(kv.second, full, origin, out, problems);
-    } else if (const auto [it, fresh] = out.try_emplace(full, Value{kv.second, place(origin, kv.first.Mark())});
+    } else if (const auto [it, fresh] = out.try_emplace(full, Value{kv.second, place(origin, kv.first.Mark()), ""});
                !fresh) {
       problems.push_back(place(origin, kv.first.Mark())
                              .problem(full, "key '" + full + "': given twice (first at " + it->second.where.str() +
@@ -148,7 +149,8 @@ void flatten(const YAML::Node& n, const std::string& prefix, const std::string& 
 }  // namespace
 
 Given::Given(const TableWords& words, const std::vector<std::pair<std::string, std::string>>& keys,
-             const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides)
+             const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides,
+             const std::vector<std::pair<std::string, std::string>>& aliases)
     : impl_(std::make_unique<Impl>()) {
   impl_->origin = origin;
   auto& values = impl_->values;
@@ -168,6 +170,28 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
   for (const auto& [key, alt] : keys) {
     known.insert(key);
     if (!alt.empty()) impl_->alternative[key] = alt;
+  }
+  const std::map<std::string, std::string> alias_of(aliases.begin(), aliases.end());
+  // A file's old spellings are read as their keys; both spellings of one key is a key given twice.
+  for (const auto& [alias, key] : alias_of) {
+    const auto a = values.find(alias);
+    if (a == values.end()) continue;
+    Value v = std::move(a->second);
+    values.erase(a);
+    v.spelled = alias;
+    if (const auto k = values.find(key); k != values.end()) {
+      const bool alias_first = v.where.line < k->second.where.line ||
+                               (v.where.line == k->second.where.line && v.where.column < k->second.where.column);
+      const Value& later = alias_first ? k->second : v;
+      const Value& first = alias_first ? v : k->second;
+      const std::string name = later.spelled.empty() ? key : later.spelled;
+      problems.push_back(later.where.problem(key, "key '" + name + "': given twice (as '" +
+                                                      (first.spelled.empty() ? key : first.spelled) + "' at " +
+                                                      first.where.str() + "; " + alias + " is another name of " +
+                                                      key + ")"));
+      continue;
+    }
+    values.emplace(key, std::move(v));
   }
   auto unknown = [&](const Place& where, const std::string& key) {
     problems.push_back(where.problem(key, "unknown key '" + key + "' (see " + words.see + ")"));
@@ -202,27 +226,29 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
       problems.push_back(where.problem("", "expected key=value"));
       continue;
     }
-    const std::string key = o.substr(0, eq);
+    const std::string spelled = o.substr(0, eq);
+    const auto alias = alias_of.find(spelled);
+    const std::string key = alias == alias_of.end() ? spelled : alias->second;
     if (!known.count(key)) {
       unknown(where, key);
       continue;
     }
     try {
-      Value v{loadBounded(o.substr(eq + 1)), where};
+      Value v{loadBounded(o.substr(eq + 1)), where, alias == alias_of.end() ? "" : spelled};
       if (auto a = impl_->alternative.find(key); a != impl_->alternative.end()) values.erase(a->second);
       values[key] = std::move(v);  // a later --set of either alternative wins
     } catch (const PrescanRefusal& r) {
-      problems.push_back(where.problem(key, "key '" + key + "': " + r.msg));
+      problems.push_back(where.problem(key, "key '" + spelled + "': " + r.msg));
     } catch (const YAML::Exception& e) {
-      problems.push_back(where.problem(key, "key '" + key + "': value is not valid YAML: " + e.msg));
+      problems.push_back(where.problem(key, "key '" + spelled + "': value is not valid YAML: " + e.msg));
     } catch (const std::exception& e) {
-      problems.push_back(where.problem(key, "key '" + key + "': value not readable as YAML: " + e.what()));
+      problems.push_back(where.problem(key, "key '" + spelled + "': value not readable as YAML: " + e.what()));
     }
   }
   std::set<std::string> seen;
   for (const auto& [key, alt] : keys) {
     if (seen.count(alt) && has(key) && has(alt)) {
-      problems.push_back(values[key].where.problem(key, "give either " + key + " or " + alt + ", not both"));
+      problems.push_back(values[key].where.problem(key, "give either " + named(key) + " or " + named(alt) + ", not both"));
     }
     seen.insert(key);
   }
@@ -238,18 +264,23 @@ void Given::apply(const std::string& key, const std::function<void(const YAML::N
   try {
     set(it->second.node);
   } catch (const ConvertError& e) {
-    problems.push_back(it->second.where.problem(key, "key '" + key + "': " + e.msg));
+    problems.push_back(it->second.where.problem(key, "key '" + named(key) + "': " + e.msg));
   } catch (const YAML::Exception& e) {
-    problems.push_back(it->second.where.problem(key, "key '" + key + "': " + e.msg));
+    problems.push_back(it->second.where.problem(key, "key '" + named(key) + "': " + e.msg));
   }
+}
+
+std::string Given::named(const std::string& key) const {
+  const auto it = impl_->values.find(key);
+  return it == impl_->values.end() || it->second.spelled.empty() ? key : it->second.spelled;
 }
 
 Problem Given::problemAt(const std::string& key, const std::string& msg) const {
   const auto& v = impl_->values;
-  if (const auto it = v.find(key); it != v.end()) return it->second.where.problem(key, "key '" + key + "': " + msg);
+  if (const auto it = v.find(key); it != v.end()) return it->second.where.problem(key, "key '" + named(key) + "': " + msg);
   if (const auto a = impl_->alternative.find(key); a != impl_->alternative.end()) {
     if (const auto it = v.find(a->second); it != v.end()) {
-      return it->second.where.problem(a->second, "key '" + a->second + "': " + msg);
+      return it->second.where.problem(a->second, "key '" + named(a->second) + "': " + msg);
     }
   }
   return Place::inFile(impl_->origin).problem(key, "(default of " + key + "): key '" + key + "': " + msg);

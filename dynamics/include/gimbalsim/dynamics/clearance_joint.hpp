@@ -55,7 +55,7 @@ Gap clearanceGap(const Model& m, const Eigen::MatrixBase<Q>& q, const Eigen::Mat
   const double ex = q(G::QE), ey = q(G::QE + 1);
   const double e = std::hypot(ex, ey);
   const double rate = e > 0.0 ? (ex * v(G::VE) + ey * v(G::VE + 1)) / e : 0.0;
-  return {e - m.contactOf(J).clearance, rate};
+  return {e - m.bearing[J].clearance, rate};
 }
 
 /// Component along the joint axis k of the bearing body's angular velocity
@@ -86,7 +86,7 @@ double parentRateAlongAxis(const Model& m, const Eigen::MatrixBase<Q>& q, const 
 template <class V, int J = planarJoint<V>(), class Q, class W>
 double tangentialVelocity(const Model& m, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<W>& v) {
   using G = PlanarGroup<V, J>;
-  const ContactParams& cp = m.contactOf(J);
+  const ContactParams& cp = m.bearing[J];
   const double ex = q(G::QE), ey = q(G::QE + 1);
   const double e = std::hypot(ex, ey);
   if (!(e > 0.0)) return 0.0;
@@ -101,7 +101,7 @@ template <class V, int J = planarJoint<V>(), class Q, class W>
 double tangentialVelocityRateAtFixedV(const Model& m, const Eigen::MatrixBase<Q>& q,
                                       const Eigen::MatrixBase<W>& v) {
   using G = PlanarGroup<V, J>;
-  const double c_J = m.contactOf(J).clearance;
+  const double c_J = m.bearing[J].clearance;
   const double ex = q(G::QE), ey = q(G::QE + 1);
   const double e = std::hypot(ex, ey);
   if (!(e > 0.0)) return 0.0;
@@ -138,7 +138,7 @@ template <class V, int J = planarJoint<V>(), class Q, class W>
 void clearanceContact(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q,
                       const Eigen::MatrixBase<W>& v, double v0, int friction_mode = 0) {
   using G = PlanarGroup<V, J>;
-  const ContactParams& cp = m.contactOf(J);
+  const ContactParams& cp = m.bearing[J];
   ContactEval& c = d.contact[G::END];
   const double ex = q(G::QE), ey = q(G::QE + 1);
   c.e = std::hypot(ex, ey);
@@ -178,7 +178,7 @@ void addContactForces(const Model& m, Data<V>& d) {
   const ContactEval& c = d.contact[G::END];
   if (c.fn == 0.0 && c.ft == 0.0) return;
   const Vec2 F = -c.fn * c.n + c.ft * contactTangent(c.n);
-  const double arm = contactArm(m.contactOf(J), c.e);
+  const double arm = contactArm(m.bearing[J], c.e);
   d.tau(G::VE) += F.x();
   d.tau(G::VE + 1) += F.y();
   d.tau(G::VE + 2) += arm * c.ft;
@@ -199,7 +199,7 @@ void stickClosure(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q, con
     return;
   }
   const Vec2 t = contactTangent(c.n);
-  const double arm = contactArm(m.contact, c.e);
+  const double arm = contactArm(m.bearing[1], c.e);
   typename Data<V>::VecV Qt = Data<V>::VecV::Zero(), w;
   Qt(G::VE) = t.x();
   Qt(G::VE + 1) = t.y();
@@ -208,7 +208,7 @@ void stickClosure(const Model& m, Data<V>& d, const Eigen::MatrixBase<Q>& q, con
   const double a0 = tangentialVelocity<V>(m, q, d.vdot) + tangentialVelocityRateAtFixedV<V>(m, q, v);
   const double b = tangentialVelocity<V>(m, q, w);
   c.ft_required = b != 0.0 ? -a0 / b : 0.0;
-  const double lim = m.contact.mu * c.fn;
+  const double lim = m.bearing[1].mu * c.fn;
   c.ft = std::fmax(-lim, std::fmin(lim, c.ft_required));
   d.vdot += c.ft * w;
   d.tau += c.ft * Qt;
@@ -223,7 +223,7 @@ template <class V>
 int consistentFrictionMode(const Model& m, const Data<V>& d) {
   const ContactEval& c = d.contact[0];
   if (!(c.fn > 0.0)) return 0;
-  const double lim = m.contact.mu * c.fn;
+  const double lim = m.bearing[1].mu * c.fn;
   const double fr = c.ft_required;
   if (std::fabs(fr) <= lim) return 0;
   return fr > 0.0 ? -1 : 1;

@@ -34,7 +34,7 @@ Gap jointEndGap(const Model& m, int side, const Eigen::MatrixBase<Q>& q, const E
     return clearanceGap<V, J>(m, q, v);
   } else if constexpr (V::kind(J) == ClearanceKind::Spatial) {
     using G = SpatialGroup<V, J>;
-    const ContactParams& cp = m.contactOf(J);
+    const ContactParams& cp = m.bearing[J];
     Gap g{};
     spatialEndGap(cp.clearance, cp.bearing_length, side == 0 ? -1.0 : 1.0, q.template segment<5>(G::QG),
                   v.template segment<5>(G::VG), g.delta, g.rate);
@@ -63,7 +63,7 @@ void jointContact(const Model& m, Data<V>& d, const State<V>& s) {
   } else if constexpr (V::kind(J) == ClearanceKind::Spatial) {
     using G = SpatialGroup<V, J>;
     SpatialContact& out = d.spatial[J];
-    const ContactParams& cp = m.contactOf(J);
+    const ContactParams& cp = m.bearing[J];
     spatialContact(cp, cp.bearing_length, s.q.template segment<5>(G::QG), s.v.template segment<5>(G::VG),
                    G::toB(m, bearingBodyRate<V, J>(d)), {s.v0[G::END], s.v0[G::END + 1]}, out);
     for (int i = 0; i < 2; ++i) {
@@ -120,7 +120,7 @@ double hertzEnergy(const Model& m, const Eigen::MatrixBase<Q>& q, const Eigen::M
   double U = 0.0;
   for (int e = 0; e < V::NC; ++e) {
     const int j = V::endJoint(e);
-    const ContactParams& c = m.contactOf(j);
+    const ContactParams& c = m.bearing[j];
     const double delta = endGap<V>(m, e, q, v).delta;
     const double K = V::kind(j) == ClearanceKind::Spatial ? 0.5 * c.K : c.K;
     if (delta > 0.0) U += K * std::pow(delta, c.exponent + 1.0) / (c.exponent + 1.0);

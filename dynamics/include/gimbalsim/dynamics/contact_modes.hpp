@@ -22,10 +22,10 @@ bool frictionSwitched(const Model& m, Data<V>& d, const State<V>& x, const Input
     (void)m, (void)d, (void)x, (void)u, (void)contact_at_x;
     return false;
   } else {
-    if (m.contact.friction != FrictionLaw::CoulombStick || !x.in_contact[0]) return false;
+    if (m.bearing[1].friction != FrictionLaw::CoulombStick || !x.in_contact[0]) return false;
     if (x.friction_mode != 0) return x.friction_mode * tangentialVelocity<V>(m, x.q, x.v) < x.vt_floor;
     if (!contact_at_x) forwardDynamics(m, d, x, u);
-    return std::fabs(d.contact[0].ft_required) > m.contact.mu * d.contact[0].fn;
+    return std::fabs(d.contact[0].ft_required) > m.bearing[1].mu * d.contact[0].fn;
   }
 }
 
@@ -72,7 +72,7 @@ void enterContactSide(const Model& m, Data<V>& d, State<V>& x, const Input& u, i
     ++d.stats.impacts_end[e];
     d.stats.last_onset_time = x.t;
     if constexpr (V::kStick) {
-      if (m.contact.friction == FrictionLaw::CoulombStick) enterFrictionMode(m, d, x, u, true);
+      if (m.bearing[1].friction == FrictionLaw::CoulombStick) enterFrictionMode(m, d, x, u, true);
     }
   } else {
     ++d.stats.separations;

@@ -52,7 +52,7 @@ GIMBALSIM_FLATTEN void forwardDynamics(const Model& m, Data<V>& d, const State<V
   if (!spd) {
     d.vdot.setConstant(std::numeric_limits<double>::quiet_NaN());
   } else if constexpr (V::kStick) {
-    if (m.contact.friction == FrictionLaw::CoulombStick && s.in_contact[0] && s.friction_mode == 0) {
+    if (m.bearing[1].friction == FrictionLaw::CoulombStick && s.in_contact[0] && s.friction_mode == 0) {
       stickClosure(m, d, s.q, s.v);
     }
   }

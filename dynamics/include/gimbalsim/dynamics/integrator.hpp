@@ -56,7 +56,7 @@ int derivativesPerUnit(const Model& m) {
   } else {
     const IntegratorParams& p = m.integrator;
     const bool adaptive = p.substep_policy == SubstepPolicy::Adaptive;
-    const int stick = V::kStick && m.contact.friction == FrictionLaw::CoulombStick ? 1 : 0;
+    const int stick = V::kStick && m.bearing[1].friction == FrictionLaw::CoulombStick ? 1 : 0;
     int spatial_ends = 0;
     for (int e = 0; e < V::NC; ++e) spatial_ends += V::kind(V::endJoint(e)) == ClearanceKind::Spatial ? 1 : 0;
     const int period = adaptive || p.min_substeps_per_impact > 0.0 ? 1 : 0;
@@ -176,7 +176,7 @@ SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& 
     }
   }
   for (int e = 0; e < V::NC; ++e) {
-    const double limit = p.penetration_limit > 0.0 ? p.penetration_limit : m.contactOf(V::endJoint(e)).clearance;
+    const double limit = p.penetration_limit > 0.0 ? p.penetration_limit : m.bearing[V::endJoint(e)].clearance;
     const double delta = endGap<V>(m, e, d.trial.q, d.trial.v).delta;
     if (!(delta > limit)) continue;
     d.stats.max_penetration = std::fmax(d.stats.max_penetration, delta);

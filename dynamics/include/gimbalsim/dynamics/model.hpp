@@ -55,7 +55,7 @@ struct ContactParams {
   /// its two end planes (docs/MODEL.md section 2.7) [m]
   double bearing_length = 0.05;
 
-  /// Derived (Model::finalize): radial clearance c = R_i - R_j [m].
+  /// Derived (deriveBearing): radial clearance c = R_i - R_j [m].
   double clearance = 0.5e-3;
   /// Derived: Hertz stiffness K [N/m^n] (paper eq. 11 with the chosen R).
   double K = 0.0;
@@ -91,13 +91,20 @@ struct IntegratorParams {
   double substep_max = 0.0;           ///< adaptive: largest sub-step near contact; 0 = step [s]
 };
 
+/// The one derivation of a bearing's terms from its parameters: c = R_i - R_j,
+/// K (paper eq. 11, scaled), chi. Model::finalize and the bearing-wear fault use it.
+void deriveBearing(ContactParams& c);
+/// A bearing with radial clearance c [m]: the journal is what changes
+/// (R_j = R_i - c), then deriveBearing.
+void setClearance(ContactParams& b, double c);
+
 struct Model {
   std::string name;
 
   // ---- structure (picks the Variant) ----
   bool floating_base = true;
   ClearanceKind joint1_kind = ClearanceKind::Ideal;  ///< azimuth joint
-  ClearanceKind joint2_kind = ClearanceKind::Ideal;  ///< elevation joint; the size is contact.clearance
+  ClearanceKind joint2_kind = ClearanceKind::Ideal;  ///< elevation joint
   /// Any joint with clearance (a contact to resolve).
   bool hasClearance() const {
     return joint1_kind != ClearanceKind::Ideal || joint2_kind != ClearanceKind::Ideal;
@@ -115,10 +122,9 @@ struct Model {
   Vec3 k2_S1{0.0, 1.0, 0.0};        ///< joint 2 axis, shaft 1 frame (unit)
   Vec3 boresight_S2{1.0, 0.0, 0.0}; ///< antenna boresight, shaft 2 frame (unit)
 
-  ContactParams contact;   ///< joint 2's bearing
-  ContactParams contact1;  ///< joint 1's bearing (used when joint 1 has clearance)
-  /// The contact parameters of joint j (0: azimuth, 1: elevation).
-  const ContactParams& contactOf(int j) const { return j == 0 ? contact1 : contact; }
+  /// Each joint's bearing: [0] joint 1 (azimuth), [1] joint 2 (elevation);
+  /// read only where that joint has clearance.
+  std::array<ContactParams, 2> bearing{};
   /// How the dynamics is integrated: read by step() itself, so it lives here
   /// and not in the run description (run_spec.hpp).
   IntegratorParams integrator;
@@ -143,8 +149,11 @@ struct Model {
   std::array<SpatialInertia, kMaxChain> I_chain{};  ///< chain body i about its origin, body coords
   SpatialInertia I_base;                    ///< base about its CoM, base coords
 
-  /// Derives K, chi, c, the joint-plane bases and the chain. Call after any
-  /// parameter change; loadScene() does.
+  /// The kind of joint j (0: azimuth, 1: elevation).
+  ClearanceKind jointKind(int j) const { return j == 0 ? joint1_kind : joint2_kind; }
+
+  /// Derives each bearing's terms (deriveBearing), the joint-plane bases and
+  /// the chain. Call after any parameter change; loadScene() does.
   void finalize();
 
   /// Contact stiffness for a radius mode (paper eq. 11) [N/m^1.5].

@@ -23,16 +23,19 @@ struct Row {
   double theta1, theta2;                       ///< joint angles [rad]
   double dtheta1, dtheta2;                     ///< [rad/s]
   double ddtheta1, ddtheta2;                   ///< [rad/s^2]
-  double ecc_x, ecc_y, ecc;                    ///< eccentricity, joint-2 plane [m]
-  double delta;                                ///< penetration (0 if ideal) [m]
-  double fn, ft;                               ///< contact normal, friction force [N]
+  // Each joint's bearing, joint 2's first (written for every scene; 0 where
+  // ideal), joint 1's after the base columns (only when it has clearance):
+  // eccentricity in its joint plane (u1, u2) (a spatial joint's: its
+  // mid-plane), penetration (a spatial joint's: the deeper end's), normal
+  // and friction force (summed over a spatial joint's ends).
+  double ecc2_x, ecc2_y, ecc2;                 ///< eccentricity, joint-2 plane [m]
+  double delta2;                               ///< penetration (0 if ideal) [m]
+  double fn2, ft2;                             ///< contact normal, friction force [N]
   double joint2_force;                         ///< force joint 2 transmits [N]
   double bore_x, bore_y, bore_z;               ///< boresight unit vector, inertial
   double mom_px, mom_py, mom_pz;               ///< total linear momentum, inertial [N s]
   double mom_lx, mom_ly, mom_lz;               ///< total angular momentum about O [N m s]
   double energy;                               ///< total kinetic energy [J]
-  // Joint 1 (azimuth) with clearance, as ecc_x .. ft for joint 2, in joint
-  // 1's bearing basis (u1, u2); a spatial joint's are those of its mid-plane.
   double ecc1_x, ecc1_y, ecc1;                 ///< eccentricity, joint-1 mid-plane [m]
   double delta1;                               ///< deeper end's penetration [m]
   double fn1, ft1;                             ///< normal, friction force summed over its ends [N]
@@ -46,8 +49,8 @@ inline constexpr std::array<const char*, kNumColumns> kColumns = {
     "t",        "base_x",   "base_y",   "base_z",     "base_vx",   "base_vy",  "base_vz",
     "base_ax",  "base_ay",  "base_az",  "base_roll",  "base_pitch", "base_yaw", "base_wx",
     "base_wy",  "base_wz",  "base_dwx", "base_dwy",   "base_dwz",  "theta1",   "theta2",
-    "dtheta1",  "dtheta2",  "ddtheta1", "ddtheta2",   "ecc_x",     "ecc_y",    "ecc",
-    "delta",    "fn",       "ft",       "joint2_force", "bore_x",  "bore_y",   "bore_z",
+    "dtheta1",  "dtheta2",  "ddtheta1", "ddtheta2",   "ecc2_x",    "ecc2_y",   "ecc2",
+    "delta2",   "fn2",      "ft2",      "joint2_force", "bore_x",  "bore_y",   "bore_z",
     "mom_px",   "mom_py",   "mom_pz",   "mom_lx",     "mom_ly",    "mom_lz",   "energy",
     "ecc1_x",   "ecc1_y",   "ecc1",     "delta1",     "fn1",       "ft1",
     "tilt1",    "delta1_minus", "delta1_plus", "fn1_minus", "fn1_plus",
@@ -66,7 +69,7 @@ inline constexpr std::array<const char*, kNumColumns> kColumnUnits = {
 inline const double* rowData(const Row& r) { return &r.t; }
 
 /// Columns a run writes: the first kBaseColumns always (an ideal joint 2's
-/// ecc .. ft are 0), joint 1's six when it has clearance, the five tilt and
+/// ecc2 .. ft2 are 0), joint 1's six when it has clearance, the five tilt and
 /// per-end columns of each spatial joint. A row keeps every column (0 where
 /// the shape has none); the CSV and the Python package show this set.
 inline constexpr int kBaseColumns = 42;
@@ -184,18 +187,18 @@ Row observe(const Model& m, Data<V>& d, const State<V>& s, const Input& u) {
   r.ddtheta1 = d.vdot(NB + V::theta(0)), r.ddtheta2 = d.vdot(NB + V::theta(1));
   if constexpr (V::kKind2 == ClearanceKind::Planar) {
     const ContactEval& c = d.contact[V::firstEnd(1)];
-    r.ecc_x = s.q(PlanarGroup<V, 1>::QE), r.ecc_y = s.q(PlanarGroup<V, 1>::QE + 1), r.ecc = c.e;
-    r.delta = c.delta;
-    r.fn = c.fn, r.ft = c.ft;
+    r.ecc2_x = s.q(PlanarGroup<V, 1>::QE), r.ecc2_y = s.q(PlanarGroup<V, 1>::QE + 1), r.ecc2 = c.e;
+    r.delta2 = c.delta;
+    r.fn2 = c.fn, r.ft2 = c.ft;
     r.joint2_force = std::hypot(c.fn, c.ft);
   } else if constexpr (V::kKind2 == ClearanceKind::Spatial) {
     // Mid-plane eccentricity; the deeper end's penetration; both ends' forces.
     const int qg = QJ + V::G2;
     const SpatialContact& sc = d.spatial[1];
-    r.ecc_x = s.q(qg), r.ecc_y = s.q(qg + 1), r.ecc = std::hypot(r.ecc_x, r.ecc_y);
-    r.delta = std::fmax(sc.end[0].delta, sc.end[1].delta);
-    r.fn = sc.end[0].fn + sc.end[1].fn;
-    r.ft = sc.end[0].ft_B.norm() + sc.end[1].ft_B.norm();
+    r.ecc2_x = s.q(qg), r.ecc2_y = s.q(qg + 1), r.ecc2 = std::hypot(r.ecc2_x, r.ecc2_y);
+    r.delta2 = std::fmax(sc.end[0].delta, sc.end[1].delta);
+    r.fn2 = sc.end[0].fn + sc.end[1].fn;
+    r.ft2 = sc.end[0].ft_B.norm() + sc.end[1].ft_B.norm();
     Vec3 F = Vec3::Zero();
     for (const SpatialEnd& e : sc.end) F += -e.fn * e.n_B + e.ft_B;
     r.joint2_force = F.norm();

@@ -3,6 +3,7 @@
 // tools do. The sensors are the firmware's (firmware_sim/sensor_params.hpp). Loaded from the same scene file (scene.hpp).
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -14,7 +15,8 @@ namespace gimbalsim {
 struct InitialParams {
   double theta1 = 0.0, theta2 = 0.0;    ///< [rad]
   double dtheta1 = 0.0, dtheta2 = 0.0;  ///< [rad/s]
-  Vec2 ecc = Vec2::Zero();              ///< journal centre in the joint plane [m]
+  /// Each joint's journal centre in its joint plane (u1, u2) [m]: [0] joint 1, [1] joint 2.
+  std::array<Vec2, 2> ecc{Vec2::Zero(), Vec2::Zero()};
 };
 
 /// What a run may ask for, checked by the scene's validate() before running
@@ -40,6 +42,9 @@ struct RunSpec {
 struct Scene {
   Model model;
   RunSpec run;
+  /// The values of contact.*, friction.* as loaded: each joint's bearing
+  /// (Model::bearing) but where the scene gives the joint its own.
+  ContactParams bearing_default;
   std::vector<std::string> warnings;  ///< accepted but suspicious (e.g. triangle inequality)
 };
 

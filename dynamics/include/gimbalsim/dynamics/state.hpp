@@ -69,9 +69,13 @@ State<V> initialState(const InitialParams& init) {
   s.q(QJ + V::theta(1)) = init.theta2;
   s.v(NB + V::theta(0)) = init.dtheta1;
   s.v(NB + V::theta(1)) = init.dtheta2;
-  if constexpr (V::kKind2 != ClearanceKind::Ideal) {  // initial.ecc: joint 2's journal
-    s.q(QJ + V::G2) = init.ecc.x();
-    s.q(QJ + V::G2 + 1) = init.ecc.y();
+  if constexpr (V::kKind1 != ClearanceKind::Ideal) {  // each journal's initial eccentricity
+    s.q(QJ + V::G1) = init.ecc[0].x();
+    s.q(QJ + V::G1 + 1) = init.ecc[0].y();
+  }
+  if constexpr (V::kKind2 != ClearanceKind::Ideal) {
+    s.q(QJ + V::G2) = init.ecc[1].x();
+    s.q(QJ + V::G2 + 1) = init.ecc[1].y();
   }
   return s;
 }

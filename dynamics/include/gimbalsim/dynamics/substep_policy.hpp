@@ -28,7 +28,7 @@ double contactPeriodOver20(const Model& m, Data<V>& d, const State<V>& s, const 
   double period = std::numeric_limits<double>::infinity();
   for (int e = 0; e < V::NC; ++e) {
     const int j = V::endJoint(e);
-    const ContactParams& c = m.contactOf(j);
+    const ContactParams& c = m.bearing[j];
     const bool spatial = V::kind(j) == ClearanceKind::Spatial;
     typename Data<V>::VecV nv = Data<V>::VecV::Zero(), x;
     if (!endNormalDirection<V>(m, d, s, e, nv) || !d.mass.ok) nv.setZero();

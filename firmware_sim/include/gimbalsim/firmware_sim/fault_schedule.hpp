@@ -9,12 +9,15 @@
 // A fault is active at tick k (t_k = k T) when start <= t_k < end (to 1e-9 T)
 // and, with probability p < 1, a uniform draw of its own seeded stream is
 // below p (one draw per tick inside the window, so the same schedule and
-// seed give the same ticks). bearing_wear and friction_rise ramp their
+// seed give the same ticks). bearing_wear and friction_rise ramp a bearing's
 // parameter from the scene's value at start to the fault's at end and keep
-// it: they stay active (flagged) from start on.
+// it: they stay active (flagged) from start on. They act on the bearing of
+// their `axis`, or without one on every bearing with clearance, each from
+// its own value.
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -40,8 +43,8 @@ enum class FaultKind : std::uint8_t {
   MotorFailure,       ///< axis: the motor gives zero torque (the firmware does not know)
   StarTrackerOutage,  ///< no star tracker sample taken or delivered, star_outage set
   GyroBiasJump,       ///< vector [rad/s] added to the gyro bias (a step), base frame
-  BearingWear,        ///< clearance grows from the scene's to value [m] over [start, end], then stays
-  FrictionRise,       ///< friction mu rises from the scene's to value [-] over [start, end] (a step if end = start)
+  BearingWear,        ///< axis or every clearance bearing: clearance grows from the scene's to value [m] over [start, end]
+  FrictionRise,       ///< axis or every clearance bearing: mu rises from the scene's to value [-] over [start, end] (a step if end = start)
 };
 inline constexpr int kNumFaultKinds = 14;
 
@@ -49,6 +52,9 @@ inline constexpr int kNumFaultKinds = 14;
 const char* faultTypeName(FaultKind k);
 /// Whether a kind acts on one axis (then `axis:` is required).
 bool faultHasAxis(FaultKind k);
+/// Whether a kind ramps a bearing's parameter (bearing_wear, friction_rise;
+/// `axis:` optional: without it, every bearing with clearance).
+inline bool faultIsRamp(FaultKind k) { return k == FaultKind::BearingWear || k == FaultKind::FrictionRise; }
 
 /// The bit of a fault in the injected_faults mask of gimbal_status_t and
 /// gimbal_truth_t: 1 << (2 kind + axis) (axis 0: azimuth, 1: elevation;
@@ -67,7 +73,7 @@ inline constexpr int kMaxFaults = 256;
 /// One entry of a schedule.
 struct FaultSpec {
   FaultKind kind = FaultKind::EncoderDropout;
-  int axis = -1;              ///< 0 azimuth, 1 elevation; -1 for kinds without an axis
+  int axis = -1;              ///< 0 azimuth, 1 elevation; -1: none (ramps: every bearing with clearance)
   double start = 0.0;         ///< [s]
   double end = kForever;      ///< [s] (ramps: the end of the ramp)
   double probability = 1.0;   ///< per tick inside [start, end) [-]
@@ -99,16 +105,19 @@ struct ActiveFaults {
   bool motor_failed[2] = {};
   bool star_outage = false;
   Vec3 gyro_bias = Vec3::Zero();         ///< [rad/s] added to the gyro
-  double clearance = -1.0;               ///< [m] bearing wear: the clearance now (< 0: the scene's)
-  double mu = -1.0;                      ///< [-] friction rise: mu now (< 0: the scene's)
+  double clearance[2] = {-1.0, -1.0};    ///< [m] bearing wear, per joint: the clearance now (< 0: the scene's)
+  double mu[2] = {-1.0, -1.0};           ///< [-] friction rise, per joint: mu now (< 0: the scene's)
 };
 
 /// The schedule tick by tick. Call at(k) once per tick, k = 0, 1, 2, ...
 class FaultClock {
  public:
-  /// s may be null (no faults). clearance0, mu0: the scene's values (ramp starts).
-  FaultClock(const FaultSchedule* s, double control_period, double clearance0, double mu0)
-      : s_(s), T_(control_period > 0.0 ? control_period : 1.0), clearance0_(clearance0), mu0_(mu0) {
+  /// s may be null (no faults). clearance0, mu0: each joint's bearing in the
+  /// scene (the ramps' starts); has_clearance: which joints have a bearing.
+  FaultClock(const FaultSchedule* s, double control_period, const std::array<double, 2>& clearance0,
+             const std::array<double, 2>& mu0, const std::array<bool, 2>& has_clearance)
+      : s_(s), T_(control_period > 0.0 ? control_period : 1.0), clearance0_(clearance0), mu0_(mu0),
+        has_clearance_(has_clearance) {
     if (s_ == nullptr) return;
     rng_.reserve(s_->faults.size());
     for (std::size_t i = 0; i < s_->faults.size(); ++i) rng_.emplace_back(streamSeed(s_->seed, 100 + i));
@@ -122,13 +131,15 @@ class FaultClock {
     const double t = static_cast<double>(k) * T_, tol = 1e-9 * T_;
     for (std::size_t i = 0; i < s_->faults.size(); ++i) {
       const FaultSpec& f = s_->faults[i];
-      const bool ramp = f.kind == FaultKind::BearingWear || f.kind == FaultKind::FrictionRise;
       if (t < f.start - tol) continue;
-      if (ramp) {
+      if (faultIsRamp(f.kind)) {
         const double span = f.end - f.start;
         const double x = span > tol ? std::clamp((t - f.start) / span, 0.0, 1.0) : 1.0;
-        if (f.kind == FaultKind::BearingWear) a_.clearance = clearance0_ + x * (f.value - clearance0_);
-        if (f.kind == FaultKind::FrictionRise) a_.mu = mu0_ + x * (f.value - mu0_);
+        for (int j = 0; j < 2; ++j) {
+          if (!(f.axis == j || (f.axis < 0 && has_clearance_[j]))) continue;
+          if (f.kind == FaultKind::BearingWear) a_.clearance[j] = clearance0_[j] + x * (f.value - clearance0_[j]);
+          if (f.kind == FaultKind::FrictionRise) a_.mu[j] = mu0_[j] + x * (f.value - mu0_[j]);
+        }
         a_.bits |= injectedBit(f.kind, f.axis);
         continue;
       }
@@ -163,7 +174,9 @@ class FaultClock {
 
  private:
   const FaultSchedule* s_;
-  double T_, clearance0_, mu0_;
+  double T_;
+  std::array<double, 2> clearance0_, mu0_;
+  std::array<bool, 2> has_clearance_;
   std::vector<GaussianNoise> rng_;  ///< one stream per entry (draws and noise)
   ActiveFaults a_;
 };

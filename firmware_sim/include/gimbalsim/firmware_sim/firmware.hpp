@@ -64,7 +64,9 @@ class Firmware {
       : m_(ps.scene.model), run_(ps.scene.run), sensors_(ps.sensors), c_(c), d_(m_), obs_(m_),
         s_(initialState<V>(ps.scene.run.initial)), noise_(static_cast<std::uint64_t>(ps.sensors.seed)),
         attitude_sensors_(ps.sensors, c.control_period),
-        clock_(faults, c.control_period, ps.scene.model.contact.clearance, ps.scene.model.contact.mu),
+        clock_(faults, c.control_period, {m_.bearing[0].clearance, m_.bearing[1].clearance},
+               {m_.bearing[0].mu, m_.bearing[1].mu},
+               {m_.joint1_kind != ClearanceKind::Ideal, m_.joint2_kind != ClearanceKind::Ideal}),
         bus_(clock_.any()) {
     // The caller checked; a bad config leaves steps_per_tick_ at 1.
     steps_per_tick_ = std::max(1, checkConfig(ps.scene, c).steps_per_tick);
@@ -286,19 +288,15 @@ class Firmware {
   void enterFaults(std::int64_t k, const ActiveFaults& af) noexcept {
     if (af.bits != 0) ++n_.fault_ticks;
     if constexpr (V::kContact) {
-      // Wear and friction rise act on every bearing with clearance.
+      // Wear and friction rise act on the bearings FaultClock names.
       bool wear = false, rise = false;
       for (int j = 0; j < 2; ++j) {
         if (V::kind(j) == ClearanceKind::Ideal) continue;
-        ContactParams& cp = j == 0 ? m_.contact1 : m_.contact;
-        const bool wear_j = af.clearance >= 0.0 && af.clearance != cp.clearance;
-        const bool rise_j = af.mu >= 0.0 && af.mu != cp.mu;
-        if (wear_j) {  // the journal is what wears: R_j = R_i - c, and K follows R_j (Model::finalize's formula)
-          cp.clearance = af.clearance;
-          cp.journal_radius = cp.bearing_radius - af.clearance;
-          cp.K = cp.stiffness_scale * Model::hertzStiffness(cp, cp.radius_mode);
-        }
-        if (rise_j) cp.mu = af.mu;
+        ContactParams& cp = m_.bearing[j];
+        const bool wear_j = af.clearance[j] >= 0.0 && af.clearance[j] != cp.clearance;
+        const bool rise_j = af.mu[j] >= 0.0 && af.mu[j] != cp.mu;
+        if (wear_j) setClearance(cp, af.clearance[j]);  // the journal is what wears
+        if (rise_j) cp.mu = af.mu[j];
         wear = wear || wear_j;
         rise = rise || rise_j;
       }
@@ -333,15 +331,12 @@ class Firmware {
     o.joint_angle[0] = r.theta1, o.joint_angle[1] = r.theta2;
     o.joint_rate[0] = r.dtheta1, o.joint_rate[1] = r.dtheta2;
     o.applied_torque[0] = u_.tau(0), o.applied_torque[1] = u_.tau(1);
-    o.eccentricity[0] = r.ecc_x, o.eccentricity[1] = r.ecc_y;
-    o.penetration = r.delta;
-    o.contact_normal_force = r.fn;
-    o.contact_tangential_force = r.ft;
+    o.eccentricity[0] = r.ecc1_x, o.eccentricity[1] = r.ecc1_y;
+    o.eccentricity[2] = r.ecc2_x, o.eccentricity[3] = r.ecc2_y;
+    o.penetration[0] = r.delta1, o.penetration[1] = r.delta2;
+    o.contact_normal_force[0] = r.fn1, o.contact_normal_force[1] = r.fn2;
+    o.contact_tangential_force[0] = r.ft1, o.contact_tangential_force[1] = r.ft2;
     o.joint2_force = r.joint2_force;
-    o.eccentricity1[0] = r.ecc1_x, o.eccentricity1[1] = r.ecc1_y;
-    o.penetration1 = r.delta1;
-    o.contact_normal_force1 = r.fn1;
-    o.contact_tangential_force1 = r.ft1;
     o.tilt[0] = r.tilt1, o.tilt[1] = r.tilt2;
     o.end_penetration[0] = r.delta1_minus, o.end_penetration[1] = r.delta1_plus;
     o.end_penetration[2] = r.delta2_minus, o.end_penetration[3] = r.delta2_plus;

@@ -60,9 +60,12 @@ std::string formatInertia(const Mat3& I);           ///< diagonal, 6-list or 3x3
 std::string join(const std::vector<std::string>& parts, const std::string& sep);
 
 /// The one rule for a time that must be whole steps (a duration, a row
-/// interval): "" when `value` is a whole multiple (>= 1) of `unit`, else the
-/// problem, naming the unit and the nearest valid values, e.g. "must be a whole
-/// multiple of sim.step (0.001 s): 0.002 or 0.003".
+/// interval, a control period): value / unit within a relative 1e-12 of a
+/// whole number >= 1. The slack absorbs decimal spellings (0.3 / 0.1 is
+/// 2.9999999999999996) and stays below one step up to RunBounds::kMaxSteps.
+bool isWholeMultiple(double value, double unit);
+/// "" when isWholeMultiple, else the problem, naming the unit and the nearest
+/// valid values, e.g. "must be a whole multiple of sim.step (0.001 s): 0.002 or 0.003".
 std::string wholeMultipleProblem(double value, double unit, const std::string& unit_name);
 
 /// A key's own check, on every component of its value.
@@ -99,8 +102,11 @@ class Given {
   struct Place;
   /// keys: (key, alternative key or "") in table order. Two alternative keys
   /// set one field: a --set of one drops the other, giving both is refused.
+  /// aliases: (old spelling, key): the old spelling is read as the key (giving
+  /// both in one file is refused; a --set of either wins) and named as spelled.
   Given(const TableWords& words, const std::vector<std::pair<std::string, std::string>>& keys,
-        const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides);
+        const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides,
+        const std::vector<std::pair<std::string, std::string>>& aliases = {});
   ~Given();
   Given(const Given&) = delete;
   Given& operator=(const Given&) = delete;
@@ -108,6 +114,8 @@ class Given {
   /// The document was not read (not YAML, not a mapping): nothing else is checked.
   bool unreadable() const { return unreadable_; }
   bool has(const std::string& key) const;
+  /// The key as the user spelled it (an alias, or the key itself).
+  std::string named(const std::string& key) const;
   /// Calls set(value) if key was given; a ConvertError is a problem at its place.
   void apply(const std::string& key, const std::function<void(const YAML::Node&)>& set);
   /// "<place>: key '<key>': <msg>", the place where key was given (else where
@@ -153,6 +161,8 @@ struct KeyTable {
   /// Derived keys resolved once every key is set (so a key standing for
   /// another, e.g. contact.clearance, does not depend on the table's order).
   std::function<void(Target&, const Given&)> derive;
+  /// Old spellings still read: (alias, key), listed in the key docs.
+  std::vector<std::pair<std::string, std::string>> aliases;
 
   /// Every key, its default read from Target{}.
   std::vector<KeyInfo> info() const {
@@ -177,7 +187,7 @@ Target loadKeys(const KeyTable<Target>& table, const std::string& yaml, const st
                 const std::vector<std::string>& overrides, std::vector<std::string>* warnings = nullptr) {
   std::vector<std::pair<std::string, std::string>> names;
   for (const auto& k : table.keys) names.emplace_back(k.key, k.alternative);
-  Given given(table.words, names, yaml, origin, overrides);
+  Given given(table.words, names, yaml, origin, overrides, table.aliases);
   if (given.unreadable()) throw Error(given.problems);
   Target t{};
   for (const auto& k : table.keys) given.apply(k.key, [&](const YAML::Node& n) { k.set(t, n); });

@@ -68,13 +68,10 @@ struct Truth {
   double joint_angle[2] = {};      ///< [rad]
   double joint_rate[2] = {};       ///< [rad/s]
   double applied_torque[2] = {};   ///< [N m]
-  double eccentricity[2] = {};     ///< [m] joint-2 plane
-  double penetration = 0.0;        ///< [m]
-  double contact_normal_force = 0.0, contact_tangential_force = 0.0;  ///< [N]
+  double eccentricity[4] = {};     ///< [m] joint 1 (x, y), joint 2 (x, y), each in its joint plane basis
+  double penetration[2] = {};      ///< [m] joint 1, joint 2 (a spatial joint's deeper end)
+  double contact_normal_force[2] = {}, contact_tangential_force[2] = {};  ///< [N] joint 1, joint 2 (summed over ends)
   double joint2_force = 0.0;       ///< [N]
-  double eccentricity1[2] = {};    ///< [m] joint-1 mid-plane, joint-1 bearing basis
-  double penetration1 = 0.0;       ///< [m]
-  double contact_normal_force1 = 0.0, contact_tangential_force1 = 0.0;  ///< [N], summed over joint 1's ends
   double tilt[2] = {};             ///< [rad] gamma of each spatial joint's journal
   double end_penetration[4] = {};  ///< [m] joint 1 at -L/2, +L/2, then joint 2
   double end_normal_force[4] = {}; ///< [N] the same ends
@@ -119,15 +116,11 @@ struct TruthFields {
     f(Columns{"theta1[rad]", "theta2[rad]"}, m.joint_angle...);
     f(Columns{"dtheta1[rad/s]", "dtheta2[rad/s]"}, m.joint_rate...);
     f(Columns{"tau1[N m]", "tau2[N m]"}, m.applied_torque...);
-    f(Columns{"ecc_x[m]", "ecc_y[m]"}, m.eccentricity...);
-    f(Columns{"delta[m]"}, m.penetration...);
-    f(Columns{"fn[N]"}, m.contact_normal_force...);
-    f(Columns{"ft[N]"}, m.contact_tangential_force...);
+    f(Columns{"ecc1_x[m]", "ecc1_y[m]", "ecc2_x[m]", "ecc2_y[m]"}, m.eccentricity...);
+    f(Columns{"delta1[m]", "delta2[m]"}, m.penetration...);
+    f(Columns{"fn1[N]", "fn2[N]"}, m.contact_normal_force...);
+    f(Columns{"ft1[N]", "ft2[N]"}, m.contact_tangential_force...);
     f(Columns{"joint2_force[N]"}, m.joint2_force...);
-    f(Columns{"ecc1_x[m]", "ecc1_y[m]"}, m.eccentricity1...);
-    f(Columns{"delta1[m]"}, m.penetration1...);
-    f(Columns{"fn1[N]"}, m.contact_normal_force1...);
-    f(Columns{"ft1[N]"}, m.contact_tangential_force1...);
     f(Columns{"tilt1[rad]", "tilt2[rad]"}, m.tilt...);
     f(Columns{"delta1_minus[m]", "delta1_plus[m]", "delta2_minus[m]", "delta2_plus[m]"}, m.end_penetration...);
     f(Columns{"fn1_minus[N]", "fn1_plus[N]", "fn2_minus[N]", "fn2_plus[N]"}, m.end_normal_force...);
