@@ -1,0 +1,154 @@
+"""The Python side's one writer (python/gimbalsim/_output.py, the rules of
+the C++ io::OutputFile)."""
+import errno
+import itertools
+import os
+import stat
+
+import pytest
+
+from gimbalsim import _output
+
+
+def leftovers(folder, keep):
+    """Files in folder other than keep (a temporary left behind shows here)."""
+    return sorted(p.name for p in folder.iterdir() if p.name not in keep)
+
+
+# ---- the writer's rules ----
+
+def test_a_whole_file_is_written_synced_and_renamed_with_the_umask_mode(tmp_path, monkeypatch):
+    synced = []
+    real_fsync = os.fsync
+
+    def fsync(fd):
+        synced.append(stat.S_ISDIR(os.fstat(fd).st_mode))
+        real_fsync(fd)
+
+    monkeypatch.setattr(os, "fsync", fsync)
+    old = os.umask(0o022)
+    try:
+        _output.write_text(tmp_path / "a.txt", "text\n")
+    finally:
+        os.umask(old)
+    assert (tmp_path / "a.txt").read_text() == "text\n"
+    assert synced == [False, True], "the file, then its folder after the rename"
+    assert stat.S_IMODE((tmp_path / "a.txt").stat().st_mode) == 0o644  # 0666 less the umask, not mkstemp's 0600
+    assert leftovers(tmp_path, {"a.txt"}) == []
+
+
+def test_a_symbolic_link_under_the_name_is_refused_and_its_target_untouched(tmp_path):
+    target = tmp_path / "target.csv"
+    target.write_text("keep\n")
+    (tmp_path / "link.csv").symlink_to(target)
+    with pytest.raises(_output.OutputError, match="link.csv: is a symbolic link; not written through"):
+        _output.write_text(tmp_path / "link.csv", "new\n")
+    assert target.read_text() == "keep\n" and (tmp_path / "link.csv").is_symlink()
+    assert leftovers(tmp_path, {"target.csv", "link.csv"}) == []
+
+
+@pytest.mark.parametrize("kind", ["folder", "fifo"])
+def test_a_non_regular_file_under_the_name_is_refused(tmp_path, kind):
+    path = tmp_path / "x"
+    path.mkdir() if kind == "folder" else os.mkfifo(path)
+    with pytest.raises(_output.OutputError, match="exists and is not a regular file"):
+        _output.write_bytes(path, b"x")
+    assert leftovers(tmp_path, {"x"}) == []
+
+
+def test_an_output_that_is_an_input_is_refused_by_any_spelling(tmp_path):
+    scene = tmp_path / "scene.yaml"
+    scene.write_text("keep\n")
+    os.link(scene, tmp_path / "hard.yaml")
+    for spelling in (scene, tmp_path / "." / "scene.yaml", tmp_path / "hard.yaml"):
+        with pytest.raises(_output.OutputError, match="the same file as the input"):
+            _output.write_text(spelling, "new\n", inputs=[scene])
+    assert scene.read_text() == "keep\n"
+    # a new file: its folder and name identify it, so two spellings of one new name are one output
+    with pytest.raises(_output.OutputError, match="the same file as another output"):
+        _output.check_outputs([tmp_path / "new.csv", tmp_path / "." / "new.csv"])
+    _output.write_text(tmp_path / "other.yaml", "fine\n", inputs=[scene, None, ""])
+    assert leftovers(tmp_path, {"scene.yaml", "hard.yaml", "other.yaml"}) == []
+
+
+def test_a_missing_folder_is_refused_not_made(tmp_path):
+    with pytest.raises(_output.OutputError, match="its directory .* does not exist"):
+        _output.write_text(tmp_path / "missing" / "a.txt", "x")
+    assert not (tmp_path / "missing").exists()
+
+
+@pytest.mark.parametrize("where", ["write", "fsync", "rename", "the caller"])
+def test_a_failure_leaves_the_old_file_and_no_temporary(tmp_path, monkeypatch, where):
+    path = tmp_path / "results.csv"
+    path.write_text("the old file\n")
+
+    def full(*a, **k):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    if where == "fsync":
+        monkeypatch.setattr(os, "fsync", full)
+    if where == "rename":
+        monkeypatch.setattr(os, "replace", full)
+    with pytest.raises(OSError) as e:
+        with _output.open_output(path) as f:
+            f.write("half of the new")
+            if where == "write":
+                full()
+            if where == "the caller":
+                raise OSError(errno.EIO, "the caller's own failure")
+    assert isinstance(e.value, _output.OutputError)
+    assert str(path) in str(e.value) and ("No space left" in str(e.value) or "caller" in str(e.value))
+    assert path.read_text() == "the old file\n"
+    assert leftovers(tmp_path, {"results.csv"}) == []
+
+
+def test_an_exception_in_the_body_goes_on_and_removes_the_temporary(tmp_path):
+    with pytest.raises(KeyError):
+        with _output.open_output(tmp_path / "a.bin", "wb") as f:
+            f.write(b"x")
+            raise KeyError("not an output problem")
+    assert leftovers(tmp_path, set()) == []
+
+
+def test_planted_links_at_temporary_names_are_never_written_through(tmp_path, monkeypatch):
+    victim = tmp_path / "victim"
+    victim.write_text("keep\n")
+    monkeypatch.setattr(_output, "_counter", itertools.count(0))
+    planted = [f".out.csv.{os.getpid()}.{n}.tmp" for n in range(3)] + ["out.csv.tmp", ".out.csv.tmp"]
+    for name in planted:
+        (tmp_path / name).symlink_to(victim)
+    _output.write_csv(tmp_path / "out.csv", [["t_s", "x_m"], ["0", "1.5"]])
+    assert (tmp_path / "out.csv").read_bytes() == b"t_s,x_m\n0,1.5\n"
+    assert not (tmp_path / "out.csv").is_symlink() and victim.read_text() == "keep\n"
+    assert leftovers(tmp_path, {"victim", "out.csv", *planted}) == []
+
+
+def test_savefig_writes_the_format_of_the_extension_through_the_temporary(tmp_path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [1, 0])
+    _output.savefig(fig, tmp_path / "a.png", dpi=50)
+    _output.savefig(fig, tmp_path / "a.svg")
+    plt.close(fig)
+    assert (tmp_path / "a.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert b"<svg" in (tmp_path / "a.svg").read_bytes()[:400]
+    assert leftovers(tmp_path, {"a.png", "a.svg"}) == []
+
+
+def test_the_append_log_refuses_a_link_and_appends_synced(tmp_path):
+    target = tmp_path / "target"
+    target.write_text("keep\n")
+    (tmp_path / "journal").symlink_to(target)
+    with pytest.raises(_output.OutputError, match="symbolic link"):
+        _output.open_append(tmp_path / "journal")
+    (tmp_path / "journal").unlink()
+    (tmp_path / "journal").write_text("header\n")
+    fd = _output.open_append(tmp_path / "journal")
+    try:
+        _output.append_synced(fd, b"row\n", tmp_path / "journal")
+    finally:
+        os.close(fd)
+    assert (tmp_path / "journal").read_text() == "header\nrow\n" and target.read_text() == "keep\n"
