@@ -1,4 +1,6 @@
-"""The package's exceptions. Raised by the C++ core with their fields set."""
+"""The package's exceptions. SceneError and SimulationStopped are raised by
+the C++ core with their fields set; OutputError by the one writer (_output.py)."""
+from ._output import OutputError  # noqa: F401 (one of the package's exceptions)
 
 
 class SceneError(ValueError):

@@ -14,11 +14,11 @@ time series is written all the same), 2 refused, 3 reproduced, but the sample's
 run stopped (its status names why), 4 an output not written (docs/python.md "Replay")."""
 import csv
 import json
-import os
 import pathlib
 import sys
 
 from . import _provenance
+from ._output import OutputError, check_outputs, savefig
 from ._spec import SpecError
 
 NOT_COMPARED = ("wall_time_s",)  # how long it took, not what it computed
@@ -127,6 +127,11 @@ def replay(folder, i, out, plot_path=None):
     plot_path = _check_output(plot_path or out.with_suffix(".png"), folder, "--plot")
     if plot_path.resolve() == out.resolve():
         _refuse(f"--plot {plot_path}: the same file as --out")
+    inputs = spec.input_files()
+    try:  # before anything runs, as the command line: refused (exit 2)
+        check_outputs([out, plot_path], inputs)
+    except OutputError as e:
+        _refuse(str(e))
     if not 0 <= i < len(spec.design):
         _refuse(f"--replay {i}: outside the sweep's samples 0..{len(spec.design) - 1}")
     source, header, rows = _read_rows(folder)
@@ -158,9 +163,9 @@ def replay(folder, i, out, plot_path=None):
         print(f"error: {e}", file=sys.stderr)
         return 4
     try:
-        _plot(run, spec, i, replay_status, plot_path)
-    except OSError as e:
-        print(f"error: cannot write the plot {plot_path}: {e.strerror or e}", file=sys.stderr)
+        _plot(run, spec, i, replay_status, plot_path, inputs)
+    except OSError as e:  # OutputError, naming the plot and why
+        print(f"error: {e}", file=sys.stderr)
         return 4
     print(f"replay: sample {i}: {len(run.rows)} rows in {out}, plot {plot_path}", file=sys.stderr)
     if differ:
@@ -194,7 +199,7 @@ PANELS = [("joint angle [rad]", ("theta1", "theta2")), ("joint angle [rad]", ("t
           ("joint-2 force [N]", ("joint2_force",)), ("truth pointing error [rad]", ("truth_error",))]
 
 
-def _plot(run, spec, i, status, path):
+def _plot(run, spec, i, status, path, inputs=()):
     """Draws the panels the run has columns for into path; returns their labels."""
     import matplotlib
     matplotlib.use("Agg")
@@ -215,14 +220,10 @@ def _plot(run, spec, i, status, path):
     axes[-1, 0].set_xlabel("t [s]")
     fig.suptitle(f"sample {i} of the sweep in {spec.spec_path.parent.name}/ ({status})")
     fig.tight_layout()
-    tmp = path.with_name(path.name + ".tmp.png")  # whole or not at all
     try:
-        fig.savefig(tmp, dpi=110)
-        os.replace(tmp, path)
+        savefig(fig, path, inputs, dpi=110)
     finally:
         plt.close(fig)
-        if tmp.exists():
-            tmp.unlink()
     return [label for label, _ in panels]
 
 

@@ -43,8 +43,9 @@ import time
 import gimbalsim
 from . import _budget, _budget_report, _cluster, _provenance
 from ._closed_sample import run_closed_sample
-from ._journal import OutputError, csv_line, fmt, read_journal, write_atomic  # noqa: F401 (csv_line, fmt: API)
+from ._journal import csv_line, fmt, read_journal  # noqa: F401 (csv_line, fmt: API)
 from ._open_sample import run_sample
+from ._output import OutputError, append_synced, open_append, write_text
 from ._spec import SpecError, check_out_dir
 from ._summary import plot, summarize
 from ._sweep_spec import MAX_SAMPLES, SweepSpec
@@ -104,6 +105,8 @@ def row_values(spec, values, result):
 
 def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, progress=True, until=None):
     header = spec.csv_header()
+    inputs = spec.input_files()
+    write = lambda path, text: write_text(path, text, inputs)  # noqa: E731
     journal = out / JOURNAL
     results = out / "results.csv"
     fingerprint = out / "spec.json"
@@ -124,11 +127,11 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
     except OSError as e:
         raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
-    write_atomic(fingerprint, spec.fingerprint)
-    _provenance.record_inputs(spec, out, write_atomic)
+    write(fingerprint, spec.fingerprint)
+    _provenance.record_inputs(spec, out, write)
     if not appendable:
         # The journal is never cut in place: its trusted rows go to a new file that replaces it whole.
-        write_atomic(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
+        write(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
     for why, n in dropped.items():
         print(f"sweep: dropped {n} journal row{'s' * (n != 1)} ({why}); their samples run again", file=sys.stderr)
     engine, grown = {"ran_this_invocation": 0}, None
@@ -141,10 +144,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             if todo:
                 if cluster is None:
                     cluster = stack.enter_context(_cluster.dask_client(workers, scheduler))
-                try:  # unbuffered: a failed write leaves nothing behind to fail again at close
-                    fd = os.open(journal, os.O_WRONLY | os.O_APPEND)
-                except OSError as e:
-                    raise OutputError(f"cannot open the journal {journal}: {e.strerror}") from None
+                fd = open_append(journal)  # unbuffered: a failed write leaves nothing behind to fail again at close
                 try:
                     engine = _merge(engine, _run_on_cluster(spec, todo, fd, journal, done, cluster, batch, progress))
                 finally:
@@ -157,18 +157,15 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             if stop:
                 break
             until.grow(spec)
-    write_atomic(results, "".join(csv_line(r) for r in [header] + rows))
+    write(results, "".join(csv_line(r) for r in [header] + rows))
     summary = summarize(spec, rows, engine)
     summary["journal_rows_dropped"] = dropped
     if grown is not None:
         summary["until"] = grown
     if spec.closed:
-        summary["report"] = str(write_report(spec, rows, summary, out))
-    try:
-        summary["plots"] = [str(p) for p in plot(spec, rows, out / "plots")]
-    except OSError as e:
-        raise OutputError(f"cannot write the plots in {out / 'plots'}: {e.strerror}") from None
-    write_atomic(out / "summary.json", json.dumps(summary, indent=2) + "\n")
+        summary["report"] = str(write_report(spec, rows, summary, out, inputs))
+    summary["plots"] = [str(p) for p in _plots(lambda: plot(spec, rows, out / "plots", inputs), out)]
+    write(out / "summary.json", json.dumps(summary, indent=2) + "\n")
     journal.unlink()
     return summary
 
@@ -183,14 +180,23 @@ def _merge(a, b):
             "samples_per_s": ran / elapsed if elapsed > 0 else None}
 
 
-def write_report(spec, rows, summary, out):
-    """OUT/report.md and its CDF plots (closed loop)."""
+def _plots(draw, out):
+    """draw(): the plots written into OUT/plots (made there if missing); a
+    folder that cannot be made is an OutputError as a plot not written is."""
     try:
-        plots = _budget_report.cdf_plots(spec, rows, summary["budget"], out / "plots")
-        text = _budget_report.body(spec, rows, summary["budget"], plots, summary["engine"])
+        return draw()
+    except OutputError:
+        raise
     except OSError as e:
-        raise OutputError(f"cannot write the plots in {out / 'plots'}: {e.strerror}") from None
-    write_atomic(out / "report.md", text)
+        raise OutputError(f"cannot write the plots in {out / 'plots'}: {e.strerror or e}") from None
+
+
+def write_report(spec, rows, summary, out, inputs=()):
+    """OUT/report.md and its CDF plots (closed loop)."""
+    plots = _plots(lambda: _budget_report.cdf_plots(spec, rows, summary["budget"], out / "plots",
+                                                    inputs=inputs), out)
+    text = _budget_report.body(spec, rows, summary["budget"], plots, summary["engine"])
+    write_text(out / "report.md", text, inputs)
     return out / "report.md"
 
 
@@ -241,13 +247,8 @@ def _run_on_cluster(spec, todo, fd, journal, done, cluster, batch, progress):
             for r in results:
                 if r["sample"] not in done:
                     lines[r["sample"]] = [fmt(v) for v in row_values(spec, spec.design.draw(r["sample"]), r)]
-            try:  # a task's rows in one append, synced: a cut can only tear the last line
-                data = "".join(csv_line(line) for line in lines.values()).encode()
-                while data:
-                    data = data[os.write(fd, data):]
-                os.fsync(fd)
-            except OSError as e:
-                raise OutputError(f"cannot write the journal {journal}: {e.strerror}") from None
+            # a task's rows in one append, synced: a cut can only tear the last line
+            append_synced(fd, "".join(csv_line(line) for line in lines.values()).encode(), journal)
             done.update(lines)
             ran += len(lines)
             bar.update(len(results))

@@ -32,8 +32,6 @@ is refused. Exit codes: 0, 2 spec refused, 3 no trial completed, 4 an output
 not written, 130 / 143 interrupted by SIGINT / SIGTERM (the study kept).
 """
 import argparse
-import csv
-import io
 import json
 import math
 import pathlib
@@ -47,7 +45,7 @@ import gimbalsim
 from . import _cluster
 from ._spec import SpecError, check_out_dir
 from ._tune_spec import METRICS, TuneSpec  # noqa: F401 (TuneSpec: the module's API)
-from .sweep import OutputError, write_atomic
+from ._output import OutputError, savefig, write_csv, write_text
 
 def run_plants(base, controller, duration, items):
     """A task: closed loops of one controller on plants [(j, overrides)]."""
@@ -161,7 +159,7 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
     header = ["trial", "state", "origin", "score", "constraint", *gain_names, "plants_ok", "reason", "wall_time"] + \
         [f"plant{j}.{c}" for j in range(spec.batch) for c in ("status",) + PLANT_FIGURES]
     if resume:  # the kills marked, the rows of trials told before a kill but not yet written
-        _write_trials(out, header, study)
+        _write_trials(out, header, study, spec.input_files())
     # the requested count is of finished trials; a trial killed with the tuner is not one (its retry is)
     finished = sum(1 for t in study.trials if t.state.is_finished() and t.user_attrs.get("row", {}).get("reason")
                    != "killed")
@@ -194,7 +192,7 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
                 _finish(study, trial, gains, results, spec, time.perf_counter() - t0)
                 finished += 1
                 bar.update(1)
-                _write_trials(out, header, study)
+                _write_trials(out, header, study, spec.input_files())
         bar.close()
         _cluster.raise_if_interrupted()
     done = [t for t in study.trials if t.state == optuna.trial.TrialState.COMPLETE]
@@ -208,15 +206,12 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
     text = (f"# gimbalsim.tune: trial {best.number} of {spec.spec_path.name}, score {best.value!r} rad "
             f"(p{spec.percentile:g} of {spec.metric} over {spec.batch} plants), "
             f"{'feasible' if feasible else 'NO FEASIBLE TRIAL: the least bad'}\n") + nested_yaml(best_ctrl._values_text())
-    write_atomic(out / "best.yaml", text)
-    try:
-        _plot(out, rows, spec)
-    except OSError as e:
-        raise OutputError(f"cannot write {out / 'progress.png'}: {e.strerror}") from None
+    write_text(out / "best.yaml", text, spec.input_files())
+    _plot(out, rows, spec)
     summary = {"best_trial": best.number, "best_score": best.value, "feasible": bool(feasible),
                "best_gains": {k: best.params[k] for k in gain_names}, "trials": len(rows),
                "complete": len(done), "feasible_trials": len(feasible)}
-    write_atomic(out / "summary.json", json.dumps(summary, indent=2) + "\n")
+    write_text(out / "summary.json", json.dumps(summary, indent=2) + "\n", spec.input_files())
     return summary, rows
 
 
@@ -262,14 +257,11 @@ def _csv_names(header):
     return [gimbalsim._gimbalsim.csv_name(h.replace(".", "_"), units.get(h, "")) for h in header]
 
 
-def _write_trials(out, header, study):
+def _write_trials(out, header, study, inputs=()):
     """trials.csv from the study: every finished trial, in trial order."""
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(_csv_names(header))
-    for r in [t.user_attrs["row"] for t in study.get_trials(deepcopy=False) if "row" in t.user_attrs]:
-        w.writerow([_fmt(r.get(h, "")) for h in header])
-    write_atomic(out / "trials.csv", buf.getvalue())
+    rows = [t.user_attrs["row"] for t in study.get_trials(deepcopy=False) if "row" in t.user_attrs]
+    write_csv(out / "trials.csv", [_csv_names(header)] + [[_fmt(r.get(h, "")) for h in header] for r in rows],
+              inputs)
 
 
 def _plot(out, rows, spec):
@@ -295,8 +287,10 @@ def _plot(out, rows, spec):
     ax.set_ylabel(f"p{spec.percentile:g} {spec.metric} [rad]")
     ax.legend()
     fig.tight_layout()
-    fig.savefig(out / "progress.png", dpi=110)
-    plt.close(fig)
+    try:
+        savefig(fig, out / "progress.png", spec.input_files(), dpi=110)
+    finally:
+        plt.close(fig)
 
 
 def _trials_kept(out):

@@ -1,5 +1,6 @@
 """The Python side's one writer (python/gimbalsim/_output.py, the rules of
-the C++ io::OutputFile)."""
+the C++ io::OutputFile) and its users (ClosedLoopRun.to_csv; the sweep's
+files: test_sweep_journal.py)."""
 import errno
 import itertools
 import os
@@ -7,7 +8,9 @@ import stat
 
 import pytest
 
+import gimbalsim
 from gimbalsim import _output
+from conftest import scene_path
 
 
 def leftovers(folder, keep):
@@ -152,3 +155,29 @@ def test_the_append_log_refuses_a_link_and_appends_synced(tmp_path):
     finally:
         os.close(fd)
     assert (tmp_path / "journal").read_text() == "header\nrow\n" and target.read_text() == "keep\n"
+
+
+# ---- its users ----
+
+def closed_run():
+    return gimbalsim.closed_loop(gimbalsim.load_scene(scene_path("paper_ideal")), gimbalsim.Controller(None), 0.02)
+
+
+def test_closed_loop_to_csv_goes_through_the_writer(tmp_path):
+    run = closed_run()
+    victim = tmp_path / "victim"
+    victim.write_text("keep\n")
+    (tmp_path / "ticks.csv.tmp").symlink_to(victim)  # the old fixed temporary name
+    run.to_csv(tmp_path / "ticks.csv")
+    assert victim.read_text() == "keep\n" and not (tmp_path / "ticks.csv").is_symlink()
+    assert (tmp_path / "ticks.csv").read_text().count("\n") == len(run.columns["t"]) + 1
+    # the run's inputs are refused by any spelling, and a link under the name
+    scene = tmp_path / "scene.yaml"
+    scene.write_text("keep\n")
+    with pytest.raises(gimbalsim.OutputError, match="the same file as the input"):
+        run.to_csv(tmp_path / "." / "scene.yaml", inputs=[scene])
+    (tmp_path / "link.csv").symlink_to(victim)
+    with pytest.raises(OSError, match="symbolic link"):
+        run.to_csv(tmp_path / "link.csv")
+    assert scene.read_text() == "keep\n" and victim.read_text() == "keep\n"
+    assert leftovers(tmp_path, {"victim", "ticks.csv.tmp", "ticks.csv", "scene.yaml", "link.csv"}) == []
