@@ -1,16 +1,21 @@
 """The Python side's one writer (python/gimbalsim/_output.py, the rules of
-the C++ io::OutputFile) and its users (ClosedLoopRun.to_csv; the sweep's
-files: test_sweep_journal.py)."""
+the C++ io::OutputFile) and its users (ClosedLoopRun.to_csv, the tools
+through tools/output_file.py; the sweep's files: test_sweep_journal.py)."""
 import errno
+import importlib.util
 import itertools
 import os
+import re
 import stat
+import sys
 
 import pytest
 
 import gimbalsim
 from gimbalsim import _output
-from conftest import scene_path
+from conftest import SOURCE, scene_path
+
+PACKAGE = SOURCE / "python" / "gimbalsim"
 
 
 def leftovers(folder, keep):
@@ -181,3 +186,39 @@ def test_closed_loop_to_csv_goes_through_the_writer(tmp_path):
         run.to_csv(tmp_path / "link.csv")
     assert scene.read_text() == "keep\n" and victim.read_text() == "keep\n"
     assert leftovers(tmp_path, {"victim", "ticks.csv.tmp", "ticks.csv", "scene.yaml", "link.csv"}) == []
+
+
+def test_the_tools_write_through_the_packages_writer(tmp_path, monkeypatch):
+    """tools/output_file.py is the package's writer loaded from the source
+    tree (the same file), not a second one: it syncs, and refuses links."""
+    spec = importlib.util.spec_from_file_location("tools_output_file", SOURCE / "tools" / "output_file.py")
+    tools_writer = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tools_writer)
+    assert os.path.samefile(sys.modules[tools_writer.write_text.__module__].__file__, PACKAGE / "_output.py")
+    synced = []
+    real_fsync = os.fsync
+    monkeypatch.setattr(os, "fsync", lambda fd: (synced.append(fd), real_fsync(fd)))
+    tools_writer.write_text(tmp_path / "page.md", "page\n")
+    assert (tmp_path / "page.md").read_text() == "page\n" and len(synced) == 2
+    (tmp_path / "link.md").symlink_to(tmp_path / "page.md")
+    with pytest.raises(OSError, match="symbolic link"):
+        tools_writer.write_text(tmp_path / "link.md", "x")
+    assert (tmp_path / "page.md").read_text() == "page\n"
+
+
+def test_no_script_in_tools_or_module_in_the_package_writes_around_the_writer():
+    """Every write of python/gimbalsim/ and tools/ goes through _output.py:
+    no open(..., "w"/"a"/"x"), write_text/write_bytes of pathlib, savefig on
+    a figure, json.dump to a file or os.replace outside it."""
+    pattern = re.compile(r"""\bopen\([^)]*["'][wax]b?["']|(?<!output_file)(?<!_output)\.write_(text|bytes)\(|"""
+                         r"""\bfig\.savefig\(|"""
+                         r"""\bjson\.dump\(|\bos\.replace\(|\.tmp["']""")
+    writers = {PACKAGE / "_output.py"}
+    found = []
+    for path in sorted(PACKAGE.glob("*.py")) + sorted((SOURCE / "tools").rglob("*.py")):
+        if path in writers:
+            continue
+        for k, line in enumerate(path.read_text().splitlines(), 1):
+            if pattern.search(line) and not line.lstrip().startswith("#"):
+                found.append(f"{path.relative_to(SOURCE)}:{k}: {line.strip()}")
+    assert found == []
