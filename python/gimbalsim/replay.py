@@ -9,23 +9,21 @@ fingerprint is no longer the sweep's, runs the sample in this process through
 the sweep's own seam (sweep.sample_alone), compares every column of the row
 as text (wall_time_s aside: a duration), and writes the sample's full time
 series (run.csv, the project's CSV convention) and a plot beside it.
-Exit codes: 0 reproduced, 1 the row did not reproduce (the columns named; the
-time series is written all the same), 2 refused, 3 reproduced, but the sample's
-run stopped (its status names why), 4 an output not written (docs/python.md "Replay")."""
+Exit codes (the one table, _errors.py; docs/usage.md "Exit codes"): 0
+reproduced, 2 refused, 3 reproduced, but the sample's run stopped (its status
+names why), 4 an output not written, 8 the row did not reproduce (the columns
+named; the time series is written all the same) (docs/python.md "Replay")."""
 import csv
 import json
 import pathlib
 import sys
 
 from . import _provenance
-from ._output import OutputError, check_outputs, savefig
-from ._spec import SpecError
+from ._errors import (EXIT_INTERNAL, EXIT_OK, EXIT_REFUSED, EXIT_STOPPED, NotReproduced, OutputError, SpecError,
+                      guarded_main)
+from ._output import check_outputs, savefig
 
 NOT_COMPARED = ("wall_time_s",)  # how long it took, not what it computed
-
-
-class ReplayError(Exception):
-    """A replay that did not reproduce its row (exit 1)."""
 
 
 def _refuse(message):
@@ -118,7 +116,8 @@ def load(folder):
 
 
 def replay(folder, i, out, plot_path=None):
-    """Replays sample i of the sweep in folder; returns the exit code."""
+    """Replays sample i of the sweep in folder; returns the exit code (a row
+    that does not reproduce raises NotReproduced, after the outputs are written)."""
     from . import sweep
 
     folder = pathlib.Path(folder)
@@ -152,24 +151,23 @@ def replay(folder, i, out, plot_path=None):
     replay_status = row[header.index("status")]
     if run is None:
         print(f"replay: the scene refuses sample {i} ({replay_status}): nothing ran, nothing written", file=sys.stderr)
-        return 2 if not differ else _report(differ, header, recorded, row, i, source)
+        if differ:
+            _report(differ, header, recorded, row, i, source)
+        return EXIT_REFUSED
     if not hasattr(run, "to_csv"):  # the seam's contract: a run writes its own series by the CSV convention
         print(f"error: sample {i}'s run ({type(run).__name__}) cannot write its time series (no to_csv)",
               file=sys.stderr)
-        return 1
+        return EXIT_INTERNAL
     try:
-        run.to_csv(out)
+        run.to_csv(out)  # an open loop's Run writes through the C++ writer, which raises OSError
+    except OutputError:
+        raise
     except OSError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 4
-    try:
-        _plot(run, spec, i, replay_status, plot_path, inputs)
-    except OSError as e:  # OutputError, naming the plot and why
-        print(f"error: {e}", file=sys.stderr)
-        return 4
+        raise OutputError(str(e)) from None
+    _plot(run, spec, i, replay_status, plot_path, inputs)
     print(f"replay: sample {i}: {len(run.rows)} rows in {out}, plot {plot_path}", file=sys.stderr)
     if differ:
-        return _report(differ, header, recorded, row, i, source)
+        _report(differ, header, recorded, row, i, source)
     if status == "crashed":
         print(f"replay: sample {i} ran alone to status {replay_status}; its parameters and fingerprints are the "
               f"row's", file=sys.stderr)
@@ -180,16 +178,16 @@ def replay(folder, i, out, plot_path=None):
         stop = run.summary.get("stop") or {}
         print(f"replay: the run stopped at t = {run.rows[-1, 0] if len(run.rows) else 0.0:g} s: status "
               f"{replay_status} ({stop.get('step_status', '')})", file=sys.stderr)
-        return 3
-    return 0
+        return EXIT_STOPPED
+    return EXIT_OK
 
 
 def _report(differ, header, recorded, row, i, source):
+    """Raises NotReproduced naming the columns that differ and their two values."""
     detail = "; ".join(f"{c}: {recorded[header.index(c)]!r} in the sweep, {row[header.index(c)]!r} now"
                        for c in differ)
-    print(f"error: sample {i} does not reproduce its row of {source}: {len(differ)} column"
-          f"{'s' * (len(differ) != 1)} differ: {detail}", file=sys.stderr)
-    return 1
+    raise NotReproduced(f"sample {i} does not reproduce its row of {source}: {len(differ)} column"
+                        f"{'s' * (len(differ) != 1)} differ: {detail}")
 
 
 # The plot's panels: (y label, columns), each drawn when the run has its columns
@@ -228,14 +226,5 @@ def _plot(run, spec, i, status, path, inputs=()):
 
 
 def main(folder, i, out, plot_path):
-    """--replay's exit code, its refusals and interruptions as the sweep's."""
-    from . import _cluster
-
-    try:
-        return replay(folder, i, out, plot_path)
-    except SpecError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 2
-    except _cluster.Interrupted as e:
-        print(f"replay: interrupted ({e})", file=sys.stderr)
-        return 128 + e.signum
+    """--replay's exit code, by the one table (_errors.guarded_main)."""
+    return guarded_main("replay", lambda: replay(folder, i, out, plot_path))

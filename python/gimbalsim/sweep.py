@@ -28,8 +28,9 @@ task; never cut in place); --resume runs only the missing samples, after
 dropping, counting and rerunning any journal row the design did not draw.
 A sample that kills its worker twice is recorded as `crashed` (its parameters,
 no figures) and the sweep goes on (a batch is split to find it).
-Exit codes: 0 done (crashed samples included), 2 spec refused, 4 an output not written (the journal
-kept), 130 / 143 interrupted by SIGINT / SIGTERM (the journal kept).
+Exit codes (the one table, _errors.py; docs/usage.md "Exit codes"): 0 done (crashed samples included),
+2 spec refused, 4 an output not written (the journal kept), 130 / 143 interrupted by SIGINT / SIGTERM
+(the journal kept).
 """
 import argparse
 import contextlib
@@ -43,10 +44,11 @@ import time
 import gimbalsim
 from . import _budget, _budget_report, _cluster, _provenance
 from ._closed_sample import run_closed_sample
+from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main
 from ._journal import csv_line, fmt, read_journal  # noqa: F401 (csv_line, fmt: API)
 from ._open_sample import run_sample
-from ._output import OutputError, append_synced, open_append, write_text
-from ._spec import SpecError, check_out_dir
+from ._output import append_synced, open_append, write_text
+from ._spec import check_out_dir
 from ._summary import plot, summarize
 from ._sweep_spec import MAX_SAMPLES, SweepSpec
 from ._until import Until
@@ -305,24 +307,21 @@ def main(argv=None):
         from . import replay
         return replay.main(a.spec, a.replay, a.out, a.plot)
     out = pathlib.Path(a.out)
-    try:
-        check_out_dir(a.out, a.spec)
-        spec = SweepSpec(a.spec)
-        until = None
-        if a.until is not None:
-            until = Until(a.until, spec, a.max_samples or min(MAX_SAMPLES, 20 * spec.samples))
-        s = sweep(spec, out, a.workers, a.scheduler, a.resume, a.batch, not a.no_progress, until)
-    except SpecError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 2
-    except OutputError as e:
-        print(f"error: {e}; {_kept(out)} samples kept in {out / JOURNAL}: free the space and run again with "
-              f"--resume", file=sys.stderr)
-        return 4
-    except _cluster.Interrupted as e:
-        print(f"sweep: interrupted ({e}): {_kept(out)} samples kept in {out / JOURNAL}; run again with "
-              f"--resume to finish", file=sys.stderr)
-        return 128 + e.signum
+    kept = lambda: f"{_kept(out)} samples kept in {out / JOURNAL}"  # noqa: E731
+    return guarded_main("sweep", lambda: _run(a, out), {
+        OutputError: lambda e: f"; {kept()}: free the space and run again with --resume",
+        Interrupted: lambda e: f": {kept()}; run again with --resume to finish"})
+
+
+def _run(a, out):
+    """The sweep of the command line a, its lines on the console; EXIT_OK
+    (what goes wrong is raised, for guarded_main's exit code)."""
+    check_out_dir(a.out, a.spec)
+    spec = SweepSpec(a.spec)
+    until = None
+    if a.until is not None:
+        until = Until(a.until, spec, a.max_samples or min(MAX_SAMPLES, 20 * spec.samples))
+    s = sweep(spec, out, a.workers, a.scheduler, a.resume, a.batch, not a.no_progress, until)
     e = s["engine"]
     if s["status"].get("crashed"):
         n = s["status"]["crashed"]
@@ -349,7 +348,7 @@ def main(argv=None):
         print(f"sweep: {e['ran_this_invocation']} samples in {e['elapsed_s']:.1f} s on {e['workers']} workers "
               f"({e['samples_per_s']:.1f}/s); mean run {e['mean_run_s']*1e3:.1f} ms, engine overhead "
               f"{e['engine_overhead_per_sample_s']*1e3:.2f} ms per sample", file=sys.stderr)
-    return 0
+    return EXIT_OK
 
 
 if __name__ == "__main__":

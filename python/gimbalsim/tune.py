@@ -28,8 +28,9 @@ DIR/best.yaml (the whole controller configuration with the best feasible
 trial's gains: `pointing_controller DIR/best.yaml` loads it as it is) and
 DIR/progress.png. --resume continues the study in DIR: trials a killed tuner
 left running are marked FAIL and run again; without it a DIR holding a study
-is refused. Exit codes: 0, 2 spec refused, 3 no trial completed, 4 an output
-not written, 130 / 143 interrupted by SIGINT / SIGTERM (the study kept).
+is refused. Exit codes (the one table, _errors.py; docs/usage.md "Exit
+codes"): 0, 2 spec refused, 3 no trial completed, 4 an output not written,
+130 / 143 interrupted by SIGINT / SIGTERM (the study kept).
 """
 import argparse
 import json
@@ -43,9 +44,10 @@ import numpy as np
 
 import gimbalsim
 from . import _cluster
-from ._spec import SpecError, check_out_dir
+from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
+from ._output import savefig, write_csv, write_text
+from ._spec import check_out_dir
 from ._tune_spec import METRICS, TuneSpec  # noqa: F401 (TuneSpec: the module's API)
-from ._output import OutputError, savefig, write_csv, write_text
 
 def run_plants(base, controller, duration, items):
     """A task: closed loops of one controller on plants [(j, overrides)]."""
@@ -319,32 +321,29 @@ def main(argv=None):
     a = ap.parse_args(argv)
     _cluster.raise_on_signals()
     out = pathlib.Path(a.out)
+    return guarded_main("tune", lambda: _run(a, out), {
+        Interrupted: lambda e: f": {_trials_kept(out)} finished trials kept in {out / 'trials.csv'}; the study is in "
+                               f"{out / STUDY_FILE}: run again with --resume to continue it"})
+
+
+def _run(a, out):
+    """The study of the command line a, its line on the console; its exit
+    code (what goes wrong is raised, for guarded_main's exit code)."""
+    check_out_dir(a.out, a.spec)
+    spec = TuneSpec(a.spec)
     study_write_errors = _study_write_errors()
     try:
-        check_out_dir(a.out, a.spec)
-        spec = TuneSpec(a.spec)
         summary, rows = tune(spec, out, a.workers, a.scheduler, not a.no_progress, a.resume)
-    except SpecError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 2
-    except OutputError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 4
     except study_write_errors as e:  # the study's file refused a write (a full disk): what was told is kept
-        print(f"error: cannot write the study {out / STUDY_FILE}: {str(e).splitlines()[0]}; free the space and "
-              f"run again with --resume", file=sys.stderr)
-        return 4
-    except _cluster.Interrupted as e:
-        print(f"tune: interrupted ({e}): {_trials_kept(out)} finished trials kept in {out / 'trials.csv'}; "
-              f"the study is in {out / STUDY_FILE}: run again with --resume to continue it", file=sys.stderr)
-        return 128 + e.signum
+        raise OutputError(f"cannot write the study {out / STUDY_FILE}: {str(e).splitlines()[0]}; free the space "
+                          f"and run again with --resume") from None
     if summary is None:
         print(f"tune: no trial completed ({len(rows)} failed); see {a.out}/trials.csv", file=sys.stderr)
-        return 3
+        return EXIT_STOPPED
     print(f"tune: best trial {summary['best_trial']}: score {summary['best_score']:.3e} rad "
           f"({'feasible' if summary['feasible'] else 'no trial was feasible'}), gains {summary['best_gains']}; "
           f"{a.out}/best.yaml", file=sys.stderr)
-    return 0
+    return EXIT_OK
 
 
 if __name__ == "__main__":

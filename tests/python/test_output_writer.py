@@ -1,18 +1,21 @@
 """The Python side's one writer (python/gimbalsim/_output.py, the rules of
 the C++ io::OutputFile) and its users (ClosedLoopRun.to_csv, the tools
-through tools/output_file.py; the sweep's files: test_sweep_journal.py)."""
+through tools/output_file.py; the sweep's files: test_sweep_journal.py), and
+the one mapping of exceptions to exit codes (_errors.py) against
+program.hpp's Exit and docs/usage.md's table."""
 import errno
 import importlib.util
 import itertools
 import os
 import re
+import signal
 import stat
 import sys
 
 import pytest
 
 import gimbalsim
-from gimbalsim import _output
+from gimbalsim import _errors, _output
 from conftest import SOURCE, scene_path
 
 PACKAGE = SOURCE / "python" / "gimbalsim"
@@ -222,3 +225,52 @@ def test_no_script_in_tools_or_module_in_the_package_writes_around_the_writer():
             if pattern.search(line) and not line.lstrip().startswith("#"):
                 found.append(f"{path.relative_to(SOURCE)}:{k}: {line.strip()}")
     assert found == []
+
+
+# ---- one exit-code table ----
+
+def cpp_exit_codes():
+    text = (SOURCE / "dynamics/program/include/gimbalsim/program/program.hpp").read_text()
+    body = text[text.index("enum Exit"):]
+    body = body[:body.index("};")]
+    return {name: int(v) for name, v in re.findall(r"\b(k\w+)\s*=\s*(\d+)", body)}
+
+
+def documented_exit_codes():
+    text = (SOURCE / "docs/usage.md").read_text()
+    table = text[text.index("## Exit codes"):text.index("## Input")]
+    return {int(c) for c in re.findall(r"^\| (\d+) \|", table, re.M)}
+
+
+def test_the_python_codes_are_the_cpp_table_and_the_documented_one():
+    cpp = cpp_exit_codes()
+    assert set(cpp.values()) == documented_exit_codes()
+    python = {"kOk": _errors.EXIT_OK, "kInternal": _errors.EXIT_INTERNAL, "kRefused": _errors.EXIT_REFUSED,
+              "kStopped": _errors.EXIT_STOPPED, "kOutput": _errors.EXIT_OUTPUT,
+              "kNotReproduced": _errors.EXIT_NOT_REPRODUCED}
+    assert {k: cpp.get(k) for k in python} == python
+    assert _errors.EXIT_NOT_REPRODUCED not in (_errors.EXIT_INTERNAL, _errors.EXIT_REFUSED, _errors.EXIT_STOPPED,
+                                               _errors.EXIT_OUTPUT)
+
+
+def test_one_mapping_from_exceptions_to_exit_codes(capsys):
+    from gimbalsim._cluster import Interrupted
+    from gimbalsim._spec import SpecError
+
+    cases = [(SpecError("bad", key="samples"), 2), (gimbalsim.SceneError("refused"), 2),
+             (gimbalsim.OutputError("x.csv: write failed"), 4), (_errors.NotReproduced("differs"), 8),
+             (Interrupted(signal.SIGINT), 130), (Interrupted(signal.SIGTERM), 143), (ValueError("a bug"), None)]
+    assert [_errors.exit_code(e) for e, _ in cases] == [code for _, code in cases]
+
+    def raising(e):
+        def body():
+            raise e
+        return body
+
+    assert _errors.guarded_main("prog", lambda: 0) == 0
+    assert _errors.guarded_main("prog", raising(_errors.NotReproduced("sample 2 differs"))) == 8
+    assert _errors.guarded_main("prog", raising(Interrupted(signal.SIGTERM)),
+                                {Interrupted: lambda e: ": 3 kept"}) == 143
+    assert capsys.readouterr().err.splitlines() == ["error: sample 2 differs", "prog: interrupted (SIGTERM): 3 kept"]
+    with pytest.raises(ValueError):  # a bug is not mapped: its traceback, exit 1
+        _errors.guarded_main("prog", raising(ValueError("a bug")))
