@@ -1,13 +1,14 @@
-"""The sweep's files: the CSV text of a row and the journal read back (every
-row checked against the design). Files are written by the one writer
-(_output.py)."""
+"""The sweep's files: the journal's name, the CSV text of a row and the
+journal read back (every row checked against the design). Files are
+written by the one writer (_output.py)."""
 import csv
 import io
 import math
 
 from . import _provenance
-from ._output import OutputError
-from ._spec import SpecError
+from ._errors import OutputError, SpecError
+
+JOURNAL = "results.partial.csv"  # the sweep's rows as they arrive (appended and synced per task)
 
 
 def fmt(v):

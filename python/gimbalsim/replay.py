@@ -6,9 +6,10 @@ reads DIR's copy of its spec (spec.yaml, its paths against the original's
 folder, inputs.json) and its row of sample I (results.csv, else the journal),
 refuses (exit 2, naming what changed) when the base scene's or controller's
 fingerprint is no longer the sweep's, runs the sample in this process through
-the sweep's own seam (sweep.sample_alone), compares every column of the row
-as text (wall_time_s aside: a duration), and writes the sample's full time
-series (run.csv, the project's CSV convention) and a plot beside it.
+the sweep's own seam (_sample.sample_alone, what the sweep's tasks run),
+compares every column of the row as text (wall_time_s aside: a duration), and
+writes the sample's full time series (run.csv, the project's CSV convention)
+and a plot beside it.
 Exit codes (the one table, _errors.py; docs/usage.md "Exit codes"): 0
 reproduced, 2 refused, 3 reproduced, but the sample's run stopped (its status
 names why), 4 an output not written, 8 the row did not reproduce (the columns
@@ -21,7 +22,10 @@ import sys
 from . import _provenance
 from ._errors import (EXIT_INTERNAL, EXIT_OK, EXIT_REFUSED, EXIT_STOPPED, NotReproduced, OutputError, SpecError,
                       guarded_main)
+from ._journal import JOURNAL
 from ._output import check_outputs, savefig
+from ._sample import sample_alone
+from ._sweep_spec import SweepSpec
 
 NOT_COMPARED = ("wall_time_s",)  # how long it took, not what it computed
 
@@ -32,8 +36,6 @@ def _refuse(message):
 
 def _read_rows(folder):
     """(file, header, {sample: row}) of results.csv, else of the journal."""
-    from .sweep import JOURNAL
-
     for name in ("results.csv", JOURNAL):
         path = folder / name
         if path.is_file():
@@ -74,8 +76,6 @@ def _changed_keys(old, new):
 def load(folder):
     """The sweep spec of DIR (its copy, paths against the original's folder),
     checked against the fingerprints the sweep recorded."""
-    from .sweep import SweepSpec
-
     folder = pathlib.Path(folder)
     if not folder.is_dir():
         _refuse(f"{folder}: no such sweep folder")
@@ -118,8 +118,6 @@ def load(folder):
 def replay(folder, i, out, plot_path=None):
     """Replays sample i of the sweep in folder; returns the exit code (a row
     that does not reproduce raises NotReproduced, after the outputs are written)."""
-    from . import sweep
-
     folder = pathlib.Path(folder)
     spec = load(folder)
     out = _check_output(out, folder, "--out")
@@ -143,7 +141,7 @@ def replay(folder, i, out, plot_path=None):
     if status == "crashed":
         print(f"replay: sample {i} was recorded crashed (it killed its worker twice); running it alone in this "
               f"process, which it may kill too", file=sys.stderr)
-    row, run = sweep.sample_alone(spec, i)
+    row, run = sample_alone(spec, i)
     # a crashed row holds the parameters and fingerprints only: those are compared
     compared = [k for k, name in enumerate(header) if name not in NOT_COMPARED
                 and (status != "crashed" or (recorded[k] and name != "status"))]

@@ -42,43 +42,18 @@ import sys
 import time
 
 import gimbalsim
-from . import _budget, _budget_report, _cluster, _provenance
-from ._closed_sample import run_closed_sample
+from . import _budget, _budget_report, _cluster, _provenance, replay
 from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main
-from ._journal import csv_line, fmt, read_journal  # noqa: F401 (csv_line, fmt: API)
-from ._open_sample import run_sample
+from ._journal import JOURNAL, csv_line, fmt, read_journal  # noqa: F401 (csv_line, fmt: API)
 from ._output import append_synced, open_append, write_text
+from ._sample import row_values, run_one, sample_alone  # noqa: F401 (sample_alone: API)
 from ._spec import check_out_dir
 from ._summary import plot, summarize
 from ._sweep_spec import MAX_SAMPLES, SweepSpec
 from ._until import Until
 
-JOURNAL = "results.partial.csv"
 
-
-# ---- one sample (runs on a worker) ----
-
-def run_one(base, closed, overrides, cache=None, series=False):
-    """One sample from its values (spec.design.draw(i)): the open loop's
-    metrics, or the closed loop's indices (closed: the spec's ClosedLoopSpec);
-    with series, its run too, under "run"."""
-    if closed is not None:
-        return run_closed_sample(base, closed, overrides, series)
-    return run_sample(base, overrides, {} if cache is None else cache, series)
-
-
-def sample_alone(spec, i):
-    """Sample i of a checked spec run alone in this process, as a worker runs
-    it (open or closed loop): its row as results.csv holds it (text) and the
-    run it made (None when the scene or the controller refused the sample).
-    The seam a replay uses."""
-    values = spec.design.draw(i)
-    t0 = time.perf_counter()
-    r = run_one(spec.base, spec.closed, values, series=True)
-    run = r.pop("run", None)
-    r["sample"], r["wall_time"] = i, time.perf_counter() - t0
-    return [fmt(v) for v in row_values(spec, values, r)], run
-
+# ---- one task (runs on a worker) ----
 
 def run_batch(base, closed, items):
     """A task: samples [(i, overrides)] in turn, the C++ runs with the GIL
@@ -93,14 +68,6 @@ def run_batch(base, closed, items):
         r["wall_time"] = time.perf_counter() - t0
         rows.append(r)
     return rows, time.perf_counter() - t_task
-
-
-# ---- results ----
-
-def row_values(spec, values, result):
-    return [result["sample"]] + spec.design.row_values(values) + [result["status"]] + \
-        [result.get("reason", "")] * spec.text_columns + [result.get(m) for m in spec.metrics] + \
-        [result["wall_time"]] + _provenance.values(spec, result)
 
 
 # ---- the sweep ----
@@ -304,7 +271,6 @@ def main(argv=None):
         ap.error("--batch must be >= 1")
     _cluster.raise_on_signals()
     if a.replay is not None:
-        from . import replay
         return replay.main(a.spec, a.replay, a.out, a.plot)
     out = pathlib.Path(a.out)
     kept = lambda: f"{_kept(out)} samples kept in {out / JOURNAL}"  # noqa: E731

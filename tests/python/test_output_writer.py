@@ -1,8 +1,10 @@
 """The Python side's one writer (python/gimbalsim/_output.py, the rules of
 the C++ io::OutputFile) and its users (ClosedLoopRun.to_csv, the tools
-through tools/output_file.py; the sweep's files: test_sweep_journal.py), and
+through tools/output_file.py; the sweep's files: test_sweep_journal.py),
 the one mapping of exceptions to exit codes (_errors.py) against
-program.hpp's Exit and docs/usage.md's table."""
+program.hpp's Exit and docs/usage.md's table, and no import cycle inside
+the package."""
+import ast
 import errno
 import importlib.util
 import itertools
@@ -274,3 +276,60 @@ def test_one_mapping_from_exceptions_to_exit_codes(capsys):
     assert capsys.readouterr().err.splitlines() == ["error: sample 2 differs", "prog: interrupted (SIGTERM): 3 kept"]
     with pytest.raises(ValueError):  # a bug is not mapped: its traceback, exit 1
         _errors.guarded_main("prog", raising(ValueError("a bug")))
+
+
+# ---- no import cycle ----
+
+def package_imports():
+    """{module: {package modules it imports, at any depth of its code}} from the sources."""
+    modules = {p.stem for p in PACKAGE.glob("*.py")}
+    graph = {}
+    for path in PACKAGE.glob("*.py"):
+        edges = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom):
+                if node.level == 1 and node.module:
+                    edges.add(node.module.split(".")[0])
+                elif node.level == 1:
+                    edges.update(a.name for a in node.names if a.name in modules)
+                elif node.module and node.module.split(".")[0] == "gimbalsim":
+                    parts = node.module.split(".")
+                    edges.add(parts[1] if len(parts) > 1 else "__init__")
+                    if len(parts) == 1:
+                        edges.update(a.name for a in node.names if a.name in modules)
+            elif isinstance(node, ast.Import):
+                for a in node.names:
+                    parts = a.name.split(".")
+                    if parts[0] == "gimbalsim":
+                        edges.add(parts[1] if len(parts) > 1 else "__init__")
+        graph[path.stem] = {m for m in edges if m in modules and m != path.stem}
+    return graph
+
+
+def cycles(graph):
+    """Every import cycle found by a depth-first walk, as module lists."""
+    found, state = [], {}
+
+    def walk(m, stack):
+        state[m] = "open"
+        stack.append(m)
+        for n in sorted(graph.get(m, ())):
+            if state.get(n) == "open":
+                found.append(stack[stack.index(n):] + [n])
+            elif n not in state:
+                walk(n, stack)
+        stack.pop()
+        state[m] = "done"
+
+    for m in sorted(graph):
+        if m not in state:
+            walk(m, [])
+    return found
+
+
+def test_the_package_has_no_import_cycle():
+    graph = package_imports()
+    assert {"_journal", "_sample", "_sweep_spec"} <= graph["replay"]  # the scan sees function-level imports too
+    assert "sweep" not in graph["replay"] and "tune" not in graph["replay"]
+    assert cycles(graph) == []
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == [["a", "b", "c", "a"]]  # the check finds one

@@ -154,6 +154,19 @@ def test_a_row_that_does_not_reproduce_is_an_error_naming_its_columns(swept, tmp
     assert (tmp_path / "run.csv").exists() and (tmp_path / "p.png").exists()  # what was computed is kept
 
 
+def test_a_replay_runs_without_the_sweep_module(swept, tmp_path):
+    """The replay takes what it shares with the sweep (the journal's name,
+    the spec, one sample's run) from modules both import: with gimbalsim.sweep
+    blocked it replays all the same."""
+    code = ("import sys; sys.modules['gimbalsim.sweep'] = None\n"
+            "from gimbalsim import replay\n"
+            "sys.exit(replay.main(sys.argv[1], 3, sys.argv[2], None))")
+    p = subprocess.run([sys.executable, "-c", code, str(swept), str(tmp_path / "run.csv")], capture_output=True,
+                       text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    assert "reproduces its row" in p.stderr and (tmp_path / "run.csv").exists()
+
+
 def test_replay_from_the_journal_alone(swept, tmp_path):
     copy = tmp_path / "copy"
     shutil.copytree(swept, copy)
