@@ -14,6 +14,8 @@ import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tools"))
+import output_file  # noqa: E402  (the package's one writer)
 HEADER = "| key | type | unit | default | check | meaning |"
 DOCS = [
     ("docs/scene_keys.md", ["gimbalsim", "keys", "--markdown"]),
@@ -41,9 +43,7 @@ def main():
         path = ROOT / doc
         new = replace_table(path.read_text(), table)
         if new != path.read_text():
-            tmp = path.with_name(f".{path.name}.tmp")
-            tmp.write_text(new)
-            tmp.replace(path)
+            output_file.write_text(path, new)  # the package's one writer (tools/output_file.py)
             print(f"gen_key_docs.py: {doc} updated")
         else:
             print(f"gen_key_docs.py: {doc} unchanged")

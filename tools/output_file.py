@@ -1,37 +1,26 @@
-"""How the Python tools write a file, as io::OutputFile does in C++
-(dynamics/include/gimbalsim/io/output_file.hpp): into a temporary beside the
-name, renamed onto it only when whole; an existing symbolic link or
-non-regular file under the name is refused (OSError naming it)."""
-import contextlib
-import os
-import stat
+"""How the Python tools write a file: the package's one writer,
+python/gimbalsim/_output.py (the rules of the C++ io::OutputFile,
+dynamics/io/include/gimbalsim/io/output_file.hpp), loaded from the source
+tree by its path, so a plotting script needs neither the built extension
+nor PYTHONPATH. Everything it offers is re-exported here: open_output,
+write_text, write_bytes, write_csv, savefig, check_outputs, OutputError
+(an OSError naming the file)."""
+import importlib.util
+import pathlib
+import sys
 
+_NAME = "gimbalsim_output_writer"  # not gimbalsim._output: importing that would load the package and its extension
+if _NAME not in sys.modules:
+    _path = pathlib.Path(__file__).resolve().parent.parent / "python" / "gimbalsim" / "_output.py"
+    _spec = importlib.util.spec_from_file_location(_NAME, _path)
+    sys.modules[_NAME] = importlib.util.module_from_spec(_spec)
+    _spec.loader.exec_module(sys.modules[_NAME])
+_writer = sys.modules[_NAME]
 
-@contextlib.contextmanager
-def output_path(path):
-    """Yields a temporary path (same directory and extension) to write; on
-    leaving without an exception it becomes `path`, else it is removed."""
-    path = os.fspath(path)
-    try:
-        st = os.lstat(path)
-    except FileNotFoundError:
-        st = None
-    if st is not None and stat.S_ISLNK(st.st_mode):
-        raise OSError(f"{path}: is a symbolic link; not written through (give its target)")
-    if st is not None and not stat.S_ISREG(st.st_mode):
-        raise OSError(f"{path}: exists and is not a regular file; not written")
-    head, name = os.path.split(path)
-    stem, ext = os.path.splitext(name)
-    tmp = os.path.join(head, f".{stem}.{os.getpid()}.tmp{ext}")
-    try:
-        yield tmp
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-
-
-def savefig(fig, path, **kwargs):
-    """fig.savefig(path, ...) through output_path."""
-    with output_path(path) as tmp:
-        fig.savefig(tmp, **kwargs)
+OutputError = _writer.OutputError
+check_outputs = _writer.check_outputs
+open_output = _writer.open_output
+write_text = _writer.write_text
+write_bytes = _writer.write_bytes
+write_csv = _writer.write_csv
+savefig = _writer.savefig

@@ -15,7 +15,7 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tools"))
 import results_page  # noqa: E402
-from output_file import output_path  # noqa: E402
+from output_file import open_output  # noqa: E402  (the package's one writer)
 
 # (figure of plot_paper.py, name under docs/results/, caption)
 FIGURES = [
@@ -36,8 +36,8 @@ def small_copy(src, dst):
     w, h = im.size
     im = im.resize((round(w * DPI_TO / DPI_FROM), round(h * DPI_TO / DPI_FROM)), Image.LANCZOS)
     im = im.quantize(colors=64, method=Image.Quantize.MEDIANCUT)
-    with output_path(dst) as tmp:
-        im.save(tmp, format="PNG", optimize=True)
+    with open_output(dst, "wb", inputs=[src]) as f:
+        im.save(f, format="PNG", optimize=True)
 
 
 def summary_table(text):

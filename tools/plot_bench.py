@@ -27,7 +27,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from output_file import savefig  # noqa: E402  (temporary + rename, tools/output_file.py)
+from output_file import savefig  # noqa: E402  (the package's one writer, tools/output_file.py)
 
 FAULTS = [(1, "watchdog"), (2, "saturated"), (4, "cmd rejected"), (8, "plant fault"), (16, "lockstep timeout")]
 # Scheduled fault kinds in the order of FaultKind (firmware_sim/include/gimbalsim/firmware_sim/fault_schedule.hpp):
@@ -122,7 +122,7 @@ def main():
     ax[-1].set_xlabel("simulated time [s]")
     fig.suptitle(a.title or a.truth, fontsize=10)
     fig.tight_layout()
-    savefig(fig, a.out, dpi=120)
+    savefig(fig, a.out, inputs=[a.truth], dpi=120)
 
     after = err[t >= a.after]
     print(f"plot_bench: {len(t)} rows, t = {t[0]:.3f} .. {t[-1]:.3f} s -> {a.out}")

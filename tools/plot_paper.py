@@ -29,7 +29,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from output_file import output_path, savefig  # noqa: E402  (temporary + rename, tools/output_file.py)
+from output_file import open_output, savefig  # noqa: E402  (the package's one writer, tools/output_file.py)
 from plot_joint_kinds import fig_joint_kinds, spatial_tilt  # noqa: E402  (fig 19)
 from paper_data import (InputError, angle_between, boresight, common_grid, contact_starts,  # noqa: E402
                         continuous_contact_from, load_csv, load_summary, summary_number, wrap_pi)
@@ -270,7 +270,7 @@ def main(argv=None):
     err_sp = angle_between(boresight(ideal_g), boresight(spatial_g)) if spatial is not None else None
     pe_path = os.path.join(a.out, "pointing_error.csv")
     # The CSV convention (docs/usage.md "CSV files"): unit-suffixed names, round-trip numbers (repr).
-    with output_path(pe_path) as tmp, open(tmp, "w") as f:
+    with open_output(pe_path, inputs=[a.ideal, a.clearance, a.spatial]) as f:
         cols = {"pointing_error_rad": err}
         if err_sp is not None:
             cols["pointing_error_spatial_rad"] = err_sp

@@ -41,7 +41,7 @@ import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tools"))
-from output_file import output_path  # noqa: E402  (temporary + rename)
+import output_file  # noqa: E402  (the package's one writer)
 
 RESULTS = ROOT / "docs" / "results"
 INDEX_NAME = "README.md"
@@ -116,14 +116,11 @@ def header(title, command, t0=None, load0=None, now=None):
 
 
 def write_text(path, text):
-    """Atomic write (temporary beside it, renamed when whole); raises OSError, the old file untouched."""
+    """Atomic write (tools/output_file.py: a temporary beside it, synced, renamed when whole); raises
+    OSError, the old file untouched."""
     path = pathlib.Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    with output_path(path) as tmp:
-        with open(tmp, "w") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
+    output_file.write_text(path, text)
 
 
 def write_page(path, title, command, body, summary="", t0=None, load0=None, index=True):

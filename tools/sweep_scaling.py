@@ -26,6 +26,8 @@ import tempfile
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tools"))
+from output_file import write_text  # noqa: E402  (the package's one writer)
 
 
 def spec_text(samples, duration):
@@ -103,13 +105,12 @@ def main():
     t0, load0 = time.time(), open("/proc/loadavg").read()
     with tempfile.TemporaryDirectory() as d:
         d = pathlib.Path(d)
-        (d / "spec.yaml").write_text(spec_text(a.samples, a.duration))
+        write_text(d / "spec.yaml", spec_text(a.samples, a.duration))
         e = {w: run(d / "spec.yaml", d / f"w{w}", w, a.batch) for w in (1, 2)}
     per_task = scheduler_cost(a.noop_tasks)
     text, eff = report(a, e, per_task)
     print(text)
     if a.results:
-        sys.path.insert(0, str(ROOT / "tools"))
         import results_page
         command = "PYTHONPATH=build/python /usr/bin/python3 tools/sweep_scaling.py " + " ".join(
             shlex.quote(x) for x in sys.argv[1:])

@@ -37,6 +37,8 @@ import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+from output_file import write_text  # noqa: E402  (the package's one writer)
 URL = "udpm://239.255.76.67:7667?ttl=0"
 
 
@@ -92,10 +94,8 @@ def run_lockstep(args, cfg, workdir):
     track_start = float(cfg["profile.slew_start"]) + float(cfg["profile.slew_time"]) + float(cfg["profile.hold_time"])
     duration = args.duration if args.duration > 0 else track_start + 5.0
     cfg_path = os.path.join(workdir, "controller.yaml")
-    with open(cfg_path, "w") as f:
-        f.write("# written by tools/tune_sweep.py from pointing_controller --print-config\n")
-        for k, v in cfg.items():
-            f.write(f"{k}: {v}\n")
+    write_text(cfg_path, "# written by tools/tune_sweep.py from pointing_controller --print-config\n" +
+               "".join(f"{k}: {v}\n" for k, v in cfg.items()))
     ctl_csv, truth_csv = os.path.join(workdir, "controller.csv"), os.path.join(workdir, "truth.csv")
     pc = [os.path.join(args.bin, "pointing_controller"), cfg_path, "--lcm-url", URL, "--log-csv", ctl_csv,
           "--duration", repr(duration), "--idle-exit", "10"]

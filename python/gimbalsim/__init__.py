@@ -20,15 +20,15 @@ import os
 
 import numpy as np
 
-from . import _gimbalsim
-from ._errors import SceneError, SimulationStopped
+from . import _gimbalsim, _output
+from ._errors import OutputError, SceneError, SimulationStopped
 from ._gimbalsim import COLUMNS, Scene, Simulator, State
 
 __version__ = _gimbalsim.__version__  # the one version string, also every program's --version
 
 __all__ = [
     "COLUMNS", "Scene", "Simulator", "State", "Controller", "Run", "ClosedLoopRun",
-    "SceneError", "SimulationStopped",
+    "SceneError", "SimulationStopped", "OutputError",
     "load_scene", "load_scene_text", "keys", "controller_keys", "simulate", "closed_loop",
     "format_value", "as_overrides",
 ]
@@ -302,28 +302,16 @@ class ClosedLoopRun:
         (stacked once, on first use)."""
         return np.column_stack([np.asarray(v, dtype=float) for v in self.columns.values()])
 
-    def to_csv(self, path):
+    def to_csv(self, path, inputs=()):
         """Writes the ticks by the project's CSV convention (docs/usage.md
         "CSV files": names with their unit, numbers that read back exactly,
-        never -0), whole or not at all; OSError when it cannot (its folder
-        must exist; a folder or a link at path is refused)."""
+        never -0) through the package's one writer (_output.py: whole or not
+        at all, by the output rules): OutputError, an OSError, when it cannot
+        (its folder must exist; a link, a non-file or one of inputs, the
+        files the run read, at path is refused)."""
         path = _check_path(path, "output path")
-        folder = os.path.dirname(os.path.abspath(path))
-        if not os.path.isdir(folder):
-            raise OSError(f"{path}: its folder {folder} does not exist")
-        if os.path.islink(path) or os.path.isdir(path):
-            raise OSError(f"{path}: is a link or a folder, not a file to write")
         names = [_gimbalsim.csv_name(n, _TICK_UNITS.get(n, "rad")) for n in self.columns]
-        lines = [",".join(names)] + [",".join(_csv_number(x) for x in row) for row in self.rows]
-        tmp = path + ".tmp"
-        try:
-            with open(tmp, "w") as f:
-                f.write("\n".join(lines) + "\n")
-            os.replace(tmp, path)
-        except OSError as e:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise OSError(f"{path}: cannot write it ({e.strerror or e})") from None
+        _output.write_csv(path, [names] + [[_csv_number(x) for x in row] for row in self.rows], inputs)
 
     def __repr__(self):
         return f"<gimbalsim.ClosedLoopRun ok={self.ok} ticks={self.summary['ticks']}>"

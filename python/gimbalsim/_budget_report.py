@@ -10,6 +10,7 @@ import pathlib
 import numpy as np
 
 from . import _budget
+from ._output import savefig
 from . import indices as ix
 
 SUPPORTED_LEVEL = 0.95  # a second column every budget of 59 units or more supports (at 95 %)
@@ -40,9 +41,9 @@ def _usable(spec, rows):
     return [r for r in rows if r[status] != "crashed" and not r[status].startswith("refused")]
 
 
-def cdf_plots(spec, rows, entries, out_dir, prefix=""):
+def cdf_plots(spec, rows, entries, out_dir, prefix="", inputs=()):
     """One PNG per index and phase: the units' empirical CDF, the level, the
-    requirement line. Returns the files written."""
+    requirement line (none of them one of the run's inputs). Returns the files written."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -67,8 +68,10 @@ def cdf_plots(spec, rows, entries, out_dir, prefix=""):
         ax.legend(loc="lower right")
         fig.tight_layout()
         written.append(out_dir / f"{prefix}{metric}_cdf.png")
-        fig.savefig(written[-1], dpi=100)
-        plt.close(fig)
+        try:
+            savefig(fig, written[-1], inputs, dpi=100)
+        finally:
+            plt.close(fig)
     return written
 
 

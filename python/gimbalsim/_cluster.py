@@ -10,6 +10,8 @@ import sys
 import threading
 import warnings
 
+from ._errors import Interrupted
+
 LOOPBACK = "127.0.0.1"
 ALLOWED_FAILURES = 1
 # Test hook, read in the worker: the sample (sweep) or plant (tune) whose
@@ -78,14 +80,6 @@ def dask_client(workers=None, scheduler=None):
         raise
     client.close()
     cluster.close()
-
-
-class Interrupted(BaseException):
-    """SIGINT or SIGTERM: ``signum``; the program exits 128 + signum."""
-
-    def __init__(self, signum):
-        super().__init__(signal.Signals(signum).name)
-        self.signum = signum
 
 
 class _DropInterrupted(logging.Filter):

@@ -1,4 +1,26 @@
-"""The package's exceptions. Raised by the C++ core with their fields set."""
+"""The package's exceptions (SceneError and SimulationStopped are raised by
+the C++ core with their fields set) and the one mapping of an exception to
+the exit code of the project's exit-code table (docs/usage.md "Exit codes",
+the C++ programs' enum Exit in dynamics/program/include/gimbalsim/program/
+program.hpp), which the mains of gimbalsim.sweep, gimbalsim.tune and the
+sweep's --replay run through (guarded_main)."""
+import signal
+import sys
+
+from ._output import OutputError
+
+# The exit-code table, the same numbers as program.hpp's enum Exit (a test compares them).
+EXIT_OK = 0
+EXIT_INTERNAL = 1        # a bug, memory exhausted: an exception no row below names (Python's traceback)
+EXIT_REFUSED = 2         # a spec, scene, configuration or argument refused: nothing run
+EXIT_STOPPED = 3         # the run stopped (numerical trouble; a tuning study with no trial completed)
+EXIT_OUTPUT = 4          # an output could not be written; nothing under its name
+EXIT_NOT_REPRODUCED = 8  # a replayed sample did not reproduce its recorded row (the columns named)
+
+
+def signal_exit(signum):
+    """Stopped by signal N: 128 + N (130 SIGINT, 143 SIGTERM)."""
+    return 128 + signum
 
 
 class SceneError(ValueError):
@@ -41,3 +63,58 @@ class SimulationStopped(RuntimeError):
         self.key = key
         self.status = status
         self.time = time
+
+
+class SpecError(ValueError):
+    """A spec was refused. ``key`` is the spec's key (dotted, e.g.
+    ``parameters.friction.mu``), ``file``, ``line`` and ``column`` (1-based)
+    where it is."""
+
+    def __init__(self, message, key=None, file=None, line=None, column=None):
+        where = f"{file}:{line}:{column}: " if file and line else (f"{file}: " if file else "")
+        what = f"key '{key}': " if key else ""
+        super().__init__(f"{where}{what}{message}")
+        self.key, self.file, self.line, self.column = key, file, line, column
+
+
+class NotReproduced(Exception):
+    """A replayed sample whose row differs from the recorded one; the message
+    names the columns (exit EXIT_NOT_REPRODUCED)."""
+
+
+class Interrupted(BaseException):
+    """SIGINT or SIGTERM: ``signum``; the program exits 128 + signum."""
+
+    def __init__(self, signum):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+# The one mapping: the first row whose class the exception is an instance of gives its code.
+_TABLE = ((SpecError, EXIT_REFUSED), (SceneError, EXIT_REFUSED), (SimulationStopped, EXIT_STOPPED),
+          (OutputError, EXIT_OUTPUT), (NotReproduced, EXIT_NOT_REPRODUCED))
+
+
+def exit_code(e):
+    """The exit code of an exception that ends a program, or None when it is
+    none of the table's (a bug: it goes on, a traceback and exit 1)."""
+    if isinstance(e, Interrupted):
+        return signal_exit(e.signum)
+    return next((code for cls, code in _TABLE if isinstance(e, cls)), None)
+
+
+def guarded_main(program, body, notes=None):
+    """body()'s exit code; an exception of the table that escapes it is one
+    line on stderr and its code: "error: <e>", or "<program>: interrupted
+    (<SIGNAL>)" for a signal, followed by notes[cls](e) for the first class
+    of notes (a dict) the exception is an instance of (how to go on)."""
+    try:
+        return body()
+    except BaseException as e:
+        code = exit_code(e)
+        if code is None:
+            raise
+        line = f"{program}: interrupted ({e})" if isinstance(e, Interrupted) else f"error: {e}"
+        note = next((how for cls, how in (notes or {}).items() if isinstance(e, cls)), None)
+        print(line + (note(e) if note else ""), file=sys.stderr)
+        return code

@@ -1,12 +1,14 @@
-"""The sweep's files: the CSV text of a row, the journal read back (every
-row checked against the design), and whole-or-nothing writes."""
+"""The sweep's files: the journal's name, the CSV text of a row and the
+journal read back (every row checked against the design). Files are
+written by the one writer (_output.py)."""
 import csv
 import io
 import math
-import os
 
 from . import _provenance
-from ._spec import SpecError
+from ._errors import OutputError, SpecError
+
+JOURNAL = "results.partial.csv"  # the sweep's rows as they arrive (appended and synced per task)
 
 
 def fmt(v):
@@ -21,10 +23,6 @@ def csv_line(values):
     buf = io.StringIO()
     csv.writer(buf, lineterminator="\n").writerow([fmt(v) for v in values])
     return buf.getvalue()
-
-
-class OutputError(Exception):
-    """An output could not be written (exit 4); what was journaled is kept."""
 
 
 def _is_float(text):
@@ -82,26 +80,3 @@ def read_journal(spec, path, header):
             continue
         done[int(row[0])] = row
     return done, dropped, not dropped
-
-
-def write_atomic(path, text):
-    """Writes text to path whole or not at all: a temporary file beside it,
-    synced, then renamed over it (the folder synced too, for a power cut)."""
-    tmp = path.with_name(path.name + ".tmp")
-    try:
-        with open(tmp, "w") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-        fd = os.open(path.parent, os.O_RDONLY)
-        try:
-            os.fsync(fd)
-        finally:
-            os.close(fd)
-    except OSError as e:
-        try:
-            tmp.unlink()
-        except OSError:
-            pass
-        raise OutputError(f"cannot write {path}: {e.strerror or e}") from None

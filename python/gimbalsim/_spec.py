@@ -6,17 +6,7 @@ import re
 
 import yaml
 
-
-class SpecError(ValueError):
-    """A spec was refused. ``key`` is the spec's key (dotted, e.g.
-    ``parameters.friction.mu``), ``file``, ``line`` and ``column`` (1-based)
-    where it is."""
-
-    def __init__(self, message, key=None, file=None, line=None, column=None):
-        where = f"{file}:{line}:{column}: " if file and line else (f"{file}: " if file else "")
-        what = f"key '{key}': " if key else ""
-        super().__init__(f"{where}{what}{message}")
-        self.key, self.file, self.line, self.column = key, file, line, column
+from ._errors import SpecError  # defined beside the exit-code table (_errors.py)
 
 
 class Node:

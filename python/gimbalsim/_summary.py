@@ -5,6 +5,7 @@ import math
 import numpy as np
 
 from . import _budget, _provenance
+from ._output import savefig
 
 
 def percentiles(x):
@@ -32,7 +33,9 @@ def summarize(spec, rows, engine):
             "engine": engine}
 
 
-def plot(spec, rows, out):
+def plot(spec, rows, out, inputs=()):
+    """The open loop's distribution plots into the folder out (none of them
+    one of the run's inputs); the files written."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -59,8 +62,10 @@ def plot(spec, rows, out):
         fig.suptitle(f"{len(x)} samples ({spec.scene_path.name})")
         fig.tight_layout()
         written.append(out / f"{name}_distribution.png")
-        fig.savefig(written[-1], dpi=110)
-        plt.close(fig)
+        try:
+            savefig(fig, written[-1], inputs, dpi=110)
+        finally:
+            plt.close(fig)
     for c in spec.design.columns():
         try:
             x = val(c)
@@ -72,6 +77,8 @@ def plot(spec, rows, out):
         ax.set_ylabel("pointing_error_max [rad]")
         fig.tight_layout()
         written.append(out / f"pointing_error_vs_{c.replace('[', '_').replace(']', '')}.png")
-        fig.savefig(written[-1], dpi=110)
-        plt.close(fig)
+        try:
+            savefig(fig, written[-1], inputs, dpi=110)
+        finally:
+            plt.close(fig)
     return written

@@ -104,6 +104,11 @@ class SweepSpec:
         except gimbalsim.SceneError as e:
             spec.refuse(where, f"the scene refuses {overrides}: {e.problems[0]['text'] if e.problems else e}", node)
 
+    def input_files(self):
+        """The files the sweep reads (spec, scene, controller configuration):
+        none of its outputs may be one of them (_output.check_outputs)."""
+        return [self.spec_path, self.scene_path, self.closed.controller_path if self.closed else None]
+
     def header(self):
         """The columns by the names the code uses (scene keys, metric names)."""
         return ["sample"] + self.design.columns() + ["status"] + ["reason"] * self.text_columns + self.metrics + \

@@ -112,3 +112,8 @@ class TuneSpec:
                                        "percentile": self.percentile, "max_saturation": self.max_saturation,
                                        "gains": {p.key: [p.kind, p.args] for p in self.gains},
                                        "plants": [[p.key, p.kind, p.args] for p in params]}, sort_keys=True)
+
+    def input_files(self):
+        """The files the study reads (spec, scene, controller configuration):
+        none of its outputs may be one of them (_output.check_outputs)."""
+        return [self.spec_path, self.scene_path, self.controller_path]

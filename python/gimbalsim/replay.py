@@ -6,26 +6,28 @@ reads DIR's copy of its spec (spec.yaml, its paths against the original's
 folder, inputs.json) and its row of sample I (results.csv, else the journal),
 refuses (exit 2, naming what changed) when the base scene's or controller's
 fingerprint is no longer the sweep's, runs the sample in this process through
-the sweep's own seam (sweep.sample_alone), compares every column of the row
-as text (wall_time_s aside: a duration), and writes the sample's full time
-series (run.csv, the project's CSV convention) and a plot beside it.
-Exit codes: 0 reproduced, 1 the row did not reproduce (the columns named; the
-time series is written all the same), 2 refused, 3 reproduced, but the sample's
-run stopped (its status names why), 4 an output not written (docs/python.md "Replay")."""
+the sweep's own seam (_sample.sample_alone, what the sweep's tasks run),
+compares every column of the row as text (wall_time_s aside: a duration), and
+writes the sample's full time series (run.csv, the project's CSV convention)
+and a plot beside it.
+Exit codes (the one table, _errors.py; docs/usage.md "Exit codes"): 0
+reproduced, 2 refused, 3 reproduced, but the sample's run stopped (its status
+names why), 4 an output not written, 8 the row did not reproduce (the columns
+named; the time series is written all the same) (docs/python.md "Replay")."""
 import csv
 import json
-import os
 import pathlib
 import sys
 
 from . import _provenance
-from ._spec import SpecError
+from ._errors import (EXIT_INTERNAL, EXIT_OK, EXIT_REFUSED, EXIT_STOPPED, NotReproduced, OutputError, SpecError,
+                      guarded_main)
+from ._journal import JOURNAL
+from ._output import check_outputs, savefig
+from ._sample import sample_alone
+from ._sweep_spec import SweepSpec
 
 NOT_COMPARED = ("wall_time_s",)  # how long it took, not what it computed
-
-
-class ReplayError(Exception):
-    """A replay that did not reproduce its row (exit 1)."""
 
 
 def _refuse(message):
@@ -34,8 +36,6 @@ def _refuse(message):
 
 def _read_rows(folder):
     """(file, header, {sample: row}) of results.csv, else of the journal."""
-    from .sweep import JOURNAL
-
     for name in ("results.csv", JOURNAL):
         path = folder / name
         if path.is_file():
@@ -76,8 +76,6 @@ def _changed_keys(old, new):
 def load(folder):
     """The sweep spec of DIR (its copy, paths against the original's folder),
     checked against the fingerprints the sweep recorded."""
-    from .sweep import SweepSpec
-
     folder = pathlib.Path(folder)
     if not folder.is_dir():
         _refuse(f"{folder}: no such sweep folder")
@@ -118,15 +116,19 @@ def load(folder):
 
 
 def replay(folder, i, out, plot_path=None):
-    """Replays sample i of the sweep in folder; returns the exit code."""
-    from . import sweep
-
+    """Replays sample i of the sweep in folder; returns the exit code (a row
+    that does not reproduce raises NotReproduced, after the outputs are written)."""
     folder = pathlib.Path(folder)
     spec = load(folder)
     out = _check_output(out, folder, "--out")
     plot_path = _check_output(plot_path or out.with_suffix(".png"), folder, "--plot")
     if plot_path.resolve() == out.resolve():
         _refuse(f"--plot {plot_path}: the same file as --out")
+    inputs = spec.input_files()
+    try:  # before anything runs, as the command line: refused (exit 2)
+        check_outputs([out, plot_path], inputs)
+    except OutputError as e:
+        _refuse(str(e))
     if not 0 <= i < len(spec.design):
         _refuse(f"--replay {i}: outside the sweep's samples 0..{len(spec.design) - 1}")
     source, header, rows = _read_rows(folder)
@@ -139,7 +141,7 @@ def replay(folder, i, out, plot_path=None):
     if status == "crashed":
         print(f"replay: sample {i} was recorded crashed (it killed its worker twice); running it alone in this "
               f"process, which it may kill too", file=sys.stderr)
-    row, run = sweep.sample_alone(spec, i)
+    row, run = sample_alone(spec, i)
     # a crashed row holds the parameters and fingerprints only: those are compared
     compared = [k for k, name in enumerate(header) if name not in NOT_COMPARED
                 and (status != "crashed" or (recorded[k] and name != "status"))]
@@ -147,24 +149,23 @@ def replay(folder, i, out, plot_path=None):
     replay_status = row[header.index("status")]
     if run is None:
         print(f"replay: the scene refuses sample {i} ({replay_status}): nothing ran, nothing written", file=sys.stderr)
-        return 2 if not differ else _report(differ, header, recorded, row, i, source)
+        if differ:
+            _report(differ, header, recorded, row, i, source)
+        return EXIT_REFUSED
     if not hasattr(run, "to_csv"):  # the seam's contract: a run writes its own series by the CSV convention
         print(f"error: sample {i}'s run ({type(run).__name__}) cannot write its time series (no to_csv)",
               file=sys.stderr)
-        return 1
+        return EXIT_INTERNAL
     try:
-        run.to_csv(out)
+        run.to_csv(out)  # an open loop's Run writes through the C++ writer, which raises OSError
+    except OutputError:
+        raise
     except OSError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 4
-    try:
-        _plot(run, spec, i, replay_status, plot_path)
-    except OSError as e:
-        print(f"error: cannot write the plot {plot_path}: {e.strerror or e}", file=sys.stderr)
-        return 4
+        raise OutputError(str(e)) from None
+    _plot(run, spec, i, replay_status, plot_path, inputs)
     print(f"replay: sample {i}: {len(run.rows)} rows in {out}, plot {plot_path}", file=sys.stderr)
     if differ:
-        return _report(differ, header, recorded, row, i, source)
+        _report(differ, header, recorded, row, i, source)
     if status == "crashed":
         print(f"replay: sample {i} ran alone to status {replay_status}; its parameters and fingerprints are the "
               f"row's", file=sys.stderr)
@@ -175,16 +176,16 @@ def replay(folder, i, out, plot_path=None):
         stop = run.summary.get("stop") or {}
         print(f"replay: the run stopped at t = {run.rows[-1, 0] if len(run.rows) else 0.0:g} s: status "
               f"{replay_status} ({stop.get('step_status', '')})", file=sys.stderr)
-        return 3
-    return 0
+        return EXIT_STOPPED
+    return EXIT_OK
 
 
 def _report(differ, header, recorded, row, i, source):
+    """Raises NotReproduced naming the columns that differ and their two values."""
     detail = "; ".join(f"{c}: {recorded[header.index(c)]!r} in the sweep, {row[header.index(c)]!r} now"
                        for c in differ)
-    print(f"error: sample {i} does not reproduce its row of {source}: {len(differ)} column"
-          f"{'s' * (len(differ) != 1)} differ: {detail}", file=sys.stderr)
-    return 1
+    raise NotReproduced(f"sample {i} does not reproduce its row of {source}: {len(differ)} column"
+                        f"{'s' * (len(differ) != 1)} differ: {detail}")
 
 
 # The plot's panels: (y label, columns), each drawn when the run has its columns
@@ -194,7 +195,7 @@ PANELS = [("joint angle [rad]", ("theta1", "theta2")), ("joint angle [rad]", ("t
           ("joint-2 force [N]", ("joint2_force",)), ("truth pointing error [rad]", ("truth_error",))]
 
 
-def _plot(run, spec, i, status, path):
+def _plot(run, spec, i, status, path, inputs=()):
     """Draws the panels the run has columns for into path; returns their labels."""
     import matplotlib
     matplotlib.use("Agg")
@@ -215,26 +216,13 @@ def _plot(run, spec, i, status, path):
     axes[-1, 0].set_xlabel("t [s]")
     fig.suptitle(f"sample {i} of the sweep in {spec.spec_path.parent.name}/ ({status})")
     fig.tight_layout()
-    tmp = path.with_name(path.name + ".tmp.png")  # whole or not at all
     try:
-        fig.savefig(tmp, dpi=110)
-        os.replace(tmp, path)
+        savefig(fig, path, inputs, dpi=110)
     finally:
         plt.close(fig)
-        if tmp.exists():
-            tmp.unlink()
     return [label for label, _ in panels]
 
 
 def main(folder, i, out, plot_path):
-    """--replay's exit code, its refusals and interruptions as the sweep's."""
-    from . import _cluster
-
-    try:
-        return replay(folder, i, out, plot_path)
-    except SpecError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 2
-    except _cluster.Interrupted as e:
-        print(f"replay: interrupted ({e})", file=sys.stderr)
-        return 128 + e.signum
+    """--replay's exit code, by the one table (_errors.guarded_main)."""
+    return guarded_main("replay", lambda: replay(folder, i, out, plot_path))

@@ -28,8 +28,9 @@ task; never cut in place); --resume runs only the missing samples, after
 dropping, counting and rerunning any journal row the design did not draw.
 A sample that kills its worker twice is recorded as `crashed` (its parameters,
 no figures) and the sweep goes on (a batch is split to find it).
-Exit codes: 0 done (crashed samples included), 2 spec refused, 4 an output not written (the journal
-kept), 130 / 143 interrupted by SIGINT / SIGTERM (the journal kept).
+Exit codes (the one table, _errors.py; docs/usage.md "Exit codes"): 0 done (crashed samples included),
+2 spec refused, 4 an output not written (the journal kept), 130 / 143 interrupted by SIGINT / SIGTERM
+(the journal kept).
 """
 import argparse
 import contextlib
@@ -41,41 +42,18 @@ import sys
 import time
 
 import gimbalsim
-from . import _budget, _budget_report, _cluster, _provenance
-from ._closed_sample import run_closed_sample
-from ._journal import OutputError, csv_line, fmt, read_journal, write_atomic  # noqa: F401 (csv_line, fmt: API)
-from ._open_sample import run_sample
-from ._spec import SpecError, check_out_dir
+from . import _budget, _budget_report, _cluster, _provenance, replay
+from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main
+from ._journal import JOURNAL, csv_line, fmt, read_journal  # noqa: F401 (csv_line, fmt: API)
+from ._output import append_synced, open_append, write_text
+from ._sample import row_values, run_one, sample_alone  # noqa: F401 (sample_alone: API)
+from ._spec import check_out_dir
 from ._summary import plot, summarize
 from ._sweep_spec import MAX_SAMPLES, SweepSpec
 from ._until import Until
 
-JOURNAL = "results.partial.csv"
 
-
-# ---- one sample (runs on a worker) ----
-
-def run_one(base, closed, overrides, cache=None, series=False):
-    """One sample from its values (spec.design.draw(i)): the open loop's
-    metrics, or the closed loop's indices (closed: the spec's ClosedLoopSpec);
-    with series, its run too, under "run"."""
-    if closed is not None:
-        return run_closed_sample(base, closed, overrides, series)
-    return run_sample(base, overrides, {} if cache is None else cache, series)
-
-
-def sample_alone(spec, i):
-    """Sample i of a checked spec run alone in this process, as a worker runs
-    it (open or closed loop): its row as results.csv holds it (text) and the
-    run it made (None when the scene or the controller refused the sample).
-    The seam a replay uses."""
-    values = spec.design.draw(i)
-    t0 = time.perf_counter()
-    r = run_one(spec.base, spec.closed, values, series=True)
-    run = r.pop("run", None)
-    r["sample"], r["wall_time"] = i, time.perf_counter() - t0
-    return [fmt(v) for v in row_values(spec, values, r)], run
-
+# ---- one task (runs on a worker) ----
 
 def run_batch(base, closed, items):
     """A task: samples [(i, overrides)] in turn, the C++ runs with the GIL
@@ -92,18 +70,12 @@ def run_batch(base, closed, items):
     return rows, time.perf_counter() - t_task
 
 
-# ---- results ----
-
-def row_values(spec, values, result):
-    return [result["sample"]] + spec.design.row_values(values) + [result["status"]] + \
-        [result.get("reason", "")] * spec.text_columns + [result.get(m) for m in spec.metrics] + \
-        [result["wall_time"]] + _provenance.values(spec, result)
-
-
 # ---- the sweep ----
 
 def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, progress=True, until=None):
     header = spec.csv_header()
+    inputs = spec.input_files()
+    write = lambda path, text: write_text(path, text, inputs)  # noqa: E731
     journal = out / JOURNAL
     results = out / "results.csv"
     fingerprint = out / "spec.json"
@@ -124,11 +96,11 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
     except OSError as e:
         raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
-    write_atomic(fingerprint, spec.fingerprint)
-    _provenance.record_inputs(spec, out, write_atomic)
+    write(fingerprint, spec.fingerprint)
+    _provenance.record_inputs(spec, out, write)
     if not appendable:
         # The journal is never cut in place: its trusted rows go to a new file that replaces it whole.
-        write_atomic(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
+        write(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
     for why, n in dropped.items():
         print(f"sweep: dropped {n} journal row{'s' * (n != 1)} ({why}); their samples run again", file=sys.stderr)
     engine, grown = {"ran_this_invocation": 0}, None
@@ -141,10 +113,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             if todo:
                 if cluster is None:
                     cluster = stack.enter_context(_cluster.dask_client(workers, scheduler))
-                try:  # unbuffered: a failed write leaves nothing behind to fail again at close
-                    fd = os.open(journal, os.O_WRONLY | os.O_APPEND)
-                except OSError as e:
-                    raise OutputError(f"cannot open the journal {journal}: {e.strerror}") from None
+                fd = open_append(journal)  # unbuffered: a failed write leaves nothing behind to fail again at close
                 try:
                     engine = _merge(engine, _run_on_cluster(spec, todo, fd, journal, done, cluster, batch, progress))
                 finally:
@@ -157,18 +126,15 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             if stop:
                 break
             until.grow(spec)
-    write_atomic(results, "".join(csv_line(r) for r in [header] + rows))
+    write(results, "".join(csv_line(r) for r in [header] + rows))
     summary = summarize(spec, rows, engine)
     summary["journal_rows_dropped"] = dropped
     if grown is not None:
         summary["until"] = grown
     if spec.closed:
-        summary["report"] = str(write_report(spec, rows, summary, out))
-    try:
-        summary["plots"] = [str(p) for p in plot(spec, rows, out / "plots")]
-    except OSError as e:
-        raise OutputError(f"cannot write the plots in {out / 'plots'}: {e.strerror}") from None
-    write_atomic(out / "summary.json", json.dumps(summary, indent=2) + "\n")
+        summary["report"] = str(write_report(spec, rows, summary, out, inputs))
+    summary["plots"] = [str(p) for p in _plots(lambda: plot(spec, rows, out / "plots", inputs), out)]
+    write(out / "summary.json", json.dumps(summary, indent=2) + "\n")
     journal.unlink()
     return summary
 
@@ -183,14 +149,23 @@ def _merge(a, b):
             "samples_per_s": ran / elapsed if elapsed > 0 else None}
 
 
-def write_report(spec, rows, summary, out):
-    """OUT/report.md and its CDF plots (closed loop)."""
+def _plots(draw, out):
+    """draw(): the plots written into OUT/plots (made there if missing); a
+    folder that cannot be made is an OutputError as a plot not written is."""
     try:
-        plots = _budget_report.cdf_plots(spec, rows, summary["budget"], out / "plots")
-        text = _budget_report.body(spec, rows, summary["budget"], plots, summary["engine"])
+        return draw()
+    except OutputError:
+        raise
     except OSError as e:
-        raise OutputError(f"cannot write the plots in {out / 'plots'}: {e.strerror}") from None
-    write_atomic(out / "report.md", text)
+        raise OutputError(f"cannot write the plots in {out / 'plots'}: {e.strerror or e}") from None
+
+
+def write_report(spec, rows, summary, out, inputs=()):
+    """OUT/report.md and its CDF plots (closed loop)."""
+    plots = _plots(lambda: _budget_report.cdf_plots(spec, rows, summary["budget"], out / "plots",
+                                                    inputs=inputs), out)
+    text = _budget_report.body(spec, rows, summary["budget"], plots, summary["engine"])
+    write_text(out / "report.md", text, inputs)
     return out / "report.md"
 
 
@@ -241,13 +216,8 @@ def _run_on_cluster(spec, todo, fd, journal, done, cluster, batch, progress):
             for r in results:
                 if r["sample"] not in done:
                     lines[r["sample"]] = [fmt(v) for v in row_values(spec, spec.design.draw(r["sample"]), r)]
-            try:  # a task's rows in one append, synced: a cut can only tear the last line
-                data = "".join(csv_line(line) for line in lines.values()).encode()
-                while data:
-                    data = data[os.write(fd, data):]
-                os.fsync(fd)
-            except OSError as e:
-                raise OutputError(f"cannot write the journal {journal}: {e.strerror}") from None
+            # a task's rows in one append, synced: a cut can only tear the last line
+            append_synced(fd, "".join(csv_line(line) for line in lines.values()).encode(), journal)
             done.update(lines)
             ran += len(lines)
             bar.update(len(results))
@@ -301,27 +271,23 @@ def main(argv=None):
         ap.error("--batch must be >= 1")
     _cluster.raise_on_signals()
     if a.replay is not None:
-        from . import replay
         return replay.main(a.spec, a.replay, a.out, a.plot)
     out = pathlib.Path(a.out)
-    try:
-        check_out_dir(a.out, a.spec)
-        spec = SweepSpec(a.spec)
-        until = None
-        if a.until is not None:
-            until = Until(a.until, spec, a.max_samples or min(MAX_SAMPLES, 20 * spec.samples))
-        s = sweep(spec, out, a.workers, a.scheduler, a.resume, a.batch, not a.no_progress, until)
-    except SpecError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 2
-    except OutputError as e:
-        print(f"error: {e}; {_kept(out)} samples kept in {out / JOURNAL}: free the space and run again with "
-              f"--resume", file=sys.stderr)
-        return 4
-    except _cluster.Interrupted as e:
-        print(f"sweep: interrupted ({e}): {_kept(out)} samples kept in {out / JOURNAL}; run again with "
-              f"--resume to finish", file=sys.stderr)
-        return 128 + e.signum
+    kept = lambda: f"{_kept(out)} samples kept in {out / JOURNAL}"  # noqa: E731
+    return guarded_main("sweep", lambda: _run(a, out), {
+        OutputError: lambda e: f"; {kept()}: free the space and run again with --resume",
+        Interrupted: lambda e: f": {kept()}; run again with --resume to finish"})
+
+
+def _run(a, out):
+    """The sweep of the command line a, its lines on the console; EXIT_OK
+    (what goes wrong is raised, for guarded_main's exit code)."""
+    check_out_dir(a.out, a.spec)
+    spec = SweepSpec(a.spec)
+    until = None
+    if a.until is not None:
+        until = Until(a.until, spec, a.max_samples or min(MAX_SAMPLES, 20 * spec.samples))
+    s = sweep(spec, out, a.workers, a.scheduler, a.resume, a.batch, not a.no_progress, until)
     e = s["engine"]
     if s["status"].get("crashed"):
         n = s["status"]["crashed"]
@@ -348,7 +314,7 @@ def main(argv=None):
         print(f"sweep: {e['ran_this_invocation']} samples in {e['elapsed_s']:.1f} s on {e['workers']} workers "
               f"({e['samples_per_s']:.1f}/s); mean run {e['mean_run_s']*1e3:.1f} ms, engine overhead "
               f"{e['engine_overhead_per_sample_s']*1e3:.2f} ms per sample", file=sys.stderr)
-    return 0
+    return EXIT_OK
 
 
 if __name__ == "__main__":

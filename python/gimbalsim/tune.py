@@ -28,12 +28,11 @@ DIR/best.yaml (the whole controller configuration with the best feasible
 trial's gains: `pointing_controller DIR/best.yaml` loads it as it is) and
 DIR/progress.png. --resume continues the study in DIR: trials a killed tuner
 left running are marked FAIL and run again; without it a DIR holding a study
-is refused. Exit codes: 0, 2 spec refused, 3 no trial completed, 4 an output
-not written, 130 / 143 interrupted by SIGINT / SIGTERM (the study kept).
+is refused. Exit codes (the one table, _errors.py; docs/usage.md "Exit
+codes"): 0, 2 spec refused, 3 no trial completed, 4 an output not written,
+130 / 143 interrupted by SIGINT / SIGTERM (the study kept).
 """
 import argparse
-import csv
-import io
 import json
 import math
 import pathlib
@@ -45,9 +44,10 @@ import numpy as np
 
 import gimbalsim
 from . import _cluster
-from ._spec import SpecError, check_out_dir
+from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
+from ._output import savefig, write_csv, write_text
+from ._spec import check_out_dir
 from ._tune_spec import METRICS, TuneSpec  # noqa: F401 (TuneSpec: the module's API)
-from .sweep import OutputError, write_atomic
 
 def run_plants(base, controller, duration, items):
     """A task: closed loops of one controller on plants [(j, overrides)]."""
@@ -161,7 +161,7 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
     header = ["trial", "state", "origin", "score", "constraint", *gain_names, "plants_ok", "reason", "wall_time"] + \
         [f"plant{j}.{c}" for j in range(spec.batch) for c in ("status",) + PLANT_FIGURES]
     if resume:  # the kills marked, the rows of trials told before a kill but not yet written
-        _write_trials(out, header, study)
+        _write_trials(out, header, study, spec.input_files())
     # the requested count is of finished trials; a trial killed with the tuner is not one (its retry is)
     finished = sum(1 for t in study.trials if t.state.is_finished() and t.user_attrs.get("row", {}).get("reason")
                    != "killed")
@@ -194,7 +194,7 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
                 _finish(study, trial, gains, results, spec, time.perf_counter() - t0)
                 finished += 1
                 bar.update(1)
-                _write_trials(out, header, study)
+                _write_trials(out, header, study, spec.input_files())
         bar.close()
         _cluster.raise_if_interrupted()
     done = [t for t in study.trials if t.state == optuna.trial.TrialState.COMPLETE]
@@ -208,15 +208,12 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
     text = (f"# gimbalsim.tune: trial {best.number} of {spec.spec_path.name}, score {best.value!r} rad "
             f"(p{spec.percentile:g} of {spec.metric} over {spec.batch} plants), "
             f"{'feasible' if feasible else 'NO FEASIBLE TRIAL: the least bad'}\n") + nested_yaml(best_ctrl._values_text())
-    write_atomic(out / "best.yaml", text)
-    try:
-        _plot(out, rows, spec)
-    except OSError as e:
-        raise OutputError(f"cannot write {out / 'progress.png'}: {e.strerror}") from None
+    write_text(out / "best.yaml", text, spec.input_files())
+    _plot(out, rows, spec)
     summary = {"best_trial": best.number, "best_score": best.value, "feasible": bool(feasible),
                "best_gains": {k: best.params[k] for k in gain_names}, "trials": len(rows),
                "complete": len(done), "feasible_trials": len(feasible)}
-    write_atomic(out / "summary.json", json.dumps(summary, indent=2) + "\n")
+    write_text(out / "summary.json", json.dumps(summary, indent=2) + "\n", spec.input_files())
     return summary, rows
 
 
@@ -262,14 +259,11 @@ def _csv_names(header):
     return [gimbalsim._gimbalsim.csv_name(h.replace(".", "_"), units.get(h, "")) for h in header]
 
 
-def _write_trials(out, header, study):
+def _write_trials(out, header, study, inputs=()):
     """trials.csv from the study: every finished trial, in trial order."""
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(_csv_names(header))
-    for r in [t.user_attrs["row"] for t in study.get_trials(deepcopy=False) if "row" in t.user_attrs]:
-        w.writerow([_fmt(r.get(h, "")) for h in header])
-    write_atomic(out / "trials.csv", buf.getvalue())
+    rows = [t.user_attrs["row"] for t in study.get_trials(deepcopy=False) if "row" in t.user_attrs]
+    write_csv(out / "trials.csv", [_csv_names(header)] + [[_fmt(r.get(h, "")) for h in header] for r in rows],
+              inputs)
 
 
 def _plot(out, rows, spec):
@@ -295,8 +289,10 @@ def _plot(out, rows, spec):
     ax.set_ylabel(f"p{spec.percentile:g} {spec.metric} [rad]")
     ax.legend()
     fig.tight_layout()
-    fig.savefig(out / "progress.png", dpi=110)
-    plt.close(fig)
+    try:
+        savefig(fig, out / "progress.png", spec.input_files(), dpi=110)
+    finally:
+        plt.close(fig)
 
 
 def _trials_kept(out):
@@ -325,32 +321,29 @@ def main(argv=None):
     a = ap.parse_args(argv)
     _cluster.raise_on_signals()
     out = pathlib.Path(a.out)
+    return guarded_main("tune", lambda: _run(a, out), {
+        Interrupted: lambda e: f": {_trials_kept(out)} finished trials kept in {out / 'trials.csv'}; the study is in "
+                               f"{out / STUDY_FILE}: run again with --resume to continue it"})
+
+
+def _run(a, out):
+    """The study of the command line a, its line on the console; its exit
+    code (what goes wrong is raised, for guarded_main's exit code)."""
+    check_out_dir(a.out, a.spec)
+    spec = TuneSpec(a.spec)
     study_write_errors = _study_write_errors()
     try:
-        check_out_dir(a.out, a.spec)
-        spec = TuneSpec(a.spec)
         summary, rows = tune(spec, out, a.workers, a.scheduler, not a.no_progress, a.resume)
-    except SpecError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 2
-    except OutputError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 4
     except study_write_errors as e:  # the study's file refused a write (a full disk): what was told is kept
-        print(f"error: cannot write the study {out / STUDY_FILE}: {str(e).splitlines()[0]}; free the space and "
-              f"run again with --resume", file=sys.stderr)
-        return 4
-    except _cluster.Interrupted as e:
-        print(f"tune: interrupted ({e}): {_trials_kept(out)} finished trials kept in {out / 'trials.csv'}; "
-              f"the study is in {out / STUDY_FILE}: run again with --resume to continue it", file=sys.stderr)
-        return 128 + e.signum
+        raise OutputError(f"cannot write the study {out / STUDY_FILE}: {str(e).splitlines()[0]}; free the space "
+                          f"and run again with --resume") from None
     if summary is None:
         print(f"tune: no trial completed ({len(rows)} failed); see {a.out}/trials.csv", file=sys.stderr)
-        return 3
+        return EXIT_STOPPED
     print(f"tune: best trial {summary['best_trial']}: score {summary['best_score']:.3e} rad "
           f"({'feasible' if summary['feasible'] else 'no trial was feasible'}), gains {summary['best_gains']}; "
           f"{a.out}/best.yaml", file=sys.stderr)
-    return 0
+    return EXIT_OK
 
 
 if __name__ == "__main__":

@@ -1,7 +1,9 @@
 """The sweep's journal (results.partial.csv): a resume killed at the worst
-moment or refused space loses no row; rows the design did not draw are
-dropped, counted and run again; Ctrl-C and SIGTERM keep the journal, shut
-the cluster down quietly and say how to resume (sweep and tune)."""
+moment or refused space loses no row; it and the sweep's other files are
+written by the one writer (no link planted beside them written through);
+rows the design did not draw are dropped, counted and run again; Ctrl-C and
+SIGTERM keep the journal, shut the cluster down quietly and say how to resume
+(sweep and tune)."""
 import csv
 import json
 import os
@@ -139,6 +141,25 @@ def test_a_resume_refused_space_loses_no_row(spec, tmp_path):
     p = subprocess.run(sweep_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr
     assert marked_samples(out) == set(range(20))
+
+
+def test_links_planted_at_temporary_names_are_not_written_through(spec, tmp_path):
+    """Every file of the sweep goes through the one writer (_output.py): the
+    old one opened "<name>.tmp" for writing, so a link planted there had the
+    sweep write through it, then rename the link onto the name."""
+    out = tmp_path / "o"
+    out.mkdir()
+    victim = tmp_path / "victim"
+    victim.write_text("keep\n")
+    names = ["spec.json", "spec.yaml", "inputs.json", "results.partial.csv", "results.csv", "summary.json"]
+    for name in names:
+        (out / f"{name}.tmp").symlink_to(victim)
+    p = subprocess.run(sweep_cmd(spec, out), capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert victim.read_text() == "keep\n"
+    for name in ("spec.json", "spec.yaml", "inputs.json", "results.csv", "summary.json"):
+        assert (out / name).is_file() and not (out / name).is_symlink(), name
+    assert not any(n.startswith(".") for n in os.listdir(out)), "no temporary left"
 
 
 def test_rows_the_design_did_not_draw_are_dropped_counted_and_run_again(spec, tmp_path):

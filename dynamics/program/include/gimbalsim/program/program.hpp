@@ -37,6 +37,7 @@ enum Exit : int {
   kNetwork = 5,   ///< LCM or the network could not start, or failed
   kNoPeer = 6,    ///< no peer: no plant within --idle-exit, the plant gone (--plant-timeout), no controller within --start-timeout
   kPartial = 7,   ///< the input was cut short (a truncated log): every whole part converted, the cut reported
+  kNotReproduced = 8,  ///< a replayed sample's row differs from the recorded one (Python: gimbalsim.sweep --replay, _errors.py)
 };
 /// Stopped by signal N (outputs whole): 128 + N, i.e. 130 for SIGINT, 143 for SIGTERM.
 constexpr int signalExit(int signal) { return 128 + signal; }

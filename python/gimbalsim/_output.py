@@ -1,0 +1,242 @@
+"""The one writer of the Python side, with the rules of the C++ one
+(io::OutputFile, dynamics/io/include/gimbalsim/io/output_file.hpp; docs/usage.md
+"Output files"): every file the package and tools/*.py write goes through here.
+
+- the path is checked first: an existing symbolic link or non-regular file
+  (a folder, a device, a FIFO) under the name is refused, so is a missing
+  folder, and so is an output that is the same file as one of the run's
+  inputs (st_dev/st_ino of the file or, before it exists, of its folder plus
+  its name, so a hard link or another spelling counts);
+- the content goes into a temporary of our own beside the name,
+  ".<name>.<pid>.<n>.tmp" (O_EXCL | O_NOFOLLOW: never an existing file or a
+  link's target), is flushed and synced (fsync), then renamed onto the name
+  (os.replace) and the folder synced: a file under the name is whole, even
+  after a power cut;
+- on any failure the temporary is removed and whatever was under the name
+  stays as it was; the failure is one OutputError naming the path and the
+  cause (exit 4 in the exit-code table, _errors.py).
+
+Only the standard library: tools/output_file.py loads this file from the
+source tree, without the built package.
+"""
+import contextlib
+import csv
+import errno
+import itertools
+import os
+import stat
+
+__all__ = ["OutputError", "check_outputs", "open_output", "write_text", "write_bytes", "write_csv", "savefig",
+           "open_append", "append_synced"]
+
+
+class OutputError(OSError):
+    """An output refused or not written; str() names the file and the cause.
+    An OSError, as every failed write of the package was before (and as the
+    C++ core's Run.to_csv raises)."""
+
+
+_counter = itertools.count()  # the <n> of the temporaries' names (next() is atomic under the GIL)
+
+
+def _text(path):
+    path = os.fspath(path)
+    return os.fsdecode(path) if isinstance(path, bytes) else path
+
+
+def _folder(path):
+    return os.path.dirname(path) or "."
+
+
+def _kind(mode):
+    return ("a folder" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode) else
+            "a socket" if stat.S_ISSOCK(mode) else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else
+            "not a file")
+
+
+def _identity(path):
+    """(device, inode, "") of the file, or (device, inode, name) of its folder
+    before it exists; None when neither can be read."""
+    try:
+        st = os.stat(path)
+        return st.st_dev, st.st_ino, ""
+    except OSError:
+        pass
+    try:
+        st = os.stat(_folder(path))
+    except OSError:
+        return None
+    return st.st_dev, st.st_ino, os.path.basename(path)
+
+
+def _check_one(path):
+    if not path:
+        raise OutputError("output path is empty")
+    if "\0" in path:
+        raise OutputError(f"{path!r}: holds a NUL byte; refused")
+    name = os.path.basename(path)
+    if name in ("", ".", ".."):
+        raise OutputError(f"{path}: not a file name")
+    try:
+        st = os.lstat(path)
+    except FileNotFoundError:
+        st = None
+    except OSError as e:
+        raise OutputError(f"{path}: {e.strerror or e}") from None
+    if st is not None and stat.S_ISLNK(st.st_mode):
+        raise OutputError(f"{path}: is a symbolic link; not written through (give its target)")
+    if st is not None and not stat.S_ISREG(st.st_mode):
+        raise OutputError(f"{path}: exists and is not a regular file ({_kind(st.st_mode)}); not written")
+    if not os.path.isdir(_folder(path)):
+        raise OutputError(f"{path}: its directory {_folder(path)} does not exist")
+
+
+def check_outputs(outputs, inputs=()):
+    """Refuses, before anything is written, outputs that break the rules:
+    each on its own, then each against the outputs before it and against
+    every input (same file: device and inode). Paths as str or os.PathLike;
+    empty ones (None, "") are skipped. Raises OutputError."""
+    seen = []
+    for out in outputs:
+        if out is None or out == "":
+            continue
+        out = _text(out)
+        _check_one(out)
+        me = _identity(out)
+        for other, theirs in seen:
+            if theirs == me:
+                raise OutputError(f"{out}: the same file as another output ({other})")
+        for inp in inputs:
+            if inp is None or inp == "":
+                continue
+            inp = _text(inp)
+            if me is not None and _identity(inp) == me:
+                raise OutputError(f"{out}: the same file as the input {inp}; not overwritten")
+        seen.append((out, me))
+
+
+def _create_temporary(path, binary):
+    """A fresh file of our own beside path, opened with open() (so it can be
+    watched like any write): O_EXCL | O_NOFOLLOW, mode 0666 less the umask."""
+    folder, name = _folder(path), os.path.basename(path)
+    flags = os.O_EXCL | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0)
+    opener = lambda p, f: os.open(p, f | flags, 0o666)  # noqa: E731
+    for _ in range(100):
+        tmp = os.path.join(folder, f".{name}.{os.getpid()}.{next(_counter)}.tmp")
+        try:
+            return tmp, open(tmp, "wb" if binary else "w", opener=opener,
+                             **({} if binary else {"encoding": "utf-8", "newline": ""}))
+        except FileExistsError:
+            continue
+        except OSError as e:
+            raise OutputError(f"{path}: cannot create a temporary in {folder}: {e.strerror or e}") from None
+    raise OutputError(f"{path}: cannot create a temporary (100 names taken)")
+
+
+def _remove(tmp):
+    with contextlib.suppress(OSError):
+        os.unlink(tmp)
+
+
+def _sync_folder(path):
+    """fsync of the folder, so the rename survives a power cut (a file system
+    that cannot sync a folder, EINVAL, has nothing to sync)."""
+    fd = os.open(_folder(path), os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    try:
+        os.fsync(fd)
+    except OSError as e:
+        if e.errno != errno.EINVAL:
+            raise
+    finally:
+        os.close(fd)
+
+
+@contextlib.contextmanager
+def open_output(path, mode="w", inputs=()):
+    """Yields the open temporary of path (mode "w": text, UTF-8, newlines as
+    written; "wb": bytes) to write into; on leaving without an exception it
+    is flushed, synced, closed and renamed onto path, else removed (the
+    exception goes on; a failed write of the body becomes OutputError).
+    inputs: the run's input files, which path may not be."""
+    if mode not in ("w", "wb"):
+        raise ValueError(f"open_output: mode {mode!r} (\"w\" or \"wb\")")
+    path = _text(path)
+    check_outputs([path], inputs)
+    tmp, f = _create_temporary(path, mode == "wb")
+    stage = "write failed"
+    try:
+        try:
+            yield f
+            f.flush()
+            stage = "sync failed"
+            os.fsync(f.fileno())
+            stage = "close failed"
+        finally:
+            f.close()
+        stage = "rename failed"
+        os.replace(tmp, path)
+        tmp = None
+        stage = "sync of its folder failed (the file is whole)"
+        _sync_folder(path)
+    except OutputError:
+        raise
+    except OSError as e:
+        raise OutputError(f"{path}: {stage}: {e.strerror or e}") from None
+    finally:
+        if tmp is not None:
+            _remove(tmp)
+
+
+def write_text(path, text, inputs=()):
+    """text (str) under path, whole or not at all."""
+    with open_output(path, "w", inputs) as f:
+        f.write(text)
+
+
+def write_bytes(path, data, inputs=()):
+    """data (bytes) under path, whole or not at all."""
+    with open_output(path, "wb", inputs) as f:
+        f.write(data)
+
+
+def write_csv(path, rows, inputs=()):
+    """rows (lists of cells, the header first) as CSV text: "," between
+    cells, "\\n" after each row (the project's CSV convention, docs/usage.md)."""
+    with open_output(path, "w", inputs) as f:
+        csv.writer(f, lineterminator="\n").writerows(rows)
+
+
+def savefig(fig, path, inputs=(), **kwargs):
+    """A matplotlib figure under path (fig.savefig into the temporary; the
+    format from path's extension unless format= says)."""
+    kwargs.setdefault("format", os.path.splitext(_text(path))[1].lstrip(".").lower() or None)
+    with open_output(path, "wb", inputs) as f:
+        fig.savefig(f, **kwargs)
+
+
+# ---- an append-only log (the sweep's journal), which is never renamed: appended and synced ----
+
+def open_append(path):
+    """A file descriptor appending to the existing regular file path
+    (O_NOFOLLOW: a link under the name is refused, not written through)."""
+    path = _text(path)
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_APPEND | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0))
+    except OSError as e:
+        why = "is a symbolic link; not written through" if e.errno == errno.ELOOP else e.strerror or e
+        raise OutputError(f"{path}: cannot open it to append: {why}") from None
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise OutputError(f"{path}: exists and is not a regular file; not written")
+    return fd
+
+
+def append_synced(fd, data, path):
+    """data (bytes) appended whole to fd, unbuffered, then synced; a failure
+    is an OutputError naming path (what was appended before stays)."""
+    try:
+        while data:
+            data = data[os.write(fd, data):]
+        os.fsync(fd)
+    except OSError as e:
+        raise OutputError(f"{_text(path)}: write failed: {e.strerror or e}") from None
