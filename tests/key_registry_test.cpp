@@ -85,6 +85,31 @@ TEST(KeyRegistry, PrintedSceneValuesLoadBack) {
   EXPECT_EQ(b.sensors.seed, 7);
 }
 
+TEST(KeyRegistry, AKeyForBothJointsStillActsOnPrintedValues) {
+  // A scene travels as its printed values (a pickled scene, a sweep's
+  // workers): a joint's own key is printed only where it is its own, so an
+  // override of the key for both joints acts on every joint that has none.
+  const Scene a = loadScene(kScenes + "/paper_both_planar.yaml", {"joint1.contact.clearance=2e-4", "initial.ecc2=[1e-4, 0]"});
+  const std::vector<std::string> printed = sceneTable().values(a);
+  EXPECT_EQ(std::count_if(printed.begin(), printed.end(), [](const std::string& v) { return v.rfind("joint2.", 0) == 0; }),
+            0);
+  std::vector<std::string> again = printed;
+  again.insert(again.end(), {"contact.clearance=3e-4", "friction.mu=0.3", "initial.ecc=[0, -5e-5]"});
+  const Scene b = loadSceneText("", "printed", again);
+  EXPECT_NEAR(b.model.bearing[0].clearance, 2e-4, 1e-15) << "joint 1's own stays";
+  EXPECT_NEAR(b.model.bearing[1].clearance, 3e-4, 1e-15) << "the override acts on joint 2";
+  EXPECT_EQ(b.model.bearing[0].mu, 0.3);
+  EXPECT_EQ(b.model.bearing[1].mu, 0.3);
+  EXPECT_EQ(b.run.initial.ecc[0], Vec2(0, -5e-5));
+  EXPECT_EQ(b.run.initial.ecc[1], Vec2(1e-4, 0)) << "joint 2's own stays";
+  // Read back without overrides it is the same scene.
+  const Scene c = loadSceneText("", "printed", printed);
+  for (int j = 0; j < 2; ++j) {
+    EXPECT_EQ(c.model.bearing[j].journal_radius, a.model.bearing[j].journal_radius) << j;
+    EXPECT_EQ(c.run.initial.ecc[j], a.run.initial.ecc[j]) << j;
+  }
+}
+
 TEST(KeyRegistry, ChecksAndValuesInWords) {
   EXPECT_EQ(greater(0).rule, "> 0");
   EXPECT_EQ(atLeast(1).rule, ">= 1");

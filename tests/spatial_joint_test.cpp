@@ -15,7 +15,7 @@ namespace {
 
 /// The paper's bearing with every damping and friction off unless asked.
 ContactParams bearing(FrictionLaw friction = FrictionLaw::None) {
-  ContactParams c = test::model("paper_clearance", {"friction.law=none"}).contact;
+  ContactParams c = test::model("paper_clearance", {"friction.law=none"}).bearing[1];
   c.friction = friction;
   return c;
 }

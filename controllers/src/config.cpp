@@ -143,7 +143,7 @@ void validate(const ControllerConfig& c, Given& g) {
 
 const KeyTable<ControllerConfig>& controllerTable() {
   static const KeyTable<ControllerConfig> table{
-      {"a controller configuration", "controller configuration file", "`pointing_controller --keys`, docs/controller_keys.md", ""}, keys(), validate, {}};
+      {"a controller configuration", "controller configuration file", "`pointing_controller --keys`, docs/controller_keys.md", ""}, keys(), validate, {}, {}};
   return table;
 }
 

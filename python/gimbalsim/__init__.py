@@ -5,7 +5,7 @@ out, the same numbers as the command line.
     import gimbalsim
     scene = gimbalsim.load_scene("tools/scenes/paper_clearance.yaml", {"sim.duration": 1.0})
     run = gimbalsim.simulate(scene)
-    run.columns["ecc"]          # numpy array, one value per output row [m]
+    run.columns["ecc2"]         # numpy array, one value per output row [m]
     run.to_csv("run.csv")       # the bytes `gimbalsim simulate` writes
 
 Stepping, simulating and closed loops release the GIL: separate Simulators
@@ -29,7 +29,7 @@ __version__ = _gimbalsim.__version__  # the one version string, also every progr
 __all__ = [
     "COLUMNS", "Scene", "Simulator", "State", "Controller", "Run", "ClosedLoopRun",
     "SceneError", "SimulationStopped", "OutputError",
-    "load_scene", "load_scene_text", "keys", "controller_keys", "simulate", "closed_loop",
+    "load_scene", "load_scene_text", "keys", "key_aliases", "controller_keys", "simulate", "closed_loop",
     "format_value", "as_overrides",
 ]
 
@@ -155,6 +155,12 @@ Scene.__repr__ = _scene_repr
 def keys():
     """Every scene key: dicts with key, type, unit, check, default, meaning."""
     return _gimbalsim._keys()
+
+
+def key_aliases():
+    """The scene keys' old spellings, still read: {old spelling: key}
+    (friction1.mu: joint1.friction.mu; docs/scene_keys.md)."""
+    return dict(_gimbalsim._key_aliases())
 
 
 def controller_keys():

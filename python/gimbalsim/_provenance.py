@@ -57,6 +57,7 @@ def csv_names(spec, csv_name, units):
 @functools.lru_cache(maxsize=None)
 def _key_types():
     types = {k["key"]: k["type"] for k in gimbalsim.keys()}
+    types.update({old: types[key] for old, key in gimbalsim.key_aliases().items()})
     for k in gimbalsim.controller_keys():  # as given, and as a closed-loop design names them
         types[k["key"]] = types[CONTROLLER_PREFIX + k["key"]] = k["type"]
     return types
@@ -65,11 +66,21 @@ def _key_types():
 # Keys with no value of their own: the scene sets another key from them. For
 # each, (the value the model runs with, from the loaded values; the key it
 # sets and the value that key gets when the draw is applied as drawn).
-_DERIVED = {
-    "contact.clearance": (
-        lambda v: float(v["contact.bearing_radius"]) - float(v["contact.journal_radius"]),
-        "contact.journal_radius", lambda v, c: float(v["contact.bearing_radius"]) - float(c)),
-}
+def _clearance(prefix):
+    """<prefix>clearance: sets <prefix>journal_radius = <prefix>bearing_radius - c.
+    A joint's own key is in the values only where it differs from the shared
+    contact.* one (KeyTable::values)."""
+    def get(v, name):
+        return float(v.get(prefix + name, v["contact." + name]))
+    return (lambda v: get(v, "bearing_radius") - get(v, "journal_radius"),
+            prefix + "journal_radius", lambda v, c: get(v, "bearing_radius") - float(c))
+
+
+# Both bearings' (contact.*) and each joint's own (jointN.contact.*); the old
+# spelling contact1.* is read as joint1.contact.*.
+_DERIVED = {prefix + "clearance": _clearance(prefix)
+            for prefix in ("contact.", "joint1.contact.", "joint2.contact.")}
+_DERIVED["contact1.clearance"] = _clearance("joint1.contact.")
 
 
 def _same(drawn, applied):
@@ -95,9 +106,9 @@ def applied(scene_values, drawn):
         if key in _DERIVED:
             model_value, sets, expected = _DERIVED[key]
             got = [model_value(scene_values)]
-            ok = float(scene_values[sets]) == expected(scene_values, want[0])
+            ok = float(scene_values.get(sets, scene_values["contact.journal_radius"])) == expected(scene_values, want[0])
         else:
-            got = gimbalsim._typed(scene_values[key], types.get(key, "string"))
+            got = gimbalsim._typed(scene_values[gimbalsim.key_aliases().get(key, key)], types.get(key, "string"))
             got = list(got) if isinstance(got, list) else [got]
             ok = len(got) == len(want) and all(_same(w, g) for w, g in zip(want, got))
             got = (got + [None] * len(want))[:len(want)]  # a column per drawn element, whatever was loaded

@@ -41,6 +41,7 @@ class SweepSpec:
         self.samples = spec.integer("samples", root["samples"], 1, MAX_SAMPLES)
         self.seed = spec.integer("seed", root["seed"], 0, 2**63 - 1)
         key_types = {k["key"]: k["type"] for k in gimbalsim.keys()}
+        key_types.update({old: key_types[key] for old, key in gimbalsim.key_aliases().items()})
         sets = spec.known_mapping("set", key_types, "scene")
         self.set = {k: spec.value(f"set.{k}", n) for k, n in sets.items()}
         params = spec.mapping("parameters", root["parameters"]) if "parameters" in root else {}
@@ -118,6 +119,7 @@ class SweepSpec:
         """header() as the journal and results.csv name it: the project's CSV
         convention (docs/usage.md), e.g. contact.clearance -> contact_clearance_m."""
         units = {k["key"]: k["unit"] for k in gimbalsim.keys()}
+        units.update({old: units[key] for old, key in gimbalsim.key_aliases().items()})
         if self.closed:
             units.update({CONTROLLER_PREFIX + k["key"]: k["unit"] for k in gimbalsim.controller_keys()})
         csv_name = gimbalsim._gimbalsim.csv_name

@@ -191,7 +191,7 @@ def _report(differ, header, recorded, row, i, source):
 # The plot's panels: (y label, columns), each drawn when the run has its columns
 # (an open-loop Run, or a closed loop's ticks).
 PANELS = [("joint angle [rad]", ("theta1", "theta2")), ("joint angle [rad]", ("theta1_true", "theta2_true")),
-          ("applied torque [N m]", ("tau1_applied", "tau2_applied")), ("eccentricity [m]", ("ecc",)),
+          ("applied torque [N m]", ("tau1_applied", "tau2_applied")), ("joint-2 eccentricity [m]", ("ecc2",)),
           ("joint-2 force [N]", ("joint2_force",)), ("truth pointing error [rad]", ("truth_error",))]
 
 
@@ -207,9 +207,10 @@ def _plot(run, spec, i, status, path, inputs=()):
     for ax, (label, names) in zip(axes[:, 0], panels):
         for n in names:
             ax.plot(c["t"], c[n], label=n)
-        if names == ("ecc",) and getattr(run, "scene", None) is not None:
+        if names == ("ecc2",) and getattr(run, "scene", None) is not None:
             v = run.scene.values()
-            ax.axhline(float(v["contact.bearing_radius"]) - float(v["contact.journal_radius"]), ls=":", c="gray",
+            radius = {n: float(v.get("joint2.contact." + n, v["contact." + n])) for n in ("bearing_radius", "journal_radius")}
+            ax.axhline(radius["bearing_radius"] - radius["journal_radius"], ls=":", c="gray",
                        label="clearance")
         ax.set_ylabel(label)
         ax.legend()

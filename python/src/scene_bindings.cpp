@@ -130,7 +130,8 @@ void bindScene(pyb::module_& m) {
       .def_property_readonly("output_interval", [](const PyScene& s) { return s.scene().run.output_interval; },
                              "sim.output_interval [s]")
       .def("values", [](const PyScene& s) { return keyValueDict(firmware::plantTable().values(s.plant)); },
-           "every key with its value, as text that load_scene's overrides read back exactly")
+           "every key with its value, as text that load_scene's overrides read back exactly (a joint's own "
+           "bearing or eccentricity key only where it differs from the one for both joints)")
       .def("_replaced", &replaced, pyb::arg("overrides"))
       .def("_non_default", &nonDefault, "'key=value' for every key that differs from the built-in default")
       // Pickled as a call of gimbalsim._unpickle_scene (any protocol, 0 to 5;
@@ -147,6 +148,7 @@ void bindScene(pyb::module_& m) {
   m.def("_load_scene", &load, pyb::arg("path"), pyb::arg("overrides"));
   m.def("_load_scene_text", &loadPyScene, pyb::arg("yaml"), pyb::arg("origin"), pyb::arg("overrides"));
   m.def("_keys", [] { return keyInfoList(firmware::plantTable().info()); });
+  m.def("_key_aliases", [] { return firmware::plantTable().aliases; });
   m.attr("COLUMNS") = [] {
     pyb::tuple t(kNumColumns);
     for (int i = 0; i < kNumColumns; ++i) t[i] = pyb::str(kColumns[i]);

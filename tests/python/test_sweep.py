@@ -90,6 +90,38 @@ parameters:
         assert int(r["impacts_joint2"]) == int(r["impacts"]) > 0
 
 
+def test_a_sweep_disperses_one_bearing_by_either_spelling(tmp_path):
+    # Both bearings planar; the azimuth's own clearance and friction are
+    # dispersed, by today's key and by its old spelling (contact1.*, friction1.*).
+    import gimbalsim
+    for clearance_key, mu_key in (("joint1.contact.clearance", "joint1.friction.mu"),
+                                  ("contact1.clearance", "friction1.mu")):
+        out = tmp_path / clearance_key
+        (tmp_path / "s.yaml").write_text(f"""
+scene: {SCENES}/paper_both_planar.yaml
+set: {{sim.duration: 0.05}}
+samples: 2
+seed: 3
+parameters:
+  {clearance_key}: {{uniform: [1.0e-4, 3.0e-4]}}
+  {mu_key}: {{uniform: [0.1, 0.2]}}
+""")
+        run_sweep(tmp_path / "s.yaml", out, "--workers", "1")
+        with open(out / "results.csv") as f:
+            rows = list(csv.DictReader(f))
+        col = clearance_key.replace(".", "_") + "_m"
+        for r in rows:
+            assert r["status"] == "ok", r
+            assert r["applied_differs"] == "", r  # each draw was applied as drawn
+            scene = gimbalsim.load_scene(f"{SCENES}/paper_both_planar.yaml",
+                                         {clearance_key: float(r[col]), mu_key: float(r[mu_key.replace(".", "_")])})
+            v = scene.values()  # a joint's own key only where it differs from contact.*
+            c1 = float(v["contact.bearing_radius"]) - float(v["joint1.contact.journal_radius"])
+            c2 = float(v["contact.bearing_radius"]) - float(v["contact.journal_radius"])
+            assert "joint2.contact.journal_radius" not in v
+            assert c1 == pytest.approx(float(r[col]), rel=1e-9) and c2 == pytest.approx(5e-4, rel=1e-9)
+
+
 def test_one_worker_results_are_whole_and_sorted(reference, spec):
     header, rows = reference[0], reference[1:]
     # the project's CSV convention: identifiers, the key's unit as a suffix

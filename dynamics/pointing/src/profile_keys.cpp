@@ -20,7 +20,7 @@ const KeyTable<P>& profileSection() {
   static const KeyTable<P> table = [] {
     KeyTable<P> t{{"a controller configuration", "profile file", "`pointing_controller --keys`, docs/controller_keys.md", "profile"},
                   {},
-                  profileKeys().validate, {}};
+                  profileKeys().validate, {}, {}};
     embed(t.keys, "profile.", profileKeys().keys, [](auto& p) -> auto& { return p; });
     return t;
   }();
@@ -45,7 +45,7 @@ const KeyTable<P>& profileKeys() {
           azEl("track_amplitude", "rad", "nutation amplitude A", field(&P::track_amplitude)),
           azEl("track_period", "s", "nutation period P", field(&P::track_period), greater(0)),
       },
-      nullptr, {}};
+      nullptr, {}, {}};
   return table;
 }
 

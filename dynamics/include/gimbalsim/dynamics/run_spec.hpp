@@ -42,9 +42,14 @@ struct RunSpec {
 struct Scene {
   Model model;
   RunSpec run;
-  /// The values of contact.*, friction.* as loaded: each joint's bearing
-  /// (Model::bearing) but where the scene gives the joint its own.
-  ContactParams bearing_default;
+  /// The keys that give both joints (contact.*, friction.*, initial.ecc) as
+  /// loaded: each joint's bearing (Model::bearing) and journal's initial
+  /// eccentricity (RunSpec::initial) are these but where the scene gives
+  /// the joint its own (docs/scene_keys.md "The two bearings").
+  struct BothJoints {
+    ContactParams bearing;
+    Vec2 ecc = Vec2::Zero();  ///< [m]
+  } both_joints;
   std::vector<std::string> warnings;  ///< accepted but suspicious (e.g. triangle inequality)
 };
 

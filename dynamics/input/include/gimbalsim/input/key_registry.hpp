@@ -143,6 +143,10 @@ struct Key {
   std::function<void(Target&, const YAML::Node&)> set;  ///< throws ConvertError
   std::function<std::string(const Target&)> get;       ///< value as --set reads it; none for derived keys
   std::function<std::string(const Target&)> refusal;   ///< why `check` fails, "" if it holds; none if no check
+  /// values() prints the key only where this holds (none: always): a key
+  /// that only repeats another's value is left out, so that an override of
+  /// the other still acts when the values are read back.
+  std::function<bool(const Target&)> present;
   std::string alternative;                             ///< another key setting the same field
 
   Key alternativeTo(std::string other) const {
@@ -175,7 +179,7 @@ struct KeyTable {
   std::vector<std::string> values(const Target& t) const {
     std::vector<std::string> out;
     for (const auto& k : keys) {
-      if (k.get) out.push_back(k.key + "=" + k.get(t));
+      if (k.get && (!k.present || k.present(t))) out.push_back(k.key + "=" + k.get(t));
     }
     return out;
   }
@@ -328,6 +332,7 @@ void embed(std::vector<Key<Outer>>& out, const std::string& prefix, const std::v
     Key<Outer> o(prefix + k.key, k.type, k.unit, k.check, k.meaning);
     o.set = [set = k.set, part](Outer& t, const YAML::Node& n) { set(part(t), n); };
     if (k.get) o.get = [get = k.get, part](const Outer& t) { return get(part(t)); };
+    if (k.present) o.present = [present = k.present, part](const Outer& t) { return present(part(t)); };
     if (k.refusal) o.refusal = [r = k.refusal, part](const Outer& t) { return r(part(t)); };
     if (!k.alternative.empty()) o.alternative = prefix + k.alternative;
     out.push_back(std::move(o));
