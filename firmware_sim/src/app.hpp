@@ -1,6 +1,6 @@
 // firmware_sim's pieces and how main.cpp wires them: the options, the exit
-// codes, the hand-over between the LCM side and the loop, and the context
-// (Run) that both loops take. CLI: docs/usage.md; exit codes: program.hpp.
+// codes, the hand-over of commands from the LCM side, and the run (setup,
+// ports, report) that both loops take. CLI: docs/usage.md; exit codes: program.hpp.
 #pragma once
 
 #include <atomic>
@@ -10,10 +10,10 @@
 
 #include "gimbalsim/dynamics/run_spec.hpp"
 #include "gimbalsim/firmware_sim/firmware.hpp"
-#include "gimbalsim/firmware_sim/observed_truth.hpp"
-#include "gimbalsim/firmware_sim/spsc_ring.hpp"
+#include "gimbalsim/firmware_sim/bench_tick.hpp"
 #include "gimbalsim/program/program.hpp"
 #include "loop_stats.hpp"
+#include "tick_log.hpp"
 
 namespace lcm {
 class LCM;
@@ -60,67 +60,61 @@ struct Options {
   std::string faults;  ///< fault schedule file (--faults), "" = none
 };
 
-/// A command as it crosses from the communication thread to the loop.
+/// A command as it crosses from the bridge to the firmware.
 struct Inbound {
   bool undecodable = false;
   Command cmd;
   SourceId source = kInProcessSource;  ///< the sender (bench_io::Source::id())
 };
 
-/// What the loop hands back each tick.
-struct Outbound {
-  Attitude attitude;
-  bool has_status = true;  ///< false: a scheduled status drop or delay left none this tick
-  Status status;
-  bool has_truth = false;
-  Truth truth;
+/// Where the bridge puts each decoded command: the ring to the loop thread
+/// (real time) or the firmware itself (lockstep, one thread). False: dropped.
+class CommandSink {
+ public:
+  virtual bool take(const Inbound& m) noexcept = 0;
+
+ protected:
+  ~CommandSink() = default;
 };
 
 class LcmBridge;
 class TruthCsv;
-class TickLog;
 
-/// The truth pointing error over the truths of a run, and while tracking (the
-/// profile's Track segment); added by the loop thread, no allocation.
-struct PointingErrorStats {
-  double max_rad = 0.0, sum_sq = 0.0, last_rad = 0.0;  ///< [rad], [rad^2]
-  long long n = 0;
-  double max_track_rad = 0.0, sum_sq_track = 0.0;
-  long long n_track = 0;
-  void add(double e_rad, bool tracking) noexcept {
-    max_rad = e_rad > max_rad ? e_rad : max_rad;
-    sum_sq += e_rad * e_rad;
-    last_rad = e_rad;
-    ++n;
-    if (tracking) {
-      max_track_rad = e_rad > max_track_rad ? e_rad : max_track_rad;
-      sum_sq_track += e_rad * e_rad;
-      ++n_track;
-    }
-  }
-};
-
-/// Everything a loop needs; main.cpp builds it.
-struct Run {
+/// What a run is given (main.cpp builds it).
+struct RunSetup {
   const PlantScene& plant;
   const Options& o;
   const Config& c;
-  const pointing::TargetProfile* profile;  ///< null: target = boresight at t = 0
+  const pointing::TargetProfile* profile = nullptr;  ///< null: target = boresight at t = 0
+  const FaultSchedule* faults = nullptr;             ///< --faults, null = none
+  double worst_tick_us = 0.0;  ///< [us] the sub-step cap's bound on a tick (tick_budget.hpp), measured at start
+  long long worst_tick_derivatives = 0;  ///< the bound's count: derivative evaluations of one tick's stepping at most
+};
+
+/// The run's transport and files: LCM out and in, the truth CSV, the tick log.
+struct BenchPorts {
   lcm::LCM& lcm;
   LcmBridge& bridge;
-  SpscRing<Inbound>& in;
   TruthCsv& csv;
   TickLog& tick_log;  ///< --tick-log (filled by the loop thread, written after the run)
+};
+
+/// What the loop measured, read by the exit summary.
+struct RunReport {
   LoopStats stats;
   bool fifo = false;
   std::vector<std::string> rt_warnings;
   double wall_seconds = 0.0;
   long long lockstep_timeouts = 0;
-  const FaultSchedule* faults = nullptr;  ///< --faults, null = none
-  double worst_tick_us = 0.0;  ///< [us] the sub-step cap's bound on a tick (tick_budget.hpp), measured at start
-  long long worst_tick_derivatives = 0;  ///< the bound's count: derivative evaluations of one tick's stepping at most
   double compute_seconds = 0.0;  ///< [s] wall time of the plant's own work (ticks, not the waits)
-  PointingErrorStats pointing;   ///< the truth pointing error (written by the loop, read after it)
+  PointingErrorStats pointing;   ///< the truth pointing error (copied from the tick at the end)
+};
+
+/// Everything a loop needs, in three named parts.
+struct Run {
+  RunSetup setup;
+  BenchPorts ports;
+  RunReport report;
 };
 
 /// Ticks to run: --duration / T, or -1 (until stopped).
@@ -128,32 +122,33 @@ inline std::int64_t totalTicks(const Options& o, const Config& c) {
   return o.duration > 0.0 ? static_cast<std::int64_t>(std::llround(o.duration / c.control_period)) : -1;
 }
 
-/// Hands every queued command to the firmware; *answered becomes true when an
-/// accepted one answers status `answer_to` (lockstep: a rejected command,
-/// e.g. a spoof or a NaN torque, never releases the gate).
-template <class V>
-void drainInbound(Firmware<V>& fw, SpscRing<Inbound>& in, std::int64_t answer_to = -2, bool* answered = nullptr) {
-  Inbound m;
-  while (in.pop(m)) {
-    if (m.undecodable) {
-      fw.receiveUndecodable();
-    } else {
-      const Rejection r = fw.receive(m.cmd, m.source);
-      if (answered && r == Rejection::None && m.cmd.status_seq == answer_to) *answered = true;
-    }
-  }
-}
-
 /// Steps a scratch copy of the plant a few times and drops it, just before
 /// the first tick: the first tick would otherwise pay for code run for the
-/// first time and cold caches (measured in lockstep: 1.8-2.6 us against a
-/// 1.1 us tick), which the bound's cold-cache term does not cover.
+/// first time and cold caches, which the bound's cold-cache term does not cover.
 template <class V>
 void warmUp(const Firmware<V>& fw) noexcept {
   State<V> s = fw.state();
   Data<V> d(fw.model());
   for (int i = 0; i < 3 && step(fw.model(), d, s, fw.appliedInput()).ok(); ++i) {
   }
+}
+
+/// One tick's clock readings [ns]: wall time (CLOCK_MONOTONIC) and the loop
+/// thread's CPU time, at the tick's start, before its step and at its end.
+struct TickTimes {
+  std::int64_t wall_start, cpu_start, cpu_step, cpu_end, wall_end;
+};
+
+/// Adds tick k's times to the report and the tick log: loop thread, no allocation.
+template <class V>
+void account(Run& r, const Firmware<V>& fw, std::int64_t k, const TickTimes& t) noexcept {
+  const std::int64_t wall_ns = t.wall_end - t.wall_start;
+  r.report.stats.compute.add(static_cast<double>(wall_ns) * 1e-3);
+  r.report.stats.addComputeCpu(k, static_cast<double>(t.cpu_end - t.cpu_start) * 1e-3,
+                               static_cast<double>(t.cpu_end - t.cpu_step) * 1e-3, fw.lastSubsteps());
+  r.ports.tick_log.add(tickRecord(fw, t.cpu_end - t.cpu_step, t.cpu_end - t.cpu_start, wall_ns));
+  r.report.compute_seconds += static_cast<double>(wall_ns) * 1e-9;
+  r.report.stats.addTick(k + 1, fw.lastSubsteps());
 }
 
 /// The real-time loop (realtime_loop.cpp) and the lockstep loop

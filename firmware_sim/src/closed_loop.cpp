@@ -6,8 +6,7 @@
 #include <stdexcept>
 
 #include "gimbalsim/dynamics/variant.hpp"
-#include "gimbalsim/firmware_sim/firmware.hpp"
-#include "gimbalsim/firmware_sim/observed_truth.hpp"
+#include "gimbalsim/firmware_sim/bench_tick.hpp"
 #include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/pointing/profile_windows.hpp"
 
@@ -104,8 +103,9 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
                      const Config& fc, const ClosedLoopOptions& opt,
                      const std::function<void(const TickRecord&)>& sink) {
   ClosedLoopResult r;
-  Firmware<V> fw(ps, fc, opt.faults);
-  const pointing::TruthObserver observer(ps.scene.model, &profile, fw.initialBoresight());
+  BenchTick<V> tick(ps, fc, opt.faults, &profile);
+  Firmware<V>& fw = tick.firmware();
+  const pointing::TruthObserver& observer = tick.observer();
   Figures fig(profile, opt);
   const double period = fc.control_period;
   // Refused before the loop: llround of a tick count beyond long long is undefined.
@@ -121,15 +121,16 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
   contract::Command cmd;
   const long long ticks = std::llround(opt.duration / period);
   for (long long k = 0; k <= ticks; ++k) {
-    // The firmware's tick k up to its status and truth, as firmware_sim --lockstep.
+    // The bench tick k up to its messages, on lockstep's clock (utime = simulated time).
     const std::int64_t utime = std::llround(static_cast<double>(k) * period * 1e6);
-    fw.sample(utime);
+    const TickMessages m = tick.sample(k, utime, true);
     const Status& st = fw.status();
     const double t = static_cast<double>(k) * period;
-    const Truth truth = observedTruth(fw.truth(), observer, t);
-    // The controller answers the status delivered this tick, as pointing_controller
-    // does; none when the fault schedule dropped or still holds it.
-    const bool delivered = fw.statusDelivered();
+    const Truth& truth = *m.truth;
+    // The transport: the controller port answers the status delivered this
+    // tick, as pointing_controller does; none when the fault schedule dropped
+    // or still holds it.
+    const bool delivered = m.status != nullptr;
     contract::ControllerReport a = last;
     a.flags = contract::MonitorFlags{};
     if (delivered) {
@@ -179,7 +180,7 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     r.ticks = k + 1;
     r.t_end = rec.t;
     if (k == ticks) break;
-    fw.advance();
+    tick.advance();
     if (fw.plantFault()) {
       r.ok = false;
       r.stop_status = fw.plantStatus();

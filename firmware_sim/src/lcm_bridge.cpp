@@ -18,8 +18,8 @@ static_assert(int{kPlantFault} == int{gimbal_status_t::FAULT_PLANT_FAULT});
 static_assert(int{kLockstepTimeout} == int{gimbal_status_t::FAULT_LOCKSTEP_TIMEOUT});
 static_assert(kModeOff == gimbal_command_t::MODE_OFF && kModeTorque == gimbal_command_t::MODE_TORQUE);
 
-LcmBridge::LcmBridge(lcm::LCM& lcm, bench_io::UdpmReceiver& rx, Channels ch, SpscRing<Inbound>& in)
-    : lcm_(lcm), rx_(rx), ch_(std::move(ch)), in_(in) {
+LcmBridge::LcmBridge(lcm::LCM& lcm, bench_io::UdpmReceiver& rx, Channels ch)
+    : lcm_(lcm), rx_(rx), ch_(std::move(ch)) {
   for (auto& x : pub_seq_) x = -1;
 }
 
@@ -60,7 +60,7 @@ void LcmBridge::onCommand(const bench_io::Message& msg) {
       pub_seq_[i] = -1;
     }
   }
-  if (!in_.push(m)) ++dropped_in;
+  if (sink_ == nullptr || !sink_->take(m)) ++dropped_in;
 }
 
 void LcmBridge::publish(const Status& s) {

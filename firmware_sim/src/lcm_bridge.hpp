@@ -1,6 +1,7 @@
 // firmware_sim's LCM side: receives with our bounded UDP receiver
 // (bench_io/udpm_receiver.hpp, not LCM's receive thread: see there why),
-// decodes gimbal_command_t into the inbound ring with its sender,
+// decodes gimbal_command_t and hands it, with its sender, to the loop's
+// command sink (app.hpp),
 // publishes status, attitude, truth and loop statistics from a preallocated buffer with
 // the raw publish (the typed one allocates on every call), and times the
 // status -> command round trip. Runs on the communication thread (real time)
@@ -20,8 +21,11 @@ namespace gimbalsim::firmware {
 class LcmBridge {
  public:
   /// Receives the command channel through `rx` (opened on the same URL as
-  /// `lcm`, filtering that channel); decoded commands go to `in`.
-  LcmBridge(lcm::LCM& lcm, bench_io::UdpmReceiver& rx, Channels ch, SpscRing<Inbound>& in);
+  /// `lcm`, filtering that channel); decoded commands go to the sink set.
+  LcmBridge(lcm::LCM& lcm, bench_io::UdpmReceiver& rx, Channels ch);
+
+  /// Where decoded commands go (null: none, each counted in dropped_in).
+  void setSink(CommandSink* sink) noexcept { sink_ = sink; }
 
   /// The receiver's limits for firmware_sim: bench messages are < 1 kB.
   static bench_io::ReassemblyLimits receiveLimits();
@@ -41,7 +45,7 @@ class LcmBridge {
 
   /// Status published -> command answering it received [us] (this thread only).
   Histogram roundtrip{10000};
-  long long dropped_in = 0;  ///< commands lost because the inbound ring was full (counted, never silent)
+  long long dropped_in = 0;  ///< commands the sink could not take (counted, never silent)
   long long publish_errors = 0;
 
  private:
@@ -53,12 +57,24 @@ class LcmBridge {
   lcm::LCM& lcm_;
   bench_io::UdpmReceiver& rx_;
   Channels ch_;
-  SpscRing<Inbound>& in_;
+  CommandSink* sink_ = nullptr;
   Status last_status_;
   unsigned char buf_[2048];
   static constexpr std::size_t kRoundTripSlots = 1024;
   std::int64_t pub_seq_[kRoundTripSlots];  ///< seq of the status published in each slot (-1: answered)
   std::int64_t pub_ns_[kRoundTripSlots];   ///< when it was published [ns, CLOCK_MONOTONIC]
+};
+
+/// A sink bound to the bridge for one scope (a loop's run).
+class SinkBinding {
+ public:
+  SinkBinding(LcmBridge& bridge, CommandSink* sink) noexcept : bridge_(bridge) { bridge_.setSink(sink); }
+  ~SinkBinding() { bridge_.setSink(nullptr); }
+  SinkBinding(const SinkBinding&) = delete;
+  SinkBinding& operator=(const SinkBinding&) = delete;
+
+ private:
+  LcmBridge& bridge_;
 };
 
 }  // namespace gimbalsim::firmware

@@ -36,7 +36,6 @@ std::atomic<bool> g_stop{false};
 namespace {
 
 constexpr int kRecvBufferBytes = 4 << 20;  ///< socket receive buffer asked for: rides out a burst [bytes]
-constexpr std::size_t kInboundCapacity = 1024;  ///< decoded commands between two ticks
 
 int refuse(const std::string& what) { return program::refuse("firmware_sim", what); }
 
@@ -181,8 +180,7 @@ int mainImpl(int argc, char** argv) {
     std::fprintf(stderr, "firmware_sim: error: cannot receive: %s\n", why.c_str());
     return kExitLcm;
   }
-  SpscRing<Inbound> in(kInboundCapacity);
-  LcmBridge bridge(lcm, rx, channels, in);
+  LcmBridge bridge(lcm, rx, channels);
 
   // sigaction without SA_RESTART: a blocking wait returns at once (EINTR); the loops see g_stop.
   io::installStopHandlers([] { g_stop.store(true); });
@@ -190,7 +188,17 @@ int mainImpl(int argc, char** argv) {
                m.name.c_str(), variantName(m).c_str(), o.rate_hz, static_cast<int>(std::llround(c.control_period / m.integrator.step)),
                m.integrator.step, o.lockstep ? "lockstep" : "real time", (o.prefix + "GIMBAL_").c_str());
 
-  Run r{plant, o, c, profile.get(), lcm, bridge, in, csv, tick_log, {}, false, {}, 0.0, 0, nullptr, 0.0, 0, 0.0, {}};
+  const TickBudget budget = measureTickBudget(scene, c);
+  Run r{.setup = {.plant = plant,
+                  .o = o,
+                  .c = c,
+                  .profile = profile.get(),
+                  .faults = faults.empty() ? nullptr : &faults,
+                  .worst_tick_us = budget.worst_tick_us,
+                  .worst_tick_derivatives = static_cast<long long>(budget.steps_per_tick) * budget.substep_cap *
+                                            budget.evals_per_substep},
+        .ports = {.lcm = lcm, .bridge = bridge, .csv = csv, .tick_log = tick_log},
+        .report = {}};
   // Say which target the truth pointing error is measured against.
   if (profile) {
     std::fprintf(stderr, "firmware_sim: truth pointing error against the profile: section of %s (tracking from "
@@ -199,13 +207,9 @@ int mainImpl(int argc, char** argv) {
     std::fprintf(stderr, "firmware_sim: truth pointing error against the boresight at t = 0, a fixed direction (no "
                  "--profile); give --profile CONFIG for the controller's target\n");
   }
-  const TickBudget budget = measureTickBudget(scene, c);
-  r.worst_tick_us = budget.worst_tick_us;
-  r.worst_tick_derivatives = static_cast<long long>(budget.steps_per_tick) * budget.substep_cap * budget.evals_per_substep;
   std::fprintf(stderr, "firmware_sim: %s\n", describeTickBudget(budget).c_str());
   if (const std::string w = tickBudgetWarning(budget); !w.empty()) std::fprintf(stderr, "firmware_sim: %s\n", w.c_str());
   if (!faults.empty()) {
-    r.faults = &faults;
     std::fprintf(stderr, "firmware_sim: fault schedule %s: %zu faults, seed %llu\n", o.faults.c_str(),
                  faults.faults.size(), static_cast<unsigned long long>(faults.seed));
   }

@@ -22,6 +22,7 @@
 #include <thread>
 
 #include "app.hpp"
+#include "gimbalsim/firmware_sim/spsc_ring.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "lcm_bridge.hpp"
 #include "realtime.hpp"
@@ -41,25 +42,61 @@ void wake(int efd) {
   [[maybe_unused]] const ssize_t w = ::write(efd, &one, sizeof one);
 }
 
+constexpr std::size_t kInboundCapacity = 1024;  ///< decoded commands between two ticks
+
+/// Real time's command intake: the communication thread pushes, the loop
+/// thread pops at the tick's start.
+class RingSink final : public CommandSink {
+ public:
+  bool take(const Inbound& m) noexcept override { return ring.push(m); }
+  SpscRing<Inbound> ring{kInboundCapacity};
+};
+
+/// Hands every queued command to the firmware (loop thread).
+template <class V>
+void drainInbound(Firmware<V>& fw, SpscRing<Inbound>& in) noexcept {
+  Inbound m;
+  while (in.pop(m)) {
+    if (m.undecodable) {
+      fw.receiveUndecodable();
+    } else {
+      fw.receive(m.cmd, m.source);
+    }
+  }
+}
+
+/// What the loop thread hands to the communication thread each tick.
+struct Outbound {
+  Attitude attitude;
+  bool has_status = true;  ///< false: a scheduled status drop or delay left none this tick
+  Status status;
+  bool has_truth = false;
+  Truth truth;
+};
+
 template <class V>
 int run(Run& r) {
-  Firmware<V> fw(r.plant, r.c, r.faults);
-  const pointing::TruthObserver observer(r.plant.scene.model, r.profile, fw.initialBoresight());
+  const Options& o = r.setup.o;
+  BenchTick<V> tick(r.setup.plant, r.setup.c, r.setup.faults, r.setup.profile);
+  Firmware<V>& fw = tick.firmware();
+  RingSink in;
+  const SinkBinding bound(r.ports.bridge, &in);
   SpscRing<Outbound> out(4096);
   const int efd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (efd < 0) {
     std::fprintf(stderr, "firmware_sim: eventfd failed: %s\n", std::strerror(errno));
     return kExitInternal;
   }
-  const std::int64_t total = totalTicks(r.o, r.c);
-  const std::int64_t period_ns = std::llround(r.c.control_period * 1e9);
-  const std::int64_t spin_ns = std::llround(r.o.spin_us * 1e3);
-  const int truth_every = r.o.truth_every;
+  const std::int64_t total = totalTicks(o, r.setup.c);
+  const std::int64_t period_ns = std::llround(r.setup.c.control_period * 1e9);
+  const std::int64_t spin_ns = std::llround(o.spin_us * 1e3);
+  const int truth_every = o.truth_every;
   std::atomic<bool> loop_done{false};
-  std::atomic<bool> setup_done{false};  // publishes r.rt_warnings and r.fifo to this thread
+  std::atomic<bool> setup_done{false};  // publishes r.report.rt_warnings and .fifo to this thread
+  RunReport& rep = r.report;
 
   auto loop = [&] {
-    r.rt_warnings = setUpRealtimeThread(r.o.rt_priority, r.o.cpu, 256 * 1024, &r.fifo);
+    rep.rt_warnings = setUpRealtimeThread(o.rt_priority, o.cpu, 256 * 1024, &rep.fifo);
     setup_done.store(true, std::memory_order_release);
     warmUp(fw);
     // Start on a whole period boundary a little ahead, so set-up does not count as lateness.
@@ -69,49 +106,38 @@ int run(Run& r) {
     for (std::int64_t k = 0; (total < 0 || k < total) && !g_stop.load(std::memory_order_relaxed); ++k) {
       const std::int64_t start_ns = nowNs();
       const bool late = start_ns > next;  // the previous tick overran this deadline: catch up
-      std::int64_t wake_ns = start_ns;
+      TickTimes tt{};
+      tt.wall_start = start_ns;
       if (late) {
-        r.stats.late.add(static_cast<double>(start_ns - next) * 1e-4);  // [10 us]
-        r.stats.late_ticks.fetch_add(1, std::memory_order_relaxed);
+        rep.stats.late.add(static_cast<double>(start_ns - next) * 1e-4);  // [10 us]
+        rep.stats.late_ticks.fetch_add(1, std::memory_order_relaxed);
       } else {
-        wake_ns = sleepUntil(next, spin_ns);
-        r.stats.lateness.add(static_cast<double>(wake_ns - next) * 1e-3);
-        if (prev_wake >= 0) r.stats.period.add(static_cast<double>(wake_ns - prev_wake) * 1e-3);
-        prev_wake = wake_ns;
+        tt.wall_start = sleepUntil(next, spin_ns);
+        rep.stats.lateness.add(static_cast<double>(tt.wall_start - next) * 1e-3);
+        if (prev_wake >= 0) rep.stats.period.add(static_cast<double>(tt.wall_start - prev_wake) * 1e-3);
+        prev_wake = tt.wall_start;
       }
-      // Read after the wake-up and before `end` below: the CPU span lies inside the wall span
+      // Read after the wake-up and before the end: the CPU span lies inside the wall span
       // and, like it, counts the command intake.
-      const std::int64_t wake_cpu_ns = nowNs(CLOCK_THREAD_CPUTIME_ID);
-      if (!late) drainInbound(fw, r.in);  // catch-up ticks hold the last accepted command
-      const std::int64_t utime = (next + realtime_offset) / 1000;
-      const bool want_truth = k % truth_every == 0;
-      fw.sample(utime, want_truth);
+      tt.cpu_start = nowNs(CLOCK_THREAD_CPUTIME_ID);
+      if (!late) drainInbound(fw, in.ring);  // catch-up ticks hold the last accepted command
+      // Real time's clock: utime is the tick's deadline on the wall clock.
+      const TickMessages m = tick.sample(k, (next + realtime_offset) / 1000, k % truth_every == 0);
       Outbound ob;
-      ob.attitude = fw.attitude();
-      ob.has_status = fw.statusDelivered();
-      ob.status = fw.status();
-      ob.has_truth = want_truth;
-      if (want_truth) {
-        const double t = static_cast<double>(k) * r.c.control_period;
-        ob.truth = observedTruth(fw.truth(), observer, t);
-        r.pointing.add(ob.truth.pointing_error,
-                       r.profile != nullptr && observer.sample(t).segment == pointing::Segment::Track);
-      }
-      if (!out.push(ob)) r.stats.dropped_out.fetch_add(1, std::memory_order_relaxed);
+      ob.attitude = *m.attitude;
+      ob.has_status = m.status != nullptr;
+      if (m.status) ob.status = *m.status;
+      ob.has_truth = m.truth != nullptr;
+      if (m.truth) ob.truth = *m.truth;
+      if (!out.push(ob)) rep.stats.dropped_out.fetch_add(1, std::memory_order_relaxed);
       wake(efd);  // the communication thread
-      const std::int64_t step_cpu_ns = nowNs(CLOCK_THREAD_CPUTIME_ID);
-      fw.advance();
-
-      const std::int64_t end_cpu_ns = nowNs(CLOCK_THREAD_CPUTIME_ID);
-      const std::int64_t end = nowNs();
-      r.stats.compute.add(static_cast<double>(end - wake_ns) * 1e-3);
-      r.stats.addComputeCpu(k, static_cast<double>(end_cpu_ns - wake_cpu_ns) * 1e-3,
-                            static_cast<double>(end_cpu_ns - step_cpu_ns) * 1e-3, fw.lastSubsteps());
-      r.tick_log.add(tickRecord(fw, end_cpu_ns - step_cpu_ns, end_cpu_ns - wake_cpu_ns, end - wake_ns));
-      r.compute_seconds += static_cast<double>(end - wake_ns) * 1e-9;
-      r.stats.addTick(k + 1, fw.lastSubsteps());
+      tt.cpu_step = nowNs(CLOCK_THREAD_CPUTIME_ID);
+      tick.advance();
+      tt.cpu_end = nowNs(CLOCK_THREAD_CPUTIME_ID);
+      tt.wall_end = nowNs();
+      account(r, fw, k, tt);
       next += period_ns;
-      if (end > next) r.stats.overruns.fetch_add(1, std::memory_order_relaxed);  // the next tick starts late
+      if (tt.wall_end > next) rep.stats.overruns.fetch_add(1, std::memory_order_relaxed);  // the next tick starts late
     }
     loop_done.store(true);
     wake(efd);
@@ -119,46 +145,48 @@ int run(Run& r) {
 
   const std::int64_t wall0 = nowNs();
   std::thread rt(loop);  // created first: it inherits this thread's CPUs before they shrink
-  if (r.o.cpu >= 0) {
-    if (const std::string w = keepOffCpu(r.o.cpu); !w.empty()) std::fprintf(stderr, "firmware_sim: %s\n", w.c_str());
+  if (o.cpu >= 0) {
+    if (const std::string w = keepOffCpu(o.cpu); !w.empty()) std::fprintf(stderr, "firmware_sim: %s\n", w.c_str());
   }
   // Communication thread: LCM in, drained queues out, statistics at a low rate.
-  pollfd fds[2] = {{r.bridge.fd(), POLLIN, 0}, {efd, POLLIN, 0}};  // fd -1 (memq://): poll skips it
-  std::int64_t next_stats = nowNs() + std::llround(r.o.stats_period * 1e9);
+  LcmBridge& bridge = r.ports.bridge;
+  pollfd fds[2] = {{bridge.fd(), POLLIN, 0}, {efd, POLLIN, 0}};  // fd -1 (memq://): poll skips it
+  std::int64_t next_stats = nowNs() + std::llround(o.stats_period * 1e9);
   bool warned = false;
   auto drainOut = [&] {
     Outbound ob;
     while (out.pop(ob)) {
-      r.bridge.publish(ob.attitude);  // before the status, so a controller has it when the status comes
-      if (ob.has_status) r.bridge.publish(ob.status);
+      bridge.publish(ob.attitude);  // before the status, so a controller has it when the status comes
+      if (ob.has_status) bridge.publish(ob.status);
       if (ob.has_truth) {
-        r.bridge.publish(ob.truth);
-        if (!r.csv.write(ob.truth)) g_stop.store(true);  // a failed write stops the run (exit 4)
+        bridge.publish(ob.truth);
+        if (!r.ports.csv.write(ob.truth)) g_stop.store(true);  // a failed write stops the run (exit 4)
       }
     }
   };
   while (!loop_done.load()) {
     const int rc = poll(fds, 2, 100);
-    if (rc > 0 && (fds[0].revents & POLLIN)) r.bridge.drain();  // bounded: the statuses below still go out
+    if (rc > 0 && (fds[0].revents & POLLIN)) bridge.drain();  // bounded: the statuses below still go out
     if (rc > 0 && (fds[1].revents & POLLIN)) {
       std::uint64_t v;
       [[maybe_unused]] const ssize_t n = ::read(efd, &v, sizeof v);
     }
     drainOut();
     if (!warned && setup_done.load(std::memory_order_acquire)) {
-      printWarnings(r.rt_warnings);
+      printWarnings(rep.rt_warnings);
       warned = true;
     }
     if (nowNs() >= next_stats) {
-      r.bridge.publishStats(nowNs(CLOCK_REALTIME) / 1000, r.stats, warned && r.fifo, false);
-      next_stats += std::llround(r.o.stats_period * 1e9);
+      bridge.publishStats(nowNs(CLOCK_REALTIME) / 1000, rep.stats, warned && rep.fifo, false);
+      next_stats += std::llround(o.stats_period * 1e9);
     }
   }
   rt.join();
   drainOut();
-  r.wall_seconds = static_cast<double>(nowNs() - wall0) * 1e-9;
-  if (!warned) printWarnings(r.rt_warnings);
-  r.bridge.publishStats(nowNs(CLOCK_REALTIME) / 1000, r.stats, r.fifo, false);
+  rep.wall_seconds = static_cast<double>(nowNs() - wall0) * 1e-9;
+  rep.pointing = tick.pointing();
+  if (!warned) printWarnings(rep.rt_warnings);
+  bridge.publishStats(nowNs(CLOCK_REALTIME) / 1000, rep.stats, rep.fifo, false);
   ::close(efd);
   return finish(r, outcomeOf(fw));
 }
@@ -166,7 +194,7 @@ int run(Run& r) {
 }  // namespace
 
 int runRealtime(Run& r) {
-  return dispatchVariant(r.plant.scene.model, [&](auto tag) { return run<decltype(tag)>(r); });
+  return dispatchVariant(r.setup.plant.scene.model, [&](auto tag) { return run<decltype(tag)>(r); });
 }
 
 }  // namespace gimbalsim::firmware

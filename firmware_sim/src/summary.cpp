@@ -28,28 +28,28 @@ std::string spread(const Histogram& h, bool with_p999) {
 }  // namespace
 
 void printExitSummary(const Run& r, const Outcome& out) {
-  const LoopStats& st = r.stats;
+  const LoopStats& st = r.report.stats;
   const Counters& n = out.counters;
-  const double sim_s = static_cast<double>(out.ticks) * r.c.control_period;
+  const double sim_s = static_cast<double>(out.ticks) * r.setup.c.control_period;
   // Two speeds: the whole loop (in lockstep it waits for the controller) and the plant's own work.
   std::printf("firmware_sim: %lld ticks, %.3f s simulated in %.3f s wall (%.2f x real time), %s\n",
-              static_cast<long long>(out.ticks), sim_s, r.wall_seconds,
-              r.wall_seconds > 0 ? sim_s / r.wall_seconds : 0.0,
-              r.o.lockstep ? "lockstep" : (r.fifo ? "real time, SCHED_FIFO" : "real time, SCHED_OTHER"));
+              static_cast<long long>(out.ticks), sim_s, r.report.wall_seconds,
+              r.report.wall_seconds > 0 ? sim_s / r.report.wall_seconds : 0.0,
+              r.setup.o.lockstep ? "lockstep" : (r.report.fifo ? "real time, SCHED_FIFO" : "real time, SCHED_OTHER"));
   std::printf("  speed: whole loop %.2f x real time%s; the plant's own compute %.3f s, %.2f x real time\n",
-              r.wall_seconds > 0 ? sim_s / r.wall_seconds : 0.0,
-              r.o.lockstep ? " (with the waits for the controller)" : "", r.compute_seconds,
-              r.compute_seconds > 0 ? sim_s / r.compute_seconds : 0.0);
-  const PointingErrorStats& pe = r.pointing;
+              r.report.wall_seconds > 0 ? sim_s / r.report.wall_seconds : 0.0,
+              r.setup.o.lockstep ? " (with the waits for the controller)" : "", r.report.compute_seconds,
+              r.report.compute_seconds > 0 ? sim_s / r.report.compute_seconds : 0.0);
+  const PointingErrorStats& pe = r.report.pointing;
   if (pe.n > 0) {
     std::printf("  truth pointing error [rad] against %s: max %.3e, RMS %.3e, final %.3e",
-                r.profile ? "the profile" : "the boresight at t = 0 (no --profile)", pe.max_rad,
+                r.setup.profile ? "the profile" : "the boresight at t = 0 (no --profile)", pe.max_rad,
                 std::sqrt(pe.sum_sq / static_cast<double>(pe.n)), pe.last_rad);
-    if (r.profile) {
+    if (r.setup.profile) {
       // A run that ended before the track has no tracking figure: n/a with the reason, never 0.
-      const double t_last = static_cast<double>(out.ticks - 1) * r.c.control_period;
+      const double t_last = static_cast<double>(out.ticks - 1) * r.setup.c.control_period;
       const std::string why = pointing::windowNotReached(
-          pointing::profileWindow(*r.profile, pointing::Segment::Track), pointing::WindowNeed::Part, t_last);
+          pointing::profileWindow(*r.setup.profile, pointing::Segment::Track), pointing::WindowNeed::Part, t_last);
       if (!why.empty() || pe.n_track == 0) {
         std::printf("; while tracking: n/a (%s)", why.empty() ? "no tracking tick" : why.c_str());
       } else {
@@ -59,28 +59,28 @@ void printExitSummary(const Run& r, const Outcome& out) {
     }
     std::printf("\n");
   }
-  if (!r.o.lockstep) {
+  if (!r.setup.o.lockstep) {
     std::printf("  wake-up lateness [us]: %s\n", spread(st.lateness, true).c_str());
     std::printf("  tick period [us]:      %s\n", spread(st.period, true).c_str());
   }
   std::printf("  compute per tick [us]: %s   (1 us bins); worst-case bound %.0f (max %.1f %% of it)\n",
-              spread(st.compute, false).c_str(), r.worst_tick_us,
-              r.worst_tick_us > 0 ? 100.0 * st.compute.max() / r.worst_tick_us : 0.0);
+              spread(st.compute, false).c_str(), r.setup.worst_tick_us,
+              r.setup.worst_tick_us > 0 ? 100.0 * st.compute.max() / r.setup.worst_tick_us : 0.0);
   std::printf("  compute per tick, thread CPU [us]: %s   (preemption not counted; the "
               "stepping and the tick's fixed work: commands, sensors, truth, messages)\n",
               spread(st.compute_cpu, false).c_str());
   std::printf("  stepping per tick, thread CPU [us]: %s; worst-case bound %.0f (max %.1f %% of "
               "it); the max at tick %lld (%d sub-steps)\n",
-              spread(st.stepping_cpu, false).c_str(), r.worst_tick_us,
-              r.worst_tick_us > 0 ? 100.0 * st.stepping_cpu.max() / r.worst_tick_us : 0.0,
+              spread(st.stepping_cpu, false).c_str(), r.setup.worst_tick_us,
+              r.setup.worst_tick_us > 0 ? 100.0 * st.stepping_cpu.max() / r.setup.worst_tick_us : 0.0,
               static_cast<long long>(st.stepping_cpu_max_tick.load()), st.stepping_cpu_max_substeps.load());
-  if (r.worst_tick_derivatives > 0) {
+  if (r.setup.worst_tick_derivatives > 0) {
     std::printf("  stepping per tick, derivative evaluations: max %lld of the bound's %lld (%.1f %%)\n",
-                out.counters.max_derivatives_in_tick, r.worst_tick_derivatives,
+                out.counters.max_derivatives_in_tick, r.setup.worst_tick_derivatives,
                 100.0 * static_cast<double>(out.counters.max_derivatives_in_tick) /
-                    static_cast<double>(r.worst_tick_derivatives));
+                    static_cast<double>(r.setup.worst_tick_derivatives));
   }
-  if (!r.o.lockstep) {
+  if (!r.setup.o.lockstep) {
     std::printf("  late ticks %lld (run at once after an overrun, holding the last command, to keep wall-clock time)",
                 static_cast<long long>(st.late_ticks.load()));
     if (st.late.count() > 0) {
@@ -89,7 +89,7 @@ void printExitSummary(const Run& r, const Outcome& out) {
     }
     std::printf("\n");
   }
-  const Histogram& rt = r.bridge.roundtrip;
+  const Histogram& rt = r.ports.bridge.roundtrip;
   if (rt.count() > 0) {
     std::printf("  status -> command round trip [us]: %s  (%llu answers)\n", spread(rt, true).c_str(),
                 static_cast<unsigned long long>(rt.count()));
@@ -104,18 +104,18 @@ void printExitSummary(const Run& r, const Outcome& out) {
       std::printf("    rejected %lld: %s\n", static_cast<long long>(n.by_reason[i]), describe(static_cast<Rejection>(i)));
     }
   }
-  if (r.o.lockstep) std::printf("  lockstep timeouts %lld\n", r.lockstep_timeouts);
-  if (r.faults != nullptr) {
+  if (r.setup.o.lockstep) std::printf("  lockstep timeouts %lld\n", r.report.lockstep_timeouts);
+  if (r.setup.faults != nullptr) {
     std::printf("  scheduled faults: active in %lld ticks; commands dropped %lld, delayed %lld; statuses dropped %lld, delayed %lld\n",
                 static_cast<long long>(n.fault_ticks), static_cast<long long>(n.bus.commands_dropped),
                 static_cast<long long>(n.bus.commands_delayed), static_cast<long long>(n.bus.status_dropped),
                 static_cast<long long>(n.bus.status_delayed));
   }
-  if (st.dropped_out.load() > 0 || r.bridge.dropped_in > 0 || r.bridge.publish_errors > 0) {
+  if (st.dropped_out.load() > 0 || r.ports.bridge.dropped_in > 0 || r.ports.bridge.publish_errors > 0) {
     std::printf("  lost: %lld outbound (ring full), %lld inbound (ring full), %lld publish errors\n",
-                static_cast<long long>(st.dropped_out.load()), r.bridge.dropped_in, r.bridge.publish_errors);
+                static_cast<long long>(st.dropped_out.load()), r.ports.bridge.dropped_in, r.ports.bridge.publish_errors);
   }
-  std::printf("  receive: %s\n", r.bridge.receiver().summary().c_str());
+  std::printf("  receive: %s\n", r.ports.bridge.receiver().summary().c_str());
   std::printf("  peak memory (VmHWM) %ld kB\n", bench_io::peakRssKb());
   std::fflush(stdout);
 }

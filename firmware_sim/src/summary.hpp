@@ -31,7 +31,7 @@ int reportPlantFault(const Model& m, const Outcome& out);
 /// Both, in that order: the end of every run.
 inline int finish(const Run& r, const Outcome& out) {
   printExitSummary(r, out);
-  return reportPlantFault(r.plant.scene.model, out);
+  return reportPlantFault(r.setup.plant.scene.model, out);
 }
 
 }  // namespace gimbalsim::firmware

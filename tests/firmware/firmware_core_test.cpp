@@ -10,7 +10,7 @@
 #include "alloc_guard.hpp"
 #include "firmware_test_util.hpp"
 #include "gimbalsim/firmware_sim/firmware.hpp"
-#include "gimbalsim/firmware_sim/observed_truth.hpp"
+#include "gimbalsim/firmware_sim/bench_tick.hpp"
 #include "gimbalsim/firmware_sim/histogram.hpp"
 #include "gimbalsim/firmware_sim/spsc_ring.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
