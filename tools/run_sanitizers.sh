@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
 # The sanitizer build: every target compiled with AddressSanitizer and
-# UndefinedBehaviorSanitizer (-DGIMBALSIM_SANITIZE=address,undefined, any
-# finding fatal; only LCM users excused from UBSan's vptr check, see
-# CMakeLists.txt), then the tests that fit CI's time on 2 cores. Given a regex
-# (e.g. '.', the whole suite), every target is built, the Python package too:
-# its pytest suites run with ASan's runtime preloaded into the interpreter
-# (tests/python/CMakeLists.txt).
-# Usage: tools/run_sanitizers.sh [ctest regex]   (default: the CI subset below)
+# UndefinedBehaviorSanitizer, any finding fatal (only LCM users excused from
+# UBSan's vptr check, see CMakeLists.txt), then its tests.
+#   no argument: the CI subset below, in the instrumented clang build that the
+#     fuzz targets share (tools/configure_instrumented.sh, build-fuzz/), only
+#     the targets it needs;
+#   a ctest regex (e.g. '.', the whole suite): every target, the Python package
+#     too, with GCC in build-sanitize/; its pytest suites run with GCC's ASan
+#     runtime preloaded into the interpreter (tests/python/CMakeLists.txt).
+# Usage: tools/run_sanitizers.sh [ctest regex]
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-build=${GIMBALSIM_SANITIZE_BUILD:-build-sanitize}
 # The CI subset: what meets hostile input (issue 13: the loaders, the outputs,
 # the network receive path, the log reader and writer, the command gate, the
 # fault schedule reader, the controller's configuration), the firmware core
@@ -23,14 +24,16 @@ suites='HostileInput|Paths|OutputPolicy|Scene|KeyRegistry|Simulator|Checkpoint|N
 suites+='|UdpmReassembler|LcmLog|LcmUrl|CommandAcceptance|CommandGate|FaultInjection|FaultScheduleFile'
 suites+='|Firmware|FirmwareConfig|GaussianNoise|Histogram|SpscRing|ControllerConfig'
 regex=${1:-"^($suites)\\.|^cli_"}
-python=OFF
-if [[ $# -gt 0 ]]; then targets=(all); python=ON; fi
-# -O1: the sanitizers' usual level, and far cheaper to compile than -O3 under ASan.
-# GCC here (the other builds default to clang): the fuzz build already runs the
-# tree under clang's sanitizers, and the Python preload names GCC's libasan.
-cmake -S . -B "$build" -DCMAKE_CXX_COMPILER=g++ -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -g1" \
-  -DGIMBALSIM_CHECKED=ON \
-  -DGIMBALSIM_SANITIZE=address,undefined -DGIMBALSIM_PYTHON=$python >/dev/null
+if [[ $# -gt 0 ]]; then
+  # -O1: the sanitizers' usual level, and far cheaper to compile than -O3 under ASan.
+  build=${GIMBALSIM_SANITIZE_BUILD:-build-sanitize}
+  targets=(all)
+  cmake -S . -B "$build" -DCMAKE_CXX_COMPILER=g++ -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -g1" \
+    -DGIMBALSIM_CHECKED=ON -DGIMBALSIM_SANITIZE=address,undefined -DGIMBALSIM_PYTHON=ON >/dev/null
+else
+  build=${GIMBALSIM_SANITIZE_BUILD:-build-fuzz}
+  bash tools/configure_instrumented.sh "$build"
+fi
 start=$(date +%s)
 cmake --build "$build" -j2 --target "${targets[@]}"
 built=$(date +%s)
