@@ -52,6 +52,20 @@ TEST(CsvFormat, EveryKeyOfTheSceneAndTheControllerNamesAColumn) {
   }
 }
 
+// kRowFields is Row, member by member and in order (rowData() and the CSV
+// read the row as one array), with names that are unique.
+TEST(CsvFormat, RowFieldsCoverRowMemberByMemberInOrder) {
+  Row r{};
+  std::set<std::string> names;
+  for (int i = 0; i < kNumColumns; ++i) {
+    EXPECT_EQ(&(r.*kRowFields[i].member), rowData(r) + i) << kRowFields[i].name;
+    EXPECT_TRUE(names.insert(kRowFields[i].name).second) << "twice: " << kRowFields[i].name;
+    EXPECT_STRNE(kRowFields[i].unit, "") << kRowFields[i].name;
+    EXPECT_EQ(columnIndex(kRowFields[i].name), i);
+  }
+  EXPECT_EQ(columnIndex("no_such_column"), -1);
+}
+
 TEST(CsvFormat, NumbersRoundTripAndNeverMinusZero) {
   EXPECT_EQ(number(-0.0), "0");
   EXPECT_EQ(number(0.1), "0.1");

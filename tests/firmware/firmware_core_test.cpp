@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "alloc_guard.hpp"
@@ -216,7 +217,7 @@ TEST(Firmware, TorqueSaturatesAtTheMotorLimitWithTheFlag) {
   EXPECT_EQ(fw.status().applied_torque[0], 2.0);
   EXPECT_EQ(fw.status().applied_torque[1], -3.0);
   EXPECT_EQ(fw.appliedInput().tau, Vec2(2.0, -3.0));
-  EXPECT_EQ(fw.counters().saturated_ticks, 1);
+  EXPECT_EQ(fw.counters().motor_limited_ticks, 1);
   EXPECT_EQ(fw.counters().rejected, 0);
 }
 
@@ -275,6 +276,52 @@ TEST(Firmware, ASpatialJointsEncoderReadsThetaAndTheTruthCarriesItsTilt) {
   EXPECT_GT(max_tilt, 1e-3) << "the journal must tilt";
   EXPECT_GT(max_fn, 0.0) << "and touch its bearing";
   EXPECT_GT(one_end, 0) << "at one end alone";
+}
+
+// The truth takes every output column of the same name (truth_from_row.hpp):
+// each such truth column has the Row column's unit, and after ticks of a
+// scene where both spatial bearings carry load it holds exactly the value
+// observe() gives for the same state. The columns it must cover are named
+// here, so a list that loses one fails.
+TEST(Firmware, TruthCopiesEveryOutputColumnOfTheSameName) {
+  std::vector<std::string> truth_cols;
+  Truth probe;
+  TruthFields::visit([&](Columns names, auto&) { truth_cols.insert(truth_cols.end(), names.begin(), names.end()); },
+                     probe);
+  int matched = 0;
+  for (const std::string& c : truth_cols) {
+    const int i = columnIndex(columnName(c));
+    if (i < 0) continue;
+    ++matched;
+    EXPECT_EQ(c, std::string(kRowFields[i].name) + "[" + kRowFields[i].unit + "]") << "unit of " << c;
+  }
+  EXPECT_EQ(truthFromRow().count, matched);
+  for (const char* must : {"base_x", "base_wz", "base_vy", "theta2", "dtheta1", "ecc1_x", "ecc2_y", "delta1", "fn2",
+                           "ft1", "joint2_force", "tilt2", "delta2_plus", "fn1_minus", "bore_z", "mom_lx", "energy"}) {
+    bool found = false;
+    for (int k = 0; k < truthFromRow().count; ++k) found = found || kColumns[truthFromRow().slots[k].column] == std::string(must);
+    EXPECT_TRUE(found) << must << " does not reach the truth";
+  }
+  using Both = Variant<true, ClearanceKind::Spatial, ClearanceKind::Spatial, true>;
+  const PlantScene sc = test::plant("paper_both_spatial", {});
+  Firmware<Both> fw(sc, Config{});
+  Data<Both> d(sc.scene.model);
+  int checked = 0;
+  for (int k = 0; k < 200; ++k) {
+    if (k >= 1) fw.receive(torqueCommand(k, k - 1, 5.0, 10.0));
+    fw.sample(k * 1000);
+    const Row r = observe(sc.scene.model, d, fw.state(), fw.appliedInput());
+    const Truth& t = fw.truth();
+    const auto* base = reinterpret_cast<const char*>(&t);
+    for (int j = 0; j < truthFromRow().count; ++j) {
+      const auto& slot = truthFromRow().slots[j];
+      ASSERT_EQ(*reinterpret_cast<const double*>(base + slot.offset), r.*slot.member)
+          << kColumns[slot.column] << " at tick " << k;
+      ++checked;
+    }
+    fw.advance();
+  }
+  EXPECT_GT(checked, 0);
 }
 
 TEST(Firmware, ACommandActsFromTheNextTickNotTheOneItArrivesIn) {

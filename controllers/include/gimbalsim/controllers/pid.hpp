@@ -1,35 +1,7 @@
-// Per-axis PID with feed-forward, anti-windup and torque limits: the pointing
-// controller's law. Model/State split as in the dynamics: a const
-// ControllerConfig, a small copyable ControllerState, and
-//   ControlOutput update(const ControllerConfig&, ControllerState&, const Measurement&) noexcept
-// called once per control period on what real firmware reports (quantized
-// encoder angles, rates from status). No LCM, no allocation, no exception.
-//
-// Reference (pointing.mode, inertial_reference.cpp): inertial (default) turns
-// the inertial target direction into joint references through the estimated
-// base attitude and the gimbal's inverse kinematics (q_ref, dq_ref, and
-// ddq_ref, a feed-forward only: see pointing.accel_feedforward); joint uses the profile's (q, dq, ddq)
-// as joint angles directly (the old law: the base's reaction rotation is not
-// seen). Law, per axis i (e = q_ref - q_meas):
-//   tau_u = J_i a_i + kp e + kd (dq_ref - w) + I
-//   tau   = clamp(tau_u, -limit, +limit)
-// (with approach_margin > 0, large errors use kd (dq_ref + sign(e) sqrt(2 a |e|) - w)
-// instead of the PD pair where that asks for less: see pid.cpp).
-// J_i a_i stands for the feed-forward torque tau_ff, extrapolated
-// feedforward_lead ahead (the command acts over the next period): by default
-// the free-floating plant model's computed torque (model_feedforward.hpp),
-// else inertia estimate J_i times a_i, the profile's ddq or the shaft's
-// inertial angular acceleration (inertial_reference.cpp); kd dq_ref
-// is the rate feed-forward and -kd w the derivative on measurement (no kick
-// when the reference jumps). w is the status rate, or the backward difference
-// of the encoder angle (over the samples' real spacing) through a first-order
-// low-pass filter.
-// The integral I (kept in torque units, so a gain change does not bump it):
-//   none:             I += Ts ki e
-//   clamping:         as none, but not while saturated and e pushes further into it
-//   back_calculation: I += Ts (ki e + k_aw (tau - tau_u))  (Astrom & Hagglund, 2006)
-// and, with clamping or back-calculation, |I| <= limit (none: unbounded, the
-// naive law, kept to show what windup does).
+// The pointing controller's joint law, per axis: feed-forward, PD on the
+// measured rate, an integral with anti-windup, torque limits (docs/bench.md
+// "The law"). A const ControllerConfig, a small copyable ControllerState and
+// update() once per period; no LCM, no allocation, no exception.
 #pragma once
 
 #include <array>

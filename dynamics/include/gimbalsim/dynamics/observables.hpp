@@ -45,34 +45,108 @@ struct Row {
   double tilt2, delta2_minus, delta2_plus, fn2_minus, fn2_plus;  ///< [rad], [m], [m], [N], [N]
 };
 inline constexpr int kNumColumns = sizeof(Row) / sizeof(double);
-inline constexpr std::array<const char*, kNumColumns> kColumns = {
-    "t",        "base_x",   "base_y",   "base_z",     "base_vx",   "base_vy",  "base_vz",
-    "base_ax",  "base_ay",  "base_az",  "base_roll",  "base_pitch", "base_yaw", "base_wx",
-    "base_wy",  "base_wz",  "base_dwx", "base_dwy",   "base_dwz",  "theta1",   "theta2",
-    "dtheta1",  "dtheta2",  "ddtheta1", "ddtheta2",   "ecc2_x",    "ecc2_y",   "ecc2",
-    "delta2",   "fn2",      "ft2",      "joint2_force", "bore_x",  "bore_y",   "bore_z",
-    "mom_px",   "mom_py",   "mom_pz",   "mom_lx",     "mom_ly",    "mom_lz",   "energy",
-    "ecc1_x",   "ecc1_y",   "ecc1",     "delta1",     "fn1",       "ft1",
-    "tilt1",    "delta1_minus", "delta1_plus", "fn1_minus", "fn1_plus",
-    "tilt2",    "delta2_minus", "delta2_plus", "fn2_minus", "fn2_plus"};
-/// The unit of each column ("-": none), for the CSV header (io::csvName: t_s, base_x_m, bore_x).
-inline constexpr std::array<const char*, kNumColumns> kColumnUnits = {
-    "s",       "m",       "m",       "m",       "m/s",     "m/s",     "m/s",
-    "m/s^2",   "m/s^2",   "m/s^2",   "rad",     "rad",     "rad",     "rad/s",
-    "rad/s",   "rad/s",   "rad/s^2", "rad/s^2", "rad/s^2", "rad",     "rad",
-    "rad/s",   "rad/s",   "rad/s^2", "rad/s^2", "m",       "m",       "m",
-    "m",       "N",       "N",       "N",       "-",       "-",       "-",
-    "N s",     "N s",     "N s",     "N m s",   "N m s",   "N m s",   "J",
-    "m",       "m",       "m",       "m",       "N",       "N",
-    "rad",     "m",       "m",       "N",       "N",
-    "rad",     "m",       "m",       "N",       "N"};
+
+/// One column: its name (the CSV header's, io::csvName adds the unit), its
+/// unit ("-": none) and the Row member it reads.
+struct RowField {
+  const char* name;
+  const char* unit;
+  double Row::*member;
+};
+
+/// Every column, in Row's order: the one list a new column is added to. The
+/// names, the units, the firmware's truth (sampleTruth, by name) and the
+/// Python package's columns follow from it; tests/csv_format_test.cpp checks
+/// that it covers Row member by member, in order.
+inline constexpr std::array<RowField, kNumColumns> kRowFields = {{
+    {"t", "s", &Row::t},
+    {"base_x", "m", &Row::base_x},
+    {"base_y", "m", &Row::base_y},
+    {"base_z", "m", &Row::base_z},
+    {"base_vx", "m/s", &Row::base_vx},
+    {"base_vy", "m/s", &Row::base_vy},
+    {"base_vz", "m/s", &Row::base_vz},
+    {"base_ax", "m/s^2", &Row::base_ax},
+    {"base_ay", "m/s^2", &Row::base_ay},
+    {"base_az", "m/s^2", &Row::base_az},
+    {"base_roll", "rad", &Row::base_roll},
+    {"base_pitch", "rad", &Row::base_pitch},
+    {"base_yaw", "rad", &Row::base_yaw},
+    {"base_wx", "rad/s", &Row::base_wx},
+    {"base_wy", "rad/s", &Row::base_wy},
+    {"base_wz", "rad/s", &Row::base_wz},
+    {"base_dwx", "rad/s^2", &Row::base_dwx},
+    {"base_dwy", "rad/s^2", &Row::base_dwy},
+    {"base_dwz", "rad/s^2", &Row::base_dwz},
+    {"theta1", "rad", &Row::theta1},
+    {"theta2", "rad", &Row::theta2},
+    {"dtheta1", "rad/s", &Row::dtheta1},
+    {"dtheta2", "rad/s", &Row::dtheta2},
+    {"ddtheta1", "rad/s^2", &Row::ddtheta1},
+    {"ddtheta2", "rad/s^2", &Row::ddtheta2},
+    {"ecc2_x", "m", &Row::ecc2_x},
+    {"ecc2_y", "m", &Row::ecc2_y},
+    {"ecc2", "m", &Row::ecc2},
+    {"delta2", "m", &Row::delta2},
+    {"fn2", "N", &Row::fn2},
+    {"ft2", "N", &Row::ft2},
+    {"joint2_force", "N", &Row::joint2_force},
+    {"bore_x", "-", &Row::bore_x},
+    {"bore_y", "-", &Row::bore_y},
+    {"bore_z", "-", &Row::bore_z},
+    {"mom_px", "N s", &Row::mom_px},
+    {"mom_py", "N s", &Row::mom_py},
+    {"mom_pz", "N s", &Row::mom_pz},
+    {"mom_lx", "N m s", &Row::mom_lx},
+    {"mom_ly", "N m s", &Row::mom_ly},
+    {"mom_lz", "N m s", &Row::mom_lz},
+    {"energy", "J", &Row::energy},
+    {"ecc1_x", "m", &Row::ecc1_x},
+    {"ecc1_y", "m", &Row::ecc1_y},
+    {"ecc1", "m", &Row::ecc1},
+    {"delta1", "m", &Row::delta1},
+    {"fn1", "N", &Row::fn1},
+    {"ft1", "N", &Row::ft1},
+    {"tilt1", "rad", &Row::tilt1},
+    {"delta1_minus", "m", &Row::delta1_minus},
+    {"delta1_plus", "m", &Row::delta1_plus},
+    {"fn1_minus", "N", &Row::fn1_minus},
+    {"fn1_plus", "N", &Row::fn1_plus},
+    {"tilt2", "rad", &Row::tilt2},
+    {"delta2_minus", "m", &Row::delta2_minus},
+    {"delta2_plus", "m", &Row::delta2_plus},
+    {"fn2_minus", "N", &Row::fn2_minus},
+    {"fn2_plus", "N", &Row::fn2_plus},
+}};
+
+/// The column names and units, in Row's order (from kRowFields).
+inline constexpr std::array<const char*, kNumColumns> kColumns = [] {
+  std::array<const char*, kNumColumns> a{};
+  for (int i = 0; i < kNumColumns; ++i) a[i] = kRowFields[i].name;
+  return a;
+}();
+inline constexpr std::array<const char*, kNumColumns> kColumnUnits = [] {
+  std::array<const char*, kNumColumns> a{};
+  for (int i = 0; i < kNumColumns; ++i) a[i] = kRowFields[i].unit;
+  return a;
+}();
+
+/// The index of column `name` in Row (-1: none).
+constexpr int columnIndex(std::string_view name) {
+  for (int i = 0; i < kNumColumns; ++i) {
+    if (name == kRowFields[i].name) return i;
+  }
+  return -1;
+}
+
+/// The row's columns as one array (Row is kNumColumns doubles, in kRowFields' order).
 inline const double* rowData(const Row& r) { return &r.t; }
 
 /// Columns a run writes: the first kBaseColumns always (an ideal joint 2's
 /// ecc2 .. ft2 are 0), joint 1's six when it has clearance, the five tilt and
 /// per-end columns of each spatial joint. A row keeps every column (0 where
 /// the shape has none); the CSV and the Python package show this set.
-inline constexpr int kBaseColumns = 42;
+inline constexpr int kBaseColumns = columnIndex("ecc1_x");
 static_assert(kColumns[kBaseColumns - 1] == std::string_view("energy"), "base columns end at energy");
 struct ColumnSet {
   std::array<int, kNumColumns> index{};  ///< into Row / kColumns, ascending
@@ -84,9 +158,9 @@ constexpr ColumnSet outputColumns(ClearanceKind joint1, ClearanceKind joint2) {
     for (int i = first; i < first + n; ++i) c.index[c.count++] = i;
   };
   take(0, kBaseColumns);
-  if (joint1 != ClearanceKind::Ideal) take(kBaseColumns, 6);
-  if (joint1 == ClearanceKind::Spatial) take(kBaseColumns + 6, 5);
-  if (joint2 == ClearanceKind::Spatial) take(kBaseColumns + 11, 5);
+  if (joint1 != ClearanceKind::Ideal) take(kBaseColumns, 6);                  // ecc1_x .. ft1
+  if (joint1 == ClearanceKind::Spatial) take(columnIndex("tilt1"), 5);       // tilt1 .. fn1_plus
+  if (joint2 == ClearanceKind::Spatial) take(columnIndex("tilt2"), 5);       // tilt2 .. fn2_plus
   return c;
 }
 /// No NaN or Inf in any column.

@@ -1,31 +1,8 @@
-// The gimbal firmware's behaviour and the plant it drives, without LCM,
-// threads or clocks: one tick() per control period. firmware_sim wraps it
-// with LCM and a real-time or lockstep loop (firmware_sim/src/); the
-// in-process closed loop (closed_loop.hpp) runs it with a
-// controller port; the tests drive it in one process.
-//
-// Tick k (control period T, time t_k = k T):
-//   1. commands received since tick k-1 were validated on arrival by
-//      receive(); the newest valid one becomes the active command now, so a
-//      command that arrives during tick k acts from tick k+1 (one-tick bus
-//      latency, like a real field bus);
-//   2. watchdog: no valid command for watchdog_timeout -> the safe command;
-//      then saturation at the scene's motor limit (torque.limit);
-//   3. status k and truth k are sampled at t_k (encoders quantized to
-//      sensors.encoder_resolution, optional seeded noise);
-//   4. the plant is stepped over [t_k, t_k+1] with the applied torque,
-//      sub-stepping T / sim.step RK4 steps. A step that fails (non-ok
-//      StepStatus) latches PLANT_FAULT: the state stays the last good one and
-//      is never stepped again.
-// Scheduled faults (fault_schedule.hpp, optional) enter at tick k's start:
-// bearing wear and friction rise change the firmware's own copy of the Model
-// (contact parameters only, between ticks: the step still sees a const Model
-// for its whole duration); commands lost or held on the bus (fault_bus.hpp) in
-// receive(), released at intake; torque limit and motor failure at saturation; encoder
-// faults in the status; status delay or drop at delivery (status() is the
-// status delivered this tick, statusDelivered() whether there is one); star
-// tracker outage and gyro bias jump in the attitude message.
-// tick(), receive() and receiveUndecodable() are noexcept and allocation-free.
+// The gimbal firmware and the plant it drives, one tick per control period,
+// without LCM, threads or clocks: the tick's order (commands, watchdog,
+// saturation, sensors, physics) in docs/bench.md "One tick", where scheduled
+// faults enter in docs/ARCHITECTURE.md "Where faults enter". sample(),
+// advance(), receive() and receiveUndecodable() are noexcept and allocation-free.
 #pragma once
 
 #include <algorithm>
@@ -45,6 +22,7 @@
 #include "gimbalsim/firmware_sim/firmware_types.hpp"
 #include "gimbalsim/contract/messages.hpp"
 #include "gimbalsim/firmware_sim/sensor_noise.hpp"
+#include "gimbalsim/firmware_sim/truth_from_row.hpp"
 
 namespace gimbalsim::firmware {
 // The bench messages are the contract's (lcmtypes/contract), shared with the controller.
@@ -74,6 +52,7 @@ class Firmware {
     gate_ = CommandGate(watchdog_ticks_);  // the binding lasts as long as the watchdog
     kinematics(m_, obs_, s_.q, s_.v);
     initial_boresight_ = boresight(m_, obs_, s_);
+    truthFromRow();  // built here, so no tick pays for it
   }
 
   /// Validates a decoded command from `src` on arrival. A valid one becomes
@@ -146,7 +125,7 @@ class Firmware {
     const Vec2 clipped = tau.cwiseMax(-limit).cwiseMin(limit);
     if (clipped != tau) {
       faults |= kTorqueSaturated;
-      ++n_.saturated_ticks;
+      ++n_.motor_limited_ticks;
     }
     driver_tau_ = clipped;  // what the firmware commands; a failed motor gives none of it
     u_.tau = clipped;
@@ -320,36 +299,16 @@ class Firmware {
     o.utime = utime;
     o.seq = k;
     o.sim_time = s_.t;
-    set3(o.base_position, r.base_x, r.base_y, r.base_z);
+    copyRowToTruth(r, o);  // every truth column that is an output column, by name
     if constexpr (V::kFloating) {
       const Quat qn = Quat(s_.q(3), s_.q(4), s_.q(5), s_.q(6)).normalized();
       o.base_quaternion[0] = qn.w(), o.base_quaternion[1] = qn.x();
       o.base_quaternion[2] = qn.y(), o.base_quaternion[3] = qn.z();
     }
-    set3(o.base_rate, r.base_wx, r.base_wy, r.base_wz);
-    set3(o.base_velocity, r.base_vx, r.base_vy, r.base_vz);
-    o.joint_angle[0] = r.theta1, o.joint_angle[1] = r.theta2;
-    o.joint_rate[0] = r.dtheta1, o.joint_rate[1] = r.dtheta2;
     o.applied_torque[0] = u_.tau(0), o.applied_torque[1] = u_.tau(1);
-    o.eccentricity[0] = r.ecc1_x, o.eccentricity[1] = r.ecc1_y;
-    o.eccentricity[2] = r.ecc2_x, o.eccentricity[3] = r.ecc2_y;
-    o.penetration[0] = r.delta1, o.penetration[1] = r.delta2;
-    o.contact_normal_force[0] = r.fn1, o.contact_normal_force[1] = r.fn2;
-    o.contact_tangential_force[0] = r.ft1, o.contact_tangential_force[1] = r.ft2;
-    o.joint2_force = r.joint2_force;
-    o.tilt[0] = r.tilt1, o.tilt[1] = r.tilt2;
-    o.end_penetration[0] = r.delta1_minus, o.end_penetration[1] = r.delta1_plus;
-    o.end_penetration[2] = r.delta2_minus, o.end_penetration[3] = r.delta2_plus;
-    o.end_normal_force[0] = r.fn1_minus, o.end_normal_force[1] = r.fn1_plus;
-    o.end_normal_force[2] = r.fn2_minus, o.end_normal_force[3] = r.fn2_plus;
-    set3(o.boresight, r.bore_x, r.bore_y, r.bore_z);
-    set3(o.momentum_linear, r.mom_px, r.mom_py, r.mom_pz);
-    set3(o.momentum_angular, r.mom_lx, r.mom_ly, r.mom_lz);
-    o.energy = r.energy;
     o.faults = faults;
   }
 
-  static void set3(double* o, double x, double y, double z) noexcept { o[0] = x, o[1] = y, o[2] = z; }
 
   Model m_;  ///< the firmware's own copy: faults change its contact parameters between ticks
   const RunSpec& run_;

@@ -39,7 +39,7 @@ struct Counters {
   std::int64_t missed = 0;      ///< ticks (k >= 1) without a new valid command
   std::int64_t by_reason[kNumRejections] = {};  ///< rejections per Rejection
   std::int64_t watchdog_trips = 0;   ///< transitions into the tripped state
-  std::int64_t saturated_ticks = 0;  ///< ticks with a clipped torque
+  std::int64_t motor_limited_ticks = 0;  ///< ticks whose applied torque the motor limit (torque.limit) clipped
   std::int64_t substeps = 0;         ///< RK4 evaluations, all ticks
   int max_substeps_in_tick = 0;
   /// The most forward-dynamics evaluations one tick's stepping took (the count the worst-case bound bounds).
