@@ -29,7 +29,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from output_file import savefig  # noqa: E402  (the package's one writer, tools/output_file.py)
 
-FAULTS = [(1, "watchdog"), (2, "saturated"), (4, "cmd rejected"), (8, "plant fault"), (16, "lockstep timeout")]
+FAULTS = [(1, "watchdog"), (2, "motor limit"), (4, "cmd rejected"), (8, "plant fault"), (16, "lockstep timeout")]
 # Scheduled fault kinds in the order of FaultKind (firmware_sim/include/gimbalsim/firmware_sim/fault_schedule.hpp):
 # kind k, axis a sets bit 2 k + a of injected_faults (kinds without an axis: bit 2 k).
 FAULT_KINDS = ["encoder_dropout", "encoder_stuck", "encoder_bias", "encoder_noise", "status_delay", "status_drop",

@@ -109,6 +109,7 @@ class StatusHandler {
     last_t_ = meas.t;
     faults_seen_ |= st.faults;
     if (out.star_outage) ++outage_statuses_;
+    if (out.saturated[0] || out.saturated[1]) ++controller_limited_;
     if (out.ref.segment == Segment::Track) max_track_error_ = std::max(max_track_error_, out.error.cwiseAbs().maxCoeff());
     if (csv_) log(st, meas, out, a.flags);
   }
@@ -148,6 +149,8 @@ class StatusHandler {
   }
 
   long long answered() const { return answered_; }
+  /// Statuses answered with the command held at this controller's own limit (azimuth/elevation.torque_limit), either axis.
+  long long controllerLimited() const { return controller_limited_; }
   std::int64_t lastSeq() const { return last_status_seq_; }
   long long foreign() const { return foreign_; }
   long long plantRestarts() const { return restarts_; }
@@ -206,7 +209,7 @@ class StatusHandler {
   std::int64_t next_seq_ = 0;
   std::int64_t last_status_seq_ = -1;
   long long restarts_ = 0;  ///< statuses whose seq went backwards
-  long long answered_ = 0, undecodable_ = 0, publish_errors_ = 0;
+  long long answered_ = 0, undecodable_ = 0, publish_errors_ = 0, controller_limited_ = 0;
   double last_t_ = 0.0, max_track_error_ = 0.0;
   int faults_seen_ = 0;
 };
@@ -350,11 +353,12 @@ int run(int argc, char** argv) {
       pointing::windowNotReached(pointing::profileWindow(c.profile, Segment::Track), pointing::WindowNeed::Part,
                                  h.answered() > 0 ? h.lastTime() : 0.0),
       "%.3e rad");
-  std::fprintf(stderr, "pointing_controller: answered %lld statuses (last t = %.3f s), %lld undecodable, %lld publish "
+  std::fprintf(stderr, "pointing_controller: answered %lld statuses (last t = %.3f s), %lld with the command at its "
+               "own torque limit (azimuth/elevation.torque_limit), %lld undecodable, %lld publish "
                "errors, %lld plant restarts, max |joint error| while tracking %s (encoder), status faults seen 0x%x, "
                "%lld statuses without their attitude (gyro held), %lld in a star tracker outage, %lld readings "
                "rejected (NaN or Inf: the last command held)\n",
-               h.answered(), h.lastTime(), h.undecodable(), h.publishErrors(), h.plantRestarts(), track_error.c_str(),
+               h.answered(), h.lastTime(), h.controllerLimited(), h.undecodable(), h.publishErrors(), h.plantRestarts(), track_error.c_str(),
                h.faultsSeen(), h.unpaired(), h.outageStatuses(), h.rejectedReadings());
   const MonitorState& mon = h.monitor();
   std::fprintf(stderr, "pointing_controller: fault monitor: %lld stale statuses (%lld with safe torque), %lld statuses "

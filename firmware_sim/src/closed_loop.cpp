@@ -34,7 +34,7 @@ class Figures {
  public:
   Figures(const pointing::TargetProfile& p, const ClosedLoopOptions& opt) : p_(p), opt_(opt), last_unsettled_(p.slewEnd()) {}
 
-  void add(const TickRecord& rec, double period, bool saturated, ClosedLoopResult& r) {
+  void add(const TickRecord& rec, double period, bool controller_limited, bool motor_limited, ClosedLoopResult& r) {
     const double ej = (rec.ref.q - rec.theta_true).cwiseAbs().maxCoeff();
     switch (rec.ref.segment) {
       case pointing::Segment::Wait: break;
@@ -56,7 +56,8 @@ class Figures {
     r.max_attitude_error = std::max(r.max_attitude_error, rec.attitude_error);
     r.max_tilt = r.max_tilt.cwiseMax(rec.tilt);
     if (rec.star_outage) ++r.star_outage_ticks;
-    if (saturated) ++r.saturated_ticks;
+    if (controller_limited) ++r.controller_limited_ticks;
+    if (motor_limited) ++r.motor_limited_ticks;
   }
 
   void finish(ClosedLoopResult& r) const {
@@ -175,7 +176,7 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
       fig.finish(r);
       return r;
     }
-    fig.add(rec, period, a.saturated[0] || a.saturated[1], r);
+    fig.add(rec, period, a.saturated[0] || a.saturated[1], (st.faults & kTorqueSaturated) != 0, r);
     if (sink) sink(rec);
     r.ticks = k + 1;
     r.t_end = rec.t;

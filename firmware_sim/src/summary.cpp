@@ -96,9 +96,9 @@ void printExitSummary(const Run& r, const Outcome& out) {
   }
   std::printf("  overruns %lld (ticks whose work ended after the next deadline); RK4 sub-steps per tick: mean %.2f, max %d\n", static_cast<long long>(st.overruns.load()),
               st.substepsMean(), st.substeps_max.load());
-  std::printf("  commands: received %lld, rejected %lld, missed %lld; watchdog trips %lld; saturated ticks %lld\n",
+  std::printf("  commands: received %lld, rejected %lld, missed %lld; watchdog trips %lld; ticks at the motor limit (torque.limit) %lld\n",
               static_cast<long long>(n.received), static_cast<long long>(n.rejected), static_cast<long long>(n.missed),
-              static_cast<long long>(n.watchdog_trips), static_cast<long long>(n.saturated_ticks));
+              static_cast<long long>(n.watchdog_trips), static_cast<long long>(n.motor_limited_ticks));
   for (int i = 1; i < kNumRejections; ++i) {
     if (n.by_reason[i] > 0) {
       std::printf("    rejected %lld: %s\n", static_cast<long long>(n.by_reason[i]), describe(static_cast<Rejection>(i)));

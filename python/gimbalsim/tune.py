@@ -99,7 +99,7 @@ def suggest(trial, p):
 
 STUDY_FILE = "study.db"
 STUDY_NAME = "gimbalsim.tune"
-PLANT_FIGURES = ("max_truth_error_track_rad", "rms_truth_error_track_rad", "saturated_ticks", "ticks")
+PLANT_FIGURES = ("max_truth_error_track_rad", "rms_truth_error_track_rad", "controller_limited_ticks", "ticks")
 
 
 def open_study(spec, out, resume, sampler):
@@ -222,7 +222,7 @@ def _finish(study, trial, gains, results, spec, wall):
     import optuna
 
     ok = [r for r in results if r["ok"]]
-    worst_sat = max((r["saturated_ticks"] / max(1, r["ticks"]) for r in ok), default=1.0)
+    worst_sat = max((r["controller_limited_ticks"] / max(1, r["ticks"]) for r in ok), default=1.0)
     constraint = worst_sat - spec.max_saturation
     row = {"trial": trial.number, "origin": trial.user_attrs.get("origin", ""), "constraint": constraint, **gains,
            "plants_ok": len(ok), "wall_time": wall}

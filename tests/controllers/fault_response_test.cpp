@@ -287,7 +287,7 @@ TEST(FaultResponse, MotorFailureAndTorqueLimitCostPointingThatComesBack) {
   expectInvariants(l);
   EXPECT_GT(f.err_after, 3.0 * clean.err_after) << "the elevation axis fell behind the slew";
   EXPECT_LT(f.err_tail, 1e-4);
-  EXPECT_GT(l.r.saturated_ticks, 500);
+  EXPECT_GT(l.r.motor_limited_ticks, 500);
   EXPECT_GT(l.err_during, 1e-2) << "a 5 N m motor cannot follow a slew that needs 12.7";
   EXPECT_LT(l.err_tail, 1e-4);
 }

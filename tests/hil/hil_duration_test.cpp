@@ -22,6 +22,13 @@ TEST(HilDuration, LockstepPairWithTheSameDurationBothEndByThemselves) {
   EXPECT_NE(readFile(dir / "ctl.log").find("answered 1000 statuses (last t = 0.999 s)"), std::string::npos)
       << readFile(dir / "ctl.log");
   EXPECT_NE(readFile(dir / "fw.log").find("lockstep timeouts 0"), std::string::npos) << readFile(dir / "fw.log");
+  // Each process names the limit it counts (docs/usage.md "Torque limits"): the slew's first
+  // ticks hold the controller at its own 50 N m; the plant's 1000 N m motor is never reached.
+  const std::string ctl = readFile(dir / "ctl.log"), fw = readFile(dir / "fw.log");
+  const std::string own = " with the command at its own torque limit (azimuth/elevation.torque_limit)";
+  const std::size_t at = ctl.find(own);
+  ASSERT_NE(at, std::string::npos) << ctl;
+  EXPECT_NE(fw.find("ticks at the motor limit (torque.limit) 0\n"), std::string::npos) << fw;
   // A run of 1 s ends before the track (from 3.5 s): both summaries say n/a and why, never an error of 0.
   const std::string why = "n/a (track window [3.5, inf) s not reached: run ended at 0.999 s)";
   EXPECT_NE(readFile(dir / "ctl.log").find("max |joint error| while tracking " + why), std::string::npos)

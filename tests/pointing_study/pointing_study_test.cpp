@@ -35,7 +35,7 @@ TEST(PointingStudy, QuickRunWritesOneSummaryRowPerRun) {
   const gimbalsim::test::Csv sum = gimbalsim::test::Csv::read(dir + "/summary.csv");
   const std::vector<std::string> cols{"run",           "scene",        "sensors",     "clearance_m",
                                       "peak_track_rad", "rms_track_rad", "peak_run_rad", "track_ticks",
-                                      "saturated_ticks", "joints",      "max_tilt1_rad", "max_tilt2_rad",
+                                      "controller_limited_ticks", "motor_limited_ticks", "joints",      "max_tilt1_rad", "max_tilt2_rad",
                                       "status",        "stop_reason",  "track_reason"};
   EXPECT_EQ(sum.header, cols);
   ASSERT_EQ(sum.rows.size(), 3u);
@@ -144,8 +144,8 @@ TEST(PointingStudy, SeveralClearanceScenesAreLabelledByScene) {
   // The tilt is azimuth backlash for the antenna: the default controller,
   // tuned for the rigid chain, drives the light shaft 1 across it, its
   // azimuth command at the limit most of the time; the planar play never.
-  EXPECT_EQ(rec[1].at("saturated_ticks"), "0");
-  EXPECT_GT(std::stoll(rec[2].at("saturated_ticks")), 100);
+  EXPECT_EQ(rec[1].at("controller_limited_ticks"), "0");
+  EXPECT_GT(std::stoll(rec[2].at("controller_limited_ticks")), 100);
   // The tilt behind it, from the plant's truth: the spatial journal rides
   // near its bearing's 2c/L = 0.02 rad; the planar one and joint 1 never tilt.
   EXPECT_EQ(rec[1].at("joints"), "ideal/planar");

@@ -37,7 +37,7 @@ plants:
 """
 GAINS = ("azimuth.kp", "elevation.kd")
 COLUMN = {"azimuth.kp": "azimuth_kp_Nm_per_rad", "elevation.kd": "elevation_kd_Nms_per_rad"}  # trials.csv
-FIGURES = ("max_truth_error_track_rad", "rms_truth_error_track_rad", "saturated_ticks", "ticks")
+FIGURES = ("max_truth_error_track_rad", "rms_truth_error_track_rad", "controller_limited_ticks", "ticks")
 
 
 def tune_cmd(spec, out, *args):

@@ -68,7 +68,7 @@ def main():
     ticks = 0
     if (d / "pointing_error.csv").exists():
         ticks = sum(1 for _ in open(d / "pointing_error.csv")) - 1
-    limited = [r for r in rows if ticks > 0 and int(r.get("saturated_ticks") or 0) > 0.1 * ticks]
+    limited = [r for r in rows if ticks > 0 and int(r.get("controller_limited_ticks") or 0) > 0.1 * ticks]
     if limited and all(r.get("joints", "").endswith("/spatial") for r in limited):
         md += [f"In {len(limited)} of the {len(rows)} runs a torque command sits at its limit for more than 10 % "
                f"of the {ticks} ticks (" + ", ".join(sorted({r['scene'] for r in limited})) + "): the controller, "
@@ -89,7 +89,7 @@ def main():
         status = r["status"] + (f" ({r['stop_reason']})" if r.get("stop_reason") else "")
         md.append(f"| {r['run']} | {r['scene']} | {sensors(r)} | {'-' if c == 0 else f'{c * 1e3:g}'} | "
                   f"{float(r['peak_track_rad']):.2e} | {float(r['rms_track_rad']):.2e} | {float(r['peak_run_rad']):.2e} | "
-                  f"{rel[0]} | {rel[1]} | {r.get('saturated_ticks', '-')} | {tilts(r)} | {status} |")
+                  f"{rel[0]} | {rel[1]} | {r.get('controller_limited_ticks', '-')} | {tilts(r)} | {status} |")
     md += ["", "Per tick: out/pointing_study/pointing_error.csv; figures: out/pointing_study/pointing_error_vs_time.png "
            "and pointing_error_vs_clearance.png (tools/pointing_study/plot_pointing_study.py).", ""]
     if config:

@@ -85,7 +85,11 @@ struct ClosedLoopResult {
   /// (max_truth_error_hold_end, settle_time), track (the three *_track).
   std::string slew_reason, hold_reason, hold_end_reason, track_reason;
   Vec2 max_abs_tau = Vec2::Zero();     ///< [N m] applied
-  long long saturated_ticks = 0;       ///< ticks with a limited command (either axis)
+  /// The two limits a torque meets (docs/usage.md "Torque limits"): ticks
+  /// whose command the controller held at its own limit (azimuth/elevation.torque_limit),
+  /// and ticks whose applied torque the plant's motor limit (torque.limit) clipped; either axis.
+  long long controller_limited_ticks = 0;
+  long long motor_limited_ticks = 0;
   double max_attitude_error = 0.0;     ///< [rad] estimated vs true base attitude, whole run
   Vec2 max_tilt = Vec2::Zero();        ///< [rad] largest tilt of each joint's journal at the ticks, whole run
   long long star_outage_ticks = 0;     ///< ticks the controller flagged a star tracker outage
