@@ -39,9 +39,8 @@ constexpr int kRecvBufferBytes = 4 << 20;  ///< socket receive buffer asked for:
 
 int refuse(const std::string& what) { return program::refuse("firmware_sim", what); }
 
-int mainImpl(int argc, char** argv) {
-  Options o;
-  CLI::App app{"firmware_sim: the gimbal plant speaking LCM like its firmware (real time or lockstep)"};
+/// Parse: the options (docs/usage.md "firmware_sim").
+void addOptions(CLI::App& app, Options& o) {
   app.add_option("scene", o.scene, "scene file (YAML), e.g. tools/scenes/paper_clearance.yaml")->required();
   app.add_option("--set", o.sets, "scene override key=value (repeatable); see `gimbalsim keys`");
   app.add_option("--rate", o.rate_hz, "control rate [Hz]; 1/rate must be a whole multiple of sim.step")
@@ -78,29 +77,34 @@ int mainImpl(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(1.0, 1e6));
   app.add_option("--safe-torque", o.safe_torque, "torque applied while the watchdog is tripped [N m] (2 values)")
       ->expected(2)->capture_default_str();
-  app.add_option("--profile", o.profile, "file whose profile: section (a pointing_controller config) defines the pointing error");
+  app.add_option("--profile", o.profile, "a pointing_controller config whose profile keys (its profile: section, or flat profile.* keys) define "
+                 "the pointing error");
   app.add_option("--stats-period", o.stats_period, "loop statistics publication period [s]")
       ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e6));
   app.add_option("--faults", o.faults, "fault schedule file (YAML, docs/bench.md \"Fault schedule\"), e.g. tools/faults/demo.yaml");
-  if (const auto rc = program::parse(app, argc, argv, "firmware_sim")) return *rc;
-  if (o.lockstep) {  // one thread, no deadlines: the real-time set-up is not done
-    for (const char* flag : {"--rt-priority", "--cpu"}) {
-      if (app.count(flag) > 0) std::fprintf(stderr, "firmware_sim: warning: %s applies to real time only; ignored in lockstep\n", flag);
-    }
-  }
+}
 
+/// What a run reads before it starts: the plant, the firmware's settings, the
+/// optional profile and fault schedule.
+struct Inputs {
   PlantScene plant;
+  Config c;
+  std::unique_ptr<pointing::TargetProfile> profile;
+  FaultSchedule faults;
+};
+
+/// Loads and checks the inputs and opens the outputs; kExitOk, or the refusal's code (nothing run).
+int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
   try {
-    plant = loadPlantScene(o.scene, o.sets);
+    in.plant = loadPlantScene(o.scene, o.sets);
   } catch (const InputError& e) {
     for (const std::string& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
     return refuse("scene " + o.scene + " refused");
   }
-  const Scene& scene = plant.scene;
+  const Scene& scene = in.plant.scene;
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  const Model& m = scene.model;
 
-  Config c;
+  Config& c = in.c;
   c.control_period = 1.0 / o.rate_hz;
   c.watchdog_timeout = o.watchdog_ms * 1e-3;
   c.torque_sanity_factor = o.torque_sanity;
@@ -118,34 +122,30 @@ int mainImpl(int argc, char** argv) {
   if (!Channels::validPrefix(o.prefix)) {
     return refuse("--channel-prefix '" + o.prefix + "': only A-Z, 0-9 and '_' (channel names are UPPER_SNAKE)");
   }
-  std::unique_ptr<pointing::TargetProfile> profile;
   if (!o.profile.empty()) {
     try {
-      profile = std::make_unique<pointing::TargetProfile>(pointing::loadTargetProfile(o.profile));
+      in.profile = std::make_unique<pointing::TargetProfile>(pointing::loadTargetProfile(o.profile));
     } catch (const InputError& e) {
       for (const std::string& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
       return refuse("--profile " + o.profile + " refused");
     }
   }
-  FaultSchedule faults;
   if (!o.faults.empty()) {
     try {
-      faults = loadFaultSchedule(o.faults);
+      in.faults = loadFaultSchedule(o.faults);
     } catch (const InputError& e) {
       for (const std::string& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
       return refuse("--faults " + o.faults + " refused");
     }
-    if (const auto problems = checkFaultsAgainstScene(faults, scene, o.faults); !problems.empty()) {
+    if (const auto problems = checkFaultsAgainstScene(in.faults, scene, o.faults); !problems.empty()) {
       for (const std::string& p : problems) std::fprintf(stderr, "error: %s\n", p.c_str());
       return refuse("--faults " + o.faults + " refused for scene " + o.scene);
     }
   }
   const std::vector<std::string> inputs{o.scene, o.profile, o.faults};
-  TruthCsv csv;
   if (std::string why; !o.truth_csv.empty() && !csv.open(o.truth_csv, inputs, &why)) {
     return refuse("--truth-csv: " + why);
   }
-  TickLog tick_log;
   if (std::string why; !o.tick_log.empty() && !tick_log.open(o.tick_log, totalTicks(o, c), inputs, &why)) {
     return refuse("--tick-log: " + why);
   }
@@ -155,6 +155,16 @@ int mainImpl(int argc, char** argv) {
     return refuse(std::string("--truth-csv and --tick-log: ") + e.what());
   }
 
+  return kExitOk;
+}
+
+/// Run: LCM up, the loop, the outputs committed together; the exit code.
+int runBench(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
+  const Scene& scene = in.plant.scene;
+  const Model& m = scene.model;
+  const Config& c = in.c;
+  const std::unique_ptr<pointing::TargetProfile>& profile = in.profile;
+  const FaultSchedule& faults = in.faults;
   const CpuLatencyRequest cpu_latency(o.cpu_dma_latency_us);
   if (!o.lockstep) {
     if (const std::string w = lockMemory(); !w.empty()) std::fprintf(stderr, "firmware_sim: %s\n", w.c_str());
@@ -189,7 +199,7 @@ int mainImpl(int argc, char** argv) {
                m.integrator.step, o.lockstep ? "lockstep" : "real time", (o.prefix + "GIMBAL_").c_str());
 
   const TickBudget budget = measureTickBudget(scene, c);
-  Run r{.setup = {.plant = plant,
+  Run r{.setup = {.plant = in.plant,
                   .o = o,
                   .c = c,
                   .profile = profile.get(),
@@ -222,6 +232,23 @@ int mainImpl(int argc, char** argv) {
   }
   // Stopped by SIGINT/SIGTERM, outputs whole: 128 + the signal.
   return rc == kExitOk && io::stopRequested() ? io::stopExitCode() : rc;
+}
+
+int mainImpl(int argc, char** argv) {
+  Options o;
+  CLI::App app{"firmware_sim: the gimbal plant speaking LCM like its firmware (real time or lockstep)"};
+  addOptions(app, o);
+  if (const auto rc = program::parse(app, argc, argv, "firmware_sim")) return *rc;
+  if (o.lockstep) {  // one thread, no deadlines: the real-time set-up is not done
+    for (const char* flag : {"--rt-priority", "--cpu"}) {
+      if (app.count(flag) > 0) std::fprintf(stderr, "firmware_sim: warning: %s applies to real time only; ignored in lockstep\n", flag);
+    }
+  }
+  Inputs in;
+  TruthCsv csv;
+  TickLog tick_log;
+  if (const int rc = loadInputs(o, in, csv, tick_log); rc != kExitOk) return rc;
+  return runBench(o, in, csv, tick_log);
 }
 
 }  // namespace

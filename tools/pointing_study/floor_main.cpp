@@ -173,10 +173,9 @@ int mainImpl(int argc, char** argv) {
     scenes.emplace_back("ideal", firmware::loadPlantScene(ideal_path, perfect));
     for (double c : clearances) {
       std::vector<std::string> s = perfect;
-      char kv[64], label[32];
-      std::snprintf(kv, sizeof kv, "contact.clearance=%.17g", c);
+      char label[32];
       std::snprintf(label, sizeof label, "c=%gmm", c * 1e3);
-      s.push_back(kv);
+      s.push_back("contact.clearance=" + formatNumber(c));
       scenes.emplace_back(label, firmware::loadPlantScene(clearance_path, s));
     }
   } catch (const InputError& e) {

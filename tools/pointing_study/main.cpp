@@ -49,7 +49,8 @@ struct Study {
   std::vector<double> err;  ///< truth pointing error per tick [rad]
   double peak_track = 0.0, rms_track = 0.0, peak_run = 0.0;  ///< the track's: NaN with track_reason if not reached
   long long track_ticks = 0;
-  long long saturated_ticks = 0;  ///< ticks with a torque command at its limit (either axis)
+  long long controller_limited_ticks = 0;  ///< ticks with the command at the controller's limit (either axis)
+  long long motor_limited_ticks = 0;       ///< ticks with the applied torque at the motor limit (either axis)
   std::string joints;       ///< the joints' kinds, "ideal/spatial" (azimuth/elevation)
   double max_tilt[2] = {};  ///< [rad] largest tilt of each joint's journal at the ticks (0 unless spatial)
   std::string track_reason;  ///< why the track figures are NaN ("" if they have values)
@@ -64,12 +65,6 @@ struct Study {
 /// the scene's own: no noise in the shipped scenes, encoders quantised.
 const std::vector<std::string> kRealisticSensors{"sensors.star_tracker_noise=2e-5",
                                                  "sensors.gyro_bias=[5.7735e-6, 5.7735e-6, 5.7735e-6]"};
-
-std::string num(double x) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.9g", x);
-  return b;
-}
 
 /// A CSV number (io::appendCsvNumber: round trip, no -0).
 std::string csvNum(double x) {
@@ -149,7 +144,8 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   s.peak_track = r.max_truth_error_track;
   s.rms_track = r.rms_truth_error_track;
   s.track_reason = r.track_reason;
-  s.saturated_ticks = r.saturated_ticks;
+  s.controller_limited_ticks = r.controller_limited_ticks;
+  s.motor_limited_ticks = r.motor_limited_ticks;
   s.max_tilt[0] = r.max_tilt(0), s.max_tilt[1] = r.max_tilt(1);
   s.ok = r.ok;
   if (!r.ok) {
@@ -181,12 +177,12 @@ std::string timeSeriesCsv(const std::vector<Study>& runs, double period) {
 
 std::string summaryCsv(const std::vector<Study>& runs) {
   std::string out =
-      "run,scene,sensors,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,saturated_ticks,joints,"
+      "run,scene,sensors,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,controller_limited_ticks,motor_limited_ticks,joints,"
       "max_tilt1_rad,max_tilt2_rad,status,stop_reason,track_reason\n";
   for (const Study& s : runs) {
     out += s.label + "," + s.scene + "," + s.sensors + "," + csvNum(s.clearance) + "," + csvNum(s.peak_track) + "," +
            csvNum(s.rms_track) + "," + csvNum(s.peak_run) + "," + std::to_string(s.track_ticks) + "," +
-           std::to_string(s.saturated_ticks) + "," + s.joints + "," + csvNum(s.max_tilt[0]) + "," +
+           std::to_string(s.controller_limited_ticks) + "," + std::to_string(s.motor_limited_ticks) + "," + s.joints + "," + csvNum(s.max_tilt[0]) + "," +
            csvNum(s.max_tilt[1]) + "," +
            (s.ok ? std::string("ok") : "stop:" + s.stop_key) + "," + csvQuote(s.reason) + "," +
            csvQuote(csvText(s.track_reason)) + "\n";
@@ -230,11 +226,11 @@ int mainImpl(int argc, char** argv) {
   app.add_flag("--quick", quick, "smoke run: track start + 0.5 s, clearances 0.25 and 0.5 mm (unless given)");
   if (const auto rc = program::parse(app, argc, argv, "gimbalsim_pointing_study")) return *rc;
   if (app.count("--duration") && !(duration > 0.0 && std::isfinite(duration))) {
-    return refuse("--duration", "must be a positive number of seconds, got " + num(duration));
+    return refuse("--duration", "must be a positive number of seconds, got " + formatNumber(duration));
   }
   if (quick && !app.count("--clearances")) clearances = {0.25e-3, 0.5e-3};
   for (double c : clearances) {
-    if (!(c > 0.0 && std::isfinite(c))) return refuse("--clearances", "each must be > 0 [m], got " + num(c));
+    if (!(c > 0.0 && std::isfinite(c))) return refuse("--clearances", "each must be > 0 [m], got " + formatNumber(c));
   }
   if (out_dir.empty()) return refuse("--out", "empty directory name");
   // The default folder is made only after every check (below): a refused run leaves nothing.
@@ -280,9 +276,9 @@ int mainImpl(int argc, char** argv) {
       for (const std::string& path : clearance_paths) {
         for (double c : clearances) {
           std::vector<std::string> s = base;
-          s.push_back("contact.clearance=" + num(c));
+          s.push_back("contact.clearance=" + formatNumber(c));
           labels.resize(base.size());
-          labels.push_back("--clearances " + num(c) + " [m]");
+          labels.push_back("--clearances " + formatNumber(c) + " [m]");
           firmware::PlantScene ps = firmware::loadPlantScene(path, s);
           // One clearance scene keeps the short labels; several are told apart by scene name.
           std::string label = clearanceLabel(c);
@@ -323,7 +319,7 @@ int mainImpl(int argc, char** argv) {
   }
   const std::filesystem::path dir(out_dir);
   if (!(opt.duration / cfg.period <= 1e9)) {
-    return refuse("--duration", "gives more than 1e9 control periods of " + num(cfg.period) + " s");
+    return refuse("--duration", "gives more than 1e9 control periods of " + formatNumber(cfg.period) + " s");
   }
   try {
     std::vector<std::string> inputs{ideal_path};

@@ -9,7 +9,6 @@
 //   build/bin/gimbalsim_workprec --quick         # a few points (seconds)
 #include <CLI/CLI.hpp>
 
-#include <charconv>
 #include <cmath>
 #include <algorithm>
 #include <cstdio>
@@ -17,8 +16,10 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 
+#include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/program/program.hpp"
 #include "gimbalsim/scene/scene.hpp"
@@ -67,12 +68,6 @@ std::string readFile(const std::string& path) {
   return ss.str();
 }
 
-/// Shortest text that reads back as x (%g style).
-std::string fmt(double x) {
-  char buf[32];
-  return std::string(buf, std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general).ptr);
-}
-
 std::string join(const std::vector<std::string>& v, const char* sep) {
   std::string s;
   for (const std::string& x : v) s += (s.empty() ? "" : sep) + x;
@@ -94,8 +89,8 @@ void printPoint(const Point& p) {
   std::fflush(stdout);
 }
 
-int mainImpl(int argc, char** argv) {
-  CLI::App app{"gimbalsim work-precision sweep: CPU time per simulated second against error to a reference"};
+/// The sweep's settings (its command line).
+struct Args {
   // paper_both_spatial is chaotic (docs/MODEL.md 2.7): no error to a reference past a fraction of a second.
   std::vector<std::string> scenes = {"paper_ideal", "paper_ideal_valid_inertia", "paper_clearance",
                                      "stickslip_clearance", "paper_both_planar", "paper_spatial2"};
@@ -107,218 +102,228 @@ int mainImpl(int argc, char** argv) {
   double duration = 0.0, output_interval = 2e-2, peak_dt = 1e-6, max_run_seconds = 3.0;
   std::string out_dir = "out/workprec";
   bool quick = false, no_mujoco = false;
-  app.add_option("--scenes", scenes, "scene names in the scenes directory")->delimiter(',');
-  app.add_option("--scenes-dir", scenes_dir, "where the scene files are");
-  app.add_option("--policies", policies_path, "policy table (YAML)");
-  app.add_option("--policy", only_policies, "only these policies (by name; repeatable)");
-  app.add_option("--steps", steps, "outer steps h [s] swept by the plain curves")->delimiter(',');
-  app.add_option("--repeats", repeats, "timed runs per point (the median is reported)")->check(CLI::Range(1, 99));
-  app.add_option("--duration", duration, "simulated time [s] (default: the scenes')");
-  app.add_option("--output-interval", output_interval, "row spacing the errors are compared at [s]");
-  app.add_option("--peak-dt", peak_dt, "sampling of the reference's peak contact force [s]");
-  app.add_option("--max-run-seconds", max_run_seconds,
-                 "end a curve after a point whose run takes longer than this [CPU s]");
-  app.add_option("--set", extra_sets, "key=value applied to every scene (repeatable)");
-  app.add_option("--out", out_dir, "output directory (CSV, reference cache)");
-  app.add_flag("--quick", quick, "a few short points (smoke test): 1 s, h = 0.04, 0.02, 0.01, rows every 0.04 s");
-  app.add_flag("--no-mujoco", no_mujoco, "skip the MuJoCo peer even when built with it");
-  if (const auto rc = program::parse(app, argc, argv, "gimbalsim_workprec")) return *rc;
-  if (quick) {
-    steps = {4e-2, 2e-2, 1e-2};
-    output_interval = 4e-2;
-    if (duration <= 0.0) duration = 1.0;
-    peak_dt = std::max(peak_dt, 1e-5);
-  }
+  std::vector<Policy> policies;  ///< the table, cut to --policy
+};
 
+/// Parse: the options, checked; nullopt to go on, else the exit code.
+std::optional<int> parseArgs(int argc, char** argv, Args& a) {
+  CLI::App app{"gimbalsim work-precision sweep: CPU time per simulated second against error to a reference"};
+  app.add_option("--scenes", a.scenes, "scene names in the scenes directory")->delimiter(',');
+  app.add_option("--scenes-dir", a.scenes_dir, "where the scene files are");
+  app.add_option("--policies", a.policies_path, "policy table (YAML)");
+  app.add_option("--policy", a.only_policies, "only these policies (by name; repeatable)");
+  app.add_option("--steps", a.steps, "outer steps h [s] swept by the plain curves")->delimiter(',');
+  app.add_option("--repeats", a.repeats, "timed runs per point (the median is reported)")->check(CLI::Range(1, 99));
+  app.add_option("--duration", a.duration, "simulated time [s] (default: the scenes')");
+  app.add_option("--output-interval", a.output_interval, "row spacing the errors are compared at [s]");
+  app.add_option("--peak-dt", a.peak_dt, "sampling of the reference's peak contact force [s]");
+  app.add_option("--max-run-seconds", a.max_run_seconds,
+                 "end a curve after a point whose run takes longer than this [CPU s]");
+  app.add_option("--set", a.extra_sets, "key=value applied to every scene (repeatable)");
+  app.add_option("--out", a.out_dir, "output directory (CSV, reference cache)");
+  app.add_flag("--quick", a.quick, "a few short points (smoke test): 1 s, h = 0.04, 0.02, 0.01, rows every 0.04 s");
+  app.add_flag("--no-mujoco", a.no_mujoco, "skip the MuJoCo peer even when built with it");
+  if (const auto rc = program::parse(app, argc, argv, "gimbalsim_workprec")) return *rc;
+  if (a.quick) {
+    a.steps = {4e-2, 2e-2, 1e-2};
+    a.output_interval = 4e-2;
+    if (a.duration <= 0.0) a.duration = 1.0;
+    a.peak_dt = std::max(a.peak_dt, 1e-5);
+  }
   // Counts derived from these (reference samples, rows) must fit a long long: refused with exit 2.
-  if (!(peak_dt > 0.0 && output_interval >= peak_dt && output_interval / peak_dt <= 1e9 && duration >= 0.0 &&
-        duration <= 1e6)) {
+  if (!(a.peak_dt > 0.0 && a.output_interval >= a.peak_dt && a.output_interval / a.peak_dt <= 1e9 &&
+        a.duration >= 0.0 && a.duration <= 1e6)) {
     return program::refuse("gimbalsim_workprec",
                            "need 0 < --peak-dt <= --output-interval <= 1e9 --peak-dt and 0 <= --duration <= 1e6 s");
   }
-  std::vector<Policy> policies;
   try {
-    policies = loadPolicies(policies_path);
+    a.policies = loadPolicies(a.policies_path);
   } catch (const std::exception& e) {
     return program::refuse("gimbalsim_workprec", e.what());
   }
-  for (const std::string& name : only_policies) {  // a --policy the table does not hold is refused, never ignored
-    if (std::none_of(policies.begin(), policies.end(), [&](const Policy& p) { return p.name == name; })) {
-      return program::refuse("gimbalsim_workprec", "--policy " + name + ": no such policy in " + policies_path);
+  for (const std::string& name : a.only_policies) {  // a --policy the table does not hold is refused, never ignored
+    if (std::none_of(a.policies.begin(), a.policies.end(), [&](const Policy& p) { return p.name == name; })) {
+      return program::refuse("gimbalsim_workprec", "--policy " + name + ": no such policy in " + a.policies_path);
     }
   }
-  if (!only_policies.empty()) {
-    std::erase_if(policies, [&](const Policy& p) {
-      return std::find(only_policies.begin(), only_policies.end(), p.name) == only_policies.end();
+  if (!a.only_policies.empty()) {
+    std::erase_if(a.policies, [&](const Policy& p) {
+      return std::find(a.only_policies.begin(), a.only_policies.end(), p.name) == a.only_policies.end();
     });
   }
-  if (const std::string why = gimbalsim::io::outputFolderProblem(out_dir, app.count("--out") > 0); !why.empty()) {
-    return program::refuse("gimbalsim_workprec", "--out " + out_dir + ": " + why);
+  if (const std::string why = gimbalsim::io::outputFolderProblem(a.out_dir, app.count("--out") > 0); !why.empty()) {
+    return program::refuse("gimbalsim_workprec", "--out " + a.out_dir + ": " + why);
   }
-  std::printf("work-precision sweep: CPU = thread CPU time (CLOCK_THREAD_CPUTIME_ID) of the stepping only, "
-              "median of %d runs; errors at every %g s row against Boost.Odeint dopri5 at 1e-12.\n"
-              "This machine's 2 cores are shared: timings are noisy.\n",
-              repeats, output_interval);
+  return std::nullopt;
+}
 
-  std::vector<Point> points;
-  // SIGINT/SIGTERM: the point being measured is dropped, the CSV holds every whole point before it.
-  gimbalsim::io::installStopHandlers();
-  for (const std::string& scene : scenes) {
-    if (gimbalsim::io::stopRequested()) break;
-    const std::string path = scenes_dir + "/" + scene + ".yaml";
-    std::vector<std::string> base_sets;
-    if (auto it = kSceneDefaults.find(scene); it != kSceneDefaults.end()) {
-      base_sets = it->second.sets;
-      std::printf("\n[%s] with %s: %s\n", scene.c_str(), join(base_sets, " ").c_str(), it->second.why);
+/// The overrides every run of a scene gets: its defaults, the guards off,
+/// the user's --set, the duration and the row spacing.
+std::vector<std::string> baseSets(const Args& a, const std::string& scene) {
+  std::vector<std::string> sets;
+  if (auto it = kSceneDefaults.find(scene); it != kSceneDefaults.end()) {
+    sets = it->second.sets;
+    std::printf("\n[%s] with %s: %s\n", scene.c_str(), join(sets, " ").c_str(), it->second.why);
+  }
+  // The run-time guards (invariants, impact resolution) stop runs that are
+  // not accurate enough; here every setting's error is measured against
+  // the reference instead, so they are off (a --set can turn them on).
+  for (const char* off : {"sim.momentum_tol=0", "sim.energy_tol=0", "sim.min_substeps_per_impact=0"}) {
+    sets.push_back(off);
+  }
+  sets.insert(sets.end(), a.extra_sets.begin(), a.extra_sets.end());
+  if (a.duration > 0.0) sets.push_back("sim.duration=" + formatNumber(a.duration));
+  sets.push_back("sim.output_interval=" + formatNumber(a.output_interval));
+  return sets;
+}
+
+/// A refusal of the base scene, each override named as the user gave it: a
+/// flag, or the user's own --set #k (not its place in base_sets).
+int refuseScene(const Args& a, const std::string& scene, const std::vector<std::string>& base_sets,
+                const InputError& e) {
+  std::vector<std::string> labels;
+  const std::size_t own = base_sets.size() - a.extra_sets.size() - (a.duration > 0.0 ? 2 : 1);
+  for (std::size_t i = 0; i < base_sets.size(); ++i) {
+    const std::string& s = base_sets[i];
+    if (i < own) {
+      labels.push_back("gimbalsim_workprec's own setting '" + s + "' of scene " + scene);
+    } else if (i < own + a.extra_sets.size()) {
+      labels.push_back("--set #" + std::to_string(i - own + 1) + " '" + s + "'");
+    } else {
+      labels.push_back(s.rfind("sim.duration=", 0) == 0 ? "--duration" : "--output-interval");
     }
-    // The run-time guards (invariants, impact resolution) stop runs that are
-    // not accurate enough; here every setting's error is measured against
-    // the reference instead, so they are off (a --set can turn them on).
-    for (const char* off : {"sim.momentum_tol=0", "sim.energy_tol=0", "sim.min_substeps_per_impact=0"}) {
-      base_sets.push_back(off);
+  }
+  std::cerr << "scene " << scene << " refused:\n";
+  for (const std::string& p : relabelledProblems(e, labels)) std::cerr << "error: " << p << "\n";
+  return program::refuse("gimbalsim_workprec", "scene " + scene + " refused");
+}
+
+/// What the reference says about the scene (printed before its curves).
+void printReference(const Scene& base, const Reference& ref, const std::string& out_dir) {
+  if (ref.from_cache) {
+    std::printf("cached (%s)\n", out_dir.c_str());
+  } else {
+    std::printf("%.2f s CPU\n", ref.cpu_seconds);
+  }
+  if (base.model.hasClearance()) {
+    std::printf("  reference peak contact force %.6g N (sampled every %g s); that pass and the row pass "
+                "(stops every %g s) agree in boresight to %.2e rad at the rows\n",
+                ref.rows.peak_contact, ref.peak_dt, base.run.output_interval, ref.self_consistency);
+  }
+  const StickSlip& ss = ref.stick;
+  if (ss.contact_time > 0.0) {
+    std::printf("  stick-slip (reference, every %g s): in contact %.3f s; |v_t| < v_a %.3f s, "
+                "v_a..v_b (Ambrosio: friction below mu F_n) %.3f s, >= v_b (full friction) %.3f s; "
+                "%lld entries below v_b, %lld reversals of v_t\n",
+                ss.dt, ss.contact_time, ss.below_va, ss.band, ss.slip, ss.stick_entries, ss.vt_sign_changes);
+  }
+}
+
+/// One policy's curve on one scene: each point's error and median CPU.
+void measureCurve(const Args& a, const std::string& scene, const std::string& path, const Scene& base,
+                  const std::vector<std::string>& base_sets, const Reference& ref, const Policy& pol,
+                  std::vector<Point>& points) {
+  std::vector<std::pair<double, std::string>> sweep;  // (h, sweep value)
+  if (pol.sweep_key.empty()) {
+    for (double h : a.steps) sweep.emplace_back(h, "");
+  } else {
+    double h = base.model.integrator.step;
+    for (const std::string& s : pol.sets) {
+      if (s.rfind("sim.step=", 0) == 0) h = std::stod(s.substr(9));
     }
-    base_sets.insert(base_sets.end(), extra_sets.begin(), extra_sets.end());
-    if (duration > 0.0) base_sets.push_back("sim.duration=" + fmt(duration));
-    base_sets.push_back("sim.output_interval=" + fmt(output_interval));
-    Scene base;
+    for (const std::string& v : pol.sweep_values) sweep.emplace_back(h, v);
+  }
+  double last_cpu = 0.0;  // [s] per run at the previous point of this curve
+  for (const auto& [h, value] : sweep) {
+    if (gimbalsim::io::stopRequested()) return;
+    if (last_cpu > a.max_run_seconds) {
+      std::printf("  %-22s rest of the curve skipped: the last point took %.1f s per run (--max-run-seconds)\n",
+                  pol.name.c_str(), last_cpu);
+      return;
+    }
+    Point p;
+    p.scene = scene;
+    p.policy = pol.name;
+    p.h = h;
+    p.sweep_key = pol.sweep_key;
+    p.sweep_value = value;
+    std::vector<std::string> sets = base_sets;
+    sets.push_back("sim.step=" + formatNumber(h));
+    for (const std::string& s : pol.sets) sets.push_back(expandSet(s, h));
+    if (!value.empty()) sets.push_back(pol.sweep_key + "=" + value);
+    Scene sc;
     try {
-      base = loadScene(path, base_sets);
+      sc = loadScene(path, sets);
     } catch (const InputError& e) {
-      // Each override named as the user gave it: a flag, or the user's own --set #k (not its place in base_sets).
-      std::vector<std::string> labels;
-      const std::size_t own = base_sets.size() - extra_sets.size() - (duration > 0.0 ? 2 : 1);
-      for (std::size_t i = 0; i < base_sets.size(); ++i) {
-        const std::string& s = base_sets[i];
-        if (i < own) {
-          labels.push_back("gimbalsim_workprec's own setting '" + s + "' of scene " + scene);
-        } else if (i < own + extra_sets.size()) {
-          labels.push_back("--set #" + std::to_string(i - own + 1) + " '" + s + "'");
-        } else {
-          labels.push_back(s.rfind("sim.duration=", 0) == 0 ? "--duration" : "--output-interval");
-        }
-      }
-      std::cerr << "scene " << scene << " refused:\n";
-      for (const std::string& p : relabelledProblems(e, labels)) std::cerr << "error: " << p << "\n";
-      return program::refuse("gimbalsim_workprec", "scene " + scene + " refused");
-    }
-    if (!(base.run.duration / peak_dt <= 1e10)) {
-      return program::refuse("gimbalsim_workprec",
-                             "scene " + scene + ": sim.duration / --peak-dt is more than 1e10 reference samples");
-    }
-    std::printf("\n[%s] %g s, %s, reference: ", scene.c_str(), base.run.duration,
-                base.model.floating_base ? "floating base" : "fixed base");
-    std::fflush(stdout);
-    Reference ref;
-    try {
-      ref = reference(base, readFile(path) + "\n" + join(base_sets, "\n"), out_dir, peak_dt);
-    } catch (const std::exception& e) {
-      std::printf("FAILED (%s); scene skipped\n", e.what());
+      p.note = "refused: " + join(e.problems(), "; ");
+      points.push_back(p);
+      printPoint(p);
       continue;
     }
-    if (ref.from_cache) {
-      std::printf("cached (%s)\n", out_dir.c_str());
-    } else {
-      std::printf("%.2f s CPU\n", ref.cpu_seconds);
-    }
-    if (base.model.hasClearance()) {
-      std::printf("  reference peak contact force %.6g N (sampled every %g s); that pass and the row pass "
-                  "(stops every %g s) agree in boresight to %.2e rad at the rows\n",
-                  ref.rows.peak_contact, ref.peak_dt, base.run.output_interval, ref.self_consistency);
-    }
-    const StickSlip& ss = ref.stick;
-    if (ss.contact_time > 0.0) {
-      std::printf("  stick-slip (reference, every %g s): in contact %.3f s; |v_t| < v_a %.3f s, "
-                  "v_a..v_b (Ambrosio: friction below mu F_n) %.3f s, >= v_b (full friction) %.3f s; "
-                  "%lld entries below v_b, %lld reversals of v_t\n",
-                  ss.dt, ss.contact_time, ss.below_va, ss.band, ss.slip, ss.stick_entries, ss.vt_sign_changes);
-    }
-
-    for (const Policy& pol : policies) {
-      if (pol.contact_only && !base.model.hasClearance()) continue;
-      std::vector<std::pair<double, std::string>> sweep;  // (h, sweep value)
-      if (pol.sweep_key.empty()) {
-        for (double h : steps) sweep.emplace_back(h, "");
-      } else {
-        double h = base.model.integrator.step;
-        for (const std::string& s : pol.sets) {
-          if (s.rfind("sim.step=", 0) == 0) h = std::stod(s.substr(9));
-        }
-        for (const std::string& v : pol.sweep_values) sweep.emplace_back(h, v);
+    const Model& m = sc.model;
+    p.h = m.integrator.step;
+    p.substep = m.integrator.substep;
+    p.event_tol = m.integrator.event_tol;
+    p.ok = compare(runRk4(sc), ref.rows, p);
+    if (p.ok) {
+      std::vector<double> cpu;
+      for (int r = 0; r < a.repeats && p.ok; ++r) {
+        cpu.push_back(cpuSecondsOfRun(sc));
+        if (cpu.back() < 0.0) p.ok = false, p.note = "timed run stopped";
       }
-      double last_cpu = 0.0;  // [s] per run at the previous point of this curve
-      for (const auto& [h, value] : sweep) {
-        if (gimbalsim::io::stopRequested()) break;
-        if (last_cpu > max_run_seconds) {
-          std::printf("  %-22s rest of the curve skipped: the last point took %.1f s per run (--max-run-seconds)\n",
-                      pol.name.c_str(), last_cpu);
-          break;
-        }
-        Point p;
-        p.scene = scene;
-        p.policy = pol.name;
-        p.h = h;
-        p.sweep_key = pol.sweep_key;
-        p.sweep_value = value;
-        std::vector<std::string> sets = base_sets;
-        sets.push_back("sim.step=" + fmt(h));
-        for (const std::string& s : pol.sets) sets.push_back(expandSet(s, h));
-        if (!value.empty()) sets.push_back(pol.sweep_key + "=" + value);
-        Scene sc;
-        try {
-          sc = loadScene(path, sets);
-        } catch (const InputError& e) {
-          p.note = "refused: " + join(e.problems(), "; ");
-          points.push_back(p);
-          printPoint(p);
-          continue;
-        }
-        const Model& m = sc.model;
-        p.h = m.integrator.step;
-        p.substep = m.integrator.substep;
-        p.event_tol = m.integrator.event_tol;
-        p.ok = compare(runRk4(sc), ref.rows, p);
-        if (p.ok) {
-          std::vector<double> cpu;
-          for (int r = 0; r < repeats && p.ok; ++r) {
-            cpu.push_back(cpuSecondsOfRun(sc));
-            if (cpu.back() < 0.0) p.ok = false, p.note = "timed run stopped";
-          }
-          p.repeats = repeats;
-          if (p.ok) p.cpu_per_sim_s = median(cpu) / sc.run.duration;
-          if (p.ok) last_cpu = median(cpu);
-        }
-        if (gimbalsim::io::stopRequested()) break;  // this point's runs were cut short
-        points.push_back(p);
-        printPoint(p);
-      }
+      p.repeats = a.repeats;
+      if (p.ok) p.cpu_per_sim_s = median(cpu) / sc.run.duration;
+      if (p.ok) last_cpu = median(cpu);
     }
-
-#ifdef GIMBALSIM_HAVE_MUJOCO
-    if (!no_mujoco && !base.model.hasClearance()) {
-      for (Point& p : mujocoPoints(base, ref.rows, steps, repeats)) {
-        p.scene = scene;
-        points.push_back(p);
-        printPoint(p);
-      }
-    }
-#endif
+    if (gimbalsim::io::stopRequested()) return;  // this point's runs were cut short
+    points.push_back(p);
+    printPoint(p);
   }
+}
 
-  markPareto(points);
-  const std::string csv = out_dir + "/workprec.csv";
+/// Run: every curve of one scene; nullopt to go on, else the exit code (a refused scene).
+std::optional<int> measureScene(const Args& a, const std::string& scene, std::vector<Point>& points) {
+  const std::string path = a.scenes_dir + "/" + scene + ".yaml";
+  const std::vector<std::string> base_sets = baseSets(a, scene);
+  Scene base;
   try {
-    writeCsv(csv, points);
+    base = loadScene(path, base_sets);
+  } catch (const InputError& e) {
+    return refuseScene(a, scene, base_sets, e);
+  }
+  if (!(base.run.duration / a.peak_dt <= 1e10)) {
+    return program::refuse("gimbalsim_workprec",
+                           "scene " + scene + ": sim.duration / --peak-dt is more than 1e10 reference samples");
+  }
+  std::printf("\n[%s] %g s, %s, reference: ", scene.c_str(), base.run.duration,
+              base.model.floating_base ? "floating base" : "fixed base");
+  std::fflush(stdout);
+  Reference ref;
+  try {
+    ref = reference(base, readFile(path) + "\n" + join(base_sets, "\n"), a.out_dir, a.peak_dt);
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return program::kOutput;
+    std::printf("FAILED (%s); scene skipped\n", e.what());
+    return std::nullopt;
   }
-  std::printf("\nwrote %s (%zu points)\n", csv.c_str(), points.size());
-  if (gimbalsim::io::stopRequested()) {
-    std::fprintf(stderr, "gimbalsim_workprec: interrupted by %s; the CSV holds the %zu whole points before it\n",
-                 gimbalsim::io::stopSignalName(), points.size());
-    return gimbalsim::io::stopExitCode();
+  printReference(base, ref, a.out_dir);
+  for (const Policy& pol : a.policies) {
+    if (pol.contact_only && !base.model.hasClearance()) continue;
+    measureCurve(a, scene, path, base, base_sets, ref, pol, points);
   }
+#ifdef GIMBALSIM_HAVE_MUJOCO
+  if (!a.no_mujoco && !base.model.hasClearance()) {
+    for (Point& p : mujocoPoints(base, ref.rows, a.steps, a.repeats)) {
+      p.scene = scene;
+      points.push_back(p);
+      printPoint(p);
+    }
+  }
+#endif
+  return std::nullopt;
+}
 
+/// Report: the cheapest setting per target accuracy and scene.
+void printCheapest(const std::vector<Point>& points) {
   std::printf("\nCheapest setting per target max boresight error (median CPU; ms per simulated 5 s in brackets):\n");
   std::printf("%-22s %-9s %-24s %-10s %-10s %-12s %-16s %s\n", "scene", "target", "policy", "h [s]",
               "substep", "sweep", "CPU s per sim s", "bore err max");
@@ -337,6 +342,37 @@ int mainImpl(int argc, char** argv) {
                   5e3 * b->cpu_per_sim_s, b->bore_err_max);
     }
   }
+}
+
+int mainImpl(int argc, char** argv) {
+  Args a;
+  if (const auto rc = parseArgs(argc, argv, a)) return *rc;
+  std::printf("work-precision sweep: CPU = thread CPU time (CLOCK_THREAD_CPUTIME_ID) of the stepping only, "
+              "median of %d runs; errors at every %g s row against Boost.Odeint dopri5 at 1e-12.\n"
+              "Timings on a shared machine are noisy.\n",
+              a.repeats, a.output_interval);
+  std::vector<Point> points;
+  // SIGINT/SIGTERM: the point being measured is dropped, the CSV holds every whole point before it.
+  gimbalsim::io::installStopHandlers();
+  for (const std::string& scene : a.scenes) {
+    if (gimbalsim::io::stopRequested()) break;
+    if (const auto rc = measureScene(a, scene, points)) return *rc;
+  }
+  markPareto(points);
+  const std::string csv = a.out_dir + "/workprec.csv";
+  try {
+    writeCsv(csv, points);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return program::kOutput;
+  }
+  std::printf("\nwrote %s (%zu points)\n", csv.c_str(), points.size());
+  if (gimbalsim::io::stopRequested()) {
+    std::fprintf(stderr, "gimbalsim_workprec: interrupted by %s; the CSV holds the %zu whole points before it\n",
+                 gimbalsim::io::stopSignalName(), points.size());
+    return gimbalsim::io::stopExitCode();
+  }
+  printCheapest(points);
   return program::kOk;
 }
 

@@ -27,12 +27,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string num(double x) {
-  std::ostringstream os;
-  os << std::setprecision(17) << x;
-  return os.str();
-}
-
 double angleBetween(const Vec3& a, const Vec3& b) { return pointing::pointingError(a, b); }
 
 }  // namespace
@@ -95,7 +89,7 @@ std::string expandSet(const std::string& set, double h) {
     value = h * std::stod(rest, &used);
     end += 1 + used;
   }
-  return set.substr(0, at) + num(value) + set.substr(end);
+  return set.substr(0, at) + formatNumber(value) + set.substr(end);
 }
 
 // ---------------------------------------------------------------- runs
@@ -263,7 +257,7 @@ double cpuSecondsOfRun(const Scene& sc) {
 
 Reference reference(const Scene& sc, const std::string& key, const std::string& cache_dir, double peak_dt) {
   std::ostringstream hk;
-  hk << std::hex << std::hash<std::string>{}(key + " peak_dt=" + num(peak_dt) + " dopri5-1e-12 v2");
+  hk << std::hex << std::hash<std::string>{}(key + " peak_dt=" + formatNumber(peak_dt) + " dopri5-1e-12 v2");
   const std::string hash = hk.str();
   const std::string path = cache_dir + "/ref_" + sc.model.name + "_" + hash + ".csv";
   Reference r;
