@@ -20,7 +20,15 @@ import os
 
 import numpy as np
 
-from . import _gimbalsim, _output
+try:
+    from . import _gimbalsim
+except ImportError as e:  # a build folder whose extension was never built (only the programs were)
+    _here = os.path.dirname(os.path.abspath(__file__))
+    raise ImportError(
+        f"gimbalsim: the extension module _gimbalsim is not built in {_here} ({e}); build it with "
+        "`cmake --build build -j2 --target gimbalsim_python` (build/ being that build folder), "
+        "or install the package (docs/python_install.md)") from e
+from . import _output
 from ._errors import OutputError, SceneError, SimulationStopped
 from ._gimbalsim import COLUMNS, Scene, Simulator, State
 
@@ -157,10 +165,15 @@ def keys():
     return _gimbalsim._keys()
 
 
+@functools.lru_cache(maxsize=None)
+def _aliases():
+    return dict(_gimbalsim._key_aliases())  # fixed for the build: read once (the sweep asks per row)
+
+
 def key_aliases():
     """The scene keys' old spellings, still read: {old spelling: key}
     (friction1.mu: joint1.friction.mu; docs/scene_keys.md)."""
-    return dict(_gimbalsim._key_aliases())
+    return dict(_aliases())
 
 
 def controller_keys():
