@@ -111,9 +111,14 @@ def run_lockstep(args, cfg, workdir):
     t0 = time.monotonic()
     r = subprocess.run(["unshare", "-n", "sh", "-c", script])
     wall = time.monotonic() - t0
-    if r.returncode != 0:
-        with open(os.path.join(workdir, "firmware.log")) as f:
-            return None, f"firmware_sim exit {r.returncode}: " + f.read()[-400:]
+    if r.returncode != 0:  # the logs' last lines, whole
+        tails = []
+        for name in ("firmware.log", "controller.log"):
+            with open(os.path.join(workdir, name), errors="replace") as f:
+                lines = f.read().splitlines()[-8:]
+            if lines:
+                tails.append(f"{name}:\n    " + "\n    ".join(lines))
+        return None, f"firmware_sim exit {r.returncode}\n  " + "\n  ".join(tails)
     return metrics(args, cfg, read_csv(ctl_csv), read_csv(truth_csv), duration, wall), ""
 
 

@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "gimbalsim/input/input_error.hpp"
+#include "gimbalsim/pointing/profile_keys.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "test_util.hpp"
@@ -97,6 +99,26 @@ TEST(TargetProfile, TrackStaysWithinItsDocumentedBounds) {
   const double t0 = p.trackStart() + 40.0, T = p.track_period(0) * p.track_period(1);  // whole periods of both
   const Vec2 mean_rate = (p.at(t0 + T).q - p.at(t0).q) / T;
   EXPECT_LT((mean_rate - p.track_rate).norm(), 1e-9);
+}
+
+// One format for a controller file: the profile: section or flat profile.*
+// keys (pointing_controller --print-config) give the same profile; a file
+// with neither (a scene) is refused, naming the key.
+TEST(TargetProfileFile, SectionAndFlatKeysReadAlike) {
+  const TargetProfile nested =
+      loadTargetProfileText("profile:\n  slew_start: 0.25\n  slew_time: 1.5\n  hold_time: 0.75\n", "nested.yaml");
+  const TargetProfile flat =
+      loadTargetProfileText("profile.slew_start: 0.25\nprofile.slew_time: 1.5\nprofile.hold_time: 0.75\n", "flat.yaml");
+  EXPECT_EQ(nested.slew_start, 0.25);
+  EXPECT_EQ(flat.slew_start, nested.slew_start);
+  EXPECT_EQ(flat.slew_time, nested.slew_time);
+  EXPECT_EQ(flat.trackStart(), 2.5);
+  try {
+    loadTargetProfileText("sim:\n  duration: 1\n", "scene.yaml");
+    FAIL() << "a file without profile keys was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.yaml: key 'profile': missing"), std::string::npos) << e.what();
+  }
 }
 
 TEST(LosBoresight, MatchesTheDynamicsKinematicsOnAFixedBase) {

@@ -1,9 +1,11 @@
 """tools/tune_sweep.py (the gain sweep over LCM): a --duration that ends before
 the track, where every figure but the torques is measured, is refused before
-any run (exit 2 naming --duration), as controller_sweep refuses it."""
+any run (exit 2 naming --duration), as controller_sweep refuses it; the
+documented commands run over LCM, both programs reading the one file."""
 import subprocess
 import sys
 
+import pytest
 from conftest import BIN, CONTROLLER_CONFIG, SOURCE
 
 
@@ -14,3 +16,22 @@ def test_a_duration_that_ends_before_the_track_is_refused():
     assert p.returncode == 2, (p.stdout, p.stderr)
     assert "--duration: track window [3.5, inf) s not reached: run ended at 2 s" in p.stderr, p.stderr
     assert "gain set" not in p.stdout  # no table: nothing ran
+
+
+def _netns_available():
+    return subprocess.run(["unshare", "-n", "true"], capture_output=True).returncode == 0
+
+
+@pytest.mark.skipif(not _netns_available(), reason="needs a private network namespace (unshare -n: root)")
+def test_documented_gain_set_runs_over_lcm(tmp):
+    # docs/bench.md "Gain sweep", as written (shorter: one omega and one gain set):
+    # firmware_sim --profile reads the file the script writes from --print-config.
+    p = subprocess.run([sys.executable, str(SOURCE / "tools" / "tune_sweep.py"), "--bin", str(BIN), "--omega", "20",
+                        "--gain-set", "azimuth.kd=0,elevation.kd=0", "--keep", str(tmp / "sweep")],
+                       capture_output=True, text=True, timeout=300, cwd=SOURCE)
+    assert p.returncode == 0, (p.stdout, p.stderr)
+    rows = [l for l in p.stdout.splitlines() if l.startswith(("omega=20", "azimuth.kd=0"))]
+    assert len(rows) == 2, p.stdout
+    assert "run failed" not in p.stdout
+    rms = [float(r.split()[2]) for r in rows]  # rms_truth [rad]
+    assert all(0.0 < x < 1.0 for x in rms), rows

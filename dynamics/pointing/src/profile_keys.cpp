@@ -49,13 +49,26 @@ const KeyTable<P>& profileKeys() {
   return table;
 }
 
+namespace {
+
+bool hasFlatProfileKey(const YAML::Node& root) {
+  for (const auto& kv : root) {
+    if (kv.first.IsScalar() && kv.first.Scalar().rfind("profile.", 0) == 0) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 TargetProfile loadTargetProfileText(const std::string& yaml, const std::string& origin) {
   // A file without the section (a scene, say) would give the default profile
   // silently: a truth pointing error against a target nobody chose.
+  // Both spellings of a controller file name it: the section, or flat
+  // `profile.*` keys (as pointing_controller --print-config writes them).
   YAML::Node root;
-  if (Problem why; loadDocument(yaml, origin, root, why) && root.IsMap() && !root["profile"]) {
+  if (Problem why; loadDocument(yaml, origin, root, why) && root.IsMap() && !root["profile"] && !hasFlatProfileKey(root)) {
     throw InputError(std::vector<Problem>{{origin + ": key 'profile': missing: a target profile needs the profile: "
-                                           "section of a controller configuration (e.g. controllers/config/default.yaml)",
+                                           "section (or profile.* keys) of a controller configuration (e.g. controllers/config/default.yaml)",
                                            "profile", origin, 0, 0, 0}});
   }
   return loadKeys<InputError>(profileSection(), yaml, origin, {});
