@@ -43,10 +43,17 @@ def entry(spec, rows, index, phase):
     e = {"index": index.name, "phase": phase, "interpretation": INTERPRETATION, "level": index.level,
          "confidence": index.confidence, "n": b.n, "n_missing": b.n_missing, "min_units": b.min_units,
          "supported": b.supported, "estimate_rad": _json(b.estimate), "upper_bound_rad": _json(b.upper),
-         "interval_rad": [_json(b.low), _json(b.high)], "note": b.reason}
+         "interval_rad": [_json(b.low), _json(b.high)], "two_sided": not math.isnan(b.low), "note": b.reason}
     if not b.supported:
         e["note"] = (f"not supported: n={b.n} < {b.min_units} needed for {_pct(index.level)} at "
                      f"{_pct(index.confidence)}")
+    finite = [v for v in values if math.isfinite(v)]
+    e["worst_with_figure_rad"] = max(finite) if finite else None
+    if math.isinf(b.estimate):
+        # The quantile falls on units without a figure (stopped, or a window they missed): they count as
+        # worst, so the quantile is unbounded; say so, with the worst figure there is, never a bare n/a.
+        e["estimate_note"] = (f"beyond every figure: it falls on the {b.n_missing} of {b.n} units without one "
+                              "(stopped, or a window missed), counted as worst")
     if index.requirement is not None:
         v = ix.requirement_verdict(values, index.requirement, index.level, index.confidence)
         e["requirement"] = {"requirement_rad": v.requirement, "verdict": v.text, "n_meeting": v.n_meeting,
@@ -67,14 +74,28 @@ def relative_width(e):
     return (hi - lo) / e["estimate_rad"]
 
 
+def _estimate_text(e):
+    """The empirical quantile as text; an unbounded one says why and gives the worst figure there is."""
+    if "estimate_note" not in e:
+        return f"{_g(e['estimate_rad'])} rad"
+    worst = e["worst_with_figure_rad"]
+    return e["estimate_note"] + ("" if worst is None else f"; the worst unit with a figure: {_g(worst)} rad")
+
+
+def _bound_text(x, e):
+    """An interval end: a number, or (None with units missing) beyond every figure."""
+    return "beyond every figure" if x is None and e["n_missing"] else _g(x)
+
+
 def cell(e):
     """The index as text: the estimate with its interval, or why there is none."""
     if not e["supported"]:
-        return f"{e['note']} (empirical {_pct(e['level'])} quantile {_g(e['estimate_rad'])} rad)"
+        return f"{e['note']} (empirical {_pct(e['level'])} quantile: {_estimate_text(e)})"
     lo, hi = e["interval_rad"]
-    ci = f"[{_g(lo)}, {_g(hi)}]" if lo is not None and hi is not None else "(one-sided only)"
-    return (f"{_g(e['estimate_rad'])} rad, {_pct(e['confidence'])} CI {ci}, upper bound "
-            f"{_g(e['upper_bound_rad'])} rad")
+    ci = f"[{_bound_text(lo, e)}, {_bound_text(hi, e)}]" if e["two_sided"] else "(one-sided only)"
+    upper = e["upper_bound_rad"]
+    return (f"{_estimate_text(e)}, {_pct(e['confidence'])} CI {ci}, upper bound "
+            f"{_bound_text(upper, e)}{' rad' if upper is not None else ''}")
 
 
 def verdict_text(e):

@@ -1,22 +1,49 @@
 #!/usr/bin/env bash
-# The shipped pointing budget: runs tools/sweeps/pointing_budget.yaml in closed
-# loop (gimbalsim.sweep), then stamps its report (machine, commit, date) into
-# docs/results/pointing_budget.md with its CDF plots beside it.
+# The pointing budget. Without SPEC: the shipped budget,
+# tools/sweeps/pointing_budget.yaml, run in closed loop (gimbalsim.sweep) into
+# out/pointing_budget/, its report stamped (machine, commit, date) into
+# docs/results/pointing_budget.md with its CDF plots beside it. With SPEC: the
+# user's budget, into out/pointing_budget-<spec name>/ (or --out DIR); the
+# project's pages are never touched.
 #
-#   bash tools/sweeps/run_pointing_budget.sh [SPEC] [sweep options, e.g. --workers 2]
+#   bash tools/sweeps/run_pointing_budget.sh                        # the shipped page
+#   bash tools/sweeps/run_pointing_budget.sh MY_SPEC [--out DIR] [sweep options, e.g. --workers 2]
+#
+# The package is the one in ${GIMBALSIM_BUILD:-build}/python (cmake --build build --target gimbalsim_python).
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-cd "$ROOT"
+SHIPPED=tools/sweeps/pointing_budget.yaml
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
-SPEC="${1:-tools/sweeps/pointing_budget.yaml}"
-shift || true
-COMMAND="bash tools/sweeps/run_pointing_budget.sh$(printf ' %q' "$SPEC" "$@")"
+SPEC="$SHIPPED"
+if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then
+  SPEC=$1
+  shift
+fi
+ARGS=("$@")
+PACKAGE="$(cd "$ROOT" && realpath -m "${GIMBALSIM_BUILD:-build}")/python"
+[ -f "$PACKAGE/gimbalsim/__init__.py" ] || {
+  echo "run_pointing_budget.sh: no gimbalsim package in $PACKAGE: cmake --build build -j2 --target gimbalsim_python" >&2
+  exit 2
+}
+
+if [ "$SPEC" != "$SHIPPED" ]; then
+  # A user's spec: its own output folder (a --out among the options wins), nothing else written.
+  OUT="out/pointing_budget-$(basename "${SPEC%.*}")"
+  for a in "${ARGS[@]+"${ARGS[@]}"}"; do [ "$a" = "--out" ] && OUT=; done
+  PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$SPEC" ${OUT:+--out "$OUT"} --no-progress \
+    "${ARGS[@]+"${ARGS[@]}"}"
+  exit 0
+fi
+
+cd "$ROOT"
+COMMAND="bash tools/sweeps/run_pointing_budget.sh$(printf ' %q' "${ARGS[@]+"${ARGS[@]}"}")"
 OUT=out/pointing_budget
 mkdir -p out
 rm -rf "$OUT"
-PYTHONPATH="$ROOT/build/python" /usr/bin/python3 -m gimbalsim.sweep "$SPEC" --out "$OUT" --no-progress "$@"
+PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$SPEC" --out "$OUT" --no-progress "${ARGS[@]+"${ARGS[@]}"}"
 RESULTS=docs/results
+rm -f "$RESULTS"/pointing_budget_*_cdf.png  # the page shows this run's figures only, none left from an older one
 for png in "$OUT"/plots/*_cdf.png; do
   cp "$png" "$RESULTS/pointing_budget_$(basename "$png")"
 done

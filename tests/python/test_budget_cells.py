@@ -1,0 +1,49 @@
+"""The budget's cells (gimbalsim._budget) when units have no figure: one
+stopped unit of 60 counts as worst, and every cell still shows the empirical
+value, or says that it falls on the units without a figure and gives the
+worst figure there is: never a bare n/a."""
+from types import SimpleNamespace
+
+from gimbalsim import _budget
+
+
+class Spec:
+    def header(self):
+        return ["sample", "status", "ape_track"]
+
+
+def rows(n_ok, n_stopped):
+    ok = [[str(i), "ok", repr(1e-5 * (1 + i / 100))] for i in range(n_ok)]
+    return ok + [[str(n_ok + i), "stopped: sim.penetration_limit", "nan"] for i in range(n_stopped)]
+
+
+def index(level, confidence=0.95):
+    return SimpleNamespace(name="ape", level=level, confidence=confidence, requirement=None)
+
+
+def test_one_stopped_unit_of_60_leaves_no_cell_bare():
+    e = _budget.entry(Spec(), rows(59, 1), index(0.9973), "track")
+    assert not e["supported"] and e["n"] == 60 and e["n_missing"] == 1
+    text = _budget.cell(e)
+    assert "n/a" not in text, text
+    assert "falls on the 1 of 60 units without one" in text
+    assert f"the worst unit with a figure: {1e-5 * 1.58:.3g} rad" in text, text
+    assert e["worst_with_figure_rad"] == 1e-5 * (1 + 58 / 100)
+
+
+def test_a_supported_quantile_below_the_missing_units_keeps_its_number():
+    # level 0.5 over 60 units, one stopped: the median is a figure, the interval too.
+    e = _budget.entry(Spec(), rows(59, 1), index(0.5), "track")
+    assert e["supported"] and e["estimate_rad"] is not None
+    assert "estimate_note" not in e
+    text = _budget.cell(e)
+    assert "n/a" not in text and "beyond" not in text, text
+
+
+def test_a_supported_quantile_on_the_missing_units_says_so():
+    # level 0.9 over 100 units of which 20 stopped: the quantile and its upper bound fall on them.
+    e = _budget.entry(Spec(), rows(80, 20), index(0.9), "track")
+    assert e["supported"] and e["estimate_rad"] is None
+    text = _budget.cell(e)
+    assert "n/a" not in text, text
+    assert "beyond every figure" in text and "20 of 100 units without one" in text

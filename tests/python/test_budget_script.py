@@ -1,0 +1,62 @@
+"""tools/sweeps/run_pointing_budget.sh: a user's spec writes to the user's
+output folder and leaves the project's pages alone; only the shipped budget
+regenerates docs/results/pointing_budget.md. Run in a copy of the files the
+script touches, so a regression cannot write into the source tree."""
+import hashlib
+import os
+import pathlib
+import shutil
+import subprocess
+
+from conftest import CONTROLLER_CONFIG, SCENES, SOURCE
+
+SPEC = f"""
+scene: {SCENES}/paper_clearance.yaml
+set: {{sim.duration: 0.5}}
+controller: {CONTROLLER_CONFIG}
+controller_set: {{profile.slew_start: 0.0, profile.slew_time: 0.2, profile.hold_time: 0.1}}
+samples: 2
+seed: 3
+parameters:
+  contact.clearance: {{uniform: [1.0e-4, 8.0e-4]}}
+phases: [slew, hold, track]
+indices:
+  ape: {{level: 0.5, confidence: 0.5, requirement: 1.0}}
+"""
+
+
+def digest(folder):
+    h = hashlib.sha256()
+    for p in sorted(folder.rglob("*")):
+        if p.is_file():
+            h.update(str(p.relative_to(folder)).encode() + p.read_bytes())
+    return h.hexdigest()
+
+
+def test_a_users_spec_writes_its_own_folder_and_no_project_page(tmp_path):
+    root = tmp_path / "checkout"
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/results_page.py", "docs/results/pointing_budget.md",
+                "docs/results/README.md"):
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(SOURCE / rel, root / rel)
+    for png in (SOURCE / "docs" / "results").glob("pointing_budget_*.png"):
+        shutil.copy(png, root / "docs" / "results" / png.name)
+    before = digest(root / "docs")
+    work = tmp_path / "work"
+    (work / "out").mkdir(parents=True)
+    (work / "my_budget.yaml").write_text(SPEC)
+    # the package the tests use: PYTHONPATH is BUILD/python
+    env = dict(os.environ, GIMBALSIM_BUILD=str(pathlib.Path(os.environ["PYTHONPATH"]).parent))
+    p = subprocess.run(["bash", str(root / "tools/sweeps/run_pointing_budget.sh"), "my_budget.yaml", "--workers", "1"],
+                       cwd=work, capture_output=True, text=True, timeout=600, env=env)
+    assert p.returncode == 0, p.stderr
+    out = work / "out" / "pointing_budget-my_budget"
+    assert (out / "report.md").is_file() and (out / "results.csv").is_file()
+    assert digest(root / "docs") == before, "a user's budget changed the project's pages"
+
+    # --out names the folder instead
+    p = subprocess.run(["bash", str(root / "tools/sweeps/run_pointing_budget.sh"), "my_budget.yaml", "--out",
+                        "out/mine", "--workers", "1"], cwd=work, capture_output=True, text=True, timeout=600, env=env)
+    assert p.returncode == 0, p.stderr
+    assert (work / "out" / "mine" / "report.md").is_file()
+    assert digest(root / "docs") == before
