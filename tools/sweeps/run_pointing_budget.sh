@@ -2,9 +2,9 @@
 # The pointing budget. Without SPEC: the shipped budget,
 # tools/sweeps/pointing_budget.yaml, run in closed loop (gimbalsim.sweep) into
 # out/pointing_budget/, its report stamped (machine, commit, date) into
-# docs/results/pointing_budget.md with its CDF plots beside it. With SPEC: the
-# user's budget, into out/pointing_budget-<spec name>/ (or --out DIR); the
-# project's pages are never touched.
+# docs/results/pointing_budget.md with its CDF plots beside it. With SPEC (any
+# spec, the shipped one too): that budget, into out/pointing_budget-<spec
+# name>/ (or --out DIR); the project's pages are never touched.
 #
 #   bash tools/sweeps/run_pointing_budget.sh                        # the shipped page
 #   bash tools/sweeps/run_pointing_budget.sh MY_SPEC [--out DIR] [sweep options, e.g. --workers 2]
@@ -15,7 +15,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 SHIPPED=tools/sweeps/pointing_budget.yaml
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
-SPEC="$SHIPPED"
+SPEC=  # none: the shipped budget and its page
 if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then
   SPEC=$1
   shift
@@ -27,7 +27,7 @@ PACKAGE="$(cd "$ROOT" && realpath -m "${GIMBALSIM_BUILD:-build}")/python"
   exit 2
 }
 
-if [ "$SPEC" != "$SHIPPED" ]; then
+if [ -n "$SPEC" ]; then
   # A user's spec: its own output folder (a --out among the options wins), nothing else written.
   OUT="out/pointing_budget-$(basename "${SPEC%.*}")"
   for a in "${ARGS[@]+"${ARGS[@]}"}"; do [ "$a" = "--out" ] && OUT=; done
@@ -36,12 +36,19 @@ if [ "$SPEC" != "$SHIPPED" ]; then
   exit 0
 fi
 
+for a in "${ARGS[@]+"${ARGS[@]}"}"; do
+  if [ "$a" = "--out" ]; then
+    echo "run_pointing_budget.sh: without a SPEC this regenerates the project's page from out/pointing_budget/;" \
+         "to write elsewhere, name the spec: run_pointing_budget.sh $SHIPPED --out DIR" >&2
+    exit 2
+  fi
+done
 cd "$ROOT"
 COMMAND="bash tools/sweeps/run_pointing_budget.sh$(printf ' %q' "${ARGS[@]+"${ARGS[@]}"}")"
 OUT=out/pointing_budget
 mkdir -p out
 rm -rf "$OUT"
-PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$SPEC" --out "$OUT" --no-progress "${ARGS[@]+"${ARGS[@]}"}"
+PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$SHIPPED" --out "$OUT" --no-progress "${ARGS[@]+"${ARGS[@]}"}"
 RESULTS=docs/results
 rm -f "$RESULTS"/pointing_budget_*_cdf.png  # the page shows this run's figures only, none left from an older one
 for png in "$OUT"/plots/*_cdf.png; do
