@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "../csv_util.hpp"
+#include "points.hpp"
+#include "policies.hpp"
 #include "workprec.hpp"
 
 namespace gimbalsim::workprec {

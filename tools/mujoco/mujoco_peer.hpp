@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "workprec.hpp"
+#include "points.hpp"
 
 namespace gimbalsim::workprec {
 

@@ -23,6 +23,8 @@
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/program/program.hpp"
 #include "gimbalsim/scene/scene.hpp"
+#include "points.hpp"
+#include "policies.hpp"
 #include "workprec.hpp"
 #ifdef GIMBALSIM_HAVE_MUJOCO
 #include "mujoco_peer.hpp"

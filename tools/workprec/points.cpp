@@ -1,0 +1,107 @@
+#include "points.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+#include "gimbalsim/io/output_file.hpp"
+#include "gimbalsim/pointing/target_profile.hpp"
+
+namespace gimbalsim::workprec {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double angleBetween(const Vec3& a, const Vec3& b) { return pointing::pointingError(a, b); }
+
+}  // namespace
+
+bool compare(const Trajectory& run, const Trajectory& ref, Point& p) {
+  p.substeps = run.substeps;
+  p.impacts = run.impacts;
+  p.momentum_drift_rel = run.momentum_drift_rel;
+  if (!run.ok) {
+    p.note = run.error;
+    return false;
+  }
+  if (run.t.size() != ref.t.size()) {
+    p.note = "rows differ from the reference (" + std::to_string(run.t.size()) + " vs " +
+             std::to_string(ref.t.size()) + "): output intervals differ";
+    return false;
+  }
+  p.bore_err_max = p.theta1_err_max = p.theta2_err_max = 0.0;
+  for (std::size_t i = 0; i < run.t.size(); ++i) {
+    if (std::fabs(run.t[i] - ref.t[i]) > 1e-9) {
+      p.note = "row times differ from the reference at row " + std::to_string(i);
+      return false;
+    }
+    p.bore_err_max = std::max(p.bore_err_max, angleBetween(run.bore[i], ref.bore[i]));
+    p.theta1_err_max = std::max(p.theta1_err_max, std::fabs(run.theta1[i] - ref.theta1[i]));
+    p.theta2_err_max = std::max(p.theta2_err_max, std::fabs(run.theta2[i] - ref.theta2[i]));
+  }
+  p.bore_err_end = angleBetween(run.bore.back(), ref.bore.back());
+  p.peak_force_err_rel = ref.peak_contact > 0.0
+                             ? std::fabs(run.peak_contact - ref.peak_contact) / ref.peak_contact
+                             : kNaN;
+  return true;
+}
+
+void markPareto(std::vector<Point>& points) {
+  std::vector<Point*> ok;
+  for (Point& p : points) {
+    p.pareto = false;
+    if (p.ok) ok.push_back(&p);
+  }
+  std::sort(ok.begin(), ok.end(), [](const Point* a, const Point* b) {
+    return a->cpu_per_sim_s != b->cpu_per_sim_s ? a->cpu_per_sim_s < b->cpu_per_sim_s
+                                                : a->bore_err_max < b->bore_err_max;
+  });
+  std::map<std::string, double> best;  // per scene: least error among cheaper points
+  for (Point* p : ok) {
+    auto it = best.find(p->scene);
+    if (it == best.end() || p->bore_err_max < it->second) {
+      p->pareto = true;
+      best[p->scene] = p->bore_err_max;
+    }
+  }
+}
+
+const Point* cheapestFor(const std::vector<Point>& points, const std::string& scene, double target) {
+  const Point* best = nullptr;
+  for (const Point& p : points) {
+    if (!p.ok || p.scene != scene || !(p.bore_err_max <= target)) continue;
+    if (!best || p.cpu_per_sim_s < best->cpu_per_sim_s) best = &p;
+  }
+  return best;
+}
+
+const std::vector<std::string> kCsvColumns = {
+    "scene",         "policy",          "h_s",           "substep_s",        "event_tol_s",
+    "sweep_key",     "sweep_value",     "ok",            "cpu_s_per_sim_s",  "repeats",
+    "bore_err_max_rad", "bore_err_end_rad", "theta1_err_max_rad", "theta2_err_max_rad",
+    "peak_force_err_rel", "momentum_drift_rel", "substeps", "impacts", "pareto", "note"};
+
+void writeCsv(const std::string& path, const std::vector<Point>& points) {
+  std::ostringstream out;
+  out << std::setprecision(10);
+  for (std::size_t i = 0; i < kCsvColumns.size(); ++i) out << (i ? "," : "") << kCsvColumns[i];
+  out << '\n';
+  auto quoted = [](std::string s) {
+    std::replace(s.begin(), s.end(), '"', '\'');
+    return '"' + s + '"';
+  };
+  for (const Point& p : points) {
+    out << quoted(p.scene) << ',' << quoted(p.policy) << ',' << p.h << ',' << p.substep << ','
+        << p.event_tol << ',' << quoted(p.sweep_key) << ',' << quoted(p.sweep_value) << ','
+        << (p.ok ? 1 : 0) << ',' << p.cpu_per_sim_s << ',' << p.repeats << ',' << p.bore_err_max << ','
+        << p.bore_err_end << ',' << p.theta1_err_max << ',' << p.theta2_err_max << ','
+        << p.peak_force_err_rel << ',' << p.momentum_drift_rel << ',' << p.substeps << ',' << p.impacts
+        << ',' << (p.pareto ? 1 : 0) << ',' << quoted(p.note) << '\n';
+  }
+  io::writeFileAtomically(path, out.str());  // throws io::OutputError naming the file
+}
+
+}  // namespace gimbalsim::workprec

@@ -1,0 +1,46 @@
+// The work-precision sweep's points: a run's errors against the reference,
+// the Pareto front, the cheapest point per accuracy, and the CSV.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "workprec.hpp"
+
+namespace gimbalsim::workprec {
+
+/// One point of the work-precision plot.
+struct Point {
+  std::string scene, policy;
+  double h = 0.0;                ///< outer step [s]
+  double substep = 0.0;          ///< sim.substep in effect [s]
+  double event_tol = 0.0;        ///< [s]
+  std::string sweep_key, sweep_value;  ///< what this point of the curve varies
+  bool ok = false;
+  std::string note;              ///< why not ok
+  double cpu_per_sim_s = 0.0;    ///< median thread CPU s per simulated s
+  int repeats = 0;
+  double bore_err_max = 0.0, bore_err_end = 0.0;  ///< [rad]
+  double theta1_err_max = 0.0, theta2_err_max = 0.0;  ///< [rad]
+  double peak_force_err_rel = 0.0;  ///< |peak - peak_ref| / peak_ref (NaN without contact)
+  double momentum_drift_rel = 0.0;  ///< NaN on a fixed base (the ground takes momentum)
+  long long substeps = 0, impacts = 0;
+  bool pareto = false;           ///< on the scene's Pareto front (cpu, bore_err_max)
+};
+
+/// Errors of a run against the reference at every output row; false (and a
+/// note) when the rows do not line up.
+bool compare(const Trajectory& run, const Trajectory& ref, Point& p);
+
+/// Marks the points of each scene that no other ok point of that scene beats
+/// in both CPU time and max boresight error.
+void markPareto(std::vector<Point>& points);
+
+/// The cheapest ok point of a scene with bore_err_max <= target, or nullptr.
+const Point* cheapestFor(const std::vector<Point>& points, const std::string& scene, double target);
+
+/// CSV with a header (kCsvColumns).
+void writeCsv(const std::string& path, const std::vector<Point>& points);
+extern const std::vector<std::string> kCsvColumns;
+
+}  // namespace gimbalsim::workprec
