@@ -18,6 +18,9 @@
 #   bash tools/run_paper.sh sim.duration=1                 # 1 s instead of 5 s
 #   bash tools/run_paper.sh sim.duration=2 friction.mu=0.1
 #
+# GIMBALSIM_BUILD=DIR uses that build folder instead of build/ (CI: the
+# tests' build-tests/, whose gimbalsim the test command has just built).
+#
 # --results also writes docs/results/paper.md (headline figures; header by
 # tools/results_page.py) and three of the figures, small, into docs/results/
 # (paper_pointing.png, paper_joint2_force.png, paper_eccentricity.png).
@@ -46,15 +49,16 @@ done
 echo "== [1/4] packages (tools/bootstrap.sh)"
 bash tools/bootstrap.sh
 
-echo "== [2/4] Release build in build/"
-if [ -f build/CMakeCache.txt ]; then
-  echo "build/ already configured: not reconfiguring"
+BUILD=${GIMBALSIM_BUILD:-build}
+echo "== [2/4] Release build in $BUILD/"
+if [ -f "$BUILD/CMakeCache.txt" ]; then
+  echo "$BUILD/ already configured: not reconfiguring"
 else
-  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+  cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release
 fi
-cmake --build build -j2 --target gimbalsim
+cmake --build "$BUILD" -j2 --target gimbalsim
 
-SIM=build/bin/gimbalsim
+SIM=$BUILD/bin/gimbalsim
 OUT=out/paper
 mkdir -p "$OUT/plots"
 
