@@ -122,6 +122,16 @@ inline std::int64_t totalTicks(const Options& o, const Config& c) {
   return o.duration > 0.0 ? static_cast<std::int64_t>(std::llround(o.duration / c.control_period)) : -1;
 }
 
+/// Hands one command to the firmware, as it arrived; true when accepted.
+template <class V>
+bool deliver(Firmware<V>& fw, const Inbound& m) noexcept {
+  if (m.undecodable) {
+    fw.receiveUndecodable();
+    return false;
+  }
+  return fw.receive(m.cmd, m.source) == Rejection::None;
+}
+
 /// Steps a scratch copy of the plant a few times and drops it, just before
 /// the first tick: the first tick would otherwise pay for code run for the
 /// first time and cold caches, which the bound's cold-cache term does not cover.

@@ -33,11 +33,7 @@ class FirmwareSink final : public CommandSink {
   }
   bool answered() const noexcept { return answered_; }
   bool take(const Inbound& m) noexcept override {
-    if (m.undecodable) {
-      fw_.receiveUndecodable();
-    } else if (fw_.receive(m.cmd, m.source) == Rejection::None && m.cmd.status_seq == awaited_) {
-      answered_ = true;
-    }
+    if (deliver(fw_, m) && m.cmd.status_seq == awaited_) answered_ = true;
     return true;
   }
 

@@ -56,13 +56,7 @@ class RingSink final : public CommandSink {
 template <class V>
 void drainInbound(Firmware<V>& fw, SpscRing<Inbound>& in) noexcept {
   Inbound m;
-  while (in.pop(m)) {
-    if (m.undecodable) {
-      fw.receiveUndecodable();
-    } else {
-      fw.receive(m.cmd, m.source);
-    }
-  }
+  while (in.pop(m)) deliver(fw, m);
 }
 
 /// What the loop thread hands to the communication thread each tick.
