@@ -10,7 +10,7 @@
 # 3. simulates tools/scenes/paper_ideal.yaml, paper_clearance.yaml and
 #    paper_spatial2.yaml (joint 2 spatial: the journal may tilt) into
 #    out/paper/{ideal,clearance,spatial}.csv and .json,
-# 4. plots figures 6-19 into out/paper/plots/ (tools/plot_paper.py, with
+# 4. plots figures 6-19 into out/paper/plots/ (tools/paper/plot_paper.py, with
 #    /usr/bin/python3, Debian's matplotlib).
 #
 # Every extra argument is a scene override passed as `--set key=value` to ALL
@@ -22,7 +22,7 @@
 # tests' build-tests/, whose gimbalsim the test command has just built).
 #
 # --results also writes docs/results/paper.md (headline figures; header by
-# tools/results_page.py) and three of the figures, small, into docs/results/
+# tools/pages/results_page.py) and three of the figures, small, into docs/results/
 # (paper_pointing.png, paper_joint2_force.png, paper_eccentricity.png).
 set -euo pipefail
 
@@ -71,7 +71,7 @@ echo "== [3/4] simulations${SETS[*]:+ (overrides: ${SETS[*]})}"
   --out "$OUT/spatial.csv" --summary "$OUT/spatial.json"
 
 echo "== [4/4] plots"
-/usr/bin/python3 tools/plot_paper.py \
+/usr/bin/python3 tools/paper/plot_paper.py \
   --ideal "$OUT/ideal.csv" --clearance "$OUT/clearance.csv" \
   --ideal-summary "$OUT/ideal.json" --clearance-summary "$OUT/clearance.json" \
   --spatial "$OUT/spatial.csv" --spatial-summary "$OUT/spatial.json" \
@@ -84,6 +84,6 @@ echo "  summaries: $OUT/ideal.json $OUT/clearance.json $OUT/spatial.json"
 echo "  figures  : $OUT/plots/fig06_eccentricity.png ... fig19_joint_kinds.png"
 echo "  pointing : $OUT/plots/pointing_error.csv"
 if [ "$RESULTS" = 1 ]; then
-  /usr/bin/python3 tools/paper_page.py --dir "$OUT" --command "$COMMAND" --t0 "$T0" --load0 "$LOAD0" \
+  /usr/bin/python3 tools/paper/paper_page.py --dir "$OUT" --command "$COMMAND" --t0 "$T0" --load0 "$LOAD0" \
     ${PAGE_SETS[@]+"${PAGE_SETS[@]}"}
 fi

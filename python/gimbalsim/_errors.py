@@ -1,7 +1,7 @@
 """The package's exceptions (SceneError and SimulationStopped are raised by
 the C++ core with their fields set) and the one mapping of an exception to
 the exit code of the project's exit-code table (docs/usage.md "Exit codes",
-the C++ programs' enum Exit in dynamics/program/include/gimbalsim/program/
+the C++ programs' enum Exit in base/program/include/gimbalsim/program/
 program.hpp), which the mains of gimbalsim.sweep, gimbalsim.tune and the
 sweep's --replay run through (guarded_main)."""
 import signal

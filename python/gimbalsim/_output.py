@@ -1,5 +1,5 @@
 """The one writer of the Python side, with the rules of the C++ one
-(io::OutputFile, dynamics/io/include/gimbalsim/io/output_file.hpp; docs/usage.md
+(io::OutputFile, base/io/include/gimbalsim/io/output_file.hpp; docs/usage.md
 "Output files"): every file the package and tools/*.py write goes through here.
 
 - the path is checked first: an existing symbolic link or non-regular file
@@ -16,7 +16,7 @@
   stays as it was; the failure is one OutputError naming the path and the
   cause (exit 4 in the exit-code table, _errors.py).
 
-Only the standard library: tools/output_file.py loads this file from the
+Only the standard library: tools/pages/output_file.py loads this file from the
 source tree, without the built package.
 """
 import contextlib

@@ -10,7 +10,7 @@ and 0 with a one-line summary otherwise (2: the inputs could not be read).
 The rules ("under F": the folder F or any folder below it):
   1. dynamics -> LCM: no target under dynamics/ links LCM (PkgConfig::LCM,
      liblcm) or a target under lcmtypes/ (gimbalsim_lcmtypes, the contract,
-     bench_io), directly or transitively; no file under dynamics/ includes
+     lcm_wire), directly or transitively; no file under dynamics/ includes
      <lcm/...>, a generated LCM type "gimbalsim/<name>_t.hpp" or a header
      under lcmtypes/. The dynamics only the dynamics: gimbalsim_dynamics (the
      folder dynamics/ itself, not its sub-libraries) links no other project
@@ -21,11 +21,13 @@ The rules ("under F": the folder F or any folder below it):
      includes a header under firmware_sim/.
   4. anything -> tools: nothing outside tools/ and tests/ links a target or
      includes a header under tools/.
-  5. bench_io -> dynamics: nothing under lcmtypes/bench_io/ links
-     gimbalsim_dynamics (the target of the folder dynamics/) or includes its
-     headers.
+  5. lcm_wire -> above the base: nothing under lcmtypes/lcm_wire/ links a
+     target or includes a header outside itself and base/ (no dynamics, no
+     LCM library: the bench's own receiver and log files).
   6. contract -> plant or controller: nothing under lcmtypes/contract/ links a
      target or includes a header under firmware_sim/ or controllers/.
+  7. base -> above it: nothing under base/ (input, io, program) links a target
+     or includes a header outside base/, LCM included.
 tests/ may link and include anything; python/ (the extension wires plant and
 controller) may link both.
 
@@ -260,8 +262,9 @@ RULES = [
     (2, lambda f: under(f, 'firmware_sim'), lambda t: under(t, 'controllers')),
     (3, lambda f: under(f, 'controllers'), lambda t: under(t, 'firmware_sim')),
     (4, lambda f: not (under(f, 'tools') or under(f, 'tests')), lambda t: under(t, 'tools')),
-    (5, lambda f: under(f, 'lcmtypes/bench_io'), lambda t: t == 'dynamics'),
+    (5, lambda f: under(f, 'lcmtypes/lcm_wire'), lambda t: not (under(t, 'lcmtypes/lcm_wire') or under(t, 'base'))),
     (6, lambda f: under(f, 'lcmtypes/contract'), lambda t: under(t, 'firmware_sim') or under(t, 'controllers')),
+    (7, lambda f: under(f, 'base'), lambda t: not under(t, 'base')),
 ]
 
 

@@ -55,9 +55,9 @@ def test_real_graph_is_read():
             name, rest = line[len('target '):].split(' ', 1)
             folder, links = rest.split(' -> ')
             targets[name] = (folder.strip('[]'), set(links.split()))
-    expected = {'gimbalsim_dynamics': 'dynamics', 'gimbalsim_input': 'dynamics/input',
+    expected = {'gimbalsim_dynamics': 'dynamics', 'gimbalsim_input': 'base/input',
                 'gimbalsim_scene': 'dynamics/scene', 'gimbalsim_lcmtypes': 'lcmtypes',
-                'gimbalsim_contract': 'lcmtypes/contract', 'gimbalsim_bench_io': 'lcmtypes/bench_io',
+                'gimbalsim_contract': 'lcmtypes/contract', 'gimbalsim_lcm_wire': 'lcmtypes/lcm_wire',
                 'gimbalsim_firmware_sim': 'firmware_sim', 'firmware_sim': 'firmware_sim',
                 'gimbalsim_controllers': 'controllers', 'pointing_controller': 'controllers',
                 'gimbalsim': 'tools', '_gimbalsim': 'python'}
@@ -89,8 +89,8 @@ MINI_TREE = {
                                '// #include <lcm/lcm-cpp.hpp>\n'
                                '/* #include "gimbalsim/controllers/pid.hpp"\n   #include "gimbalsim/input/input.hpp" */\n'
                                'const char *s = "/* #include <lcm/lcm.h> */";\n'),
-    **library('dynamics/input', 'gimbalsim_input', 'input'),
-    **library('dynamics/io', 'gimbalsim_io', 'io'),
+    **library('base/input', 'gimbalsim_input', 'input'),
+    **library('base/io', 'gimbalsim_io', 'io'),
     **library('dynamics/scene', 'gimbalsim_scene', 'scene',
               '#pragma once\n#include "gimbalsim/dynamics/model.hpp"\n#include "gimbalsim/input/input.hpp"\n'),
     **library('dynamics/pointing', 'gimbalsim_pointing', 'pointing',
@@ -100,22 +100,22 @@ MINI_TREE = {
     'lcmtypes/gimbal_command_t.lcm': 'package gimbalsim;\nstruct gimbal_command_t { int64_t seq; }\n',
     'lcmtypes/contract/CMakeLists.txt': 'add_library(gimbalsim_contract INTERFACE)\n',
     'lcmtypes/contract/include/gimbalsim/contract/messages.hpp': '#pragma once\n#include <Eigen/Core>\n',
-    **library('lcmtypes/bench_io', 'gimbalsim_bench_io', 'bench_io',
+    **library('lcmtypes/lcm_wire', 'gimbalsim_lcm_wire', 'lcm_wire',
               '#pragma once\n#include "gimbalsim/io/io.hpp"\n'),
     'firmware_sim/CMakeLists.txt': ('add_library(gimbalsim_firmware_sim src/firmware.cpp)\n'
-                                    'add_executable(firmware_sim src/main.cpp)\n'),
+                                    'add_executable(firmware_sim programs/main.cpp)\n'),
     'firmware_sim/include/gimbalsim/firmware_sim/firmware.hpp': (
         '#pragma once\n#include "gimbalsim/scene/scene.hpp"\n#include "gimbalsim/contract/messages.hpp"\n'),
     'firmware_sim/src/firmware.cpp': '#include "gimbalsim/firmware_sim/firmware.hpp"\n',
-    'firmware_sim/src/app.hpp': '#pragma once\n#include "gimbalsim/firmware_sim/firmware.hpp"\n',
-    'firmware_sim/src/main.cpp': ('#include "app.hpp"\n#include <lcm/lcm-cpp.hpp>\n'
-                                  '#include "gimbalsim/gimbal_command_t.hpp"\n#include "gimbalsim/bench_io/bench_io.hpp"\n'),
+    'firmware_sim/programs/app.hpp': '#pragma once\n#include "gimbalsim/firmware_sim/firmware.hpp"\n',
+    'firmware_sim/programs/main.cpp': ('#include "app.hpp"\n#include <lcm/lcm-cpp.hpp>\n'
+                                  '#include "gimbalsim/gimbal_command_t.hpp"\n#include "gimbalsim/lcm_wire/lcm_wire.hpp"\n'),
     'controllers/CMakeLists.txt': ('add_library(gimbalsim_controllers src/pid.cpp)\n'
-                                   'add_executable(pointing_controller src/main.cpp)\n'),
+                                   'add_executable(pointing_controller programs/main.cpp)\n'),
     'controllers/include/gimbalsim/controllers/pid.hpp': (
         '#pragma once\n#include "gimbalsim/scene/scene.hpp"\n#include "gimbalsim/contract/messages.hpp"\n'),
     'controllers/src/pid.cpp': '#include "gimbalsim/controllers/pid.hpp"\n',
-    'controllers/src/main.cpp': ('#include "gimbalsim/controllers/pid.hpp"\n#include <lcm/lcm-cpp.hpp>\n'
+    'controllers/programs/main.cpp': ('#include "gimbalsim/controllers/pid.hpp"\n#include <lcm/lcm-cpp.hpp>\n'
                                  '#include "gimbalsim/gimbal_command_t.hpp"\n'),
     'tools/CMakeLists.txt': 'add_executable(gimbalsim cli/main.cpp)\nadd_subdirectory(workprec)\n',
     'tools/cli/main.cpp': '#include "gimbalsim/scene/scene.hpp"\n#include "gimbalsim/controllers/pid.hpp"\n',
@@ -138,11 +138,11 @@ MINI_GRAPH = {
     'gimbalsim_pointing': ['gimbalsim_dynamics', 'gimbalsim_input'],
     'gimbalsim_contract': ['Eigen3::Eigen'],
     'gimbalsim_lcmtypes': ['gimbalsim_contract', 'PkgConfig::LCM'],
-    'gimbalsim_bench_io': ['gimbalsim_io'],
+    'gimbalsim_lcm_wire': ['gimbalsim_io'],
     'gimbalsim_firmware_sim': ['gimbalsim_scene', 'gimbalsim_contract'],
-    'firmware_sim': ['gimbalsim_firmware_sim', 'gimbalsim_lcmtypes', 'gimbalsim_bench_io', 'Threads::Threads'],
+    'firmware_sim': ['gimbalsim_firmware_sim', 'gimbalsim_lcmtypes', 'gimbalsim_lcm_wire', 'Threads::Threads'],
     'gimbalsim_controllers': ['gimbalsim_scene', 'gimbalsim_contract'],
-    'pointing_controller': ['gimbalsim_controllers', 'gimbalsim_lcmtypes', 'gimbalsim_bench_io'],
+    'pointing_controller': ['gimbalsim_controllers', 'gimbalsim_lcmtypes', 'gimbalsim_lcm_wire'],
     'gimbalsim': ['gimbalsim_scene', 'gimbalsim_controllers'],
     'gimbalsim_workprec_lib': ['gimbalsim_scene'],
     '_gimbalsim': ['gimbalsim_controllers', 'gimbalsim_firmware_sim', 'Python3::Module'],
@@ -216,16 +216,18 @@ INJECTED_INCLUDES = [
     ('dynamics/pointing/include/gimbalsim/pointing/pointing.hpp', '"gimbalsim/contract/messages.hpp"',
      'rule 1: dynamics/pointing -> lcmtypes/contract'),
     ('dynamics/include/gimbalsim/dynamics/model.hpp', '"gimbalsim/input/input.hpp"',
-     'rule 1: dynamics -> dynamics/input'),
+     'rule 1: dynamics -> base/input'),
     ('firmware_sim/src/firmware.cpp', '"gimbalsim/controllers/pid.hpp"', 'rule 2: firmware_sim -> controllers'),
     ('controllers/src/pid.cpp', '"gimbalsim/firmware_sim/firmware.hpp"', 'rule 3: controllers -> firmware_sim'),
     # a header that does not exist yet: gimbalsim/firmware_sim/ is the plant's include path
     ('controllers/include/gimbalsim/controllers/pid.hpp', '"gimbalsim/firmware_sim/not_yet.hpp"',
      'rule 3: controllers -> firmware_sim'),
     ('python/src/module.cpp', '"workprec.hpp"', 'rule 4: python -> tools/workprec'),
-    ('dynamics/io/src/io.cpp', '"../../../tools/workprec/workprec.hpp"', 'rule 4: dynamics/io -> tools/workprec'),
-    ('firmware_sim/src/main.cpp', '<workprec.hpp>', 'rule 4: firmware_sim -> tools/workprec'),
-    ('lcmtypes/bench_io/src/bench_io.cpp', '"gimbalsim/dynamics/model.hpp"', 'rule 5: lcmtypes/bench_io -> dynamics'),
+    ('dynamics/scene/src/scene.cpp', '"../../../tools/workprec/workprec.hpp"', 'rule 4: dynamics/scene -> tools/workprec'),
+    ('base/io/src/io.cpp', '"gimbalsim/dynamics/model.hpp"', 'rule 7: base/io -> dynamics'),
+    ('base/input/include/gimbalsim/input/input.hpp', '<lcm/lcm-cpp.hpp>', 'rule 7: base/input -> LCM'),
+    ('firmware_sim/programs/main.cpp', '<workprec.hpp>', 'rule 4: firmware_sim -> tools/workprec'),
+    ('lcmtypes/lcm_wire/src/lcm_wire.cpp', '"gimbalsim/dynamics/model.hpp"', 'rule 5: lcmtypes/lcm_wire -> dynamics'),
     ('lcmtypes/contract/include/gimbalsim/contract/messages.hpp', '"gimbalsim/firmware_sim/firmware.hpp"',
      'rule 6: lcmtypes/contract -> firmware_sim'),
     ('lcmtypes/contract/include/gimbalsim/contract/messages.hpp', '"gimbalsim/controllers/pid.hpp"',
@@ -247,14 +249,16 @@ INJECTED_LINKS = [
     ([('gimbalsim_scene', 'gimbalsim_lcmtypes')],
      ['rule 1: dynamics/scene -> lcmtypes (target gimbalsim_scene links gimbalsim_lcmtypes)']),
     ([('gimbalsim_io', 'PkgConfig::LCM')],
-     ['rule 1: dynamics/io -> LCM (target gimbalsim_io links PkgConfig::LCM)']),
+     ['rule 7: base/io -> LCM (target gimbalsim_io links PkgConfig::LCM)',
+      'rule 5: lcmtypes/lcm_wire -> LCM (target gimbalsim_lcm_wire links PkgConfig::LCM via gimbalsim_io)']),
     ([('gimbalsim_io', '/usr/lib/x86_64-linux-gnu/liblcm.so')],
-     ['rule 1: dynamics/io -> LCM (target gimbalsim_io links /usr/lib/x86_64-linux-gnu/liblcm.so)']),
+     ['rule 7: base/io -> LCM (target gimbalsim_io links /usr/lib/x86_64-linux-gnu/liblcm.so)',
+      'rule 5: lcmtypes/lcm_wire -> LCM (target gimbalsim_lcm_wire links /usr/lib/x86_64-linux-gnu/liblcm.so via gimbalsim_io)']),
     ([('gimbalsim_pointing', 'gimbalsim_controllers')],
      ['rule 1: dynamics/pointing -> lcmtypes/contract '
       '(target gimbalsim_pointing links gimbalsim_contract via gimbalsim_controllers)']),
     ([('gimbalsim_dynamics', 'gimbalsim_input')],
-     ['rule 1: dynamics -> dynamics/input (target gimbalsim_dynamics links gimbalsim_input)']),
+     ['rule 1: dynamics -> base/input (target gimbalsim_dynamics links gimbalsim_input)']),
     ([('gimbalsim_firmware_sim', 'gimbalsim_controllers')],
      ['rule 2: firmware_sim -> controllers (target gimbalsim_firmware_sim links gimbalsim_controllers)']),
     ([('gimbalsim_controllers', 'gimbalsim_firmware_sim')],
@@ -263,10 +267,12 @@ INJECTED_LINKS = [
      ['rule 4: python -> tools/workprec (target _gimbalsim links gimbalsim_workprec_lib)']),
     ([('pointing_controller', 'gimbalsim_workprec_lib')],
      ['rule 4: controllers -> tools/workprec (target pointing_controller links gimbalsim_workprec_lib)']),
-    ([('gimbalsim_bench_io', 'gimbalsim_dynamics')],
-     ['rule 5: lcmtypes/bench_io -> dynamics (target gimbalsim_bench_io links gimbalsim_dynamics)']),
-    ([('gimbalsim_bench_io', 'gimbalsim_scene')],
-     ['rule 5: lcmtypes/bench_io -> dynamics (target gimbalsim_bench_io links gimbalsim_dynamics via gimbalsim_scene)']),
+    ([('gimbalsim_lcm_wire', 'gimbalsim_dynamics')],
+     ['rule 5: lcmtypes/lcm_wire -> dynamics (target gimbalsim_lcm_wire links gimbalsim_dynamics)']),
+    ([('gimbalsim_lcm_wire', 'gimbalsim_scene')],
+     ['rule 5: lcmtypes/lcm_wire -> dynamics/scene (target gimbalsim_lcm_wire links gimbalsim_scene)']),
+    ([('gimbalsim_input', 'gimbalsim_scene')],
+     ['rule 7: base/input -> dynamics/scene (target gimbalsim_input links gimbalsim_scene)']),
     ([('gimbalsim_contract', 'gimbalsim_firmware_sim')],
      ['rule 3: controllers -> firmware_sim '
       '(target gimbalsim_controllers links gimbalsim_firmware_sim via gimbalsim_contract)',
@@ -337,16 +343,17 @@ def test_injected_includes_in_a_copy_of_the_tree(tmp_path):
         ('dynamics/scene/src/injected.cpp', '"gimbalsim/contract/messages.hpp"',
          'rule 1: dynamics/scene -> lcmtypes/contract'),
         ('dynamics/include/gimbalsim/dynamics/injected.hpp', '"gimbalsim/input/key_registry.hpp"',
-         'rule 1: dynamics -> dynamics/input'),
+         'rule 1: dynamics -> base/input'),
         ('firmware_sim/src/injected.cpp', '"gimbalsim/controllers/pid.hpp"', 'rule 2: firmware_sim -> controllers'),
         ('controllers/src/injected.cpp', '"gimbalsim/firmware_sim/firmware.hpp"',
          'rule 3: controllers -> firmware_sim'),
         ('python/src/injected.cpp', f'"{os.path.basename(tools_header)}"',
          f'rule 4: python -> {os.path.dirname(tools_header)}'),
-        ('lcmtypes/bench_io/src/injected.cpp', '"gimbalsim/dynamics/model.hpp"',
-         'rule 5: lcmtypes/bench_io -> dynamics'),
+        ('lcmtypes/lcm_wire/src/injected.cpp', '"gimbalsim/dynamics/model.hpp"',
+         'rule 5: lcmtypes/lcm_wire -> dynamics'),
         ('lcmtypes/contract/include/gimbalsim/contract/injected.hpp', '"gimbalsim/firmware_sim/firmware.hpp"',
          'rule 6: lcmtypes/contract -> firmware_sim'),
+        ('base/io/src/injected.cpp', '"gimbalsim/scene/scene.hpp"', 'rule 7: base/io -> dynamics/scene'),
     ]
     for rel, header, _ in injected:
         write_tree(str(root), {rel: f'// injected by test_check_deps.py\n#include {header}\n'})
@@ -366,12 +373,12 @@ def test_injected_links_in_a_copy_of_the_tree(tmp_path):
     with open(root / 'CMakeLists.txt', 'a') as f:
         f.write('\n# injected by test_check_deps.py\n'
                 'target_link_libraries(gimbalsim_pointing PRIVATE gimbalsim_lcmtypes)\n'
-                'target_link_libraries(gimbalsim_bench_io PUBLIC gimbalsim_dynamics)\n'
+                'target_link_libraries(gimbalsim_lcm_wire PUBLIC gimbalsim_dynamics)\n'
                 'target_link_libraries(gimbalsim_record PRIVATE gimbalsim_stress_lib)\n')
     status, violations, out = check('--source', str(root), '--build-dir', build)
     assert status == 1, out
     for expected in [
             'rule 1: dynamics/pointing -> lcmtypes (target gimbalsim_pointing links gimbalsim_lcmtypes)',
-            'rule 5: lcmtypes/bench_io -> dynamics (target gimbalsim_bench_io links gimbalsim_dynamics)',
+            'rule 5: lcmtypes/lcm_wire -> dynamics (target gimbalsim_lcm_wire links gimbalsim_dynamics)',
             'rule 4: firmware_sim -> tools/stress (target gimbalsim_record links gimbalsim_stress_lib)']:
         assert expected in violations, out

@@ -1,4 +1,4 @@
-// firmware_sim's --tick-log table (firmware_sim/src/tick_log.hpp): the loop
+// firmware_sim's --tick-log table (firmware_sim/programs/tick_log.hpp): the loop
 // thread's add() allocates nothing, the rows written are the ticks added, in
 // microseconds with every nanosecond digit, and the table refuses what it
 // cannot hold before the run starts.

@@ -1,4 +1,4 @@
-// libFuzzer target: the LCM log reader (bench_io::LogReader) on arbitrary
+// libFuzzer target: the LCM log reader (lcm_wire::LogReader) on arbitrary
 // bytes. Checks, beyond the sanitizers: every event lies inside the file, in
 // order, and a malformed log stops with an error naming an offset inside it.
 #include <cstddef>
@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "gimbalsim/bench_io/lcm_log.hpp"
+#include "gimbalsim/lcm_wire/lcm_log.hpp"
 
-namespace bio = gimbalsim::bench_io;
+namespace bio = gimbalsim::lcm_wire;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   // A copy of exactly `size` bytes, so ASan sees any read beyond the file.

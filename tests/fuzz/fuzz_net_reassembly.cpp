@@ -1,4 +1,4 @@
-// libFuzzer target: the network receive path (bench_io::Reassembler) fed a
+// libFuzzer target: the network receive path (lcm_wire::Reassembler) fed a
 // sequence of datagrams from several sources over time. Input: records of
 // [u16 length][u8 source][u8 time step] + length bytes. Checks, beyond the
 // sanitizers: a delivered message is within the limits, on a subscribed
@@ -9,9 +9,9 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "gimbalsim/bench_io/udpm_reassembler.hpp"
+#include "gimbalsim/lcm_wire/udpm_reassembler.hpp"
 
-namespace bio = gimbalsim::bench_io;
+namespace bio = gimbalsim::lcm_wire;
 
 #define FUZZ_CHECK(c) \
   do {                \

@@ -1,7 +1,7 @@
 // libFuzzer target: scene file text through the scene loader (the prescan,
 // yaml-cpp, every key's conversion and check, validate(), Model::finalize()).
 // Loaded or refused with places; never a crash, an escaped exception, or
-// more time or memory than -timeout / -rss_limit_mb allow (tools/fuzz.sh).
+// more time or memory than -timeout / -rss_limit_mb allow (tools/ci/fuzz.sh).
 #include <cstddef>
 #include <cstdint>
 #include <string>

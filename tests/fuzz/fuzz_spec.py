@@ -6,7 +6,7 @@ that reaches a refusal (or an acceptance) not seen before joins the corpus.
 An input that raises anything but SpecError, runs longer than --timeout
 seconds, or needs more memory than --memory-mb is a crash, saved to
 CRASHES/fuzz_spec-<kind>-<sha1>. Prints the libFuzzer targets' summary line
-of tools/fuzz.sh; exit 1 when anything crashed.
+of tools/ci/fuzz.sh; exit 1 when anything crashed.
 
     PYTHONPATH=build/python python3 tests/fuzz/fuzz_spec.py [--seconds S | --runs N] [--seed K]
         [--corpus DIR] [--crashes DIR] [--timeout S] [--memory-mb M] [FILE...]

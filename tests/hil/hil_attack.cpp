@@ -42,16 +42,16 @@
 #include <thread>
 #include <vector>
 
-#include "bench_io/lcm_datagrams.hpp"
-#include "bench_io/multicast_sender.hpp"
-#include "gimbalsim/bench_io/udpm_receiver.hpp"
+#include "lcm_wire/lcm_datagrams.hpp"
+#include "lcm_wire/multicast_sender.hpp"
+#include "gimbalsim/lcm_wire/udpm_receiver.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
 
 namespace {
 
-namespace bio = gimbalsim::bench_io;
+namespace bio = gimbalsim::lcm_wire;
 using bio::datagrams::Bytes;
 
 /// An LC03 fragment carrying `data` bytes of filler.

@@ -9,7 +9,7 @@
 //  - two runs give byte-identical truth CSVs (run side by side);
 //  - a real-time run replayed in lockstep by torque_replay (its applied
 //    torques, tick by tick) has the same dynamics bit for bit and the same
-//    work per tick (what tools/worst_tick.py's replay relies on).
+//    work per tick (what tools/hil/worst_tick.py's replay relies on).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -125,7 +125,7 @@ TEST(HilLockstep, TwoRunsGiveByteIdenticalTruthCsv) {
   EXPECT_GT(ca.num(2999, ca.col("theta1_rad")), 0.4) << "the slew did happen";
   ASSERT_EQ(a.size(), b.size());
   EXPECT_TRUE(a == b) << "truth CSVs of two lockstep runs differ";
-  // The same work tick by tick (what tools/worst_tick.py relies on to tell a
+  // The same work tick by tick (what tools/hil/worst_tick.py relies on to tell a
   // tick's work from the machine's).
   expectSameWorkPerTick(dir / "a_ticks.csv", dir / "b_ticks.csv", 3000);
 }

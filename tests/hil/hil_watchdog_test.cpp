@@ -79,7 +79,7 @@ TEST(HilWatchdog, ControllerKilledTripsWithinBoundHoldsSafeStateAndRecovers) {
   // what the bench cannot control here: a command in flight at the kill
   // (round trip p99.9 ~2-5 ms), the loop's wake-up lateness at the trip tick
   // (max up to ~20 ms measured on this 2-core VM under load even at
-  // SCHED_FIFO 80, tools/hil_speed.py; worse under SCHED_OTHER when unshare
+  // SCHED_FIFO 80, tools/hil/hil_speed.py; worse under SCHED_OTHER when unshare
   // -rn gives no SCHED_FIFO) and the shell's `date` -> `kill` gap.
   // Lower side: 10 ms before the watchdog time, since the controller may
   // already have been descheduled for a few ms when it was killed.

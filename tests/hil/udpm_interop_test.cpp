@@ -1,6 +1,6 @@
 // Our receiver against liblcm's own sender: what lcm_publish puts on the
 // wire (a short message, and a 200 kB message that LCM cuts into LC03
-// fragments) arrives through bench_io::UdpmReceiver byte for byte, and a
+// fragments) arrives through lcm_wire::UdpmReceiver byte for byte, and a
 // channel the receiver does not subscribe to never reaches it: the kernel's
 // socket filter drops it (names sharing a prefix included), while a non-LCM
 // datagram still comes up to be counted; a busy-polling wait sees a
@@ -17,14 +17,14 @@
 #include <thread>
 #include <vector>
 
-#include "../bench_io/multicast_sender.hpp"
-#include "gimbalsim/bench_io/udpm_receiver.hpp"
+#include "../lcm_wire/multicast_sender.hpp"
+#include "gimbalsim/lcm_wire/udpm_receiver.hpp"
 #include "hil_util.hpp"
 
 namespace gimbalsim::hil {
 namespace {
 
-namespace bio = bench_io;
+namespace bio = lcm_wire;
 
 TEST(UdpmInterop, LiblcmMessagesShortAndFragmentedArriveWhole) {
   GIMBALSIM_HIL_REQUIRE_NETNS();

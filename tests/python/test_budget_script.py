@@ -35,7 +35,7 @@ def digest(folder):
 
 def test_a_users_spec_writes_its_own_folder_and_no_project_page(tmp_path):
     root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/results_page.py", "docs/results/pointing_budget.md",
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/pages/results_page.py", "docs/results/pointing_budget.md",
                 "docs/results/README.md"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(SOURCE / rel, root / rel)

@@ -1,6 +1,6 @@
 """The Python side's one writer (python/gimbalsim/_output.py, the rules of
 the C++ io::OutputFile) and its users (ClosedLoopRun.to_csv, the tools
-through tools/output_file.py; the sweep's files: test_sweep_journal.py),
+through tools/pages/output_file.py; the sweep's files: test_sweep_journal.py),
 the one mapping of exceptions to exit codes (_errors.py) against
 program.hpp's Exit and docs/usage.md's table, and no import cycle inside
 the package."""
@@ -194,9 +194,9 @@ def test_closed_loop_to_csv_goes_through_the_writer(tmp_path):
 
 
 def test_the_tools_write_through_the_packages_writer(tmp_path, monkeypatch):
-    """tools/output_file.py is the package's writer loaded from the source
+    """tools/pages/output_file.py is the package's writer loaded from the source
     tree (the same file), not a second one: it syncs, and refuses links."""
-    spec = importlib.util.spec_from_file_location("tools_output_file", SOURCE / "tools" / "output_file.py")
+    spec = importlib.util.spec_from_file_location("tools_output_file", SOURCE / "tools" / "pages" / "output_file.py")
     tools_writer = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(tools_writer)
     assert os.path.samefile(sys.modules[tools_writer.write_text.__module__].__file__, PACKAGE / "_output.py")
@@ -232,7 +232,7 @@ def test_no_script_in_tools_or_module_in_the_package_writes_around_the_writer():
 # ---- one exit-code table ----
 
 def cpp_exit_codes():
-    text = (SOURCE / "dynamics/program/include/gimbalsim/program/program.hpp").read_text()
+    text = (SOURCE / "base/program/include/gimbalsim/program/program.hpp").read_text()
     body = text[text.index("enum Exit"):]
     body = body[:body.index("};")]
     return {name: int(v) for name, v in re.findall(r"\b(k\w+)\s*=\s*(\d+)", body)}

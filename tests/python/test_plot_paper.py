@@ -1,4 +1,4 @@
-"""The main job's figures (tools/plot_paper.py) with the spatial run: fig 19
+"""The main job's figures (tools/paper/plot_paper.py) with the spatial run: fig 19
 and the spatial column of pointing_error.csv, checked against the angle
 computed here from the runs' own boresight columns; mismatched runs refused."""
 import csv
@@ -9,7 +9,7 @@ import numpy as np
 
 from conftest import SOURCE, run_cli, scene_path
 
-PLOT = SOURCE / "tools" / "plot_paper.py"
+PLOT = SOURCE / "tools" / "paper" / "plot_paper.py"
 
 
 def simulate(tmp, scene, duration):

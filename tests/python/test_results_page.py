@@ -1,4 +1,4 @@
-"""tools/results_page.py, the writer of every page in docs/results/: the
+"""tools/pages/results_page.py, the writer of every page in docs/results/: the
 header has the regenerate command, machine, commit and date lines; the write
 is atomic (an existing page is untouched when the write fails); the index
 lists the pages."""
@@ -13,10 +13,10 @@ import pytest
 
 from conftest import SOURCE
 
-sys.path.insert(0, str(SOURCE / "tools"))
+sys.path.insert(0, str(SOURCE / "tools" / "pages"))
 import results_page  # noqa: E402
 
-WRITER = SOURCE / "tools" / "results_page.py"
+WRITER = SOURCE / "tools" / "pages" / "results_page.py"
 
 
 def test_header_has_command_machine_commit_date_and_load(tmp_path):

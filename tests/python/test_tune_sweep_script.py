@@ -1,4 +1,4 @@
-"""tools/tune_sweep.py (the gain sweep over LCM): a --duration that ends before
+"""tools/hil/tune_sweep.py (the gain sweep over LCM): a --duration that ends before
 the track, where every figure but the torques is measured, is refused before
 any run (exit 2 naming --duration), as controller_sweep refuses it; the
 documented commands run over LCM, both programs reading the one file."""
@@ -10,7 +10,7 @@ from conftest import BIN, CONTROLLER_CONFIG, SOURCE
 
 
 def test_a_duration_that_ends_before_the_track_is_refused():
-    p = subprocess.run([sys.executable, str(SOURCE / "tools" / "tune_sweep.py"), "--bin", str(BIN), "--config",
+    p = subprocess.run([sys.executable, str(SOURCE / "tools" / "hil" / "tune_sweep.py"), "--bin", str(BIN), "--config",
                         str(CONTROLLER_CONFIG), "--omega", "20", "--duration", "2"],
                        capture_output=True, text=True, timeout=120)
     assert p.returncode == 2, (p.stdout, p.stderr)
@@ -26,7 +26,7 @@ def _netns_available():
 def test_documented_gain_set_runs_over_lcm(tmp):
     # docs/bench.md "Gain sweep", as written (shorter: one omega and one gain set):
     # firmware_sim --profile reads the file the script writes from --print-config.
-    p = subprocess.run([sys.executable, str(SOURCE / "tools" / "tune_sweep.py"), "--bin", str(BIN), "--omega", "20",
+    p = subprocess.run([sys.executable, str(SOURCE / "tools" / "hil" / "tune_sweep.py"), "--bin", str(BIN), "--omega", "20",
                         "--gain-set", "azimuth.kd=0,elevation.kd=0", "--keep", str(tmp / "sweep")],
                        capture_output=True, text=True, timeout=300, cwd=SOURCE)
     assert p.returncode == 0, (p.stdout, p.stderr)

@@ -15,10 +15,10 @@ measured in this one run of the tool on this machine.
  2. MuJoCo's RK4 against ours (gimbalsim_workprec on paper_ideal_valid_inertia,
     when the build has the MuJoCo peer: Debian's libmujoco-dev).
  3. firmware_sim's stated worst-case tick, per scene and control rate
-    (its start-up line; above 1 kHz sim.step = 1/rate, as tools/hil_speed.py
+    (its start-up line; above 1 kHz sim.step = 1/rate, as tools/hil/hil_speed.py
     runs them), against the period.
  4. The bench: lockstep speed and the process boundary (three ways), and the
-    real-time wake-up lateness against cyclictest (tools/hil_speed.py; needs
+    real-time wake-up lateness against cyclictest (tools/hil/hil_speed.py; needs
     a network namespace and root: --skip-hil leaves it out, and says so).
 
     /usr/bin/python3 tools/bench/perf_report.py [--baseline-bench BIN --baseline-name NAME]
@@ -36,7 +36,7 @@ import tempfile
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "tools"))
+sys.path.insert(0, str(ROOT / "tools" / "pages"))
 import results_page  # noqa: E402
 
 sys.path.insert(0, str(ROOT / "tools" / "bench"))
@@ -140,10 +140,10 @@ def hil_section(a):
     md = ["## 4. The bench: lockstep and real-time wake-ups", ""]
     if a.skip_hil:
         return md + ["Not measured in this run (--skip-hil).", ""], ""
-    cmd = ["/usr/bin/python3", "tools/hil_speed.py", "--skip-sweep", "--long", f"{a.hil_long:g}", "--build", a.build]
+    cmd = ["/usr/bin/python3", "tools/hil/hil_speed.py", "--skip-sweep", "--long", f"{a.hil_long:g}", "--build", a.build]
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=3600, cwd=ROOT)
     if r.returncode != 0:
-        return md + [f"Not measured: tools/hil_speed.py exited {r.returncode}: {r.stdout[-500:]}{r.stderr[-500:]}", ""], ""
+        return md + [f"Not measured: tools/hil/hil_speed.py exited {r.returncode}: {r.stdout[-500:]}{r.stderr[-500:]}", ""], ""
     body = [line for line in r.stdout.splitlines() if not line.startswith("hil_speed: private")]
     ratio = next((line.split("=", 1)[1].strip() for line in body if "firmware_sim / cyclictest" in line), "")
     md += [f"`{' '.join(shlex.quote(x) for x in cmd[1:])}` (paper_ideal and paper_clearance with the pointing "

@@ -14,7 +14,7 @@ import statistics
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "tools"))
+sys.path.insert(0, str(ROOT / "tools" / "pages"))
 sys.path.insert(0, str(ROOT / "tools" / "workprec"))
 import results_page  # noqa: E402
 import workprec_page  # noqa: E402

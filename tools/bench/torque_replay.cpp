@@ -3,7 +3,7 @@
 // truth CSV (tau1_Nm, tau2_Nm: what acted over each tick). The plant's
 // dynamics then follow the recorded run bit for bit (the CSV's numbers
 // round-trip exactly; the torques are already within the limits), so its
-// steps do the same work at every tick: tools/worst_tick.py replays a
+// steps do the same work at every tick: tools/hil/worst_tick.py replays a
 // real-time run in lockstep to tell a real-time tick's own cost from what
 // the machine added to it. Answers status k with the torque of row k + 1 (a
 // command answering status k acts from tick k + 1); tick 0 ran before any
@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "gimbalsim/bench_io/udpm_receiver.hpp"
+#include "gimbalsim/lcm_wire/udpm_receiver.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
@@ -91,22 +91,22 @@ int main(int argc, char** argv) {
   }
   lcm::LCM lcm(url);
   const auto ch = gimbalsim::contract::Channels::withPrefix(prefix);
-  gimbalsim::bench_io::UdpmReceiver rx({}, gimbalsim::bench_io::ChannelFilter({ch.status}));
+  gimbalsim::lcm_wire::UdpmReceiver rx({}, gimbalsim::lcm_wire::ChannelFilter({ch.status}));
   if (std::string why; !lcm.good() || !rx.open(url, 1 << 20, &why)) {
     std::fprintf(stderr, "torque_replay: network: %s\n", lcm.good() ? why.c_str() : "LCM could not start");
     return gimbalsim::program::kNetwork;
   }
   const auto last = static_cast<std::int64_t>(t.tau1.size()) - 2;  // the last status that has a next row
   std::int64_t answered = -1, seq = 0;
-  std::int64_t heard_ns = gimbalsim::bench_io::monotonicNs();
+  std::int64_t heard_ns = gimbalsim::lcm_wire::monotonicNs();
   bool sent = true;
   while (answered < last && sent) {
     if (rx.wait(100, 0) < 0) return gimbalsim::program::kNetwork;
-    rx.drain([&](const gimbalsim::bench_io::Message& m, std::int64_t) {
+    rx.drain([&](const gimbalsim::lcm_wire::Message& m, std::int64_t) {
       gimbalsim::gimbal_status_t st{};
       if (!sent) return;
       if (st.decode(m.data, 0, static_cast<int>(m.size)) != static_cast<int>(m.size)) return;
-      heard_ns = gimbalsim::bench_io::monotonicNs();
+      heard_ns = gimbalsim::lcm_wire::monotonicNs();
       if (st.seq <= answered || st.seq > last) return;  // a repeat (status 0 is re-sent until answered), or past the CSV
       gimbalsim::gimbal_command_t c{};
       c.utime = st.utime;
@@ -118,7 +118,7 @@ int main(int argc, char** argv) {
       sent = lcm.publish(ch.command, &c) == 0;  // a lost answer would stall the plant: stop and say so
       answered = st.seq;
     }, 256);
-    if (static_cast<double>(gimbalsim::bench_io::monotonicNs() - heard_ns) * 1e-9 > idle_exit) {
+    if (static_cast<double>(gimbalsim::lcm_wire::monotonicNs() - heard_ns) * 1e-9 > idle_exit) {
       std::fprintf(stderr, "torque_replay: no status for %g s after status %lld\n", idle_exit,
                    static_cast<long long>(answered));
       return gimbalsim::program::kNoPeer;

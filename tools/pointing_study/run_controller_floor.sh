@@ -4,7 +4,7 @@
 # sensors; "before" = the default controller with the inertia law's
 # feed-forward: constant reduced inertias, no lead), then writes
 # docs/results/controller_floor.md with the stamped header
-# (tools/results_page.py). Arguments go to the tool. BUILD_DIR overrides build/.
+# (tools/pages/results_page.py). Arguments go to the tool. BUILD_DIR overrides build/.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 BUILD="${BUILD_DIR:-$ROOT/build}"
@@ -21,7 +21,7 @@ mkdir -p "$OUT"
   --clearance-scene "$ROOT/tools/scenes/paper_clearance.yaml" --before-set pointing.accel_feedforward=inertial \
   --before-set pointing.feedforward_lead=0 \
   --markdown "$OUT/body.md" "$@" | tee "$OUT/floor.log"
-/usr/bin/python3 "$ROOT/tools/results_page.py" --page "$ROOT/docs/results/controller_floor.md" \
+/usr/bin/python3 "$ROOT/tools/pages/results_page.py" --page "$ROOT/docs/results/controller_floor.md" \
   --title "Controller floor against the bearing" \
   --summary "$(grep '^ideal / ' "$OUT/floor.log" | tail -1)" \
   --command "$COMMAND" --body "$OUT/body.md" --t0 "$T0" --load0 "$LOAD0"

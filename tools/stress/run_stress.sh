@@ -2,7 +2,7 @@
 # The numerical stability stress grid end to end: builds gimbalsim_stress
 # (Release, build/), runs it with the arguments given (e.g. --long-run,
 # --duration 0.5, --threads 1), writes out/stress/stress.csv and, with
-# --results, the page docs/results/stress.md (header by tools/results_page.py).
+# --results, the page docs/results/stress.md (header by tools/pages/results_page.py).
 #
 #   bash tools/stress/run_stress.sh [--results] [gimbalsim_stress options]
 #   bash tools/stress/run_stress.sh --results --long-run     # the committed page
@@ -26,7 +26,7 @@ build/bin/gimbalsim_stress --csv out/stress/stress.csv --page-body out/stress/pa
   | tee out/stress/stress.log || status=$?
 if [ "$RESULTS" = 1 ] && [ -f out/stress/page_body.md ] && { [ "$status" -eq 0 ] || [ "$status" -eq 1 ]; }; then
   summary=$(grep -m1 -o '^\*\*[^*]*\*\*' out/stress/page_body.md | tr -d '*')
-  /usr/bin/python3 tools/results_page.py --page docs/results/stress.md --title "Numerical stability stress grid" \
+  /usr/bin/python3 tools/pages/results_page.py --page docs/results/stress.md --title "Numerical stability stress grid" \
     --summary "$summary." --command "$COMMAND" --body out/stress/page_body.md --t0 "$T0" --load0 "$LOAD0"
 fi
 exit "$status"

@@ -1,5 +1,5 @@
 // The stress grid's Markdown: the body of docs/results/stress.md (the header,
-// with machine, commit and date, is added by tools/results_page.py, called
+// with machine, commit and date, is added by tools/pages/results_page.py, called
 // from tools/stress/run_stress.sh). What was run and the verdict counts, the
 // three largest-trustworthy-step tables, the effective restitution table and
 // the one-hour run.

@@ -56,7 +56,7 @@ for png in "$OUT"/plots/*_cdf.png; do
 done
 # the report's plots/NAME links become the copies' names beside the page
 sed 's#](plots/#](pointing_budget_#' "$OUT/report.md" > "$OUT/page_body.md"
-/usr/bin/python3 tools/results_page.py --page "$RESULTS/pointing_budget.md" \
+/usr/bin/python3 tools/pages/results_page.py --page "$RESULTS/pointing_budget.md" \
   --title "Closed-loop pointing budget" --command "$COMMAND" --body "$OUT/page_body.md" \
   --summary "ECSS indices per phase over a bearing's tolerance, with order-statistics intervals" \
   --t0 "$T0" --load0 "$LOAD0"

@@ -17,8 +17,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from output_file import savefig  # noqa: E402  (the package's one writer, tools/output_file.py)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
+from output_file import savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
 
 TARGETS = (1e-3, 1e-6, 1e-9)  # [rad], the targets the tool reports
 

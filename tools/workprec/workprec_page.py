@@ -11,7 +11,7 @@ import pathlib
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "tools"))
+sys.path.insert(0, str(ROOT / "tools" / "pages"))
 import results_page  # noqa: E402
 
 TARGETS = (1e-3, 1e-6, 1e-9)

@@ -56,7 +56,7 @@ struct RowField {
 
 /// Every column, in Row's order: the one list a new column is added to. The
 /// names, the units, the firmware's truth (sampleTruth, by name) and the
-/// Python package's columns follow from it; tests/csv_format_test.cpp checks
+/// Python package's columns follow from it; tests/base/csv_format_test.cpp checks
 /// that it covers Row member by member, in order.
 inline constexpr std::array<RowField, kNumColumns> kRowFields = {{
     {"t", "s", &Row::t},

@@ -77,7 +77,8 @@ inline bool frictionActive(const Model& m) {
 /// Every compiled shape, X(floating, kind 1, kind 2, friction): both bases,
 /// each pair of joint kinds, with and without friction where there is
 /// contact (2 x (1 + 8 x 2) = 34). The one list behind the dispatch below and
-/// the explicit instantiations of the step (dynamics/src/shapes.cpp).
+/// the explicit instantiations of the step (dynamics/src/shapes.inc, one
+/// build file per pair of joint kinds).
 #define GIMBALSIM_CONTACT_SHAPES(X, FL, FR)                                                              \
   X(FL, Ideal, Planar, FR) X(FL, Ideal, Spatial, FR) X(FL, Planar, Ideal, FR) X(FL, Planar, Planar, FR) \
   X(FL, Planar, Spatial, FR) X(FL, Spatial, Ideal, FR) X(FL, Spatial, Planar, FR) X(FL, Spatial, Spatial, FR)

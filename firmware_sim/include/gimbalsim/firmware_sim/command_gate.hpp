@@ -16,7 +16,7 @@
 
 namespace gimbalsim::firmware {
 
-/// A command's sender: bench_io::Source::id() over the network.
+/// A command's sender: lcm_wire::Source::id() over the network.
 using SourceId = std::uint64_t;
 inline constexpr SourceId kInProcessSource = 0;
 

@@ -9,7 +9,7 @@
 // objects that share the field names (the struct here and the lcm-gen type):
 //   TruthFields::visit(f, a, b)  calls  f(Columns{"utime[us]"}, a.utime, b.utime), ...
 // Everything that maps a message field by field goes through it: the copy
-// into and out of the LCM types (firmware_sim/src/lcm_bridge.cpp), the CSV
+// into and out of the LCM types (firmware_sim/programs/lcm_bridge.cpp), the CSV
 // header and rows (csv_rows.hpp, for --truth-csv and gimbalsim_log2csv), and
 // the test that the list covers the encoded message (tests/lcm). A field added
 // to a .lcm file is added here and nowhere else.

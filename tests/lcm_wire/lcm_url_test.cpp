@@ -1,0 +1,58 @@
+// parseLcmUrl: the receive side understands the URLs lcm_create does
+// (udpm://GROUP:PORT?ttl=N&recv_buf_size=N, memq://, the LCM_DEFAULT_URL
+// environment variable, LCM's default) and refuses the rest, saying why.
+#include <gtest/gtest.h>
+#include <arpa/inet.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "gimbalsim/lcm_wire/udpm_receiver.hpp"
+
+namespace gimbalsim::lcm_wire {
+namespace {
+
+TEST(LcmUrl, UdpmGroupPortAndOptions) {
+  std::string why;
+  const LcmUrl u = parseLcmUrl("udpm://239.255.76.67:7734?ttl=0&recv_buf_size=2097152", &why);
+  ASSERT_EQ(u.kind, LcmUrl::Kind::Udpm) << why;
+  EXPECT_EQ(ntohl(u.group), (239u << 24) | (255u << 16) | (76u << 8) | 67u);
+  EXPECT_EQ(u.port, 7734);
+  EXPECT_EQ(u.recv_buf_size, 2097152);
+  EXPECT_EQ(parseLcmUrl("udpm://239.1.2.3", &why).port, 7667) << "LCM's default port";
+  EXPECT_EQ(parseLcmUrl("memq://", &why).kind, LcmUrl::Kind::InProcess);
+}
+
+TEST(LcmUrl, EmptyMeansTheEnvironmentThenLcmsDefault) {
+  std::string why;
+  ::unsetenv("LCM_DEFAULT_URL");
+  EXPECT_EQ(parseLcmUrl("", &why).text, "udpm://239.255.76.67:7667?ttl=0");
+  ::setenv("LCM_DEFAULT_URL", "udpm://239.9.9.9:7001", 1);
+  const LcmUrl u = parseLcmUrl("", &why);
+  ::unsetenv("LCM_DEFAULT_URL");
+  EXPECT_EQ(u.text, "udpm://239.9.9.9:7001");
+  EXPECT_EQ(u.port, 7001);
+}
+
+TEST(LcmUrl, RefusalsSayWhy) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"bogus://x", "provider 'bogus' is not received here"},
+      {"udpm-no-separator", "expected provider://network?options"},
+      {"udpm://10.0.0.1:7667", "'10.0.0.1' is not a multicast group"},
+      {"udpm://239.1.1.1:0", "port '0' is not in 1..65535"},
+      {"udpm://239.1.1.1:99999", "port '99999' is not in 1..65535"},
+      {"udpm://239.1.1.1:7667x", "port '7667x'"},
+      {"udpm://not.an.ip:7667", "is not an IPv4 address"},
+      {"udpm://239.1.1.1:7667?recv_buf_size=-5", "recv_buf_size '-5'"},
+      {"udpm://239.1.1.1:7667?bogus=1", "unknown option 'bogus'"},
+  };
+  for (const auto& [url, reason] : cases) {
+    std::string why;
+    EXPECT_EQ(parseLcmUrl(url, &why).kind, LcmUrl::Kind::Unsupported) << url;
+    EXPECT_NE(why.find(reason), std::string::npos) << url << ": " << why;
+    EXPECT_NE(why.find(url), std::string::npos) << "the message names the URL: " << why;
+  }
+}
+
+}  // namespace
+}  // namespace gimbalsim::lcm_wire

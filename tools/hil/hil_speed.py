@@ -1,0 +1,392 @@
+#!/usr/bin/python3
+"""Speed of the hardware-in-the-loop bench on this machine (prints figures;
+not a test). firmware_sim + pointing_controller over LCM udpm (ttl=0) in a
+private network namespace (unshare -n, else unshare -rn), figures parsed from
+firmware_sim's exit summary.
+
+ (i)   rate sweep, real time, SCHED_FIFO, clearance scene with the controller:
+       per control rate, overruns, wake-up lateness p50/p99/max, compute per
+       tick p50/p99, commands missed. The period 1/rate must be a whole
+       multiple of sim.step (1 ms in the scene): above 1 kHz the run uses
+       --set sim.step=1/rate (one RK4 step per tick; contact sub-step 20 us as
+       in the scene) and the controller --set control.period=1/rate.
+       "Sustains" = zero overruns and lateness p99 < 10 % of the period over
+       the whole run. Both processes run under chrt -f 60 (--chrt) so the
+       controller and firmware_sim's LCM thread are not starved by other work
+       on this 2-core machine; the loop thread is SCHED_FIFO 80. Optionally
+       again with --spin (busy-wait the last part of each period).
+ (ii)  lockstep speed: simulated seconds per wall second, paper_ideal and
+       paper_clearance with the controller over udpm, median of 3 runs, in
+       three ways: both processes sleeping in poll() between messages (the
+       default; firmware_sim holds idle CPUs awake, --cpu-dma-latency-us 0),
+       both held to one CPU (taskset -c CPU), both busy-polling
+       (--spin-us 100). Against the in-process closed loop (controller_sweep
+       --omega 20, the default configuration's bandwidth; its start-up
+       subtracted: a 4 s run) it gives the process boundary per tick: lockstep wall
+       time per tick minus the in-process loop's.
+ (iii) 60 s at 1 kHz real time: wake-up lateness and status -> command round
+       trip (p50/p99/p99.9/max).
+
+The machine's floor: in (i) and (iii) cyclictest (Debian rt-tests) runs at
+the same period, SCHED_FIFO priority and CPU as firmware_sim's loop thread
+(--cpu, default 1, passed to both; the controller and firmware_sim's
+communication thread run on the other CPUs), half of its time just before and half
+just after each firmware_sim run (interleaved in the same minutes); the
+tables give firmware_sim's wake-up lateness percentiles (p50, p99, p99.9,
+max) next to cyclictest's and their ratios (firmware_sim / cyclictest: 1 =
+the machine's own floor).
+
+Usage:
+  /usr/bin/python3 tools/hil/hil_speed.py [--seconds 10] [--rates 1000,2000,4000,5000,8000,10000]
+      [--spin 0.3] [--long 60] [--cpu 1] [--build build] [--skip-sweep] [--skip-lockstep] [--skip-long]
+      [--results]
+
+--results also writes everything printed into docs/results/bench_timing.md
+(header by tools/pages/results_page.py: machine, commit, date, load at start and end).
+"""
+import argparse
+import io
+import os
+import shlex
+import time
+import re
+import statistics
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BIN = os.path.join(ROOT, "build/bin")  # --build changes it
+CFG = os.path.join(ROOT, "controllers/config/default.yaml")
+SCENES = os.path.join(ROOT, "tools/scenes")
+URL = "udpm://239.255.76.67:7667?ttl=0"
+
+
+def load():
+    return open("/proc/loadavg").read().split()[:3]
+
+
+def enter_namespace():
+    """Re-run this script inside a fresh network namespace with a multicast route on lo."""
+    if os.environ.get("GIMBALSIM_SPEED_INSIDE") == "1":
+        return
+    setup = "ip link set lo up && ip route add 224.0.0.0/4 dev lo"
+    for ns in (["unshare", "-n"], ["unshare", "-rn"]):
+        if subprocess.run(ns + ["sh", "-c", setup], capture_output=True).returncode == 0:
+            os.environ["GIMBALSIM_SPEED_INSIDE"] = "1"
+            print(f"hil_speed: private network namespace ({' '.join(ns)}), {URL}", flush=True)
+            os.execvp(ns[0], ns + ["sh", "-c", setup + ' && exec /usr/bin/python3 "$0" "$@"', sys.argv[0]] + sys.argv[1:])
+    sys.exit("hil_speed: neither `unshare -n` nor `unshare -rn` gives a network namespace here")
+
+
+CHRT = []  # ["chrt", "-f", PRIO] when --chrt is allowed here
+
+
+def run_pair(scene, seconds, rate=1000, lockstep=False, fw_extra=(), ctl_extra=(), both=(), controller=None):
+    """Controller + firmware_sim, each started under `both` (e.g. taskset); returns firmware_sim's stdout (the exit
+    summary). `controller`: the argv of a stand-in for pointing_controller (torque_replay), which must exit 0."""
+    rt = [] if lockstep else CHRT
+    # Real time: the controller on the other CPUs, as a bench keeps the plant's loop CPU to itself.
+    others = sorted(os.sched_getaffinity(0) - {CPU[0]})
+    pin = ["taskset", "-c", ",".join(map(str, others))] if not lockstep and CPU[0] >= 0 and others else []
+    ctl_cmd = controller or [os.path.join(BIN, "pointing_controller"), CFG, "--lcm-url", URL, "--idle-exit", "2"]
+    ctl = subprocess.Popen([*both, *pin, *rt, *ctl_cmd, *ctl_extra], stdout=subprocess.DEVNULL,
+                           stderr=subprocess.PIPE if controller else subprocess.DEVNULL, text=True)
+    try:
+        cmd = [*both, *rt, os.path.join(BIN, "firmware_sim"), scene, "--rate", str(rate), "--duration", str(seconds),
+               "--profile", CFG, "--lcm-url", URL, *fw_extra]
+        if lockstep:
+            cmd.append("--lockstep")
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=seconds * 20 + 60)
+        if r.returncode != 0:
+            sys.exit(f"hil_speed: firmware_sim exited {r.returncode}: {' '.join(cmd)}\n{r.stderr}")
+    finally:
+        err = ctl.communicate(timeout=30)[1]
+    if controller and ctl.returncode != 0:
+        sys.exit(f"hil_speed: {os.path.basename(ctl_cmd[0])} exited {ctl.returncode}: {err.strip()[-300:]}")
+    return r.stdout + r.stderr
+
+
+RT_PRIORITY = 80  # firmware_sim's loop thread (its --rt-priority default) and cyclictest's
+CPU = [1]         # --cpu: firmware_sim's loop thread and cyclictest's thread
+
+
+def cyclictest(period_us, seconds):
+    """cyclictest's wake-up latency histogram [us] -> {us: count} (one thread, SCHED_FIFO RT_PRIORITY, pinned)."""
+    cmd = ["cyclictest", "-m", "-q", "-t", "1", "-p", str(RT_PRIORITY), "-i", str(int(round(period_us))),
+           "-D", f"{max(1, int(round(seconds)))}", "-h", "100000"]
+    if CPU[0] >= 0:
+        cmd += ["-a", str(CPU[0])]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=seconds + 60)
+    if r.returncode != 0:
+        sys.exit(f"hil_speed: cyclictest failed ({' '.join(cmd)}): {r.stderr}")
+    hist, mx = {}, 0.0
+    for line in r.stdout.splitlines():
+        m = re.match(r"^(\d+) (\d+)$", line)
+        if m and int(m.group(2)) > 0:
+            hist[int(m.group(1))] = hist.get(int(m.group(1)), 0) + int(m.group(2))
+        m = re.match(r"^# Max Latencies: (\d+)", line)
+        if m:
+            mx = max(mx, float(m.group(1)))
+    hist["max"] = mx
+    return hist
+
+
+def merge(a, b):
+    out = dict(a)
+    for k, v in b.items():
+        out[k] = max(out.get(k, 0), v) if k == "max" else out.get(k, 0) + v
+    return out
+
+
+def quantiles(hist):
+    """p50, p99, p99.9 [us] as firmware_sim's histogram reports them (upper edge of the 1 us bin), and the max."""
+    n = sum(v for k, v in hist.items() if k != "max")
+    out = []
+    for p in (0.5, 0.99, 0.999):
+        want, acc = max(1.0, p * n), 0
+        for k in sorted(k for k in hist if k != "max"):
+            acc += hist[k]
+            if acc >= want:
+                out.append(min(k + 1.0, hist["max"]))
+                break
+        else:
+            out.append(hist["max"])
+    return out + [hist["max"]]
+
+
+def with_floor(period_us, seconds, run):
+    """cyclictest for seconds/2, run(), cyclictest for seconds/2: run's output and the merged histogram's quantiles."""
+    a = cyclictest(period_us, seconds / 2)
+    out = run()
+    b = cyclictest(period_us, seconds / 2)
+    return out, quantiles(merge(a, b))
+
+
+def lateness(out):
+    """firmware_sim's wake-up lateness p50, p99, p99.9, max [us] from its exit summary."""
+    return grab(out, r"wake-up lateness \[us\]: p50 (\S+)  p99 (\S+)  p99\.9 (\S+)  max (\S+)", 4)
+
+
+def ratios(fw, floor):
+    return " / ".join(f"{f / c:.2g}" if c > 0 else "inf" for f, c in zip(fw, floor))
+
+
+def grab(text, pattern, n=1):
+    m = re.search(pattern, text)
+    if not m:
+        sys.exit(f"hil_speed: no match for {pattern!r} in\n{text}")
+    return [float(x) for x in m.groups()[:n]] if n > 1 else float(m.group(1))
+
+
+def sweep(rates, seconds, spin_fraction):
+    scene = os.path.join(SCENES, "paper_clearance.yaml")
+    title = "plain clock_nanosleep" if spin_fraction == 0 else f"--spin-us = {spin_fraction:g} x period"
+    print(f"\n(i) control rate sweep, real time, paper_clearance + pointing_controller, {seconds:g} s each, {title}"
+          f"  [load before: {' '.join(load())}]")
+    print("| rate [Hz] | period [us] | sim.step [s] | overruns (% of ticks) | late ticks | lateness p50 / p99 / p99.9 / max [us] "
+          "| cyclictest p50 / p99 / p99.9 / max [us] | ratio p50 / p99 / p99.9 / max | compute p50 / p99 / max [us] "
+          "| worst-case tick [us] | missed cmds | sched | sustains |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    best = None
+    for rate in rates:
+        period_us = 1e6 / rate
+        step = 1e-3 if 1000 % rate == 0 else 1.0 / rate  # the scene's 1 ms when it divides the period
+        fw = ["--set", f"sim.step={step!r}"]
+        if spin_fraction > 0:
+            fw += ["--spin-us", f"{spin_fraction * period_us:g}"]
+        if CPU[0] >= 0:
+            fw += ["--cpu", str(CPU[0])]
+        out, floor = with_floor(period_us, seconds, lambda: run_pair(
+            scene, seconds, rate=rate, fw_extra=fw, ctl_extra=["--set", f"control.period={1.0 / rate!r}"]))
+        lat = lateness(out)
+        lp50, lp99 = lat[0], lat[1]
+        cp50, cp99, cmax = grab(out, r"compute per tick \[us\]: p50 (\S+)  p99 (\S+)  max (\S+)", 3)
+        bound = grab(out, r"worst-case bound (\S+)")
+        late = int(grab(out, r"late ticks (\d+)"))
+        over = int(grab(out, r"overruns (\d+)"))
+        missed = int(grab(out, r"missed (\d+);"))
+        fifo = "FIFO" if "SCHED_FIFO" in out else "OTHER"
+        ok = over == 0 and lp99 < 0.1 * period_us
+        if ok:
+            best = rate
+        ticks = int(grab(out, r"firmware_sim: (\d+) ticks"))
+        print(f"| {rate} | {period_us:.0f} | {step:g} | {over} ({100.0 * over / max(ticks, 1):.2g} %) | {late} | "
+              f"{' / '.join(f'{x:.0f}' for x in lat)} | {' / '.join(f'{x:.0f}' for x in floor)} | {ratios(lat, floor)} | "
+              f"{cp50:.0f} / {cp99:.0f} / {cmax:.0f} | {bound:.0f} | {missed} | {fifo} | {'yes' if ok else 'no'} |", flush=True)
+    print(f"highest rate sustained ({title}): {best if best else 'none of those tried'} Hz  "
+          f"[load after: {' '.join(load())}]")
+
+
+def in_process_us_per_tick(scene, seconds, runs=3):
+    """Wall time per 1 ms tick of the in-process closed loop [us]: controller_sweep over 4 + `seconds`
+    minus a 4 s run (the start-up; its figures need the track, from 3.5 s), median of `runs` pairs."""
+    def wall(duration):
+        t0 = time.perf_counter()
+        subprocess.run([os.path.join(BIN, "controller_sweep"), "--scene", scene, "--config", CFG, "--omega", "20",
+                        "--duration", f"{duration:g}"], check=True, capture_output=True)
+        return time.perf_counter() - t0
+    xs = [(wall(4.0 + seconds) - wall(4.0)) / (seconds * 1000.0) * 1e6 for _ in range(runs)]
+    return statistics.median(xs)
+
+
+LOCKSTEP_WAYS = (  # (name, prefix of both commands, flags of both processes)
+    ("sleeping (default)", lambda: [], []),
+    ("one CPU (taskset -c CPU, both)", lambda: ["taskset", "-c", str(max(CPU[0], 0))], []),
+    ("busy-polling (--spin-us 100, both)", lambda: [], ["--spin-us", "100"]),
+)
+
+
+def lockstep_speed(seconds, runs=3):
+    print(f"\n(ii) lockstep speed, {seconds:g} simulated s per run, median of {runs} runs  [load before: {' '.join(load())}]")
+    print("| scene | the two processes | simulated s / wall s (runs) | median | wall per tick [us] | "
+          "in-process loop per tick [us] | process boundary per tick [us] |")
+    print("|---|---|---|---|---|---|---|")
+    for name in ("paper_ideal", "paper_clearance"):
+        scene = os.path.join(SCENES, name + ".yaml")
+        inproc = in_process_us_per_tick(scene, seconds)
+        for way, both, flags in LOCKSTEP_WAYS:
+            xs = []
+            for _ in range(runs):
+                out = run_pair(scene, seconds, lockstep=True, fw_extra=flags, ctl_extra=flags, both=both())
+                xs.append(grab(out, r"\(([\d.]+) x real time\)"))
+            x = statistics.median(xs)
+            per_tick = 1000.0 / x  # [us] of wall time per 1 ms tick
+            print(f"| {name} | {way} | {', '.join(f'{x:.2f}' for x in xs)} | {x:.2f} | {per_tick:.1f} | {inproc:.1f} | "
+                  f"{per_tick - inproc:.1f} |", flush=True)
+    print(f"[load after: {' '.join(load())}]")
+
+
+def long_run(seconds):
+    print(f"\n(iii) {seconds:g} s at 1 kHz real time, paper_clearance + pointing_controller  [load before: {' '.join(load())}]")
+    fw = ["--cpu", str(CPU[0])] if CPU[0] >= 0 else []
+    out, floor = with_floor(1000.0, seconds, lambda: run_pair(os.path.join(SCENES, "paper_clearance.yaml"), seconds,
+                                                              fw_extra=fw))
+    for line in out.splitlines():
+        if line.startswith("firmware_sim:") and "ticks" in line or line.startswith("  "):
+            print(line)
+    lat = lateness(out)
+    print(f"  cyclictest (same period, priority {RT_PRIORITY}, CPU {CPU[0]}, {seconds / 2:g} s before + {seconds / 2:g} s after) "
+          f"[us]: p50 {floor[0]:.0f}  p99 {floor[1]:.0f}  p99.9 {floor[2]:.0f}  max {floor[3]:.0f}")
+    print(f"  firmware_sim / cyclictest: p50 / p99 / p99.9 / max = {ratios(lat, floor)}")
+    print(f"[load after: {' '.join(load())}]")
+
+
+class Tee(io.TextIOBase):
+    """Writes to the terminal and keeps a copy (the page's body)."""
+
+    def __init__(self, out):
+        self.out, self.copy = out, io.StringIO()
+
+    def write(self, s):
+        self.copy.write(s)
+        return self.out.write(s)
+
+    def flush(self):
+        self.out.flush()
+
+
+PREAMBLE = """`tools/hil/hil_speed.py`: firmware_sim + pointing_controller over LCM udpm (ttl=0) in a private network
+namespace, paper_clearance with the controller; figures parsed from firmware_sim's exit summary. Real-time runs:
+both processes under `chrt -f 60`, firmware_sim's loop thread SCHED_FIFO 80 pinned to `--cpu`, the controller
+and firmware_sim's communication thread on the other CPUs. The machine's floor:
+cyclictest (Debian's rt-tests) at the same period, priority and CPU, half of its time just before and half just
+after each firmware_sim run; ratio = firmware_sim / cyclictest (1 = the machine's own floor). Lateness = wake-up
+lateness of the loop thread; "sustains" = zero overruns and lateness p99 below 10 % of the period. The kernel is
+not PREEMPT_RT and the 2 cores are shared (load average in the header): single multi-millisecond stalls of the VM
+land in one run or another, so p99.9 and max swing between runs; quote medians and ratios, not tails.
+"""
+
+
+def page_body(text):
+    """The printed report as Markdown: tables kept, the long run's indented lines in a code block."""
+    out, mode = [PREAMBLE], None
+    for line in text.splitlines():
+        kind = "table" if line.startswith("|") else "code" if line.startswith("  ") or line.startswith(
+            "firmware_sim:") else "text" if line.strip() else None
+        if kind is None:
+            continue
+        if kind != mode:
+            if mode == "code":
+                out.append("```")
+            out.append("")
+            if kind == "code":
+                out.append("```")
+        if kind == "text" and line.startswith("("):  # (i), (ii), (iii): a section each
+            out += ["", "### " + line.strip()]
+            mode = "heading"
+            continue
+        out.append(line if kind != "text" else line.strip())
+        mode = kind
+    if mode == "code":
+        out.append("```")
+    return "\n".join(out) + "\n"
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--seconds", type=float, default=10.0, help="seconds per rate in the sweep")
+    p.add_argument("--rates", default="1000,2000,4000,5000,8000,10000")
+    p.add_argument("--spin", type=float, default=0.0,
+                   help="also sweep with --spin-us = this fraction of the period (0: only the plain sweep)")
+    p.add_argument("--lockstep-seconds", type=float, default=10.0)
+    p.add_argument("--long", type=float, default=60.0, help="seconds of the 1 kHz run")
+    p.add_argument("--chrt", type=int, default=60,
+                   help="real-time runs: start both processes under SCHED_FIFO at this priority (chrt -f; the "
+                        "firmware loop thread still raises itself to 80); 0 = SCHED_OTHER")
+    p.add_argument("--cpu", type=int, default=1,
+                   help="CPU of firmware_sim's loop thread and of cyclictest's thread (-1: no pinning)")
+    p.add_argument("--build", default="build", help="build directory holding bin/ (relative to the source tree)")
+    p.add_argument("--skip-sweep", action="store_true")
+    p.add_argument("--skip-lockstep", action="store_true")
+    p.add_argument("--skip-long", action="store_true")
+    p.add_argument("--results", action="store_true", help="also write docs/results/bench_timing.md")
+    a = p.parse_args()
+    os.environ.setdefault("GIMBALSIM_RESULTS_T0", str(time.time()))  # kept across the namespace's exec
+    os.environ.setdefault("GIMBALSIM_RESULTS_LOAD0", open("/proc/loadavg").read())
+    global BIN
+    BIN = os.path.join(ROOT, a.build, "bin")
+    CPU[0] = a.cpu
+    for t in ("firmware_sim", "pointing_controller"):
+        if not os.access(os.path.join(BIN, t), os.X_OK):
+            sys.exit(f"hil_speed: {BIN}/{t} missing: cmake --build build -j2 --target firmware_sim pointing_controller")
+    enter_namespace()
+    if a.results:
+        sys.stdout = Tee(sys.stdout)
+    if a.chrt > 0:
+        if subprocess.run(["chrt", "-f", str(a.chrt), "true"], capture_output=True).returncode == 0:
+            CHRT.extend(["chrt", "-f", str(a.chrt)])
+        else:
+            print(f"hil_speed: warning: chrt -f {a.chrt} refused here, processes run SCHED_OTHER")
+    print(f"hil_speed: {os.cpu_count()} CPUs, kernel {os.uname().release}, load {' '.join(load())}; "
+          f"real-time runs: controller and firmware_sim {'under ' + ' '.join(CHRT) if CHRT else 'SCHED_OTHER'} "
+          "(firmware loop thread SCHED_FIFO 80)")
+    rates = [int(r) for r in a.rates.split(",") if r]
+    if not a.skip_sweep:
+        sweep(rates, a.seconds, 0.0)
+        if a.spin > 0:
+            sweep(rates, a.seconds, a.spin)
+    if not a.skip_lockstep:
+        lockstep_speed(a.lockstep_seconds)
+    if not a.skip_long:
+        long_run(a.long)
+    if a.results:
+        sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
+        import results_page
+        command = "/usr/bin/python3 tools/hil/hil_speed.py " + " ".join(shlex.quote(x) for x in sys.argv[1:])
+        text = sys.stdout.copy.getvalue()
+        ratio = next((line.split("=", 1)[1].strip() for line in text.splitlines() if "firmware_sim / cyclictest" in line), "")
+        best = next((line.split("):", 1)[1].split("[")[0].strip() for line in text.splitlines()
+                     if line.startswith("highest rate sustained (plain")), "")
+        best = best if best[:1].isdigit() else best.removesuffix(" Hz")
+        summary = "; ".join(x for x in (f"highest rate sustained: {best}" if best else "",
+                                        f"1 kHz run, firmware_sim / cyclictest lateness p50 / p99 / p99.9 / max = {ratio}"
+                                        if ratio else "") if x)
+        results_page.write_page(os.path.join(ROOT, "docs/results/bench_timing.md"),
+                                "HIL bench timing against cyclictest", command, page_body(text), summary=summary,
+                                t0=os.environ["GIMBALSIM_RESULTS_T0"], load0=os.environ["GIMBALSIM_RESULTS_LOAD0"])
+        sys.stdout = sys.stdout.out
+        print("hil_speed: wrote docs/results/bench_timing.md")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,138 @@
+#!/usr/bin/python3
+"""Plot a hardware-in-the-loop bench run from its truth CSV.
+
+The truth CSV is what `firmware_sim --truth-csv FILE` writes, or what
+`gimbalsim_log2csv LOG` makes of the <PREFIX>GIMBAL_TRUTH channel of an
+lcm-logger log (same columns, `name_unit` header). One figure against
+simulated time: truth pointing error (log scale), joint angles, applied
+torques, firmware fault flags (one row per FAULT_* bit) and, when the run had
+a fault schedule (firmware_sim --faults), the scheduled faults active at each
+tick (column injected_faults: one row per fault seen).
+
+Usage:
+  /usr/bin/python3 tools/hil/plot_bench.py truth.csv --out bench.png [--title TEXT]
+
+Prints a short summary (rows, time span, pointing error at the end and its
+maximum after --after seconds, ticks per fault flag). Needs numpy and
+matplotlib (Debian: python3-numpy python3-matplotlib, for /usr/bin/python3).
+"""
+import argparse
+import csv
+import os
+import sys
+
+import numpy as np
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
+from output_file import savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
+
+FAULTS = [(1, "watchdog"), (2, "motor limit"), (4, "cmd rejected"), (8, "plant fault"), (16, "lockstep timeout")]
+# Scheduled fault kinds in the order of FaultKind (firmware_sim/include/gimbalsim/firmware_sim/fault_schedule.hpp):
+# kind k, axis a sets bit 2 k + a of injected_faults (kinds without an axis: bit 2 k).
+FAULT_KINDS = ["encoder_dropout", "encoder_stuck", "encoder_bias", "encoder_noise", "status_delay", "status_drop",
+               "command_delay", "command_drop", "torque_limit", "motor_failure", "star_tracker_outage",
+               "gyro_bias_jump", "bearing_wear", "friction_rise"]
+AXIS_KINDS = {"encoder_dropout", "encoder_stuck", "encoder_bias", "encoder_noise", "torque_limit", "motor_failure"}
+
+
+def injected_name(bit):
+    kind = FAULT_KINDS[bit // 2] if bit // 2 < len(FAULT_KINDS) else f"bit {bit}"
+    if kind in AXIS_KINDS:
+        return f"{kind} {'el' if bit % 2 else 'az'}"
+    return kind
+NEEDED = ["sim_time_s", "theta1_rad", "theta2_rad", "tau1_Nm", "tau2_Nm", "pointing_error_rad", "faults"]
+
+
+def read(path):
+    try:
+        with open(path, newline="") as f:
+            rows = list(csv.reader(f))
+    except OSError as e:
+        sys.exit(f"plot_bench: cannot read {path}: {e.strerror}")
+    if not rows:
+        sys.exit(f"plot_bench: {path} is empty")
+    header, data = rows[0], rows[1:]
+    missing = [c for c in NEEDED if c not in header]
+    if missing:
+        sys.exit(f"plot_bench: {path}: not a bench truth CSV, missing column(s) {', '.join(missing)}")
+    if not data:
+        sys.exit(f"plot_bench: {path}: no rows")
+    cols = {}
+    wanted = NEEDED + (["injected_faults"] if "injected_faults" in header else [])
+    for c in wanted:
+        i = header.index(c)
+        try:
+            cols[c] = np.array([float(r[i]) for r in data])
+        except (ValueError, IndexError) as e:
+            sys.exit(f"plot_bench: {path}: bad value in column {c}: {e}")
+    return cols
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("truth", help="truth CSV (firmware_sim --truth-csv or gimbalsim_log2csv)")
+    p.add_argument("--out", required=True, help="output image (.png, .pdf, .svg)")
+    p.add_argument("--title", default="", help="figure title (default: the CSV path)")
+    p.add_argument("--after", type=float, default=2.5, help="report the max pointing error after this time [s]")
+    a = p.parse_args()
+    c = read(a.truth)
+    t = c["sim_time_s"]
+    err = c["pointing_error_rad"]
+    faults = c["faults"].astype(np.int64)
+    injected = c["injected_faults"].astype(np.int64) if "injected_faults" in c else np.zeros_like(faults)
+    seen = [b for b in range(31) if ((injected >> b) & 1).any()]
+
+    panels = 5 if seen else 4
+    ratios = [3, 2, 2, 1.2] + ([0.3 * len(seen) + 0.6] if seen else [])
+    fig, ax = plt.subplots(panels, 1, figsize=(9, 10 + (0.25 * len(seen) if seen else 0)), sharex=True,
+                           gridspec_kw={"height_ratios": ratios})
+    ax[0].semilogy(t, np.maximum(err, 1e-12), lw=0.8)
+    ax[0].set_ylabel("pointing error [rad]")
+    ax[0].grid(True, which="both", alpha=0.3)
+    ax[1].plot(t, c["theta1_rad"], label="theta1 (azimuth)", lw=0.9)
+    ax[1].plot(t, c["theta2_rad"], label="theta2 (elevation)", lw=0.9)
+    ax[1].set_ylabel("joint angle [rad]")
+    ax[1].legend(loc="best", fontsize=8)
+    ax[1].grid(True, alpha=0.3)
+    ax[2].plot(t, c["tau1_Nm"], label="tau1", lw=0.7)
+    ax[2].plot(t, c["tau2_Nm"], label="tau2", lw=0.7)
+    ax[2].set_ylabel("applied torque [N m]")
+    ax[2].legend(loc="best", fontsize=8)
+    ax[2].grid(True, alpha=0.3)
+    for row, (bit, name) in enumerate(FAULTS):
+        on = (faults & bit) != 0
+        ax[3].fill_between(t, row - 0.4, row + 0.4, where=on, step="post", alpha=0.8)
+    ax[3].set_yticks(range(len(FAULTS)))
+    ax[3].set_yticklabels([n for _, n in FAULTS], fontsize=7)
+    ax[3].set_ylim(-0.6, len(FAULTS) - 0.4)
+    ax[3].set_ylabel("firmware")
+    ax[3].grid(True, axis="x", alpha=0.3)
+    if seen:
+        for row, bit in enumerate(seen):
+            on = ((injected >> bit) & 1) != 0
+            ax[4].fill_between(t, row - 0.4, row + 0.4, where=on, step="post", alpha=0.8, color="tab:red")
+        ax[4].set_yticks(range(len(seen)))
+        ax[4].set_yticklabels([injected_name(b) for b in seen], fontsize=7)
+        ax[4].set_ylim(-0.6, len(seen) - 0.4)
+        ax[4].set_ylabel("scheduled")
+        ax[4].grid(True, axis="x", alpha=0.3)
+    ax[-1].set_xlabel("simulated time [s]")
+    fig.suptitle(a.title or a.truth, fontsize=10)
+    fig.tight_layout()
+    savefig(fig, a.out, inputs=[a.truth], dpi=120)
+
+    after = err[t >= a.after]
+    print(f"plot_bench: {len(t)} rows, t = {t[0]:.3f} .. {t[-1]:.3f} s -> {a.out}")
+    tail = f"max after {a.after:g} s {after.max():.3e} rad" if after.size else f"(run ends before {a.after:g} s)"
+    print(f"  pointing error: end {err[-1]:.3e} rad, {tail}")
+    print("  fault ticks: " + ", ".join(f"{name} {int(((faults & bit) != 0).sum())}" for bit, name in FAULTS))
+    if seen:
+        print("  scheduled fault ticks: " + ", ".join(f"{injected_name(b)} {int(((injected >> b) & 1).sum())}" for b in seen))
+
+
+if __name__ == "__main__":
+    main()

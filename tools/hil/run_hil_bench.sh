@@ -1,0 +1,113 @@
+#!/usr/bin/env bash
+# One-script hardware-in-the-loop bench: firmware_sim + pointing_controller
+# (+ a recorder with --log) over LCM udpm (ttl=0) inside a private network
+# namespace, in lockstep (default) or real time; writes the truth CSV, the
+# controller's log, firmware_sim's summary, the LCM log and its CSVs, and a
+# plot into the output directory (default out/bench/).
+#
+#   bash tools/hil/run_hil_bench.sh [--realtime] [--duration S] [--scene FILE] [--config FILE]
+#                               [--rate HZ] [--log] [--out DIR] [--no-plot] [-- FIRMWARE_SIM_ARGS...]
+#
+# Namespace: `unshare -n` (root), else `unshare -rn` (user namespace); if
+# neither works it runs in the host's network with ttl=0 (nothing leaves the
+# host) and says so. Not to be confused with tools/bench/run_bench.sh (the
+# dynamics micro-benchmarks).
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+
+MODE=lockstep DURATION=8 SCENE="$ROOT/tools/scenes/paper_clearance.yaml" CONFIG="$ROOT/controllers/config/default.yaml"
+RATE=1000 LOG=0 OUT="$ROOT/out/bench" OUT_GIVEN=0 PLOT=1 PORT=7667 EXTRA=()
+usage() { sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --realtime) MODE=realtime ;;
+    --lockstep) MODE=lockstep ;;
+    --duration) DURATION="$2"; shift ;;
+    --scene) SCENE="$2"; shift ;;
+    --config) CONFIG="$2"; shift ;;
+    --rate) RATE="$2"; shift ;;
+    --log) LOG=1 ;;
+    --out) OUT="$2"; OUT_GIVEN=1; shift ;;
+    --no-plot) PLOT=0 ;;
+    --port) PORT="$2"; shift ;;
+    -h|--help) usage 0 ;;
+    --) shift; EXTRA=("$@"); break ;;
+    *) echo "run_hil_bench.sh: unknown argument '$1'" >&2; usage 2 ;;
+  esac
+  shift
+done
+BIN="$ROOT/build/bin"
+URL="udpm://239.255.76.67:${PORT}?ttl=0"
+
+if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
+  for f in "$SCENE" "$CONFIG"; do [ -f "$f" ] || { echo "run_hil_bench.sh: no such file: $f" >&2; exit 2; }; done
+  for t in firmware_sim pointing_controller gimbalsim_log2csv gimbalsim_record; do
+    if [ ! -x "$BIN/$t" ]; then
+      cmake -S "$ROOT" -B "$ROOT/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+      cmake --build "$ROOT/build" -j2 --target firmware_sim pointing_controller gimbalsim_log2csv gimbalsim_record
+      break
+    fi
+  done
+  # Its own folder is made (the default out/bench included), never the ones above it (usage.md "Output files").
+  parent="$(dirname "$OUT")"
+  [ "$OUT_GIVEN" = 0 ] || [ -d "$parent" ] || { echo "run_hil_bench.sh: --out $OUT: the folder it goes in, $parent, does not exist (create it first)" >&2; exit 2; }
+  mkdir -p "$OUT"
+  OUT="$(cd "$OUT" && pwd)"
+  SCENE="$(realpath "$SCENE")" CONFIG="$(realpath "$CONFIG")"
+  export GIMBALSIM_BENCH_INSIDE=1
+  args=(--duration "$DURATION" --scene "$SCENE" --config "$CONFIG" --rate "$RATE" --out "$OUT" --port "$PORT")
+  [ "$MODE" = realtime ] && args+=(--realtime)
+  [ "$LOG" = 1 ] && args+=(--log)
+  [ "$PLOT" = 0 ] && args+=(--no-plot)
+  setup='ip link set lo up && ip route add 224.0.0.0/4 dev lo'
+  for ns in "unshare -n" "unshare -rn"; do
+    if $ns sh -c "$setup" >/dev/null 2>&1; then
+      echo "run_hil_bench.sh: private network namespace ($ns), $URL"
+      exec $ns sh -c "$setup && exec bash \"\$0\" \"\$@\"" "$0" "${args[@]}" -- "${EXTRA[@]}"
+    fi
+  done
+  echo "run_hil_bench.sh: warning: no private network namespace here (unshare -n and -rn refused);" \
+       "running in the host network with ttl=0 on port $PORT (another bench on this port would mix in)" >&2
+  exec bash "$0" "${args[@]}" -- "${EXTRA[@]}"
+fi
+
+# ---- inside the namespace
+cd "$OUT"
+rm -f truth.csv controller.csv firmware.txt bench.lcmlog bench_*.csv bench.png
+pids=()
+cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
+trap cleanup EXIT
+if [ "$LOG" = 1 ]; then
+  # gimbalsim_record, not lcm-logger: LCM 1.3.1's lcm-logger drops messages
+  # in fast lockstep on a loaded machine (30-message queue); same log format.
+  "$BIN/gimbalsim_record" --lcm-url "$URL" bench.lcmlog &
+  LOGGER=$!; pids+=("$LOGGER")
+  sleep 0.3
+fi
+PERIOD=$(awk -v r="$RATE" 'BEGIN { printf "%.17g", 1.0 / r }')
+# The same --duration as the plant: both end by themselves (docs/bench.md "Two terminals").
+"$BIN/pointing_controller" "$CONFIG" --set control.period="$PERIOD" --lcm-url "$URL" --duration "$DURATION" --idle-exit 10 \
+    --log-csv controller.csv 2>controller.txt &
+CTL=$!; pids+=("$CTL")
+sleep 0.2
+fw=("$BIN/firmware_sim" "$SCENE" --rate "$RATE" --duration "$DURATION" --profile "$CONFIG" --truth-csv truth.csv
+    --lcm-url "$URL")
+[ "$MODE" = lockstep ] && fw+=(--lockstep)
+set +e
+"${fw[@]}" "${EXTRA[@]}" 2>&1 | tee firmware.txt
+rc=${PIPESTATUS[0]}
+set -e
+ctl_rc=0
+wait "$CTL" 2>/dev/null || ctl_rc=$?
+if [ "$LOG" = 1 ]; then
+  sleep 0.2; kill -INT "$LOGGER"; wait "$LOGGER" 2>/dev/null || true
+  "$BIN/gimbalsim_log2csv" bench.lcmlog --out-dir "$OUT"
+fi
+trap - EXIT
+if [ "$rc" -ne 0 ]; then echo "run_hil_bench.sh: firmware_sim exited with $rc (see $OUT/firmware.txt)" >&2; exit "$rc"; fi
+if [ "$ctl_rc" -ne 0 ]; then echo "run_hil_bench.sh: pointing_controller exited with $ctl_rc (see $OUT/controller.txt)" >&2; exit "$ctl_rc"; fi
+if [ "$PLOT" = 1 ]; then
+  /usr/bin/python3 "$ROOT/tools/hil/plot_bench.py" truth.csv --out bench.png \
+      --title "$(basename "$SCENE") $MODE, $RATE Hz, $DURATION s"
+fi
+echo "run_hil_bench.sh: results in $OUT (truth.csv, controller.csv, firmware.txt$([ "$LOG" = 1 ] && echo ", bench.lcmlog, bench_*.csv")$([ "$PLOT" = 1 ] && echo ", bench.png"))"

@@ -1,0 +1,96 @@
+#!/usr/bin/python3
+"""docs/results/paper.md from a tools/run_paper.sh run (called by it with
+--results): the paper scene's settings, the headline figures plot_paper.py
+printed, and three of its figures copied small into docs/results/
+(paper_pointing.png is the one README.md links).
+
+    /usr/bin/python3 tools/paper/paper_page.py --dir out/paper --command "bash tools/run_paper.sh --results" \\
+        [--t0 T0 --load0 LOAD0] [--set key=value ...]
+"""
+import json
+import pathlib
+import re
+import sys
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tools" / "pages"))
+import results_page  # noqa: E402
+from output_file import open_output  # noqa: E402  (the package's one writer)
+
+# (figure of plot_paper.py, name under docs/results/, caption)
+FIGURES = [
+    ("fig17_pointing_error.png", "paper_pointing.png",
+     "Antenna pointing error: the angle between the clearance run's boresight and the ideal run's (paper fig. 17)."),
+    ("fig18_joint2_force.png", "paper_joint2_force.png",
+     "Force through joint 2, clearance against ideal joint (paper fig. 18)."),
+    ("fig06_eccentricity.png", "paper_eccentricity.png",
+     "Journal eccentricity in the bearing (paper fig. 6): impacts, then continuous contact."),
+]
+DPI_FROM, DPI_TO = 110, 80  # plot_paper.py saves at 110 dpi; the committed copies are 80 dpi
+
+
+def small_copy(src, dst):
+    """The PNG scaled to DPI_TO and reduced to a 64-colour palette, written atomically."""
+    from PIL import Image
+    im = Image.open(src).convert("RGB")
+    w, h = im.size
+    im = im.resize((round(w * DPI_TO / DPI_FROM), round(h * DPI_TO / DPI_FROM)), Image.LANCZOS)
+    im = im.quantize(colors=64, method=Image.Quantize.MEDIANCUT)
+    with open_output(dst, "wb", inputs=[src]) as f:
+        im.save(f, format="PNG", optimize=True)
+
+
+def summary_table(text):
+    """plot_paper.py's '  name : value' lines as Markdown table rows."""
+    rows = []
+    for line in text.splitlines():
+        m = re.match(r"^\s{2,}(\S[^:]*?)\s*: (.+)$", line)
+        if m and not line.strip().startswith("wrote"):
+            rows.append(f"| {m.group(1).strip()} | {m.group(2).strip()} |")
+    return "| quantity | value |\n|---|---|\n" + "\n".join(rows) + "\n"
+
+
+def main():
+    ap = results_page.page_arguments(__doc__, "out/paper")
+    ap.add_argument("--set", action="append", default=[], help="the overrides given to both runs")
+    a = ap.parse_args()
+    d = ROOT / a.dir
+    summary = (d / "plot_summary.txt").read_text()
+    runs = []
+    for name in ("ideal", "clearance"):
+        s = json.loads((d / f"{name}.json").read_text())
+        runs.append(f"| {name} | {s['status']} | {s['t_end_s']:g} | {s['impacts']} | {s['substeps']} | "
+                    f"{s['integrator']['step_s']:g} / {s['integrator']['substep_s']:g} | {s['wall_time_s']:.2f} |")
+    out = ROOT / "docs" / "results"
+    figs = []
+    for src, dst, caption in FIGURES:
+        small_copy(d / "plots" / src, out / dst)
+        figs.append(f"![{src.split('_')[0]}]({dst})\n\n{caption}\n")
+    overrides = ", ".join(f"`{s}`" for s in a.set) if a.set else "none (the scenes as committed)"
+    body = f"""The paper's scene (You, Pan & Zhao 2010, section 4): `tools/scenes/paper_ideal.yaml` (ideal elevation
+joint) and `tools/scenes/paper_clearance.yaml` (radial clearance in joint 2), the same open-loop torques, simulated
+by `build/bin/gimbalsim simulate` and compared by `tools/paper/plot_paper.py` (all figures 6-18 in {a.dir}/plots/; the
+three below are copies at {DPI_TO} dpi). Overrides given to both runs: {overrides}.
+
+## Headline figures
+
+{summary_table(summary)}
+## Runs
+
+| run | status | simulated to [s] | impacts | RK4 sub-steps | step / sub-step [s] | wall [s] |
+|---|---|---|---|---|---|---|
+{chr(10).join(runs)}
+
+## Figures
+
+{chr(10).join(figs)}"""
+    first = next((line for line in summary.splitlines() if "max pointing error" in line), "")
+    results_page.write_page(out / "paper.md", "Paper scene: ideal joint against clearance joint", a.command, body,
+                            summary=("max pointing error " + first.split(":", 1)[1].strip()) if first else "",
+                            t0=a.t0, load0=a.load0)
+    print(f"paper_page: wrote {out / 'paper.md'} and {', '.join(f[1] for f in FIGURES)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
