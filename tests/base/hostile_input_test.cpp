@@ -126,6 +126,24 @@ TEST(HostileInput, SetValuesGetTheSameBoundsWithTheirIndex) {
   EXPECT_NE(big.text.find("a --set value of 65541 bytes"), std::string::npos) << big.text.substr(0, 200);
 }
 
+// A refusal names a key as the user spelled it (an alias stays the alias),
+// and the Problem's key is that printed name, in a --set and in a file alike.
+TEST(HostileInput, ARefusedAliasIsNamedAsSpelled) {
+  const Problem set = refusedOnce("", {"contact1.clearance=w1"});
+  EXPECT_EQ(set.key, "contact1.clearance");
+  EXPECT_EQ(set.text.rfind("--set #1 'contact1.clearance=w1': key 'contact1.clearance': expected a number", 0), 0u)
+      << set.text;
+  const std::string joint1 = "structure: {joint1: clearance}\n";
+  const Problem file = refusedOnce(joint1 + "contact1:\n  clearance: abc\n");
+  EXPECT_EQ(file.key, "contact1.clearance");
+  EXPECT_NE(file.text.find("key 'contact1.clearance'"), std::string::npos) << file.text;
+  const Problem both = refusedOnce(joint1 + "contact1: {journal_radius: 9e-3, clearance: 1e-3}\n");
+  EXPECT_EQ(both.key, "contact1.clearance");
+  EXPECT_NE(both.text.find("key 'contact1.clearance': give it or 'contact1.journal_radius', not both"),
+            std::string::npos)
+      << both.text;
+}
+
 TEST(HostileInput, DerivedCountsThatWouldOverflowAreRefusedNamingTheKey) {
   const Problem steps = refusedOnce("sim:\n  duration: 1e300\n");
   EXPECT_EQ(steps.key, "sim.duration");

@@ -142,7 +142,7 @@ TEST(KeyRegistry, AlternativeKeysAndDefaultPlaces) {
   const std::string good = "structure: {joint2: clearance}\n";
   // Both radius forms in one file: refused, at the later one.
   EXPECT_NE(refusal(good + "contact: {journal_radius: 9e-3, clearance: 1e-3}\n")
-                .find("t.yaml:2:33: give either contact.clearance or contact.journal_radius, not both"),
+                .find("t.yaml:2:33: key 'contact.clearance': give it or 'contact.journal_radius', not both"),
             std::string::npos);
   // A --set of one form replaces the other given in the file.
   const Scene s = loadSceneText(good + "contact: {journal_radius: 9e-3}\n", "t.yaml", {"contact.clearance=1e-3"});

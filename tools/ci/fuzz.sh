@@ -52,7 +52,8 @@ fuzzOne() {
   if [ "$rc" -ne 0 ]; then
     crash=1
     echo "fuzz.sh: $t FAILED (exit $rc); see $log and $OUT/crashes/" >&2
-    grep -E "ERROR|SUMMARY|deadly signal|Test unit written" "$log" | head -5 >&2 || true
+    # The check that failed, the finding and the input (Base64), so a CI log alone reproduces it.
+    grep -aE "fuzz check failed|  problem:|ERROR|SUMMARY|Test unit written|^Base64:" "$log" | head -8 >&2 || true
   fi
   printf '%-28s %6s s %12s execs %3s crash %6s corpus files\n' "$t" "$SECONDS_EACH" "$execs" "$crash" "$corpus" \
     >"$OUT/$t.summary"

@@ -185,7 +185,7 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
       const Value& later = alias_first ? k->second : v;
       const Value& first = alias_first ? v : k->second;
       const std::string name = later.spelled.empty() ? key : later.spelled;
-      problems.push_back(later.where.problem(key, "key '" + name + "': given twice (as '" +
+      problems.push_back(later.where.problem(name, "key '" + name + "': given twice (as '" +
                                                       (first.spelled.empty() ? key : first.spelled) + "' at " +
                                                       first.where.str() + "; " + alias + " is another name of " +
                                                       key + ")"));
@@ -238,17 +238,18 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
       if (auto a = impl_->alternative.find(key); a != impl_->alternative.end()) values.erase(a->second);
       values[key] = std::move(v);  // a later --set of either alternative wins
     } catch (const PrescanRefusal& r) {
-      problems.push_back(where.problem(key, "key '" + spelled + "': " + r.msg));
+      problems.push_back(where.problem(spelled, "key '" + spelled + "': " + r.msg));
     } catch (const YAML::Exception& e) {
-      problems.push_back(where.problem(key, "key '" + spelled + "': value is not valid YAML: " + e.msg));
+      problems.push_back(where.problem(spelled, "key '" + spelled + "': value is not valid YAML: " + e.msg));
     } catch (const std::exception& e) {
-      problems.push_back(where.problem(key, "key '" + spelled + "': value not readable as YAML: " + e.what()));
+      problems.push_back(where.problem(spelled, "key '" + spelled + "': value not readable as YAML: " + e.what()));
     }
   }
   std::set<std::string> seen;
   for (const auto& [key, alt] : keys) {
     if (seen.count(alt) && has(key) && has(alt)) {
-      problems.push_back(values[key].where.problem(key, "give either " + named(key) + " or " + named(alt) + ", not both"));
+      problems.push_back(values[key].where.problem(named(key), "key '" + named(key) + "': give it or '" + named(alt) +
+                                                                         "', not both"));
     }
     seen.insert(key);
   }
@@ -264,9 +265,9 @@ void Given::apply(const std::string& key, const std::function<void(const YAML::N
   try {
     set(it->second.node);
   } catch (const ConvertError& e) {
-    problems.push_back(it->second.where.problem(key, "key '" + named(key) + "': " + e.msg));
+    problems.push_back(it->second.where.problem(named(key), "key '" + named(key) + "': " + e.msg));
   } catch (const YAML::Exception& e) {
-    problems.push_back(it->second.where.problem(key, "key '" + named(key) + "': " + e.msg));
+    problems.push_back(it->second.where.problem(named(key), "key '" + named(key) + "': " + e.msg));
   }
 }
 
@@ -277,10 +278,10 @@ std::string Given::named(const std::string& key) const {
 
 Problem Given::problemAt(const std::string& key, const std::string& msg) const {
   const auto& v = impl_->values;
-  if (const auto it = v.find(key); it != v.end()) return it->second.where.problem(key, "key '" + named(key) + "': " + msg);
+  if (const auto it = v.find(key); it != v.end()) return it->second.where.problem(named(key), "key '" + named(key) + "': " + msg);
   if (const auto a = impl_->alternative.find(key); a != impl_->alternative.end()) {
     if (const auto it = v.find(a->second); it != v.end()) {
-      return it->second.where.problem(a->second, "key '" + named(a->second) + "': " + msg);
+      return it->second.where.problem(named(a->second), "key '" + named(a->second) + "': " + msg);
     }
   }
   return Place::inFile(impl_->origin).problem(key, "(default of " + key + "): key '" + key + "': " + msg);
