@@ -133,7 +133,7 @@ TEST(HostileInput, ARefusedAliasIsNamedAsSpelled) {
   EXPECT_EQ(set.key, "contact1.clearance");
   EXPECT_EQ(set.text.rfind("--set #1 'contact1.clearance=w1': key 'contact1.clearance': expected a number", 0), 0u)
       << set.text;
-  const std::string joint1 = "structure: {joint1: clearance}\n";
+  const std::string joint1 = "structure: {joint1: planar}\n";
   const Problem file = refusedOnce(joint1 + "contact1:\n  clearance: abc\n");
   EXPECT_EQ(file.key, "contact1.clearance");
   EXPECT_NE(file.text.find("key 'contact1.clearance'"), std::string::npos) << file.text;
