@@ -84,11 +84,7 @@ std::string sci(double x) {
   return b;
 }
 
-std::string ratio(double a, double b) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", a / b);
-  return buf;
-}
+std::string ratio(double a, double b) { return formatSignificant(a / b, 3); }
 
 /// One controller's block: a row per scene, then the ratio ideal / first clearance.
 std::string table(const std::string& title, const std::vector<Row>& rows, bool markdown) {

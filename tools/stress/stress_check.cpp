@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "gimbalsim/dynamics/integrator.hpp"
+#include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/scene/scene.hpp"
 
 namespace gimbalsim::stress {
@@ -40,11 +41,7 @@ double rowHertzEnergy(const Model& m, const Row& r) {
 }
 
 namespace {
-std::string sci(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
+std::string sci(double x) { return formatSignificant(x, 3); }
 }  // namespace
 
 Outcome classify(const Scene& sc, const RunResult& run, const EnergyMonitor& e, const Bounds& b) {

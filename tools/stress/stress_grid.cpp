@@ -2,16 +2,12 @@
 #include "stress_grid.hpp"
 
 #include <algorithm>
-#include <sstream>
+
+#include "gimbalsim/input/value_format.hpp"
 
 namespace gimbalsim::stress {
 
-std::string num(double x, int prec) {
-  std::ostringstream os;
-  os.precision(prec);
-  os << x;
-  return os.str();
-}
+std::string num(double x, int prec) { return formatSignificant(x, prec); }
 
 std::string joined(const std::vector<std::string>& v, const char* sep) {
   std::string s;

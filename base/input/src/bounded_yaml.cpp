@@ -10,7 +10,7 @@
 #include <sstream>
 #include <vector>
 
-#include "gimbalsim/input/key_registry.hpp"
+#include "gimbalsim/input/input_bounds.hpp"
 
 namespace gimbalsim {
 

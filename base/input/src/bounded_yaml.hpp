@@ -1,7 +1,7 @@
 // Where text enters the scene, configuration and profile readers, bounded
-// (InputBounds, key_registry.hpp): readFile() for files, loadBounded() for a
+// (InputBounds, input_bounds.hpp): readFile() for files, loadBounded() for a
 // document, which walks the parser's events before yaml-cpp builds a tree.
-// Private to gimbalsim_scene; key_registry.cpp turns refusals into Problems.
+// Private to gimbalsim_input; given.cpp turns refusals into Problems.
 #pragma once
 
 #include <yaml-cpp/yaml.h>

@@ -4,7 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "gimbalsim/input/key_registry.hpp"
+#include "gimbalsim/input/value_checks.hpp"
+#include "gimbalsim/input/value_format.hpp"
 
 namespace gimbalsim {
 

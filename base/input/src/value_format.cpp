@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "gimbalsim/input/key_registry.hpp"
+#include "gimbalsim/input/value_format.hpp"
 
 namespace gimbalsim {
 
@@ -12,6 +12,12 @@ std::string formatNumber(double x) {
   char b[32];
   const auto r = std::to_chars(b, b + sizeof b, x);
   return std::string(b, r.ptr);
+}
+
+std::string formatSignificant(double x, int digits) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*g", digits, x);
+  return b;
 }
 
 bool isWholeMultiple(double value, double unit) {

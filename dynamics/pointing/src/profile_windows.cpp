@@ -3,14 +3,12 @@
 #include <cstdio>
 #include <limits>
 
+#include "gimbalsim/input/value_format.hpp"
+
 namespace gimbalsim::pointing {
 namespace {
 
-std::string num(double x) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%g", x);
-  return b;
-}
+std::string num(double x) { return formatSignificant(x, 6); }  // as printf's %g
 
 }  // namespace
 

@@ -3,7 +3,8 @@
 // type, unit, check, default and meaning, and binds it to a field of Target.
 // The loaders, `gimbalsim keys`, `pointing_controller --keys` and the README
 // key tables all come from one. Defaults are read from a default-constructed
-// Target: the struct initializers are the only place they are written.
+// Target: the struct initializers are their source (a shipped file that
+// repeats them, controllers/config/default.yaml, is held equal by a test).
 //
 // Loading (loadKeys): the YAML text's nested sections are flattened to dotted
 // keys with their file:line:column, then the `--set key=value` overrides
@@ -23,7 +24,12 @@
 
 #include <Eigen/Core>
 
+#include "gimbalsim/input/given.hpp"
+#include "gimbalsim/input/input_bounds.hpp"
 #include "gimbalsim/input/input_error.hpp"
+#include "gimbalsim/input/value_checks.hpp"
+#include "gimbalsim/input/value_convert.hpp"
+#include "gimbalsim/input/value_format.hpp"
 
 namespace YAML {
 class Node;
@@ -31,106 +37,9 @@ class Node;
 
 namespace gimbalsim {
 
-using Mat3 = Eigen::Matrix3d;  // the same alias as the dynamics' (spatial.hpp)
-
 /// A key as the listings and the README show it.
 struct KeyInfo {
   std::string key, type, unit, check, default_value, meaning;
-};
-
-// ---- converters from a YAML value (throw ConvertError with the reason) ----
-struct ConvertError {
-  std::string msg;
-};
-double asNumber(const YAML::Node& n);  ///< finite
-int asInt(const YAML::Node& n);        ///< whole, |x| <= 1e9
-/// A list of N numbers; `expected` names the shape in the refusal ("expected <it>").
-template <int N>
-Eigen::Matrix<double, N, 1> asVector(const YAML::Node& n, const char* expected = nullptr);
-/// [Ixx, Iyy, Izz], [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] or a 3x3 list of lists.
-Mat3 asInertia(const YAML::Node& n);
-std::string asString(const YAML::Node& n);
-/// Index of the name given among `names`.
-std::size_t asChoice(const YAML::Node& n, const std::vector<std::string>& names);
-
-// ---- formatting: what --set reads back exactly ----
-std::string formatNumber(double x);                ///< shortest round trip (std::to_chars)
-std::string formatList(std::span<const double> v);  ///< "[a, b, c]"
-std::string formatInertia(const Mat3& I);           ///< diagonal, 6-list or 3x3, as asInertia reads it
-std::string join(const std::vector<std::string>& parts, const std::string& sep);
-
-/// The one rule for a time that must be whole steps (a duration, a row
-/// interval, a control period): value / unit within a relative 1e-12 of a
-/// whole number >= 1. The slack absorbs decimal spellings (0.3 / 0.1 is
-/// 2.9999999999999996) and stays below one step up to RunBounds::kMaxSteps.
-bool isWholeMultiple(double value, double unit);
-/// "" when isWholeMultiple, else the problem, naming the unit and the nearest
-/// valid values, e.g. "must be a whole multiple of sim.step (0.001 s): 0.002 or 0.003".
-std::string wholeMultipleProblem(double value, double unit, const std::string& unit_name);
-
-/// A key's own check, on every component of its value.
-struct Check {
-  std::string rule;  ///< in words for the tables ("> 0", "in (0, 1]"); "" = none
-  std::string says;  ///< the refusal; "" = "must be <rule>"
-  std::function<bool(std::span<const double>)> holds;
-
-  Check saying(std::string s) const {
-    Check c = *this;
-    c.says = std::move(s);
-    return c;
-  }
-  std::string refusal() const { return says.empty() ? "must be " + rule : says; }
-};
-Check greater(double lo);                                     ///< "> lo"
-Check atLeast(double lo);                                     ///< ">= lo"
-Check interval(char open, double lo, double hi, char close);  ///< "in (lo, hi]" etc.
-Check nonZero();                                              ///< |v| >= 1e-12
-Check positiveDefinite();                                     ///< a symmetric positive definite 3x3
-
-/// Names for a table's documents in messages.
-struct TableWords {
-  std::string document;  ///< "a scene": "<origin>: a scene must be a mapping of sections"
-  std::string file;      ///< "scene file": "<path>: cannot open scene file"
-  std::string see;       ///< where keys are listed: "unknown key 'x' (see `gimbalsim keys`)"
-  std::string section;   ///< "" = the whole document; else only this section is read, the rest ignored
-};
-
-/// The values given for a table's keys (the document's leaves, then the
-/// --set overrides), each with its place, and the problems found so far.
-class Given {
- public:
-  struct Place;
-  /// keys: (key, alternative key or "") in table order. Two alternative keys
-  /// set one field: a --set of one drops the other, giving both is refused.
-  /// aliases: (old spelling, key): the old spelling is read as the key (giving
-  /// both in one file is refused; a --set of either wins) and named as spelled.
-  Given(const TableWords& words, const std::vector<std::pair<std::string, std::string>>& keys,
-        const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides,
-        const std::vector<std::pair<std::string, std::string>>& aliases = {});
-  ~Given();
-  Given(const Given&) = delete;
-  Given& operator=(const Given&) = delete;
-
-  /// The document was not read (not YAML, not a mapping): nothing else is checked.
-  bool unreadable() const { return unreadable_; }
-  bool has(const std::string& key) const;
-  /// The key as the user spelled it (an alias, or the key itself).
-  std::string named(const std::string& key) const;
-  /// Calls set(value) if key was given; a ConvertError is a problem at its place.
-  void apply(const std::string& key, const std::function<void(const YAML::Node&)>& set);
-  /// "<place>: key '<key>': <msg>", the place where key was given (else where
-  /// its alternative was, named so; else "<origin>: (default of <key>)").
-  void refuse(const std::string& key, const std::string& msg);
-  void warn(const std::string& key, const std::string& msg);
-
-  std::vector<Problem> problems;
-  std::vector<std::string> warnings;
-
- private:
-  Problem problemAt(const std::string& key, const std::string& msg) const;
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
-  bool unreadable_ = false;
 };
 
 /// One key bound to a field of Target.
@@ -205,30 +114,6 @@ Target loadKeys(const KeyTable<Target>& table, const std::string& yaml, const st
   if (warnings) *warnings = std::move(given.warnings);
   return t;
 }
-
-/// What a document (file or --set value) may hold: checked on the parser's
-/// events before yaml-cpp builds a tree, because yaml-cpp 0.7 aborts or
-/// recurses without end on some inputs (a key that is not a scalar, an alias
-/// to its own anchor) and expands nested aliases exponentially. The scene
-/// files, controller configurations and profiles need none of what is refused.
-struct InputBounds {
-  static constexpr long long kMaxFileBytes = 1 << 20;     ///< a file larger than 1 MiB is refused unread
-  static constexpr std::size_t kMaxSetBytes = 64 << 10;   ///< one --set argument: 64 KiB
-  static constexpr std::size_t kMaxOverrides = 10000;     ///< --set arguments per run
-  static constexpr int kMaxDepth = 16;                    ///< nested mappings and lists
-  static constexpr long long kMaxNodes = 100000;          ///< keys, values and list items in a document
-  static constexpr std::size_t kMaxScalarBytes = 4096;    ///< one key or value
-  // Anchors (&a), aliases (*a) and more than one document are refused: no expansion to bound.
-};
-
-/// A YAML document that is not a key table (workprec's policy list) under the
-/// same bounds and prescan as the tables; false and the refusal (its place) if not.
-bool loadDocument(const std::string& text, const std::string& origin, YAML::Node& out, Problem& why);
-
-/// The file's text; false (and why, naming the cause) if it is not a regular,
-/// readable file of at most InputBounds::kMaxFileBytes. Never blocks on a FIFO
-/// or reads a device.
-bool readFile(const std::string& path, std::string& text, std::string* why = nullptr);
 
 /// Key listings: aligned columns, or the Markdown table of the READMEs.
 std::string keysText(const std::vector<KeyInfo>& keys);

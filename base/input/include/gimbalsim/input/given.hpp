@@ -1,0 +1,67 @@
+// The values given for a key table: the document's leaves flattened to
+// dotted keys with their file:line:column, the --set overrides laid over them
+// ("--set #k 'key=value'"), aliases read as their keys, and the problems
+// found, each naming place and key as the user spelled it.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gimbalsim/input/input_error.hpp"
+
+namespace YAML {
+class Node;
+}
+
+namespace gimbalsim {
+
+/// Names for a table's documents in messages.
+struct TableWords {
+  std::string document;  ///< "a scene": "<origin>: a scene must be a mapping of sections"
+  std::string file;      ///< "scene file": "<path>: cannot open scene file"
+  std::string see;       ///< where keys are listed: "unknown key 'x' (see `gimbalsim keys`)"
+  std::string section;   ///< "" = the whole document; else only this section is read, the rest ignored
+};
+
+/// The values given for a table's keys (the document's leaves, then the
+/// --set overrides), each with its place, and the problems found so far.
+class Given {
+ public:
+  struct Place;
+  /// keys: (key, alternative key or "") in table order. Two alternative keys
+  /// set one field: a --set of one drops the other, giving both is refused.
+  /// aliases: (old spelling, key): the old spelling is read as the key (giving
+  /// both in one file is refused; a --set of either wins) and named as spelled.
+  Given(const TableWords& words, const std::vector<std::pair<std::string, std::string>>& keys,
+        const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides,
+        const std::vector<std::pair<std::string, std::string>>& aliases = {});
+  ~Given();
+  Given(const Given&) = delete;
+  Given& operator=(const Given&) = delete;
+
+  /// The document was not read (not YAML, not a mapping): nothing else is checked.
+  bool unreadable() const { return unreadable_; }
+  bool has(const std::string& key) const;
+  /// The key as the user spelled it (an alias, or the key itself).
+  std::string named(const std::string& key) const;
+  /// Calls set(value) if key was given; a ConvertError is a problem at its place.
+  void apply(const std::string& key, const std::function<void(const YAML::Node&)>& set);
+  /// "<place>: key '<key>': <msg>", the place where key was given (else where
+  /// its alternative was, named so; else "<origin>: (default of <key>)").
+  void refuse(const std::string& key, const std::string& msg);
+  void warn(const std::string& key, const std::string& msg);
+
+  std::vector<Problem> problems;
+  std::vector<std::string> warnings;
+
+ private:
+  Problem problemAt(const std::string& key, const std::string& msg) const;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  bool unreadable_ = false;
+};
+
+}  // namespace gimbalsim

@@ -1,0 +1,32 @@
+// How values are written back (what --set reads back exactly) and the one
+// whole-multiple rule for times given in steps.
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace gimbalsim {
+
+using Mat3 = Eigen::Matrix3d;  // the same alias as the dynamics' (spatial.hpp)
+
+std::string formatNumber(double x);                ///< shortest round trip (std::to_chars)
+/// Rounded to `digits` significant figures (printf's %.<digits>g): for people,
+/// and for values defined by their rounded spelling (the stress grid's).
+std::string formatSignificant(double x, int digits);
+std::string formatList(std::span<const double> v);  ///< "[a, b, c]"
+std::string formatInertia(const Mat3& I);           ///< diagonal, 6-list or 3x3, as asInertia reads it
+std::string join(const std::vector<std::string>& parts, const std::string& sep);
+
+/// The one rule for a time that must be whole steps (a duration, a row
+/// interval, a control period): value / unit within a relative 1e-12 of a
+/// whole number >= 1. The slack absorbs decimal spellings (0.3 / 0.1 is
+/// 2.9999999999999996) and stays below one step up to RunBounds::kMaxSteps.
+bool isWholeMultiple(double value, double unit);
+/// "" when isWholeMultiple, else the problem, naming the unit and the nearest
+/// valid values, e.g. "must be a whole multiple of sim.step (0.001 s): 0.002 or 0.003".
+std::string wholeMultipleProblem(double value, double unit, const std::string& unit_name);
+
+}  // namespace gimbalsim

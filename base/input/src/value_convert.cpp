@@ -1,0 +1,71 @@
+// Converters from a YAML value (value_convert.hpp).
+#include "gimbalsim/input/value_convert.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+
+namespace gimbalsim {
+
+double asNumber(const YAML::Node& n) {
+  if (!n.IsScalar()) throw ConvertError{"expected a number"};
+  double x;
+  if (!YAML::convert<double>::decode(n, x)) throw ConvertError{"expected a number, got '" + n.Scalar() + "'"};
+  if (!std::isfinite(x)) throw ConvertError{"must be finite, got '" + n.Scalar() + "'"};
+  return x;
+}
+
+int asInt(const YAML::Node& n) {
+  const double x = asNumber(n);
+  if (x != std::floor(x) || std::fabs(x) > 1e9) throw ConvertError{"expected a whole number"};
+  return static_cast<int>(x);
+}
+
+template <int N>
+Eigen::Matrix<double, N, 1> asVector(const YAML::Node& n, const char* expected) {
+  if (!n.IsSequence() || static_cast<int>(n.size()) != N) {
+    throw ConvertError{expected ? std::string("expected ") + expected
+                                : "expected a list of " + std::to_string(N) + " numbers"};
+  }
+  Eigen::Matrix<double, N, 1> v;
+  for (int i = 0; i < N; ++i) v(i) = asNumber(n[i]);
+  return v;
+}
+template Eigen::Vector2d asVector<2>(const YAML::Node&, const char*);
+template Eigen::Vector3d asVector<3>(const YAML::Node&, const char*);
+
+Mat3 asInertia(const YAML::Node& n) {
+  Mat3 I = Mat3::Zero();
+  if (n.IsSequence() && n.size() == 3 && n[0].IsSequence()) {
+    for (int r = 0; r < 3; ++r) {
+      if (!n[r].IsSequence() || n[r].size() != 3) throw ConvertError{"expected a 3x3 matrix"};
+      for (int c = 0; c < 3; ++c) I(r, c) = asNumber(n[r][c]);
+    }
+    return I;
+  }
+  if (n.IsSequence() && n.size() == 3) {
+    I.diagonal() = asVector<3>(n);
+    return I;
+  }
+  if (n.IsSequence() && n.size() == 6) {
+    const auto v = asVector<6>(n);
+    I << v(0), v(3), v(4), v(3), v(1), v(5), v(4), v(5), v(2);
+    return I;
+  }
+  throw ConvertError{"expected [Ixx, Iyy, Izz], [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] or a 3x3 matrix"};
+}
+
+std::string asString(const YAML::Node& n) {
+  if (!n.IsScalar()) throw ConvertError{"expected a string"};
+  return n.Scalar();
+}
+
+std::size_t asChoice(const YAML::Node& n, const std::vector<std::string>& names) {
+  const std::string s = n.IsScalar() ? n.Scalar() : std::string();
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (s == names[i]) return i;
+  }
+  throw ConvertError{"expected one of " + join(names, " | ") + (s.empty() ? "" : ", got '" + s + "'")};
+}
+
+}  // namespace gimbalsim
