@@ -20,6 +20,7 @@
 #include "gimbalsim/firmware_sim/fault_bus.hpp"
 #include "gimbalsim/firmware_sim/fault_schedule.hpp"
 #include "gimbalsim/firmware_sim/firmware_types.hpp"
+#include "gimbalsim/firmware_sim/joint_sensors.hpp"
 #include "gimbalsim/contract/messages.hpp"
 #include "gimbalsim/firmware_sim/sensor_noise.hpp"
 #include "gimbalsim/firmware_sim/truth_from_row.hpp"
@@ -27,11 +28,6 @@
 namespace gimbalsim::firmware {
 // The bench messages are the contract's (lcmtypes/contract), shared with the controller.
 using namespace gimbalsim::contract;  // NOLINT(google-build-using-namespace)
-
-/// Encoder quantization: the multiple of `resolution` nearest to x (x itself if resolution is 0).
-inline double quantize(double x, double resolution) noexcept {
-  return resolution > 0.0 ? resolution * std::nearbyint(x / resolution) : x;
-}
 
 template <class V>
 class Firmware {
@@ -222,26 +218,8 @@ class Firmware {
     Status& o = sampled_;
     o.utime = utime;
     o.seq = k;
-    const SensorParams& sp = sensors_;
-    for (int j = 0; j < 2; ++j) {
-      double a = s_.theta(j), w = s_.dtheta(j);
-      if (sp.encoder_noise > 0.0) a += sp.encoder_noise * noise_.normal();
-      if (sp.rate_noise > 0.0) w += sp.rate_noise * noise_.normal();
-      o.angle[j] = quantize(a + af.encoder_bias[j] + af.encoder_noise[j], sp.encoder_resolution);
-      o.rate[j] = w;
-      if (af.encoder_stuck[j]) {  // the angle sticks where it was at onset; the rate sensor still works
-        if (!stuck_[j]) stuck_angle_[j] = o.angle[j];
-        o.angle[j] = stuck_angle_[j];
-      }
-      stuck_[j] = af.encoder_stuck[j];
-      if (af.encoder_dropout[j] && k > 0) {  // no new sample: the last one again
-        o.angle[j] = last_angle_[j];
-        o.rate[j] = last_rate_[j];
-      }
-      last_angle_[j] = o.angle[j];
-      last_rate_[j] = o.rate[j];
-      o.applied_torque[j] = driver_tau_(j);
-    }
+    joint_sensors_.sample(k, s_, sensors_, af, noise_, o);
+    for (int j = 0; j < 2; ++j) o.applied_torque[j] = driver_tau_(j);
     o.injected_faults = af.bits;
     o.faults = faults;
     o.last_command_seq = last_accepted_seq_;
@@ -339,8 +317,8 @@ class Firmware {
   FaultClock clock_;
   Vec2 driver_tau_ = Vec2::Zero();  ///< [N m] torque the firmware commands (status); u_.tau is what acts
   FaultBus bus_;
-  bool stuck_[2] = {}, status_delivered_ = true;
-  double stuck_angle_[2] = {}, last_angle_[2] = {}, last_rate_[2] = {};
+  bool status_delivered_ = true;
+  JointSensors joint_sensors_;
   Status sampled_;  ///< the status sampled this tick
   Status status_;   ///< the status delivered this tick
   Truth truth_;
