@@ -13,7 +13,7 @@
 // thread, which LCM 1.3.1 lets crash on one malformed fragment. Statuses are
 // taken from one plant (the source of the first, until it has been silent
 // for kRebindNs), so a spoofed status cannot reset or steer the controller.
-// Flags: docs/usage.md; exit codes: the one table (program.hpp, docs/usage.md "Exit codes").
+// Flags: docs/usage.md; exit codes: the project's table (docs/usage.md "Exit codes", mirrored in program.hpp).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
@@ -169,7 +169,9 @@ class StatusHandler {
     const ProfileSample& r = o.ref;
     // One line in a fixed buffer (no allocation on the answer path); doubles as io::formatCsvNumber.
     char line[2048];
-    int n = std::snprintf(line, sizeof line, "%.6f,%lld,%s", m.t, static_cast<long long>(st.seq), describe(r.segment));
+    int n = io::formatCsvNumber(line, m.t);
+    n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), ",%lld,%s", static_cast<long long>(st.seq),
+                       describe(r.segment));
     auto num = [&](double x) {
       line[n++] = ',';
       n += io::formatCsvNumber(line + n, x);

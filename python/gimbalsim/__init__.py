@@ -14,7 +14,6 @@ run in parallel threads; calls on one Simulator run one after the other.
 
 import functools
 import json
-import math
 import numbers
 import os
 
@@ -283,20 +282,6 @@ _TICK_UNITS = {"t": "s", "tau1_cmd": "Nm", "tau2_cmd": "Nm", "tau1_applied": "Nm
                "star_outage": "", "segment": "", "injected_faults": ""}
 
 
-def _csv_number(x):
-    """A number as the CSV convention writes it (io/csv_format.hpp): the
-    shortest text that reads back as the same double, integers as integers,
-    never -0, nan for no value."""
-    x = float(x)
-    if math.isnan(x):
-        return "nan"
-    if x == 0.0:
-        return "0"
-    if x.is_integer() and abs(x) < 1e15:
-        return str(int(x))
-    return repr(x)
-
-
 class ClosedLoopRun:
     """A closed-loop run: ``summary`` (dict: ok, stop_key, errors, peaks; a
     figure over a window the run did not reach is NaN and ``reasons`` maps
@@ -330,7 +315,7 @@ class ClosedLoopRun:
         files the run read, at path is refused)."""
         path = _check_path(path, "output path")
         names = [_gimbalsim.csv_name(n, _TICK_UNITS.get(n, "rad")) for n in self.columns]
-        _output.write_csv(path, [names] + [[_csv_number(x) for x in row] for row in self.rows], inputs)
+        _output.write_csv(path, [names] + [[_output.csv_number(x) for x in row] for row in self.rows], inputs)
 
     def __repr__(self):
         return f"<gimbalsim.ClosedLoopRun ok={self.ok} ticks={self.summary['ticks']}>"

@@ -3,20 +3,19 @@ journal read back (every row checked against the design). Files are
 written by the one writer (_output.py)."""
 import csv
 import io
-import math
 
 from . import _provenance
 from ._errors import OutputError, SpecError
+from ._output import csv_number
 
 JOURNAL = "results.partial.csv"  # the sweep's rows as they arrive (appended and synced per task)
 
 
 def fmt(v):
+    """A cell of the sweep's CSVs: no value empty, a float as the CSV convention writes it."""
     if v is None:
         return ""
-    if isinstance(v, float):
-        return "nan" if math.isnan(v) else repr(v)
-    return str(v)
+    return csv_number(v) if isinstance(v, float) else str(v)
 
 
 def csv_line(values):

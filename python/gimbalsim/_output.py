@@ -1,6 +1,7 @@
-"""The one writer of the Python side, with the rules of the C++ one
+"""The Python side's writer of files, with the rules of the C++ one
 (io::OutputFile, base/io/include/gimbalsim/io/output_file.hpp; docs/usage.md
-"Output files"): every file the package and tools/*.py write goes through here.
+"Output files"): every file the package and tools/*.py write goes through here
+(Run.to_csv through the C++ writer itself).
 
 - the path is checked first: an existing symbolic link or non-regular file
   (a folder, a device, a FIFO) under the name is refused, so is a missing
@@ -23,6 +24,7 @@ import contextlib
 import csv
 import errno
 import itertools
+import math
 import os
 import stat
 
@@ -37,6 +39,20 @@ class OutputError(OSError):
 
 
 _counter = itertools.count()  # the <n> of the temporaries' names (next() is atomic under the GIL)
+
+
+def csv_number(x):
+    """A number as the CSV convention writes it (io/csv_format.hpp): the
+    shortest text that reads back as the same double, integers as integers,
+    never -0, nan for no value."""
+    x = float(x)
+    if math.isnan(x):
+        return "nan"
+    if x == 0.0:
+        return "0"
+    if x.is_integer() and abs(x) < 1e15:
+        return str(int(x))
+    return repr(x)
 
 
 def _text(path):

@@ -28,8 +28,8 @@ DIR/best.yaml (the whole controller configuration with the best feasible
 trial's gains: `pointing_controller DIR/best.yaml` loads it as it is) and
 DIR/progress.png. --resume continues the study in DIR: trials a killed tuner
 left running are marked FAIL and run again; without it a DIR holding a study
-is refused. Exit codes (the one table, _errors.py; docs/usage.md "Exit
-codes"): 0, 2 spec refused, 3 no trial completed, 4 an output not written,
+is refused. Exit codes (the project's table, docs/usage.md "Exit codes",
+mirrored in _errors.py): 0, 2 spec refused, 3 no trial completed, 4 an output not written,
 130 / 143 interrupted by SIGINT / SIGTERM (the study kept).
 """
 import argparse
@@ -45,6 +45,7 @@ import numpy as np
 import gimbalsim
 from . import _cluster
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
+from ._journal import fmt
 from ._output import savefig, write_csv, write_text
 from ._spec import check_out_dir
 from ._tune_spec import METRICS, TuneSpec  # noqa: F401 (TuneSpec: the module's API)
@@ -247,10 +248,6 @@ def _finish(study, trial, gains, results, spec, wall):
         study.tell(trial, row["score"])
 
 
-def _fmt(v):
-    return repr(v) if isinstance(v, float) else str(v)
-
-
 def _csv_names(header):
     """trials.csv's header in the project's CSV convention (docs/usage.md):
     azimuth.kp -> azimuth_kp_Nm_per_rad, plant0.status -> plant0_status."""
@@ -262,7 +259,7 @@ def _csv_names(header):
 def _write_trials(out, header, study, inputs=()):
     """trials.csv from the study: every finished trial, in trial order."""
     rows = [t.user_attrs["row"] for t in study.get_trials(deepcopy=False) if "row" in t.user_attrs]
-    write_csv(out / "trials.csv", [_csv_names(header)] + [[_fmt(r.get(h, "")) for h in header] for r in rows],
+    write_csv(out / "trials.csv", [_csv_names(header)] + [[fmt(r.get(h, "")) for h in header] for r in rows],
               inputs)
 
 

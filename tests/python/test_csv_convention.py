@@ -30,6 +30,7 @@ def check_convention(path):
     for r in rows[1:]:
         for cell in r:
             assert not re.fullmatch(r"-0(\.0*)?(e[+-]?\d+)?", cell), f"{path}: a -0 cell"
+            assert not re.fullmatch(r"-?\d+\.0+", cell), f"{path}: a whole number written with a fraction ({cell})"
     return names, rows[1:]
 
 

@@ -134,7 +134,7 @@ def test_one_worker_results_are_whole_and_sorted(reference, spec):
     assert all(0.0 < float(r[col]) < 0.01 for r in ok)
     # common random numbers: grid point 1 sees the draws of grid point 0
     assert [r[2:7] for r in rows[:30]] == [r[2:7] for r in rows[30:]]
-    assert {r[1] for r in rows[:30]} == {"5.0"} and {r[1] for r in rows[30:]} == {"20.0"}
+    assert {r[1] for r in rows[:30]} == {"5"} and {r[1] for r in rows[30:]} == {"20"}
 
 
 def test_two_workers_and_other_batches_give_the_same_results(reference, spec, tmp_path):

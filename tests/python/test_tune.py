@@ -37,6 +37,8 @@ def test_a_short_study_writes_a_loadable_best_yaml_with_the_best_score(tmp_path)
     (tmp_path / "t.yaml").write_text(SPEC)
     p = tune(tmp_path / "t.yaml", tmp_path / "o", "--workers", "2")
     assert p.returncode == 0, p.stderr
+    from test_csv_convention import check_convention
+    check_convention(tmp_path / "o" / "trials.csv")  # the project's CSV convention, numbers included
     with open(tmp_path / "o" / "trials.csv") as f:
         trials = list(csv.DictReader(f))
     assert [int(t["trial"]) for t in trials] == list(range(5))
@@ -63,6 +65,8 @@ def test_a_short_study_writes_a_loadable_best_yaml_with_the_best_score(tmp_path)
     (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "contact.clearance: {uniform: [-1.0e-4, 8.0e-4]}"),
      "plants.contact.clearance"),
     (("duration: 3.7", "duration: 3.7004"), "duration"),
+    # the C++ keys' whole-multiple rule (relative 1e-12), not a looser one of the spec's own
+    (("duration: 3.7", "duration: 3.7000000001"), "duration"),
     (("metric: max_track", "metric: worst"), "objective.metric"),
 ])
 def test_tuning_spec_refusals_name_the_key(change, key, tmp_path):

@@ -4,7 +4,7 @@ base/io/include/gimbalsim/io/output_file.hpp), loaded from the source
 tree by its path, so a plotting script needs neither the built extension
 nor PYTHONPATH. Everything it offers is re-exported here: open_output,
 write_text, write_bytes, write_csv, savefig, check_outputs, OutputError
-(an OSError naming the file)."""
+(an OSError naming the file), and csv_number (the CSV convention's numbers)."""
 import importlib.util
 import pathlib
 import sys
@@ -24,3 +24,4 @@ write_text = _writer.write_text
 write_bytes = _writer.write_bytes
 write_csv = _writer.write_csv
 savefig = _writer.savefig
+csv_number = _writer.csv_number

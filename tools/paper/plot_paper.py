@@ -31,7 +31,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
-from output_file import open_output, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
+from output_file import csv_number, open_output, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
 from plot_components import C_CLEAR, C_DIFF, C_IDEAL, COMPONENT_FIGURES, fig_components  # noqa: E402  (figs 8-16)
 from plot_joint_kinds import fig_joint_kinds, spatial_tilt  # noqa: E402  (fig 19)
 from paper_data import (InputError, angle_between, boresight, common_grid, contact_starts,  # noqa: E402
@@ -174,13 +174,13 @@ def fig_pointing_error(r, a, written):
                          err_sp=angle_between(boresight(r.ideal_g), boresight(r.spatial_g))
                          if r.spatial is not None else None,
                          path=os.path.join(a.out, "pointing_error.csv"))
-    # The CSV convention (docs/usage.md "CSV files"): unit-suffixed names, round-trip numbers (repr).
+    # The CSV convention (docs/usage.md "CSV files"): unit-suffixed names, its numbers (csv_number).
     with open_output(pe.path, inputs=[a.ideal, a.clearance, a.spatial]) as f:
         cols = {"pointing_error_rad": err}
         if pe.err_sp is not None:
             cols["pointing_error_spatial_rad"] = pe.err_sp
         f.write(",".join(["t_s", *cols]) + "\n")
-        f.writelines(",".join([repr(float(ti))] + [repr(float(e[k]) + 0.0) for e in cols.values()]) + "\n"
+        f.writelines(",".join([csv_number(ti)] + [csv_number(e[k]) for e in cols.values()]) + "\n"
                      for k, ti in enumerate(t))
     fig, ax = plt.subplots(figsize=(11, 4.8), constrained_layout=True)
     pos = err > 0.0  # a log axis cannot show exact zeros (e.g. t = 0)

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "gimbalsim/io/csv_format.hpp"
 #include "gimbalsim/io/output_file.hpp"
 
 namespace gimbalsim::stress {
@@ -26,15 +27,19 @@ std::string csvText(const std::vector<const Case*>& all) {
     }
     return out + "\"";
   };
-  f.precision(6);
+  auto n = [](double x) {  // the CSV convention's numbers (io/csv_format.hpp)
+    std::string s;
+    io::appendCsvNumber(s, x);
+    return s;
+  };
   for (const Case* c : all) {
     const Outcome& o = c->out;
     f << q(c->group) << "," << c->scene << "," << q(joined(c->sets)) << "," << verdictName(o.verdict) << ","
-      << q(o.reason) << "," << o.run.t_end << "," << o.run.stats.impacts << "," << o.run.stats.substeps << ","
-      << o.substeps_per_second << "," << o.run.stats.max_substeps_in_step << "," << o.momentum_rel_linear << ","
-      << o.momentum_rel_angular << "," << o.energy_rise_rel << "," << o.energy_change_rel << ","
-      << o.energy_final_rel << "," << o.max_penetration << "," << o.penetration_limit << ","
-      << o.run.wall_seconds << "\n";
+      << q(o.reason) << "," << n(o.run.t_end) << "," << o.run.stats.impacts << "," << o.run.stats.substeps << ","
+      << n(o.substeps_per_second) << "," << o.run.stats.max_substeps_in_step << "," << n(o.momentum_rel_linear)
+      << "," << n(o.momentum_rel_angular) << "," << n(o.energy_rise_rel) << "," << n(o.energy_change_rel) << ","
+      << n(o.energy_final_rel) << "," << n(o.max_penetration) << "," << n(o.penetration_limit) << ","
+      << n(o.run.wall_seconds) << "\n";
   }
   return f.str();
 }

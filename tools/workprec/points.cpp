@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
 #include <limits>
 #include <sstream>
 
+#include "gimbalsim/io/csv_format.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
 
@@ -86,7 +86,11 @@ const std::vector<std::string> kCsvColumns = {
 
 void writeCsv(const std::string& path, const std::vector<Point>& points) {
   std::ostringstream out;
-  out << std::setprecision(10);
+  auto n = [](double x) {  // the CSV convention's numbers (io/csv_format.hpp)
+    std::string s;
+    io::appendCsvNumber(s, x);
+    return s;
+  };
   for (std::size_t i = 0; i < kCsvColumns.size(); ++i) out << (i ? "," : "") << kCsvColumns[i];
   out << '\n';
   auto quoted = [](std::string s) {
@@ -94,11 +98,11 @@ void writeCsv(const std::string& path, const std::vector<Point>& points) {
     return '"' + s + '"';
   };
   for (const Point& p : points) {
-    out << quoted(p.scene) << ',' << quoted(p.policy) << ',' << p.h << ',' << p.substep << ','
-        << p.event_tol << ',' << quoted(p.sweep_key) << ',' << quoted(p.sweep_value) << ','
-        << (p.ok ? 1 : 0) << ',' << p.cpu_per_sim_s << ',' << p.repeats << ',' << p.bore_err_max << ','
-        << p.bore_err_end << ',' << p.theta1_err_max << ',' << p.theta2_err_max << ','
-        << p.peak_force_err_rel << ',' << p.momentum_drift_rel << ',' << p.substeps << ',' << p.impacts
+    out << quoted(p.scene) << ',' << quoted(p.policy) << ',' << n(p.h) << ',' << n(p.substep) << ','
+        << n(p.event_tol) << ',' << quoted(p.sweep_key) << ',' << quoted(p.sweep_value) << ','
+        << (p.ok ? 1 : 0) << ',' << n(p.cpu_per_sim_s) << ',' << p.repeats << ',' << n(p.bore_err_max) << ','
+        << n(p.bore_err_end) << ',' << n(p.theta1_err_max) << ',' << n(p.theta2_err_max) << ','
+        << n(p.peak_force_err_rel) << ',' << n(p.momentum_drift_rel) << ',' << p.substeps << ',' << p.impacts
         << ',' << (p.pareto ? 1 : 0) << ',' << quoted(p.note) << '\n';
   }
   io::writeFileAtomically(path, out.str());  // throws io::OutputError naming the file
