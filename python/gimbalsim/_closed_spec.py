@@ -17,6 +17,7 @@ controller.azimuth.kp): scene and controller keys cannot be confused.
 import math
 
 import gimbalsim
+from . import _gimbalsim
 from .indices import LEVEL_3SIGMA
 
 PROFILE_PHASES = ("slew", "hold", "track")
@@ -27,8 +28,8 @@ CONTROLLER_PREFIX = "controller."
 
 def profile_phases(controller, duration_s):
     """The profile's phases {name: (t0, t1)} [s] for a run of duration_s:
-    the controller's own windows (Controller.windows, the one definition the
-    firmware and every tool use), the track ending with the run's last tick."""
+    the controller's own windows (Controller.windows, the closed loop's own
+    definition, pointing/profile_windows.hpp), the track ending with the run's last tick."""
     windows = controller.windows
     track0 = windows["track"][0]
     end = duration_s + controller.period
@@ -65,11 +66,11 @@ class ClosedLoopSpec:
         self.values = self.controller.values()
         self.period_s = float(self.values["control.period"])
         self.duration_s = duration_s
-        ticks = duration_s / self.period_s
-        if not abs(ticks - round(ticks)) <= 1e-9 * max(1.0, ticks):
+        why = _gimbalsim._whole_multiple_problem(duration_s, self.period_s, "control.period")
+        if why:  # the C++ keys' own rule (isWholeMultiple)
             spec.refuse("set.sim.duration" if "set" in root else "scene",
-                        f"the closed loop runs whole control periods: sim.duration {duration_s:g} s is not a "
-                        f"multiple of control.period {self.period_s:g} s", root.get("set") or root["scene"])
+                        f"the closed loop runs whole control periods: sim.duration {duration_s:g} s {why}",
+                        root.get("set") or root["scene"])
         self.phases = self._phases(spec, root)
         self.indices = self._indices(spec, root)
         self._check_reached(spec, root)
@@ -149,8 +150,7 @@ class ClosedLoopSpec:
                                 root["indices"].value[ix.name])
 
     def _whole_periods(self, spec, where, value, node):
-        n = value / self.period_s
-        if not (value > 0 and abs(n - round(n)) <= 1e-9 * max(1.0, n)):
+        if not value > 0 or _gimbalsim._whole_multiple_problem(value, self.period_s, "control.period"):
             spec.refuse(where, f"{value!r} s is not a positive whole number of control periods "
                         f"({self.period_s:g} s)", node)
         return value

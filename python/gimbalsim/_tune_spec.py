@@ -4,6 +4,7 @@ its constraint, every value checked at the spec's line before anything runs."""
 import json
 
 import gimbalsim
+from . import _gimbalsim
 from ._spec import Spec
 from .dispersion import Design, check_within, parse_parameter
 
@@ -59,8 +60,9 @@ class TuneSpec:
             spec.refuse(f"controller_set.{e.key}" if e.key in csets else "controller", str(e),
                         csets.get(e.key, root["controller"]))
         period = self.controller.period
-        if abs(round(self.duration / period) * period - self.duration) > 1e-9 * max(1.0, self.duration):
-            spec.refuse("duration", f"must be a whole number of control periods ({period} s)", root["duration"])
+        why = _gimbalsim._whole_multiple_problem(self.duration, period, "control.period")
+        if why:  # the C++ keys' own rule (isWholeMultiple)
+            spec.refuse("duration", f"must be a whole number of control periods: {why}", root["duration"])
         # The score is over the profile's track (Controller.windows, the closed loop's own boundaries):
         # a run that ends before it would score NaN for every trial.
         track_start, track_end = self.controller.windows[METRIC_WINDOWS[self.metric]]

@@ -1,6 +1,7 @@
 #include <pybind11/pybind11.h>
 
 #include "bindings.hpp"
+#include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/io/csv_format.hpp"
 #include "gimbalsim/program/version.hpp"
 
@@ -13,4 +14,7 @@ PYBIND11_MODULE(_gimbalsim, m) {
   // The CSV convention's column names, the C++ writers' own rule (sweep and tune use it).
   m.def("csv_name", [](const std::string& name, const std::string& unit) { return gimbalsim::io::csvName(name, unit); },
         pybind11::arg("name"), pybind11::arg("unit") = "");
+  // The whole-multiple rule of the scene and controller keys, so the specs check a duration alike.
+  m.def("_whole_multiple_problem", &gimbalsim::wholeMultipleProblem, pybind11::arg("value"), pybind11::arg("unit"),
+        pybind11::arg("unit_name"));
 }

@@ -264,6 +264,9 @@ REFUSALS = [
      "controller_set.azimuth.kp", "the controller refuses"),
     ("  rpe: {window: 0.05}", "  rpe: {}", "indices.rpe.window", "missing"),
     ("  rpe: {window: 0.05}", "  rpe: {window: 0.0505}", "indices.rpe.window", "whole number of control periods"),
+    # the C++ keys' whole-multiple rule (relative 1e-12), not a looser one of the spec's own
+    ("  rpe: {window: 0.05}", "  rpe: {window: 0.05000000001}", "indices.rpe.window",
+     "whole number of control periods"),
     ("  rpe: {window: 0.05}", "  rpe: {window: 0.05, span: 2}", "indices.rpe.span", "unknown key"),
     ("  rpe: {window: 0.05}", "  rms: {window: 0.05}", "indices.rms", "unknown index"),
     ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 1.5}", "indices.ape.level",
