@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "gimbalsim/dynamics/contact_law.hpp"
+#include "gimbalsim/program/program.hpp"
 #include "gimbalsim/program/version.hpp"
 #include "gimbalsim/dynamics/forward_dynamics.hpp"
 #include "gimbalsim/dynamics/integrator.hpp"
@@ -294,18 +295,21 @@ GIMBALSIM_BENCH_CLEARANCE_VARIANTS(BM_StepImpact);
 
 }  // namespace
 
-// Google Benchmark's main, plus the project's --version and exit codes: an
-// argument it does not know is refused with 2 (it returned 1), as every program does.
+// Google Benchmark's own arguments, under the project's program entry: its
+// --version, exit codes (an argument it does not know is refused with 2; it
+// returned 1) and outermost guard.
 int main(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (std::string(argv[i]) == "--version") {
-      std::printf("gimbalsim_bench %s\n", gimbalsim::program::kVersion);
-      return 0;
+  return gimbalsim::program::guardedMain("gimbalsim_bench", [&] {
+    for (int i = 1; i < argc; ++i) {
+      if (std::string(argv[i]) == "--version") {
+        std::printf("gimbalsim_bench %s\n", gimbalsim::program::kVersion);
+        return static_cast<int>(gimbalsim::program::kOk);
+      }
     }
-  }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 2;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return static_cast<int>(gimbalsim::program::kRefused);
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return static_cast<int>(gimbalsim::program::kOk);
+  });
 }

@@ -68,9 +68,7 @@ Torques readTorques(const std::string& path) {
   return t;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int mainImpl(int argc, char** argv) {
   CLI::App app{"torque_replay: answers a lockstep firmware_sim with the torques of a recorded run"};
   std::string truth, url, prefix;
   double idle_exit = 10.0;
@@ -130,4 +128,10 @@ int main(int argc, char** argv) {
   }
   std::fprintf(stderr, "torque_replay: answered statuses 0..%lld from %s\n", static_cast<long long>(last), truth.c_str());
   return gimbalsim::program::kOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return gimbalsim::program::guardedMain("torque_replay", [&] { return mainImpl(argc, argv); });
 }
