@@ -7,6 +7,10 @@
 #   bash tools/ci/configure_instrumented.sh [DIR]
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+case "${1:-}" in
+  -h|--help) sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -*) echo "configure_instrumented.sh: unknown option '$1' (usage: [DIR])" >&2; exit 2 ;;
+esac
 dir=${1:-build-fuzz}
 cmake -S . -B "$dir" -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DGIMBALSIM_CHECKED=ON -DGIMBALSIM_FUZZ=ON \

@@ -11,6 +11,13 @@
 # Usage: tools/ci/run_sanitizers.sh [ctest regex]
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
+# A regex starts the whole instrumented build: an option-looking argument is
+# a mistake (--help included), refused before anything is built.
+case "${1:-}" in
+  -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -*) echo "run_sanitizers.sh: unknown option '$1' (usage: tools/ci/run_sanitizers.sh [ctest regex])" >&2; exit 2 ;;
+esac
+[ $# -le 1 ] || { echo "run_sanitizers.sh: one ctest regex at most, got $#" >&2; exit 2; }
 # The CI subset: what meets hostile input (issue 13: the loaders, the outputs,
 # the network receive path, the log reader and writer, the command gate, the
 # fault schedule reader, the controller's configuration), the firmware core
