@@ -21,7 +21,7 @@ class LCM;
 
 namespace gimbalsim::firmware {
 
-/// The exit codes, named for firmware_sim: the one table (program.hpp, docs/usage.md "Exit codes").
+/// The exit codes, named for firmware_sim: the project's table (docs/usage.md "Exit codes", mirrored in program.hpp).
 enum ExitCode : int {
   kExitOk = program::kOk,
   kExitInternal = program::kInternal,      ///< unexpected exception (a bug)

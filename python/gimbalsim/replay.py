@@ -10,7 +10,7 @@ the sweep's own seam (_sample.sample_alone, what the sweep's tasks run),
 compares every column of the row as text (wall_time_s aside: a duration), and
 writes the sample's full time series (run.csv, the project's CSV convention)
 and a plot beside it.
-Exit codes (the one table, _errors.py; docs/usage.md "Exit codes"): 0
+Exit codes (the project's table, docs/usage.md "Exit codes", mirrored in _errors.py): 0
 reproduced, 2 refused, 3 reproduced, but the sample's run stopped (its status
 names why), 4 an output not written, 8 the row did not reproduce (the columns
 named; the time series is written all the same) (docs/python.md "Replay")."""
@@ -225,5 +225,5 @@ def _plot(run, spec, i, status, path, inputs=()):
 
 
 def main(folder, i, out, plot_path):
-    """--replay's exit code, by the one table (_errors.guarded_main)."""
+    """--replay's exit code, by the project's table (_errors.guarded_main)."""
     return guarded_main("replay", lambda: replay(folder, i, out, plot_path))

@@ -28,7 +28,7 @@ task; never cut in place); --resume runs only the missing samples, after
 dropping, counting and rerunning any journal row the design did not draw.
 A sample that kills its worker twice is recorded as `crashed` (its parameters,
 no figures) and the sweep goes on (a batch is split to find it).
-Exit codes (the one table, _errors.py; docs/usage.md "Exit codes"): 0 done (crashed samples included),
+Exit codes (the project's table, docs/usage.md "Exit codes", mirrored in _errors.py): 0 done (crashed samples included),
 2 spec refused, 4 an output not written (the journal kept), 130 / 143 interrupted by SIGINT / SIGTERM
 (the journal kept).
 """

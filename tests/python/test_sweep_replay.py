@@ -145,7 +145,7 @@ def test_a_row_that_does_not_reproduce_is_an_error_naming_its_columns(swept, tmp
     lines[3] = ",".join(cells)
     (copy / "results.csv").write_text("\n".join(lines))
     p = sweep(copy, "--replay", 2, "--out", tmp_path / "run.csv", "--plot", tmp_path / "p.png")
-    # its own code of the one table (docs/usage.md "Exit codes"), not 1, an internal error
+    # its own code of the project's table (docs/usage.md "Exit codes"), not 1, an internal error
     assert p.returncode == 8, p.stderr
     lines = p.stderr.splitlines()
     assert lines[-1].startswith("error: sample 2 does not reproduce its row") and \

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""docs/results/performance.md: the one performance report, every figure
+"""docs/results/performance.md: the performance report of the dynamics and the bench, every figure
 measured in this one run of the tool on this machine.
 
  1. The derivative and the RK4 step of every compiled variant (Google

@@ -35,7 +35,7 @@ using namespace gimbalsim::controllers;
 
 namespace {
 
-// Exit codes: the one table (program.hpp, docs/usage.md "Exit codes"); refusals
+// Exit codes: the project's table (docs/usage.md "Exit codes", mirrored in program.hpp); refusals
 // (bad argument, scene or configuration) leave through program::kRefused.
 constexpr int kExitWrite = program::kOutput;     // an output file could not be written
 constexpr int kExitStopped = program::kStopped;  // a plant stopped (results still written)

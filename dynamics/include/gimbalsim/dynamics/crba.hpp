@@ -15,8 +15,8 @@ namespace gimbalsim {
 namespace detail {
 
 /// A SpatialInertia as plain scalars (I = Ibar, column-major like Mat3's
-/// storage): the CRBA's composite inertias, and the only implementation of
-/// composing and shifting inertias. Everything the CRBA reads was written by
+/// storage): the CRBA's composite inertias, and the CRBA's only implementation of
+/// composing and shifting them. Everything the CRBA reads was written by
 /// scalar stores (mixing scalar stores with Eigen's 16-byte packet loads of
 /// the same data stalls store forwarding).
 struct InertiaS {

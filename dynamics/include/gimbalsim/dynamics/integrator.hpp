@@ -309,8 +309,8 @@ StepResult step(const Model& m, Data<V>& d, State<V>& s, const Input& u) {
 
 /// Advances s from step k_from to step k_to of the run's grid (t = k h),
 /// snapping s.t to the grid after each step so that long runs do not drift
-/// in time. The one way a run is stepped forward (simulate, workprec,
-/// stress). On a status other than Ok, s is the last good state.
+/// in time. How simulate() and workprec step a run forward (the firmware
+/// steps tick by tick, the stress check step by step with its monitors). On a status other than Ok, s is the last good state.
 template <class V>
 StepResult advanceSteps(const Model& m, Data<V>& d, State<V>& s, const Input& u, long long k_from,
                         long long k_to) {

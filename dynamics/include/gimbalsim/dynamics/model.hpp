@@ -91,8 +91,9 @@ struct IntegratorParams {
   double substep_max = 0.0;           ///< adaptive: largest sub-step near contact; 0 = step [s]
 };
 
-/// The one derivation of a bearing's terms from its parameters: c = R_i - R_j,
-/// K (paper eq. 11, scaled), chi. Model::finalize and the bearing-wear fault use it.
+/// The model's derivation of a bearing's terms from its parameters: c = R_i - R_j,
+/// K (paper eq. 11, scaled), chi. Model::finalize and the bearing-wear fault use
+/// it (the scene's checks and Python's provenance read c = R_i - R_j as well).
 void deriveBearing(ContactParams& c);
 /// A bearing with radial clearance c [m]: the journal is what changes
 /// (R_j = R_i - c), then deriveBearing.

@@ -1,7 +1,8 @@
 // One interface for stepping a run forward on a time grid t_k = k * unit,
 // shared by the fixed-step RK4 (the product: unit = sim.step) and the
-// adaptive reference (any unit), and the one loop that steps from row to row
-// and hands each row's state to the caller (simulate(), workprec's fine pass).
+// adaptive reference (any unit), and the loop that steps from row to row and
+// hands each row's state to the caller (simulate(), workprec's fine pass; the
+// Simulator steps on the caller's demand instead).
 #pragma once
 
 #include <algorithm>
@@ -60,7 +61,7 @@ class ReferenceStepper {
   ReferenceIntegrator<V> integ_;
 };
 
-/// The one output loop: from t = 0 to n_units * unit, a row every `every`
+/// The output loop of simulate() and workprec: from t = 0 to n_units * unit, a row every `every`
 /// units (and the last at the end); after each advance, row(s, k) is called
 /// with the grid index reached; false from it ends the loop (ok). The time
 /// spent inside the stepper is added to *in_step when given. Returns how the

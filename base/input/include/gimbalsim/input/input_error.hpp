@@ -1,4 +1,4 @@
-// The one refusal of an input: every problem found in a scene, a controller
+// The refusal of a text input: every problem found in a scene, a controller
 // configuration, a fault schedule or a sweep's arguments, each naming its
 // place and key. SceneError, ConfigError and FaultScheduleError derive from
 // it, so a program (and the Python package) catches one type.

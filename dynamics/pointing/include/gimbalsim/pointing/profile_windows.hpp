@@ -1,7 +1,7 @@
 // The profile's windows (slew, hold, track) as times, and why a figure over
-// one has no value: the one definition of the phase boundaries that the
-// closed loop's figures, the tools' summaries and the Python package's spec
-// checks use (TargetProfile::at switches segments at the same times).
+// one has no value: the definition of the phase boundaries that the closed
+// loop's figures, the C++ tools' summaries and the Python package's spec
+// checks use (the LCM bench script tools/hil/tune_sweep.py reads the same keys) (TargetProfile::at switches segments at the same times).
 #pragma once
 
 #include <string>
