@@ -68,10 +68,7 @@ def cdf_plots(spec, rows, entries, out_dir, prefix="", inputs=()):
         ax.legend(loc="lower right")
         fig.tight_layout()
         written.append(out_dir / f"{prefix}{metric}_cdf.png")
-        try:
-            savefig(fig, written[-1], inputs, dpi=100)
-        finally:
-            plt.close(fig)
+        savefig(fig, written[-1], inputs, dpi=100, close=True)
     return written
 
 

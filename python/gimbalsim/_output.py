@@ -222,12 +222,18 @@ def write_csv(path, rows, inputs=()):
         csv.writer(f, lineterminator="\n").writerows(rows)
 
 
-def savefig(fig, path, inputs=(), **kwargs):
+def savefig(fig, path, inputs=(), close=False, **kwargs):
     """A matplotlib figure under path (fig.savefig into the temporary; the
-    format from path's extension unless format= says)."""
+    format from path's extension unless format= says); close=True closes the
+    figure afterwards, written or not (a study's many figures stay few in memory)."""
     kwargs.setdefault("format", os.path.splitext(_text(path))[1].lstrip(".").lower() or None)
-    with open_output(path, "wb", inputs) as f:
-        fig.savefig(f, **kwargs)
+    try:
+        with open_output(path, "wb", inputs) as f:
+            fig.savefig(f, **kwargs)
+    finally:
+        if close:
+            import matplotlib.pyplot as plt  # only a caller that plots loads it
+            plt.close(fig)
 
 
 # ---- an append-only log (the sweep's journal), which is never renamed: appended and synced ----

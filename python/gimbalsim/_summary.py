@@ -62,10 +62,7 @@ def plot(spec, rows, out, inputs=()):
         fig.suptitle(f"{len(x)} samples ({spec.scene_path.name})")
         fig.tight_layout()
         written.append(out / f"{name}_distribution.png")
-        try:
-            savefig(fig, written[-1], inputs, dpi=110)
-        finally:
-            plt.close(fig)
+        savefig(fig, written[-1], inputs, dpi=110, close=True)
     for c in spec.design.columns():
         try:
             x = val(c)
@@ -77,8 +74,5 @@ def plot(spec, rows, out, inputs=()):
         ax.set_ylabel("pointing_error_max [rad]")
         fig.tight_layout()
         written.append(out / f"pointing_error_vs_{c.replace('[', '_').replace(']', '')}.png")
-        try:
-            savefig(fig, written[-1], inputs, dpi=110)
-        finally:
-            plt.close(fig)
+        savefig(fig, written[-1], inputs, dpi=110, close=True)
     return written

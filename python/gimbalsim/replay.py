@@ -217,10 +217,7 @@ def _plot(run, spec, i, status, path, inputs=()):
     axes[-1, 0].set_xlabel("t [s]")
     fig.suptitle(f"sample {i} of the sweep in {spec.spec_path.parent.name}/ ({status})")
     fig.tight_layout()
-    try:
-        savefig(fig, path, inputs, dpi=110)
-    finally:
-        plt.close(fig)
+    savefig(fig, path, inputs, dpi=110, close=True)
     return [label for label, _ in panels]
 
 

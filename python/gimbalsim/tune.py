@@ -286,10 +286,7 @@ def _plot(out, rows, spec):
     ax.set_ylabel(f"p{spec.percentile:g} {spec.metric} [rad]")
     ax.legend()
     fig.tight_layout()
-    try:
-        savefig(fig, out / "progress.png", spec.input_files(), dpi=110)
-    finally:
-        plt.close(fig)
+    savefig(fig, out / "progress.png", spec.input_files(), dpi=110, close=True)
 
 
 def _trials_kept(out):

@@ -151,6 +151,22 @@ def test_savefig_writes_the_format_of_the_extension_through_the_temporary(tmp_pa
     assert leftovers(tmp_path, {"a.png", "a.svg"}) == []
 
 
+def test_savefig_close_closes_the_figure_written_or_not(tmp_path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    kept, closed, failed = plt.figure(), plt.figure(), plt.figure()
+    _output.savefig(kept, tmp_path / "kept.png")
+    _output.savefig(closed, tmp_path / "closed.png", close=True)
+    with pytest.raises(_output.OutputError, match="does not exist"):
+        _output.savefig(failed, tmp_path / "missing" / "failed.png", close=True)
+    assert plt.fignum_exists(kept.number)
+    assert not plt.fignum_exists(closed.number) and not plt.fignum_exists(failed.number)
+    plt.close(kept)
+    assert leftovers(tmp_path, {"kept.png", "closed.png"}) == []
+
+
 def test_the_append_log_refuses_a_link_and_appends_synced(tmp_path):
     target = tmp_path / "target"
     target.write_text("keep\n")
