@@ -54,6 +54,30 @@ TEST(KeyRegistry, EveryKeyIsDocumented) {
   EXPECT_EQ(sceneKeys().size(), sceneTable().keys.size());
 }
 
+/// Every cell of `keysText` starts where its column's header does.
+void expectAlignedColumns(const std::vector<KeyInfo>& keys) {
+  const std::string text = keysText(keys);
+  std::vector<std::string> lines;
+  for (std::size_t a = 0, b; (b = text.find('\n', a)) != std::string::npos; a = b + 1) lines.push_back(text.substr(a, b - a));
+  ASSERT_EQ(lines.size(), keys.size() + 1);
+  std::vector<std::size_t> at;
+  for (const char* h : {"key", "type", "unit", "default", "check", "meaning"}) at.push_back(lines[0].find(h));
+  for (std::size_t r = 0; r < keys.size(); ++r) {
+    const KeyInfo& k = keys[r];
+    const std::string cells[] = {k.key, k.type, k.unit, k.default_value, k.check, k.meaning};
+    for (std::size_t c = 0; c < 6; ++c) {
+      EXPECT_EQ(lines[r + 1].substr(std::min(at[c], lines[r + 1].size()), cells[c].size()), cells[c])
+          << k.key << ": column " << c << " does not start under its header";
+    }
+  }
+}
+
+TEST(KeyRegistry, KeyListingsKeepTheirColumnsWhateverACellsLength) {
+  expectAlignedColumns(sceneKeys());
+  expectAlignedColumns(controllers::controllerKeys());  // a 30-character type: none|clamping|back_calculation
+  expectAlignedColumns({{"a", std::string(40, 't'), "m", "in (0, 1]", "1", "long type"}, {"b", "number", "", "", "", "x"}});
+}
+
 TEST(KeyRegistry, EmptySceneLoadsToTheDefaults) {
   const Scene loaded = loadSceneText("", "empty.yaml");
   EXPECT_TRUE(loaded.warnings.empty());

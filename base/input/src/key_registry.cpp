@@ -14,16 +14,17 @@ std::vector<std::vector<std::string>> rows(const std::vector<KeyInfo>& keys) {
 }  // namespace
 
 std::string keysText(const std::vector<KeyInfo>& keys) {
+  // Each column as wide as its longest cell, so that every row's cells start
+  // at the same place (a cap let a 30-character type push the rest of its row).
   const auto table = rows(keys);
-  constexpr std::size_t kMaxWidth = 28;  // a longer cell pushes the rest of its row
   std::vector<std::size_t> width(table[0].size(), 0);
   for (const auto& row : table) {
-    for (std::size_t c = 0; c < row.size(); ++c) width[c] = std::max(width[c], std::min(row[c].size(), kMaxWidth));
+    for (std::size_t c = 0; c < row.size(); ++c) width[c] = std::max(width[c], row[c].size());
   }
   std::string out;
   for (const auto& row : table) {
     std::string line;
-    for (std::size_t c = 0; c + 1 < row.size(); ++c) line += row[c] + std::string(std::max(width[c], row[c].size()) - row[c].size() + 2, ' ');
+    for (std::size_t c = 0; c + 1 < row.size(); ++c) line += row[c] + std::string(width[c] - row[c].size() + 2, ' ');
     out += line + row.back() + "\n";
   }
   return out;
