@@ -49,6 +49,13 @@ std::optional<int> parse(CLI::App& app, int argc, char** argv, const char* progr
     std::string what = e.what();
     const std::string dbl_max = std::to_string(std::numeric_limits<double>::max());
     if (const auto at = what.find(dbl_max); at != std::string::npos) what.replace(at, dbl_max.size(), "inf");
+    // CLI11 checks what is required before what is unknown: `gimbalsim --bogus`
+    // would say only "A subcommand is required". The unknown argument comes first.
+    if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr) {
+      if (const std::vector<std::string> extra = app.remaining(); !extra.empty()) {
+        what = "The following argument was not expected: " + extra.front() + "; " + what;
+      }
+    }
     std::fprintf(stderr, "%s: error: %s (see --help)\n", program, what.c_str());
     return kRefused;
   }
