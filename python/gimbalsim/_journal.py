@@ -6,21 +6,21 @@ import io
 
 from . import _provenance
 from ._errors import OutputError, SpecError
-from ._output import csv_number
+from ._output import csv_number, csv_text
 
 JOURNAL = "results.partial.csv"  # the sweep's rows as they arrive (appended and synced per task)
 
 
 def fmt(v):
-    """A cell of the sweep's CSVs: no value empty, a float as the CSV convention writes it."""
+    """A cell of the sweep's CSVs: no value empty, a float and a text as the CSV convention writes them."""
     if v is None:
         return ""
-    return csv_number(v) if isinstance(v, float) else str(v)
+    return csv_number(v) if isinstance(v, float) else csv_text(v)
 
 
 def csv_line(values):
     buf = io.StringIO()
-    csv.writer(buf, lineterminator="\n").writerow([fmt(v) for v in values])
+    csv.writer(buf, lineterminator="\n", quoting=csv.QUOTE_NONE).writerow([fmt(v) for v in values])
     return buf.getvalue()
 
 

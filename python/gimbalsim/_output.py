@@ -28,8 +28,8 @@ import math
 import os
 import stat
 
-__all__ = ["OutputError", "check_outputs", "open_output", "write_text", "write_bytes", "write_csv", "savefig",
-           "open_append", "append_synced"]
+__all__ = ["OutputError", "check_outputs", "open_output", "write_text", "write_bytes", "write_csv", "csv_text",
+           "savefig", "open_append", "append_synced"]
 
 
 class OutputError(OSError):
@@ -53,6 +53,14 @@ def csv_number(x):
     if x.is_integer() and abs(x) < 1e15:
         return str(int(x))
     return repr(x)
+
+
+def csv_text(text):
+    """A text cell as the CSV convention writes it (io::csvTextCell): unquoted,
+    ',' as ';', '"' as "'", '#' as "no. " (numpy reads no quotes and takes '#'
+    for a comment), a line break as a space."""
+    return (str(text).replace(",", ";").replace('"', "'").replace("#", "no. ")
+            .replace("\r", " ").replace("\n", " "))
 
 
 def _text(path):
@@ -219,7 +227,8 @@ def write_csv(path, rows, inputs=()):
     """rows (lists of cells, the header first) as CSV text: "," between
     cells, "\\n" after each row (the project's CSV convention, docs/usage.md)."""
     with open_output(path, "w", inputs) as f:
-        csv.writer(f, lineterminator="\n").writerows(rows)
+        csv.writer(f, lineterminator="\n", quoting=csv.QUOTE_NONE).writerows(
+            [[csv_text(c) for c in row] for row in rows])
 
 
 def savefig(fig, path, inputs=(), close=False, **kwargs):

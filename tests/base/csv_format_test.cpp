@@ -74,6 +74,11 @@ TEST(CsvFormat, NumbersRoundTripAndNeverMinusZero) {
   }
 }
 
+TEST(CsvFormat, TextCellsNeedNoQuoting) {
+  EXPECT_EQ(csvTextCell("plain text"), "plain text");
+  EXPECT_EQ(csvTextCell("a, b \"c\" --set #1\nnext\r"), "a; b 'c' --set no. 1 next ");
+}
+
 /// Every cell of a header line is an identifier (what numpy's
 /// genfromtxt(names=True) keeps unchanged), and no two are equal.
 void expectIdentifiers(const std::string& header) {

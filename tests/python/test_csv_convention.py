@@ -27,7 +27,11 @@ def check_convention(path):
     assert len(set(names)) == len(names), f"{path}: repeated column names"
     table = np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8", max_rows=1)
     assert table.dtype.names == tuple(names), f"{path}: numpy reads {table.dtype.names}"
+    # Text cells are never quoted (numpy's genfromtxt reads no quotes): no reader splits them differently.
+    text = open(path, newline="").read()
+    assert '"' not in text, f"{path}: a quoted cell"
     for r in rows[1:]:
+        assert len(r) == len(names), f"{path}: a row of {len(r)} cells under {len(names)} names"
         for cell in r:
             assert not re.fullmatch(r"-0(\.0*)?(e[+-]?\d+)?", cell), f"{path}: a -0 cell"
             assert not re.fullmatch(r"-?\d+\.0+", cell), f"{path}: a whole number written with a fraction ({cell})"
@@ -74,3 +78,14 @@ def test_pointing_study_csvs(tmp):
     assert names == ["t_s", "error_ideal_rad", "error_c0p25mm_rad"]
     names, _ = check_convention(out / "summary.csv")
     assert "clearance_m" in names and "peak_track_rad" in names
+
+
+def test_text_cells_read_alike_in_numpy_and_the_csv_module(tmp):
+    # A reason with a comma, quotes and a '#' (numpy's comment) is one cell for every reader.
+    from gimbalsim import _output
+    path = tmp / "t.csv"
+    _output.write_csv(path, [["run", "reason_text", "x_m"], ["a", 'stopped, "cap" at --set #1\nagain', "1.5"]])
+    names, rows = check_convention(path)
+    assert rows == [["a", "stopped; 'cap' at --set no. 1 again", "1.5"]]
+    table = np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8")
+    assert str(table["reason_text"]) == rows[0][1] and float(table["x_m"]) == 1.5

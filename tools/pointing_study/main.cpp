@@ -101,18 +101,6 @@ std::string stopKey(const std::string& error) {
   return "refused";
 }
 
-/// A text cell without commas (numpy's genfromtxt does not read quotes): ',' reads ';'.
-std::string csvText(std::string s) {
-  std::replace(s.begin(), s.end(), ',', ';');
-  return s;
-}
-
-std::string csvQuote(const std::string& s) {
-  std::string q = "\"";
-  for (char ch : s) q += (ch == '"') ? std::string("\"\"") : std::string(1, ch);
-  return q + "\"";
-}
-
 /// Writes the study's files as one commit group (all or none); false (and a
 /// message naming the file) on any failure.
 bool writeFiles(const std::vector<std::pair<std::string, std::string>>& files) {
@@ -179,13 +167,15 @@ std::string summaryCsv(const std::vector<Study>& runs) {
   std::string out =
       "run,scene,sensors,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,controller_limited_ticks,motor_limited_ticks,joints,"
       "max_tilt1_rad,max_tilt2_rad,status,stop_reason,track_reason\n";
+  const auto text = [](const std::string& t) { return io::csvTextCell(t) + ","; };  // unquoted (CSV convention)
+  const auto num = [](double x) { return csvNum(x) + ","; };
   for (const Study& s : runs) {
-    out += s.label + "," + s.scene + "," + s.sensors + "," + csvNum(s.clearance) + "," + csvNum(s.peak_track) + "," +
-           csvNum(s.rms_track) + "," + csvNum(s.peak_run) + "," + std::to_string(s.track_ticks) + "," +
-           std::to_string(s.controller_limited_ticks) + "," + std::to_string(s.motor_limited_ticks) + "," + s.joints + "," + csvNum(s.max_tilt[0]) + "," +
-           csvNum(s.max_tilt[1]) + "," +
-           (s.ok ? std::string("ok") : "stop:" + s.stop_key) + "," + csvQuote(s.reason) + "," +
-           csvQuote(csvText(s.track_reason)) + "\n";
+    out += text(s.label) + text(s.scene) + text(s.sensors) + num(s.clearance) + num(s.peak_track) +
+           num(s.rms_track) + num(s.peak_run) + std::to_string(s.track_ticks) + "," +
+           std::to_string(s.controller_limited_ticks) + "," + std::to_string(s.motor_limited_ticks) + "," +
+           text(s.joints) + num(s.max_tilt[0]) + num(s.max_tilt[1]) +
+           text(s.ok ? std::string("ok") : "stop:" + s.stop_key) + text(s.reason) + io::csvTextCell(s.track_reason) +
+           "\n";
   }
   return out;
 }

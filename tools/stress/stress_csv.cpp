@@ -14,19 +14,7 @@ std::string csvText(const std::vector<const Case*>& all) {
   f << "group,scene,sets,verdict,reason,t_end_s,impacts,substeps,substeps_per_s,max_substeps_in_step,"
        "momentum_rel_linear,momentum_rel_angular,energy_rise_rel,energy_change_rel,energy_final_rel,"
        "max_penetration_m,penetration_limit_m,wall_s\n";
-  // Text cells hold no '"' and no '#' (numpy's genfromtxt reads '#' as the
-  // start of a comment, even inside quotes): "--set #1" reads "--set no. 1".
-  auto q = [](const std::string& s) {
-    std::string out = "\"";
-    for (char ch : s) {
-      if (ch == '#') {
-        out += "no. ";
-      } else {
-        out += ch == '"' ? '\'' : ch;
-      }
-    }
-    return out + "\"";
-  };
+  const auto q = [](const std::string& s) { return io::csvTextCell(s); };  // the convention's text cell
   auto n = [](double x) {  // the CSV convention's numbers (io/csv_format.hpp)
     std::string s;
     io::appendCsvNumber(s, x);
@@ -34,7 +22,7 @@ std::string csvText(const std::vector<const Case*>& all) {
   };
   for (const Case* c : all) {
     const Outcome& o = c->out;
-    f << q(c->group) << "," << c->scene << "," << q(joined(c->sets)) << "," << verdictName(o.verdict) << ","
+    f << q(c->group) << "," << q(c->scene) << "," << q(joined(c->sets)) << "," << verdictName(o.verdict) << ","
       << q(o.reason) << "," << n(o.run.t_end) << "," << o.run.stats.impacts << "," << o.run.stats.substeps << ","
       << n(o.substeps_per_second) << "," << o.run.stats.max_substeps_in_step << "," << n(o.momentum_rel_linear)
       << "," << n(o.momentum_rel_angular) << "," << n(o.energy_rise_rel) << "," << n(o.energy_change_rel) << ","

@@ -42,4 +42,19 @@ void appendCsvNumber(std::string& out, double x) {
   out.append(buf, static_cast<std::size_t>(formatCsvNumber(buf, x)));
 }
 
+std::string csvTextCell(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case ',': out += ';'; break;
+      case '"': out += '\''; break;
+      case '#': out += "no. "; break;
+      case '\n': case '\r': out += ' '; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
 }  // namespace gimbalsim::io

@@ -3,7 +3,8 @@
 // pandas, the csv module and PlotJuggler all read unchanged (letters, digits
 // and '_', the unit as a suffix: t_s, theta1_rad, dtheta1_rad_per_s, bore_x
 // for a unitless value), and numbers in the shortest form that reads back as
-// the same double (std::to_chars), never "-0".
+// the same double (std::to_chars), never "-0"; text cells unquoted, with
+// nothing a reader would take for a separator, a quote or a comment.
 #pragma once
 
 #include <string>
@@ -27,5 +28,10 @@ int formatCsvNumber(char* buf, double x) noexcept;
 
 /// Appends formatCsvNumber(x) to out.
 void appendCsvNumber(std::string& out, double x);
+
+/// `text` as a CSV cell that every reader splits alike without quoting
+/// (numpy's genfromtxt reads no quotes and takes '#' for a comment):
+/// ',' reads ';', '"' reads '\'', '#' reads "no. ", a line break a space.
+std::string csvTextCell(std::string_view text);
 
 }  // namespace gimbalsim::io
