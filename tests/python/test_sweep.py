@@ -5,6 +5,7 @@ refusals name the spec's key and line."""
 import csv
 import json
 import os
+import re
 import signal
 import socket
 import subprocess
@@ -14,7 +15,9 @@ import time
 import psutil
 import pytest
 
-from conftest import SCENES
+from conftest import SCENES, SOURCE
+from gimbalsim._errors import SpecError
+from gimbalsim._sweep_spec import SweepSpec
 
 SPEC = f"""
 scene: {SCENES}/paper_clearance.yaml
@@ -265,6 +268,23 @@ def test_missing_or_malformed_specs_are_refused(tmp_path):
                                      "f: [*v, *v, *v, *v, *v, *v, *v, *v, *v, *v]\n")
     p = run_sweep(tmp_path / "c.yaml", tmp_path / "o", check=False)
     assert p.returncode == 2 and "values" in p.stderr
+
+
+def test_the_keys_the_docs_call_required_are_the_ones_the_spec_needs(tmp_path):
+    # docs/python.md: "every key optional but `a`, `b` and `c`". A spec of just
+    # those loads; a spec without any one of them is refused naming it.
+    doc = (SOURCE / "docs" / "python.md").read_text()
+    sentence = re.search(r"every key optional but ([^;:)]*)", doc).group(1)
+    required = re.findall(r"`([a-z_]+)`", sentence)
+    assert required, sentence
+    values = {"scene": f"{SCENES}/paper_clearance.yaml", "samples": "2", "seed": "1",
+              "parameters": "{friction.mu: {uniform: [0.1, 0.2]}}"}
+    (tmp_path / "min.yaml").write_text("".join(f"{k}: {values[k]}\n" for k in required))
+    assert SweepSpec(tmp_path / "min.yaml").samples == 2
+    for left_out in required:
+        (tmp_path / "less.yaml").write_text("".join(f"{k}: {values[k]}\n" for k in required if k != left_out))
+        with pytest.raises(SpecError, match=f"key '{left_out}': missing"):
+            SweepSpec(tmp_path / "less.yaml")
 
 
 def test_an_out_that_is_a_file_is_refused_and_left_alone(spec, tmp_path):
