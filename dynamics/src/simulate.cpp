@@ -50,9 +50,6 @@ std::vector<std::string> coordinateNamesV(const Model& m) {
                          "d");
 }
 
-namespace {
-
-/// The message of a failed step: when, why, and in which coordinate.
 std::string describeStop(const Model& m, const StepResult& st) {
   std::ostringstream os;
   os << "simulation stopped at t = " << st.time << " s: " << describe(st.status);
@@ -60,8 +57,15 @@ std::string describeStop(const Model& m, const StepResult& st) {
   const auto vn = coordinateNamesV(m);
   if (st.v_index >= 0 && st.v_index < static_cast<int>(vn.size())) os << " (in " << vn[st.v_index] << ")";
   if (st.q_index >= 0 && st.q_index < static_cast<int>(qn.size())) os << " (in " << qn[st.q_index] << ")";
-  if (st.status == StepStatus::PenetrationLimit) {
-    os << " (penetration " << st.detail << " m, clearance " << m.bearing[1].clearance << " m)";
+  if (st.status == StepStatus::PenetrationLimit && (st.joint == 0 || st.joint == 1)) {
+    const double c = m.bearing[st.joint].clearance;
+    os << " (penetration " << st.detail << " m in joint " << st.joint + 1 << "'s bearing, clearance " << c << " m";
+    if (m.integrator.penetration_limit > 0.0) {
+      os << ", sim.penetration_limit " << m.integrator.penetration_limit << " m)";
+    } else {  // the default limit: the contact pressed in deeper than the play is wide
+      os << ", the default limit; a clearance below the penetration its load presses in is held by the "
+            "contact's compliance, not its play: docs/MODEL.md 2.7 \"Where the play model holds\")";
+    }
   }
   if (st.status == StepStatus::SubstepTooLong) {
     os << " (impact lasting about " << st.detail << " s, " << st.detail / m.integrator.substep
@@ -70,6 +74,20 @@ std::string describeStop(const Model& m, const StepResult& st) {
   }
   return os.str();
 }
+
+std::string referenceRefusal(const Model& m) {
+  for (int j = 0; j < 2; ++j) {
+    const ContactParams& b = m.bearing[j];
+    if (m.jointKind(j) != ClearanceKind::Ideal && b.friction == FrictionLaw::Coulomb && b.mu > 0.0) {
+      return "joint " + std::to_string(j + 1) + "'s bearing has friction.law coulomb (plain Coulomb), whose sign "
+             "flip stops the reference integrator at the first sliding contact; for a reference solution use "
+             "friction.law=ambrosio, or coulomb_stick (a planar joint 2 with an ideal joint 1)";
+    }
+  }
+  return "";
+}
+
+namespace {
 
 /// The normal force at each contact end of V in row r (joint 1's ends
 /// first, as RunStats::peak_fn_end).

@@ -8,7 +8,8 @@ const char* describe(StepStatus s) {
     case StepStatus::NonFinite: return "non-finite value (NaN or Inf) in the state";
     case StepStatus::VelocityLimit: return "a velocity exceeded sim.velocity_limit (diverging)";
     case StepStatus::PenetrationLimit:
-      return "contact penetration exceeded sim.penetration_limit (contact too soft or step too large)";
+      return "contact penetration exceeded sim.penetration_limit (contact too soft, step too large, or a clearance "
+             "below what the load presses into the contact)";
     case StepStatus::SubstepCap:
       return "more work in one step than sim.max_substeps allows (the automatic cap has room for 4 located "
              "contact switches per step; a journal rattling faster needs a higher sim.max_substeps)";

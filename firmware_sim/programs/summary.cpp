@@ -122,13 +122,10 @@ void printExitSummary(const Run& r, const Outcome& out) {
 
 int reportPlantFault(const Model& m, const Outcome& out) {
   if (!out.plant_fault) return kExitOk;
-  const std::vector<std::string> names = coordinateNamesV(m);
-  const int i = out.fail_index;
   std::fprintf(stderr,
-               "firmware_sim: PLANT FAULT at t = %.9g s: %s%s%s; the state was frozen at the last good one "
-               "and every later status carried FAULT_PLANT_FAULT\n",
-               out.fail_time, describe(out.plant_status), i >= 0 ? " in coordinate " : "",
-               i >= 0 && i < static_cast<int>(names.size()) ? names[i].c_str() : "");
+               "firmware_sim: PLANT FAULT, %s; the state was frozen at the last good one and every later status "
+               "carried FAULT_PLANT_FAULT\n",
+               describeStop(m, out.plant).c_str());  // the one message of a stopped step
   return kExitPlantFault;
 }
 

@@ -12,14 +12,12 @@ struct Outcome {
   std::int64_t ticks = 0;
   Counters counters;
   bool plant_fault = false;
-  StepStatus plant_status = StepStatus::Ok;
-  double fail_time = 0.0;  ///< [s]
-  int fail_index = -1;     ///< coordinate that failed, -1 if none
+  StepResult plant;  ///< the plant's failed step (status, time, coordinate, figures) when plant_fault
 };
 
 template <class V>
 Outcome outcomeOf(const Firmware<V>& fw) {
-  return {fw.ticks(), fw.counters(), fw.plantFault(), fw.plantStatus(), fw.plantFailTime(), fw.plantFailIndex()};
+  return {fw.ticks(), fw.counters(), fw.plantFault(), fw.plantResult()};
 }
 
 /// The summary on stdout (docs/bench.md "The exit summary").

@@ -161,6 +161,11 @@ void bindScene(pyb::module_& m) {
         if (integrator != "rk4" && integrator != "reference") {
           throw pyb::value_error("integrator must be 'rk4' or 'reference', got '" + integrator + "'");
         }
+        if (integrator == "reference") {
+          if (const std::string why = referenceRefusal(s.scene().model); !why.empty()) {
+            throw pyb::value_error("integrator 'reference': " + why);
+          }
+        }
         std::vector<double> rows;
         RunResult r;
         {

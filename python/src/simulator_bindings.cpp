@@ -52,8 +52,8 @@ pyb::array_t<double> vec(const std::vector<double>& x) {
   return a;
 }
 
-std::string stopMessage(const StepResult& r) {
-  std::string msg = std::string("simulation stopped at t = ") + std::to_string(r.time) + " s: " + describe(r.status);
+std::string stopMessage(const Model& m, const StepResult& r) {
+  std::string msg = describeStop(m, r);  // the one message of a stopped step, as the command line's
   if (*r.key()) msg += std::string(" (limit: ") + r.key() + ")";
   return msg;
 }
@@ -145,7 +145,7 @@ void bindSimulator(pyb::module_& m) {
             if (n < 0 || n > kMaxSteps) throw pyb::value_error("n must be in [0, 2^40], got " + std::to_string(n));
             checkTorque(tau1, tau2);
             const StepResult r = locked(p, [&](Simulator& s) { return s.step(Vec2(tau1, tau2), n); });
-            if (!r.ok()) raiseStopped(r, stopMessage(r));
+            if (!r.ok()) raiseStopped(r, stopMessage(p.sim.model(), r));
           },
           pyb::arg("tau1"), pyb::arg("tau2"), pyb::arg("n") = 1,
           "advance n steps with joint torques tau1, tau2 [N m] held; raises SimulationStopped on numerical "
@@ -171,7 +171,7 @@ void bindSimulator(pyb::module_& m) {
               pyb::dict extra;
               extra["steps_done"] = done;
               extra["outputs"] = rows[pyb::slice(0, done, 1)];
-              raiseStopped(r, stopMessage(r), extra);
+              raiseStopped(r, stopMessage(p.sim.model(), r), extra);
             }
             return rows;
           },

@@ -2,6 +2,7 @@
 //   gimbalsim simulate SCENE [--set key=value]... --out run.csv [--summary s.json]
 //   gimbalsim keys [--markdown]
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -72,9 +73,10 @@ int mainImpl(int argc, char** argv) {
     std::fputs((markdown ? gimbalsim::keysMarkdown(all) : gimbalsim::keysText(all)).c_str(), stdout);
     if (!markdown) {  // the Markdown table is the doc's; its aliases are listed beside it
       std::puts("\nold spellings, still read (docs/scene_keys.md):");
-      for (const auto& [alias, key] : gimbalsim::firmware::plantTable().aliases) {
-        std::printf("  %s = %s\n", alias.c_str(), key.c_str());
-      }
+      const auto& aliases = gimbalsim::firmware::plantTable().aliases;
+      int width = 0;  // the '=' of every line in one column
+      for (const auto& [alias, key] : aliases) width = std::max(width, static_cast<int>(alias.size()));
+      for (const auto& [alias, key] : aliases) std::printf("  %-*s = %s\n", width, alias.c_str(), key.c_str());
     }
     return kOk;
   }
@@ -89,17 +91,27 @@ int mainImpl(int argc, char** argv) {
   }
   for (const auto& w : loaded.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const gimbalsim::Model& m = loaded.model;
+  if (integrator == "reference") {  // refused at once, not after seconds of crawling
+    if (const std::string why = gimbalsim::referenceRefusal(m); !why.empty()) {
+      return gimbalsim::program::refuse("gimbalsim", "--integrator reference: " + why);
+    }
+  }
 
   // Both outputs' temporaries exist from the start and commit together (CommitGroup).
   std::optional<CsvWriter> csv;
   std::optional<gimbalsim::io::OutputFile> summary_file;
-  try {
+  try {  // a path that cannot be an output (a folder, an input, no such folder): refused
     gimbalsim::io::checkOutputPaths({out, summary}, {scene});
-    csv.emplace(out, gimbalsim::io::outputColumns(m));
-    if (!summary.empty()) summary_file.emplace(summary);
   } catch (const gimbalsim::io::OutputError& e) {
     std::fprintf(stderr, "error: %s\ngimbalsim: output refused, nothing simulated\n", e.what());
     return kRefused;
+  }
+  try {  // a folder that takes no file (read-only, full): the exit-code table's "could not be written"
+    csv.emplace(out, gimbalsim::io::outputColumns(m));
+    if (!summary.empty()) summary_file.emplace(summary);
+  } catch (const gimbalsim::io::OutputError& e) {
+    std::fprintf(stderr, "error: %s\ngimbalsim: the output cannot be written, nothing simulated\n", e.what());
+    return kOutput;
   }
   gimbalsim::io::installStopHandlers();
   // Checked after each row: a signal, or a CSV write that failed, ends the run there.

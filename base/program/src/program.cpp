@@ -50,9 +50,10 @@ std::optional<int> parse(CLI::App& app, int argc, char** argv, const char* progr
     const std::string dbl_max = std::to_string(std::numeric_limits<double>::max());
     if (const auto at = what.find(dbl_max); at != std::string::npos) what.replace(at, dbl_max.size(), "inf");
     // CLI11 checks what is required before what is unknown: `gimbalsim --bogus`
-    // would say only "A subcommand is required". The unknown argument comes first.
+    // would say only "A subcommand is required", `simulate S --bogus` only that
+    // --out is required. The unknown argument comes first (a subcommand's too).
     if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr) {
-      if (const std::vector<std::string> extra = app.remaining(); !extra.empty()) {
+      if (const std::vector<std::string> extra = app.remaining(true); !extra.empty()) {
         what = "The following argument was not expected: " + extra.front() + "; " + what;
       }
     }

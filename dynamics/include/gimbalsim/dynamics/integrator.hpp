@@ -180,7 +180,7 @@ SubstepEnd handleSwitches(const Model& m, Data<V>& d, State<V>& s, const Input& 
     const double delta = endGap<V>(m, e, d.trial.q, d.trial.v).delta;
     if (!(delta > limit)) continue;
     d.stats.max_penetration = std::fmax(d.stats.max_penetration, delta);
-    r = StepResult{StepStatus::PenetrationLimit, d.trial.t, -1, -1, delta};
+    r = StepResult{StepStatus::PenetrationLimit, d.trial.t, -1, -1, delta, V::endJoint(e)};
     return SubstepEnd::Failed;
   }
   return SubstepEnd::Accept;

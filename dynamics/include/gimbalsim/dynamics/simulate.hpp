@@ -20,6 +20,16 @@ namespace gimbalsim {
 std::vector<std::string> coordinateNamesQ(const Model& m);
 std::vector<std::string> coordinateNamesV(const Model& m);
 
+/// The one message of a failed step, for every driver (simulate, the closed
+/// loop, Python): when, why, in which coordinate, and the figures of the
+/// limit it broke.
+std::string describeStop(const Model& m, const StepResult& st);
+
+/// Why the reference integrator cannot run m, or "" when it can: plain
+/// Coulomb friction on a bearing with play flips sign where no adaptive step
+/// can cross, so the run would crawl for seconds and then stop (MODEL.md 7.10).
+std::string referenceRefusal(const Model& m);
+
 /// Why a run ended before its duration (RunResult::stop): read these fields,
 /// not the message.
 struct RunStop {

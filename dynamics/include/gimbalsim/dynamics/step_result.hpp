@@ -36,6 +36,8 @@ struct StepResult {
   /// PenetrationLimit: the penetration reached [m]; SubstepTooLong: the
   /// estimated impact duration [s]; 0 otherwise.
   double detail = 0.0;
+  /// PenetrationLimit: the joint (0 azimuth, 1 elevation) whose bearing it is; -1 otherwise.
+  int joint = -1;
 
   bool ok() const noexcept { return status == StepStatus::Ok; }
   const char* key() const noexcept { return limitKey(status); }

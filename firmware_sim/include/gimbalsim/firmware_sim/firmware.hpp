@@ -188,8 +188,6 @@ class Firmware {
   StepStatus plantStatus() const noexcept { return plant_result_.status; }
   /// Why the plant stopped: status, time [s], coordinate, limit key.
   const StepResult& plantResult() const noexcept { return plant_result_; }
-  double plantFailTime() const noexcept { return plant_result_.time; }  ///< [s]
-  int plantFailIndex() const noexcept { return plant_result_.v_index; }
 
  private:
   Rejection validate(const Command& cmd, SourceId src) const noexcept {
