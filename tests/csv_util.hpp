@@ -18,7 +18,8 @@ struct Csv {
   std::vector<std::vector<std::string>> rows;
 
   /// Fields of one line: split at the commas outside double quotes, the quotes
-  /// dropped; like std::getline(ss, field, ','), no empty field after a final comma.
+  /// dropped; a final comma ends an empty last field ("a," is two fields), as
+  /// every CSV reader has it (an empty text cell is never quoted).
   static std::vector<std::string> split(const std::string& line) {
     std::vector<std::string> f;
     std::string cur;
@@ -36,7 +37,7 @@ struct Csv {
       }
       open = true;
     }
-    if (open) f.push_back(cur);
+    if (open || !f.empty()) f.push_back(cur);
     return f;
   }
 

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/dynamics/variant.hpp"
 #include "gimbalsim/firmware_sim/bench_tick.hpp"
 #include "gimbalsim/input/key_registry.hpp"
@@ -27,6 +28,10 @@ void markUnreached(const pointing::TargetProfile& p, ClosedLoopResult& r) {
   if (!r.hold_reason.empty()) r.max_joint_error_hold = kNaN;
   if (!r.hold_end_reason.empty()) r.max_truth_error_hold_end = r.settle_time = kNaN;
   if (!r.track_reason.empty()) r.max_joint_error_track = r.max_truth_error_track = r.rms_truth_error_track = kNaN;
+  if (r.ticks == 0) {  // a max over no tick is no figure, never 0
+    r.run_reason = r.ok ? "no tick ran" : "no tick before the run stopped: " + r.error;
+    r.max_abs_tau.setConstant(kNaN), r.max_tilt.setConstant(kNaN), r.max_attitude_error = kNaN;
+  }
 }
 
 /// Running figures of a run (ClosedLoopResult), fed one tick at a time.
@@ -185,7 +190,7 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     if (fw.plantFault()) {
       r.ok = false;
       r.stop_status = fw.plantStatus();
-      r.error = std::string(describe(fw.plantStatus())) + " at t = " + std::to_string(fw.plantFailTime()) + " s";
+      r.error = describeStop(ps.scene.model, fw.plantResult());  // the one message of a stopped step
       fig.finish(r);
       return r;
     }

@@ -124,7 +124,8 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
       {"settle_time_s", &r.hold_end_reason},         {"max_joint_error_slew_rad", &r.slew_reason},
       {"max_joint_error_hold_rad", &r.hold_reason},  {"max_joint_error_track_rad", &r.track_reason},
       {"max_truth_error_track_rad", &r.track_reason}, {"rms_truth_error_track_rad", &r.track_reason},
-      {"max_truth_error_hold_end_rad", &r.hold_end_reason}};
+      {"max_truth_error_hold_end_rad", &r.hold_end_reason}, {"max_abs_tau_Nm", &r.run_reason},
+      {"max_attitude_error_rad", &r.run_reason},       {"max_tilt_rad", &r.run_reason}};
   for (const auto& [field, reason] : why) {
     if (!reason->empty()) reasons[field] = *reason;
   }

@@ -221,6 +221,29 @@ TEST(ClosedLoop, ANonFiniteCommandStopsTheRunNamingItAndTheFiguresStayFinite) {
   EXPECT_TRUE(r.max_abs_tau.allFinite());
 }
 
+// A run stopped before its first tick has no whole-run figure: NaN with the
+// reason, never the 0 a max over nothing starts from.
+TEST(ClosedLoop, ARunStoppedBeforeItsFirstTickHasNoFigure) {
+  const ControllerConfig c = defaults();
+  NanFrom controller(c, 0.0);
+  ClosedLoopOptions opt;
+  opt.duration = 1.0;
+  const ClosedLoopResult r = firmware::runClosedLoop(firmware::PlantScene{test::scene("paper_ideal"), {}}, controller,
+                                                     c.profile, opt);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.ticks, 0);
+  EXPECT_TRUE(std::isnan(r.max_abs_tau(0)) && std::isnan(r.max_abs_tau(1)) && std::isnan(r.max_attitude_error) &&
+              std::isnan(r.max_tilt(0)));
+  EXPECT_EQ(r.run_reason.rfind("no tick before the run stopped: ", 0), 0u) << r.run_reason;
+  EXPECT_NE(r.run_reason.find("commanded torque"), std::string::npos) << r.run_reason;
+  // One tick recorded: its figures are values (over that tick), no reason.
+  NanFrom late(c, 0.001);
+  const ClosedLoopResult one = firmware::runClosedLoop(firmware::PlantScene{test::scene("paper_ideal"), {}}, late,
+                                                       c.profile, opt);
+  EXPECT_EQ(one.ticks, 1);
+  EXPECT_TRUE(one.run_reason.empty() && one.max_abs_tau.allFinite() && std::isfinite(one.max_attitude_error));
+}
+
 // A run that ends before a window has no figure over it: NaN with the
 // window and the run's end, never 0.0 (a max over no tick); the run is ok.
 TEST(ClosedLoop, AFigureOverAWindowTheRunDidNotReachIsNaNWithItsReason) {

@@ -78,13 +78,26 @@ Row runOne(const firmware::PlantScene& ps, const ControllerConfig& c, double dur
   return r;
 }
 
+constexpr const char* kNotReached = "n/a (not reached)";  // a window without a tick: no figure, never a bare nan
+
 std::string sci(double x) {
+  if (!std::isfinite(x)) return kNotReached;
   char b[32];
   std::snprintf(b, sizeof b, "%.3e", x);
   return b;
 }
 
-std::string ratio(double a, double b) { return formatSignificant(a / b, 3); }
+/// When the window's max occurred [s], or why there is none.
+std::string at(const Stat& s) {
+  if (s.n == 0) return kNotReached;
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3f", s.t_max_s);
+  return b;
+}
+
+std::string ratio(double a, double b) {
+  return std::isfinite(a) && std::isfinite(b) ? formatSignificant(a / b, 3) : "n/a (a window not reached)";
+}
 
 /// One controller's block: a row per scene, then the ratio ideal / first clearance.
 std::string table(const std::string& title, const std::vector<Row>& rows, bool markdown) {
@@ -102,16 +115,15 @@ std::string table(const std::string& title, const std::vector<Row>& rows, bool m
   for (const Row& r : rows) {
     const std::string plant = r.ok ? "ok" : "stop: " + r.why;
     if (markdown) {
-      char at[32];
-      std::snprintf(at, sizeof at, "%.3f", r.after_slew.t_max_s);
       s += "| " + r.label + " | " + sci(r.track.peak()) + " | " + sci(r.track.rms()) + " | " + sci(r.after_slew.peak()) +
-           " | " + at + " | " + sci(r.after_slew.rms()) + " | " + sci(r.joint_track.peak()) + " | " +
+           " | " + at(r.after_slew) + " | " + sci(r.after_slew.rms()) + " | " + sci(r.joint_track.peak()) + " | " +
            sci(r.attitude_track.peak()) + " | " + plant + " |\n";
     } else {
-      char b[512];
-      std::snprintf(b, sizeof b, "%-10s %13.3e %13.3e %13.3e %7.3f %13.3e %13.3e %13.3e  %s\n", r.label.c_str(),
-                    r.track.peak(), r.track.rms(), r.after_slew.peak(), r.after_slew.t_max_s, r.after_slew.rms(),
-                    r.joint_track.peak(), r.attitude_track.peak(), plant.c_str());
+      char b[1024];
+      std::snprintf(b, sizeof b, "%-10s %13s %13s %13s %7s %13s %13s %13s  %s\n", r.label.c_str(),
+                    sci(r.track.peak()).c_str(), sci(r.track.rms()).c_str(), sci(r.after_slew.peak()).c_str(),
+                    at(r.after_slew).c_str(), sci(r.after_slew.rms()).c_str(), sci(r.joint_track.peak()).c_str(),
+                    sci(r.attitude_track.peak()).c_str(), plant.c_str());
       s += b;
     }
   }

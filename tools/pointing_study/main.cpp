@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -92,13 +93,10 @@ std::string clearanceLabel(double c) {
   return b;
 }
 
-/// The scene key named by the stop message (describe(StepStatus) + " at t = ...").
-std::string stopKey(const std::string& error) {
-  for (StepStatus s : {StepStatus::NonFinite, StepStatus::VelocityLimit, StepStatus::PenetrationLimit,
-                       StepStatus::SubstepCap, StepStatus::EventNotLocated, StepStatus::SubstepTooLong}) {
-    if (error.rfind(describe(s), 0) == 0) return *limitKey(s) ? limitKey(s) : "non_finite";
-  }
-  return "refused";
+/// The scene key of the limit that stopped a run, from its status (never its message's text).
+std::string stopKey(const firmware::ClosedLoopResult& r) {
+  if (r.stop_status == StepStatus::Ok) return "refused";
+  return *limitKey(r.stop_status) ? limitKey(r.stop_status) : "non_finite";
 }
 
 /// Writes the study's files as one commit group (all or none); false (and a
@@ -135,9 +133,10 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   s.controller_limited_ticks = r.controller_limited_ticks;
   s.motor_limited_ticks = r.motor_limited_ticks;
   s.max_tilt[0] = r.max_tilt(0), s.max_tilt[1] = r.max_tilt(1);
+  if (s.err.empty()) s.peak_run = std::numeric_limits<double>::quiet_NaN();  // no tick: no peak, never 0
   s.ok = r.ok;
   if (!r.ok) {
-    s.stop_key = stopKey(r.error);
+    s.stop_key = stopKey(r);
     s.reason = r.error;
   }
   return s;
@@ -339,9 +338,10 @@ int mainImpl(int argc, char** argv) {
     if (gimbalsim::io::stopRequested()) break;
     runs.push_back(runOne(p.scene, cfg, opt, p.label, p.clearance, p.sensors));
     const Study& s = runs.back();
-    std::printf("%-34s %-18s %11.3g %13s %13s %13.4e  %s\n", s.label.c_str(), s.scene.c_str(), s.clearance,
+    std::printf("%-34s %-18s %11.3g %13s %13s %13s  %s\n", s.label.c_str(), s.scene.c_str(), s.clearance,
                 pointing::figureText(s.peak_track, s.track_reason, "%.4e").c_str(),
-                pointing::figureText(s.rms_track, s.track_reason, "%.4e").c_str(), s.peak_run,
+                pointing::figureText(s.rms_track, s.track_reason, "%.4e").c_str(),
+                pointing::figureText(s.peak_run, s.err.empty() ? "no tick" : "", "%.4e").c_str(),
                 s.ok ? "ok" : ("stop: " + s.reason).c_str());
     std::fflush(stdout);
   }

@@ -84,6 +84,9 @@ struct ClosedLoopResult {
   /// (max_joint_error_slew), hold (max_joint_error_hold), hold_end
   /// (max_truth_error_hold_end, settle_time), track (the three *_track).
   std::string slew_reason, hold_reason, hold_end_reason, track_reason;
+  /// Why the whole-run figures (max_abs_tau, max_attitude_error, max_tilt)
+  /// are NaN: no tick was recorded ("" when one was).
+  std::string run_reason;
   Vec2 max_abs_tau = Vec2::Zero();     ///< [N m] applied
   /// The two limits a torque meets (docs/usage.md "Torque limits"): ticks
   /// whose command the controller held at its own limit (azimuth/elevation.torque_limit),
