@@ -42,6 +42,10 @@
 namespace gimbalsim::controllers {
 namespace {
 
+/// Statuses after which a plant that accepted none of the commands has had
+/// its chance: the status after a command reports it (lockstep and real time).
+constexpr long long kStatusesToJudge = 3;
+
 struct Options {
   std::string config;
   std::vector<std::string> sets;
@@ -100,10 +104,16 @@ class StatusHandler {
     const Answer a = answerStatus(c_, state_, status, attitude_, next_seq_);
     const Measurement& meas = a.meas;
     const ControlOutput& out = a.out;
-    gimbal_command_t cmd{};
-    contract::copyFields<contract::CommandFields>(cmd, a.cmd);
-    const int n = cmd.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
-    if (n < 0 || lcm_.publish(ch_.command, buf_.data(), static_cast<unsigned>(n)) != 0) ++publish_errors_;
+    if (std::isfinite(a.cmd.torque[0]) && std::isfinite(a.cmd.torque[1])) {
+      gimbal_command_t cmd{};
+      contract::copyFields<contract::CommandFields>(cmd, a.cmd);
+      const int n = cmd.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
+      if (n < 0 || lcm_.publish(ch_.command, buf_.data(), static_cast<unsigned>(n)) != 0) ++publish_errors_;
+      if (first_sent_seq_ < 0) first_sent_seq_ = a.cmd.seq;
+    } else {
+      ++not_finite_;  // never sent: NaN or Inf is no command (the plant would refuse it)
+    }
+    if (first_sent_seq_ >= 0 && st.last_command_seq >= first_sent_seq_) accepted_any_ = true;
     // Bookkeeping after the answer is on its way.
     ++answered_;
     last_t_ = meas.t;
@@ -156,6 +166,9 @@ class StatusHandler {
   long long plantRestarts() const { return restarts_; }
   long long undecodable() const { return undecodable_; }
   long long publishErrors() const { return publish_errors_; }
+  long long notFinite() const { return not_finite_; }
+  /// Whether the plant has reported accepting one of this controller's commands.
+  bool acceptedAny() const { return accepted_any_; }
   double lastTime() const { return last_t_; }
   int faultsSeen() const { return faults_seen_; }
   double maxTrackError() const { return max_track_error_; }
@@ -212,6 +225,9 @@ class StatusHandler {
   std::int64_t last_status_seq_ = -1;
   long long restarts_ = 0;  ///< statuses whose seq went backwards
   long long answered_ = 0, undecodable_ = 0, publish_errors_ = 0, controller_limited_ = 0;
+  long long not_finite_ = 0;            ///< answers not sent: a torque NaN or Inf
+  std::int64_t first_sent_seq_ = -1;    ///< seq of the first command sent (-1: none yet)
+  bool accepted_any_ = false;
   double last_t_ = 0.0, max_track_error_ = 0.0;
   int faults_seen_ = 0;
 };
@@ -344,6 +360,13 @@ int run(int argc, char** argv) {
       code = program::kNoPeer;
       break;
     }
+  }
+  // A controller none of whose commands the plant took did not control it: not a success.
+  if (code == program::kOk && h.answered() >= kStatusesToJudge && !h.acceptedAny()) {
+    std::fprintf(stderr, "pointing_controller: the plant accepted none of the commands answering %lld statuses (%lld "
+                 "not sent: a torque NaN or Inf); the plant's summary says why it refused or lost the rest\n",
+                 h.answered(), h.notFinite());
+    code = program::kStopped;
   }
   if (log_out && !log_out->commit()) {
     std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", log_out->error().c_str());

@@ -87,23 +87,20 @@ std::vector<Key<ControllerConfig>> keys() {
   constexpr auto base = [](auto& c) -> auto& { return c.plant.base; };
   constexpr auto shaft1 = [](auto& c) -> auto& { return c.plant.shaft1; };
   constexpr auto shaft2 = [](auto& c) -> auto& { return c.plant.shaft2; };
-  v.push_back(K::number("plant.base_mass", "kg", "base (satellite) mass", field(base, &BodyParams::mass),
-                        interval('(', 0.0, 1e9, ']')));
+  v.push_back(K::number("plant.base_mass", "kg", "base (satellite) mass", field(base, &BodyParams::mass), bodyMass()));
   v.push_back(K::inertia("plant.base_inertia", "about the base's CoM, base frame", field(base, &BodyParams::inertia)));
-  v.push_back(K::number("plant.shaft1_mass", "kg", "shaft 1 mass", field(shaft1, &BodyParams::mass),
-                        interval('(', 0.0, 1e9, ']')));
+  v.push_back(K::number("plant.shaft1_mass", "kg", "shaft 1 mass", field(shaft1, &BodyParams::mass), bodyMass()));
   v.push_back(K::vector<3>("plant.shaft1_com", "m", "shaft 1 CoM from joint 1, shaft 1 frame",
-                           field(shaft1, &BodyParams::com)));
+                           field(shaft1, &BodyParams::com), bodyOffset()));
   v.push_back(K::inertia("plant.shaft1_inertia", "about shaft 1's CoM, shaft 1 frame", field(shaft1, &BodyParams::inertia)));
-  v.push_back(K::number("plant.shaft2_mass", "kg", "shaft 2 + antenna mass", field(shaft2, &BodyParams::mass),
-                        interval('(', 0.0, 1e9, ']')));
+  v.push_back(K::number("plant.shaft2_mass", "kg", "shaft 2 + antenna mass", field(shaft2, &BodyParams::mass), bodyMass()));
   v.push_back(K::vector<3>("plant.shaft2_com", "m", "shaft 2 CoM from joint 2, shaft 2 frame",
-                           field(shaft2, &BodyParams::com)));
+                           field(shaft2, &BodyParams::com), bodyOffset()));
   v.push_back(K::inertia("plant.shaft2_inertia", "about shaft 2's CoM, shaft 2 frame", field(shaft2, &BodyParams::inertia)));
   v.push_back(K::vector<3>("plant.joint1_position", "m", "joint 1 from the base CoM, base frame",
-                           field(plant, &PlantMass::joint1_position_B)));
+                           field(plant, &PlantMass::joint1_position_B), bodyOffset()));
   v.push_back(K::vector<3>("plant.joint2_position", "m", "joint 2 from joint 1, shaft 1 frame",
-                           field(plant, &PlantMass::joint2_position_S1)));
+                           field(plant, &PlantMass::joint2_position_S1), bodyOffset()));
   v.push_back(K::number("estimator.k_p", "1/s", "attitude estimator correction gain (star tracker bandwidth)",
                         [](auto& c) -> auto& { return c.estimator.k_p; }, interval('[', 0.0, 1e3, ']')));
   v.push_back(K::number("estimator.k_i", "1/s^2",

@@ -50,9 +50,14 @@ TEST(ControllerConfig, PlantKeysRebuildTheFeedForwardModelAndAreChecked) {
   EXPECT_EQ(c.plant_model.shaft2.mass, 25.0);
   EXPECT_EQ(c.plant_model.I_chain[1].m, 25.0);
   EXPECT_EQ(c.plant_model.base.inertia(2, 2), 80.0);
-  EXPECT_NE(refusal("plant:\n  shaft1_mass: 0\n").find("cfg.yaml:2:3: key 'plant.shaft1_mass': must be in (0, 1e+09]"),
+  EXPECT_NE(refusal("plant:\n  shaft1_mass: 0\n").find("cfg.yaml:2:3: key 'plant.shaft1_mass': mass must be in (0, 1e9] kg"),
             std::string::npos)
       << refusal("plant:\n  shaft1_mass: 0\n");
+  // A plant model whose torques would overflow (the controller then sent NaN every tick) is refused.
+  EXPECT_NE(refusal("", {"plant.shaft2_com=[1e200, 0, 0]"}).find("key 'plant.shaft2_com': must be in [-1000, 1000]"),
+            std::string::npos)
+      << refusal("", {"plant.shaft2_com=[1e200, 0, 0]"});
+  EXPECT_NE(refusal("", {"plant.base_inertia=[1e300, 1, 1]"}).find("each entry within 1e12 kg m^2"), std::string::npos);
   EXPECT_NE(refusal("plant:\n  base_inertia: [1, -1, 1]\n").find("key 'plant.base_inertia'"), std::string::npos);
   EXPECT_NE(refusal("", {"pointing.feedforward_lead=-1e-3"}).find("key 'pointing.feedforward_lead': must be in [0, 1]"),
             std::string::npos);

@@ -81,8 +81,14 @@ TEST(Scene, NonPhysicalValuesAreRefused) {
     std::string expect;
   };
   const std::vector<Case> cases = {
-      {{"base.mass=0"}, "key 'base.mass': mass must be > 0, got 0"},
-      {{"shaft1.mass=-3"}, "key 'shaft1.mass': mass must be > 0, got -3"},
+      {{"base.mass=0"}, "key 'base.mass': mass must be in (0, 1e9] kg, got 0"},
+      {{"shaft1.mass=-3"}, "key 'shaft1.mass': mass must be in (0, 1e9] kg, got -3"},
+      // Ranges the arithmetic honours: a body a million km long or a 1e200 kg base would overflow the torques.
+      {{"base.mass=1e200"}, "key 'base.mass': mass must be in (0, 1e9] kg, got 1e+200"},
+      {{"shaft2.com=[1e200, 0, 0]"}, "key 'shaft2.com': must be in [-1000, 1000]"},
+      {{"geometry.joint2_position=[0, 0, -2e3]"}, "key 'geometry.joint2_position': must be in [-1000, 1000]"},
+      {{"shaft1.inertia=[1e13, 1e13, 1e13]"},
+       "key 'shaft1.inertia': inertia must be symmetric positive definite, each entry within 1e12 kg m^2"},
       {{"shaft2.inertia=[1, -1, 1]"}, "key 'shaft2.inertia': inertia must be symmetric positive definite"},
       {{"shaft2.inertia=[[1, 0.5, 0], [0, 1, 0], [0, 0, 1]]"},
        "key 'shaft2.inertia': inertia must be symmetric positive definite"},
@@ -183,6 +189,15 @@ TEST(Scene, JointKindsAndJoint1BearingDefaultToJoint2s) {
   EXPECT_NE(e.find("contact1.restitution"), std::string::npos) << e;
   e = refusal(kGood, {"structure.joint2=spatial", "contact.bearing_length=0"});
   EXPECT_NE(e.find("contact.bearing_length"), std::string::npos) << e;
+  // A bearing too short for the end-plane model (1e-300 m let a journal turn over): refused, naming the key.
+  e = refusal(kGood, {"structure.joint2=spatial", "contact.clearance=1e-4", "joint2.contact.bearing_length=1e-300"});
+  EXPECT_NE(e.find("key 'joint2.contact.bearing_length': a spatial bearing must be at least 4 clearances long"),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(refusal(kGood, {"structure.joint2=spatial", "contact.clearance=1e-4", "contact.bearing_length=4e-4"}),
+            "");
+  // A planar bearing has no length to check: its contact is in one plane.
+  EXPECT_EQ(refusal(kGood, {"structure.joint2=planar", "contact.bearing_length=1e-300"}), "");
   e = refusal(kGood, {"structure.joint1=tilted"});
   EXPECT_NE(e.find("structure.joint1"), std::string::npos) << e;
 }

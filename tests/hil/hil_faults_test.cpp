@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <fstream>
 #include <string>
 
 #include "controllers/closed_loop_util.hpp"
@@ -83,6 +84,27 @@ TEST(HilFaults, TheDemoScheduleGivesByteIdenticalRunsEqualToTheInProcessLoop) {
     if (s.start >= duration) continue;
     EXPECT_NE(all & firmware::injectedBit(s.kind, s.axis), 0) << firmware::faultTypeName(s.kind) << " never flagged";
   }
+}
+
+// Every command lost on the way: the controller answered every status, yet
+// controlled nothing. It says so and exits 3, never 0.
+TEST(HilFaults, AControllerWhoseEveryCommandIsLostDoesNotExit0) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("faults_all_lost");
+  {
+    std::ofstream f(dir / "lose_all.yaml");
+    f << "faults:\n  - {type: command_drop, start: 0.0, end: 10.0, probability: 1.0}\n";
+  }
+  const std::string cfg = defaultControllerConfig(), url = udpmUrl(7753);
+  const std::string body =
+      "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' --channel-prefix HIL_FL_ " +
+      "--duration 0.5 --idle-exit 5 >ctl.log 2>&1 &\nC=$!\n" + "timeout 60 " + firmwareSim() + " " +
+      scenePath("paper_ideal") + " --lockstep --duration 0.5 --profile " + cfg + " --faults " + (dir / "lose_all.yaml") +
+      " --lcm-url '" + url + "' --channel-prefix HIL_FL_ --start-timeout 10 >fw.log 2>&1\nwait $C; echo \"ctl=$?\"";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log");
+  const std::string ctl = readFile(dir / "ctl.log");
+  EXPECT_NE(readFile(dir / "run.log").find("ctl=3"), std::string::npos) << ctl;
+  EXPECT_NE(ctl.find("the plant accepted none of the commands answering"), std::string::npos) << ctl;
 }
 
 }  // namespace

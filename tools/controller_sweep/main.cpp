@@ -21,7 +21,7 @@ using firmware::ClosedLoopResult;
 
 namespace {
 
-/// A bandwidth: a number > 0 (a negative one would give negative gains), said plainly.
+/// A number > 0, said plainly: a bandwidth (a negative one gives negative gains), a duration, a band.
 CLI::Validator positiveNumber() {
   return CLI::Validator(
       [](std::string& text) -> std::string {
@@ -50,8 +50,9 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--scene-set", scene_sets, "scene override key=value");
   app.add_option("--set", sets, "controller override key=value");
   app.add_option("--omega", omegas, "closed-loop bandwidths [rad/s] (triple pole)")->delimiter(',')->check(positiveNumber());
-  app.add_option("--duration", opt.duration, "simulated time [s] (default: the track start + 5 s)");
-  app.add_option("--settle-tol", opt.settle_tol, "settling band on the joint error [rad]");
+  app.add_option("--duration", opt.duration, "simulated time [s] (default: the track start + 5 s)")
+      ->check(positiveNumber());  // -1 ran the default silently
+  app.add_option("--settle-tol", opt.settle_tol, "settling band on the joint error [rad]")->check(positiveNumber());
   if (const auto rc = program::parse(app, argc, argv, "controller_sweep")) return *rc;
   try {
     const firmware::PlantScene ps = firmware::loadPlantScene(scene_path, scene_sets);

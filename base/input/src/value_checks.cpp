@@ -36,6 +36,19 @@ Check nonZero() {
           }};
 }
 
+Check bodyMass() { return interval('(', 0.0, 1e9, ']').saying("mass must be in (0, 1e9] kg"); }
+
+Check bodyOffset() { return interval('[', -1e3, 1e3, ']'); }
+
+Check bodyInertia() {
+  const Check pd = positiveDefinite();
+  return {"symmetric positive definite, entries within 1e12",
+          "inertia must be symmetric positive definite, each entry within 1e12 kg m^2",
+          [pd](std::span<const double> v) {
+            return std::all_of(v.begin(), v.end(), [](double x) { return std::abs(x) <= 1e12; }) && pd.holds(v);
+          }};
+}
+
 Check positiveDefinite() {
   return {"symmetric positive definite", "", [](std::span<const double> v) {
             const Eigen::Map<const Mat3> I(v.data());

@@ -184,6 +184,23 @@ void checkBearing(const ContactParams& cb, const ContactParams* shared, int join
   }
 }
 
+/// A spatial bearing at least 4 clearances long: its journal then tilts at
+/// most atan(2c/L) = 0.46 rad, where contact at the two end planes is the
+/// model (a 1e-300 m bearing let a journal turn over, 3.13 rad).
+void checkSpatialLength(const Scene& s, Given& g) {
+  for (int j = 0; j < 2; ++j) {
+    if (s.model.jointKind(j) != ClearanceKind::Spatial) continue;
+    const ContactParams& b = s.model.bearing[j];
+    const double c = b.bearing_radius - b.journal_radius;
+    if (!(b.bearing_length >= 4.0 * c)) {
+      g.refuse(givenAs(g, j, "contact.", "bearing_length"),
+               "a spatial bearing must be at least 4 clearances long (joint " + std::to_string(j + 1) + ": " +
+                   formatNumber(b.bearing_length) + " m against 4 x " + formatNumber(c) +
+                   " m): its journal's tilt, up to atan(2c/L), must stay where contact at the two end planes holds");
+    }
+  }
+}
+
 /// Each journal's initial eccentricity against its own bearing. One that
 /// cannot act (an ideal joint's) is accepted with a warning, not refused: a
 /// scene's ideal twin (its joints set ideal, its values kept) must load.
@@ -284,6 +301,7 @@ void validateBearings(const Scene& s, Given& g) {
     }
   }
   checkInitialEcc(s, g);
+  checkSpatialLength(s, g);
 }
 
 /// Each joint's bearing: the shared values (contact.*, friction.*) but for

@@ -184,8 +184,7 @@ struct Keys {
   }
   template <class F>
   static K inertia(std::string key, std::string meaning, F f) {
-    return bind(std::move(key), "inertia", "kg m^2", std::move(meaning), f, asInertia, formatInertia,
-                positiveDefinite().saying("inertia must be symmetric positive definite"));
+    return bind(std::move(key), "inertia", "kg m^2", std::move(meaning), f, asInertia, formatInertia, bodyInertia());
   }
   template <class F>
   static K text(std::string key, std::string meaning, F f) {

@@ -28,4 +28,11 @@ Check interval(char open, double lo, double hi, char close);  ///< "in (lo, hi]"
 Check nonZero();                                              ///< |v| >= 1e-12
 Check positiveDefinite();                                     ///< a symmetric positive definite 3x3
 
+// A body's mass properties and offsets, for the scene's bodies and the
+// controller's plant model alike: ranges whose products (torques, momenta,
+// the mass matrix) stay far from overflow, around any satellite's.
+Check bodyMass();     ///< [kg] in (0, 1e9]
+Check bodyOffset();   ///< [m] each component in [-1e3, 1e3]
+Check bodyInertia();  ///< [kg m^2] symmetric positive definite, each entry within 1e12
+
 }  // namespace gimbalsim
