@@ -24,16 +24,11 @@ def _pct(p):
 
 
 def column_values(spec, rows, metric):
-    """A metric of every row but the crashed and refused (NaN for a run that
-    stopped or a window it missed: such a unit counts as worst, never good)."""
+    """A metric of every unit drawn, one value per row: NaN for a unit without
+    a figure (crashed, refused, stopped, or a window it missed), which the
+    budget counts as worst, never good and never left out (n is the number drawn)."""
     col = spec.header().index(metric)
-    values = []
-    for r in rows:
-        status = r[spec.header().index("status")]
-        if status == "crashed" or status.startswith("refused"):
-            continue
-        values.append(float(r[col]) if r[col] not in ("", "nan") else math.nan)
-    return values
+    return [float(r[col]) if r[col] not in ("", "nan") else math.nan for r in rows]
 
 
 def entry(spec, rows, index, phase):

@@ -125,6 +125,8 @@ class ClosedLoopSpec:
         run: a run that ends before (or inside) a phase would give every
         sample NaN there, so the spec is refused at its line instead."""
         nominal = profile_phases(self.controller, self.duration_s)
+        if "phases" not in root:  # the profile's phases that have time (profile.hold_time 0: no hold)
+            self.phases = [(p, w) for p, w in self.phases if p == "track" or nominal[p][1] > nominal[p][0]]
         sets = root["set"].value if "set" in root and isinstance(root["set"].value, dict) else {}
         duration_node = sets.get("sim.duration", root["scene"])
         items = {}
@@ -136,6 +138,9 @@ class ClosedLoopSpec:
             where = items.get(name, duration_node)
             t0, t1 = window if window is not None else nominal[name]
             ends_with_run = window is None and name == "track"
+            if not ends_with_run and not t1 > t0 + tol:  # e.g. profile.hold_time 0: no sample has a figure there
+                spec.refuse(f"phases.{name}", f"phase '{name}' [{t0:g}, {t1:g}) s is empty (the controller's "
+                            "profile gives it no time): leave it out of phases", items[name])
             if self.duration_s <= t0 + tol or (not ends_with_run and self.duration_s < t1 - tol):
                 spec.refuse(f"phases.{name}" if items else "sim.duration",
                             f"the run ends at sim.duration {self.duration_s:g} s, "

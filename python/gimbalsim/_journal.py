@@ -7,6 +7,7 @@ import io
 from . import _provenance
 from ._errors import OutputError, SpecError
 from ._output import csv_number, csv_text
+from ._sweep_spec import MAX_SAMPLES
 
 JOURNAL = "results.partial.csv"  # the sweep's rows as they arrive (appended and synced per task)
 
@@ -70,12 +71,41 @@ def read_journal(spec, path, header):
         return done, dropped, False
     if next(csv.reader(lines[:1]), None) != header:
         raise SpecError(f"{path} was written by another spec (its header differs); use another --out")
-    for row in csv.reader(lines[1:]):
+    rows = list(csv.reader(lines[1:]))
+    spoken_for = _extend_over(spec, rows)  # the spec's own size
+    for row in rows:
         why = check_row(spec, row, len(header))
+        if why is not None and row and row[0].isdigit() and int(row[0]) >= spoken_for:
+            why = "sample index outside the design"  # beyond the spec's samples and no extension's draw
         if why is None and int(row[0]) in done:
             why = "sample already journaled" if row == done[int(row[0])] else "sample journaled twice, differently"
         if why is not None:
             dropped[why] = dropped.get(why, 0) + 1
             continue
         done[int(row[0])] = row
+    # The design is the spec's and every extension its rows show (--until grows it by whole batches of
+    # the spec's samples): a row beyond the spec's samples that matches its draw is kept, and the rest
+    # of its batch runs; nothing beyond the last kept row is drawn.
+    beyond = [i for i in done if i >= spoken_for]
+    if beyond:
+        batch = spec.samples
+        spec.design.extend_to(min(MAX_SAMPLES, -(-(max(beyond) + 1) // batch) * batch))
+    elif len(spec.design) != spoken_for:
+        spec.design.extend_to(spoken_for)
     return done, dropped, not dropped
+
+
+
+def _extend_over(spec, rows):
+    """Extends a grid-less design over the largest sample index the rows name
+    (below MAX_SAMPLES), so that their draws can be checked; returns the
+    design's size before, to which read_journal shrinks it back unless a row
+    beyond was kept."""
+    size = len(spec.design)
+    if spec.grid:
+        return size
+    named = [int(r[0]) for r in rows if r and r[0].isdigit() and len(r[0]) <= 8]
+    top = max([i for i in named if i < MAX_SAMPLES], default=-1)
+    if top >= size:
+        spec.design.extend_to(top + 1)
+    return size

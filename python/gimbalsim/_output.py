@@ -23,13 +23,14 @@ source tree, without the built package.
 import contextlib
 import csv
 import errno
+import io
 import itertools
 import math
 import os
 import stat
 
 __all__ = ["OutputError", "check_outputs", "open_output", "write_text", "write_bytes", "write_csv", "csv_text",
-           "savefig", "open_append", "append_synced"]
+           "savefig", "figure_bytes", "open_append", "append_synced"]
 
 
 class OutputError(OSError):
@@ -246,6 +247,14 @@ def savefig(fig, path, inputs=(), close=False, **kwargs):
 
 
 # ---- an append-only log (the sweep's journal), which is never renamed: appended and synced ----
+
+def figure_bytes(fig, fmt, **kwargs):
+    """A matplotlib figure as the bytes of format fmt, written nowhere: a
+    caller that must write it together with another output renders it first."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format=fmt, **kwargs)
+    return buf.getvalue()
+
 
 def open_append(path):
     """A file descriptor appending to the existing regular file path

@@ -74,6 +74,7 @@ class SweepSpec:
         if not self.parameters and not self.grid:
             spec.refuse("parameters", "nothing is dispersed: give parameters or grid")
         check_within(spec, "parameters", self.parameters, [k for k, _ in self.grid], self.base.values())
+        self._refuse_keys_that_do_not_act(spec, grid)
         # Values the scene would refuse are refused now, at the spec's line.
         for p in self.parameters:
             for v in p.extremes():
@@ -98,6 +99,27 @@ class SweepSpec:
         # open loop: the metrics against the ideal-joint twin; closed loop: an index per phase, and why one is NaN
         self.metrics = self.closed.metrics() + JOINT_METRICS + ["t_end"] if self.closed else METRICS
         self.text_columns = 1 if self.closed else 0
+
+    def _refuse_keys_that_do_not_act(self, spec, grid):
+        """A key whose value this kind of run never reads would be recorded as
+        applied while every run ignores it: refused at its line."""
+        aliases = gimbalsim.key_aliases()
+        if self.closed is not None:
+            idle = {"sim.duration": "the closed loop runs for the spec's sim.duration (set:), one length for all",
+                    "torque.tau1": "the controller commands the torque", "torque.tau2": "the controller commands "
+                    "the torque"}
+        else:
+            idle = {}
+        dispersed = [(f"parameters.{p.key}", p.key, p.node) for p in self.parameters] + \
+                    [(f"grid.{k}", k, n) for k, n in grid.items()]
+        for where, key, node in dispersed:
+            canonical = aliases.get(key, key)
+            why = idle.get(canonical)
+            if why is None and self.closed is None and canonical.startswith("sensors."):
+                why = "an open-loop run has no sensors (they act in a closed-loop sweep: name its controller)"
+            if why is not None:
+                spec.refuse(where, f"not read by this sweep's runs ({why}): a dispersed value would be recorded "
+                            "but never act", node)
 
     def _try(self, spec, where, overrides, node):
         try:

@@ -45,5 +45,4 @@ class Until:
 
     def grow(self, spec):
         """The design with one more batch of the spec's samples (capped)."""
-        n = min(self.max_samples, len(spec.design) + spec.samples)
-        spec.design.samples = spec.design.size = n
+        spec.design.extend_to(min(self.max_samples, len(spec.design) + spec.samples))

@@ -176,6 +176,14 @@ class Design:
     def __len__(self):
         return self.size
 
+    def extend_to(self, n):
+        """The random draws 0..n-1 (--until grows a design so, a resume or a
+        replay takes its extension back): sample i's values depend only on
+        (seed, i), so extending never changes a drawn row. Not with a grid."""
+        if self.grid_keys:
+            raise ValueError("a design with a grid cannot grow")
+        self.samples = self.size = n
+
     def grid_point(self, g):
         """Grid point g's values, the first key slowest (as itertools.product)."""
         point = []

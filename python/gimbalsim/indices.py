@@ -58,14 +58,16 @@ def _phase_slice(t_s, t_start, t_end):
     dt = float(np.median(step))
     if not dt > 0 or np.max(np.abs(step - dt)) > 1e-9 * max(1.0, abs(t_s[-1])):
         raise ValueError("t_s: the samples must be uniformly spaced in time")
-    if not t_end > t_start:
-        raise ValueError(f"phase [{t_start}, {t_end}) s: the end must lie after the start")
+    if not (math.isfinite(t_start) and t_end > t_start):
+        raise ValueError(f"phase [{t_start}, {t_end}) s: need a finite start and an end after it")
     rows = np.flatnonzero((t_s >= t_start - 1e-12) & (t_s < t_end - 1e-12))
     return rows, dt
 
 
 def _window_samples(length_s, dt, name):
     """A window length as a whole number of samples; refuses one that is not."""
+    if not (math.isfinite(length_s) and length_s > 0):
+        raise ValueError(f"{name} = {length_s} s: need a finite length above 0")
     n = round(length_s / dt)
     if n < 1 or abs(n * dt - length_s) > 1e-9 * max(1.0, length_s):
         raise ValueError(f"{name} = {length_s} s is not a whole number of samples of {dt} s")
@@ -78,10 +80,14 @@ def _as_columns(e):
 
 
 def _coverage_reason(rows, t_s, t_start, t_end, dt):
-    """Why a phase has no samples, or "" when the run covered it whole."""
+    """Why a phase has no figure, or "" when the run covered it whole. An
+    open-ended phase [t_start, inf) (a controller's track) ends with the run:
+    reaching it is covering it."""
     if len(rows) == 0:
         return f"the run ({t_s[0]:g} to {t_s[-1]:g} s) never reached the phase [{t_start:g}, {t_end:g}) s"
-    if t_s[rows[-1]] + dt < t_end - 1e-9:
+    if t_s[rows[0]] - dt > t_start + 1e-9:
+        return f"the run began at {t_s[0]:g} s, inside the phase [{t_start:g}, {t_end:g}) s"
+    if math.isfinite(t_end) and t_s[rows[-1]] + dt < t_end - 1e-9:
         return f"the run ended at {t_s[-1]:g} s, inside the phase [{t_start:g}, {t_end:g}) s"
     return ""
 
@@ -259,6 +265,8 @@ class Verdict:
 def requirement_verdict(values, requirement, level=LEVEL_3SIGMA, confidence=0.95):
     """PASS/FAIL of `requirement` [rad] with the probability that a unit meets it.
     NaN values count as not meeting it."""
+    if not 0.0 < level < 1.0 or not 0.0 < confidence < 1.0:  # a verdict at level 0 would be PASS for anything
+        raise ValueError("level and confidence must lie strictly between 0 and 1")
     x = np.asarray(values, dtype=float).ravel()
     n = len(x)
     k = int(np.count_nonzero(np.isfinite(x) & (x <= requirement)))

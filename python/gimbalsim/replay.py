@@ -23,9 +23,9 @@ from . import _provenance
 from ._errors import (EXIT_INTERNAL, EXIT_OK, EXIT_REFUSED, EXIT_STOPPED, NotReproduced, OutputError, SpecError,
                       guarded_main)
 from ._journal import JOURNAL
-from ._output import check_outputs, savefig
+from ._output import check_outputs, figure_bytes, write_bytes
 from ._sample import sample_alone
-from ._sweep_spec import SweepSpec
+from ._sweep_spec import MAX_SAMPLES, SweepSpec
 
 NOT_COMPARED = ("wall_time_s",)  # how long it took, not what it computed
 
@@ -124,14 +124,17 @@ def replay(folder, i, out, plot_path=None):
     plot_path = _check_output(plot_path or out.with_suffix(".png"), folder, "--plot")
     if plot_path.resolve() == out.resolve():
         _refuse(f"--plot {plot_path}: the same file as --out")
+    plot_format = _figure_format(plot_path)
     inputs = spec.input_files()
     try:  # before anything runs, as the command line: refused (exit 2)
         check_outputs([out, plot_path], inputs)
     except OutputError as e:
         _refuse(str(e))
+    source, header, rows = _read_rows(folder)
+    if i in rows and i >= len(spec.design) and not spec.grid and i < MAX_SAMPLES:
+        spec.design.extend_to(i + 1)  # a row --until added: its draw is (seed, i) as any other's
     if not 0 <= i < len(spec.design):
         _refuse(f"--replay {i}: outside the sweep's samples 0..{len(spec.design) - 1}")
-    source, header, rows = _read_rows(folder)
     if header != spec.csv_header():
         _refuse(f"{source}: its columns are not those of the spec copy {folder / _provenance.SPEC_COPY}")
     if i not in rows:
@@ -156,13 +159,18 @@ def replay(folder, i, out, plot_path=None):
         print(f"error: sample {i}'s run ({type(run).__name__}) cannot write its time series (no to_csv)",
               file=sys.stderr)
         return EXIT_INTERNAL
+    figure = _plot(run, spec, i, replay_status, plot_format)  # drawn before any file is written
     try:
         run.to_csv(out)  # an open loop's Run writes through the C++ writer, which raises OSError
     except OutputError:
         raise
     except OSError as e:
         raise OutputError(str(e)) from None
-    _plot(run, spec, i, replay_status, plot_path, inputs)
+    try:
+        write_bytes(plot_path, figure, inputs)
+    except OutputError:
+        out.unlink(missing_ok=True)  # the two outputs come together or not at all
+        raise
     print(f"replay: sample {i}: {len(run.rows)} rows in {out}, plot {plot_path}", file=sys.stderr)
     if differ:
         _report(differ, header, recorded, row, i, source)
@@ -195,14 +203,31 @@ PANELS = [("joint angle [rad]", ("theta1", "theta2")), ("joint angle [rad]", ("t
           ("joint-2 force [N]", ("joint2_force",)), ("truth pointing error [rad]", ("truth_error",))]
 
 
-def _plot(run, spec, i, status, path, inputs=()):
-    """Draws the panels the run has columns for into path; returns their labels."""
+def _figure_format(path):
+    """The figure format path's suffix names; refused (before anything runs)
+    when matplotlib cannot write it."""
     import matplotlib
     matplotlib.use("Agg")
+    from matplotlib.backend_bases import FigureCanvasBase
+    fmt = path.suffix.lstrip(".").lower()
+    supported = FigureCanvasBase.get_supported_filetypes()
+    if fmt not in supported:
+        _refuse(f"--plot {path}: a figure is written as one of {', '.join(sorted(supported))} (its suffix), "
+                f"not {fmt or 'a file without a suffix'!r}")
+    return fmt
+
+
+def _panels(run):
+    """[(label, column names)] of the panels the run has columns for."""
+    return [(label, names) for label, names in PANELS if all(n in run.columns for n in names)]
+
+
+def _plot(run, spec, i, status, fmt):
+    """The run's panels as the bytes of a figure in format fmt."""
     import matplotlib.pyplot as plt
 
     c = run.columns
-    panels = [(label, names) for label, names in PANELS if all(n in c for n in names)]
+    panels = _panels(run)
     fig, axes = plt.subplots(len(panels), 1, figsize=(8, 2.7 * len(panels)), sharex=True, squeeze=False)
     for ax, (label, names) in zip(axes[:, 0], panels):
         for n in names:
@@ -217,8 +242,10 @@ def _plot(run, spec, i, status, path, inputs=()):
     axes[-1, 0].set_xlabel("t [s]")
     fig.suptitle(f"sample {i} of the sweep in {spec.spec_path.parent.name}/ ({status})")
     fig.tight_layout()
-    savefig(fig, path, inputs, dpi=110, close=True)
-    return [label for label, _ in panels]
+    try:
+        return figure_bytes(fig, fmt, dpi=110)
+    finally:
+        plt.close(fig)
 
 
 def main(folder, i, out, plot_path):

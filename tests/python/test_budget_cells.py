@@ -47,3 +47,16 @@ def test_a_supported_quantile_on_the_missing_units_says_so():
     text = _budget.cell(e)
     assert "n/a" not in text, text
     assert "beyond every figure" in text and "20 of 100 units without one" in text
+
+
+def test_every_unit_drawn_counts_crashed_and_refused_as_worst():
+    # 59 good units, one that crashed its worker, one the scene refused: n is the 61 drawn,
+    # and a requirement every good unit meets cannot PASS over the units without a figure.
+    drawn = rows(59, 0) + [["59", "crashed", ""], ["60", "refused:contact.clearance", ""]]
+    idx = SimpleNamespace(name="ape", level=0.9, confidence=0.5, requirement=1.0)
+    e = _budget.entry(Spec(), drawn, idx, "track")
+    assert e["n"] == 61 and e["n_missing"] == 2
+    assert e["requirement"]["n_meeting"] == 59
+    assert e["requirement"]["fraction_meeting"] == 59 / 61
+    strict = SimpleNamespace(name="ape", level=0.98, confidence=0.5, requirement=1.0)  # PASS over the 59 alone
+    assert _budget.entry(Spec(), drawn, strict, "track")["requirement"]["verdict"].startswith("FAIL")

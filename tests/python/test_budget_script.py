@@ -70,3 +70,25 @@ def test_the_shipped_page_cannot_be_sent_elsewhere(tmp_path):
     assert p.returncode == 2
     assert "name the spec" in p.stderr
     assert not (tmp_path / "x").exists()
+
+
+def test_a_refused_shipped_spec_leaves_the_previous_results(tmp_path):
+    # The shipped budget regenerates out/pointing_budget/: a spec refused (or a run that fails)
+    # must leave the previous results there, and write no page.
+    root = tmp_path / "checkout"
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/pages/results_page.py", "docs/results/pointing_budget.md"):
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(SOURCE / rel, root / rel)
+    (root / "tools/sweeps/pointing_budget.yaml").write_text(SPEC.replace("samples: 2", "samples: 2\nsampels: 3"))
+    previous = root / "out" / "pointing_budget"
+    previous.mkdir(parents=True)
+    (previous / "results.csv").write_text("the previous run's\n")
+    before = digest(root / "docs")
+    env = dict(os.environ, GIMBALSIM_BUILD=str(pathlib.Path(os.environ["PYTHONPATH"]).parent))
+    p = subprocess.run(["bash", str(root / "tools/sweeps/run_pointing_budget.sh"), "--workers", "1"],
+                       capture_output=True, text=True, timeout=300, env=env)
+    assert p.returncode == 2, p.stderr
+    assert "key 'sampels': unknown key" in p.stderr
+    assert (previous / "results.csv").read_text() == "the previous run's\n"
+    assert sorted(os.listdir(root / "out")) == ["pointing_budget"]  # no half-made folder left
+    assert digest(root / "docs") == before

@@ -145,3 +145,32 @@ def test_requirement_verdict_clopper_pearson():
     assert v.lower == pytest.approx(0.05 ** (1 / 500), rel=1e-9) and not v.passed
     v = indices.requirement_verdict(np.r_[np.zeros(1990), np.ones(10)], 0.5)
     assert v.n_meeting == 1990 and not v.passed
+
+
+def test_a_verdict_at_a_degenerate_level_or_confidence_is_refused():
+    for level, confidence in ((0.0, 0.95), (0.9973, 0.0), (1.0, 0.95), (0.9973, 1.0)):
+        with pytest.raises(ValueError, match="strictly between 0 and 1"):
+            indices.requirement_verdict([1e-6] * 100, 1e-3, level, confidence)
+
+
+def test_a_phase_the_run_covered_only_in_part_has_no_figure():
+    late = T[T >= 1.0]  # the run began at 1 s, inside [0.5, 2)
+    v = indices.ape(late, np.full(len(late), 1e-5), 0.5, 2.0)
+    assert math.isnan(v.value) and "began at 1 s, inside the phase" in v.reason
+
+
+def test_an_open_ended_phase_the_run_reached_has_its_figure():
+    # A controller's track window [3.5, inf): it ends with the run, which reached it.
+    e = np.where(T >= 3.5, 2e-5, 9e-5)
+    assert indices.ape(T, e, 3.5, math.inf).value == 2e-5
+    assert indices.rpe(T, e, 3.5, math.inf, 0.1).value < 1e-12 * 2e-5  # constant there: round-off of the running sums
+    assert math.isnan(indices.ape(T, e, 4.5, math.inf).value)  # never reached
+
+
+def test_an_infinite_or_empty_window_is_a_value_error_not_a_traceback():
+    e = np.zeros(len(T))
+    for bad in (math.inf, math.nan, 0.0, -0.1):
+        with pytest.raises(ValueError, match="need a finite length above 0"):
+            indices.rpe(T, e, 0.0, 3.0, bad)
+    with pytest.raises(ValueError, match="need a finite start"):
+        indices.ape(T, e, -math.inf, 3.0)

@@ -241,6 +241,9 @@ BAD = [
     ("grid:\n  friction.law: [coulomb, sticky]\n", "grid.friction.law", 7, "the scene refuses"),
     ("set: {sim.durration: 2}\nparameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n", "set.sim.durration", 6,
      "not a key of the scene"),
+    # a key the open-loop runs never read: recorded as applied, acting on nothing
+    ("parameters:\n  sensors.star_tracker_noise: {uniform: [0.0, 1.0e-5]}\n",
+     "parameters.sensors.star_tracker_noise", 7, "an open-loop run has no sensors"),
 ]
 
 
@@ -271,20 +274,26 @@ def test_missing_or_malformed_specs_are_refused(tmp_path):
 
 
 def test_the_keys_the_docs_call_required_are_the_ones_the_spec_needs(tmp_path):
-    # docs/python.md: "every key optional but `a`, `b` and `c`". A spec of just
-    # those loads; a spec without any one of them is refused naming it.
+    # docs/python.md: "(`a`, `b` and at least one of `c` and `d` are required; ...)". A spec of
+    # the required keys and either one of the others loads; one without any of them is refused naming it.
     doc = (SOURCE / "docs" / "python.md").read_text()
-    sentence = re.search(r"every key optional but ([^;:)]*)", doc).group(1)
-    required = re.findall(r"`([a-z_]+)`", sentence)
-    assert required, sentence
+    sentence = re.search(r"\(([^()]*) are\s+required; every other key is optional\)", doc).group(1)
+    always, either = sentence.split("at least one of")
+    required, one_of = re.findall(r"`([a-z_]+)`", always), re.findall(r"`([a-z_]+)`", either)
+    assert required and one_of, sentence
     values = {"scene": f"{SCENES}/paper_clearance.yaml", "samples": "2", "seed": "1",
-              "parameters": "{friction.mu: {uniform: [0.1, 0.2]}}"}
-    (tmp_path / "min.yaml").write_text("".join(f"{k}: {values[k]}\n" for k in required))
-    assert SweepSpec(tmp_path / "min.yaml").samples == 2
+              "parameters": "{friction.mu: {uniform: [0.1, 0.2]}}", "grid": "{friction.mu: [0.1, 0.2]}"}
+    spec = lambda keys: "".join(f"{k}: {values[k]}\n" for k in keys)  # noqa: E731
+    for extra in one_of:
+        (tmp_path / "min.yaml").write_text(spec(required + [extra]))
+        assert SweepSpec(tmp_path / "min.yaml").samples == 2
     for left_out in required:
-        (tmp_path / "less.yaml").write_text("".join(f"{k}: {values[k]}\n" for k in required if k != left_out))
+        (tmp_path / "less.yaml").write_text(spec([k for k in required if k != left_out] + one_of[:1]))
         with pytest.raises(SpecError, match=f"key '{left_out}': missing"):
             SweepSpec(tmp_path / "less.yaml")
+    (tmp_path / "none.yaml").write_text(spec(required))
+    with pytest.raises(SpecError, match="nothing is dispersed"):
+        SweepSpec(tmp_path / "none.yaml")
 
 
 def test_an_out_that_is_a_file_is_refused_and_left_alone(spec, tmp_path):

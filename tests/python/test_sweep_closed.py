@@ -234,6 +234,25 @@ def test_until_stops_by_the_cap_and_by_width_and_does_not_depend_on_batches(tmp_
     assert read(tmp_path / "width")[1] == nine[1][:4]
 
 
+def test_resume_and_replay_keep_the_rows_until_added(tmp_path):
+    # --until grew a 3-sample spec to 9 rows; a resume of the interrupted sweep keeps rows 3..6 (not
+    # "outside the design"), runs only the rest of their batch, and a replay takes row 7.
+    grown = tmp_path / "grown"
+    run_sweep(small_spec(tmp_path, 3), grown, "--workers", "1", "--until", "ape:track:1e-9", "--max-samples", "9")
+    out = tmp_path / "resumed"
+    out.mkdir()
+    (out / "spec.json").write_text((grown / "spec.json").read_text())
+    lines = (grown / "results.csv").read_text().splitlines(keepends=True)
+    (out / "results.partial.csv").write_text("".join(lines[:8]))  # the header and samples 0 to 6
+    p = run_sweep(small_spec(tmp_path, 3), out, "--workers", "1", "--resume")
+    assert "9 samples, 7 already done, 2 to run" in p.stderr, p.stderr
+    assert "dropped" not in p.stderr
+    assert read(out) == read(grown)
+    p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(grown), "--replay", "7", "--out",
+                        str(tmp_path / "run7.csv")], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0 and "reproduces its row" in p.stderr, p.stderr
+
+
 def test_until_keeps_one_cluster_for_all_its_rounds(tmp_path, monkeypatch):
     import contextlib
     from gimbalsim import _cluster, sweep
@@ -263,6 +282,12 @@ REFUSALS = [
     ("controller_set: {profile.slew_start: 0.0,", "controller_set: {azimuth.kp: -1.0, profile.slew_start: 0.0,",
      "controller_set.azimuth.kp", "the controller refuses"),
     ("  rpe: {window: 0.05}", "  rpe: {}", "indices.rpe.window", "missing"),
+    # keys a closed loop never reads: a dispersed value would be recorded, never act
+    ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.duration: {uniform: [0.4, 0.5]}",
+     "parameters.sim.duration", "not read by this sweep's runs (the closed loop runs for the spec's sim.duration"),
+    ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  torque.tau2: {uniform: [1.0, 2.0]}",
+     "parameters.torque.tau2", "the controller commands the torque"),
+    ("  rpe: {window: 0.05}", "  rpe: {window: .inf}", "indices.rpe.window", "whole number of control periods"),
     ("  rpe: {window: 0.05}", "  rpe: {window: 0.0505}", "indices.rpe.window", "whole number of control periods"),
     # the C++ keys' whole-multiple rule (relative 1e-12), not a looser one of the spec's own
     ("  rpe: {window: 0.05}", "  rpe: {window: 0.05000000001}", "indices.rpe.window",
@@ -324,6 +349,20 @@ def test_a_run_ending_before_the_profiles_track_is_refused_at_its_duration(tmp_p
     assert e.value.line == text.split("\n").index("set: {sim.duration: 0.3}") + 1
     (tmp_path / "ok.yaml").write_text(text.replace("sim.duration: 0.3", "sim.duration: 0.32"))
     assert [p for p, _ in SweepSpec(tmp_path / "ok.yaml").closed.phases] == ["slew", "hold", "track"]
+
+
+def test_an_empty_profile_phase_is_refused_when_named_and_left_out_otherwise(tmp_path):
+    from gimbalsim.sweep import SpecError, SweepSpec
+    # profile.hold_time 0: the hold [0.2, 0.2) s has no tick, so no sample could have a figure there.
+    text = SPEC.replace("profile.hold_time: 0.1}", "profile.hold_time: 0.0}")
+    text = text.replace("  pde: {window: 0.02, separation: 0.05}\n", "")
+    (tmp_path / "named.yaml").write_text(text)
+    with pytest.raises(SpecError) as e:
+        SweepSpec(tmp_path / "named.yaml")
+    assert e.value.key == "phases.hold" and "phase 'hold' [0.2, 0.2) s is empty" in str(e.value), str(e.value)
+    assert e.value.line == text.split("\n").index("phases: [slew, hold, track, {late: [0.4, 0.5]}]") + 1
+    (tmp_path / "default.yaml").write_text(text.replace("phases: [slew, hold, track, {late: [0.4, 0.5]}]\n", ""))
+    assert [p for p, _ in SweepSpec(tmp_path / "default.yaml").closed.phases] == ["slew", "track"]
 
 
 def test_until_refused_for_an_index_the_spec_does_not_name(spec, tmp_path):

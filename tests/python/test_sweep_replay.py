@@ -342,8 +342,10 @@ def test_a_closed_loop_sample_is_replayed_bit_for_bit_and_its_controller_fingerp
     # the closed loop's plot shows its own columns: true joint angles, applied torques, truth error
     from types import SimpleNamespace
     from gimbalsim import replay
-    drawn = replay._plot(run, SimpleNamespace(spec_path=tmp_path / "out" / "spec.yaml"), 1, "ok", tmp_path / "p.png")
+    drawn = [label for label, _ in replay._panels(run)]
     assert drawn == ["joint angle [rad]", "applied torque [N m]", "truth pointing error [rad]"]
+    png = replay._plot(run, SimpleNamespace(spec_path=tmp_path / "out" / "spec.yaml"), 1, "ok", "png")
+    assert png.startswith(b"\x89PNG")
 
     text = (tmp_path / "ctrl.yaml").read_text()
     assert text.count("kd: 1050") == 1  # the elevation's derivative gain, changed since the sweep
@@ -352,3 +354,23 @@ def test_a_closed_loop_sample_is_replayed_bit_for_bit_and_its_controller_fingerp
     assert p.returncode == 2, p.stderr
     assert "controller_config_sha256" in p.stderr and "ctrl.yaml" in p.stderr
     assert not (tmp_path / "again.csv").exists()
+
+
+def test_a_figure_format_matplotlib_cannot_write_is_refused_before_anything_runs(swept, tmp_path):
+    (tmp_path / "notes.yaml").write_text("mine: 1\n")
+    p = sweep(swept, "--replay", 2, "--out", tmp_path / "run.csv", "--plot", tmp_path / "notes.yaml")
+    assert p.returncode == 2, p.stderr
+    assert "--plot" in p.stderr and "not 'yaml'" in p.stderr and "Traceback" not in p.stderr
+    assert not (tmp_path / "run.csv").exists() and (tmp_path / "notes.yaml").read_text() == "mine: 1\n"
+
+
+def test_a_plot_that_cannot_be_written_takes_its_csv_with_it(swept, tmp_path, monkeypatch):
+    from gimbalsim import replay
+    from gimbalsim._output import OutputError
+
+    def full_disk(path, data, inputs=()):
+        raise OutputError(f"{path}: write failed: No space left on device")
+    monkeypatch.setattr(replay, "write_bytes", full_disk)
+    with pytest.raises(OutputError, match="No space left"):
+        replay.replay(swept, 2, tmp_path / "run.csv", tmp_path / "run.png")
+    assert sorted(os.listdir(tmp_path)) == []  # neither output, no temporary

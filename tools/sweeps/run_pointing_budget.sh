@@ -47,8 +47,13 @@ cd "$ROOT"
 COMMAND="bash tools/sweeps/run_pointing_budget.sh$(printf ' %q' "${ARGS[@]+"${ARGS[@]}"}")"
 OUT=out/pointing_budget
 mkdir -p out
+# Into a fresh folder first: the previous results go only once this run has
+# its own (a refused spec or a failed run leaves them as they were).
+NEW="$OUT.new-$$"
+trap 'rm -rf "$NEW"' EXIT
+PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$SHIPPED" --out "$NEW" --no-progress "${ARGS[@]+"${ARGS[@]}"}"
 rm -rf "$OUT"
-PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$SHIPPED" --out "$OUT" --no-progress "${ARGS[@]+"${ARGS[@]}"}"
+mv "$NEW" "$OUT"
 RESULTS=docs/results
 rm -f "$RESULTS"/pointing_budget_*_cdf.png  # the page shows this run's figures only, none left from an older one
 for png in "$OUT"/plots/*_cdf.png; do
