@@ -35,6 +35,7 @@ mirrored in _errors.py): 0, 2 spec refused, 3 no trial completed, 4 an output no
 import argparse
 import json
 import math
+import os
 import pathlib
 import sys
 import time
@@ -61,7 +62,11 @@ def run_plants(base, controller, duration, items):
         except gimbalsim.SceneError as e:
             out.append({"plant": j, "ok": False, "stop_key": f"refused:{e.key}", "wall_time": 0.0})
             continue
-        s = gimbalsim.closed_loop(scene, controller, duration).summary
+        try:
+            s = gimbalsim.closed_loop(scene, controller, duration).summary
+        except (gimbalsim.SceneError, ValueError) as e:  # e.g. a period that does not divide the run: FAIL, not a crash
+            out.append({"plant": j, "ok": False, "stop_key": "refused", "error": str(e), "wall_time": 0.0})
+            continue
         s["plant"] = j
         s["wall_time"] = time.perf_counter() - t0
         out.append(s)
@@ -103,6 +108,23 @@ STUDY_NAME = "gimbalsim.tune"
 PLANT_FIGURES = ("max_truth_error_track_rad", "rms_truth_error_track_rad", "controller_limited_ticks", "ticks")
 
 
+_HELD = []  # the lock files of the studies this process holds, open until it ends
+
+
+def _hold_the_study(out):
+    """One tuner per study: an exclusive lock on out/.study.lock for the life
+    of the process; a second tuner on the same folder is refused (exit 2)."""
+    import fcntl
+    fd = os.open(out / ".study.lock", os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0), 0o666)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        raise SpecError(f"{out}: another tuner is running this study; wait for it to end (then --resume), or use "
+                        f"another --out") from None
+    _HELD.append(fd)
+
+
 def open_study(spec, out, resume, sampler):
     """The study stored in out/study.db (Optuna's RDB storage on SQLite):
     created with the baseline as its first trial, or, with resume, loaded;
@@ -120,12 +142,14 @@ def open_study(spec, out, resume, sampler):
         raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
     import sqlalchemy.exc
 
+    _hold_the_study(out)
     existed = db.exists()
     try:
         storage = optuna.storages.RDBStorage(f"sqlite:///{db.resolve()}")
         study = optuna.create_study(storage=storage, study_name=STUDY_NAME, direction="minimize", sampler=sampler,
                                     load_if_exists=True)
-    except (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError) as e:
+    # RuntimeError: a study file of another Optuna version ("no longer compatible with the table schema")
+    except (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError, RuntimeError) as e:
         if not existed:  # a new study not written (a full disk): exit 4 in main
             raise
         raise SpecError(f"{db}: cannot open it as a study ({str(e).splitlines()[0]}); use another --out") from None
@@ -178,7 +202,15 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
             while finished + len(in_flight) < spec.trials and len(in_flight) < parallel:
                 trial = study.ask()
                 gains = {p.key: suggest(trial, p) for p in spec.gains}
-                ctrl = gimbalsim.Controller(spec.controller_path, {**spec.controller_set, **gains})
+                try:
+                    ctrl = gimbalsim.Controller(spec.controller_path, {**spec.controller_set, **gains})
+                except (gimbalsim.SceneError, ValueError) as e:  # gains the controller refuses: FAIL, the study goes on
+                    _finish(study, trial, gains, [{"plant": j, "ok": False, "stop_key": "refused", "error": str(e)}
+                                                  for j, _ in plants], spec, 0.0)
+                    finished += 1
+                    bar.update(1)
+                    _write_trials(out, header, study, spec.input_files())
+                    continue
                 # the scene goes in each task: scattered data would die with its workers
                 futs = [(client.submit(run_plants, spec.base, ctrl, spec.duration, plants[k:k + chunk], pure=False),
                          plants[k:k + chunk]) for k in range(0, len(plants), chunk)]
@@ -234,7 +266,8 @@ def _finish(study, trial, gains, results, spec, wall):
     unscored = sorted({r.get("reasons", {}).get(metric, "not finite") for r in ok if not math.isfinite(r[metric])})
     if len(ok) < len(results):
         why = sorted({r["stop_key"] for r in results if not r["ok"]})
-        row.update(state="FAIL", score="", reason="plant stopped: " + " ".join(why))
+        errors = sorted({r["error"] for r in results if not r["ok"] and r.get("error")})
+        row.update(state="FAIL", score="", reason="plant stopped: " + " ".join(why) + (f" ({errors[0]})" if errors else ""))
     elif unscored:  # a figure with no value is no score, never 0 (the spec check makes it rare)
         row.update(state="FAIL", score="", reason=f"no {metric}: " + "; ".join(unscored))
     else:

@@ -183,3 +183,47 @@ def test_a_study_refused_space_exits_4_and_resumes(tmp_path):
     rows = trials(out)
     assert [int(r["trial"]) for r in rows][:len(kept)] == kept and len(rows) >= 3
     assert sum(r["state"] == "COMPLETE" for r in rows) >= 3
+
+
+def test_a_second_tuner_on_a_running_study_is_refused(tmp_path):
+    spec = write_spec(tmp_path, 4)
+    out = tmp_path / "o"
+    first = subprocess.Popen(tune_cmd(spec, out), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        while not (out / "study.db").exists() and time.monotonic() < deadline and first.poll() is None:
+            time.sleep(0.05)
+        assert first.poll() is None, "the first tuner ended before the second could try"
+        p = subprocess.run(tune_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=120)
+        assert p.returncode == 2, p.stderr
+        assert "another tuner is running this study" in p.stderr and "Traceback" not in p.stderr
+    finally:
+        _, err = first.communicate(timeout=600)
+    assert first.returncode == 0, err
+    assert len(trials(out)) == 4  # the first tuner's study whole
+
+
+def test_a_study_file_of_another_optuna_version_is_refused(tmp_path):
+    spec = write_spec(tmp_path, 1)
+    out = tmp_path / "o"
+    assert subprocess.run(tune_cmd(spec, out), capture_output=True, timeout=600).returncode == 0
+    with sqlite3.connect(out / "study.db") as db:  # a schema this Optuna does not know (a later one's)
+        db.execute("UPDATE alembic_version SET version_num = 'v9.9.9.z'")
+    p = subprocess.run(tune_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2, p.stderr
+    assert "study.db: cannot open it as a study" in p.stderr and "Traceback" not in p.stderr
+
+
+def test_gains_the_run_cannot_take_fail_their_trial_and_the_study_goes_on(tmp_path):
+    # A control period drawn between 1 and 2 ms rarely divides the 3.7 s run: such a trial is FAIL with the
+    # reason, the others (the configuration's 1 ms first) run, and the tuner ends normally.
+    text = SPEC.replace("TRIALS", "4").replace("  elevation.kd: {uniform: [300, 3000]}\n",
+                                               "  control.period: {uniform: [0.001, 0.002]}\n")
+    (tmp_path / "t.yaml").write_text(text)
+    p = subprocess.run(tune_cmd(tmp_path / "t.yaml", tmp_path / "o"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    assert "Traceback" not in p.stderr
+    rows = trials(tmp_path / "o")
+    assert len(rows) == 4 and rows[0]["state"] == "COMPLETE"
+    failed = [r for r in rows if r["state"] == "FAIL"]
+    assert failed and all("control period" in r["reason"] or "control.period" in r["reason"] for r in failed), rows

@@ -35,3 +35,12 @@ def test_documented_gain_set_runs_over_lcm(tmp):
     assert "run failed" not in p.stdout
     rms = [float(r.split()[2]) for r in rows]  # rms_truth [rad]
     assert all(0.0 < x < 1.0 for x in rms), rows
+
+
+@pytest.mark.parametrize("mode,program", [(["--in-process"], "controller_sweep"), ([], "firmware_sim")])
+def test_a_program_not_built_is_named_with_its_build_command(tmp, mode, program):
+    # docs/bench.md: --in-process runs controller_sweep, which the README's commands do not build.
+    p = subprocess.run([sys.executable, str(SOURCE / "tools" / "hil" / "tune_sweep.py"), "--bin", str(tmp), "--omega",
+                        "20", *mode], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2, (p.stdout, p.stderr)
+    assert f"cmake --build build -j2 --target {program}" in p.stderr and "Traceback" not in p.stderr, p.stderr

@@ -144,8 +144,18 @@ def metrics(args, cfg, ctl, truth, duration, wall):
                 tau1=tau1, tau2=tau2, speed=duration / wall, answered=len(ctl))
 
 
+def require_programs(args, names):
+    """Each program in --bin, or exit 2 naming the command that builds it (never a traceback)."""
+    missing = [n for n in names if not os.access(os.path.join(args.bin, n), os.X_OK)]
+    if missing:
+        print(f"tune_sweep: error: {', '.join(missing)} not built in {args.bin}: "
+              f"cmake --build build -j2 --target {' '.join(missing)}", file=sys.stderr)
+        sys.exit(2)
+
+
 def main():
     args = parse_args()
+    require_programs(args, ["controller_sweep"] if args.in_process else ["firmware_sim", "pointing_controller"])
     if args.in_process:
         cmd = [os.path.join(args.bin, "controller_sweep"), "--scene", args.scene, "--config", args.config,
                "--omega", args.omega, "--settle-tol", repr(args.settle_tol)]
