@@ -11,6 +11,7 @@
 //    torques, tick by tick) has the same dynamics bit for bit and the same
 //    work per tick (what tools/hil/worst_tick.py's replay relies on).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
@@ -170,6 +171,8 @@ TEST(HilLockstep, RealTimeRunReplayedInLockstepHasTheSameDynamicsAndWork) {
 TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
   TempDir dir("replay_refusals");
   const std::string prog = "'" + std::string(GIMBALSIM_TORQUE_REPLAY) + "' ";
+  const std::string fifo = dir / "run.fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   auto write = [&](const char* name, const char* text) {
     std::ofstream(dir / name) << text;
     return dir / name;
@@ -177,8 +180,14 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
   const struct {
     std::string path, expected;
   } cases[] = {
-      {dir / "none.csv", "none.csv: cannot open"},
-      {scenePath("paper_clearance"), "paper_clearance.yaml:1: no tau1_Nm and tau2_Nm columns"},
+      {dir / "none.csv", "none.csv: no such file"},
+      {scenePath("paper_clearance"), "paper_clearance.yaml:1: no seq, tau1_Nm and tau2_Nm columns"},
+      // a pipe would block, a device never end: refused at once
+      {fifo, "run.fifo: not a regular file"},
+      {"/dev/zero", "/dev/zero: not a regular file"},
+      // written every 10 ticks (--truth-every 10): row 1 is tick 10, not tick 1
+      {write("every10.csv", "seq,tau1_Nm,tau2_Nm\n0,0,0\n10,1,1\n"),
+       "every10.csv:3: seq 10 where tick 1 belongs: the CSV was not written every tick"},
       {write("word.csv", "seq,tau1_Nm,tau2_Nm\n0,0.5,0\n1,abc,0\n"), "word.csv:3: column tau1_Nm: not a finite number"},
       {write("short.csv", "seq,tau1_Nm,tau2_Nm\n0,0.5\n"), "short.csv:2: column tau2_Nm: not a finite number"},
       {write("nan.csv", "seq,tau1_Nm,tau2_Nm\n0,0,nan\n"), "nan.csv:2: column tau2_Nm: not a finite number"},
