@@ -42,7 +42,11 @@ TOKENS = ["null", "~", "", "!!binary aGVsbG8=", "2024-01-01", "2001-12-14t21:59:
           "contact.clearance", "friction.mu", "initial.ecc", "friction.law", "sim.duration", "azimuth.kp",
           "torque.tau2", "sensors.star_tracker_noise", "samples", "seed", "grid", "set", "parameters", "gains",
           "plants", "objective", "metric", "percentile", "trials", "batch", "duration", "controller_set",
-          "max_track", "rms_track", "[5.0, 20.0]", "[0, 1, 2, 3, 4, 5, 6, 7, 8, 9]"]
+          "max_track", "rms_track", "[5.0, 20.0]", "[0, 1, 2, 3, 4, 5, 6, 7, 8, 9]",
+          # the closed-loop sweep's phases and indices (issue-time refusals: infinite windows, empty phases)
+          "controller", "default", "phases", "indices", "window", "separation", "level", "confidence",
+          "requirement", "ape", "rpe", "pde", "knowledge", "slew", "hold", "track", "{late: [0.4, 0.5]}",
+          "{window: .inf}", "{window: 0}", "[slew, hold, track]", "profile.hold_time", "control.period"]
 
 
 class Hang(Exception):

@@ -14,10 +14,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <lcm/lcm-cpp.hpp>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -27,66 +24,13 @@
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
 #include "gimbalsim/program/program.hpp"
+#include "truth_torques.hpp"
 
 namespace {
 
 using gimbalsim::program::refuse;
-constexpr std::size_t kMaxRows = 2000000;  // firmware_sim --tick-log's limit: 33 min at 1 kHz
-
-struct Torques {
-  std::vector<double> tau1, tau2;  ///< [N m] applied over tick k (row k)
-};
-
-/// The two torque columns of a truth CSV written every tick (its seq column
-/// 0, 1, 2, ...); throws std::runtime_error naming file, line and column.
-Torques readTorques(const std::string& path) {
-  // A pipe would block and a device (/dev/zero) never end: only a file is read.
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    throw std::runtime_error(path + (std::filesystem::exists(path, ec) ? ": not a regular file (a pipe, a device or a "
-                                                                         "folder): give the truth CSV's file"
-                                                                       : ": no such file"));
-  }
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open");
-  std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error(path + ": empty, no header");
-  std::vector<std::string> header;
-  for (std::stringstream ss(line); std::getline(ss, line, ',');) header.push_back(line);
-  int c1 = -1, c2 = -1, cs = -1;
-  for (int j = 0; j < static_cast<int>(header.size()); ++j) {
-    if (header[j] == "tau1_Nm") c1 = j;
-    if (header[j] == "tau2_Nm") c2 = j;
-    if (header[j] == "seq") cs = j;
-  }
-  if (c1 < 0 || c2 < 0 || cs < 0) {
-    throw std::runtime_error(path + ":1: no seq, tau1_Nm and tau2_Nm columns (not a firmware_sim truth CSV)");
-  }
-  Torques t;
-  for (long long n = 2; std::getline(in, line); ++n) {
-    if (t.tau1.size() >= kMaxRows) throw std::runtime_error(path + ": more than 2000000 rows");
-    std::vector<std::string> f;
-    for (std::stringstream ss(line); std::getline(ss, line, ',');) f.push_back(line);
-    // Row k must be tick k: a CSV written every N ticks (--truth-every N) would replay tick N (k + 1) as tick k + 1.
-    const std::string expected = std::to_string(t.tau1.size());
-    if (cs >= static_cast<int>(f.size()) || f[cs] != expected) {
-      throw std::runtime_error(path + ":" + std::to_string(n) + ": seq " + (cs < static_cast<int>(f.size()) ? f[cs] : "missing") +
-                               " where tick " + expected + " belongs: the CSV was not written every tick "
-                               "(firmware_sim --truth-every 1)");
-    }
-    for (const int c : {c1, c2}) {
-      char* end = nullptr;
-      const double x = c < static_cast<int>(f.size()) ? std::strtod(f[c].c_str(), &end) : 0.0;
-      if (c >= static_cast<int>(f.size()) || end == f[c].c_str() || *end != '\0' || !std::isfinite(x)) {
-        throw std::runtime_error(path + ":" + std::to_string(n) + ": column " + header[c] + ": not a finite number");
-      }
-      (c == c1 ? t.tau1 : t.tau2).push_back(x);
-    }
-  }
-  if (t.tau1.size() < 2) throw std::runtime_error(path + ": fewer than 2 rows: nothing to replay");
-  return t;
-}
-
+using gimbalsim::bench::readTorques;
+using gimbalsim::bench::Torques;
 int mainImpl(int argc, char** argv) {
   CLI::App app{"torque_replay: answers a lockstep firmware_sim with the torques of a recorded run"};
   std::string truth, url, prefix;

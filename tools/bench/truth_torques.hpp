@@ -1,0 +1,87 @@
+// The applied torques of a firmware_sim truth CSV, tick by tick: what
+// torque_replay answers a lockstep plant with. Header-only so that the fuzz
+// target (tests/fuzz/fuzz_truth_torques.cpp) drives the reader itself.
+#pragma once
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <istream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace gimbalsim::bench {
+
+constexpr std::size_t kMaxRows = 2000000;      ///< firmware_sim --tick-log's limit: 33 min at 1 kHz
+constexpr std::size_t kMaxLineBytes = 1 << 16;  ///< a truth row is about 1 kB
+
+struct Torques {
+  std::vector<double> tau1, tau2;  ///< [N m] applied over tick k (row k)
+};
+
+/// The two torque columns of a truth CSV written every tick (its seq column
+/// 0, 1, 2, ...), read from `in`; throws std::runtime_error naming `name`,
+/// the line and the column.
+inline Torques parseTorques(std::istream& in, const std::string& name) {
+  std::string line;
+  const auto next = [&] {
+    if (!std::getline(in, line)) return false;
+    if (line.size() > kMaxLineBytes) throw std::runtime_error(name + ": a line longer than 64 KiB (not a truth CSV)");
+    return true;
+  };
+  if (!next()) throw std::runtime_error(name + ": empty, no header");
+  std::vector<std::string> header;
+  for (std::stringstream ss(line); std::getline(ss, line, ',');) header.push_back(line);
+  int c1 = -1, c2 = -1, cs = -1;
+  for (int j = 0; j < static_cast<int>(header.size()); ++j) {
+    if (header[j] == "tau1_Nm") c1 = j;
+    if (header[j] == "tau2_Nm") c2 = j;
+    if (header[j] == "seq") cs = j;
+  }
+  if (c1 < 0 || c2 < 0 || cs < 0) {
+    throw std::runtime_error(name + ":1: no seq, tau1_Nm and tau2_Nm columns (not a firmware_sim truth CSV)");
+  }
+  Torques t;
+  for (long long n = 2; next(); ++n) {
+    if (t.tau1.size() >= kMaxRows) throw std::runtime_error(name + ": more than 2000000 rows");
+    std::vector<std::string> f;
+    for (std::stringstream ss(line); std::getline(ss, line, ',');) f.push_back(line);
+    const auto has = [&](int c) { return c < static_cast<int>(f.size()); };
+    // Row k must be tick k: a CSV written every N ticks (--truth-every N) would replay tick N (k + 1) as tick k + 1.
+    const std::string expected = std::to_string(t.tau1.size());
+    if (!has(cs) || f[cs] != expected) {
+      throw std::runtime_error(name + ":" + std::to_string(n) + ": seq " + (has(cs) ? f[cs] : "missing") +
+                               " where tick " + expected +
+                               " belongs: the CSV was not written every tick (firmware_sim --truth-every 1)");
+    }
+    for (const int c : {c1, c2}) {
+      char* end = nullptr;
+      const double x = has(c) ? std::strtod(f[c].c_str(), &end) : 0.0;
+      if (!has(c) || end == f[c].c_str() || *end != '\0' || !std::isfinite(x)) {
+        throw std::runtime_error(name + ":" + std::to_string(n) + ": column " + header[c] + ": not a finite number");
+      }
+      (c == c1 ? t.tau1 : t.tau2).push_back(x);
+    }
+  }
+  if (t.tau1.size() < 2) throw std::runtime_error(name + ": fewer than 2 rows: nothing to replay");
+  return t;
+}
+
+/// parseTorques of the file at path. A pipe would block and a device
+/// (/dev/zero) never end: anything but a regular file is refused unopened.
+inline Torques readTorques(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw std::runtime_error(path + (std::filesystem::exists(path, ec)
+                                         ? ": not a regular file (a pipe, a device or a folder): give the truth CSV's file"
+                                         : ": no such file"));
+  }
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  return parseTorques(in, path);
+}
+
+}  // namespace gimbalsim::bench
