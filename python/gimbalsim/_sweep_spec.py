@@ -46,10 +46,18 @@ class SweepSpec:
         self.set = {k: spec.value(f"set.{k}", n) for k, n in sets.items()}
         params = spec.mapping("parameters", root["parameters"]) if "parameters" in root else {}
         grid = spec.known_mapping("grid", key_types, "scene")
+        # One key in one place, whatever its spelling (friction1.mu is joint1.friction.mu): two
+        # spellings would both be recorded while one value acts.
+        aliases = gimbalsim.key_aliases()
+        seen = {}
+        for section, mapping in (("parameters", params), ("grid", grid)):
+            for key, node in mapping.items():
+                canonical = aliases.get(key, key)
+                if canonical in seen:
+                    spec.refuse(f"{section}.{key}", f"the same key as {seen[canonical]}: give it in one place", node)
+                seen[canonical] = f"{section}.{key}"
         self.grid = []
         for key, node in grid.items():
-            if key in params:
-                spec.refuse(f"grid.{key}", "also under parameters: give it in one place", node)
             if not isinstance(node.value, list) or not node.value:
                 spec.refuse(f"grid.{key}", "expected a non-empty list of values", node)
             self.grid.append((key, [spec.value(f"grid.{key}", v) for v in node.value]))
@@ -106,6 +114,7 @@ class SweepSpec:
         aliases = gimbalsim.key_aliases()
         if self.closed is not None:
             idle = {"sim.duration": "the closed loop runs for the spec's sim.duration (set:), one length for all",
+                    "sim.output_interval": "the closed loop records every control period",
                     "torque.tau1": "the controller commands the torque", "torque.tau2": "the controller commands "
                     "the torque"}
         else:

@@ -58,8 +58,8 @@ def _phase_slice(t_s, t_start, t_end):
     dt = float(np.median(step))
     if not dt > 0 or np.max(np.abs(step - dt)) > 1e-9 * max(1.0, abs(t_s[-1])):
         raise ValueError("t_s: the samples must be uniformly spaced in time")
-    if not (math.isfinite(t_start) and t_end > t_start):
-        raise ValueError(f"phase [{t_start}, {t_end}) s: need a finite start and an end after it")
+    if not (math.isfinite(t_start) and t_end >= t_start):
+        raise ValueError(f"phase [{t_start}, {t_end}) s: need a finite start and an end not before it")
     rows = np.flatnonzero((t_s >= t_start - 1e-12) & (t_s < t_end - 1e-12))
     return rows, dt
 
@@ -76,16 +76,21 @@ def _window_samples(length_s, dt, name):
 
 def _as_columns(e):
     e = np.asarray(e, dtype=float)
-    return e[:, None] if e.ndim == 1 else e
+    e = e[:, None] if e.ndim == 1 else e
+    if e.ndim != 2 or e.shape[1] == 0:
+        raise ValueError(f"e: need one row per sample of one or more axes, got shape {e.shape}")
+    return e
 
 
 def _coverage_reason(rows, t_s, t_start, t_end, dt):
     """Why a phase has no figure, or "" when the run covered it whole. An
     open-ended phase [t_start, inf) (a controller's track) ends with the run:
     reaching it is covering it."""
+    if not t_end > t_start:  # a profile that gives the phase no time (profile.hold_time 0)
+        return f"the phase [{t_start:g}, {t_end:g}) s is empty"
     if len(rows) == 0:
         return f"the run ({t_s[0]:g} to {t_s[-1]:g} s) never reached the phase [{t_start:g}, {t_end:g}) s"
-    if t_s[rows[0]] - dt > t_start + 1e-9:
+    if t_s[0] > t_start + 1e-9:
         return f"the run began at {t_s[0]:g} s, inside the phase [{t_start:g}, {t_end:g}) s"
     if math.isfinite(t_end) and t_s[rows[-1]] + dt < t_end - 1e-9:
         return f"the run ended at {t_s[-1]:g} s, inside the phase [{t_start:g}, {t_end:g}) s"
@@ -240,6 +245,8 @@ def quantile_bound(values, level=LEVEL_3SIGMA, confidence=0.95):
                   f"confidence (at least {min_units(level, confidence)} are needed)")
     elif not two_sided:
         reason = f"{n} units give only a one-sided bound at {confidence:.0%} confidence"
+    if missing == n:
+        reason = "no unit has a figure" + (f"; {reason}" if reason else "")
     return QuantileBound(n, missing, level, confidence, estimate, upper, s if supported else 0,
                          low, high, supported, reason)
 

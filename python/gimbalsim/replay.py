@@ -106,6 +106,7 @@ def load(folder):
         _refuse(f"{', '.join(what)} differs from the sweep's: the controller configuration {source} (with the "
                 f"spec's controller_set) is not the one the sweep ran")
     original = pathlib.Path(inputs.get("spec", ""))
+    spec.original_spec = original if str(original) not in ("", ".") else None  # an input of the replay too
     try:
         if original.is_file() and original.read_text(encoding="utf-8") != spec.spec_text:
             print(f"replay: {original} changed since the sweep; replaying from the sweep's copy {copy}",
@@ -125,7 +126,7 @@ def replay(folder, i, out, plot_path=None):
     if plot_path.resolve() == out.resolve():
         _refuse(f"--plot {plot_path}: the same file as --out")
     plot_format = _figure_format(plot_path)
-    inputs = spec.input_files()
+    inputs = spec.input_files() + [spec.original_spec]  # the spec the sweep ran from is an input, never an output
     try:  # before anything runs, as the command line: refused (exit 2)
         check_outputs([out, plot_path], inputs)
     except OutputError as e:
@@ -134,7 +135,8 @@ def replay(folder, i, out, plot_path=None):
     if i in rows and i >= len(spec.design) and not spec.grid and i < MAX_SAMPLES:
         spec.design.extend_to(i + 1)  # a row --until added: its draw is (seed, i) as any other's
     if not 0 <= i < len(spec.design):
-        _refuse(f"--replay {i}: outside the sweep's samples 0..{len(spec.design) - 1}")
+        last = max(len(spec.design), max(rows, default=-1) + 1) - 1  # --until may have added rows
+        _refuse(f"--replay {i}: outside the sweep's samples 0..{last}")
     if header != spec.csv_header():
         _refuse(f"{source}: its columns are not those of the spec copy {folder / _provenance.SPEC_COPY}")
     if i not in rows:

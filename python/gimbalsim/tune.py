@@ -144,6 +144,8 @@ def open_study(spec, out, resume, sampler):
 
     _hold_the_study(out)
     existed = db.exists()
+    if resume and existed and db.stat().st_size == 0:  # SQLite would make a new, empty study of it
+        raise SpecError(f"{db} is empty: not the study of {out / 'trials.csv'}; use another --out")
     try:
         storage = optuna.storages.RDBStorage(f"sqlite:///{db.resolve()}")
         study = optuna.create_study(storage=storage, study_name=STUDY_NAME, direction="minimize", sampler=sampler,
@@ -153,7 +155,15 @@ def open_study(spec, out, resume, sampler):
         if not existed:  # a new study not written (a full disk): exit 4 in main
             raise
         raise SpecError(f"{db}: cannot open it as a study ({str(e).splitlines()[0]}); use another --out") from None
-    fingerprint = study.user_attrs.get("fingerprint")
+    try:  # a damaged file (a table dropped) opens, then fails on its first read
+        damaged = [t.number for t in study.get_trials(deepcopy=False)
+                   if t.state == optuna.trial.TrialState.COMPLETE and t.value is None]
+        fingerprint = study.user_attrs.get("fingerprint")
+    except (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError, RuntimeError, KeyError,
+            TypeError, ValueError) as e:
+        raise SpecError(f"{db}: cannot read it as a study ({str(e).splitlines()[0]}); use another --out") from None
+    if damaged:
+        raise SpecError(f"{db}: damaged: trial {damaged[0]} is complete without a value; use another --out")
     if fingerprint is None:  # new (or killed before its fingerprint, the last step of its making)
         if not study.trials:
             study.enqueue_trial(spec.baseline, user_attrs={"origin": "baseline"})

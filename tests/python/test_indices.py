@@ -174,3 +174,16 @@ def test_an_infinite_or_empty_window_is_a_value_error_not_a_traceback():
             indices.rpe(T, e, 0.0, 3.0, bad)
     with pytest.raises(ValueError, match="need a finite start"):
         indices.ape(T, e, -math.inf, 3.0)
+
+
+def test_a_phase_begun_by_the_runs_first_sample_and_an_empty_signal():
+    t = np.arange(1.0, 6.0)  # 1 .. 5 s: no sample at 0
+    v = indices.ape(t, np.full(len(t), 1e-3), 0.0, 3.0)
+    assert math.isnan(v.value) and "began at 1 s" in v.reason
+    assert indices.ape(t, np.full(len(t), 1e-3), 1.0, 3.0).value == 1e-3  # begins with the run: covered
+    with pytest.raises(ValueError, match="one or more axes"):
+        indices.ape(t, np.zeros((5, 0)), 1.0, 3.0)
+    # a profile that gives a phase no time: no figure, with the reason (a sweep row, not a traceback)
+    empty = indices.ape(T, np.zeros(len(T)), 2.5, 2.5)
+    assert math.isnan(empty.value) and "is empty" in empty.reason
+    assert indices.quantile_bound([math.nan] * 3000).reason.startswith("no unit has a figure")

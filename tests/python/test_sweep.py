@@ -244,6 +244,9 @@ BAD = [
     # a key the open-loop runs never read: recorded as applied, acting on nothing
     ("parameters:\n  sensors.star_tracker_noise: {uniform: [0.0, 1.0e-5]}\n",
      "parameters.sensors.star_tracker_noise", 7, "an open-loop run has no sensors"),
+    # one key in two spellings: both would be recorded while one value acts
+    ("parameters:\n  friction1.mu: {uniform: [0.1, 0.2]}\ngrid:\n  joint1.friction.mu: [0.3, 0.4]\n",
+     "grid.joint1.friction.mu", 9, "the same key as parameters.friction1.mu"),
 ]
 
 

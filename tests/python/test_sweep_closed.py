@@ -287,6 +287,8 @@ REFUSALS = [
      "parameters.sim.duration", "not read by this sweep's runs (the closed loop runs for the spec's sim.duration"),
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  torque.tau2: {uniform: [1.0, 2.0]}",
      "parameters.torque.tau2", "the controller commands the torque"),
+    ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.output_interval: {choice: [0.001, 0.01]}",
+     "parameters.sim.output_interval", "the closed loop records every control period"),
     ("  rpe: {window: 0.05}", "  rpe: {window: .inf}", "indices.rpe.window", "whole number of control periods"),
     ("  rpe: {window: 0.05}", "  rpe: {window: 0.0505}", "indices.rpe.window", "whole number of control periods"),
     # the C++ keys' whole-multiple rule (relative 1e-12), not a looser one of the spec's own
@@ -363,6 +365,21 @@ def test_an_empty_profile_phase_is_refused_when_named_and_left_out_otherwise(tmp
     assert e.value.line == text.split("\n").index("phases: [slew, hold, track, {late: [0.4, 0.5]}]") + 1
     (tmp_path / "default.yaml").write_text(text.replace("phases: [slew, hold, track, {late: [0.4, 0.5]}]\n", ""))
     assert [p for p, _ in SweepSpec(tmp_path / "default.yaml").closed.phases] == ["slew", "track"]
+
+
+def test_a_dispersed_profile_that_empties_a_phase_gives_nan_with_the_reason(tmp_path):
+    # controller.profile.hold_time drawn 0 for some units: their hold has no tick, so its indices are NaN
+    # with the reason in the row; the sweep finishes (it was a traceback, exit 1).
+    text = SPEC.replace("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}",
+                        "  controller.profile.hold_time: {choice: [0.1, 0.0]}").replace("samples: 6", "samples: 4")
+    text = text.replace("  pde: {window: 0.02, separation: 0.05}\n", "").replace("  rpe: {window: 0.05}\n", "")
+    (tmp_path / "h.yaml").write_text(text)
+    run_sweep(tmp_path / "h.yaml", tmp_path / "o", "--workers", "1")
+    with open(tmp_path / "o" / "results.csv") as f:
+        rows = list(csv.DictReader(f))
+    empty = [r for r in rows if float(r["controller_profile_hold_time_s"]) == 0.0]
+    assert empty and all(r["ape_hold_rad"] == "nan" and "is empty" in r["reason"] for r in empty), rows
+    assert all(r["ape_hold_rad"] != "nan" for r in rows if r not in empty)
 
 
 def test_until_refused_for_an_index_the_spec_does_not_name(spec, tmp_path):

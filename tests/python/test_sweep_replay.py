@@ -374,3 +374,12 @@ def test_a_plot_that_cannot_be_written_takes_its_csv_with_it(swept, tmp_path, mo
     with pytest.raises(OutputError, match="No space left"):
         replay.replay(swept, 2, tmp_path / "run.csv", tmp_path / "run.png")
     assert sorted(os.listdir(tmp_path)) == []  # neither output, no temporary
+
+
+def test_the_spec_the_sweep_ran_from_is_never_an_output(swept):
+    # The original spec (beside the sweep folder) is an input of the replay too: refused, left whole.
+    original = swept.parent / "spec.yaml"
+    before = original.read_bytes()
+    p = sweep(swept, "--replay", 1, "--out", original, "--plot", swept.parent / "never.png")
+    assert p.returncode == 2, p.stderr
+    assert original.read_bytes() == before and not (swept.parent / "never.png").exists()

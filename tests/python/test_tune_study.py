@@ -165,6 +165,18 @@ def test_a_resume_of_another_spec_or_of_no_study_is_refused(tmp_path):
     p = subprocess.run(tune_cmd(spec, tmp_path / "bad", "--resume"), capture_output=True, text=True, timeout=600)
     assert p.returncode == 2 and "study.db: cannot open it as a study" in p.stderr, p.stderr
     assert "Traceback" not in p.stderr
+    # An empty file would open as a new study and overwrite trials.csv; a dropped table was a traceback.
+    (tmp_path / "empty").mkdir()
+    (tmp_path / "empty" / "study.db").write_bytes(b"")
+    (tmp_path / "empty" / "trials.csv").write_text("kept\n")
+    p = subprocess.run(tune_cmd(spec, tmp_path / "empty", "--resume"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2 and "study.db is empty" in p.stderr, p.stderr
+    assert (tmp_path / "empty" / "trials.csv").read_text() == "kept\n"
+    with sqlite3.connect(out / "study.db") as db:
+        db.execute("DROP TABLE trial_values")
+    p = subprocess.run(tune_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2 and "Traceback" not in p.stderr, p.stderr
+    assert "study.db: cannot read it as a study" in p.stderr or "damaged" in p.stderr, p.stderr
 
 
 def test_a_study_refused_space_exits_4_and_resumes(tmp_path):

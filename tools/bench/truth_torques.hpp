@@ -29,6 +29,7 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
   std::string line;
   const auto next = [&] {
     if (!std::getline(in, line)) return false;
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // a CSV saved with CRLF line ends
     if (line.size() > kMaxLineBytes) throw std::runtime_error(name + ": a line longer than 64 KiB (not a truth CSV)");
     return true;
   };

@@ -73,6 +73,10 @@ Row runOne(const firmware::PlantScene& ps, const ControllerConfig& c, double dur
           r.attitude_track.add(t.attitude_error);
         }
       });
+  // The closed loop's rule for a window (docs/usage.md "Figures over a window"): a figure only if
+  // the run's last tick lies after the window's start; a last tick at 3.5 s is no track.
+  if (!res.track_reason.empty()) r.track = r.joint_track = r.attitude_track = Stat{};
+  if (!(res.t_end > slew_end)) r.after_slew = Stat{};
   r.ok = res.ok;
   r.why = res.error;
   return r;

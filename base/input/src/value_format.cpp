@@ -27,6 +27,8 @@ bool isWholeMultiple(double value, double unit) {
 
 std::string wholeMultipleProblem(double value, double unit, const std::string& unit_name) {
   const double n = value / unit;
+  // A count past 1e12 is no run anyone waits for, and llround of it is undefined.
+  if (!(std::abs(n) <= 1e12)) return "must be at most 1e12 times " + unit_name + " (" + formatNumber(unit) + " s)";
   if (isWholeMultiple(value, unit)) return "";
   auto multiple = [&](double k) {
     char b[32];
