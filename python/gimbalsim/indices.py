@@ -90,6 +90,8 @@ def _coverage_reason(rows, t_s, t_start, t_end, dt):
         return f"the phase [{t_start:g}, {t_end:g}) s is empty"
     if len(rows) == 0:
         return f"the run ({t_s[0]:g} to {t_s[-1]:g} s) never reached the phase [{t_start:g}, {t_end:g}) s"
+    if not t_s[-1] > t_start + 1e-9:  # docs/usage.md: a figure over a window needs the last sample after its start
+        return f"the run ended at {t_s[-1]:g} s, at the start of the phase [{t_start:g}, {t_end:g}) s"
     if t_s[0] > t_start + 1e-9:
         return f"the run began at {t_s[0]:g} s, inside the phase [{t_start:g}, {t_end:g}) s"
     if math.isfinite(t_end) and t_s[rows[-1]] + dt < t_end - 1e-9:
@@ -121,8 +123,10 @@ def ape(t_s, e, t_start, t_end):
 
 def knowledge(t_s, e_estimate, e_truth, t_start, t_end):
     """Knowledge error: max |estimated error - true error| over the phase [rad]."""
-    diff = _as_columns(e_estimate) - _as_columns(e_truth)
-    return ape(t_s, diff, t_start, t_end)
+    est, truth = _as_columns(e_estimate), _as_columns(e_truth)
+    if est.shape != truth.shape:  # numpy would broadcast one row, or one axis, over the other
+        raise ValueError(f"e_estimate {est.shape} and e_truth {truth.shape}: need the same shape")
+    return ape(t_s, est - truth, t_start, t_end)
 
 
 def _window_means(seg, m):
@@ -225,7 +229,9 @@ def quantile_bound(values, level=LEVEL_3SIGMA, confidence=0.95):
     never assumed good)."""
     if not 0.0 < level < 1.0 or not 0.0 < confidence < 1.0:
         raise ValueError("level and confidence must lie strictly between 0 and 1")
-    x = np.asarray(values, dtype=float).ravel()
+    x = np.asarray(values, dtype=float)
+    if x.ndim != 1:
+        raise ValueError(f"values: one figure per unit (1-D), got shape {x.shape}")
     n = len(x)
     if n == 0:
         return QuantileBound(0, 0, level, confidence, *([float("nan")] * 2), 0,

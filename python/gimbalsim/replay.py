@@ -212,7 +212,8 @@ def _figure_format(path):
     matplotlib.use("Agg")
     from matplotlib.backend_bases import FigureCanvasBase
     fmt = path.suffix.lstrip(".").lower()
-    supported = FigureCanvasBase.get_supported_filetypes()
+    # pgf needs a LaTeX installation the project does not install (xelatex): not offered.
+    supported = {k: v for k, v in FigureCanvasBase.get_supported_filetypes().items() if k != "pgf"}
     if fmt not in supported:
         _refuse(f"--plot {path}: a figure is written as one of {', '.join(sorted(supported))} (its suffix), "
                 f"not {fmt or 'a file without a suffix'!r}")
@@ -246,6 +247,8 @@ def _plot(run, spec, i, status, fmt):
     fig.tight_layout()
     try:
         return figure_bytes(fig, fmt, dpi=110)
+    except (OSError, RuntimeError, ValueError, AttributeError) as e:  # a backend that cannot draw: nothing written
+        raise OutputError(f"the plot ({fmt}) could not be drawn: {e}") from None
     finally:
         plt.close(fig)
 

@@ -33,6 +33,7 @@ mirrored in _errors.py): 0, 2 spec refused, 3 no trial completed, 4 an output no
 130 / 143 interrupted by SIGINT / SIGTERM (the study kept).
 """
 import argparse
+import contextlib
 import json
 import math
 import os
@@ -125,6 +126,25 @@ def _hold_the_study(out):
     _HELD.append(fd)
 
 
+def _check_resumable(db, out):
+    """--resume needs this folder's own study, read before anything writes
+    to it: a missing, empty, linked or foreign file would become a new study
+    (Optuna creates its tables in any SQLite file) and trials.csv be rewritten."""
+    import sqlite3
+    if db.is_symlink() or (db.exists() and not db.is_file()):
+        raise SpecError(f"{db}: not a regular file (a link or a folder): a study is never written through one")
+    if not db.exists() or db.stat().st_size == 0:
+        raise SpecError(f"{db}: {'empty' if db.exists() else 'missing'}: no study of {out} to resume; run without "
+                        f"--resume into another --out")
+    try:
+        with contextlib.closing(sqlite3.connect(f"file:{db.resolve()}?mode=ro", uri=True)) as c:
+            names = [r[0] for r in c.execute("SELECT study_name FROM studies")]
+    except sqlite3.Error as e:
+        raise SpecError(f"{db}: cannot open it as a study ({e}); use another --out") from None
+    if STUDY_NAME not in names:
+        raise SpecError(f"{db}: not a study of gimbalsim.tune (it holds {names or 'no study'}); use another --out")
+
+
 def open_study(spec, out, resume, sampler):
     """The study stored in out/study.db (Optuna's RDB storage on SQLite):
     created with the baseline as its first trial, or, with resume, loaded;
@@ -144,8 +164,8 @@ def open_study(spec, out, resume, sampler):
 
     _hold_the_study(out)
     existed = db.exists()
-    if resume and existed and db.stat().st_size == 0:  # SQLite would make a new, empty study of it
-        raise SpecError(f"{db} is empty: not the study of {out / 'trials.csv'}; use another --out")
+    if resume:
+        _check_resumable(db, out)
     try:
         storage = optuna.storages.RDBStorage(f"sqlite:///{db.resolve()}")
         study = optuna.create_study(storage=storage, study_name=STUDY_NAME, direction="minimize", sampler=sampler,

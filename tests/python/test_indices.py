@@ -187,3 +187,16 @@ def test_a_phase_begun_by_the_runs_first_sample_and_an_empty_signal():
     empty = indices.ape(T, np.zeros(len(T)), 2.5, 2.5)
     assert math.isnan(empty.value) and "is empty" in empty.reason
     assert indices.quantile_bound([math.nan] * 3000).reason.startswith("no unit has a figure")
+
+
+def test_a_phase_the_run_ends_at_and_mismatched_signals():
+    # The last sample at the phase's start: no figure (docs/usage.md "Figures over a window"), open-ended or not.
+    t = T[T <= 2.5]
+    e = np.full(len(t), 1e-4)
+    for end in (math.inf, 3.0):
+        v = indices.ape(t, e, 2.5, end)
+        assert math.isnan(v.value) and "at the start of the phase" in v.reason, v
+    with pytest.raises(ValueError, match="same shape"):
+        indices.knowledge(T, np.zeros((len(T), 3)), np.zeros((1, 3)), 0.0, 1.0)
+    with pytest.raises(ValueError, match="1-D"):
+        indices.quantile_bound(np.ones((3, 2)), 0.5, 0.5)

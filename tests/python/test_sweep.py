@@ -299,6 +299,19 @@ def test_the_keys_the_docs_call_required_are_the_ones_the_spec_needs(tmp_path):
         SweepSpec(tmp_path / "none.yaml")
 
 
+def test_a_joints_own_eccentricity_is_dispersed_and_recorded(tmp_path):
+    # initial.ecc2 is listed by a scene only where it differs from initial.ecc: its provenance
+    # column read it from there (a KeyError, exit 1, when a draw equalled the shared value).
+    (tmp_path / "e.yaml").write_text(f"scene: {SCENES}/paper_clearance.yaml\nset: {{sim.duration: 0.1}}\n"
+                                     "samples: 2\nseed: 1\nparameters:\n"
+                                     "  initial.ecc2: {choice: [[0.0, 0.0], [1.0e-4, 0.0]]}\n")
+    run_sweep(tmp_path / "e.yaml", tmp_path / "o", "--workers", "1")
+    with open(tmp_path / "o" / "results.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 2 and all(r["status"] == "ok" and r["applied_differs"] == "" for r in rows), rows
+    assert all(r["applied_initial_ecc2_0_m"] == r["initial_ecc2_0_m"] for r in rows), rows
+
+
 def test_an_out_that_is_a_file_is_refused_and_left_alone(spec, tmp_path):
     before = spec.read_bytes()
     p = run_sweep(spec, spec, check=False)  # --out is the spec itself

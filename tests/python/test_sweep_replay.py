@@ -362,6 +362,9 @@ def test_a_figure_format_matplotlib_cannot_write_is_refused_before_anything_runs
     assert p.returncode == 2, p.stderr
     assert "--plot" in p.stderr and "not 'yaml'" in p.stderr and "Traceback" not in p.stderr
     assert not (tmp_path / "run.csv").exists() and (tmp_path / "notes.yaml").read_text() == "mine: 1\n"
+    # pgf needs a LaTeX the project does not install: not offered (it was a traceback)
+    p = sweep(swept, "--replay", 2, "--out", tmp_path / "run.csv", "--plot", tmp_path / "run.pgf")
+    assert p.returncode == 2 and "not 'pgf'" in p.stderr and "Traceback" not in p.stderr, p.stderr
 
 
 def test_a_plot_that_cannot_be_written_takes_its_csv_with_it(swept, tmp_path, monkeypatch):

@@ -170,8 +170,24 @@ def test_a_resume_of_another_spec_or_of_no_study_is_refused(tmp_path):
     (tmp_path / "empty" / "study.db").write_bytes(b"")
     (tmp_path / "empty" / "trials.csv").write_text("kept\n")
     p = subprocess.run(tune_cmd(spec, tmp_path / "empty", "--resume"), capture_output=True, text=True, timeout=600)
-    assert p.returncode == 2 and "study.db is empty" in p.stderr, p.stderr
+    assert p.returncode == 2 and "study.db: empty" in p.stderr, p.stderr
     assert (tmp_path / "empty" / "trials.csv").read_text() == "kept\n"
+    # A missing study beside trials.csv, another program's database, a link to another study: refused, unwritten.
+    (tmp_path / "empty" / "study.db").unlink()
+    p = subprocess.run(tune_cmd(spec, tmp_path / "empty", "--resume"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2 and "study.db: missing" in p.stderr, p.stderr
+    with sqlite3.connect(tmp_path / "empty" / "study.db") as db:
+        db.execute("CREATE TABLE foo(x)")
+    before = (tmp_path / "empty" / "study.db").read_bytes()
+    p = subprocess.run(tune_cmd(spec, tmp_path / "empty", "--resume"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2 and "cannot open it as a study" in p.stderr, p.stderr
+    assert (tmp_path / "empty" / "study.db").read_bytes() == before
+    (tmp_path / "linked").mkdir()
+    (tmp_path / "linked" / "study.db").symlink_to(out / "study.db")
+    study_before = (out / "study.db").read_bytes()
+    p = subprocess.run(tune_cmd(spec, tmp_path / "linked", "--resume"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2 and "not a regular file" in p.stderr, p.stderr
+    assert (out / "study.db").read_bytes() == study_before
     with sqlite3.connect(out / "study.db") as db:
         db.execute("DROP TABLE trial_values")
     p = subprocess.run(tune_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=600)
