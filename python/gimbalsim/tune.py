@@ -33,10 +33,8 @@ mirrored in _errors.py): 0, 2 spec refused, 3 no trial completed, 4 an output no
 130 / 143 interrupted by SIGINT / SIGTERM (the study kept).
 """
 import argparse
-import contextlib
 import json
 import math
-import os
 import pathlib
 import sys
 import time
@@ -45,7 +43,7 @@ import warnings
 import numpy as np
 
 import gimbalsim
-from . import _cluster
+from . import _cluster, _study_file
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
 from ._journal import fmt
 from ._output import savefig, write_csv, write_text
@@ -109,42 +107,6 @@ STUDY_NAME = "gimbalsim.tune"
 PLANT_FIGURES = ("max_truth_error_track_rad", "rms_truth_error_track_rad", "controller_limited_ticks", "ticks")
 
 
-_HELD = []  # the lock files of the studies this process holds, open until it ends
-
-
-def _hold_the_study(out):
-    """One tuner per study: an exclusive lock on out/.study.lock for the life
-    of the process; a second tuner on the same folder is refused (exit 2)."""
-    import fcntl
-    fd = os.open(out / ".study.lock", os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0), 0o666)
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except BlockingIOError:
-        os.close(fd)
-        raise SpecError(f"{out}: another tuner is running this study; wait for it to end (then --resume), or use "
-                        f"another --out") from None
-    _HELD.append(fd)
-
-
-def _check_resumable(db, out):
-    """--resume needs this folder's own study, read before anything writes
-    to it: a missing, empty, linked or foreign file would become a new study
-    (Optuna creates its tables in any SQLite file) and trials.csv be rewritten."""
-    import sqlite3
-    if db.is_symlink() or (db.exists() and not db.is_file()):
-        raise SpecError(f"{db}: not a regular file (a link or a folder): a study is never written through one")
-    if not db.exists() or db.stat().st_size == 0:
-        raise SpecError(f"{db}: {'empty' if db.exists() else 'missing'}: no study of {out} to resume; run without "
-                        f"--resume into another --out")
-    try:
-        with contextlib.closing(sqlite3.connect(f"file:{db.resolve()}?mode=ro", uri=True)) as c:
-            names = [r[0] for r in c.execute("SELECT study_name FROM studies")]
-    except sqlite3.Error as e:
-        raise SpecError(f"{db}: cannot open it as a study ({e}); use another --out") from None
-    if STUDY_NAME not in names:
-        raise SpecError(f"{db}: not a study of gimbalsim.tune (it holds {names or 'no study'}); use another --out")
-
-
 def open_study(spec, out, resume, sampler):
     """The study stored in out/study.db (Optuna's RDB storage on SQLite):
     created with the baseline as its first trial, or, with resume, loaded;
@@ -162,10 +124,10 @@ def open_study(spec, out, resume, sampler):
         raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
     import sqlalchemy.exc
 
-    _hold_the_study(out)
+    _study_file.hold(out)
     existed = db.exists()
     if resume:
-        _check_resumable(db, out)
+        _study_file.check_resumable(db, out, STUDY_NAME)
     try:
         storage = optuna.storages.RDBStorage(f"sqlite:///{db.resolve()}")
         study = optuna.create_study(storage=storage, study_name=STUDY_NAME, direction="minimize", sampler=sampler,

@@ -1,0 +1,200 @@
+// pointing_controller's status handler: decodes each status into a stack
+// message (fixed-size arrays: no allocation), runs the controller's answer
+// and encodes into a preallocated buffer for LCM's raw publish (the typed
+// publish allocates on every call). Statuses are taken from one plant (the
+// source of the first, until it has been silent for kRebindNs), so a spoofed
+// status cannot reset or steer the controller. One program's header: it
+// lives beside pointing_controller_main.cpp.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <lcm/lcm-cpp.hpp>
+#include <string>
+
+#include "gimbalsim/contract/channels.hpp"
+#include "gimbalsim/controllers/answer.hpp"
+#include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/gimbal_attitude_t.hpp"
+#include "gimbalsim/gimbal_command_t.hpp"
+#include "gimbalsim/gimbal_status_t.hpp"
+#include "gimbalsim/io/csv_format.hpp"
+#include "gimbalsim/lcm_wire/udpm_receiver.hpp"
+
+namespace gimbalsim::controllers {
+
+/// Answers statuses; everything it needs is allocated before the first one.
+class StatusHandler {
+ public:
+  StatusHandler(const ControllerConfig& c, lcm::LCM& lcm, const contract::Channels& ch, std::FILE* csv)
+      : c_(c), lcm_(lcm), ch_(ch), csv_(csv) {}
+
+  /// One received message; the channel says which handler. now_ns: CLOCK_MONOTONIC.
+  void onMessage(const lcm_wire::Message& m, std::int64_t now_ns) {
+    if (!fromPlant(m.source, now_ns)) return;
+    const int size = static_cast<int>(m.size);  // bounded by the receiver's limit
+    if (m.channel == ch_.status) onStatus(m.data, size);
+    else if (m.channel == ch_.attitude) onAttitude(m.data, size);
+  }
+
+  void onAttitude(const std::uint8_t* data, int size) {
+    gimbal_attitude_t m{};
+    if (m.decode(data, 0, size) != size) {
+      ++undecodable_;
+      return;
+    }
+    contract::copyFields<contract::AttitudeFields>(attitude_, m);
+    noteAttitude(state_, attitude_);  // a late status finds the attitude of its tick (fault_monitor.hpp)
+  }
+
+  void onStatus(const std::uint8_t* data, int size) {
+    gimbal_status_t st{};
+    if (st.decode(data, 0, size) != size) {
+      ++undecodable_;  // garbage, another type or trailing bytes on the status channel
+      return;
+    }
+    if (st.seq < last_status_seq_) {  // the plant restarted: start the controller afresh
+      state_ = ControllerState{};
+      ++restarts_;
+    }
+    last_status_seq_ = st.seq;
+    // The same answer as the in-process loop's (PointingController): seq from
+    // this process's own counter, strictly increasing.
+    contract::Status status;
+    contract::copyFields<contract::StatusFields>(status, st);
+    if (attitude_.seq != status.seq) ++unpaired_;
+    const Answer a = answerStatus(c_, state_, status, attitude_, next_seq_);
+    const Measurement& meas = a.meas;
+    const ControlOutput& out = a.out;
+    if (std::isfinite(a.cmd.torque[0]) && std::isfinite(a.cmd.torque[1])) {
+      gimbal_command_t cmd{};
+      contract::copyFields<contract::CommandFields>(cmd, a.cmd);
+      const int n = cmd.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
+      if (n < 0 || lcm_.publish(ch_.command, buf_.data(), static_cast<unsigned>(n)) != 0) ++publish_errors_;
+      if (first_sent_seq_ < 0) first_sent_seq_ = a.cmd.seq;
+    } else {
+      ++not_finite_;  // never sent: NaN or Inf is no command (the plant would refuse it)
+    }
+    if (first_sent_seq_ >= 0 && st.last_command_seq >= first_sent_seq_) accepted_any_ = true;
+    // Bookkeeping after the answer is on its way.
+    ++answered_;
+    last_t_ = meas.t;
+    faults_seen_ |= st.faults;
+    if (out.star_outage) ++outage_statuses_;
+    if (out.saturated[0] || out.saturated[1]) ++controller_limited_;
+    if (out.ref.segment == Segment::Track) max_track_error_ = std::max(max_track_error_, out.error.cwiseAbs().maxCoeff());
+    if (csv_) log(st, meas, out, a.flags);
+  }
+
+  static void header(std::FILE* f) {
+    // The cells as name[unit], written in the project's CSV names (io::csvNameOf: t_s, tau_az_Nm).
+    static constexpr const char* kCells =
+        "t[s],seq[-],segment[-],ref_az[rad],ref_el[rad],ref_daz[rad/s],ref_del[rad/s],ref_ddaz[rad/s^2],"
+        "ref_ddel[rad/s^2],meas_az[rad],meas_el[rad],rate_az[rad/s],rate_el[rad/s],err_az[rad],"
+        "err_el[rad],tau_az[N m],tau_el[N m],tau_unsat_az[N m],tau_unsat_el[N m],faults[-],prof_az[rad],"
+        "prof_el[rad],est_qw[-],est_qx[-],est_qy[-],est_qz[-],est_wx[rad/s],est_wy[rad/s],est_wz[rad/s],"
+        "star_outage[-],attitude_paired[-],stale[-],safe[-],suspect_az[-],suspect_el[-]";
+    std::string h, cell;
+    for (const char* c = kCells;; ++c) {
+      if (*c == ',' || *c == '\0') {
+        (h.empty() ? h : h += ',') += io::csvNameOf(cell);
+        cell.clear();
+        if (*c == '\0') break;
+      } else {
+        cell += *c;
+      }
+    }
+    std::fputs((h + "\n").c_str(), f);
+  }
+
+  /// The plant is the source of the first message; another source is taken
+  /// only after the bound one has been silent for kRebindNs (a restarted plant).
+  bool fromPlant(lcm_wire::Source src, std::int64_t now_ns) {
+    if (bound_ && !(src == plant_) && now_ns - plant_heard_ns_ < kRebindNs) {
+      ++foreign_;
+      return false;
+    }
+    bound_ = true;
+    plant_ = src;
+    plant_heard_ns_ = now_ns;
+    return true;
+  }
+
+  long long answered() const { return answered_; }
+  /// Statuses answered with the command held at this controller's own limit (azimuth/elevation.torque_limit), either axis.
+  long long controllerLimited() const { return controller_limited_; }
+  std::int64_t lastSeq() const { return last_status_seq_; }
+  long long foreign() const { return foreign_; }
+  long long plantRestarts() const { return restarts_; }
+  long long undecodable() const { return undecodable_; }
+  long long publishErrors() const { return publish_errors_; }
+  long long notFinite() const { return not_finite_; }
+  /// Whether the plant has reported accepting one of this controller's commands.
+  bool acceptedAny() const { return accepted_any_; }
+  double lastTime() const { return last_t_; }
+  int faultsSeen() const { return faults_seen_; }
+  double maxTrackError() const { return max_track_error_; }
+  long long unpaired() const { return unpaired_; }
+  long long outageStatuses() const { return outage_statuses_; }
+  const MonitorState& monitor() const { return state_.monitor; }
+  long long rejectedReadings() const { return state_.rejected_readings; }
+
+ private:
+  void log(const gimbal_status_t& st, const Measurement& m, const ControlOutput& o, const MonitorFlags& f) {
+    const ProfileSample& r = o.ref;
+    // One line in a fixed buffer (no allocation on the answer path); doubles as io::formatCsvNumber.
+    char line[2048];
+    int n = io::formatCsvNumber(line, m.t);
+    n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), ",%lld,%s", static_cast<long long>(st.seq),
+                       describe(r.segment));
+    auto num = [&](double x) {
+      line[n++] = ',';
+      n += io::formatCsvNumber(line + n, x);
+    };
+    auto flag = [&](int v) { n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), ",%d", v); };
+    for (double x : {r.q(0), r.q(1), r.dq(0), r.dq(1), r.ddq(0), r.ddq(1), m.theta(0), m.theta(1), m.dtheta(0),
+                     m.dtheta(1), o.error(0), o.error(1), o.tau(0), o.tau(1), o.tau_unsat(0), o.tau_unsat(1)}) {
+      num(x);
+    }
+    flag(st.faults);
+    for (double x : {o.profile.q(0), o.profile.q(1), o.q_WB_est.w(), o.q_WB_est.x(), o.q_WB_est.y(),
+                     o.q_WB_est.z(), o.omega_B_est(0), o.omega_B_est(1), o.omega_B_est(2)}) {
+      num(x);
+    }
+    for (bool b : {o.star_outage, attitude_.seq == st.seq, f.stale, f.safe, f.encoder_suspect[0],
+                   f.encoder_suspect[1]}) {
+      flag(b ? 1 : 0);
+    }
+    line[n++] = '\n';
+    std::fwrite(line, 1, static_cast<std::size_t>(n), csv_);
+  }
+
+  const ControllerConfig& c_;
+  lcm::LCM& lcm_;
+  const contract::Channels& ch_;
+  std::FILE* csv_;
+  ControllerState state_;
+  contract::Attitude attitude_{.seq = -1};  ///< the newest attitude message (seq -1: none yet)
+  long long unpaired_ = 0;        ///< statuses without the attitude of their tick (gyro rate held)
+  long long outage_statuses_ = 0; ///< statuses answered during a star tracker outage
+  std::array<std::uint8_t, 256> buf_{};  // a command encodes to well under 256 bytes
+  static constexpr std::int64_t kRebindNs = 500000000;  ///< plant silent this long -> another may bind [ns]
+  bool bound_ = false;
+  lcm_wire::Source plant_;
+  std::int64_t plant_heard_ns_ = 0;
+  long long foreign_ = 0;  ///< messages from another source than the bound plant (ignored)
+  std::int64_t next_seq_ = 0;
+  std::int64_t last_status_seq_ = -1;
+  long long restarts_ = 0;  ///< statuses whose seq went backwards
+  long long answered_ = 0, undecodable_ = 0, publish_errors_ = 0, controller_limited_ = 0;
+  long long not_finite_ = 0;            ///< answers not sent: a torque NaN or Inf
+  std::int64_t first_sent_seq_ = -1;    ///< seq of the first command sent (-1: none yet)
+  bool accepted_any_ = false;
+  double last_t_ = 0.0, max_track_error_ = 0.0;
+  int faults_seen_ = 0;
+};
+
+}  // namespace gimbalsim::controllers

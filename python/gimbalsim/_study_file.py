@@ -1,0 +1,42 @@
+"""The tuner's study file (out/study.db) before Optuna opens it: one tuner
+per study (a lock held for the process's life), and a --resume only of this
+folder's own study, checked read-only."""
+import contextlib
+import fcntl
+import os
+import sqlite3
+
+from ._errors import SpecError
+
+_HELD = []  # the lock files of the studies this process holds, open until it ends
+
+
+def hold(out):
+    """One tuner per study: an exclusive lock on out/.study.lock for the life
+    of the process; a second tuner on the same folder is refused (exit 2)."""
+    fd = os.open(out / ".study.lock", os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0), 0o666)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        raise SpecError(f"{out}: another tuner is running this study; wait for it to end (then --resume), or use "
+                        f"another --out") from None
+    _HELD.append(fd)
+
+
+def check_resumable(db, out, study_name):
+    """--resume needs this folder's own study, read before anything writes
+    to it: a missing, empty, linked or foreign file would become a new study
+    (Optuna creates its tables in any SQLite file) and trials.csv be rewritten."""
+    if db.is_symlink() or (db.exists() and not db.is_file()):
+        raise SpecError(f"{db}: not a regular file (a link or a folder): a study is never written through one")
+    if not db.exists() or db.stat().st_size == 0:
+        raise SpecError(f"{db}: {'empty' if db.exists() else 'missing'}: no study of {out} to resume; run without "
+                        f"--resume into another --out")
+    try:
+        with contextlib.closing(sqlite3.connect(f"file:{db.resolve()}?mode=ro", uri=True)) as c:
+            names = [r[0] for r in c.execute("SELECT study_name FROM studies")]
+    except sqlite3.Error as e:
+        raise SpecError(f"{db}: cannot open it as a study ({e}); use another --out") from None
+    if study_name not in names:
+        raise SpecError(f"{db}: not a study of {study_name} (it holds {names or 'no study'}); use another --out")
