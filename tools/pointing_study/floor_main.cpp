@@ -25,6 +25,7 @@
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
 #include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/io/output_file.hpp"
+#include "gimbalsim/pointing/profile_windows.hpp"
 #include "gimbalsim/program/program.hpp"
 
 using namespace gimbalsim;
@@ -82,22 +83,12 @@ Row runOne(const firmware::PlantScene& ps, const ControllerConfig& c, double dur
   return r;
 }
 
-constexpr const char* kNotReached = "n/a (not reached)";  // a window without a tick: no figure, never a bare nan
-
-std::string sci(double x) {
-  if (!std::isfinite(x)) return kNotReached;
-  char b[32];
-  std::snprintf(b, sizeof b, "%.3e", x);
-  return b;
-}
+/// A window's figure in the console form of every tool (pointing::figureText):
+/// "n/a (not reached)" for a window without a tick, never a bare nan.
+std::string sci(double x) { return pointing::figureText(x, std::isfinite(x) ? "" : "not reached", "%.3e"); }
 
 /// When the window's max occurred [s], or why there is none.
-std::string at(const Stat& s) {
-  if (s.n == 0) return kNotReached;
-  char b[32];
-  std::snprintf(b, sizeof b, "%.3f", s.t_max_s);
-  return b;
-}
+std::string at(const Stat& s) { return pointing::figureText(s.t_max_s, s.n > 0 ? "" : "not reached", "%.3f"); }
 
 std::string ratio(double a, double b) {
   return std::isfinite(a) && std::isfinite(b) ? formatSignificant(a / b, 3) : "n/a (a window not reached)";
