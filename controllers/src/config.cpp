@@ -18,6 +18,10 @@ std::vector<Key<AxisGains>> gainKeys() {
       K::number("torque_limit", "N m", "command limit", field(&AxisGains::torque_limit), interval('(', 0.0, 1e6, ']')),
       K::number("aw_gain", "1/s", "back-calculation anti-windup gain 1/T_t", field(&AxisGains::aw_gain),
                 interval('[', 0.0, 1e6, ']')),
+      K::number("play_inertia", "kg m^2",
+                "inertia on the motor's side of a play in this axis's drive: inside the play the rate gain is "
+                "at most 0.5 play_inertia / control.period (0: no backlash guard)",
+                field(&AxisGains::play_inertia), interval('[', 0.0, 1e6, ']')),
   };
 }
 

@@ -76,6 +76,14 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
       if (difference_ok) s.rate(i) += alpha * ((meas.theta(i) - s.theta_prev(i)) / dt - s.rate(i));
       w = s.rate(i);
     }
+    // Backlash guard (play_guard.hpp): once the play is seen, gains the light side can take.
+    if (g.play_inertia > 0.0 && !s.play.seen[i] && difference_ok && s.play.primed >= 2 &&
+        playEvidence(w - s.play.rate_prev(i), s.play.tau_prev2(i), Ts, g.play_inertia, g.torque_limit))
+      s.play.seen[i] = true;
+    const bool in_play = s.play.seen[i];
+    if (in_play) ++s.play.play_ticks[i];
+    const double kd = in_play ? std::min(g.kd, kPlayRateGain * g.play_inertia / Ts) : g.kd;
+    const double kp = g.kp;
     const double e = out.ref.q(i) - meas.theta(i);
     // Large-error approach (proximate time-optimal servo): the PD asks for a
     // closing rate (kp/kd) e; above sqrt(2 a |e|), with a the deceleration the
@@ -85,12 +93,12 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
     bool approach = false;
     // A suspect encoder (fault_monitor.hpp): no position feedback on this axis, only the rate's.
     const bool suspect = s.monitor.suspect[i];
-    double tau_pd = (suspect ? 0.0 : g.kp * e) + g.kd * (out.ref.dq(i) - w);
-    if (!suspect && c.approach_margin > 0.0 && g.inertia > 0.0 && g.kd > 0.0) {
+    double tau_pd = (suspect ? 0.0 : kp * e) + kd * (out.ref.dq(i) - w);
+    if (!suspect && c.approach_margin > 0.0 && g.inertia > 0.0 && kd > 0.0) {
       const double v_max = std::sqrt(2.0 * c.approach_margin * g.torque_limit / g.inertia * std::fabs(e));
-      if (g.kp * std::fabs(e) > g.kd * v_max) {
+      if (kp * std::fabs(e) > kd * v_max) {
         approach = true;
-        tau_pd = g.kd * (out.ref.dq(i) + std::copysign(v_max, e) - w);
+        tau_pd = kd * (out.ref.dq(i) + std::copysign(v_max, e) - w);
       }
     }
     const double tau_u = tau_ff(i) + tau_pd + s.integral(i);
@@ -111,7 +119,12 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
     out.error(i) = e;
     out.rate(i) = w;
     out.saturated[i] = sat;
+    out.in_play[i] = in_play;
+    s.play.rate_prev(i) = w;
   }
+  s.play.tau_prev2 = s.play.tau_prev;
+  s.play.tau_prev = out.tau;
+  s.play.primed = std::min(s.play.primed + 1, 2);
   s.theta_prev = meas.theta;
   s.t_prev = meas.t;
   s.primed = true;

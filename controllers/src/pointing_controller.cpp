@@ -13,6 +13,8 @@ contract::Command PointingController::answer(const contract::Status& st, const c
   report.star_outage = a.out.star_outage;
   report.saturated[0] = a.out.saturated[0];
   report.saturated[1] = a.out.saturated[1];
+  report.in_play[0] = a.out.in_play[0];
+  report.in_play[1] = a.out.in_play[1];
   report.flags = a.flags;
   report.reading_rejected = a.out.rejected || s_.rejected_readings != rejected_before;
   return a.cmd;

@@ -182,6 +182,8 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
       return r;
     }
     fig.add(rec, period, a.saturated[0] || a.saturated[1], (st.faults & kTorqueSaturated) != 0, r);
+    for (int j = 0; j < 2; ++j)
+      if (a.in_play[j] && std::isnan(r.play_onset(j))) r.play_onset(j) = rec.t;
     if (sink) sink(rec);
     r.ticks = k + 1;
     r.t_end = rec.t;

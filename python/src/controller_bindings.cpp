@@ -116,6 +116,11 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
   d["max_attitude_error_rad"] = r.max_attitude_error;
   d["max_tilt_rad"] = pyb::make_tuple(r.max_tilt(0), r.max_tilt(1));
   d["star_outage_ticks"] = r.star_outage_ticks;
+  // When each axis went onto its backlash guard's gains; None: it never did (no play seen).
+  const auto onset = [&](int j) -> pyb::object {
+    return std::isnan(r.play_onset(j)) ? pyb::object(pyb::none()) : pyb::object(pyb::float_(r.play_onset(j)));
+  };
+  d["play_onset_s"] = pyb::make_tuple(onset(0), onset(1));
   d["ticks"] = r.ticks;
   // A figure over a window the run did not reach is NaN; "reasons" says why,
   // one entry per such figure (IndexValue's convention, docs/python.md).
@@ -213,6 +218,7 @@ void bindController(pyb::module_& m) {
             d["error"] = pyb::make_tuple(out.error(0), out.error(1));
             d["ref"] = pyb::make_tuple(out.ref.q(0), out.ref.q(1));
             d["saturated"] = pyb::make_tuple(out.saturated[0], out.saturated[1]);
+            d["in_play"] = pyb::make_tuple(out.in_play[0], out.in_play[1]);  // the backlash guard has seen a play
             return d;
           },
           pyb::arg("t"), pyb::arg("theta1"), pyb::arg("theta2"), pyb::arg("dtheta1") = 0.0,

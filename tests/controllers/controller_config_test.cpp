@@ -128,8 +128,8 @@ TEST(ControllerConfig, EveryKeyIsDocumented) {
     EXPECT_FALSE(k.meaning.empty()) << k.key;
     EXPECT_FALSE(k.type.empty()) << k.key;
   }
-  // + pointing.* 6, gimbal.* 4, estimator.* 2; monitor.* 4; plant.* 10
-  EXPECT_EQ(controllerKeys().size(), 14u + 12u + 8u + 4u + 3u + 1u + 10u);
+  // + pointing.* 6, gimbal.* 4, estimator.* 2; monitor.* 4; plant.* 10; azimuth/elevation.* 7 each
+  EXPECT_EQ(controllerKeys().size(), 14u + 14u + 8u + 4u + 3u + 1u + 10u);
 }
 
 TEST(ControllerConfig, PointingKeysLoadAndAreChecked) {

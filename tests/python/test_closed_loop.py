@@ -118,21 +118,21 @@ def test_closed_loop_run_to_csv_follows_the_convention_and_the_output_rules(tmp)
 
 
 def test_a_bearing_tighter_than_its_load_presses_in_stops_saying_why():
-    # 30 um of play in paper_spatial2: the azimuth torque's couple presses an
-    # end in by about 38 um, deeper than the play (docs/MODEL.md 2.7).
-    scene = gimbalsim.load_scene(scene_path("paper_spatial2"), {"contact.clearance": 3e-5})
+    # 10 um of play in paper_spatial2: the azimuth torque's couple presses an
+    # end in deeper than the play (docs/MODEL.md 2.7), within 0.7 s.
+    scene = gimbalsim.load_scene(scene_path("paper_spatial2"), {"contact.clearance": 1e-5})
     run = gimbalsim.closed_loop(scene, gimbalsim.Controller(CONTROLLER_CONFIG), duration=2.0)
     s = run.summary
     assert not s["ok"] and s["stop_key"] == "sim.penetration_limit" and s["t_end_s"] < 2.0
-    assert "in joint 2's bearing, clearance 3e-05 m" in s["error"], s["error"]
+    assert "in joint 2's bearing, clearance 1e-05 m" in s["error"], s["error"]
     assert 'docs/MODEL.md 2.7 "Where the play model holds"' in s["error"]
     model_doc = (SOURCE / "docs" / "MODEL.md").read_text()
     assert "**Where the play model holds.**" in model_doc  # the section the message names
     # With a limit of its own the message says so, and nothing about the default.
     tight = gimbalsim.load_scene(scene_path("paper_spatial2"),
-                                 {"contact.clearance": 3e-5, "sim.penetration_limit": 1e-5})
+                                 {"contact.clearance": 1e-5, "sim.penetration_limit": 5e-6})
     s = gimbalsim.closed_loop(tight, gimbalsim.Controller(CONTROLLER_CONFIG), duration=2.0).summary
-    assert not s["ok"] and "sim.penetration_limit 1e-05 m)" in s["error"] and "MODEL.md" not in s["error"]
+    assert not s["ok"] and "sim.penetration_limit 5e-06 m)" in s["error"] and "MODEL.md" not in s["error"]
 
 
 def test_the_reference_integrator_refuses_plain_coulomb_at_once():

@@ -54,6 +54,8 @@ struct Study {
   long long motor_limited_ticks = 0;       ///< ticks with the applied torque at the motor limit (either axis)
   std::string joints;       ///< the joints' kinds, "ideal/spatial" (azimuth/elevation)
   double max_tilt[2] = {};  ///< [rad] largest tilt of each joint's journal at the ticks (0 unless spatial)
+  /// [s] when each axis went onto its backlash guard's gains (NaN: never; controllers' play_guard.hpp)
+  double play_onset[2] = {};
   std::string track_reason;  ///< why the track figures are NaN ("" if they have values)
   bool ok = true;
   std::string stop_key;     ///< the scene key of the limit that stopped the plant ("" if none)
@@ -66,6 +68,10 @@ struct Study {
 /// the scene's own: no noise in the shipped scenes, encoders quantised.
 const std::vector<std::string> kRealisticSensors{"sensors.star_tracker_noise=2e-5",
                                                  "sensors.gyro_bias=[5.7735e-6, 5.7735e-6, 5.7735e-6]"};
+
+/// What the loop closes on (every run): the joint encoders and rates and the
+/// base's gyro and star tracker; nothing on the antenna.
+constexpr const char* kLoopSensors = "encoders+base attitude";
 
 /// A CSV number (io::appendCsvNumber: round trip, no -0).
 std::string csvNum(double x) {
@@ -133,6 +139,7 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   s.controller_limited_ticks = r.controller_limited_ticks;
   s.motor_limited_ticks = r.motor_limited_ticks;
   s.max_tilt[0] = r.max_tilt(0), s.max_tilt[1] = r.max_tilt(1);
+  s.play_onset[0] = r.play_onset(0), s.play_onset[1] = r.play_onset(1);
   if (s.err.empty()) s.peak_run = std::numeric_limits<double>::quiet_NaN();  // no tick: no peak, never 0
   s.ok = r.ok;
   if (!r.ok) {
@@ -165,14 +172,15 @@ std::string timeSeriesCsv(const std::vector<Study>& runs, double period) {
 std::string summaryCsv(const std::vector<Study>& runs) {
   std::string out =
       "run,scene,sensors,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,controller_limited_ticks,motor_limited_ticks,joints,"
-      "max_tilt1_rad,max_tilt2_rad,status,stop_reason,track_reason\n";
+      "max_tilt1_rad,max_tilt2_rad,play_onset1_s,play_onset2_s,loop_sensors,status,stop_reason,track_reason\n";
   const auto text = [](const std::string& t) { return io::csvTextCell(t) + ","; };  // unquoted (CSV convention)
   const auto num = [](double x) { return csvNum(x) + ","; };
   for (const Study& s : runs) {
     out += text(s.label) + text(s.scene) + text(s.sensors) + num(s.clearance) + num(s.peak_track) +
            num(s.rms_track) + num(s.peak_run) + std::to_string(s.track_ticks) + "," +
            std::to_string(s.controller_limited_ticks) + "," + std::to_string(s.motor_limited_ticks) + "," +
-           text(s.joints) + num(s.max_tilt[0]) + num(s.max_tilt[1]) +
+           text(s.joints) + num(s.max_tilt[0]) + num(s.max_tilt[1]) + num(s.play_onset[0]) + num(s.play_onset[1]) +
+           text(kLoopSensors) +
            text(s.ok ? std::string("ok") : "stop:" + s.stop_key) + text(s.reason) + io::csvTextCell(s.track_reason) +
            "\n";
   }

@@ -8,6 +8,7 @@ DIR's summary.csv, config.txt and the tool's log.
     /usr/bin/python3 tools/pointing_study/pointing_page.py --dir out/pointing_study --command CMD [--t0 T --load0 L]
 """
 import csv
+import math
 import pathlib
 import sys
 
@@ -32,6 +33,12 @@ def main():
         kinds = r.get("joints", "").split("/")
         return " / ".join(f"{float(r[f'max_tilt{j + 1}_rad']):.3g}" if j < len(kinds) and kinds[j] == "spatial"
                           else "-" for j in range(2))
+
+    def onset(r, j):  # when axis j went onto the guard's gains [s]; NaN: never (or a summary from before the guard)
+        try:
+            return float(r.get(f"play_onset{j + 1}_s") or "nan")
+        except ValueError:
+            return float("nan")
 
     ideals = {sensors(r): r for r in rows if float(r["clearance_m"]) == 0.0}
     scenes = list(dict.fromkeys(r["scene"] for r in rows if float(r["clearance_m"]) > 0.0))
@@ -75,10 +82,16 @@ def main():
                "tuned for the rigid chain, limit-cycles. A spatial elevation journal's tilt lets shaft 1 turn about "
                "the azimuth axis against the antenna by up to 2c/L (backlash between the azimuth encoder and the "
                "antenna), so the azimuth loop drives the light shaft 1 alone across that play.", ""]
-    md += ["| run | scene | sensors | clearance [mm] | peak while tracking [rad] | RMS while tracking [rad] "
-           "| peak over the run [rad] | peak / ideal | RMS / ideal | torque at its limit [ticks] "
-           "| largest tilt, joint 1 / 2 [rad] | plant |",
-           "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    guarded = [r for r in rows if any(math.isfinite(onset(r, j)) for j in range(2))]
+    if guarded:
+        md += [f"In {len(guarded)} of the {len(rows)} runs the controller saw a play and stepped that axis on its "
+               "backlash guard's gains from the time given (docs/MODEL.md section 11.5; `-`: never): "
+               + ", ".join(sorted({r['scene'] for r in guarded})) + ". Loop sensors: what the controller closes "
+               "on (encoders: the joint encoders and rates; base attitude: the gyro and star tracker).", ""]
+    md += ["| run | scene | sensors | loop sensors | clearance [mm] | peak while tracking [rad] "
+           "| RMS while tracking [rad] | peak over the run [rad] | peak / ideal | RMS / ideal "
+           "| torque at its limit [ticks] | largest tilt, joint 1 / 2 [rad] | guard from, az / el [s] | plant |",
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         c = float(r["clearance_m"])
         rel = ("-", "-")
@@ -87,9 +100,11 @@ def main():
             rel = (f"{float(r['peak_track_rad']) / float(ideal['peak_track_rad']):.2g}",
                    f"{float(r['rms_track_rad']) / float(ideal['rms_track_rad']):.2g}")
         status = r["status"] + (f" ({r['stop_reason']})" if r.get("stop_reason") else "")
-        md.append(f"| {r['run']} | {r['scene']} | {sensors(r)} | {'-' if c == 0 else f'{c * 1e3:g}'} | "
+        guard = " / ".join(f"{onset(r, j):.3f}" if math.isfinite(onset(r, j)) else "-" for j in range(2))
+        md.append(f"| {r['run']} | {r['scene']} | {sensors(r)} | {r.get('loop_sensors') or '-'} | "
+                  f"{'-' if c == 0 else f'{c * 1e3:g}'} | "
                   f"{float(r['peak_track_rad']):.2e} | {float(r['rms_track_rad']):.2e} | {float(r['peak_run_rad']):.2e} | "
-                  f"{rel[0]} | {rel[1]} | {r.get('controller_limited_ticks', '-')} | {tilts(r)} | {status} |")
+                  f"{rel[0]} | {rel[1]} | {r.get('controller_limited_ticks', '-')} | {tilts(r)} | {guard} | {status} |")
     md += ["", "Per tick: out/pointing_study/pointing_error.csv; figures: out/pointing_study/pointing_error_vs_time.png "
            "and pointing_error_vs_clearance.png (tools/pointing_study/plot_pointing_study.py).", ""]
     if config:

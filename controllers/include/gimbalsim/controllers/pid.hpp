@@ -10,6 +10,7 @@
 #include "gimbalsim/controllers/attitude_estimator.hpp"
 #include "gimbalsim/controllers/fault_monitor.hpp"
 #include "gimbalsim/controllers/model_feedforward.hpp"
+#include "gimbalsim/controllers/play_guard.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::controllers {
@@ -51,6 +52,8 @@ struct AxisGains {
   double inertia = 0.0;       ///< acceleration feed-forward inertia estimate J [kg m^2]
   double torque_limit = 50.0; ///< command limit [N m], > 0
   double aw_gain = 0.0;       ///< back-calculation gain k_aw = 1/T_t [1/s]
+  /// Inertia on the motor's side of a play in this axis's drive [kg m^2] (play_guard.hpp); 0: no guard
+  double play_inertia = 0.0;
 };
 
 /// Constant configuration of the controller (the controller's "Model").
@@ -60,9 +63,9 @@ struct AxisGains {
 struct ControllerConfig {
   /// 0 azimuth (theta1), 1 elevation (theta2): triple pole at -20 rad/s (default.yaml says why).
   std::array<AxisGains, 2> axis{AxisGains{.kp = 21120.0, .ki = 140800.0, .kd = 1056.0, .inertia = 17.01,
-                                          .torque_limit = 50.0, .aw_gain = 20.0},
+                                          .torque_limit = 50.0, .aw_gain = 20.0, .play_inertia = 0.1},
                                 AxisGains{.kp = 21000.0, .ki = 140000.0, .kd = 1050.0, .inertia = 16.91,
-                                          .torque_limit = 50.0, .aw_gain = 20.0}};
+                                          .torque_limit = 50.0, .aw_gain = 20.0, .play_inertia = 0.5}};
   double period = 1.0e-3;            ///< control period Ts [s]
   AntiWindup anti_windup = AntiWindup::BackCalculation;
   RateSource rate_source = RateSource::Status;
@@ -145,6 +148,7 @@ struct ControllerState {
   AttitudeHistory attitudes;       ///< recent attitude messages (noteAttitude, closed_loop.hpp)
   Vec2 last_tau = Vec2::Zero();    ///< the last command computed [N m]: held when a reading is rejected
   Vec2 tau_ff_prev = Vec2::Zero(); ///< last feed-forward torque before the lead [N m] (t_prev: its time)
+  PlayGuardState play;             ///< backlash guard (play_guard.hpp)
   long long rejected_readings = 0; ///< measurements with a NaN or Inf: the whole one (time, angle, rate) or its gyro or star sample
 };
 
@@ -158,6 +162,7 @@ struct ControlOutput {
   Vec2 accel_ff = Vec2::Zero();    ///< the acceleration the feed-forward torque J_i a_i is for [rad/s^2]
   Vec2 tau_ff = Vec2::Zero();      ///< feed-forward torque at the measurement time, before the lead [N m]
   std::array<bool, 2> saturated{}; ///< |tau_unsat| > limit
+  std::array<bool, 2> in_play{};   ///< the axis stepped on its play gains (play_guard.hpp)
   ProfileSample profile;           ///< the profile at the measurement time
   Quat q_WB_est = Quat::Identity();///< estimated base attitude, base -> inertial
   Vec3 omega_B_est = Vec3::Zero(); ///< bias-corrected base rate used [rad/s]

@@ -95,6 +95,9 @@ struct ClosedLoopResult {
   long long motor_limited_ticks = 0;
   double max_attitude_error = 0.0;     ///< [rad] estimated vs true base attitude, whole run
   Vec2 max_tilt = Vec2::Zero();        ///< [rad] largest tilt of each joint's journal at the ticks, whole run
+  /// [s] the first tick at which each axis ran on its backlash guard's gains
+  /// (the controller saw a play, controllers' play_guard.hpp); NaN: never
+  Vec2 play_onset = Vec2::Constant(std::numeric_limits<double>::quiet_NaN());
   long long star_outage_ticks = 0;     ///< ticks the controller flagged a star tracker outage
   long long rejected_readings = 0;     ///< statuses whose reading the controller rejected (NaN or Inf)
   long long ticks = 0;

@@ -29,6 +29,7 @@ struct ControllerReport {
   Quat q_WB_est = Quat::Identity();    ///< estimated base attitude, base -> inertial
   bool star_outage = false;            ///< the attitude estimate coasts on the gyro
   bool saturated[2] = {};              ///< the command hit the controller's own limit, per axis
+  bool in_play[2] = {};                ///< the axis runs on its backlash guard's gains (a play seen), per axis
   MonitorFlags flags;                  ///< its fault monitor's view of the status
   bool reading_rejected = false;       ///< a NaN or Inf in the status or its attitude: rejected, the last command held
 };
