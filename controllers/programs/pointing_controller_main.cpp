@@ -195,6 +195,13 @@ int run(int argc, char** argv) {
                  h.answered(), h.notFinite());
     code = program::kStopped;
   }
+  // A tick answered with no command (NaN or Inf torque) left the plant on its
+  // last one: the run did not control it throughout, whatever it accepted.
+  if (code == program::kOk && h.notFinite() > 0) {
+    std::fprintf(stderr, "pointing_controller: %lld of %lld answers not sent: a torque NaN or Inf (the plant kept "
+                 "its last command); check the configuration's ranges\n", h.notFinite(), h.answered());
+    code = program::kStopped;
+  }
   if (log_out && !log_out->commit()) {
     std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", log_out->error().c_str());
     if (code == program::kOk) code = program::kOutput;
@@ -209,9 +216,9 @@ int run(int argc, char** argv) {
                "own torque limit (azimuth/elevation.torque_limit), %lld undecodable, %lld publish "
                "errors, %lld plant restarts, max |joint error| while tracking %s (encoder), status faults seen 0x%x, "
                "%lld statuses without their attitude (gyro held), %lld in a star tracker outage, %lld readings "
-               "rejected (NaN or Inf: the last command held)\n",
+               "rejected (NaN or Inf: the last command held), %lld answers not sent (a torque NaN or Inf)\n",
                h.answered(), h.lastTime(), h.controllerLimited(), h.undecodable(), h.publishErrors(), h.plantRestarts(), track_error.c_str(),
-               h.faultsSeen(), h.unpaired(), h.outageStatuses(), h.rejectedReadings());
+               h.faultsSeen(), h.unpaired(), h.outageStatuses(), h.rejectedReadings(), h.notFinite());
   const MonitorState& mon = h.monitor();
   std::fprintf(stderr, "pointing_controller: fault monitor: %lld stale statuses (%lld with safe torque), %lld statuses "
                "missing, encoder suspect %lld times on azimuth, %lld on elevation\n",

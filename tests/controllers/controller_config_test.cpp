@@ -86,8 +86,14 @@ TEST(ControllerConfig, BadValuesAreRefusedWithTheReason) {
   EXPECT_NE(refusal("", {"azimuth.kp"}).find("--set #1 'azimuth.kp': expected key=value"), std::string::npos);
   EXPECT_NE(refusal("control:\n  rate_filter_hz: 600\n").find("must be below the Nyquist frequency"),
             std::string::npos);
-  EXPECT_NE(refusal("profile:\n  track_period: [1, 0]\n").find("key 'profile.track_period': must be > 0"),
+  EXPECT_NE(refusal("profile:\n  track_period: [1, 0]\n").find("key 'profile.track_period': must be in [1e-06, 1e+09]"),
             std::string::npos);
+  // The profile's ranges keep every torque finite: 1e300 rad, a 1e-300 s period gave NaN commands.
+  for (const char* bad : {"profile.slew_target=[1e300, 0]", "profile.start=[0, -1e308]", "profile.track_rate=[1e300, 0]",
+                          "profile.track_amplitude=[0, 1e300]", "profile.track_period=[1e-300, 1]",
+                          "profile.slew_start=1e300", "profile.hold_time=1e300"}) {
+    EXPECT_NE(refusal("", {bad}).find("must be in"), std::string::npos) << bad << ": " << refusal("", {bad});
+  }
   EXPECT_NE(refusal("control: [1, 2\n").find("cfg.yaml:"), std::string::npos);
   EXPECT_NE(refusal("- 1\n- 2\n").find("must be a mapping"), std::string::npos);
 }

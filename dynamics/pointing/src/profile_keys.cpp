@@ -9,6 +9,10 @@ namespace {
 
 using P = TargetProfile;
 
+const Check kAngle = interval('[', -1e3, 1e3, ']');    // [rad]
+const Check kTime = interval('[', 0.0, 1e9, ']');      // [s] a start or a hold
+const Check kDuration = interval('(', 0.0, 1e9, ']');  // [s] a slew or a ramp
+
 /// A pair (azimuth, elevation), refused as such when malformed.
 template <class F>
 Key<P> azEl(std::string key, std::string unit, std::string meaning, F f, const Check& check = {}) {
@@ -34,16 +38,19 @@ const KeyTable<P>& profileKeys() {
   static const KeyTable<P> table{
       {"a target profile", "profile file", "`pointing_controller --keys`, docs/controller_keys.md", ""},
       {
-          azEl("start", "rad", "azimuth, elevation before the slew", field(&P::start)),
-          K::number("slew_start", "s", "time the slew begins", field(&P::slew_start), atLeast(0)),
-          azEl("slew_target", "rad", "azimuth, elevation at the slew's end", field(&P::slew_target)),
-          K::number("slew_time", "s", "minimum-jerk slew duration", field(&P::slew_time), greater(0)),
-          K::number("hold_time", "s", "hold at the slew target", field(&P::hold_time), atLeast(0)),
-          azEl("track_rate", "rad/s", "pass rate r of the tracked target", field(&P::track_rate)),
+          // Ranges whose products with the law's gains (kp <= 1e9 N m/rad) and
+          // the nutation's (A (2 pi / P)^2) stay finite: 1e300 rad gave NaN torques.
+          azEl("start", "rad", "azimuth, elevation before the slew", field(&P::start), kAngle),
+          K::number("slew_start", "s", "time the slew begins", field(&P::slew_start), kTime),
+          azEl("slew_target", "rad", "azimuth, elevation at the slew's end", field(&P::slew_target), kAngle),
+          K::number("slew_time", "s", "minimum-jerk slew duration", field(&P::slew_time), kDuration),
+          K::number("hold_time", "s", "hold at the slew target", field(&P::hold_time), kTime),
+          azEl("track_rate", "rad/s", "pass rate r of the tracked target", field(&P::track_rate),
+               interval('[', -1e3, 1e3, ']')),
           K::number("track_ramp_time", "s", "pass-rate ramp-in time constant T_r", field(&P::track_ramp_time),
-                    greater(0)),
-          azEl("track_amplitude", "rad", "nutation amplitude A", field(&P::track_amplitude)),
-          azEl("track_period", "s", "nutation period P", field(&P::track_period), greater(0)),
+                    kDuration),
+          azEl("track_amplitude", "rad", "nutation amplitude A", field(&P::track_amplitude), kAngle),
+          azEl("track_period", "s", "nutation period P", field(&P::track_period), interval('[', 1e-6, 1e9, ']')),
       },
       nullptr, {}, {}};
   return table;
