@@ -51,6 +51,15 @@ def check_row(spec, row, n_columns):
     return None
 
 
+def _parsed(line):
+    """One CSV line's cells, or None when it is not CSV (a field over the csv
+    module's limit, a stray quote): such a line is no row the sweep wrote."""
+    try:
+        return next(csv.reader([line]), [])
+    except csv.Error:
+        return None
+
+
 def read_journal(spec, path, header):
     """The journal's trusted rows by sample, what was dropped ({reason:
     count}), and whether the file can be appended to as it is. A last line
@@ -59,6 +68,9 @@ def read_journal(spec, path, header):
     done, dropped = {}, {}
     if not path.exists():
         return done, dropped, False
+    if not path.is_file():  # a pipe would block the resume for good, a device feed it without end
+        raise SpecError(f"{path}: not a regular file (a pipe, a device or a folder): a journal is only read from a "
+                        f"file; use another --out")
     try:
         data = path.read_bytes()
     except OSError as e:
@@ -69,9 +81,15 @@ def read_journal(spec, path, header):
         dropped["last line cut by an interruption"] = 1
     if not lines:  # killed before the header was whole: nothing was journaled
         return done, dropped, False
-    if next(csv.reader(lines[:1]), None) != header:
+    if _parsed(lines[0]) != header:
         raise SpecError(f"{path} was written by another spec (its header differs); use another --out")
-    rows = list(csv.reader(lines[1:]))
+    rows = []
+    for line in lines[1:]:
+        row = _parsed(line)
+        if row is None:
+            dropped["unreadable line"] = dropped.get("unreadable line", 0) + 1
+        else:
+            rows.append(row)
     spoken_for = _extend_over(spec, rows)  # the spec's own size
     for row in rows:
         why = check_row(spec, row, len(header))

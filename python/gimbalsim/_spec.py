@@ -1,6 +1,7 @@
 """Spec files of the sweep and the tuner: YAML read with the position of
 every key, and refusals that name the spec's key, line and column."""
 import math
+import os
 import pathlib
 import re
 
@@ -60,6 +61,8 @@ class Spec:
             mark = getattr(e, "problem_mark", None)
             raise SpecError(f"not valid YAML: {getattr(e, 'problem', e)}", file=str(path),
                             line=mark.line + 1 if mark else None, column=mark.column + 1 if mark else None)
+        except RecursionError:  # the composer recurses per level: 1000 brackets reach Python's limit first
+            raise SpecError("nested too deeply (more than 16 levels)", file=str(path)) from None
         if tree is None or not isinstance(tree, yaml.MappingNode):
             raise SpecError("a spec must be a mapping of keys", file=str(path))
         self._nodes = 0
@@ -181,6 +184,8 @@ def check_out_dir(out, spec_path):
     out = pathlib.Path(out)
     if out.exists() and not out.is_dir():
         same = pathlib.Path(spec_path).exists() and out.resolve() == pathlib.Path(spec_path).resolve()
+    if out.is_symlink():  # every output is written into the folder named, never through a link (docs/usage.md)
+        raise SpecError(f"--out {out}: is a link (to {os.readlink(out)}): name the folder itself")
         raise SpecError(f"--out {out}: " + ("is the spec file itself" if same else "exists and is not a folder"))
     for parent in out.absolute().parents:  # the folder is made later: no file may stand in its way
         if parent.exists():
@@ -194,6 +199,19 @@ def check_out_dir(out, spec_path):
 
 def _is_number(v):
     return isinstance(v, (int, float)) and not isinstance(v, bool)
+def check_outputs_not_inputs(outputs, inputs):
+    """An output that is also an input (the spec or a file it reads), or a
+    folder of outputs holding one, is refused (SpecError, exit 2) before
+    anything runs: found at the end, the study's work would be lost."""
+    ins = [pathlib.Path(p).resolve() for p in inputs if p is not None]
+    for o in outputs:
+        o = pathlib.Path(o).resolve()
+        for i in ins:
+            if i == o or o in i.parents:
+                raise SpecError(f"{i}: an input of this run and {'its output' if i == o else 'inside its output folder'} "
+                                f"{o}; move it out of --out, or use another --out")
+
+
 
 
 def _shown(v):

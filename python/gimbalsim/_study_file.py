@@ -1,6 +1,6 @@
-"""The tuner's study file (out/study.db) before Optuna opens it: one tuner
-per study (a lock held for the process's life), and a --resume only of this
-folder's own study, checked read-only."""
+"""A study's folder and the tuner's study file (out/study.db) before Optuna
+opens it: one sweep or tuner per folder (a lock held for the process's life),
+and a --resume only of this folder's own study, checked read-only."""
 import contextlib
 import fcntl
 import os
@@ -12,15 +12,16 @@ _HELD = []  # the lock files of the studies this process holds, open until it en
 
 
 def hold(out):
-    """One tuner per study: an exclusive lock on out/.study.lock for the life
-    of the process; a second tuner on the same folder is refused (exit 2)."""
-    fd = os.open(out / ".study.lock", os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0), 0o666)
+    """One sweep or tuner per folder: an exclusive lock on the folder itself
+    (no lock file left among the outputs) for the life of the process; a
+    second one on the same folder is refused (exit 2) before it reads or writes."""
+    fd = os.open(out, os.O_RDONLY | os.O_DIRECTORY | getattr(os, "O_CLOEXEC", 0))
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except BlockingIOError:
         os.close(fd)
-        raise SpecError(f"{out}: another tuner is running this study; wait for it to end (then --resume), or use "
-                        f"another --out") from None
+        raise SpecError(f"{out}: another sweep or tuner is running in this folder; wait for it to end (then "
+                        f"--resume), or use another --out") from None
     _HELD.append(fd)
 
 

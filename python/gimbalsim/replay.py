@@ -42,7 +42,7 @@ def _read_rows(folder):
             try:
                 with open(path, newline="", encoding="utf-8") as f:
                     lines = list(csv.reader(f))
-            except (OSError, UnicodeDecodeError) as e:
+            except (OSError, UnicodeDecodeError, csv.Error) as e:  # csv.Error: a line over the field limit
                 _refuse(f"{path}: cannot read it ({e})")
             if not lines:
                 _refuse(f"{path} is empty: the sweep wrote nothing yet")

@@ -42,12 +42,12 @@ import sys
 import time
 
 import gimbalsim
-from . import _budget, _budget_report, _cluster, _provenance, replay
+from . import _budget, _budget_report, _cluster, _provenance, _study_file, replay
 from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main
 from ._journal import JOURNAL, csv_line, fmt, read_journal  # noqa: F401 (csv_line, fmt: API)
 from ._output import append_synced, open_append, write_text
 from ._sample import row_values, run_one, sample_alone  # noqa: F401 (sample_alone: API)
-from ._spec import check_out_dir
+from ._spec import check_out_dir, check_outputs_not_inputs
 from ._summary import plot, summarize
 from ._sweep_spec import MAX_SAMPLES, SweepSpec
 from ._until import Until
@@ -88,14 +88,17 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             raise SpecError(f"{out} holds a sweep of another spec; --resume needs the same spec")
     elif journal.exists() or results.exists():
         raise SpecError(f"{out} already holds a sweep: give --resume to finish it, or another --out")
-    done, dropped, appendable = read_journal(spec, journal, header)
-    if results.exists() and resume and not done and not dropped:
-        done, dropped, _ = read_journal(spec, results, header)
-        appendable = False
+    check_outputs_not_inputs([fingerprint, out / _provenance.SPEC_COPY, out / _provenance.INPUTS, journal, results,
+                              out / "summary.json", out / "report.md", out / "plots"], inputs)
     try:
         out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
     except OSError as e:
         raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
+    _study_file.hold(out)  # before the journal is read: another sweep may be writing it
+    done, dropped, appendable = read_journal(spec, journal, header)
+    if results.exists() and resume and not done and not dropped:
+        done, dropped, _ = read_journal(spec, results, header)
+        appendable = False
     write(fingerprint, spec.fingerprint)
     _provenance.record_inputs(spec, out, write)
     if not appendable:

@@ -47,7 +47,7 @@ from . import _cluster, _study_file
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
 from ._journal import fmt
 from ._output import savefig, write_csv, write_text
-from ._spec import check_out_dir
+from ._spec import check_out_dir, check_outputs_not_inputs
 from ._tune_spec import METRICS, TuneSpec  # noqa: F401 (TuneSpec: the module's API)
 
 def run_plants(base, controller, duration, items):
@@ -118,6 +118,8 @@ def open_study(spec, out, resume, sampler):
     if not resume and (db.exists() or (out / "trials.csv").exists()):
         raise SpecError(f"{out} already holds a study ({db.name}, trials.csv): give --resume to continue it, "
                         f"or another --out")
+    check_outputs_not_inputs([db] + [out / n for n in ("trials.csv", "best.yaml", "summary.json", "progress.png")],
+                             spec.input_files())
     try:
         out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
     except OSError as e:

@@ -5,6 +5,7 @@ refusals name the spec's key and line."""
 import csv
 import json
 import os
+import pathlib
 import re
 import signal
 import socket
@@ -272,6 +273,36 @@ def test_missing_or_malformed_specs_are_refused(tmp_path):
                                      "d: &w [*z, *z, *z, *z, *z, *z, *z, *z, *z, *z]\n"
                                      "e: &v [*w, *w, *w, *w, *w, *w, *w, *w, *w, *w]\n"
                                      "f: [*v, *v, *v, *v, *v, *v, *v, *v, *v, *v]\n")
+def test_an_out_through_a_link_and_unreadable_study_files_are_refused(spec, tmp_path):
+    (tmp_path / "real").mkdir()
+    (tmp_path / "L").symlink_to(tmp_path / "real")
+    p = run_sweep(spec, tmp_path / "L", check=False)
+    assert p.returncode == 2 and "is a link" in p.stderr and not any((tmp_path / "real").iterdir()), p.stderr
+    (tmp_path / "deep.yaml").write_text("samples: " + "[" * 1000 + "]" * 1000 + "\n")
+    p = run_sweep(tmp_path / "deep.yaml", tmp_path / "o", check=False)
+    assert p.returncode == 2 and "nested too deeply" in p.stderr and "Traceback" not in p.stderr, p.stderr
+    # a journal holding a line no sweep wrote (over the csv module's field limit) or a pipe in its place
+    out = tmp_path / "j"
+    run_sweep(spec, out, "--workers", "1")
+    header = (out / "results.csv").read_text().splitlines()[0]
+    (out / "results.csv").unlink()
+    (out / "results.partial.csv").write_text(header + "\n1," + "x" * 500000 + "\n")
+    p = run_sweep(spec, out, "--workers", "1", "--resume", check=False)
+    assert p.returncode == 0 and "dropped 1 journal row (unreadable line)" in p.stderr, p.stderr
+    with open(out / "results.csv", "a") as f:
+        f.write("2," + "y" * 500000 + "\n")
+    p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(out), "--replay", "1", "--out",
+                        str(tmp_path / "r.csv")], capture_output=True,
+                       text=True, timeout=300)
+    assert p.returncode == 2 and "cannot read it" in p.stderr and "Traceback" not in p.stderr, p.stderr
+    fifo = tmp_path / "f"
+    fifo.mkdir()
+    (fifo / "spec.json").write_text((out / "spec.json").read_text())
+    os.mkfifo(fifo / "results.partial.csv")
+    p = subprocess.run(sweep_cmd(spec, fifo, "--resume"), capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2 and "not a regular file" in p.stderr, p.stderr
+
+
     p = run_sweep(tmp_path / "c.yaml", tmp_path / "o", check=False)
     assert p.returncode == 2 and "values" in p.stderr
 
@@ -334,6 +365,19 @@ CRASHED = [
     ("grid:\n  friction.mu: [0.1, !!binary aGVsbG8=]\n", 5, "grid.friction.mu", "unsupported tag"),
     ("grid:\n  friction.mu: [0.1, !!timestamp 2024-01-01]\n", 5, "grid.friction.mu", "unsupported tag"),
     ("grid:\n  friction.mu: [0.1, {a: 1}]\n", 5, "grid.friction.mu", "a mapping"),
+def test_an_input_among_the_outputs_is_refused_before_anything_runs(spec, tmp_path):
+    """A spec saved as the summary it would be overwritten by, or one inside
+    a plots folder: refused at once (it used to run every sample, then exit 4)."""
+    for rel in ("summary.json", "spec.yaml", "plots/s.yaml"):
+        out = tmp_path / rel.replace("/", "_")
+        (out / rel).parent.mkdir(parents=True)
+        (out / rel).write_bytes(spec.read_bytes())
+        p = run_sweep(out / rel, out, check=False)
+        assert p.returncode == 2 and "an input of this run" in p.stderr and "Traceback" not in p.stderr, p.stderr
+        assert "samples" not in p.stderr.split("an input")[0], "refused before any sample ran"
+        assert sorted(x.name for x in out.rglob("*")) == sorted(pathlib.PurePath(rel).parts), "nothing written"
+
+
     ("parameters:\n  friction.law: {choice: [coulomb, !custom x]}\n", 5, "parameters.friction.law.choice",
      "unsupported tag"),
     ("parameters:\n  friction.mu: {choice: [0.1, null]}\n", 5, "parameters.friction.mu", "null"),

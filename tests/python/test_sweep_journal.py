@@ -234,6 +234,25 @@ def test_an_interrupted_sweep_says_one_line_and_keeps_its_journal(spec, tmp_path
     assert p.returncode == 0 and f"{kept} already done" in p.stderr, p.stderr
 
 
+def test_a_second_sweep_on_a_running_sweeps_folder_is_refused(spec, tmp_path):
+    """Two sweeps on one folder would run samples twice into one journal and
+    one of them die on the other's rename: the second is refused at once."""
+    out = tmp_path / "o"
+    first = subprocess.Popen(sweep_cmd(spec, out, "--batch", "1"), stdout=subprocess.DEVNULL,
+                             stderr=subprocess.PIPE, text=True)
+    try:
+        wait_for(lambda: journal_rows(out) >= 1, first)
+        for args in (("--resume",), ()):
+            p = subprocess.run(sweep_cmd(spec, out, *args), capture_output=True, text=True, timeout=120)
+            assert p.returncode == 2, p.stderr
+            assert "Traceback" not in p.stderr and (
+                "another sweep or tuner is running in this folder" in p.stderr or "already holds a sweep" in p.stderr)
+    finally:
+        _, err = first.communicate(timeout=300)
+    assert first.returncode == 0, err
+    assert len(list(csv.reader((out / "results.csv").open()))) == N + 1  # the first sweep's rows, each once
+
+
 TUNE = f"""
 scene: {SCENES}/paper_clearance.yaml
 controller: {CONTROLLER_CONFIG}

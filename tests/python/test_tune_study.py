@@ -94,6 +94,21 @@ def test_a_study_folder_is_not_overwritten_without_resume(tmp_path):
     assert {f: (out / f).read_bytes() for f in before} == before
 
 
+def test_a_spec_or_controller_among_the_outputs_is_refused_before_any_trial(tmp_path):
+    """A tuner whose spec is its own best.yaml-to-be, or whose controller is:
+    refused at once (it used to run every trial, then exit 4)."""
+    out = tmp_path / "tf"
+    out.mkdir()
+    (out / "best.yaml").write_text(SPEC.replace("TRIALS", "3"))
+    p = subprocess.run(tune_cmd(out / "best.yaml", out), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2 and "an input of this run" in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert sorted(x.name for x in out.iterdir()) == ["best.yaml"], "nothing written"
+    (out / "best.yaml").write_bytes(CONTROLLER_CONFIG.read_bytes())
+    (tmp_path / "t.yaml").write_text(SPEC.replace("TRIALS", "3").replace(str(CONTROLLER_CONFIG), str(out / "best.yaml")))
+    p = subprocess.run(tune_cmd(tmp_path / "t.yaml", out), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2 and "an input of this run" in p.stderr, p.stderr
+
+
 def test_a_gain_range_without_the_configurations_value_is_refused_at_its_line(tmp_path):
     (tmp_path / "t.yaml").write_text(SPEC.replace("TRIALS", "2").replace("[5000, 80000]", "[30000, 80000]"))
     p = subprocess.run(tune_cmd(tmp_path / "t.yaml", tmp_path / "o"), capture_output=True, text=True, timeout=600)
@@ -224,7 +239,7 @@ def test_a_second_tuner_on_a_running_study_is_refused(tmp_path):
         assert first.poll() is None, "the first tuner ended before the second could try"
         p = subprocess.run(tune_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=120)
         assert p.returncode == 2, p.stderr
-        assert "another tuner is running this study" in p.stderr and "Traceback" not in p.stderr
+        assert "another sweep or tuner is running in this folder" in p.stderr and "Traceback" not in p.stderr
     finally:
         _, err = first.communicate(timeout=600)
     assert first.returncode == 0, err
