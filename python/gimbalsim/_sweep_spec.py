@@ -118,12 +118,14 @@ class SweepSpec:
                     "torque.tau1": "the controller commands the torque", "torque.tau2": "the controller commands "
                     "the torque"}
         else:
-            idle = {}
+            idle = {"torque.limit": "the firmware's motor limit: an open-loop run applies the scene's torques as "
+                    "they are"}
         dispersed = [(f"parameters.{p.key}", p.key, p.node) for p in self.parameters] + \
                     [(f"grid.{k}", k, n) for k, n in grid.items()]
+        structural = {aliases.get(k, k) for _, k, _ in dispersed}
         for where, key, node in dispersed:
             canonical = aliases.get(key, key)
-            why = idle.get(canonical)
+            why = idle.get(canonical) or _idle_in_scene(canonical, self.base.values(), structural)
             if why is None and self.closed is None and canonical.startswith("sensors."):
                 why = "an open-loop run has no sensors (they act in a closed-loop sweep: name its controller)"
             if why is not None:
@@ -161,3 +163,31 @@ class SweepSpec:
         return names + ["status"] + ["reason"] * self.text_columns + \
             [csv_name(m, METRIC_UNITS.get(m, "rad")) for m in self.metrics + ["wall_time"]] + \
             _provenance.csv_names(self, csv_name, units)
+
+
+def _idle_in_scene(key, scene, dispersed):
+    """Why `key` cannot act in this scene (None if it can): a bearing key on
+    an ideal joint, a tilt key on a planar bearing, an adaptive-step key under
+    the fixed policy, a base key on a fixed base. Nothing is judged when the
+    deciding key (structure.*, sim.substep_policy) is itself dispersed."""
+    joints = {j: scene.get(f"structure.joint{j}") for j in (1, 2)}
+    rules = []
+    for j in (1, 2):  # a joint's own bearing keys
+        rules.append(((f"joint{j}.contact.", f"joint{j}.friction.", f"initial.ecc{j}"), f"structure.joint{j}",
+                      joints[j] != "ideal", f"joint {j} is ideal: it has no bearing"))
+        rules.append(((f"joint{j}.contact.bearing_length",), f"structure.joint{j}", joints[j] == "spatial",
+                      f"joint {j}'s bearing is planar: it cannot tilt"))
+    any_clearance = any(k != "ideal" for k in joints.values())
+    rules += [(("contact.bearing_length",), "structure.joint", any(k == "spatial" for k in joints.values()),
+               "no joint's bearing is spatial: none can tilt"),
+              (("contact.", "friction.", "initial.ecc"), "structure.joint", any_clearance,
+               "both joints are ideal: no bearing"),
+              (("sim.substep_tol", "sim.substep_min", "sim.substep_max"), "sim.substep_policy",
+               scene.get("sim.substep_policy") == "adaptive", "sim.substep_policy is fixed: only the adaptive "
+               "policy reads it"),
+              (("base.",), "structure.base", scene.get("structure.base") != "fixed",
+               "structure.base is fixed: the base never moves")]
+    for prefixes, decider, acts, why in rules:
+        if key.startswith(prefixes) and not acts and not any(d.startswith(decider) for d in dispersed):
+            return why
+    return None

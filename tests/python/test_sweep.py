@@ -245,6 +245,18 @@ BAD = [
     # a key the open-loop runs never read: recorded as applied, acting on nothing
     ("parameters:\n  sensors.star_tracker_noise: {uniform: [0.0, 1.0e-5]}\n",
      "parameters.sensors.star_tracker_noise", 7, "an open-loop run has no sensors"),
+    # keys this scene's structure never reads (they gave equal figures in every row, recorded as applied)
+    ("parameters:\n  contact.bearing_length: {uniform: [0.02, 0.05]}\n", "parameters.contact.bearing_length", 7,
+     "no joint's bearing is spatial"),
+    ("parameters:\n  initial.ecc1: {disk: {radius: 1.0e-5}}\n", "parameters.initial.ecc1", 7, "joint 1 is ideal"),
+    ("set: {structure.joint2: ideal}\nparameters:\n  contact.restitution: {uniform: [0.5, 0.9]}\n",
+     "parameters.contact.restitution", 8, "both joints are ideal"),
+    ("parameters:\n  sim.substep_tol: {choice: [1.0e-8, 1.0e-10]}\n", "parameters.sim.substep_tol", 7,
+     "sim.substep_policy is fixed"),
+    ("set: {structure.base: fixed}\nparameters:\n  base.mass: {uniform: [500, 1500]}\n", "parameters.base.mass", 8,
+     "structure.base is fixed"),
+    ("parameters:\n  torque.limit: {choice: [[0.001, 0.001], [1000, 1000]]}\n", "parameters.torque.limit", 7,
+     "the firmware's motor limit"),
     # one key in two spellings: both would be recorded while one value acts
     ("parameters:\n  friction1.mu: {uniform: [0.1, 0.2]}\ngrid:\n  joint1.friction.mu: [0.3, 0.4]\n",
      "grid.joint1.friction.mu", 9, "the same key as parameters.friction1.mu"),
@@ -261,18 +273,6 @@ def test_spec_refusals_name_the_key_and_line(tail, key, line, why, tmp_path):
     assert not (tmp_path / "o" / "results.csv").exists()
 
 
-def test_missing_or_malformed_specs_are_refused(tmp_path):
-    (tmp_path / "a.yaml").write_text(f"scene: {SCENES}/paper_clearance.yaml\nseed: 1\n")
-    p = run_sweep(tmp_path / "a.yaml", tmp_path / "o", check=False)
-    assert p.returncode == 2 and "key 'samples': missing" in p.stderr
-    (tmp_path / "b.yaml").write_text("samples: [1,\n")
-    p = run_sweep(tmp_path / "b.yaml", tmp_path / "o", check=False)
-    assert p.returncode == 2 and "not valid YAML" in p.stderr
-    (tmp_path / "c.yaml").write_text("a: &x [1, 2]\nb: &y [*x, *x, *x, *x, *x, *x, *x, *x, *x, *x]\n"
-                                     "c: &z [*y, *y, *y, *y, *y, *y, *y, *y, *y, *y]\n"
-                                     "d: &w [*z, *z, *z, *z, *z, *z, *z, *z, *z, *z]\n"
-                                     "e: &v [*w, *w, *w, *w, *w, *w, *w, *w, *w, *w]\n"
-                                     "f: [*v, *v, *v, *v, *v, *v, *v, *v, *v, *v]\n")
 def test_an_out_through_a_link_and_unreadable_study_files_are_refused(spec, tmp_path):
     (tmp_path / "real").mkdir()
     (tmp_path / "L").symlink_to(tmp_path / "real")
@@ -303,6 +303,18 @@ def test_an_out_through_a_link_and_unreadable_study_files_are_refused(spec, tmp_
     assert p.returncode == 2 and "not a regular file" in p.stderr, p.stderr
 
 
+def test_missing_or_malformed_specs_are_refused(tmp_path):
+    (tmp_path / "a.yaml").write_text(f"scene: {SCENES}/paper_clearance.yaml\nseed: 1\n")
+    p = run_sweep(tmp_path / "a.yaml", tmp_path / "o", check=False)
+    assert p.returncode == 2 and "key 'samples': missing" in p.stderr
+    (tmp_path / "b.yaml").write_text("samples: [1,\n")
+    p = run_sweep(tmp_path / "b.yaml", tmp_path / "o", check=False)
+    assert p.returncode == 2 and "not valid YAML" in p.stderr
+    (tmp_path / "c.yaml").write_text("a: &x [1, 2]\nb: &y [*x, *x, *x, *x, *x, *x, *x, *x, *x, *x]\n"
+                                     "c: &z [*y, *y, *y, *y, *y, *y, *y, *y, *y, *y]\n"
+                                     "d: &w [*z, *z, *z, *z, *z, *z, *z, *z, *z, *z]\n"
+                                     "e: &v [*w, *w, *w, *w, *w, *w, *w, *w, *w, *w]\n"
+                                     "f: [*v, *v, *v, *v, *v, *v, *v, *v, *v, *v]\n")
     p = run_sweep(tmp_path / "c.yaml", tmp_path / "o", check=False)
     assert p.returncode == 2 and "values" in p.stderr
 
@@ -353,18 +365,6 @@ def test_an_out_that_is_a_file_is_refused_and_left_alone(spec, tmp_path):
     assert p.returncode == 2 and "exists and is not a folder" in p.stderr, p.stderr
 
 
-# ---- every class of spec value that once crashed the reader: exit 2, the spec's file and line, no files ----
-
-HEAD = f"scene: {SCENES}/paper_clearance.yaml\nsamples: 3\nseed: 1\n"
-CRASHED = [
-    ("set: {sim.duration: null}\nparameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n", 4, "set.sim.duration", "null"),
-    ("set: {sim.duration: {a: 1}}\nparameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n", 4, "set.sim.duration",
-     "a mapping"),
-    ("grid:\n  friction.mu: [0.1, null]\n", 5, "grid.friction.mu", "null"),
-    ("grid:\n  friction.mu: [0.1, 2024-01-01]\n", 5, "grid.friction.mu", "the scene refuses"),
-    ("grid:\n  friction.mu: [0.1, !!binary aGVsbG8=]\n", 5, "grid.friction.mu", "unsupported tag"),
-    ("grid:\n  friction.mu: [0.1, !!timestamp 2024-01-01]\n", 5, "grid.friction.mu", "unsupported tag"),
-    ("grid:\n  friction.mu: [0.1, {a: 1}]\n", 5, "grid.friction.mu", "a mapping"),
 def test_an_input_among_the_outputs_is_refused_before_anything_runs(spec, tmp_path):
     """A spec saved as the summary it would be overwritten by, or one inside
     a plots folder: refused at once (it used to run every sample, then exit 4)."""
@@ -378,6 +378,18 @@ def test_an_input_among_the_outputs_is_refused_before_anything_runs(spec, tmp_pa
         assert sorted(x.name for x in out.rglob("*")) == sorted(pathlib.PurePath(rel).parts), "nothing written"
 
 
+# ---- every class of spec value that once crashed the reader: exit 2, the spec's file and line, no files ----
+
+HEAD = f"scene: {SCENES}/paper_clearance.yaml\nsamples: 3\nseed: 1\n"
+CRASHED = [
+    ("set: {sim.duration: null}\nparameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n", 4, "set.sim.duration", "null"),
+    ("set: {sim.duration: {a: 1}}\nparameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n", 4, "set.sim.duration",
+     "a mapping"),
+    ("grid:\n  friction.mu: [0.1, null]\n", 5, "grid.friction.mu", "null"),
+    ("grid:\n  friction.mu: [0.1, 2024-01-01]\n", 5, "grid.friction.mu", "the scene refuses"),
+    ("grid:\n  friction.mu: [0.1, !!binary aGVsbG8=]\n", 5, "grid.friction.mu", "unsupported tag"),
+    ("grid:\n  friction.mu: [0.1, !!timestamp 2024-01-01]\n", 5, "grid.friction.mu", "unsupported tag"),
+    ("grid:\n  friction.mu: [0.1, {a: 1}]\n", 5, "grid.friction.mu", "a mapping"),
     ("parameters:\n  friction.law: {choice: [coulomb, !custom x]}\n", 5, "parameters.friction.law.choice",
      "unsupported tag"),
     ("parameters:\n  friction.mu: {choice: [0.1, null]}\n", 5, "parameters.friction.mu", "null"),
