@@ -136,9 +136,11 @@ class Spec:
         return v
 
     def number(self, name, node, lo=float("-inf"), hi=float("inf")):
-        v = node.value
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (lo <= v <= hi):
-            self.refuse(name, f"expected a number in [{lo}, {hi}], got {v!r}", node)
+        v = node.value  # never Inf or NaN: a requirement of .inf gave a verdict "against inf rad"
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or not (lo <= v <= hi):
+            rng = (f"a number in [{lo}, {hi}]" if math.isfinite(lo) and math.isfinite(hi)
+                   else f"a finite number >= {lo}" if math.isfinite(lo) else "a finite number")
+            self.refuse(name, f"expected {rng}, got {v!r}", node)
         return float(v)
 
     def mapping(self, name, node):
@@ -182,10 +184,10 @@ def check_out_dir(out, spec_path):
     study's own output: it is made if missing, but the folder it goes in must
     exist, as for every output of the project (docs/usage.md "Output files")."""
     out = pathlib.Path(out)
-    if out.exists() and not out.is_dir():
-        same = pathlib.Path(spec_path).exists() and out.resolve() == pathlib.Path(spec_path).resolve()
     if out.is_symlink():  # every output is written into the folder named, never through a link (docs/usage.md)
         raise SpecError(f"--out {out}: is a link (to {os.readlink(out)}): name the folder itself")
+    if out.exists() and not out.is_dir():
+        same = pathlib.Path(spec_path).exists() and out.resolve() == pathlib.Path(spec_path).resolve()
         raise SpecError(f"--out {out}: " + ("is the spec file itself" if same else "exists and is not a folder"))
     for parent in out.absolute().parents:  # the folder is made later: no file may stand in its way
         if parent.exists():
@@ -197,8 +199,6 @@ def check_out_dir(out, spec_path):
         raise SpecError(f"--out {out}: the folder it goes in, {parent}, does not exist (create it first)")
 
 
-def _is_number(v):
-    return isinstance(v, (int, float)) and not isinstance(v, bool)
 def check_outputs_not_inputs(outputs, inputs):
     """An output that is also an input (the spec or a file it reads), or a
     folder of outputs holding one, is refused (SpecError, exit 2) before
@@ -212,6 +212,8 @@ def check_outputs_not_inputs(outputs, inputs):
                                 f"{o}; move it out of --out, or use another --out")
 
 
+def _is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
 def _shown(v):

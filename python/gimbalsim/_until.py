@@ -27,8 +27,8 @@ class Until:
             self.width = float(parts[2])
         except ValueError:
             self.width = math.nan
-        if not self.width > 0:
-            raise SpecError(f"--until {text!r}: RELWIDTH must be a number > 0 (e.g. 0.2 for 20 %)")
+        if not (self.width > 0 and math.isfinite(self.width)):  # inf would stop at once, "converged" to nothing
+            raise SpecError(f"--until {text!r}: RELWIDTH must be a finite number > 0 (e.g. 0.2 for 20 %)")
         if max_samples < spec.samples:
             raise SpecError(f"--max-samples {max_samples} is below the spec's samples {spec.samples}")
         self.index = spec.closed.indices[names.index(parts[0])]

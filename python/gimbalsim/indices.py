@@ -280,6 +280,8 @@ def requirement_verdict(values, requirement, level=LEVEL_3SIGMA, confidence=0.95
     NaN values count as not meeting it."""
     if not 0.0 < level < 1.0 or not 0.0 < confidence < 1.0:  # a verdict at level 0 would be PASS for anything
         raise ValueError("level and confidence must lie strictly between 0 and 1")
+    if not (math.isfinite(requirement) and requirement >= 0.0):  # NaN gave FAIL, inf PASS: no question asked
+        raise ValueError(f"requirement must be a finite angle >= 0 rad, got {requirement!r}")
     x = np.asarray(values, dtype=float).ravel()
     n = len(x)
     k = int(np.count_nonzero(np.isfinite(x) & (x <= requirement)))

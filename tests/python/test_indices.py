@@ -151,6 +151,9 @@ def test_a_verdict_at_a_degenerate_level_or_confidence_is_refused():
     for level, confidence in ((0.0, 0.95), (0.9973, 0.0), (1.0, 0.95), (0.9973, 1.0)):
         with pytest.raises(ValueError, match="strictly between 0 and 1"):
             indices.requirement_verdict([1e-6] * 100, 1e-3, level, confidence)
+    for requirement in (math.nan, math.inf, -1e-6):  # NaN gave FAIL, inf PASS: no question was asked
+        with pytest.raises(ValueError, match="requirement must be a finite angle"):
+            indices.requirement_verdict([1e-6] * 100, requirement)
 
 
 def test_a_phase_the_run_covered_only_in_part_has_no_figure():

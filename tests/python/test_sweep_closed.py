@@ -289,7 +289,11 @@ REFUSALS = [
      "parameters.torque.tau2", "the controller commands the torque"),
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.output_interval: {choice: [0.001, 0.01]}",
      "parameters.sim.output_interval", "the closed loop records every control period"),
-    ("  rpe: {window: 0.05}", "  rpe: {window: .inf}", "indices.rpe.window", "whole number of control periods"),
+    ("  rpe: {window: 0.05}", "  rpe: {window: .inf}", "indices.rpe.window", "expected a finite number"),
+    ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: .inf}",
+     "indices.ape.requirement", "expected a finite number"),
+    ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: 1e400}",
+     "indices.ape.requirement", "expected a finite number"),
     ("  rpe: {window: 0.05}", "  rpe: {window: 0.0505}", "indices.rpe.window", "whole number of control periods"),
     # the C++ keys' whole-multiple rule (relative 1e-12), not a looser one of the spec's own
     ("  rpe: {window: 0.05}", "  rpe: {window: 0.05000000001}", "indices.rpe.window",
@@ -387,6 +391,11 @@ def test_until_refused_for_an_index_the_spec_does_not_name(spec, tmp_path):
                        text=True, timeout=120)
     assert p.returncode == 2 and "phase 'cruise' is not one of the spec's" in p.stderr
     assert not (tmp_path / "u").exists()
+    for width in ("inf", "nan", "0"):  # inf stopped at once, "converged" with no interval at all
+        p = subprocess.run(sweep_cmd(spec, tmp_path / "u", "--until", f"ape:track:{width}"), capture_output=True,
+                           text=True, timeout=120)
+        assert p.returncode == 2 and "RELWIDTH must be a finite number > 0" in p.stderr, p.stderr
+        assert not (tmp_path / "u").exists()
 
 
 def test_the_shipped_budget_spec_is_accepted():
