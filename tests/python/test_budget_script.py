@@ -54,7 +54,9 @@ def test_a_users_spec_writes_its_own_folder_and_no_project_page(tmp_path):
     assert (out / "report.md").is_file() and (out / "results.csv").is_file()
     assert digest(root / "docs") == before, "a user's budget changed the project's pages"
 
-    # --out names the folder instead
+    # --out names the folder instead; a relative GIMBALSIM_BUILD is read where the user stands, as the spec is
+    (work / "mybuild").symlink_to(pathlib.Path(env["GIMBALSIM_BUILD"]))
+    env["GIMBALSIM_BUILD"] = "mybuild"
     p = subprocess.run(["bash", str(root / "tools/sweeps/run_pointing_budget.sh"), "my_budget.yaml", "--out",
                         "out/mine", "--workers", "1"], cwd=work, capture_output=True, text=True, timeout=600, env=env)
     assert p.returncode == 0, p.stderr

@@ -21,7 +21,12 @@ if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then
   shift
 fi
 ARGS=("$@")
-PACKAGE="$(cd "$ROOT" && realpath -m "${GIMBALSIM_BUILD:-build}")/python"
+# A GIMBALSIM_BUILD the user names is read where the user stands, as every path they give; the default is the checkout's.
+if [ -n "${GIMBALSIM_BUILD:-}" ]; then
+  PACKAGE="$(realpath -m "$GIMBALSIM_BUILD")/python"
+else
+  PACKAGE="$ROOT/build/python"
+fi
 [ -f "$PACKAGE/gimbalsim/__init__.py" ] || {
   echo "run_pointing_budget.sh: no gimbalsim package in $PACKAGE: cmake --build build -j2 --target gimbalsim_python" >&2
   exit 2
