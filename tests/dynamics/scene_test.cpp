@@ -196,6 +196,11 @@ TEST(Scene, JointKindsAndJoint1BearingDefaultToJoint2s) {
       << e;
   EXPECT_EQ(refusal(kGood, {"structure.joint2=spatial", "contact.clearance=1e-4", "contact.bearing_length=4e-4"}),
             "");
+  // Too long or too stiff for the arithmetic (1e300 ran on to NaN "in base_x", naming no key).
+  e = refusal(kGood, {"structure.joint2=spatial", "contact.bearing_length=1e300"});
+  EXPECT_NE(e.find("key 'contact.bearing_length': must be in (0, 10], got 1e+300"), std::string::npos) << e;
+  e = refusal(kGood, {"structure.joint2=spatial", "contact.stiffness_scale=1e300"});
+  EXPECT_NE(e.find("key 'contact.stiffness_scale': must be in (0, 1e+06], got 1e+300"), std::string::npos) << e;
   // A planar bearing has no length to check: its contact is in one plane.
   EXPECT_EQ(refusal(kGood, {"structure.joint2=planar", "contact.bearing_length=1e-300"}), "");
   e = refusal(kGood, {"structure.joint1=tilted"});

@@ -76,7 +76,8 @@ std::vector<BearingKey> bearingKeys(const Bearing& b) {
       bearingKey(b, clearanceKey(b), &CP::clearance),
       bearingKey(b, K::number(c + "bearing_length", "m",
                               w + "spatial clearance: bearing length; contact at its two end planes (joint kind spatial)",
-                              field(contact, &CP::bearing_length), greater(0)),
+                              // Within 10 m: 1e300 m ran on to NaN "in base_x", naming no key.
+                              field(contact, &CP::bearing_length), interval('(', 0.0, 10.0, ']')),
                  &CP::bearing_length),
       bearingKey(b, K::choice<RadiusMode>(c + "radius_mode", w + "R in the Hertz stiffness", field(contact, &CP::radius_mode),
                                           {{"paper", RadiusMode::Paper}, {"conformal", RadiusMode::Conformal}}),
@@ -97,7 +98,7 @@ std::vector<BearingKey> bearingKeys(const Bearing& b) {
                               interval('[', 1, 3, ']')),
                  &CP::exponent),
       bearingKey(b, K::number(c + "stiffness_scale", "-", w + "multiplies the Hertz stiffness K",
-                              field(contact, &CP::stiffness_scale), greater(0)),
+                              field(contact, &CP::stiffness_scale), interval('(', 0.0, 1e6, ']')),
                  &CP::stiffness_scale),
       bearingKey(b, K::choice<DampingLaw>(c + "damping", w + "hysteresis damping law", field(contact, &CP::damping),
                                           {{"none", DampingLaw::None},
