@@ -6,6 +6,8 @@
 
 #include <cstdio>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/controllers/pointing_controller.hpp"
@@ -70,16 +72,35 @@ int mainImpl(int argc, char** argv) {
         !why.empty()) {
       return program::refuse("controller_sweep", "--duration: " + why + " (the table's figures are over the track)");
     }
+    // Each bandwidth's gains go through the configuration's own key checks
+    // (--omega 1e300 gave kp = 5e601 and a NaN command): refused, nothing run.
+    std::vector<ControllerConfig> configs;
+    for (double w : omegas) {
+      std::vector<std::string> with_gains = sets;
+      for (int i = 0; i < 2; ++i) {
+        const AxisGains g = triplePoleGains(base.axis[i].inertia, w, base.axis[i].torque_limit, base.axis[i].aw_gain);
+        const std::string axis = i == 0 ? "azimuth." : "elevation.";
+        for (const auto& [key, v] : {std::pair{"kp", g.kp}, {"ki", g.ki}, {"kd", g.kd}}) {
+          char value[64];
+          std::snprintf(value, sizeof value, "%.17g", v);
+          with_gains.push_back(axis + key + "=" + value);
+        }
+      }
+      try {
+        configs.push_back(loadControllerConfig(config_path, with_gains));
+      } catch (const InputError& e) {
+        return program::refuse("controller_sweep", "--omega " + formatNumber(w) + ": its triple-pole gains are "
+                               "outside the configuration's ranges: " + e.what());
+      }
+    }
     std::printf("# scene %s, %g s, settle band %g rad, torque limit %g / %g N m\n", m.name.c_str(), opt.duration,
                 opt.settle_tol, base.axis[0].torque_limit, base.axis[1].torque_limit);
     std::printf("%8s %9s %9s %9s %11s %11s %11s %11s %9s %9s\n", "omega", "kp_az", "kd_az", "ki_az", "settle[s]",
                 "max_e_trk", "max_truth", "rms_truth", "tau1max", "tau2max");
     int failures = 0;
-    for (double w : omegas) {
-      ControllerConfig c = base;
-      for (int i = 0; i < 2; ++i) {
-        c.axis[i] = triplePoleGains(base.axis[i].inertia, w, base.axis[i].torque_limit, base.axis[i].aw_gain);
-      }
+    for (std::size_t k = 0; k < omegas.size(); ++k) {
+      const double w = omegas[k];
+      const ControllerConfig& c = configs[k];
       PointingController controller(c);
       const ClosedLoopResult r = firmware::runClosedLoop(ps, controller, c.profile, opt);
       if (!r.ok) {
