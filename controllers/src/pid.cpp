@@ -81,7 +81,6 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
         playEvidence(w - s.play.rate_prev(i), s.play.tau_prev2(i), Ts, g.play_inertia, g.torque_limit))
       s.play.seen[i] = true;
     const bool in_play = s.play.seen[i];
-    if (in_play) ++s.play.play_ticks[i];
     const double kd = in_play ? std::min(g.kd, kPlayRateGain * g.play_inertia / Ts) : g.kd;
     const double kp = g.kp;
     const double e = out.ref.q(i) - meas.theta(i);

@@ -1,11 +1,12 @@
-// The backlash guard of one axis (keys <axis>.play_inertia, control.play_hold):
+// The backlash guard of one axis (key <axis>.play_inertia):
 // where a bearing's play lies between the motor and the antenna (a spatial
 // elevation journal that tilts lets shaft 1 turn about the azimuth axis
 // against the antenna), the motor alone is light. A rate gain kd made for the
 // whole chain then gives kd Ts / J_play >> 1 inside the play: the loop is
 // unstable there and limit-cycles across it at the torque limit. The guard
-// watches the inertia its own commands move and, inside the play, steps with
-// gains the light side can take (docs/MODEL.md, "The controller across a play").
+// watches the inertia its own commands move and, once it has seen the light
+// side, steps that axis with a rate gain the light side can take for the rest
+// of the run (docs/MODEL.md 11.5, "The controller across a play").
 // No allocation, no exception; a fixed-size state.
 #pragma once
 
@@ -23,13 +24,12 @@ struct PlayGuardState {
   Vec2 tau_prev2 = Vec2::Zero();      ///< command of the tick before: it acted over the last period [N m]
   int primed = 0;                     ///< ticks of history held (2: tau_prev2 is a command)
   std::array<bool, 2> seen{};         ///< the play was seen on this axis: its play gains from then on
-  std::array<long long, 2> play_ticks{};  ///< ticks stepped on the play gains so far, per axis
 };
 
-/// Inside the play the rate gain is kappa J_play / Ts: with the bus's one
+/// On the play gains the rate gain is kappa J_play / Ts: with the bus's one
 /// tick of latency the light side's rate error obeys e[k+2] = e[k+1] - g e[k],
-/// g = kd Ts / J, which is damped (|z| = sqrt(g) = 0.5) at g = 0.25 and
-/// unstable beyond g = 1.
+/// g = kd Ts / J, whose roots have |z| = sqrt(g) (0.71 a tick at g = 0.5) and
+/// which is unstable beyond g = 1.
 inline constexpr double kPlayRateGain = 0.5;
 /// Evidence counts only for commands above this fraction of the torque limit:
 /// below it the rate change is within what the chain's coupling explains.
