@@ -82,7 +82,6 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
       s.play.seen[i] = true;
     const bool in_play = s.play.seen[i];
     const double kd = in_play ? std::min(g.kd, kPlayRateGain * g.play_inertia / Ts) : g.kd;
-    const double kp = g.kp;
     const double e = out.ref.q(i) - meas.theta(i);
     // Large-error approach (proximate time-optimal servo): the PD asks for a
     // closing rate (kp/kd) e; above sqrt(2 a |e|), with a the deceleration the
@@ -92,10 +91,10 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
     bool approach = false;
     // A suspect encoder (fault_monitor.hpp): no position feedback on this axis, only the rate's.
     const bool suspect = s.monitor.suspect[i];
-    double tau_pd = (suspect ? 0.0 : kp * e) + kd * (out.ref.dq(i) - w);
+    double tau_pd = (suspect ? 0.0 : g.kp * e) + kd * (out.ref.dq(i) - w);
     if (!suspect && c.approach_margin > 0.0 && g.inertia > 0.0 && kd > 0.0) {
       const double v_max = std::sqrt(2.0 * c.approach_margin * g.torque_limit / g.inertia * std::fabs(e));
-      if (kp * std::fabs(e) > kd * v_max) {
+      if (g.kp * std::fabs(e) > kd * v_max) {
         approach = true;
         tau_pd = kd * (out.ref.dq(i) + std::copysign(v_max, e) - w);
       }

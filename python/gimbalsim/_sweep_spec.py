@@ -122,10 +122,11 @@ class SweepSpec:
                     "they are"}
         dispersed = [(f"parameters.{p.key}", p.key, p.node) for p in self.parameters] + \
                     [(f"grid.{k}", k, n) for k, n in grid.items()]
-        structural = {aliases.get(k, k) for _, k, _ in dispersed}
+        dispersed_keys = {aliases.get(k, k) for _, k, _ in dispersed}
+        scene = self.base.values()  # read once: each key is judged against the same scene
         for where, key, node in dispersed:
             canonical = aliases.get(key, key)
-            why = idle.get(canonical) or _idle_in_scene(canonical, self.base.values(), structural)
+            why = idle.get(canonical) or _idle_in_scene(canonical, scene, dispersed_keys)
             if why is None and self.closed is None and canonical.startswith("sensors."):
                 why = "an open-loop run has no sensors (they act in a closed-loop sweep: name its controller)"
             if why is not None:
