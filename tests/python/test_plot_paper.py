@@ -32,6 +32,7 @@ def columns(path):
 def test_spatial_run_gives_fig19_and_its_pointing_error(tmp):
     ideal, clear, spatial = (simulate(tmp, s, 0.1) for s in ("paper_ideal", "paper_clearance", "paper_spatial2"))
     out = tmp / "plots"
+    out.mkdir()
     p = plot("--ideal", ideal, "--clearance", clear, "--spatial", spatial,
              "--spatial-summary", tmp / "paper_spatial2.json", "--out", out)
     assert p.returncode == 0, p.stderr
@@ -51,7 +52,7 @@ def test_spatial_run_gives_fig19_and_its_pointing_error(tmp):
 def test_spatial_run_over_another_time_is_refused(tmp):
     ideal, clear = simulate(tmp, "paper_ideal", 0.1), simulate(tmp, "paper_clearance", 0.1)
     spatial = simulate(tmp, "paper_spatial2", 0.05)
-    p = plot("--ideal", ideal, "--clearance", clear, "--spatial", spatial, "--out", tmp / "plots")
+    p = plot("--ideal", ideal, "--clearance", clear, "--spatial", spatial, "--out", tmp)
     assert p.returncode == 2
     assert str(spatial) in p.stderr and "same time" in p.stderr
 

@@ -31,7 +31,7 @@ def bench_table(path):
         row["unit"] = r.get("time_unit", "ns")
         row["reps"] = r.get("repetitions", "")
     ctx = data.get("context", {})
-    md = [f"| benchmark | median CPU per call [ns] | min [ns] | cv |", "|---|---|---|---|"]
+    md = ["| benchmark | median CPU per call [ns] | min [ns] | cv |", "|---|---|---|---|"]
     for name, row in rows.items():
         if row.get("unit") != "ns":
             continue
@@ -91,4 +91,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(results_page.output_file.run_script("speed_page", main))

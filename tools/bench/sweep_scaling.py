@@ -27,7 +27,7 @@ import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools" / "pages"))
-from output_file import write_text  # noqa: E402  (the package's one writer)
+from output_file import run_script, write_text  # noqa: E402  (the package's one writer)
 
 
 def spec_text(samples, duration):
@@ -121,4 +121,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(run_script("sweep_scaling", main))

@@ -199,7 +199,7 @@ def sweep(rates, seconds, spin_fraction):
         out, floor = with_floor(period_us, seconds, lambda: run_pair(
             scene, seconds, rate=rate, fw_extra=fw, ctl_extra=["--set", f"control.period={1.0 / rate!r}"]))
         lat = lateness(out)
-        lp50, lp99 = lat[0], lat[1]
+        lp99 = lat[1]
         cp50, cp99, cmax = grab(out, r"compute per tick \[us\]: p50 (\S+)  p99 (\S+)  max (\S+)", 3)
         bound = grab(out, r"worst-case bound (\S+)")
         late = int(grab(out, r"late ticks (\d+)"))

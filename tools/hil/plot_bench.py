@@ -28,7 +28,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
-from output_file import savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
+from output_file import Refused, check_before_writing, run_script, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
 
 FAULTS = [(1, "watchdog"), (2, "motor limit"), (4, "cmd rejected"), (8, "plant fault"), (16, "lockstep timeout")]
 # Scheduled fault kinds in the order of FaultKind (firmware_sim/include/gimbalsim/firmware_sim/fault_schedule.hpp):
@@ -48,27 +48,41 @@ NEEDED = ["sim_time_s", "theta1_rad", "theta2_rad", "tau1_Nm", "tau2_Nm", "point
 
 
 def read(path):
+    """The columns NEEDED (and injected_faults) of a truth CSV as arrays;
+    Refused naming the file, line and column of what is wrong."""
+    if os.path.exists(path) and not os.path.isfile(path):
+        raise Refused(f"{path}: not a regular file")
     try:
         with open(path, newline="") as f:
             rows = list(csv.reader(f))
     except OSError as e:
-        sys.exit(f"plot_bench: cannot read {path}: {e.strerror}")
+        raise Refused(f"cannot read {path}: {e.strerror}")
+    except (csv.Error, UnicodeDecodeError) as e:
+        raise Refused(f"{path}: not a CSV file ({e})")
     if not rows:
-        sys.exit(f"plot_bench: {path} is empty")
+        raise Refused(f"{path} is empty")
     header, data = rows[0], rows[1:]
     missing = [c for c in NEEDED if c not in header]
     if missing:
-        sys.exit(f"plot_bench: {path}: not a bench truth CSV, missing column(s) {', '.join(missing)}")
+        raise Refused(f"{path}: not a bench truth CSV, missing column(s) {', '.join(missing)}")
     if not data:
-        sys.exit(f"plot_bench: {path}: no rows")
+        raise Refused(f"{path}: no rows")
     cols = {}
     wanted = NEEDED + (["injected_faults"] if "injected_faults" in header else [])
     for c in wanted:
         i = header.index(c)
-        try:
-            cols[c] = np.array([float(r[i]) for r in data])
-        except (ValueError, IndexError) as e:
-            sys.exit(f"plot_bench: {path}: bad value in column {c}: {e}")
+        values = []
+        for line, r in enumerate(data, start=2):
+            try:
+                values.append(float(r[i]))
+            except (ValueError, IndexError):
+                raise Refused(f"{path}:{line}: column {c}: " + (f"not a number: {r[i]!r}" if i < len(r) else "missing"))
+        cols[c] = np.array(values)
+    for c in ("faults", "injected_faults"):  # bit sets: whole numbers of 31 bits
+        if c in cols:
+            bad = np.flatnonzero(~((cols[c] >= 0) & (cols[c] < 2**31) & (cols[c] == np.floor(cols[c]))))
+            if bad.size:
+                raise Refused(f"{path}:{bad[0] + 2}: column {c}: {cols[c][bad[0]]:g} is not a set of fault bits")
     return cols
 
 
@@ -79,6 +93,9 @@ def main():
     p.add_argument("--title", default="", help="figure title (default: the CSV path)")
     p.add_argument("--after", type=float, default=2.5, help="report the max pointing error after this time [s]")
     a = p.parse_args()
+    if not np.isfinite(a.after):
+        p.error(f"--after {a.after}: not a finite time")
+    check_before_writing([a.out], [a.truth])
     c = read(a.truth)
     t = c["sim_time_s"]
     err = c["pointing_error_rad"]
@@ -135,4 +152,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(run_script("plot_bench", main))

@@ -38,7 +38,7 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
-from output_file import write_text  # noqa: E402  (the package's one writer)
+from output_file import Refused, run_script, write_text  # noqa: E402  (the package's one writer)
 URL = "udpm://239.255.76.67:7667?ttl=0"
 
 
@@ -67,7 +67,7 @@ def print_config(args, extra):
         cmd += ["--set", s]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
-        sys.exit("tune_sweep: configuration refused:\n" + r.stderr)
+        raise Refused("configuration refused:\n" + r.stderr.rstrip())
     return dict(line.split("=", 1) for line in r.stdout.splitlines() if "=" in line)
 
 
@@ -148,9 +148,7 @@ def require_programs(args, names):
     """Each program in --bin, or exit 2 naming the command that builds it (never a traceback)."""
     missing = [n for n in names if not os.access(os.path.join(args.bin, n), os.X_OK)]
     if missing:
-        print(f"tune_sweep: error: {', '.join(missing)} not built in {args.bin}: "
-              f"cmake --build build -j2 --target {' '.join(missing)}", file=sys.stderr)
-        sys.exit(2)
+        raise Refused(f"{', '.join(missing)} not built in {args.bin}: cmake --build build -j2 --target {' '.join(missing)}")
 
 
 def main():
@@ -163,7 +161,7 @@ def main():
         if args.duration > 0:
             cmd += ["--duration", repr(args.duration)]
         if args.gain_set:
-            sys.exit("tune_sweep: --gain-set needs the lockstep mode (controller_sweep takes --omega only)")
+            raise Refused("--gain-set needs the lockstep mode (controller_sweep takes --omega only)")
         return subprocess.run(cmd).returncode
     base = print_config(args, [])
     track_start = float(base["profile.slew_start"]) + float(base["profile.slew_time"]) + float(base["profile.hold_time"])
@@ -196,4 +194,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_script("tune_sweep", main))

@@ -34,8 +34,13 @@ def load_csv(path):
     """Return {column name: float array}, checked for the REQUIRED columns."""
     if not os.path.isfile(path):
         raise InputError(f"{path}: no such file")
-    with open(path, newline="") as f:
-        header = next(csv.reader(f), None)
+    try:
+        with open(path, newline="") as f:
+            header = next(csv.reader(f), None)
+    except OSError as e:
+        raise InputError(f"cannot read {path}: {e.strerror}")
+    except (csv.Error, UnicodeDecodeError) as e:
+        raise InputError(f"{path}: not a CSV file ({e})")
     if not header:
         raise InputError(f"{path}: empty file (no CSV header)")
     header = [h.strip() for h in header]
@@ -43,7 +48,10 @@ def load_csv(path):
     if missing:
         raise InputError(f"{path}: missing column(s) {', '.join(repr(m) for m in missing)} "
                          f"(header has: {','.join(header)})")
-    data = np.genfromtxt(path, delimiter=",", skip_header=1, dtype=float, ndmin=2)
+    try:
+        data = np.genfromtxt(path, delimiter=",", skip_header=1, dtype=float, ndmin=2)
+    except (ValueError, UnicodeDecodeError) as e:  # rows of unequal length, bytes that are not text
+        raise InputError(f"{path}: not a table of numbers ({str(e).strip().splitlines()[-1]})")
     if data.size == 0 or data.shape[0] < 2:
         raise InputError(f"{path}: fewer than 2 data rows")
     if data.shape[1] != len(header):
@@ -65,9 +73,16 @@ def load_summary(path):
         raise InputError(f"{path}: no such file")
     try:
         with open(path) as f:
-            return json.load(f)
-    except json.JSONDecodeError as e:
+            summary = json.load(f)
+    except OSError as e:
+        raise InputError(f"cannot read {path}: {e.strerror}")
+    except (json.JSONDecodeError, UnicodeDecodeError) as e:
         raise InputError(f"{path}: not valid JSON ({e})")
+    except RecursionError:
+        raise InputError(f"{path}: nested too deeply")
+    if not isinstance(summary, dict):
+        raise InputError(f"{path}: not a run's summary (a JSON object)")
+    return summary
 
 
 def summary_number(summary, *keys):

@@ -15,7 +15,7 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools" / "pages"))
 import results_page  # noqa: E402
-from output_file import open_output  # noqa: E402  (the package's one writer)
+from output_file import open_output, run_script  # noqa: E402  (the package's one writer)
 
 # (figure of plot_paper.py, name under docs/results/, caption)
 FIGURES = [
@@ -93,4 +93,4 @@ three below are copies at {DPI_TO} dpi). Overrides given to both runs: {override
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_script("paper_page", main))

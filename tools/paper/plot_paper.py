@@ -31,7 +31,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
-from output_file import csv_number, open_output, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
+from output_file import Refused, check_before_writing, csv_number, open_output, run_script, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
 from plot_components import C_CLEAR, C_DIFF, C_IDEAL, COMPONENT_FIGURES, fig_components  # noqa: E402  (figs 8-16)
 from plot_joint_kinds import fig_joint_kinds, spatial_tilt  # noqa: E402  (fig 19)
 from paper_data import (InputError, angle_between, boresight, common_grid, contact_starts,  # noqa: E402
@@ -302,14 +302,24 @@ def print_summary(r, pk_fn, t_pk_fn, pe, jf, written, out_dir):
     print(f"  wrote {len(written)} figures and {pe.path} into {out_dir}")
 
 
+def output_paths(a):
+    """Every file the run writes into --out, checked before anything is read."""
+    names = (["fig06_eccentricity.png", "fig07_contact_force.png"] + [f[0] for f in COMPONENT_FIGURES]
+             + ["fig17_pointing_error.png", "pointing_error.csv", "fig18_joint2_force.png"]
+             + (["fig19_joint_kinds.png"] if a.spatial else []))
+    return [os.path.join(a.out, n) for n in names]
+
+
 def main(argv=None):
     a = parse_args(argv)
+    if not os.path.isdir(a.out):  # no program makes a folder it is given (docs/usage.md "Output files")
+        raise Refused(f"--out {a.out}: " + ("not a folder" if os.path.exists(a.out) else "no such folder (create it first)"))
+    inputs = [a.ideal, a.clearance, a.ideal_summary, a.clearance_summary, a.spatial, a.spatial_summary]
+    check_before_writing(output_paths(a), inputs)
     try:
         r = load_runs(a)
     except InputError as e:
-        print(f"plot_paper.py: error: {e}", file=sys.stderr)
-        return 2
-    os.makedirs(a.out, exist_ok=True)
+        raise Refused(str(e)) from None
     if r.grid_note:
         print(r.grid_note)
     written = []
@@ -328,4 +338,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_script("plot_paper.py", main))

@@ -22,26 +22,62 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
-from output_file import savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
+from output_file import Refused, check_before_writing, run_script, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
 import numpy as np  # noqa: E402
 
 
+SUMMARY_COLUMNS = ["run", "scene", "clearance_m", "status", "rms_track_rad", "peak_track_rad", "track_ticks"]
+SUMMARY_NUMBERS = ["clearance_m", "rms_track_rad", "peak_track_rad", "track_ticks"]
+
+
+def read_rows(path):
+    """The CSV's rows (header first); Refused naming the file when it cannot be read."""
+    if not os.path.isfile(path):
+        raise Refused(f"{path}: " + ("not a regular file" if os.path.exists(path) else
+                                     "not found (run gimbalsim_pointing_study --out DIR)"))
+    try:
+        with open(path, newline="") as f:
+            return list(csv.reader(f))
+    except OSError as e:
+        raise Refused(f"cannot read {path}: {e.strerror}")
+    except (csv.Error, UnicodeDecodeError) as e:
+        raise Refused(f"{path}: not a CSV file ({e})")
+
+
+def number(path, line, column, text):
+    try:
+        return float(text) if text else np.nan  # an empty cell: no value (the CSV convention)
+    except ValueError:
+        raise Refused(f"{path}:{line}: column {column}: not a number: {text!r}") from None
+
+
 def read_series(path):
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+    rows = read_rows(path)
     if len(rows) < 2:
-        sys.exit(f"plot_pointing_study: {path}: no data rows")
+        raise Refused(f"{path}: no data rows")
     head = rows[0]
     cols = {h: [] for h in head}
-    for r in rows[1:]:
+    for line, r in enumerate(rows[1:], start=2):
+        if len(r) != len(head):
+            raise Refused(f"{path}:{line}: {len(r)} fields, the header has {len(head)}")
         for h, v in zip(head, r):
-            cols[h].append(float(v) if v else np.nan)
+            cols[h].append(number(path, line, h, v))
     return head, {h: np.array(v) for h, v in cols.items()}
 
 
 def read_summary(path):
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+    rows = read_rows(path)
+    if not rows or any(c not in rows[0] for c in SUMMARY_COLUMNS):
+        raise Refused(f"{path}: not the study's summary: needs columns {', '.join(SUMMARY_COLUMNS)}")
+    summary = [dict(zip(rows[0], r)) for r in rows[1:]]
+    for line, (r, raw) in enumerate(zip(summary, rows[1:]), start=2):
+        if len(raw) != len(rows[0]):
+            raise Refused(f"{path}:{line}: {len(raw)} fields, the header has {len(rows[0])}")
+        for c in SUMMARY_NUMBERS:
+            r[c] = number(path, line, c, r[c])
+    if not summary:
+        raise Refused(f"{path}: no runs")
+    return summary
 
 
 def error_column(run):
@@ -52,14 +88,14 @@ def error_column(run):
 def shown_in_time_plot(summary):
     """Runs drawn against time: all of one scene and sensor set; else the ideal
     joint and each scene's largest clearance, perfect sensors."""
-    groups = {(r["scene"], r.get("sensors", "perfect")) for r in summary if float(r["clearance_m"]) > 0}
+    groups = {(r["scene"], r.get("sensors", "perfect")) for r in summary if r["clearance_m"] > 0}
     if len(groups) <= 1 and len({r.get("sensors", "perfect") for r in summary}) <= 1:
         return [r["run"] for r in summary]
     perfect = [r for r in summary if r.get("sensors", "perfect") == "perfect"]
-    shown = [r["run"] for r in perfect if float(r["clearance_m"]) == 0]
-    for scene in dict.fromkeys(r["scene"] for r in perfect if float(r["clearance_m"]) > 0):
+    shown = [r["run"] for r in perfect if r["clearance_m"] == 0]
+    for scene in dict.fromkeys(r["scene"] for r in perfect if r["clearance_m"] > 0):
         runs = [r for r in perfect if r["scene"] == scene]
-        shown.append(max(runs, key=lambda r: float(r["clearance_m"]))["run"])
+        shown.append(max(runs, key=lambda r: r["clearance_m"])["run"])
     return shown
 
 
@@ -73,8 +109,8 @@ def plot_time(head, cols, summary, out):
         y = np.where(cols[name] > 0, cols[name], np.nan)
         ideal = run.startswith("ideal")
         ax.semilogy(t, y, lw=1.6 if ideal else 0.9, color="k" if ideal else None, label=run)
-    ideal = [r for r in summary if float(r["clearance_m"]) == 0]
-    if ideal and int(ideal[0]["track_ticks"]) > 0:
+    ideal = [r for r in summary if r["clearance_m"] == 0]
+    if ideal and ideal[0]["track_ticks"] > 0:  # NaN (not recorded) is no line
         n = len(t) - int(ideal[0]["track_ticks"])
         if 0 <= n < len(t):
             ax.axvline(t[n], color="0.5", ls=":", lw=1)
@@ -92,18 +128,18 @@ def plot_time(head, cols, summary, out):
 def plot_clearance(summary, out):
     fig, ax = plt.subplots(figsize=(11, 5.5))
     ok = [r for r in summary if r["status"] == "ok"]
-    groups = dict.fromkeys((r["scene"], r.get("sensors", "perfect")) for r in ok if float(r["clearance_m"]) > 0)
+    groups = dict.fromkeys((r["scene"], r.get("sensors", "perfect")) for r in ok if r["clearance_m"] > 0)
     scenes = list(dict.fromkeys(scene for scene, _ in groups))
     for scene, sensors in groups:  # a colour per scene, a marker per sensor set
         runs = sorted((r for r in ok if r["scene"] == scene and r.get("sensors", "perfect") == sensors
-                       and float(r["clearance_m"]) > 0), key=lambda r: float(r["clearance_m"]))
-        c_mm = [1e3 * float(r["clearance_m"]) for r in runs]
+                       and r["clearance_m"] > 0), key=lambda r: r["clearance_m"])
+        c_mm = [1e3 * r["clearance_m"] for r in runs]
         color, marker = f"C{scenes.index(scene) % 10}", "o" if sensors == "perfect" else "s"
-        ax.semilogy(c_mm, [float(r["rms_track_rad"]) for r in runs], marker + "-", color=color,
+        ax.semilogy(c_mm, [r["rms_track_rad"] for r in runs], marker + "-", color=color,
                     label=f"{scene}, {sensors} sensors: RMS (peak dotted)")
-        ax.semilogy(c_mm, [float(r["peak_track_rad"]) for r in runs], marker + ":", color=color, lw=0.8)
-    for r in (r for r in ok if float(r["clearance_m"]) == 0):
-        ax.axhline(float(r["rms_track_rad"]), color="k", ls="--" if r.get("sensors", "perfect") == "perfect" else "-.",
+        ax.semilogy(c_mm, [r["peak_track_rad"] for r in runs], marker + ":", color=color, lw=0.8)
+    for r in (r for r in ok if r["clearance_m"] == 0):
+        ax.axhline(r["rms_track_rad"], color="k", ls="--" if r.get("sensors", "perfect") == "perfect" else "-.",
                    lw=1, label=f"ideal joint, {r.get('sensors', 'perfect')} sensors: RMS")
     stopped = [r for r in summary if r["status"] != "ok"]
     if stopped:
@@ -122,16 +158,14 @@ def main():
     p.add_argument("dir", nargs="?", default="out/pointing_study", help="the tool's --out directory")
     a = p.parse_args()
     series, summary = os.path.join(a.dir, "pointing_error.csv"), os.path.join(a.dir, "summary.csv")
-    for path in (series, summary):
-        if not os.path.isfile(path):
-            sys.exit(f"plot_pointing_study: {path}: not found (run gimbalsim_pointing_study --out {a.dir})")
+    outs = [os.path.join(a.dir, "pointing_error_vs_time.png"), os.path.join(a.dir, "pointing_error_vs_clearance.png")]
+    check_before_writing(outs, [series, summary])
     head, cols = read_series(series)
     rows = read_summary(summary)
-    outs = [os.path.join(a.dir, "pointing_error_vs_time.png"), os.path.join(a.dir, "pointing_error_vs_clearance.png")]
     plot_time(head, cols, rows, outs[0])
     plot_clearance(rows, outs[1])
     print("wrote " + ", ".join(outs))
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(run_script("plot_pointing_study", main))

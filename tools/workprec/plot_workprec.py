@@ -18,22 +18,40 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
-from output_file import savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
+from output_file import Refused, check_before_writing, run_script, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
 
 TARGETS = (1e-3, 1e-6, 1e-9)  # [rad], the targets the tool reports
 
 
+COLUMNS = ("ok", "bore_err_max_rad", "cpu_s_per_sim_s", "scene", "policy", "pareto")
+
+
 def read(path):
+    """{scene: {policy: [(cpu, error, on the front)]}} of the successful points;
+    Refused naming the file and line of a row that is not the tool's."""
+    if not os.path.isfile(path):
+        raise Refused(f"{path}: " + ("not a regular file" if os.path.exists(path) else "no such file"))
     scenes = OrderedDict()
-    with open(path, newline="") as f:
-        for r in csv.DictReader(f):
-            if r["ok"] != "1":
-                continue
-            err, cpu = float(r["bore_err_max_rad"]), float(r["cpu_s_per_sim_s"])
-            if not (cpu > 0 and math.isfinite(err)):
-                continue
-            curves = scenes.setdefault(r["scene"], OrderedDict())
-            curves.setdefault(r["policy"], []).append((cpu, max(err, 1e-16), r["pareto"] == "1"))
+    try:
+        with open(path, newline="") as f:
+            reader = csv.DictReader(f)
+            if reader.fieldnames is None or any(c not in reader.fieldnames for c in COLUMNS):
+                raise Refused(f"{path}: not gimbalsim_workprec's CSV: needs columns {', '.join(COLUMNS)}")
+            for r in reader:
+                if r["ok"] != "1":
+                    continue
+                try:
+                    err, cpu = float(r["bore_err_max_rad"]), float(r["cpu_s_per_sim_s"])
+                except (TypeError, ValueError):
+                    raise Refused(f"{path}:{reader.line_num}: bore_err_max_rad or cpu_s_per_sim_s is not a number")
+                if not (cpu > 0 and math.isfinite(cpu) and math.isfinite(err)):
+                    continue
+                curves = scenes.setdefault(r["scene"], OrderedDict())
+                curves.setdefault(r["policy"], []).append((cpu, max(err, 1e-16), r["pareto"] == "1"))
+    except OSError as e:
+        raise Refused(f"cannot read {path}: {e.strerror}")
+    except (csv.Error, UnicodeDecodeError) as e:
+        raise Refused(f"{path}: not a CSV file ({e})")
     return scenes
 
 
@@ -42,10 +60,11 @@ def main():
     ap.add_argument("csv", nargs="?", default="out/workprec/workprec.csv")
     ap.add_argument("--out", default=None, help="PNG path (default: beside the CSV)")
     a = ap.parse_args()
-    out = a.out or a.csv.rsplit(".", 1)[0] + ".png"
+    out = a.out or os.path.splitext(a.csv)[0] + ".png"
+    check_before_writing([out], [a.csv])
     scenes = read(a.csv)
     if not scenes:
-        raise SystemExit(f"{a.csv}: no successful points to plot")
+        raise Refused(f"{a.csv}: no successful points to plot")
     n = len(scenes)
     cols = min(n, 2)
     rows = (n + cols - 1) // cols
@@ -73,4 +92,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(run_script("plot_workprec", main))

@@ -137,4 +137,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(results_page.output_file.run_script("workprec_page", main))

@@ -1,0 +1,112 @@
+"""The plotting scripts of tools/ end as the programs do (docs/usage.md "Exit
+codes", "Output files"): a bad input or an output that breaks the rules is one
+line naming the file (and line), exit 2, and nothing written; never a
+traceback, never a folder made for the user."""
+import os
+import subprocess
+import sys
+
+import pytest
+
+from conftest import SOURCE
+
+sys.path.insert(0, str(SOURCE / "tools" / "paper"))
+from paper_data import REQUIRED  # noqa: E402
+
+BENCH = SOURCE / "tools" / "hil" / "plot_bench.py"
+STUDY = SOURCE / "tools" / "pointing_study" / "plot_pointing_study.py"
+PAPER = SOURCE / "tools" / "paper" / "plot_paper.py"
+TRUTH_HEADER = "sim_time_s,theta1_rad,theta2_rad,tau1_Nm,tau2_Nm,pointing_error_rad,faults\n"
+
+
+def run(script, *args):
+    return subprocess.run([sys.executable, str(script), *map(str, args)], capture_output=True, text=True, timeout=120)
+
+
+def refused(p, *words):
+    assert p.returncode == 2, (p.returncode, p.stderr)
+    assert "Traceback" not in p.stderr
+    for w in words:
+        assert str(w) in p.stderr, p.stderr
+
+
+@pytest.fixture
+def truth(tmp):
+    path = tmp / "truth.csv"
+    path.write_text(TRUTH_HEADER + "0,0,0,0,0,1e-3,0\n0.001,0,0,0,0,2e-3,1\n")
+    return path
+
+
+def test_bench_plot_writes_and_refuses_bad_outputs(tmp, truth):
+    assert run(BENCH, truth, "--out", tmp / "ok.png").returncode == 0
+    assert (tmp / "ok.png").stat().st_size > 1000
+    refused(run(BENCH, truth, "--out", tmp / "missing" / "x.png"), "missing", "does not exist")
+    refused(run(BENCH, truth, "--out", truth), "the same file as the input")
+    os.symlink(tmp / "victim.png", tmp / "link.png")
+    refused(run(BENCH, truth, "--out", tmp / "link.png"), "symbolic link")
+    assert not (tmp / "victim.png").exists()
+    refused(run(BENCH, truth, "--out", "/dev/full"), "not a regular file")
+
+
+def test_bench_plot_refuses_bad_input_naming_the_line(tmp):
+    bad = tmp / "bad.csv"
+    bad.write_text(TRUTH_HEADER + "0,0,0,0,0,1e-3,0\n0.001,0,x,0,0,2e-3,0\n")
+    refused(run(BENCH, bad, "--out", tmp / "a.png"), f"{bad}:3", "theta2_rad")
+    bad.write_text(TRUTH_HEADER + "0,0,0,0,0,1e-3,0.5\n")
+    refused(run(BENCH, bad, "--out", tmp / "a.png"), f"{bad}:2", "faults")
+    os.mkfifo(tmp / "fifo")  # would block a reader that opens it
+    refused(run(BENCH, tmp / "fifo", "--out", tmp / "a.png"), "not a regular file")
+    refused(run(BENCH, tmp / "truth.csv", "--out", tmp / "a.png"), "cannot read")
+    assert not (tmp / "a.png").exists()
+
+
+def study_dir(tmp):
+    d = tmp / "study"
+    d.mkdir()
+    (d / "pointing_error.csv").write_text("t_s,error_ideal_rad\n0,1e-6\n0.001,2e-6\n")
+    (d / "summary.csv").write_text("run,scene,clearance_m,status,rms_track_rad,peak_track_rad,track_ticks\n"
+                                   "ideal,paper_ideal,0,ok,1e-6,2e-6,1\n")
+    return d
+
+
+def test_pointing_study_plot_refuses_bad_cells_and_outputs(tmp):
+    d = study_dir(tmp)
+    assert run(STUDY, d).returncode == 0
+    assert (d / "pointing_error_vs_clearance.png").exists()
+    (d / "summary.csv").write_text("run,scene,clearance_m,status,rms_track_rad,peak_track_rad,track_ticks\n"
+                                   "ideal,paper_ideal,zero,ok,1e-6,2e-6,1\n")
+    refused(run(STUDY, d), "summary.csv:2", "clearance_m")
+    (d / "summary.csv").write_text("run,scene\nideal,paper_ideal\n")
+    refused(run(STUDY, d), "summary.csv", "needs columns")
+    (d / "pointing_error_vs_time.png").unlink()
+    os.symlink(tmp / "victim.png", d / "pointing_error_vs_time.png")
+    refused(run(STUDY, d), "symbolic link")
+    assert not (tmp / "victim.png").exists()
+    refused(run(STUDY, tmp / "nowhere"), "nowhere")
+
+
+def test_paper_plot_makes_no_folder_and_overwrites_no_input(tmp):
+    csv = tmp / "run.csv"
+    csv.write_text(",".join(REQUIRED) + "\n" + ",".join(["0"] * len(REQUIRED)) + "\n1\n")
+    refused(run(PAPER, "--ideal", csv, "--clearance", csv, "--out", tmp / "plots"), "plots", "create it first")
+    assert not (tmp / "plots").exists()
+    (tmp / "plots").mkdir()
+    clash = tmp / "plots" / "pointing_error.csv"
+    clash.write_text(csv.read_text())
+    refused(run(PAPER, "--ideal", clash, "--clearance", csv, "--out", tmp / "plots"), "the same file as the input")
+    refused(run(PAPER, "--ideal", csv, "--clearance", csv, "--out", tmp), f"{csv}", "not a table of numbers")
+    assert sorted(p.name for p in tmp.iterdir()) == ["plots", "run.csv"]
+
+
+def test_workprec_plot_refuses_a_foreign_csv_and_its_own_input(tmp):
+    plot = SOURCE / "tools" / "workprec" / "plot_workprec.py"
+    good = tmp / "w.csv"
+    good.write_text("scene,policy,ok,bore_err_max_rad,cpu_s_per_sim_s,pareto\nA,fixed,1,1e-6,0.1,1\n")
+    assert run(plot, good).returncode == 0 and (tmp / "w.png").exists()
+    refused(run(plot, good, "--out", good), "the same file as the input")
+    bad = tmp / "b.csv"
+    bad.write_text("scene,policy,ok,bore_err_max_rad,cpu_s_per_sim_s,pareto\nA,fixed,1,zz,0.1,1\n")
+    refused(run(plot, bad), f"{bad}:2", "bore_err_max_rad")
+    bad.write_text("a,b\n1,2\n")
+    refused(run(plot, bad), "needs columns")
+    assert not (tmp / "b.png").exists()
