@@ -71,17 +71,17 @@ int run(int argc, char** argv) {
   // The same ticks as firmware_sim --duration: statuses 0 .. round(T / period) - 1.
   app.add_option("--duration", o.duration, "stop after answering the last status of a run of this length [s], as "
                                            "firmware_sim --duration counts it (0 = until SIGINT/SIGTERM)")
-      ->check(CLI::NonNegativeNumber)->check(CLI::Range(0.0, 1e9));
+      ->check(program::within(0.0, 1e9));
   app.add_option("--idle-exit", o.idle_exit, "wait at most this many wall seconds for the first status, then exit 6 "
                                              "(no peer) (0 = wait forever)")
-      ->check(CLI::NonNegativeNumber)->check(CLI::Range(0.0, 1e9));
+      ->check(program::within(0.0, 1e9));
   app.add_option("--plant-timeout", o.plant_timeout, "after the first status, this many wall seconds without one "
                                                      "mean the plant has gone: say so, exit 6 (0 = never)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber)->check(CLI::Range(0.0, 1e9));
+      ->capture_default_str()->check(program::within(0.0, 1e9));
   app.add_option("--log-csv", o.log_csv, "write one row per status answered: reference, measurement, torque");
   app.add_option("--spin-us", o.spin_us, "busy-poll up to US for the next status before sleeping: a lockstep "
                                          "plant's next status comes within microseconds [us, at most 100000]")
-      ->capture_default_str()->check(CLI::Number)->check(CLI::Range(0.0, 100000.0));
+      ->capture_default_str()->check(program::within(0.0, 100000.0));
   app.add_flag("--keys", o.keys, "list every configuration key with type, unit, default, check and meaning, then exit");
   app.add_flag("--markdown", o.markdown, "with --keys: as a Markdown table (the one in docs/controller_keys.md)");
   app.add_flag("--print-config", o.print_config,

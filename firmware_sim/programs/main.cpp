@@ -44,17 +44,17 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("scene", o.scene, "scene file (YAML), e.g. tools/scenes/paper_clearance.yaml")->required();
   app.add_option("--set", o.sets, "scene override key=value (repeatable); see `gimbalsim keys`");
   app.add_option("--rate", o.rate_hz, "control rate [Hz]; 1/rate must be a whole multiple of sim.step")
-      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(1e-3, 1e6));
+      ->capture_default_str()->check(program::within(1e-3, 1e6));
   // Upper bounds on every time: each becomes an int64 count of ticks or ns (no overflow).
   app.add_option("--duration", o.duration, "simulated seconds to run (0 = until SIGINT/SIGTERM)")
-      ->capture_default_str()->check(CLI::NonNegativeNumber)->check(CLI::Range(0.0, 1e9));
+      ->capture_default_str()->check(program::within(0.0, 1e9));
   app.add_flag("--lockstep", o.lockstep, "lockstep: tick k+1 waits for the command answering status k");
   app.add_option("--lockstep-timeout-ms", o.lockstep_timeout_ms, "lockstep: wait at most this for an answer [ms]")
-      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e9));
+      ->capture_default_str()->check(program::within(0.0, 1e9, true));
   app.add_option("--start-timeout", o.start_timeout_s, "lockstep: wait at most this for the first answer [s]")
-      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e6));
+      ->capture_default_str()->check(program::within(0.0, 1e6, true));
   app.add_option("--truth-every", o.truth_every, "publish truth every N ticks")
-      ->capture_default_str()->check(program::wholeNumber())->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(program::wholeNumber())->check(CLI::Range(1, 1000000000));
   app.add_option("--truth-csv", o.truth_csv, "write every truth message to this CSV file");
   app.add_option("--tick-log", o.tick_log, "write each tick's sub-steps, derivatives and compute times (CPU and wall) "
                  "to this CSV file after the run (needs --duration; at most 2e6 ticks)");
@@ -66,21 +66,21 @@ void addOptions(CLI::App& app, Options& o) {
                  "(-1 = no pin)")->capture_default_str()->check(program::wholeNumber())->check(CLI::Range(-1, 1023));
   app.add_option("--spin-us", o.spin_us, "real time: busy-wait the last US before each deadline; lockstep: "
                  "busy-poll up to US for the answer before sleeping [us, at most 100000]")
-      ->capture_default_str()->check(CLI::Number)->check(CLI::Range(0.0, 100000.0));
+      ->capture_default_str()->check(program::within(0.0, 100000.0));
   app.add_option("--cpu-dma-latency-us", o.cpu_dma_latency_us, "hold idle CPUs to this wake-up latency for the run "
                  "(/dev/cpu_dma_latency, as cyclictest does; 0 = idle by polling, -1 = do not ask; lockstep too: a "
                  "CPU that halts between ticks comes back slower than the tick budget was timed) [us, at most 1000000]")
       ->capture_default_str()->check(program::wholeNumber())->check(CLI::Range(-1, 1000000));
   app.add_option("--watchdog-ms", o.watchdog_ms, "no valid command for this long -> safe command [ms]")
-      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e9));
+      ->capture_default_str()->check(program::within(0.0, 1e9, true));
   app.add_option("--torque-sanity", o.torque_sanity, "reject commands with |torque| > this x torque.limit")
-      ->capture_default_str()->check(CLI::Range(1.0, 1e6));
+      ->capture_default_str()->check(program::within(1.0, 1e6));
   app.add_option("--safe-torque", o.safe_torque, "torque applied while the watchdog is tripped [N m] (2 values)")
       ->expected(2)->capture_default_str();
   app.add_option("--profile", o.profile, "a pointing_controller config whose profile keys (its profile: section, or flat profile.* keys) define "
                  "the pointing error");
   app.add_option("--stats-period", o.stats_period, "loop statistics publication period [s]")
-      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e6));
+      ->capture_default_str()->check(program::within(0.0, 1e6, true));
   app.add_option("--faults", o.faults, "fault schedule file (YAML, docs/bench.md \"Fault schedule\"), e.g. tools/faults/demo.yaml");
 }
 

@@ -49,7 +49,7 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--lcm-url", url, "LCM provider URL, e.g. udpm://239.255.76.67:7667?ttl=0");
   app.add_option("--channel", regex, "channel regex to record")->capture_default_str();
   app.add_option("--duration", duration, "stop after this many wall seconds (0 = at SIGINT/SIGTERM)")
-      ->check(CLI::NonNegativeNumber)->check(CLI::Range(0.0, 1e9));  // (as int64 ns: no overflow)
+      ->check(program::within(0.0, 1e9));  // (as int64 ns: no overflow)
   if (const auto rc = program::parse(app, argc, argv, "gimbalsim_record")) return *rc;
   std::regex re;
   try {

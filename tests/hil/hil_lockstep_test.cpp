@@ -192,6 +192,11 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
       {write("short.csv", "seq,tau1_Nm,tau2_Nm\n0,0.5\n"), "short.csv:2: column tau2_Nm: not a finite number"},
       {write("nan.csv", "seq,tau1_Nm,tau2_Nm\n0,0,nan\n"), "nan.csv:2: column tau2_Nm: not a finite number"},
       {write("one.csv", "seq,tau1_Nm,tau2_Nm\n0,0,0\n"), "one.csv: fewer than 2 rows: nothing to replay"},
+      // two columns of one name: which one the plant applied is not knowable (the last one was taken)
+      {write("twice.csv", "seq,tau1_Nm,tau2_Nm,tau1_Nm\n0,0,0,1\n1,0,0,1\n"), "twice.csv:1: column tau1_Nm appears twice"},
+      // blanks and hex are no number the writer writes (strtod took " 5" and "0x10")
+      {write("blank.csv", "seq,tau1_Nm,tau2_Nm\n0, 5,0\n1,0,0\n"), "blank.csv:2: column tau1_Nm: not a finite number"},
+      {write("hex.csv", "seq,tau1_Nm,tau2_Nm\n0,0x10,0\n1,0,0\n"), "hex.csv:2: column tau1_Nm: not a finite number"},
   };
   for (const auto& c : cases) {
     int st = 0;

@@ -39,7 +39,7 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--lcm-url", url, "LCM provider URL (udpm)");
   app.add_option("--channel-prefix", prefix, "prefix of every channel name");
   app.add_option("--idle-exit", idle_exit, "wait at most this many wall seconds for a status, then exit 6")
-      ->capture_default_str()->check(CLI::PositiveNumber)->check(CLI::Range(0.0, 1e6));
+      ->capture_default_str()->check(gimbalsim::program::within(0.0, 1e6, true));
   if (const auto rc = gimbalsim::program::parse(app, argc, argv, "torque_replay")) return *rc;
   if (!gimbalsim::contract::Channels::validPrefix(prefix)) {
     return refuse("torque_replay", "--channel-prefix '" + prefix + "': only A-Z, 0-9 and '_' allowed");

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace gimbalsim::bench {
@@ -38,9 +39,12 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
   for (std::stringstream ss(line); std::getline(ss, line, ',');) header.push_back(line);
   int c1 = -1, c2 = -1, cs = -1;
   for (int j = 0; j < static_cast<int>(header.size()); ++j) {
-    if (header[j] == "tau1_Nm") c1 = j;
-    if (header[j] == "tau2_Nm") c2 = j;
-    if (header[j] == "seq") cs = j;
+    for (auto [column, at] : {std::pair{"tau1_Nm", &c1}, {"tau2_Nm", &c2}, {"seq", &cs}}) {
+      if (header[j] != column) continue;
+      // Two columns of one name: which one the plant applied is not knowable, so neither is guessed.
+      if (*at >= 0) throw std::runtime_error(name + ":1: column " + column + " appears twice");
+      *at = j;
+    }
   }
   if (c1 < 0 || c2 < 0 || cs < 0) {
     throw std::runtime_error(name + ":1: no seq, tau1_Nm and tau2_Nm columns (not a firmware_sim truth CSV)");
@@ -61,7 +65,9 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
     for (const int c : {c1, c2}) {
       char* end = nullptr;
       const double x = has(c) ? std::strtod(f[c].c_str(), &end) : 0.0;
-      if (!has(c) || end == f[c].c_str() || *end != '\0' || !std::isfinite(x)) {
+      // strtod skips leading blanks and reads hex: the writer writes neither, so neither is a number here
+      const bool plain = has(c) && !f[c].empty() && f[c].find_first_not_of("0123456789+-.eE") == std::string::npos;
+      if (!plain || end == f[c].c_str() || *end != '\0' || !std::isfinite(x)) {
         throw std::runtime_error(name + ":" + std::to_string(n) + ": column " + header[c] + ": not a finite number");
       }
       (c == c1 ? t.tau1 : t.tau2).push_back(x);

@@ -23,23 +23,6 @@ using firmware::ClosedLoopResult;
 
 namespace {
 
-/// A number > 0, said plainly: a bandwidth (a negative one gives negative gains), a duration, a band.
-CLI::Validator positiveNumber() {
-  return CLI::Validator(
-      [](std::string& text) -> std::string {
-        std::size_t used = 0;
-        double v = 0.0;
-        try {
-          v = std::stod(text, &used);
-        } catch (const std::exception&) {
-          return "not a number: " + text;
-        }
-        if (used != text.size()) return "not a number: " + text;
-        return v > 0.0 ? std::string() : "must be > 0, got " + text;
-      },
-      "NUMBER > 0");
-}
-
 int mainImpl(int argc, char** argv) {
   CLI::App app{"In-process gain sweep of the pointing controller on a scene"};
   std::string scene_path, config_path;
@@ -51,10 +34,12 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--config", config_path, "controller configuration file")->required();
   app.add_option("--scene-set", scene_sets, "scene override key=value");
   app.add_option("--set", sets, "controller override key=value");
-  app.add_option("--omega", omegas, "closed-loop bandwidths [rad/s] (triple pole)")->delimiter(',')->check(positiveNumber());
+  app.add_option("--omega", omegas, "closed-loop bandwidths [rad/s] (triple pole)")->delimiter(',')
+      ->check(program::within(0.0, 1e6, true));
   app.add_option("--duration", opt.duration, "simulated time [s] (default: the track start + 5 s)")
-      ->check(positiveNumber());  // -1 ran the default silently
-  app.add_option("--settle-tol", opt.settle_tol, "settling band on the joint error [rad]")->check(positiveNumber());
+      ->check(program::within(0.0, 1e9, true));  // -1 ran the default silently
+  app.add_option("--settle-tol", opt.settle_tol, "settling band on the joint error [rad]")
+      ->check(program::within(0.0, 10.0, true));
   if (const auto rc = program::parse(app, argc, argv, "controller_sweep")) return *rc;
   try {
     const firmware::PlantScene ps = firmware::loadPlantScene(scene_path, scene_sets);

@@ -114,13 +114,15 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
   app.add_option("--scenes-dir", a.scenes_dir, "where the scene files are");
   app.add_option("--policies", a.policies_path, "policy table (YAML)");
   app.add_option("--policy", a.only_policies, "only these policies (by name; repeatable)");
-  app.add_option("--steps", a.steps, "outer steps h [s] swept by the plain curves")->delimiter(',');
+  app.add_option("--steps", a.steps, "outer steps h [s] swept by the plain curves")
+      ->delimiter(',')->check(program::within(0.0, 1e3, true));
   app.add_option("--repeats", a.repeats, "timed runs per point (the median is reported)")->check(CLI::Range(1, 99));
   app.add_option("--duration", a.duration, "simulated time [s] (default: the scenes')");
   app.add_option("--output-interval", a.output_interval, "row spacing the errors are compared at [s]");
   app.add_option("--peak-dt", a.peak_dt, "sampling of the reference's peak contact force [s]");
   app.add_option("--max-run-seconds", a.max_run_seconds,
-                 "end a curve after a point whose run takes longer than this [CPU s]");
+                 "end a curve after a point whose run takes longer than this [CPU s]")
+      ->check(program::within(0.0, 1e9, true));
   app.add_option("--set", a.extra_sets, "key=value applied to every scene (repeatable)");
   app.add_option("--out", a.out_dir, "output directory (CSV, reference cache)");
   app.add_flag("--quick", a.quick, "a few short points (smoke test): 1 s, h = 0.04, 0.02, 0.01, rows every 0.04 s");

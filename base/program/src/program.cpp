@@ -1,8 +1,11 @@
 #include "gimbalsim/program/program.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "gimbalsim/program/version.hpp"
 
@@ -10,32 +13,85 @@ namespace gimbalsim::program {
 
 namespace {
 
-// CLI11's Range, PositiveNumber and NonNegativeNumber let NaN through (NaN
-// compares false with every bound): a value given to a floating-point option
-// of any program is a finite number, checked here once for all of them.
-std::string nonFiniteOption(const CLI::App& app) {
+// Why a value given to a floating-point option is not a plain finite decimal
+// number ("" when it is). CLI11 converts "0x1p-13", " 5" and an empty list
+// item ("1e-4,,2e-4") and lets NaN through every range: checked here once,
+// for every FLOAT option of every program.
+std::string notPlainReal(const std::string& r) {
+  if (r.empty()) return "an empty value (two commas in a row, or one at the end?)";
+  if (r.find_first_not_of("0123456789+-.eE") != std::string::npos) return "'" + r + "' is not a decimal number";
+  char* end = nullptr;
+  const double x = std::strtod(r.c_str(), &end);
+  if (end != r.c_str() + r.size()) return "'" + r + "' is not a decimal number";
+  if (!std::isfinite(x)) return "'" + r + "' is not a finite number";
+  return "";
+}
+
+std::string badRealOption(const CLI::App& app) {
   for (const CLI::Option* opt : app.get_options()) {
     if (opt->get_type_name().find("FLOAT") == std::string::npos) continue;
     for (const std::string& r : opt->results()) {
-      char* end = nullptr;
-      const double x = std::strtod(r.c_str(), &end);
-      if (end != r.c_str() && !std::isfinite(x)) return opt->get_name() + ": '" + r + "' is not a finite number";
+      if (std::string why = notPlainReal(r); !why.empty()) return opt->get_name() + ": " + why;
     }
   }
   for (const CLI::App* sub : app.get_subcommands()) {
-    if (std::string why = nonFiniteOption(*sub); !why.empty()) return why;
+    if (std::string why = badRealOption(*sub); !why.empty()) return why;
+  }
+  return "";
+}
+
+// CLI11 drops the empty items of a delimited list ("--omega 5,,10" runs 5 and
+// 10): the raw arguments of such options are checked for one.
+std::string emptyListItem(const CLI::App& app, int argc, char** argv) {
+  const std::vector<const CLI::App*> apps = [&] {
+    std::vector<const CLI::App*> all{&app};
+    for (const CLI::App* sub : app.get_subcommands()) all.push_back(sub);  // the ones parsed
+    return all;
+  }();
+  for (int k = 1; k < argc; ++k) {
+    const std::string arg = argv[k];
+    if (arg.rfind("--", 0) != 0) continue;
+    const std::size_t eq = arg.find('=');
+    const std::string name = arg.substr(0, eq);
+    for (const CLI::App* a : apps) {
+      const CLI::Option* opt = a->get_option_no_throw(name);
+      if (opt == nullptr || opt->get_delimiter() == '\0') continue;
+      const std::string value = eq != std::string::npos ? arg.substr(eq + 1) : (k + 1 < argc ? argv[k + 1] : "");
+      const std::string d(1, opt->get_delimiter());
+      if (value.empty() || value.find(d + d) != std::string::npos || value.front() == d[0] || value.back() == d[0]) {
+        return name + ": '" + value + "' has an empty item (two commas in a row, or one at an end)";
+      }
+    }
   }
   return "";
 }
 
 }  // namespace
 
+CLI::Validator within(double lo, double hi, bool above_lo) {
+  char text[96];
+  std::snprintf(text, sizeof text, above_lo ? "> %g and at most %g" : "in [%g, %g]", lo, hi);
+  const std::string range = text;
+  return CLI::Validator(
+      [=](std::string& s) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(s.c_str(), &end);
+        if (end == s.c_str()) return "'" + s + "' is not a number";  // the plain-number check says more after parsing
+        if (!std::isfinite(x)) return "'" + s + "' is not a finite number";
+        const bool ok = (above_lo ? x > lo : x >= lo) && x <= hi;
+        return ok ? std::string() : "must be " + range + ", got " + s;
+      },
+      "NUMBER " + range);
+}
+
 std::optional<int> parse(CLI::App& app, int argc, char** argv, const char* program) {
   // Every program's --version: the one string of version.hpp, as "<program> <version>".
   app.set_version_flag("--version", std::string(program) + " " + kVersion);
   try {
     app.parse(argc, argv);
-    if (const std::string why = nonFiniteOption(app); !why.empty()) {
+    std::string why = emptyListItem(app, argc, argv);
+    if (why.empty()) why = badRealOption(app);
+    if (!why.empty()) {
       std::fprintf(stderr, "%s: error: %s (see --help)\n", program, why.c_str());
       return kRefused;
     }

@@ -64,6 +64,11 @@ inline CLI::Validator wholeNumber() {
       "INT");
 }
 
+/// A CLI11 check for a real option: in [lo, hi], or in (lo, hi] when
+/// above_lo, said plainly ("--rate: must be > 0 and at most 1e+06, got 0").
+/// (parse() also refuses anything but a plain finite decimal number.)
+CLI::Validator within(double lo, double hi, bool above_lo = false);
+
 /// "<program>: error: <what>" and "<program>: refused, nothing run" on stderr; kRefused.
 int refuse(const char* program, const std::string& what);
 /// Every problem as "error: <problem>", then "<program>: refused, nothing run"; kRefused.
