@@ -52,7 +52,8 @@ def entry(spec, rows, index, phase):
     if index.requirement is not None:
         v = ix.requirement_verdict(values, index.requirement, index.level, index.confidence)
         e["requirement"] = {"requirement_rad": v.requirement, "verdict": v.text, "n_meeting": v.n_meeting,
-                            "fraction_meeting": v.fraction, "fraction_lower_bound": v.lower}
+                            "fraction_meeting": v.fraction, "fraction_lower_bound": v.lower,
+                            **({"verdict_note": v.reason} if v.reason else {})}
     return e
 
 
@@ -99,7 +100,7 @@ def verdict_text(e):
         return ""
     return (f"{r['verdict']} against {r['requirement_rad']:.3g} rad: {r['n_meeting']}/{e['n']} units meet it, "
             f"P(a unit meets it) >= {r['fraction_lower_bound']:.4f} at {_pct(e['confidence'])} "
-            f"(needs {e['level']:.4f})")
+            f"(needs {e['level']:.4f})" + (f"; {r['verdict_note']}" if "verdict_note" in r else ""))
 
 
 def console_lines(entries):

@@ -26,6 +26,13 @@ INDEX_KEYS = {"ape": set(), "knowledge": set(), "rpe": {"window"}, "pde": {"wind
 CONTROLLER_PREFIX = "controller."
 
 
+def controller_path_of(spec, node):
+    """The spec's `controller:` as a path against its folder, or None for
+    `default` (the built-in configuration): the same word in a sweep and a
+    tuning spec."""
+    return None if node.value == "default" else spec.path_of("controller", node)
+
+
 def profile_phases(controller, duration_s):
     """The profile's phases {name: (t0, t1)} [s] for a run of duration_s:
     the controller's own windows (Controller.windows, the closed loop's own
@@ -55,10 +62,7 @@ class ClosedLoopSpec:
 
     def __init__(self, spec, root, duration_s):
         node = root["controller"]
-        if node.value == "default":
-            self.controller_path = None
-        else:
-            self.controller_path = spec.path_of("controller", node)
+        self.controller_path = controller_path_of(spec, node)
         self.key_types = {k["key"]: k["type"] for k in gimbalsim.controller_keys()}
         sets = spec.known_mapping("controller_set", self.key_types, "controller (see `pointing_controller --keys`)")
         self.set = {k: spec.value(f"controller_set.{k}", n) for k, n in sets.items()}
@@ -141,6 +145,10 @@ class ClosedLoopSpec:
             if not ends_with_run and not t1 > t0 + tol:  # e.g. profile.hold_time 0: no sample has a figure there
                 spec.refuse(f"phases.{name}", f"phase '{name}' [{t0:g}, {t1:g}) s is empty (the controller's "
                             "profile gives it no time): leave it out of phases", items[name])
+            first_tick = math.ceil((t0 - tol) / self.period_s) * self.period_s  # the loop records every period
+            if not ends_with_run and not first_tick < t1 - tol:
+                spec.refuse(f"phases.{name}", f"phase '{name}' [{t0:g}, {t1:g}) s holds no control tick (one every "
+                            f"{self.period_s:g} s): its indices would be NaN for every sample", where)
             if self.duration_s <= t0 + tol or (not ends_with_run and self.duration_s < t1 - tol):
                 spec.refuse(f"phases.{name}" if items else "sim.duration",
                             f"the run ends at sim.duration {self.duration_s:g} s, "

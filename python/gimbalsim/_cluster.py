@@ -2,6 +2,7 @@
 worker process per core (the default), or an existing scheduler that
 dask-worker processes on any number of machines have joined. Every worker
 needs this package on its PYTHONPATH."""
+import argparse
 import contextlib
 import logging
 import os
@@ -132,9 +133,24 @@ def raise_if_interrupted():
         raise Interrupted(_received[0])
 
 
+def local_workers(text):
+    """--workers N: a whole number from 1 to 4 per core of this machine. More
+    local processes only share the cores (and each holds its own memory);
+    more machines join through --scheduler."""
+    most = 4 * (os.cpu_count() or 1)
+    try:
+        n = int(text, 10)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if not 1 <= n <= most:
+        raise argparse.ArgumentTypeError(f"{n}: must be from 1 to {most} (4 per core of this machine; "
+                                         "more machines: --scheduler)")
+    return n
+
+
 def add_cluster_arguments(parser):
     g = parser.add_mutually_exclusive_group()
-    g.add_argument("--workers", type=int, default=None,
-                   help="local cluster of N worker processes (default: one per core)")
+    g.add_argument("--workers", type=local_workers, default=None,
+                   help="local cluster of N worker processes (default: one per core; at most 4 per core)")
     g.add_argument("--scheduler", default=None,
                    help="an existing Dask scheduler, tcp://HOST:PORT (dask-scheduler + dask-worker processes)")

@@ -1,8 +1,10 @@
-"""The sweep's files: the journal's name, the CSV text of a row and the
-journal read back (every row checked against the design). Files are
-written by the one writer (_output.py)."""
+"""The sweep's files: the journal's name, the CSV text of a row, the
+journal read back (every row checked against the design) and the record of
+the design's size when --until grew it. Files are written by the one writer
+(_output.py)."""
 import csv
 import io
+import json
 
 from . import _provenance
 from ._errors import OutputError, SpecError
@@ -10,6 +12,33 @@ from ._output import csv_number, csv_text
 from ._sweep_spec import MAX_SAMPLES
 
 JOURNAL = "results.partial.csv"  # the sweep's rows as they arrive (appended and synced per task)
+DESIGN = "design.json"  # the design's size once --until grew it: {"samples": N}; absent, the spec's own
+
+
+def record_design(out, spec, write):
+    """Records the design's size in OUT/design.json before its new rows run:
+    a resume or a replay then holds the same samples, no more (a capped last
+    batch is not a whole one) and no fewer."""
+    write(out / DESIGN, json.dumps({"samples": len(spec.design)}) + "\n")
+
+
+def take_recorded_design(out, spec):
+    """Extends spec's design to the size OUT/design.json records (nothing when
+    there is none). A record that is unreadable, or names fewer samples than
+    the spec or more than the limit, is refused naming the file (SpecError)."""
+    path = out / DESIGN
+    if not path.exists():
+        return
+    if not path.is_file():
+        raise SpecError(f"{path}: not a regular file; it records the sweep's size")
+    try:
+        n = json.loads(path.read_text(encoding="utf-8"))["samples"]
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError) as e:
+        raise SpecError(f"{path}: unreadable ({e}); it records the size --until grew the sweep to")
+    if spec.grid or type(n) is not int or not spec.samples <= n <= MAX_SAMPLES:
+        raise SpecError(f"{path}: samples {n!r} is not a size this spec grows to "
+                        f"({'a grid never grows' if spec.grid else f'{spec.samples} to {MAX_SAMPLES}'})")
+    spec.design.extend_to(n)
 
 
 def fmt(v):
@@ -90,40 +119,12 @@ def read_journal(spec, path, header):
             dropped["unreadable line"] = dropped.get("unreadable line", 0) + 1
         else:
             rows.append(row)
-    spoken_for = _extend_over(spec, rows)  # the spec's own size
     for row in rows:
         why = check_row(spec, row, len(header))
-        if why is not None and row and row[0].isdigit() and int(row[0]) >= spoken_for:
-            why = "sample index outside the design"  # beyond the spec's samples and no extension's draw
         if why is None and int(row[0]) in done:
             why = "sample already journaled" if row == done[int(row[0])] else "sample journaled twice, differently"
         if why is not None:
             dropped[why] = dropped.get(why, 0) + 1
             continue
         done[int(row[0])] = row
-    # The design is the spec's and every extension its rows show (--until grows it by whole batches of
-    # the spec's samples): a row beyond the spec's samples that matches its draw is kept, and the rest
-    # of its batch runs; nothing beyond the last kept row is drawn.
-    beyond = [i for i in done if i >= spoken_for]
-    if beyond:
-        batch = spec.samples
-        spec.design.extend_to(min(MAX_SAMPLES, -(-(max(beyond) + 1) // batch) * batch))
-    elif len(spec.design) != spoken_for:
-        spec.design.extend_to(spoken_for)
     return done, dropped, not dropped
-
-
-
-def _extend_over(spec, rows):
-    """Extends a grid-less design over the largest sample index the rows name
-    (below MAX_SAMPLES), so that their draws can be checked; returns the
-    design's size before, to which read_journal shrinks it back unless a row
-    beyond was kept."""
-    size = len(spec.design)
-    if spec.grid:
-        return size
-    named = [int(r[0]) for r in rows if r and r[0].isdigit() and len(r[0]) <= 8]
-    top = max([i for i in named if i < MAX_SAMPLES], default=-1)
-    if top >= size:
-        spec.design.extend_to(top + 1)
-    return size

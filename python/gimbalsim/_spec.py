@@ -148,15 +148,21 @@ class Spec:
             self.refuse(name, "expected a mapping", node)
         return node.value
 
-    def known_mapping(self, name, known, what):
+    def known_mapping(self, name, known, what, aliases=None):
         """The top-level mapping `name` ({} when absent) whose keys must all be
         in `known`; an unknown one is refused at its line as "not a key of
-        the <what>"."""
+        the <what>", and so is a second spelling of one key (aliases: old
+        name -> key; friction1.mu is joint1.friction.mu): only one would act."""
         node = self.get(name)
         body = self.mapping(name, node) if node is not None else {}
+        seen = {}
         for key, n in body.items():
             if key not in known:
                 self.refuse(f"{name}.{key}", f"not a key of the {what}", n)
+            canonical = (aliases or {}).get(key, key)
+            if canonical in seen:
+                self.refuse(f"{name}.{key}", f"the same key as {name}.{seen[canonical]}: give it once", n)
+            seen[canonical] = key
         return body
 
     def text(self, name, node):

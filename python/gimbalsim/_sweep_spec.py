@@ -42,7 +42,7 @@ class SweepSpec:
         self.seed = spec.integer("seed", root["seed"], 0, 2**63 - 1)
         key_types = {k["key"]: k["type"] for k in gimbalsim.keys()}
         key_types.update({old: key_types[key] for old, key in gimbalsim.key_aliases().items()})
-        sets = spec.known_mapping("set", key_types, "scene")
+        sets = spec.known_mapping("set", key_types, "scene", gimbalsim.key_aliases())
         self.set = {k: spec.value(f"set.{k}", n) for k, n in sets.items()}
         params = spec.mapping("parameters", root["parameters"]) if "parameters" in root else {}
         grid = spec.known_mapping("grid", key_types, "scene")
@@ -191,4 +191,23 @@ def _idle_in_scene(key, scene, dispersed):
     for prefixes, decider, acts, why in rules:
         if key.startswith(prefixes) and not acts and not any(d.startswith(decider) for d in dispersed):
             return why
-    return None
+    return _shadowed_on_every_bearing(key, joints, scene, dispersed)
+
+
+def _shadowed_on_every_bearing(key, joints, scene, dispersed):
+    """Why a shared bearing key (contact.*, friction.*) acts on no joint: each
+    joint with a bearing has its own jointJ.* value (in the scene or
+    dispersed), which wins. A clearance is stored as the journal radius."""
+    shared = next((p for p in ("contact.", "friction.") if key.startswith(p)), None)
+    if shared is None or any(d.startswith("structure.joint") for d in dispersed):
+        return None
+    name = key[len(shared):]
+    own_names = {name, "journal_radius"} if name in ("clearance", "journal_radius") else {name}
+    bearings = [j for j in (1, 2) if joints[j] != "ideal"]
+    own = {j: sorted(f"joint{j}.{shared}{n}" for n in own_names
+                     if f"joint{j}.{shared}{n}" in scene or f"joint{j}.{shared}{n}" in dispersed) for j in bearings}
+    if not bearings or not all(own.values()):
+        return None
+    names = [own[j][0] + (f" (joint{j}.{shared}clearance sets it)" if own[j][0].endswith("journal_radius") else "")
+             for j in bearings]
+    return "overridden on every joint with a bearing by " + ", ".join(names)

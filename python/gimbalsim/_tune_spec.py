@@ -5,6 +5,7 @@ import json
 
 import gimbalsim
 from . import _gimbalsim
+from ._closed_spec import controller_path_of
 from ._spec import Spec
 from .dispersion import Design, check_within, parse_parameter
 
@@ -24,7 +25,7 @@ class TuneSpec:
                 spec.refuse(required, "missing")
         self.spec_path = spec.path
         self.scene_path = spec.path_of("scene", root["scene"])
-        self.controller_path = spec.path_of("controller", root["controller"])
+        self.controller_path = controller_path_of(spec, root["controller"])  # `default`: the built-in one
         self.duration = spec.number("duration", root["duration"], 1e-3, 1e5)
         self.trials = spec.integer("trials", root["trials"], 1, 100_000)
         self.parallel = spec.integer("parallel_trials", root["parallel_trials"], 1, 1000) \
@@ -44,7 +45,7 @@ class TuneSpec:
             if "percentile" in obj else 99.0
 
         scene_types = {k["key"]: k["type"] for k in gimbalsim.keys()}
-        sets = spec.known_mapping("set", scene_types, "scene")
+        sets = spec.known_mapping("set", scene_types, "scene", gimbalsim.key_aliases())
         try:
             self.base = gimbalsim.load_scene(self.scene_path, {k: spec.value(f"set.{k}", n) for k, n in sets.items()},
                                              sources={k: (spec.path, n.line) for k, n in sets.items()})

@@ -269,6 +269,7 @@ class Verdict:
     level: float
     confidence: float
     passed: bool
+    reason: str = ""       # why the ensemble cannot decide it (too few units, none): FAIL by default, never PASS
 
     @property
     def text(self):
@@ -286,5 +287,10 @@ def requirement_verdict(values, requirement, level=LEVEL_3SIGMA, confidence=0.95
     n = len(x)
     k = int(np.count_nonzero(np.isfinite(x) & (x <= requirement)))
     lower = 0.0 if k == 0 else float(stats.beta.ppf(1.0 - confidence, k, n - k + 1))
+    # Even with every unit meeting it, the lower bound is (1 - confidence)^(1/n): fewer units can never PASS.
+    need = math.ceil(math.log(1.0 - confidence) / math.log(level))
+    reason = ("no unit: nothing to judge" if n == 0 else
+              f"{n} units cannot show {level:.4%} at {confidence:.0%} confidence even if every one meets it: "
+              f"at least {need} needed" if n < need else "")
     return Verdict(float(requirement), n, k, k / n if n else float("nan"), lower, level,
-                   confidence, n > 0 and lower >= level)
+                   confidence, n > 0 and lower >= level, reason)

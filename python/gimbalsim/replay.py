@@ -22,10 +22,10 @@ import sys
 from . import _provenance
 from ._errors import (EXIT_INTERNAL, EXIT_OK, EXIT_REFUSED, EXIT_STOPPED, NotReproduced, OutputError, SpecError,
                       guarded_main)
-from ._journal import JOURNAL
+from ._journal import JOURNAL, take_recorded_design
 from ._output import check_outputs, figure_bytes, write_bytes
 from ._sample import sample_alone
-from ._sweep_spec import MAX_SAMPLES, SweepSpec
+from ._sweep_spec import SweepSpec
 
 NOT_COMPARED = ("wall_time_s",)  # how long it took, not what it computed
 
@@ -132,11 +132,9 @@ def replay(folder, i, out, plot_path=None):
     except OutputError as e:
         _refuse(str(e))
     source, header, rows = _read_rows(folder)
-    if i in rows and i >= len(spec.design) and not spec.grid and i < MAX_SAMPLES:
-        spec.design.extend_to(i + 1)  # a row --until added: its draw is (seed, i) as any other's
+    take_recorded_design(folder, spec)  # the samples --until added: their draws are (seed, i) as any other's
     if not 0 <= i < len(spec.design):
-        last = max(len(spec.design), max(rows, default=-1) + 1) - 1  # --until may have added rows
-        _refuse(f"--replay {i}: outside the sweep's samples 0..{last}")
+        _refuse(f"--replay {i}: outside the sweep's samples 0..{len(spec.design) - 1}")
     if header != spec.csv_header():
         _refuse(f"{source}: its columns are not those of the spec copy {folder / _provenance.SPEC_COPY}")
     if i not in rows:

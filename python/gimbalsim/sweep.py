@@ -44,7 +44,7 @@ import time
 import gimbalsim
 from . import _budget, _budget_report, _cluster, _provenance, _study_file, replay
 from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main
-from ._journal import JOURNAL, csv_line, fmt, read_journal  # noqa: F401 (csv_line, fmt: API)
+from ._journal import DESIGN, JOURNAL, csv_line, fmt, read_journal, record_design, take_recorded_design  # noqa: F401 (csv_line, fmt: API)
 from ._output import append_synced, open_append, write_text
 from ._sample import row_values, run_one, sample_alone  # noqa: F401 (sample_alone: API)
 from ._spec import check_out_dir, check_outputs_not_inputs
@@ -86,15 +86,16 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             raise SpecError(f"{fingerprint}: cannot read it ({e}); --resume needs the spec it names")
         if not same:
             raise SpecError(f"{out} holds a sweep of another spec; --resume needs the same spec")
-    elif journal.exists() or results.exists():
+    elif journal.exists() or results.exists() or (out / DESIGN).exists():
         raise SpecError(f"{out} already holds a sweep: give --resume to finish it, or another --out")
-    check_outputs_not_inputs([fingerprint, out / _provenance.SPEC_COPY, out / _provenance.INPUTS, journal, results,
+    check_outputs_not_inputs([fingerprint, out / _provenance.SPEC_COPY, out / _provenance.INPUTS, journal, results, out / DESIGN,
                               out / "summary.json", out / "report.md", out / "plots"], inputs)
     try:
         out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
     except OSError as e:
         raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
     _study_file.hold(out)  # before the journal is read: another sweep may be writing it
+    take_recorded_design(out, spec)  # the samples --until added before (a resume holds them, no more)
     done, dropped, appendable = read_journal(spec, journal, header)
     if results.exists() and resume and not done and not dropped:
         done, dropped, _ = read_journal(spec, results, header)
@@ -129,6 +130,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             if stop:
                 break
             until.grow(spec)
+            record_design(out, spec, write)
     write(results, "".join(csv_line(r) for r in [header] + rows))
     summary = summarize(spec, rows, engine)
     summary["journal_rows_dropped"] = dropped
@@ -268,8 +270,6 @@ def main(argv=None):
     a = ap.parse_args(argv)
     if a.max_samples is not None and (a.until is None or a.max_samples < 1):
         ap.error("--max-samples goes with --until, and must be >= 1")
-    if a.workers is not None and a.workers < 1:
-        ap.error("--workers must be >= 1")
     if a.batch is not None and a.batch < 1:
         ap.error("--batch must be >= 1")
     _cluster.raise_on_signals()

@@ -9,7 +9,7 @@ are a constraint.
 TUNE (YAML):
     scene: tools/scenes/paper_clearance.yaml     # the plant (against the spec's folder, then the current directory)
     set: {}                                       # scene overrides for every plant
-    controller: controllers/config/default.yaml  # the configuration the gains are laid over
+    controller: controllers/config/default.yaml  # the configuration the gains are laid over (default: the built-in one)
     duration: 5.0                                 # closed loop [s] (the profile tracks from 3.5 s)
     trials: 40
     parallel_trials: 2                            # trials in flight at once (default: the workers)

@@ -147,6 +147,16 @@ def test_requirement_verdict_clopper_pearson():
     assert v.n_meeting == 1990 and not v.passed
 
 
+def test_a_verdict_too_few_units_can_give_says_why():
+    # 0.05^(1/n) >= 0.9973 needs n >= 1109 (the shipped budget's size): 500 units meeting it all FAIL, with the count they lack
+    v = indices.requirement_verdict(np.zeros(500), 1e-5)
+    assert not v.passed and "500 units cannot show" in v.reason and "at least 1109 needed" in v.reason
+    v = indices.requirement_verdict([], 1e-5)
+    assert not v.passed and v.reason == "no unit: nothing to judge"
+    assert indices.requirement_verdict(np.zeros(1109), 1e-5).passed
+    assert indices.requirement_verdict(np.zeros(1109), 1e-5).reason == ""
+
+
 def test_a_verdict_at_a_degenerate_level_or_confidence_is_refused():
     for level, confidence in ((0.0, 0.95), (0.9973, 0.0), (1.0, 0.95), (0.9973, 1.0)):
         with pytest.raises(ValueError, match="strictly between 0 and 1"):

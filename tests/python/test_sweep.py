@@ -257,6 +257,13 @@ BAD = [
      "structure.base is fixed"),
     ("parameters:\n  torque.limit: {choice: [[0.001, 0.001], [1000, 1000]]}\n", "parameters.torque.limit", 7,
      "the firmware's motor limit"),
+    # a shared bearing key that every joint with a bearing overrides with its own: recorded, acting on nothing
+    ("set: {joint2.contact.clearance: 2.0e-4}\nparameters:\n  contact.clearance: {uniform: [1.0e-4, 3.0e-4]}\n",
+     "parameters.contact.clearance", 8, "overridden on every joint with a bearing by joint2.contact.journal_radius"),
+    # one key in two spellings inside set: the last one acted, silently
+    ("set: {structure.joint1: planar, friction1.mu: 0.1, joint1.friction.mu: 0.3}\n"
+     "parameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n",
+     "set.joint1.friction.mu", 6, "the same key as set.friction1.mu"),
     # one key in two spellings: both would be recorded while one value acts
     ("parameters:\n  friction1.mu: {uniform: [0.1, 0.2]}\ngrid:\n  joint1.friction.mu: [0.3, 0.4]\n",
      "grid.joint1.friction.mu", 9, "the same key as parameters.friction1.mu"),

@@ -235,22 +235,53 @@ def test_until_stops_by_the_cap_and_by_width_and_does_not_depend_on_batches(tmp_
 
 
 def test_resume_and_replay_keep_the_rows_until_added(tmp_path):
-    # --until grew a 3-sample spec to 9 rows; a resume of the interrupted sweep keeps rows 3..6 (not
-    # "outside the design"), runs only the rest of their batch, and a replay takes row 7.
+    # --until grew a 3-sample spec to 8 rows: the cap fell inside the third batch, and design.json says 8.
     grown = tmp_path / "grown"
-    run_sweep(small_spec(tmp_path, 3), grown, "--workers", "1", "--until", "ape:track:1e-9", "--max-samples", "9")
+    run_sweep(small_spec(tmp_path, 3), grown, "--workers", "1", "--until", "ape:track:1e-9", "--max-samples", "8")
+    assert json.loads((grown / "design.json").read_text()) == {"samples": 8}
+    finished = read(grown)
+    assert len(finished[1]) == 8
+    # An interrupted copy keeps rows 3..6 (not "outside the design") and runs sample 7 only.
     out = tmp_path / "resumed"
     out.mkdir()
-    (out / "spec.json").write_text((grown / "spec.json").read_text())
+    for name in ("spec.json", "design.json"):
+        (out / name).write_text((grown / name).read_text())
     lines = (grown / "results.csv").read_text().splitlines(keepends=True)
     (out / "results.partial.csv").write_text("".join(lines[:8]))  # the header and samples 0 to 6
     p = run_sweep(small_spec(tmp_path, 3), out, "--workers", "1", "--resume")
-    assert "9 samples, 7 already done, 2 to run" in p.stderr, p.stderr
+    assert "8 samples, 7 already done, 1 to run" in p.stderr, p.stderr
     assert "dropped" not in p.stderr
-    assert read(out) == read(grown)
+    assert read(out) == finished
+    # The finished sweep resumed runs nothing: its capped batch is not made whole (it ran 9 before).
+    p = run_sweep(small_spec(tmp_path, 3), grown, "--workers", "1", "--resume")
+    assert "8 samples, 8 already done, 0 to run" in p.stderr, p.stderr
+    assert read(grown) == finished
     p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(grown), "--replay", "7", "--out",
                         str(tmp_path / "run7.csv")], capture_output=True, text=True, timeout=300)
     assert p.returncode == 0 and "reproduces its row" in p.stderr, p.stderr
+    p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(grown), "--replay", "8", "--out",
+                        str(tmp_path / "run8.csv")], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 2 and "outside the sweep's samples 0..7" in p.stderr, p.stderr
+
+
+def test_a_design_record_that_is_not_the_sweeps_is_refused(tmp_path):
+    out = tmp_path / "d"
+    out.mkdir()
+    (out / "design.json").write_text('{"samples": 2}')  # fewer than the spec's 3
+    p = subprocess.run(sweep_cmd(small_spec(tmp_path, 3), out, "--workers", "1", "--resume"),
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode == 2 and "design.json" in p.stderr and "3 to" in p.stderr, p.stderr
+    p = subprocess.run(sweep_cmd(small_spec(tmp_path, 3), out, "--workers", "1"),
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode == 2 and "already holds a sweep" in p.stderr, p.stderr
+
+
+def test_workers_beyond_the_machine_or_below_one_are_refused(tmp_path):
+    for n in ("0", "-1", str(4 * (os.cpu_count() or 1) + 1), "2.5"):
+        p = subprocess.run(sweep_cmd(small_spec(tmp_path, 3), tmp_path / "w", "--workers", n),
+                           capture_output=True, text=True, timeout=300)
+        assert p.returncode == 2 and "--workers" in p.stderr and "Traceback" not in p.stderr, (n, p.stderr)
+        assert not (tmp_path / "w").exists()
 
 
 def test_until_keeps_one_cluster_for_all_its_rounds(tmp_path, monkeypatch):
@@ -310,6 +341,9 @@ REFUSALS = [
      "phases.late", "the run ends at sim.duration 0.5 s, before phase 'late' [5, 6) s"),
     ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [slew, {late: [0.4, 0.6]}]",
      "phases.late", "the run ends at sim.duration 0.5 s, inside phase 'late' [0.4, 0.6) s"),
+    # a phase between two ticks: no sample could have a figure there
+    ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [slew, hold, track, {late: [0.4001, 0.4009]}]",
+     "phases.late", "phase 'late' [0.4001, 0.4009) s holds no control tick (one every 0.001 s)"),
     ("  pde: {window: 0.02, separation: 0.05}", "  pde: {window: 0.06, separation: 0.05}", "indices.pde",
      "the window plus separation 0.11 s is longer than phase 'hold' (0.1 s of this run)"),
     (f"controller: {CONTROLLER_CONFIG}", "controller: no_such.yaml", "controller", "no such file"),

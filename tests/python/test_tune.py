@@ -7,6 +7,8 @@ import sys
 
 import pytest
 
+import gimbalsim
+
 from conftest import BIN, CONTROLLER_CONFIG, SCENES
 
 SPEC = f"""
@@ -108,3 +110,11 @@ def test_a_duration_that_ends_before_the_score_window_is_refused_at_its_line(tmp
     assert f"t.yaml:{line}:" in p.stderr and "key 'duration'" in p.stderr, p.stderr
     assert "track window [3.5, inf) s of objective.metric max_track" in p.stderr, p.stderr
     assert not (tmp_path / "o").exists()
+
+
+def test_the_built_in_controller_is_named_default_as_in_a_sweep(tmp_path):
+    from gimbalsim._tune_spec import TuneSpec
+    (tmp_path / "t.yaml").write_text(SPEC.replace(f"controller: {CONTROLLER_CONFIG}", "controller: default"))
+    spec = TuneSpec(tmp_path / "t.yaml")
+    assert spec.controller_path is None  # it was refused as a file named "default"
+    assert spec.controller.values() == gimbalsim.Controller(None, {}).values()
