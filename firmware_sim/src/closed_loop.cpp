@@ -10,6 +10,7 @@
 #include "gimbalsim/firmware_sim/bench_tick.hpp"
 #include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/pointing/profile_windows.hpp"
+#include "gimbalsim/pointing/tracker_axes.hpp"
 
 namespace gimbalsim::firmware {
 namespace {
@@ -80,14 +81,6 @@ class Figures {
   long long n_track_ = 0;
 };
 
-/// Rotation vector [rad] taking direction `target` onto `bore` (both unit):
-/// axis target x bore, angle pointingError (exact near 0, as the scalar).
-Vec3 losErrorVector(const Vec3& target, const Vec3& bore) noexcept {
-  const Vec3 axis = target.cross(bore);
-  const double n = axis.norm();
-  return n > 0.0 ? Vec3(axis * (pointing::pointingError(target, bore) / n)) : Vec3::Zero();
-}
-
 /// The first non-finite value of a tick's record ("" if none): what the
 /// figures are computed over, so none of them silently skips a NaN.
 const char* nonFinite(const TickRecord& r) {
@@ -139,6 +132,7 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     const bool delivered = m.status != nullptr;
     contract::ControllerReport a = last;
     a.flags = contract::MonitorFlags{};
+    if (m.antenna != nullptr) ctrl.noteAntenna(*m.antenna);  // sent before the status, as on the bench
     if (delivered) {
       cmd = ctrl.answer(st, fw.attitude(), a);
       last = a;
@@ -156,12 +150,13 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     rec.ref = a.ref;
     rec.theta_true = {truth.joint_angle[0], truth.joint_angle[1]};
     rec.tilt = {truth.tilt[0], truth.tilt[1]};
+    if (m.antenna != nullptr) rec.tracker = {m.antenna->tracker_error[0], m.antenna->tracker_error[1]};
     rec.theta_meas = a.theta_meas;
     rec.tau_cmd = a.tau_cmd;
     rec.tau_applied = {st.applied_torque[0], st.applied_torque[1]};
     rec.truth_error = truth.pointing_error;
     const Vec3 target(truth.target_boresight[0], truth.target_boresight[1], truth.target_boresight[2]);
-    rec.los_error_true = losErrorVector(target, Vec3(truth.boresight[0], truth.boresight[1], truth.boresight[2]));
+    rec.los_error_true = pointing::rotationOnto(target, Vec3(truth.boresight[0], truth.boresight[1], truth.boresight[2]));
     rec.profile = observer.sample(t);
     rec.q_WB_est = a.q_WB_est;
     const double* bq = truth.base_quaternion;
@@ -169,7 +164,7 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     rec.attitude_error = pointing::attitudeError(rec.q_WB_true, rec.q_WB_est);
     // What the controller can know: its attitude estimate and the encoders (clearance invisible to it).
     const Vec3 bore_est = rec.q_WB_est * pointing::losBoresight(ps.scene.model, rec.theta_meas(0), rec.theta_meas(1));
-    rec.los_error_est = losErrorVector(target, bore_est.normalized());
+    rec.los_error_est = pointing::rotationOnto(target, bore_est.normalized());
     rec.star_outage = a.star_outage;
     if (delivered && a.reading_rejected) ++r.rejected_readings;
     if (const char* bad = nonFinite(rec); *bad) {

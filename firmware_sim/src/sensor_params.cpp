@@ -53,6 +53,25 @@ std::vector<Key<SensorParams>> sensorKeys() {
                 field(&SensorParams::gyro_bias_walk), interval('[', 0.0, 1.0, ']')),
       K::number("gyro_noise", "rad/s", "rate gyro white noise sigma per sample, each axis (0 = none)",
                 field(&SensorParams::gyro_noise), interval('[', 0.0, 100.0, ']')),
+      K::choice<bool>("antenna", "sensors on the antenna: none, or a boresight tracker and a rate gyro "
+                      "(their own message, GIMBAL_ANTENNA; the controller then points on the tracker)",
+                      field(&SensorParams::antenna_sensors), {{"none", false}, {"tracker_gyro", true}}),
+      K::number("tracker_rate", "Hz", "boresight tracker sample rate (sensors.antenna tracker_gyro)",
+                field(&SensorParams::tracker_rate), interval('[', 1e-3, 1e6, ']')),
+      K::number("tracker_noise", "rad", "boresight tracker noise sigma per axis (0 = none)",
+                field(&SensorParams::tracker_noise), interval('[', 0.0, 1.0, ']')),
+      K::number("tracker_latency", "s",
+                "boresight tracker latency: a sample taken at t_s is delivered at the first tick at or after t_s + "
+                "latency, stamped t_s; < 8 tracker periods",
+                field(&SensorParams::tracker_latency), interval('[', 0.0, 1e6, ']')),
+      K::vector<2>("tracker_bias", "rad", "boresight tracker constant bias on its u (elevation axis) and v axes",
+                   field(&SensorParams::tracker_bias), interval('[', -1.0, 1.0, ']'), "[u, v]"),
+      K::vector<2>("tracker_outage", "s", "boresight tracker outage [start, end]: no sample, flagged ([0, 0] = none)",
+                   field(&SensorParams::tracker_outage), interval('[', 0.0, 1e9, ']'), "[start, end]"),
+      K::vector<3>("antenna_gyro_bias", "rad/s", "antenna rate gyro constant bias, antenna frame",
+                   field(&SensorParams::antenna_gyro_bias), interval('[', -1.0, 1.0, ']')),
+      K::number("antenna_gyro_noise", "rad/s", "antenna rate gyro white noise sigma per sample, each axis (0 = none)",
+                field(&SensorParams::antenna_gyro_noise), interval('[', 0.0, 100.0, ']')),
   };
 }
 
@@ -63,6 +82,16 @@ void validateSensors(const SensorParams& sp, Given& g, const std::string& prefix
                  " star tracker periods (" +
                  formatNumber(SensorParams::kStarTrackerMaxLatencyPeriods / sp.star_tracker_rate) + " s at " +
                  formatNumber(sp.star_tracker_rate) + " Hz)");
+  }
+  if (!(sp.tracker_latency * sp.tracker_rate < SensorParams::kStarTrackerMaxLatencyPeriods)) {
+    g.refuse(prefix + "tracker_latency", "must be < " + std::to_string(SensorParams::kStarTrackerMaxLatencyPeriods) +
+                                             " tracker periods (" +
+                                             formatNumber(SensorParams::kStarTrackerMaxLatencyPeriods / sp.tracker_rate) +
+                                             " s at " + formatNumber(sp.tracker_rate) + " Hz)");
+  }
+  if (!(sp.tracker_outage(1) >= sp.tracker_outage(0))) {
+    g.refuse(prefix + "tracker_outage", "end must be >= start, got [" + formatNumber(sp.tracker_outage(0)) + ", " +
+                                           formatNumber(sp.tracker_outage(1)) + "]");
   }
   if (!(sp.star_tracker_outage(1) >= sp.star_tracker_outage(0))) {
     g.refuse(prefix + "star_tracker_outage", "end must be >= start, got [" + formatNumber(sp.star_tracker_outage(0)) +

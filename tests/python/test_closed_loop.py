@@ -139,3 +139,15 @@ def test_the_reference_integrator_refuses_plain_coulomb_at_once():
     scene = gimbalsim.load_scene(scene_path("paper_clearance"), {"sim.duration": 0.2})
     with pytest.raises(ValueError, match="joint 2's bearing has friction.law coulomb"):
         gimbalsim.simulate(scene, integrator="reference")
+
+
+def test_the_antenna_tracker_is_recorded_only_when_the_scene_has_one():
+    ctrl = gimbalsim.Controller(CONTROLLER_CONFIG)
+    none = gimbalsim.closed_loop(gimbalsim.load_scene(scene_path("paper_ideal")), ctrl, 0.2)
+    assert none.ok, none.summary["error"]  # the NaN of "no tracker" is no numerical trouble
+    assert np.isnan(none.columns["tracker_u"]).all() and np.isnan(none.columns["tracker_v"]).all()
+    run = gimbalsim.closed_loop(gimbalsim.load_scene(scene_path("paper_spatial2_tracker")), ctrl, 1.0)
+    assert run.ok, run.summary["error"]
+    size = np.hypot(run.columns["tracker_u"], run.columns["tracker_v"])
+    assert run.columns["truth_error"].max() > 1e-4
+    assert np.abs(size - run.columns["truth_error"]).max() < 1e-12  # perfect, 1 kHz: the pointing error

@@ -8,6 +8,9 @@
 
 #include <cstdint>
 
+#include <optional>
+
+#include "gimbalsim/firmware_sim/antenna_sensors.hpp"
 #include "gimbalsim/firmware_sim/firmware.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
 #include "gimbalsim/pointing/truth_observer.hpp"
@@ -47,6 +50,7 @@ struct TickMessages {
   const Attitude* attitude = nullptr;
   const Status* status = nullptr;  ///< null: the fault schedule dropped or still holds this tick's status
   const Truth* truth = nullptr;    ///< null: no truth this tick (firmware_sim --truth-every)
+  const Antenna* antenna = nullptr;  ///< null: the scene has no antenna sensors (sensors.antenna none)
 };
 
 template <class V>
@@ -56,7 +60,9 @@ class BenchTick {
   /// is the boresight at t = 0. c must pass checkConfig().
   BenchTick(const PlantScene& ps, const Config& c, const FaultSchedule* faults, const pointing::TargetProfile* profile)
       : fw_(ps, c, faults), observer_(ps.scene.model, profile, fw_.initialBoresight()), profile_(profile),
-        period_(c.control_period) {}
+        period_(c.control_period) {
+    if (ps.sensors.antenna_sensors) antenna_sensors_.emplace(ps.scene.model, ps.sensors, c.control_period);
+  }
 
   /// Tick k at t_k = k T up to its messages: the commands received so far
   /// take effect (Firmware::sample), status and attitude are sampled, and
@@ -70,6 +76,13 @@ class BenchTick {
       pointing_.add(truth_.pointing_error,
                     profile_ != nullptr && observer_.sample(t).segment == pointing::Segment::Track);
       m.truth = &truth_;
+    }
+    if (antenna_sensors_) {  // the target is the observer's: the tracker sees the target, the plant knows none
+      Mat3 R_WA;
+      Vec3 w_A;
+      fw_.antennaMotion(R_WA, w_A);
+      antenna_sensors_->sample(k, utime, R_WA, w_A, observer_.lineOfSight(static_cast<double>(k) * period_), antenna_);
+      m.antenna = &antenna_;
     }
     return m;
   }
@@ -89,6 +102,8 @@ class BenchTick {
   double period_;  ///< [s] the control period T
   Truth truth_;
   PointingErrorStats pointing_;
+  std::optional<AntennaSensors> antenna_sensors_;  ///< only a scene that names them has them (sensors.antenna)
+  Antenna antenna_;
 };
 
 }  // namespace gimbalsim::firmware

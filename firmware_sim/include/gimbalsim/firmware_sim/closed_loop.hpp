@@ -53,6 +53,9 @@ struct TickRecord {
   /// [rad] truth: tilt angle gamma of joint 1's, joint 2's journal (0 unless
   /// spatial clearance): play between the encoder and the antenna
   Vec2 tilt = Vec2::Zero();
+  /// [rad] the antenna tracker's reading (u, v: antenna_sensors.hpp), the
+  /// last one delivered; NaN with no antenna sensors (sensors.antenna none)
+  Vec2 tracker = Vec2::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
 struct ClosedLoopOptions {

@@ -172,6 +172,15 @@ class Firmware {
   /// observer's target when there is no profile.
   const Vec3& initialBoresight() const noexcept { return initial_boresight_; }
   const Attitude& attitude() const noexcept { return attitude_; }
+  /// The antenna's (last body's) attitude R_WA (antenna -> inertial) and its
+  /// angular velocity in its own frame [rad/s], at the last sampled tick: what
+  /// the antenna sensors measure (antenna_sensors.hpp). Runs the kinematics
+  /// in the observation workspace (the stepping one is never touched).
+  void antennaMotion(Mat3& R_WA, Vec3& w_A) noexcept {
+    kinematics(m_, obs_, s_.q, s_.v);
+    R_WA = worldPoses(obs_, s_).R[V::NJ - 1];
+    w_A = obs_.v[V::NJ - 1].template head<3>();
+  }
   const Counters& counters() const noexcept { return n_; }
   const State<V>& state() const noexcept { return s_; }
   const Input& appliedInput() const noexcept { return u_; }

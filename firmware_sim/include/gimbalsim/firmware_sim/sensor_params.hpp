@@ -27,7 +27,17 @@ struct SensorParams {
   double gyro_bias_walk = 0.0;         ///< bias random walk sigma [rad/s/sqrt(s)]
   double gyro_noise = 0.0;             ///< white rate noise sigma per sample [rad/s]
 
-  /// Longest star tracker latency, in star tracker periods (fixed queue of samples in flight).
+  // Antenna sensors (antenna_sensors.hpp): none unless the scene names them.
+  bool antenna_sensors = false;        ///< sensors.antenna: none | tracker_gyro
+  double tracker_rate = 1000.0;        ///< boresight tracker sample rate [Hz], > 0
+  double tracker_noise = 0.0;          ///< tracker noise sigma per axis [rad]
+  double tracker_latency = 0.0;        ///< sample at t_s delivered at t_s + latency [s], < kStarTrackerMaxLatencyPeriods / rate
+  Vec2 tracker_bias = Vec2::Zero();    ///< constant tracker bias on its u, v axes [rad]
+  Vec2 tracker_outage = Vec2::Zero();  ///< [start, end] [s] without tracker samples; end <= start = none
+  Vec3 antenna_gyro_bias = Vec3::Zero();  ///< antenna rate gyro bias, antenna frame [rad/s]
+  double antenna_gyro_noise = 0.0;     ///< antenna rate gyro white noise sigma per sample [rad/s]
+
+  /// Longest star tracker (and boresight tracker) latency, in its own periods (fixed queue of samples in flight).
   static constexpr int kStarTrackerMaxLatencyPeriods = 8;
 };
 

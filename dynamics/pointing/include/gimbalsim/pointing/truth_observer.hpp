@@ -21,13 +21,16 @@ class TruthObserver {
   /// The target line of sight at t [s] (unit, inertial) into target[3], and
   /// the angle [rad] between boresight[3] and it. noexcept, no allocation.
   double observe(double t, const double boresight[3], double target[3]) const noexcept {
-    Vec3 d = initial_;
-    if (profile_ != nullptr) {
-      const ProfileSample ps = profile_->at(t);
-      d = losBoresight(m_, ps.q(0), ps.q(1));
-    }
+    const Vec3 d = lineOfSight(t);
     target[0] = d.x(), target[1] = d.y(), target[2] = d.z();
     return pointingError(Vec3(boresight[0], boresight[1], boresight[2]), d);
+  }
+
+  /// The target's line of sight at t [s] (unit, inertial).
+  Vec3 lineOfSight(double t) const noexcept {
+    if (profile_ == nullptr) return initial_;
+    const ProfileSample ps = profile_->at(t);
+    return losBoresight(m_, ps.q(0), ps.q(1));
   }
 
   /// The profile at t (the target's joint angles and its segment); a

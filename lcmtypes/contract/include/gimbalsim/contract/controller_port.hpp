@@ -46,6 +46,9 @@ class ControllerPort {
   virtual Command answer(const Status& st, const Attitude& att, ControllerReport& report) noexcept = 0;
   /// An attitude message that came without a status this tick.
   virtual void noteAttitude(const Attitude& att) noexcept = 0;
+  /// The antenna sensors' message of a tick (a plant with them sends it
+  /// before the tick's status); a controller that does not use them ignores it.
+  virtual void noteAntenna(const Antenna& /*antenna*/) noexcept {}
 };
 
 }  // namespace gimbalsim::contract

@@ -1,6 +1,6 @@
-// The bench messages without LCM (Command, Status, Truth, Attitude: the
-// firmware core's view of gimbal_command_t, gimbal_status_t, gimbal_truth_t,
-// gimbal_attitude_t) and the one list
+// The bench messages without LCM (Command, Status, Truth, Attitude, Antenna:
+// the firmware core's view of gimbal_command_t, gimbal_status_t,
+// gimbal_truth_t, gimbal_attitude_t, gimbal_antenna_t) and the one list
 // of each message's fields.
 //
 // A field list names every field once, in message order, with its CSV
@@ -97,6 +97,23 @@ struct Attitude {
   double star_time = -1.0;          ///< [s] sample time t_s of star_quaternion (-1: none delivered yet)
   double star_quaternion[4] = {1.0, 0.0, 0.0, 0.0};  ///< (w, x, y, z), base -> inertial
   std::int8_t star_outage = 0;      ///< [-] 1: star tracker outage at t_k
+};
+
+/// The antenna's own sensors at tick k (gimbal_antenna_t without LCM;
+/// firmware_sim/antenna_sensors.hpp): a two-axis boresight tracker (the
+/// rotation that takes the boresight onto the target's line of sight, in the
+/// antenna frame, on its axes u = the elevation axis and v = boresight x u, as
+/// a monopulse tracker reports the target's offset) and a rate gyro on the
+/// antenna. Tracker fields hold the last delivered sample when tracker_valid is 0.
+struct Antenna {
+  std::int64_t utime = 0;            ///< [us]
+  std::int64_t seq = 0;              ///< [-] tick index
+  std::int8_t tracker_valid = 0;     ///< [-] 1: a new tracker sample was delivered this tick
+  double tracker_time = -1.0;        ///< [s] sample time of tracker_error (-1: none delivered yet)
+  double tracker_error[2] = {};      ///< [rad] rotation boresight -> target about u (elevation axis) and v, antenna frame
+  std::int8_t tracker_outage = 0;    ///< [-] 1: tracker outage at t_k (no sample taken or delivered)
+  double gyro_time = 0.0;            ///< [s] sample time of gyro_rate (t_k)
+  double gyro_rate[3] = {};          ///< [rad/s] antenna angular rate, antenna frame (bias and noise included)
 };
 
 /// CSV column names of one field, one per element.
@@ -230,5 +247,20 @@ template <class D, class Dst, class Src>
 void copyFields(Dst& dst, const Src& src) noexcept {
   D::visit([](Columns, auto& d, const auto& s) { detail::assignField(d, s); }, dst, src);
 }
+
+/// gimbal_antenna_t / Antenna.
+struct AntennaFields {
+  template <class F, class... M>
+  static void visit(F&& f, M&... m) {
+    f(Columns{"utime[us]"}, m.utime...);
+    f(Columns{"seq[-]"}, m.seq...);
+    f(Columns{"tracker_valid[-]"}, m.tracker_valid...);
+    f(Columns{"tracker_time[s]"}, m.tracker_time...);
+    f(Columns{"tracker_u[rad]", "tracker_v[rad]"}, m.tracker_error...);
+    f(Columns{"tracker_outage[-]"}, m.tracker_outage...);
+    f(Columns{"antenna_gyro_time[s]"}, m.gyro_time...);
+    f(Columns{"antenna_gyro_wx[rad/s]", "antenna_gyro_wy[rad/s]", "antenna_gyro_wz[rad/s]"}, m.gyro_rate...);
+  }
+};
 
 }  // namespace gimbalsim::contract
