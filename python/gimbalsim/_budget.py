@@ -27,8 +27,10 @@ def column_values(spec, rows, metric):
     """A metric of every unit drawn, one value per row: NaN for a unit without
     a figure (crashed, refused, stopped, or a window it missed), which the
     budget counts as worst, never good and never left out (n is the number drawn)."""
-    col = spec.header().index(metric)
-    return [float(r[col]) if r[col] not in ("", "nan") else math.nan for r in rows]
+    header = spec.header()
+    col, status = header.index(metric), header.index("status")
+    # A unit that did not end ok (stopped, refused, crashed) has no figure, whatever number its row holds.
+    return [float(r[col]) if r[status] == "ok" and r[col] not in ("", "nan") else math.nan for r in rows]
 
 
 def entry(spec, rows, index, phase):

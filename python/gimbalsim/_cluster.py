@@ -133,15 +133,19 @@ def raise_if_interrupted():
         raise Interrupted(_received[0])
 
 
+def whole_number(text):
+    """An argparse type: a plain whole number as written (' 1', '+1', '1_0' and '0x1' are not)."""
+    if not text.lstrip("-").isdigit() or not text.lstrip("-").isascii() or text.count("-") > 1 or "-" in text[1:]:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number")
+    return int(text)
+
+
 def local_workers(text):
     """--workers N: a whole number from 1 to 4 per core of this machine. More
     local processes only share the cores (and each holds its own memory);
     more machines join through --scheduler."""
     most = 4 * (os.cpu_count() or 1)
-    try:
-        n = int(text, 10)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    n = whole_number(text)
     if not 1 <= n <= most:
         raise argparse.ArgumentTypeError(f"{n}: must be from 1 to {most} (4 per core of this machine; "
                                          "more machines: --scheduler)")

@@ -22,6 +22,13 @@ def record_design(out, spec, write):
     write(out / DESIGN, json.dumps({"samples": len(spec.design)}) + "\n")
 
 
+def _no_repeated_key(pairs):
+    keys = [k for k, _ in pairs]
+    if len(set(keys)) != len(keys):
+        raise ValueError("a key given twice")
+    return dict(pairs)
+
+
 def take_recorded_design(out, spec):
     """Extends spec's design to the size OUT/design.json records (nothing when
     there is none). A record that is unreadable, or names fewer samples than
@@ -32,7 +39,7 @@ def take_recorded_design(out, spec):
     if not path.is_file():
         raise SpecError(f"{path}: not a regular file; it records the sweep's size")
     try:
-        n = json.loads(path.read_text(encoding="utf-8"))["samples"]
+        n = json.loads(path.read_text(encoding="utf-8"), object_pairs_hook=_no_repeated_key)["samples"]
     except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError) as e:
         raise SpecError(f"{path}: unreadable ({e}); it records the size --until grew the sweep to")
     if spec.grid or type(n) is not int or not spec.samples <= n <= MAX_SAMPLES:
@@ -119,6 +126,11 @@ def read_journal(spec, path, header):
             dropped["unreadable line"] = dropped.get("unreadable line", 0) + 1
         else:
             rows.append(row)
+    beyond = [r[0] for r in rows if r and r[0].isdigit() and len(r[0]) <= 18 and int(r[0]) >= len(spec.design)]
+    if beyond:  # rows the recorded design does not hold: never dropped (they were results), the record is wrong
+        raise SpecError(f"{path} holds sample {beyond[0]}, beyond the sweep's {len(spec.design)} samples: "
+                        f"{DESIGN}, which records the size --until grew it to, is missing or not this sweep's; "
+                        "restore it, or use another --out")
     for row in rows:
         why = check_row(spec, row, len(header))
         if why is None and int(row[0]) in done:

@@ -206,12 +206,19 @@ def check_out_dir(out, spec_path):
 
 
 def check_outputs_not_inputs(outputs, inputs):
-    """An output that is also an input (the spec or a file it reads), or a
-    folder of outputs holding one, is refused (SpecError, exit 2) before
-    anything runs: found at the end, the study's work would be lost."""
+    """An output that is also an input (the spec or a file it reads), a
+    folder of outputs holding one, or a link or special file under an
+    output's name is refused (SpecError, exit 2) before anything runs: found
+    at the end, the study's work would be lost."""
     ins = [pathlib.Path(p).resolve() for p in inputs if p is not None]
     for o in outputs:
-        o = pathlib.Path(o).resolve()
+        o = pathlib.Path(o)
+        # A link (or a pipe, a device) under an output's name: refused now, not after every sample ran (exit 4).
+        if o.is_symlink() or (o.exists() and not o.is_file() and not o.is_dir()):
+            raise SpecError(f"{o}: " + ("a symbolic link" if o.is_symlink() else "not a regular file") +
+                            " where this run writes its output; an output is never written through one: remove it, "
+                            "or use another --out")
+        o = o.resolve()
         for i in ins:
             if i == o or o in i.parents:
                 raise SpecError(f"{i}: an input of this run and {'its output' if i == o else 'inside its output folder'} "

@@ -2,6 +2,7 @@
 design of dispersed keys, the closed loop's controller, phases and indices
 (_closed_spec.py), and the fingerprint a resume must match."""
 import json
+import re
 
 import gimbalsim
 from . import _provenance
@@ -13,6 +14,8 @@ METRICS = ["pointing_error_max", "pointing_error_final", "peak_contact_force", "
            "continuous_contact_from", "impacts_joint1", "impacts_joint2", "max_tilt1", "max_tilt2"]
 # Per joint: impacts at its ends and the largest tilt of its journal (0 for a
 # joint without clearance or a planar one: it cannot tilt).
+# The antenna's sensors (MODEL.md 11.6): recorded in a closed loop, but no figure a sweep reads depends on them.
+ANTENNA_SENSOR_KEYS = ("sensors.antenna", "sensors.tracker_")
 JOINT_METRICS = ["max_tilt1", "max_tilt2"]  # a closed loop's, from the truth at its ticks
 METRIC_UNITS = {"pointing_error_max": "rad", "pointing_error_final": "rad", "peak_contact_force": "N",
                 "peak_joint2_force": "N", "impacts": "", "continuous_contact_from": "s", "wall_time": "s",
@@ -127,6 +130,10 @@ class SweepSpec:
         for where, key, node in dispersed:
             canonical = aliases.get(key, key)
             why = idle.get(canonical) or _idle_in_scene(canonical, scene, dispersed_keys)
+            if why is None and self.closed is not None and canonical.startswith(CONTROLLER_PREFIX):
+                why = _idle_in_controller(canonical[len(CONTROLLER_PREFIX):], self.closed.values, dispersed_keys)
+            if why is None and canonical.startswith(ANTENNA_SENSOR_KEYS):
+                why = "the controller does not use the antenna sensors yet (docs/MODEL.md 11.6)"
             if why is None and self.closed is None and canonical.startswith("sensors."):
                 why = "an open-loop run has no sensors (they act in a closed-loop sweep: name its controller)"
             if why is not None:
@@ -166,6 +173,21 @@ class SweepSpec:
             _provenance.csv_names(self, csv_name, units)
 
 
+# Controller keys read only under a setting of another: key -> (that key, the values that read it).
+_CONTROLLER_READ_UNDER = {"control.rate_filter_hz": ("control.rate_source", ("difference",)),
+                          "pointing.fixed_direction": ("pointing.target", ("fixed",))}
+
+
+def _idle_in_controller(key, values, dispersed):
+    """Why a controller key cannot act with this configuration (None if it
+    can): its value is read only under a setting the configuration does not
+    have (and does not disperse)."""
+    decider, reading = _CONTROLLER_READ_UNDER.get(key, (None, ()))
+    if decider is None or CONTROLLER_PREFIX + decider in dispersed or str(values.get(decider)) in reading:
+        return None
+    return f"the controller reads it only with {decider} {' or '.join(reading)}; it has {values.get(decider)}"
+
+
 def _idle_in_scene(key, scene, dispersed):
     """Why `key` cannot act in this scene (None if it can): a bearing key on
     an ideal joint, a tilt key on a planar bearing, an adaptive-step key under
@@ -191,23 +213,43 @@ def _idle_in_scene(key, scene, dispersed):
     for prefixes, decider, acts, why in rules:
         if key.startswith(prefixes) and not acts and not any(d.startswith(decider) for d in dispersed):
             return why
-    return _shadowed_on_every_bearing(key, joints, scene, dispersed)
+    return _bearing_key_idle(key, joints, scene, dispersed)
 
 
-def _shadowed_on_every_bearing(key, joints, scene, dispersed):
-    """Why a shared bearing key (contact.*, friction.*) acts on no joint: each
-    joint with a bearing has its own jointJ.* value (in the scene or
-    dispersed), which wins. A clearance is stored as the journal radius."""
-    shared = next((p for p in ("contact.", "friction.") if key.startswith(p)), None)
-    if shared is None or any(d.startswith("structure.joint") for d in dispersed):
+# Bearing keys read only under some laws: the law's key and which of its values read the key.
+_READ_UNDER = {"friction.mu": ("friction.law", lambda law: law != "none"),
+               "friction.v_a": ("friction.law", lambda law: law == "ambrosio"),
+               "friction.v_b": ("friction.law", lambda law: law == "ambrosio"),
+               "contact.restitution": ("contact.damping", lambda law: law != "none"),
+               "contact.v0_min": ("contact.damping", lambda law: law != "none")}
+
+
+def _bearing_key_idle(key, joints, scene, dispersed):
+    """Why a bearing key (contact.*, friction.*, or a joint's own jointJ.*)
+    is read on no joint (None if it is read on one): on each joint with a
+    bearing, a shared key is overridden by the joint's own value (in the
+    scene or dispersed; a clearance is stored as the journal radius), or the
+    joint's law does not read it (friction.mu under friction.law none)."""
+    m = re.fullmatch(r"(?:joint([12])\.)?((?:contact|friction)\..+)", key)
+    if m is None or any(d.startswith("structure.joint") for d in dispersed):
         return None
-    name = key[len(shared):]
-    own_names = {name, "journal_radius"} if name in ("clearance", "journal_radius") else {name}
-    bearings = [j for j in (1, 2) if joints[j] != "ideal"]
-    own = {j: sorted(f"joint{j}.{shared}{n}" for n in own_names
-                     if f"joint{j}.{shared}{n}" in scene or f"joint{j}.{shared}{n}" in dispersed) for j in bearings}
-    if not bearings or not all(own.values()):
-        return None
-    names = [own[j][0] + (f" (joint{j}.{shared}clearance sets it)" if own[j][0].endswith("journal_radius") else "")
-             for j in bearings]
-    return "overridden on every joint with a bearing by " + ", ".join(names)
+    own, shared = (int(m.group(1)) if m.group(1) else None), m.group(2)
+    bearings = [j for j in ((own,) if own else (1, 2)) if joints[j] != "ideal"]
+    if not bearings:
+        return None  # the structure's rules say so
+    names = {shared, "contact.journal_radius"} if shared in ("contact.clearance", "contact.journal_radius") else {shared}
+    why = []
+    for j in bearings:
+        overriding = sorted(f"joint{j}.{n}" for n in names if f"joint{j}.{n}" in scene or f"joint{j}.{n}" in dispersed)
+        if own is None and overriding:
+            sets = f" (joint{j}.contact.clearance sets it)" if overriding[0].endswith("journal_radius") else ""
+            why.append(f"overridden by {overriding[0]}{sets}")
+            continue
+        law_key, reads = _READ_UNDER.get(shared, (None, None))
+        if law_key is None or any(d in (law_key, f"joint{j}.{law_key}") for d in dispersed):
+            return None
+        law = scene.get(f"joint{j}.{law_key}", scene.get(law_key))
+        if reads(law):
+            return None
+        why.append(f"joint {j}'s {law_key} is {law}")
+    return "on every joint with a bearing: " + "; ".join(why)

@@ -206,6 +206,8 @@ class QuantileBound:
 def min_units(level, confidence):
     """Smallest n with P(max of n units >= the level-quantile) >= confidence:
     1 - level^n >= confidence."""
+    if not (0.0 < level < 1.0 and 0.0 < confidence < 1.0):  # level 1 divided by 0, confidence 0 said 0 units
+        raise ValueError("level and confidence must lie strictly between 0 and 1")
     return math.ceil(math.log(1.0 - confidence) / math.log(level))
 
 
@@ -283,12 +285,14 @@ def requirement_verdict(values, requirement, level=LEVEL_3SIGMA, confidence=0.95
         raise ValueError("level and confidence must lie strictly between 0 and 1")
     if not (math.isfinite(requirement) and requirement >= 0.0):  # NaN gave FAIL, inf PASS: no question asked
         raise ValueError(f"requirement must be a finite angle >= 0 rad, got {requirement!r}")
-    x = np.asarray(values, dtype=float).ravel()
+    x = np.asarray(values, dtype=float)
+    if x.ndim != 1:  # a 2-D array counted each of its cells as a unit
+        raise ValueError(f"values: one figure per unit (1-D), got shape {x.shape}")
     n = len(x)
     k = int(np.count_nonzero(np.isfinite(x) & (x <= requirement)))
     lower = 0.0 if k == 0 else float(stats.beta.ppf(1.0 - confidence, k, n - k + 1))
     # Even with every unit meeting it, the lower bound is (1 - confidence)^(1/n): fewer units can never PASS.
-    need = math.ceil(math.log(1.0 - confidence) / math.log(level))
+    need = min_units(level, confidence)
     reason = ("no unit: nothing to judge" if n == 0 else
               f"{n} units cannot show {level:.4%} at {confidence:.0%} confidence even if every one meets it: "
               f"at least {need} needed" if n < need else "")

@@ -88,8 +88,8 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             raise SpecError(f"{out} holds a sweep of another spec; --resume needs the same spec")
     elif journal.exists() or results.exists() or (out / DESIGN).exists():
         raise SpecError(f"{out} already holds a sweep: give --resume to finish it, or another --out")
-    check_outputs_not_inputs([fingerprint, out / _provenance.SPEC_COPY, out / _provenance.INPUTS, journal, results, out / DESIGN,
-                              out / "summary.json", out / "report.md", out / "plots"], inputs)
+    check_outputs_not_inputs([fingerprint, out / _provenance.SPEC_COPY, out / _provenance.INPUTS, journal, results,
+                              out / DESIGN, out / "summary.json", out / "report.md", out / "plots"], inputs)
     try:
         out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
     except OSError as e:
@@ -255,17 +255,17 @@ def main(argv=None):
     ap.add_argument("--version", action="version", version="gimbalsim.sweep " + gimbalsim.__version__)
     ap.add_argument("spec", help="sweep spec (YAML); with --replay, the sweep's output directory")
     ap.add_argument("--out", required=True, help="output directory; with --replay, the time series CSV")
-    ap.add_argument("--replay", type=int, default=None, metavar="I",
+    ap.add_argument("--replay", type=_cluster.whole_number, default=None, metavar="I",
                     help="run sample I of the sweep in SPEC alone")
     ap.add_argument("--plot", default=None, help="with --replay: the plot (default: --out with .png)")
     _cluster.add_cluster_arguments(ap)
     ap.add_argument("--resume", action="store_true", help="finish an interrupted sweep in --out")
-    ap.add_argument("--batch", type=int, default=None, help="samples per task (default: about 8 tasks per worker, at most 10)")
+    ap.add_argument("--batch", type=_cluster.whole_number, default=None, help="samples per task (default: about 8 tasks per worker, at most 10)")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
     ap.add_argument("--until", metavar="INDEX:PHASE:RELWIDTH",
                     help="closed loop: add batches of the spec's samples until the index's confidence interval in "
                          "the phase is at most RELWIDTH of its value (e.g. ape:track:0.2), or --max-samples")
-    ap.add_argument("--max-samples", type=int, default=None,
+    ap.add_argument("--max-samples", type=_cluster.whole_number, default=None,
                     help="with --until: the cap (default: 20 times the spec's samples)")
     a = ap.parse_args(argv)
     if a.max_samples is not None and (a.until is None or a.max_samples < 1):

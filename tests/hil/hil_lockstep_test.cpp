@@ -189,7 +189,7 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
       {write("every10.csv", "seq,tau1_Nm,tau2_Nm\n0,0,0\n10,1,1\n"),
        "every10.csv:3: seq 10 where tick 1 belongs: the CSV was not written every tick"},
       {write("word.csv", "seq,tau1_Nm,tau2_Nm\n0,0.5,0\n1,abc,0\n"), "word.csv:3: column tau1_Nm: not a finite number"},
-      {write("short.csv", "seq,tau1_Nm,tau2_Nm\n0,0.5\n"), "short.csv:2: column tau2_Nm: not a finite number"},
+      {write("short.csv", "seq,tau1_Nm,tau2_Nm\n0,0.5\n"), "short.csv:2: 2 fields, the header has 3"},
       {write("nan.csv", "seq,tau1_Nm,tau2_Nm\n0,0,nan\n"), "nan.csv:2: column tau2_Nm: not a finite number"},
       {write("one.csv", "seq,tau1_Nm,tau2_Nm\n0,0,0\n"), "one.csv: fewer than 2 rows: nothing to replay"},
       // two columns of one name: which one the plant applied is not knowable (the last one was taken)
@@ -197,6 +197,9 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
       // blanks and hex are no number the writer writes (strtod took " 5" and "0x10")
       {write("blank.csv", "seq,tau1_Nm,tau2_Nm\n0, 5,0\n1,0,0\n"), "blank.csv:2: column tau1_Nm: not a finite number"},
       {write("hex.csv", "seq,tau1_Nm,tau2_Nm\n0,0x10,0\n1,0,0\n"), "hex.csv:2: column tau1_Nm: not a finite number"},
+      // a row cut short or too long is no row of the run (it was replayed as far as it went)
+      {write("cut.csv", "seq,tau1_Nm,tau2_Nm,energy_J\n0,0,0,1\n1,0,0\n"), "cut.csv:3: 3 fields, the header has 4"},
+      {write("seqhex.csv", "seq,tau1_Nm,tau2_Nm\n0,0,0\n0x1,0,0\n"), "seqhex.csv:3: seq '0x1' is not a tick number"},
   };
   for (const auto& c : cases) {
     int st = 0;

@@ -157,6 +157,15 @@ def test_a_verdict_too_few_units_can_give_says_why():
     assert indices.requirement_verdict(np.zeros(1109), 1e-5).reason == ""
 
 
+def test_a_table_of_figures_is_not_a_list_of_units_and_min_units_checks_its_question():
+    with pytest.raises(ValueError, match="one figure per unit"):
+        indices.requirement_verdict([[1e-5] * 3] * 500, 1e-4, 0.995, 0.95)  # it counted 1500 units: PASS
+    for level, confidence in ((1.0, 0.95), (0.5, 0.0)):  # ZeroDivisionError, and 0 units
+        with pytest.raises(ValueError, match="strictly between 0 and 1"):
+            indices.min_units(level, confidence)
+    assert indices.min_units(0.9973, 0.95) == 1109
+
+
 def test_a_verdict_at_a_degenerate_level_or_confidence_is_refused():
     for level, confidence in ((0.0, 0.95), (0.9973, 0.0), (1.0, 0.95), (0.9973, 1.0)):
         with pytest.raises(ValueError, match="strictly between 0 and 1"):

@@ -259,7 +259,14 @@ BAD = [
      "the firmware's motor limit"),
     # a shared bearing key that every joint with a bearing overrides with its own: recorded, acting on nothing
     ("set: {joint2.contact.clearance: 2.0e-4}\nparameters:\n  contact.clearance: {uniform: [1.0e-4, 3.0e-4]}\n",
-     "parameters.contact.clearance", 8, "overridden on every joint with a bearing by joint2.contact.journal_radius"),
+     "parameters.contact.clearance", 8, "on every joint with a bearing: overridden by joint2.contact.journal_radius"),
+    # a key the joint's law does not read (friction.mu under no friction, restitution without damping)
+    ("set: {friction.law: none}\nparameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n", "parameters.friction.mu", 8,
+     "joint 2's friction.law is none"),
+    ("set: {contact.damping: none}\nparameters:\n  contact.restitution: {uniform: [0.5, 0.9]}\n",
+     "parameters.contact.restitution", 8, "joint 2's contact.damping is none"),
+    ("parameters:\n  friction.v_a: {uniform: [1.0e-5, 1.0e-4]}\n", "parameters.friction.v_a", 7,
+     "joint 2's friction.law is coulomb"),
     # one key in two spellings inside set: the last one acted, silently
     ("set: {structure.joint1: planar, friction1.mu: 0.1, joint1.friction.mu: 0.3}\n"
      "parameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n",
@@ -278,6 +285,16 @@ def test_spec_refusals_name_the_key_and_line(tail, key, line, why, tmp_path):
     assert p.returncode == 2, p.stderr
     assert f"bad.yaml:{line}:" in p.stderr and f"key '{key}'" in p.stderr and why in p.stderr, p.stderr
     assert not (tmp_path / "o" / "results.csv").exists()
+
+
+def test_a_link_under_an_outputs_name_is_refused_before_any_sample(spec, tmp_path):
+    for name in ("summary.json", "design.json", "results.partial.csv"):
+        out = tmp_path / name.replace(".", "_")
+        out.mkdir()
+        (out / name).symlink_to(tmp_path / "victim")  # every sample ran, then exit 4 ("free the space")
+        p = run_sweep(spec, out, check=False)
+        assert p.returncode == 2 and "a symbolic link" in p.stderr and name in p.stderr, p.stderr
+        assert sorted(x.name for x in out.iterdir()) == [name] and not (tmp_path / "victim").exists()
 
 
 def test_an_out_through_a_link_and_unreadable_study_files_are_refused(spec, tmp_path):

@@ -262,6 +262,12 @@ def test_resume_and_replay_keep_the_rows_until_added(tmp_path):
     p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(grown), "--replay", "8", "--out",
                         str(tmp_path / "run8.csv")], capture_output=True, text=True, timeout=300)
     assert p.returncode == 2 and "outside the sweep's samples 0..7" in p.stderr, p.stderr
+    # Without its record the rows beyond the spec are refused, never dropped (they were 5 rows lost).
+    (grown / "design.json").unlink()
+    p = subprocess.run(sweep_cmd(small_spec(tmp_path, 3), grown, "--workers", "1", "--resume"),
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode == 2 and "beyond the sweep's 3 samples" in p.stderr and "design.json" in p.stderr, p.stderr
+    assert read(grown) == finished
 
 
 def test_a_design_record_that_is_not_the_sweeps_is_refused(tmp_path):
@@ -320,6 +326,12 @@ REFUSALS = [
      "parameters.torque.tau2", "the controller commands the torque"),
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.output_interval: {choice: [0.001, 0.01]}",
      "parameters.sim.output_interval", "the closed loop records every control period"),
+    # a controller key another setting switches off (the status rates are used, not the differenced ones)
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.control.rate_filter_hz: {uniform: [60, 190]}",
+     "parameters.controller.control.rate_filter_hz", "reads it only with control.rate_source difference"),
+    # the antenna's sensors are recorded but no controller uses them yet: no figure could move
+    ("  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}", "  sensors.tracker_noise: {uniform: [0.0, 2.0e-5]}",
+     "parameters.sensors.tracker_noise", "does not use the antenna sensors yet"),
     ("  rpe: {window: 0.05}", "  rpe: {window: .inf}", "indices.rpe.window", "expected a finite number"),
     ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: .inf}",
      "indices.ape.requirement", "expected a finite number"),
@@ -464,3 +476,19 @@ def test_resume_reads_the_closed_loops_journal_back(reference, spec, tmp_path):
     assert "6 samples, 3 already done, 3 to run" in p.stderr
     assert "dropped" not in p.stderr
     assert read(out) == read(ref_out)
+
+
+def test_a_unit_that_did_not_end_ok_counts_as_worst_whatever_its_row_holds(tmp_path):
+    # A stopped run's figures over the part it ran were counted as a good unit's (a budget could PASS on them).
+    from gimbalsim import _budget
+    from gimbalsim.sweep import SweepSpec
+    path = tmp_path / "s.yaml"
+    path.write_text(SPEC.replace(f"set: {{sim.duration: {DURATION}}}", "set: {sim.duration: 0.5}"))
+    spec = SweepSpec(path)
+    header = spec.header()
+    ok = ["1e-3"] * len(header)
+    ok[header.index("status")] = "ok"
+    stopped = list(ok)
+    stopped[header.index("status")] = "non_finite"
+    values = _budget.column_values(spec, [ok, stopped], "ape_track")
+    assert values[0] == 1e-3 and math.isnan(values[1])

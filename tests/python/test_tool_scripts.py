@@ -54,6 +54,13 @@ def test_bench_plot_refuses_bad_input_naming_the_line(tmp):
     refused(run(BENCH, bad, "--out", tmp / "a.png"), f"{bad}:3", "theta2_rad")
     bad.write_text(TRUTH_HEADER + "0,0,0,0,0,1e-3,0.5\n")
     refused(run(BENCH, bad, "--out", tmp / "a.png"), f"{bad}:2", "faults")
+    bad.write_text(TRUTH_HEADER + "0,0,0,0,0,1e-3,0\n0.001,0,inf,0,0,2e-3,0\n")  # was taken as a number
+    refused(run(BENCH, bad, "--out", tmp / "a.png"), f"{bad}:3", "not a finite decimal number")
+    bad.write_text(TRUTH_HEADER.replace("faults", "theta1_rad") + "0,0,0,0,0,1e-3,0\n")
+    refused(run(BENCH, bad, "--out", tmp / "a.png"), "column theta1_rad appears twice")
+    good = tmp / "good.csv"
+    good.write_text(TRUTH_HEADER + "0,0,0,0,0,1e-3,0\n")
+    refused(run(BENCH, good, "--out", tmp / "a.xyz"), "not a figure format")  # was a traceback after plotting
     os.mkfifo(tmp / "fifo")  # would block a reader that opens it
     refused(run(BENCH, tmp / "fifo", "--out", tmp / "a.png"), "not a regular file")
     refused(run(BENCH, tmp / "truth.csv", "--out", tmp / "a.png"), "cannot read")

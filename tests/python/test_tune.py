@@ -118,3 +118,13 @@ def test_the_built_in_controller_is_named_default_as_in_a_sweep(tmp_path):
     spec = TuneSpec(tmp_path / "t.yaml")
     assert spec.controller_path is None  # it was refused as a file named "default"
     assert spec.controller.values() == gimbalsim.Controller(None, {}).values()
+
+
+def test_a_link_under_the_study_file_is_refused_before_any_trial(tmp_path):
+    (tmp_path / "t.yaml").write_text(SPEC)
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "study.db").symlink_to(tmp_path / "victim.db")  # the study was written through it
+    p = tune(tmp_path / "t.yaml", out, "--workers", "1")
+    assert p.returncode == 2 and "a symbolic link" in p.stderr and "study.db" in p.stderr, p.stderr
+    assert not (tmp_path / "victim.db").exists()

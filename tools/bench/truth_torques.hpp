@@ -3,6 +3,7 @@
 // target (tests/fuzz/fuzz_truth_torques.cpp) drives the reader itself.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -36,7 +37,9 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
   };
   if (!next()) throw std::runtime_error(name + ": empty, no header");
   std::vector<std::string> header;
+  const bool empty_last = !line.empty() && line.back() == ',';  // getline drops an empty last field
   for (std::stringstream ss(line); std::getline(ss, line, ',');) header.push_back(line);
+  if (empty_last) header.emplace_back();
   int c1 = -1, c2 = -1, cs = -1;
   for (int j = 0; j < static_cast<int>(header.size()); ++j) {
     for (auto [column, at] : {std::pair{"tau1_Nm", &c1}, {"tau2_Nm", &c2}, {"seq", &cs}}) {
@@ -52,11 +55,20 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
   Torques t;
   for (long long n = 2; next(); ++n) {
     if (t.tau1.size() >= kMaxRows) throw std::runtime_error(name + ": more than 2000000 rows");
+    // Every row has the header's fields (counted by commas: getline drops an empty last one).
+    const std::size_t fields = static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1;
+    if (fields != header.size()) {
+      throw std::runtime_error(name + ":" + std::to_string(n) + ": " + std::to_string(fields) + " fields, the header has " +
+                               std::to_string(header.size()));
+    }
     std::vector<std::string> f;
     for (std::stringstream ss(line); std::getline(ss, line, ',');) f.push_back(line);
     const auto has = [&](int c) { return c < static_cast<int>(f.size()); };
     // Row k must be tick k: a CSV written every N ticks (--truth-every N) would replay tick N (k + 1) as tick k + 1.
     const std::string expected = std::to_string(t.tau1.size());
+    if (has(cs) && (f[cs].empty() || f[cs].find_first_not_of("0123456789") != std::string::npos)) {
+      throw std::runtime_error(name + ":" + std::to_string(n) + ": seq '" + f[cs] + "' is not a tick number");
+    }
     if (!has(cs) || f[cs] != expected) {
       throw std::runtime_error(name + ":" + std::to_string(n) + ": seq " + (has(cs) ? f[cs] : "missing") +
                                " where tick " + expected +

@@ -28,7 +28,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
-from output_file import Refused, check_before_writing, run_script, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
+from output_file import (Refused, check_before_writing, check_figure_format, check_header, plain_number,  # noqa: E402
+                         run_script, savefig)  # the package's one writer
 
 FAULTS = [(1, "watchdog"), (2, "motor limit"), (4, "cmd rejected"), (8, "plant fault"), (16, "lockstep timeout")]
 # Scheduled fault kinds in the order of FaultKind (firmware_sim/include/gimbalsim/firmware_sim/fault_schedule.hpp):
@@ -62,6 +63,7 @@ def read(path):
     if not rows:
         raise Refused(f"{path} is empty")
     header, data = rows[0], rows[1:]
+    check_header(header, path)
     missing = [c for c in NEEDED if c not in header]
     if missing:
         raise Refused(f"{path}: not a bench truth CSV, missing column(s) {', '.join(missing)}")
@@ -73,11 +75,12 @@ def read(path):
         i = header.index(c)
         values = []
         for line, r in enumerate(data, start=2):
-            try:
-                values.append(float(r[i]))
-            except (ValueError, IndexError):
-                raise Refused(f"{path}:{line}: column {c}: " + (f"not a number: {r[i]!r}" if i < len(r) else "missing"))
+            if len(r) != len(header):
+                raise Refused(f"{path}:{line}: {len(r)} fields, the header has {len(header)}")
+            values.append(plain_number(r[i], f"{path}:{line}: column {c}"))
         cols[c] = np.array(values)
+    if (np.diff(cols["sim_time_s"]) <= 0).any():
+        raise Refused(f"{path}:{int(np.argmax(np.diff(cols['sim_time_s']) <= 0)) + 3}: sim_time_s does not increase")
     for c in ("faults", "injected_faults"):  # bit sets: whole numbers of 31 bits
         if c in cols:
             bad = np.flatnonzero(~((cols[c] >= 0) & (cols[c] < 2**31) & (cols[c] == np.floor(cols[c]))))
@@ -96,6 +99,7 @@ def main():
     if not np.isfinite(a.after):
         p.error(f"--after {a.after}: not a finite time")
     check_before_writing([a.out], [a.truth])
+    check_figure_format(a.out)
     c = read(a.truth)
     t = c["sim_time_s"]
     err = c["pointing_error_rad"]

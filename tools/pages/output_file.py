@@ -5,9 +5,13 @@ tree by its path, so a plotting script needs neither the built extension
 nor PYTHONPATH. Everything it offers is re-exported here: open_output,
 write_text, write_bytes, write_csv, savefig, check_outputs, OutputError
 (an OSError naming the file), and csv_number (the CSV convention's numbers).
-It also says how a script ends: run_script, Refused, check_before_writing."""
+It also says how a script ends (run_script, Refused, check_before_writing)
+and how it reads what it is given (plain_number, check_header, check_figure_format)."""
 import importlib.util
+import math
+import os
 import pathlib
+import re
 import sys
 
 _NAME = "gimbalsim_output_writer"  # not gimbalsim._output: importing that would load the package and its extension
@@ -58,3 +62,33 @@ def run_script(program, main):
     except OutputError as e:
         print(f"{program}: error: {e}", file=sys.stderr)
         return EXIT_OUTPUT
+
+
+_PLAIN = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+
+
+def plain_number(text, where):
+    """A CSV cell as the project writes numbers: a plain finite decimal (not
+    ' 1', 'inf' or '0x10'); Refused naming `where` (file:line: column) otherwise."""
+    if text is None or not _PLAIN.fullmatch(text) or not math.isfinite(float(text)):
+        raise Refused(f"{where}: not a finite decimal number: {text!r}")
+    return float(text)
+
+
+def check_header(header, path):
+    """A CSV header names each column once (which of two would a plot take?)."""
+    seen = set()
+    for name in header:
+        if name in seen:
+            raise Refused(f"{path}:1: column {name} appears twice")
+        seen.add(name)
+
+
+def check_figure_format(path):
+    """The extension of a figure's name is a format matplotlib writes (.png, .pdf, .svg, ...)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    fmt = os.path.splitext(str(path))[1].lstrip(".").lower()
+    supported = FigureCanvasAgg(Figure()).get_supported_filetypes()
+    if fmt not in supported:
+        raise Refused(f"{path}: '.{fmt}' is not a figure format (one of {', '.join('.' + f for f in sorted(supported))})")

@@ -33,7 +33,7 @@ class InputError(Exception):
 def load_csv(path):
     """Return {column name: float array}, checked for the REQUIRED columns."""
     if not os.path.isfile(path):
-        raise InputError(f"{path}: no such file")
+        raise InputError(f"{path}: " + ("not a regular file" if os.path.exists(path) else "no such file"))
     try:
         with open(path, newline="") as f:
             header = next(csv.reader(f), None)
@@ -44,6 +44,9 @@ def load_csv(path):
     if not header:
         raise InputError(f"{path}: empty file (no CSV header)")
     header = [h.strip() for h in header]
+    repeated = sorted({h for h in header if header.count(h) > 1})
+    if repeated:
+        raise InputError(f"{path}:1: column {repeated[0]} appears twice")
     missing = [c for c in REQUIRED if c not in header]
     if missing:
         raise InputError(f"{path}: missing column(s) {', '.join(repr(m) for m in missing)} "
@@ -70,7 +73,7 @@ def load_summary(path):
     if path is None:
         return {}
     if not os.path.isfile(path):
-        raise InputError(f"{path}: no such file")
+        raise InputError(f"{path}: " + ("not a regular file" if os.path.exists(path) else "no such file"))
     try:
         with open(path) as f:
             summary = json.load(f)

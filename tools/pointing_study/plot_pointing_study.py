@@ -22,7 +22,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
-from output_file import Refused, check_before_writing, run_script, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
+from output_file import Refused, check_before_writing, check_header, plain_number, run_script, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
 import numpy as np  # noqa: E402
 
 
@@ -45,10 +45,7 @@ def read_rows(path):
 
 
 def number(path, line, column, text):
-    try:
-        return float(text) if text else np.nan  # an empty cell: no value (the CSV convention)
-    except ValueError:
-        raise Refused(f"{path}:{line}: column {column}: not a number: {text!r}") from None
+    return plain_number(text, f"{path}:{line}: column {column}") if text else np.nan  # empty: no value (the CSV convention)
 
 
 def read_series(path):
@@ -56,6 +53,7 @@ def read_series(path):
     if len(rows) < 2:
         raise Refused(f"{path}: no data rows")
     head = rows[0]
+    check_header(head, path)
     cols = {h: [] for h in head}
     for line, r in enumerate(rows[1:], start=2):
         if len(r) != len(head):
@@ -69,6 +67,7 @@ def read_summary(path):
     rows = read_rows(path)
     if not rows or any(c not in rows[0] for c in SUMMARY_COLUMNS):
         raise Refused(f"{path}: not the study's summary: needs columns {', '.join(SUMMARY_COLUMNS)}")
+    check_header(rows[0], path)
     summary = [dict(zip(rows[0], r)) for r in rows[1:]]
     for line, (r, raw) in enumerate(zip(summary, rows[1:]), start=2):
         if len(raw) != len(rows[0]):

@@ -36,6 +36,7 @@ if [ -n "$SPEC" ]; then
   # A user's spec: its own output folder (a --out among the options wins), nothing else written.
   OUT="out/pointing_budget-$(basename "${SPEC%.*}")"
   for a in "${ARGS[@]+"${ARGS[@]}"}"; do [ "$a" = "--out" ] && OUT=; done
+  [ -z "$OUT" ] || mkdir -p out  # the script's own default folder is made, as a program's under out/ is
   PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$SPEC" ${OUT:+--out "$OUT"} --no-progress \
     "${ARGS[@]+"${ARGS[@]}"}"
   exit 0

@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "gimbalsim/input/key_registry.hpp"
+#include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/program/program.hpp"
 #include "gimbalsim/scene/scene.hpp"
@@ -117,9 +118,12 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
   app.add_option("--steps", a.steps, "outer steps h [s] swept by the plain curves")
       ->delimiter(',')->check(program::within(0.0, 1e3, true));
   app.add_option("--repeats", a.repeats, "timed runs per point (the median is reported)")->check(CLI::Range(1, 99));
-  app.add_option("--duration", a.duration, "simulated time [s] (default: the scenes')");
-  app.add_option("--output-interval", a.output_interval, "row spacing the errors are compared at [s]");
-  app.add_option("--peak-dt", a.peak_dt, "sampling of the reference's peak contact force [s]");
+  app.add_option("--duration", a.duration, "simulated time [s] (default: the scenes')")
+      ->check(program::within(0.0, 1e6, true));
+  app.add_option("--output-interval", a.output_interval, "row spacing the errors are compared at [s]")
+      ->check(program::within(0.0, 1e6, true));
+  app.add_option("--peak-dt", a.peak_dt, "sampling of the reference's peak contact force [s]")
+      ->check(program::within(1e-9, 1e3));
   app.add_option("--max-run-seconds", a.max_run_seconds,
                  "end a curve after a point whose run takes longer than this [CPU s]")
       ->check(program::within(0.0, 1e9, true));
@@ -128,6 +132,9 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
   app.add_flag("--quick", a.quick, "a few short points (smoke test): 1 s, h = 0.04, 0.02, 0.01, rows every 0.04 s");
   app.add_flag("--no-mujoco", a.no_mujoco, "skip the MuJoCo peer even when built with it");
   if (const auto rc = program::parse(app, argc, argv, "gimbalsim_workprec")) return *rc;
+  if (a.quick && (app.count("--steps") || app.count("--output-interval"))) {  // --quick would overwrite them
+    return program::refuse("gimbalsim_workprec", "--quick sets --steps and --output-interval: give one or the other");
+  }
   if (a.quick) {
     a.steps = {4e-2, 2e-2, 1e-2};
     a.output_interval = 4e-2;
@@ -139,6 +146,16 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
         a.duration >= 0.0 && a.duration <= 1e6)) {
     return program::refuse("gimbalsim_workprec",
                            "need 0 < --peak-dt <= --output-interval <= 1e9 --peak-dt and 0 <= --duration <= 1e6 s");
+  }
+  // Every point runs whole steps h (the scene's own rule): a duration or row spacing between two is
+  // refused here, once, not recorded as every point refused.
+  for (const double h : a.steps) {
+    for (const auto& [flag, value] : {std::pair{"--duration", a.duration}, {"--output-interval", a.output_interval}}) {
+      if (value <= 0.0) continue;  // --duration 0: the scenes' own
+      if (const std::string why = wholeMultipleProblem(value, h, "the step h = " + formatNumber(h)); !why.empty()) {
+        return program::refuse("gimbalsim_workprec", std::string(flag) + ": " + why);
+      }
+    }
   }
   try {
     a.policies = loadPolicies(a.policies_path);
@@ -280,6 +297,10 @@ void measureCurve(const Args& a, const std::string& scene, const std::string& pa
       if (p.ok) last_cpu = median(cpu);
     }
     if (gimbalsim::io::stopRequested()) return;  // this point's runs were cut short
+    if (!p.ok) {  // a point that did not run to its end has no figure: its partial maxima are not one
+      p.bore_err_max = p.bore_err_end = p.theta1_err_max = p.theta2_err_max = kNoValue;
+      p.peak_force_err_rel = p.momentum_drift_rel = p.cpu_per_sim_s = kNoValue;
+    }
     points.push_back(p);
     printPoint(p);
   }

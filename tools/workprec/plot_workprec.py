@@ -8,7 +8,6 @@ out (the CSV keeps them with the reason).
 """
 import argparse
 import csv
-import math
 import os
 import sys
 from collections import OrderedDict
@@ -18,7 +17,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
-from output_file import Refused, check_before_writing, run_script, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
+from output_file import (Refused, check_before_writing, check_figure_format, check_header, plain_number,  # noqa: E402
+                         run_script, savefig)  # the package's one writer
 
 TARGETS = (1e-3, 1e-6, 1e-9)  # [rad], the targets the tool reports
 
@@ -37,14 +37,18 @@ def read(path):
             reader = csv.DictReader(f)
             if reader.fieldnames is None or any(c not in reader.fieldnames for c in COLUMNS):
                 raise Refused(f"{path}: not gimbalsim_workprec's CSV: needs columns {', '.join(COLUMNS)}")
+            check_header(reader.fieldnames, path)
             for r in reader:
+                where = f"{path}:{reader.line_num}"
+                if None in r or None in r.values():
+                    raise Refused(f"{where}: the row has not the header's {len(reader.fieldnames)} fields")
+                if r["ok"] not in ("0", "1"):
+                    raise Refused(f"{where}: column ok: expected 0 or 1, got {r['ok']!r}")
                 if r["ok"] != "1":
                     continue
-                try:
-                    err, cpu = float(r["bore_err_max_rad"]), float(r["cpu_s_per_sim_s"])
-                except (TypeError, ValueError):
-                    raise Refused(f"{path}:{reader.line_num}: bore_err_max_rad or cpu_s_per_sim_s is not a number")
-                if not (cpu > 0 and math.isfinite(cpu) and math.isfinite(err)):
+                err = plain_number(r["bore_err_max_rad"], f"{where}: column bore_err_max_rad")
+                cpu = plain_number(r["cpu_s_per_sim_s"], f"{where}: column cpu_s_per_sim_s")
+                if not cpu > 0:
                     continue
                 curves = scenes.setdefault(r["scene"], OrderedDict())
                 curves.setdefault(r["policy"], []).append((cpu, max(err, 1e-16), r["pareto"] == "1"))
@@ -62,6 +66,7 @@ def main():
     a = ap.parse_args()
     out = a.out or os.path.splitext(a.csv)[0] + ".png"
     check_before_writing([out], [a.csv])
+    check_figure_format(out)
     scenes = read(a.csv)
     if not scenes:
         raise Refused(f"{a.csv}: no successful points to plot")

@@ -2,6 +2,7 @@
 // the Pareto front, the cheapest point per accuracy, and the CSV.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -10,20 +11,23 @@
 namespace gimbalsim::workprec {
 
 /// One point of the work-precision plot.
+inline constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
+
 struct Point {
   std::string scene, policy;
   double h = 0.0;                ///< outer step [s]
-  double substep = 0.0;          ///< sim.substep in effect [s]
-  double event_tol = 0.0;        ///< [s]
+  // A point that did not run (refused, failed) has no figure: NaN, never 0 (docs/usage.md).
+  double substep = kNoValue;     ///< sim.substep in effect [s]
+  double event_tol = kNoValue;   ///< [s]
   std::string sweep_key, sweep_value;  ///< what this point of the curve varies
   bool ok = false;
   std::string note;              ///< why not ok
-  double cpu_per_sim_s = 0.0;    ///< median thread CPU s per simulated s
+  double cpu_per_sim_s = kNoValue;  ///< median thread CPU s per simulated s
   int repeats = 0;
-  double bore_err_max = 0.0, bore_err_end = 0.0;  ///< [rad]
-  double theta1_err_max = 0.0, theta2_err_max = 0.0;  ///< [rad]
-  double peak_force_err_rel = 0.0;  ///< |peak - peak_ref| / peak_ref (NaN without contact)
-  double momentum_drift_rel = 0.0;  ///< NaN on a fixed base (the ground takes momentum)
+  double bore_err_max = kNoValue, bore_err_end = kNoValue;  ///< [rad]
+  double theta1_err_max = kNoValue, theta2_err_max = kNoValue;  ///< [rad]
+  double peak_force_err_rel = kNoValue;  ///< |peak - peak_ref| / peak_ref (NaN without contact)
+  double momentum_drift_rel = kNoValue;  ///< NaN on a fixed base (the ground takes momentum)
   long long substeps = 0, impacts = 0;
   bool pareto = false;           ///< on the scene's Pareto front (cpu, bore_err_max)
 };

@@ -24,6 +24,11 @@ std::string notPlainReal(const std::string& r) {
   const double x = std::strtod(r.c_str(), &end);
   if (end != r.c_str() + r.size()) return "'" + r + "' is not a decimal number";
   if (!std::isfinite(x)) return "'" + r + "' is not a finite number";
+  // 1e-400 reads as 0, which a duration takes for "run until stopped": a number too small is refused.
+  const std::size_t e = r.find_first_of("eE");
+  if (x == 0.0 && r.substr(0, e).find_first_of("123456789") != std::string::npos) {
+    return "'" + r + "' is too small for a double (it would be read as 0)";
+  }
   return "";
 }
 
