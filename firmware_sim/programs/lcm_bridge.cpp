@@ -2,6 +2,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "gimbalsim/gimbal_antenna_t.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_loop_stats_t.hpp"
@@ -83,6 +84,12 @@ void LcmBridge::publish(const Attitude& a) {
   gimbal_attitude_t o;
   copyFields<AttitudeFields>(o, a);
   send(ch_.attitude, o);
+}
+
+void LcmBridge::publish(const Antenna& a) {
+  gimbal_antenna_t o;
+  copyFields<AntennaFields>(o, a);
+  send(ch_.antenna, o);
 }
 
 void LcmBridge::publishStats(std::int64_t utime, const LoopStats& st, bool realtime, bool lockstep) {

@@ -41,6 +41,7 @@ class LcmBridge {
   void publish(const Status& s);
   void publish(const Truth& t);
   void publish(const Attitude& a);
+  void publish(const Antenna& a);
   void publishStats(std::int64_t utime, const LoopStats& st, bool realtime, bool lockstep);
 
   /// Status published -> command answering it received [us] (this thread only).

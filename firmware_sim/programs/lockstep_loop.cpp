@@ -105,6 +105,7 @@ int run(Run& r) {
     const TickMessages m = tick.sample(k, utime, k % o.truth_every == 0, extra);
     extra = 0;
     r.ports.bridge.publish(*m.attitude);  // before the status, so a controller has it when the status comes
+    if (m.antenna) r.ports.bridge.publish(*m.antenna);
     if (m.status) r.ports.bridge.publish(*m.status);
     if (m.truth) {
       r.ports.bridge.publish(*m.truth);

@@ -27,6 +27,7 @@
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/firmware_sim/csv_rows.hpp"
 #include "gimbalsim/io/output_file.hpp"
+#include "gimbalsim/gimbal_antenna_t.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_loop_stats_t.hpp"
@@ -39,7 +40,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-enum class Type { Unknown, Truth, Status, Command, LoopStats, Attitude };
+enum class Type { Unknown, Truth, Status, Command, LoopStats, Attitude, Antenna };
 
 struct TypeInfo {
   Type type;
@@ -52,6 +53,7 @@ constexpr TypeInfo kTypes[] = {
     {Type::Command, "command", Channels::kCommand},
     {Type::LoopStats, "loop_stats", Channels::kLoopStats},
     {Type::Attitude, "attitude", Channels::kAttitude},
+    {Type::Antenna, "antenna", Channels::kAntenna},
 };
 
 /// The type a channel name carries: <prefix><base name>, prefix UPPER_SNAKE.
@@ -89,6 +91,7 @@ class Sink {
       case Type::Command: std::fputs(csv::header<CommandFields>().c_str(), f_); break;
       case Type::LoopStats: std::fputs(csv::header<LoopStatsFields>().c_str(), f_); break;
       case Type::Attitude: std::fputs(csv::header<AttitudeFields>().c_str(), f_); break;
+      case Type::Antenna: std::fputs(csv::header<AntennaFields>().c_str(), f_); break;
       case Type::Unknown: break;
     }
   }
@@ -102,6 +105,7 @@ class Sink {
       case Type::Command: row<gimbal_command_t, CommandFields>(e); break;
       case Type::LoopStats: row<gimbal_loop_stats_t, LoopStatsFields>(e); break;
       case Type::Attitude: row<gimbal_attitude_t, AttitudeFields>(e); break;
+      case Type::Antenna: row<gimbal_antenna_t, AntennaFields>(e); break;
       case Type::Unknown: break;
     }
   }
@@ -138,14 +142,14 @@ int mainImpl(int argc, char** argv) {
   CLI::App app{
       "gimbalsim_log2csv: lcm-logger log of a gimbal bench -> one CSV per channel (the format of firmware_sim "
       "--truth-csv: the CSV convention of docs/usage.md). Recognised channels: [PREFIX]GIMBAL_TRUTH, GIMBAL_STATUS, "
-      "GIMBAL_COMMAND, GIMBAL_LOOP_STATS, GIMBAL_ATTITUDE."};
+      "GIMBAL_COMMAND, GIMBAL_LOOP_STATS, GIMBAL_ATTITUDE, GIMBAL_ANTENNA."};
   app.add_option("log", log_path, "the log file (lcm-logger --lcm-url=... FILE)")->required();
   app.add_option("--out-dir", out_dir, "write <out-dir>/<log stem>_<CHANNEL>.csv (default: the log's directory)");
   app.add_option("--out", out_file, "write the one selected channel to this file");
   app.add_option("--channel", channels, "convert only this channel (repeatable)");
   app.add_option("--channel-prefix", prefix, "convert only the channels of this bench prefix, e.g. BENCH2_");
   app.add_option("--type", type_name, "decode the --channel(s) as this type: truth, status, command, loop_stats, "
-                                      "attitude "
+                                      "attitude, antenna "
                                       "(default: from the channel name)");
   app.add_flag("--log-time", log_time, "first column log_utime_us: when the logger received the message");
   app.add_flag("--list", list, "list the channels in the log with message counts and types, then exit");
@@ -160,7 +164,7 @@ int mainImpl(int argc, char** argv) {
       if (type_name == t.name) forced = t.type;
     }
     if (forced == Type::Unknown) {
-      return refuse("--type '" + type_name + "': expected truth, status, command, loop_stats or attitude");
+      return refuse("--type '" + type_name + "': expected truth, status, command, loop_stats, attitude or antenna");
     }
     if (channels.empty()) return refuse("--type needs --channel (the channel(s) to decode as " + type_name + ")");
   }

@@ -62,6 +62,8 @@ void drainInbound(Firmware<V>& fw, SpscRing<Inbound>& in) noexcept {
 /// What the loop thread hands to the communication thread each tick.
 struct Outbound {
   Attitude attitude;
+  bool has_antenna = false;  ///< the scene has antenna sensors (sensors.antenna)
+  Antenna antenna;
   bool has_status = true;  ///< false: a scheduled status drop or delay left none this tick
   Status status;
   bool has_truth = false;
@@ -119,6 +121,8 @@ int run(Run& r) {
       const TickMessages m = tick.sample(k, (next + realtime_offset) / 1000, k % truth_every == 0);
       Outbound ob;
       ob.attitude = *m.attitude;
+      ob.has_antenna = m.antenna != nullptr;
+      if (m.antenna) ob.antenna = *m.antenna;
       ob.has_status = m.status != nullptr;
       if (m.status) ob.status = *m.status;
       ob.has_truth = m.truth != nullptr;
@@ -151,6 +155,7 @@ int run(Run& r) {
     Outbound ob;
     while (out.pop(ob)) {
       bridge.publish(ob.attitude);  // before the status, so a controller has it when the status comes
+      if (ob.has_antenna) bridge.publish(ob.antenna);
       if (ob.has_status) bridge.publish(ob.status);
       if (ob.has_truth) {
         bridge.publish(ob.truth);

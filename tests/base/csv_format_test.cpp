@@ -101,6 +101,7 @@ TEST(CsvFormat, EveryHeaderTheProjectWritesIsIdentifiers) {
   expectIdentifiers(header<CommandFields>());
   expectIdentifiers(header<LoopStatsFields>());
   expectIdentifiers(header<AttitudeFields>());
+  expectIdentifiers(header<AntennaFields>());
   using K = ClearanceKind;
   for (K k1 : {K::Ideal, K::Planar, K::Spatial}) {
     for (K k2 : {K::Ideal, K::Planar, K::Spatial}) {

@@ -6,6 +6,7 @@
 // messages in a log are skipped and counted.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
 
@@ -17,6 +18,41 @@ namespace gimbalsim::hil {
 namespace {
 
 const std::string kTool = std::string("'") + GIMBALSIM_LOG2CSV + "'";
+
+// The antenna's sensors on the bench: their own channel, one message a tick,
+// the tracker's size the truth pointing error of the same tick.
+TEST(Log2Csv, TheAntennaSensorsHaveTheirOwnChannelOnTheBench) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("log2csv_antenna");
+  const std::string url = udpmUrl(7737), cfg = defaultControllerConfig();
+  const std::string body =
+      "'" + std::string(GIMBALSIM_RECORD) + "' --lcm-url '" + url + "' bench.lcmlog 2>record.log &\nR=$!\n" +
+      "sleep 0.3\n" + "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "'" +
+      " --duration 0.8 --idle-exit 5 >ctl.log 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
+      scenePath("paper_spatial2_tracker") + " --lockstep --duration 0.8 --profile " + cfg +
+      " --truth-csv truth.csv --lcm-url '" + url + "' --start-timeout 10 >fw.log 2>&1\nrc=$?\nsleep 0.3\n" +
+      "kill -INT $R\nwait\nexit $rc";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log");
+  int st = 0;
+  const std::string out = runCapture(kTool + " '" + (dir / "bench.lcmlog") + "' --channel GIMBAL_ANTENNA --out '" +
+                                         (dir / "antenna.csv") + "'",
+                                     &st);
+  ASSERT_EQ(st, 0) << out;
+  const Csv a = Csv::read(dir / "antenna.csv"), tr = Csv::read(dir / "truth.csv");
+  ASSERT_EQ(tr.rows.size(), 800u);
+  ASSERT_GE(a.rows.size(), 800u);
+  double largest = 0.0;
+  for (size_t k = 0; k < a.rows.size(); ++k) {
+    const long long seq = a.integer(k, a.col("seq"));
+    ASSERT_TRUE(seq >= 0 && seq < 800);
+    EXPECT_EQ(a.integer(k, a.col("tracker_valid")), 1) << "tick " << seq;  // 1 kHz, no latency: each tick's own
+    const double e = tr.num(static_cast<size_t>(seq), tr.col("pointing_error_rad"));
+    const double size = std::hypot(a.num(k, a.col("tracker_u_rad")), a.num(k, a.col("tracker_v_rad")));
+    EXPECT_NEAR(size, e, 1e-12 + 1e-9 * e) << "tick " << seq;
+    largest = std::max(largest, e);
+  }
+  EXPECT_GT(largest, 1e-4);  // the slew from 0.5 s turns the antenna: a reading worth checking
+}
 
 TEST(Log2Csv, LoggedLockstepRunConvertsToTheTruthCsvFirmwareSimWrote) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
@@ -105,6 +141,9 @@ TEST(Log2Csv, LoggedLockstepRunConvertsToTheTruthCsvFirmwareSimWrote) {
     for (int i = 0; i < 4; ++i) EXPECT_EQ(a.rows[k][a.col(star_q[i])], t[tr.col(base_q[i])]) << "tick " << seq;
   }
   EXPECT_GE(delivered, 10);
+
+  // A scene without antenna sensors publishes no GIMBAL_ANTENNA (sensors.antenna none: no cost, no channel).
+  EXPECT_EQ(out.find("GIMBAL_ANTENNA"), std::string::npos) << out;
 
   // One channel to a chosen file, with the logger's receive time in front.
   const std::string one = dir / "one.csv";

@@ -18,6 +18,7 @@
 #include "alloc_guard.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/firmware_sim/csv_rows.hpp"
+#include "gimbalsim/gimbal_antenna_t.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_loop_stats_t.hpp"
@@ -38,6 +39,7 @@ template <> struct ListOf<gimbal_status_t> { using type = contract::StatusFields
 template <> struct ListOf<gimbal_truth_t> { using type = contract::TruthFields; };
 template <> struct ListOf<gimbal_loop_stats_t> { using type = contract::LoopStatsFields; };
 template <> struct ListOf<gimbal_attitude_t> { using type = contract::AttitudeFields; };
+template <> struct ListOf<gimbal_antenna_t> { using type = contract::AntennaFields; };
 
 template <class M, class F>
 void fields(M& a, M& b, F&& f) {
@@ -104,6 +106,7 @@ TEST(LcmTypes, EveryFieldSurvivesEncodeDecode) {
   checkRoundTrip<gimbal_truth_t>();
   checkRoundTrip<gimbal_loop_stats_t>();
   checkRoundTrip<gimbal_attitude_t>();
+  checkRoundTrip<gimbal_antenna_t>();
 }
 
 template <class M>
@@ -122,6 +125,7 @@ TEST(LcmTypes, FieldListCoversTheEncoding) {
   checkCoverage<gimbal_truth_t>();
   checkCoverage<gimbal_loop_stats_t>();
   checkCoverage<gimbal_attitude_t>();
+  checkCoverage<gimbal_antenna_t>();
 }
 
 template <class M>
@@ -150,6 +154,7 @@ TEST(LcmTypes, EncodeIntoBufferAndDecodeAllocateNothing) {
   EXPECT_EQ(allocationsOfDecodeAndEncode<gimbal_truth_t>(), 0);
   EXPECT_EQ(allocationsOfDecodeAndEncode<gimbal_loop_stats_t>(), 0);
   EXPECT_EQ(allocationsOfDecodeAndEncode<gimbal_attitude_t>(), 0);
+  EXPECT_EQ(allocationsOfDecodeAndEncode<gimbal_antenna_t>(), 0);
 }
 
 TEST(LcmTypes, WrongTypeAndTruncatedBytesAreRefused) {
@@ -192,6 +197,7 @@ TEST(FirmwareMessages, FieldListsCoverTheFirmwareStructs) {
   checkStructCoverage<contract::StatusFields, contract::Status>("Status");
   checkStructCoverage<contract::TruthFields, contract::Truth>("Truth");
   checkStructCoverage<contract::AttitudeFields, contract::Attitude>("Attitude");
+  checkStructCoverage<contract::AntennaFields, contract::Antenna>("Antenna");
 }
 
 template <class D, class S, class M>
@@ -225,6 +231,7 @@ TEST(FirmwareMessages, StructAndMessageCarryTheSameValuesAndRows) {
   checkStructToMessage<contract::StatusFields, contract::Status, gimbal_status_t>();
   checkStructToMessage<contract::TruthFields, contract::Truth, gimbal_truth_t>();
   checkStructToMessage<contract::AttitudeFields, contract::Attitude, gimbal_attitude_t>();
+  checkStructToMessage<contract::AntennaFields, contract::Antenna, gimbal_antenna_t>();
 }
 
 TEST(Channels, PrefixAndNames) {

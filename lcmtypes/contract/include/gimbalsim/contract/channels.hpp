@@ -13,12 +13,14 @@ struct Channels {
   static constexpr const char* kTruth = "GIMBAL_TRUTH";            ///< gimbal_truth_t
   static constexpr const char* kLoopStats = "GIMBAL_LOOP_STATS";   ///< gimbal_loop_stats_t
   static constexpr const char* kAttitude = "GIMBAL_ATTITUDE";      ///< gimbal_attitude_t
+  static constexpr const char* kAntenna = "GIMBAL_ANTENNA";        ///< gimbal_antenna_t (scenes with sensors.antenna)
 
   std::string command = kCommand;
   std::string status = kStatus;
   std::string truth = kTruth;
   std::string loop_stats = kLoopStats;
   std::string attitude = kAttitude;
+  std::string antenna = kAntenna;
 
   /// The names with `prefix` in front (empty prefix: the plain names).
   static Channels withPrefix(const std::string& prefix) {
@@ -28,6 +30,7 @@ struct Channels {
     c.truth = prefix + kTruth;
     c.loop_stats = prefix + kLoopStats;
     c.attitude = prefix + kAttitude;
+    c.antenna = prefix + kAntenna;
     return c;
   }
 
