@@ -181,6 +181,13 @@ int run(int argc, char** argv) {
       break;
     }
     if (h.answered() > 0 && o.plant_timeout > 0.0 && idle >= o.plant_timeout) {
+      if (h.notFinite() > 0) {  // a lockstep plant waits for the answer this controller could not send
+        std::fprintf(stderr, "pointing_controller: no status for %g s after status %lld at t = %.3f s, with %lld "
+                     "answers not sent (a torque NaN or Inf): a lockstep plant waits for them\n", o.plant_timeout,
+                     static_cast<long long>(h.lastSeq()), h.lastTime(), h.notFinite());
+        code = program::kStopped;
+        break;
+      }
       std::fprintf(stderr, "pointing_controller: the plant has gone: no status for %g s (--plant-timeout) after "
                    "status %lld at t = %.3f s%s\n", o.plant_timeout, static_cast<long long>(h.lastSeq()), h.lastTime(),
                    last_seq >= 0 ? ", before the end of --duration" : "");

@@ -150,7 +150,9 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     rec.ref = a.ref;
     rec.theta_true = {truth.joint_angle[0], truth.joint_angle[1]};
     rec.tilt = {truth.tilt[0], truth.tilt[1]};
-    if (m.antenna != nullptr) rec.tracker = {m.antenna->tracker_error[0], m.antenna->tracker_error[1]};
+    if (m.antenna != nullptr && m.antenna->tracker_time >= 0.0) {  // before the first delivery: no reading (NaN)
+      rec.tracker = {m.antenna->tracker_error[0], m.antenna->tracker_error[1]};
+    }
     rec.theta_meas = a.theta_meas;
     rec.tau_cmd = a.tau_cmd;
     rec.tau_applied = {st.applied_torque[0], st.applied_torque[1]};

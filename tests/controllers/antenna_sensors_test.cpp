@@ -180,6 +180,19 @@ TEST(AntennaSensors, TheTickWithThemAllocatesNothing) {
   EXPECT_EQ(delivered, 51);
 }
 
+TEST(AntennaSensors, TheRecordHasNoReadingBeforeTheFirstDelivery) {
+  // 8 ms of latency: ticks 0..7 have no reading yet (they read 0, as if on target).
+  const firmware::PlantScene ps = plant("paper_spatial2_tracker", {"sensors.tracker_latency=0.0075"});
+  const ControllerConfig c = loadControllerConfig(test::defaultControllerConfig());
+  ClosedLoopOptions opt;
+  opt.duration = 0.02;
+  std::vector<double> u;
+  const ClosedLoopResult r = runClosedLoop(ps, c, opt, [&](const TickRecord& t) { u.push_back(t.tracker(0)); });
+  ASSERT_TRUE(r.ok) << r.error;  // no reading is no numerical trouble
+  ASSERT_EQ(u.size(), 21u);
+  for (int k = 0; k < 21; ++k) EXPECT_EQ(std::isnan(u[static_cast<std::size_t>(k)]), k < 8) << k;
+}
+
 TEST(AntennaSensors, BadKeysAreRefusedByName) {
   const auto refused = [](const std::vector<std::string>& sets, const std::string& key) {
     try {

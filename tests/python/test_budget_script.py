@@ -67,11 +67,12 @@ def test_a_users_spec_writes_its_own_folder_and_no_project_page(tmp_path):
 def test_the_shipped_page_cannot_be_sent_elsewhere(tmp_path):
     # Without a SPEC the script regenerates the project's page: an --out there is refused before anything runs.
     env = dict(os.environ, GIMBALSIM_BUILD=str(pathlib.Path(os.environ["PYTHONPATH"]).parent))
-    p = subprocess.run(["bash", str(SOURCE / "tools/sweeps/run_pointing_budget.sh"), "--out", str(tmp_path / "x")],
-                       capture_output=True, text=True, timeout=60, env=env)
-    assert p.returncode == 2
-    assert "name the spec" in p.stderr
-    assert not (tmp_path / "x").exists()
+    for args in (["--out", str(tmp_path / "x")], ["--out=" + str(tmp_path / "x")]):  # --out=DIR got past the guard
+        p = subprocess.run(["bash", str(SOURCE / "tools/sweeps/run_pointing_budget.sh"), *args],
+                           capture_output=True, text=True, timeout=60, env=env)
+        assert p.returncode == 2, args
+        assert "name the spec" in p.stderr
+        assert not (tmp_path / "x").exists()
 
 
 def test_a_refused_shipped_spec_leaves_the_previous_results(tmp_path):

@@ -45,7 +45,9 @@ def read_rows(path):
 
 
 def number(path, line, column, text):
-    return plain_number(text, f"{path}:{line}: column {column}") if text else np.nan  # empty: no value (the CSV convention)
+    if text in ("", "nan"):  # no value (the CSV convention: a figure over a window not reached, a stopped run)
+        return np.nan
+    return plain_number(text, f"{path}:{line}: column {column}")
 
 
 def read_series(path):

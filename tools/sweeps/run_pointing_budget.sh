@@ -35,7 +35,7 @@ fi
 if [ -n "$SPEC" ]; then
   # A user's spec: its own output folder (a --out among the options wins), nothing else written.
   OUT="out/pointing_budget-$(basename "${SPEC%.*}")"
-  for a in "${ARGS[@]+"${ARGS[@]}"}"; do [ "$a" = "--out" ] && OUT=; done
+  for a in "${ARGS[@]+"${ARGS[@]}"}"; do case "$a" in --out | --out=*) OUT= ;; esac; done
   [ -z "$OUT" ] || mkdir -p out  # the script's own default folder is made, as a program's under out/ is
   PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$SPEC" ${OUT:+--out "$OUT"} --no-progress \
     "${ARGS[@]+"${ARGS[@]}"}"
@@ -43,7 +43,7 @@ if [ -n "$SPEC" ]; then
 fi
 
 for a in "${ARGS[@]+"${ARGS[@]}"}"; do
-  if [ "$a" = "--out" ]; then
+  if [ "$a" = "--out" ] || [ "${a#--out=}" != "$a" ]; then
     echo "run_pointing_budget.sh: without a SPEC this regenerates the project's page from out/pointing_budget/;" \
          "to write elsewhere, name the spec: run_pointing_budget.sh $SHIPPED --out DIR" >&2
     exit 2

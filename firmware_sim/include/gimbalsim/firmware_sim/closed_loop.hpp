@@ -55,6 +55,7 @@ struct TickRecord {
   Vec2 tilt = Vec2::Zero();
   /// [rad] the antenna tracker's reading (u, v: antenna_sensors.hpp), the
   /// last one delivered; NaN with no antenna sensors (sensors.antenna none)
+  /// and before the first delivery
   Vec2 tracker = Vec2::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
