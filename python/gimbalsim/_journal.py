@@ -22,6 +22,22 @@ def record_design(out, spec, write):
     write(out / DESIGN, json.dumps({"samples": len(spec.design)}) + "\n")
 
 
+def _drawn_beyond(spec, rows, n_columns):
+    """The indices of rows beyond the design that are whole rows of their own
+    draw (seed, i): results --until added. Other rows beyond it are no row the
+    sweep wrote; they are dropped as outside the design."""
+    beyond = [r for r in rows if r and r[0].isascii() and r[0].isdigit() and len(r[0]) <= 8
+              and len(spec.design) <= int(r[0]) < MAX_SAMPLES]
+    if not beyond or spec.grid:
+        return []
+    size = len(spec.design)
+    spec.design.extend_to(max(int(r[0]) for r in beyond) + 1)
+    try:
+        return [r[0] for r in beyond if check_row(spec, r, n_columns) is None]
+    finally:
+        spec.design.extend_to(size)
+
+
 def _no_repeated_key(pairs):
     keys = [k for k, _ in pairs]
     if len(set(keys)) != len(keys):
@@ -74,7 +90,7 @@ def check_row(spec, row, n_columns):
     range, the parameters equal to the design's draw, the figures numbers."""
     if len(row) != n_columns:
         return "wrong number of columns"
-    if not row[0].isdigit() or not int(row[0]) < len(spec.design):
+    if not (row[0].isascii() and row[0].isdigit()) or not int(row[0]) < len(spec.design):
         return "sample index outside the design"
     i = int(row[0])
     drawn = [fmt(v) for v in spec.design.row_values(spec.design.draw(i))]
@@ -126,9 +142,9 @@ def read_journal(spec, path, header):
             dropped["unreadable line"] = dropped.get("unreadable line", 0) + 1
         else:
             rows.append(row)
-    beyond = [r[0] for r in rows if r and r[0].isdigit() and len(r[0]) <= 18 and int(r[0]) >= len(spec.design)]
-    if beyond:  # rows the recorded design does not hold: never dropped (they were results), the record is wrong
-        raise SpecError(f"{path} holds sample {beyond[0]}, beyond the sweep's {len(spec.design)} samples: "
+    drawn = _drawn_beyond(spec, rows, len(header))
+    if drawn:  # results of a grown sweep the record does not hold: never dropped, the record is wrong
+        raise SpecError(f"{path} holds sample {drawn[0]}, beyond the sweep's {len(spec.design)} samples: "
                         f"{DESIGN}, which records the size --until grew it to, is missing or not this sweep's; "
                         "restore it, or use another --out")
     for row in rows:
