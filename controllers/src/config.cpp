@@ -56,7 +56,7 @@ std::vector<Key<ControllerConfig>> keys() {
       field(&ControllerConfig::target), {{"profile", PointingTarget::Profile}, {"fixed", PointingTarget::Fixed}}));
   v.push_back(K::vector<3>("pointing.fixed_direction", "-",
                            "inertial target direction with pointing.target = fixed (inertial = base frame at t = 0)",
-                           field(&ControllerConfig::fixed_direction), nonZero().saying("must be non-zero")));
+                           field(&ControllerConfig::fixed_direction), nonZero()));
   v.push_back(K::choice<AccelFeedForward>(
       "pointing.accel_feedforward",
       "what the acceleration feed-forward inertia x a takes for a (inertial mode): profile: the profile's joint "
@@ -77,11 +77,11 @@ std::vector<Key<ControllerConfig>> keys() {
                         "over the period), < 1/(2 control.period)",
                         field(&ControllerConfig::base_accel_filter_hz), interval('(', 0.0, 1e6, ']')));
   v.push_back(K::vector<3>("gimbal.joint1_axis", "-", "azimuth axis the controller assumes, base frame",
-                           [](auto& c) -> auto& { return c.gimbal.joint1_axis; }, nonZero().saying("must be non-zero")));
+                           [](auto& c) -> auto& { return c.gimbal.joint1_axis; }, nonZero()));
   v.push_back(K::vector<3>("gimbal.joint2_axis", "-", "elevation axis the controller assumes, shaft 1 frame",
-                           [](auto& c) -> auto& { return c.gimbal.joint2_axis; }, nonZero().saying("must be non-zero")));
+                           [](auto& c) -> auto& { return c.gimbal.joint2_axis; }, nonZero()));
   v.push_back(K::vector<3>("gimbal.boresight", "-", "antenna boresight the controller assumes, shaft 2 frame",
-                           [](auto& c) -> auto& { return c.gimbal.boresight; }, nonZero().saying("must be non-zero")));
+                           [](auto& c) -> auto& { return c.gimbal.boresight; }, nonZero()));
   v.push_back(K::number("gimbal.azimuth_inertia_cos2", "kg m^2",
                         "elevation dependence C of the azimuth inertia the feed-forward assumes: J1(theta2) = "
                         "azimuth.inertia + C (cos 2 theta2 - 1), with its velocity-product torques (0: constant)",

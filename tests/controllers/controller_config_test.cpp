@@ -163,6 +163,12 @@ TEST(ControllerConfig, PointingKeysLoadAndAreChecked) {
   EXPECT_NE(refused({"gimbal.joint2_axis=[0, 0, -1]"}).find("must not be parallel to gimbal.joint1_axis"),
             std::string::npos);
   EXPECT_NE(refused({"pointing.fixed_direction=[0, 0, 0]"}).find("must be non-zero"), std::string::npos);
+  // a length that overflows normalised to a zero vector, and the run ended "ok"
+  EXPECT_NE(refused({"pointing.fixed_direction=[1e200, 1e200, 0]"}).find("each component within 1e12"),
+            std::string::npos);
+  EXPECT_NE(refused({"gimbal.boresight=[0, 1e13, 0]"}).find("gimbal.boresight"), std::string::npos);
+  // a 1e-300 s slew's jerk (1/T^3) overflowed to NaN torques
+  EXPECT_NE(refused({"profile.slew_time=1e-300"}).find("must be in [1e-06, 1e+09]"), std::string::npos);
   EXPECT_NE(refused({"estimator.k_p=-1"}).find("must be in [0, 1000]"), std::string::npos);
   EXPECT_NE(refused({"pointing.mode=sideways"}).find("pointing.mode"), std::string::npos);
 }

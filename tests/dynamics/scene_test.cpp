@@ -99,6 +99,13 @@ TEST(Scene, NonPhysicalValuesAreRefused) {
       {{"contact.restitution=1.01"}, "key 'contact.restitution': must be in (0, 1], got 1.01"},
       {{"base.mass=.nan"}, "key 'base.mass': must be finite, got '.nan'"},
       {{"torque.tau1=.inf"}, "key 'torque.tau1': must be finite"},
+      {{"torque.tau1=2e6"}, "key 'torque.tau1': must be in [-1e+06, 1e+06]"},
+      {{"torque.limit=[1e300, 1]"}, "key 'torque.limit': must be in (0, 1e+06]"},
+      // an overflowing direction normalised to a zero vector
+      {{"geometry.boresight=[1e200, 1e200, 0]"}, "key 'geometry.boresight': boresight must be non-zero"},
+      // 1e-400 parses to 0 (or a subnormal): a value nobody wrote
+      {{"contact.restitution=1e-400"}, "key 'contact.restitution': '1e-400' underflows a double"},
+      {{"initial.theta1=4e-320"}, "key 'initial.theta1': '4e-320' underflows a double"},
       {{"sim.step=1e-3", "sim.output_interval=1.5e-3"}, "key 'sim.output_interval': must be a whole multiple"},
       {{"sim.substep=2e-3"}, "key 'sim.substep': must be in (0, sim.step]"},
       // Adaptive sub-steps cannot cross plain Coulomb's jump: refused, naming both keys and the cure.

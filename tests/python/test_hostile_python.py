@@ -335,6 +335,8 @@ def test_inputs_that_turned_a_closed_loop_nan_are_refused_naming_the_key(how, tm
             gimbalsim.closed_loop(scene(), gimbalsim.Controller(CONTROLLER_CONFIG), duration=1.5, faults=faults)
     else:
         with pytest.raises(gimbalsim.SceneError, match=r"key 'sensors.encoder_resolution': must be"):
+            scene(overrides={"sensors.encoder_resolution": 1e-300})
+        with pytest.raises(gimbalsim.SceneError, match=r"key 'sensors.encoder_resolution': '1e-310' underflows"):
             scene(overrides={"sensors.encoder_resolution": 1e-310})
 
 

@@ -29,9 +29,14 @@ Check interval(char open, double lo, double hi, char close) {
 }
 
 Check nonZero() {
-  return {"non-zero", "", [](std::span<const double> v) {
+  // Bounded above too: a length that overflows (1e200 per component)
+  // normalises to a zero vector, a direction nobody asked for.
+  return {"non-zero, each component within 1e12", "", [](std::span<const double> v) {
             double s = 0.0;
-            for (double x : v) s += x * x;
+            for (double x : v) {
+              if (!(std::abs(x) <= 1e12)) return false;
+              s += x * x;
+            }
             return std::sqrt(s) >= 1e-12;
           }};
 }

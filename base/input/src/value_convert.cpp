@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "gimbalsim/input/underflow.hpp"
+
 namespace gimbalsim {
 
 double asNumber(const YAML::Node& n) {
@@ -12,6 +14,9 @@ double asNumber(const YAML::Node& n) {
   double x;
   if (!YAML::convert<double>::decode(n, x)) throw ConvertError{"expected a number, got '" + n.Scalar() + "'"};
   if (!std::isfinite(x)) throw ConvertError{"must be finite, got '" + n.Scalar() + "'"};
+  if (underflowed(n.Scalar(), x)) {
+    throw ConvertError{"'" + n.Scalar() + "' underflows a double: give 0 or a magnitude of at least 2.2e-308"};
+  }
   return x;
 }
 

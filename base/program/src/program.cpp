@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "gimbalsim/input/underflow.hpp"
 #include "gimbalsim/program/version.hpp"
 
 namespace gimbalsim::program {
@@ -25,10 +26,7 @@ std::string notPlainReal(const std::string& r) {
   if (end != r.c_str() + r.size()) return "'" + r + "' is not a decimal number";
   if (!std::isfinite(x)) return "'" + r + "' is not a finite number";
   // 1e-400 reads as 0, which a duration takes for "run until stopped": a number too small is refused.
-  const std::size_t e = r.find_first_of("eE");
-  if (x == 0.0 && r.substr(0, e).find_first_of("123456789") != std::string::npos) {
-    return "'" + r + "' is too small for a double (it would be read as 0)";
-  }
+  if (underflowed(r, x)) return "'" + r + "' is too small for a double (it would be read as 0 or lose its digits)";
   return "";
 }
 

@@ -11,7 +11,9 @@ using P = TargetProfile;
 
 const Check kAngle = interval('[', -1e3, 1e3, ']');    // [rad]
 const Check kTime = interval('[', 0.0, 1e9, ']');      // [s] a start or a hold
-const Check kDuration = interval('(', 0.0, 1e9, ']');  // [s] a slew or a ramp
+// [s] a slew or a ramp: a minimum-jerk slew's jerk goes as 1/T^3, so a
+// 1e-300 s slew overflowed to NaN torques; 1 us keeps it finite.
+const Check kDuration = interval('[', 1e-6, 1e9, ']');
 
 /// A pair (azimuth, elevation), refused as such when malformed.
 template <class F>

@@ -24,6 +24,10 @@ constexpr auto integ = [](auto& s) -> auto& { return s.model.integrator; };
 constexpr auto run = [](auto& s) -> auto& { return s.run; };
 constexpr auto initial = [](auto& s) -> auto& { return s.run.initial; };
 
+// [N m] a joint torque or its limit: within what any gimbal motor gives,
+// far from overflow in the mass matrix's solve (inertias reach 1e12).
+const Check kTorque = interval('[', -1e6, 1e6, ']');
+
 std::vector<SceneKey> keys() {
   std::vector<SceneKey> out = {
       K::text("name", "scene name (default: the file name)", field(model, &Model::name)),
@@ -58,19 +62,19 @@ std::vector<SceneKey> keys() {
       K::vector<3>("geometry.joint1_position", "m", "joint 1 from the base CoM, base frame",
                    field(model, &Model::r_J1_B_B), bodyOffset()),
       K::vector<3>("geometry.joint1_axis", "-", "joint 1 (azimuth) axis, base frame", field(model, &Model::k1_B),
-                   nonZero().saying("axis must be non-zero")),
+                   nonZero().saying("axis must be non-zero, each component within 1e12")),
       K::vector<3>("geometry.joint2_position", "m", "joint 2 (bearing centre) from joint 1, shaft 1 frame",
                    field(model, &Model::r_J2_S1_S1), bodyOffset()),
       K::vector<3>("geometry.joint2_axis", "-", "joint 2 (elevation) axis, shaft 1 frame",
-                   field(model, &Model::k2_S1), nonZero().saying("axis must be non-zero")),
+                   field(model, &Model::k2_S1), nonZero().saying("axis must be non-zero, each component within 1e12")),
       K::vector<3>("geometry.boresight", "-", "antenna boresight, shaft 2 frame", field(model, &Model::boresight_S2),
-                   nonZero().saying("boresight must be non-zero")),
+                   nonZero().saying("boresight must be non-zero, each component within 1e12")),
       K::number("torque.tau1", "N m", "constant joint 1 (azimuth) torque",
-                [](auto& s) -> auto& { return s.run.torque(0); }),
+                [](auto& s) -> auto& { return s.run.torque(0); }, kTorque),
       K::number("torque.tau2", "N m", "constant joint 2 (elevation) torque",
-                [](auto& s) -> auto& { return s.run.torque(1); }),
+                [](auto& s) -> auto& { return s.run.torque(1); }, kTorque),
       K::vector<2>("torque.limit", "N m", "motor torque limit per axis", field(run, &RunSpec::torque_limit),
-                   greater(0)),
+                   interval('(', 0.0, 1e6, ']')),
       K::number("initial.theta1", "rad", "initial joint 1 angle", field(initial, &InitialParams::theta1)),
       K::number("initial.theta2", "rad", "initial joint 2 angle", field(initial, &InitialParams::theta2)),
       K::number("initial.dtheta1", "rad/s", "initial joint 1 rate", field(initial, &InitialParams::dtheta1)),

@@ -25,7 +25,7 @@ struct Check {
 Check greater(double lo);                                     ///< "> lo"
 Check atLeast(double lo);                                     ///< ">= lo"
 Check interval(char open, double lo, double hi, char close);  ///< "in (lo, hi]" etc.
-Check nonZero();                                              ///< |v| >= 1e-12
+Check nonZero();                                              ///< |v| >= 1e-12, each |v_i| <= 1e12
 Check positiveDefinite();                                     ///< a symmetric positive definite 3x3
 
 // A body's mass properties and offsets, for the scene's bodies and the
