@@ -15,6 +15,8 @@
 #include <utility>
 #include <vector>
 
+#include "gimbalsim/input/underflow.hpp"
+
 namespace gimbalsim::bench {
 
 constexpr std::size_t kMaxRows = 2000000;      ///< firmware_sim --tick-log's limit: 33 min at 1 kHz
@@ -40,9 +42,9 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
   const bool empty_last = !line.empty() && line.back() == ',';  // getline drops an empty last field
   for (std::stringstream ss(line); std::getline(ss, line, ',');) header.push_back(line);
   if (empty_last) header.emplace_back();
-  int c1 = -1, c2 = -1, cs = -1;
+  int c1 = -1, c2 = -1, cs = -1, ct = -1;
   for (int j = 0; j < static_cast<int>(header.size()); ++j) {
-    for (auto [column, at] : {std::pair{"tau1_Nm", &c1}, {"tau2_Nm", &c2}, {"seq", &cs}}) {
+    for (auto [column, at] : {std::pair{"tau1_Nm", &c1}, {"tau2_Nm", &c2}, {"seq", &cs}, {"sim_time_s", &ct}}) {
       if (header[j] != column) continue;
       // Two columns of one name: which one the plant applied is not knowable, so neither is guessed.
       if (*at >= 0) throw std::runtime_error(name + ":1: column " + column + " appears twice");
@@ -53,6 +55,20 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
     throw std::runtime_error(name + ":1: no seq, tau1_Nm and tau2_Nm columns (not a firmware_sim truth CSV)");
   }
   Torques t;
+  double t_prev = -HUGE_VAL;  // [s] the previous row's sim_time_s (when the CSV has the column)
+  // A cell as the writer writes it: a plain finite decimal, nothing lost to underflow (1e-400 read as 0).
+  const auto number = [&](const std::vector<std::string>& f, int c, long long n) {
+    char* end = nullptr;
+    const bool has = c < static_cast<int>(f.size());
+    const double x = has ? std::strtod(f[c].c_str(), &end) : 0.0;
+    // strtod skips leading blanks and reads hex: the writer writes neither, so neither is a number here
+    const bool plain = has && !f[c].empty() && f[c].find_first_not_of("0123456789+-.eE") == std::string::npos;
+    if (!plain || end == f[c].c_str() || *end != '\0' || !std::isfinite(x) || underflowed(f[c], x)) {
+      throw std::runtime_error(name + ":" + std::to_string(n) + ": column " + header[c] + ": not a finite number" +
+                               (plain && std::isfinite(x) && underflowed(f[c], x) ? " (it underflows a double)" : ""));
+    }
+    return x;
+  };
   for (long long n = 2; next(); ++n) {
     if (t.tau1.size() >= kMaxRows) throw std::runtime_error(name + ": more than 2000000 rows");
     // Every row has the header's fields (counted by commas: getline drops an empty last one).
@@ -74,16 +90,17 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
                                " where tick " + expected +
                                " belongs: the CSV was not written every tick (firmware_sim --truth-every 1)");
     }
-    for (const int c : {c1, c2}) {
-      char* end = nullptr;
-      const double x = has(c) ? std::strtod(f[c].c_str(), &end) : 0.0;
-      // strtod skips leading blanks and reads hex: the writer writes neither, so neither is a number here
-      const bool plain = has(c) && !f[c].empty() && f[c].find_first_not_of("0123456789+-.eE") == std::string::npos;
-      if (!plain || end == f[c].c_str() || *end != '\0' || !std::isfinite(x)) {
-        throw std::runtime_error(name + ":" + std::to_string(n) + ": column " + header[c] + ": not a finite number");
+    // Ticks in time order: an edited or spliced file whose seq still counts is no run the plant made.
+    if (ct >= 0) {
+      const double t_s = number(f, ct, n);
+      if (!(t_s > t_prev)) {
+        throw std::runtime_error(name + ":" + std::to_string(n) + ": sim_time_s " + f[ct] +
+                                 " is not after the previous row's: not one run's ticks in order");
       }
-      (c == c1 ? t.tau1 : t.tau2).push_back(x);
+      t_prev = t_s;
     }
+    t.tau1.push_back(number(f, c1, n));
+    t.tau2.push_back(number(f, c2, n));
   }
   if (t.tau1.size() < 2) throw std::runtime_error(name + ": fewer than 2 rows: nothing to replay");
   return t;
