@@ -6,7 +6,7 @@ import re
 
 import gimbalsim
 from . import _provenance
-from ._closed_spec import CONTROLLER_PREFIX, ClosedLoopSpec
+from ._closed_spec import CONTROLLER_PREFIX, ClosedLoopSpec, idle_in_controller
 from ._spec import Spec
 from .dispersion import Design, check_within, design_size, parse_parameter
 
@@ -131,7 +131,9 @@ class SweepSpec:
             canonical = aliases.get(key, key)
             why = idle.get(canonical) or _idle_in_scene(canonical, scene, dispersed_keys)
             if why is None and self.closed is not None and canonical.startswith(CONTROLLER_PREFIX):
-                why = _idle_in_controller(canonical[len(CONTROLLER_PREFIX):], self.closed.values, dispersed_keys)
+                why = idle_in_controller(canonical[len(CONTROLLER_PREFIX):], self.closed.values, dispersed_keys)
+            if why is None and self.closed is not None:
+                why = _idle_in_sensors(canonical, scene, dispersed_keys)
             if why is None and canonical.startswith(ANTENNA_SENSOR_KEYS):
                 why = "the controller does not use the antenna sensors yet (docs/MODEL.md 11.6)"
             if why is None and self.closed is None and canonical.startswith("sensors."):
@@ -173,19 +175,19 @@ class SweepSpec:
             _provenance.csv_names(self, csv_name, units)
 
 
-# Controller keys read only under a setting of another: key -> (that key, the values that read it).
-_CONTROLLER_READ_UNDER = {"control.rate_filter_hz": ("control.rate_source", ("difference",)),
-                          "pointing.fixed_direction": ("pointing.target", ("fixed",))}
+# Star tracker keys that act only through its samples: idle when its outage covers the whole run.
+_STAR_SAMPLE_KEYS = ("sensors.star_tracker_noise", "sensors.star_tracker_rate", "sensors.star_tracker_latency")
 
 
-def _idle_in_controller(key, values, dispersed):
-    """Why a controller key cannot act with this configuration (None if it
-    can): its value is read only under a setting the configuration does not
-    have (and does not disperse)."""
-    decider, reading = _CONTROLLER_READ_UNDER.get(key, (None, ()))
-    if decider is None or CONTROLLER_PREFIX + decider in dispersed or str(values.get(decider)) in reading:
+def _idle_in_sensors(key, scene, dispersed):
+    """Why a sensor key cannot act (None if it can): the star tracker's
+    sampling keys under an outage over the whole run [0, sim.duration]."""
+    if key not in _STAR_SAMPLE_KEYS or {"sensors.star_tracker_outage", "sim.duration"} & dispersed:
         return None
-    return f"the controller reads it only with {decider} {' or '.join(reading)}; it has {values.get(decider)}"
+    start, end = (float(x) for x in str(scene["sensors.star_tracker_outage"]).strip("[]").split(","))
+    if start <= 0.0 and end >= float(scene["sim.duration"]):
+        return f"sensors.star_tracker_outage [{start:g}, {end:g}] s covers the whole run: no star tracker sample is taken"
+    return None
 
 
 def _idle_in_scene(key, scene, dispersed):

@@ -5,7 +5,7 @@ import json
 
 import gimbalsim
 from . import _gimbalsim
-from ._closed_spec import controller_path_of
+from ._closed_spec import CONTROLLER_PREFIX, controller_path_of, idle_in_controller
 from ._spec import Spec
 from .dispersion import Design, check_within, parse_parameter
 
@@ -73,7 +73,12 @@ class TuneSpec:
                         f"objective.metric {self.metric}", root["duration"])
 
         self.gains = []
-        for key, node in spec.mapping("gains", root["gains"]).items():
+        gain_nodes = spec.mapping("gains", root["gains"])
+        values = self.controller.values()
+        for key, node in gain_nodes.items():
+            why = idle_in_controller(key, values, {CONTROLLER_PREFIX + k for k in gain_nodes})
+            if why is not None:  # every trial would run the same loop: a study of nothing
+                spec.refuse(f"gains.{key}", f"not read by the tuned loop ({why})", node)
             p = parse_parameter(spec, "gains", key, node, ctrl_types)
             if p.kind not in GAIN_DISTRIBUTIONS:
                 spec.refuse(f"gains.{key}", f"{p.kind}: gains take {', '.join(GAIN_DISTRIBUTIONS)}", node)

@@ -89,6 +89,10 @@ def test_tuning_spec_refusals_name_the_key(change, key, tmp_path):
      "gains.azimuth.kp.choice", "unsupported tag"),
     (("azimuth.kp: {loguniform: [5000, 80000]}", "gimbal.boresight: {choice: [[1, 0, 0], [0, 1, 0]]}"),
      "gains.gimbal.boresight", "numbers or names"),
+    # under the default model feed-forward the fixed-base inertia law is off: every trial the same loop
+    (("azimuth.kp: {loguniform: [5000, 80000]}", "gimbal.azimuth_inertia_cos2: {uniform: [1, 9]}"),
+     "gains.gimbal.azimuth_inertia_cos2", "not read by the tuned loop (the controller reads it only with "
+     "pointing.accel_feedforward profile or inertial"),
     # the plant gives no contact.clearance (journal_radius instead): a disk within it has no radius
     (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}\n  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}",
       "initial.ecc: {disk: {within: contact.clearance}}\nset: {contact.journal_radius: 9.0e-3}"),

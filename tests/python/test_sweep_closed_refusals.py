@@ -1,0 +1,138 @@
+"""Closed-loop sweep specs refused at their line: unknown and out-of-range
+keys, keys a closed loop or the controller's own settings never read (a
+dispersed value would be recorded but never act), indices and phases the run
+cannot support."""
+import pytest
+
+from conftest import CONTROLLER_CONFIG
+from test_sweep_closed import DURATION, SPEC
+
+REFUSALS = [
+    ("controller_set: {profile.slew_start: 0.0,", "controller_set: {nope.key: 1,", "controller_set.nope.key",
+     "not a key of the controller"),
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.nope: {uniform: [1.0, 2.0]}",
+     "parameters.controller.nope", "not a key"),
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.azimuth.kp: {uniform: [-5.0, 4000.0]}",
+     "parameters.controller.azimuth.kp", "the controller refuses"),
+    ("controller_set: {profile.slew_start: 0.0,", "controller_set: {azimuth.kp: -1.0, profile.slew_start: 0.0,",
+     "controller_set.azimuth.kp", "the controller refuses"),
+    ("  rpe: {window: 0.05}", "  rpe: {}", "indices.rpe.window", "missing"),
+    # keys a closed loop never reads: a dispersed value would be recorded, never act
+    ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.duration: {uniform: [0.4, 0.5]}",
+     "parameters.sim.duration", "not read by this sweep's runs (the closed loop runs for the spec's sim.duration"),
+    ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  torque.tau2: {uniform: [1.0, 2.0]}",
+     "parameters.torque.tau2", "the controller commands the torque"),
+    ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.output_interval: {choice: [0.001, 0.01]}",
+     "parameters.sim.output_interval", "the closed loop records every control period"),
+    # a controller key another setting switches off (the status rates are used, not the differenced ones)
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.control.rate_filter_hz: {uniform: [60, 190]}",
+     "parameters.controller.control.rate_filter_hz", "reads it only with control.rate_source difference"),
+    # the anti-windup gain acts only under back-calculation
+    (("controller_set: {", "  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}"),
+     ("controller_set: {control.anti_windup: clamping, ", "  controller.azimuth.aw_gain: {uniform: [1, 30]}"),
+     "parameters.controller.azimuth.aw_gain", "reads it only with control.anti_windup back_calculation"),
+    # under the model feed-forward (the default) the fixed-base inertia law and the base-rate filter are off
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}",
+     "  controller.gimbal.azimuth_inertia_cos2: {uniform: [1.0, 9.0]}",
+     "parameters.controller.gimbal.azimuth_inertia_cos2", "with pointing.accel_feedforward profile or inertial"),
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}",
+     "  controller.pointing.base_accel_filter_hz: {uniform: [10.0, 90.0]}",
+     "parameters.controller.pointing.base_accel_filter_hz", "with pointing.accel_feedforward inertial; it has model"),
+    # ... and under another feed-forward the plant model is off
+    (("controller_set: {", "  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}"),
+     ("controller_set: {pointing.accel_feedforward: profile, ", "  controller.plant.base_mass: {uniform: [900, 1100]}"),
+     "parameters.controller.plant.base_mass", "reads it only with pointing.accel_feedforward model; it has profile"),
+    # a star tracker that is out for the whole run takes no sample: its noise never acts
+    (("set: {sim.duration: 0.5}", "  sensors.star_tracker_noise:"),
+     ("set: {sim.duration: 0.5, sensors.star_tracker_outage: [0.0, 0.5]}", "  sensors.star_tracker_noise:"),
+     "parameters.sensors.star_tracker_noise", "covers the whole run"),
+    # the antenna's sensors are recorded but no controller uses them yet: no figure could move
+    ("  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}", "  sensors.tracker_noise: {uniform: [0.0, 2.0e-5]}",
+     "parameters.sensors.tracker_noise", "does not use the antenna sensors yet"),
+    ("  rpe: {window: 0.05}", "  rpe: {window: .inf}", "indices.rpe.window", "expected a finite number"),
+    ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: .inf}",
+     "indices.ape.requirement", "expected a finite number"),
+    ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: 1e400}",
+     "indices.ape.requirement", "expected a finite number"),
+    ("  rpe: {window: 0.05}", "  rpe: {window: 0.0505}", "indices.rpe.window", "whole number of control periods"),
+    # the C++ keys' whole-multiple rule (relative 1e-12), not a looser one of the spec's own
+    ("  rpe: {window: 0.05}", "  rpe: {window: 0.05000000001}", "indices.rpe.window",
+     "whole number of control periods"),
+    ("  rpe: {window: 0.05}", "  rpe: {window: 0.05, span: 2}", "indices.rpe.span", "unknown key"),
+    ("  rpe: {window: 0.05}", "  rms: {window: 0.05}", "indices.rms", "unknown index"),
+    ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 1.5}", "indices.ape.level",
+     "expected a number"),
+    ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [slew, cruise]", "phases", "unknown phase 'cruise'"),
+    ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [{late: [6.0, 5.0]}]", "phases.late",
+     "expected [t0, t1]"),
+    # a run that ends before or inside a phase, or a phase shorter than an index's window
+    ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [slew, hold, track, {late: [5.0, 6.0]}]",
+     "phases.late", "the run ends at sim.duration 0.5 s, before phase 'late' [5, 6) s"),
+    ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [slew, {late: [0.4, 0.6]}]",
+     "phases.late", "the run ends at sim.duration 0.5 s, inside phase 'late' [0.4, 0.6) s"),
+    # a phase between two ticks: no sample could have a figure there
+    ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [slew, hold, track, {late: [0.4001, 0.4009]}]",
+     "phases.late", "phase 'late' [0.4001, 0.4009) s holds no control tick (one every 0.001 s)"),
+    ("  pde: {window: 0.02, separation: 0.05}", "  pde: {window: 0.06, separation: 0.05}", "indices.pde",
+     "the window plus separation 0.11 s is longer than phase 'hold' (0.1 s of this run)"),
+    (f"controller: {CONTROLLER_CONFIG}", "controller: no_such.yaml", "controller", "no such file"),
+    # a name longer than the file system allows (found by fuzz_spec): refused, not an OSError
+    (f"controller: {CONTROLLER_CONFIG}", "controller: " + "x" * 300 + ".yaml", "controller",
+     "not a usable file path (File name too long)"),
+    (f"controller: {CONTROLLER_CONFIG}\n", "", "controller_set", "only for a closed-loop sweep"),
+    (f"set: {{sim.duration: 0.5}}\ncontroller: {CONTROLLER_CONFIG}\ncontroller_set: {{profile.slew_start: 0.0, "
+     "profile.slew_time: 0.2, profile.hold_time: 0.1}",
+     f"set: {{sim.duration: 0.501}}\ncontroller: {CONTROLLER_CONFIG}\ncontroller_set: {{control.period: 0.002}}",
+     "set.sim.duration", "whole control periods"),
+]
+
+
+@pytest.mark.parametrize("old,new,key,message", REFUSALS)
+def test_a_bad_key_is_refused_at_its_line(tmp_path, old, new, key, message):
+    from gimbalsim.sweep import SpecError, SweepSpec
+    text = SPEC.replace(f"set: {{sim.duration: {DURATION}}}", "set: {sim.duration: 0.5}")
+    # a tuple: several replacements, the refused line the last one's
+    old, new = (old, new) if isinstance(old, tuple) else ((old,), (new,))
+    for o, n in zip(old, new):
+        assert o in text
+        text = text.replace(o, n)
+    new = new[-1]
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    with pytest.raises(SpecError) as e:
+        SweepSpec(path)
+    assert e.value.key == key, str(e.value)
+    assert message in str(e.value)
+    lines = text.split("\n")
+    mark = new.strip().split("\n")[0] or key
+    assert e.value.line == next(n for n, line in enumerate(lines, 1) if mark in line), str(e.value)
+
+
+def test_a_run_ending_before_the_profiles_track_is_refused_at_its_duration(tmp_path):
+    from gimbalsim.sweep import SpecError, SweepSpec
+    # no phases key: the profile's slew [0, 0.2), hold [0.2, 0.3) and track from 0.3 s
+    text = SPEC.replace(f"set: {{sim.duration: {DURATION}}}", "set: {sim.duration: 0.3}")
+    text = text.replace("phases: [slew, hold, track, {late: [0.4, 0.5]}]\n", "")
+    text = text.replace("  rpe: {window: 0.05}\n  pde: {window: 0.02, separation: 0.05}\n", "")
+    path = tmp_path / "short.yaml"
+    path.write_text(text)
+    with pytest.raises(SpecError) as e:
+        SweepSpec(path)
+    assert e.value.key == "sim.duration" and "before phase 'track' [0.3, 0.3" in str(e.value), str(e.value)
+    assert e.value.line == text.split("\n").index("set: {sim.duration: 0.3}") + 1
+    (tmp_path / "ok.yaml").write_text(text.replace("sim.duration: 0.3", "sim.duration: 0.32"))
+    assert [p for p, _ in SweepSpec(tmp_path / "ok.yaml").closed.phases] == ["slew", "hold", "track"]
+
+
+def test_an_empty_profile_phase_is_refused_when_named_and_left_out_otherwise(tmp_path):
+    from gimbalsim.sweep import SpecError, SweepSpec
+    # profile.hold_time 0: the hold [0.2, 0.2) s has no tick, so no sample could have a figure there.
+    text = SPEC.replace("profile.hold_time: 0.1}", "profile.hold_time: 0.0}")
+    text = text.replace("  pde: {window: 0.02, separation: 0.05}\n", "")
+    (tmp_path / "named.yaml").write_text(text)
+    with pytest.raises(SpecError) as e:
+        SweepSpec(tmp_path / "named.yaml")
+    assert e.value.key == "phases.hold" and "phase 'hold' [0.2, 0.2) s is empty" in str(e.value), str(e.value)
+    assert e.value.line == text.split("\n").index("phases: [slew, hold, track, {late: [0.4, 0.5]}]") + 1
+    (tmp_path / "default.yaml").write_text(text.replace("phases: [slew, hold, track, {late: [0.4, 0.5]}]\n", ""))
+    assert [p for p, _ in SweepSpec(tmp_path / "default.yaml").closed.phases] == ["slew", "track"]
