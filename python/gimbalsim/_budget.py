@@ -41,7 +41,7 @@ def entry(spec, rows, index, phase):
          "confidence": index.confidence, "n": b.n, "n_missing": b.n_missing, "min_units": b.min_units,
          "supported": b.supported, "estimate_rad": _json(b.estimate), "upper_bound_rad": _json(b.upper),
          "interval_rad": [_json(b.low), _json(b.high)], "two_sided": not math.isnan(b.low), "note": b.reason}
-    if not b.supported:
+    if not b.supported and b.n_missing < b.n:  # else b.reason: no unit has a figure
         e["note"] = (f"not supported: n={b.n} < {b.min_units} needed for {_pct(index.level)} at "
                      f"{_pct(index.confidence)}")
     finite = [v for v in values if math.isfinite(v)]
@@ -87,6 +87,8 @@ def _bound_text(x, e):
 
 def cell(e):
     """The index as text: the estimate with its interval, or why there is none."""
+    if e["n_missing"] == e["n"]:
+        return e["note"]  # no unit has a figure: no quantile to quote
     if not e["supported"]:
         return f"{e['note']} (empirical {_pct(e['level'])} quantile: {_estimate_text(e)})"
     lo, hi = e["interval_rad"]

@@ -27,6 +27,7 @@ A figure over a window the run did not reach is NaN with a reason
 from dataclasses import dataclass
 import functools
 import math
+import numbers
 
 import numpy as np
 from scipy import stats
@@ -137,6 +138,8 @@ def _window_means(seg, m):
 
 def rpe(t_s, e, t_start, t_end, window_s, chunk_rows=1 << 22):
     """Relative performance error over windows of window_s inside the phase [rad]."""
+    if not (isinstance(chunk_rows, numbers.Integral) and chunk_rows > 0):  # 0 or less looped forever
+        raise ValueError(f"chunk_rows must be a whole number above 0, got {chunk_rows!r}")
     rows, dt, seg, why = _phase_signal(t_s, e, t_start, t_end)
     if why:
         return _nan(why)
@@ -179,6 +182,10 @@ def coverage(n, level, r, s):
     """Exact probability that [X_(r), X_(s)] (1-based order statistics of n
     independent units, X_(0) = -inf, X_(n+1) = +inf) contains the level-quantile:
     P(r <= Binomial(n, level) <= s - 1)."""
+    if not (isinstance(n, numbers.Integral) and n >= 0 and 0.0 < level < 1.0):
+        raise ValueError(f"coverage: need a whole n >= 0 and 0 < level < 1, got n={n!r}, level={level!r}")
+    if not (0 <= r <= s <= n + 1):  # r > s gave a negative probability
+        raise ValueError(f"coverage: need ranks 0 <= r <= s <= n + 1, got r={r}, s={s}, n={n}")
     return float(stats.binom.cdf(s - 1, n, level) - stats.binom.cdf(r - 1, n, level))
 
 
@@ -225,20 +232,31 @@ def _ranks(n, level, confidence):
     return s, r, s2
 
 
+def _unit_figures(values):
+    """The per-unit figures as a 1-D array: pointing errors are magnitudes,
+    so a negative one is a caller's mistake (a signed error, not its norm)."""
+    x = np.asarray(values, dtype=float)
+    if x.ndim != 1:  # a 2-D array counted each of its cells as a unit
+        raise ValueError(f"values: one figure per unit (1-D), got shape {x.shape}")
+    negative = np.flatnonzero(x < 0.0)
+    if len(negative):
+        raise ValueError(f"values: a pointing error is a magnitude >= 0 rad; unit {negative[0]} has "
+                         f"{x[negative[0]]!r} ({len(negative)} negative in all)")
+    return x
+
+
 def quantile_bound(values, level=LEVEL_3SIGMA, confidence=0.95):
     """The level-quantile of the per-unit values, with its order-statistics
     confidence bounds. NaN values count as +inf (a unit without a figure is
     never assumed good)."""
     if not 0.0 < level < 1.0 or not 0.0 < confidence < 1.0:
         raise ValueError("level and confidence must lie strictly between 0 and 1")
-    x = np.asarray(values, dtype=float)
-    if x.ndim != 1:
-        raise ValueError(f"values: one figure per unit (1-D), got shape {x.shape}")
+    x = _unit_figures(values)
     n = len(x)
-    if n == 0:
-        return QuantileBound(0, 0, level, confidence, *([float("nan")] * 2), 0,
-                             float("nan"), float("nan"), False, "no units")
     missing = int(np.count_nonzero(~np.isfinite(x)))
+    if missing == n:  # nothing seen: no quantile, however many units were drawn
+        return QuantileBound(n, n, level, confidence, *([float("nan")] * 2), 0, float("nan"), float("nan"), False,
+                             "no units" if n == 0 else f"no unit has a figure (all {n} without one)")
     xs = np.sort(np.where(np.isfinite(x), x, np.inf))
     estimate = float(xs[min(n, max(1, math.ceil(n * level))) - 1])
     s, r, s2 = _ranks(n, level, confidence)
@@ -253,8 +271,6 @@ def quantile_bound(values, level=LEVEL_3SIGMA, confidence=0.95):
                   f"confidence (at least {min_units(level, confidence)} are needed)")
     elif not two_sided:
         reason = f"{n} units give only a one-sided bound at {confidence:.0%} confidence"
-    if missing == n:
-        reason = "no unit has a figure" + (f"; {reason}" if reason else "")
     return QuantileBound(n, missing, level, confidence, estimate, upper, s if supported else 0,
                          low, high, supported, reason)
 
@@ -285,9 +301,7 @@ def requirement_verdict(values, requirement, level=LEVEL_3SIGMA, confidence=0.95
         raise ValueError("level and confidence must lie strictly between 0 and 1")
     if not (math.isfinite(requirement) and requirement >= 0.0):  # NaN gave FAIL, inf PASS: no question asked
         raise ValueError(f"requirement must be a finite angle >= 0 rad, got {requirement!r}")
-    x = np.asarray(values, dtype=float)
-    if x.ndim != 1:  # a 2-D array counted each of its cells as a unit
-        raise ValueError(f"values: one figure per unit (1-D), got shape {x.shape}")
+    x = _unit_figures(values)
     n = len(x)
     k = int(np.count_nonzero(np.isfinite(x) & (x <= requirement)))
     lower = 0.0 if k == 0 else float(stats.beta.ppf(1.0 - confidence, k, n - k + 1))

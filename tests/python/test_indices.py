@@ -137,6 +137,24 @@ def test_missing_units_count_as_worst():
     assert q.upper == math.inf  # one more unit without a figure reaches the bound
 
 
+def test_no_figure_at_all_is_no_quantile_and_bad_arguments_are_refused():
+    q = indices.quantile_bound(np.full(2000, np.nan))  # enough units, none seen
+    assert not q.supported and math.isnan(q.estimate) and math.isnan(q.upper)
+    assert q.n_missing == 2000 and "no unit has a figure" in q.reason
+    with pytest.raises(ValueError, match="unit 1 has -0.5"):  # a signed error, not its magnitude
+        indices.quantile_bound([0.1, -0.5, 0.2])
+    with pytest.raises(ValueError, match="magnitude"):
+        indices.requirement_verdict([0.1, -1e-9], 1.0)
+    with pytest.raises(ValueError, match="r <= s"):  # r > s gave a negative probability
+        indices.coverage(10, 0.5, 6, 4)
+    with pytest.raises(ValueError, match="level"):
+        indices.coverage(10, 1.5, 1, 4)
+    t = np.arange(100) * 0.01
+    for bad in (0, -1, 2.5):  # 0 or less never advanced through the windows
+        with pytest.raises(ValueError, match="chunk_rows"):
+            indices.rpe(t, np.ones(100), 0.0, 1.0, 0.1, chunk_rows=bad)
+
+
 def test_requirement_verdict_clopper_pearson():
     # All n units meet it: the one-sided lower bound is (1 - c)^(1/n).
     v = indices.requirement_verdict(np.zeros(2000), 1e-5)
