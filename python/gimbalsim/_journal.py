@@ -38,6 +38,16 @@ def _drawn_beyond(spec, rows, n_columns):
         spec.design.extend_to(size)
 
 
+def refuse_rows_beyond_the_record(path, spec, rows, n_columns):
+    """Results of a grown sweep that the design record does not hold are never
+    dropped nor used: the record is wrong (SpecError naming the file)."""
+    drawn = _drawn_beyond(spec, rows, n_columns)
+    if drawn:
+        raise SpecError(f"{path} holds sample {drawn[0]}, beyond the sweep's {len(spec.design)} samples: "
+                        f"{DESIGN}, which records the size --until grew it to, is missing or not this sweep's; "
+                        "restore it, or use another --out")
+
+
 def _no_repeated_key(pairs):
     keys = [k for k, _ in pairs]
     if len(set(keys)) != len(keys):
@@ -142,11 +152,7 @@ def read_journal(spec, path, header):
             dropped["unreadable line"] = dropped.get("unreadable line", 0) + 1
         else:
             rows.append(row)
-    drawn = _drawn_beyond(spec, rows, len(header))
-    if drawn:  # results of a grown sweep the record does not hold: never dropped, the record is wrong
-        raise SpecError(f"{path} holds sample {drawn[0]}, beyond the sweep's {len(spec.design)} samples: "
-                        f"{DESIGN}, which records the size --until grew it to, is missing or not this sweep's; "
-                        "restore it, or use another --out")
+    refuse_rows_beyond_the_record(path, spec, rows, len(header))
     for row in rows:
         why = check_row(spec, row, len(header))
         if why is None and int(row[0]) in done:

@@ -22,7 +22,7 @@ import sys
 from . import _provenance
 from ._errors import (EXIT_INTERNAL, EXIT_OK, EXIT_REFUSED, EXIT_STOPPED, NotReproduced, OutputError, SpecError,
                       guarded_main)
-from ._journal import JOURNAL, take_recorded_design
+from ._journal import JOURNAL, refuse_rows_beyond_the_record, take_recorded_design
 from ._output import check_outputs, figure_bytes, write_bytes
 from ._sample import sample_alone
 from ._sweep_spec import SweepSpec
@@ -133,6 +133,7 @@ def replay(folder, i, out, plot_path=None):
         _refuse(str(e))
     source, header, rows = _read_rows(folder)
     take_recorded_design(folder, spec)  # the samples --until added: their draws are (seed, i) as any other's
+    refuse_rows_beyond_the_record(source, spec, list(rows.values()), len(header))  # as a resume does
     if not 0 <= i < len(spec.design):
         _refuse(f"--replay {i}: outside the sweep's samples 0..{len(spec.design) - 1}")
     if header != spec.csv_header():

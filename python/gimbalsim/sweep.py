@@ -96,6 +96,9 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
     _study_file.hold(out)  # before the journal is read: another sweep may be writing it
     take_recorded_design(out, spec)  # the samples --until added before (a resume holds them, no more)
+    if until is not None and until.max_samples < len(spec.design):  # it said "stopped by the cap at" the rows held
+        raise SpecError(f"--max-samples {until.max_samples} is below the {len(spec.design)} samples this sweep "
+                        f"already grew to ({out / DESIGN}): give at least {len(spec.design)}")
     done, dropped, appendable = read_journal(spec, journal, header)
     if results.exists() and resume and not done and not dropped:
         done, dropped, _ = read_journal(spec, results, header)
