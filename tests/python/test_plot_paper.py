@@ -61,3 +61,18 @@ def test_spatial_summary_without_spatial_run_is_refused(tmp):
     p = plot("--ideal", "a.csv", "--clearance", "b.csv", "--spatial-summary", "s.json", "--out", tmp)
     assert p.returncode == 2
     assert "--spatial-summary needs --spatial" in p.stderr
+
+
+def test_a_clearance_run_without_contact_says_none_and_an_ideal_run_is_refused(tmp):
+    ideal, clearance = (tmp / "i.csv", tmp / "c.csv")
+    for scene, out in (("paper_ideal", ideal), ("paper_clearance", clearance)):  # no torque: the journal rests
+        run_cli("simulate", scene_path(scene), "--set", "sim.duration=0.1", "--set", "torque.tau1=0",
+                "--set", "torque.tau2=0", "--out", out, "--summary", out.with_suffix(".json"))
+    for summary in ([], ["--clearance-summary", clearance.with_suffix(".json")]):  # the summary had a traceback
+        (tmp / "o").mkdir(exist_ok=True)
+        p = plot("--ideal", ideal, "--clearance", clearance, "--out", tmp / "o", *summary)
+        assert p.returncode == 0, p.stderr
+        assert "peak contact force          : none: no contact" in p.stdout, p.stdout
+        assert "clearance c                 : 0.5 mm" in p.stdout, p.stdout
+    p = plot("--ideal", ideal, "--clearance", ideal, "--out", tmp / "o")  # the ideal run given twice
+    assert p.returncode == 2 and "joint 2 has no clearance" in p.stderr, p.stderr

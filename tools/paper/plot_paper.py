@@ -82,6 +82,9 @@ def load_runs(a):
     if r.c is None:
         r.c = float(np.max(r.clear["ecc2_m"] - r.clear["delta2_m"]))
         r.c_src = "max(ecc - delta)"
+    if not r.c > 0.0:  # an ideal joint's run: no bearing, so no figure of this page would mean anything
+        raise InputError(f"{a.clearance}: joint 2 has no clearance (ecc - delta is {r.c:g} m throughout): "
+                         "is it the ideal run? --clearance takes the run of a clearance joint 2")
     r.t_cont = summary_number(r.s_clear, "continuous_contact_from_s")
     if r.t_cont is None and not a.clearance_summary:
         r.t_cont = continuous_contact_from(r.clear)
@@ -274,7 +277,11 @@ def print_summary(r, pk_fn, t_pk_fn, pe, jf, written, out_dir):
         impacts_txt = f"{len(contact_starts(clear))} (counted from CSV samples; short impacts may be missed)"
     else:
         impacts_txt = f"{int(impacts)} (summary)"
-    if pk_fn is None:
+    if pk_fn is not None and t_pk_fn is None:  # the summary's peak of a run without contact
+        pk_fn_txt = "none: no contact (summary)"
+    elif pk_fn is None and not np.max(clear["fn2_N"]) > 0.0:
+        pk_fn_txt = "none: no contact in the CSV samples"
+    elif pk_fn is None:
         pk_fn_txt = (f"{np.max(clear['fn2_N']):.1f} N at t = {t_c[np.argmax(clear['fn2_N'])]:.4g} s "
                      f"(CSV samples)")
     else:
