@@ -101,7 +101,7 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
     }
     const double tau_u = tau_ff(i) + tau_pd + s.integral(i);
     const double tau = std::clamp(tau_u, -g.torque_limit, g.torque_limit);
-    const bool sat = tau != tau_u;
+    const bool sat = tau != tau_u && !std::isnan(tau_u);  // NaN is no command at a limit (it is never sent)
     double dI = approach || suspect ? 0.0 : Ts * g.ki * e;  // integrate in the linear region only
     switch (c.anti_windup) {
       case AntiWindup::None: break;

@@ -40,6 +40,18 @@ TEST(Pid, ProportionalAndDerivativeTermsPushTowardTheTarget) {
   EXPECT_DOUBLE_EQ(out.error(0), 0.1);
 }
 
+TEST(Pid, ANanCommandIsNotCountedAtTheTorqueLimit) {
+  ControllerConfig c = holdAt({0.1, -0.2});
+  c.axis[0].kp = std::numeric_limits<double>::quiet_NaN();  // no key gives one: the law's own guard
+  ControllerState s;
+  Measurement m;
+  m.theta = {0.0, 0.0};
+  const ControlOutput out = update(c, s, m);
+  EXPECT_TRUE(std::isnan(out.tau(0)));
+  EXPECT_FALSE(out.saturated[0]);  // was counted "at its own torque limit" while no answer went out
+  EXPECT_FALSE(out.saturated[1]);
+}
+
 TEST(Pid, FeedForwardOfRateAndAccelerationDuringTheSlew) {
   ControllerConfig c = holdAt({0.0, 0.0});
   c.profile.slew_start = 0.0;
