@@ -109,7 +109,7 @@ int run(Run& r) {
     if (m.status) r.ports.bridge.publish(*m.status);
     if (m.truth) {
       r.ports.bridge.publish(*m.truth);
-      if (!r.ports.csv.write(*m.truth)) g_stop.store(true);  // a failed write stops the run (exit 4)
+      if (!r.ports.csv.write(*m.truth, m.antenna)) g_stop.store(true);  // a failed write stops the run (exit 4)
     }
     tt.cpu_step = nowNs(CLOCK_THREAD_CPUTIME_ID);
     tick.advance();

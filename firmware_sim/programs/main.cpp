@@ -137,13 +137,14 @@ int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
       for (const std::string& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
       return refuse("--faults " + o.faults + " refused");
     }
-    if (const auto problems = checkFaultsAgainstScene(in.faults, scene, o.faults); !problems.empty()) {
+    if (const auto problems = checkFaultsAgainstScene(in.faults, in.plant, o.faults); !problems.empty()) {
       for (const std::string& p : problems) std::fprintf(stderr, "error: %s\n", p.c_str());
       return refuse("--faults " + o.faults + " refused for scene " + o.scene);
     }
   }
   const std::vector<std::string> inputs{o.scene, o.profile, o.faults};
-  if (std::string why; !o.truth_csv.empty() && !csv.open(o.truth_csv, inputs, &why)) {
+  const bool antenna = in.plant.sensors.antenna_sensors;  // its columns follow the truth's
+  if (std::string why; !o.truth_csv.empty() && !csv.open(o.truth_csv, inputs, &why, antenna)) {
     return refuse("--truth-csv: " + why);
   }
   if (std::string why; !o.tick_log.empty() && !tick_log.open(o.tick_log, totalTicks(o, c), inputs, &why)) {

@@ -159,7 +159,8 @@ int run(Run& r) {
       if (ob.has_status) bridge.publish(ob.status);
       if (ob.has_truth) {
         bridge.publish(ob.truth);
-        if (!r.ports.csv.write(ob.truth)) g_stop.store(true);  // a failed write stops the run (exit 4)
+        // a failed write stops the run (exit 4)
+        if (!r.ports.csv.write(ob.truth, ob.has_antenna ? &ob.antenna : nullptr)) g_stop.store(true);
       }
     }
   };

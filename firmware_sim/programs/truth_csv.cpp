@@ -4,19 +4,27 @@
 
 namespace gimbalsim::firmware {
 
-bool TruthCsv::open(const std::string& path, const std::vector<std::string>& inputs, std::string* why) {
+namespace {
+constexpr int kSharedFields = 2;  // the antenna message's utime and seq: the truth's own
+}
+
+bool TruthCsv::open(const std::string& path, const std::vector<std::string>& inputs, std::string* why, bool antenna) {
   try {
     out_.emplace(path, inputs);
   } catch (const io::OutputError& e) {
     if (why) *why = e.what();
     return false;
   }
-  return out_->write(csv::header<TruthFields>());
+  antenna_ = antenna;
+  std::string h = csv::header<TruthFields>();
+  if (antenna) h.back() = ',', h += csv::header<AntennaFields>(kSharedFields);
+  return out_->write(h);
 }
 
-bool TruthCsv::write(const Truth& t) {
+bool TruthCsv::write(const Truth& t, const Antenna* a) {
   if (!out_) return true;
-  csv::writeRow<TruthFields>(out_->stream(), t);
+  csv::writeRow<TruthFields>(out_->stream(), t, 0, false, !antenna_);
+  if (antenna_) csv::writeRow<AntennaFields>(out_->stream(), a != nullptr ? *a : Antenna{}, kSharedFields, true);
   return out_->ok();
 }
 

@@ -18,6 +18,9 @@ const char* faultTypeName(FaultKind k) {
     case FaultKind::GyroBiasJump: return "gyro_bias_jump";
     case FaultKind::BearingWear: return "bearing_wear";
     case FaultKind::FrictionRise: return "friction_rise";
+    case FaultKind::TrackerOutage: return "tracker_outage";
+    case FaultKind::TrackerBias: return "tracker_bias";
+    case FaultKind::TrackerDropout: return "tracker_dropout";
   }
   return "?";
 }

@@ -18,6 +18,7 @@ const char* paramKey(FaultKind k) {
     case FaultKind::CommandDelay: return "ticks";
     case FaultKind::TorqueLimit: return "limit";
     case FaultKind::GyroBiasJump: return "bias";
+    case FaultKind::TrackerBias: return "bias";
     case FaultKind::BearingWear: return "clearance";
     case FaultKind::FrictionRise: return "mu";
     default: return "";
@@ -204,6 +205,12 @@ class Reader {
         f.vector = asVector<3>(v, "[x, y, z] in rad/s");
         for (int i = 0; i < 3; ++i) within(f.vector(i), -kMaxGyroBiasJump, kMaxGyroBiasJump, " rad/s (each axis)");
         break;
+      case FaultKind::TrackerBias: {
+        const Vec2 b = asVector<2>(v, "[u, v] in rad");
+        for (int i = 0; i < 2; ++i) within(b(i), -kMaxTrackerBias, kMaxTrackerBias, " rad (each axis)");
+        f.vector << b, 0.0;
+        break;
+      }
       case FaultKind::BearingWear:
         f.value = asNumber(v);
         if (!(f.value > 0.0)) throw ConvertError{"must be > 0 m, got " + formatNumber(f.value)};
@@ -218,6 +225,7 @@ class Reader {
   static constexpr double kMaxEncoderBias = 100.0;  ///< [rad] encoder bias and noise sigma
   static constexpr double kMaxFaultTorque = 1e6;    ///< [N m] torque limit
   static constexpr double kMaxGyroBiasJump = 1.0;   ///< [rad/s] per axis, as sensors.gyro_bias
+  static constexpr double kMaxTrackerBias = 0.1;    ///< [rad] per axis, as sensors.tracker_bias
   static constexpr double kMaxFrictionMu = 10.0;    ///< [-] friction coefficient
 
   std::string origin_;
@@ -239,14 +247,20 @@ FaultSchedule loadFaultSchedule(const std::string& path) {
   return loadFaultScheduleText(text, path);
 }
 
-std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const Scene& sc, const std::string& origin) {
+std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const PlantScene& ps, const std::string& origin) {
   std::vector<std::string> out;
-  const Model& m = sc.model;
+  const Model& m = ps.scene.model;
   int i = 0;
   for (const FaultSpec& f : s.faults) {
     ++i;
     const std::string at = origin + ":" + std::to_string(f.line) + ": fault #" + std::to_string(i) + " (" +
                            faultTypeName(f.kind) + "): ";
+    const bool tracker = f.kind == FaultKind::TrackerOutage || f.kind == FaultKind::TrackerBias ||
+                         f.kind == FaultKind::TrackerDropout;
+    if (tracker && !ps.sensors.antenna_sensors) {
+      out.push_back(at + "the scene has no tracker to act on (scene key sensors.antenna is none)");
+      continue;
+    }
     if (!faultIsRamp(f.kind)) continue;
     if (f.axis >= 0 && m.jointKind(f.axis) == ClearanceKind::Ideal) {
       const std::string joint = "joint" + std::to_string(f.axis + 1);

@@ -256,7 +256,7 @@ void bindController(pyb::module_& m) {
         if (!faults.empty()) {
           try {
             schedule = firmware::loadFaultSchedule(faults);
-            const std::vector<std::string> bad = firmware::checkFaultsAgainstScene(schedule, s.scene(), faults);
+            const std::vector<std::string> bad = firmware::checkFaultsAgainstScene(schedule, s.plant, faults);
             if (!bad.empty()) {
               std::vector<Problem> problems;
               for (const std::string& b : bad) problems.push_back(Problem{b, "", faults, 0, 0, 0});

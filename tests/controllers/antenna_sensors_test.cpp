@@ -3,7 +3,8 @@
 // the closed loop on paper_spatial2_tracker its reading's size is the truth
 // pointing error at every tick (play and tilt included) and the gyro the
 // antenna's own rate; the schedule (rate, latency, stamps), noise, bias and
-// outage; a scene without them has no message; bad keys refused by name.
+// outage, and the fault schedule's tracker faults; a scene without them has
+// no message; bad keys refused by name.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,6 +15,7 @@
 #include "closed_loop_util.hpp"
 #include "gimbalsim/firmware_sim/antenna_sensors.hpp"
 #include "gimbalsim/firmware_sim/bench_tick.hpp"
+#include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 #include "gimbalsim/firmware_sim/plant_scene.hpp"
 #include "gimbalsim/pointing/tracker_axes.hpp"
 #include "test_util.hpp"
@@ -178,6 +180,33 @@ TEST(AntennaSensors, TheTickWithThemAllocatesNothing) {
   // Samples at ticks 0, 5, ..., 285 fall due in ticks 12 .. 297: 58, less the 5 not taken in the outage
   // [100, 120] and the 2 (ticks 90, 95) that fall due inside it: 51.
   EXPECT_EQ(delivered, 51);
+}
+
+TEST(AntennaSensors, TheTrackersScheduledFaultsActOnItsMessage) {
+  const firmware::PlantScene ps = plant("paper_spatial2_tracker");
+  const ControllerConfig c = loadControllerConfig(test::defaultControllerConfig());
+  firmware::Config fc;
+  fc.control_period = c.period;
+  const firmware::FaultSchedule f = firmware::loadFaultScheduleText(
+      "faults:\n  - {type: tracker_outage, start: 0.01, end: 0.02}\n"
+      "  - {type: tracker_dropout, start: 0.03, end: 0.04}\n"
+      "  - {type: tracker_bias, start: 0.05, end: 0.06, bias: [2.0e-4, -1.0e-4]}\n", "f.yaml");
+  using V = Variant<true, ClearanceKind::Ideal, ClearanceKind::Spatial, true>;
+  firmware::BenchTick<V> faulty(ps, fc, &f, &c.profile), clean(ps, fc, nullptr, &c.profile);
+  for (int k = 0; k < 70; ++k) {  // no commands: both plants move alike, so the readings differ by the faults only
+    const contract::Antenna a = *faulty.sample(k, k * 1000, false).antenna, b = *clean.sample(k, k * 1000, false).antenna;
+    const bool outage = k >= 10 && k < 20, dropout = k >= 30 && k < 40, biased = k >= 50 && k < 60;
+    EXPECT_EQ(a.tracker_outage, outage ? 1 : 0) << k;
+    EXPECT_EQ(a.tracker_valid, outage || dropout ? 0 : 1) << k;  // a dropout loses the reading, not the lock
+    if (outage || dropout) {
+      EXPECT_DOUBLE_EQ(a.tracker_time, outage ? 0.009 : 0.029) << k;  // the last reading (the tick before) held
+    } else {
+      EXPECT_DOUBLE_EQ(a.tracker_error[0], b.tracker_error[0] + (biased ? 2.0e-4 : 0.0)) << k;
+      EXPECT_DOUBLE_EQ(a.tracker_error[1], b.tracker_error[1] - (biased ? 1.0e-4 : 0.0)) << k;
+    }
+    faulty.advance();
+    clean.advance();
+  }
 }
 
 TEST(AntennaSensors, TheRecordHasNoReadingBeforeTheFirstDelivery) {

@@ -126,7 +126,7 @@ TEST(FaultResponse, ShortStatusDelayIsNotStaleAndTheLoopRidesThroughIt) {
 
 TEST(FaultResponse, StaleStatusHoldsTheLastFreshCommandAndBeatsActingOnOldData) {
   const std::string y = one("{type: status_delay, start: 1.0, end: 1.25, ticks: 60}");
-  const std::int32_t bit = injectedBit(FaultKind::StatusDelay, -1);
+  const std::int64_t bit = injectedBit(FaultKind::StatusDelay, -1);
   const Outcome w = run(y, 4.0, 1.0, 1.25, bit);
   const Outcome blind = run(y, 4.0, 1.0, 1.25, bit, defaults({"monitor.stale_ticks=100000"}));
   print("status_delay 60", w);
@@ -180,7 +180,7 @@ TEST(FaultResponse, DroppedStatusesAreCountedGapsAndTheLoopRidesThroughThem) {
 
 TEST(FaultResponse, StuckEncoderIsSeenByRateDisagreementAndTheAxisRunsOnItsRate) {
   const std::string y = one("{type: encoder_stuck, axis: azimuth, start: 4.0, end: 4.5}");
-  const std::int32_t bit = injectedBit(FaultKind::EncoderStuck, 0);
+  const std::int64_t bit = injectedBit(FaultKind::EncoderStuck, 0);
   const Outcome w = run(y, 6.0, 4.0, 4.5, bit);
   const Outcome blind = run(y, 6.0, 4.0, 4.5, bit, defaults({"monitor.stuck_tol=1e3"}));
   print("encoder_stuck az", w);

@@ -21,6 +21,7 @@ namespace gimbalsim::firmware {
 namespace {
 
 const std::string kDemo = std::string(GIMBALSIM_SOURCE_DIR) + "/tools/faults/demo.yaml";
+const std::string kTrackerDemo = std::string(GIMBALSIM_SOURCE_DIR) + "/tools/faults/tracker.yaml";
 
 using test_helpers::Bench;
 using test_helpers::benchScene;
@@ -41,18 +42,26 @@ std::string refusal(const std::string& yaml) {
 FaultSchedule schedule(const std::string& yaml) { return loadFaultScheduleText(yaml, "test"); }
 
 
-TEST(FaultScheduleFile, TheDemoScheduleLoadsWithEveryKind) {
+TEST(FaultScheduleFile, TheDemoSchedulesLoadWithEveryKind) {
   const FaultSchedule s = loadFaultSchedule(kDemo);
   EXPECT_EQ(s.seed, 7u);
-  ASSERT_EQ(s.faults.size(), static_cast<std::size_t>(kNumFaultKinds));
+  const FaultSchedule tracker = loadFaultSchedule(kTrackerDemo);  // the kinds that need the antenna's sensors
+  ASSERT_EQ(s.faults.size() + tracker.faults.size(), static_cast<std::size_t>(kNumFaultKinds));
   std::vector<bool> seen(kNumFaultKinds, false);
   for (const FaultSpec& f : s.faults) seen[static_cast<int>(f.kind)] = true;
+  for (const FaultSpec& f : tracker.faults) seen[static_cast<int>(f.kind)] = true;
   for (int k = 0; k < kNumFaultKinds; ++k) EXPECT_TRUE(seen[k]) << faultTypeName(static_cast<FaultKind>(k));
   EXPECT_EQ(s.faults[0].kind, FaultKind::EncoderNoise);
   EXPECT_EQ(s.faults[0].axis, 0);
   EXPECT_EQ(s.faults[0].value, 2.0e-5);
   EXPECT_GT(s.faults[0].line, 4);
-  EXPECT_TRUE(checkFaultsAgainstScene(s, test::plant("paper_clearance").scene, kDemo).empty());
+  EXPECT_TRUE(checkFaultsAgainstScene(s, test::plant("paper_clearance"), kDemo).empty());
+  EXPECT_TRUE(checkFaultsAgainstScene(tracker, test::plant("paper_spatial2_tracker"), kTrackerDemo).empty());
+  // a scene without the antenna's sensors has no tracker for them to act on
+  const auto none = checkFaultsAgainstScene(tracker, test::plant("paper_clearance"), kTrackerDemo);
+  ASSERT_EQ(none.size(), 3u);
+  EXPECT_NE(none[0].find("(tracker_outage): the scene has no tracker to act on (scene key sensors.antenna is none)"),
+            std::string::npos) << none[0];
 }
 
 TEST(FaultScheduleFile, RefusalsNameLineColumnEntryAndKey) {
@@ -121,15 +130,15 @@ TEST(FaultScheduleFile, RefusalsNameLineColumnEntryAndKey) {
 
 TEST(FaultScheduleFile, SceneChecksNameTheLineAndTheSceneKey) {
   const FaultSchedule wear = schedule("faults:\n  - {type: bearing_wear, start: 1, end: 2, clearance: 0.4e-3}\n");
-  const auto on_ideal = checkFaultsAgainstScene(wear, test::plant("paper_ideal").scene, "w.yaml");
+  const auto on_ideal = checkFaultsAgainstScene(wear, test::plant("paper_ideal"), "w.yaml");
   ASSERT_EQ(on_ideal.size(), 1u);
   EXPECT_NE(on_ideal[0].find("w.yaml:2: fault #1 (bearing_wear): needs a joint with clearance"), std::string::npos) << on_ideal[0];
-  const auto below = checkFaultsAgainstScene(wear, test::plant("paper_clearance").scene, "w.yaml");
+  const auto below = checkFaultsAgainstScene(wear, test::plant("paper_clearance"), "w.yaml");
   ASSERT_EQ(below.size(), 1u);
   EXPECT_NE(below[0].find("key 'clearance': must be above joint2's clearance 0.0005"), std::string::npos) << below[0];
   const FaultSchedule rise = schedule("faults:\n  - {type: friction_rise, start: 1, mu: 0.5}\n");
-  EXPECT_EQ(checkFaultsAgainstScene(rise, test::plant("paper_clearance", {"friction.law=none"}).scene, "r.yaml").size(), 1u);
-  EXPECT_TRUE(checkFaultsAgainstScene(rise, test::plant("paper_clearance").scene, "r.yaml").empty());
+  EXPECT_EQ(checkFaultsAgainstScene(rise, test::plant("paper_clearance", {"friction.law=none"}), "r.yaml").size(), 1u);
+  EXPECT_TRUE(checkFaultsAgainstScene(rise, test::plant("paper_clearance"), "r.yaml").empty());
 }
 
 /// Runs the bench scene with a constant command (answered every tick) and
@@ -163,7 +172,7 @@ TEST(FaultInjection, StuckEncoderHoldsItsAngleWhileTheRateSensorWorks) {
   const PlantScene sc = benchScene();
   const FaultSchedule f = schedule("faults:\n  - {type: encoder_stuck, axis: elevation, start: 0.1, end: 0.2}\n");
   const Trace clean = run(sc, nullptr, 300), t = run(sc, &f, 300);
-  const std::int32_t bit = injectedBit(FaultKind::EncoderStuck, 1);
+  const std::int64_t bit = injectedBit(FaultKind::EncoderStuck, 1);
   for (int k = 0; k < 300; ++k) {
     const bool active = k >= 100 && k < 200;
     EXPECT_EQ(t.status[k].injected_faults, active ? bit : 0) << k;
@@ -327,8 +336,8 @@ TEST(FaultInjection, BearingWearAndFrictionRiseChangeOnlyTheFirmwaresModelCopy) 
 TEST(FaultSchedule, BearingFaultsAreCheckedAgainstTheBearingTheyActOn) {
   // Joint 1's bearing is 5 mm in radius, joint 2's (ideal) the default 10 mm:
   // a wear to 9.9 mm would put joint 1's journal outside its bearing.
-  const Scene planar1 =
-      test::plant("paper_planar1", {"joint1.contact.bearing_radius=5e-3", "joint1.contact.journal_radius=4.5e-3"}).scene;
+  const PlantScene planar1 =
+      test::plant("paper_planar1", {"joint1.contact.bearing_radius=5e-3", "joint1.contact.journal_radius=4.5e-3"});
   const FaultSchedule wear = schedule("faults:\n  - {type: bearing_wear, start: 1, end: 2, clearance: 9.9e-3}\n");
   const auto p = checkFaultsAgainstScene(wear, planar1, "w.yaml");
   ASSERT_EQ(p.size(), 1u);
@@ -336,16 +345,16 @@ TEST(FaultSchedule, BearingFaultsAreCheckedAgainstTheBearingTheyActOn) {
   // With an axis it acts on that joint's bearing only, which must have clearance.
   const FaultSchedule on_azimuth =
       schedule("faults:\n  - {type: bearing_wear, axis: azimuth, start: 1, end: 2, clearance: 0.8e-3}\n");
-  const auto ideal_axis = checkFaultsAgainstScene(on_azimuth, test::plant("paper_clearance").scene, "w.yaml");
+  const auto ideal_axis = checkFaultsAgainstScene(on_azimuth, test::plant("paper_clearance"), "w.yaml");
   ASSERT_EQ(ideal_axis.size(), 1u);
   EXPECT_NE(ideal_axis[0].find("key 'axis': the azimuth joint is ideal (scene key structure.joint1)"),
             std::string::npos)
       << ideal_axis[0];
-  EXPECT_TRUE(checkFaultsAgainstScene(on_azimuth, test::plant("paper_planar1").scene, "w.yaml").empty());
+  EXPECT_TRUE(checkFaultsAgainstScene(on_azimuth, test::plant("paper_planar1"), "w.yaml").empty());
   // Friction rise needs a friction law on the bearing it acts on.
   const FaultSchedule rise = schedule("faults:\n  - {type: friction_rise, axis: elevation, start: 1, mu: 0.5}\n");
   const auto no_law = checkFaultsAgainstScene(
-      rise, test::plant("paper_both_planar", {"joint2.friction.law=none"}).scene, "r.yaml");
+      rise, test::plant("paper_both_planar", {"joint2.friction.law=none"}), "r.yaml");
   ASSERT_EQ(no_law.size(), 1u);
   EXPECT_NE(no_law[0].find("joint2.friction.law is none"), std::string::npos) << no_law[0];
 }
@@ -404,7 +413,8 @@ TEST(FaultInjection, ProbabilisticFaultsFollowTheirSeed) {
 
 TEST(FaultInjection, ARunWithEveryFaultIsRepeatableAndAllocatesNothingPerTick) {
   test::noteIfNotCheckedBuild();
-  const PlantScene sc = test::plant("paper_clearance", {"sensors.star_tracker_rate=50", "sensors.gyro_noise=1e-4"});
+  const PlantScene sc = test::plant("paper_clearance", {"sensors.star_tracker_rate=50", "sensors.gyro_noise=1e-4",
+                                                         "sensors.antenna=tracker_gyro"});
   // The demo schedule moved into the first 0.4 s, probabilities included.
   const FaultSchedule f = schedule(
       "seed: 5\nfaults:\n"
@@ -421,7 +431,10 @@ TEST(FaultInjection, ARunWithEveryFaultIsRepeatableAndAllocatesNothingPerTick) {
       "  - {type: star_tracker_outage, start: 0.1, end: 0.2}\n"
       "  - {type: gyro_bias_jump, start: 0.1, bias: [0, 0, 2.0e-5]}\n"
       "  - {type: bearing_wear, start: 0.05, end: 0.35, clearance: 0.8e-3}\n"
-      "  - {type: friction_rise, start: 0.1, end: 0.3, mu: 0.4}\n");
+      "  - {type: friction_rise, start: 0.1, end: 0.3, mu: 0.4}\n"
+      "  - {type: tracker_outage, start: 0.1, end: 0.15}\n"
+      "  - {type: tracker_bias, start: 0.2, bias: [1.0e-4, -2.0e-4]}\n"
+      "  - {type: tracker_dropout, start: 0.3, end: 0.35, probability: 0.5}\n");
   auto go = [&](bool guard, std::vector<Truth>* truths, std::vector<Status>* statuses) {
     Firmware<FloatingClearanceFriction> fw(sc, Config{}, &f);
     std::int64_t seq = 0;
@@ -453,14 +466,14 @@ TEST(FaultInjection, ARunWithEveryFaultIsRepeatableAndAllocatesNothingPerTick) {
   go(false, &a, &sa);
   go(false, &b, &sb);
   ASSERT_EQ(a.size(), b.size());
-  std::int32_t all = 0;
+  std::int64_t all = 0;
   for (std::size_t k = 0; k < a.size(); ++k) {
     ASSERT_EQ(std::memcmp(&a[k], &b[k], sizeof(Truth)), 0) << "tick " << k;
     ASSERT_EQ(std::memcmp(&sa[k], &sb[k], sizeof(Status)), 0) << "tick " << k;
     all |= a[k].injected_faults;
   }
   for (int kind = 0; kind < kNumFaultKinds; ++kind) {
-    EXPECT_NE(all & (3 << (2 * kind)), 0) << faultTypeName(static_cast<FaultKind>(kind)) << " never flagged";
+    EXPECT_NE(all & (std::int64_t{3} << (2 * kind)), 0) << faultTypeName(static_cast<FaultKind>(kind)) << " never flagged";
   }
 }
 

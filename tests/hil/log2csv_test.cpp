@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
 
@@ -25,13 +27,16 @@ TEST(Log2Csv, TheAntennaSensorsHaveTheirOwnChannelOnTheBench) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
   TempDir dir("log2csv_antenna");
   const std::string url = udpmUrl(7737), cfg = defaultControllerConfig();
+  // The tracker's faults: lock lost over [0.6, 0.7) s, a bias on u from 0.75 s.
+  std::ofstream(dir / "faults.yaml") << "faults:\n  - {type: tracker_outage, start: 0.6, end: 0.7}\n"
+                                        "  - {type: tracker_bias, start: 0.75, bias: [1.0e-4, 0]}\n";
   const std::string body =
       "'" + std::string(GIMBALSIM_RECORD) + "' --lcm-url '" + url + "' bench.lcmlog 2>record.log &\nR=$!\n" +
       "sleep 0.3\n" + "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "'" +
       " --duration 0.8 --idle-exit 5 >ctl.log 2>&1 &\n" + "timeout 60 " + firmwareSim() + " " +
       scenePath("paper_spatial2_tracker") + " --lockstep --duration 0.8 --profile " + cfg +
-      " --truth-csv truth.csv --lcm-url '" + url + "' --start-timeout 10 >fw.log 2>&1\nrc=$?\nsleep 0.3\n" +
-      "kill -INT $R\nwait\nexit $rc";
+      " --truth-csv truth.csv --faults faults.yaml --lcm-url '" + url +
+      "' --start-timeout 10 >fw.log 2>&1\nrc=$?\nsleep 0.3\n" + "kill -INT $R\nwait\nexit $rc";
   ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log");
   int st = 0;
   const std::string out = runCapture(kTool + " '" + (dir / "bench.lcmlog") + "' --channel GIMBAL_ANTENNA --out '" +
@@ -42,13 +47,26 @@ TEST(Log2Csv, TheAntennaSensorsHaveTheirOwnChannelOnTheBench) {
   ASSERT_EQ(tr.rows.size(), 800u);
   ASSERT_GE(a.rows.size(), 800u);
   double largest = 0.0;
+  const std::int64_t outage_bit = std::int64_t{1} << 28, bias_bit = std::int64_t{1} << 30;  // kinds 14, 15
   for (size_t k = 0; k < a.rows.size(); ++k) {
     const long long seq = a.integer(k, a.col("seq"));
     ASSERT_TRUE(seq >= 0 && seq < 800);
-    EXPECT_EQ(a.integer(k, a.col("tracker_valid")), 1) << "tick " << seq;  // 1 kHz, no latency: each tick's own
-    const double e = tr.num(static_cast<size_t>(seq), tr.col("pointing_error_rad"));
-    const double size = std::hypot(a.num(k, a.col("tracker_u_rad")), a.num(k, a.col("tracker_v_rad")));
-    EXPECT_NEAR(size, e, 1e-12 + 1e-9 * e) << "tick " << seq;
+    const auto row = static_cast<size_t>(seq);
+    // The truth CSV's rows go on with the same tick's antenna message.
+    for (const char* c : {"tracker_valid", "tracker_outage", "tracker_u_rad", "tracker_v_rad", "antenna_gyro_wy_rad_per_s"}) {
+      EXPECT_EQ(tr.rows[row][tr.col(c)], a.rows[k][a.col(c)]) << c << ", tick " << seq;
+    }
+    const std::int64_t injected = tr.integer(row, tr.col("injected_faults"));
+    const bool out_of_lock = seq >= 600 && seq < 700, biased = seq >= 750;
+    EXPECT_EQ((injected & outage_bit) != 0, out_of_lock) << "tick " << seq;
+    EXPECT_EQ((injected & bias_bit) != 0, biased) << "tick " << seq;
+    EXPECT_EQ(a.integer(k, a.col("tracker_outage")), out_of_lock ? 1 : 0) << "tick " << seq;
+    // 1 kHz, no latency: each tick's own reading, none while out of lock
+    EXPECT_EQ(a.integer(k, a.col("tracker_valid")), out_of_lock ? 0 : 1) << "tick " << seq;
+    if (out_of_lock) continue;
+    const double e = tr.num(row, tr.col("pointing_error_rad"));
+    const double u = a.num(k, a.col("tracker_u_rad")) - (biased ? 1e-4 : 0.0);
+    EXPECT_NEAR(std::hypot(u, a.num(k, a.col("tracker_v_rad"))), e, 1e-12 + 1e-9 * e) << "tick " << seq;
     largest = std::max(largest, e);
   }
   EXPECT_GT(largest, 1e-4);  // the slew from 0.5 s turns the antenna: a reading worth checking

@@ -36,7 +36,7 @@ FAULTS = [(1, "watchdog"), (2, "motor limit"), (4, "cmd rejected"), (8, "plant f
 # kind k, axis a sets bit 2 k + a of injected_faults (kinds without an axis: bit 2 k).
 FAULT_KINDS = ["encoder_dropout", "encoder_stuck", "encoder_bias", "encoder_noise", "status_delay", "status_drop",
                "command_delay", "command_drop", "torque_limit", "motor_failure", "star_tracker_outage",
-               "gyro_bias_jump", "bearing_wear", "friction_rise"]
+               "gyro_bias_jump", "bearing_wear", "friction_rise", "tracker_outage", "tracker_bias", "tracker_dropout"]
 AXIS_KINDS = {"encoder_dropout", "encoder_stuck", "encoder_bias", "encoder_noise", "torque_limit", "motor_failure"}
 
 
@@ -81,9 +81,9 @@ def read(path):
         cols[c] = np.array(values)
     if (np.diff(cols["sim_time_s"]) <= 0).any():
         raise Refused(f"{path}:{int(np.argmax(np.diff(cols['sim_time_s']) <= 0)) + 3}: sim_time_s does not increase")
-    for c in ("faults", "injected_faults"):  # bit sets: whole numbers of 31 bits
+    for c, bits in (("faults", 31), ("injected_faults", 2 * len(FAULT_KINDS))):  # bit sets: whole numbers
         if c in cols:
-            bad = np.flatnonzero(~((cols[c] >= 0) & (cols[c] < 2**31) & (cols[c] == np.floor(cols[c]))))
+            bad = np.flatnonzero(~((cols[c] >= 0) & (cols[c] < 2**bits) & (cols[c] == np.floor(cols[c]))))
             if bad.size:
                 raise Refused(f"{path}:{bad[0] + 2}: column {c}: {cols[c][bad[0]]:g} is not a set of fault bits")
     return cols
@@ -105,7 +105,7 @@ def main():
     err = c["pointing_error_rad"]
     faults = c["faults"].astype(np.int64)
     injected = c["injected_faults"].astype(np.int64) if "injected_faults" in c else np.zeros_like(faults)
-    seen = [b for b in range(31) if ((injected >> b) & 1).any()]
+    seen = [b for b in range(2 * len(FAULT_KINDS)) if ((injected >> b) & 1).any()]
 
     panels = 5 if seen else 4
     ratios = [3, 2, 2, 1.2] + ([0.3 * len(seen) + 0.6] if seen else [])

@@ -81,7 +81,9 @@ class BenchTick {
       Mat3 R_WA;
       Vec3 w_A;
       fw_.antennaMotion(R_WA, w_A);
-      antenna_sensors_->sample(k, utime, R_WA, w_A, observer_.lineOfSight(static_cast<double>(k) * period_), antenna_);
+      const ActiveFaults& af = fw_.activeFaults();  // the tracker's scheduled faults (fault_schedule.hpp)
+      antenna_sensors_->sample(k, utime, R_WA, w_A, observer_.lineOfSight(static_cast<double>(k) * period_), antenna_,
+                               af.tracker_outage, af.tracker_bias, af.tracker_dropout);
       m.antenna = &antenna_;
     }
     return m;

@@ -47,7 +47,7 @@ struct TickRecord {
   bool star_outage = false;        ///< the star tracker was in an outage (the estimate coasts)
   bool answered = true;            ///< false: no status delivered this tick (fault schedule), no command sent
   contract::MonitorFlags flags;    ///< the controller's fault monitor for this status (its report)
-  std::int32_t injected_faults = 0;///< the faults scheduled in the plant this tick (truth)
+  std::int64_t injected_faults = 0;  ///< the faults scheduled in the plant this tick (truth)
   Vec3 momentum_linear = Vec3::Zero();   ///< [N s] truth, inertial
   Vec3 momentum_angular = Vec3::Zero();  ///< [N m s] truth, about the inertial origin
   /// [rad] truth: tilt angle gamma of joint 1's, joint 2's journal (0 unless

@@ -35,27 +35,34 @@ void put(std::FILE* f, const T (&x)[N], const char* sep) {
 }
 }  // namespace detail
 
-/// The header line of message type D (TruthFields, StatusFields, ...), with newline.
+/// The header line of message type D (TruthFields, StatusFields, ...), with
+/// newline; without its first `skip` fields when appended to another's row.
 template <class D>
-std::string header() {
+std::string header(int skip = 0) {
   std::string h;
+  int field = 0;
   D::visit([&](Columns cols) {
+    if (field++ < skip) return;
     for (const char* c : cols) (h.empty() ? h : h += ',') += io::csvNameOf(c);
   });
   return h + '\n';
 }
 
-/// One row of m (a firmware struct or the LCM type) as the field list D orders it.
+/// One row of m (a firmware struct or the LCM type) as the field list D
+/// orders it; `append` (a message after another's row): its first `skip`
+/// fields left out and the row continued after a comma.
 template <class D, class M>
-void writeRow(std::FILE* f, const M& m) {
-  const char* sep = "";
+void writeRow(std::FILE* f, const M& m, int skip = 0, bool append = false, bool end = true) {
+  const char* sep = append ? "," : "";
+  int field = 0;
   D::visit(
       [&](Columns, const auto& x) {
+        if (field++ < skip) return;
         detail::put(f, x, sep);
         sep = ",";
       },
       m);
-  std::fputc('\n', f);
+  if (end) std::fputc('\n', f);
 }
 
 }  // namespace gimbalsim::firmware::csv

@@ -45,8 +45,11 @@ enum class FaultKind : std::uint8_t {
   GyroBiasJump,       ///< vector [rad/s] added to the gyro bias (a step), base frame
   BearingWear,        ///< axis or every clearance bearing: clearance grows from the scene's to value [m] over [start, end]
   FrictionRise,       ///< axis or every clearance bearing: mu rises from the scene's to value [-] over [start, end] (a step if end = start)
+  TrackerOutage,      ///< the antenna's boresight tracker loses lock: no sample taken or delivered, tracker_outage set
+  TrackerBias,        ///< bias [rad] (u, v) added to the tracker's reading (a step)
+  TrackerDropout,     ///< the tracker's reading due this tick is lost (tracker_valid 0); the tracker still samples
 };
-inline constexpr int kNumFaultKinds = 14;
+inline constexpr int kNumFaultKinds = 17;
 
 /// The YAML name of a kind ("encoder_dropout", ...).
 const char* faultTypeName(FaultKind k);
@@ -58,9 +61,9 @@ inline bool faultIsRamp(FaultKind k) { return k == FaultKind::BearingWear || k =
 
 /// The bit of a fault in the injected_faults mask of gimbal_status_t and
 /// gimbal_truth_t: 1 << (2 kind + axis) (axis 0: azimuth, 1: elevation;
-/// kinds without an axis use the even bit). 28 bits.
-inline std::int32_t injectedBit(FaultKind k, int axis) noexcept {
-  return std::int32_t{1} << (2 * static_cast<int>(k) + (axis == 1 ? 1 : 0));
+/// kinds without an axis use the even bit). 34 bits: the mask is 64-bit.
+inline std::int64_t injectedBit(FaultKind k, int axis) noexcept {
+  return std::int64_t{1} << (2 * static_cast<int>(k) + (axis == 1 ? 1 : 0));
 }
 
 inline constexpr double kForever = std::numeric_limits<double>::infinity();
@@ -79,7 +82,7 @@ struct FaultSpec {
   double probability = 1.0;   ///< per tick inside [start, end) [-]
   int ticks = 0;              ///< delays [ticks]
   double value = 0.0;         ///< bias or sigma [rad], torque limit [N m], clearance [m], mu [-]
-  Vec3 vector = Vec3::Zero(); ///< gyro bias jump [rad/s]
+  Vec3 vector = Vec3::Zero(); ///< gyro bias jump [rad/s]; tracker bias [rad] (u, v, 0)
   int line = 0;               ///< line in the schedule file (0: built in code)
 };
 
@@ -93,7 +96,7 @@ struct FaultSchedule {
 /// biases add, noise sigmas add in quadrature, limits take the lowest,
 /// delays the longest; ramps take the last entry of their kind).
 struct ActiveFaults {
-  std::int32_t bits = 0;                 ///< injectedBit() of every active entry
+  std::int64_t bits = 0;                 ///< injectedBit() of every active entry
   bool encoder_dropout[2] = {}, encoder_stuck[2] = {};
   double encoder_bias[2] = {};           ///< [rad]
   double encoder_noise[2] = {};          ///< this tick's noise sample [rad]
@@ -107,6 +110,8 @@ struct ActiveFaults {
   Vec3 gyro_bias = Vec3::Zero();         ///< [rad/s] added to the gyro
   double clearance[2] = {-1.0, -1.0};    ///< [m] bearing wear, per joint: the clearance now (< 0: the scene's)
   double mu[2] = {-1.0, -1.0};           ///< [-] friction rise, per joint: mu now (< 0: the scene's)
+  bool tracker_outage = false, tracker_dropout = false;
+  Vec2 tracker_bias = Vec2::Zero();      ///< [rad] added to the tracker's reading (u, v)
 };
 
 /// The schedule tick by tick. Call at(k) once per tick, k = 0, 1, 2, ...
@@ -163,6 +168,9 @@ class FaultClock {
         case FaultKind::MotorFailure: a_.motor_failed[j] = true; break;
         case FaultKind::StarTrackerOutage: a_.star_outage = true; break;
         case FaultKind::GyroBiasJump: a_.gyro_bias += f.vector; break;
+        case FaultKind::TrackerOutage: a_.tracker_outage = true; break;
+        case FaultKind::TrackerBias: a_.tracker_bias += f.vector.head<2>(); break;
+        case FaultKind::TrackerDropout: a_.tracker_dropout = true; break;
         case FaultKind::BearingWear:
         case FaultKind::FrictionRise: break;  // handled above
       }

@@ -13,6 +13,7 @@
 #include "gimbalsim/input/input_error.hpp"
 #include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/firmware_sim/fault_schedule.hpp"
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
 
 namespace gimbalsim::firmware {
 
@@ -29,8 +30,8 @@ FaultSchedule loadFaultScheduleText(const std::string& yaml, const std::string& 
 
 /// The checks that need the scene (bearing wear and friction rise need the
 /// clearance joint, a wear clearance above the scene's and below the bearing
-/// radius, friction rise a friction law): problems naming origin:line, the
-/// entry and the key; empty when fine.
-std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const Scene& sc, const std::string& origin);
+/// radius, friction rise a friction law; the tracker's faults the antenna
+/// sensors): problems naming origin:line, the entry and the key; empty when fine.
+std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const PlantScene& ps, const std::string& origin);
 
 }  // namespace gimbalsim::firmware

@@ -53,7 +53,7 @@ struct Status {
   std::int32_t faults = 0;        ///< Fault bits
   std::int64_t last_command_seq = -1;
   std::int64_t commands_received = 0, commands_rejected = 0, commands_missed = 0;
-  std::int32_t injected_faults = 0; ///< fault_schedule.hpp injectedBit() of every scheduled fault active in this tick
+  std::int64_t injected_faults = 0; ///< fault_schedule.hpp injectedBit() of every scheduled fault active in this tick
 };
 
 /// Simulator-only truth at t_k (gimbal_truth_t without LCM).
@@ -82,7 +82,7 @@ struct Truth {
   double momentum_angular[3] = {}; ///< [N m s] about the inertial origin
   double energy = 0.0;             ///< [J]
   std::int32_t faults = 0;
-  std::int32_t injected_faults = 0; ///< as Status::injected_faults
+  std::int64_t injected_faults = 0; ///< as Status::injected_faults
 };
 
 /// The base attitude sensors of tick k (gimbal_attitude_t without LCM;
