@@ -122,8 +122,7 @@ int run(int argc, char** argv) {
     try {
       log_out.emplace(o.log_csv, o.config.empty() ? std::vector<std::string>{} : std::vector<std::string>{o.config});
     } catch (const io::OutputError& e) {
-      std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", e.what());
-      return program::kRefused;
+      return program::refuse("pointing_controller", std::string("--log-csv: ") + e.what());
     }
     csv = log_out->stream();
     StatusHandler::header(csv);

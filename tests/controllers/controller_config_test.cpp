@@ -167,6 +167,11 @@ TEST(ControllerConfig, PointingKeysLoadAndAreChecked) {
   EXPECT_NE(refused({"pointing.fixed_direction=[1e200, 1e200, 0]"}).find("each component within 1e12"),
             std::string::npos);
   EXPECT_NE(refused({"gimbal.boresight=[0, 1e13, 0]"}).find("gimbal.boresight"), std::string::npos);
+  // an integer key takes digits only, and says its range
+  EXPECT_NE(refused({"monitor.stuck_window=1e3"}).find("expected a whole number (digits only), got '1e3'"),
+            std::string::npos);
+  EXPECT_NE(refused({"monitor.hold_ticks=9223372036854775807"}).find("must be a whole number within [-1e9, 1e9]"),
+            std::string::npos);
   // a 1e-300 s slew's jerk (1/T^3) overflowed to NaN torques
   EXPECT_NE(refused({"profile.slew_time=1e-300"}).find("must be in [1e-06, 1e+09]"), std::string::npos);
   EXPECT_NE(refused({"estimator.k_p=-1"}).find("must be in [0, 1000]"), std::string::npos);

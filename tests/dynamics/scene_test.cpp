@@ -100,6 +100,10 @@ TEST(Scene, NonPhysicalValuesAreRefused) {
       {{"base.mass=.nan"}, "key 'base.mass': must be finite, got '.nan'"},
       {{"torque.tau1=.inf"}, "key 'torque.tau1': must be finite"},
       {{"torque.tau1=2e6"}, "key 'torque.tau1': must be in [-1e+06, 1e+06]"},
+      // YAML drops the blank silently, where every program's flags refuse ' 0.1'
+      {{"sim.duration= 0.1"}, "key 'sim.duration': a blank around the value: write key=value"},
+      {{"initial.dtheta1=1e300"}, "key 'initial.dtheta1': must be in [-1000, 1000]"},
+      {{"initial.theta2=-1e20"}, "key 'initial.theta2': must be in [-1000, 1000]"},
       {{"torque.limit=[1e300, 1]"}, "key 'torque.limit': must be in (0, 1e+06]"},
       // an overflowing direction normalised to a zero vector
       {{"geometry.boresight=[1e200, 1e200, 0]"}, "key 'geometry.boresight': boresight must be non-zero"},

@@ -4,6 +4,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
 #include <map>
 #include <set>
 
@@ -164,6 +165,13 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
       continue;
     }
     const std::string spelled = o.substr(0, eq);
+    const std::string text = o.substr(eq + 1);
+    if (!text.empty() && (std::isspace(static_cast<unsigned char>(text.front())) ||
+                          std::isspace(static_cast<unsigned char>(text.back())))) {
+      // YAML drops the blank of "key= 0.1" silently, where every program's flags refuse ' 0.1'
+      problems.push_back(where.problem(spelled, "key '" + spelled + "': a blank around the value: write key=value"));
+      continue;
+    }
     const auto alias = alias_of.find(spelled);
     const std::string key = alias == alias_of.end() ? spelled : alias->second;
     if (!known.count(key)) {
@@ -171,7 +179,7 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
       continue;
     }
     try {
-      Value v{loadBounded(o.substr(eq + 1)), where, alias == alias_of.end() ? "" : spelled};
+      Value v{loadBounded(text), where, alias == alias_of.end() ? "" : spelled};
       if (auto a = impl_->alternative.find(key); a != impl_->alternative.end()) values.erase(a->second);
       values[key] = std::move(v);  // a later --set of either alternative wins
     } catch (const PrescanRefusal& r) {

@@ -21,8 +21,14 @@ double asNumber(const YAML::Node& n) {
 }
 
 int asInt(const YAML::Node& n) {
+  // Digits only: "1e3" and "5.0" are a float's spelling, which no integer key is written in.
+  const std::string& t = n.IsScalar() ? n.Scalar() : std::string();
+  const std::size_t sign = !t.empty() && (t[0] == '+' || t[0] == '-') ? 1 : 0;
+  if (sign == t.size() || t.find_first_not_of("0123456789", sign) != std::string::npos) {
+    throw ConvertError{"expected a whole number (digits only), got '" + t + "'"};
+  }
   const double x = asNumber(n);
-  if (x != std::floor(x) || std::fabs(x) > 1e9) throw ConvertError{"expected a whole number"};
+  if (std::fabs(x) > 1e9) throw ConvertError{"must be a whole number within [-1e9, 1e9], got '" + t + "'"};
   return static_cast<int>(x);
 }
 

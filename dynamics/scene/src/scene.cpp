@@ -27,6 +27,9 @@ constexpr auto initial = [](auto& s) -> auto& { return s.run.initial; };
 // [N m] a joint torque or its limit: within what any gimbal motor gives,
 // far from overflow in the mass matrix's solve (inertias reach 1e12).
 const Check kTorque = interval('[', -1e6, 1e6, ']');
+// [rad], [rad/s] a joint's start: 1e300 rad/s overflowed at t = 0 with no key named.
+const Check kJointAngle = interval('[', -1e3, 1e3, ']');
+const Check kJointRate = interval('[', -1e3, 1e3, ']');
 
 std::vector<SceneKey> keys() {
   std::vector<SceneKey> out = {
@@ -75,10 +78,10 @@ std::vector<SceneKey> keys() {
                 [](auto& s) -> auto& { return s.run.torque(1); }, kTorque),
       K::vector<2>("torque.limit", "N m", "motor torque limit per axis", field(run, &RunSpec::torque_limit),
                    interval('(', 0.0, 1e6, ']')),
-      K::number("initial.theta1", "rad", "initial joint 1 angle", field(initial, &InitialParams::theta1)),
-      K::number("initial.theta2", "rad", "initial joint 2 angle", field(initial, &InitialParams::theta2)),
-      K::number("initial.dtheta1", "rad/s", "initial joint 1 rate", field(initial, &InitialParams::dtheta1)),
-      K::number("initial.dtheta2", "rad/s", "initial joint 2 rate", field(initial, &InitialParams::dtheta2)),
+      K::number("initial.theta1", "rad", "initial joint 1 angle", field(initial, &InitialParams::theta1), kJointAngle),
+      K::number("initial.theta2", "rad", "initial joint 2 angle", field(initial, &InitialParams::theta2), kJointAngle),
+      K::number("initial.dtheta1", "rad/s", "initial joint 1 rate", field(initial, &InitialParams::dtheta1), kJointRate),
+      K::number("initial.dtheta2", "rad/s", "initial joint 2 rate", field(initial, &InitialParams::dtheta2), kJointRate),
       K::number("sim.duration", "s", "simulated time", field(run, &RunSpec::duration), greater(0)),
       K::number("sim.step", "s", "RK4 step h", field(integ, &IntegratorParams::step), greater(0)),
       K::number("sim.output_interval", "s", "CSV row spacing, a multiple of sim.step",
