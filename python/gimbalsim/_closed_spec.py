@@ -189,7 +189,7 @@ class ClosedLoopSpec:
                   for k in INDEX_KEYS[name]}
             for k in ("level", "confidence"):
                 if k in opts:
-                    kw[k] = spec.number(f"{where}.{k}", opts[k], 1e-9, 1 - 1e-9)
+                    kw[k] = spec.number(f"{where}.{k}", opts[k], 0.5, 1 - 1e-9)  # indices._check_question
             if "requirement" in opts:
                 kw["requirement"] = spec.number(f"{where}.requirement", opts["requirement"], 0.0)
             out.append(IndexSpec(name, **kw))
@@ -204,29 +204,3 @@ class ClosedLoopSpec:
     def plain(self):
         return {"controller": str(self.controller_path or "default"), "values": self.values,
                 "phases": [[p, w] for p, w in self.phases], "indices": {ix.name: ix.plain() for ix in self.indices}}
-
-
-# Controller keys read only under settings of others (controllers/src/pid.cpp,
-# inertial_reference.cpp): key (or prefix ending in ".") -> [(that key, the values that read it)], all must hold.
-_INERTIAL = ("pointing.mode", ("inertial",))
-_CONTROLLER_READ_UNDER = {
-    "control.rate_filter_hz": [("control.rate_source", ("difference",))],
-    "pointing.target": [_INERTIAL],
-    "pointing.fixed_direction": [_INERTIAL, ("pointing.target", ("fixed",))],
-    "pointing.base_accel_filter_hz": [_INERTIAL, ("pointing.accel_feedforward", ("inertial",))],
-    "gimbal.azimuth_inertia_cos2": [("pointing.accel_feedforward", ("profile", "inertial"))],
-    "azimuth.aw_gain": [("control.anti_windup", ("back_calculation",))],
-    "elevation.aw_gain": [("control.anti_windup", ("back_calculation",))],
-    "plant.": [("pointing.accel_feedforward", ("model",))],
-}
-
-
-def idle_in_controller(key, values, dispersed):
-    """Why a controller key cannot act with this configuration (None if it
-    can): its value is read only under a setting the configuration does not
-    have (and does not disperse)."""
-    rules = _CONTROLLER_READ_UNDER.get(key) or _CONTROLLER_READ_UNDER.get(key[:key.find(".") + 1], [])
-    for decider, reading in rules:
-        if CONTROLLER_PREFIX + decider not in dispersed and str(values.get(decider)) not in reading:
-            return f"the controller reads it only with {decider} {' or '.join(reading)}; it has {values.get(decider)}"
-    return None

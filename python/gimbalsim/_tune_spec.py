@@ -5,7 +5,8 @@ import json
 
 import gimbalsim
 from . import _gimbalsim
-from ._closed_spec import CONTROLLER_PREFIX, controller_path_of, idle_in_controller
+from ._closed_spec import CONTROLLER_PREFIX, controller_path_of
+from ._idle_keys import idle_reason, takes_of
 from ._spec import Spec
 from .dispersion import Design, check_within, parse_parameter
 
@@ -74,11 +75,7 @@ class TuneSpec:
 
         self.gains = []
         gain_nodes = spec.mapping("gains", root["gains"])
-        values = self.controller.values()
         for key, node in gain_nodes.items():
-            why = idle_in_controller(key, values, {CONTROLLER_PREFIX + k for k in gain_nodes})
-            if why is not None:  # every trial would run the same loop: a study of nothing
-                spec.refuse(f"gains.{key}", f"not read by the tuned loop ({why})", node)
             p = parse_parameter(spec, "gains", key, node, ctrl_types)
             if p.kind not in GAIN_DISTRIBUTIONS:
                 spec.refuse(f"gains.{key}", f"{p.kind}: gains take {', '.join(GAIN_DISTRIBUTIONS)}", node)
@@ -97,6 +94,7 @@ class TuneSpec:
         plants = spec.mapping("plants", root["plants"]) if "plants" in root else {}
         params = [parse_parameter(spec, "plants", k, n, scene_types) for k, n in plants.items()]
         check_within(spec, "plants", params, [], self.base.values())
+        self._refuse_keys_that_do_not_act(spec, params)
         for p in params:
             for v in p.extremes():
                 try:
@@ -120,6 +118,24 @@ class TuneSpec:
                                        "percentile": self.percentile, "max_saturation": self.max_saturation,
                                        "gains": {p.key: [p.kind, p.args] for p in self.gains},
                                        "plants": [[p.key, p.kind, p.args] for p in params]}, sort_keys=True)
+
+    def _refuse_keys_that_do_not_act(self, spec, plants):
+        """A gain or plant key the tuned loop never reads: every trial would
+        run the same loop, recorded as if it differed (as a sweep refuses it)."""
+        aliases = gimbalsim.key_aliases()
+        entries = [(f"gains.{p.key}", CONTROLLER_PREFIX + p.key, p.node) for p in self.gains] + \
+                  [(f"plants.{p.key}", aliases.get(p.key, p.key), p.node) for p in plants]
+        takes = {CONTROLLER_PREFIX + p.key: [str(v) for v in p.args] if p.kind == "choice" else None
+                 for p in self.gains}
+        takes.update(takes_of(plants, [], aliases))
+        values = {k: str(v) for k, v in self.base.values().items()}
+        values["sim.duration"] = repr(self.duration)  # the study's run length, not the scene's
+        values.update({CONTROLLER_PREFIX + k: str(v) for k, v in self.controller.values().items()})
+        dispersed = {k for _, k, _ in entries}
+        for where, key, node in entries:
+            why = idle_reason(key, values, dispersed, takes, closed=True)
+            if why is not None:
+                spec.refuse(where, f"not read by the tuned loop ({why}): every trial would run the same loop", node)
 
     def input_files(self):
         """The files the study reads (spec, scene, controller configuration):

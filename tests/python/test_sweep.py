@@ -267,6 +267,13 @@ BAD = [
      "parameters.contact.restitution", 8, "joint 2's contact.damping is none"),
     ("parameters:\n  friction.v_a: {uniform: [1.0e-5, 1.0e-4]}\n", "parameters.friction.v_a", 7,
      "joint 2's friction.law is coulomb"),
+    # a vector on the grid: one text cell for it, two number cells for its applied_ value
+    ("grid:\n  torque.limit: [[1, 1], [2, 2]]\n", "grid.torque.limit", 7, "a vec2 key is dispersed under parameters"),
+    # the law dispersed too, but over values none of which reads the key
+    ("parameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n  friction.law: {choice: [none]}\n",
+     "parameters.friction.mu", 7, "joint 2's friction.law is none, for every value of friction.law the study gives"),
+    ("parameters:\n  friction.mu: {uniform: [0.1, 0.2]}\ngrid:\n  friction.law: [none]\n",
+     "parameters.friction.mu", 7, "for every value of friction.law the study gives"),
     # one key in two spellings inside set: the last one acted, silently
     ("set: {structure.joint1: planar, friction1.mu: 0.1, joint1.friction.mu: 0.3}\n"
      "parameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n",

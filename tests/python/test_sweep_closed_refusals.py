@@ -31,21 +31,44 @@ REFUSALS = [
     (("controller_set: {", "  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}"),
      ("controller_set: {control.anti_windup: clamping, ", "  controller.azimuth.aw_gain: {uniform: [1, 30]}"),
      "parameters.controller.azimuth.aw_gain", "reads it only with control.anti_windup back_calculation"),
+    # ... also when the setting is dispersed over values none of which reads it
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}",
+     "  controller.azimuth.aw_gain: {uniform: [1, 30]}\n  controller.control.anti_windup: {choice: [clamping, none]}",
+     "parameters.controller.azimuth.aw_gain", "for every value of controller.control.anti_windup the study gives"),
     # under the model feed-forward (the default) the fixed-base inertia law and the base-rate filter are off
     ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}",
      "  controller.gimbal.azimuth_inertia_cos2: {uniform: [1.0, 9.0]}",
      "parameters.controller.gimbal.azimuth_inertia_cos2", "with pointing.accel_feedforward profile or inertial"),
     ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}",
      "  controller.pointing.base_accel_filter_hz: {uniform: [10.0, 90.0]}",
-     "parameters.controller.pointing.base_accel_filter_hz", "with pointing.accel_feedforward inertial; it has model"),
+     "parameters.controller.pointing.base_accel_filter_hz", "with pointing.accel_feedforward inertial; it has pointing.accel_feedforward model"),
     # ... and under another feed-forward the plant model is off
     (("controller_set: {", "  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}"),
      ("controller_set: {pointing.accel_feedforward: profile, ", "  controller.plant.base_mass: {uniform: [900, 1100]}"),
-     "parameters.controller.plant.base_mass", "reads it only with pointing.accel_feedforward model; it has profile"),
+     "parameters.controller.plant.base_mass", "reads it only with pointing.accel_feedforward model; it has pointing.accel_feedforward profile"),
     # a star tracker that is out for the whole run takes no sample: its noise never acts
     (("set: {sim.duration: 0.5}", "  sensors.star_tracker_noise:"),
      ("set: {sim.duration: 0.5, sensors.star_tracker_outage: [0.0, 0.5]}", "  sensors.star_tracker_noise:"),
      "parameters.sensors.star_tracker_noise", "covers the whole run"),
+    # ... also when the outage is dispersed over values that all cover the run, or no sample is delivered in it
+    (("  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}",),
+     ("  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}\n"
+      "  sensors.star_tracker_outage: {choice: [[0.0, 1.0e9], [0.0, 5.0]]}",),
+     "parameters.sensors.star_tracker_noise", "for every value of sensors.star_tracker_outage the study gives"),
+    (("set: {sim.duration: 0.5}", "  sensors.star_tracker_noise:"),
+     ("set: {sim.duration: 0.5, sensors.star_tracker_latency: 0.5}", "  sensors.star_tracker_noise:"),
+     "parameters.sensors.star_tracker_noise", "no shorter than the run (0.5 s): no star tracker sample is delivered"),
+    # the estimator's gains act only on the star tracker's samples
+    (("set: {sim.duration: 0.5}", "  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}"),
+     ("set: {sim.duration: 0.5, sensors.star_tracker_outage: [0.0, 0.5]}",
+      "  controller.estimator.k_p: {uniform: [0.1, 1.0]}"),
+     "parameters.controller.estimator.k_p", "covers the whole run"),
+    # the joint mode with the profile's feed-forward reads no gimbal geometry
+    (("controller_set: {", "  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}"),
+     ("controller_set: {pointing.mode: joint, pointing.accel_feedforward: profile, ",
+      "  controller.gimbal.joint1_axis: {choice: [[0, 0, 1], [0, 0.2, 1]]}"),
+     "parameters.controller.gimbal.joint1_axis", "reads it only with pointing.mode inertial or with "
+     "pointing.accel_feedforward model"),
     # the antenna's sensors are recorded but no controller uses them yet: no figure could move
     ("  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}", "  sensors.tracker_noise: {uniform: [0.0, 2.0e-5]}",
      "parameters.sensors.tracker_noise", "does not use the antenna sensors yet"),
@@ -136,3 +159,13 @@ def test_an_empty_profile_phase_is_refused_when_named_and_left_out_otherwise(tmp
     assert e.value.line == text.split("\n").index("phases: [slew, hold, track, {late: [0.4, 0.5]}]") + 1
     (tmp_path / "default.yaml").write_text(text.replace("phases: [slew, hold, track, {late: [0.4, 0.5]}]\n", ""))
     assert [p for p, _ in SweepSpec(tmp_path / "default.yaml").closed.phases] == ["slew", "track"]
+
+
+def test_a_key_under_a_dispersed_setting_is_accepted_when_one_value_reads_it(tmp_path):
+    from gimbalsim.sweep import SweepSpec
+    text = SPEC.replace("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}",
+                        "  controller.azimuth.aw_gain: {uniform: [1, 30]}\n"
+                        "  controller.control.anti_windup: {choice: [clamping, back_calculation]}")
+    (tmp_path / "ok.yaml").write_text(text)
+    assert [p.key for p in SweepSpec(tmp_path / "ok.yaml").parameters][-2:] == [
+        "controller.azimuth.aw_gain", "controller.control.anti_windup"]

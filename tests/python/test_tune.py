@@ -93,6 +93,17 @@ def test_tuning_spec_refusals_name_the_key(change, key, tmp_path):
     (("azimuth.kp: {loguniform: [5000, 80000]}", "gimbal.azimuth_inertia_cos2: {uniform: [1, 9]}"),
      "gains.gimbal.azimuth_inertia_cos2", "not read by the tuned loop (the controller reads it only with "
      "pointing.accel_feedforward profile or inertial"),
+    # plants the loop never reads, as a sweep refuses them
+    (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "torque.tau1: {uniform: [0, 1]}"),
+     "plants.torque.tau1", "not read by the tuned loop (the controller commands the torque)"),
+    (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "sensors.tracker_noise: {uniform: [0, 1.0e-5]}"),
+     "plants.sensors.tracker_noise", "does not use the antenna sensors yet"),
+    (("max_saturation: 0.0", "max_saturation: 0.0\nset: {sensors.star_tracker_outage: [0, 1.0e9]}"),
+     "plants.sensors.star_tracker_noise", "covers the whole run"),
+    # a gain whose switch is tuned too, over values none of which reads it
+    (("elevation.kd: {uniform: [300, 3000]}", "azimuth.aw_gain: {uniform: [1, 30]}\n  "
+      "control.anti_windup: {choice: [none, clamping]}"), "gains.azimuth.aw_gain",
+     "for every value of controller.control.anti_windup the study gives"),
     # the plant gives no contact.clearance (journal_radius instead): a disk within it has no radius
     (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}\n  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}",
       "initial.ecc: {disk: {within: contact.clearance}}\nset: {contact.journal_radius: 9.0e-3}"),

@@ -1,0 +1,204 @@
+"""Keys a run never reads: a dispersed value of one would be recorded as
+applied while it acts on nothing, so sweeps and tuning studies refuse it at
+its line. A key is judged under every value the study gives the settings
+that decide it (a choice, a grid); a decider drawn from a range is not
+judged, and neither is the key."""
+import itertools
+import math
+import re
+
+from ._closed_spec import CONTROLLER_PREFIX
+# The antenna's sensors (MODEL.md 11.6): recorded in a closed loop, but no figure a study reads depends on them.
+ANTENNA_SENSOR_KEYS = ("sensors.antenna", "sensors.tracker_")
+
+# What a closed loop never reads, and what an open-loop run never reads.
+CLOSED_LOOP_IDLE = {"sim.duration": "the closed loop runs for the spec's sim.duration (set:), one length for all",
+                    "sim.output_interval": "the closed loop records every control period",
+                    "torque.tau1": "the controller commands the torque",
+                    "torque.tau2": "the controller commands the torque"}
+OPEN_LOOP_IDLE = {"torque.limit": "the firmware's motor limit: an open-loop run applies the scene's torques as "
+                  "they are"}
+
+# Controller keys read only under settings of others (controllers/src/pid.cpp, inertial_reference.cpp,
+# model_feedforward.cpp): key (or prefix ending in ".") -> conditions that must all hold; a condition is
+# (that key, the values that read it), or a list of such, any one of which will do.
+_INERTIAL = ("pointing.mode", ("inertial",))
+_MODEL = ("pointing.accel_feedforward", ("model",))
+CONTROLLER_READ_UNDER = {
+    "control.rate_filter_hz": [("control.rate_source", ("difference",))],
+    "pointing.target": [_INERTIAL],
+    "pointing.fixed_direction": [_INERTIAL, ("pointing.target", ("fixed",))],
+    "pointing.base_accel_filter_hz": [_INERTIAL, ("pointing.accel_feedforward", ("inertial",))],
+    "gimbal.azimuth_inertia_cos2": [("pointing.accel_feedforward", ("profile", "inertial"))],
+    # the gimbal's geometry: the inertial mode's IK, or the model feed-forward's plant
+    "gimbal.joint1_axis": [[_INERTIAL, _MODEL]],
+    "gimbal.joint2_axis": [[_INERTIAL, _MODEL]],
+    "gimbal.boresight": [[_INERTIAL, _MODEL]],
+    "azimuth.aw_gain": [("control.anti_windup", ("back_calculation",))],
+    "elevation.aw_gain": [("control.anti_windup", ("back_calculation",))],
+    "plant.": [_MODEL],
+}
+
+
+def idle_in_controller(key, values, dispersed):
+    """Why a controller key cannot act with these settings (None if it can):
+    one of its conditions holds for no value the configuration has (a decider
+    in `dispersed` is not judged)."""
+    rules = CONTROLLER_READ_UNDER.get(key) or CONTROLLER_READ_UNDER.get(key[:key.find(".") + 1], [])
+    for condition in rules:
+        alternatives = condition if isinstance(condition, list) else [condition]
+        if any(d in dispersed or str(values.get(d)) in reading for d, reading in alternatives):
+            continue
+        return "the controller reads it only with " + " or with ".join(
+            f"{d} {' or '.join(reading)}" for d, reading in alternatives) + "; it has " + \
+            ", ".join(f"{d} {values.get(d)}" for d, _ in alternatives)
+    return None
+
+
+# Keys that act only through the star tracker's samples: idle when none is delivered in the run.
+_STAR_SAMPLE_KEYS = ("sensors.star_tracker_noise", "sensors.star_tracker_rate",
+                     CONTROLLER_PREFIX + "estimator.k_p", CONTROLLER_PREFIX + "estimator.k_i")
+_STAR_DECIDERS = ("sensors.star_tracker_outage", "sensors.star_tracker_latency", "sim.duration")
+
+
+def _idle_in_sensors(key, values, dispersed):
+    """Why a key that acts through the star tracker's samples cannot act: an
+    outage over the whole run [0, sim.duration], or a latency no shorter than
+    the run (a sample is delivered latency after it is taken)."""
+    reads_latency = key == "sensors.star_tracker_latency"
+    if not (key in _STAR_SAMPLE_KEYS or reads_latency) or set(_STAR_DECIDERS) & dispersed:
+        return None
+    start, end = (float(x) for x in str(values["sensors.star_tracker_outage"]).strip("[]").split(","))
+    duration, latency = float(values["sim.duration"]), float(values["sensors.star_tracker_latency"])
+    if start <= 0.0 and end >= duration:
+        return f"sensors.star_tracker_outage [{start:g}, {end:g}] s covers the whole run: no star tracker sample " \
+               "is taken"
+    if latency >= duration and not reads_latency:
+        return f"sensors.star_tracker_latency {latency:g} s is no shorter than the run ({duration:g} s): no star " \
+               "tracker sample is delivered"
+    return None
+
+
+# The settings that switch other keys off.
+_DECIDERS = re.compile(r"structure\..*|sim\.substep_policy|(joint[12]\.)?(friction\.law|contact\.damping)|"
+                       r"sensors\.star_tracker_(outage|latency)")
+_CONTROLLER_DECIDERS = {CONTROLLER_PREFIX + d for rules in CONTROLLER_READ_UNDER.values() for c in rules
+                        for d, _ in (c if isinstance(c, list) else [c])}
+_MAX_COMBINATIONS = 256  # of the deciders' values: beyond it nothing is judged
+
+
+def _for_every_value(judge, key, values, dispersed, takes):
+    """judge(key, values, dispersed) under each combination of the values the
+    dispersed deciding settings take (a choice, a grid): why the key acts
+    under none of them, or None as soon as one reads it. A decider drawn from
+    no list cannot be judged, and neither can the key (judge exempts it)."""
+    deciders = sorted(k for k in dispersed if _DECIDERS.fullmatch(k) or k in _CONTROLLER_DECIDERS)
+    lists = [takes.get(k) for k in deciders]
+    if not deciders or any(v is None for v in lists) or math.prod(map(len, lists)) > _MAX_COMBINATIONS:
+        return judge(key, values, dispersed)
+    rest, why = dispersed - set(deciders), None
+    for combination in itertools.product(*lists):
+        why = judge(key, {**values, **dict(zip(deciders, combination))}, rest)
+        if why is None:
+            return None
+    return f"{why}, for every value of {', '.join(deciders)} the study gives"
+
+
+def _idle_in_controller_keys(key, values, dispersed):
+    """idle_in_controller on the study's controller.* names."""
+    if not key.startswith(CONTROLLER_PREFIX):
+        return None
+    strip = lambda k: k[len(CONTROLLER_PREFIX):]  # noqa: E731
+    return idle_in_controller(strip(key), {strip(k): v for k, v in values.items() if k.startswith(CONTROLLER_PREFIX)},
+                              {strip(k) for k in dispersed if k.startswith(CONTROLLER_PREFIX)})
+
+
+def takes_of(parameters, grid, aliases):
+    """The values each dispersed key takes where they are a list (a choice, a
+    grid; None for a draw from a range), by canonical name."""
+    takes = {aliases.get(p.key, p.key): [str(v) for v in p.args] if p.kind == "choice" else None for p in parameters}
+    takes.update({aliases.get(k, k): [str(v) for v in values] for k, values in grid})
+    return takes
+
+
+def idle_reason(key, values, dispersed, takes, closed):
+    """Why the dispersed `key` (canonical; controller keys as controller.*)
+    cannot act in this study, or None. values: the scene's and (closed loop)
+    the controller's (as controller.*), as text."""
+    why = (CLOSED_LOOP_IDLE if closed else OPEN_LOOP_IDLE).get(key) or \
+        _for_every_value(_idle_in_scene, key, values, dispersed, takes)
+    if why is None and closed:
+        why = _for_every_value(_idle_in_controller_keys, key, values, dispersed, takes) or \
+            _for_every_value(_idle_in_sensors, key, values, dispersed, takes)
+    if why is None and key.startswith(ANTENNA_SENSOR_KEYS):
+        why = "the controller does not use the antenna sensors yet (docs/MODEL.md 11.6)"
+    if why is None and not closed and key.startswith("sensors."):
+        why = "an open-loop run has no sensors (they act in a closed-loop sweep: name its controller)"
+    return why
+
+
+def _idle_in_scene(key, scene, dispersed):
+    """Why `key` cannot act in this scene (None if it can): a bearing key on
+    an ideal joint, a tilt key on a planar bearing, an adaptive-step key under
+    the fixed policy, a base key on a fixed base. Nothing is judged when the
+    deciding key (structure.*, sim.substep_policy) is itself dispersed."""
+    joints = {j: scene.get(f"structure.joint{j}") for j in (1, 2)}
+    rules = []
+    for j in (1, 2):  # a joint's own bearing keys
+        rules.append(((f"joint{j}.contact.", f"joint{j}.friction.", f"initial.ecc{j}"), f"structure.joint{j}",
+                      joints[j] != "ideal", f"joint {j} is ideal: it has no bearing"))
+        rules.append(((f"joint{j}.contact.bearing_length",), f"structure.joint{j}", joints[j] == "spatial",
+                      f"joint {j}'s bearing is planar: it cannot tilt"))
+    any_clearance = any(k != "ideal" for k in joints.values())
+    rules += [(("contact.bearing_length",), "structure.joint", any(k == "spatial" for k in joints.values()),
+               "no joint's bearing is spatial: none can tilt"),
+              (("contact.", "friction.", "initial.ecc"), "structure.joint", any_clearance,
+               "both joints are ideal: no bearing"),
+              (("sim.substep_tol", "sim.substep_min", "sim.substep_max"), "sim.substep_policy",
+               scene.get("sim.substep_policy") == "adaptive", "sim.substep_policy is fixed: only the adaptive "
+               "policy reads it"),
+              (("base.",), "structure.base", scene.get("structure.base") != "fixed",
+               "structure.base is fixed: the base never moves")]
+    for prefixes, decider, acts, why in rules:
+        if key.startswith(prefixes) and not acts and not any(d.startswith(decider) for d in dispersed):
+            return why
+    return _bearing_key_idle(key, joints, scene, dispersed)
+
+
+# Bearing keys read only under some laws: the law's key and which of its values read the key.
+_READ_UNDER = {"friction.mu": ("friction.law", lambda law: law != "none"),
+               "friction.v_a": ("friction.law", lambda law: law == "ambrosio"),
+               "friction.v_b": ("friction.law", lambda law: law == "ambrosio"),
+               "contact.restitution": ("contact.damping", lambda law: law != "none"),
+               "contact.v0_min": ("contact.damping", lambda law: law != "none")}
+
+
+def _bearing_key_idle(key, joints, scene, dispersed):
+    """Why a bearing key (contact.*, friction.*, or a joint's own jointJ.*)
+    is read on no joint (None if it is read on one): on each joint with a
+    bearing, a shared key is overridden by the joint's own value (in the
+    scene or dispersed; a clearance is stored as the journal radius), or the
+    joint's law does not read it (friction.mu under friction.law none)."""
+    m = re.fullmatch(r"(?:joint([12])\.)?((?:contact|friction)\..+)", key)
+    if m is None or any(d.startswith("structure.joint") for d in dispersed):
+        return None
+    own, shared = (int(m.group(1)) if m.group(1) else None), m.group(2)
+    bearings = [j for j in ((own,) if own else (1, 2)) if joints[j] != "ideal"]
+    if not bearings:
+        return None  # the structure's rules say so
+    names = {shared, "contact.journal_radius"} if shared in ("contact.clearance", "contact.journal_radius") else {shared}
+    why = []
+    for j in bearings:
+        overriding = sorted(f"joint{j}.{n}" for n in names if f"joint{j}.{n}" in scene or f"joint{j}.{n}" in dispersed)
+        if own is None and overriding:
+            sets = f" (joint{j}.contact.clearance sets it)" if overriding[0].endswith("journal_radius") else ""
+            why.append(f"overridden by {overriding[0]}{sets}")
+            continue
+        law_key, reads = _READ_UNDER.get(shared, (None, None))
+        if law_key is None or any(d in (law_key, f"joint{j}.{law_key}") for d in dispersed):
+            return None
+        law = scene.get(f"joint{j}.{law_key}", scene.get(law_key))
+        if reads(law):
+            return None
+        why.append(f"joint {j}'s {law_key} is {law}")
+    return "on every joint with a bearing: " + "; ".join(why)
