@@ -321,15 +321,27 @@ class ClosedLoopRun:
         return f"<gimbalsim.ClosedLoopRun ok={self.ok} ticks={self.summary['ticks']}>"
 
 
+def _real_argument(value, name, hi):
+    """A number argument in (0, hi]: a bool, a string or NaN is no number of
+    it ("3" ran, True ran for 1 s, a NaN band gave a settling time of 0)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name}: expected a number, got {type(value).__name__} {value!r}")
+    if not 0.0 < float(value) <= hi:
+        raise ValueError(f"{name} must be in (0, {hi:g}], got {float(value)!r}")
+    return float(value)
+
+
 def closed_loop(scene, controller_config, duration, settle_tol=1.0e-3, faults=None):
     """The project's controller closed on the scene's plant in one process
     (firmware model + controller, as the bench in lockstep): the same numbers
     as the C++ in-process closed loop. controller_config is a Controller or a
     configuration file path; faults a fault schedule file (as firmware_sim
     --faults; its flags in columns["injected_faults"])."""
+    duration = _real_argument(duration, "duration [s]", 1e9)
+    settle_tol = _real_argument(settle_tol, "settle_tol [rad]", 10.0)  # as controller_sweep --settle-tol
     ctrl = controller_config
     if not isinstance(ctrl, _gimbalsim.Controller):
         ctrl = Controller(controller_config)
     faults = "" if faults is None else _check_path(faults, "fault schedule path")
-    summary, columns = _gimbalsim._closed_loop(scene, ctrl, float(duration), float(settle_tol), faults)
+    summary, columns = _gimbalsim._closed_loop(scene, ctrl, duration, settle_tol, faults)
     return ClosedLoopRun(summary, columns)

@@ -57,9 +57,13 @@ def _phase_slice(t_s, t_start, t_end):
         raise ValueError("t_s: need a 1-D time base of at least 2 samples")
     step = np.diff(t_s)
     dt = float(np.median(step))
-    if not dt > 0 or np.max(np.abs(step - dt)) > 1e-9 * max(1.0, abs(t_s[-1])):
+    if not np.all(np.isfinite(t_s)):  # an infinite last time made the spacing's tolerance infinite
+        raise ValueError("t_s: every time must be finite")
+    # Uniform to a part in 1e4 of the step, plus what doubles can hold at these times (at 1e10 s, 2e-6 s).
+    tol = 1e-4 * abs(dt) + 8.0 * float(np.spacing(np.max(np.abs(t_s))))
+    if not dt > 0 or np.max(np.abs(step - dt)) > tol:
         raise ValueError("t_s: the samples must be uniformly spaced in time")
-    if not (math.isfinite(t_start) and t_end >= t_start):
+    if not (_is_number(t_start) and _is_number(t_end) and math.isfinite(t_start) and t_end >= t_start):
         raise ValueError(f"phase [{t_start}, {t_end}) s: need a finite start and an end not before it")
     rows = np.flatnonzero((t_s >= t_start - 1e-12) & (t_s < t_end - 1e-12))
     return rows, dt
@@ -138,7 +142,7 @@ def _window_means(seg, m):
 
 def rpe(t_s, e, t_start, t_end, window_s, chunk_rows=1 << 22):
     """Relative performance error over windows of window_s inside the phase [rad]."""
-    if not (isinstance(chunk_rows, numbers.Integral) and chunk_rows > 0):  # 0 or less looped forever
+    if not (_is_count(chunk_rows, 2**62) and chunk_rows > 0):  # 0 or less looped forever
         raise ValueError(f"chunk_rows must be a whole number above 0, got {chunk_rows!r}")
     rows, dt, seg, why = _phase_signal(t_s, e, t_start, t_end)
     if why:
@@ -182,9 +186,10 @@ def coverage(n, level, r, s):
     """Exact probability that [X_(r), X_(s)] (1-based order statistics of n
     independent units, X_(0) = -inf, X_(n+1) = +inf) contains the level-quantile:
     P(r <= Binomial(n, level) <= s - 1)."""
-    if not (isinstance(n, numbers.Integral) and n >= 0 and 0.0 < level < 1.0):
-        raise ValueError(f"coverage: need a whole n >= 0 and 0 < level < 1, got n={n!r}, level={level!r}")
-    if not (0 <= r <= s <= n + 1):  # r > s gave a negative probability
+    if not (_is_count(n) and _is_number(level) and 0.0 < level < 1.0):  # 10**30 failed inside numpy
+        raise ValueError(f"coverage: need a whole n in [0, 1e12] and 0 < level < 1, got n={n!r}, level={level!r}")
+    if not (_is_count(r, n + 1) and _is_count(s, n + 1) and r <= s):
+        # r > s gave a negative probability, r = 1.5 a number for no order statistic
         raise ValueError(f"coverage: need ranks 0 <= r <= s <= n + 1, got r={r}, s={s}, n={n}")
     return float(stats.binom.cdf(s - 1, n, level) - stats.binom.cdf(r - 1, n, level))
 
@@ -210,11 +215,28 @@ class QuantileBound:
         return min_units(self.level, self.confidence)
 
 
+def _is_number(x):
+    return isinstance(x, numbers.Real) and not isinstance(x, (bool, np.bool_))
+
+
+def _is_count(x, most=10**12):
+    """A whole number in [0, most] (a bool is no count)."""
+    return isinstance(x, numbers.Integral) and not isinstance(x, (bool, np.bool_)) and 0 <= x <= most
+
+
+def _check_question(level, confidence):
+    """A budget's question: a quantile at or above the median (ECSS: 68.27 %,
+    95.45 %, 99.73 %) at a confidence at least even. Below, a level of 5e-324
+    was a question of nothing, and two units could PASS it."""
+    for name, x in (("level", level), ("confidence", confidence)):
+        if not (_is_number(x) and 0.5 <= x < 1.0):
+            raise ValueError(f"{name} must lie in [0.5, 1), got {x!r} (level and confidence both)")
+
+
 def min_units(level, confidence):
     """Smallest n with P(max of n units >= the level-quantile) >= confidence:
     1 - level^n >= confidence."""
-    if not (0.0 < level < 1.0 and 0.0 < confidence < 1.0):  # level 1 divided by 0, confidence 0 said 0 units
-        raise ValueError("level and confidence must lie strictly between 0 and 1")
+    _check_question(level, confidence)  # level 1 divided by 0, confidence 0 said 0 units
     return math.ceil(math.log(1.0 - confidence) / math.log(level))
 
 
@@ -235,7 +257,10 @@ def _ranks(n, level, confidence):
 def _unit_figures(values):
     """The per-unit figures as a 1-D array: pointing errors are magnitudes,
     so a negative one is a caller's mistake (a signed error, not its norm)."""
-    x = np.asarray(values, dtype=float)
+    raw = np.asarray(values)
+    if raw.size and raw.dtype.kind not in "iuf":  # '1' and True were read as figures
+        raise ValueError(f"values: a figure per unit is a number [rad], got {raw.dtype} values")
+    x = raw.astype(float)
     if x.ndim != 1:  # a 2-D array counted each of its cells as a unit
         raise ValueError(f"values: one figure per unit (1-D), got shape {x.shape}")
     negative = np.flatnonzero(x < 0.0)
@@ -249,8 +274,7 @@ def quantile_bound(values, level=LEVEL_3SIGMA, confidence=0.95):
     """The level-quantile of the per-unit values, with its order-statistics
     confidence bounds. NaN values count as +inf (a unit without a figure is
     never assumed good)."""
-    if not 0.0 < level < 1.0 or not 0.0 < confidence < 1.0:
-        raise ValueError("level and confidence must lie strictly between 0 and 1")
+    _check_question(level, confidence)
     x = _unit_figures(values)
     n = len(x)
     missing = int(np.count_nonzero(~np.isfinite(x)))
@@ -297,9 +321,8 @@ class Verdict:
 def requirement_verdict(values, requirement, level=LEVEL_3SIGMA, confidence=0.95):
     """PASS/FAIL of `requirement` [rad] with the probability that a unit meets it.
     NaN values count as not meeting it."""
-    if not 0.0 < level < 1.0 or not 0.0 < confidence < 1.0:  # a verdict at level 0 would be PASS for anything
-        raise ValueError("level and confidence must lie strictly between 0 and 1")
-    if not (math.isfinite(requirement) and requirement >= 0.0):  # NaN gave FAIL, inf PASS: no question asked
+    _check_question(level, confidence)  # a verdict at level 0 would be PASS for anything
+    if not (_is_number(requirement) and math.isfinite(requirement) and requirement >= 0.0):  # NaN FAIL, inf PASS
         raise ValueError(f"requirement must be a finite angle >= 0 rad, got {requirement!r}")
     x = _unit_figures(values)
     n = len(x)
@@ -308,6 +331,7 @@ def requirement_verdict(values, requirement, level=LEVEL_3SIGMA, confidence=0.95
     # Even with every unit meeting it, the lower bound is (1 - confidence)^(1/n): fewer units can never PASS.
     need = min_units(level, confidence)
     reason = ("no unit: nothing to judge" if n == 0 else
+              f"no unit has a figure (all {n} without one): none meets it" if not np.isfinite(x).any() else
               f"{n} units cannot show {level:.4%} at {confidence:.0%} confidence even if every one meets it: "
               f"at least {need} needed" if n < need else "")
     return Verdict(float(requirement), n, k, k / n if n else float("nan"), lower, level,

@@ -35,7 +35,9 @@ def _refuse(message):
 
 
 def _read_rows(folder):
-    """(file, header, {sample: row}) of results.csv, else of the journal."""
+    """(file, header, {sample: row}) of results.csv and the journal together:
+    a resume with --until journals rows that an earlier results.csv lacks."""
+    found = []
     for name in ("results.csv", JOURNAL):
         path = folder / name
         if path.is_file():
@@ -46,12 +48,18 @@ def _read_rows(folder):
                 _refuse(f"{path}: cannot read it ({e})")
             if not lines:
                 _refuse(f"{path} is empty: the sweep wrote nothing yet")
-            rows = {}
-            for r in lines[1:]:
-                if r and r[0].isdigit():
-                    rows.setdefault(int(r[0]), r)
-            return path, lines[0], rows
-    _refuse(f"{folder} holds neither results.csv nor the journal {JOURNAL}: no sample to replay")
+            found.append((path, lines))
+    if not found:
+        _refuse(f"{folder} holds neither results.csv nor the journal {JOURNAL}: no sample to replay")
+    source, header = found[0][0], found[0][1][0]
+    rows = {}
+    for path, lines in found:
+        if lines[0] != header:
+            _refuse(f"{path}: its columns are not those of {source}")
+        for r in lines[1:]:
+            if r and r[0].isdigit():
+                rows.setdefault(int(r[0]), r)
+    return source, header, rows
 
 
 def _check_output(path, folder, what):
@@ -139,7 +147,8 @@ def replay(folder, i, out, plot_path=None):
     if header != spec.csv_header():
         _refuse(f"{source}: its columns are not those of the spec copy {folder / _provenance.SPEC_COPY}")
     if i not in rows:
-        _refuse(f"--replay {i}: sample {i} has no row in {source} (not run yet: finish the sweep with --resume)")
+        _refuse(f"--replay {i}: sample {i} has no row in {folder} (results.csv, {JOURNAL}): not run yet, finish "
+                "the sweep with --resume")
     recorded = rows[i]
     status = recorded[header.index("status")]
     if status == "crashed":

@@ -434,3 +434,17 @@ def test_a_closed_loop_duration_between_control_periods_is_refused():
     # every duration of the project is whole steps or refused, never rounded (usage.md "Durations")
     with pytest.raises(ValueError, match=r"duration 0.0025 s must be a whole multiple of the control period"):
         gimbalsim.closed_loop(scene(), gimbalsim.Controller(CONTROLLER_CONFIG), duration=0.0025)
+
+
+@pytest.mark.parametrize("kwargs,error,message", [
+    ({"settle_tol": float("nan")}, ValueError, "settle_tol [rad] must be in (0, 10], got nan"),  # settled at 0 s
+    ({"settle_tol": 0.0}, ValueError, "settle_tol [rad] must be in (0, 10]"),  # never settled: inf
+    ({"settle_tol": float("inf")}, ValueError, "settle_tol [rad] must be in (0, 10]"),
+    ({"duration": "3"}, TypeError, "duration [s]: expected a number, got str '3'"),
+    ({"duration": True}, TypeError, "duration [s]: expected a number, got bool True"),  # ran for 1 s
+])
+def test_closed_loop_arguments_out_of_range_or_of_another_type_are_refused(kwargs, error, message):
+    args = {"duration": 0.01, **kwargs}
+    with pytest.raises(error) as e:
+        gimbalsim.closed_loop(scene(), gimbalsim.Controller(CONTROLLER_CONFIG), **args)
+    assert message in str(e.value), str(e.value)

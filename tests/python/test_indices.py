@@ -149,8 +149,35 @@ def test_no_figure_at_all_is_no_quantile_and_bad_arguments_are_refused():
         indices.coverage(10, 0.5, 6, 4)
     with pytest.raises(ValueError, match="level"):
         indices.coverage(10, 1.5, 1, 4)
+    with pytest.raises(ValueError, match="r <= s"):  # no order statistic has rank 1.5
+        indices.coverage(10, 0.5, 1.5, 3.7)
+    with pytest.raises(ValueError, match="requirement must be a finite angle"):  # was a TypeError
+        indices.requirement_verdict([1e-5] * 2000, "1e-4")
+    with pytest.raises(ValueError, match=r"level must lie in \[0.5, 1\)"):  # two units gave PASS
+        indices.requirement_verdict([1e-5] * 2, 1e-4, level=5e-324, confidence=0.5)
+    t = np.arange(1001) * 0.001
+    t_inf = t.copy()
+    t_inf[-1] = math.inf  # made the spacing's tolerance infinite: a figure came out
+    with pytest.raises(ValueError, match="every time must be finite"):
+        indices.ape(t_inf, np.ones(1001), 0.0, math.inf)
+    t_far = 1e10 + t
+    t_far[500] += 5.0  # at 1e10 s the tolerance was 10 s: a gap of 5 s passed as uniform
+    with pytest.raises(ValueError, match="uniformly spaced"):
+        indices.ape(t_far, np.ones(1001), 1e10, math.inf)
+    assert indices.ape(1e10 + t, np.ones(1001), 1e10, math.inf).value == 1.0  # what doubles hold there is uniform
+    with pytest.raises(ValueError, match="whole n in"):  # 10**30 failed inside numpy; a bool is no count
+        indices.coverage(10**30, 0.5, 1, 5)
+    with pytest.raises(ValueError, match="whole n in"):
+        indices.coverage(True, 0.5, 1, 1)
+    for figures in (["1", "2"], [True, False]):  # read as 1.0 and 0.0
+        with pytest.raises(ValueError, match="a figure per unit is a number"):
+            indices.quantile_bound(figures, 0.5, 0.5)
+    v = indices.requirement_verdict([math.nan] * 10, 1.0, 0.5, 0.5)
+    assert not v.passed and "no unit has a figure (all 10 without one)" in v.reason  # was FAIL with no reason
     t = np.arange(100) * 0.01
-    for bad in (0, -1, 2.5):  # 0 or less never advanced through the windows
+    with pytest.raises(ValueError, match=r"phase \[0.1, 0.5\)"):  # a string start: TypeError naming nothing
+        indices.ape(t, np.ones(100), "0.1", 0.5)
+    for bad in (0, -1, 2.5, True):  # 0 or less never advanced through the windows; True is no row count
         with pytest.raises(ValueError, match="chunk_rows"):
             indices.rpe(t, np.ones(100), 0.0, 1.0, 0.1, chunk_rows=bad)
 
@@ -179,14 +206,14 @@ def test_a_table_of_figures_is_not_a_list_of_units_and_min_units_checks_its_ques
     with pytest.raises(ValueError, match="one figure per unit"):
         indices.requirement_verdict([[1e-5] * 3] * 500, 1e-4, 0.995, 0.95)  # it counted 1500 units: PASS
     for level, confidence in ((1.0, 0.95), (0.5, 0.0)):  # ZeroDivisionError, and 0 units
-        with pytest.raises(ValueError, match="strictly between 0 and 1"):
+        with pytest.raises(ValueError, match=r"must lie in \[0.5, 1\)"):
             indices.min_units(level, confidence)
     assert indices.min_units(0.9973, 0.95) == 1109
 
 
 def test_a_verdict_at_a_degenerate_level_or_confidence_is_refused():
     for level, confidence in ((0.0, 0.95), (0.9973, 0.0), (1.0, 0.95), (0.9973, 1.0)):
-        with pytest.raises(ValueError, match="strictly between 0 and 1"):
+        with pytest.raises(ValueError, match=r"must lie in \[0.5, 1\)"):
             indices.requirement_verdict([1e-6] * 100, 1e-3, level, confidence)
     for requirement in (math.nan, math.inf, -1e-6):  # NaN gave FAIL, inf PASS: no question was asked
         with pytest.raises(ValueError, match="requirement must be a finite angle"):

@@ -8,6 +8,7 @@ import csv
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -258,6 +259,14 @@ def test_resume_and_replay_keep_the_rows_until_added(tmp_path):
     assert read(grown) == finished
     p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(grown), "--replay", "7", "--out",
                         str(tmp_path / "run7.csv")], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0 and "reproduces its row" in p.stderr, p.stderr
+    # results.csv of the sweep before --until grew it, the journal with the rows added since: both are read
+    stale = tmp_path / "stale"
+    shutil.copytree(grown, stale)
+    (stale / "results.partial.csv").write_text("".join(lines))
+    (stale / "results.csv").write_text("".join(lines[:4]))
+    p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(stale), "--replay", "6", "--out",
+                        str(tmp_path / "run6.csv")], capture_output=True, text=True, timeout=300)
     assert p.returncode == 0 and "reproduces its row" in p.stderr, p.stderr
     p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(grown), "--replay", "8", "--out",
                         str(tmp_path / "run8.csv")], capture_output=True, text=True, timeout=300)
