@@ -12,7 +12,7 @@ import time
 
 import pytest
 
-from conftest import BIN, run_cli, scene_path
+from conftest import BIN, SOURCE, run_cli, scene_path
 
 IDEAL = scene_path("paper_ideal")
 
@@ -127,3 +127,19 @@ def test_signal_ends_the_run_after_a_whole_row(tmp, sig):
     assert float(rows[-1].split(",")[0]) == pytest.approx(s["t_end_s"], rel=1e-11)
     assert signal.Signals(sig).name in s["error"]
     assert s["t_end_s"] < 1e5
+
+
+def test_workprec_refuses_an_input_or_a_link_under_its_csv_before_running(tmp_path):
+    # its policy table under the CSV's name was overwritten with the results (exit 0); a link ran
+    # every point before exit 4
+    table = tmp_path / "workprec.csv"
+    table.write_text((SOURCE / "tools" / "workprec" / "policies.yaml").read_text())
+    before = table.read_text()
+    cmd = [str(BIN / "gimbalsim_workprec"), "--quick", "--no-mujoco", "--out", str(tmp_path)]
+    p = subprocess.run(cmd + ["--policies", str(table)], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2 and "gimbalsim_workprec: error: --out:" in p.stderr, p.stderr
+    assert table.read_text() == before
+    (tmp_path / "link").mkdir()
+    os.symlink(tmp_path / "elsewhere.csv", tmp_path / "link" / "workprec.csv")
+    p = subprocess.run(cmd[:-1] + [str(tmp_path / "link")], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2 and "link" in p.stderr and "points" not in p.stdout, p.stderr

@@ -175,6 +175,15 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
   if (const std::string why = gimbalsim::io::outputFolderProblem(a.out_dir, app.count("--out") > 0); !why.empty()) {
     return program::refuse("gimbalsim_workprec", "--out " + a.out_dir + ": " + why);
   }
+  // The CSV is checked before anything runs: a link under its name, or the policy table or a scene
+  // under it (it was overwritten with the results), is refused, not found at the end.
+  std::vector<std::string> inputs{a.policies_path};
+  for (const std::string& scene : a.scenes) inputs.push_back(a.scenes_dir + "/" + scene + ".yaml");
+  try {
+    gimbalsim::io::checkOutputPaths({a.out_dir + "/workprec.csv"}, inputs);
+  } catch (const gimbalsim::io::OutputError& e) {
+    return program::refuse("gimbalsim_workprec", std::string("--out: ") + e.what());
+  }
   return std::nullopt;
 }
 
