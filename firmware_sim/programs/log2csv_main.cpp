@@ -261,6 +261,10 @@ int mainImpl(int argc, char** argv) {
   std::map<std::string, std::unique_ptr<Sink>> sinks;
   std::map<std::string, std::string> paths;
   for (const auto& [ch, t] : selected) {
+    // A channel name comes from the log: one such as "/../../x" would have named a file outside the folder.
+    if (out_file.empty() && !Channels::validPrefix(ch)) {
+      return refuse("--channel '" + ch + "': only A-Z, 0-9 and '_' can name its CSV file; give --out FILE");
+    }
     const std::string path = !out_file.empty() ? out_file : (dir / (stem + "_" + ch + ".csv")).string();
     std::unique_ptr<io::OutputFile> f;
     try {

@@ -241,6 +241,35 @@ TEST(Log2Csv, SkipsAndCountsUndecodableMessagesOnAChannel) {
             "-0.3333333333333333\n");  // the shortest round trip
 }
 
+// A channel name comes from the log: "/../../x" would have named a CSV outside the output folder.
+TEST(Log2Csv, AChannelNameThatCannotNameAFileIsRefused) {
+  TempDir dir("log2csv_channel_path");
+  const std::string path = dir / "rec.lcmlog";
+  {
+    lcm::LogFile log(path, "w");
+    ASSERT_TRUE(log.good());
+    unsigned char buf[512];
+    gimbal_truth_t t{};
+    lcm::LogEvent e;
+    e.timestamp = 1;
+    e.channel = "/../../escape_GIMBAL_TRUTH";
+    e.datalen = t.encode(buf, 0, sizeof buf);
+    e.data = buf;
+    ASSERT_EQ(log.writeEvent(&e), 0);
+  }
+  std::filesystem::create_directories(dir / "rec_");  // so that rec_/../../escape... resolves
+  int st = 0;
+  const std::string out =
+      runCapture(kTool + " '" + path + "' --channel '/../../escape_GIMBAL_TRUTH' --type truth 2>&1", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 2) << out;
+  EXPECT_NE(out.find("only A-Z, 0-9 and '_' can name its CSV file; give --out FILE"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir.path.parent_path() / "escape_GIMBAL_TRUTH.csv"));
+  const std::string named = runCapture(kTool + " '" + path + "' --channel '/../../escape_GIMBAL_TRUTH' --type truth " +
+                                           "--out '" + (dir / "t.csv") + "' 2>&1",
+                                       &st);
+  EXPECT_EQ(WEXITSTATUS(st), 0) << named;  // with a file named by the user it converts
+}
+
 }  // namespace
 }  // namespace gimbalsim::hil
 
