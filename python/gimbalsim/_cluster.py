@@ -140,6 +140,13 @@ def whole_number(text):
     return int(text)
 
 
+def path_text(text):
+    """An argparse type: a path, never empty ('' wrote the whole study into the current folder)."""
+    if not text:
+        raise argparse.ArgumentTypeError("an empty path: name a folder or a file")
+    return text
+
+
 def local_workers(text):
     """--workers N: a whole number from 1 to 4 per core of this machine. More
     local processes only share the cores (and each holds its own memory);

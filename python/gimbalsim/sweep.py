@@ -88,6 +88,8 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             raise SpecError(f"{out} holds a sweep of another spec; --resume needs the same spec")
     elif journal.exists() or results.exists() or (out / DESIGN).exists():
         raise SpecError(f"{out} already holds a sweep: give --resume to finish it, or another --out")
+    if (out / "study.db").exists() or (out / "trials.csv").exists():  # its summary.json was replaced by ours
+        raise SpecError(f"{out} holds a tuning study (study.db, trials.csv): give the sweep another --out")
     check_outputs_not_inputs([fingerprint, out / _provenance.SPEC_COPY, out / _provenance.INPUTS, journal, results,
                               out / DESIGN, out / "summary.json", out / "report.md", out / "plots"], inputs)
     try:
@@ -257,10 +259,12 @@ def main(argv=None):
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--version", action="version", version="gimbalsim.sweep " + gimbalsim.__version__)
     ap.add_argument("spec", help="sweep spec (YAML); with --replay, the sweep's output directory")
-    ap.add_argument("--out", required=True, help="output directory; with --replay, the time series CSV")
+    ap.add_argument("--out", type=_cluster.path_text, required=True,
+                    help="output directory; with --replay, the time series CSV")
     ap.add_argument("--replay", type=_cluster.whole_number, default=None, metavar="I",
                     help="run sample I of the sweep in SPEC alone")
-    ap.add_argument("--plot", default=None, help="with --replay: the plot (default: --out with .png)")
+    ap.add_argument("--plot", type=_cluster.path_text, default=None,
+                    help="with --replay: the plot (default: --out with .png)")
     _cluster.add_cluster_arguments(ap)
     ap.add_argument("--resume", action="store_true", help="finish an interrupted sweep in --out")
     ap.add_argument("--batch", type=_cluster.whole_number, default=None, help="samples per task (default: about 8 tasks per worker, at most 10)")

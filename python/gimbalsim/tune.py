@@ -118,6 +118,8 @@ def open_study(spec, out, resume, sampler):
     if not resume and (db.exists() or (out / "trials.csv").exists()):
         raise SpecError(f"{out} already holds a study ({db.name}, trials.csv): give --resume to continue it, "
                         f"or another --out")
+    if any((out / n).exists() for n in ("results.csv", "results.partial.csv", "design.json")):
+        raise SpecError(f"{out} holds a sweep (results.csv or its journal): give the study another --out")
     check_outputs_not_inputs([db] + [out / n for n in ("trials.csv", "best.yaml", "summary.json", "progress.png")],
                              spec.input_files())
     try:
@@ -335,7 +337,7 @@ def main(argv=None):
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--version", action="version", version="gimbalsim.tune " + gimbalsim.__version__)
     ap.add_argument("spec", help="tuning spec (YAML)")
-    ap.add_argument("--out", required=True, help="output directory")
+    ap.add_argument("--out", type=_cluster.path_text, required=True, help="output directory")
     _cluster.add_cluster_arguments(ap)
     ap.add_argument("--resume", action="store_true", help="continue the study stored in --out")
     ap.add_argument("--no-progress", action="store_true")

@@ -394,6 +394,14 @@ def test_an_out_that_is_a_file_is_refused_and_left_alone(spec, tmp_path):
     (tmp_path / "f").write_text("x")
     p = run_sweep(spec, tmp_path / "f", check=False)
     assert p.returncode == 2 and "exists and is not a folder" in p.stderr, p.stderr
+    p = run_sweep(spec, "", check=False)  # it wrote the whole sweep into the current folder
+    assert p.returncode == 2 and "argument --out: an empty path" in p.stderr, p.stderr
+    (tmp_path / "study").mkdir()
+    (tmp_path / "study" / "trials.csv").write_text("trial\n")  # a tuning study's: its summary.json was replaced
+    (tmp_path / "study" / "summary.json").write_text("{}")
+    p = run_sweep(spec, tmp_path / "study", check=False)
+    assert p.returncode == 2 and "holds a tuning study" in p.stderr, p.stderr
+    assert (tmp_path / "study" / "summary.json").read_text() == "{}"
 
 
 def test_an_input_among_the_outputs_is_refused_before_anything_runs(spec, tmp_path):

@@ -143,3 +143,16 @@ def test_a_link_under_the_study_file_is_refused_before_any_trial(tmp_path):
     p = tune(tmp_path / "t.yaml", out, "--workers", "1")
     assert p.returncode == 2 and "a symbolic link" in p.stderr and "study.db" in p.stderr, p.stderr
     assert not (tmp_path / "victim.db").exists()
+
+
+def test_an_empty_out_or_a_sweeps_folder_is_refused(tmp_path):
+    (tmp_path / "t.yaml").write_text(SPEC)
+    p = tune(tmp_path / "t.yaml", "", "--workers", "1")  # the whole study went into the current folder
+    assert p.returncode == 2 and "argument --out: an empty path" in p.stderr, p.stderr
+    (tmp_path / "sweep").mkdir()
+    (tmp_path / "sweep" / "results.csv").write_text("sample\n")
+    (tmp_path / "sweep" / "summary.json").write_text("{}")
+    p = tune(tmp_path / "t.yaml", tmp_path / "sweep", "--workers", "1")
+    assert p.returncode == 2 and "holds a sweep" in p.stderr, p.stderr
+    assert (tmp_path / "sweep" / "summary.json").read_text() == "{}"
+

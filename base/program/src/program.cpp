@@ -30,6 +30,21 @@ std::string notPlainReal(const std::string& r) {
   return "";
 }
 
+// An empty text value ('--summary ""') was taken as "no such output" (nothing written, exit 0) or
+// as the current folder: a value given must say something.
+std::string emptyTextOption(const CLI::App& app) {
+  for (const CLI::Option* opt : app.get_options()) {
+    if (opt->get_type_name().find("TEXT") == std::string::npos) continue;
+    for (const std::string& r : opt->results()) {
+      if (r.empty()) return opt->get_name() + ": an empty value (a path or a name is needed)";
+    }
+  }
+  for (const CLI::App* sub : app.get_subcommands()) {
+    if (std::string why = emptyTextOption(*sub); !why.empty()) return why;
+  }
+  return "";
+}
+
 std::string badRealOption(const CLI::App& app) {
   for (const CLI::Option* opt : app.get_options()) {
     if (opt->get_type_name().find("FLOAT") == std::string::npos) continue;
@@ -94,6 +109,7 @@ std::optional<int> parse(CLI::App& app, int argc, char** argv, const char* progr
     app.parse(argc, argv);
     std::string why = emptyListItem(app, argc, argv);
     if (why.empty()) why = badRealOption(app);
+    if (why.empty()) why = emptyTextOption(app);
     if (!why.empty()) {
       std::fprintf(stderr, "%s: error: %s (see --help)\n", program, why.c_str());
       return kRefused;
