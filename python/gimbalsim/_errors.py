@@ -105,7 +105,8 @@ def exit_code(e):
 
 def guarded_main(program, body, notes=None):
     """body()'s exit code; an exception of the table that escapes it is one
-    line on stderr and its code: "error: <e>", or "<program>: interrupted
+    line on stderr and its code: "<program>: error: <e>" (the exit-code
+    table's form, as the C++ programs'), or "<program>: interrupted
     (<SIGNAL>)" for a signal, followed by notes[cls](e) for the first class
     of notes (a dict) the exception is an instance of (how to go on)."""
     try:
@@ -114,7 +115,7 @@ def guarded_main(program, body, notes=None):
         code = exit_code(e)
         if code is None:
             raise
-        line = f"{program}: interrupted ({e})" if isinstance(e, Interrupted) else f"error: {e}"
+        line = f"{program}: interrupted ({e})" if isinstance(e, Interrupted) else f"{program}: error: {e}"
         note = next((how for cls, how in (notes or {}).items() if isinstance(e, cls)), None)
         print(line + (note(e) if note else ""), file=sys.stderr)
         return code

@@ -289,7 +289,7 @@ def test_one_mapping_from_exceptions_to_exit_codes(capsys):
     assert _errors.guarded_main("prog", raising(_errors.NotReproduced("sample 2 differs"))) == 8
     assert _errors.guarded_main("prog", raising(Interrupted(signal.SIGTERM)),
                                 {Interrupted: lambda e: ": 3 kept"}) == 143
-    assert capsys.readouterr().err.splitlines() == ["error: sample 2 differs", "prog: interrupted (SIGTERM): 3 kept"]
+    assert capsys.readouterr().err.splitlines() == ["prog: error: sample 2 differs", "prog: interrupted (SIGTERM): 3 kept"]
     with pytest.raises(ValueError):  # a bug is not mapped: its traceback, exit 1
         _errors.guarded_main("prog", raising(ValueError("a bug")))
 

@@ -148,7 +148,7 @@ def test_a_row_that_does_not_reproduce_is_an_error_naming_its_columns(swept, tmp
     # its own code of the project's table (docs/usage.md "Exit codes"), not 1, an internal error
     assert p.returncode == 8, p.stderr
     lines = p.stderr.splitlines()
-    assert lines[-1].startswith("error: sample 2 does not reproduce its row") and \
+    assert lines[-1].startswith("replay: error: sample 2 does not reproduce its row") and \
         "1 column differ: peak_joint2_force_N" in lines[-1], p.stderr
     assert "Traceback" not in p.stderr
     assert (tmp_path / "run.csv").exists() and (tmp_path / "p.png").exists()  # what was computed is kept
