@@ -122,3 +122,33 @@ def test_workprec_plot_refuses_a_foreign_csv_and_its_own_input(tmp):
     bad.write_text("a,b\n1,2\n")
     refused(run(plot, bad), "needs columns")
     assert not (tmp / "b.png").exists()
+
+
+SET_WRITER = """
+import os, pathlib, signal, sys
+sys.path.insert(0, {pages!r})
+from output_file import OutputError, run_script, write_text
+out = pathlib.Path(sys.argv[1])
+def main():
+    write_text(out / "a.txt", "a")
+    write_text(out / "b.txt", "b")
+    if sys.argv[2] == "fail":
+        raise OutputError("c.txt: no space left on device")
+    os.kill(os.getpid(), signal.SIGTERM)
+sys.exit(run_script("writer", main, whole_set={whole}))
+"""
+
+
+@pytest.mark.parametrize("how,code,message", [("fail", 4, "writer: error: c.txt"),
+                                              ("stop", 143, "writer: interrupted (SIGTERM)")])
+@pytest.mark.parametrize("whole", [True, False])
+def test_a_set_of_outputs_is_whole_or_gone_and_a_stop_is_no_traceback(tmp_path, how, code, message, whole):
+    # plot_paper left four of its figures on a full disk, and on SIGTERM a temporary beside them
+    script = tmp_path / "w.py"
+    script.write_text(SET_WRITER.format(pages=str(SOURCE / "tools" / "pages"), whole=whole))
+    (tmp_path / "out").mkdir()
+    p = subprocess.run([sys.executable, str(script), str(tmp_path / "out"), how], capture_output=True, text=True,
+                       timeout=60)
+    assert p.returncode == code and message in p.stderr and "Traceback" not in p.stderr, p.stderr
+    left = sorted(f.name for f in (tmp_path / "out").iterdir())
+    assert left == ([] if whole else ["a.txt", "b.txt"])  # no temporary either way

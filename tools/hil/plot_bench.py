@@ -156,4 +156,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(run_script("plot_bench", main))
+    sys.exit(run_script("plot_bench", main, whole_set=True))

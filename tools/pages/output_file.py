@@ -7,11 +7,13 @@ write_text, write_bytes, write_csv, savefig, check_outputs, OutputError
 (an OSError naming the file), and csv_number (the CSV convention's numbers).
 It also says how a script ends (run_script, Refused, check_before_writing)
 and how it reads what it is given (plain_number, check_header, check_figure_format)."""
+import contextlib
 import importlib.util
 import math
 import os
 import pathlib
 import re
+import signal
 import sys
 
 _NAME = "gimbalsim_output_writer"  # not gimbalsim._output: importing that would load the package and its extension
@@ -24,12 +26,35 @@ _writer = sys.modules[_NAME]
 
 OutputError = _writer.OutputError
 check_outputs = _writer.check_outputs
-open_output = _writer.open_output
-write_text = _writer.write_text
-write_bytes = _writer.write_bytes
-write_csv = _writer.write_csv
-savefig = _writer.savefig
 csv_number = _writer.csv_number
+
+# Every file this script has written (whole, under its name): a script that writes a set
+# (run_script(..., whole_set=True)) removes them when it fails or is stopped before the end.
+_written = []
+
+
+@contextlib.contextmanager
+def open_output(path, mode="w", inputs=()):
+    with _writer.open_output(path, mode, inputs) as f:
+        yield f
+    _written.append(path)
+
+
+def _recorded(write):
+    def wrapper(path, *args, **kwargs):
+        write(path, *args, **kwargs)
+        _written.append(path)
+    return wrapper
+
+
+write_text = _recorded(_writer.write_text)
+write_bytes = _recorded(_writer.write_bytes)
+write_csv = _recorded(_writer.write_csv)
+
+
+def savefig(fig, path, *args, **kwargs):
+    _writer.savefig(fig, path, *args, **kwargs)
+    _written.append(path)
 
 # ---- how a script of tools/ ends: the exit-code table of docs/usage.md ----
 
@@ -50,18 +75,41 @@ def check_before_writing(outputs, inputs=()):
         raise Refused(str(e)) from None
 
 
-def run_script(program, main):
+class _Stopped(Exception):
+    def __init__(self, signum):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+def _stop(signum, frame):
+    raise _Stopped(signum)  # unwinds through the writers, which remove their temporaries
+
+
+def run_script(program, main, whole_set=False):
     """main()'s exit code (None counts as 0); Refused is one line on stderr and
     exit 2, OutputError (a write that failed, nothing left under its name)
-    one line and exit 4. Anything else is a bug: a traceback and exit 1."""
+    one line and exit 4, SIGINT or SIGTERM one line and 128 + the signal.
+    whole_set: the outputs are one set (a page's figures): a failure or a stop
+    removes those already written, so no name holds part of a set. Anything
+    else is a bug: a traceback and exit 1."""
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, _stop)
+    code = None
     try:
         return main() or 0
     except Refused as e:
         print(f"{program}: error: {e}", file=sys.stderr)
-        return EXIT_REFUSED
+        code = EXIT_REFUSED
     except OutputError as e:
         print(f"{program}: error: {e}", file=sys.stderr)
-        return EXIT_OUTPUT
+        code = EXIT_OUTPUT
+    except _Stopped as e:
+        print(f"{program}: interrupted ({e})" + ("; nothing kept" if whole_set else ""), file=sys.stderr)
+        code = 128 + e.signum
+    if whole_set:
+        for path in _written:
+            pathlib.Path(path).unlink(missing_ok=True)
+    return code
 
 
 _PLAIN = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")

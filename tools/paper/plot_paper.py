@@ -345,4 +345,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(run_script("plot_paper.py", main))
+    sys.exit(run_script("plot_paper.py", main, whole_set=True))

@@ -169,4 +169,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(run_script("plot_pointing_study", main))
+    sys.exit(run_script("plot_pointing_study", main, whole_set=True))

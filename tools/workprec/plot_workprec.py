@@ -97,4 +97,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(run_script("plot_workprec", main))
+    sys.exit(run_script("plot_workprec", main, whole_set=True))
