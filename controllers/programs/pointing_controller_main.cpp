@@ -218,12 +218,14 @@ int run(int argc, char** argv) {
       pointing::windowNotReached(pointing::profileWindow(c.profile, Segment::Track), pointing::WindowNeed::Part,
                                  h.answered() > 0 ? h.lastTime() : 0.0),
       "%.3e rad");
-  std::fprintf(stderr, "pointing_controller: answered %lld statuses (last t = %.3f s), %lld with the command at its "
+  char last_t[48] = "n/a: none answered";  // a time of 0 for no status is a figure over nothing
+  if (h.answered() > 0) std::snprintf(last_t, sizeof last_t, "%.3f s", h.lastTime());
+  std::fprintf(stderr, "pointing_controller: answered %lld statuses (last t = %s), %lld with the command at its "
                "own torque limit (azimuth/elevation.torque_limit), %lld undecodable, %lld publish "
                "errors, %lld plant restarts, max |joint error| while tracking %s (encoder), status faults seen 0x%x, "
                "%lld statuses without their attitude (gyro held), %lld in a star tracker outage, %lld readings "
                "rejected (NaN or Inf: the last command held), %lld answers not sent (a torque NaN or Inf)\n",
-               h.answered(), h.lastTime(), h.controllerLimited(), h.undecodable(), h.publishErrors(), h.plantRestarts(), track_error.c_str(),
+               h.answered(), last_t, h.controllerLimited(), h.undecodable(), h.publishErrors(), h.plantRestarts(), track_error.c_str(),
                h.faultsSeen(), h.unpaired(), h.outageStatuses(), h.rejectedReadings(), h.notFinite());
   const MonitorState& mon = h.monitor();
   std::fprintf(stderr, "pointing_controller: fault monitor: %lld stale statuses (%lld with safe torque), %lld statuses "

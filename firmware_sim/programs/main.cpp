@@ -193,8 +193,6 @@ int runBench(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
   }
   LcmBridge bridge(lcm, rx, channels);
 
-  // sigaction without SA_RESTART: a blocking wait returns at once (EINTR); the loops see g_stop.
-  io::installStopHandlers([] { g_stop.store(true); });
   std::fprintf(stderr, "firmware_sim: scene '%s' (%s), %g Hz (%d RK4 steps of %g s per tick), %s, channels %s*\n",
                m.name.c_str(), variantName(m).c_str(), o.rate_hz, static_cast<int>(std::llround(c.control_period / m.integrator.step)),
                m.integrator.step, o.lockstep ? "lockstep" : "real time", (o.prefix + "GIMBAL_").c_str());
@@ -245,6 +243,9 @@ int mainImpl(int argc, char** argv) {
       if (app.count(flag) > 0) std::fprintf(stderr, "firmware_sim: warning: %s applies to real time only; ignored in lockstep\n", flag);
     }
   }
+  // sigaction without SA_RESTART: a blocking wait returns at once (EINTR); the loops see g_stop.
+  // Before the outputs' temporaries exist: a signal during set-up left them behind.
+  io::installStopHandlers([] { g_stop.store(true); });
   Inputs in;
   TruthCsv csv;
   TickLog tick_log;

@@ -16,6 +16,7 @@ namespace {
 /// "p50 A  p99 B  [p99.9 C  ]max D" of a histogram [us]: the summary's one
 /// format for a spread (the tools read these lines).
 std::string spread(const Histogram& h, bool with_p999) {
+  if (h.count() == 0) return "n/a (no tick measured)";  // a run stopped before its first tick: no 0 for nothing
   char buf[160];
   if (with_p999) {
     std::snprintf(buf, sizeof buf, "p50 %.0f  p99 %.0f  p99.9 %.0f  max %.1f", h.quantile(0.5), h.quantile(0.99),
@@ -25,6 +26,14 @@ std::string spread(const Histogram& h, bool with_p999) {
   }
   return buf;
 }
+
+/// "%.2f" of a speed, or n/a (with no tick, a speed over nothing).
+std::string speed(double simulated_s, double seconds) {
+  if (!(simulated_s > 0.0 && seconds > 0.0)) return "n/a";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f", simulated_s / seconds);
+  return buf;
+}
 }  // namespace
 
 void printExitSummary(const Run& r, const Outcome& out) {
@@ -32,14 +41,12 @@ void printExitSummary(const Run& r, const Outcome& out) {
   const Counters& n = out.counters;
   const double sim_s = static_cast<double>(out.ticks) * r.setup.c.control_period;
   // Two speeds: the whole loop (in lockstep it waits for the controller) and the plant's own work.
-  std::printf("firmware_sim: %lld ticks, %.3f s simulated in %.3f s wall (%.2f x real time), %s\n",
-              static_cast<long long>(out.ticks), sim_s, r.report.wall_seconds,
-              r.report.wall_seconds > 0 ? sim_s / r.report.wall_seconds : 0.0,
+  std::printf("firmware_sim: %lld ticks, %.3f s simulated in %.3f s wall (%s x real time), %s\n",
+              static_cast<long long>(out.ticks), sim_s, r.report.wall_seconds, speed(sim_s, r.report.wall_seconds).c_str(),
               r.setup.o.lockstep ? "lockstep" : (r.report.fifo ? "real time, SCHED_FIFO" : "real time, SCHED_OTHER"));
-  std::printf("  speed: whole loop %.2f x real time%s; the plant's own compute %.3f s, %.2f x real time\n",
-              r.report.wall_seconds > 0 ? sim_s / r.report.wall_seconds : 0.0,
-              r.setup.o.lockstep ? " (with the waits for the controller)" : "", r.report.compute_seconds,
-              r.report.compute_seconds > 0 ? sim_s / r.report.compute_seconds : 0.0);
+  std::printf("  speed: whole loop %s x real time%s; the plant's own compute %.3f s, %s x real time\n",
+              speed(sim_s, r.report.wall_seconds).c_str(), r.setup.o.lockstep ? " (with the waits for the controller)" : "",
+              r.report.compute_seconds, speed(sim_s, r.report.compute_seconds).c_str());
   const PointingErrorStats& pe = r.report.pointing;
   if (pe.n > 0) {
     std::printf("  truth pointing error [rad] against %s: max %.3e, RMS %.3e, final %.3e",
@@ -63,17 +70,25 @@ void printExitSummary(const Run& r, const Outcome& out) {
     std::printf("  wake-up lateness [us]: %s\n", spread(st.lateness, true).c_str());
     std::printf("  tick period [us]:      %s\n", spread(st.period, true).c_str());
   }
-  std::printf("  compute per tick [us]: %s   (1 us bins); worst-case bound %.0f (max %.1f %% of it)\n",
-              spread(st.compute, false).c_str(), r.setup.worst_tick_us,
-              r.setup.worst_tick_us > 0 ? 100.0 * st.compute.max() / r.setup.worst_tick_us : 0.0);
+  if (st.compute.count() == 0) {
+    std::printf("  compute per tick [us]: %s\n", spread(st.compute, false).c_str());
+  } else {
+    std::printf("  compute per tick [us]: %s   (1 us bins); worst-case bound %.0f (max %.1f %% of it)\n",
+                spread(st.compute, false).c_str(), r.setup.worst_tick_us,
+                r.setup.worst_tick_us > 0 ? 100.0 * st.compute.max() / r.setup.worst_tick_us : 0.0);
+  }
   std::printf("  compute per tick, thread CPU [us]: %s   (preemption not counted; the "
               "stepping and the tick's fixed work: commands, sensors, truth, messages)\n",
               spread(st.compute_cpu, false).c_str());
-  std::printf("  stepping per tick, thread CPU [us]: %s; worst-case bound %.0f (max %.1f %% of "
-              "it); the max at tick %lld (%d sub-steps)\n",
-              spread(st.stepping_cpu, false).c_str(), r.setup.worst_tick_us,
-              r.setup.worst_tick_us > 0 ? 100.0 * st.stepping_cpu.max() / r.setup.worst_tick_us : 0.0,
-              static_cast<long long>(st.stepping_cpu_max_tick.load()), st.stepping_cpu_max_substeps.load());
+  if (st.stepping_cpu.count() == 0) {
+    std::printf("  stepping per tick, thread CPU [us]: %s\n", spread(st.stepping_cpu, false).c_str());
+  } else {
+    std::printf("  stepping per tick, thread CPU [us]: %s; worst-case bound %.0f (max %.1f %% of "
+                "it); the max at tick %lld (%d sub-steps)\n",
+                spread(st.stepping_cpu, false).c_str(), r.setup.worst_tick_us,
+                r.setup.worst_tick_us > 0 ? 100.0 * st.stepping_cpu.max() / r.setup.worst_tick_us : 0.0,
+                static_cast<long long>(st.stepping_cpu_max_tick.load()), st.stepping_cpu_max_substeps.load());
+  }
   if (r.setup.worst_tick_derivatives > 0) {
     std::printf("  stepping per tick, derivative evaluations: max %lld of the bound's %lld (%.1f %%)\n",
                 out.counters.max_derivatives_in_tick, r.setup.worst_tick_derivatives,
@@ -94,8 +109,10 @@ void printExitSummary(const Run& r, const Outcome& out) {
     std::printf("  status -> command round trip [us]: %s  (%llu answers)\n", spread(rt, true).c_str(),
                 static_cast<unsigned long long>(rt.count()));
   }
-  std::printf("  overruns %lld (ticks whose work ended after the next deadline); RK4 sub-steps per tick: mean %.2f, max %d\n", static_cast<long long>(st.overruns.load()),
-              st.substepsMean(), st.substeps_max.load());
+  char substeps[64] = "n/a (no tick ran)";
+  if (out.ticks > 0) std::snprintf(substeps, sizeof substeps, "mean %.2f, max %d", st.substepsMean(), st.substeps_max.load());
+  std::printf("  overruns %lld (ticks whose work ended after the next deadline); RK4 sub-steps per tick: %s\n",
+              static_cast<long long>(st.overruns.load()), substeps);
   std::printf("  commands: received %lld, rejected %lld, missed %lld; watchdog trips %lld; ticks at the motor limit (torque.limit) %lld\n",
               static_cast<long long>(n.received), static_cast<long long>(n.rejected), static_cast<long long>(n.missed),
               static_cast<long long>(n.watchdog_trips), static_cast<long long>(n.motor_limited_ticks));

@@ -130,7 +130,10 @@ int mainImpl(int argc, char** argv) {
   if (const auto rc = gimbalsim::program::parse(app, argc, argv, "gimbalsim_stress")) return *rc;
   if (long_only) no_grid = no_sweeps = long_run = true;
   // An output folder named on the command line must exist (refused below); only the default one is made.
-  if (std::error_code ec; !app.count("--csv")) std::filesystem::create_directories(std::filesystem::path(csv).parent_path(), ec);
+  // (--case writes no CSV: it makes no folder.)
+  if (std::error_code ec; !app.count("--csv") && one_scene.empty()) {
+    std::filesystem::create_directories(std::filesystem::path(csv).parent_path(), ec);
+  }
   {
     std::vector<std::string> paths, outputs;
     std::vector<std::vector<std::string>> sets;
