@@ -241,7 +241,8 @@ TEST(FirmwareAttitudeKeys, BadValuesAreRefusedNamingTheKey) {
       {"sensors.star_tracker_rate=0", "key 'sensors.star_tracker_rate': must be in [1e-06, 1e+06], got 0"},
       // Ranges the loop honours: a rate at which the sample index overflowed and the loop hung; NaN-making values.
       {"sensors.star_tracker_rate=1e20", "key 'sensors.star_tracker_rate': must be in [1e-06, 1e+06], got 1e+20"},
-      {"sensors.encoder_resolution=1e-310", "key 'sensors.encoder_resolution': must be 0 or in [1e-12, 1], got 1e-310"},
+      {"sensors.encoder_resolution=1e-300", "key 'sensors.encoder_resolution': must be 0 or in [1e-12, 1], got 1e-300"},
+      {"sensors.encoder_resolution=1e-310", "key 'sensors.encoder_resolution': '1e-310' underflows a double"},
       {"sensors.gyro_bias=[1e300, 0, 0]", "key 'sensors.gyro_bias': must be in [-1, 1]"},
       {"sensors.star_tracker_noise=-0.5", "key 'sensors.star_tracker_noise': must be in [0, 1], got -0.5"},
       {"sensors.star_tracker_latency=-0.01", "key 'sensors.star_tracker_latency': must be in [0, 1e+06], got -0.01"},

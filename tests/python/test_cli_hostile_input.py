@@ -141,5 +141,6 @@ def test_workprec_refuses_an_input_or_a_link_under_its_csv_before_running(tmp_pa
     assert table.read_text() == before
     (tmp_path / "link").mkdir()
     os.symlink(tmp_path / "elsewhere.csv", tmp_path / "link" / "workprec.csv")
-    p = subprocess.run(cmd[:-1] + [str(tmp_path / "link")], capture_output=True, text=True, timeout=120)
+    shipped = ["--policies", str(SOURCE / "tools" / "workprec" / "policies.yaml")]
+    p = subprocess.run(cmd[:-1] + [str(tmp_path / "link")] + shipped, capture_output=True, text=True, timeout=120)
     assert p.returncode == 2 and "link" in p.stderr and "points" not in p.stdout, p.stderr

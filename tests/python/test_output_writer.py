@@ -12,7 +12,6 @@ import os
 import re
 import signal
 import stat
-import sys
 
 import pytest
 
@@ -215,7 +214,8 @@ def test_the_tools_write_through_the_packages_writer(tmp_path, monkeypatch):
     spec = importlib.util.spec_from_file_location("tools_output_file", SOURCE / "tools" / "pages" / "output_file.py")
     tools_writer = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(tools_writer)
-    assert os.path.samefile(sys.modules[tools_writer.write_text.__module__].__file__, PACKAGE / "_output.py")
+    assert os.path.samefile(tools_writer._writer.__file__, PACKAGE / "_output.py")
+    assert tools_writer.OutputError is tools_writer._writer.OutputError  # its writes are the package writer's
     synced = []
     real_fsync = os.fsync
     monkeypatch.setattr(os, "fsync", lambda fd: (synced.append(fd), real_fsync(fd)))
