@@ -7,7 +7,6 @@
 //
 //   build/bin/gimbalsim_workprec                 # full sweep (minutes)
 //   build/bin/gimbalsim_workprec --quick         # a few points (seconds)
-#include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <algorithm>
@@ -24,6 +23,7 @@
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/program/program.hpp"
 #include "gimbalsim/scene/scene.hpp"
+#include "args.hpp"
 #include "points.hpp"
 #include "policies.hpp"
 #include "workprec.hpp"
@@ -31,12 +31,6 @@
 #include "mujoco_peer.hpp"
 #endif
 
-#ifndef GIMBALSIM_SCENES_DIR
-#define GIMBALSIM_SCENES_DIR "tools/scenes"
-#endif
-#ifndef GIMBALSIM_WORKPREC_DIR
-#define GIMBALSIM_WORKPREC_DIR "tools/workprec"
-#endif
 
 namespace {
 
@@ -90,101 +84,6 @@ void printPoint(const Point& p) {
               p.bore_err_max, p.bore_err_end, p.theta2_err_max, p.peak_force_err_rel, p.momentum_drift_rel,
               p.substeps);
   std::fflush(stdout);
-}
-
-/// The sweep's settings (its command line).
-struct Args {
-  // paper_both_spatial is chaotic (docs/MODEL.md 2.7): no error to a reference past a fraction of a second.
-  std::vector<std::string> scenes = {"paper_ideal", "paper_ideal_valid_inertia", "paper_clearance",
-                                     "stickslip_clearance", "paper_both_planar", "paper_spatial2"};
-  std::string scenes_dir = GIMBALSIM_SCENES_DIR;
-  std::string policies_path = std::string(GIMBALSIM_WORKPREC_DIR) + "/policies.yaml";
-  std::vector<double> steps = {2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4};
-  std::vector<std::string> extra_sets, only_policies;
-  int repeats = 3;
-  double duration = 0.0, output_interval = 2e-2, peak_dt = 1e-6, max_run_seconds = 3.0;
-  std::string out_dir = "out/workprec";
-  bool quick = false, no_mujoco = false;
-  std::vector<Policy> policies;  ///< the table, cut to --policy
-};
-
-/// Parse: the options, checked; nullopt to go on, else the exit code.
-std::optional<int> parseArgs(int argc, char** argv, Args& a) {
-  CLI::App app{"gimbalsim work-precision sweep: CPU time per simulated second against error to a reference"};
-  app.add_option("--scenes", a.scenes, "scene names in the scenes directory")->delimiter(',');
-  app.add_option("--scenes-dir", a.scenes_dir, "where the scene files are");
-  app.add_option("--policies", a.policies_path, "policy table (YAML)");
-  app.add_option("--policy", a.only_policies, "only these policies (by name; repeatable)");
-  app.add_option("--steps", a.steps, "outer steps h [s] swept by the plain curves")
-      ->delimiter(',')->check(program::within(0.0, 1e3, true));
-  app.add_option("--repeats", a.repeats, "timed runs per point (the median is reported)")->check(CLI::Range(1, 99));
-  app.add_option("--duration", a.duration, "simulated time [s] (default: the scenes')")
-      ->check(program::within(0.0, 1e6, true));
-  app.add_option("--output-interval", a.output_interval, "row spacing the errors are compared at [s]")
-      ->check(program::within(0.0, 1e6, true));
-  app.add_option("--peak-dt", a.peak_dt, "sampling of the reference's peak contact force [s]")
-      ->check(program::within(1e-9, 1e3));
-  app.add_option("--max-run-seconds", a.max_run_seconds,
-                 "end a curve after a point whose run takes longer than this [CPU s]")
-      ->check(program::within(0.0, 1e9, true));
-  app.add_option("--set", a.extra_sets, "key=value applied to every scene (repeatable)");
-  app.add_option("--out", a.out_dir, "output directory (CSV, reference cache)");
-  app.add_flag("--quick", a.quick, "a few short points (smoke test): 1 s, h = 0.04, 0.02, 0.01, rows every 0.04 s");
-  app.add_flag("--no-mujoco", a.no_mujoco, "skip the MuJoCo peer even when built with it");
-  if (const auto rc = program::parse(app, argc, argv, "gimbalsim_workprec")) return *rc;
-  if (a.quick && (app.count("--steps") || app.count("--output-interval"))) {  // --quick would overwrite them
-    return program::refuse("gimbalsim_workprec", "--quick sets --steps and --output-interval: give one or the other");
-  }
-  if (a.quick) {
-    a.steps = {4e-2, 2e-2, 1e-2};
-    a.output_interval = 4e-2;
-    if (a.duration <= 0.0) a.duration = 1.0;
-    a.peak_dt = std::max(a.peak_dt, 1e-5);
-  }
-  // Counts derived from these (reference samples, rows) must fit a long long: refused with exit 2.
-  if (!(a.peak_dt > 0.0 && a.output_interval >= a.peak_dt && a.output_interval / a.peak_dt <= 1e9 &&
-        a.duration >= 0.0 && a.duration <= 1e6)) {
-    return program::refuse("gimbalsim_workprec",
-                           "need 0 < --peak-dt <= --output-interval <= 1e9 --peak-dt and 0 <= --duration <= 1e6 s");
-  }
-  // Every point runs whole steps h (the scene's own rule): a duration or row spacing between two is
-  // refused here, once, not recorded as every point refused.
-  for (const double h : a.steps) {
-    for (const auto& [flag, value] : {std::pair{"--duration", a.duration}, {"--output-interval", a.output_interval}}) {
-      if (value <= 0.0) continue;  // --duration 0: the scenes' own
-      if (const std::string why = wholeMultipleProblem(value, h, "the step h = " + formatNumber(h)); !why.empty()) {
-        return program::refuse("gimbalsim_workprec", std::string(flag) + ": " + why);
-      }
-    }
-  }
-  try {
-    a.policies = loadPolicies(a.policies_path);
-  } catch (const std::exception& e) {
-    return program::refuse("gimbalsim_workprec", e.what());
-  }
-  for (const std::string& name : a.only_policies) {  // a --policy the table does not hold is refused, never ignored
-    if (std::none_of(a.policies.begin(), a.policies.end(), [&](const Policy& p) { return p.name == name; })) {
-      return program::refuse("gimbalsim_workprec", "--policy " + name + ": no such policy in " + a.policies_path);
-    }
-  }
-  if (!a.only_policies.empty()) {
-    std::erase_if(a.policies, [&](const Policy& p) {
-      return std::find(a.only_policies.begin(), a.only_policies.end(), p.name) == a.only_policies.end();
-    });
-  }
-  if (const std::string why = gimbalsim::io::outputFolderProblem(a.out_dir, app.count("--out") > 0); !why.empty()) {
-    return program::refuse("gimbalsim_workprec", "--out " + a.out_dir + ": " + why);
-  }
-  // The CSV is checked before anything runs: a link under its name, or the policy table or a scene
-  // under it (it was overwritten with the results), is refused, not found at the end.
-  std::vector<std::string> inputs{a.policies_path};
-  for (const std::string& scene : a.scenes) inputs.push_back(a.scenes_dir + "/" + scene + ".yaml");
-  try {
-    gimbalsim::io::checkOutputPaths({a.out_dir + "/workprec.csv"}, inputs);
-  } catch (const gimbalsim::io::OutputError& e) {
-    return program::refuse("gimbalsim_workprec", std::string("--out: ") + e.what());
-  }
-  return std::nullopt;
 }
 
 /// The overrides every run of a scene gets: its defaults, the guards off,
@@ -316,7 +215,15 @@ void measureCurve(const Args& a, const std::string& scene, const std::string& pa
 }
 
 /// Run: every curve of one scene; nullopt to go on, else the exit code (a refused scene).
-std::optional<int> measureScene(const Args& a, const std::string& scene, std::vector<Point>& points) {
+/// What went wrong without stopping the sweep; each decides the exit code at the end.
+struct Troubles {
+  std::vector<std::string> skipped;    ///< scenes whose reference run failed (exit 3)
+  std::vector<std::string> uncached;   ///< references that could not be cached (exit 4)
+};
+
+/// Run: every curve of one scene; nullopt to go on, else the exit code (a refused scene).
+std::optional<int> measureScene(const Args& a, const std::string& scene, std::vector<Point>& points,
+                                Troubles& troubles) {
   const std::string path = a.scenes_dir + "/" + scene + ".yaml";
   const std::vector<std::string> base_sets = baseSets(a, scene);
   Scene base;
@@ -337,7 +244,15 @@ std::optional<int> measureScene(const Args& a, const std::string& scene, std::ve
     ref = reference(base, readFile(path) + "\n" + join(base_sets, "\n"), a.out_dir, a.peak_dt);
   } catch (const std::exception& e) {
     std::printf("FAILED (%s); scene skipped\n", e.what());
+    troubles.skipped.push_back(scene + " (" + e.what() + ")");
     return std::nullopt;
+  }
+  if (!ref.cache_unused.empty()) {
+    std::fprintf(stderr, "gimbalsim_workprec: reference cache %s: computed again\n", ref.cache_unused.c_str());
+  }
+  if (!ref.cache_unwritten.empty()) {
+    std::fprintf(stderr, "gimbalsim_workprec: error: reference not cached: %s\n", ref.cache_unwritten.c_str());
+    troubles.uncached.push_back(ref.cache_unwritten);
   }
   printReference(base, ref, a.out_dir);
   for (const Policy& pol : a.policies) {
@@ -385,19 +300,27 @@ int mainImpl(int argc, char** argv) {
               "median of %d runs; errors at every %g s row against Boost.Odeint dopri5 at 1e-12.\n"
               "Timings on a shared machine are noisy.\n",
               a.repeats, a.output_interval);
+  // The CSV's temporary exists before the first point: a folder that takes no file costs no run.
+  const std::string csv = a.out_dir + "/workprec.csv";
+  std::optional<gimbalsim::io::OutputFile> csv_file;
+  try {
+    csv_file.emplace(csv);
+  } catch (const gimbalsim::io::OutputError& e) {
+    std::fprintf(stderr, "gimbalsim_workprec: error: %s\ngimbalsim_workprec: the output cannot be written, nothing "
+                 "run\n", e.what());
+    return program::kOutput;
+  }
   std::vector<Point> points;
+  Troubles troubles;
   // SIGINT/SIGTERM: the point being measured is dropped, the CSV holds every whole point before it.
   gimbalsim::io::installStopHandlers();
   for (const std::string& scene : a.scenes) {
     if (gimbalsim::io::stopRequested()) break;
-    if (const auto rc = measureScene(a, scene, points)) return *rc;
+    if (const auto rc = measureScene(a, scene, points, troubles)) return *rc;
   }
   markPareto(points);
-  const std::string csv = a.out_dir + "/workprec.csv";
-  try {
-    writeCsv(csv, points);
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
+  if (!csv_file->write(csvText(points)) || !csv_file->commit()) {
+    std::fprintf(stderr, "gimbalsim_workprec: error: %s\n", csv_file->error().c_str());
     return program::kOutput;
   }
   std::printf("\nwrote %s (%zu points)\n", csv.c_str(), points.size());
@@ -407,6 +330,17 @@ int mainImpl(int argc, char** argv) {
     return gimbalsim::io::stopExitCode();
   }
   printCheapest(points);
+  // Every other point was measured and written; the exit code still says what is missing.
+  if (!troubles.skipped.empty()) {
+    std::fprintf(stderr, "gimbalsim_workprec: error: %zu scene(s) without a reference, not measured (first: %s)\n",
+                 troubles.skipped.size(), troubles.skipped.front().c_str());
+    return program::kStopped;
+  }
+  if (!troubles.uncached.empty()) {
+    std::fprintf(stderr, "gimbalsim_workprec: error: %zu reference cache(s) not written (first: %s)\n",
+                 troubles.uncached.size(), troubles.uncached.front().c_str());
+    return program::kOutput;
+  }
   return program::kOk;
 }
 

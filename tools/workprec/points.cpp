@@ -84,7 +84,7 @@ const std::vector<std::string> kCsvColumns = {
     "bore_err_max_rad", "bore_err_end_rad", "theta1_err_max_rad", "theta2_err_max_rad",
     "peak_force_err_rel", "momentum_drift_rel", "substeps", "impacts", "pareto", "note"};
 
-void writeCsv(const std::string& path, const std::vector<Point>& points) {
+std::string csvText(const std::vector<Point>& points) {
   std::ostringstream out;
   auto n = [](double x) {  // the CSV convention's numbers (io/csv_format.hpp)
     std::string s;
@@ -105,7 +105,7 @@ void writeCsv(const std::string& path, const std::vector<Point>& points) {
         << n(p.peak_force_err_rel) << ',' << n(p.momentum_drift_rel) << ',' << p.substeps << ',' << p.impacts
         << ',' << (p.pareto ? 1 : 0) << ',' << quoted(p.note) << '\n';
   }
-  io::writeFileAtomically(path, out.str());  // throws io::OutputError naming the file
+  return out.str();
 }
 
 }  // namespace gimbalsim::workprec

@@ -43,8 +43,8 @@ void markPareto(std::vector<Point>& points);
 /// The cheapest ok point of a scene with bore_err_max <= target, or nullptr.
 const Point* cheapestFor(const std::vector<Point>& points, const std::string& scene, double target);
 
-/// CSV with a header (kCsvColumns).
-void writeCsv(const std::string& path, const std::vector<Point>& points);
+/// The CSV's text, with a header (kCsvColumns).
+std::string csvText(const std::vector<Point>& points);
 extern const std::vector<std::string> kCsvColumns;
 
 }  // namespace gimbalsim::workprec

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -143,42 +144,65 @@ void finePass(const Scene& sc, double dt, Reference& r) {
   }
 }
 
-/// Cache file format: one line "# key=... peak_contact=... peak_dt=... stick=..."
-/// then "t,theta1,theta2,bore_x,bore_y,bore_z" rows.
-bool readCache(const std::string& path, const std::string& key, Reference& r) {
+/// One cache row "t,theta1,theta2,bore_x,bore_y,bore_z": six finite numbers, nothing else.
+bool parseCacheRow(const std::string& line, double (&v)[6]) {
+  const char* p = line.c_str();
+  for (int i = 0; i < 6; ++i) {
+    char* end = nullptr;
+    v[i] = std::strtod(p, &end);
+    if (end == p || !std::isfinite(v[i])) return false;
+    p = end;
+    if (i < 5 && *p++ != ',') return false;
+  }
+  return *p == '\0';
+}
+
+/// Cache file format: one line "# key rows self_consistency peak_contact peak_dt stick..."
+/// then "t,theta1,theta2,bore_x,bore_y,bore_z" and exactly `rows` rows. The count
+/// is what tells a whole cache from one cut short (a full disk, a copy stopped).
+/// Returns "" when path holds the whole reference of key (read into r), kNoCache
+/// when there is no file, else why the file cannot be used.
+constexpr const char* kNoCache = "none";
+std::string readCache(const std::string& path, const std::string& key, Reference& r) {
+  std::error_code ec;
+  const auto st = std::filesystem::symlink_status(path, ec);
+  if (!std::filesystem::exists(st)) return kNoCache;
+  if (!std::filesystem::is_regular_file(st)) return "not a regular file";
   std::ifstream in(path);
   std::string line;
-  if (!in || !std::getline(in, line)) return false;
+  if (!in || !std::getline(in, line)) return "empty or unreadable";
   std::istringstream hs(line);
   std::string hash, tag;
+  long long rows = -1;
   StickSlip& ss = r.stick;
-  hs >> tag >> hash >> r.self_consistency >> r.rows.peak_contact >> r.peak_dt >> ss.dt >> ss.contact_time >> ss.below_va >>
-      ss.band >> ss.slip >> ss.stick_entries >> ss.vt_sign_changes;
-  if (tag != "#" || hash != key || !hs) return false;
+  hs >> tag >> hash >> rows >> r.self_consistency >> r.rows.peak_contact >> r.peak_dt >> ss.dt >> ss.contact_time >>
+      ss.below_va >> ss.band >> ss.slip >> ss.stick_entries >> ss.vt_sign_changes;
+  if (tag != "#" || !hs || !(hs >> std::ws).eof() || rows <= 0) return "its first line is not a cache header";
+  if (hash != key) return "made from other settings";
   std::getline(in, line);  // column names
+  long long n = 0;
   while (std::getline(in, line)) {
     double v[6];
-    char comma;
-    std::istringstream ls(line);
-    ls >> v[0] >> comma >> v[1] >> comma >> v[2] >> comma >> v[3] >> comma >> v[4] >> comma >> v[5];
-    if (!ls) return false;
+    if (!parseCacheRow(line, v)) return "row " + std::to_string(n + 1) + " is not six finite numbers";
+    if (++n > rows) break;
     r.rows.t.push_back(v[0]);
     r.rows.theta1.push_back(v[1]);
     r.rows.theta2.push_back(v[2]);
     r.rows.bore.emplace_back(v[3], v[4], v[5]);
   }
-  return !r.rows.t.empty();
+  if (n != rows) return "holds " + std::to_string(n) + " rows where its header says " + std::to_string(rows);
+  return "";
 }
 
 void writeCache(const std::string& path, const std::string& key, const Reference& r) {
   std::ostringstream out;
   out << std::setprecision(17);
   const StickSlip& ss = r.stick;
-  out << "# " << key << ' ' << r.self_consistency << ' ' << r.rows.peak_contact << ' ' << r.peak_dt << ' ' << ss.dt << ' '
-      << ss.contact_time << ' ' << ss.below_va << ' ' << ss.band << ' ' << ss.slip << ' '
+  const Trajectory& tr = r.rows;
+  out << "# " << key << ' ' << tr.t.size() << ' ' << r.self_consistency << ' ' << tr.peak_contact << ' ' << r.peak_dt
+      << ' ' << ss.dt << ' ' << ss.contact_time << ' ' << ss.below_va << ' ' << ss.band << ' ' << ss.slip << ' '
       << ss.stick_entries << ' ' << ss.vt_sign_changes << "\n";
   out << "t,theta1,theta2,bore_x,bore_y,bore_z\n";
-  const Trajectory& tr = r.rows;
   for (std::size_t i = 0; i < tr.t.size(); ++i) {
     out << tr.t[i] << ',' << tr.theta1[i] << ',' << tr.theta2[i] << ',' << tr.bore[i].x() << ','
         << tr.bore[i].y() << ',' << tr.bore[i].z() << '\n';
@@ -196,23 +220,29 @@ double cpuSecondsOfRun(const Scene& sc) {
 
 Reference reference(const Scene& sc, const std::string& key, const std::string& cache_dir, double peak_dt) {
   std::ostringstream hk;
-  hk << std::hex << std::hash<std::string>{}(key + " peak_dt=" + formatNumber(peak_dt) + " dopri5-1e-12 v2");
+  hk << std::hex << std::hash<std::string>{}(key + " peak_dt=" + formatNumber(peak_dt) + " dopri5-1e-12 v3");
   const std::string hash = hk.str();
   const std::string path = cache_dir + "/ref_" + sc.model.name + "_" + hash + ".csv";
   Reference r;
-  if (readCache(path, hash, r)) {
+  if (const std::string why = readCache(path, hash, r); why.empty()) {
     r.from_cache = true;
     return r;
+  } else if (why != kNoCache) {
+    r = Reference{};
+    r.cache_unused = path + ": " + why;
   }
-  r = Reference{};
   const double t0 = threadCpuSeconds();
   r.rows = rowsOf(sc, IntegratorKind::Reference);
   if (!r.rows.ok) throw std::runtime_error("reference run failed: " + r.rows.error);
   r.rows.peak_contact = 0.0;  // the row pass only sees rows; the fine pass sets it
   dispatchVariant(sc.model, [&](auto tag) { finePass<decltype(tag)>(sc, peak_dt, r); });
   r.cpu_seconds = threadCpuSeconds() - t0;
-  std::filesystem::create_directories(cache_dir);
-  writeCache(path, hash, r);
+  try {  // the cache only saves time: a reference it cannot hold is still measured against
+    std::filesystem::create_directories(cache_dir);
+    writeCache(path, hash, r);
+  } catch (const std::exception& e) {
+    r.cache_unwritten = e.what();
+  }
   return r;
 }
 

@@ -49,10 +49,17 @@ struct Reference {
   double self_consistency = 0.0;
   double cpu_seconds = 0.0;      ///< to compute it (0 when read from the cache)
   bool from_cache = false;
+  /// Why a file under the cache's name was not read ("" when none was there or it
+  /// was read): cut short, unreadable, not a file. The reference was computed.
+  std::string cache_unused;
+  /// Why the computed reference could not be cached ("" when it was).
+  std::string cache_unwritten;
 };
 
 /// Computes the reference of m, or reads it from cache_dir when a file there
-/// was made from the same scene text, overrides and settings (key).
+/// was made from the same scene text, overrides and settings (key) and holds
+/// every row its header counts. Only a failed reference run throws; a cache
+/// that cannot be read or written is said in cache_unused / cache_unwritten.
 Reference reference(const Scene& sc, const std::string& key, const std::string& cache_dir,
                     double peak_dt);
 
