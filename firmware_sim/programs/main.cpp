@@ -143,19 +143,35 @@ int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
     }
   }
   const std::vector<std::string> inputs{o.scene, o.profile, o.faults};
-  const bool antenna = in.plant.sensors.antenna_sensors;  // its columns follow the truth's
-  if (std::string why; !o.truth_csv.empty() && !csv.open(o.truth_csv, inputs, &why, antenna)) {
-    return refuse("--truth-csv: " + why);
-  }
-  if (std::string why; !o.tick_log.empty() && !tick_log.open(o.tick_log, totalTicks(o, c), inputs, &why)) {
-    return refuse("--tick-log: " + why);
+  // A path no output may take (a link, a folder, an input, both outputs one file) or a tick log
+  // the run cannot hold is refused (exit 2); a folder that takes no file could not be written (4).
+  for (const auto& [flag, path] : {std::pair{"--truth-csv", o.truth_csv}, {"--tick-log", o.tick_log}}) {
+    try {
+      io::checkOutputPaths({path}, inputs);
+    } catch (const io::OutputError& e) {
+      return refuse(std::string(flag) + ": " + e.what());
+    }
   }
   try {
     io::checkOutputPaths({o.truth_csv, o.tick_log});  // each alone passed above; not one file for both
   } catch (const io::OutputError& e) {
     return refuse(std::string("--truth-csv and --tick-log: ") + e.what());
   }
-
+  if (const std::string why = TickLog::boundsProblem(totalTicks(o, c)); !o.tick_log.empty() && !why.empty()) {
+    return refuse("--tick-log: " + why);
+  }
+  const bool antenna = in.plant.sensors.antenna_sensors;  // its columns follow the truth's
+  const auto unwritable = [](const std::string& what) {
+    std::fprintf(stderr, "firmware_sim: error: %s\nfirmware_sim: the output cannot be written, nothing run\n",
+                 what.c_str());
+    return kExitOutput;
+  };
+  if (std::string why; !o.truth_csv.empty() && !csv.open(o.truth_csv, inputs, &why, antenna)) {
+    return unwritable("--truth-csv: " + why);
+  }
+  if (std::string why; !o.tick_log.empty() && !tick_log.open(o.tick_log, totalTicks(o, c), inputs, &why)) {
+    return unwritable("--tick-log: " + why);
+  }
   return kExitOk;
 }
 

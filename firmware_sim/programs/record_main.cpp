@@ -20,6 +20,7 @@
 #include <regex>
 #include <string>
 
+#include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/lcm_wire/lcm_log.hpp"
 #include "gimbalsim/lcm_wire/peak_memory.hpp"
 #include "gimbalsim/lcm_wire/udpm_receiver.hpp"
@@ -57,8 +58,17 @@ int mainImpl(int argc, char** argv) {
   } catch (const std::regex_error& e) {
     return program::refuse("gimbalsim_record", "--channel '" + regex + "': not a regex (" + e.what() + ")");
   }
+  try {  // a path no output may take (a link, a folder, no such folder): refused (exit 2)
+    io::checkOutputPaths({path});
+  } catch (const io::OutputError& e) {
+    return program::refuse("gimbalsim_record", e.what());
+  }
   bio::LogWriter log;
-  if (std::string why; !log.open(path, &why)) return program::refuse("gimbalsim_record", why);
+  if (std::string why; !log.open(path, &why)) {  // a folder that takes no file: could not be written (4)
+    std::fprintf(stderr, "gimbalsim_record: error: %s\ngimbalsim_record: the output cannot be written, nothing "
+                 "recorded\n", why.c_str());
+    return program::kOutput;
+  }
   bio::ReassemblyLimits lim;
   lim.max_message_bytes = kMaxMessageBytes;
   lim.max_partials = kMaxPartials;
@@ -88,14 +98,16 @@ int mainImpl(int argc, char** argv) {
   }
   // What the socket holds already is still written (bounded: a flood cannot keep it going).
   if (failed == 0) rx.drain(write, 1 << 16);
-  std::string why;
-  if (failed > 0 || !log.commit(&why)) {
-    std::fprintf(stderr, "gimbalsim_record: error: writing %s failed%s%s; the file was not replaced\n", path.c_str(),
-                 why.empty() ? "" : ": ", why.c_str());
+  std::string why = failed > 0 ? log.error() : "";
+  const bool written = failed == 0 && log.commit(&why);
+  if (!written) {
+    std::fprintf(stderr, "gimbalsim_record: error: writing %s failed: %s; the file was not replaced\n", path.c_str(),
+                 why.c_str());
     rc = program::kOutput;
   }
-  std::fprintf(stderr, "gimbalsim_record: %lld messages -> %s; receive: %s; peak memory (VmHWM) %ld kB\n",
-               static_cast<long long>(log.events()), path.c_str(), rx.summary().c_str(), bio::peakRssKb());
+  std::fprintf(stderr, "gimbalsim_record: %lld messages %s %s; receive: %s; peak memory (VmHWM) %ld kB\n",
+               static_cast<long long>(log.events()), written ? "->" : "received, none kept: not written to",
+               path.c_str(), rx.summary().c_str(), bio::peakRssKb());
   // Stopped by SIGINT/SIGTERM, the log whole: 128 + the signal.
   return rc == program::kOk && io::stopRequested() ? io::stopExitCode() : rc;
 }

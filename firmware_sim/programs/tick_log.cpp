@@ -5,17 +5,17 @@
 
 namespace gimbalsim::firmware {
 
+std::string TickLog::boundsProblem(std::int64_t ticks) {
+  if (ticks <= 0) return "needs a bounded run (--duration > 0): the table of ticks is reserved before the loop starts";
+  if (ticks > kMaxTicks) {
+    return std::to_string(ticks) + " ticks asked; it holds at most " + std::to_string(kMaxTicks) +
+           " (20 bytes each, reserved at start): shorten --duration or lower --rate";
+  }
+  return "";
+}
+
 bool TickLog::open(const std::string& path, std::int64_t ticks, const std::vector<std::string>& inputs,
                    std::string* why) {
-  if (ticks <= 0) {
-    *why = "needs a bounded run (--duration > 0): the table of ticks is reserved before the loop starts";
-    return false;
-  }
-  if (ticks > kMaxTicks) {
-    *why = std::to_string(ticks) + " ticks asked; it holds at most " + std::to_string(kMaxTicks) +
-           " (20 bytes each, reserved at start): shorten --duration or lower --rate";
-    return false;
-  }
   try {
     file_.emplace(path, inputs);
   } catch (const io::OutputError& e) {

@@ -42,8 +42,11 @@ class TickLog {
   /// 2e6 ticks (33 min at 1 kHz): 40 MB of table, held from the start.
   static constexpr std::int64_t kMaxTicks = 2000000;
 
-  /// Creates the temporary file and reserves `ticks` rows; false with *why
-  /// (an unbounded run, one longer than kMaxTicks, or a refused path).
+  /// Why a run of `ticks` cannot have a tick log ("" when it can): an
+  /// unbounded run, or one longer than kMaxTicks. A refusal of the run (exit 2).
+  static std::string boundsProblem(std::int64_t ticks);
+  /// Creates the temporary file and reserves `ticks` rows (boundsProblem() is
+  /// "" for them); false with *why when the file cannot be made.
   bool open(const std::string& path, std::int64_t ticks, const std::vector<std::string>& inputs, std::string* why);
   /// Loop thread, once per tick; nothing when no file is open.
   void add(const TickRecord& r) noexcept {

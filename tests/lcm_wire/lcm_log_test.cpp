@@ -5,7 +5,12 @@
 
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <csignal>
+#include <cstdio>
 
 #include <cstdint>
 #include <filesystem>
@@ -166,6 +171,36 @@ TEST(LcmLog, RefusesAPathThatIsNotARegularFile) {
   EXPECT_NE(why.find("not a regular file"), std::string::npos) << why;
   EXPECT_FALSE(r.open("/nonexistent.lcmlog", &why));
   EXPECT_NE(why.find("No such file"), std::string::npos) << why;
+}
+
+// A full disk (here a file-size limit): the writer says the system's reason, naming the file,
+// and nothing is left under the name (the recorder prints that reason, not a bare "failed").
+TEST(LcmLog, AWriteThatFailsSaysTheSystemsReason) {
+  const std::string path = tempPath("full");
+  std::filesystem::remove(path);
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {  // the limit is the child's alone
+    std::signal(SIGXFSZ, SIG_IGN);
+    const rlimit lim{4096, 4096};
+    ::setrlimit(RLIMIT_FSIZE, &lim);
+    LogWriter w;
+    std::string why;
+    if (!w.open(path, &why)) _exit(10);
+    const std::vector<std::uint8_t> data(1000, 7);
+    bool failed = false;
+    for (int i = 0; i < 100 && !failed; ++i) failed = !w.write(i, "CH", data.data(), data.size());
+    if (!failed && w.commit(&why)) _exit(11);  // the limit must have been met
+    const std::string err = failed ? w.error() : why;
+    std::fprintf(stderr, "error: %s\n", err.c_str());
+    if (err.find(path) == std::string::npos || err.find("File too large") == std::string::npos) _exit(12);
+    if (w.commit(&why) || why.find("File too large") == std::string::npos) _exit(13);
+    _exit(std::filesystem::exists(path) ? 14 : 0);
+  }
+  int st = 0;
+  ASSERT_EQ(::waitpid(pid, &st, 0), pid);
+  ASSERT_TRUE(WIFEXITED(st));
+  EXPECT_EQ(WEXITSTATUS(st), 0) << "10 open, 11 no failure, 12 no reason, 13 commit, 14 a file left";
 }
 
 }  // namespace

@@ -194,12 +194,19 @@ int mainImpl(int argc, char** argv) {
   }
   std::optional<io::OutputFile> md_out;
   if (!markdown_path.empty()) {
-    try {
-      std::vector<std::string> inputs{ideal_path, clearance_path};
-      if (!config_path.empty()) inputs.push_back(config_path);
-      md_out.emplace(markdown_path, inputs);
+    std::vector<std::string> inputs{ideal_path, clearance_path};
+    if (!config_path.empty()) inputs.push_back(config_path);
+    try {  // a path no output may take (a link, a folder, an input, no such folder): refused (2)
+      io::checkOutputPaths({markdown_path}, inputs);
     } catch (const io::OutputError& e) {
       return program::refuse(kProgram, std::string("--markdown: ") + e.what());
+    }
+    try {  // a folder that takes no file (read-only, full): could not be written (4)
+      md_out.emplace(markdown_path, inputs);
+    } catch (const io::OutputError& e) {
+      std::fprintf(stderr, "%s: error: --markdown: %s\n%s: the output cannot be written, nothing run\n", kProgram,
+                   e.what(), kProgram);
+      return program::kOutput;
     }
   }
   std::printf("# %g s per run, tracking from %g s, slew ends at %g s; perfect sensors; truth pointing error\n", T,

@@ -126,6 +126,7 @@ bool LogReader::next(LogEvent* e) {
 bool LogWriter::write(std::int64_t timestamp_us, std::string_view channel, const std::uint8_t* data, std::size_t n) {
   if (channel.empty() || channel.size() > static_cast<std::size_t>(kMaxLogChannelBytes) ||
       n > static_cast<std::size_t>(kMaxLogEventBytes)) {
+    out_of_bounds_ = true;
     return false;
   }
   std::uint8_t h[kLogHeaderBytes];
@@ -150,6 +151,13 @@ bool LogWriter::open(const std::string& path, std::string* why) {
   }
   next_ = 0;
   return true;
+}
+
+std::string LogWriter::error() const {
+  if (out_ && !out_->error().empty()) return out_->error();
+  if (out_ && !out_->ok()) return out_->path() + ": a write failed";
+  if (out_of_bounds_) return "an event beyond the log format's bounds (channel or payload too long)";
+  return out_ ? "" : "the log was never opened";
 }
 
 bool LogWriter::commit(std::string* why) {

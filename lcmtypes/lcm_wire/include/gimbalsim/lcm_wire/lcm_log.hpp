@@ -89,9 +89,12 @@ class LogWriter {
   /// Flush, sync, rename; false with *why (the file is then not replaced).
   bool commit(std::string* why);
   std::int64_t events() const noexcept { return next_; }
+  /// Why the last write() failed, naming the file ("" while none did).
+  std::string error() const;
 
  private:
   std::optional<io::OutputFile> out_;
+  bool out_of_bounds_ = false;  ///< a write() refused an event beyond the format's bounds
   std::int64_t next_ = 0;
 };
 
