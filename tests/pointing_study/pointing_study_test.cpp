@@ -36,7 +36,8 @@ TEST(PointingStudy, QuickRunWritesOneSummaryRowPerRun) {
   const std::vector<std::string> cols{"run",           "scene",        "sensors",     "clearance_m",
                                       "peak_track_rad", "rms_track_rad", "peak_run_rad", "track_ticks",
                                       "controller_limited_ticks", "motor_limited_ticks", "joints",      "max_tilt1_rad", "max_tilt2_rad",
-                                      "play_onset1_s", "play_onset2_s", "loop_sensors", "status",        "stop_reason",  "track_reason"};
+                                      "play_onset1_s", "play_onset2_s", "loop_sensors", "status",        "stop_reason",  "track_reason",
+                                      "onset_reason"};
   EXPECT_EQ(sum.header, cols);
   ASSERT_EQ(sum.rows.size(), 3u);
   const auto rec = sum.records();
@@ -49,6 +50,15 @@ TEST(PointingStudy, QuickRunWritesOneSummaryRowPerRun) {
   EXPECT_GT(peak, 0.0);
   EXPECT_GT(std::stoll(rec[0].at("track_ticks")), 0);
   EXPECT_EQ(rec[0].at("track_reason"), "");
+  // A play onset is a time or nan with its reason, axis by axis, and the ticks run.
+  for (const auto& r : rec) {
+    for (const char* axis : {"1", "2"}) {
+      const bool never = r.at(std::string("play_onset") + axis + "_s") == "nan";
+      const std::string said = std::string("axis ") + axis + " never on its backlash guard's gains in the ";
+      EXPECT_EQ(r.at("onset_reason").find(said) != std::string::npos, never) << r.at("run") << ": " << r.at("onset_reason");
+    }
+  }
+  EXPECT_NE(rec[0].at("onset_reason").find("ticks run"), std::string::npos) << rec[0].at("onset_reason");
   for (int i = 1; i < 3; ++i) {
     EXPECT_EQ(rec[i].at("scene"), "paper_clearance");
     EXPECT_GT(std::stod(rec[i].at("clearance_m")), 0.0);

@@ -57,6 +57,7 @@ struct Study {
   /// [s] when each axis went onto its backlash guard's gains (NaN: never; controllers' play_guard.hpp)
   double play_onset[2] = {};
   std::string track_reason;  ///< why the track figures are NaN ("" if they have values)
+  std::string onset_reason;  ///< why a play_onset is NaN ("" if both have values)
   bool ok = true;
   std::string stop_key;     ///< the scene key of the limit that stopped the plant ("" if none)
   std::string reason;       ///< why it stopped
@@ -140,6 +141,13 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   s.motor_limited_ticks = r.motor_limited_ticks;
   s.max_tilt[0] = r.max_tilt(0), s.max_tilt[1] = r.max_tilt(1);
   s.play_onset[0] = r.play_onset(0), s.play_onset[1] = r.play_onset(1);
+  for (int j = 0; j < 2; ++j) {  // NaN means "not over the ticks run": say how far that was
+    if (!std::isnan(s.play_onset[j])) continue;
+    char why[160];
+    std::snprintf(why, sizeof why, "%saxis %d never on its backlash guard's gains in the %lld ticks run%s",
+                  s.onset_reason.empty() ? "" : "; ", j + 1, r.ticks, r.ok ? "" : " (the run stopped)");
+    s.onset_reason += why;
+  }
   if (s.err.empty()) s.peak_run = std::numeric_limits<double>::quiet_NaN();  // no tick: no peak, never 0
   s.ok = r.ok;
   if (!r.ok) {
@@ -172,7 +180,7 @@ std::string timeSeriesCsv(const std::vector<Study>& runs, double period) {
 std::string summaryCsv(const std::vector<Study>& runs) {
   std::string out =
       "run,scene,sensors,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,controller_limited_ticks,motor_limited_ticks,joints,"
-      "max_tilt1_rad,max_tilt2_rad,play_onset1_s,play_onset2_s,loop_sensors,status,stop_reason,track_reason\n";
+      "max_tilt1_rad,max_tilt2_rad,play_onset1_s,play_onset2_s,loop_sensors,status,stop_reason,track_reason,onset_reason\n";
   const auto text = [](const std::string& t) { return io::csvTextCell(t) + ","; };  // unquoted (CSV convention)
   const auto num = [](double x) { return csvNum(x) + ","; };
   for (const Study& s : runs) {
@@ -181,8 +189,8 @@ std::string summaryCsv(const std::vector<Study>& runs) {
            std::to_string(s.controller_limited_ticks) + "," + std::to_string(s.motor_limited_ticks) + "," +
            text(s.joints) + num(s.max_tilt[0]) + num(s.max_tilt[1]) + num(s.play_onset[0]) + num(s.play_onset[1]) +
            text(kLoopSensors) +
-           text(s.ok ? std::string("ok") : "stop:" + s.stop_key) + text(s.reason) + io::csvTextCell(s.track_reason) +
-           "\n";
+           text(s.ok ? std::string("ok") : "stop:" + s.stop_key) + text(s.reason) + text(s.track_reason) +
+           io::csvTextCell(s.onset_reason) + "\n";
   }
   return out;
 }
