@@ -38,7 +38,12 @@ def truth(tmp):
 
 
 def test_bench_plot_writes_and_refuses_bad_outputs(tmp, truth):
-    assert run(BENCH, truth, "--out", tmp / "ok.png").returncode == 0
+    p = run(BENCH, truth, "--out", tmp / "ok.png")
+    assert p.returncode == 0, p.stderr
+    # the window [2.5, inf) s is one the run never reached: n/a with its reason, as every summary says it
+    assert "max after 2.5 s n/a (window [2.5, inf) s not reached: run ended at" in p.stdout, p.stdout
+    p = run(BENCH, truth, "--out", tmp / "ok.png", "--after", "0")
+    assert p.returncode == 0 and "max after 0 s" in p.stdout and "n/a" not in p.stdout, p.stdout
     assert (tmp / "ok.png").stat().st_size > 1000
     refused(run(BENCH, truth, "--out", tmp / "missing" / "x.png"), "missing", "does not exist")
     refused(run(BENCH, truth, "--out", truth), "the same file as the input")

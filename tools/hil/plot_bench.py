@@ -146,9 +146,12 @@ def main():
     fig.tight_layout()
     savefig(fig, a.out, inputs=[a.truth], dpi=120)
 
-    after = err[t >= a.after]
     print(f"plot_bench: {len(t)} rows, t = {t[0]:.3f} .. {t[-1]:.3f} s -> {a.out}")
-    tail = f"max after {a.after:g} s {after.max():.3e} rad" if after.size else f"(run ends before {a.after:g} s)"
+    # A figure over [after, inf) only if the last row lies past its start (docs/usage.md "Figures over a window").
+    if t[-1] > a.after:
+        tail = f"max after {a.after:g} s {err[t >= a.after].max():.3e} rad"
+    else:
+        tail = f"max after {a.after:g} s n/a (window [{a.after:g}, inf) s not reached: run ended at {t[-1]:g} s)"
     print(f"  pointing error: end {err[-1]:.3e} rad, {tail}")
     print("  fault ticks: " + ", ".join(f"{name} {int(((faults & bit) != 0).sum())}" for bit, name in FAULTS))
     if seen:
