@@ -29,8 +29,8 @@ import math
 import os
 import stat
 
-__all__ = ["OutputError", "check_outputs", "open_output", "write_text", "write_bytes", "write_csv", "csv_text",
-           "savefig", "figure_bytes", "open_append", "append_synced"]
+__all__ = ["OutputError", "check_outputs", "open_output", "output_set", "write_text", "write_bytes", "write_csv",
+           "csv_text", "savefig", "figure_bytes", "open_append", "append_synced"]
 
 
 class OutputError(OSError):
@@ -176,6 +176,28 @@ def _sync_folder(path):
         os.close(fd)
 
 
+_sets = []  # the open output_set() blocks, innermost last: each the paths written while it is open
+
+
+@contextlib.contextmanager
+def output_set():
+    """Outputs that appear together or not at all (a report, its plots, its
+    summary): every file written through open_output (so write_text, savefig
+    and the rest) while the block runs joins the set; a block that ends in an
+    exception (a failed write, an interruption) removes those already under
+    their names before the exception goes on. Yields the list of paths."""
+    written = []
+    _sets.append(written)
+    try:
+        yield written
+    except BaseException:
+        for path in written:
+            _remove(path)
+        raise
+    finally:
+        _sets.remove(written)
+
+
 @contextlib.contextmanager
 def open_output(path, mode="w", inputs=()):
     """Yields the open temporary of path (mode "w": text, UTF-8, newlines as
@@ -201,6 +223,8 @@ def open_output(path, mode="w", inputs=()):
         stage = "rename failed"
         os.replace(tmp, path)
         tmp = None
+        for written in _sets:
+            written.append(path)
         stage = "sync of its folder failed (the file is whole)"
         _sync_folder(path)
     except OutputError:

@@ -45,7 +45,7 @@ import gimbalsim
 from . import _budget, _budget_report, _cluster, _provenance, _study_file, replay
 from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main
 from ._journal import DESIGN, JOURNAL, csv_line, fmt, read_journal, record_design, take_recorded_design  # noqa: F401 (csv_line, fmt: API)
-from ._output import append_synced, open_append, write_text
+from ._output import append_synced, open_append, output_set, write_text
 from ._sample import row_values, run_one, sample_alone  # noqa: F401 (sample_alone: API)
 from ._spec import check_out_dir, check_outputs_not_inputs
 from ._summary import plot, summarize
@@ -136,15 +136,18 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
                 break
             until.grow(spec)
             record_design(out, spec, write)
-    write(results, "".join(csv_line(r) for r in [header] + rows))
-    summary = summarize(spec, rows, engine)
-    summary["journal_rows_dropped"] = dropped
-    if grown is not None:
-        summary["until"] = grown
-    if spec.closed:
-        summary["report"] = str(write_report(spec, rows, summary, out, inputs))
-    summary["plots"] = [str(p) for p in _plots(lambda: plot(spec, rows, out / "plots", inputs), out)]
-    write(out / "summary.json", json.dumps(summary, indent=2) + "\n")
+    # The report is one set: stopped or failed part-way, none of it is left (the journal holds
+    # every row, and --resume writes the whole set).
+    with output_set():
+        write(results, "".join(csv_line(r) for r in [header] + rows))
+        summary = summarize(spec, rows, engine)
+        summary["journal_rows_dropped"] = dropped
+        if grown is not None:
+            summary["until"] = grown
+        if spec.closed:
+            summary["report"] = str(write_report(spec, rows, summary, out, inputs))
+        summary["plots"] = [str(p) for p in _plots(lambda: plot(spec, rows, out / "plots", inputs), out)]
+        write(out / "summary.json", json.dumps(summary, indent=2) + "\n")
     journal.unlink()
     return summary
 

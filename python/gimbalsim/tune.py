@@ -46,7 +46,7 @@ import gimbalsim
 from . import _cluster, _study_file
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
 from ._journal import fmt
-from ._output import savefig, write_csv, write_text
+from ._output import output_set, savefig, write_csv, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
 from ._tune_spec import METRICS, TuneSpec  # noqa: F401 (TuneSpec: the module's API)
 
@@ -237,12 +237,13 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
     text = (f"# gimbalsim.tune: trial {best.number} of {spec.spec_path.name}, score {best.value!r} rad "
             f"(p{spec.percentile:g} of {spec.metric} over {spec.batch} plants), "
             f"{'feasible' if feasible else 'NO FEASIBLE TRIAL: the least bad'}\n") + nested_yaml(best_ctrl._values_text())
-    write_text(out / "best.yaml", text, spec.input_files())
-    _plot(out, rows, spec)
     summary = {"best_trial": best.number, "best_score": best.value, "feasible": bool(feasible),
                "best_gains": {k: best.params[k] for k in gain_names}, "trials": len(rows),
                "complete": len(done), "feasible_trials": len(feasible)}
-    write_text(out / "summary.json", json.dumps(summary, indent=2) + "\n", spec.input_files())
+    with output_set():  # the study's verdict is one set: stopped part-way, none of it is left
+        write_text(out / "best.yaml", text, spec.input_files())
+        _plot(out, rows, spec)
+        write_text(out / "summary.json", json.dumps(summary, indent=2) + "\n", spec.input_files())
     return summary, rows
 
 

@@ -28,33 +28,11 @@ OutputError = _writer.OutputError
 check_outputs = _writer.check_outputs
 csv_number = _writer.csv_number
 
-# Every file this script has written (whole, under its name): a script that writes a set
-# (run_script(..., whole_set=True)) removes them when it fails or is stopped before the end.
-_written = []
-
-
-@contextlib.contextmanager
-def open_output(path, mode="w", inputs=()):
-    with _writer.open_output(path, mode, inputs) as f:
-        yield f
-    _written.append(path)
-
-
-def _recorded(write):
-    def wrapper(path, *args, **kwargs):
-        write(path, *args, **kwargs)
-        _written.append(path)
-    return wrapper
-
-
-write_text = _recorded(_writer.write_text)
-write_bytes = _recorded(_writer.write_bytes)
-write_csv = _recorded(_writer.write_csv)
-
-
-def savefig(fig, path, *args, **kwargs):
-    _writer.savefig(fig, path, *args, **kwargs)
-    _written.append(path)
+open_output = _writer.open_output
+write_text = _writer.write_text
+write_bytes = _writer.write_bytes
+write_csv = _writer.write_csv
+savefig = _writer.savefig
 
 # ---- how a script of tools/ ends: the exit-code table of docs/usage.md ----
 
@@ -96,7 +74,8 @@ def run_script(program, main, whole_set=False):
         signal.signal(signum, _stop)
     code = None
     try:
-        return main() or 0
+        with _writer.output_set() if whole_set else contextlib.nullcontext():
+            return main() or 0
     except Refused as e:
         print(f"{program}: error: {e}", file=sys.stderr)
         code = EXIT_REFUSED
@@ -106,9 +85,6 @@ def run_script(program, main, whole_set=False):
     except _Stopped as e:
         print(f"{program}: interrupted ({e})" + ("; nothing kept" if whole_set else ""), file=sys.stderr)
         code = 128 + e.signum
-    if whole_set:
-        for path in _written:
-            pathlib.Path(path).unlink(missing_ok=True)
     return code
 
 
