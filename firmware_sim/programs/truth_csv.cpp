@@ -23,9 +23,9 @@ bool TruthCsv::open(const std::string& path, const std::vector<std::string>& inp
 
 bool TruthCsv::write(const Truth& t, const Antenna* a) {
   if (!out_) return true;
-  csv::writeRow<TruthFields>(out_->stream(), t, 0, false, !antenna_);
+  csv::writeRow<TruthFields>(out_->stream(), t, !antenna_);
   // Both loops hand the tick's antenna message with its truth; a default one keeps a row whole regardless.
-  if (antenna_) csv::writeRow<AntennaFields>(out_->stream(), a != nullptr ? *a : Antenna{}, kSharedFields, true);
+  if (antenna_) csv::continueRow<AntennaFields>(out_->stream(), a != nullptr ? *a : Antenna{}, kSharedFields);
   return out_->ok();
 }
 

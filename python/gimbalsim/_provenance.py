@@ -10,11 +10,11 @@ import functools
 import hashlib
 
 import gimbalsim
+from ._closed_spec import CONTROLLER_PREFIX
 
 APPLIED = "applied."       # code name of a column: applied.<design column>
 DIFFERS = "applied_differs"  # the keys whose applied value is not the drawn one, space-separated
 SCENE_FINGERPRINT = "base_scene_sha256"
-CONTROLLER_PREFIX = "controller."  # a closed-loop design's name of a controller key
 CONTROLLER_FINGERPRINT = "controller_config_sha256"
 
 

@@ -200,6 +200,16 @@ TEST(Log2Csv, RefusesMissingFileAndNonLogWithExitCode2) {
   EXPECT_NE(msg.find("--type 'bogus'"), std::string::npos) << msg;
 }
 
+/// One event (channel, bytes, timestamp [us]) written to an LCM log file.
+void writeEvent(lcm::LogFile& log, const std::string& channel, const void* data, int n, int64_t t) {
+  lcm::LogEvent e;
+  e.timestamp = t;
+  e.channel = channel;
+  e.datalen = n;
+  e.data = const_cast<void*>(data);
+  ASSERT_EQ(log.writeEvent(&e), 0);
+}
+
 TEST(Log2Csv, SkipsAndCountsUndecodableMessagesOnAChannel) {
   TempDir dir("log2csv_garbage");
   const std::string path = dir / "w.lcmlog";
@@ -207,14 +217,7 @@ TEST(Log2Csv, SkipsAndCountsUndecodableMessagesOnAChannel) {
     lcm::LogFile log(path, "w");
     ASSERT_TRUE(log.good());
     unsigned char buf[1024];
-    auto write = [&](const std::string& ch, const void* data, int n, int64_t t) {
-      lcm::LogEvent e;
-      e.timestamp = t;
-      e.channel = ch;
-      e.datalen = n;
-      e.data = const_cast<void*>(data);
-      ASSERT_EQ(log.writeEvent(&e), 0);
-    };
+    auto write = [&](const std::string& ch, const void* data, int n, int64_t t) { writeEvent(log, ch, data, n, t); };
     gimbal_command_t c{};
     c.seq = 3;
     c.status_seq = 2;
@@ -250,12 +253,7 @@ TEST(Log2Csv, AChannelNameThatCannotNameAFileIsRefused) {
     ASSERT_TRUE(log.good());
     unsigned char buf[512];
     gimbal_truth_t t{};
-    lcm::LogEvent e;
-    e.timestamp = 1;
-    e.channel = "/../../escape_GIMBAL_TRUTH";
-    e.datalen = t.encode(buf, 0, sizeof buf);
-    e.data = buf;
-    ASSERT_EQ(log.writeEvent(&e), 0);
+    writeEvent(log, "/../../escape_GIMBAL_TRUTH", buf, t.encode(buf, 0, sizeof buf), 1);
   }
   std::filesystem::create_directories(dir / "rec_");  // so that rec_/../../escape... resolves
   int st = 0;

@@ -48,21 +48,35 @@ std::string header(int skip = 0) {
   return h + '\n';
 }
 
-/// One row of m (a firmware struct or the LCM type) as the field list D
-/// orders it; `append` (a message after another's row): its first `skip`
-/// fields left out and the row continued after a comma.
+namespace detail {
+/// m's fields after its first `skip`, each after `sep` (then ","), as D orders them.
 template <class D, class M>
-void writeRow(std::FILE* f, const M& m, int skip = 0, bool append = false, bool end = true) {
-  const char* sep = append ? "," : "";
+void putFields(std::FILE* f, const M& m, int skip, const char* sep) {
   int field = 0;
   D::visit(
       [&](Columns, const auto& x) {
         if (field++ < skip) return;
-        detail::put(f, x, sep);
+        put(f, x, sep);
         sep = ",";
       },
       m);
+}
+}  // namespace detail
+
+/// One row of m (a firmware struct or the LCM type) as the field list D
+/// orders it; end = false leaves it open for continueRow().
+template <class D, class M>
+void writeRow(std::FILE* f, const M& m, bool end = true) {
+  detail::putFields<D>(f, m, 0, "");
   if (end) std::fputc('\n', f);
+}
+
+/// Continues an open row with another message's fields (after a comma),
+/// leaving out its first `skip` (fields the row already holds), and ends it.
+template <class D, class M>
+void continueRow(std::FILE* f, const M& m, int skip) {
+  detail::putFields<D>(f, m, skip, ",");
+  std::fputc('\n', f);
 }
 
 }  // namespace gimbalsim::firmware::csv
