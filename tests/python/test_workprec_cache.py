@@ -43,6 +43,11 @@ def test_a_cache_cut_short_is_computed_again(tmp_path):
     assert "cached" not in again.stdout
     assert errors(tmp_path) == want  # the truncated reference had cut every point's comparison short
     assert cache.read_text() == whole
+    # cut inside the last number: six numbers still, one digit short, and no final newline
+    cache.write_text(whole[:-3])
+    again = workprec(tmp_path)
+    assert again.returncode == 0 and "cut short inside its last line" in again.stderr, again.stderr
+    assert errors(tmp_path) == want and cache.read_text() == whole
     # a row that is not six numbers is not read either
     cache.write_text(whole.replace("\n", "\nx,1,2,3,4,5\n", 3).replace("\nx,1,2,3,4,5\n", "\n", 2))
     third = workprec(tmp_path)

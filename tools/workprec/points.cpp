@@ -46,6 +46,7 @@ bool compare(const Trajectory& run, const Trajectory& ref, Point& p) {
   p.peak_force_err_rel = ref.peak_contact > 0.0
                              ? std::fabs(run.peak_contact - ref.peak_contact) / ref.peak_contact
                              : kNaN;
+  if (!(ref.peak_contact > 0.0)) p.note = "peak_force_err_rel: no contact in the reference";  // nan's reason
   return true;
 }
 
@@ -93,17 +94,14 @@ std::string csvText(const std::vector<Point>& points) {
   };
   for (std::size_t i = 0; i < kCsvColumns.size(); ++i) out << (i ? "," : "") << kCsvColumns[i];
   out << '\n';
-  auto quoted = [](std::string s) {
-    std::replace(s.begin(), s.end(), '"', '\'');
-    return '"' + s + '"';
-  };
+  const auto text = [](const std::string& s) { return io::csvTextCell(s); };  // unquoted (CSV convention)
   for (const Point& p : points) {
-    out << quoted(p.scene) << ',' << quoted(p.policy) << ',' << n(p.h) << ',' << n(p.substep) << ','
-        << n(p.event_tol) << ',' << quoted(p.sweep_key) << ',' << quoted(p.sweep_value) << ','
+    out << text(p.scene) << ',' << text(p.policy) << ',' << n(p.h) << ',' << n(p.substep) << ','
+        << n(p.event_tol) << ',' << text(p.sweep_key) << ',' << text(p.sweep_value) << ','
         << (p.ok ? 1 : 0) << ',' << n(p.cpu_per_sim_s) << ',' << p.repeats << ',' << n(p.bore_err_max) << ','
         << n(p.bore_err_end) << ',' << n(p.theta1_err_max) << ',' << n(p.theta2_err_max) << ','
         << n(p.peak_force_err_rel) << ',' << n(p.momentum_drift_rel) << ',' << p.substeps << ',' << p.impacts
-        << ',' << (p.pareto ? 1 : 0) << ',' << quoted(p.note) << '\n';
+        << ',' << (p.pareto ? 1 : 0) << ',' << text(p.note) << '\n';
   }
   return out.str();
 }

@@ -158,8 +158,9 @@ bool parseCacheRow(const std::string& line, double (&v)[6]) {
 }
 
 /// Cache file format: one line "# key rows self_consistency peak_contact peak_dt stick..."
-/// then "t,theta1,theta2,bore_x,bore_y,bore_z" and exactly `rows` rows. The count
-/// is what tells a whole cache from one cut short (a full disk, a copy stopped).
+/// then "t,theta1,theta2,bore_x,bore_y,bore_z" and exactly `rows` rows, each ended by a
+/// newline. The count and the final newline tell a whole cache from one cut short (a full
+/// disk, a copy stopped), even inside its last number.
 /// Returns "" when path holds the whole reference of key (read into r), kNoCache
 /// when there is no file, else why the file cannot be used.
 constexpr const char* kNoCache = "none";
@@ -168,9 +169,15 @@ std::string readCache(const std::string& path, const std::string& key, Reference
   const auto st = std::filesystem::symlink_status(path, ec);
   if (!std::filesystem::exists(st)) return kNoCache;
   if (!std::filesystem::is_regular_file(st)) return "not a regular file";
-  std::ifstream in(path);
+  std::ifstream file(path, std::ios::binary);
+  std::stringstream whole;
+  whole << file.rdbuf();
+  const std::string text = whole.str();
+  // A cut inside the last row can leave six numbers (a digit lost): only a whole file ends its row.
+  if (!file || text.empty() || text.back() != '\n') return "cut short inside its last line";
+  std::istringstream in(text);
   std::string line;
-  if (!in || !std::getline(in, line)) return "empty or unreadable";
+  if (!std::getline(in, line)) return "empty or unreadable";
   std::istringstream hs(line);
   std::string hash, tag;
   long long rows = -1;
