@@ -122,7 +122,8 @@ int run(int argc, char** argv) {
     try {
       log_out.emplace(o.log_csv, o.config.empty() ? std::vector<std::string>{} : std::vector<std::string>{o.config});
     } catch (const io::OutputError& e) {
-      return program::refuse("pointing_controller", std::string("--log-csv: ") + e.what());
+      const std::string what = std::string("--log-csv: ") + e.what();
+      return e.unwritable() ? program::unwritable("pointing_controller", what) : program::refuse("pointing_controller", what);
     }
     csv = log_out->stream();
     StatusHandler::header(csv);

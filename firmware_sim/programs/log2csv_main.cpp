@@ -270,7 +270,7 @@ int mainImpl(int argc, char** argv) {
     try {
       f = std::make_unique<io::OutputFile>(path, std::vector<std::string>{log_path});
     } catch (const io::OutputError& e) {
-      return refuse(e.what());
+      return e.unwritable() ? program::unwritable("gimbalsim_log2csv", e.what()) : refuse(e.what());
     }
     sinks[ch] = std::make_unique<Sink>(t, f->stream(), log_time);
     files[ch] = std::move(f);

@@ -161,11 +161,7 @@ int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
     return refuse("--tick-log: " + why);
   }
   const bool antenna = in.plant.sensors.antenna_sensors;  // its columns follow the truth's
-  const auto unwritable = [](const std::string& what) {
-    std::fprintf(stderr, "firmware_sim: error: %s\nfirmware_sim: the output cannot be written, nothing run\n",
-                 what.c_str());
-    return kExitOutput;
-  };
+  const auto unwritable = [](const std::string& what) { return program::unwritable("firmware_sim", what); };
   if (std::string why; !o.truth_csv.empty() && !csv.open(o.truth_csv, inputs, &why, antenna)) {
     return unwritable("--truth-csv: " + why);
   }

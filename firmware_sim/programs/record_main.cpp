@@ -65,9 +65,7 @@ int mainImpl(int argc, char** argv) {
   }
   bio::LogWriter log;
   if (std::string why; !log.open(path, &why)) {  // a folder that takes no file: could not be written (4)
-    std::fprintf(stderr, "gimbalsim_record: error: %s\ngimbalsim_record: the output cannot be written, nothing "
-                 "recorded\n", why.c_str());
-    return program::kOutput;
+    return program::unwritable("gimbalsim_record", why);
   }
   bio::ReassemblyLimits lim;
   lim.max_message_bytes = kMaxMessageBytes;

@@ -2,6 +2,7 @@
 
 #include <cinttypes>
 #include <cstdio>
+#include <utility>
 
 namespace gimbalsim::firmware {
 
@@ -16,6 +17,10 @@ std::string TickLog::boundsProblem(std::int64_t ticks) {
 
 bool TickLog::open(const std::string& path, std::int64_t ticks, const std::vector<std::string>& inputs,
                    std::string* why) {
+  if (std::string bound = boundsProblem(ticks); !bound.empty()) {  // the caller checked; never a huge table
+    *why = std::move(bound);
+    return false;
+  }
   try {
     file_.emplace(path, inputs);
   } catch (const io::OutputError& e) {
@@ -28,16 +33,19 @@ bool TickLog::open(const std::string& path, std::int64_t ticks, const std::vecto
 
 bool TickLog::writeRows(std::string* why) {
   if (!file_) return true;
-  std::FILE* f = file_->stream();
-  std::fputs("tick,substeps,derivatives,stepping_cpu_us,compute_cpu_us,compute_wall_us\n", f);
+  // Through OutputFile::write, not fprintf: a failed write keeps its reason (a full disk, EFBIG).
+  bool ok = file_->write("tick,substeps,derivatives,stepping_cpu_us,compute_cpu_us,compute_wall_us\n");
+  char line[160];
   // [us] with the ns digits (the spans are >= 0): every digit measured, none made up.
-  for (std::size_t k = 0; k < rows_.size(); ++k) {
+  for (std::size_t k = 0; k < rows_.size() && ok; ++k) {
     const TickRecord& r = rows_[k];
-    std::fprintf(f, "%zu,%" PRId32 ",%" PRId32, k, r.substeps, r.derivatives);
-    for (const std::int32_t ns : {r.stepping_cpu_ns, r.compute_cpu_ns, r.compute_wall_ns}) {
-      std::fprintf(f, ",%" PRId32 ".%03" PRId32, ns / 1000, ns % 1000);
-    }
-    std::fputc('\n', f);
+    const int n = std::snprintf(line, sizeof line,
+                                "%zu,%" PRId32 ",%" PRId32 ",%" PRId32 ".%03" PRId32 ",%" PRId32 ".%03" PRId32
+                                ",%" PRId32 ".%03" PRId32 "\n",
+                                k, r.substeps, r.derivatives, r.stepping_cpu_ns / 1000, r.stepping_cpu_ns % 1000,
+                                r.compute_cpu_ns / 1000, r.compute_cpu_ns % 1000, r.compute_wall_ns / 1000,
+                                r.compute_wall_ns % 1000);
+    ok = file_->write({line, static_cast<std::size_t>(n)});
   }
   if (file_->ok()) return true;
   *why = file_->error().empty() ? file_->path() + ": a write failed" : file_->error();

@@ -45,8 +45,8 @@ class TickLog {
   /// Why a run of `ticks` cannot have a tick log ("" when it can): an
   /// unbounded run, or one longer than kMaxTicks. A refusal of the run (exit 2).
   static std::string boundsProblem(std::int64_t ticks);
-  /// Creates the temporary file and reserves `ticks` rows (boundsProblem() is
-  /// "" for them); false with *why when the file cannot be made.
+  /// Creates the temporary file and reserves `ticks` rows; false with *why
+  /// when boundsProblem(ticks) says why not, or the file cannot be made.
   bool open(const std::string& path, std::int64_t ticks, const std::vector<std::string>& inputs, std::string* why);
   /// Loop thread, once per tick; nothing when no file is open.
   void add(const TickRecord& r) noexcept {

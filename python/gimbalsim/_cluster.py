@@ -141,9 +141,11 @@ def whole_number(text):
 
 
 def path_text(text):
-    """An argparse type: a path, never empty ('' wrote the whole study into the current folder)."""
+    """An argparse type: a path, never empty or blank ('' wrote the whole study into the current folder)."""
     if not text:
         raise argparse.ArgumentTypeError("an empty path: name a folder or a file")
+    if not text.strip():  # a file named '  ' is a slip of the shell, never a name anyone means
+        raise argparse.ArgumentTypeError(f"a blank path {text!r}: name a folder or a file")
     return text
 
 

@@ -3,6 +3,7 @@ every program's outputs: a folder that takes no file (read-only) is "an
 output could not be written", 4, before anything runs; a path no output may
 take (a symbolic link) is a refused argument, 2. Both say the flag."""
 import os
+import resource
 import subprocess
 
 import pytest
@@ -23,6 +24,8 @@ CASES = {
                           "--ideal-scene", IDEAL, "--clearance-scene", CLEARANCE, "--markdown", "OUT"],
                          "--markdown"),
     "record": (["gimbalsim_record", "OUT", "--lcm-url", "memq://", "--duration", "0.1"], "OUT"),
+    "pointing_study": (["gimbalsim_pointing_study", "--duration", "0.01", "--clearances", "5e-4",
+                        "--ideal-scene", IDEAL, "--clearance-scene", CLEARANCE, "--out", "OUTDIR"], "config.txt"),
     "workprec": (["gimbalsim_workprec", "--quick", "--no-mujoco", "--scenes", "paper_ideal",
                   "--scenes-dir", str(SCENES), "--policies", str(SOURCE / "tools" / "workprec" / "policies.yaml"),
                   "--policy", "plain", "--out", "OUTDIR"], "workprec.csv"),
@@ -70,10 +73,25 @@ def test_a_link_under_the_outputs_name_is_refused(tmp_path, case):
     folder = tmp_path / "out"
     folder.mkdir()
     cmd, out = command(case, folder)
-    if case == "workprec":
-        out = str(folder / "workprec.csv")
+    if "OUTDIR" in CASES[case][0]:  # a folder's program: a link under one of its files' names
+        out = str(folder / CASES[case][1])
     os.symlink(tmp_path / "elsewhere", out)
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     assert p.returncode == 2, (p.returncode, p.stderr)
     assert "symbolic link" in p.stderr and CASES[case][1].replace("OUT", out) in p.stderr, p.stderr
     assert not (tmp_path / "elsewhere").exists()
+
+
+@pytest.mark.parametrize("case", ["simulate", "firmware_truth", "firmware_ticks"])
+def test_a_file_size_limit_is_an_output_that_cannot_be_written(tmp_path, case):
+    # ulimit -f: SIGXFSZ had killed the program (exit 153) and left its temporaries behind
+    cmd, out = command(case, tmp_path)
+    cmd = [("1" if a == "0.01" else a) for a in cmd]  # a run whose output passes the limit
+
+    def small_files():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))
+
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=120, preexec_fn=small_files)
+    assert p.returncode == 4, (p.returncode, p.stderr)
+    assert "File too large" in p.stderr, p.stderr
+    assert os.listdir(tmp_path) == [], os.listdir(tmp_path)

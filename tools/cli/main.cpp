@@ -103,15 +103,13 @@ int mainImpl(int argc, char** argv) {
   try {  // a path that cannot be an output (a folder, an input, no such folder): refused
     gimbalsim::io::checkOutputPaths({out, summary}, {scene});
   } catch (const gimbalsim::io::OutputError& e) {
-    std::fprintf(stderr, "error: %s\ngimbalsim: output refused, nothing simulated\n", e.what());
-    return kRefused;
+    return gimbalsim::program::refuse("gimbalsim", e.what());
   }
   try {  // a folder that takes no file (read-only, full): the exit-code table's "could not be written"
     csv.emplace(out, gimbalsim::io::outputColumns(m));
     if (!summary.empty()) summary_file.emplace(summary);
   } catch (const gimbalsim::io::OutputError& e) {
-    std::fprintf(stderr, "error: %s\ngimbalsim: the output cannot be written, nothing simulated\n", e.what());
-    return kOutput;
+    return gimbalsim::program::unwritable("gimbalsim", e.what());
   }
   gimbalsim::io::installStopHandlers();
   // Checked after each row: a signal, or a CSV write that failed, ends the run there.
@@ -124,7 +122,7 @@ int mainImpl(int argc, char** argv) {
   if (summary_file) summary_file->write(gimbalsim::io::runSummary(m, r, scene, integrator).dump(2) + "\n");
   gimbalsim::io::CommitGroup outputs({&csv->file(), summary_file ? &*summary_file : nullptr});
   if (!outputs.commit()) {
-    std::fprintf(stderr, "error: %s\ngimbalsim: the run was stopped; no CSV and no summary written\n",
+    std::fprintf(stderr, "gimbalsim: error: %s\ngimbalsim: the run was stopped; no CSV and no summary written\n",
                  outputs.error().c_str());
     return kOutput;
   }
@@ -136,7 +134,7 @@ int mainImpl(int argc, char** argv) {
                m.name.c_str(), gimbalsim::variantName(m).c_str(), r.rows, r.t_end, r.stats.impacts,
                r.stats.peak_fn, substeps.c_str(), r.wall_seconds, r.step_seconds);
   if (!r.ok) {
-    std::fprintf(stderr, "%s: %s\n", interrupted ? "gimbalsim" : "error", r.error.c_str());
+    std::fprintf(stderr, "gimbalsim: %s%s\n", interrupted ? "" : "error: ", r.error.c_str());
     std::fprintf(stderr, "gimbalsim: the CSV holds the %lld good rows up to t = %.6g s\n", r.rows, r.t_end);
     return interrupted ? gimbalsim::io::stopExitCode() : kStopped;
   }

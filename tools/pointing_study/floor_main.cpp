@@ -168,23 +168,52 @@ int mainImpl(int argc, char** argv) {
                                    "sensors.gyro_noise=0",         "sensors.gyro_bias=[0,0,0]", "sensors.gyro_bias_walk=0",
                                    "sensors.star_tracker_noise=0", "sensors.star_tracker_latency=0"};
   perfect.insert(perfect.end(), scene_sets.begin(), scene_sets.end());
+  // A refusal names what the user gave: --set #k, --before-set #k, --scene-set #k, --clearances.
+  const auto numbered = [](const std::string& flag, const std::vector<std::string>& given) {
+    std::vector<std::string> labels;
+    for (std::size_t k = 0; k < given.size(); ++k) labels.push_back(flag + " #" + std::to_string(k + 1) + " '" + given[k] + "'");
+    return labels;
+  };
+  std::vector<std::string> scene_labels(perfect.size() - scene_sets.size(), std::string(kProgram) + "'s perfect sensors");
+  for (const std::string& l : numbered("--scene-set", scene_sets)) scene_labels.push_back(l);
+  const auto refused = [](const InputError& e, const std::vector<std::string>& labels) {
+    for (const std::string& p : relabelledProblems(e, labels)) std::fprintf(stderr, "error: %s\n", p.c_str());
+    return program::refuse(kProgram, "refused");
+  };
   std::vector<std::pair<std::string, ControllerConfig>> controllers;
   std::vector<std::pair<std::string, firmware::PlantScene>> scenes;
+  std::vector<std::string> controller_labels = numbered("--set", sets);
   try {
-    if (!before_sets.empty()) controllers.emplace_back("before", load(before_sets));
-    controllers.emplace_back("after", load({}));
-    scenes.emplace_back("ideal", firmware::loadPlantScene(ideal_path, perfect));
-    for (double c : clearances) {
-      std::vector<std::string> s = perfect;
-      char label[32];
-      std::snprintf(label, sizeof label, "c=%gmm", c * 1e3);
-      s.push_back("contact.clearance=" + formatNumber(c));
-      scenes.emplace_back(label, firmware::loadPlantScene(clearance_path, s));
+    if (!before_sets.empty()) {
+      std::vector<std::string> labels = controller_labels;
+      for (const std::string& l : numbered("--before-set", before_sets)) labels.push_back(l);
+      try {
+        controllers.emplace_back("before", load(before_sets));
+      } catch (const InputError& e) {
+        return refused(e, labels);
+      }
     }
+    controllers.emplace_back("after", load({}));
   } catch (const InputError& e) {
-    std::string why;
-    for (const auto& p : e.problems()) why += "\n  " + p;
-    return program::refuse(kProgram, "refused:" + why);
+    return refused(e, controller_labels);
+  }
+  try {
+    scenes.emplace_back("ideal", firmware::loadPlantScene(ideal_path, perfect));
+  } catch (const InputError& e) {
+    return refused(e, scene_labels);
+  }
+  for (double c : clearances) {
+    std::vector<std::string> s = perfect;
+    char label[32];
+    std::snprintf(label, sizeof label, "c=%gmm", c * 1e3);
+    s.push_back("contact.clearance=" + formatNumber(c));
+    std::vector<std::string> labels = scene_labels;
+    labels.push_back("--clearances " + formatNumber(c));
+    try {
+      scenes.emplace_back(label, firmware::loadPlantScene(clearance_path, s));
+    } catch (const InputError& e) {
+      return refused(e, labels);
+    }
   }
   const ControllerConfig& main_cfg = controllers.back().second;
   const double T = duration > 0.0 ? duration : main_cfg.profile.trackStart() + 5.0;
@@ -204,9 +233,7 @@ int mainImpl(int argc, char** argv) {
     try {  // a folder that takes no file (read-only, full): could not be written (4)
       md_out.emplace(markdown_path, inputs);
     } catch (const io::OutputError& e) {
-      std::fprintf(stderr, "%s: error: --markdown: %s\n%s: the output cannot be written, nothing run\n", kProgram,
-                   e.what(), kProgram);
-      return program::kOutput;
+      return program::unwritable(kProgram, std::string("--markdown: ") + e.what());
     }
   }
   std::printf("# %g s per run, tracking from %g s, slew ends at %g s; perfect sensors; truth pointing error\n", T,

@@ -16,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -104,18 +105,6 @@ std::string clearanceLabel(double c) {
 std::string stopKey(const firmware::ClosedLoopResult& r) {
   if (r.stop_status == StepStatus::Ok) return "refused";
   return *limitKey(r.stop_status) ? limitKey(r.stop_status) : "non_finite";
-}
-
-/// Writes the study's files as one commit group (all or none); false (and a
-/// message naming the file) on any failure.
-bool writeFiles(const std::vector<std::pair<std::string, std::string>>& files) {
-  try {
-    gimbalsim::io::writeFilesTogether(files);
-  } catch (const gimbalsim::io::OutputError& e) {
-    std::fprintf(stderr, "gimbalsim_pointing_study: %s\n", e.what());
-    return false;
-  }
-  return true;
 }
 
 Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const firmware::ClosedLoopOptions& opt,
@@ -336,6 +325,15 @@ int mainImpl(int argc, char** argv) {
   } catch (const gimbalsim::io::OutputError& e) {
     return refuse("--out", e.what());
   }
+  // The three files' temporaries exist before the first run: a folder that takes no file costs no run.
+  std::vector<std::unique_ptr<gimbalsim::io::OutputFile>> files;
+  try {
+    for (const char* name : {"config.txt", "pointing_error.csv", "summary.csv"}) {
+      files.push_back(std::make_unique<gimbalsim::io::OutputFile>((dir / name).string()));
+    }
+  } catch (const gimbalsim::io::OutputError& e) {
+    return program::unwritable("gimbalsim_pointing_study", std::string("--out: ") + e.what());
+  }
 
   std::string config_text, mode = "joint-space (no pointing.mode key)";
   for (const std::string& kv : configValues(cfg)) {
@@ -361,9 +359,11 @@ int mainImpl(int argc, char** argv) {
                 s.ok ? "ok" : ("stop: " + s.reason).c_str());
     std::fflush(stdout);
   }
-  if (!writeFiles({{(dir / "config.txt").string(), config_text},
-                   {(dir / "pointing_error.csv").string(), timeSeriesCsv(runs, cfg.period)},
-                   {(dir / "summary.csv").string(), summaryCsv(runs)}})) {
+  files[0]->write(config_text);
+  files[1]->write(timeSeriesCsv(runs, cfg.period));
+  files[2]->write(summaryCsv(runs));
+  if (gimbalsim::io::CommitGroup group({files[0].get(), files[1].get(), files[2].get()}); !group.commit()) {
+    std::fprintf(stderr, "gimbalsim_pointing_study: error: %s\n", group.error().c_str());
     return kExitWrite;
   }
   std::printf("wrote %s, %s, %s\n", (dir / "pointing_error.csv").c_str(), (dir / "summary.csv").c_str(),

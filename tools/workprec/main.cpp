@@ -306,9 +306,7 @@ int mainImpl(int argc, char** argv) {
   try {
     csv_file.emplace(csv);
   } catch (const gimbalsim::io::OutputError& e) {
-    std::fprintf(stderr, "gimbalsim_workprec: error: %s\ngimbalsim_workprec: the output cannot be written, nothing "
-                 "run\n", e.what());
-    return program::kOutput;
+    return program::unwritable("gimbalsim_workprec", e.what());
   }
   std::vector<Point> points;
   Troubles troubles;

@@ -97,17 +97,17 @@ OutputFile::OutputFile(std::string path, const std::vector<std::string>& inputs)
     const int fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
     if (fd < 0) {
       if (errno == EEXIST) continue;
-      throw OutputError(path_ + ": cannot create a temporary in " + dirOf(path_) + ": " + std::strerror(errno));
+      throw OutputError(path_ + ": cannot create a temporary in " + dirOf(path_) + ": " + std::strerror(errno), true);
     }
     f_ = ::fdopen(fd, "wb");
     if (!f_) {
       const int err = errno;
       ::close(fd);
       ::unlink(tmp_.c_str());
-      throw OutputError(path_ + ": " + std::strerror(err));
+      throw OutputError(path_ + ": " + std::strerror(err), true);
     }
   }
-  if (!f_) throw OutputError(path_ + ": cannot create a temporary (100 names taken)");
+  if (!f_) throw OutputError(path_ + ": cannot create a temporary (100 names taken)", true);
 }
 
 OutputFile::~OutputFile() {
@@ -191,7 +191,7 @@ bool CommitGroup::commit() noexcept {
 void writeFileAtomically(const std::string& path, std::string_view content) {
   OutputFile f(path);
   f.write(content);
-  if (!f.commit()) throw OutputError(f.error());
+  if (!f.commit()) throw OutputError(f.error(), true);
 }
 
 void writeFilesTogether(const std::vector<std::pair<std::string, std::string>>& files) {
@@ -203,7 +203,7 @@ void writeFilesTogether(const std::vector<std::pair<std::string, std::string>>& 
     members.push_back(open.back().get());
   }
   CommitGroup group(members);
-  if (!group.commit()) throw OutputError(group.error());
+  if (!group.commit()) throw OutputError(group.error(), true);
 }
 
 std::string outputFolderProblem(const std::string& dir, bool named_by_user) {

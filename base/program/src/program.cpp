@@ -37,6 +37,10 @@ std::string emptyTextOption(const CLI::App& app) {
     if (opt->get_type_name().find("TEXT") == std::string::npos) continue;
     for (const std::string& r : opt->results()) {
       if (r.empty()) return opt->get_name() + ": an empty value (a path or a name is needed)";
+      // Only blanks: a file named '  ' is a slip of the shell, never a name anyone means.
+      if (r.find_first_not_of(" \t\r\n") == std::string::npos) {
+        return opt->get_name() + ": a blank value '" + r + "' (a path or a name is needed)";
+      }
     }
   }
   for (const CLI::App* sub : app.get_subcommands()) {
@@ -140,6 +144,11 @@ std::optional<int> parse(CLI::App& app, int argc, char** argv, const char* progr
 int refuse(const char* program, const std::string& what) {
   std::fprintf(stderr, "%s: error: %s\n%s: refused, nothing run\n", program, what.c_str(), program);
   return kRefused;
+}
+
+int unwritable(const char* program, const std::string& what) {
+  std::fprintf(stderr, "%s: error: %s\n%s: the output cannot be written, nothing run\n", program, what.c_str(), program);
+  return kOutput;
 }
 
 int refuse(const char* program, const InputError& e) {

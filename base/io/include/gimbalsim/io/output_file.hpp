@@ -20,9 +20,16 @@
 
 namespace gimbalsim::io {
 
-/// A refused or failed output; what() names the file.
+/// A refused or failed output; what() names the file. unwritable(): the path
+/// was allowed but the file could not be made or written (a read-only or full
+/// folder: exit 4), else the path breaks the policy (a refused argument: exit 2).
 struct OutputError : std::runtime_error {
-  using std::runtime_error::runtime_error;
+  explicit OutputError(const std::string& what, bool unwritable = false)
+      : std::runtime_error(what), unwritable_(unwritable) {}
+  bool unwritable() const noexcept { return unwritable_; }
+
+ private:
+  bool unwritable_;
 };
 
 /// Refuses, before anything runs, outputs that break the policy above:

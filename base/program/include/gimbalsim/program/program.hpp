@@ -16,6 +16,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -71,6 +72,10 @@ CLI::Validator within(double lo, double hi, bool above_lo = false);
 
 /// "<program>: error: <what>" and "<program>: refused, nothing run" on stderr; kRefused.
 int refuse(const char* program, const std::string& what);
+/// An output whose path is allowed but whose file cannot be made (a read-only
+/// or full folder), before anything ran: "<program>: error: <what>" and
+/// "<program>: the output cannot be written, nothing run" on stderr; kOutput.
+int unwritable(const char* program, const std::string& what);
 /// Every problem as "error: <problem>", then "<program>: refused, nothing run"; kRefused.
 int refuse(const char* program, const InputError& e);
 
@@ -79,6 +84,9 @@ int refuse(const char* program, const InputError& e);
 /// is a bug or exhausted memory: "<program>: internal error: ..." and kInternal.
 template <class Body>
 int guardedMain(const char* program, Body&& body) noexcept {
+  // A file-size limit (ulimit -f) must fail a write (EFBIG: exit 4, temporaries removed), not
+  // kill the program with SIGXFSZ and leave them behind; Python ignores it the same way.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     try {
       return body();
