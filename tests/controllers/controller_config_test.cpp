@@ -50,7 +50,7 @@ TEST(ControllerConfig, PlantKeysRebuildTheFeedForwardModelAndAreChecked) {
   EXPECT_EQ(c.plant_model.shaft2.mass, 25.0);
   EXPECT_EQ(c.plant_model.I_chain[1].m, 25.0);
   EXPECT_EQ(c.plant_model.base.inertia(2, 2), 80.0);
-  EXPECT_NE(refusal("plant:\n  shaft1_mass: 0\n").find("cfg.yaml:2:3: key 'plant.shaft1_mass': mass must be in (0, 1e9] kg"),
+  EXPECT_NE(refusal("plant:\n  shaft1_mass: 0\n").find("cfg.yaml:2:3: key 'plant.shaft1_mass': mass must be in [1e-6, 1e9] kg"),
             std::string::npos)
       << refusal("plant:\n  shaft1_mass: 0\n");
   // A plant model whose torques would overflow (the controller then sent NaN every tick) is refused.

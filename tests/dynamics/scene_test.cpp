@@ -81,14 +81,21 @@ TEST(Scene, NonPhysicalValuesAreRefused) {
     std::string expect;
   };
   const std::vector<Case> cases = {
-      {{"base.mass=0"}, "key 'base.mass': mass must be in (0, 1e9] kg, got 0"},
-      {{"shaft1.mass=-3"}, "key 'shaft1.mass': mass must be in (0, 1e9] kg, got -3"},
+      {{"base.mass=0"}, "key 'base.mass': mass must be in [1e-6, 1e9] kg, got 0"},
+      {{"shaft1.mass=-3"}, "key 'shaft1.mass': mass must be in [1e-6, 1e9] kg, got -3"},
       // Ranges the arithmetic honours: a body a million km long or a 1e200 kg base would overflow the torques.
-      {{"base.mass=1e200"}, "key 'base.mass': mass must be in (0, 1e9] kg, got 1e+200"},
+      {{"base.mass=1e200"}, "key 'base.mass': mass must be in [1e-6, 1e9] kg, got 1e+200"},
       {{"shaft2.com=[1e200, 0, 0]"}, "key 'shaft2.com': must be in [-1000, 1000]"},
       {{"geometry.joint2_position=[0, 0, -2e3]"}, "key 'geometry.joint2_position': must be in [-1000, 1000]"},
       {{"shaft1.inertia=[1e13, 1e13, 1e13]"},
-       "key 'shaft1.inertia': inertia must be symmetric positive definite, each entry within 1e12 kg m^2"},
+       "key 'shaft1.inertia': inertia must be symmetric positive definite with principal moments of at least 1e-9 kg "
+       "m^2, each entry within 1e12 kg m^2"},
+      // A body so light that any contact force overflows its accelerations: a NaN at t = 0, no key named.
+      {{"base.inertia=[1e-100, 1e-100, 1e-100]"}, "key 'base.inertia': inertia must be symmetric positive definite "
+                                                  "with principal moments of at least 1e-9 kg m^2"},
+      {{"shaft2.mass=1e-300"}, "key 'shaft2.mass': mass must be in [1e-6, 1e9] kg, got 1e-300"},
+      {{"contact.E_bearing=1e300"}, "key 'contact.E_bearing': must be in [1000, 1e+13]"},
+      {{"joint2.contact.E_journal=0.5"}, "key 'joint2.contact.E_journal': must be in [1000, 1e+13]"},
       {{"shaft2.inertia=[1, -1, 1]"}, "key 'shaft2.inertia': inertia must be symmetric positive definite"},
       {{"shaft2.inertia=[[1, 0.5, 0], [0, 1, 0], [0, 0, 1]]"},
        "key 'shaft2.inertia': inertia must be symmetric positive definite"},

@@ -41,16 +41,23 @@ Check nonZero() {
           }};
 }
 
-Check bodyMass() { return interval('(', 0.0, 1e9, ']').saying("mass must be in (0, 1e9] kg"); }
+// Below 1e-6 kg and 1e-9 kg m^2 a body's accelerations overflow under any contact force (1e-100 kg m^2
+// ran to a NaN at t = 0 naming no key); no part of a gimbal is that light.
+Check bodyMass() { return interval('[', 1e-6, 1e9, ']').saying("mass must be in [1e-6, 1e9] kg"); }
 
 Check bodyOffset() { return interval('[', -1e3, 1e3, ']'); }
 
 Check bodyInertia() {
   const Check pd = positiveDefinite();
-  return {"symmetric positive definite, entries within 1e12",
-          "inertia must be symmetric positive definite, each entry within 1e12 kg m^2",
+  return {"symmetric positive definite, principal moments >= 1e-9, entries within 1e12",
+          "inertia must be symmetric positive definite with principal moments of at least 1e-9 kg m^2, each entry "
+          "within 1e12 kg m^2",
           [pd](std::span<const double> v) {
-            return std::all_of(v.begin(), v.end(), [](double x) { return std::abs(x) <= 1e12; }) && pd.holds(v);
+            if (!std::all_of(v.begin(), v.end(), [](double x) { return std::abs(x) <= 1e12; }) || !pd.holds(v)) {
+              return false;
+            }
+            return Eigen::SelfAdjointEigenSolver<Mat3>(Eigen::Map<const Mat3>(v.data())).eigenvalues().minCoeff() >=
+                   1e-9;
           }};
 }
 

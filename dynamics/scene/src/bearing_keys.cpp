@@ -60,6 +60,9 @@ BearingKey bearingKey(const Bearing& b, SceneKey key, M ContactParams::*member) 
           [member](const ContactParams& x, const ContactParams& y) { return x.*member == y.*member; }};
 }
 
+// [Pa] from soft rubber to diamond: 1e300 overflowed the Hertz stiffness into a NaN "in base_x".
+const Check kYoungsModulus = interval('[', 1e3, 1e13, ']');
+
 /// The contact and friction keys of a bearing.
 std::vector<BearingKey> bearingKeys(const Bearing& b) {
   const auto contact = [b](auto& s) -> auto& { return b.of(s); };
@@ -83,13 +86,13 @@ std::vector<BearingKey> bearingKeys(const Bearing& b) {
                                           {{"paper", RadiusMode::Paper}, {"conformal", RadiusMode::Conformal}}),
                  &CP::radius_mode),
       bearingKey(b, K::number(c + "E_bearing", "Pa", w + "Young's modulus, bearing", field(contact, &CP::E_bearing),
-                              greater(0)),
+                              kYoungsModulus),
                  &CP::E_bearing),
       bearingKey(b, K::number(c + "nu_bearing", "-", w + "Poisson's ratio, bearing", field(contact, &CP::nu_bearing),
                               interval('[', 0, 0.5, ')')),
                  &CP::nu_bearing),
       bearingKey(b, K::number(c + "E_journal", "Pa", w + "Young's modulus, journal", field(contact, &CP::E_journal),
-                              greater(0)),
+                              kYoungsModulus),
                  &CP::E_journal),
       bearingKey(b, K::number(c + "nu_journal", "-", w + "Poisson's ratio, journal", field(contact, &CP::nu_journal),
                               interval('[', 0, 0.5, ')')),

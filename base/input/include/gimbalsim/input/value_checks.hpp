@@ -31,7 +31,7 @@ Check positiveDefinite();                                     ///< a symmetric p
 // A body's mass properties and offsets, for the scene's bodies and the
 // controller's plant model alike: ranges whose products (torques, momenta,
 // the mass matrix) stay far from overflow, around any satellite's.
-Check bodyMass();     ///< [kg] in (0, 1e9]
+Check bodyMass();     ///< [kg] in [1e-6, 1e9]
 Check bodyOffset();   ///< [m] each component in [-1e3, 1e3]
 Check bodyInertia();  ///< [kg m^2] symmetric positive definite, each entry within 1e12
 
