@@ -213,6 +213,13 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
     EXPECT_EQ(WEXITSTATUS(st), 2) << out;
     EXPECT_NE(out.find(c.expected), std::string::npos) << out;
   }
+  // No plant at all: said as no plant (it said "after status -1", a status nobody sent), exit 6.
+  int st = 0;
+  const std::string out = runCapture(prog + "'" + write("two.csv", "seq,tau1_Nm,tau2_Nm\n0,0,0\n1,0,0\n") +
+                                         "' --lcm-url memq:// --idle-exit 0.2 2>&1", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 6) << out;
+  EXPECT_NE(out.find("torque_replay: error: no status for 0.2 s: no plant on GIMBAL_STATUS"), std::string::npos) << out;
+  EXPECT_EQ(out.find("status -1"), std::string::npos) << out;
 }
 
 }  // namespace

@@ -80,13 +80,18 @@ int mainImpl(int argc, char** argv) {
       answered = st.seq;
     }, 256);
     if (static_cast<double>(gimbalsim::lcm_wire::monotonicNs() - heard_ns) * 1e-9 > idle_exit) {
-      std::fprintf(stderr, "torque_replay: no status for %g s after status %lld\n", idle_exit,
-                   static_cast<long long>(answered));
+      if (answered < 0) {  // not one status heard: no plant (the pointing controller's --idle-exit words)
+        std::fprintf(stderr, "torque_replay: error: no status for %g s: no plant on %s\n", idle_exit, ch.status.c_str());
+      } else {
+        std::fprintf(stderr, "torque_replay: error: the plant has gone: no status for %g s after status %lld\n",
+                     idle_exit, static_cast<long long>(answered));
+      }
       return gimbalsim::program::kNoPeer;
     }
   }
   if (!sent) {
-    std::fprintf(stderr, "torque_replay: publishing the answer to status %lld failed\n", static_cast<long long>(answered));
+    std::fprintf(stderr, "torque_replay: error: publishing the answer to status %lld failed\n",
+                 static_cast<long long>(answered));
     return gimbalsim::program::kNetwork;
   }
   std::fprintf(stderr, "torque_replay: answered statuses 0..%lld from %s\n", static_cast<long long>(last), truth.c_str());

@@ -35,7 +35,7 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--scene-set", scene_sets, "scene override key=value");
   app.add_option("--set", sets, "controller override key=value");
   app.add_option("--omega", omegas, "closed-loop bandwidths [rad/s] (triple pole)")->delimiter(',')
-      ->check(program::within(0.0, 1e6, true));
+      ->check(program::within(1e-3, 1e6));  // below 1e-3 rad/s the gains underflowed to 0 (1e-300: kp = 0)
   app.add_option("--duration", opt.duration, "simulated time [s] (default: the track start + 5 s)")
       ->check(program::within(0.0, 1e9, true));  // -1 ran the default silently
   app.add_option("--settle-tol", opt.settle_tol, "settling band on the joint error [rad]")
@@ -62,6 +62,8 @@ int mainImpl(int argc, char** argv) {
     std::vector<ControllerConfig> configs;
     for (double w : omegas) {
       std::vector<std::string> with_gains = sets;
+      std::vector<std::string> labels;  // a refusal names the user's --set by its count, a gain by --omega
+      for (std::size_t k = 0; k < sets.size(); ++k) labels.push_back("--set #" + std::to_string(k + 1) + " '" + sets[k] + "'");
       for (int i = 0; i < 2; ++i) {
         const AxisGains g = triplePoleGains(base.axis[i].inertia, w, base.axis[i].torque_limit, base.axis[i].aw_gain);
         const std::string axis = i == 0 ? "azimuth." : "elevation.";
@@ -69,13 +71,15 @@ int mainImpl(int argc, char** argv) {
           char value[64];
           std::snprintf(value, sizeof value, "%.17g", v);
           with_gains.push_back(axis + key + "=" + value);
+          labels.push_back("--omega " + formatNumber(w) + " gives " + axis + key + " = " + value);
         }
       }
       try {
         configs.push_back(loadControllerConfig(config_path, with_gains));
       } catch (const InputError& e) {
+        for (const std::string& p : relabelledProblems(e, labels)) std::fprintf(stderr, "error: %s\n", p.c_str());
         return program::refuse("controller_sweep", "--omega " + formatNumber(w) + ": its triple-pole gains are "
-                               "outside the configuration's ranges: " + e.what());
+                               "outside the configuration's ranges");
       }
     }
     std::printf("# scene %s, %g s, settle band %g rad, torque limit %g / %g N m\n", m.name.c_str(), opt.duration,
