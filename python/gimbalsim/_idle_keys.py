@@ -139,8 +139,9 @@ def idle_reason(key, values, dispersed, takes, closed):
 
 def _idle_in_scene(key, scene, dispersed):
     """Why `key` cannot act in this scene (None if it can): a bearing key on
-    an ideal joint, a tilt key on a planar bearing, an adaptive-step key under
-    the fixed policy, a base key on a fixed base. Nothing is judged when the
+    an ideal joint, a tilt key on a planar bearing, a contact sub-stepping key
+    with both joints ideal, an adaptive-step key under the fixed policy, a base
+    key on a fixed base. Nothing is judged when the
     deciding key (structure.*, sim.substep_policy) is itself dispersed."""
     joints = {j: scene.get(f"structure.joint{j}") for j in (1, 2)}
     rules = []
@@ -154,6 +155,9 @@ def _idle_in_scene(key, scene, dispersed):
                "no joint's bearing is spatial: none can tilt"),
               (("contact.", "friction.", "initial.ecc"), "structure.joint", any_clearance,
                "both joints are ideal: no bearing"),
+              # the contact's sub-stepping (sim.substep*, its policy and tolerances, the event location)
+              (("sim.substep", "sim.event_tol", "sim.min_substeps_per_impact"), "structure.joint", any_clearance,
+               "both joints are ideal: no contact to sub-step, every step is one RK4 step of sim.step"),
               (("sim.substep_tol", "sim.substep_min", "sim.substep_max"), "sim.substep_policy",
                scene.get("sim.substep_policy") == "adaptive", "sim.substep_policy is fixed: only the adaptive "
                "policy reads it"),

@@ -322,8 +322,9 @@ def requirement_verdict(values, requirement, level=LEVEL_3SIGMA, confidence=0.95
     """PASS/FAIL of `requirement` [rad] with the probability that a unit meets it.
     NaN values count as not meeting it."""
     _check_question(level, confidence)  # a verdict at level 0 would be PASS for anything
-    if not (_is_number(requirement) and math.isfinite(requirement) and requirement >= 0.0):  # NaN FAIL, inf PASS
-        raise ValueError(f"requirement must be a finite angle >= 0 rad, got {requirement!r}")
+    # NaN gave FAIL, inf PASS, and 0 (or -0) FAIL for every unit: no question a budget asks
+    if not (_is_number(requirement) and math.isfinite(requirement) and requirement > 0.0):
+        raise ValueError(f"requirement must be a finite angle > 0 rad, got {requirement!r}")
     x = _unit_figures(values)
     n = len(x)
     k = int(np.count_nonzero(np.isfinite(x) & (x <= requirement)))

@@ -137,8 +137,11 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             until.grow(spec)
             record_design(out, spec, write)
     # The report is one set: stopped or failed part-way, none of it is left (the journal holds
-    # every row, and --resume writes the whole set).
-    with output_set():
+    # every row, and --resume writes the whole set), nor the plots folder it made.
+    plots_was_there = (out / "plots").exists()
+    with contextlib.ExitStack() as report:
+        report.callback(lambda: plots_was_there or _remove_empty_folder(out / "plots"))
+        report.enter_context(output_set())
         write(results, "".join(csv_line(r) for r in [header] + rows))
         summary = summarize(spec, rows, engine)
         summary["journal_rows_dropped"] = dropped
@@ -150,6 +153,12 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         write(out / "summary.json", json.dumps(summary, indent=2) + "\n")
     journal.unlink()
     return summary
+
+
+def _remove_empty_folder(folder):
+    """folder removed if it is empty (a set that failed left nothing in it)."""
+    with contextlib.suppress(OSError):
+        folder.rmdir()
 
 
 def _merge(a, b):

@@ -215,7 +215,7 @@ def test_a_verdict_at_a_degenerate_level_or_confidence_is_refused():
     for level, confidence in ((0.0, 0.95), (0.9973, 0.0), (1.0, 0.95), (0.9973, 1.0)):
         with pytest.raises(ValueError, match=r"must lie in \[0.5, 1\)"):
             indices.requirement_verdict([1e-6] * 100, 1e-3, level, confidence)
-    for requirement in (math.nan, math.inf, -1e-6):  # NaN gave FAIL, inf PASS: no question was asked
+    for requirement in (math.nan, math.inf, -1e-6, 0.0, -0.0):  # NaN gave FAIL, inf PASS, 0 FAIL: no question
         with pytest.raises(ValueError, match="requirement must be a finite angle"):
             indices.requirement_verdict([1e-6] * 100, requirement)
 

@@ -48,7 +48,7 @@ def test_a_sweep_stopped_while_writing_its_report_leaves_none_of_it(tmp_path):
     assert "4 samples kept" in p.stderr and "run again with --resume" in p.stderr, p.stderr
     left = files(out)
     assert "results.csv" not in left and "summary.json" not in left, left
-    assert not [f for f in left if f.startswith("plots/")], left
+    assert not (out / "plots").exists(), left  # nor the folder it made for them
     assert not [f for f in left if f.endswith(".tmp")], left
     # the resume runs nothing again and writes the whole set
     p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", *args, "--resume"], capture_output=True, text=True,

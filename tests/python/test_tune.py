@@ -89,6 +89,11 @@ def test_tuning_spec_refusals_name_the_key(change, key, tmp_path):
      "gains.azimuth.kp.choice", "unsupported tag"),
     (("azimuth.kp: {loguniform: [5000, 80000]}", "gimbal.boresight: {choice: [[1, 0, 0], [0, 1, 0]]}"),
      "gains.gimbal.boresight", "numbers or names"),
+    # a gain over one value: searched by no trial
+    (("azimuth.kp: {loguniform: [5000, 80000]}", "azimuth.kp: {loguniform: [21120, 21120]}"),
+     "gains.azimuth.kp", "loguniform over one value 21120.0: nothing to search"),
+    (("azimuth.kp: {loguniform: [5000, 80000]}", "azimuth.kp: {choice: [21120, 21120]}"),
+     "gains.azimuth.kp", "choice over one value"),
     # under the default model feed-forward the fixed-base inertia law is off: every trial the same loop
     (("azimuth.kp: {loguniform: [5000, 80000]}", "gimbal.azimuth_inertia_cos2: {uniform: [1, 9]}"),
      "gains.gimbal.azimuth_inertia_cos2", "not read by the tuned loop (the controller reads it only with "
