@@ -96,7 +96,11 @@ int run(Run& r) {
   long long timeouts_in_a_row = 0;  // lockstep timeouts since the last answer
   std::int64_t next_stats = wall0 + std::llround(o.stats_period * 1e9);
   warmUp(fw);
-  for (std::int64_t k = 0; (total < 0 || k < total) && !g_stop.load(); ++k) {
+  // k = total is the run's end: the plant's state at T, sampled as every
+  // tick (as the in-process closed loop does) but never stepped; only its
+  // truth goes out, so the truth CSV holds t = 0 .. T.
+  for (std::int64_t k = 0; (total < 0 || k <= total) && !g_stop.load(); ++k) {
+    const bool end = k == total;
     TickTimes tt{};
     tt.wall_start = nowNs();
     tt.cpu_start = nowNs(CLOCK_THREAD_CPUTIME_ID);  // the CPU span inside the wall span
@@ -104,13 +108,14 @@ int run(Run& r) {
     const std::int64_t utime = std::llround(static_cast<double>(k) * period * 1e6);
     const TickMessages m = tick.sample(k, utime, k % o.truth_every == 0, extra);
     extra = 0;
-    r.ports.bridge.publish(*m.attitude);  // before the status, so a controller has it when the status comes
+    if (!end) r.ports.bridge.publish(*m.attitude);  // before the status, so a controller has it when the status comes
     if (m.antenna) r.ports.bridge.publish(*m.antenna);
-    if (m.status) r.ports.bridge.publish(*m.status);
+    if (m.status && !end) r.ports.bridge.publish(*m.status);
     if (m.truth) {
       r.ports.bridge.publish(*m.truth);
       if (!r.ports.csv.write(*m.truth, m.antenna)) g_stop.store(true);  // a failed write stops the run (exit 4)
     }
+    if (end) break;
     tt.cpu_step = nowNs(CLOCK_THREAD_CPUTIME_ID);
     tick.advance();
     tt.cpu_end = nowNs(CLOCK_THREAD_CPUTIME_ID);
@@ -120,7 +125,6 @@ int run(Run& r) {
       r.ports.bridge.publishStats(utime, r.report.stats, false, true);
       next_stats = nowNs() + std::llround(o.stats_period * 1e9);
     }
-    if (total >= 0 && k + 1 >= total) break;  // the last status needs no answer
     // A status dropped or still held by the fault schedule: nothing to answer, the next tick follows.
     if (!m.status) continue;
 

@@ -61,6 +61,7 @@ void drainInbound(Firmware<V>& fw, SpscRing<Inbound>& in) noexcept {
 
 /// What the loop thread hands to the communication thread each tick.
 struct Outbound {
+  bool has_attitude = true;  ///< false at the run's end (a truth only)
   Attitude attitude;
   bool has_antenna = false;  ///< the scene has antenna sensors (sensors.antenna)
   Antenna antenna;
@@ -99,7 +100,10 @@ int run(Run& r) {
     std::int64_t next = (nowNs() / period_ns + 2) * period_ns;
     const std::int64_t realtime_offset = nowNs(CLOCK_REALTIME) - nowNs();  // stamps: the deadline on the wall clock
     std::int64_t prev_wake = -1;
-    for (std::int64_t k = 0; (total < 0 || k < total) && !g_stop.load(std::memory_order_relaxed); ++k) {
+    // k = total is the run's end: the plant's state at T, sampled but never
+    // stepped; only its truth goes out (as lockstep's), so the CSV holds t = 0 .. T.
+    for (std::int64_t k = 0; (total < 0 || k <= total) && !g_stop.load(std::memory_order_relaxed); ++k) {
+      const bool end = k == total;
       const std::int64_t start_ns = nowNs();
       const bool late = start_ns > next;  // the previous tick overran this deadline: catch up
       TickTimes tt{};
@@ -120,15 +124,17 @@ int run(Run& r) {
       // Real time's clock: utime is the tick's deadline on the wall clock.
       const TickMessages m = tick.sample(k, (next + realtime_offset) / 1000, k % truth_every == 0);
       Outbound ob;
+      ob.has_attitude = !end;
       ob.attitude = *m.attitude;
       ob.has_antenna = m.antenna != nullptr;
       if (m.antenna) ob.antenna = *m.antenna;
-      ob.has_status = m.status != nullptr;
+      ob.has_status = m.status != nullptr && !end;
       if (m.status) ob.status = *m.status;
       ob.has_truth = m.truth != nullptr;
       if (m.truth) ob.truth = *m.truth;
       if (!out.push(ob)) rep.stats.dropped_out.fetch_add(1, std::memory_order_relaxed);
       wake(efd);  // the communication thread
+      if (end) break;
       tt.cpu_step = nowNs(CLOCK_THREAD_CPUTIME_ID);
       tick.advance();
       tt.cpu_end = nowNs(CLOCK_THREAD_CPUTIME_ID);
@@ -154,7 +160,7 @@ int run(Run& r) {
   auto drainOut = [&] {
     Outbound ob;
     while (out.pop(ob)) {
-      bridge.publish(ob.attitude);  // before the status, so a controller has it when the status comes
+      if (ob.has_attitude) bridge.publish(ob.attitude);  // before the status, so a controller has it when the status comes
       if (ob.has_antenna) bridge.publish(ob.antenna);
       if (ob.has_status) bridge.publish(ob.status);
       if (ob.has_truth) {

@@ -56,11 +56,12 @@ std::string expectLockstepEqualsInProcess(const std::string& pin, const std::str
   const auto& rows = csv.rows;
   const int c_seq = csv.col("seq"), c_t1 = csv.col("theta1_rad"), c_t2 = csv.col("theta2_rad"),
             c_err = csv.col("pointing_error_rad");
-  EXPECT_EQ(rows.size(), 3000u);
+  // The ticks of closed_loop(duration = 3 s): t = 0 .. 3 s, the last the plant's state at the end.
+  EXPECT_EQ(rows.size(), 3001u);
 
   const Scene sc = test::scene("paper_clearance");
   ClosedLoopOptions opt;
-  opt.duration = duration - 1e-3;
+  opt.duration = duration;
   std::vector<TickRecord> ticks;
   runClosedLoop(sc, loadControllerConfig(config), opt, [&](const TickRecord& r) { ticks.push_back(r); });
   EXPECT_EQ(ticks.size(), rows.size());

@@ -56,7 +56,7 @@ TEST(HilFaults, TheDemoScheduleGivesByteIdenticalRunsEqualToTheInProcessLoop) {
   // The in-process loop with the same schedule: the same trajectory and flags.
   const firmware::FaultSchedule f = firmware::loadFaultSchedule(kDemo);
   controllers::ClosedLoopOptions opt;
-  opt.duration = duration - 1e-3;
+  opt.duration = duration;
   opt.faults = &f;
   std::vector<controllers::TickRecord> ticks;
   const auto r = controllers::runClosedLoop(test::scene("paper_clearance"),

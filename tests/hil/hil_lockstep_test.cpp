@@ -72,7 +72,8 @@ TEST(HilLockstep, ClearanceSlewCompletesAndPointingErrorConverges) {
   const Csv c = Csv::read(dir / "truth.csv");
   const int c_seq = c.col("seq"), c_t = c.col("sim_time_s"), c_th1 = c.col("theta1_rad"),
             c_th2 = c.col("theta2_rad"), c_err = c.col("pointing_error_rad"), c_f = c.col("faults");
-  ASSERT_EQ(c.rows.size(), static_cast<size_t>(std::llround(hold_end * 1000)));
+  // t = 0 .. hold_end: the last row is the plant's state at the end of the run.
+  ASSERT_EQ(c.rows.size(), static_cast<size_t>(std::llround(hold_end * 1000)) + 1);
   const double az = cfg.profile.slew_target(0), el = cfg.profile.slew_target(1);
   double max_err_after_slew = 0.0, max_err_settled = 0.0;
   double err_lo = 1e9, err_hi = -1e9;
@@ -122,8 +123,8 @@ TEST(HilLockstep, TwoRunsGiveByteIdenticalTruthCsv) {
   }
   const std::string a = readFile(dir / "a.csv"), b = readFile(dir / "b.csv");
   const Csv ca = Csv::read(dir / "a.csv");
-  ASSERT_EQ(ca.rows.size(), 3000u);
-  EXPECT_GT(ca.num(2999, ca.col("theta1_rad")), 0.4) << "the slew did happen";
+  ASSERT_EQ(ca.rows.size(), 3001u);  // t = 0 .. 3 s
+  EXPECT_GT(ca.num(3000, ca.col("theta1_rad")), 0.4) << "the slew did happen";
   ASSERT_EQ(a.size(), b.size());
   EXPECT_TRUE(a == b) << "truth CSVs of two lockstep runs differ";
   // The same work tick by tick (what tools/hil/worst_tick.py relies on to tell a
@@ -148,7 +149,7 @@ TEST(HilLockstep, RealTimeRunReplayedInLockstepHasTheSameDynamicsAndWork) {
                                       << readFile(dir / "replay.log");
   const Csv rt = Csv::read(dir / "rt.csv"), ls = Csv::read(dir / "ls.csv");
   ASSERT_EQ(rt.header, ls.header);
-  ASSERT_EQ(rt.rows.size(), 2000u);
+  ASSERT_EQ(rt.rows.size(), 2001u);  // t = 0 .. 2 s
   ASSERT_EQ(ls.rows.size(), rt.rows.size());
   // Everything but the time stamps (wall clock against simulated time) and
   // the fault flags (a real-time tick may miss its command; the replay never does).

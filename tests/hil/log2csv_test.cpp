@@ -44,13 +44,13 @@ TEST(Log2Csv, TheAntennaSensorsHaveTheirOwnChannelOnTheBench) {
                                      &st);
   ASSERT_EQ(st, 0) << out;
   const Csv a = Csv::read(dir / "antenna.csv"), tr = Csv::read(dir / "truth.csv");
-  ASSERT_EQ(tr.rows.size(), 800u);
-  ASSERT_GE(a.rows.size(), 800u);
+  ASSERT_EQ(tr.rows.size(), 801u);  // t = 0 .. 0.8 s, the antenna message with each
+  ASSERT_GE(a.rows.size(), 801u);
   double largest = 0.0;
   const std::int64_t outage_bit = std::int64_t{1} << 28, bias_bit = std::int64_t{1} << 30;  // kinds 14, 15
   for (size_t k = 0; k < a.rows.size(); ++k) {
     const long long seq = a.integer(k, a.col("seq"));
-    ASSERT_TRUE(seq >= 0 && seq < 800);
+    ASSERT_TRUE(seq >= 0 && seq <= 800);
     const auto row = static_cast<size_t>(seq);
     // The truth CSV's rows go on with the same tick's antenna message.
     for (const char* c : {"tracker_valid", "tracker_outage", "tracker_u_rad", "tracker_v_rad", "antenna_gyro_wy_rad_per_s"}) {
@@ -93,7 +93,7 @@ TEST(Log2Csv, LoggedLockstepRunConvertsToTheTruthCsvFirmwareSimWrote) {
   std::filesystem::create_directories(dir / "csv");
   const std::string out = runCapture(kTool + " '" + (dir / "bench.lcmlog") + "' --out-dir '" + (dir / "csv") + "'", &st);
   ASSERT_EQ(st, 0) << out;
-  EXPECT_NE(out.find("HIL_L_GIMBAL_TRUTH (truth): 1000 rows"), std::string::npos) << out;
+  EXPECT_NE(out.find("HIL_L_GIMBAL_TRUTH (truth): 1001 rows"), std::string::npos) << out;
   const std::string truth = readFile(dir / "truth.csv");
   ASSERT_GT(truth.size(), 1000u);
   EXPECT_TRUE(readFile(dir / "csv/bench_HIL_L_GIMBAL_TRUTH.csv") == truth)
@@ -139,7 +139,7 @@ TEST(Log2Csv, LoggedLockstepRunConvertsToTheTruthCsvFirmwareSimWrote) {
   const Csv a = Csv::read(dir / "csv/bench_HIL_L_GIMBAL_ATTITUDE.csv");
   const Csv tr = Csv::read(dir / "truth.csv");
   ASSERT_GE(a.rows.size(), 1000u);
-  ASSERT_EQ(tr.rows.size(), 1000u);
+  ASSERT_EQ(tr.rows.size(), 1001u);  // t = 0 .. 1 s: the last with no status nor attitude
   const char* gyro[] = {"gyro_wx_rad_per_s", "gyro_wy_rad_per_s", "gyro_wz_rad_per_s"};
   const char* base_w[] = {"base_wx_rad_per_s", "base_wy_rad_per_s", "base_wz_rad_per_s"};
   const char* star_q[] = {"star_qw", "star_qx", "star_qy", "star_qz"};
@@ -171,7 +171,7 @@ TEST(Log2Csv, LoggedLockstepRunConvertsToTheTruthCsvFirmwareSimWrote) {
                                          &st);
   ASSERT_EQ(st, 0) << one_out;
   const Csv o = Csv::read(one);
-  ASSERT_EQ(o.rows.size(), 1000u);
+  ASSERT_EQ(o.rows.size(), 1001u);
   EXPECT_EQ(o.header.front(), "log_utime_us");
   EXPECT_EQ(o.header[1], "utime_us");
 
