@@ -214,6 +214,10 @@ int mainImpl(int argc, char** argv) {
     } catch (const InputError& e) {
       return refused(e, labels);
     }
+    if (const std::string why = sharedClearanceProblem(scenes.back().second.scene.model, c); !why.empty()) {
+      return program::refuse(kProgram, "--clearance-scene " + clearance_path + ": --clearances " + formatNumber(c) +
+                                           " [m] would never act: " + why);
+    }
   }
   const ControllerConfig& main_cfg = controllers.back().second;
   const double T = duration > 0.0 ? duration : main_cfg.profile.trackStart() + 5.0;

@@ -274,6 +274,10 @@ int mainImpl(int argc, char** argv) {
           labels.resize(base.size());
           labels.push_back("--clearances " + formatNumber(c) + " [m]");
           firmware::PlantScene ps = firmware::loadPlantScene(path, s);
+          if (const std::string why = sharedClearanceProblem(ps.scene.model, c); !why.empty()) {
+            return refuse("--clearance-scene/--clearances",
+                          path + ": --clearances " + formatNumber(c) + " [m] would never act: " + why);
+          }
           // One clearance scene keeps the short labels; several are told apart by scene name.
           std::string label = clearanceLabel(c);
           if (clearance_paths.size() > 1) label = ps.scene.model.name + "_" + label;

@@ -220,4 +220,14 @@ Scene loadScene(const std::string& path, const std::vector<std::string>& overrid
   return loadSceneText(readSceneFile(path), path, overrides);
 }
 
+std::string sharedClearanceProblem(const Model& m, double c) {
+  if (!m.hasClearance()) return "both joints are ideal: no bearing has a clearance to set";
+  const ClearanceKind kinds[2] = {m.joint1_kind, m.joint2_kind};
+  for (int j = 0; j < 2; ++j) {
+    // c derived as R_i - R_j (setClearance): equal to the value set within rounding.
+    if (kinds[j] != ClearanceKind::Ideal && std::abs(m.bearing[j].clearance - c) <= 1e-9 * std::abs(c)) return "";
+  }
+  return "each bearing keeps its own jointN.contact.clearance, so contact.clearance acts on none";
+}
+
 }  // namespace gimbalsim

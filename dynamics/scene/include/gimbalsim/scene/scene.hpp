@@ -38,6 +38,12 @@ std::string readSceneFile(const std::string& path);
 /// plant's, firmware_sim/plant_scene.hpp) call it as loadScene does.
 void finishScene(Scene& sc, const std::string& origin, std::vector<std::string> warnings);
 
+/// Why the shared contact.clearance = c [m] acts on no bearing of m ("" when
+/// one joint with clearance runs at c): both joints ideal, or each bearing
+/// set by its own jointN.contact.clearance. A study that labels its runs by
+/// c refuses such a scene rather than record a clearance that never acted.
+std::string sharedClearanceProblem(const Model& m, double c);
+
 /// The scene keys (key_registry.hpp): what loadScene reads.
 const KeyTable<Scene>& sceneTable();
 
