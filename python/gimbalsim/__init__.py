@@ -292,9 +292,10 @@ class ClosedLoopRun:
     line of sight to the true boresight, and los_error_est_x/y/z, to the
     boresight the controller's estimate and encoders give)."""
 
-    def __init__(self, summary, columns):
+    def __init__(self, summary, columns, inputs=()):
         self.summary = summary
         self.columns = columns
+        self.inputs = tuple(inputs)  # the files the run read: to_csv never writes over one
 
     @property
     def ok(self):
@@ -311,9 +312,13 @@ class ClosedLoopRun:
         "CSV files": names with their unit, numbers that read back exactly,
         never -0) through the package's one writer (_output.py: whole or not
         at all, by the output rules): OutputError, an OSError, when it cannot
-        (its folder must exist; a link, a non-file or one of inputs, the
-        files the run read, at path is refused)."""
+        (its folder must exist; a link, a non-file, a file the run read (its
+        scene, controller and fault files) or one of inputs (a path or
+        several) at path is refused)."""
         path = _check_path(path, "output path")
+        if isinstance(inputs, (str, bytes, os.PathLike)):  # one path, not its characters
+            inputs = (inputs,)
+        inputs = self.inputs + tuple(_check_path(p, "input path") for p in inputs)
         names = [_gimbalsim.csv_name(n, _TICK_UNITS.get(n, "rad")) for n in self.columns]
         _output.write_csv(path, [names] + [[_output.csv_number(x) for x in row] for row in self.rows], inputs)
 
@@ -344,4 +349,5 @@ def closed_loop(scene, controller_config, duration, settle_tol=1.0e-3, faults=No
         ctrl = Controller(controller_config)
     faults = "" if faults is None else _check_path(faults, "fault schedule path")
     summary, columns = _gimbalsim._closed_loop(scene, ctrl, duration, settle_tol, faults)
-    return ClosedLoopRun(summary, columns)
+    read = [p for p in (scene.path, ctrl.path, faults) if p]
+    return ClosedLoopRun(summary, columns, read)

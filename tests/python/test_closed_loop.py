@@ -117,6 +117,26 @@ def test_closed_loop_run_to_csv_follows_the_convention_and_the_output_rules(tmp)
         run.to_csv(tmp)
 
 
+def test_closed_loop_run_to_csv_never_writes_over_what_the_run_read(tmp):
+    import shutil
+    scene, ctrl, faults = tmp / "scene.yaml", tmp / "ctrl.yaml", tmp / "faults.yaml"
+    shutil.copy(scene_path("paper_ideal"), scene)
+    shutil.copy(CONTROLLER_CONFIG, ctrl)
+    faults.write_text("faults: []\n")
+    kept = {p: p.read_bytes() for p in (scene, ctrl, faults)}
+    run = gimbalsim.closed_loop(gimbalsim.load_scene(scene), gimbalsim.Controller(ctrl), 0.01, faults=faults)
+    for p in kept:  # the run's own inputs, without inputs= (by any spelling)
+        with pytest.raises(gimbalsim.OutputError, match="the same file as the input"):
+            run.to_csv(tmp / "." / p.name)
+    other = tmp / "other.yaml"
+    other.write_text("keep\n")
+    with pytest.raises(gimbalsim.OutputError, match="the same file as the input"):
+        run.to_csv(other, inputs=str(other))  # one path as a string, not its characters
+    assert {p: p.read_bytes() for p in kept} == kept and other.read_text() == "keep\n"
+    run.to_csv(tmp / "ticks.csv", inputs=str(other))  # another name is written
+    assert (tmp / "ticks.csv").read_text().count("\n") == len(run.columns["t"]) + 1
+
+
 def test_a_bearing_tighter_than_its_load_presses_in_stops_saying_why():
     # 10 um of play in paper_spatial2: the azimuth torque's couple presses an
     # end in deeper than the play (docs/MODEL.md 2.7), within 0.7 s.
