@@ -74,11 +74,12 @@ void printLong(const st::Case& c) {
 /// Refused before anything runs (exit 2): a scenes folder that is not one,
 /// the scenes of --case and of the long run with their overrides (loaded
 /// here, so a refusal names key and place), and an output that is an input.
-void checkInputs(const std::string& scenes, const std::vector<std::string>& scene_paths,
+/// need_scenes: false when every scene that runs is given by path (--case, --long-scene).
+void checkInputs(const std::string& scenes, bool need_scenes, const std::vector<std::string>& scene_paths,
                  const std::vector<std::vector<std::string>>& sets, const std::vector<std::string>& outputs) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (!fs::is_directory(scenes, ec)) throw gimbalsim::InputError("--scenes " + scenes + ": not a folder");
+  if (need_scenes && !fs::is_directory(scenes, ec)) throw gimbalsim::InputError("--scenes " + scenes + ": not a folder");
   std::vector<std::string> inputs = scene_paths;
   for (const auto& e : fs::directory_iterator(scenes, ec)) {
     if (e.path().extension() == ".yaml") inputs.push_back(e.path().string());
@@ -111,8 +112,11 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--csv", csv, "CSV of every run");
   app.add_option("--duration", dur, "simulated time of each run [s]");
   app.add_option("--threads", threads, "runs in parallel (at most 2 on this machine)")->check(CLI::Range(1, 2));
-  app.add_option("--momentum-bound", b.momentum_rel, "relative momentum drift bound");
-  app.add_option("--energy-bound", b.energy_rel, "relative energy rise bound");
+  // A bound of 0 or below would call every run SILENTLY_WRONG (exit 1, "a bug").
+  app.add_option("--momentum-bound", b.momentum_rel, "relative momentum drift bound")
+      ->check(gimbalsim::program::within(0.0, 1.0, true));
+  app.add_option("--energy-bound", b.energy_rel, "relative energy rise bound")
+      ->check(gimbalsim::program::within(0.0, 1.0, true));
   app.add_flag("--markdown", md, "print the results page's body (Markdown) to stdout");
   app.add_option("--page-body", page_body,
                  "write the results page's body (Markdown) to this file; tools/stress/run_stress.sh adds the "
@@ -129,6 +133,13 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--set", one_sets, "override of --case (repeatable)");
   if (const auto rc = gimbalsim::program::parse(app, argc, argv, "gimbalsim_stress")) return *rc;
   if (long_only) no_grid = no_sweeps = long_run = true;
+  // --duration is the sweeps' and the grid's: a run that has neither would ignore it.
+  if (app.count("--duration") && (!one_scene.empty() || (no_sweeps && no_grid))) {
+    return gimbalsim::program::refuse(
+        "gimbalsim_stress", "--duration " + dur + ": only the sweeps and the grid read it; " +
+                                (one_scene.empty() ? std::string("this run has neither")
+                                                   : "--case runs its scene's sim.duration (--set sim.duration=S)"));
+  }
   // An output folder named on the command line must exist (refused below); only the default one is made.
   // (--case writes no CSV: it makes no folder.)
   if (std::error_code ec; !app.count("--csv") && one_scene.empty()) {
@@ -149,7 +160,9 @@ int mainImpl(int argc, char** argv) {
         if (!o.empty()) outputs.push_back(o);
       }
     }
-    checkInputs(scenes, paths, sets, outputs);
+    const auto stem = [](const std::string& scene) { return scene.find('/') == std::string::npos; };
+    const bool need_scenes = one_scene.empty() ? !no_sweeps || !no_grid || (long_run && stem(long_scene)) : stem(one_scene);
+    checkInputs(scenes, need_scenes, paths, sets, outputs);
   }
   // Every sweep and grid run is paper_clearance with sim.duration = --duration:
   // a duration the scene refuses is refused here, once, naming the flag.
