@@ -41,6 +41,16 @@ def _usable(spec, rows):
     return [r for r in rows if r[status] != "crashed" and not r[status].startswith("refused")]
 
 
+def cdf_name(metric, prefix=""):
+    return f"{prefix}{metric}_cdf.png"
+
+
+def cdf_names(spec):
+    """Every file name cdf_plots() may write for the spec's budget (one per
+    index and phase): refused up front when a link or an input holds one."""
+    return [cdf_name(m) for m in spec.closed.metrics()]
+
+
 def cdf_plots(spec, rows, entries, out_dir, prefix="", inputs=()):
     """One PNG per index and phase: the units' empirical CDF, the level, the
     requirement line (none of them one of the run's inputs). Returns the files written."""
@@ -67,7 +77,7 @@ def cdf_plots(spec, rows, entries, out_dir, prefix="", inputs=()):
         ax.set_ylabel("fraction of units")
         ax.legend(loc="lower right")
         fig.tight_layout()
-        written.append(out_dir / f"{prefix}{metric}_cdf.png")
+        written.append(out_dir / cdf_name(metric, prefix))
         savefig(fig, written[-1], inputs, dpi=100, close=True)
     return written
 

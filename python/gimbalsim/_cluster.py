@@ -3,6 +3,7 @@ worker process per core (the default), or an existing scheduler that
 dask-worker processes on any number of machines have joined. Every worker
 needs this package on its PYTHONPATH."""
 import argparse
+import asyncio
 import contextlib
 import logging
 import os
@@ -11,10 +12,11 @@ import sys
 import threading
 import warnings
 
-from ._errors import Interrupted
+from ._errors import Interrupted, NoCluster
 
 LOOPBACK = "127.0.0.1"
 ALLOWED_FAILURES = 1
+WORKERS_TIMEOUT_S = 60  # how long a scheduler named by --scheduler may go without a worker
 # Test hook, read in the worker: the sample (sweep) or plant (tune) whose
 # index it names kills its worker process, as a crash in the C++ core would.
 CRASH_HOOK = "GIMBALSIM_TEST_KILL_WORKER_AT"
@@ -33,12 +35,8 @@ def dask_client(workers=None, scheduler=None):
     from distributed import Client, LocalCluster
 
     if scheduler:
-        client = Client(scheduler, timeout="30s")
-        try:
-            client.wait_for_workers(1, timeout=60)
+        with _scheduler_client(scheduler) as client:
             yield client, len(client.scheduler_info()["workers"])
-        finally:
-            client.close()
         return
     n = workers or os.cpu_count() or 1
     # Ctrl-C reaches the whole process group: worker processes started while
@@ -81,6 +79,36 @@ def dask_client(workers=None, scheduler=None):
         raise
     client.close()
     cluster.close()
+
+
+@contextlib.contextmanager
+def _scheduler_client(address):
+    """A client of the scheduler at address (--scheduler) with a worker
+    joined. One that does not answer within Dask's connect timeout
+    (distributed.comm.timeouts.connect, 30 s unless the environment's
+    DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT says), or has no worker within
+    WORKERS_TIMEOUT_S, is NoCluster (exit 6): one line, not Dask's traceback."""
+    import dask
+    from dask.utils import parse_timedelta
+    from distributed import Client
+
+    wait = dask.config.get("distributed.comm.timeouts.connect")
+    try:
+        client = Client(address, timeout=wait)
+    except (OSError, asyncio.TimeoutError) as e:
+        why = str(e).splitlines()[0] if str(e) else type(e).__name__
+        why = "" if why.startswith("Timed out") else f": {why}"  # Dask's own words only when they add a cause
+        raise NoCluster(f"--scheduler {address}: no Dask scheduler answered within {parse_timedelta(wait):g} s "
+                        f"(Dask's distributed.comm.timeouts.connect){why}; start it, or check the address") from None
+    try:
+        try:
+            client.wait_for_workers(1, timeout=WORKERS_TIMEOUT_S)
+        except (OSError, asyncio.TimeoutError):
+            raise NoCluster(f"--scheduler {address}: no worker joined the scheduler within {WORKERS_TIMEOUT_S} s; "
+                            "start dask-worker processes pointed at it") from None
+        yield client
+    finally:
+        client.close()
 
 
 class _DropInterrupted(logging.Filter):
@@ -161,9 +189,30 @@ def local_workers(text):
     return n
 
 
+def scheduler_address(text):
+    """--scheduler: a Dask scheduler's address, [SCHEME://]HOST:PORT, checked
+    as Dask reads it before anything runs: a malformed one (no port, an
+    unknown scheme) failed only at the connection, after --out was written."""
+    from distributed.comm.addressing import get_address_host_port
+
+    form = "give tcp://HOST:PORT, the address dask-scheduler prints (PORT from 1 to 65535)"
+    try:
+        host, port = get_address_host_port(text)
+    except ValueError:
+        scheme = text.split("://")[0] if "://" in text else "tcp"
+        why = (f"unknown scheme {scheme!r}" if scheme not in ("tcp", "tls", "ucx", "ws", "wss") else
+               "no PORT" if ":" not in text.split("://")[-1] else "a bad PORT")
+        raise argparse.ArgumentTypeError(f"{text!r} is not a scheduler address ({why}): {form}") from None
+    digits = text.rsplit(":", 1)[-1]
+    if not host.strip() or not (digits.isascii() and digits.isdigit()) or not 1 <= port <= 65535:
+        why = "no HOST" if not host.strip() else f"PORT {digits!r}"
+        raise argparse.ArgumentTypeError(f"{text!r} is not a scheduler address ({why}): {form}")
+    return text
+
+
 def add_cluster_arguments(parser):
     g = parser.add_mutually_exclusive_group()
     g.add_argument("--workers", type=local_workers, default=None,
                    help="local cluster of N worker processes (default: one per core; at most 4 per core)")
-    g.add_argument("--scheduler", default=None,
+    g.add_argument("--scheduler", type=scheduler_address, default=None,
                    help="an existing Dask scheduler, tcp://HOST:PORT (dask-scheduler + dask-worker processes)")

@@ -15,6 +15,7 @@ EXIT_INTERNAL = 1        # a bug, memory exhausted: an exception no row below na
 EXIT_REFUSED = 2         # a spec, scene, configuration or argument refused: nothing run
 EXIT_STOPPED = 3         # the run stopped (numerical trouble; a tuning study with no trial completed)
 EXIT_OUTPUT = 4          # an output could not be written; nothing under its name
+EXIT_NO_PEER = 6         # no peer: the scheduler named by --scheduler did not answer, or no worker joined it
 EXIT_NOT_REPRODUCED = 8  # a replayed sample did not reproduce its recorded row (the columns named)
 
 
@@ -82,6 +83,11 @@ class NotReproduced(Exception):
     names the columns (exit EXIT_NOT_REPRODUCED)."""
 
 
+class NoCluster(Exception):
+    """The scheduler named by --scheduler did not answer, or no worker joined
+    it; the message names the address and the time waited (exit EXIT_NO_PEER)."""
+
+
 class Interrupted(BaseException):
     """SIGINT or SIGTERM: ``signum``; the program exits 128 + signum."""
 
@@ -92,7 +98,7 @@ class Interrupted(BaseException):
 
 # The one mapping: the first row whose class the exception is an instance of gives its code.
 _TABLE = ((SpecError, EXIT_REFUSED), (SceneError, EXIT_REFUSED), (SimulationStopped, EXIT_STOPPED),
-          (OutputError, EXIT_OUTPUT), (NotReproduced, EXIT_NOT_REPRODUCED))
+          (OutputError, EXIT_OUTPUT), (NotReproduced, EXIT_NOT_REPRODUCED), (NoCluster, EXIT_NO_PEER))
 
 
 def exit_code(e):

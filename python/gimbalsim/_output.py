@@ -15,7 +15,8 @@
   after a power cut;
 - on any failure the temporary is removed and whatever was under the name
   stays as it was; the failure is one OutputError naming the path and the
-  cause (exit 4 in the exit-code table, _errors.py).
+  cause (exit 4 in the exit-code table, _errors.py); a path refused by the
+  first rule, before a byte was written, is its kind OutputRefused.
 
 Only the standard library: tools/pages/output_file.py loads this file from the
 source tree, without the built package.
@@ -29,14 +30,20 @@ import math
 import os
 import stat
 
-__all__ = ["OutputError", "check_outputs", "open_output", "output_set", "write_text", "write_bytes", "write_csv",
-           "csv_text", "savefig", "figure_bytes", "open_append", "append_synced"]
+__all__ = ["OutputError", "OutputRefused", "check_outputs", "open_output", "output_set", "write_text", "write_bytes",
+           "write_csv", "csv_text", "savefig", "figure_bytes", "open_append", "append_synced"]
 
 
 class OutputError(OSError):
     """An output refused or not written; str() names the file and the cause.
     An OSError, as every failed write of the package was before (and as the
     C++ core's Run.to_csv raises)."""
+
+
+class OutputRefused(OutputError):
+    """An output refused by the rules before a byte was written (a link, a
+    special file, an input or a missing folder under its name): freeing
+    space does not help, moving the file away does."""
 
 
 _counter = itertools.count()  # the <n> of the temporaries' names (next() is atomic under the GIL)
@@ -96,24 +103,24 @@ def _identity(path):
 
 def _check_one(path):
     if not path:
-        raise OutputError("output path is empty")
+        raise OutputRefused("output path is empty")
     if "\0" in path:
-        raise OutputError(f"{path!r}: holds a NUL byte; refused")
+        raise OutputRefused(f"{path!r}: holds a NUL byte; refused")
     name = os.path.basename(path)
     if name in ("", ".", ".."):
-        raise OutputError(f"{path}: not a file name")
+        raise OutputRefused(f"{path}: not a file name")
     try:
         st = os.lstat(path)
     except FileNotFoundError:
         st = None
     except OSError as e:
-        raise OutputError(f"{path}: {e.strerror or e}") from None
+        raise OutputRefused(f"{path}: {e.strerror or e}") from None
     if st is not None and stat.S_ISLNK(st.st_mode):
-        raise OutputError(f"{path}: is a symbolic link; not written through (give its target)")
+        raise OutputRefused(f"{path}: is a symbolic link; not written through (give its target)")
     if st is not None and not stat.S_ISREG(st.st_mode):
-        raise OutputError(f"{path}: exists and is not a regular file ({_kind(st.st_mode)}); not written")
+        raise OutputRefused(f"{path}: exists and is not a regular file ({_kind(st.st_mode)}); not written")
     if not os.path.isdir(_folder(path)):
-        raise OutputError(f"{path}: its directory {_folder(path)} does not exist")
+        raise OutputRefused(f"{path}: its directory {_folder(path)} does not exist")
 
 
 def check_outputs(outputs, inputs=()):
@@ -130,13 +137,13 @@ def check_outputs(outputs, inputs=()):
         me = _identity(out)
         for other, theirs in seen:
             if theirs == me:
-                raise OutputError(f"{out}: the same file as another output ({other})")
+                raise OutputRefused(f"{out}: the same file as another output ({other})")
         for inp in inputs:
             if inp is None or inp == "":
                 continue
             inp = _text(inp)
             if me is not None and _identity(inp) == me:
-                raise OutputError(f"{out}: the same file as the input {inp}; not overwritten")
+                raise OutputRefused(f"{out}: the same file as the input {inp}; not overwritten")
         seen.append((out, me))
 
 
@@ -287,11 +294,12 @@ def open_append(path):
     try:
         fd = os.open(path, os.O_WRONLY | os.O_APPEND | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0))
     except OSError as e:
-        why = "is a symbolic link; not written through" if e.errno == errno.ELOOP else e.strerror or e
-        raise OutputError(f"{path}: cannot open it to append: {why}") from None
+        if e.errno == errno.ELOOP:
+            raise OutputRefused(f"{path}: cannot open it to append: is a symbolic link; not written through") from None
+        raise OutputError(f"{path}: cannot open it to append: {e.strerror or e}") from None
     if not stat.S_ISREG(os.fstat(fd).st_mode):
         os.close(fd)
-        raise OutputError(f"{path}: exists and is not a regular file; not written")
+        raise OutputRefused(f"{path}: exists and is not a regular file; not written")
     return fd
 
 

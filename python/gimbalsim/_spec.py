@@ -206,10 +206,11 @@ def check_out_dir(out, spec_path):
 
 
 def check_outputs_not_inputs(outputs, inputs):
-    """An output that is also an input (the spec or a file it reads), a
-    folder of outputs holding one, or a link or special file under an
-    output's name is refused (SpecError, exit 2) before anything runs: found
-    at the end, the study's work would be lost."""
+    """An output that is also an input (the spec or a file it reads, by its
+    name or a hard link), a folder of outputs holding one, a file where an
+    output's folder goes, or a link or special file under an output's name is
+    refused (SpecError, exit 2) before anything runs: found at the end, the
+    study's work would be lost."""
     ins = [pathlib.Path(p).resolve() for p in inputs if p is not None]
     for o in outputs:
         o = pathlib.Path(o)
@@ -218,11 +219,24 @@ def check_outputs_not_inputs(outputs, inputs):
             raise SpecError(f"{o}: " + ("a symbolic link" if o.is_symlink() else "not a regular file") +
                             " where this run writes its output; an output is never written through one: remove it, "
                             "or use another --out")
-        o = o.resolve()
+        if o.parent.exists() and not o.parent.is_dir():  # a file where the outputs' folder (plots/) goes
+            raise SpecError(f"{o.parent}: not a folder where this run writes {o.name}: remove it, or use another --out")
+        given, o = o, o.resolve()
         for i in ins:
             if i == o or o in i.parents:
                 raise SpecError(f"{i}: an input of this run and {'its output' if i == o else 'inside its output folder'} "
                                 f"{o}; move it out of --out, or use another --out")
+            if _same_file(i, o):  # a hard link: the input under the output's name, else refused after the run
+                raise SpecError(f"{given}: the same file as the input {i} (a hard link), where this run writes its "
+                                f"output; move it out of --out, or use another --out")
+
+
+def _same_file(a, b):
+    """a and b are one file (device and inode): False when either is missing."""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
 
 
 def _is_number(v):

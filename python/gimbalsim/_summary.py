@@ -33,6 +33,27 @@ def summarize(spec, rows, engine):
             "engine": engine}
 
 
+# (metric, unit, name): the distributions plotted, each into NAME_distribution.png
+DISTRIBUTIONS = (("pointing_error_max", "rad", "pointing_error"), ("peak_joint2_force", "N", "peak_force"))
+
+
+def _distribution_name(name):
+    return f"{name}_distribution.png"
+
+
+def _versus_name(column):
+    return f"pointing_error_vs_{column.replace('[', '_').replace(']', '')}.png"
+
+
+def plot_names(spec):
+    """Every file name plot() may write into its folder: the sweep refuses a
+    link or an input under any of them before a sample runs."""
+    if spec.closed:
+        return []
+    return [_distribution_name(name) for _, _, name in DISTRIBUTIONS] + \
+        [_versus_name(c) for c in spec.design.columns()]
+
+
 def plot(spec, rows, out, inputs=()):
     """The open loop's distribution plots into the folder out (none of them
     one of the run's inputs); the files written."""
@@ -48,8 +69,7 @@ def plot(spec, rows, out, inputs=()):
     out.mkdir(parents=True, exist_ok=True)
     written = []
     val = lambda c: np.array([float(r[col[c]]) for r in ok])
-    for metric, unit, name in (("pointing_error_max", "rad", "pointing_error"),
-                               ("peak_joint2_force", "N", "peak_force")):
+    for metric, unit, name in DISTRIBUTIONS:
         x = np.sort(val(metric))
         fig, ax = plt.subplots(1, 2, figsize=(10, 4))
         ax[0].hist(x, bins=min(50, max(5, len(x) // 10)))
@@ -61,7 +81,7 @@ def plot(spec, rows, out, inputs=()):
         ax[1].axhline(0.99, ls=":", c="gray")
         fig.suptitle(f"{len(x)} samples ({spec.scene_path.name})")
         fig.tight_layout()
-        written.append(out / f"{name}_distribution.png")
+        written.append(out / _distribution_name(name))
         savefig(fig, written[-1], inputs, dpi=110, close=True)
     for c in spec.design.columns():
         try:
@@ -73,6 +93,6 @@ def plot(spec, rows, out, inputs=()):
         ax.set_xlabel(c)
         ax.set_ylabel("pointing_error_max [rad]")
         fig.tight_layout()
-        written.append(out / f"pointing_error_vs_{c.replace('[', '_').replace(']', '')}.png")
+        written.append(out / _versus_name(c))
         savefig(fig, written[-1], inputs, dpi=110, close=True)
     return written

@@ -25,12 +25,14 @@ i's parameters depend only on (seed, i): the results are the same whatever the
 workers, machines, order or resumes (all columns but wall_time). Rows are
 journaled to DIR/results.partial.csv as they arrive (appended and synced per
 task; never cut in place); --resume runs only the missing samples, after
-dropping, counting and rerunning any journal row the design did not draw.
+dropping, counting and rerunning any journal row the sweep could not have
+written (not drawn by the design, another fingerprint or applied value, a
+figure that is not the writer's finite number).
 A sample that kills its worker twice is recorded as `crashed` (its parameters,
 no figures) and the sweep goes on (a batch is split to find it).
 Exit codes (the project's table, docs/usage.md "Exit codes", mirrored in _errors.py): 0 done (crashed samples included),
-2 spec refused, 4 an output not written (the journal kept), 130 / 143 interrupted by SIGINT / SIGTERM
-(the journal kept).
+2 spec refused, 4 an output not written (the journal kept), 6 the --scheduler did not answer or had no worker
+(nothing written), 130 / 143 interrupted by SIGINT / SIGTERM (the journal kept).
 """
 import argparse
 import contextlib
@@ -45,10 +47,10 @@ import gimbalsim
 from . import _budget, _budget_report, _cluster, _provenance, _study_file, replay
 from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main
 from ._journal import DESIGN, JOURNAL, csv_line, fmt, read_journal, record_design, take_recorded_design  # noqa: F401 (csv_line, fmt: API)
-from ._output import append_synced, open_append, output_set, write_text
+from ._output import OutputRefused, append_synced, open_append, output_set, write_text
 from ._sample import row_values, run_one, sample_alone  # noqa: F401 (sample_alone: API)
 from ._spec import check_out_dir, check_outputs_not_inputs
-from ._summary import plot, summarize
+from ._summary import plot, plot_names, summarize
 from ._sweep_spec import MAX_SAMPLES, SweepSpec
 from ._until import Until
 
@@ -72,13 +74,26 @@ def run_batch(base, closed, items):
 
 # ---- the sweep ----
 
+# The sweep's files in --out, by the names its writers take them from; output_paths lists them all.
+RESULTS, SUMMARY, REPORT, PLOTS, FINGERPRINT = "results.csv", "summary.json", "report.md", "plots", "spec.json"
+
+
+def output_paths(spec, out):
+    """Every path the sweep may write in out: each is checked (no link, no
+    special file, no input under its name) before a sample runs, as found at
+    the end the samples' work would be lost."""
+    plots = _budget_report.cdf_names(spec) if spec.closed else plot_names(spec)
+    names = [FINGERPRINT, _provenance.SPEC_COPY, _provenance.INPUTS, JOURNAL, RESULTS, DESIGN, SUMMARY, REPORT, PLOTS]
+    return [out / n for n in names] + [out / PLOTS / n for n in plots]
+
+
 def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, progress=True, until=None):
     header = spec.csv_header()
     inputs = spec.input_files()
     write = lambda path, text: write_text(path, text, inputs)  # noqa: E731
     journal = out / JOURNAL
-    results = out / "results.csv"
-    fingerprint = out / "spec.json"
+    results = out / RESULTS
+    fingerprint = out / FINGERPRINT
     if resume:
         try:
             same = not fingerprint.exists() or fingerprint.read_text() == spec.fingerprint
@@ -90,31 +105,33 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         raise SpecError(f"{out} already holds a sweep: give --resume to finish it, or another --out")
     if (out / "study.db").exists() or (out / "trials.csv").exists():  # its summary.json was replaced by ours
         raise SpecError(f"{out} holds a tuning study (study.db, trials.csv): give the sweep another --out")
-    check_outputs_not_inputs([fingerprint, out / _provenance.SPEC_COPY, out / _provenance.INPUTS, journal, results,
-                              out / DESIGN, out / "summary.json", out / "report.md", out / "plots"], inputs)
-    try:
-        out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
-    except OSError as e:
-        raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
-    _study_file.hold(out)  # before the journal is read: another sweep may be writing it
-    take_recorded_design(out, spec)  # the samples --until added before (a resume holds them, no more)
-    if until is not None and until.max_samples < len(spec.design):  # it said "stopped by the cap at" the rows held
-        raise SpecError(f"--max-samples {until.max_samples} is below the {len(spec.design)} samples this sweep "
-                        f"already grew to ({out / DESIGN}): give at least {len(spec.design)}")
-    done, dropped, appendable = read_journal(spec, journal, header)
-    if results.exists() and resume and not done and not dropped:
-        done, dropped, _ = read_journal(spec, results, header)
-        appendable = False
-    write(fingerprint, spec.fingerprint)
-    _provenance.record_inputs(spec, out, write)
-    if not appendable:
-        # The journal is never cut in place: its trusted rows go to a new file that replaces it whole.
-        write(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
-    for why, n in dropped.items():
-        print(f"sweep: dropped {n} journal row{'s' * (n != 1)} ({why}); their samples run again", file=sys.stderr)
+    check_outputs_not_inputs(output_paths(spec, out), inputs)
     engine, grown = {"ran_this_invocation": 0}, None
     with contextlib.ExitStack() as stack:
-        cluster = None  # started for the first sample to run, and kept for every round of --until
+        # A named scheduler is reached before anything is written: one that does not answer (exit 6) leaves
+        # --out as it was, not a journal the next run would want resumed. The local cluster starts for the
+        # first sample to run; either is kept for every round of --until.
+        cluster = stack.enter_context(_cluster.dask_client(None, scheduler)) if scheduler else None
+        try:
+            out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
+        except OSError as e:
+            raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
+        _study_file.hold(out)  # before the journal is read: another sweep may be writing it
+        take_recorded_design(out, spec)  # the samples --until added before (a resume holds them, no more)
+        if until is not None and until.max_samples < len(spec.design):  # it said "stopped by the cap at" the rows held
+            raise SpecError(f"--max-samples {until.max_samples} is below the {len(spec.design)} samples this sweep "
+                            f"already grew to ({out / DESIGN}): give at least {len(spec.design)}")
+        done, dropped, appendable = read_journal(spec, journal, header)
+        if results.exists() and resume and not done and not dropped:
+            done, dropped, _ = read_journal(spec, results, header)
+            appendable = False
+        write(fingerprint, spec.fingerprint)
+        _provenance.record_inputs(spec, out, write)
+        if not appendable:
+            # The journal is never cut in place: its trusted rows go to a new file that replaces it whole.
+            write(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
+        for why, n in dropped.items():
+            print(f"sweep: dropped {n} journal row{'s' * (n != 1)} ({why}); their samples run again", file=sys.stderr)
         while True:
             todo = [i for i in range(len(spec.design)) if i not in done]
             print(f"sweep: {len(spec.design)} samples, {len(done)} already done, {len(todo)} to run",
@@ -138,9 +155,9 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             record_design(out, spec, write)
     # The report is one set: stopped or failed part-way, none of it is left (the journal holds
     # every row, and --resume writes the whole set), nor the plots folder it made.
-    plots_was_there = (out / "plots").exists()
+    plots_was_there = (out / PLOTS).exists()
     with contextlib.ExitStack() as report:
-        report.callback(lambda: plots_was_there or _remove_empty_folder(out / "plots"))
+        report.callback(lambda: plots_was_there or _remove_empty_folder(out / PLOTS))
         report.enter_context(output_set())
         write(results, "".join(csv_line(r) for r in [header] + rows))
         summary = summarize(spec, rows, engine)
@@ -149,8 +166,8 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             summary["until"] = grown
         if spec.closed:
             summary["report"] = str(write_report(spec, rows, summary, out, inputs))
-        summary["plots"] = [str(p) for p in _plots(lambda: plot(spec, rows, out / "plots", inputs), out)]
-        write(out / "summary.json", json.dumps(summary, indent=2) + "\n")
+        summary["plots"] = [str(p) for p in _plots(lambda: plot(spec, rows, out / PLOTS, inputs), out)]
+        write(out / SUMMARY, json.dumps(summary, indent=2) + "\n")
     journal.unlink()
     return summary
 
@@ -179,16 +196,16 @@ def _plots(draw, out):
     except OutputError:
         raise
     except OSError as e:
-        raise OutputError(f"cannot write the plots in {out / 'plots'}: {e.strerror or e}") from None
+        raise OutputError(f"cannot write the plots in {out / PLOTS}: {e.strerror or e}") from None
 
 
 def write_report(spec, rows, summary, out, inputs=()):
     """OUT/report.md and its CDF plots (closed loop)."""
-    plots = _plots(lambda: _budget_report.cdf_plots(spec, rows, summary["budget"], out / "plots",
+    plots = _plots(lambda: _budget_report.cdf_plots(spec, rows, summary["budget"], out / PLOTS,
                                                     inputs=inputs), out)
     text = _budget_report.body(spec, rows, summary["budget"], plots, summary["engine"])
-    write_text(out / "report.md", text, inputs)
-    return out / "report.md"
+    write_text(out / REPORT, text, inputs)
+    return out / REPORT
 
 
 def crashed(i):
@@ -297,6 +314,8 @@ def main(argv=None):
     out = pathlib.Path(a.out)
     kept = lambda: f"{_kept(out)} samples kept in {out / JOURNAL}"  # noqa: E731
     return guarded_main("sweep", lambda: _run(a, out), {
+        # a name refused at the end (a link made while the sweep ran): more space would not help
+        OutputRefused: lambda e: f"; {kept()}: move it out of --out and run again with --resume",
         OutputError: lambda e: f"; {kept()}: free the space and run again with --resume",
         Interrupted: lambda e: f": {kept()}; run again with --resume to finish"})
 

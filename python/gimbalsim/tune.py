@@ -30,9 +30,11 @@ DIR/progress.png. --resume continues the study in DIR: trials a killed tuner
 left running are marked FAIL and run again; without it a DIR holding a study
 is refused. Exit codes (the project's table, docs/usage.md "Exit codes",
 mirrored in _errors.py): 0, 2 spec refused, 3 no trial completed, 4 an output not written,
-130 / 143 interrupted by SIGINT / SIGTERM (the study kept).
+6 the --scheduler did not answer or had no worker (nothing written), 130 / 143 interrupted by SIGINT / SIGTERM
+(the study kept).
 """
 import argparse
+import contextlib
 import json
 import math
 import pathlib
@@ -105,23 +107,31 @@ def suggest(trial, p):
 STUDY_FILE = "study.db"
 STUDY_NAME = "gimbalsim.tune"
 PLANT_FIGURES = ("max_truth_error_track_rad", "rms_truth_error_track_rad", "controller_limited_ticks", "ticks")
+# The study's files in --out, by the names its writers take; SQLite writes its journal beside the study.
+TRIALS, BEST, SUMMARY, PROGRESS = "trials.csv", "best.yaml", "summary.json", "progress.png"
+OUTPUTS = (STUDY_FILE, STUDY_FILE + "-journal", TRIALS, BEST, SUMMARY, PROGRESS)
 
 
-def open_study(spec, out, resume, sampler):
-    """The study stored in out/study.db (Optuna's RDB storage on SQLite):
-    created with the baseline as its first trial, or, with resume, loaded;
-    then trials left RUNNING by a killed tuner are marked FAIL (`killed`) and
-    queued again with the same gains."""
-    import optuna
-
-    db = out / STUDY_FILE
-    if not resume and (db.exists() or (out / "trials.csv").exists()):
-        raise SpecError(f"{out} already holds a study ({db.name}, trials.csv): give --resume to continue it, "
+def check_study_folder(spec, out, resume):
+    """Refuses (exit 2), before the cluster or anything written: a study
+    without --resume, a sweep's folder, and a link, a special file or an
+    input under any output's name (found at the end, every trial was lost)."""
+    if not resume and ((out / STUDY_FILE).exists() or (out / TRIALS).exists()):
+        raise SpecError(f"{out} already holds a study ({STUDY_FILE}, {TRIALS}): give --resume to continue it, "
                         f"or another --out")
     if any((out / n).exists() for n in ("results.csv", "results.partial.csv", "design.json")):
         raise SpecError(f"{out} holds a sweep (results.csv or its journal): give the study another --out")
-    check_outputs_not_inputs([db] + [out / n for n in ("trials.csv", "best.yaml", "summary.json", "progress.png")],
-                             spec.input_files())
+    check_outputs_not_inputs([out / n for n in OUTPUTS], spec.input_files())
+
+
+def open_study(spec, out, resume, sampler):
+    """The study stored in out/study.db (Optuna's RDB storage on SQLite), its
+    folder checked (check_study_folder): created with the baseline as its
+    first trial, or, with resume, loaded; then trials left RUNNING by a killed
+    tuner are marked FAIL (`killed`) and queued again with the same gains."""
+    import optuna
+
+    db = out / STUDY_FILE
     try:
         out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
     except OSError as e:
@@ -177,17 +187,22 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
     sampler = optuna.samplers.TPESampler(
         seed=spec.seed, constant_liar=True, n_startup_trials=max(1, min(10, spec.trials // 3)),
         constraints_func=lambda t: (t.user_attrs.get("constraint", 1.0),))
-    study = open_study(spec, out, resume, sampler)
-    gain_names = [p.key for p in spec.gains]
-    header = ["trial", "state", "origin", "score", "constraint", *gain_names, "plants_ok", "reason", "wall_time"] + \
-        [f"plant{j}.{c}" for j in range(spec.batch) for c in ("status",) + PLANT_FIGURES]
-    if resume:  # the kills marked, the rows of trials told before a kill but not yet written
-        _write_trials(out, header, study, spec.input_files())
-    # the requested count is of finished trials; a trial killed with the tuner is not one (its retry is)
-    finished = sum(1 for t in study.trials if t.state.is_finished() and t.user_attrs.get("row", {}).get("reason")
-                   != "killed")
-    plants = [(j, spec.plants.draw(j)) for j in range(spec.batch)]
-    with _cluster.dask_client(workers, scheduler) as (client, n_workers):
+    check_study_folder(spec, out, resume)
+    with contextlib.ExitStack() as stack:
+        # A named scheduler is reached before the study is made: one that does not answer (exit 6) leaves
+        # --out as it was, not a study the next run would want resumed.
+        named = stack.enter_context(_cluster.dask_client(None, scheduler)) if scheduler else None
+        study = open_study(spec, out, resume, sampler)
+        gain_names = [p.key for p in spec.gains]
+        header = ["trial", "state", "origin", "score", "constraint", *gain_names, "plants_ok", "reason",
+                  "wall_time"] + [f"plant{j}.{c}" for j in range(spec.batch) for c in ("status",) + PLANT_FIGURES]
+        if resume:  # the kills marked, the rows of trials told before a kill but not yet written
+            _write_trials(out, header, study, spec.input_files())
+        # the requested count is of finished trials; a trial killed with the tuner is not one (its retry is)
+        finished = sum(1 for t in study.trials if t.state.is_finished() and t.user_attrs.get("row", {}).get("reason")
+                       != "killed")
+        plants = [(j, spec.plants.draw(j)) for j in range(spec.batch)]
+        client, n_workers = named or stack.enter_context(_cluster.dask_client(workers))
         parallel = spec.parallel or n_workers
         chunk = max(1, math.ceil(spec.batch / max(1, n_workers)))
         in_flight = {}  # trial number -> (trial, futures, gains, t0)
@@ -241,9 +256,9 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
                "best_gains": {k: best.params[k] for k in gain_names}, "trials": len(rows),
                "complete": len(done), "feasible_trials": len(feasible)}
     with output_set():  # the study's verdict is one set: stopped part-way, none of it is left
-        write_text(out / "best.yaml", text, spec.input_files())
+        write_text(out / BEST, text, spec.input_files())
         _plot(out, rows, spec)
-        write_text(out / "summary.json", json.dumps(summary, indent=2) + "\n", spec.input_files())
+        write_text(out / SUMMARY, json.dumps(summary, indent=2) + "\n", spec.input_files())
     return summary, rows
 
 
@@ -289,7 +304,7 @@ def _csv_names(header):
 def _write_trials(out, header, study, inputs=()):
     """trials.csv from the study: every finished trial, in trial order."""
     rows = [t.user_attrs["row"] for t in study.get_trials(deepcopy=False) if "row" in t.user_attrs]
-    write_csv(out / "trials.csv", [_csv_names(header)] + [[fmt(r.get(h, "")) for h in header] for r in rows],
+    write_csv(out / TRIALS, [_csv_names(header)] + [[fmt(r.get(h, "")) for h in header] for r in rows],
               inputs)
 
 
@@ -316,12 +331,12 @@ def _plot(out, rows, spec):
     ax.set_ylabel(f"p{spec.percentile:g} {spec.metric} [rad]")
     ax.legend()
     fig.tight_layout()
-    savefig(fig, out / "progress.png", spec.input_files(), dpi=110, close=True)
+    savefig(fig, out / PROGRESS, spec.input_files(), dpi=110, close=True)
 
 
 def _trials_kept(out):
     try:
-        return max(0, (out / "trials.csv").read_bytes().count(b"\n") - 1)
+        return max(0, (out / TRIALS).read_bytes().count(b"\n") - 1)
     except OSError:
         return 0
 

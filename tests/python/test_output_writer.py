@@ -265,7 +265,7 @@ def test_the_python_codes_are_the_cpp_table_and_the_documented_one():
     assert set(cpp.values()) == documented_exit_codes()
     python = {"kOk": _errors.EXIT_OK, "kInternal": _errors.EXIT_INTERNAL, "kRefused": _errors.EXIT_REFUSED,
               "kStopped": _errors.EXIT_STOPPED, "kOutput": _errors.EXIT_OUTPUT,
-              "kNotReproduced": _errors.EXIT_NOT_REPRODUCED}
+              "kNoPeer": _errors.EXIT_NO_PEER, "kNotReproduced": _errors.EXIT_NOT_REPRODUCED}
     assert {k: cpp.get(k) for k in python} == python
     assert _errors.EXIT_NOT_REPRODUCED not in (_errors.EXIT_INTERNAL, _errors.EXIT_REFUSED, _errors.EXIT_STOPPED,
                                                _errors.EXIT_OUTPUT)
@@ -277,6 +277,7 @@ def test_one_mapping_from_exceptions_to_exit_codes(capsys):
 
     cases = [(SpecError("bad", key="samples"), 2), (gimbalsim.SceneError("refused"), 2),
              (gimbalsim.OutputError("x.csv: write failed"), 4), (_errors.NotReproduced("differs"), 8),
+             (_errors.NoCluster("--scheduler tcp://h:1: no Dask scheduler answered"), 6),
              (Interrupted(signal.SIGINT), 130), (Interrupted(signal.SIGTERM), 143), (ValueError("a bug"), None)]
     assert [_errors.exit_code(e) for e, _ in cases] == [code for _, code in cases]
 

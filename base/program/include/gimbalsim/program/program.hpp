@@ -36,7 +36,8 @@ enum Exit : int {
   kStopped = 3,   ///< the run stopped (numerical trouble, a plant stop); outputs whole up to it
   kOutput = 4,    ///< an output file could not be written; nothing under its name
   kNetwork = 5,   ///< LCM or the network could not start, or failed
-  kNoPeer = 6,    ///< no peer: no plant within --idle-exit, the plant gone (--plant-timeout), no controller within --start-timeout
+  kNoPeer = 6,    ///< no peer: no plant within --idle-exit, the plant gone (--plant-timeout), no controller within
+                  ///< --start-timeout; (Python) no Dask scheduler or worker at --scheduler
   kPartial = 7,   ///< the input was cut short (a truncated log): every whole part converted, the cut reported
   kNotReproduced = 8,  ///< a replayed sample's row differs from the recorded one (Python: gimbalsim.sweep --replay, _errors.py)
 };
