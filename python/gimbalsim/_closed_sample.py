@@ -67,20 +67,35 @@ def sample_indices(closed, columns, windows):
     return out
 
 
-def run_closed_sample(base, closed, overrides, series=False):
-    """A closed-loop sample's status, reason and indices (dict); with series,
-    also the run itself under "run" (its ticks, for a replay)."""
+def load_sample(base, closed, overrides):
+    """(scene, controller, {"applied": ...}) of a sample: the base scene with
+    its values and, in closed loop (closed: the spec's ClosedLoopSpec; None in
+    open loop), its controller, and what they applied (_provenance.applied, as
+    loaded, not as drawn); or (None, None, {"status": "refused:<key>",
+    "reason": why}). What a worker runs, and what a resume checks a journal
+    row's applied_ columns against."""
     scene_ov, ctrl_ov = split_overrides(overrides)
     try:
         scene = base.replace(scene_ov)
     except gimbalsim.SceneError as e:
-        return {"status": f"refused:{e.key or ''}", "reason": str(e).replace(",", ";")}
+        return None, None, {"status": f"refused:{e.key or ''}", "reason": str(e).replace(",", ";")}
+    if closed is None:
+        return scene, None, {"applied": _provenance.applied(scene.values(), overrides)}
     try:
         ctrl = gimbalsim.Controller(closed.controller_path, {**closed.set, **ctrl_ov})
     except gimbalsim.SceneError as e:
-        return {"status": f"refused:controller.{e.key or ''}", "reason": str(e).replace(",", ";")}
+        return None, None, {"status": f"refused:controller.{e.key or ''}", "reason": str(e).replace(",", ";")}
     loaded = {**scene.values(), **{CONTROLLER_PREFIX + k: t for k, t in ctrl._values_text().items()}}
-    applied = _provenance.applied(loaded, overrides)  # as loaded, not as drawn
+    return scene, ctrl, {"applied": _provenance.applied(loaded, overrides)}
+
+
+def run_closed_sample(base, closed, overrides, series=False):
+    """A closed-loop sample's status, reason and indices (dict); with series,
+    also the run itself under "run" (its ticks, for a replay)."""
+    scene, ctrl, loaded = load_sample(base, closed, overrides)
+    if scene is None:
+        return loaded
+    applied = loaded["applied"]
     run = gimbalsim.closed_loop(scene, ctrl, closed.duration_s)
     s = run.summary
     status = "ok" if s["ok"] else (s["stop_key"] or "stopped")

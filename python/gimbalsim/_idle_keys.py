@@ -177,13 +177,22 @@ _READ_UNDER = {"friction.mu": ("friction.law", lambda law: law != "none"),
                "contact.v0_min": ("contact.damping", lambda law: law != "none")}
 
 
+def _own_key(j, shared):
+    """Joint j's own key for a key shared by both: jointJ.contact.*,
+    jointJ.friction.*, or initial.eccJ for initial.ecc."""
+    return f"initial.ecc{j}" if shared == "initial.ecc" else f"joint{j}.{shared}"
+
+
 def _bearing_key_idle(key, joints, scene, dispersed):
-    """Why a bearing key (contact.*, friction.*, or a joint's own jointJ.*)
-    is read on no joint (None if it is read on one): on each joint with a
-    bearing, a shared key is overridden by the joint's own value (in the
-    scene or dispersed; a clearance is stored as the journal radius), or the
-    joint's law does not read it (friction.mu under friction.law none)."""
-    m = re.fullmatch(r"(?:joint([12])\.)?((?:contact|friction)\..+)", key)
+    """Why a bearing key (contact.*, friction.*, initial.ecc, or a joint's own
+    jointJ.*) is read on no joint (None if it is read on one): on each joint
+    with a bearing, a shared key is overridden by the joint's own value (in
+    the scene's values, which list it only where it differs from the shared
+    one, as a sample's scene is loaded, or dispersed; a clearance is stored as
+    the journal radius), or the joint's law does not read it (friction.mu
+    under friction.law none). initial.ecc is joint j's unless initial.eccJ is
+    given (dynamics/scene/src/bearing_keys.cpp, deriveBearings)."""
+    m = re.fullmatch(r"(?:joint([12])\.)?((?:contact|friction)\..+|initial\.ecc)", key)
     if m is None or any(d.startswith("structure.joint") for d in dispersed):
         return None
     own, shared = (int(m.group(1)) if m.group(1) else None), m.group(2)
@@ -193,7 +202,7 @@ def _bearing_key_idle(key, joints, scene, dispersed):
     names = {shared, "contact.journal_radius"} if shared in ("contact.clearance", "contact.journal_radius") else {shared}
     why = []
     for j in bearings:
-        overriding = sorted(f"joint{j}.{n}" for n in names if f"joint{j}.{n}" in scene or f"joint{j}.{n}" in dispersed)
+        overriding = sorted(_own_key(j, n) for n in names if _own_key(j, n) in scene or _own_key(j, n) in dispersed)
         if own is None and overriding:
             sets = f" (joint{j}.contact.clearance sets it)" if overriding[0].endswith("journal_radius") else ""
             why.append(f"overridden by {overriding[0]}{sets}")

@@ -5,8 +5,10 @@ the design's size when --until grew it. Files are written by the one writer
 import csv
 import io
 import json
+import math
 
 from . import _provenance
+from ._closed_sample import load_sample
 from ._errors import OutputError, SpecError
 from ._output import csv_number, csv_text
 from ._sweep_spec import MAX_SAMPLES
@@ -95,21 +97,101 @@ def _is_float(text):
         return False
 
 
+COUNTS = ("impacts", "impacts_joint1", "impacts_joint2")  # whole numbers
+MAY_BE_EMPTY = ("continuous_contact_from",)  # null in a run whose last contact did not last to its end
+# Every figure a sweep writes is a magnitude (a pointing error or index, a force, a tilt), a count, a time or a
+# duration: none is signed, so each is >= 0 (indices.py refuses a negative pointing error).
+
+
 def check_row(spec, row, n_columns):
     """Why a journal row is not to be trusted, or None: the sample index in
-    range, the parameters equal to the design's draw, the figures numbers."""
+    range, the parameters equal to the design's draw, the status and figures
+    as the sweep writes them, the fingerprints this sweep's and the applied_
+    columns what the scene (and controller) apply to the draw."""
     if len(row) != n_columns:
         return "wrong number of columns"
     if not (row[0].isascii() and row[0].isdigit()) or not int(row[0]) < len(spec.design):
         return "sample index outside the design"
     i = int(row[0])
-    drawn = [fmt(v) for v in spec.design.row_values(spec.design.draw(i))]
+    overrides = spec.design.draw(i)
+    drawn = [fmt(v) for v in spec.design.row_values(overrides)]
     if row[1:1 + len(drawn)] != drawn:
         return "parameters differ from the design's draw"
+    status = row[1 + len(drawn)]
     # after status (and a closed loop's reason), up to the provenance columns (text: applied values, hashes)
-    figures = row[2 + len(drawn) + spec.text_columns:n_columns - len(_provenance.columns(spec))]
-    if not row[1 + len(drawn)] or not all(v == "" or _is_float(v) for v in figures) or not _is_float(figures[-1]):
+    first = 2 + len(drawn) + spec.text_columns
+    figures = row[first:n_columns - len(_provenance.columns(spec))]
+    if not status or not all(v == "" or _is_float(v) for v in figures) or not _is_float(figures[-1]):
         return "status or figures unreadable"
+    names = _csv_names(spec)
+    reason = row[2 + len(drawn)] if spec.text_columns else ""
+    for name, csv_name, text in zip(spec.metrics + ["wall_time"], names[first:], figures):
+        why = _figure_wrong(name, text, status, reason)
+        if why is not None:
+            return f"{csv_name} {why}"
+    return _provenance_wrong(spec, row, first + len(figures), overrides, status, reason, names)
+
+
+def _csv_names(spec):
+    """spec.csv_header(), made once per spec: a resume checks every row against it."""
+    if getattr(spec, "_csv_names", None) is None:
+        spec._csv_names = spec.csv_header()
+    return spec._csv_names
+
+
+def _figure_wrong(name, text, status, reason):
+    """Why a figure's cell is not one the sweep writes in a row of this
+    status (and a closed loop's reason), or None."""
+    no_run = status == "crashed" or status.startswith("refused:")
+    if no_run and (name != "wall_time" or status == "crashed"):  # no figure; a crashed sample no wall time either
+        want = "nan" if name == "wall_time" else ""
+        return None if text == want else f"holds {text!r} in a {status.split(':')[0]} sample's row: it has no figure"
+    if text == "":
+        return None if status != "ok" or name in MAY_BE_EMPTY else "is empty in an ok row"
+    x = float(text)
+    if csv_number(x) != text:  # the shortest text that reads back as the same double
+        return f"is not a number as the sweep writes one ({text!r})"
+    if math.isnan(x):
+        if name == "wall_time":
+            return "is nan: only a crashed sample has no wall time"
+        # an ok sample's index that misses its phase is nan, and its reason says why ("ape_track: ...")
+        named = any(part.startswith(f"{name}: ") for part in reason.split(" | "))
+        return None if status != "ok" or named else "is nan in an ok row whose reason does not name it"
+    if math.isinf(x):
+        return "is infinite: the sweep never writes an infinite number"
+    if x < 0.0:
+        return "is negative: a magnitude, a count or a time is >= 0"
+    if name in COUNTS and not x.is_integer():
+        return "is not a whole number (a count)"
+    return None
+
+
+def _provenance_wrong(spec, row, start, overrides, status, reason, names):
+    """Why a row's provenance columns (from start: applied_ values,
+    applied_differs, fingerprints) are not what this sweep writes for its
+    draw, or None. The scene (and controller) are loaded as a worker loads
+    them: what they apply, or refuse, is compared as the sweep writes it."""
+    fingerprints = _provenance.fingerprints(spec)
+    n_applied = len(_provenance.columns(spec)) - len(fingerprints)
+    for k, (column, value) in enumerate(fingerprints.items()):
+        if row[start + n_applied + k] != value:
+            return f"{column} is not this sweep's fingerprint"
+    cells = row[start:start + n_applied]
+    if status == "crashed":
+        want = [""] * n_applied
+    else:
+        _, _, loaded = load_sample(spec.base, spec.closed, overrides)
+        if "applied" not in loaded:  # the scene or the controller refuses the draw
+            if status != loaded["status"] or (spec.text_columns and reason != fmt(loaded["reason"])):
+                return "status is not the refusal the scene gives the draw"
+            want = [""] * n_applied
+        elif status.startswith("refused:"):
+            return "status is a refusal, but the scene takes the draw"
+        else:
+            want = [fmt(v) for v in loaded["applied"]]
+    for column, got, expected in zip(names[start:], cells, want):
+        if got != expected:
+            return f"{column} differs from what the draw applies when loaded"
     return None
 
 

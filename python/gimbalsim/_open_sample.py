@@ -5,7 +5,7 @@ import math
 import numpy as np
 
 import gimbalsim
-from . import _provenance
+from ._closed_sample import load_sample
 
 
 def _bore_angles(a, b):
@@ -21,11 +21,10 @@ def run_sample(base, overrides, ideal_cache, series=False):
     dispersed keys as the loaded scene holds them (_provenance.applied). The ideal-joint run with
     the same parameters is the pointing reference (cached: it does not depend
     on the joint's parameters). With series, the run too, under "run"."""
-    try:
-        scene = base.replace(overrides)
-    except gimbalsim.SceneError as e:
-        return {"status": f"refused:{e.key or ''}"}
-    applied = _provenance.applied(scene.values(), overrides)  # as loaded, not as drawn
+    scene, _, loaded = load_sample(base, None, overrides)
+    if scene is None:
+        return {"status": loaded["status"]}  # an open loop's row has no reason column
+    applied = loaded["applied"]  # as loaded, not as drawn
     run = gimbalsim.simulate(scene)
     ideal = scene.replace({"structure.joint1": "ideal", "structure.joint2": "ideal"})
     key = tuple(sorted(ideal.values().items()))

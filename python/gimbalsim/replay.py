@@ -35,31 +35,36 @@ def _refuse(message):
 
 
 def _read_rows(folder):
-    """(file, header, {sample: row}) of results.csv and the journal together:
-    a resume with --until journals rows that an earlier results.csv lacks."""
+    """(file, header, {sample: row}, {sample: "file:line" of its row}) of
+    results.csv and the journal together: a resume with --until journals
+    rows that an earlier results.csv lacks."""
     found = []
     for name in ("results.csv", JOURNAL):
         path = folder / name
         if path.is_file():
             try:
                 with open(path, newline="", encoding="utf-8") as f:
-                    lines = list(csv.reader(f))
+                    reader = csv.reader(f)
+                    lines, ends = [], []
+                    for r in reader:
+                        lines.append(r)
+                        ends.append(reader.line_num)
             except (OSError, UnicodeDecodeError, csv.Error) as e:  # csv.Error: a line over the field limit
                 _refuse(f"{path}: cannot read it ({e})")
             if not lines:
                 _refuse(f"{path} is empty: the sweep wrote nothing yet")
-            found.append((path, lines))
+            found.append((path, lines, ends))
     if not found:
         _refuse(f"{folder} holds neither results.csv nor the journal {JOURNAL}: no sample to replay")
     source, header = found[0][0], found[0][1][0]
-    rows = {}
-    for path, lines in found:
+    rows, where = {}, {}
+    for path, lines, ends in found:
         if lines[0] != header:
             _refuse(f"{path}: its columns are not those of {source}")
-        for r in lines[1:]:
-            if r and r[0].isdigit():
-                rows.setdefault(int(r[0]), r)
-    return source, header, rows
+        for r, line in zip(lines[1:], ends[1:]):
+            if r and r[0].isdigit() and int(r[0]) not in rows:
+                rows[int(r[0])], where[int(r[0])] = r, f"{path}:{line}"
+    return source, header, rows, where
 
 
 def _check_output(path, folder, what):
@@ -139,7 +144,7 @@ def replay(folder, i, out, plot_path=None):
         check_outputs([out, plot_path], inputs)
     except OutputError as e:
         _refuse(str(e))
-    source, header, rows = _read_rows(folder)
+    source, header, rows, where = _read_rows(folder)
     take_recorded_design(folder, spec)  # the samples --until added: their draws are (seed, i) as any other's
     refuse_rows_beyond_the_record(source, spec, list(rows.values()), len(header))  # as a resume does
     if not 0 <= i < len(spec.design):
@@ -150,6 +155,9 @@ def replay(folder, i, out, plot_path=None):
         _refuse(f"--replay {i}: sample {i} has no row in {folder} (results.csv, {JOURNAL}): not run yet, finish "
                 "the sweep with --resume")
     recorded = rows[i]
+    if len(recorded) != len(header):  # cut or edited: no row the sweep wrote, and nothing to compare column by column
+        _refuse(f"{where[i]}: sample {i}'s row has {len(recorded)} columns, not the header's {len(header)}: not a "
+                f"row the sweep wrote; --resume the sweep, which drops such a row and runs its sample again")
     status = recorded[header.index("status")]
     if status == "crashed":
         print(f"replay: sample {i} was recorded crashed (it killed its worker twice); running it alone in this "

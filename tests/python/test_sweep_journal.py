@@ -43,10 +43,13 @@ def spec(tmp_path):
 
 
 def forged_journal(spec, out, rows, tail=b""):
-    """A journal of `rows` samples whose parameters are the design's draws and
-    whose figures are marked (pointing_error_max = 100 + sample): a row that
+    """A journal of `rows` samples whose parameters are the design's draws,
+    whose provenance is what the draw applies (a resume checks it) and whose
+    figures are marked (pointing_error_max = 100 + sample): a row that
     survives a resume is recognised in results.csv."""
-    from gimbalsim.sweep import SweepSpec, csv_line, fmt
+    from gimbalsim._closed_sample import load_sample
+    from gimbalsim._sample import row_values
+    from gimbalsim.sweep import SweepSpec, csv_line
 
     s = SweepSpec(spec)
     out.mkdir()
@@ -54,10 +57,12 @@ def forged_journal(spec, out, rows, tail=b""):
     header = s.header()
     lines = [csv_line(s.csv_header())]
     for i in rows:
-        r = dict(zip(header, [i] + s.design.row_values(s.design.draw(i))))
-        r.update(status="ok", pointing_error_max=100.0 + i, pointing_error_final=1.0, peak_contact_force=2.0,
-                 peak_joint2_force=3.0, impacts=4, continuous_contact_from="", wall_time=0.5)
-        lines.append(csv_line([fmt(r.get(h)) for h in header]))
+        values = s.design.draw(i)
+        r = dict(sample=i, status="ok", pointing_error_max=100.0 + i, pointing_error_final=1.0,
+                 peak_contact_force=2.0, peak_joint2_force=3.0, impacts=4, continuous_contact_from=None,
+                 impacts_joint1=0, impacts_joint2=4, max_tilt1=0.0, max_tilt2=0.0, wall_time=0.5,
+                 **load_sample(s.base, None, values)[2])
+        lines.append(csv_line(row_values(s, values, r)))
     (out / "results.partial.csv").write_bytes("".join(lines).encode() + tail)
     return s, header
 

@@ -43,6 +43,15 @@ BAD = [
     # a shared bearing key that every joint with a bearing overrides with its own: recorded, acting on nothing
     ("set: {joint2.contact.clearance: 2.0e-4}\nparameters:\n  contact.clearance: {uniform: [1.0e-4, 3.0e-4]}\n",
      "parameters.contact.clearance", 8, "on every joint with a bearing: overridden by joint2.contact.journal_radius"),
+    # initial.ecc where every joint with a bearing has its own initial.eccJ (set, or dispersed too): every row
+    # ran the same journal start while recording its draw as applied
+    ("set: {initial.ecc2: [1.0e-4, 0]}\nparameters:\n  initial.ecc: {disk: {radius: 3.0e-4}}\n",
+     "parameters.initial.ecc", 8, "on every joint with a bearing: overridden by initial.ecc2"),
+    ("parameters:\n  initial.ecc: {disk: {radius: 3.0e-4}}\n  initial.ecc2: {disk: {radius: 2.0e-4}}\n",
+     "parameters.initial.ecc", 7, "on every joint with a bearing: overridden by initial.ecc2"),
+    ("set: {structure.joint1: planar, initial.ecc1: [0, 1.0e-4]}\nparameters:\n"
+     "  initial.ecc: {disk: {radius: 3.0e-4}}\n  initial.ecc2: {disk: {radius: 2.0e-4}}\n",
+     "parameters.initial.ecc", 8, "overridden by initial.ecc1; overridden by initial.ecc2"),
     # a key the joint's law does not read (friction.mu under no friction, restitution without damping)
     ("set: {friction.law: none}\nparameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n", "parameters.friction.mu", 8,
      "joint 2's friction.law is none"),
@@ -114,3 +123,23 @@ def test_a_spec_that_is_not_utf8_is_refused_at_its_line(tmp_path):
     p = run_sweep(tmp_path / "bad.yaml", tmp_path / "o", check=False)
     assert p.returncode == 2 and "bad.yaml:5:" in p.stderr and "not UTF-8" in p.stderr, p.stderr
     assert not (tmp_path / "o").exists()
+
+
+# initial.ecc still acts: on joint 1 when it has a bearing of its own without initial.ecc1, and on joint 2
+# when its initial.ecc2 equals initial.ecc (a scene's values list it only where it differs, and a sample's
+# scene is loaded from them: the draw then reaches joint 2).
+ECC_ACTS = ["{structure.joint1: planar, initial.ecc2: [1.0e-4, 0]}", "{initial.ecc2: [0, 0]}",
+            "{initial.ecc1: [1.0e-4, 0]}"]
+
+
+@pytest.mark.parametrize("set_", ECC_ACTS)
+def test_a_shared_eccentricity_a_joint_reads_is_accepted(set_, tmp_path):
+    from gimbalsim.sweep import SweepSpec
+    (tmp_path / "s.yaml").write_text(HEAD + f"set: {set_}\nparameters:\n  initial.ecc: {{disk: {{radius: 5.0e-5}}}}\n")
+    spec = SweepSpec(tmp_path / "s.yaml")
+    j = 1 if "joint1" in set_ else 2
+    draw = spec.design.draw(0)["initial.ecc"]
+    values = spec.base.replace({"initial.ecc": draw}).values()  # a sample's scene, as a worker loads it
+    # joint j's eccentricity is listed only where it differs from the shared one: here it is the draw
+    assert f"initial.ecc{j}" not in values
+    assert [float(x) for x in values["initial.ecc"].strip("[]").split(",")] == list(draw)

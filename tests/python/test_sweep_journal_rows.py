@@ -1,0 +1,183 @@
+"""A resume trusts no journal row: a figure the sweep never writes (negative,
+infinite, nan in an ok row whose reason does not name it, not the sweep's
+number text), a fingerprint that is not the sweep's, or applied_ columns
+that are not what the draw applies when loaded, drop the row and its sample
+runs again (docs/python.md "The journal"); never a traceback, never a bad
+number carried into results.csv. A replay refuses a row that is not whole."""
+import csv
+import json
+import math
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+from conftest import SCENES
+
+OPEN = f"""
+scene: {SCENES}/paper_clearance.yaml
+set: {{sim.duration: 0.05}}
+samples: 3
+seed: 2
+parameters:
+  contact.clearance: {{uniform: [1.0e-4, 3.0e-4]}}
+  initial.ecc: {{disk: {{radius: 2.5e-4}}}}
+"""
+CLOSED = f"""
+scene: {SCENES}/paper_clearance.yaml
+set: {{sim.duration: 0.4}}
+controller: default
+controller_set: {{profile.slew_start: 0.0, profile.slew_time: 0.2, profile.hold_time: 0.1}}
+samples: 6
+seed: 3
+parameters:
+  contact.clearance: {{uniform: [1.0e-4, 8.0e-4]}}
+  controller.azimuth.kp: {{uniform: [2000.0, 4000.0]}}
+indices:
+  ape: {{}}
+"""
+
+
+def spec_of(tmp_path, text):
+    from gimbalsim.sweep import SweepSpec
+    (tmp_path / "spec.yaml").write_text(text)
+    return SweepSpec(tmp_path / "spec.yaml")
+
+
+def rows_alone(spec, samples):
+    """{sample: its row as the sweep writes it}, each run in this process."""
+    from gimbalsim._sample import sample_alone
+    return {i: sample_alone(spec, i)[0] for i in samples}
+
+
+def why(spec, row, **cells):
+    """check_row's verdict on row with cells (CSV names) replaced."""
+    from gimbalsim._journal import check_row
+    header = spec.csv_header()
+    row = list(row)
+    for name, text in cells.items():
+        row[header.index(name)] = text
+    return check_row(spec, row, len(header))
+
+
+@pytest.fixture(scope="module")
+def open_loop(tmp_path_factory):
+    spec = spec_of(tmp_path_factory.mktemp("open"), OPEN)
+    return spec, rows_alone(spec, range(3))
+
+
+def test_the_open_loops_own_rows_are_trusted(open_loop):
+    spec, rows = open_loop
+    status = [r[spec.csv_header().index("status")] for r in rows.values()]
+    assert "ok" in status and "refused:initial.ecc" in status  # both kinds of row, as written
+    assert [why(spec, r) for r in rows.values()] == [None] * 3
+
+
+BAD_FIGURES = [
+    ({"pointing_error_max_rad": "-0.5"}, "pointing_error_max_rad is negative"),
+    ({"pointing_error_max_rad": "inf"}, "pointing_error_max_rad is infinite"),
+    ({"peak_contact_force_N": "nan"}, "peak_contact_force_N is nan in an ok row"),
+    ({"peak_contact_force_N": ""}, "peak_contact_force_N is empty in an ok row"),
+    ({"peak_contact_force_N": "5.00"}, "peak_contact_force_N is not a number as the sweep writes one"),
+    ({"impacts": "1.5"}, "impacts is not a whole number"),
+    ({"wall_time_s": "nan"}, "wall_time_s is nan: only a crashed sample"),
+    ({"base_scene_sha256": "0" * 64}, "base_scene_sha256 is not this sweep's fingerprint"),
+    ({"applied_contact_clearance_m": "0.0002"}, "applied_contact_clearance_m differs from what the draw applies"),
+    ({"applied_initial_ecc_1_m": "inf"}, "applied_initial_ecc_1_m differs from what the draw applies"),
+    ({"applied_differs": "contact.clearance"}, "applied_differs differs from what the draw applies"),
+    ({"status": "crashed"}, "holds"),
+]
+
+
+@pytest.mark.parametrize("cells,reason", BAD_FIGURES, ids=[r for _, r in BAD_FIGURES])
+def test_an_ok_row_the_sweep_did_not_write_is_not_trusted(open_loop, cells, reason):
+    spec, rows = open_loop
+    ok = next(r for r in rows.values() if r[spec.csv_header().index("status")] == "ok")
+    assert reason in (why(spec, ok, **cells) or "")
+
+
+def test_a_refusal_must_be_the_one_the_draw_gives(open_loop):
+    spec, rows = open_loop
+    header = spec.csv_header()
+    refused = next(r for r in rows.values() if r[header.index("status")].startswith("refused:"))
+    ok = next(r for r in rows.values() if r[header.index("status")] == "ok")
+    assert "status is not the refusal" in why(spec, refused, status="refused:friction.mu")
+    assert "holds" in why(spec, refused, pointing_error_max_rad="0.1")
+    # the ok sample's draw recorded as refused, without figures: the scene takes that draw
+    blank = {h: "" for h in header if h.startswith(("applied_", "pointing", "peak", "impacts", "continuous", "max_tilt"))}
+    assert "a refusal, but the scene takes" in why(spec, ok, status="refused:initial.ecc", **blank)
+    # a crashed row holds its parameters and fingerprints only
+    assert why(spec, ok, status="crashed", wall_time_s="nan", **blank) is None
+
+
+@pytest.fixture(scope="module")
+def closed_sweep(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("closed")
+    (folder / "spec.yaml").write_text(CLOSED)
+    p = sweep(folder / "spec.yaml", "--out", folder / "ref", "--workers", "1")
+    assert p.returncode == 0, p.stderr
+    return folder
+
+
+def sweep(*args):
+    return subprocess.run([sys.executable, "-m", "gimbalsim.sweep", *map(str, args), "--no-progress"],
+                          capture_output=True, text=True, timeout=600)
+
+
+def read(path):
+    with open(path, newline="") as f:
+        return list(csv.reader(f))
+
+
+def test_a_closed_loops_nan_needs_its_reason(closed_sweep):
+    from gimbalsim.sweep import SweepSpec
+    spec = SweepSpec(closed_sweep / "spec.yaml")
+    row = read(closed_sweep / "ref" / "results.csv")[1]
+    assert why(spec, row) is None
+    assert "ape_track_rad is nan in an ok row" in why(spec, row, ape_track_rad="nan")
+    assert "ape_track_rad is nan in an ok row" in why(spec, row, ape_track_rad="nan", reason="ape_hold: no tick")
+    assert why(spec, row, ape_track_rad="nan", reason="ape_track: the run ended at 0.3 s") is None
+    assert why(spec, row, ape_track_rad="nan", status="sim.velocity_limit", reason="stopped") is None
+
+
+def test_resume_drops_bad_rows_and_runs_their_samples_again(closed_sweep, tmp_path):
+    """The defect: a negative figure ended the resume in a traceback (indices.py),
+    an inf, a nan in an ok row without a reason, a wrong fingerprint or applied
+    value were kept and written into results.csv."""
+    reference = read(closed_sweep / "ref" / "results.csv")
+    header = reference[0]
+    out = tmp_path / "out"
+    shutil.copytree(closed_sweep / "ref", out)
+    (out / "results.csv").unlink()
+    rows = [list(r) for r in reference[1:]]
+    bad = [("ape_track_rad", "-0.5", "is negative"), ("ape_track_rad", "inf", "is infinite"),
+           ("ape_track_rad", "nan", "is nan in an ok row"),
+           ("base_scene_sha256", "0" * 64, "is not this sweep's fingerprint"),
+           ("applied_controller_azimuth_kp_Nm_per_rad", "2500", "differs from what the draw applies")]
+    for row, (column, text, _) in zip(rows, bad):
+        row[header.index(column)] = text
+    (out / "results.partial.csv").write_text("".join(",".join(r) + "\n" for r in [header] + rows))
+    p = sweep(closed_sweep / "spec.yaml", "--out", out, "--workers", "1", "--resume")
+    assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
+    for column, _, reason in bad:
+        assert f"dropped 1 journal row ({column} {reason}" in p.stderr, p.stderr
+    assert "6 samples, 1 already done, 5 to run" in p.stderr, p.stderr
+    w = header.index("wall_time_s")
+    again = read(out / "results.csv")
+    assert [r[:w] + r[w + 1:] for r in again] == [r[:w] + r[w + 1:] for r in reference]
+    assert all(math.isfinite(float(r[header.index("ape_track_rad")])) for r in again[1:])
+    dropped = json.loads((out / "summary.json").read_text())["journal_rows_dropped"]
+    assert len(dropped) == len(bad) and set(dropped.values()) == {1}
+
+
+def test_replay_refuses_a_row_that_is_not_whole(closed_sweep, tmp_path):
+    out = tmp_path / "out"
+    shutil.copytree(closed_sweep / "ref", out)
+    lines = (out / "results.csv").read_text().splitlines(keepends=True)
+    lines[3] = ",".join(lines[3].split(",")[:5]) + "\n"  # sample 2's row cut to 5 columns
+    (out / "results.csv").write_text("".join(lines))
+    p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(out), "--replay", "2", "--out",
+                        str(tmp_path / "run.csv")], capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2 and "Traceback" not in p.stderr, p.stderr
+    assert "results.csv:4: sample 2's row has 5 columns" in p.stderr and "--resume" in p.stderr, p.stderr
