@@ -304,10 +304,18 @@ def main(argv=None):
     ap.add_argument("--max-samples", type=_cluster.whole_number, default=None,
                     help="with --until: the cap (default: 20 times the spec's samples)")
     a = ap.parse_args(argv)
-    if a.max_samples is not None and (a.until is None or a.max_samples < 1):
-        ap.error("--max-samples goes with --until, and must be >= 1")
+    if a.max_samples is not None and (a.until is None or not 1 <= a.max_samples <= MAX_SAMPLES):
+        ap.error(f"--max-samples goes with --until, and must be in [1, {MAX_SAMPLES}]")
     if a.batch is not None and a.batch < 1:
         ap.error("--batch must be >= 1")
+    # --replay runs one sample here and now: a flag of the sweep would be silently ignored.
+    sweep_only = [f for f, v in (("--resume", a.resume), ("--until", a.until), ("--max-samples", a.max_samples),
+                                 ("--batch", a.batch), ("--workers", a.workers), ("--scheduler", a.scheduler))
+                  if v not in (None, False)]
+    if a.replay is not None and sweep_only:
+        ap.error(f"--replay runs one sample in this process: not with {', '.join(sweep_only)} (flags of a sweep)")
+    if a.replay is None and a.plot is not None:
+        ap.error("--plot goes with --replay (a sweep's plots are in --out/plots)")
     _cluster.raise_on_signals()
     if a.replay is not None:
         return replay.main(a.spec, a.replay, a.out, a.plot)

@@ -164,3 +164,16 @@ def test_a_name_refused_at_the_end_does_not_say_free_the_space(tmp_path):
                         "--workers", "1"], capture_output=True, text=True, timeout=300)
     assert p.returncode == 4 and "summary.json: is a symbolic link" in p.stderr, p.stderr
     assert "free the space" not in p.stderr and "move it out of --out and run again with --resume" in p.stderr
+
+
+@pytest.mark.parametrize("args, said", [
+    (["--replay", "0", "--resume"], "--replay runs one sample in this process: not with --resume "),
+    (["--replay", "0", "--workers", "2", "--batch", "3"], "not with --batch, --workers (flags of a sweep)"),
+    (["--plot", "x.png"], "--plot goes with --replay"),
+    (["--until", "ape:track:0.2", "--max-samples", "99999999999999999999"], "must be in [1, 10000000]"),
+])
+def test_a_flag_that_would_be_ignored_is_refused(tmp_path, args, said):
+    spec = spec_file(tmp_path / "s.yaml", SWEEP)
+    p = run("sweep", spec, tmp_path / "out", *args)
+    assert p.returncode == 2 and said in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert names(tmp_path) == ["s.yaml"]
