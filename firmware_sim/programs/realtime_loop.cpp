@@ -108,13 +108,14 @@ int run(Run& r) {
       const bool late = start_ns > next;  // the previous tick overran this deadline: catch up
       TickTimes tt{};
       tt.wall_start = start_ns;
-      if (late) {
+      // The run's end is no tick: its wake-up stays out of the tick statistics.
+      if (late && !end) {
         rep.stats.late.add(static_cast<double>(start_ns - next) * 1e-4);  // [10 us]
         rep.stats.late_ticks.fetch_add(1, std::memory_order_relaxed);
-      } else {
+      } else if (!late) {
         tt.wall_start = sleepUntil(next, spin_ns);
-        rep.stats.lateness.add(static_cast<double>(tt.wall_start - next) * 1e-3);
-        if (prev_wake >= 0) rep.stats.period.add(static_cast<double>(tt.wall_start - prev_wake) * 1e-3);
+        if (!end) rep.stats.lateness.add(static_cast<double>(tt.wall_start - next) * 1e-3);
+        if (prev_wake >= 0 && !end) rep.stats.period.add(static_cast<double>(tt.wall_start - prev_wake) * 1e-3);
         prev_wake = tt.wall_start;
       }
       // Read after the wake-up and before the end: the CPU span lies inside the wall span
