@@ -85,9 +85,7 @@ int mainImpl(int argc, char** argv) {
   try {
     loaded = gimbalsim::firmware::loadPlantScene(scene, sets).scene;  // sensors.* accepted, unused here
   } catch (const gimbalsim::InputError& e) {
-    for (const auto& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
-    std::fprintf(stderr, "gimbalsim: scene refused, nothing simulated\n");
-    return kRefused;
+    return gimbalsim::program::refuse("gimbalsim", e);
   }
   for (const auto& w : loaded.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const gimbalsim::Model& m = loaded.model;

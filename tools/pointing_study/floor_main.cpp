@@ -177,8 +177,7 @@ int mainImpl(int argc, char** argv) {
   std::vector<std::string> scene_labels(perfect.size() - scene_sets.size(), std::string(kProgram) + "'s perfect sensors");
   for (const std::string& l : numbered("--scene-set", scene_sets)) scene_labels.push_back(l);
   const auto refused = [](const InputError& e, const std::vector<std::string>& labels) {
-    for (const std::string& p : relabelledProblems(e, labels)) std::fprintf(stderr, "error: %s\n", p.c_str());
-    return program::refuse(kProgram, "refused");
+    return program::refuse(kProgram, InputError(relabelledProblems(e, labels)));
   };
   std::vector<std::pair<std::string, ControllerConfig>> controllers;
   std::vector<std::pair<std::string, firmware::PlantScene>> scenes;
