@@ -12,7 +12,8 @@ from ._closed_spec import CONTROLLER_PREFIX
 ANTENNA_SENSOR_KEYS = ("sensors.antenna", "sensors.tracker_")
 
 # What a closed loop never reads, and what an open-loop run never reads.
-CLOSED_LOOP_IDLE = {"sim.duration": "the closed loop runs for the spec's sim.duration (set:), one length for all",
+CLOSED_LOOP_IDLE = {"sim.duration": "every closed loop of a study runs one length: a sweep's set: sim.duration, "
+                                    "a tuner's duration:",
                     "sim.output_interval": "the closed loop records every control period",
                     "torque.tau1": "the controller commands the torque",
                     "torque.tau2": "the controller commands the torque"}

@@ -205,10 +205,10 @@ def _parsed(line):
 
 
 def read_journal(spec, path, header):
-    """The journal's trusted rows by sample, what was dropped ({reason:
-    count}), and whether the file can be appended to as it is. A last line
-    without its newline (cut by an interruption) is dropped; a sample written
-    twice counts once."""
+    """The journal's trusted rows by sample, what was dropped ({reason: the
+    1-based line numbers in the file}), and whether the file can be appended
+    to as it is. A last line without its newline (cut by an interruption) is
+    dropped; a sample written twice counts once."""
     done, dropped = {}, {}
     if not path.exists():
         return done, dropped, False
@@ -222,25 +222,25 @@ def read_journal(spec, path, header):
     lines = data.decode("utf-8", errors="replace").split("\n")
     torn = lines.pop() != ""  # the text after the last newline: empty when the last write was whole
     if torn:
-        dropped["last line cut by an interruption"] = 1
+        dropped["last line cut by an interruption"] = [len(lines) + 1]
     if not lines:  # killed before the header was whole: nothing was journaled
         return done, dropped, False
     if _parsed(lines[0]) != header:
         raise SpecError(f"{path} was written by another spec (its header differs); use another --out")
     rows = []
-    for line in lines[1:]:
+    for number, line in enumerate(lines[1:], 2):
         row = _parsed(line)
         if row is None:
-            dropped["unreadable line"] = dropped.get("unreadable line", 0) + 1
+            dropped.setdefault("unreadable line", []).append(number)
         else:
-            rows.append(row)
-    refuse_rows_beyond_the_record(path, spec, rows, len(header))
-    for row in rows:
+            rows.append((number, row))
+    refuse_rows_beyond_the_record(path, spec, [row for _, row in rows], len(header))
+    for number, row in rows:
         why = check_row(spec, row, len(header))
         if why is None and int(row[0]) in done:
             why = "sample already journaled" if row == done[int(row[0])] else "sample journaled twice, differently"
         if why is not None:
-            dropped[why] = dropped.get(why, 0) + 1
+            dropped.setdefault(why, []).append(number)
             continue
         done[int(row[0])] = row
     return done, dropped, not dropped

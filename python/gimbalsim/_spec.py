@@ -125,6 +125,9 @@ class Spec:
             try:
                 if candidate.is_file():
                     return candidate.resolve()
+                if candidate.exists():  # a folder, a pipe or a device: there, but nothing a run can read
+                    kind = "a folder" if candidate.is_dir() else "not a regular file (a pipe or a device)"
+                    self.refuse(name, f"{node.value[:80]} is {kind}; expected a file", node)
             except OSError as e:  # a name too long, a loop of links: not a path the spec can mean
                 self.refuse(name, f"not a usable file path ({e.strerror}): {node.value[:80]}", node)
         self.refuse(name, f"no such file: {node.value} (looked beside the spec, then in the current directory)", node)

@@ -8,7 +8,7 @@ from . import _gimbalsim
 from ._closed_spec import CONTROLLER_PREFIX, controller_path_of
 from ._idle_keys import idle_reason, takes_of
 from ._spec import Spec
-from .dispersion import Design, check_within, parse_parameter
+from .dispersion import CONTROLLER_KEYS, Design, check_within, parse_parameter
 
 METRICS = {"max_track": "max_truth_error_track_rad", "rms_track": "rms_truth_error_track_rad"}
 METRIC_WINDOWS = {"max_track": "track", "rms_track": "track"}  # the profile window each metric is over
@@ -44,6 +44,9 @@ class TuneSpec:
             spec.refuse("objective.metric", f"expected one of {', '.join(METRICS)}, got {self.metric!r}", obj["metric"])
         self.percentile = spec.number("objective.percentile", obj["percentile"], 0.0, 100.0) \
             if "percentile" in obj else 99.0
+        if self.percentile <= 0.0:  # the luckiest plant's figure: a gain tuned to it holds for no unit but one
+            spec.refuse("objective.percentile", "must be > 0: percentile 0 is the best plant's figure, not a bound",
+                        obj["percentile"])
 
         scene_types = {k["key"]: k["type"] for k in gimbalsim.keys()}
         sets = spec.known_mapping("set", scene_types, "scene", gimbalsim.key_aliases())
@@ -76,7 +79,7 @@ class TuneSpec:
         self.gains = []
         gain_nodes = spec.mapping("gains", root["gains"])
         for key, node in gain_nodes.items():
-            p = parse_parameter(spec, "gains", key, node, ctrl_types)
+            p = parse_parameter(spec, "gains", key, node, ctrl_types, CONTROLLER_KEYS)
             if p.kind not in GAIN_DISTRIBUTIONS:
                 spec.refuse(f"gains.{key}", f"{p.kind}: gains take {', '.join(GAIN_DISTRIBUTIONS)}", node)
             if p.kind == "choice" and not all(isinstance(v, (int, float, str)) for v in p.args):

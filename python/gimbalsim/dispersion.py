@@ -82,12 +82,17 @@ class Parameter:
         return []
 
 
-def parse_parameter(spec, section, key, node, key_types):
+SCENE_KEYS = "a key of the scene (see gimbalsim.keys() or `gimbalsim keys`)"
+CONTROLLER_KEYS = "a key of the controller configuration (see gimbalsim.controller_keys() or docs/controller_keys.md)"
+
+
+def parse_parameter(spec, section, key, node, key_types, known_as=SCENE_KEYS):
     """A Parameter from `key: {distribution: args}` in spec section `section`;
-    refuses (SpecError) an unknown key, distribution or argument."""
+    refuses (SpecError) an unknown key, distribution or argument. `known_as`
+    says whose keys `key_types` lists, for the refusal of one that is not."""
     where = f"{section}.{key}"
     if key not in key_types:
-        spec.refuse(where, "not a key of the scene (see gimbalsim.keys() or `gimbalsim keys`)", node)
+        spec.refuse(where, f"not {known_as}", node)
     ktype = key_types[key]
     body = spec.mapping(where, node)
     if len(body) != 1:

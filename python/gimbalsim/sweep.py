@@ -122,16 +122,19 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             raise SpecError(f"--max-samples {until.max_samples} is below the {len(spec.design)} samples this sweep "
                             f"already grew to ({out / DESIGN}): give at least {len(spec.design)}")
         done, dropped, appendable = read_journal(spec, journal, header)
+        read_from = journal
         if results.exists() and resume and not done and not dropped:
             done, dropped, _ = read_journal(spec, results, header)
-            appendable = False
+            appendable, read_from = False, results
         write(fingerprint, spec.fingerprint)
         _provenance.record_inputs(spec, out, write)
         if not appendable:
             # The journal is never cut in place: its trusted rows go to a new file that replaces it whole.
             write(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
-        for why, n in dropped.items():
-            print(f"sweep: dropped {n} journal row{'s' * (n != 1)} ({why}); their samples run again", file=sys.stderr)
+        for why, numbers in dropped.items():
+            n, shown = len(numbers), ", ".join(map(str, numbers[:10])) + (" ..." if len(numbers) > 10 else "")
+            print(f"sweep: dropped {n} journal row{'s' * (n != 1)} ({why}) at {read_from} line{'s' * (n != 1)} "
+                  f"{shown}; their samples run again", file=sys.stderr)
         while True:
             todo = [i for i in range(len(spec.design)) if i not in done]
             print(f"sweep: {len(spec.design)} samples, {len(done)} already done, {len(todo)} to run",
@@ -161,7 +164,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         report.enter_context(output_set())
         write(results, "".join(csv_line(r) for r in [header] + rows))
         summary = summarize(spec, rows, engine)
-        summary["journal_rows_dropped"] = dropped
+        summary["journal_rows_dropped"] = {why: len(numbers) for why, numbers in dropped.items()}
         if grown is not None:
             summary["until"] = grown
         if spec.closed:

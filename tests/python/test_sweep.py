@@ -255,7 +255,8 @@ def test_an_out_through_a_link_and_unreadable_study_files_are_refused(spec, tmp_
     (out / "results.csv").unlink()
     (out / "results.partial.csv").write_text(header + "\n1," + "x" * 500000 + "\n")
     p = run_sweep(spec, out, "--workers", "1", "--resume", check=False)
-    assert p.returncode == 0 and "dropped 1 journal row (unreadable line)" in p.stderr, p.stderr
+    assert p.returncode == 0 and "dropped 1 journal row (unreadable line) at " \
+        f"{out / 'results.partial.csv'} line 2;" in p.stderr, p.stderr
     with open(out / "results.csv", "a") as f:
         f.write("2," + "y" * 500000 + "\n")
     p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(out), "--replay", "1", "--out",

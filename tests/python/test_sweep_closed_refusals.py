@@ -19,7 +19,8 @@ REFUSALS = [
     ("  rpe: {window: 0.05}", "  rpe: {}", "indices.rpe.window", "missing"),
     # keys a closed loop never reads: a dispersed value would be recorded, never act
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.duration: {uniform: [0.4, 0.5]}",
-     "parameters.sim.duration", "not read by this sweep's runs (the closed loop runs for the spec's sim.duration"),
+     "parameters.sim.duration",
+     "not read by this sweep's runs (every closed loop of a study runs one length: a sweep's set: sim.duration"),
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  torque.tau2: {uniform: [1.0, 2.0]}",
      "parameters.torque.tau2", "the controller commands the torque"),
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.output_interval: {choice: [0.001, 0.01]}",
@@ -102,6 +103,10 @@ REFUSALS = [
     ("  pde: {window: 0.02, separation: 0.05}", "  pde: {window: 0.06, separation: 0.05}", "indices.pde",
      "the window plus separation 0.11 s is longer than phase 'hold' (0.1 s of this run)"),
     (f"controller: {CONTROLLER_CONFIG}", "controller: no_such.yaml", "controller", "no such file"),
+    # a folder or a device is there but holds no file: said so, not "no such file"
+    (f"controller: {CONTROLLER_CONFIG}", "controller: /tmp", "controller", "/tmp is a folder; expected a file"),
+    (f"controller: {CONTROLLER_CONFIG}", "controller: /dev/null", "controller",
+     "/dev/null is not a regular file (a pipe or a device); expected a file"),
     # a name longer than the file system allows (found by fuzz_spec): refused, not an OSError
     (f"controller: {CONTROLLER_CONFIG}", "controller: " + "x" * 300 + ".yaml", "controller",
      "not a usable file path (File name too long)"),

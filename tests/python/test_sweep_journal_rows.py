@@ -160,8 +160,10 @@ def test_resume_drops_bad_rows_and_runs_their_samples_again(closed_sweep, tmp_pa
     (out / "results.partial.csv").write_text("".join(",".join(r) + "\n" for r in [header] + rows))
     p = sweep(closed_sweep / "spec.yaml", "--out", out, "--workers", "1", "--resume")
     assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
-    for column, _, reason in bad:
+    for number, (column, _, reason) in enumerate(bad, 2):  # each named with its line in the file read
         assert f"dropped 1 journal row ({column} {reason}" in p.stderr, p.stderr
+        assert f") at {out / 'results.partial.csv'} line {number}; their samples run again" in \
+            next(line for line in p.stderr.splitlines() if f"({column} {reason}" in line), p.stderr
     assert "6 samples, 1 already done, 5 to run" in p.stderr, p.stderr
     w = header.index("wall_time_s")
     again = read(out / "results.csv")

@@ -98,6 +98,14 @@ def test_tuning_spec_refusals_name_the_key(change, key, tmp_path):
     (("azimuth.kp: {loguniform: [5000, 80000]}", "gimbal.azimuth_inertia_cos2: {uniform: [1, 9]}"),
      "gains.gimbal.azimuth_inertia_cos2", "not read by the tuned loop (the controller reads it only with "
      "pointing.accel_feedforward profile or inertial"),
+    # an unknown gain is named as the controller's, not the scene's
+    (("azimuth.kp: {loguniform: [5000, 80000]}", "azimuth.kpp: {loguniform: [5000, 80000]}"),
+     "gains.azimuth.kpp", "not a key of the controller configuration"),
+    # percentile 0 is the luckiest plant's figure: no bound for the others
+    (("percentile: 90", "percentile: 0"), "objective.percentile", "must be > 0"),
+    # the run length is the tuner's duration: key, not a sweep's set:
+    (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "sim.duration: {uniform: [3.7, 4.0]}"),
+     "plants.sim.duration", "a tuner's duration:"),
     # plants the loop never reads, as a sweep refuses them
     (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "torque.tau1: {uniform: [0, 1]}"),
      "plants.torque.tau1", "not read by the tuned loop (the controller commands the torque)"),
