@@ -123,20 +123,13 @@ def check_row(spec, row, n_columns):
     figures = row[first:n_columns - len(_provenance.columns(spec))]
     if not status or not all(v == "" or _is_float(v) for v in figures) or not _is_float(figures[-1]):
         return "status or figures unreadable"
-    names = _csv_names(spec)
+    names = spec.csv_header()
     reason = row[2 + len(drawn)] if spec.text_columns else ""
     for name, csv_name, text in zip(spec.metrics + ["wall_time"], names[first:], figures):
         why = _figure_wrong(name, text, status, reason)
         if why is not None:
             return f"{csv_name} {why}"
     return _provenance_wrong(spec, row, first + len(figures), overrides, status, reason, names)
-
-
-def _csv_names(spec):
-    """spec.csv_header(), made once per spec: a resume checks every row against it."""
-    if getattr(spec, "_csv_names", None) is None:
-        spec._csv_names = spec.csv_header()
-    return spec._csv_names
 
 
 def _figure_wrong(name, text, status, reason):

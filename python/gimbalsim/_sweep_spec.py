@@ -145,9 +145,16 @@ class SweepSpec:
         return ["sample"] + self.design.columns() + ["status"] + ["reason"] * self.text_columns + self.metrics + \
             ["wall_time"] + _provenance.columns(self)
 
+    _csv_header = None  # made once: a resume checks every journal row against it
+
     def csv_header(self):
         """header() as the journal and results.csv name it: the project's CSV
         convention (docs/usage.md), e.g. contact.clearance -> contact_clearance_m."""
+        if self._csv_header is None:
+            self._csv_header = self._make_csv_header()
+        return list(self._csv_header)
+
+    def _make_csv_header(self):
         units = {k["key"]: k["unit"] for k in gimbalsim.keys()}
         units.update({old: units[key] for old, key in gimbalsim.key_aliases().items()})
         if self.closed:
