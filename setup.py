@@ -6,7 +6,8 @@ CMakeLists.txt's project(). Everything setuptools writes goes to build-pip/
 (the CMake tree in build-pip/temp.*/cmake, kept: a second install rebuilds
 only what changed; build_py empties build-pip/lib.*/gimbalsim first, so a
 module deleted from python/gimbalsim/ never ships). CMake's parallel jobs:
-CMAKE_BUILD_PARALLEL_LEVEL (default 2)."""
+CMAKE_BUILD_PARALLEL_LEVEL (default 2); more CMake configure arguments:
+GIMBALSIM_CMAKE_ARGS (shell words, e.g. "-DGIMBALSIM_NATIVE=ON")."""
 import os
 import pathlib
 import re
@@ -43,6 +44,15 @@ def run(step, cmd, hint):
         raise ExecError(f"gimbalsim: {step} failed (exit {e.returncode}): {hint}") from None
 
 
+def extra_cmake_args():
+    """GIMBALSIM_CMAKE_ARGS as words: after the defaults, so a -D there wins."""
+    text = os.environ.get("GIMBALSIM_CMAKE_ARGS", "")
+    try:
+        return shlex.split(text)
+    except ValueError as e:  # an unclosed quote: said once, not a traceback from deep in setuptools
+        raise SetupError(f"gimbalsim: GIMBALSIM_CMAKE_ARGS does not split into words ({e}): {text!r}") from None
+
+
 class CMakeBuild(build_ext):
     def build_extension(self, ext):
         cmake = shutil.which("cmake")
@@ -55,6 +65,7 @@ class CMakeBuild(build_ext):
             "-DCMAKE_BUILD_TYPE=Release",
             "-DGIMBALSIM_TESTS=OFF", "-DGIMBALSIM_PYTHON=ON",
             f"-DPython3_EXECUTABLE={sys.executable}",  # the interpreter installing the package
+            *extra_cmake_args(),
         ], "CMake's messages are above; a missing package? bash tools/bootstrap.sh installs every one")
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL") or "2"
         run("CMake build", [cmake, "--build", str(tree), "--target", TARGET, "-j", jobs],

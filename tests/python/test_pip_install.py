@@ -21,6 +21,7 @@ from conftest import SOURCE, scene_path
 
 VERSION = re.search(r"project\(\s*gimbalsim\s+VERSION\s+([0-9.]+)", (SOURCE / "CMakeLists.txt").read_text()).group(1)
 DURATION, INTERVAL = 0.05, 1.0e-3
+FAST_BUILD = "'-DCMAKE_CXX_FLAGS_RELEASE=-O0 -DNDEBUG'"
 
 CHECK = """
 import importlib.metadata, json, sys
@@ -36,6 +37,8 @@ def env():
     e = {k: v for k, v in os.environ.items()
          if k not in ("PYTHONPATH", "PYTHONHOME", "LD_PRELOAD", "ASAN_OPTIONS") and not k.startswith("PIP_")}
     e["PIP_DISABLE_PIP_VERSION_CHECK"] = "1"
+    # Packaging is under test, not the optimiser: -O0 halves the build (the user's default stays -O3).
+    e["GIMBALSIM_CMAKE_ARGS"] = FAST_BUILD
     return e
 
 
@@ -90,6 +93,16 @@ def test_wheel_and_pip_install_without_an_index(tmp_path):
     py_b = venv(tmp_path / "venv-pip")
     sh(py_b, "-m", "pip", "install", "--no-build-isolation", "--no-index", "--no-cache-dir", ".", cwd=src)
     check_installed(py_b, tmp_path / "venv-pip", elsewhere)
+
+    # GIMBALSIM_CMAKE_ARGS reached CMake (one word, its quotes removed), after the defaults.
+    caches = list((src / "build-pip").glob("temp.*/cmake/CMakeCache.txt"))
+    assert len(caches) == 1 and "CMAKE_CXX_FLAGS_RELEASE:STRING=-O0 -DNDEBUG\n" in caches[0].read_text(), caches
+
+    # An unclosed quote in it: one line naming the variable, before CMake runs.
+    bad = subprocess.run([py_a, "setup.py", "build_ext"], cwd=src, env={**env(), "GIMBALSIM_CMAKE_ARGS": "-DX='1"},
+                         capture_output=True, text=True, timeout=300)
+    assert bad.returncode != 0 and "GIMBALSIM_CMAKE_ARGS does not split into words" in bad.stderr, bad.stderr[-3000:]
+    assert "CMake configure" not in bad.stdout, bad.stdout[-3000:]
 
     # Only build-pip/ is new in the source tree: no build/, dist/ or *.egg-info.
     new = {p for p in src.rglob("*") if p.relative_to(src) not in before}
