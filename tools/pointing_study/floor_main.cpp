@@ -54,9 +54,18 @@ struct Row {
   Stat track, after_slew;       ///< truth pointing error [rad]
   Stat joint_track;             ///< max over axes |q_ref - theta_true| while tracking [rad]
   Stat attitude_track;          ///< estimated vs true base attitude while tracking [rad]
+  std::string track_why, after_slew_why;  ///< why a window has no figure ("" when it has one)
   bool ok = true;
   std::string why;
 };
+
+/// Why a run ending at t_end_s has no figure after the slew ("" when it has):
+/// the window and where the run ended, as the closed loop says it for the track.
+std::string afterSlewNotReached(double slew_end_s, double t_end_s) {
+  if (t_end_s > slew_end_s) return "";
+  return "after-slew window [" + formatNumber(slew_end_s) + ", inf) s not reached: run ended at " +
+         formatNumber(t_end_s) + " s";
+}
 
 Row runOne(const firmware::PlantScene& ps, const ControllerConfig& c, double duration, std::string label) {
   Row r;
@@ -76,19 +85,37 @@ Row runOne(const firmware::PlantScene& ps, const ControllerConfig& c, double dur
       });
   // The closed loop's rule for a window (docs/usage.md "Figures over a window"): a figure only if
   // the run's last tick lies after the window's start; a last tick at 3.5 s is no track.
-  if (!res.track_reason.empty()) r.track = r.joint_track = r.attitude_track = Stat{};
-  if (!(res.t_end > slew_end)) r.after_slew = Stat{};
+  r.track_why = res.track_reason;
+  r.after_slew_why = afterSlewNotReached(slew_end, res.t_end);
+  if (!r.track_why.empty()) r.track = r.joint_track = r.attitude_track = Stat{};
+  if (!r.after_slew_why.empty()) r.after_slew = Stat{};
   r.ok = res.ok;
   r.why = res.error;
   return r;
 }
 
 /// A window's figure in the console form of every tool (pointing::figureText):
-/// "n/a (not reached)" for a window without a tick, never a bare nan.
-std::string sci(double x) { return pointing::figureText(x, std::isfinite(x) ? "" : "not reached", "%.3e"); }
+/// "n/a (...)" for a window without a tick; the table's notes say why in full
+/// (the window and where the run ended), once, as every row ends at one time.
+std::string sci(double x, const std::string& why) { return pointing::figureText(x, why.empty() ? "" : "not reached, see below", "%.3e"); }
 
-/// When the window's max occurred [s], or why there is none.
-std::string at(const Stat& s) { return pointing::figureText(s.t_max_s, s.n > 0 ? "" : "not reached", "%.3f"); }
+/// When the after-slew max occurred [s], or that there is none.
+std::string at(const Row& r) {
+  return pointing::figureText(r.after_slew.t_max_s, r.after_slew_why.empty() ? "" : "not reached, see below", "%.3f");
+}
+
+/// The table's notes: each distinct reason a figure has none, one line each.
+std::string notes(const std::vector<Row>& rows) {
+  std::vector<std::string> whys;
+  for (const Row& r : rows) {
+    for (const std::string& w : {r.after_slew_why, r.track_why}) {
+      if (!w.empty() && std::find(whys.begin(), whys.end(), w) == whys.end()) whys.push_back(w);
+    }
+  }
+  std::string s;
+  for (const std::string& w : whys) s += "n/a: " + w + "\n";
+  return s;
+}
 
 std::string ratio(double a, double b) {
   return std::isfinite(a) && std::isfinite(b) ? formatSignificant(a / b, 3) : "n/a (a window not reached)";
@@ -110,18 +137,21 @@ std::string table(const std::string& title, const std::vector<Row>& rows, bool m
   for (const Row& r : rows) {
     const std::string plant = r.ok ? "ok" : "stop: " + r.why;
     if (markdown) {
-      s += "| " + r.label + " | " + sci(r.track.peak()) + " | " + sci(r.track.rms()) + " | " + sci(r.after_slew.peak()) +
-           " | " + at(r.after_slew) + " | " + sci(r.after_slew.rms()) + " | " + sci(r.joint_track.peak()) + " | " +
-           sci(r.attitude_track.peak()) + " | " + plant + " |\n";
+      s += "| " + r.label + " | " + sci(r.track.peak(), r.track_why) + " | " + sci(r.track.rms(), r.track_why) + " | " +
+           sci(r.after_slew.peak(), r.after_slew_why) + " | " + at(r) + " | " + sci(r.after_slew.rms(), r.after_slew_why) +
+           " | " + sci(r.joint_track.peak(), r.track_why) + " | " + sci(r.attitude_track.peak(), r.track_why) + " | " +
+           plant + " |\n";
     } else {
       char b[1024];
       std::snprintf(b, sizeof b, "%-10s %13s %13s %13s %7s %13s %13s %13s  %s\n", r.label.c_str(),
-                    sci(r.track.peak()).c_str(), sci(r.track.rms()).c_str(), sci(r.after_slew.peak()).c_str(),
-                    at(r.after_slew).c_str(), sci(r.after_slew.rms()).c_str(), sci(r.joint_track.peak()).c_str(),
-                    sci(r.attitude_track.peak()).c_str(), plant.c_str());
+                    sci(r.track.peak(), r.track_why).c_str(), sci(r.track.rms(), r.track_why).c_str(),
+                    sci(r.after_slew.peak(), r.after_slew_why).c_str(), at(r).c_str(),
+                    sci(r.after_slew.rms(), r.after_slew_why).c_str(), sci(r.joint_track.peak(), r.track_why).c_str(),
+                    sci(r.attitude_track.peak(), r.track_why).c_str(), plant.c_str());
       s += b;
     }
   }
+  s += markdown && !notes(rows).empty() ? "\n" + notes(rows) : notes(rows);
   if (rows.size() >= 2) {
     const Row &i = rows[0], &c = rows[1];
     const std::string line = "ideal / " + c.label + ": track max " + ratio(i.track.peak(), c.track.peak()) +
@@ -223,6 +253,10 @@ int mainImpl(int argc, char** argv) {
   if (const std::string why = wholeMultipleProblem(T, main_cfg.period, "the control period (control.period)");
       !why.empty()) {
     return program::refuse(kProgram, "--duration: " + why);
+  }
+  // Every figure of the table lies after the slew: a run that ends before is refused, not run.
+  if (const std::string why = afterSlewNotReached(main_cfg.profile.slewEnd(), T); !why.empty()) {
+    return program::refuse(kProgram, "--duration: " + why + " (every figure of the table lies after the slew)");
   }
   std::optional<io::OutputFile> md_out;
   if (!markdown_path.empty()) {
