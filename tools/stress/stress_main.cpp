@@ -132,6 +132,19 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--case", one_scene, "classify one run of this scene (stem or path) and exit");
   app.add_option("--set", one_sets, "override of --case (repeatable)");
   if (const auto rc = gimbalsim::program::parse(app, argc, argv, "gimbalsim_stress")) return *rc;
+  // --case classifies one run and writes nothing: a flag of the study it skips would be ignored.
+  if (!one_scene.empty()) {
+    for (const char* f : {"--csv", "--page-body", "--markdown", "--no-grid", "--no-sweeps", "--long-run",
+                          "--long-run-only", "--long-scene", "--long-set", "--threads"}) {
+      if (app.count(f)) {
+        return gimbalsim::program::refuse("gimbalsim_stress", std::string(f) + ": --case runs one scene and writes "
+                                                              "nothing; this flag is the study's (drop --case)");
+      }
+    }
+  } else if (app.count("--set")) {
+    return gimbalsim::program::refuse("gimbalsim_stress", "--set: only --case reads it (the study's runs take "
+                                                          "--long-set or --duration)");
+  }
   if (long_only) no_grid = no_sweeps = long_run = true;
   // --duration is the sweeps' and the grid's: a run that has neither would ignore it.
   if (app.count("--duration") && (!one_scene.empty() || (no_sweeps && no_grid))) {
