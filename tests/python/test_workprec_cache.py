@@ -51,7 +51,16 @@ def test_a_cache_cut_short_is_computed_again(tmp_path):
     # a row that is not six numbers is not read either
     cache.write_text(whole.replace("\n", "\nx,1,2,3,4,5\n", 3).replace("\nx,1,2,3,4,5\n", "\n", 2))
     third = workprec(tmp_path)
-    assert third.returncode == 0 and "is not six finite numbers" in third.stderr, third.stderr
+    assert third.returncode == 0 and "is not six plain finite decimals" in third.stderr, third.stderr
+    # a cell strtod reads but no writer of ours writes (hex, a leading blank): computed again, not used
+    for cell in ("0x1p-3", " 0.125"):
+        rows = whole.split("\n")
+        cells = rows[2].split(",")
+        rows[2] = ",".join([cells[0], cell] + cells[2:])  # the first row under the header line and column names
+        cache.write_text("\n".join(rows))
+        p = workprec(tmp_path)
+        assert p.returncode == 0 and "row 1 is not six plain finite decimals" in p.stderr, (cell, p.stderr)
+        assert errors(tmp_path) == want and cache.read_text() == whole
     # the whole cache is used
     fourth = workprec(tmp_path)
     assert fourth.returncode == 0 and "cached" in fourth.stdout and "computed again" not in fourth.stderr

@@ -15,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-#include "gimbalsim/input/underflow.hpp"
+#include "gimbalsim/input/plain_decimal.hpp"
 
 namespace gimbalsim::bench {
 
@@ -58,14 +58,11 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
   double t_prev = -HUGE_VAL;  // [s] the previous row's sim_time_s (when the CSV has the column)
   // A cell as the writer writes it: a plain finite decimal, nothing lost to underflow (1e-400 read as 0).
   const auto number = [&](const std::vector<std::string>& f, int c, long long n) {
-    char* end = nullptr;
-    const bool has = c < static_cast<int>(f.size());
-    const double x = has ? std::strtod(f[c].c_str(), &end) : 0.0;
-    // strtod skips leading blanks and reads hex: the writer writes neither, so neither is a number here
-    const bool plain = has && !f[c].empty() && f[c].find_first_not_of("0123456789+-.eE") == std::string::npos;
-    if (!plain || end == f[c].c_str() || *end != '\0' || !std::isfinite(x) || underflowed(f[c], x)) {
+    double x = 0.0;
+    const DecimalProblem p = c < static_cast<int>(f.size()) ? readPlainDecimal(f[c], x) : DecimalProblem::Empty;
+    if (p != DecimalProblem::None) {
       throw std::runtime_error(name + ":" + std::to_string(n) + ": column " + header[c] + ": not a finite number" +
-                               (plain && std::isfinite(x) && underflowed(f[c], x) ? " (it underflows a double)" : ""));
+                               (p == DecimalProblem::Underflow ? " (it underflows a double)" : ""));
     }
     return x;
   };

@@ -17,6 +17,7 @@
 
 #include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/input/key_registry.hpp"
+#include "gimbalsim/input/plain_decimal.hpp"
 #include "gimbalsim/dynamics/stepper.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/io/output_file.hpp"
@@ -144,17 +145,17 @@ void finePass(const Scene& sc, double dt, Reference& r) {
   }
 }
 
-/// One cache row "t,theta1,theta2,bore_x,bore_y,bore_z": six finite numbers, nothing else.
+/// One cache row "t,theta1,theta2,bore_x,bore_y,bore_z": six plain finite decimals as
+/// the writer writes them, nothing else (a hex cell is no row this program wrote).
 bool parseCacheRow(const std::string& line, double (&v)[6]) {
-  const char* p = line.c_str();
+  std::size_t start = 0;
   for (int i = 0; i < 6; ++i) {
-    char* end = nullptr;
-    v[i] = std::strtod(p, &end);
-    if (end == p || !std::isfinite(v[i])) return false;
-    p = end;
-    if (i < 5 && *p++ != ',') return false;
+    const std::size_t comma = i < 5 ? line.find(',', start) : line.size();
+    if (comma == std::string::npos) return false;
+    if (readPlainDecimal(line.substr(start, comma - start), v[i]) != DecimalProblem::None) return false;
+    start = comma + 1;
   }
-  return *p == '\0';
+  return true;
 }
 
 /// Cache file format: one line "# key rows self_consistency peak_contact peak_dt stick..."
@@ -190,7 +191,7 @@ std::string readCache(const std::string& path, const std::string& key, Reference
   long long n = 0;
   while (std::getline(in, line)) {
     double v[6];
-    if (!parseCacheRow(line, v)) return "row " + std::to_string(n + 1) + " is not six finite numbers";
+    if (!parseCacheRow(line, v)) return "row " + std::to_string(n + 1) + " is not six plain finite decimals";
     if (++n > rows) break;
     r.rows.t.push_back(v[0]);
     r.rows.theta1.push_back(v[1]);

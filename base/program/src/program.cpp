@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "gimbalsim/input/underflow.hpp"
+#include "gimbalsim/input/plain_decimal.hpp"
 #include "gimbalsim/program/version.hpp"
 
 namespace gimbalsim::program {
@@ -19,14 +19,15 @@ namespace {
 // item ("1e-4,,2e-4") and lets NaN through every range: checked here once,
 // for every FLOAT option of every program.
 std::string notPlainReal(const std::string& r) {
-  if (r.empty()) return "an empty value (two commas in a row, or one at the end?)";
-  if (r.find_first_not_of("0123456789+-.eE") != std::string::npos) return "'" + r + "' is not a decimal number";
-  char* end = nullptr;
-  const double x = std::strtod(r.c_str(), &end);
-  if (end != r.c_str() + r.size()) return "'" + r + "' is not a decimal number";
-  if (!std::isfinite(x)) return "'" + r + "' is not a finite number";
-  // 1e-400 reads as 0, which a duration takes for "run until stopped": a number too small is refused.
-  if (underflowed(r, x)) return "'" + r + "' is too small for a double (it would be read as 0 or lose its digits)";
+  double x = 0.0;
+  switch (readPlainDecimal(r, x)) {
+    case DecimalProblem::None: return "";
+    case DecimalProblem::Empty: return "an empty value (two commas in a row, or one at the end?)";
+    case DecimalProblem::NotDecimal: return "'" + r + "' is not a decimal number";
+    case DecimalProblem::NotFinite: return "'" + r + "' is not a finite number";
+    // 1e-400 reads as 0, which a duration takes for "run until stopped": a number too small is refused.
+    case DecimalProblem::Underflow: return "'" + r + "' is too small for a double (it would be read as 0 or lose its digits)";
+  }
   return "";
 }
 
