@@ -20,6 +20,8 @@
 // source tree this binary was built from.
 #include <benchmark/benchmark.h>
 
+#include "bench_main.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -29,8 +31,6 @@
 #include <vector>
 
 #include "gimbalsim/dynamics/contact_law.hpp"
-#include "gimbalsim/program/program.hpp"
-#include "gimbalsim/program/version.hpp"
 #include "gimbalsim/dynamics/forward_dynamics.hpp"
 #include "gimbalsim/dynamics/integrator.hpp"
 #include "gimbalsim/scene/scene.hpp"
@@ -298,18 +298,4 @@ GIMBALSIM_BENCH_CLEARANCE_VARIANTS(BM_StepImpact);
 // Google Benchmark's own arguments, under the project's program entry: its
 // --version, exit codes (an argument it does not know is refused with 2; it
 // returned 1) and outermost guard.
-int main(int argc, char** argv) {
-  return gimbalsim::program::guardedMain("gimbalsim_bench", [&] {
-    for (int i = 1; i < argc; ++i) {
-      if (std::string(argv[i]) == "--version") {
-        std::printf("gimbalsim_bench %s\n", gimbalsim::program::kVersion);
-        return static_cast<int>(gimbalsim::program::kOk);
-      }
-    }
-    benchmark::Initialize(&argc, argv);
-    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return static_cast<int>(gimbalsim::program::kRefused);
-    benchmark::RunSpecifiedBenchmarks();
-    benchmark::Shutdown();
-    return static_cast<int>(gimbalsim::program::kOk);
-  });
-}
+int main(int argc, char** argv) { return gimbalsim::bench::benchmarkMain("gimbalsim_bench", argc, argv); }

@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/firmware_sim/bench_tick.hpp"
 #include "gimbalsim/firmware_sim/plant_scene.hpp"
@@ -209,4 +210,4 @@ BENCHMARK(BM_Tick)->ArgsProduct({{0, 1}, {0, 1}})->ArgNames({"scene", "truth"});
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) { return gimbalsim::bench::benchmarkMain("gimbalsim_bench_tick", argc, argv); }
