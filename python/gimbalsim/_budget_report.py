@@ -98,13 +98,32 @@ def drivers(spec, rows, metric):
     return sorted(out, key=lambda p: -abs(p[1]) if math.isfinite(p[1]) else 0.0)
 
 
-def worst_units(spec, rows, metric, k=5):
-    rows = _usable(spec, rows)
+def _why_none(spec, row, metric):
+    """Why a unit has no figure of metric: its status, and the parts of its
+    reason (closed loop) that are the run's own or name this metric."""
     header = spec.header()
-    y = np.array(_budget.column_values(spec, rows, metric))
-    order = np.argsort(np.where(np.isfinite(y), -y, -np.inf), kind="stable")[:k]
+    status = row[header.index("status")]
+    reason = row[header.index("reason")] if "reason" in header else ""
+    others = tuple(f"{m}:" for m in spec.closed.metrics() if m != metric) if spec.closed else ()
+    parts = [p for p in reason.split(" | ") if p and not p.startswith(others)]
+    return f"{status}: " + " | ".join(parts) if parts else status
+
+
+def worst_units(spec, rows, metric, k=5):
+    """The k worst units by metric: [(sample, value or None, why, parameters)].
+    Every unit drawn takes part (refused and crashed ones too); the units
+    without a figure (value None, why their status and reason) rank worst, as
+    the budget counts them, in sample order; then the largest figures, ties in
+    sample order."""
+    header = spec.header()
+    y = _budget.column_values(spec, rows, metric)
+    sample = lambda i: int(rows[i][0]) if rows[i][0].isdigit() else math.inf
+    order = sorted(range(len(rows)), key=lambda i: (math.isfinite(y[i]), -y[i] if math.isfinite(y[i]) else 0.0,
+                                                     sample(i)))[:k]
     cols = spec.design.columns()
-    return [(rows[i][0], y[i], [rows[i][header.index(c)] for c in cols]) for i in order]
+    return [(rows[i][0], y[i] if math.isfinite(y[i]) else None,
+             "" if math.isfinite(y[i]) else _why_none(spec, rows[i], metric),
+             [rows[i][header.index(c)] for c in cols]) for i in order]
 
 
 def body(spec, rows, entries, plots, engine):
@@ -148,10 +167,12 @@ def body(spec, rows, entries, plots, engine):
     if track is not None:
         metric = f"{track['index']}_{track['phase']}"
         cols = spec.design.columns()
-        lines += ["", f"Worst five units by {metric}:", "",
+        lines += ["", f"Worst five units by {metric} (every unit drawn; those without a figure rank worst, "
+                  "as the budget counts them, in sample order; then the largest figure first):", "",
                   "| sample | " + metric + " [rad] | " + " | ".join(cols) + " |",
                   "|---|---|" + "---|" * len(cols)]
-        for sample, value, params in worst_units(spec, rows, metric):
+        for sample, value, why, params in worst_units(spec, rows, metric):
             shown = [f"{float(v):.3g}" if _is_number(v) else v for v in params]
-            lines.append(f"| {sample} | {value:.3g} | " + " | ".join(shown) + " |")
+            cell = f"{value:.3g}" if value is not None else "no figure (" + why.replace("|", "\\|") + ")"
+            lines.append(f"| {sample} | {cell} | " + " | ".join(shown) + " |")
     return "\n".join(lines) + "\n"

@@ -16,11 +16,19 @@ def _bore_angles(a, b):
     return np.arctan2(np.linalg.norm(np.cross(u, v), axis=1), np.einsum("ij,ij->i", u, v))
 
 
+def _stop_name(summary):
+    """A stopped run's status in a row: the limit key, or its step status."""
+    return summary["stop"]["key"] or summary["stop"]["step_status"].replace(" ", "_")
+
+
 def run_sample(base, overrides, ideal_cache, series=False):
     """Sample's metrics: status and METRICS (dict), and `applied`: the
     dispersed keys as the loaded scene holds them (_provenance.applied). The ideal-joint run with
     the same parameters is the pointing reference (cached: it does not depend
-    on the joint's parameters). With series, the run too, under "run"."""
+    on the joint's parameters). A twin that stopped before the run's last row
+    gives no pointing error (NaN) and the status `ideal:<its limit key>`
+    (`<the run's key>|ideal:<key>` when the run stopped too). With series, the
+    run too, under "run"."""
     scene, _, loaded = load_sample(base, None, overrides)
     if scene is None:
         return {"status": loaded["status"]}  # an open loop's row has no reason column
@@ -29,10 +37,17 @@ def run_sample(base, overrides, ideal_cache, series=False):
     ideal = scene.replace({"structure.joint1": "ideal", "structure.joint2": "ideal"})
     key = tuple(sorted(ideal.values().items()))
     if key not in ideal_cache:
-        ideal_cache[key] = gimbalsim.simulate(ideal).rows
-    err = _bore_angles(run.rows, ideal_cache[key])
+        twin = gimbalsim.simulate(ideal)
+        ideal_cache[key] = (twin.rows, None if twin.ok else _stop_name(twin.summary))
+    twin_rows, twin_stop = ideal_cache[key]
+    status = "ok" if run.ok else _stop_name(run.summary)
+    err = _bore_angles(run.rows, twin_rows)
+    if twin_stop is not None and len(twin_rows) < len(run.rows):
+        # the reference stopped before the run's last row: no pointing error over
+        # the run (not one over the rows the twin reached); the status says why
+        err = np.array([])
+        status = f"ideal:{twin_stop}" if run.ok else f"{status}|ideal:{twin_stop}"
     s = run.summary
-    status = "ok" if run.ok else (s["stop"]["key"] or s["stop"]["step_status"].replace(" ", "_"))
     return {"status": status, "applied": applied, **({"run": run} if series else {}),
             "pointing_error_max": float(err.max()) if len(err) else math.nan,
             "pointing_error_final": float(err[-1]) if len(err) else math.nan,

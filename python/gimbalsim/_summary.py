@@ -16,6 +16,15 @@ def percentiles(x):
             "p99": float(np.percentile(x, 99)), "max": float(x.max()), "n": int(len(x))}
 
 
+def no_percentiles_reason(metric, samples, n_ok, status):
+    """Why a metric has no percentiles (its entry null): no ok sample (the
+    count per status), or no ok sample with a value of it."""
+    if not n_ok:
+        counts = ", ".join(f"{k} {v}" for k, v in sorted(status.items()))
+        return f"no ok sample: {samples} sample{'s' * (samples != 1)}" + (f" ({counts})" if counts else "")
+    return f"none of the {n_ok} ok sample{'s' * (n_ok != 1)} has a value of {metric}"
+
+
 def summarize(spec, rows, engine):
     header = spec.header()
     col = {c: header.index(c) for c in header}
@@ -24,9 +33,11 @@ def summarize(spec, rows, engine):
         status[r[col["status"]]] = status.get(r[col["status"]], 0) + 1
     ok = [r for r in rows if r[col["status"]] == "ok"]
     num = lambda r, c: float(r[col[c]]) if r[col[c]] not in ("", "nan") else None
+    pct = {m: percentiles([num(r, m) for r in ok]) for m in spec.metrics + ["wall_time"]}
     return {"spec": str(spec.spec_path), "scene": str(spec.scene_path), "samples": len(rows), "status": status,
-            "percentiles_of_ok_samples": {m: percentiles([num(r, m) for r in ok])
-                                          for m in spec.metrics + ["wall_time"]},
+            "percentiles_of_ok_samples": pct,
+            "percentiles_of_ok_samples_note": {m: no_percentiles_reason(m, len(rows), len(ok), status)
+                                               for m, p in pct.items() if p is None},
             **({"budget": _budget.table(spec, rows)} if spec.closed else {}),
             "fingerprints": _provenance.fingerprints(spec),
             "applied_differs": sum(1 for r in rows if r[col[_provenance.DIFFERS]]),

@@ -359,8 +359,9 @@ def _run(a, out):
                   file=sys.stderr)
     else:
         pct = s["percentiles_of_ok_samples"]["pointing_error_max"]
-        print(f"sweep: {s['samples']} samples, status {s['status']}; pointing_error_max p50 "
-              f"{pct['p50'] if pct else float('nan'):.3e} p99 {pct['p99'] if pct else float('nan'):.3e} rad; "
+        figure = (f"p50 {pct['p50']:.3e} p99 {pct['p99']:.3e} rad" if pct else
+                  f"n/a ({s['percentiles_of_ok_samples_note']['pointing_error_max']})")
+        print(f"sweep: {s['samples']} samples, status {s['status']}; pointing_error_max {figure}; "
               f"results in {a.out}/results.csv", file=sys.stderr)
     if e.get("ran_this_invocation"):
         print(f"sweep: {e['ran_this_invocation']} samples in {e['elapsed_s']:.1f} s on {e['workers']} workers "
