@@ -11,7 +11,10 @@
 # Namespace: `unshare -n` (root), else `unshare -rn` (user namespace); if
 # neither works it runs in the host's network with ttl=0 (nothing leaves the
 # host) and says so. Not to be confused with tools/bench/run_bench.sh (the
-# dynamics micro-benchmarks).
+# dynamics micro-benchmarks). The run writes into a fresh folder inside the
+# output directory and moves its files into place only when both processes
+# ended well: a refused or failed run changes nothing there. GIMBALSIM_BUILD
+# names the build directory (default build).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 
@@ -36,21 +39,31 @@ while [ $# -gt 0 ]; do
   esac
   shift
 done
-BIN="$ROOT/build/bin"
+BUILD="$ROOT/${GIMBALSIM_BUILD:-build}"
+BIN="$BUILD/bin"
+# Every file a run may leave in --out (bench_*.csv: gimbalsim_log2csv's, one per channel).
+OUTPUTS=(truth.csv controller.csv controller.txt firmware.txt bench.lcmlog bench.png)
 URL="udpm://239.255.76.67:${PORT}?ttl=0"
 
 if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
   for f in "$SCENE" "$CONFIG"; do [ -f "$f" ] || { echo "run_hil_bench.sh: no such file: $f" >&2; exit 2; }; done
   for t in firmware_sim pointing_controller gimbalsim_log2csv gimbalsim_record; do
     if [ ! -x "$BIN/$t" ]; then
-      cmake -S "$ROOT" -B "$ROOT/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-      cmake --build "$ROOT/build" -j2 --target firmware_sim pointing_controller gimbalsim_log2csv gimbalsim_record
+      cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
+      cmake --build "$BUILD" -j2 --target firmware_sim pointing_controller gimbalsim_log2csv gimbalsim_record
       break
     fi
   done
   # Its own folder is made (the default out/bench included), never the ones above it (usage.md "Output files").
   parent="$(dirname "$OUT")"
   [ "$OUT_GIVEN" = 0 ] || [ -d "$parent" ] || { echo "run_hil_bench.sh: --out $OUT: the folder it goes in, $parent, does not exist (create it first)" >&2; exit 2; }
+  # A link or a folder under an output's name is refused before anything runs (usage.md "Output files").
+  for f in "${OUTPUTS[@]}" "$OUT"/bench_*.csv; do
+    f="$OUT/${f#"$OUT"/}"
+    if [ -L "$f" ] || { [ -e "$f" ] && [ ! -f "$f" ]; }; then
+      echo "run_hil_bench.sh: $f: a link or not a regular file under an output's name; move it out" >&2; exit 2
+    fi
+  done
   mkdir -p "$OUT"
   OUT="$(cd "$OUT" && pwd)"
   SCENE="$(realpath "$SCENE")" CONFIG="$(realpath "$CONFIG")"
@@ -71,12 +84,17 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
   exec bash "$0" "${args[@]}" -- "${EXTRA[@]}"
 fi
 
-# ---- inside the namespace
-cd "$OUT"
-rm -f truth.csv controller.csv firmware.txt bench.lcmlog bench_*.csv bench.png
+# ---- inside the namespace: the run's files go to RUN, moved into OUT when it ended well
+RUN="$(mktemp -d "$OUT/.run.XXXXXX")"
+cd "$RUN"
 pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; }
+cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; rm -rf "$RUN"; }
 trap cleanup EXIT
+failed() {  # failed MESSAGE CODE: the run's own logs on stderr, OUT as it was
+  for f in firmware.txt controller.txt; do [ ! -s "$f" ] || { echo "--- $f"; cat "$f"; } >&2; done
+  echo "run_hil_bench.sh: $1; nothing in $OUT was changed" >&2
+  exit "$2"
+}
 if [ "$LOG" = 1 ]; then
   # gimbalsim_record, not lcm-logger: LCM 1.3.1's lcm-logger drops messages
   # in fast lockstep on a loaded machine (30-message queue); same log format.
@@ -101,13 +119,16 @@ ctl_rc=0
 wait "$CTL" 2>/dev/null || ctl_rc=$?
 if [ "$LOG" = 1 ]; then
   sleep 0.2; kill -INT "$LOGGER"; wait "$LOGGER" 2>/dev/null || true
-  "$BIN/gimbalsim_log2csv" bench.lcmlog --out-dir "$OUT"
+  "$BIN/gimbalsim_log2csv" bench.lcmlog --out-dir "$RUN"
 fi
-trap - EXIT
-if [ "$rc" -ne 0 ]; then echo "run_hil_bench.sh: firmware_sim exited with $rc (see $OUT/firmware.txt)" >&2; exit "$rc"; fi
-if [ "$ctl_rc" -ne 0 ]; then echo "run_hil_bench.sh: pointing_controller exited with $ctl_rc (see $OUT/controller.txt)" >&2; exit "$ctl_rc"; fi
+[ "$rc" -eq 0 ] || failed "firmware_sim exited with $rc" "$rc"
+[ "$ctl_rc" -eq 0 ] || failed "pointing_controller exited with $ctl_rc" "$ctl_rc"
 if [ "$PLOT" = 1 ]; then
   /usr/bin/python3 "$ROOT/tools/hil/plot_bench.py" truth.csv --out bench.png \
-      --title "$(basename "$SCENE") $MODE, $RATE Hz, $DURATION s"
+      --title "$(basename "$SCENE") $MODE, $RATE Hz, $DURATION s" || failed "the plot could not be made" 4
 fi
+# The previous run's files go (a bench.png or bench_*.csv this run did not make would mislead), then this one's come.
+(cd "$OUT" && rm -f "${OUTPUTS[@]}" bench_*.csv)
+shopt -s nullglob
+for f in *; do mv -f -- "$f" "$OUT/$f"; done
 echo "run_hil_bench.sh: results in $OUT (truth.csv, controller.csv, firmware.txt$([ "$LOG" = 1 ] && echo ", bench.lcmlog, bench_*.csv")$([ "$PLOT" = 1 ] && echo ", bench.png"))"
