@@ -16,9 +16,14 @@ CLOSED_LOOP_IDLE = {"sim.duration": "every closed loop of a study runs one lengt
                                     "a tuner's duration:",
                     "sim.output_interval": "the closed loop records every control period",
                     "torque.tau1": "the controller commands the torque",
-                    "torque.tau2": "the controller commands the torque"}
+                    "torque.tau2": "the controller commands the torque",
+                    # only dynamics/src/simulate.cpp's InvariantMonitor reads them; firmware_sim steps without one
+                    "sim.momentum_tol": "the closed loop checks no invariant: only an open-loop run stops on it",
+                    "sim.energy_tol": "the closed loop checks no invariant: only an open-loop run stops on it"}
 OPEN_LOOP_IDLE = {"torque.limit": "the firmware's motor limit: an open-loop run applies the scene's torques as "
                   "they are"}
+# Read by no run of either kind.
+ALWAYS_IDLE = {"name": "the scene's label: no run reads it"}
 
 # Controller keys read only under settings of others (controllers/src/pid.cpp, inertial_reference.cpp,
 # model_feedforward.cpp): key (or prefix ending in ".") -> conditions that must all hold; a condition is
@@ -31,10 +36,11 @@ CONTROLLER_READ_UNDER = {
     "pointing.fixed_direction": [_INERTIAL, ("pointing.target", ("fixed",))],
     "pointing.base_accel_filter_hz": [_INERTIAL, ("pointing.accel_feedforward", ("inertial",))],
     "gimbal.azimuth_inertia_cos2": [("pointing.accel_feedforward", ("profile", "inertial"))],
-    # the gimbal's geometry: the inertial mode's IK, or the model feed-forward's plant
+    # the joint axes: the inertial mode's IK, or the model feed-forward's plant
     "gimbal.joint1_axis": [[_INERTIAL, _MODEL]],
     "gimbal.joint2_axis": [[_INERTIAL, _MODEL]],
-    "gimbal.boresight": [[_INERTIAL, _MODEL]],
+    # the boresight only by the IK: the plant's dynamics (reducedDynamics: crba, rnea) never read it
+    "gimbal.boresight": [_INERTIAL],
     "azimuth.aw_gain": [("control.anti_windup", ("back_calculation",))],
     "elevation.aw_gain": [("control.anti_windup", ("back_calculation",))],
     "plant.": [_MODEL],
@@ -62,10 +68,21 @@ _STAR_SAMPLE_KEYS = ("sensors.star_tracker_noise", "sensors.star_tracker_rate",
 _STAR_DECIDERS = ("sensors.star_tracker_outage", "sensors.star_tracker_latency", "sim.duration")
 
 
+# Every sensor noise drawn from sensors.seed's streams (firmware_sim: joint_sensors.hpp, attitude_sensors.hpp,
+# antenna_sensors.hpp): with all of them 0 the seed draws nothing that acts.
+_NOISE_KEYS = ("sensors.encoder_noise", "sensors.rate_noise", "sensors.gyro_noise", "sensors.gyro_bias_walk",
+               "sensors.star_tracker_noise", "sensors.tracker_noise", "sensors.antenna_gyro_noise")
+
+
 def _idle_in_sensors(key, values, dispersed):
     """Why a key that acts through the star tracker's samples cannot act: an
     outage over the whole run [0, sim.duration], or a latency no shorter than
-    the run (a sample is delivered latency after it is taken)."""
+    the run (a sample is delivered latency after it is taken); or why
+    sensors.seed cannot: every noise is 0."""
+    if key == "sensors.seed":
+        if set(_NOISE_KEYS) & dispersed or any(float(values.get(k, 0.0)) != 0.0 for k in _NOISE_KEYS):
+            return None
+        return "every sensor noise (" + ", ".join(_NOISE_KEYS) + ") is 0: nothing random to seed"
     reads_latency = key == "sensors.star_tracker_latency"
     if not (key in _STAR_SAMPLE_KEYS or reads_latency) or set(_STAR_DECIDERS) & dispersed:
         return None
@@ -88,12 +105,15 @@ _CONTROLLER_DECIDERS = {CONTROLLER_PREFIX + d for rules in CONTROLLER_READ_UNDER
 _MAX_COMBINATIONS = 256  # of the deciders' values: beyond it nothing is judged
 
 
-def _for_every_value(judge, key, values, dispersed, takes):
+def _for_every_value(judge, key, values, dispersed, takes, own_deciders=()):
     """judge(key, values, dispersed) under each combination of the values the
     dispersed deciding settings take (a choice, a grid): why the key acts
     under none of them, or None as soon as one reads it. A decider drawn from
-    no list cannot be judged, and neither can the key (judge exempts it)."""
-    deciders = sorted(k for k in dispersed if _DECIDERS.fullmatch(k) or k in _CONTROLLER_DECIDERS)
+    no list cannot be judged, and neither can the key (judge exempts it).
+    own_deciders: settings that decide this key only (sensors.seed's noises:
+    as deciders of every key, one drawn from a range would stop all judging)."""
+    deciders = sorted(k for k in dispersed if _DECIDERS.fullmatch(k) or k in _CONTROLLER_DECIDERS or
+                      k in own_deciders)
     lists = [takes.get(k) for k in deciders]
     if not deciders or any(v is None for v in lists) or math.prod(map(len, lists)) > _MAX_COMBINATIONS:
         return judge(key, values, dispersed)
@@ -126,11 +146,12 @@ def idle_reason(key, values, dispersed, takes, closed):
     """Why the dispersed `key` (canonical; controller keys as controller.*)
     cannot act in this study, or None. values: the scene's and (closed loop)
     the controller's (as controller.*), as text."""
-    why = (CLOSED_LOOP_IDLE if closed else OPEN_LOOP_IDLE).get(key) or \
+    why = ALWAYS_IDLE.get(key) or (CLOSED_LOOP_IDLE if closed else OPEN_LOOP_IDLE).get(key) or \
         _for_every_value(_idle_in_scene, key, values, dispersed, takes)
     if why is None and closed:
         why = _for_every_value(_idle_in_controller_keys, key, values, dispersed, takes) or \
-            _for_every_value(_idle_in_sensors, key, values, dispersed, takes)
+            _for_every_value(_idle_in_sensors, key, values, dispersed, takes,
+                             _NOISE_KEYS if key == "sensors.seed" else ())
     if why is None and key.startswith(ANTENNA_SENSOR_KEYS):
         why = "the controller does not use the antenna sensors yet (docs/MODEL.md 11.6)"
     if why is None and not closed and key.startswith("sensors."):
@@ -140,9 +161,10 @@ def idle_reason(key, values, dispersed, takes, closed):
 
 def _idle_in_scene(key, scene, dispersed):
     """Why `key` cannot act in this scene (None if it can): a bearing key on
-    an ideal joint, a tilt key on a planar bearing, a contact sub-stepping key
-    with both joints ideal, an adaptive-step key under the fixed policy, a base
-    key on a fixed base. Nothing is judged when the
+    an ideal joint, a tilt key on a planar bearing, a contact sub-stepping or
+    penetration key with both joints ideal, an adaptive-step key under the
+    fixed policy, a base key or sim.momentum_tol on a fixed base,
+    sim.energy_tol with a spatial bearing. Nothing is judged when the
     deciding key (structure.*, sim.substep_policy) is itself dispersed."""
     joints = {j: scene.get(f"structure.joint{j}") for j in (1, 2)}
     rules = []
@@ -156,9 +178,19 @@ def _idle_in_scene(key, scene, dispersed):
                "no joint's bearing is spatial: none can tilt"),
               (("contact.", "friction.", "initial.ecc"), "structure.joint", any_clearance,
                "both joints are ideal: no bearing"),
-              # the contact's sub-stepping (sim.substep*, its policy and tolerances, the event location)
-              (("sim.substep", "sim.event_tol", "sim.min_substeps_per_impact"), "structure.joint", any_clearance,
+              # the contact's sub-stepping (sim.substep*, its policy and tolerances, the event location, the
+              # work cap) and its penetration stop: dynamics/include/gimbalsim/dynamics/integrator.hpp
+              (("sim.substep", "sim.event_tol", "sim.min_substeps_per_impact", "sim.max_substeps",
+                "sim.max_event_iters"), "structure.joint", any_clearance,
                "both joints are ideal: no contact to sub-step, every step is one RK4 step of sim.step"),
+              (("sim.penetration_limit",), "structure.joint", any_clearance,
+               "both joints are ideal: no contact, nothing penetrates"),
+              # the invariants (dynamics/src/invariants.cpp): momentum only on a floating base, and no energy
+              # balance with a spatial bearing (its contact force works on the tilt)
+              (("sim.momentum_tol",), "structure.base", scene.get("structure.base") != "fixed",
+               "structure.base is fixed: no momentum drift is checked"),
+              (("sim.energy_tol",), "structure.joint", all(k != "spatial" for k in joints.values()),
+               "a joint's bearing is spatial: the energy balance is no invariant there and is not checked"),
               (("sim.substep_tol", "sim.substep_min", "sim.substep_max"), "sim.substep_policy",
                scene.get("sim.substep_policy") == "adaptive", "sim.substep_policy is fixed: only the adaptive "
                "policy reads it"),
@@ -176,6 +208,22 @@ _READ_UNDER = {"friction.mu": ("friction.law", lambda law: law != "none"),
                "friction.v_b": ("friction.law", lambda law: law == "ambrosio"),
                "contact.restitution": ("contact.damping", lambda law: law != "none"),
                "contact.v0_min": ("contact.damping", lambda law: law != "none")}
+
+
+# A joint's own bearing key, which a scene's values list only where it differs from the shared one.
+OWN_KEY = re.compile(r"joint[12]\.(?:contact|friction)\..+|initial\.ecc[12]")
+
+
+def own_keys_given(sets, scene_values, aliases):
+    """The joints' own keys a spec's `set` gives ({canonical key: value})
+    that the scene's values leave out (equal to the shared key's): given all
+    the same, they override the shared key (for the judgment above, and a
+    sample keeps them: _closed_sample.PinnedScene)."""
+    own = {aliases.get(k, k): v for k, v in sets.items() if OWN_KEY.fullmatch(aliases.get(k, k))}
+    # a clearance is listed as the journal radius it sets
+    listed = lambda k: k in scene_values or k.endswith(".clearance") and \
+        k[:-len("clearance")] + "journal_radius" in scene_values  # noqa: E731
+    return {k: v for k, v in own.items() if not listed(k)}
 
 
 def _own_key(j, shared):

@@ -70,6 +70,34 @@ REFUSALS = [
       "  controller.gimbal.joint1_axis: {choice: [[0, 0, 1], [0, 0.2, 1]]}"),
      "parameters.controller.gimbal.joint1_axis", "reads it only with pointing.mode inertial or with "
      "pointing.accel_feedforward model"),
+    # the boresight is read only by the inertial mode's IK: the joint mode's model feed-forward (the default)
+    # computes the plant's dynamics, which no boresight enters (controllers/src/model_feedforward.cpp)
+    (("controller_set: {", "  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}"),
+     ("controller_set: {pointing.mode: joint, ",
+      "  controller.gimbal.boresight: {choice: [[1, 0, 0], [1, 0.1, 0]]}"),
+     "parameters.controller.gimbal.boresight", "reads it only with pointing.mode inertial; it has pointing.mode joint"),
+    # the closed loop checks no invariant (firmware_sim steps without dynamics' InvariantMonitor)
+    ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.momentum_tol: {choice: [0.0, 1.0e-300]}",
+     "parameters.sim.momentum_tol", "the closed loop checks no invariant"),
+    ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.energy_tol: {choice: [0.0, 1.0e-300]}",
+     "parameters.sim.energy_tol", "the closed loop checks no invariant"),
+    # the contact's stops and work cap with both joints ideal: there is no contact
+    (("set: {sim.duration: 0.5}", "  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}"),
+     ("set: {sim.duration: 0.5, structure.joint2: ideal}", "  sim.penetration_limit: {choice: [0.0, 1.0e-3]}"),
+     "parameters.sim.penetration_limit", "both joints are ideal: no contact, nothing penetrates"),
+    (("set: {sim.duration: 0.5}", "  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}"),
+     ("set: {sim.duration: 0.5, structure.joint2: ideal}", "  sim.max_substeps: {choice: [0, 100]}"),
+     "parameters.sim.max_substeps", "both joints are ideal: no contact to sub-step"),
+    # every sensor noise 0: the seed draws nothing that acts
+    ("  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}", "  sensors.seed: {choice: [1, 2]}",
+     "parameters.sensors.seed", "is 0: nothing random to seed"),
+    # ... also when the one noise dispersed is 0 in every value the study gives
+    ("  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}",
+     "  sensors.seed: {choice: [1, 2]}\n  sensors.gyro_noise: {choice: [0.0]}",
+     "parameters.sensors.seed", "for every value of sensors.gyro_noise the study gives"),
+    # the scene's label: no run reads it
+    ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  name: {choice: [a, b]}", "parameters.name",
+     "the scene's label: no run reads it"),
     # the antenna's sensors are recorded but no controller uses them yet: no figure could move
     ("  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}", "  sensors.tracker_noise: {uniform: [0.0, 2.0e-5]}",
      "parameters.sensors.tracker_noise", "does not use the antenna sensors yet"),
@@ -167,6 +195,25 @@ def test_an_empty_profile_phase_is_refused_when_named_and_left_out_otherwise(tmp
     assert e.value.line == text.split("\n").index("phases: [slew, hold, track, {late: [0.4, 0.5]}]") + 1
     (tmp_path / "default.yaml").write_text(text.replace("phases: [slew, hold, track, {late: [0.4, 0.5]}]\n", ""))
     assert [p for p, _ in SweepSpec(tmp_path / "default.yaml").closed.phases] == ["slew", "track"]
+
+
+# Keys that act under other settings: a noise to seed, the boresight under the inertial mode.
+READ = [("  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}",
+         "  sensors.seed: {choice: [1, 2]}\n  sensors.gyro_noise: {choice: [0.0, 1.0e-6]}"),
+        ("controller_set: {", "controller_set: {pointing.mode: inertial, "),
+        ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}",
+         "  controller.gimbal.boresight: {choice: [[1, 0, 0], [1, 0.1, 0]]}")]
+
+
+def test_a_seed_with_a_noise_and_a_boresight_under_the_inertial_mode_are_accepted(tmp_path):
+    from gimbalsim.sweep import SweepSpec
+    text = SPEC
+    for old, new in READ:
+        assert old in text
+        text = text.replace(old, new)
+    (tmp_path / "ok.yaml").write_text(text)
+    keys = {p.key for p in SweepSpec(tmp_path / "ok.yaml").parameters}
+    assert {"sensors.seed", "controller.gimbal.boresight"} <= keys
 
 
 def test_a_key_under_a_dispersed_setting_is_accepted_when_one_value_reads_it(tmp_path):

@@ -38,6 +38,21 @@ BAD = [
      "parameters.sim.event_tol", 8, "both joints are ideal: no contact to sub-step"),
     ("set: {structure.base: fixed}\nparameters:\n  base.mass: {uniform: [500, 1500]}\n", "parameters.base.mass", 8,
      "structure.base is fixed"),
+    # ... and every other contact-only key: its stops and its work cap
+    ("set: {structure.joint2: ideal}\nparameters:\n  sim.penetration_limit: {choice: [0.0, 1.0e-3]}\n",
+     "parameters.sim.penetration_limit", 8, "both joints are ideal: no contact, nothing penetrates"),
+    ("set: {structure.joint2: ideal}\nparameters:\n  sim.max_event_iters: {choice: [10, 60]}\n",
+     "parameters.sim.max_event_iters", 8, "both joints are ideal: no contact to sub-step"),
+    ("set: {structure.joint2: ideal}\nparameters:\n  sim.max_substeps: {choice: [0, 100]}\n",
+     "parameters.sim.max_substeps", 8, "both joints are ideal: no contact to sub-step"),
+    # the invariants an open loop does not check (dynamics/src/invariants.cpp): momentum on a fixed base,
+    # the energy balance with a spatial bearing
+    ("set: {structure.base: fixed}\nparameters:\n  sim.momentum_tol: {choice: [0.0, 1.0e-300]}\n",
+     "parameters.sim.momentum_tol", 8, "structure.base is fixed: no momentum drift is checked"),
+    ("set: {structure.joint2: spatial}\nparameters:\n  sim.energy_tol: {choice: [0.0, 1.0e-300]}\n",
+     "parameters.sim.energy_tol", 8, "a joint's bearing is spatial: the energy balance is no invariant there"),
+    # the scene's label
+    ("parameters:\n  name: {choice: [a, b]}\n", "parameters.name", 7, "the scene's label: no run reads it"),
     ("parameters:\n  torque.limit: {choice: [[0.001, 0.001], [1000, 1000]]}\n", "parameters.torque.limit", 7,
      "the firmware's motor limit"),
     # a shared bearing key that every joint with a bearing overrides with its own: recorded, acting on nothing
@@ -49,6 +64,11 @@ BAD = [
      "parameters.initial.ecc", 8, "on every joint with a bearing: overridden by initial.ecc2"),
     ("parameters:\n  initial.ecc: {disk: {radius: 3.0e-4}}\n  initial.ecc2: {disk: {radius: 2.0e-4}}\n",
      "parameters.initial.ecc", 7, "on every joint with a bearing: overridden by initial.ecc2"),
+    # ... also when the set one equals initial.ecc (the scene's values leave it out; it was silently dropped)
+    ("set: {initial.ecc2: [0.0, 0.0]}\nparameters:\n  initial.ecc: {disk: {radius: 1.0e-4}}\n",
+     "parameters.initial.ecc", 8, "on every joint with a bearing: overridden by initial.ecc2"),
+    ("set: {joint2.friction.mu: 0.25}\nparameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n",
+     "parameters.friction.mu", 8, "on every joint with a bearing: overridden by joint2.friction.mu"),
     ("set: {structure.joint1: planar, initial.ecc1: [0, 1.0e-4]}\nparameters:\n"
      "  initial.ecc: {disk: {radius: 3.0e-4}}\n  initial.ecc2: {disk: {radius: 2.0e-4}}\n",
      "parameters.initial.ecc", 8, "overridden by initial.ecc1; overridden by initial.ecc2"),
@@ -126,10 +146,8 @@ def test_a_spec_that_is_not_utf8_is_refused_at_its_line(tmp_path):
 
 
 # initial.ecc still acts: on joint 1 when it has a bearing of its own without initial.ecc1, and on joint 2
-# when its initial.ecc2 equals initial.ecc (a scene's values list it only where it differs, and a sample's
-# scene is loaded from them: the draw then reaches joint 2).
-ECC_ACTS = ["{structure.joint1: planar, initial.ecc2: [1.0e-4, 0]}", "{initial.ecc2: [0, 0]}",
-            "{initial.ecc1: [1.0e-4, 0]}"]
+# when it has no initial.ecc2 of its own.
+ECC_ACTS = ["{structure.joint1: planar, initial.ecc2: [1.0e-4, 0]}", "{initial.ecc1: [1.0e-4, 0]}"]
 
 
 @pytest.mark.parametrize("set_", ECC_ACTS)
@@ -143,3 +161,19 @@ def test_a_shared_eccentricity_a_joint_reads_is_accepted(set_, tmp_path):
     # joint j's eccentricity is listed only where it differs from the shared one: here it is the draw
     assert f"initial.ecc{j}" not in values
     assert [float(x) for x in values["initial.ecc"].strip("[]").split(",")] == list(draw)
+
+
+def test_a_sample_keeps_the_joints_own_key_set_equal_to_the_shared_one(tmp_path):
+    # set's initial.ecc2 equals initial.ecc, so the scene's values leave it out: a sample's scene, loaded from
+    # them with the drawn initial.ecc, gave joint 2 the draw. Joint 1 reads the draw, joint 2 keeps [0, 0].
+    from gimbalsim._closed_sample import load_sample
+    from gimbalsim.sweep import SweepSpec
+    (tmp_path / "s.yaml").write_text(HEAD + "set: {structure.joint1: planar, initial.ecc2: [0.0, 0.0]}\n"
+                                     "parameters:\n  initial.ecc: {disk: {radius: 5.0e-5}}\n")
+    spec = SweepSpec(tmp_path / "s.yaml")
+    draw = spec.design.draw(0)
+    scene, _, loaded = load_sample(spec.base, None, draw)  # as a worker loads it
+    values = scene.values()
+    assert values["initial.ecc2"] == "[0, 0]", values
+    assert [float(x) for x in values["initial.ecc"].strip("[]").split(",")] == list(draw["initial.ecc"])
+    assert loaded["applied"][-1] == ""  # the draw applied as drawn

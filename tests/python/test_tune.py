@@ -113,6 +113,18 @@ def test_tuning_spec_refusals_name_the_key(change, key, tmp_path):
      "plants.sensors.tracker_noise", "does not use the antenna sensors yet"),
     (("max_saturation: 0.0", "max_saturation: 0.0\nset: {sensors.star_tracker_outage: [0, 1.0e9]}"),
      "plants.sensors.star_tracker_noise", "covers the whole run"),
+    # the closed loop checks no invariant: a plant's tolerance acts on nothing
+    (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "sim.momentum_tol: {choice: [0.0, 1.0e-300]}"),
+     "plants.sim.momentum_tol", "not read by the tuned loop (the closed loop checks no invariant"),
+    (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "sim.energy_tol: {choice: [0.0, 1.0e-300]}"),
+     "plants.sim.energy_tol", "not read by the tuned loop (the closed loop checks no invariant"),
+    # every sensor noise 0: nothing random to seed
+    (("sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}", "sensors.seed: {choice: [1, 2]}"),
+     "plants.sensors.seed", "nothing random to seed"),
+    # joint 2's own eccentricity set equal to the shared one (the scene's values leave it out): it counts
+    (("plants:\n  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}",
+      "set: {initial.ecc2: [0.0, 0.0]}\nplants:\n  initial.ecc: {disk: {radius: 1.0e-4}}"),
+     "plants.initial.ecc", "overridden by initial.ecc2"),
     # a gain whose switch is tuned too, over values none of which reads it
     (("elevation.kd: {uniform: [300, 3000]}", "azimuth.aw_gain: {uniform: [1, 30]}\n  "
       "control.anti_windup: {choice: [none, clamping]}"), "gains.azimuth.aw_gain",
@@ -169,3 +181,17 @@ def test_an_empty_out_or_a_sweeps_folder_is_refused(tmp_path):
     assert p.returncode == 2 and "holds a sweep" in p.stderr, p.stderr
     assert (tmp_path / "sweep" / "summary.json").read_text() == "{}"
 
+
+
+def test_a_plant_keeps_the_joints_own_key_set_equal_to_the_shared_one(tmp_path):
+    # as a trial's task loads a plant (tune.run_plants: base.replace of its draw): joint 1 reads the drawn
+    # initial.ecc, joint 2 keeps its set initial.ecc2 (equal to the shared one, so the scene's values leave it out)
+    from gimbalsim.tune import TuneSpec
+    (tmp_path / "t.yaml").write_text(SPEC.replace(
+        "plants:\n  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}",
+        "set: {structure.joint1: planar, initial.ecc2: [0.0, 0.0]}\nplants:\n  initial.ecc: {disk: {radius: 1.0e-4}}"))
+    spec = TuneSpec(tmp_path / "t.yaml")
+    draw = spec.plants.draw(0)
+    values = spec.base.replace(draw).values()
+    assert values["initial.ecc2"] == "[0, 0]", values
+    assert [float(x) for x in values["initial.ecc"].strip("[]").split(",")] == list(draw["initial.ecc"])
