@@ -65,9 +65,12 @@ def run_plants(base, controller, duration, items):
             continue
         try:
             s = gimbalsim.closed_loop(scene, controller, duration).summary
-        except (gimbalsim.SceneError, ValueError) as e:  # e.g. a period that does not divide the run: FAIL, not a crash
-            out.append({"plant": j, "ok": False, "stop_key": "refused", "error": str(e), "wall_time": 0.0})
+        except (gimbalsim.SceneError, ValueError) as e:  # the run's arguments refused: FAIL, not a crash
+            out.append({"plant": j, "ok": False, "stop_key": f"refused:{getattr(e, 'key', None) or 'duration'}",
+                        "error": str(e), "wall_time": 0.0})
             continue
+        if s["stop_key"] == "refused":  # nothing ran: the closed loop names the setting ("control.period: ...")
+            s["stop_key"] = "refused:" + s["error"].split(": ", 1)[0]
         s["plant"] = j
         s["wall_time"] = time.perf_counter() - t0
         out.append(s)
@@ -213,11 +216,15 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
             while finished + len(in_flight) < spec.trials and len(in_flight) < parallel:
                 trial = study.ask()
                 gains = {p.key: suggest(trial, p) for p in spec.gains}
-                try:
+                try:  # gains the controller refuses, or a period that does not divide the run: FAIL, the study goes on
                     ctrl = gimbalsim.Controller(spec.controller_path, {**spec.controller_set, **gains})
-                except (gimbalsim.SceneError, ValueError) as e:  # gains the controller refuses: FAIL, the study goes on
-                    _finish(study, trial, gains, [{"plant": j, "ok": False, "stop_key": "refused", "error": str(e)}
-                                                  for j, _ in plants], spec, 0.0)
+                    why = gimbalsim._gimbalsim._whole_multiple_problem(spec.duration, ctrl.period, "control.period")
+                    refused = ("control.period", f"duration {spec.duration:g} s {why}") if why else None
+                except (gimbalsim.SceneError, ValueError) as e:
+                    refused = (getattr(e, "key", None) or "", str(e))
+                if refused:  # no plant run: each is refused:<key>
+                    _finish(study, trial, gains, [{"plant": j, "ok": False, "stop_key": f"refused:{refused[0]}",
+                                                   "error": refused[1]} for j, _ in plants], spec, 0.0)
                     finished += 1
                     bar.update(1)
                     _write_trials(out, header, study, spec.input_files())
@@ -267,8 +274,8 @@ def _finish(study, trial, gains, results, spec, wall):
     import optuna
 
     ok = [r for r in results if r["ok"]]
-    worst_sat = max((r["controller_limited_ticks"] / max(1, r["ticks"]) for r in ok), default=1.0)
-    constraint = worst_sat - spec.max_saturation
+    sat = [r["controller_limited_ticks"] / max(1, r["ticks"]) for r in ok]  # no plant ok: none measured, no value
+    constraint = max(sat) - spec.max_saturation if sat else None
     row = {"trial": trial.number, "origin": trial.user_attrs.get("origin", ""), "constraint": constraint, **gains,
            "plants_ok": len(ok), "wall_time": wall}
     for r in results:
@@ -279,13 +286,17 @@ def _finish(study, trial, gains, results, spec, wall):
     if len(ok) < len(results):
         why = sorted({r["stop_key"] for r in results if not r["ok"]})
         errors = sorted({r["error"] for r in results if not r["ok"] and r.get("error")})
-        row.update(state="FAIL", score="", reason="plant stopped: " + " ".join(why) + (f" ({errors[0]})" if errors else ""))
+        parts = {"plant stopped": [k for k in why if not k.startswith("refused:")],  # a refused plant never started
+                 "not run": [k for k in why if k.startswith("refused:")]}
+        row.update(state="FAIL", score="", reason="; ".join(f"{p}: {' '.join(k)}" for p, k in parts.items() if k) +
+                   (f" ({errors[0]})" if errors else ""))
     elif unscored:  # a figure with no value is no score, never 0 (the spec check makes it rare)
         row.update(state="FAIL", score="", reason=f"no {metric}: " + "; ".join(unscored))
     else:
         row.update(state="COMPLETE", score=float(np.percentile([r[METRICS[spec.metric]] for r in ok],
                                                                spec.percentile)), reason="")
-    trial.set_user_attr("constraint", constraint)
+    if constraint is not None:
+        trial.set_user_attr("constraint", constraint)
     trial.set_user_attr("row", row)
     if row["state"] == "FAIL":
         study.tell(trial, state=optuna.trial.TrialState.FAIL)

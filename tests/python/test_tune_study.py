@@ -270,3 +270,38 @@ def test_gains_the_run_cannot_take_fail_their_trial_and_the_study_goes_on(tmp_pa
     assert len(rows) == 4 and rows[0]["state"] == "COMPLETE"
     failed = [r for r in rows if r["state"] == "FAIL"]
     assert failed and all("control period" in r["reason"] or "control.period" in r["reason"] for r in failed), rows
+
+
+def test_a_trial_that_cannot_run_names_the_key_and_has_no_constraint(tmp_path):
+    # A period that does not divide the run (0.7 ms in 0.3 s) or sim.step (1.5 ms): no plant ran a tick, so
+    # the trial is FAIL "not run" (not "plant stopped"), each plant refused:control.period, and no constraint
+    # value (no saturation was measured), as a trial killed with the tuner has none.
+    spec = tmp_path / "t.yaml"
+    spec.write_text(f"""
+scene: {SCENES}/paper_clearance.yaml
+controller: {CONTROLLER_CONFIG}
+duration: 0.3
+trials: 6
+parallel_trials: 1
+seed: 1
+batch: 2
+max_saturation: 0.9
+controller_set: {{profile.slew_start: 0.0, profile.slew_time: 0.1, profile.hold_time: 0.1}}
+objective: {{metric: max_track, percentile: 90}}
+gains:
+  control.period: {{choice: [0.001, 0.0015, 0.0007]}}
+plants:
+  contact.clearance: {{choice: [{CLEARANCE}]}}
+""")
+    p = subprocess.run(tune_cmd(spec, tmp_path / "o"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
+    rows = trials(tmp_path / "o")
+    assert rows[0]["state"] == "COMPLETE" and rows[0]["constraint"] != "", rows[0]  # a ran trial has its value
+    failed = {r["control_period_s"]: r for r in rows if r["state"] == "FAIL"}
+    assert set(failed) == {"0.0015", "0.0007"}, rows
+    for r in failed.values():
+        assert r["constraint"] == "" and r["score"] == "" and r["plants_ok"] == "0", r
+        assert [r["plant0_status"], r["plant1_status"]] == ["refused:control.period"] * 2, r
+        assert r["reason"].startswith("not run: refused:control.period (") and "plant stopped" not in r["reason"], r
+    assert "duration 0.3 s must be a whole multiple of control.period (" in failed["0.0007"]["reason"]
+    assert "not a whole multiple of sim.step" in failed["0.0015"]["reason"]

@@ -38,8 +38,12 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
-from output_file import Refused, run_script, write_text  # noqa: E402  (the package's one writer)
+from output_file import Refused, check_before_writing, open_output, plain_number, run_script, write_text  # noqa: E402
 URL = "udpm://239.255.76.67:7667?ttl=0"
+# What each run writes in its folder (--keep DIR/<gain set>/, else a temporary one).
+RUN_FILES = ("controller.yaml", "controller.csv", "truth.csv", "controller.log", "firmware.log")
+# The flags' ranges: controller_sweep's (--omega, --duration, --settle-tol), so both modes take the same values.
+OMEGA, DURATION, SETTLE_TOL = (1e-3, 1e6, False), (0.0, 1e9, True), (0.0, 10.0, True)  # (lo, hi, lo excluded)
 
 
 def parse_args():
@@ -48,17 +52,41 @@ def parse_args():
     p.add_argument("--scene-set", action="append", default=[], help="scene override key=value (firmware_sim --set)")
     p.add_argument("--config", default=os.path.join(ROOT, "controllers/config/default.yaml"))
     p.add_argument("--set", action="append", default=[], help="controller override key=value for every run")
-    p.add_argument("--omega", default="", help="comma-separated closed-loop bandwidths [rad/s] (triple pole)")
+    p.add_argument("--omega", help="comma-separated closed-loop bandwidths [rad/s] (triple pole), each in "
+                   "[0.001, 1e+06] (default: 5,10,20,40 without --gain-set)")
     p.add_argument("--gain-set", action="append", default=[], help='explicit set, e.g. "azimuth.kp=1e4,elevation.kp=1e4"')
-    p.add_argument("--duration", type=float, default=0.0, help="simulated seconds (default: track start + 5 s)")
-    p.add_argument("--settle-tol", type=float, default=1e-4, help="settling band on the joint error [rad]")
+    p.add_argument("--duration", help="simulated seconds, in (0, 1e+09] (default: track start + 5 s)")
+    p.add_argument("--settle-tol", default="1e-4", help="settling band on the joint error [rad], in (0, 10]")
     p.add_argument("--bin", default=os.path.join(ROOT, "build/bin"), help="directory with firmware_sim, pointing_controller")
-    p.add_argument("--keep", default="", help="keep each run's config and logs in this directory")
+    p.add_argument("--keep", help="keep each run's config and logs in this folder (made if missing, in a folder "
+                   "that exists; lockstep only)")
     p.add_argument("--in-process", action="store_true", help="run controller_sweep (no LCM) instead")
     a = p.parse_args()
-    if not a.omega and not a.gain_set:
+    if a.omega is None and not a.gain_set:
         a.omega = "5,10,20,40"
+    # A number is a plain decimal within the flag's range (docs/usage.md): nan, -1, 0 or ' 5' never mean the default.
+    if a.omega is not None and "" in a.omega.split(","):
+        raise Refused("--omega: an empty value" if a.omega == "" else f"--omega: an empty list item in {a.omega!r}")
+    a.omegas = [number("--omega", x, OMEGA) for x in a.omega.split(",")] if a.omega is not None else []
+    a.duration = None if a.duration is None else number("--duration", a.duration, DURATION)
+    a.settle_tol = number("--settle-tol", a.settle_tol, SETTLE_TOL)
+    if a.keep == "":
+        raise Refused("--keep: an empty value")
     return a
+
+
+def number(flag, text, limits):
+    """A flag's number: a plain finite decimal in its range, else Refused naming the flag."""
+    lo, hi, lo_excluded = limits
+    if text == "":
+        raise Refused(f"{flag}: an empty value")
+    try:
+        v = plain_number(text, flag)
+    except Refused:
+        raise Refused(f"{flag}: not a plain decimal number: {text!r}") from None
+    if not ((lo < v) if lo_excluded else (lo <= v)) or v > hi:
+        raise Refused(f"{flag}: must be in {'(' if lo_excluded else '['}{lo:g}, {hi:g}], got {text}")
+    return v
 
 
 def print_config(args, extra):
@@ -73,7 +101,7 @@ def print_config(args, extra):
 
 def gain_sets(args, base):
     sets = []
-    for w in [float(x) for x in args.omega.split(",") if x.strip()]:
+    for w in args.omegas:
         s = []
         for axis in ("azimuth", "elevation"):
             J = float(base[axis + ".inertia"])
@@ -92,10 +120,10 @@ def read_csv(path):
 def run_lockstep(args, cfg, workdir):
     period = float(cfg["control.period"])
     track_start = float(cfg["profile.slew_start"]) + float(cfg["profile.slew_time"]) + float(cfg["profile.hold_time"])
-    duration = args.duration if args.duration > 0 else track_start + 5.0
+    duration = args.duration if args.duration is not None else track_start + 5.0
     cfg_path = os.path.join(workdir, "controller.yaml")
     write_text(cfg_path, "# written by tools/hil/tune_sweep.py from pointing_controller --print-config\n" +
-               "".join(f"{k}: {v}\n" for k, v in cfg.items()))
+               "".join(f"{k}: {v}\n" for k, v in cfg.items()), args.inputs)
     ctl_csv, truth_csv = os.path.join(workdir, "controller.csv"), os.path.join(workdir, "truth.csv")
     pc = [os.path.join(args.bin, "pointing_controller"), cfg_path, "--lcm-url", URL, "--log-csv", ctl_csv,
           "--duration", repr(duration), "--idle-exit", "10"]
@@ -105,12 +133,16 @@ def run_lockstep(args, cfg, workdir):
     for s in args.scene_set:
         fw += ["--set", s]
     q = lambda c: " ".join(shlex.quote(x) for x in c)
-    script = (f"ip link set lo up && ip route add 224.0.0.0/4 dev lo && "
-              f"{{ {q(pc)} 2>{shlex.quote(os.path.join(workdir, 'controller.log'))} & "
-              f"{q(fw)} >{shlex.quote(os.path.join(workdir, 'firmware.log'))} 2>&1; rc=$?; wait; exit $rc; }}")
-    t0 = time.monotonic()
-    r = subprocess.run(["unshare", "-n", "sh", "-c", script])
-    wall = time.monotonic() - t0
+    # The logs go through the one writer (never through a link under their names): the programs write into
+    # its temporaries' descriptors, renamed onto the names when the run has ended.
+    with open_output(os.path.join(workdir, "controller.log"), "wb", args.inputs) as ctl_log, \
+            open_output(os.path.join(workdir, "firmware.log"), "wb", args.inputs) as fw_log:
+        c, f = ctl_log.fileno(), fw_log.fileno()
+        script = (f"ip link set lo up && ip route add 224.0.0.0/4 dev lo && "
+                  f"{{ {q(pc)} 2>&{c} & {q(fw)} >&{f} 2>&1; rc=$?; wait; exit $rc; }}")
+        t0 = time.monotonic()  # bash, not sh: dash takes no descriptor above 9
+        r = subprocess.run(["unshare", "-n", "bash", "-c", script], pass_fds=(c, f))
+        wall = time.monotonic() - t0
     if r.returncode != 0:  # the logs' last lines, whole
         tails = []
         for name in ("firmware.log", "controller.log"):
@@ -151,35 +183,74 @@ def require_programs(args, names):
         raise Refused(f"{', '.join(missing)} not built in {args.bin}: cmake --build build -j2 --target {' '.join(missing)}")
 
 
+def keep_folders(args, sets):
+    """--keep DIR: each gain set's folder in it, checked before any run
+    (Refused, exit 2, nothing written): DIR and each folder a real folder
+    (made if missing, DIR in a folder that exists: never a folder the user
+    named), no two sets in one folder, and no link, special file or input
+    under any name a run writes (docs/usage.md "Output files")."""
+    keep = args.keep
+    parent = os.path.dirname(os.path.normpath(keep)) or "."
+    folders = {}
+    for name, _ in sets:
+        folder = os.path.join(keep, name.replace("=", "_").replace(",", "_").replace(" ", "").replace("/", "_"))
+        if folder in folders:
+            raise Refused(f"--keep: gain sets {folders[folder]!r} and {name!r} would keep their runs in one folder "
+                          f"{folder}")
+        folders[folder] = name
+    for d in [keep, *folders]:
+        if os.path.islink(d):
+            raise Refused(f"--keep: {d}: is a symbolic link; not written through (give its target)")
+        if os.path.lexists(d) and not os.path.isdir(d):
+            raise Refused(f"--keep: {d}: exists and is not a folder")
+        if os.path.isdir(d) and d != keep:
+            check_before_writing([os.path.join(d, n) for n in RUN_FILES], args.inputs)
+    if not os.path.isdir(parent):
+        raise Refused(f"--keep {keep}: no such folder {parent} (create it first)")
+    return list(folders)
+
+
+def make_folder(path):
+    try:
+        os.mkdir(path)
+    except FileExistsError:
+        if os.path.islink(path) or not os.path.isdir(path):  # made since the check: refused, not written through
+            raise Refused(f"--keep: {path}: no longer a folder (a link or a file was put there)") from None
+
+
 def main():
     args = parse_args()
+    args.inputs = [args.scene, args.config]
     require_programs(args, ["controller_sweep"] if args.in_process else ["firmware_sim", "pointing_controller"])
     if args.in_process:
         cmd = [os.path.join(args.bin, "controller_sweep"), "--scene", args.scene, "--config", args.config,
                "--omega", args.omega, "--settle-tol", repr(args.settle_tol)]
         cmd += sum([["--set", s] for s in args.set], []) + sum([["--scene-set", s] for s in args.scene_set], [])
-        if args.duration > 0:
+        if args.duration is not None:
             cmd += ["--duration", repr(args.duration)]
-        if args.gain_set:
-            raise Refused("--gain-set needs the lockstep mode (controller_sweep takes --omega only)")
+        if args.gain_set or args.keep is not None:
+            raise Refused(f"{'--gain-set' if args.gain_set else '--keep'} needs the lockstep mode (controller_sweep "
+                          f"takes --omega only and writes no run files)")
         return subprocess.run(cmd).returncode
     base = print_config(args, [])
     track_start = float(base["profile.slew_start"]) + float(base["profile.slew_time"]) + float(base["profile.hold_time"])
-    if 0 < args.duration <= track_start:  # every figure but the torques is the track's (as controller_sweep refuses)
+    if args.duration is not None and args.duration <= track_start:  # every figure but the torques is the track's
         print(f"tune_sweep: error: --duration: track window [{track_start:g}, inf) s not reached: run ended at "
               f"{args.duration:g} s", file=sys.stderr)
         return 2
+    sets = gain_sets(args, base)
+    cfgs = [print_config(args, overrides) for _, overrides in sets]  # every set's refusal before any run
+    folders = keep_folders(args, sets) if args.keep is not None else [None] * len(sets)
     print(f"# lockstep over LCM udpm (private network namespace): scene {os.path.basename(args.scene)}, "
           f"config {os.path.relpath(args.config, ROOT)}, settle band {args.settle_tol:g} rad")
     hdr = f"{'gain set':<34} {'settle_s':>9} {'rms_truth':>10} {'max_truth':>10} {'max_e_trk':>10} " \
           f"{'tau1max':>8} {'tau2max':>8} {'x_real':>7}"
     print(hdr)
     failures = 0
-    for name, overrides in gain_sets(args, base):
-        cfg = print_config(args, overrides)
-        if args.keep:
-            workdir = os.path.join(args.keep, name.replace("=", "_").replace(",", "_").replace(" ", ""))
-            os.makedirs(workdir, exist_ok=True)
+    for (name, _), cfg, workdir in zip(sets, cfgs, folders):
+        if workdir is not None:
+            make_folder(args.keep)
+            make_folder(workdir)
             m, err = run_lockstep(args, cfg, workdir)
         else:
             with tempfile.TemporaryDirectory(prefix="tune_sweep_") as workdir:
