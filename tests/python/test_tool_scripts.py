@@ -84,12 +84,24 @@ def study_dir(tmp):
 def test_pointing_study_plot_refuses_bad_cells_and_outputs(tmp):
     d = study_dir(tmp)
     assert run(STUDY, d).returncode == 0
-    # "nan" is the CSV convention's figure without a value (a run that never reached the track): plotted, not refused
-    (d / "summary.csv").write_text("run,scene,clearance_m,status,rms_track_rad,peak_track_rad,track_ticks\n"
-                                   "ideal,paper_ideal,0,ok,nan,nan,0\n")
+    # "nan" is the CSV convention's figure without a value (a run that never reached the track): a run
+    # without one is left out of the plot, beside one that has it ...
+    (d / "summary.csv").write_text("run,scene,clearance_m,status,rms_track_rad,peak_track_rad,track_ticks,"
+                                   "track_reason\nideal,paper_ideal,0,ok,1e-6,2e-6,1,\n"
+                                   "c=0.1mm,paper_clearance,1e-4,ok,nan,nan,0,track window not reached\n")
     p = run(STUDY, d)
     assert p.returncode == 0, p.stderr
     assert (d / "pointing_error_vs_clearance.png").exists()
+    # ... but a study none of whose runs has one gets no plot (it drew two empty axes)
+    (d / "summary.csv").write_text("run,scene,clearance_m,status,rms_track_rad,peak_track_rad,track_ticks,"
+                                   "track_reason\nideal,paper_ideal,0,ok,nan,nan,0,track window [3.5; inf) s not "
+                                   "reached: run ended at 0.1 s\n")
+    refused(run(STUDY, d), "no run has a figure while tracking (track window [3.5; inf) s not reached")
+    (d / "summary.csv").write_text("run,scene,clearance_m,status,rms_track_rad,peak_track_rad,track_ticks\n"
+                                   "ideal,paper_ideal,0,ok,1e-6,2e-6,1\n")
+    (d / "pointing_error.csv").write_text("t_s,error_ideal_rad\n0,0\n0.001,0\n")
+    refused(run(STUDY, d), "pointing_error.csv: no run drawn against time has a pointing error above 0")
+    (d / "pointing_error.csv").write_text("t_s,error_ideal_rad\n0,1e-6\n0.001,2e-6\n")
     (d / "summary.csv").write_text("run,scene,clearance_m,status,rms_track_rad,peak_track_rad,track_ticks\n"
                                    "ideal,paper_ideal,zero,ok,1e-6,2e-6,1\n")
     refused(run(STUDY, d), "summary.csv:2", "clearance_m")

@@ -163,6 +163,12 @@ def main():
     check_before_writing(outs, [series, summary])
     head, cols = read_series(series)
     rows = read_summary(summary)
+    # Both figures are the tracking's: a study none of whose runs has a figure there draws two empty axes.
+    if not any(r["status"] == "ok" and np.isfinite(r["rms_track_rad"]) for r in rows):
+        why = next((r["track_reason"] for r in rows if r.get("track_reason")), "no run ended ok")
+        raise Refused(f"{summary}: no run has a figure while tracking ({why}): nothing to plot")
+    if not any(np.any(cols.get(error_column(run), np.array([])) > 0) for run in shown_in_time_plot(rows)):
+        raise Refused(f"{series}: no run drawn against time has a pointing error above 0: nothing to plot")
     plot_time(head, cols, rows, outs[0])
     plot_clearance(rows, outs[1])
     print("wrote " + ", ".join(outs))
