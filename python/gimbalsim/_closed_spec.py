@@ -191,10 +191,8 @@ class ClosedLoopSpec:
                 if k in opts:
                     kw[k] = spec.number(f"{where}.{k}", opts[k], 0.5, 1 - 1e-9)  # indices._check_question
             if "requirement" in opts:
-                kw["requirement"] = spec.number(f"{where}.requirement", opts["requirement"], 0.0)
-                if not kw["requirement"] > 0.0:  # 0 (or -0) rad: every unit fails, a verdict from no question
-                    spec.refuse(f"{where}.requirement", f"must be > 0 rad, got {opts['requirement'].value!r}",
-                                opts["requirement"])
+                # 0 (or -0) rad: every unit fails, a verdict from no question
+                kw["requirement"] = spec.number(f"{where}.requirement", opts["requirement"], 0.0, above=True)
             out.append(IndexSpec(name, **kw))
         if not out:
             spec.refuse("indices", "no index named: give one or more of " + ", ".join(INDICES), root["indices"])

@@ -138,11 +138,15 @@ class Spec:
             self.refuse(name, f"expected a whole number in [{lo}, {hi}], got {v!r}", node)
         return v
 
-    def number(self, name, node, lo=float("-inf"), hi=float("inf")):
+    def number(self, name, node, lo=float("-inf"), hi=float("inf"), above=False):
+        """A finite number in [lo, hi] ((lo, hi] with above: lo itself refused)."""
         v = node.value  # never Inf or NaN: a requirement of .inf gave a verdict "against inf rad"
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or not (lo <= v <= hi):
-            rng = (f"a number in [{lo}, {hi}]" if math.isfinite(lo) and math.isfinite(hi)
-                   else f"a finite number >= {lo}" if math.isfinite(lo) else "a finite number")
+        low_ok = lambda x: x > lo if above else x >= lo  # noqa: E731
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or \
+                not (low_ok(v) and v <= hi):
+            opening = "(" if above else "["
+            rng = (f"a number in {opening}{lo}, {hi}]" if math.isfinite(lo) and math.isfinite(hi)
+                   else f"a finite number {'>' if above else '>='} {lo}" if math.isfinite(lo) else "a finite number")
             self.refuse(name, f"expected {rng}, got {v!r}", node)
         return float(v)
 

@@ -92,7 +92,7 @@ class TuneSpec:
                 spec.refuse(f"gains.{key}", "choice: a gain's choices are numbers or names", node)
             if len(set(map(str, p.args))) < 2:  # every trial would run this gain at one value
                 spec.refuse(f"gains.{key}", f"{p.kind} over one value {p.args[0]!r}: nothing to search; give it "
-                            "under controller.set", node)
+                            "under controller_set", node)
             for v in p.extremes():
                 try:
                     gimbalsim.Controller(self.controller_path, {**self.controller_set, key: v},

@@ -108,7 +108,10 @@ REFUSALS = [
      "indices.ape.requirement", "expected a finite number"),
     # a requirement of 0 or -0 rad: every unit fails, a verdict from no question
     ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: -0.0}",
-     "indices.ape.requirement", "must be > 0 rad, got -0.0"),
+     "indices.ape.requirement", "expected a finite number > 0.0, got -0.0"),
+    # NaN is refused with the same range (it said ">= 0.0", a range that took 0)
+    ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: .nan}",
+     "indices.ape.requirement", "expected a finite number > 0.0, got nan"),
     ("  rpe: {window: 0.05}", "  rpe: {window: 0.0505}", "indices.rpe.window", "whole number of control periods"),
     # the C++ keys' whole-multiple rule (relative 1e-12), not a looser one of the spec's own
     ("  rpe: {window: 0.05}", "  rpe: {window: 0.05000000001}", "indices.rpe.window",

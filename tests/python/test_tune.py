@@ -91,7 +91,7 @@ def test_tuning_spec_refusals_name_the_key(change, key, tmp_path):
      "gains.gimbal.boresight", "numbers or names"),
     # a gain over one value: searched by no trial
     (("azimuth.kp: {loguniform: [5000, 80000]}", "azimuth.kp: {loguniform: [21120, 21120]}"),
-     "gains.azimuth.kp", "loguniform over one value 21120.0: nothing to search"),
+     "gains.azimuth.kp", "loguniform over one value 21120.0: nothing to search; give it under controller_set"),
     (("azimuth.kp: {loguniform: [5000, 80000]}", "azimuth.kp: {choice: [21120, 21120]}"),
      "gains.azimuth.kp", "choice over one value"),
     # under the default model feed-forward the fixed-base inertia law is off: every trial the same loop
