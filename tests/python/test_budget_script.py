@@ -95,3 +95,24 @@ def test_a_refused_shipped_spec_leaves_the_previous_results(tmp_path):
     assert (previous / "results.csv").read_text() == "the previous run's\n"
     assert sorted(os.listdir(root / "out")) == ["pointing_budget"]  # no half-made folder left
     assert digest(root / "docs") == before
+
+
+def test_a_refused_spec_makes_no_out_folder(tmp_path):
+    # Where the user stands holds no out/: a spec the sweep refuses leaves none behind (it did).
+    work = tmp_path / "work"
+    work.mkdir()
+    (work / "bad.yaml").write_text(SPEC.replace("samples: 2", "samples: 2\nsampels: 3"))
+    env = dict(os.environ, GIMBALSIM_BUILD=str(pathlib.Path(os.environ["PYTHONPATH"]).parent))
+    p = subprocess.run(["bash", str(SOURCE / "tools/sweeps/run_pointing_budget.sh"), "bad.yaml", "--workers", "1"],
+                       cwd=work, capture_output=True, text=True, timeout=300, env=env)
+    assert p.returncode == 2 and "key 'sampels': unknown key" in p.stderr, p.stderr
+    assert sorted(os.listdir(work)) == ["bad.yaml"]
+    # the shipped budget's run too (in a copy of what it touches), out/ made for it and taken back
+    root = tmp_path / "checkout"
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/pages/results_page.py"):
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(SOURCE / rel, root / rel)
+    (root / "tools/sweeps/pointing_budget.yaml").write_text(SPEC.replace("samples: 2", "samples: 2\nsampels: 3"))
+    p = subprocess.run(["bash", str(root / "tools/sweeps/run_pointing_budget.sh"), "--workers", "1"],
+                       capture_output=True, text=True, timeout=300, env=env)
+    assert p.returncode == 2 and not (root / "out").exists(), p.stderr

@@ -36,10 +36,15 @@ if [ -n "$SPEC" ]; then
   # A user's spec: its own output folder (a --out among the options wins), nothing else written.
   OUT="out/pointing_budget-$(basename "${SPEC%.*}")"
   for a in "${ARGS[@]+"${ARGS[@]}"}"; do case "$a" in --out | --out=*) OUT= ;; esac; done
-  [ -z "$OUT" ] || mkdir -p out  # the script's own default folder is made, as a program's under out/ is
+  # The script's own default folder is made, as a program's under out/ is, and taken back when the sweep
+  # refuses the spec or fails with it still empty (a refused run leaves nothing).
+  made_out=0
+  if [ -n "$OUT" ] && [ ! -d out ]; then mkdir out && made_out=1; fi
+  rc=0
   PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$SPEC" ${OUT:+--out "$OUT"} --no-progress \
-    "${ARGS[@]+"${ARGS[@]}"}"
-  exit 0
+    "${ARGS[@]+"${ARGS[@]}"}" || rc=$?
+  [ "$rc" -eq 0 ] || [ "$made_out" = 0 ] || rmdir out 2>/dev/null || true
+  exit "$rc"
 fi
 
 for a in "${ARGS[@]+"${ARGS[@]}"}"; do
@@ -52,11 +57,13 @@ done
 cd "$ROOT"
 COMMAND="bash tools/sweeps/run_pointing_budget.sh$(printf ' %q' "${ARGS[@]+"${ARGS[@]}"}")"
 OUT=out/pointing_budget
-mkdir -p out
+made_out=0
+if [ ! -d out ]; then mkdir out && made_out=1; fi
 # Into a fresh folder first: the previous results go only once this run has
-# its own (a refused spec or a failed run leaves them as they were).
+# its own (a refused spec or a failed run leaves them as they were, and an
+# out/ made for it goes again).
 NEW="$OUT.new-$$"
-trap 'rm -rf "$NEW"' EXIT
+trap 'rm -rf "$NEW"; [ "$made_out" = 0 ] || rmdir out 2>/dev/null || true' EXIT
 PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$SHIPPED" --out "$NEW" --no-progress "${ARGS[@]+"${ARGS[@]}"}"
 rm -rf "$OUT"
 mv "$NEW" "$OUT"
