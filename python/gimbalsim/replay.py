@@ -199,11 +199,24 @@ def replay(folder, i, out, plot_path=None):
         print(f"replay: sample {i} reproduces its row of {source}, every column but "
               f"{', '.join(NOT_COMPARED)}, bit for bit", file=sys.stderr)
     if replay_status != "ok":
-        stop = run.summary.get("stop") or {}
-        print(f"replay: the run stopped at t = {run.rows[-1, 0] if len(run.rows) else 0.0:g} s: status "
-              f"{replay_status} ({stop.get('step_status', '')})", file=sys.stderr)
+        print(f"replay: {_stop_text(run.summary, replay_status)}", file=sys.stderr)
         return EXIT_STOPPED
     return EXIT_OK
+
+
+def _stop_text(summary, status):
+    """Why a replayed sample is not ok, in the run's own words: an open loop's
+    stop (its time and step status), a closed loop's error, or (open loop) the
+    ideal-joint twin that stopped, leaving no pointing error."""
+    if "stop" in summary and summary["stop"]:  # open loop
+        stop = summary["stop"]
+        run = f"the run stopped at t = {stop['time_s']:g} s: {stop['step_status']}" if stop.get("key") else "the run ended"
+    else:
+        run = summary.get("error") or "the run ended"
+    twin = status.split("ideal:", 1)[1] if "ideal:" in status else None
+    return f"status {status}: " + (run if twin is None or "|" in status else "") + \
+        (("; " if "|" in status else "") + f"the ideal-joint twin (the pointing error's reference) stopped on {twin}, "
+         "so the sample has no pointing error" if twin else "")
 
 
 def _report(differ, header, recorded, row, i, source):

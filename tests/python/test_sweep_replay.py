@@ -281,7 +281,10 @@ def test_a_sample_whose_run_stopped_reproduces_and_exits_3(tmp_path):
     assert row["status"] == "sim.velocity_limit"
     p = sweep(folder / "out", "--replay", 1, "--out", tmp_path / "run.csv")
     assert p.returncode == 3, p.stderr
-    assert "reproduces its row" in p.stderr and "the run stopped" in p.stderr and "sim.velocity_limit" in p.stderr
+    assert "reproduces its row" in p.stderr and "sim.velocity_limit" in p.stderr
+    # the stop's own time and words (it printed the last row's time and "()" for a closed loop)
+    assert "status sim.velocity_limit: the run stopped at t = " in p.stderr and "()" not in p.stderr, p.stderr
+    assert "a velocity exceeded sim.velocity_limit" in p.stderr
     with open(tmp_path / "run.csv") as f:
         n = sum(1 for _ in f) - 1
     assert 0 < n < round(0.15 / 0.001) + 1  # the rows up to the stop
@@ -386,3 +389,17 @@ def test_the_spec_the_sweep_ran_from_is_never_an_output(swept):
     p = sweep(swept, "--replay", 1, "--out", original, "--plot", swept.parent / "never.png")
     assert p.returncode == 2, p.stderr
     assert original.read_bytes() == before and not (swept.parent / "never.png").exists()
+
+
+def test_a_replayed_stop_is_said_in_the_runs_own_words():
+    from gimbalsim.replay import _stop_text
+    scene = gimbalsim.load_scene(SCENES / "paper_clearance.yaml", {"sim.velocity_limit": 0.05})
+    ctrl = gimbalsim.Controller(None, {"profile.slew_start": 0.0, "profile.slew_time": 0.1, "profile.hold_time": 0.1})
+    closed = gimbalsim.closed_loop(scene, ctrl, 0.4).summary
+    text = _stop_text(closed, "sim.velocity_limit")
+    assert text.startswith("status sim.velocity_limit: simulation stopped at t = 0.007 s") and "()" not in text, text
+    # an open-loop sample whose ideal-joint twin stopped: the run did not
+    open_ok = {"stop": None}  # as an open loop that ended ok gives it
+    text = _stop_text(open_ok, "ideal:sim.energy_tol")
+    assert text == ("status ideal:sim.energy_tol: the ideal-joint twin (the pointing error's reference) stopped on "
+                    "sim.energy_tol, so the sample has no pointing error"), text
