@@ -97,6 +97,12 @@ def report(med, shipped, no_truth, runs):
           f"{', '.join(f'{v:.2f}' for v in xs2)} (median {x2:.2f}, thread CPU p50 {cpu2:g} us, "
           f"round trip p50 {rtt2:g} us): wall per tick {1000.0 / x:.1f} us as shipped, {1000.0 / x2:.1f} us with "
           "the truth one tick in 1000.")
+    saved_cpu, saved_wall = cpu - cpu2, 1000.0 / x - 1000.0 / x2
+    # The truth goes out after the status, while the controller computes: whether that is on the critical path.
+    print(f"Without the truth firmware_sim's thread saves {saved_cpu:g} us per tick and the tick's wall time "
+          f"{saved_wall:.1f} us: the truth's send is " +
+          ("off the critical path (it overlaps the controller's turn); the status and attitude sends, the receive "
+           "and the two wake-ups are on it." if abs(saved_wall) < 0.25 * saved_cpu else "on the critical path."))
     print(f"40 x real time needs {1000.0 / 40:.0f} us of wall per tick.")
 
 
