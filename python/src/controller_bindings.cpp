@@ -206,6 +206,16 @@ void bindController(pyb::module_& m) {
           "update",
           [](PyController& c, double t, double theta1, double theta2, double dtheta1, double dtheta2,
              std::optional<std::array<double, 3>> gyro) {
+            // A measurement that is no number, or a law that overflows on one, gives no command
+            // (the bench's controller never sends a non-finite one either).
+            const std::pair<const char*, double> given[] = {{"t", t}, {"theta1", theta1}, {"theta2", theta2},
+                                                            {"dtheta1", dtheta1}, {"dtheta2", dtheta2}};
+            for (const auto& [name, v] : given) {
+              if (!std::isfinite(v)) throw pyb::value_error(std::string("update: ") + name + " is not finite");
+            }
+            if (gyro && !(std::isfinite((*gyro)[0]) && std::isfinite((*gyro)[1]) && std::isfinite((*gyro)[2]))) {
+              throw pyb::value_error("update: gyro is not finite");
+            }
             Measurement meas;
             meas.t = t;
             meas.theta = {theta1, theta2};
@@ -216,6 +226,10 @@ void bindController(pyb::module_& m) {
               meas.att.gyro_valid = false;
             }
             const ControlOutput out = update(c.config, c.state, meas);
+            if (!out.tau.allFinite()) {
+              throw pyb::value_error("update: the law gave a non-finite torque from these measurements (an "
+                                     "overflow): no command; reset() before the next update");
+            }
             pyb::dict d;
             d["tau"] = pyb::make_tuple(out.tau(0), out.tau(1));
             d["tau_unsat"] = pyb::make_tuple(out.tau_unsat(0), out.tau_unsat(1));

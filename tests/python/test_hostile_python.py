@@ -448,3 +448,18 @@ def test_closed_loop_arguments_out_of_range_or_of_another_type_are_refused(kwarg
     with pytest.raises(error) as e:
         gimbalsim.closed_loop(scene(), gimbalsim.Controller(CONTROLLER_CONFIG), **args)
     assert message in str(e.value), str(e.value)
+
+
+def test_controller_update_gives_no_command_from_a_non_finite_or_overflowing_input():
+    # gyro 1e308 overflowed the law into tau (nan, nan), returned as a command
+    c = gimbalsim.Controller(None, {})
+    for kwargs, what in (({"theta1": float("nan")}, "theta1 is not finite"),
+                         ({"dtheta2": float("inf")}, "dtheta2 is not finite"),
+                         ({"gyro": [0.0, float("nan"), 0.0]}, "gyro is not finite"),
+                         ({"gyro": [1e308, 1e308, 1e308]}, "the law gave a non-finite torque")):
+        args = {"t": 0.0, "theta1": 0.1, "theta2": 0.2, **kwargs}
+        with pytest.raises(ValueError, match=what):
+            c.update(**args)
+        c.reset()
+    out = c.update(0.0, 0.1, 0.2, gyro=[0.0, 0.0, 0.0])
+    assert all(math.isfinite(x) for x in out["tau"])
