@@ -20,7 +20,7 @@ CASES = {
                         "--truth-csv", "OUT"], "--truth-csv"),
     "firmware_ticks": (["firmware_sim", IDEAL, "--lcm-url", "memq://", "--duration", "0.01",
                         "--tick-log", "OUT"], "--tick-log"),
-    "controller_floor": (["gimbalsim_controller_floor", "--duration", "0.2", "--clearances", "2.5e-4",
+    "controller_floor": (["gimbalsim_controller_floor", "--duration", "2.6", "--clearances", "2.5e-4",
                           "--ideal-scene", IDEAL, "--clearance-scene", CLEARANCE, "--markdown", "OUT"],
                          "--markdown"),
     "record": (["gimbalsim_record", "OUT", "--lcm-url", "memq://", "--duration", "0.1"], "OUT"),
