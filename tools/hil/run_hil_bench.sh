@@ -39,7 +39,13 @@ while [ $# -gt 0 ]; do
   esac
   shift
 done
-BUILD="$ROOT/${GIMBALSIM_BUILD:-build}"
+# A GIMBALSIM_BUILD the user names is read where the user stands, as every path they give, and never
+# built; the default is the checkout's build/, built when a program is missing.
+case "${GIMBALSIM_BUILD:-}" in
+  "") BUILD="$ROOT/build" ;;
+  /*) BUILD="$GIMBALSIM_BUILD" ;;
+  *) BUILD="$PWD/$GIMBALSIM_BUILD" ;;
+esac
 BIN="$BUILD/bin"
 # Every file a run may leave in --out (bench_*.csv: gimbalsim_log2csv's, one per channel).
 OUTPUTS=(truth.csv controller.csv controller.txt firmware.txt bench.lcmlog bench.png)
@@ -49,6 +55,7 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
   for f in "$SCENE" "$CONFIG"; do [ -f "$f" ] || { echo "run_hil_bench.sh: no such file: $f" >&2; exit 2; }; done
   for t in firmware_sim pointing_controller gimbalsim_log2csv gimbalsim_record; do
     if [ ! -x "$BIN/$t" ]; then
+      [ -z "${GIMBALSIM_BUILD:-}" ] || { echo "run_hil_bench.sh: GIMBALSIM_BUILD=$GIMBALSIM_BUILD: no $BIN/$t" >&2; exit 2; }
       cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
       cmake --build "$BUILD" -j2 --target firmware_sim pointing_controller gimbalsim_log2csv gimbalsim_record
       break
@@ -57,6 +64,10 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
   # Its own folder is made (the default out/bench included), never the ones above it (usage.md "Output files").
   parent="$(dirname "$OUT")"
   [ "$OUT_GIVEN" = 0 ] || [ -d "$parent" ] || { echo "run_hil_bench.sh: --out $OUT: the folder it goes in, $parent, does not exist (create it first)" >&2; exit 2; }
+  # --out itself: a folder, never a link to one or a file (usage.md "Output files")
+  if [ -L "$OUT" ] || { [ -e "$OUT" ] && [ ! -d "$OUT" ]; }; then
+    echo "run_hil_bench.sh: --out $OUT: a link or not a folder; name a folder" >&2; exit 2
+  fi
   # A link or a folder under an output's name is refused before anything runs (usage.md "Output files").
   for f in "${OUTPUTS[@]}" "$OUT"/bench_*.csv; do
     f="$OUT/${f#"$OUT"/}"
@@ -64,8 +75,11 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
       echo "run_hil_bench.sh: $f: a link or not a regular file under an output's name; move it out" >&2; exit 2
     fi
   done
-  mkdir -p "$OUT"
+  # A folder made for this run goes again if the run does not end well (a refused run leaves nothing).
+  [ "$OUT_GIVEN" = 1 ] || mkdir -p "$parent"  # the default out/bench: out/ is the project's
+  if [ ! -d "$OUT" ]; then mkdir "$OUT" && export GIMBALSIM_BENCH_MADE_OUT=1; fi
   OUT="$(cd "$OUT" && pwd)"
+  export GIMBALSIM_BUILD="$BUILD"
   SCENE="$(realpath "$SCENE")" CONFIG="$(realpath "$CONFIG")"
   export GIMBALSIM_BENCH_INSIDE=1
   args=(--duration "$DURATION" --scene "$SCENE" --config "$CONFIG" --rate "$RATE" --out "$OUT" --port "$PORT")
@@ -88,7 +102,12 @@ fi
 RUN="$(mktemp -d "$OUT/.run.XXXXXX")"
 cd "$RUN"
 pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; rm -rf "$RUN"; }
+ended_well=0
+cleanup() {
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  rm -rf "$RUN"
+  [ "$ended_well" = 1 ] || [ "${GIMBALSIM_BENCH_MADE_OUT:-0}" != 1 ] || rmdir "$OUT" 2>/dev/null || true
+}
 trap cleanup EXIT
 failed() {  # failed MESSAGE CODE: the run's own logs on stderr, OUT as it was
   for f in firmware.txt controller.txt; do [ ! -s "$f" ] || { echo "--- $f"; cat "$f"; } >&2; done
@@ -131,4 +150,5 @@ fi
 (cd "$OUT" && rm -f "${OUTPUTS[@]}" bench_*.csv)
 shopt -s nullglob
 for f in *; do mv -f -- "$f" "$OUT/$f"; done
+ended_well=1
 echo "run_hil_bench.sh: results in $OUT (truth.csv, controller.csv, firmware.txt$([ "$LOG" = 1 ] && echo ", bench.lcmlog, bench_*.csv")$([ "$PLOT" = 1 ] && echo ", bench.png"))"
