@@ -226,7 +226,7 @@ void bindController(pyb::module_& m) {
               meas.att.gyro_valid = false;
             }
             const ControlOutput out = update(c.config, c.state, meas);
-            if (!out.tau.allFinite()) {
+            if (!(out.tau.allFinite() && out.tau_unsat.allFinite() && out.error.allFinite() && out.ref.q.allFinite())) {
               throw pyb::value_error("update: the law gave a non-finite torque from these measurements (an "
                                      "overflow): no command; reset() before the next update");
             }

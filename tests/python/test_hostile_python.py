@@ -456,7 +456,9 @@ def test_controller_update_gives_no_command_from_a_non_finite_or_overflowing_inp
     for kwargs, what in (({"theta1": float("nan")}, "theta1 is not finite"),
                          ({"dtheta2": float("inf")}, "dtheta2 is not finite"),
                          ({"gyro": [0.0, float("nan"), 0.0]}, "gyro is not finite"),
-                         ({"gyro": [1e308, 1e308, 1e308]}, "the law gave a non-finite torque")):
+                         ({"gyro": [1e308, 1e308, 1e308]}, "the law gave a non-finite torque"),
+                         # the command saturates to a finite one, but what the law asked for overflowed
+                         ({"dtheta2": 1e308}, "the law gave a non-finite torque")):
         args = {"t": 0.0, "theta1": 0.1, "theta2": 0.2, **kwargs}
         with pytest.raises(ValueError, match=what):
             c.update(**args)

@@ -95,6 +95,11 @@ REFUSALS = [
     ("  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}",
      "  sensors.seed: {choice: [1, 2]}\n  sensors.gyro_noise: {choice: [0.0]}",
      "parameters.sensors.seed", "for every value of sensors.gyro_noise the study gives"),
+    # ... and when the only noise is the antenna's, which the controller does not read
+    (("set: {sim.duration: 0.5}", "  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}"),
+     ("set: {sim.duration: 0.5, sensors.tracker_noise: 1.0e-3, sensors.antenna_gyro_noise: 1.0e-4}",
+      "  sensors.seed: {choice: [1, 2]}"),
+     "parameters.sensors.seed", "is 0: nothing random to seed"),
     # the scene's label: no run reads it
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  name: {choice: [a, b]}", "parameters.name",
      "the scene's label: no run reads it"),
