@@ -181,7 +181,7 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
   const struct {
     std::string path, expected;
   } cases[] = {
-      {dir / "none.csv", "none.csv: no such file"},
+      {dir / "none.csv", "none.csv: cannot open truth CSV: No such file or directory"},
       {scenePath("paper_clearance"), "paper_clearance.yaml:1: no seq, tau1_Nm and tau2_Nm columns"},
       // a pipe would block, a device never end: refused at once
       {fifo, "run.fifo: not a regular file"},
@@ -204,6 +204,14 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
       // 1e-400 reads as 0: a torque nobody recorded
       {write("tiny.csv", "seq,tau1_Nm,tau2_Nm\n0,0,0\n1,1e-400,0\n"),
        "tiny.csv:3: column tau1_Nm: not a finite number (it underflows a double)"},
+      // a column torque_replay does not read is still the run's: a word or a NaN there is no tick the plant made
+      {write("othercol.csv", "seq,tau1_Nm,tau2_Nm,energy_J\n0,0,0,1\n1,0,0,abc\n"),
+       "othercol.csv:3: column energy_J: not a finite number"},
+      {write("othernan.csv", "seq,tau1_Nm,tau2_Nm,energy_J\n0,0,0,nan\n1,0,0,1\n"),
+       "othernan.csv:2: column energy_J: not a finite number"},
+      // an editor's CRLF line ends or byte-order mark: not the file firmware_sim wrote
+      {write("crlf.csv", "seq,tau1_Nm,tau2_Nm\r\n0,0,0\r\n1,0,0\r\n"), "crlf.csv:1: ends in CR (CRLF line ends)"},
+      {write("bom.csv", "\xEF\xBB\xBFseq,tau1_Nm,tau2_Nm\n0,0,0\n1,0,0\n"), "bom.csv:1: starts with a byte-order mark"},
       // time that stands still or runs back: an edited file, not one run's ticks
       {write("back.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm\n0,0.001,0,0\n1,0.001,0,0\n"),
        "back.csv:3: sim_time_s 0.001 is not after the previous row's"},

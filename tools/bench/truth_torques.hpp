@@ -5,8 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cerrno>
 #include <cstdlib>
-#include <filesystem>
+#include <cstring>
 #include <fstream>
 #include <istream>
 #include <sstream>
@@ -14,6 +15,8 @@
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <sys/stat.h>
 
 #include "gimbalsim/input/plain_decimal.hpp"
 
@@ -27,17 +30,27 @@ struct Torques {
 };
 
 /// The two torque columns of a truth CSV written every tick (its seq column
-/// 0, 1, 2, ...), read from `in`; throws std::runtime_error naming `name`,
+/// 0, 1, 2, ...; every cell a plain finite decimal), read from `in`; throws std::runtime_error naming `name`,
 /// the line and the column.
 inline Torques parseTorques(std::istream& in, const std::string& name) {
   std::string line;
+  long long lines = 0;
+  // The file as firmware_sim writes it, as every reader of ours takes it: an editor's byte-order mark
+  // or CRLF line ends mean the file passed through something that may have changed more.
   const auto next = [&] {
     if (!std::getline(in, line)) return false;
-    if (!line.empty() && line.back() == '\r') line.pop_back();  // a CSV saved with CRLF line ends
+    ++lines;
     if (line.size() > kMaxLineBytes) throw std::runtime_error(name + ": a line longer than 64 KiB (not a truth CSV)");
+    if (!line.empty() && line.back() == '\r') {
+      throw std::runtime_error(name + ":" + std::to_string(lines) +
+                               ": ends in CR (CRLF line ends): not as firmware_sim writes a truth CSV");
+    }
     return true;
   };
   if (!next()) throw std::runtime_error(name + ": empty, no header");
+  if (line.rfind("\xEF\xBB\xBF", 0) == 0) {
+    throw std::runtime_error(name + ":1: starts with a byte-order mark: not as firmware_sim writes a truth CSV");
+  }
   std::vector<std::string> header;
   const bool empty_last = !line.empty() && line.back() == ',';  // getline drops an empty last field
   for (std::stringstream ss(line); std::getline(ss, line, ',');) header.push_back(line);
@@ -96,6 +109,8 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
       }
       t_prev = t_s;
     }
+    // Every cell, read or not, is the writer's number: a row with a word or a NaN anywhere is no tick the plant made.
+    for (int c = 0; c < static_cast<int>(header.size()); ++c) number(f, c, n);
     t.tau1.push_back(number(f, c1, n));
     t.tau2.push_back(number(f, c2, n));
   }
@@ -106,14 +121,14 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
 /// parseTorques of the file at path. A pipe would block and a device
 /// (/dev/zero) never end: anything but a regular file is refused unopened.
 inline Torques readTorques(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    throw std::runtime_error(path + (std::filesystem::exists(path, ec)
-                                         ? ": not a regular file (a pipe, a device or a folder): give the truth CSV's file"
-                                         : ": no such file"));
+  // Said as the other readers say it (base/input readFile): the path, what it is, the system's reason.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) throw std::runtime_error(path + ": cannot open truth CSV: " + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) {
+    throw std::runtime_error(path + ": not a regular file (a pipe, a device or a folder): give the truth CSV's file");
   }
   std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open");
+  if (!in) throw std::runtime_error(path + ": cannot open truth CSV: " + std::strerror(errno));
   return parseTorques(in, path);
 }
 
