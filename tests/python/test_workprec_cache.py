@@ -61,6 +61,14 @@ def test_a_cache_cut_short_is_computed_again(tmp_path):
         p = workprec(tmp_path)
         assert p.returncode == 0 and "row 1 is not six plain finite decimals" in p.stderr, (cell, p.stderr)
         assert errors(tmp_path) == want and cache.read_text() == whole
+    # a row deleted and the last repeated: the count holds, the rows are not the reference's
+    rows = whole.split("\n")
+    edited = rows[:5] + rows[6:-1] + [rows[-2], ""]
+    assert len(edited) == len(rows)
+    cache.write_text("\n".join(edited))
+    p = workprec(tmp_path)
+    assert p.returncode == 0 and "its rows are not the ones it was written with (edited)" in p.stderr, p.stderr
+    assert errors(tmp_path) == want and cache.read_text() == whole
     # the whole cache is used
     fourth = workprec(tmp_path)
     assert fourth.returncode == 0 and "cached" in fourth.stdout and "computed again" not in fourth.stderr

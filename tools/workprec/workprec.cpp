@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -158,10 +159,22 @@ bool parseCacheRow(const std::string& line, double (&v)[6]) {
   return true;
 }
 
-/// Cache file format: one line "# key rows self_consistency peak_contact peak_dt stick..."
-/// then "t,theta1,theta2,bore_x,bore_y,bore_z" and exactly `rows` rows, each ended by a
-/// newline. The count and the final newline tell a whole cache from one cut short (a full
-/// disk, a copy stopped), even inside its last number.
+/// FNV-1a (64 bit) of the text after the header line: a cache whose rows were edited (one
+/// deleted, another repeated: the count still holds) is not the reference it was written as.
+/// Not a defence against an attacker, who could write a matching header: the cache is the
+/// user's own file; this catches accidents.
+std::string bodyChecksum(const std::string& text, std::size_t from) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (std::size_t i = from; i < text.size(); ++i) h = (h ^ static_cast<unsigned char>(text[i])) * 1099511628211ull;
+  std::ostringstream out;
+  out << std::hex << h;
+  return out.str();
+}
+
+/// Cache file format: one line "# key rows checksum self_consistency peak_contact peak_dt
+/// stick..." then "t,theta1,theta2,bore_x,bore_y,bore_z" and exactly `rows` rows, each ended
+/// by a newline. The count and the final newline tell a whole cache from one cut short (a
+/// full disk, a copy stopped), even inside its last number; the checksum, one edited.
 /// Returns "" when path holds the whole reference of key (read into r), kNoCache
 /// when there is no file, else why the file cannot be used.
 constexpr const char* kNoCache = "none";
@@ -180,10 +193,10 @@ std::string readCache(const std::string& path, const std::string& key, Reference
   std::string line;
   if (!std::getline(in, line)) return "empty or unreadable";
   std::istringstream hs(line);
-  std::string hash, tag;
+  std::string hash, tag, checksum;
   long long rows = -1;
   StickSlip& ss = r.stick;
-  hs >> tag >> hash >> rows >> r.self_consistency >> r.rows.peak_contact >> r.peak_dt >> ss.dt >> ss.contact_time >>
+  hs >> tag >> hash >> rows >> checksum >> r.self_consistency >> r.rows.peak_contact >> r.peak_dt >> ss.dt >> ss.contact_time >>
       ss.below_va >> ss.band >> ss.slip >> ss.stick_entries >> ss.vt_sign_changes;
   if (tag != "#" || !hs || !(hs >> std::ws).eof() || rows <= 0) return "its first line is not a cache header";
   if (hash != key) return "made from other settings";
@@ -199,22 +212,27 @@ std::string readCache(const std::string& path, const std::string& key, Reference
     r.rows.bore.emplace_back(v[3], v[4], v[5]);
   }
   if (n != rows) return "holds " + std::to_string(n) + " rows where its header says " + std::to_string(rows);
+  if (checksum != bodyChecksum(text, text.find('\n') + 1)) return "its rows are not the ones it was written with (edited)";
   return "";
 }
 
 void writeCache(const std::string& path, const std::string& key, const Reference& r) {
+  std::ostringstream body;
+  body << std::setprecision(17);
+  const Trajectory& tr = r.rows;
+  body << "t,theta1,theta2,bore_x,bore_y,bore_z\n";
+  for (std::size_t i = 0; i < tr.t.size(); ++i) {
+    body << tr.t[i] << ',' << tr.theta1[i] << ',' << tr.theta2[i] << ',' << tr.bore[i].x() << ','
+         << tr.bore[i].y() << ',' << tr.bore[i].z() << '\n';
+  }
+  const std::string rows = body.str();
   std::ostringstream out;
   out << std::setprecision(17);
   const StickSlip& ss = r.stick;
-  const Trajectory& tr = r.rows;
-  out << "# " << key << ' ' << tr.t.size() << ' ' << r.self_consistency << ' ' << tr.peak_contact << ' ' << r.peak_dt
+  out << "# " << key << ' ' << tr.t.size() << ' ' << bodyChecksum(rows, 0) << ' ' << r.self_consistency << ' ' << tr.peak_contact << ' ' << r.peak_dt
       << ' ' << ss.dt << ' ' << ss.contact_time << ' ' << ss.below_va << ' ' << ss.band << ' ' << ss.slip << ' '
-      << ss.stick_entries << ' ' << ss.vt_sign_changes << "\n";
-  out << "t,theta1,theta2,bore_x,bore_y,bore_z\n";
-  for (std::size_t i = 0; i < tr.t.size(); ++i) {
-    out << tr.t[i] << ',' << tr.theta1[i] << ',' << tr.theta2[i] << ',' << tr.bore[i].x() << ','
-        << tr.bore[i].y() << ',' << tr.bore[i].z() << '\n';
-  }
+      << ss.stick_entries << ' ' << ss.vt_sign_changes << "\n"
+      << rows;
   io::writeFileAtomically(path, out.str());  // throws io::OutputError naming the file
 }
 
@@ -228,7 +246,7 @@ double cpuSecondsOfRun(const Scene& sc) {
 
 Reference reference(const Scene& sc, const std::string& key, const std::string& cache_dir, double peak_dt) {
   std::ostringstream hk;
-  hk << std::hex << std::hash<std::string>{}(key + " peak_dt=" + formatNumber(peak_dt) + " dopri5-1e-12 v3");
+  hk << std::hex << std::hash<std::string>{}(key + " peak_dt=" + formatNumber(peak_dt) + " dopri5-1e-12 v4");
   const std::string hash = hk.str();
   const std::string path = cache_dir + "/ref_" + sc.model.name + "_" + hash + ".csv";
   Reference r;
