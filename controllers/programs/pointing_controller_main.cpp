@@ -214,10 +214,12 @@ int run(int argc, char** argv) {
     if (code == program::kOk) code = program::kOutput;
   }
   // A run that ended before the track has no tracking figure: n/a with the reason, never 0.
+  // No status at all is no run: "run ended at 0 s" would invent an end time.
   const std::string track_error = pointing::figureText(
       h.maxTrackError(),
-      pointing::windowNotReached(pointing::profileWindow(c.profile, Segment::Track), pointing::WindowNeed::Part,
-                                 h.answered() > 0 ? h.lastTime() : 0.0),
+      h.answered() == 0 ? "no status answered"
+                        : pointing::windowNotReached(pointing::profileWindow(c.profile, Segment::Track),
+                                                     pointing::WindowNeed::Part, h.lastTime()),
       "%.3e rad");
   char last_t[48] = "n/a: none answered";  // a time of 0 for no status is a figure over nothing
   if (h.answered() > 0) std::snprintf(last_t, sizeof last_t, "%.3f s", h.lastTime());

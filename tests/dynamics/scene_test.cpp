@@ -125,11 +125,11 @@ TEST(Scene, NonPhysicalValuesAreRefused) {
        "use friction.law=coulomb_stick or ambrosio"},
       // A duration is whole steps, or refused with the nearest valid ones (never rounded).
       {{"sim.step=1e-3", "sim.duration=0.0025"},
-       "key 'sim.duration': must be a whole multiple of sim.step (0.001 s), at least one: 0.002 or 0.003"},
+       "key 'sim.duration': must be a whole multiple of sim.step (0.001 s), at least one; the nearest: 0.002 or 0.003"},
       // One rule for every whole multiple: half a step off is refused however long the run.
       {{"sim.step=1e-3", "sim.duration=1000.0005"}, "key 'sim.duration': must be a whole multiple of sim.step"},
       {{"sim.step=1e-3", "sim.duration=4e-4"},
-       "key 'sim.duration': must be a whole multiple of sim.step (0.001 s), at least one: 0.001"},
+       "key 'sim.duration': must be a whole multiple of sim.step (0.001 s), at least one; the shortest: 0.001"},
       {{"initial.ecc=[1e-3, 0]"}, "key 'initial.ecc': initial eccentricity exceeds the radial clearance of joint 2"},
   };
   for (const Case& c : cases) {

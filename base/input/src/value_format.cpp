@@ -35,9 +35,9 @@ std::string wholeMultipleProblem(double value, double unit, const std::string& u
     std::snprintf(b, sizeof b, "%.12g", k * unit);
     return std::string(b);
   };
-  std::string nearest = multiple(1.0);
-  if (std::isfinite(n) && n > 1.0) nearest = multiple(std::floor(n)) + " or " + multiple(std::floor(n) + 1.0);
-  return "must be a whole multiple of " + unit_name + " (" + formatNumber(unit) + " s), at least one: " + nearest;
+  const std::string what = "must be a whole multiple of " + unit_name + " (" + formatNumber(unit) + " s), at least one";
+  if (std::isfinite(n) && n > 1.0) return what + "; the nearest: " + multiple(std::floor(n)) + " or " + multiple(std::floor(n) + 1.0);
+  return what + "; the shortest: " + multiple(1.0);
 }
 
 std::string formatList(std::span<const double> v) {
