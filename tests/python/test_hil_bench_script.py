@@ -6,7 +6,7 @@ the previous run's files whole."""
 import os
 import subprocess
 
-from conftest import BIN, SOURCE
+from conftest import BIN, CONTROLLER_CONFIG, SOURCE
 
 SCRIPT = SOURCE / "tools" / "hil" / "run_hil_bench.sh"
 
@@ -37,8 +37,8 @@ def test_a_refused_run_changes_nothing_and_a_good_one_replaces_the_old_files(tmp
     (out / "truth.csv").write_text("precious\n")
     (out / "bench.png").write_text("an old plot\n")
     before = files(out)
-    p = bench(out, "--duration", "-1", "--no-plot")
-    assert p.returncode == 2 and "nothing in" in p.stderr and "--duration" in p.stderr, p.stderr
+    p = bench(out, "--duration", "0.2", "--no-plot", "--", "--truth-every", "0")  # refused by firmware_sim in the run
+    assert p.returncode == 2 and "nothing in" in p.stderr and "--truth-every" in p.stderr, p.stderr
     assert files(out) == before  # no .run.* folder left, nothing deleted or written
     p = bench(out, "--duration", "0.2", "--no-plot")
     assert p.returncode == 0, p.stderr
@@ -66,3 +66,29 @@ def test_a_relative_build_is_read_where_the_user_stands_and_never_built(tmp_path
     assert p.returncode == 0 and (tmp_path / "o" / "truth.csv").is_file(), p.stderr
     p = bench("o", "--duration", "0.2", "--no-plot", build="nowhere", cwd=tmp_path)
     assert p.returncode == 2 and "GIMBALSIM_BUILD=nowhere: no " in p.stderr, p.stderr
+
+
+def test_a_bad_number_is_refused_naming_the_flag_not_what_the_script_made_of_it(tmp_path):
+    # --rate 0 was refused as pointing_controller's "--set #1 'control.period=inf'", the period 1/--rate
+    for args, says in ((["--rate", "0"], "run_hil_bench.sh: --rate: must be in [0.001, 1e+06], got 0"),
+                       (["--rate", "abc"], "run_hil_bench.sh: --rate: 'abc' is not a plain decimal number"),
+                       (["--duration", "inf"], "run_hil_bench.sh: --duration: 'inf' is not a plain decimal number"),
+                       (["--port", "99999"], "run_hil_bench.sh: --port: must be a whole number in [1, 65535], got '99999'")):
+        p = bench(tmp_path / "new", "--no-plot", *args)
+        assert p.returncode == 2 and says in p.stderr and "control.period" not in p.stderr, p.stderr
+        assert "firmware_sim" not in p.stderr and not (tmp_path / "new").exists(), p.stderr
+
+
+def test_a_configuration_the_controller_refuses_is_its_refusal_not_firmware_sims(tmp_path):
+    # It ran, firmware_sim waited for a controller that had refused, and the script said "firmware_sim exited with 6".
+    config = tmp_path / "bad.yaml"
+    config.write_text(CONTROLLER_CONFIG.read_text().replace("  kp: 21120 ", "  kp: -5 ", 1))
+    p = bench(tmp_path / "new", "--no-plot", "--duration", "0.1", "--config", str(config), "--", "--start-timeout", "1")
+    assert p.returncode == 2, p.stderr
+    assert "key 'azimuth.kp': must be in [0, 1e+09], got -5" in p.stderr, p.stderr
+    says = f"run_hil_bench.sh: pointing_controller refused --config {config} with control.period = 1/--rate = 1/1000 s,"
+    assert says + " --duration 0.1 (exit 2, its message above); nothing run" in p.stderr, p.stderr
+    assert "firmware_sim" not in p.stderr and not (tmp_path / "new").exists(), p.stderr
+    p = bench(tmp_path / "new", "--no-plot", "--duration", "0.1", "--rate", "10")  # the default config at 10 Hz
+    assert p.returncode == 2 and "key 'control.rate_filter_hz': must be below the Nyquist frequency" in p.stderr, p.stderr
+    assert "pointing_controller refused --config" in p.stderr and "1/--rate = 1/10 s" in p.stderr, p.stderr

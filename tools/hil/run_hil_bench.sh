@@ -39,6 +39,18 @@ while [ $# -gt 0 ]; do
   esac
   shift
 done
+# Numbers are checked here, as given: the period 1/--rate and the URL derived from them would be blamed otherwise.
+number() {  # number FLAG VALUE LO HI: a plain decimal number in [LO, HI], else refused naming FLAG
+  [[ "$2" =~ ^-?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$ ]] ||
+    { echo "run_hil_bench.sh: $1: '$2' is not a plain decimal number" >&2; exit 2; }
+  awk -v x="$2" -v lo="$3" -v hi="$4" 'BEGIN { exit !(x + 0 >= lo + 0 && x + 0 <= hi + 0) }' ||
+    { echo "run_hil_bench.sh: $1: must be in [$3, $4], got $2" >&2; exit 2; }
+}
+number --rate "$RATE" 0.001 1e+06  # firmware_sim's range; the controller's control.period = 1/--rate then fits too
+number --duration "$DURATION" 0 1e+09
+[[ "$PORT" =~ ^[0-9]+$ ]] && [ "${#PORT}" -le 5 ] && [ "$PORT" -ge 1 ] && [ "$PORT" -le 65535 ] ||
+  { echo "run_hil_bench.sh: --port: must be a whole number in [1, 65535], got '$PORT'" >&2; exit 2; }
+PERIOD=$(awk -v r="$RATE" 'BEGIN { printf "%.17g", 1.0 / r }')
 # A GIMBALSIM_BUILD the user names is read where the user stands, as every path they give, and never
 # built; the default is the checkout's build/, built when a program is missing.
 case "${GIMBALSIM_BUILD:-}" in
@@ -61,6 +73,17 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
       break
     fi
   done
+  # The controller's configuration is checked before anything runs: a refusal in the run would show only
+  # as firmware_sim's "no controller answered" (exit 6) after --start-timeout.
+  c=0
+  msg=$("$BIN/pointing_controller" "$CONFIG" --set control.period="$PERIOD" --duration "$DURATION" --print-config \
+        2>&1 >/dev/null) || c=$?
+  if [ "$c" != 0 ]; then
+    printf '%s\n' "$msg" >&2
+    echo "run_hil_bench.sh: pointing_controller refused --config $CONFIG with control.period = 1/--rate = 1/$RATE s," \
+         "--duration $DURATION (exit $c, its message above); nothing run" >&2
+    exit "$c"
+  fi
   # Its own folder is made (the default out/bench included), never the ones above it (usage.md "Output files").
   parent="$(dirname "$OUT")"
   [ "$OUT_GIVEN" = 0 ] || [ -d "$parent" ] || { echo "run_hil_bench.sh: --out $OUT: the folder it goes in, $parent, does not exist (create it first)" >&2; exit 2; }
@@ -121,7 +144,6 @@ if [ "$LOG" = 1 ]; then
   LOGGER=$!; pids+=("$LOGGER")
   sleep 0.3
 fi
-PERIOD=$(awk -v r="$RATE" 'BEGIN { printf "%.17g", 1.0 / r }')
 # The same --duration as the plant: both end by themselves (docs/bench.md "Two terminals").
 "$BIN/pointing_controller" "$CONFIG" --set control.period="$PERIOD" --lcm-url "$URL" --duration "$DURATION" --idle-exit 10 \
     --log-csv controller.csv 2>controller.txt &
