@@ -6,6 +6,7 @@ import os
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from conftest import SOURCE
@@ -51,6 +52,25 @@ def test_bench_plot_writes_and_refuses_bad_outputs(tmp, truth):
     refused(run(BENCH, truth, "--out", tmp / "link.png"), "symbolic link")
     assert not (tmp / "victim.png").exists()
     refused(run(BENCH, truth, "--out", "/dev/full"), "not a regular file")
+
+
+def test_bench_plot_draws_no_invented_floor_for_an_error_of_exactly_0(tmp):
+    # An ideal run's error of exactly 0 was drawn as a line at 1e-12 on the log axis, with no word about it.
+    sys.path.insert(0, str(BENCH.parent))
+    from plot_bench import log_series
+    drawn, note = log_series(np.array([0.0, 1e-4, 0.0, 2e-4]))
+    assert np.array_equal(np.isnan(drawn), [True, False, True, False]) and list(drawn[[1, 3]]) == [1e-4, 2e-4]
+    assert note == "exactly 0 in 2 of 4 rows: gaps on the log axis"
+    drawn, note = log_series(np.zeros(3))
+    assert np.isnan(drawn).all() and note == "0 throughout: nothing drawn on the log axis"
+    assert log_series(np.array([1e-3, 2e-3]))[1] == ""
+    zero = tmp / "zero.csv"
+    zero.write_text(TRUTH_HEADER + "0,0,0,0,0,0,0\n0.001,0,0,0,0,0,0\n")
+    p = run(BENCH, zero, "--out", tmp / "z.png")
+    assert p.returncode == 0 and "  pointing error 0 throughout: nothing drawn on the log axis\n" in p.stdout, p.stderr
+    zero.write_text(TRUTH_HEADER + "0,0,0,0,0,0,0\n0.001,0,0,0,0,-1e-4,0\n")  # an angle's size is never below 0
+    refused(run(BENCH, zero, "--out", tmp / "n.png"), f"{zero}:3: column pointing_error_rad: -0.0001 is negative")
+    assert not (tmp / "n.png").exists()
 
 
 def test_bench_plot_refuses_bad_input_naming_the_line(tmp):

@@ -81,12 +81,28 @@ def read(path):
         cols[c] = np.array(values)
     if (np.diff(cols["sim_time_s"]) <= 0).any():
         raise Refused(f"{path}:{int(np.argmax(np.diff(cols['sim_time_s']) <= 0)) + 3}: sim_time_s does not increase")
+    neg = np.flatnonzero(cols["pointing_error_rad"] < 0)  # an angle's size: a log axis would hide it
+    if neg.size:
+        value = cols["pointing_error_rad"][neg[0]]
+        raise Refused(f"{path}:{neg[0] + 2}: column pointing_error_rad: {value:g} is negative")
     for c, bits in (("faults", 31), ("injected_faults", 2 * len(FAULT_KINDS))):  # bit sets: whole numbers
         if c in cols:
             bad = np.flatnonzero(~((cols[c] >= 0) & (cols[c] < 2**bits) & (cols[c] == np.floor(cols[c]))))
             if bad.size:
                 raise Refused(f"{path}:{bad[0] + 2}: column {c}: {cols[c][bad[0]]:g} is not a set of fault bits")
     return cols
+
+
+def log_series(err):
+    """The pointing error as drawn on the log axis and a note on what was left out ('' if nothing): an exact 0
+    has no place on a log scale, so it is a gap and said to be one, never a point at an invented floor."""
+    zeros = int((err == 0).sum())
+    note = ""
+    if zeros == err.size:
+        note = "0 throughout: nothing drawn on the log axis"
+    elif zeros:
+        note = f"exactly 0 in {zeros} of {err.size} rows: gaps on the log axis"
+    return np.where(err > 0, err, np.nan), note
 
 
 def main():
@@ -111,7 +127,14 @@ def main():
     ratios = [3, 2, 2, 1.2] + ([0.3 * len(seen) + 0.6] if seen else [])
     fig, ax = plt.subplots(panels, 1, figsize=(9, 10 + (0.25 * len(seen) if seen else 0)), sharex=True,
                            gridspec_kw={"height_ratios": ratios})
-    ax[0].semilogy(t, np.maximum(err, 1e-12), lw=0.8)
+    drawn, note = log_series(err)
+    ax[0].set_yscale("log")
+    if note:
+        ax[0].text(0.5, 0.5, f"pointing error {note}", transform=ax[0].transAxes, ha="center", va="center")
+    if np.isfinite(drawn).any():
+        ax[0].plot(t, drawn, lw=0.8)
+    else:  # an empty log axis's decades would be a scale of nothing
+        ax[0].tick_params(axis="y", which="both", left=False, labelleft=False)
     ax[0].set_ylabel("pointing error [rad]")
     ax[0].grid(True, which="both", alpha=0.3)
     ax[1].plot(t, c["theta1_rad"], label="theta1 (azimuth)", lw=0.9)
@@ -153,6 +176,8 @@ def main():
     else:
         tail = f"max after {a.after:g} s n/a (window [{a.after:g}, inf) s not reached: run ended at {t[-1]:g} s)"
     print(f"  pointing error: end {err[-1]:.3e} rad, {tail}")
+    if note:
+        print(f"  pointing error {note}")
     print("  fault ticks: " + ", ".join(f"{name} {int(((faults & bit) != 0).sum())}" for bit, name in FAULTS))
     if seen:
         print("  scheduled fault ticks: " + ", ".join(f"{injected_name(b)} {int(((injected >> b) & 1).sum())}" for b in seen))
