@@ -76,3 +76,29 @@ def test_a_clearance_run_without_contact_says_none_and_an_ideal_run_is_refused(t
         assert "clearance c                 : 0.5 mm" in p.stdout, p.stdout
     p = plot("--ideal", ideal, "--clearance", ideal, "--out", tmp / "o")  # the ideal run given twice
     assert p.returncode == 2 and "joint 2 has no clearance" in p.stderr, p.stderr
+
+
+def test_runs_or_summaries_given_swapped_are_refused_naming_the_flag(tmp):
+    # The ideal and clearance runs' summaries swapped drew the page ("joint-2 force peaks: clearance 16 N / ideal 873 N").
+    ideal, clear, spatial = (simulate(tmp, s, 0.1) for s in ("paper_ideal", "paper_clearance", "paper_spatial2"))
+    s_ideal, s_clear = tmp / "paper_ideal.json", tmp / "paper_clearance.json"
+    out = tmp / "plots"
+    out.mkdir()
+    p = plot("--ideal", ideal, "--clearance", clear, "--ideal-summary", s_clear, "--clearance-summary", s_ideal, "--out", out)
+    assert p.returncode == 2, p.stderr
+    assert f"--ideal-summary {s_clear}: its run ('paper_clearance') has joint 2 planar, the run of --ideal {ideal} " \
+           "has joint 2 ideal: is it another run's summary?" in p.stderr, p.stderr
+    p = plot("--ideal", ideal, "--clearance", clear, "--clearance-summary", s_ideal, "--out", out)
+    assert p.returncode == 2 and f"--clearance-summary {s_ideal}: its run ('paper_ideal') has joint 2 ideal" in p.stderr
+    p = plot("--ideal", clear, "--clearance", clear, "--out", out)  # the clearance run where the ideal one belongs
+    assert p.returncode == 2 and f"--ideal {clear}: joint 2 has planar clearance (ecc - delta up to 0.0005 m): " \
+        "is it the clearance run? --ideal takes the run of an ideal joint 2" in p.stderr, p.stderr
+    p = plot("--ideal", clear, "--clearance", ideal, "--out", out)
+    assert p.returncode == 2 and f"--ideal {clear}: joint 2 has planar clearance" in p.stderr, p.stderr
+    p = plot("--ideal", ideal, "--clearance", clear, "--spatial", clear, "--out", out)
+    assert p.returncode == 2 and f"--spatial {clear}: joint 2 has planar clearance (no tilt2_rad column)" in p.stderr
+    p = plot("--ideal", ideal, "--clearance", clear, "--spatial", spatial, "--spatial-summary", s_clear, "--out", out)
+    assert p.returncode == 2 and f"--spatial-summary {s_clear}: its run ('paper_clearance') has joint 2 planar" in p.stderr
+    assert list(out.iterdir()) == []
+    p = plot("--ideal", ideal, "--clearance", clear, "--ideal-summary", s_ideal, "--clearance-summary", s_clear, "--out", out)
+    assert p.returncode == 0 and "(summary)" in p.stdout.split("peak contact force")[1].splitlines()[0], p.stderr

@@ -88,6 +88,44 @@ def load_summary(path):
     return summary
 
 
+def joint2_in_csv(cols):
+    """Joint 2's kind as a run's CSV shows it: 'ideal' when ecc - delta (the clearance) is 0 throughout,
+    'spatial' with a tilt2_rad column, else 'planar'."""
+    if not np.max(cols["ecc2_m"] - cols["delta2_m"]) > 0.0:
+        return "ideal"
+    return "spatial" if "tilt2_rad" in cols else "planar"
+
+
+def joint2_in_summary(summary):
+    """Joint 2's kind as a run's summary records it (clearance_joints lists a joint with clearance, never an
+    ideal one), or None for a summary that is not gimbalsim's (no variant)."""
+    if "variant" not in summary:
+        return None
+    joints = summary.get("clearance_joints")
+    j2 = joints.get("joint2") if isinstance(joints, dict) else None
+    return "ideal" if j2 is None else str(j2.get("kind") if isinstance(j2, dict) else j2)
+
+
+def check_joint2(flag, path, cols, summary_flag, summary_path, summary, wanted):
+    """Refuses (InputError naming the flag) a run given where another belongs: its CSV's joint 2 must be one
+    of wanted, and its summary, when given, must record the same joint 2 (not the other run's summary)."""
+    kind, gap = joint2_in_csv(cols), float(np.max(cols["ecc2_m"] - cols["delta2_m"]))
+    if kind not in wanted:
+        takes = {("ideal",): "an ideal joint 2", ("spatial",): "a spatial joint 2"}.get(tuple(wanted),
+                                                                                      "a clearance joint 2")
+        if kind == "ideal":
+            why = "joint 2 has no clearance (ecc - delta is 0 m throughout): is it the ideal run?"
+        elif wanted == ["spatial"]:
+            why = "joint 2 has planar clearance (no tilt2_rad column): is it the clearance run?"
+        else:
+            why = f"joint 2 has {kind} clearance (ecc - delta up to {gap:g} m): is it the clearance run?"
+        raise InputError(f"{flag} {path}: {why} {flag} takes the run of {takes}")
+    recorded = joint2_in_summary(summary) if summary_path else None
+    if recorded is not None and recorded != kind:
+        raise InputError(f"{summary_flag} {summary_path}: its run ({summary.get('name')!r}) has joint 2 {recorded}, "
+                         f"the run of {flag} {path} has joint 2 {kind}: is it another run's summary?")
+
+
 def summary_number(summary, *keys):
     """First finite number found under any of the (possibly dotted) keys."""
     for key in keys:
