@@ -37,6 +37,22 @@ def test_documented_gain_set_runs_over_lcm(tmp):
     assert all(0.0 < x < 1.0 for x in rms), rows
 
 
+@pytest.mark.skipif(not _netns_available(), reason="needs a private network namespace (unshare -n: root)")
+def test_lockstep_and_in_process_measure_the_joint_error_alike():
+    # Both modes' max_e_trk is the reference against the true angles: lockstep read the controller's
+    # error against the encoder (6.4e-6 rad against 3.5e-6 in process for omega 20).
+    def max_e_trk(*mode):
+        p = subprocess.run([sys.executable, str(SOURCE / "tools" / "hil" / "tune_sweep.py"), "--bin", str(BIN),
+                            "--omega", "20", "--duration", "4", *mode], capture_output=True, text=True, timeout=300)
+        assert p.returncode == 0, (p.stdout, p.stderr)
+        lines = p.stdout.splitlines()
+        h = next(i for i, l in enumerate(lines) if "max_e_trk" in l)  # each mode's own table: a header, a row
+        col = lines[h].split().index("max_e_trk") - lines[h].startswith("gain set")  # two words, one cell
+        return float(lines[h + 1].split()[col])
+    lockstep, in_process = max_e_trk(), max_e_trk("--in-process")
+    assert lockstep == pytest.approx(in_process, rel=1e-3), (lockstep, in_process)  # gains printed %.6g vs %.17g
+
+
 @pytest.mark.parametrize("mode,program", [(["--in-process"], "controller_sweep"), ([], "firmware_sim")])
 def test_a_program_not_built_is_named_with_its_build_command(tmp, mode, program):
     # docs/bench.md: --in-process runs controller_sweep, which the README's commands do not build.

@@ -6,13 +6,14 @@ together over udpm on loopback inside a private network namespace (so runs
 never see another bench's traffic and work on any machine; needs root for
 `unshare -n`), then prints one table row per set:
 
-  settle [s]    after the slew's end until max |joint error| (encoder angles,
-                controller's log) stays below --settle-tol for the rest of the
-                hold; inf if it never does before tracking starts
+  settle [s]    after the slew's end until max |joint error| (the controller's
+                reference against the true joint angles of firmware_sim's truth,
+                as --in-process measures it) stays below --settle-tol for the
+                rest of the hold; inf if it never does before tracking starts
   rms/max truth pointing error during tracking [rad] (firmware_sim's truth:
                 boresight vs the profile's line of sight; includes the base's
                 reaction rotation, which encoders cannot see)
-  max joint err during tracking [rad] (encoder)
+  max joint err during tracking [rad] (reference against the true angles)
   max |torque| applied per axis [N m] (truth)
 
 Gain sets: --omega W1,W2,... gives triple-pole sets (kd = 3 J w, kp = 3 J w^2,
@@ -159,8 +160,12 @@ def metrics(args, cfg, ctl, truth, duration, wall):
     slew_end = float(cfg["profile.slew_start"]) + float(cfg["profile.slew_time"])
     track_start = slew_end + float(cfg["profile.hold_time"])
     last_unsettled, hold_seen, max_err_track = slew_end, False, math.nan  # nan: no track row (never 0)
+    # The joint error against the true angle (truth.csv, the status's seq), as controller_sweep measures
+    # it: the controller's own err_* is against the encoder, up to half a count (6e-6 rad) off.
+    true_angle = {int(r["seq"]): (float(r["theta1_rad"]), float(r["theta2_rad"])) for r in truth}
     for row in ctl:
-        e = max(abs(float(row["err_az_rad"])), abs(float(row["err_el_rad"])))
+        th1, th2 = true_angle[int(row["seq"])]
+        e = max(abs(float(row["ref_az_rad"]) - th1), abs(float(row["ref_el_rad"]) - th2))
         if row["segment"] == "hold":
             hold_seen = True
             if e >= args.settle_tol:
