@@ -10,10 +10,25 @@ from ._closed_sample import PinnedScene
 from ._idle_keys import idle_reason, own_keys_given, takes_of
 from ._spec import Spec
 from .dispersion import CONTROLLER_KEYS, Design, check_within, parse_parameter
+from .indices import seconds
 
 METRICS = {"max_track": "max_truth_error_track_rad", "rms_track": "rms_truth_error_track_rad"}
 METRIC_WINDOWS = {"max_track": "track", "rms_track": "track"}  # the profile window each metric is over
 GAIN_DISTRIBUTIONS = ("uniform", "loguniform", "choice")
+
+
+PERCENTILE_RANGE = (50.0, 100.0)  # the objective bounds the plants from above: the median at the least
+
+
+def _percentile(spec, node):
+    """objective.percentile in [50, 100]: below the median the gains are tuned
+    for the lucky plants (at 1e-300, the best one's figure alone)."""
+    lo, hi = PERCENTILE_RANGE
+    v = node.value
+    if isinstance(v, (int, float)) and not isinstance(v, bool) and v < lo:
+        spec.refuse("objective.percentile", f"expected a number in [{lo}, {hi}], got {v!r}: a percentile below the "
+                    "median tunes for the lucky plants, not a bound on the others", node)
+    return spec.number("objective.percentile", node, lo, hi)  # above 100, not finite, not a number
 
 
 class TuneSpec:
@@ -43,11 +58,7 @@ class TuneSpec:
         self.metric = spec.text("objective.metric", obj["metric"]) if "metric" in obj else "max_track"
         if self.metric not in METRICS:
             spec.refuse("objective.metric", f"expected one of {', '.join(METRICS)}, got {self.metric!r}", obj["metric"])
-        self.percentile = spec.number("objective.percentile", obj["percentile"], 0.0, 100.0) \
-            if "percentile" in obj else 99.0
-        if self.percentile <= 0.0:  # the luckiest plant's figure: a gain tuned to it holds for no unit but one
-            spec.refuse("objective.percentile", "must be > 0: percentile 0 is the best plant's figure, not a bound",
-                        obj["percentile"])
+        self.percentile = _percentile(spec, obj["percentile"]) if "percentile" in obj else 99.0
 
         scene_types = {k["key"]: k["type"] for k in gimbalsim.keys()}
         sets = spec.known_mapping("set", scene_types, "scene", gimbalsim.key_aliases())
@@ -78,8 +89,8 @@ class TuneSpec:
         # a run that ends before it would score NaN for every trial.
         track_start, track_end = self.controller.windows[METRIC_WINDOWS[self.metric]]
         if not self.duration > track_start:
-            spec.refuse("duration", f"the run ends at {self.duration:g} s, before the "
-                        f"{METRIC_WINDOWS[self.metric]} window [{track_start:g}, {track_end:g}) s of "
+            spec.refuse("duration", f"the run ends at {seconds(self.duration)} s, before the "
+                        f"{METRIC_WINDOWS[self.metric]} window [{seconds(track_start)}, {seconds(track_end)}) s of "
                         f"objective.metric {self.metric}", root["duration"])
 
         self.gains = []

@@ -101,8 +101,13 @@ def test_tuning_spec_refusals_name_the_key(change, key, tmp_path):
     # an unknown gain is named as the controller's, not the scene's
     (("azimuth.kp: {loguniform: [5000, 80000]}", "azimuth.kpp: {loguniform: [5000, 80000]}"),
      "gains.azimuth.kpp", "not a key of the controller configuration"),
-    # percentile 0 is the luckiest plant's figure: no bound for the others
-    (("percentile: 90", "percentile: 0"), "objective.percentile", "must be > 0"),
+    # below the median the objective tunes for the lucky plants: [50, 100], the reason said
+    (("percentile: 90", "percentile: 0"), "objective.percentile",
+     "expected a number in [50.0, 100.0], got 0: a percentile below the median tunes for the lucky plants"),
+    (("percentile: 90", "percentile: 1e-300"), "objective.percentile",
+     "expected a number in [50.0, 100.0], got 1e-300: a percentile below the median tunes for the lucky plants"),
+    (("percentile: 90", "percentile: 49.9"), "objective.percentile", "got 49.9: a percentile below the median"),
+    (("percentile: 90", "percentile: 100.5"), "objective.percentile", "expected a number in [50.0, 100.0], got 100.5"),
     # the run length is the tuner's duration: key, not a sweep's set:
     (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "sim.duration: {uniform: [3.7, 4.0]}"),
      "plants.sim.duration", "a tuner's duration:"),
