@@ -115,8 +115,9 @@ def check_row(spec, row, n_columns):
     i = int(row[0])
     overrides = spec.design.draw(i)
     drawn = [fmt(v) for v in spec.design.row_values(overrides)]
-    if row[1:1 + len(drawn)] != drawn:
-        return "parameters differ from the design's draw"
+    if row[1:1 + len(drawn)] != drawn:  # named by its column: an edited value is found at once
+        column = next(j for j, v in enumerate(drawn) if row[1 + j] != v)
+        return f"{spec.csv_header()[1 + column]} differs from the design's draw"
     status = row[1 + len(drawn)]
     # after status (and a closed loop's reason), up to the provenance columns (text: applied values, hashes)
     first = 2 + len(drawn) + spec.text_columns

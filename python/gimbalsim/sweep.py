@@ -133,7 +133,8 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             write(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
         for why, numbers in dropped.items():
             n, shown = len(numbers), ", ".join(map(str, numbers[:10])) + (" ..." if len(numbers) > 10 else "")
-            print(f"sweep: dropped {n} journal row{'s' * (n != 1)} ({why}) at {read_from} line{'s' * (n != 1)} "
+            kind = "journal row" if read_from == journal else "row"  # results.csv, read when no journal was left
+            print(f"sweep: dropped {n} {kind}{'s' * (n != 1)} ({why}) at {read_from} line{'s' * (n != 1)} "
                   f"{shown}; their samples run again", file=sys.stderr)
         while True:
             todo = [i for i in range(len(spec.design)) if i not in done]

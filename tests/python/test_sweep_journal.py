@@ -180,7 +180,8 @@ def test_rows_the_design_did_not_draw_are_dropped_counted_and_run_again(spec, tm
     (out / "results.partial.csv").write_text(text)
     p = subprocess.run(sweep_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr
-    for why in ("1 journal row (sample index outside the design)", "1 journal row (parameters differ",
+    for why in ("1 journal row (sample index outside the design)",
+                "1 journal row (friction_mu differs from the design's draw)",
                 "1 journal row (status or figures unreadable)", "1 journal row (last line cut"):
         assert f"dropped {why}" in p.stderr, p.stderr
     assert "8 already done, 16 to run" in p.stderr
@@ -191,8 +192,28 @@ def test_rows_the_design_did_not_draw_are_dropped_counted_and_run_again(spec, tm
             drawn = s.design.row_values(s.design.draw(int(r["sample"])))
             assert [float(r[column[c]]) for c in s.design.columns()] == drawn
     dropped = json.loads((out / "summary.json").read_text())["journal_rows_dropped"]
-    assert dropped == {"sample index outside the design": 1, "parameters differ from the design's draw": 1,
+    assert dropped == {"sample index outside the design": 1, "friction_mu differs from the design's draw": 1,
                        "status or figures unreadable": 1, "last line cut by an interruption": 1}
+
+
+def test_a_value_edited_in_results_csv_is_dropped_naming_its_column_and_line(spec, tmp_path):
+    """A finished sweep keeps no journal: --resume reads results.csv, and a
+    row whose dispersed value was edited by hand is named by column and line."""
+    out = tmp_path / "o"
+    s, header = forged_journal(spec, out, range(N))
+    (out / "results.partial.csv").rename(out / "results.csv")
+    lines = (out / "results.csv").read_text().split("\n")
+    row = lines[5].split(",")  # sample 4, line 6
+    row[header.index("friction.mu")] = "0.2"
+    lines[5] = ",".join(row)
+    (out / "results.csv").write_text("\n".join(lines))
+    p = subprocess.run(sweep_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert f"dropped 1 row (friction_mu differs from the design's draw) at {out / 'results.csv'} line 6;" \
+        in p.stderr, p.stderr
+    assert "23 already done, 1 to run" in p.stderr and marked_samples(out) == set(range(N)) - {4}
+    dropped = json.loads((out / "summary.json").read_text())["journal_rows_dropped"]
+    assert dropped == {"friction_mu differs from the design's draw": 1}
 
 
 def journal_rows(out):
