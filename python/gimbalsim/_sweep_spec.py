@@ -23,6 +23,18 @@ METRIC_UNITS = {"pointing_error_max": "rad", "pointing_error_final": "rad", "pea
 MAX_SAMPLES = 10_000_000
 
 
+def _check_controller_key(spec, where, key, node, ctrl_types, closed):
+    """A dispersed controller.<key>: refused unless the sweep is closed-loop and
+    the key is the controller's, naming where controller keys go."""
+    if not closed:
+        spec.refuse(where, "a controller key, dispersed only by a closed-loop sweep: name its controller "
+                    "(controller: default or a configuration file), then give it as controller.<key> under "
+                    "parameters or grid (controller_set: for every sample alike)", node)
+    if key not in ctrl_types:
+        spec.refuse(where, f"not a key of the controller configuration (see gimbalsim.controller_keys() or "
+                    f"docs/controller_keys.md): {key[len(CONTROLLER_PREFIX):]}", node)
+
+
 class SweepSpec:
     """A checked sweep spec: the base scene (file + set), the design, and a
     fingerprint that a resume must match."""
@@ -47,6 +59,16 @@ class SweepSpec:
         sets = spec.known_mapping("set", key_types, "scene", gimbalsim.key_aliases())
         self.set = {k: spec.value(f"set.{k}", n) for k, n in sets.items()}
         params = spec.mapping("parameters", root["parameters"]) if "parameters" in root else {}
+        # controller.<key> is dispersed in closed loop only, and is no scene key: said so, not "not a key of the scene"
+        ctrl_types = {CONTROLLER_PREFIX + k["key"]: k["type"] for k in gimbalsim.controller_keys()}
+        grid_node = root.get("grid")
+        for section, body in (("parameters", params),
+                              ("grid", spec.mapping("grid", grid_node) if grid_node is not None else {})):
+            for key, node in body.items():
+                if key.startswith(CONTROLLER_PREFIX):
+                    _check_controller_key(spec, f"{section}.{key}", key, node, ctrl_types, "controller" in root)
+        if "controller" in root:
+            key_types.update(ctrl_types)
         grid = spec.known_mapping("grid", key_types, "scene")
         # One key in one place, whatever its spelling (friction1.mu is joint1.friction.mu): two
         # spellings would both be recorded while one value acts.
@@ -86,7 +108,6 @@ class SweepSpec:
         self.closed = None
         if "controller" in root:
             self.closed = ClosedLoopSpec(spec, root, float(self.base.values()["sim.duration"]))
-            key_types.update({CONTROLLER_PREFIX + k: t for k, t in self.closed.key_types.items()})
         self.parameters = [parse_parameter(spec, "parameters", k, n, key_types) for k, n in params.items()]
         if not self.parameters and not self.grid:
             spec.refuse("parameters", "nothing is dispersed: give parameters or grid")

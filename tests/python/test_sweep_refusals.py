@@ -93,6 +93,12 @@ BAD = [
     # one key in two spellings: both would be recorded while one value acts
     ("parameters:\n  friction1.mu: {uniform: [0.1, 0.2]}\ngrid:\n  joint1.friction.mu: [0.3, 0.4]\n",
      "grid.joint1.friction.mu", 9, "the same key as parameters.friction1.mu"),
+    # a controller key in an open-loop sweep: what it is and where it goes, not "not a key of the scene"
+    ("grid:\n  controller.azimuth.kp: [2000.0, 4000.0]\n", "grid.controller.azimuth.kp", 7,
+     "a controller key, dispersed only by a closed-loop sweep: name its controller (controller: default or a "
+     "configuration file), then give it as controller.<key> under parameters or grid"),
+    ("parameters:\n  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}\n", "parameters.controller.azimuth.kp", 7,
+     "a controller key, dispersed only by a closed-loop sweep"),
 ]
 
 
