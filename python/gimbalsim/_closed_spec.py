@@ -18,7 +18,7 @@ import math
 
 import gimbalsim
 from . import _gimbalsim
-from .indices import LEVEL_3SIGMA
+from .indices import LEVEL_3SIGMA, seconds
 
 PROFILE_PHASES = ("slew", "hold", "track")
 INDICES = ("ape", "rpe", "pde", "knowledge")
@@ -73,7 +73,7 @@ class ClosedLoopSpec:
         why = _gimbalsim._whole_multiple_problem(duration_s, self.period_s, "control.period")
         if why:  # the C++ keys' own rule (isWholeMultiple)
             spec.refuse("set.sim.duration" if "set" in root else "scene",
-                        f"the closed loop runs whole control periods: sim.duration {duration_s:g} s {why}",
+                        f"the closed loop runs whole control periods: sim.duration {seconds(duration_s)} s {why}",
                         root.get("set") or root["scene"])
         self.phases = self._phases(spec, root)
         self.indices = self._indices(spec, root)
@@ -143,30 +143,41 @@ class ClosedLoopSpec:
             t0, t1 = window if window is not None else nominal[name]
             ends_with_run = window is None and name == "track"
             if not ends_with_run and not t1 > t0 + tol:  # e.g. profile.hold_time 0: no sample has a figure there
-                spec.refuse(f"phases.{name}", f"phase '{name}' [{t0:g}, {t1:g}) s is empty (the controller's "
-                            "profile gives it no time): leave it out of phases", items[name])
+                spec.refuse(f"phases.{name}", f"phase '{name}' [{seconds(t0)}, {seconds(t1)}) s is empty (the "
+                            "controller's profile gives it no time): leave it out of phases", items[name])
             first_tick = math.ceil((t0 - tol) / self.period_s) * self.period_s  # the loop records every period
             if not ends_with_run and not first_tick < t1 - tol:
-                spec.refuse(f"phases.{name}", f"phase '{name}' [{t0:g}, {t1:g}) s holds no control tick (one every "
-                            f"{self.period_s:g} s): its indices would be NaN for every sample", where)
+                spec.refuse(f"phases.{name}", f"phase '{name}' [{seconds(t0)}, {seconds(t1)}) s holds no control "
+                            f"tick (one every {seconds(self.period_s)} s): its indices would be NaN for every sample",
+                            where)
             if self.duration_s <= t0 + tol or (not ends_with_run and self.duration_s < t1 - tol):
                 spec.refuse(f"phases.{name}" if items else "sim.duration",
-                            f"the run ends at sim.duration {self.duration_s:g} s, "
+                            f"the run ends at sim.duration {seconds(self.duration_s)} s, "
                             f"{'before' if self.duration_s <= t0 + tol else 'inside'} phase '{name}' "
-                            f"[{t0:g}, {t1:g}) s: its indices would be NaN for every sample", where)
-            length = (self.duration_s if ends_with_run else t1) - t0
+                            f"[{seconds(t0)}, {seconds(t1)}) s: its indices would be NaN for every sample", where)
+            end = self.duration_s if ends_with_run else t1
             for ix in self.indices:
                 need = (ix.window or 0.0) + (ix.separation or 0.0)
-                if need > length + tol:
-                    spec.refuse(f"indices.{ix.name}", f"the window{' plus separation' if ix.separation else ''} "
-                                f"{need:g} s is longer than phase '{name}' ({length:g} s of this run)",
-                                root["indices"].value[ix.name])
+                if need > end - t0 + tol:  # each term printed as given: their sum rounds (0.1 + 0.01)
+                    given = f"the window {seconds(ix.window)} s" + \
+                        (f" plus separation {seconds(ix.separation)} s" if ix.separation else "")
+                    spec.refuse(f"indices.{ix.name}", f"{given} is longer than phase '{name}' "
+                                f"[{seconds(t0)}, {seconds(end)}) s of this run", root["indices"].value[ix.name])
 
     def _whole_periods(self, spec, where, value, node):
         if not value > 0 or _gimbalsim._whole_multiple_problem(value, self.period_s, "control.period"):
             spec.refuse(where, f"{value!r} s is not a positive whole number of control periods "
-                        f"({self.period_s:g} s)", node)
+                        f"({seconds(self.period_s)} s)", node)
         return value
+
+    def _within_run(self, spec, where, node):
+        """A window or separation no longer than the run: 1e300 s read as "not
+        whole control periods" (the ratio overflows), .inf as "not finite"."""
+        v = node.value
+        if isinstance(v, (int, float)) and not isinstance(v, bool) and v > self.duration_s:
+            spec.refuse(where, f"{v!r} s is longer than the run (sim.duration {seconds(self.duration_s)} s): "
+                        "no phase can hold it", node)
+        return spec.number(where, node)
 
     def _indices(self, spec, root):
         if "indices" not in root:
@@ -185,8 +196,8 @@ class ClosedLoopSpec:
             for k in sorted(INDEX_KEYS[name]):
                 if k not in opts:
                     spec.refuse(f"{where}.{k}", "missing (in s)", node)
-            kw = {k: self._whole_periods(spec, f"{where}.{k}", spec.number(f"{where}.{k}", opts[k]), opts[k])
-                  for k in INDEX_KEYS[name]}
+            kw = {k: self._whole_periods(spec, f"{where}.{k}", self._within_run(spec, f"{where}.{k}", opts[k]),
+                                         opts[k]) for k in INDEX_KEYS[name]}
             for k in ("level", "confidence"):
                 if k in opts:
                     kw[k] = spec.number(f"{where}.{k}", opts[k], 0.5, 1 - 1e-9)  # indices._check_question

@@ -8,6 +8,7 @@ import math
 import re
 
 from ._closed_spec import CONTROLLER_PREFIX
+from .indices import seconds
 # The antenna's sensors (MODEL.md 11.6): recorded in a closed loop, but no figure a study reads depends on them.
 ANTENNA_SENSOR_KEYS = ("sensors.antenna", "sensors.tracker_")
 
@@ -91,11 +92,11 @@ def _idle_in_sensors(key, values, dispersed):
     start, end = (float(x) for x in str(values["sensors.star_tracker_outage"]).strip("[]").split(","))
     duration, latency = float(values["sim.duration"]), float(values["sensors.star_tracker_latency"])
     if start <= 0.0 and end >= duration:
-        return f"sensors.star_tracker_outage [{start:g}, {end:g}] s covers the whole run: no star tracker sample " \
-               "is taken"
+        return f"sensors.star_tracker_outage [{seconds(start)}, {seconds(end)}] s covers the whole run: no star " \
+               "tracker sample is taken"
     if latency >= duration and not reads_latency:
-        return f"sensors.star_tracker_latency {latency:g} s is no shorter than the run ({duration:g} s): no star " \
-               "tracker sample is delivered"
+        return f"sensors.star_tracker_latency {seconds(latency)} s is no shorter than the run " \
+               f"({seconds(duration)} s): no star tracker sample is delivered"
     return None
 
 

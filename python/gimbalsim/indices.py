@@ -87,20 +87,28 @@ def _as_columns(e):
     return e
 
 
+def seconds(t):
+    """A time as the shortest text that reads back as the same double ("2.0"
+    as "2"): :g printed a phase ending at 1.000001 s as "[1e-06, 1)"."""
+    text = repr(float(t))
+    return text[:-2] if text.endswith(".0") else text
+
+
 def _coverage_reason(rows, t_s, t_start, t_end, dt):
     """Why a phase has no figure, or "" when the run covered it whole. An
     open-ended phase [t_start, inf) (a controller's track) ends with the run:
     reaching it is covering it."""
+    phase = f"the phase [{seconds(t_start)}, {seconds(t_end)}) s"
     if not t_end > t_start:  # a profile that gives the phase no time (profile.hold_time 0)
-        return f"the phase [{t_start:g}, {t_end:g}) s is empty"
+        return f"{phase} is empty"
     if len(rows) == 0:
-        return f"the run ({t_s[0]:g} to {t_s[-1]:g} s) never reached the phase [{t_start:g}, {t_end:g}) s"
+        return f"the run ({seconds(t_s[0])} to {seconds(t_s[-1])} s) never reached {phase}"
     if not t_s[-1] > t_start + 1e-9:  # docs/usage.md: a figure over a window needs the last sample after its start
-        return f"the run ended at {t_s[-1]:g} s, at the start of the phase [{t_start:g}, {t_end:g}) s"
+        return f"the run ended at {seconds(t_s[-1])} s, at the start of {phase}"
     if t_s[0] > t_start + 1e-9:
-        return f"the run began at {t_s[0]:g} s, inside the phase [{t_start:g}, {t_end:g}) s"
+        return f"the run began at {seconds(t_s[0])} s, inside {phase}"
     if math.isfinite(t_end) and t_s[rows[-1]] + dt < t_end - 1e-9:
-        return f"the run ended at {t_s[-1]:g} s, inside the phase [{t_start:g}, {t_end:g}) s"
+        return f"the run ended at {seconds(t_s[-1])} s, inside {phase}"
     return ""
 
 
@@ -149,7 +157,8 @@ def rpe(t_s, e, t_start, t_end, window_s, chunk_rows=1 << 22):
         return _nan(why)
     m = _window_samples(window_s, dt, "RPE window")
     if len(seg) < m:
-        return _nan(f"the phase [{t_start:g}, {t_end:g}) s is shorter than the RPE window {window_s:g} s")
+        return _nan(f"the phase [{seconds(t_start)}, {seconds(t_end)}) s is shorter than the RPE window "
+                    f"{seconds(window_s)} s")
     if not np.all(np.isfinite(seg)):
         return _nan("the error signal is not finite inside the phase")
     means = _window_means(seg, m)
@@ -171,8 +180,8 @@ def pde(t_s, e, t_start, t_end, window_s, separation_s):
     m = _window_samples(window_s, dt, "PDE window")
     k = _window_samples(separation_s, dt, "PDE separation")
     if len(seg) < m + k:
-        return _nan(f"the phase [{t_start:g}, {t_end:g}) s is shorter than the PDE window "
-                    f"plus separation {window_s + separation_s:g} s")
+        return _nan(f"the phase [{seconds(t_start)}, {seconds(t_end)}) s is shorter than the PDE window "
+                    f"{seconds(window_s)} s plus separation {seconds(separation_s)} s")
     if not np.all(np.isfinite(seg)):
         return _nan("the error signal is not finite inside the phase")
     means = _window_means(seg, m)

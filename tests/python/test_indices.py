@@ -70,6 +70,17 @@ def test_a_phase_shorter_than_its_window_is_nan():
     assert math.isnan(v.value) and "shorter than the PDE window" in v.reason
 
 
+def test_window_bounds_print_so_that_different_times_never_read_alike():
+    # :g wrote 6 digits: a phase to 1.001001 s read "[1e-06, 1.001)", as if the run's last tick covered it
+    t = np.arange(0, 1001) * DT  # 0 .. 1 s
+    v = indices.ape(t, t, 1e-6, 1.001001)
+    assert math.isnan(v.value) and v.reason == "the run ended at 1 s, inside the phase [1e-06, 1.001001) s"
+    assert indices.seconds(0.1 + 0.2) == "0.30000000000000004" and indices.seconds(2.0) == "2"
+    # window and separation as given, not their sum (0.2 + 0.4 rounds to 0.6000000000000001)
+    v = indices.pde(T, T, 1.0, 1.5, 0.2, 0.4)
+    assert v.reason == "the phase [1, 1.5) s is shorter than the PDE window 0.2 s plus separation 0.4 s"
+
+
 def test_a_non_finite_signal_is_nan_not_a_number():
     e = T.copy()
     e[2500] = np.nan

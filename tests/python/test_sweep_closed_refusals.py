@@ -11,7 +11,11 @@ REFUSALS = [
     ("controller_set: {profile.slew_start: 0.0,", "controller_set: {nope.key: 1,", "controller_set.nope.key",
      "not a key of the controller"),
     ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.nope: {uniform: [1.0, 2.0]}",
-     "parameters.controller.nope", "not a key"),
+     "parameters.controller.nope", "not a key of the controller configuration"),
+    (("phases: [", "phases: ["), ("grid:\nphases: [", "  controller.azimuth.kpp: [2000.0, 4000.0]\nphases: ["),
+     "grid.controller.azimuth.kpp",
+     "not a key of the controller configuration (see gimbalsim.controller_keys() or docs/controller_keys.md): "
+     "azimuth.kpp"),
     ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.azimuth.kp: {uniform: [-5.0, 4000.0]}",
      "parameters.controller.azimuth.kp", "the controller refuses"),
     ("controller_set: {profile.slew_start: 0.0,", "controller_set: {azimuth.kp: -1.0, profile.slew_start: 0.0,",
@@ -106,7 +110,7 @@ REFUSALS = [
     # the antenna's sensors are recorded but no controller uses them yet: no figure could move
     ("  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}", "  sensors.tracker_noise: {uniform: [0.0, 2.0e-5]}",
      "parameters.sensors.tracker_noise", "does not use the antenna sensors yet"),
-    ("  rpe: {window: 0.05}", "  rpe: {window: .inf}", "indices.rpe.window", "expected a finite number"),
+    ("  rpe: {window: 0.05}", "  rpe: {window: .nan}", "indices.rpe.window", "expected a finite number, got nan"),
     ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: .inf}",
      "indices.ape.requirement", "expected a finite number"),
     ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: 1e400}",
@@ -137,7 +141,17 @@ REFUSALS = [
     ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [slew, hold, track, {late: [0.4001, 0.4009]}]",
      "phases.late", "phase 'late' [0.4001, 0.4009) s holds no control tick (one every 0.001 s)"),
     ("  pde: {window: 0.02, separation: 0.05}", "  pde: {window: 0.06, separation: 0.05}", "indices.pde",
-     "the window plus separation 0.11 s is longer than phase 'hold' (0.1 s of this run)"),
+     "the window 0.06 s plus separation 0.05 s is longer than phase 'hold' [0.2, 0.30000000000000004) s of this run"),
+    # a window or separation longer than the run: said so, not "not whole control periods" (1e300) or "not finite"
+    ("  pde: {window: 0.02, separation: 0.05}", "  pde: {window: 0.02, separation: 1e300}", "indices.pde.separation",
+     "1e+300 s is longer than the run (sim.duration 0.5 s): no phase can hold it"),
+    ("  pde: {window: 0.02, separation: 0.05}", "  pde: {window: 1e300, separation: 0.05}", "indices.pde.window",
+     "1e+300 s is longer than the run (sim.duration 0.5 s)"),
+    ("  pde: {window: 0.02, separation: 0.05}", "  pde: {window: 0.02, separation: .inf}", "indices.pde.separation",
+     "inf s is longer than the run (sim.duration 0.5 s)"),
+    ("  rpe: {window: 0.05}", "  rpe: {window: 1e300}", "indices.rpe.window",
+     "1e+300 s is longer than the run (sim.duration 0.5 s)"),
+    ("  rpe: {window: 0.05}", "  rpe: {window: .inf}", "indices.rpe.window", "inf s is longer than the run"),
     (f"controller: {CONTROLLER_CONFIG}", "controller: no_such.yaml", "controller", "no such file"),
     # a folder or a device is there but holds no file: said so, not "no such file"
     (f"controller: {CONTROLLER_CONFIG}", "controller: /tmp", "controller", "/tmp is a folder; expected a file"),
@@ -175,6 +189,17 @@ def test_a_bad_key_is_refused_at_its_line(tmp_path, old, new, key, message):
     assert e.value.line == next(n for n, line in enumerate(lines, 1) if mark in line), str(e.value)
 
 
+def test_a_grid_over_a_controller_key_is_taken_in_closed_loop(tmp_path):
+    # it was checked against the scene's keys before the controller's were known: "not a key of the scene"
+    from gimbalsim.sweep import SweepSpec
+    text = SPEC.replace("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}\n", "")
+    (tmp_path / "grid.yaml").write_text(text.replace("phases: [", "grid:\n  controller.azimuth.kp: [2000, 4000]\n"
+                                                     "phases: [", 1))
+    s = SweepSpec(tmp_path / "grid.yaml")
+    assert s.grid == [("controller.azimuth.kp", [2000, 4000])] and len(s.design) == 12
+    assert [s.design.draw(i)["controller.azimuth.kp"] for i in (0, 6)] == [2000, 4000]
+
+
 def test_a_run_ending_before_the_profiles_track_is_refused_at_its_duration(tmp_path):
     from gimbalsim.sweep import SpecError, SweepSpec
     # no phases key: the profile's slew [0, 0.2), hold [0.2, 0.3) and track from 0.3 s
@@ -185,7 +210,9 @@ def test_a_run_ending_before_the_profiles_track_is_refused_at_its_duration(tmp_p
     path.write_text(text)
     with pytest.raises(SpecError) as e:
         SweepSpec(path)
-    assert e.value.key == "sim.duration" and "before phase 'track' [0.3, 0.3" in str(e.value), str(e.value)
+    # the profile's track starts at 0.2 + 0.1 = 0.30000000000000004 s, which :g printed as 0.3
+    assert e.value.key == "sim.duration" and "before phase 'track' [0.30000000000000004, " in str(e.value), \
+        str(e.value)
     assert e.value.line == text.split("\n").index("set: {sim.duration: 0.3}") + 1
     (tmp_path / "ok.yaml").write_text(text.replace("sim.duration: 0.3", "sim.duration: 0.32"))
     assert [p for p, _ in SweepSpec(tmp_path / "ok.yaml").closed.phases] == ["slew", "hold", "track"]
