@@ -130,7 +130,10 @@ class Spec:
                     self.refuse(name, f"{node.value[:80]} is {kind}; expected a file", node)
             except OSError as e:  # a name too long, a loop of links: not a path the spec can mean
                 self.refuse(name, f"not a usable file path ({e.strerror}): {node.value[:80]}", node)
-        self.refuse(name, f"no such file: {node.value} (looked beside the spec, then in the current directory)", node)
+        # a replay reads a sweep's copy against the original's folder: say where it looked
+        beside = "beside the spec" if self.folder == self.path.parent else \
+            f"in {self.folder}, the sweep's spec's folder"
+        self.refuse(name, f"no such file: {node.value} (looked {beside}, then in the current directory)", node)
 
     def integer(self, name, node, lo, hi):
         v = node.value

@@ -111,19 +111,28 @@ def load(folder):
             detail = "; changed: " + ", ".join(_changed_keys(old, spec.base.values()))
         except (OSError, ValueError, KeyError, TypeError):
             pass
+        # the set and controller_set are the copy's, the file read: an edit there is named, not the original
         if _provenance.SCENE_FINGERPRINT in what:
-            _refuse(f"{', '.join(what)} differs from the sweep's: {spec.scene_path} (with the spec's set) is not "
-                    f"the scene the sweep ran{detail}")
+            _refuse(f"{', '.join(what)} differs from the sweep's: {spec.scene_path} (with the set of {copy}) is "
+                    f"not the scene the sweep ran{detail}")
         closed = getattr(spec, "closed", None)
         source = (closed.controller_path or "the built-in default") if closed is not None else "?"
         _refuse(f"{', '.join(what)} differs from the sweep's: the controller configuration {source} (with the "
-                f"spec's controller_set) is not the one the sweep ran")
+                f"controller_set of {copy}) is not the one the sweep ran")
     original = pathlib.Path(inputs.get("spec", ""))
     spec.original_spec = original if str(original) not in ("", ".") else None  # an input of the replay too
     try:
-        if original.is_file() and original.read_text(encoding="utf-8") != spec.spec_text:
-            print(f"replay: {original} changed since the sweep; replaying from the sweep's copy {copy}",
-                  file=sys.stderr)
+        ran = (folder / "spec.json").read_text(encoding="utf-8")  # the fingerprint of the spec the sweep ran
+    except (OSError, UnicodeDecodeError):
+        ran = None
+    try:
+        if ran is not None and ran != spec.fingerprint:  # the copy was edited: it, not the original, is named
+            print(f"replay: {copy} differs from the spec the sweep ran (its fingerprint {folder / 'spec.json'}): "
+                  f"edited since the sweep; replaying from it as it is", file=sys.stderr)
+        elif original.is_file() and original.read_text(encoding="utf-8") != spec.spec_text:
+            # a comment edited in the copy leaves its fingerprint: which of the two changed is unknown
+            print(f"replay: {original} differs from the sweep's copy {copy} (one of them was edited since the "
+                  f"sweep); replaying from the copy", file=sys.stderr)
     except (OSError, UnicodeDecodeError):
         pass
     return spec
