@@ -2,7 +2,6 @@
 controller closed in the firmware model, and the pointing indices of each
 phase computed from the run's own error vectors with indices.py."""
 import math
-import re
 
 import numpy as np
 
@@ -66,37 +65,6 @@ def sample_indices(closed, columns, windows):
             else:
                 out[key] = ix.knowledge(t, e_est, e_true, t0, t1)
     return out
-
-
-def _setting(key):
-    """The keys that give one value: a joint's contact radii and clearance
-    (the clearance sets the journal radius), or the key alone."""
-    m = re.fullmatch(r"(joint[12]\.contact\.)(clearance|journal_radius|bearing_radius)", key)
-    return {m.group(1) + k for k in ("clearance", "journal_radius", "bearing_radius")} if m else {key}
-
-
-class PinnedScene:
-    """A spec's base scene with the joints' own keys its `set` gave that the
-    scene's values leave out (equal to the shared key: initial.ecc2 as
-    initial.ecc; _idle_keys.own_keys_given). A sample's scene is loaded from
-    those values, so a dispersed shared key would silently carry the joint
-    along: replace() gives them again, under the sample's own values."""
-
-    def __init__(self, scene, pins):
-        self.scene, self.pins = scene, dict(pins)
-
-    def replace(self, overrides, sources=None):
-        if not self.pins or not isinstance(overrides, dict):
-            return self.scene.replace(overrides, sources)
-        aliases = gimbalsim.key_aliases()
-        given = set().union(*(_setting(aliases.get(k, k)) for k in overrides))
-        pins = {k: v for k, v in self.pins.items() if not _setting(k) & given}
-        return self.scene.replace({**pins, **overrides}, sources)
-
-    def __getattr__(self, name):  # values(), path, ...: the scene's (not while unpickling, before scene is set)
-        if name.startswith("__") or "scene" not in self.__dict__:
-            raise AttributeError(name)
-        return getattr(self.scene, name)
 
 
 def load_sample(base, closed, overrides):

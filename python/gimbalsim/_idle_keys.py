@@ -213,22 +213,6 @@ _READ_UNDER = {"friction.mu": ("friction.law", lambda law: law != "none"),
                "contact.v0_min": ("contact.damping", lambda law: law != "none")}
 
 
-# A joint's own bearing key, which a scene's values list only where it differs from the shared one.
-OWN_KEY = re.compile(r"joint[12]\.(?:contact|friction)\..+|initial\.ecc[12]")
-
-
-def own_keys_given(sets, scene_values, aliases):
-    """The joints' own keys a spec's `set` gives ({canonical key: value})
-    that the scene's values leave out (equal to the shared key's): given all
-    the same, they override the shared key (for the judgment above, and a
-    sample keeps them: _closed_sample.PinnedScene)."""
-    own = {aliases.get(k, k): v for k, v in sets.items() if OWN_KEY.fullmatch(aliases.get(k, k))}
-    # a clearance is listed as the journal radius it sets
-    listed = lambda k: k in scene_values or k.endswith(".clearance") and \
-        k[:-len("clearance")] + "journal_radius" in scene_values  # noqa: E731
-    return {k: v for k, v in own.items() if not listed(k)}
-
-
 def _own_key(j, shared):
     """Joint j's own key for a key shared by both: jointJ.contact.*,
     jointJ.friction.*, or initial.eccJ for initial.ecc."""
@@ -239,9 +223,9 @@ def _bearing_key_idle(key, joints, scene, dispersed):
     """Why a bearing key (contact.*, friction.*, initial.ecc, or a joint's own
     jointJ.*) is read on no joint (None if it is read on one): on each joint
     with a bearing, a shared key is overridden by the joint's own value (in
-    the scene's values, which list it only where it differs from the shared
-    one, as a sample's scene is loaded, or dispersed; a clearance is stored as
-    the journal radius), or the joint's law does not read it (friction.mu
+    the scene's values, which list every own key the scene or set gave, as a
+    sample's scene is loaded, or dispersed; a clearance is stored as the
+    journal radius), or the joint's law does not read it (friction.mu
     under friction.law none). initial.ecc is joint j's unless initial.eccJ is
     given (dynamics/scene/src/bearing_keys.cpp, deriveBearings)."""
     m = re.fullmatch(r"(?:joint([12])\.)?((?:contact|friction)\..+|initial\.ecc)", key)

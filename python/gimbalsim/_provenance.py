@@ -68,8 +68,8 @@ def _key_types():
 # sets and the value that key gets when the draw is applied as drawn).
 def _clearance(prefix):
     """<prefix>clearance: sets <prefix>journal_radius = <prefix>bearing_radius - c.
-    A joint's own key is in the values only where it differs from the shared
-    contact.* one (KeyTable::values)."""
+    A joint's own key is in the values only where the scene gave it
+    (KeyTable::values); else the shared contact.* one acts."""
     def get(v, name):
         return float(v.get(prefix + name, v["contact." + name]))
     return (lambda v: get(v, "bearing_radius") - get(v, "journal_radius"),
@@ -112,8 +112,8 @@ def applied(scene_values, drawn):
             ok = float(scene_values.get(sets, scene_values["contact.journal_radius"])) == expected(scene_values, want[0])
         else:
             canonical = gimbalsim.key_aliases().get(key, key)
-            # A joint's own key that a scene lists only where it differs from the shared one
-            # (initial.ecc1, initial.ecc2 beside initial.ecc): absent, it has the shared value.
+            # A joint's own key that a scene lists only where it was given (initial.ecc1,
+            # initial.ecc2 beside initial.ecc): absent, it has the shared value.
             text = scene_values.get(canonical, scene_values.get(_SHARED.get(canonical, "")))
             got = [None] if text is None else gimbalsim._typed(text, types.get(key, "string"))
             got = list(got) if isinstance(got, list) else [got]

@@ -6,8 +6,7 @@ import json
 import gimbalsim
 from . import _provenance
 from ._closed_spec import CONTROLLER_PREFIX, ClosedLoopSpec
-from ._closed_sample import PinnedScene
-from ._idle_keys import idle_reason, own_keys_given, takes_of
+from ._idle_keys import idle_reason, takes_of
 from ._spec import Spec
 from .dispersion import Design, check_within, design_size, parse_parameter
 
@@ -100,10 +99,6 @@ class SweepSpec:
         except gimbalsim.SceneError as e:
             node = sets.get(e.key) if e.set_index else None
             spec.refuse(f"set.{e.key}" if node else "scene", str(e), node or root["scene"])
-        # set's own bearing keys equal to the shared one: its values leave them out, a sample keeps them
-        self.pins = own_keys_given(self.set, self.base.values(), gimbalsim.key_aliases())
-        if self.pins:
-            self.base = PinnedScene(self.base, self.pins)
         # closed loop: controller keys are dispersed as controller.<key>, never confused with the scene's
         self.closed = None
         if "controller" in root:
@@ -131,7 +126,7 @@ class SweepSpec:
         self.spec_text, self.spec_folder = spec.source_text, spec.folder.absolute()  # for the replay's copy
         self.fingerprint = json.dumps({"scene": self.base.values(), "seed": self.seed, "samples": self.samples,
                                        "parameters": {p.key: [p.kind, p.args] for p in self.parameters},
-                                       "grid": self.grid, **({"pinned": self.pins} if self.pins else {}),
+                                       "grid": self.grid,
                                        **({"closed_loop": self.closed.plain()} if self.closed else {})},
                                       sort_keys=True)
         # open loop: the metrics against the ideal-joint twin; closed loop: an index per phase, and why one is NaN
@@ -147,7 +142,6 @@ class SweepSpec:
         dispersed_keys = {aliases.get(k, k) for _, k, _ in dispersed}
         takes = takes_of(self.parameters, self.grid, aliases)
         values = {k: str(v) for k, v in self.base.values().items()}  # read once: each key judged alike
-        values.update({k: str(v) for k, v in self.pins.items()})  # given in set, they override the shared key
         if self.closed is not None:
             values.update({CONTROLLER_PREFIX + k: str(v) for k, v in self.closed.values.items()})
         for where, key, node in dispersed:

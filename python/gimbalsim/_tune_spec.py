@@ -6,8 +6,7 @@ import json
 import gimbalsim
 from . import _gimbalsim
 from ._closed_spec import CONTROLLER_PREFIX, controller_path_of
-from ._closed_sample import PinnedScene
-from ._idle_keys import idle_reason, own_keys_given, takes_of
+from ._idle_keys import idle_reason, takes_of
 from ._spec import Spec
 from .dispersion import CONTROLLER_KEYS, Design, check_within, parse_parameter
 from .indices import seconds
@@ -68,10 +67,6 @@ class TuneSpec:
                                              sources={k: (spec.path, n.line) for k, n in sets.items()})
         except gimbalsim.SceneError as e:
             spec.refuse(f"set.{e.key}" if e.key in sets else "scene", str(e), sets.get(e.key, root["scene"]))
-        # set's own bearing keys equal to the shared one: the scene's values leave them out, a plant keeps them
-        self.pins = own_keys_given(set_values, self.base.values(), gimbalsim.key_aliases())
-        if self.pins:
-            self.base = PinnedScene(self.base, self.pins)
         ctrl_types = {k["key"]: k["type"] for k in gimbalsim.controller_keys()}
         csets = spec.known_mapping("controller_set", ctrl_types, "controller (see `pointing_controller --keys`)")
         self.controller_set = {k: spec.value(f"controller_set.{k}", n) for k, n in csets.items()}
@@ -140,8 +135,7 @@ class TuneSpec:
                                        "seed": self.seed, "batch": self.batch, "metric": self.metric,
                                        "percentile": self.percentile, "max_saturation": self.max_saturation,
                                        "gains": {p.key: [p.kind, p.args] for p in self.gains},
-                                       "plants": [[p.key, p.kind, p.args] for p in params],
-                                       **({"pinned": self.pins} if self.pins else {})}, sort_keys=True)
+                                       "plants": [[p.key, p.kind, p.args] for p in params]}, sort_keys=True)
 
     def _refuse_keys_that_do_not_act(self, spec, plants):
         """A gain or plant key the tuned loop never reads: every trial would
@@ -154,7 +148,6 @@ class TuneSpec:
         takes.update(takes_of(plants, [], aliases))
         values = {k: str(v) for k, v in self.base.values().items()}
         values["sim.duration"] = repr(self.duration)  # the study's run length, not the scene's
-        values.update({k: str(v) for k, v in self.pins.items()})  # given in set, they override the shared key
         values.update({CONTROLLER_PREFIX + k: str(v) for k, v in self.controller.values().items()})
         dispersed = {k for _, k, _ in entries}
         for where, key, node in entries:

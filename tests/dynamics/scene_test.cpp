@@ -294,6 +294,39 @@ TEST(Scene, EachJournalStartsWhereItsOwnKeySays) {
   EXPECT_NO_THROW(test::scene("paper_planar1", {"initial.ecc=[0, 0]", "initial.ecc2=[0, 0]"}));
 }
 
+TEST(Scene, ValuesListEveryOwnKeyGivenEvenWhereItEqualsTheSharedOne) {
+  // A scene rebuilt from its values with the shared key changed (a sweep's
+  // sample) must keep a joint's own value: listed only where it differed,
+  // initial.ecc2 = initial.ecc was dropped and the new shared value reached joint 2.
+  const auto values = [](const Scene& sc) { return sceneTable().values(sc); };
+  const auto has = [](const std::vector<std::string>& v, const std::string& kv) {
+    return std::find(v.begin(), v.end(), kv) != v.end();
+  };
+  const Scene given = test::scene("paper_both_planar", {"initial.ecc=[0, 0]", "initial.ecc2=[0, 0]",
+                                                        "joint2.contact.clearance=5e-4", "joint1.friction.mu=0.25"});
+  const std::vector<std::string> v = values(given);
+  EXPECT_TRUE(has(v, "initial.ecc2=[0, 0]"));
+  EXPECT_FALSE(std::any_of(v.begin(), v.end(), [](const std::string& kv) { return kv.rfind("initial.ecc1=", 0) == 0; }));
+  EXPECT_TRUE(std::any_of(v.begin(), v.end(), [](const std::string& kv) {
+    return kv.rfind("joint2.contact.journal_radius=", 0) == 0;  // the clearance, as the radius it sets
+  }));
+  EXPECT_TRUE(std::any_of(v.begin(), v.end(), [](const std::string& kv) { return kv.rfind("joint1.friction.mu=", 0) == 0; }));
+  std::vector<std::string> rebuilt = v;
+  rebuilt.insert(rebuilt.end(), {"initial.ecc=[1e-4, 0]", "contact.clearance=3e-4", "friction.mu=0.1"});
+  const Scene sample = loadSceneText("", "values", rebuilt);
+  EXPECT_EQ(sample.run.initial.ecc[0], Vec2(1e-4, 0.0)) << "joint 1 follows the shared key";
+  EXPECT_EQ(sample.run.initial.ecc[1], Vec2(0.0, 0.0)) << "joint 2 keeps its own";
+  EXPECT_NEAR(sample.model.bearing[0].clearance, 3e-4, 1e-15);
+  EXPECT_NEAR(sample.model.bearing[1].clearance, 5e-4, 1e-15);
+  EXPECT_EQ(sample.model.bearing[0].mu, 0.25);
+  EXPECT_EQ(sample.model.bearing[1].mu, 0.1);
+  // A scene that gives no own key lists none.
+  const std::vector<std::string> plain = values(test::scene("paper_both_planar"));
+  EXPECT_FALSE(std::any_of(plain.begin(), plain.end(), [](const std::string& kv) {
+    return kv.rfind("joint", 0) == 0 || kv.rfind("initial.ecc1", 0) == 0 || kv.rfind("initial.ecc2", 0) == 0;
+  }));
+}
+
 TEST(Scene, EveryProblemIsReportedAtOnce) {
   const std::string e = refusal(kGood, {"base.mass=-1", "contact.restitution=2"});
   EXPECT_NE(e.find("base.mass"), std::string::npos);

@@ -164,7 +164,7 @@ def test_a_shared_eccentricity_a_joint_reads_is_accepted(set_, tmp_path):
     j = 1 if "joint1" in set_ else 2
     draw = spec.design.draw(0)["initial.ecc"]
     values = spec.base.replace({"initial.ecc": draw}).values()  # a sample's scene, as a worker loads it
-    # joint j's eccentricity is listed only where it differs from the shared one: here it is the draw
+    # joint j's eccentricity is listed only where the scene or set gave it: here it is the draw
     assert f"initial.ecc{j}" not in values
     assert [float(x) for x in values["initial.ecc"].strip("[]").split(",")] == list(draw)
 
@@ -183,3 +183,29 @@ def test_a_sample_keeps_the_joints_own_key_set_equal_to_the_shared_one(tmp_path)
     assert values["initial.ecc2"] == "[0, 0]", values
     assert [float(x) for x in values["initial.ecc"].strip("[]").split(",")] == list(draw["initial.ecc"])
     assert loaded["applied"][-1] == ""  # the draw applied as drawn
+
+
+def test_a_joints_own_key_in_the_scene_file_equal_to_the_shared_one_keeps_its_joint(tmp_path):
+    # The scene file itself gives initial.ecc2 equal to initial.ecc: the scene's values dropped it, so a
+    # drawn initial.ecc reached joint 2 too. Dispersing initial.ecc now acts on joint 1 only.
+    from gimbalsim._closed_sample import load_sample
+    from gimbalsim.sweep import SweepSpec
+    text = (SCENES / "paper_both_planar.yaml").read_text()
+    assert "\ninitial:\n" in text
+    (tmp_path / "own.yaml").write_text(text.replace("\ninitial:\n", "\ninitial:\n  ecc2: [0, 0]\n", 1))
+    (tmp_path / "s.yaml").write_text("scene: own.yaml\nsamples: 3\nseed: 1\n"
+                                     "parameters:\n  initial.ecc: {disk: {radius: 5.0e-5}}\n")
+    spec = SweepSpec(tmp_path / "s.yaml")
+    draw = spec.design.draw(0)
+    scene, _, loaded = load_sample(spec.base, None, draw)
+    values = scene.values()
+    assert values["initial.ecc2"] == "[0, 0]", values
+    assert [float(x) for x in values["initial.ecc"].strip("[]").split(",")] == list(draw["initial.ecc"])
+    assert loaded["applied"][-1] == ""
+    # and with joint 1 ideal, initial.ecc acts on no journal: refused at its line
+    (tmp_path / "own1.yaml").write_text(text.replace("\ninitial:\n", "\ninitial:\n  ecc2: [0, 0]\n", 1)
+                                        .replace("joint1: planar", "joint1: ideal", 1))
+    (tmp_path / "s1.yaml").write_text("scene: own1.yaml\nsamples: 3\nseed: 1\n"
+                                      "parameters:\n  initial.ecc: {disk: {radius: 5.0e-5}}\n")
+    p = run_sweep(tmp_path / "s1.yaml", tmp_path / "o1", check=False)
+    assert p.returncode == 2 and "s1.yaml:5:" in p.stderr and "initial.ecc" in p.stderr, p.stderr

@@ -5,6 +5,7 @@
 // the bearing it acts on (docs/scene_keys.md "The two bearings").
 #include "bearing_keys.hpp"
 
+#include <algorithm>
 #include <functional>
 
 namespace gimbalsim::scene_keys {
@@ -151,6 +152,12 @@ std::string givenAs(const Given& g, int j, const std::string& section, const std
   return g.has(own) ? own : section + suffix;
 }
 
+/// Whether the scene gave joint key `key` itself (Scene::BothJoints::own_keys).
+bool ownKeyGiven(const Scene& s, const std::string& key) {
+  const auto& given = s.both_joints.own_keys;
+  return std::find(given.begin(), given.end(), key) != given.end();
+}
+
 /// The initial eccentricity keys: both journals' (initial.ecc), then each one's.
 const char* const kEccKeys[2] = {"initial.ecc1", "initial.ecc2"};
 
@@ -158,7 +165,9 @@ const char* const kEccKeys[2] = {"initial.ecc1", "initial.ecc2"};
 SceneKey eccKey(int joint, const char* key, const char* meaning) {
   if (joint < 0) return K::vector<2>(key, "m", meaning, [](auto& s) -> auto& { return s.both_joints.ecc; });
   SceneKey k = K::vector<2>(key, "m", meaning, [joint](auto& s) -> auto& { return s.run.initial.ecc[joint]; });
-  k.present = [joint](const Scene& s) { return s.run.initial.ecc[joint] != s.both_joints.ecc; };
+  k.present = [joint, key = std::string(key)](const Scene& s) {
+    return s.run.initial.ecc[joint] != s.both_joints.ecc || ownKeyGiven(s, key);
+  };
   return k;
 }
 
@@ -243,7 +252,7 @@ std::vector<Key<Scene>> bearingKeys() {
         if (k.key.refusal) {
           k.key.refusal = [check = k.key.refusal, own](const Scene& s) { return own(s) ? check(s) : std::string(); };
         }
-        k.key.present = own;
+        k.key.present = [own, key = k.key.key](const Scene& s) { return own(s) || ownKeyGiven(s, key); };
       }
       out.push_back(std::move(k.key));
     }
@@ -319,7 +328,11 @@ void deriveBearings(Scene& s, const Given& g) {
     ContactParams& cb = s.model.bearing[j];
     cb = shared;
     for (const BearingKey& k : jointBearingKeys(j)) {
-      if (g.has(k.key.key)) k.copy(cb, own);
+      if (!g.has(k.key.key)) continue;
+      k.copy(cb, own);
+      // a clearance is listed as the journal radius it sets (it has no value of its own)
+      const bool clearance = k.key.key == b.contact + "clearance";
+      s.both_joints.own_keys.push_back(clearance ? b.contact + "journal_radius" : k.key.key);
     }
     const bool own_journal = g.has(b.contact + "journal_radius");
     if (g.has(b.contact + "clearance") || (g.has(kShared.contact + "clearance") && !own_journal)) {
@@ -330,6 +343,7 @@ void deriveBearings(Scene& s, const Given& g) {
   if (g.has(kShared.contact + "clearance")) setClearance(c, c.clearance);
   for (int j = 0; j < 2; ++j) {
     if (!g.has(kEccKeys[j])) s.run.initial.ecc[j] = s.both_joints.ecc;
+    else s.both_joints.own_keys.emplace_back(kEccKeys[j]);
   }
 }
 

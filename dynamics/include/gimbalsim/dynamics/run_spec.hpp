@@ -49,6 +49,11 @@ struct Scene {
   struct BothJoints {
     ContactParams bearing;
     Vec2 ecc = Vec2::Zero();  ///< [m]
+    /// The joints' own keys the scene gave (jointN.contact.*, jointN.friction.*,
+    /// initial.eccN; a clearance as the journal radius it sets): its values list
+    /// them even where they equal the shared key, so a scene rebuilt from its
+    /// values, with a shared key changed, keeps them.
+    std::vector<std::string> own_keys;
   } both_joints;
   std::vector<std::string> warnings;  ///< accepted but suspicious (e.g. triangle inequality)
 };
