@@ -141,7 +141,13 @@ void bindSimulator(pyb::module_& m) {
                              "sim.step [s]")
       .def(
           "step",
-          [](PySimulator& p, double tau1, double tau2, long long n) {
+          [](PySimulator& p, double tau1, double tau2, pyb::handle steps) {
+            // bool is an int to Python: step(n=True) would run one step for a flag given by mistake
+            if (PyBool_Check(steps.ptr()) || !PyIndex_Check(steps.ptr())) {
+              throw pyb::type_error("n must be an int (a number of steps), got " +
+                                    std::string(pyb::str(pyb::type::handle_of(steps).attr("__name__"))));
+            }
+            const long long n = steps.cast<long long>();
             if (n < 0 || n > kMaxSteps) throw pyb::value_error("n must be in [0, 2^40], got " + std::to_string(n));
             checkTorque(tau1, tau2);
             const StepResult r = locked(p, [&](Simulator& s) { return s.step(Vec2(tau1, tau2), n); });

@@ -94,6 +94,11 @@ def test_numerical_trouble_raises_simulation_stopped_naming_the_limit():
         batch.run(np.zeros((3, 3)))
     with pytest.raises(ValueError):
         batch.step(0.0, 0.0, n=-1)
+    # a flag or a float is no number of steps (True ran one step, 2.0 was refused unnamed)
+    for wrong in (True, 2.0, "3"):
+        with pytest.raises(TypeError, match="n must be an int"):
+            batch.step(0.0, 0.0, n=wrong)
+    batch.step(0.0, 0.0, n=np.int64(0))  # a numpy count is one
 
 
 def _work(s, n, out, i):
