@@ -151,7 +151,8 @@ std::string table(const std::string& title, const std::vector<Row>& rows, bool m
       s += b;
     }
   }
-  s += markdown && !notes(rows).empty() ? "\n" + notes(rows) : notes(rows);
+  const std::string under = notes(rows);
+  s += markdown && !under.empty() ? "\n" + under : under;
   if (rows.size() >= 2) {
     const Row &i = rows[0], &c = rows[1];
     const std::string line = "ideal / " + c.label + ": track max " + ratio(i.track.peak(), c.track.peak()) +
