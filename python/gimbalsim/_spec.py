@@ -4,6 +4,7 @@ import math
 import os
 import pathlib
 import re
+import stat
 
 import yaml
 
@@ -41,11 +42,17 @@ class Spec:
     def __init__(self, path, folder=None):
         self.path = pathlib.Path(path)
         self.folder = pathlib.Path(folder) if folder is not None else self.path.parent
-        if not self.path.is_file():
-            raise SpecError("not a readable file", file=str(path))
-        if self.path.stat().st_size > MAX_SPEC_BYTES:
-            raise SpecError(f"larger than {MAX_SPEC_BYTES} bytes", file=str(path))
-        data = self.path.read_bytes()
+        # Said as the C++ readers say it: what the path is, or the system's reason (not "not readable").
+        try:
+            st = self.path.stat()
+            if stat.S_ISDIR(st.st_mode) or not stat.S_ISREG(st.st_mode):
+                kind = "a folder" if stat.S_ISDIR(st.st_mode) else "not a regular file (a pipe or a device)"
+                raise SpecError(f"{kind}; expected a spec file", file=str(path))
+            if st.st_size > MAX_SPEC_BYTES:
+                raise SpecError(f"larger than {MAX_SPEC_BYTES} bytes", file=str(path))
+            data = self.path.read_bytes()
+        except OSError as e:
+            raise SpecError(f"cannot open spec file: {e.strerror}", file=str(path)) from None
         try:
             text = data.decode("utf-8")
         except UnicodeDecodeError as e:

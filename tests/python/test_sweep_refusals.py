@@ -1,6 +1,9 @@
 """gimbalsim.sweep's spec refusals: each bad spec is refused with exit 2
 before anything runs, naming the spec's line and key and why (a key the
 runs would never read, a value that crashed a worker before)."""
+import subprocess
+import sys
+
 import pytest
 
 from conftest import SCENES
@@ -209,3 +212,16 @@ def test_a_joints_own_key_in_the_scene_file_equal_to_the_shared_one_keeps_its_jo
                                       "parameters:\n  initial.ecc: {disk: {radius: 5.0e-5}}\n")
     p = run_sweep(tmp_path / "s1.yaml", tmp_path / "o1", check=False)
     assert p.returncode == 2 and "s1.yaml:5:" in p.stderr and "initial.ecc" in p.stderr, p.stderr
+
+
+@pytest.mark.parametrize("module", ["gimbalsim.sweep", "gimbalsim.tune"])
+def test_a_spec_path_that_is_no_file_says_what_it_is(module, tmp_path):
+    # "not a readable file" said neither that the file was missing nor that the path was a folder or a device
+    cases = [(tmp_path / "none.yaml", "none.yaml: cannot open spec file: No such file or directory"),
+             (tmp_path, f"{tmp_path}: a folder; expected a spec file"),
+             ("/dev/null", "/dev/null: not a regular file (a pipe or a device); expected a spec file")]
+    for path, message in cases:
+        p = subprocess.run([sys.executable, "-m", module, str(path), "--out", str(tmp_path / "o")],
+                           capture_output=True, text=True, timeout=120)
+        assert p.returncode == 2 and message in p.stderr, (path, p.stderr)
+        assert not (tmp_path / "o").exists()
