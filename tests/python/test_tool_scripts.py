@@ -131,7 +131,9 @@ def test_pointing_study_plot_refuses_bad_cells_and_outputs(tmp):
     os.symlink(tmp / "victim.png", d / "pointing_error_vs_time.png")
     refused(run(STUDY, d), "symbolic link")
     assert not (tmp / "victim.png").exists()
-    refused(run(STUDY, tmp / "nowhere"), "nowhere")
+    # the study's folder is the input: said as missing, not as an output's folder ("its directory ... does not exist")
+    refused(run(STUDY, tmp / "nowhere"), "nowhere: no such folder (give gimbalsim_pointing_study's --out folder)")
+    refused(run(STUDY, d / "summary.csv"), "summary.csv: not a folder")
 
 
 def test_paper_plot_makes_no_folder_and_overwrites_no_input(tmp):

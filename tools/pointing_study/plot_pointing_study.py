@@ -158,6 +158,9 @@ def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("dir", nargs="?", default="out/pointing_study", help="the tool's --out directory")
     a = p.parse_args()
+    if not os.path.isdir(a.dir):  # the study's folder is the input: said as such, not as an output's missing folder
+        raise Refused(f"{a.dir}: " + ("not a folder" if os.path.exists(a.dir) else "no such folder") +
+                      " (give gimbalsim_pointing_study's --out folder)")
     series, summary = os.path.join(a.dir, "pointing_error.csv"), os.path.join(a.dir, "summary.csv")
     outs = [os.path.join(a.dir, "pointing_error_vs_time.png"), os.path.join(a.dir, "pointing_error_vs_clearance.png")]
     check_before_writing(outs, [series, summary])
