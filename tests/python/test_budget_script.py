@@ -116,3 +116,85 @@ def test_a_refused_spec_makes_no_out_folder(tmp_path):
     p = subprocess.run(["bash", str(root / "tools/sweeps/run_pointing_budget.sh"), "--workers", "1"],
                        capture_output=True, text=True, timeout=300, env=env)
     assert p.returncode == 2 and not (root / "out").exists(), p.stderr
+
+
+def checkout_with_previous_results(tmp_path):
+    """A copy of what the shipped budget's run touches, out/pointing_budget/ holding a previous run's results."""
+    root = tmp_path / "checkout"
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/sweeps/pointing_budget.yaml", "tools/pages/results_page.py",
+                "tools/pages/output_file.py", "python/gimbalsim/_output.py", "docs/results/pointing_budget.md",
+                "docs/results/README.md"):
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(SOURCE / rel, root / rel)
+    previous = root / "out" / "pointing_budget"
+    previous.mkdir(parents=True)
+    (previous / "results.csv").write_text("the previous run's\n")
+    return root, previous
+
+
+def test_help_and_version_are_answered_before_anything(tmp_path):
+    # --help went to the sweep, which printed its help and wrote nothing; the script then removed
+    # out/pointing_budget/ and failed moving the missing new folder (exit 1, the previous results gone).
+    root, previous = checkout_with_previous_results(tmp_path)
+    script = root / "tools/sweeps/run_pointing_budget.sh"
+    before = digest(root / "docs")
+    work = tmp_path / "work"
+    work.mkdir()
+    built = str(pathlib.Path(os.environ["PYTHONPATH"]).parent)
+    for build in (built, str(tmp_path / "nowhere")):  # the usage needs no package
+        for args in (["--help"], ["-h"], ["--workers", "1", "--help"], ["my_budget.yaml", "--help"]):
+            p = subprocess.run(["bash", str(script), *args], cwd=work, capture_output=True, text=True, timeout=60,
+                               env=dict(os.environ, GIMBALSIM_BUILD=build))
+            assert p.returncode == 0 and p.stderr == "", (args, p.stderr)
+            assert "run_pointing_budget.sh MY_SPEC [--out DIR]" in p.stdout and "gimbalsim.sweep" in p.stdout, p.stdout
+    p = subprocess.run(["bash", str(script), "--version"], cwd=work, capture_output=True, text=True, timeout=60,
+                       env=dict(os.environ, GIMBALSIM_BUILD=built))
+    assert p.returncode == 0 and p.stdout.startswith("gimbalsim.sweep "), p.stderr
+    p = subprocess.run(["bash", str(script), "--version"], cwd=work, capture_output=True, text=True, timeout=60,
+                       env=dict(os.environ, GIMBALSIM_BUILD=str(tmp_path / "nowhere")))
+    assert p.returncode == 2 and "no gimbalsim package in" in p.stderr and p.stdout == "", p.stderr
+    assert (previous / "results.csv").read_text() == "the previous run's\n"
+    assert sorted(os.listdir(root / "out")) == ["pointing_budget"] and os.listdir(work) == []
+    assert digest(root / "docs") == before
+
+
+FAKE_SWEEP = '''
+import os, pathlib, sys
+out = pathlib.Path(sys.argv[sys.argv.index("--out") + 1])
+how = os.environ["FAKE_SWEEP"]
+if how != "nothing":
+    out.mkdir()
+    (out / "results.csv").write_text("the new run's\\n")
+if how == "whole":
+    (out / "summary.json").write_text("{}\\n")
+    (out / "report.md").write_text("# budget\\n\\n![ape](plots/ape_cdf.png)\\n")
+    (out / "plots").mkdir()
+    (out / "plots" / "ape_cdf.png").write_bytes(b"png")
+'''
+
+
+def test_the_previous_results_go_only_for_a_whole_new_folder(tmp_path):
+    # A sweep (here a stand-in: no real sweep runs) that ends well but leaves no folder, or half of one,
+    # must not cost the previous results; a whole one replaces them and makes the page.
+    root, previous = checkout_with_previous_results(tmp_path)
+    fake = tmp_path / "fakebuild" / "python" / "gimbalsim"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text("")
+    (fake / "sweep.py").write_text(FAKE_SWEEP)
+    before = digest(root / "docs")
+    for how in ("nothing", "partial"):
+        env = dict(os.environ, GIMBALSIM_BUILD=str(tmp_path / "fakebuild"), FAKE_SWEEP=how)
+        p = subprocess.run(["bash", str(root / "tools/sweeps/run_pointing_budget.sh")], capture_output=True, text=True,
+                           timeout=60, env=env)
+        assert p.returncode == 1 and "left no whole budget" in p.stderr, (how, p.stderr)
+        assert (previous / "results.csv").read_text() == "the previous run's\n", how
+        assert sorted(os.listdir(root / "out")) == ["pointing_budget"], how
+        assert digest(root / "docs") == before, how
+    env["FAKE_SWEEP"] = "whole"
+    p = subprocess.run(["bash", str(root / "tools/sweeps/run_pointing_budget.sh")], capture_output=True, text=True,
+                       timeout=60, env=env)
+    assert p.returncode == 0, p.stderr
+    assert (previous / "results.csv").read_text() == "the new run's\n"
+    assert sorted(os.listdir(root / "out")) == ["pointing_budget"]
+    assert (root / "docs/results/pointing_budget_ape_cdf.png").read_bytes() == b"png"
+    assert "](pointing_budget_ape_cdf.png)" in (root / "docs/results/pointing_budget.md").read_text()

@@ -10,11 +10,22 @@
 #   bash tools/sweeps/run_pointing_budget.sh MY_SPEC [--out DIR] [sweep options, e.g. --workers 2]
 #
 # The package is the one in ${GIMBALSIM_BUILD:-build}/python (cmake --build build --target gimbalsim_python).
+# Options after SPEC go to python3 -m gimbalsim.sweep (its --help lists them); --help (-h) prints this
+# and --version the sweep's version, before anything runs. A refused spec or a failed run leaves the
+# previous results as they were: they are replaced only by a new folder the sweep completed.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 SHIPPED=tools/sweeps/pointing_budget.yaml
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
+# --help and --version are the script's, answered before anything (they went to the sweep, which wrote
+# nothing, and the previous results were removed all the same).
+info=
+for a in "$@"; do case "$a" in -h | --help | --version) info=$a; break ;; esac; done
+if [ "$info" != "" ] && [ "$info" != --version ]; then
+  sed -n '2,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+  exit 0
+fi
 SPEC=  # none: the shipped budget and its page
 if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then
   SPEC=$1
@@ -31,6 +42,9 @@ fi
   echo "run_pointing_budget.sh: no gimbalsim package in $PACKAGE: cmake --build build -j2 --target gimbalsim_python" >&2
   exit 2
 }
+if [ "$info" = --version ]; then
+  exec env PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep --version
+fi
 
 if [ -n "$SPEC" ]; then
   # A user's spec: its own output folder (a --out among the options wins), nothing else written.
@@ -62,11 +76,26 @@ if [ ! -d out ]; then mkdir out && made_out=1; fi
 # Into a fresh folder first: the previous results go only once this run has
 # its own (a refused spec or a failed run leaves them as they were, and an
 # out/ made for it goes again).
-NEW="$OUT.new-$$"
-trap 'rm -rf "$NEW"; [ "$made_out" = 0 ] || rmdir out 2>/dev/null || true' EXIT
+NEW="$OUT.new-$$" OLD="$OUT.old-$$"
+trap 'rm -rf "$NEW"; [ -e "$OUT" ] || [ ! -d "$OLD" ] || mv "$OLD" "$OUT"; [ "$made_out" = 0 ] || rmdir out 2>/dev/null || true' EXIT
 PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$SHIPPED" --out "$NEW" --no-progress "${ARGS[@]+"${ARGS[@]}"}"
-rm -rf "$OUT"
-mv "$NEW" "$OUT"
+# The previous results go only for a whole new folder: the sweep's results, summary and report, no journal
+# left (an option that makes the sweep answer and write nothing must not cost them).
+for f in results.csv summary.json report.md; do
+  if [ -L "$NEW" ] || [ ! -d "$NEW" ] || [ -L "$NEW/$f" ] || [ ! -f "$NEW/$f" ] || [ -e "$NEW/results.partial.csv" ]; then
+    echo "run_pointing_budget.sh: the sweep ended well but left no whole budget in $NEW (no $f, or its journal);" \
+         "$OUT left as it was" >&2
+    exit 1
+  fi
+done
+# Swapped, not removed first: the previous results come back if the new ones cannot be moved into place.
+if [ -e "$OUT" ] || [ -L "$OUT" ]; then mv "$OUT" "$OLD"; fi
+if ! mv "$NEW" "$OUT"; then
+  if [ -e "$OLD" ]; then mv "$OLD" "$OUT"; fi
+  echo "run_pointing_budget.sh: could not move $NEW into $OUT; $OUT left as it was" >&2
+  exit 4
+fi
+rm -rf "$OLD"
 RESULTS=docs/results
 rm -f "$RESULTS"/pointing_budget_*_cdf.png  # the page shows this run's figures only, none left from an older one
 for png in "$OUT"/plots/*_cdf.png; do
