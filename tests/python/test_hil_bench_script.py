@@ -92,3 +92,31 @@ def test_a_configuration_the_controller_refuses_is_its_refusal_not_firmware_sims
     p = bench(tmp_path / "new", "--no-plot", "--duration", "0.1", "--rate", "10")  # the default config at 10 Hz
     assert p.returncode == 2 and "key 'control.rate_filter_hz': must be below the Nyquist frequency" in p.stderr, p.stderr
     assert "pointing_controller refused --config" in p.stderr and "1/--rate = 1/10 s" in p.stderr, p.stderr
+
+
+def test_an_output_that_is_one_of_the_inputs_is_refused_before_anything_runs(tmp_path):
+    # A scene sitting in --out as truth.csv was read, then replaced by the truth CSV (exit 0).
+    scene = (SOURCE / "tools" / "scenes" / "paper_clearance.yaml").read_bytes()
+    out = tmp_path / "b1"
+    out.mkdir()
+    (out / "truth.csv").write_bytes(scene)
+    p = bench("b1", "--duration", "0.2", "--no-plot", "--scene", "b1/truth.csv", cwd=tmp_path)
+    assert p.returncode == 2, p.stderr
+    assert "b1/truth.csv: an output that is the input --scene b1/truth.csv" in p.stderr, p.stderr
+    assert files(out) == {"truth.csv": scene}  # nothing run, nothing written
+    # the config under a hard link's name, and a --faults file passed through to firmware_sim (absolute, or
+    # relative as firmware_sim reads it, from the run's folder in --out)
+    (tmp_path / "ctl.yaml").write_bytes(CONTROLLER_CONFIG.read_bytes())
+    os.link(tmp_path / "ctl.yaml", out / "controller.txt")
+    p = bench(out, "--duration", "0.2", "--no-plot", "--config", str(tmp_path / "ctl.yaml"))
+    assert p.returncode == 2 and "controller.txt: an output that is the input --config" in p.stderr, p.stderr
+    (out / "controller.txt").unlink()
+    (out / "firmware.txt").write_text("scheduled_faults: []\n")
+    for faults in (["--faults", str(out / "firmware.txt")], ["--faults=../firmware.txt"]):
+        p = bench(out, "--duration", "0.2", "--no-plot", "--", *faults)
+        assert p.returncode == 2 and "firmware.txt: an output that is the input --faults (after --)" in p.stderr, p.stderr
+    assert sorted(os.listdir(out)) == ["firmware.txt", "truth.csv"]
+    assert (out / "firmware.txt").read_text() == "scheduled_faults: []\n"
+    # an input under an output's name in a fresh --out is no file yet: refused, no folder made
+    p = bench(tmp_path / "fresh", "--duration", "0.2", "--no-plot", "--scene", str(tmp_path / "fresh" / "truth.csv"))
+    assert p.returncode == 2 and "no such file" in p.stderr and not (tmp_path / "fresh").exists(), p.stderr

@@ -98,6 +98,30 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
       echo "run_hil_bench.sh: $f: a link or not a regular file under an output's name; move it out" >&2; exit 2
     fi
   done
+  # An output that is one of the inputs (same device and inode: a hard link or ./truth.csv counts) is refused
+  # before anything runs (usage.md "Output files"): the scene, the config, and a --faults or --profile file
+  # passed to firmware_sim after -- (a relative one as firmware_sim reads it, from the run's folder in --out).
+  inputs=("--scene" "$SCENE" "--config" "$CONFIG")
+  for ((i = 0; i < ${#EXTRA[@]}; i++)); do
+    a=${EXTRA[i]} v=
+    case "$a" in
+      --faults | --profile) [ $((i + 1)) -ge ${#EXTRA[@]} ] || { v=${EXTRA[i + 1]}; i=$((i + 1)); } ;;
+      --faults=* | --profile=*) v=${a#*=} a=${a%%=*} ;;
+    esac
+    [ -n "$v" ] || continue
+    case "$v" in /*) ;; *) v="$(realpath -m -- "$OUT/.run.X/$v")" ;; esac
+    inputs+=("$a (after --)" "$v")
+  done
+  for f in "${OUTPUTS[@]}" "$OUT"/bench_*.csv; do
+    f="$OUT/${f#"$OUT"/}"
+    [ -e "$f" ] || continue
+    for ((i = 0; i < ${#inputs[@]}; i += 2)); do
+      if [ "$f" -ef "${inputs[i + 1]}" ]; then
+        echo "run_hil_bench.sh: $f: an output that is the input ${inputs[i]} ${inputs[i + 1]} (same file); nothing run" >&2
+        exit 2
+      fi
+    done
+  done
   # A folder made for this run goes again if the run does not end well (a refused run leaves nothing).
   [ "$OUT_GIVEN" = 1 ] || mkdir -p "$parent"  # the default out/bench: out/ is the project's
   if [ ! -d "$OUT" ]; then mkdir "$OUT" && export GIMBALSIM_BENCH_MADE_OUT=1; fi
