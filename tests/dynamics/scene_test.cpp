@@ -99,7 +99,7 @@ TEST(Scene, NonPhysicalValuesAreRefused) {
       {{"shaft2.inertia=[1, -1, 1]"}, "key 'shaft2.inertia': inertia must be symmetric positive definite"},
       {{"shaft2.inertia=[[1, 0.5, 0], [0, 1, 0], [0, 0, 1]]"},
        "key 'shaft2.inertia': inertia must be symmetric positive definite"},
-      {{"contact.journal_radius=0.011"}, "key 'contact.journal_radius': journal radius (0.011 m) must be < bearing radius (0.01 m)"},
+      {{"contact.journal_radius=0.011"}, "key 'contact.journal_radius': journal radius (0.011 m, contact.journal_radius) must be < bearing radius (0.01 m, contact.bearing_radius)"},
       {{"contact.journal_radius=0.01"}, "must be < bearing radius"},
       {{"contact.clearance=-1e-4"}, "key 'contact.clearance': clearance must not be negative"},
       {{"contact.restitution=0"}, "key 'contact.restitution': must be in (0, 1], got 0"},
@@ -246,9 +246,17 @@ TEST(Scene, BothJointsAreNamedAlike) {
   EXPECT_NE(e.find("given twice"), std::string::npos) << e;
   // A refusal names the key as the user spelled it, and the joint's bearing it acts on.
   e = refusal(kGood, {"structure.joint1=planar", "joint1.contact.journal_radius=0.02"});
-  EXPECT_NE(e.find("key 'joint1.contact.journal_radius': journal radius (0.02 m) must be < bearing radius"),
+  EXPECT_NE(e.find("key 'joint1.contact.journal_radius': journal radius (0.02 m, joint1.contact.journal_radius) must be < bearing radius"),
             std::string::npos)
       << e;
+  // A joint's own bearing radius below the shared journal radius is the joint's key's refusal, said once
+  // (it was blamed on contact.journal_radius, with initial.ecc's "exceeds the clearance" after it).
+  e = refusal(kGood, {"joint2.contact.bearing_radius=0.009"});
+  EXPECT_NE(e.find("key 'joint2.contact.bearing_radius': journal radius (0.0095 m, contact.journal_radius) must be < "
+                   "bearing radius (0.009 m, joint2.contact.bearing_radius)"),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(e.find("initial.ecc"), std::string::npos) << e;
   // A sub-key of contact1 with no counterpart stays unknown.
   EXPECT_NE(refusal(kGood, {"contact1.bogus=1"}).find("unknown key 'contact1.bogus'"), std::string::npos);
   // A joint's own bearing keys for an ideal joint are not used: accepted with a warning naming the key.

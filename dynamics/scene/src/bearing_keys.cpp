@@ -185,9 +185,14 @@ void checkBearing(const ContactParams& cb, const ContactParams* shared, int join
     if (by_clearance && !(cb.bearing_radius - cb.journal_radius >= 0.0)) {
       g.refuse(clearance, "clearance must not be negative");
     } else if (!(cb.journal_radius < cb.bearing_radius)) {
-      g.refuse(by_clearance ? clearance : journal,
-               "journal radius (" + formatNumber(cb.journal_radius) + " m) must be < bearing radius (" +
-                   formatNumber(cb.bearing_radius) + " m)");
+      // Both values named with the key that gave each: a joint's own bearing radius against the shared
+      // journal radius was blamed on the journal's line alone, a key the user had not touched.
+      const std::string bearing = joint < 0 ? b.contact + "bearing_radius" : givenAs(g, joint, "contact.", "bearing_radius");
+      const bool own_bearing_only = joint >= 0 && bearing != "contact.bearing_radius" && journal == "contact.journal_radius" &&
+                                    !(by_clearance && clearance != "contact.clearance");
+      g.refuse(own_bearing_only ? bearing : by_clearance ? clearance : journal,
+               "journal radius (" + formatNumber(cb.journal_radius) + " m, " + (by_clearance ? clearance : journal) +
+                   ") must be < bearing radius (" + formatNumber(cb.bearing_radius) + " m, " + bearing + ")");
     }
   }
   if ((!shared || cb.v_a != shared->v_a || cb.v_b != shared->v_b) && !(cb.v_b > cb.v_a)) {
@@ -226,7 +231,8 @@ void checkInitialEcc(const Scene& s, Given& g) {
     const std::string joint = "joint " + std::to_string(j + 1);
     if (m.jointKind(j) != ClearanceKind::Ideal) {
       const double c = m.bearing[j].bearing_radius - m.bearing[j].journal_radius;
-      if (ecc.norm() > c) g.refuse(key, "initial eccentricity exceeds the radial clearance of " + joint);
+      // no clearance at all is the radii's refusal (checkBearing): said once, not again here
+      if (c > 0.0 && ecc.norm() > c) g.refuse(key, "initial eccentricity exceeds the radial clearance of " + joint);
     } else if (ecc.norm() > 0.0 && key != warned && g.has(key) && (key != "initial.ecc" || !m.hasClearance())) {
       g.warn(key, m.hasClearance() ? joint + " is ideal (structure.joint" + std::to_string(j + 1) +
                                          "): its journal has no eccentricity, this value does not act"
