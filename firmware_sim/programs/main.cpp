@@ -110,9 +110,14 @@ int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
   c.torque_sanity_factor = o.torque_sanity;
   c.safe_torque = Vec2(o.safe_torque[0], o.safe_torque[1]);
   if (const ConfigCheck chk = checkConfig(scene, c); !chk.ok()) {
-    // Only the rate is both a flag and a derived setting (the period): name the flag.
-    const bool rate = chk.wrong == ConfigCheck::Setting::ControlPeriod;
-    return refuse(rate ? "--rate " + CLI::detail::to_string(o.rate_hz) + ": " + chk.message : chk.message);
+    // Each setting is a flag's (the period is 1 / --rate): the refusal names the flag as given.
+    using S = ConfigCheck::Setting;
+    const char* flag = chk.wrong == S::ControlPeriod        ? "--rate"
+                       : chk.wrong == S::WatchdogTimeout    ? "--watchdog-ms"
+                       : chk.wrong == S::TorqueSanityFactor ? "--torque-sanity"
+                                                            : "--safe-torque";
+    const std::string given = chk.wrong == S::ControlPeriod ? " " + CLI::detail::to_string(o.rate_hz) : "";
+    return refuse(flag + given + ": " + chk.message);
   }
   // The loop runs whole control periods: a duration between two is refused, never rounded.
   if (const std::string why = wholeMultipleProblem(o.duration, c.control_period, "the control period (1 / --rate)");
