@@ -92,6 +92,33 @@ def test_bench_plot_refuses_bad_input_naming_the_line(tmp):
     assert not (tmp / "a.png").exists()
 
 
+def test_bench_plot_refuses_a_bad_cell_in_a_column_it_does_not_plot(tmp):
+    # A word in fn2_plus_N, base_x_m or utime_us was plotted (exit 0) while the same in theta2_rad was refused;
+    # torque_replay refuses the file (every cell of every column is the writer's plain finite decimal).
+    header = "utime_us," + TRUTH_HEADER.rstrip("\n") + ",base_x_m,fn2_plus_N\n"
+    rows = ["1000,0,0,0,0,0,1e-3,0,0,0", "2000,0.001,0,0,0,0,2e-3,0,0,1.5e-150", "3000,0.002,0,0,0,0,2e-3,0,0,0"]
+    bad = tmp / "bad.csv"
+    bad.write_text(header + "\n".join(rows) + "\n")
+    p = run(BENCH, bad, "--out", tmp / "ok.png")
+    assert p.returncode == 0, p.stderr
+    (tmp / "ok.png").unlink()
+    for column, cell, said in [("fn2_plus_N", "x", "not a finite decimal number: 'x'"),
+                               ("base_x_m", "nan", "not a finite decimal number: 'nan'"),
+                               ("utime_us", "", "not a finite decimal number: ''"),
+                               ("fn2_plus_N", "0x10", "not a finite decimal number: '0x10'"),
+                               ("base_x_m", "1e400", "not a finite decimal number: '1e400'"),
+                               ("fn2_plus_N", "1e-400", "'1e-400' underflows a double")]:
+        edited = [r.split(",") for r in rows]
+        edited[2][header.rstrip("\n").split(",").index(column)] = cell
+        bad.write_text(header + "\n".join(",".join(r) for r in edited) + "\n")
+        refused(run(BENCH, bad, "--out", tmp / "a.png"), f"{bad}:4: column {column}: {said}")
+    for text, said in [((header + "\n".join(rows) + "\n").replace("\n", "\r\n"), f"{bad}:1: ends in CR (CRLF"),
+                       ("\ufeff" + header + "\n".join(rows) + "\n", f"{bad}:1: starts with a byte-order mark")]:
+        bad.write_bytes(text.encode())
+        refused(run(BENCH, bad, "--out", tmp / "a.png"), said, "not as firmware_sim writes a truth CSV")
+    assert not (tmp / "a.png").exists()
+
+
 def study_dir(tmp):
     d = tmp / "study"
     d.mkdir()

@@ -17,8 +17,9 @@ maximum after --after seconds, ticks per fault flag). Needs numpy and
 matplotlib (Debian: python3-numpy python3-matplotlib, for /usr/bin/python3).
 """
 import argparse
-import csv
+import io
 import os
+import re
 import sys
 
 import numpy as np
@@ -48,37 +49,77 @@ def injected_name(bit):
 NEEDED = ["sim_time_s", "theta1_rad", "theta2_rad", "tau1_Nm", "tau2_Nm", "pointing_error_rad", "faults"]
 
 
+# A cell as the project's writer writes a number (shortest round-trip decimal), matched a whole line at a time
+# (one regex a line, not Python a cell: a 2M-row file stays fast). At most 200 digits a run and a two-digit
+# exponent, so that every cell it takes is finite and kept by the parse (|x| >= 1e-299). A line it does not take
+# is read cell by cell by check_line (plain_number and the underflow rule of base/input underflow.hpp, as
+# torque_replay reads it): refused, or taken (1e-150).
+_CELL = rb"[+-]?(?:[0-9]{1,200}\.?[0-9]{0,200}|\.[0-9]{1,200})(?:[eE][+-]?[0-9]{1,2})?"
+NOT_AS_WRITTEN = "not as firmware_sim writes a truth CSV"
+
+
+def check_line(cells, header, where):
+    """Refused naming `where` (file:line) and the column of the first cell of a data line that is not a plain
+    finite decimal the parse kept (1e-400 reads as 0: it underflows a double), or of a wrong count of fields."""
+    if len(cells) != len(header):
+        raise Refused(f"{where}: {len(cells)} fields, the header has {len(header)}")
+    for name, cell in zip(header, cells):
+        text = cell.decode("utf-8", "replace")
+        x = plain_number(text, f"{where}: column {name}")
+        lost = abs(x) < sys.float_info.min if x != 0 else re.search("[1-9]", re.split("[eE]", text)[0])
+        if lost:
+            raise Refused(f"{where}: column {name}: {text!r} underflows a double")
+
+
 def read(path):
     """The columns NEEDED (and injected_faults) of a truth CSV as arrays;
-    Refused naming the file, line and column of what is wrong."""
+    Refused naming the file, line and column of what is wrong. Every cell of
+    every column, plotted or not, is a plain finite decimal, and the file is
+    as firmware_sim writes it (LF line ends, no byte-order mark): a cell that
+    is not is no tick of the run (torque_replay refuses the same file)."""
     if os.path.exists(path) and not os.path.isfile(path):
         raise Refused(f"{path}: not a regular file")
     try:
-        with open(path, newline="") as f:
-            rows = list(csv.reader(f))
+        with open(path, "rb") as f:
+            raw = f.read()
     except OSError as e:
         raise Refused(f"cannot read {path}: {e.strerror}")
-    except (csv.Error, UnicodeDecodeError) as e:
-        raise Refused(f"{path}: not a CSV file ({e})")
-    if not rows:
+    if not raw:
         raise Refused(f"{path} is empty")
-    header, data = rows[0], rows[1:]
+    if raw.startswith(b"\xef\xbb\xbf"):
+        raise Refused(f"{path}:1: starts with a byte-order mark: {NOT_AS_WRITTEN}")
+    cr = raw.find(b"\r")
+    if cr >= 0:
+        line = raw.count(b"\n", 0, cr) + 1
+        what = "ends in CR (CRLF line ends)" if raw[cr + 1:cr + 2] in (b"\n", b"") else "has a carriage return (CR)"
+        raise Refused(f"{path}:{line}: {what}: {NOT_AS_WRITTEN}")
+    start = raw.find(b"\n") + 1 or len(raw)  # the first byte of line 2 (the text is scanned in place: 2M rows)
+    try:
+        header = raw[:start].rstrip(b"\n").decode("utf-8").split(",")
+    except UnicodeDecodeError as e:
+        raise Refused(f"{path}:1: not a CSV file ({e})")
     check_header(header, path)
     missing = [c for c in NEEDED if c not in header]
     if missing:
         raise Refused(f"{path}: not a bench truth CSV, missing column(s) {', '.join(missing)}")
-    if not data:
+    if start == len(raw):
         raise Refused(f"{path}: no rows")
-    cols = {}
+    row = re.compile(rb"%s(?:,%s){%d}(?:\n|\Z)" % (_CELL, _CELL, len(header) - 1))
+    at, line = start, 2  # the first byte of a line and its number
+    while at < len(raw):
+        taken = row.match(raw, at)
+        if taken:
+            at = taken.end()
+        else:
+            eol = raw.find(b"\n", at)
+            eol = len(raw) if eol < 0 else eol
+            check_line(raw[at:eol].split(b","), header, f"{path}:{line}")  # refused, or a line the pass left to it
+            at = eol + 1
+        line += 1
     wanted = NEEDED + (["injected_faults"] if "injected_faults" in header else [])
-    for c in wanted:
-        i = header.index(c)
-        values = []
-        for line, r in enumerate(data, start=2):
-            if len(r) != len(header):
-                raise Refused(f"{path}:{line}: {len(r)} fields, the header has {len(header)}")
-            values.append(plain_number(r[i], f"{path}:{line}: column {c}"))
-        cols[c] = np.array(values)
+    table = np.loadtxt(io.BytesIO(raw), delimiter=",", comments=None, skiprows=1, dtype=float, ndmin=2,
+                       usecols=[header.index(c) for c in wanted])
+    cols = {c: table[:, j] for j, c in enumerate(wanted)}
     if (np.diff(cols["sim_time_s"]) <= 0).any():
         raise Refused(f"{path}:{int(np.argmax(np.diff(cols['sim_time_s']) <= 0)) + 3}: sim_time_s does not increase")
     neg = np.flatnonzero(cols["pointing_error_rad"] < 0)  # an angle's size: a log axis would hide it
