@@ -66,6 +66,7 @@ class ClosedLoopSpec:
         self.key_types = {k["key"]: k["type"] for k in gimbalsim.controller_keys()}
         sets = spec.known_mapping("controller_set", self.key_types, "controller (see `pointing_controller --keys`)")
         self.set = {k: spec.value(f"controller_set.{k}", n) for k, n in sets.items()}
+        self.set_nodes = sets  # each controller_set key's line: one another setting switches off is refused there
         self.controller = self.load(spec, "controller", {}, node, sets)
         self.values = self.controller.values()
         self.period_s = float(self.values["control.period"])

@@ -162,6 +162,18 @@ def idle_reason(key, values, dispersed, takes, closed):
     return why
 
 
+def refuse_idle_set(spec, entries, values, dispersed, takes, closed, runs):
+    """A key given under set: or controller_set: [(where, canonical key, node)]
+    that the runs never read: refused at its line as the dispersed key is
+    (whatever its value: it would be recorded in the fingerprint and act on
+    nothing). Judged with the loaded values; a key also dispersed is judged
+    as dispersed."""
+    for where, key, node in entries:
+        why = None if key in dispersed else idle_reason(key, values, dispersed, takes, closed)
+        if why is not None:
+            spec.refuse(where, f"not read by {runs} ({why}): the value given would be recorded but never act", node)
+
+
 def _idle_in_scene(key, scene, dispersed):
     """Why `key` cannot act in this scene (None if it can): a bearing key on
     an ideal joint, a tilt key on a planar bearing, a contact sub-stepping or

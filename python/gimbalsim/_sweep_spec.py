@@ -6,7 +6,7 @@ import json
 import gimbalsim
 from . import _provenance
 from ._closed_spec import CONTROLLER_PREFIX, ClosedLoopSpec
-from ._idle_keys import idle_reason, takes_of
+from ._idle_keys import idle_reason, refuse_idle_set, takes_of
 from ._spec import Spec
 from .dispersion import Design, check_within, design_size, parse_parameter
 
@@ -57,6 +57,7 @@ class SweepSpec:
         key_types.update({old: key_types[key] for old, key in gimbalsim.key_aliases().items()})
         sets = spec.known_mapping("set", key_types, "scene", gimbalsim.key_aliases())
         self.set = {k: spec.value(f"set.{k}", n) for k, n in sets.items()}
+        self._set_nodes = sets
         params = spec.mapping("parameters", root["parameters"]) if "parameters" in root else {}
         # controller.<key> is dispersed in closed loop only, and is no scene key: said so, not "not a key of the scene"
         ctrl_types = {CONTROLLER_PREFIX + k["key"]: k["type"] for k in gimbalsim.controller_keys()}
@@ -149,6 +150,12 @@ class SweepSpec:
             if why is not None:
                 spec.refuse(where, f"not read by this sweep's runs ({why}): a dispersed value would be recorded "
                             "but never act", node)
+        # set: and controller_set: alike, judged with the loaded values (sim.duration is the closed loop's length)
+        fixed = [(f"set.{k}", aliases.get(k, k), n) for k, n in self._set_nodes.items()
+                 if aliases.get(k, k) != "sim.duration"]
+        if self.closed is not None:
+            fixed += [(f"controller_set.{k}", CONTROLLER_PREFIX + k, n) for k, n in self.closed.set_nodes.items()]
+        refuse_idle_set(spec, fixed, values, dispersed_keys, takes, self.closed is not None, "this sweep's runs")
 
     def _try(self, spec, where, overrides, node):
         try:

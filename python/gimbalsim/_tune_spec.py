@@ -6,7 +6,7 @@ import json
 import gimbalsim
 from . import _gimbalsim
 from ._closed_spec import CONTROLLER_PREFIX, controller_path_of
-from ._idle_keys import idle_reason, takes_of
+from ._idle_keys import idle_reason, refuse_idle_set, takes_of
 from ._spec import Spec
 from .dispersion import CONTROLLER_KEYS, Design, check_within, parse_parameter
 from .indices import seconds
@@ -28,6 +28,24 @@ def _percentile(spec, node):
         spec.refuse("objective.percentile", f"expected a number in [{lo}, {hi}], got {v!r}: a percentile below the "
                     "median tunes for the lucky plants, not a bound on the others", node)
     return spec.number("objective.percentile", node, lo, hi)  # above 100, not finite, not a number
+
+
+def fail_reason(results):
+    """Why a trial with a plant not ok failed: `plant stopped: <keys>` for
+    plants that ran and stopped, `not run: refused:<key> (<why>)` when no
+    plant could start, and `N of M plants refused: refused:<key> (<why>)`
+    when some did (a refused plant never started; the others ran)."""
+    parts = []
+    for refused in (False, True):
+        failed = [r for r in results if not r["ok"] and r["stop_key"].startswith("refused:") == refused]
+        if not failed:
+            continue
+        keys = " ".join(sorted({r["stop_key"] for r in failed}))
+        errors = sorted({r["error"] for r in failed if r.get("error")})
+        head = "plant stopped" if not refused else "not run" if len(failed) == len(results) else \
+            f"{len(failed)} of {len(results)} plants refused"
+        parts.append(f"{head}: {keys}" + (f" ({errors[0]})" if errors else ""))
+    return "; ".join(parts)
 
 
 class TuneSpec:
@@ -112,7 +130,7 @@ class TuneSpec:
         plants = spec.mapping("plants", root["plants"]) if "plants" in root else {}
         params = [parse_parameter(spec, "plants", k, n, scene_types) for k, n in plants.items()]
         check_within(spec, "plants", params, [], self.base.values())
-        self._refuse_keys_that_do_not_act(spec, params)
+        self._refuse_keys_that_do_not_act(spec, params, sets, csets)
         for p in params:
             for v in p.extremes():
                 try:
@@ -137,7 +155,7 @@ class TuneSpec:
                                        "gains": {p.key: [p.kind, p.args] for p in self.gains},
                                        "plants": [[p.key, p.kind, p.args] for p in params]}, sort_keys=True)
 
-    def _refuse_keys_that_do_not_act(self, spec, plants):
+    def _refuse_keys_that_do_not_act(self, spec, plants, sets, csets):
         """A gain or plant key the tuned loop never reads: every trial would
         run the same loop, recorded as if it differed (as a sweep refuses it)."""
         aliases = gimbalsim.key_aliases()
@@ -154,6 +172,10 @@ class TuneSpec:
             why = idle_reason(key, values, dispersed, takes, closed=True)
             if why is not None:
                 spec.refuse(where, f"not read by the tuned loop ({why}): every trial would run the same loop", node)
+        # set: and controller_set: alike (set: sim.duration too: the tuner's duration: is every run's length)
+        refuse_idle_set(spec, [(f"set.{k}", aliases.get(k, k), n) for k, n in sets.items()] +
+                        [(f"controller_set.{k}", CONTROLLER_PREFIX + k, n) for k, n in csets.items()],
+                        values, dispersed, takes, True, "the tuned loop")
 
     def input_files(self):
         """The files the study reads (spec, scene, controller configuration):

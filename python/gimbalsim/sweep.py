@@ -300,7 +300,8 @@ def main(argv=None):
                     help="with --replay: the plot (default: --out with .png)")
     _cluster.add_cluster_arguments(ap)
     ap.add_argument("--resume", action="store_true", help="finish an interrupted sweep in --out")
-    ap.add_argument("--batch", type=_cluster.whole_number, default=None, help="samples per task (default: about 8 tasks per worker, at most 10)")
+    ap.add_argument("--batch", type=_cluster.whole_number, default=None,
+                    help=f"samples per task, in [1, {MAX_SAMPLES}] (default: about 8 tasks per worker, at most 10)")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
     ap.add_argument("--until", metavar="INDEX:PHASE:RELWIDTH",
                     help="closed loop: add batches of the spec's samples until the index's confidence interval in "
@@ -310,8 +311,8 @@ def main(argv=None):
     a = ap.parse_args(argv)
     if a.max_samples is not None and (a.until is None or not 1 <= a.max_samples <= MAX_SAMPLES):
         ap.error(f"--max-samples goes with --until, and must be in [1, {MAX_SAMPLES}]")
-    if a.batch is not None and a.batch < 1:
-        ap.error("--batch must be >= 1")
+    if a.batch is not None and not 1 <= a.batch <= MAX_SAMPLES:  # no sweep has more samples to put in a task
+        ap.error(f"--batch must be in [1, {MAX_SAMPLES}]")
     # --replay runs one sample here and now: a flag of the sweep would be silently ignored.
     sweep_only = [f for f, v in (("--resume", a.resume), ("--until", a.until), ("--max-samples", a.max_samples),
                                  ("--batch", a.batch), ("--workers", a.workers), ("--scheduler", a.scheduler))

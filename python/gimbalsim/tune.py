@@ -50,7 +50,7 @@ from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError,
 from ._journal import fmt
 from ._output import output_set, savefig, write_csv, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
-from ._tune_spec import METRICS, TuneSpec  # noqa: F401 (TuneSpec: the module's API)
+from ._tune_spec import METRICS, TuneSpec, fail_reason  # noqa: F401 (TuneSpec: the module's API)
 
 def run_plants(base, controller, duration, items):
     """A task: closed loops of one controller on plants [(j, overrides)]."""
@@ -61,7 +61,7 @@ def run_plants(base, controller, duration, items):
         try:
             scene = base.replace(overrides)
         except gimbalsim.SceneError as e:
-            out.append({"plant": j, "ok": False, "stop_key": f"refused:{e.key}", "wall_time": 0.0})
+            out.append({"plant": j, "ok": False, "stop_key": f"refused:{e.key}", "error": str(e), "wall_time": 0.0})
             continue
         try:
             s = gimbalsim.closed_loop(scene, controller, duration).summary
@@ -284,12 +284,7 @@ def _finish(study, trial, gains, results, spec, wall):
     metric = METRICS[spec.metric]
     unscored = sorted({r.get("reasons", {}).get(metric, "not finite") for r in ok if not math.isfinite(r[metric])})
     if len(ok) < len(results):
-        why = sorted({r["stop_key"] for r in results if not r["ok"]})
-        errors = sorted({r["error"] for r in results if not r["ok"] and r.get("error")})
-        parts = {"plant stopped": [k for k in why if not k.startswith("refused:")],  # a refused plant never started
-                 "not run": [k for k in why if k.startswith("refused:")]}
-        row.update(state="FAIL", score="", reason="; ".join(f"{p}: {' '.join(k)}" for p, k in parts.items() if k) +
-                   (f" ({errors[0]})" if errors else ""))
+        row.update(state="FAIL", score="", reason=fail_reason(results))
     elif unscored:  # a figure with no value is no score, never 0 (the spec check makes it rare)
         row.update(state="FAIL", score="", reason=f"no {metric}: " + "; ".join(unscored))
     else:

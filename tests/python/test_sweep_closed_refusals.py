@@ -29,6 +29,19 @@ REFUSALS = [
      "parameters.torque.tau2", "the controller commands the torque"),
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.output_interval: {choice: [0.001, 0.01]}",
      "parameters.sim.output_interval", "the closed loop records every control period"),
+    # ... and the same keys under set: (scene keys given for every sample), whatever their value
+    ("set: {sim.duration: 0.5}", "set: {sim.duration: 0.5, torque.tau1: 2.0}", "set.torque.tau1",
+     "not read by this sweep's runs (the controller commands the torque): the value given would be recorded"),
+    ("set: {sim.duration: 0.5}", "set: {sim.duration: 0.5, sim.output_interval: 0.01}", "set.sim.output_interval",
+     "not read by this sweep's runs (the closed loop records every control period)"),
+    ("set: {sim.duration: 0.5}", "set: {sim.duration: 0.5, sim.momentum_tol: 1.0e-3}", "set.sim.momentum_tol",
+     "not read by this sweep's runs (the closed loop checks no invariant"),
+    # ... and a controller_set key another setting switches off, as the same key under parameters
+    ("controller_set: {", "controller_set: {pointing.accel_feedforward: profile, plant.base_mass: 500, ",
+     "controller_set.plant.base_mass", "not read by this sweep's runs (the controller reads it only with "
+     "pointing.accel_feedforward model; it has pointing.accel_feedforward profile)"),
+    ("controller_set: {", "controller_set: {control.anti_windup: clamping, azimuth.aw_gain: 5, ",
+     "controller_set.azimuth.aw_gain", "reads it only with control.anti_windup back_calculation"),
     # a controller key another setting switches off (the status rates are used, not the differenced ones)
     ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.control.rate_filter_hz: {uniform: [60, 190]}",
      "parameters.controller.control.rate_filter_hz", "reads it only with control.rate_source difference"),

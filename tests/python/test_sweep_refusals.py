@@ -82,6 +82,16 @@ BAD = [
      "parameters.contact.restitution", 8, "joint 2's contact.damping is none"),
     ("parameters:\n  friction.v_a: {uniform: [1.0e-5, 1.0e-4]}\n", "parameters.friction.v_a", 7,
      "joint 2's friction.law is coulomb"),
+    # a key given under set: that the runs never read, refused as the same key dispersed (the base is fixed)
+    ("set: {structure.base: fixed, sim.momentum_tol: 1.0e-6}\n"
+     "parameters:\n  contact.clearance: {uniform: [1.0e-4, 3.0e-4]}\n",
+     "set.sim.momentum_tol", 6, "not read by this sweep's runs (structure.base is fixed: no momentum drift is "
+     "checked): the value given would be recorded but never act"),
+    ("set: {sensors.gyro_noise: 1.0e-5}\nparameters:\n  contact.clearance: {uniform: [1.0e-4, 3.0e-4]}\n",
+     "set.sensors.gyro_noise", 6, "an open-loop run has no sensors"),
+    ("set: {friction.law: none, friction.mu: 0.3}\n"
+     "parameters:\n  contact.clearance: {uniform: [1.0e-4, 3.0e-4]}\n",
+     "set.friction.mu", 6, "joint 2's friction.law is none"),
     # a vector on the grid: one text cell for it, two number cells for its applied_ value
     ("grid:\n  torque.limit: [[1, 1], [2, 2]]\n", "grid.torque.limit", 7, "a vec2 key is dispersed under parameters"),
     # the law dispersed too, but over values none of which reads the key
@@ -156,7 +166,9 @@ def test_a_spec_that_is_not_utf8_is_refused_at_its_line(tmp_path):
 
 # initial.ecc still acts: on joint 1 when it has a bearing of its own without initial.ecc1, and on joint 2
 # when it has no initial.ecc2 of its own.
-ECC_ACTS = ["{structure.joint1: planar, initial.ecc2: [1.0e-4, 0]}", "{initial.ecc1: [1.0e-4, 0]}"]
+# (joint 1 is given a bearing for its own initial.ecc1: on an ideal joint the set key would act on nothing)
+ECC_ACTS = ["{structure.joint1: planar, initial.ecc2: [1.0e-4, 0]}",
+            "{structure.joint1: planar, initial.ecc1: [1.0e-4, 0]}"]
 
 
 @pytest.mark.parametrize("set_", ECC_ACTS)
@@ -164,7 +176,7 @@ def test_a_shared_eccentricity_a_joint_reads_is_accepted(set_, tmp_path):
     from gimbalsim.sweep import SweepSpec
     (tmp_path / "s.yaml").write_text(HEAD + f"set: {set_}\nparameters:\n  initial.ecc: {{disk: {{radius: 5.0e-5}}}}\n")
     spec = SweepSpec(tmp_path / "s.yaml")
-    j = 1 if "joint1" in set_ else 2
+    j = 2 if "initial.ecc1" in set_ else 1
     draw = spec.design.draw(0)["initial.ecc"]
     values = spec.base.replace({"initial.ecc": draw}).values()  # a sample's scene, as a worker loads it
     # joint j's eccentricity is listed only where the scene or set gave it: here it is the draw
@@ -225,3 +237,18 @@ def test_a_spec_path_that_is_no_file_says_what_it_is(module, tmp_path):
                            capture_output=True, text=True, timeout=120)
         assert p.returncode == 2 and message in p.stderr, (path, p.stderr)
         assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("batch", ["99999999999", "10000001", "0"])
+def test_a_batch_outside_its_range_is_refused_and_help_gives_the_range(batch, tmp_path):
+    # --batch 99999999999 was taken (only >= 1 was checked), and --help gave no range
+    from gimbalsim.sweep import MAX_SAMPLES
+    (tmp_path / "s.yaml").write_text(HEAD + "parameters:\n  contact.clearance: {uniform: [1.0e-4, 3.0e-4]}\n")
+    p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(tmp_path / "s.yaml"), "--out",
+                        str(tmp_path / "o"), "--batch", batch, "--no-progress"], capture_output=True, text=True,
+                       timeout=120)
+    assert p.returncode == 2 and f"--batch must be in [1, {MAX_SAMPLES}]" in p.stderr, p.stderr
+    assert not (tmp_path / "o").exists()
+    h = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", "--help"], capture_output=True, text=True,
+                       timeout=60)
+    assert f"samples per task, in [1, {MAX_SAMPLES}]" in " ".join(h.stdout.split()), h.stdout

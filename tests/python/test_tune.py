@@ -200,3 +200,34 @@ def test_a_plant_keeps_the_joints_own_key_set_equal_to_the_shared_one(tmp_path):
     values = spec.base.replace(draw).values()
     assert values["initial.ecc2"] == "[0, 0]", values
     assert [float(x) for x in values["initial.ecc"].strip("[]").split(",")] == list(draw["initial.ecc"])
+
+
+# set: and controller_set: keys the tuned loop never reads, refused at their line as the same key dispersed
+# (set: sim.duration was silently overridden by the tuner's duration:, every plant ran that long)
+IDLE_SETS = [
+    ("set: {sim.duration: 2.0}", "set.sim.duration", "not read by the tuned loop (every closed loop of a study "
+     "runs one length: a sweep's set: sim.duration, a tuner's duration:): the value given would be recorded"),
+    ("set: {torque.tau1: 2.0}", "set.torque.tau1", "not read by the tuned loop (the controller commands the torque)"),
+    ("set: {sim.momentum_tol: 1.0e-3}", "set.sim.momentum_tol", "(the closed loop checks no invariant"),
+    ("controller_set: {pointing.accel_feedforward: profile, plant.base_mass: 500}", "controller_set.plant.base_mass",
+     "not read by the tuned loop (the controller reads it only with pointing.accel_feedforward model; it has "
+     "pointing.accel_feedforward profile)"),
+]
+
+
+@pytest.mark.parametrize("line,key,why", IDLE_SETS)
+def test_a_set_key_the_tuned_loop_never_reads_is_refused_at_its_line(line, key, why, tmp_path):
+    from gimbalsim.tune import SpecError, TuneSpec
+    text = SPEC.replace("max_saturation: 0.0", "max_saturation: 0.0\n" + line)
+    (tmp_path / "t.yaml").write_text(text)
+    with pytest.raises(SpecError) as e:
+        TuneSpec(tmp_path / "t.yaml")
+    assert e.value.key == key and why in str(e.value), str(e.value)
+    assert e.value.line == text.split("\n").index(line) + 1, str(e.value)
+
+
+def test_set_keys_the_tuned_loop_reads_are_taken(tmp_path):
+    from gimbalsim.tune import TuneSpec
+    (tmp_path / "t.yaml").write_text(SPEC.replace("max_saturation: 0.0", "max_saturation: 0.0\nset: {friction.mu: "
+                                                  "0.2}\ncontroller_set: {azimuth.ki: 10.0}"))
+    assert TuneSpec(tmp_path / "t.yaml").controller_set == {"azimuth.ki": 10.0}

@@ -305,3 +305,32 @@ plants:
         assert r["reason"].startswith("not run: refused:control.period (") and "plant stopped" not in r["reason"], r
     assert "duration 0.3 s must be a whole multiple of control.period (" in failed["0.0007"]["reason"]
     assert "not a whole multiple of sim.step" in failed["0.0015"]["reason"]
+
+
+def test_a_trial_some_of_whose_plants_were_refused_says_how_many_and_why(tmp_path):
+    # An eccentricity drawn beyond its plant's clearance: that plant is refused, the others run. The reason
+    # said "not run: refused:initial.ecc" (no plant could start) with plants_ok 3 of 6, and no why.
+    spec = tmp_path / "t.yaml"
+    spec.write_text(f"""
+scene: {SCENES}/paper_clearance.yaml
+controller: {CONTROLLER_CONFIG}
+duration: 0.3
+trials: 1
+parallel_trials: 1
+seed: 1
+batch: 6
+controller_set: {{profile.slew_start: 0.0, profile.slew_time: 0.1, profile.hold_time: 0.1}}
+gains:
+  azimuth.kp: {{loguniform: [5000, 80000]}}
+plants:
+  initial.ecc: {{disk: {{radius: 4.9e-4}}}}
+  contact.clearance: {{uniform: [1.0e-4, 6.0e-4]}}
+""")
+    p = subprocess.run(tune_cmd(spec, tmp_path / "o"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 3 and "no trial completed" in p.stderr and "Traceback" not in p.stderr, p.stderr
+    r = trials(tmp_path / "o")[0]
+    refused = [j for j in range(6) if r[f"plant{j}_status"] == "refused:initial.ecc"]
+    assert 0 < len(refused) < 6 and int(r["plants_ok"]) + len(refused) == 6, r
+    assert r["state"] == "FAIL", r
+    assert r["reason"].startswith(f"{len(refused)} of 6 plants refused: refused:initial.ecc ("), r
+    assert "initial eccentricity exceeds the radial clearance" in r["reason"] and "not run" not in r["reason"], r
