@@ -1,6 +1,7 @@
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -97,6 +98,24 @@ const char* nonFinite(const TickRecord& r) {
   return "";
 }
 
+/// Adds a scope's steady-clock time to one field of the run's cost, when it is measured.
+class CostTimer {
+ public:
+  using Clock = std::chrono::steady_clock;
+  CostTimer(ClosedLoopCost* cost, double ClosedLoopCost::*field)
+      : cost_(cost), field_(field), t0_(cost ? Clock::now() : Clock::time_point{}) {}
+  ~CostTimer() {
+    if (cost_) cost_->*field_ += std::chrono::duration<double>(Clock::now() - t0_).count();
+  }
+  CostTimer(const CostTimer&) = delete;
+  CostTimer& operator=(const CostTimer&) = delete;
+
+ private:
+  ClosedLoopCost* cost_;
+  double ClosedLoopCost::*field_;
+  Clock::time_point t0_;
+};
+
 template <class V>
 ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const pointing::TargetProfile& profile,
                      const Config& fc, const ClosedLoopOptions& opt,
@@ -116,6 +135,7 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
       !why.empty()) {
     throw std::invalid_argument("closed loop: duration " + formatNumber(opt.duration) + " s " + why);
   }
+  const CostTimer whole(opt.cost, &ClosedLoopCost::total_s);
   contract::ControllerReport last;  // the controller's last report (what the record shows while no status comes)
   contract::Command cmd;
   const long long ticks = std::llround(opt.duration / period);
@@ -132,12 +152,15 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     const bool delivered = m.status != nullptr;
     contract::ControllerReport a = last;
     a.flags = contract::MonitorFlags{};
-    if (m.antenna != nullptr) ctrl.noteAntenna(*m.antenna);  // sent before the status, as on the bench
-    if (delivered) {
-      cmd = ctrl.answer(st, fw.attitude(), a);
-      last = a;
-    } else {
-      ctrl.noteAttitude(fw.attitude());  // the attitude message still came
+    {
+      const CostTimer turn(opt.cost, &ClosedLoopCost::controller_s);
+      if (m.antenna != nullptr) ctrl.noteAntenna(*m.antenna);  // sent before the status, as on the bench
+      if (delivered) {
+        cmd = ctrl.answer(st, fw.attitude(), a);
+        last = a;
+      } else {
+        ctrl.noteAttitude(fw.attitude());  // the attitude message still came
+      }
     }
 
     TickRecord rec;
@@ -184,8 +207,12 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     if (sink) sink(rec);
     r.ticks = k + 1;
     r.t_end = rec.t;
+    if (opt.cost) ++opt.cost->ticks;
     if (k == ticks) break;
-    tick.advance();
+    {
+      const CostTimer step(opt.cost, &ClosedLoopCost::step_s);
+      tick.advance();
+    }
     if (fw.plantFault()) {
       r.ok = false;
       r.stop_status = fw.plantStatus();

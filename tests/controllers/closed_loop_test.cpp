@@ -267,5 +267,31 @@ TEST(ClosedLoop, AFigureOverAWindowTheRunDidNotReachIsNaNWithItsReason) {
   EXPECT_TRUE(std::isfinite(whole.max_truth_error_track) && std::isfinite(whole.max_truth_error_hold_end));
 }
 
+// The cost meter (tools/bench/bench_closed_loop.cpp's figures) splits the
+// run's time: every tick counted, the stepping and the controller's turn
+// inside the whole, also for a run that stops early.
+TEST(ClosedLoop, TheCostMeterSplitsTheRunsTimeIntoItsParts) {
+  const ControllerConfig c = defaults();
+  firmware::ClosedLoopCost cost;
+  ClosedLoopOptions opt;
+  opt.duration = 0.5;
+  opt.cost = &cost;
+  const ClosedLoopResult r = runClosedLoop(test::scene("paper_ideal"), c, opt);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(cost.ticks, r.ticks);
+  EXPECT_GT(cost.step_s, 0.0);
+  EXPECT_GT(cost.controller_s, 0.0);
+  EXPECT_LT(cost.step_s + cost.controller_s, cost.total_s);
+  NanFrom stops(c, 0.2);
+  firmware::ClosedLoopCost stopped;
+  opt.cost = &stopped;
+  const ClosedLoopResult s =
+      firmware::runClosedLoop(firmware::PlantScene{test::scene("paper_ideal"), {}}, stops, c.profile, opt);
+  EXPECT_FALSE(s.ok);
+  EXPECT_EQ(stopped.ticks, s.ticks);
+  EXPECT_GT(stopped.ticks, 0);
+  EXPECT_GT(stopped.total_s, stopped.step_s);
+}
+
 }  // namespace
 }  // namespace gimbalsim::controllers

@@ -59,11 +59,23 @@ struct TickRecord {
   Vec2 tracker = Vec2::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
+/// Where a closed-loop run's time went (ClosedLoopOptions::cost): [s] of
+/// steady-clock wall time, for the benchmark that weighs the tick's own work
+/// (controller, sensors, observer, records) against the plant's stepping.
+struct ClosedLoopCost {
+  double step_s = 0.0;        ///< the plant's stepping (BenchTick::advance: RK4 and its sub-steps)
+  double controller_s = 0.0;  ///< the controller port's turn (answer, noteAttitude, noteAntenna)
+  double total_s = 0.0;       ///< the whole run, from the first tick to the figures
+  long long ticks = 0;        ///< ticks run
+};
+
 struct ClosedLoopOptions {
   double duration = 10.0;          ///< [s]
   double settle_tol = 1.0e-3;      ///< [rad] band on max |q_ref - theta| per axis for "settled"
   /// Faults the plant injects (null: none), as firmware_sim --faults; must outlive the run.
   const FaultSchedule* faults = nullptr;
+  /// Filled with where the run's time went (null: nothing measured, no clock read); must outlive the run.
+  ClosedLoopCost* cost = nullptr;
 };
 
 /// Figures of one closed-loop run. Joint errors use the true angles. A
