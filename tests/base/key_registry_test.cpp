@@ -173,7 +173,8 @@ TEST(KeyRegistry, AlternativeKeysAndDefaultPlaces) {
   EXPECT_NEAR(s.model.bearing[1].clearance, 1e-3, 1e-15);
   // A derived journal radius is refused under the key that was given.
   EXPECT_NE(refusal(good, {"contact.clearance=0.02"})
-                .find("--set #1 'contact.clearance=0.02': key 'contact.clearance': journal radius must be > 0, got -0.01"),
+                .find("--set #1 'contact.clearance=0.02': key 'contact.clearance': journal radius (the bearing radius "
+                      "less any clearance given) must be > 0, got -0.01"),
             std::string::npos);
   // A default that a given key makes wrong is named as a default.
   EXPECT_NE(refusal(good, {"sim.step=1e-5"})

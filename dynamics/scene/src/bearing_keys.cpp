@@ -74,7 +74,8 @@ std::vector<BearingKey> bearingKeys(const Bearing& b) {
                               field(contact, &CP::bearing_radius), greater(0)),
                  &CP::bearing_radius),
       bearingKey(b, K::number(c + "journal_radius", "m", w + "R_j, journal, < bearing_radius; or give " + c + "clearance",
-                              field(contact, &CP::journal_radius), greater(0).saying("journal radius must be > 0"))
+                              field(contact, &CP::journal_radius),
+                              greater(0).saying("journal radius (the bearing radius less any clearance given) must be > 0"))
                         .alternativeTo(c + "clearance"),
                  &CP::journal_radius),
       bearingKey(b, clearanceKey(b), &CP::clearance),
@@ -188,10 +189,11 @@ void checkBearing(const ContactParams& cb, const ContactParams* shared, int join
       // Both values named with the key that gave each: a joint's own bearing radius against the shared
       // journal radius was blamed on the journal's line alone, a key the user had not touched.
       const std::string bearing = joint < 0 ? b.contact + "bearing_radius" : givenAs(g, joint, "contact.", "bearing_radius");
-      const bool own_bearing_only = joint >= 0 && bearing != "contact.bearing_radius" && journal == "contact.journal_radius" &&
-                                    !(by_clearance && clearance != "contact.clearance");
-      g.refuse(own_bearing_only ? bearing : by_clearance ? clearance : journal,
-               "journal radius (" + formatNumber(cb.journal_radius) + " m, " + (by_clearance ? clearance : journal) +
+      const std::string radius = by_clearance ? clearance : journal;  // the key that set the journal radius
+      // At the joint's own key: its own bearing radius against the shared journal radius is the bearing's line.
+      const auto is_shared = [](const std::string& key) { return key.rfind("contact.", 0) == 0; };
+      g.refuse(joint >= 0 && is_shared(radius) && !is_shared(bearing) ? bearing : radius,
+               "journal radius (" + formatNumber(cb.journal_radius) + " m, " + radius +
                    ") must be < bearing radius (" + formatNumber(cb.bearing_radius) + " m, " + bearing + ")");
     }
   }
