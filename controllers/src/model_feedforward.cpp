@@ -1,11 +1,11 @@
 #include "gimbalsim/controllers/model_feedforward.hpp"
 
-#include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <cmath>
 
 #include "gimbalsim/dynamics/crba.hpp"
 #include "gimbalsim/dynamics/data.hpp"
+#include "gimbalsim/dynamics/mass_factor.hpp"
 #include "gimbalsim/dynamics/rnea.hpp"
 
 namespace gimbalsim::controllers {
@@ -61,14 +61,16 @@ ReducedDynamics reducedDynamics(const Model& m, const Vec2& q, const Vec2& dq, c
   const Eigen::Matrix<double, V::NV, 1> zero = Eigen::Matrix<double, V::NV, 1>::Zero();
   Eigen::Matrix<double, V::NV, 1> C;
   rnea(m, d, v, zero, C);
-  const Eigen::LLT<Eigen::Matrix<double, 6, 6>> Mbb(d.M.topLeftCorner<6, 6>());
+  // The plant's own factorisation: the base block inverted in closed form about the CoM (mass_factor.hpp).
+  MassFactor<V> F;
+  factorMass<V>(d.M, F);
   const Eigen::Matrix<double, 6, 2> Mbq = d.M.topRightCorner<6, 2>();
-  const Eigen::Matrix<double, 6, 2> X = Mbb.solve(Mbq);
-  const Vec6 y = Mbb.solve(C.head<6>());
+  Vec6 y;
+  detail::baseBlockSolve(F, C.data(), y.data());
   ReducedDynamics r;
-  r.H = d.M.bottomRightCorner<2, 2>() - Mbq.transpose() * X;
+  r.H = d.M.bottomRightCorner<2, 2>() - Mbq.transpose() * F.Y;
   r.c = C.tail<2>() - Mbq.transpose() * y;
-  r.A = X.topRows<3>();
+  r.A = F.Y.topRows<3>();
   r.a0 = y.head<3>();
   return r;
 }
