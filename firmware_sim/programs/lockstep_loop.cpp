@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "app.hpp"
 #include "gimbalsim/contract/channels.hpp"
@@ -72,13 +73,27 @@ bool awaitAnswer(Run& r, FirmwareSink<V>& sink, const Firmware<V>& fw, std::int6
   return sink.answered();
 }
 
-/// The no-peer ending: the message, the summary, the exit code.
+/// The ending without an answer: the summary and the exit code. A
+/// controller that did answer, but only with commands the plant rejected,
+/// is there: the run stopped (kExitPlantFault's code, 3), not "no peer".
 template <class V>
-int endWithoutController(Run& r, const BenchTick<V>& tick, std::int64_t wall0) {
+int endWithoutAnswer(Run& r, const BenchTick<V>& tick, std::int64_t wall0, bool rejected_answers) {
   r.report.wall_seconds = static_cast<double>(nowNs() - wall0) * 1e-9;
   r.report.pointing = tick.pointing();
   printExitSummary(r, outcomeOf(tick.firmware()));
-  return kExitNoController;
+  return rejected_answers ? kExitPlantFault : kExitNoController;
+}
+
+/// The commands rejected since `before` (cumulative counters), with the most frequent reason; "" if none came.
+std::string rejectedSince(const Counters& before, const Counters& now) {
+  const std::int64_t n = now.rejected - before.rejected;
+  if (n <= 0) return "";
+  int most = 0;
+  for (int i = 1; i < kNumRejections; ++i) {
+    if (now.by_reason[i] - before.by_reason[i] > now.by_reason[most] - before.by_reason[most]) most = i;
+  }
+  return std::to_string(n) + " command(s) arrived and the plant rejected every one (" +
+         describe(static_cast<Rejection>(most)) + "): the controller answers, but nothing it sends can act";
 }
 
 template <class V>
@@ -94,6 +109,7 @@ int run(Run& r) {
   std::int32_t extra = 0;
   const std::int64_t spin_ns = std::llround(o.spin_us * 1e3);  // --spin-us: busy-poll for the answer
   long long timeouts_in_a_row = 0;  // lockstep timeouts since the last answer
+  Counters unanswered_from;          // the firmware's counters when the current run of timeouts began
   std::int64_t next_stats = wall0 + std::llround(o.stats_period * 1e9);
   warmUp(fw);
   // k = total is the run's end: the plant's state at T, sampled as every
@@ -128,25 +144,35 @@ int run(Run& r) {
     // A status dropped or still held by the fault schedule: nothing to answer, the next tick follows.
     if (!m.status) continue;
 
+    if (timeouts_in_a_row == 0) unanswered_from = fw.counters();
     if (!awaitAnswer(r, sink, fw, fw.status().seq, spin_ns) && !g_stop.load()) {
       if (fw.status().seq == 0) {
-        std::fprintf(stderr,
-                     "firmware_sim: lockstep: no command answering status 0 arrived within --start-timeout %g s "
-                     "on channel %s; is the controller running with the same --lcm-url and --channel-prefix?\n",
-                     o.start_timeout_s, (o.prefix + Channels::kCommand).c_str());
-        return endWithoutController(r, tick, wall0);
+        const std::string rejected = rejectedSince(unanswered_from, fw.counters());  // ending: may allocate
+        if (rejected.empty()) {
+          std::fprintf(stderr,
+                       "firmware_sim: lockstep: no command answering status 0 arrived within --start-timeout %g s "
+                       "on channel %s; is the controller running with the same --lcm-url and --channel-prefix?\n",
+                       o.start_timeout_s, (o.prefix + Channels::kCommand).c_str());
+        } else {
+          std::fprintf(stderr,
+                       "firmware_sim: lockstep: no valid command answered status 0 within --start-timeout %g s: %s\n",
+                       o.start_timeout_s, rejected.c_str());
+        }
+        return endWithoutAnswer(r, tick, wall0, !rejected.empty());
       }
       extra = kLockstepTimeout;
       ++r.report.lockstep_timeouts;
       // A controller that has gone would cost --lockstep-timeout-ms per tick for ever: after
       // --start-timeout without any answer, say so and end (the no-peer code).
       if (++timeouts_in_a_row * o.lockstep_timeout_ms * 1e-3 >= o.start_timeout_s) {
+        const std::string rejected = rejectedSince(unanswered_from, fw.counters());
         std::fprintf(stderr,
-                     "firmware_sim: lockstep: no command answered the last %lld statuses (%g s of --lockstep-timeout-ms "
-                     "%g): the controller has gone; stopping at t = %.3f s\n",
+                     "firmware_sim: lockstep: no valid command answered the last %lld statuses (%g s of "
+                     "--lockstep-timeout-ms %g): %s; stopping at t = %.3f s\n",
                      timeouts_in_a_row, static_cast<double>(timeouts_in_a_row) * o.lockstep_timeout_ms * 1e-3,
-                     o.lockstep_timeout_ms, static_cast<double>(fw.ticks()) * period);
-        return endWithoutController(r, tick, wall0);
+                     o.lockstep_timeout_ms, rejected.empty() ? "the controller has gone" : rejected.c_str(),
+                     static_cast<double>(fw.ticks()) * period);
+        return endWithoutAnswer(r, tick, wall0, !rejected.empty());
       }
     } else {
       timeouts_in_a_row = 0;

@@ -102,6 +102,27 @@ TEST(HilLockstep, ClearanceSlewCompletesAndPointingErrorConverges) {
   EXPECT_LT(err_hi - err_lo, 1e-5) << "pointing error still moving: " << err_lo << " .. " << err_hi;
 }
 
+// A controller that answers every status, but only with commands the plant
+// rejects (beyond its sanity range), is there: the run stopped (exit 3) with
+// the reason, not "no controller answered" (exit 6).
+TEST(HilLockstep, EveryCommandRejectedStopsNamingTheReasonNotANoPeer) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("lockstep_rejected");
+  const std::string url = udpmUrl(7734);
+  const std::string body = "timeout 60 " + pointingController() + " " + defaultControllerConfig() +
+                           " --set 'profile.start=[0.5, 0.3]' --lcm-url '" + url +
+                           "' --duration 1 --idle-exit 5 >ctl.log 2>&1 &\ntimeout 60 " + firmwareSim() + " " +
+                           scenePath("paper_clearance") + " --lockstep --duration 1 --lcm-url '" + url +
+                           "' --set 'torque.limit=[0.001, 0.001]' --torque-sanity 1 --start-timeout 1 >fw.log 2>&1\n"
+                           "rc=$?; wait; exit $rc";
+  const int rc = runInNetns(dir, body);
+  const std::string log = readFile(dir / "fw.log");
+  EXPECT_EQ(rc, 3) << readFile(dir / "run.log") << log;
+  EXPECT_NE(log.find("no valid command answered status 0 within --start-timeout 1 s: "), std::string::npos) << log;
+  EXPECT_NE(log.find("the plant rejected every one (torque beyond the sanity range)"), std::string::npos) << log;
+  EXPECT_EQ(log.find("is the controller running"), std::string::npos) << log;
+}
+
 TEST(HilLockstep, TwoRunsGiveByteIdenticalTruthCsv) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
   TempDir dir("lockstep_identical");
