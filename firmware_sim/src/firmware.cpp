@@ -36,10 +36,10 @@ ConfigCheck checkConfig(const Scene& sc, const Config& c) {
     return refuse(Setting::ControlPeriod);
   }
   if (!isWholeMultiple(c.control_period, h)) {
-    err.precision(17);
-    err << "control period " << c.control_period << " s is not a whole multiple of sim.step = " << h
-        << " s (the plant steps sim.step at a time inside each tick); choose a rate whose period is "
-           "k * sim.step, or --set sim.step=<period/k>";
+    // Numbers in their shortest round-trip text; no flag named: a rate, a period key or a sweep's value gave it.
+    err << "control period " << formatNumber(c.control_period) << " s is not a whole multiple of sim.step = "
+        << formatNumber(h) << " s (the plant steps sim.step at a time inside each tick): the period must be "
+           "k * sim.step, or sim.step period / k";
     return refuse(Setting::ControlPeriod);
   }
   if (!(c.watchdog_timeout > 0.0)) {

@@ -215,6 +215,8 @@ def open_output(path, mode="w", inputs=()):
     if mode not in ("w", "wb"):
         raise ValueError(f"open_output: mode {mode!r} (\"w\" or \"wb\")")
     path = _text(path)
+    if path == "":  # check_outputs skips an empty optional output; here one is being written
+        raise OutputRefused("output path is empty")
     check_outputs([path], inputs)
     tmp, f = _create_temporary(path, mode == "wb")
     stage = "write failed"

@@ -69,8 +69,8 @@ def run_plants(base, controller, duration, items):
             out.append({"plant": j, "ok": False, "stop_key": f"refused:{getattr(e, 'key', None) or 'duration'}",
                         "error": str(e), "wall_time": 0.0})
             continue
-        if s["stop_key"] == "refused":  # nothing ran: the closed loop names the setting ("control.period: ...")
-            s["stop_key"] = "refused:" + s["error"].split(": ", 1)[0]
+        if s["stop_key"].startswith("refused:controller."):  # nothing ran; a tuner names gains without the prefix
+            s["stop_key"] = "refused:" + s["stop_key"][len("refused:controller."):]
         s["plant"] = j
         s["wall_time"] = time.perf_counter() - t0
         out.append(s)

@@ -17,6 +17,7 @@
 #include "gimbalsim/controllers/pointing_controller.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
 #include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
+#include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/pointing/profile_windows.hpp"
 
 namespace gimbalsim::py {
@@ -26,6 +27,7 @@ struct PyController {
   controllers::ControllerConfig config;
   controllers::ControllerState state;
   std::string path;  ///< "" = the built-in defaults (= controllers/config/default.yaml)
+  double last_t = -1.0;  ///< [s] the last update's time since the last reset (-1: none)
 };
 
 }  // namespace gimbalsim::py
@@ -100,8 +102,9 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
   d["ok"] = r.ok;
   d["error"] = r.error;
   // Why it stopped, never "" when not ok: the limit's key, non_finite (no
-  // setting causes it), or refused (nothing ran).
-  const char* stop = r.stop_status == StepStatus::Ok            ? "refused"
+  // setting causes it), or refused (nothing ran: runClosedLoop refuses only a
+  // control.period that is no whole multiple of sim.step, closed_loop.hpp).
+  const char* stop = r.stop_status == StepStatus::Ok            ? "refused:controller.control.period"
                      : r.stop_status == StepStatus::NonFinite ? "non_finite"
                                                               : limitKey(r.stop_status);
   d["stop_key"] = r.ok ? "" : stop;
@@ -201,7 +204,7 @@ void bindController(pyb::module_& m) {
           "the profile's windows {'slew': (start, end), 'hold': ..., 'track': (start, inf)} [s]")
       .def("_values_text", [](const PyController& c) { return keyValueDict(configValues(c.config)); },
            "every key with its value, as text the overrides read back exactly")
-      .def("reset", [](PyController& c) { c.state = ControllerState{}; }, "forget the law's memory")
+      .def("reset", [](PyController& c) { c.state = ControllerState{}, c.last_t = -1.0; }, "forget the law's memory")
       .def(
           "update",
           [](PyController& c, double t, double theta1, double theta2, double dtheta1, double dtheta2,
@@ -216,6 +219,15 @@ void bindController(pyb::module_& m) {
             if (gyro && !(std::isfinite((*gyro)[0]) && std::isfinite((*gyro)[1]) && std::isfinite((*gyro)[2]))) {
               throw pyb::value_error("update: gyro is not finite");
             }
+            // The profile's times are within 1e9 s (the configuration's ranges), and the law's memory
+            // (estimator, filters) only runs forward: t = 1e300 left a reference of 2e298 rad for ever after.
+            if (!(t >= 0.0 && t <= 1e9)) {
+              throw pyb::value_error("update: t must be in [0, 1e9] s, got " + formatNumber(t));
+            }
+            if (t < c.last_t) {
+              throw pyb::value_error("update: t = " + formatNumber(t) + " s is before the last update's " +
+                                     formatNumber(c.last_t) + " s: time runs forward; reset() to start again");
+            }
             Measurement meas;
             meas.t = t;
             meas.theta = {theta1, theta2};
@@ -226,6 +238,7 @@ void bindController(pyb::module_& m) {
               meas.att.gyro_valid = false;
             }
             const ControlOutput out = update(c.config, c.state, meas);
+            c.last_t = t;
             if (!(out.tau.allFinite() && out.tau_unsat.allFinite() && out.error.allFinite() && out.ref.q.allFinite())) {
               throw pyb::value_error("update: the law gave a non-finite torque from these measurements (an "
                                      "overflow): no command; reset() before the next update");

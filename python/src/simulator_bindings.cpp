@@ -14,6 +14,7 @@
 #include "gimbalsim/dynamics/saved_state.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/dynamics/simulator.hpp"
+#include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/run_output/run_output.hpp"
 
 namespace gimbalsim::py {
@@ -93,10 +94,14 @@ SavedState makeState(const std::string& variant, double t, const std::vector<dou
   return s;
 }
 
+/// [N m] the range of a joint torque: torque.tau1 and tau2's (dynamics/scene/src/scene.cpp, kTorque),
+/// within which the plant's arithmetic stays finite (1e300 N m overflowed the state to NaN).
+constexpr double kMaxAbsTorque = 1e6;
+
 void checkTorque(double tau1, double tau2) {
-  if (!std::isfinite(tau1) || !std::isfinite(tau2)) {
-    throw pyb::value_error("torques must be finite, got tau1 = " + std::to_string(tau1) +
-                           ", tau2 = " + std::to_string(tau2) + " [N m]");
+  if (!(std::abs(tau1) <= kMaxAbsTorque) || !(std::abs(tau2) <= kMaxAbsTorque)) {
+    throw pyb::value_error("torques must be finite and within [-1e6, 1e6] N m (as torque.tau1, tau2), got tau1 = " +
+                           formatNumber(tau1) + ", tau2 = " + formatNumber(tau2) + " [N m]");
   }
 }
 
@@ -147,8 +152,12 @@ void bindSimulator(pyb::module_& m) {
               throw pyb::type_error("n must be an int (a number of steps), got " +
                                     std::string(pyb::str(pyb::type::handle_of(steps).attr("__name__"))));
             }
-            const long long n = steps.cast<long long>();
-            if (n < 0 || n > kMaxSteps) throw pyb::value_error("n must be in [0, 2^40], got " + std::to_string(n));
+            int overflow = 0;  // an int beyond long long (2**70) is out of range too, not a cast error
+            const long long n = PyLong_AsLongLongAndOverflow(steps.ptr(), &overflow);
+            if (n == -1 && PyErr_Occurred()) throw pyb::error_already_set();
+            if (overflow != 0 || n < 0 || n > kMaxSteps) {
+              throw pyb::value_error("n must be in [0, 2^40], got " + std::string(pyb::str(steps)));
+            }
             checkTorque(tau1, tau2);
             const StepResult r = locked(p, [&](Simulator& s) { return s.step(Vec2(tau1, tau2), n); });
             if (!r.ok()) raiseStopped(r, stopMessage(p.sim.model(), r));
@@ -163,9 +172,10 @@ void bindSimulator(pyb::module_& m) {
             const long long n = tau.shape(0);
             for (long long i = 0; i < n; ++i) {
               const double* row = tau.data(i, 0);
-              if (!std::isfinite(row[0]) || !std::isfinite(row[1])) {
-                throw pyb::value_error("torques row " + std::to_string(i) + " is not finite (" +
-                                       std::to_string(row[0]) + ", " + std::to_string(row[1]) + ") [N m]");
+              if (!(std::abs(row[0]) <= kMaxAbsTorque) || !(std::abs(row[1]) <= kMaxAbsTorque)) {
+                throw pyb::value_error("torques row " + std::to_string(i) +
+                                       " is not finite and within [-1e6, 1e6] N m (" + formatNumber(row[0]) + ", " +
+                                       formatNumber(row[1]) + ") [N m]");
               }
             }
             pyb::array_t<double> rows({static_cast<pyb::ssize_t>(n), static_cast<pyb::ssize_t>(kNumColumns)});
