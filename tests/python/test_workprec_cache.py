@@ -112,3 +112,16 @@ def test_a_cache_that_cannot_be_written_exits_4_with_every_point_written(tmp_pat
     assert "scene skipped" not in p.stdout
     assert errors(tmp_path) == want  # every point measured against the reference and written
     assert not list(tmp_path.glob("ref_*.csv")) and not list(tmp_path.glob(".*tmp"))
+
+
+def test_a_refused_scene_in_the_list_costs_nothing(tmp_path):
+    """Every scene is loaded before any runs: one the list names but cannot
+    load refuses the whole run (exit 2) before a point is measured or a
+    reference cached, wherever it stands in --scenes."""
+    cmd = workprec_cmd(tmp_path)
+    cmd[cmd.index("paper_ideal")] = "paper_ideal,nosuch"
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 2, r.stderr
+    assert "scene nosuch refused" in r.stderr and "nothing run" in r.stderr, r.stderr
+    assert "[paper_ideal]" not in r.stdout, r.stdout  # no scene was measured
+    assert sorted(os.listdir(tmp_path)) == [], os.listdir(tmp_path)

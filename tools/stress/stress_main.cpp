@@ -111,7 +111,9 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--scenes", scenes, "scene directory");
   app.add_option("--csv", csv, "CSV of every run");
   app.add_option("--duration", dur, "simulated time of each run [s]");
-  app.add_option("--threads", threads, "runs in parallel (at most 2 on this machine)")->check(CLI::Range(1, 2));
+  app.add_option("--threads", threads, "runs in parallel (at most 2 on this machine)")
+      ->check(gimbalsim::program::wholeNumber())
+      ->check(CLI::Range(1, 2));
   // A bound of 0 or below would call every run SILENTLY_WRONG (exit 1, "a bug").
   app.add_option("--momentum-bound", b.momentum_rel, "relative momentum drift bound")
       ->check(gimbalsim::program::within(0.0, 1.0, true));

@@ -40,7 +40,9 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
   app.add_option("--policy", a.only_policies, "only these policies (by name; repeatable)");
   app.add_option("--steps", a.steps, "outer steps h [s] swept by the plain curves")
       ->delimiter(',')->check(program::within(1e-9, 1e3));  // below 1 ns no scene steps (and --output-interval was blamed)
-  app.add_option("--repeats", a.repeats, "timed runs per point (the median is reported)")->check(CLI::Range(1, 99));
+  app.add_option("--repeats", a.repeats, "timed runs per point (the median is reported)")
+      ->check(program::wholeNumber())
+      ->check(CLI::Range(1, 99));
   app.add_option("--duration", a.duration, "simulated time [s] (default: the scenes')")
       ->check(program::within(0.0, 1e6, true));
   app.add_option("--output-interval", a.output_interval, "row spacing the errors are compared at [s]")

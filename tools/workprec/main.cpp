@@ -214,28 +214,35 @@ void measureCurve(const Args& a, const std::string& scene, const std::string& pa
   }
 }
 
-/// Run: every curve of one scene; nullopt to go on, else the exit code (a refused scene).
 /// What went wrong without stopping the sweep; each decides the exit code at the end.
 struct Troubles {
   std::vector<std::string> skipped;    ///< scenes whose reference run failed (exit 3)
   std::vector<std::string> uncached;   ///< references that could not be cached (exit 4)
 };
 
-/// Run: every curve of one scene; nullopt to go on, else the exit code (a refused scene).
-std::optional<int> measureScene(const Args& a, const std::string& scene, std::vector<Point>& points,
-                                Troubles& troubles) {
+/// Every scene of --scenes loaded and checked before any runs: a refused one
+/// costs nothing (no point measured, no reference cached). nullopt: all taken.
+std::optional<int> loadScenes(const Args& a, std::vector<Scene>& scenes) {
+  for (const std::string& scene : a.scenes) {
+    const std::vector<std::string> base_sets = baseSets(a, scene);
+    try {
+      scenes.push_back(loadScene(a.scenes_dir + "/" + scene + ".yaml", base_sets));
+    } catch (const InputError& e) {
+      return refuseScene(a, scene, base_sets, e);
+    }
+    if (!(scenes.back().run.duration / a.peak_dt <= 1e10)) {
+      return program::refuse("gimbalsim_workprec",
+                             "scene " + scene + ": sim.duration / --peak-dt is more than 1e10 reference samples");
+    }
+  }
+  return std::nullopt;
+}
+
+/// Run: every curve of one scene (loaded by loadScenes).
+void measureScene(const Args& a, const std::string& scene, const Scene& base, std::vector<Point>& points,
+                  Troubles& troubles) {
   const std::string path = a.scenes_dir + "/" + scene + ".yaml";
   const std::vector<std::string> base_sets = baseSets(a, scene);
-  Scene base;
-  try {
-    base = loadScene(path, base_sets);
-  } catch (const InputError& e) {
-    return refuseScene(a, scene, base_sets, e);
-  }
-  if (!(base.run.duration / a.peak_dt <= 1e10)) {
-    return program::refuse("gimbalsim_workprec",
-                           "scene " + scene + ": sim.duration / --peak-dt is more than 1e10 reference samples");
-  }
   std::printf("\n[%s] %g s, %s, reference: ", scene.c_str(), base.run.duration,
               base.model.floating_base ? "floating base" : "fixed base");
   std::fflush(stdout);
@@ -245,7 +252,7 @@ std::optional<int> measureScene(const Args& a, const std::string& scene, std::ve
   } catch (const std::exception& e) {
     std::printf("FAILED (%s); scene skipped\n", e.what());
     troubles.skipped.push_back(scene + " (" + e.what() + ")");
-    return std::nullopt;
+    return;
   }
   if (!ref.cache_unused.empty()) {
     std::fprintf(stderr, "gimbalsim_workprec: reference cache %s: computed again\n", ref.cache_unused.c_str());
@@ -268,7 +275,6 @@ std::optional<int> measureScene(const Args& a, const std::string& scene, std::ve
     }
   }
 #endif
-  return std::nullopt;
 }
 
 /// Report: the cheapest setting per target accuracy and scene.
@@ -308,13 +314,15 @@ int mainImpl(int argc, char** argv) {
   } catch (const gimbalsim::io::OutputError& e) {
     return program::unwritable("gimbalsim_workprec", e.what());
   }
+  std::vector<Scene> scenes;
+  if (const auto rc = loadScenes(a, scenes)) return *rc;
   std::vector<Point> points;
   Troubles troubles;
   // SIGINT/SIGTERM: the point being measured is dropped, the CSV holds every whole point before it.
   gimbalsim::io::installStopHandlers();
-  for (const std::string& scene : a.scenes) {
+  for (std::size_t i = 0; i < a.scenes.size(); ++i) {
     if (gimbalsim::io::stopRequested()) break;
-    if (const auto rc = measureScene(a, scene, points, troubles)) return *rc;
+    measureScene(a, a.scenes[i], scenes[i], points, troubles);
   }
   markPareto(points);
   if (!csv_file->write(csvText(points)) || !csv_file->commit()) {
