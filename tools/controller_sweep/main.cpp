@@ -3,6 +3,7 @@
 // (pid.hpp triplePoleGains with the configured inertias), one closed-loop run,
 // one table row: settling time, tracking errors, peak torque.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 
 #include <cstdio>
 #include <string>
@@ -64,22 +65,31 @@ int mainImpl(int argc, char** argv) {
       std::vector<std::string> with_gains = sets;
       std::vector<std::string> labels;  // a refusal names the user's --set by its count, a gain by --omega
       for (std::size_t k = 0; k < sets.size(); ++k) labels.push_back("--set #" + std::to_string(k + 1) + " '" + sets[k] + "'");
+      std::vector<std::pair<std::string, std::string>> gains;  // (key, its label)
       for (int i = 0; i < 2; ++i) {
         const AxisGains g = triplePoleGains(base.axis[i].inertia, w, base.axis[i].torque_limit, base.axis[i].aw_gain);
         const std::string axis = i == 0 ? "azimuth." : "elevation.";
         for (const auto& [key, v] : {std::pair{"kp", g.kp}, {"ki", g.ki}, {"kd", g.kd}}) {
-          char value[64];
-          std::snprintf(value, sizeof value, "%.17g", v);
+          const std::string value = formatNumber(v);  // reads back as the same gain
           with_gains.push_back(axis + key + "=" + value);
           labels.push_back("--omega " + formatNumber(w) + " gives " + axis + key + " = " + value);
+          gains.emplace_back(axis + key, labels.back());
         }
       }
       try {
         configs.push_back(loadControllerConfig(config_path, with_gains));
       } catch (const InputError& e) {
-        for (const std::string& p : relabelledProblems(e, labels)) std::fprintf(stderr, "error: %s\n", p.c_str());
-        return program::refuse("controller_sweep", "--omega " + formatNumber(w) + ": its triple-pole gains are "
-                               "outside the configuration's ranges");
+        const std::vector<std::string> problems = relabelledProblems(e, labels);
+        std::string refused;  // the gains refused, named on the last line too
+        for (const auto& gain : gains) {
+          const bool named = std::any_of(problems.begin(), problems.end(),
+                                         [&](const std::string& p) { return p.rfind(gain.second, 0) == 0; });
+          if (named) refused += (refused.empty() ? "" : ", ") + gain.first;
+        }
+        for (const std::string& p : problems) std::fprintf(stderr, "error: %s\n", p.c_str());
+        return program::refuse("controller_sweep", "--omega " + formatNumber(w) + ": its triple-pole gains " +
+                               (refused.empty() ? std::string("are") : "(" + refused + ") are") +
+                               " outside the configuration's ranges");
       }
     }
     std::printf("# scene %s, %g s, settle band %g rad, torque limit %g / %g N m\n", m.name.c_str(), opt.duration,
