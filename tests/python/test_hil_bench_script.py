@@ -105,15 +105,15 @@ def test_an_output_that_is_one_of_the_inputs_is_refused_before_anything_runs(tmp
     assert "b1/truth.csv: an output that is the input --scene b1/truth.csv" in p.stderr, p.stderr
     assert files(out) == {"truth.csv": scene}  # nothing run, nothing written
     # the config under a hard link's name, and a --faults file passed through to firmware_sim (absolute, or
-    # relative as firmware_sim reads it, from the run's folder in --out)
+    # relative: read where the user stands, as every path the script is given)
     (tmp_path / "ctl.yaml").write_bytes(CONTROLLER_CONFIG.read_bytes())
     os.link(tmp_path / "ctl.yaml", out / "controller.txt")
     p = bench(out, "--duration", "0.2", "--no-plot", "--config", str(tmp_path / "ctl.yaml"))
     assert p.returncode == 2 and "controller.txt: an output that is the input --config" in p.stderr, p.stderr
     (out / "controller.txt").unlink()
     (out / "firmware.txt").write_text("scheduled_faults: []\n")
-    for faults in (["--faults", str(out / "firmware.txt")], ["--faults=../firmware.txt"]):
-        p = bench(out, "--duration", "0.2", "--no-plot", "--", *faults)
+    for faults in (["--faults", str(out / "firmware.txt")], ["--faults=b1/firmware.txt"]):
+        p = bench(out, "--duration", "0.2", "--no-plot", "--", *faults, cwd=tmp_path)
         assert p.returncode == 2 and "firmware.txt: an output that is the input --faults (after --)" in p.stderr, p.stderr
     assert sorted(os.listdir(out)) == ["firmware.txt", "truth.csv"]
     assert (out / "firmware.txt").read_text() == "scheduled_faults: []\n"

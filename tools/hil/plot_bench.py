@@ -29,8 +29,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
-from output_file import (Refused, check_before_writing, check_figure_format, check_header, plain_number,  # noqa: E402
-                         run_script, savefig)  # the package's one writer
+from output_file import (Refused, check_as_written, check_before_writing, check_figure_format,  # noqa: E402
+                         check_header, plain_number, run_script, savefig)  # the package's one writer
 
 FAULTS = [(1, "watchdog"), (2, "motor limit"), (4, "cmd rejected"), (8, "plant fault"), (16, "lockstep timeout")]
 # Scheduled fault kinds in the order of FaultKind (firmware_sim/include/gimbalsim/firmware_sim/fault_schedule.hpp):
@@ -86,13 +86,7 @@ def read(path):
         raise Refused(f"cannot read {path}: {e.strerror}")
     if not raw:
         raise Refused(f"{path} is empty")
-    if raw.startswith(b"\xef\xbb\xbf"):
-        raise Refused(f"{path}:1: starts with a byte-order mark: {NOT_AS_WRITTEN}")
-    cr = raw.find(b"\r")
-    if cr >= 0:
-        line = raw.count(b"\n", 0, cr) + 1
-        what = "ends in CR (CRLF line ends)" if raw[cr + 1:cr + 2] in (b"\n", b"") else "has a carriage return (CR)"
-        raise Refused(f"{path}:{line}: {what}: {NOT_AS_WRITTEN}")
+    check_as_written(raw, path, NOT_AS_WRITTEN)
     start = raw.find(b"\n") + 1 or len(raw)  # the first byte of line 2 (the text is scanned in place: 2M rows)
     try:
         header = raw[:start].rstrip(b"\n").decode("utf-8").split(",")
@@ -155,7 +149,7 @@ def main():
     a = p.parse_args()
     if not np.isfinite(a.after):
         p.error(f"--after {a.after}: not a finite time")
-    check_before_writing([a.out], [a.truth])
+    check_before_writing([a.out], [a.truth], names=["--out"])
     check_figure_format(a.out)
     c = read(a.truth)
     t = c["sim_time_s"]

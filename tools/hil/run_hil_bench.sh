@@ -21,18 +21,22 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 MODE=lockstep DURATION=8 SCENE="$ROOT/tools/scenes/paper_clearance.yaml" CONFIG="$ROOT/controllers/config/default.yaml"
 RATE=1000 LOG=0 OUT="$ROOT/out/bench" OUT_GIVEN=0 PLOT=1 PORT=7667 EXTRA=()
 usage() { sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
+value() {  # value FLAG ARGS...: the flag's value, refused (exit 2) naming FLAG when missing or empty, not set -u's exit 1
+  [ $# -ge 2 ] || { echo "run_hil_bench.sh: $1: needs a value" >&2; exit 2; }
+  [ -n "$2" ] || { echo "run_hil_bench.sh: $1: an empty value" >&2; exit 2; }
+}
 while [ $# -gt 0 ]; do
   case "$1" in
     --realtime) MODE=realtime ;;
     --lockstep) MODE=lockstep ;;
-    --duration) DURATION="$2"; shift ;;
-    --scene) SCENE="$2"; shift ;;
-    --config) CONFIG="$2"; shift ;;
-    --rate) RATE="$2"; shift ;;
+    --duration) value "$@"; DURATION="$2"; shift ;;
+    --scene) value "$@"; SCENE="$2"; shift ;;
+    --config) value "$@"; CONFIG="$2"; shift ;;
+    --rate) value "$@"; RATE="$2"; shift ;;
     --log) LOG=1 ;;
-    --out) OUT="$2"; OUT_GIVEN=1; shift ;;
+    --out) value "$@"; OUT="$2"; OUT_GIVEN=1; shift ;;
     --no-plot) PLOT=0 ;;
-    --port) PORT="$2"; shift ;;
+    --port) value "$@"; PORT="$2"; shift ;;
     -h|--help) usage 0 ;;
     --) shift; EXTRA=("$@"); break ;;
     *) echo "run_hil_bench.sh: unknown argument '$1'" >&2; usage 2 ;;
@@ -98,20 +102,41 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
       echo "run_hil_bench.sh: $f: a link or not a regular file under an output's name; move it out" >&2; exit 2
     fi
   done
-  # An output that is one of the inputs (same device and inode: a hard link or ./truth.csv counts) is refused
-  # before anything runs (usage.md "Output files"): the scene, the config, and a --faults or --profile file
-  # passed to firmware_sim after -- (a relative one as firmware_sim reads it, from the run's folder in --out).
+  # Arguments after -- are the user's: a flag the script sets itself is refused up front (firmware_sim's
+  # "At Most 1" came only after the controller had started), naming what to use instead (docs/bench.md).
   inputs=("--scene" "$SCENE" "--config" "$CONFIG")
   for ((i = 0; i < ${#EXTRA[@]}; i++)); do
-    a=${EXTRA[i]} v=
+    a=${EXTRA[i]%%=*} v='' eq=0
+    [ "$a" = "${EXTRA[i]}" ] || { v=${EXTRA[i]#*=} eq=1; }
     case "$a" in
-      --faults | --profile) [ $((i + 1)) -ge ${#EXTRA[@]} ] || { v=${EXTRA[i + 1]}; i=$((i + 1)); } ;;
-      --faults=* | --profile=*) v=${a#*=} a=${a%%=*} ;;
+      --profile) use="it is --config's file (the controller's config defines the pointing error for both); use --config" ;;
+      --truth-csv) use="it is truth.csv in --out; use --out" ;;
+      --lcm-url) use="the run's udpm URL with ttl=0; use --port" ;;
+      --rate | --duration) use="use $a before --" ;;
+      --lockstep) use="lockstep is the default; --realtime before -- for real time" ;;
+      *) use= ;;
     esac
-    [ -n "$v" ] || continue
-    case "$v" in /*) ;; *) v="$(realpath -m -- "$OUT/.run.X/$v")" ;; esac
+    [ -z "$use" ] || { echo "run_hil_bench.sh: $a after --: the script sets it for firmware_sim: $use; nothing run" >&2; exit 2; }
+    # The files firmware_sim reads or writes are the user's paths, read where the user stands (the run
+    # itself is in a folder inside --out): made absolute here, and an input is checked before anything runs.
+    case "$a" in --faults | --tick-log) ;; *) continue ;; esac
+    if [ "$eq" = 0 ]; then
+      [ $((i + 1)) -lt ${#EXTRA[@]} ] || { echo "run_hil_bench.sh: $a after --: needs a value" >&2; exit 2; }
+      i=$((i + 1)) v=${EXTRA[i]}
+    fi
+    [ -n "$v" ] || { echo "run_hil_bench.sh: $a after --: an empty value" >&2; exit 2; }
+    given=$v
+    case "$v" in /*) ;; *) v="$PWD/$v" ;; esac
+    if [ "$eq" = 1 ]; then EXTRA[i]="$a=$v"; else EXTRA[i]=$v; fi
+    [ "$a" = --faults ] || continue
+    why=
+    if [ ! -e "$v" ]; then why="no such file"; elif [ ! -f "$v" ]; then why="not a regular file"
+    elif [ ! -r "$v" ]; then why="not readable"; fi
+    [ -z "$why" ] || { echo "run_hil_bench.sh: $a $given (after --): $why; nothing run" >&2; exit 2; }
     inputs+=("$a (after --)" "$v")
   done
+  # An output that is one of the inputs (same device and inode: a hard link or ./truth.csv counts) is refused
+  # before anything runs (usage.md "Output files"): the scene, the config, and a --faults file after --.
   for f in "${OUTPUTS[@]}" "$OUT"/bench_*.csv; do
     f="$OUT/${f#"$OUT"/}"
     [ -e "$f" ] || continue
@@ -180,6 +205,8 @@ set +e
 "${fw[@]}" "${EXTRA[@]}" 2>&1 | tee firmware.txt
 rc=${PIPESTATUS[0]}
 set -e
+# A plant that failed ends the run now: the controller would wait its --idle-exit for a status that never comes.
+[ "$rc" -eq 0 ] || kill "$CTL" 2>/dev/null || true
 ctl_rc=0
 wait "$CTL" 2>/dev/null || ctl_rc=$?
 if [ "$LOG" = 1 ]; then

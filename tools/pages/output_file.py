@@ -6,7 +6,8 @@ nor PYTHONPATH. Everything it offers is re-exported here: open_output,
 write_text, write_bytes, write_csv, savefig, check_outputs, OutputError
 (an OSError naming the file), and csv_number (the CSV convention's numbers).
 It also says how a script ends (run_script, Refused, check_before_writing)
-and how it reads what it is given (plain_number, check_header, check_figure_format)."""
+and how it reads what it is given (plain_number, check_header, check_as_written,
+check_figure_format)."""
 import contextlib
 import importlib.util
 import math
@@ -44,9 +45,21 @@ class Refused(Exception):
     before it writes anything."""
 
 
-def check_before_writing(outputs, inputs=()):
+def _not_empty(path, name=None):
+    """An empty output path is refused as such first (usage.md "Output files"): a
+    later check would blame what it made of it ('.' as a format, the folder '')."""
+    if path == "" or (isinstance(path, bytes) and not path):
+        raise Refused(f"{name or 'an output path'}: an empty value")
+
+
+def check_before_writing(outputs, inputs=(), names=()):
     """check_outputs as a refusal (exit 2): a script checks every output it
-    will write, and the folder each goes in, before it reads or plots."""
+    will write, and the folder each goes in, before it reads or plots. names:
+    the flags the outputs came from, in order, to name an empty one (None, an
+    output not asked for, is skipped)."""
+    outputs, names = list(outputs), list(names)  # a generator is read twice here
+    for k, out in enumerate(outputs):
+        _not_empty(out, names[k] if k < len(names) else None)
     try:
         check_outputs(outputs, inputs)
     except OutputError as e:
@@ -108,8 +121,22 @@ def check_header(header, path):
         seen.add(name)
 
 
+def check_as_written(raw, path, not_as_written):
+    """A CSV's bytes as the project writes them (no byte-order mark, LF line ends):
+    Refused naming the line and `not_as_written` ("not as X writes ..."), since a
+    mark would hide the first column's name and a CR would end every last cell."""
+    if raw.startswith(b"\xef\xbb\xbf"):
+        raise Refused(f"{path}:1: starts with a byte-order mark: {not_as_written}")
+    cr = raw.find(b"\r")
+    if cr >= 0:
+        line = raw.count(b"\n", 0, cr) + 1
+        what = "ends in CR (CRLF line ends)" if raw[cr + 1:cr + 2] in (b"\n", b"") else "has a carriage return (CR)"
+        raise Refused(f"{path}:{line}: {what}: {not_as_written}")
+
+
 def check_figure_format(path):
     """The extension of a figure's name is a format matplotlib writes (.png, .pdf, .svg, ...)."""
+    _not_empty(path)
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     fmt = os.path.splitext(str(path))[1].lstrip(".").lower()

@@ -2,12 +2,18 @@
 name), the summaries, their common time grid, and the derived signals
 (boresight angle, contact starts). No plotting here.
 """
-import csv
+import io
 import json
 import math
 import os
+import re
+import sys
+import warnings
 
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
+from output_file import Refused, check_as_written, check_header, plain_number  # noqa: E402  (the shared readers)
 
 # Columns this script reads (the simulator writes more; extra ones are ignored).
 REQUIRED = [
@@ -30,40 +36,75 @@ class InputError(Exception):
 # ----------------------------------------------------------------------------
 # Input
 # ----------------------------------------------------------------------------
+# A cell as the simulator writes a number, matched a whole line at a time (one regex a line, not Python a cell: a
+# 100k-row file stays fast); at most a two-digit exponent, so every cell it takes is finite. A line it does not
+# take is read cell by cell (plain_number) to name the first bad cell.
+_CELL = rb"[+-]?(?:[0-9]{1,200}\.?[0-9]{0,200}|\.[0-9]{1,200})(?:[eE][+-]?[0-9]{1,2})?"
+NOT_AS_WRITTEN = "not as gimbalsim simulate writes a CSV"
+
+
+def first_bad_cell(raw, start, header, path):
+    """Refused naming file:line, the column and the cell of the first data cell that is not a plain finite
+    decimal, or the line with a wrong count of fields (numpy only says that something failed, not where)."""
+    row = re.compile(rb"%s(?:,%s){%d}(?:\n|\Z)" % (_CELL, _CELL, len(header) - 1))
+    at, line = start, 2  # the first byte of a line and its number
+    while at < len(raw):
+        taken = row.match(raw, at)
+        eol = taken.end() if taken else (raw.find(b"\n", at) + 1 or len(raw) + 1)
+        if not taken:
+            cells = raw[at:eol - 1].split(b",")
+            if len(cells) != len(header):
+                raise Refused(f"{path}:{line}: not a table of numbers: {len(cells)} fields, the header has {len(header)}")
+            for name, cell in zip(header, cells):
+                plain_number(cell.decode("utf-8", "replace"), f"{path}:{line}: column {name}")
+        at, line = eol, line + 1
+
+
 def load_csv(path):
-    """Return {column name: float array}, checked for the REQUIRED columns."""
+    """Return {column name: float array}, checked for the REQUIRED columns; every cell a plain finite decimal.
+    InputError names the file and, for a cell, its line, column and text (as plot_bench's refusals do)."""
+    try:
+        return _load_csv(path)
+    except Refused as e:  # the shared readers' refusals, as this module's callers expect them
+        raise InputError(str(e)) from None
+
+
+def _load_csv(path):
     if not os.path.isfile(path):
         raise InputError(f"{path}: " + ("not a regular file" if os.path.exists(path) else "no such file"))
     try:
-        with open(path, newline="") as f:
-            header = next(csv.reader(f), None)
+        with open(path, "rb") as f:
+            raw = f.read()
     except OSError as e:
         raise InputError(f"cannot read {path}: {e.strerror}")
-    except (csv.Error, UnicodeDecodeError) as e:
-        raise InputError(f"{path}: not a CSV file ({e})")
-    if not header:
+    if not raw.strip():
         raise InputError(f"{path}: empty file (no CSV header)")
-    header = [h.strip() for h in header]
-    repeated = sorted({h for h in header if header.count(h) > 1})
-    if repeated:
-        raise InputError(f"{path}:1: column {repeated[0]} appears twice")
+    check_as_written(raw, path, NOT_AS_WRITTEN)
+    start = raw.find(b"\n") + 1 or len(raw)  # the first byte of line 2
+    try:
+        header = [h.strip() for h in raw[:start].rstrip(b"\n").decode("utf-8").split(",")]
+    except UnicodeDecodeError as e:
+        raise InputError(f"{path}:1: not a CSV file ({e})")
+    check_header(header, path)
     missing = [c for c in REQUIRED if c not in header]
     if missing:
         raise InputError(f"{path}: missing column(s) {', '.join(repr(m) for m in missing)} "
                          f"(header has: {','.join(header)})")
+    # numpy reads the table; only when it fails or takes a non-finite value ('nan', '1e999') is the text
+    # scanned for the first bad cell, so a good file costs one parse.
+    data = None
     try:
-        data = np.genfromtxt(path, delimiter=",", skip_header=1, dtype=float, ndmin=2)
-    except (ValueError, UnicodeDecodeError) as e:  # rows of unequal length, bytes that are not text
-        raise InputError(f"{path}: not a table of numbers ({str(e).strip().splitlines()[-1]})")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # an empty table is said below, not warned about
+            data = np.loadtxt(io.BytesIO(raw), delimiter=",", comments=None, skiprows=1, dtype=float, ndmin=2)
+    except (ValueError, UnicodeDecodeError):
+        pass
+    if data is None or (data.size and (data.shape[1] != len(header) or not np.isfinite(data).all())):
+        first_bad_cell(raw, start, header, path)
+        raise InputError(f"{path}: not a table of numbers")  # numpy refused what the scan took
     if data.size == 0 or data.shape[0] < 2:
         raise InputError(f"{path}: fewer than 2 data rows")
-    if data.shape[1] != len(header):
-        raise InputError(f"{path}: {data.shape[1]} values per row but {len(header)} header names")
     cols = {name: data[:, k] for k, name in enumerate(header)}
-    for name in REQUIRED:
-        if not np.all(np.isfinite(cols[name])):
-            bad = int(np.argmax(~np.isfinite(cols[name])))
-            raise InputError(f"{path}: column {name!r} has a non-finite value at data row {bad + 1}")
     if np.any(np.diff(cols["t_s"]) <= 0):
         raise InputError(f"{path}: column 't_s' is not strictly increasing")
     return cols

@@ -64,8 +64,8 @@ def main():
     ap.add_argument("csv", nargs="?", default="out/workprec/workprec.csv")
     ap.add_argument("--out", default=None, help="PNG path (default: beside the CSV)")
     a = ap.parse_args()
-    out = a.out or os.path.splitext(a.csv)[0] + ".png"
-    check_before_writing([out], [a.csv])
+    out = os.path.splitext(a.csv)[0] + ".png" if a.out is None else a.out  # --out '' is refused, not defaulted
+    check_before_writing([out], [a.csv], names=["--out"])
     check_figure_format(out)
     scenes = read(a.csv)
     if not scenes:
