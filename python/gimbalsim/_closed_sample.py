@@ -85,6 +85,12 @@ def load_sample(base, closed, overrides):
         ctrl = gimbalsim.Controller(closed.controller_path, {**closed.set, **ctrl_ov})
     except gimbalsim.SceneError as e:
         return None, None, {"status": f"refused:controller.{e.key or ''}", "reason": str(e).replace(",", ";")}
+    # A period the plant cannot tick (no whole number of sim.step) runs nothing: refused here, where a
+    # resume checks a refused row, and not recorded as a run that stopped at its first tick.
+    why = gimbalsim._gimbalsim._whole_multiple_problem(ctrl.period, scene.step, "the scene's step (sim.step)")
+    if why:
+        return None, None, {"status": "refused:controller.control.period",
+                            "reason": f"control.period: {ctrl.period!r} s {why}".replace(",", ";")}
     loaded = {**scene.values(), **{CONTROLLER_PREFIX + k: t for k, t in ctrl._values_text().items()}}
     return scene, ctrl, {"applied": _provenance.applied(loaded, overrides)}
 

@@ -178,8 +178,8 @@ def _idle_in_scene(key, scene, dispersed):
     """Why `key` cannot act in this scene (None if it can): a bearing key on
     an ideal joint, a tilt key on a planar bearing, a contact sub-stepping or
     penetration key with both joints ideal, an adaptive-step key under the
-    fixed policy, a base key or sim.momentum_tol on a fixed base,
-    sim.energy_tol with a spatial bearing. Nothing is judged when the
+    fixed policy, a base key, geometry.joint1_position or sim.momentum_tol on
+    a fixed base, sim.energy_tol with a spatial bearing. Nothing is judged when the
     deciding key (structure.*, sim.substep_policy) is itself dispersed."""
     joints = {j: scene.get(f"structure.joint{j}") for j in (1, 2)}
     rules = []
@@ -210,7 +210,11 @@ def _idle_in_scene(key, scene, dispersed):
                scene.get("sim.substep_policy") == "adaptive", "sim.substep_policy is fixed: only the adaptive "
                "policy reads it"),
               (("base.",), "structure.base", scene.get("structure.base") != "fixed",
-               "structure.base is fixed: the base never moves")]
+               "structure.base is fixed: the base never moves"),
+              # where joint 1 sits on a fixed base only moves the whole gimbal (no gravity): every figure is the
+              # same, only the momentum about the base CoM (no row figure, unchecked on a fixed base) differs
+              (("geometry.joint1_position",), "structure.base", scene.get("structure.base") != "fixed",
+               "structure.base is fixed: joint 1's place on it only shifts the whole gimbal, no figure changes")]
     for prefixes, decider, acts, why in rules:
         if key.startswith(prefixes) and not acts and not any(d.startswith(decider) for d in dispersed):
             return why

@@ -130,7 +130,51 @@ def check_row(spec, row, n_columns):
         why = _figure_wrong(name, text, status, reason)
         if why is not None:
             return f"{csv_name} {why}"
+    why = _status_wrong(spec, status, reason, dict(zip(spec.metrics, figures)))
+    if why is not None:
+        return why
     return _provenance_wrong(spec, row, first + len(figures), overrides, status, reason, names)
+
+
+# The stops a run ends on, as its row names them. A limit's key (dynamics/src/step_result.cpp limitKey); the
+# open loop's invariants (simulate.cpp); with no key, the open loop writes the
+# step's status in words (_open_sample._stop_name: "ok" when no step failed, a non-finite output row), the
+# closed loop non_finite, refused or stopped (python/src/controller_bindings.cpp resultDict, _closed_sample).
+LIMIT_STOPS = ("sim.velocity_limit", "sim.penetration_limit", "sim.max_substeps", "sim.max_event_iters",
+               "sim.min_substeps_per_impact")
+OPEN_STOPS = LIMIT_STOPS + ("sim.momentum_tol", "sim.energy_tol", "non-finite_value_(NaN_or_Inf)_in_the_state")
+CLOSED_STOPS = LIMIT_STOPS + ("non_finite", "refused", "stopped")
+POINTING = ("pointing_error_max", "pointing_error_final")  # nan when the ideal twin stopped first
+
+
+def _status_wrong(spec, status, reason, figures):
+    """Why a row's status, with its reason (closed loop) and figures
+    ({metric: text}), is none the sweep writes, or None: a refusal or a
+    crash (no reason but the refusal's), ok, or one of its stops."""
+    if status.startswith("refused:") or status == "crashed":
+        return "reason is not empty in a crashed sample's row" if status == "crashed" and reason else None
+    if spec.closed is None:  # _open_sample: a stop, `ideal:<twin's stop>` or `<stop>|ideal:<twin's stop>`
+        run, _, twin = status.partition("|ideal:") if "|ideal:" in status else \
+            ("ok", "", status[len("ideal:"):]) if status.startswith("ideal:") else (status, "", "")
+        if run not in ("ok",) + OPEN_STOPS or (twin and twin not in ("ok",) + OPEN_STOPS):
+            return "status is none the sweep writes (ok, a stop, refused:<key>, crashed, ideal:<stop>)"
+        if twin and any(figures[m] != "nan" for m in POINTING):
+            return "pointing_error is a number in an ideal:<stop> row: a twin that stopped first gives none"
+        return None
+    indices = spec.closed.metrics()
+    parts = reason.split(" | ") if reason else []
+    if status == "ok":  # its reason names only its indices that are nan, each "index_phase: why"
+        if any(p.split(": ")[0] not in indices or figures[p.split(": ")[0]] != "nan" for p in parts):
+            return "reason is not an ok row's (it names only the ok run's indices that are nan)"
+        return None
+    if status not in CLOSED_STOPS:
+        return "status is none the sweep writes (ok, a stop, refused:<key>, crashed)"
+    # the stop's message first, then the nan indices' reasons; every figure a number or nan
+    if not parts or not parts[0] or parts[0].split(": ")[0] in indices:
+        return "reason is not a stopped row's: it begins with the message of the stop"
+    if "" in figures.values():
+        return "status is a stop, but a figure is empty: a stopped closed loop writes every figure"
+    return None
 
 
 def _figure_wrong(name, text, status, reason):

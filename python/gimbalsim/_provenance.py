@@ -149,6 +149,8 @@ def record_inputs(spec, out, write):
 
     write(out / SPEC_COPY, spec.spec_text)
     spec_path = pathlib.Path(spec.spec_path).absolute()
+    # workdir: where a relative path of the spec fell back to (a replay from elsewhere looks there too)
     write(out / INPUTS, json.dumps({"spec": str(spec_path), "spec_folder": str(spec.spec_folder),
-                                    "scene": str(spec.scene_path), "fingerprints": fingerprints(spec)},
+                                    "workdir": str(pathlib.Path.cwd()), "scene": str(spec.scene_path),
+                                    "fingerprints": fingerprints(spec)},
                                    indent=2) + "\n")

@@ -37,11 +37,14 @@ class Spec:
     """A spec file: ``root`` (a Node), ``path``, and ``refuse(key, message,
     node)`` raising SpecError at the node's position. Its paths are read
     against ``folder`` (default: the spec's own; a replay reads a sweep's copy
-    of its spec against the original's)."""
+    of its spec against the original's), then ``workdir`` (a replay: the
+    sweep's working directory, where its relative paths fell back to), then
+    the current directory."""
 
-    def __init__(self, path, folder=None):
+    def __init__(self, path, folder=None, workdir=None):
         self.path = pathlib.Path(path)
         self.folder = pathlib.Path(folder) if folder is not None else self.path.parent
+        self.workdir = pathlib.Path(workdir) if workdir else None
         # Said as the C++ readers say it: what the path is, or the system's reason (not "not readable").
         try:
             st = self.path.stat()
@@ -124,11 +127,13 @@ class Spec:
                 self.refuse(name, f"unknown key (expected one of {', '.join(sorted(allowed))})", node)
 
     def path_of(self, name, node):
-        """A path given in the spec: against the spec file's folder, then the current directory."""
+        """A path given in the spec: against the spec file's folder (then a replay's workdir), then the
+        current directory."""
         if not isinstance(node.value, str):
             self.refuse(name, "expected a file path", node)
         p = pathlib.Path(node.value)
-        for candidate in ([p] if p.is_absolute() else [self.folder / p, pathlib.Path.cwd() / p]):
+        workdir = [self.workdir / p] if self.workdir is not None else []
+        for candidate in ([p] if p.is_absolute() else [self.folder / p, *workdir, pathlib.Path.cwd() / p]):
             try:
                 if candidate.is_file():
                     return candidate.resolve()
@@ -140,7 +145,9 @@ class Spec:
         # a replay reads a sweep's copy against the original's folder: say where it looked
         beside = "beside the spec" if self.folder == self.path.parent else \
             f"in {self.folder}, the sweep's spec's folder"
-        self.refuse(name, f"no such file: {node.value} (looked {beside}, then in the current directory)", node)
+        sweep_cwd = f", then in {self.workdir}, the sweep's working directory" if self.workdir is not None else ""
+        self.refuse(name, f"no such file: {node.value} (looked {beside}{sweep_cwd}, then in the current directory)",
+                    node)
 
     def integer(self, name, node, lo, hi):
         v = node.value

@@ -34,12 +34,21 @@ def _check_controller_key(spec, where, key, node, ctrl_types, closed):
                     f"docs/controller_keys.md): {key[len(CONTROLLER_PREFIX):]}", node)
 
 
+def _within_note(p, trial, scene):
+    """What a disk within a key reaches, for the refusal that names both keys ("" for any other trial)."""
+    if p.kind != "disk" or "within" not in p.args:
+        return ""
+    within, fraction = p.args["within"], p.args["fraction"]
+    value = trial[within] if within in trial else f"{scene.get(within)} (the scene's)"
+    return f"disk: within {within}, fraction {fraction} of {within} {value} reaches {p.key} {trial[p.key]}: "
+
+
 class SweepSpec:
     """A checked sweep spec: the base scene (file + set), the design, and a
     fingerprint that a resume must match."""
 
-    def __init__(self, path, folder=None):
-        spec = Spec(path, folder)  # folder: where its paths are read from (a replay's copy: the original's)
+    def __init__(self, path, folder=None, workdir=None):
+        spec = Spec(path, folder, workdir)  # where its paths are read from (a replay's copy: the original's)
         spec.check_keys({"scene", "set", "samples", "seed", "parameters", "grid", "controller", "controller_set",
                          "phases", "indices"})
         root = spec.root.value
@@ -107,15 +116,18 @@ class SweepSpec:
         self.parameters = [parse_parameter(spec, "parameters", k, n, key_types) for k, n in params.items()]
         if not self.parameters and not self.grid:
             spec.refuse("parameters", "nothing is dispersed: give parameters or grid")
-        check_within(spec, "parameters", self.parameters, [k for k, _ in self.grid], self.base.values())
+        check_within(spec, "parameters", self.parameters, [k for k, _ in self.grid], self.base.values(), self.grid)
         self._refuse_keys_that_do_not_act(spec, grid)
         # Values the scene would refuse are refused now, at the spec's line.
+        # A disk within a key is tried at the rim that key's ends give, with that key's value (dispersion.trials).
         for p in self.parameters:
-            for v in p.extremes():
-                if p.key.startswith(CONTROLLER_PREFIX):
-                    self.closed.load(spec, f"parameters.{p.key}", {p.key[len(CONTROLLER_PREFIX):]: v}, p.node)
-                else:
-                    self._try(spec, f"parameters.{p.key}", {p.key: v}, p.node)
+            for trial in p.trials():
+                ctrl = {k[len(CONTROLLER_PREFIX):]: v for k, v in trial.items() if k.startswith(CONTROLLER_PREFIX)}
+                scene = {k: v for k, v in trial.items() if not k.startswith(CONTROLLER_PREFIX)}
+                if ctrl:
+                    self.closed.load(spec, f"parameters.{p.key}", ctrl, p.node)
+                if scene and not self._refused_alone(scene, p):  # a within key's own value: refused at its line
+                    self._try(spec, f"parameters.{p.key}", scene, p.node, _within_note(p, trial, self.base.values()))
         for (key, values), node in zip(self.grid, grid.values()):
             for v in values:
                 if key.startswith(CONTROLLER_PREFIX):
@@ -157,11 +169,22 @@ class SweepSpec:
             fixed += [(f"controller_set.{k}", CONTROLLER_PREFIX + k, n) for k, n in self.closed.set_nodes.items()]
         refuse_idle_set(spec, fixed, values, dispersed_keys, takes, self.closed is not None, "this sweep's runs")
 
-    def _try(self, spec, where, overrides, node):
+    def _refused_alone(self, overrides, p):
+        """Whether the scene refuses the values of `overrides` other than p's own (a disk's within key)."""
+        rest = {k: v for k, v in overrides.items() if k != p.key}
+        try:
+            if rest:
+                self.base.replace(rest)
+        except gimbalsim.SceneError:
+            return True
+        return False
+
+    def _try(self, spec, where, overrides, node, note=""):
         try:
             self.base.replace(overrides, sources={k: (spec.path, node.line) for k in overrides})
         except gimbalsim.SceneError as e:
-            spec.refuse(where, f"the scene refuses {overrides}: {e.problems[0]['text'] if e.problems else e}", node)
+            spec.refuse(where, f"{note}the scene refuses {overrides}: {e.problems[0]['text'] if e.problems else e}",
+                        node)
 
     def input_files(self):
         """The files the sweep reads (spec, scene, controller configuration):

@@ -11,6 +11,7 @@ Distributions (the spec's syntax):
     key: {choice: [v1, v2, ...]}                      # numbers, names or vectors
     key: {disk: {radius: r}}                          # vec2 keys: a point uniform in a disk
     key: {disk: {within: contact.clearance, fraction: 0.95}}   # radius = fraction x that key's value
+                                                      # (a key in the disk key's unit: a clearance for an ecc)
     key: {ball: {radius: r}}                          # vec3 keys: a point uniform in a ball (a gyro bias)
 """
 import math
@@ -77,9 +78,25 @@ class Parameter:
         if self.kind == "ball":
             return [[a["radius"], 0.0, 0.0], [0.0, 0.0, -a["radius"]]]
         if "radius" in a:
-            c = a.get("center", [0.0, 0.0])
-            return [[c[0] + a["radius"], c[1]], [c[0], c[1] - a["radius"]]]
-        return []
+            return self._rim(a["radius"])
+        # a disk within a key: the rim its scene value gives (check_within); one it is dispersed with, trials() only
+        return [t[self.key] for t in self.trials() if len(t) == 1]
+
+    def _rim(self, radius):
+        c = self.args.get("center", [0.0, 0.0])
+        return [[c[0] + radius, c[1]], [c[0], c[1] - radius]]
+
+    def trials(self):
+        """The overrides to try on the scene before anything runs: each end
+        alone, and a disk within a dispersed key at the rim each end of that
+        key gives, with that value (a sample's scene holds both)."""
+        if self.kind != "disk" or "radius" in self.args:
+            return [{self.key: v} for v in self.extremes()]
+        # a hair inside the rim: no draw reaches it (r = R sqrt(u), u < 1), and a clearance the scene derives as
+        # R_i - R_j is rounded: a disk of fraction 1 within it would be refused for that last bit
+        within = self.args["within"]
+        return [{**({} if w is None else {within: w}), self.key: point}
+                for w, r in getattr(self, "reach", ()) for point in self._rim(r * (1.0 - 1e-9))]
 
 
 SCENE_KEYS = "a key of the scene (see gimbalsim.keys() or `gimbalsim keys`)"
@@ -224,18 +241,42 @@ class Design:
         return out
 
 
-def check_within(spec, section, parameters, grid_keys, base_values):
-    """A disk's `within` key not dispersed takes the scene's value: it must
-    have one that is a number >= 0 (refused at the disk's line otherwise)."""
+def check_within(spec, section, parameters, grid_keys, base_values, grid=()):
+    """A disk's `within` key must be in the disk key's unit (the radius is
+    fraction x its value: an eccentricity's is a length, a clearance), and
+    give a radius >= 0: its scene value when not dispersed (refused at the
+    disk's line otherwise), else each end of its range or grid. Sets each
+    such disk's reach [(that key's value, or None for the scene's, radius)],
+    which extremes() and trials() put on the scene."""
+    import gimbalsim
+    from ._closed_spec import CONTROLLER_PREFIX
+    units = {k["key"]: k["unit"] for k in gimbalsim.keys()}
+    units.update({old: units[key] for old, key in gimbalsim.key_aliases().items()})
+    units.update({CONTROLLER_PREFIX + k["key"]: k["unit"] for k in gimbalsim.controller_keys()})
+    ends = {key: list(values) for key, values in grid}
+    ends.update({p.key: p.extremes() for p in parameters if p.kind != "disk"})
     dispersed = set(grid_keys) | {p.key for p in parameters}
     for p in parameters:
-        if p.kind != "disk" or "within" not in p.args or p.args["within"] in dispersed:
+        if p.kind != "disk" or "within" not in p.args:
             continue
-        within = p.args["within"]
+        within, where = p.args["within"], f"{section}.{p.key}"
+        if units.get(within) != units.get(p.key):
+            spec.refuse(where, f"disk: within {within} is in {units.get(within) or '-'}, {p.key} in "
+                        f"{units.get(p.key) or '-'}: the radius is fraction x {within}'s value, so it must be a key "
+                        f"in {p.key}'s unit (an eccentricity's: a clearance, e.g. contact.clearance)", p.node)
+        if within in dispersed:
+            p.reach = []
+            for w in ends.get(within, []):
+                radius = p.args["fraction"] * float(w)
+                if not radius >= 0:
+                    spec.refuse(where, f"disk: within {within}, which takes {w!r}: a radius < 0", p.node)
+                p.reach.append((w, radius))
+            continue
         try:
             radius = p.args["fraction"] * float(base_values[within])
         except (KeyError, ValueError):
             radius = math.nan
         if not radius >= 0:
-            spec.refuse(f"{section}.{p.key}", f"disk: within {within} is not dispersed and the scene gives it "
+            spec.refuse(where, f"disk: within {within} is not dispersed and the scene gives it "
                         f"no number >= 0 (got {base_values.get(within)!r}): disperse it or give radius", p.node)
+        p.reach = [(None, radius)]

@@ -99,9 +99,12 @@ def load(folder):
     try:
         inputs = json.loads(inputs_path.read_text(encoding="utf-8"))
         spec_folder, recorded = inputs["spec_folder"], inputs["fingerprints"]
+        workdir = inputs.get("workdir")  # absent in a sweep made before it was recorded
+        if workdir is not None and not isinstance(workdir, str):
+            raise TypeError(f"workdir is {type(workdir).__name__}, not a path")
     except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError) as e:
         _refuse(f"{inputs_path}: unreadable ({e})")
-    spec = SweepSpec(copy, folder=spec_folder)
+    spec = SweepSpec(copy, folder=spec_folder, workdir=workdir)
     now = _provenance.fingerprints(spec)
     if now != recorded:
         what = [k for k in sorted(set(now) | set(recorded)) if now.get(k) != recorded.get(k)]
