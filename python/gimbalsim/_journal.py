@@ -138,11 +138,12 @@ def check_row(spec, row, n_columns):
 
 # The stops a run ends on, as its row names them. A limit's key (dynamics/src/step_result.cpp limitKey); the
 # open loop's invariants (simulate.cpp); with no key, the open loop writes the
-# step's status in words (_open_sample._stop_name: "ok" when no step failed, a non-finite output row), the
+# step's status in words (_open_sample._stop_name: non-finite_output when no step failed), the
 # closed loop non_finite, refused or stopped (python/src/controller_bindings.cpp resultDict, _closed_sample).
 LIMIT_STOPS = ("sim.velocity_limit", "sim.penetration_limit", "sim.max_substeps", "sim.max_event_iters",
                "sim.min_substeps_per_impact")
-OPEN_STOPS = LIMIT_STOPS + ("sim.momentum_tol", "sim.energy_tol", "non-finite_value_(NaN_or_Inf)_in_the_state")
+OPEN_STOPS = LIMIT_STOPS + ("sim.momentum_tol", "sim.energy_tol", "non-finite_value_(NaN_or_Inf)_in_the_state",
+                             "non-finite_output")
 CLOSED_STOPS = LIMIT_STOPS + ("non_finite", "refused", "stopped")
 POINTING = ("pointing_error_max", "pointing_error_final")  # nan when the ideal twin stopped first
 

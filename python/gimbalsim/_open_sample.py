@@ -17,8 +17,13 @@ def _bore_angles(a, b):
 
 
 def _stop_name(summary):
-    """A stopped run's status in a row: the limit key, or its step status."""
-    return summary["stop"]["key"] or summary["stop"]["step_status"].replace(" ", "_")
+    """A stopped run's status in a row: the limit key, or its step status;
+    a run whose steps all succeeded stopped on a non-finite output row
+    (simulate.cpp), never "ok"."""
+    stop = summary["stop"]
+    if stop["key"]:
+        return stop["key"]
+    return "non-finite_output" if stop["step_status"] == "ok" else stop["step_status"].replace(" ", "_")
 
 
 def run_sample(base, overrides, ideal_cache, series=False):

@@ -260,3 +260,14 @@ def test_a_replay_from_elsewhere_finds_a_scene_the_sweep_found_in_its_working_di
     r = run(tmp_path / "out", "--replay", "0", "--out", tmp_path / "third.csv", cwd=elsewhere)
     assert r.returncode == 2 and f"then in {work}, the sweep's working directory, then in the current" in r.stderr, \
         r.stderr
+
+
+def test_an_open_loop_run_stopped_on_a_non_finite_output_row_is_not_ok():
+    # simulate.cpp stops on a non-finite output row with no step failed: key "", step status "ok"; the row's
+    # status was "ok" for a run that stopped. A resume keeps the row as the sweep writes it.
+    from gimbalsim import _journal, _open_sample
+    summary = {"stop": {"key": "", "step_status": "ok", "time_s": 0.25}}
+    assert _open_sample._stop_name(summary) == "non-finite_output"
+    assert "non-finite_output" in _journal.OPEN_STOPS
+    stopped = {"stop": {"key": "", "step_status": "non-finite value (NaN or Inf) in the state", "time_s": 0.25}}
+    assert _open_sample._stop_name(stopped) == "non-finite_value_(NaN_or_Inf)_in_the_state"
