@@ -131,13 +131,13 @@ class TuneSpec:
         params = [parse_parameter(spec, "plants", k, n, scene_types) for k, n in plants.items()]
         check_within(spec, "plants", params, [], self.base.values())
         self._refuse_keys_that_do_not_act(spec, params, sets, csets)
-        for p in params:
-            for v in p.extremes():
+        for p in params:  # each end alone; a disk within a dispersed key at the rim each of its ends gives
+            for trial in p.trials():
                 try:
-                    self.base.replace({p.key: v}, sources={p.key: (spec.path, p.node.line)})
+                    self.base.replace(trial, sources={k: (spec.path, p.node.line) for k in trial})
                 except gimbalsim.SceneError as e:
-                    spec.refuse(f"plants.{p.key}", f"the scene refuses {p.key}={v!r}: {e.problems[0]['text']}",
-                                p.node)
+                    what = ", ".join(f"{k}={v!r}" for k, v in trial.items())
+                    spec.refuse(f"plants.{p.key}", f"the scene refuses {what}: {e.problems[0]['text']}", p.node)
         self.plants = Design(params, [], self.batch, self.seed, self.base.values())
         # Trial 0 is the baseline: the configuration's own gains, which the ranges must hold.
         own = self.controller.values()

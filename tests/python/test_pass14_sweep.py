@@ -271,3 +271,26 @@ def test_an_open_loop_run_stopped_on_a_non_finite_output_row_is_not_ok():
     assert "non-finite_output" in _journal.OPEN_STOPS
     stopped = {"stop": {"key": "", "step_status": "non-finite value (NaN or Inf) in the state", "time_s": 0.25}}
     assert _open_sample._stop_name(stopped) == "non-finite_value_(NaN_or_Inf)_in_the_state"
+
+
+def test_a_tuners_disk_within_a_dispersed_key_is_tried_at_that_keys_ends(tmp_path):
+    # As the sweep: the rim half the bearing radius gives (4.8-5 mm) lies outside the clearance the dispersed
+    # bearing radius leaves (0.1-0.6 mm): refused up front, before any trial.
+    (tmp_path / "t.yaml").write_text(f"""
+scene: {SCENES}/paper_clearance.yaml
+controller: default
+duration: 3.7
+trials: 2
+seed: 3
+batch: 2
+gains:
+  azimuth.kp: {{loguniform: [5000, 80000]}}
+plants:
+  contact.bearing_radius: {{uniform: [0.0096, 0.0101]}}
+  initial.ecc: {{disk: {{within: contact.bearing_radius, fraction: 0.5}}}}
+""")
+    p = subprocess.run([sys.executable, "-m", "gimbalsim.tune", str(tmp_path / "t.yaml"), "--out", str(tmp_path / "o"),
+                        "--no-progress"], capture_output=True, text=True, timeout=600)
+    assert p.returncode == 2, p.stderr
+    assert "key 'plants.initial.ecc': the scene refuses contact.bearing_radius=" in p.stderr, p.stderr
+    assert not (tmp_path / "o").exists()
