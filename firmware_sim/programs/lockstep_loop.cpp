@@ -167,10 +167,11 @@ int run(Run& r) {
       if (++timeouts_in_a_row * o.lockstep_timeout_ms * 1e-3 >= o.start_timeout_s) {
         const std::string rejected = rejectedSince(unanswered_from, fw.counters());
         std::fprintf(stderr,
-                     "firmware_sim: lockstep: no valid command answered the last %lld statuses (%g s of "
+                     "firmware_sim: lockstep: no %scommand answered the last %lld statuses (%g s of "
                      "--lockstep-timeout-ms %g): %s; stopping at t = %.3f s\n",
-                     timeouts_in_a_row, static_cast<double>(timeouts_in_a_row) * o.lockstep_timeout_ms * 1e-3,
-                     o.lockstep_timeout_ms, rejected.empty() ? "the controller has gone" : rejected.c_str(),
+                     rejected.empty() ? "" : "valid ", timeouts_in_a_row,
+                     static_cast<double>(timeouts_in_a_row) * o.lockstep_timeout_ms * 1e-3, o.lockstep_timeout_ms,
+                     rejected.empty() ? "the controller has gone" : rejected.c_str(),
                      static_cast<double>(fw.ticks()) * period);
         return endWithoutAnswer(r, tick, wall0, !rejected.empty());
       }

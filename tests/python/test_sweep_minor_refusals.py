@@ -1,6 +1,7 @@
 """A replay names the file it read: a sweep's copy of its spec (DIR/spec.yaml)
 edited since the sweep is named in the notice and the refusals, never the
 original spec, which did not change."""
+import os
 import shutil
 
 import pytest
@@ -48,8 +49,10 @@ def test_a_scene_missing_from_the_copy_says_where_it_looked(swept, tmp_path):
     out = edited_copy(swept, tmp_path, "scene: scene.yaml", "scene: nope.yaml")
     p = sweep(out, "--replay", 0, "--out", tmp_path / "run.csv")
     assert p.returncode == 2, p.stderr
+    # ... then where the sweep ran (inputs.json workdir), then here
     assert f"{out / 'spec.yaml'}:2:1: key 'scene': no such file: nope.yaml (looked in {swept.parent}, the sweep's " \
-        "spec's folder, then in the current directory)" in p.stderr, p.stderr
+        f"spec's folder, then in {os.getcwd()}, the sweep's working directory, then in the current directory)" \
+        in p.stderr, p.stderr
 
 
 CLOSED_SPEC = f"""
