@@ -138,7 +138,7 @@ int run(int argc, char** argv) {
   StatusHandler h(c, lcm, ch, csv);
   lcm_wire::ReassemblyLimits lim;  // statuses and attitudes are < 1 kB
   lim.max_message_bytes = 4096;
-  lcm_wire::UdpmReceiver rx(lim, lcm_wire::ChannelFilter({ch.status, ch.attitude}));
+  lcm_wire::UdpmReceiver rx(lim, lcm_wire::ChannelFilter({ch.status, ch.attitude, ch.antenna}));
   if (std::string why; !rx.open(o.lcm_url, 4 << 20, &why)) {
     std::fprintf(stderr, "pointing_controller: cannot receive: %s\n", why.c_str());
     return program::kNetwork;

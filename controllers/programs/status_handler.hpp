@@ -18,6 +18,7 @@
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/controllers/answer.hpp"
 #include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/gimbal_antenna_t.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
@@ -38,6 +39,20 @@ class StatusHandler {
     const int size = static_cast<int>(m.size);  // bounded by the receiver's limit
     if (m.channel == ch_.status) onStatus(m.data, size);
     else if (m.channel == ch_.attitude) onAttitude(m.data, size);
+    else if (m.channel == ch_.antenna) onAntenna(m.data, size);
+  }
+
+  /// The antenna's sensors (a scene with sensors.antenna): used by the law
+  /// only with antenna.tracker: use (tracker_fusion.hpp).
+  void onAntenna(const std::uint8_t* data, int size) {
+    gimbal_antenna_t m{};
+    if (m.decode(data, 0, size) != size) {
+      ++undecodable_;
+      return;
+    }
+    contract::Antenna a;
+    contract::copyFields<contract::AntennaFields>(a, m);
+    noteAntennaReading(state_.fusion, a);
   }
 
   void onAttitude(const std::uint8_t* data, int size) {

@@ -122,6 +122,27 @@ std::vector<Key<ControllerConfig>> keys() {
                         "encoder motion and integrated rate differing by more than this over a window: encoder suspect, "
                         "the axis runs on rate feedback only",
                         [](auto& c) -> auto& { return c.monitor.stuck_tol; }, interval('(', 0.0, 1e3, ']')));
+  v.push_back(K::choice<bool>(
+      "antenna.tracker",
+      "use: when the plant sends the antenna's boresight tracker (sensors.antenna), the position error is taken "
+      "at the antenna (encoders plus the play's offset the tracker measures); ignore: encoders only",
+      [](auto& c) -> auto& { return c.antenna.use_tracker; }, {{"use", true}, {"ignore", false}}));
+  v.push_back(K::number("antenna.offset_rate", "rad/s",
+                        "most the tracker's play offset in the position error moves per second, per axis (a first "
+                        "sample or the end of an outage does not kick the command)",
+                        [](auto& c) -> auto& { return c.antenna.offset_rate; }, interval('(', 0.0, 1e3, ']')));
+  v.push_back(K::number("antenna.bandwidth", "rad/s",
+                        "with the tracker in use: the loop at the antenna places a triple pole here on each axis's "
+                        "inertia (kp = 3 J w^2, ki = J w^3, kd = 3 J w with J = azimuth.inertia, elevation.inertia)",
+                        [](auto& c) -> auto& { return c.antenna.bandwidth; }, interval('(', 0.0, 1e3, ']')));
+  v.push_back(K::number("antenna.motor_damping", "N m s/rad",
+                        "with the tracker in use: torque per rad/s of the motor's rate against the antenna's (inside "
+                        "the play the motor follows the antenna)",
+                        [](auto& c) -> auto& { return c.antenna.motor_damping; }, interval('[', 0.0, 1e9, ']')));
+  v.push_back(K::number("antenna.engaged_rate", "rad/s",
+                        "with the tracker in use: the integral runs only while the motor's and the antenna's rates "
+                        "differ by at most this (inside the play the antenna is out of the motor's reach)",
+                        [](auto& c) -> auto& { return c.antenna.engaged_rate; }, interval('(', 0.0, 1e3, ']')));
   embed(v, "profile.", pointing::profileKeys().keys, [](auto& c) -> auto& { return c.profile; });
   embed(v, "azimuth.", gainKeys(), [](auto& c) -> auto& { return c.axis[0]; });
   embed(v, "elevation.", gainKeys(), [](auto& c) -> auto& { return c.axis[1]; });

@@ -69,6 +69,14 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
   // extrapolated by its backward difference to feedforward_lead ahead.
   const Vec2 tau_ff = difference_ok ? Vec2(out.tau_ff + (c.feedforward_lead / dt) * (out.tau_ff - s.tau_ff_prev))
                                     : out.tau_ff;
+  // The antenna's own sensors (tracker_fusion.hpp): the play's offset from
+  // the tracker (zero without one) and the antenna's rate from its gyro.
+  const Vec3 k1 = c.gimbal.joint1_axis.normalized(), k2 = c.gimbal.joint2_axis.normalized();
+  const Vec3 bs = c.gimbal.boresight.normalized();
+  const std::int64_t tick = std::llround(meas.t / Ts);
+  out.load_offset = loadOffset(c.antenna, k1, k2, bs, s.fusion, tick, Ts, out.ref.q - meas.theta, meas.theta(1));
+  Vec2 w_load = Vec2::Zero();
+  const bool have_load_rate = loadRate(c.antenna, k1, k2, bs, s.fusion, tick, meas.theta, out.omega_B_est, w_load);
   for (int i = 0; i < 2; ++i) {
     const AxisGains& g = c.axis[i];
     double w = meas.dtheta(i);
@@ -81,28 +89,44 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
         playEvidence(w - s.play.rate_prev(i), s.play.tau_prev2(i), Ts, g.play_inertia, g.torque_limit))
       s.play.seen[i] = true;
     const bool in_play = s.play.seen[i];
-    const double kd = in_play ? std::min(g.kd, kPlayRateGain * g.play_inertia / Ts) : g.kd;
-    const double e = out.ref.q(i) - meas.theta(i);
+    // A suspect encoder (fault_monitor.hpp): no position feedback on this axis, only the rate's.
+    const bool suspect = s.monitor.suspect[i];
+    // On the antenna's sensors (tracker_fusion.hpp, docs/MODEL.md 11.7): the
+    // error and the chain's rate are the antenna's, on a triple pole at
+    // antenna.bandwidth over the axis's inertia, and the motor is damped
+    // against the antenna (antenna.motor_damping) so that inside the play it
+    // follows the antenna instead of crossing at the torque limit.
+    const bool at_antenna = have_load_rate && !suspect && g.inertia > 0.0;
+    const bool play_gains = at_antenna && in_play;
+    const double wa = c.antenna.bandwidth;
+    const double kp = play_gains ? 3.0 * g.inertia * wa * wa : g.kp;
+    const double ki = play_gains ? g.inertia * wa * wa * wa : g.ki;
+    const double kd = play_gains ? 3.0 * g.inertia * wa
+                      : in_play && !at_antenna ? std::min(g.kd, kPlayRateGain * g.play_inertia / Ts) : g.kd;
+    const double w_chain = at_antenna ? w_load(i) : w;
+    const double tau_motor = at_antenna ? c.antenna.motor_damping * (w_load(i) - w) : 0.0;
+    const double e = out.ref.q(i) - meas.theta(i) - out.load_offset(i);
     // Large-error approach (proximate time-optimal servo): the PD asks for a
     // closing rate (kp/kd) e; above sqrt(2 a |e|), with a the deceleration the
     // motor can give (approach_margin * limit / J), it could not stop in time
     // and would overshoot into a limit cycle, so the closing rate is capped
     // there. Below |e| = 2 a (kd/kp)^2 this is the plain PD, bit for bit.
     bool approach = false;
-    // A suspect encoder (fault_monitor.hpp): no position feedback on this axis, only the rate's.
-    const bool suspect = s.monitor.suspect[i];
-    double tau_pd = (suspect ? 0.0 : g.kp * e) + kd * (out.ref.dq(i) - w);
+    double tau_pd = (suspect ? 0.0 : kp * e) + kd * (out.ref.dq(i) - w_chain);
     if (!suspect && c.approach_margin > 0.0 && g.inertia > 0.0 && kd > 0.0) {
       const double v_max = std::sqrt(2.0 * c.approach_margin * g.torque_limit / g.inertia * std::fabs(e));
-      if (g.kp * std::fabs(e) > kd * v_max) {
+      if (kp * std::fabs(e) > kd * v_max) {
         approach = true;
-        tau_pd = kd * (out.ref.dq(i) + std::copysign(v_max, e) - w);
+        tau_pd = kd * (out.ref.dq(i) + std::copysign(v_max, e) - w_chain);
       }
     }
-    const double tau_u = tau_ff(i) + tau_pd + s.integral(i);
+    const double tau_u = tau_ff(i) + tau_pd + tau_motor + s.integral(i);
     const double tau = std::clamp(tau_u, -g.torque_limit, g.torque_limit);
     const bool sat = tau != tau_u && !std::isnan(tau_u);  // NaN is no command at a limit (it is never sent)
-    double dI = approach || suspect ? 0.0 : Ts * g.ki * e;  // integrate in the linear region only
+    double dI = approach || suspect ? 0.0 : Ts * ki * e;  // integrate in the linear region only
+    // Nor while the motor moves against the antenna: inside the play the
+    // antenna's error is out of the motor's reach and would wind the integral.
+    if (at_antenna && std::fabs(w_load(i) - w) > c.antenna.engaged_rate) dI = 0.0;
     switch (c.anti_windup) {
       case AntiWindup::None: break;
       case AntiWindup::Clamping:

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -17,6 +18,7 @@
 
 #include "controllers/closed_loop_util.hpp"
 #include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
 #include "csv_util.hpp"
 #include "test_util.hpp"
 
@@ -32,10 +34,13 @@ std::string slurp(const std::filesystem::path& p) {
 /// (e.g. "taskset -c 0 ") with `flags` (e.g. " --spin-us 100"), and checks
 /// the truth CSV against the in-process loop bit for bit. Returns the
 /// concatenated logs of both processes.
-std::string expectLockstepEqualsInProcess(const std::string& pin, const std::string& flags) {
-  const std::string scene = test::scenePath("paper_clearance");
+std::string expectLockstepEqualsInProcess(const std::string& pin, const std::string& flags,
+                                          const std::string& scene_name = "paper_clearance",
+                                          double duration = 3.0 /* [s]: wait, slew and most of the hold */,
+                                          double* rms_track = nullptr) {
+  const std::string scene = test::scenePath(scene_name);
   const std::string config = test::defaultControllerConfig();
-  const double duration = 3.0;  // [s]: wait, slew and most of the hold
+  const std::string seconds = std::to_string(duration);
   const std::filesystem::path dir = std::filesystem::temp_directory_path() /
                                     ("gimbalsim_lockstep_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
@@ -43,8 +48,8 @@ std::string expectLockstepEqualsInProcess(const std::string& pin, const std::str
   const std::string cmd =
       "unshare -n sh -c \"ip link set lo up && ip route add 224.0.0.0/4 dev lo && { " + pin +
       std::string(GIMBALSIM_POINTING_CONTROLLER) + " " + config + " --lcm-url " + url + flags +
-      " --duration 3 --idle-exit 10 2>" + (dir / "ctl.log").string() + " & " + pin +
-      std::string(GIMBALSIM_FIRMWARE_SIM) + " " + scene + " --lockstep --duration 3 --profile " + config + flags +
+      " --duration " + seconds + " --idle-exit 10 2>" + (dir / "ctl.log").string() + " & " + pin +
+      std::string(GIMBALSIM_FIRMWARE_SIM) + " " + scene + " --lockstep --duration " + seconds + " --profile " + config + flags +
       " --truth-csv " + truth + " --lcm-url " + url + " --start-timeout 10 >" + (dir / "fw.log").string() +
       " 2>&1; rc=\\$?; wait; exit \\$rc; }\"";
   const int rc = std::system(cmd.c_str());
@@ -56,20 +61,25 @@ std::string expectLockstepEqualsInProcess(const std::string& pin, const std::str
   const auto& rows = csv.rows;
   const int c_seq = csv.col("seq"), c_t1 = csv.col("theta1_rad"), c_t2 = csv.col("theta2_rad"),
             c_err = csv.col("pointing_error_rad");
-  // The ticks of closed_loop(duration = 3 s): t = 0 .. 3 s, the last the plant's state at the end.
-  EXPECT_EQ(rows.size(), 3001u);
+  // The ticks of closed_loop(duration): t = 0 .. duration, the last the plant's state at the end.
+  EXPECT_EQ(rows.size(), static_cast<size_t>(std::llround(duration * 1000.0)) + 1);
 
-  const Scene sc = test::scene("paper_clearance");
+  const firmware::PlantScene sc = firmware::loadPlantScene(scene);  // its sensors too (sensors.antenna)
   ClosedLoopOptions opt;
   opt.duration = duration;
   std::vector<TickRecord> ticks;
-  runClosedLoop(sc, loadControllerConfig(config), opt, [&](const TickRecord& r) { ticks.push_back(r); });
+  const ClosedLoopResult in_process =
+      runClosedLoop(sc, loadControllerConfig(config), opt, [&](const TickRecord& r) { ticks.push_back(r); });
+  if (rms_track) *rms_track = in_process.rms_truth_error_track;
+  double sum_sq = 0.0;  // the bench's own truth error while tracking (from 3.5 s)
+  long long n_track = 0;
   EXPECT_EQ(ticks.size(), rows.size());
   int mismatches = 0;
   for (size_t k = 0; k < rows.size() && k < ticks.size(); ++k) {
     EXPECT_EQ(std::stoll(rows[k][c_seq]), static_cast<long long>(k));
     const double t1 = std::strtod(rows[k][c_t1].c_str(), nullptr), t2 = std::strtod(rows[k][c_t2].c_str(), nullptr);
     const double e = std::strtod(rows[k][c_err].c_str(), nullptr);
+    if (k >= 3500) sum_sq += e * e, ++n_track;
     if (t1 != ticks[k].theta_true(0) || t2 != ticks[k].theta_true(1) || e != ticks[k].truth_error) {
       if (++mismatches <= 3) {
         ADD_FAILURE() << "tick " << k << ": lockstep theta (" << t1 << ", " << t2 << ") err " << e
@@ -79,6 +89,9 @@ std::string expectLockstepEqualsInProcess(const std::string& pin, const std::str
     }
   }
   EXPECT_EQ(mismatches, 0);
+  if (rms_track && n_track > 0) {
+    EXPECT_EQ(std::sqrt(sum_sq / static_cast<double>(n_track)), *rms_track) << "the bench's RMS is the in-process one";
+  }
   EXPECT_GT(ticks.back().theta_true(0), 0.4);  // the slew did happen
   std::filesystem::remove_all(dir);
   return logs;
@@ -101,6 +114,18 @@ TEST(LockstepMatchesInProcess, BusyPollingChangesNoBit) {
 TEST(LockstepMatchesInProcess, BusyPollingOnOneCpuChangesNoBit) {
   if (std::system("unshare -n true >/dev/null 2>&1") != 0) GTEST_SKIP() << "unshare -n not permitted here";
   expectLockstepEqualsInProcess("taskset -c 0 ", " --spin-us 100");
+}
+
+// The antenna's sensors over LCM (gimbal_antenna_t) drive the controller's
+// loop at the antenna as in process, bit for bit: the bench meets the same
+// targets (paper_spatial2_tracker, c = 0.5 mm: 1e-4 rad RMS at 0.1 mm is the
+// issue's bound; its own 0.5 mm figure is checked against the in-process run).
+TEST(LockstepMatchesInProcess, TheLoopAtTheAntennaIsTheSameOverLcm) {
+  if (std::system("unshare -n true >/dev/null 2>&1") != 0) GTEST_SKIP() << "unshare -n not permitted here";
+  double rms = 0.0;
+  expectLockstepEqualsInProcess("", "", "paper_spatial2_tracker", 8.5, &rms);
+  EXPECT_GT(rms, 0.0);
+  EXPECT_LE(rms, 5e-4) << "the loop at the antenna held the tilting journal (encoders only: 1.2e-2 rad)";
 }
 
 }  // namespace

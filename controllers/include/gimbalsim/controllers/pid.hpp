@@ -11,6 +11,7 @@
 #include "gimbalsim/controllers/fault_monitor.hpp"
 #include "gimbalsim/controllers/model_feedforward.hpp"
 #include "gimbalsim/controllers/play_guard.hpp"
+#include "gimbalsim/controllers/tracker_fusion.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::controllers {
@@ -92,6 +93,7 @@ struct ControllerConfig {
   Model plant_model = plantModel(paperPlantMass(), Vec3::UnitZ(), Vec3::UnitY(), Vec3::UnitX());
   AttitudeEstimatorParams estimator;     ///< k_p, k_i are keys; the rest its defaults
   MonitorConfig monitor;                 ///< what counts as a stale status or a suspect encoder (fault_monitor.hpp)
+  TrackerFusionParams antenna;           ///< the antenna tracker in the position loop (tracker_fusion.hpp)
 };
 
 /// The base attitude sensors of the same tick (contract::Attitude, as the controller uses it).
@@ -149,6 +151,7 @@ struct ControllerState {
   Vec2 last_tau = Vec2::Zero();    ///< the last command computed [N m]: held when a reading is rejected
   Vec2 tau_ff_prev = Vec2::Zero(); ///< last feed-forward torque before the lead [N m] (t_prev: its time)
   PlayGuardState play;             ///< backlash guard (play_guard.hpp)
+  TrackerFusionState fusion;       ///< the antenna tracker's play offset (tracker_fusion.hpp)
   long long rejected_readings = 0; ///< measurements with a NaN or Inf: the whole one (time, angle, rate) or its gyro or star sample
 };
 
@@ -156,13 +159,14 @@ struct ControllerState {
 struct ControlOutput {
   Vec2 tau = Vec2::Zero();         ///< commanded torque, limited [N m]
   Vec2 tau_unsat = Vec2::Zero();   ///< before the limit [N m]
-  Vec2 error = Vec2::Zero();       ///< q_ref - theta [rad]
+  Vec2 error = Vec2::Zero();       ///< q_ref - theta - load_offset [rad]
   Vec2 rate = Vec2::Zero();        ///< rate used in the derivative term [rad/s]
   ProfileSample ref;               ///< the joint reference tracked (inertial: IK; joint: the profile)
   Vec2 accel_ff = Vec2::Zero();    ///< the acceleration the feed-forward torque J_i a_i is for [rad/s^2]
   Vec2 tau_ff = Vec2::Zero();      ///< feed-forward torque at the measurement time, before the lead [N m]
   std::array<bool, 2> saturated{}; ///< |tau_unsat| > limit
   std::array<bool, 2> in_play{};   ///< the axis stepped on its play gains (play_guard.hpp)
+  Vec2 load_offset = Vec2::Zero(); ///< [rad] the play's offset from the antenna tracker the error used (tracker_fusion.hpp)
   ProfileSample profile;           ///< the profile at the measurement time
   Quat q_WB_est = Quat::Identity();///< estimated base attitude, base -> inertial
   Vec3 omega_B_est = Vec3::Zero(); ///< bias-corrected base rate used [rad/s]

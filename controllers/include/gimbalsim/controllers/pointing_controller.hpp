@@ -19,6 +19,7 @@ class PointingController final : public contract::ControllerPort {
   contract::Command answer(const contract::Status& st, const contract::Attitude& att,
                            contract::ControllerReport& report) noexcept override;
   void noteAttitude(const contract::Attitude& att) noexcept override { controllers::noteAttitude(s_, att); }
+  void noteAntenna(const contract::Antenna& antenna) noexcept override { noteAntennaReading(s_.fusion, antenna); }
 
   const ControllerConfig& config() const noexcept { return c_; }
 
