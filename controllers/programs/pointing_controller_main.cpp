@@ -40,9 +40,8 @@
 namespace gimbalsim::controllers {
 namespace {
 
-/// Statuses after which a plant that accepted none of the commands has had
-/// its chance: the status after a command reports it (lockstep and real time).
-constexpr long long kStatusesToJudge = 3;
+/// The status after a command reports it (lockstep and real time).
+using contract::kStatusesToJudge;
 
 struct Options {
   std::string config;
@@ -136,7 +135,7 @@ int run(int argc, char** argv) {
   }
   const contract::Channels ch = contract::Channels::withPrefix(o.prefix);
   StatusHandler h(c, lcm, ch, csv);
-  lcm_wire::ReassemblyLimits lim;  // statuses and attitudes are < 1 kB
+  lcm_wire::ReassemblyLimits lim;  // statuses, attitudes and antenna messages are < 1 kB
   lim.max_message_bytes = 4096;
   lcm_wire::UdpmReceiver rx(lim, lcm_wire::ChannelFilter({ch.status, ch.attitude, ch.antenna}));
   if (std::string why; !rx.open(o.lcm_url, 4 << 20, &why)) {
@@ -196,7 +195,10 @@ int run(int argc, char** argv) {
     }
   }
   // A controller none of whose commands the plant took did not control it: not a success.
-  if (code == program::kOk && h.answered() >= kStatusesToJudge && !h.acceptedAny()) {
+  // The same when the plant went away after refusing every answer (a lockstep
+  // plant ends so): the refusal is the story, not the missing peer.
+  const bool plant_went = code == program::kNoPeer && h.answered() > 0;
+  if ((code == program::kOk || plant_went) && h.answered() >= kStatusesToJudge && !h.acceptedAny()) {
     std::fprintf(stderr, "pointing_controller: the plant accepted none of the commands answering %lld statuses (%lld "
                  "not sent: a torque NaN or Inf); the plant's summary says why it refused or lost the rest\n",
                  h.answered(), h.notFinite());

@@ -88,12 +88,8 @@ int endWithoutAnswer(Run& r, const BenchTick<V>& tick, std::int64_t wall0, bool 
 std::string rejectedSince(const Counters& before, const Counters& now) {
   const std::int64_t n = now.rejected - before.rejected;
   if (n <= 0) return "";
-  int most = 0;
-  for (int i = 1; i < kNumRejections; ++i) {
-    if (now.by_reason[i] - before.by_reason[i] > now.by_reason[most] - before.by_reason[most]) most = i;
-  }
   return std::to_string(n) + " command(s) arrived and the plant rejected every one (" +
-         describe(static_cast<Rejection>(most)) + "): the controller answers, but nothing it sends can act";
+         describe(commonestRejection(before, now)) + "): the controller answers, but nothing it sends can act";
 }
 
 template <class V>

@@ -28,7 +28,10 @@ void markUnreached(const pointing::TargetProfile& p, ClosedLoopResult& r) {
   r.track_reason = pointing::windowNotReached(pointing::profileWindow(p, Segment::Track), WindowNeed::Part, r.t_end);
   if (!r.slew_reason.empty()) r.max_joint_error_slew = kNaN;
   if (!r.hold_reason.empty()) r.max_joint_error_hold = kNaN;
-  if (!r.hold_end_reason.empty()) r.max_truth_error_hold_end = r.settle_time = kNaN;
+  if (!r.hold_end_reason.empty()) {
+    r.max_truth_error_hold_end = r.settle_time = kNaN;
+    r.settle_reason = r.hold_end_reason;
+  }
   if (!r.track_reason.empty()) r.max_joint_error_track = r.max_truth_error_track = r.rms_truth_error_track = kNaN;
   if (r.ticks == 0) {  // a max over no tick is no figure, never 0
     r.run_reason = r.ok ? "no tick ran" : "no tick before the run stopped: " + r.error;
@@ -68,7 +71,12 @@ class Figures {
   }
 
   void finish(ClosedLoopResult& r) const {
-    if (hold_seen_ && last_unsettled_ < p_.trackStart()) r.settle_time = last_unsettled_ - p_.slewEnd();
+    if (hold_seen_ && last_unsettled_ < p_.trackStart()) {
+      r.settle_time = last_unsettled_ - p_.slewEnd();
+    } else {  // a time that never came is no figure, never +inf or 0
+      r.settle_reason = "the joint error did not stay below settle_tol " + formatNumber(opt_.settle_tol) +
+                        " rad before tracking started at " + formatNumber(p_.trackStart()) + " s";
+    }
     if (n_track_ > 0) r.rms_truth_error_track = std::sqrt(sum_sq_ / static_cast<double>(n_track_));
     markUnreached(p_, r);
   }
@@ -225,20 +233,37 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     if (delivered) fw.receive(cmd);
   }
   fig.finish(r);
+  // A controller none of whose commands the plant took controlled nothing:
+  // the run is no result (as on the bench, where it exits 3).
+  const Counters& n = fw.counters();
+  r.commands_rejected = n.rejected;
+  if (n.received >= contract::kStatusesToJudge && n.rejected == n.received) {
+    r.ok = false;
+    r.none_accepted = true;
+    r.error = "the plant accepted none of the controller's " + std::to_string(n.received) + " commands (" +
+              describe(commonestRejection(Counters{}, n)) + ")";
+  }
   return r;
 }
 
 }  // namespace
+
+std::string controlPeriodProblem(const PlantScene& ps, double control_period) {
+  Config fc;
+  fc.control_period = control_period;
+  const ConfigCheck chk = checkConfig(ps.scene, fc);
+  return chk.ok() ? std::string() : "control.period: " + chk.message;
+}
 
 ClosedLoopResult runClosedLoop(const PlantScene& ps, contract::ControllerPort& controller,
                                const pointing::TargetProfile& profile, const ClosedLoopOptions& opt,
                                const std::function<void(const TickRecord&)>& sink) {
   Config fc;
   fc.control_period = controller.period();
-  if (const ConfigCheck chk = checkConfig(ps.scene, fc); !chk.ok()) {
+  if (std::string why = controlPeriodProblem(ps, fc.control_period); !why.empty()) {
     ClosedLoopResult r;
     r.ok = false;
-    r.error = "control.period: " + chk.message;
+    r.error = std::move(why);
     markUnreached(profile, r);  // nothing ran: no figure has a value
     return r;
   }

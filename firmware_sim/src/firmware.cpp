@@ -21,6 +21,15 @@ const char* describe(Rejection r) {
   return "?";
 }
 
+Rejection commonestRejection(const Counters& before, const Counters& now) noexcept {
+  if (now.rejected - before.rejected <= 0) return Rejection::None;
+  int most = 0;
+  for (int i = 1; i < kNumRejections; ++i) {
+    if (now.by_reason[i] - before.by_reason[i] > now.by_reason[most] - before.by_reason[most]) most = i;
+  }
+  return static_cast<Rejection>(most);
+}
+
 ConfigCheck checkConfig(const Scene& sc, const Config& c) {
   using Setting = ConfigCheck::Setting;
   ConfigCheck out;

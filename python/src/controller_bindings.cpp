@@ -104,7 +104,9 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
   // Why it stopped, never "" when not ok: the limit's key, non_finite (no
   // setting causes it), or refused (nothing ran: runClosedLoop refuses only a
   // control.period that is no whole multiple of sim.step, closed_loop.hpp).
-  const char* stop = r.stop_status == StepStatus::Ok            ? "refused:controller.control.period"
+  // none_accepted: the plant refused every command (the error says the commonest reason).
+  const char* stop = r.none_accepted                           ? "commands_rejected"
+                     : r.stop_status == StepStatus::Ok         ? "refused:controller.control.period"
                      : r.stop_status == StepStatus::NonFinite ? "non_finite"
                                                               : limitKey(r.stop_status);
   d["stop_key"] = r.ok ? "" : stop;
@@ -132,7 +134,7 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
   // one entry per such figure (IndexValue's convention, docs/python.md).
   pyb::dict reasons;
   const std::pair<const char*, const std::string*> why[] = {
-      {"settle_time_s", &r.hold_end_reason},         {"max_joint_error_slew_rad", &r.slew_reason},
+      {"settle_time_s", &r.settle_reason},         {"max_joint_error_slew_rad", &r.slew_reason},
       {"max_joint_error_hold_rad", &r.hold_reason},  {"max_joint_error_track_rad", &r.track_reason},
       {"max_truth_error_track_rad", &r.track_reason}, {"rms_truth_error_track_rad", &r.track_reason},
       {"max_truth_error_hold_end_rad", &r.hold_end_reason}, {"max_abs_tau_Nm", &r.run_reason},

@@ -265,6 +265,33 @@ TEST(ClosedLoop, AFigureOverAWindowTheRunDidNotReachIsNaNWithItsReason) {
   EXPECT_TRUE(whole.track_reason.empty() && whole.hold_end_reason.empty() && whole.hold_reason.empty() &&
               whole.slew_reason.empty());
   EXPECT_TRUE(std::isfinite(whole.max_truth_error_track) && std::isfinite(whole.max_truth_error_hold_end));
+  EXPECT_TRUE(whole.settle_reason.empty() && std::isfinite(whole.settle_time));
+  EXPECT_EQ(r.settle_reason, r.hold_end_reason);
+  // A settling that never came within the hold is no time (it was +inf, with no reason): NaN, and why.
+  ClosedLoopOptions tight;
+  tight.duration = 3.6;
+  tight.settle_tol = 1e-9;  // [rad] below the encoders' quantisation: never settles
+  const ClosedLoopResult never = runClosedLoop(test::scene("paper_ideal"), c, tight);
+  EXPECT_TRUE(never.ok && std::isnan(never.settle_time));
+  EXPECT_EQ(never.settle_reason, "the joint error did not stay below settle_tol 1e-09 rad before tracking started at 3.5 s");
+}
+
+// A controller none of whose commands the plant takes (beyond the firmware's
+// sanity range: torque.limit 1 N m, commands of 50 N m) controlled nothing:
+// the run is not ok and says why, as the bench exits 3 (it was "ok").
+TEST(ClosedLoop, ARunWhoseEveryCommandThePlantRejectedIsNotOk) {
+  const ControllerConfig c = loadControllerConfig(test::defaultControllerConfig(), {"profile.start=[0.1, 0.1]"});
+  ClosedLoopOptions opt;
+  opt.duration = 0.5;
+  const ClosedLoopResult r = runClosedLoop(test::scene("paper_clearance", {"torque.limit=[1, 1]"}), c, opt);
+  EXPECT_FALSE(r.ok);
+  EXPECT_TRUE(r.none_accepted);
+  EXPECT_EQ(r.commands_rejected, 500);  // ticks 0 .. 499: the last tick's answer comes after the run
+  EXPECT_EQ(r.error, "the plant accepted none of the controller's 500 commands (torque beyond the sanity range)");
+  // One accepted command is control: the same scene with the default start runs ok.
+  const ClosedLoopResult fine = runClosedLoop(test::scene("paper_clearance", {"torque.limit=[1, 1]"}), defaults(), opt);
+  EXPECT_TRUE(fine.ok) << fine.error;
+  EXPECT_FALSE(fine.none_accepted);
 }
 
 // The cost meter (tools/bench/bench_closed_loop.cpp's figures) splits the

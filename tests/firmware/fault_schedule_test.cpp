@@ -357,6 +357,17 @@ TEST(FaultSchedule, BearingFaultsAreCheckedAgainstTheBearingTheyActOn) {
       rise, test::plant("paper_both_planar", {"joint2.friction.law=none"}), "r.yaml");
   ASSERT_EQ(no_law.size(), 1u);
   EXPECT_NE(no_law[0].find("joint2.friction.law is none"), std::string::npos) << no_law[0];
+  // Worn, a spatial bearing must stay at least 4 clearances long, as the scene's own clearance
+  // must (a 2.5 mm bearing worn to 9.9 mm tilted its journal 73 degrees, and the run said ok).
+  const PlantScene short_spatial = test::plant("paper_spatial2", {"contact.bearing_length=2.5e-3"});
+  const auto too_short = checkFaultsAgainstScene(wear, short_spatial, "w.yaml");
+  ASSERT_EQ(too_short.size(), 1u);
+  EXPECT_NE(too_short[0].find("w.yaml:2: fault #1 (bearing_wear): key 'clearance': a spatial bearing must be at least 4 "
+                              "clearances long: joint2.contact.bearing_length 0.0025 m against 4 x 0.0099 m"),
+            std::string::npos)
+      << too_short[0];
+  EXPECT_TRUE(checkFaultsAgainstScene(wear, test::plant("paper_spatial2"), "w.yaml").empty())
+      << "a 50 mm bearing takes a 9.9 mm clearance";
 }
 
 TEST(FaultInjection, BearingWearRampsEachBearingFromItsOwnClearance) {

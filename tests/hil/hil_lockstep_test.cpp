@@ -111,12 +111,16 @@ TEST(HilLockstep, EveryCommandRejectedStopsNamingTheReasonNotANoPeer) {
   const std::string url = udpmUrl(7734);
   const std::string body = "timeout 60 " + pointingController() + " " + defaultControllerConfig() +
                            " --set 'profile.start=[0.5, 0.3]' --lcm-url '" + url +
-                           "' --duration 1 --idle-exit 5 >ctl.log 2>&1 &\ntimeout 60 " + firmwareSim() + " " +
-                           scenePath("paper_clearance") + " --lockstep --duration 1 --lcm-url '" + url +
-                           "' --set 'torque.limit=[0.001, 0.001]' --torque-sanity 1 --start-timeout 1 >fw.log 2>&1\n"
-                           "rc=$?; wait; exit $rc";
+                           "' --duration 1 --idle-exit 5 --plant-timeout 1 >ctl.log 2>&1 &\nC=$!\ntimeout 60 " +
+                           firmwareSim() + " " + scenePath("paper_clearance") + " --lockstep --duration 1 --lcm-url '" +
+                           url + "' --set 'torque.limit=[0.001, 0.001]' --torque-sanity 1 --start-timeout 1 >fw.log 2>&1\n"
+                           "rc=$?; wait $C; echo $? >ctl.rc; exit $rc";
   const int rc = runInNetns(dir, body);
   const std::string log = readFile(dir / "fw.log");
+  // The controller too: the plant going away after refusing every answer is a stop (3), not a lost peer (6).
+  const std::string ctl = readFile(dir / "ctl.log");
+  EXPECT_EQ(readFile(dir / "ctl.rc"), "3\n") << ctl;
+  EXPECT_NE(ctl.find("the plant accepted none of the commands"), std::string::npos) << ctl;
   EXPECT_EQ(rc, 3) << readFile(dir / "run.log") << log;
   EXPECT_NE(log.find("no valid command answered status 0 within --start-timeout 1 s: "), std::string::npos) << log;
   EXPECT_NE(log.find("the plant rejected every one (torque beyond the sanity range)"), std::string::npos) << log;

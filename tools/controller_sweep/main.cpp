@@ -47,6 +47,9 @@ int mainImpl(int argc, char** argv) {
     const Model& m = ps.scene.model;
     const ControllerConfig base = loadControllerConfig(config_path, sets);
     if (opt.duration <= 0.0) opt.duration = base.profile.trackStart() + 5.0;
+    if (const std::string why = firmware::controlPeriodProblem(ps, base.period); !why.empty()) {
+      return program::refuse("controller_sweep", "--config/--set " + why);
+    }
     // The loop runs whole control periods: a duration between two is refused, not rounded.
     if (const std::string why = wholeMultipleProblem(opt.duration, base.period, "the control period (control.period)");
         !why.empty()) {
@@ -103,13 +106,13 @@ int mainImpl(int argc, char** argv) {
       PointingController controller(c);
       const ClosedLoopResult r = firmware::runClosedLoop(ps, controller, c.profile, opt);
       if (!r.ok) {
-        std::printf("%8g  plant stopped: %s\n", w, r.error.c_str());
+        std::printf("%8g  stopped: %s\n", w, r.error.c_str());
         ++failures;
         continue;
       }
       using pointing::figureText;
       std::printf("%8g %9.4g %9.4g %9.4g %11s %11s %11s %11s %9.4g %9.4g\n", w, c.axis[0].kp, c.axis[0].kd,
-                  c.axis[0].ki, figureText(r.settle_time, r.hold_end_reason, "%.4g").c_str(),
+                  c.axis[0].ki, figureText(r.settle_time, r.settle_reason, "%.4g").c_str(),
                   figureText(r.max_joint_error_track, r.track_reason, "%.3e").c_str(),
                   figureText(r.max_truth_error_track, r.track_reason, "%.3e").c_str(),
                   figureText(r.rms_truth_error_track, r.track_reason, "%.3e").c_str(), r.max_abs_tau(0),

@@ -250,6 +250,13 @@ int mainImpl(int argc, char** argv) {
     }
   }
   const ControllerConfig& main_cfg = controllers.back().second;
+  for (const auto& [label, ps] : scenes) {  // refused before any run: a period the plant cannot tick at
+    for (const auto& [name, c] : controllers) {
+      if (const std::string why = firmware::controlPeriodProblem(ps, c.period); !why.empty()) {
+        return program::refuse(kProgram, "--set " + why + " (run " + label + ", controller " + name + ")");
+      }
+    }
+  }
   const double T = duration > 0.0 ? duration : main_cfg.profile.trackStart() + 5.0;
   if (const std::string why = wholeMultipleProblem(T, main_cfg.period, "the control period (control.period)");
       !why.empty()) {

@@ -112,6 +112,7 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   Study s;
   s.label = std::move(label);
   s.scene = ps.scene.model.name;
+  if (r.none_accepted) return "commands_rejected";
   s.joints = std::string(kindName(ps.scene.model.joint1_kind)) + "/" + kindName(ps.scene.model.joint2_kind);
   s.sensors = std::move(sensors);
   s.clearance = clearance;
@@ -314,6 +315,11 @@ int mainImpl(int argc, char** argv) {
     std::fprintf(stderr, "gimbalsim_pointing_study: cannot create %s: %s\n", out_dir.c_str(),
                  ec.message().c_str());
     return kExitWrite;
+  }
+  for (const auto& sc : scenes) {  // refused before any run: a period the plant cannot tick at
+    if (const std::string why = firmware::controlPeriodProblem(sc.scene, cfg.period); !why.empty()) {
+      return refuse("--config/--set", why + " (run " + sc.label + ")");
+    }
   }
   const std::filesystem::path dir(out_dir);
   if (!(opt.duration / cfg.period <= 1e9)) {

@@ -212,7 +212,7 @@ void checkSpatialLength(const Scene& s, Given& g) {
     if (s.model.jointKind(j) != ClearanceKind::Spatial) continue;
     const ContactParams& b = s.model.bearing[j];
     const double c = b.bearing_radius - b.journal_radius;
-    if (!(b.bearing_length >= 4.0 * c)) {
+    if (!(b.bearing_length >= kSpatialMinLengthInClearances * c)) {
       g.refuse(givenAs(g, j, "contact.", "bearing_length"),
                "a spatial bearing must be at least 4 clearances long (joint " + std::to_string(j + 1) + ": " +
                    formatNumber(b.bearing_length) + " m against 4 x " + formatNumber(c) +

@@ -63,6 +63,11 @@ struct ContactParams {
   double chi = 0.0;
 };
 
+/// A spatial bearing at least this many clearances long: its journal then
+/// tilts at most atan(2c/L) = 0.46 rad, where contact at the two end planes
+/// is the model (the scene and the fault schedule's wear both hold to it).
+inline constexpr double kSpatialMinLengthInClearances = 4.0;
+
 /// Numerical settings of the fixed-step integrator.
 struct IntegratorParams {
   double step = 1.0e-3;               ///< RK4 step h [s]

@@ -88,8 +88,9 @@ struct ClosedLoopResult {
   StepStatus stop_status = StepStatus::Ok;  ///< the plant's step status when it stopped
   double t_end = 0.0;              ///< [s]
   /// [s] after the slew's end until max |joint error| stays below settle_tol
-  /// for the rest of the hold; +inf if it never does before tracking starts.
-  double settle_time = std::numeric_limits<double>::infinity();
+  /// for the rest of the hold; NaN with settle_reason if it never does before
+  /// tracking starts, or the run did not reach the hold's end.
+  double settle_time = std::numeric_limits<double>::quiet_NaN();
   double max_joint_error_slew = 0.0;   ///< [rad] during the slew
   double max_joint_error_hold = 0.0;   ///< [rad] during the hold (overshoot and settling)
   double max_joint_error_track = 0.0;  ///< [rad] during tracking
@@ -100,6 +101,8 @@ struct ClosedLoopResult {
   /// (max_joint_error_slew), hold (max_joint_error_hold), hold_end
   /// (max_truth_error_hold_end, settle_time), track (the three *_track).
   std::string slew_reason, hold_reason, hold_end_reason, track_reason;
+  /// Why settle_time is NaN ("" when it has a value): the hold's end unreached, or never settled.
+  std::string settle_reason;
   /// Why the whole-run figures (max_abs_tau, max_attitude_error, max_tilt)
   /// are NaN: no tick was recorded ("" when one was).
   std::string run_reason;
@@ -116,8 +119,17 @@ struct ClosedLoopResult {
   Vec2 play_onset = Vec2::Constant(std::numeric_limits<double>::quiet_NaN());
   long long star_outage_ticks = 0;     ///< ticks the controller flagged a star tracker outage
   long long rejected_readings = 0;     ///< statuses whose reading the controller rejected (NaN or Inf)
+  long long commands_rejected = 0;     ///< commands the plant rejected (firmware's checks: sanity range, NaN, ...)
+  /// The plant accepted none of the controller's commands over kStatusesToJudge
+  /// answered statuses or more: the run did not control it (ok = false, error says why).
+  bool none_accepted = false;
   long long ticks = 0;
 };
+
+/// Why a controller ticking every control_period [s] cannot run on the
+/// plant scene ps ("" when it can: a whole multiple of sim.step, as
+/// checkConfig wants); the tools refuse it before any run (exit 2).
+std::string controlPeriodProblem(const PlantScene& ps, double control_period);
 
 /// Runs the controller on the plant for opt.duration (ticks 0 ..
 /// round(duration / period), the last one not stepped); the truth pointing

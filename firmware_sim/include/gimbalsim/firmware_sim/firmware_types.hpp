@@ -48,6 +48,10 @@ struct Counters {
   std::int64_t fault_ticks = 0;      ///< ticks with any scheduled fault active
 };
 
+/// The most frequent reason among the rejections counted between `before`
+/// and `now` (cumulative counters); Rejection::None when there were none.
+Rejection commonestRejection(const Counters& before, const Counters& now) noexcept;
+
 /// Result of checkConfig(): which setting is wrong (a code the caller maps to
 /// its option, e.g. firmware_sim's --rate), and the text saying why.
 struct ConfigCheck {

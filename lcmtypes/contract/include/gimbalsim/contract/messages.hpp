@@ -34,6 +34,11 @@ enum Fault : std::int32_t {
 /// Command modes (gimbal_command_t::MODE_*).
 enum Mode : std::int8_t { kModeOff = 0, kModeTorque = 1 };
 
+/// Answered statuses after which a plant that accepted none of a
+/// controller's commands has had its chance: the run controlled nothing
+/// (pointing_controller exits 3; the in-process loop is not ok).
+inline constexpr long long kStatusesToJudge = 3;
+
 /// A decoded command (gimbal_command_t without LCM).
 struct Command {
   std::int64_t utime = 0;       ///< [us]
