@@ -121,12 +121,22 @@ def _check_path(path, what):
     return path
 
 
+def _input_path(path, what):
+    """A file to read, as _check_path; an empty one is refused too: the C++
+    takes "" for "none" (Controller: the defaults, closed_loop: no faults),
+    where the command line refuses `--faults ""` (exit 2)."""
+    path = _check_path(path, what)
+    if not path:
+        raise ValueError(f"{what}: an empty path names no file (give None for none)")
+    return path
+
+
 def load_scene(path, overrides=None, sources=None):
     """Loads and validates a scene file; overrides is a dict of scene keys to
     values, applied after the file (what `--set` accepts). Raises SceneError;
     a problem with an override names it overrides['key'], or sources[key]
     when given (a label, or (file, line) of a spec's entry)."""
-    path = _check_path(path, "scene path")
+    path = _input_path(path, "scene path")
     texts, labels = _overrides_and_labels(overrides, sources)
     return _labelled_call(lambda: _gimbalsim._load_scene(path, texts), texts, labels)
 
@@ -262,9 +272,45 @@ def Controller(config_path=None, overrides=None, sources=None):
     overrides (dict of controller keys, as
     `pointing_controller --set`; sources as for load_scene). Raises SceneError
     for a refused configuration."""
-    path = "" if config_path is None else _check_path(config_path, "controller configuration path")
+    path = "" if config_path is None else _input_path(config_path, "controller configuration path")
     texts, labels = _overrides_and_labels(overrides, sources)
     return _labelled_call(lambda: _gimbalsim.Controller(path, texts), texts, labels)
+
+
+def _real_array(values, name):
+    """values as a float array, refusing what numpy would take silently:
+    complex numbers (the imaginary part dropped), text ('1' parsed), bools
+    and objects (TypeError naming the argument)."""
+    a = np.asarray(values)
+    if a.dtype.kind not in "iuf":
+        raise TypeError(f"{name}: expected real numbers, got an array of {a.dtype} "
+                        f"({'the imaginary part would be dropped' if a.dtype.kind == 'c' else 'not numbers'})")
+    return a.astype(np.float64)
+
+
+def _real_number(value, name):
+    """A real, finite-or-not number argument (a bool, a complex or a text is
+    none: pybind11 raised a bare TypeError, or took True as 1)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name}: expected a real number, got {type(value).__name__} {value!r}")
+    return float(value)
+
+
+_simulator_run, _simulator_step = Simulator.run, Simulator.step
+
+
+def _run(self, torques):
+    """One step per row of torques (N, 2) [N m]; returns the (N, len(COLUMNS)) output rows after each step."""
+    return _simulator_run(self, _real_array(torques, "torques [N m]"))
+
+
+def _step(self, tau1, tau2, n=1):
+    """Advance n steps with joint torques tau1, tau2 [N m] held; raises
+    SimulationStopped on numerical trouble (the state is then the last good one)."""
+    return _simulator_step(self, _real_number(tau1, "tau1 [N m]"), _real_number(tau2, "tau2 [N m]"), n)
+
+
+Simulator.run, Simulator.step = _run, _step  # checked here, before the C++ binding converts them
 
 
 def _unpickle_scene(path, values):
@@ -347,7 +393,7 @@ def closed_loop(scene, controller_config, duration, settle_tol=1.0e-3, faults=No
     ctrl = controller_config
     if not isinstance(ctrl, _gimbalsim.Controller):
         ctrl = Controller(controller_config)
-    faults = "" if faults is None else _check_path(faults, "fault schedule path")
+    faults = "" if faults is None else _input_path(faults, "fault schedule path")
     summary, columns = _gimbalsim._closed_loop(scene, ctrl, duration, settle_tol, faults)
     read = [p for p in (scene.path, ctrl.path, faults) if p]
     return ClosedLoopRun(summary, columns, read)

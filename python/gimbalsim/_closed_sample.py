@@ -7,7 +7,7 @@ import numpy as np
 
 import gimbalsim
 from . import _provenance, indices as ix
-from ._closed_spec import CONTROLLER_PREFIX, profile_phases
+from ._closed_spec import CONTROLLER_PREFIX, plant_overrides, profile_phases
 
 TRUE_ERROR = ("los_error_x", "los_error_y", "los_error_z")
 ESTIMATED_ERROR = ("los_error_est_x", "los_error_est_y", "los_error_est_z")
@@ -76,7 +76,7 @@ def load_sample(base, closed, overrides):
     row's applied_ columns against."""
     scene_ov, ctrl_ov = split_overrides(overrides)
     try:
-        scene = base.replace(scene_ov)
+        scene = base.replace(scene_ov if closed is None else plant_overrides(scene_ov))
     except gimbalsim.SceneError as e:
         return None, None, {"status": f"refused:{e.key or ''}", "reason": str(e).replace(",", ";")}
     if closed is None:
@@ -104,7 +104,9 @@ def run_closed_sample(base, closed, overrides, series=False):
     applied = loaded["applied"]
     run = gimbalsim.closed_loop(scene, ctrl, closed.duration_s)
     s = run.summary
-    status = "ok" if s["ok"] else (s["stop_key"] or "stopped")
+    # a stop's key is never empty when the run is not ok (controller_bindings.cpp resultDict): a limit's or
+    # non_finite, the statuses a resume accepts (_journal.CLOSED_STOPS)
+    status = "ok" if s["ok"] else s["stop_key"]
     values = sample_indices(closed, run.columns, phase_windows(closed, ctrl, run.columns))
     reasons = [f"{k}: {v.reason}" for k, v in values.items() if not v.ok]
     if not s["ok"]:

@@ -26,6 +26,21 @@ INDEX_KEYS = {"ape": set(), "knowledge": set(), "rpe": {"window"}, "pde": {"wind
 CONTROLLER_PREFIX = "controller."
 
 
+def plant_overrides(overrides):
+    """A closed loop's scene overrides as the scene is loaded with them: one
+    that changes sim.step takes sim.output_interval = that step. The closed
+    loop records every control period and never reads output_interval (a
+    key it refuses under set and parameters, _idle_keys), but the scene holds
+    it to whole steps, an open-loop rule: a step the controller's period
+    allows was refused for the scene file's interval (0.001 s no multiple of
+    3e-4 s). Not written in the spec, nor in a row's applied_ columns: the
+    run does not read it. Given this way, not as a rule the closed loop
+    drops: the scene's own check stays whole for every other key."""
+    if "sim.step" not in overrides or "sim.output_interval" in overrides:
+        return overrides
+    return {**overrides, "sim.output_interval": overrides["sim.step"]}
+
+
 def controller_path_of(spec, node):
     """The spec's `controller:` as a path against its folder, or None for
     `default` (the built-in configuration): the same word in a sweep and a
@@ -80,9 +95,10 @@ class ClosedLoopSpec:
         self.indices = self._indices(spec, root)
         self._check_reached(spec, root)
 
-    def load(self, spec, where, extra, node, sets=None):
+    def load(self, spec, where, extra, node, sets=None, note=""):
         """The controller with the spec's overrides and `extra`; refused at
-        node, or at the controller_set key the controller names."""
+        node, or at the controller_set key the controller names (note: what
+        the tried value is, ahead of the refusal)."""
         overrides = dict(self.set)
         overrides.update(extra)
         try:
@@ -90,7 +106,7 @@ class ClosedLoopSpec:
         except gimbalsim.SceneError as e:
             if sets and e.key in sets:
                 where, node = f"controller_set.{e.key}", sets[e.key]
-            spec.refuse(where, f"the controller refuses {extra or overrides}: "
+            spec.refuse(where, f"{note}the controller refuses {extra or overrides}: "
                         f"{e.problems[0]['text'] if e.problems else e}", node)
 
     def _phases(self, spec, root):

@@ -28,7 +28,7 @@ def _drawn_beyond(spec, rows, n_columns):
     """The indices of rows beyond the design that are whole rows of their own
     draw (seed, i): results --until added. Other rows beyond it are no row the
     sweep wrote; they are dropped as outside the design."""
-    beyond = [r for r in rows if r and r[0].isascii() and r[0].isdigit() and len(r[0]) <= 8
+    beyond = [r for r in rows if r and _canonical_index(r[0]) and len(r[0]) <= 8
               and len(spec.design) <= int(r[0]) < MAX_SAMPLES]
     if not beyond or spec.grid:
         return []
@@ -76,6 +76,13 @@ def take_recorded_design(out, spec):
     spec.design.extend_to(n)
 
 
+def _canonical_index(text):
+    """Whether text is a sample index as the sweep writes one: its decimal,
+    no sign, space or leading zero ("02" is no row the sweep wrote, and a
+    replay of sample 2 would not find it)."""
+    return text.isascii() and text.isdigit() and text == str(int(text))
+
+
 def fmt(v):
     """A cell of the sweep's CSVs: no value empty, a float and a text as the CSV convention writes them."""
     if v is None:
@@ -110,7 +117,7 @@ def check_row(spec, row, n_columns):
     columns what the scene (and controller) apply to the draw."""
     if len(row) != n_columns:
         return "wrong number of columns"
-    if not (row[0].isascii() and row[0].isdigit()) or not int(row[0]) < len(spec.design):
+    if not _canonical_index(row[0]) or not int(row[0]) < len(spec.design):
         return "sample index outside the design"
     i = int(row[0])
     overrides = spec.design.draw(i)
@@ -139,12 +146,18 @@ def check_row(spec, row, n_columns):
 # The stops a run ends on, as its row names them. A limit's key (dynamics/src/step_result.cpp limitKey); the
 # open loop's invariants (simulate.cpp); with no key, the open loop writes the
 # step's status in words (_open_sample._stop_name: non-finite_output when no step failed), the
-# closed loop non_finite, refused or stopped (python/src/controller_bindings.cpp resultDict, _closed_sample).
+# closed loop non_finite (python/src/controller_bindings.cpp resultDict: its stop_key is never empty when the
+# run is not ok, and the one refusal it could name, control.period, _closed_sample refuses before running).
 LIMIT_STOPS = ("sim.velocity_limit", "sim.penetration_limit", "sim.max_substeps", "sim.max_event_iters",
                "sim.min_substeps_per_impact")
 OPEN_STOPS = LIMIT_STOPS + ("sim.momentum_tol", "sim.energy_tol", "non-finite_value_(NaN_or_Inf)_in_the_state",
                              "non-finite_output")
-CLOSED_STOPS = LIMIT_STOPS + ("non_finite", "refused", "stopped")
+CLOSED_STOPS = LIMIT_STOPS + ("non_finite", "commands_rejected")
+# The message a closed loop's stop begins its reason with: a limit's (dynamics/src/simulate.cpp describeStop,
+# which names the key), a non-finite value's (firmware_sim closed_loop.cpp, controller_bindings guardNonFinite).
+LIMIT_MESSAGE = "simulation stopped at t = "
+NON_FINITE_MESSAGE = "non-finite "
+NONE_ACCEPTED_MESSAGE = "the plant accepted none of "  # commands_rejected (firmware_sim closed_loop.cpp)
 POINTING = ("pointing_error_max", "pointing_error_final")  # nan when the ideal twin stopped first
 
 
@@ -154,14 +167,8 @@ def _status_wrong(spec, status, reason, figures):
     crash (no reason but the refusal's), ok, or one of its stops."""
     if status.startswith("refused:") or status == "crashed":
         return "reason is not empty in a crashed sample's row" if status == "crashed" and reason else None
-    if spec.closed is None:  # _open_sample: a stop, `ideal:<twin's stop>` or `<stop>|ideal:<twin's stop>`
-        run, _, twin = status.partition("|ideal:") if "|ideal:" in status else \
-            ("ok", "", status[len("ideal:"):]) if status.startswith("ideal:") else (status, "", "")
-        if run not in ("ok",) + OPEN_STOPS or (twin and twin not in ("ok",) + OPEN_STOPS):
-            return "status is none the sweep writes (ok, a stop, refused:<key>, crashed, ideal:<stop>)"
-        if twin and any(figures[m] != "nan" for m in POINTING):
-            return "pointing_error is a number in an ideal:<stop> row: a twin that stopped first gives none"
-        return None
+    if spec.closed is None:
+        return _open_status_wrong(status, figures)
     indices = spec.closed.metrics()
     parts = reason.split(" | ") if reason else []
     if status == "ok":  # its reason names only its indices that are nan, each "index_phase: why"
@@ -169,12 +176,41 @@ def _status_wrong(spec, status, reason, figures):
             return "reason is not an ok row's (it names only the ok run's indices that are nan)"
         return None
     if status not in CLOSED_STOPS:
-        return "status is none the sweep writes (ok, a stop, refused:<key>, crashed)"
-    # the stop's message first, then the nan indices' reasons; every figure a number or nan
-    if not parts or not parts[0] or parts[0].split(": ")[0] in indices:
-        return "reason is not a stopped row's: it begins with the message of the stop"
+        return f"status is none the sweep writes (ok, {', '.join(CLOSED_STOPS)}, refused:<key>, crashed)"
+    # the stop's message first (a limit's names its key), then the nan indices' reasons; every figure a number or nan
+    first = parts[0] if parts else ""
+    fixed = {"non_finite": NON_FINITE_MESSAGE, "commands_rejected": NONE_ACCEPTED_MESSAGE}
+    if not (first.startswith(fixed[status]) if status in fixed
+            else first.startswith(LIMIT_MESSAGE) and status in first):
+        return f"reason is not a stopped row's: a {status} row's begins with the message of that stop"
+    named = [p.split(": ")[0] for p in parts[1:]]
+    if sorted(named) != sorted(m for m in indices if figures[m] == "nan"):
+        return "reason is not a stopped row's: after the stop's message it names each nan index, and only those"
     if "" in figures.values():
         return "status is a stop, but a figure is empty: a stopped closed loop writes every figure"
+    return None
+
+
+def _open_status_wrong(status, figures):
+    """Why an open-loop status is none _open_sample.run_sample writes, or
+    None: `ok`, the run's stop, `ideal:<twin's stop>` (the run ok, its twin
+    stopped first) or `<run's stop>|ideal:<twin's stop>`; a twin's part is
+    always a stop (a twin that ran whole writes no `ideal:`), and such a row
+    has no pointing error."""
+    if "|ideal:" in status:
+        run, _, twin = status.partition("|ideal:")
+        if run not in OPEN_STOPS or twin not in OPEN_STOPS:
+            return "status is none the sweep writes: in <stop>|ideal:<stop> both parts are stops (never ok)"
+    elif status.startswith("ideal:"):
+        twin = status[len("ideal:"):]
+        if twin not in OPEN_STOPS:
+            return "status is none the sweep writes: ideal:<stop> names the stop of the ideal twin (never ok)"
+    elif status not in ("ok",) + OPEN_STOPS:
+        return "status is none the sweep writes (ok, a stop, refused:<key>, crashed, ideal:<stop>)"
+    else:
+        return None
+    if any(figures[m] != "nan" for m in POINTING):
+        return "pointing_error is a number in an ideal:<stop> row: a twin that stopped first gives none"
     return None
 
 

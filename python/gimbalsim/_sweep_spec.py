@@ -5,7 +5,7 @@ import json
 
 import gimbalsim
 from . import _provenance
-from ._closed_spec import CONTROLLER_PREFIX, ClosedLoopSpec
+from ._closed_spec import CONTROLLER_PREFIX, ClosedLoopSpec, plant_overrides
 from ._idle_keys import idle_reason, refuse_idle_set, takes_of
 from ._spec import Spec
 from .dispersion import Design, check_within, design_size, parse_parameter
@@ -104,7 +104,9 @@ class SweepSpec:
                         f"{size} samples in all (samples x grid points), more than the limit {MAX_SAMPLES}",
                         root["grid"] if self.grid else root["samples"])
         try:
-            self.base = gimbalsim.load_scene(self.scene_path, self.set,
+            # a closed loop's sim.step takes the output interval it never reads with it (plant_overrides)
+            self.base = gimbalsim.load_scene(self.scene_path,
+                                             plant_overrides(self.set) if "controller" in root else self.set,
                                              sources={k: (spec.path, n.line) for k, n in sets.items()})
         except gimbalsim.SceneError as e:
             node = sets.get(e.key) if e.set_index else None
@@ -125,9 +127,11 @@ class SweepSpec:
                 ctrl = {k[len(CONTROLLER_PREFIX):]: v for k, v in trial.items() if k.startswith(CONTROLLER_PREFIX)}
                 scene = {k: v for k, v in trial.items() if not k.startswith(CONTROLLER_PREFIX)}
                 if ctrl:
-                    self.closed.load(spec, f"parameters.{p.key}", ctrl, p.node)
+                note = p.end_note(trial[p.key])  # a normal's tail: which one
+                    self.closed.load(spec, f"parameters.{p.key}", ctrl, p.node, note=note)
                 if scene and not self._refused_alone(scene, p):  # a within key's own value: refused at its line
-                    self._try(spec, f"parameters.{p.key}", scene, p.node, _within_note(p, trial, self.base.values()))
+                    self._try(spec, f"parameters.{p.key}", scene, p.node,
+                              note + _within_note(p, trial, self.base.values()))
         for (key, values), node in zip(self.grid, grid.values()):
             for v in values:
                 if key.startswith(CONTROLLER_PREFIX):
@@ -170,18 +174,22 @@ class SweepSpec:
         refuse_idle_set(spec, fixed, values, dispersed_keys, takes, self.closed is not None, "this sweep's runs")
 
     def _refused_alone(self, overrides, p):
+    def _plant(self, overrides):
+        """Scene overrides as a sample's scene is loaded with them (_closed_sample.load_sample)."""
+        return overrides if self.closed is None else plant_overrides(overrides)
+
         """Whether the scene refuses the values of `overrides` other than p's own (a disk's within key)."""
         rest = {k: v for k, v in overrides.items() if k != p.key}
         try:
             if rest:
-                self.base.replace(rest)
+                self.base.replace(self._plant(rest))
         except gimbalsim.SceneError:
             return True
         return False
 
     def _try(self, spec, where, overrides, node, note=""):
         try:
-            self.base.replace(overrides, sources={k: (spec.path, node.line) for k in overrides})
+            self.base.replace(self._plant(overrides), sources={k: (spec.path, node.line) for k in overrides})
         except gimbalsim.SceneError as e:
             spec.refuse(where, f"{note}the scene refuses {overrides}: {e.problems[0]['text'] if e.problems else e}",
                         node)

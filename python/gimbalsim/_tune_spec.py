@@ -5,7 +5,7 @@ import json
 
 import gimbalsim
 from . import _gimbalsim
-from ._closed_spec import CONTROLLER_PREFIX, controller_path_of
+from ._closed_spec import CONTROLLER_PREFIX, controller_path_of, plant_overrides
 from ._idle_keys import idle_reason, refuse_idle_set, takes_of
 from ._spec import Spec
 from .dispersion import CONTROLLER_KEYS, Design, check_within, parse_parameter
@@ -81,7 +81,7 @@ class TuneSpec:
         sets = spec.known_mapping("set", scene_types, "scene", gimbalsim.key_aliases())
         set_values = {k: spec.value(f"set.{k}", n) for k, n in sets.items()}
         try:
-            self.base = gimbalsim.load_scene(self.scene_path, set_values,
+            self.base = gimbalsim.load_scene(self.scene_path, plant_overrides(set_values),  # a closed loop's step
                                              sources={k: (spec.path, n.line) for k, n in sets.items()})
         except gimbalsim.SceneError as e:
             spec.refuse(f"set.{e.key}" if e.key in sets else "scene", str(e), sets.get(e.key, root["scene"]))
@@ -134,10 +134,11 @@ class TuneSpec:
         for p in params:  # each end alone; a disk within a dispersed key at the rim each of its ends gives
             for trial in p.trials():
                 try:
-                    self.base.replace(trial, sources={k: (spec.path, p.node.line) for k in trial})
+                    self.base.replace(plant_overrides(trial), sources={k: (spec.path, p.node.line) for k in trial})
                 except gimbalsim.SceneError as e:
                     what = ", ".join(f"{k}={v!r}" for k, v in trial.items())
-                    spec.refuse(f"plants.{p.key}", f"the scene refuses {what}: {e.problems[0]['text']}", p.node)
+                    spec.refuse(f"plants.{p.key}", f"{p.end_note(trial[p.key])}the scene refuses {what}: "
+                                f"{e.problems[0]['text']}", p.node)
         self.plants = Design(params, [], self.batch, self.seed, self.base.values())
         # Trial 0 is the baseline: the configuration's own gains, which the ranges must hold.
         own = self.controller.values()

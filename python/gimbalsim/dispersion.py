@@ -7,7 +7,8 @@ any machine, in any order, and adding a parameter does not change the others.
 Distributions (the spec's syntax):
     key: {uniform: [lo, hi]}
     key: {loguniform: [lo, hi]}                       # 0 < lo <= hi
-    key: {normal: {mean: m, sd: s, min: a, max: b}}   # truncated by redrawing; min, max optional
+    key: {normal: {mean: m, sd: s, min: a, max: b}}   # truncated by redrawing; min, max optional: an end
+                                                      # not given is mean -/+ TAIL_SD sd (NORMAL_TAIL)
     key: {choice: [v1, v2, ...]}                      # numbers, names or vectors
     key: {disk: {radius: r}}                          # vec2 keys: a point uniform in a disk
     key: {disk: {within: contact.clearance, fraction: 0.95}}   # radius = fraction x that key's value
@@ -20,6 +21,12 @@ import zlib
 import numpy as np
 
 NUMERIC = ("number", "int")
+# A normal never reaches beyond mean +/- TAIL_SD sd: there the two-sided tail holds 1e-6 of it (scipy
+# norm.isf(0.5e-6) = 4.8916), a draw beyond is redrawn, and each end is tried on the scene before anything
+# runs, as a range's ends are. Unbounded, a normal's draws reached any value, and a sweep whose scene refuses
+# its far tail (a negative friction.mu, a negative clearance) ran those samples as refused and exited 0.
+TAIL_SD = 4.8916
+NORMAL_TAIL = "1e-6 two-sided tail"
 DISTRIBUTIONS = ("uniform", "loguniform", "normal", "choice", "disk", "ball")
 
 
@@ -47,9 +54,10 @@ class Parameter:
         elif self.kind == "loguniform":
             x = float(math.exp(rng.uniform(math.log(a[0]), math.log(a[1]))))
         elif self.kind == "normal":
+            lo, hi = normal_ends(a)
             for _ in range(100_000):
                 x = float(rng.normal(a["mean"], a["sd"]))
-                if a["min"] <= x <= a["max"]:
+                if lo <= x <= hi:
                     break
             else:
                 raise RuntimeError(f"{self.key}: no normal draw inside [min, max] in 100000 tries")
@@ -71,8 +79,8 @@ class Parameter:
         a = self.args
         if self.kind in ("uniform", "loguniform"):
             return list(a)
-        if self.kind == "normal":
-            return [v for v in (a["min"], a["max"]) if math.isfinite(v)] or [a["mean"]]
+        if self.kind == "normal":  # the ends it draws between: min and max, or its tails (TAIL_SD); rounded as drawn
+            return [int(round(v)) for v in normal_ends(a)] if self.type == "int" else list(normal_ends(a))
         if self.kind == "choice":
             return list(a)
         if self.kind == "ball":
@@ -81,6 +89,16 @@ class Parameter:
             return self._rim(a["radius"])
         # a disk within a key: the rim its scene value gives (check_within); one it is dispersed with, trials() only
         return [t[self.key] for t in self.trials() if len(t) == 1]
+
+    def end_note(self, value):
+        """For a refusal of one of its ends: which end a normal's value is
+        when it is a tail, not a min or max the spec gave ("" otherwise)."""
+        a = self.args
+        if self.kind != "normal" or float(value) in (a["min"], a["max"]):
+            return ""
+        side, sign = ("lower", "-") if value < a["mean"] else ("upper", "+")
+        return (f"normal: its {side} tail, mean {sign} {TAIL_SD} sd = {value!r} (the {NORMAL_TAIL}: draws go no "
+                f"further, and each end is tried on the scene; bound it with {'min' if sign == '-' else 'max'}): ")
 
     def _rim(self, radius):
         c = self.args.get("center", [0.0, 0.0])
@@ -136,7 +154,11 @@ def parse_parameter(spec, section, key, node, key_types, known_as=SCENE_KEYS):
                 "min": float(plain.get("min", -math.inf)), "max": float(plain.get("max", math.inf))}
         if not args["sd"] > 0 or not args["min"] < args["max"]:
             spec.refuse(where, "normal needs sd > 0 and min < max", arg)
-        lo, hi = (args["min"] - args["mean"]) / args["sd"], (args["max"] - args["mean"]) / args["sd"]
+        lo, hi = normal_ends(args)
+        if not lo < hi or not all(math.isfinite(v) for v in (lo, hi)):
+            spec.refuse(where, f"normal: [min, max] lies beyond mean +/- {TAIL_SD} sd (the {NORMAL_TAIL}), or its "
+                        "ends overflow: no draw inside", arg)
+        lo, hi = (lo - args["mean"]) / args["sd"], (hi - args["mean"]) / args["sd"]
         if 0.5 * (math.erf(hi / math.sqrt(2)) - math.erf(lo / math.sqrt(2))) < 1e-3:
             spec.refuse(where, "normal: [min, max] holds less than 0.1 % of the distribution", arg)
     elif kind == "choice":
@@ -169,6 +191,12 @@ def parse_parameter(spec, section, key, node, key_types, known_as=SCENE_KEYS):
             spec.refuse(where, "disk: center must be [x, y]", arg)
         args = plain
     return Parameter(key, kind, args, ktype, node)
+
+
+def normal_ends(a):
+    """(lo, hi) a normal {mean, sd, min, max} draws between: its min and max,
+    each no further than TAIL_SD sd from the mean."""
+    return max(a["min"], a["mean"] - TAIL_SD * a["sd"]), min(a["max"], a["mean"] + TAIL_SD * a["sd"])
 
 
 def _is_number(v):
@@ -255,6 +283,7 @@ def check_within(spec, section, parameters, grid_keys, base_values, grid=()):
     units.update({CONTROLLER_PREFIX + k["key"]: k["unit"] for k in gimbalsim.controller_keys()})
     ends = {key: list(values) for key, values in grid}
     ends.update({p.key: p.extremes() for p in parameters if p.kind != "disk"})
+    notes = {p.key: p for p in parameters if p.kind != "disk"}
     dispersed = set(grid_keys) | {p.key for p in parameters}
     for p in parameters:
         if p.kind != "disk" or "within" not in p.args:
@@ -268,6 +297,10 @@ def check_within(spec, section, parameters, grid_keys, base_values, grid=()):
             p.reach = []
             for w in ends.get(within, []):
                 radius = p.args["fraction"] * float(w)
+                note = notes[within].end_note(w) if within in notes else ""
+                if not radius >= 0 and note:  # a normal's tail: refused at its own line, as the scene would
+                    spec.refuse(f"{section}.{within}", f"{note}gives the disk of {p.key} (within {within}) "
+                                "a radius < 0", notes[within].node)
                 if not radius >= 0:
                     spec.refuse(where, f"disk: within {within}, which takes {w!r}: a radius < 0", p.node)
                 p.reach.append((w, radius))

@@ -52,7 +52,7 @@ def _nan(reason):
 
 def _phase_slice(t_s, t_start, t_end):
     """Rows of t_s in [t_start, t_end), after checking the time base is uniform."""
-    t_s = np.asarray(t_s, dtype=float)
+    t_s = _real_array(t_s, "t_s", "a time [s]")
     if t_s.ndim != 1 or len(t_s) < 2:
         raise ValueError("t_s: need a 1-D time base of at least 2 samples")
     step = np.diff(t_s)
@@ -71,16 +71,27 @@ def _phase_slice(t_s, t_start, t_end):
 
 def _window_samples(length_s, dt, name):
     """A window length as a whole number of samples; refuses one that is not."""
-    if not (math.isfinite(length_s) and length_s > 0):
-        raise ValueError(f"{name} = {length_s} s: need a finite length above 0")
+    if not (_is_number(length_s) and math.isfinite(length_s) and length_s > 0):
+        raise ValueError(f"{name} = {length_s!r} s: need a finite length above 0 (a real number)")
     n = round(length_s / dt)
     if n < 1 or abs(n * dt - length_s) > 1e-9 * max(1.0, length_s):
         raise ValueError(f"{name} = {length_s} s is not a whole number of samples of {dt} s")
     return n
 
 
-def _as_columns(e):
-    e = np.asarray(e, dtype=float)
+def _real_array(x, name, what):
+    """x as a float array; an array of complex numbers (numpy dropped the
+    imaginary part: 1e-4j read as an error of 0), of bools ([False, True] read
+    as times) or of text is refused naming the argument (ValueError)."""
+    a = np.asarray(x)
+    if a.dtype.kind not in "iuf":
+        raise ValueError(f"{name}: {what} is a real number, got {a.dtype} values"
+                         + (" (their imaginary part would be dropped)" if a.dtype.kind == "c" else ""))
+    return a.astype(float)
+
+
+def _as_columns(e, name="e"):
+    e = _real_array(e, name, "a pointing error [rad]")
     e = e[:, None] if e.ndim == 1 else e
     if e.ndim != 2 or e.shape[1] == 0:
         raise ValueError(f"e: need one row per sample of one or more axes, got shape {e.shape}")
@@ -136,7 +147,7 @@ def ape(t_s, e, t_start, t_end):
 
 def knowledge(t_s, e_estimate, e_truth, t_start, t_end):
     """Knowledge error: max |estimated error - true error| over the phase [rad]."""
-    est, truth = _as_columns(e_estimate), _as_columns(e_truth)
+    est, truth = _as_columns(e_estimate, "e_estimate"), _as_columns(e_truth, "e_truth")
     if est.shape != truth.shape:  # numpy would broadcast one row, or one axis, over the other
         raise ValueError(f"e_estimate {est.shape} and e_truth {truth.shape}: need the same shape")
     return ape(t_s, est - truth, t_start, t_end)

@@ -138,7 +138,9 @@ def test_a_closed_loops_nan_needs_its_reason(closed_sweep):
     assert "ape_track_rad is nan in an ok row" in why(spec, row, ape_track_rad="nan")
     assert "ape_track_rad is nan in an ok row" in why(spec, row, ape_track_rad="nan", reason="ape_hold: no tick")
     assert why(spec, row, ape_track_rad="nan", reason="ape_track: the run ended at 0.3 s") is None
-    assert why(spec, row, ape_track_rad="nan", status="sim.velocity_limit", reason="stopped") is None
+    stop = "simulation stopped at t = 0.3 s: a velocity exceeded sim.velocity_limit (diverging)"
+    assert why(spec, row, ape_track_rad="nan", status="sim.velocity_limit",
+               reason=stop + " | ape_track: the run stopped") is None
 
 
 def test_resume_drops_bad_rows_and_runs_their_samples_again(closed_sweep, tmp_path):
