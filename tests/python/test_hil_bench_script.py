@@ -5,6 +5,7 @@ written the refusal through the link), and a run that ends well replaces
 the previous run's files whole."""
 import os
 import subprocess
+import time
 
 from conftest import BIN, CONTROLLER_CONFIG, SOURCE
 
@@ -120,3 +121,84 @@ def test_an_output_that_is_one_of_the_inputs_is_refused_before_anything_runs(tmp
     # an input under an output's name in a fresh --out is no file yet: refused, no folder made
     p = bench(tmp_path / "fresh", "--duration", "0.2", "--no-plot", "--scene", str(tmp_path / "fresh" / "truth.csv"))
     assert p.returncode == 2 and "no such file" in p.stderr and not (tmp_path / "fresh").exists(), p.stderr
+
+
+# ---- issue 41 classes 6 and 7: an output named after -- never clashes with the script's; a value that is a flag
+
+def run(*args, cwd):
+    env = {**os.environ, "GIMBALSIM_BUILD": str(BIN.parent)}
+    return subprocess.run(["bash", str(SCRIPT), "--port", "7741", *map(str, args)], capture_output=True, text=True,
+                          timeout=60, env=env, cwd=cwd)
+
+
+def refused_fast(says, *args, cwd):
+    t0 = time.monotonic()
+    p = run(*args, cwd=cwd)
+    took = time.monotonic() - t0
+    assert p.returncode == 2 and says in p.stderr, (args, p.returncode, p.stderr)
+    assert "nothing run" in p.stderr and "firmware_sim:" not in p.stderr and took < 5, (args, took, p.stderr)
+    return p
+
+
+def test_a_tick_log_after_dashdash_under_one_of_the_scripts_outputs_is_refused_naming_both(tmp_path):
+    # --tick-log ob3/truth.csv was written by firmware_sim, then replaced by the truth CSV (exit 0, the log lost)
+    (tmp_path / "ob3").mkdir()
+    (tmp_path / "ob3" / "truth.csv").write_text("precious\n")
+    (tmp_path / "lnk").symlink_to("ob3")
+    run_args = ("--duration", "0.2", "--out", "ob3", "--no-plot", "--")
+    png = tmp_path / "ob3" / "bench.png"
+    truth = "the same file as the output truth.csv in --out (ob3/truth.csv)"
+    for tick, says in ((["--tick-log", "ob3/truth.csv"], truth),
+                       (["--tick-log=./ob3/controller.txt"],
+                        "the same file as the output controller.txt in --out (ob3/controller.txt)"),
+                       (["--tick-log", "ob3/../ob3/firmware.txt"],
+                        "the same file as the output firmware.txt in --out (ob3/firmware.txt)"),
+                       (["--tick-log", "lnk/truth.csv"], truth),  # a link in the path
+                       (["--tick-log", png], "the same file as the output bench.png in --out"),
+                       (["--tick-log", "ob3/bench.lcmlog"], "the same file as the output bench.lcmlog in --out"),
+                       (["--tick-log", "ob3/bench_ticks.csv"], "the name of an output in --out (ob3/bench_*.csv"),
+                       (["--tick-log", "ob3/"], "the same file as the output folder --out (ob3)")):
+        given = str(tick[-1]).split("=", 1)[-1]
+        refused_fast(f"run_hil_bench.sh: --tick-log {given} (after --): {says}", *run_args, *tick, cwd=tmp_path)
+    assert files(tmp_path / "ob3") == {"truth.csv": b"precious\n"}
+    # a tick log beside the outputs under a name of its own is the user's, kept
+    p = run(*run_args, "--tick-log", "ob3/ticks.csv", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert sorted(os.listdir(tmp_path / "ob3")) == ["controller.csv", "controller.txt", "firmware.txt", "ticks.csv",
+                                                    "truth.csv"]
+
+
+def test_a_tick_log_after_dashdash_that_is_an_input_or_given_twice_is_refused_before_anything_runs(tmp_path):
+    # firmware_sim refused these itself, but only in the run, after the controller had started
+    (tmp_path / "ob").mkdir()
+    (tmp_path / "sc.yaml").write_bytes((SOURCE / "tools" / "scenes" / "paper_clearance.yaml").read_bytes())
+    (tmp_path / "f.yaml").write_bytes((SOURCE / "tools" / "faults" / "demo.yaml").read_bytes())
+    run_args = ("--duration", "0.2", "--scene", "sc.yaml", "--out", "ob", "--no-plot", "--")
+    refused_fast("run_hil_bench.sh: --tick-log ./sc.yaml (after --): the same file as the input --scene sc.yaml",
+                 *run_args, "--tick-log", "./sc.yaml", cwd=tmp_path)
+    refused_fast("run_hil_bench.sh: --tick-log f.yaml (after --): the same file as the input --faults (after --) "
+                 f"{tmp_path / 'f.yaml'}", *run_args, "--tick-log", "f.yaml", "--faults", "f.yaml", cwd=tmp_path)
+    refused_fast(f"run_hil_bench.sh: --tick-log {CONTROLLER_CONFIG} (after --): the same file as the input --config",
+                 *run_args, "--tick-log", CONTROLLER_CONFIG, cwd=tmp_path)
+    refused_fast("run_hil_bench.sh: --tick-log after --: given twice (t.csv, ./t.csv)",
+                 *run_args, "--tick-log", "t.csv", "--tick-log", "./t.csv", cwd=tmp_path)
+    assert sorted(os.listdir(tmp_path)) == ["f.yaml", "ob", "sc.yaml"] and not os.listdir(tmp_path / "ob")
+
+
+def test_a_value_that_is_a_flag_is_a_missing_value_and_a_name_with_one_dash_is_a_name(tmp_path):
+    # --out --no-plot ended in dirname's "unrecognized option '--no-plot'" (exit 1)
+    for args, says in ((["--out", "--no-plot"], "--out: needs a value, got the flag --no-plot"),
+                       (["--out", "--log", "--no-plot"], "--out: needs a value, got the flag --log"),
+                       (["--scene", "--out", "x"], "--scene: needs a value, got the flag --out"),
+                       (["--config", "--"], "--config: needs a value, got the flag --"),
+                       (["--out", "o", "--", "--tick-log", "--faults", "f.yaml"],
+                        "--tick-log after --: needs a value, got the flag --faults")):
+        p = run("--duration", "0.2", *args, cwd=tmp_path)
+        assert p.returncode == 2 and f"run_hil_bench.sh: {says}" in p.stderr, (args, p.stderr)
+        assert "dirname" not in p.stderr and "realpath" not in p.stderr, p.stderr
+    assert not os.listdir(tmp_path)
+    # -res is a legal folder name (and -sc.yaml a file's): a name, never an option of dirname, cd or realpath
+    (tmp_path / "-sc.yaml").write_bytes((SOURCE / "tools" / "scenes" / "paper_clearance.yaml").read_bytes())
+    p = run("--duration", "0.2", "--no-plot", "--out", "-res", "--scene", "-sc.yaml", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert sorted(os.listdir(tmp_path / "-res")) == ["controller.csv", "controller.txt", "firmware.txt", "truth.csv"]

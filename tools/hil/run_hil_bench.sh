@@ -21,9 +21,15 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 MODE=lockstep DURATION=8 SCENE="$ROOT/tools/scenes/paper_clearance.yaml" CONFIG="$ROOT/controllers/config/default.yaml"
 RATE=1000 LOG=0 OUT="$ROOT/out/bench" OUT_GIVEN=0 PLOT=1 PORT=7667 EXTRA=()
 usage() { sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
-value() {  # value FLAG ARGS...: the flag's value, refused (exit 2) naming FLAG when missing or empty, not set -u's exit 1
+# value FLAG ARGS...: the flag's value, refused (exit 2) naming FLAG when missing or empty (not set -u's exit 1),
+# and when it is another flag: `--out --no-plot` lost the flag, then dirname took '--no-plot' as its option
+# (exit 1). A value that starts with one - is a value (`--out -res` is the folder -res, `--duration -1` a
+# number refused as such); one that starts with -- is taken for a flag: a folder of that name is ./--name.
+value() {
   [ $# -ge 2 ] || { echo "run_hil_bench.sh: $1: needs a value" >&2; exit 2; }
   [ -n "$2" ] || { echo "run_hil_bench.sh: $1: an empty value" >&2; exit 2; }
+  case "$2" in --*) echo "run_hil_bench.sh: $1: needs a value, got the flag $2 (a file or folder of that name: ./$2)" >&2
+                    exit 2 ;; esac
 }
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -43,6 +49,9 @@ while [ $# -gt 0 ]; do
   esac
   shift
 done
+# A path that starts with - is a name, not an option, for every program it is handed to (dirname, cd, mkdir,
+# pointing_controller's positional config): written ./-name from here on, in messages too.
+for v in SCENE CONFIG OUT; do case "${!v}" in -*) printf -v "$v" '%s' "./${!v}" ;; esac; done
 # Numbers are checked here, as given: the period 1/--rate and the URL derived from them would be blamed otherwise.
 number() {  # number FLAG VALUE LO HI: a plain decimal number in [LO, HI], else refused naming FLAG
   [[ "$2" =~ ^-?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$ ]] ||
@@ -89,7 +98,7 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
     exit "$c"
   fi
   # Its own folder is made (the default out/bench included), never the ones above it (usage.md "Output files").
-  parent="$(dirname "$OUT")"
+  parent="$(dirname -- "$OUT")"
   [ "$OUT_GIVEN" = 0 ] || [ -d "$parent" ] || { echo "run_hil_bench.sh: --out $OUT: the folder it goes in, $parent, does not exist (create it first)" >&2; exit 2; }
   # --out itself: a folder, never a link to one or a file (usage.md "Output files")
   if [ -L "$OUT" ] || { [ -e "$OUT" ] && [ ! -d "$OUT" ]; }; then
@@ -105,6 +114,8 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
   # Arguments after -- are the user's: a flag the script sets itself is refused up front (firmware_sim's
   # "At Most 1" came only after the controller had started), naming what to use instead (docs/bench.md).
   inputs=("--scene" "$SCENE" "--config" "$CONFIG")
+  outs=()   # the outputs the user names after -- (label, absolute path): the --tick-log
+  files=()  # every file flag after -- (flag, as given, absolute path)
   for ((i = 0; i < ${#EXTRA[@]}; i++)); do
     a=${EXTRA[i]%%=*} v='' eq=0
     [ "$a" = "${EXTRA[i]}" ] || { v=${EXTRA[i]#*=} eq=1; }
@@ -119,16 +130,26 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
     [ -z "$use" ] || { echo "run_hil_bench.sh: $a after --: the script sets it for firmware_sim: $use; nothing run" >&2; exit 2; }
     # The files firmware_sim reads or writes are the user's paths, read where the user stands (the run
     # itself is in a folder inside --out): made absolute here, and an input is checked before anything runs.
+    # A value that starts with -- is a flag, as before -- (firmware_sim's parser reads it so too); one that
+    # starts with a single - is a name, made absolute like every other.
     case "$a" in --faults | --tick-log) ;; *) continue ;; esac
     if [ "$eq" = 0 ]; then
       [ $((i + 1)) -lt ${#EXTRA[@]} ] || { echo "run_hil_bench.sh: $a after --: needs a value" >&2; exit 2; }
       i=$((i + 1)) v=${EXTRA[i]}
+      case "$v" in --*) echo "run_hil_bench.sh: $a after --: needs a value, got the flag $v (a file of that name: ./$v)" >&2
+                        exit 2 ;; esac
     fi
     [ -n "$v" ] || { echo "run_hil_bench.sh: $a after --: an empty value" >&2; exit 2; }
     given=$v
     case "$v" in /*) ;; *) v="$PWD/$v" ;; esac
     if [ "$eq" = 1 ]; then EXTRA[i]="$a=$v"; else EXTRA[i]=$v; fi
-    [ "$a" = --faults ] || continue
+    # firmware_sim takes each once ("At Most 1" only in the run, after the controller had started)
+    for ((j = 0; j < ${#files[@]}; j += 3)); do
+      [ "${files[j]}" != "$a" ] || { echo "run_hil_bench.sh: $a after --: given twice (${files[j + 1]}, $given);" \
+                                           "firmware_sim takes one; nothing run" >&2; exit 2; }
+    done
+    files+=("$a" "$given" "$v")
+    if [ "$a" = --tick-log ]; then outs+=("$a $given (after --)" "$v"); continue; fi
     why=
     if [ ! -e "$v" ]; then why="no such file"; elif [ ! -f "$v" ]; then why="not a regular file"
     elif [ ! -r "$v" ]; then why="not readable"; fi
@@ -147,12 +168,39 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
       fi
     done
   done
+  # An output named after -- (the --tick-log: firmware_sim writes it itself, at the end of the run, where the
+  # user said) is compared with every output the script writes, with --out itself and with every input,
+  # resolved (realpath -m: links in the path, ./ and .. count; a file need not exist yet) or the same file (-ef:
+  # a hard link counts); a second one, the same file or not, was refused above as given twice, naming both.
+  # A --tick-log ob3/truth.csv was written, then replaced by the truth CSV (exit 0); a bench_*.csv in --out
+  # is a name the script's log2csv writes and whose previous files a run removes.
+  same() { [ "$(realpath -m -- "$1")" = "$(realpath -m -- "$2")" ] || [ "$1" -ef "$2" ]; }
+  mine=("the output folder --out" "$OUT")
+  for f in "${OUTPUTS[@]}"; do mine+=("the output $f in --out" "$OUT/$f"); done
+  out_r=$(realpath -m -- "$OUT")
+  for ((k = 0; k < ${#outs[@]}; k += 2)); do
+    o=${outs[k + 1]} clash=
+    for ((j = 0; j < ${#mine[@]}; j += 2)); do
+      ! same "$o" "${mine[j + 1]}" || { clash="the same file as ${mine[j]} (${mine[j + 1]})"; break; }
+    done
+    o_r=$(realpath -m -- "$o")
+    if [ -z "$clash" ] && [ "$(dirname -- "$o_r")" = "$out_r" ]; then
+      case "$(basename -- "$o_r")" in
+        bench_*.csv) clash="the name of an output in --out ($OUT/bench_*.csv: the LCM log's CSVs with --log;"
+                     clash+=" a run removes the previous run's)" ;;
+      esac
+    fi
+    for ((j = 0; j < ${#inputs[@]} && ${#clash} == 0; j += 2)); do
+      ! same "$o" "${inputs[j + 1]}" || clash="the same file as the input ${inputs[j]} ${inputs[j + 1]}; not overwritten"
+    done
+    [ -z "$clash" ] || { echo "run_hil_bench.sh: ${outs[k]}: $clash; nothing run" >&2; exit 2; }
+  done
   # A folder made for this run goes again if the run does not end well (a refused run leaves nothing).
   [ "$OUT_GIVEN" = 1 ] || mkdir -p "$parent"  # the default out/bench: out/ is the project's
   if [ ! -d "$OUT" ]; then mkdir "$OUT" && export GIMBALSIM_BENCH_MADE_OUT=1; fi
   OUT="$(cd "$OUT" && pwd)"
   export GIMBALSIM_BUILD="$BUILD"
-  SCENE="$(realpath "$SCENE")" CONFIG="$(realpath "$CONFIG")"
+  SCENE="$(realpath -- "$SCENE")" CONFIG="$(realpath -- "$CONFIG")"
   export GIMBALSIM_BENCH_INSIDE=1
   args=(--duration "$DURATION" --scene "$SCENE" --config "$CONFIG" --rate "$RATE" --out "$OUT" --port "$PORT")
   [ "$MODE" = realtime ] && args+=(--realtime)
