@@ -46,7 +46,8 @@ constexpr int kExitStopped = program::kStopped;  // a plant stopped (results sti
 struct Study {
   std::string label;        ///< column name: "ideal", "c=0.25mm" (one clearance scene), "paper_spatial2_c=0.25mm"
   std::string scene;        ///< scene name
-  std::string sensors;      ///< "perfect" (the scene's sensors) or "realistic" (kRealisticSensors)
+  std::string sensors;      ///< "perfect" (the scene's sensors), "realistic" (kRealisticSensors) or "tracker" (kTrackerSensors)
+  std::string loop_sensors; ///< what the controller closed its loop on (loopSensors)
   double clearance = 0.0;   ///< [m], 0 for the ideal joint
   std::vector<double> err;  ///< truth pointing error per tick [rad]
   double peak_track = 0.0, rms_track = 0.0, peak_run = 0.0;  ///< the track's: NaN with track_reason if not reached
@@ -71,9 +72,17 @@ struct Study {
 const std::vector<std::string> kRealisticSensors{"sensors.star_tracker_noise=2e-5",
                                                  "sensors.gyro_bias=[5.7735e-6, 5.7735e-6, 5.7735e-6]"};
 
-/// What the loop closes on (every run): the joint encoders and rates and the
-/// base's gyro and star tracker; nothing on the antenna.
-constexpr const char* kLoopSensors = "encoders+base attitude";
+/// The tracker case: the perfect sensors plus the antenna's own (noise 0,
+/// tools/scenes/paper_spatial2_tracker.yaml's), which the default controller
+/// closes its loop on (docs/MODEL.md 11.7).
+const std::vector<std::string> kTrackerSensors{"sensors.antenna=tracker_gyro"};
+
+/// What the loop closes on: the joint encoders and rates and the base's gyro
+/// and star tracker, and the antenna's tracker and gyro when the plant has
+/// them and the controller uses them (antenna.tracker).
+std::string loopSensors(const firmware::PlantScene& ps, const ControllerConfig& c) {
+  return ps.sensors.antenna_sensors && c.antenna.use_tracker ? "encoders+base attitude+antenna" : "encoders+base attitude";
+}
 
 /// A CSV number (io::appendCsvNumber: round trip, no -0).
 std::string csvNum(double x) {
@@ -103,6 +112,7 @@ std::string clearanceLabel(double c) {
 
 /// The scene key of the limit that stopped a run, from its status (never its message's text).
 std::string stopKey(const firmware::ClosedLoopResult& r) {
+  if (r.none_accepted) return "commands_rejected";
   if (r.stop_status == StepStatus::Ok) return "refused";
   return *limitKey(r.stop_status) ? limitKey(r.stop_status) : "non_finite";
 }
@@ -112,9 +122,9 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   Study s;
   s.label = std::move(label);
   s.scene = ps.scene.model.name;
-  if (r.none_accepted) return "commands_rejected";
   s.joints = std::string(kindName(ps.scene.model.joint1_kind)) + "/" + kindName(ps.scene.model.joint2_kind);
   s.sensors = std::move(sensors);
+  s.loop_sensors = loopSensors(ps, c);
   s.clearance = clearance;
   PointingController controller(c);
   const firmware::ClosedLoopResult r = firmware::runClosedLoop(ps, controller, c.profile, opt,
@@ -178,7 +188,7 @@ std::string summaryCsv(const std::vector<Study>& runs) {
            num(s.rms_track) + num(s.peak_run) + std::to_string(s.track_ticks) + "," +
            std::to_string(s.controller_limited_ticks) + "," + std::to_string(s.motor_limited_ticks) + "," +
            text(s.joints) + num(s.max_tilt[0]) + num(s.max_tilt[1]) + num(s.play_onset[0]) + num(s.play_onset[1]) +
-           text(kLoopSensors) +
+           text(s.loop_sensors) +
            text(s.ok ? std::string("ok") : "stop:" + s.stop_key) + text(s.reason) + text(s.track_reason) +
            io::csvTextCell(s.onset_reason) + "\n";
   }
@@ -214,8 +224,9 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--out", out_dir, "output directory (the last one given counts)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.add_option("--sensors", sensors,
-                 "perfect (the scene's), realistic (star tracker 2e-5 rad, gyro bias 1e-5 rad/s) or both")
-      ->check(CLI::IsMember({"perfect", "realistic", "both"}))
+                 "perfect (the scene's), realistic (star tracker 2e-5 rad, gyro bias 1e-5 rad/s), tracker (perfect "
+                 "with the antenna's tracker and gyro, noise 0), both (perfect and realistic) or all three")
+      ->check(CLI::IsMember({"perfect", "realistic", "tracker", "both", "all"}))
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast)  // the last one given counts, as for --out
       ->capture_default_str();
   app.add_flag("--quick", quick, "smoke run: track start + 0.5 s, clearances 0.25 and 0.5 mm (unless given)");
@@ -251,7 +262,8 @@ int mainImpl(int argc, char** argv) {
     return refuse("--config/--set", "configuration refused:" + why);
   }
   std::vector<std::string> cases{"perfect", "realistic"};
-  if (sensors != "both") cases = {sensors};
+  if (sensors == "all") cases.push_back("tracker");
+  else if (sensors != "both") cases = {sensors};
   // Overrides named as the user gave them: --sensors, --scene-set #k, or --clearances (not "--set #k").
   std::vector<std::string> labels;
   try {
@@ -261,6 +273,9 @@ int mainImpl(int argc, char** argv) {
       if (sensor_case == "realistic") {
         base = kRealisticSensors;
         for (const std::string& kv : base) labels.push_back("--sensors realistic '" + kv + "'");
+      } else if (sensor_case == "tracker") {
+        base = kTrackerSensors;
+        for (const std::string& kv : base) labels.push_back("--sensors tracker '" + kv + "'");
       }
       for (std::size_t k = 0; k < scene_sets.size(); ++k) {
         base.push_back(scene_sets[k]);
@@ -301,6 +316,11 @@ int mainImpl(int argc, char** argv) {
     }
   }
 
+  for (const auto& sc : scenes) {  // refused before any run: a period the plant cannot tick at
+    if (const std::string why = firmware::controlPeriodProblem(sc.scene, cfg.period); !why.empty()) {
+      return refuse("--config/--set", why + " (run " + sc.label + ")");
+    }
+  }
   firmware::ClosedLoopOptions opt;
   const double track_start = cfg.profile.trackStart();
   opt.duration = duration > 0.0 ? duration : track_start + (quick ? 0.5 : 5.0);
@@ -315,11 +335,6 @@ int mainImpl(int argc, char** argv) {
     std::fprintf(stderr, "gimbalsim_pointing_study: cannot create %s: %s\n", out_dir.c_str(),
                  ec.message().c_str());
     return kExitWrite;
-  }
-  for (const auto& sc : scenes) {  // refused before any run: a period the plant cannot tick at
-    if (const std::string why = firmware::controlPeriodProblem(sc.scene, cfg.period); !why.empty()) {
-      return refuse("--config/--set", why + " (run " + sc.label + ")");
-    }
   }
   const std::filesystem::path dir(out_dir);
   if (!(opt.duration / cfg.period <= 1e9)) {

@@ -2,7 +2,7 @@
 """docs/results/closed_loop_clearance.md from a gimbalsim_pointing_study run
 (called by tools/pointing_study/run_pointing_study.sh --results): the truth
 pointing error in closed loop, ideal joint against each clearance scene and
-clearance, perfect and realistic sensors, and which bearing dominates, from
+clearance, perfect, realistic and tracker sensors, and which bearing dominates, from
 DIR's summary.csv, config.txt and the tool's log.
 
     /usr/bin/python3 tools/pointing_study/pointing_page.py --dir out/pointing_study --command CMD [--t0 T --load0 L]
@@ -48,7 +48,8 @@ def main():
           "(`contact.clearance`, every clearance bearing of the scene), same profile and duration; the truth pointing "
           "error (boresight against the target's line of sight, inertial) every tick. Sensors: perfect (the scene's: "
           "no noise, encoders quantised) and, where listed, realistic (star tracker noise 2e-5 rad per axis, gyro "
-          "bias 1e-5 rad/s: the pointing budget's upper bounds). "
+          "bias 1e-5 rad/s: the pointing budget's upper bounds) and tracker (perfect, with the antenna's own "
+          "boresight tracker and gyro, noise 0, which the controller closes its loop on: docs/MODEL.md 11.7). "
           f"{setup[0].upper() + setup[1:] if setup else ''}.", ""]
     # Which bearing dominates: RMS while tracking at the largest clearance, per scene and sensors.
     c_max = max((float(r["clearance_m"]) for r in rows), default=0.0)
@@ -87,7 +88,8 @@ def main():
         md += [f"In {len(guarded)} of the {len(rows)} runs the controller saw a play and stepped that axis on its "
                "backlash guard's gains from the time given (docs/MODEL.md section 11.5; `-`: never): "
                + ", ".join(sorted({r['scene'] for r in guarded})) + ". Loop sensors: what the controller closes "
-               "on (encoders: the joint encoders and rates; base attitude: the gyro and star tracker).", ""]
+               "on (encoders: the joint encoders and rates; base attitude: the gyro and star tracker; antenna: its "
+               "boresight tracker and gyro).", ""]
     md += ["| run | scene | sensors | loop sensors | clearance [mm] | peak while tracking [rad] "
            "| RMS while tracking [rad] | peak over the run [rad] | peak / ideal | RMS / ideal "
            "| torque at its limit [ticks] | largest tilt, joint 1 / 2 [rad] | guard from, az / el [s] | plant |",

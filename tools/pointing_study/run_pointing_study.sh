@@ -1,6 +1,6 @@
 #!/bin/bash
 # Closed-loop pointing error against bearing clearance (elevation, azimuth,
-# both; planar and spatial; perfect and realistic sensors): builds
+# both; planar and spatial; perfect, realistic and antenna-tracker sensors): builds
 # gimbalsim_pointing_study (configuring build/ if needed), runs it and plots.
 # Arguments go to the tool (e.g. --clearances 0.2e-3,0.5e-3 --duration 6
 # --set KEY=VALUE --scene-set KEY=VALUE --out DIR). BUILD_DIR overrides build/.
@@ -30,7 +30,7 @@ status=0
 mkdir -p "$OUT"
 # The default --out first: a --out among the arguments comes later and counts.
 # Clearance in the elevation joint, the azimuth joint, both; planar and spatial;
-# perfect and realistic sensors. A --clearance-scene or --sensors among the
+# perfect, realistic and tracker sensors. A --clearance-scene or --sensors among the
 # arguments replaces these (CLI11 keeps the last --sensors; --clearance-scene
 # lists add up, so the defaults are given only when none is).
 scenes=()
@@ -41,7 +41,7 @@ case " ${args[*]-} " in
      done ;;
 esac
 "$BUILD/bin/gimbalsim_pointing_study" --out "$OUT" --ideal-scene "$ROOT/tools/scenes/paper_ideal.yaml" \
-  --sensors both ${scenes[@]+"${scenes[@]}"} ${args[@]+"${args[@]}"} | tee "$OUT/study.log" || status=$?
+  --sensors all ${scenes[@]+"${scenes[@]}"} ${args[@]+"${args[@]}"} | tee "$OUT/study.log" || status=$?
 # Exit 3: a plant stopped; the results of the other runs are still written and plotted.
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
 /usr/bin/python3 "$ROOT/tools/pointing_study/plot_pointing_study.py" "$OUT"
