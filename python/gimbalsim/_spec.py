@@ -41,7 +41,9 @@ class Spec:
     sweep's working directory, where its relative paths fell back to), then
     the current directory."""
 
-    def __init__(self, path, folder=None, workdir=None):
+    def __init__(self, path, folder=None, workdir=None, text=None):
+        if text is not None:  # a spec derived from the file's own text (gimbalsim.allocate): its lines are the file's
+            data = text.encode("utf-8")
         self.path = pathlib.Path(path)
         self.folder = pathlib.Path(folder) if folder is not None else self.path.parent
         self.workdir = pathlib.Path(workdir) if workdir else None
@@ -53,7 +55,8 @@ class Spec:
                 raise SpecError(f"{kind}; expected a spec file", file=str(path))
             if st.st_size > MAX_SPEC_BYTES:
                 raise SpecError(f"larger than {MAX_SPEC_BYTES} bytes", file=str(path))
-            data = self.path.read_bytes()
+            if text is None:
+                data = self.path.read_bytes()
         except OSError as e:
             raise SpecError(f"cannot open spec file: {e.strerror}", file=str(path)) from None
         try:

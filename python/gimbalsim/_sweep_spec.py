@@ -47,8 +47,9 @@ class SweepSpec:
     """A checked sweep spec: the base scene (file + set), the design, and a
     fingerprint that a resume must match."""
 
-    def __init__(self, path, folder=None, workdir=None):
-        spec = Spec(path, folder, workdir)  # where its paths are read from (a replay's copy: the original's)
+    def __init__(self, path, folder=None, workdir=None, text=None):
+        # where its paths are read from (a replay's copy: the original's); text: the spec's source, else the file's
+        spec = Spec(path, folder, workdir, text)
         spec.check_keys({"scene", "set", "samples", "seed", "parameters", "grid", "controller", "controller_set",
                          "phases", "indices"})
         root = spec.root.value
@@ -126,8 +127,8 @@ class SweepSpec:
             for trial in p.trials():
                 ctrl = {k[len(CONTROLLER_PREFIX):]: v for k, v in trial.items() if k.startswith(CONTROLLER_PREFIX)}
                 scene = {k: v for k, v in trial.items() if not k.startswith(CONTROLLER_PREFIX)}
-                if ctrl:
                 note = p.end_note(trial[p.key])  # a normal's tail: which one
+                if ctrl:
                     self.closed.load(spec, f"parameters.{p.key}", ctrl, p.node, note=note)
                 if scene and not self._refused_alone(scene, p):  # a within key's own value: refused at its line
                     self._try(spec, f"parameters.{p.key}", scene, p.node,
@@ -173,11 +174,11 @@ class SweepSpec:
             fixed += [(f"controller_set.{k}", CONTROLLER_PREFIX + k, n) for k, n in self.closed.set_nodes.items()]
         refuse_idle_set(spec, fixed, values, dispersed_keys, takes, self.closed is not None, "this sweep's runs")
 
-    def _refused_alone(self, overrides, p):
     def _plant(self, overrides):
         """Scene overrides as a sample's scene is loaded with them (_closed_sample.load_sample)."""
         return overrides if self.closed is None else plant_overrides(overrides)
 
+    def _refused_alone(self, overrides, p):
         """Whether the scene refuses the values of `overrides` other than p's own (a disk's within key)."""
         rest = {k: v for k, v in overrides.items() if k != p.key}
         try:

@@ -87,7 +87,10 @@ def output_paths(spec, out):
     return [out / n for n in names] + [out / PLOTS / n for n in plots]
 
 
-def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, progress=True, until=None):
+def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, progress=True, until=None,
+          cluster=None):
+    """Runs spec into out; cluster: a (client, workers) already open (gimbalsim.allocate keeps one for
+    all its sweeps), else one is started (--workers) or reached (--scheduler) here."""
     header = spec.csv_header()
     inputs = spec.input_files()
     write = lambda path, text: write_text(path, text, inputs)  # noqa: E731
@@ -111,7 +114,8 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         # A named scheduler is reached before anything is written: one that does not answer (exit 6) leaves
         # --out as it was, not a journal the next run would want resumed. The local cluster starts for the
         # first sample to run; either is kept for every round of --until.
-        cluster = stack.enter_context(_cluster.dask_client(None, scheduler)) if scheduler else None
+        if cluster is None and scheduler:
+            cluster = stack.enter_context(_cluster.dask_client(None, scheduler))
         try:
             out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
         except OSError as e:

@@ -1,0 +1,154 @@
+"""Tolerance allocation, the inverse question of a pointing budget: the
+largest (or smallest) value of one design key at which a requirement holds
+at its level with its confidence, with the evidence at every value tried.
+
+    python3 -m gimbalsim.allocate SPEC.yaml --out DIR [--workers N | --scheduler tcp://HOST:PORT] [--resume]
+
+SPEC is a closed-loop sweep spec (scene, set, controller, samples, seed,
+parameters, phases, indices) with an `allocate:` section (_allocate_spec.py;
+docs/python.md "Tolerance allocation"). Each value tried is one sweep of the
+spec with the key set to it, in DIR/values/<tried>/ (results.csv, report.md,
+a --replay of any unit), over the same units: every other key has the same
+draws at every value (common random numbers). The search scans the range,
+then bisects the bracket (_allocate_search.py); each value's verdict is
+indices.requirement_verdict over every unit drawn (one without a figure
+counts as worst), its quantile and interval indices.quantile_bound.
+
+Writes DIR/allocation.json (the bracket or why there is none, each value's
+verdict and bound, where the index is not monotone, the runs used),
+DIR/allocation.csv (the table), DIR/allocation.md and DIR/allocation.png.
+--resume finishes an interrupted allocation: finished values are read back,
+not run; an interrupted one resumes its sweep's journal.
+Exit codes (docs/usage.md "Exit codes"): 0 a bracket, or every value
+meets (the limit lies beyond the range: said so); 3 no bracket: no value of
+the range meets the requirement, or the favourable end fails while a value
+further on meets (outputs written, the best value tried); 2 spec refused; 4 an
+output not written; 6 the --scheduler did not answer; 130 / 143 interrupted
+(finished values kept: --resume).
+"""
+import argparse
+import contextlib
+import csv
+import pathlib
+import sys
+
+import gimbalsim
+from . import _cluster
+from ._allocate_report import CSV, JSON, PAGE, PLOT, _text, record, write
+from ._allocate_search import next_value, outcome
+from ._allocate_spec import AllocationSpec
+from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
+from ._journal import JOURNAL
+from ._output import OutputRefused, output_set, write_text
+from ._spec import check_out_dir, check_outputs_not_inputs
+from .sweep import FINGERPRINT as SWEEP_FINGERPRINT, RESULTS, sweep
+
+FINGERPRINT, VALUES = "allocation_spec.json", "values"
+
+
+def _held(path):
+    try:
+        return path.read_text()
+    except (OSError, UnicodeDecodeError) as e:
+        raise SpecError(f"{path}: cannot read it ({e}); --resume needs the spec it names")
+
+
+def _rows(sub, folder):
+    """A finished value's rows, as its sweep wrote results.csv."""
+    path = folder / RESULTS
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            rows = list(csv.reader(f))
+    except (OSError, UnicodeDecodeError, csv.Error) as e:
+        raise SpecError(f"{path}: cannot read it ({e}); move {folder} away and run again with --resume")
+    if not rows or rows[0] != sub.csv_header():
+        raise SpecError(f"{path}: not the results of this value's sweep (its header differs); move {folder} away "
+                        "and run again with --resume")
+    return rows[1:]
+
+
+def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, progress=True):
+    """Runs the search of a (an AllocationSpec) into out; (result, lines, runs, ran)."""
+    inputs = a.input_files()
+    fingerprint = out / FINGERPRINT
+    if resume:
+        if fingerprint.exists() and _held(fingerprint) != a.fingerprint:
+            raise SpecError(f"{out} holds an allocation of another spec; --resume needs the same spec")
+    elif fingerprint.exists() or (out / VALUES).exists():
+        raise SpecError(f"{out} already holds an allocation: give --resume to finish it, or another --out")
+    check_outputs_not_inputs([out / n for n in (FINGERPRINT, VALUES, CSV, JSON, PAGE, PLOT)], inputs)
+    tried, runs, ran = {}, 0, 0
+    with contextlib.ExitStack() as stack:
+        # One cluster for every value's sweep (a local one starts for the first value to run).
+        cluster = stack.enter_context(_cluster.dask_client(None, scheduler)) if scheduler else None
+        try:
+            out.mkdir(exist_ok=True)
+            (out / VALUES).mkdir(exist_ok=True)
+        except OSError as e:
+            raise OutputError(f"cannot make the folder {out / VALUES}: {e.strerror}") from None
+        write_text(fingerprint, a.fingerprint, inputs)
+        while (value := next_value(a, tried)) is not None:
+            k = len(tried)
+            folder, sub = out / VALUES / str(k), a.sweep_at(value)
+            held = folder / SWEEP_FINGERPRINT
+            if held.exists() and _held(held) != sub.fingerprint:  # the search asks another value than ran there
+                raise SpecError(f"{folder} holds a sweep at another value than {a.key} = {a.value_text(value)}, "
+                                "which the search now asks for (the earlier values' results differ from this run's: "
+                                "another build or machine?); use another --out")
+            finished = (folder / RESULTS).exists() and not (folder / JOURNAL).exists() and held.exists()
+            if not finished:
+                print(f"allocate: value {k + 1} of at most {a.values}: {a.key} = {a.value_text(value)}",
+                      file=sys.stderr)
+                if cluster is None:
+                    cluster = stack.enter_context(_cluster.dask_client(workers, None))
+                s = sweep(sub, folder, resume=resume, batch=batch, progress=progress, cluster=cluster)
+                ran += s["engine"].get("ran_this_invocation", 0)
+            rows = _rows(sub, folder)
+            runs += len(rows)
+            tried[value] = r = record(a, sub, rows, value, k)
+            print(f"allocate: {a.key} = {a.value_text(value)}{' (read back)' if finished else ''}: "
+                  f"{'PASS' if r['passed'] else 'FAIL'}, {r['n_meeting']}/{r['n']} units meet "
+                  f"{a.requirement:.4g} rad, quantile {_text(r['estimate'])}, upper bound {_text(r['upper'])}",
+                  file=sys.stderr)
+            _cluster.raise_if_interrupted()
+    result = outcome(a, tried)
+    with output_set():
+        lines = write(a, tried, result, runs, ran, out, inputs, gimbalsim._gimbalsim.csv_name)
+    return result, lines, runs, ran
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="python3 -m gimbalsim.allocate", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--version", action="version", version="gimbalsim.allocate " + gimbalsim.__version__)
+    ap.add_argument("spec", help="allocation spec (YAML): a closed-loop sweep spec with an allocate: section")
+    ap.add_argument("--out", type=_cluster.path_text, required=True, help="output directory")
+    _cluster.add_cluster_arguments(ap)
+    ap.add_argument("--resume", action="store_true", help="finish an interrupted allocation in --out")
+    ap.add_argument("--batch", type=_cluster.whole_number, default=None,
+                    help="samples per task (default: about 8 tasks per worker, at most 10)")
+    ap.add_argument("--no-progress", action="store_true", help="no progress bar")
+    a = ap.parse_args(argv)
+    if a.batch is not None and not 1 <= a.batch <= 10_000_000:
+        ap.error("--batch must be in [1, 10000000]")
+    _cluster.raise_on_signals()
+    out = pathlib.Path(a.out)
+    kept = f"finished values kept in {out / VALUES}"
+    return guarded_main("allocate", lambda: _run(a, out), {
+        OutputRefused: lambda e: f"; {kept}: move it out of --out and run again with --resume",
+        OutputError: lambda e: f"; {kept}: free the space and run again with --resume",
+        Interrupted: lambda e: f": {kept}; run again with --resume to finish"})
+
+
+def _run(a, out):
+    check_out_dir(a.out, a.spec)
+    spec = AllocationSpec(a.spec)
+    result, lines, runs, ran = allocate(spec, out, a.workers, a.scheduler, a.resume, a.batch, not a.no_progress)
+    for line in lines:
+        print(f"allocate: {line}", file=sys.stderr)
+    print(f"allocate: table in {out / CSV}, plot in {out / PLOT}, answer in {out / JSON}", file=sys.stderr)
+    return EXIT_OK if result["bracket"] or result["outcome"] == "every_value_meets" else EXIT_STOPPED
+
+
+if __name__ == "__main__":
+    sys.exit(main())
