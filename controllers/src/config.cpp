@@ -80,7 +80,8 @@ std::vector<Key<ControllerConfig>> keys() {
                            [](auto& c) -> auto& { return c.gimbal.joint1_axis; }, nonZero()));
   v.push_back(K::vector<3>("gimbal.joint2_axis", "-", "elevation axis the controller assumes, shaft 1 frame",
                            [](auto& c) -> auto& { return c.gimbal.joint2_axis; }, nonZero()));
-  v.push_back(K::vector<3>("gimbal.boresight", "-", "antenna boresight the controller assumes, shaft 2 frame",
+  v.push_back(K::vector<3>("gimbal.boresight", "-",
+                           "antenna boresight the controller assumes, shaft 2 frame; not parallel to gimbal.joint2_axis",
                            [](auto& c) -> auto& { return c.gimbal.boresight; }, nonZero()));
   v.push_back(K::number("gimbal.azimuth_inertia_cos2", "kg m^2",
                         "elevation dependence C of the azimuth inertia the feed-forward assumes: J1(theta2) = "
@@ -159,6 +160,11 @@ void validate(const ControllerConfig& c, Given& g) {
   }
   const Vec3 k1 = c.gimbal.joint1_axis.normalized(), k2 = c.gimbal.joint2_axis.normalized();
   if (k1.cross(k2).norm() < 1e-6) g.refuse("gimbal.joint2_axis", "must not be parallel to gimbal.joint1_axis");
+  // The elevation joint cannot turn a boresight along its own axis (and the
+  // antenna tracker's elevation reading would mean nothing: tracker_fusion.cpp).
+  if (k2.cross(c.gimbal.boresight.normalized()).norm() < 1e-6) {
+    g.refuse("gimbal.boresight", "must not be parallel to gimbal.joint2_axis");
+  }
 }
 
 }  // namespace

@@ -73,7 +73,9 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
   // the tracker (zero without one) and the antenna's rate from its gyro.
   const Vec3 k1 = c.gimbal.joint1_axis.normalized(), k2 = c.gimbal.joint2_axis.normalized();
   const Vec3 bs = c.gimbal.boresight.normalized();
-  const std::int64_t tick = std::llround(meas.t / Ts);
+  // The status's tick (a hostile seq can make it huge: beyond 1e15 none, the tracker then unused).
+  const double tick_real = meas.t / Ts;
+  const std::int64_t tick = tick_real >= 0.0 && tick_real <= 1e15 ? std::llround(tick_real) : -1;
   out.load_offset = loadOffset(c.antenna, k1, k2, bs, s.fusion, tick, Ts, out.ref.q - meas.theta, meas.theta(1));
   Vec2 w_load = Vec2::Zero();
   const bool have_load_rate = loadRate(c.antenna, k1, k2, bs, s.fusion, tick, meas.theta, out.omega_B_est, w_load);

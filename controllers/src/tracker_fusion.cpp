@@ -40,7 +40,8 @@ Vec2 jointFromUV(const pointing::TrackerAxes& ax, const Vec3& k1_B, const Vec3& 
   const Vec3 k1_A = Eigen::AngleAxisd(-theta2, k2_S1) * k1_B;
   Eigen::Matrix2d m;
   m << ax.u.dot(k1_A), ax.u.dot(k2_S1), ax.v.dot(k1_A), ax.v.dot(k2_S1);
-  if (std::fabs(m(1, 0)) < kKeyholeLever) return {0.0, reading(0) / m(0, 1)};  // u.k2 = |k2 x b|, > 0
+  if (!(std::fabs(m(0, 1)) > 1e-6)) return Vec2::Zero();  // u.k2 = |k2 x b|: the configuration keeps it > 1e-6
+  if (std::fabs(m(1, 0)) < kKeyholeLever) return {0.0, reading(0) / m(0, 1)};
   return m.inverse() * reading;
 }
 }  // namespace

@@ -162,6 +162,9 @@ TEST(ControllerConfig, PointingKeysLoadAndAreChecked) {
   };
   EXPECT_NE(refused({"gimbal.joint2_axis=[0, 0, -1]"}).find("must not be parallel to gimbal.joint1_axis"),
             std::string::npos);
+  // A boresight along the elevation axis: no joint turns it in elevation (the tracker map divided by 0).
+  EXPECT_NE(refused({"gimbal.boresight=[0, -2, 0]"}).find("key 'gimbal.boresight': must not be parallel to gimbal.joint2_axis"),
+            std::string::npos);
   EXPECT_NE(refused({"pointing.fixed_direction=[0, 0, 0]"}).find("must be non-zero"), std::string::npos);
   // a length that overflows normalised to a zero vector, and the run ended "ok"
   EXPECT_NE(refused({"pointing.fixed_direction=[1e200, 1e200, 0]"}).find("each component within 1e12"),

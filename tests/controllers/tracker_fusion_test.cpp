@@ -61,6 +61,10 @@ TEST(TrackerFusion, TheAntennaGyroGivesARigidChainsJointRates) {
   EXPECT_NEAR(rate(0), dtheta(0), 1e-15);
   EXPECT_NEAR(rate(1), dtheta(1), 1e-15);
   EXPECT_FALSE(loadRate(use, k1, k2, bs, s, 8, theta, omega_B, rate)) << "no gyro sample of tick 8";
+  // A status tick beyond any run (a hostile seq: tick -1 from update()) records and takes nothing.
+  TrackerFusionState far = s;
+  EXPECT_EQ(loadOffset(TrackerFusionParams{}, k1, k2, bs, far, -1, 1e-3, Vec2(1.0, 1.0), 0.0), Vec2::Zero());
+  EXPECT_EQ(far.seq, s.seq);
   EXPECT_FALSE(loadRate(TrackerFusionParams{.use_tracker = false}, k1, k2, bs, s, 7, theta, omega_B, rate))
       << "antenna.tracker: ignore";
 }
