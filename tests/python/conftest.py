@@ -27,3 +27,20 @@ def run_cli(*args, check=True):
 @pytest.fixture
 def tmp(tmp_path):
     return tmp_path
+
+
+def spec_of(tmp_path, text, name="spec.yaml"):
+    """The sweep spec `text`, written to tmp_path/name and loaded."""
+    from gimbalsim.sweep import SweepSpec
+    (tmp_path / name).write_text(text)
+    return SweepSpec(tmp_path / name)
+
+
+def row_verdict(spec, row, **cells):
+    """A resume's verdict (_journal.check_row) on a journal row with cells (CSV names) replaced."""
+    from gimbalsim._journal import check_row
+    header = spec.csv_header()
+    row = list(row)
+    for name, text in cells.items():
+        row[header.index(name)] = text
+    return check_row(spec, row, len(header))

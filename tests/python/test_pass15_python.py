@@ -7,7 +7,7 @@ the empty and odd inputs the command line refuses (class 8)."""
 import numpy as np
 import pytest
 
-from conftest import SCENES
+from conftest import SCENES, row_verdict, spec_of
 
 OPEN = f"""
 scene: {SCENES}/paper_clearance.yaml
@@ -31,22 +31,6 @@ indices:
 """
 
 
-def spec_of(tmp_path, text, name="spec.yaml"):
-    from gimbalsim.sweep import SweepSpec
-    (tmp_path / name).write_text(text)
-    return SweepSpec(tmp_path / name)
-
-
-def why(spec, row, **cells):
-    """check_row's verdict on row with cells (CSV names) replaced."""
-    from gimbalsim._journal import check_row
-    header = spec.csv_header()
-    row = list(row)
-    for name, text in cells.items():
-        row[header.index(name)] = text
-    return check_row(spec, row, len(header))
-
-
 @pytest.fixture(scope="module")
 def open_row(tmp_path_factory):
     from gimbalsim._sample import sample_alone
@@ -67,19 +51,19 @@ def closed_row(tmp_path_factory):
                                     "ideal:ideal:sim.velocity_limit", "ok|ideal:ok"])
 def test_resume_drops_an_open_loop_ideal_status_the_sweep_never_writes(open_row, status):
     spec, row = open_row
-    assert why(spec, row) is None  # the row as written is trusted
+    assert row_verdict(spec, row) is None  # the row as written is trusted
     nan = {"pointing_error_max_rad": "nan", "pointing_error_final_rad": "nan"}
-    assert why(spec, row, status="ideal:sim.velocity_limit", **nan) is None  # a twin's stop: a shape it writes
-    assert why(spec, row, status="sim.velocity_limit|ideal:sim.max_substeps", **nan) is None
-    verdict = why(spec, row, status=status, **nan)
+    assert row_verdict(spec, row, status="ideal:sim.velocity_limit", **nan) is None  # a twin's stop: a shape it writes
+    assert row_verdict(spec, row, status="sim.velocity_limit|ideal:sim.max_substeps", **nan) is None
+    verdict = row_verdict(spec, row, status=status, **nan)
     assert verdict is not None and verdict.startswith("status is none the sweep writes"), verdict
 
 
 @pytest.mark.parametrize("index", ["00", "000", "+0", " 0", "0 "])
 def test_resume_drops_a_sample_index_not_written_as_the_sweep_writes_it(open_row, closed_row, index):
     for spec, row in (open_row, closed_row):
-        assert why(spec, row) is None
-        assert why(spec, row, sample=index) == "sample index outside the design", (index, spec.closed)
+        assert row_verdict(spec, row) is None
+        assert row_verdict(spec, row, sample=index) == "sample index outside the design", (index, spec.closed)
 
 
 def test_read_journal_drops_a_leading_zero_index(closed_row, tmp_path):
@@ -102,18 +86,18 @@ def test_read_journal_drops_a_leading_zero_index(closed_row, tmp_path):
 ])
 def test_resume_drops_a_closed_loop_stop_the_writer_never_writes(closed_row, status, reason):
     spec, row = closed_row
-    assert why(spec, row) is None
-    verdict = why(spec, row, status=status, reason=reason)
+    assert row_verdict(spec, row) is None
+    verdict = row_verdict(spec, row, status=status, reason=reason)
     assert verdict is not None and verdict.startswith(("status is none", "reason is not")), verdict
 
 
 def test_a_closed_loop_stop_as_the_writer_writes_it_is_kept(closed_row):
     spec, row = closed_row
     limit = "simulation stopped at t = 0.1 s: a velocity exceeded sim.velocity_limit (diverging)"
-    assert why(spec, row, status="sim.velocity_limit", reason=limit) is None
-    assert why(spec, row, status="non_finite", reason="non-finite truth_error at t = 0.1 s (tick 3)") is None
+    assert row_verdict(spec, row, status="sim.velocity_limit", reason=limit) is None
+    assert row_verdict(spec, row, status="non_finite", reason="non-finite truth_error at t = 0.1 s (tick 3)") is None
     # after the stop's message, the nan indices and only those
-    verdict = why(spec, row, status="sim.velocity_limit", reason=limit + " | ape_slew: why")
+    verdict = row_verdict(spec, row, status="sim.velocity_limit", reason=limit + " | ape_slew: why")
     assert verdict is not None and verdict.startswith("reason is not"), verdict
 
 
@@ -263,7 +247,7 @@ def test_a_closed_loop_sweep_changes_sim_step_by_set_and_grid(tmp_path, how):
         assert cells["status"] == "ok" and cells["t_end_s"] == "0.12", cells
         assert run.summary["ticks"] == 101
         assert not any("output_interval" in name for name in header)  # never recorded: the run does not read it
-        assert why(spec, row) is None  # a resume keeps it: the scene is loaded as the worker loads it
+        assert row_verdict(spec, row) is None  # a resume keeps it: the scene is loaded as the worker loads it
     # the interval itself is still a key the closed loop never reads: refused under set (a value the scene takes)
     text = STEP.replace("sim.substep: 2.0e-5}", "sim.substep: 2.0e-5, sim.output_interval: 2.0e-3}") + \
         "grid:\n  sim.step: [3.0e-4]\n"

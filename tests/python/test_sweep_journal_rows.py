@@ -13,7 +13,7 @@ import sys
 
 import pytest
 
-from conftest import SCENES
+from conftest import SCENES, row_verdict, spec_of
 
 OPEN = f"""
 scene: {SCENES}/paper_clearance.yaml
@@ -39,26 +39,10 @@ indices:
 """
 
 
-def spec_of(tmp_path, text):
-    from gimbalsim.sweep import SweepSpec
-    (tmp_path / "spec.yaml").write_text(text)
-    return SweepSpec(tmp_path / "spec.yaml")
-
-
 def rows_alone(spec, samples):
     """{sample: its row as the sweep writes it}, each run in this process."""
     from gimbalsim._sample import sample_alone
     return {i: sample_alone(spec, i)[0] for i in samples}
-
-
-def why(spec, row, **cells):
-    """check_row's verdict on row with cells (CSV names) replaced."""
-    from gimbalsim._journal import check_row
-    header = spec.csv_header()
-    row = list(row)
-    for name, text in cells.items():
-        row[header.index(name)] = text
-    return check_row(spec, row, len(header))
 
 
 @pytest.fixture(scope="module")
@@ -71,7 +55,7 @@ def test_the_open_loops_own_rows_are_trusted(open_loop):
     spec, rows = open_loop
     status = [r[spec.csv_header().index("status")] for r in rows.values()]
     assert "ok" in status and "refused:initial.ecc" in status  # both kinds of row, as written
-    assert [why(spec, r) for r in rows.values()] == [None] * 3
+    assert [row_verdict(spec, r) for r in rows.values()] == [None] * 3
 
 
 BAD_FIGURES = [
@@ -94,7 +78,7 @@ BAD_FIGURES = [
 def test_an_ok_row_the_sweep_did_not_write_is_not_trusted(open_loop, cells, reason):
     spec, rows = open_loop
     ok = next(r for r in rows.values() if r[spec.csv_header().index("status")] == "ok")
-    assert reason in (why(spec, ok, **cells) or "")
+    assert reason in (row_verdict(spec, ok, **cells) or "")
 
 
 def test_a_refusal_must_be_the_one_the_draw_gives(open_loop):
@@ -102,13 +86,13 @@ def test_a_refusal_must_be_the_one_the_draw_gives(open_loop):
     header = spec.csv_header()
     refused = next(r for r in rows.values() if r[header.index("status")].startswith("refused:"))
     ok = next(r for r in rows.values() if r[header.index("status")] == "ok")
-    assert "status is not the refusal" in why(spec, refused, status="refused:friction.mu")
-    assert "holds" in why(spec, refused, pointing_error_max_rad="0.1")
+    assert "status is not the refusal" in row_verdict(spec, refused, status="refused:friction.mu")
+    assert "holds" in row_verdict(spec, refused, pointing_error_max_rad="0.1")
     # the ok sample's draw recorded as refused, without figures: the scene takes that draw
     blank = {h: "" for h in header if h.startswith(("applied_", "pointing", "peak", "impacts", "continuous", "max_tilt"))}
-    assert "a refusal, but the scene takes" in why(spec, ok, status="refused:initial.ecc", **blank)
+    assert "a refusal, but the scene takes" in row_verdict(spec, ok, status="refused:initial.ecc", **blank)
     # a crashed row holds its parameters and fingerprints only
-    assert why(spec, ok, status="crashed", wall_time_s="nan", **blank) is None
+    assert row_verdict(spec, ok, status="crashed", wall_time_s="nan", **blank) is None
 
 
 @pytest.fixture(scope="module")
@@ -134,12 +118,12 @@ def test_a_closed_loops_nan_needs_its_reason(closed_sweep):
     from gimbalsim.sweep import SweepSpec
     spec = SweepSpec(closed_sweep / "spec.yaml")
     row = read(closed_sweep / "ref" / "results.csv")[1]
-    assert why(spec, row) is None
-    assert "ape_track_rad is nan in an ok row" in why(spec, row, ape_track_rad="nan")
-    assert "ape_track_rad is nan in an ok row" in why(spec, row, ape_track_rad="nan", reason="ape_hold: no tick")
-    assert why(spec, row, ape_track_rad="nan", reason="ape_track: the run ended at 0.3 s") is None
+    assert row_verdict(spec, row) is None
+    assert "ape_track_rad is nan in an ok row" in row_verdict(spec, row, ape_track_rad="nan")
+    assert "ape_track_rad is nan in an ok row" in row_verdict(spec, row, ape_track_rad="nan", reason="ape_hold: no tick")
+    assert row_verdict(spec, row, ape_track_rad="nan", reason="ape_track: the run ended at 0.3 s") is None
     stop = "simulation stopped at t = 0.3 s: a velocity exceeded sim.velocity_limit (diverging)"
-    assert why(spec, row, ape_track_rad="nan", status="sim.velocity_limit",
+    assert row_verdict(spec, row, ape_track_rad="nan", status="sim.velocity_limit",
                reason=stop + " | ape_track: the run stopped") is None
 
 
