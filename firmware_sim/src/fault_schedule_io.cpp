@@ -286,8 +286,10 @@ std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const P
       // Worn, a spatial bearing must stay long enough for its model, as the scene's own clearance must.
       if (f.kind == FaultKind::BearingWear && m.jointKind(j) == ClearanceKind::Spatial &&
           !(c.bearing_length >= kSpatialMinLengthInClearances * f.value)) {
-        out.push_back(at + "key 'clearance': a spatial bearing must be at least 4 clearances long: " + joint +
-                      ".contact.bearing_length " + formatNumber(c.bearing_length) + " m against 4 x " +
+        out.push_back(at + "key 'clearance': a spatial bearing must be at least " +
+                      formatNumber(kSpatialMinLengthInClearances) + " clearances long: " + joint +
+                      ".contact.bearing_length " + formatNumber(c.bearing_length) + " m against " +
+                      formatNumber(kSpatialMinLengthInClearances) + " x " +
                       formatNumber(f.value) + " m");
       }
       if (f.kind == FaultKind::FrictionRise && c.friction == FrictionLaw::None) {

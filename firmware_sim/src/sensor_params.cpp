@@ -54,7 +54,7 @@ std::vector<Key<SensorParams>> sensorKeys() {
       K::number("gyro_noise", "rad/s", "rate gyro white noise sigma per sample, each axis (0 = none)",
                 field(&SensorParams::gyro_noise), interval('[', 0.0, 100.0, ']')),
       K::choice<bool>("antenna", "sensors on the antenna: none, or a boresight tracker and a rate gyro "
-                      "(their own message, GIMBAL_ANTENNA; recorded, not yet read by the default controller)",
+                      "(their own message, GIMBAL_ANTENNA; the default controller closes its loop at the antenna on them)",
                       field(&SensorParams::antenna_sensors), {{"none", false}, {"tracker_gyro", true}}),
       K::number("tracker_rate", "Hz", "boresight tracker sample rate (sensors.antenna tracker_gyro)",
                 field(&SensorParams::tracker_rate), interval('[', 1e-3, 1e6, ']')),

@@ -20,6 +20,16 @@ std::string refusal(const std::string& yaml, const std::vector<std::string>& set
   return "";
 }
 
+/// The message of a shipped scene's refusal with these sets, or "" if accepted.
+std::string sceneRefusal(const std::string& name, const std::vector<std::string>& sets) {
+  try {
+    test::scene(name, sets);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 const char* kGood = R"(name: t
 structure: {base: floating, joint2: clearance}
 base:
@@ -300,6 +310,41 @@ TEST(Scene, EachJournalStartsWhereItsOwnKeySays) {
   EXPECT_EQ(warned(twin, "key 'initial.ecc': no joint has clearance"), 1) << "named once";
   EXPECT_EQ(warned(test::scene("paper_planar1"), "initial.ecc"), 0) << "its [0, 0] says nothing";
   EXPECT_NO_THROW(test::scene("paper_planar1", {"initial.ecc=[0, 0]", "initial.ecc2=[0, 0]"}));
+}
+
+TEST(Scene, ASpatialJournalStartsTiltedWhereItsKeySays) {
+  // initial.tilt2 = [alpha, beta] acts on joint 2's tilt coordinates (before it, every
+  // journal started untilted and a budget could not disperse the tilt).
+  const Scene tilted = test::scene("paper_spatial2", {"initial.tilt2=[1e-3, -2e-3]"});
+  using V = GIMBALSIM_SHAPE(true, Ideal, Spatial, true);
+  const State<V> s = initialState<V>(tilted.run.initial);
+  EXPECT_EQ(s.q(State<V>::QJ + V::G2 + 2), 1e-3) << "alpha";
+  EXPECT_EQ(s.q(State<V>::QJ + V::G2 + 3), -2e-3) << "beta";
+  // Both ends (at +-L/2, L = 0.05 m) inside the 0.5 mm clearance with the centre's offset: the
+  // offsets add as vectors, so a tilt across the eccentricity fits where one along it does not.
+  EXPECT_NO_THROW(test::scene("paper_spatial2", {"initial.ecc2=[4e-4, 0]", "initial.tilt2=[5e-3, 0]"}));
+  std::string e = sceneRefusal("paper_spatial2", {"initial.ecc2=[4e-4, 0]", "initial.tilt2=[0, 5e-3]"});
+  EXPECT_NE(e.find("key 'initial.tilt2': joint 2's journal would start with its end at +L/2 0.000525"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("beyond the clearance of 0.0005"), std::string::npos) << e;
+  EXPECT_NE(e.find(" m (with initial.ecc2 and contact.bearing_length): both ends must start inside"),
+            std::string::npos)
+      << e;
+  e = sceneRefusal("paper_spatial2", {"initial.tilt2=[0, 0.025]"});  // 0.025 m x tan(0.025) > 0.5 mm
+  EXPECT_NE(e.find("key 'initial.tilt2': joint 2's journal would start with its end at -L/2"), std::string::npos)
+      << e;
+  e = sceneRefusal("paper_spatial2", {"initial.tilt2=[0.6, 0]"});
+  EXPECT_NE(e.find("key 'initial.tilt2'"), std::string::npos) << e;
+  EXPECT_NE(e.find("in [-0.5, 0.5]"), std::string::npos) << e;
+  // A journal that cannot tilt: accepted with a warning naming the key, as an ideal joint's eccentricity.
+  const Scene planar = test::scene("paper_clearance", {"initial.tilt2=[1e-3, 0]"});
+  EXPECT_EQ(std::count_if(planar.warnings.begin(), planar.warnings.end(),
+                          [](const std::string& w) {
+                            return w.find("key 'initial.tilt2': joint 2's bearing is not spatial") !=
+                                   std::string::npos;
+                          }),
+            1);
 }
 
 TEST(Scene, ValuesListEveryOwnKeyGivenEvenWhereItEqualsTheSharedOne) {

@@ -6,6 +6,7 @@
 #include "bearing_keys.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 
 namespace gimbalsim::scene_keys {
@@ -172,6 +173,14 @@ SceneKey eccKey(int joint, const char* key, const char* meaning) {
   return k;
 }
 
+/// Each spatial journal's initial tilt keys.
+const char* const kTiltKeys[2] = {"initial.tilt1", "initial.tilt2"};
+
+SceneKey tiltKey(int joint, const char* meaning) {
+  return K::vector<2>(kTiltKeys[joint], "rad", meaning, [joint](auto& s) -> auto& { return s.run.initial.tilt[joint]; },
+                      interval('[', -0.5, 0.5, ']'));
+}
+
 /// A bearing's radii and Ambrosio speeds: the shared one (joint < 0), or
 /// joint j's where its own keys made them differ from the shared ones.
 void checkBearing(const ContactParams& cb, const ContactParams* shared, int joint, Given& g) {
@@ -214,8 +223,9 @@ void checkSpatialLength(const Scene& s, Given& g) {
     const double c = b.bearing_radius - b.journal_radius;
     if (!(b.bearing_length >= kSpatialMinLengthInClearances * c)) {
       g.refuse(givenAs(g, j, "contact.", "bearing_length"),
-               "a spatial bearing must be at least 4 clearances long (joint " + std::to_string(j + 1) + ": " +
-                   formatNumber(b.bearing_length) + " m against 4 x " + formatNumber(c) +
+               "a spatial bearing must be at least " + formatNumber(kSpatialMinLengthInClearances) +
+                   " clearances long (joint " + std::to_string(j + 1) + ": " + formatNumber(b.bearing_length) +
+                   " m against " + formatNumber(kSpatialMinLengthInClearances) + " x " + formatNumber(c) +
                    " m): its journal's tilt, up to atan(2c/L), must stay where contact at the two end planes holds");
     }
   }
@@ -245,6 +255,40 @@ void checkInitialEcc(const Scene& s, Given& g) {
   }
 }
 
+/// Each spatial journal's initial tilt with its eccentricity: the journal's
+/// axis must meet both end planes inside the clearance (docs/MODEL.md 2.7:
+/// end s at p + s L/2 (tan(beta)/cos(alpha), -tan(alpha))), or the run would
+/// start pressed deeper than any contact holds.
+void checkInitialTilt(const Scene& s, Given& g) {
+  const Model& m = s.model;
+  for (int j = 0; j < 2; ++j) {
+    const char* key = kTiltKeys[j];
+    const Vec2& tilt = s.run.initial.tilt[j];
+    if (!g.has(key) || tilt.norm() == 0.0) continue;
+    const std::string joint = "joint " + std::to_string(j + 1);
+    if (m.jointKind(j) != ClearanceKind::Spatial) {
+      g.warn(key, joint + "'s bearing is not spatial (structure.joint" + std::to_string(j + 1) +
+                      "): its journal cannot tilt, this value does not act");
+      continue;
+    }
+    const ContactParams& b = m.bearing[j];
+    const double c = b.bearing_radius - b.journal_radius;
+    const Vec2& ecc = s.run.initial.ecc[j];
+    if (!(c > 0.0) || ecc.norm() > c) continue;  // the radii's or the eccentricity's refusal, said once
+    const Vec2 axis(std::tan(tilt.y()) / std::cos(tilt.x()), -std::tan(tilt.x()));
+    for (const double end : {-1.0, 1.0}) {
+      const double e = (ecc + end * 0.5 * b.bearing_length * axis).norm();
+      if (!(e <= c)) {
+        g.refuse(key, joint + "'s journal would start with its end at " + (end > 0 ? "+" : "-") + "L/2 " +
+                          formatNumber(e) + " m off the bearing axis, beyond the clearance of " + formatNumber(c) +
+                          " m (with " + (g.has(kEccKeys[j]) ? kEccKeys[j] : "initial.ecc") + " and " +
+                          givenAs(g, j, "contact.", "bearing_length") + "): both ends must start inside the bearing");
+        break;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<Key<Scene>> bearingKeys() {
@@ -268,11 +312,15 @@ std::vector<Key<Scene>> bearingKeys() {
   return out;
 }
 
-std::vector<Key<Scene>> eccKeys() {
+std::vector<Key<Scene>> journalKeys() {
   return {eccKey(-1, "initial.ecc", "both journals (unless a joint gives its own): initial eccentricity in the joint's "
                                     "plane (u1, u2), |ecc| <= its clearance"),
           eccKey(0, kEccKeys[0], "joint 1's journal only: initial eccentricity in its mid-plane (u1, u2)"),
-          eccKey(1, kEccKeys[1], "joint 2's journal only: initial eccentricity in its mid-plane (u1, u2)")};
+          eccKey(1, kEccKeys[1], "joint 2's journal only: initial eccentricity in its mid-plane (u1, u2)"),
+          tiltKey(0, "joint 1's journal (spatial only): initial tilt (alpha about u1, then beta), both ends "
+                     "inside the clearance"),
+          tiltKey(1, "joint 2's journal (spatial only): initial tilt (alpha about u1, then beta), both ends "
+                     "inside the clearance")};
 }
 
 /// Old spellings of keys: joint 1's bearing was contact1.*, friction1.*.
@@ -323,6 +371,7 @@ void validateBearings(const Scene& s, Given& g) {
   }
   checkInitialEcc(s, g);
   checkSpatialLength(s, g);
+  checkInitialTilt(s, g);
 }
 
 /// Each joint's bearing: the shared values (contact.*, friction.*) but for

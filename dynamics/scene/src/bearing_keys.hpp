@@ -13,8 +13,8 @@ namespace gimbalsim::scene_keys {
 
 /// The shared bearing keys, then joint 1's, then joint 2's.
 std::vector<Key<Scene>> bearingKeys();
-/// initial.ecc (both journals), initial.ecc1, initial.ecc2.
-std::vector<Key<Scene>> eccKeys();
+/// initial.ecc (both journals), initial.ecc1, initial.ecc2, initial.tilt1, initial.tilt2.
+std::vector<Key<Scene>> journalKeys();
 /// Old spellings: (alias, key).
 std::vector<std::pair<std::string, std::string>> aliases();
 /// Each bearing and journal checked against the bearing it acts on.

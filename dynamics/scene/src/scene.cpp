@@ -126,10 +126,11 @@ std::vector<SceneKey> keys() {
   const auto at = std::find_if(out.begin(), out.end(), [](const SceneKey& k) { return k.key == "torque.tau1"; });
   const std::vector<SceneKey> bearings = scene_keys::bearingKeys();
   out.insert(at, bearings.begin(), bearings.end());
-  // The initial eccentricities after the joint angles and rates.
-  const auto ecc_at = std::find_if(out.begin(), out.end(), [](const SceneKey& k) { return k.key == "sim.duration"; });
-  const std::vector<SceneKey> ecc = scene_keys::eccKeys();
-  out.insert(ecc_at, ecc.begin(), ecc.end());
+  // The journals' initial eccentricities and tilts after the joint angles and rates.
+  const auto journal_at =
+      std::find_if(out.begin(), out.end(), [](const SceneKey& k) { return k.key == "sim.duration"; });
+  const std::vector<SceneKey> journal = scene_keys::journalKeys();
+  out.insert(journal_at, journal.begin(), journal.end());
   return out;
 }
 

@@ -17,6 +17,9 @@ struct InitialParams {
   double dtheta1 = 0.0, dtheta2 = 0.0;  ///< [rad/s]
   /// Each joint's journal centre in its joint plane (u1, u2) [m]: [0] joint 1, [1] joint 2.
   std::array<Vec2, 2> ecc{Vec2::Zero(), Vec2::Zero()};
+  /// Each spatial joint's journal tilt [rad]: alpha about u1, then beta about
+  /// the u2 it left (docs/MODEL.md 2.7); [0] joint 1, [1] joint 2.
+  std::array<Vec2, 2> tilt{Vec2::Zero(), Vec2::Zero()};
 };
 
 /// What a run may ask for, checked by the scene's validate() before running

@@ -77,6 +77,14 @@ State<V> initialState(const InitialParams& init) {
     s.q(QJ + V::G2) = init.ecc[1].x();
     s.q(QJ + V::G2 + 1) = init.ecc[1].y();
   }
+  if constexpr (V::kKind1 == ClearanceKind::Spatial) {  // each spatial journal's initial tilt: alpha, beta
+    s.q(QJ + V::G1 + 2) = init.tilt[0].x();
+    s.q(QJ + V::G1 + 3) = init.tilt[0].y();
+  }
+  if constexpr (V::kKind2 == ClearanceKind::Spatial) {
+    s.q(QJ + V::G2 + 2) = init.tilt[1].x();
+    s.q(QJ + V::G2 + 3) = init.tilt[1].y();
+  }
   return s;
 }
 
