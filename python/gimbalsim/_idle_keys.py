@@ -9,8 +9,11 @@ import re
 
 from ._closed_spec import CONTROLLER_PREFIX
 from .indices import seconds
-# The antenna's sensors (MODEL.md 11.6): recorded in a closed loop, but no figure a study reads depends on them.
+# The antenna's sensors (MODEL.md 11.6) and the controller's loop at the antenna (MODEL.md 11.7): they act
+# only together, a scene with sensors.antenna tracker_gyro and a controller with antenna.tracker use.
 ANTENNA_SENSOR_KEYS = ("sensors.antenna", "sensors.tracker_")
+_ANTENNA_CONTROLLER = CONTROLLER_PREFIX + "antenna."
+_ANTENNA_TRACKER = CONTROLLER_PREFIX + "antenna.tracker"
 
 # What a closed loop never reads, and what an open-loop run never reads.
 CLOSED_LOOP_IDLE = {"sim.duration": "every closed loop of a study runs one length: a sweep's set: sim.duration, "
@@ -71,10 +74,10 @@ _STAR_DECIDERS = ("sensors.star_tracker_outage", "sensors.star_tracker_latency",
 
 # Every sensor noise drawn from sensors.seed's streams (firmware_sim: joint_sensors.hpp, attitude_sensors.hpp,
 # antenna_sensors.hpp): with all of them 0 the seed draws nothing that acts.
-# The antenna's noises (tracker, antenna gyro) draw from it too, but the controller reads no antenna sensor:
-# they do not count as noise that acts (ANTENNA_SENSOR_KEYS).
+# The antenna's noises (tracker, antenna gyro) draw from it too, and act where the loop closes at the antenna.
 _NOISE_KEYS = ("sensors.encoder_noise", "sensors.rate_noise", "sensors.gyro_noise", "sensors.gyro_bias_walk",
                "sensors.star_tracker_noise")
+_ANTENNA_NOISE_KEYS = ("sensors.tracker_noise", "sensors.antenna_gyro_noise")
 
 
 def _idle_in_sensors(key, values, dispersed):
@@ -83,9 +86,10 @@ def _idle_in_sensors(key, values, dispersed):
     the run (a sample is delivered latency after it is taken); or why
     sensors.seed cannot: every noise is 0."""
     if key == "sensors.seed":
-        if set(_NOISE_KEYS) & dispersed or any(float(values.get(k, 0.0)) != 0.0 for k in _NOISE_KEYS):
+        noises = _NOISE_KEYS + tuple(k for k in _ANTENNA_NOISE_KEYS if _idle_at_antenna(k, values, dispersed) is None)
+        if set(noises) & dispersed or any(float(values.get(k, 0.0)) != 0.0 for k in noises):
             return None
-        return "every sensor noise (" + ", ".join(_NOISE_KEYS) + ") is 0: nothing random to seed"
+        return "every sensor noise (" + ", ".join(noises) + ") is 0: nothing random to seed"
     reads_latency = key == "sensors.star_tracker_latency"
     if not (key in _STAR_SAMPLE_KEYS or reads_latency) or set(_STAR_DECIDERS) & dispersed:
         return None
@@ -100,11 +104,28 @@ def _idle_in_sensors(key, values, dispersed):
     return None
 
 
+def _idle_at_antenna(key, values, dispersed):
+    """Why an antenna sensor key (sensors.antenna*, sensors.tracker_*) or a
+    controller antenna.* key cannot act: the loop closes at the antenna only
+    with the scene's sensors.antenna tracker_gyro and the controller's
+    antenna.tracker use."""
+    sensor = key.startswith(ANTENNA_SENSOR_KEYS)
+    if not (sensor or key.startswith(_ANTENNA_CONTROLLER)):
+        return None
+    if key != "sensors.antenna" and "sensors.antenna" not in dispersed and \
+            str(values.get("sensors.antenna", "none")) != "tracker_gyro":
+        return "the scene's sensors.antenna is none: no sensor on the antenna, the loop closes on the encoders"
+    if key != _ANTENNA_TRACKER and _ANTENNA_TRACKER not in dispersed and \
+            str(values.get(_ANTENNA_TRACKER, "use")) != "use":
+        return "the controller's antenna.tracker is ignore: it reads no antenna sensor"
+    return None
+
+
 # The settings that switch other keys off.
 _DECIDERS = re.compile(r"structure\..*|sim\.substep_policy|(joint[12]\.)?(friction\.law|contact\.damping)|"
-                       r"sensors\.star_tracker_(outage|latency)")
+                       r"sensors\.star_tracker_(outage|latency)|sensors\.antenna")
 _CONTROLLER_DECIDERS = {CONTROLLER_PREFIX + d for rules in CONTROLLER_READ_UNDER.values() for c in rules
-                        for d, _ in (c if isinstance(c, list) else [c])}
+                        for d, _ in (c if isinstance(c, list) else [c])} | {_ANTENNA_TRACKER}
 _MAX_COMBINATIONS = 256  # of the deciders' values: beyond it nothing is judged
 
 
@@ -154,9 +175,11 @@ def idle_reason(key, values, dispersed, takes, closed):
     if why is None and closed:
         why = _for_every_value(_idle_in_controller_keys, key, values, dispersed, takes) or \
             _for_every_value(_idle_in_sensors, key, values, dispersed, takes,
-                             _NOISE_KEYS if key == "sensors.seed" else ())
-    if why is None and key.startswith(ANTENNA_SENSOR_KEYS):
-        why = "the controller does not use the antenna sensors yet (docs/MODEL.md 11.6)"
+                             _NOISE_KEYS + _ANTENNA_NOISE_KEYS if key == "sensors.seed" else ())
+    if why is None and closed:
+        why = _for_every_value(_idle_at_antenna, key, values, dispersed, takes)
+    elif why is None and key.startswith(ANTENNA_SENSOR_KEYS):
+        why = "an open-loop run has no sensors (they act in a closed-loop sweep: name its controller)"
     if why is None and not closed and key.startswith("sensors."):
         why = "an open-loop run has no sensors (they act in a closed-loop sweep: name its controller)"
     return why
@@ -186,8 +209,9 @@ def _idle_in_scene(key, scene, dispersed):
     for j in (1, 2):  # a joint's own bearing keys
         rules.append(((f"joint{j}.contact.", f"joint{j}.friction.", f"initial.ecc{j}"), f"structure.joint{j}",
                       joints[j] != "ideal", f"joint {j} is ideal: it has no bearing"))
-        rules.append(((f"joint{j}.contact.bearing_length",), f"structure.joint{j}", joints[j] == "spatial",
-                      f"joint {j}'s bearing is planar: it cannot tilt"))
+        rules.append(((f"joint{j}.contact.bearing_length", f"initial.tilt{j}"), f"structure.joint{j}",
+                      joints[j] == "spatial",
+                      f"joint {j}'s bearing is {'ideal' if joints[j] == 'ideal' else 'planar'}: it cannot tilt"))
     any_clearance = any(k != "ideal" for k in joints.values())
     rules += [(("contact.bearing_length",), "structure.joint", any(k == "spatial" for k in joints.values()),
                "no joint's bearing is spatial: none can tilt"),

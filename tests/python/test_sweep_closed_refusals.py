@@ -120,9 +120,21 @@ REFUSALS = [
     # the scene's label: no run reads it
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  name: {choice: [a, b]}", "parameters.name",
      "the scene's label: no run reads it"),
-    # the antenna's sensors are recorded but no controller uses them yet: no figure could move
+    # the antenna's sensors and the controller's loop at the antenna act only together: a scene with
+    # sensors.antenna tracker_gyro and a controller with antenna.tracker use
     ("  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}", "  sensors.tracker_noise: {uniform: [0.0, 2.0e-5]}",
-     "parameters.sensors.tracker_noise", "does not use the antenna sensors yet"),
+     "parameters.sensors.tracker_noise", "the scene's sensors.antenna is none: no sensor on the antenna"),
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.antenna.bandwidth: {uniform: [8, 12]}",
+     "parameters.controller.antenna.bandwidth", "the scene's sensors.antenna is none"),
+    (("set: {sim.duration: 0.5}", "controller_set: {", "  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}"),
+     ("set: {sim.duration: 0.5, sensors.antenna: tracker_gyro}", "controller_set: {antenna.tracker: ignore, ",
+      "  sensors.tracker_noise: {uniform: [0.0, 2.0e-5]}"),
+     "parameters.sensors.tracker_noise", "the controller's antenna.tracker is ignore: it reads no antenna sensor"),
+    ("controller_set: {", "controller_set: {antenna.tracker: ignore, ",
+     "controller_set.antenna.tracker", "the scene's sensors.antenna is none"),
+    # a journal that cannot tilt (joint 2 planar)
+    ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  initial.tilt2: {disk: {radius: 1.0e-3}}",
+     "parameters.initial.tilt2", "joint 2's bearing is planar: it cannot tilt"),
     ("  rpe: {window: 0.05}", "  rpe: {window: .nan}", "indices.rpe.window", "expected a finite number, got nan"),
     ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: .inf}",
      "indices.ape.requirement", "expected a finite number"),
@@ -262,6 +274,22 @@ def test_a_seed_with_a_noise_and_a_boresight_under_the_inertial_mode_are_accepte
     (tmp_path / "ok.yaml").write_text(text)
     keys = {p.key for p in SweepSpec(tmp_path / "ok.yaml").parameters}
     assert {"sensors.seed", "controller.gimbal.boresight"} <= keys
+
+
+def test_the_antenna_sensors_are_taken_where_the_loop_closes_at_the_antenna(tmp_path):
+    # They were refused whatever the scene ("the controller does not use the antenna sensors yet"): a
+    # budget with the tracker could not disperse its noise, bias or gyro.
+    from gimbalsim.sweep import SweepSpec
+    text = SPEC.replace(f"set: {{sim.duration: {DURATION}}}",
+                        f"set: {{sim.duration: {DURATION}, sensors.antenna: tracker_gyro}}")
+    text = text.replace("  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}",
+                        "  sensors.tracker_noise: {uniform: [0.0, 2.0e-5]}\n"
+                        "  sensors.antenna_gyro_bias: {ball: {radius: 1.0e-5}}\n"
+                        "  controller.antenna.bandwidth: {uniform: [8, 12]}\n  sensors.seed: {choice: [1, 2]}")
+    (tmp_path / "ok.yaml").write_text(text)
+    keys = [p.key for p in SweepSpec(tmp_path / "ok.yaml").parameters]
+    assert {"sensors.tracker_noise", "sensors.antenna_gyro_bias", "controller.antenna.bandwidth",
+            "sensors.seed"} <= set(keys), keys
 
 
 def test_a_key_under_a_dispersed_setting_is_accepted_when_one_value_reads_it(tmp_path):

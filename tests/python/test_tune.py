@@ -115,7 +115,7 @@ def test_tuning_spec_refusals_name_the_key(change, key, tmp_path):
     (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "torque.tau1: {uniform: [0, 1]}"),
      "plants.torque.tau1", "not read by the tuned loop (the controller commands the torque)"),
     (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "sensors.tracker_noise: {uniform: [0, 1.0e-5]}"),
-     "plants.sensors.tracker_noise", "does not use the antenna sensors yet"),
+     "plants.sensors.tracker_noise", "the scene's sensors.antenna is none: no sensor on the antenna"),
     (("max_saturation: 0.0", "max_saturation: 0.0\nset: {sensors.star_tracker_outage: [0, 1.0e9]}"),
      "plants.sensors.star_tracker_noise", "covers the whole run"),
     # the closed loop checks no invariant: a plant's tolerance acts on nothing
