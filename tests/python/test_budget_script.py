@@ -162,6 +162,8 @@ FAKE_SWEEP = '''
 import os, pathlib, sys
 out = pathlib.Path(sys.argv[sys.argv.index("--out") + 1])
 how = os.environ["FAKE_SWEEP"]
+if os.environ.get("FAKE_PARTIAL_FOR") and os.environ["FAKE_PARTIAL_FOR"] in sys.argv[1]:  # half a folder
+    how = "partial"
 if how != "nothing":
     out.mkdir()
     (out / "results.csv").write_text("the new run's\\n")
@@ -198,3 +200,50 @@ def test_the_previous_results_go_only_for_a_whole_new_folder(tmp_path):
     assert sorted(os.listdir(root / "out")) == ["pointing_budget"]
     assert (root / "docs/results/pointing_budget_ape_cdf.png").read_bytes() == b"png"
     assert "](pointing_budget_ape_cdf.png)" in (root / "docs/results/pointing_budget.md").read_text()
+
+
+def test_the_spatial_page_holds_both_budgets_or_neither(tmp_path):
+    # --spatial: the tilting bearing's budget on the encoders only and with the antenna's sensors,
+    # each into its own out/ folder, one page; nothing replaced unless both budgets completed.
+    root, previous = checkout_with_previous_results(tmp_path)
+    for rel in ("tools/sweeps/pointing_budget_spatial.yaml", "tools/sweeps/pointing_budget_spatial_tracker.yaml"):
+        shutil.copy(SOURCE / rel, root / rel)
+    fake = tmp_path / "fakebuild" / "python" / "gimbalsim"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text("")
+    (fake / "sweep.py").write_text(FAKE_SWEEP)
+    results = root / "docs/results"
+    (results / "pointing_budget_ape_cdf.png").write_bytes(b"the planar page's")
+    (results / "pointing_budget_spatial_rpe_slew_cdf.png").write_bytes(b"stale")
+    spatial_out = root / "out" / "pointing_budget_spatial"
+    spatial_out.mkdir()
+    (spatial_out / "results.csv").write_text("the previous spatial run's\n")
+    script = str(root / "tools/sweeps/run_pointing_budget.sh")
+    env = dict(os.environ, GIMBALSIM_BUILD=str(tmp_path / "fakebuild"), FAKE_SWEEP="whole",
+               FAKE_PARTIAL_FOR="spatial_tracker")
+    before = digest(root / "docs")
+    p = subprocess.run(["bash", script, "--spatial"], capture_output=True, text=True, timeout=60, env=env)
+    assert p.returncode == 1 and "left no whole budget" in p.stderr, p.stderr
+    assert (spatial_out / "results.csv").read_text() == "the previous spatial run's\n"
+    assert sorted(os.listdir(root / "out")) == ["pointing_budget", "pointing_budget_spatial"]
+    assert digest(root / "docs") == before
+    del env["FAKE_PARTIAL_FOR"]
+    p = subprocess.run(["bash", script, "--spatial", "--workers", "1"], capture_output=True, text=True, timeout=60,
+                       env=env)
+    assert p.returncode == 0, p.stderr
+    assert sorted(os.listdir(root / "out")) == ["pointing_budget", "pointing_budget_spatial",
+                                                "pointing_budget_spatial_tracker"]
+    assert (spatial_out / "results.csv").read_text() == "the new run's\n"
+    assert (previous / "results.csv").read_text() == "the previous run's\n", "the planar budget's results kept"
+    page = (results / "pointing_budget_spatial.md").read_text()
+    encoders, antenna = page.index("## The loop on the encoders only"), page.index("## The loop at the antenna")
+    assert encoders < page.index("](pointing_budget_spatial_ape_cdf.png)") < antenna < \
+        page.index("](pointing_budget_spatial_tracker_ape_cdf.png)"), page
+    assert "Regenerate: `bash tools/sweeps/run_pointing_budget.sh --spatial --workers 1`" in page
+    for name in ("pointing_budget_spatial_ape_cdf.png", "pointing_budget_spatial_tracker_ape_cdf.png"):
+        assert (results / name).read_bytes() == b"png", name
+    assert (results / "pointing_budget_ape_cdf.png").read_bytes() == b"the planar page's"
+    assert not (results / "pointing_budget_spatial_rpe_slew_cdf.png").exists(), "a stale plot of this page left"
+    # a spec runs alone, not as part of the shipped page
+    p = subprocess.run(["bash", script, "--spatial", "my.yaml"], capture_output=True, text=True, timeout=60, env=env)
+    assert p.returncode == 2 and "--spatial runs the shipped spatial budgets" in p.stderr, p.stderr

@@ -2,11 +2,14 @@
 # The pointing budget. Without SPEC: the shipped budget,
 # tools/sweeps/pointing_budget.yaml, run in closed loop (gimbalsim.sweep) into
 # out/pointing_budget/, its report stamped (machine, commit, date) into
-# docs/results/pointing_budget.md with its CDF plots beside it. With SPEC (any
-# spec, the shipped one too): that budget, into out/pointing_budget-<spec
-# name>/ (or --out DIR); the project's pages are never touched.
+# docs/results/pointing_budget.md with its CDF plots beside it. With --spatial:
+# the budget with the bearing that tilts, pointing_budget_spatial.yaml (encoders
+# only) and pointing_budget_spatial_tracker.yaml (the loop at the antenna), into
+# out/<spec name>/ each and one page, docs/results/pointing_budget_spatial.md.
+# With SPEC (any spec, the shipped ones too): that budget, into
+# out/pointing_budget-<spec name>/ (or --out DIR); the project's pages are never touched.
 #
-#   bash tools/sweeps/run_pointing_budget.sh                        # the shipped page
+#   bash tools/sweeps/run_pointing_budget.sh [--spatial] [sweep options]  # a shipped page
 #   bash tools/sweeps/run_pointing_budget.sh MY_SPEC [--out DIR] [sweep options, e.g. --workers 2]
 #
 # The package is the one in ${GIMBALSIM_BUILD:-build}/python (cmake --build build --target gimbalsim_python).
@@ -16,18 +19,33 @@
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-SHIPPED=tools/sweeps/pointing_budget.yaml
+# The shipped pages: page name, its title and summary, then each spec with its section's heading (none for one).
+PAGE=pointing_budget TITLE="Closed-loop pointing budget"
+SUMMARY="ECSS indices per phase over a bearing's tolerance, with order-statistics intervals"
+SPECS=(tools/sweeps/pointing_budget.yaml) HEADINGS=("")
+if [ "${1:-}" = --spatial ]; then
+  shift
+  PAGE=pointing_budget_spatial TITLE="Closed-loop pointing budget with the bearing that tilts"
+  SUMMARY="ECSS indices per phase over a tilting bearing's tolerance, encoders only and with the antenna's sensors"
+  SPECS=(tools/sweeps/pointing_budget_spatial.yaml tools/sweeps/pointing_budget_spatial_tracker.yaml)
+  HEADINGS=("The loop on the encoders only" "The loop at the antenna (tracker and gyro on the antenna)")
+  if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then  # a spec where the sweep's options start
+    echo "run_pointing_budget.sh: --spatial runs the shipped spatial budgets; a spec ($1) runs alone:" \
+      "run_pointing_budget.sh $1" >&2
+    exit 2
+  fi
+fi
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 # --help and --version are the script's, answered before anything (they went to the sweep, which wrote
 # nothing, and the previous results were removed all the same).
 info=
 for a in "$@"; do case "$a" in -h | --help | --version) info=$a; break ;; esac; done
 if [ "$info" != "" ] && [ "$info" != --version ]; then
-  sed -n '2,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+  sed -n '2,18p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
   exit 0
 fi
-SPEC=  # none: the shipped budget and its page
-if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then
+SPEC=  # none: a shipped budget and its page
+if [ "$PAGE" = pointing_budget ] && [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then
   SPEC=$1
   shift
 fi
@@ -63,47 +81,81 @@ fi
 
 for a in "${ARGS[@]+"${ARGS[@]}"}"; do
   if [ "$a" = "--out" ] || [ "${a#--out=}" != "$a" ]; then
-    echo "run_pointing_budget.sh: without a SPEC this regenerates the project's page from out/pointing_budget/;" \
-         "to write elsewhere, name the spec: run_pointing_budget.sh $SHIPPED --out DIR" >&2
+    echo "run_pointing_budget.sh: without a SPEC this regenerates the project's page from out/<spec name>/;" \
+         "to write elsewhere, name the spec: run_pointing_budget.sh ${SPECS[0]} --out DIR" >&2
     exit 2
   fi
 done
 cd "$ROOT"
-COMMAND="bash tools/sweeps/run_pointing_budget.sh$(printf ' %q' "${ARGS[@]+"${ARGS[@]}"}")"
-OUT=out/pointing_budget
+COMMAND="bash tools/sweeps/run_pointing_budget.sh$([ "$PAGE" = pointing_budget ] || echo " --spatial")$(printf ' %q' "${ARGS[@]+"${ARGS[@]}"}")"
 made_out=0
 if [ ! -d out ]; then mkdir out && made_out=1; fi
-# Into a fresh folder first: the previous results go only once this run has
-# its own (a refused spec or a failed run leaves them as they were, and an
-# out/ made for it goes again).
-NEW="$OUT.new-$$" OLD="$OUT.old-$$"
-trap 'rm -rf "$NEW"; [ -e "$OUT" ] || [ ! -d "$OLD" ] || mv "$OLD" "$OUT"; [ "$made_out" = 0 ] || rmdir out 2>/dev/null || true' EXIT
-PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$SHIPPED" --out "$NEW" --no-progress "${ARGS[@]+"${ARGS[@]}"}"
-# The previous results go only for a whole new folder: the sweep's results, summary and report, no journal
-# left (an option that makes the sweep answer and write nothing must not cost them).
-for f in results.csv summary.json report.md; do
-  if [ -L "$NEW" ] || [ ! -d "$NEW" ] || [ -L "$NEW/$f" ] || [ ! -f "$NEW/$f" ] || [ -e "$NEW/results.partial.csv" ]; then
-    echo "run_pointing_budget.sh: the sweep ended well but left no whole budget in $NEW (no $f, or its journal);" \
-         "$OUT left as it was" >&2
-    exit 1
-  fi
+# Each budget into a fresh folder first: the previous results go only once every budget of the page has
+# its own (a refused spec or a failed run leaves them all as they were, and an out/ made for it goes again).
+NEWS=() OLDS=()
+for spec in "${SPECS[@]}"; do
+  name=$(basename "${spec%.*}")
+  NEWS+=("out/$name.new-$$") OLDS+=("out/$name.old-$$")
+done
+restore() {
+  local i
+  for i in "${!SPECS[@]}"; do
+    local out
+    out="out/$(basename "${SPECS[$i]%.*}")"
+    rm -rf "${NEWS[$i]}"
+    [ -e "$out" ] || [ ! -d "${OLDS[$i]}" ] || mv "${OLDS[$i]}" "$out"
+  done
+  [ "$made_out" = 0 ] || rmdir out 2>/dev/null || true
+}
+trap restore EXIT
+for i in "${!SPECS[@]}"; do
+  PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "${SPECS[$i]}" --out "${NEWS[$i]}" --no-progress \
+    "${ARGS[@]+"${ARGS[@]}"}"
+  # The previous results go only for a whole new folder: the sweep's results, summary and report, no journal
+  # left (an option that makes the sweep answer and write nothing must not cost them).
+  for f in results.csv summary.json report.md; do
+    new=${NEWS[$i]}
+    if [ -L "$new" ] || [ ! -d "$new" ] || [ -L "$new/$f" ] || [ ! -f "$new/$f" ] || [ -e "$new/results.partial.csv" ]; then
+      echo "run_pointing_budget.sh: the sweep ended well but left no whole budget in $new (no $f, or its journal);" \
+           "the previous results left as they were" >&2
+      exit 1
+    fi
+  done
 done
 # Swapped, not removed first: the previous results come back if the new ones cannot be moved into place.
-if [ -e "$OUT" ] || [ -L "$OUT" ]; then mv "$OUT" "$OLD"; fi
-if ! mv "$NEW" "$OUT"; then
-  if [ -e "$OLD" ]; then mv "$OLD" "$OUT"; fi
-  echo "run_pointing_budget.sh: could not move $NEW into $OUT; $OUT left as it was" >&2
-  exit 4
-fi
-rm -rf "$OLD"
-RESULTS=docs/results
-rm -f "$RESULTS"/pointing_budget_*_cdf.png  # the page shows this run's figures only, none left from an older one
-for png in "$OUT"/plots/*_cdf.png; do
-  cp "$png" "$RESULTS/pointing_budget_$(basename "$png")"
+for i in "${!SPECS[@]}"; do
+  out="out/$(basename "${SPECS[$i]%.*}")"
+  if [ -e "$out" ] || [ -L "$out" ]; then mv "$out" "${OLDS[$i]}"; fi
+  if ! mv "${NEWS[$i]}" "$out"; then
+    echo "run_pointing_budget.sh: could not move ${NEWS[$i]} into $out; the previous results left as they were" >&2
+    exit 4
+  fi
 done
-# the report's plots/NAME links become the copies' names beside the page
-sed 's#](plots/#](pointing_budget_#' "$OUT/report.md" > "$OUT/page_body.md"
-/usr/bin/python3 tools/pages/results_page.py --page "$RESULTS/pointing_budget.md" \
-  --title "Closed-loop pointing budget" --command "$COMMAND" --body "$OUT/page_body.md" \
-  --summary "ECSS indices per phase over a bearing's tolerance, with order-statistics intervals" \
-  --t0 "$T0" --load0 "$LOAD0"
+for old in "${OLDS[@]}"; do rm -rf "$old"; done
+RESULTS=docs/results
+BODY="out/$(basename "${SPECS[0]%.*}")/page_body.md"  # beside the first budget's results, as its report
+: > "$BODY"
+[ "${#SPECS[@]}" = 1 ] || printf '%s\n\n' "The same units (each spec's seed and bearing tolerance), \
+once per set of sensors the loop reads; each spec states its tolerance in its comments." >> "$BODY"
+for i in "${!SPECS[@]}"; do
+  name=$(basename "${SPECS[$i]%.*}")
+  out="out/$name"
+  # the page shows this run's figures only, none left from an older one (by index: pointing_budget_* would
+  # also match another page's plots)
+  for index in ape rpe pde knowledge; do rm -f "$RESULTS/${name}_${index}"_*_cdf.png; done
+  for png in "$out"/plots/*_cdf.png; do
+    [ -e "$png" ] || continue
+    cp "$png" "$RESULTS/${name}_$(basename "$png")"
+  done
+  # the report's plots/NAME links become the copies' names beside the page; under a section, its
+  # headings one level down
+  if [ -n "${HEADINGS[$i]}" ]; then
+    printf '## %s\n\nSpec: `%s`\n\n' "${HEADINGS[$i]}" "${SPECS[$i]}" >> "$BODY"
+    sed -e "s#](plots/#](${name}_#" -e 's/^#\(#* \)/##\1/' "$out/report.md" >> "$BODY"
+  else
+    sed "s#](plots/#](${name}_#" "$out/report.md" >> "$BODY"
+  fi
+  printf '\n' >> "$BODY"
+done
+/usr/bin/python3 tools/pages/results_page.py --page "$RESULTS/$PAGE.md" \
+  --title "$TITLE" --command "$COMMAND" --body "$BODY" --summary "$SUMMARY" --t0 "$T0" --load0 "$LOAD0"
