@@ -1,6 +1,6 @@
 // gimbalsim_pointing_study: the paper's question (how much does the radial
 // clearance of a bearing cost in pointing?) answered in closed loop.
-// One in-process closed-loop run (runClosedLoop: firmware model + pointing
+// One in-process closed-loop run (study_run.hpp, runClosedLoop: firmware model + pointing
 // controller, the same truth as the LCM bench in lockstep) on the ideal joint
 // and one per clearance scene and clearance, all with the same controller
 // configuration, profile and duration. Writes, in --out:
@@ -9,31 +9,26 @@
 //   config.txt          the controller configuration in effect (key=value)
 #include <CLI/CLI.hpp>
 
-#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
-#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "gimbalsim/scene/scene.hpp"
-#include "gimbalsim/controllers/pointing_controller.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
 #include "gimbalsim/controllers/config.hpp"
-#include "gimbalsim/dynamics/step_result.hpp"
-#include "gimbalsim/dynamics/variant.hpp"
 #include "gimbalsim/input/key_registry.hpp"
-#include "gimbalsim/io/csv_format.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/pointing/profile_windows.hpp"
 #include "gimbalsim/program/program.hpp"
+#include "study_run.hpp"
 
 using namespace gimbalsim;
 using namespace gimbalsim::controllers;
+using gimbalsim::pointing_study::Study;
 
 namespace {
 
@@ -41,29 +36,6 @@ namespace {
 // (bad argument, scene or configuration) leave through program::kRefused.
 constexpr int kExitWrite = program::kOutput;     // an output file could not be written
 constexpr int kExitStopped = program::kStopped;  // a plant stopped (results still written)
-
-/// One closed-loop run and what it measured.
-struct Study {
-  std::string label;        ///< column name: "ideal", "c=0.25mm" (one clearance scene), "paper_spatial2_c=0.25mm"
-  std::string scene;        ///< scene name
-  std::string sensors;      ///< "perfect" (the scene's sensors), "realistic" (kRealisticSensors) or "tracker" (kTrackerSensors)
-  std::string loop_sensors; ///< what the controller closed its loop on (loopSensors)
-  double clearance = 0.0;   ///< [m], 0 for the ideal joint
-  std::vector<double> err;  ///< truth pointing error per tick [rad]
-  double peak_track = 0.0, rms_track = 0.0, peak_run = 0.0;  ///< the track's: NaN with track_reason if not reached
-  long long track_ticks = 0;
-  long long controller_limited_ticks = 0;  ///< ticks with the command at the controller's limit (either axis)
-  long long motor_limited_ticks = 0;       ///< ticks with the applied torque at the motor limit (either axis)
-  std::string joints;       ///< the joints' kinds, "ideal/spatial" (azimuth/elevation)
-  double max_tilt[2] = {};  ///< [rad] largest tilt of each joint's journal at the ticks (0 unless spatial)
-  /// [s] when each axis went onto its backlash guard's gains (NaN: never; controllers' play_guard.hpp)
-  double play_onset[2] = {};
-  std::string track_reason;  ///< why the track figures are NaN ("" if they have values)
-  std::string onset_reason;  ///< why a play_onset is NaN ("" if both have values)
-  bool ok = true;
-  std::string stop_key;     ///< the scene key of the limit that stopped the plant ("" if none)
-  std::string reason;       ///< why it stopped
-};
 
 /// The realistic sensors: the pointing budget's upper bounds
 /// (tools/sweeps/pointing_budget.yaml), star tracker noise 2e-5 rad per axis,
@@ -77,122 +49,10 @@ const std::vector<std::string> kRealisticSensors{"sensors.star_tracker_noise=2e-
 /// closes its loop on (docs/MODEL.md 11.7).
 const std::vector<std::string> kTrackerSensors{"sensors.antenna=tracker_gyro"};
 
-/// What the loop closes on: the joint encoders and rates and the base's gyro
-/// and star tracker, and the antenna's tracker and gyro when the plant has
-/// them and the controller uses them (antenna.tracker).
-std::string loopSensors(const firmware::PlantScene& ps, const ControllerConfig& c) {
-  return ps.sensors.antenna_sensors && c.antenna.use_tracker ? "encoders+base attitude+antenna" : "encoders+base attitude";
-}
-
-/// A CSV number (io::appendCsvNumber: round trip, no -0).
-std::string csvNum(double x) {
-  std::string s;
-  gimbalsim::io::appendCsvNumber(s, x);
-  return s;
-}
-
-/// A run's error column in the CSV convention: "c=0.25mm" -> "error_c0p25mm_rad".
-std::string errorColumn(const std::string& label) {
-  std::string c = "error_";
-  for (char ch : label) {
-    if (ch == '.') {
-      c += 'p';
-    } else if (ch != '=') {
-      c += ch;
-    }
-  }
-  return c + "_rad";
-}
-
 std::string clearanceLabel(double c) {
   char b[40];
   std::snprintf(b, sizeof b, "c=%gmm", c * 1e3);
   return b;
-}
-
-/// The scene key of the limit that stopped a run, from its status (never its message's text).
-std::string stopKey(const firmware::ClosedLoopResult& r) {
-  if (r.none_accepted) return "commands_rejected";
-  if (r.stop_status == StepStatus::Ok) return "refused";
-  return *limitKey(r.stop_status) ? limitKey(r.stop_status) : "non_finite";
-}
-
-Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const firmware::ClosedLoopOptions& opt,
-             std::string label, double clearance, std::string sensors) {
-  Study s;
-  s.label = std::move(label);
-  s.scene = ps.scene.model.name;
-  s.joints = std::string(kindName(ps.scene.model.joint1_kind)) + "/" + kindName(ps.scene.model.joint2_kind);
-  s.sensors = std::move(sensors);
-  s.loop_sensors = loopSensors(ps, c);
-  s.clearance = clearance;
-  PointingController controller(c);
-  const firmware::ClosedLoopResult r = firmware::runClosedLoop(ps, controller, c.profile, opt,
-                                                               [&](const firmware::TickRecord& t) {
-    s.err.push_back(t.truth_error);
-    s.peak_run = std::max(s.peak_run, t.truth_error);
-    if (t.ref.segment == pointing::Segment::Track) ++s.track_ticks;
-  });
-  // The closed loop's own track figures: one definition of the window and of "not reached".
-  s.peak_track = r.max_truth_error_track;
-  s.rms_track = r.rms_truth_error_track;
-  s.track_reason = r.track_reason;
-  s.controller_limited_ticks = r.controller_limited_ticks;
-  s.motor_limited_ticks = r.motor_limited_ticks;
-  s.max_tilt[0] = r.max_tilt(0), s.max_tilt[1] = r.max_tilt(1);
-  s.play_onset[0] = r.play_onset(0), s.play_onset[1] = r.play_onset(1);
-  for (int j = 0; j < 2; ++j) {  // NaN means "not over the ticks run": say how far that was
-    if (!std::isnan(s.play_onset[j])) continue;
-    char why[160];
-    std::snprintf(why, sizeof why, "%saxis %d never on its backlash guard's gains in the %lld ticks run%s",
-                  s.onset_reason.empty() ? "" : "; ", j + 1, r.ticks, r.ok ? "" : " (the run stopped)");
-    s.onset_reason += why;
-  }
-  if (s.err.empty()) s.peak_run = std::numeric_limits<double>::quiet_NaN();  // no tick: no peak, never 0
-  s.ok = r.ok;
-  if (!r.ok) {
-    s.stop_key = stopKey(r);
-    s.reason = r.error;
-  }
-  return s;
-}
-
-std::string timeSeriesCsv(const std::vector<Study>& runs, double period) {
-  std::size_t n = 0;
-  std::string out = "t_s";
-  for (const Study& s : runs) {
-    out += ',';
-    out += errorColumn(s.label);
-    n = std::max(n, s.err.size());
-  }
-  out += "\n";
-  for (std::size_t k = 0; k < n; ++k) {
-    out += csvNum(static_cast<double>(k) * period);
-    for (const Study& s : runs) {
-      out += ',';
-      if (k < s.err.size()) out += csvNum(s.err[k]);
-    }
-    out += "\n";
-  }
-  return out;
-}
-
-std::string summaryCsv(const std::vector<Study>& runs) {
-  std::string out =
-      "run,scene,sensors,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,controller_limited_ticks,motor_limited_ticks,joints,"
-      "max_tilt1_rad,max_tilt2_rad,play_onset1_s,play_onset2_s,loop_sensors,status,stop_reason,track_reason,onset_reason\n";
-  const auto text = [](const std::string& t) { return io::csvTextCell(t) + ","; };  // unquoted (CSV convention)
-  const auto num = [](double x) { return csvNum(x) + ","; };
-  for (const Study& s : runs) {
-    out += text(s.label) + text(s.scene) + text(s.sensors) + num(s.clearance) + num(s.peak_track) +
-           num(s.rms_track) + num(s.peak_run) + std::to_string(s.track_ticks) + "," +
-           std::to_string(s.controller_limited_ticks) + "," + std::to_string(s.motor_limited_ticks) + "," +
-           text(s.joints) + num(s.max_tilt[0]) + num(s.max_tilt[1]) + num(s.play_onset[0]) + num(s.play_onset[1]) +
-           text(s.loop_sensors) +
-           text(s.ok ? std::string("ok") : "stop:" + s.stop_key) + text(s.reason) + text(s.track_reason) +
-           io::csvTextCell(s.onset_reason) + "\n";
-  }
-  return out;
 }
 
 int refuse(const std::string& option, const std::string& why) {
@@ -375,7 +235,7 @@ int mainImpl(int argc, char** argv) {
   gimbalsim::io::installStopHandlers();
   for (const Planned& p : scenes) {
     if (gimbalsim::io::stopRequested()) break;
-    runs.push_back(runOne(p.scene, cfg, opt, p.label, p.clearance, p.sensors));
+    runs.push_back(pointing_study::runOne(p.scene, cfg, opt, p.label, p.clearance, p.sensors));
     const Study& s = runs.back();
     std::printf("%-34s %-18s %11.3g %13s %13s %13s  %s\n", s.label.c_str(), s.scene.c_str(), s.clearance,
                 pointing::figureText(s.peak_track, s.track_reason, "%.4e").c_str(),
@@ -385,8 +245,8 @@ int mainImpl(int argc, char** argv) {
     std::fflush(stdout);
   }
   files[0]->write(config_text);
-  files[1]->write(timeSeriesCsv(runs, cfg.period));
-  files[2]->write(summaryCsv(runs));
+  files[1]->write(pointing_study::timeSeriesCsv(runs, cfg.period));
+  files[2]->write(pointing_study::summaryCsv(runs));
   if (gimbalsim::io::CommitGroup group({files[0].get(), files[1].get(), files[2].get()}); !group.commit()) {
     std::fprintf(stderr, "gimbalsim_pointing_study: error: %s\n", group.error().c_str());
     return kExitWrite;
