@@ -138,6 +138,15 @@ int mainImpl(int argc, char** argv) {
         for (const std::string& kv : base) labels.push_back("--sensors tracker '" + kv + "'");
       }
       for (std::size_t k = 0; k < scene_sets.size(); ++k) {
+        // A case's own key set again would relabel the runs: sensors=tracker with the tracker switched off.
+        const std::string key = scene_sets[k].substr(0, scene_sets[k].find('='));
+        for (std::size_t b = 0; b < base.size(); ++b) {
+          if (base[b].substr(0, base[b].find('=')) == key) {
+            return refuse("--scene-set", "#" + std::to_string(k + 1) + " '" + scene_sets[k] + "' sets " + key +
+                                             ", which " + labels[b] + " sets: the runs would be labelled '" +
+                                             sensor_case + "' without its sensors; leave " + key + " to --sensors");
+          }
+        }
         base.push_back(scene_sets[k]);
         labels.push_back("--scene-set #" + std::to_string(k + 1) + " '" + scene_sets[k] + "'");
       }
