@@ -24,7 +24,8 @@ from . import indices
 from ._closed_spec import CONTROLLER_PREFIX, INDICES
 from ._errors import SpecError
 from ._spec import Spec
-from ._sweep_spec import SweepSpec
+from ._allocate_search import scan_values
+from ._sweep_spec import NOT_READ, SweepSpec
 from .dispersion import NUMERIC
 
 KEYS = ("key", "range", "direction", "index", "phase", "requirement", "level", "confidence", "values", "spacing")
@@ -82,8 +83,10 @@ class AllocationSpec:
         if self.index not in INDICES:
             spec.refuse("allocate.index", f"unknown index (expected one of {', '.join(INDICES)})", body["index"])
         self.phase = spec.text("allocate.phase", body["phase"])
-        # The sweep part, checked at each end of the range: its refusals name the spec's own lines.
-        self._ends = [self.sweep_at(v, spec, body["range"]) for v in (self.lo, self.hi)]
+        # The sweep part, checked at every value the scan tries (both ends among them; its refusals name the
+        # spec's own lines). A refusal of a value (the scene's or controller's range, a phase the run does not
+        # reach) holds over an interval of the key: a value bisected between two accepted ones is accepted too.
+        self._ends = [self.sweep_at(v, spec, body) for v in sorted(scan_values(self))]
         closed = self._ends[0].closed
         if self.index not in [ix.name for ix in closed.indices]:
             spec.refuse("allocate.index", f"'{self.index}' is not among the spec's indices "
@@ -188,17 +191,20 @@ class AllocationSpec:
     def value_text(self, value):
         return str(int(value)) if self.is_int else repr(float(value))
 
-    def sweep_at(self, value, spec=None, node=None):
-        """The SweepSpec of one value. A refusal of the value itself (the
-        scene's or controller's range, a key the runs do not read) is named
-        at node (the range's line) when checking, else as the sweep names it."""
+    def sweep_at(self, value, spec=None, body=None):
+        """The SweepSpec of one value. A refusal of the value itself is named,
+        when checking (body: the allocate: section), at the range's line (the
+        scene's or controller's range, a phase its runs do not reach) or the
+        key's (a key the runs do not read), else as the sweep names it."""
         try:
             return SweepSpec(self.path, text=self.text_at(value))
         except SpecError as e:
             if spec is None or not (e.key or "").startswith("grid."):
                 raise
-            spec.refuse("allocate.range" if "refuses" in str(e) else "allocate.key",
-                        f"{self.key} = {self.value_text(value)}: {_bare(e)}", node)
+            point = f"{self.key} = {self.value_text(value)}: "  # a grid point's own refusal names it already
+            why = _bare(e)
+            where = "key" if why.startswith(NOT_READ) else "range"
+            spec.refuse(f"allocate.{where}", why if why.startswith(point) else point + why, body[where])
 
     def plain(self):
         return {"key": self.key, "unit": self.unit, "range": [self.lo, self.hi], "direction": self.direction,

@@ -154,32 +154,48 @@ class ClosedLoopSpec:
         if "phases" in root:
             for item in root["phases"].value:
                 items[item.value if isinstance(item.value, str) else next(iter(item.value))] = item
+        for kind, name, message in self._unreached(self.controller, self.period_s):
+            if kind == "index":
+                spec.refuse(f"indices.{name}", message, root["indices"].value[name])
+            where = items.get(name, duration_node)
+            if kind == "run":
+                spec.refuse(f"phases.{name}" if items else "sim.duration", message, where)
+            spec.refuse(f"phases.{name}", message, items[name] if kind == "empty" else where)
+
+    def check_point(self, spec, where, controller, node, note):
+        """A grid point's controller (loaded with its values): its runs reach
+        every phase and index window as the spec's own must (_check_reached),
+        else refused at node (where), note naming the point."""
+        for _, _, message in self._unreached(controller, float(controller.values()["control.period"])):
+            spec.refuse(where, note + message, node)
+
+    def _unreached(self, controller, period_s):
+        """(kind, name, why) of each phase ("empty", "tick", "run") or index
+        ("index") the runs with this controller do not reach, in the spec's order."""
+        nominal = profile_phases(controller, self.duration_s)
         tol = 1e-9 * max(1.0, self.duration_s)
         for name, window in self.phases:
-            where = items.get(name, duration_node)
             t0, t1 = window if window is not None else nominal[name]
             ends_with_run = window is None and name == "track"
             if not ends_with_run and not t1 > t0 + tol:  # e.g. profile.hold_time 0: no sample has a figure there
-                spec.refuse(f"phases.{name}", f"phase '{name}' [{seconds(t0)}, {seconds(t1)}) s is empty (the "
-                            "controller's profile gives it no time): leave it out of phases", items[name])
-            first_tick = math.ceil((t0 - tol) / self.period_s) * self.period_s  # the loop records every period
+                yield "empty", name, (f"phase '{name}' [{seconds(t0)}, {seconds(t1)}) s is empty (the controller's "
+                                      "profile gives it no time): leave it out of phases")
+            first_tick = math.ceil((t0 - tol) / period_s) * period_s  # the loop records every period
             if not ends_with_run and not first_tick < t1 - tol:
-                spec.refuse(f"phases.{name}", f"phase '{name}' [{seconds(t0)}, {seconds(t1)}) s holds no control "
-                            f"tick (one every {seconds(self.period_s)} s): its indices would be NaN for every sample",
-                            where)
+                yield "tick", name, (f"phase '{name}' [{seconds(t0)}, {seconds(t1)}) s holds no control tick (one "
+                                     f"every {seconds(period_s)} s): its indices would be NaN for every sample")
             if self.duration_s <= t0 + tol or (not ends_with_run and self.duration_s < t1 - tol):
-                spec.refuse(f"phases.{name}" if items else "sim.duration",
-                            f"the run ends at sim.duration {seconds(self.duration_s)} s, "
-                            f"{'before' if self.duration_s <= t0 + tol else 'inside'} phase '{name}' "
-                            f"[{seconds(t0)}, {seconds(t1)}) s: its indices would be NaN for every sample", where)
+                yield "run", name, (f"the run ends at sim.duration {seconds(self.duration_s)} s, "
+                                    f"{'before' if self.duration_s <= t0 + tol else 'inside'} phase '{name}' "
+                                    f"[{seconds(t0)}, {seconds(t1)}) s: its indices would be NaN for every sample")
             end = self.duration_s if ends_with_run else t1
             for ix in self.indices:
                 need = (ix.window or 0.0) + (ix.separation or 0.0)
                 if need > end - t0 + tol:  # each term printed as given: their sum rounds (0.1 + 0.01)
                     given = f"the window {seconds(ix.window)} s" + \
                         (f" plus separation {seconds(ix.separation)} s" if ix.separation else "")
-                    spec.refuse(f"indices.{ix.name}", f"{given} is longer than phase '{name}' "
-                                f"[{seconds(t0)}, {seconds(end)}) s of this run", root["indices"].value[ix.name])
+                    yield "index", ix.name, (f"{given} is longer than phase '{name}' [{seconds(t0)}, "
+                                             f"{seconds(end)}) s of this run")
 
     def _whole_periods(self, spec, where, value, node):
         if not value > 0 or _gimbalsim._whole_multiple_problem(value, self.period_s, "control.period"):

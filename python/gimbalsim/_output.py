@@ -30,8 +30,9 @@ import math
 import os
 import stat
 
-__all__ = ["OutputError", "OutputRefused", "check_outputs", "open_output", "output_set", "write_text", "write_bytes",
-           "write_csv", "csv_text", "savefig", "figure_bytes", "open_append", "append_synced"]
+__all__ = ["OutputError", "OutputRefused", "check_outputs", "check_output_names", "open_output", "output_set",
+           "write_text", "write_bytes", "write_csv", "csv_text", "savefig", "figure_bytes", "open_append",
+           "append_synced"]
 
 
 class OutputError(OSError):
@@ -81,9 +82,9 @@ def _folder(path):
 
 
 def _kind(mode):
-    return ("a folder" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode) else
-            "a socket" if stat.S_ISSOCK(mode) else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else
-            "not a file")
+    return ("a folder" if stat.S_ISDIR(mode) else "a file" if stat.S_ISREG(mode) else
+            "a FIFO" if stat.S_ISFIFO(mode) else "a socket" if stat.S_ISSOCK(mode) else
+            "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "not a file")
 
 
 def _identity(path):
@@ -145,6 +146,37 @@ def check_outputs(outputs, inputs=()):
             if me is not None and _identity(inp) == me:
                 raise OutputRefused(f"{out}: the same file as the input {inp}; not overwritten")
         seen.append((out, me))
+
+
+# The names that show a folder holds a tool's outputs: a tool writing into another's folder would mix their files.
+TOOL_FILES = {"sweep": ("a sweep", ("results.csv", "results.partial.csv", "design.json")),
+              "study": ("a tuning study", ("study.db", "trials.csv")),
+              "allocation": ("an allocation", ("allocation_spec.json", "allocation.json", "values"))}
+
+
+def check_output_names(out, tool, files=(), folders=(), refuse=OutputRefused):
+    """Refuses (raises refuse naming the path), before anything runs, as found
+    at the end the run's work would be lost: a folder out holding another
+    tool's outputs (TOOL_FILES; tool: this run's key there), and under any
+    of the run's output names an existing symbolic link or anything but its
+    kind (files: regular files; folders, listed outer first: folders)."""
+    out = _text(out)
+    for other, (what, names) in TOOL_FILES.items():
+        held = [n for n in names if os.path.lexists(os.path.join(out, n))]
+        if other != tool and held:
+            raise refuse(f"{out} holds {what} ({', '.join(held)}): give the {tool} another --out")
+    for path, folder in [(_text(p), True) for p in folders] + [(_text(p), False) for p in files]:
+        try:
+            st = os.lstat(path)
+        except (FileNotFoundError, NotADirectoryError):  # made when written (a file on the way: its folder's refusal)
+            continue
+        want = "a folder" if folder else "a file"
+        if stat.S_ISLNK(st.st_mode):
+            raise refuse(f"{path}: a symbolic link where this run writes {want} of its outputs; never written "
+                         "through one: remove it, or use another --out")
+        if not (stat.S_ISDIR(st.st_mode) if folder else stat.S_ISREG(st.st_mode)):
+            raise refuse(f"{path}: not {'a folder' if folder else 'a regular file'} ({_kind(st.st_mode)}) where this "
+                         f"run writes {want} of its outputs: remove it, or use another --out")
 
 
 def _create_temporary(path, binary):

@@ -20,6 +20,7 @@ METRIC_UNITS = {"pointing_error_max": "rad", "pointing_error_final": "rad", "pea
                 "t_end": "s", "impacts_joint1": "", "impacts_joint2": "", "max_tilt1": "rad",
                 "max_tilt2": "rad"}  # a closed loop's index_phase columns are in rad
 MAX_SAMPLES = 10_000_000
+NOT_READ = "not read by this sweep's runs"  # how a key no run reads is refused (gimbalsim.allocate tells it apart)
 
 
 def _check_controller_key(spec, where, key, node, ctrl_types, closed):
@@ -133,10 +134,13 @@ class SweepSpec:
                 if scene and not self._refused_alone(scene, p):  # a within key's own value: refused at its line
                     self._try(spec, f"parameters.{p.key}", scene, p.node,
                               note + _within_note(p, trial, self.base.values()))
+        # A grid point's controller reaches the phases as the spec's must (each value alone, as the scene's are
+        # tried): every sample there would be NaN in a phase its runs end before.
         for (key, values), node in zip(self.grid, grid.values()):
             for v in values:
                 if key.startswith(CONTROLLER_PREFIX):
-                    self.closed.load(spec, f"grid.{key}", {key[len(CONTROLLER_PREFIX):]: v}, node)
+                    c = self.closed.load(spec, f"grid.{key}", {key[len(CONTROLLER_PREFIX):]: v}, node)
+                    self.closed.check_point(spec, f"grid.{key}", c, node, f"{key} = {v}: ")
                 else:
                     self._try(spec, f"grid.{key}", {key: v}, node)
         self.design = Design(self.parameters, self.grid, self.samples, self.seed, self.base.values())
@@ -165,7 +169,7 @@ class SweepSpec:
         for where, key, node in dispersed:
             why = idle_reason(aliases.get(key, key), values, dispersed_keys, takes, self.closed is not None)
             if why is not None:
-                spec.refuse(where, f"not read by this sweep's runs ({why}): a dispersed value would be recorded "
+                spec.refuse(where, f"{NOT_READ} ({why}): a dispersed value would be recorded "
                             "but never act", node)
         # set: and controller_set: alike, judged with the loaded values (sim.duration is the closed loop's length)
         fixed = [(f"set.{k}", aliases.get(k, k), n) for k, n in self._set_nodes.items()

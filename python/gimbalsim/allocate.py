@@ -17,8 +17,12 @@ counts as worst), its quantile and interval indices.quantile_bound.
 Writes DIR/allocation.json (the bracket or why there is none, each value's
 verdict and bound, where the index is not monotone, the runs used),
 DIR/allocation.csv (the table), DIR/allocation.md and DIR/allocation.png.
---resume finishes an interrupted allocation: finished values are read back,
-not run; an interrupted one resumes its sweep's journal.
+--resume finishes an interrupted allocation: a finished value is read back,
+not run, when every row passes the sweep's --resume checks and no sample is
+missing; any other value resumes its sweep (sweep --resume: rows it could not
+have written dropped, missing samples run). Every name written (values/<i>/
+and all in it included) is checked before any run: a link, anything but its
+kind, or a folder holding a sweep or a tuning study is refused (exit 2).
 Exit codes (docs/usage.md "Exit codes"): 0 a bracket, or every value
 meets (the limit lies beyond the range: said so); 3 no bracket: no value of
 the range meets the requirement, or the favourable end fails while a value
@@ -38,10 +42,9 @@ from ._allocate_report import CSV, JSON, PAGE, PLOT, _text, record, write
 from ._allocate_search import next_value, outcome
 from ._allocate_spec import AllocationSpec
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
-from ._journal import JOURNAL
-from ._output import OutputRefused, output_set, write_text
+from ._output import OutputRefused, check_output_names, output_set, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
-from .sweep import FINGERPRINT as SWEEP_FINGERPRINT, RESULTS, sweep
+from .sweep import FINGERPRINT as SWEEP_FINGERPRINT, RESULTS, finished_rows, output_paths, sweep
 
 FINGERPRINT, VALUES = "allocation_spec.json", "values"
 
@@ -67,16 +70,29 @@ def _rows(sub, folder):
     return rows[1:]
 
 
+def _check_outputs(a, out, inputs):
+    """Every name the allocation writes, its values' sweeps' too (the most the
+    search may try), refused before any run (exit 2): a link, anything but
+    its kind, an input under it, or out holding another tool's outputs."""
+    files, folders = [out / n for n in (FINGERPRINT, CSV, JSON, PAGE, PLOT)], [out, out / VALUES]
+    spec = a.sweep_at(a.lo)  # each value's sweep writes the same names
+    for k in range(a.values):
+        value_files, value_folders = output_paths(spec, out / VALUES / str(k))
+        files, folders = files + value_files, folders + value_folders
+    check_output_names(out, "allocation", files, folders, refuse=SpecError)
+    check_outputs_not_inputs(files + folders[1:], inputs)
+
+
 def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, progress=True):
     """Runs the search of a (an AllocationSpec) into out; (result, lines, runs, ran)."""
     inputs = a.input_files()
     fingerprint = out / FINGERPRINT
+    _check_outputs(a, out, inputs)
     if resume:
         if fingerprint.exists() and _held(fingerprint) != a.fingerprint:
             raise SpecError(f"{out} holds an allocation of another spec; --resume needs the same spec")
     elif fingerprint.exists() or (out / VALUES).exists():
         raise SpecError(f"{out} already holds an allocation: give --resume to finish it, or another --out")
-    check_outputs_not_inputs([out / n for n in (FINGERPRINT, VALUES, CSV, JSON, PAGE, PLOT)], inputs)
     tried, runs, ran = {}, 0, 0
     with contextlib.ExitStack() as stack:
         # One cluster for every value's sweep (a local one starts for the first value to run).
@@ -95,7 +111,10 @@ def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, pro
                 raise SpecError(f"{folder} holds a sweep at another value than {a.key} = {a.value_text(value)}, "
                                 "which the search now asks for (the earlier values' results differ from this run's: "
                                 "another build or machine?); use another --out")
-            finished = (folder / RESULTS).exists() and not (folder / JOURNAL).exists() and held.exists()
+            # Read back only when whole, every row as the sweep's --resume checks it; else that resume
+            # runs the missing samples (a row the sweep could not have written dropped), so n is the units drawn.
+            rows = finished_rows(sub, folder) if held.exists() else None
+            finished = rows is not None
             if not finished:
                 print(f"allocate: value {k + 1} of at most {a.values}: {a.key} = {a.value_text(value)}",
                       file=sys.stderr)
@@ -103,7 +122,7 @@ def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, pro
                     cluster = stack.enter_context(_cluster.dask_client(workers, None))
                 s = sweep(sub, folder, resume=resume, batch=batch, progress=progress, cluster=cluster)
                 ran += s["engine"].get("ran_this_invocation", 0)
-            rows = _rows(sub, folder)
+                rows = _rows(sub, folder)
             runs += len(rows)
             tried[value] = r = record(a, sub, rows, value, k)
             print(f"allocate: {a.key} = {a.value_text(value)}{' (read back)' if finished else ''}: "

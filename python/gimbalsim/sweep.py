@@ -47,7 +47,7 @@ import gimbalsim
 from . import _budget, _budget_report, _cluster, _provenance, _study_file, replay
 from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main
 from ._journal import DESIGN, JOURNAL, csv_line, fmt, read_journal, record_design, take_recorded_design  # noqa: F401 (csv_line, fmt: API)
-from ._output import OutputRefused, append_synced, open_append, output_set, write_text
+from ._output import OutputRefused, append_synced, check_output_names, open_append, output_set, write_text
 from ._sample import row_values, run_one, sample_alone  # noqa: F401 (sample_alone: API)
 from ._spec import check_out_dir, check_outputs_not_inputs
 from ._summary import plot, plot_names, summarize
@@ -79,12 +79,30 @@ RESULTS, SUMMARY, REPORT, PLOTS, FINGERPRINT = "results.csv", "summary.json", "r
 
 
 def output_paths(spec, out):
-    """Every path the sweep may write in out: each is checked (no link, no
-    special file, no input under its name) before a sample runs, as found at
-    the end the samples' work would be lost."""
+    """(files, folders): every path the sweep may write in out, out first
+    among the folders. Each is checked (check_output_folder) before a sample
+    runs, as found at the end the samples' work would be lost."""
     plots = _budget_report.cdf_names(spec) if spec.closed else plot_names(spec)
-    names = [FINGERPRINT, _provenance.SPEC_COPY, _provenance.INPUTS, JOURNAL, RESULTS, DESIGN, SUMMARY, REPORT, PLOTS]
-    return [out / n for n in names] + [out / PLOTS / n for n in plots]
+    names = [FINGERPRINT, _provenance.SPEC_COPY, _provenance.INPUTS, JOURNAL, RESULTS, DESIGN, SUMMARY, REPORT]
+    return [out / n for n in names] + [out / PLOTS / n for n in plots], [out, out / PLOTS]
+
+
+def check_output_folder(spec, out, inputs):
+    """Refuses out (exit 2) when it holds another tool's outputs, or a link,
+    something of another kind or an input under a name the sweep writes."""
+    files, folders = output_paths(spec, out)
+    check_output_names(out, "sweep", files, folders, refuse=SpecError)
+    check_outputs_not_inputs(files + folders[1:], inputs)
+
+
+def finished_rows(spec, out):
+    """The rows of the finished sweep in out, each checked as --resume checks
+    a row (_journal.read_journal), or None when it is not whole: a journal
+    left, a sample missing, or a row the sweep could not have written."""
+    if (out / JOURNAL).exists() or not (out / RESULTS).is_file():
+        return None
+    done, dropped, _ = read_journal(spec, out / RESULTS, spec.csv_header())
+    return None if dropped or len(done) != len(spec.design) else [done[i] for i in sorted(done)]
 
 
 def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, progress=True, until=None,
@@ -97,6 +115,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
     journal = out / JOURNAL
     results = out / RESULTS
     fingerprint = out / FINGERPRINT
+    check_output_folder(spec, out, inputs)
     if resume:
         try:
             same = not fingerprint.exists() or fingerprint.read_text() == spec.fingerprint
@@ -106,9 +125,6 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             raise SpecError(f"{out} holds a sweep of another spec; --resume needs the same spec")
     elif journal.exists() or results.exists() or (out / DESIGN).exists():
         raise SpecError(f"{out} already holds a sweep: give --resume to finish it, or another --out")
-    if (out / "study.db").exists() or (out / "trials.csv").exists():  # its summary.json was replaced by ours
-        raise SpecError(f"{out} holds a tuning study (study.db, trials.csv): give the sweep another --out")
-    check_outputs_not_inputs(output_paths(spec, out), inputs)
     engine, grown = {"ran_this_invocation": 0}, None
     with contextlib.ExitStack() as stack:
         # A named scheduler is reached before anything is written: one that does not answer (exit 6) leaves

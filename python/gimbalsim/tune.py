@@ -49,7 +49,7 @@ from . import _cluster, _study_file
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
 from ._closed_spec import plant_overrides
 from ._journal import fmt
-from ._output import output_set, savefig, write_csv, write_text
+from ._output import check_output_names, output_set, savefig, write_csv, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
 from ._tune_spec import METRICS, TuneSpec, fail_reason  # noqa: F401 (TuneSpec: the module's API)
 
@@ -117,14 +117,14 @@ OUTPUTS = (STUDY_FILE, STUDY_FILE + "-journal", TRIALS, BEST, SUMMARY, PROGRESS)
 
 
 def check_study_folder(spec, out, resume):
-    """Refuses (exit 2), before the cluster or anything written: a study
-    without --resume, a sweep's folder, and a link, a special file or an
-    input under any output's name (found at the end, every trial was lost)."""
+    """Refuses (exit 2), before the cluster or anything written: a folder of
+    another tool's outputs, a study without --resume, and a link, anything
+    but a file or an input under any output's name (found at the end, every
+    trial was lost)."""
+    check_output_names(out, "study", [out / n for n in OUTPUTS], [out], refuse=SpecError)  # a sweep's, an allocation's
     if not resume and ((out / STUDY_FILE).exists() or (out / TRIALS).exists()):
         raise SpecError(f"{out} already holds a study ({STUDY_FILE}, {TRIALS}): give --resume to continue it, "
                         f"or another --out")
-    if any((out / n).exists() for n in ("results.csv", "results.partial.csv", "design.json")):
-        raise SpecError(f"{out} holds a sweep (results.csv or its journal): give the study another --out")
     check_outputs_not_inputs([out / n for n in OUTPUTS], spec.input_files())
 
 
