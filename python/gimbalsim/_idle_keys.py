@@ -69,7 +69,8 @@ def idle_in_controller(key, values, dispersed):
 # Keys that act only through the star tracker's samples: idle when none is delivered in the run.
 _STAR_SAMPLE_KEYS = ("sensors.star_tracker_noise", "sensors.star_tracker_rate",
                      CONTROLLER_PREFIX + "estimator.k_p", CONTROLLER_PREFIX + "estimator.k_i")
-_STAR_DECIDERS = ("sensors.star_tracker_outage", "sensors.star_tracker_latency", "sim.duration")
+# ... and through the boresight tracker's (sensors.antenna tracker_gyro).
+_TRACKER_SAMPLE_KEYS = ("sensors.tracker_noise", "sensors.tracker_bias", "sensors.tracker_rate")
 
 
 # Every sensor noise drawn from sensors.seed's streams (firmware_sim: joint_sensors.hpp, attitude_sensors.hpp,
@@ -81,26 +82,30 @@ _ANTENNA_NOISE_KEYS = ("sensors.tracker_noise", "sensors.antenna_gyro_noise")
 
 
 def _idle_in_sensors(key, values, dispersed):
-    """Why a key that acts through the star tracker's samples cannot act: an
+    """Why a key that acts through the star tracker's or the boresight
+    tracker's samples cannot act: an
     outage over the whole run [0, sim.duration], or a latency no shorter than
     the run (a sample is delivered latency after it is taken); or why
     sensors.seed cannot: every noise is 0."""
     if key == "sensors.seed":
-        noises = _NOISE_KEYS + tuple(k for k in _ANTENNA_NOISE_KEYS if _idle_at_antenna(k, values, dispersed) is None)
+        noises = _NOISE_KEYS + tuple(k for k in _ANTENNA_NOISE_KEYS if _idle_at_antenna(k, values, dispersed) is None
+                                     and _idle_in_sensors(k, values, dispersed) is None)
         if set(noises) & dispersed or any(float(values.get(k, 0.0)) != 0.0 for k in noises):
             return None
         return "every sensor noise (" + ", ".join(noises) + ") is 0: nothing random to seed"
-    reads_latency = key == "sensors.star_tracker_latency"
-    if not (key in _STAR_SAMPLE_KEYS or reads_latency) or set(_STAR_DECIDERS) & dispersed:
-        return None
-    start, end = (float(x) for x in str(values["sensors.star_tracker_outage"]).strip("[]").split(","))
-    duration, latency = float(values["sim.duration"]), float(values["sensors.star_tracker_latency"])
-    if start <= 0.0 and end >= duration:
-        return f"sensors.star_tracker_outage [{seconds(start)}, {seconds(end)}] s covers the whole run: no star " \
-               "tracker sample is taken"
-    if latency >= duration and not reads_latency:
-        return f"sensors.star_tracker_latency {seconds(latency)} s is no shorter than the run " \
-               f"({seconds(duration)} s): no star tracker sample is delivered"
+    for sensor, name, sample_keys in (("star_tracker", "star tracker", _STAR_SAMPLE_KEYS),
+                                      ("tracker", "boresight tracker", _TRACKER_SAMPLE_KEYS)):
+        outage, latency_key = f"sensors.{sensor}_outage", f"sensors.{sensor}_latency"
+        reads_latency = key == latency_key
+        if not (key in sample_keys or reads_latency) or {outage, latency_key, "sim.duration"} & dispersed:
+            continue
+        start, end = (float(x) for x in str(values.get(outage, "[0, 0]")).strip("[]").split(","))
+        duration, latency = float(values["sim.duration"]), float(values.get(latency_key, 0.0))
+        if start <= 0.0 and end >= duration:
+            return f"{outage} [{seconds(start)}, {seconds(end)}] s covers the whole run: no {name} sample is taken"
+        if latency >= duration and not reads_latency:
+            return f"{latency_key} {seconds(latency)} s is no shorter than the run " \
+                   f"({seconds(duration)} s): no {name} sample is delivered"
     return None
 
 
@@ -123,7 +128,7 @@ def _idle_at_antenna(key, values, dispersed):
 
 # The settings that switch other keys off.
 _DECIDERS = re.compile(r"structure\..*|sim\.substep_policy|(joint[12]\.)?(friction\.law|contact\.damping)|"
-                       r"sensors\.star_tracker_(outage|latency)|sensors\.antenna")
+                       r"sensors\.(star_)?tracker_(outage|latency)|sensors\.antenna")
 _CONTROLLER_DECIDERS = {CONTROLLER_PREFIX + d for rules in CONTROLLER_READ_UNDER.values() for c in rules
                         for d, _ in (c if isinstance(c, list) else [c])} | {_ANTENNA_TRACKER}
 _MAX_COMBINATIONS = 256  # of the deciders' values: beyond it nothing is judged

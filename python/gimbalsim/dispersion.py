@@ -175,8 +175,9 @@ def parse_parameter(spec, section, key, node, key_types, known_as=SCENE_KEYS):
     else:
         if ktype != "vec2":
             spec.refuse(where, f"disk needs a vec2 key; {key} is {ktype}", arg)
+        # fraction scales a within key only: beside a radius it would be read and never act
         if not isinstance(plain, dict) or not (set(plain) <= {"radius", "within", "fraction", "center"}) \
-                or (("radius" in plain) == ("within" in plain)):
+                or (("radius" in plain) == ("within" in plain)) or ("fraction" in plain and "radius" in plain):
             spec.refuse(where, "disk expects {radius: r} or {within: key, fraction: f} (center optional)", arg)
         if "radius" in plain and not (_is_number(plain["radius"]) and plain["radius"] >= 0):
             spec.refuse(where, "disk: radius must be a number >= 0", arg)

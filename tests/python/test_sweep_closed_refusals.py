@@ -132,6 +132,16 @@ REFUSALS = [
      "parameters.sensors.tracker_noise", "the controller's antenna.tracker is ignore: it reads no antenna sensor"),
     ("controller_set: {", "controller_set: {antenna.tracker: ignore, ",
      "controller_set.antenna.tracker", "the scene's sensors.antenna is none"),
+    # the boresight tracker out for the whole run: its noise never acts, nor a seed only it would read
+    (("set: {sim.duration: 0.5}", "  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}"),
+     ("set: {sim.duration: 0.5, sensors.antenna: tracker_gyro, sensors.tracker_outage: [0, 100]}",
+      "  sensors.tracker_noise: {uniform: [0.0, 2.0e-5]}"),
+     "parameters.sensors.tracker_noise",
+     "sensors.tracker_outage [0, 100] s covers the whole run: no boresight tracker sample is taken"),
+    (("set: {sim.duration: 0.5}", "  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}"),
+     ("set: {sim.duration: 0.5, sensors.antenna: tracker_gyro, sensors.tracker_outage: [0, 100], "
+      "sensors.tracker_noise: 1.0e-5}", "  sensors.seed: {choice: [1, 2]}"),
+     "parameters.sensors.seed", "is 0: nothing random to seed"),
     # a journal that cannot tilt (joint 2 planar)
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  initial.tilt2: {disk: {radius: 1.0e-3}}",
      "parameters.initial.tilt2", "joint 2's bearing is planar: it cannot tilt"),

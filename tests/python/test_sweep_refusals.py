@@ -19,6 +19,9 @@ BAD = [
     ("parameters:\n  contact.restitution: {uniform: [0.5, 1.5]}\n", "parameters.contact.restitution", 7,
      "the scene refuses"),
     ("parameters:\n  friction.mu: {disk: {radius: 1}}\n", "parameters.friction.mu", 7, "disk needs a vec2 key"),
+    # a fraction beside a radius scales nothing: it was read and never acted
+    ("parameters:\n  initial.ecc: {disk: {radius: 1.0e-4, fraction: 0.5}}\n", "parameters.initial.ecc", 7,
+     "disk expects {radius: r} or {within: key, fraction: f}"),
     ("parameters:\n  friction.mu: {normal: {mean: 0.2, sd: -1}}\n", "parameters.friction.mu", 7, "sd > 0"),
     ("grid:\n  friction.law: [coulomb, sticky]\n", "grid.friction.law", 7, "the scene refuses"),
     ("set: {sim.durration: 2}\nparameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n", "set.sim.durration", 6,
