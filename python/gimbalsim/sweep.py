@@ -323,6 +323,7 @@ def main(argv=None):
     ap.add_argument("--batch", type=_cluster.whole_number, default=None,
                     help=f"samples per task, in [1, {MAX_SAMPLES}] (default: about 8 tasks per worker, at most 10)")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
+    ap.add_argument("--check", action="store_true", help="check the spec and --out, run and write nothing (exit 0 or 2)")
     ap.add_argument("--until", metavar="INDEX:PHASE:RELWIDTH",
                     help="closed loop: add batches of the spec's samples until the index's confidence interval in "
                          "the phase is at most RELWIDTH of its value (e.g. ape:track:0.2), or --max-samples")
@@ -335,7 +336,8 @@ def main(argv=None):
         ap.error(f"--batch must be in [1, {MAX_SAMPLES}]")
     # --replay runs one sample here and now: a flag of the sweep would be silently ignored.
     sweep_only = [f for f, v in (("--resume", a.resume), ("--until", a.until), ("--max-samples", a.max_samples),
-                                 ("--batch", a.batch), ("--workers", a.workers), ("--scheduler", a.scheduler))
+                                 ("--batch", a.batch), ("--workers", a.workers), ("--scheduler", a.scheduler),
+                                 ("--check", a.check))
                   if v not in (None, False)]
     if a.replay is not None and sweep_only:
         ap.error(f"--replay runs one sample in this process: not with {', '.join(sweep_only)} (flags of a sweep)")
@@ -358,6 +360,8 @@ def _run(a, out):
     (what goes wrong is raised, for guarded_main's exit code)."""
     check_out_dir(a.out, a.spec)
     spec = SweepSpec(a.spec)
+    if a.check:
+        return EXIT_OK
     until = None
     if a.until is not None:
         until = Until(a.until, spec, a.max_samples or min(MAX_SAMPLES, 20 * spec.samples))

@@ -162,6 +162,11 @@ FAKE_SWEEP = '''
 import os, pathlib, sys
 out = pathlib.Path(sys.argv[sys.argv.index("--out") + 1])
 how = os.environ["FAKE_SWEEP"]
+if "--check" in sys.argv:  # the script's check of every spec before any runs
+    sys.exit(2 if os.environ.get("FAKE_REFUSE") and os.environ["FAKE_REFUSE"] in sys.argv[1] else 0)
+if os.environ.get("FAKE_LOG"):  # which specs ran
+    with open(os.environ["FAKE_LOG"], "a") as log:
+        log.write(sys.argv[1] + "\\n")
 if os.environ.get("FAKE_PARTIAL_FOR") and os.environ["FAKE_PARTIAL_FOR"] in sys.argv[1]:  # half a folder
     how = "partial"
 if how != "nothing":
@@ -244,6 +249,38 @@ def test_the_spatial_page_holds_both_budgets_or_neither(tmp_path):
         assert (results / name).read_bytes() == b"png", name
     assert (results / "pointing_budget_ape_cdf.png").read_bytes() == b"the planar page's"
     assert not (results / "pointing_budget_spatial_rpe_slew_cdf.png").exists(), "a stale plot of this page left"
+    # Refused before any budget runs: a spec the sweep refuses (the second one was checked only after the
+    # first budget's run), a link at the page or at one of its plots (found after the results were replaced).
+    log = tmp_path / "ran.log"
+    env["FAKE_LOG"] = str(log)
+    before = digest(root / "docs")
+    p = subprocess.run(["bash", script, "--spatial"], capture_output=True, text=True, timeout=60,
+                       env=dict(env, FAKE_REFUSE="spatial_tracker"))
+    assert p.returncode == 2 and not log.exists(), p.stderr
+    for planted in (results / "pointing_budget_spatial.md", results / "pointing_budget_spatial_tracker_ape_cdf.png"):
+        victim = tmp_path / "victim"
+        victim.write_text("keep\n")
+        planted.unlink()
+        planted.symlink_to(victim)
+        p = subprocess.run(["bash", script, "--spatial"], capture_output=True, text=True, timeout=60, env=env)
+        assert p.returncode == 2 and "a symbolic link or not a regular file" in p.stderr, p.stderr
+        assert not log.exists() and victim.read_text() == "keep\n", planted
+        planted.unlink()
+        planted.write_bytes(b"png")
+    assert (spatial_out / "results.csv").read_text() == "the new run's\n"
     # a spec runs alone, not as part of the shipped page
     p = subprocess.run(["bash", script, "--spatial", "my.yaml"], capture_output=True, text=True, timeout=60, env=env)
     assert p.returncode == 2 and "--spatial runs the shipped spatial budgets" in p.stderr, p.stderr
+
+
+def test_a_sweeps_check_runs_and_writes_nothing(tmp_path):
+    # sweep --check: what the script asks of every spec before any budget runs
+    import sys
+    (tmp_path / "good.yaml").write_text(SPEC)
+    (tmp_path / "bad.yaml").write_text(SPEC.replace("samples: 2", "samples: 2\nsampels: 3"))
+    for name, code in (("good.yaml", 0), ("bad.yaml", 2)):
+        p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(tmp_path / name), "--out",
+                            str(tmp_path / "out"), "--check"], capture_output=True, text=True, timeout=120)
+        assert p.returncode == code, p.stderr
+        assert sorted(os.listdir(tmp_path)) == ["bad.yaml", "good.yaml"]
+    assert "key 'sampels': unknown key" in p.stderr

@@ -87,6 +87,29 @@ for a in "${ARGS[@]+"${ARGS[@]}"}"; do
   fi
 done
 cd "$ROOT"
+RESULTS=docs/results
+# Everything checked before any budget runs, so a refusal costs nothing (exit 2): every spec (the second
+# was refused only after the first budget's run), the page and this page's plots (a link there was found
+# only after both budgets had replaced the previous results).
+for spec in "${SPECS[@]}"; do
+  PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$spec" --out "out/$(basename "${spec%.*}").new-$$" --check
+done
+for name in "$RESULTS/$PAGE.md" "$RESULTS/README.md" "$RESULTS"/*_cdf.png; do
+  case "$name" in "$RESULTS/$PAGE.md" | "$RESULTS/README.md") ;; *)
+    own=0
+    for spec in "${SPECS[@]}"; do
+      for index in ape rpe pde knowledge; do
+        case "$(basename "$name")" in "$(basename "${spec%.*}")_${index}_"*) own=1 ;; esac
+      done
+    done
+    [ "$own" = 1 ] || continue ;;
+  esac
+  if [ -L "$name" ] || { [ -e "$name" ] && [ ! -f "$name" ]; }; then
+    echo "run_pointing_budget.sh: $name: a symbolic link or not a regular file where the page writes;" \
+         "nothing run: remove it" >&2
+    exit 2
+  fi
+done
 COMMAND="bash tools/sweeps/run_pointing_budget.sh$([ "$PAGE" = pointing_budget ] || echo " --spatial")$(printf ' %q' "${ARGS[@]+"${ARGS[@]}"}")"
 made_out=0
 if [ ! -d out ]; then mkdir out && made_out=1; fi
@@ -132,7 +155,6 @@ for i in "${!SPECS[@]}"; do
   fi
 done
 for old in "${OLDS[@]}"; do rm -rf "$old"; done
-RESULTS=docs/results
 BODY="out/$(basename "${SPECS[0]%.*}")/page_body.md"  # beside the first budget's results, as its report
 : > "$BODY"
 [ "${#SPECS[@]}" = 1 ] || printf '%s\n\n' "The same units (each spec's seed and bearing tolerance), \
@@ -145,7 +167,7 @@ for i in "${!SPECS[@]}"; do
   for index in ape rpe pde knowledge; do rm -f "$RESULTS/${name}_${index}"_*_cdf.png; done
   for png in "$out"/plots/*_cdf.png; do
     [ -e "$png" ] || continue
-    cp "$png" "$RESULTS/${name}_$(basename "$png")"
+    cp --remove-destination "$png" "$RESULTS/${name}_$(basename "$png")"  # a link made since: replaced, not followed
   done
   # the report's plots/NAME links become the copies' names beside the page; under a section, its
   # headings one level down
