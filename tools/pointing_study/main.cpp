@@ -47,7 +47,9 @@ const std::vector<std::string> kRealisticSensors{"sensors.star_tracker_noise=2e-
 /// The tracker case: the perfect sensors plus the antenna's own (noise 0,
 /// tools/scenes/paper_spatial2_tracker.yaml's), which the default controller
 /// closes its loop on (docs/MODEL.md 11.7).
-const std::vector<std::string> kTrackerSensors{"sensors.antenna=tracker_gyro"};
+const std::vector<std::string> kTrackerSensors{"sensors.antenna=tracker_gyro", "sensors.tracker_noise=0",
+                                               "sensors.tracker_bias=[0, 0]", "sensors.antenna_gyro_noise=0",
+                                               "sensors.antenna_gyro_bias=[0, 0, 0]"};
 
 std::string clearanceLabel(double c) {
   char b[40];
