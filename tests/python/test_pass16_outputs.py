@@ -14,20 +14,11 @@ import sys
 import pytest
 
 from conftest import SCENES
+from test_allocate import BASE as ALLOCATION_BASE
 
-BASE = f"""scene: {SCENES}/paper_clearance.yaml
-set: {{sim.duration: 0.3}}
-controller: default
-controller_set: {{profile.slew_start: 0.0, profile.slew_time: 0.1, profile.hold_time: 0.1, profile.start: [0.0, 0.0],
-                 profile.slew_target: [0.0, 0.0], profile.track_rate: [0.0, 0.0], profile.track_amplitude: [0.0, 0.0]}}
-samples: 4
-seed: 5
-parameters:
-  sensors.seed: {{choice: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]}}
-phases: [{{late: [0.2, 0.3]}}]
-indices:
-  ape: {{}}
-"""
+# test_allocate's spec, four units a value
+BASE = ALLOCATION_BASE.replace("samples: 8", "samples: 4")
+assert "samples: 4" in BASE
 ALLOCATE = """allocate:
   key: sensors.star_tracker_noise
   range: [1.0e-5, 3.0e-4]
