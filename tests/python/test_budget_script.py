@@ -284,3 +284,21 @@ def test_a_sweeps_check_runs_and_writes_nothing(tmp_path):
         assert p.returncode == code, p.stderr
         assert sorted(os.listdir(tmp_path)) == ["bad.yaml", "good.yaml"]
     assert "key 'sampels': unknown key" in p.stderr
+
+
+def test_the_shipped_page_is_made_in_a_checkout_without_out(tmp_path):
+    # The specs' check ran before out/ was made, and refused every fresh checkout ("does not exist").
+    root = tmp_path / "checkout"
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/pages/results_page.py", "tools/pages/output_file.py",
+                "python/gimbalsim/_output.py", "docs/results/pointing_budget.md", "docs/results/README.md"):
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(SOURCE / rel, root / rel)
+    (root / "tools/sweeps/pointing_budget.yaml").write_text(SPEC)
+    env = dict(os.environ, GIMBALSIM_BUILD=str(pathlib.Path(os.environ["PYTHONPATH"]).parent))
+    p = subprocess.run(["bash", str(root / "tools/sweeps/run_pointing_budget.sh"), "--workers", "1"],
+                       capture_output=True, text=True, timeout=300, env=env)
+    assert p.returncode == 0, p.stderr
+    assert (root / "out/pointing_budget/results.csv").is_file()
+    assert "Regenerate: `bash tools/sweeps/run_pointing_budget.sh --workers 1`" in \
+        (root / "docs/results/pointing_budget.md").read_text()
+    assert sorted(os.listdir(root)) == ["docs", "out", "python", "tools"], "no check folder left"

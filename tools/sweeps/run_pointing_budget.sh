@@ -92,7 +92,8 @@ RESULTS=docs/results
 # was refused only after the first budget's run), the page and this page's plots (a link there was found
 # only after both budgets had replaced the previous results).
 for spec in "${SPECS[@]}"; do
-  PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$spec" --out "out/$(basename "${spec%.*}").new-$$" --check
+  # (a name in the checkout, whose out/ may not exist yet: --check writes nothing)
+  PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$spec" --out "$ROOT/budget-check-$$" --check
 done
 for name in "$RESULTS/$PAGE.md" "$RESULTS/README.md" "$RESULTS"/*_cdf.png; do
   case "$name" in "$RESULTS/$PAGE.md" | "$RESULTS/README.md") ;; *)
