@@ -169,13 +169,19 @@ if os.environ.get("FAKE_LOG"):  # which specs ran
         log.write(sys.argv[1] + "\\n")
 if os.environ.get("FAKE_PARTIAL_FOR") and os.environ["FAKE_PARTIAL_FOR"] in sys.argv[1]:  # half a folder
     how = "partial"
-if how != "nothing":
+if os.environ.get("FAKE_INTERRUPT_FOR") and os.environ["FAKE_INTERRUPT_FOR"] in sys.argv[1] \
+        and "--resume" not in sys.argv:  # interrupted: its samples kept in a journal
     out.mkdir()
+    (out / "results.partial.csv").write_text("half\\n")
+    sys.exit(130)
+if how != "nothing":
+    out.mkdir(exist_ok="--resume" in sys.argv)
+    (out / "results.partial.csv").unlink(missing_ok=True)
     (out / "results.csv").write_text("the new run's\\n")
 if how == "whole":
     (out / "summary.json").write_text("{}\\n")
     (out / "report.md").write_text("# budget\\n\\n![ape](plots/ape_cdf.png)\\n")
-    (out / "plots").mkdir()
+    (out / "plots").mkdir(exist_ok=True)
     (out / "plots" / "ape_cdf.png").write_bytes(b"png")
 '''
 
@@ -302,3 +308,48 @@ def test_the_shipped_page_is_made_in_a_checkout_without_out(tmp_path):
     assert "Regenerate: `bash tools/sweeps/run_pointing_budget.sh --workers 1`" in \
         (root / "docs/results/pointing_budget.md").read_text()
     assert sorted(os.listdir(root)) == ["docs", "out", "python", "tools"], "no check folder left"
+
+
+def test_an_interrupted_page_run_is_finished_by_resume_and_two_runs_are_refused(tmp_path):
+    # An interrupted budget's folder was removed by the script while the sweep said "run again with
+    # --resume"; and two runs at once wrote the same page and index.
+    import fcntl
+    root, previous = checkout_with_previous_results(tmp_path)
+    for rel in ("tools/sweeps/pointing_budget_spatial.yaml", "tools/sweeps/pointing_budget_spatial_tracker.yaml"):
+        shutil.copy(SOURCE / rel, root / rel)
+    fake = tmp_path / "fakebuild" / "python" / "gimbalsim"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text("")
+    (fake / "sweep.py").write_text(FAKE_SWEEP)
+    script = str(root / "tools/sweeps/run_pointing_budget.sh")
+    env = dict(os.environ, GIMBALSIM_BUILD=str(tmp_path / "fakebuild"), FAKE_SWEEP="whole",
+               FAKE_INTERRUPT_FOR="spatial_tracker")
+    before = digest(root / "docs")
+    p = subprocess.run(["bash", script, "--spatial"], capture_output=True, text=True, timeout=60, env=env)
+    assert p.returncode == 130, p.stderr
+    assert "out/pointing_budget_spatial_tracker.new kept" in p.stderr and "--resume" in p.stderr, p.stderr
+    assert (root / "out/pointing_budget_spatial_tracker.new/results.partial.csv").read_text() == "half\n"
+    assert (root / "out/pointing_budget_spatial.new/results.csv").is_file(), "the finished budget kept too"
+    assert digest(root / "docs") == before
+    # without --resume the kept folder is refused, not overwritten
+    p = subprocess.run(["bash", script, "--spatial"], capture_output=True, text=True, timeout=60, env=env)
+    assert p.returncode == 2 and "holds an interrupted budget" in p.stderr, p.stderr
+    assert (root / "out/pointing_budget_spatial_tracker.new/results.partial.csv").is_file()
+    # the page is one run's at a time: a second run while the first holds docs/results is refused
+    fd = os.open(root / "docs/results", os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        p = subprocess.run(["bash", script, "--spatial", "--resume"], capture_output=True, text=True, timeout=60,
+                           env=env)
+        assert p.returncode == 2 and "another run_pointing_budget.sh is writing" in p.stderr, p.stderr
+        p = subprocess.run(["bash", script], capture_output=True, text=True, timeout=60, env=env)
+        assert p.returncode == 2 and "another run_pointing_budget.sh is writing" in p.stderr, p.stderr
+    finally:
+        os.close(fd)
+    assert digest(root / "docs") == before
+    p = subprocess.run(["bash", script, "--spatial", "--resume"], capture_output=True, text=True, timeout=60, env=env)
+    assert p.returncode == 0, p.stderr
+    assert sorted(os.listdir(root / "out")) == ["pointing_budget", "pointing_budget_spatial",
+                                                "pointing_budget_spatial_tracker"]
+    page = (root / "docs/results/pointing_budget_spatial.md").read_text()
+    assert "Regenerate: `bash tools/sweeps/run_pointing_budget.sh --spatial`" in page, page

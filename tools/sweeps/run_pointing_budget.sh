@@ -15,7 +15,9 @@
 # The package is the one in ${GIMBALSIM_BUILD:-build}/python (cmake --build build --target gimbalsim_python).
 # Options after SPEC go to python3 -m gimbalsim.sweep (its --help lists them); --help (-h) prints this
 # and --version the sweep's version, before anything runs. A refused spec or a failed run leaves the
-# previous results as they were: they are replaced only by a new folder the sweep completed.
+# previous results as they were: they are replaced only by a new folder the sweep completed. An
+# interrupted shipped budget keeps its samples in out/<spec name>.new/: the same command with --resume
+# finishes it. One run at a time writes docs/results/ (a second is refused, exit 2).
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -41,7 +43,7 @@ T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 info=
 for a in "$@"; do case "$a" in -h | --help | --version) info=$a; break ;; esac; done
 if [ "$info" != "" ] && [ "$info" != --version ]; then
-  sed -n '2,18p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+  sed -n '2,20p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
   exit 0
 fi
 SPEC=  # none: a shipped budget and its page
@@ -111,22 +113,50 @@ for name in "$RESULTS/$PAGE.md" "$RESULTS/README.md" "$RESULTS"/*_cdf.png; do
     exit 2
   fi
 done
-COMMAND="bash tools/sweeps/run_pointing_budget.sh$([ "$PAGE" = pointing_budget ] || echo " --spatial")$(printf ' %q' "${ARGS[@]+"${ARGS[@]}"}")"
+# One run at a time makes the pages: two would share out/<spec name>.new/, the page index and the plots.
+if [ ! -d "$RESULTS" ] || ! exec 9<"$RESULTS"; then
+  echo "run_pointing_budget.sh: $ROOT/$RESULTS: no such folder, where the page goes; nothing run" >&2
+  exit 2
+fi
+if ! flock -n 9; then
+  echo "run_pointing_budget.sh: another run_pointing_budget.sh is writing $ROOT/$RESULTS; nothing run:" \
+       "wait for it to end" >&2
+  exit 2
+fi
+SHOWN=()  # the page's command regenerates it: the options given, less a --resume that finished this run
+for a in "${ARGS[@]+"${ARGS[@]}"}"; do [ "$a" = --resume ] || SHOWN+=("$a"); done
+COMMAND="bash tools/sweeps/run_pointing_budget.sh$([ "$PAGE" = pointing_budget ] || echo " --spatial")"
+[ "${#SHOWN[@]}" = 0 ] || COMMAND+=$(printf ' %q' "${SHOWN[@]}")  # (printf with no words prints '')
 made_out=0
 if [ ! -d out ]; then mkdir out && made_out=1; fi
 # Each budget into a fresh folder first: the previous results go only once every budget of the page has
 # its own (a refused spec or a failed run leaves them all as they were, and an out/ made for it goes again).
-NEWS=() OLDS=()
+# An interrupted run's new folders are kept (its samples are in a journal, results.partial.csv) for
+# --resume, which this script passes to each sweep; without it such a folder is refused, not overwritten.
+NEWS=() OLDS=() resume=0
+for a in "${ARGS[@]+"${ARGS[@]}"}"; do [ "$a" != --resume ] || resume=1; done
 for spec in "${SPECS[@]}"; do
   name=$(basename "${spec%.*}")
-  NEWS+=("out/$name.new-$$") OLDS+=("out/$name.old-$$")
+  NEWS+=("out/$name.new") OLDS+=("out/$name.old-$$")
+  if [ "$resume" = 0 ] && { [ -e "out/$name.new" ] || [ -L "out/$name.new" ]; }; then
+    echo "run_pointing_budget.sh: out/$name.new holds an interrupted budget; nothing run: give the same" \
+         "command with --resume to finish it, or remove that folder to start over" >&2
+    [ "$made_out" = 0 ] || rmdir out 2>/dev/null || true
+    exit 2
+  fi
 done
 restore() {
-  local i
+  local i kept=0
+  for i in "${!SPECS[@]}"; do [ ! -e "${NEWS[$i]}/results.partial.csv" ] || kept=1; done
   for i in "${!SPECS[@]}"; do
     local out
     out="out/$(basename "${SPECS[$i]%.*}")"
-    rm -rf "${NEWS[$i]}"
+    if [ "$kept" = 1 ]; then
+      [ ! -d "${NEWS[$i]}" ] || echo "run_pointing_budget.sh: ${NEWS[$i]} kept; the previous results left as" \
+        "they were: give the same command with --resume to finish (or remove it to start over)" >&2
+    else
+      rm -rf "${NEWS[$i]}"
+    fi
     [ -e "$out" ] || [ ! -d "${OLDS[$i]}" ] || mv "${OLDS[$i]}" "$out"
   done
   [ "$made_out" = 0 ] || rmdir out 2>/dev/null || true
