@@ -230,6 +230,16 @@ def check_out_dir(out, spec_path):
     parent = out.absolute().parent
     if not out.exists() and not parent.is_dir():
         raise SpecError(f"--out {out}: the folder it goes in, {parent}, does not exist (create it first)")
+    for folder in out.absolute().parents:  # e.g. an allocation's values/<i>/: its own sweep's, not the user's
+        held = next((what for what, names in _INSIDE if all((folder / n).exists() for n in names)), None)
+        if held is not None:
+            raise SpecError(f"--out {out}: lies inside {held} ({folder}), whose folders are its own; give "
+                            "--out outside it")
+
+
+# A folder that is a tool's output (the names only that tool writes): no other run's --out goes inside it.
+_INSIDE = (("an allocation", ("allocation_spec.json",)), ("a tuning study", ("study.db",)),
+           ("a sweep", ("spec.json", "inputs.json")))
 
 
 def check_outputs_not_inputs(outputs, inputs):

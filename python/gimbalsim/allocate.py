@@ -18,11 +18,14 @@ Writes DIR/allocation.json (the bracket or why there is none, each value's
 verdict and bound, where the index is not monotone, the runs used),
 DIR/allocation.csv (the table), DIR/allocation.md and DIR/allocation.png.
 --resume finishes an interrupted allocation: a finished value is read back,
-not run, when every row passes the sweep's --resume checks and no sample is
-missing; any other value resumes its sweep (sweep --resume: rows it could not
-have written dropped, missing samples run). Every name written (values/<i>/
-and all in it included) is checked before any run: a link, anything but its
-kind, or a folder holding a sweep or a tuning study is refused (exit 2).
+not run, when every row passes the sweep's --resume checks, no sample is
+missing and its report, summary, plots, spec copy and inputs.json are this
+value's; any other value resumes its sweep (sweep --resume: rows it could not
+have written dropped, missing samples run, the report written). Every name
+written (values/<i>/ and all in it included) is checked before any run: a
+link, anything but its kind, or a folder holding a sweep or a tuning study is
+refused (exit 2); checked again before each value's sweep, one planted since
+is exit 4 (the values before it kept: move it away, --resume).
 Exit codes (docs/usage.md "Exit codes"): 0 a bracket, or every value
 meets (the limit lies beyond the range: said so); 3 no bracket: no value of
 the range meets the requirement, or the favourable end fails while a value
@@ -33,18 +36,21 @@ output not written; 6 the --scheduler did not answer; 130 / 143 interrupted
 import argparse
 import contextlib
 import csv
+import json
+import os
 import pathlib
+import re
 import sys
 
 import gimbalsim
-from . import _cluster
+from . import _cluster, _provenance
 from ._allocate_report import CSV, JSON, PAGE, PLOT, _text, record, write
 from ._allocate_search import next_value, outcome
 from ._allocate_spec import AllocationSpec
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
 from ._output import OutputRefused, check_output_names, output_set, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
-from .sweep import FINGERPRINT as SWEEP_FINGERPRINT, RESULTS, finished_rows, output_paths, sweep
+from .sweep import FINGERPRINT as SWEEP_FINGERPRINT, PLOTS, REPORT, RESULTS, SUMMARY, finished_rows, output_paths, sweep
 
 FINGERPRINT, VALUES = "allocation_spec.json", "values"
 
@@ -68,6 +74,55 @@ def _rows(sub, folder):
         raise SpecError(f"{path}: not the results of this value's sweep (its header differs); move {folder} away "
                         "and run again with --resume")
     return rows[1:]
+
+
+def _not_whole(sub, folder):
+    """Why a value's sweep whose rows are whole is not (what its replay and
+    report need), or None: its spec copy and inputs.json as this value's
+    sweep writes them, its summary.json, report.md and plots."""
+    try:
+        if (folder / _provenance.SPEC_COPY).read_text(encoding="utf-8") != sub.spec_text:
+            return f"its {_provenance.SPEC_COPY} is not this value's spec"
+        inputs = json.loads((folder / _provenance.INPUTS).read_text(encoding="utf-8"))
+        if not isinstance(inputs, dict) or inputs.get("fingerprints") != _provenance.fingerprints(sub) \
+                or not isinstance(inputs.get("spec_folder"), str):
+            return f"its {_provenance.INPUTS} is not this value's"
+        summary = json.loads((folder / SUMMARY).read_text(encoding="utf-8"))
+        plots = summary.get("plots") if isinstance(summary, dict) else None
+        if not isinstance(plots, list) or not all(isinstance(p, str) for p in plots):
+            return f"its {SUMMARY} is not a sweep's summary"
+    except (OSError, UnicodeDecodeError, ValueError) as e:
+        return f"cannot read what its replay needs ({e})"
+    if sub.closed:  # the report's CDF plots, which it links as plots/<name>
+        try:
+            plots = plots + re.findall(r"\]\(plots/([^)]+)\)", (folder / REPORT).read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError):
+            return f"no readable {REPORT}"
+    missing = [f"{PLOTS}/{pathlib.Path(p).name}" for p in plots if not (folder / PLOTS / pathlib.Path(p).name).is_file()]
+    return f"no {', '.join(missing)}" if missing else None
+
+
+def _read_back(sub, folder):
+    """A finished value's rows, or None when its sweep must finish (sweep
+    --resume): rows missing or not the sweep's, or the report or what a
+    replay reads not whole (said on stderr)."""
+    rows = finished_rows(sub, folder)
+    why = _not_whole(sub, folder) if rows is not None else None
+    if why is not None:
+        print(f"allocate: {folder}: {why}; its sweep writes them again", file=sys.stderr)
+        return None
+    return rows
+
+
+def _check_value_folder(spec, folder, was_there):
+    """Just before a value's sweep writes: a folder that appeared since the
+    start (a link, another run's) or a name in it that became a link or
+    another kind is refused (exit 4: the values before it are kept)."""
+    if not was_there and os.path.lexists(folder):
+        raise OutputRefused(f"{folder}: appeared while the allocation ran (a link or another run's folder); "
+                            "never written through or into")
+    files, folders = output_paths(spec, folder)
+    check_output_names(folder, "sweep", files, folders)
 
 
 def _check_outputs(a, out, inputs):
@@ -94,6 +149,7 @@ def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, pro
     elif fingerprint.exists() or (out / VALUES).exists():
         raise SpecError(f"{out} already holds an allocation: give --resume to finish it, or another --out")
     tried, runs, ran = {}, 0, 0
+    were_there = {k for k in range(a.values) if os.path.lexists(out / VALUES / str(k))}
     with contextlib.ExitStack() as stack:
         # One cluster for every value's sweep (a local one starts for the first value to run).
         cluster = stack.enter_context(_cluster.dask_client(None, scheduler)) if scheduler else None
@@ -107,13 +163,14 @@ def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, pro
             k = len(tried)
             folder, sub = out / VALUES / str(k), a.sweep_at(value)
             held = folder / SWEEP_FINGERPRINT
+            _check_value_folder(sub, folder, k in were_there)
             if held.exists() and _held(held) != sub.fingerprint:  # the search asks another value than ran there
                 raise SpecError(f"{folder} holds a sweep at another value than {a.key} = {a.value_text(value)}, "
                                 "which the search now asks for (the earlier values' results differ from this run's: "
                                 "another build or machine?); use another --out")
             # Read back only when whole, every row as the sweep's --resume checks it; else that resume
             # runs the missing samples (a row the sweep could not have written dropped), so n is the units drawn.
-            rows = finished_rows(sub, folder) if held.exists() else None
+            rows = _read_back(sub, folder) if held.exists() else None
             finished = rows is not None
             if not finished:
                 print(f"allocate: value {k + 1} of at most {a.values}: {a.key} = {a.value_text(value)}",
