@@ -1,5 +1,6 @@
-// The bearings' scene keys and checks (bearing_keys.cpp), for the scene
-// table (scene.cpp). docs/scene_keys.md "The two bearings".
+// The bearings' and journals' scene keys and checks (bearing_keys.cpp,
+// journal_keys.cpp), for the scene table (scene.cpp). docs/scene_keys.md
+// "The two bearings".
 #pragma once
 
 #include <string>
@@ -21,5 +22,17 @@ std::vector<std::pair<std::string, std::string>> aliases();
 void validateBearings(const Scene& s, Given& g);
 /// Each joint's bearing from the shared keys and its own (KeyTable::derive).
 void deriveBearings(Scene& s, const Given& g);
+
+// Shared by the two files.
+/// The key that gave joint j's value of a bearing key (section "contact." or
+/// "friction.", then the rest): its own if given, else the shared one.
+std::string givenAs(const Given& g, int j, const std::string& section, const std::string& suffix);
+/// Whether the scene gave joint key `key` itself (Scene::BothJoints::own_keys).
+bool ownKeyGiven(const Scene& s, const std::string& key);
+/// Each journal's initial eccentricity, then tilt, against its own bearing (journal_keys.cpp).
+void checkInitialEcc(const Scene& s, Given& g);
+void checkInitialTilt(const Scene& s, Given& g);
+/// Each journal's eccentricity from initial.ecc unless its own key was given.
+void deriveJournals(Scene& s, const Given& g);
 
 }  // namespace gimbalsim::scene_keys
