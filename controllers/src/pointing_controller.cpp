@@ -8,6 +8,8 @@ contract::Command PointingController::answer(const contract::Status& st, const c
   const Answer a = answerStatus(c_, s_, st, att, next_seq_);
   report.ref = a.out.ref;
   report.theta_meas = a.meas.theta;
+  // The newest measured offset, not the rate-limited one the law is moving toward it: what it knows.
+  report.antenna_offset = s_.fusion.measured ? s_.fusion.offset_measured : Vec2::Zero();
   report.tau_cmd = a.out.tau;
   report.q_WB_est = a.out.q_WB_est;
   report.star_outage = a.out.star_outage;

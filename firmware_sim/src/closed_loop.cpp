@@ -195,8 +195,10 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     const double* bq = truth.base_quaternion;
     rec.q_WB_true = Quat(bq[0], bq[1], bq[2], bq[3]);
     rec.attitude_error = pointing::attitudeError(rec.q_WB_true, rec.q_WB_est);
-    // What the controller can know: its attitude estimate and the encoders (clearance invisible to it).
-    const Vec3 bore_est = rec.q_WB_est * pointing::losBoresight(ps.scene.model, rec.theta_meas(0), rec.theta_meas(1));
+    // What the controller can know: its attitude estimate and the encoders (clearance invisible to
+    // them), plus the play's offset when it has the antenna's tracker.
+    const Vec2 theta_est = rec.theta_meas + a.antenna_offset;
+    const Vec3 bore_est = rec.q_WB_est * pointing::losBoresight(ps.scene.model, theta_est(0), theta_est(1));
     rec.los_error_est = pointing::rotationOnto(target, bore_est.normalized());
     rec.star_outage = a.star_outage;
     if (delivered && a.reading_rejected) ++r.rejected_readings;

@@ -336,7 +336,8 @@ class ClosedLoopRun:
     commanded and applied torques, truth pointing error [rad], ...; the error
     as a vector: los_error_x/y/z, the rotation [rad, inertial] from the target
     line of sight to the true boresight, and los_error_est_x/y/z, to the
-    boresight the controller's estimate and encoders give)."""
+    boresight the controller's estimate and encoders give, with the play's
+    offset its antenna tracker measured)."""
 
     def __init__(self, summary, columns, inputs=()):
         self.summary = summary

@@ -14,11 +14,13 @@
 // A sign-flipped or zero feedback gain fails these criteria (tested).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "controllers/closed_loop_util.hpp"
 #include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
 #include "test_util.hpp"
 
 namespace gimbalsim::controllers {
@@ -292,6 +294,31 @@ TEST(ClosedLoop, ARunWhoseEveryCommandThePlantRejectedIsNotOk) {
   const ClosedLoopResult fine = runClosedLoop(test::scene("paper_clearance", {"torque.limit=[1, 1]"}), defaults(), opt);
   EXPECT_TRUE(fine.ok) << fine.error;
   EXPECT_FALSE(fine.none_accepted);
+}
+
+// The knowledge error is what the controller believes of its pointing less
+// the truth: with the antenna's tracker in use it knows the play's offset
+// (the encoders alone cannot see a tilting journal's), so its knowledge is
+// the tracker's, not the play's.
+TEST(ClosedLoop, KnowledgeWithTheAntennaTrackerIncludesThePlaysOffset) {
+  const firmware::PlantScene ps = firmware::loadPlantScene(
+      test::scenePath("paper_spatial2"), {"sensors.antenna=tracker_gyro", "contact.clearance=2.5e-4"});
+  const auto worst_knowledge = [&ps](const char* tracker) {
+    const ControllerConfig c = defaults({std::string("antenna.tracker=") + tracker});
+    ClosedLoopOptions opt;
+    opt.duration = c.profile.trackStart() + 1.0;
+    double worst = 0.0;
+    const ClosedLoopResult r = runClosedLoop(ps, c, opt, [&](const TickRecord& rec) {
+      if (rec.t >= c.profile.trackStart() + 0.5) worst = std::max(worst, (rec.los_error_est - rec.los_error_true).norm());
+    });
+    EXPECT_TRUE(r.ok) << r.error;
+    return worst;
+  };
+  const double with_tracker = worst_knowledge("use"), encoders_only = worst_knowledge("ignore");
+  std::printf("knowledge while tracking, max: with the tracker %.3e rad, encoders only %.3e rad\n", with_tracker,
+              encoders_only);
+  EXPECT_GT(encoders_only, 1e-3) << "the tilting journal's play, which no encoder sees";
+  EXPECT_LT(with_tracker, encoders_only / 10.0);
 }
 
 // The cost meter (tools/bench/bench_closed_loop.cpp's figures) splits the

@@ -38,7 +38,8 @@ struct TickRecord {
   /// true boresight, |.| = truth_error: a vector, so window means (RPE, PDE) mean something.
   Vec3 los_error_true = Vec3::Zero();
   /// [rad] the same for the boresight the controller believes in (its base
-  /// attitude estimate and the encoder angles): knowledge error = est - true.
+  /// attitude estimate and the encoder angles, plus the play's offset its
+  /// antenna tracker measured): knowledge error = est - true.
   Vec3 los_error_est = Vec3::Zero();
   pointing::ProfileSample profile; ///< the target profile at t (the truth observer's)
   Quat q_WB_est = Quat::Identity();///< estimated base attitude

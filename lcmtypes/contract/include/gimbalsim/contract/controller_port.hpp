@@ -25,6 +25,10 @@ struct MonitorFlags {
 struct ControllerReport {
   pointing::ProfileSample ref;         ///< the joint reference tracked (inertial mode: the IK's)
   Vec2 theta_meas = Vec2::Zero();      ///< [rad] encoder angles it used
+  /// [rad] the play's offset (antenna minus encoders, joint coordinates) its
+  /// antenna tracker last measured; 0 without one: it believes the antenna
+  /// at theta_meas + antenna_offset
+  Vec2 antenna_offset = Vec2::Zero();
   Vec2 tau_cmd = Vec2::Zero();         ///< [N m] torque it commanded
   Quat q_WB_est = Quat::Identity();    ///< estimated base attitude, base -> inertial
   bool star_outage = false;            ///< the attitude estimate coasts on the gyro
