@@ -18,10 +18,11 @@ Writes DIR/allocation.json (the bracket or why there is none, each value's
 verdict and bound, where the index is not monotone, the runs used),
 DIR/allocation.csv (the table), DIR/allocation.md and DIR/allocation.png.
 --resume finishes an interrupted allocation: a finished value is read back,
-not run, when every row passes the sweep's --resume checks, no sample is
-missing and its report, summary, plots, spec copy and inputs.json are this
-value's; any other value resumes its sweep (sweep --resume: rows it could not
-have written dropped, missing samples run, the report written). Every name
+not run, when every row passes the sweep's --resume checks and no sample is
+missing; any other value resumes its sweep (sweep --resume: rows it could not
+have written dropped, missing samples run). Either way the value's sweep
+writes its report, summary, plots, spec copy and inputs.json again from its
+rows (one damaged, or copied from another value, is never kept). Every name
 written (values/<i>/ and all in it included) is checked before any run: a
 link, anything but its kind, or a folder holding a sweep or a tuning study is
 refused (exit 2); checked again before each value's sweep, one planted since
@@ -36,21 +37,19 @@ output not written; 6 the --scheduler did not answer; 130 / 143 interrupted
 import argparse
 import contextlib
 import csv
-import json
 import os
 import pathlib
-import re
 import sys
 
 import gimbalsim
-from . import _cluster, _provenance
+from . import _cluster
 from ._allocate_report import CSV, JSON, PAGE, PLOT, _text, record, write
 from ._allocate_search import next_value, outcome
 from ._allocate_spec import AllocationSpec
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
 from ._output import OutputRefused, check_output_names, output_set, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
-from .sweep import FINGERPRINT as SWEEP_FINGERPRINT, PLOTS, REPORT, RESULTS, SUMMARY, finished_rows, output_paths, sweep
+from .sweep import FINGERPRINT as SWEEP_FINGERPRINT, RESULTS, finished_rows, output_paths, sweep
 
 FINGERPRINT, VALUES = "allocation_spec.json", "values"
 
@@ -74,44 +73,6 @@ def _rows(sub, folder):
         raise SpecError(f"{path}: not the results of this value's sweep (its header differs); move {folder} away "
                         "and run again with --resume")
     return rows[1:]
-
-
-def _not_whole(sub, folder):
-    """Why a value's sweep whose rows are whole is not (what its replay and
-    report need), or None: its spec copy and inputs.json as this value's
-    sweep writes them, its summary.json, report.md and plots."""
-    try:
-        if (folder / _provenance.SPEC_COPY).read_text(encoding="utf-8") != sub.spec_text:
-            return f"its {_provenance.SPEC_COPY} is not this value's spec"
-        inputs = json.loads((folder / _provenance.INPUTS).read_text(encoding="utf-8"))
-        if not isinstance(inputs, dict) or inputs.get("fingerprints") != _provenance.fingerprints(sub) \
-                or not isinstance(inputs.get("spec_folder"), str):
-            return f"its {_provenance.INPUTS} is not this value's"
-        summary = json.loads((folder / SUMMARY).read_text(encoding="utf-8"))
-        plots = summary.get("plots") if isinstance(summary, dict) else None
-        if not isinstance(plots, list) or not all(isinstance(p, str) for p in plots):
-            return f"its {SUMMARY} is not a sweep's summary"
-    except (OSError, UnicodeDecodeError, ValueError) as e:
-        return f"cannot read what its replay needs ({e})"
-    if sub.closed:  # the report's CDF plots, which it links as plots/<name>
-        try:
-            plots = plots + re.findall(r"\]\(plots/([^)]+)\)", (folder / REPORT).read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError):
-            return f"no readable {REPORT}"
-    missing = [f"{PLOTS}/{pathlib.Path(p).name}" for p in plots if not (folder / PLOTS / pathlib.Path(p).name).is_file()]
-    return f"no {', '.join(missing)}" if missing else None
-
-
-def _read_back(sub, folder):
-    """A finished value's rows, or None when its sweep must finish (sweep
-    --resume): rows missing or not the sweep's, or the report or what a
-    replay reads not whole (said on stderr)."""
-    rows = finished_rows(sub, folder)
-    why = _not_whole(sub, folder) if rows is not None else None
-    if why is not None:
-        print(f"allocate: {folder}: {why}; its sweep writes them again", file=sys.stderr)
-        return None
-    return rows
 
 
 def _check_value_folder(spec, folder, was_there):
@@ -168,18 +129,19 @@ def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, pro
                 raise SpecError(f"{folder} holds a sweep at another value than {a.key} = {a.value_text(value)}, "
                                 "which the search now asks for (the earlier values' results differ from this run's: "
                                 "another build or machine?); use another --out")
-            # Read back only when whole, every row as the sweep's --resume checks it; else that resume
-            # runs the missing samples (a row the sweep could not have written dropped), so n is the units drawn.
-            rows = _read_back(sub, folder) if held.exists() else None
-            finished = rows is not None
+            # Read back when whole, every row as the sweep's --resume checks it; else that resume runs the
+            # missing samples (a row the sweep could not have written dropped), so n is the units drawn.
+            finished = held.exists() and finished_rows(sub, folder) is not None
             if not finished:
                 print(f"allocate: value {k + 1} of at most {a.values}: {a.key} = {a.value_text(value)}",
                       file=sys.stderr)
                 if cluster is None:
                     cluster = stack.enter_context(_cluster.dask_client(workers, None))
-                s = sweep(sub, folder, resume=resume, batch=batch, progress=progress, cluster=cluster)
-                ran += s["engine"].get("ran_this_invocation", 0)
-                rows = _rows(sub, folder)
+            # A finished value's sweep is resumed too: it runs nothing, but writes its report, summary,
+            # plots and what its replay reads again from its rows (any may be damaged, or another value's).
+            s = sweep(sub, folder, resume=resume, batch=batch, progress=progress and not finished, cluster=cluster)
+            ran += s["engine"].get("ran_this_invocation", 0)
+            rows = _rows(sub, folder)
             runs += len(rows)
             tried[value] = r = record(a, sub, rows, value, k)
             print(f"allocate: {a.key} = {a.value_text(value)}{' (read back)' if finished else ''}: "

@@ -17,31 +17,32 @@ from test_pass16_outputs import ALLOCATE, BASE, SWEEP, TUNE, finished, tool, wri
 
 # ---- class 2: a resume reads back only a value its replay and report can use ----
 
-def test_a_value_whose_replay_files_or_report_are_not_whole_is_finished_again(tmp_path, finished):
+def test_a_resume_writes_each_values_report_and_replay_files_again_from_its_rows(tmp_path, finished):
     spec, first, code, answer = finished
     out = tmp_path / "out"
     shutil.copytree(first, out)
     values = out / "values"
+    budget = {k: json.loads((first / "values" / str(k) / "summary.json").read_text())["budget"] for k in range(3)}
+    assert budget[1] != budget[2]
     (values / "0" / "inputs.json").write_text("garbage{")
-    (values / "1" / "report.md").unlink()
-    (values / "1" / "summary.json").unlink()
+    (values / "0" / "summary.json").write_text('{"plots": []}')
+    (values / "0" / "report.md").write_text("")
+    for name in ("report.md", "summary.json"):  # another value's report in value 1's folder
+        shutil.copy(first / "values" / "2" / name, values / "1" / name)
     plot = next((values / "2" / "plots").iterdir())
     plot.unlink()
     p = tool("allocate", spec, out, "--resume")
     assert p.returncode == code, p.stderr
-    assert "(read back)" not in p.stderr, p.stderr
-    assert p.stderr.count("its sweep writes them again") == 3, p.stderr
+    assert p.stderr.count("(read back)") == 3, p.stderr  # no sample ran again
     assert json.loads((out / "allocation.json").read_text())["values"] == answer["values"]
-    assert json.loads((values / "0" / "inputs.json").read_text())["fingerprints"]
-    assert (values / "1" / "report.md").is_file() and (values / "1" / "summary.json").is_file()
-    assert plot.is_file()
-    for k in range(3):  # each value's unit replays from its folder
+    for k in range(3):  # each value's own figures and report, and its units replay from its folder
+        assert json.loads((values / str(k) / "summary.json").read_text())["budget"] == budget[k], k
+        assert (values / str(k) / "report.md").read_text() != ""
         p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(values / str(k)), "--replay", "0", "--out",
                             str(tmp_path / f"replay{k}.csv")], capture_output=True, text=True, timeout=120)
         assert p.returncode == 0, (k, p.stderr)
-    # a value whose rows and files are whole is read back, not run
-    p = tool("allocate", spec, out, "--resume")
-    assert p.returncode == code and p.stderr.count("(read back)") == 3, p.stderr
+    assert (values / "1" / "report.md").read_text() != (first / "values" / "2" / "report.md").read_text()
+    assert plot.is_file()
 
 
 # ---- class 10: planted while the allocation runs: exit 4, "move it away, --resume" ----
