@@ -169,6 +169,11 @@ if os.environ.get("FAKE_LOG"):  # which specs ran
         log.write(sys.argv[1] + "\\n")
 if os.environ.get("FAKE_PARTIAL_FOR") and os.environ["FAKE_PARTIAL_FOR"] in sys.argv[1]:  # half a folder
     how = "partial"
+if os.environ.get("FAKE_INTERRUPT_EMPTY_FOR") and os.environ["FAKE_INTERRUPT_EMPTY_FOR"] in sys.argv[1] \
+        and "--resume" not in sys.argv:  # interrupted before it wrote anything
+    sys.exit(143)
+if os.environ.get("FAKE_PLANT") and "spatial_tracker" in sys.argv[1]:  # a link planted while the budgets run
+    os.symlink(os.environ["FAKE_PLANT_TARGET"], os.environ["FAKE_PLANT"])
 if os.environ.get("FAKE_INTERRUPT_FOR") and os.environ["FAKE_INTERRUPT_FOR"] in sys.argv[1] \
         and "--resume" not in sys.argv:  # interrupted: its samples kept in a journal
     out.mkdir()
@@ -353,3 +358,60 @@ def test_an_interrupted_page_run_is_finished_by_resume_and_two_runs_are_refused(
                                                 "pointing_budget_spatial_tracker"]
     page = (root / "docs/results/pointing_budget_spatial.md").read_text()
     assert "Regenerate: `bash tools/sweeps/run_pointing_budget.sh --spatial`" in page, page
+
+
+def test_an_interrupted_page_run_keeps_a_finished_budget_and_a_failed_page_changes_nothing(tmp_path):
+    # Pass 18: an interruption before the second budget wrote its journal deleted the first, finished
+    # budget; a link planted in the kept folder took the page's body; a page that could not be written
+    # left docs/results half replaced; --check ran the sweeps and exited 1.
+    root, previous = checkout_with_previous_results(tmp_path)
+    for rel in ("tools/sweeps/pointing_budget_spatial.yaml", "tools/sweeps/pointing_budget_spatial_tracker.yaml"):
+        shutil.copy(SOURCE / rel, root / rel)
+    fake = tmp_path / "fakebuild" / "python" / "gimbalsim"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text("")
+    (fake / "sweep.py").write_text(FAKE_SWEEP)
+    script = str(root / "tools/sweeps/run_pointing_budget.sh")
+    env = dict(os.environ, GIMBALSIM_BUILD=str(tmp_path / "fakebuild"), FAKE_SWEEP="whole")
+    log = tmp_path / "ran.log"
+    p = subprocess.run(["bash", script, "--spatial", "--check"], capture_output=True, text=True, timeout=60,
+                       env=dict(env, FAKE_LOG=str(log)))
+    assert p.returncode == 0 and "nothing run" in p.stderr and not log.exists(), p.stderr
+    assert sorted(os.listdir(root / "out")) == ["pointing_budget"]
+    p = subprocess.run(["bash", script, "--spatial"], capture_output=True, text=True, timeout=60, env=env)
+    assert p.returncode == 0, p.stderr
+    results = root / "docs/results"
+    page = results / "pointing_budget_spatial.md"
+    plots_before = {n: (results / n).read_bytes() for n in os.listdir(results) if n.endswith(".png")}
+    # interrupted as the second budget starts: the first, finished, is kept for --resume
+    p = subprocess.run(["bash", script, "--spatial"], capture_output=True, text=True, timeout=60,
+                       env=dict(env, FAKE_INTERRUPT_EMPTY_FOR="spatial_tracker"))
+    assert p.returncode == 143, p.stderr
+    assert "out/pointing_budget_spatial.new kept" in p.stderr, p.stderr
+    assert (root / "out/pointing_budget_spatial.new/results.csv").is_file()
+    victim = tmp_path / "victim"
+    victim.write_text("keep\n")
+    (root / "out/pointing_budget_spatial.new/page_body.md").symlink_to(victim)
+    # the page cannot be written (a link planted at it while the budgets run): exit 4, nothing replaced
+    page.unlink()
+    target = tmp_path / "page_target"
+    target.write_text("other\n")
+    p = subprocess.run(["bash", script, "--spatial", "--resume"], capture_output=True, text=True, timeout=60,
+                       env=dict(env, FAKE_PLANT=str(page), FAKE_PLANT_TARGET=str(target)))
+    assert p.returncode == 4, p.stderr
+    assert page.is_symlink() and target.read_text() == "other\n" and victim.read_text() == "keep\n"
+    assert {n: (results / n).read_bytes() for n in os.listdir(results) if n.endswith(".png")} == plots_before
+    assert not [n for n in os.listdir(results) if n.startswith(".")], "a backup folder left"
+    assert (previous / "results.csv").read_text() == "the previous run's\n"
+    page.unlink()
+    p = subprocess.run(["bash", script, "--spatial", "--resume"], capture_output=True, text=True, timeout=60, env=env)
+    assert p.returncode == 0, p.stderr
+    assert victim.read_text() == "keep\n" and page.is_file()
+    assert sorted(os.listdir(root / "out")) == ["pointing_budget", "pointing_budget_spatial",
+                                                "pointing_budget_spatial_tracker"]
+    # a user's spec with --check, where no out/ is: none left
+    work = tmp_path / "work"
+    work.mkdir()
+    p = subprocess.run(["bash", script, "my.yaml", "--check"], cwd=work, capture_output=True, text=True, timeout=60,
+                       env=env)
+    assert p.returncode == 0 and os.listdir(work) == [], p.stderr

@@ -17,7 +17,8 @@
 # and --version the sweep's version, before anything runs. A refused spec or a failed run leaves the
 # previous results as they were: they are replaced only by a new folder the sweep completed. An
 # interrupted shipped budget keeps its samples in out/<spec name>.new/: the same command with --resume
-# finishes it. One run at a time writes docs/results/ (a second is refused, exit 2).
+# finishes it. One run at a time writes docs/results/ (a second is refused, exit 2). The page and its plots
+# change together or not at all (exit 4 leaves them as they were). --check checks and runs nothing.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -43,7 +44,7 @@ T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 info=
 for a in "$@"; do case "$a" in -h | --help | --version) info=$a; break ;; esac; done
 if [ "$info" != "" ] && [ "$info" != --version ]; then
-  sed -n '2,20p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+  sed -n '2,21p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
   exit 0
 fi
 SPEC=  # none: a shipped budget and its page
@@ -77,7 +78,9 @@ if [ -n "$SPEC" ]; then
   rc=0
   PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$SPEC" ${OUT:+--out "$OUT"} --no-progress \
     "${ARGS[@]+"${ARGS[@]}"}" || rc=$?
-  [ "$rc" -eq 0 ] || [ "$made_out" = 0 ] || rmdir out 2>/dev/null || true
+  checked=0  # --check: nothing written, so no out/ left either
+  for a in "${ARGS[@]+"${ARGS[@]}"}"; do [ "$a" != --check ] || checked=1; done
+  { [ "$rc" -eq 0 ] && [ "$checked" = 0 ]; } || [ "$made_out" = 0 ] || rmdir out 2>/dev/null || true
   exit "$rc"
 fi
 
@@ -97,22 +100,27 @@ for spec in "${SPECS[@]}"; do
   # (a name in the checkout, whose out/ may not exist yet: --check writes nothing)
   PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$spec" --out "$ROOT/budget-check-$$" --check
 done
-for name in "$RESULTS/$PAGE.md" "$RESULTS/README.md" "$RESULTS"/*_cdf.png; do
-  case "$name" in "$RESULTS/$PAGE.md" | "$RESULTS/README.md") ;; *)
-    own=0
-    for spec in "${SPECS[@]}"; do
-      for index in ape rpe pde knowledge; do
-        case "$(basename "$name")" in "$(basename "${spec%.*}")_${index}_"*) own=1 ;; esac
+own_plots() {  # this page's plots now in docs/results (by index: pointing_budget_* would match another page's)
+  local spec index png
+  for spec in "${SPECS[@]}"; do
+    for index in ape rpe pde knowledge; do
+      for png in "$RESULTS/$(basename "${spec%.*}")_${index}_"*; do
+        case "$png" in *_cdf.png) [ ! -e "$png" ] && [ ! -L "$png" ] || echo "$png" ;; esac
       done
     done
-    [ "$own" = 1 ] || continue ;;
-  esac
-  if [ -L "$name" ] || { [ -e "$name" ] && [ ! -f "$name" ]; }; then
-    echo "run_pointing_budget.sh: $name: a symbolic link or not a regular file where the page writes;" \
-         "nothing run: remove it" >&2
-    exit 2
-  fi
-done
+  done
+}
+check_page_names() {  # the page, the index and this page's plots: regular files or nothing, never a link
+  local name
+  for name in "$RESULTS/$PAGE.md" "$RESULTS/README.md" $(own_plots); do
+    if [ -L "$name" ] || { [ -e "$name" ] && [ ! -f "$name" ]; }; then
+      echo "run_pointing_budget.sh: $name: a symbolic link or not a regular file where the page writes;" \
+           "$1: remove it" >&2
+      return 1
+    fi
+  done
+}
+check_page_names "nothing run" || exit 2
 # One run at a time makes the pages: two would share out/<spec name>.new/, the page index and the plots.
 if [ ! -d "$RESULTS" ] || ! exec 9<"$RESULTS"; then
   echo "run_pointing_budget.sh: $ROOT/$RESULTS: no such folder, where the page goes; nothing run" >&2
@@ -123,31 +131,42 @@ if ! flock -n 9; then
        "wait for it to end" >&2
   exit 2
 fi
-SHOWN=()  # the page's command regenerates it: the options given, less a --resume that finished this run
-for a in "${ARGS[@]+"${ARGS[@]}"}"; do [ "$a" = --resume ] || SHOWN+=("$a"); done
+SHOWN=() resume=0 check=0  # the page's command regenerates it: the options given, less --resume
+for a in "${ARGS[@]+"${ARGS[@]}"}"; do
+  case "$a" in --resume) resume=1 ;; --check) check=1 ;; *) SHOWN+=("$a") ;; esac
+done
 COMMAND="bash tools/sweeps/run_pointing_budget.sh$([ "$PAGE" = pointing_budget ] || echo " --spatial")"
 [ "${#SHOWN[@]}" = 0 ] || COMMAND+=$(printf ' %q' "${SHOWN[@]}")  # (printf with no words prints '')
-made_out=0
-if [ ! -d out ]; then mkdir out && made_out=1; fi
 # Each budget into a fresh folder first: the previous results go only once every budget of the page has
 # its own (a refused spec or a failed run leaves them all as they were, and an out/ made for it goes again).
-# An interrupted run's new folders are kept (its samples are in a journal, results.partial.csv) for
-# --resume, which this script passes to each sweep; without it such a folder is refused, not overwritten.
-NEWS=() OLDS=() resume=0
-for a in "${ARGS[@]+"${ARGS[@]}"}"; do [ "$a" != --resume ] || resume=1; done
+# An interrupted run's new folders are kept for --resume, which this script passes to each sweep; without
+# it such a folder is refused, not overwritten.
+NEWS=() OLDS=()
 for spec in "${SPECS[@]}"; do
   name=$(basename "${spec%.*}")
   NEWS+=("out/$name.new") OLDS+=("out/$name.old-$$")
   if [ "$resume" = 0 ] && { [ -e "out/$name.new" ] || [ -L "out/$name.new" ]; }; then
     echo "run_pointing_budget.sh: out/$name.new holds an interrupted budget; nothing run: give the same" \
          "command with --resume to finish it, or remove that folder to start over" >&2
-    [ "$made_out" = 0 ] || rmdir out 2>/dev/null || true
     exit 2
   fi
 done
+if [ "$check" = 1 ]; then
+  echo "run_pointing_budget.sh: the specs, the page and its plots checked; nothing run" >&2
+  exit 0
+fi
+made_out=0
+if [ ! -d out ]; then mkdir out && made_out=1; fi
+BODY=$(mktemp)  # the page's body, private (a name under out/ could be a link planted since)
+BACKUP=""       # the previous page's plots while the new ones go in
+keep=0          # 1 while the budgets run: an interruption keeps their folders for --resume
 restore() {
   local i kept=0
-  for i in "${!SPECS[@]}"; do [ ! -e "${NEWS[$i]}/results.partial.csv" ] || kept=1; done
+  if [ "$keep" = 1 ]; then  # any budget's work (a journal, or a finished budget beside an interrupted one)
+    for i in "${!SPECS[@]}"; do
+      [ ! -e "${NEWS[$i]}/results.partial.csv" ] && [ ! -e "${NEWS[$i]}/results.csv" ] || kept=1
+    done
+  fi
   for i in "${!SPECS[@]}"; do
     local out
     out="out/$(basename "${SPECS[$i]%.*}")"
@@ -159,9 +178,17 @@ restore() {
     fi
     [ -e "$out" ] || [ ! -d "${OLDS[$i]}" ] || mv "${OLDS[$i]}" "$out"
   done
+  if [ -n "$BACKUP" ]; then  # the page was not written: its previous plots back, the new ones out
+    local png
+    for png in $(own_plots); do rm -f "$png"; done
+    for png in "$BACKUP"/*; do [ ! -e "$png" ] || mv "$png" "$RESULTS/"; done
+    rmdir "$BACKUP"
+  fi
+  rm -f "$BODY"
   [ "$made_out" = 0 ] || rmdir out 2>/dev/null || true
 }
 trap restore EXIT
+keep=1
 for i in "${!SPECS[@]}"; do
   PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "${SPECS[$i]}" --out "${NEWS[$i]}" --no-progress \
     "${ARGS[@]+"${ARGS[@]}"}"
@@ -172,10 +199,42 @@ for i in "${!SPECS[@]}"; do
     if [ -L "$new" ] || [ ! -d "$new" ] || [ -L "$new/$f" ] || [ ! -f "$new/$f" ] || [ -e "$new/results.partial.csv" ]; then
       echo "run_pointing_budget.sh: the sweep ended well but left no whole budget in $new (no $f, or its journal);" \
            "the previous results left as they were" >&2
+      keep=0
       exit 1
     fi
   done
 done
+keep=0
+[ "${#SPECS[@]}" = 1 ] || printf '%s\n\n' "The same units (each spec's seed and bearing tolerance), \
+once per set of sensors the loop reads; each spec states its tolerance in its comments." >> "$BODY"
+for i in "${!SPECS[@]}"; do
+  name=$(basename "${SPECS[$i]%.*}")
+  # the report's plots/NAME links become the copies' names beside the page; under a section, its
+  # headings one level down
+  if [ -n "${HEADINGS[$i]}" ]; then
+    printf '## %s\n\nSpec: `%s`\n\n' "${HEADINGS[$i]}" "${SPECS[$i]}" >> "$BODY"
+    sed -e "s#](plots/#](${name}_#" -e 's/^#\(#* \)/##\1/' "${NEWS[$i]}/report.md" >> "$BODY"
+  else
+    sed "s#](plots/#](${name}_#" "${NEWS[$i]}/report.md" >> "$BODY"
+  fi
+  printf '\n' >> "$BODY"
+done
+# The page and its plots together or not at all: the previous plots wait aside until the page is
+# written (restore puts them back otherwise), names checked again (a link planted while the budgets ran).
+check_page_names "the previous results left as they were" || exit 4
+BACKUP=$(mktemp -d "$RESULTS/.page_backup.XXXXXX")
+for png in $(own_plots); do mv "$png" "$BACKUP/"; done
+for i in "${!SPECS[@]}"; do
+  name=$(basename "${SPECS[$i]%.*}")
+  for png in "${NEWS[$i]}"/plots/*_cdf.png; do
+    [ -e "$png" ] || continue
+    cp --remove-destination "$png" "$RESULTS/${name}_$(basename "$png")"  # a link made since: replaced, not followed
+  done
+done
+/usr/bin/python3 tools/pages/results_page.py --page "$RESULTS/$PAGE.md" \
+  --title "$TITLE" --command "$COMMAND" --body "$BODY" --summary "$SUMMARY" --t0 "$T0" --load0 "$LOAD0" || exit 4
+rm -rf "$BACKUP"
+BACKUP=""
 # Swapped, not removed first: the previous results come back if the new ones cannot be moved into place.
 for i in "${!SPECS[@]}"; do
   out="out/$(basename "${SPECS[$i]%.*}")"
@@ -186,29 +245,3 @@ for i in "${!SPECS[@]}"; do
   fi
 done
 for old in "${OLDS[@]}"; do rm -rf "$old"; done
-BODY="out/$(basename "${SPECS[0]%.*}")/page_body.md"  # beside the first budget's results, as its report
-: > "$BODY"
-[ "${#SPECS[@]}" = 1 ] || printf '%s\n\n' "The same units (each spec's seed and bearing tolerance), \
-once per set of sensors the loop reads; each spec states its tolerance in its comments." >> "$BODY"
-for i in "${!SPECS[@]}"; do
-  name=$(basename "${SPECS[$i]%.*}")
-  out="out/$name"
-  # the page shows this run's figures only, none left from an older one (by index: pointing_budget_* would
-  # also match another page's plots)
-  for index in ape rpe pde knowledge; do rm -f "$RESULTS/${name}_${index}"_*_cdf.png; done
-  for png in "$out"/plots/*_cdf.png; do
-    [ -e "$png" ] || continue
-    cp --remove-destination "$png" "$RESULTS/${name}_$(basename "$png")"  # a link made since: replaced, not followed
-  done
-  # the report's plots/NAME links become the copies' names beside the page; under a section, its
-  # headings one level down
-  if [ -n "${HEADINGS[$i]}" ]; then
-    printf '## %s\n\nSpec: `%s`\n\n' "${HEADINGS[$i]}" "${SPECS[$i]}" >> "$BODY"
-    sed -e "s#](plots/#](${name}_#" -e 's/^#\(#* \)/##\1/' "$out/report.md" >> "$BODY"
-  else
-    sed "s#](plots/#](${name}_#" "$out/report.md" >> "$BODY"
-  fi
-  printf '\n' >> "$BODY"
-done
-/usr/bin/python3 tools/pages/results_page.py --page "$RESULTS/$PAGE.md" \
-  --title "$TITLE" --command "$COMMAND" --body "$BODY" --summary "$SUMMARY" --t0 "$T0" --load0 "$LOAD0"
