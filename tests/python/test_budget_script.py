@@ -132,6 +132,23 @@ def checkout_with_previous_results(tmp_path):
     return root, previous
 
 
+def fake_sweep(tmp_path):
+    """TMP/fakebuild/python/gimbalsim: a stand-in sweep (FAKE_SWEEP) for GIMBALSIM_BUILD=TMP/fakebuild."""
+    fake = tmp_path / "fakebuild" / "python" / "gimbalsim"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text("")
+    (fake / "sweep.py").write_text(FAKE_SWEEP)
+
+
+def spatial_checkout_with_a_fake_sweep(tmp_path):
+    """checkout_with_previous_results with the spatial specs, and fake_sweep."""
+    root, previous = checkout_with_previous_results(tmp_path)
+    for rel in ("tools/sweeps/pointing_budget_spatial.yaml", "tools/sweeps/pointing_budget_spatial_tracker.yaml"):
+        shutil.copy(SOURCE / rel, root / rel)
+    fake_sweep(tmp_path)
+    return root, previous
+
+
 def test_help_and_version_are_answered_before_anything(tmp_path):
     # --help went to the sweep, which printed its help and wrote nothing; the script then removed
     # out/pointing_budget/ and failed moving the missing new folder (exit 1, the previous results gone).
@@ -195,10 +212,7 @@ def test_the_previous_results_go_only_for_a_whole_new_folder(tmp_path):
     # A sweep (here a stand-in: no real sweep runs) that ends well but leaves no folder, or half of one,
     # must not cost the previous results; a whole one replaces them and makes the page.
     root, previous = checkout_with_previous_results(tmp_path)
-    fake = tmp_path / "fakebuild" / "python" / "gimbalsim"
-    fake.mkdir(parents=True)
-    (fake / "__init__.py").write_text("")
-    (fake / "sweep.py").write_text(FAKE_SWEEP)
+    fake_sweep(tmp_path)
     before = digest(root / "docs")
     for how in ("nothing", "partial"):
         env = dict(os.environ, GIMBALSIM_BUILD=str(tmp_path / "fakebuild"), FAKE_SWEEP=how)
@@ -221,13 +235,7 @@ def test_the_previous_results_go_only_for_a_whole_new_folder(tmp_path):
 def test_the_spatial_page_holds_both_budgets_or_neither(tmp_path):
     # --spatial: the tilting bearing's budget on the encoders only and with the antenna's sensors,
     # each into its own out/ folder, one page; nothing replaced unless both budgets completed.
-    root, previous = checkout_with_previous_results(tmp_path)
-    for rel in ("tools/sweeps/pointing_budget_spatial.yaml", "tools/sweeps/pointing_budget_spatial_tracker.yaml"):
-        shutil.copy(SOURCE / rel, root / rel)
-    fake = tmp_path / "fakebuild" / "python" / "gimbalsim"
-    fake.mkdir(parents=True)
-    (fake / "__init__.py").write_text("")
-    (fake / "sweep.py").write_text(FAKE_SWEEP)
+    root, previous = spatial_checkout_with_a_fake_sweep(tmp_path)
     results = root / "docs/results"
     (results / "pointing_budget_ape_cdf.png").write_bytes(b"the planar page's")
     (results / "pointing_budget_spatial_rpe_slew_cdf.png").write_bytes(b"stale")
@@ -319,13 +327,7 @@ def test_an_interrupted_page_run_is_finished_by_resume_and_two_runs_are_refused(
     # An interrupted budget's folder was removed by the script while the sweep said "run again with
     # --resume"; and two runs at once wrote the same page and index.
     import fcntl
-    root, previous = checkout_with_previous_results(tmp_path)
-    for rel in ("tools/sweeps/pointing_budget_spatial.yaml", "tools/sweeps/pointing_budget_spatial_tracker.yaml"):
-        shutil.copy(SOURCE / rel, root / rel)
-    fake = tmp_path / "fakebuild" / "python" / "gimbalsim"
-    fake.mkdir(parents=True)
-    (fake / "__init__.py").write_text("")
-    (fake / "sweep.py").write_text(FAKE_SWEEP)
+    root, previous = spatial_checkout_with_a_fake_sweep(tmp_path)
     script = str(root / "tools/sweeps/run_pointing_budget.sh")
     env = dict(os.environ, GIMBALSIM_BUILD=str(tmp_path / "fakebuild"), FAKE_SWEEP="whole",
                FAKE_INTERRUPT_FOR="spatial_tracker")
@@ -364,13 +366,7 @@ def test_an_interrupted_page_run_keeps_a_finished_budget_and_a_failed_page_chang
     # Pass 18: an interruption before the second budget wrote its journal deleted the first, finished
     # budget; a link planted in the kept folder took the page's body; a page that could not be written
     # left docs/results half replaced; --check ran the sweeps and exited 1.
-    root, previous = checkout_with_previous_results(tmp_path)
-    for rel in ("tools/sweeps/pointing_budget_spatial.yaml", "tools/sweeps/pointing_budget_spatial_tracker.yaml"):
-        shutil.copy(SOURCE / rel, root / rel)
-    fake = tmp_path / "fakebuild" / "python" / "gimbalsim"
-    fake.mkdir(parents=True)
-    (fake / "__init__.py").write_text("")
-    (fake / "sweep.py").write_text(FAKE_SWEEP)
+    root, previous = spatial_checkout_with_a_fake_sweep(tmp_path)
     script = str(root / "tools/sweeps/run_pointing_budget.sh")
     env = dict(os.environ, GIMBALSIM_BUILD=str(tmp_path / "fakebuild"), FAKE_SWEEP="whole")
     log = tmp_path / "ran.log"
