@@ -144,6 +144,10 @@ std::vector<Key<ControllerConfig>> keys() {
                         "with the tracker in use: the integral runs only while the motor's and the antenna's rates "
                         "differ by at most this (inside the play the antenna is out of the motor's reach)",
                         [](auto& c) -> auto& { return c.antenna.engaged_rate; }, interval('(', 0.0, 1e3, ']')));
+  v.push_back(K::number("antenna.integral_leak_time", "s",
+                        "with the tracker in use: while the motor's and the antenna's rates differ by more than "
+                        "antenna.engaged_rate the integral decays toward 0 with this time constant (0: it is held)",
+                        [](auto& c) -> auto& { return c.antenna.integral_leak_time; }, interval('[', 0.0, 1e6, ']')));
   embed(v, "profile.", pointing::profileKeys().keys, [](auto& c) -> auto& { return c.profile; });
   embed(v, "azimuth.", gainKeys(), [](auto& c) -> auto& { return c.axis[0]; });
   embed(v, "elevation.", gainKeys(), [](auto& c) -> auto& { return c.axis[1]; });

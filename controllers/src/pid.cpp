@@ -128,13 +128,21 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
     double dI = approach || suspect ? 0.0 : Ts * ki * e;  // integrate in the linear region only
     // Nor while the motor moves against the antenna: inside the play the
     // antenna's error is out of the motor's reach and would wind the integral.
-    if (at_antenna && std::fabs(w_load(i) - w) > c.antenna.engaged_rate) dI = 0.0;
+    // Then no back-calculation either (alone it wound the integral against a
+    // saturated command), and the integral decays: with both journals tilting
+    // the two never move together, and a held integral held its error for
+    // the run (paper_both_spatial: -30 N m, 4e-3 rad; docs/MODEL.md 11.7).
+    const bool disengaged = at_antenna && std::fabs(w_load(i) - w) > c.antenna.engaged_rate;
+    const double leak = c.antenna.integral_leak_time > 0.0 ? std::min(1.0, Ts / c.antenna.integral_leak_time) : 0.0;
+    if (disengaged) dI = -leak * s.integral(i);  // at most the whole integral a tick, never past 0
     switch (c.anti_windup) {
       case AntiWindup::None: break;
       case AntiWindup::Clamping:
         if (sat && dI * tau_u > 0.0) dI = 0.0;  // would push further into the limit
         break;
-      case AntiWindup::BackCalculation: dI += Ts * g.aw_gain * (tau - tau_u); break;
+      case AntiWindup::BackCalculation:
+        if (!disengaged) dI += Ts * g.aw_gain * (tau - tau_u);
+        break;
     }
     s.integral(i) += dI;
     if (c.anti_windup != AntiWindup::None) s.integral(i) = std::clamp(s.integral(i), -g.torque_limit, g.torque_limit);

@@ -27,6 +27,7 @@ struct TrackerFusionParams {
   double bandwidth = 12.0;    ///< [rad/s] triple pole of the loop at the antenna once a play is seen, on each axis's inertia
   double motor_damping = 20.0;  ///< [N m s/rad] the motor's rate against the antenna's
   double engaged_rate = 1.0e-3; ///< [rad/s] the integral runs only while motor and antenna move within this
+  double integral_leak_time = 0.2; ///< [s] otherwise it decays toward 0 with this time constant (0: held)
 };
 
 /// Ticks without a sample after which the offset is acquired again (rate-limited).
