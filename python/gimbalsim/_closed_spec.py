@@ -174,6 +174,11 @@ class ClosedLoopSpec:
         ("index") the runs with this controller do not reach, in the spec's order."""
         nominal = profile_phases(controller, self.duration_s)
         tol = 1e-9 * max(1.0, self.duration_s)
+        for ix in self.indices:  # a grid's control.period: an RPE window of one tick is 0 by construction
+            if ix.name == "rpe" and ix.window < 2 * period_s - tol:
+                yield "index", ix.name, (f"the window {seconds(ix.window)} s holds one control tick "
+                                         f"({seconds(period_s)} s): its deviation from its own mean is 0 by "
+                                         "construction")
         for name, window in self.phases:
             t0, t1 = window if window is not None else nominal[name]
             ends_with_run = window is None and name == "track"
@@ -231,6 +236,12 @@ class ClosedLoopSpec:
                     spec.refuse(f"{where}.{k}", "missing (in s)", node)
             kw = {k: self._whole_periods(spec, f"{where}.{k}", self._within_run(spec, f"{where}.{k}", opts[k]),
                                          opts[k]) for k in INDEX_KEYS[name]}
+            # One tick's deviation from its own mean is 0 by construction: a figure (and a PASS) from no question.
+            # PDE's one-tick windows are kept: two samples a separation apart differ by the drift asked about.
+            if name == "rpe" and round(kw["window"] / self.period_s) < 2:
+                spec.refuse(f"{where}.window", f"{kw['window']!r} s holds one control tick ({seconds(self.period_s)} "
+                            "s): its deviation from its own mean is 0 by construction; give at least two control "
+                            "periods", opts["window"])
             for k in ("level", "confidence"):
                 if k in opts:
                     kw[k] = spec.number(f"{where}.{k}", opts[k], 0.5, 1 - 1e-9)  # indices._check_question

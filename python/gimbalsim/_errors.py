@@ -4,6 +4,8 @@ the exit code of the project's exit-code table (docs/usage.md "Exit codes",
 the C++ programs' enum Exit in base/program/include/gimbalsim/program/
 program.hpp), which the mains of gimbalsim.sweep, gimbalsim.tune and the
 sweep's --replay run through (guarded_main)."""
+import errno
+import os
 import signal
 import sys
 
@@ -114,7 +116,11 @@ def guarded_main(program, body, notes=None):
     line on stderr and its code: "<program>: error: <e>" (the exit-code
     table's form, as the C++ programs'), or "<program>: interrupted
     (<SIGNAL>)" for a signal, followed by notes[cls](e) for the first class
-    of notes (a dict) the exception is an instance of (how to go on)."""
+    of notes (a dict) the exception is an instance of (how to go on).
+    A stderr whose reader is gone (`2>&1 | head -1`) stops no program: its
+    lines are dropped from then on (_Stderr)."""
+    stderr = sys.stderr
+    sys.stderr = _Stderr(stderr) if not isinstance(stderr, _Stderr) else stderr
     try:
         return body()
     except BaseException as e:
@@ -125,3 +131,51 @@ def guarded_main(program, body, notes=None):
         note = next((how for cls, how in (notes or {}).items() if isinstance(e, cls)), None)
         print(line + (note(e) if note else ""), file=sys.stderr)
         return code
+    finally:
+        sys.stderr = stderr
+
+
+class _Stderr:
+    """stderr as the programs write it: once a write or flush finds its pipe
+    closed (EPIPE), every later line is dropped, silently: exit 1 is a bug's
+    code, and a study's work is worth more than its messages."""
+
+    def __init__(self, stream):
+        self._stream, self._closed = stream, False
+
+    def _guard(self, op, *args):
+        if self._closed:
+            return None
+        try:
+            return op(*args)
+        except OSError as e:
+            if e.errno != errno.EPIPE:
+                raise
+            self._closed = True
+            _to_devnull(self._stream)
+            return None
+
+    def write(self, text):
+        written = self._guard(self._stream.write, text)
+        return len(text) if written is None else written
+
+    def flush(self):
+        self._guard(self._stream.flush)
+
+    def __getattr__(self, name):  # fileno, isatty, encoding...: the stream's own
+        return getattr(self._stream, name)
+
+
+def _to_devnull(stream):
+    """The stream's descriptor onto /dev/null: what its buffer still holds,
+    flushed by Python at exit, then goes nowhere instead of printing
+    "Exception ignored ... BrokenPipeError" (and what the C++ core writes there too)."""
+    try:
+        fd = stream.fileno()
+        null = os.open(os.devnull, os.O_WRONLY)
+    except (AttributeError, OSError, ValueError):  # no descriptor (a test's stream): nothing buffered below it
+        return
+    try:
+        os.dup2(null, fd)
+    finally:
+        os.close(null)

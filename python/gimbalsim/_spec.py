@@ -230,11 +230,19 @@ def check_out_dir(out, spec_path):
     parent = out.absolute().parent
     if not out.exists() and not parent.is_dir():
         raise SpecError(f"--out {out}: the folder it goes in, {parent}, does not exist (create it first)")
-    for folder in out.absolute().parents:  # e.g. an allocation's values/<i>/: its own sweep's, not the user's
+    # e.g. an allocation's values/<i>/: its own sweep's, not the user's
+    refuse_inside_tool_folder("--out", out, out.absolute().parents)
+
+
+def refuse_inside_tool_folder(flag, path, folders):
+    """path (given as flag) refused (SpecError, exit 2) when one of folders
+    (path's folder and its ancestors) is a tool's output folder (_INSIDE):
+    a sweep's, tune's or allocate's --out, or a replay's --out and --plot."""
+    for folder in folders:
         held = next((what for what, names in _INSIDE if all((folder / n).exists() for n in names)), None)
         if held is not None:
-            raise SpecError(f"--out {out}: lies inside {held} ({folder}), whose folders are its own; give "
-                            "--out outside it")
+            raise SpecError(f"{flag} {path}: lies inside {held} ({folder}), whose files and folders are its own; "
+                            f"give {flag} outside it")
 
 
 # A folder that is a tool's output (the names only that tool writes): no other run's --out goes inside it.

@@ -167,6 +167,9 @@ def rpe(t_s, e, t_start, t_end, window_s, chunk_rows=1 << 22):
     if why:
         return _nan(why)
     m = _window_samples(window_s, dt, "RPE window")
+    if m < 2:  # a sample's deviation from its own mean: 0 by construction, no figure
+        return _nan(f"the RPE window {seconds(window_s)} s holds one sample (of {seconds(dt)} s): its deviation "
+                    "from its own mean is 0 by construction; give at least two samples")
     if len(seg) < m:
         return _nan(f"the phase [{seconds(t_start)}, {seconds(t_end)}) s is shorter than the RPE window "
                     f"{seconds(window_s)} s")

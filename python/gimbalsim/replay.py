@@ -25,6 +25,7 @@ from ._errors import (EXIT_INTERNAL, EXIT_OK, EXIT_REFUSED, EXIT_STOPPED, NotRep
 from ._journal import JOURNAL, refuse_rows_beyond_the_record, take_recorded_design
 from ._output import check_outputs, figure_bytes, write_bytes
 from ._sample import sample_alone
+from ._spec import refuse_inside_tool_folder
 from ._sweep_spec import SweepSpec
 
 NOT_COMPARED = ("wall_time_s",)  # how long it took, not what it computed
@@ -77,6 +78,8 @@ def _check_output(path, folder, what):
         _refuse(f"{what} {path}: inside the sweep's folder {folder}; its files are the sweep's, write elsewhere")
     if not p.absolute().parent.is_dir():
         _refuse(f"{what} {path}: the folder it goes in, {p.absolute().parent}, does not exist (create it first)")
+    # another sweep's, an allocation's or a tuning study's files: never written over by a replay
+    refuse_inside_tool_folder(what, path, [p.absolute().parent, *p.absolute().parent.parents])
     return p
 
 

@@ -45,14 +45,15 @@ import time
 
 import gimbalsim
 from . import _budget, _budget_report, _cluster, _provenance, _study_file, replay
-from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main
-from ._journal import DESIGN, JOURNAL, csv_line, fmt, read_journal, record_design, take_recorded_design  # noqa: F401 (csv_line, fmt: API)
-from ._output import OutputRefused, append_synced, check_output_names, open_append, output_set, write_text
+from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main  # noqa: F401 (SpecError: API)
+from ._journal import JOURNAL, csv_line, fmt, read_journal, record_design  # noqa: F401 (csv_line, fmt: API)
+from ._output import OutputRefused, append_synced, open_append, output_set, write_text
 from ._sample import row_values, run_one, sample_alone  # noqa: F401 (sample_alone: API)
-from ._spec import check_out_dir, check_outputs_not_inputs
-from ._summary import plot, plot_names, summarize
+from ._spec import check_out_dir
+from ._summary import plot, summarize
 from ._sweep_spec import MAX_SAMPLES, SweepSpec
-from ._until import Until
+from ._sweep_start import (FINGERPRINT, PLOTS, REPORT, RESULTS, SUMMARY, check_output_folder, check_start,  # noqa: F401
+                           output_paths, take_design, until_of)  # (check_output_folder, output_paths: API, allocate.py)
 
 
 # ---- one task (runs on a worker) ----
@@ -74,27 +75,6 @@ def run_batch(base, closed, items):
 
 # ---- the sweep ----
 
-# The sweep's files in --out, by the names its writers take them from; output_paths lists them all.
-RESULTS, SUMMARY, REPORT, PLOTS, FINGERPRINT = "results.csv", "summary.json", "report.md", "plots", "spec.json"
-
-
-def output_paths(spec, out):
-    """(files, folders): every path the sweep may write in out, out first
-    among the folders. Each is checked (check_output_folder) before a sample
-    runs, as found at the end the samples' work would be lost."""
-    plots = _budget_report.cdf_names(spec) if spec.closed else plot_names(spec)
-    names = [FINGERPRINT, _provenance.SPEC_COPY, _provenance.INPUTS, JOURNAL, RESULTS, DESIGN, SUMMARY, REPORT]
-    return [out / n for n in names] + [out / PLOTS / n for n in plots], [out, out / PLOTS]
-
-
-def check_output_folder(spec, out, inputs):
-    """Refuses out (exit 2) when it holds another tool's outputs, or a link,
-    something of another kind or an input under a name the sweep writes."""
-    files, folders = output_paths(spec, out)
-    check_output_names(out, "sweep", files, folders, refuse=SpecError)
-    check_outputs_not_inputs(files + folders[1:], inputs)
-
-
 def finished_rows(spec, out):
     """The rows of the finished sweep in out, each checked as --resume checks
     a row (_journal.read_journal), or None when it is not whole: a journal
@@ -115,16 +95,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
     journal = out / JOURNAL
     results = out / RESULTS
     fingerprint = out / FINGERPRINT
-    check_output_folder(spec, out, inputs)
-    if resume:
-        try:
-            same = not fingerprint.exists() or fingerprint.read_text() == spec.fingerprint
-        except (OSError, UnicodeDecodeError) as e:
-            raise SpecError(f"{fingerprint}: cannot read it ({e}); --resume needs the spec it names")
-        if not same:
-            raise SpecError(f"{out} holds a sweep of another spec; --resume needs the same spec")
-    elif journal.exists() or results.exists() or (out / DESIGN).exists():
-        raise SpecError(f"{out} already holds a sweep: give --resume to finish it, or another --out")
+    check_start(spec, out, resume, inputs)  # --check's own refusals
     engine, grown = {"ran_this_invocation": 0}, None
     with contextlib.ExitStack() as stack:
         # A named scheduler is reached before anything is written: one that does not answer (exit 6) leaves
@@ -137,10 +108,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         except OSError as e:
             raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
         _study_file.hold(out)  # before the journal is read: another sweep may be writing it
-        take_recorded_design(out, spec)  # the samples --until added before (a resume holds them, no more)
-        if until is not None and until.max_samples < len(spec.design):  # it said "stopped by the cap at" the rows held
-            raise SpecError(f"--max-samples {until.max_samples} is below the {len(spec.design)} samples this sweep "
-                            f"already grew to ({out / DESIGN}): give at least {len(spec.design)}")
+        take_design(spec, out, until)  # the samples --until added before (a resume holds them, no more)
         done, dropped, appendable = read_journal(spec, journal, header)
         read_from = journal
         if results.exists() and resume and not done and not dropped:
@@ -360,11 +328,11 @@ def _run(a, out):
     (what goes wrong is raised, for guarded_main's exit code)."""
     check_out_dir(a.out, a.spec)
     spec = SweepSpec(a.spec)
-    if a.check:
+    until = until_of(a.until, a.max_samples, spec)
+    if a.check:  # every refusal of the run, in its order (sweep() calls check_start first), nothing written
+        check_start(spec, out, a.resume, spec.input_files())
+        take_design(spec, out, until)
         return EXIT_OK
-    until = None
-    if a.until is not None:
-        until = Until(a.until, spec, a.max_samples or min(MAX_SAMPLES, 20 * spec.samples))
     s = sweep(spec, out, a.workers, a.scheduler, a.resume, a.batch, not a.no_progress, until)
     e = s["engine"]
     if s["status"].get("crashed"):
