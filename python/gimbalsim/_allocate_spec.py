@@ -24,7 +24,7 @@ from . import indices
 from ._closed_spec import CONTROLLER_PREFIX, INDICES
 from ._errors import SpecError
 from ._spec import Spec
-from ._allocate_search import scan_values
+from ._allocate_search import scan_count, scan_values
 from ._sweep_spec import NOT_READ, SweepSpec
 from .dispersion import NUMERIC
 
@@ -79,6 +79,11 @@ class AllocationSpec:
                         body["spacing"])
         self._read_range(spec, body["range"])
         self.values = spec.integer("allocate.values", body["values"], MIN_VALUES, MAX_VALUES)
+        # The values tried are written with 12 digits: a range narrower than that scans the same value twice.
+        if not self.is_int and len(scan_values(self)) < scan_count(self.values):
+            spec.refuse("allocate.range", f"[{self.lo!r}, {self.hi!r}] is too narrow for its "
+                        f"{scan_count(self.values)} scan values, which repeat at 12 significant digits: give a "
+                        "wider range", body["range"])
         self.index = spec.text("allocate.index", body["index"])
         if self.index not in INDICES:
             spec.refuse("allocate.index", f"unknown index (expected one of {', '.join(INDICES)})", body["index"])

@@ -156,7 +156,7 @@ def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, pro
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python3 -m gimbalsim.allocate", description=__doc__,
+    ap = argparse.ArgumentParser(allow_abbrev=False, prog="python3 -m gimbalsim.allocate", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--version", action="version", version="gimbalsim.allocate " + gimbalsim.__version__)
     ap.add_argument("spec", help="allocation spec (YAML): a closed-loop sweep spec with an allocate: section")

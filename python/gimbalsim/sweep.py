@@ -276,7 +276,7 @@ def _kept(out):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python3 -m gimbalsim.sweep", description=__doc__,
+    ap = argparse.ArgumentParser(allow_abbrev=False, prog="python3 -m gimbalsim.sweep", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--version", action="version", version="gimbalsim.sweep " + gimbalsim.__version__)
     ap.add_argument("spec", help="sweep spec (YAML); with --replay, the sweep's output directory")

@@ -356,7 +356,7 @@ def _study_write_errors():
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python3 -m gimbalsim.tune", description=__doc__,
+    ap = argparse.ArgumentParser(allow_abbrev=False, prog="python3 -m gimbalsim.tune", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--version", action="version", version="gimbalsim.tune " + gimbalsim.__version__)
     ap.add_argument("spec", help="tuning spec (YAML)")

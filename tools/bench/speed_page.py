@@ -43,7 +43,8 @@ def bench_table(path):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--bench-json", required=True)
     ap.add_argument("--mujoco-dir")
     ap.add_argument("--no-mujoco", help="why there is no MuJoCo figure")

@@ -179,7 +179,8 @@ def report(a, open_e, open_same, closed_e, closed_same, per_task):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--samples", type=int, default=200, help="open-loop samples")
     ap.add_argument("--duration", type=float, default=0.5, help="sim.duration of each open-loop sample [s]")
     ap.add_argument("--closed-samples", type=int, default=60, help="closed-loop units of the shipped budget")

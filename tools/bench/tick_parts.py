@@ -107,7 +107,8 @@ def report(med, shipped, no_truth, runs):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--build", default="build", help="build directory holding bin/ (relative to the source tree)")
     p.add_argument("--reps", type=int, default=9, help="benchmark repetitions (medians)")
     p.add_argument("--runs", type=int, default=3, help="lockstep runs per way (medians)")

@@ -323,7 +323,8 @@ def page_body(text):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--seconds", type=float, default=10.0, help="seconds per rate in the sweep")
     p.add_argument("--rates", default="1000,2000,4000,5000,8000,10000")
     p.add_argument("--spin", type=float, default=0.0,

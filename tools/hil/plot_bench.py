@@ -141,7 +141,8 @@ def log_series(err):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("truth", help="truth CSV (firmware_sim --truth-csv or gimbalsim_log2csv)")
     p.add_argument("--out", required=True, help="output image (.png, .pdf, .svg)")
     p.add_argument("--title", default="", help="figure title (default: the CSV path)")

@@ -48,7 +48,8 @@ OMEGA, DURATION, SETTLE_TOL = (1e-3, 1e6, False), (0.0, 1e9, True), (0.0, 10.0, 
 
 
 def parse_args():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--scene", default=os.path.join(ROOT, "tools/scenes/paper_clearance.yaml"))
     p.add_argument("--scene-set", action="append", default=[], help="scene override key=value (firmware_sim --set)")
     p.add_argument("--config", default=os.path.join(ROOT, "controllers/config/default.yaml"))

@@ -263,7 +263,8 @@ def page_body(text):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--seconds", type=float, default=100.0, help="simulated seconds per scene in lockstep (part A)")
     p.add_argument("--realtime-seconds", type=float, default=100.0, help="seconds per real-time run (part B); 0 skips")
     p.add_argument("--realtime-scenes", default="paper_clearance,paper_both_spatial",

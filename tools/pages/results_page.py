@@ -90,7 +90,8 @@ def loadavg():
 def page_arguments(doc, default_dir):
     """The options every study's page script takes: its output folder, the
     regenerate command, and the start time and load its run script noted."""
-    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        allow_abbrev=False, description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--dir", default=default_dir)
     ap.add_argument("--command", required=True)
     ap.add_argument("--t0")
@@ -127,15 +128,28 @@ def write_page(path, title, command, body, summary="", t0=None, load0=None, inde
     """Writes header + body to path atomically, then the index beside it (when index)."""
     summary_line = f"<!-- summary: {' '.join(summary.split())} -->\n" if summary else ""
     text = header(title, command, t0, load0) + summary_line + "\n" + body.rstrip("\n") + "\n"
+    path = pathlib.Path(path)
+    # The index is made (every other page read) before the page is written: a page that cannot be
+    # indexed is no half-written study.
+    index_text = make_index(path.parent, {path.name: text}) if index else None
     write_text(path, text)
     if index:
-        write_index(pathlib.Path(path).parent)
+        write_text(path.parent / INDEX_NAME, index_text)
     return text
 
 
-def read_header(path):
-    """(title, command, commit, date, summary) of a generated page, or None."""
-    text = pathlib.Path(path).read_text()
+def read_header(path, text=None):
+    """(title, command, commit, date, summary) of a generated page, or None:
+    also for a name that is no regular file (a link, a FIFO: never opened)
+    or whose text cannot be read, which no tool wrote (said on stderr)."""
+    if text is None:
+        try:
+            if path.is_symlink() or not path.is_file():
+                raise OSError("not a regular file")
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as e:
+            print(f"results_page: {path} left out of the index: {e}", file=sys.stderr)
+            return None
     if MARK not in text[:200]:
         return None
     grab = lambda rx: (m.group(1) if (m := re.search(rx, text, re.M)) else "")  # noqa: E731
@@ -145,12 +159,19 @@ def read_header(path):
 
 def write_index(folder=RESULTS):
     folder = pathlib.Path(folder)
+    write_text(folder / INDEX_NAME, make_index(folder))
+
+
+def make_index(folder, pending=None):
+    """The index of folder's pages; pending: {name: text} of pages about to be written."""
+    folder, pending = pathlib.Path(folder), pending or {}
     rows = []
     rank = lambda p: (ORDER.index(p.stem) if p.stem in ORDER else len(ORDER), p.name)  # noqa: E731
-    for p in sorted(folder.glob("*.md"), key=rank):
+    names = {p.name for p in folder.glob("*.md")} | set(pending)
+    for p in sorted((folder / n for n in names), key=rank):
         if p.name == INDEX_NAME:
             continue
-        h = read_header(p)
+        h = read_header(p, pending.get(p.name))
         if h is None:
             continue
         title, command, com, date, summary = h
@@ -163,11 +184,12 @@ def write_index(folder=RESULTS):
         "regenerates it at its top, then the machine, the commit and the date it was measured on. "
         "Timing pages give the load average at start and end: this is a shared 2-core VM.", "",
         *rows, ""])
-    write_text(folder / INDEX_NAME, text)
+    return text
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--page", help="the page to write (docs/results/NAME.md)")
     ap.add_argument("--title")
     ap.add_argument("--command", help="the command line that regenerates the page")

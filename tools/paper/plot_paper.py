@@ -47,7 +47,7 @@ def save(fig, out_dir, name, written):
 
 
 def parse_args(argv):
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+    p = argparse.ArgumentParser(allow_abbrev=False, description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--ideal", required=True, help="CSV of the ideal-joint run")
     p.add_argument("--clearance", required=True, help="CSV of the clearance-joint run")

@@ -155,7 +155,8 @@ def plot_clearance(summary, out):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("dir", nargs="?", default="out/pointing_study", help="the tool's --out directory")
     a = p.parse_args()
     if not os.path.isdir(a.dir):  # the study's folder is the input: said as such, not as an output's missing folder

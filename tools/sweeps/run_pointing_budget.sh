@@ -97,8 +97,9 @@ RESULTS=docs/results
 # was refused only after the first budget's run), the page and this page's plots (a link there was found
 # only after both budgets had replaced the previous results).
 for spec in "${SPECS[@]}"; do
-  # (a name in the checkout, whose out/ may not exist yet: --check writes nothing)
-  PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$spec" --out "$ROOT/budget-check-$$" --check
+  # (a name in the checkout, whose out/ may not exist yet: --check writes nothing), with the options given
+  PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$spec" --out "$ROOT/budget-check-$$" --check \
+    "${ARGS[@]+"${ARGS[@]}"}"
 done
 own_plots() {  # this page's plots now in docs/results (by index: pointing_budget_* would match another page's)
   local spec index png
@@ -231,8 +232,11 @@ for i in "${!SPECS[@]}"; do
     cp --remove-destination "$png" "$RESULTS/${name}_$(basename "$png")"  # a link made since: replaced, not followed
   done
 done
+keep=1  # interrupted from here on, the budgets stay for --resume (which reads them back)
+rc=0
 /usr/bin/python3 tools/pages/results_page.py --page "$RESULTS/$PAGE.md" \
-  --title "$TITLE" --command "$COMMAND" --body "$BODY" --summary "$SUMMARY" --t0 "$T0" --load0 "$LOAD0" || exit 4
+  --title "$TITLE" --command "$COMMAND" --body "$BODY" --summary "$SUMMARY" --t0 "$T0" --load0 "$LOAD0" || rc=$?
+[ "$rc" = 0 ] || exit "$([ "$rc" -gt 128 ] && echo "$rc" || echo 4)"  # a signal's code, else 4: not written
 rm -rf "$BACKUP"
 BACKUP=""
 # Swapped, not removed first: the previous results come back if the new ones cannot be moved into place.
@@ -244,4 +248,5 @@ for i in "${!SPECS[@]}"; do
     exit 4
   fi
 done
+keep=0
 for old in "${OLDS[@]}"; do rm -rf "$old"; done

@@ -60,7 +60,7 @@ def read(path):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(allow_abbrev=False, description=__doc__.splitlines()[0])
     ap.add_argument("csv", nargs="?", default="out/workprec/workprec.csv")
     ap.add_argument("--out", default=None, help="PNG path (default: beside the CSV)")
     a = ap.parse_args()
