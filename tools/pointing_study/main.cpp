@@ -82,7 +82,7 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--scene-set", scene_sets, "scene override key=value for every run (repeatable)");
   app.add_option("--clearances", clearances, "radial clearances [m] (contact.clearance), comma-separated")
       ->delimiter(',');
-  app.add_option("--duration", duration, "simulated time [s] (default: the profile's track start + 5 s)");
+  app.add_option("--duration", duration, "simulated time [s], whole control periods, at most 1e9 of them (default: the profile's track start + 5 s)");
   app.add_option("--out", out_dir, "output directory (the last one given counts)")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.add_option("--sensors", sensors,
@@ -195,6 +195,10 @@ int mainImpl(int argc, char** argv) {
   firmware::ClosedLoopOptions opt;
   const double track_start = cfg.profile.trackStart();
   opt.duration = duration > 0.0 ? duration : track_start + (quick ? 0.5 : 5.0);
+  // Its bound first (the whole-multiple check below has a looser one of its own), before any folder is made.
+  if (!(opt.duration / cfg.period <= 1e9)) {
+    return refuse("--duration", "gives more than 1e9 control periods of " + formatNumber(cfg.period) + " s");
+  }
   // The loop runs whole control periods: a duration between two is refused, not rounded.
   if (const std::string why = wholeMultipleProblem(opt.duration, cfg.period, "the control period (control.period)");
       !why.empty()) {
@@ -208,9 +212,6 @@ int mainImpl(int argc, char** argv) {
     return kExitWrite;
   }
   const std::filesystem::path dir(out_dir);
-  if (!(opt.duration / cfg.period <= 1e9)) {
-    return refuse("--duration", "gives more than 1e9 control periods of " + formatNumber(cfg.period) + " s");
-  }
   try {
     std::vector<std::string> inputs{ideal_path};
     inputs.insert(inputs.end(), clearance_paths.begin(), clearance_paths.end());
