@@ -36,11 +36,6 @@ def _is_number(text):
         return False
 
 
-def _usable(spec, rows):
-    status = spec.header().index("status")
-    return [r for r in rows if r[status] != "crashed" and not r[status].startswith("refused")]
-
-
 def cdf_name(metric, prefix=""):
     return f"{prefix}{metric}_cdf.png"
 
@@ -62,12 +57,15 @@ def cdf_plots(spec, rows, entries, out_dir, prefix="", inputs=()):
     written = []
     for e in entries:
         metric = f"{e['index']}_{e['phase']}"
-        x = np.sort(np.array(_budget.column_values(spec, rows, metric)))
-        x = x[np.isfinite(x)]
+        values = np.array(_budget.column_values(spec, rows, metric))
+        x = np.sort(values[np.isfinite(values)])
         if not len(x):
             continue
+        # Over every unit drawn, as the budget: the k without a figure count worst, so the curve stops at (n-k)/n.
+        n, k = len(values), len(values) - len(x)
+        label = f"{n} units" + (f", {k} without a figure (counted worst)" if k else "")
         fig, ax = plt.subplots(figsize=(6, 4))
-        ax.step(x, np.arange(1, len(x) + 1) / len(x), where="post", label=f"{len(x)} units")
+        ax.step(x, np.arange(1, len(x) + 1) / n, where="post", label=label)
         ax.axhline(e["level"], ls=":", c="gray", label=f"level {100 * e['level']:.4g} %")
         if "requirement" in e:
             ax.axvline(e["requirement"]["requirement_rad"], c="r", ls="--",
@@ -83,17 +81,21 @@ def cdf_plots(spec, rows, entries, out_dir, prefix="", inputs=()):
 
 
 def drivers(spec, rows, metric):
-    """[(parameter, Spearman rho)] by |rho|, the worst first; NaN units rank worst."""
+    """[(parameter, Spearman rho)] by |rho|, the largest first, over every unit
+    drawn; the units without a figure rank worst (ties share the average rank)."""
     from scipy import stats
 
-    rows = _usable(spec, rows)
+    # Every unit drawn (refused and crashed too, as the budget counts them): those without a figure are +inf,
+    # the worst rank, ties among them sharing the average rank.
     y = np.array(_budget.column_values(spec, rows, metric))
     y = np.where(np.isfinite(y), y, np.inf)
     out = []
     for c, x in _numeric_columns(spec, rows).items():
-        if len(x) < 3 or np.all(x == x[0]) or np.all(y == y[0]):
+        ranked = ~np.isnan(x)  # a unit whose value is no number has no place on the parameter's axis
+        x, yc = x[ranked], y[ranked]
+        if len(x) < 3 or np.all(x == x[0]) or np.all(yc == yc[0]):
             continue
-        rho = float(stats.spearmanr(x, y).statistic)
+        rho = float(stats.spearmanr(x, yc).statistic)
         out.append((c, rho))
     return sorted(out, key=lambda p: -abs(p[1]) if math.isfinite(p[1]) else 0.0)
 

@@ -84,7 +84,8 @@ _ANTENNA_NOISE_KEYS = ("sensors.tracker_noise", "sensors.antenna_gyro_noise")
 def _idle_in_sensors(key, values, dispersed):
     """Why a key that acts through the star tracker's or the boresight
     tracker's samples cannot act: an
-    outage over the whole run [0, sim.duration], or a latency no shorter than
+    outage over the whole run [0, sim.duration] or over every sample instant
+    within it, or a latency no shorter than
     the run (a sample is delivered latency after it is taken); or why
     sensors.seed cannot: every noise is 0."""
     if key == "sensors.seed":
@@ -105,13 +106,93 @@ def _idle_in_sensors(key, values, dispersed):
         duration = float(values["sim.duration"])
         if start <= 0.0 and end >= duration:
             return f"{outage} [{seconds(start)}, {seconds(end)}] s covers the whole run: no {name} sample is taken"
+        # The instants need the rate and the control period fixed; a dispersed one leaves the whole-run rule.
+        rate_key, period = f"sensors.{sensor}_rate", CONTROLLER_PREFIX + "control.period"
+        judged = not ({rate_key, period} & (dispersed | {key})) and rate_key in values and period in values
+        if judged:
+            after = _next_sample_after_outage(start, end, duration, float(values[rate_key]), float(values[period]))
+            if after is not None:
+                return (f"{outage} [{seconds(start)}, {seconds(end)}] s holds every {name} sample within the run "
+                        f"(one every {seconds(1.0 / float(values[rate_key]))} s from 0, the next after the outage "
+                        f"at {seconds(after)} s, not before the run's end at {seconds(duration)} s): no {name} sample is taken "
+                        "while it can act")
         if reads_latency or latency_key in dispersed:
             continue
         latency = float(values.get(latency_key, 0.0))
         if latency >= duration:
             return f"{latency_key} {seconds(latency)} s is no shorter than the run " \
                    f"({seconds(duration)} s): no {name} sample is delivered"
+        # A sample taken outside the outage but delivered in it (dropped) or after the run acts on nothing.
+        if judged and _none_delivered(start, end, duration, float(values[rate_key]), float(values[period]), latency):
+            return (f"{outage} [{seconds(start)}, {seconds(end)}] s with {latency_key} {seconds(latency)} s: every "
+                    f"{name} sample taken outside the outage falls due in it (dropped) or not before the run's "
+                    f"end at {seconds(duration)} s: no {name} sample is delivered while it can act")
     return None
+
+
+def _outage_ticks(start, end, period):
+    """The first and last control tick in the outage [start, end]: as
+    attitude_sensors.hpp / antenna_sensors.hpp, the ticks t_k = k T with
+    start - tol <= t_k <= end + tol, tol = 1e-9 T (rounding stepped over)."""
+    tol = 1e-9 * period
+    first, last = max(math.ceil((start - tol) / period), 0), math.floor((end + tol) / period)
+    while first > 0 and (first - 1) * period >= start - tol:
+        first -= 1
+    while first * period < start - tol:
+        first += 1
+    while (last + 1) * period <= end + tol:
+        last += 1
+    while last > 0 and last * period > end + tol:
+        last -= 1
+    return first, last
+
+
+def _first_take(m, rate, period):
+    """The first tick at or after tick m that takes a sample: as
+    sample_schedule.hpp, sample j belongs to j / rate and is taken in the
+    first tick at or after it (ticksAtOrAfter), in an outage or not."""
+    tick = lambda j: math.ceil(j * (1.0 / rate) / period - 1e-9)  # noqa: E731
+    j = max(math.floor(m * period * rate) - 2, 0)
+    while tick(j) < m:
+        j += 1
+    return tick(j)
+
+
+def _last_acting_tick(duration, period):
+    """The last tick whose measurement can act: duration/T - 1. The last
+    tick's (t = duration) acts on nothing: no phase [t0, t1) holds it and the
+    loop ends there, its command never applied (firmware_sim/src/closed_loop.cpp)."""
+    return round(duration / period) - 1
+
+
+def _next_sample_after_outage(start, end, duration, rate, period):
+    """When the outage [start, end] holds every sample the tracker takes
+    while it can act (_last_acting_tick), the time of the first one it takes
+    after the outage (the run's end or later), else None. Latency only delays a sample."""
+    if not (end > start and rate > 0.0 and period > 0.0):
+        return None
+    first, last = _outage_ticks(start, end, period)
+    if first > 0:
+        return None  # tick 0 takes sample 0 before the outage
+    after = _first_take(last + 1, rate, period)
+    return after * period if after > _last_acting_tick(duration, period) else None
+
+
+def _none_delivered(start, end, duration, rate, period, latency):
+    """Whether no sample taken outside the outage is delivered outside it
+    while it can act (_last_acting_tick): a sample taken at tick s is delivered
+    at tick s + L (L the latency's ticks, sample_schedule.hpp), dropped when
+    that tick is in the outage."""
+    if not (end > start and rate > 0.0 and period > 0.0):
+        return False
+    last_acting, lag = _last_acting_tick(duration, period), math.ceil(latency / period - 1e-9)
+    first, last = _outage_ticks(start, end, period)
+    if first > 0 and lag < first and lag <= last_acting:
+        return False  # sample 0, taken and delivered before the outage
+    s = _first_take(max(0, last + 1 - lag), rate, period)
+    if s < first and s + lag <= last_acting:
+        return False  # taken before the outage, delivered after it
+    return _first_take(last + 1, rate, period) + lag > last_acting
 
 
 def _idle_at_antenna(key, values, dispersed):
