@@ -219,6 +219,13 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     r.t_end = rec.t;
     if (opt.cost) ++opt.cost->ticks;
     if (k == ticks) break;
+    if (opt.stop_requested != nullptr && (k + 1) % kStopCheckTicks == 0 && opt.stop_requested()) {
+      r.ok = false;
+      r.interrupted = true;
+      r.error = "interrupted at t = " + formatNumber(t) + " s";
+      fig.finish(r);
+      return r;
+    }
     {
       const CostTimer step(opt.cost, &ClosedLoopCost::step_s);
       tick.advance();

@@ -27,6 +27,7 @@
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/pointing/profile_windows.hpp"
 #include "gimbalsim/program/program.hpp"
+#include "gimbalsim/program/stop_signal.hpp"
 
 using namespace gimbalsim;
 using namespace gimbalsim::controllers;
@@ -73,6 +74,7 @@ Row runOne(const firmware::PlantScene& ps, const ControllerConfig& c, double dur
   PointingController controller(c);
   firmware::ClosedLoopOptions opt;
   opt.duration = duration;
+  opt.stop_requested = io::stopRequested;  // SIGINT/SIGTERM: ends the run within kStopCheckTicks ticks
   const double slew_end = c.profile.slewEnd();
   const firmware::ClosedLoopResult res =
       firmware::runClosedLoop(ps, controller, c.profile, opt, [&](const firmware::TickRecord& t) {
@@ -294,10 +296,16 @@ int mainImpl(int argc, char** argv) {
                 T, main_cfg.profile.slewEnd(), main_cfg.profile.trackStart(), main_cfg.profile.slewEnd(), T);
   std::string md = setup;
   bool all_ok = true;
+  io::installStopHandlers();
   for (const auto& [name, cfg] : controllers) {
     std::vector<Row> rows;
     for (const auto& [label, ps] : scenes) {
       rows.push_back(runOne(ps, cfg, T, label));
+      // The table compares every run with the ideal one: a part of it answers nothing, so nothing is written.
+      if (io::stopRequested()) {
+        std::fprintf(stderr, "%s: interrupted by %s: nothing written\n", kProgram, io::stopSignalName());
+        return io::stopExitCode();
+      }
       all_ok = all_ok && rows.back().ok;
     }
     std::string overrides;

@@ -24,6 +24,7 @@
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/pointing/profile_windows.hpp"
 #include "gimbalsim/program/program.hpp"
+#include "gimbalsim/program/stop_signal.hpp"
 #include "study_run.hpp"
 
 using namespace gimbalsim;
@@ -243,11 +244,17 @@ int mainImpl(int argc, char** argv) {
               "rms_trk[rad]", "peak_run[rad]", "status");
 
   std::vector<Study> runs;
-  // SIGINT/SIGTERM: the run in progress finishes, the CSVs hold the whole runs before the signal.
+  // SIGINT/SIGTERM: the run in progress stops within kStopCheckTicks ticks and is dropped; the CSVs hold
+  // the whole runs before the signal.
   gimbalsim::io::installStopHandlers();
+  opt.stop_requested = gimbalsim::io::stopRequested;
   for (const Planned& p : scenes) {
     if (gimbalsim::io::stopRequested()) break;
     runs.push_back(pointing_study::runOne(p.scene, cfg, opt, p.label, p.clearance, p.sensors));
+    if (runs.back().interrupted) {
+      runs.pop_back();
+      break;
+    }
     const Study& s = runs.back();
     std::printf("%-34s %-18s %11.3g %13s %13s %13s  %s\n", s.label.c_str(), s.scene.c_str(), s.clearance,
                 pointing::figureText(s.peak_track, s.track_reason, "%.4e").c_str(),

@@ -87,6 +87,7 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   }
   if (s.err.empty()) s.peak_run = std::numeric_limits<double>::quiet_NaN();  // no tick: no peak, never 0
   s.ok = r.ok;
+  s.interrupted = r.interrupted;
   if (!r.ok) {
     s.stop_key = stopKey(r);
     s.reason = r.error;

@@ -30,6 +30,7 @@ struct Study {
   std::string track_reason;  ///< why the track figures are NaN ("" if they have values)
   std::string onset_reason;  ///< why a play_onset is NaN ("" if both have values)
   bool ok = true;
+  bool interrupted = false;  ///< a stop request ended it (ClosedLoopOptions::stop_requested): not a whole run
   std::string stop_key;     ///< the scene key of the limit that stopped the plant ("" if none)
   std::string reason;       ///< why it stopped
 };

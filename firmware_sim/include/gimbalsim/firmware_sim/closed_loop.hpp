@@ -77,7 +77,11 @@ struct ClosedLoopOptions {
   const FaultSchedule* faults = nullptr;
   /// Filled with where the run's time went (null: nothing measured, no clock read); must outlive the run.
   ClosedLoopCost* cost = nullptr;
+  /// Asked every kStopCheckTicks ticks (null: never asked): true ends the run
+  /// there, interrupted (a program's SIGINT/SIGTERM flag, io::stopRequested).
+  bool (*stop_requested)() noexcept = nullptr;
 };
+inline constexpr long long kStopCheckTicks = 1024;  ///< a long run stops within about a second of CPU
 
 /// Figures of one closed-loop run. Joint errors use the true angles. A
 /// figure over a window of the profile (pointing/profile_windows.hpp) the run
@@ -85,7 +89,8 @@ struct ClosedLoopOptions {
 /// "Figures over a window"); the run itself stays ok.
 struct ClosedLoopResult {
   bool ok = true;
-  std::string error;               ///< why the plant stopped (StepStatus) or the run was refused, if !ok
+  std::string error;               ///< why the plant stopped (StepStatus), the run was refused or interrupted, if !ok
+  bool interrupted = false;        ///< ClosedLoopOptions::stop_requested ended it (!ok, t_end where)
   StepStatus stop_status = StepStatus::Ok;  ///< the plant's step status when it stopped
   double t_end = 0.0;              ///< [s]
   /// [s] after the slew's end until max |joint error| stays below settle_tol
