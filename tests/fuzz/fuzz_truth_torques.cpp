@@ -28,6 +28,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (std::size_t k = 0; k < t.tau1.size(); ++k) {
       check(std::isfinite(t.tau1[k]) && std::isfinite(t.tau2[k]), "a torque that is not finite");
     }
+    check(t.t_s.empty() || t.t_s.size() == t.tau1.size(), "not one time per row");
+    for (std::size_t k = 1; k < t.t_s.size(); ++k) check(t.t_s[k] > t.t_s[k - 1], "times not in order");
   } catch (const std::runtime_error& e) {
     check(std::string(e.what()).rfind("fuzz.csv", 0) == 0, "a refusal that does not name the input");
   }

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include "gimbalsim/controllers/config.hpp"
 #include "hil_util.hpp"
@@ -191,6 +192,34 @@ TEST(HilLockstep, RealTimeRunReplayedInLockstepHasTheSameDynamicsAndWork) {
   }
   EXPECT_EQ(differing, 0);
   expectSameWorkPerTick(dir / "rt_ticks.csv", dir / "ls_ticks.csv", 2000);
+}
+
+// A truth CSV recorded at another control rate than the plant's: status k is
+// not row k's tick, so the replay stops at the first status that says so
+// (it answered tick k with the torque of another time, exit 0).
+TEST(HilLockstep, TorqueReplayStopsAtAPlantTickingAtAnotherRate) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("replay_rate");
+  const std::string url = udpmUrl(7753);
+  for (const auto& [name, step] : {std::pair{"ms1", 0.001}, std::pair{"ms2", 0.002}}) {
+    std::ofstream csv(dir / (std::string(name) + ".csv"));
+    csv << "seq,sim_time_s,tau1_Nm,tau2_Nm\n";
+    for (int k = 0; k <= 60; ++k) csv << k << "," << k * step << ",0,0\n";
+  }
+  const std::string fw = "timeout 60 " + firmwareSim() + " " + scenePath("paper_ideal") + " --duration 0.06 --lcm-url '" +
+                         url + "' --lockstep --start-timeout 10 --lockstep-timeout-ms 2000";
+  const std::string replay = "timeout 60 '" + std::string(GIMBALSIM_TORQUE_REPLAY) + "' ";
+  const std::string body = replay + "ms1.csv --lcm-url '" + url + "' >same.log 2>&1 &\nR=$!\n" + fw +
+                           " >fw1.log 2>&1\nwait $R; r1=$?\n" + replay + "ms2.csv --lcm-url '" + url +
+                           "' --idle-exit 5 >other.log 2>&1 &\nR=$!\n" + fw + " >fw2.log 2>&1\nwait $R; r2=$?\n"
+                           "echo \"r1 $r1 r2 $r2\"\n[ $r1 -eq 0 ] && [ $r2 -eq 2 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "same.log")
+                                      << readFile(dir / "other.log") << readFile(dir / "fw2.log");
+  EXPECT_NE(readFile(dir / "other.log")
+                .find("torque_replay: error: status 1 is at t = 0.001 s, row 1 of the truth CSV at 0.002 s: the plant "
+                      "ticks at another control period than the recorded run"),
+            std::string::npos)
+      << readFile(dir / "other.log");
 }
 
 // torque_replay refuses what it cannot replay, naming the file, the line and the column.

@@ -7,8 +7,10 @@
 // real-time run in lockstep to tell a real-time tick's own cost from what
 // the machine added to it. Answers status k with the torque of row k + 1 (a
 // command answering status k acts from tick k + 1); tick 0 ran before any
-// command in both runs. Exit 0 after answering the last status the CSV
-// covers; 2 refused input; 5 network (a failed send too); 6 no plant within --idle-exit.
+// command in both runs. A status whose time is not its row's (sim_time_s: the
+// plant ticks at another control period) stops the replay. Exit 0 after
+// answering the last status the CSV covers; 2 refused input, or a plant
+// ticking at another period; 5 network (a failed send too); 6 no plant within --idle-exit.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdint>
@@ -61,21 +63,33 @@ int mainImpl(int argc, char** argv) {
   std::int64_t answered = -1, seq = 0;
   std::int64_t heard_ns = gimbalsim::lcm_wire::monotonicNs();
   bool sent = true;
-  while (answered < last && sent) {
+  std::string mismatch;  // a status at another time than its row: another control period
+  while (answered < last && sent && mismatch.empty()) {
     if (rx.wait(100, 0) < 0) return gimbalsim::program::kNetwork;
     rx.drain([&](const gimbalsim::lcm_wire::Message& m, std::int64_t) {
       gimbalsim::gimbal_status_t st{};
-      if (!sent) return;
+      if (!sent || !mismatch.empty()) return;
       if (st.decode(m.data, 0, static_cast<int>(m.size)) != static_cast<int>(m.size)) return;
       heard_ns = gimbalsim::lcm_wire::monotonicNs();
       if (st.seq <= answered || st.seq > last) return;  // a repeat (status 0 is re-sent until answered), or past the CSV
+      const auto k = static_cast<std::size_t>(st.seq);
+      // Lockstep's utime is simulated time, rounded to 1 us: row k's time, or the plant ticks at another period.
+      if (!t.t_s.empty() && std::fabs(static_cast<double>(st.utime) * 1e-6 - t.t_s[k]) > 1e-6) {
+        char why[256];
+        std::snprintf(why, sizeof why, "status %lld is at t = %.9g s, row %lld of the truth CSV at %.9g s: the plant "
+                      "ticks at another control period than the recorded run (give firmware_sim the run's --rate)",
+                      static_cast<long long>(st.seq), static_cast<double>(st.utime) * 1e-6,
+                      static_cast<long long>(st.seq), t.t_s[k]);
+        mismatch = why;
+        return;
+      }
       gimbalsim::gimbal_command_t c{};
       c.utime = st.utime;
       c.seq = seq++;
       c.status_seq = st.seq;
       c.mode = gimbalsim::gimbal_command_t::MODE_TORQUE;
-      c.torque[0] = t.tau1[static_cast<std::size_t>(st.seq) + 1];
-      c.torque[1] = t.tau2[static_cast<std::size_t>(st.seq) + 1];
+      c.torque[0] = t.tau1[k + 1];
+      c.torque[1] = t.tau2[k + 1];
       sent = lcm.publish(ch.command, &c) == 0;  // a lost answer would stall the plant: stop and say so
       answered = st.seq;
     }, 256);
@@ -88,6 +102,10 @@ int mainImpl(int argc, char** argv) {
       }
       return gimbalsim::program::kNoPeer;
     }
+  }
+  if (!mismatch.empty()) {
+    std::fprintf(stderr, "torque_replay: error: %s; replay stopped\n", mismatch.c_str());
+    return gimbalsim::program::kRefused;
   }
   if (!sent) {
     std::fprintf(stderr, "torque_replay: error: publishing the answer to status %lld failed\n",

@@ -27,6 +27,7 @@ constexpr std::size_t kMaxLineBytes = 1 << 16;  ///< a truth row is about 1 kB
 
 struct Torques {
   std::vector<double> tau1, tau2;  ///< [N m] applied over tick k (row k)
+  std::vector<double> t_s;         ///< [s] tick k's simulated time (row k's sim_time_s; empty without the column)
 };
 
 /// The two torque columns of a truth CSV written every tick (its seq column
@@ -108,6 +109,7 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
                                  " is not after the previous row's: not one run's ticks in order");
       }
       t_prev = t_s;
+      t.t_s.push_back(t_s);
     }
     // Every cell, read or not, is the writer's number: a row with a word or a NaN anywhere is no tick the plant made.
     for (int c = 0; c < static_cast<int>(header.size()); ++c) number(f, c, n);
