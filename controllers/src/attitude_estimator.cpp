@@ -75,6 +75,12 @@ Vec3 logRotation(const Quat& q) noexcept {
   return (n > 1e-12 ? 2.0 * std::atan2(n, w) / n : 2.0 / w) * u;
 }
 
+double historySpan(const AttitudeEstimatorParams& p, double control_period) noexcept {
+  // propagate() records once t - newest >= history_interval (1 - 1e-9): after this many whole periods.
+  const double periods = std::max(1.0, std::ceil(p.history_interval * (1.0 - 1e-9) / control_period - 1e-9));
+  return ringLength(p) * periods * control_period;
+}
+
 void propagate(const AttitudeEstimatorParams& p, AttitudeEstimatorState& s, double t,
                const Vec3& gyro_B) noexcept {
   s.omega_B = gyro_B - s.bias_B;

@@ -25,9 +25,15 @@ def _round(x, is_int):
     return int(round(x)) if is_int else float(f"{x:.12g}")
 
 
+def _round_within(x, lo, hi, is_int):
+    """x rounded (_round), kept inside [lo, hi]: rounding must never try a value
+    outside the range (ends that agree to 12 digits round to a value beyond them)."""
+    return min(max(_round(x, is_int), lo), hi)
+
+
 def _between(a, b, log, is_int):
-    """The point between a and b: arithmetic, or geometric on a log spacing."""
-    return _round(math.sqrt(a * b) if log else 0.5 * (a + b), is_int)
+    """The point between a and b (kept between them): arithmetic, or geometric on a log spacing."""
+    return _round_within(math.sqrt(a * b) if log else 0.5 * (a + b), min(a, b), max(a, b), is_int)
 
 
 def scan_values(a):
@@ -37,8 +43,8 @@ def scan_values(a):
         xs = [math.exp(math.log(a.lo) + (math.log(a.hi) - math.log(a.lo)) * k / (g - 1)) for k in range(g)]
     else:
         xs = [a.lo + (a.hi - a.lo) * k / (g - 1) for k in range(g)]
-    xs = [a.lo] + [_round(x, a.is_int) for x in xs[1:-1]] + [a.hi]  # the ends exactly as given
-    xs = sorted(set(xs))  # whole-number keys: a short range repeats values
+    xs = [a.lo] + [_round_within(x, a.lo, a.hi, a.is_int) for x in xs[1:-1]] + [a.hi]  # ends exactly as given
+    xs = sorted(set(xs))  # a short range (whole numbers, or ends alike to 12 digits) repeats values
     return xs if a.direction == "largest" else xs[::-1]
 
 

@@ -65,9 +65,14 @@ def table(spec, rows):
 
 
 def relative_width(e):
-    """(high - low) / estimate of an entry's interval; inf when it has none."""
+    """(high - low) / estimate of an entry's interval; inf when it has none;
+    0 for an interval that is one point (every figure alike, 0 included)."""
     lo, hi = e["interval_rad"]
-    if lo is None or hi is None or not e["estimate_rad"]:
+    if lo is None or hi is None:
+        return math.inf
+    if hi == lo:
+        return 0.0
+    if not e["estimate_rad"]:
         return math.inf
     return (hi - lo) / e["estimate_rad"]
 

@@ -2,18 +2,16 @@
 applied while it acts on nothing, so sweeps and tuning studies refuse it at
 its line. A key is judged under every value the study gives the settings
 that decide it (a choice, a grid); a decider drawn from a range is not
-judged, and neither is the key."""
+judged, and neither is the key, except the sensors' sample instants, judged
+over the whole range (_outage_holds_every_span)."""
+import functools
 import itertools
 import math
 import re
 
 from ._closed_spec import CONTROLLER_PREFIX
-from .indices import seconds
-# The antenna's sensors (MODEL.md 11.6) and the controller's loop at the antenna (MODEL.md 11.7): they act
-# only together, a scene with sensors.antenna tracker_gyro and a controller with antenna.tracker use.
-ANTENNA_SENSOR_KEYS = ("sensors.antenna", "sensors.tracker_")
-_ANTENNA_CONTROLLER = CONTROLLER_PREFIX + "antenna."
-_ANTENNA_TRACKER = CONTROLLER_PREFIX + "antenna.tracker"
+from ._idle_sensors import (ANTENNA_NOISE_KEYS, ANTENNA_SENSOR_KEYS, ANTENNA_TRACKER, NOISE_KEYS, Span,
+                            idle_at_antenna, idle_in_sensors)
 
 # What a closed loop never reads, and what an open-loop run never reads.
 CLOSED_LOOP_IDLE = {"sim.duration": "every closed loop of a study runs one length: a sweep's set: sim.duration, "
@@ -66,157 +64,12 @@ def idle_in_controller(key, values, dispersed):
     return None
 
 
-# Keys that act only through the star tracker's samples: idle when none is delivered in the run.
-_STAR_SAMPLE_KEYS = ("sensors.star_tracker_noise", "sensors.star_tracker_rate",
-                     CONTROLLER_PREFIX + "estimator.k_p", CONTROLLER_PREFIX + "estimator.k_i")
-# ... and through the boresight tracker's (sensors.antenna tracker_gyro).
-_TRACKER_SAMPLE_KEYS = ("sensors.tracker_noise", "sensors.tracker_bias", "sensors.tracker_rate")
-
-
-# Every sensor noise drawn from sensors.seed's streams (firmware_sim: joint_sensors.hpp, attitude_sensors.hpp,
-# antenna_sensors.hpp): with all of them 0 the seed draws nothing that acts.
-# The antenna's noises (tracker, antenna gyro) draw from it too, and act where the loop closes at the antenna.
-_NOISE_KEYS = ("sensors.encoder_noise", "sensors.rate_noise", "sensors.gyro_noise", "sensors.gyro_bias_walk",
-               "sensors.star_tracker_noise")
-_ANTENNA_NOISE_KEYS = ("sensors.tracker_noise", "sensors.antenna_gyro_noise")
-
-
-def _idle_in_sensors(key, values, dispersed):
-    """Why a key that acts through the star tracker's or the boresight
-    tracker's samples cannot act: an
-    outage over the whole run [0, sim.duration] or over every sample instant
-    within it, or a latency no shorter than
-    the run (a sample is delivered latency after it is taken); or why
-    sensors.seed cannot: every noise is 0."""
-    if key == "sensors.seed":
-        noises = _NOISE_KEYS + tuple(k for k in _ANTENNA_NOISE_KEYS if _idle_at_antenna(k, values, dispersed) is None
-                                     and _idle_in_sensors(k, values, dispersed) is None)
-        if set(noises) & dispersed or any(float(values.get(k, 0.0)) != 0.0 for k in noises):
-            return None
-        return "every sensor noise (" + ", ".join(noises) + ") is 0: nothing random to seed"
-    for sensor, name, sample_keys in (("star_tracker", "star tracker", _STAR_SAMPLE_KEYS),
-                                      ("tracker", "boresight tracker", _TRACKER_SAMPLE_KEYS)):
-        outage, latency_key = f"sensors.{sensor}_outage", f"sensors.{sensor}_latency"
-        reads_latency = key == latency_key
-        # Each test needs only its own deciders fixed: a dispersed latency (the key itself or not) leaves the
-        # outage's, which takes every sample whatever the latency.
-        if not (key in sample_keys or reads_latency) or {outage, "sim.duration"} & dispersed:
-            continue
-        start, end = (float(x) for x in str(values.get(outage, "[0, 0]")).strip("[]").split(","))
-        duration = float(values["sim.duration"])
-        if start <= 0.0 and end >= duration:
-            return f"{outage} [{seconds(start)}, {seconds(end)}] s covers the whole run: no {name} sample is taken"
-        # The instants need the rate and the control period fixed; a dispersed one leaves the whole-run rule.
-        rate_key, period = f"sensors.{sensor}_rate", CONTROLLER_PREFIX + "control.period"
-        judged = not ({rate_key, period} & (dispersed | {key})) and rate_key in values and period in values
-        if judged:
-            after = _next_sample_after_outage(start, end, duration, float(values[rate_key]), float(values[period]))
-            if after is not None:
-                return (f"{outage} [{seconds(start)}, {seconds(end)}] s holds every {name} sample within the run "
-                        f"(one every {seconds(1.0 / float(values[rate_key]))} s from 0, the next after the outage "
-                        f"at {seconds(after)} s, not before the run's end at {seconds(duration)} s): no {name} sample is taken "
-                        "while it can act")
-        if reads_latency or latency_key in dispersed:
-            continue
-        latency = float(values.get(latency_key, 0.0))
-        if latency >= duration:
-            return f"{latency_key} {seconds(latency)} s is no shorter than the run " \
-                   f"({seconds(duration)} s): no {name} sample is delivered"
-        # A sample taken outside the outage but delivered in it (dropped) or after the run acts on nothing.
-        if judged and _none_delivered(start, end, duration, float(values[rate_key]), float(values[period]), latency):
-            return (f"{outage} [{seconds(start)}, {seconds(end)}] s with {latency_key} {seconds(latency)} s: every "
-                    f"{name} sample taken outside the outage falls due in it (dropped) or not before the run's "
-                    f"end at {seconds(duration)} s: no {name} sample is delivered while it can act")
-    return None
-
-
-def _outage_ticks(start, end, period):
-    """The first and last control tick in the outage [start, end]: as
-    attitude_sensors.hpp / antenna_sensors.hpp, the ticks t_k = k T with
-    start - tol <= t_k <= end + tol, tol = 1e-9 T (rounding stepped over)."""
-    tol = 1e-9 * period
-    first, last = max(math.ceil((start - tol) / period), 0), math.floor((end + tol) / period)
-    while first > 0 and (first - 1) * period >= start - tol:
-        first -= 1
-    while first * period < start - tol:
-        first += 1
-    while (last + 1) * period <= end + tol:
-        last += 1
-    while last > 0 and last * period > end + tol:
-        last -= 1
-    return first, last
-
-
-def _first_take(m, rate, period):
-    """The first tick at or after tick m that takes a sample: as
-    sample_schedule.hpp, sample j belongs to j / rate and is taken in the
-    first tick at or after it (ticksAtOrAfter), in an outage or not."""
-    tick = lambda j: math.ceil(j * (1.0 / rate) / period - 1e-9)  # noqa: E731
-    j = max(math.floor(m * period * rate) - 2, 0)
-    while tick(j) < m:
-        j += 1
-    return tick(j)
-
-
-def _last_acting_tick(duration, period):
-    """The last tick whose measurement can act: duration/T - 1. The last
-    tick's (t = duration) acts on nothing: no phase [t0, t1) holds it and the
-    loop ends there, its command never applied (firmware_sim/src/closed_loop.cpp)."""
-    return round(duration / period) - 1
-
-
-def _next_sample_after_outage(start, end, duration, rate, period):
-    """When the outage [start, end] holds every sample the tracker takes
-    while it can act (_last_acting_tick), the time of the first one it takes
-    after the outage (the run's end or later), else None. Latency only delays a sample."""
-    if not (end > start and rate > 0.0 and period > 0.0):
-        return None
-    first, last = _outage_ticks(start, end, period)
-    if first > 0:
-        return None  # tick 0 takes sample 0 before the outage
-    after = _first_take(last + 1, rate, period)
-    return after * period if after > _last_acting_tick(duration, period) else None
-
-
-def _none_delivered(start, end, duration, rate, period, latency):
-    """Whether no sample taken outside the outage is delivered outside it
-    while it can act (_last_acting_tick): a sample taken at tick s is delivered
-    at tick s + L (L the latency's ticks, sample_schedule.hpp), dropped when
-    that tick is in the outage."""
-    if not (end > start and rate > 0.0 and period > 0.0):
-        return False
-    last_acting, lag = _last_acting_tick(duration, period), math.ceil(latency / period - 1e-9)
-    first, last = _outage_ticks(start, end, period)
-    if first > 0 and lag < first and lag <= last_acting:
-        return False  # sample 0, taken and delivered before the outage
-    s = _first_take(max(0, last + 1 - lag), rate, period)
-    if s < first and s + lag <= last_acting:
-        return False  # taken before the outage, delivered after it
-    return _first_take(last + 1, rate, period) + lag > last_acting
-
-
-def _idle_at_antenna(key, values, dispersed):
-    """Why an antenna sensor key (sensors.antenna*, sensors.tracker_*) or a
-    controller antenna.* key cannot act: the loop closes at the antenna only
-    with the scene's sensors.antenna tracker_gyro and the controller's
-    antenna.tracker use."""
-    sensor = key.startswith(ANTENNA_SENSOR_KEYS)
-    if not (sensor or key.startswith(_ANTENNA_CONTROLLER)):
-        return None
-    if key != "sensors.antenna" and "sensors.antenna" not in dispersed and \
-            str(values.get("sensors.antenna", "none")) != "tracker_gyro":
-        return "the scene's sensors.antenna is none: no sensor on the antenna, the loop closes on the encoders"
-    if key != _ANTENNA_TRACKER and _ANTENNA_TRACKER not in dispersed and \
-            str(values.get(_ANTENNA_TRACKER, "use")) != "use":
-        return "the controller's antenna.tracker is ignore: it reads no antenna sensor"
-    return None
-
 
 # The settings that switch other keys off.
 _DECIDERS = re.compile(r"structure\..*|sim\.substep_policy|(joint[12]\.)?(friction\.law|contact\.damping)|"
                        r"sensors\.(star_)?tracker_(outage|latency)|sensors\.antenna")
 _CONTROLLER_DECIDERS = {CONTROLLER_PREFIX + d for rules in CONTROLLER_READ_UNDER.values() for c in rules
-                        for d, _ in (c if isinstance(c, list) else [c])} | {_ANTENNA_TRACKER}
+                        for d, _ in (c if isinstance(c, list) else [c])} | {ANTENNA_TRACKER}
 _MAX_COMBINATIONS = 256  # of the deciders' values: beyond it nothing is judged
 
 
@@ -230,7 +83,7 @@ def _for_every_value(judge, key, values, dispersed, takes, own_deciders=()):
     deciders = sorted(k for k in dispersed if _DECIDERS.fullmatch(k) or k in _CONTROLLER_DECIDERS or
                       k in own_deciders)
     lists = [takes.get(k) for k in deciders]
-    if not deciders or any(v is None for v in lists) or math.prod(map(len, lists)) > _MAX_COMBINATIONS:
+    if not deciders or any(not isinstance(v, list) for v in lists) or math.prod(map(len, lists)) > _MAX_COMBINATIONS:
         return judge(key, values, dispersed)
     rest, why = dispersed - set(deciders), None
     for combination in itertools.product(*lists):
@@ -249,11 +102,19 @@ def _idle_in_controller_keys(key, values, dispersed):
                               {strip(k) for k in dispersed if k.startswith(CONTROLLER_PREFIX)})
 
 
-def takes_of(parameters, grid, aliases):
-    """The values each dispersed key takes where they are a list (a choice, a
-    grid; None for a draw from a range), by canonical name."""
-    takes = {aliases.get(p.key, p.key): [str(v) for v in p.args] if p.kind == "choice" else None for p in parameters}
-    takes.update({aliases.get(k, k): [str(v) for v in values] for k, values in grid})
+def takes_of(parameters, grid, aliases, prefix=""):
+    """The values each dispersed key takes, by canonical name (prefix + key):
+    a list (a choice, a grid), a Span for a number drawn from a range (its
+    ends), None otherwise (a ball, a disk)."""
+    def taken(p):
+        if p.kind == "choice":
+            return [str(v) for v in p.args]
+        if p.kind in ("uniform", "loguniform", "normal"):
+            ends = [float(v) for v in p.extremes()]
+            return Span(min(ends), max(ends))
+        return None
+    takes = {prefix + aliases.get(p.key, p.key): taken(p) for p in parameters}
+    takes.update({prefix + aliases.get(k, k): [str(v) for v in values] for k, values in grid})
     return takes
 
 
@@ -265,10 +126,10 @@ def idle_reason(key, values, dispersed, takes, closed):
         _for_every_value(_idle_in_scene, key, values, dispersed, takes)
     if why is None and closed:
         why = _for_every_value(_idle_in_controller_keys, key, values, dispersed, takes) or \
-            _for_every_value(_idle_in_sensors, key, values, dispersed, takes,
-                             _NOISE_KEYS + _ANTENNA_NOISE_KEYS if key == "sensors.seed" else ())
+            _for_every_value(functools.partial(idle_in_sensors, takes=takes), key, values, dispersed, takes,
+                             NOISE_KEYS + ANTENNA_NOISE_KEYS if key == "sensors.seed" else ())
     if why is None and closed:
-        why = _for_every_value(_idle_at_antenna, key, values, dispersed, takes)
+        why = _for_every_value(idle_at_antenna, key, values, dispersed, takes)
     elif why is None and key.startswith(ANTENNA_SENSOR_KEYS):
         why = "an open-loop run has no sensors (they act in a closed-loop sweep: name its controller)"
     if why is None and not closed and key.startswith("sensors."):

@@ -162,9 +162,7 @@ class TuneSpec:
         aliases = gimbalsim.key_aliases()
         entries = [(f"gains.{p.key}", CONTROLLER_PREFIX + p.key, p.node) for p in self.gains] + \
                   [(f"plants.{p.key}", aliases.get(p.key, p.key), p.node) for p in plants]
-        takes = {CONTROLLER_PREFIX + p.key: [str(v) for v in p.args] if p.kind == "choice" else None
-                 for p in self.gains}
-        takes.update(takes_of(plants, [], aliases))
+        takes = {**takes_of(self.gains, [], {}, CONTROLLER_PREFIX), **takes_of(plants, [], aliases)}
         values = {k: str(v) for k, v in self.base.values().items()}
         values["sim.duration"] = repr(self.duration)  # the study's run length, not the scene's
         values.update({CONTROLLER_PREFIX + k: str(v) for k, v in self.controller.values().items()})

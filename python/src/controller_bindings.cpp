@@ -13,8 +13,10 @@
 #include "bindings.hpp"
 #include "errors.hpp"
 #include "key_dicts.hpp"
+#include "gimbalsim/controllers/attitude_estimator.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/controllers/pointing_controller.hpp"
+#include "gimbalsim/controllers/tracker_fusion.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
 #include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 #include "gimbalsim/input/value_format.hpp"
@@ -272,6 +274,13 @@ void bindController(pyb::module_& m) {
   });
 
   m.def("_controller_keys", [] { return keyInfoList(controllerKeys()); });
+  // What the controller's histories hold at a control period [s]: the star-tracker latency [s] at or beyond
+  // which the attitude estimator drops every sample, and the boresight tracker's history in ticks
+  // (gimbalsim/_idle_sensors.py: sensor keys that act on nothing).
+  m.def("_sample_histories", [](double control_period) {
+    if (!(control_period > 0.0 && std::isfinite(control_period))) throw pyb::value_error("control period must be > 0 s");
+    return pyb::make_tuple(historySpan(AttitudeEstimatorParams{}, control_period), TrackerFusionState::kSize);
+  });
 
   m.def(
       "_closed_loop",

@@ -187,6 +187,32 @@ TEST(AttitudeEstimator, SamplesOutsideTheRingOrOrderAreRefused) {
   EXPECT_STREQ(describe(SampleStatus::TooOld), "too old (before the ring)");
 }
 
+// historySpan is the latency from which the ring holds no sample's time:
+// every sample is dropped at it, and some are used two ring spacings below
+// (a sweep refuses the star tracker's keys beyond it: _idle_sensors.py).
+TEST(AttitudeEstimator, HistorySpanIsTheLatencyFromWhichEverySampleIsTooOld) {
+  const AttitudeEstimatorParams p;
+  EXPECT_DOUBLE_EQ(historySpan(p, 1e-3), 0.32);   // 64 entries 5 ms apart
+  EXPECT_DOUBLE_EQ(historySpan(p, 3e-3), 0.384);  // 5 ms rounded up to two periods
+  EXPECT_DOUBLE_EQ(historySpan(p, 7e-3), 0.448);  // one period
+  for (const double dt : {1e-3, 2e-3, 3e-3, 7e-3}) {
+    Scenario sc;
+    sc.dt = dt;
+    sc.star_every = 3;
+    sc.duration = 2.0;
+    sc.latency = historySpan(p, dt);
+    const Trace at = run(sc);
+    long long delivered = 0;  // every sample whose latency has passed by the last tick (run()'s rule)
+    const long long N = std::llround(sc.duration / dt);
+    for (long long k = 0; k < N; k += sc.star_every) delivered += k * dt + sc.latency <= (N - 1) * dt + 1e-9;
+    EXPECT_EQ(at.used, 0) << dt;
+    EXPECT_EQ(at.rejected, delivered) << dt;
+    EXPECT_GT(delivered, 50) << dt;
+    sc.latency -= 2.0 * historySpan(p, dt) / p.history_length;
+    EXPECT_GT(run(sc).used, 0) << dt;
+  }
+}
+
 double steadyStd(double star_noise) {
   Scenario sc;
   sc.gyro_bias = {2e-4, -1e-4, 1.5e-4};

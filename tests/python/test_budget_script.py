@@ -118,14 +118,23 @@ def test_a_refused_spec_makes_no_out_folder(tmp_path):
     assert p.returncode == 2 and not (root / "out").exists(), p.stderr
 
 
-def checkout_with_previous_results(tmp_path):
-    """A copy of what the shipped budget's run touches, out/pointing_budget/ holding a previous run's results."""
+def checkout_with_spec(tmp_path, spec_text=None):
+    """TMP/checkout: a copy of what the shipped budget's run touches, no out/; its spec the shipped one, or
+    spec_text."""
     root = tmp_path / "checkout"
     for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/sweeps/pointing_budget.yaml", "tools/pages/results_page.py",
                 "tools/pages/output_file.py", "python/gimbalsim/_output.py", "docs/results/pointing_budget.md",
                 "docs/results/README.md"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(SOURCE / rel, root / rel)
+    if spec_text is not None:
+        (root / "tools/sweeps/pointing_budget.yaml").write_text(spec_text)
+    return root
+
+
+def checkout_with_previous_results(tmp_path):
+    """checkout_with_spec, out/pointing_budget/ holding a previous run's results."""
+    root = checkout_with_spec(tmp_path)
     previous = root / "out" / "pointing_budget"
     previous.mkdir(parents=True)
     (previous / "results.csv").write_text("the previous run's\n")
@@ -307,12 +316,7 @@ def test_a_sweeps_check_runs_and_writes_nothing(tmp_path):
 
 def test_the_shipped_page_is_made_in_a_checkout_without_out(tmp_path):
     # The specs' check ran before out/ was made, and refused every fresh checkout ("does not exist").
-    root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/pages/results_page.py", "tools/pages/output_file.py",
-                "python/gimbalsim/_output.py", "docs/results/pointing_budget.md", "docs/results/README.md"):
-        (root / rel).parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy(SOURCE / rel, root / rel)
-    (root / "tools/sweeps/pointing_budget.yaml").write_text(SPEC)
+    root = checkout_with_spec(tmp_path, SPEC)
     env = dict(os.environ, GIMBALSIM_BUILD=str(pathlib.Path(os.environ["PYTHONPATH"]).parent))
     p = subprocess.run(["bash", str(root / "tools/sweeps/run_pointing_budget.sh"), "--workers", "1"],
                        capture_output=True, text=True, timeout=300, env=env)

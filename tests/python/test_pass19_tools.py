@@ -4,14 +4,12 @@ run would take, a stray file beside the pages stops no page, and an
 allocation range narrower than the values it writes is refused."""
 import os
 import pathlib
-import shutil
 import subprocess
 import sys
 
 import pytest
 
-from conftest import SOURCE
-from test_budget_script import SPEC, spatial_checkout_with_a_fake_sweep
+from test_budget_script import SPEC, checkout_with_spec, spatial_checkout_with_a_fake_sweep
 from test_pass16_outputs import ALLOCATE, BASE, SWEEP, TUNE, line_of, tool, write_spec
 
 
@@ -28,12 +26,7 @@ def test_an_abbreviated_flag_is_refused_not_taken_for_another(tmp_path, program,
 
 def test_the_page_script_refuses_what_the_sweep_would(tmp_path):
     # The shipped page's run, in a copy of what it touches, its spec a tiny one; the real sweep's refusals.
-    root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/pages/results_page.py", "tools/pages/output_file.py",
-                "python/gimbalsim/_output.py", "docs/results/pointing_budget.md", "docs/results/README.md"):
-        (root / rel).parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy(SOURCE / rel, root / rel)
-    (root / "tools/sweeps/pointing_budget.yaml").write_text(SPEC)
+    root = checkout_with_spec(tmp_path, SPEC)
     env = dict(os.environ, GIMBALSIM_BUILD=str(pathlib.Path(os.environ["PYTHONPATH"]).parent))
     script = str(root / "tools/sweeps/run_pointing_budget.sh")
     for args in (["--ou", str(tmp_path / "x")], ["--che"], ["--check", "--bogus"], ["--check", "--workers", "0"]):
@@ -60,12 +53,13 @@ def test_a_stray_file_beside_the_pages_stops_no_page(tmp_path):
     assert "](pointing_budget_spatial.md)" in index and "](pointing_budget.md)" in index, index
 
 
-def test_an_allocation_range_narrower_than_its_written_values_is_refused(tmp_path):
-    text = (BASE + ALLOCATE).replace("range: [1.0e-5, 3.0e-4]", "range: [1.0e-4, 1.0000000000000003e-4]")
+# The second's interior point rounded to 1.0e-4, below its low end, and was tried (pass 20).
+@pytest.mark.parametrize("narrow", ["[1.0e-4, 1.0000000000000003e-4]", "[1.0000000000001e-4, 1.0000000000004e-4]"])
+def test_an_allocation_range_narrower_than_its_written_values_is_refused(tmp_path, narrow):
+    text = (BASE + ALLOCATE).replace("range: [1.0e-5, 3.0e-4]", f"range: {narrow}")
     assert text != BASE + ALLOCATE
     spec = write_spec(tmp_path, text)
     p = tool("allocate", spec, tmp_path / "out")
     assert p.returncode == 2, p.stderr
     assert f"{spec}:{line_of(text, 'range:')}:" in p.stderr and "too narrow" in p.stderr, p.stderr
     assert not (tmp_path / "out").exists()
-    assert SOURCE.is_dir()

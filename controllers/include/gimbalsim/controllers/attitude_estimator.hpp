@@ -92,6 +92,12 @@ enum class SampleStatus : std::uint8_t {
 };
 const char* describe(SampleStatus s) noexcept;
 
+/// [s] The latency at or beyond which every star-tracker sample is stamped
+/// before the ring's oldest entry (TooOld) on a tick grid of control_period
+/// [s]: history_length entries, each history_interval apart rounded up to
+/// whole periods.
+double historySpan(const AttitudeEstimatorParams& p, double control_period) noexcept;
+
 /// Advances the estimate from state.t to t [s] on the gyro rate gyro_B (base
 /// frame, bias included, held over the interval) [rad/s]; t <= state.t only
 /// updates omega_B. Records the estimate in the ring every history_interval.

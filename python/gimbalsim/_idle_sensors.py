@@ -1,0 +1,238 @@
+"""Sensor keys a closed loop never reads: those that act only through the
+star tracker's or the boresight tracker's samples when none is taken or
+delivered while it can act (an outage, a latency; the sample schedule of
+firmware_sim's sample_schedule.hpp, mirrored here), sensors.seed with every
+noise 0, and the antenna's keys where the loop does not close at the antenna."""
+import collections
+import math
+
+from . import _gimbalsim
+from ._closed_spec import CONTROLLER_PREFIX
+from .indices import seconds
+
+# The antenna's sensors (MODEL.md 11.6) and the controller's loop at the antenna (MODEL.md 11.7): they act
+# only together, a scene with sensors.antenna tracker_gyro and a controller with antenna.tracker use.
+ANTENNA_SENSOR_KEYS = ("sensors.antenna", "sensors.tracker_")
+_ANTENNA_CONTROLLER = CONTROLLER_PREFIX + "antenna."
+ANTENNA_TRACKER = CONTROLLER_PREFIX + "antenna.tracker"
+
+# Keys that act only through the star tracker's samples: idle when none is delivered in the run.
+_STAR_SAMPLE_KEYS = ("sensors.star_tracker_noise", "sensors.star_tracker_rate",
+                     CONTROLLER_PREFIX + "estimator.k_p", CONTROLLER_PREFIX + "estimator.k_i")
+# ... and through the boresight tracker's (sensors.antenna tracker_gyro).
+_TRACKER_SAMPLE_KEYS = ("sensors.tracker_noise", "sensors.tracker_bias", "sensors.tracker_rate")
+
+
+# Every sensor noise drawn from sensors.seed's streams (firmware_sim: joint_sensors.hpp, attitude_sensors.hpp,
+# antenna_sensors.hpp): with all of them 0 the seed draws nothing that acts.
+# The antenna's noises (tracker, antenna gyro) draw from it too, and act where the loop closes at the antenna.
+NOISE_KEYS = ("sensors.encoder_noise", "sensors.rate_noise", "sensors.gyro_noise", "sensors.gyro_bias_walk",
+              "sensors.star_tracker_noise")
+ANTENNA_NOISE_KEYS = ("sensors.tracker_noise", "sensors.antenna_gyro_noise")
+
+
+def idle_in_sensors(key, values, dispersed, takes=None):
+    """Why a key that acts through the star tracker's or the boresight
+    tracker's samples cannot act: an outage over the whole run [0,
+    sim.duration] or over every sample instant within it (for every rate and
+    control period the study gives: takes), or a latency no shorter than the
+    run (a sample is delivered latency after it is taken); or why
+    sensors.seed cannot: every noise is 0."""
+    if key == "sensors.seed":
+        noises = NOISE_KEYS + tuple(k for k in ANTENNA_NOISE_KEYS if idle_at_antenna(k, values, dispersed) is None
+                                     and idle_in_sensors(k, values, dispersed) is None)
+        if set(noises) & dispersed or any(float(values.get(k, 0.0)) != 0.0 for k in noises):
+            return None
+        return "every sensor noise (" + ", ".join(noises) + ") is 0: nothing random to seed"
+    for sensor, name, sample_keys in (("star_tracker", "star tracker", _STAR_SAMPLE_KEYS),
+                                      ("tracker", "boresight tracker", _TRACKER_SAMPLE_KEYS)):
+        outage, latency_key = f"sensors.{sensor}_outage", f"sensors.{sensor}_latency"
+        reads_latency = key == latency_key
+        # Each test needs only its own deciders fixed: a dispersed latency (the key itself or not) leaves the
+        # outage's, which takes every sample whatever the latency.
+        if not (key in sample_keys or reads_latency) or {outage, "sim.duration"} & dispersed:
+            continue
+        start, end = (float(x) for x in str(values.get(outage, "[0, 0]")).strip("[]").split(","))
+        duration = float(values["sim.duration"])
+        if start <= 0.0 and end >= duration:
+            return f"{outage} [{seconds(start)}, {seconds(end)}] s covers the whole run: no {name} sample is taken"
+        # The instants need the rate and the control period fixed; a dispersed one is judged over its range.
+        rate_key, period = f"sensors.{sensor}_rate", CONTROLLER_PREFIX + "control.period"
+        judged = not ({rate_key, period} & (dispersed | {key})) and rate_key in values and period in values
+        spans = _spans(takes or {}, values, (rate_key, period), dispersed)
+        if not judged and spans is not None and \
+                _outage_holds_every_span(start, end, duration, *spans[rate_key], *spans[period]):
+            (r_lo, r_hi), (t_lo, t_hi) = spans[rate_key], spans[period]
+            return (f"{outage} [{seconds(start)}, {seconds(end)}] s holds every {name} sample within the run for "
+                    f"every {rate_key} in [{r_lo!r}, {r_hi!r}] Hz and {period} in [{seconds(t_lo)}, "
+                    f"{seconds(t_hi)}] s: no {name} sample is taken while it can act")
+        if judged:
+            after = _next_sample_after_outage(start, end, duration, float(values[rate_key]), float(values[period]))
+            if after is not None:
+                return (f"{outage} [{seconds(start)}, {seconds(end)}] s holds every {name} sample within the run "
+                        f"(one every {seconds(1.0 / float(values[rate_key]))} s from 0, the next after the outage "
+                        f"at {seconds(after)} s, not before the run's end at {seconds(duration)} s): no {name} sample is taken "
+                        "while it can act")
+        too_old = _dropped_as_too_old(sensor, name, latency_key, values, dispersed, takes or {})
+        if reads_latency or latency_key in dispersed:
+            if too_old is not None:
+                return too_old
+            continue
+        latency = float(values.get(latency_key, 0.0))
+        if latency >= duration:
+            return f"{latency_key} {seconds(latency)} s is no shorter than the run " \
+                   f"({seconds(duration)} s): no {name} sample is delivered"
+        # A sample taken outside the outage but delivered in it (dropped) or after the run acts on nothing.
+        if judged and _none_delivered(start, end, duration, float(values[rate_key]), float(values[period]), latency):
+            return (f"{outage} [{seconds(start)}, {seconds(end)}] s with {latency_key} {seconds(latency)} s: every "
+                    f"{name} sample taken outside the outage falls due in it (dropped) or not before the run's "
+                    f"end at {seconds(duration)} s: no {name} sample is delivered while it can act")
+        if too_old is not None:
+            return too_old
+    return None
+
+
+def _dropped_as_too_old(sensor, name, latency_key, values, dispersed, takes):
+    """Why every sample arrives older than the controller keeps it, for every
+    latency and control period the study gives (a period drawn from a range
+    is not judged): the attitude estimator's ring (star tracker) or the
+    boresight tracker's history of ticks drops it (_gimbalsim._sample_histories)."""
+    period_key = CONTROLLER_PREFIX + "control.period"
+    periods = takes.get(period_key) if period_key in dispersed else [values.get(period_key)]
+    latency = _spans(takes, values, (latency_key,), dispersed)
+    try:
+        periods = [float(T) for T in periods]
+    except (TypeError, ValueError):
+        return None
+    if latency is None or not all(T > 0.0 for T in periods):
+        return None
+    lowest, held = latency[latency_key][0], []
+    for T in periods:
+        star_span, ticks = _gimbalsim._sample_histories(T)
+        if sensor == "star_tracker" and lowest < star_span or \
+                sensor == "tracker" and math.ceil(lowest / T - 1e-9) < ticks:
+            return None
+        held.append(f"{seconds(star_span)} s" if sensor == "star_tracker" else f"{ticks} ticks of {seconds(T)} s")
+    keeps = "its attitude estimator keeps" if sensor == "star_tracker" else "its tracker fusion keeps"
+    given = f"{latency_key} {seconds(lowest)} s" + (" or more" if latency_key in dispersed else "")
+    return (f"{given}: every {name} sample arrives older than the controller's history ({keeps} "
+            f"{' or '.join(held)} at {period_key} {' or '.join(seconds(T) for T in periods)} s) and is dropped")
+
+
+Span = collections.namedtuple("Span", "lo hi")  # a number drawn from a range (uniform, loguniform, normal ends)
+
+
+def _spans(takes, values, keys, dispersed):
+    """{key: (lo, hi)} over the values each of `keys` can take (its own value
+    when fixed, the range or the choices' ends when dispersed), or None when
+    one is not known as numbers."""
+    spans = {}
+    for k in keys:
+        t = takes.get(k) if k in dispersed else [values.get(k)]
+        try:
+            spans[k] = (t.lo, t.hi) if isinstance(t, Span) else (min(map(float, t)), max(map(float, t)))
+        except (TypeError, ValueError):
+            return None
+    return spans
+
+
+def _outage_holds_every_span(start, end, duration, r_lo, r_hi, t_lo, t_hi):
+    """Whether, for every rate in [r_lo, r_hi] Hz and control period in
+    [t_lo, t_hi] s, an outage [start, end] from the run's start holds every
+    sample taken while it can act: sample j (at j/rate) is taken within a
+    period after it, so it surely falls in the outage when j/r_lo + t_hi <=
+    end, and surely after the last acting tick (about duration - period)
+    when j/r_hi > duration - t_lo. A sample sure of neither: not judged idle."""
+    if not (start <= 0.0 < end and 0.0 < r_lo <= r_hi and 0.0 < t_lo <= t_hi):
+        return False
+    late = duration - t_lo + 1e-9 * duration
+    if late * r_hi > 1e6:
+        return False  # too many samples to go through: not judged
+    j = 1
+    while j / r_hi <= late:
+        if j / r_lo + t_hi > end:
+            return False
+        j += 1
+    return True
+
+
+def _outage_ticks(start, end, period):
+    """The first and last control tick in the outage [start, end]: as
+    attitude_sensors.hpp / antenna_sensors.hpp, the ticks t_k = k T with
+    start - tol <= t_k <= end + tol, tol = 1e-9 T (rounding stepped over)."""
+    tol = 1e-9 * period
+    first, last = max(math.ceil((start - tol) / period), 0), math.floor((end + tol) / period)
+    while first > 0 and (first - 1) * period >= start - tol:
+        first -= 1
+    while first * period < start - tol:
+        first += 1
+    while (last + 1) * period <= end + tol:
+        last += 1
+    while last > 0 and last * period > end + tol:
+        last -= 1
+    return first, last
+
+
+def _first_take(m, rate, period):
+    """The first tick at or after tick m that takes a sample: as
+    sample_schedule.hpp, sample j belongs to j / rate and is taken in the
+    first tick at or after it (ticksAtOrAfter), in an outage or not."""
+    tick = lambda j: math.ceil(j * (1.0 / rate) / period - 1e-9)  # noqa: E731
+    j = max(math.floor(m * period * rate) - 2, 0)
+    while tick(j) < m:
+        j += 1
+    return tick(j)
+
+
+def _last_acting_tick(duration, period):
+    """The last tick whose measurement can act: duration/T - 1. The last
+    tick's (t = duration) acts on nothing: no phase [t0, t1) holds it and the
+    loop ends there, its command never applied (firmware_sim/src/closed_loop.cpp)."""
+    return round(duration / period) - 1
+
+
+def _next_sample_after_outage(start, end, duration, rate, period):
+    """When the outage [start, end] holds every sample the tracker takes
+    while it can act (_last_acting_tick), the time of the first one it takes
+    after the outage (the run's end or later), else None. Latency only delays a sample."""
+    if not (end > start and rate > 0.0 and period > 0.0):
+        return None
+    first, last = _outage_ticks(start, end, period)
+    if first > 0:
+        return None  # tick 0 takes sample 0 before the outage
+    after = _first_take(last + 1, rate, period)
+    return after * period if after > _last_acting_tick(duration, period) else None
+
+
+def _none_delivered(start, end, duration, rate, period, latency):
+    """Whether no sample taken outside the outage is delivered outside it
+    while it can act (_last_acting_tick): a sample taken at tick s is delivered
+    at tick s + L (L the latency's ticks, sample_schedule.hpp), dropped when
+    that tick is in the outage."""
+    if not (end > start and rate > 0.0 and period > 0.0):
+        return False
+    last_acting, lag = _last_acting_tick(duration, period), math.ceil(latency / period - 1e-9)
+    first, last = _outage_ticks(start, end, period)
+    if first > 0 and lag < first and lag <= last_acting:
+        return False  # sample 0, taken and delivered before the outage
+    s = _first_take(max(0, last + 1 - lag), rate, period)
+    if s < first and s + lag <= last_acting:
+        return False  # taken before the outage, delivered after it
+    return _first_take(last + 1, rate, period) + lag > last_acting
+
+
+def idle_at_antenna(key, values, dispersed):
+    """Why an antenna sensor key (sensors.antenna*, sensors.tracker_*) or a
+    controller antenna.* key cannot act: the loop closes at the antenna only
+    with the scene's sensors.antenna tracker_gyro and the controller's
+    antenna.tracker use."""
+    sensor = key.startswith(ANTENNA_SENSOR_KEYS)
+    if not (sensor or key.startswith(_ANTENNA_CONTROLLER)):
+        return None
+    if key != "sensors.antenna" and "sensors.antenna" not in dispersed and \
+            str(values.get("sensors.antenna", "none")) != "tracker_gyro":
+        return "the scene's sensors.antenna is none: no sensor on the antenna, the loop closes on the encoders"
+    if key != ANTENNA_TRACKER and ANTENNA_TRACKER not in dispersed and \
+            str(values.get(ANTENNA_TRACKER, "use")) != "use":
+        return "the controller's antenna.tracker is ignore: it reads no antenna sensor"
+    return None
