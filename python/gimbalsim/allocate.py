@@ -22,7 +22,9 @@ not run, when every row passes the sweep's --resume checks and no sample is
 missing; any other value resumes its sweep (sweep --resume: rows it could not
 have written dropped, missing samples run). Either way the value's sweep
 writes its report, summary, plots, spec copy and inputs.json again from its
-rows (one damaged, or copied from another value, is never kept). Every name
+rows (one damaged, or copied from another value, is never kept). A value
+folder holding the sweep at another value than the search asks there (copied
+from another value) is refused before any run (exit 2). Every name
 written (values/<i>/ and all in it included) is checked before any run: a
 link, anything but its kind, or a folder holding a sweep or a tuning study is
 refused (exit 2); checked again before each value's sweep, one planted since
@@ -44,7 +46,7 @@ import sys
 import gimbalsim
 from . import _cluster
 from ._allocate_report import CSV, JSON, PAGE, PLOT, _text, record, write
-from ._allocate_search import next_value, outcome
+from ._allocate_search import next_value, outcome, scan_values
 from ._allocate_spec import AllocationSpec
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
 from ._output import OutputRefused, check_output_names, output_set, write_text
@@ -99,6 +101,37 @@ def _check_outputs(a, out, inputs):
     check_outputs_not_inputs(files + folders[1:], inputs)
 
 
+def _not_this_value(a, folder, value):
+    return SpecError(f"{folder} holds a sweep at another value than {a.key} = {a.value_text(value)}, the one the "
+                     "search asks there: not this allocation's value (copied from another, or another spec's); move "
+                     "it away and run again with --resume")
+
+
+def _check_held_values(a, out):
+    """On --resume, before any run: each value folder holds the sweep at the
+    value the search asks there (exit 2, nothing run). The scan's values are
+    known up front; a bisection's follow from the verdicts read back before
+    it, and past a value to run again are checked as the search gets there
+    (the main loop)."""
+    def check(k, value):
+        folder = out / VALUES / str(k)
+        if (folder / SWEEP_FINGERPRINT).exists() and _held(folder / SWEEP_FINGERPRINT) != a.sweep_at(value).fingerprint:
+            raise _not_this_value(a, folder, value)
+    scan = scan_values(a)
+    for k, value in enumerate(scan):
+        check(k, value)
+    tried = {}
+    for k in range(a.values):
+        value, folder = next_value(a, tried), out / VALUES / str(k)
+        if value is None:
+            return
+        check(k, value)
+        sub = a.sweep_at(value)
+        if not (folder / SWEEP_FINGERPRINT).exists() or finished_rows(sub, folder) is None:
+            return
+        tried[value] = record(a, sub, _rows(sub, folder), value, k)
+
+
 def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, progress=True):
     """Runs the search of a (an AllocationSpec) into out; (result, lines, runs, ran)."""
     inputs = a.input_files()
@@ -107,6 +140,7 @@ def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, pro
     if resume:
         if fingerprint.exists() and _held(fingerprint) != a.fingerprint:
             raise SpecError(f"{out} holds an allocation of another spec; --resume needs the same spec")
+        _check_held_values(a, out)
     elif fingerprint.exists() or (out / VALUES).exists():
         raise SpecError(f"{out} already holds an allocation: give --resume to finish it, or another --out")
     tried, runs, ran = {}, 0, 0
@@ -125,10 +159,8 @@ def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, pro
             folder, sub = out / VALUES / str(k), a.sweep_at(value)
             held = folder / SWEEP_FINGERPRINT
             _check_value_folder(sub, folder, k in were_there)
-            if held.exists() and _held(held) != sub.fingerprint:  # the search asks another value than ran there
-                raise SpecError(f"{folder} holds a sweep at another value than {a.key} = {a.value_text(value)}, "
-                                "which the search now asks for (the earlier values' results differ from this run's: "
-                                "another build or machine?); use another --out")
+            if held.exists() and _held(held) != sub.fingerprint:  # past a value run again: checked here
+                raise _not_this_value(a, folder, value)
             # Read back when whole, every row as the sweep's --resume checks it; else that resume runs the
             # missing samples (a row the sweep could not have written dropped), so n is the units drawn.
             finished = held.exists() and finished_rows(sub, folder) is not None
