@@ -71,11 +71,13 @@ echo "== [3/4] simulations${SETS[*]:+ (overrides: ${SETS[*]})}"
   --out "$OUT/spatial.csv" --summary "$OUT/spatial.json"
 
 echo "== [4/4] plots"
+LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT
 /usr/bin/python3 tools/paper/plot_paper.py \
   --ideal "$OUT/ideal.csv" --clearance "$OUT/clearance.csv" \
   --ideal-summary "$OUT/ideal.json" --clearance-summary "$OUT/clearance.json" \
   --spatial "$OUT/spatial.csv" --spatial-summary "$OUT/spatial.json" \
-  --out "$OUT/plots" | tee "$OUT/plot_summary.txt"
+  --out "$OUT/plots" | tee "$LOG"
+/usr/bin/python3 tools/pages/save_output.py "$LOG" "$OUT/plot_summary.txt"  # the writer's rules, not tee's
 
 echo
 echo "Outputs (under $ROOT):"

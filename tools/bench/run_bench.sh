@@ -42,8 +42,10 @@ cd "$ROOT"
 MJ=(--no-mujoco "this build has no MuJoCo peer: Debian's libmujoco-dev and libqhull-dev were not installed when build/ was configured (apt-get install libmujoco-dev libqhull-dev, then reconfigure)")
 if grep -q '^mujoco_DIR:PATH=/' build/CMakeCache.txt 2>/dev/null; then  # found at configure time
   mkdir -p out/speed/mujoco
+  LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT
   build/bin/gimbalsim_workprec --scenes paper_ideal_valid_inertia --policy plain --steps 1e-2,5e-3,2e-3,1e-3 \
-    --repeats "${MUJOCO_REPEATS:-5}" --out out/speed/mujoco | tee out/speed/mujoco/workprec.log
+    --repeats "${MUJOCO_REPEATS:-5}" --out out/speed/mujoco | tee "$LOG"
+  /usr/bin/python3 tools/pages/save_output.py "$LOG" out/speed/mujoco/workprec.log  # the writer's rules, not tee's
   MJ=(--mujoco-dir out/speed/mujoco)
 fi
 /usr/bin/python3 tools/bench/speed_page.py --bench-json "$OUT" "${MJ[@]}" --command "$COMMAND" --t0 "$T0" --load0 "$LOAD0"

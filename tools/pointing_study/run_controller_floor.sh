@@ -17,10 +17,12 @@ if [ ! -f "$BUILD/CMakeCache.txt" ]; then
 fi
 cmake --build "$BUILD" -j2 --target gimbalsim_controller_floor
 mkdir -p "$OUT"
+LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved into $OUT by the writer's rules
 "$BUILD/bin/gimbalsim_controller_floor" --ideal-scene "$ROOT/tools/scenes/paper_ideal.yaml" \
   --clearance-scene "$ROOT/tools/scenes/paper_clearance.yaml" --before-set pointing.accel_feedforward=inertial \
   --before-set pointing.feedforward_lead=0 \
-  --markdown "$OUT/body.md" "$@" | tee "$OUT/floor.log"
+  --markdown "$OUT/body.md" "$@" | tee "$LOG"
+/usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/floor.log"
 /usr/bin/python3 "$ROOT/tools/pages/results_page.py" --page "$ROOT/docs/results/controller_floor.md" \
   --title "Controller floor against the bearing" \
   --summary "$(grep '^ideal / ' "$OUT/floor.log" | tail -1)" \

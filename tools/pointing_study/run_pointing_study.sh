@@ -11,15 +11,15 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 BUILD="${BUILD_DIR:-$ROOT/build}"
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/pointing_study/run_pointing_study.sh$(printf ' %q' "$@")"
-OUT="out/pointing_study" RESULTS=0
+OUT="out/pointing_study" RESULTS=0 NAMED=0
 args=()
 for a in "$@"; do
   if [ "$a" = --results ]; then RESULTS=1; else args+=("$a"); fi
 done
 for ((i = 0; i < ${#args[@]}; i++)); do
   case "${args[i]}" in
-    --out) OUT="${args[i + 1]:-}" ;;
-    --out=*) OUT="${args[i]#--out=}" ;;
+    --out) OUT="${args[i + 1]:-}" NAMED=1 ;;
+    --out=*) OUT="${args[i]#--out=}" NAMED=1 ;;
   esac
 done
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
@@ -27,7 +27,10 @@ if [ ! -f "$BUILD/CMakeCache.txt" ]; then
 fi
 cmake --build "$BUILD" -j2 --target gimbalsim_pointing_study
 status=0
-mkdir -p "$OUT"
+# The console log is tee'd outside --out and saved into it by the writer's rules once the study has written
+# its own outputs (tools/pages/save_output.py): --out is the study's to check and to make, never the script's.
+LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT
+[ "$NAMED" = 1 ] || mkdir -p "$OUT"  # the script's own default folder; a named one must exist (usage.md "Output files")
 # The default --out first: a --out among the arguments comes later and counts.
 # Clearance in the elevation joint, the azimuth joint, both; planar and spatial;
 # perfect, realistic and tracker sensors. A --clearance-scene or --sensors among the
@@ -41,9 +44,10 @@ case " ${args[*]-} " in
      done ;;
 esac
 "$BUILD/bin/gimbalsim_pointing_study" --out "$OUT" --ideal-scene "$ROOT/tools/scenes/paper_ideal.yaml" \
-  --sensors all ${scenes[@]+"${scenes[@]}"} ${args[@]+"${args[@]}"} | tee "$OUT/study.log" || status=$?
+  --sensors all ${scenes[@]+"${scenes[@]}"} ${args[@]+"${args[@]}"} | tee "$LOG" || status=$?
 # Exit 3: a plant stopped; the results of the other runs are still written and plotted.
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
+/usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/study.log"
 /usr/bin/python3 "$ROOT/tools/pointing_study/plot_pointing_study.py" "$OUT"
 if [ "$RESULTS" = 1 ]; then
   /usr/bin/python3 "$ROOT/tools/pointing_study/pointing_page.py" --dir "$(realpath "$OUT")" --command "$COMMAND" \

@@ -22,8 +22,12 @@ done
 cmake --build build -j2 --target gimbalsim_stress >/dev/null
 mkdir -p out/stress
 status=0
+LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved by the writer's rules (not tee's)
 build/bin/gimbalsim_stress --csv out/stress/stress.csv --page-body out/stress/page_body.md ${ARGS[@]+"${ARGS[@]}"} \
-  | tee out/stress/stress.log || status=$?
+  | tee "$LOG" || status=$?
+if [ "$status" -eq 0 ] || [ "$status" -eq 1 ]; then  # a grid that ran (1: some case failed), never a refusal
+  /usr/bin/python3 tools/pages/save_output.py "$LOG" out/stress/stress.log
+fi
 if [ "$RESULTS" = 1 ] && [ -f out/stress/page_body.md ] && { [ "$status" -eq 0 ] || [ "$status" -eq 1 ]; }; then
   summary=$(grep -m1 -o '^\*\*[^*]*\*\*' out/stress/page_body.md | tr -d '*')
   /usr/bin/python3 tools/pages/results_page.py --page docs/results/stress.md --title "Numerical stability stress grid" \

@@ -1,0 +1,70 @@
+"""Issue 41, "Hostile and careless input" (pass 21), the scripts' side: a
+script's console log goes into its output folder by the writer's rules, after
+the program has checked and written its own outputs. `| tee "$OUT/x.log"`
+made a named --out that did not exist, and on a refused run emptied a
+previous log, a link's target, or a scene hard-linked under the log's name."""
+import os
+import subprocess
+
+import pytest
+
+from conftest import BIN, SOURCE
+
+SCRIPTS = {"study": ("tools/pointing_study/run_pointing_study.sh", "gimbalsim_pointing_study", "study.log",
+                     "out/pointing_study"),
+           "floor": ("tools/pointing_study/run_controller_floor.sh", "gimbalsim_controller_floor", "floor.log",
+                     "out/controller_floor")}
+
+
+def _run(tmp_path, which, *args):
+    """The script with a build of the one program it runs (no cmake: a stand-in that does nothing), from tmp/work."""
+    script, program, _, _ = SCRIPTS[which]
+    build, fake, work = tmp_path / "build", tmp_path / "fakebin", tmp_path / "work"
+    for d in (build / "bin", fake, work):
+        d.mkdir(parents=True, exist_ok=True)
+    (build / "CMakeCache.txt").write_text("")
+    if not (build / "bin" / program).exists():
+        (build / "bin" / program).symlink_to(BIN / program)
+    (fake / "cmake").write_text("#!/bin/sh\nexit 0\n")
+    (fake / "cmake").chmod(0o755)
+    env = dict(os.environ, BUILD_DIR=str(build), PATH=f"{fake}:{os.environ['PATH']}")
+    return subprocess.run(["bash", str(SOURCE / script), *args], cwd=work, env=env, capture_output=True, text=True,
+                          timeout=300)
+
+
+@pytest.mark.parametrize("which", ["study", "floor"])
+@pytest.mark.parametrize("planted", ["previous", "link", "hardlink"])
+def test_a_refused_run_leaves_the_log_and_what_it_points_at_as_they_were(tmp_path, which, planted):
+    _, _, log_name, out = SCRIPTS[which]
+    folder = tmp_path / "work" / out
+    folder.mkdir(parents=True)
+    victim = tmp_path / "victim.yaml"
+    victim.write_text("the user's scene\n")
+    log = folder / log_name
+    if planted == "previous":
+        log.write_text("the previous run's log\n")
+    elif planted == "link":
+        log.symlink_to(victim)
+    else:
+        os.link(victim, log)
+    before = log.read_text()
+    p = _run(tmp_path, which, "--clearances", "0")
+    assert p.returncode == 2, p.stderr
+    assert "--clearances" in p.stderr, p.stderr
+    assert log.read_text() == before and victim.read_text() == "the user's scene\n"
+
+
+def test_the_study_script_makes_no_named_out_folder_for_a_refused_run(tmp_path):
+    named = tmp_path / "not" / "there"
+    p = _run(tmp_path, "study", "--clearances", "0", "--out", str(named))
+    assert p.returncode == 2, p.stderr
+    assert not (tmp_path / "not").exists()
+
+
+def test_the_study_script_saves_its_log_beside_the_results(tmp_path):
+    p = _run(tmp_path, "study", "--quick", "--clearances", "2.5e-4", "--clearance-scene",
+             str(SOURCE / "tools/scenes/paper_clearance.yaml"), "--sensors", "perfect", "--duration", "3.6")
+    assert p.returncode == 0, p.stderr
+    folder = tmp_path / "work/out/pointing_study"
+    assert "wrote " in (folder / "study.log").read_text()
+    assert (folder / "summary.csv").is_file()

@@ -1,0 +1,34 @@
+"""save_output.py SOURCE DEST: a script's console log (tee'd into a
+temporary SOURCE, outside every output folder) written to DEST by the one
+writer's rules (output_file.py): never through a link, never over an input,
+whole or not at all (a temporary and a rename: a hard link to DEST keeps its
+content). `| tee "$OUT/x.log"` opened the name before the program had
+checked anything: a refused run emptied a previous log, a link's target or a
+hard-linked scene."""
+import argparse
+import pathlib
+import sys
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import output_file  # noqa: E402  (the tools' writer, by path)
+
+
+def main():
+    ap = argparse.ArgumentParser(allow_abbrev=False, description=__doc__.split("\n\n")[0])
+    ap.add_argument("source", help="the temporary log to copy")
+    ap.add_argument("dest", help="the log's name in the output folder")
+    ap.add_argument("--input", action="append", default=[], help="a file the run read (never overwritten)")
+    a = ap.parse_args()
+
+    def save():
+        output_file.check_before_writing([a.dest], a.input, ["DEST"])
+        try:
+            text = pathlib.Path(a.source).read_text(encoding="utf-8", errors="replace")
+        except OSError as e:
+            raise output_file.Refused(f"{a.source}: cannot read the log: {e.strerror}") from None
+        output_file.write_text(a.dest, text, a.input)
+    return output_file.run_script("save_output.py", save)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
