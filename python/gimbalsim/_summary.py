@@ -39,6 +39,7 @@ def summarize(spec, rows, engine):
             "percentiles_of_ok_samples_note": {m: no_percentiles_reason(m, len(rows), len(ok), status)
                                                for m, p in pct.items() if p is None},
             **({"budget": _budget.table(spec, rows)} if spec.closed else {}),
+            "sampling": spec.sampling,
             "fingerprints": _provenance.fingerprints(spec),
             "applied_differs": sum(1 for r in rows if r[col[_provenance.DIFFERS]]),
             "engine": engine}

@@ -4,7 +4,7 @@ design of dispersed keys, the closed loop's controller, phases and indices
 import json
 
 import gimbalsim
-from . import _provenance
+from . import _provenance, _sampling
 from ._closed_spec import CONTROLLER_PREFIX, ClosedLoopSpec, plant_overrides
 from ._idle_keys import idle_reason, refuse_idle_set, takes_of
 from ._spec import Spec
@@ -52,7 +52,7 @@ class SweepSpec:
         # where its paths are read from (a replay's copy: the original's); text: the spec's source, else the file's
         spec = Spec(path, folder, workdir, text)
         spec.check_keys({"scene", "set", "samples", "seed", "parameters", "grid", "controller", "controller_set",
-                         "phases", "indices"})
+                         "phases", "indices", "sampling"})
         root = spec.root.value
         for closed_only in ("controller_set", "phases", "indices"):
             if closed_only in root and "controller" not in root:
@@ -113,6 +113,9 @@ class SweepSpec:
         except gimbalsim.SceneError as e:
             node = sets.get(e.key) if e.set_index else None
             spec.refuse(f"set.{e.key}" if node else "scene", str(e), node or root["scene"])
+        # the stepping every sample takes (_sampling.py), the base scene with its overrides
+        self.base, self.sampling = _sampling.apply(spec, root, self.base, [*self.set, *params, *grid],
+                                                   "controller" in root)
         # closed loop: controller keys are dispersed as controller.<key>, never confused with the scene's
         self.closed = None
         if "controller" in root:

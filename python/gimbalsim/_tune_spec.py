@@ -4,7 +4,7 @@ its constraint, every value checked at the spec's line before anything runs."""
 import json
 
 import gimbalsim
-from . import _gimbalsim
+from . import _gimbalsim, _sampling
 from ._closed_spec import CONTROLLER_PREFIX, controller_path_of, plant_overrides
 from ._idle_keys import idle_reason, refuse_idle_set, takes_of
 from ._spec import Spec
@@ -52,7 +52,7 @@ class TuneSpec:
     def __init__(self, path):
         spec = Spec(path)
         spec.check_keys({"scene", "set", "controller", "controller_set", "duration", "trials", "parallel_trials",
-                         "seed", "batch", "objective", "max_saturation", "gains", "plants"})
+                         "seed", "batch", "objective", "max_saturation", "gains", "plants", "sampling"})
         root = spec.root.value
         for required in ("scene", "controller", "duration", "trials", "seed", "batch", "gains"):
             if required not in root:
@@ -85,6 +85,8 @@ class TuneSpec:
                                              sources={k: (spec.path, n.line) for k, n in sets.items()})
         except gimbalsim.SceneError as e:
             spec.refuse(f"set.{e.key}" if e.key in sets else "scene", str(e), sets.get(e.key, root["scene"]))
+        plant_keys = spec.mapping("plants", root["plants"]) if "plants" in root else {}
+        self.base, self.sampling = _sampling.apply(spec, root, self.base, [*sets, *plant_keys], closed=True)
         ctrl_types = {k["key"]: k["type"] for k in gimbalsim.controller_keys()}
         csets = spec.known_mapping("controller_set", ctrl_types, "controller (see `pointing_controller --keys`)")
         self.controller_set = {k: spec.value(f"controller_set.{k}", n) for k, n in csets.items()}

@@ -97,6 +97,8 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
     fingerprint = out / FINGERPRINT
     check_start(spec, out, resume, inputs)  # --check's own refusals
     engine, grown = {"ran_this_invocation": 0}, None
+    if spec.sampling["overrides"]:  # said when the runs step otherwise than the scene is written
+        print(f"sweep: stepping (sampling: {spec.sampling['mode']}): {spec.sampling['why']}", file=sys.stderr)
     with contextlib.ExitStack() as stack:
         # A named scheduler is reached before anything is written: one that does not answer (exit 6) leaves
         # --out as it was, not a journal the next run would want resumed. The local cluster starts for the

@@ -262,7 +262,7 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
             f"{'feasible' if feasible else 'NO FEASIBLE TRIAL: the least bad'}\n") + nested_yaml(best_ctrl._values_text())
     summary = {"best_trial": best.number, "best_score": best.value, "feasible": bool(feasible),
                "best_gains": {k: best.params[k] for k in gain_names}, "trials": len(rows),
-               "complete": len(done), "feasible_trials": len(feasible)}
+               "complete": len(done), "feasible_trials": len(feasible), "sampling": spec.sampling}
     with output_set():  # the study's verdict is one set: stopped part-way, none of it is left
         write_text(out / BEST, text, spec.input_files())
         _plot(out, rows, spec)
@@ -377,6 +377,8 @@ def _run(a, out):
     code (what goes wrong is raised, for guarded_main's exit code)."""
     check_out_dir(a.out, a.spec)
     spec = TuneSpec(a.spec)
+    if spec.sampling["overrides"]:  # said when the runs step otherwise than the scene is written
+        print(f"tune: stepping (sampling: {spec.sampling['mode']}): {spec.sampling['why']}", file=sys.stderr)
     study_write_errors = _study_write_errors()
     try:
         summary, rows = tune(spec, out, a.workers, a.scheduler, not a.no_progress, a.resume)

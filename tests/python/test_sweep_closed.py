@@ -117,13 +117,16 @@ def independent_indices(run, dt):
 
 
 def test_per_sample_indices_equal_indices_py_on_the_runs_own_ticks(reference, spec):
+    from gimbalsim.sweep import SweepSpec
     header, rows = read(reference[0])
     for row in rows[:2]:
         v = dict(zip(header, row))
         kp = float(row[3])  # controller.azimuth.kp, with its unit suffix
+        # the scene as the sweep steps it (sampling: auto's overrides, _sampling.py)
         scene = gimbalsim.load_scene(SCENES / "paper_clearance.yaml",
                                      {"sim.duration": DURATION, "contact.clearance": float(v["contact_clearance_m"]),
-                                      "sensors.star_tracker_noise": float(v["sensors_star_tracker_noise_rad"])})
+                                      "sensors.star_tracker_noise": float(v["sensors_star_tracker_noise_rad"]),
+                                      **SweepSpec(spec).sampling["overrides"]})
         ctrl = gimbalsim.Controller(CONTROLLER_CONFIG, {"profile.slew_start": 0.0, "profile.slew_time": 0.2,
                                                         "profile.hold_time": 0.1, "azimuth.kp": kp})
         run = gimbalsim.closed_loop(scene, ctrl, DURATION)
@@ -143,7 +146,6 @@ def test_per_sample_indices_equal_indices_py_on_the_runs_own_ticks(reference, sp
         assert v["reason"] == ""
         # a phase a sample's run never reached (one that stopped early) is NaN with its reason
         from gimbalsim._closed_sample import sample_indices
-        from gimbalsim.sweep import SweepSpec
         past = sample_indices(SweepSpec(spec).closed, run.columns, {p: (5.0, 6.0) for p in PHASES})
         assert all(not past[f"{i}_{p}"].ok and math.isnan(past[f"{i}_{p}"].value) for i in INDICES for p in PHASES)
         assert "never reached the phase [5, 6) s" in past["ape_late"].reason

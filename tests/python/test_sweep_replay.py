@@ -254,7 +254,7 @@ def test_closed_loop_provenance_reads_the_loaded_controller(tmp_path):
                                                             "controller: ctrl.yaml\ncontroller_set: {azimuth.kp: 900.0}"))
     spec = SweepSpec(tmp_path / "spec.yaml")
     ctrl = gimbalsim.Controller(CONTROLLER_CONFIG, {"azimuth.kp": 900.0})
-    scene = gimbalsim.load_scene(tmp_path / "scene.yaml", {"sim.duration": 1.0})
+    scene = gimbalsim.load_scene(tmp_path / "scene.yaml", {"sim.duration": 1.0, **spec.sampling["overrides"]})
     v = ctrl._values_text()  # the --set text of each key, as scene.values() gives a scene's
     expected = hashlib.sha256("".join(f"{k}={v[k]}\n" for k in sorted(v)).encode())
     assert _provenance.fingerprints(spec) == {"base_scene_sha256": fingerprint(scene),
@@ -333,8 +333,11 @@ def test_a_closed_loop_sample_is_replayed_bit_for_bit_and_its_controller_fingerp
     assert "bit for bit" in p.stderr
     check_convention(out)
     r = rows[1]
+    from gimbalsim.sweep import SweepSpec
+    stepping = SweepSpec(tmp_path / "spec.yaml").sampling["overrides"]  # as the sweep steps it (_sampling.py)
     scene = gimbalsim.load_scene(tmp_path / "scene.yaml", {"sim.duration": 1.0,
-                                                            "contact.clearance": float(r["contact_clearance_m"])})
+                                                            "contact.clearance": float(r["contact_clearance_m"]),
+                                                            **stepping})
     run = gimbalsim.closed_loop(scene, gimbalsim.Controller(tmp_path / "ctrl.yaml",
                                                             {"azimuth.kp": float(r[kp_drawn])}), 1.0)
     with open(out, newline="") as f:

@@ -1,0 +1,67 @@
+"""How a closed-loop sweep's samples step the plant (the spec's `sampling:`,
+docs/python.md "Sampling"): `auto` (the default) or `scene` (the scene's own
+stepping, as it is written).
+
+`auto` steps each sample with the cheapest setting the work-precision
+measurements found to keep every figure the sweep reads (each index in each
+phase) within TOLERANCE_RAD of a fine run's (a 5 us fixed sub-step of the
+scene's own law), and never changes a scene whose fastest accurate setting
+is its own:
+
+- a planar bearing in joint 2 alone (joint 1 ideal) with plain Coulomb
+  friction under the fixed sub-step policy: its set-valued Coulomb law with
+  located stick and slip (`coulomb_stick`, the law plain Coulomb's chatter
+  converges to as the sub-step shrinks; docs/MODEL.md 6.2, 6.4) under the
+  adaptive policy at ADAPTIVE_TOL;
+- every other scene (ideal joints, spatial bearings, both joints with
+  clearance, a smooth law) keeps its own stepping: no cheaper setting holds
+  the tolerance there (a coarser fixed sub-step of paper_spatial2 moves the
+  track figure by 3e-6 rad at 4e-5 s, the Ambrosio law changes the physics).
+
+Nothing is chosen when the spec itself sets or disperses a key the choice
+would change (the user asked for that stepping), or in open loop (its
+figures include contact forces the tolerance does not speak for).
+"""
+import gimbalsim
+
+# The keys auto may set, and those whose presence in set:/parameters:/grid: leaves the scene's stepping alone.
+_DECIDING = ("friction.law", "joint1.friction.law", "joint2.friction.law", "structure.joint1", "structure.joint2",
+             "sim.substep_policy", "sim.substep", "sim.substep_tol", "sim.substep_min", "sim.substep_max")
+MODES = ("auto", "scene")
+TOLERANCE_RAD = 1.0e-6   # each figure's distance from a 5 us fixed sub-step's (1 % of a 1e-4 rad requirement)
+ADAPTIVE_TOL = "1e-9"    # sim.substep_tol of the adaptive policy (tests/python/test_sampling.py measures it)
+
+
+def choose(mode, scene_values, given, closed):
+    """(overrides, why): the scene overrides every sample steps with, and the
+    sentence the report prints. scene_values: the base scene's values (as
+    text); given: the canonical keys the spec sets or disperses."""
+    if mode == "scene":
+        return {}, "the scene's own stepping (sampling: scene)"
+    if not closed:
+        return {}, "the scene's own stepping (an open-loop sweep: sampling: auto chooses for closed loops only)"
+    asked = sorted(k for k in given if k in _DECIDING)
+    if asked:
+        return {}, f"the scene's own stepping: the spec gives {', '.join(asked)}"
+    j1, j2 = scene_values.get("structure.joint1"), scene_values.get("structure.joint2")
+    law_key = "joint2.friction.law" if "joint2.friction.law" in scene_values else "friction.law"
+    law, policy = scene_values.get(law_key), scene_values.get("sim.substep_policy")
+    if j1 == "ideal" and j2 in ("planar", "clearance") and law == "coulomb" and policy == "fixed":
+        overrides = {law_key: "coulomb_stick", "sim.substep_policy": "adaptive", "sim.substep_tol": ADAPTIVE_TOL}
+        return overrides, ("a planar joint 2 with Coulomb friction steps with its set-valued law (" +
+                           ", ".join(f"{k} {v}" for k, v in overrides.items()) + f"): each figure within "
+                           f"{TOLERANCE_RAD:g} rad of a 5 us fixed sub-step's (sampling: scene keeps the scene's)")
+    return {}, (f"the scene's own stepping (joints {j1}/{j2}, {law_key} {law}, sim.substep_policy {policy}: "
+                "no cheaper setting holds the tolerance)")
+
+
+def apply(spec, root, base, given, closed):
+    """(base, sampling): the spec's `sampling:` read (refused at its line
+    unless a mode), its choice made, and the base scene with its overrides;
+    sampling = {"mode", "overrides", "why"} for the summary and the report."""
+    mode = spec.text("sampling", root["sampling"]) if "sampling" in root else "auto"
+    if mode not in MODES:
+        spec.refuse("sampling", f"expected {' or '.join(MODES)}, got {mode!r}", root["sampling"])
+    aliases = gimbalsim.key_aliases()
+    overrides, why = choose(mode, base.values(), {aliases.get(k, k) for k in given}, closed)
+    return (base.replace(overrides) if overrides else base), {"mode": mode, "overrides": overrides, "why": why}

@@ -1,0 +1,93 @@
+"""A closed-loop sweep's stepping (gimbalsim/_sampling.py, docs/python.md
+"Sampling"): sampling: auto steps a planar joint 2 with Coulomb friction
+with its set-valued law under the adaptive policy, and keeps every figure
+the sweep reads within the stated tolerance of a fine run's (a 5 us fixed
+sub-step of the scene's own plain Coulomb law, an independent solution); it
+never changes a scene it has no cheaper accurate setting for, nor one whose
+stepping the spec gives; sampling: scene runs the scene as written."""
+import json
+import math
+
+import pytest
+
+from conftest import SOURCE
+from test_pass16_outputs import line_of, tool, write_spec
+from gimbalsim import _sampling
+from gimbalsim._sample import run_one
+from gimbalsim._sweep_spec import SweepSpec
+
+BUDGET = (SOURCE / "tools/sweeps/pointing_budget.yaml").read_text().replace("../scenes/", f"{SOURCE}/tools/scenes/")
+FIGURES = ("ape", "rpe", "pde", "knowledge")
+
+
+def _spec(tmp_path, text, name="spec.yaml"):
+    return SweepSpec(write_spec(tmp_path, text, name))
+
+
+# Units of the shipped budget whose figures moved by more than the tolerance at a looser setting
+# (substep_tol 1e-7: unit 0's rpe_track by 1.4e-6 rad; 1e-3: unit 5's ape_slew by 2.6e-6 rad). Over its
+# first 24 units, 1e-8 to 1e-10 kept every figure within 8.7e-7 rad, the scene's own 2e-5 s within 8.1e-7.
+@pytest.mark.parametrize("unit", [0, 1, 5])
+def test_auto_keeps_every_figure_within_the_tolerance_of_a_fine_run(tmp_path, unit):
+    auto = _spec(tmp_path, BUDGET)
+    assert auto.sampling["overrides"], auto.sampling
+    fine = _spec(tmp_path, BUDGET.replace("set: {sim.duration: 5.0}", "set: {sim.duration: 5.0, sim.substep: 5.0e-6}"),
+                 "fine.yaml")
+    assert fine.sampling["overrides"] == {} and fine.base.values()["friction.law"] == "coulomb"
+    values = auto.design.draw(unit)
+    assert values == fine.design.draw(unit)
+    got, ref = run_one(auto.base, auto.closed, values), run_one(fine.base, fine.closed, values)
+    assert got["status"] == ref["status"] == "ok", (got, ref)
+    keys = [k for k in ref if k.split("_")[0] in FIGURES]
+    assert len(keys) == 12
+    for k in keys:
+        assert not math.isnan(ref[k]), k
+        assert abs(got[k] - ref[k]) <= _sampling.TOLERANCE_RAD, (k, got[k], ref[k])
+
+
+def test_auto_chooses_the_adaptive_set_valued_law_only_for_a_planar_joint_2_with_coulomb(tmp_path):
+    auto = _spec(tmp_path, BUDGET).base.values()
+    assert (auto["friction.law"], auto["sim.substep_policy"]) == ("coulomb_stick", "adaptive")
+    assert float(auto["sim.substep_tol"]) == float(_sampling.ADAPTIVE_TOL)
+    # a spatial bearing, the scene as written, a spec that gives the stepping, an open loop: the scene's own
+    for name, text in [("spatial", BUDGET.replace("paper_clearance.yaml", "paper_spatial2.yaml")),
+                       ("scene", BUDGET + "sampling: scene\n"),
+                       ("given", BUDGET.replace("set: {sim.duration: 5.0}", "set: {sim.duration: 5.0, sim.substep: 2.0e-5}")),
+                       ("dispersed", BUDGET.replace("parameters:\n", "parameters:\n  friction.law: {choice: [coulomb, ambrosio]}\n"))]:
+        spec = _spec(tmp_path, text, f"{name}.yaml")
+        assert spec.sampling["overrides"] == {}, name
+        values = spec.base.values()
+        assert (values["friction.law"], values["sim.substep_policy"], values["sim.substep"]) == \
+            ("coulomb", "fixed", "2e-05"), (name, spec.sampling)
+    assert _sampling.choose("auto", auto, set(), closed=False)[0] == {}
+
+
+def test_a_sampling_mode_not_known_is_refused_at_its_line(tmp_path):
+    text = BUDGET + "sampling: fast\n"
+    spec = write_spec(tmp_path, text)
+    p = tool("sweep", spec, tmp_path / "out", "--check")
+    assert p.returncode == 2, p.stderr
+    assert f"{spec}:{line_of(text, 'sampling:')}:" in p.stderr and "expected auto or scene, got 'fast'" in p.stderr
+
+
+def test_the_report_and_summary_say_how_the_samples_stepped(tmp_path):
+    text = BUDGET.replace("samples: 1109", "samples: 2").replace("set: {sim.duration: 5.0}", "set: {sim.duration: 0.6}") \
+        .replace("phases: [slew, hold, track]", "phases: [{late: [0.3, 0.6]}]")
+    text = text[:text.index("indices:")] + "indices:\n  ape: {}\n"
+    p = tool("sweep", write_spec(tmp_path, text), tmp_path / "out")
+    assert p.returncode == 0, p.stderr
+    summary = json.loads((tmp_path / "out/summary.json").read_text())
+    assert summary["sampling"]["mode"] == "auto" and summary["sampling"]["overrides"]["friction.law"] == "coulomb_stick"
+    assert "Stepping (sampling: auto): a planar joint 2 with Coulomb friction" in \
+        (tmp_path / "out/report.md").read_text()
+    assert "sweep: stepping (sampling: auto)" in p.stderr
+
+
+def test_a_tuners_plants_step_as_a_sweeps_samples(tmp_path):
+    from gimbalsim._tune_spec import TuneSpec
+    text = (SOURCE / "tools/tuning/clearance_gains.yaml").read_text().replace("../scenes/", f"{SOURCE}/tools/scenes/") \
+        .replace("../../controllers/", f"{SOURCE}/controllers/")
+    auto = TuneSpec(write_spec(tmp_path, text))
+    assert auto.sampling["overrides"].get("friction.law") == "coulomb_stick", auto.sampling
+    assert auto.base.values()["sim.substep_policy"] == "adaptive"
+    assert TuneSpec(write_spec(tmp_path, text + "sampling: scene\n", "scene.yaml")).sampling["overrides"] == {}
