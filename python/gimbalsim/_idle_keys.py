@@ -3,7 +3,7 @@ applied while it acts on nothing, so sweeps and tuning studies refuse it at
 its line. A key is judged under every value the study gives the settings
 that decide it (a choice, a grid); a decider drawn from a range is not
 judged, and neither is the key, except the sensors' sample instants, judged
-over the whole range (_outage_holds_every_span)."""
+over every value drawn (_idle_sensors._every_sample_lost)."""
 import functools
 import itertools
 import math

@@ -4,6 +4,7 @@ delivered while it can act (an outage, a latency; the sample schedule of
 firmware_sim's sample_schedule.hpp, mirrored here), sensors.seed with every
 noise 0, and the antenna's keys where the loop does not close at the antenna."""
 import collections
+import itertools
 import math
 
 from . import _gimbalsim
@@ -39,11 +40,16 @@ def idle_in_sensors(key, values, dispersed, takes=None):
     run (a sample is delivered latency after it is taken); or why
     sensors.seed cannot: every noise is 0."""
     if key == "sensors.seed":
-        noises = NOISE_KEYS + tuple(k for k in ANTENNA_NOISE_KEYS if idle_at_antenna(k, values, dispersed) is None
-                                     and idle_in_sensors(k, values, dispersed) is None)
+        # the noises that act: the star tracker's and the antenna's only where their samples do
+        noises = tuple(k for k in NOISE_KEYS if k != "sensors.star_tracker_noise" or
+                       idle_in_sensors(k, values, dispersed, takes) is None) + \
+            tuple(k for k in ANTENNA_NOISE_KEYS if idle_at_antenna(k, values, dispersed) is None
+                  and idle_in_sensors(k, values, dispersed, takes) is None)
         if set(noises) & dispersed or any(float(values.get(k, 0.0)) != 0.0 for k in noises):
             return None
-        return "every sensor noise (" + ", ".join(noises) + ") is 0: nothing random to seed"
+        idle = "" if "sensors.star_tracker_noise" in noises else \
+            " (sensors.star_tracker_noise acts on nothing: no star tracker sample acts in the run)"
+        return "every sensor noise (" + ", ".join(noises) + ") is 0" + idle + ": nothing random to seed"
     for sensor, name, sample_keys in (("star_tracker", "star tracker", _STAR_SAMPLE_KEYS),
                                       ("tracker", "boresight tracker", _TRACKER_SAMPLE_KEYS)):
         outage, latency_key = f"sensors.{sensor}_outage", f"sensors.{sensor}_latency"
@@ -56,16 +62,14 @@ def idle_in_sensors(key, values, dispersed, takes=None):
         duration = float(values["sim.duration"])
         if start <= 0.0 and end >= duration:
             return f"{outage} [{seconds(start)}, {seconds(end)}] s covers the whole run: no {name} sample is taken"
-        # The instants need the rate and the control period fixed; a dispersed one is judged over its range.
+        # The instants need the rate and the control period: fixed, exactly; dispersed, over every value drawn.
         rate_key, period = f"sensors.{sensor}_rate", CONTROLLER_PREFIX + "control.period"
         judged = not ({rate_key, period} & (dispersed | {key})) and rate_key in values and period in values
-        spans = _spans(takes or {}, values, (rate_key, period), dispersed)
-        if not judged and spans is not None and \
-                _outage_holds_every_span(start, end, duration, *spans[rate_key], *spans[period]):
-            (r_lo, r_hi), (t_lo, t_hi) = spans[rate_key], spans[period]
+        combos = None if judged else _combinations(takes or {}, values, (rate_key, period), dispersed)
+        drawn = "" if combos is None else _drawn_text(takes or {}, values, (rate_key, period), dispersed)
+        if combos and all(_every_sample_lost(start, end, duration, r, T, None) for r, T in combos):
             return (f"{outage} [{seconds(start)}, {seconds(end)}] s holds every {name} sample within the run for "
-                    f"every {rate_key} in [{r_lo!r}, {r_hi!r}] Hz and {period} in [{seconds(t_lo)}, "
-                    f"{seconds(t_hi)}] s: no {name} sample is taken while it can act")
+                    f"every {drawn}: no {name} sample is taken while it can act")
         if judged:
             after = _next_sample_after_outage(start, end, duration, float(values[rate_key]), float(values[period]))
             if after is not None:
@@ -87,6 +91,10 @@ def idle_in_sensors(key, values, dispersed, takes=None):
             return (f"{outage} [{seconds(start)}, {seconds(end)}] s with {latency_key} {seconds(latency)} s: every "
                     f"{name} sample taken outside the outage falls due in it (dropped) or not before the run's "
                     f"end at {seconds(duration)} s: no {name} sample is delivered while it can act")
+        if combos and all(_every_sample_lost(start, end, duration, r, T, latency) for r, T in combos):
+            return (f"{outage} [{seconds(start)}, {seconds(end)}] s with {latency_key} {seconds(latency)} s: for "
+                    f"every {drawn}, every {name} sample taken outside the outage falls due in it (dropped) or "
+                    f"after the run's last acting tick: no {name} sample is delivered while it can act")
         if too_old is not None:
             return too_old
     return None
@@ -96,7 +104,9 @@ def _dropped_as_too_old(sensor, name, latency_key, values, dispersed, takes):
     """Why every sample arrives older than the controller keeps it, for every
     latency and control period the study gives (a period drawn from a range
     is not judged): the attitude estimator's ring (star tracker) or the
-    boresight tracker's history of ticks drops it (_gimbalsim._sample_histories)."""
+    boresight tracker's history of ticks drops it (_gimbalsim._sample_histories).
+    A sample arrives at the first tick at or after t_s + latency: its age is
+    the latency rounded up to whole ticks."""
     period_key = CONTROLLER_PREFIX + "control.period"
     periods = takes.get(period_key) if period_key in dispersed else [values.get(period_key)]
     latency = _spans(takes, values, (latency_key,), dispersed)
@@ -109,8 +119,8 @@ def _dropped_as_too_old(sensor, name, latency_key, values, dispersed, takes):
     lowest, held = latency[latency_key][0], []
     for T in periods:
         star_span, ticks = _gimbalsim._sample_histories(T)
-        if sensor == "star_tracker" and lowest < star_span or \
-                sensor == "tracker" and math.ceil(lowest / T - 1e-9) < ticks:
+        lag = math.ceil(lowest / T - 1e-9)  # delivered at the first tick at or after t_s + latency: its age in ticks
+        if sensor == "star_tracker" and lag < round(star_span / T) or sensor == "tracker" and lag < ticks:
             return None
         held.append(f"{seconds(star_span)} s" if sensor == "star_tracker" else f"{ticks} ticks of {seconds(T)} s")
     keeps = "its attitude estimator keeps" if sensor == "star_tracker" else "its tracker fusion keeps"
@@ -136,22 +146,57 @@ def _spans(takes, values, keys, dispersed):
     return spans
 
 
-def _outage_holds_every_span(start, end, duration, r_lo, r_hi, t_lo, t_hi):
-    """Whether, for every rate in [r_lo, r_hi] Hz and control period in
-    [t_lo, t_hi] s, an outage [start, end] from the run's start holds every
-    sample taken while it can act: sample j (at j/rate) is taken within a
-    period after it, so it surely falls in the outage when j/r_lo + t_hi <=
-    end, and surely after the last acting tick (about duration - period)
-    when j/r_hi > duration - t_lo. A sample sure of neither: not judged idle."""
-    if not (start <= 0.0 < end and 0.0 < r_lo <= r_hi and 0.0 < t_lo <= t_hi):
+def _combinations(takes, values, keys, dispersed):
+    """Every combination of the values `keys` take, each as an interval
+    (lo, hi): a fixed value or a choice's each value as a point, a range as
+    itself; None when one is not known as numbers or there are too many."""
+    per_key = []
+    for k in keys:
+        t = takes.get(k) if k in dispersed else [values.get(k)]
+        try:
+            per_key.append([(t.lo, t.hi)] if isinstance(t, Span) else [(float(v), float(v)) for v in t])
+        except (TypeError, ValueError):
+            return None
+    return None if math.prod(map(len, per_key)) > 256 else list(itertools.product(*per_key))
+
+
+def _drawn_text(takes, values, keys, dispersed):
+    """What the study gives the rate and the period (keys), for a refusal: "k in [lo, hi] Hz", "k one of a, b s"."""
+    def one(k, unit):
+        t = takes.get(k) if k in dispersed else None
+        if isinstance(t, Span):
+            return f"{k} in [{t.lo!r}, {t.hi!r}] {unit}"
+        return f"{k} one of {', '.join(map(str, t))} {unit}" if t is not None else f"{k} {values.get(k)} {unit}"
+    return " and ".join(one(k, unit) for k, unit in zip(keys, ("Hz", "s")))
+
+
+def _every_sample_lost(start, end, duration, rate, period, latency):
+    """Whether no sample acts, for every rate in rate = (lo, hi) Hz and
+    control period in period = (lo, hi) s: each is taken in the outage
+    [start, end], or (latency [s] given) falls due in it or after the last
+    acting tick. A point of each: exactly (_next_sample_after_outage,
+    _none_delivered). Otherwise sample j (at j/rate) is taken within a period
+    after it and falls due latency later, rounded up to a tick: only a
+    sample sure of being lost at both ends counts; one in doubt acts."""
+    (r_lo, r_hi), (t_lo, t_hi) = rate, period
+    if not (end > start and 0.0 < r_lo <= r_hi and 0.0 < t_lo <= t_hi):
         return False
-    late = duration - t_lo + 1e-9 * duration
+    if r_lo == r_hi and t_lo == t_hi:
+        if latency is None:
+            return _next_sample_after_outage(start, end, duration, r_lo, t_lo) is not None
+        return _none_delivered(start, end, duration, r_lo, t_lo, latency)
+    late = duration - t_lo + 1e-9 * duration  # beyond it, past the last acting tick (duration - period) at any period
     if late * r_hi > 1e6:
         return False  # too many samples to go through: not judged
-    j = 1
+    j = 0
     while j / r_hi <= late:
-        if j / r_lo + t_hi > end:
-            return False
+        take_lo, take_hi = (0.0, 0.0) if j == 0 else (j / r_hi, j / r_lo + t_hi)
+        if not start <= take_lo <= take_hi <= end:  # taken outside the outage, or may be
+            if latency is None:
+                return False
+            due_lo, due_hi = take_lo + latency, take_hi + latency + t_hi
+            if not (start <= due_lo <= due_hi <= end or due_lo > late):
+                return False
         j += 1
     return True
 

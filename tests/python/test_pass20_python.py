@@ -57,8 +57,9 @@ SPANS = [((0.0, 2.0, 2.5, 0.3, 0.4, 0.001, 0.001), True),
 
 @pytest.mark.parametrize("args,holds", SPANS, ids=[str(a) for a, _ in SPANS])
 def test_the_outage_holds_every_span_only_when_every_sample_is_sure(args, holds):
-    from gimbalsim._idle_sensors import _outage_holds_every_span
-    assert _outage_holds_every_span(*args) is holds
+    from gimbalsim._idle_sensors import _every_sample_lost
+    start, end, duration, r_lo, r_hi, t_lo, t_hi = args
+    assert _every_sample_lost(start, end, duration, (r_lo, r_hi), (t_lo, t_hi), None) is holds
 
 
 # ---- class 8/4: the allocation's values stay inside the range ----

@@ -1,0 +1,79 @@
+"""Issue 41, "Hostile and careless input" (pass 21), class 3, the sensor
+keys: a latency is judged as delivered (rounded up to whole ticks) against
+the controller's history; sensors.seed is idle when the only noise it draws
+is the star tracker's and no star tracker sample acts; an outage that every
+sample taken outside it falls due in, or that holds every sample at each of
+a choice's rates, is judged over every rate and period the study draws.
+
+Cheap: every case is a sweep --check (nothing runs)."""
+import pytest
+
+from test_pass18_python import check
+from test_pass19_python import NOISE, _sensor_spec
+
+
+def _with(spec, old, new):
+    text = spec.read_text()
+    assert old in text, old
+    spec.write_text(text.replace(old, new))
+    return spec
+
+
+# (latency [s], control period [s], refused): 0.32 s at 1 ms, 0.384 s at 2 ms; a sample arrives at the first
+# tick at or after t_s + latency, so 0.3191 s arrives 0.32 s old
+LATENCIES = [("0.3195", None, True), ("0.3191", None, True), ("0.319", None, False),
+             ("0.3825", "0.002", True), ("0.382", "0.002", False)]
+
+
+@pytest.mark.parametrize("latency,period,refused", LATENCIES, ids=[f"{lat}s-{p or 0.001}s" for lat, p, _ in LATENCIES])
+def test_a_latency_is_judged_as_delivered_against_the_history(tmp_path, latency, period, refused):
+    spec = _sensor_spec(tmp_path, "star_tracker", 1.0, 10.0, "[0.0, 0.0]", NOISE["star_tracker"])
+    _with(spec, "_outage: [0.0, 0.0]", f"_outage: [0.0, 0.0], sensors.star_tracker_latency: {latency}")
+    if period:
+        _with(spec, "controller_set: {", f"controller_set: {{control.period: {period}, ")
+    p = check(spec, tmp_path / "out")
+    assert p.returncode == (2 if refused else 0), p.stderr
+    if refused:
+        assert "key 'parameters.sensors.star_tracker_noise'" in p.stderr, p.stderr
+        assert "older than the controller's history" in p.stderr, p.stderr
+
+
+@pytest.mark.parametrize("latency,refused", [("0.35", True), ("0.0", False)])
+def test_the_seed_is_idle_when_its_only_noise_is_a_star_tracker_that_never_acts(tmp_path, latency, refused):
+    spec = _sensor_spec(tmp_path, "star_tracker", 1.0, 10.0, "[0.0, 0.0]", {"sensors.seed": "{choice: [1, 2, 3]}"})
+    _with(spec, "_outage: [0.0, 0.0]", f"_outage: [0.0, 0.0], sensors.star_tracker_latency: {latency}, "
+                                       "sensors.star_tracker_noise: 1.0e-4")
+    p = check(spec, tmp_path / "out")
+    assert p.returncode == (2 if refused else 0), p.stderr
+    if refused:
+        assert "key 'parameters.sensors.seed'" in p.stderr and "star_tracker_noise acts on nothing" in p.stderr
+
+
+# (sensor, outage, latency, rate dispersed, refused); a 2 s run
+DUE = [("star_tracker", "[0.2, 1000]", "0.3", "{uniform: [1.0, 1.5]}", True),     # each falls due in the outage
+       ("star_tracker", "[0.2, 1000]", "0.3", "{choice: [1.0, 1.5]}", True),
+       ("star_tracker", "[0.2, 1000]", "0.1", "{uniform: [1.0, 1.5]}", False),    # sample 0 due at 0.1 s: acts
+       ("tracker", "[0.02, 1000]", "0.05", "{choice: [10.0, 12.0]}", True)]
+
+
+@pytest.mark.parametrize("sensor,outage,latency,rate,refused", DUE, ids=[f"{s}-{lat}-{r}" for s, _, lat, r, _ in DUE])
+def test_samples_that_all_fall_due_in_the_outage_are_judged_over_every_rate(tmp_path, sensor, outage, latency, rate,
+                                                                               refused):
+    spec = _sensor_spec(tmp_path, sensor, 2.0, 1.0, outage, {**NOISE[sensor], f"sensors.{sensor}_rate": rate})
+    _with(spec, f"_outage: {outage}", f"_outage: {outage}, sensors.{sensor}_latency: {latency}")
+    p = check(spec, tmp_path / "out")
+    assert p.returncode == (2 if refused else 0), p.stderr
+    if refused:
+        assert f"key 'parameters.sensors.{sensor}_noise'" in p.stderr and "falls due in it" in p.stderr, p.stderr
+
+
+@pytest.mark.parametrize("rates,refused", [("[1.0, 2.0]", True), ("[1.0, 2.5]", False)])
+def test_an_outage_holding_every_sample_at_each_rate_of_a_choice_is_refused(tmp_path, rates, refused):
+    # outage [0, 0.5] s, a 1 s run: at 1 Hz the next sample is at the run's end, at 2 Hz on the outage's end;
+    # at 2.5 Hz one falls at 0.8 s
+    spec = _sensor_spec(tmp_path, "star_tracker", 1.0, 1.0, "[0.0, 0.5]",
+                        {**NOISE["star_tracker"], "sensors.star_tracker_rate": f"{{choice: {rates}}}"})
+    p = check(spec, tmp_path / "out")
+    assert p.returncode == (2 if refused else 0), p.stderr
+    if refused:
+        assert "one of 1.0, 2.0 Hz" in p.stderr and "sample is taken" in p.stderr, p.stderr
