@@ -156,7 +156,9 @@ std::vector<Key<ControllerConfig>> keys() {
 
 /// Checks across keys (every key has passed its own check).
 void validate(const ControllerConfig& c, Given& g) {
-  if (!(c.rate_filter_hz < 0.5 / c.period)) {
+  // Where the law reads it (pid.cpp): a period it never filters at is no reason to refuse (a 5 ms period
+  // was refusable only by a key a study then refused as unread).
+  if (c.rate_source == RateSource::Difference && !(c.rate_filter_hz < 0.5 / c.period)) {
     g.refuse("control.rate_filter_hz", "must be below the Nyquist frequency 1/(2 control.period)");
   }
   if (!(c.base_accel_filter_hz < 0.5 / c.period)) {

@@ -100,6 +100,8 @@ def _plot(a, tried, result, path, inputs):
                     label=f"{100 * a.level:.4g} % quantile, {100 * a.confidence:.4g} % interval")
         up = [(x, r["upper"]) for x, r in finite if math.isfinite(r["upper"])]
         ax.plot([x for x, _ in up], [u for _, u in up], "v", color="C1", label="upper bound (the verdict's)")
+    # every value tried, on the axis: one without a figure shows there too, never only as an empty plot
+    ax.plot(xs, [0.0] * len(xs), "|", ms=12, color="0.4", transform=ax.get_xaxis_transform(), label="values tried")
     for x, r in zip(xs, rec):  # no quantile among the figures: marked, never plotted as a number
         if not math.isfinite(r["estimate"]):
             ax.annotate("beyond every\nfigure", (x, 0.95), xycoords=ax.get_xaxis_transform(), ha="center",
@@ -112,6 +114,10 @@ def _plot(a, tried, result, path, inputs):
         ax.set_yscale("log")
     if a.log:
         ax.set_xscale("log")
+        ax.set_xlim(a.lo / (a.hi / a.lo) ** 0.05, a.hi * (a.hi / a.lo) ** 0.05)  # the range, whatever has a figure
+    else:
+        pad = 0.05 * (a.hi - a.lo) or 0.05 * abs(a.lo) or 1.0
+        ax.set_xlim(a.lo - pad, a.hi + pad)
     ax.set_xlabel(f"{a.key} [{a.unit or '-'}]")
     ax.set_ylabel(f"{a.index} {a.phase} [rad]")
     ax.set_title(f"{a.direction} {a.key}: {result['outcome'].replace('_', ' ')}", fontsize=10)

@@ -162,12 +162,26 @@ class ClosedLoopSpec:
                 spec.refuse(f"phases.{name}" if items else "sim.duration", message, where)
             spec.refuse(f"phases.{name}", message, items[name] if kind == "empty" else where)
 
-    def check_point(self, spec, where, controller, node, note):
-        """A grid point's controller (loaded with its values): its runs reach
-        every phase and index window as the spec's own must (_check_reached),
-        else refused at node (where), note naming the point."""
-        for _, _, message in self._unreached(controller, float(controller.values()["control.period"])):
+    def check_point(self, spec, where, controller, node, note, step_s):
+        """A grid point's controller (loaded with its values): check_period,
+        and its runs reach every phase and index window as the spec's own
+        must (_check_reached), else refused at node (where), note naming the point."""
+        period = self.check_period(spec, where, controller, node, note, step_s)
+        for _, _, message in self._unreached(controller, period):
             spec.refuse(where, note + message, node)
+
+    def check_period(self, spec, where, controller, node, note, step_s):
+        """The controller's period [s], refused at node (where) unless it ticks
+        the plant (a whole number of sim.step step_s [s]) and the run (whole
+        periods in sim.duration): every sample would be refused at its run."""
+        period = float(controller.values()["control.period"])
+        for total, what in ((period, "the scene's step (sim.step)"), (self.duration_s, "control.period")):
+            why = _gimbalsim._whole_multiple_problem(total, step_s if total == period else period, what)
+            if why:  # every sample would be refused at its run (load_sample): refused here, at its line
+                subject = f"control.period {seconds(period)} s" if total == period else \
+                    f"sim.duration {seconds(self.duration_s)} s with control.period {seconds(period)} s"
+                spec.refuse(where, f"{note}{subject} {why}: every sample would be refused", node)
+        return period
 
     def _unreached(self, controller, period_s):
         """(kind, name, why) of each phase ("empty", "tick", "run") or index

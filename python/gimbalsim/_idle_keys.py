@@ -185,6 +185,10 @@ def _idle_in_scene(key, scene, dispersed):
               (("sim.substep_tol", "sim.substep_min", "sim.substep_max"), "sim.substep_policy",
                scene.get("sim.substep_policy") == "adaptive", "sim.substep_policy is fixed: only the adaptive "
                "policy reads it"),
+              # the fixed policy's resolution check (substep_policy.hpp FixedSubsteps); sim.substep itself still
+              # counts under the adaptive policy (its sub-step cap, integrator.hpp substepCap)
+              (("sim.min_substeps_per_impact",), "sim.substep_policy", scene.get("sim.substep_policy") != "adaptive",
+               "sim.substep_policy is adaptive: only the fixed policy checks an impact's sub-steps"),
               (("base.",), "structure.base", scene.get("structure.base") != "fixed",
                "structure.base is fixed: the base never moves"),
               # where joint 1 sits on a fixed base only moves the whole gimbal (no gravity): every figure is the

@@ -8,6 +8,7 @@ from . import _provenance, _sampling
 from ._closed_spec import CONTROLLER_PREFIX, ClosedLoopSpec, plant_overrides
 from ._idle_keys import idle_reason, refuse_idle_set, takes_of
 from ._spec import Spec
+from .indices import seconds
 from .dispersion import Design, check_within, design_size, parse_parameter
 
 METRICS = ["pointing_error_max", "pointing_error_final", "peak_contact_force", "peak_joint2_force", "impacts",
@@ -133,7 +134,9 @@ class SweepSpec:
                 scene = {k: v for k, v in trial.items() if not k.startswith(CONTROLLER_PREFIX)}
                 note = p.end_note(trial[p.key])  # a normal's tail: which one
                 if ctrl:
-                    self.closed.load(spec, f"parameters.{p.key}", ctrl, p.node, note=note)
+                    c = self.closed.load(spec, f"parameters.{p.key}", ctrl, p.node, note=note)
+                    if "control.period" in ctrl:
+                        self._check_period(spec, p, c)
                 if scene and not self._refused_alone(scene, p):  # a within key's own value: refused at its line
                     self._try(spec, f"parameters.{p.key}", scene, p.node,
                               note + _within_note(p, trial, self.base.values()))
@@ -143,7 +146,7 @@ class SweepSpec:
             for v in values:
                 if key.startswith(CONTROLLER_PREFIX):
                     c = self.closed.load(spec, f"grid.{key}", {key[len(CONTROLLER_PREFIX):]: v}, node)
-                    self.closed.check_point(spec, f"grid.{key}", c, node, f"{key} = {v}: ")
+                    self.closed.check_point(spec, f"grid.{key}", c, node, f"{key} = {v}: ", self.base.step)
                 else:
                     self._try(spec, f"grid.{key}", {key: v}, node)
         self.design = Design(self.parameters, self.grid, self.samples, self.seed, self.base.values())
@@ -157,6 +160,15 @@ class SweepSpec:
         # open loop: the metrics against the ideal-joint twin; closed loop: an index per phase, and why one is NaN
         self.metrics = self.closed.metrics() + JOINT_METRICS + ["t_end"] if self.closed else METRICS
         self.text_columns = 1 if self.closed else 0
+
+    def _check_period(self, spec, p, controller):
+        """A dispersed control.period: a choice of periods the plant and the run
+        tick at (a range draws periods that are no whole number of sim.step)."""
+        where = f"parameters.{p.key}"
+        if p.kind != "choice":
+            spec.refuse(where, f"{p.kind}: a control period is given as a choice of whole multiples of sim.step "
+                        f"({seconds(self.base.step)} s): a draw from a range is none", p.node)
+        self.closed.check_period(spec, where, controller, p.node, "", self.base.step)
 
     def _refuse_keys_that_do_not_act(self, spec, grid):
         """A key whose value this kind of run never reads would be recorded as

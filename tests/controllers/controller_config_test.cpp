@@ -84,8 +84,12 @@ TEST(ControllerConfig, BadValuesAreRefusedWithTheReason) {
                       "status | difference, got 'guess'"),
             std::string::npos);
   EXPECT_NE(refusal("", {"azimuth.kp"}).find("--set #1 'azimuth.kp': expected key=value"), std::string::npos);
-  EXPECT_NE(refusal("control:\n  rate_filter_hz: 600\n").find("must be below the Nyquist frequency"),
+  EXPECT_NE(refusal("control:\n  rate_source: difference\n  rate_filter_hz: 600\n")
+                .find("must be below the Nyquist frequency"),
             std::string::npos);
+  // ... checked where the law reads it: with the firmware's rates, a 5 ms period loads as it is
+  EXPECT_EQ(refusal("control:\n  period: 0.005\n"), "(accepted)");
+  EXPECT_NE(refusal("control:\n  period: 0.005\n  rate_source: difference\n").find("Nyquist"), std::string::npos);
   EXPECT_NE(refusal("profile:\n  track_period: [1, 0]\n").find("key 'profile.track_period': must be in [1e-06, 1e+09]"),
             std::string::npos);
   // The profile's ranges keep every torque finite: 1e300 rad, a 1e-300 s period gave NaN commands.

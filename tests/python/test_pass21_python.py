@@ -77,3 +77,87 @@ def test_an_outage_holding_every_sample_at_each_rate_of_a_choice_is_refused(tmp_
     assert p.returncode == (2 if refused else 0), p.stderr
     if refused:
         assert "one of 1.0, 2.0 Hz" in p.stderr and "sample is taken" in p.stderr, p.stderr
+
+
+# ---- class 4 (F10): the allocation's plot over values none of whose units has a figure ----
+
+@pytest.mark.parametrize("log", [True, False])
+def test_the_allocation_plot_spans_its_range_when_no_value_has_a_figure(monkeypatch, tmp_path, log):
+    # its x axis was matplotlib's default [0, 1], no value tried on it, the labels piled up at 0
+    from types import SimpleNamespace
+    from gimbalsim import _allocate_report
+    figures = []
+    monkeypatch.setattr(_allocate_report, "savefig", lambda fig, path, inputs, **kw: figures.append(fig))
+    a = SimpleNamespace(lo=1e-5, hi=4e-5, log=log, level=0.9973, confidence=0.95, requirement=1e-4, key="k",
+                        unit="m", index="ape", phase="track", direction="largest")
+    nothing = {"estimate": float("inf"), "low": float("inf"), "high": float("inf"), "upper": float("inf")}
+    tried = {1e-5: nothing, 2e-5: nothing, 4e-5: nothing}
+    _allocate_report._plot(a, tried, {"bracket": None, "outcome": "no_value_meets"}, tmp_path / "p.png", [])
+    ax = figures[0].axes[0]
+    lo, hi = ax.get_xlim()
+    assert lo < 1e-5 and 4e-5 < hi < 1e-4, (lo, hi)
+    marks = [line for line in ax.get_lines() if line.get_label() == "values tried"]
+    assert len(marks) == 1 and list(marks[0].get_xdata()) == sorted(tried)
+    assert sorted(t.xy[0] for t in ax.texts) == sorted(tried)
+
+
+# ---- class 4/8 (F7): a control period no sample could run at is refused at its line ----
+
+PERIODS = [("grid", "controller.control.period: [0.001, 0.0015]", "whole multiple of the scene's step"),
+           ("parameters", "controller.control.period: {choice: [0.001, 0.0015]}", "whole multiple of the scene's step"),
+           ("parameters", "controller.control.period: {choice: [0.001, 0.003]}", "sim.duration 1 s with control.period"),
+           ("parameters", "controller.control.period: {uniform: [0.001, 0.002]}", "a choice of whole multiples")]
+
+
+@pytest.mark.parametrize("section,line,why", PERIODS, ids=[f"{s}-{i}" for i, (s, _, _) in enumerate(PERIODS)])
+def test_a_control_period_every_sample_would_refuse_is_refused_at_its_line(tmp_path, section, line, why):
+    spec = _sensor_spec(tmp_path, "star_tracker", 1.0, 10.0, "[0.0, 0.0]", NOISE["star_tracker"])
+    if section == "grid":
+        _with(spec, "parameters:\n", f"grid:\n  {line}\nparameters:\n")
+    else:
+        _with(spec, "parameters:\n", f"parameters:\n  {line}\n")
+    p = check(spec, tmp_path / "out")
+    assert p.returncode == 2, p.stderr
+    assert f"key '{section}.controller.control.period'" in p.stderr and why in p.stderr, p.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_an_allocation_over_the_control_period_refuses_a_scan_value_no_sample_runs_at(tmp_path):
+    from test_pass16_outputs import ALLOCATE, BASE, line_of, tool, write_spec
+    text = (BASE + ALLOCATE).replace("key: sensors.star_tracker_noise", "key: controller.control.period") \
+        .replace("range: [1.0e-5, 3.0e-4]", "range: [0.001, 0.002]") \
+        .replace("{sim.duration: 0.3}", "{sim.duration: 0.3, sensors.star_tracker_noise: 1.0e-4}")  # the seed acts
+    assert "star_tracker_noise: 1.0e-4}" in text
+    spec = write_spec(tmp_path, text)
+    p = tool("allocate", spec, tmp_path / "out")
+    assert p.returncode == 2, p.stderr
+    assert f"{spec}:{line_of(text, 'range:')}:" in p.stderr and "controller.control.period = 0.0015" in p.stderr
+    assert not (tmp_path / "out").exists()
+
+
+# ---- class 3 (F5): the fixed policy's impact check under the adaptive policy ----
+
+@pytest.mark.parametrize("policy,refused", [("adaptive", True), ("fixed", False)])
+def test_min_substeps_per_impact_is_idle_under_the_adaptive_policy(tmp_path, policy, refused):
+    from test_pass16_outputs import write_spec
+    from conftest import SCENES
+    spec = write_spec(tmp_path, f"""scene: {SCENES}/paper_clearance.yaml
+set: {{sim.duration: 0.2, sim.substep_policy: {policy}, friction.law: coulomb_stick}}
+samples: 2
+seed: 1
+parameters:
+  sim.min_substeps_per_impact: {{uniform: [1.0, 4.0]}}
+""")
+    p = check(spec, tmp_path / "out")
+    assert p.returncode == (2 if refused else 0), p.stderr
+    if refused:
+        assert "key 'parameters.sim.min_substeps_per_impact'" in p.stderr and "policy is adaptive" in p.stderr
+
+
+def test_a_five_ms_control_period_loads_where_its_rate_filter_is_not_read(tmp_path):
+    # (F8) the default controller refused control.period 0.005 for its rate filter (100 Hz, not below the
+    # 100 Hz Nyquist frequency) that the firmware's rates never use; the override making it load was refused as idle
+    spec = _sensor_spec(tmp_path, "star_tracker", 1.0, 10.0, "[0.0, 0.0]", NOISE["star_tracker"])
+    _with(spec, "controller_set: {", "controller_set: {control.period: 0.005, ")
+    p = check(spec, tmp_path / "out")
+    assert p.returncode == 0, p.stderr

@@ -283,17 +283,24 @@ int mainImpl(int argc, char** argv) {
       return program::unwritable(kProgram, std::string("--markdown: ") + e.what());
     }
   }
-  std::printf("# %g s per run, tracking from %g s, slew ends at %g s; perfect sensors; truth pointing error\n", T,
-              main_cfg.profile.trackStart(), main_cfg.profile.slewEnd());
-  char setup[1024];
+  // A --scene-set of a sensor key runs other sensors than perfect ones: said wherever the runs are described.
+  std::string overridden;
+  for (const std::string& kv : scene_sets) {
+    if (kv.rfind("sensors.", 0) == 0) overridden += (overridden.empty() ? "" : ", ") + kv;
+  }
+  const std::string sensors = overridden.empty() ? "perfect sensors" : "perfect sensors except " + overridden;
+  std::printf("# %g s per run, tracking from %g s, slew ends at %g s; %s; truth pointing error\n", T,
+              main_cfg.profile.trackStart(), main_cfg.profile.slewEnd(), sensors.c_str());
+  char setup[4096];  // the scene-sets come from the command line: bounded by it
   std::snprintf(setup, sizeof setup,
                 "`build/bin/gimbalsim_controller_floor` (tools/pointing_study/floor_main.cpp): the in-process closed "
-                "loop with perfect sensors on `paper_ideal` and on `paper_clearance` at each clearance, %g s per run "
+                "loop with %s on `paper_ideal` and on `paper_clearance` at each clearance, %g s per run "
                 "(slew ends at %g s, tracking from %g s); the truth pointing error (boresight against the target's "
                 "line of sight). \"After the slew\" is [%g, %g] s: the hold, with the settling from the slew's end, "
                 "and the track; \"at\" is the time of its max. Goal: the ideal joint's figures at most 1/5 of the "
                 "first clearance's.\n\n",
-                T, main_cfg.profile.slewEnd(), main_cfg.profile.trackStart(), main_cfg.profile.slewEnd(), T);
+                sensors.c_str(), T, main_cfg.profile.slewEnd(), main_cfg.profile.trackStart(),
+                main_cfg.profile.slewEnd(), T);
   std::string md = setup;
   bool all_ok = true;
   io::installStopHandlers();
