@@ -213,6 +213,8 @@ def test_each_open_loop_status_has_the_shape_the_sweep_writes(tmp_path):
 def test_a_control_period_off_the_scenes_step_is_a_refused_row_a_resume_keeps(tmp_path):
     # The defect: status 'refused' (no key) with figures of a run that stopped at its first tick, a reason
     # suggesting a command-line flag; and a resume then dropped the row ("the scene takes the draw").
+    # A grid of periods is checked against the spec's step at its line (pass 21); a grid of steps meets the
+    # controller's period only in the sample.
     p = run_spec(tmp_path, f"""
 scene: {SCENES}/paper_clearance.yaml
 set: {{sim.duration: 0.7}}
@@ -220,7 +222,7 @@ controller: default
 samples: 1
 seed: 1
 grid:
-  controller.control.period: [0.001, 0.0007]
+  sim.step: [0.001, 0.0007]
 phases: [{{w: [0.2, 0.7]}}]
 indices:
   ape: {{requirement: 1.0e-4}}
@@ -229,8 +231,8 @@ indices:
     rows = read(tmp_path / "out" / "results.csv")
     h, refused = rows[0], rows[2]
     assert refused[h.index("status")] == "refused:controller.control.period", refused
-    assert refused[h.index("reason")].startswith("control.period: 0.0007 s must be a whole multiple of the scene's "
-                                                  "step (sim.step) (0.001 s)"), refused
+    assert refused[h.index("reason")].startswith("control.period: 0.001 s must be a whole multiple of the scene's "
+                                                  "step (sim.step) (7e-04 s)"), refused
     assert refused[h.index("ape_w_rad")] == "" and refused[h.index("t_end_s")] == "", refused  # nothing ran
     again = sweep(tmp_path / "spec.yaml", "--out", tmp_path / "out", "--workers", "1", "--resume")
     assert again.returncode == 0 and "2 samples, 2 already done, 0 to run" in again.stderr, again.stderr
