@@ -77,7 +77,7 @@ LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT
   --ideal-summary "$OUT/ideal.json" --clearance-summary "$OUT/clearance.json" \
   --spatial "$OUT/spatial.csv" --spatial-summary "$OUT/spatial.json" \
   --out "$OUT/plots" | tee "$LOG"
-/usr/bin/python3 tools/pages/save_output.py "$LOG" "$OUT/plot_summary.txt"  # the writer's rules, not tee's
+/usr/bin/python3 tools/pages/save_output.py "$LOG" "$OUT/plot_summary.txt" -- "$@"  # the writer's rules, not tee's
 
 echo
 echo "Outputs (under $ROOT):"

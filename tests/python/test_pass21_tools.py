@@ -68,3 +68,24 @@ def test_the_study_script_saves_its_log_beside_the_results(tmp_path):
     folder = tmp_path / "work/out/pointing_study"
     assert "wrote " in (folder / "study.log").read_text()
     assert (folder / "summary.csv").is_file()
+
+
+@pytest.mark.parametrize("which", ["study", "floor"])
+def test_a_log_named_as_one_of_the_runs_inputs_is_refused_not_written_over_it(tmp_path, which):
+    # (pass 22) the log was saved over the scene or configuration the run had read under its name
+    _, _, log_name, out = SCRIPTS[which]
+    folder = tmp_path / "work" / out
+    folder.mkdir(parents=True)
+    log = folder / log_name
+    if which == "study":
+        log.write_bytes((SOURCE / "tools/scenes/paper_clearance.yaml").read_bytes())
+        args = ["--clearance-scene", str(log), "--clearances", "2.5e-4", "--duration", "3.6", "--sensors", "perfect",
+                "--out", str(folder)]
+    else:
+        log.write_bytes((SOURCE / "controllers/config/default.yaml").read_bytes())
+        args = ["--config", str(log), "--clearances", "2.5e-4", "--duration", "2.6"]
+    before = log.read_bytes()
+    p = _run(tmp_path, which, *args)
+    assert p.returncode == 2, p.stderr
+    assert "save_output.py: error: " in p.stderr and f"{log_name}: the same file as the input" in p.stderr, p.stderr
+    assert log.read_bytes() == before

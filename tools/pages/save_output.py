@@ -1,11 +1,15 @@
-"""save_output.py SOURCE DEST: a script's console log (tee'd into a
-temporary SOURCE, outside every output folder) written to DEST by the one
-writer's rules (output_file.py): never through a link, never over an input,
-whole or not at all (a temporary and a rename: a hard link to DEST keeps its
-content). `| tee "$OUT/x.log"` opened the name before the program had
-checked anything: a refused run emptied a previous log, a link's target or a
-hard-linked scene."""
+"""save_output.py SOURCE DEST [-- ARG...]: a script's console log (tee'd
+into a temporary SOURCE, outside every output folder) written to DEST by the
+one writer's rules (output_file.py): never through a link, never over an
+input, whole or not at all (a temporary and a rename: a hard link to DEST
+keeps its content). The ARGs are the script's own arguments: each that names
+a file (itself, or after '=' in --flag=path) is one of the run's inputs, so
+a log named as a scene or a configuration is refused (exit 2), never
+written over it. `| tee "$OUT/x.log"` opened the name before the program had
+checked anything: a refused run emptied a previous log, a link's target or
+a hard-linked scene."""
 import argparse
+import os
 import pathlib
 import sys
 
@@ -17,16 +21,17 @@ def main():
     ap = argparse.ArgumentParser(allow_abbrev=False, description=__doc__.split("\n\n")[0])
     ap.add_argument("source", help="the temporary log to copy")
     ap.add_argument("dest", help="the log's name in the output folder")
-    ap.add_argument("--input", action="append", default=[], help="a file the run read (never overwritten)")
+    ap.add_argument("args", nargs="*", help="the script's arguments, after --: each naming a file is an input")
     a = ap.parse_args()
+    inputs = [p for arg in a.args for p in (arg, arg.partition("=")[2]) if p and os.path.isfile(p)]
 
     def save():
-        output_file.check_before_writing([a.dest], a.input, ["DEST"])
+        output_file.check_before_writing([a.dest], inputs, ["DEST"])
         try:
             text = pathlib.Path(a.source).read_text(encoding="utf-8", errors="replace")
         except OSError as e:
             raise output_file.Refused(f"{a.source}: cannot read the log: {e.strerror}") from None
-        output_file.write_text(a.dest, text, a.input)
+        output_file.write_text(a.dest, text, inputs)
     return output_file.run_script("save_output.py", save)
 
 

@@ -22,7 +22,7 @@ LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved into $OUT by
   --clearance-scene "$ROOT/tools/scenes/paper_clearance.yaml" --before-set pointing.accel_feedforward=inertial \
   --before-set pointing.feedforward_lead=0 \
   --markdown "$OUT/body.md" "$@" | tee "$LOG"
-/usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/floor.log"
+/usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/floor.log" -- "$@"
 /usr/bin/python3 "$ROOT/tools/pages/results_page.py" --page "$ROOT/docs/results/controller_floor.md" \
   --title "Controller floor against the bearing" \
   --summary "$(grep '^ideal / ' "$OUT/floor.log" | tail -1)" \

@@ -47,7 +47,7 @@ esac
   --sensors all ${scenes[@]+"${scenes[@]}"} ${args[@]+"${args[@]}"} | tee "$LOG" || status=$?
 # Exit 3: a plant stopped; the results of the other runs are still written and plotted.
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
-/usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/study.log"
+/usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}
 /usr/bin/python3 "$ROOT/tools/pointing_study/plot_pointing_study.py" "$OUT"
 if [ "$RESULTS" = 1 ]; then
   /usr/bin/python3 "$ROOT/tools/pointing_study/pointing_page.py" --dir "$(realpath "$OUT")" --command "$COMMAND" \

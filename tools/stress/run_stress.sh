@@ -26,7 +26,7 @@ LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved by the write
 build/bin/gimbalsim_stress --csv out/stress/stress.csv --page-body out/stress/page_body.md ${ARGS[@]+"${ARGS[@]}"} \
   | tee "$LOG" || status=$?
 if [ "$status" -eq 0 ] || [ "$status" -eq 1 ]; then  # a grid that ran (1: some case failed), never a refusal
-  /usr/bin/python3 tools/pages/save_output.py "$LOG" out/stress/stress.log
+  /usr/bin/python3 tools/pages/save_output.py "$LOG" out/stress/stress.log -- ${ARGS[@]+"${ARGS[@]}"}
 fi
 if [ "$RESULTS" = 1 ] && [ -f out/stress/page_body.md ] && { [ "$status" -eq 0 ] || [ "$status" -eq 1 ]; }; then
   summary=$(grep -m1 -o '^\*\*[^*]*\*\*' out/stress/page_body.md | tr -d '*')

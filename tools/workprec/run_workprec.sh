@@ -23,7 +23,7 @@ cmake --build build -j2 --target gimbalsim_workprec >/dev/null
 mkdir -p out/workprec
 LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved by the writer's rules (not tee's)
 build/bin/gimbalsim_workprec --out out/workprec ${ARGS[@]+"${ARGS[@]}"} | tee "$LOG"
-/usr/bin/python3 tools/pages/save_output.py "$LOG" out/workprec/workprec.log
+/usr/bin/python3 tools/pages/save_output.py "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
 /usr/bin/python3 tools/workprec/plot_workprec.py out/workprec/workprec.csv --out out/workprec/workprec.png
 if [ "$RESULTS" = 1 ]; then
   /usr/bin/python3 tools/workprec/workprec_page.py --dir out/workprec --command "$COMMAND" --t0 "$T0" --load0 "$LOAD0"
