@@ -162,25 +162,31 @@ class ClosedLoopSpec:
                 spec.refuse(f"phases.{name}" if items else "sim.duration", message, where)
             spec.refuse(f"phases.{name}", message, items[name] if kind == "empty" else where)
 
-    def check_point(self, spec, where, controller, node, note, step_s):
+    def check_point(self, spec, where, controller, node, note, steps):
         """A grid point's controller (loaded with its values): check_period,
         and its runs reach every phase and index window as the spec's own
         must (_check_reached), else refused at node (where), note naming the point."""
-        period = self.check_period(spec, where, controller, node, note, step_s)
+        period = self.check_period(spec, where, controller, node, note, steps)
         for _, _, message in self._unreached(controller, period):
             spec.refuse(where, note + message, node)
 
-    def check_period(self, spec, where, controller, node, note, step_s):
+    def check_period(self, spec, where, controller, node, note, steps):
         """The controller's period [s], refused at node (where) unless it ticks
-        the plant (a whole number of sim.step step_s [s]) and the run (whole
-        periods in sim.duration): every sample would be refused at its run."""
+        the run (whole periods in sim.duration) and the plant at one of the
+        study's steps (a whole number of sim.step; steps [s]: the values it
+        gives, None when drawn from a range: not judged): else every sample
+        would be refused at its run (load_sample)."""
         period = float(controller.values()["control.period"])
-        for total, what in ((period, "the scene's step (sim.step)"), (self.duration_s, "control.period")):
-            why = _gimbalsim._whole_multiple_problem(total, step_s if total == period else period, what)
-            if why:  # every sample would be refused at its run (load_sample): refused here, at its line
-                subject = f"control.period {seconds(period)} s" if total == period else \
-                    f"sim.duration {seconds(self.duration_s)} s with control.period {seconds(period)} s"
-                spec.refuse(where, f"{note}{subject} {why}: every sample would be refused", node)
+        problems = [] if steps is None else \
+            [_gimbalsim._whole_multiple_problem(period, s, "the scene's step (sim.step)") for s in steps]
+        if problems and all(problems):  # refused here, at its line
+            why = problems[0] if len(steps) == 1 else \
+                f"is a whole multiple of none of the steps the study gives ({', '.join(map(seconds, steps))} s)"
+            spec.refuse(where, f"{note}control.period {seconds(period)} s {why}: every sample would be refused", node)
+        why = _gimbalsim._whole_multiple_problem(self.duration_s, period, "control.period")
+        if why:
+            spec.refuse(where, f"{note}sim.duration {seconds(self.duration_s)} s with control.period "
+                        f"{seconds(period)} s {why}: every sample would be refused", node)
         return period
 
     def _unreached(self, controller, period_s):

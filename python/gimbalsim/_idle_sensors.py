@@ -185,7 +185,7 @@ def _every_sample_lost(start, end, duration, rate, period, latency):
         if latency is None:
             return _next_sample_after_outage(start, end, duration, r_lo, t_lo) is not None
         return _none_delivered(start, end, duration, r_lo, t_lo, latency)
-    late = duration - t_lo + 1e-9 * duration  # beyond it, past the last acting tick (duration - period) at any period
+    late = duration + 1e-9 * duration  # beyond it, past the last acting tick (the run's last) at any period
     if late * r_hi > 1e6:
         return False  # too many samples to go through: not judged
     j = 0
@@ -230,10 +230,11 @@ def _first_take(m, rate, period):
 
 
 def _last_acting_tick(duration, period):
-    """The last tick whose measurement can act: duration/T - 1. The last
-    tick's (t = duration) acts on nothing: no phase [t0, t1) holds it and the
-    loop ends there, its command never applied (firmware_sim/src/closed_loop.cpp)."""
-    return round(duration / period) - 1
+    """The last tick whose measurement can act: the run's last, duration/T.
+    Its command is never applied (the loop ends there), but the track phase
+    runs to the run's end and holds it: the knowledge index reads its
+    estimate (a star sample delivered there moved knowledge_track 500-fold)."""
+    return round(duration / period)
 
 
 def _next_sample_after_outage(start, end, duration, rate, period):

@@ -26,7 +26,8 @@ import gimbalsim
 
 # The keys auto may set, and those whose presence in set:/parameters:/grid: leaves the scene's stepping alone.
 _DECIDING = ("friction.law", "joint1.friction.law", "joint2.friction.law", "structure.joint1", "structure.joint2",
-             "sim.substep_policy", "sim.substep", "sim.substep_tol", "sim.substep_min", "sim.substep_max")
+             "sim.substep_policy", "sim.substep", "sim.substep_tol", "sim.substep_min", "sim.substep_max",
+             "sim.min_substeps_per_impact")  # the fixed policy's: a spec giving it asks for that policy
 MODES = ("auto", "scene")
 TOLERANCE_RAD = 1.0e-6   # each figure's distance from a 5 us fixed sub-step's (1 % of a 1e-4 rad requirement)
 ADAPTIVE_TOL = "1e-9"    # sim.substep_tol of the adaptive policy (tests/python/test_sampling.py measures it)

@@ -293,6 +293,8 @@ def _shown(v):
         return "null (nothing)"
     if isinstance(v, dict):
         return "a mapping"
+    if isinstance(v, list):  # a YAML list holds Nodes: shown by their values, never as Python objects
+        return "a list" if not v else "[" + ", ".join(_shown(getattr(e, "value", e)) for e in v)[:60] + "]"
     text = repr(v)
     return text if len(text) <= 60 else text[:57] + "..."
 

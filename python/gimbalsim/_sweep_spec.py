@@ -146,9 +146,16 @@ class SweepSpec:
             for v in values:
                 if key.startswith(CONTROLLER_PREFIX):
                     c = self.closed.load(spec, f"grid.{key}", {key[len(CONTROLLER_PREFIX):]: v}, node)
-                    self.closed.check_point(spec, f"grid.{key}", c, node, f"{key} = {v}: ", self.base.step)
+                    self.closed.check_point(spec, f"grid.{key}", c, node, f"{key} = {v}: ", self._steps())
                 else:
                     self._try(spec, f"grid.{key}", {key: v}, node)
+        # The period every sample runs at, when none is dispersed: it must tick at one of the study's steps.
+        period_key = CONTROLLER_PREFIX + "control.period"
+        if self.closed is not None and period_key not in [p.key for p in self.parameters] + [k for k, _ in self.grid]:
+            given = "control.period" in self.closed.set_nodes
+            self.closed.check_period(spec, "controller_set.control.period" if given else "controller",
+                                     self.closed.controller, self.closed.set_nodes["control.period"] if given
+                                     else root["controller"], "", self._steps())
         self.design = Design(self.parameters, self.grid, self.samples, self.seed, self.base.values())
         self.spec_path = spec.path
         self.spec_text, self.spec_folder = spec.source_text, spec.folder.absolute()  # for the replay's copy
@@ -161,6 +168,17 @@ class SweepSpec:
         self.metrics = self.closed.metrics() + JOINT_METRICS + ["t_end"] if self.closed else METRICS
         self.text_columns = 1 if self.closed else 0
 
+    def _steps(self):
+        """The sim.step values [s] the study gives: the scene's, a grid's or a
+        choice's; None when drawn from a range (a period is not judged against it)."""
+        for key, values in self.grid:
+            if key == "sim.step":
+                return [float(v) for v in values]
+        p = next((p for p in self.parameters if p.key == "sim.step"), None)
+        if p is None:
+            return [self.base.step]
+        return [float(v) for v in p.args] if p.kind == "choice" else None
+
     def _check_period(self, spec, p, controller):
         """A dispersed control.period: a choice of periods the plant and the run
         tick at (a range draws periods that are no whole number of sim.step)."""
@@ -168,7 +186,7 @@ class SweepSpec:
         if p.kind != "choice":
             spec.refuse(where, f"{p.kind}: a control period is given as a choice of whole multiples of sim.step "
                         f"({seconds(self.base.step)} s): a draw from a range is none", p.node)
-        self.closed.check_period(spec, where, controller, p.node, "", self.base.step)
+        self.closed.check_period(spec, where, controller, p.node, "", self._steps())
 
     def _refuse_keys_that_do_not_act(self, spec, grid):
         """A key whose value this kind of run never reads would be recorded as

@@ -109,8 +109,9 @@ LATENCY = {"star_tracker": {"sensors.star_tracker_latency": "{uniform: [0.0, 0.0
 TAKES_NONE = [(1.0, 0.5, "[0.0, 0.5]"),     # samples at 0 (in the outage) and 2 (past the run)
               (1.0, 0.9, "[0.0, 0.5]"),     # the next at 1.11 s, past the run
               (1.5, 1.0, "[0.0, 1.0]"),     # the sample at 1.0 s on the outage's end: taken in it
-              (1.0, 1.0, "[0.0, 0.5]")]     # the next at 1.0 s, the run's end: no phase holds it, no command follows
+              (0.95, 1.0, "[0.0, 0.5]")]    # the next at 1.0 s, past the run
 TAKES_ONE = [(1.2, 1.0, "[0.0, 0.5]"),      # the sample at 1.0 s, before the run's end
+             (1.0, 1.0, "[0.0, 0.5]"),      # the next at 1.0 s, the run's last tick: the track phase holds it (pass 22)
              (1.0, 0.5, "[0.001, 0.5]"),    # tick 0 before the outage takes sample 0
              (1.2, 4.0, "[0.0, 0.74]")]     # the sample at 0.75 s
 
@@ -156,13 +157,17 @@ def test_a_tracker_key_whose_samples_all_fall_due_in_the_outage_is_refused(tmp_p
         assert "older than the controller's history" in p.stderr, p.stderr
 
 
-def test_a_sample_at_the_runs_end_acts_on_nothing(tmp_path):
-    # the next sample after the outage falls due at 1.0 s, the run's end (latency 0.2 s): it acts on nothing
+@pytest.mark.parametrize("latency,refused", [(0.2, False), (0.201, True)])
+def test_a_sample_due_at_the_runs_last_tick_acts(tmp_path, latency, refused):
+    # the next sample after the outage is taken at 0.8 s: due at 1.0 s, the run's last tick, which the track
+    # phase holds (the knowledge index reads its estimate: pass 22 saw knowledge_track move 500-fold), or after it
     spec = _sensor_spec(tmp_path, "star_tracker", 1.0, 1.25, "[0.0, 0.5]", NOISE["star_tracker"])
     spec.write_text(spec.read_text().replace("_outage: [0.0, 0.5]", "_outage: [0.0, 0.5], "
-                                             "sensors.star_tracker_latency: 0.2"))
+                                             f"sensors.star_tracker_latency: {latency}"))
     p = check(spec, tmp_path / "out")
-    assert p.returncode == 2 and "sample is delivered" in p.stderr, p.stderr
+    assert p.returncode == (2 if refused else 0), p.stderr
+    if refused:
+        assert "sample is delivered" in p.stderr, p.stderr
 
 
 def test_a_tuners_plant_noise_under_an_outage_over_every_sample_instant_is_refused(tmp_path):

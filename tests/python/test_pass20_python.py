@@ -17,7 +17,8 @@ from gimbalsim import _allocate_search
 # ---- class 3: the sample instants judged over every rate and period the study draws ----
 
 # (dispersed, refused): outage [0, 2] s, a 2.5 s run; a sample every 1/rate s from 0, the one at 0 in the outage
-RATES = [("sensors.{s}_rate: {{uniform: [0.3, 0.4]}}", True),      # the next at 2.5 s or later: past the run
+RATES = [("sensors.{s}_rate: {{uniform: [0.3, 0.39]}}", True),     # the next after 2.5 s: past the run
+         ("sensors.{s}_rate: {{uniform: [0.3, 0.4]}}", False),     # at 0.4 Hz at 2.5 s: the run's last tick
          ("sensors.{s}_rate: {{choice: [0.3, 0.35]}}", True),
          ("sensors.{s}_rate: {{uniform: [0.3, 0.45]}}", False),     # at 0.45 Hz the next is at 2.22 s
          ("sensors.{s}_rate: {{uniform: [0.3, 0.9]}}", False),      # at 0.9 Hz the one at 2.22 s
@@ -41,14 +42,15 @@ def test_a_tracker_key_is_judged_over_every_rate_and_period_drawn(tmp_path, sens
 @pytest.mark.parametrize("sensor", ["star_tracker", "tracker"])
 def test_a_dispersed_rate_that_never_acts_is_refused_itself(tmp_path, sensor):
     key = f"sensors.{sensor}_rate"
-    p = check(_sensor_spec(tmp_path, sensor, 2.5, 0.3, "[0.0, 2.0]", {key: "{uniform: [0.3, 0.4]}"}),
+    p = check(_sensor_spec(tmp_path, sensor, 2.5, 0.3, "[0.0, 2.0]", {key: "{uniform: [0.3, 0.39]}"}),
               tmp_path / "out")
     assert p.returncode == 2 and f"key 'parameters.{key}'" in p.stderr, p.stderr
 
 
 # A sample j at j/rate is taken within a period after it: (start, end, duration, rate range, period range).
-SPANS = [((0.0, 2.0, 2.5, 0.3, 0.4, 0.001, 0.001), True),
-         ((0.0, 2.0, 2.5, 0.3, 0.4, 0.001, 0.5), True),     # taken by 3.33 s at worst: past the run
+SPANS = [((0.0, 2.0, 2.5, 0.3, 0.39, 0.001, 0.001), True),
+         ((0.0, 2.0, 2.5, 0.3, 0.4, 0.001, 0.001), False),  # 0.4 Hz: at 2.5 s, the run's last tick
+         ((0.0, 2.0, 2.5, 0.3, 0.39, 0.001, 0.5), True),    # taken at 2.56 s at the earliest: past the run
          ((0.0, 2.0, 2.5, 0.2, 0.401, 0.001, 0.001), False),  # 1/0.401 = 2.494 s: before the last tick
          ((0.0, 2.0, 2.5, 0.51, 0.6, 0.001, 0.001), True),  # 1.67-1.96 s in the outage, 3.3 s past the run
          ((0.0, 1.9, 2.5, 0.51, 0.6, 0.001, 0.1), False),   # 1.96 s + a tick of up to 0.1 s: maybe past 1.9

@@ -69,9 +69,9 @@ def test_samples_that_all_fall_due_in_the_outage_are_judged_over_every_rate(tmp_
 
 @pytest.mark.parametrize("rates,refused", [("[1.0, 2.0]", True), ("[1.0, 2.5]", False)])
 def test_an_outage_holding_every_sample_at_each_rate_of_a_choice_is_refused(tmp_path, rates, refused):
-    # outage [0, 0.5] s, a 1 s run: at 1 Hz the next sample is at the run's end, at 2 Hz on the outage's end;
-    # at 2.5 Hz one falls at 0.8 s
-    spec = _sensor_spec(tmp_path, "star_tracker", 1.0, 1.0, "[0.0, 0.5]",
+    # outage [0, 0.5] s, a 0.95 s run: at 1 Hz the next sample is past the run's end, at 2 Hz on the outage's
+    # end; at 2.5 Hz one falls at 0.8 s
+    spec = _sensor_spec(tmp_path, "star_tracker", 0.95, 1.0, "[0.0, 0.5]",
                         {**NOISE["star_tracker"], "sensors.star_tracker_rate": f"{{choice: {rates}}}"})
     p = check(spec, tmp_path / "out")
     assert p.returncode == (2 if refused else 0), p.stderr
@@ -159,5 +159,55 @@ def test_a_five_ms_control_period_loads_where_its_rate_filter_is_not_read(tmp_pa
     # 100 Hz Nyquist frequency) that the firmware's rates never use; the override making it load was refused as idle
     spec = _sensor_spec(tmp_path, "star_tracker", 1.0, 10.0, "[0.0, 0.0]", NOISE["star_tracker"])
     _with(spec, "controller_set: {", "controller_set: {control.period: 0.005, ")
+    p = check(spec, tmp_path / "out")
+    assert p.returncode == 0, p.stderr
+
+
+# ---- pass 22: a period judged against every step the study gives; a refused list shown as values ----
+
+STEPS = [("grid:\n  sim.step: [1.0e-3, 5.0e-4]\n  controller.control.period: [0.0025]\n", None),  # 5e-4 s runs
+         ("grid:\n  sim.step: [8.0e-4]\n", "parameters.controller.control.period"),
+         ("", "controller_set.control.period")]
+
+
+@pytest.mark.parametrize("grid,refused_at", STEPS, ids=["a-step-fits", "no-step-fits", "fixed-period"])
+def test_a_control_period_is_judged_against_every_step_the_study_gives(tmp_path, grid, refused_at):
+    spec = _sensor_spec(tmp_path, "star_tracker", 0.8 if refused_at else 1.0, 10.0, "[0.0, 0.0]",
+                        NOISE["star_tracker"])
+    if refused_at == "parameters.controller.control.period":
+        _with(spec, "parameters:\n", f"{grid}parameters:\n  controller.control.period: {{choice: [0.002]}}\n")
+    elif refused_at:
+        _with(spec, "controller_set: {", "controller_set: {control.period: 0.0025, ")
+        _with(spec, "{sim.duration: 0.8,", "{sim.duration: 1.0,")
+    else:
+        _with(spec, "parameters:\n", f"{grid}parameters:\n")
+    p = check(spec, tmp_path / "out")
+    assert p.returncode == (2 if refused_at else 0), p.stderr
+    if refused_at:
+        assert f"key '{refused_at}'" in p.stderr and "every sample would be refused" in p.stderr, p.stderr
+
+
+def test_a_refused_list_is_shown_by_its_values(tmp_path):
+    from test_pass16_outputs import BASE, write_spec
+    p = check(write_spec(tmp_path, BASE + "sampling: [auto]\n"), tmp_path / "out")
+    assert p.returncode == 2 and "key 'sampling': expected a name, got ['auto']" in p.stderr, p.stderr
+    assert "object at 0x" not in p.stderr
+
+
+def test_a_spec_giving_the_fixed_policys_impact_check_keeps_the_scenes_stepping(tmp_path):
+    # sampling: auto chose the adaptive policy, then refused the user's sim.min_substeps_per_impact under it
+    from test_pass16_outputs import write_spec
+    from conftest import SCENES
+    spec = write_spec(tmp_path, f"""scene: {SCENES}/paper_clearance.yaml
+set: {{sim.duration: 0.3, sim.min_substeps_per_impact: 20}}
+controller: default
+samples: 2
+seed: 1
+parameters:
+  friction.mu: {{uniform: [0.15, 0.35]}}
+phases: [{{w: [0.1, 0.3]}}]
+indices:
+  ape: {{}}
+""")
     p = check(spec, tmp_path / "out")
     assert p.returncode == 0, p.stderr
