@@ -57,9 +57,10 @@ def trials(out):
         return list(csv.DictReader(f))
 
 
-def direct(gains):
-    """The plant's closed loop through the Python API, with these gains over the configuration."""
-    scene = gimbalsim.load_scene(SCENES / "paper_clearance.yaml", {"contact.clearance": CLEARANCE})
+def direct(gains, stepping):
+    """The plant's closed loop through the Python API, with these gains over the configuration, stepped as the
+    tuner steps it (stepping: its sampling overrides, _sampling.py)."""
+    scene = gimbalsim.load_scene(SCENES / "paper_clearance.yaml", {"contact.clearance": CLEARANCE, **stepping})
     return gimbalsim.closed_loop(scene, gimbalsim.Controller(CONTROLLER_CONFIG, gains), DURATION).summary
 
 
@@ -72,13 +73,15 @@ def test_trials_hold_each_plant_and_trial_0_is_the_configuration(tmp_path):
     own = gimbalsim.Controller(CONTROLLER_CONFIG).values()
     assert rows[0]["origin"] == "baseline"
     assert [float(rows[0][COLUMN[g]]) for g in GAINS] == [float(own[g]) for g in GAINS]
-    baseline = direct({})  # the configuration as it is: no gain laid over it
+    from gimbalsim._tune_spec import TuneSpec
+    stepping = TuneSpec(spec).sampling["overrides"]
+    baseline = direct({}, stepping)  # the configuration as it is: no gain laid over it
     for j in range(2):
         assert rows[0][f"plant{j}_status"] == "ok"
         assert [float(rows[0][f"plant{j}_{c}"]) for c in FIGURES] == [float(baseline[c]) for c in FIGURES]
     r = rows[2]
     assert [float(r[COLUMN[g]]) for g in GAINS] != [float(own[g]) for g in GAINS]
-    s = direct({g: float(r[COLUMN[g]]) for g in GAINS})
+    s = direct({g: float(r[COLUMN[g]]) for g in GAINS}, stepping)
     for j in range(2):
         assert [float(r[f"plant{j}_{c}"]) for c in FIGURES] == [float(s[c]) for c in FIGURES]
 
