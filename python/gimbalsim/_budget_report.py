@@ -159,13 +159,18 @@ def body(spec, rows, entries, plots, engine):
     lines += [f"![{p.stem}]({p.name})" if p.parent.name != "plots" else f"![{p.stem}](plots/{p.name})"
               for p in plots]
     lines += ["", "## What drives the worst units", ""]
+    ranked = 0
     for e in entries:
         metric = f"{e['index']}_{e['phase']}"
         d = drivers(spec, rows, metric)
         if not d:
             continue
+        ranked += 1
         lines.append(f"- {metric}: Spearman rank correlation " +
                      ", ".join(f"{name} {rho:+.2f}" for name, rho in d))
+    if not ranked:  # said, never an empty section
+        lines.append("- no rank correlation: it needs a dispersed column with at least 3 units holding different "
+                     "numbers, and an index that differs between them")
     track = next((e for e in entries if e["index"] == "ape" and e["phase"] == "track"), entries[0] if entries else None)
     if track is not None:
         metric = f"{track['index']}_{track['phase']}"

@@ -60,6 +60,7 @@ def idle_in_sensors(key, values, dispersed, takes=None):
             continue
         start, end = (float(x) for x in str(values.get(outage, "[0, 0]")).strip("[]").split(","))
         duration = float(values["sim.duration"])
+        last_read = str(values.get(LAST_TICK_READ, "true")) == "true"
         if start <= 0.0 and end >= duration:
             return f"{outage} [{seconds(start)}, {seconds(end)}] s covers the whole run: no {name} sample is taken"
         # The instants need the rate and the control period: fixed, exactly; dispersed, over every value drawn.
@@ -67,31 +68,43 @@ def idle_in_sensors(key, values, dispersed, takes=None):
         judged = not ({rate_key, period} & (dispersed | {key})) and rate_key in values and period in values
         combos = None if judged else _combinations(takes or {}, values, (rate_key, period), dispersed)
         drawn = "" if combos is None else _drawn_text(takes or {}, values, (rate_key, period), dispersed)
-        if combos and all(_every_sample_lost(start, end, duration, r, T, None) for r, T in combos):
+        if combos and all(_every_sample_lost(start, end, duration, r, T, None, last_read) for r, T in combos):
             return (f"{outage} [{seconds(start)}, {seconds(end)}] s holds every {name} sample within the run for "
                     f"every {drawn}: no {name} sample is taken while it can act")
         if judged:
-            after = _next_sample_after_outage(start, end, duration, float(values[rate_key]), float(values[period]))
+            after = _next_sample_after_outage(start, end, duration, float(values[rate_key]), float(values[period]),
+                                              last_read)
             if after is not None:
                 return (f"{outage} [{seconds(start)}, {seconds(end)}] s holds every {name} sample within the run "
                         f"(one every {seconds(1.0 / float(values[rate_key]))} s from 0, the next after the outage "
                         f"at {seconds(after)} s, not before the run's end at {seconds(duration)} s): no {name} sample is taken "
                         "while it can act")
+        # Sample 0 (taken at 0) falls due at the latency: after the last acting tick, no sample is delivered.
+        periods, lowest = _periods(takes or {}, values, dispersed), _lowest(takes or {}, values, latency_key, dispersed)
+        if lowest is not None and _after_the_last_acting_tick(lowest, duration, periods, last_read):
+            return (f"{latency_key} {seconds(lowest)} s{' or more' if latency_key in dispersed else ''} is no shorter "
+                    f"than the run ({seconds(duration)} s)"
+                    f"{'' if lowest >= duration else ', less its last tick, which no phase holds'}"
+                    f": no {name} sample is delivered")
+        # The rate decides only samples after the first: none falls due within the run at any rate drawn.
+        rate_hi = None if lowest is None else _lowest(takes or {}, values, rate_key, dispersed, highest=True)
+        if key == rate_key and key in dispersed and rate_hi is not None and rate_hi > 0.0 and \
+                _after_the_last_acting_tick(1.0 / rate_hi + lowest, duration, periods, last_read):
+            return (f"only {name} sample 0 (at t = 0) falls due within the run at {rate_key} up to {rate_hi!r} Hz: "
+                    "the rate decides no sample that acts")
         too_old = _dropped_as_too_old(sensor, name, latency_key, values, dispersed, takes or {})
         if reads_latency or latency_key in dispersed:
             if too_old is not None:
                 return too_old
             continue
         latency = float(values.get(latency_key, 0.0))
-        if latency >= duration:
-            return f"{latency_key} {seconds(latency)} s is no shorter than the run " \
-                   f"({seconds(duration)} s): no {name} sample is delivered"
         # A sample taken outside the outage but delivered in it (dropped) or after the run acts on nothing.
-        if judged and _none_delivered(start, end, duration, float(values[rate_key]), float(values[period]), latency):
+        if judged and _none_delivered(start, end, duration, float(values[rate_key]), float(values[period]), latency,
+                                      last_read):
             return (f"{outage} [{seconds(start)}, {seconds(end)}] s with {latency_key} {seconds(latency)} s: every "
                     f"{name} sample taken outside the outage falls due in it (dropped) or not before the run's "
                     f"end at {seconds(duration)} s: no {name} sample is delivered while it can act")
-        if combos and all(_every_sample_lost(start, end, duration, r, T, latency) for r, T in combos):
+        if combos and all(_every_sample_lost(start, end, duration, r, T, latency, last_read) for r, T in combos):
             return (f"{outage} [{seconds(start)}, {seconds(end)}] s with {latency_key} {seconds(latency)} s: for "
                     f"every {drawn}, every {name} sample taken outside the outage falls due in it (dropped) or "
                     f"after the run's last acting tick: no {name} sample is delivered while it can act")
@@ -129,6 +142,38 @@ def _dropped_as_too_old(sensor, name, latency_key, values, dispersed, takes):
             f"{' or '.join(held)} at {period_key} {' or '.join(seconds(T) for T in periods)} s) and is dropped")
 
 
+# A pseudo value the spec adds to the values it judges: "true" when a phase holds the run's last tick (the
+# track phase runs to the run's end: the knowledge index reads that tick's estimate), else "false".
+LAST_TICK_READ = "closed_loop.last_tick_read"
+
+
+def _periods(takes, values, dispersed):
+    """The control periods [s] the study gives (its own, or a choice's or a
+    grid's each), or None when drawn from a range."""
+    key = CONTROLLER_PREFIX + "control.period"
+    t = takes.get(key) if key in dispersed else [values.get(key)]
+    try:
+        return None if isinstance(t, Span) or t is None else [float(T) for T in t]
+    except (TypeError, ValueError):
+        return None
+
+
+def _lowest(takes, values, key, dispersed, highest=False):
+    """The lowest (highest) value of key the study gives [its unit]; 0 for a
+    key not given (a latency), None when not known as a number."""
+    spans = _spans(takes, values, (key,), dispersed) if key in dispersed or key in values else {key: (0.0, 0.0)}
+    return None if spans is None else spans[key][1 if highest else 0]
+
+
+def _after_the_last_acting_tick(t, duration, periods, last_read):
+    """Whether a sample falling due at t [s] (at the first tick at or after
+    it) is past the last acting tick at every period given; a period drawn
+    from a range (None): only a t past the run's end counts."""
+    if periods is None:
+        return t > duration * (1 + 1e-9)
+    return all(T > 0.0 and math.ceil(t / T - 1e-9) > _last_acting_tick(duration, T, last_read) for T in periods)
+
+
 Span = collections.namedtuple("Span", "lo hi")  # a number drawn from a range (uniform, loguniform, normal ends)
 
 
@@ -157,7 +202,7 @@ def _combinations(takes, values, keys, dispersed):
             per_key.append([(t.lo, t.hi)] if isinstance(t, Span) else [(float(v), float(v)) for v in t])
         except (TypeError, ValueError):
             return None
-    return None if math.prod(map(len, per_key)) > 256 else list(itertools.product(*per_key))
+    return None if math.prod(map(len, per_key)) > 4096 else list(itertools.product(*per_key))
 
 
 def _drawn_text(takes, values, keys, dispersed):
@@ -170,7 +215,7 @@ def _drawn_text(takes, values, keys, dispersed):
     return " and ".join(one(k, unit) for k, unit in zip(keys, ("Hz", "s")))
 
 
-def _every_sample_lost(start, end, duration, rate, period, latency):
+def _every_sample_lost(start, end, duration, rate, period, latency, last_read=True):
     """Whether no sample acts, for every rate in rate = (lo, hi) Hz and
     control period in period = (lo, hi) s: each is taken in the outage
     [start, end], or (latency [s] given) falls due in it or after the last
@@ -183,9 +228,10 @@ def _every_sample_lost(start, end, duration, rate, period, latency):
         return False
     if r_lo == r_hi and t_lo == t_hi:
         if latency is None:
-            return _next_sample_after_outage(start, end, duration, r_lo, t_lo) is not None
-        return _none_delivered(start, end, duration, r_lo, t_lo, latency)
-    late = duration + 1e-9 * duration  # beyond it, past the last acting tick (the run's last) at any period
+            return _next_sample_after_outage(start, end, duration, r_lo, t_lo, last_read) is not None
+        return _none_delivered(start, end, duration, r_lo, t_lo, latency, last_read)
+    # beyond it, past the last acting tick at any period: the run's last (last_read), else the one before it
+    late = (duration if last_read else duration - t_lo) + 1e-9 * duration
     if late * r_hi > 1e6:
         return False  # too many samples to go through: not judged
     j = 0
@@ -229,15 +275,17 @@ def _first_take(m, rate, period):
     return tick(j)
 
 
-def _last_acting_tick(duration, period):
-    """The last tick whose measurement can act: the run's last, duration/T.
-    Its command is never applied (the loop ends there), but the track phase
-    runs to the run's end and holds it: the knowledge index reads its
-    estimate (a star sample delivered there moved knowledge_track 500-fold)."""
-    return round(duration / period)
+def _last_acting_tick(duration, period, last_read):
+    """The last tick whose measurement can act: the run's last, duration/T,
+    when a phase holds it (last_read: the track phase runs to the run's end,
+    and the knowledge index reads that tick's estimate: a star sample
+    delivered there moved knowledge_track 500-fold); else the one before (its
+    command is never applied: the loop ends there, and a window [t0, t1)
+    within the run never holds it)."""
+    return round(duration / period) - (0 if last_read else 1)
 
 
-def _next_sample_after_outage(start, end, duration, rate, period):
+def _next_sample_after_outage(start, end, duration, rate, period, last_read):
     """When the outage [start, end] holds every sample the tracker takes
     while it can act (_last_acting_tick), the time of the first one it takes
     after the outage (the run's end or later), else None. Latency only delays a sample."""
@@ -247,17 +295,17 @@ def _next_sample_after_outage(start, end, duration, rate, period):
     if first > 0:
         return None  # tick 0 takes sample 0 before the outage
     after = _first_take(last + 1, rate, period)
-    return after * period if after > _last_acting_tick(duration, period) else None
+    return after * period if after > _last_acting_tick(duration, period, last_read) else None
 
 
-def _none_delivered(start, end, duration, rate, period, latency):
+def _none_delivered(start, end, duration, rate, period, latency, last_read):
     """Whether no sample taken outside the outage is delivered outside it
     while it can act (_last_acting_tick): a sample taken at tick s is delivered
     at tick s + L (L the latency's ticks, sample_schedule.hpp), dropped when
     that tick is in the outage."""
     if not (end > start and rate > 0.0 and period > 0.0):
         return False
-    last_acting, lag = _last_acting_tick(duration, period), math.ceil(latency / period - 1e-9)
+    last_acting, lag = _last_acting_tick(duration, period, last_read), math.ceil(latency / period - 1e-9)
     first, last = _outage_ticks(start, end, period)
     if first > 0 and lag < first and lag <= last_acting:
         return False  # sample 0, taken and delivered before the outage

@@ -7,6 +7,7 @@ import gimbalsim
 from . import _provenance, _sampling
 from ._closed_spec import CONTROLLER_PREFIX, ClosedLoopSpec, plant_overrides
 from ._idle_keys import idle_reason, refuse_idle_set, takes_of
+from ._idle_sensors import LAST_TICK_READ
 from ._spec import Spec
 from .indices import seconds
 from .dispersion import Design, check_within, design_size, parse_parameter
@@ -199,6 +200,8 @@ class SweepSpec:
         values = {k: str(v) for k, v in self.base.values().items()}  # read once: each key judged alike
         if self.closed is not None:
             values.update({CONTROLLER_PREFIX + k: str(v) for k, v in self.closed.values.items()})
+            # the run's last tick is read only by the track phase, which runs to the run's end
+            values[LAST_TICK_READ] = str(("track", None) in self.closed.phases).lower()
         for where, key, node in dispersed:
             why = idle_reason(aliases.get(key, key), values, dispersed_keys, takes, self.closed is not None)
             if why is not None:

@@ -109,9 +109,9 @@ LATENCY = {"star_tracker": {"sensors.star_tracker_latency": "{uniform: [0.0, 0.0
 TAKES_NONE = [(1.0, 0.5, "[0.0, 0.5]"),     # samples at 0 (in the outage) and 2 (past the run)
               (1.0, 0.9, "[0.0, 0.5]"),     # the next at 1.11 s, past the run
               (1.5, 1.0, "[0.0, 1.0]"),     # the sample at 1.0 s on the outage's end: taken in it
-              (0.95, 1.0, "[0.0, 0.5]")]    # the next at 1.0 s, past the run
+              (0.95, 1.0, "[0.0, 0.5]"),    # the next at 1.0 s, past the run
+              (1.0, 1.0, "[0.0, 0.5]")]     # the next at 1.0 s, the run's last tick: no phase [t0, t1) holds it
 TAKES_ONE = [(1.2, 1.0, "[0.0, 0.5]"),      # the sample at 1.0 s, before the run's end
-             (1.0, 1.0, "[0.0, 0.5]"),      # the next at 1.0 s, the run's last tick: the track phase holds it (pass 22)
              (1.0, 0.5, "[0.001, 0.5]"),    # tick 0 before the outage takes sample 0
              (1.2, 4.0, "[0.0, 0.74]")]     # the sample at 0.75 s
 
@@ -157,13 +157,17 @@ def test_a_tracker_key_whose_samples_all_fall_due_in_the_outage_is_refused(tmp_p
         assert "older than the controller's history" in p.stderr, p.stderr
 
 
-@pytest.mark.parametrize("latency,refused", [(0.2, False), (0.201, True)])
-def test_a_sample_due_at_the_runs_last_tick_acts(tmp_path, latency, refused):
+@pytest.mark.parametrize("phases,latency,refused", [("track", 0.2, False), ("track", 0.201, True),
+                                                    ("window", 0.2, True)])
+def test_a_sample_due_at_the_runs_last_tick_acts_where_a_phase_holds_it(tmp_path, phases, latency, refused):
     # the next sample after the outage is taken at 0.8 s: due at 1.0 s, the run's last tick, which the track
-    # phase holds (the knowledge index reads its estimate: pass 22 saw knowledge_track move 500-fold), or after it
+    # phase holds (the knowledge index reads its estimate: pass 22 saw knowledge_track move 500-fold) and a
+    # window [t0, t1) never does (pass 23), or after it
     spec = _sensor_spec(tmp_path, "star_tracker", 1.0, 1.25, "[0.0, 0.5]", NOISE["star_tracker"])
     spec.write_text(spec.read_text().replace("_outage: [0.0, 0.5]", "_outage: [0.0, 0.5], "
                                              f"sensors.star_tracker_latency: {latency}"))
+    if phases == "track":
+        spec.write_text(spec.read_text().replace("phases: [{late: [0.2, 0.3]}]", "phases: [track]"))
     p = check(spec, tmp_path / "out")
     assert p.returncode == (2 if refused else 0), p.stderr
     if refused:

@@ -18,7 +18,7 @@ from gimbalsim import _allocate_search
 
 # (dispersed, refused): outage [0, 2] s, a 2.5 s run; a sample every 1/rate s from 0, the one at 0 in the outage
 RATES = [("sensors.{s}_rate: {{uniform: [0.3, 0.39]}}", True),     # the next after 2.5 s: past the run
-         ("sensors.{s}_rate: {{uniform: [0.3, 0.4]}}", False),     # at 0.4 Hz at 2.5 s: the run's last tick
+         ("sensors.{s}_rate: {{uniform: [0.3, 0.4]}}", True),      # at 0.4 Hz at 2.5 s: the last tick, in no phase
          ("sensors.{s}_rate: {{choice: [0.3, 0.35]}}", True),
          ("sensors.{s}_rate: {{uniform: [0.3, 0.45]}}", False),     # at 0.45 Hz the next is at 2.22 s
          ("sensors.{s}_rate: {{uniform: [0.3, 0.9]}}", False),      # at 0.9 Hz the one at 2.22 s

@@ -211,3 +211,15 @@ indices:
 """)
     p = check(spec, tmp_path / "out")
     assert p.returncode == 0, p.stderr
+
+
+def test_a_report_without_rank_correlations_says_why(tmp_path):
+    # (pass 23) "What drives the worst units" was left empty when no column could be ranked
+    from test_pass16_outputs import BASE, tool, write_spec
+    text = BASE.replace("samples: 4", "samples: 2").replace("{sim.duration: 0.3}",
+                                                            "{sim.duration: 0.3, sensors.star_tracker_noise: 1.0e-4}")
+    p = tool("sweep", write_spec(tmp_path, text), tmp_path / "out")
+    assert p.returncode == 0, p.stderr
+    report = (tmp_path / "out" / "report.md").read_text()
+    drives = report[report.index("## What drives the worst units"):]
+    assert "- no rank correlation: it needs a dispersed column with at least 3 units" in drives, drives

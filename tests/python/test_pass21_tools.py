@@ -50,7 +50,8 @@ def test_a_refused_run_leaves_the_log_and_what_it_points_at_as_they_were(tmp_pat
     before = log.read_text()
     p = _run(tmp_path, which, "--clearances", "0")
     assert p.returncode == 2, p.stderr
-    assert "--clearances" in p.stderr, p.stderr
+    # the log's own check comes first (a link: refused before any run, pass 23), else the program's refusal
+    assert ("symbolic link" in p.stderr) == (planted == "link") and ("--clearances" in p.stderr) != (planted == "link")
     assert log.read_text() == before and victim.read_text() == "the user's scene\n"
 
 
@@ -89,3 +90,19 @@ def test_a_log_named_as_one_of_the_runs_inputs_is_refused_not_written_over_it(tm
     assert p.returncode == 2, p.stderr
     assert "save_output.py: error: " in p.stderr and f"{log_name}: the same file as the input" in p.stderr, p.stderr
     assert log.read_bytes() == before
+
+
+def test_a_log_that_would_be_refused_costs_no_run(tmp_path):
+    # (pass 23) the log's name was checked only after the study had replaced its outputs
+    folder = tmp_path / "work" / "named"
+    folder.mkdir(parents=True)
+    (folder / "pointing_error.csv").write_text("the previous run's\n")
+    scene = tmp_path / "myscene.yaml"
+    scene.write_bytes((SOURCE / "tools/scenes/paper_clearance.yaml").read_bytes())
+    os.link(scene, folder / "study.log")  # the log's name, a hard link to an input given under another name
+    p = _run(tmp_path, "study", "--clearance-scene", str(scene), "--clearances", "2.5e-4", "--duration", "3.6",
+             "--sensors", "perfect", "--out", str(folder))
+    assert p.returncode == 2, p.stderr
+    assert "study.log: the same file as the input" in p.stderr, p.stderr
+    assert (folder / "pointing_error.csv").read_text() == "the previous run's\n"
+    assert scene.read_bytes() == (SOURCE / "tools/scenes/paper_clearance.yaml").read_bytes()

@@ -74,7 +74,7 @@ REFUSALS = [
       "  sensors.star_tracker_outage: {choice: [[0.0, 1.0e9], [0.0, 5.0]]}",),
      "parameters.sensors.star_tracker_noise", "for every value of sensors.star_tracker_outage the study gives"),
     (("set: {sim.duration: 0.5}", "  sensors.star_tracker_noise:"),
-     ("set: {sim.duration: 0.5, sensors.star_tracker_latency: 0.5}", "  sensors.star_tracker_noise:"),
+     ("set: {sim.duration: 0.5, sensors.star_tracker_latency: 0.6}", "  sensors.star_tracker_noise:"),
      "parameters.sensors.star_tracker_noise", "no shorter than the run (0.5 s): no star tracker sample is delivered"),
     # the estimator's gains act only on the star tracker's samples
     (("set: {sim.duration: 0.5}", "  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}"),

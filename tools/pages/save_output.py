@@ -1,11 +1,13 @@
-"""save_output.py SOURCE DEST [-- ARG...]: a script's console log (tee'd
+"""save_output.py [--check] SOURCE DEST [-- ARG...]: a script's console log (tee'd
 into a temporary SOURCE, outside every output folder) written to DEST by the
 one writer's rules (output_file.py): never through a link, never over an
 input, whole or not at all (a temporary and a rename: a hard link to DEST
 keeps its content). The ARGs are the script's own arguments: each that names
 a file (itself, or after '=' in --flag=path) is one of the run's inputs, so
 a log named as a scene or a configuration is refused (exit 2), never
-written over it. `| tee "$OUT/x.log"` opened the name before the program had
+written over it. --check runs the same checks and writes nothing: a script
+runs it before its program, so a log that would be refused costs no run and
+no output. `| tee "$OUT/x.log"` opened the name before the program had
 checked anything: a refused run emptied a previous log, a link's target or
 a hard-linked scene."""
 import argparse
@@ -21,12 +23,16 @@ def main():
     ap = argparse.ArgumentParser(allow_abbrev=False, description=__doc__.split("\n\n")[0])
     ap.add_argument("source", help="the temporary log to copy")
     ap.add_argument("dest", help="the log's name in the output folder")
+    ap.add_argument("--check", action="store_true",
+                    help="only check DEST (before the program runs: a refused log costs no run); SOURCE unread")
     ap.add_argument("args", nargs="*", help="the script's arguments, after --: each naming a file is an input")
     a = ap.parse_args()
     inputs = [p for arg in a.args for p in (arg, arg.partition("=")[2]) if p and os.path.isfile(p)]
 
     def save():
         output_file.check_before_writing([a.dest], inputs, ["DEST"])
+        if a.check:
+            return 0
         try:
             text = pathlib.Path(a.source).read_text(encoding="utf-8", errors="replace")
         except OSError as e:

@@ -31,6 +31,10 @@ status=0
 # its own outputs (tools/pages/save_output.py): --out is the study's to check and to make, never the script's.
 LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT
 [ "$NAMED" = 1 ] || mkdir -p "$OUT"  # the script's own default folder; a named one must exist (usage.md "Output files")
+# The log's name is checked before the study runs: a refused one costs no run and no output.
+if [ -d "$OUT" ]; then
+  /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}
+fi
 # The default --out first: a --out among the arguments comes later and counts.
 # Clearance in the elevation joint, the azimuth joint, both; planar and spatial;
 # perfect, realistic and tracker sensors. A --clearance-scene or --sensors among the

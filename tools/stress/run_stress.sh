@@ -11,18 +11,31 @@
 # unclearly; the page is still written and lists them).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+CALLER=$PWD  # the user's folder: a relative path they give is theirs, not the repository's
 cd "$ROOT"
+# An argument naming an existing path relative to where the user stands (itself, or after '=' in --flag=path),
+# made absolute: the script runs from the repository (usage.md "Scripts in tools/": run from anywhere).
+abs_arg() {
+  local a=$1
+  case "$a" in
+    --*=*) local v=${a#*=}; [ "${v#/}" != "$v" ] || [ ! -e "$CALLER/$v" ] || a="${a%%=*}=$CALLER/$v" ;;
+    -*|/*) ;;
+    *) [ ! -e "$CALLER/$a" ] || a="$CALLER/$a" ;;
+  esac
+  printf '%s' "$a"
+}
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/stress/run_stress.sh$(printf ' %q' "$@")"
 RESULTS=0 ARGS=()
 for a in "$@"; do
-  if [ "$a" = --results ]; then RESULTS=1; else ARGS+=("$a"); fi
+  if [ "$a" = --results ]; then RESULTS=1; else ARGS+=("$(abs_arg "$a")"); fi
 done
 [ -f build/CMakeCache.txt ] || cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2 --target gimbalsim_stress >/dev/null
 mkdir -p out/stress
 status=0
 LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved by the writer's rules (not tee's)
+/usr/bin/python3 tools/pages/save_output.py --check "$LOG" out/stress/stress.log -- ${ARGS[@]+"${ARGS[@]}"}
 build/bin/gimbalsim_stress --csv out/stress/stress.csv --page-body out/stress/page_body.md ${ARGS[@]+"${ARGS[@]}"} \
   | tee "$LOG" || status=$?
 if [ "$status" -eq 0 ] || [ "$status" -eq 1 ]; then  # a grid that ran (1: some case failed), never a refusal

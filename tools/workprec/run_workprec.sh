@@ -10,18 +10,31 @@
 #   bash tools/workprec/run_workprec.sh --results  # full sweep and its results page
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+CALLER=$PWD  # the user's folder: a relative path they give is theirs, not the repository's
 cd "$ROOT"
+# An argument naming an existing path relative to where the user stands (itself, or after '=' in --flag=path),
+# made absolute: the script runs from the repository (usage.md "Scripts in tools/": run from anywhere).
+abs_arg() {
+  local a=$1
+  case "$a" in
+    --*=*) local v=${a#*=}; [ "${v#/}" != "$v" ] || [ ! -e "$CALLER/$v" ] || a="${a%%=*}=$CALLER/$v" ;;
+    -*|/*) ;;
+    *) [ ! -e "$CALLER/$a" ] || a="$CALLER/$a" ;;
+  esac
+  printf '%s' "$a"
+}
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/workprec/run_workprec.sh$(printf ' %q' "$@")"
 RESULTS=0 ARGS=()
 for a in "$@"; do
-  if [ "$a" = --results ]; then RESULTS=1; else ARGS+=("$a"); fi
+  if [ "$a" = --results ]; then RESULTS=1; else ARGS+=("$(abs_arg "$a")"); fi
 done
 bash tools/bootstrap.sh
 [ -f build/CMakeCache.txt ] || cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2 --target gimbalsim_workprec >/dev/null
 mkdir -p out/workprec
 LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved by the writer's rules (not tee's)
+/usr/bin/python3 tools/pages/save_output.py --check "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
 build/bin/gimbalsim_workprec --out out/workprec ${ARGS[@]+"${ARGS[@]}"} | tee "$LOG"
 /usr/bin/python3 tools/pages/save_output.py "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
 /usr/bin/python3 tools/workprec/plot_workprec.py out/workprec/workprec.csv --out out/workprec/workprec.png
