@@ -118,15 +118,17 @@ def takes_of(parameters, grid, aliases, prefix=""):
     return takes
 
 
-def idle_reason(key, values, dispersed, takes, closed):
+def idle_reason(key, values, dispersed, takes, closed, last_tick_read=False):
     """Why the dispersed `key` (canonical; controller keys as controller.*)
     cannot act in this study, or None. values: the scene's and (closed loop)
-    the controller's (as controller.*), as text."""
+    the controller's (as controller.*), as text; last_tick_read: a figure
+    reads the run's last tick's measurement (the knowledge index over the
+    track phase, which runs to the run's end)."""
     why = ALWAYS_IDLE.get(key) or (CLOSED_LOOP_IDLE if closed else OPEN_LOOP_IDLE).get(key) or \
         _for_every_value(_idle_in_scene, key, values, dispersed, takes)
     if why is None and closed:
         why = _for_every_value(_idle_in_controller_keys, key, values, dispersed, takes) or \
-            _for_every_value(functools.partial(idle_in_sensors, takes=takes), key, values, dispersed, takes,
+            _for_every_value(functools.partial(idle_in_sensors, takes=takes, last_tick_read=last_tick_read), key, values, dispersed, takes,
                              NOISE_KEYS + ANTENNA_NOISE_KEYS if key == "sensors.seed" else ())
     if why is None and closed:
         why = _for_every_value(idle_at_antenna, key, values, dispersed, takes)
@@ -137,14 +139,14 @@ def idle_reason(key, values, dispersed, takes, closed):
     return why
 
 
-def refuse_idle_set(spec, entries, values, dispersed, takes, closed, runs):
+def refuse_idle_set(spec, entries, values, dispersed, takes, closed, runs, last_tick_read=False):
     """A key given under set: or controller_set: [(where, canonical key, node)]
     that the runs never read: refused at its line as the dispersed key is
     (whatever its value: it would be recorded in the fingerprint and act on
     nothing). Judged with the loaded values; a key also dispersed is judged
     as dispersed."""
     for where, key, node in entries:
-        why = None if key in dispersed else idle_reason(key, values, dispersed, takes, closed)
+        why = None if key in dispersed else idle_reason(key, values, dispersed, takes, closed, last_tick_read)
         if why is not None:
             spec.refuse(where, f"not read by {runs} ({why}): the value given would be recorded but never act", node)
 

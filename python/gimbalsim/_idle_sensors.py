@@ -32,19 +32,20 @@ NOISE_KEYS = ("sensors.encoder_noise", "sensors.rate_noise", "sensors.gyro_noise
 ANTENNA_NOISE_KEYS = ("sensors.tracker_noise", "sensors.antenna_gyro_noise")
 
 
-def idle_in_sensors(key, values, dispersed, takes=None):
+def idle_in_sensors(key, values, dispersed, takes=None, last_tick_read=False):
     """Why a key that acts through the star tracker's or the boresight
     tracker's samples cannot act: an outage over the whole run [0,
-    sim.duration] or over every sample instant within it (for every rate and
-    control period the study gives: takes), or a latency no shorter than the
-    run (a sample is delivered latency after it is taken); or why
-    sensors.seed cannot: every noise is 0."""
+    sim.duration] or over every sample instant within it (for every rate,
+    control period and latency the study gives: takes), or a latency no
+    shorter than the run (a sample is delivered latency after it is taken);
+    or why sensors.seed cannot: every noise is 0. last_tick_read: a figure
+    reads the run's last tick's measurement (_last_acting_tick)."""
     if key == "sensors.seed":
         # the noises that act: the star tracker's and the antenna's only where their samples do
-        noises = tuple(k for k in NOISE_KEYS if k != "sensors.star_tracker_noise" or
-                       idle_in_sensors(k, values, dispersed, takes) is None) + \
-            tuple(k for k in ANTENNA_NOISE_KEYS if idle_at_antenna(k, values, dispersed) is None
-                  and idle_in_sensors(k, values, dispersed, takes) is None)
+        def acts(k):
+            return idle_in_sensors(k, values, dispersed, takes, last_tick_read) is None
+        noises = tuple(k for k in NOISE_KEYS if k != "sensors.star_tracker_noise" or acts(k)) + \
+            tuple(k for k in ANTENNA_NOISE_KEYS if idle_at_antenna(k, values, dispersed) is None and acts(k))
         if set(noises) & dispersed or any(float(values.get(k, 0.0)) != 0.0 for k in noises):
             return None
         idle = "" if "sensors.star_tracker_noise" in noises else \
@@ -59,8 +60,7 @@ def idle_in_sensors(key, values, dispersed, takes=None):
         if not (key in sample_keys or reads_latency) or {outage, "sim.duration"} & dispersed:
             continue
         start, end = (float(x) for x in str(values.get(outage, "[0, 0]")).strip("[]").split(","))
-        duration = float(values["sim.duration"])
-        last_read = str(values.get(LAST_TICK_READ, "true")) == "true"
+        duration, last_read = float(values["sim.duration"]), last_tick_read
         if start <= 0.0 and end >= duration:
             return f"{outage} [{seconds(start)}, {seconds(end)}] s covers the whole run: no {name} sample is taken"
         # The instants need the rate and the control period: fixed, exactly; dispersed, over every value drawn.
@@ -96,6 +96,14 @@ def idle_in_sensors(key, values, dispersed, takes=None):
         if reads_latency or latency_key in dispersed:
             if too_old is not None:
                 return too_old
+            # with the outage: every sample lost at every latency given (a range as itself: only a sample
+            # lost at both ends counts, since a longer latency can carry a sample past the outage or into it)
+            lost = _combinations(takes or {}, values, (rate_key, period, latency_key), dispersed)
+            if lost and all(_every_sample_lost(start, end, duration, r, T, L, last_read) for r, T, L in lost):
+                return (f"{outage} [{seconds(start)}, {seconds(end)}] s: for every "
+                        f"{_drawn_text(takes or {}, values, (rate_key, period, latency_key), dispersed)}, every "
+                        f"{name} sample taken outside the outage falls due in it (dropped) or after the run's last "
+                        f"acting tick: no {name} sample is delivered while it can act")
             continue
         latency = float(values.get(latency_key, 0.0))
         # A sample taken outside the outage but delivered in it (dropped) or after the run acts on nothing.
@@ -104,7 +112,8 @@ def idle_in_sensors(key, values, dispersed, takes=None):
             return (f"{outage} [{seconds(start)}, {seconds(end)}] s with {latency_key} {seconds(latency)} s: every "
                     f"{name} sample taken outside the outage falls due in it (dropped) or not before the run's "
                     f"end at {seconds(duration)} s: no {name} sample is delivered while it can act")
-        if combos and all(_every_sample_lost(start, end, duration, r, T, latency, last_read) for r, T in combos):
+        if combos and all(_every_sample_lost(start, end, duration, r, T, (latency, latency), last_read)
+                          for r, T in combos):
             return (f"{outage} [{seconds(start)}, {seconds(end)}] s with {latency_key} {seconds(latency)} s: for "
                     f"every {drawn}, every {name} sample taken outside the outage falls due in it (dropped) or "
                     f"after the run's last acting tick: no {name} sample is delivered while it can act")
@@ -140,11 +149,6 @@ def _dropped_as_too_old(sensor, name, latency_key, values, dispersed, takes):
     given = f"{latency_key} {seconds(lowest)} s" + (" or more" if latency_key in dispersed else "")
     return (f"{given}: every {name} sample arrives older than the controller's history ({keeps} "
             f"{' or '.join(held)} at {period_key} {' or '.join(seconds(T) for T in periods)} s) and is dropped")
-
-
-# A pseudo value the spec adds to the values it judges: "true" when a phase holds the run's last tick (the
-# track phase runs to the run's end: the knowledge index reads that tick's estimate), else "false".
-LAST_TICK_READ = "closed_loop.last_tick_read"
 
 
 def _periods(takes, values, dispersed):
@@ -212,24 +216,26 @@ def _drawn_text(takes, values, keys, dispersed):
         if isinstance(t, Span):
             return f"{k} in [{t.lo!r}, {t.hi!r}] {unit}"
         return f"{k} one of {', '.join(map(str, t))} {unit}" if t is not None else f"{k} {values.get(k)} {unit}"
-    return " and ".join(one(k, unit) for k, unit in zip(keys, ("Hz", "s")))
+    return " and ".join(one(k, unit) for k, unit in zip(keys, ("Hz", "s", "s")))
 
 
-def _every_sample_lost(start, end, duration, rate, period, latency, last_read=True):
-    """Whether no sample acts, for every rate in rate = (lo, hi) Hz and
-    control period in period = (lo, hi) s: each is taken in the outage
-    [start, end], or (latency [s] given) falls due in it or after the last
-    acting tick. A point of each: exactly (_next_sample_after_outage,
-    _none_delivered). Otherwise sample j (at j/rate) is taken within a period
-    after it and falls due latency later, rounded up to a tick: only a
-    sample sure of being lost at both ends counts; one in doubt acts."""
+def _every_sample_lost(start, end, duration, rate, period, latency, last_read):
+    """Whether no sample acts, for every rate in rate = (lo, hi) Hz, control
+    period in period = (lo, hi) s and (given) latency in latency = (lo, hi)
+    s: each is taken in the outage [start, end], or (latency given) falls
+    due in it or after the last acting tick. A point of each: exactly
+    (_next_sample_after_outage, _none_delivered). Otherwise sample j (at
+    j/rate) is taken within a period after it and falls due latency later,
+    rounded up to a tick: only a sample sure of being lost at both ends
+    counts; one in doubt acts."""
     (r_lo, r_hi), (t_lo, t_hi) = rate, period
-    if not (end > start and 0.0 < r_lo <= r_hi and 0.0 < t_lo <= t_hi):
+    l_lo, l_hi = (None, None) if latency is None else latency
+    if not (end > start and 0.0 < r_lo <= r_hi and 0.0 < t_lo <= t_hi and (latency is None or 0.0 <= l_lo <= l_hi)):
         return False
-    if r_lo == r_hi and t_lo == t_hi:
+    if r_lo == r_hi and t_lo == t_hi and l_lo == l_hi:
         if latency is None:
             return _next_sample_after_outage(start, end, duration, r_lo, t_lo, last_read) is not None
-        return _none_delivered(start, end, duration, r_lo, t_lo, latency, last_read)
+        return _none_delivered(start, end, duration, r_lo, t_lo, l_lo, last_read)
     # beyond it, past the last acting tick at any period: the run's last (last_read), else the one before it
     late = (duration if last_read else duration - t_lo) + 1e-9 * duration
     if late * r_hi > 1e6:
@@ -240,7 +246,7 @@ def _every_sample_lost(start, end, duration, rate, period, latency, last_read=Tr
         if not start <= take_lo <= take_hi <= end:  # taken outside the outage, or may be
             if latency is None:
                 return False
-            due_lo, due_hi = take_lo + latency, take_hi + latency + t_hi
+            due_lo, due_hi = take_lo + l_lo, take_hi + l_hi + t_hi
             if not (start <= due_lo <= due_hi <= end or due_lo > late):
                 return False
         j += 1

@@ -7,7 +7,6 @@ import gimbalsim
 from . import _provenance, _sampling
 from ._closed_spec import CONTROLLER_PREFIX, ClosedLoopSpec, plant_overrides
 from ._idle_keys import idle_reason, refuse_idle_set, takes_of
-from ._idle_sensors import LAST_TICK_READ
 from ._spec import Spec
 from .indices import seconds
 from .dispersion import Design, check_within, design_size, parse_parameter
@@ -200,10 +199,13 @@ class SweepSpec:
         values = {k: str(v) for k, v in self.base.values().items()}  # read once: each key judged alike
         if self.closed is not None:
             values.update({CONTROLLER_PREFIX + k: str(v) for k, v in self.closed.values.items()})
-            # the run's last tick is read only by the track phase, which runs to the run's end
-            values[LAST_TICK_READ] = str(("track", None) in self.closed.phases).lower()
+        # the run's last tick's measurement is read only by the knowledge index over the track phase, which
+        # runs to the run's end (a window [t0, t1) never holds it; every other index reads the truth)
+        last_read = self.closed is not None and ("track", None) in self.closed.phases and \
+            any(ix.name == "knowledge" for ix in self.closed.indices)
         for where, key, node in dispersed:
-            why = idle_reason(aliases.get(key, key), values, dispersed_keys, takes, self.closed is not None)
+            why = idle_reason(aliases.get(key, key), values, dispersed_keys, takes, self.closed is not None,
+                              last_read)
             if why is not None:
                 spec.refuse(where, f"{NOT_READ} ({why}): a dispersed value would be recorded "
                             "but never act", node)
@@ -212,7 +214,8 @@ class SweepSpec:
                  if aliases.get(k, k) != "sim.duration"]
         if self.closed is not None:
             fixed += [(f"controller_set.{k}", CONTROLLER_PREFIX + k, n) for k, n in self.closed.set_nodes.items()]
-        refuse_idle_set(spec, fixed, values, dispersed_keys, takes, self.closed is not None, "this sweep's runs")
+        refuse_idle_set(spec, fixed, values, dispersed_keys, takes, self.closed is not None, "this sweep's runs",
+                        last_read)
 
     def _plant(self, overrides):
         """Scene overrides as a sample's scene is loaded with them (_closed_sample.load_sample)."""

@@ -7,7 +7,6 @@ import gimbalsim
 from . import _gimbalsim, _sampling
 from ._closed_spec import CONTROLLER_PREFIX, controller_path_of, plant_overrides
 from ._idle_keys import idle_reason, refuse_idle_set, takes_of
-from ._idle_sensors import LAST_TICK_READ
 from ._spec import Spec
 from .dispersion import CONTROLLER_KEYS, Design, check_within, parse_parameter
 from .indices import seconds
@@ -168,10 +167,10 @@ class TuneSpec:
         takes = {**takes_of(self.gains, [], {}, CONTROLLER_PREFIX), **takes_of(plants, [], aliases)}
         values = {k: str(v) for k, v in self.base.values().items()}
         values["sim.duration"] = repr(self.duration)  # the study's run length, not the scene's
-        values[LAST_TICK_READ] = "false"  # the objective reads the truth error, never the last tick's measurement
         values.update({CONTROLLER_PREFIX + k: str(v) for k, v in self.controller.values().items()})
         dispersed = {k for _, k, _ in entries}
         for where, key, node in entries:
+            # the objective reads the truth error, never the last tick's measurement (last_tick_read False)
             why = idle_reason(key, values, dispersed, takes, closed=True)
             if why is not None:
                 spec.refuse(where, f"not read by the tuned loop ({why}): every trial would run the same loop", node)

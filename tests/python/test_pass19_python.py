@@ -158,16 +158,18 @@ def test_a_tracker_key_whose_samples_all_fall_due_in_the_outage_is_refused(tmp_p
 
 
 @pytest.mark.parametrize("phases,latency,refused", [("track", 0.2, False), ("track", 0.201, True),
-                                                    ("window", 0.2, True)])
+                                                    ("window", 0.2, True), ("track-ape", 0.2, True)])
 def test_a_sample_due_at_the_runs_last_tick_acts_where_a_phase_holds_it(tmp_path, phases, latency, refused):
     # the next sample after the outage is taken at 0.8 s: due at 1.0 s, the run's last tick, which the track
     # phase holds (the knowledge index reads its estimate: pass 22 saw knowledge_track move 500-fold) and a
-    # window [t0, t1) never does (pass 23), or after it
+    # window [t0, t1) never does (pass 23), or after it; APE reads the truth, never that tick's estimate (pass 24)
     spec = _sensor_spec(tmp_path, "star_tracker", 1.0, 1.25, "[0.0, 0.5]", NOISE["star_tracker"])
     spec.write_text(spec.read_text().replace("_outage: [0.0, 0.5]", "_outage: [0.0, 0.5], "
                                              f"sensors.star_tracker_latency: {latency}"))
-    if phases == "track":
+    if phases.startswith("track"):
         spec.write_text(spec.read_text().replace("phases: [{late: [0.2, 0.3]}]", "phases: [track]"))
+    if phases == "track":
+        spec.write_text(spec.read_text().replace("  ape: {}\n", "  ape: {}\n  knowledge: {}\n"))
     p = check(spec, tmp_path / "out")
     assert p.returncode == (2 if refused else 0), p.stderr
     if refused:

@@ -1,0 +1,102 @@
+"""Issue 41, "Hostile and careless input" (pass 24), class 3, the sensor
+keys: a dispersed latency is judged with the outage (every sample lost at
+every latency given), and a sample due at the run's last tick acts only
+where a figure reads that tick's estimate (knowledge over the track phase).
+Each refusal is checked against the runs themselves: the values refused
+give the same figures, the value accepted does not."""
+import numpy as np
+import pytest
+
+import gimbalsim
+from conftest import scene_path
+from test_pass16_outputs import tool, write_spec
+from test_pass18_python import check
+
+# 0.5 s; the star tracker at 10 Hz: samples at 0.1 s steps, those to 0.35 s in the outage; the one at 0.4 s
+# falls due 0.1004 s or more later, after the run's last tick (0.5 s), and is lost
+SPEC = """scene: {scene}
+set: {{sim.duration: 0.5, {outage}}}
+controller: default
+controller_set: {{profile.slew_start: 0.1, profile.slew_time: 0.1, profile.hold_time: 0.1}}
+samples: 2
+seed: 1
+{dispersion}
+phases: [slew, hold, track]
+indices: {{{indices}}}
+"""
+STAR = {"scene": scene_path("paper_clearance"), "outage": "sensors.star_tracker_outage: [0, 0.35]"}
+# the boresight tracker at 10 Hz, every sample to 0.45 s in the outage; the one at 0.5 s past the last tick
+TRACKER = {"scene": scene_path("paper_spatial2_tracker"),
+           "outage": "sensors.tracker_rate: 10, sensors.tracker_outage: [0, 0.45]"}
+
+LATENCIES = [(STAR, "parameters:\n  sensors.star_tracker_latency: {uniform: [0.1004, 0.2]}", True),
+             (STAR, "parameters:\n  sensors.star_tracker_latency: {choice: [0.1004, 0.2]}", True),
+             (STAR, "grid:\n  sensors.star_tracker_latency: [0.1004, 0.2]", True),
+             # the noise too, while the latency is drawn: no sample it could act on is delivered
+             (STAR, "parameters:\n  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}\n"
+                    "  sensors.star_tracker_latency: {uniform: [0.1004, 0.2]}", True),
+             (STAR, "parameters:\n  sensors.star_tracker_latency: {uniform: [0.05, 0.2]}", False),  # 0.45 s: acts
+             (STAR, "parameters:\n  sensors.star_tracker_latency: {choice: [0.05, 0.2]}", False),
+             (TRACKER, "parameters:\n  sensors.tracker_latency: {uniform: [0.01, 0.05]}", True)]
+
+
+@pytest.mark.parametrize("base,dispersion,refused", LATENCIES, ids=[str(i) for i in range(len(LATENCIES))])
+def test_a_dispersed_latency_is_judged_with_the_outage(tmp_path, base, dispersion, refused):
+    spec = write_spec(tmp_path, SPEC.format(**base, dispersion=dispersion, indices="ape: {}, knowledge: {}"))
+    p = check(spec, tmp_path / "out")
+    assert p.returncode == (2 if refused else 0), p.stderr
+    if refused:
+        first = dispersion.split("\n")[1].split(":")[0].strip()
+        assert f"{first}'" in p.stderr and "no " in p.stderr and "sample is delivered" in p.stderr, p.stderr
+
+
+def test_an_allocation_over_a_latency_no_sample_survives_is_refused(tmp_path):
+    text = SPEC.format(**STAR, dispersion="parameters:\n  friction.mu: {uniform: [0.15, 0.35]}",
+                       indices="knowledge: {}") + \
+        ("allocate:\n  key: sensors.star_tracker_latency\n  range: [0.1004, 0.2]\n  direction: largest\n"
+         "  index: knowledge\n  phase: track\n  requirement: 1.0e-4\n  level: 0.5\n  confidence: 0.5\n  values: 3\n")
+    p = tool("allocate", write_spec(tmp_path, text), tmp_path / "out")
+    assert p.returncode == 2, p.stderr
+    assert "key 'allocate.key'" in p.stderr and "sample is delivered" in p.stderr, p.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def _run(**sensors):
+    scene = gimbalsim.load_scene(scene_path("paper_clearance"),
+                                 {"sim.duration": 0.5, "sensors.star_tracker_outage": [0.0, 0.35],
+                                  "sensors.star_tracker_noise": 1.0e-4, **sensors})
+    ctrl = gimbalsim.Controller(None, {"profile.slew_start": 0.1, "profile.slew_time": 0.1,
+                                       "profile.hold_time": 0.1})
+    c = gimbalsim.closed_loop(scene, ctrl, 0.5).columns
+    return np.column_stack([c[k] for k in ("los_error_x", "los_error_y", "los_error_z",
+                                           "los_error_est_x", "los_error_est_y", "los_error_est_z")])
+
+
+def test_the_latencies_refused_give_the_same_run_and_the_one_accepted_does_not():
+    late, later, early = (_run(**{"sensors.star_tracker_latency": lat}) for lat in (0.1004, 0.2, 0.05))
+    assert np.array_equal(late, later)
+    assert not np.array_equal(late, early)
+
+
+# the last tick: a sample due there moves only that tick's estimate, which knowledge over track reads
+LAST = [("ape: {}", True), ("ape: {}, rpe: {window: 0.05}", True), ("ape: {}, knowledge: {}", False)]
+
+
+@pytest.mark.parametrize("indices,refused", LAST, ids=[i for i, _ in LAST])
+def test_a_sample_due_at_the_last_tick_acts_only_where_knowledge_reads_it(tmp_path, indices, refused):
+    # 10 Hz, outage to 0.45 s: the sample at 0.5 s is taken and delivered at the run's last tick
+    base = {**STAR, "outage": "sensors.star_tracker_outage: [0, 0.45]"}
+    spec = write_spec(tmp_path, SPEC.format(**base, indices=indices, dispersion="parameters:\n"
+                                            "  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}"))
+    p = check(spec, tmp_path / "out")
+    assert p.returncode == (2 if refused else 0), p.stderr
+    if refused:
+        assert "key 'parameters.sensors.star_tracker_noise'" in p.stderr, p.stderr
+
+
+def test_the_last_ticks_sample_moves_the_estimate_there_and_nothing_the_truth_reads():
+    quiet, noisy = (_run(**{"sensors.star_tracker_outage": [0.0, 0.45], "sensors.star_tracker_noise": n})
+                    for n in (0.0, 1.0e-3))
+    assert np.array_equal(quiet[:, :3], noisy[:, :3])  # the truth, every tick
+    assert np.array_equal(quiet[:-1, 3:], noisy[:-1, 3:])  # the estimate before the last tick
+    assert not np.array_equal(quiet[-1, 3:], noisy[-1, 3:])
