@@ -1,0 +1,43 @@
+"""tools/sweeps/budget_speed.py: the shipped budget's units at the default
+sampling against a fine fixed setting (issue 40, item 6), on two units.
+The default's figures hold within 1 % of the requirement of a 5 us fixed
+sub-step's; a coarse "fine" setting (0.2 ms) is caught moving them."""
+import subprocess
+import sys
+
+from conftest import BIN, SOURCE
+
+TOOL = SOURCE / "tools" / "sweeps" / "budget_speed.py"
+
+
+def run(*args):
+    return subprocess.run([sys.executable, str(TOOL), "--build", str(BIN.parent), "--workers", "1", *map(str, args)],
+                          capture_output=True, text=True, timeout=600)
+
+
+def test_the_default_holds_every_unit_within_the_tolerance_of_a_fine_run(tmp_path):
+    p = run("--samples", "2", "--out", tmp_path / "out")
+    assert p.returncode == 0, p.stderr
+    for index in ("ape", "rpe", "pde", "knowledge"):
+        for phase in ("slew", "hold", "track"):
+            assert f"| {index}_{phase} | " in p.stdout, p.stdout
+    assert "Every unit within the tolerance of its fine figure: yes." in p.stdout, p.stdout
+    assert "fixed sub-steps of 5e-06 s" in p.stdout and "coulomb_stick" in p.stdout
+    assert sorted(x.name for x in (tmp_path / "out").iterdir()) == ["default", "default.yaml", "fine", "fine.yaml"]
+    assert not list(tmp_path.glob("out.new-*"))  # the runs' folder became --out
+
+
+def test_a_setting_that_moves_a_unit_is_reported(tmp_path):
+    # 0.2 ms fixed sub-steps of plain Coulomb: unit 1's pde_slew moves by more than 1e-6 rad
+    p = run("--samples", "2", "--fine-substep", "2e-4", "--out", tmp_path / "out")
+    assert p.returncode == 0, p.stderr
+    assert "Every unit within the tolerance of its fine figure: no (pde_slew (1 units))." in p.stdout, p.stdout
+
+
+def test_bad_arguments_are_refused_before_anything_runs(tmp_path):
+    for args, words in ((["--samples", "3", "--results"], "leave out --samples"),
+                        (["--fine-substep", "0"], "--fine-substep must be"),
+                        (["--out", SOURCE], "would replace"),
+                        (["--spec", tmp_path / "nothing.yaml"], "no such file")):
+        p = run(*args)
+        assert p.returncode == 2 and words in p.stderr and "Traceback" not in p.stderr, (args, p.stderr)

@@ -1,0 +1,233 @@
+#!/usr/bin/python3
+"""The budget at the default sampling against a fine fixed setting, side by
+side (prints figures; not a test). The same closed-loop budget spec (the
+shipped tools/sweeps/pointing_budget.yaml unless --spec) runs twice on the
+same units: as shipped (`sampling: auto`, the default) and at a fine fixed
+setting (`sampling: scene`: the scene's own friction law under its fixed
+sub-step policy, with sim.substep --fine-substep). It compares
+
+ - the speed: wall time, samples per second and CPU per sample (the
+   sweep's own engine figures) of each run, and their ratio;
+ - each index in each phase: the default's quantile estimate against the
+   fine run's equal-tailed order-statistics interval at the spec's level and
+   confidence (an end below the best or beyond the worst unit is open);
+ - each unit: its figure's distance from the fine run's, against 1 % of the
+   index's requirement (an index without one: 1 % of the spec's largest, or
+   gimbalsim's stated sampling tolerance when the spec gives none).
+
+Usage:
+  /usr/bin/python3 tools/sweeps/budget_speed.py [--build build] [--workers 2] [--spec SPEC]
+      [--samples N] [--fine-substep 5e-6] [--out out/budget_speed] [--results]
+
+--samples N runs only the spec's first N units (a quick look; the page is
+for the whole spec). --results also writes docs/results/budget_speed.md
+(tools/pages/results_page.py); the runs stay in --out (default, fine).
+"""
+import argparse
+import contextlib
+import csv
+import io
+import json
+import math
+import os
+import pathlib
+import shlex
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+import yaml
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SHIPPED = ROOT / "tools" / "sweeps" / "pointing_budget.yaml"
+TARGET_S, TARGET_RATE = 60.0, 18.0  # the shipped 1109-unit budget on 2 workers
+SHARE = 0.01  # of the requirement: how far a unit's figure may move
+
+
+def derived_spec(spec_path, folder, name, samples, fine_substep):
+    """The spec as the run reads it, written into folder: its scene made
+    absolute, its samples cut (samples), and (fine_substep) the fine
+    setting: sampling scene, sim.substep fine_substep under set:."""
+    spec = yaml.safe_load(spec_path.read_text())
+    if not isinstance(spec, dict) or "scene" not in spec or "controller" not in spec:
+        sys.exit(f"budget_speed: {spec_path}: not a closed-loop sweep spec (it needs scene: and controller:)")
+    spec["scene"] = str((spec_path.parent / spec["scene"]).resolve())
+    controller = spec["controller"]
+    if controller != "default":
+        spec["controller"] = str((spec_path.parent / controller).resolve())
+    if samples is not None:
+        spec["samples"] = min(samples, int(spec["samples"]))
+    if fine_substep is not None:
+        spec["sampling"] = "scene"
+        spec["set"] = {**(spec.get("set") or {}), "sim.substep": fine_substep}
+    path = folder / f"{name}.yaml"
+    path.write_text(yaml.safe_dump(spec, sort_keys=False))
+    return path, spec
+
+
+def run_sweep(build, spec, out, workers):
+    """The sweep's summary.json and its rows {sample: row}; exits naming the failure."""
+    env = {**os.environ, "PYTHONPATH": str(build / "python")}
+    cmd = [sys.executable, "-m", "gimbalsim.sweep", str(spec), "--out", str(out), "--workers", str(workers),
+           "--no-progress"]
+    r = subprocess.run(cmd, env=env, capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"budget_speed: {shlex.join(cmd)} failed (exit {r.returncode}):\n{r.stderr[-3000:]}")
+    summary = json.loads((out / "summary.json").read_text())
+    with open(out / "results.csv", newline="") as f:
+        rows = {int(row["sample"]): row for row in csv.DictReader(f)}
+    return summary, rows
+
+
+def figure(row, column):
+    """A unit's figure [rad]; NaN for a unit without one (never 0)."""
+    try:
+        return float(row[column]) if row["status"] == "ok" else math.nan
+    except (KeyError, ValueError):
+        return math.nan
+
+
+def interval(values, level, confidence):
+    """(low, high) of the level-quantile at confidence over values, from the
+    order statistics (gimbalsim.indices' ranks): an end beyond the units is
+    -inf / +inf. A unit without a figure counts as +inf, as in the budget."""
+    from gimbalsim import indices
+    xs = sorted(v if math.isfinite(v) else math.inf for v in values)
+    _, r, s2 = indices._ranks(len(xs), level, confidence)
+    return (xs[r - 1] if r >= 1 else -math.inf), (xs[s2 - 1] if s2 <= len(xs) else math.inf)
+
+
+def compare(spec, budget_default, budget_fine, rows_default, rows_fine, tolerance_default):
+    """Table lines and (indices outside the interval, units beyond the tolerance) per index-phase."""
+    reqs = {name: float(opts["requirement"]) for name, opts in (spec.get("indices") or {}).items()
+            if isinstance(opts, dict) and "requirement" in opts}
+    fallback = SHARE * max(reqs.values()) if reqs else tolerance_default
+    fine_of = {(b["index"], b["phase"]): b for b in budget_fine}
+    units = sorted(set(rows_default) & set(rows_fine))
+    lines, outside, beyond = [], [], []
+    for b in budget_default:
+        key = (b["index"], b["phase"])
+        f = fine_of[key]
+        column = f"{b['index']}_{b['phase']}_rad"
+        a_vals = [figure(rows_default[u], column) for u in units]
+        f_vals = [figure(rows_fine[u], column) for u in units]
+        low, high = interval(f_vals, b["level"], b["confidence"])
+        est_a, est_f = b["estimate_rad"], f["estimate_rad"]
+        inside = est_a is not None and low <= est_a <= high
+        tol = SHARE * reqs[b["index"]] if b["index"] in reqs else fallback
+        diffs = [(abs(x - y) if math.isfinite(x) and math.isfinite(y) else
+                  (0.0 if math.isfinite(x) == math.isfinite(y) else math.inf), u)
+                 for x, y, u in zip(a_vals, f_vals, units)]
+        worst, worst_unit = max(diffs)
+        n_beyond = sum(d > tol for d, _ in diffs)
+        if not inside:
+            outside.append(f"{b['index']}_{b['phase']}")
+        if n_beyond:
+            beyond.append(f"{b['index']}_{b['phase']} ({n_beyond} units)")
+        show = lambda x: "open" if not math.isfinite(x) else f"{x:.3e}"  # noqa: E731
+        lines.append(f"| {b['index']}_{b['phase']} | {est_a:.3e} | {est_f:.3e} | [{show(low)}, {show(high)}] | "
+                     f"{'yes' if inside else '**no**'} | {worst:.2e} (unit {worst_unit}) | {tol:.0e} | "
+                     f"{n_beyond} |")
+    return lines, outside, beyond
+
+
+def report(spec_name, spec, runs, fine_substep, workers, tolerance_default):
+    (s_d, r_d), (s_f, r_f) = runs
+    n = len(r_d)
+    print(f"{spec_name}: {n} units, {workers} worker{'s' if workers != 1 else ''}; the default sampling: "
+          f"{s_d['sampling']['why']}; the fine setting: the scene's own law, fixed sub-steps of {fine_substep:g} s.\n")
+    print("| run | wall [s] | samples/s | CPU per sample [ms] | engine overhead per sample [ms] |")
+    print("|---|---|---|---|---|")
+    for label, s in (("default (sampling: auto)", s_d), (f"fine (sim.substep {fine_substep:g} s)", s_f)):
+        e = s["engine"]
+        print(f"| {label} | {e['elapsed_s']:.1f} | {e['samples_per_s']:.1f} | {1e3 * e['mean_run_s']:.1f} | "
+              f"{1e3 * e['engine_overhead_per_sample_s']:.2f} |")
+    ratio = s_f["engine"]["elapsed_s"] / s_d["engine"]["elapsed_s"]
+    print(f"\nThe default runs the budget {ratio:.1f} times faster than the fine setting "
+          f"({s_f['engine']['mean_run_s'] / s_d['engine']['mean_run_s']:.1f} times less CPU per sample).")
+    if spec_name == SHIPPED.name and n == 1109 and workers == 2:
+        e = s_d["engine"]
+        met = e["elapsed_s"] <= TARGET_S and e["samples_per_s"] >= TARGET_RATE
+        print(f"Target (the shipped budget on 2 workers in at most {TARGET_S:.0f} s, at least {TARGET_RATE:.0f} "
+              f"samples/s): {e['elapsed_s']:.1f} s, {e['samples_per_s']:.1f} samples/s, "
+              f"{'met' if met else 'missed'}.")
+    lines, outside, beyond = compare(spec, s_d["budget"], s_f["budget"], r_d, r_f, tolerance_default)
+    print("\nEach index (the budget's level and confidence) at the default against the fine run: its quantile "
+          "estimate, the fine run's order-statistics interval, and the largest distance of a unit's figure "
+          "from its fine figure, against the tolerance (1 % of the requirement).\n")
+    print("| index | default [rad] | fine [rad] | fine interval [rad] | within | largest unit distance [rad] "
+          "| tolerance [rad] | units beyond |")
+    print("|---|---|---|---|---|---|---|---|")
+    print("\n".join(lines))
+    print(f"\nEvery index within the fine run's interval: {'yes' if not outside else 'no (' + ', '.join(outside) + ')'}."
+          f"\nEvery unit within the tolerance of its fine figure: "
+          f"{'yes' if not beyond else 'no (' + ', '.join(beyond) + ')'}.")
+    return ratio, not outside and not beyond
+
+
+def main():
+    p = argparse.ArgumentParser(allow_abbrev=False, description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--build", default="build", help="build directory holding python/ (relative to the source tree)")
+    p.add_argument("--spec", default=str(SHIPPED), help="closed-loop sweep spec (default: the shipped budget)")
+    p.add_argument("--workers", type=int, default=2, help="local Dask workers of each run")
+    p.add_argument("--samples", type=int, default=None, help="run only the spec's first N units")
+    p.add_argument("--fine-substep", type=float, default=5e-6, help="the fine run's fixed sub-step [s]")
+    p.add_argument("--out", default="out/budget_speed", help="folder for both runs (replaced when both finish)")
+    p.add_argument("--results", action="store_true", help="also write docs/results/budget_speed.md")
+    a = p.parse_args()
+    if not 1 <= a.workers <= 256:
+        p.error(f"--workers must be in [1, 256], got {a.workers}")
+    if a.samples is not None and not 1 <= a.samples <= 10**6:
+        p.error(f"--samples must be in [1, 1000000], got {a.samples}")
+    if not (math.isfinite(a.fine_substep) and 1e-8 <= a.fine_substep <= 1e-3):
+        p.error(f"--fine-substep must be in [1e-8, 1e-3] s, got {a.fine_substep!r}")
+    if a.results and a.samples is not None:
+        p.error("--results writes the page for the whole spec: leave out --samples")
+    build = (ROOT / a.build) if not os.path.isabs(a.build) else pathlib.Path(a.build)
+    if not (build / "python" / "gimbalsim" / "__init__.py").is_file():
+        p.error(f"no gimbalsim package in {build / 'python'}: cmake --build {a.build} -j2 --target gimbalsim_python")
+    spec_path = pathlib.Path(a.spec).resolve()
+    if not spec_path.is_file():
+        p.error(f"--spec {a.spec}: no such file")
+    out = pathlib.Path(a.out).resolve()
+    if out == ROOT or out in spec_path.parents or ROOT / "docs" in [out, *out.parents]:
+        p.error(f"--out {a.out}: would replace the source tree, the spec's folder or the docs")
+    sys.path.insert(0, str(build / "python"))
+    from gimbalsim import _sampling
+
+    t0, load0 = str(time.time()), open("/proc/loadavg").read()
+    out.parent.mkdir(parents=True, exist_ok=True)
+    work = pathlib.Path(tempfile.mkdtemp(prefix=out.name + ".new-", dir=out.parent))
+    runs, spec = [], None
+    for name, fine in (("default", None), ("fine", a.fine_substep)):
+        path, spec_run = derived_spec(spec_path, work, name, a.samples, fine)
+        spec = spec if spec is not None else spec_run
+        print(f"budget_speed: running {name} ({path}) ...", file=sys.stderr)
+        runs.append(run_sweep(build, path, work / name, a.workers))
+    body = io.StringIO()
+    with contextlib.redirect_stdout(body):
+        ratio, held = report(spec_path.name, spec, runs, a.fine_substep, a.workers, _sampling.TOLERANCE_RAD)
+    print(body.getvalue(), end="")
+    if out.exists():
+        shutil.rmtree(out)
+    work.rename(out)
+    if not a.results:
+        return
+    sys.path.insert(0, str(ROOT / "tools" / "pages"))
+    import results_page
+    e = runs[0][0]["engine"]
+    results_page.write_page(ROOT / "docs" / "results" / "budget_speed.md",
+                            "The budget at its default sampling against a fine fixed setting",
+                            "/usr/bin/python3 tools/sweeps/budget_speed.py " + shlex.join(sys.argv[1:]),
+                            __doc__.split("\n\n")[0] + "\n\n" + body.getvalue(),
+                            summary=f"{spec_path.name}: {e['elapsed_s']:.0f} s on {a.workers} workers "
+                                    f"({e['samples_per_s']:.1f} samples/s), {ratio:.1f} x faster than fine; "
+                                    f"figures {'held' if held else 'moved'}", t0=t0, load0=load0)
+    print("budget_speed: wrote docs/results/budget_speed.md")
+
+
+if __name__ == "__main__":
+    main()
