@@ -12,17 +12,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 CALLER=$PWD  # the user's folder: a relative path they give is theirs, not the repository's
 cd "$ROOT"
-# An argument naming an existing path relative to where the user stands (itself, or after '=' in --flag=path),
-# made absolute: the script runs from the repository (usage.md "Scripts in tools/": run from anywhere).
-abs_arg() {
-  local a=$1
-  case "$a" in
-    --*=*) local v=${a#*=}; [ "${v#/}" != "$v" ] || [ ! -e "$CALLER/$v" ] || a="${a%%=*}=$CALLER/$v" ;;
-    -*|/*) ;;
-    *) [ ! -e "$CALLER/$a" ] || a="$CALLER/$a" ;;
-  esac
-  printf '%s' "$a"
-}
+source "$ROOT/tools/lib/caller_args.sh"  # abs_arg
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/workprec/run_workprec.sh$(printf ' %q' "$@")"
 RESULTS=0 ARGS=()

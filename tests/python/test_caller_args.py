@@ -1,0 +1,34 @@
+"""tools/lib/caller_args.sh: the scripts that cd to the repository read a
+relative path where the user stands (usage.md "Scripts in tools/")."""
+import subprocess
+
+import pytest
+
+from conftest import SOURCE
+
+LIB = SOURCE / "tools" / "lib" / "caller_args.sh"
+
+
+def abs_arg(caller, arg):
+    script = f'CALLER="$1"; source "{LIB}"; cd /; abs_arg "$2"'
+    p = subprocess.run(["bash", "-c", script, "bash", str(caller), arg], capture_output=True, text=True, timeout=30)
+    assert p.returncode == 0, p.stderr
+    return p.stdout
+
+
+@pytest.mark.parametrize("arg,made", [("in.csv", "{c}/in.csv"), ("--csv=in.csv", "--csv={c}/in.csv"),
+                                      ("sub/in.csv", "{c}/sub/in.csv"), ("missing.csv", "missing.csv"),
+                                      ("--csv=missing.csv", "--csv=missing.csv"), ("--quick", "--quick"),
+                                      ("/etc/hostname", "/etc/hostname"), ("--x=/etc/hostname", "--x=/etc/hostname"),
+                                      ("0.5", "0.5")])
+def test_a_relative_path_that_names_a_file_where_the_user_stands_is_made_absolute(tmp_path, arg, made):
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "in.csv").write_text("x\n")
+    (tmp_path / "sub" / "in.csv").write_text("x\n")
+    assert abs_arg(tmp_path, arg) == made.format(c=tmp_path)
+
+
+def test_both_scripts_that_cd_to_the_repository_use_it():
+    for script in ("tools/stress/run_stress.sh", "tools/workprec/run_workprec.sh"):
+        text = (SOURCE / script).read_text()
+        assert 'source "$ROOT/tools/lib/caller_args.sh"' in text and "abs_arg() {" not in text, script
