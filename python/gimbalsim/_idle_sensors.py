@@ -66,8 +66,9 @@ def idle_in_sensors(key, values, dispersed, takes=None, last_tick_read=False):
         # The instants need the rate and the control period: fixed, exactly; dispersed, over every value drawn.
         rate_key, period = f"sensors.{sensor}_rate", CONTROLLER_PREFIX + "control.period"
         judged = not ({rate_key, period} & (dispersed | {key})) and rate_key in values and period in values
-        combos = None if judged else _combinations(takes or {}, values, (rate_key, period), dispersed)
-        drawn = "" if combos is None else _drawn_text(takes or {}, values, (rate_key, period), dispersed)
+        given = _Given(takes, values, dispersed)
+        combos = None if judged else given.combinations((rate_key, period))
+        drawn = "" if combos is None else given.text((rate_key, period), ("Hz", "s"))
         if combos and all(_every_sample_lost(start, end, duration, r, T, None, last_read) for r, T in combos):
             return (f"{outage} [{seconds(start)}, {seconds(end)}] s holds every {name} sample within the run for "
                     f"every {drawn}: no {name} sample is taken while it can act")
@@ -80,28 +81,30 @@ def idle_in_sensors(key, values, dispersed, takes=None, last_tick_read=False):
                         f"at {seconds(after)} s, not before the run's end at {seconds(duration)} s): no {name} sample is taken "
                         "while it can act")
         # Sample 0 (taken at 0) falls due at the latency: after the last acting tick, no sample is delivered.
-        periods, lowest = _periods(takes or {}, values, dispersed), _lowest(takes or {}, values, latency_key, dispersed)
+        periods, latencies = given.points(period), given.span(latency_key, default=0.0)
+        lowest = None if latencies is None else latencies[0]
         if lowest is not None and _after_the_last_acting_tick(lowest, duration, periods, last_read):
             return (f"{latency_key} {seconds(lowest)} s{' or more' if latency_key in dispersed else ''} is no shorter "
                     f"than the run ({seconds(duration)} s)"
                     f"{'' if lowest >= duration else ', less its last tick, which no phase holds'}"
                     f": no {name} sample is delivered")
         # The rate decides only samples after the first: none falls due within the run at any rate drawn.
-        rate_hi = None if lowest is None else _lowest(takes or {}, values, rate_key, dispersed, highest=True)
+        rates = None if lowest is None else given.span(rate_key)
+        rate_hi = None if rates is None else rates[1]
         if key == rate_key and key in dispersed and rate_hi is not None and rate_hi > 0.0 and \
                 _after_the_last_acting_tick(1.0 / rate_hi + lowest, duration, periods, last_read):
             return (f"only {name} sample 0 (at t = 0) falls due within the run at {rate_key} up to {rate_hi!r} Hz: "
                     "the rate decides no sample that acts")
-        too_old = _dropped_as_too_old(sensor, name, latency_key, values, dispersed, takes or {})
+        too_old = _dropped_as_too_old(sensor, name, latency_key, given)
         if reads_latency or latency_key in dispersed:
             if too_old is not None:
                 return too_old
             # with the outage: every sample lost at every latency given (a range as itself: only a sample
             # lost at both ends counts, since a longer latency can carry a sample past the outage or into it)
-            lost = _combinations(takes or {}, values, (rate_key, period, latency_key), dispersed)
+            lost = given.combinations((rate_key, period, latency_key))
             if lost and all(_every_sample_lost(start, end, duration, r, T, L, last_read) for r, T, L in lost):
                 return (f"{outage} [{seconds(start)}, {seconds(end)}] s: for every "
-                        f"{_drawn_text(takes or {}, values, (rate_key, period, latency_key), dispersed)}, every "
+                        f"{given.text((rate_key, period, latency_key), ('Hz', 's', 's'))}, every "
                         f"{name} sample taken outside the outage falls due in it (dropped) or after the run's last "
                         f"acting tick: no {name} sample is delivered while it can act")
             continue
@@ -122,7 +125,7 @@ def idle_in_sensors(key, values, dispersed, takes=None, last_tick_read=False):
     return None
 
 
-def _dropped_as_too_old(sensor, name, latency_key, values, dispersed, takes):
+def _dropped_as_too_old(sensor, name, latency_key, given):
     """Why every sample arrives older than the controller keeps it, for every
     latency and control period the study gives (a period drawn from a range
     is not judged): the attitude estimator's ring (star tracker) or the
@@ -130,15 +133,10 @@ def _dropped_as_too_old(sensor, name, latency_key, values, dispersed, takes):
     A sample arrives at the first tick at or after t_s + latency: its age is
     the latency rounded up to whole ticks."""
     period_key = CONTROLLER_PREFIX + "control.period"
-    periods = takes.get(period_key) if period_key in dispersed else [values.get(period_key)]
-    latency = _spans(takes, values, (latency_key,), dispersed)
-    try:
-        periods = [float(T) for T in periods]
-    except (TypeError, ValueError):
+    periods, latency = given.points(period_key), given.span(latency_key)
+    if periods is None or latency is None or not all(T > 0.0 for T in periods):
         return None
-    if latency is None or not all(T > 0.0 for T in periods):
-        return None
-    lowest, held = latency[latency_key][0], []
+    lowest, held = latency[0], []
     for T in periods:
         star_span, ticks = _gimbalsim._sample_histories(T)
         lag = math.ceil(lowest / T - 1e-9)  # delivered at the first tick at or after t_s + latency: its age in ticks
@@ -146,27 +144,9 @@ def _dropped_as_too_old(sensor, name, latency_key, values, dispersed, takes):
             return None
         held.append(f"{seconds(star_span)} s" if sensor == "star_tracker" else f"{ticks} ticks of {seconds(T)} s")
     keeps = "its attitude estimator keeps" if sensor == "star_tracker" else "its tracker fusion keeps"
-    given = f"{latency_key} {seconds(lowest)} s" + (" or more" if latency_key in dispersed else "")
-    return (f"{given}: every {name} sample arrives older than the controller's history ({keeps} "
+    lowest_text = f"{latency_key} {seconds(lowest)} s" + (" or more" if latency_key in given.dispersed else "")
+    return (f"{lowest_text}: every {name} sample arrives older than the controller's history ({keeps} "
             f"{' or '.join(held)} at {period_key} {' or '.join(seconds(T) for T in periods)} s) and is dropped")
-
-
-def _periods(takes, values, dispersed):
-    """The control periods [s] the study gives (its own, or a choice's or a
-    grid's each), or None when drawn from a range."""
-    key = CONTROLLER_PREFIX + "control.period"
-    t = takes.get(key) if key in dispersed else [values.get(key)]
-    try:
-        return None if isinstance(t, Span) or t is None else [float(T) for T in t]
-    except (TypeError, ValueError):
-        return None
-
-
-def _lowest(takes, values, key, dispersed, highest=False):
-    """The lowest (highest) value of key the study gives [its unit]; 0 for a
-    key not given (a latency), None when not known as a number."""
-    spans = _spans(takes, values, (key,), dispersed) if key in dispersed or key in values else {key: (0.0, 0.0)}
-    return None if spans is None else spans[key][1 if highest else 0]
 
 
 def _after_the_last_acting_tick(t, duration, periods, last_read):
@@ -181,42 +161,52 @@ def _after_the_last_acting_tick(t, duration, periods, last_read):
 Span = collections.namedtuple("Span", "lo hi")  # a number drawn from a range (uniform, loguniform, normal ends)
 
 
-def _spans(takes, values, keys, dispersed):
-    """{key: (lo, hi)} over the values each of `keys` can take (its own value
-    when fixed, the range or the choices' ends when dispersed), or None when
-    one is not known as numbers."""
-    spans = {}
-    for k in keys:
-        t = takes.get(k) if k in dispersed else [values.get(k)]
+class _Given:
+    """The values the study gives a key: its own when fixed, a choice's or a
+    grid's each, a range's ends (takes: _idle_keys.takes_of)."""
+
+    def __init__(self, takes, values, dispersed):
+        self.takes, self.values, self.dispersed = takes or {}, values, dispersed
+
+    def intervals(self, key, default=None):
+        """[(lo, hi)]: a fixed value or each listed value as a point, a range
+        as itself; a key not given as [(default,) * 2] (a latency: 0); None
+        when not known as numbers."""
+        if key in self.dispersed:
+            t = self.takes.get(key)
+        else:
+            t = [self.values[key]] if key in self.values else None if default is None else [default]
         try:
-            spans[k] = (t.lo, t.hi) if isinstance(t, Span) else (min(map(float, t)), max(map(float, t)))
+            return [(t.lo, t.hi)] if isinstance(t, Span) else [(float(v), float(v)) for v in t]
         except (TypeError, ValueError):
             return None
-    return spans
 
+    def span(self, key, default=None):
+        """(lowest, highest) value of key [its unit], or None."""
+        given = self.intervals(key, default)
+        return None if given is None else (min(lo for lo, _ in given), max(hi for _, hi in given))
 
-def _combinations(takes, values, keys, dispersed):
-    """Every combination of the values `keys` take, each as an interval
-    (lo, hi): a fixed value or a choice's each value as a point, a range as
-    itself; None when one is not known as numbers or there are too many."""
-    per_key = []
-    for k in keys:
-        t = takes.get(k) if k in dispersed else [values.get(k)]
-        try:
-            per_key.append([(t.lo, t.hi)] if isinstance(t, Span) else [(float(v), float(v)) for v in t])
-        except (TypeError, ValueError):
+    def points(self, key):
+        """The values of key as a list, or None when one is drawn from a range (or not a number)."""
+        given = self.intervals(key)
+        return None if given is None or any(lo != hi for lo, hi in given) else [lo for lo, _ in given]
+
+    def combinations(self, keys):
+        """Every combination of the intervals of `keys`, or None when one is
+        not known as numbers or there are more than 4096."""
+        per_key = [self.intervals(k) for k in keys]
+        if any(given is None for given in per_key) or math.prod(map(len, per_key)) > 4096:
             return None
-    return None if math.prod(map(len, per_key)) > 4096 else list(itertools.product(*per_key))
+        return list(itertools.product(*per_key))
 
-
-def _drawn_text(takes, values, keys, dispersed):
-    """What the study gives the rate and the period (keys), for a refusal: "k in [lo, hi] Hz", "k one of a, b s"."""
-    def one(k, unit):
-        t = takes.get(k) if k in dispersed else None
-        if isinstance(t, Span):
-            return f"{k} in [{t.lo!r}, {t.hi!r}] {unit}"
-        return f"{k} one of {', '.join(map(str, t))} {unit}" if t is not None else f"{k} {values.get(k)} {unit}"
-    return " and ".join(one(k, unit) for k, unit in zip(keys, ("Hz", "s", "s")))
+    def text(self, keys, units):
+        """What the study gives keys, for a refusal: "k in [lo, hi] Hz", "k one of a, b s", "k v s"."""
+        def one(k, unit):
+            t = self.takes.get(k) if k in self.dispersed else None
+            if isinstance(t, Span):
+                return f"{k} in [{t.lo!r}, {t.hi!r}] {unit}"
+            return f"{k} one of {', '.join(map(str, t))} {unit}" if t is not None else f"{k} {self.values.get(k)} {unit}"
+        return " and ".join(one(k, unit) for k, unit in zip(keys, units))
 
 
 def _every_sample_lost(start, end, duration, rate, period, latency, last_read):
