@@ -113,20 +113,23 @@ def _check_held_values(a, out):
     known up front; a bisection's follow from the verdicts read back before
     it, and past a value to run again are checked as the search gets there
     (the main loop)."""
+    subs = {}  # each value's SweepSpec, made once (a scan value is also the bisection's first)
+
     def check(k, value):
         folder = out / VALUES / str(k)
-        if (folder / SWEEP_FINGERPRINT).exists() and _held(folder / SWEEP_FINGERPRINT) != a.sweep_at(value).fingerprint:
+        if value not in subs:
+            subs[value] = a.sweep_at(value)
+        if (folder / SWEEP_FINGERPRINT).exists() and _held(folder / SWEEP_FINGERPRINT) != subs[value].fingerprint:
             raise _not_this_value(a, folder, value)
-    scan = scan_values(a)
-    for k, value in enumerate(scan):
+        return folder, subs[value]
+    for k, value in enumerate(scan_values(a)):
         check(k, value)
     tried = {}
     for k in range(a.values):
-        value, folder = next_value(a, tried), out / VALUES / str(k)
+        value = next_value(a, tried)
         if value is None:
             return
-        check(k, value)
-        sub = a.sweep_at(value)
+        folder, sub = check(k, value)
         if not (folder / SWEEP_FINGERPRINT).exists() or finished_rows(sub, folder) is None:
             return
         tried[value] = record(a, sub, _rows(sub, folder), value, k)
