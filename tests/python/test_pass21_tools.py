@@ -106,3 +106,39 @@ def test_a_log_that_would_be_refused_costs_no_run(tmp_path):
     assert "study.log: the same file as the input" in p.stderr, p.stderr
     assert (folder / "pointing_error.csv").read_text() == "the previous run's\n"
     assert scene.read_bytes() == (SOURCE / "tools/scenes/paper_clearance.yaml").read_bytes()
+
+
+def _repository_copy(tmp_path):
+    """The scripts' own tree (tools/, the writer's rules, an empty docs/results/) in tmp: whatever a script
+    writes into "the repository" lands here, never in the checkout under test."""
+    import shutil
+    repo = tmp_path / "repo"
+    shutil.copytree(SOURCE / "tools", repo / "tools", ignore=shutil.ignore_patterns("__pycache__"))
+    (repo / "python" / "gimbalsim").mkdir(parents=True)
+    shutil.copy(SOURCE / "python" / "gimbalsim" / "_output.py", repo / "python" / "gimbalsim" / "_output.py")
+    (repo / "docs" / "results").mkdir(parents=True)
+    return repo
+
+
+@pytest.mark.parametrize("results", [False, True])
+def test_the_floor_script_writes_the_projects_page_only_when_asked(tmp_path, results):
+    # a trial with other arguments (one clearance, a short run) replaced docs/results/controller_floor.md
+    repo = _repository_copy(tmp_path)
+    build, fake, work = tmp_path / "build", tmp_path / "fakebin", tmp_path / "work"
+    for d in (build / "bin", fake, work):
+        d.mkdir(parents=True)
+    (build / "CMakeCache.txt").write_text("")
+    (build / "bin" / "gimbalsim_controller_floor").symlink_to(BIN / "gimbalsim_controller_floor")
+    (fake / "cmake").write_text("#!/bin/sh\nexit 0\n")
+    (fake / "cmake").chmod(0o755)
+    env = dict(os.environ, BUILD_DIR=str(build), PATH=f"{fake}:{os.environ['PATH']}")
+    args = ["--clearances", "2.5e-4", "--duration", "2.6"] + (["--results"] if results else [])
+    p = subprocess.run(["bash", str(repo / "tools/pointing_study/run_controller_floor.sh"), *args], cwd=work,
+                       env=env, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert (work / "out/controller_floor/floor.log").is_file()
+    page = repo / "docs/results/controller_floor.md"
+    assert page.is_file() == results
+    if results:
+        assert "Regenerate: `bash tools/pointing_study/run_controller_floor.sh --clearances 2.5e-4 --duration 2.6 " \
+            "--results`" in page.read_text()

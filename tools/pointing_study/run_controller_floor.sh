@@ -2,15 +2,22 @@
 # The controller's own floor against the bearing: builds and runs
 # gimbalsim_controller_floor (ideal joint and clearances 0.1-0.8 mm, perfect
 # sensors; "before" = the default controller with the inertia law's
-# feed-forward: constant reduced inertias, no lead), then writes
-# docs/results/controller_floor.md with the stamped header
-# (tools/pages/results_page.py). Arguments go to the tool. BUILD_DIR overrides build/.
+# feed-forward: constant reduced inertias, no lead) into out/controller_floor/;
+# --results also writes docs/results/controller_floor.md with the stamped header
+# (tools/pages/results_page.py). Other arguments go to the tool. BUILD_DIR overrides build/.
+#
+#   bash tools/pointing_study/run_controller_floor.sh --results   # the committed page
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 BUILD="${BUILD_DIR:-$ROOT/build}"
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
-COMMAND="bash tools/pointing_study/run_controller_floor.sh"
-if [ $# -gt 0 ]; then COMMAND+="$(printf ' %q' "$@")"; fi
+COMMAND="bash tools/pointing_study/run_controller_floor.sh$(printf ' %q' "$@")"
+# The page only when asked: a trial with other arguments never replaces the project's page.
+RESULTS=0 ARGS=()
+for a in "$@"; do
+  if [ "$a" = --results ]; then RESULTS=1; else ARGS+=("$a"); fi
+done
+set -- ${ARGS[@]+"${ARGS[@]}"}
 OUT="out/controller_floor"
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -24,6 +31,7 @@ LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved into $OUT by
   --before-set pointing.feedforward_lead=0 \
   --markdown "$OUT/body.md" "$@" | tee "$LOG"
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/floor.log" -- "$@"
+[ "$RESULTS" = 1 ] || exit 0
 /usr/bin/python3 "$ROOT/tools/pages/results_page.py" --page "$ROOT/docs/results/controller_floor.md" \
   --title "Controller floor against the bearing" \
   --summary "$(grep '^ideal / ' "$OUT/floor.log" | tail -1)" \
