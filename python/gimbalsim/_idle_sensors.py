@@ -139,7 +139,7 @@ def _dropped_as_too_old(sensor, name, latency_key, given):
     lowest, held = latency[0], []
     for T in periods:
         star_span, ticks = _gimbalsim._sample_histories(T)
-        lag = math.ceil(lowest / T - 1e-9)  # delivered at the first tick at or after t_s + latency: its age in ticks
+        lag = _tick_at_or_after(lowest, T)  # delivered at the first tick at or after t_s + latency: its age in ticks
         if sensor == "star_tracker" and lag < round(star_span / T) or sensor == "tracker" and lag < ticks:
             return None
         held.append(f"{seconds(star_span)} s" if sensor == "star_tracker" else f"{ticks} ticks of {seconds(T)} s")
@@ -155,7 +155,7 @@ def _after_the_last_acting_tick(t, duration, periods, last_read):
     from a range (None): only a t past the run's end counts."""
     if periods is None:
         return t > duration * (1 + 1e-9)
-    return all(T > 0.0 and math.ceil(t / T - 1e-9) > _last_acting_tick(duration, T, last_read) for T in periods)
+    return all(T > 0.0 and _tick_at_or_after(t, T) > _last_acting_tick(duration, T, last_read) for T in periods)
 
 
 Span = collections.namedtuple("Span", "lo hi")  # a number drawn from a range (uniform, loguniform, normal ends)
@@ -264,11 +264,18 @@ def _first_take(m, rate, period):
     """The first tick at or after tick m that takes a sample: as
     sample_schedule.hpp, sample j belongs to j / rate and is taken in the
     first tick at or after it (ticksAtOrAfter), in an outage or not."""
-    tick = lambda j: math.ceil(j * (1.0 / rate) / period - 1e-9)  # noqa: E731
+    tick = lambda j: _tick_at_or_after(j * (1.0 / rate), period)  # noqa: E731
     j = max(math.floor(m * period * rate) - 2, 0)
     while tick(j) < m:
         j += 1
     return tick(j)
+
+
+def _tick_at_or_after(t, period):
+    """The first control tick at or after t [s] (ticksAtOrAfter in
+    sample_schedule.hpp, its 1e-9 of a tick for rounding): a sample's take,
+    or its age in ticks when t is a latency."""
+    return math.ceil(t / period - 1e-9)
 
 
 def _last_acting_tick(duration, period, last_read):
@@ -301,7 +308,7 @@ def _none_delivered(start, end, duration, rate, period, latency, last_read):
     that tick is in the outage."""
     if not (end > start and rate > 0.0 and period > 0.0):
         return False
-    last_acting, lag = _last_acting_tick(duration, period, last_read), math.ceil(latency / period - 1e-9)
+    last_acting, lag = _last_acting_tick(duration, period, last_read), _tick_at_or_after(latency, period)
     first, last = _outage_ticks(start, end, period)
     if first > 0 and lag < first and lag <= last_acting:
         return False  # sample 0, taken and delivered before the outage
