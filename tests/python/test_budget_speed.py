@@ -35,9 +35,26 @@ def test_a_setting_that_moves_a_unit_is_reported(tmp_path):
 
 
 def test_bad_arguments_are_refused_before_anything_runs(tmp_path):
+    shipped = (SOURCE / "tools/sweeps/pointing_budget.yaml").read_text()
+    (tmp_path / "bad.yaml").write_text(shipped.replace("../scenes/", str(SOURCE / "tools/scenes") + "/")
+                                       .replace("friction.mu:", "friction.muu:"))
+    (tmp_path / "open.yaml").write_text("scene: x.yaml\nsamples: 2\n")
+    (tmp_path / "broken.yaml").write_text("scene: [\n")
+    (tmp_path / "theirs").mkdir()
+    (tmp_path / "theirs" / "notes.txt").write_text("the user's\n")
+    (tmp_path / "link").symlink_to(tmp_path / "theirs")
     for args, words in ((["--samples", "3", "--results"], "leave out --samples"),
                         (["--fine-substep", "0"], "--fine-substep must be"),
                         (["--out", SOURCE], "would replace"),
-                        (["--spec", tmp_path / "nothing.yaml"], "no such file")):
-        p = run(*args)
+                        (["--spec", tmp_path / "nothing.yaml"], "no such file"),
+                        (["--spec", tmp_path / "open.yaml"], "not a closed-loop sweep spec"),
+                        (["--spec", tmp_path / "broken.yaml"], "cannot read it as YAML"),
+                        (["--spec", tmp_path / "bad.yaml"], "friction.muu"),  # the sweep's own check
+                        (["--out", tmp_path / "theirs"], "holds notes.txt"),
+                        (["--out", tmp_path / "link"], "symbolic link")):
+        out = [] if "--out" in args or "--results" in args else ["--out", tmp_path / "o"]
+        p = run(*([] if "--results" in args else ["--samples", "2"]), *out, *args)
         assert p.returncode == 2 and words in p.stderr and "Traceback" not in p.stderr, (args, p.stderr)
+        assert "running default" not in p.stderr, args
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["bad.yaml", "broken.yaml", "link", "open.yaml", "theirs"]
+    assert (tmp_path / "theirs" / "notes.txt").read_text() == "the user's\n"

@@ -17,11 +17,12 @@ sub-step policy, with sim.substep --fine-substep). It compares
 
 Usage:
   /usr/bin/python3 tools/sweeps/budget_speed.py [--build build] [--workers 2] [--spec SPEC]
-      [--samples N] [--fine-substep 5e-6] [--out out/budget_speed] [--results]
+      [--samples N] [--fine-substep 5e-6] [--out DIR] [--results]
 
 --samples N runs only the spec's first N units (a quick look; the page is
 for the whole spec). --results also writes docs/results/budget_speed.md
-(tools/pages/results_page.py); the runs stay in --out (default, fine).
+(tools/pages/results_page.py); the runs stay in --out (default: the
+repository's out/budget_speed; each run's folder and the spec it ran).
 """
 import argparse
 import contextlib
@@ -41,18 +42,29 @@ import time
 import yaml
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tools" / "pages"))
+import output_file  # noqa: E402  (how a script ends; the writer's rules)
+from output_file import Refused  # noqa: E402
+
 SHIPPED = ROOT / "tools" / "sweeps" / "pointing_budget.yaml"
 TARGET_S, TARGET_RATE = 60.0, 18.0  # the shipped 1109-unit budget on 2 workers
 SHARE = 0.01  # of the requirement: how far a unit's figure may move
+PAGE = ROOT / "docs" / "results" / "budget_speed.md"
+RUNS = ("default", "fine")  # what --out holds: each run's folder and the spec it ran
 
 
-def derived_spec(spec_path, folder, name, samples, fine_substep):
-    """The spec as the run reads it, written into folder: its scene made
-    absolute, its samples cut (samples), and (fine_substep) the fine
-    setting: sampling scene, sim.substep fine_substep under set:."""
-    spec = yaml.safe_load(spec_path.read_text())
-    if not isinstance(spec, dict) or "scene" not in spec or "controller" not in spec:
-        sys.exit(f"budget_speed: {spec_path}: not a closed-loop sweep spec (it needs scene: and controller:)")
+def derived_spec(spec_path, samples, fine_substep):
+    """The spec as the run reads it (a dict): its scene made absolute, its
+    samples cut (samples), and (fine_substep) the fine setting: sampling
+    scene, sim.substep fine_substep under set:. Refused when not a
+    closed-loop spec; the sweep itself checks the rest before it runs."""
+    try:
+        spec = yaml.safe_load(spec_path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as e:
+        raise Refused(f"--spec {spec_path}: cannot read it as YAML ({' '.join(str(e).split())})") from None
+    if not isinstance(spec, dict) or not {"scene", "controller", "samples"} <= set(spec) or \
+            not isinstance(spec["scene"], str) or not isinstance(spec["controller"], str):
+        raise Refused(f"--spec {spec_path}: not a closed-loop sweep spec (it needs scene:, controller: and samples:)")
     spec["scene"] = str((spec_path.parent / spec["scene"]).resolve())
     controller = spec["controller"]
     if controller != "default":
@@ -61,20 +73,27 @@ def derived_spec(spec_path, folder, name, samples, fine_substep):
         spec["samples"] = min(samples, int(spec["samples"]))
     if fine_substep is not None:
         spec["sampling"] = "scene"
+        if not isinstance(spec.get("set") or {}, dict):
+            raise Refused(f"--spec {spec_path}: set: is not a mapping")
         spec["set"] = {**(spec.get("set") or {}), "sim.substep": fine_substep}
-    path = folder / f"{name}.yaml"
-    path.write_text(yaml.safe_dump(spec, sort_keys=False))
-    return path, spec
+    return spec
 
 
-def run_sweep(build, spec, out, workers):
-    """The sweep's summary.json and its rows {sample: row}; exits naming the failure."""
+class SweepFailed(Exception):
+    """A run's sweep ended with an error: its exit code, and what it said."""
+
+
+def run_sweep(build, spec, out, workers, check=False):
+    """The sweep's summary.json and its rows {sample: row} (check: the
+    sweep's --check alone, None); SweepFailed naming the failure."""
     env = {**os.environ, "PYTHONPATH": str(build / "python")}
     cmd = [sys.executable, "-m", "gimbalsim.sweep", str(spec), "--out", str(out), "--workers", str(workers),
-           "--no-progress"]
+           "--no-progress"] + (["--check"] if check else [])
     r = subprocess.run(cmd, env=env, capture_output=True, text=True)
     if r.returncode != 0:
-        sys.exit(f"budget_speed: {shlex.join(cmd)} failed (exit {r.returncode}):\n{r.stderr[-3000:]}")
+        raise SweepFailed(r.returncode, f"{shlex.join(cmd)} failed (exit {r.returncode}):\n{r.stderr[-3000:]}")
+    if check:
+        return None
     summary = json.loads((out / "summary.json").read_text())
     with open(out / "results.csv", newline="") as f:
         rows = {int(row["sample"]): row for row in csv.DictReader(f)}
@@ -167,6 +186,18 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default):
     return ratio, not outside and not beyond
 
 
+def check_out(out):
+    """--out is this tool's folder or nothing: never a link, a file, or a
+    folder holding anything else (it is replaced when both runs finish)."""
+    if out.is_symlink() or (out.exists() and not out.is_dir()):
+        raise Refused(f"--out {out}: a symbolic link or not a folder; the runs replace it: give another")
+    if out.is_dir():
+        strangers = sorted(x.name for x in out.iterdir() if x.name not in RUNS + tuple(f"{r}.yaml" for r in RUNS))
+        if strangers:
+            raise Refused(f"--out {out}: holds {', '.join(strangers[:3])}, not this tool's runs; the runs replace "
+                          "it: give another folder")
+
+
 def main():
     p = argparse.ArgumentParser(allow_abbrev=False, description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -175,7 +206,8 @@ def main():
     p.add_argument("--workers", type=int, default=2, help="local Dask workers of each run")
     p.add_argument("--samples", type=int, default=None, help="run only the spec's first N units")
     p.add_argument("--fine-substep", type=float, default=5e-6, help="the fine run's fixed sub-step [s]")
-    p.add_argument("--out", default="out/budget_speed", help="folder for both runs (replaced when both finish)")
+    p.add_argument("--out", default=None, help="folder for both runs, replaced when both finish "
+                   "(default: the repository's out/budget_speed)")
     p.add_argument("--results", action="store_true", help="also write docs/results/budget_speed.md")
     a = p.parse_args()
     if not 1 <= a.workers <= 256:
@@ -192,42 +224,67 @@ def main():
     spec_path = pathlib.Path(a.spec).resolve()
     if not spec_path.is_file():
         p.error(f"--spec {a.spec}: no such file")
-    out = pathlib.Path(a.out).resolve()
+    out = pathlib.Path(os.path.abspath(a.out)) if a.out is not None else ROOT / "out" / "budget_speed"
     if out == ROOT or out in spec_path.parents or ROOT / "docs" in [out, *out.parents]:
         p.error(f"--out {a.out}: would replace the source tree, the spec's folder or the docs")
+    return output_file.run_script("budget_speed", lambda: _run(a, build, spec_path, out))
+
+
+def _run(a, build, spec_path, out):
+    """Everything checked (the specs by the sweep's --check, --out, the page's
+    names), then both runs into a fresh folder beside --out, which replaces
+    it; a refusal or a failed run leaves --out as it was."""
     sys.path.insert(0, str(build / "python"))
     from gimbalsim import _sampling
 
     t0, load0 = str(time.time()), open("/proc/loadavg").read()
-    out.parent.mkdir(parents=True, exist_ok=True)
+    specs = {name: derived_spec(spec_path, a.samples, fine) for name, fine in zip(RUNS, (None, a.fine_substep))}
+    check_out(out)
+    if a.results:
+        output_file.check_before_writing([PAGE, PAGE.parent / "README.md"])
+    if a.out is None:
+        out.parent.mkdir(exist_ok=True)  # the repository's out/, as the scripts of tools/ make it
+    elif not out.parent.is_dir():
+        raise Refused(f"--out {out}: its folder {out.parent} does not exist")
     work = pathlib.Path(tempfile.mkdtemp(prefix=out.name + ".new-", dir=out.parent))
-    runs, spec = [], None
-    for name, fine in (("default", None), ("fine", a.fine_substep)):
-        path, spec_run = derived_spec(spec_path, work, name, a.samples, fine)
-        spec = spec if spec is not None else spec_run
-        print(f"budget_speed: running {name} ({path}) ...", file=sys.stderr)
-        runs.append(run_sweep(build, path, work / name, a.workers))
+    try:
+        paths = {name: work / f"{name}.yaml" for name in RUNS}
+        for name in RUNS:  # every spec written and checked before the first run
+            output_file.write_text(paths[name], yaml.safe_dump(specs[name], sort_keys=False))
+            run_sweep(build, paths[name], work / name, a.workers, check=True)
+        runs = []
+        for name in RUNS:
+            print(f"budget_speed: running {name} ({paths[name]}) ...", file=sys.stderr)
+            runs.append(run_sweep(build, paths[name], work / name, a.workers))
+    except SweepFailed as e:
+        shutil.rmtree(work)
+        print(f"budget_speed: {e.args[1]}", file=sys.stderr)
+        return e.args[0]
+    except BaseException:
+        shutil.rmtree(work, ignore_errors=True)
+        raise
     body = io.StringIO()
     with contextlib.redirect_stdout(body):
-        ratio, held = report(spec_path.name, spec, runs, a.fine_substep, a.workers, _sampling.TOLERANCE_RAD)
+        ratio, held = report(spec_path.name, specs["default"], runs, a.fine_substep, a.workers,
+                             _sampling.TOLERANCE_RAD)
     print(body.getvalue(), end="")
+    check_out(out)  # as before the runs: nothing planted there since
     if out.exists():
         shutil.rmtree(out)
     work.rename(out)
     if not a.results:
-        return
-    sys.path.insert(0, str(ROOT / "tools" / "pages"))
+        return 0
     import results_page
     e = runs[0][0]["engine"]
-    results_page.write_page(ROOT / "docs" / "results" / "budget_speed.md",
-                            "The budget at its default sampling against a fine fixed setting",
+    results_page.write_page(PAGE, "The budget at its default sampling against a fine fixed setting",
                             "/usr/bin/python3 tools/sweeps/budget_speed.py " + shlex.join(sys.argv[1:]),
                             __doc__.split("\n\n")[0] + "\n\n" + body.getvalue(),
                             summary=f"{spec_path.name}: {e['elapsed_s']:.0f} s on {a.workers} workers "
                                     f"({e['samples_per_s']:.1f} samples/s), {ratio:.1f} x faster than fine; "
                                     f"figures {'held' if held else 'moved'}", t0=t0, load0=load0)
     print("budget_speed: wrote docs/results/budget_speed.md")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
