@@ -14,6 +14,8 @@ from ._idle_sensors import (ANTENNA_NOISE_KEYS, ANTENNA_SENSOR_KEYS, ANTENNA_TRA
                             idle_at_antenna, idle_in_sensors)
 
 # What a closed loop never reads, and what an open-loop run never reads.
+_NEVER_STALE = ("a study's closed loop delivers every status with the attitude of its own tick and injects no "
+                "fault: no status is stale (the bench's --faults can make one)")
 CLOSED_LOOP_IDLE = {"sim.duration": "every closed loop of a study runs one length: a sweep's set: sim.duration, "
                                     "a tuner's duration:",
                     "sim.output_interval": "the closed loop records every control period",
@@ -21,7 +23,11 @@ CLOSED_LOOP_IDLE = {"sim.duration": "every closed loop of a study runs one lengt
                     "torque.tau2": "the controller commands the torque",
                     # only dynamics/src/simulate.cpp's InvariantMonitor reads them; firmware_sim steps without one
                     "sim.momentum_tol": "the closed loop checks no invariant: only an open-loop run stops on it",
-                    "sim.energy_tol": "the closed loop checks no invariant: only an open-loop run stops on it"}
+                    "sim.energy_tol": "the closed loop checks no invariant: only an open-loop run stops on it",
+                    # firmware_sim/src/closed_loop.cpp answers every status with an attitude of the same tick, and a
+                    # study's loop has no fault schedule to delay one: no status is ever stale
+                    CONTROLLER_PREFIX + "monitor.stale_ticks": _NEVER_STALE,
+                    CONTROLLER_PREFIX + "monitor.hold_ticks": _NEVER_STALE}
 OPEN_LOOP_IDLE = {"torque.limit": "the firmware's motor limit: an open-loop run applies the scene's torques as "
                   "they are"}
 # Read by no run of either kind.

@@ -20,8 +20,13 @@ ANTENNA_TRACKER = CONTROLLER_PREFIX + "antenna.tracker"
 # Keys that act only through the star tracker's samples: idle when none is delivered in the run.
 _STAR_SAMPLE_KEYS = ("sensors.star_tracker_noise", "sensors.star_tracker_rate",
                      CONTROLLER_PREFIX + "estimator.k_p", CONTROLLER_PREFIX + "estimator.k_i")
-# ... and through the boresight tracker's (sensors.antenna tracker_gyro).
-_TRACKER_SAMPLE_KEYS = ("sensors.tracker_noise", "sensors.tracker_bias", "sensors.tracker_rate")
+# The estimator's gains act from the second star tracker sample on: the first sets the estimate (gain 1;
+# controllers/src/attitude_estimator.cpp correct()).
+_FROM_THE_SECOND_SAMPLE = (CONTROLLER_PREFIX + "estimator.k_p", CONTROLLER_PREFIX + "estimator.k_i")
+# ... and through the boresight tracker's (sensors.antenna tracker_gyro); the controller's offset_rate moves
+# the play offset only once a sample has measured it (controllers/src/tracker_fusion.cpp).
+_TRACKER_SAMPLE_KEYS = ("sensors.tracker_noise", "sensors.tracker_bias", "sensors.tracker_rate",
+                        CONTROLLER_PREFIX + "antenna.offset_rate")
 
 
 # Every sensor noise drawn from sensors.seed's streams (firmware_sim: joint_sensors.hpp, attitude_sensors.hpp,
@@ -122,6 +127,55 @@ def idle_in_sensors(key, values, dispersed, takes=None, last_tick_read=False):
                     f"after the run's last acting tick: no {name} sample is delivered while it can act")
         if too_old is not None:
             return too_old
+        if key in _FROM_THE_SECOND_SAMPLE:
+            one = _one_sample_at_most(start, end, duration, given, (rate_key, period, latency_key), last_read)
+            if one is not None:
+                outage_text = f"{outage} [{seconds(start)}, {seconds(end)}] s and " if end > start else ""
+                return (f"with {outage_text}{one}, at most one {name} sample "
+                        f"is delivered while it can act: it sets the estimate, and the estimator's gains act from "
+                        "the second on")
+    return None
+
+
+def _one_sample_at_most(start, end, duration, given, keys, last_read):
+    """What the study gives keys (rate, period, latency), for a refusal, when
+    at every combination at most one sample is delivered while it can act;
+    else None. Judged only where each is a fixed value or a choice's (a
+    range: None)."""
+    combos = given.combinations(keys)
+    if not combos or any(lo != hi for combo in combos for lo, hi in combo):
+        return None
+    for (rate, _), (period, _), (latency, _) in combos:
+        n = _delivered(start, end, duration, rate, period, latency, last_read, most=2)
+        if n is None or n > 1:
+            return None
+    return given.text(keys, ("Hz", "s", "s"))
+
+
+def _delivered(start, end, duration, rate, period, latency, last_read, most):
+    """How many samples are delivered at or before the last acting tick, up
+    to most (None: too many takes to go through), as sample_schedule.hpp
+    takes and delivers them: sample j taken at the first tick at or after
+    j / rate, one a tick (the next index found as advanceSampleIndex does),
+    none in the outage (active when end > start); delivered latency's ticks
+    later, the newest of those due in a tick, none in the outage."""
+    if not (rate > 0.0 and period > 0.0 and latency >= 0.0):
+        return None
+    first, last = _outage_ticks(start, end, period) if end > start else (1, 0)
+    in_outage = lambda k: first <= k <= last  # noqa: E731
+    last_acting, lag = _last_acting_tick(duration, period, last_read), _tick_at_or_after(latency, period)
+    delivered, j = set(), 0
+    for _ in range(10**6):
+        s = _tick_at_or_after(j / rate, period)
+        if s + lag > last_acting:
+            return len(delivered)
+        if not in_outage(s) and not in_outage(s + lag):
+            delivered.add(s + lag)
+            if len(delivered) >= most:
+                return most
+        j = max(j + 1, math.floor(s * period * rate))  # the next sample after tick s
+        while _tick_at_or_after(j / rate, period) <= s:
+            j += 1
     return None
 
 

@@ -199,10 +199,12 @@ class SweepSpec:
         values = {k: str(v) for k, v in self.base.values().items()}  # read once: each key judged alike
         if self.closed is not None:
             values.update({CONTROLLER_PREFIX + k: str(v) for k, v in self.closed.values.items()})
-        # the run's last tick's measurement is read only by the knowledge index over the track phase, which
-        # runs to the run's end (a window [t0, t1) never holds it; every other index reads the truth)
-        last_read = self.closed is not None and ("track", None) in self.closed.phases and \
-            any(ix.name == "knowledge" for ix in self.closed.indices)
+        # the run's last tick's measurement is read only by the knowledge index over a phase that holds that
+        # tick (at sim.duration): the track phase, which runs to the run's end, or a window [t0, t1) with t1
+        # past it (the spec accepts t1 up to 1e-9 s beyond); every other index reads the truth
+        last_read = self.closed is not None and any(ix.name == "knowledge" for ix in self.closed.indices) and \
+            any(w is None and name == "track" or w is not None and w[1] > self.closed.duration_s
+                for name, w in self.closed.phases)
         for where, key, node in dispersed:
             why = idle_reason(aliases.get(key, key), values, dispersed_keys, takes, self.closed is not None,
                               last_read)
