@@ -16,11 +16,17 @@ def abs_arg(caller, arg):
     return p.stdout
 
 
+# a name missing where the user stands but looking like a path is theirs too (pass 25: the script read the
+# repository's tools/scenes/paper_ideal.yaml for a user standing in an empty folder)
 @pytest.mark.parametrize("arg,made", [("in.csv", "{c}/in.csv"), ("--csv=in.csv", "--csv={c}/in.csv"),
-                                      ("sub/in.csv", "{c}/sub/in.csv"), ("missing.csv", "missing.csv"),
-                                      ("--csv=missing.csv", "--csv=missing.csv"), ("--quick", "--quick"),
+                                      ("sub/in.csv", "{c}/sub/in.csv"), ("missing.csv", "{c}/missing.csv"),
+                                      ("--csv=missing.csv", "--csv={c}/missing.csv"),
+                                      ("tools/scenes/paper_ideal.yaml", "{c}/tools/scenes/paper_ideal.yaml"),
+                                      ("--quick", "--quick"), ("paper_ideal", "paper_ideal"),
+                                      ("sim.duration=0.05", "sim.duration=0.05"),
+                                      ("--long-set=sim.duration=0.05", "--long-set=sim.duration=0.05"),
                                       ("/etc/hostname", "/etc/hostname"), ("--x=/etc/hostname", "--x=/etc/hostname"),
-                                      ("0.5", "0.5")])
+                                      ("0.5", "0.5"), ("1e-3", "1e-3")])
 def test_a_relative_path_that_names_a_file_where_the_user_stands_is_made_absolute(tmp_path, arg, made):
     (tmp_path / "sub").mkdir()
     (tmp_path / "in.csv").write_text("x\n")

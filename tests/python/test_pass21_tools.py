@@ -142,3 +142,25 @@ def test_the_floor_script_writes_the_projects_page_only_when_asked(tmp_path, res
     if results:
         assert "Regenerate: `bash tools/pointing_study/run_controller_floor.sh --clearances 2.5e-4 --duration 2.6 " \
             "--results`" in page.read_text()
+
+
+def test_a_floor_whose_plant_stops_keeps_its_log_beside_its_outputs(tmp_path):
+    # (pass 25) the program's exit 3 ended the script before the log was saved: the new body.md sat beside
+    # the previous run's floor.log
+    folder = tmp_path / "work" / "out" / "controller_floor"
+    folder.mkdir(parents=True)
+    (folder / "floor.log").write_text("the previous run's log\n")
+    p = _run(tmp_path, "floor", "--clearances", "2e-4", "--duration", "3.6", "--scene-set", "sim.velocity_limit=0.5")
+    assert p.returncode == 3, p.stderr
+    log = (folder / "floor.log").read_text()
+    assert "the previous run's log" not in log and "c=0.2mm" in log, log
+
+
+def test_a_study_whose_every_run_stops_ends_as_the_study_did(tmp_path):
+    # (pass 25) the plot refused a study with no figure while tracking, and the script exited 2 ("refused,
+    # nothing run") after every output had been written
+    p = _run(tmp_path, "study", "--quick", "--sensors", "perfect", "--clearance-scene",
+             str(SOURCE / "tools/scenes/paper_clearance.yaml"), "--scene-set", "sim.velocity_limit=0.5")
+    assert p.returncode == 3, p.stderr
+    assert "no plot (the study's runs stopped: exit 3)" in p.stderr, p.stderr
+    assert (tmp_path / "work/out/pointing_study/study.log").is_file()

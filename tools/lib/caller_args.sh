@@ -1,14 +1,25 @@
 # Sourced by the scripts in tools/ that cd to the repository (usage.md "Scripts in tools/": run from
 # anywhere): a relative path the user gives is theirs, not the repository's. Set CALLER=$PWD before the cd.
 
-# An argument naming an existing path relative to CALLER (itself, or after '=' in --flag=path), made
-# absolute; anything else (a flag, an absolute path, a value naming no file) as given.
+# An argument (itself, or after '=' in --flag=path) that names a path relative to CALLER, made absolute:
+# one that exists there, or that looks like a path (a '/' in it, or a file's extension), so a name missing
+# where the user stands is never read from the repository instead. Anything else (a flag, an absolute
+# path, a number, a key=value, a scene's name) as given.
+_caller_path() {
+  [ "${1#/}" = "$1" ] || return 1  # absolute
+  [ -e "$CALLER/$1" ] && return 0
+  case "$1" in
+    *=*) return 1 ;;  # a key=value
+    */* | *.yaml | *.yml | *.csv | *.json | *.md | *.png | *.svg | *.pdf | *.txt | *.log) return 0 ;;
+  esac
+  return 1
+}
 abs_arg() {
   local a=$1
   case "$a" in
-    --*=*) local v=${a#*=}; [ "${v#/}" != "$v" ] || [ ! -e "$CALLER/$v" ] || a="${a%%=*}=$CALLER/$v" ;;
-    -*|/*) ;;
-    *) [ ! -e "$CALLER/$a" ] || a="$CALLER/$a" ;;
+    --*=*) local v=${a#*=}; ! _caller_path "$v" || a="${a%%=*}=$CALLER/$v" ;;
+    -*) ;;
+    *) ! _caller_path "$a" || a="$CALLER/$a" ;;
   esac
   printf '%s' "$a"
 }

@@ -26,13 +26,17 @@ cmake --build "$BUILD" -j2 --target gimbalsim_controller_floor
 mkdir -p "$OUT"
 LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved into $OUT by the writer's rules
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/floor.log" -- "$@"  # before any run
+status=0
 "$BUILD/bin/gimbalsim_controller_floor" --ideal-scene "$ROOT/tools/scenes/paper_ideal.yaml" \
   --clearance-scene "$ROOT/tools/scenes/paper_clearance.yaml" --before-set pointing.accel_feedforward=inertial \
   --before-set pointing.feedforward_lead=0 \
-  --markdown "$OUT/body.md" "$@" | tee "$LOG"
+  --markdown "$OUT/body.md" "$@" | tee "$LOG" || status=$?
+# Exit 3: a plant stopped; the program wrote its outputs, and the log goes beside them (as the study's script).
+if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/floor.log" -- "$@"
-[ "$RESULTS" = 1 ] || exit 0
+[ "$RESULTS" = 1 ] || exit "$status"
 /usr/bin/python3 "$ROOT/tools/pages/results_page.py" --page "$ROOT/docs/results/controller_floor.md" \
   --title "Controller floor against the bearing" \
   --summary "$(grep '^ideal / ' "$OUT/floor.log" | tail -1)" \
   --command "$COMMAND" --body "$OUT/body.md" --t0 "$T0" --load0 "$LOAD0"
+exit "$status"

@@ -52,7 +52,17 @@ esac
 # Exit 3: a plant stopped; the results of the other runs are still written and plotted.
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}
-/usr/bin/python3 "$ROOT/tools/pointing_study/plot_pointing_study.py" "$OUT"
+plotted=0
+/usr/bin/python3 "$ROOT/tools/pointing_study/plot_pointing_study.py" "$OUT" || plotted=$?
+# A study whose every run stopped (exit 3) leaves the plot nothing to draw: it refuses (2), and the script
+# ends as the study did (3), not as a refusal after everything ran; any other failure is the plot's own.
+if [ "$plotted" -ne 0 ]; then
+  if [ "$status" -eq 3 ] && [ "$plotted" -eq 2 ]; then
+    echo "run_pointing_study.sh: no plot (the study's runs stopped: exit 3); its outputs and log are in $OUT" >&2
+  else
+    exit "$plotted"
+  fi
+fi
 if [ "$RESULTS" = 1 ]; then
   /usr/bin/python3 "$ROOT/tools/pointing_study/pointing_page.py" --dir "$(realpath "$OUT")" --command "$COMMAND" \
      --t0 "$T0" --load0 "$LOAD0"
