@@ -27,6 +27,7 @@ _FROM_THE_SECOND_SAMPLE = (CONTROLLER_PREFIX + "estimator.k_p", CONTROLLER_PREFI
 # the play offset only once a sample has measured it (controllers/src/tracker_fusion.cpp).
 _TRACKER_SAMPLE_KEYS = ("sensors.tracker_noise", "sensors.tracker_bias", "sensors.tracker_rate",
                         CONTROLLER_PREFIX + "antenna.offset_rate")
+_COMMAND_ONLY = (CONTROLLER_PREFIX + "antenna.offset_rate",)  # acts through the command, not the estimate
 
 
 # Every sensor noise drawn from sensors.seed's streams (firmware_sim: joint_sensors.hpp, attitude_sensors.hpp,
@@ -65,7 +66,9 @@ def idle_in_sensors(key, values, dispersed, takes=None, last_tick_read=False):
         if not (key in sample_keys or reads_latency) or {outage, "sim.duration"} & dispersed:
             continue
         start, end = (float(x) for x in str(values.get(outage, "[0, 0]")).strip("[]").split(","))
-        duration, last_read = float(values["sim.duration"]), last_tick_read
+        # the last tick's sample moves its estimate (which knowledge may read) and its command (never applied):
+        # a key that acts on the command alone never acts there
+        duration, last_read = float(values["sim.duration"]), last_tick_read and key not in _COMMAND_ONLY
         if start <= 0.0 and end >= duration:
             return f"{outage} [{seconds(start)}, {seconds(end)}] s covers the whole run: no {name} sample is taken"
         # The instants need the rate and the control period: fixed, exactly; dispersed, over every value drawn.

@@ -49,7 +49,9 @@ def test_bad_arguments_are_refused_before_anything_runs(tmp_path):
                         (["--spec", tmp_path / "nothing.yaml"], "no such file"),
                         (["--spec", tmp_path / "open.yaml"], "not a closed-loop sweep spec"),
                         (["--spec", tmp_path / "broken.yaml"], "cannot read it as YAML"),
-                        (["--spec", tmp_path / "bad.yaml"], "friction.muu"),  # the sweep's own check
+                        (["--spec", tmp_path / "bad.yaml"], "bad.yaml:15:3: key 'parameters.friction.muu'"),
+                        (["--workers", " 1"], "not a whole number"), (["--samples", "1_0"], "not a whole number"),
+                        (["--fine-substep", "5_0e-6"], "not a finite decimal"),
                         (["--out", tmp_path / "theirs"], "holds notes.txt"),
                         (["--out", tmp_path / "link"], "symbolic link")):
         out = [] if "--out" in args or "--results" in args else ["--out", tmp_path / "o"]
@@ -58,3 +60,25 @@ def test_bad_arguments_are_refused_before_anything_runs(tmp_path):
         assert "running default" not in p.stderr, args
     assert sorted(x.name for x in tmp_path.iterdir()) == ["bad.yaml", "broken.yaml", "link", "open.yaml", "theirs"]
     assert (tmp_path / "theirs" / "notes.txt").read_text() == "the user's\n"
+
+
+def test_a_budget_with_no_figure_compares_nothing_and_says_so(tmp_path):
+    # (pass 26) every unit stopped: the budget has no estimate, which the table formatted as a number
+    (tmp_path / "stopped.yaml").write_text(f"""scene: {SOURCE}/tools/scenes/paper_clearance.yaml
+set: {{sim.duration: 0.3, sim.velocity_limit: 0.01}}
+controller: default
+controller_set: {{profile.slew_start: 0.05, profile.slew_time: 0.1, profile.hold_time: 0.05}}
+samples: 2
+seed: 1
+parameters:
+  friction.mu: {{uniform: [0.15, 0.35]}}
+phases: [slew]
+indices:
+  ape: {{requirement: 1.0e-4}}
+""")
+    p = run("--spec", tmp_path / "stopped.yaml", "--fine-substep", "1e-4", "--out", tmp_path / "out")
+    assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
+    assert "| ape_slew | n/a (no unit has a figure) | n/a (no unit has a figure) |" in p.stdout, p.stdout
+    assert "n/a (no unit has a figure in either run)" in p.stdout
+    assert "Every unit within the tolerance of its fine figure: no (ape_slew (2 units, none with a figure))." in p.stdout
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["out", "stopped.yaml"]  # no temporary left

@@ -69,8 +69,9 @@ def derived_spec(spec_path, samples, fine_substep):
     controller = spec["controller"]
     if controller != "default":
         spec["controller"] = str((spec_path.parent / controller).resolve())
-    if samples is not None:
-        spec["samples"] = min(samples, int(spec["samples"]))
+    given = spec["samples"]
+    if samples is not None and isinstance(given, int) and not isinstance(given, bool):
+        spec["samples"] = min(samples, given)  # anything else is the sweep's to refuse, at its line
     if fine_substep is not None:
         spec["sampling"] = "scene"
         if not isinstance(spec.get("set") or {}, dict):
@@ -118,6 +119,12 @@ def interval(values, level, confidence):
     return (xs[r - 1] if r >= 1 else -math.inf), (xs[s2 - 1] if s2 <= len(xs) else math.inf)
 
 
+def _distance_text(worst, unit):
+    if unit is None:
+        return "n/a (no unit has a figure in either run)"
+    return f"{'a figure in one run only' if worst == math.inf else f'{worst:.2e}'} (unit {unit})"
+
+
 def compare(spec, budget_default, budget_fine, rows_default, rows_fine, tolerance_default):
     """Table lines and (indices outside the interval, units beyond the tolerance) per index-phase."""
     reqs = {name: float(opts["requirement"]) for name, opts in (spec.get("indices") or {}).items()
@@ -133,21 +140,25 @@ def compare(spec, budget_default, budget_fine, rows_default, rows_fine, toleranc
         a_vals = [figure(rows_default[u], column) for u in units]
         f_vals = [figure(rows_fine[u], column) for u in units]
         low, high = interval(f_vals, b["level"], b["confidence"])
-        est_a, est_f = b["estimate_rad"], f["estimate_rad"]
-        inside = est_a is not None and low <= est_a <= high
+        est_a, est_f = (math.nan if x is None else x for x in (b["estimate_rad"], f["estimate_rad"]))
+        inside = math.isfinite(est_a) and low <= est_a <= high  # no estimate (no unit has a figure): not inside
         tol = SHARE * reqs[b["index"]] if b["index"] in reqs else fallback
-        diffs = [(abs(x - y) if math.isfinite(x) and math.isfinite(y) else
-                  (0.0 if math.isfinite(x) == math.isfinite(y) else math.inf), u)
-                 for x, y, u in zip(a_vals, f_vals, units)]
-        worst, worst_unit = max(diffs)
-        n_beyond = sum(d > tol for d, _ in diffs)
+        # over the units with a figure in either run: one in one run only is beyond any tolerance
+        diffs = [(abs(x - y) if math.isfinite(x) and math.isfinite(y) else math.inf, u)
+                 for x, y, u in zip(a_vals, f_vals, units) if math.isfinite(x) or math.isfinite(y)]
+        worst, worst_unit = max(diffs) if diffs else (math.nan, None)
+        n_beyond = sum(d > tol for d, _ in diffs) if diffs else len(units)  # nothing compared: none held
         if not inside:
             outside.append(f"{b['index']}_{b['phase']}")
         if n_beyond:
-            beyond.append(f"{b['index']}_{b['phase']} ({n_beyond} units)")
-        show = lambda x: "open" if not math.isfinite(x) else f"{x:.3e}"  # noqa: E731
-        lines.append(f"| {b['index']}_{b['phase']} | {est_a:.3e} | {est_f:.3e} | [{show(low)}, {show(high)}] | "
-                     f"{'yes' if inside else '**no**'} | {worst:.2e} (unit {worst_unit}) | {tol:.0e} | "
+            beyond.append(f"{b['index']}_{b['phase']} ({n_beyond} units" +
+                          (", none with a figure)" if not diffs else ")"))
+        show = lambda x, end="open": end if not math.isfinite(x) else f"{x:.3e}"  # noqa: E731
+        lines.append(f"| {b['index']}_{b['phase']} | {show(est_a, 'n/a (no unit has a figure)')} | "
+                     f"{show(est_f, 'n/a (no unit has a figure)')} | [{show(low)}, {show(high)}] | "
+                     f"{'yes' if inside else '**no**'} | "
+                     f"{_distance_text(worst, worst_unit)} | "
+                     f"{tol:.0e} | "
                      f"{n_beyond} |")
     return lines, outside, beyond
 
@@ -186,6 +197,21 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default):
     return ratio, not outside and not beyond
 
 
+def _whole(text):
+    """A whole number written as one (as the programs read them: no sign, space or '_')."""
+    if not text.isascii() or not text.isdigit() or len(text) > 9:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}")
+    return int(text)
+
+
+def _plain(text):
+    """A plain decimal number (output_file.plain_number: no space, '_', inf or nan)."""
+    try:
+        return output_file.plain_number(text, "the value")
+    except Refused as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
 def check_out(out):
     """--out is this tool's folder or nothing: never a link, a file, or a
     folder holding anything else (it is replaced when both runs finish)."""
@@ -203,9 +229,9 @@ def main():
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--build", default="build", help="build directory holding python/ (relative to the source tree)")
     p.add_argument("--spec", default=str(SHIPPED), help="closed-loop sweep spec (default: the shipped budget)")
-    p.add_argument("--workers", type=int, default=2, help="local Dask workers of each run")
-    p.add_argument("--samples", type=int, default=None, help="run only the spec's first N units")
-    p.add_argument("--fine-substep", type=float, default=5e-6, help="the fine run's fixed sub-step [s]")
+    p.add_argument("--workers", type=_whole, default=2, help="local Dask workers of each run")
+    p.add_argument("--samples", type=_whole, default=None, help="run only the spec's first N units")
+    p.add_argument("--fine-substep", type=_plain, default=5e-6, help="the fine run's fixed sub-step [s]")
     p.add_argument("--out", default=None, help="folder for both runs, replaced when both finish "
                    "(default: the repository's out/budget_speed)")
     p.add_argument("--results", action="store_true", help="also write docs/results/budget_speed.md")
@@ -248,6 +274,16 @@ def _run(a, build, spec_path, out):
         raise Refused(f"--out {out}: its folder {out.parent} does not exist")
     work = pathlib.Path(tempfile.mkdtemp(prefix=out.name + ".new-", dir=out.parent))
     try:
+        return _run_in(a, build, spec_path, out, work, specs, _sampling.TOLERANCE_RAD, t0, load0)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)  # gone once renamed to --out; else nothing is left behind
+
+
+def _run_in(a, build, spec_path, out, work, specs, tolerance, t0, load0):
+    """_run's work in the fresh folder work, renamed to out at the end."""
+    try:
+        # The user's own spec first: a refusal names their file and line, not the rewritten one's.
+        run_sweep(build, spec_path, work / "check", a.workers, check=True)
         paths = {name: work / f"{name}.yaml" for name in RUNS}
         for name in RUNS:  # every spec written and checked before the first run
             output_file.write_text(paths[name], yaml.safe_dump(specs[name], sort_keys=False))
@@ -257,16 +293,11 @@ def _run(a, build, spec_path, out):
             print(f"budget_speed: running {name} ({paths[name]}) ...", file=sys.stderr)
             runs.append(run_sweep(build, paths[name], work / name, a.workers))
     except SweepFailed as e:
-        shutil.rmtree(work)
         print(f"budget_speed: {e.args[1]}", file=sys.stderr)
         return e.args[0]
-    except BaseException:
-        shutil.rmtree(work, ignore_errors=True)
-        raise
     body = io.StringIO()
     with contextlib.redirect_stdout(body):
-        ratio, held = report(spec_path.name, specs["default"], runs, a.fine_substep, a.workers,
-                             _sampling.TOLERANCE_RAD)
+        ratio, held = report(spec_path.name, specs["default"], runs, a.fine_substep, a.workers, tolerance)
     print(body.getvalue(), end="")
     check_out(out)  # as before the runs: nothing planted there since
     if out.exists():
