@@ -162,5 +162,47 @@ def test_a_study_whose_every_run_stops_ends_as_the_study_did(tmp_path):
     p = _run(tmp_path, "study", "--quick", "--sensors", "perfect", "--clearance-scene",
              str(SOURCE / "tools/scenes/paper_clearance.yaml"), "--scene-set", "sim.velocity_limit=0.5")
     assert p.returncode == 3, p.stderr
-    assert "no plot (the study's runs stopped: exit 3)" in p.stderr, p.stderr
+    assert "no plot (the study ran, exit 3)" in p.stderr, p.stderr
     assert (tmp_path / "work/out/pointing_study/study.log").is_file()
+
+
+@pytest.mark.parametrize("which,flag", [("floor", "--help"), ("study", "--version"), ("study", "-h")])
+def test_help_and_version_leave_the_previous_log(tmp_path, which, flag):
+    # (pass 26) the answer was saved as the log over the previous run's, and the study re-plotted
+    _, program, log_name, out = SCRIPTS[which]
+    folder = tmp_path / "work" / out
+    folder.mkdir(parents=True)
+    (folder / log_name).write_text("the previous run's log\n")
+    p = _run(tmp_path, which, flag)
+    assert p.returncode == 0, p.stderr
+    assert (program in p.stdout) if flag == "--version" else ("Usage" in p.stdout or "usage" in p.stdout), p.stdout
+    assert (folder / log_name).read_text() == "the previous run's log\n"
+
+
+def test_a_study_with_no_figure_while_tracking_ends_as_the_study_did(tmp_path):
+    # (pass 26) 1 s runs end before tracking: the study exits 0, the plot has nothing to draw, the script said 2
+    p = _run(tmp_path, "study", "--quick", "--sensors", "perfect", "--clearance-scene",
+             str(SOURCE / "tools/scenes/paper_clearance.yaml"), "--duration", "1")
+    assert p.returncode == 0, p.stderr
+    assert "no plot (the study ran, exit 0)" in p.stderr, p.stderr
+
+
+def test_the_study_page_says_why_a_figure_is_missing(tmp_path):
+    # (pass 26) every run stopped: the page's summary read "peak error while tracking nan rad ideal"
+    repo = _repository_copy(tmp_path)
+    build, fake, work = tmp_path / "build", tmp_path / "fakebin", tmp_path / "work"
+    for d in (build / "bin", fake, work):
+        d.mkdir(parents=True)
+    (build / "CMakeCache.txt").write_text("")
+    (build / "bin" / "gimbalsim_pointing_study").symlink_to(BIN / "gimbalsim_pointing_study")
+    (fake / "cmake").write_text("#!/bin/sh\nexit 0\n")
+    (fake / "cmake").chmod(0o755)
+    env = dict(os.environ, BUILD_DIR=str(build), PATH=f"{fake}:{os.environ['PATH']}")
+    p = subprocess.run(["bash", str(repo / "tools/pointing_study/run_pointing_study.sh"), "--results", "--quick",
+                        "--sensors", "perfect", "--clearance-scene", str(SOURCE / "tools/scenes/paper_clearance.yaml"),
+                        "--scene-set", "sim.velocity_limit=0.5"], cwd=work, env=env, capture_output=True, text=True,
+                       timeout=300)
+    assert p.returncode == 3, p.stderr
+    page = (repo / "docs/results/closed_loop_clearance.md").read_text()
+    assert "nan" not in page.lower().replace("nanosec", ""), page
+    assert "no run has a figure while tracking" in page

@@ -17,6 +17,19 @@ sys.path.insert(0, str(ROOT / "tools" / "pages"))
 import results_page  # noqa: E402
 
 
+def _value(text):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def _rad(text, fmt=".2e"):
+    """A figure [rad] as the page prints it: n/a where the run has none (its status says why)."""
+    v = _value(text)
+    return format(v, fmt) if math.isfinite(v) else "n/a"
+
+
 def main():
     ap = results_page.page_arguments(__doc__, "out/pointing_study")
     a = ap.parse_args()
@@ -105,16 +118,22 @@ def main():
         guard = " / ".join(f"{onset(r, j):.3f}" if math.isfinite(onset(r, j)) else "-" for j in range(2))
         md.append(f"| {r['run']} | {r['scene']} | {sensors(r)} | {r.get('loop_sensors') or '-'} | "
                   f"{'-' if c == 0 else f'{c * 1e3:g}'} | "
-                  f"{float(r['peak_track_rad']):.2e} | {float(r['rms_track_rad']):.2e} | {float(r['peak_run_rad']):.2e} | "
+                  f"{_rad(r['peak_track_rad'])} | {_rad(r['rms_track_rad'])} | {_rad(r['peak_run_rad'])} | "
                   f"{rel[0]} | {rel[1]} | {r.get('controller_limited_ticks', '-')} | {tilts(r)} | {guard} | {status} |")
     md += ["", "Per tick: out/pointing_study/pointing_error.csv; figures: out/pointing_study/pointing_error_vs_time.png "
            "and pointing_error_vs_clearance.png (tools/pointing_study/plot_pointing_study.py).", ""]
     if config:
         md += ["Controller configuration in effect (config.txt):", "", "```", *config, "```", ""]
-    worst = max(rows, key=lambda r: float(r["peak_track_rad"]))
+    seen = [r for r in rows if math.isfinite(_value(r["peak_track_rad"]))]
+    worst = max(seen, key=lambda r: _value(r["peak_track_rad"])) if seen else None
     ideal = ideals.get("perfect")
-    summary = (f"{len(rows)} runs; peak error while tracking {float(ideal['peak_track_rad']):.3g} rad ideal, "
-               f"up to {float(worst['peak_track_rad']):.3g} rad ({worst['run']})" if ideal else f"{len(rows)} runs")
+    if worst is None:  # never a bare nan: what the runs did not reach is said
+        summary = f"{len(rows)} runs; no run has a figure while tracking (each stopped or ended before it)"
+    elif ideal:
+        summary = (f"{len(rows)} runs; peak error while tracking {_rad(ideal['peak_track_rad'], '.3g')} rad ideal, "
+                   f"up to {_rad(worst['peak_track_rad'], '.3g')} rad ({worst['run']})")
+    else:
+        summary = f"{len(rows)} runs"
     results_page.write_page(ROOT / "docs/results/closed_loop_clearance.md",
                             "Closed-loop pointing error against clearance", a.command, "\n".join(md),
                             summary=summary, t0=a.t0, load0=a.load0)

@@ -23,6 +23,10 @@ if [ ! -f "$BUILD/CMakeCache.txt" ]; then
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
 fi
 cmake --build "$BUILD" -j2 --target gimbalsim_controller_floor
+# --help and --version are the program's answer alone: no run, no log saved over the previous one.
+for a in "$@"; do
+  case "$a" in -h | --help | --version) exec "$BUILD/bin/gimbalsim_controller_floor" "$a" ;; esac
+done
 mkdir -p "$OUT"
 LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved into $OUT by the writer's rules
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/floor.log" -- "$@"  # before any run

@@ -26,6 +26,10 @@ if [ ! -f "$BUILD/CMakeCache.txt" ]; then
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
 fi
 cmake --build "$BUILD" -j2 --target gimbalsim_pointing_study
+# --help and --version are the program's answer alone: no run, no log saved over the previous one, no plot.
+for a in ${args[@]+"${args[@]}"}; do
+  case "$a" in -h | --help | --version) exec "$BUILD/bin/gimbalsim_pointing_study" "$a" ;; esac
+done
 status=0
 # The console log is tee'd outside --out and saved into it by the writer's rules once the study has written
 # its own outputs (tools/pages/save_output.py): --out is the study's to check and to make, never the script's.
@@ -54,11 +58,12 @@ if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}
 plotted=0
 /usr/bin/python3 "$ROOT/tools/pointing_study/plot_pointing_study.py" "$OUT" || plotted=$?
-# A study whose every run stopped (exit 3) leaves the plot nothing to draw: it refuses (2), and the script
-# ends as the study did (3), not as a refusal after everything ran; any other failure is the plot's own.
+# A study with no figure while tracking (every run stopped, or each ended before it) leaves the plot nothing
+# to draw: it refuses (2), and the script ends as the study did, not as a refusal after everything ran; any
+# other failure is the plot's own.
 if [ "$plotted" -ne 0 ]; then
-  if [ "$status" -eq 3 ] && [ "$plotted" -eq 2 ]; then
-    echo "run_pointing_study.sh: no plot (the study's runs stopped: exit 3); its outputs and log are in $OUT" >&2
+  if [ "$plotted" -eq 2 ]; then
+    echo "run_pointing_study.sh: no plot (the study ran, exit $status); its outputs and log are in $OUT" >&2
   else
     exit "$plotted"
   fi

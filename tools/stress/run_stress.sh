@@ -22,6 +22,10 @@ for a in "$@"; do
 done
 [ -f build/CMakeCache.txt ] || cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2 --target gimbalsim_stress >/dev/null
+# --help and --version are the program's answer alone: no run, no log saved over the previous one.
+for a in ${ARGS[@]+"${ARGS[@]}"}; do
+  case "$a" in -h | --help | --version) exec build/bin/gimbalsim_stress "$a" ;; esac
+done
 mkdir -p out/stress
 status=0
 LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved by the writer's rules (not tee's)

@@ -22,6 +22,10 @@ done
 bash tools/bootstrap.sh
 [ -f build/CMakeCache.txt ] || cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2 --target gimbalsim_workprec >/dev/null
+# --help and --version are the program's answer alone: no run, no log saved over the previous one, no plot.
+for a in ${ARGS[@]+"${ARGS[@]}"}; do
+  case "$a" in -h | --help | --version) exec build/bin/gimbalsim_workprec "$a" ;; esac
+done
 mkdir -p out/workprec
 LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved by the writer's rules (not tee's)
 /usr/bin/python3 tools/pages/save_output.py --check "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
