@@ -10,7 +10,7 @@ import math
 import re
 
 from ._closed_spec import CONTROLLER_PREFIX
-from ._idle_sensors import (ANTENNA_NOISE_KEYS, ANTENNA_SENSOR_KEYS, ANTENNA_TRACKER, NOISE_KEYS, Span,
+from ._idle_sensors import (ANTENNA_NOISE_KEYS, ANTENNA_SENSOR_KEYS, ANTENNA_TRACKER, NOISE_KEYS, TRUTH_ONLY, Span,
                             idle_at_antenna, idle_in_sensors)
 
 # What a closed loop never reads, and what an open-loop run never reads.
@@ -124,17 +124,17 @@ def takes_of(parameters, grid, aliases, prefix=""):
     return takes
 
 
-def idle_reason(key, values, dispersed, takes, closed, last_tick_read=False):
+def idle_reason(key, values, dispersed, takes, closed, unread_ticks=TRUTH_ONLY):
     """Why the dispersed `key` (canonical; controller keys as controller.*)
     cannot act in this study, or None. values: the scene's and (closed loop)
-    the controller's (as controller.*), as text; last_tick_read: a figure
-    reads the run's last tick's measurement (the knowledge index over the
-    track phase, which runs to the run's end)."""
+    the controller's (as controller.*), as text; unread_ticks: how many of
+    the run's last ticks' measurements no figure reads (_idle_sensors)."""
     why = ALWAYS_IDLE.get(key) or (CLOSED_LOOP_IDLE if closed else OPEN_LOOP_IDLE).get(key) or \
         _for_every_value(_idle_in_scene, key, values, dispersed, takes)
     if why is None and closed:
         why = _for_every_value(_idle_in_controller_keys, key, values, dispersed, takes) or \
-            _for_every_value(functools.partial(idle_in_sensors, takes=takes, last_tick_read=last_tick_read), key, values, dispersed, takes,
+            _for_every_value(functools.partial(idle_in_sensors, takes=takes, unread_ticks=unread_ticks), key, values,
+                             dispersed, takes,
                              NOISE_KEYS + ANTENNA_NOISE_KEYS if key == "sensors.seed" else ())
     if why is None and closed:
         why = _for_every_value(idle_at_antenna, key, values, dispersed, takes)
@@ -145,14 +145,14 @@ def idle_reason(key, values, dispersed, takes, closed, last_tick_read=False):
     return why
 
 
-def refuse_idle_set(spec, entries, values, dispersed, takes, closed, runs, last_tick_read=False):
+def refuse_idle_set(spec, entries, values, dispersed, takes, closed, runs, unread_ticks=TRUTH_ONLY):
     """A key given under set: or controller_set: [(where, canonical key, node)]
     that the runs never read: refused at its line as the dispersed key is
     (whatever its value: it would be recorded in the fingerprint and act on
     nothing). Judged with the loaded values; a key also dispersed is judged
     as dispersed."""
     for where, key, node in entries:
-        why = None if key in dispersed else idle_reason(key, values, dispersed, takes, closed, last_tick_read)
+        why = None if key in dispersed else idle_reason(key, values, dispersed, takes, closed, unread_ticks)
         if why is not None:
             spec.refuse(where, f"not read by {runs} ({why}): the value given would be recorded but never act", node)
 

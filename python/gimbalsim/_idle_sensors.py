@@ -29,6 +29,12 @@ _TRACKER_SAMPLE_KEYS = ("sensors.tracker_noise", "sensors.tracker_bias", "sensor
                         CONTROLLER_PREFIX + "antenna.offset_rate")
 _COMMAND_ONLY = (CONTROLLER_PREFIX + "antenna.offset_rate",)  # acts through the command, not the estimate
 
+# How many of the run's last ticks' measurements no figure reads (unread_ticks). A measurement at tick k moves
+# that tick's estimate, which the knowledge index reads, and its command, which the plant applies over
+# (t_k+1, t_k+2] (firmware_sim/src/closed_loop.cpp: received after the plant advances): the truth shows it
+# from tick k + 2 on, so a figure of the truth alone never sees the last two ticks' measurements.
+KNOWLEDGE_AT_THE_END, KNOWLEDGE, TRUTH_ONLY = 0, 1, 2
+
 
 # Every sensor noise drawn from sensors.seed's streams (firmware_sim: joint_sensors.hpp, attitude_sensors.hpp,
 # antenna_sensors.hpp): with all of them 0 the seed draws nothing that acts.
@@ -38,18 +44,19 @@ NOISE_KEYS = ("sensors.encoder_noise", "sensors.rate_noise", "sensors.gyro_noise
 ANTENNA_NOISE_KEYS = ("sensors.tracker_noise", "sensors.antenna_gyro_noise")
 
 
-def idle_in_sensors(key, values, dispersed, takes=None, last_tick_read=False):
+def idle_in_sensors(key, values, dispersed, takes=None, unread_ticks=TRUTH_ONLY):
     """Why a key that acts through the star tracker's or the boresight
     tracker's samples cannot act: an outage over the whole run [0,
     sim.duration] or over every sample instant within it (for every rate,
     control period and latency the study gives: takes), or a latency no
     shorter than the run (a sample is delivered latency after it is taken);
-    or why sensors.seed cannot: every noise is 0. last_tick_read: a figure
-    reads the run's last tick's measurement (_last_acting_tick)."""
+    or why sensors.seed cannot: every noise is 0. unread_ticks: how many of
+    the run's last ticks' measurements no figure reads (KNOWLEDGE_AT_THE_END,
+    KNOWLEDGE, TRUTH_ONLY; _last_acting_tick)."""
     if key == "sensors.seed":
         # the noises that act: the star tracker's and the antenna's only where their samples do
         def acts(k):
-            return idle_in_sensors(k, values, dispersed, takes, last_tick_read) is None
+            return idle_in_sensors(k, values, dispersed, takes, unread_ticks) is None
         noises = tuple(k for k in NOISE_KEYS if k != "sensors.star_tracker_noise" or acts(k)) + \
             tuple(k for k in ANTENNA_NOISE_KEYS if idle_at_antenna(k, values, dispersed) is None and acts(k))
         if set(noises) & dispersed or any(float(values.get(k, 0.0)) != 0.0 for k in noises):
@@ -66,9 +73,8 @@ def idle_in_sensors(key, values, dispersed, takes=None, last_tick_read=False):
         if not (key in sample_keys or reads_latency) or {outage, "sim.duration"} & dispersed:
             continue
         start, end = (float(x) for x in str(values.get(outage, "[0, 0]")).strip("[]").split(","))
-        # the last tick's sample moves its estimate (which knowledge may read) and its command (never applied):
-        # a key that acts on the command alone never acts there
-        duration, last_read = float(values["sim.duration"]), last_tick_read and key not in _COMMAND_ONLY
+        # a key that acts on the command alone is read by the truth alone
+        duration, unread = float(values["sim.duration"]), TRUTH_ONLY if key in _COMMAND_ONLY else unread_ticks
         if start <= 0.0 and end >= duration:
             return f"{outage} [{seconds(start)}, {seconds(end)}] s covers the whole run: no {name} sample is taken"
         # The instants need the rate and the control period: fixed, exactly; dispersed, over every value drawn.
@@ -77,30 +83,30 @@ def idle_in_sensors(key, values, dispersed, takes=None, last_tick_read=False):
         given = _Given(takes, values, dispersed)
         combos = None if judged else given.combinations((rate_key, period))
         drawn = "" if combos is None else given.text((rate_key, period), ("Hz", "s"))
-        if combos and all(_every_sample_lost(start, end, duration, r, T, None, last_read) for r, T in combos):
+        if combos and all(_every_sample_lost(start, end, duration, r, T, None, unread) for r, T in combos):
             return (f"{outage} [{seconds(start)}, {seconds(end)}] s holds every {name} sample within the run for "
                     f"every {drawn}: no {name} sample is taken while it can act")
-        if judged:
-            after = _next_sample_after_outage(start, end, duration, float(values[rate_key]), float(values[period]),
-                                              last_read)
-            if after is not None:
-                return (f"{outage} [{seconds(start)}, {seconds(end)}] s holds every {name} sample within the run "
-                        f"(one every {seconds(1.0 / float(values[rate_key]))} s from 0, the next after the outage "
-                        f"at {seconds(after)} s, not before the run's end at {seconds(duration)} s): no {name} sample is taken "
-                        "while it can act")
+        if judged and _delivered(start, end, duration, float(values[rate_key]), float(values[period]), 0.0, unread,
+                                 most=1) == 0:
+            after = _first_take(_outage_ticks(start, end, float(values[period]))[1] + 1, float(values[rate_key]),
+                                float(values[period])) * float(values[period])
+            return (f"{outage} [{seconds(start)}, {seconds(end)}] s holds every {name} sample within the run "
+                    f"(one every {seconds(1.0 / float(values[rate_key]))} s from 0, the next after the outage "
+                    f"at {seconds(after)} s, too late to act{_unread_text(unread, duration)}): no {name} sample is "
+                    "taken while it can act")
         # Sample 0 (taken at 0) falls due at the latency: after the last acting tick, no sample is delivered.
         periods, latencies = given.points(period), given.span(latency_key, default=0.0)
         lowest = None if latencies is None else latencies[0]
-        if lowest is not None and _after_the_last_acting_tick(lowest, duration, periods, last_read):
+        if lowest is not None and _after_the_last_acting_tick(lowest, duration, periods, unread):
             return (f"{latency_key} {seconds(lowest)} s{' or more' if latency_key in dispersed else ''} is no shorter "
                     f"than the run ({seconds(duration)} s)"
-                    f"{'' if lowest >= duration else ', less its last tick, which no phase holds'}"
+                    f"{'' if lowest >= duration else _unread_text(unread, duration)}"
                     f": no {name} sample is delivered")
         # The rate decides only samples after the first: none falls due within the run at any rate drawn.
         rates = None if lowest is None else given.span(rate_key)
         rate_hi = None if rates is None else rates[1]
         if key == rate_key and key in dispersed and rate_hi is not None and rate_hi > 0.0 and \
-                _after_the_last_acting_tick(1.0 / rate_hi + lowest, duration, periods, last_read):
+                _after_the_last_acting_tick(1.0 / rate_hi + lowest, duration, periods, unread):
             return (f"only {name} sample 0 (at t = 0) falls due within the run at {rate_key} up to {rate_hi!r} Hz: "
                     "the rate decides no sample that acts")
         too_old = _dropped_as_too_old(sensor, name, latency_key, given)
@@ -110,7 +116,7 @@ def idle_in_sensors(key, values, dispersed, takes=None, last_tick_read=False):
             # with the outage: every sample lost at every latency given (a range as itself: only a sample
             # lost at both ends counts, since a longer latency can carry a sample past the outage or into it)
             lost = given.combinations((rate_key, period, latency_key))
-            if lost and all(_every_sample_lost(start, end, duration, r, T, L, last_read) for r, T, L in lost):
+            if lost and all(_every_sample_lost(start, end, duration, r, T, L, unread) for r, T, L in lost):
                 return (f"{outage} [{seconds(start)}, {seconds(end)}] s: for every "
                         f"{given.text((rate_key, period, latency_key), ('Hz', 's', 's'))}, every "
                         f"{name} sample taken outside the outage falls due in it (dropped) or after the run's last "
@@ -118,12 +124,13 @@ def idle_in_sensors(key, values, dispersed, takes=None, last_tick_read=False):
             continue
         latency = float(values.get(latency_key, 0.0))
         # A sample taken outside the outage but delivered in it (dropped) or after the run acts on nothing.
-        if judged and _none_delivered(start, end, duration, float(values[rate_key]), float(values[period]), latency,
-                                      last_read):
+        if judged and _delivered(start, end, duration, float(values[rate_key]), float(values[period]), latency,
+                                 unread, most=1) == 0:
             return (f"{outage} [{seconds(start)}, {seconds(end)}] s with {latency_key} {seconds(latency)} s: every "
-                    f"{name} sample taken outside the outage falls due in it (dropped) or not before the run's "
-                    f"end at {seconds(duration)} s: no {name} sample is delivered while it can act")
-        if combos and all(_every_sample_lost(start, end, duration, r, T, (latency, latency), last_read)
+                    f"{name} sample taken outside the outage falls due in it (dropped) or too late to act (the "
+                    f"run ends at {seconds(duration)} s{_unread_text(unread, duration)}): no {name} sample is "
+                    "delivered while it can act")
+        if combos and all(_every_sample_lost(start, end, duration, r, T, (latency, latency), unread)
                           for r, T in combos):
             return (f"{outage} [{seconds(start)}, {seconds(end)}] s with {latency_key} {seconds(latency)} s: for "
                     f"every {drawn}, every {name} sample taken outside the outage falls due in it (dropped) or "
@@ -131,7 +138,7 @@ def idle_in_sensors(key, values, dispersed, takes=None, last_tick_read=False):
         if too_old is not None:
             return too_old
         if key in _FROM_THE_SECOND_SAMPLE:
-            one = _one_sample_at_most(start, end, duration, given, (rate_key, period, latency_key), last_read)
+            one = _one_sample_at_most(start, end, duration, given, (rate_key, period, latency_key), unread)
             if one is not None:
                 outage_text = f"{outage} [{seconds(start)}, {seconds(end)}] s and " if end > start else ""
                 return (f"with {outage_text}{one}, at most one {name} sample "
@@ -140,7 +147,7 @@ def idle_in_sensors(key, values, dispersed, takes=None, last_tick_read=False):
     return None
 
 
-def _one_sample_at_most(start, end, duration, given, keys, last_read):
+def _one_sample_at_most(start, end, duration, given, keys, unread):
     """What the study gives keys (rate, period, latency), for a refusal, when
     at every combination at most one sample is delivered while it can act;
     else None. Judged only where each is a fixed value or a choice's (a
@@ -149,37 +156,43 @@ def _one_sample_at_most(start, end, duration, given, keys, last_read):
     if not combos or any(lo != hi for combo in combos for lo, hi in combo):
         return None
     for (rate, _), (period, _), (latency, _) in combos:
-        n = _delivered(start, end, duration, rate, period, latency, last_read, most=2)
+        n = _delivered(start, end, duration, rate, period, latency, unread, most=2)
         if n is None or n > 1:
             return None
     return given.text(keys, ("Hz", "s", "s"))
 
 
-def _delivered(start, end, duration, rate, period, latency, last_read, most):
-    """How many samples are delivered at or before the last acting tick, up
-    to most (None: too many takes to go through), as sample_schedule.hpp
-    takes and delivers them: sample j taken at the first tick at or after
-    j / rate, one a tick (the next index found as advanceSampleIndex does),
-    none in the outage (active when end > start); delivered latency's ticks
-    later, the newest of those due in a tick, none in the outage."""
-    if not (rate > 0.0 and period > 0.0 and latency >= 0.0):
+def _delivered(start, end, duration, rate, period, latency, unread, most):
+    """How many samples are delivered at or before the last acting tick
+    (_last_acting_tick), up to most (None: not numbers it can judge), as
+    sample_schedule.hpp takes and delivers them: sample j belongs to j /
+    rate and is taken at the first tick at or after it, one a tick, none in
+    the outage [start, end] (active when end > start); delivered latency's
+    ticks later, none in the outage. The one mirror of that schedule here."""
+    if not (0.0 < rate <= 1e6 and period > 0.0 and latency >= 0.0):
         return None
     first, last = _outage_ticks(start, end, period) if end > start else (1, 0)
-    in_outage = lambda k: first <= k <= last  # noqa: E731
-    last_acting, lag = _last_acting_tick(duration, period, last_read), _tick_at_or_after(latency, period)
-    delivered, j = set(), 0
-    for _ in range(10**6):
-        s = _tick_at_or_after(j / rate, period)
-        if s + lag > last_acting:
-            return len(delivered)
-        if not in_outage(s) and not in_outage(s + lag):
-            delivered.add(s + lag)
-            if len(delivered) >= most:
+    last_acting, lag = _last_acting_tick(duration, period, unread), _tick_at_or_after(latency, period)
+    delivered, s = 0, 0  # sample 0, taken at tick 0
+    while s + lag <= last_acting:
+        if first <= s <= last:  # taken in the outage: lost, and so is every take up to its end
+            s = _first_take(last + 1, rate, period)
+        elif first <= s + lag <= last:  # due in it: dropped, and so is every take due up to its end
+            s = _first_take(last + 1 - lag, rate, period)
+        else:
+            delivered += 1
+            if delivered >= most:
                 return most
-        j = max(j + 1, math.floor(s * period * rate))  # the next sample after tick s
-        while _tick_at_or_after(j / rate, period) <= s:
-            j += 1
-    return None
+            s = _first_take(s + 1, rate, period)
+    return delivered
+
+
+def _unread_text(unread, duration):
+    """The ticks no figure reads, for a refusal: ", less its last tick(s) ..."."""
+    return {KNOWLEDGE_AT_THE_END: "",
+            KNOWLEDGE: ", less its last tick, whose command acts after the run and whose estimate no index reads",
+            TRUTH_ONLY: ", less its last two ticks, which act only through commands applied after the run's "
+                        "last tick"}[unread]
 
 
 def _dropped_as_too_old(sensor, name, latency_key, given):
@@ -206,13 +219,13 @@ def _dropped_as_too_old(sensor, name, latency_key, given):
             f"{' or '.join(held)} at {period_key} {' or '.join(seconds(T) for T in periods)} s) and is dropped")
 
 
-def _after_the_last_acting_tick(t, duration, periods, last_read):
+def _after_the_last_acting_tick(t, duration, periods, unread):
     """Whether a sample falling due at t [s] (at the first tick at or after
     it) is past the last acting tick at every period given; a period drawn
     from a range (None): only a t past the run's end counts."""
     if periods is None:
         return t > duration * (1 + 1e-9)
-    return all(T > 0.0 and _tick_at_or_after(t, T) > _last_acting_tick(duration, T, last_read) for T in periods)
+    return all(T > 0.0 and _tick_at_or_after(t, T) > _last_acting_tick(duration, T, unread) for T in periods)
 
 
 Span = collections.namedtuple("Span", "lo hi")  # a number drawn from a range (uniform, loguniform, normal ends)
@@ -266,12 +279,12 @@ class _Given:
         return " and ".join(one(k, unit) for k, unit in zip(keys, units))
 
 
-def _every_sample_lost(start, end, duration, rate, period, latency, last_read):
+def _every_sample_lost(start, end, duration, rate, period, latency, unread):
     """Whether no sample acts, for every rate in rate = (lo, hi) Hz, control
     period in period = (lo, hi) s and (given) latency in latency = (lo, hi)
     s: each is taken in the outage [start, end], or (latency given) falls
     due in it or after the last acting tick. A point of each: exactly
-    (_next_sample_after_outage, _none_delivered). Otherwise sample j (at
+    (_delivered). Otherwise sample j (at
     j/rate) is taken within a period after it and falls due latency later,
     rounded up to a tick: only a sample sure of being lost at both ends
     counts; one in doubt acts."""
@@ -279,12 +292,10 @@ def _every_sample_lost(start, end, duration, rate, period, latency, last_read):
     l_lo, l_hi = (None, None) if latency is None else latency
     if not (end > start and 0.0 < r_lo <= r_hi and 0.0 < t_lo <= t_hi and (latency is None or 0.0 <= l_lo <= l_hi)):
         return False
-    if r_lo == r_hi and t_lo == t_hi and l_lo == l_hi:
-        if latency is None:
-            return _next_sample_after_outage(start, end, duration, r_lo, t_lo, last_read) is not None
-        return _none_delivered(start, end, duration, r_lo, t_lo, l_lo, last_read)
-    # beyond it, past the last acting tick at any period: the run's last (last_read), else the one before it
-    late = (duration if last_read else duration - t_lo) + 1e-9 * duration
+    if r_lo == r_hi and t_lo == t_hi and l_lo == l_hi:  # a latency only delays a sample: none, as 0
+        return _delivered(start, end, duration, r_lo, t_lo, l_lo or 0.0, unread, most=1) == 0
+    # beyond it, past the last acting tick at any period
+    late = duration - unread * t_lo + 1e-9 * duration
     if late * r_hi > 1e6:
         return False  # too many samples to go through: not judged
     j = 0
@@ -335,44 +346,12 @@ def _tick_at_or_after(t, period):
     return math.ceil(t / period - 1e-9)
 
 
-def _last_acting_tick(duration, period, last_read):
+def _last_acting_tick(duration, period, unread):
     """The last tick whose measurement can act: the run's last, duration/T,
-    when a phase holds it (last_read: the track phase runs to the run's end,
-    and the knowledge index reads that tick's estimate: a star sample
-    delivered there moved knowledge_track 500-fold); else the one before (its
-    command is never applied: the loop ends there, and a window [t0, t1)
-    within the run never holds it)."""
-    return round(duration / period) - (0 if last_read else 1)
-
-
-def _next_sample_after_outage(start, end, duration, rate, period, last_read):
-    """When the outage [start, end] holds every sample the tracker takes
-    while it can act (_last_acting_tick), the time of the first one it takes
-    after the outage (the run's end or later), else None. Latency only delays a sample."""
-    if not (end > start and rate > 0.0 and period > 0.0):
-        return None
-    first, last = _outage_ticks(start, end, period)
-    if first > 0:
-        return None  # tick 0 takes sample 0 before the outage
-    after = _first_take(last + 1, rate, period)
-    return after * period if after > _last_acting_tick(duration, period, last_read) else None
-
-
-def _none_delivered(start, end, duration, rate, period, latency, last_read):
-    """Whether no sample taken outside the outage is delivered outside it
-    while it can act (_last_acting_tick): a sample taken at tick s is delivered
-    at tick s + L (L the latency's ticks, sample_schedule.hpp), dropped when
-    that tick is in the outage."""
-    if not (end > start and rate > 0.0 and period > 0.0):
-        return False
-    last_acting, lag = _last_acting_tick(duration, period, last_read), _tick_at_or_after(latency, period)
-    first, last = _outage_ticks(start, end, period)
-    if first > 0 and lag < first and lag <= last_acting:
-        return False  # sample 0, taken and delivered before the outage
-    s = _first_take(max(0, last + 1 - lag), rate, period)
-    if s < first and s + lag <= last_acting:
-        return False  # taken before the outage, delivered after it
-    return _first_take(last + 1, rate, period) + lag > last_acting
+    less the ticks no figure reads (unread: KNOWLEDGE_AT_THE_END, a knowledge
+    index over a phase that holds the last tick; KNOWLEDGE, one; TRUTH_ONLY,
+    two: the command of tick k acts on the truth from tick k + 2)."""
+    return round(duration / period) - unread
 
 
 def idle_at_antenna(key, values, dispersed):

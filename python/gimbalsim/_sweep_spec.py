@@ -7,6 +7,7 @@ import gimbalsim
 from . import _provenance, _sampling
 from ._closed_spec import CONTROLLER_PREFIX, ClosedLoopSpec, plant_overrides
 from ._idle_keys import idle_reason, refuse_idle_set, takes_of
+from ._idle_sensors import KNOWLEDGE, KNOWLEDGE_AT_THE_END, TRUTH_ONLY
 from ._spec import Spec
 from .indices import seconds
 from .dispersion import Design, check_within, design_size, parse_parameter
@@ -199,15 +200,17 @@ class SweepSpec:
         values = {k: str(v) for k, v in self.base.values().items()}  # read once: each key judged alike
         if self.closed is not None:
             values.update({CONTROLLER_PREFIX + k: str(v) for k, v in self.closed.values.items()})
-        # the run's last tick's measurement is read only by the knowledge index over a phase that holds that
-        # tick (at sim.duration): the track phase, which runs to the run's end, or a window [t0, t1) with t1
-        # past it (the spec accepts t1 up to 1e-9 s beyond); every other index reads the truth
-        last_read = self.closed is not None and any(ix.name == "knowledge" for ix in self.closed.indices) and \
-            any(w is None and name == "track" or w is not None and w[1] > self.closed.duration_s
-                for name, w in self.closed.phases)
+        # the last ticks' measurements: only the knowledge index reads an estimate (a tick's own); the last
+        # tick's over a phase that holds it (at sim.duration): the track phase, which runs to the run's end, or
+        # a window [t0, t1) with t1 past it (the spec accepts t1 up to 1e-9 s beyond); the truth shows a
+        # measurement two ticks later (_idle_sensors.TRUTH_ONLY)
+        knowledge = self.closed is not None and any(ix.name == "knowledge" for ix in self.closed.indices)
+        unread = TRUTH_ONLY if not knowledge else KNOWLEDGE_AT_THE_END if any(
+            w is None and name == "track" or w is not None and w[1] > self.closed.duration_s
+            for name, w in self.closed.phases) else KNOWLEDGE
         for where, key, node in dispersed:
             why = idle_reason(aliases.get(key, key), values, dispersed_keys, takes, self.closed is not None,
-                              last_read)
+                              unread)
             if why is not None:
                 spec.refuse(where, f"{NOT_READ} ({why}): a dispersed value would be recorded "
                             "but never act", node)
@@ -217,7 +220,7 @@ class SweepSpec:
         if self.closed is not None:
             fixed += [(f"controller_set.{k}", CONTROLLER_PREFIX + k, n) for k, n in self.closed.set_nodes.items()]
         refuse_idle_set(spec, fixed, values, dispersed_keys, takes, self.closed is not None, "this sweep's runs",
-                        last_read)
+                        unread)
 
     def _plant(self, overrides):
         """Scene overrides as a sample's scene is loaded with them (_closed_sample.load_sample)."""

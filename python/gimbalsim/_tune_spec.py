@@ -170,7 +170,7 @@ class TuneSpec:
         values.update({CONTROLLER_PREFIX + k: str(v) for k, v in self.controller.values().items()})
         dispersed = {k for _, k, _ in entries}
         for where, key, node in entries:
-            # the objective reads the truth error, never the last tick's measurement (last_tick_read False)
+            # the objective reads the truth error alone (the default unread_ticks: TRUTH_ONLY)
             why = idle_reason(key, values, dispersed, takes, closed=True)
             if why is not None:
                 spec.refuse(where, f"not read by the tuned loop ({why}): every trial would run the same loop", node)

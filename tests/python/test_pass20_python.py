@@ -61,7 +61,7 @@ SPANS = [((0.0, 2.0, 2.5, 0.3, 0.39, 0.001, 0.001), True),
 def test_the_outage_holds_every_span_only_when_every_sample_is_sure(args, holds):
     from gimbalsim._idle_sensors import _every_sample_lost
     start, end, duration, r_lo, r_hi, t_lo, t_hi = args
-    assert _every_sample_lost(start, end, duration, (r_lo, r_hi), (t_lo, t_hi), None, True) is holds
+    assert _every_sample_lost(start, end, duration, (r_lo, r_hi), (t_lo, t_hi), None, 0) is holds
 
 
 # ---- class 8/4: the allocation's values stay inside the range ----

@@ -1,0 +1,112 @@
+"""Issue 41, "Hostile and careless input" (pass 27). Class 3: a command
+computed at tick k acts on the plant from tick k + 1 over one period, so
+the truth shows it at tick k + 2: a sensor sample delivered at the run's
+second-to-last tick moves no figure of the truth (only knowledge, which
+reads that tick's estimate). Class 4: a sweep whose every sample crashed,
+an --until over no figure and an allocation where no value has one give no
+traceback, no Infinity in JSON and no pick from a degenerate question.
+Each refusal is checked against the runs themselves."""
+import json
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import yaml
+
+import gimbalsim
+from conftest import scene_path
+from test_pass16_outputs import write_spec
+from test_pass18_python import check
+
+SPEC = """scene: {scene}
+set: {{{set}}}
+controller: default
+controller_set: {{profile.slew_start: 0.05, profile.slew_time: 0.2, profile.hold_time: 0.1,
+                  profile.slew_target: [0.01, 0.005]}}
+samples: 1
+seed: 1
+parameters:
+  sensors.gyro_bias: {{ball: {{radius: 1.0e-5}}}}
+grid:
+  {grid}
+phases: [slew, hold, track]
+indices: {{{indices}}}
+"""
+TRUTH_INDICES = "ape: {}, rpe: {window: 0.01}"
+WITH_KNOWLEDGE = TRUTH_INDICES + ", knowledge: {}"
+
+# The second sample, taken at 0.5 s, falls due after the latency: 0.048 s at tick 548 (the third-to-last of a
+# 0.55 s run at 1 ms), 0.049 s at 549 (the second-to-last), 0.05 s at 550 (the last). Sample 0 is in the outage.
+STAR = "sim.duration: 0.55, sensors.star_tracker_noise: 1.0e-4, sensors.star_tracker_rate: 2, " \
+       "sensors.star_tracker_outage: [0.0, 0.01], sensors.star_tracker_latency: {latency}"
+TRACKER = "sim.duration: 0.55, sensors.antenna: tracker_gyro, sensors.tracker_noise: 1.0e-3, " \
+          "sensors.tracker_rate: 2, sensors.tracker_outage: [0.0, 0.01], sensors.tracker_latency: {latency}"
+# (settings, grid, indices, latency, refused)
+CASES = [(STAR, "sensors.star_tracker_noise: [0.0, 1.0e-3]", TRUTH_INDICES, 0.048, False),
+         (STAR, "sensors.star_tracker_noise: [0.0, 1.0e-3]", TRUTH_INDICES, 0.049, True),
+         (STAR, "sensors.star_tracker_noise: [0.0, 1.0e-3]", WITH_KNOWLEDGE, 0.049, False),
+         (TRACKER, "controller.antenna.offset_rate: [0.05, 10]", WITH_KNOWLEDGE, 0.048, False),
+         (TRACKER, "controller.antenna.offset_rate: [0.05, 10]", WITH_KNOWLEDGE, 0.049, True)]
+
+
+def _spec(tmp_path, settings, grid, indices, latency, scene="paper_clearance"):
+    return write_spec(tmp_path, SPEC.format(scene=scene_path(scene), set=settings.format(latency=latency),
+                                            grid=grid, indices=indices))
+
+
+@pytest.mark.parametrize("settings,grid,indices,latency,refused", CASES, ids=[str(i) for i in range(len(CASES))])
+def test_a_sample_due_at_the_second_to_last_tick_acts_only_on_knowledge(tmp_path, settings, grid, indices, latency,
+                                                                          refused):
+    p = check(_spec(tmp_path, settings, grid, indices, latency), tmp_path / "out")
+    assert p.returncode == (2 if refused else 0), p.stderr
+    if refused:
+        assert f"key 'grid.{grid.split(':')[0]}'" in p.stderr and "less its last two ticks" in p.stderr, p.stderr
+
+
+def _columns(settings, latency, key, value):
+    scene_values = yaml.safe_load("{" + settings.format(latency=latency) + "}")
+    controller = {"profile.slew_start": 0.05, "profile.slew_time": 0.2, "profile.hold_time": 0.1,
+                  "profile.slew_target": [0.01, 0.005]}
+    (controller if key.startswith("controller.") else scene_values)[key.removeprefix("controller.")] = value
+    scene_values["sensors.gyro_bias"] = [3.0e-6, -2.0e-6, 1.0e-6]
+    scene = gimbalsim.load_scene(scene_path("paper_clearance"), scene_values)
+    return gimbalsim.closed_loop(scene, gimbalsim.Controller(None, controller), 0.55).columns
+
+
+TRUTH = ("theta1_true", "theta2_true", "los_error_x", "los_error_y", "los_error_z", "tilt1", "tilt2")
+
+
+@pytest.mark.parametrize("settings,key,values", [(STAR, "sensors.star_tracker_noise", (0.0, 1.0e-3)),
+                                                 (TRACKER, "controller.antenna.offset_rate", (0.05, 10.0))])
+@pytest.mark.parametrize("latency,same", [(0.048, False), (0.049, True)])
+def test_the_truth_never_shows_a_sample_due_at_the_second_to_last_tick(settings, key, values, latency, same):
+    a, b = (_columns(settings, latency, key, v) for v in values)
+    assert all(np.array_equal(a[c], b[c], equal_nan=True) for c in TRUTH) is same
+    # the second-to-last tick's estimate is the first that differs (star tracker): knowledge reads it
+    if key == "sensors.star_tracker_noise" and same:
+        est = np.flatnonzero(a["los_error_est_x"] != b["los_error_est_x"])
+        assert est.size and est[0] == len(a["t"]) - 2, est
+
+
+def test_a_tuner_refuses_a_gain_that_acts_only_at_the_second_to_last_tick(tmp_path):
+    text = f"""scene: {scene_path("paper_clearance")}
+set: {{sensors.star_tracker_noise: 1.0e-4, sensors.star_tracker_rate: 2, sensors.star_tracker_latency: 0.049}}
+controller: default
+controller_set: {{profile.slew_start: 0.05, profile.slew_time: 0.2, profile.hold_time: 0.1}}
+duration: 0.55
+trials: 3
+parallel_trials: 1
+seed: 1
+batch: 1
+objective: {{metric: max_track, percentile: 99}}
+max_saturation: 1.0
+gains:
+  estimator.k_p: {{loguniform: [0.01, 100]}}
+"""
+    p = subprocess.run([sys.executable, "-m", "gimbalsim.tune", str(write_spec(tmp_path, text)), "--out",
+                        str(tmp_path / "study")], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 2 and "key 'gains.estimator.k_p'" in p.stderr, p.stderr
+    assert not (tmp_path / "study").exists()
