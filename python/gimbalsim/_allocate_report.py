@@ -2,11 +2,10 @@
 table of the values tried (allocation.csv), the whole answer
 (allocation.json), a page (allocation.md) and the plot of the index's
 quantile with its interval against the key (allocation.png)."""
-import json
 import math
 
 from . import _budget, indices
-from ._output import csv_number, savefig, write_csv, write_text
+from ._output import csv_number, json_text, savefig, write_csv, write_text
 
 CSV, JSON, PAGE, PLOT = "allocation.csv", "allocation.json", "allocation.md", "allocation.png"
 
@@ -65,6 +64,9 @@ def answer_lines(a, tried, result, runs):
     elif kind == "every_value_meets":
         lines = [f"every value of [{a.value_text(a.lo)}, {a.value_text(a.hi)}]{unit} tried meets {what}: the "
                  f"{a.direction} {a.key} lies beyond the range (no failing value; widen it to find the limit)"]
+    elif result["best"] is None:
+        lines = [f"no value of [{a.value_text(a.lo)}, {a.value_text(a.hi)}]{unit} meets {what} (no bracket): "
+                 f"{result['monotone_note']}"]
     else:
         b = tried[result["best"]]
         end = a.lo if a.direction == "largest" else a.hi
@@ -133,7 +135,8 @@ def write(a, tried, result, runs, ran, out, inputs, csv_name):
     _plot(a, tried, result, out / PLOT, inputs)
     lines = answer_lines(a, tried, result, runs)
     plain = {"allocation": a.plain(), "outcome": result["outcome"], "bracket": result["bracket"],
-             "answer": result["answer"], "best": result["best"], "monotone": not result["breaks"],
+             "answer": result["answer"], "best": result["best"], "monotone": result["monotone"],
+             **({"monotone_note": result["monotone_note"]} if "monotone_note" in result else {}),
              "breaks": [{k: (_json(v) if isinstance(v, float) else v) for k, v in b.items()} for b in result["breaks"]],
              "runs_used": runs, "ran_this_invocation": ran, "summary": lines,
              "values": [{"value": v, "folder": f"values/{r['folder']}", "verdict": "PASS" if r["passed"] else "FAIL",
@@ -148,5 +151,5 @@ def write(a, tried, result, runs, ran, out, inputs, csv_name):
     page += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows[1:]]
     page += ["", f"![the index's quantile against {a.key}]({PLOT})", ""]
     write_text(out / PAGE, "\n".join(page), inputs)
-    write_text(out / JSON, json.dumps(plain, indent=2) + "\n", inputs)
+    write_text(out / JSON, json_text(plain), inputs)
     return lines

@@ -125,13 +125,22 @@ def best(a, tried):
     return min(rows, key=key)[0]
 
 
+NO_FIGURE_ANYWHERE = ("no unit at any value tried has a figure (each stopped, crashed or missed its window): "
+                      "no value is better than another, and monotonicity has nothing to judge")
+
+
 def outcome(a, tried):
     """The search's answer: {"outcome", "bracket", "answer", "best", "breaks"}.
     outcome: "bracket" (a last meeting and a first failing value), "every_value_meets"
     (the answer is the range's far end: the limit lies beyond it), "no_value_meets"
     (no bracket, the best value tried) or "favourable_end_fails" (no bracket: the
-    favourable end fails, yet a value further on meets; the index is not monotone)."""
+    favourable end fails, yet a value further on meets; the index is not monotone).
+    Where no unit at any value has a figure, best and monotone are None
+    (with monotone_note): a pick from a tie over nothing is no answer."""
     meet, fail = bracket(a, tried)
+    if all(r["n_missing"] == r["n"] for r in tried.values()):  # every value ties at "no figure": nothing to compare
+        return {"outcome": "no_value_meets", "bracket": None, "answer": None, "best": None, "breaks": [],
+                "monotone": None, "monotone_note": NO_FIGURE_ANYWHERE}
     breaks = monotonicity(a, tried)
     if meet is None:  # the favourable end fails; a value that meets elsewhere is a break of monotonicity
         kind = "favourable_end_fails" if any(r["passed"] for r in tried.values()) else "no_value_meets"
@@ -141,4 +150,4 @@ def outcome(a, tried):
     else:
         kind, answer = "bracket", meet
     return {"outcome": kind, "bracket": None if kind != "bracket" else [meet, fail], "answer": answer,
-            "best": best(a, tried), "breaks": breaks}
+            "best": best(a, tried), "breaks": breaks, "monotone": not breaks}

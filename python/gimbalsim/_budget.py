@@ -3,6 +3,7 @@ ensemble of units, at its level with its distribution-free confidence
 interval (indices.quantile_bound), and the requirement's verdict
 (indices.requirement_verdict). A quantile the sample count cannot support is
 marked as such, never given bare."""
+import collections
 import math
 
 from . import indices as ix
@@ -33,6 +34,21 @@ def column_values(spec, rows, metric):
     return [float(r[col]) if r[status] == "ok" and r[col] not in ("", "nan") else math.nan for r in rows]
 
 
+def missing_text(spec, rows, metric):
+    """Why the units without a figure have none, counted: "1 crashed, 2
+    stopped (velocity_limit)"; a unit that ended ok missed the window."""
+    header = spec.header()
+    col, status = header.index(metric), header.index("status")
+    counts = collections.Counter()
+    for r in rows:
+        s = r[status]
+        if s == "ok" and r[col] not in ("", "nan"):
+            continue
+        counts["crashed" if s == "crashed" else "refused" if s.startswith("refused") else
+               "ran without a figure over the window" if s == "ok" else f"stopped ({s})"] += 1
+    return ", ".join(f"{n} {why}" for why, n in counts.items())
+
+
 def entry(spec, rows, index, phase):
     """One cell of the table: the index at its level over the units, as a dict."""
     values = column_values(spec, rows, f"{index.name}_{phase}")
@@ -41,7 +57,9 @@ def entry(spec, rows, index, phase):
          "confidence": index.confidence, "n": b.n, "n_missing": b.n_missing, "min_units": b.min_units,
          "supported": b.supported, "estimate_rad": _json(b.estimate), "upper_bound_rad": _json(b.upper),
          "interval_rad": [_json(b.low), _json(b.high)], "two_sided": not math.isnan(b.low), "note": b.reason}
-    if not b.supported and b.n_missing < b.n:  # else b.reason: no unit has a figure
+    if b.n and b.n_missing == b.n:  # no unit has a figure: say why they have none
+        e["note"] = f"{b.reason}: {missing_text(spec, rows, f'{index.name}_{phase}')}"
+    elif not b.supported:
         e["note"] = (f"not supported: n={b.n} < {b.min_units} needed for {_pct(index.level)} at "
                      f"{_pct(index.confidence)}")
     finite = [v for v in values if math.isfinite(v)]
@@ -50,7 +68,7 @@ def entry(spec, rows, index, phase):
         # The quantile falls on units without a figure (stopped, or a window they missed): they count as
         # worst, so the quantile is unbounded; say so, with the worst figure there is, never a bare n/a.
         e["estimate_note"] = (f"beyond every figure: it falls on the {b.n_missing} of {b.n} units without one "
-                              "(stopped, or a window missed), counted as worst")
+                              f"({missing_text(spec, rows, f'{index.name}_{phase}')}), counted as worst")
     if index.requirement is not None:
         v = ix.requirement_verdict(values, index.requirement, index.level, index.confidence)
         e["requirement"] = {"requirement_rad": v.requirement, "verdict": v.text, "n_meeting": v.n_meeting,

@@ -136,7 +136,7 @@ def body(spec, rows, entries, plots, engine):
              f" ({c.duration_s:g} s per run), {len(rows)} units; statistical interpretation: "
              f"**{_budget.INTERPRETATION}** (ECSS-E-ST-60-10C). Each index is the quantile at its level of the "
              "units' worst value in the phase; its interval comes from order statistics (distribution-free). "
-             "A unit without a figure (a stopped run, a window it missed) counts as worst.", "",
+             "A unit without a figure (a run that crashed, was refused or stopped, or missed a window) counts as worst.", "",
              f"Stepping (sampling: {spec.sampling['mode']}): {spec.sampling['why']}.", ""]
     lines += ["| index | phase | level | n | value [rad] (CI at confidence) | "
               f"at {100 * SUPPORTED_LEVEL:.4g} % [rad] (CI) | requirement |", "|---|---|---|---|---|---|---|"]

@@ -26,6 +26,7 @@ import csv
 import errno
 import io
 import itertools
+import json
 import math
 import os
 import stat
@@ -281,6 +282,13 @@ def write_text(path, text, inputs=()):
     """text (str) under path, whole or not at all."""
     with open_output(path, "w", inputs) as f:
         f.write(text)
+
+
+def json_text(obj):
+    """obj as the project's JSON: strict (a NaN or an infinity raises here, as
+    a bug, instead of writing the non-JSON NaN or Infinity; a figure that
+    has no value is null with its reason)."""
+    return json.dumps(obj, indent=2, allow_nan=False) + "\n"
 
 
 def write_bytes(path, data, inputs=()):

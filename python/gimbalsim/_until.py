@@ -39,9 +39,20 @@ class Until:
         e = _budget.entry(spec, rows, self.index, self.phase)
         width = _budget.relative_width(e)
         stopped = "width" if width <= self.width else ("cap" if len(rows) >= self.max_samples else None)
-        return stopped is not None, {"until": self.text, "relative_width_target": self.width,
-                                     "relative_width": width, "samples": len(rows), "max_samples": self.max_samples,
-                                     "stopped_by": stopped}
+        out = {"until": self.text, "relative_width_target": self.width,
+               "relative_width": width if math.isfinite(width) else None, "samples": len(rows),
+               "max_samples": self.max_samples, "stopped_by": stopped}
+        if not math.isfinite(width):  # no number over nothing: the reason instead (JSON has no Infinity)
+            out["relative_width_note"] = ("the interval has no upper end: too few units have a figure, and a "
+                                          "unit without one counts as worst" if e["interval_rad"][1] is None
+                                          else "the estimate is 0: a width relative to it has no value")
+        return stopped is not None, out
+
+    @staticmethod
+    def width_text(u):
+        """The relative width for the console: a number, or n/a with its reason."""
+        w = u["relative_width"]
+        return f"{w:.3g}" if w is not None else f"n/a ({u['relative_width_note']})"
 
     def grow(self, spec):
         """The design with one more batch of the spec's samples (capped)."""

@@ -36,7 +36,6 @@ Exit codes (the project's table, docs/usage.md "Exit codes", mirrored in _errors
 """
 import argparse
 import contextlib
-import json
 import math
 import os
 import pathlib
@@ -47,10 +46,11 @@ import gimbalsim
 from . import _budget, _budget_report, _cluster, _provenance, _study_file, replay
 from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main  # noqa: F401 (SpecError: API)
 from ._journal import JOURNAL, csv_line, fmt, read_journal, record_design  # noqa: F401 (csv_line, fmt: API)
-from ._output import OutputRefused, append_synced, open_append, output_set, write_text
+from ._output import OutputRefused, append_synced, json_text, open_append, output_set, write_text
 from ._sample import row_values, run_one, sample_alone  # noqa: F401 (sample_alone: API)
 from ._spec import check_out_dir
 from ._summary import plot, summarize
+from ._until import Until
 from ._sweep_spec import MAX_SAMPLES, SweepSpec
 from ._sweep_start import (FINGERPRINT, PLOTS, REPORT, RESULTS, SUMMARY, check_output_folder, check_start,  # noqa: F401
                            output_paths, take_design, until_of)  # (check_output_folder, output_paths: API, allocate.py)
@@ -161,7 +161,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         if spec.closed:
             summary["report"] = str(write_report(spec, rows, summary, out, inputs))
         summary["plots"] = [str(p) for p in _plots(lambda: plot(spec, rows, out / PLOTS, inputs), out)]
-        write(out / SUMMARY, json.dumps(summary, indent=2) + "\n")
+        write(out / SUMMARY, json_text(summary))
     journal.unlink()
     return summary
 
@@ -351,7 +351,7 @@ def _run(a, out):
         if "until" in s:
             u = s["until"]
             print(f"sweep: --until {u['until']}: stopped by the {u['stopped_by']} at {u['samples']} samples "
-                  f"(relative width {u['relative_width']:.3g}, target {u['relative_width_target']:.3g})",
+                  f"(relative width {Until.width_text(u)}, target {u['relative_width_target']:.3g})",
                   file=sys.stderr)
     else:
         pct = s["percentiles_of_ok_samples"]["pointing_error_max"]
@@ -360,9 +360,12 @@ def _run(a, out):
         print(f"sweep: {s['samples']} samples, status {s['status']}; pointing_error_max {figure}; "
               f"results in {a.out}/results.csv", file=sys.stderr)
     if e.get("ran_this_invocation"):
+        rate = "n/a" if e["samples_per_s"] is None else f"{e['samples_per_s']:.1f}/s"
+        # a crashed sample has no run time: none of the invocation's samples may have one
+        mean = "n/a (every sample it ran crashed)" if e["mean_run_s"] is None else f"{e['mean_run_s'] * 1e3:.1f} ms"
         print(f"sweep: {e['ran_this_invocation']} samples in {e['elapsed_s']:.1f} s on {e['workers']} workers "
-              f"({e['samples_per_s']:.1f}/s); mean run {e['mean_run_s']*1e3:.1f} ms, engine overhead "
-              f"{e['engine_overhead_per_sample_s']*1e3:.2f} ms per sample", file=sys.stderr)
+              f"({rate}); mean run {mean}, engine overhead {e['engine_overhead_per_sample_s'] * 1e3:.2f} ms per "
+              "sample", file=sys.stderr)
     return EXIT_OK
 
 

@@ -35,7 +35,6 @@ mirrored in _errors.py): 0, 2 spec refused, 3 no trial completed, 4 an output no
 """
 import argparse
 import contextlib
-import json
 import math
 import pathlib
 import sys
@@ -49,7 +48,7 @@ from . import _cluster, _study_file
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
 from ._closed_spec import plant_overrides
 from ._journal import fmt
-from ._output import check_output_names, output_set, savefig, write_csv, write_text
+from ._output import check_output_names, json_text, output_set, savefig, write_csv, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
 from ._tune_spec import METRICS, TuneSpec, fail_reason  # noqa: F401 (TuneSpec: the module's API)
 
@@ -266,7 +265,7 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
     with output_set():  # the study's verdict is one set: stopped part-way, none of it is left
         write_text(out / BEST, text, spec.input_files())
         _plot(out, rows, spec)
-        write_text(out / SUMMARY, json.dumps(summary, indent=2) + "\n", spec.input_files())
+        write_text(out / SUMMARY, json_text(summary), spec.input_files())
     return summary, rows
 
 

@@ -110,3 +110,73 @@ gains:
                         str(tmp_path / "study")], capture_output=True, text=True, timeout=300)
     assert p.returncode == 2 and "key 'gains.estimator.k_p'" in p.stderr, p.stderr
     assert not (tmp_path / "study").exists()
+
+
+# ---- class 4: no traceback, no Infinity and no pick over nothing ----
+
+STOPPED = """scene: {scene}
+set: {{sim.duration: 0.3, sim.velocity_limit: 0.01}}
+controller: default
+controller_set: {{profile.slew_start: 0.05, profile.slew_time: 0.1, profile.hold_time: 0.05}}
+samples: {samples}
+seed: 1
+parameters:
+  sensors.gyro_bias: {{ball: {{radius: 1.0e-5}}}}
+phases: [slew, hold, track]
+indices: {{ape: {{requirement: 1.0e-4}}}}
+"""
+
+
+def _sweep(spec, out, *args, env=None):
+    return subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(spec), "--out", str(out), "--workers", "1",
+                           "--no-progress", *args], capture_output=True, text=True, timeout=300,
+                          env={**os.environ, **(env or {})})
+
+
+def _strict_json(path):
+    def refuse(constant):
+        raise AssertionError(f"{path}: {constant} is not JSON")
+    return json.loads(path.read_text(), parse_constant=refuse)
+
+
+def test_a_sweep_whose_every_sample_crashed_ends_as_promised(tmp_path):
+    spec = write_spec(tmp_path, STOPPED.format(scene=scene_path("paper_clearance"), samples=1)
+                      .replace(", sim.velocity_limit: 0.01", ""))
+    p = _sweep(spec, tmp_path / "out", env={"GIMBALSIM_TEST_KILL_WORKER_AT": "0"})
+    # (the killed worker's own traceback, from Dask's nanny, is expected: the sweep's is not)
+    assert p.returncode == 0 and "gimbalsim/sweep.py" not in p.stderr and "TypeError" not in p.stderr, p.stderr
+    assert "mean run n/a (every sample it ran crashed)" in p.stderr, p.stderr
+    assert "(1 crashed)" in p.stderr or ": 1 crashed" in p.stderr, p.stderr  # the budget names why
+    assert _strict_json(tmp_path / "out" / "summary.json")["engine"]["mean_run_s"] is None
+
+
+def test_until_over_no_figure_writes_no_infinity(tmp_path):
+    spec = write_spec(tmp_path, STOPPED.format(scene=scene_path("paper_clearance"), samples=2))
+    p = _sweep(spec, tmp_path / "out", "--until", "ape:track:0.5", "--max-samples", "4")
+    assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
+    until = _strict_json(tmp_path / "out" / "summary.json")["until"]
+    assert until["relative_width"] is None and "no upper end" in until["relative_width_note"], until
+    assert until["stopped_by"] == "cap" and "relative width n/a (the interval has no upper end" in p.stderr
+    assert "2 stopped (sim.velocity_limit)" in p.stderr or "4 stopped (sim.velocity_limit)" in p.stderr, p.stderr
+
+
+def test_an_allocation_where_no_value_has_a_figure_picks_nothing(tmp_path):
+    text = STOPPED.format(scene=scene_path("paper_clearance"), samples=3).replace("{requirement: 1.0e-4}", "{}") + \
+        """allocate:
+  key: contact.clearance
+  range: [1.0e-4, 8.0e-4]
+  direction: largest
+  index: ape
+  phase: track
+  requirement: 1.0
+  level: 0.5
+  confidence: 0.5
+  values: 3
+"""
+    p = subprocess.run([sys.executable, "-m", "gimbalsim.allocate", str(write_spec(tmp_path, text)), "--out",
+                        str(tmp_path / "out"), "--workers", "1", "--no-progress"], capture_output=True, text=True,
+                       timeout=300)
+    assert p.returncode == 3 and "Traceback" not in p.stderr, p.stderr
+    a = _strict_json(tmp_path / "out" / "allocation.json")
+    assert a["outcome"] == "no_value_meets" and a["best"] is None and a["monotone"] is None, a
+    assert "no unit at any value tried has a figure" in a["monotone_note"] and "the best tried" not in p.stderr
