@@ -40,6 +40,13 @@ def test_bad_arguments_are_refused_before_anything_runs(tmp_path):
                                        .replace("friction.mu:", "friction.muu:"))
     (tmp_path / "open.yaml").write_text("scene: x.yaml\nsamples: 2\n")
     (tmp_path / "broken.yaml").write_text("scene: [\n")
+    # (pass 27) the fine run sets sim.substep under the fixed policy: a spec giving either has no fine run
+    (tmp_path / "grid.yaml").write_text(f"scene: {SOURCE}/tools/scenes/paper_clearance.yaml\n"
+                                        "grid: {sim.substep: [2.0e-5, 4.0e-5]}\ncontroller: default\nsamples: 2\n"
+                                        "seed: 1\n")
+    (tmp_path / "policy.yaml").write_text(f"scene: {SOURCE}/tools/scenes/paper_clearance.yaml\n"
+                                          "set: {sim.substep_policy: adaptive}\ncontroller: default\nsamples: 2\n"
+                                          "seed: 1\nparameters:\n  friction.mu: {uniform: [0.15, 0.35]}\n")
     (tmp_path / "theirs").mkdir()
     (tmp_path / "theirs" / "notes.txt").write_text("the user's\n")
     (tmp_path / "link").symlink_to(tmp_path / "theirs")
@@ -48,7 +55,9 @@ def test_bad_arguments_are_refused_before_anything_runs(tmp_path):
                         (["--out", SOURCE], "would replace"),
                         (["--spec", tmp_path / "nothing.yaml"], "no such file"),
                         (["--spec", tmp_path / "open.yaml"], "not a closed-loop sweep spec"),
-                        (["--spec", tmp_path / "broken.yaml"], "cannot read it as YAML"),
+                        (["--spec", tmp_path / "grid.yaml"], "grid.yaml:2:8: key 'grid.sim.substep': the fine run sets"),
+                        (["--spec", tmp_path / "policy.yaml"], "policy.yaml:2:7: key 'set.sim.substep_policy'"),
+                        (["--spec", tmp_path / "broken.yaml"], "not valid YAML"),
                         (["--spec", tmp_path / "bad.yaml"], "bad.yaml:15:3: key 'parameters.friction.muu'"),
                         (["--workers", " 1"], "not a whole number"), (["--samples", "1_0"], "not a whole number"),
                         (["--fine-substep", "5_0e-6"], "not a finite decimal"),
@@ -58,7 +67,8 @@ def test_bad_arguments_are_refused_before_anything_runs(tmp_path):
         p = run(*([] if "--results" in args else ["--samples", "2"]), *out, *args)
         assert p.returncode == 2 and words in p.stderr and "Traceback" not in p.stderr, (args, p.stderr)
         assert "running default" not in p.stderr, args
-    assert sorted(x.name for x in tmp_path.iterdir()) == ["bad.yaml", "broken.yaml", "link", "open.yaml", "theirs"]
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["bad.yaml", "broken.yaml", "grid.yaml", "link", "open.yaml",
+                                                          "policy.yaml", "theirs"]
     assert (tmp_path / "theirs" / "notes.txt").read_text() == "the user's\n"
 
 
@@ -82,3 +92,33 @@ indices:
     assert "n/a (no unit has a figure in either run)" in p.stdout
     assert "Every unit within the tolerance of its fine figure: no (ape_slew (2 units, none with a figure))." in p.stdout
     assert sorted(x.name for x in tmp_path.iterdir()) == ["out", "stopped.yaml"]  # no temporary left
+
+
+def test_the_runs_read_the_spec_as_the_sweep_does(tmp_path):
+    # (pass 27) seed: 010 is ten for the sweep (YAML 1.2), and a scene not beside the spec is looked for where the
+    # user stands; the tool read YAML 1.1 (eight) and looked beside the spec alone
+    (tmp_path / "specs").mkdir()
+    (tmp_path / "paper_clearance.yaml").write_text((SOURCE / "tools/scenes/paper_clearance.yaml").read_text())
+    (tmp_path / "specs" / "cwd.yaml").write_text("""scene: paper_clearance.yaml
+set: {sim.duration: 0.3}
+controller: default
+controller_set: {profile.slew_start: 0.05, profile.slew_time: 0.1, profile.hold_time: 0.05}
+samples: 1
+seed: 010
+parameters:
+  friction.mu: {uniform: [0.15, 0.35]}
+phases: [slew]
+indices:
+  ape: {requirement: 1.0e-4}
+""")
+    p = subprocess.run([sys.executable, str(TOOL), "--build", str(BIN.parent), "--workers", "1", "--spec",
+                        "specs/cwd.yaml", "--fine-substep", "1e-4", "--out", "out"], cwd=tmp_path,
+                       capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    from gimbalsim._spec import Spec
+    for run in ("default", "fine"):
+        root = Spec(tmp_path / "out" / f"{run}.yaml").root.plain()
+        assert root["seed"] == 10 and root["scene"] == str(tmp_path / "paper_clearance.yaml"), root
+        assert root["parameters"] == {"friction.mu": {"uniform": [0.15, 0.35]}}, root
+    fine = Spec(tmp_path / "out" / "fine.yaml").root.plain()
+    assert fine["set"] == {"sim.duration": 0.3, "sim.substep": 1e-4, "sim.substep_policy": "fixed"}, fine

@@ -3,8 +3,9 @@
 side (prints figures; not a test). The same closed-loop budget spec (the
 shipped tools/sweeps/pointing_budget.yaml unless --spec) runs twice on the
 same units: as shipped (`sampling: auto`, the default) and at a fine fixed
-setting (`sampling: scene`: the scene's own friction law under its fixed
-sub-step policy, with sim.substep --fine-substep). It compares
+setting (`sampling: scene`: the scene's own friction law under the fixed
+sub-step policy, sim.substep --fine-substep; a spec that sets or disperses
+sim.substep or sim.substep_policy has no fine run and is refused). It compares
 
  - the speed: wall time, samples per second and CPU per sample (the
    sweep's own engine figures) of each run, and their ratio;
@@ -39,8 +40,6 @@ import sys
 import tempfile
 import time
 
-import yaml
-
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools" / "pages"))
 import output_file  # noqa: E402  (how a script ends; the writer's rules)
@@ -53,48 +52,91 @@ PAGE = ROOT / "docs" / "results" / "budget_speed.md"
 RUNS = ("default", "fine")  # what --out holds: each run's folder and the spec it ran
 
 
-def derived_spec(spec_path, samples, fine_substep):
-    """The spec as the run reads it (a dict): its scene made absolute, its
-    samples cut (samples), and (fine_substep) the fine setting: sampling
-    scene, sim.substep fine_substep under set:. Refused when not a
-    closed-loop spec; the sweep itself checks the rest before it runs."""
+FINE_KEYS = ("sim.substep", "sim.substep_policy")  # what the fine run sets: a spec may not set or disperse them
+
+
+def derived_specs(spec_path, samples, fine_substep):
+    """(the user's spec as a plain dict, {run: its spec's text}): the spec
+    read and checked as the sweep reads it (its YAML, its paths: SweepSpec;
+    a refusal names the user's file, line and key), its scene and controller
+    made absolute, its samples cut (samples); the fine run with sampling
+    scene and set: sim.substep fine_substep under the fixed policy. A spec
+    that sets or disperses those has no fine run: refused at its line."""
+    import gimbalsim
+    from gimbalsim._errors import SpecError
+    from gimbalsim._spec import Spec
+    from gimbalsim._sweep_spec import SweepSpec
     try:
-        spec = yaml.safe_load(spec_path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as e:
-        raise Refused(f"--spec {spec_path}: cannot read it as YAML ({' '.join(str(e).split())})") from None
-    if not isinstance(spec, dict) or not {"scene", "controller", "samples"} <= set(spec) or \
-            not isinstance(spec["scene"], str) or not isinstance(spec["controller"], str):
-        raise Refused(f"--spec {spec_path}: not a closed-loop sweep spec (it needs scene:, controller: and samples:)")
-    spec["scene"] = str((spec_path.parent / spec["scene"]).resolve())
-    controller = spec["controller"]
-    if controller != "default":
-        spec["controller"] = str((spec_path.parent / controller).resolve())
-    given = spec["samples"]
-    if samples is not None and isinstance(given, int) and not isinstance(given, bool):
-        spec["samples"] = min(samples, given)  # anything else is the sweep's to refuse, at its line
-    if fine_substep is not None:
-        spec["sampling"] = "scene"
-        if not isinstance(spec.get("set") or {}, dict):
-            raise Refused(f"--spec {spec_path}: set: is not a mapping")
-        spec["set"] = {**(spec.get("set") or {}), "sim.substep": fine_substep}
-    return spec
+        spec = Spec(spec_path)
+        root = spec.root.value
+        if "controller" not in root:
+            spec.refuse("controller", "missing: not a closed-loop sweep spec (the budget needs its controller)")
+        aliases = gimbalsim.key_aliases()
+        for section in ("set", "parameters", "grid"):
+            node = root.get(section)
+            for key, n in (node.value.items() if node is not None and isinstance(node.value, dict) else ()):
+                if aliases.get(key, key) in FINE_KEYS:
+                    spec.refuse(f"{section}.{key}", "the fine run sets sim.substep (--fine-substep) under the fixed "
+                                "policy: a spec that sets or disperses it has no fine run to compare with; leave "
+                                "it out", n)
+        user = SweepSpec(spec_path)
+    except SpecError as e:
+        raise Refused(str(e)) from None
+    plain = spec.root.plain()
+    plain["scene"] = str(user.scene_path.resolve())
+    if user.closed.controller_path is not None:
+        plain["controller"] = str(pathlib.Path(user.closed.controller_path).resolve())
+    if samples is not None:
+        plain["samples"] = min(samples, user.samples)
+    fine = {**plain, "sampling": "scene",
+            "set": {**(plain.get("set") or {}), "sim.substep": fine_substep, "sim.substep_policy": "fixed"}}
+    return plain, {name: "".join(f"{json.dumps(k)}: {_yaml(v)}\n" for k, v in x.items())
+                   for name, x in (("default", plain), ("fine", fine))}
+
+
+def _yaml(x):
+    """x as YAML the sweep reads back as x (its YAML 1.2 numbers): JSON's
+    forms, where every name is quoted and every number reads as one, and
+    YAML's for the infinities JSON lacks. Why not yaml.safe_dump: it writes
+    for YAML 1.1, leaving a name such as 1e-4 bare, which the sweep reads as
+    a number."""
+    if isinstance(x, dict):
+        return "{" + ", ".join(f"{json.dumps(str(k))}: {_yaml(v)}" for k, v in x.items()) + "}"
+    if isinstance(x, list):
+        return "[" + ", ".join(_yaml(v) for v in x) + "]"
+    if isinstance(x, float) and not math.isfinite(x):
+        return ".nan" if math.isnan(x) else (".inf" if x > 0 else "-.inf")
+    return json.dumps(x)
+
+
+def check_derived(path, name):
+    """The sweep's own check of a derived spec, in process: a refusal says
+    which run's spec and what was added, never only the temporary's name."""
+    from gimbalsim._errors import SpecError
+    from gimbalsim._sweep_spec import SweepSpec
+    try:
+        SweepSpec(path)
+    except SpecError as e:
+        added = "the samples cut" if name == "default" else \
+            "sampling: scene, sim.substep and sim.substep_policy fixed added under set:"
+        what = f"key '{e.key}': " if e.key else ""
+        raise Refused(f"the {name} run's spec (yours with {added}) is refused: {what}"
+                      f"{str(e).split(what, 1)[-1] if what else str(e)}") from None
 
 
 class SweepFailed(Exception):
     """A run's sweep ended with an error: its exit code, and what it said."""
 
 
-def run_sweep(build, spec, out, workers, check=False):
-    """The sweep's summary.json and its rows {sample: row} (check: the
-    sweep's --check alone, None); SweepFailed naming the failure."""
+def run_sweep(build, spec, out, workers):
+    """The sweep's summary.json and its rows {sample: row}; SweepFailed
+    naming the failure."""
     env = {**os.environ, "PYTHONPATH": str(build / "python")}
     cmd = [sys.executable, "-m", "gimbalsim.sweep", str(spec), "--out", str(out), "--workers", str(workers),
-           "--no-progress"] + (["--check"] if check else [])
+           "--no-progress"]
     r = subprocess.run(cmd, env=env, capture_output=True, text=True)
     if r.returncode != 0:
         raise SweepFailed(r.returncode, f"{shlex.join(cmd)} failed (exit {r.returncode}):\n{r.stderr[-3000:]}")
-    if check:
-        return None
     summary = json.loads((out / "summary.json").read_text())
     with open(out / "results.csv", newline="") as f:
         rows = {int(row["sample"]): row for row in csv.DictReader(f)}
@@ -172,11 +214,13 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default):
     print("|---|---|---|---|---|")
     for label, s in (("default (sampling: auto)", s_d), (f"fine (sim.substep {fine_substep:g} s)", s_f)):
         e = s["engine"]
-        print(f"| {label} | {e['elapsed_s']:.1f} | {e['samples_per_s']:.1f} | {1e3 * e['mean_run_s']:.1f} | "
-              f"{1e3 * e['engine_overhead_per_sample_s']:.2f} |")
+        print(f"| {label} | {e['elapsed_s']:.1f} | {_number(e['samples_per_s'], '.1f')} | "
+              f"{_number(e['mean_run_s'], '.1f', 1e3)} | {_number(e['engine_overhead_per_sample_s'], '.2f', 1e3)} |")
     ratio = s_f["engine"]["elapsed_s"] / s_d["engine"]["elapsed_s"]
-    print(f"\nThe default runs the budget {ratio:.1f} times faster than the fine setting "
-          f"({s_f['engine']['mean_run_s'] / s_d['engine']['mean_run_s']:.1f} times less CPU per sample).")
+    cpu_f, cpu_d = s_f["engine"]["mean_run_s"], s_d["engine"]["mean_run_s"]
+    cpu = "n/a: a run whose every sample crashed has no CPU per sample" if not (cpu_f and cpu_d) else \
+        f"{cpu_f / cpu_d:.1f} times less CPU per sample"
+    print(f"\nThe default runs the budget {ratio:.1f} times faster than the fine setting ({cpu}).")
     if spec_name == SHIPPED.name and n == 1109 and workers == 2:
         e = s_d["engine"]
         met = e["elapsed_s"] <= TARGET_S and e["samples_per_s"] >= TARGET_RATE
@@ -195,6 +239,11 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default):
           f"\nEvery unit within the tolerance of its fine figure: "
           f"{'yes' if not beyond else 'no (' + ', '.join(beyond) + ')'}.")
     return ratio, not outside and not beyond
+
+
+def _number(x, form, scale=1.0):
+    """An engine figure for the table; n/a where the sweep has none (every sample crashed)."""
+    return "n/a" if x is None else format(scale * x, form)
 
 
 def _whole(text):
@@ -264,7 +313,7 @@ def _run(a, build, spec_path, out):
     from gimbalsim import _sampling
 
     t0, load0 = str(time.time()), open("/proc/loadavg").read()
-    specs = {name: derived_spec(spec_path, a.samples, fine) for name, fine in zip(RUNS, (None, a.fine_substep))}
+    plain, texts = derived_specs(spec_path, a.samples, a.fine_substep)
     check_out(out)
     if a.results:
         output_file.check_before_writing([PAGE, PAGE.parent / "README.md"])
@@ -274,20 +323,18 @@ def _run(a, build, spec_path, out):
         raise Refused(f"--out {out}: its folder {out.parent} does not exist")
     work = pathlib.Path(tempfile.mkdtemp(prefix=out.name + ".new-", dir=out.parent))
     try:
-        return _run_in(a, build, spec_path, out, work, specs, _sampling.TOLERANCE_RAD, t0, load0)
+        return _run_in(a, build, spec_path, out, work, plain, texts, _sampling.TOLERANCE_RAD, t0, load0)
     finally:
         shutil.rmtree(work, ignore_errors=True)  # gone once renamed to --out; else nothing is left behind
 
 
-def _run_in(a, build, spec_path, out, work, specs, tolerance, t0, load0):
+def _run_in(a, build, spec_path, out, work, plain, texts, tolerance, t0, load0):
     """_run's work in the fresh folder work, renamed to out at the end."""
+    paths = {name: work / f"{name}.yaml" for name in RUNS}
+    for name in RUNS:  # every spec written and checked before the first run
+        output_file.write_text(paths[name], texts[name])
+        check_derived(paths[name], name)
     try:
-        # The user's own spec first: a refusal names their file and line, not the rewritten one's.
-        run_sweep(build, spec_path, work / "check", a.workers, check=True)
-        paths = {name: work / f"{name}.yaml" for name in RUNS}
-        for name in RUNS:  # every spec written and checked before the first run
-            output_file.write_text(paths[name], yaml.safe_dump(specs[name], sort_keys=False))
-            run_sweep(build, paths[name], work / name, a.workers, check=True)
         runs = []
         for name in RUNS:
             print(f"budget_speed: running {name} ({paths[name]}) ...", file=sys.stderr)
@@ -297,7 +344,7 @@ def _run_in(a, build, spec_path, out, work, specs, tolerance, t0, load0):
         return e.args[0]
     body = io.StringIO()
     with contextlib.redirect_stdout(body):
-        ratio, held = report(spec_path.name, specs["default"], runs, a.fine_substep, a.workers, tolerance)
+        ratio, held = report(spec_path.name, plain, runs, a.fine_substep, a.workers, tolerance)
     print(body.getvalue(), end="")
     check_out(out)  # as before the runs: nothing planted there since
     if out.exists():
