@@ -38,3 +38,12 @@ def test_both_scripts_that_cd_to_the_repository_use_it():
     for script in ("tools/stress/run_stress.sh", "tools/workprec/run_workprec.sh"):
         text = (SOURCE / script).read_text()
         assert 'source "$ROOT/tools/lib/caller_args.sh"' in text and "abs_arg() {" not in text, script
+
+
+# (pass 27) a number is never a path, even where a file of that name exists: --threads 1 beside a file "1"
+@pytest.mark.parametrize("arg,made", [("1", "1"), ("--threads=1", "--threads=1"), ("0.5", "0.5"), ("1e-3", "1e-3"),
+                                      ("./1", "{c}/./1"), ("paper_ideal", "{c}/paper_ideal")])
+def test_a_number_stays_a_number_beside_a_file_of_its_name(tmp_path, arg, made):
+    for name in ("1", "0.5", "1e-3", "paper_ideal"):
+        (tmp_path / name).write_text("x\n")
+    assert abs_arg(tmp_path, arg) == made.format(c=tmp_path)
