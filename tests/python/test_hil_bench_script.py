@@ -48,6 +48,20 @@ def test_a_refused_run_changes_nothing_and_a_good_one_replaces_the_old_files(tmp
     assert rows[0].startswith("utime_us,seq,sim_time_s") and len(rows) == 1 + 201  # t = 0 .. 0.2 s every 1 ms
 
 
+def test_a_run_whose_plant_stopped_keeps_its_outputs_and_ends_with_3(tmp_path):
+    # (pass 27) the plant's stop (exit 3) writes its truth up to the stop, which the script threw away: a
+    # script keeps a stopped run's outputs and ends with 3 (usage.md "Scripts in tools/"); the plot shows
+    # the run up to the stop, not the frozen rows after it
+    out = tmp_path / "bo"
+    p = bench(out, "--duration", "0.8", "--", "--set", "sim.velocity_limit=0.001")
+    assert p.returncode == 3 and "the plant stopped" in p.stderr, p.stderr
+    assert sorted(os.listdir(out)) == ["bench.png", "controller.csv", "controller.txt", "firmware.txt", "truth.csv"]
+    assert "simulation stopped at t = " in (out / "firmware.txt").read_text()
+    assert "the plant stopped at t = " in p.stdout, p.stdout
+    rows = (out / "truth.csv").read_text().splitlines()
+    assert len(rows) == 1 + 801 and rows[-1].endswith(",8,0"), rows[-1]  # every tick; the last frozen, flagged
+
+
 def test_out_must_be_a_folder_and_a_refused_run_leaves_none_it_made(tmp_path):
     (tmp_path / "real").mkdir()
     (tmp_path / "link").symlink_to("real")

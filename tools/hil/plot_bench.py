@@ -114,6 +114,7 @@ def read(path):
     table = np.loadtxt(io.BytesIO(raw), delimiter=",", comments=None, skiprows=1, dtype=float, ndmin=2,
                        usecols=[header.index(c) for c in wanted])
     cols = {c: table[:, j] for j, c in enumerate(wanted)}
+    cols = _until_the_plant_stopped(cols)
     if (np.diff(cols["sim_time_s"]) <= 0).any():
         raise Refused(f"{path}:{int(np.argmax(np.diff(cols['sim_time_s']) <= 0)) + 3}: sim_time_s does not increase")
     neg = np.flatnonzero(cols["pointing_error_rad"] < 0)  # an angle's size: a log axis would hide it
@@ -125,6 +126,24 @@ def read(path):
             bad = np.flatnonzero(~((cols[c] >= 0) & (cols[c] < 2**bits) & (cols[c] == np.floor(cols[c]))))
             if bad.size:
                 raise Refused(f"{path}:{bad[0] + 2}: column {c}: {cols[c][bad[0]]:g} is not a set of fault bits")
+    return cols
+
+
+PLANT_FAULT = 8  # gimbal_status_t.FAULT_PLANT_FAULT: the integration failed, the state frozen (latched)
+
+
+def _until_the_plant_stopped(cols):
+    """The rows up to a plant's stop: after it the firmware repeats the
+    frozen state, its time included, with FAULT_PLANT_FAULT on every row
+    (a stopped run, firmware_sim exit 3). Those repeats are no motion: left
+    out, and cols["stopped_at"] says where. Anything else is left as read."""
+    t = cols["sim_time_s"]
+    flat = np.flatnonzero(np.diff(t) <= 0)
+    if not flat.size:
+        return cols
+    k = flat[0] + 1  # the first repeat
+    if (t[k:] == t[k - 1]).all() and ((cols["faults"][k:].astype(np.int64) & PLANT_FAULT) != 0).all():
+        return {**{c: v[:k] for c, v in cols.items()}, "stopped_at": float(t[k - 1])}
     return cols
 
 
@@ -201,11 +220,14 @@ def main():
         ax[4].set_ylabel("scheduled")
         ax[4].grid(True, axis="x", alpha=0.3)
     ax[-1].set_xlabel("simulated time [s]")
-    fig.suptitle(a.title or a.truth, fontsize=10)
+    fig.suptitle((a.title or a.truth) + (f" (the plant stopped at {c['stopped_at']:g} s)" if "stopped_at" in c else ""),
+                 fontsize=10)
     fig.tight_layout()
     savefig(fig, a.out, inputs=[a.truth], dpi=120)
 
-    print(f"plot_bench: {len(t)} rows, t = {t[0]:.3f} .. {t[-1]:.3f} s -> {a.out}")
+    stopped = f"; the plant stopped at t = {c['stopped_at']:g} s (the frozen rows after it left out)" \
+        if "stopped_at" in c else ""
+    print(f"plot_bench: {len(t)} rows, t = {t[0]:.3f} .. {t[-1]:.3f} s{stopped} -> {a.out}")
     # A figure over [after, inf) only if the last row lies past its start (docs/usage.md "Figures over a window").
     if t[-1] > a.after:
         tail = f"max after {a.after:g} s {err[t >= a.after].max():.3e} rad"
