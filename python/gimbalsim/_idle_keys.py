@@ -99,6 +99,34 @@ def _for_every_value(judge, key, values, dispersed, takes, own_deciders=()):
     return f"{why}, for every value of {', '.join(deciders)} the study gives"
 
 
+def _idle_play_guard(key, values, dispersed, takes):
+    """Why <axis>.play_inertia cannot act: off the antenna's loop the guard
+    only lowers the axis's rate gain to min(kd, 0.5 play_inertia / Ts)
+    (controllers/src/pid.cpp), which is kd itself for every value given
+    that is 0 (no guard) or at least 2 kd Ts. Judged with kd and the period
+    fixed; whether a smaller value acts is the run's motion (the guard's
+    evidence), not the configuration's: not judged."""
+    axis = next((a for a in ("azimuth", "elevation") if key == f"{CONTROLLER_PREFIX}{a}.play_inertia"), None)
+    kd_key, period_key = f"{CONTROLLER_PREFIX}{axis}.kd", CONTROLLER_PREFIX + "control.period"
+    at_antenna = ("sensors.antenna" in dispersed or str(values.get("sensors.antenna", "none")) == "tracker_gyro") and \
+        (ANTENNA_TRACKER in dispersed or str(values.get(ANTENNA_TRACKER, "use")) == "use")
+    if axis is None or at_antenna or {kd_key, period_key} & dispersed:
+        return None
+    t = takes.get(key) if key in dispersed else [values.get(key)]
+    try:
+        given = [(t.lo, t.hi)] if isinstance(t, Span) else [(float(v), float(v)) for v in t]
+        kd, period = float(values[kd_key]), float(values[period_key])
+    except (KeyError, TypeError, ValueError):
+        return None
+    floor = 2.0 * kd * period
+    if all(lo == hi == 0.0 or lo >= floor * (1.0 + 1e-9) for lo, hi in given):  # (not at the floor: rounding)
+        return (f"the loop does not close at the antenna, where the guard only caps the rate gain at 0.5 "
+                f"play_inertia / control.period; at {kd_key} {kd!r} N m s/rad and {period_key} {period!r} s that "
+                f"cap is kd itself from play_inertia {floor!r} kg m^2 up, and 0 turns the guard off: every value "
+                "given steps with kd")
+    return None
+
+
 def _idle_in_controller_keys(key, values, dispersed):
     """idle_in_controller on the study's controller.* names."""
     if not key.startswith(CONTROLLER_PREFIX):
@@ -137,7 +165,8 @@ def idle_reason(key, values, dispersed, takes, closed, unread_ticks=TRUTH_ONLY):
                              dispersed, takes,
                              NOISE_KEYS + ANTENNA_NOISE_KEYS if key == "sensors.seed" else ())
     if why is None and closed:
-        why = _for_every_value(idle_at_antenna, key, values, dispersed, takes)
+        why = _for_every_value(idle_at_antenna, key, values, dispersed, takes) or \
+            _for_every_value(functools.partial(_idle_play_guard, takes=takes), key, values, dispersed, takes)
     elif why is None and key.startswith(ANTENNA_SENSOR_KEYS):
         why = "an open-loop run has no sensors (they act in a closed-loop sweep: name its controller)"
     if why is None and not closed and key.startswith("sensors."):

@@ -7,7 +7,6 @@ an --until over no figure and an allocation where no value has one give no
 traceback, no Infinity in JSON and no pick from a degenerate question.
 Each refusal is checked against the runs themselves."""
 import json
-import math
 import os
 import subprocess
 import sys
@@ -180,3 +179,50 @@ def test_an_allocation_where_no_value_has_a_figure_picks_nothing(tmp_path):
     a = _strict_json(tmp_path / "out" / "allocation.json")
     assert a["outcome"] == "no_value_meets" and a["best"] is None and a["monotone"] is None, a
     assert "no unit at any value tried has a figure" in a["monotone_note"] and "the best tried" not in p.stderr
+
+
+# ---- class 3: the backlash guard's inertia where its cap is kd itself ----
+
+GUARD = """scene: {scene}
+set: {{{set}}}
+controller: default
+controller_set: {{profile.slew_start: 0.05, profile.slew_time: 0.2, profile.hold_time: 0.1}}
+samples: 1
+seed: 1
+parameters:
+  sensors.gyro_bias: {{ball: {{radius: 1.0e-5}}}}
+grid:
+  controller.elevation.play_inertia: {values}
+phases: [slew, hold, track]
+indices: {{ape: {{}}}}
+"""
+
+
+# off the antenna's loop the guard caps the rate gain at 0.5 J / Ts: kd itself from 2 kd Ts = 2.1 kg m^2 up
+@pytest.mark.parametrize("settings,values,refused", [("sim.duration: 0.5", "[0.0, 20.0]", True),
+                                                     ("sim.duration: 0.5", "[2.2, 1.0e6]", True),
+                                                     ("sim.duration: 0.5", "[0.0, 0.5]", False),
+                                                     ("sim.duration: 0.5, sensors.antenna: tracker_gyro",
+                                                      "[0.0, 20.0]", False)])
+def test_a_guard_inertia_whose_cap_is_kd_is_refused(tmp_path, settings, values, refused):
+    p = check(write_spec(tmp_path, GUARD.format(scene=scene_path("paper_spatial2"), set=settings, values=values)),
+              tmp_path / "out")
+    assert p.returncode == (2 if refused else 0), p.stderr
+    if refused:
+        assert "key 'grid.controller.elevation.play_inertia'" in p.stderr and "kd itself" in p.stderr, p.stderr
+
+
+@pytest.mark.parametrize("value,same", [(20.0, True), (0.5, False)])
+def test_the_guard_changes_nothing_where_its_cap_is_kd_even_where_the_play_shows(value, same):
+    # paper_spatial2: the elevation journal tilts and the guard sees the play (its onset recorded) at every value
+    scene = gimbalsim.load_scene(scene_path("paper_spatial2"), {"sim.duration": 0.6})
+
+    def run(j):
+        ctrl = gimbalsim.Controller(None, {"profile.slew_start": 0.05, "profile.slew_time": 0.3,
+                                           "profile.hold_time": 0.1, "elevation.play_inertia": j})
+        r = gimbalsim.closed_loop(scene, ctrl, 0.6)
+        return np.column_stack([r.columns[c] for c in TRUTH]), r.summary["play_onset_s"]
+
+    (off, _), (on, onset) = run(0.0), run(value)
+    assert onset[1] is not None, onset  # the guard saw the play on the elevation axis
+    assert np.array_equal(off, on, equal_nan=True) is same
