@@ -16,8 +16,9 @@ SCRIPTS = {"study": ("tools/pointing_study/run_pointing_study.sh", "gimbalsim_po
                      "out/controller_floor")}
 
 
-def _run(tmp_path, which, *args):
-    """The script with a build of the one program it runs (no cmake: a stand-in that does nothing), from tmp/work."""
+def _run(tmp_path, which, *args, root=SOURCE):
+    """The script (of the tree at root: the checkout, or a _repository_copy) with a build of the one program it
+    runs (no cmake: a stand-in that does nothing), from tmp/work."""
     script, program, _, _ = SCRIPTS[which]
     build, fake, work = tmp_path / "build", tmp_path / "fakebin", tmp_path / "work"
     for d in (build / "bin", fake, work):
@@ -28,7 +29,7 @@ def _run(tmp_path, which, *args):
     (fake / "cmake").write_text("#!/bin/sh\nexit 0\n")
     (fake / "cmake").chmod(0o755)
     env = dict(os.environ, BUILD_DIR=str(build), PATH=f"{fake}:{os.environ['PATH']}")
-    return subprocess.run(["bash", str(SOURCE / script), *args], cwd=work, env=env, capture_output=True, text=True,
+    return subprocess.run(["bash", str(root / script), *args], cwd=work, env=env, capture_output=True, text=True,
                           timeout=300)
 
 
@@ -124,17 +125,9 @@ def _repository_copy(tmp_path):
 def test_the_floor_script_writes_the_projects_page_only_when_asked(tmp_path, results):
     # a trial with other arguments (one clearance, a short run) replaced docs/results/controller_floor.md
     repo = _repository_copy(tmp_path)
-    build, fake, work = tmp_path / "build", tmp_path / "fakebin", tmp_path / "work"
-    for d in (build / "bin", fake, work):
-        d.mkdir(parents=True)
-    (build / "CMakeCache.txt").write_text("")
-    (build / "bin" / "gimbalsim_controller_floor").symlink_to(BIN / "gimbalsim_controller_floor")
-    (fake / "cmake").write_text("#!/bin/sh\nexit 0\n")
-    (fake / "cmake").chmod(0o755)
-    env = dict(os.environ, BUILD_DIR=str(build), PATH=f"{fake}:{os.environ['PATH']}")
     args = ["--clearances", "2.5e-4", "--duration", "2.6"] + (["--results"] if results else [])
-    p = subprocess.run(["bash", str(repo / "tools/pointing_study/run_controller_floor.sh"), *args], cwd=work,
-                       env=env, capture_output=True, text=True, timeout=300)
+    p = _run(tmp_path, "floor", *args, root=repo)
+    work = tmp_path / "work"
     assert p.returncode == 0, p.stderr
     assert (work / "out/controller_floor/floor.log").is_file()
     page = repo / "docs/results/controller_floor.md"
@@ -190,18 +183,8 @@ def test_a_study_with_no_figure_while_tracking_ends_as_the_study_did(tmp_path):
 def test_the_study_page_says_why_a_figure_is_missing(tmp_path):
     # (pass 26) every run stopped: the page's summary read "peak error while tracking nan rad ideal"
     repo = _repository_copy(tmp_path)
-    build, fake, work = tmp_path / "build", tmp_path / "fakebin", tmp_path / "work"
-    for d in (build / "bin", fake, work):
-        d.mkdir(parents=True)
-    (build / "CMakeCache.txt").write_text("")
-    (build / "bin" / "gimbalsim_pointing_study").symlink_to(BIN / "gimbalsim_pointing_study")
-    (fake / "cmake").write_text("#!/bin/sh\nexit 0\n")
-    (fake / "cmake").chmod(0o755)
-    env = dict(os.environ, BUILD_DIR=str(build), PATH=f"{fake}:{os.environ['PATH']}")
-    p = subprocess.run(["bash", str(repo / "tools/pointing_study/run_pointing_study.sh"), "--results", "--quick",
-                        "--sensors", "perfect", "--clearance-scene", str(SOURCE / "tools/scenes/paper_clearance.yaml"),
-                        "--scene-set", "sim.velocity_limit=0.5"], cwd=work, env=env, capture_output=True, text=True,
-                       timeout=300)
+    p = _run(tmp_path, "study", "--results", "--quick", "--sensors", "perfect", "--clearance-scene",
+             str(SOURCE / "tools/scenes/paper_clearance.yaml"), "--scene-set", "sim.velocity_limit=0.5", root=repo)
     assert p.returncode == 3, p.stderr
     page = (repo / "docs/results/closed_loop_clearance.md").read_text()
     assert "nan" not in page.lower().replace("nanosec", ""), page
