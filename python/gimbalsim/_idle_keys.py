@@ -100,11 +100,13 @@ def _for_every_value(judge, key, values, dispersed, takes, own_deciders=()):
 
 
 def _idle_play_guard(key, values, dispersed, takes):
-    """Why <axis>.play_inertia cannot act: off the antenna's loop the guard
-    only lowers the axis's rate gain to min(kd, 0.5 play_inertia / Ts)
-    (controllers/src/pid.cpp), which is kd itself for every value given
-    that is 0 (no guard) or at least 2 kd Ts. Judged with kd and the period
-    fixed; whether a smaller value acts is the run's motion (the guard's
+    """Why a dispersed <axis>.play_inertia cannot act: off the antenna's
+    loop the guard only lowers the axis's rate gain to min(kd, 0.5
+    play_inertia / Ts) (controllers/src/pid.cpp), which is kd itself for
+    every value given that is 0 (no guard) or at least 2 kd Ts: those values
+    all run alike. Judged with kd and the period fixed and two values or
+    more (a fixed value is a setting: 5 runs as 0 does, not as the default
+    0.1); whether a smaller value acts is the run's motion (the guard's
     evidence), not the configuration's: not judged."""
     axis = next((a for a in ("azimuth", "elevation") if key == f"{CONTROLLER_PREFIX}{a}.play_inertia"), None)
     kd_key, period_key = f"{CONTROLLER_PREFIX}{axis}.kd", CONTROLLER_PREFIX + "control.period"
@@ -112,11 +114,15 @@ def _idle_play_guard(key, values, dispersed, takes):
         (ANTENNA_TRACKER in dispersed or str(values.get(ANTENNA_TRACKER, "use")) == "use")
     if axis is None or at_antenna or {kd_key, period_key} & dispersed:
         return None
-    t = takes.get(key) if key in dispersed else [values.get(key)]
+    # Values compared with each other: a fixed value (or an allocation's one-point grid) is a setting the
+    # run reads (0 turns the guard off), whatever it equals
+    t = takes.get(key) if key in dispersed else None
     try:
         given = [(t.lo, t.hi)] if isinstance(t, Span) else [(float(v), float(v)) for v in t]
         kd, period = float(values[kd_key]), float(values[period_key])
     except (KeyError, TypeError, ValueError):
+        return None
+    if not isinstance(t, Span) and len(set(given)) < 2:
         return None
     floor = 2.0 * kd * period
     if all(lo == hi == 0.0 or lo >= floor * (1.0 + 1e-9) for lo, hi in given):  # (not at the floor: rounding)

@@ -226,3 +226,15 @@ def test_the_guard_changes_nothing_where_its_cap_is_kd_even_where_the_play_shows
     (off, _), (on, onset) = run(0.0), run(value)
     assert onset[1] is not None, onset  # the guard saw the play on the elevation axis
     assert np.array_equal(off, on, equal_nan=True) is same
+
+
+@pytest.mark.parametrize("value", ["0.0", "20.0"])
+def test_a_fixed_guard_inertia_is_a_setting_the_run_reads(tmp_path, value):
+    # (pass 28) the rule compares values given with each other: a fixed 0 turns the guard off, and 20 runs as 0
+    # does, both unlike the default 0.1 on paper_spatial2, where the guard sees the play; neither is idle
+    text = GUARD.format(scene=scene_path("paper_spatial2"), set="sim.duration: 0.5", values="[0.0]").replace(
+        "grid:\n  controller.elevation.play_inertia: [0.0]\n", "").replace(
+        "profile.hold_time: 0.1}", f"profile.hold_time: 0.1, elevation.play_inertia: {value}}}")
+    assert f"elevation.play_inertia: {value}" in text and "grid" not in text
+    p = check(write_spec(tmp_path, text), tmp_path / "out")
+    assert p.returncode == 0, p.stderr
