@@ -2,6 +2,7 @@
 sampling against a fine fixed setting (issue 40, item 6), on two units.
 The default's figures hold within 1 % of the requirement of a 5 us fixed
 sub-step's; a coarse "fine" setting (0.2 ms) is caught moving them."""
+import os
 import subprocess
 import sys
 
@@ -122,3 +123,32 @@ indices:
         assert root["parameters"] == {"friction.mu": {"uniform": [0.15, 0.35]}}, root
     fine = Spec(tmp_path / "out" / "fine.yaml").root.plain()
     assert fine["set"] == {"sim.duration": 0.3, "sim.substep": 1e-4, "sim.substep_policy": "fixed"}, fine
+
+
+def test_an_input_inside_out_is_refused_and_the_default_run_is_labelled_as_it_ran(tmp_path):
+    # (pass 28) a scene kept as out/fine.yaml was replaced by the derived spec (--out is replaced whole); and a
+    # spec pinning sampling: scene had its default run labelled "sampling: auto"
+    (tmp_path / "X").mkdir()
+    (tmp_path / "X" / "fine.yaml").write_text((SOURCE / "tools/scenes/paper_clearance.yaml").read_text())
+    spec = """scene: {scene}
+set: {{sim.duration: 0.3}}
+controller: default
+controller_set: {{profile.slew_start: 0.05, profile.slew_time: 0.1, profile.hold_time: 0.05}}
+samples: 1
+seed: 1
+{sampling}parameters:
+  friction.mu: {{uniform: [0.15, 0.35]}}
+phases: [slew]
+indices:
+  ape: {{requirement: 1.0e-4}}
+"""
+    (tmp_path / "in_out.yaml").write_text(spec.format(scene=tmp_path / "X" / "fine.yaml", sampling=""))
+    before = (tmp_path / "X" / "fine.yaml").read_bytes()
+    p = run("--spec", tmp_path / "in_out.yaml", "--fine-substep", "1e-4", "--out", tmp_path / "X")
+    assert p.returncode == 2 and "an input of this run" in p.stderr and "running" not in p.stderr, p.stderr
+    assert (tmp_path / "X" / "fine.yaml").read_bytes() == before and sorted(os.listdir(tmp_path / "X")) == ["fine.yaml"]
+    (tmp_path / "pinned.yaml").write_text(spec.format(scene=SOURCE / "tools/scenes/paper_clearance.yaml",
+                                                      sampling="sampling: scene\n"))
+    p = run("--spec", tmp_path / "pinned.yaml", "--fine-substep", "1e-4", "--out", tmp_path / "o")
+    assert p.returncode == 0, p.stderr
+    assert "| default (sampling: scene) |" in p.stdout and "sampling: auto" not in p.stdout, p.stdout

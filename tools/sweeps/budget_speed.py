@@ -212,7 +212,8 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default):
           f"{s_d['sampling']['why']}; the fine setting: the scene's own law, fixed sub-steps of {fine_substep:g} s.\n")
     print("| run | wall [s] | samples/s | CPU per sample [ms] | engine overhead per sample [ms] |")
     print("|---|---|---|---|---|")
-    for label, s in (("default (sampling: auto)", s_d), (f"fine (sim.substep {fine_substep:g} s)", s_f)):
+    for label, s in ((f"default (sampling: {s_d['sampling']['mode']})", s_d),
+                     (f"fine (sim.substep {fine_substep:g} s)", s_f)):
         e = s["engine"]
         print(f"| {label} | {e['elapsed_s']:.1f} | {_number(e['samples_per_s'], '.1f')} | "
               f"{_number(e['mean_run_s'], '.1f', 1e3)} | {_number(e['engine_overhead_per_sample_s'], '.2f', 1e3)} |")
@@ -314,6 +315,10 @@ def _run(a, build, spec_path, out):
 
     t0, load0 = str(time.time()), open("/proc/loadavg").read()
     plain, texts = derived_specs(spec_path, a.samples, a.fine_substep)
+    for given in [spec_path, plain["scene"]] + ([plain["controller"]] if plain["controller"] != "default" else []):
+        path = pathlib.Path(given).resolve()
+        if out.resolve() in path.parents:  # the runs replace --out whole: an input in it would go with it
+            raise Refused(f"--out {out}: holds {path}, an input of this run; the runs replace it: give another folder")
     check_out(out)
     if a.results:
         output_file.check_before_writing([PAGE, PAGE.parent / "README.md"])
