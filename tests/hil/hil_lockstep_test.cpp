@@ -269,6 +269,13 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
       // time that stands still or runs back: an edited file, not one run's ticks
       {write("back.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm\n0,0.001,0,0\n1,0.001,0,0\n"),
        "back.csv:3: sim_time_s 0.001 is not after the previous row's"},
+      // a plant's frozen rows carry FAULT_PLANT_FAULT (8): time standing still without it is an edit
+      {write("still.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n0,0,0,0,0\n1,0.001,0,0,0\n2,0.001,0,0,4\n"),
+       "still.csv:4: sim_time_s 0.001 is not after the previous row's"},
+      // and nothing moves on after them
+      {write("resumed.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n0,0,0,0,0\n1,0.001,0,0,0\n2,0.001,0,0,8\n"
+                            "3,0.002,0,0,8\n"),
+       "resumed.csv:5: sim_time_s 0.002 after the plant's stop (frozen rows before it): not one run's ticks"},
   };
   for (const auto& c : cases) {
     int st = 0;
@@ -283,6 +290,14 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
   EXPECT_EQ(WEXITSTATUS(st), 6) << out;
   EXPECT_NE(out.find("torque_replay: error: no status for 0.2 s: no plant on GIMBAL_STATUS"), std::string::npos) << out;
   EXPECT_EQ(out.find("status -1"), std::string::npos) << out;
+  // A run whose plant stopped (firmware_sim exit 3) is read whole, its frozen rows said (hil_replay: the stop).
+  const std::string stopped = runCapture(
+      prog + "'" + write("stopped.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n0,0,0,0,0\n1,0.001,0,0,0\n"
+                                        "2,0.001,0,0,8\n3,0.001,0,0,8\n") + "' --lcm-url memq:// --idle-exit 0.2 2>&1",
+      &st);
+  EXPECT_EQ(WEXITSTATUS(st), 6) << stopped;  // no plant here: read, not refused
+  EXPECT_NE(stopped.find("the recorded plant stopped at t = 0.001 s (its last 2 rows are its frozen state)"),
+            std::string::npos) << stopped;
 }
 
 }  // namespace

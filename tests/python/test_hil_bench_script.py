@@ -60,6 +60,9 @@ def test_a_run_whose_plant_stopped_keeps_its_outputs_and_ends_with_3(tmp_path):
     assert "the plant stopped at t = " in p.stdout, p.stdout
     rows = (out / "truth.csv").read_text().splitlines()
     assert len(rows) == 1 + 801 and rows[-1].endswith(",8,0"), rows[-1]  # every tick; the last frozen, flagged
+    # (pass 28) the frozen rows are left out of the plot, not out of the count of plant-fault ticks
+    flagged = sum(1 for r in rows[1:] if int(r.split(",")[-2]) & 8)
+    assert f"plant fault {flagged} ({flagged} of them the frozen rows after the stop)" in p.stdout, p.stdout
 
 
 def test_out_must_be_a_folder_and_a_refused_run_leaves_none_it_made(tmp_path):

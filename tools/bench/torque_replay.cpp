@@ -52,6 +52,11 @@ int mainImpl(int argc, char** argv) {
   } catch (const std::runtime_error& e) {
     return refuse("torque_replay", e.what());
   }
+  if (t.frozen_rows > 0) {  // replayed whole: a plant that reproduces the run stops where it did
+    std::fprintf(stderr, "torque_replay: the recorded plant stopped at t = %.9g s (its last %zu rows are its frozen "
+                 "state): their commands are replayed, their times not checked\n",
+                 t.t_s[t.t_s.size() - t.frozen_rows - 1], t.frozen_rows);
+  }
   lcm::LCM lcm(url);
   const auto ch = gimbalsim::contract::Channels::withPrefix(prefix);
   gimbalsim::lcm_wire::UdpmReceiver rx({}, gimbalsim::lcm_wire::ChannelFilter({ch.status}));
@@ -73,7 +78,8 @@ int mainImpl(int argc, char** argv) {
       heard_ns = gimbalsim::lcm_wire::monotonicNs();
       if (st.seq <= answered || st.seq > last) return;  // a repeat (status 0 is re-sent until answered), or past the CSV
       const auto k = static_cast<std::size_t>(st.seq);
-      // Lockstep's utime is simulated time, rounded to 1 us: row k's time, or the plant ticks at another period.
+      // Lockstep's utime is simulated time, rounded to 1 us: row k's time, or the plant ticks at another period
+      // (a frozen row's time is NaN: the comparison is false, nothing to check).
       if (!t.t_s.empty() && std::fabs(static_cast<double>(st.utime) * 1e-6 - t.t_s[k]) > 1e-6) {
         char why[256];
         std::snprintf(why, sizeof why, "status %lld is at t = %.9g s, row %lld of the truth CSV at %.9g s: the plant "

@@ -24,10 +24,15 @@ namespace gimbalsim::bench {
 
 constexpr std::size_t kMaxRows = 2000000;      ///< firmware_sim --tick-log's limit: 33 min at 1 kHz
 constexpr std::size_t kMaxLineBytes = 1 << 16;  ///< a truth row is about 1 kB
+constexpr long long kPlantFault = 8;            ///< gimbal_status_t.FAULT_PLANT_FAULT: the state frozen (latched)
 
 struct Torques {
   std::vector<double> tau1, tau2;  ///< [N m] applied over tick k (row k)
   std::vector<double> t_s;         ///< [s] tick k's simulated time (row k's sim_time_s; empty without the column)
+  /// A plant that stopped repeats its frozen state, time included, with FAULT_PLANT_FAULT on every later row
+  /// (firmware_sim exit 3), while its ticks and the commands they applied go on: those rows are kept with
+  /// t_s NaN (no time of the plant's), so that a replay stops where the run did. How many there were.
+  std::size_t frozen_rows = 0;
 };
 
 /// The two torque columns of a truth CSV written every tick (its seq column
@@ -56,9 +61,10 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
   const bool empty_last = !line.empty() && line.back() == ',';  // getline drops an empty last field
   for (std::stringstream ss(line); std::getline(ss, line, ',');) header.push_back(line);
   if (empty_last) header.emplace_back();
-  int c1 = -1, c2 = -1, cs = -1, ct = -1;
+  int c1 = -1, c2 = -1, cs = -1, ct = -1, cf = -1;
   for (int j = 0; j < static_cast<int>(header.size()); ++j) {
-    for (auto [column, at] : {std::pair{"tau1_Nm", &c1}, {"tau2_Nm", &c2}, {"seq", &cs}, {"sim_time_s", &ct}}) {
+    for (auto [column, at] : {std::pair{"tau1_Nm", &c1}, {"tau2_Nm", &c2}, {"seq", &cs}, {"sim_time_s", &ct},
+                              {"faults", &cf}}) {
       if (header[j] != column) continue;
       // Two columns of one name: which one the plant applied is not knowable, so neither is guessed.
       if (*at >= 0) throw std::runtime_error(name + ":1: column " + column + " appears twice");
@@ -80,8 +86,9 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
     }
     return x;
   };
-  for (long long n = 2; next(); ++n) {
-    if (t.tau1.size() >= kMaxRows) throw std::runtime_error(name + ": more than 2000000 rows");
+  std::size_t rows = 0;  // data rows read: row k is tick k
+  for (long long n = 2; next(); ++n, ++rows) {
+    if (rows >= kMaxRows) throw std::runtime_error(name + ": more than 2000000 rows");
     // Every row has the header's fields (counted by commas: getline drops an empty last one).
     const std::size_t fields = static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1;
     if (fields != header.size()) {
@@ -92,7 +99,7 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
     for (std::stringstream ss(line); std::getline(ss, line, ',');) f.push_back(line);
     const auto has = [&](int c) { return c < static_cast<int>(f.size()); };
     // Row k must be tick k: a CSV written every N ticks (--truth-every N) would replay tick N (k + 1) as tick k + 1.
-    const std::string expected = std::to_string(t.tau1.size());
+    const std::string expected = std::to_string(rows);
     if (has(cs) && (f[cs].empty() || f[cs].find_first_not_of("0123456789") != std::string::npos)) {
       throw std::runtime_error(name + ":" + std::to_string(n) + ": seq '" + f[cs] + "' is not a tick number");
     }
@@ -102,17 +109,30 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
                                " belongs: the CSV was not written every tick (firmware_sim --truth-every 1)");
     }
     // Ticks in time order: an edited or spliced file whose seq still counts is no run the plant made.
+    // Every cell, read or not, is the writer's number: a row with a word or a NaN anywhere is no tick the plant made.
+    for (int c = 0; c < static_cast<int>(header.size()); ++c) number(f, c, n);
     if (ct >= 0) {
       const double t_s = number(f, ct, n);
-      if (!(t_s > t_prev)) {
+      // The frozen state of a plant that stopped: its time stands still and the fault is latched from then on.
+      const double faults = cf >= 0 ? number(f, cf, n) : 0.0;
+      const bool frozen = t_s == t_prev && faults >= 0.0 && faults < 2147483648.0 &&
+                          (static_cast<long long>(faults) & kPlantFault) != 0;
+      if (frozen && (t.frozen_rows > 0 || !t.tau1.empty())) {
+        ++t.frozen_rows;
+        t.t_s.push_back(std::nan(""));
+        t.tau1.push_back(number(f, c1, n));
+        t.tau2.push_back(number(f, c2, n));
+        continue;
+      }
+      if (!(t_s > t_prev) || t.frozen_rows > 0) {
         throw std::runtime_error(name + ":" + std::to_string(n) + ": sim_time_s " + f[ct] +
-                                 " is not after the previous row's: not one run's ticks in order");
+                                 (t.frozen_rows > 0 ? " after the plant's stop (frozen rows before it)"
+                                                    : " is not after the previous row's") +
+                                 ": not one run's ticks in order");
       }
       t_prev = t_s;
       t.t_s.push_back(t_s);
     }
-    // Every cell, read or not, is the writer's number: a row with a word or a NaN anywhere is no tick the plant made.
-    for (int c = 0; c < static_cast<int>(header.size()); ++c) number(f, c, n);
     t.tau1.push_back(number(f, c1, n));
     t.tau2.push_back(number(f, c2, n));
   }

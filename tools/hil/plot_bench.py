@@ -143,7 +143,7 @@ def _until_the_plant_stopped(cols):
         return cols
     k = flat[0] + 1  # the first repeat
     if (t[k:] == t[k - 1]).all() and ((cols["faults"][k:].astype(np.int64) & PLANT_FAULT) != 0).all():
-        return {**{c: v[:k] for c, v in cols.items()}, "stopped_at": float(t[k - 1])}
+        return {**{c: v[:k] for c, v in cols.items()}, "stopped_at": float(t[k - 1]), "frozen_rows": len(t) - k}
     return cols
 
 
@@ -219,6 +219,10 @@ def main():
         ax[4].set_ylim(-0.6, len(seen) - 0.4)
         ax[4].set_ylabel("scheduled")
         ax[4].grid(True, axis="x", alpha=0.3)
+    if "stopped_at" in c:  # the frozen rows are left out: the stop is drawn, on the plant-fault row too
+        for a_ in ax:
+            a_.axvline(c["stopped_at"], color="C3", ls=":", lw=1)
+        ax[3].plot([c["stopped_at"]], [[n for _, n in FAULTS].index("plant fault")], "x", color="C3", ms=8)
     ax[-1].set_xlabel("simulated time [s]")
     fig.suptitle((a.title or a.truth) + (f" (the plant stopped at {c['stopped_at']:g} s)" if "stopped_at" in c else ""),
                  fontsize=10)
@@ -236,7 +240,13 @@ def main():
     print(f"  pointing error: end {err[-1]:.3e} rad, {tail}")
     if note:
         print(f"  pointing error {note}")
-    print("  fault ticks: " + ", ".join(f"{name} {int(((faults & bit) != 0).sum())}" for bit, name in FAULTS))
+    frozen = c.get("frozen_rows", 0)  # each carries FAULT_PLANT_FAULT: counted, though not drawn
+
+    def ticks(bit):
+        n = int(((faults & bit) != 0).sum())
+        return f"{n + frozen} ({frozen} of them the frozen rows after the stop)" if bit == PLANT_FAULT and frozen \
+            else str(n)
+    print("  fault ticks: " + ", ".join(f"{name} {ticks(bit)}" for bit, name in FAULTS))
     if seen:
         print("  scheduled fault ticks: " + ", ".join(f"{injected_name(b)} {int(((injected >> b) & 1).sum())}" for b in seen))
 
