@@ -27,6 +27,7 @@
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
 cd "$ROOT"
 
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
@@ -76,7 +77,7 @@ LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT
   --ideal "$OUT/ideal.csv" --clearance "$OUT/clearance.csv" \
   --ideal-summary "$OUT/ideal.json" --clearance-summary "$OUT/clearance.json" \
   --spatial "$OUT/spatial.csv" --spatial-summary "$OUT/spatial.json" \
-  --out "$OUT/plots" | tee "$LOG"
+  --out "$OUT/plots" | console_tee "$LOG"
 /usr/bin/python3 tools/pages/save_output.py "$LOG" "$OUT/plot_summary.txt" -- "$@"  # the writer's rules, not tee's
 
 echo

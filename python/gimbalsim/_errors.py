@@ -4,11 +4,10 @@ the exit code of the project's exit-code table (docs/usage.md "Exit codes",
 the C++ programs' enum Exit in base/program/include/gimbalsim/program/
 program.hpp), which the mains of gimbalsim.sweep, gimbalsim.tune and the
 sweep's --replay run through (guarded_main)."""
-import errno
-import os
 import signal
 import sys
 
+from ._console import ReaderGoneStream
 from ._output import OutputError
 
 # The exit-code table, the same numbers as program.hpp's enum Exit (a test compares them).
@@ -118,9 +117,9 @@ def guarded_main(program, body, notes=None):
     (<SIGNAL>)" for a signal, followed by notes[cls](e) for the first class
     of notes (a dict) the exception is an instance of (how to go on).
     A stderr whose reader is gone (`2>&1 | head -1`) stops no program: its
-    lines are dropped from then on (_Stderr)."""
+    lines are dropped from then on (_console.ReaderGoneStream)."""
     stderr = sys.stderr
-    sys.stderr = _Stderr(stderr) if not isinstance(stderr, _Stderr) else stderr
+    sys.stderr = ReaderGoneStream(stderr) if not isinstance(stderr, ReaderGoneStream) else stderr
     try:
         return body()
     except BaseException as e:
@@ -133,49 +132,3 @@ def guarded_main(program, body, notes=None):
         return code
     finally:
         sys.stderr = stderr
-
-
-class _Stderr:
-    """stderr as the programs write it: once a write or flush finds its pipe
-    closed (EPIPE), every later line is dropped, silently: exit 1 is a bug's
-    code, and a study's work is worth more than its messages."""
-
-    def __init__(self, stream):
-        self._stream, self._closed = stream, False
-
-    def _guard(self, op, *args):
-        if self._closed:
-            return None
-        try:
-            return op(*args)
-        except OSError as e:
-            if e.errno != errno.EPIPE:
-                raise
-            self._closed = True
-            _to_devnull(self._stream)
-            return None
-
-    def write(self, text):
-        written = self._guard(self._stream.write, text)
-        return len(text) if written is None else written
-
-    def flush(self):
-        self._guard(self._stream.flush)
-
-    def __getattr__(self, name):  # fileno, isatty, encoding...: the stream's own
-        return getattr(self._stream, name)
-
-
-def _to_devnull(stream):
-    """The stream's descriptor onto /dev/null: what its buffer still holds,
-    flushed by Python at exit, then goes nowhere instead of printing
-    "Exception ignored ... BrokenPipeError" (and what the C++ core writes there too)."""
-    try:
-        fd = stream.fileno()
-        null = os.open(os.devnull, os.O_WRONLY)
-    except (AttributeError, OSError, ValueError):  # no descriptor (a test's stream): nothing buffered below it
-        return
-    try:
-        os.dup2(null, fd)
-    finally:
-        os.close(null)

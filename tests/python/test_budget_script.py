@@ -35,7 +35,8 @@ def digest(folder):
 
 def test_a_users_spec_writes_its_own_folder_and_no_project_page(tmp_path):
     root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/pages/results_page.py", "docs/results/pointing_budget.md",
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh",
+                "tools/pages/results_page.py", "docs/results/pointing_budget.md",
                 "docs/results/README.md"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(SOURCE / rel, root / rel)
@@ -79,7 +80,8 @@ def test_a_refused_shipped_spec_leaves_the_previous_results(tmp_path):
     # The shipped budget regenerates out/pointing_budget/: a spec refused (or a run that fails)
     # must leave the previous results there, and write no page.
     root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/pages/results_page.py", "docs/results/pointing_budget.md"):
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh",
+                "tools/pages/results_page.py", "docs/results/pointing_budget.md"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(SOURCE / rel, root / rel)
     (root / "tools/sweeps/pointing_budget.yaml").write_text(SPEC.replace("samples: 2", "samples: 2\nsampels: 3"))
@@ -109,7 +111,8 @@ def test_a_refused_spec_makes_no_out_folder(tmp_path):
     assert sorted(os.listdir(work)) == ["bad.yaml"]
     # the shipped budget's run too (in a copy of what it touches), out/ made for it and taken back
     root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/pages/results_page.py"):
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh",
+                "tools/pages/results_page.py"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(SOURCE / rel, root / rel)
     (root / "tools/sweeps/pointing_budget.yaml").write_text(SPEC.replace("samples: 2", "samples: 2\nsampels: 3"))
@@ -122,9 +125,10 @@ def checkout_with_spec(tmp_path, spec_text=None):
     """TMP/checkout: a copy of what the shipped budget's run touches, no out/; its spec the shipped one, or
     spec_text."""
     root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/sweeps/pointing_budget.yaml", "tools/pages/results_page.py",
-                "tools/pages/output_file.py", "python/gimbalsim/_output.py", "docs/results/pointing_budget.md",
-                "docs/results/README.md"):
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh",
+                "tools/sweeps/pointing_budget.yaml", "tools/pages/results_page.py",
+                "tools/pages/output_file.py", "python/gimbalsim/_output.py", "python/gimbalsim/_console.py",
+                "tools/lib/console.sh", "docs/results/pointing_budget.md", "docs/results/README.md"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(SOURCE / rel, root / rel)
     if spec_text is not None:

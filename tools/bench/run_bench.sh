@@ -9,6 +9,7 @@
 # writes docs/results/speed.md (tools/bench/speed_page.py).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/bench/run_bench.sh$(printf ' %q' "$@")"
 for v in REPS MUJOCO_REPEATS; do [ -n "${!v:-}" ] && COMMAND="$v=${!v} $COMMAND"; done
@@ -44,7 +45,7 @@ if grep -q '^mujoco_DIR:PATH=/' build/CMakeCache.txt 2>/dev/null; then  # found 
   mkdir -p out/speed/mujoco
   LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT
   build/bin/gimbalsim_workprec --scenes paper_ideal_valid_inertia --policy plain --steps 1e-2,5e-3,2e-3,1e-3 \
-    --repeats "${MUJOCO_REPEATS:-5}" --out out/speed/mujoco | tee "$LOG"
+    --repeats "${MUJOCO_REPEATS:-5}" --out out/speed/mujoco | console_tee "$LOG"
   /usr/bin/python3 tools/pages/save_output.py "$LOG" out/speed/mujoco/workprec.log  # the writer's rules, not tee's
   MJ=(--mujoco-dir out/speed/mujoco)
 fi

@@ -18,6 +18,7 @@
 # names the build directory (default build).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
 
 MODE=lockstep DURATION=8 SCENE="$ROOT/tools/scenes/paper_clearance.yaml" CONFIG="$ROOT/controllers/config/default.yaml"
 RATE=1000 LOG=0 OUT="$ROOT/out/bench" OUT_GIVEN=0 PLOT=1 PORT=7667 EXTRA=()
@@ -231,7 +232,7 @@ cleanup() {
 }
 trap cleanup EXIT
 failed() {  # failed MESSAGE CODE: the run's own logs on stderr, OUT as it was
-  for f in firmware.txt controller.txt; do [ ! -s "$f" ] || { echo "--- $f"; cat "$f"; } >&2; done
+  for f in firmware.txt controller.txt; do [ ! -s "$f" ] || { echo "--- $f"; cat "$f" 2>/dev/null || true; } >&2; done
   echo "run_hil_bench.sh: $1; nothing in $OUT was changed" >&2
   exit "$2"
 }
@@ -251,7 +252,7 @@ fw=("$BIN/firmware_sim" "$SCENE" --rate "$RATE" --duration "$DURATION" --profile
     --lcm-url "$URL")
 [ "$MODE" = lockstep ] && fw+=(--lockstep)
 set +e
-"${fw[@]}" "${EXTRA[@]}" 2>&1 | tee firmware.txt
+"${fw[@]}" "${EXTRA[@]}" 2>&1 | console_tee firmware.txt
 rc=${PIPESTATUS[0]}
 set -e
 # A plant that failed ends the run now: the controller would wait its --idle-exit for a status that never comes.

@@ -17,13 +17,20 @@ import re
 import signal
 import sys
 
-_NAME = "gimbalsim_output_writer"  # not gimbalsim._output: importing that would load the package and its extension
-if _NAME not in sys.modules:
-    _path = pathlib.Path(__file__).resolve().parents[2] / "python" / "gimbalsim" / "_output.py"
-    _spec = importlib.util.spec_from_file_location(_NAME, _path)
-    sys.modules[_NAME] = importlib.util.module_from_spec(_spec)
-    _spec.loader.exec_module(sys.modules[_NAME])
-_writer = sys.modules[_NAME]
+
+def _standalone(name, file):
+    """python/gimbalsim/<file> loaded by path as `name`: not gimbalsim.<module>, whose import would load the
+    package and its extension."""
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, pathlib.Path(__file__).resolve().parents[2] / "python" /
+                                                      "gimbalsim" / file)
+        sys.modules[name] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(sys.modules[name])
+    return sys.modules[name]
+
+
+_writer = _standalone("gimbalsim_output_writer", "_output.py")
+_console = _standalone("gimbalsim_console", "_console.py")
 
 OutputError = _writer.OutputError
 check_outputs = _writer.check_outputs
@@ -82,9 +89,13 @@ def run_script(program, main, whole_set=False):
     one line and exit 4, SIGINT or SIGTERM one line and 128 + the signal.
     whole_set: the outputs are one set (a page's figures): a failure or a stop
     removes those already written, so no name holds part of a set. Anything
-    else is a bug: a traceback and exit 1."""
+    else is a bug: a traceback and exit 1. A console whose reader is gone
+    drops its lines (_console.ReaderGoneStream)."""
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, _stop)
+    # a console whose reader is gone (`| head -1`) stops no script: its lines are dropped, the code is the run's
+    sys.stdout, sys.stderr = (s if isinstance(s, _console.ReaderGoneStream) else _console.ReaderGoneStream(s)
+                              for s in (sys.stdout, sys.stderr))
     code = None
     try:
         with _writer.output_set() if whole_set else contextlib.nullcontext():

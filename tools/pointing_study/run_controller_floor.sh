@@ -9,6 +9,7 @@
 #   bash tools/pointing_study/run_controller_floor.sh --results   # the committed page
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
 BUILD="${BUILD_DIR:-$ROOT/build}"
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/pointing_study/run_controller_floor.sh$(printf ' %q' "$@")"
@@ -34,7 +35,7 @@ status=0
 "$BUILD/bin/gimbalsim_controller_floor" --ideal-scene "$ROOT/tools/scenes/paper_ideal.yaml" \
   --clearance-scene "$ROOT/tools/scenes/paper_clearance.yaml" --before-set pointing.accel_feedforward=inertial \
   --before-set pointing.feedforward_lead=0 \
-  --markdown "$OUT/body.md" "$@" | tee "$LOG" || status=$?
+  --markdown "$OUT/body.md" "$@" | console_tee "$LOG" || status=$?
 # Exit 3: a plant stopped; the program wrote its outputs, and the log goes beside them (as the study's script).
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/floor.log" -- "$@"

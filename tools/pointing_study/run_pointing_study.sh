@@ -8,6 +8,7 @@
 # (tools/pointing_study/pointing_page.py).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
 BUILD="${BUILD_DIR:-$ROOT/build}"
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/pointing_study/run_pointing_study.sh$(printf ' %q' "$@")"
@@ -52,7 +53,7 @@ case " ${args[*]-} " in
      done ;;
 esac
 "$BUILD/bin/gimbalsim_pointing_study" --out "$OUT" --ideal-scene "$ROOT/tools/scenes/paper_ideal.yaml" \
-  --sensors all ${scenes[@]+"${scenes[@]}"} ${args[@]+"${args[@]}"} | tee "$LOG" || status=$?
+  --sensors all ${scenes[@]+"${scenes[@]}"} ${args[@]+"${args[@]}"} | console_tee "$LOG" || status=$?
 # Exit 3: a plant stopped; the results of the other runs are still written and plotted.
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}

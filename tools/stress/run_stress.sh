@@ -11,6 +11,7 @@
 # unclearly; the page is still written and lists them).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
 CALLER=$PWD  # the user's folder: a relative path they give is theirs, not the repository's
 cd "$ROOT"
 source "$ROOT/tools/lib/caller_args.sh"  # abs_arg
@@ -31,7 +32,7 @@ status=0
 LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved by the writer's rules (not tee's)
 /usr/bin/python3 tools/pages/save_output.py --check "$LOG" out/stress/stress.log -- ${ARGS[@]+"${ARGS[@]}"}
 build/bin/gimbalsim_stress --csv out/stress/stress.csv --page-body out/stress/page_body.md ${ARGS[@]+"${ARGS[@]}"} \
-  | tee "$LOG" || status=$?
+  | console_tee "$LOG" || status=$?
 if [ "$status" -eq 0 ] || [ "$status" -eq 1 ]; then  # a grid that ran (1: some case failed), never a refusal
   /usr/bin/python3 tools/pages/save_output.py "$LOG" out/stress/stress.log -- ${ARGS[@]+"${ARGS[@]}"}
 fi

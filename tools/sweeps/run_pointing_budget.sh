@@ -22,6 +22,7 @@
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
 # The shipped pages: page name, its title and summary, then each spec with its section's heading (none for one).
 PAGE=pointing_budget TITLE="Closed-loop pointing budget"
 SUMMARY="ECSS indices per phase over a bearing's tolerance, with order-statistics intervals"

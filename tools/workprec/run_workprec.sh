@@ -10,6 +10,7 @@
 #   bash tools/workprec/run_workprec.sh --results  # full sweep and its results page
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
 CALLER=$PWD  # the user's folder: a relative path they give is theirs, not the repository's
 cd "$ROOT"
 source "$ROOT/tools/lib/caller_args.sh"  # abs_arg
@@ -29,7 +30,7 @@ done
 mkdir -p out/workprec
 LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved by the writer's rules (not tee's)
 /usr/bin/python3 tools/pages/save_output.py --check "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
-build/bin/gimbalsim_workprec --out out/workprec ${ARGS[@]+"${ARGS[@]}"} | tee "$LOG"
+build/bin/gimbalsim_workprec --out out/workprec ${ARGS[@]+"${ARGS[@]}"} | console_tee "$LOG"
 /usr/bin/python3 tools/pages/save_output.py "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
 /usr/bin/python3 tools/workprec/plot_workprec.py out/workprec/workprec.csv --out out/workprec/workprec.png
 if [ "$RESULTS" = 1 ]; then

@@ -88,6 +88,9 @@ int guardedMain(const char* program, Body&& body) noexcept {
   // A file-size limit (ulimit -f) must fail a write (EFBIG: exit 4, temporaries removed), not
   // kill the program with SIGXFSZ and leave them behind; Python ignores it the same way.
   std::signal(SIGXFSZ, SIG_IGN);
+  // A console whose reader is gone (`2>&1 | head -1`) must not kill the run (exit 141, outputs cut): its
+  // lines fail with EPIPE and are dropped, and the exit code is the run's (docs/usage.md "Exit codes").
+  std::signal(SIGPIPE, SIG_IGN);
   try {
     try {
       return body();

@@ -1,0 +1,53 @@
+"""The console of the programs and scripts: a stream whose reader may go
+away. Standalone (no package import) so that tools/pages/output_file.py
+loads it by path, as it loads the writer (_output.py)."""
+import errno
+import os
+
+
+class ReaderGoneStream:
+    """A console stream (stderr, stdout) as the programs write it: once a
+    write or flush finds its pipe closed (EPIPE: `2>&1 | head -1`), every
+    later line is dropped, silently: exit 1 is a bug's code, and a run's
+    work is worth more than its messages (the C++ programs ignore SIGPIPE
+    for the same reason)."""
+
+    def __init__(self, stream):
+        self._stream, self._closed = stream, False
+
+    def _guard(self, op, *args):
+        if self._closed:
+            return None
+        try:
+            return op(*args)
+        except OSError as e:
+            if e.errno != errno.EPIPE:
+                raise
+            self._closed = True
+            _to_devnull(self._stream)
+            return None
+
+    def write(self, text):
+        written = self._guard(self._stream.write, text)
+        return len(text) if written is None else written
+
+    def flush(self):
+        self._guard(self._stream.flush)
+
+    def __getattr__(self, name):  # fileno, isatty, encoding...: the stream's own
+        return getattr(self._stream, name)
+
+
+def _to_devnull(stream):
+    """The stream's descriptor onto /dev/null: what its buffer still holds,
+    flushed by Python at exit, then goes nowhere instead of printing
+    "Exception ignored ... BrokenPipeError" (and what the C++ core writes there too)."""
+    try:
+        fd = stream.fileno()
+        null = os.open(os.devnull, os.O_WRONLY)
+    except (AttributeError, OSError, ValueError):  # no descriptor (a test's stream): nothing buffered below it
+        return
+    try:
+        os.dup2(null, fd)
+    finally:
+        os.close(null)

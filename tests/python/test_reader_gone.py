@@ -1,0 +1,36 @@
+"""Issue 41 (pass 28), class 7/10: a console whose reader is gone (`2>&1 |
+head -1`) stops no program, Python tool or script (docs/usage.md "Exit
+codes"): the lines are dropped, the outputs written, the exit code the
+run's. The C++ programs were killed by SIGPIPE (141, no CSV), plot_bench.py
+ended in a BrokenPipeError traceback (1, its figure removed), and
+run_hil_bench.sh was killed with its outputs never moved into --out."""
+import os
+import subprocess
+
+from conftest import BIN, SOURCE, scene_path
+
+
+def gone(command, cwd, env=None):
+    """command's own exit code with its console piped into a reader that leaves at once."""
+    p = subprocess.run(["bash", "-c", f'{command} 2>&1 | true; echo "rc=${{PIPESTATUS[0]}}"'], cwd=cwd,
+                       capture_output=True, text=True, timeout=300, env={**os.environ, **(env or {})})
+    return int(p.stdout.strip().rsplit("rc=", 1)[-1])
+
+
+def test_a_program_runs_to_its_end_and_a_refusal_stays_a_refusal(tmp_path):
+    simulate = f"'{BIN}/gimbalsim' simulate '{scene_path('paper_clearance')}' --set sim.duration=0.2 --out s.csv"
+    assert gone(simulate, tmp_path) == 0
+    assert (tmp_path / "s.csv").read_text().count("\n") > 100  # the run whole
+    assert gone(f"'{BIN}/firmware_sim' --rate 0", tmp_path) == 2
+
+
+def test_the_bench_script_moves_its_run_into_place(tmp_path):
+    out = tmp_path / "bo"
+    code = gone(f"bash '{SOURCE}/tools/hil/run_hil_bench.sh' --duration 0.3 --out '{out}' --port 7743", tmp_path,
+                env={"GIMBALSIM_BUILD": str(BIN.parent)})
+    assert code == 0
+    assert sorted(os.listdir(out)) == ["bench.png", "controller.csv", "controller.txt", "firmware.txt", "truth.csv"]
+    assert (out / "firmware.txt").read_text().count("firmware_sim:") >= 2  # the log whole, its console gone
+    # and plot_bench, a Python tool, drew its figure with nobody reading
+    assert gone(f"/usr/bin/python3 '{SOURCE}/tools/hil/plot_bench.py' '{out}/truth.csv' --out p.png", tmp_path) == 0
+    assert (tmp_path / "p.png").stat().st_size > 1000
