@@ -3,6 +3,15 @@ away. Standalone (no package import) so that tools/pages/output_file.py
 loads it by path, as it loads the writer (_output.py)."""
 import errno
 import os
+import sys
+
+
+def keep_console():
+    """A program's console for its whole life (its __main__: argparse's
+    --help and refusals included): sys.stdout and sys.stderr as
+    ReaderGoneStream, so that a reader gone stops nothing."""
+    sys.stdout, sys.stderr = (s if isinstance(s, ReaderGoneStream) else ReaderGoneStream(s)
+                              for s in (sys.stdout, sys.stderr))
 
 
 class ReaderGoneStream:

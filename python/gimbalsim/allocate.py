@@ -48,6 +48,7 @@ from . import _cluster
 from ._allocate_report import CSV, JSON, PAGE, PLOT, _text, record, write
 from ._allocate_search import next_value, outcome, scan_values
 from ._allocate_spec import AllocationSpec
+from ._console import keep_console
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
 from ._output import OutputRefused, check_output_names, output_set, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
@@ -224,4 +225,5 @@ def _run(a, out):
 
 
 if __name__ == "__main__":
+    keep_console()  # a console whose reader is gone stops nothing, --help included
     sys.exit(main())

@@ -44,6 +44,7 @@ import time
 
 import gimbalsim
 from . import _budget, _budget_report, _cluster, _provenance, _study_file, replay
+from ._console import keep_console
 from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main  # noqa: F401 (SpecError: API)
 from ._journal import JOURNAL, csv_line, fmt, read_journal, record_design  # noqa: F401 (csv_line, fmt: API)
 from ._output import OutputRefused, append_synced, json_text, open_append, output_set, write_text
@@ -370,4 +371,5 @@ def _run(a, out):
 
 
 if __name__ == "__main__":
+    keep_console()  # a console whose reader is gone stops nothing, --help included
     sys.exit(main())

@@ -45,6 +45,7 @@ import numpy as np
 
 import gimbalsim
 from . import _cluster, _study_file
+from ._console import keep_console
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
 from ._closed_spec import plant_overrides
 from ._journal import fmt
@@ -394,4 +395,5 @@ def _run(a, out):
 
 
 if __name__ == "__main__":
+    keep_console()  # a console whose reader is gone stops nothing, --help included
     sys.exit(main())

@@ -147,6 +147,13 @@ indices:
     p = run("--spec", tmp_path / "in_out.yaml", "--fine-substep", "1e-4", "--out", tmp_path / "X")
     assert p.returncode == 2 and "an input of this run" in p.stderr and "running" not in p.stderr, p.stderr
     assert (tmp_path / "X" / "fine.yaml").read_bytes() == before and sorted(os.listdir(tmp_path / "X")) == ["fine.yaml"]
+    # (pass 29) a link in --out to the scene: the check resolved it and missed that it lies in --out
+    (tmp_path / "X" / "fine.yaml").rename(tmp_path / "real.yaml")
+    (tmp_path / "X" / "default.yaml").symlink_to("../real.yaml")
+    (tmp_path / "linked.yaml").write_text(spec.format(scene=tmp_path / "X" / "default.yaml", sampling=""))
+    p = run("--spec", tmp_path / "linked.yaml", "--fine-substep", "1e-4", "--out", tmp_path / "X")
+    assert p.returncode == 2 and "running" not in p.stderr, p.stderr
+    assert (tmp_path / "X" / "default.yaml").is_symlink() and (tmp_path / "real.yaml").read_bytes() == before
     (tmp_path / "pinned.yaml").write_text(spec.format(scene=SOURCE / "tools/scenes/paper_clearance.yaml",
                                                       sampling="sampling: scene\n"))
     p = run("--spec", tmp_path / "pinned.yaml", "--fine-substep", "1e-4", "--out", tmp_path / "o")

@@ -34,3 +34,27 @@ def test_the_bench_script_moves_its_run_into_place(tmp_path):
     # and plot_bench, a Python tool, drew its figure with nobody reading
     assert gone(f"/usr/bin/python3 '{SOURCE}/tools/hil/plot_bench.py' '{out}/truth.csv' --out p.png", tmp_path) == 0
     assert (tmp_path / "p.png").stat().st_size > 1000
+
+
+def test_help_version_and_refusals_keep_their_codes(tmp_path):
+    # (pass 29) argparse's --help and --version in the modules and the tools' scripts, and the bash scripts'
+    # usage (sed | sed under pipefail), ended 1 or 4 with nobody reading
+    env = {"PYTHONPATH": str(BIN.parent / "python")}
+    for module in ("sweep", "tune", "allocate"):
+        assert gone(f"/usr/bin/python3 -m gimbalsim.{module} --version", tmp_path, env) == 0, module
+        assert gone(f"/usr/bin/python3 -m gimbalsim.{module} --bogus", tmp_path, env) == 2, module
+    for script in ("tools/sweeps/budget_speed.py", "tools/bench/compare_bench.py", "tools/hil/hil_speed.py"):
+        assert gone(f"/usr/bin/python3 '{SOURCE}/{script}' --help", tmp_path) == 0, script
+    assert gone(f"bash '{SOURCE}/tools/hil/run_hil_bench.sh' --help", tmp_path) == 0
+    assert gone(f"bash '{SOURCE}/tools/hil/run_hil_bench.sh' --bogus", tmp_path) == 2
+    assert gone(f"bash '{SOURCE}/tools/sweeps/run_pointing_budget.sh' --help", tmp_path) == 0
+
+
+def test_the_benchmark_script_runs_from_anywhere_and_leaves_no_temporary(tmp_path):
+    # (pass 29) it ran build/bin/gimbalsim_bench relative to where the user stood (127), its table printer ended
+    # in a BrokenPipeError (1), and every run left /tmp/gimbalsim_bench.*.json behind
+    before = set(os.listdir("/tmp"))
+    code = gone(f"REPS=1 BENCH='{BIN}/gimbalsim_bench' bash '{SOURCE}/tools/bench/run_bench.sh' "
+                "--benchmark_filter=BM_Rk4 --benchmark_min_time=0.01", tmp_path)
+    assert code == 0
+    assert not {x for x in set(os.listdir("/tmp")) - before if x.startswith("gimbalsim_bench.")}

@@ -19,6 +19,10 @@ import time
 import numpy as np
 
 import gimbalsim
+import os
+import sys
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "pages"))
+import output_file  # noqa: E402,F401  (its import keeps the console: a reader gone stops nothing)
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 

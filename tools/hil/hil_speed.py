@@ -53,6 +53,8 @@ import re
 import statistics
 import subprocess
 import sys
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "pages"))
+import output_file  # noqa: E402,F401  (its import keeps the console: a reader gone stops nothing)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BIN = os.path.join(ROOT, "build/bin")  # --build changes it

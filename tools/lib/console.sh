@@ -6,3 +6,5 @@ trap '' PIPE
 echo() { builtin echo "$@" 2>/dev/null || true; }
 printf() { builtin printf "$@" 2>/dev/null || true; }
 console_tee() { tee -p "$@"; }
+# The script's header comment (lines $2-$3 of file $1) as its usage (--help), dropped if nobody reads it.
+script_usage() { { sed -n "$2,$3p" "$1" | sed 's/^# \{0,1\}//'; } 2>/dev/null || true; }

@@ -31,6 +31,7 @@ def _standalone(name, file):
 
 _writer = _standalone("gimbalsim_output_writer", "_output.py")
 _console = _standalone("gimbalsim_console", "_console.py")
+_console.keep_console()  # imported by a script: a reader gone stops nothing, its --help included
 
 OutputError = _writer.OutputError
 check_outputs = _writer.check_outputs
@@ -93,9 +94,7 @@ def run_script(program, main, whole_set=False):
     drops its lines (_console.ReaderGoneStream)."""
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, _stop)
-    # a console whose reader is gone (`| head -1`) stops no script: its lines are dropped, the code is the run's
-    sys.stdout, sys.stderr = (s if isinstance(s, _console.ReaderGoneStream) else _console.ReaderGoneStream(s)
-                              for s in (sys.stdout, sys.stderr))
+    _console.keep_console()  # (as at import: a test may have put its own streams since)
     code = None
     try:
         with _writer.output_set() if whole_set else contextlib.nullcontext():

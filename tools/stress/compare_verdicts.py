@@ -9,6 +9,9 @@ Exit 0 when both CSVs have the same runs with the same verdicts, 1 otherwise.
 import collections
 import csv
 import sys
+import os
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "pages"))
+import output_file  # noqa: E402,F401  (its import keeps the console: a reader gone stops nothing)
 
 
 def verdicts(path):

@@ -56,7 +56,8 @@ FINE_KEYS = ("sim.substep", "sim.substep_policy")  # what the fine run sets: a s
 
 
 def derived_specs(spec_path, samples, fine_substep):
-    """(the user's spec as a plain dict, {run: its spec's text}): the spec
+    """(the user's spec as a plain dict, {run: its spec's text}, {"scene", "controller": the paths as the
+    sweep found them, links unresolved}): the spec
     read and checked as the sweep reads it (its YAML, its paths: SweepSpec;
     a refusal names the user's file, line and key), its scene and controller
     made absolute, its samples cut (samples); the fine run with sampling
@@ -83,15 +84,16 @@ def derived_specs(spec_path, samples, fine_substep):
     except SpecError as e:
         raise Refused(str(e)) from None
     plain = spec.root.plain()
-    plain["scene"] = str(user.scene_path.resolve())
-    if user.closed.controller_path is not None:
-        plain["controller"] = str(pathlib.Path(user.closed.controller_path).resolve())
+    given = {"scene": user.scene_path, **({"controller": user.closed.controller_path}
+                                          if user.closed.controller_path is not None else {})}
+    for key, path in given.items():
+        plain[key] = str(pathlib.Path(path).resolve())
     if samples is not None:
         plain["samples"] = min(samples, user.samples)
     fine = {**plain, "sampling": "scene",
             "set": {**(plain.get("set") or {}), "sim.substep": fine_substep, "sim.substep_policy": "fixed"}}
     return plain, {name: "".join(f"{json.dumps(k)}: {_yaml(v)}\n" for k, v in x.items())
-                   for name, x in (("default", plain), ("fine", fine))}
+                   for name, x in (("default", plain), ("fine", fine))}, given
 
 
 def _yaml(x):
@@ -268,6 +270,9 @@ def check_out(out):
     if out.is_symlink() or (out.exists() and not out.is_dir()):
         raise Refused(f"--out {out}: a symbolic link or not a folder; the runs replace it: give another")
     if out.is_dir():
+        links = sorted(x.name for x in out.iterdir() if x.is_symlink())
+        if links:
+            raise Refused(f"--out {out}: holds the link {links[0]}; the runs replace the folder whole: give another")
         strangers = sorted(x.name for x in out.iterdir() if x.name not in RUNS + tuple(f"{r}.yaml" for r in RUNS))
         if strangers:
             raise Refused(f"--out {out}: holds {', '.join(strangers[:3])}, not this tool's runs; the runs replace "
@@ -314,11 +319,13 @@ def _run(a, build, spec_path, out):
     from gimbalsim import _sampling
 
     t0, load0 = str(time.time()), open("/proc/loadavg").read()
-    plain, texts = derived_specs(spec_path, a.samples, a.fine_substep)
-    for given in [spec_path, plain["scene"]] + ([plain["controller"]] if plain["controller"] != "default" else []):
-        path = pathlib.Path(given).resolve()
-        if out.resolve() in path.parents:  # the runs replace --out whole: an input in it would go with it
-            raise Refused(f"--out {out}: holds {path}, an input of this run; the runs replace it: give another folder")
+    plain, texts, user_paths = derived_specs(spec_path, a.samples, a.fine_substep)
+    for given in [spec_path, user_paths["scene"]] + ([user_paths["controller"]] if "controller" in user_paths else []):
+        # the runs replace --out whole: an input in it, or a link in it to one, would go with it
+        for path in (pathlib.Path(os.path.abspath(given)), pathlib.Path(given).resolve()):
+            if out.resolve() in path.parents or pathlib.Path(os.path.abspath(out)) in path.parents:
+                raise Refused(f"--out {out}: holds {path}, an input of this run; the runs replace it: give another "
+                              "folder")
     check_out(out)
     if a.results:
         output_file.check_before_writing([PAGE, PAGE.parent / "README.md"])

@@ -45,7 +45,7 @@ T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 info=
 for a in "$@"; do case "$a" in -h | --help | --version) info=$a; break ;; esac; done
 if [ "$info" != "" ] && [ "$info" != --version ]; then
-  sed -n '2,21p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+  script_usage "${BASH_SOURCE[0]}" 2 21
   exit 0
 fi
 SPEC=  # none: a shipped budget and its page
