@@ -47,6 +47,10 @@ void printExitSummary(const Run& r, const Outcome& out) {
   std::printf("  speed: whole loop %s x real time%s; the plant's own compute %.3f s, %s x real time\n",
               speed(sim_s, r.report.wall_seconds).c_str(), r.setup.o.lockstep ? " (with the waits for the controller)" : "",
               r.report.compute_seconds, speed(sim_s, r.report.compute_seconds).c_str());
+  if (out.plant_fault) {  // the ticks ran on; the plant did not (reportPlantFault says why)
+    std::printf("  the plant stopped at t = %.3f s: the ticks after it held its frozen state and are in no figure "
+                "below\n", out.plant.time);
+  }
   const PointingErrorStats& pe = r.report.pointing;
   if (pe.n > 0) {
     std::printf("  truth pointing error [rad] against %s: max %.3e, RMS %.3e, final %.3e",
@@ -54,7 +58,8 @@ void printExitSummary(const Run& r, const Outcome& out) {
                 std::sqrt(pe.sum_sq / static_cast<double>(pe.n)), pe.last_rad);
     if (r.setup.profile) {
       // A run that ended before the track has no tracking figure: n/a with the reason, never 0.
-      const double t_last = static_cast<double>(out.ticks - 1) * r.setup.c.control_period;
+      const double t_last = out.plant_fault ? out.plant.time  // the plant's last motion
+                                            : static_cast<double>(out.ticks - 1) * r.setup.c.control_period;
       const std::string why = pointing::windowNotReached(
           pointing::profileWindow(*r.setup.profile, pointing::Segment::Track), pointing::WindowNeed::Part, t_last);
       if (!why.empty() || pe.n_track == 0) {

@@ -63,6 +63,12 @@ def test_a_run_whose_plant_stopped_keeps_its_outputs_and_ends_with_3(tmp_path):
     # (pass 28) the frozen rows are left out of the plot, not out of the count of plant-fault ticks
     flagged = sum(1 for r in rows[1:] if int(r.split(",")[-2]) & 8)
     assert f"plant fault {flagged} ({flagged} of them the frozen rows after the stop)" in p.stdout, p.stdout
+    # (pass 29) firmware_sim's summary measured the frozen state against the moving profile (max 1.55e-2 rad
+    # where the plant never exceeded 3.9e-6): its figures are over the plant's own ticks
+    column = rows[0].split(",").index("pointing_error_rad")
+    moving = max(float(r.split(",")[column]) for r in rows[1:] if not int(r.split(",")[-2]) & 8)
+    summary = (out / "firmware.txt").read_text()
+    assert "the plant stopped at t = " in summary and f"against the profile: max {moving:.3e}," in summary, summary
 
 
 def test_out_must_be_a_folder_and_a_refused_run_leaves_none_it_made(tmp_path):

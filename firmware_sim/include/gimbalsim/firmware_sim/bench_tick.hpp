@@ -73,8 +73,11 @@ class BenchTick {
     if (want_truth) {
       const double t = static_cast<double>(k) * period_;
       truth_ = observedTruth(fw_.truth(), observer_, t);
-      pointing_.add(truth_.pointing_error,
-                    profile_ != nullptr && observer_.sample(t).segment == pointing::Segment::Track);
+      // A stopped plant's frozen state against a profile that moves on is no pointing the plant did.
+      if (!fw_.plantFault()) {
+        pointing_.add(truth_.pointing_error,
+                      profile_ != nullptr && observer_.sample(t).segment == pointing::Segment::Track);
+      }
       m.truth = &truth_;
     }
     if (antenna_sensors_) {  // the target is the observer's: the tracker sees the target, the plant knows none
