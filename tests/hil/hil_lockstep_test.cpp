@@ -272,6 +272,11 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
       // a plant's frozen rows carry FAULT_PLANT_FAULT (8): time standing still without it is an edit
       {write("still.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n0,0,0,0,0\n1,0.001,0,0,0\n2,0.001,0,0,4\n"),
        "still.csv:4: sim_time_s 0.001 is not after the previous row's"},
+      // the fault flags are a set of bits, as plot_bench reads them: 8.5 was read as 8, -8 as no fault
+      {write("halfbit.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n0,0,0,0,0\n1,0.001,0,0,8.5\n"),
+       "halfbit.csv:3: column faults: 8.5 is not a set of fault bits"},
+      {write("negbit.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n0,0,0,0,-8\n1,0.001,0,0,0\n"),
+       "negbit.csv:2: column faults: -8 is not a set of fault bits"},
       // and nothing moves on after them
       {write("resumed.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n0,0,0,0,0\n1,0.001,0,0,0\n2,0.001,0,0,8\n"
                             "3,0.002,0,0,8\n"),

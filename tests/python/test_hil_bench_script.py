@@ -69,6 +69,13 @@ def test_a_run_whose_plant_stopped_keeps_its_outputs_and_ends_with_3(tmp_path):
     moving = max(float(r.split(",")[column]) for r in rows[1:] if not int(r.split(",")[-2]) & 8)
     summary = (out / "firmware.txt").read_text()
     assert "the plant stopped at t = " in summary and f"against the profile: max {moving:.3e}," in summary, summary
+    # (pass 29) a frozen row's fault flags that are no set of bits: refused as on any row, before the stop is read
+    edited = rows[:-1] + [rows[-1].rsplit(",", 2)[0] + ",1e300,0"]
+    (tmp_path / "edited.csv").write_text("\n".join(edited) + "\n")
+    q = subprocess.run(["/usr/bin/python3", str(SOURCE / "tools/hil/plot_bench.py"), str(tmp_path / "edited.csv"),
+                        "--out", str(tmp_path / "e.png")], capture_output=True, text=True, timeout=120)
+    assert q.returncode == 2 and f"edited.csv:{len(rows)}: column faults: 1e+300 is not a set of fault bits" in q.stderr
+    assert "Warning" not in q.stderr, q.stderr
 
 
 def test_out_must_be_a_folder_and_a_refused_run_leaves_none_it_made(tmp_path):

@@ -111,12 +111,16 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
     // Ticks in time order: an edited or spliced file whose seq still counts is no run the plant made.
     // Every cell, read or not, is the writer's number: a row with a word or a NaN anywhere is no tick the plant made.
     for (int c = 0; c < static_cast<int>(header.size()); ++c) number(f, c, n);
+    // The status's fault flags, a set of bits (as plot_bench reads them): a whole number in [0, 2^31).
+    const double faults = cf >= 0 ? number(f, cf, n) : 0.0;
+    if (!(faults >= 0.0 && faults < 2147483648.0 && faults == std::floor(faults))) {
+      throw std::runtime_error(name + ":" + std::to_string(n) + ": column faults: " + f[cf] +
+                               " is not a set of fault bits");
+    }
     if (ct >= 0) {
       const double t_s = number(f, ct, n);
       // The frozen state of a plant that stopped: its time stands still and the fault is latched from then on.
-      const double faults = cf >= 0 ? number(f, cf, n) : 0.0;
-      const bool frozen = t_s == t_prev && faults >= 0.0 && faults < 2147483648.0 &&
-                          (static_cast<long long>(faults) & kPlantFault) != 0;
+      const bool frozen = t_s == t_prev && (static_cast<long long>(faults) & kPlantFault) != 0;
       if (frozen && (t.frozen_rows > 0 || !t.tau1.empty())) {
         ++t.frozen_rows;
         t.t_s.push_back(std::nan(""));

@@ -114,6 +114,12 @@ def read(path):
     table = np.loadtxt(io.BytesIO(raw), delimiter=",", comments=None, skiprows=1, dtype=float, ndmin=2,
                        usecols=[header.index(c) for c in wanted])
     cols = {c: table[:, j] for j, c in enumerate(wanted)}
+    # every row's bit sets first (whole numbers, the frozen rows' too: the plant's stop is read from them)
+    for c, bits in (("faults", 31), ("injected_faults", 2 * len(FAULT_KINDS))):
+        if c in cols:
+            bad = np.flatnonzero(~((cols[c] >= 0) & (cols[c] < 2**bits) & (cols[c] == np.floor(cols[c]))))
+            if bad.size:
+                raise Refused(f"{path}:{bad[0] + 2}: column {c}: {cols[c][bad[0]]:g} is not a set of fault bits")
     cols = _until_the_plant_stopped(cols)
     if (np.diff(cols["sim_time_s"]) <= 0).any():
         raise Refused(f"{path}:{int(np.argmax(np.diff(cols['sim_time_s']) <= 0)) + 3}: sim_time_s does not increase")
@@ -121,11 +127,6 @@ def read(path):
     if neg.size:
         value = cols["pointing_error_rad"][neg[0]]
         raise Refused(f"{path}:{neg[0] + 2}: column pointing_error_rad: {value:g} is negative")
-    for c, bits in (("faults", 31), ("injected_faults", 2 * len(FAULT_KINDS))):  # bit sets: whole numbers
-        if c in cols:
-            bad = np.flatnonzero(~((cols[c] >= 0) & (cols[c] < 2**bits) & (cols[c] == np.floor(cols[c]))))
-            if bad.size:
-                raise Refused(f"{path}:{bad[0] + 2}: column {c}: {cols[c][bad[0]]:g} is not a set of fault bits")
     return cols
 
 
