@@ -218,3 +218,21 @@ def test_a_set_of_outputs_is_whole_or_gone_and_a_stop_is_no_traceback(tmp_path, 
     assert p.returncode == code and message in p.stderr and "Traceback" not in p.stderr, p.stderr
     left = sorted(f.name for f in (tmp_path / "out").iterdir())
     assert left == ([] if whole else ["a.txt", "b.txt"])  # no temporary either way
+
+
+def test_compare_verdicts_refuses_what_holds_no_stress_run(tmp_path):
+    # (pass 29) two CSVs without a verdict column compared as "0 runs ... identical", exit 0; a missing file was a
+    # traceback; --help exited 1
+    tool = SOURCE / "tools/stress/compare_verdicts.py"
+    (tmp_path / "other.csv").write_text("a,b\n1,2\n")
+    (tmp_path / "empty.csv").write_text("group,scene,sets,verdict\n")
+    (tmp_path / "one.csv").write_text("group,scene,sets,verdict\ng,paper_ideal,x,ok\n")
+    for args, words in (([tmp_path / "other.csv"] * 2, "not a gimbalsim_stress CSV (no column group"),
+                        ([tmp_path / "missing.csv", tmp_path / "one.csv"], "missing.csv: cannot read it"),
+                        ([tmp_path / "empty.csv"] * 2, "empty.csv: no runs: nothing to compare")):
+        p = subprocess.run(["/usr/bin/python3", str(tool), *map(str, args)], capture_output=True, text=True, timeout=60)
+        assert p.returncode == 2 and words in p.stderr and "Traceback" not in p.stderr, (args, p.stderr)
+    p = subprocess.run(["/usr/bin/python3", str(tool), str(tmp_path / "one.csv"), str(tmp_path / "one.csv")],
+                       capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0 and "verdicts identical run for run" in p.stdout, p.stderr
+    assert subprocess.run(["/usr/bin/python3", str(tool), "--help"], capture_output=True, timeout=60).returncode == 0

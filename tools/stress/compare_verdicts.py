@@ -2,32 +2,51 @@
 """Compares the verdict columns of two gimbalsim_stress CSVs (e.g. the grid
 run before and after a change): every run is matched by (group, scene, sets);
 prints the runs present in only one and the runs whose verdict differs.
-Exit 0 when both CSVs have the same runs with the same verdicts, 1 otherwise.
+Exit 0 when both CSVs have the same runs with the same verdicts, 1 otherwise
+(as cmp), 2 when a file is not a stress CSV or holds no run.
 
     /usr/bin/python3 tools/stress/compare_verdicts.py BEFORE.csv AFTER.csv
 """
+import argparse
 import collections
 import csv
-import sys
 import os
+import sys
+
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "pages"))
 import output_file  # noqa: E402,F401  (its import keeps the console: a reader gone stops nothing)
 
 
+COLUMNS = ("group", "scene", "sets", "verdict")
+
+
 def verdicts(path):
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
+    """(rows, Counter of (group, scene, sets, verdict)); Refused naming the file when it holds no stress runs."""
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            reader = csv.DictReader(f)
+            missing = [c for c in COLUMNS if c not in (reader.fieldnames or [])]
+            if missing:
+                raise output_file.Refused(f"{path}: not a gimbalsim_stress CSV (no column {', '.join(missing)})")
+            rows = list(reader)
+    except (OSError, UnicodeDecodeError, csv.Error) as e:
+        raise output_file.Refused(f"{path}: cannot read it ({e})") from None
+    if not rows:
+        raise output_file.Refused(f"{path}: no runs: nothing to compare")
     out = collections.Counter()
     for r in rows:
-        out[(r["group"], r["scene"], r["sets"], r["verdict"])] += 1
+        out[tuple(r[c] for c in COLUMNS)] += 1
     return rows, out
 
 
 def main():
-    if len(sys.argv) != 3:
-        sys.exit(__doc__)
-    (ra, a), (rb, b) = verdicts(sys.argv[1]), verdicts(sys.argv[2])
-    only_a, only_b = a - b, b - a
+    p = argparse.ArgumentParser(allow_abbrev=False, description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("before")
+    p.add_argument("after")
+    a = p.parse_args()
+    (ra, a_), (rb, b) = verdicts(a.before), verdicts(a.after)
+    only_a, only_b = a_ - b, b - a_
     for (g, s, sets, v), n in sorted(only_a.items()):
         print(f"before only: {v:15s} {g} / {s} / {sets}" + (f" (x{n})" if n > 1 else ""))
     for (g, s, sets, v), n in sorted(only_b.items()):
@@ -41,4 +60,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(output_file.run_script("compare_verdicts", main))
