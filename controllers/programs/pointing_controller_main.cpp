@@ -221,7 +221,9 @@ int run(int argc, char** argv) {
       h.maxTrackError(),
       h.answered() == 0 ? "no status answered"
                         : pointing::windowNotReached(pointing::profileWindow(c.profile, Segment::Track),
-                                                     pointing::WindowNeed::Part, h.lastTime()),
+                                                     pointing::WindowNeed::Part,
+                                                     std::isnan(h.plantStoppedTime()) ? h.lastTime()
+                                                                                      : h.plantStoppedTime()),
       "%.3e rad");
   char last_t[48] = "n/a: none answered";  // a time of 0 for no status is a figure over nothing
   if (h.answered() > 0) std::snprintf(last_t, sizeof last_t, "%.3f s", h.lastTime());
@@ -232,6 +234,10 @@ int run(int argc, char** argv) {
                "rejected (NaN or Inf: the last command held), %lld answers not sent (a torque NaN or Inf)\n",
                h.answered(), last_t, h.controllerLimited(), h.undecodable(), h.publishErrors(), h.plantRestarts(), track_error.c_str(),
                h.faultsSeen(), h.unpaired(), h.outageStatuses(), h.rejectedReadings(), h.notFinite());
+  if (!std::isnan(h.plantStoppedTime())) {  // the statuses ran on; the plant did not
+    std::fprintf(stderr, "pointing_controller: the plant stopped (FAULT_PLANT_FAULT from t = %.3f s): the statuses "
+                 "after it are in no figure above (the tracking error, the torque-limit count)\n", h.plantStoppedTime());
+  }
   const MonitorState& mon = h.monitor();
   std::fprintf(stderr, "pointing_controller: fault monitor: %lld stale statuses (%lld with safe torque), %lld statuses "
                "missing, encoder suspect %lld times on azimuth, %lld on elevation\n",
