@@ -54,7 +54,26 @@ def test_the_benchmark_script_runs_from_anywhere_and_leaves_no_temporary(tmp_pat
     # (pass 29) it ran build/bin/gimbalsim_bench relative to where the user stood (127), its table printer ended
     # in a BrokenPipeError (1), and every run left /tmp/gimbalsim_bench.*.json behind
     before = set(os.listdir("/tmp"))
-    code = gone(f"REPS=1 BENCH='{BIN}/gimbalsim_bench' bash '{SOURCE}/tools/bench/run_bench.sh' "
+    code = gone(f"REPS=2 BENCH='{BIN}/gimbalsim_bench' bash '{SOURCE}/tools/bench/run_bench.sh' "
                 "--benchmark_filter=BM_Rk4 --benchmark_min_time=0.01", tmp_path)
     assert code == 0
     assert not {x for x in set(os.listdir("/tmp")) - before if x.startswith("gimbalsim_bench.")}
+
+
+def test_the_benchmark_script_refuses_as_programs_do(tmp_path):
+    # (pass 30) --help was a traceback, REPS=1 printed an empty table, BENCH=nope exited 127, OUT was written by
+    # the bench itself (through a link, emptied by a filter that matched nothing), --benchmark_out landed in the
+    # repository
+    script = f"'{SOURCE}/tools/bench/run_bench.sh'"
+    bench = f"BENCH='{BIN}/gimbalsim_bench'"
+    (tmp_path / "real.json").write_text("{}\n")
+    (tmp_path / "link.json").symlink_to("real.json")
+    for command, words in ((f"bash {script} --help", None),
+                           (f"REPS=1 {bench} bash {script}", "REPS=1: must be a whole number in [2, 1000]"),
+                           (f"BENCH=nope bash {script}", "no such program"),
+                           (f"OUT=link.json REPS=2 {bench} bash {script} --benchmark_filter=BM_Rk4", "symbolic link"),
+                           (f"OUT=real.json REPS=2 {bench} bash {script} --benchmark_filter=NOTHING", "matched none"),
+                           (f"{bench} bash {script} --benchmark_out=x.json", "give OUT=FILE")):
+        p = subprocess.run(["bash", "-c", command], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+        assert p.returncode == (0 if words is None else 2) and (words is None or words in p.stderr), (command, p.stderr)
+    assert (tmp_path / "real.json").read_text() == "{}\n" and not (tmp_path / "x.json").exists()

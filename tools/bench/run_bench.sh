@@ -3,7 +3,7 @@
 # median and minimum CPU time per call [ns] (plus the per-call counters).
 #   tools/bench/run_bench.sh [--results] [--benchmark_filter=REGEX] [other benchmark flags]
 # Environment: BENCH (binary, default the repository's build/bin/gimbalsim_bench), REPS (default 5),
-# OUT (keep the JSON there; else a temporary, removed at the end).
+# OUT (keep the JSON there, written by the writer's rules; else a temporary, removed at the end).
 # --results: also measures MuJoCo's RK4 against ours (gimbalsim_workprec on
 # paper_ideal_valid_inertia, MUJOCO_REPEATS runs per point, default 5) and
 # writes docs/results/speed.md (tools/bench/speed_page.py).
@@ -13,26 +13,46 @@ source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops noth
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/bench/run_bench.sh$(printf ' %q' "$@")"
 for v in REPS MUJOCO_REPEATS; do [ -n "${!v:-}" ] && COMMAND="$v=${!v} $COMMAND"; done
+refuse() { echo "run_bench.sh: $1; nothing run" >&2; exit 2; }
 RESULTS=0 ARGS=()
 for a in "$@"; do
-  if [ "$a" = --results ]; then RESULTS=1; else ARGS+=("$a"); fi
+  case "$a" in
+    -h | --help) script_usage "${BASH_SOURCE[0]}" 2 9; exit 0 ;;
+    --results) RESULTS=1 ;;
+    # the JSON is the script's to write (OUT=FILE), by the writer's rules; a listing is the bench's answer alone
+    --benchmark_out=* | --benchmark_out_format=*) refuse "$a: the script writes the JSON; give OUT=FILE" ;;
+    --benchmark_list_tests*) cd "$ROOT"; exec "${BENCH:-$ROOT/build/bin/gimbalsim_bench}" "$a" ;;
+    *) ARGS+=("$a") ;;
+  esac
 done
 BIN=${BENCH:-$ROOT/build/bin/gimbalsim_bench}  # the repository's build wherever the user stands
 REPS=${REPS:-5}
-TEMPORARY=()  # removed whatever ends the script
-trap 'rm -f ${TEMPORARY[@]+"${TEMPORARY[@]}"}' EXIT
-if [ -z "${OUT:-}" ]; then OUT=$(mktemp /tmp/gimbalsim_bench.XXXXXX.json) && TEMPORARY+=("$OUT"); fi
+[[ "$REPS" =~ ^[0-9]{1,4}$ ]] && [ "$REPS" -ge 2 ] && [ "$REPS" -le 1000 ] ||
+  refuse "REPS=$REPS: must be a whole number in [2, 1000] (a median and a minimum over repetitions)"
 # BENCH and OUT are read where the user stands; the benchmarks read the repository's scenes (tools/scenes/)
 case "$BIN" in /*) ;; *) BIN="$PWD/$BIN" ;; esac
-case "$OUT" in /*) ;; *) OUT="$PWD/$OUT" ;; esac
+[ -f "$BIN" ] && [ -x "$BIN" ] || refuse "BENCH=$BIN: no such program (build it: cmake --build build --target gimbalsim_bench)"
+KEEP=${OUT:-}
+case "$KEEP" in "" | /*) ;; *) KEEP="$PWD/$KEEP" ;; esac
+# OUT by the writer's rules, checked before the run: never through a link, whole or not at all
+[ -z "$KEEP" ] || /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check /dev/null "$KEEP" || exit $?
+TEMPORARY=()  # removed whatever ends the script
+trap 'rm -f ${TEMPORARY[@]+"${TEMPORARY[@]}"}' EXIT
+OUT=$(mktemp /tmp/gimbalsim_bench.XXXXXX.json) && TEMPORARY+=("$OUT")
 cd "$ROOT"
 "$BIN" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
   --benchmark_out="$OUT" --benchmark_out_format=json ${ARGS[@]+"${ARGS[@]}"} >/dev/null
 /usr/bin/python3 - "$OUT" "$ROOT" <<'PY'
 import json, sys
 sys.path.insert(0, sys.argv[2] + "/tools/pages")
-import output_file  # noqa: F401  (its import keeps the console: a reader gone drops the table, stops nothing)
-runs = json.load(open(sys.argv[1]))["benchmarks"]
+import output_file  # (its import keeps the console: a reader gone drops the table, stops nothing)
+try:
+    runs = json.load(open(sys.argv[1]))["benchmarks"]
+except (OSError, ValueError, KeyError):
+    runs = []  # a filter that matched nothing leaves the file empty
+if not any(r.get("run_type") == "aggregate" for r in runs):
+    print("run_bench.sh: no benchmark ran (--benchmark_filter matched none): no result", file=sys.stderr)
+    sys.exit(2)
 rows = {}
 for r in runs:
     if r.get("run_type") != "aggregate":
@@ -46,6 +66,7 @@ for name, row in rows.items():
     extra = " ".join(f"{k}={v:g}" for k, v in row.get("counters", {}).items())
     print(f"{name:48s} {row.get('median', float('nan')):12.1f} {row.get('min', float('nan')):12.1f} {extra}")
 PY
+[ -z "$KEEP" ] || /usr/bin/python3 tools/pages/save_output.py "$OUT" "$KEEP"  # the writer's rules
 [ "$RESULTS" = 1 ] || exit 0
 MJ=(--no-mujoco "this build has no MuJoCo peer: Debian's libmujoco-dev and libqhull-dev were not installed when build/ was configured (apt-get install libmujoco-dev libqhull-dev, then reconfigure)")
 if grep -q '^mujoco_DIR:PATH=/' build/CMakeCache.txt 2>/dev/null; then  # found at configure time
