@@ -10,16 +10,18 @@ def keep_console():
     """A program's console for its whole life (its __main__: argparse's
     --help and refusals included): sys.stdout and sys.stderr as
     ReaderGoneStream, so that a reader gone stops nothing."""
-    sys.stdout, sys.stderr = (s if isinstance(s, ReaderGoneStream) else ReaderGoneStream(s)
+    # (None: a descriptor closed at start, `>&-`; Python's print already writes nothing there)
+    sys.stdout, sys.stderr = (s if s is None or isinstance(s, ReaderGoneStream) else ReaderGoneStream(s)
                               for s in (sys.stdout, sys.stderr))
 
 
 class ReaderGoneStream:
     """A console stream (stderr, stdout) as the programs write it: once a
-    write or flush finds its pipe closed (EPIPE: `2>&1 | head -1`), every
-    later line is dropped, silently: exit 1 is a bug's code, and a run's
-    work is worth more than its messages (the C++ programs ignore SIGPIPE
-    for the same reason)."""
+    write or flush finds its pipe closed (EPIPE: `2>&1 | head -1`), or the
+    device full or failing (`>/dev/full`), every later line is dropped,
+    silently: exit 1 is a bug's code, a console is no output file, and a
+    run's work is worth more than its messages (the C++ programs ignore
+    SIGPIPE for the same reason)."""
 
     def __init__(self, stream):
         self._stream, self._closed = stream, False
@@ -30,7 +32,8 @@ class ReaderGoneStream:
         try:
             return op(*args)
         except OSError as e:
-            if e.errno != errno.EPIPE:
+            # a reader gone, a full or failing device, a closed descriptor: a console, not an output
+            if e.errno not in (errno.EPIPE, errno.ENOSPC, errno.EIO, errno.EBADF):
                 raise
             self._closed = True
             _to_devnull(self._stream)

@@ -77,3 +77,15 @@ def test_the_benchmark_script_refuses_as_programs_do(tmp_path):
         p = subprocess.run(["bash", "-c", command], cwd=tmp_path, capture_output=True, text=True, timeout=300)
         assert p.returncode == (0 if words is None else 2) and (words is None or words in p.stderr), (command, p.stderr)
     assert (tmp_path / "real.json").read_text() == "{}\n" and not (tmp_path / "x.json").exists()
+
+
+def test_a_console_that_cannot_be_written_stops_nothing(tmp_path):
+    # (pass 30) a closed stdout (>&-) was an AttributeError (120), a full device an OSError traceback (1)
+    env = {"PYTHONPATH": str(BIN.parent / "python")}
+    for redirect in (">&-", ">/dev/full"):
+        p = subprocess.run(["bash", "-c", f"/usr/bin/python3 -m gimbalsim.sweep --help {redirect}"], cwd=tmp_path,
+                           capture_output=True, text=True, timeout=120, env={**os.environ, **env})
+        assert p.returncode == 0 and "Traceback" not in p.stderr, (redirect, p.stderr)
+    p = subprocess.run(["bash", "-c", f"/usr/bin/python3 '{SOURCE}/tools/hil/plot_bench.py' --help >/dev/full"],
+                       cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
