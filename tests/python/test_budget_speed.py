@@ -110,12 +110,15 @@ parameters:
   friction.mu: {uniform: [0.15, 0.35]}
 phases: [slew]
 indices:
-  ape: {requirement: 1.0e-4}
+  ape: {requirement: 1.0e-4, level: 0.5, confidence: 0.5}
 """)
     p = subprocess.run([sys.executable, str(TOOL), "--build", str(BIN.parent), "--workers", "1", "--spec",
                         "specs/cwd.yaml", "--fine-substep", "1e-4", "--out", "out"], cwd=tmp_path,
                        capture_output=True, text=True, timeout=600)
     assert p.returncode == 0, p.stderr
+    # (pass 30) one unit at level and confidence 0.5: the fine interval is open at both ends, bounds nothing
+    assert "| n/a (open at both ends: too few units) |" in p.stdout, p.stdout
+    assert "Every index within the fine run's interval: n/a for ape_slew (intervals open at both ends" in p.stdout
     from gimbalsim._spec import Spec
     for run in ("default", "fine"):
         root = Spec(tmp_path / "out" / f"{run}.yaml").root.plain()

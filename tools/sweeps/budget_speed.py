@@ -176,7 +176,7 @@ def compare(spec, budget_default, budget_fine, rows_default, rows_fine, toleranc
     fallback = SHARE * max(reqs.values()) if reqs else tolerance_default
     fine_of = {(b["index"], b["phase"]): b for b in budget_fine}
     units = sorted(set(rows_default) & set(rows_fine))
-    lines, outside, beyond = [], [], []
+    lines, outside, beyond, unjudged = [], [], [], []
     for b in budget_default:
         key = (b["index"], b["phase"])
         f = fine_of[key]
@@ -185,14 +185,19 @@ def compare(spec, budget_default, budget_fine, rows_default, rows_fine, toleranc
         f_vals = [figure(rows_fine[u], column) for u in units]
         low, high = interval(f_vals, b["level"], b["confidence"])
         est_a, est_f = (math.nan if x is None else x for x in (b["estimate_rad"], f["estimate_rad"]))
-        inside = math.isfinite(est_a) and low <= est_a <= high  # no estimate (no unit has a figure): not inside
+        # no estimate (no unit has a figure): not inside; an interval open at both ends (too few units for the
+        # level and confidence) bounds nothing: no verdict
+        judged = math.isfinite(low) or math.isfinite(high)
+        inside = math.isfinite(est_a) and low <= est_a <= high
         tol = SHARE * reqs[b["index"]] if b["index"] in reqs else fallback
         # over the units with a figure in either run: one in one run only is beyond any tolerance
         diffs = [(abs(x - y) if math.isfinite(x) and math.isfinite(y) else math.inf, u)
                  for x, y, u in zip(a_vals, f_vals, units) if math.isfinite(x) or math.isfinite(y)]
         worst, worst_unit = max(diffs) if diffs else (math.nan, None)
         n_beyond = sum(d > tol for d, _ in diffs) if diffs else len(units)  # nothing compared: none held
-        if not inside:
+        if not judged:
+            unjudged.append(f"{b['index']}_{b['phase']}")
+        elif not inside:
             outside.append(f"{b['index']}_{b['phase']}")
         if n_beyond:
             beyond.append(f"{b['index']}_{b['phase']} ({n_beyond} units" +
@@ -200,11 +205,11 @@ def compare(spec, budget_default, budget_fine, rows_default, rows_fine, toleranc
         show = lambda x, end="open": end if not math.isfinite(x) else f"{x:.3e}"  # noqa: E731
         lines.append(f"| {b['index']}_{b['phase']} | {show(est_a, 'n/a (no unit has a figure)')} | "
                      f"{show(est_f, 'n/a (no unit has a figure)')} | [{show(low)}, {show(high)}] | "
-                     f"{'yes' if inside else '**no**'} | "
+                     f"{'n/a (open at both ends: too few units)' if not judged else 'yes' if inside else '**no**'} | "
                      f"{_distance_text(worst, worst_unit)} | "
                      f"{tol:.0e} | "
                      f"{n_beyond} |")
-    return lines, outside, beyond
+    return lines, outside, beyond, unjudged
 
 
 def report(spec_name, spec, runs, fine_substep, workers, tolerance_default):
@@ -230,7 +235,7 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default):
         print(f"Target (the shipped budget on 2 workers in at most {TARGET_S:.0f} s, at least {TARGET_RATE:.0f} "
               f"samples/s): {e['elapsed_s']:.1f} s, {e['samples_per_s']:.1f} samples/s, "
               f"{'met' if met else 'missed'}.")
-    lines, outside, beyond = compare(spec, s_d["budget"], s_f["budget"], r_d, r_f, tolerance_default)
+    lines, outside, beyond, unjudged = compare(spec, s_d["budget"], s_f["budget"], r_d, r_f, tolerance_default)
     print("\nEach index (the budget's level and confidence) at the default against the fine run: its quantile "
           "estimate, the fine run's order-statistics interval, and the largest distance of a unit's figure "
           "from its fine figure, against the tolerance (1 % of the requirement).\n")
@@ -238,10 +243,13 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default):
           "| tolerance [rad] | units beyond |")
     print("|---|---|---|---|---|---|---|---|")
     print("\n".join(lines))
-    print(f"\nEvery index within the fine run's interval: {'yes' if not outside else 'no (' + ', '.join(outside) + ')'}."
+    within = "no (" + ", ".join(outside) + ")" if outside else \
+        f"n/a for {', '.join(unjudged)} (intervals open at both ends: too few units for the level and confidence)" \
+        if unjudged else "yes"
+    print(f"\nEvery index within the fine run's interval: {within}."
           f"\nEvery unit within the tolerance of its fine figure: "
           f"{'yes' if not beyond else 'no (' + ', '.join(beyond) + ')'}.")
-    return ratio, not outside and not beyond
+    return ratio, not outside and not beyond and not unjudged
 
 
 def _number(x, form, scale=1.0):
