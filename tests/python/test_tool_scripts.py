@@ -227,7 +227,17 @@ def test_compare_verdicts_refuses_what_holds_no_stress_run(tmp_path):
     (tmp_path / "other.csv").write_text("a,b\n1,2\n")
     (tmp_path / "empty.csv").write_text("group,scene,sets,verdict\n")
     (tmp_path / "one.csv").write_text("group,scene,sets,verdict\ng,paper_ideal,x,ok\n")
-    for args, words in (([tmp_path / "other.csv"] * 2, "not a gimbalsim_stress CSV (no column group"),
+    # (pass 30) a cut row was a TypeError, a FIFO blocked, a second verdict column was read silently, empty
+    # verdicts compared as identical
+    (tmp_path / "cut.csv").write_text("group,scene,sets,verdict\ng,paper_ideal\n")
+    (tmp_path / "twice.csv").write_text("group,scene,sets,verdict,verdict\ng,paper_ideal,x,ok,bad\n")
+    (tmp_path / "blank.csv").write_text("group,scene,sets,verdict\ng,paper_ideal,x,\n")
+    os.mkfifo(tmp_path / "fifo.csv")
+    for args, words in (([tmp_path / "cut.csv"] * 2, "cut.csv:2: not the header's 4 fields"),
+                        ([tmp_path / "twice.csv"] * 2, "twice.csv:1: column verdict appears twice"),
+                        ([tmp_path / "blank.csv"] * 2, "blank.csv:2: no verdict"),
+                        ([tmp_path / "fifo.csv", tmp_path / "one.csv"], "fifo.csv: not a regular file"),
+                        ([tmp_path / "other.csv"] * 2, "not a gimbalsim_stress CSV (no column group"),
                         ([tmp_path / "missing.csv", tmp_path / "one.csv"], "missing.csv: cannot read it"),
                         ([tmp_path / "empty.csv"] * 2, "empty.csv: no runs: nothing to compare")):
         p = subprocess.run(["/usr/bin/python3", str(tool), *map(str, args)], capture_output=True, text=True, timeout=60)

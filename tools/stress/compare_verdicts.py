@@ -11,6 +11,7 @@ import argparse
 import collections
 import csv
 import os
+import stat
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "pages"))
@@ -23,12 +24,24 @@ COLUMNS = ("group", "scene", "sets", "verdict")
 def verdicts(path):
     """(rows, Counter of (group, scene, sets, verdict)); Refused naming the file when it holds no stress runs."""
     try:
+        if not stat.S_ISREG(os.stat(path).st_mode):  # a pipe would block, a device never end
+            raise output_file.Refused(f"{path}: not a regular file (a pipe, a device or a folder)")
         with open(path, newline="", encoding="utf-8") as f:
             reader = csv.DictReader(f)
-            missing = [c for c in COLUMNS if c not in (reader.fieldnames or [])]
+            header = reader.fieldnames or []
+            missing = [c for c in COLUMNS if c not in header]
             if missing:
                 raise output_file.Refused(f"{path}: not a gimbalsim_stress CSV (no column {', '.join(missing)})")
-            rows = list(reader)
+            twice = sorted({c for c in header if header.count(c) > 1})
+            if twice:
+                raise output_file.Refused(f"{path}:1: column {twice[0]} appears twice: which one is the run's?")
+            rows = []
+            for r in reader:  # every row whole, with its verdict: a cut or edited row is no run
+                if None in r or None in r.values():
+                    raise output_file.Refused(f"{path}:{reader.line_num}: not the header's {len(header)} fields")
+                if not r["verdict"]:
+                    raise output_file.Refused(f"{path}:{reader.line_num}: no verdict")
+                rows.append(r)
     except (OSError, UnicodeDecodeError, csv.Error) as e:
         raise output_file.Refused(f"{path}: cannot read it ({e})") from None
     if not rows:
