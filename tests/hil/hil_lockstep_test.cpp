@@ -301,7 +301,8 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
                                         "2,0.001,0,0,8\n3,0.001,0,0,8\n") + "' --lcm-url memq:// --idle-exit 0.2 2>&1",
       &st);
   EXPECT_EQ(WEXITSTATUS(st), 6) << stopped;  // no plant here: read, not refused
-  EXPECT_NE(stopped.find("the recorded plant stopped at t = 0.001 s (its last 2 rows are its frozen state)"),
+  EXPECT_NE(stopped.find("the recorded plant stopped after t = 0.001 s, its last good state (its last 2 rows are its "
+                         "frozen state)"),
             std::string::npos) << stopped;
 }
 

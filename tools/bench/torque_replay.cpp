@@ -53,8 +53,8 @@ int mainImpl(int argc, char** argv) {
     return refuse("torque_replay", e.what());
   }
   if (t.frozen_rows > 0) {  // replayed whole: a plant that reproduces the run stops where it did
-    std::fprintf(stderr, "torque_replay: the recorded plant stopped at t = %.9g s (its last %zu rows are its frozen "
-                 "state): their commands are replayed, their times not checked\n",
+    std::fprintf(stderr, "torque_replay: the recorded plant stopped after t = %.9g s, its last good state (its "
+                 "last %zu rows are its frozen state): their commands are replayed, their times not checked\n",
                  t.t_s[t.t_s.size() - t.frozen_rows - 1], t.frozen_rows);
   }
   lcm::LCM lcm(url);

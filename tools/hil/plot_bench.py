@@ -225,13 +225,14 @@ def main():
             a_.axvline(c["stopped_at"], color="C3", ls=":", lw=1)
         ax[3].plot([c["stopped_at"]], [[n for _, n in FAULTS].index("plant fault")], "x", color="C3", ms=8)
     ax[-1].set_xlabel("simulated time [s]")
-    fig.suptitle((a.title or a.truth) + (f" (the plant stopped at {c['stopped_at']:g} s)" if "stopped_at" in c else ""),
-                 fontsize=10)
+    stop = f" (the plant stopped after {c['stopped_at']:g} s)" if "stopped_at" in c else ""
+    fig.suptitle((a.title or a.truth) + stop, fontsize=10)
     fig.tight_layout()
     savefig(fig, a.out, inputs=[a.truth], dpi=120)
 
-    stopped = f"; the plant stopped at t = {c['stopped_at']:g} s (the frozen rows after it left out)" \
-        if "stopped_at" in c else ""
+    # the last row the plant moved to; its stop itself falls in the step after (firmware_sim says when)
+    stopped = "" if "stopped_at" not in c else \
+        f"; the plant stopped after t = {c['stopped_at']:g} s, its last good state (the frozen rows after it left out)"
     print(f"plot_bench: {len(t)} rows, t = {t[0]:.3f} .. {t[-1]:.3f} s{stopped} -> {a.out}")
     # A figure over [after, inf) only if the last row lies past its start (docs/usage.md "Figures over a window").
     if t[-1] > a.after:
