@@ -246,3 +246,13 @@ def test_compare_verdicts_refuses_what_holds_no_stress_run(tmp_path):
                        capture_output=True, text=True, timeout=60)
     assert p.returncode == 0 and "verdicts identical run for run" in p.stdout, p.stderr
     assert subprocess.run(["/usr/bin/python3", str(tool), "--help"], capture_output=True, timeout=60).returncode == 0
+
+
+def test_gen_key_docs_reads_its_argument_as_a_program_does(tmp_path):
+    # (pass 30) --help, --bogus and a folder that does not exist each ended in a FileNotFoundError traceback (1)
+    tool = SOURCE / "tools/pages/gen_key_docs.py"
+    for args, code, words in ((["--help"], 0, None), (["--bogus"], 2, "unrecognized arguments"),
+                              ([str(tmp_path / "nowhere")], 2, "nowhere/gimbalsim: no such program")):
+        p = subprocess.run(["/usr/bin/python3", str(tool), *args], capture_output=True, text=True, timeout=60)
+        assert p.returncode == code and "Traceback" not in p.stderr, (args, p.stderr)
+        assert words is None or words in p.stderr, (args, p.stderr)

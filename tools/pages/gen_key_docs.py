@@ -9,6 +9,8 @@ Only the table is replaced (from its header row to the first line that is not
 a table row); the text around it stays. tests/base/key_registry_test.cpp fails
 when a table differs from the registry.
 """
+import argparse
+import os
 import pathlib
 import subprocess
 import sys
@@ -36,10 +38,20 @@ def replace_table(text, table):
 
 
 def main():
-    bin_dir = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ROOT / "build" / "bin")
+    p = argparse.ArgumentParser(allow_abbrev=False, description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("bin_dir", nargs="?", default=str(ROOT / "build" / "bin"),
+                   help="the build's bin folder holding gimbalsim and pointing_controller (default build/bin)")
+    bin_dir = pathlib.Path(p.parse_args().bin_dir)
     for doc, cmd in DOCS:
-        table = subprocess.run([str(bin_dir / cmd[0])] + cmd[1:], check=True, capture_output=True,
-                               text=True).stdout
+        program = bin_dir / cmd[0]
+        if not (program.is_file() and os.access(program, os.X_OK)):
+            raise output_file.Refused(f"{program}: no such program (build it, or name the build's bin folder)")
+        run = subprocess.run([str(program)] + cmd[1:], capture_output=True, text=True)
+        if run.returncode != 0:
+            raise output_file.Refused(f"{program} {' '.join(cmd[1:])} failed (exit {run.returncode}): "
+                                      f"{run.stderr.strip()[-300:]}")
+        table = run.stdout
         path = ROOT / doc
         new = replace_table(path.read_text(), table)
         if new != path.read_text():
