@@ -22,7 +22,7 @@ source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops noth
 
 MODE=lockstep DURATION=8 SCENE="$ROOT/tools/scenes/paper_clearance.yaml" CONFIG="$ROOT/controllers/config/default.yaml"
 RATE=1000 LOG=0 OUT="$ROOT/out/bench" OUT_GIVEN=0 PLOT=1 PORT=7667 EXTRA=()
-usage() { script_usage "$0" 2 15; exit "${1:-0}"; }
+usage() { script_usage "$0" 2 18; exit "${1:-0}"; }
 # value FLAG ARGS...: the flag's value, refused (exit 2) naming FLAG when missing or empty (not set -u's exit 1),
 # and when it is another flag: `--out --no-plot` lost the flag, then dirname took '--no-plot' as its option
 # (exit 1). A value that starts with one - is a value (`--out -res` is the folder -res, `--duration -1` a
