@@ -11,7 +11,7 @@ import re
 
 from ._closed_spec import CONTROLLER_PREFIX
 from ._idle_sensors import (ANTENNA_NOISE_KEYS, ANTENNA_SENSOR_KEYS, ANTENNA_TRACKER, NOISE_KEYS, TRUTH_ONLY, Span,
-                            idle_at_antenna, idle_in_sensors)
+                            idle_at_antenna, idle_in_sensors, open_at_antenna)
 
 # What a closed loop never reads, and what an open-loop run never reads.
 _NEVER_STALE = ("a study's closed loop delivers every status with the attitude of its own tick and injects no "
@@ -110,9 +110,7 @@ def _idle_play_guard(key, values, dispersed, takes):
     evidence), not the configuration's: not judged."""
     axis = next((a for a in ("azimuth", "elevation") if key == f"{CONTROLLER_PREFIX}{a}.play_inertia"), None)
     kd_key, period_key = f"{CONTROLLER_PREFIX}{axis}.kd", CONTROLLER_PREFIX + "control.period"
-    at_antenna = ("sensors.antenna" in dispersed or str(values.get("sensors.antenna", "none")) == "tracker_gyro") and \
-        (ANTENNA_TRACKER in dispersed or str(values.get(ANTENNA_TRACKER, "use")) == "use")
-    if axis is None or at_antenna or {kd_key, period_key} & dispersed:
+    if axis is None or open_at_antenna(values, dispersed) is None or {kd_key, period_key} & dispersed:
         return None
     # Values compared with each other: a fixed value (or an allocation's one-point grid) is a setting the
     # run reads (0 turns the guard off), whatever it equals
