@@ -41,6 +41,21 @@ def test_ramp():
     assert indices.pde(T, e, 1.0, 3.0, 0.1, 0.5).value == pytest.approx(r * 0.5, rel=1e-9)
 
 
+def test_rpe_is_the_largest_deviation_from_its_window_mean_over_every_window_and_axis():
+    # Against the definition written out window by window: random drifting signals of one to three axes,
+    # the worst deviation anywhere (a fast path that dropped an axis, a window or a chunk is caught).
+    rng = np.random.default_rng(7)
+    for trial in range(40):
+        n, axes, m = int(rng.integers(30, 400)), int(rng.integers(1, 4)), int(rng.integers(2, 25))
+        t = np.arange(n) * DT
+        e = rng.normal(size=(n, axes)) * 1e-6 + np.outer(t, rng.normal(size=axes)) * 1e-4
+        e[int(rng.integers(n)), int(rng.integers(axes))] += 3e-5  # one outlier on one axis
+        expect = max(float(np.max(np.linalg.norm(e[i:i + m] - e[i:i + m].mean(axis=0), axis=1)))
+                     for i in range(n - m + 1))
+        got = [indices.rpe(t, e, 0.0, n * DT, m * DT, chunk_rows=c).value for c in (1, 5 * m * axes, 1 << 22)]
+        assert got[0] == pytest.approx(expect, rel=1e-9) and got[0] == got[1] == got[2]
+
+
 def test_knowledge_is_estimate_against_truth():
     truth = 1e-5 * np.sin(T)
     estimate = truth + 3e-6
