@@ -162,3 +162,49 @@ indices:
     p = run("--spec", tmp_path / "pinned.yaml", "--fine-substep", "1e-4", "--out", tmp_path / "o")
     assert p.returncode == 0, p.stderr
     assert "| default (sampling: scene) |" in p.stdout and "sampling: auto" not in p.stdout, p.stdout
+
+
+def _conditioning():
+    sys.path.insert(0, str(SOURCE / "tools" / "sweeps"))
+    import unit_conditioning
+    return unit_conditioning
+
+
+def _spatial_spec(tmp_path, samples):
+    """The shipped spatial budget, its first samples alone (5 s closed loops of paper_spatial2)."""
+    text = (SOURCE / "tools/sweeps/pointing_budget_spatial.yaml").read_text()
+    spec = tmp_path / "spatial.yaml"
+    spec.write_text(text.replace("../scenes/", str(SOURCE / "tools/scenes") + "/")
+                    .replace("samples: 1109", f"samples: {samples}"))
+    return spec
+
+
+def test_a_figure_the_loop_does_not_define_is_told_from_one_the_sampling_moved(tmp_path):
+    # paper_spatial2's loop meets branch points once its journal rides in the play: a nudge of 1e-12 m of the
+    # journal's start moves unit 0's pde_track by about 1.7e-4 rad (Intel Xeon), while its slew holds to 1.2e-7
+    uc = _conditioning()
+    spec = _spatial_spec(tmp_path, 1)
+    from gimbalsim._sample import run_one
+    from gimbalsim._sweep_spec import SweepSpec
+    s = SweepSpec(str(spec))
+    fine = run_one(s.base, s.closed, s.design.draw(0))
+    row = {"status": fine["status"], **{f"{k}_rad": repr(fine[k]) for k in ("rpe_slew", "pde_track")}}
+    spread = uc.spreads(spec, [0], ["rpe_slew", "pde_track"], {0: row}, workers=1)[0]
+    assert spread["rpe_slew"] < 1e-6 and spread["pde_track"] > 1e-5, spread
+    found = [{"key": "rpe_slew", "tol": 1e-6, "beyond": [0]}, {"key": "pde_track", "tol": 1e-6, "beyond": [0]}]
+    assert uc.ill_defined(found, {0: spread}) == {"rpe_slew": [], "pde_track": [0]}
+    # no figure in the fine run nor in a nudged one is no spread; a figure in one of them only is any spread
+    assert uc._distance(float("nan"), float("nan")) == 0.0 and uc._distance(1e-3, float("nan")) == float("inf")
+    assert uc.ill_defined(found, {0: "the scene has no initial.ecc to nudge"}) == {"rpe_slew": [], "pde_track": []}
+
+
+def test_the_page_tells_how_many_units_beyond_the_tolerance_are_ill_defined(tmp_path):
+    p = run("--spec", _spatial_spec(tmp_path, 1), "--fine-substep", "1e-5", "--out", tmp_path / "out")
+    assert p.returncode == 0, p.stderr
+    assert "| units beyond | of them ill-defined |" in p.stdout, p.stdout
+    counts = [tuple(map(int, line.strip(" |").split(" | ")[-2:])) for line in p.stdout.splitlines()
+              if line.startswith(("| ape_", "| rpe_", "| pde_", "| knowledge_"))]
+    assert len(counts) == 12 and all(0 <= ill <= beyond <= 1 for beyond, ill in counts), p.stdout
+    # 10 and 20 us part by 5e-7 to 1e-4 rad on unit 0 (Intel Xeon: 11 figures beyond 1e-6, 10 of them ill-defined)
+    assert sum(b for b, _ in counts) >= 6 and sum(i for _, i in counts) >= 3, p.stdout
+    assert "Every unit beyond it ill-defined (its own fine figure moves beyond the tolerance when nudged)" in p.stdout

@@ -44,10 +44,12 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools" / "pages"))
 import output_file  # noqa: E402  (how a script ends; the writer's rules)
 from output_file import Refused  # noqa: E402
+import unit_conditioning  # noqa: E402  (how well each unit's figure is defined)
 
 SHIPPED = ROOT / "tools" / "sweeps" / "pointing_budget.yaml"
 TARGET_S, TARGET_RATE = 60.0, 18.0  # the shipped 1109-unit budget on 2 workers
 SHARE = 0.01  # of the requirement: how far a unit's figure may move
+MAX_PROBED = 200  # units beyond the tolerance nudged (four fine runs each) to see whether their figure is defined
 PAGE = ROOT / "docs" / "results" / "budget_speed.md"
 RUNS = ("default", "fine")  # what --out holds: each run's folder and the spec it ran
 
@@ -170,49 +172,36 @@ def _distance_text(worst, unit):
 
 
 def compare(spec, budget_default, budget_fine, rows_default, rows_fine, tolerance_default):
-    """Table lines and (indices outside the interval, units beyond the tolerance) per index-phase."""
+    """Per index-phase of the budget: a dict of its estimates, the fine run's
+    interval, the tolerance, the largest unit distance and the units beyond."""
     reqs = {name: float(opts["requirement"]) for name, opts in (spec.get("indices") or {}).items()
             if isinstance(opts, dict) and "requirement" in opts}
     fallback = SHARE * max(reqs.values()) if reqs else tolerance_default
     fine_of = {(b["index"], b["phase"]): b for b in budget_fine}
     units = sorted(set(rows_default) & set(rows_fine))
-    lines, outside, beyond, unjudged = [], [], [], []
+    found = []
     for b in budget_default:
-        key = (b["index"], b["phase"])
-        f = fine_of[key]
-        column = f"{b['index']}_{b['phase']}_rad"
-        a_vals = [figure(rows_default[u], column) for u in units]
-        f_vals = [figure(rows_fine[u], column) for u in units]
+        f, key = fine_of[(b["index"], b["phase"])], f"{b['index']}_{b['phase']}"
+        a_vals = [figure(rows_default[u], key + "_rad") for u in units]
+        f_vals = [figure(rows_fine[u], key + "_rad") for u in units]
         low, high = interval(f_vals, b["level"], b["confidence"])
         est_a, est_f = (math.nan if x is None else x for x in (b["estimate_rad"], f["estimate_rad"]))
-        # no estimate (no unit has a figure): not inside; an interval open at both ends (too few units for the
-        # level and confidence) bounds nothing: no verdict
-        judged = math.isfinite(low) or math.isfinite(high)
-        inside = math.isfinite(est_a) and low <= est_a <= high
         tol = SHARE * reqs[b["index"]] if b["index"] in reqs else fallback
         # over the units with a figure in either run: one in one run only is beyond any tolerance
         diffs = [(abs(x - y) if math.isfinite(x) and math.isfinite(y) else math.inf, u)
                  for x, y, u in zip(a_vals, f_vals, units) if math.isfinite(x) or math.isfinite(y)]
         worst, worst_unit = max(diffs) if diffs else (math.nan, None)
-        n_beyond = sum(d > tol for d, _ in diffs) if diffs else len(units)  # nothing compared: none held
-        if not judged:
-            unjudged.append(f"{b['index']}_{b['phase']}")
-        elif not inside:
-            outside.append(f"{b['index']}_{b['phase']}")
-        if n_beyond:
-            beyond.append(f"{b['index']}_{b['phase']} ({n_beyond} units" +
-                          (", none with a figure)" if not diffs else ")"))
-        show = lambda x, end="open": end if not math.isfinite(x) else f"{x:.3e}"  # noqa: E731
-        lines.append(f"| {b['index']}_{b['phase']} | {show(est_a, 'n/a (no unit has a figure)')} | "
-                     f"{show(est_f, 'n/a (no unit has a figure)')} | [{show(low)}, {show(high)}] | "
-                     f"{'n/a (open at both ends: too few units)' if not judged else 'yes' if inside else '**no**'} | "
-                     f"{_distance_text(worst, worst_unit)} | "
-                     f"{tol:.0e} | "
-                     f"{n_beyond} |")
-    return lines, outside, beyond, unjudged
+        found.append({"key": key, "est_a": est_a, "est_f": est_f, "low": low, "high": high, "tol": tol,
+                      # no estimate (no unit has a figure): not inside; an interval open at both ends (too few
+                      # units for the level and confidence) bounds nothing: no verdict
+                      "judged": math.isfinite(low) or math.isfinite(high),
+                      "inside": math.isfinite(est_a) and low <= est_a <= high, "worst": worst,
+                      "worst_unit": worst_unit, "compared": bool(diffs),
+                      "beyond": [u for d, u in diffs if d > tol] if diffs else list(units)})  # nothing compared
+    return found
 
 
-def report(spec_name, spec, runs, fine_substep, workers, tolerance_default):
+def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine_spec):
     (s_d, r_d), (s_f, r_f) = runs
     n = len(r_d)
     print(f"{spec_name}: {n} units, {workers} worker{'s' if workers != 1 else ''}; the default sampling: "
@@ -235,21 +224,46 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default):
         print(f"Target (the shipped budget on 2 workers in at most {TARGET_S:.0f} s, at least {TARGET_RATE:.0f} "
               f"samples/s): {e['elapsed_s']:.1f} s, {e['samples_per_s']:.1f} samples/s, "
               f"{'met' if met else 'missed'}.")
-    lines, outside, beyond, unjudged = compare(spec, s_d["budget"], s_f["budget"], r_d, r_f, tolerance_default)
+    found = compare(spec, s_d["budget"], s_f["budget"], r_d, r_f, tolerance_default)
+    probed = sorted({u for c in found for u in c["beyond"]})
+    spread = unit_conditioning.spreads(fine_spec, probed[:MAX_PROBED], [c["key"] for c in found], r_f, workers) \
+        if probed else {}
+    ill = unit_conditioning.ill_defined(found, spread)
     print("\nEach index (the budget's level and confidence) at the default against the fine run: its quantile "
           "estimate, the fine run's order-statistics interval, and the largest distance of a unit's figure "
-          "from its fine figure, against the tolerance (1 % of the requirement).\n")
+          "from its fine figure, against the tolerance (1 % of the requirement). Ill-defined: of the units "
+          "beyond it, those whose fine figure itself moves beyond the tolerance when the fine run starts its "
+          f"journal {unit_conditioning.NUDGE_M:g} m away (tools/sweeps/unit_conditioning.py).\n")
     print("| index | default [rad] | fine [rad] | fine interval [rad] | within | largest unit distance [rad] "
-          "| tolerance [rad] | units beyond |")
-    print("|---|---|---|---|---|---|---|---|")
-    print("\n".join(lines))
+          "| tolerance [rad] | units beyond | of them ill-defined |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    show = lambda x, end="open": end if not math.isfinite(x) else f"{x:.3e}"  # noqa: E731
+    for c in found:
+        print(f"| {c['key']} | {show(c['est_a'], 'n/a (no unit has a figure)')} | "
+              f"{show(c['est_f'], 'n/a (no unit has a figure)')} | [{show(c['low'])}, {show(c['high'])}] | "
+              f"{'n/a (open at both ends: too few units)' if not c['judged'] else 'yes' if c['inside'] else '**no**'}"
+              f" | {_distance_text(c['worst'], c['worst_unit'])} | {c['tol']:.0e} | {len(c['beyond'])} | "
+              f"{len(ill[c['key']])} |")
+    outside = [c["key"] for c in found if c["judged"] and not c["inside"]]
+    unjudged = [c["key"] for c in found if not c["judged"]]
+    beyond = [f"{c['key']} ({len(c['beyond'])} units" + (")" if c["compared"] else ", none with a figure)")
+              for c in found if c["beyond"]]
+    held_to = [f"{c['key']} ({len(c['beyond']) - len(ill[c['key']])} of {len(c['beyond'])})"
+               for c in found if len(ill[c["key"]]) < len(c["beyond"])]
     within = "no (" + ", ".join(outside) + ")" if outside else \
         f"n/a for {', '.join(unjudged)} (intervals open at both ends: too few units for the level and confidence)" \
         if unjudged else "yes"
     print(f"\nEvery index within the fine run's interval: {within}."
           f"\nEvery unit within the tolerance of its fine figure: "
           f"{'yes' if not beyond else 'no (' + ', '.join(beyond) + ')'}.")
-    return ratio, not outside and not beyond and not unjudged
+    if beyond:
+        cut = f" (the first {MAX_PROBED} of {len(probed)} units nudged)" if len(probed) > MAX_PROBED else ""
+        reasons = sorted({v for v in spread.values() if isinstance(v, str)})
+        print(f"Every unit beyond it ill-defined (its own fine figure moves beyond the tolerance when nudged){cut}: "
+              f"{'yes' if not held_to else 'no: units whose fine figure held under every nudge, ' + ', '.join(held_to)}"
+              f"{'; not nudged: ' + '; '.join(reasons) if reasons else ''}.")
+    return ratio, ("held" if not (outside or unjudged or beyond) else
+                   "moved only where ill-defined" if not (outside or unjudged or held_to) else "moved")
 
 
 def _number(x, form, scale=1.0):
@@ -364,7 +378,7 @@ def _run_in(a, build, spec_path, out, work, plain, texts, tolerance, t0, load0):
         return e.args[0]
     body = io.StringIO()
     with contextlib.redirect_stdout(body):
-        ratio, held = report(spec_path.name, plain, runs, a.fine_substep, a.workers, tolerance)
+        ratio, held = report(spec_path.name, plain, runs, a.fine_substep, a.workers, tolerance, paths["fine"])
     print(body.getvalue(), end="")
     check_out(out)  # as before the runs: nothing planted there since
     if out.exists():
@@ -379,7 +393,7 @@ def _run_in(a, build, spec_path, out, work, plain, texts, tolerance, t0, load0):
                             __doc__.split("\n\n")[0] + "\n\n" + body.getvalue(),
                             summary=f"{spec_path.name}: {e['elapsed_s']:.0f} s on {a.workers} workers "
                                     f"({e['samples_per_s']:.1f} samples/s), {ratio:.1f} x faster than fine; "
-                                    f"figures {'held' if held else 'moved'}", t0=t0, load0=load0)
+                                    f"figures {held}", t0=t0, load0=load0)
     print("budget_speed: wrote docs/results/budget_speed.md")
     return 0
 
