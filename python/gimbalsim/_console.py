@@ -10,9 +10,34 @@ def keep_console():
     """A program's console for its whole life (its __main__: argparse's
     --help and refusals included): sys.stdout and sys.stderr as
     ReaderGoneStream, so that a reader gone stops nothing."""
-    # (None: a descriptor closed at start, `>&-`; Python's print already writes nothing there)
-    sys.stdout, sys.stderr = (s if s is None or isinstance(s, ReaderGoneStream) else ReaderGoneStream(s)
-                              for s in (sys.stdout, sys.stderr))
+    _open_if_closed(0)  # stdin too: the first file opened would take descriptor 0
+    sys.stdout, sys.stderr = console_stream(sys.stdout, 1), console_stream(sys.stderr, 2)
+
+
+def console_stream(stream, fd):
+    """stream (sys.stdout: fd 1, sys.stderr: fd 2) as a ReaderGoneStream. A
+    descriptor closed at start (`>&-`; Python then has None) gets /dev/null:
+    else the first file opened would take it, and a child's console lines
+    (a Dask worker's, a sweep's) would be written into that file."""
+    if isinstance(stream, ReaderGoneStream):
+        return stream
+    if stream is None:
+        _open_if_closed(fd)
+        stream = open(fd, "w", closefd=False, encoding="utf-8", errors="backslashreplace")
+    return ReaderGoneStream(stream)
+
+
+def _open_if_closed(fd):
+    try:
+        os.fstat(fd)
+    except OSError as e:
+        if e.errno != errno.EBADF:
+            raise
+        null = os.open(os.devnull, os.O_RDWR)
+        if null != fd:
+            os.dup2(null, fd)
+            os.close(null)
+        os.set_inheritable(fd, True)
 
 
 class ReaderGoneStream:

@@ -7,7 +7,7 @@ sweep's --replay run through (guarded_main)."""
 import signal
 import sys
 
-from ._console import ReaderGoneStream
+from ._console import console_stream
 from ._output import OutputError
 
 # The exit-code table, the same numbers as program.hpp's enum Exit (a test compares them).
@@ -119,7 +119,7 @@ def guarded_main(program, body, notes=None):
     A stderr whose reader is gone (`2>&1 | head -1`) stops no program: its
     lines are dropped from then on (_console.ReaderGoneStream)."""
     stderr = sys.stderr
-    sys.stderr = ReaderGoneStream(stderr) if not isinstance(stderr, ReaderGoneStream) else stderr
+    sys.stderr = console_stream(stderr, 2)
     try:
         return body()
     except BaseException as e:

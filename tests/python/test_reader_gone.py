@@ -89,3 +89,50 @@ def test_a_console_that_cannot_be_written_stops_nothing(tmp_path):
     p = subprocess.run(["bash", "-c", f"/usr/bin/python3 '{SOURCE}/tools/hil/plot_bench.py' --help >/dev/full"],
                        cwd=tmp_path, capture_output=True, text=True, timeout=120)
     assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
+
+
+def shell(command, cwd, env=None):
+    return subprocess.run(["bash", "-c", command], cwd=cwd, capture_output=True, text=True, timeout=300,
+                          env={**os.environ, **(env or {})})
+
+
+def test_a_closed_console_is_no_output_and_changes_no_exit_code(tmp_path):
+    # (pass 31) a program started with `>&-` or `2>&-` gave descriptor 1 or 2 to its first output's temporary and
+    # wrote its console into it (a truth CSV, config.txt); a Python module's closed stderr ended 1 (AttributeError)
+    # with its results lost; a script's closed stdout failed its own awk (exit 2) or tee (exit 1, log not saved)
+    study = (f"'{BIN}/gimbalsim_pointing_study' --ideal-scene '{scene_path('paper_ideal')}' --clearance-scene "
+             f"'{scene_path('paper_clearance')}' --clearances 1e-4 --duration 0.5 --set profile.slew_time=0.1 "
+             "--set profile.slew_start=0 --set profile.hold_time=0.05")
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    assert shell(f"{study} --out a >/dev/null", tmp_path).returncode == 0
+    assert shell(f"{study} --out b >&- 2>&-", tmp_path).returncode == 0
+    for name in ("config.txt", "summary.csv"):
+        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
+    p = shell(f"'{BIN}/firmware_sim' '{scene_path('paper_clearance')}' --duration 0.02 --rt-priority 0 "
+              "--lcm-url 'udpm://239.255.76.67:7745?ttl=0' --truth-csv t.csv 2>&- >&-", tmp_path)
+    assert p.returncode == 0 and (tmp_path / "t.csv").read_text().startswith("utime_us,seq,"), p.stderr
+    env = {"PYTHONPATH": str(BIN.parent / "python")}
+    assert shell("/usr/bin/python3 -m gimbalsim.sweep --bogus 2>&-", tmp_path, env).returncode == 2
+    spec = tmp_path / "s.yaml"
+    spec.write_text(f"scene: {scene_path('paper_ideal')}\nset: {{sim.duration: 0.05}}\nsamples: 2\nseed: 1\n"
+                    "parameters:\n  initial.theta1: {uniform: [0.0, 0.1]}\n")
+    assert shell("/usr/bin/python3 -m gimbalsim.sweep s.yaml --out o --workers 1 --no-progress 2>&- >&-", tmp_path,
+                 env).returncode == 0
+    assert (tmp_path / "o" / "results.csv").is_file() and (tmp_path / "o" / "summary.json").is_file()
+    build, fake = tmp_path / "build", tmp_path / "fakebin"
+    (build / "bin").mkdir(parents=True)
+    fake.mkdir()
+    (build / "CMakeCache.txt").write_text("")
+    (build / "bin" / "gimbalsim_controller_floor").symlink_to(BIN / "gimbalsim_controller_floor")
+    (fake / "cmake").write_text("#!/bin/sh\nexit 0\n")  # the program is built: no cmake run
+    (fake / "cmake").chmod(0o755)
+    floor = (f"bash '{SOURCE}/tools/pointing_study/run_controller_floor.sh' --clearances 1e-4 --duration 0.4 "
+             "--set profile.slew_time=0.1 --set profile.slew_start=0 --set profile.hold_time=0.05")
+    env = {"BUILD_DIR": str(build), "PATH": f"{fake}:{os.environ['PATH']}"}
+    log = tmp_path / "out" / "controller_floor" / "floor.log"
+    for redirect in (">/dev/full", ">&-"):
+        if log.exists():
+            log.unlink()
+        assert shell(f"{floor} {redirect} 2>/dev/null", tmp_path, env).returncode == 0, redirect
+        assert log.read_text().startswith("# 0.4 s per run"), redirect  # the log saved, whole

@@ -1,5 +1,9 @@
 #include "gimbalsim/program/program.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -11,6 +15,19 @@
 #include "gimbalsim/program/version.hpp"
 
 namespace gimbalsim::program {
+
+void keepStandardStreams() noexcept {
+  for (int fd = 0; fd <= 2; ++fd) {
+    if (fcntl(fd, F_GETFD) != -1 || errno != EBADF) continue;
+    const int null_fd = open("/dev/null", O_RDWR | O_CLOEXEC);  // the lowest free descriptor: fd itself
+    if (null_fd >= 0 && null_fd != fd) {
+      dup2(null_fd, fd);  // dup2 clears close-on-exec on fd: a child inherits it open
+      close(null_fd);
+    } else if (null_fd == fd) {
+      fcntl(fd, F_SETFD, 0);  // inherited open by the programs this one starts
+    }
+  }
+}
 
 namespace {
 

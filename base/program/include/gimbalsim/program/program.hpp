@@ -80,11 +80,18 @@ int unwritable(const char* program, const std::string& what);
 /// Every problem as "error: <problem>", then "<program>: refused, nothing run"; kRefused.
 int refuse(const char* program, const InputError& e);
 
+/// Opens /dev/null on each of stdin, stdout and stderr that is closed: a
+/// program started with `>&-` would otherwise give descriptor 1 or 2 to the
+/// first file it opens (an output's temporary), and its console lines would
+/// be written into that output. With them open, the lines are dropped.
+void keepStandardStreams() noexcept;
+
 /// The outermost frame of main(): body()'s code; an InputError (or a
 /// CLI::ParseError) that escaped is refused (kRefused); any other exception
 /// is a bug or exhausted memory: "<program>: internal error: ..." and kInternal.
 template <class Body>
 int guardedMain(const char* program, Body&& body) noexcept {
+  keepStandardStreams();
   // A file-size limit (ulimit -f) must fail a write (EFBIG: exit 4, temporaries removed), not
   // kill the program with SIGXFSZ and leave them behind; Python ignores it the same way.
   std::signal(SIGXFSZ, SIG_IGN);
