@@ -77,6 +77,21 @@ def test_the_benchmark_script_refuses_as_programs_do(tmp_path):
         p = subprocess.run(["bash", "-c", command], cwd=tmp_path, capture_output=True, text=True, timeout=300)
         assert p.returncode == (0 if words is None else 2) and (words is None or words in p.stderr), (command, p.stderr)
     assert (tmp_path / "real.json").read_text() == "{}\n" and not (tmp_path / "x.json").exists()
+    # (pass 31) OUT over the benchmark program itself was written (the program replaced by its JSON); a listing ran
+    # BENCH from the repository (127); --benchmark_repetitions passed by REPS's range
+    mine = tmp_path / "mybench"
+    mine.write_bytes((BIN / "gimbalsim_bench").read_bytes())
+    mine.chmod(0o755)
+    for command, words in ((f"BENCH=./mybench OUT=./mybench REPS=2 bash {script} --benchmark_filter=BM_Rk4",
+                            "the same file as the input"),
+                           (f"BENCH=./nope bash {script} --benchmark_list_tests=true", "no such program"),
+                           (f"REPS=2 BENCH=./mybench bash {script} --benchmark_repetitions=1", "give REPS=N")):
+        p = subprocess.run(["bash", "-c", command], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+        assert p.returncode == 2 and words in p.stderr, (command, p.stderr)
+    assert mine.read_bytes() == (BIN / "gimbalsim_bench").read_bytes()
+    p = subprocess.run(["bash", "-c", f"BENCH=./mybench bash {script} --benchmark_list_tests=true"], cwd=tmp_path,
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0 and "BM_Rk4" in p.stdout, p.stderr
 
 
 def test_a_console_that_cannot_be_written_stops_nothing(tmp_path):

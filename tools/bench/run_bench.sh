@@ -14,28 +14,32 @@ T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/bench/run_bench.sh$(printf ' %q' "$@")"
 for v in REPS MUJOCO_REPEATS; do [ -n "${!v:-}" ] && COMMAND="$v=${!v} $COMMAND"; done
 refuse() { echo "run_bench.sh: $1; nothing run" >&2; exit 2; }
-RESULTS=0 ARGS=()
+BIN=${BENCH:-$ROOT/build/bin/gimbalsim_bench}  # the repository's build wherever the user stands
+# BENCH and OUT are read where the user stands; the benchmarks read the repository's scenes (tools/scenes/)
+case "$BIN" in /*) ;; *) BIN="$PWD/$BIN" ;; esac
+RESULTS=0 ARGS=() LIST=""
 for a in "$@"; do
   case "$a" in
     -h | --help) script_usage "${BASH_SOURCE[0]}" 2 9; exit 0 ;;
     --results) RESULTS=1 ;;
     # the JSON is the script's to write (OUT=FILE), by the writer's rules; a listing is the bench's answer alone
     --benchmark_out=* | --benchmark_out_format=*) refuse "$a: the script writes the JSON; give OUT=FILE" ;;
-    --benchmark_list_tests*) cd "$ROOT"; exec "${BENCH:-$ROOT/build/bin/gimbalsim_bench}" "$a" ;;
+    --benchmark_repetitions* | --benchmark_report_aggregates_only*) refuse "$a: the script sets it; give REPS=N" ;;
+    --benchmark_list_tests*) LIST=$a ;;
     *) ARGS+=("$a") ;;
   esac
 done
-BIN=${BENCH:-$ROOT/build/bin/gimbalsim_bench}  # the repository's build wherever the user stands
+[ -f "$BIN" ] && [ -x "$BIN" ] || refuse "BENCH=$BIN: no such program (build it: cmake --build build --target gimbalsim_bench)"
+if [ -n "$LIST" ]; then cd "$ROOT"; exec "$BIN" "$LIST"; fi
 REPS=${REPS:-5}
 [[ "$REPS" =~ ^[0-9]{1,4}$ ]] && [ "$REPS" -ge 2 ] && [ "$REPS" -le 1000 ] ||
   refuse "REPS=$REPS: must be a whole number in [2, 1000] (a median and a minimum over repetitions)"
-# BENCH and OUT are read where the user stands; the benchmarks read the repository's scenes (tools/scenes/)
-case "$BIN" in /*) ;; *) BIN="$PWD/$BIN" ;; esac
-[ -f "$BIN" ] && [ -x "$BIN" ] || refuse "BENCH=$BIN: no such program (build it: cmake --build build --target gimbalsim_bench)"
 KEEP=${OUT:-}
 case "$KEEP" in "" | /*) ;; *) KEEP="$PWD/$KEEP" ;; esac
-# OUT by the writer's rules, checked before the run: never through a link, whole or not at all
-[ -z "$KEEP" ] || /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check /dev/null "$KEEP" || exit $?
+# OUT by the writer's rules, checked before the run: never through a link, never over an input (the program,
+# the scenes the benchmarks load, a file named in a flag), whole or not at all
+INPUTS=("$BIN" "$ROOT"/tools/scenes/*.yaml ${ARGS[@]+"${ARGS[@]}"})
+[ -z "$KEEP" ] || /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check /dev/null "$KEEP" -- "${INPUTS[@]}" || exit $?
 TEMPORARY=()  # removed whatever ends the script
 trap 'rm -f ${TEMPORARY[@]+"${TEMPORARY[@]}"}' EXIT
 OUT=$(mktemp /tmp/gimbalsim_bench.XXXXXX.json) && TEMPORARY+=("$OUT")
@@ -66,7 +70,7 @@ for name, row in rows.items():
     extra = " ".join(f"{k}={v:g}" for k, v in row.get("counters", {}).items())
     print(f"{name:48s} {row.get('median', float('nan')):12.1f} {row.get('min', float('nan')):12.1f} {extra}")
 PY
-[ -z "$KEEP" ] || /usr/bin/python3 tools/pages/save_output.py "$OUT" "$KEEP"  # the writer's rules
+[ -z "$KEEP" ] || /usr/bin/python3 tools/pages/save_output.py "$OUT" "$KEEP" -- "${INPUTS[@]}"  # the writer's rules
 [ "$RESULTS" = 1 ] || exit 0
 MJ=(--no-mujoco "this build has no MuJoCo peer: Debian's libmujoco-dev and libqhull-dev were not installed when build/ was configured (apt-get install libmujoco-dev libqhull-dev, then reconfigure)")
 if grep -q '^mujoco_DIR:PATH=/' build/CMakeCache.txt 2>/dev/null; then  # found at configure time
