@@ -3,13 +3,14 @@ codes", "Output files"): a bad input or an output that breaks the rules is one
 line naming the file (and line), exit 2, and nothing written; never a
 traceback, never a folder made for the user."""
 import os
+import shutil
 import subprocess
 import sys
 
 import numpy as np
 import pytest
 
-from conftest import SOURCE
+from conftest import BIN, SOURCE
 
 sys.path.insert(0, str(SOURCE / "tools" / "paper"))
 from paper_data import REQUIRED  # noqa: E402
@@ -256,3 +257,30 @@ def test_gen_key_docs_reads_its_argument_as_a_program_does(tmp_path):
         p = subprocess.run(["/usr/bin/python3", str(tool), *args], capture_output=True, text=True, timeout=60)
         assert p.returncode == code and "Traceback" not in p.stderr, (args, p.stderr)
         assert words is None or words in p.stderr, (args, p.stderr)
+
+
+def test_gen_key_docs_writes_both_tables_or_neither(tmp_path):
+    # (pass 31) a bin folder without pointing_controller replaced docs/scene_keys.md, then refused (exit 2); programs
+    # that printed nothing replaced both key tables by nothing (exit 0)
+    root = tmp_path / "tree"
+    (root / "tools").mkdir(parents=True)
+    (root / "docs").mkdir()
+    shutil.copytree(SOURCE / "tools/pages", root / "tools/pages")
+    shutil.copytree(SOURCE / "python/gimbalsim", root / "python/gimbalsim")  # the writer the tools load by path
+    for doc in ("scene_keys.md", "controller_keys.md"):
+        shutil.copy(SOURCE / "docs" / doc, root / "docs" / doc)
+    before = {doc: (root / "docs" / doc).read_text() for doc in ("scene_keys.md", "controller_keys.md")}
+    half, empty = tmp_path / "half", tmp_path / "empty"
+    for folder in (half, empty):
+        folder.mkdir()
+    keys = subprocess.run([str(BIN / "gimbalsim"), "keys", "--markdown"], capture_output=True, text=True).stdout
+    (half / "gimbalsim").write_text(f"#!/bin/sh\ncat <<'X'\n{keys}| x.y | number | m | 0 | | one key more |\nX\n")
+    for name in ("gimbalsim", "pointing_controller"):
+        (empty / name).write_text("#!/bin/sh\nexit 0\n")
+    for f in [half / "gimbalsim", empty / "gimbalsim", empty / "pointing_controller"]:
+        f.chmod(0o755)
+    for folder, words in ((half, "pointing_controller: no such program"), (empty, "printed no key table")):
+        p = subprocess.run(["/usr/bin/python3", str(root / "tools/pages/gen_key_docs.py"), str(folder)],
+                           capture_output=True, text=True, timeout=60)
+        assert p.returncode == 2 and words in p.stderr and "updated" not in p.stdout, (folder, p.stdout, p.stderr)
+        assert {doc: (root / "docs" / doc).read_text() for doc in before} == before

@@ -43,6 +43,7 @@ def main():
     p.add_argument("bin_dir", nargs="?", default=str(ROOT / "build" / "bin"),
                    help="the build's bin folder holding gimbalsim and pointing_controller (default build/bin)")
     bin_dir = pathlib.Path(p.parse_args().bin_dir)
+    updates = []  # every table read and checked before the first document is written: a refusal costs nothing
     for doc, cmd in DOCS:
         program = bin_dir / cmd[0]
         if not (program.is_file() and os.access(program, os.X_OK)):
@@ -52,9 +53,16 @@ def main():
             raise output_file.Refused(f"{program} {' '.join(cmd[1:])} failed (exit {run.returncode}): "
                                       f"{run.stderr.strip()[-300:]}")
         table = run.stdout
+        rows = table.splitlines()
+        # the header, its rule and at least one key; every line a table row: an empty or foreign answer is no table
+        if len(rows) < 3 or rows[0] != HEADER or not all(r.startswith("|") and r.endswith("|") for r in rows):
+            raise output_file.Refused(f"{program} {' '.join(cmd[1:])} printed no key table (expected the header "
+                                      f"'{HEADER}', its rule and one row per key)")
         path = ROOT / doc
-        new = replace_table(path.read_text(), table)
-        if new != path.read_text():
+        old = path.read_text()
+        updates.append((doc, path, old, replace_table(old, table)))
+    for doc, path, old, new in updates:
+        if new != old:
             output_file.write_text(path, new)  # the package's one writer (tools/pages/output_file.py)
             print(f"gen_key_docs.py: {doc} updated")
         else:
