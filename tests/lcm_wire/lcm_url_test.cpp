@@ -39,8 +39,10 @@ TEST(LcmUrl, RefusalsSayWhy) {
       {"bogus://x", "provider 'bogus' is not received here"},
       {"udpm-no-separator", "expected provider://network?options"},
       {"udpm://10.0.0.1:7667", "'10.0.0.1' is not a multicast group"},
-      {"udpm://239.1.1.1:0", "port '0' is not in 1..65535"},
-      {"udpm://239.1.1.1:99999", "port '99999' is not in 1..65535"},
+      {"udpm://239.1.1.1:0", "port '0' is not a whole number in 1..65535"},
+      {"udpm://239.1.1.1:99999", "port '99999' is not a whole number in 1..65535"},
+      // LCM's publisher reads 07815 as octal (port 7): the receiver taking 7815 would never meet it
+      {"udpm://239.1.1.1:07815", "port '07815' is not a whole number in 1..65535 written without a leading zero"},
       {"udpm://239.1.1.1:7667x", "port '7667x'"},
       {"udpm://not.an.ip:7667", "is not an IPv4 address"},
       {"udpm://239.1.1.1:7667?recv_buf_size=-5", "recv_buf_size '-5'"},

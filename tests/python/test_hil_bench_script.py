@@ -108,7 +108,9 @@ def test_a_bad_number_is_refused_naming_the_flag_not_what_the_script_made_of_it(
     for args, says in ((["--rate", "0"], "run_hil_bench.sh: --rate: must be in [0.001, 1e+06], got 0"),
                        (["--rate", "abc"], "run_hil_bench.sh: --rate: 'abc' is not a plain decimal number"),
                        (["--duration", "inf"], "run_hil_bench.sh: --duration: 'inf' is not a plain decimal number"),
-                       (["--port", "99999"], "run_hil_bench.sh: --port: must be a whole number in [1, 65535], got '99999'")):
+                       (["--port", "99999"], "run_hil_bench.sh: --port: must be a whole number in [1, 65535]"),
+                       # (pass 31) LCM read 07815 as octal, the receivers as 7815: the processes never met (exit 6)
+                       (["--port", "07815"], "without a leading zero, got '07815'")):
         p = bench(tmp_path / "new", "--no-plot", *args)
         assert p.returncode == 2 and says in p.stderr and "control.period" not in p.stderr, p.stderr
         assert "firmware_sim" not in p.stderr and not (tmp_path / "new").exists(), p.stderr

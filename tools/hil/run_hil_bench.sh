@@ -5,8 +5,8 @@
 # controller's log, firmware_sim's summary, the LCM log and its CSVs, and a
 # plot into the output directory (default out/bench/).
 #
-#   bash tools/hil/run_hil_bench.sh [--realtime] [--duration S] [--scene FILE] [--config FILE]
-#                               [--rate HZ] [--log] [--out DIR] [--no-plot] [-- FIRMWARE_SIM_ARGS...]
+#   bash tools/hil/run_hil_bench.sh [--realtime | --lockstep] [--duration S] [--scene FILE] [--config FILE]
+#                               [--rate HZ] [--port PORT] [--log] [--out DIR] [--no-plot] [-- FIRMWARE_SIM_ARGS...]
 #
 # Namespace: `unshare -n` (root), else `unshare -rn` (user namespace); if
 # neither works it runs in the host's network with ttl=0 (nothing leaves the
@@ -63,8 +63,10 @@ number() {  # number FLAG VALUE LO HI: a plain decimal number in [LO, HI], else 
 }
 number --rate "$RATE" 0.001 1e+06  # firmware_sim's range; the controller's control.period = 1/--rate then fits too
 number --duration "$DURATION" 0 1e+09
-[[ "$PORT" =~ ^[0-9]+$ ]] && [ "${#PORT}" -le 5 ] && [ "$PORT" -ge 1 ] && [ "$PORT" -le 65535 ] ||
-  { echo "run_hil_bench.sh: --port: must be a whole number in [1, 65535], got '$PORT'" >&2; exit 2; }
+# no leading zero: LCM reads 07815 as octal (port 7) where the programs' receivers read 7815
+[[ "$PORT" =~ ^[1-9][0-9]*$ ]] && [ "${#PORT}" -le 5 ] && [ "$PORT" -ge 1 ] && [ "$PORT" -le 65535 ] ||
+  { echo "run_hil_bench.sh: --port: must be a whole number in [1, 65535] without a leading zero, got '$PORT'" >&2
+    exit 2; }
 PERIOD=$(awk -v r="$RATE" 'BEGIN { printf "%.17g", 1.0 / r }')
 # A GIMBALSIM_BUILD the user names is read where the user stands, as every path they give, and never
 # built; the default is the checkout's build/, built when a program is missing.

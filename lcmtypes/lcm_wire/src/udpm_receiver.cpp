@@ -72,7 +72,9 @@ std::int64_t realtimeUs() noexcept {
 }
 
 bool parseInt(const std::string& s, long lo, long hi, long* out) {
-  if (s.empty() || s.size() > 10) return false;
+  // A leading zero is refused: LCM's own parse reads "07815" as octal (port 7), so the
+  // publisher and this receiver would each take a different number and never meet.
+  if (s.empty() || s.size() > 10 || (s.size() > 1 && s[0] == '0')) return false;
   for (char c : s) {
     if (c < '0' || c > '9') return false;
   }
@@ -118,7 +120,7 @@ LcmUrl parseLcmUrl(const std::string& given, std::string* why) {
   if (inet_pton(AF_INET, addr.c_str(), &a) != 1) return fail("'" + addr + "' is not an IPv4 address");
   if (!IN_MULTICAST(ntohl(a.s_addr))) return fail("'" + addr + "' is not a multicast group (224.0.0.0/4)");
   long p = 0;
-  if (!parseInt(port, 1, 65535, &p)) return fail("port '" + port + "' is not in 1..65535");
+  if (!parseInt(port, 1, 65535, &p)) return fail("port '" + port + "' is not a whole number in 1..65535 written without a leading zero");
   u.group = a.s_addr;
   u.port = static_cast<std::uint16_t>(p);
   std::stringstream ss(opts);
