@@ -222,6 +222,31 @@ TEST(HilLockstep, TorqueReplayStopsAtAPlantTickingAtAnotherRate) {
       << readFile(dir / "other.log");
 }
 
+// A recorded plant that stopped (frozen rows: time still, FAULT_PLANT_FAULT) replayed against a
+// plant that does not: the replay said "answered statuses 0..N" and exited 0 (pass 31); it stops
+// at the first status past the recorded stop without the plant's fault, "not reproduced" (8).
+TEST(HilLockstep, TorqueReplayOfAStopThePlantDoesNotMakeIsNotReproduced) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("replay_stop");
+  const std::string url = udpmUrl(7754);
+  {
+    std::ofstream csv(dir / "stopped.csv");
+    csv << "seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n";
+    for (int k = 0; k <= 60; ++k) csv << k << "," << (k <= 30 ? k : 30) * 0.001 << ",0,0," << (k <= 30 ? 0 : 8) << "\n";
+  }
+  const std::string body = "timeout 60 '" + std::string(GIMBALSIM_TORQUE_REPLAY) + "' stopped.csv --lcm-url '" + url +
+                           "' --idle-exit 5 >replay.log 2>&1 &\nR=$!\ntimeout 60 " + firmwareSim() + " " +
+                           scenePath("paper_ideal") + " --duration 0.06 --lcm-url '" + url +
+                           "' --lockstep --start-timeout 10 --lockstep-timeout-ms 2000 >fw.log 2>&1\nwait $R; r=$?\n"
+                           "echo \"r $r\"\n[ $r -eq 8 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "replay.log");
+  EXPECT_NE(readFile(dir / "replay.log")
+                .find("torque_replay: not reproduced: status 31 (t = 0.031 s) has no FAULT_PLANT_FAULT, where the "
+                      "recorded plant had stopped after t = 0.03 s"),
+            std::string::npos)
+      << readFile(dir / "replay.log");
+}
+
 // torque_replay refuses what it cannot replay, naming the file, the line and the column.
 TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
   TempDir dir("replay_refusals");

@@ -52,10 +52,11 @@ int mainImpl(int argc, char** argv) {
   } catch (const std::runtime_error& e) {
     return refuse("torque_replay", e.what());
   }
+  const double stop_s = t.frozen_rows > 0 ? t.t_s[t.t_s.size() - t.frozen_rows - 1] : 0.0;  // [s] last good state
   if (t.frozen_rows > 0) {  // replayed whole: a plant that reproduces the run stops where it did
     std::fprintf(stderr, "torque_replay: the recorded plant stopped after t = %.9g s, its last good state (its "
-                 "last %zu rows are its frozen state): their commands are replayed, their times not checked\n",
-                 t.t_s[t.t_s.size() - t.frozen_rows - 1], t.frozen_rows);
+                 "last %zu rows are its frozen state): their commands are replayed, and the replayed plant must "
+                 "have stopped there too\n", stop_s, t.frozen_rows);
   }
   lcm::LCM lcm(url);
   const auto ch = gimbalsim::contract::Channels::withPrefix(prefix);
@@ -69,17 +70,28 @@ int mainImpl(int argc, char** argv) {
   std::int64_t heard_ns = gimbalsim::lcm_wire::monotonicNs();
   bool sent = true;
   std::string mismatch;  // a status at another time than its row: another control period
-  while (answered < last && sent && mismatch.empty()) {
+  std::string diverged;  // a status past the recorded stop without the plant's fault: another run
+  while (answered < last && sent && mismatch.empty() && diverged.empty()) {
     if (rx.wait(100, 0) < 0) return gimbalsim::program::kNetwork;
     rx.drain([&](const gimbalsim::lcm_wire::Message& m, std::int64_t) {
       gimbalsim::gimbal_status_t st{};
-      if (!sent || !mismatch.empty()) return;
+      if (!sent || !mismatch.empty() || !diverged.empty()) return;
       if (st.decode(m.data, 0, static_cast<int>(m.size)) != static_cast<int>(m.size)) return;
       heard_ns = gimbalsim::lcm_wire::monotonicNs();
       if (st.seq <= answered || st.seq > last) return;  // a repeat (status 0 is re-sent until answered), or past the CSV
       const auto k = static_cast<std::size_t>(st.seq);
+      // A frozen row (time NaN): the recorded plant had stopped; the replayed one must have stopped too.
+      if (!t.t_s.empty() && std::isnan(t.t_s[k]) &&
+          (st.faults & gimbalsim::gimbal_status_t::FAULT_PLANT_FAULT) == 0) {
+        char why[256];
+        std::snprintf(why, sizeof why, "status %lld (t = %.9g s) has no FAULT_PLANT_FAULT, where the recorded plant "
+                      "had stopped after t = %.9g s: the replayed plant did not stop where the recorded one did",
+                      static_cast<long long>(st.seq), static_cast<double>(st.utime) * 1e-6, stop_s);
+        diverged = why;
+        return;
+      }
       // Lockstep's utime is simulated time, rounded to 1 us: row k's time, or the plant ticks at another period
-      // (a frozen row's time is NaN: the comparison is false, nothing to check).
+      // (a frozen row's time is NaN: the comparison is false).
       if (!t.t_s.empty() && std::fabs(static_cast<double>(st.utime) * 1e-6 - t.t_s[k]) > 1e-6) {
         char why[256];
         std::snprintf(why, sizeof why, "status %lld is at t = %.9g s, row %lld of the truth CSV at %.9g s: the plant "
@@ -112,6 +124,10 @@ int mainImpl(int argc, char** argv) {
   if (!mismatch.empty()) {
     std::fprintf(stderr, "torque_replay: error: %s; replay stopped\n", mismatch.c_str());
     return gimbalsim::program::kRefused;
+  }
+  if (!diverged.empty()) {
+    std::fprintf(stderr, "torque_replay: not reproduced: %s; replay stopped\n", diverged.c_str());
+    return gimbalsim::program::kNotReproduced;
   }
   if (!sent) {
     std::fprintf(stderr, "torque_replay: error: publishing the answer to status %lld failed\n",

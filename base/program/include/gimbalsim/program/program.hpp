@@ -39,7 +39,7 @@ enum Exit : int {
   kNoPeer = 6,    ///< no peer: no plant within --idle-exit, the plant gone (--plant-timeout), no controller within
                   ///< --start-timeout; (Python) no Dask scheduler or worker at --scheduler
   kPartial = 7,   ///< the input was cut short (a truncated log): every whole part converted, the cut reported
-  kNotReproduced = 8,  ///< a replayed sample's row differs from the recorded one (Python: gimbalsim.sweep --replay, _errors.py)
+  kNotReproduced = 8,  ///< a replay differs from its record (gimbalsim.sweep --replay, _errors.py; torque_replay: a stop)
 };
 /// Stopped by signal N (outputs whole): 128 + N, i.e. 130 for SIGINT, 143 for SIGTERM.
 constexpr int signalExit(int signal) { return 128 + signal; }
