@@ -52,7 +52,7 @@ def test_bad_arguments_are_refused_before_anything_runs(tmp_path):
     (tmp_path / "theirs" / "notes.txt").write_text("the user's\n")
     (tmp_path / "link").symlink_to(tmp_path / "theirs")
     for args, words in ((["--samples", "3", "--results"], "leave out --samples"),
-                        (["--fine-substep", "0"], "--fine-substep must be"),
+                        (["--fine-substep", "0"], "argument --fine-substep: must be in [1e-08, 0.001], got 0"),
                         (["--out", SOURCE], "would replace"),
                         (["--spec", tmp_path / "nothing.yaml"], "no such file"),
                         (["--spec", tmp_path / "open.yaml"], "not a closed-loop sweep spec"),
@@ -60,8 +60,10 @@ def test_bad_arguments_are_refused_before_anything_runs(tmp_path):
                         (["--spec", tmp_path / "policy.yaml"], "policy.yaml:2:7: key 'set.sim.substep_policy'"),
                         (["--spec", tmp_path / "broken.yaml"], "not valid YAML"),
                         (["--spec", tmp_path / "bad.yaml"], "bad.yaml:15:3: key 'parameters.friction.muu'"),
-                        (["--workers", " 1"], "not a whole number"), (["--samples", "1_0"], "not a whole number"),
+                        (["--workers", " 1"], "must be a whole number in [1, 256], got ' 1'"),
+                        (["--samples", "1_0"], "must be a whole number in [1, 1000000], got '1_0'"),
                         (["--fine-substep", "5_0e-6"], "not a finite decimal"),
+                        (["--fine-substep", "1e-400"], "too small for a double"),
                         (["--out", tmp_path / "theirs"], "holds notes.txt"),
                         (["--out", tmp_path / "link"], "symbolic link")):
         out = [] if "--out" in args or "--results" in args else ["--out", tmp_path / "o"]

@@ -284,3 +284,19 @@ def test_gen_key_docs_writes_both_tables_or_neither(tmp_path):
                            capture_output=True, text=True, timeout=60)
         assert p.returncode == 2 and words in p.stderr and "updated" not in p.stdout, (folder, p.stdout, p.stderr)
         assert {doc: (root / "docs" / doc).read_text() for doc in before} == before
+
+
+def test_the_tools_numbers_have_ranges_the_code_honours(tmp_path):
+    # (pass 31) py_bench --repeats 0 ended in a StatisticsError traceback and --steps 0 in a ZeroDivisionError;
+    # plot_bench --after took ' 1', -1 and 1e-400 (as 0)
+    cases = [("tools/bench/py_bench.py", ["--repeats", "0"], "--repeats: must be a whole number in [1, 1000]"),
+             ("tools/bench/py_bench.py", ["--steps", "0"], "--steps: must be a whole number in [1, 10000000]"),
+             ("tools/bench/py_bench.py", ["--repeats", " 1"], "got ' 1'"),
+             ("tools/hil/plot_bench.py", ["x.csv", "--out", "x.png", "--after", "-1"], "must be in [0, 1e+09]"),
+             ("tools/hil/plot_bench.py", ["x.csv", "--out", "x.png", "--after", " 1"], "not a finite decimal"),
+             ("tools/hil/plot_bench.py", ["x.csv", "--out", "x.png", "--after", "1e-400"], "too small for a double")]
+    for tool, args, words in cases:
+        p = subprocess.run(["/usr/bin/python3", str(SOURCE / tool), *args], cwd=tmp_path, capture_output=True,
+                           text=True, timeout=60, env={**os.environ, "PYTHONPATH": str(BIN.parent / "python")})
+        assert p.returncode == 2 and words in p.stderr and "Traceback" not in p.stderr, (tool, args, p.stderr)
+    assert not list(tmp_path.iterdir())

@@ -99,8 +99,8 @@ def bench_threads(scene, n, repeats):
 def main():
     ap = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--repeats", type=int, default=7)
-    ap.add_argument("--steps", type=int, default=5000, help="steps per measurement")
+    ap.add_argument("--repeats", type=output_file.arg_whole(1, 1000), default=7, help="measurements per point (median)")
+    ap.add_argument("--steps", type=output_file.arg_whole(1, 10**7), default=5000, help="steps per measurement")
     a = ap.parse_args()
     print(f"medians of {a.repeats} repeats, {a.steps} steps each; times per step [us]")
     print(f"{'scene':<16} {'variant':<28} {'C++ step':>9} {'py step':>9} {'ratio':>8} {'batch':>9} {'ratio':>8} "

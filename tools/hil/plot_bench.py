@@ -29,7 +29,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
-from output_file import (Refused, check_as_written, check_before_writing, check_figure_format,  # noqa: E402
+from output_file import (Refused, arg_decimal, check_as_written, check_before_writing, check_figure_format,  # noqa: E402
                          check_header, plain_number, run_script, savefig)  # the package's one writer
 
 FAULTS = [(1, "watchdog"), (2, "motor limit"), (4, "cmd rejected"), (8, "plant fault"), (16, "lockstep timeout")]
@@ -166,10 +166,9 @@ def main():
     p.add_argument("truth", help="truth CSV (firmware_sim --truth-csv or gimbalsim_log2csv)")
     p.add_argument("--out", required=True, help="output image (.png, .pdf, .svg)")
     p.add_argument("--title", default="", help="figure title (default: the CSV path)")
-    p.add_argument("--after", type=float, default=2.5, help="report the max pointing error after this time [s]")
+    p.add_argument("--after", type=arg_decimal(0.0, 1e9), default=2.5,
+                   help="report the max pointing error after this time [s], in [0, 1e9]")
     a = p.parse_args()
-    if not np.isfinite(a.after):
-        p.error(f"--after {a.after}: not a finite time")
     check_before_writing([a.out], [a.truth], names=["--out"])
     check_figure_format(a.out)
     c = read(a.truth)

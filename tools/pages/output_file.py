@@ -8,6 +8,7 @@ write_text, write_bytes, write_csv, savefig, check_outputs, OutputError
 It also says how a script ends (run_script, Refused, check_before_writing)
 and how it reads what it is given (plain_number, check_header, check_as_written,
 check_figure_format)."""
+import argparse
 import contextlib
 import importlib.util
 import math
@@ -120,6 +121,33 @@ def plain_number(text, where):
     if text is None or not _PLAIN.fullmatch(text) or not math.isfinite(float(text)):
         raise Refused(f"{where}: not a finite decimal number: {text!r}")
     return float(text)
+
+
+def arg_whole(lo, hi):
+    """An argparse type: a whole number in [lo, hi] written as one (no sign,
+    space, '_' or exponent), as the programs read their integer flags."""
+    def read(text):
+        if not (text.isascii() and text.isdigit() and len(text) <= 12) or not lo <= int(text) <= hi:
+            raise argparse.ArgumentTypeError(f"must be a whole number in [{lo}, {hi}], got {text!r}")
+        return int(text)
+    return read
+
+
+def arg_decimal(lo, hi):
+    """An argparse type: a plain finite decimal in [lo, hi], as the programs
+    read their real flags (' 1', 'inf', '0x1' refused, and '1e-400', which
+    would read as 0)."""
+    def read(text):
+        try:
+            x = plain_number(text, "the value")
+        except Refused as e:
+            raise argparse.ArgumentTypeError(str(e)) from None
+        if x == 0.0 and re.search(r"[1-9]", text.lower().split("e")[0]):
+            raise argparse.ArgumentTypeError(f"{text!r} is too small for a double (it would be read as 0)")
+        if not lo <= x <= hi:
+            raise argparse.ArgumentTypeError(f"must be in [{lo:g}, {hi:g}], got {text}")
+        return x
+    return read
 
 
 def check_header(header, path):

@@ -271,21 +271,6 @@ def _number(x, form, scale=1.0):
     return "n/a" if x is None else format(scale * x, form)
 
 
-def _whole(text):
-    """A whole number written as one (as the programs read them: no sign, space or '_')."""
-    if not text.isascii() or not text.isdigit() or len(text) > 9:
-        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}")
-    return int(text)
-
-
-def _plain(text):
-    """A plain decimal number (output_file.plain_number: no space, '_', inf or nan)."""
-    try:
-        return output_file.plain_number(text, "the value")
-    except Refused as e:
-        raise argparse.ArgumentTypeError(str(e)) from None
-
-
 def check_out(out):
     """--out is this tool's folder or nothing: never a link, a file, or a
     folder holding anything else (it is replaced when both runs finish)."""
@@ -306,19 +291,15 @@ def main():
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--build", default="build", help="build directory holding python/ (relative to the source tree)")
     p.add_argument("--spec", default=str(SHIPPED), help="closed-loop sweep spec (default: the shipped budget)")
-    p.add_argument("--workers", type=_whole, default=2, help="local Dask workers of each run")
-    p.add_argument("--samples", type=_whole, default=None, help="run only the spec's first N units")
-    p.add_argument("--fine-substep", type=_plain, default=5e-6, help="the fine run's fixed sub-step [s]")
+    p.add_argument("--workers", type=output_file.arg_whole(1, 256), default=2, help="local Dask workers of each run")
+    p.add_argument("--samples", type=output_file.arg_whole(1, 10**6), default=None,
+                   help="run only the spec's first N units")
+    p.add_argument("--fine-substep", type=output_file.arg_decimal(1e-8, 1e-3), default=5e-6,
+                   help="the fine run's fixed sub-step [s], in [1e-8, 1e-3]")
     p.add_argument("--out", default=None, help="folder for both runs, replaced when both finish "
                    "(default: the repository's out/budget_speed)")
     p.add_argument("--results", action="store_true", help="also write docs/results/budget_speed.md")
     a = p.parse_args()
-    if not 1 <= a.workers <= 256:
-        p.error(f"--workers must be in [1, 256], got {a.workers}")
-    if a.samples is not None and not 1 <= a.samples <= 10**6:
-        p.error(f"--samples must be in [1, 1000000], got {a.samples}")
-    if not (math.isfinite(a.fine_substep) and 1e-8 <= a.fine_substep <= 1e-3):
-        p.error(f"--fine-substep must be in [1e-8, 1e-3] s, got {a.fine_substep!r}")
     if a.results and a.samples is not None:
         p.error("--results writes the page for the whole spec: leave out --samples")
     build = (ROOT / a.build) if not os.path.isabs(a.build) else pathlib.Path(a.build)
