@@ -223,7 +223,7 @@ int run(int argc, char** argv) {
                         : pointing::windowNotReached(pointing::profileWindow(c.profile, Segment::Track),
                                                      pointing::WindowNeed::Part,
                                                      std::isnan(h.plantStoppedTime()) ? h.lastTime()
-                                                                                      : h.plantStoppedTime()),
+                                                                                      : h.lastGoodTime()),
       "%.3e rad");
   char last_t[48] = "n/a: none answered";  // a time of 0 for no status is a figure over nothing
   if (h.answered() > 0) std::snprintf(last_t, sizeof last_t, "%.3f s", h.lastTime());
@@ -235,8 +235,11 @@ int run(int argc, char** argv) {
                h.answered(), last_t, h.controllerLimited(), h.undecodable(), h.publishErrors(), h.plantRestarts(), track_error.c_str(),
                h.faultsSeen(), h.unpaired(), h.outageStatuses(), h.rejectedReadings(), h.notFinite());
   if (!std::isnan(h.plantStoppedTime())) {  // the statuses ran on; the plant did not
-    std::fprintf(stderr, "pointing_controller: the plant stopped (FAULT_PLANT_FAULT from t = %.3f s): the statuses "
-                 "after it are in no figure above (the tracking error, the torque-limit count)\n", h.plantStoppedTime());
+    char good[48] = "its first status";  // a plant faulted from its first status has no good state to name
+    if (!std::isnan(h.lastGoodTime())) std::snprintf(good, sizeof good, "t = %.3f s", h.lastGoodTime());
+    std::fprintf(stderr, "pointing_controller: the plant stopped after %s, its last good state (FAULT_PLANT_FAULT "
+                 "from the status at t = %.3f s): the statuses after it are in no figure above (the tracking "
+                 "error, the torque-limit count)\n", good, h.plantStoppedTime());
   }
   const MonitorState& mon = h.monitor();
   std::fprintf(stderr, "pointing_controller: fault monitor: %lld stale statuses (%lld with safe torque), %lld statuses "

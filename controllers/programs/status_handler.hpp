@@ -101,6 +101,7 @@ class StatusHandler {
     // A stopped plant's frozen state against a profile that moves on is no pointing it did: the figures stop.
     if ((st.faults & gimbal_status_t::FAULT_PLANT_FAULT) != 0 && std::isnan(plant_stopped_t_)) plant_stopped_t_ = meas.t;
     const bool moving = std::isnan(plant_stopped_t_);
+    if (moving) last_good_t_ = meas.t;  // the plant's last good state is the last status before its fault
     if (out.star_outage) ++outage_statuses_;
     if (moving && (out.saturated[0] || out.saturated[1])) ++controller_limited_;
     if (moving && out.ref.segment == Segment::Track) {
@@ -159,6 +160,8 @@ class StatusHandler {
   double maxTrackError() const { return max_track_error_; }
   /// [s] the first status carrying FAULT_PLANT_FAULT (the plant's stop), NaN while it moves.
   double plantStoppedTime() const { return plant_stopped_t_; }
+  /// [s] the time of the last status before FAULT_PLANT_FAULT (the plant's last good state); NaN before any.
+  double lastGoodTime() const { return last_good_t_; }
   long long unpaired() const { return unpaired_; }
   long long outageStatuses() const { return outage_statuses_; }
   const MonitorState& monitor() const { return state_.monitor; }
@@ -215,7 +218,7 @@ class StatusHandler {
   long long not_finite_ = 0;            ///< answers not sent: a torque NaN or Inf
   std::int64_t first_sent_seq_ = -1;    ///< seq of the first command sent (-1: none yet)
   bool accepted_any_ = false;
-  double last_t_ = 0.0, max_track_error_ = 0.0, plant_stopped_t_ = std::nan("");
+  double last_t_ = 0.0, max_track_error_ = 0.0, plant_stopped_t_ = std::nan(""), last_good_t_ = std::nan("");
   int faults_seen_ = 0;
 };
 

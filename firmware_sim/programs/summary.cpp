@@ -48,8 +48,8 @@ void printExitSummary(const Run& r, const Outcome& out) {
               speed(sim_s, r.report.wall_seconds).c_str(), r.setup.o.lockstep ? " (with the waits for the controller)" : "",
               r.report.compute_seconds, speed(sim_s, r.report.compute_seconds).c_str());
   if (out.plant_fault) {  // the ticks ran on; the plant did not (reportPlantFault says why)
-    std::printf("  the plant stopped at t = %.3f s: the ticks after it held its frozen state and are in no figure "
-                "below\n", out.plant.time);
+    std::printf("  the plant stopped after t = %.3f s, its last good state (its step to t = %.3f s failed): the "
+                "ticks after it held that state and are in no figure below\n", out.last_good_s, out.plant.time);
   }
   const PointingErrorStats& pe = r.report.pointing;
   if (pe.n > 0) {
@@ -58,7 +58,7 @@ void printExitSummary(const Run& r, const Outcome& out) {
                 std::sqrt(pe.sum_sq / static_cast<double>(pe.n)), pe.last_rad);
     if (r.setup.profile) {
       // A run that ended before the track has no tracking figure: n/a with the reason, never 0.
-      const double t_last = out.plant_fault ? out.plant.time  // the plant's last motion
+      const double t_last = out.plant_fault ? out.last_good_s  // the plant's last good state
                                             : static_cast<double>(out.ticks - 1) * r.setup.c.control_period;
       const std::string why = pointing::windowNotReached(
           pointing::profileWindow(*r.setup.profile, pointing::Segment::Track), pointing::WindowNeed::Part, t_last);

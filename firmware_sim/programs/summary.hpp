@@ -13,11 +13,12 @@ struct Outcome {
   Counters counters;
   bool plant_fault = false;
   StepResult plant;  ///< the plant's failed step (status, time, coordinate, figures) when plant_fault
+  double last_good_s = 0.0;  ///< [s] when plant_fault: the time of its frozen state (the truth CSV's frozen rows)
 };
 
 template <class V>
 Outcome outcomeOf(const Firmware<V>& fw) {
-  return {fw.ticks(), fw.counters(), fw.plantFault(), fw.plantResult()};
+  return {fw.ticks(), fw.counters(), fw.plantFault(), fw.plantResult(), fw.state().t};
 }
 
 /// The summary on stdout (docs/bench.md "The exit summary").

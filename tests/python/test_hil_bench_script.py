@@ -68,11 +68,14 @@ def test_a_run_whose_plant_stopped_keeps_its_outputs_and_ends_with_3(tmp_path):
     column = rows[0].split(",").index("pointing_error_rad")
     moving = max(float(r.split(",")[column]) for r in rows[1:] if not int(r.split(",")[-2]) & 8)
     summary = (out / "firmware.txt").read_text()
-    assert "the plant stopped at t = " in summary and f"against the profile: max {moving:.3e}," in summary, summary
+    assert f"against the profile: max {moving:.3e}," in summary, summary
+    # (pass 31) one stop time: every reader names the last good state, the frozen rows' time
+    frozen_t = rows[-1].split(",")[rows[0].split(",").index("sim_time_s")]
+    assert f"the plant stopped after t = {float(frozen_t):.3f} s, its last good state (its step to t = " in summary
     # (pass 30) and so does pointing_controller's: its window is judged at the stop, not at its last status
     controller = (out / "controller.txt").read_text()
-    assert "the plant stopped (FAULT_PLANT_FAULT from t = 0.5" in controller, controller
-    assert "run ended at 0.799 s" not in controller and "run ended at 0.5" in controller, controller
+    assert f"the plant stopped after t = {float(frozen_t):.3f} s, its last good state (FAULT_PLANT_FAULT" in controller
+    assert "run ended at 0.799 s" not in controller and f"run ended at {float(frozen_t):g} s" in controller, controller
     # (pass 29) a frozen row's fault flags that are no set of bits: refused as on any row, before the stop is read
     edited = rows[:-1] + [rows[-1].rsplit(",", 2)[0] + ",1e300,0"]
     (tmp_path / "edited.csv").write_text("\n".join(edited) + "\n")
