@@ -43,8 +43,7 @@ class Until:
                "relative_width": width if math.isfinite(width) else None, "samples": len(rows),
                "max_samples": self.max_samples, "stopped_by": stopped}
         if not math.isfinite(width):  # no number over nothing: the reason instead (JSON has no Infinity)
-            out["relative_width_note"] = ("the interval has no upper end: too few units have a figure, and a "
-                                          "unit without one counts as worst" if e["interval_rad"][1] is None
+            out["relative_width_note"] = (_open_end(e) if e["interval_rad"][1] is None
                                           else "the estimate is 0: a width relative to it has no value")
         return stopped is not None, out
 
@@ -57,3 +56,13 @@ class Until:
     def grow(self, spec):
         """The design with one more batch of the spec's samples (capped)."""
         spec.design.extend_to(min(self.max_samples, len(spec.design) + spec.samples))
+
+
+def _open_end(e):
+    """Why an index's interval has no upper end: too few units for its level
+    and confidence, or too few with a figure (a unit without one is worst)."""
+    if e["n"] < e["min_units"]:
+        return (f"the interval has no upper end: {e['n']} units are too few for the {100 * e['level']:g} % level "
+                f"at {100 * e['confidence']:g} % confidence (at least {e['min_units']})")
+    return (f"the interval has no upper end: {e['n_missing']} of {e['n']} units have no figure, and a unit without "
+            "one counts as worst")

@@ -238,3 +238,13 @@ def test_a_fixed_guard_inertia_is_a_setting_the_run_reads(tmp_path, value):
     assert f"elevation.play_inertia: {value}" in text and "grid" not in text
     p = check(write_spec(tmp_path, text), tmp_path / "out")
     assert p.returncode == 0, p.stderr
+
+
+def test_an_open_upper_end_says_which_of_its_two_causes_it_has():
+    # (pass 31) six units, every one with a figure, were said to be "too few units have a figure"
+    from gimbalsim import _until
+    few = {"n": 6, "n_missing": 0, "min_units": 1109, "level": 0.9973, "confidence": 0.95}
+    assert _until._open_end(few) == ("the interval has no upper end: 6 units are too few for the 99.73 % level at "
+                                     "95 % confidence (at least 1109)")
+    missing = {**few, "n": 2000, "n_missing": 500}
+    assert "500 of 2000 units have no figure, and a unit without one counts as worst" in _until._open_end(missing)
