@@ -300,3 +300,15 @@ def test_the_tools_numbers_have_ranges_the_code_honours(tmp_path):
                            text=True, timeout=60, env={**os.environ, "PYTHONPATH": str(BIN.parent / "python")})
         assert p.returncode == 2 and words in p.stderr and "Traceback" not in p.stderr, (tool, args, p.stderr)
     assert not list(tmp_path.iterdir())
+
+
+def test_run_stress_refuses_the_outputs_it_writes_itself(tmp_path):
+    # (pass 31) --case was always refused by the program for the --csv the script adds, and a user's --csv was
+    # CLI11's "At Most 1 required but received 2": said now by the script, before anything is built or run
+    for args, words in ((["--case", "paper_clearance"], "--case: one scene writes nothing"),
+                        (["--csv", "mine.csv"], "--csv: the script writes out/stress/stress.csv"),
+                        (["--page-body=b.md"], "--page-body=b.md: the script writes")):
+        p = subprocess.run(["bash", str(SOURCE / "tools/stress/run_stress.sh"), *args], cwd=tmp_path,
+                           capture_output=True, text=True, timeout=60)
+        assert p.returncode == 2 and words in p.stderr and "nothing run" in p.stderr, (args, p.stderr)
+    assert not list(tmp_path.iterdir())

@@ -4,7 +4,7 @@
 # --duration 0.5, --threads 1), writes out/stress/stress.csv and, with
 # --results, the page docs/results/stress.md (header by tools/pages/results_page.py).
 #
-#   bash tools/stress/run_stress.sh [--results] [gimbalsim_stress options]
+#   bash tools/stress/run_stress.sh [--results] [gimbalsim_stress options but --csv, --page-body, --case]
 #   bash tools/stress/run_stress.sh --results --long-run     # the committed page
 #
 # Exit status: gimbalsim_stress's (1 when a run is silently wrong or stopped
@@ -19,7 +19,18 @@ T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/stress/run_stress.sh$(printf ' %q' "$@")"
 RESULTS=0 ARGS=()
 for a in "$@"; do
-  if [ "$a" = --results ]; then RESULTS=1; else ARGS+=("$(abs_arg "$a")"); fi
+  case "$a" in
+    --results) RESULTS=1 ;;
+    # the grid's outputs are the script's: a second --csv was CLI11's "At Most 1 required", and --case
+    # (one scene, nothing written) was always refused for the --csv the script adds
+    --csv | --csv=* | --page-body | --page-body=*)
+      echo "run_stress.sh: $a: the script writes out/stress/stress.csv and the page body; for other outputs run" \
+        "build/bin/gimbalsim_stress itself; nothing run" >&2; exit 2 ;;
+    --case | --case=*)
+      echo "run_stress.sh: $a: one scene writes nothing; run build/bin/gimbalsim_stress --case ... itself;" \
+        "nothing run" >&2; exit 2 ;;
+    *) ARGS+=("$(abs_arg "$a")") ;;
+  esac
 done
 [ -f build/CMakeCache.txt ] || cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2 --target gimbalsim_stress >/dev/null
