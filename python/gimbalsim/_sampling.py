@@ -9,9 +9,9 @@ scene's own law; tests/python/test_sampling.py), and never changes a scene
 whose fastest accurate setting is its own. Over the whole shipped budget
 (tools/sweeps/budget_speed.py, docs/results/budget_speed.md) every index
 lies within the fine run's order-statistics interval and 47 of 13308 unit
-figures lie beyond TOLERANCE_RAD, at most 2.7e-6 rad: where plain Coulomb's
-fixed sub-steps themselves move by as much between 5 and 2 us, or the
-set-valued law's stick and slip part from plain Coulomb's chatter.
+figures lie beyond TOLERANCE_RAD, at most 2.7e-6 rad; 32 of those 47 are
+not defined to it (the fine run itself moves them beyond it when the
+journal starts 1e-12 m away: tools/sweeps/unit_conditioning.py).
 
 - a planar bearing in joint 2 alone (joint 1 ideal) with plain Coulomb
   friction under the fixed sub-step policy: its set-valued Coulomb law with
@@ -57,7 +57,8 @@ def choose(mode, scene_values, given, closed):
         return overrides, ("a planar joint 2 with Coulomb friction steps with its set-valued law (" +
                            ", ".join(f"{k} {v}" for k, v in overrides.items()) + "): the shipped budget's "
                            "indices within a 5 us fixed sub-step's intervals, its units' figures within "
-                           f"{TOLERANCE_RAD:g} rad but 47 of 13308 (at most 2.7e-6; docs/results/budget_speed.md); "
+                           f"{TOLERANCE_RAD:g} rad but 47 of 13308 (at most 2.7e-6, 32 of them ill-defined; "
+                           "docs/results/budget_speed.md); "
                            "sampling: scene keeps the scene's")
     return {}, (f"the scene's own stepping (joints {j1}/{j2}, {law_key} {law}, sim.substep_policy {policy}: "
                 "no cheaper setting holds the tolerance)")
