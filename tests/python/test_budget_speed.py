@@ -210,3 +210,25 @@ def test_the_page_tells_how_many_units_beyond_the_tolerance_are_ill_defined(tmp_
     # 10 and 20 us part by 5e-7 to 1e-4 rad on unit 0 (Intel Xeon: 11 figures beyond 1e-6, 10 of them ill-defined)
     assert sum(b for b, _ in counts) >= 6 and sum(i for _, i in counts) >= 3, p.stdout
     assert "Every unit beyond it ill-defined (its own fine figure moves beyond the tolerance when nudged)" in p.stdout
+
+
+def test_a_nudge_the_scene_refuses_is_no_spread(tmp_path):
+    # a journal started on the clearance circle: a nudge outward is refused (|ecc| <= c), which read as a run
+    # without a figure, i.e. an ill-defined unit; it is a unit that could not be nudged, and says why
+    uc = _conditioning()
+    spec = tmp_path / "edge.yaml"
+    spec.write_text(f"""scene: {SOURCE}/tools/scenes/paper_clearance.yaml
+set: {{sim.duration: 0.3, contact.clearance: 1.0e-4, initial.ecc: [9.99999999995e-5, 0.0]}}
+controller: default
+controller_set: {{profile.slew_start: 0.05, profile.slew_time: 0.1, profile.hold_time: 0.05}}
+samples: 1
+seed: 1
+parameters:
+  friction.mu: {{uniform: [0.15, 0.35]}}
+phases: [slew]
+indices:
+  ape: {{requirement: 1.0e-4}}
+""")
+    spread = uc.spreads(spec, [0], ["ape_slew"], {0: {"status": "ok", "ape_slew_rad": "1e-5"}}, workers=1)[0]
+    assert isinstance(spread, str) and "initial.ecc nudged by 1e-12 m is refused" in spread, spread
+    assert uc.ill_defined([{"key": "ape_slew", "tol": 1e-6, "beyond": [0]}], {0: spread}) == {"ape_slew": []}

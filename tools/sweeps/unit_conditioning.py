@@ -48,7 +48,9 @@ def _nudged_figures(spec_path, unit, figure_keys):
         try:
             r = run_one(spec.base, spec.closed, {**values, KEY: nudge})
         except gimbalsim.SceneError as e:
-            return f"{KEY} nudged by {NUDGE_M:g} m is refused: {e}"
+            r = {"status": "refused", "reason": str(e)}
+        if str(r.get("status", "")).startswith("refused"):  # (an ideal joint has no journal to nudge)
+            return f"{KEY} nudged by {NUDGE_M:g} m is refused: {r.get('reason', '')}"
         ok = r.get("status") == "ok"
         out.append({k: float(r[k]) if ok and r.get(k) is not None else math.nan for k in figure_keys})
     return out
