@@ -245,6 +245,23 @@ TEST(HilLockstep, TorqueReplayOfAStopThePlantDoesNotMakeIsNotReproduced) {
                       "recorded plant had stopped after t = 0.03 s"),
             std::string::npos)
       << readFile(dir / "replay.log");
+  // (pass 32) and the other way: a run that never stopped replayed against a plant that stops (a velocity
+  // limit its first ticks already exceed) said "answered statuses 0..60", exit 0
+  {
+    std::ofstream csv(dir / "moving.csv");
+    csv << "seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n";
+    for (int k = 0; k <= 60; ++k) csv << k << "," << k * 0.001 << ",5,5,0\n";
+  }
+  const std::string body2 = "timeout 60 '" + std::string(GIMBALSIM_TORQUE_REPLAY) + "' moving.csv --lcm-url '" + url +
+                            "' --idle-exit 5 >replay2.log 2>&1 &\nR=$!\ntimeout 60 " + firmwareSim() + " " +
+                            scenePath("paper_ideal") + " --duration 0.06 --lcm-url '" + url +
+                            "' --lockstep --start-timeout 10 --lockstep-timeout-ms 2000 --set sim.velocity_limit=1e-3 "
+                            ">fw2.log 2>&1\nwait $R; r=$?\necho \"r $r\"\n[ $r -eq 8 ]";
+  ASSERT_EQ(runInNetns(dir, body2), 0) << readFile(dir / "run.log") << readFile(dir / "replay2.log")
+                                       << readFile(dir / "fw2.log");
+  EXPECT_NE(readFile(dir / "replay2.log").find("carries FAULT_PLANT_FAULT, where the recorded plant ran on to row "),
+            std::string::npos)
+      << readFile(dir / "replay2.log");
 }
 
 // torque_replay refuses what it cannot replay, naming the file, the line and the column.

@@ -80,13 +80,21 @@ int mainImpl(int argc, char** argv) {
       heard_ns = gimbalsim::lcm_wire::monotonicNs();
       if (st.seq <= answered || st.seq > last) return;  // a repeat (status 0 is re-sent until answered), or past the CSV
       const auto k = static_cast<std::size_t>(st.seq);
-      // A frozen row (time NaN): the recorded plant had stopped; the replayed one must have stopped too.
-      if (!t.t_s.empty() && std::isnan(t.t_s[k]) &&
-          (st.faults & gimbalsim::gimbal_status_t::FAULT_PLANT_FAULT) == 0) {
-        char why[256];
-        std::snprintf(why, sizeof why, "status %lld (t = %.9g s) has no FAULT_PLANT_FAULT, where the recorded plant "
-                      "had stopped after t = %.9g s: the replayed plant did not stop where the recorded one did",
-                      static_cast<long long>(st.seq), static_cast<double>(st.utime) * 1e-6, stop_s);
+      // The replayed plant stops where the recorded one did, and only there: a frozen row (time NaN) is
+      // answered by a status carrying FAULT_PLANT_FAULT, a row of the recorded plant's motion by one without.
+      const bool stopped = (st.faults & gimbalsim::gimbal_status_t::FAULT_PLANT_FAULT) != 0;
+      if (!t.t_s.empty() && std::isnan(t.t_s[k]) != stopped) {
+        char why[320];
+        if (stopped) {
+          std::snprintf(why, sizeof why, "status %lld (t = %.9g s) carries FAULT_PLANT_FAULT, where the recorded "
+                        "plant ran on to row %lld (t = %.9g s): the replayed plant stopped where the recorded one did "
+                        "not", static_cast<long long>(st.seq), static_cast<double>(st.utime) * 1e-6,
+                        static_cast<long long>(st.seq), t.t_s[k]);
+        } else {
+          std::snprintf(why, sizeof why, "status %lld (t = %.9g s) has no FAULT_PLANT_FAULT, where the recorded "
+                        "plant had stopped after t = %.9g s: the replayed plant did not stop where the recorded one "
+                        "did", static_cast<long long>(st.seq), static_cast<double>(st.utime) * 1e-6, stop_s);
+        }
         diverged = why;
         return;
       }
