@@ -279,7 +279,19 @@ def test_gen_key_docs_writes_both_tables_or_neither(tmp_path):
         (empty / name).write_text("#!/bin/sh\nexit 0\n")
     for f in [half / "gimbalsim", empty / "gimbalsim", empty / "pointing_controller"]:
         f.chmod(0o755)
-    for folder, words in ((half, "pointing_controller: no such program"), (empty, "printed no key table")):
+    # (pass 32) both tables good but the second document a link: the first was written, then the link refused
+    more = tmp_path / "more"
+    more.mkdir()
+    for name, args in (("gimbalsim", "keys --markdown"), ("pointing_controller", "--keys --markdown")):
+        table = subprocess.run([str(BIN / name), *args.split()], capture_output=True, text=True).stdout
+        (more / name).write_text(f"#!/bin/sh\ncat <<'X'\n{table}| x.y | number | m | 0 | | one key more |\nX\n")
+        (more / name).chmod(0o755)
+    elsewhere = tmp_path / "controller_keys_copy.md"
+    elsewhere.write_text(before["controller_keys.md"])
+    (root / "docs" / "controller_keys.md").unlink()
+    (root / "docs" / "controller_keys.md").symlink_to(elsewhere)
+    for folder, words in ((half, "pointing_controller: no such program"), (empty, "printed no key table"),
+                          (more, "symbolic link")):
         p = subprocess.run(["/usr/bin/python3", str(root / "tools/pages/gen_key_docs.py"), str(folder)],
                            capture_output=True, text=True, timeout=60)
         assert p.returncode == 2 and words in p.stderr and "updated" not in p.stdout, (folder, p.stdout, p.stderr)

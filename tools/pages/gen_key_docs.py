@@ -61,6 +61,7 @@ def main():
         path = ROOT / doc
         old = path.read_text()
         updates.append((doc, path, old, replace_table(old, table)))
+    output_file.check_before_writing([path for _, path, old, new in updates if new != old])  # both, before either
     for doc, path, old, new in updates:
         if new != old:
             output_file.write_text(path, new)  # the package's one writer (tools/pages/output_file.py)
