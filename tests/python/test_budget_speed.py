@@ -2,6 +2,7 @@
 sampling against a fine fixed setting (issue 40, item 6), on two units.
 The default's figures hold within 1 % of the requirement of a 5 us fixed
 sub-step's; a coarse "fine" setting (0.2 ms) is caught moving them."""
+import math
 import os
 import subprocess
 import sys
@@ -60,7 +61,8 @@ def test_bad_arguments_are_refused_before_anything_runs(tmp_path):
                         (["--spec", tmp_path / "policy.yaml"], "policy.yaml:2:7: key 'set.sim.substep_policy'"),
                         (["--spec", tmp_path / "broken.yaml"], "not valid YAML"),
                         (["--spec", tmp_path / "bad.yaml"], "bad.yaml:15:3: key 'parameters.friction.muu'"),
-                        (["--workers", " 1"], "must be a whole number in [1, 256], got ' 1'"),
+                        (["--workers", " 1"], "--workers: must be a whole number in [1, "),
+                        (["--workers", str(4 * os.cpu_count() + 1)], "--workers: must be a whole number in [1, "),
                         (["--samples", "1_0"], "must be a whole number in [1, 1000000], got '1_0'"),
                         (["--fine-substep", "5_0e-6"], "not a finite decimal"),
                         (["--fine-substep", "1e-400"], "too small for a double"),
@@ -194,10 +196,37 @@ def test_a_figure_the_loop_does_not_define_is_told_from_one_the_sampling_moved(t
     spread = uc.spreads(spec, [0], ["rpe_slew", "pde_track"], {0: row}, workers=1)[0]
     assert spread["rpe_slew"] < 1e-6 and spread["pde_track"] > 1e-5, spread
     found = [{"key": "rpe_slew", "tol": 1e-6, "beyond": [0]}, {"key": "pde_track", "tol": 1e-6, "beyond": [0]}]
-    assert uc.ill_defined(found, {0: spread}) == {"rpe_slew": [], "pde_track": [0]}
-    # no figure in the fine run nor in a nudged one is no spread; a figure in one of them only is any spread
-    assert uc._distance(float("nan"), float("nan")) == 0.0 and uc._distance(1e-3, float("nan")) == float("inf")
-    assert uc.ill_defined(found, {0: "the scene has no initial.ecc to nudge"}) == {"rpe_slew": [], "pde_track": []}
+    assert uc.classify(found, {0: spread}) == {"rpe_slew": ([], [0], []), "pde_track": ([0], [], [])}
+    # (pass 32) no figure in the fine run nor in a nudged one judges nothing (it was a spread of 0: "held"); a
+    # figure in one of them only is any spread
+    assert math.isnan(uc._distance(math.nan, math.nan)) and uc._distance(1e-3, math.nan) == math.inf
+    assert uc.classify(found, {0: {"rpe_slew": math.nan, "pde_track": math.nan}}) == \
+        {"rpe_slew": ([], [], [0]), "pde_track": ([], [], [0])}
+    assert uc.classify(found, {0: "both joints are ideal: no journal to nudge"})["pde_track"] == ([], [], [0])
+
+
+def test_the_nudge_moves_the_key_that_places_each_journal():
+    # (pass 32) with a joint's own initial.ecc2 (dispersed, or given by the scene) the nudge moved initial.ecc,
+    # which acts on no joint there: the runs came out identical and the unit read as well defined
+    uc = _conditioning()
+    planar2 = {"structure.joint1": "ideal", "structure.joint2": "clearance", "initial.ecc": "[0, 0]"}
+    assert uc._keys_in_effect({}, planar2) == ["initial.ecc"]
+    assert uc._keys_in_effect({"initial.ecc2": [1e-5, 0.0]}, planar2) == ["initial.ecc2"]
+    assert uc._keys_in_effect({}, {**planar2, "initial.ecc2": "[5e-05, 0]"}) == ["initial.ecc2"]
+    both = {**planar2, "structure.joint1": "planar", "initial.ecc1": "[1e-05, 0]"}
+    assert uc._keys_in_effect({}, both) == ["initial.ecc1", "initial.ecc"]
+    assert uc._keys_in_effect({}, {**planar2, "structure.joint2": "ideal"}) == []
+
+
+def test_two_runs_into_one_out_are_refused(tmp_path):
+    # (pass 32) the second run replaced the first's folder, both exit 0
+    import fcntl
+    lock = tmp_path / ".out.budget_speed.lock"
+    with open(lock, "w") as held:
+        fcntl.flock(held, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        p = run("--samples", "1", "--out", tmp_path / "out")
+    assert p.returncode == 2 and "another run is writing it" in p.stderr, p.stderr
+    assert "running default" not in p.stderr and not (tmp_path / "out").exists()
 
 
 def test_the_page_tells_how_many_units_beyond_the_tolerance_are_ill_defined(tmp_path):
@@ -231,4 +260,4 @@ indices:
 """)
     spread = uc.spreads(spec, [0], ["ape_slew"], {0: {"status": "ok", "ape_slew_rad": "1e-5"}}, workers=1)[0]
     assert isinstance(spread, str) and "initial.ecc nudged by 1e-12 m is refused" in spread, spread
-    assert uc.ill_defined([{"key": "ape_slew", "tol": 1e-6, "beyond": [0]}], {0: spread}) == {"ape_slew": []}
+    assert uc.classify([{"key": "ape_slew", "tol": 1e-6, "beyond": [0]}], {0: spread}) == {"ape_slew": ([], [], [0])}

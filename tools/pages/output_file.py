@@ -10,6 +10,7 @@ and how it reads what it is given (plain_number, check_header, check_as_written,
 check_figure_format)."""
 import argparse
 import contextlib
+import fcntl
 import importlib.util
 import math
 import os
@@ -148,6 +149,23 @@ def arg_decimal(lo, hi):
             raise argparse.ArgumentTypeError(f"must be in [{lo:g}, {hi:g}], got {text}")
         return x
     return read
+
+
+@contextlib.contextmanager
+def one_at_a_time(lock, what):
+    """Holds an exclusive lock on the file `lock` (made, and removed at the
+    end) for the block; Refused naming `what` when another process holds it."""
+    fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        raise Refused(f"{what}: another run is writing it; wait for it to end, or give another") from None
+    try:
+        yield
+    finally:
+        pathlib.Path(lock).unlink(missing_ok=True)
+        os.close(fd)
 
 
 def check_header(header, path):

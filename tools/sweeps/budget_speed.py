@@ -216,8 +216,8 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
     ratio = s_f["engine"]["elapsed_s"] / s_d["engine"]["elapsed_s"]
     cpu_f, cpu_d = s_f["engine"]["mean_run_s"], s_d["engine"]["mean_run_s"]
     cpu = "n/a: a run whose every sample crashed has no CPU per sample" if not (cpu_f and cpu_d) else \
-        f"{cpu_f / cpu_d:.1f} times less CPU per sample"
-    print(f"\nThe default runs the budget {ratio:.1f} times faster than the fine setting ({cpu}).")
+        f"{_times(cpu_f / cpu_d, 'less', 'more')} CPU per sample"
+    print(f"\nThe default runs the budget {_times(ratio, 'faster', 'slower')} than the fine setting ({cpu}).")
     if spec_name == SHIPPED.name and n == 1109 and workers == 2:
         e = s_d["engine"]
         met = e["elapsed_s"] <= TARGET_S and e["samples_per_s"] >= TARGET_RATE
@@ -228,7 +228,8 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
     probed = sorted({u for c in found for u in c["beyond"]})
     spread = unit_conditioning.spreads(fine_spec, probed[:MAX_PROBED], [c["key"] for c in found], r_f, workers) \
         if probed else {}
-    ill = unit_conditioning.ill_defined(found, spread)
+    judged = unit_conditioning.classify(found, spread)  # {key: (ill-defined, held, not judged)}
+    ill = {k: v[0] for k, v in judged.items()}
     print("\nEach index (the budget's level and confidence) at the default against the fine run: its quantile "
           "estimate, the fine run's order-statistics interval, and the largest distance of a unit's figure "
           "from its fine figure, against the tolerance (1 % of the requirement). Ill-defined: of the units "
@@ -248,8 +249,8 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
     unjudged = [c["key"] for c in found if not c["judged"]]
     beyond = [f"{c['key']} ({len(c['beyond'])} units" + (")" if c["compared"] else ", none with a figure)")
               for c in found if c["beyond"]]
-    held_to = [f"{c['key']} ({len(c['beyond']) - len(ill[c['key']])} of {len(c['beyond'])})"
-               for c in found if len(ill[c["key"]]) < len(c["beyond"])]
+    held_to = [f"{k} ({len(v[1])} of {len(v[0]) + len(v[1]) + len(v[2])})" for k, v in judged.items() if v[1]]
+    not_judged = [f"{k} ({len(v[2])})" for k, v in judged.items() if v[2]]
     within = "no (" + ", ".join(outside) + ")" if outside else \
         f"n/a for {', '.join(unjudged)} (intervals open at both ends: too few units for the level and confidence)" \
         if unjudged else "yes"
@@ -260,10 +261,17 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
         cut = f" (the first {MAX_PROBED} of {len(probed)} units nudged)" if len(probed) > MAX_PROBED else ""
         reasons = sorted({v for v in spread.values() if isinstance(v, str)})
         print(f"Every unit beyond it ill-defined (its own fine figure moves beyond the tolerance when nudged){cut}: "
-              f"{'yes' if not held_to else 'no: units whose fine figure held under every nudge, ' + ', '.join(held_to)}"
+              f"{'yes' if not (held_to or not_judged) else 'no'}"
+              f"{'; units whose fine figure held under every nudge: ' + ', '.join(held_to) if held_to else ''}"
+              f"{'; units no nudge could judge (no figure in any run, or none made): ' + ', '.join(not_judged) if not_judged else ''}"
               f"{'; not nudged: ' + '; '.join(reasons) if reasons else ''}.")
     return ratio, ("held" if not (outside or unjudged or beyond) else
-                   "moved only where ill-defined" if not (outside or unjudged or held_to) else "moved")
+                   "moved only where ill-defined" if not (outside or unjudged or held_to or not_judged) else "moved")
+
+
+def _times(r, more, less):
+    """A ratio of two costs in words: "2.0 times faster", or "3.3 times slower" below 1."""
+    return f"{r:.1f} times {more}" if r >= 1.0 else f"{1.0 / r:.1f} times {less}"
 
 
 def _number(x, form, scale=1.0):
@@ -291,7 +299,8 @@ def main():
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--build", default="build", help="build directory holding python/ (relative to the source tree)")
     p.add_argument("--spec", default=str(SHIPPED), help="closed-loop sweep spec (default: the shipped budget)")
-    p.add_argument("--workers", type=output_file.arg_whole(1, 256), default=2, help="local Dask workers of each run")
+    p.add_argument("--workers", type=output_file.arg_whole(1, 4 * (os.cpu_count() or 1)), default=2,
+                   help="local Dask workers of each run (as the sweep: 4 per core of this machine at most)")
     p.add_argument("--samples", type=output_file.arg_whole(1, 10**6), default=None,
                    help="run only the spec's first N units")
     p.add_argument("--fine-substep", type=output_file.arg_decimal(1e-8, 1e-3), default=5e-6,
@@ -336,11 +345,13 @@ def _run(a, build, spec_path, out):
         out.parent.mkdir(exist_ok=True)  # the repository's out/, as the scripts of tools/ make it
     elif not out.parent.is_dir():
         raise Refused(f"--out {out}: its folder {out.parent} does not exist")
-    work = pathlib.Path(tempfile.mkdtemp(prefix=out.name + ".new-", dir=out.parent))
-    try:
-        return _run_in(a, build, spec_path, out, work, plain, texts, _sampling.TOLERANCE_RAD, t0, load0)
-    finally:
-        shutil.rmtree(work, ignore_errors=True)  # gone once renamed to --out; else nothing is left behind
+    # one run per --out at a time (as one sweep per folder): the second would replace the first's folder
+    with output_file.one_at_a_time(out.parent / f".{out.name}.budget_speed.lock", f"--out {out}"):
+        work = pathlib.Path(tempfile.mkdtemp(prefix=out.name + ".new-", dir=out.parent))
+        try:
+            return _run_in(a, build, spec_path, out, work, plain, texts, _sampling.TOLERANCE_RAD, t0, load0)
+        finally:
+            shutil.rmtree(work, ignore_errors=True)  # gone once renamed to --out; else nothing is left behind
 
 
 def _run_in(a, build, spec_path, out, work, plain, texts, tolerance, t0, load0):

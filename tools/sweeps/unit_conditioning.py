@@ -1,7 +1,8 @@
 """How well a closed-loop budget unit's figures are defined (for
 budget_speed.py): the unit's fine run again with its journal started
-NUDGE_M away (the initial eccentricity `initial.ecc` moved by +-NUDGE_M
-along u1 and along u2: four runs), and how far each figure moves from the
+NUDGE_M away (the initial eccentricity that places each journal, initial.ecc or
+the joint's own initial.eccJ, moved by +-NUDGE_M along u1 and along u2:
+four runs), and how far each figure moves from the
 fine run's. NUDGE_M is far below anything a bearing is built or measured
 to, so a figure that moves beyond a tolerance under it is not defined to
 that tolerance: where the loop meets a branch point (an impact that only
@@ -17,12 +18,26 @@ import math
 from concurrent.futures import ProcessPoolExecutor
 
 NUDGE_M = 1.0e-12  # [m] the journal centre's initial position, moved along u1 and u2
-KEY = "initial.ecc"  # both journals' initial eccentricity (unless a scene gives a joint its own)
+DIRECTIONS = ((1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0))
 
 
-def _nudges(ecc):
-    x, y = ecc
-    return [[x + NUDGE_M, y], [x - NUDGE_M, y], [x, y + NUDGE_M], [x, y - NUDGE_M]]
+def _keys_in_effect(values, scene):
+    """The initial-eccentricity keys that place a journal: for each joint with
+    a bearing, its own initial.eccJ when the sample or the scene gives it,
+    else the shared initial.ecc (dynamics/scene/src/bearing_keys.cpp)."""
+    keys = []
+    for j in (1, 2):
+        if values.get(f"structure.joint{j}", scene.get(f"structure.joint{j}")) in (None, "ideal"):
+            continue
+        own = f"initial.ecc{j}"
+        key = own if own in values or own in scene else "initial.ecc"
+        if key not in keys:
+            keys.append(key)
+    return keys
+
+
+def _position(values, scene, key):
+    return [float(v) for v in (values[key] if key in values else json.loads(scene[key]))]
 
 
 _SPEC = {}  # one checked spec per worker process and path
@@ -35,32 +50,33 @@ def _nudged_figures(spec_path, unit, figure_keys):
     from gimbalsim._sample import run_one
     from gimbalsim._sweep_spec import SweepSpec
     spec = _SPEC.get(spec_path) or _SPEC.setdefault(spec_path, SweepSpec(spec_path))
-    values = spec.design.draw(unit)
-    if KEY in values:
-        ecc = [float(v) for v in values[KEY]]
-    else:
-        try:
-            ecc = [float(v) for v in json.loads(spec.base.values()[KEY])]
-        except (KeyError, ValueError, TypeError):
-            return f"the scene has no {KEY} to nudge"
+    values, scene = spec.design.draw(unit), spec.base.values()
+    keys = _keys_in_effect(values, scene)
+    if not keys:
+        return "both joints are ideal: no journal to nudge"
+    try:
+        start = {k: _position(values, scene, k) for k in keys}
+    except (KeyError, ValueError, TypeError):
+        return f"no initial position of {', '.join(keys)} to nudge"
     out = []
-    for nudge in _nudges(ecc):
+    for dx, dy in DIRECTIONS:
+        nudged = {k: [x + dx * NUDGE_M, y + dy * NUDGE_M] for k, (x, y) in start.items()}
         try:
-            r = run_one(spec.base, spec.closed, {**values, KEY: nudge})
+            r = run_one(spec.base, spec.closed, {**values, **nudged})
         except gimbalsim.SceneError as e:
             r = {"status": "refused", "reason": str(e)}
-        if str(r.get("status", "")).startswith("refused"):  # (an ideal joint has no journal to nudge)
-            return f"{KEY} nudged by {NUDGE_M:g} m is refused: {r.get('reason', '')}"
+        if str(r.get("status", "")).startswith("refused"):
+            return f"{', '.join(keys)} nudged by {NUDGE_M:g} m is refused: {r.get('reason', '')}"
         ok = r.get("status") == "ok"
         out.append({k: float(r[k]) if ok and r.get(k) is not None else math.nan for k in figure_keys})
     return out
 
 
 def _distance(x, y):
-    """|x - y|; 0 when neither has a figure, inf when one has."""
+    """|x - y|; NaN when neither has a figure (nothing compared), inf when one has."""
     if math.isfinite(x) and math.isfinite(y):
         return abs(x - y)
-    return 0.0 if math.isfinite(x) == math.isfinite(y) else math.inf
+    return math.nan if math.isfinite(x) == math.isfinite(y) else math.inf
 
 
 def spreads(spec_path, units, figure_keys, fine_rows, workers):
@@ -80,13 +96,22 @@ def spreads(spec_path, units, figure_keys, fine_rows, workers):
         row = fine_rows[unit]
         fine = {k: float(row[f"{k}_rad"]) if row["status"] == "ok" and row[f"{k}_rad"] not in ("", None) else math.nan
                 for k in figure_keys}
-        result[unit] = {k: max(_distance(r[k], fine[k]) for r in runs) for k in figure_keys}
+        # the largest move; NaN only when no nudged run nor the fine run has the figure
+        result[unit] = {k: max((d for d in (_distance(r[k], fine[k]) for r in runs) if not math.isnan(d)),
+                               default=math.nan) for k in figure_keys}
     return result
 
 
-def ill_defined(found, spread):
-    """{index-phase key: the units beyond its tolerance whose fine figure
-    moves beyond it too when nudged}; found: budget_speed.compare's records
-    ({"key", "tol", "beyond"}), spread: spreads()."""
-    return {c["key"]: [u for u in c["beyond"] if isinstance(spread.get(u), dict) and
-                       spread[u].get(c["key"], 0.0) > c["tol"]] for c in found}
+def classify(found, spread):
+    """{index-phase key: (ill, held, unjudged)}: of the units beyond its
+    tolerance, those whose fine figure moves beyond it too when nudged, those
+    whose figure held under every nudge, and those no nudge could judge (no
+    figure in any run, or no nudge made); found: budget_speed.compare's
+    records ({"key", "tol", "beyond"}), spread: spreads()."""
+    out = {}
+    for c in found:
+        moves = {u: spread[u].get(c["key"], math.nan) if isinstance(spread.get(u), dict) else math.nan
+                 for u in c["beyond"]}
+        out[c["key"]] = ([u for u, d in moves.items() if d > c["tol"]], [u for u, d in moves.items() if d <= c["tol"]],
+                         [u for u, d in moves.items() if math.isnan(d)])
+    return out
