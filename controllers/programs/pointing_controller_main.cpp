@@ -65,7 +65,8 @@ int run(int argc, char** argv) {
                  "controller configuration (YAML): gains, limits, profile (default: the built-in default "
                  "configuration, the values of controllers/config/default.yaml)");
   app.add_option("--set", o.sets, "configuration override key=value (repeatable); see --keys");
-  app.add_option("--lcm-url", o.lcm_url, "LCM provider URL (default: LCM_DEFAULT_URL or LCM's default)");
+  app.add_option("--lcm-url", o.lcm_url, "LCM provider URL (default: LCM_DEFAULT_URL or LCM's default)")
+      ->check(CLI::Validator(gimbalsim::lcm_wire::lcmUrlProblem, "URL"));
   app.add_option("--channel-prefix", o.prefix, "prefix of every channel name, e.g. BENCH2_");
   // The same ticks as firmware_sim --duration: statuses 0 .. round(T / period) - 1.
   app.add_option("--duration", o.duration, "stop after answering the last status of a run of this length [s], as "

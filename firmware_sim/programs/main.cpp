@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "app.hpp"
+#include "gimbalsim/lcm_wire/udpm_receiver.hpp"
 #include "gimbalsim/program/program.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/firmware_sim/plant_scene.hpp"
@@ -58,7 +59,8 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--truth-csv", o.truth_csv, "write every truth message to this CSV file");
   app.add_option("--tick-log", o.tick_log, "write each tick's sub-steps, derivatives and compute times (CPU and wall) "
                  "to this CSV file after the run (needs --duration; at most 2e6 ticks)");
-  app.add_option("--lcm-url", o.lcm_url, "LCM provider URL (default: LCM_DEFAULT_URL or LCM's default)");
+  app.add_option("--lcm-url", o.lcm_url, "LCM provider URL (default: LCM_DEFAULT_URL or LCM's default)")
+      ->check(CLI::Validator(gimbalsim::lcm_wire::lcmUrlProblem, "URL"));
   app.add_option("--channel-prefix", o.prefix, "prefix of every channel name, e.g. BENCH2_");
   app.add_option("--rt-priority", o.rt_priority, "SCHED_FIFO priority of the loop thread (0 = SCHED_OTHER)")
       ->capture_default_str()->check(program::wholeNumber())->check(CLI::Range(0, 99));

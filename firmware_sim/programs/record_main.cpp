@@ -47,7 +47,8 @@ int mainImpl(int argc, char** argv) {
   CLI::App app{"gimbalsim_record: every LCM message of a bench to an LCM log file (lcm-logger format), "
                "without lcm-logger's 30-message queue limit"};
   app.add_option("file", path, "log file to write (replaced when the recording ends)")->required();
-  app.add_option("--lcm-url", url, "LCM provider URL, e.g. udpm://239.255.76.67:7667?ttl=0");
+  app.add_option("--lcm-url", url, "LCM provider URL, e.g. udpm://239.255.76.67:7667?ttl=0")
+      ->check(CLI::Validator(gimbalsim::lcm_wire::lcmUrlProblem, "URL"));
   app.add_option("--channel", regex, "channel regex to record")->capture_default_str();
   app.add_option("--duration", duration, "stop after this many wall seconds (0 = at SIGINT/SIGTERM)")
       ->check(program::within(0.0, 1e9));  // (as int64 ns: no overflow)

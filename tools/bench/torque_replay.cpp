@@ -38,7 +38,8 @@ int mainImpl(int argc, char** argv) {
   std::string truth, url, prefix;
   double idle_exit = 10.0;
   app.add_option("truth_csv", truth, "the recorded run's firmware_sim --truth-csv (every tick)")->required();
-  app.add_option("--lcm-url", url, "LCM provider URL (udpm)");
+  app.add_option("--lcm-url", url, "LCM provider URL (udpm)")
+      ->check(CLI::Validator(gimbalsim::lcm_wire::lcmUrlProblem, "URL"));
   app.add_option("--channel-prefix", prefix, "prefix of every channel name");
   app.add_option("--idle-exit", idle_exit, "wait at most this many wall seconds for a status, then exit 6")
       ->capture_default_str()->check(gimbalsim::program::within(0.0, 1e6, true));

@@ -29,6 +29,14 @@ struct LcmUrl {
 /// Parses `url`; on failure kind is Unsupported and *why says what is wrong.
 LcmUrl parseLcmUrl(const std::string& url, std::string* why);
 
+/// What is wrong with a --lcm-url value ("" when nothing): the programs'
+/// check of the flag, so a malformed URL is a bad argument (exit 2), never
+/// "the network could not start" (5).
+inline std::string lcmUrlProblem(const std::string& url) {
+  std::string why;
+  return parseLcmUrl(url, &why).kind == LcmUrl::Kind::Unsupported ? why : std::string();
+}
+
 class UdpmReceiver {
  public:
   UdpmReceiver(const ReassemblyLimits& limits, ChannelFilter filter);
