@@ -23,7 +23,8 @@ def console_stream(stream, fd):
         return stream
     if stream is None:
         _open_if_closed(fd)
-        stream = open(fd, "w", closefd=False, encoding="utf-8", errors="backslashreplace")
+        # the console's own descriptor (now /dev/null), not an output file: no writer's rules to go through
+        stream = os.fdopen(fd, "w", closefd=False, encoding="utf-8", errors="backslashreplace")
     return ReaderGoneStream(stream)
 
 
