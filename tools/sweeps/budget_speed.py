@@ -14,7 +14,9 @@ sim.substep or sim.substep_policy has no fine run and is refused). It compares
    confidence (an end below the best or beyond the worst unit is open);
  - each unit: its figure's distance from the fine run's, against 1 % of the
    index's requirement (an index without one: 1 % of the spec's largest, or
-   gimbalsim's stated sampling tolerance when the spec gives none).
+   gimbalsim's stated sampling tolerance when the spec gives none); each
+   unit beyond it is nudged (unit_conditioning.py) to tell a figure the
+   loop does not define to the tolerance from one the sampling moved.
 
 Usage:
   /usr/bin/python3 tools/sweeps/budget_speed.py [--build build] [--workers 2] [--spec SPEC]
@@ -384,8 +386,8 @@ def _run_in(a, build, spec_path, out, work, plain, texts, tolerance, t0, load0):
                             "/usr/bin/python3 tools/sweeps/budget_speed.py " + shlex.join(sys.argv[1:]),
                             __doc__.split("\n\n")[0] + "\n\n" + body.getvalue(),
                             summary=f"{spec_path.name}: {e['elapsed_s']:.0f} s on {a.workers} workers "
-                                    f"({e['samples_per_s']:.1f} samples/s), {ratio:.1f} x faster than fine; "
-                                    f"figures {held}", t0=t0, load0=load0)
+                                    f"({e['samples_per_s']:.1f} samples/s), {_times(ratio, 'faster', 'slower')} "
+                                    f"than fine; figures {held}", t0=t0, load0=load0)
     print("budget_speed: wrote docs/results/budget_speed.md")
     return 0
 
