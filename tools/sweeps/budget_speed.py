@@ -265,7 +265,8 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
         print(f"Every unit beyond it ill-defined (its own fine figure moves beyond the tolerance when nudged){cut}: "
               f"{'yes' if not (held_to or not_judged) else 'no'}"
               f"{'; units whose fine figure held under every nudge: ' + ', '.join(held_to) if held_to else ''}"
-              f"{'; units no nudge could judge (no figure in any run, or none made): ' + ', '.join(not_judged) if not_judged else ''}"
+              f"{'; units no nudge could judge (no figure in any run, or none made): ' if not_judged else ''}"
+              f"{', '.join(not_judged)}"
               f"{'; not nudged: ' + '; '.join(reasons) if reasons else ''}.")
     return ratio, ("held" if not (outside or unjudged or beyond) else
                    "moved only where ill-defined" if not (outside or unjudged or held_to or not_judged) else "moved")
