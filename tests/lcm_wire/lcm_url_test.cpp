@@ -47,6 +47,13 @@ TEST(LcmUrl, RefusalsSayWhy) {
       {"udpm://not.an.ip:7667", "is not an IPv4 address"},
       {"udpm://239.1.1.1:7667?recv_buf_size=-5", "recv_buf_size '-5'"},
       {"udpm://239.1.1.1:7667?bogus=1", "unknown option 'bogus'"},
+      // (pass 33) LCM keeps its default ttl when it cannot read one: a mistyped ttl=0 left the host
+      {"udpm://239.1.1.1:7667?ttl=abc", "ttl 'abc' is not a whole number in 0..255"},
+      {"udpm://239.1.1.1:7667?ttl=", "ttl '' is not a whole number in 0..255"},
+      {"udpm://239.1.1.1:7667?ttl=300", "ttl '300'"},
+      {"udpm://239.1.1.1:7667?ttl=-1", "ttl '-1'"},
+      {"udpm://239.1.1.1:7667?ttl=0&transmit_only=banana", "transmit_only 'banana' is not true or false"},
+      {"udpm://:7667?ttl=0", "'' is not an IPv4 address"},
   };
   for (const auto& [url, reason] : cases) {
     std::string why;

@@ -115,7 +115,7 @@ LcmUrl parseLcmUrl(const std::string& given, std::string* why) {
     addr = net.substr(0, c);
     port = net.substr(c + 1);
   }
-  if (addr.empty()) addr = "239.255.76.67";
+  // (an empty group, "udpm://:7667", is refused below: LCM's publisher fails on it, "Bad multicast IP address")
   in_addr a{};
   if (inet_pton(AF_INET, addr.c_str(), &a) != 1) return fail("'" + addr + "' is not an IPv4 address");
   if (!IN_MULTICAST(ntohl(a.s_addr))) return fail("'" + addr + "' is not a multicast group (224.0.0.0/4)");
@@ -131,7 +131,13 @@ LcmUrl parseLcmUrl(const std::string& given, std::string* why) {
     if (k == "recv_buf_size") {
       if (!parseInt(v, 1, 1L << 30, &n)) return fail("recv_buf_size '" + v + "' is not in 1..2^30");
       u.recv_buf_size = static_cast<int>(n);
-    } else if (k != "ttl" && k != "transmit_only" && !k.empty()) {
+    } else if (k == "ttl") {
+      // LCM warns of a ttl it cannot read and keeps its own default: ttl=0 (the bench's "stay on this
+      // host") mistyped would put the traffic on the network
+      if (!(v == "0" || parseInt(v, 1, 255, &n))) return fail("ttl '" + v + "' is not a whole number in 0..255");
+    } else if (k == "transmit_only") {
+      if (v != "true" && v != "false") return fail("transmit_only '" + v + "' is not true or false");
+    } else if (!k.empty()) {
       return fail("unknown option '" + k + "' (ttl, recv_buf_size, transmit_only)");
     }
   }
