@@ -296,6 +296,18 @@ def test_gen_key_docs_writes_both_tables_or_neither(tmp_path):
                            capture_output=True, text=True, timeout=60)
         assert p.returncode == 2 and words in p.stderr and "updated" not in p.stdout, (folder, p.stdout, p.stderr)
         assert {doc: (root / "docs" / doc).read_text() for doc in before} == before
+    # (pass 33) a document without the table's header, or not UTF-8: a bare line or a traceback, exit 1
+    (root / "docs" / "controller_keys.md").unlink()
+    headless = before["controller_keys.md"].replace("| key | type |", "|key | type |")
+    (root / "docs" / "controller_keys.md").write_text(headless)
+    scene = (root / "docs" / "scene_keys.md").read_bytes()
+    for folder, words in ((more, "docs/controller_keys.md: no line '| key | type"), (more, "scene_keys.md: ")):
+        if words.startswith("scene"):
+            (root / "docs" / "scene_keys.md").write_bytes(scene.replace(b"| key |", b"| k\xe9y |", 1))
+        p = subprocess.run(["/usr/bin/python3", str(root / "tools/pages/gen_key_docs.py"), str(folder)],
+                           capture_output=True, text=True, timeout=60)
+        assert p.returncode == 2 and words in p.stderr and "Traceback" not in p.stderr, (words, p.stderr)
+        assert "updated" not in p.stdout, p.stdout
 
 
 def test_the_tools_numbers_have_ranges_the_code_honours(tmp_path):

@@ -30,7 +30,7 @@ def replace_table(text, table):
     try:
         start = next(i for i, line in enumerate(lines) if line.rstrip("\n") == HEADER)
     except StopIteration:
-        raise SystemExit(f"gen_key_docs.py: no line '{HEADER}' to replace")
+        raise output_file.Refused(f"no line '{HEADER}' to replace")
     end = start
     while end < len(lines) and lines[end].startswith("|"):
         end += 1
@@ -59,8 +59,11 @@ def main():
             raise output_file.Refused(f"{program} {' '.join(cmd[1:])} printed no key table (expected the header "
                                       f"'{HEADER}', its rule and one row per key)")
         path = ROOT / doc
-        old = path.read_text()
-        updates.append((doc, path, old, replace_table(old, table)))
+        try:
+            old = path.read_text(encoding="utf-8")
+            updates.append((doc, path, old, replace_table(old, table)))
+        except (OSError, UnicodeDecodeError, output_file.Refused) as e:  # a document it cannot regenerate: refused
+            raise output_file.Refused(f"{doc}: {getattr(e, 'strerror', None) or e}") from None
     output_file.check_before_writing([path for _, path, old, new in updates if new != old])  # both, before either
     for doc, path, old, new in updates:
         if new != old:
