@@ -120,7 +120,9 @@ LcmUrl parseLcmUrl(const std::string& given, std::string* why) {
   if (inet_pton(AF_INET, addr.c_str(), &a) != 1) return fail("'" + addr + "' is not an IPv4 address");
   if (!IN_MULTICAST(ntohl(a.s_addr))) return fail("'" + addr + "' is not a multicast group (224.0.0.0/4)");
   long p = 0;
-  if (!parseInt(port, 1, 65535, &p)) return fail("port '" + port + "' is not a whole number in 1..65535 written without a leading zero");
+  if (!parseInt(port, 1, 65535, &p)) {
+    return fail("port '" + port + "' is not a whole number in 1..65535 written without a leading zero");
+  }
   u.group = a.s_addr;
   u.port = static_cast<std::uint16_t>(p);
   std::stringstream ss(opts);
