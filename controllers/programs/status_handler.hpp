@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
+#include <random>
 #include <string>
 
 #include "gimbalsim/contract/channels.hpp"
@@ -93,7 +94,11 @@ class StatusHandler {
     } else {
       ++not_finite_;  // never sent: NaN or Inf is no command (the plant would refuse it)
     }
-    if (first_sent_seq_ >= 0 && st.last_command_seq >= first_sent_seq_) accepted_any_ = true;
+    // Accepted: the plant's last accepted seq is one this process sent (a second controller numbering from
+    // the same base would read the first's acceptances as its own: pass 33).
+    if (first_sent_seq_ >= 0 && st.last_command_seq >= first_sent_seq_ && st.last_command_seq < next_seq_) {
+      accepted_any_ = true;
+    }
     // Bookkeeping after the answer is on its way.
     ++answered_;
     last_t_ = meas.t;
@@ -211,7 +216,9 @@ class StatusHandler {
   lcm_wire::Source plant_;
   std::int64_t plant_heard_ns_ = 0;
   long long foreign_ = 0;  ///< messages from another source than the bound plant (ignored)
-  std::int64_t next_seq_ = 0;
+  /// Commands are numbered from a random base per process (below 2^60, room for 2^60 commands): two
+  /// controllers on one plant never share seqs, so each tells its own acceptances from the other's.
+  std::int64_t next_seq_ = static_cast<std::int64_t>(std::random_device{}() & 0xFFFFFu) << 40;
   std::int64_t last_status_seq_ = -1;
   long long restarts_ = 0;  ///< statuses whose seq went backwards
   long long answered_ = 0, undecodable_ = 0, publish_errors_ = 0, controller_limited_ = 0;

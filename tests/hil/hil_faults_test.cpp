@@ -107,5 +107,28 @@ TEST(HilFaults, AControllerWhoseEveryCommandIsLostDoesNotExit0) {
   EXPECT_NE(ctl.find("the plant accepted none of the commands answering"), std::string::npos) << ctl;
 }
 
+// Two controllers on one lockstep plant: it binds to the first and rejects
+// every command of the second, which said "answered 200 statuses" and exited
+// 0 (pass 33): both numbered their commands from 0, so the second read the
+// first's acceptances as its own. It controlled nothing: exit 3, and says so.
+TEST(HilFaults, AControllerWhoseEveryCommandAnotherOneOutranDoesNotExit0) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("faults_second_controller");
+  const std::string cfg = defaultControllerConfig(), url = udpmUrl(7756);
+  const std::string ctl = "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url +
+                          "' --duration 0.2 --idle-exit 5";
+  const std::string body = ctl + " >a.log 2>&1 &\nA=$!\nstarted a.log 'pointing_controller: GIMBAL_STATUS' || exit 90\n" +
+                           ctl + " >b.log 2>&1 &\nB=$!\nstarted b.log 'pointing_controller: GIMBAL_STATUS' || exit 91\n" +
+                           "timeout 60 " + firmwareSim() + " " + scenePath("paper_ideal") +
+                           " --lockstep --duration 0.3 --profile " + cfg + " --lcm-url '" + url +
+                           "' --start-timeout 10 >fw.log 2>&1\nwait $A; a=$?; wait $B; b=$?\necho \"a=$a b=$b\"";
+  ASSERT_EQ(runInNetns(dir, std::string(kStartedFn) + body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log");
+  const std::string run = readFile(dir / "run.log"), a = readFile(dir / "a.log"), b = readFile(dir / "b.log");
+  // One of the two was bound (exit 0), the other controlled nothing (exit 3): which one is the race's.
+  const bool a_bound = run.find("a=0 b=3") != std::string::npos, b_bound = run.find("a=3 b=0") != std::string::npos;
+  EXPECT_TRUE(a_bound || b_bound) << run << a << b << readFile(dir / "fw.log");
+  EXPECT_NE((a_bound ? b : a).find("the plant accepted none of the commands answering"), std::string::npos) << a << b;
+}
+
 }  // namespace
 }  // namespace gimbalsim::hil
