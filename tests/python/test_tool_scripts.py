@@ -336,3 +336,24 @@ def test_run_stress_refuses_the_outputs_it_writes_itself(tmp_path):
                            capture_output=True, text=True, timeout=60)
         assert p.returncode == 2 and words in p.stderr and "nothing run" in p.stderr, (args, p.stderr)
     assert not list(tmp_path.iterdir())
+
+
+def test_one_at_a_time_never_holds_a_lock_nobody_else_sees(tmp_path, monkeypatch):
+    # (pass 33) the holder removes the lock file as it ends: a run that opened the old file just before would lock
+    # an orphan while a third run made and locked a new one, both running
+    sys.path.insert(0, str(SOURCE / "tools" / "pages"))
+    import output_file
+    lock = tmp_path / ".out.lock"
+    real = output_file.fcntl.flock
+
+    def flock_after_the_holder_left(fd, op):
+        lock.unlink(missing_ok=True)  # the holder ends between this run's open and its lock
+        return real(fd, op)
+    monkeypatch.setattr(output_file.fcntl, "flock", flock_after_the_holder_left)
+    with pytest.raises(output_file.Refused, match="another run is writing it"):
+        with output_file.one_at_a_time(lock, "--out x"):
+            pass
+    monkeypatch.setattr(output_file.fcntl, "flock", real)
+    with output_file.one_at_a_time(lock, "--out x"):
+        assert lock.exists()
+    assert not lock.exists()

@@ -158,7 +158,11 @@ def one_at_a_time(lock, what):
     fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except BlockingIOError:
+        # the lock held must still be the file under the name: one its holder removed while this run opened it
+        # would be a lock nobody else sees
+        if not os.path.samestat(os.fstat(fd), os.stat(lock)):
+            raise BlockingIOError
+    except (BlockingIOError, FileNotFoundError):
         os.close(fd)
         raise Refused(f"{what}: another run is writing it; wait for it to end, or give another") from None
     try:
