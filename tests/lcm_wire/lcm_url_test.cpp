@@ -20,6 +20,7 @@ TEST(LcmUrl, UdpmGroupPortAndOptions) {
   EXPECT_EQ(u.port, 7734);
   EXPECT_EQ(u.recv_buf_size, 2097152);
   EXPECT_EQ(parseLcmUrl("udpm://239.1.2.3", &why).port, 7667) << "LCM's default port";
+  EXPECT_EQ(parseLcmUrl("udpm://", &why).kind, LcmUrl::Kind::Udpm) << "LCM's default group and port: " << why;
   EXPECT_EQ(parseLcmUrl("memq://", &why).kind, LcmUrl::Kind::InProcess);
 }
 

@@ -115,7 +115,9 @@ LcmUrl parseLcmUrl(const std::string& given, std::string* why) {
     addr = net.substr(0, c);
     port = net.substr(c + 1);
   }
-  // (an empty group, "udpm://:7667", is refused below: LCM's publisher fails on it, "Bad multicast IP address")
+  // No network at all ("udpm://") is LCM's default group and port; an empty group before a port
+  // ("udpm://:7667") is refused below, as LCM's publisher fails on it ("Bad multicast IP address").
+  if (net.empty()) addr = "239.255.76.67";
   in_addr a{};
   if (inet_pton(AF_INET, addr.c_str(), &a) != 1) return fail("'" + addr + "' is not an IPv4 address");
   if (!IN_MULTICAST(ntohl(a.s_addr))) return fail("'" + addr + "' is not a multicast group (224.0.0.0/4)");
