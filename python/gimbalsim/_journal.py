@@ -310,12 +310,20 @@ def read_journal(spec, path, header):
         else:
             rows.append((number, row))
     refuse_rows_beyond_the_record(path, spec, [row for _, row in rows], len(header))
+    line_of, twice = {}, set()  # a sample journaled twice, differently: neither row is trusted (the first stayed)
     for number, row in rows:
         why = check_row(spec, row, len(header))
-        if why is None and int(row[0]) in done:
-            why = "sample already journaled" if row == done[int(row[0])] else "sample journaled twice, differently"
+        sample = int(row[0]) if why is None else None
+        if sample in twice:
+            why = "sample journaled twice, differently"
+        elif why is None and sample in done:
+            why = "sample already journaled" if row == done[sample] else "sample journaled twice, differently"
+            if why.endswith("differently"):
+                twice.add(sample)
+                del done[sample]
+                dropped.setdefault(why, []).append(line_of[sample])
         if why is not None:
             dropped.setdefault(why, []).append(number)
             continue
-        done[int(row[0])] = row
+        done[sample], line_of[sample] = row, number
     return done, dropped, not dropped

@@ -65,6 +65,9 @@ def _read_rows(folder):
         for r, line in zip(lines[1:], ends[1:]):
             if r and r[0].isdigit() and int(r[0]) not in rows:
                 rows[int(r[0])], where[int(r[0])] = r, f"{path}:{line}"
+            elif r and r[0].isdigit() and r != rows[int(r[0])]:  # two different rows: which is the sweep's?
+                where[int(r[0])] += f" and {path}:{line}"
+                rows[int(r[0])] = None
     return source, header, rows, where
 
 
@@ -161,7 +164,8 @@ def replay(folder, i, out, plot_path=None):
         _refuse(str(e))
     source, header, rows, where = _read_rows(folder)
     take_recorded_design(folder, spec)  # the samples --until added: their draws are (seed, i) as any other's
-    refuse_rows_beyond_the_record(source, spec, list(rows.values()), len(header))  # as a resume does
+    whole = [r for r in rows.values() if r is not None]
+    refuse_rows_beyond_the_record(source, spec, whole, len(header))  # as a resume does
     if not 0 <= i < len(spec.design):
         _refuse(f"--replay {i}: outside the sweep's samples 0..{len(spec.design) - 1}")
     if header != spec.csv_header():
@@ -170,6 +174,9 @@ def replay(folder, i, out, plot_path=None):
         _refuse(f"--replay {i}: sample {i} has no row in {folder} (results.csv, {JOURNAL}): not run yet, finish "
                 "the sweep with --resume")
     recorded = rows[i]
+    if recorded is None:  # (pass 34) the first of two was compared, and the study's two rows never said
+        _refuse(f"{where[i]}: two different rows of sample {i}: no file the sweep writes; --resume the sweep, which "
+                "drops both and runs the sample again")
     if len(recorded) != len(header):  # cut or edited: no row the sweep wrote, and nothing to compare column by column
         _refuse(f"{where[i]}: sample {i}'s row has {len(recorded)} columns, not the header's {len(header)}: not a "
                 f"row the sweep wrote; --resume the sweep, which drops such a row and runs its sample again")

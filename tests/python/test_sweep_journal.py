@@ -366,3 +366,20 @@ def test_an_interrupted_tune_says_one_line_and_keeps_its_trials(tmp_path, sig, g
     with open(out / "trials.csv") as f:
         assert kept >= 1 and len(list(csv.DictReader(f))) == kept
     assert all_gone(kids)
+
+
+def test_a_sample_journaled_twice_differently_keeps_neither_row(spec, tmp_path):
+    # (pass 34) the first of two differing rows stayed (here an edited one) and the second was dropped, while the
+    # resume said "their samples run again": neither is trusted now, and the sample is run again
+    out = tmp_path / "o"
+    s, header = forged_journal(spec, out, range(N))
+    lines = (out / "results.partial.csv").read_text().split("\n")
+    edited = lines[5].split(",")  # sample 4, line 6
+    edited[header.index("pointing_error_max")] = "250"
+    lines.insert(7, ",".join(edited))  # a second, different row of sample 4 at line 8
+    (out / "results.partial.csv").write_text("\n".join(lines))
+    p = subprocess.run(sweep_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert "dropped 2 journal rows (sample journaled twice, differently)" in p.stderr and "lines 6, 8" in p.stderr, \
+        p.stderr
+    assert "23 already done, 1 to run" in p.stderr and marked_samples(out) == set(range(N)) - {4}

@@ -154,6 +154,22 @@ def test_a_row_that_does_not_reproduce_is_an_error_naming_its_columns(swept, tmp
     assert (tmp_path / "run.csv").exists() and (tmp_path / "p.png").exists()  # what was computed is kept
 
 
+def test_two_different_rows_of_one_sample_are_refused_not_one_of_them_compared(swept, tmp_path):
+    # (pass 34) the replay compared with the first of two rows of sample 2 (the real one first: "reproduces",
+    # exit 0; the edited one first: 8) and never said the study holds two
+    copy = tmp_path / "copy"
+    shutil.copytree(swept, copy)
+    lines = (copy / "results.csv").read_text().rstrip("\n").split("\n")
+    header = lines[0].split(",")
+    cells = lines[3].split(",")  # sample 2
+    cells[header.index("peak_joint2_force_N")] = "1"
+    (copy / "results.csv").write_text("\n".join(lines + [",".join(cells)]) + "\n")
+    p = sweep(copy, "--replay", 2, "--out", tmp_path / "run.csv")
+    assert p.returncode == 2 and "two different rows of sample 2" in p.stderr and "results.csv:4 and " in p.stderr, \
+        p.stderr
+    assert not (tmp_path / "run.csv").exists()
+
+
 def test_a_replay_runs_without_the_sweep_module(swept, tmp_path):
     """The replay takes what it shares with the sweep (the journal's name,
     the spec, one sample's run) from modules both import: with gimbalsim.sweep
