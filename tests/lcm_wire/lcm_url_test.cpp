@@ -55,6 +55,7 @@ TEST(LcmUrl, RefusalsSayWhy) {
       {"udpm://239.1.1.1:7667?ttl=-1", "ttl '-1'"},
       {"udpm://239.1.1.1:7667?ttl=0&transmit_only=banana", "transmit_only 'banana' is not true or false"},
       {"udpm://:7667?ttl=0", "'' is not an IPv4 address"},
+      {"udpm://239.1.1.1:7667?ttl=0&=5", "an option without a name ('=5')"},  // (pass 34)
   };
   for (const auto& [url, reason] : cases) {
     std::string why;

@@ -141,6 +141,8 @@ LcmUrl parseLcmUrl(const std::string& given, std::string* why) {
       if (!(v == "0" || parseInt(v, 1, 255, &n))) return fail("ttl '" + v + "' is not a whole number in 0..255");
     } else if (k == "transmit_only") {
       if (v != "true" && v != "false") return fail("transmit_only '" + v + "' is not true or false");
+    } else if (k.empty() && !kv.empty()) {  // "&=5": an option that names nothing
+      return fail("an option without a name ('" + kv + "')");
     } else if (!k.empty()) {
       return fail("unknown option '" + k + "' (ttl, recv_buf_size, transmit_only)");
     }
