@@ -357,3 +357,9 @@ def test_one_at_a_time_never_holds_a_lock_nobody_else_sees(tmp_path, monkeypatch
     with output_file.one_at_a_time(lock, "--out x"):
         assert lock.exists()
     assert not lock.exists()
+    # (pass 34) a link under the lock's name: the run made its target (outside --out) and removed the link
+    lock.symlink_to(tmp_path / "elsewhere")
+    with pytest.raises(output_file.Refused, match="a symbolic link"):
+        with output_file.one_at_a_time(lock, "--out x"):
+            pass
+    assert lock.is_symlink() and not (tmp_path / "elsewhere").exists()

@@ -10,6 +10,7 @@ and how it reads what it is given (plain_number, check_header, check_as_written,
 check_figure_format)."""
 import argparse
 import contextlib
+import errno
 import fcntl
 import importlib.util
 import math
@@ -155,7 +156,11 @@ def arg_decimal(lo, hi):
 def one_at_a_time(lock, what):
     """Holds an exclusive lock on the file `lock` (made, and removed at the
     end) for the block; Refused naming `what` when another process holds it."""
-    fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+    try:  # never through a link: a run writes no file outside its own names (pass 34: it made the link's target)
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC | os.O_NOFOLLOW, 0o644)
+    except OSError as e:
+        raise Refused(f"{lock}: {'a symbolic link' if e.errno == errno.ELOOP else e.strerror}; the lock of {what} "
+                      "is never made through one: remove it") from None
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         # the lock held must still be the file under the name: one its holder removed while this run opened it
