@@ -318,7 +318,8 @@ def test_the_tools_numbers_have_ranges_the_code_honours(tmp_path):
              ("tools/bench/py_bench.py", ["--repeats", " 1"], "got ' 1'"),
              ("tools/hil/plot_bench.py", ["x.csv", "--out", "x.png", "--after", "-1"], "must be in [0, 1e+09]"),
              ("tools/hil/plot_bench.py", ["x.csv", "--out", "x.png", "--after", " 1"], "not a finite decimal"),
-             ("tools/hil/plot_bench.py", ["x.csv", "--out", "x.png", "--after", "1e-400"], "too small for a double")]
+             ("tools/hil/plot_bench.py", ["x.csv", "--out", "x.png", "--after", "1e-400"], "too small for a double"),
+             ("tools/hil/plot_bench.py", ["x.csv", "--out", "x.png", "--after", "5e-324"], "too small for a double")]
     for tool, args, words in cases:
         p = subprocess.run(["/usr/bin/python3", str(SOURCE / tool), *args], cwd=tmp_path, capture_output=True,
                            text=True, timeout=60, env={**os.environ, "PYTHONPATH": str(BIN.parent / "python")})
@@ -329,6 +330,10 @@ def test_the_tools_numbers_have_ranges_the_code_honours(tmp_path):
 def test_run_stress_refuses_the_outputs_it_writes_itself(tmp_path):
     # (pass 31) --case was always refused by the program for the --csv the script adds, and a user's --csv was
     # CLI11's "At Most 1 required but received 2": said now by the script, before anything is built or run
+    floor = subprocess.run(["bash", str(SOURCE / "tools/pointing_study/run_controller_floor.sh"), "--markdown",
+                            "m.md"], cwd=tmp_path, capture_output=True, text=True, timeout=60)  # (pass 34)
+    assert floor.returncode == 2 and "--markdown: the script writes out/controller_floor/body.md" in floor.stderr, \
+        floor.stderr
     for args, words in ((["--case", "paper_clearance"], "--case: one scene writes nothing"),
                         (["--csv", "mine.csv"], "--csv: the script writes out/stress/stress.csv"),
                         (["--page-body=b.md"], "--page-body=b.md: the script writes")):

@@ -144,8 +144,9 @@ def arg_decimal(lo, hi):
             x = plain_number(text, "the value")
         except Refused as e:
             raise argparse.ArgumentTypeError(str(e)) from None
-        if x == 0.0 and re.search(r"[1-9]", text.lower().split("e")[0]):
-            raise argparse.ArgumentTypeError(f"{text!r} is too small for a double (it would be read as 0)")
+        if (x == 0.0 and re.search(r"[1-9]", text.lower().split("e")[0])) or 0.0 < abs(x) < sys.float_info.min:
+            raise argparse.ArgumentTypeError(f"{text!r} is too small for a double (it would be read as 0 or lose "
+                                             "its digits)")
         if not lo <= x <= hi:
             raise argparse.ArgumentTypeError(f"must be in [{lo:g}, {hi:g}], got {text}")
         return x

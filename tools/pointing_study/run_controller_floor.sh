@@ -16,7 +16,14 @@ COMMAND="bash tools/pointing_study/run_controller_floor.sh$(printf ' %q' "$@")"
 # The page only when asked: a trial with other arguments never replaces the project's page.
 RESULTS=0 ARGS=()
 for a in "$@"; do
-  if [ "$a" = --results ]; then RESULTS=1; else ARGS+=("$a"); fi
+  case "$a" in
+    --results) RESULTS=1 ;;
+    # the script writes the Markdown body itself: a second --markdown was CLI11's "At Most 1 required"
+    --markdown | --markdown=*)
+      echo "run_controller_floor.sh: $a: the script writes out/controller_floor/body.md; for another Markdown" \
+        "file run build/bin/gimbalsim_controller_floor itself; nothing run" >&2; exit 2 ;;
+    *) ARGS+=("$a") ;;
+  esac
 done
 set -- ${ARGS[@]+"${ARGS[@]}"}
 OUT="out/controller_floor"
