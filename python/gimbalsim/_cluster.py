@@ -12,6 +12,7 @@ import sys
 import threading
 import warnings
 
+from . import _number
 from ._errors import Interrupted, NoCluster
 
 LOOPBACK = "127.0.0.1"
@@ -163,9 +164,10 @@ def raise_if_interrupted():
 
 def whole_number(text):
     """An argparse type: a plain whole number as written (' 1', '+1', '1_0' and '0x1' are not)."""
-    if not text.lstrip("-").isdigit() or not text.lstrip("-").isascii() or text.count("-") > 1 or "-" in text[1:]:
+    n = _number.plain_whole(text)
+    if n is None:
         raise argparse.ArgumentTypeError(f"{text!r} is not a whole number")
-    return int(text)
+    return n
 
 
 def path_text(text):

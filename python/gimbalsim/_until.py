@@ -3,14 +3,9 @@ spec's `samples` until that index's confidence interval, relative to its
 estimate, is at most RELWIDTH, or --max-samples. Sample i's values depend only
 on (seed, i), so the rows do not depend on where the batches fell."""
 import math
-import re
-import sys
 
-from . import _budget
+from . import _budget, _number
 from ._spec import SpecError
-
-
-_PLAIN = re.compile(r"(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 
 
 class Until:
@@ -28,11 +23,9 @@ class Until:
             raise SpecError(f"--until {text!r}: index {parts[0]!r} is not one of the spec's ({', '.join(names)})")
         if parts[1] not in phases:
             raise SpecError(f"--until {text!r}: phase {parts[1]!r} is not one of the spec's ({', '.join(phases)})")
-        # a plain decimal as written, as every number flag (' 0.1', '+0.1' and '1_0' are float()'s, not ours)
-        self.width = float(parts[2]) if _PLAIN.fullmatch(parts[2]) else math.nan
-        if self.width < sys.float_info.min:  # 0, and a subnormal that has lost its digits (as the C++ flags)
-            self.width = math.nan
-        if not (self.width > 0 and math.isfinite(self.width)):  # inf would stop at once, "converged" to nothing
+        # a plain decimal as written, as every number flag (' 0.1' and '1_0' are float()'s, not ours)
+        self.width, _ = _number.flag_decimal(parts[2])
+        if not (self.width is not None and self.width > 0):  # inf would stop at once, "converged" to nothing
             raise SpecError(f"--until {text!r}: RELWIDTH must be a plain decimal number > 0 (e.g. 0.2 for 20 %)")
         if max_samples < spec.samples:
             raise SpecError(f"--max-samples {max_samples} is below the spec's samples {spec.samples}")

@@ -13,10 +13,8 @@ import contextlib
 import errno
 import fcntl
 import importlib.util
-import math
 import os
 import pathlib
-import re
 import signal
 import sys
 
@@ -34,6 +32,7 @@ def _standalone(name, file):
 
 _writer = _standalone("gimbalsim_output_writer", "_output.py")
 _console = _standalone("gimbalsim_console", "_console.py")
+_number = _standalone("gimbalsim_number", "_number.py")  # the one reading of a number given as text
 _console.keep_console()  # imported by a script: a reader gone stops nothing, its --help included
 
 OutputError = _writer.OutputError
@@ -114,24 +113,23 @@ def run_script(program, main, whole_set=False):
     return code
 
 
-_PLAIN = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
-
-
 def plain_number(text, where):
     """A CSV cell as the project writes numbers: a plain finite decimal (not
     ' 1', 'inf' or '0x10'); Refused naming `where` (file:line: column) otherwise."""
-    if text is None or not _PLAIN.fullmatch(text) or not math.isfinite(float(text)):
+    x = _number.plain_decimal(text)
+    if x is None:
         raise Refused(f"{where}: not a finite decimal number: {text!r}")
-    return float(text)
+    return x
 
 
 def arg_whole(lo, hi):
-    """An argparse type: a whole number in [lo, hi] written as one (no sign,
-    space, '_' or exponent), as the programs read their integer flags."""
+    """An argparse type: a whole number in [lo, hi] written as one (no space,
+    '_' or exponent), as the programs read their integer flags."""
     def read(text):
-        if not (text.isascii() and text.isdigit() and len(text) <= 12) or not lo <= int(text) <= hi:
+        n = _number.plain_whole(text)
+        if n is None or not lo <= n <= hi:
             raise argparse.ArgumentTypeError(f"must be a whole number in [{lo}, {hi}], got {text!r}")
-        return int(text)
+        return n
     return read
 
 
@@ -140,13 +138,9 @@ def arg_decimal(lo, hi):
     read their real flags (' 1', 'inf', '0x1' refused, and '1e-400', which
     would read as 0)."""
     def read(text):
-        try:
-            x = plain_number(text, "the value")
-        except Refused as e:
-            raise argparse.ArgumentTypeError(str(e)) from None
-        if (x == 0.0 and re.search(r"[1-9]", text.lower().split("e")[0])) or 0.0 < abs(x) < sys.float_info.min:
-            raise argparse.ArgumentTypeError(f"{text!r} is too small for a double (it would be read as 0 or lose "
-                                             "its digits)")
+        x, why = _number.flag_decimal(text)
+        if why:
+            raise argparse.ArgumentTypeError(why)
         if not lo <= x <= hi:
             raise argparse.ArgumentTypeError(f"must be in [{lo:g}, {hi:g}], got {text}")
         return x

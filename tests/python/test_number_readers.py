@@ -1,0 +1,73 @@
+"""One number rule (docs/usage.md "Exit codes"): a number given to a flag of
+a Python module or a tools/ script is read as the C++ programs read theirs
+(base/program parse(), wholeNumber()). Each text below is given to
+firmware_sim's --rate and --truth-every and to the Python readers with the same
+range; both must take it or both refuse it. (Pass 34: the scripts refused
+'+5' and the package's --until '+0.1', which every program takes.)"""
+import argparse
+import subprocess
+import sys
+
+import pytest
+
+from conftest import BIN, SOURCE
+
+sys.path.insert(0, str(SOURCE / "tools" / "pages"))
+import output_file  # noqa: E402
+
+DECIMALS = ["5", "+5", "5.", ".5", "+.5e+1", "5E0", "0.5e-2", "1e6", "1e7", " 5", "5 ", "1_0", "0x1", "0x1p3",
+            "inf", "nan", "", "e1", "1e", "--5", "5..0", "1e-400", "5e-324", "2e-310", "\u0665", "５"]
+WHOLES = ["1", "+1", "01", "007", "1000000000", "1000000001", "0", "-1", "+", "-", " 1", "1 ", "1_0", "0x1",
+          "1e0", "1.0", "", "\u0661", "--1", "+-1"]
+
+
+def cpp_takes(flag, text):
+    """Whether firmware_sim takes `text` for `flag` (it then stops at the missing scene, naming that instead)."""
+    p = subprocess.run([str(BIN / "firmware_sim"), f"{flag}={text}", "/nonexistent/scene.yaml"],
+                       capture_output=True, text=True, timeout=30)
+    assert p.returncode == 2 and "Traceback" not in p.stderr, (flag, text, p.returncode, p.stderr)
+    return flag not in p.stderr
+
+
+def py_takes(read, text):
+    try:
+        read(text)
+    except argparse.ArgumentTypeError:
+        return False
+    return True
+
+
+@pytest.mark.parametrize("text", DECIMALS)
+def test_a_real_flag_is_read_as_the_programs_read_it(text):
+    assert py_takes(output_file.arg_decimal(0.001, 1e6), text) == cpp_takes("--rate", text), repr(text)
+
+
+@pytest.mark.parametrize("text", WHOLES)
+def test_a_whole_flag_is_read_as_the_programs_read_it(text):
+    cpp = cpp_takes("--truth-every", text)
+    assert py_takes(output_file.arg_whole(1, 10**9), text) == cpp, repr(text)
+    from gimbalsim import _cluster  # --replay, --batch, --max-samples and --workers of the modules
+    assert py_takes(lambda t: 1 <= _cluster.whole_number(t) <= 10**9 or _raise(), text) == cpp, repr(text)
+
+
+def _raise():
+    raise argparse.ArgumentTypeError("out of range")
+
+
+@pytest.mark.parametrize("text", [t for t in DECIMALS if t != "1e7"])  # beyond --rate's range, not its reading
+def test_until_relwidth_is_read_as_a_real_flag(text):
+    from gimbalsim._until import Until
+    from gimbalsim._spec import SpecError
+
+    class Closed:  # the least of a closed-loop spec that --until reads before its width
+        indices = [type("Ix", (), {"name": "ape"})()]
+        phases = [("track", None)]
+
+    spec = type("Spec", (), {"closed": Closed, "grid": None, "samples": 2})()
+    try:
+        Until(f"ape:track:{text}", spec, 10)
+        taken = True
+    except SpecError as e:
+        assert "RELWIDTH must be a plain decimal number > 0" in str(e), str(e)
+        taken = False
+    assert taken == cpp_takes("--rate", text), repr(text)  # each text --rate takes here is > 0
