@@ -17,6 +17,23 @@ def run(*args):
                           capture_output=True, text=True, timeout=600)
 
 
+def slew_spec(scene=SOURCE / "tools/scenes/paper_clearance.yaml", settings="sim.duration: 0.3", samples=1, seed="1",
+              sampling="", ape="requirement: 1.0e-4"):
+    """A closed-loop spec of `samples` short paper_clearance units dispersed in friction.mu, judged on ape_slew."""
+    return f"""scene: {scene}
+set: {{{settings}}}
+controller: default
+controller_set: {{profile.slew_start: 0.05, profile.slew_time: 0.1, profile.hold_time: 0.05}}
+samples: {samples}
+seed: {seed}
+{sampling}parameters:
+  friction.mu: {{uniform: [0.15, 0.35]}}
+phases: [slew]
+indices:
+  ape: {{{ape}}}
+"""
+
+
 def test_the_default_holds_every_unit_within_the_tolerance_of_a_fine_run(tmp_path):
     p = run("--samples", "2", "--out", tmp_path / "out")
     assert p.returncode == 0, p.stderr
@@ -79,18 +96,8 @@ def test_bad_arguments_are_refused_before_anything_runs(tmp_path):
 
 def test_a_budget_with_no_figure_compares_nothing_and_says_so(tmp_path):
     # (pass 26) every unit stopped: the budget has no estimate, which the table formatted as a number
-    (tmp_path / "stopped.yaml").write_text(f"""scene: {SOURCE}/tools/scenes/paper_clearance.yaml
-set: {{sim.duration: 0.3, sim.velocity_limit: 0.01}}
-controller: default
-controller_set: {{profile.slew_start: 0.05, profile.slew_time: 0.1, profile.hold_time: 0.05}}
-samples: 2
-seed: 1
-parameters:
-  friction.mu: {{uniform: [0.15, 0.35]}}
-phases: [slew]
-indices:
-  ape: {{requirement: 1.0e-4}}
-""")
+    (tmp_path / "stopped.yaml").write_text(slew_spec(settings="sim.duration: 0.3, sim.velocity_limit: 0.01",
+                                                     samples=2))
     p = run("--spec", tmp_path / "stopped.yaml", "--fine-substep", "1e-4", "--out", tmp_path / "out")
     assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
     assert "| ape_slew | n/a (no unit has a figure) | n/a (no unit has a figure) |" in p.stdout, p.stdout
@@ -104,18 +111,8 @@ def test_the_runs_read_the_spec_as_the_sweep_does(tmp_path):
     # user stands; the tool read YAML 1.1 (eight) and looked beside the spec alone
     (tmp_path / "specs").mkdir()
     (tmp_path / "paper_clearance.yaml").write_text((SOURCE / "tools/scenes/paper_clearance.yaml").read_text())
-    (tmp_path / "specs" / "cwd.yaml").write_text("""scene: paper_clearance.yaml
-set: {sim.duration: 0.3}
-controller: default
-controller_set: {profile.slew_start: 0.05, profile.slew_time: 0.1, profile.hold_time: 0.05}
-samples: 1
-seed: 010
-parameters:
-  friction.mu: {uniform: [0.15, 0.35]}
-phases: [slew]
-indices:
-  ape: {requirement: 1.0e-4, level: 0.5, confidence: 0.5}
-""")
+    (tmp_path / "specs" / "cwd.yaml").write_text(slew_spec(scene="paper_clearance.yaml", seed="010",
+                                                           ape="requirement: 1.0e-4, level: 0.5, confidence: 0.5"))
     p = subprocess.run([sys.executable, str(TOOL), "--build", str(BIN.parent), "--workers", "1", "--spec",
                         "specs/cwd.yaml", "--fine-substep", "1e-4", "--out", "out"], cwd=tmp_path,
                        capture_output=True, text=True, timeout=600)
@@ -137,19 +134,7 @@ def test_an_input_inside_out_is_refused_and_the_default_run_is_labelled_as_it_ra
     # spec pinning sampling: scene had its default run labelled "sampling: auto"
     (tmp_path / "X").mkdir()
     (tmp_path / "X" / "fine.yaml").write_text((SOURCE / "tools/scenes/paper_clearance.yaml").read_text())
-    spec = """scene: {scene}
-set: {{sim.duration: 0.3}}
-controller: default
-controller_set: {{profile.slew_start: 0.05, profile.slew_time: 0.1, profile.hold_time: 0.05}}
-samples: 1
-seed: 1
-{sampling}parameters:
-  friction.mu: {{uniform: [0.15, 0.35]}}
-phases: [slew]
-indices:
-  ape: {{requirement: 1.0e-4}}
-"""
-    (tmp_path / "in_out.yaml").write_text(spec.format(scene=tmp_path / "X" / "fine.yaml", sampling=""))
+    (tmp_path / "in_out.yaml").write_text(slew_spec(scene=tmp_path / "X" / "fine.yaml"))
     before = (tmp_path / "X" / "fine.yaml").read_bytes()
     p = run("--spec", tmp_path / "in_out.yaml", "--fine-substep", "1e-4", "--out", tmp_path / "X")
     assert p.returncode == 2 and "an input of this run" in p.stderr and "running" not in p.stderr, p.stderr
@@ -157,12 +142,11 @@ indices:
     # (pass 29) a link in --out to the scene: the check resolved it and missed that it lies in --out
     (tmp_path / "X" / "fine.yaml").rename(tmp_path / "real.yaml")
     (tmp_path / "X" / "default.yaml").symlink_to("../real.yaml")
-    (tmp_path / "linked.yaml").write_text(spec.format(scene=tmp_path / "X" / "default.yaml", sampling=""))
+    (tmp_path / "linked.yaml").write_text(slew_spec(scene=tmp_path / "X" / "default.yaml"))
     p = run("--spec", tmp_path / "linked.yaml", "--fine-substep", "1e-4", "--out", tmp_path / "X")
     assert p.returncode == 2 and "running" not in p.stderr, p.stderr
     assert (tmp_path / "X" / "default.yaml").is_symlink() and (tmp_path / "real.yaml").read_bytes() == before
-    (tmp_path / "pinned.yaml").write_text(spec.format(scene=SOURCE / "tools/scenes/paper_clearance.yaml",
-                                                      sampling="sampling: scene\n"))
+    (tmp_path / "pinned.yaml").write_text(slew_spec(sampling="sampling: scene\n"))
     p = run("--spec", tmp_path / "pinned.yaml", "--fine-substep", "1e-4", "--out", tmp_path / "o")
     assert p.returncode == 0, p.stderr
     assert "| default (sampling: scene) |" in p.stdout and "sampling: auto" not in p.stdout, p.stdout
@@ -246,18 +230,8 @@ def test_a_nudge_the_scene_refuses_is_no_spread(tmp_path):
     # without a figure, i.e. an ill-defined unit; it is a unit that could not be nudged, and says why
     uc = _conditioning()
     spec = tmp_path / "edge.yaml"
-    spec.write_text(f"""scene: {SOURCE}/tools/scenes/paper_clearance.yaml
-set: {{sim.duration: 0.3, contact.clearance: 1.0e-4, initial.ecc: [9.99999999995e-5, 0.0]}}
-controller: default
-controller_set: {{profile.slew_start: 0.05, profile.slew_time: 0.1, profile.hold_time: 0.05}}
-samples: 1
-seed: 1
-parameters:
-  friction.mu: {{uniform: [0.15, 0.35]}}
-phases: [slew]
-indices:
-  ape: {{requirement: 1.0e-4}}
-""")
+    spec.write_text(slew_spec(settings="sim.duration: 0.3, contact.clearance: 1.0e-4, "
+                                       "initial.ecc: [9.99999999995e-5, 0.0]"))
     spread = uc.spreads(spec, [0], ["ape_slew"], {0: {"status": "ok", "ape_slew_rad": "1e-5"}}, workers=1)[0]
     assert isinstance(spread, str) and "initial.ecc nudged by 1e-12 m is refused" in spread, spread
     assert uc.classify([{"key": "ape_slew", "tol": 1e-6, "beyond": [0]}], {0: spread}) == {"ape_slew": ([], [], [0])}

@@ -25,11 +25,12 @@ def _keys_in_effect(values, scene):
     """The initial-eccentricity keys that place a journal: for each joint with
     a bearing, its own initial.eccJ when the sample or the scene gives it,
     else the shared initial.ecc (dynamics/scene/src/bearing_keys.cpp)."""
+    from gimbalsim._idle_keys import _own_key  # the package's one naming of a joint's own key
     keys = []
     for j in (1, 2):
         if values.get(f"structure.joint{j}", scene.get(f"structure.joint{j}")) in (None, "ideal"):
             continue
-        own = f"initial.ecc{j}"
+        own = _own_key(j, "initial.ecc")
         key = own if own in values or own in scene else "initial.ecc"
         if key not in keys:
             keys.append(key)
