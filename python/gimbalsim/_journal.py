@@ -327,3 +327,33 @@ def read_journal(spec, path, header):
             continue
         done[sample], line_of[sample] = row, number
     return done, dropped, not dropped
+
+
+def read_for_resume(spec, journal, results, header):
+    """What a resume trusts: ({sample: row}, [(file, {reason: line numbers})],
+    whether the journal can be appended to as it is). The journal's rows and,
+    when results.csv is there too (a resume of a finished sweep, interrupted),
+    its rows as well: a sample with two different rows, one in each file, is
+    trusted in neither and runs again (pass 35: the journal's alone was kept)."""
+    done, dropped, appendable = read_journal(spec, journal, header)
+    if not results.exists():
+        return done, [(journal, dropped)], appendable
+    done_r, dropped_r, _ = read_journal(spec, results, header)
+    twice = [i for i, row in done_r.items() if i in done and done[i] != row]
+    for i in twice:
+        del done[i]
+    added = {i: row for i, row in done_r.items() if i not in done and i not in twice}
+    done.update(added)
+    if twice:
+        why = f"sample with two different rows, in {results.name} and {journal.name}"
+        dropped.setdefault(why, []).extend(_line_numbers(journal, twice))
+        dropped_r.setdefault(why, []).extend(_line_numbers(results, twice))
+    return done, [(journal, dropped), (results, dropped_r)], appendable and not added and not twice
+
+
+def _line_numbers(path, samples):
+    """The 1-based lines of path whose sample index is one of samples."""
+    wanted = {str(i) for i in samples}
+    lines = path.read_bytes().decode("utf-8", errors="replace").split("\n")
+    return [n for n, line in enumerate(lines, 1) if n > 1 and line.split(",", 1)[0] in wanted]
+

@@ -46,7 +46,7 @@ import gimbalsim
 from . import _budget, _budget_report, _cluster, _provenance, _study_file, replay
 from ._console import keep_console
 from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main  # noqa: F401 (SpecError: API)
-from ._journal import JOURNAL, csv_line, fmt, read_journal, record_design  # noqa: F401 (csv_line, fmt: API)
+from ._journal import JOURNAL, csv_line, fmt, read_for_resume, read_journal, record_design  # noqa: F401 (API)
 from ._output import OutputRefused, append_synced, json_text, open_append, output_set, write_text
 from ._sample import row_values, run_one, sample_alone  # noqa: F401 (sample_alone: API)
 from ._spec import check_out_dir
@@ -112,21 +112,21 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
             raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
         _study_file.hold(out)  # before the journal is read: another sweep may be writing it
         take_design(spec, out, until)  # the samples --until added before (a resume holds them, no more)
-        done, dropped, appendable = read_journal(spec, journal, header)
-        read_from = journal
-        if results.exists() and resume and not done and not dropped:
-            done, dropped, _ = read_journal(spec, results, header)
-            appendable, read_from = False, results
+        # the journal's rows, and results.csv's too when a resume finds one (a finished sweep resumed)
+        done, dropped_in, appendable = read_for_resume(spec, journal, results, header)
+        dropped = {}
         write(fingerprint, spec.fingerprint)
         _provenance.record_inputs(spec, out, write)
         if not appendable:
             # The journal is never cut in place: its trusted rows go to a new file that replaces it whole.
             write(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
-        for why, numbers in dropped.items():
-            n, shown = len(numbers), ", ".join(map(str, numbers[:10])) + (" ..." if len(numbers) > 10 else "")
-            kind = "journal row" if read_from == journal else "row"  # results.csv, read when no journal was left
-            print(f"sweep: dropped {n} {kind}{'s' * (n != 1)} ({why}) at {read_from} line{'s' * (n != 1)} "
-                  f"{shown}; their samples run again", file=sys.stderr)
+        for read_from, reasons in dropped_in:
+            for why, numbers in reasons.items():
+                dropped[why] = dropped.get(why, []) + numbers
+                n, shown = len(numbers), ", ".join(map(str, numbers[:10])) + (" ..." if len(numbers) > 10 else "")
+                kind = "journal row" if read_from == journal else "row"
+                print(f"sweep: dropped {n} {kind}{'s' * (n != 1)} ({why}) at {read_from} line{'s' * (n != 1)} "
+                      f"{shown}; their samples run again", file=sys.stderr)
         while True:
             todo = [i for i in range(len(spec.design)) if i not in done]
             print(f"sweep: {len(spec.design)} samples, {len(done)} already done, {len(todo)} to run",

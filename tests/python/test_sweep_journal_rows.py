@@ -159,6 +159,30 @@ def test_resume_drops_bad_rows_and_runs_their_samples_again(closed_sweep, tmp_pa
     assert len(dropped) == len(bad) and set(dropped.values()) == {1}
 
 
+def test_resume_reads_results_csv_beside_the_journal(closed_sweep, tmp_path):
+    """(pass 35) A folder holding results.csv and a journal (a finished sweep resumed, then stopped): the
+    resume read the journal alone, kept its hand-edited row of sample 0, and ran the samples results.csv
+    held again. Now a sample with a different row in each file runs again, and results.csv's others count."""
+    reference = read(closed_sweep / "ref" / "results.csv")
+    header = reference[0]
+    a = header.index("ape_track_rad")
+    out = tmp_path / "out"
+    shutil.copytree(closed_sweep / "ref", out)
+    edited = list(reference[1])
+    edited[a] = "0.25"  # a figure the sweep could write, not sample 0's
+    (out / "results.partial.csv").write_text("".join(",".join(r) + "\n" for r in [header, edited, reference[2]]))
+    p = sweep(closed_sweep / "spec.yaml", "--out", out, "--workers", "1", "--resume")
+    assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
+    why = "sample with two different rows, in results.csv and results.partial.csv"
+    assert f"dropped 1 journal row ({why}) at {out / 'results.partial.csv'} line 2;" in p.stderr, p.stderr
+    assert f"dropped 1 row ({why}) at {out / 'results.csv'} line 2;" in p.stderr, p.stderr
+    assert "6 samples, 5 already done, 1 to run" in p.stderr, p.stderr  # sample 0 alone, not 2..5 again
+    w = header.index("wall_time_s")
+    again = read(out / "results.csv")
+    assert [r[:w] + r[w + 1:] for r in again] == [r[:w] + r[w + 1:] for r in reference]
+    assert json.loads((out / "summary.json").read_text())["journal_rows_dropped"] == {why: 2}
+
+
 def test_replay_refuses_a_row_that_is_not_whole(closed_sweep, tmp_path):
     out = tmp_path / "out"
     shutil.copytree(closed_sweep / "ref", out)
