@@ -368,3 +368,10 @@ def test_one_at_a_time_never_holds_a_lock_nobody_else_sees(tmp_path, monkeypatch
         with output_file.one_at_a_time(lock, "--out x"):
             pass
     assert lock.is_symlink() and not (tmp_path / "elsewhere").exists()
+    # (pass 35) a pipe under the lock's name was taken as the lock, and removed when the run ended
+    lock.unlink()
+    os.mkfifo(lock)
+    with pytest.raises(output_file.Refused, match="not a regular file"):
+        with output_file.one_at_a_time(lock, "--out x"):
+            pass
+    assert lock.is_fifo()

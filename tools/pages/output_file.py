@@ -16,6 +16,7 @@ import importlib.util
 import os
 import pathlib
 import signal
+import stat
 import sys
 
 
@@ -152,10 +153,14 @@ def one_at_a_time(lock, what):
     """Holds an exclusive lock on the file `lock` (made, and removed at the
     end) for the block; Refused naming `what` when another process holds it."""
     try:  # never through a link: a run writes no file outside its own names (pass 34: it made the link's target)
-        fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC | os.O_NOFOLLOW, 0o644)
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC | os.O_NOFOLLOW | os.O_NONBLOCK, 0o644)
     except OSError as e:
         raise Refused(f"{lock}: {'a symbolic link' if e.errno == errno.ELOOP else e.strerror}; the lock of {what} "
                       "is never made through one: remove it") from None
+    if not stat.S_ISREG(os.fstat(fd).st_mode):  # (pass 35) a pipe was taken as the lock, and removed at the end
+        os.close(fd)
+        raise Refused(f"{lock}: not a regular file (a pipe, a device); the lock of {what} is a file the run makes: "
+                      "remove it")
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         # the lock held must still be the file under the name: one its holder removed while this run opened it
