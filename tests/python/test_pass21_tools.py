@@ -63,6 +63,21 @@ def test_the_study_script_makes_no_named_out_folder_for_a_refused_run(tmp_path):
     assert not (tmp_path / "not").exists()
 
 
+@pytest.mark.parametrize("which,flag", [("floor", "--ideal-scene"), ("floor", "--clearance-scene"),
+                                        ("study", "--ideal-scene")])
+def test_a_scene_the_script_gives_is_the_users_to_replace(tmp_path, which, flag):
+    # (pass 35) the scripts gave their own --ideal-scene/--clearance-scene too: the user's got CLI11's "At Most 1
+    # required but received 2", after the script had made its default out/ folder, left there empty
+    scene = SOURCE / "tools/scenes" / ("paper_ideal.yaml" if flag == "--ideal-scene" else "paper_clearance.yaml")
+    p = _run(tmp_path, which, f"{flag}={scene}", "--clearances", "0")
+    assert p.returncode == 2 and "--clearances" in p.stderr and "At Most 1" not in p.stderr, p.stderr
+    assert not (tmp_path / "work" / "out").exists()  # a refused run costs nothing
+    (tmp_path / "work" / "out").mkdir()  # a folder the user had is theirs: kept
+    p = _run(tmp_path, which, flag, str(scene), "--clearances", "0")
+    assert p.returncode == 2 and "At Most 1" not in p.stderr, p.stderr
+    assert (tmp_path / "work" / "out").is_dir() and not list((tmp_path / "work" / "out").iterdir())
+
+
 def test_the_study_script_saves_its_log_beside_the_results(tmp_path):
     p = _run(tmp_path, "study", "--quick", "--clearances", "2.5e-4", "--clearance-scene",
              str(SOURCE / "tools/scenes/paper_clearance.yaml"), "--sensors", "perfect", "--duration", "3.6")
@@ -116,7 +131,7 @@ def _repository_copy(tmp_path):
     repo = tmp_path / "repo"
     shutil.copytree(SOURCE / "tools", repo / "tools", ignore=shutil.ignore_patterns("__pycache__"))
     (repo / "python" / "gimbalsim").mkdir(parents=True)
-    for module in ("_output.py", "_console.py"):
+    for module in ("_output.py", "_console.py", "_number.py"):
         shutil.copy(SOURCE / "python" / "gimbalsim" / module, repo / "python" / "gimbalsim" / module)
     (repo / "docs" / "results").mkdir(parents=True)
     return repo

@@ -4,7 +4,8 @@
 # sensors; "before" = the default controller with the inertia law's
 # feed-forward: constant reduced inertias, no lead) into out/controller_floor/;
 # --results also writes docs/results/controller_floor.md with the stamped header
-# (tools/pages/results_page.py). Other arguments go to the tool. BUILD_DIR overrides build/.
+# (tools/pages/results_page.py). Other arguments go to the tool (an --ideal-scene or
+# --clearance-scene among them replaces the script's). BUILD_DIR overrides build/.
 #
 #   bash tools/pointing_study/run_controller_floor.sh --results   # the committed page
 set -euo pipefail
@@ -27,6 +28,15 @@ for a in "$@"; do
 done
 set -- ${ARGS[@]+"${ARGS[@]}"}
 OUT="out/controller_floor"
+# The paper's scenes unless the user names others (given twice, CLI11 refused "At Most 1 required")
+IDEAL=(--ideal-scene "$ROOT/tools/scenes/paper_ideal.yaml")
+CLEARANCE=(--clearance-scene "$ROOT/tools/scenes/paper_clearance.yaml")
+for a in "$@"; do
+  case "$a" in
+    --ideal-scene | --ideal-scene=*) IDEAL=() ;;
+    --clearance-scene | --clearance-scene=*) CLEARANCE=() ;;
+  esac
+done
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
   cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
 fi
@@ -35,13 +45,15 @@ cmake --build "$BUILD" -j2 --target gimbalsim_controller_floor
 for a in "$@"; do
   case "$a" in -h | --help | --version) exec "$BUILD/bin/gimbalsim_controller_floor" "$a" ;; esac
 done
+made=()  # the folders this run makes, innermost first: removed again (if empty) when it ends refused
+for d in "$OUT" out; do [ -d "$d" ] || made+=("$d"); done
 mkdir -p "$OUT"
-LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved into $OUT by the writer's rules
+LOG=$(mktemp)  # the console log, saved into $OUT by the writer's rules
+trap 'rc=$?; rm -f "$LOG"; [ "$rc" -eq 0 ] || [ "$rc" -eq 3 ] || rmdir ${made[@]+"${made[@]}"} 2>/dev/null || true' EXIT
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/floor.log" -- "$@"  # before any run
 status=0
-"$BUILD/bin/gimbalsim_controller_floor" --ideal-scene "$ROOT/tools/scenes/paper_ideal.yaml" \
-  --clearance-scene "$ROOT/tools/scenes/paper_clearance.yaml" --before-set pointing.accel_feedforward=inertial \
-  --before-set pointing.feedforward_lead=0 \
+"$BUILD/bin/gimbalsim_controller_floor" ${IDEAL[@]+"${IDEAL[@]}"} ${CLEARANCE[@]+"${CLEARANCE[@]}"} \
+  --before-set pointing.accel_feedforward=inertial --before-set pointing.feedforward_lead=0 \
   --markdown "$OUT/body.md" "$@" | console_tee "$LOG" || status=$?
 # Exit 3: a plant stopped; the program wrote its outputs, and the log goes beside them (as the study's script).
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi

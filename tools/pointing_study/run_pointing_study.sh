@@ -3,7 +3,8 @@
 # both; planar and spatial; perfect, realistic and antenna-tracker sensors): builds
 # gimbalsim_pointing_study (configuring build/ if needed), runs it and plots.
 # Arguments go to the tool (e.g. --clearances 0.2e-3,0.5e-3 --duration 6
-# --set KEY=VALUE --scene-set KEY=VALUE --out DIR). BUILD_DIR overrides build/.
+# --set KEY=VALUE --scene-set KEY=VALUE --out DIR; an --ideal-scene replaces the
+# script's). BUILD_DIR overrides build/.
 # --results also writes docs/results/closed_loop_clearance.md
 # (tools/pointing_study/pointing_page.py).
 set -euo pipefail
@@ -34,25 +35,33 @@ done
 status=0
 # The console log is tee'd outside --out and saved into it by the writer's rules once the study has written
 # its own outputs (tools/pages/save_output.py): --out is the study's to check and to make, never the script's.
-LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT
-[ "$NAMED" = 1 ] || mkdir -p "$OUT"  # the script's own default folder; a named one must exist (usage.md "Output files")
+LOG=$(mktemp)
+made=()  # the default folders this run makes, innermost first: removed again (if empty) when it ends refused
+if [ "$NAMED" = 0 ]; then  # the script's own default folder; a named one must exist (usage.md "Output files")
+  for d in "$OUT" out; do [ -d "$d" ] || made+=("$d"); done
+  mkdir -p "$OUT"
+fi
+trap 'rc=$?; rm -f "$LOG"; [ "$rc" -eq 0 ] || [ "$rc" -eq 3 ] || rmdir ${made[@]+"${made[@]}"} 2>/dev/null || true' EXIT
 # The log's name is checked before the study runs: a refused one costs no run and no output.
 if [ -d "$OUT" ]; then
   /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}
 fi
 # The default --out first: a --out among the arguments comes later and counts.
 # Clearance in the elevation joint, the azimuth joint, both; planar and spatial;
-# perfect, realistic and tracker sensors. A --clearance-scene or --sensors among the
-# arguments replaces these (CLI11 keeps the last --sensors; --clearance-scene
+# perfect, realistic and tracker sensors. An --ideal-scene, --clearance-scene or --sensors
+# among the arguments replaces these (CLI11 keeps the last --sensors; --clearance-scene
 # lists add up, so the defaults are given only when none is).
-scenes=()
+scenes=(--ideal-scene "$ROOT/tools/scenes/paper_ideal.yaml")
+case " ${args[*]-} " in
+  *" --ideal-scene"*) scenes=() ;;  # given twice, CLI11 refused "At Most 1 required"
+esac
 case " ${args[*]-} " in
   *" --clearance-scene"*) ;;
   *) for s in paper_clearance paper_planar1 paper_both_planar paper_spatial2 paper_spatial1 paper_both_spatial; do
        scenes+=(--clearance-scene "$ROOT/tools/scenes/$s.yaml")
      done ;;
 esac
-"$BUILD/bin/gimbalsim_pointing_study" --out "$OUT" --ideal-scene "$ROOT/tools/scenes/paper_ideal.yaml" \
+"$BUILD/bin/gimbalsim_pointing_study" --out "$OUT" \
   --sensors all ${scenes[@]+"${scenes[@]}"} ${args[@]+"${args[@]}"} | console_tee "$LOG" || status=$?
 # Exit 3: a plant stopped; the results of the other runs are still written and plotted.
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
