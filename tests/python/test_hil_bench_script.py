@@ -4,6 +4,7 @@ leaves --out as it was (it had deleted the previous results first, then
 written the refusal through the link), and a run that ends well replaces
 the previous run's files whole."""
 import os
+import re
 import subprocess
 import time
 
@@ -56,8 +57,11 @@ def test_a_run_whose_plant_stopped_keeps_its_outputs_and_ends_with_3(tmp_path):
     p = bench(out, "--duration", "0.8", "--", "--set", "sim.velocity_limit=0.001")
     assert p.returncode == 3 and "the plant stopped" in p.stderr, p.stderr
     assert sorted(os.listdir(out)) == ["bench.png", "controller.csv", "controller.txt", "firmware.txt", "truth.csv"]
-    assert "simulation stopped at t = " in (out / "firmware.txt").read_text()
     assert "the plant stopped after t = 0.5" in p.stdout, p.stdout
+    # (pass 35) one stop time: firmware_sim's PLANT FAULT line said the failed step's (0.16 s beside 0.159 s)
+    stop = re.search(r"the plant stopped after t = ([0-9.]+) s", p.stdout).group(1)
+    assert f"PLANT FAULT, the plant stopped after t = {stop} s, its last good state" in \
+        (out / "firmware.txt").read_text(), (stop, (out / "firmware.txt").read_text())
     rows = (out / "truth.csv").read_text().splitlines()
     assert len(rows) == 1 + 801 and rows[-1].endswith(",8,0"), rows[-1]  # every tick; the last frozen, flagged
     # (pass 28) the frozen rows are left out of the plot, not out of the count of plant-fault ticks
