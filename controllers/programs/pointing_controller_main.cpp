@@ -87,6 +87,9 @@ int run(int argc, char** argv) {
   app.add_flag("--print-config", o.print_config,
                "print the configuration in effect (file + --set) as key=value lines, then exit");
   if (const auto rc = program::parse(app, argc, argv, "pointing_controller")) return *rc;
+  if (const std::string why = lcm_wire::defaultLcmUrlProblem(o.lcm_url); !why.empty()) {
+    return program::refuse("pointing_controller", why);
+  }
   if (o.keys) {
     const std::vector<KeyInfo> all = controllerKeys();
     std::fputs((o.markdown ? keysMarkdown(all) : keysText(all)).c_str(), stdout);

@@ -257,6 +257,9 @@ int mainImpl(int argc, char** argv) {
   CLI::App app{"firmware_sim: the gimbal plant speaking LCM like its firmware (real time or lockstep)"};
   addOptions(app, o);
   if (const auto rc = program::parse(app, argc, argv, "firmware_sim")) return *rc;
+  if (const std::string why = lcm_wire::defaultLcmUrlProblem(o.lcm_url); !why.empty()) {
+    return program::refuse("firmware_sim", why);
+  }
   if (o.lockstep) {  // one thread, no deadlines: the real-time set-up is not done
     for (const char* flag : {"--rt-priority", "--cpu"}) {
       if (app.count(flag) > 0) std::fprintf(stderr, "firmware_sim: warning: %s applies to real time only; ignored in lockstep\n", flag);

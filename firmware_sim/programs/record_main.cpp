@@ -53,6 +53,9 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--duration", duration, "stop after this many wall seconds (0 = at SIGINT/SIGTERM)")
       ->check(program::within(0.0, 1e9));  // (as int64 ns: no overflow)
   if (const auto rc = program::parse(app, argc, argv, "gimbalsim_record")) return *rc;
+  if (const std::string why = gimbalsim::lcm_wire::defaultLcmUrlProblem(url); !why.empty()) {
+    return program::refuse("gimbalsim_record", why);
+  }
   std::regex re;
   try {
     re = std::regex(regex);

@@ -56,6 +56,11 @@ TEST(LcmUrl, RefusalsSayWhy) {
       {"udpm://239.1.1.1:7667?ttl=0&transmit_only=banana", "transmit_only 'banana' is not true or false"},
       {"udpm://:7667?ttl=0", "'' is not an IPv4 address"},
       {"udpm://239.1.1.1:7667?ttl=0&=5", "an option without a name ('=5')"},  // (pass 34)
+      // (pass 35) LCM reads the last of two: which one the user meant is not known
+      {"udpm://239.1.1.1:7667?ttl=1&ttl=0", "option 'ttl' given twice"},
+      {"udpm://239.1.1.1:7667?ttl=0&", "an empty option"},
+      {"udpm://239.1.1.1:7667?&&ttl=0", "an empty option"},
+      {"udpm://239.1.1.1:7667?", "an empty option"},
   };
   for (const auto& [url, reason] : cases) {
     std::string why;
@@ -63,6 +68,17 @@ TEST(LcmUrl, RefusalsSayWhy) {
     EXPECT_NE(why.find(reason), std::string::npos) << url << ": " << why;
     EXPECT_NE(why.find(url), std::string::npos) << "the message names the URL: " << why;
   }
+}
+
+TEST(LcmUrl, TheEnvironmentsUrlIsCheckedAsTheFlagIs) {
+  ::setenv("LCM_DEFAULT_URL", "udpm://239.9.9.9:07001", 1);
+  const std::string bad = defaultLcmUrlProblem("");
+  const std::string given = defaultLcmUrlProblem("udpm://239.9.9.9:7001");
+  ::unsetenv("LCM_DEFAULT_URL");
+  EXPECT_NE(bad.find("LCM_DEFAULT_URL (the URL without --lcm-url): LCM URL 'udpm://239.9.9.9:07001': port"),
+            std::string::npos) << bad;
+  EXPECT_EQ(given, "") << "a URL given is the flag's to check";
+  EXPECT_EQ(defaultLcmUrlProblem(""), "") << "LCM's own default";
 }
 
 }  // namespace

@@ -44,6 +44,9 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--idle-exit", idle_exit, "wait at most this many wall seconds for a status, then exit 6")
       ->capture_default_str()->check(gimbalsim::program::within(0.0, 1e6, true));
   if (const auto rc = gimbalsim::program::parse(app, argc, argv, "torque_replay")) return *rc;
+  if (const std::string why = gimbalsim::lcm_wire::defaultLcmUrlProblem(url); !why.empty()) {
+    return gimbalsim::program::refuse("torque_replay", why);
+  }
   if (!gimbalsim::contract::Channels::validPrefix(prefix)) {
     return refuse("torque_replay", "--channel-prefix '" + prefix + "': only A-Z, 0-9 and '_' allowed");
   }

@@ -9,6 +9,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -127,10 +128,21 @@ LcmUrl parseLcmUrl(const std::string& given, std::string* why) {
   }
   u.group = a.s_addr;
   u.port = static_cast<std::uint16_t>(p);
+  // An empty option ('?', '&&', a '&' at an end) or one given twice ('ttl=1&ttl=0': which holds?) is
+  // refused, as an empty list item of a flag is.
+  if (q != std::string::npos && (opts.empty() || opts.front() == '&' || opts.back() == '&' ||
+                                 opts.find("&&") != std::string::npos)) {
+    return fail("an empty option (a '?' with none after it, two '&' in a row, or one at an end)");
+  }
   std::stringstream ss(opts);
+  std::vector<std::string> seen;
   for (std::string kv; std::getline(ss, kv, '&');) {
     const std::size_t e = kv.find('=');
     const std::string k = kv.substr(0, e), v = e == std::string::npos ? "" : kv.substr(e + 1);
+    if (std::find(seen.begin(), seen.end(), k) != seen.end() && !k.empty()) {
+      return fail("option '" + k + "' given twice");
+    }
+    seen.push_back(k);
     long n = 0;
     if (k == "recv_buf_size") {
       if (!parseInt(v, 1, 1L << 30, &n)) return fail("recv_buf_size '" + v + "' is not in 1..2^30");

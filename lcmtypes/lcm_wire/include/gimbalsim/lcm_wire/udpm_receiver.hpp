@@ -37,6 +37,15 @@ inline std::string lcmUrlProblem(const std::string& url) {
   return parseLcmUrl(url, &why).kind == LcmUrl::Kind::Unsupported ? why : std::string();
 }
 
+/// What is wrong with the URL a program takes when --lcm-url is not given
+/// (`given` empty): LCM_DEFAULT_URL, checked as the flag is, so a bad one is a
+/// bad argument (2) too, not "LCM could not start" (5). "" when nothing.
+inline std::string defaultLcmUrlProblem(const std::string& given) {
+  if (!given.empty()) return {};  // the flag's own check (lcmUrlProblem) has read it
+  const std::string why = lcmUrlProblem("");
+  return why.empty() ? why : "LCM_DEFAULT_URL (the URL without --lcm-url): " + why;
+}
+
 class UdpmReceiver {
  public:
   UdpmReceiver(const ReassemblyLimits& limits, ChannelFilter filter);
