@@ -9,7 +9,7 @@ import re
 import sys
 
 _DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
-_WHOLE = re.compile(r"[+-]?[0-9]{1,18}")  # a sign, as program.hpp wholeNumber(); 18 digits fit an int64
+_WHOLE = re.compile(r"[+-]?[0-9]{1,100}")  # a sign, as program.hpp wholeNumber(); a range says the rest
 
 
 def plain_decimal(text):
@@ -45,7 +45,7 @@ def flag_decimal(text):
 
 def plain_whole(text):
     """The int of a whole number written as one ('12', '-3', '+3'; not ' 3',
-    '1_0', '1e3', '0x3' or a 19-digit number); None otherwise."""
+    '1_0', '1e3', '0x3' or 101 digits); None otherwise."""
     if not isinstance(text, str) or not _WHOLE.fullmatch(text):
         return None
     return int(text)

@@ -15,6 +15,7 @@ Distributions (the spec's syntax):
                                                       # (a key in the disk key's unit: a clearance for an ecc)
     key: {ball: {radius: r}}                          # vec3 keys: a point uniform in a ball (a gyro bias)
 """
+import json
 import math
 import zlib
 
@@ -89,6 +90,18 @@ class Parameter:
             return self._rim(a["radius"])
         # a disk within a key: the rim its scene value gives (check_within); one it is dispersed with, trials() only
         return [t[self.key] for t in self.trials() if len(t) == 1]
+
+    def spreads(self):
+        """Whether two draws can differ: a range of width 0 (uniform [a, a], a
+        disk or ball of radius 0, a choice of one value) draws one value."""
+        a = self.args
+        if self.kind in ("uniform", "loguniform"):
+            return a[0] < a[1]
+        if self.kind == "choice":
+            return len({json.dumps(v, sort_keys=True) for v in a}) > 1
+        if self.kind == "disk" and "within" in a:  # the radius each value of the within key gives (check_within)
+            return any(r > 0 for _, r in getattr(self, "reach", ()))
+        return self.kind == "normal" or a["radius"] > 0
 
     def end_note(self, value):
         """For a refusal of one of its ends: which end a normal's value is

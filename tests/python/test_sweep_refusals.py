@@ -115,6 +115,16 @@ BAD = [
      "configuration file), then give it as controller.<key> under parameters or grid"),
     ("parameters:\n  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}\n", "parameters.controller.azimuth.kp", 7,
      "a controller key, dispersed only by a closed-loop sweep"),
+    # (pass 34) draws that cannot differ: three identical units, counted by a budget as three independent ones
+    ("parameters:\n  friction.mu: {uniform: [0.2, 0.2]}\n  initial.ecc: {disk: {radius: 0.0}}\n", "samples", 2,
+     "each parameter takes one value (a range of width 0, a radius of 0, a choice of one): the 3 draws are one unit"),
+    ("parameters:\n  friction.mu: {choice: [0.2, 0.2]}\n  contact.restitution: {loguniform: [0.5, 0.5]}\n", "samples",
+     2, "each parameter takes one value"),
+    ("parameters:\n  contact.clearance: {uniform: [1.0e-4, 1.0e-4]}\n"
+     "  initial.ecc: {disk: {within: contact.clearance, fraction: 0.0}}\n", "samples", 2,
+     "each parameter takes one value"),
+    ("grid:\n  friction.mu: [0.1, 0.2]\n", "samples", 2,
+     "no parameter is dispersed: the 3 draws at each grid point are one unit"),
 ]
 
 
