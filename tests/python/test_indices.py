@@ -104,6 +104,19 @@ def test_a_non_finite_signal_is_nan_not_a_number():
         assert math.isnan(v.value) and "not finite" in v.reason
 
 
+@pytest.mark.parametrize("scale", [1e200, 1e-170, 1e-300])
+def test_a_finite_signal_far_from_one_gives_its_own_figures(scale):
+    # (pass 35) |e| = 1.4e200 gave inf (the squares overflowed) and 1.4e-170 gave 0 (they vanished), with no
+    # reason: each figure of a scaled signal is the unscaled one's, scaled
+    t = np.arange(200) * 0.01
+    e = np.random.default_rng(3).uniform(-1.0, 1.0, (200, 2))
+    for call in (lambda x: indices.ape(t, x, 0.0, 2.0), lambda x: indices.rpe(t, x, 0.0, 2.0, 0.1),
+                 lambda x: indices.pde(t, x, 0.0, 2.0, 0.1, 0.3)):
+        plain, far = call(e), call(e * scale)
+        assert plain.ok and far.ok and far.reason == "", far
+        assert far.value == pytest.approx(plain.value * scale, rel=1e-12, abs=0.0), (far, plain)
+
+
 def test_a_window_that_is_not_whole_samples_is_refused():
     with pytest.raises(ValueError, match="RPE window"):
         indices.rpe(T, T, 0.0, 4.0, 0.0105)
