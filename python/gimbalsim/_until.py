@@ -24,9 +24,10 @@ class Until:
         if parts[1] not in phases:
             raise SpecError(f"--until {text!r}: phase {parts[1]!r} is not one of the spec's ({', '.join(phases)})")
         # a plain decimal as written, as every number flag (' 0.1' and '1_0' are float()'s, not ours)
-        self.width, _ = _number.flag_decimal(parts[2])
+        self.width, why = _number.flag_decimal(parts[2])
         if not (self.width is not None and self.width > 0):  # inf would stop at once, "converged" to nothing
-            raise SpecError(f"--until {text!r}: RELWIDTH must be a plain decimal number > 0 (e.g. 0.2 for 20 %)")
+            raise SpecError(f"--until {text!r}: RELWIDTH must be a plain decimal number > 0 (e.g. 0.2 for 20 %)"
+                            + (f": {why}" if why else ""))
         if max_samples < spec.samples:
             raise SpecError(f"--max-samples {max_samples} is below the spec's samples {spec.samples}")
         self.index = spec.closed.indices[names.index(parts[0])]

@@ -73,6 +73,7 @@ def test_bad_arguments_are_refused_before_anything_runs(tmp_path):
                         (["--fine-substep", "0"], "argument --fine-substep: must be in [1e-08, 0.001], got 0"),
                         (["--out", SOURCE], "would replace"),
                         (["--spec", tmp_path / "nothing.yaml"], "no such file"),
+                        (["--spec", "/dev/null"], "--spec /dev/null: not a regular file"),  # (pass 35)
                         (["--spec", tmp_path / "open.yaml"], "not a closed-loop sweep spec"),
                         (["--spec", tmp_path / "grid.yaml"], "grid.yaml:2:8: key 'grid.sim.substep': the fine run sets"),
                         (["--spec", tmp_path / "policy.yaml"], "policy.yaml:2:7: key 'set.sim.substep_policy'"),
@@ -200,6 +201,13 @@ def test_the_nudge_moves_the_key_that_places_each_journal():
     both = {**planar2, "structure.joint1": "planar", "initial.ecc1": "[1e-05, 0]"}
     assert uc._keys_in_effect({}, both) == ["initial.ecc1", "initial.ecc"]
     assert uc._keys_in_effect({}, {**planar2, "structure.joint2": "ideal"}) == []
+
+
+def test_unit_conditioning_is_no_program(tmp_path):
+    # (pass 35) run as a script it took any arguments and did nothing, exit 0
+    p = subprocess.run([sys.executable, str(SOURCE / "tools/sweeps/unit_conditioning.py"), "--bogus"], cwd=tmp_path,
+                       capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2 and "not a program: run budget_speed.py" in p.stderr, p.stderr
 
 
 def test_two_runs_into_one_out_are_refused(tmp_path):

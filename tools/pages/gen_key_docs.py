@@ -68,10 +68,10 @@ def main():
     for doc, path, old, new in updates:
         if new != old:
             output_file.write_text(path, new)  # the package's one writer (tools/pages/output_file.py)
-            print(f"gen_key_docs: {doc} updated")
+            print(f"gen_key_docs.py: {doc} updated")
         else:
-            print(f"gen_key_docs: {doc} unchanged")
+            print(f"gen_key_docs.py: {doc} unchanged")
 
 
 if __name__ == "__main__":
-    sys.exit(output_file.run_script("gen_key_docs", main))
+    sys.exit(output_file.run_script("gen_key_docs.py", main))

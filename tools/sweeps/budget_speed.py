@@ -319,11 +319,11 @@ def main():
         p.error(f"no gimbalsim package in {build / 'python'}: cmake --build {a.build} -j2 --target gimbalsim_python")
     spec_path = pathlib.Path(a.spec).resolve()
     if not spec_path.is_file():
-        p.error(f"--spec {a.spec}: no such file")
+        p.error(f"--spec {a.spec}: {'not a regular file' if spec_path.exists() else 'no such file'}")
     out = pathlib.Path(os.path.abspath(a.out)) if a.out is not None else ROOT / "out" / "budget_speed"
     if out == ROOT or out in spec_path.parents or ROOT / "docs" in [out, *out.parents]:
         p.error(f"--out {a.out}: would replace the source tree, the spec's folder or the docs")
-    return output_file.run_script("budget_speed", lambda: _run(a, build, spec_path, out))
+    return output_file.run_script("budget_speed.py", lambda: _run(a, build, spec_path, out))
 
 
 def _run(a, build, spec_path, out):
@@ -366,10 +366,10 @@ def _run_in(a, build, spec_path, out, work, plain, texts, tolerance, t0, load0):
     try:
         runs = []
         for name in RUNS:
-            print(f"budget_speed: running {name} ({paths[name]}) ...", file=sys.stderr)
+            print(f"budget_speed.py: running {name} ({paths[name]}) ...", file=sys.stderr)
             runs.append(run_sweep(build, paths[name], work / name, a.workers))
     except SweepFailed as e:
-        print(f"budget_speed: {e.args[1]}", file=sys.stderr)
+        print(f"budget_speed.py: {e.args[1]}", file=sys.stderr)
         return e.args[0]
     body = io.StringIO()
     with contextlib.redirect_stdout(body):
@@ -389,7 +389,7 @@ def _run_in(a, build, spec_path, out, work, plain, texts, tolerance, t0, load0):
                             summary=f"{spec_path.name}: {e['elapsed_s']:.0f} s on {a.workers} workers "
                                     f"({e['samples_per_s']:.1f} samples/s), {_times(ratio, 'faster', 'slower')} "
                                     f"than fine; figures {held}", t0=t0, load0=load0)
-    print("budget_speed: wrote docs/results/budget_speed.md")
+    print("budget_speed.py: wrote docs/results/budget_speed.md")
     return 0
 
 

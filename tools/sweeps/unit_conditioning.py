@@ -15,6 +15,7 @@ nudges need not find every branch), so a unit counts as ill-defined only
 where a nudge moved its figure beyond the tolerance."""
 import json
 import math
+import sys
 from concurrent.futures import ProcessPoolExecutor
 
 NUDGE_M = 1.0e-12  # [m] the journal centre's initial position, moved along u1 and u2
@@ -116,3 +117,9 @@ def classify(found, spread):
         out[c["key"]] = ([u for u, d in moves.items() if d > c["tol"]], [u for u, d in moves.items() if d <= c["tol"]],
                          [u for u, d in moves.items() if math.isnan(d)])
     return out
+
+
+if __name__ == "__main__":  # (pass 35) run as a script it took any arguments and did nothing, exit 0
+    print("unit_conditioning.py: error: a module of tools/sweeps/budget_speed.py, not a program: run "
+          "budget_speed.py, which nudges the units beyond its tolerance", file=sys.stderr)
+    sys.exit(2)
