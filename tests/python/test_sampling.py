@@ -49,9 +49,8 @@ def test_auto_chooses_the_adaptive_set_valued_law_only_for_a_planar_joint_2_with
     auto = _spec(tmp_path, BUDGET).base.values()
     assert (auto["friction.law"], auto["sim.substep_policy"]) == ("coulomb_stick", "adaptive")
     assert float(auto["sim.substep_tol"]) == float(_sampling.ADAPTIVE_TOL)
-    # a spatial bearing, the scene as written, a spec that gives the stepping, an open loop: the scene's own
-    for name, text in [("spatial", BUDGET.replace("paper_clearance.yaml", "paper_spatial2.yaml")),
-                       ("scene", BUDGET + "sampling: scene\n"),
+    # the scene as written, a spec that gives the stepping, an open loop: the scene's own
+    for name, text in [("scene", BUDGET + "sampling: scene\n"),
                        ("given", BUDGET.replace("set: {sim.duration: 5.0}", "set: {sim.duration: 5.0, sim.substep: 2.0e-5}")),
                        ("dispersed", BUDGET.replace("parameters:\n", "parameters:\n  friction.law: {choice: [coulomb, ambrosio]}\n"))]:
         spec = _spec(tmp_path, text, f"{name}.yaml")
@@ -60,6 +59,21 @@ def test_auto_chooses_the_adaptive_set_valued_law_only_for_a_planar_joint_2_with
         assert (values["friction.law"], values["sim.substep_policy"], values["sim.substep"]) == \
             ("coulomb", "fixed", "2e-05"), (name, spec.sampling)
     assert _sampling.choose("auto", auto, set(), closed=False)[0] == {}
+
+
+def test_auto_coarsens_a_spatial_joint_2_on_the_encoders_only(tmp_path):
+    spatial = BUDGET.replace("paper_clearance.yaml", "paper_spatial2.yaml")
+    spec = _spec(tmp_path, spatial)
+    assert spec.sampling["overrides"] == {"sim.substep": _sampling.SPATIAL_SUBSTEP_S}, spec.sampling
+    assert spec.base.values()["sim.substep"] == "8e-05" and spec.base.values()["friction.law"] == "coulomb"
+    # not judged: the loop on the antenna's tracker, a bearing in joint 1, a scene finer than asked is not made finer
+    for name, text in [("tracker", spatial.replace("set: {sim.duration: 5.0}",
+                                                   "set: {sim.duration: 5.0, sensors.antenna: tracker_gyro}")),
+                       ("joint1", BUDGET.replace("paper_clearance.yaml", "paper_spatial1.yaml")),
+                       ("coarse", spatial + "sampling: scene\n")]:
+        assert _spec(tmp_path, text, f"{name}.yaml").sampling["overrides"] == {}, name
+    coarser = spec.base.values() | {"sim.substep": "1e-4"}
+    assert _sampling.choose("auto", coarser, set(), closed=True)[0] == {}
 
 
 def test_a_sampling_mode_not_known_is_refused_at_its_line(tmp_path):

@@ -20,12 +20,15 @@ sim.substep or sim.substep_policy has no fine run and is refused). It compares
 
 Usage:
   /usr/bin/python3 tools/sweeps/budget_speed.py [--build build] [--workers 2] [--spec SPEC]
-      [--samples N] [--fine-substep 5e-6] [--out DIR] [--results]
+      [--samples N] [--fine-substep 5e-6] [--nudge N] [--out DIR] [--results]
 
 --samples N runs only the spec's first N units (a quick look; the page is
-for the whole spec). --results also writes docs/results/budget_speed.md
-(tools/pages/results_page.py); the runs stay in --out (default: the
-repository's out/budget_speed; each run's folder and the spec it ran).
+for the whole spec). --nudge N nudges at most N units (default 200).
+--results also writes the shipped budget's page (tools/pages/results_page.py):
+docs/results/budget_speed.md for tools/sweeps/pointing_budget.yaml,
+budget_speed_spatial.md for pointing_budget_spatial.yaml; the runs stay in
+--out (default: the repository's out/budget_speed, or out/budget_speed_<spec
+name> for another spec; each run's folder and the spec it ran).
 """
 import argparse
 import contextlib
@@ -47,87 +50,18 @@ sys.path.insert(0, str(ROOT / "tools" / "pages"))
 import output_file  # noqa: E402  (how a script ends; the writer's rules)
 from output_file import Refused  # noqa: E402
 import unit_conditioning  # noqa: E402  (how well each unit's figure is defined)
+from budget_speed_specs import check_derived, derived_specs  # noqa: E402  (the default and fine runs' specs)
 
 SHIPPED = ROOT / "tools" / "sweeps" / "pointing_budget.yaml"
-TARGET_S, TARGET_RATE = 60.0, 18.0  # the shipped 1109-unit budget on 2 workers
+# The shipped budgets this tool writes a page for, each with its wall-time target on 2 workers (issue 40):
+# {spec name: (page, target [s], target [samples/s])}
+PAGES = {"pointing_budget.yaml": (ROOT / "docs" / "results" / "budget_speed.md", 60.0, 18.0),
+         "pointing_budget_spatial.yaml": (ROOT / "docs" / "results" / "budget_speed_spatial.md", 300.0, 3.7)}
 SHARE = 0.01  # of the requirement: how far a unit's figure may move
 MAX_PROBED = 200  # units beyond the tolerance nudged (four fine runs each) to see whether their figure is defined
-PAGE = ROOT / "docs" / "results" / "budget_speed.md"
 RUNS = ("default", "fine")  # what --out holds: each run's folder and the spec it ran
 
 
-FINE_KEYS = ("sim.substep", "sim.substep_policy")  # what the fine run sets: a spec may not set or disperse them
-
-
-def derived_specs(spec_path, samples, fine_substep):
-    """(the user's spec as a plain dict, {run: its spec's text}, {"scene", "controller": the paths as the
-    sweep found them, links unresolved}): the spec
-    read and checked as the sweep reads it (its YAML, its paths: SweepSpec;
-    a refusal names the user's file, line and key), its scene and controller
-    made absolute, its samples cut (samples); the fine run with sampling
-    scene and set: sim.substep fine_substep under the fixed policy. A spec
-    that sets or disperses those has no fine run: refused at its line."""
-    import gimbalsim
-    from gimbalsim._errors import SpecError
-    from gimbalsim._spec import Spec
-    from gimbalsim._sweep_spec import SweepSpec
-    try:
-        spec = Spec(spec_path)
-        root = spec.root.value
-        if "controller" not in root:
-            spec.refuse("controller", "missing: not a closed-loop sweep spec (the budget needs its controller)")
-        aliases = gimbalsim.key_aliases()
-        for section in ("set", "parameters", "grid"):
-            node = root.get(section)
-            for key, n in (node.value.items() if node is not None and isinstance(node.value, dict) else ()):
-                if aliases.get(key, key) in FINE_KEYS:
-                    spec.refuse(f"{section}.{key}", "the fine run sets sim.substep (--fine-substep) under the fixed "
-                                "policy: a spec that sets or disperses it has no fine run to compare with; leave "
-                                "it out", n)
-        user = SweepSpec(spec_path)
-    except SpecError as e:
-        raise Refused(str(e)) from None
-    plain = spec.root.plain()
-    given = {"scene": user.scene_path, **({"controller": user.closed.controller_path}
-                                          if user.closed.controller_path is not None else {})}
-    for key, path in given.items():
-        plain[key] = str(pathlib.Path(path).resolve())
-    if samples is not None:
-        plain["samples"] = min(samples, user.samples)
-    fine = {**plain, "sampling": "scene",
-            "set": {**(plain.get("set") or {}), "sim.substep": fine_substep, "sim.substep_policy": "fixed"}}
-    return plain, {name: "".join(f"{json.dumps(k)}: {_yaml(v)}\n" for k, v in x.items())
-                   for name, x in (("default", plain), ("fine", fine))}, given
-
-
-def _yaml(x):
-    """x as YAML the sweep reads back as x (its YAML 1.2 numbers): JSON's
-    forms, where every name is quoted and every number reads as one, and
-    YAML's for the infinities JSON lacks. Why not yaml.safe_dump: it writes
-    for YAML 1.1, leaving a name such as 1e-4 bare, which the sweep reads as
-    a number."""
-    if isinstance(x, dict):
-        return "{" + ", ".join(f"{json.dumps(str(k))}: {_yaml(v)}" for k, v in x.items()) + "}"
-    if isinstance(x, list):
-        return "[" + ", ".join(_yaml(v) for v in x) + "]"
-    if isinstance(x, float) and not math.isfinite(x):
-        return ".nan" if math.isnan(x) else (".inf" if x > 0 else "-.inf")
-    return json.dumps(x)
-
-
-def check_derived(path, name):
-    """The sweep's own check of a derived spec, in process: a refusal says
-    which run's spec and what was added, never only the temporary's name."""
-    from gimbalsim._errors import SpecError
-    from gimbalsim._sweep_spec import SweepSpec
-    try:
-        SweepSpec(path)
-    except SpecError as e:
-        added = "the samples cut" if name == "default" else \
-            "sampling: scene, sim.substep and sim.substep_policy fixed added under set:"
-        what = f"key '{e.key}': " if e.key else ""
-        raise Refused(f"the {name} run's spec (yours with {added}) is refused: {what}"
-                      f"{str(e).split(what, 1)[-1] if what else str(e)}") from None
 
 
 class SweepFailed(Exception):
@@ -203,7 +137,7 @@ def compare(spec, budget_default, budget_fine, rows_default, rows_fine, toleranc
     return found
 
 
-def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine_spec):
+def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine_spec, most_probed):
     (s_d, r_d), (s_f, r_f) = runs
     n = len(r_d)
     print(f"{spec_name}: {n} units, {workers} worker{'s' if workers != 1 else ''}; the default sampling: "
@@ -220,16 +154,16 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
     cpu = "n/a: a run whose every sample crashed has no CPU per sample" if not (cpu_f and cpu_d) else \
         f"{_times(cpu_f / cpu_d, 'less', 'more')} CPU per sample"
     print(f"\nThe default runs the budget {_times(ratio, 'faster', 'slower')} than the fine setting ({cpu}).")
-    if spec_name == SHIPPED.name and n == 1109 and workers == 2:
-        e = s_d["engine"]
-        met = e["elapsed_s"] <= TARGET_S and e["samples_per_s"] >= TARGET_RATE
-        print(f"Target (the shipped budget on 2 workers in at most {TARGET_S:.0f} s, at least {TARGET_RATE:.0f} "
+    if spec_name in PAGES and n == 1109 and workers == 2:
+        e, (_, target_s, target_rate) = s_d["engine"], PAGES[spec_name]
+        met = e["elapsed_s"] <= target_s and e["samples_per_s"] >= target_rate
+        print(f"Target (the shipped budget on 2 workers in at most {target_s:.0f} s, at least {target_rate:g} "
               f"samples/s): {e['elapsed_s']:.1f} s, {e['samples_per_s']:.1f} samples/s, "
               f"{'met' if met else 'missed'}.")
     found = compare(spec, s_d["budget"], s_f["budget"], r_d, r_f, tolerance_default)
     probed = sorted({u for c in found for u in c["beyond"]})
-    spread = unit_conditioning.spreads(fine_spec, probed[:MAX_PROBED], [c["key"] for c in found], r_f, workers) \
-        if probed else {}
+    spread = unit_conditioning.spreads(fine_spec, probed[:most_probed], [c["key"] for c in found], r_f, workers) \
+        if probed and most_probed else {}
     judged = unit_conditioning.classify(found, spread)  # {key: (ill-defined, held, not judged)}
     ill = {k: v[0] for k, v in judged.items()}
     print("\nEach index (the budget's level and confidence) at the default against the fine run: its quantile "
@@ -260,7 +194,7 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
           f"\nEvery unit within the tolerance of its fine figure: "
           f"{'yes' if not beyond else 'no (' + ', '.join(beyond) + ')'}.")
     if beyond:
-        cut = f" (the first {MAX_PROBED} of {len(probed)} units nudged)" if len(probed) > MAX_PROBED else ""
+        cut = f" (the first {most_probed} of {len(probed)} units nudged)" if len(probed) > most_probed else ""
         reasons = sorted({v for v in spread.values() if isinstance(v, str)})
         print(f"Every unit beyond it ill-defined (its own fine figure moves beyond the tolerance when nudged){cut}: "
               f"{'yes' if not (held_to or not_judged) else 'no'}"
@@ -310,17 +244,23 @@ def main():
                    help="the fine run's fixed sub-step [s], in [1e-8, 1e-3]")
     p.add_argument("--out", default=None, help="folder for both runs, replaced when both finish "
                    "(default: the repository's out/budget_speed)")
-    p.add_argument("--results", action="store_true", help="also write docs/results/budget_speed.md")
+    p.add_argument("--nudge", type=output_file.arg_whole(0, 10**6), default=MAX_PROBED,
+                   help=f"units beyond the tolerance nudged, four fine runs each (default {MAX_PROBED}; 0: none)")
+    p.add_argument("--results", action="store_true", help="also write the spec's page in docs/results/ "
+                   f"({', '.join(f'{k}: {v[0].name}' for k, v in PAGES.items())})")
     a = p.parse_args()
     if a.results and a.samples is not None:
         p.error("--results writes the page for the whole spec: leave out --samples")
+    if a.results and pathlib.Path(a.spec).name not in PAGES:
+        p.error(f"--results writes the page of a shipped budget ({', '.join(PAGES)}): leave it out for {a.spec}")
     build = (ROOT / a.build) if not os.path.isabs(a.build) else pathlib.Path(a.build)
     if not (build / "python" / "gimbalsim" / "__init__.py").is_file():
         p.error(f"no gimbalsim package in {build / 'python'}: cmake --build {a.build} -j2 --target gimbalsim_python")
     spec_path = pathlib.Path(a.spec).resolve()
     if not spec_path.is_file():
         p.error(f"--spec {a.spec}: {'not a regular file' if spec_path.exists() else 'no such file'}")
-    out = pathlib.Path(os.path.abspath(a.out)) if a.out is not None else ROOT / "out" / "budget_speed"
+    out = pathlib.Path(os.path.abspath(a.out)) if a.out is not None else \
+        ROOT / "out" / ("budget_speed" if spec_path == SHIPPED else f"budget_speed_{spec_path.stem}")
     if out == ROOT or out in spec_path.parents or ROOT / "docs" in [out, *out.parents]:
         p.error(f"--out {a.out}: would replace the source tree, the spec's folder or the docs")
     return output_file.run_script("budget_speed.py", lambda: _run(a, build, spec_path, out))
@@ -342,8 +282,9 @@ def _run(a, build, spec_path, out):
                 raise Refused(f"--out {out}: holds {path}, an input of this run; the runs replace it: give another "
                               "folder")
     check_out(out)
+    page = PAGES[spec_path.name][0] if a.results else None
     if a.results:
-        output_file.check_before_writing([PAGE, PAGE.parent / "README.md"])
+        output_file.check_before_writing([page, page.parent / "README.md"])
     if a.out is None:
         out.parent.mkdir(exist_ok=True)  # the repository's out/, as the scripts of tools/ make it
     elif not out.parent.is_dir():
@@ -352,12 +293,12 @@ def _run(a, build, spec_path, out):
     with output_file.one_at_a_time(out.parent / f".{out.name}.budget_speed.lock", f"--out {out}"):
         work = pathlib.Path(tempfile.mkdtemp(prefix=out.name + ".new-", dir=out.parent))
         try:
-            return _run_in(a, build, spec_path, out, work, plain, texts, _sampling.TOLERANCE_RAD, t0, load0)
+            return _run_in(a, build, spec_path, out, work, plain, texts, _sampling.TOLERANCE_RAD, t0, load0, page)
         finally:
             shutil.rmtree(work, ignore_errors=True)  # gone once renamed to --out; else nothing is left behind
 
 
-def _run_in(a, build, spec_path, out, work, plain, texts, tolerance, t0, load0):
+def _run_in(a, build, spec_path, out, work, plain, texts, tolerance, t0, load0, page):
     """_run's work in the fresh folder work, renamed to out at the end."""
     paths = {name: work / f"{name}.yaml" for name in RUNS}
     for name in RUNS:  # every spec written and checked before the first run
@@ -373,7 +314,8 @@ def _run_in(a, build, spec_path, out, work, plain, texts, tolerance, t0, load0):
         return e.args[0]
     body = io.StringIO()
     with contextlib.redirect_stdout(body):
-        ratio, held = report(spec_path.name, plain, runs, a.fine_substep, a.workers, tolerance, paths["fine"])
+        ratio, held = report(spec_path.name, plain, runs, a.fine_substep, a.workers, tolerance, paths["fine"],
+                             a.nudge)
     print(body.getvalue(), end="")
     check_out(out)  # as before the runs: nothing planted there since
     if out.exists():
@@ -383,13 +325,13 @@ def _run_in(a, build, spec_path, out, work, plain, texts, tolerance, t0, load0):
         return 0
     import results_page
     e = runs[0][0]["engine"]
-    results_page.write_page(PAGE, "The budget at its default sampling against a fine fixed setting",
+    results_page.write_page(page, f"{spec_path.name} at its default sampling against a fine fixed setting",
                             "/usr/bin/python3 tools/sweeps/budget_speed.py " + shlex.join(sys.argv[1:]),
                             __doc__.split("\n\n")[0] + "\n\n" + body.getvalue(),
                             summary=f"{spec_path.name}: {e['elapsed_s']:.0f} s on {a.workers} workers "
                                     f"({e['samples_per_s']:.1f} samples/s), {_times(ratio, 'faster', 'slower')} "
                                     f"than fine; figures {held}", t0=t0, load0=load0)
-    print("budget_speed.py: wrote docs/results/budget_speed.md")
+    print(f"budget_speed.py: wrote {page.relative_to(ROOT)}")
     return 0
 
 
