@@ -132,15 +132,23 @@ def _phase_signal(t_s, e, t_start, t_end):
 
 
 def _scaled(seg):
-    """(seg / 2^k, 2^k): the squares behind a norm overflow above about 1e154
+    """(seg / 2^k, k): the squares behind a norm overflow above about 1e154
     and vanish below 1e-154 (pass 35: |e| = 1.4e200 gave inf, 1.4e-170 gave
     0). A power of two keeps every digit, and a signal inside [2^-400, 2^400]
     is left as it is (k = 0): its figures are the same doubles as ever."""
     big = float(np.max(np.abs(seg))) if seg.size else 0.0
     if big == 0.0 or 2.0**-400 <= big <= 2.0**400:
-        return seg, 1.0
+        return seg, 0
     k = math.frexp(big)[1]
-    return np.ldexp(seg, -k), math.ldexp(1.0, k)
+    return np.ldexp(seg, -k), k
+
+
+def _unscaled(x, k):
+    """x * 2^k as an IndexValue; a figure beyond the largest double (|e| near
+    1.8e308 on two axes) is NaN with its reason, never inf (pass 36: a traceback)."""
+    with np.errstate(over="ignore"):  # beyond the largest double: said below
+        x = float(np.ldexp(x, k))
+    return IndexValue(x) if math.isfinite(x) else _nan("the figure is beyond the largest double")
 
 
 NOT_FINITE = "the error signal is not finite inside the phase"
@@ -153,8 +161,8 @@ def ape(t_s, e, t_start, t_end):
         return _nan(why)
     if not np.all(np.isfinite(seg)):
         return _nan(NOT_FINITE)
-    seg, scale = _scaled(seg)
-    return IndexValue(float(np.max(np.linalg.norm(seg, axis=1))) * scale)
+    seg, k = _scaled(seg)
+    return _unscaled(np.max(np.linalg.norm(seg, axis=1)), k)
 
 
 def knowledge(t_s, e_estimate, e_truth, t_start, t_end):
@@ -187,7 +195,7 @@ def rpe(t_s, e, t_start, t_end, window_s, chunk_rows=1 << 22):
                     f"{seconds(window_s)} s")
     if not np.all(np.isfinite(seg)):
         return _nan(NOT_FINITE)
-    seg, scale = _scaled(seg)
+    seg, k = _scaled(seg)
     means = _window_means(seg, m)
     # One axis at a time over contiguous columns: a reduction across the axes of a strided
     # (windows, axes, m) view cost two thirds of a closed-loop sample's indices. The squares add in
@@ -202,7 +210,7 @@ def rpe(t_s, e, t_start, t_end, window_s, chunk_rows=1 << 22):
             dev = view[i:i + step] - means[i:i + step, a, None]
             sq = dev * dev if sq is None else sq + dev * dev
         worst_sq = max(worst_sq, float(np.max(sq)))
-    return IndexValue(math.sqrt(worst_sq) * scale)
+    return _unscaled(math.sqrt(worst_sq), k)
 
 
 def pde(t_s, e, t_start, t_end, window_s, separation_s):
@@ -218,10 +226,10 @@ def pde(t_s, e, t_start, t_end, window_s, separation_s):
                     f"{seconds(window_s)} s plus separation {seconds(separation_s)} s")
     if not np.all(np.isfinite(seg)):
         return _nan(NOT_FINITE)
-    seg, scale = _scaled(seg)
+    seg, scale_k = _scaled(seg)
     means = _window_means(seg, m)
     drift = means[k:] - means[:-k]
-    return IndexValue(float(np.max(np.linalg.norm(drift, axis=1))) * scale)
+    return _unscaled(np.max(np.linalg.norm(drift, axis=1)), scale_k)
 
 
 # --- ensemble statistics ---------------------------------------------------

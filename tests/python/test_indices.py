@@ -104,7 +104,7 @@ def test_a_non_finite_signal_is_nan_not_a_number():
         assert math.isnan(v.value) and "not finite" in v.reason
 
 
-@pytest.mark.parametrize("scale", [1e200, 1e-170, 1e-300])
+@pytest.mark.parametrize("scale", [1e307, 1e200, 1e-170, 1e-300])
 def test_a_finite_signal_far_from_one_gives_its_own_figures(scale):
     # (pass 35) |e| = 1.4e200 gave inf (the squares overflowed) and 1.4e-170 gave 0 (they vanished), with no
     # reason: each figure of a scaled signal is the unscaled one's, scaled
@@ -115,6 +115,15 @@ def test_a_finite_signal_far_from_one_gives_its_own_figures(scale):
         plain, far = call(e), call(e * scale)
         assert plain.ok and far.ok and far.reason == "", far
         assert far.value == pytest.approx(plain.value * scale, rel=1e-12, abs=0.0), (far, plain)
+
+
+def test_a_figure_beyond_the_largest_double_is_nan_with_its_reason():
+    # (pass 36) |e| of 1.7e308 on two axes: a traceback (OverflowError) from the scaling back
+    t = np.arange(100) * 0.01
+    e = np.full((100, 2), 1.7e308)
+    e[::2] *= -1.0
+    for v in (indices.ape(t, e, 0.0, 1.0), indices.rpe(t, e, 0.0, 1.0, 0.1)):
+        assert math.isnan(v.value) and v.reason == "the figure is beyond the largest double", v
 
 
 def test_a_window_that_is_not_whole_samples_is_refused():
