@@ -157,14 +157,14 @@ class SweepSpec:
             self.closed.check_period(spec, "controller_set.control.period" if given else "controller",
                                      self.closed.controller, self.closed.set_nodes["control.period"] if given
                                      else root["controller"], "", self._steps())
+        self.design = Design(self.parameters, self.grid, self.samples, self.seed, self.base.values())
         # (pass 34) draws that cannot differ are one unit run n times: a budget over them counted it n times
         if self.samples > 1 and not any(p.spreads() for p in self.parameters):
-            what = ("each parameter takes one value (a range of width 0, a radius of 0, a choice of one)"
-                    if self.parameters else "no parameter is dispersed")
+            what = ("each parameter takes one value (a range of width 0 or narrower than 1e-12 of its ends, a "
+                    "radius of 0, a choice of one)" if self.parameters else "no parameter is dispersed")
             spec.refuse("samples", f"{what}: the {self.samples} draws{' at each grid point' if self.grid else ''} "
                         f"are one unit, which a budget would count {self.samples} times; give samples: 1, or a "
                         "parameter that spreads", root["samples"])
-        self.design = Design(self.parameters, self.grid, self.samples, self.seed, self.base.values())
         self.spec_path = spec.path
         self.spec_text, self.spec_folder = spec.source_text, spec.folder.absolute()  # for the replay's copy
         self.fingerprint = json.dumps({"scene": self.base.values(), "seed": self.seed, "samples": self.samples,

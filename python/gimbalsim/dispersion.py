@@ -93,10 +93,12 @@ class Parameter:
 
     def spreads(self):
         """Whether two draws can differ: a range of width 0 (uniform [a, a], a
-        disk or ball of radius 0, a choice of one value) draws one value."""
+        disk or ball of radius 0, a choice of one value) draws one value, and
+        one narrower than 1e-12 of its ends (pass 36: a double's step) draws
+        roundings of one: no tolerance anyone builds to."""
         a = self.args
         if self.kind in ("uniform", "loguniform"):
-            return a[0] < a[1]
+            return a[1] - a[0] > 1e-12 * max(abs(a[0]), abs(a[1]))
         if self.kind == "choice":
             return len({json.dumps(v, sort_keys=True) for v in a}) > 1
         if self.kind == "disk" and "within" in a:  # the radius each value of the within key gives (check_within)

@@ -117,9 +117,12 @@ BAD = [
      "a controller key, dispersed only by a closed-loop sweep"),
     # (pass 34) draws that cannot differ: three identical units, counted by a budget as three independent ones
     ("parameters:\n  friction.mu: {uniform: [0.2, 0.2]}\n  initial.ecc: {disk: {radius: 0.0}}\n", "samples", 2,
-     "each parameter takes one value (a range of width 0, a radius of 0, a choice of one): the 3 draws are one unit"),
+     "a radius of 0, a choice of one): the 3 draws are one unit"),
     ("parameters:\n  friction.mu: {choice: [0.2, 0.2]}\n  contact.restitution: {loguniform: [0.5, 0.5]}\n", "samples",
      2, "each parameter takes one value"),
+    # (pass 36) a range one double's step wide: its draws rounded to one value
+    ("parameters:\n  friction.mu: {uniform: [2.0e-4, 2.0000000000000003e-4]}\n", "samples", 2,
+     "a range of width 0 or narrower than 1e-12 of its ends"),
     ("parameters:\n  contact.clearance: {uniform: [1.0e-4, 1.0e-4]}\n"
      "  initial.ecc: {disk: {within: contact.clearance, fraction: 0.0}}\n", "samples", 2,
      "each parameter takes one value"),
