@@ -28,6 +28,7 @@ set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
+source "$ROOT/tools/lib/out_folder.sh"  # the script's own out/ folder, or a refusal
 cd "$ROOT"
 
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
@@ -61,7 +62,7 @@ cmake --build "$BUILD" -j2 --target gimbalsim
 
 SIM=$BUILD/bin/gimbalsim
 OUT=out/paper
-mkdir -p "$OUT/plots"
+out_folder run_paper.sh "$OUT/plots"
 
 echo "== [3/4] simulations${SETS[*]:+ (overrides: ${SETS[*]})}"
 "$SIM" simulate tools/scenes/paper_ideal.yaml ${SETS[@]+"${SETS[@]}"} \

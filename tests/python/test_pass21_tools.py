@@ -78,6 +78,16 @@ def test_a_scene_the_script_gives_is_the_users_to_replace(tmp_path, which, flag)
     assert (tmp_path / "work" / "out").is_dir() and not list((tmp_path / "work" / "out").iterdir())
 
 
+@pytest.mark.parametrize("which", ["study", "floor"])
+def test_a_file_where_the_scripts_folder_goes_is_refused_not_a_bug(tmp_path, which):
+    # (pass 36) mkdir's "Not a directory" ended the script with exit 1, which usage.md calls a bug
+    (tmp_path / "work").mkdir()
+    (tmp_path / "work" / "out").write_text("the user's\n")
+    p = _run(tmp_path, which, "--clearances", "2.5e-4")
+    assert p.returncode == 2 and "out is not a folder" in p.stderr and "nothing run" in p.stderr, p.stderr
+    assert (tmp_path / "work" / "out").read_text() == "the user's\n"
+
+
 def test_the_study_script_saves_its_log_beside_the_results(tmp_path):
     p = _run(tmp_path, "study", "--quick", "--clearances", "2.5e-4", "--clearance-scene",
              str(SOURCE / "tools/scenes/paper_clearance.yaml"), "--sensors", "perfect", "--duration", "3.6")

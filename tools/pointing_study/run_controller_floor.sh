@@ -11,6 +11,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
+source "$ROOT/tools/lib/out_folder.sh"  # the script's own out/ folder, or a refusal
 BUILD="${BUILD_DIR:-$ROOT/build}"
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/pointing_study/run_controller_floor.sh$(printf ' %q' "$@")"
@@ -47,7 +48,7 @@ for a in "$@"; do
 done
 made=()  # the folders this run makes, innermost first: removed again (if empty) when it ends refused
 for d in "$OUT" out; do [ -d "$d" ] || made+=("$d"); done
-mkdir -p "$OUT"
+out_folder run_controller_floor.sh "$OUT"
 LOG=$(mktemp)  # the console log, saved into $OUT by the writer's rules
 trap 'rc=$?; rm -f "$LOG"; [ "$rc" -eq 0 ] || [ "$rc" -eq 3 ] || rmdir ${made[@]+"${made[@]}"} 2>/dev/null || true' EXIT
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/floor.log" -- "$@"  # before any run

@@ -10,6 +10,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
+source "$ROOT/tools/lib/out_folder.sh"  # the script's own out/ folder, or a refusal
 BUILD="${BUILD_DIR:-$ROOT/build}"
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/pointing_study/run_pointing_study.sh$(printf ' %q' "$@")"
@@ -39,7 +40,7 @@ LOG=$(mktemp)
 made=()  # the default folders this run makes, innermost first: removed again (if empty) when it ends refused
 if [ "$NAMED" = 0 ]; then  # the script's own default folder; a named one must exist (usage.md "Output files")
   for d in "$OUT" out; do [ -d "$d" ] || made+=("$d"); done
-  mkdir -p "$OUT"
+  out_folder run_pointing_study.sh "$OUT"
 fi
 trap 'rc=$?; rm -f "$LOG"; [ "$rc" -eq 0 ] || [ "$rc" -eq 3 ] || rmdir ${made[@]+"${made[@]}"} 2>/dev/null || true' EXIT
 # The log's name is checked before the study runs: a refused one costs no run and no output.

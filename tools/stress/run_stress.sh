@@ -12,6 +12,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
+source "$ROOT/tools/lib/out_folder.sh"  # the script's own out/ folder, or a refusal
 CALLER=$PWD  # the user's folder: a relative path they give is theirs, not the repository's
 cd "$ROOT"
 source "$ROOT/tools/lib/caller_args.sh"  # abs_arg
@@ -38,7 +39,7 @@ cmake --build build -j2 --target gimbalsim_stress >/dev/null
 for a in ${ARGS[@]+"${ARGS[@]}"}; do
   case "$a" in -h | --help | --version) exec build/bin/gimbalsim_stress "$a" ;; esac
 done
-mkdir -p out/stress
+out_folder run_stress.sh out/stress
 status=0
 LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved by the writer's rules (not tee's)
 /usr/bin/python3 tools/pages/save_output.py --check "$LOG" out/stress/stress.log -- ${ARGS[@]+"${ARGS[@]}"}

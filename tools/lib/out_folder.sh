@@ -1,0 +1,15 @@
+# Sourced by the scripts of tools/: out_folder SCRIPT DIR makes the script's
+# own output folder (out/<tool>/), or refuses (exit 2, nothing run) when a
+# file is in its way, as a program refuses an output it cannot write; mkdir's
+# bare "Not a directory" was exit 1, which usage.md calls a bug.
+out_folder() {
+  local script="$1" dir="$2" p="$2"
+  while [ "$p" != "." ] && [ "$p" != "/" ]; do
+    if { [ -e "$p" ] || [ -L "$p" ]; } && [ ! -d "$p" ]; then
+      echo "$script: $p is not a folder (a file, or a link to nothing, where $dir goes): move it away; nothing run" >&2
+      exit 2
+    fi
+    p=$(dirname "$p")
+  done
+  mkdir -p "$dir"
+}
