@@ -117,10 +117,19 @@ def test_a_bad_number_is_refused_naming_the_flag_not_what_the_script_made_of_it(
                        (["--duration", "inf"], "run_hil_bench.sh: --duration: 'inf' is not a plain decimal number"),
                        (["--port", "99999"], "run_hil_bench.sh: --port: must be a whole number in [1, 65535]"),
                        # (pass 31) LCM read 07815 as octal, the receivers as 7815: the processes never met (exit 6)
-                       (["--port", "07815"], "without a leading zero, got '07815'")):
+                       (["--port", "07815"], "without a leading zero, got '07815'"),
+                       # (pass 36) passed by the script as 0 s, refused by pointing_controller under another name
+                       (["--duration", "1e-400"], "run_hil_bench.sh: --duration: '1e-400' is too small for a double"),
+                       (["--rate", "+0"], "run_hil_bench.sh: --rate: must be in [0.001, 1e+06], got +0")):
         p = bench(tmp_path / "new", "--no-plot", *args)
         assert p.returncode == 2 and says in p.stderr and "control.period" not in p.stderr, p.stderr
         assert "firmware_sim" not in p.stderr and not (tmp_path / "new").exists(), p.stderr
+
+
+def test_a_sign_is_part_of_a_number_as_the_programs_read_it(tmp_path):
+    # (pass 36) '+1000' and '+0.2' were 'not a plain decimal number' here, taken by firmware_sim and the tools
+    p = bench(tmp_path / "new", "--no-plot", "--rate", "+1000", "--duration", "+0.2")
+    assert p.returncode == 0 and (tmp_path / "new" / "truth.csv").is_file(), p.stderr
 
 
 def test_a_configuration_the_controller_refuses_is_its_refusal_not_firmware_sims(tmp_path):

@@ -70,6 +70,8 @@ def test_the_benchmark_script_refuses_as_programs_do(tmp_path):
     (tmp_path / "link.json").symlink_to("real.json")
     for command, words in ((f"bash {script} --help", None),
                            (f"REPS=1 {bench} bash {script}", "REPS=1: must be a whole number in [2, 1000]"),
+                           # (pass 36) as the programs read a whole number: octal to C, so refused
+                           (f"REPS=05 {bench} bash {script}", "REPS=05: must be a whole number in [2, 1000]"),
                            (f"BENCH=nope bash {script}", "no such program"),
                            (f"OUT=link.json REPS=2 {bench} bash {script} --benchmark_filter=BM_Rk4", "symbolic link"),
                            (f"OUT=real.json REPS=2 {bench} bash {script} --benchmark_filter=NOTHING", "matched none"),

@@ -32,8 +32,10 @@ done
 [ -f "$BIN" ] && [ -x "$BIN" ] || refuse "BENCH=$BIN: no such program (build it: cmake --build build --target gimbalsim_bench)"
 if [ -n "$LIST" ]; then cd "$ROOT"; exec "$BIN" "$LIST"; fi
 REPS=${REPS:-5}
-[[ "$REPS" =~ ^[0-9]{1,4}$ ]] && [ "$REPS" -ge 2 ] && [ "$REPS" -le 1000 ] ||
+# a whole number as the programs read one: a sign allowed, no leading zero (C reads 010 as octal 8)
+[[ "$REPS" =~ ^[+]?[1-9][0-9]{0,3}$ ]] && [ "${REPS#+}" -ge 2 ] && [ "${REPS#+}" -le 1000 ] ||
   refuse "REPS=$REPS: must be a whole number in [2, 1000] (a median and a minimum over repetitions)"
+REPS=${REPS#+}
 KEEP=${OUT:-}
 case "$KEEP" in "" | /*) ;; *) KEEP="$PWD/$KEEP" ;; esac
 # OUT by the writer's rules, checked before the run: never through a link, never over an input (the program,

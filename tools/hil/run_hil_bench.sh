@@ -56,8 +56,13 @@ done
 for v in SCENE CONFIG OUT; do case "${!v}" in -*) printf -v "$v" '%s' "./${!v}" ;; esac; done
 # Numbers are checked here, as given: the period 1/--rate and the URL derived from them would be blamed otherwise.
 number() {  # number FLAG VALUE LO HI: a plain decimal number in [LO, HI], else refused naming FLAG
-  [[ "$2" =~ ^-?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$ ]] ||
+  # read as the programs read it (a sign allowed; 1e-400, which would read as 0, refused: usage.md "Exit codes")
+  [[ "$2" =~ ^[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$ ]] ||
     { echo "run_hil_bench.sh: $1: '$2' is not a plain decimal number" >&2; exit 2; }
+  ! awk -v x="$2" -v m="${2%%[eE]*}" 'BEGIN { v = x + 0; if (v < 0) v = -v
+      exit !((v == 0 && m ~ /[1-9]/) || (v > 0 && v < 2.2250738585072014e-308)) }' ||
+    { echo "run_hil_bench.sh: $1: '$2' is too small for a double (it would be read as 0 or lose its digits)" >&2
+      exit 2; }
   awk -v x="$2" -v lo="$3" -v hi="$4" 'BEGIN { exit !(x + 0 >= lo + 0 && x + 0 <= hi + 0) }' ||
     { echo "run_hil_bench.sh: $1: must be in [$3, $4], got $2" >&2; exit 2; }
 }
