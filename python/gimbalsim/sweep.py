@@ -125,8 +125,9 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
                 dropped[why] = dropped.get(why, []) + numbers
                 n, shown = len(numbers), ", ".join(map(str, numbers[:10])) + (" ..." if len(numbers) > 10 else "")
                 kind = "journal row" if read_from == journal else "row"
+                again = "the same row kept once" if why == "sample already journaled" else "their samples run again"
                 print(f"sweep: dropped {n} {kind}{'s' * (n != 1)} ({why}) at {read_from} line{'s' * (n != 1)} "
-                      f"{shown}; their samples run again", file=sys.stderr)
+                      f"{shown}; {again}", file=sys.stderr)
         while True:
             todo = [i for i in range(len(spec.design)) if i not in done]
             print(f"sweep: {len(spec.design)} samples, {len(done)} already done, {len(todo)} to run",

@@ -183,6 +183,18 @@ def test_resume_reads_results_csv_beside_the_journal(closed_sweep, tmp_path):
     assert json.loads((out / "summary.json").read_text())["journal_rows_dropped"] == {why: 2}
 
 
+def test_a_row_journaled_twice_alike_counts_once_and_is_said_so(closed_sweep, tmp_path):
+    # (pass 36) the message said "their samples run again" for a row kept once, nothing run again
+    reference = read(closed_sweep / "ref" / "results.csv")
+    out = tmp_path / "out"
+    shutil.copytree(closed_sweep / "ref", out)
+    (out / "results.csv").unlink()
+    (out / "results.partial.csv").write_text("".join(",".join(r) + "\n" for r in reference + [reference[2]]))
+    p = sweep(closed_sweep / "spec.yaml", "--out", out, "--workers", "1", "--resume")
+    assert p.returncode == 0 and "6 samples, 6 already done, 0 to run" in p.stderr, p.stderr
+    assert "(sample already journaled) at " in p.stderr and "line 8; the same row kept once" in p.stderr, p.stderr
+
+
 def test_replay_refuses_a_row_that_is_not_whole(closed_sweep, tmp_path):
     out = tmp_path / "out"
     shutil.copytree(closed_sweep / "ref", out)
