@@ -9,7 +9,8 @@ import re
 import sys
 
 _DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
-_WHOLE = re.compile(r"[+-]?[0-9]{1,100}")  # a sign, as program.hpp wholeNumber(); a range says the rest
+# a sign, no leading zero (C and CLI11 read 010 as octal 8), as program.hpp wholeNumber(); a range says the rest
+_WHOLE = re.compile(r"[+-]?(?:0|[1-9][0-9]{0,99})")
 
 
 def plain_decimal(text):
@@ -45,7 +46,7 @@ def flag_decimal(text):
 
 def plain_whole(text):
     """The int of a whole number written as one ('12', '-3', '+3'; not ' 3',
-    '1_0', '1e3', '0x3' or 101 digits); None otherwise."""
+    '010', '1_0', '1e3', '0x3' or 101 digits); None otherwise."""
     if not isinstance(text, str) or not _WHOLE.fullmatch(text):
         return None
     return int(text)

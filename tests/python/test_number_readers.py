@@ -71,3 +71,23 @@ def test_until_relwidth_is_read_as_a_real_flag(text):
         assert "RELWIDTH must be a plain decimal number > 0" in str(e), str(e)
         taken = False
     assert taken == cpp_takes("--rate", text), repr(text)  # each text --rate takes here is > 0
+
+
+def test_a_leading_zero_is_refused_where_c_reads_octal():
+    # (pass 36) firmware_sim took --truth-every 010 as 8 (CLI11 reads it as C does, octal) where the modules read 10
+    for text in ("010", "08", "+010", "-01"):
+        assert not cpp_takes("--truth-every", text), text
+        assert not py_takes(output_file.arg_whole(-100, 100), text), text
+    assert cpp_takes("--truth-every", "10") and cpp_takes("--truth-every", "+8")
+
+
+@pytest.mark.parametrize("program,args", [("firmware_sim", ["--truth-csv=", "--lockstep"]),
+                                          ("gimbalsim", ["simulate", "--out=", "--summary", "s.json"]),
+                                          ("pointing_controller", ["--lcm-url=", "--duration", "1"])])
+def test_a_flag_with_nothing_after_its_equals_sign_takes_no_other_argument(program, args, tmp_path):
+    # (pass 36) CLI11 read '--truth-csv=' as '--truth-csv' and took the next argument, '--lockstep', for the file
+    p = subprocess.run([str(BIN / program), str(SOURCE / "tools/scenes/paper_ideal.yaml"), *args], cwd=tmp_path,
+                       capture_output=True, text=True, timeout=30)
+    flag = next(a for a in args if a.endswith("="))
+    assert p.returncode == 2 and f"{flag}: an empty value after the '='" in p.stderr, p.stderr
+    assert not list(tmp_path.iterdir())

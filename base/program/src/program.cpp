@@ -127,6 +127,16 @@ CLI::Validator within(double lo, double hi, bool above_lo) {
 std::optional<int> parse(CLI::App& app, int argc, char** argv, const char* program) {
   // Every program's --version: the one string of version.hpp, as "<program> <version>".
   app.set_version_flag("--version", std::string(program) + " " + kVersion);
+  // CLI11 reads '--out=' (nothing after the '=') as '--out' and takes the next argument for its value
+  // (pass 36: '--truth-csv= --lockstep' wrote a file named --lockstep and ran in real time).
+  for (int k = 1; k < argc; ++k) {
+    const std::string arg = argv[k];
+    if (arg == "--") break;
+    if (arg.size() > 3 && arg.rfind("--", 0) == 0 && arg.find('=') == arg.size() - 1) {
+      std::fprintf(stderr, "%s: error: %s: an empty value after the '=' (see --help)\n", program, arg.c_str());
+      return kRefused;
+    }
+  }
   try {
     app.parse(argc, argv);
     std::string why = emptyListItem(app, argc, argv);
