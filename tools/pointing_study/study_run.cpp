@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 #include "gimbalsim/controllers/pointing_controller.hpp"
@@ -91,6 +92,14 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   if (!r.ok) {
     s.stop_key = stopKey(r);
     s.reason = r.error;
+    // A plant's stop named at its last good state, as every reader of a bench run names it (bench.md, pass 36)
+    const std::string head = "simulation stopped at t = ";
+    if (const std::size_t colon = r.error.find(" s: "); r.error.rfind(head, 0) == 0 && colon != std::string::npos) {
+      char when[128];  // as firmware_sim's PLANT FAULT line prints them
+      std::snprintf(when, sizeof when, "the plant stopped after t = %.3f s, its last good state (its step to t = %.3f s "
+                    "failed): ", r.t_end, std::strtod(r.error.c_str() + head.size(), nullptr));
+      s.reason = when + r.error.substr(colon + 4);
+    }
   }
   return s;
 }
