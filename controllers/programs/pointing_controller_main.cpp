@@ -240,9 +240,11 @@ int run(int argc, char** argv) {
                h.faultsSeen(), h.unpaired(), h.outageStatuses(), h.rejectedReadings(), h.notFinite());
   if (!std::isnan(h.plantStoppedTime())) {  // the statuses ran on; the plant did not
     char good[48] = "its first status";  // a plant faulted from its first status has no good state to name
-    if (!std::isnan(h.lastGoodTime())) std::snprintf(good, sizeof good, "t = %.3f s", h.lastGoodTime());
-    std::fprintf(stderr, "pointing_controller: the plant stopped after %s, its last good state (FAULT_PLANT_FAULT "
-                 "from the status at t = %.3f s): the statuses after it are in no figure above (the tracking "
+    if (!std::isnan(h.lastGoodTime())) std::snprintf(good, sizeof good, "t = %.6g s", h.lastGoodTime());
+    // The statuses carry their tick's time: a step that failed inside the period froze the plant up to one
+    // period after its last good status (firmware_sim and the truth CSV name that state's own time).
+    std::fprintf(stderr, "pointing_controller: the plant stopped after %s, its last good status (FAULT_PLANT_FAULT "
+                 "from the status at t = %.6g s): the statuses after it are in no figure above (the tracking "
                  "error, the torque-limit count)\n", good, h.plantStoppedTime());
   }
   const MonitorState& mon = h.monitor();

@@ -264,6 +264,29 @@ TEST(HilLockstep, TorqueReplayOfAStopThePlantDoesNotMakeIsNotReproduced) {
       << readFile(dir / "replay2.log");
 }
 
+// A plant whose step fails inside the control period (a sub-step: sim.max_substeps 2) freezes a sub-step
+// after its tick, so the truth CSV's first faulted row has its time moved on (0.57604 s). Replayed against
+// the same plant it stops at that very row; the replay counted the row as motion and said "not reproduced"
+// (exit 8, pass 37).
+TEST(HilLockstep, TorqueReplayOfAStopInsideAStepIsReproduced) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("replay_substep_stop");
+  const std::string url = udpmUrl(7757);
+  const std::string fw = "timeout 60 " + firmwareSim() + " " + scenePath("paper_clearance") +
+                         " --duration 0.7 --lcm-url '" + url + "' --lockstep --start-timeout 10 "
+                         "--set sim.max_substeps=2 --set contact.clearance=1e-4";
+  const std::string body =
+      "timeout 60 " + pointingController() + " --lcm-url '" + url + "' --duration 0.7 --idle-exit 10 >ctl.log 2>&1 &\n"
+      "C=$!\n" + fw + " --truth-csv rec.csv >rec.log 2>&1\nrf=$?; wait $C\ntimeout 60 '" +
+      std::string(GIMBALSIM_TORQUE_REPLAY) + "' rec.csv --lcm-url '" + url + "' --idle-exit 10 >replay.log 2>&1 &\n"
+      "R=$!\n" + fw + " --truth-csv rep.csv >rep.log 2>&1\nrl=$?; wait $R; rr=$?\n"
+      "echo \"rf $rf rl $rl rr $rr\"\n[ $rf -eq 3 ] && [ $rl -eq 3 ] && [ $rr -eq 0 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "rec.log")
+                                      << readFile(dir / "replay.log");
+  EXPECT_NE(readFile(dir / "rec.log").find("(a sub-step from it failed)"), std::string::npos) << readFile(dir / "rec.log");
+  EXPECT_EQ(readFile(dir / "rec.csv"), readFile(dir / "rep.csv"));
+}
+
 // torque_replay refuses what it cannot replay, naming the file, the line and the column.
 TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
   TempDir dir("replay_refusals");

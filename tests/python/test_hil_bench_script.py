@@ -75,10 +75,10 @@ def test_a_run_whose_plant_stopped_keeps_its_outputs_and_ends_with_3(tmp_path):
     assert f"against the profile: max {moving:.3e}," in summary, summary
     # (pass 31) one stop time: every reader names the last good state, the frozen rows' time
     frozen_t = rows[-1].split(",")[rows[0].split(",").index("sim_time_s")]
-    assert f"the plant stopped after t = {float(frozen_t):.3f} s, its last good state (its step to t = " in summary
+    assert f"the plant stopped after t = {float(frozen_t):g} s, its last good state (its step to t = " in summary
     # (pass 30) and so does pointing_controller's: its window is judged at the stop, not at its last status
     controller = (out / "controller.txt").read_text()
-    assert f"the plant stopped after t = {float(frozen_t):.3f} s, its last good state (FAULT_PLANT_FAULT" in controller
+    assert f"the plant stopped after t = {float(frozen_t):g} s, its last good status (FAULT_PLANT_FAULT" in controller
     assert "run ended at 0.799 s" not in controller and f"run ended at {float(frozen_t):g} s" in controller, controller
     # (pass 29) a frozen row's fault flags that are no set of bits: refused as on any row, before the stop is read
     edited = rows[:-1] + [rows[-1].rsplit(",", 2)[0] + ",1e300,0"]

@@ -84,10 +84,11 @@ int mainImpl(int argc, char** argv) {
       heard_ns = gimbalsim::lcm_wire::monotonicNs();
       if (st.seq <= answered || st.seq > last) return;  // a repeat (status 0 is re-sent until answered), or past the CSV
       const auto k = static_cast<std::size_t>(st.seq);
-      // The replayed plant stops where the recorded one did, and only there: a frozen row (time NaN) is
-      // answered by a status carrying FAULT_PLANT_FAULT, a row of the recorded plant's motion by one without.
+      // The replayed plant stops where the recorded one did, and only there: a row from the recorded stop on
+      // (its first row carrying FAULT_PLANT_FAULT) is answered by a status carrying it, a row before by one without.
       const bool stopped = (st.faults & gimbalsim::gimbal_status_t::FAULT_PLANT_FAULT) != 0;
-      if (!t.t_s.empty() && std::isnan(t.t_s[k]) != stopped) {
+      const bool recorded_stop = k >= t.first_fault_row;
+      if (recorded_stop != stopped) {
         char why[320];
         if (stopped) {
           std::snprintf(why, sizeof why, "status %lld (t = %.9g s) carries FAULT_PLANT_FAULT, where the recorded "
@@ -103,8 +104,8 @@ int mainImpl(int argc, char** argv) {
         return;
       }
       // Lockstep's utime is simulated time, rounded to 1 us: row k's time, or the plant ticks at another period
-      // (a frozen row's time is NaN: the comparison is false).
-      if (!t.t_s.empty() && std::fabs(static_cast<double>(st.utime) * 1e-6 - t.t_s[k]) > 1e-6) {
+      // (from the stop on, a row holds the frozen state's time, not its tick's).
+      if (!t.t_s.empty() && !recorded_stop && std::fabs(static_cast<double>(st.utime) * 1e-6 - t.t_s[k]) > 1e-6) {
         char why[256];
         std::snprintf(why, sizeof why, "status %lld is at t = %.9g s, row %lld of the truth CSV at %.9g s: the plant "
                       "ticks at another control period than the recorded run (give firmware_sim the run's --rate)",

@@ -33,6 +33,10 @@ struct Torques {
   /// (firmware_sim exit 3), while its ticks and the commands they applied go on: those rows are kept with
   /// t_s NaN (no time of the plant's), so that a replay stops where the run did. How many there were.
   std::size_t frozen_rows = 0;
+  /// The first row carrying FAULT_PLANT_FAULT (the tick whose step failed; SIZE_MAX: none). A step that
+  /// fails inside the tick leaves the state a sub-step on, so that row's time moves on before it freezes
+  /// (pass 37): the stop is this row, not the first frozen one.
+  std::size_t first_fault_row = static_cast<std::size_t>(-1);
 };
 
 /// The two torque columns of a truth CSV written every tick (its seq column
@@ -116,6 +120,9 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
     if (!(faults >= 0.0 && faults < 2147483648.0 && faults == std::floor(faults))) {
       throw std::runtime_error(name + ":" + std::to_string(n) + ": column faults: " + f[cf] +
                                " is not a set of fault bits");
+    }
+    if ((static_cast<long long>(faults) & kPlantFault) != 0 && t.first_fault_row == static_cast<std::size_t>(-1)) {
+      t.first_fault_row = t.tau1.size();
     }
     if (ct >= 0) {
       const double t_s = number(f, ct, n);
