@@ -71,8 +71,9 @@ def choose(mode, scene_values, given, closed):
                            "docs/results/budget_speed.md); "
                            "sampling: scene keeps the scene's")
     if (j1 == "ideal" and j2 == "spatial" and law == "coulomb" and policy == "fixed"
-            and scene_values.get("sensors.antenna") == "none" and "sensors.antenna" not in given
-            and float(scene_values.get("sim.substep", "0")) < float(SPATIAL_SUBSTEP_S)):
+            and scene_values.get("sensors.antenna") == "none" and not {"sensors.antenna", "sim.step"} & set(given)
+            and float(scene_values.get("sim.substep", "0")) < float(SPATIAL_SUBSTEP_S)
+            and float(scene_values.get("sim.step", "0")) >= float(SPATIAL_SUBSTEP_S)):  # a sub-step fits a step
         overrides = {"sim.substep": SPATIAL_SUBSTEP_S}
         return overrides, (f"a spatial joint 2 with Coulomb friction, the loop on the encoders, steps with fixed "
                            f"sub-steps of {SPATIAL_SUBSTEP_S} s: the shipped spatial budget's indices within a 5 us "
@@ -92,4 +93,9 @@ def apply(spec, root, base, given, closed):
         spec.refuse("sampling", f"expected {' or '.join(MODES)}, got {mode!r}", root["sampling"])
     aliases = gimbalsim.key_aliases()
     overrides, why = choose(mode, base.values(), {aliases.get(k, k) for k in given}, closed)
-    return (base.replace(overrides) if overrides else base), {"mode": mode, "overrides": overrides, "why": why}
+    if overrides:
+        try:
+            return base.replace(overrides), {"mode": mode, "overrides": overrides, "why": why}
+        except gimbalsim.SceneError as e:  # a choice this scene cannot take is no refusal of the user's spec
+            why = f"the scene's own stepping: it refuses sampling: auto's {overrides} ({e})"
+    return base, {"mode": mode, "overrides": {}, "why": why}

@@ -70,6 +70,9 @@ def test_auto_coarsens_a_spatial_joint_2_on_the_encoders_only(tmp_path):
     for name, text in [("tracker", spatial.replace("set: {sim.duration: 5.0}",
                                                    "set: {sim.duration: 5.0, sensors.antenna: tracker_gyro}")),
                        ("joint1", BUDGET.replace("paper_clearance.yaml", "paper_spatial1.yaml")),
+                       # (pass 37) a step finer than the sub-step auto would take: refused as no file's value
+                       ("step", spatial.replace("set: {sim.duration: 5.0}",
+                                                "set: {sim.duration: 5.0, sim.step: 5.0e-5}")),
                        ("coarse", spatial + "sampling: scene\n")]:
         assert _spec(tmp_path, text, f"{name}.yaml").sampling["overrides"] == {}, name
     coarser = spec.base.values() | {"sim.substep": "1e-4"}
