@@ -99,8 +99,8 @@ class Parameter:
         a = self.args
         if self.kind in ("uniform", "loguniform"):
             return a[1] - a[0] > 1e-12 * max(abs(a[0]), abs(a[1]))
-        if self.kind == "choice":
-            return len({json.dumps(v, sort_keys=True) for v in a}) > 1
+        if self.kind == "choice":  # numbers alike to 12 digits are one value (pass 37: two a double's step apart)
+            return len({json.dumps(_to_12_digits(v), sort_keys=True) for v in a}) > 1
         if self.kind == "disk" and "within" in a:  # the radius each value of the within key gives (check_within)
             return any(r > 0 for _, r in getattr(self, "reach", ()))
         return self.kind == "normal" or a["radius"] > 0
@@ -207,6 +207,13 @@ def parse_parameter(spec, section, key, node, key_types, known_as=SCENE_KEYS):
             spec.refuse(where, "disk: center must be [x, y]", arg)
         args = plain
     return Parameter(key, kind, args, ktype, node)
+
+
+def _to_12_digits(v):
+    """v with each number rounded to 12 significant digits (a choice's values compared for spread)."""
+    if isinstance(v, list):
+        return [_to_12_digits(x) for x in v]
+    return float(f"{v:.12g}") if _is_number(v) else v
 
 
 def normal_ends(a):

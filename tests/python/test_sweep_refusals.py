@@ -123,6 +123,8 @@ BAD = [
     # (pass 36) a range one double's step wide: its draws rounded to one value
     ("parameters:\n  friction.mu: {uniform: [2.0e-4, 2.0000000000000003e-4]}\n", "samples", 2,
      "a range of width 0 or narrower than 1e-12 of its ends"),
+    ("parameters:\n  friction.mu: {choice: [2.0e-4, 2.0000000000000003e-4]}\n", "samples", 2,  # (pass 37)
+     "each parameter takes one value"),
     ("parameters:\n  contact.clearance: {uniform: [1.0e-4, 1.0e-4]}\n"
      "  initial.ecc: {disk: {within: contact.clearance, fraction: 0.0}}\n", "samples", 2,
      "each parameter takes one value"),
