@@ -320,6 +320,8 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
       // a row cut short or too long is no row of the run (it was replayed as far as it went)
       {write("cut.csv", "seq,tau1_Nm,tau2_Nm,energy_J\n0,0,0,1\n1,0,0\n"), "cut.csv:3: 3 fields, the header has 4"},
       {write("seqhex.csv", "seq,tau1_Nm,tau2_Nm\n0,0,0\n0x1,0,0\n"), "seqhex.csv:3: seq '0x1' is not a tick number"},
+      // (pass 37) a leading zero is no seq the writer writes: it read as "not written every tick"
+      {write("seqzero.csv", "seq,tau1_Nm,tau2_Nm\n0,0,0\n01,0,0\n"), "seqzero.csv:3: seq '01' is not a tick number"},
       // 1e-400 reads as 0: a torque nobody recorded
       {write("tiny.csv", "seq,tau1_Nm,tau2_Nm\n0,0,0\n1,1e-400,0\n"),
        "tiny.csv:3: column tau1_Nm: not a finite number (it underflows a double)"},

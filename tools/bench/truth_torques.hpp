@@ -104,7 +104,9 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
     const auto has = [&](int c) { return c < static_cast<int>(f.size()); };
     // Row k must be tick k: a CSV written every N ticks (--truth-every N) would replay tick N (k + 1) as tick k + 1.
     const std::string expected = std::to_string(rows);
-    if (has(cs) && (f[cs].empty() || f[cs].find_first_not_of("0123456789") != std::string::npos)) {
+    // a leading zero is no seq firmware_sim writes ('02' read as "not written every tick", pass 37)
+    if (has(cs) && (f[cs].empty() || f[cs].find_first_not_of("0123456789") != std::string::npos ||
+                    (f[cs].size() > 1 && f[cs][0] == '0'))) {
       throw std::runtime_error(name + ":" + std::to_string(n) + ": seq '" + f[cs] + "' is not a tick number");
     }
     if (!has(cs) || f[cs] != expected) {
