@@ -146,3 +146,12 @@ def test_pickled_scene_is_the_same_scene():
     assert np.array_equal(gimbalsim.simulate(t).rows, gimbalsim.simulate(s).rows)
     r = s.replace({"friction.mu": 0.3})
     assert r.values()["friction.mu"] == "0.3" and s.values()["friction.mu"] == "0.17"
+
+
+@pytest.mark.parametrize("key", ["friction.mu", "joint1.friction.mu", "joint2.friction.mu"])
+def test_a_friction_coefficient_is_bounded_as_a_faults_rise_is(key):
+    # (pass 37) 1e308 was accepted and overflowed the friction force to Inf at the first contact (exit 3)
+    with pytest.raises(gimbalsim.SceneError, match=r"must be in \[0, 10\], got 1e\+308"):
+        gimbalsim.load_scene(scene_path("paper_clearance"), {key: "1e308"})
+    assert gimbalsim.load_scene(scene_path("paper_clearance"), {key: "10"}).values()[key] == "10"
+

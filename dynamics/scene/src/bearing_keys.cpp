@@ -127,7 +127,9 @@ std::vector<BearingKey> bearingKeys(const Bearing& b) {
                                             {"ambrosio", FrictionLaw::Ambrosio},
                                             {"coulomb_stick", FrictionLaw::CoulombStick}}),
                  &CP::friction),
-      bearingKey(b, K::number(f + "mu", "-", w + "dynamic friction coefficient", field(contact, &CP::mu), atLeast(0)),
+      // at most 10, as a fault's friction_rise: a mu of 1e308 overflowed the friction force to Inf (pass 37)
+      bearingKey(b, K::number(f + "mu", "-", w + "dynamic friction coefficient", field(contact, &CP::mu),
+                              interval('[', 0, 10, ']')),
                  &CP::mu),
       bearingKey(b, K::number(f + "v_a", "m/s", w + "Ambrosio: no friction below this |v_t|", field(contact, &CP::v_a),
                               atLeast(0)),
