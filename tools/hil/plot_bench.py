@@ -30,7 +30,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
 from output_file import (Refused, arg_decimal, check_as_written, check_before_writing, check_figure_format,  # noqa: E402
-                         check_header, plain_number, run_script, savefig)  # the package's one writer
+                         check_header, plain_number, run_script, savefig, underflowed)  # the package's one writer
 
 FAULTS = [(1, "watchdog"), (2, "motor limit"), (4, "cmd rejected"), (8, "plant fault"), (16, "lockstep timeout")]
 # Scheduled fault kinds in the order of FaultKind (firmware_sim/include/gimbalsim/firmware_sim/fault_schedule.hpp):
@@ -66,8 +66,7 @@ def check_line(cells, header, where):
     for name, cell in zip(header, cells):
         text = cell.decode("utf-8", "replace")
         x = plain_number(text, f"{where}: column {name}")
-        lost = abs(x) < sys.float_info.min if x != 0 else re.search("[1-9]", re.split("[eE]", text)[0])
-        if lost:
+        if underflowed(text, x):
             raise Refused(f"{where}: column {name}: {text!r} underflows a double")
 
 

@@ -6,8 +6,8 @@ nor PYTHONPATH. Everything it offers is re-exported here: open_output,
 write_text, write_bytes, write_csv, savefig, check_outputs, OutputError
 (an OSError naming the file), and csv_number (the CSV convention's numbers).
 It also says how a script ends (run_script, Refused, check_before_writing)
-and how it reads what it is given (plain_number, check_header, check_as_written,
-check_figure_format)."""
+and how it reads what it is given (plain_number, underflowed, check_header,
+check_as_written, check_figure_format)."""
 import argparse
 import contextlib
 import errno
@@ -39,6 +39,7 @@ _console.keep_console()  # imported by a script: a reader gone stops nothing, it
 OutputError = _writer.OutputError
 check_outputs = _writer.check_outputs
 csv_number = _writer.csv_number
+underflowed = _number.underflowed
 
 open_output = _writer.open_output
 write_text = _writer.write_text

@@ -46,11 +46,9 @@ cmake --build "$BUILD" -j2 --target gimbalsim_controller_floor
 for a in "$@"; do
   case "$a" in -h | --help | --version) exec "$BUILD/bin/gimbalsim_controller_floor" "$a" ;; esac
 done
-made=()  # the folders this run makes, innermost first: removed again (if empty) when it ends refused
-for d in "$OUT" out; do [ -d "$d" ] || made+=("$d"); done
 out_folder run_controller_floor.sh "$OUT"
 LOG=$(mktemp)  # the console log, saved into $OUT by the writer's rules
-trap 'rc=$?; rm -f "$LOG"; [ "$rc" -eq 0 ] || [ "$rc" -eq 3 ] || rmdir ${made[@]+"${made[@]}"} 2>/dev/null || true' EXIT
+trap 'rc=$?; rm -f "$LOG"; out_folder_undo "$rc"' EXIT  # a refused run leaves no folder it made
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/floor.log" -- "$@"  # before any run
 status=0
 "$BUILD/bin/gimbalsim_controller_floor" ${IDEAL[@]+"${IDEAL[@]}"} ${CLEARANCE[@]+"${CLEARANCE[@]}"} \

@@ -37,12 +37,10 @@ status=0
 # The console log is tee'd outside --out and saved into it by the writer's rules once the study has written
 # its own outputs (tools/pages/save_output.py): --out is the study's to check and to make, never the script's.
 LOG=$(mktemp)
-made=()  # the default folders this run makes, innermost first: removed again (if empty) when it ends refused
 if [ "$NAMED" = 0 ]; then  # the script's own default folder; a named one must exist (usage.md "Output files")
-  for d in "$OUT" out; do [ -d "$d" ] || made+=("$d"); done
   out_folder run_pointing_study.sh "$OUT"
 fi
-trap 'rc=$?; rm -f "$LOG"; [ "$rc" -eq 0 ] || [ "$rc" -eq 3 ] || rmdir ${made[@]+"${made[@]}"} 2>/dev/null || true' EXIT
+trap 'rc=$?; rm -f "$LOG"; out_folder_undo "$rc"' EXIT  # a refused run leaves no folder it made
 # The log's name is checked before the study runs: a refused one costs no run and no output.
 if [ -d "$OUT" ]; then
   /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}
