@@ -284,9 +284,15 @@ def read_journal(spec, path, header):
     1-based line numbers in the file}), and whether the file can be appended
     to as it is. A last line without its newline (cut by an interruption) is
     dropped; a sample written twice counts once."""
-    done, dropped = {}, {}
+    done, dropped, appendable, _ = _read_rows(spec, path, header)
+    return done, dropped, appendable
+
+
+def _read_rows(spec, path, header):
+    """read_journal's answer and the 1-based line of each trusted row ({sample: line})."""
+    done, dropped, line_of = {}, {}, {}
     if not path.exists():
-        return done, dropped, False
+        return done, dropped, False, line_of
     if not path.is_file():  # a pipe would block the resume for good, a device feed it without end
         raise SpecError(f"{path}: not a regular file (a pipe, a device or a folder): a journal is only read from a "
                         f"file; use another --out")
@@ -299,7 +305,7 @@ def read_journal(spec, path, header):
     if torn:
         dropped["last line cut by an interruption"] = [len(lines) + 1]
     if not lines:  # killed before the header was whole: nothing was journaled
-        return done, dropped, False
+        return done, dropped, False, line_of
     if _parsed(lines[0]) != header:
         raise SpecError(f"{path} was written by another spec (its header differs); use another --out")
     rows = []
@@ -310,7 +316,7 @@ def read_journal(spec, path, header):
         else:
             rows.append((number, row))
     refuse_rows_beyond_the_record(path, spec, [row for _, row in rows], len(header))
-    line_of, twice = {}, set()  # a sample journaled twice, differently: neither row is trusted (the first stayed)
+    twice = set()  # a sample journaled twice, differently: neither row is trusted (the first stayed)
     for number, row in rows:
         why = check_row(spec, row, len(header))
         sample = int(row[0]) if why is None else None
@@ -326,7 +332,7 @@ def read_journal(spec, path, header):
             dropped.setdefault(why, []).append(number)
             continue
         done[sample], line_of[sample] = row, number
-    return done, dropped, not dropped
+    return done, dropped, not dropped, line_of
 
 
 def read_for_resume(spec, journal, results, header):
@@ -335,10 +341,10 @@ def read_for_resume(spec, journal, results, header):
     when results.csv is there too (a resume of a finished sweep, interrupted),
     its rows as well: a sample with two different rows, one in each file, is
     trusted in neither and runs again (pass 35: the journal's alone was kept)."""
-    done, dropped, appendable = read_journal(spec, journal, header)
+    done, dropped, appendable, line_of = _read_rows(spec, journal, header)
     if not results.exists():
         return done, [(journal, dropped)], appendable
-    done_r, dropped_r, _ = read_journal(spec, results, header)
+    done_r, dropped_r, _, line_of_r = _read_rows(spec, results, header)
     twice = [i for i, row in done_r.items() if i in done and done[i] != row]
     for i in twice:
         del done[i]
@@ -346,14 +352,7 @@ def read_for_resume(spec, journal, results, header):
     done.update(added)
     if twice:
         why = f"sample with two different rows, in {results.name} and {journal.name}"
-        dropped.setdefault(why, []).extend(_line_numbers(journal, twice))
-        dropped_r.setdefault(why, []).extend(_line_numbers(results, twice))
+        dropped.setdefault(why, []).extend(line_of[i] for i in twice)
+        dropped_r.setdefault(why, []).extend(line_of_r[i] for i in twice)
     return done, [(journal, dropped), (results, dropped_r)], appendable and not added and not twice
-
-
-def _line_numbers(path, samples):
-    """The 1-based lines of path whose sample index is one of samples."""
-    wanted = {str(i) for i in samples}
-    lines = path.read_bytes().decode("utf-8", errors="replace").split("\n")
-    return [n for n, line in enumerate(lines, 1) if n > 1 and line.split(",", 1)[0] in wanted]
 
