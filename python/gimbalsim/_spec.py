@@ -9,6 +9,7 @@ import stat
 import yaml
 
 from ._errors import SpecError  # defined beside the exit-code table (_errors.py)
+from ._number import underflowed
 
 
 class Node:
@@ -344,4 +345,11 @@ def _scalar(n):
     if not _FLOAT_RE.match(text):  # an explicit !!float on something else
         raise ValueError("not a number")
     special = {".inf": math.inf, "+.inf": math.inf, "-.inf": -math.inf, ".nan": math.nan}
-    return special.get(text.lower(), None) if text.lower() in special else float(text)
+    if text.lower() in special:
+        return special[text.lower()]
+    x = float(text)  # a number the text names and the double lost is refused as the scene loader refuses it
+    if not math.isfinite(x):
+        raise ValueError("it is beyond the largest double (1.8e308)")
+    if underflowed(text, x):
+        raise ValueError("it underflows a double: give 0 or a magnitude of at least 2.2e-308")
+    return x

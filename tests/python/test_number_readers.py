@@ -91,3 +91,26 @@ def test_a_flag_with_nothing_after_its_equals_sign_takes_no_other_argument(progr
     flag = next(a for a in args if a.endswith("="))
     assert p.returncode == 2 and f"{flag}: an empty value after the '='" in p.stderr, p.stderr
     assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("text", ["1e-400", "4e-320", "2e-310", "1e400", "-1e400", "1e-300", "2.5e-308", "0e-400",
+                                  "0.0", "+0.25", ".5"])
+def test_a_spec_number_is_read_as_a_scene_file_number(text, tmp_path):
+    # (pass 38) a sweep spec read `friction.mu: 1e-400` as 0 and ran it, where the scene file's `mu: 1e-400` is
+    # refused at its line: a number the text names and the double lost is no number (0 means "off")
+    from gimbalsim._spec import Spec, SpecError
+    scene = (SOURCE / "tools/scenes/paper_clearance.yaml").read_text().replace("  mu: 0.25\n", f"  mu: {text}\n")
+    (tmp_path / "s.yaml").write_text(scene)
+    p = subprocess.run([str(BIN / "gimbalsim"), "simulate", "s.yaml", "--set", "sim.duration=0.001", "--out", "o.csv"],
+                       cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    assert p.returncode in (0, 2), p.stderr
+    cpp = p.returncode == 0
+    assert cpp or "key 'friction.mu'" in p.stderr, p.stderr
+    (tmp_path / "spec.yaml").write_text(f"set: {{friction.mu: {text}}}\n")
+    try:
+        taken = Spec(tmp_path / "spec.yaml").root.value["set"].value["friction.mu"].value
+    except SpecError as e:
+        assert "spec.yaml:1:" in str(e) and f"'{text}'" in str(e), str(e)
+        taken = None
+    assert (taken is not None) == cpp, (text, taken, p.stderr)
+    assert taken is None or taken == float(text)
