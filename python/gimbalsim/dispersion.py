@@ -97,13 +97,14 @@ class Parameter:
         one narrower than 1e-12 of its ends (pass 36: a double's step) draws
         roundings of one: no tolerance anyone builds to."""
         a = self.args
-        if self.kind in ("uniform", "loguniform"):
-            return a[1] - a[0] > 1e-12 * max(abs(a[0]), abs(a[1]))
+        if self.kind in ("uniform", "loguniform", "normal"):  # a normal by the ends it draws between (pass 38)
+            lo, hi = normal_ends(a) if self.kind == "normal" else a
+            return hi - lo > 1e-12 * max(abs(lo), abs(hi))
         if self.kind == "choice":  # numbers alike to 12 digits are one value (pass 37: two a double's step apart)
             return len({json.dumps(_to_12_digits(v), sort_keys=True) for v in a}) > 1
         if self.kind == "disk" and "within" in a:  # the radius each value of the within key gives (check_within)
             return any(r > 0 for _, r in getattr(self, "reach", ()))
-        return self.kind == "normal" or a["radius"] > 0
+        return a["radius"] > 0
 
     def end_note(self, value):
         """For a refusal of one of its ends: which end a normal's value is
@@ -213,7 +214,7 @@ def _to_12_digits(v):
     """v with each number rounded to 12 significant digits (a choice's values compared for spread)."""
     if isinstance(v, list):
         return [_to_12_digits(x) for x in v]
-    return float(f"{v:.12g}") if _is_number(v) else v
+    return float(f"{v:.12g}") + 0.0 if _is_number(v) else v  # + 0.0: -0.0 is 0.0 (pass 38: it drew as a spread)
 
 
 def normal_ends(a):

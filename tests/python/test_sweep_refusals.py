@@ -125,6 +125,10 @@ BAD = [
      "a range of width 0 or narrower than 1e-12 of its ends"),
     ("parameters:\n  friction.mu: {choice: [2.0e-4, 2.0000000000000003e-4]}\n", "samples", 2,  # (pass 37)
      "each parameter takes one value"),
+    # (pass 38) 0.0 and -0.0 are one value; a normal spreads by the ends it draws between, as a range does
+    ("parameters:\n  friction.mu: {choice: [0.0, -0.0]}\n", "samples", 2, "each parameter takes one value"),
+    ("parameters:\n  contact.clearance: {normal: {mean: 2.0e-4, sd: 1.0e-18}}\n", "samples", 2,
+     "a range of width 0 or narrower than 1e-12 of its ends"),
     ("parameters:\n  contact.clearance: {uniform: [1.0e-4, 1.0e-4]}\n"
      "  initial.ecc: {disk: {within: contact.clearance, fraction: 0.0}}\n", "samples", 2,
      "each parameter takes one value"),
