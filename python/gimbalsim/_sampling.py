@@ -33,8 +33,10 @@ journal starts 1e-12 m away: tools/sweeps/unit_conditioning.py).
   changes the physics).
 
 Nothing is chosen when the spec itself sets or disperses a key the choice
-would change (the user asked for that stepping), or in open loop (its
-figures include contact forces the tolerance does not speak for).
+would change (the user asked for that stepping), on a spatial bearing when
+it disperses sim.step or sensors.antenna (set, their value decides), or in
+open loop (its figures include contact forces the tolerance does not speak
+for). Each "why" says what decided.
 """
 import gimbalsim
 
@@ -48,10 +50,11 @@ ADAPTIVE_TOL = "1e-9"    # sim.substep_tol of the adaptive policy (tests/python/
 SPATIAL_SUBSTEP_S = "8e-05"  # [s] a spatial joint 2's fixed sub-step (4x the shipped scene's 2e-5: 3x cheaper)
 
 
-def choose(mode, scene_values, given, closed):
+def choose(mode, scene_values, given, closed, varied=()):
     """(overrides, why): the scene overrides every sample steps with, and the
     sentence the report prints. scene_values: the base scene's values (as
-    text); given: the canonical keys the spec sets or disperses."""
+    text, the spec's set: in them); given: the canonical keys the spec sets
+    or disperses; varied: those it disperses (each sample's own value)."""
     if mode == "scene":
         return {}, "the scene's own stepping (sampling: scene)"
     if not closed:
@@ -70,10 +73,18 @@ def choose(mode, scene_values, given, closed):
                            f"{TOLERANCE_RAD:g} rad but 47 of 13308 (at most 2.7e-6, 32 of them ill-defined; "
                            "docs/results/budget_speed.md); "
                            "sampling: scene keeps the scene's")
-    if (j1 == "ideal" and j2 == "spatial" and law == "coulomb" and policy == "fixed"
-            and scene_values.get("sensors.antenna") == "none" and not {"sensors.antenna", "sim.step"} & set(given)
-            and float(scene_values.get("sim.substep", "0")) < float(SPATIAL_SUBSTEP_S)
-            and float(scene_values.get("sim.step", "0")) >= float(SPATIAL_SUBSTEP_S)):  # a sub-step fits a step
+    if j1 == "ideal" and j2 == "spatial" and law == "coulomb" and policy == "fixed":
+        # the base's values are the samples' unless dispersed (pass 38: a sim.step set to the scene's own kept it)
+        own = "the scene's own stepping (a spatial joint 2 with Coulomb friction: "
+        if {"sensors.antenna", "sim.step"} & set(varied):
+            keys = ", ".join(sorted({"sensors.antenna", "sim.step"} & set(varied)))
+            return {}, own + f"the spec disperses {keys}; the {SPATIAL_SUBSTEP_S} s sub-step is judged at one)"
+        if scene_values.get("sensors.antenna") != "none":
+            return {}, own + "the loop at the antenna, where no cheaper setting has been judged)"
+        if float(scene_values.get("sim.substep", "0")) >= float(SPATIAL_SUBSTEP_S):
+            return {}, own + f"its sim.substep is no finer than {SPATIAL_SUBSTEP_S} s)"
+        if float(scene_values.get("sim.step", "0")) < float(SPATIAL_SUBSTEP_S):  # a sub-step fits in a step
+            return {}, own + f"its sim.step is finer than the {SPATIAL_SUBSTEP_S} s sub-step)"
         overrides = {"sim.substep": SPATIAL_SUBSTEP_S}
         return overrides, (f"a spatial joint 2 with Coulomb friction, the loop on the encoders, steps with fixed "
                            f"sub-steps of {SPATIAL_SUBSTEP_S} s: the shipped spatial budget's indices within a 5 us "
@@ -84,15 +95,17 @@ def choose(mode, scene_values, given, closed):
                 "no cheaper setting has been judged there)")
 
 
-def apply(spec, root, base, given, closed):
+def apply(spec, root, base, given, closed, varied=()):
     """(base, sampling): the spec's `sampling:` read (refused at its line
     unless a mode), its choice made, and the base scene with its overrides;
-    sampling = {"mode", "overrides", "why"} for the summary and the report."""
+    sampling = {"mode", "overrides", "why"} for the summary and the report.
+    given: the keys the spec sets or disperses; varied: those it disperses."""
     mode = spec.text("sampling", root["sampling"]) if "sampling" in root else "auto"
     if mode not in MODES:
         spec.refuse("sampling", f"expected {' or '.join(MODES)}, got {mode!r}", root["sampling"])
     aliases = gimbalsim.key_aliases()
-    overrides, why = choose(mode, base.values(), {aliases.get(k, k) for k in given}, closed)
+    overrides, why = choose(mode, base.values(), {aliases.get(k, k) for k in given}, closed,
+                            {aliases.get(k, k) for k in varied})
     if overrides:
         try:
             return base.replace(overrides), {"mode": mode, "overrides": overrides, "why": why}

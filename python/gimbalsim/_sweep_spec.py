@@ -117,7 +117,7 @@ class SweepSpec:
             spec.refuse(f"set.{e.key}" if node else "scene", str(e), node or root["scene"])
         # the stepping every sample takes (_sampling.py), the base scene with its overrides
         self.base, self.sampling = _sampling.apply(spec, root, self.base, [*self.set, *params, *grid],
-                                                   "controller" in root)
+                                                   "controller" in root, varied=[*params, *grid])
         # closed loop: controller keys are dispersed as controller.<key>, never confused with the scene's
         self.closed = None
         if "controller" in root:

@@ -86,7 +86,8 @@ class TuneSpec:
         except gimbalsim.SceneError as e:
             spec.refuse(f"set.{e.key}" if e.key in sets else "scene", str(e), sets.get(e.key, root["scene"]))
         plant_keys = spec.mapping("plants", root["plants"]) if "plants" in root else {}
-        self.base, self.sampling = _sampling.apply(spec, root, self.base, [*sets, *plant_keys], closed=True)
+        self.base, self.sampling = _sampling.apply(spec, root, self.base, [*sets, *plant_keys], closed=True,
+                                                   varied=plant_keys)
         ctrl_types = {k["key"]: k["type"] for k in gimbalsim.controller_keys()}
         csets = spec.known_mapping("controller_set", ctrl_types, "controller (see `pointing_controller --keys`)")
         self.controller_set = {k: spec.value(f"controller_set.{k}", n) for k, n in csets.items()}

@@ -79,6 +79,25 @@ def test_auto_coarsens_a_spatial_joint_2_on_the_encoders_only(tmp_path):
     assert _sampling.choose("auto", coarser, set(), closed=True)[0] == {}
 
 
+def test_a_spatial_step_the_spec_gives_is_judged_by_its_value(tmp_path):
+    # (pass 38) any spec naming sim.step kept the scene's 2e-5 s sub-step, its scene's own 1e-3 s included, and
+    # said "no cheaper setting has been judged there": its value decides, and the reason says what decided
+    spatial = BUDGET.replace("paper_clearance.yaml", "paper_spatial2.yaml")
+    for name, step, overrides, why in [
+            ("own", "1.0e-3", {"sim.substep": "8e-05"}, "steps with fixed sub-steps of 8e-05 s"),
+            ("coarse", "5.0e-4", {"sim.substep": "8e-05"}, "steps with fixed sub-steps of 8e-05 s"),
+            ("fine", "5.0e-5", {}, "its sim.step is finer than the 8e-05 s sub-step")]:
+        text = spatial.replace("set: {sim.duration: 5.0}", f"set: {{sim.duration: 5.0, sim.step: {step}}}")
+        sampling = _spec(tmp_path, text, f"{name}.yaml").sampling
+        assert sampling["overrides"] == overrides and why in sampling["why"], (name, sampling)
+    text = spatial + "grid:\n  sim.step: [5.0e-4, 1.0e-3]\n"
+    sampling = _spec(tmp_path, text, "grid.yaml").sampling
+    assert sampling["overrides"] == {} and "the spec disperses sim.step" in sampling["why"], sampling
+    text = spatial.replace("set: {sim.duration: 5.0}", "set: {sim.duration: 5.0, sensors.antenna: tracker_gyro}")
+    sampling = _spec(tmp_path, text, "tracker.yaml").sampling
+    assert sampling["overrides"] == {} and "the loop at the antenna" in sampling["why"], sampling
+
+
 def test_a_sampling_mode_not_known_is_refused_at_its_line(tmp_path):
     text = BUDGET + "sampling: fast\n"
     spec = write_spec(tmp_path, text)
