@@ -66,6 +66,7 @@ def test_bad_arguments_are_refused_before_anything_runs(tmp_path):
     (tmp_path / "policy.yaml").write_text(f"scene: {SOURCE}/tools/scenes/paper_clearance.yaml\n"
                                           "set: {sim.substep_policy: adaptive}\ncontroller: default\nsamples: 2\n"
                                           "seed: 1\nparameters:\n  friction.mu: {uniform: [0.15, 0.35]}\n")
+    (tmp_path / "two.yaml").write_text(slew_spec(samples=2))
     (tmp_path / "theirs").mkdir()
     (tmp_path / "theirs" / "notes.txt").write_text("the user's\n")
     (tmp_path / "link").symlink_to(tmp_path / "theirs")
@@ -85,13 +86,14 @@ def test_bad_arguments_are_refused_before_anything_runs(tmp_path):
                         (["--fine-substep", "5_0e-6"], "not a finite decimal"),
                         (["--fine-substep", "1e-400"], "too small for a double"),
                         (["--out", tmp_path / "theirs"], "holds notes.txt"),
-                        (["--out", tmp_path / "link"], "symbolic link")):
+                        (["--out", tmp_path / "link"], "symbolic link"),
+                        (["--spec", tmp_path / "two.yaml", "--samples", "3"], "has 2 samples; give at most that")):
         out = [] if "--out" in args or "--results" in args else ["--out", tmp_path / "o"]
         p = run(*([] if "--results" in args else ["--samples", "2"]), *out, *args)
         assert p.returncode == 2 and words in p.stderr and "Traceback" not in p.stderr, (args, p.stderr)
         assert "running default" not in p.stderr, args
     assert sorted(x.name for x in tmp_path.iterdir()) == ["bad.yaml", "broken.yaml", "grid.yaml", "link", "open.yaml",
-                                                          "policy.yaml", "theirs"]
+                                                          "policy.yaml", "theirs", "two.yaml"]
     assert (tmp_path / "theirs" / "notes.txt").read_text() == "the user's\n"
 
 
@@ -103,7 +105,11 @@ def test_a_budget_with_no_figure_compares_nothing_and_says_so(tmp_path):
     assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
     assert "| ape_slew | n/a (no unit has a figure) | n/a (no unit has a figure) |" in p.stdout, p.stdout
     assert "n/a (no unit has a figure in either run)" in p.stdout
-    assert "Every unit within the tolerance of its fine figure: no (ape_slew (2 units, none with a figure))." in p.stdout
+    # (pass 38) no verdict over no figure: it said "no (ape_slew (2 units, none with a figure))"
+    assert "| ape_slew | n/a (no unit has a figure) | n/a (no unit has a figure) | [open, open] | n/a (no unit has a " \
+        "figure) |" in p.stdout, p.stdout
+    for line in ("Every index within the fine run's interval", "Every unit within the tolerance of its fine figure"):
+        assert f"{line}: n/a for ape_slew (no unit has a figure in either run)." in p.stdout, p.stdout
     assert sorted(x.name for x in tmp_path.iterdir()) == ["out", "stopped.yaml"]  # no temporary left
 
 

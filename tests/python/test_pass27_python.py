@@ -248,3 +248,7 @@ def test_an_open_upper_end_says_which_of_its_two_causes_it_has():
                                      "95 % confidence (at least 1109)")
     missing = {**few, "n": 2000, "n_missing": 500}
     assert "500 of 2000 units have no figure, and a unit without one counts as worst" in _until._open_end(missing)
+    # (pass 38) four units, none with a figure, were said to be "too few" (their number was not the cause)
+    none = {**few, "n": 4, "n_missing": 4}
+    assert _until._open_end(none) == ("the interval has no upper end: none of the 4 units has a figure, and a unit "
+                                      "without one counts as worst")

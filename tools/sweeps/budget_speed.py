@@ -132,9 +132,16 @@ def compare(spec, budget_default, budget_fine, rows_default, rows_fine, toleranc
                       # units for the level and confidence) bounds nothing: no verdict
                       "judged": math.isfinite(low) or math.isfinite(high),
                       "inside": math.isfinite(est_a) and low <= est_a <= high, "worst": worst,
-                      "worst_unit": worst_unit, "compared": bool(diffs),
-                      "beyond": [u for d, u in diffs if d > tol] if diffs else list(units)})  # nothing compared
+                      "worst_unit": worst_unit, "compared": bool(diffs),  # no unit with a figure: no verdict
+                      "beyond": [u for d, u in diffs if d > tol]})
     return found
+
+
+def _within_text(c):
+    """The table's "within" cell: no verdict over no figure or an interval that bounds nothing."""
+    if not c["compared"]:
+        return "n/a (no unit has a figure)"
+    return "n/a (open at both ends: too few units)" if not c["judged"] else "yes" if c["inside"] else "**no**"
 
 
 def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine_spec, most_probed):
@@ -178,21 +185,24 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
     for c in found:
         print(f"| {c['key']} | {show(c['est_a'], 'n/a (no unit has a figure)')} | "
               f"{show(c['est_f'], 'n/a (no unit has a figure)')} | [{show(c['low'])}, {show(c['high'])}] | "
-              f"{'n/a (open at both ends: too few units)' if not c['judged'] else 'yes' if c['inside'] else '**no**'}"
+              f"{_within_text(c)}"
               f" | {_distance_text(c['worst'], c['worst_unit'])} | {c['tol']:.0e} | {len(c['beyond'])} | "
               f"{len(ill[c['key']])} |")
-    outside = [c["key"] for c in found if c["judged"] and not c["inside"]]
-    unjudged = [c["key"] for c in found if not c["judged"]]
-    beyond = [f"{c['key']} ({len(c['beyond'])} units" + (")" if c["compared"] else ", none with a figure)")
-              for c in found if c["beyond"]]
+    outside = [c["key"] for c in found if c["compared"] and c["judged"] and not c["inside"]]
+    unjudged = [c["key"] for c in found if c["compared"] and not c["judged"]]
+    beyond = [f"{c['key']} ({len(c['beyond'])} units)" for c in found if c["beyond"]]
+    nothing = [c["key"] for c in found if not c["compared"]]
     held_to = [f"{k} ({len(v[1])} of {len(v[0]) + len(v[1]) + len(v[2])})" for k, v in judged.items() if v[1]]
     not_judged = [f"{k} ({len(v[2])})" for k, v in judged.items() if v[2]]
     within = "no (" + ", ".join(outside) + ")" if outside else \
         f"n/a for {', '.join(unjudged)} (intervals open at both ends: too few units for the level and confidence)" \
         if unjudged else "yes"
+    unit = "no (" + ", ".join(beyond) + ")" if beyond else "yes"
+    if nothing:  # no verdict over no figure (pass 37: a "no" over units none of which had one)
+        none = f"n/a for {', '.join(nothing)} (no unit has a figure in either run)"
+        within, unit = ((none, none) if len(nothing) == len(found) else (f"{within}; {none}", f"{unit}; {none}"))
     print(f"\nEvery index within the fine run's interval: {within}."
-          f"\nEvery unit within the tolerance of its fine figure: "
-          f"{'yes' if not beyond else 'no (' + ', '.join(beyond) + ')'}.")
+          f"\nEvery unit within the tolerance of its fine figure: {unit}.")
     if beyond:
         cut = f" (the first {most_probed} of {len(probed)} units nudged)" if len(probed) > most_probed else ""
         reasons = sorted({v for v in spread.values() if isinstance(v, str)})
@@ -202,6 +212,8 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
               f"{'; units no nudge could judge (no figure in any run, or none made): ' if not_judged else ''}"
               f"{', '.join(not_judged)}"
               f"{'; not nudged: ' + '; '.join(reasons) if reasons else ''}.")
+    if len(nothing) == len(found):
+        return ratio, "not judged (no unit has a figure)"
     return ratio, ("held" if not (outside or unjudged or beyond) else
                    "moved only where ill-defined" if not (outside or unjudged or held_to or not_judged) else "moved")
 

@@ -45,7 +45,9 @@ def derived_specs(spec_path, samples, fine_substep):
     for key, path in given.items():
         plain[key] = str(pathlib.Path(path).resolve())
     if samples is not None:
-        plain["samples"] = min(samples, user.samples)
+        if samples > user.samples:  # (pass 38) it ran the spec's 2 units for --samples 4, silently
+            raise Refused(f"--samples {samples}: {spec_path} has {user.samples} samples; give at most that")
+        plain["samples"] = samples
     fine = {**plain, "sampling": "scene",
             "set": {**(plain.get("set") or {}), "sim.substep": fine_substep, "sim.substep_policy": "fixed"}}
     return plain, {name: "".join(f"{json.dumps(k)}: {_yaml(v)}\n" for k, v in x.items())
