@@ -22,7 +22,7 @@ Usage:
   /usr/bin/python3 tools/sweeps/budget_speed.py [--build build] [--workers 2] [--spec SPEC]
       [--samples N] [--fine-substep 5e-6] [--nudge N] [--out DIR] [--results]
 
---samples N runs only the spec's first N units (a quick look; the page is
+--samples N runs only the spec's first N of its samples (a quick look; the page is
 for the whole spec). --nudge N nudges at most N units (default 200).
 --results also writes the shipped budget's page (tools/pages/results_page.py):
 docs/results/budget_speed.md for tools/sweeps/pointing_budget.yaml,
