@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <utility>
 
@@ -52,7 +53,26 @@ std::vector<std::string> coordinateNamesV(const Model& m) {
 
 std::string describeStop(const Model& m, const StepResult& st) {
   std::ostringstream os;
-  os << "simulation stopped at t = " << st.time << " s: " << describe(st.status);
+  os << "simulation stopped at t = " << st.time << " s: " << describeStopCause(m, st);
+  return os.str();
+}
+
+std::string describeStopWhen(double last_good_s, const StepResult& st) {
+  // %.6g, as plot_bench and torque_replay read the truth CSV: a step that fails inside the control period
+  // leaves the state a sub-step on (0.02804 s), which %.3f printed as the tick before it (pass 37)
+  char text[160];
+  if (st.time > last_good_s) {
+    std::snprintf(text, sizeof text, "%.6g s, its last good state (its step to t = %.6g s failed)", last_good_s,
+                  st.time);
+  } else {
+    std::snprintf(text, sizeof text, "%.6g s, its last good state (a sub-step from it failed)", last_good_s);
+  }
+  return text;
+}
+
+std::string describeStopCause(const Model& m, const StepResult& st) {
+  std::ostringstream os;
+  os << describe(st.status);
   const auto qn = coordinateNamesQ(m);
   const auto vn = coordinateNamesV(m);
   if (st.v_index >= 0 && st.v_index < static_cast<int>(vn.size())) os << " (in " << vn[st.v_index] << ")";

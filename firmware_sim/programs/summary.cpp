@@ -49,7 +49,7 @@ void printExitSummary(const Run& r, const Outcome& out) {
               r.report.compute_seconds, speed(sim_s, r.report.compute_seconds).c_str());
   if (out.plant_fault) {  // the ticks ran on; the plant did not (reportPlantFault says why)
     std::printf("  the plant stopped after t = %s: the ticks after it held that state and are in no figure below\n",
-                stopText(out).c_str());
+                describeStopWhen(out.last_good_s, out.plant).c_str());
   }
   const PointingErrorStats& pe = r.report.pointing;
   if (pe.n > 0) {
@@ -142,29 +142,14 @@ void printExitSummary(const Run& r, const Outcome& out) {
   std::fflush(stdout);
 }
 
-std::string stopText(const Outcome& out) {
-  // %.6g, as plot_bench and torque_replay read the truth CSV: a step that fails inside the control period
-  // leaves the state a sub-step on (0.02804 s), which %.3f printed as the tick before it (pass 37)
-  char text[160];
-  if (out.plant.time > out.last_good_s) {
-    std::snprintf(text, sizeof text, "%.6g s, its last good state (its step to t = %.6g s failed)", out.last_good_s,
-                  out.plant.time);
-  } else {
-    std::snprintf(text, sizeof text, "%.6g s, its last good state (a sub-step from it failed)", out.last_good_s);
-  }
-  return text;
-}
-
 int reportPlantFault(const Model& m, const Outcome& out) {
   if (!out.plant_fault) return kExitOk;
   // The one message of a stopped step, its time said as every reader of the run says it (the last good
   // state, pass 35: "stopped at t = 0.16 s" beside the summary's 0.159 s).
-  const std::string stop = describeStop(m, out.plant);
-  const std::size_t colon = stop.find(": ");
   std::fprintf(stderr,
                "firmware_sim: PLANT FAULT, the plant stopped after t = %s: %s; the state was frozen there and every "
                "later status carried FAULT_PLANT_FAULT\n",
-               stopText(out).c_str(), colon == std::string::npos ? stop.c_str() : stop.c_str() + colon + 2);
+               describeStopWhen(out.last_good_s, out.plant).c_str(), describeStopCause(m, out.plant).c_str());
   return kExitPlantFault;
 }
 

@@ -22,9 +22,6 @@ Outcome outcomeOf(const Firmware<V>& fw) {
   return {fw.ticks(), fw.counters(), fw.plantFault(), fw.plantResult(), fw.state().t};
 }
 
-/// "T s, its last good state (its step to t = T' s failed)": the stop as every reader of the run names it.
-std::string stopText(const Outcome& out);
-
 /// The summary on stdout (docs/bench.md "The exit summary").
 void printExitSummary(const Run& r, const Outcome& out);
 

@@ -234,6 +234,8 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
       r.ok = false;
       r.stop_status = fw.plantStatus();
       r.error = describeStop(ps.scene.model, fw.plantResult());  // the one message of a stopped step
+      r.plant_stop = "the plant stopped after t = " + describeStopWhen(fw.state().t, fw.plantResult()) + ": " +
+                     describeStopCause(ps.scene.model, fw.plantResult());
       fig.finish(r);
       return r;
     }

@@ -92,7 +92,7 @@ Row runOne(const firmware::PlantScene& ps, const ControllerConfig& c, double dur
   if (!r.track_why.empty()) r.track = r.joint_track = r.attitude_track = Stat{};
   if (!r.after_slew_why.empty()) r.after_slew = Stat{};
   r.ok = res.ok;
-  r.why = res.error;
+  r.why = res.stopReason();  // a plant's stop at its last good state, as the study and the bench name it
   return r;
 }
 

@@ -91,16 +91,7 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   s.interrupted = r.interrupted;
   if (!r.ok) {
     s.stop_key = stopKey(r);
-    s.reason = r.error;
-    // A plant's stop named at its last good state, as every reader of a bench run names it (bench.md, pass 36)
-    const std::string head = "simulation stopped at t = ";
-    if (const std::size_t colon = r.error.find(" s: "); r.error.rfind(head, 0) == 0 && colon != std::string::npos) {
-      char when[128];  // as firmware_sim's PLANT FAULT line prints them
-      std::snprintf(when, sizeof when,
-                    "the plant stopped after t = %.6g s, its last good state (its step to t = %.6g s failed): ",
-                    r.t_end, std::strtod(r.error.c_str() + head.size(), nullptr));
-      s.reason = when + r.error.substr(colon + 4);
-    }
+    s.reason = r.stopReason();  // as every reader of a bench run names it
   }
   return s;
 }

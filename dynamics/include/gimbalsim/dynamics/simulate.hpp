@@ -22,8 +22,16 @@ std::vector<std::string> coordinateNamesV(const Model& m);
 
 /// The one message of a failed step, for every driver (simulate, the closed
 /// loop, Python): when, why, in which coordinate, and the figures of the
-/// limit it broke.
+/// limit it broke ("simulation stopped at t = T s: " + describeStopCause).
 std::string describeStop(const Model& m, const StepResult& st);
+
+/// describeStop without its time: why, in which coordinate, the limit's figures.
+std::string describeStopCause(const Model& m, const StepResult& st);
+
+/// When a driver that keeps its last good state (the bench, the closed loop)
+/// stopped, as every reader of its run says it (%.6g): "0.02804 s, its last
+/// good state (a sub-step from it failed)" or "(its step to t = 0.029 s failed)".
+std::string describeStopWhen(double last_good_s, const StepResult& st);
 
 /// Why the reference integrator cannot run m, or "" when it can: plain
 /// Coulomb friction on a bearing with play flips sign where no adaptive step

@@ -92,6 +92,11 @@ struct ClosedLoopResult {
   std::string error;               ///< why the plant stopped (StepStatus), the run was refused or interrupted, if !ok
   bool interrupted = false;        ///< ClosedLoopOptions::stop_requested ended it (!ok, t_end where)
   StepStatus stop_status = StepStatus::Ok;  ///< the plant's step status when it stopped
+  /// When the plant stopped, as the bench says it: "the plant stopped after t = " describeStopWhen ": "
+  /// describeStopCause (its last good state's time, not error's failed step); empty if it did not.
+  std::string plant_stop;
+  /// Why the run ended !ok, as a study names it: plant_stop when the plant stopped, else error.
+  const std::string& stopReason() const noexcept { return plant_stop.empty() ? error : plant_stop; }
   double t_end = 0.0;              ///< [s]
   /// [s] after the slew's end until max |joint error| stays below settle_tol
   /// for the rest of the hold; NaN with settle_reason if it never does before
