@@ -5,6 +5,7 @@ import os
 import pathlib
 import re
 import stat
+import sys
 
 import yaml
 
@@ -341,7 +342,10 @@ def _scalar(n):
     if n.tag == "tag:yaml.org,2002:int":
         if not _INT_RE.match(text):
             raise ValueError("not a whole number")
-        return int(text)
+        n = int(text)  # (pass 39) one past any double ended in math's OverflowError, a traceback
+        if abs(n) > sys.float_info.max:
+            raise ValueError("it is beyond the largest double (1.8e308)")
+        return n
     if not _FLOAT_RE.match(text):  # an explicit !!float on something else
         raise ValueError("not a number")
     special = {".inf": math.inf, "+.inf": math.inf, "-.inf": -math.inf, ".nan": math.nan}
