@@ -284,15 +284,16 @@ def read_journal(spec, path, header):
     1-based line numbers in the file}), and whether the file can be appended
     to as it is. A last line without its newline (cut by an interruption) is
     dropped; a sample written twice counts once."""
-    done, dropped, appendable, _ = _read_rows(spec, path, header)
+    done, dropped, appendable, _, _ = _read_rows(spec, path, header)
     return done, dropped, appendable
 
 
 def _read_rows(spec, path, header):
-    """read_journal's answer and the 1-based line of each trusted row ({sample: line})."""
-    done, dropped, line_of = {}, {}, {}
+    """read_journal's answer, the 1-based line of each trusted row ({sample: line}) and the samples the file
+    holds twice, differently (trusted in no file)."""
+    done, dropped, line_of, twice = {}, {}, {}, set()
     if not path.exists():
-        return done, dropped, False, line_of
+        return done, dropped, False, line_of, twice
     if not path.is_file():  # a pipe would block the resume for good, a device feed it without end
         raise SpecError(f"{path}: not a regular file (a pipe, a device or a folder): a journal is only read from a "
                         f"file; use another --out")
@@ -305,7 +306,7 @@ def _read_rows(spec, path, header):
     if torn:
         dropped["last line cut by an interruption"] = [len(lines) + 1]
     if not lines:  # killed before the header was whole: nothing was journaled
-        return done, dropped, False, line_of
+        return done, dropped, False, line_of, twice
     if _parsed(lines[0]) != header:
         raise SpecError(f"{path} was written by another spec (its header differs); use another --out")
     rows = []
@@ -316,7 +317,7 @@ def _read_rows(spec, path, header):
         else:
             rows.append((number, row))
     refuse_rows_beyond_the_record(path, spec, [row for _, row in rows], len(header))
-    twice = set()  # a sample journaled twice, differently: neither row is trusted (the first stayed)
+    # a sample journaled twice, differently (twice): neither row is trusted (the first stayed)
     for number, row in rows:
         why = check_row(spec, row, len(header))
         sample = int(row[0]) if why is None else None
@@ -332,7 +333,7 @@ def _read_rows(spec, path, header):
             dropped.setdefault(why, []).append(number)
             continue
         done[sample], line_of[sample] = row, number
-    return done, dropped, not dropped, line_of
+    return done, dropped, not dropped, line_of, twice
 
 
 def read_for_resume(spec, journal, results, header):
@@ -340,19 +341,22 @@ def read_for_resume(spec, journal, results, header):
     whether the journal can be appended to as it is). The journal's rows and,
     when results.csv is there too (a resume of a finished sweep, interrupted),
     its rows as well: a sample with two different rows, one in each file, is
-    trusted in neither and runs again (pass 35: the journal's alone was kept)."""
-    done, dropped, appendable, line_of = _read_rows(spec, journal, header)
+    trusted in neither and runs again (pass 35: the journal's alone was kept),
+    and so is a sample one file holds twice, differently (pass 39: the other
+    file's row was kept unchecked while the message said the sample runs again)."""
+    done, dropped, appendable, line_of, twice_j = _read_rows(spec, journal, header)
     if not results.exists():
         return done, [(journal, dropped)], appendable
-    done_r, dropped_r, _, line_of_r = _read_rows(spec, results, header)
-    twice = [i for i, row in done_r.items() if i in done and done[i] != row]
-    for i in twice:
-        del done[i]
-    added = {i: row for i, row in done_r.items() if i not in done and i not in twice}
+    done_r, dropped_r, _, line_of_r, twice_r = _read_rows(spec, results, header)
+    differ = {i for i, row in done_r.items() if i in done and done[i] != row}
+    untrusted_j, untrusted_r = differ | (twice_r & done.keys()), differ | (twice_j & done_r.keys())
+    why = f"sample with two different rows, in {results.name} and {journal.name}"
+    for rows, lines, lost, untrusted, there in ((done, line_of, dropped, untrusted_j, results),
+                                                (done_r, line_of_r, dropped_r, untrusted_r, journal)):
+        for i in sorted(untrusted):
+            lost.setdefault(why if i in differ else f"sample held twice, differently, in {there.name}",
+                            []).append(lines[i])
+            del rows[i]
+    added = {i: row for i, row in done_r.items() if i not in done}
     done.update(added)
-    if twice:
-        why = f"sample with two different rows, in {results.name} and {journal.name}"
-        dropped.setdefault(why, []).extend(line_of[i] for i in twice)
-        dropped_r.setdefault(why, []).extend(line_of_r[i] for i in twice)
-    return done, [(journal, dropped), (results, dropped_r)], appendable and not added and not twice
-
+    return done, [(journal, dropped), (results, dropped_r)], appendable and not added and not untrusted_j

@@ -183,6 +183,29 @@ def test_resume_reads_results_csv_beside_the_journal(closed_sweep, tmp_path):
     assert json.loads((out / "summary.json").read_text())["journal_rows_dropped"] == {why: 2}
 
 
+@pytest.mark.parametrize("twice_in", ["results.partial.csv", "results.csv"])
+def test_a_sample_one_file_holds_twice_is_trusted_in_neither(closed_sweep, tmp_path, twice_in):
+    """(pass 39) One file held sample 0 twice, differently, the other a third row for it: the two were dropped
+    ("their samples run again"), the third kept unchecked, and nothing ran again."""
+    reference = read(closed_sweep / "ref" / "results.csv")
+    header = reference[0]
+    a = header.index("ape_track_rad")
+    out = tmp_path / "out"
+    shutil.copytree(closed_sweep / "ref", out)
+    edited, other = list(reference[1]), list(reference[1])
+    edited[a], other[a] = "0.25", "0.5"  # figures the sweep could write, neither sample 0's
+    once_in = "results.csv" if twice_in == "results.partial.csv" else "results.partial.csv"
+    (out / twice_in).write_text("".join(",".join(r) + "\n" for r in [header, reference[1], other] + reference[2:]))
+    (out / once_in).write_text("".join(",".join(r) + "\n" for r in [header, edited] + reference[2:]))
+    p = sweep(closed_sweep / "spec.yaml", "--out", out, "--workers", "1", "--resume")
+    assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
+    assert f"(sample held twice, differently, in {twice_in}) at {out / once_in} line 2;" in p.stderr, p.stderr
+    assert "6 samples, 5 already done, 1 to run" in p.stderr, p.stderr  # sample 0 runs again
+    w = header.index("wall_time_s")
+    again = read(out / "results.csv")
+    assert [r[:w] + r[w + 1:] for r in again] == [r[:w] + r[w + 1:] for r in reference]
+
+
 def test_a_row_journaled_twice_alike_counts_once_and_is_said_so(closed_sweep, tmp_path):
     # (pass 36) the message said "their samples run again" for a row kept once, nothing run again
     reference = read(closed_sweep / "ref" / "results.csv")
