@@ -63,6 +63,7 @@ cmake --build "$BUILD" -j2 --target gimbalsim
 SIM=$BUILD/bin/gimbalsim
 OUT=out/paper
 out_folder run_paper.sh "$OUT/plots"
+trap 'out_folder_undo' EXIT  # a refused simulation leaves no folder it made
 
 echo "== [3/4] simulations${SETS[*]:+ (overrides: ${SETS[*]})}"
 "$SIM" simulate tools/scenes/paper_ideal.yaml ${SETS[@]+"${SETS[@]}"} \
@@ -73,7 +74,7 @@ echo "== [3/4] simulations${SETS[*]:+ (overrides: ${SETS[*]})}"
   --out "$OUT/spatial.csv" --summary "$OUT/spatial.json"
 
 echo "== [4/4] plots"
-LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT
+LOG=$(mktemp) && trap 'rm -f "$LOG"; out_folder_undo' EXIT
 /usr/bin/python3 tools/paper/plot_paper.py \
   --ideal "$OUT/ideal.csv" --clearance "$OUT/clearance.csv" \
   --ideal-summary "$OUT/ideal.json" --clearance-summary "$OUT/clearance.json" \

@@ -215,3 +215,24 @@ def test_the_study_page_says_why_a_figure_is_missing(tmp_path):
     page = (repo / "docs/results/closed_loop_clearance.md").read_text()
     assert "nan" not in page.lower().replace("nanosec", ""), page
     assert "no run has a figure while tracking" in page
+
+
+def test_run_stress_refused_by_its_program_leaves_no_folder_it_made(tmp_path):
+    # (pass 39) out/ and out/stress were made before gimbalsim_stress refused --duration -1 (exit 2), and stayed
+    repo = _repository_copy(tmp_path)
+    (repo / "build" / "bin").mkdir(parents=True)
+    (repo / "build" / "CMakeCache.txt").write_text("")
+    (repo / "build" / "bin" / "gimbalsim_stress").symlink_to(BIN / "gimbalsim_stress")
+    fake = tmp_path / "fakebin"
+    fake.mkdir()
+    (fake / "cmake").write_text("#!/bin/sh\nexit 0\n")
+    (fake / "cmake").chmod(0o755)
+    env = dict(os.environ, PATH=f"{fake}:{os.environ['PATH']}")
+    p = subprocess.run(["bash", str(repo / "tools/stress/run_stress.sh"), "--duration", "-1"], cwd=tmp_path,
+                       env=env, capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2 and "--duration" in p.stderr, p.stderr
+    assert not (repo / "out").exists()
+    (repo / "out").mkdir()  # a folder that was there is the user's: kept
+    p = subprocess.run(["bash", str(repo / "tools/stress/run_stress.sh"), "--duration", "-1"], cwd=tmp_path,
+                       env=env, capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2 and (repo / "out").is_dir() and not list((repo / "out").iterdir()), p.stderr

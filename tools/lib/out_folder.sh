@@ -2,8 +2,8 @@
 # own output folder (out/<tool>/), or refuses (exit 2, nothing run) when a
 # file is in its way, as a program refuses an output it cannot write; mkdir's
 # bare "Not a directory" was exit 1, which usage.md calls a bug.
-# out_folder_undo RC, from the script's EXIT trap, removes again (if empty) the
-# folders out_folder made when the run ended refused: a refused run costs nothing.
+# out_folder_undo, from the script's EXIT trap, removes again the folders
+# out_folder made that are still empty: a refused run costs nothing.
 OUT_FOLDER_MADE=()  # the folders out_folder made, innermost first
 
 out_folder() {
@@ -19,7 +19,8 @@ out_folder() {
   mkdir -p "$dir"
 }
 
-# Exit 0 and 3 (a plant stopped) wrote their outputs into the folders; any other code keeps none of them.
+# A folder holding a run's outputs is not empty, and rmdir leaves it (pass 39: run_stress.sh left out/stress).
 out_folder_undo() {
-  [ "$1" -eq 0 ] || [ "$1" -eq 3 ] || rmdir ${OUT_FOLDER_MADE[@]+"${OUT_FOLDER_MADE[@]}"} 2>/dev/null || true
+  local d
+  for d in ${OUT_FOLDER_MADE[@]+"${OUT_FOLDER_MADE[@]}"}; do rmdir "$d" 2>/dev/null || true; done
 }

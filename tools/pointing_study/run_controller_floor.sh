@@ -48,7 +48,7 @@ for a in "$@"; do
 done
 out_folder run_controller_floor.sh "$OUT"
 LOG=$(mktemp)  # the console log, saved into $OUT by the writer's rules
-trap 'rc=$?; rm -f "$LOG"; out_folder_undo "$rc"' EXIT  # a refused run leaves no folder it made
+trap 'rm -f "$LOG"; out_folder_undo' EXIT  # a refused run leaves no folder it made
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/floor.log" -- "$@"  # before any run
 status=0
 "$BUILD/bin/gimbalsim_controller_floor" ${IDEAL[@]+"${IDEAL[@]}"} ${CLEARANCE[@]+"${CLEARANCE[@]}"} \

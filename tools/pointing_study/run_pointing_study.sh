@@ -40,7 +40,7 @@ LOG=$(mktemp)
 if [ "$NAMED" = 0 ]; then  # the script's own default folder; a named one must exist (usage.md "Output files")
   out_folder run_pointing_study.sh "$OUT"
 fi
-trap 'rc=$?; rm -f "$LOG"; out_folder_undo "$rc"' EXIT  # a refused run leaves no folder it made
+trap 'rm -f "$LOG"; out_folder_undo' EXIT  # a refused run leaves no folder it made
 # The log's name is checked before the study runs: a refused one costs no run and no output.
 if [ -d "$OUT" ]; then
   /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}

@@ -41,7 +41,7 @@ for a in ${ARGS[@]+"${ARGS[@]}"}; do
 done
 out_folder run_stress.sh out/stress
 status=0
-LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved by the writer's rules (not tee's)
+LOG=$(mktemp) && trap 'rm -f "$LOG"; out_folder_undo' EXIT  # the console log, saved by the writer's rules (not tee's)
 /usr/bin/python3 tools/pages/save_output.py --check "$LOG" out/stress/stress.log -- ${ARGS[@]+"${ARGS[@]}"}
 build/bin/gimbalsim_stress --csv out/stress/stress.csv --page-body out/stress/page_body.md ${ARGS[@]+"${ARGS[@]}"} \
   | console_tee "$LOG" || status=$?

@@ -29,7 +29,7 @@ for a in ${ARGS[@]+"${ARGS[@]}"}; do
   case "$a" in -h | --help | --version) exec build/bin/gimbalsim_workprec "$a" ;; esac
 done
 out_folder run_workprec.sh out/workprec
-LOG=$(mktemp) && trap 'rm -f "$LOG"' EXIT  # the console log, saved by the writer's rules (not tee's)
+LOG=$(mktemp) && trap 'rm -f "$LOG"; out_folder_undo' EXIT  # the console log, saved by the writer's rules (not tee's)
 /usr/bin/python3 tools/pages/save_output.py --check "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
 build/bin/gimbalsim_workprec --out out/workprec ${ARGS[@]+"${ARGS[@]}"} | console_tee "$LOG"
 /usr/bin/python3 tools/pages/save_output.py "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
