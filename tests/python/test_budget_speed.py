@@ -113,6 +113,19 @@ def test_a_budget_with_no_figure_compares_nothing_and_says_so(tmp_path):
     assert sorted(x.name for x in tmp_path.iterdir()) == ["out", "stopped.yaml"]  # no temporary left
 
 
+def test_a_fine_run_with_no_figure_is_said_so_and_judges_nothing(tmp_path):
+    # (pass 39) the default ran, every fine unit stopped (sim.max_substeps 100 at 5 us): the interval was said
+    # "open at both ends: too few units", and the nudge's verdict "no" where no unit could be judged
+    (tmp_path / "s.yaml").write_text(slew_spec(settings="sim.duration: 0.3, sim.max_substeps: 100", samples=2))
+    p = run("--spec", tmp_path / "s.yaml", "--out", tmp_path / "out")
+    assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
+    row = next(line for line in p.stdout.splitlines() if line.startswith("| ape_slew |"))
+    assert "| n/a (no unit of the fine run has a figure) |" in row and "too few" not in row, row
+    assert "Every index within the fine run's interval: n/a for ape_slew (no unit of the fine run has a figure)." \
+        in p.stdout, p.stdout
+    assert "nudged): n/a (no nudge could judge some); units no nudge could judge" in p.stdout, p.stdout
+
+
 def test_the_runs_read_the_spec_as_the_sweep_does(tmp_path):
     # (pass 27) seed: 010 is ten for the sweep (YAML 1.2), and a scene not beside the spec is looked for where the
     # user stands; the tool read YAML 1.1 (eight) and looked beside the spec alone

@@ -131,6 +131,7 @@ def compare(spec, budget_default, budget_fine, rows_default, rows_fine, toleranc
                       # no estimate (no unit has a figure): not inside; an interval open at both ends (too few
                       # units for the level and confidence) bounds nothing: no verdict
                       "judged": math.isfinite(low) or math.isfinite(high),
+                      "fine_none": not any(math.isfinite(y) for y in f_vals),  # no interval to hold it to
                       "inside": math.isfinite(est_a) and low <= est_a <= high, "worst": worst,
                       "worst_unit": worst_unit, "compared": bool(diffs),  # no unit with a figure: no verdict
                       "beyond": [u for d, u in diffs if d > tol]})
@@ -141,6 +142,8 @@ def _within_text(c):
     """The table's "within" cell: no verdict over no figure or an interval that bounds nothing."""
     if not c["compared"]:
         return "n/a (no unit has a figure)"
+    if c["fine_none"]:  # (pass 39) said "open at both ends: too few units"
+        return "n/a (no unit of the fine run has a figure)"
     return "n/a (open at both ends: too few units)" if not c["judged"] else "yes" if c["inside"] else "**no**"
 
 
@@ -189,32 +192,36 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
               f" | {_distance_text(c['worst'], c['worst_unit'])} | {c['tol']:.0e} | {len(c['beyond'])} | "
               f"{len(ill[c['key']])} |")
     outside = [c["key"] for c in found if c["compared"] and c["judged"] and not c["inside"]]
-    unjudged = [c["key"] for c in found if c["compared"] and not c["judged"]]
+    unjudged = [c["key"] for c in found if c["compared"] and not c["judged"] and not c["fine_none"]]
+    fine_none = [c["key"] for c in found if c["compared"] and c["fine_none"]]
     beyond = [f"{c['key']} ({len(c['beyond'])} units)" for c in found if c["beyond"]]
     nothing = [c["key"] for c in found if not c["compared"]]
     held_to = [f"{k} ({len(v[1])} of {len(v[0]) + len(v[1]) + len(v[2])})" for k, v in judged.items() if v[1]]
     not_judged = [f"{k} ({len(v[2])})" for k, v in judged.items() if v[2]]
-    within = "no (" + ", ".join(outside) + ")" if outside else \
-        f"n/a for {', '.join(unjudged)} (intervals open at both ends: too few units for the level and confidence)" \
-        if unjudged else "yes"
-    unit = "no (" + ", ".join(beyond) + ")" if beyond else "yes"
-    if nothing:  # no verdict over no figure (pass 37: a "no" over units none of which had one)
-        none = f"n/a for {', '.join(nothing)} (no unit has a figure in either run)"
-        within, unit = ((none, none) if len(nothing) == len(found) else (f"{within}; {none}", f"{unit}; {none}"))
+    inside = [c["key"] for c in found if c["compared"] and c["judged"] and not c["fine_none"] and c["inside"]]
+    # no verdict over no figure (passes 37, 39): each index without one named apart, never a bare "yes" or "no"
+    none = f"n/a for {', '.join(nothing)} (no unit has a figure in either run)" if nothing else ""
+    within = "; ".join(x for x in (
+        "no (" + ", ".join(outside) + ")" if outside else "yes" if inside else "",
+        f"n/a for {', '.join(unjudged)} (intervals open at both ends: too few units for the level and confidence)"
+        if unjudged else "",
+        f"n/a for {', '.join(fine_none)} (no unit of the fine run has a figure)" if fine_none else "", none) if x)
+    unit = "; ".join(x for x in ("no (" + ", ".join(beyond) + ")" if beyond else "yes" if len(nothing) < len(found)
+                                 else "", none) if x)
     print(f"\nEvery index within the fine run's interval: {within}."
           f"\nEvery unit within the tolerance of its fine figure: {unit}.")
     if beyond:
         cut = f" (the first {most_probed} of {len(probed)} units nudged)" if len(probed) > most_probed else ""
         reasons = sorted({v for v in spread.values() if isinstance(v, str)})
         print(f"Every unit beyond it ill-defined (its own fine figure moves beyond the tolerance when nudged){cut}: "
-              f"{'yes' if not (held_to or not_judged) else 'no'}"
+              f"{'no' if held_to else 'n/a (no nudge could judge some)' if not_judged else 'yes'}"
               f"{'; units whose fine figure held under every nudge: ' + ', '.join(held_to) if held_to else ''}"
               f"{'; units no nudge could judge (no figure in any run, or none made): ' if not_judged else ''}"
               f"{', '.join(not_judged)}"
               f"{'; not nudged: ' + '; '.join(reasons) if reasons else ''}.")
     if len(nothing) == len(found):
         return ratio, "not judged (no unit has a figure)"
-    return ratio, ("held" if not (outside or unjudged or beyond) else
+    return ratio, ("held" if not (outside or unjudged or fine_none or beyond) else
                    "moved only where ill-defined" if not (outside or unjudged or held_to or not_judged) else "moved")
 
 
