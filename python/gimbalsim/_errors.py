@@ -132,3 +132,11 @@ def guarded_main(program, body, notes=None):
         return code
     finally:
         sys.stderr = stderr
+
+
+def not_a_program(module):
+    """Exit 2 for a library module run as a program (`python3 -m gimbalsim.indices --bogus` took any argument,
+    did nothing and exited 0, pass 39): the programs are the sweep, the tuner and the allocator."""
+    print(f"python3 -m gimbalsim.{module}: error: a library module, not a program (docs/python.md): run "
+          "python3 -m gimbalsim.sweep, gimbalsim.tune or gimbalsim.allocate", file=sys.stderr)
+    sys.exit(EXIT_REFUSED)

@@ -334,6 +334,14 @@ def check_within(spec, section, parameters, grid_keys, base_values, grid=()):
         except (KeyError, ValueError):
             radius = math.nan
         if not radius >= 0:
-            spec.refuse(where, f"disk: within {within} is not dispersed and the scene gives it "
-                        f"no number >= 0 (got {base_values.get(within)!r}): disperse it or give radius", p.node)
+            given = base_values.get(within)  # (pass 39) "(got None)": Python's word for a key the scene derives
+            what = f"takes {given!r}, no number >= 0" if given is not None else \
+                "is not one of the scene's own values (it derives it from other keys)"
+            spec.refuse(where, f"disk: within {within} is not dispersed and {what}: disperse it or give radius",
+                        p.node)
         p.reach = [(None, radius)]
+
+
+if __name__ == "__main__":
+    from gimbalsim._errors import not_a_program
+    not_a_program("dispersion")

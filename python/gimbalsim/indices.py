@@ -389,3 +389,8 @@ def requirement_verdict(values, requirement, level=LEVEL_3SIGMA, confidence=0.95
               f"at least {need} needed" if n < need else "")
     return Verdict(float(requirement), n, k, k / n if n else float("nan"), lower, level,
                    confidence, n > 0 and lower >= level, reason)
+
+
+if __name__ == "__main__":
+    from gimbalsim._errors import not_a_program
+    not_a_program("indices")

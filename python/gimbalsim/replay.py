@@ -307,3 +307,8 @@ def _plot(run, spec, i, status, fmt):
 def main(folder, i, out, plot_path):
     """--replay's exit code, by the project's table (_errors.guarded_main)."""
     return guarded_main("replay", lambda: replay(folder, i, out, plot_path))
+
+
+if __name__ == "__main__":
+    from gimbalsim._errors import not_a_program
+    not_a_program("replay")

@@ -465,3 +465,12 @@ def test_controller_update_gives_no_command_from_a_non_finite_or_overflowing_inp
         c.reset()
     out = c.update(0.0, 0.1, 0.2, gyro=[0.0, 0.0, 0.0])
     assert all(math.isfinite(x) for x in out["tau"])
+
+
+@pytest.mark.parametrize("module", ["dispersion", "indices", "replay"])
+def test_a_library_module_run_as_a_program_is_refused(module):
+    # (pass 39) `python3 -m gimbalsim.indices --bogus` took any argument, did nothing and exited 0 (usage.md: an
+    # unknown flag is exit 2 in every program, the Python modules included)
+    p = subprocess.run([sys.executable, "-m", f"gimbalsim.{module}", "--bogus"], capture_output=True, text=True,
+                       timeout=60)
+    assert p.returncode == 2 and f"gimbalsim.{module}: error: a library module, not a program" in p.stderr, p.stderr

@@ -125,6 +125,9 @@ BAD = [
      "a range of width 0 or narrower than 1e-12 of its ends"),
     ("parameters:\n  friction.mu: {choice: [2.0e-4, 2.0000000000000003e-4]}\n", "samples", 2,  # (pass 37)
      "each parameter takes one value"),
+    # (pass 39) a key the scene derives: "the scene gives it no number >= 0 (got None)"
+    ("parameters:\n  initial.ecc: {disk: {within: contact.clearance, fraction: 0.5}}\n", "parameters.initial.ecc", 7,
+     "is not one of the scene's own values (it derives it from other keys)"),
     # (pass 38) 0.0 and -0.0 are one value; a normal spreads by the ends it draws between, as a range does
     ("parameters:\n  friction.mu: {choice: [0.0, -0.0]}\n", "samples", 2, "each parameter takes one value"),
     ("parameters:\n  contact.clearance: {normal: {mean: 2.0e-4, sd: 1.0e-18}}\n", "samples", 2,
