@@ -386,6 +386,18 @@ TEST(Scene, EveryProblemIsReportedAtOnce) {
   EXPECT_NE(e.find("contact.restitution"), std::string::npos);
 }
 
+TEST(Scene, AModelWhoseFirstRowIsNotFiniteIsRefusedNotRun) {
+  // (pass 39) each key within its range, together a mass matrix no double solves: NaN accelerations at t = 0,
+  // and the run "stopped" at t = 0 with no good row (exit 3) instead of being refused
+  const std::vector<std::string> heavy = {"shaft2.mass=1e9", "shaft2.com=[1000, 0, 0]"};
+  for (const char* name : {"paper_spatial2", "paper_both_spatial"}) {
+    EXPECT_NE(sceneRefusal(name, heavy).find("the model's first row is not finite"), std::string::npos) << name;
+  }
+  // the same bodies an order lighter, and on the planar bearing, start (and stop on a named check later)
+  EXPECT_EQ(sceneRefusal("paper_spatial2", {"shaft2.mass=1e8", "shaft2.com=[1000, 0, 0]"}), "");
+  EXPECT_EQ(sceneRefusal("paper_clearance", heavy), "");
+}
+
 TEST(Scene, BrokenYamlAndMissingFile) {
   EXPECT_NE(refusal("base: [1, 2\n").find("bad.yaml:"), std::string::npos);
   try {

@@ -34,7 +34,8 @@ Scene loadSceneText(const std::string& yaml, const std::string& origin,
 std::string readSceneFile(const std::string& path);
 
 /// After a table holding a Scene was loaded: the Model's derived terms, the
-/// default name (origin), the warnings. Loaders of larger scenes (the
+/// default name (origin), the warnings; SceneError when its first row is not
+/// finite (a model the arithmetic cannot hold). Loaders of larger scenes (the
 /// plant's, firmware_sim/plant_scene.hpp) call it as loadScene does.
 void finishScene(Scene& sc, const std::string& origin, std::vector<std::string> warnings);
 
