@@ -78,7 +78,7 @@ def load_sample(base, closed, overrides):
     try:
         scene = base.replace(scene_ov if closed is None else plant_overrides(scene_ov))
     except gimbalsim.SceneError as e:
-        return None, None, {"status": f"refused:{e.key or ''}", "reason": str(e).replace(",", ";")}
+        return None, None, {"status": f"refused:{e.key or 'scene'}", "reason": str(e).replace(",", ";")}
     if closed is None:
         return scene, None, {"applied": _provenance.applied(scene.values(), overrides)}
     try:

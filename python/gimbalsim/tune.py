@@ -62,7 +62,8 @@ def run_plants(base, controller, duration, items):
         try:
             scene = base.replace(plant_overrides(overrides))  # sim.step with the interval it never reads
         except gimbalsim.SceneError as e:
-            out.append({"plant": j, "ok": False, "stop_key": f"refused:{e.key}", "error": str(e), "wall_time": 0.0})
+            out.append({"plant": j, "ok": False, "stop_key": f"refused:{e.key or 'scene'}", "error": str(e),
+                        "wall_time": 0.0})  # (pass 40) a keyless refusal was "refused:None"
             continue
         try:
             s = gimbalsim.closed_loop(scene, controller, duration).summary

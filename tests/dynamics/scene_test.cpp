@@ -393,6 +393,14 @@ TEST(Scene, AModelWhoseFirstRowIsNotFiniteIsRefusedNotRun) {
   for (const char* name : {"paper_spatial2", "paper_both_spatial"}) {
     EXPECT_NE(sceneRefusal(name, heavy).find("the model's first row is not finite"), std::string::npos) << name;
   }
+  // (pass 40) a key for a sweep's status (refused:<key>, not "refused:"): the body carrying the most inertia
+  try {
+    test::scene("paper_spatial2", heavy);
+    ADD_FAILURE() << "must throw";
+  } catch (const SceneError& e) {
+    ASSERT_EQ(e.details().size(), 1u);
+    EXPECT_EQ(e.details()[0].key, "shaft2.mass");
+  }
   // the same bodies an order lighter, and on the planar bearing, start (and stop on a named check later)
   EXPECT_EQ(sceneRefusal("paper_spatial2", {"shaft2.mass=1e8", "shaft2.com=[1000, 0, 0]"}), "");
   EXPECT_EQ(sceneRefusal("paper_clearance", heavy), "");

@@ -474,3 +474,11 @@ def test_a_library_module_run_as_a_program_is_refused(module):
     p = subprocess.run([sys.executable, "-m", f"gimbalsim.{module}", "--bogus"], capture_output=True, text=True,
                        timeout=60)
     assert p.returncode == 2 and f"gimbalsim.{module}: error: a library module, not a program" in p.stderr, p.stderr
+
+
+def test_a_model_no_double_solves_is_refused_naming_a_key():
+    # (pass 39) run and "stopped" at t = 0 with no good row; (pass 40) then refused with no key: a sweep's status
+    # read "refused:" and the tuner's "refused:None"
+    with pytest.raises(gimbalsim.SceneError, match="the model's first row is not finite") as e:
+        gimbalsim.load_scene(scene_path("paper_spatial2"), {"shaft2.mass": "1e9", "shaft2.com": "[1000, 0, 0]"})
+    assert e.value.key == "shaft2.mass"

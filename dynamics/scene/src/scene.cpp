@@ -206,9 +206,21 @@ namespace {
 void refuseUnsolvableStart(const Scene& sc, const std::string& origin) {
   Simulator at_start(sc);
   if (rowFinite(at_start.output())) return;
-  throw SceneError(origin + ": the model's first row is not finite (NaN or Inf accelerations at its initial "
-                   "state): its bodies' mass properties (base.*, shaft1.*, shaft2.*: mass, com, inertia) span further "
-                   "than double precision solves");
+  // A refusal names a key (a sweep's status is refused:<key>; pass 40 found "refused:" bare): the body carrying
+  // the most inertia about its frame, m |com|^2 + trace(I), names its mass, the usual cause of the span.
+  const Model& m = sc.model;
+  const std::pair<const char*, const BodyParams*> bodies[] = {
+      {"base.mass", &m.base}, {"shaft1.mass", &m.shaft1}, {"shaft2.mass", &m.shaft2}};
+  const char* key = bodies[0].first;
+  double most = -1.0;
+  for (const auto& [name, b] : bodies) {
+    const double carried = b->mass * b->com.squaredNorm() + b->inertia.trace();  // [kg m^2]
+    if (carried > most) most = carried, key = name;
+  }
+  const std::string why = "the model's first row is not finite (NaN or Inf accelerations at its initial state): its "
+                          "bodies' mass properties (base.*, shaft1.*, shaft2.*: mass, com, inertia) span further than "
+                          "double precision solves";
+  throw SceneError(std::vector<Problem>{{origin + ": key '" + key + "': " + why, key, origin, 0, 0, 0}});
 }
 
 }  // namespace
