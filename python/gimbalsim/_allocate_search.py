@@ -125,8 +125,8 @@ def best(a, tried):
     return min(rows, key=key)[0]
 
 
-NO_FIGURE_ANYWHERE = ("no unit at any value tried has a figure (each stopped, crashed or missed its window): "
-                      "no value is better than another, and monotonicity has nothing to judge")
+NO_FIGURE_ANYWHERE = ("no unit at any value tried has a figure (each was refused, stopped, crashed or missed its "
+                      "window): no value is better than another, and monotonicity has nothing to judge")
 
 
 def outcome(a, tried):

@@ -137,6 +137,7 @@ def guarded_main(program, body, notes=None):
 def not_a_program(module):
     """Exit 2 for a library module run as a program (`python3 -m gimbalsim.indices --bogus` took any argument,
     did nothing and exited 0, pass 39): the programs are the sweep, the tuner and the allocator."""
-    print(f"python3 -m gimbalsim.{module}: error: a library module, not a program (docs/python.md): run "
-          "python3 -m gimbalsim.sweep, gimbalsim.tune or gimbalsim.allocate", file=sys.stderr)
+    name = f"gimbalsim.{module}" if module else "gimbalsim"
+    print(f"python3 -m {name}: error: a library {'module' if module else 'package'}, not a program "
+          "(docs/python.md): run python3 -m gimbalsim.sweep, gimbalsim.tune or gimbalsim.allocate", file=sys.stderr)
     sys.exit(EXIT_REFUSED)

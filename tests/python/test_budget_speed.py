@@ -106,7 +106,7 @@ def test_a_budget_with_no_figure_compares_nothing_and_says_so(tmp_path):
     assert "| ape_slew | n/a (no unit has a figure) | n/a (no unit has a figure) |" in p.stdout, p.stdout
     assert "n/a (no unit has a figure in either run)" in p.stdout
     # (pass 38) no verdict over no figure: it said "no (ape_slew (2 units, none with a figure))"
-    assert "| ape_slew | n/a (no unit has a figure) | n/a (no unit has a figure) | [open, open] | n/a (no unit has a " \
+    assert "| ape_slew | n/a (no unit has a figure) | n/a (no unit has a figure) | n/a (no figure) | n/a (no unit has a " \
         "figure) |" in p.stdout, p.stdout
     for line in ("Every index within the fine run's interval", "Every unit within the tolerance of its fine figure"):
         assert f"{line}: n/a for ape_slew (no unit has a figure in either run)." in p.stdout, p.stdout
@@ -123,7 +123,8 @@ def test_a_fine_run_with_no_figure_is_said_so_and_judges_nothing(tmp_path):
     assert "| n/a (no unit of the fine run has a figure) |" in row and "too few" not in row, row
     assert "Every index within the fine run's interval: n/a for ape_slew (no unit of the fine run has a figure)." \
         in p.stdout, p.stdout
-    assert "nudged): n/a (no nudge could judge some); units no nudge could judge" in p.stdout, p.stdout
+    assert "nudged): n/a (no nudge could judge any); units no nudge could judge" in p.stdout, p.stdout
+    assert "| n/a (no figure) | n/a (no unit of the fine run has a figure) |" in row, row
 
 
 def test_the_runs_read_the_spec_as_the_sweep_does(tmp_path):

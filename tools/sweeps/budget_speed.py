@@ -187,7 +187,8 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
     show = lambda x, end="open": end if not math.isfinite(x) else f"{x:.3e}"  # noqa: E731
     for c in found:
         print(f"| {c['key']} | {show(c['est_a'], 'n/a (no unit has a figure)')} | "
-              f"{show(c['est_f'], 'n/a (no unit has a figure)')} | [{show(c['low'])}, {show(c['high'])}] | "
+              f"{show(c['est_f'], 'n/a (no unit has a figure)')} | "
+              f"{'n/a (no figure)' if c['fine_none'] else '[' + show(c['low']) + ', ' + show(c['high']) + ']'} | "
               f"{_within_text(c)}"
               f" | {_distance_text(c['worst'], c['worst_unit'])} | {c['tol']:.0e} | {len(c['beyond'])} | "
               f"{len(ill[c['key']])} |")
@@ -198,6 +199,7 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
     nothing = [c["key"] for c in found if not c["compared"]]
     held_to = [f"{k} ({len(v[1])} of {len(v[0]) + len(v[1]) + len(v[2])})" for k, v in judged.items() if v[1]]
     not_judged = [f"{k} ({len(v[2])})" for k, v in judged.items() if v[2]]
+    few = "some" if any(v[0] for v in judged.values()) else "any"  # of the units beyond, when none held
     inside = [c["key"] for c in found if c["compared"] and c["judged"] and not c["fine_none"] and c["inside"]]
     # no verdict over no figure (passes 37, 39): each index without one named apart, never a bare "yes" or "no"
     none = f"n/a for {', '.join(nothing)} (no unit has a figure in either run)" if nothing else ""
@@ -214,7 +216,7 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
         cut = f" (the first {most_probed} of {len(probed)} units nudged)" if len(probed) > most_probed else ""
         reasons = sorted({v for v in spread.values() if isinstance(v, str)})
         print(f"Every unit beyond it ill-defined (its own fine figure moves beyond the tolerance when nudged){cut}: "
-              f"{'no' if held_to else 'n/a (no nudge could judge some)' if not_judged else 'yes'}"
+              f"{'no' if held_to else 'yes' if not not_judged else 'n/a (no nudge could judge ' + few + ')'}"
               f"{'; units whose fine figure held under every nudge: ' + ', '.join(held_to) if held_to else ''}"
               f"{'; units no nudge could judge (no figure in any run, or none made): ' if not_judged else ''}"
               f"{', '.join(not_judged)}"
