@@ -138,13 +138,19 @@ def compare(spec, budget_default, budget_fine, rows_default, rows_fine, toleranc
     return found
 
 
-def _within_text(c):
-    """The table's "within" cell: no verdict over no figure or an interval that bounds nothing."""
+def _category(c):
+    """Where an index stands against the fine run: "none" (no unit has a figure in either run), "fine_none" (no
+    unit of the fine run has one), "unjudged" (its interval is open at both ends), "inside" or "outside"."""
     if not c["compared"]:
-        return "n/a (no unit has a figure)"
-    if c["fine_none"]:  # (pass 39) said "open at both ends: too few units"
-        return "n/a (no unit of the fine run has a figure)"
-    return "n/a (open at both ends: too few units)" if not c["judged"] else "yes" if c["inside"] else "**no**"
+        return "none"
+    if c["fine_none"]:
+        return "fine_none"
+    return "unjudged" if not c["judged"] else "inside" if c["inside"] else "outside"
+
+
+# the table's "within" cell per category: no verdict over no figure or an interval that bounds nothing
+WITHIN_TEXT = {"none": "n/a (no unit has a figure)", "fine_none": "n/a (no unit of the fine run has a figure)",
+               "unjudged": "n/a (open at both ends: too few units)", "inside": "yes", "outside": "**no**"}
 
 
 def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine_spec, most_probed):
@@ -189,18 +195,16 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
         print(f"| {c['key']} | {show(c['est_a'], 'n/a (no unit has a figure)')} | "
               f"{show(c['est_f'], 'n/a (no unit has a figure)')} | "
               f"{'n/a (no figure)' if c['fine_none'] else '[' + show(c['low']) + ', ' + show(c['high']) + ']'} | "
-              f"{_within_text(c)}"
+              f"{WITHIN_TEXT[_category(c)]}"
               f" | {_distance_text(c['worst'], c['worst_unit'])} | {c['tol']:.0e} | {len(c['beyond'])} | "
               f"{len(ill[c['key']])} |")
-    outside = [c["key"] for c in found if c["compared"] and c["judged"] and not c["inside"]]
-    unjudged = [c["key"] for c in found if c["compared"] and not c["judged"] and not c["fine_none"]]
-    fine_none = [c["key"] for c in found if c["compared"] and c["fine_none"]]
+    keys_in = {k: [c["key"] for c in found if _category(c) == k] for k in WITHIN_TEXT}
+    outside, unjudged, fine_none, nothing, inside = (keys_in[k] for k in
+                                                     ("outside", "unjudged", "fine_none", "none", "inside"))
     beyond = [f"{c['key']} ({len(c['beyond'])} units)" for c in found if c["beyond"]]
-    nothing = [c["key"] for c in found if not c["compared"]]
     held_to = [f"{k} ({len(v[1])} of {len(v[0]) + len(v[1]) + len(v[2])})" for k, v in judged.items() if v[1]]
     not_judged = [f"{k} ({len(v[2])})" for k, v in judged.items() if v[2]]
     few = "some" if any(v[0] for v in judged.values()) else "any"  # of the units beyond, when none held
-    inside = [c["key"] for c in found if c["compared"] and c["judged"] and not c["fine_none"] and c["inside"]]
     # no verdict over no figure (passes 37, 39): each index without one named apart, never a bare "yes" or "no"
     none = f"n/a for {', '.join(nothing)} (no unit has a figure in either run)" if nothing else ""
     within = "; ".join(x for x in (
