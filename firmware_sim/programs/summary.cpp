@@ -7,6 +7,7 @@
 
 #include "gimbalsim/lcm_wire/peak_memory.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
+#include "gimbalsim/firmware_sim/plant_stop.hpp"
 #include "gimbalsim/pointing/profile_windows.hpp"
 #include "lcm_bridge.hpp"
 
@@ -147,9 +148,9 @@ int reportPlantFault(const Model& m, const Outcome& out) {
   // The one message of a stopped step, its time said as every reader of the run says it (the last good
   // state, pass 35: "stopped at t = 0.16 s" beside the summary's 0.159 s).
   std::fprintf(stderr,
-               "firmware_sim: PLANT FAULT, the plant stopped after t = %s: %s; the state was frozen there and every "
-               "later status carried FAULT_PLANT_FAULT\n",
-               describeStopWhen(out.last_good_s, out.plant).c_str(), describeStopCause(m, out.plant).c_str());
+               "firmware_sim: PLANT FAULT, %s; the state was frozen there and every later status carried "
+               "FAULT_PLANT_FAULT\n",
+               describePlantStop(m, out.last_good_s, out.plant).c_str());
   return kExitPlantFault;
 }
 

@@ -9,6 +9,7 @@
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/dynamics/variant.hpp"
 #include "gimbalsim/firmware_sim/bench_tick.hpp"
+#include "gimbalsim/firmware_sim/plant_stop.hpp"
 #include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/pointing/profile_windows.hpp"
 #include "gimbalsim/pointing/tracker_axes.hpp"
@@ -234,8 +235,7 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
       r.ok = false;
       r.stop_status = fw.plantStatus();
       r.error = describeStop(ps.scene.model, fw.plantResult());  // the one message of a stopped step
-      r.plant_stop = "the plant stopped after t = " + describeStopWhen(fw.state().t, fw.plantResult()) + ": " +
-                     describeStopCause(ps.scene.model, fw.plantResult());
+      r.plant_stop = describePlantStop(ps.scene.model, fw.state().t, fw.plantResult());
       fig.finish(r);
       return r;
     }
