@@ -288,7 +288,7 @@ def read_journal(spec, path, header):
     return done, dropped, appendable
 
 
-def _read_rows(spec, path, header):
+def _read_rows(spec, path, header, journal=True):
     """read_journal's answer, the 1-based line of each trusted row ({sample: line}) and the samples the file
     holds twice, differently (trusted in no file)."""
     done, dropped, line_of, twice = {}, {}, {}, set()
@@ -317,15 +317,18 @@ def _read_rows(spec, path, header):
         else:
             rows.append((number, row))
     refuse_rows_beyond_the_record(path, spec, [row for _, row in rows], len(header))
-    # a sample journaled twice, differently (twice): neither row is trusted (the first stayed)
+    # a sample held twice, differently (twice): neither row is trusted (the first stayed); each file's own words
+    # (pass 40: results.csv's rows were said "journaled")
+    differently, again = (("sample journaled twice, differently", "sample already journaled") if journal else
+                          (f"sample held twice, differently, in {path.name}", f"sample already in {path.name}"))
     for number, row in rows:
         why = check_row(spec, row, len(header))
         sample = int(row[0]) if why is None else None
         if sample in twice:
-            why = "sample journaled twice, differently"
+            why = differently
         elif why is None and sample in done:
-            why = "sample already journaled" if row == done[sample] else "sample journaled twice, differently"
-            if why.endswith("differently"):
+            why = again if row == done[sample] else differently
+            if why == differently:
                 twice.add(sample)
                 del done[sample]
                 dropped.setdefault(why, []).append(line_of[sample])
@@ -347,7 +350,7 @@ def read_for_resume(spec, journal, results, header):
     done, dropped, appendable, line_of, twice_j = _read_rows(spec, journal, header)
     if not results.exists():
         return done, [(journal, dropped)], appendable
-    done_r, dropped_r, _, line_of_r, twice_r = _read_rows(spec, results, header)
+    done_r, dropped_r, _, line_of_r, twice_r = _read_rows(spec, results, header, journal=False)
     differ = {i for i, row in done_r.items() if i in done and done[i] != row}
     untrusted_j, untrusted_r = differ | (twice_r & done.keys()), differ | (twice_j & done_r.keys())
     why = f"sample with two different rows, in {results.name} and {journal.name}"

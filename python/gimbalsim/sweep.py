@@ -125,7 +125,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
                 dropped[why] = dropped.get(why, []) + numbers
                 n, shown = len(numbers), ", ".join(map(str, numbers[:10])) + (" ..." if len(numbers) > 10 else "")
                 kind = "journal row" if read_from == journal else "row"
-                again = "the same row kept once" if why == "sample already journaled" else "their samples run again"
+                again = "the same row kept once" if why.startswith("sample already") else "their samples run again"
                 print(f"sweep: dropped {n} {kind}{'s' * (n != 1)} ({why}) at {read_from} line{'s' * (n != 1)} "
                       f"{shown}; {again}", file=sys.stderr)
         while True:

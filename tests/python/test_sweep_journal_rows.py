@@ -228,3 +228,23 @@ def test_replay_refuses_a_row_that_is_not_whole(closed_sweep, tmp_path):
                         str(tmp_path / "run.csv")], capture_output=True, text=True, timeout=600)
     assert p.returncode == 2 and "Traceback" not in p.stderr, p.stderr
     assert "results.csv:4: sample 2's row has 5 columns" in p.stderr and "--resume" in p.stderr, p.stderr
+
+
+def test_rows_results_csv_holds_twice_are_named_in_its_own_words(closed_sweep, tmp_path):
+    # (pass 40) results.csv's own duplicate rows were said "journaled"; an identical one is kept once
+    reference = read(closed_sweep / "ref" / "results.csv")
+    a = reference[0].index("ape_track_rad")
+    out = tmp_path / "out"
+    shutil.copytree(closed_sweep / "ref", out)
+    (out / "results.partial.csv").write_text("".join(",".join(r) + "\n" for r in reference[:1]))
+    other = list(reference[1])
+    other[a] = "0.5"
+    (out / "results.csv").write_text("".join(",".join(r) + "\n" for r in reference + [reference[2], other]))
+    p = sweep(closed_sweep / "spec.yaml", "--out", out, "--workers", "1", "--resume")
+    assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
+    assert "journaled" not in p.stderr, p.stderr
+    assert f"(sample already in results.csv) at {out / 'results.csv'} line 8; the same row kept once" in p.stderr, \
+        p.stderr
+    assert f"(sample held twice, differently, in results.csv) at {out / 'results.csv'} lines 2, 9; " \
+        "their samples run again" in p.stderr, p.stderr
+    assert "6 samples, 5 already done, 1 to run" in p.stderr, p.stderr  # sample 0 runs again
