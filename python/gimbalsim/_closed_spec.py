@@ -106,7 +106,9 @@ class ClosedLoopSpec:
         except gimbalsim.SceneError as e:
             if sets and e.key in sets:
                 where, node = f"controller_set.{e.key}", sets[e.key]
-            spec.refuse(where, f"{note}the controller refuses {extra or overrides}: "
+            # what was tried: the value at hand, else the file and the spec's controller_set (pass 40 printed "{}")
+            tried = extra if extra else "its file and controller_set" if self.set else "its file"
+            spec.refuse(where, f"{note}the controller refuses {tried}: "
                         f"{e.problems[0]['text'] if e.problems else e}", node)
 
     def _phases(self, spec, root):

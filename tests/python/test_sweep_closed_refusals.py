@@ -310,3 +310,20 @@ def test_a_key_under_a_dispersed_setting_is_accepted_when_one_value_reads_it(tmp
     (tmp_path / "ok.yaml").write_text(text)
     assert [p.key for p in SweepSpec(tmp_path / "ok.yaml").parameters][-2:] == [
         "controller.azimuth.aw_gain", "controller.control.anti_windup"]
+
+
+@pytest.mark.parametrize("controller_set", [True, False])
+def test_a_bad_controller_file_is_named_not_an_empty_dict(tmp_path, controller_set):
+    # (pass 40) "the controller refuses {}: c.yaml:2:..." printed a dict of nothing ahead of the file's line
+    from gimbalsim.sweep import SpecError, SweepSpec
+    (tmp_path / "c.yaml").write_text("azimuth:\n  kp: -1.0\n")
+    text = SPEC.replace(f"controller: {CONTROLLER_CONFIG}", "controller: c.yaml")
+    if not controller_set:
+        text = "\n".join(line for line in text.split("\n") if not line.startswith("controller_set:"))
+    (tmp_path / "spec.yaml").write_text(text)
+    with pytest.raises(SpecError) as e:
+        SweepSpec(tmp_path / "spec.yaml")
+    said = str(e.value)
+    assert e.value.key == "controller" and "{}" not in said, said
+    assert f"the controller refuses its file{' and controller_set' if controller_set else ''}: " in said, said
+    assert "c.yaml:2" in said and "azimuth.kp" in said, said
