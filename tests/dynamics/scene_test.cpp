@@ -79,6 +79,17 @@ TEST(Scene, WrongTypesAreRefusedWithPosition) {
   EXPECT_NE(e.find("key 'contact.damping': expected one of none | hunt_crossley | lankarani_nikravesh | flores"),
             std::string::npos)
       << e;
+  // what it got, also when that is nothing (pass 40: '' was refused saying only what was expected)
+  e = refusal(kGood, {"contact.damping=''"});
+  EXPECT_NE(e.find("key 'contact.damping': expected one of none | hunt_crossley | lankarani_nikravesh | flores, "
+                   "got ''"),
+            std::string::npos)
+      << e;
+  e = refusal(kGood, {"contact.damping=[flores]"});
+  EXPECT_NE(e.find("key 'contact.damping': expected one of none | hunt_crossley | lankarani_nikravesh | flores, "
+                   "got a list"),
+            std::string::npos)
+      << e;
   e = refusal(kGood, {"sim.step"});
   EXPECT_NE(e.find("--set #1 'sim.step': expected key=value"), std::string::npos) << e;
   e = refusal(kGood, {"no.such=1"});

@@ -76,7 +76,9 @@ std::size_t asChoice(const YAML::Node& n, const std::vector<std::string>& names)
   for (std::size_t i = 0; i < names.size(); ++i) {
     if (s == names[i]) return i;
   }
-  throw ConvertError{"expected one of " + join(names, " | ") + (s.empty() ? "" : ", got '" + s + "'")};
+  // what it got, also when that is nothing (pass 40: '' said only what was expected)
+  const std::string got = n.IsScalar() ? "'" + s + "'" : n.IsMap() ? "a map" : n.IsSequence() ? "a list" : "no value";
+  throw ConvertError{"expected one of " + join(names, " | ") + ", got " + got};
 }
 
 }  // namespace gimbalsim
