@@ -61,6 +61,7 @@ class Figures {
         r.max_truth_error_track = std::max(r.max_truth_error_track, rec.truth_error);
         sum_sq_ += rec.truth_error * rec.truth_error;
         ++n_track_;
+        if (controller_limited) ++r.controller_limited_ticks_track;
         break;
     }
     r.max_abs_tau = r.max_abs_tau.cwiseMax(rec.tau_applied.cwiseAbs());

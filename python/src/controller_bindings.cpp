@@ -122,6 +122,7 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
   d["max_truth_error_hold_end_rad"] = r.max_truth_error_hold_end;
   d["max_abs_tau_Nm"] = pyb::make_tuple(r.max_abs_tau(0), r.max_abs_tau(1));
   d["controller_limited_ticks"] = r.controller_limited_ticks;
+  d["controller_limited_track_ticks"] = r.controller_limited_ticks_track;
   d["motor_limited_ticks"] = r.motor_limited_ticks;
   d["max_attitude_error_rad"] = r.max_attitude_error;
   d["max_tilt_rad"] = pyb::make_tuple(r.max_tilt(0), r.max_tilt(1));
@@ -153,7 +154,8 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
 constexpr const char* kTickFigures[] = {
     "settle_time_s",           "max_joint_error_slew_rad",    "max_joint_error_hold_rad", "max_joint_error_track_rad",
     "max_truth_error_track_rad", "rms_truth_error_track_rad", "max_truth_error_hold_end_rad", "max_abs_tau_Nm",
-    "controller_limited_ticks", "motor_limited_ticks", "max_attitude_error_rad",    "max_tilt_rad"};
+    "controller_limited_ticks", "controller_limited_track_ticks", "motor_limited_ticks", "max_attitude_error_rad",
+    "max_tilt_rad"};
 
 /// A non-finite value in any tick is a stop with its reason, and no figure
 /// is reported over it (a max over NaN reads as 0.0): the figures become NaN

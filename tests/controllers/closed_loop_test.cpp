@@ -130,8 +130,19 @@ TEST(ClosedLoop, TorqueLimitIsRespected) {
   EXPECT_LE(r.max_abs_tau(0), 11.0);
   EXPECT_LE(r.max_abs_tau(1), 7.0);
   EXPECT_GT(r.controller_limited_ticks, 100);  // the limits do act
+  EXPECT_EQ(r.controller_limited_ticks_track, 0);  // in the slew only: the track asks far less
   EXPECT_EQ(r.motor_limited_ticks, 0);         // and they are the controller's: the plant's 1000 N m is far
   EXPECT_LE(r.settle_time, kSettleWithin);  // and the loop still settles
+}
+
+TEST(ClosedLoop, TorqueLimitWhileTrackingIsCountedApart) {
+  // A limit below what the track itself asks: the track's ticks at the limit
+  // are counted apart from the slew's (the pointing study's target is over the track).
+  const ClosedLoopResult r =
+      run(test::scene("paper_ideal"), defaults({"azimuth.torque_limit=0.05", "elevation.torque_limit=0.05"}), 0.5);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_GT(r.controller_limited_ticks_track, 0);
+  EXPECT_LT(r.controller_limited_ticks_track, r.controller_limited_ticks);  // the slew's are not in it
 }
 
 TEST(ClosedLoop, AntiWindupLimitsOvershootOfASaturatedSlew) {

@@ -35,7 +35,8 @@ TEST(PointingStudy, QuickRunWritesOneSummaryRowPerRun) {
   const gimbalsim::test::Csv sum = gimbalsim::test::Csv::read(dir + "/summary.csv");
   const std::vector<std::string> cols{"run",           "scene",        "sensors",     "clearance_m",
                                       "peak_track_rad", "rms_track_rad", "peak_run_rad", "track_ticks",
-                                      "controller_limited_ticks", "motor_limited_ticks", "joints",      "max_tilt1_rad", "max_tilt2_rad",
+                                      "controller_limited_ticks", "controller_limited_track_ticks",
+                                      "motor_limited_ticks", "joints",      "max_tilt1_rad", "max_tilt2_rad",
                                       "play_onset1_s", "play_onset2_s", "loop_sensors", "status",        "stop_reason",  "track_reason",
                                       "onset_reason"};
   EXPECT_EQ(sum.header, cols);
@@ -157,6 +158,7 @@ TEST(PointingStudy, SeveralClearanceScenesAreLabelledByScene) {
   // most ticks at the limit); the planar play never shows it.
   EXPECT_EQ(rec[1].at("controller_limited_ticks"), "0");
   EXPECT_EQ(rec[2].at("controller_limited_ticks"), "0");
+  EXPECT_EQ(rec[2].at("controller_limited_track_ticks"), "0");
   EXPECT_TRUE(std::isnan(std::stod(rec[1].at("play_onset1_s"))));
   EXPECT_LT(std::stod(rec[2].at("play_onset1_s")), 1.0);  // [s] within the slew's first half second
   EXPECT_EQ(rec[2].at("loop_sensors"), "encoders+base attitude");

@@ -96,6 +96,14 @@ def main():
                "tuned for the rigid chain, limit-cycles. A spatial elevation journal's tilt lets shaft 1 turn about "
                "the azimuth axis against the antenna by up to 2c/L (backlash between the azimuth encoder and the "
                "antenna), so the azimuth loop drives the light shaft 1 alone across that play.", ""]
+    tracked = [r for r in rows if int(r.get("track_ticks") or 0) > 0 and r.get("controller_limited_track_ticks")]
+    if tracked:  # the slew may saturate by design; the loop's own limit cycle would show while tracking
+        worst = max(tracked, key=lambda r: int(r["controller_limited_track_ticks"]) / int(r["track_ticks"]))
+        md += [f"While tracking, a torque command sat at its limit in at most "
+               f"{int(worst['controller_limited_track_ticks'])} of {int(worst['track_ticks'])} ticks "
+               f"({100 * int(worst['controller_limited_track_ticks']) / int(worst['track_ticks']):.2g} %, "
+               f"{worst['run']}) over the {len(tracked)} runs that tracked; the rest of the column's ticks came before "
+               "tracking (the slew and the hold).", ""]
     guarded = [r for r in rows if any(math.isfinite(onset(r, j)) for j in range(2))]
     if guarded:
         md += [f"In {len(guarded)} of the {len(rows)} runs the controller saw a play and stepped that axis on its "
@@ -105,7 +113,8 @@ def main():
                "boresight tracker and gyro).", ""]
     md += ["| run | scene | sensors | loop sensors | clearance [mm] | peak while tracking [rad] "
            "| RMS while tracking [rad] | peak over the run [rad] | peak / ideal | RMS / ideal "
-           "| torque at its limit [ticks] | largest tilt, joint 1 / 2 [rad] | guard from, az / el [s] | plant |",
+           "| torque at its limit, run / tracking [ticks] | largest tilt, joint 1 / 2 [rad] "
+           "| guard from, az / el [s] | plant |",
            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         c = float(r["clearance_m"])
@@ -119,7 +128,8 @@ def main():
         md.append(f"| {r['run']} | {r['scene']} | {sensors(r)} | {r.get('loop_sensors') or '-'} | "
                   f"{'-' if c == 0 else f'{c * 1e3:g}'} | "
                   f"{_rad(r['peak_track_rad'])} | {_rad(r['rms_track_rad'])} | {_rad(r['peak_run_rad'])} | "
-                  f"{rel[0]} | {rel[1]} | {r.get('controller_limited_ticks', '-')} | {tilts(r)} | {guard} | {status} |")
+                  f"{rel[0]} | {rel[1]} | {r.get('controller_limited_ticks', '-')} / "
+                  f"{r.get('controller_limited_track_ticks', '-')} | {tilts(r)} | {guard} | {status} |")
     md += ["", "Per tick: out/pointing_study/pointing_error.csv; figures: out/pointing_study/pointing_error_vs_time.png "
            "and pointing_error_vs_clearance.png (tools/pointing_study/plot_pointing_study.py).", ""]
     if config:

@@ -76,6 +76,7 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   s.rms_track = r.rms_truth_error_track;
   s.track_reason = r.track_reason;
   s.controller_limited_ticks = r.controller_limited_ticks;
+  s.controller_limited_track = r.controller_limited_ticks_track;
   s.motor_limited_ticks = r.motor_limited_ticks;
   s.max_tilt[0] = r.max_tilt(0), s.max_tilt[1] = r.max_tilt(1);
   s.play_onset[0] = r.play_onset(0), s.play_onset[1] = r.play_onset(1);
@@ -118,14 +119,16 @@ std::string timeSeriesCsv(const std::vector<Study>& runs, double period) {
 
 std::string summaryCsv(const std::vector<Study>& runs) {
   std::string out =
-      "run,scene,sensors,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,controller_limited_ticks,motor_limited_ticks,joints,"
-      "max_tilt1_rad,max_tilt2_rad,play_onset1_s,play_onset2_s,loop_sensors,status,stop_reason,track_reason,onset_reason\n";
+      "run,scene,sensors,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,controller_limited_ticks,"
+      "controller_limited_track_ticks,motor_limited_ticks,joints,max_tilt1_rad,max_tilt2_rad,play_onset1_s,"
+      "play_onset2_s,loop_sensors,status,stop_reason,track_reason,onset_reason\n";
   const auto text = [](const std::string& t) { return io::csvTextCell(t) + ","; };  // unquoted (CSV convention)
   const auto num = [](double x) { return csvNum(x) + ","; };
   for (const Study& s : runs) {
     out += text(s.label) + text(s.scene) + text(s.sensors) + num(s.clearance) + num(s.peak_track) +
            num(s.rms_track) + num(s.peak_run) + std::to_string(s.track_ticks) + "," +
-           std::to_string(s.controller_limited_ticks) + "," + std::to_string(s.motor_limited_ticks) + "," +
+           std::to_string(s.controller_limited_ticks) + "," + std::to_string(s.controller_limited_track) + "," +
+           std::to_string(s.motor_limited_ticks) + "," +
            text(s.joints) + num(s.max_tilt[0]) + num(s.max_tilt[1]) + num(s.play_onset[0]) + num(s.play_onset[1]) +
            text(s.loop_sensors) +
            text(s.ok ? std::string("ok") : "stop:" + s.stop_key) + text(s.reason) + text(s.track_reason) +

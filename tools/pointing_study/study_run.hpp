@@ -22,6 +22,7 @@ struct Study {
   double peak_track = 0.0, rms_track = 0.0, peak_run = 0.0;  ///< the track's: NaN with track_reason if not reached
   long long track_ticks = 0;
   long long controller_limited_ticks = 0;  ///< ticks with the command at the controller's limit (either axis)
+  long long controller_limited_track = 0;  ///< of them, while tracking
   long long motor_limited_ticks = 0;       ///< ticks with the applied torque at the motor limit (either axis)
   std::string joints;       ///< the joints' kinds, "ideal/spatial" (azimuth/elevation)
   double max_tilt[2] = {};  ///< [rad] largest tilt of each joint's journal at the ticks (0 unless spatial)

@@ -123,6 +123,8 @@ struct ClosedLoopResult {
   /// and ticks whose applied torque the plant's motor limit (torque.limit) clipped; either axis.
   long long controller_limited_ticks = 0;
   long long motor_limited_ticks = 0;
+  /// controller_limited_ticks while tracking: a slew may saturate by design, a track should not
+  long long controller_limited_ticks_track = 0;
   double max_attitude_error = 0.0;     ///< [rad] estimated vs true base attitude, whole run
   Vec2 max_tilt = Vec2::Zero();        ///< [rad] largest tilt of each joint's journal at the ticks, whole run
   /// [s] the first tick at which each axis ran on its backlash guard's gains
