@@ -155,17 +155,23 @@ def parse_parameter(spec, section, key, node, key_types, known_as=SCENE_KEYS):
     if kind in ("uniform", "loguniform", "normal") and ktype not in NUMERIC:
         spec.refuse(where, f"{kind} needs a number key; {key} is {ktype}", arg)
     if kind in ("uniform", "loguniform"):
-        if (not isinstance(plain, list) or len(plain) != 2 or not all(_is_number(v) for v in plain)
-                or not plain[0] <= plain[1]):
-            spec.refuse(where, f"{kind} expects [lo, hi] with lo <= hi", arg)
+        if not isinstance(plain, list) or len(plain) != 2:
+            spec.refuse(where, f"{kind} expects [lo, hi], two finite numbers with lo <= hi, got {plain!r}", arg)
+        for name, v in zip(("lo", "hi"), plain):  # (pass 41) a bound that is no number was said "not lo <= hi"
+            if not _is_number(v):
+                spec.refuse(where, f"{kind} expects [lo, hi], two finite numbers: {name} {_not_a_number(v)}", arg)
+        if not plain[0] <= plain[1]:
+            spec.refuse(where, f"{kind} expects [lo, hi] with lo <= hi, got [{plain[0]!r}, {plain[1]!r}]", arg)
         if kind == "loguniform" and not plain[0] > 0:
             spec.refuse(where, "loguniform expects 0 < lo", arg)
         args = [float(v) for v in plain]
     elif kind == "normal":
         if not isinstance(plain, dict) or set(plain) - {"mean", "sd", "min", "max"} or not {"mean", "sd"} <= set(plain):
             spec.refuse(where, "normal expects {mean: m, sd: s, min: a, max: b} (min, max optional)", arg)
-        if not all(_is_number(v) for v in plain.values()):
-            spec.refuse(where, "normal: mean, sd, min and max must be numbers", arg)
+        for name, v in plain.items():
+            if not _is_number(v):
+                spec.refuse(where, f"normal: mean, sd, min and max must be finite numbers: {name} {_not_a_number(v)}",
+                            arg)
         args = {"mean": float(plain["mean"]), "sd": float(plain["sd"]),
                 "min": float(plain.get("min", -math.inf)), "max": float(plain.get("max", math.inf))}
         if not args["sd"] > 0 or not args["min"] < args["max"]:
@@ -225,6 +231,14 @@ def normal_ends(a):
 
 def _is_number(v):
     return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def _not_a_number(v):
+    """What a value that _is_number refuses is, for its refusal: "got inf (not finite)", "got '0x10' (not a
+    number)", as the scene loader says it of a key's value."""
+    if isinstance(v, float):
+        return f"got {v} (not finite)"
+    return f"got {v!r} (not a number)"
 
 
 def design_size(grid, samples):

@@ -137,6 +137,19 @@ BAD = [
      "each parameter takes one value"),
     ("grid:\n  friction.mu: [0.1, 0.2]\n", "samples", 2,
      "no parameter is dispersed: the 3 draws at each grid point are one unit"),
+    # (pass 41) a bound that is no finite number was said "expects [lo, hi] with lo <= hi"
+    ("parameters:\n  friction.mu: {uniform: [0.1, 0x10]}\n", "parameters.friction.mu", 7,
+     "uniform expects [lo, hi], two finite numbers: hi got '0x10' (not a number)"),
+    ("parameters:\n  friction.mu: {uniform: [0.1, .inf]}\n", "parameters.friction.mu", 7,
+     "uniform expects [lo, hi], two finite numbers: hi got inf (not finite)"),
+    ("parameters:\n  friction.mu: {loguniform: [-.inf, 0.2]}\n", "parameters.friction.mu", 7,
+     "loguniform expects [lo, hi], two finite numbers: lo got -inf (not finite)"),
+    ("parameters:\n  friction.mu: {uniform: [0.1, '']}\n", "parameters.friction.mu", 7,
+     "hi got '' (not a number)"),
+    ("parameters:\n  friction.mu: {uniform: [0.3, 0.2]}\n", "parameters.friction.mu", 7,
+     "uniform expects [lo, hi] with lo <= hi, got [0.3, 0.2]"),
+    ("parameters:\n  friction.mu: {normal: {mean: .inf, sd: 0.1}}\n", "parameters.friction.mu", 7,
+     "normal: mean, sd, min and max must be finite numbers: mean got inf (not finite)"),
 ]
 
 
