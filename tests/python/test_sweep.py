@@ -152,6 +152,20 @@ def test_two_workers_and_other_batches_give_the_same_results(reference, spec, tm
     assert (tmp_path / "a" / "plots" / "pointing_error_distribution.png").stat().st_size > 5000
 
 
+@pytest.mark.parametrize("n,workers,size", [(60, 2, 4), (1109, 2, 10), (7, 2, 1), (200, 4, 7)])
+def test_default_tasks_shrink_to_single_samples_at_the_end(n, workers, size):
+    # (issue 40) tasks of 4 closed-loop units left one of two workers idle ~2 s at the end of a 60-unit sweep
+    from gimbalsim.sweep import _chunks
+    guided, fixed = _chunks(list(range(n)), size, workers, True), _chunks(list(range(n)), size, workers, False)
+    for chunks in (guided, fixed):
+        assert [i for c in chunks for i in c] == list(range(n))  # every sample once, in order
+    assert max(map(len, guided)) == size and [len(c) for c in fixed[:-1]] == [size] * (len(fixed) - 1)
+    sizes = [len(c) for c in guided]
+    assert sizes == sorted(sizes, reverse=True)  # never a bigger task after a smaller one
+    assert sizes[-2 * workers:] == [1] * 2 * workers  # the last round, one sample per task
+    assert len(guided) <= len(fixed) + 4 * workers + size  # the tail costs a few tasks, not one per sample
+
+
 def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
