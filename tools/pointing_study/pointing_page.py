@@ -99,11 +99,12 @@ def main():
     tracked = [r for r in rows if int(r.get("track_ticks") or 0) > 0 and r.get("controller_limited_track_ticks")]
     if tracked:  # the slew may saturate by design; the loop's own limit cycle would show while tracking
         worst = max(tracked, key=lambda r: int(r["controller_limited_track_ticks"]) / int(r["track_ticks"]))
-        md += [f"While tracking, a torque command sat at its limit in at most "
-               f"{int(worst['controller_limited_track_ticks'])} of {int(worst['track_ticks'])} ticks "
-               f"({100 * int(worst['controller_limited_track_ticks']) / int(worst['track_ticks']):.2g} %, "
-               f"{worst['run']}) over the {len(tracked)} runs that tracked; the rest of the column's ticks came before "
-               "tracking (the slew and the hold).", ""]
+        n_worst, of = int(worst["controller_limited_track_ticks"]), int(worst["track_ticks"])
+        md += [(f"While tracking, a torque command sat at its limit in at most {n_worst} of {of} ticks "
+                f"({100 * n_worst / of:.2g} %, {worst['run']})" if n_worst else
+                "While tracking, no torque command sat at its limit") +
+               f" in the {len(tracked)} runs that tracked; the rest of the column's ticks came before tracking "
+               "(the slew and the hold).", ""]
     guarded = [r for r in rows if any(math.isfinite(onset(r, j)) for j in range(2))]
     if guarded:
         md += [f"In {len(guarded)} of the {len(rows)} runs the controller saw a play and stepped that axis on its "
