@@ -147,6 +147,10 @@ def test_two_workers_and_other_batches_give_the_same_results(reference, spec, tm
     summary = json.loads((tmp_path / "a" / "summary.json").read_text())
     assert summary["status"] == {"ok": N}
     assert summary["engine"]["workers"] == 2 and summary["engine"]["ran_this_invocation"] == N
+    # the workers' wait after their last task is apart from the engine's overhead, and within the run's time
+    e = summary["engine"]
+    assert 0.0 <= e["drain_idle_per_sample_s"] <= e["elapsed_s"] * 2 / N, e
+    assert e["engine_overhead_per_sample_s"] + e["drain_idle_per_sample_s"] <= e["elapsed_s"] * 2 / N, e
     p = summary["percentiles_of_ok_samples"]["pointing_error_max"]
     assert p["p50"] <= p["p90"] <= p["p99"] <= p["max"]
     assert (tmp_path / "a" / "plots" / "pointing_error_distribution.png").stat().st_size > 5000
