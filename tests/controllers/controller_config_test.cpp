@@ -77,6 +77,13 @@ TEST(ControllerConfig, BadValuesAreRefusedWithTheReason) {
       << refusal("azimuth:\n  kp: 1e300\n");
   EXPECT_NE(refusal("elevation:\n  kd: fast\n").find("key 'elevation.kd': expected a number, got 'fast'"),
             std::string::npos);
+  // (pass 42) an empty mapping was skipped and the key ran at its default; a list said only what was expected
+  EXPECT_NE(refusal("azimuth:\n  kp: {}\n").find("cfg.yaml:2:3: key 'azimuth.kp': expected a number, got a map"),
+            std::string::npos)
+      << refusal("azimuth:\n  kp: {}\n");
+  EXPECT_NE(refusal("azimuth:\n  kp: [1, 2]\n").find("key 'azimuth.kp': expected a number, got a list"),
+            std::string::npos);
+  EXPECT_EQ(refusal("azimuth: {}\n"), "(accepted)");  // an empty section gives nothing: nothing to refuse
   EXPECT_NE(refusal("profile:\n  start: [1]\n").find("key 'profile.start': expected [azimuth, elevation]"),
             std::string::npos);
   EXPECT_NE(refusal("", {"control.rate_source=guess"})

@@ -79,6 +79,17 @@ TEST(Scene, WrongTypesAreRefusedWithPosition) {
   EXPECT_NE(e.find("key 'contact.damping': expected one of none | hunt_crossley | lankarani_nikravesh | flores"),
             std::string::npos)
       << e;
+  // (pass 42) an empty mapping was skipped and the key ran at its default (tau2 10 N m for a file's 0)
+  e = refusal(std::string(kGood) + "torque:\n  tau2: {}\n");
+  EXPECT_NE(e.find("bad.yaml:7:3: key 'torque.tau2': expected a number, got a map"), std::string::npos) << e;
+  e = refusal(std::string(kGood) + "contact:\n  damping: {}\n");
+  EXPECT_NE(e.find("key 'contact.damping': expected one of none | hunt_crossley | lankarani_nikravesh | flores, "
+                   "got a map"),
+            std::string::npos)
+      << e;
+  e = refusal(std::string(kGood) + "nope: {}\n");
+  EXPECT_NE(e.find("unknown key 'nope'"), std::string::npos) << e;
+  EXPECT_EQ(refusal(std::string(kGood) + "contact: {}\n"), "");  // an empty section gives nothing
   // what it got, also when that is nothing (pass 40: '' was refused saying only what was expected)
   e = refusal(kGood, {"contact.damping=''"});
   EXPECT_NE(e.find("key 'contact.damping': expected one of none | hunt_crossley | lankarani_nikravesh | flores, "

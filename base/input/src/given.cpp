@@ -69,11 +69,13 @@ Given::Place place(const std::string& origin, const YAML::Mark& mk) {
 
 /// Leaves of nested sections as "a.b" -> (value, place of its key); a key
 /// given twice is a problem at its second place (yaml-cpp keeps one silently).
+/// An empty mapping is a leaf too: a key given {} is refused by its reader
+/// (pass 42: it was skipped, and the key ran at its default), an empty section dropped later.
 void flatten(const YAML::Node& n, const std::string& prefix, const std::string& origin,
              std::map<std::string, Value>& out, std::vector<Problem>& problems) {
   for (const auto& kv : n) {
     const std::string full = (prefix.empty() ? "" : prefix + ".") + kv.first.Scalar();
-    if (kv.second.IsMap()) {
+    if (kv.second.IsMap() && kv.second.size() > 0) {
       flatten(kv.second, full, origin, out, problems);
     } else if (const auto [it, fresh] = out.try_emplace(full, Value{kv.second, place(origin, kv.first.Mark()), ""});
                !fresh) {
@@ -135,11 +137,17 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
     problems.push_back(where.problem(key, "unknown key '" + key + "' (see " + words.see + ")"));
   };
   const std::string& only = words.section;
+  const auto is_section = [&](const std::string& name) {  // a prefix of a known key: "contact" of "contact.mu"
+    const auto k = known.lower_bound(name + ".");
+    return k != known.end() && k->rfind(name + ".", 0) == 0;
+  };
   for (auto it = values.begin(); it != values.end();) {
     if (!only.empty() && it->first != only && it->first.rfind(only + ".", 0) != 0) {
       it = values.erase(it);  // another reader's section
     } else if (known.count(it->first)) {
       ++it;
+    } else if (it->second.node.IsMap() && is_section(it->first)) {
+      it = values.erase(it);  // an empty section ("contact: {}"): nothing given
     } else {
       unknown(it->second.where, it->first);
       it = values.erase(it);

@@ -9,8 +9,17 @@
 
 namespace gimbalsim {
 
+namespace {
+
+/// What a value is, for a refusal that says what it got, also when that is nothing or no scalar.
+std::string got(const YAML::Node& n) {
+  return n.IsScalar() ? "'" + n.Scalar() + "'" : n.IsMap() ? "a map" : n.IsSequence() ? "a list" : "no value";
+}
+
+}  // namespace
+
 double asNumber(const YAML::Node& n) {
-  if (!n.IsScalar()) throw ConvertError{"expected a number"};
+  if (!n.IsScalar()) throw ConvertError{"expected a number, got " + got(n)};
   double x;
   if (!YAML::convert<double>::decode(n, x)) throw ConvertError{"expected a number, got '" + n.Scalar() + "'"};
   if (!std::isfinite(x)) throw ConvertError{"must be finite, got '" + n.Scalar() + "'"};
@@ -77,8 +86,7 @@ std::size_t asChoice(const YAML::Node& n, const std::vector<std::string>& names)
     if (s == names[i]) return i;
   }
   // what it got, also when that is nothing (pass 40: '' said only what was expected)
-  const std::string got = n.IsScalar() ? "'" + s + "'" : n.IsMap() ? "a map" : n.IsSequence() ? "a list" : "no value";
-  throw ConvertError{"expected one of " + join(names, " | ") + ", got " + got};
+  throw ConvertError{"expected one of " + join(names, " | ") + ", got " + got(n)};
 }
 
 }  // namespace gimbalsim
