@@ -264,3 +264,20 @@ def test_a_nudge_the_scene_refuses_is_no_spread(tmp_path):
     spread = uc.spreads(spec, [0], ["ape_slew"], {0: {"status": "ok", "ape_slew_rad": "1e-5"}}, workers=1)[0]
     assert isinstance(spread, str) and "initial.ecc nudged by 1e-12 m is refused" in spread, spread
     assert uc.classify([{"key": "ape_slew", "tol": 1e-6, "beyond": [0]}], {0: spread}) == {"ape_slew": ([], [], [0])}
+
+
+def test_an_estimate_beyond_every_figure_in_both_runs_is_no_miss(tmp_path):
+    # (pass 42) the quantile fell on a unit that stopped in both runs: the estimate "beyond every figure" was read
+    # as none, printed "n/a (no unit has a figure)" though 3 of 4 had one, and judged outside [x, open]: "no"
+    spec = slew_spec(settings="sim.duration: 0.2", samples=4, seed="4", ape="level: 0.9, confidence: 0.5")
+    spec = spec.replace("controller_set: {profile.slew_start: 0.05, profile.slew_time: 0.1, profile.hold_time: 0.05}",
+                        "controller_set: {profile.slew_start: 0.02, profile.slew_time: 0.05, profile.hold_time: 0.02}")
+    spec = spec.replace("friction.mu: {uniform: [0.15, 0.35]}", "sim.velocity_limit: {uniform: [0.3, 3]}")
+    (tmp_path / "s.yaml").write_text(spec)
+    p = run("--spec", tmp_path / "s.yaml", "--fine-substep", "1e-4", "--out", tmp_path / "out")
+    assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
+    status = [line.split(",")[2] for line in (tmp_path / "out/default/results.csv").read_text().splitlines()[1:]]
+    assert sorted(status) == ["ok", "ok", "ok", "sim.velocity_limit"], status  # the case asked for: one stopped
+    row = next(line for line in p.stdout.splitlines() if line.startswith("| ape_slew |"))
+    assert row.startswith("| ape_slew | beyond every figure | beyond every figure | [") and ", open] | yes |" in row, row
+    assert "Every index within the fine run's interval: yes." in p.stdout, p.stdout

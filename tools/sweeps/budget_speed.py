@@ -121,7 +121,9 @@ def compare(spec, budget_default, budget_fine, rows_default, rows_fine, toleranc
         a_vals = [figure(rows_default[u], key + "_rad") for u in units]
         f_vals = [figure(rows_fine[u], key + "_rad") for u in units]
         low, high = interval(f_vals, b["level"], b["confidence"])
-        est_a, est_f = (math.nan if x is None else x for x in (b["estimate_rad"], f["estimate_rad"]))
+        # an estimate beyond every figure (it falls on units without one, counted as worst) is +inf, not "none"
+        # (pass 42: read as NaN, it was never inside an interval open at its top, and the verdict said "no")
+        est_a, est_f = (_estimate(x) for x in (b, f))
         tol = SHARE * reqs[b["index"]] if b["index"] in reqs else fallback
         # over the units with a figure in either run: one in one run only is beyond any tolerance
         diffs = [(abs(x - y) if math.isfinite(x) and math.isfinite(y) else math.inf, u)
@@ -132,10 +134,20 @@ def compare(spec, budget_default, budget_fine, rows_default, rows_fine, toleranc
                       # units for the level and confidence) bounds nothing: no verdict
                       "judged": math.isfinite(low) or math.isfinite(high),
                       "fine_none": not any(math.isfinite(y) for y in f_vals),  # no interval to hold it to
-                      "inside": math.isfinite(est_a) and low <= est_a <= high, "worst": worst,
+                      "inside": not math.isnan(est_a) and low <= est_a <= high, "worst": worst,
                       "worst_unit": worst_unit, "compared": bool(diffs),  # no unit with a figure: no verdict
                       "beyond": [u for d, u in diffs if d > tol]})
     return found
+
+
+def _estimate(entry):
+    """A budget entry's estimate [rad]: +inf beyond every figure, NaN with no unit with a figure."""
+    x, none = entry["estimate_rad"], entry["n_missing"] == entry["n"]  # no unit with a figure: nothing beyond
+    return x if x is not None else math.inf if "estimate_note" in entry and not none else math.nan
+
+
+def _estimate_text(x):
+    return "n/a (no unit has a figure)" if math.isnan(x) else "beyond every figure" if math.isinf(x) else f"{x:.3e}"
 
 
 def _category(c):
@@ -192,8 +204,7 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
     print("|---|---|---|---|---|---|---|---|---|")
     show = lambda x, end="open": end if not math.isfinite(x) else f"{x:.3e}"  # noqa: E731
     for c in found:
-        print(f"| {c['key']} | {show(c['est_a'], 'n/a (no unit has a figure)')} | "
-              f"{show(c['est_f'], 'n/a (no unit has a figure)')} | "
+        print(f"| {c['key']} | {_estimate_text(c['est_a'])} | {_estimate_text(c['est_f'])} | "
               f"{'n/a (no figure)' if c['fine_none'] else '[' + show(c['low']) + ', ' + show(c['high']) + ']'} | "
               f"{WITHIN_TEXT[_category(c)]}"
               f" | {_distance_text(c['worst'], c['worst_unit'])} | {c['tol']:.0e} | {len(c['beyond'])} | "
