@@ -122,7 +122,10 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
   d["max_truth_error_hold_end_rad"] = r.max_truth_error_hold_end;
   d["max_abs_tau_Nm"] = pyb::make_tuple(r.max_abs_tau(0), r.max_abs_tau(1));
   d["controller_limited_ticks"] = r.controller_limited_ticks;
-  d["controller_limited_track_ticks"] = r.controller_limited_ticks_track;
+  // a count over the track window: NaN with the track's reason when the run never reached it (pass 42: a bare 0)
+  d["controller_limited_track_ticks"] = r.track_reason.empty()
+                                            ? pyb::object(pyb::int_(r.controller_limited_ticks_track))
+                                            : pyb::object(pyb::float_(std::numeric_limits<double>::quiet_NaN()));
   d["motor_limited_ticks"] = r.motor_limited_ticks;
   d["max_attitude_error_rad"] = r.max_attitude_error;
   d["max_tilt_rad"] = pyb::make_tuple(r.max_tilt(0), r.max_tilt(1));
@@ -140,6 +143,7 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
       {"settle_time_s", &r.settle_reason},         {"max_joint_error_slew_rad", &r.slew_reason},
       {"max_joint_error_hold_rad", &r.hold_reason},  {"max_joint_error_track_rad", &r.track_reason},
       {"max_truth_error_track_rad", &r.track_reason}, {"rms_truth_error_track_rad", &r.track_reason},
+      {"controller_limited_track_ticks", &r.track_reason},
       {"max_truth_error_hold_end_rad", &r.hold_end_reason}, {"max_abs_tau_Nm", &r.run_reason},
       {"max_attitude_error_rad", &r.run_reason},       {"max_tilt_rad", &r.run_reason}};
   for (const auto& [field, reason] : why) {

@@ -107,6 +107,7 @@ TEST(PointingStudy, ARunThatEndsBeforeTheTrackHasNanTrackFiguresWithTheReason) {
   for (const auto& r : rec) {
     EXPECT_EQ(r.at("peak_track_rad"), "nan");
     EXPECT_EQ(r.at("rms_track_rad"), "nan");
+    EXPECT_EQ(r.at("controller_limited_track_ticks"), "nan");  // a count over the window, too (pass 42: 0)
     EXPECT_EQ(r.at("track_reason"), "track window [3.5; inf) s not reached: run ended at 2 s");  // no comma in a cell
     EXPECT_EQ(r.at("status"), "ok");
     EXPECT_GT(std::stod(r.at("peak_run_rad")), 0.0);

@@ -44,12 +44,14 @@ def test_a_figure_over_a_window_the_run_did_not_reach_is_nan_with_its_reason():
     s = gimbalsim.closed_loop(gimbalsim.load_scene(scene_path("paper_ideal")), ctrl, 3.0).summary
     assert s["ok"]  # the run is ok; its missing figures are marked
     why = "track window [3.5, inf) s not reached: run ended at 3 s"
-    for k in ("max_truth_error_track_rad", "rms_truth_error_track_rad", "max_joint_error_track_rad"):
+    for k in ("max_truth_error_track_rad", "rms_truth_error_track_rad", "max_joint_error_track_rad",
+              "controller_limited_track_ticks"):  # (pass 42) the count over the window was a bare 0
         assert np.isnan(s[k]) and s["reasons"][k] == why, (k, s[k], s["reasons"])
     assert np.isnan(s["max_truth_error_hold_end_rad"]) and np.isnan(s["settle_time_s"])
     assert "end of the hold window [2.5, 3.5) s" in s["reasons"]["settle_time_s"]
     assert s["max_joint_error_hold_rad"] > 0.0 and "max_joint_error_hold_rad" not in s["reasons"]
-    assert gimbalsim.closed_loop(gimbalsim.load_scene(scene_path("paper_ideal")), ctrl, 3.6).summary["reasons"] == {}
+    reached = gimbalsim.closed_loop(gimbalsim.load_scene(scene_path("paper_ideal")), ctrl, 3.6).summary
+    assert reached["reasons"] == {} and reached["controller_limited_track_ticks"] == 0
 
 
 def test_controller_values_overrides_pickle_and_refusals():

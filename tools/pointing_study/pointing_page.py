@@ -17,6 +17,11 @@ sys.path.insert(0, str(ROOT / "tools" / "pages"))
 import results_page  # noqa: E402
 
 
+def _ticks(text):
+    """A tick count's cell: n/a where the run never reached the window it counts over (nan in summary.csv)."""
+    return "-" if text is None else "n/a" if text == "nan" else text
+
+
 def _value(text):
     try:
         return float(text)
@@ -130,7 +135,7 @@ def main():
                   f"{'-' if c == 0 else f'{c * 1e3:g}'} | "
                   f"{_rad(r['peak_track_rad'])} | {_rad(r['rms_track_rad'])} | {_rad(r['peak_run_rad'])} | "
                   f"{rel[0]} | {rel[1]} | {r.get('controller_limited_ticks', '-')} / "
-                  f"{r.get('controller_limited_track_ticks', '-')} | {tilts(r)} | {guard} | {status} |")
+                  f"{_ticks(r.get('controller_limited_track_ticks'))} | {tilts(r)} | {guard} | {status} |")
     md += ["", "Per tick: out/pointing_study/pointing_error.csv; figures: out/pointing_study/pointing_error_vs_time.png "
            "and pointing_error_vs_clearance.png (tools/pointing_study/plot_pointing_study.py).", ""]
     if config:

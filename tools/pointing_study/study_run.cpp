@@ -127,7 +127,9 @@ std::string summaryCsv(const std::vector<Study>& runs) {
   for (const Study& s : runs) {
     out += text(s.label) + text(s.scene) + text(s.sensors) + num(s.clearance) + num(s.peak_track) +
            num(s.rms_track) + num(s.peak_run) + std::to_string(s.track_ticks) + "," +
-           std::to_string(s.controller_limited_ticks) + "," + std::to_string(s.controller_limited_track) + "," +
+           std::to_string(s.controller_limited_ticks) + "," +
+           // a count over the track window: nan (track_reason says why) when the run never reached it
+           (s.track_reason.empty() ? std::to_string(s.controller_limited_track) : std::string("nan")) + "," +
            std::to_string(s.motor_limited_ticks) + "," +
            text(s.joints) + num(s.max_tilt[0]) + num(s.max_tilt[1]) + num(s.play_onset[0]) + num(s.play_onset[1]) +
            text(s.loop_sensors) +
