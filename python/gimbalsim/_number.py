@@ -41,6 +41,8 @@ def flag_decimal(text):
         return None, f"{text!r} is not a finite decimal number"
     if underflowed(text, x):
         return None, f"{text!r} is too small for a double (it would be read as 0 or lose its digits)"
+    if re.match(r"[+-]?0[0-9]", text):  # as a whole-number flag refuses 010 (program.cpp notPlainReal, pass 42)
+        return None, f"{text!r} is not a number written without a leading zero"
     return x, None
 
 

@@ -16,7 +16,8 @@ sys.path.insert(0, str(SOURCE / "tools" / "pages"))
 import output_file  # noqa: E402
 
 DECIMALS = ["5", "+5", "5.", ".5", "+.5e+1", "5E0", "0.5e-2", "1e6", "1e7", " 5", "5 ", "1_0", "0x1", "0x1p3",
-            "inf", "nan", "", "e1", "1e", "--5", "5..0", "1e-400", "5e-324", "2e-310", "\u0665", "５"]
+            "inf", "nan", "", "e1", "1e", "--5", "5..0", "1e-400", "5e-324", "2e-310", "\u0665", "５",
+            "010", "+010", "00.5", "0.5", "0e1"]  # (pass 42) a real flag took 010 as 10 where a whole one refused it
 WHOLES = ["1", "+1", "01", "007", "1000000000", "1000000001", "0", "-1", "+", "-", " 1", "1 ", "1_0", "0x1",
           "1e0", "1.0", "", "\u0661", "--1", "+-1"]
 
@@ -79,6 +80,9 @@ def test_a_leading_zero_is_refused_where_c_reads_octal():
         assert not cpp_takes("--truth-every", text), text
         assert not py_takes(output_file.arg_whole(-100, 100), text), text
     assert cpp_takes("--truth-every", "10") and cpp_takes("--truth-every", "+8")
+    for text in ("010", "+010", "00.5"):  # ... and a real flag alike (pass 42: --rate 01000 ran at 1000 Hz)
+        assert not cpp_takes("--rate", text) and not py_takes(output_file.arg_decimal(0.001, 1e6), text), text
+    assert cpp_takes("--rate", "0.5") and cpp_takes("--rate", "10")
 
 
 @pytest.mark.parametrize("program,args", [("firmware_sim", ["--truth-csv=", "--lockstep"]),
