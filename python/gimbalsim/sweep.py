@@ -126,7 +126,10 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
                 dropped[why] = dropped.get(why, []) + numbers
                 n, shown = len(numbers), ", ".join(map(str, numbers[:10])) + (" ..." if len(numbers) > 10 else "")
                 kind = "journal row" if read_from == journal else "row"
-                again = "the same row kept once" if why.startswith("sample already") else "their samples run again"
+                # a sample outside the design is no sample of this sweep: nothing runs for it (pass 42)
+                again = ("the same row kept once" if why.startswith("sample already") else
+                         "not samples of this design: nothing runs for them" if why.endswith("outside the design")
+                         else "their samples run again")
                 print(f"sweep: dropped {n} {kind}{'s' * (n != 1)} ({why}) at {read_from} line{'s' * (n != 1)} "
                       f"{shown}; {again}", file=sys.stderr)
         while True:

@@ -184,6 +184,9 @@ def test_rows_the_design_did_not_draw_are_dropped_counted_and_run_again(spec, tm
                 "1 journal row (friction_mu differs from the design's draw)",
                 "1 journal row (status or figures unreadable)", "1 journal row (last line cut"):
         assert f"dropped {why}" in p.stderr, p.stderr
+    # (pass 42) a row outside the design was said "their samples run again": nothing runs for it
+    assert "(sample index outside the design) at " in p.stderr and \
+        "line 12; not samples of this design: nothing runs for them" in p.stderr, p.stderr
     assert "8 already done, 16 to run" in p.stderr
     assert marked_samples(out) == set(range(10)) - {3, 4}
     column = dict(zip(s.header(), s.csv_header()))  # contact.clearance -> contact_clearance_m
