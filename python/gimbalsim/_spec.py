@@ -116,7 +116,9 @@ class Spec:
         try:
             return Node(_scalar(n), line, col)
         except (ValueError, yaml.YAMLError) as e:
-            raise SpecError(f"{n.tag.rsplit(':', 1)[-1]} '{n.value[:40]}' does not read: {e}", key=key,
+            # a long text is cut, visibly: '1000...' is not the 1e39 its first 40 digits read as (pass 42)
+            shown = n.value if len(n.value) <= 40 else f"{n.value[:40]}... ({len(n.value)} characters)"
+            raise SpecError(f"{n.tag.rsplit(':', 1)[-1]} '{shown}' does not read: {e}", key=key,
                             file=str(self.path), line=line, column=col)
 
     def refuse(self, key, message, node=None):
