@@ -214,18 +214,6 @@ def crashed(i):
     return {"sample": i, "status": "crashed", "wall_time": math.nan}
 
 
-def _chunks(todo, size, n_workers, guided):
-    """The tasks' samples: `size` each, or (guided) shrinking towards 1 as the samples left run out, so that
-    at the end no worker waits long on another's whole task (60 closed-loop units in tasks of 4 left one of
-    two workers idle for about 2 s: 32 ms per sample of "engine overhead" that no engine spent)."""
-    chunks, k = [], 0
-    while k < len(todo):
-        n = size if not guided else max(1, min(size, (len(todo) - k) // (2 * n_workers)))
-        chunks.append(todo[k:k + n])
-        k += n
-    return chunks
-
-
 def _run_on_cluster(spec, todo, fd, journal, done, cluster, batch, progress):
     """Runs the samples todo on cluster = (client, n_workers), appending each
     task's rows to the journal as they arrive; the engine's figures."""
@@ -236,10 +224,11 @@ def _run_on_cluster(spec, todo, fd, journal, done, cluster, batch, progress):
     client, n_workers = cluster
     # about 8 tasks per worker, at most 10 samples each: rows arrive often and a killed worker loses little
     size = batch or max(1, min(10, math.ceil(len(todo) / (n_workers * 8))))
-    chunks = _chunks(todo, size, n_workers, guided=batch is None)
+    chunks = _cluster.task_chunks(todo, size, n_workers, guided=batch is None)
     # the base scene (2 kB) goes in each task, not scattered: scattered data dies with the workers
     # holding it, and the tasks needing it then fail; a task's own arguments are resent on a retry
     t0 = time.perf_counter()
+    warm = _cluster.warm_up(client)  # [s] each worker's import of the package, once, before the first task
     submit = lambda c: client.submit(run_batch, spec.base, spec.closed, [(i, spec.design.draw(i)) for i in c],
                                      pure=False)
     samples_of = {}  # future -> the samples it runs
@@ -289,8 +278,9 @@ def _run_on_cluster(spec, todo, fd, journal, done, cluster, batch, progress):
             "elapsed_s": elapsed, "samples_per_s": ran / elapsed if elapsed > 0 else None,
             "mean_run_s": run_time / len(times) if times else None,
             # time the workers were busy with something other than our tasks while tasks were left, per sample
-            "engine_overhead_per_sample_s": (elapsed * n_workers - inside - drain) / ran if ran else None,
-            "drain_idle_per_sample_s": drain / ran if ran else None,
+            "engine_overhead_per_sample_s": (elapsed * n_workers - inside - drain - warm * n_workers) / ran
+            if ran else None,
+            "drain_idle_per_sample_s": drain / ran if ran else None, "warm_up_s": warm,
             "task_overhead_per_sample_s": (inside - run_time) / ran if ran else None}
 
 

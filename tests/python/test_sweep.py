@@ -151,6 +151,7 @@ def test_two_workers_and_other_batches_give_the_same_results(reference, spec, tm
     e = summary["engine"]
     assert 0.0 <= e["drain_idle_per_sample_s"] <= e["elapsed_s"] * 2 / N, e
     assert e["engine_overhead_per_sample_s"] + e["drain_idle_per_sample_s"] <= e["elapsed_s"] * 2 / N, e
+    assert 0.0 < e["warm_up_s"] < e["elapsed_s"], e  # every worker answered before the first task
     p = summary["percentiles_of_ok_samples"]["pointing_error_max"]
     assert p["p50"] <= p["p90"] <= p["p99"] <= p["max"]
     assert (tmp_path / "a" / "plots" / "pointing_error_distribution.png").stat().st_size > 5000
@@ -159,8 +160,8 @@ def test_two_workers_and_other_batches_give_the_same_results(reference, spec, tm
 @pytest.mark.parametrize("n,workers,size", [(60, 2, 4), (1109, 2, 10), (7, 2, 1), (200, 4, 7)])
 def test_default_tasks_shrink_to_single_samples_at_the_end(n, workers, size):
     # (issue 40) tasks of 4 closed-loop units left one of two workers idle ~2 s at the end of a 60-unit sweep
-    from gimbalsim.sweep import _chunks
-    guided, fixed = _chunks(list(range(n)), size, workers, True), _chunks(list(range(n)), size, workers, False)
+    from gimbalsim._cluster import task_chunks
+    guided, fixed = (task_chunks(list(range(n)), size, workers, g) for g in (True, False))
     for chunks in (guided, fixed):
         assert [i for c in chunks for i in c] == list(range(n))  # every sample once, in order
     assert max(map(len, guided)) == size and [len(c) for c in fixed[:-1]] == [size] * (len(fixed) - 1)

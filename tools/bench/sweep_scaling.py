@@ -133,17 +133,18 @@ def scheduler_cost(n):
 
 def engine_table(e, same):
     md = ["| how it ran | samples/s | run per sample | engine overhead per sample | overhead / run "
-          "| end wait per sample |",
-          "|---|---|---|---|---|---|"]
+          "| end wait per sample | warm-up |",
+          "|---|---|---|---|---|---|---|"]
     for way, x in e.items():
         md.append(f"| {way} | {x['samples_per_s']:.2f} | {x['mean_run_s'] * 1e3:.1f} ms | "
                   f"{x['engine_overhead_per_sample_s'] * 1e3:.2f} ms | "
                   f"{x['engine_overhead_per_sample_s'] / x['mean_run_s']:.1%} | "
-                  f"{x['drain_idle_per_sample_s'] * 1e3:.2f} ms |")
+                  f"{x['drain_idle_per_sample_s'] * 1e3:.2f} ms | {x['warm_up_s']:.2f} s |")
     worst = max(x["engine_overhead_per_sample_s"] for x in e.values())
     md += ["", f"Worst engine overhead per sample: **{worst * 1e3:.2f} ms** (target: at most 5 ms): the workers' "
                "time on anything but the tasks while tasks were left. The end wait is apart: each worker's time "
-               "after its last task, with nothing left to run (it shrinks with more samples per worker). The three "
+               "after its last task, with nothing left to run (it shrinks with more samples per worker), and so is the "
+               "warm-up: every worker's import of the package, once, before the first task. The three "
                f"runs wrote {'**the same rows**' if same else '**different rows**'} (results.csv but its wall time)."]
     return md, worst
 
