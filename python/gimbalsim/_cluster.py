@@ -35,18 +35,15 @@ def task_chunks(todo, size, n_workers, guided):
     return chunks
 
 
-def _ready():
-    return True  # unpickled by name on a worker: it imports this package there
-
-
-def warm_up(client):
-    """Seconds for every worker present to import this package (0.7 s each here), done once before the first
-    task so that no sample's figures carry it (a dask-worker that never ran the sweep's module read it as 20 ms
-    of engine overhead per sample over 60 units). A worker that cannot answer warms on its first task instead."""
+def warm_up(client, task, *args):
+    """Seconds for every worker present to run task(*args) once: an empty task, unpickled by name, imports
+    the module that runs the samples (0.7 s each here) before the first one, so that no sample's figures
+    carry it (a dask-worker that never ran the sweep's module read it as 20 ms of engine overhead per sample
+    over 60 units). A worker that cannot answer warms on its first task instead."""
     import time
     t = time.perf_counter()
     try:
-        client.run(_ready)
+        client.run(task, *args)
     except Exception:  # noqa: BLE001 (the tasks meet whatever this met, and report it as theirs)
         return 0.0
     return time.perf_counter() - t

@@ -228,7 +228,7 @@ def _run_on_cluster(spec, todo, fd, journal, done, cluster, batch, progress):
     # the base scene (2 kB) goes in each task, not scattered: scattered data dies with the workers
     # holding it, and the tasks needing it then fail; a task's own arguments are resent on a retry
     t0 = time.perf_counter()
-    warm = _cluster.warm_up(client)  # [s] each worker's import of the package, once, before the first task
+    warm = _cluster.warm_up(client, run_batch, spec.base, spec.closed, [])  # [s] each worker's import, once
     submit = lambda c: client.submit(run_batch, spec.base, spec.closed, [(i, spec.design.draw(i)) for i in c],
                                      pure=False)
     samples_of = {}  # future -> the samples it runs
