@@ -2,6 +2,7 @@
 dispersed batch, the controller and the gains to tune, the objective and
 its constraint, every value checked at the spec's line before anything runs."""
 import json
+import math
 
 import gimbalsim
 from . import _gimbalsim, _sampling
@@ -46,6 +47,15 @@ def fail_reason(results):
             f"{len(failed)} of {len(results)} plants refused"
         parts.append(f"{head}: {keys}" + (f" ({errors[0]})" if errors else ""))
     return "; ".join(parts)
+
+
+def suggest(trial, p):
+    """The Optuna trial's value of gain parameter p, drawn from its distribution."""
+    if p.kind == "choice":
+        return trial.suggest_categorical(p.key, p.args)
+    if p.type == "int":
+        return trial.suggest_int(p.key, math.ceil(p.args[0]), math.floor(p.args[1]), log=p.kind == "loguniform")
+    return trial.suggest_float(p.key, p.args[0], p.args[1], log=p.kind == "loguniform")
 
 
 class TuneSpec:

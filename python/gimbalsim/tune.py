@@ -51,7 +51,7 @@ from ._closed_spec import plant_overrides
 from ._journal import fmt
 from ._output import check_output_names, json_text, output_set, savefig, write_csv, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
-from ._tune_spec import METRICS, TuneSpec, fail_reason  # noqa: F401 (TuneSpec: the module's API)
+from ._tune_spec import METRICS, TuneSpec, fail_reason, suggest  # noqa: F401 (TuneSpec: the module's API)
 
 def run_plants(base, controller, duration, items):
     """A task: closed loops of one controller on plants [(j, overrides)]."""
@@ -92,21 +92,11 @@ def nested_yaml(values):
 
     def emit(node, depth):
         for k, v in node.items():
+            lines.append("  " * depth + (f"{k}:" if isinstance(v, dict) else f"{k}: {v}"))
             if isinstance(v, dict):
-                lines.append("  " * depth + f"{k}:")
                 emit(v, depth + 1)
-            else:
-                lines.append("  " * depth + f"{k}: {v}")
     emit(tree, 0)
     return "\n".join(lines) + "\n"
-
-
-def suggest(trial, p):
-    if p.kind == "choice":
-        return trial.suggest_categorical(p.key, p.args)
-    if p.type == "int":
-        return trial.suggest_int(p.key, math.ceil(p.args[0]), math.floor(p.args[1]), log=p.kind == "loguniform")
-    return trial.suggest_float(p.key, p.args[0], p.args[1], log=p.kind == "loguniform")
 
 
 STUDY_FILE = "study.db"
@@ -232,19 +222,28 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
                     _write_trials(out, header, study, spec.input_files())
                     continue
                 # the scene goes in each task: scattered data would die with its workers
-                futs = [(client.submit(run_plants, spec.base, ctrl, spec.duration, plants[k:k + chunk], pure=False),
-                         plants[k:k + chunk]) for k in range(0, len(plants), chunk)]
-                in_flight[trial.number] = (trial, futs, gains, time.perf_counter())
-            wait([f for _, fs, _, _ in in_flight.values() for f, _ in fs], return_when="FIRST_COMPLETED")
-            for number in [n for n, (_, fs, _, _) in in_flight.items() if all(f.done() for f, _ in fs)]:
-                trial, futs, gains, t0 = in_flight.pop(number)
-                results = []
+                submit = lambda ctrl, items: (  # noqa: E731
+                    client.submit(run_plants, spec.base, ctrl, spec.duration, items, pure=False), items)
+                in_flight[trial.number] = (trial, [submit(ctrl, plants[k:k + chunk]) for k in
+                                                   range(0, len(plants), chunk)], gains, time.perf_counter(), ctrl, [])
+            wait([f for _, fs, *_ in in_flight.values() for f, _ in fs], return_when="FIRST_COMPLETED")
+            for number in [n for n, (_, fs, *_) in in_flight.items() if all(f.done() for f, _ in fs)]:
+                trial, futs, gains, t0, ctrl, results = in_flight.pop(number)
+                again = []
                 for f, items in futs:
                     try:
                         results += f.result()
-                    except KilledWorker:  # a plant that kills its worker twice fails the trial, not the study
-                        results += [{"plant": j, "ok": False, "stop_key": "crashed"} for j, _ in items]
-                _finish(study, trial, gains, results, spec, time.perf_counter() - t0)
+                    except KilledWorker:  # a plant that kills its worker twice fails the trial, not the study;
+                        # which one? each runs alone again, so only it is crashed (pass 43: its task's others were)
+                        if len(items) > 1:
+                            again += [submit(ctrl, [it]) for it in items]
+                        else:
+                            results.append({"plant": items[0][0], "ok": False, "stop_key": "crashed"})
+                if again:
+                    in_flight[number] = (trial, again, gains, t0, ctrl, results)
+                    continue
+                _finish(study, trial, gains, sorted(results, key=lambda r: r["plant"]), spec,
+                        time.perf_counter() - t0)
                 finished += 1
                 bar.update(1)
                 _write_trials(out, header, study, spec.input_files())
@@ -260,7 +259,8 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
                                                              **{k: best.params[k] for k in gain_names}})
     text = (f"# gimbalsim.tune: trial {best.number} of {spec.spec_path.name}, score {best.value!r} rad "
             f"(p{spec.percentile:g} of {spec.metric} over {spec.batch} plants), "
-            f"{'feasible' if feasible else 'NO FEASIBLE TRIAL: the least bad'}\n") + nested_yaml(best_ctrl._values_text())
+            f"{'feasible' if feasible else 'NO FEASIBLE TRIAL: the least bad'}\n") + \
+        nested_yaml(best_ctrl._values_text())
     summary = {"best_trial": best.number, "best_score": best.value, "feasible": bool(feasible),
                "best_gains": {k: best.params[k] for k in gain_names}, "trials": len(rows),
                "complete": len(done), "feasible_trials": len(feasible), "sampling": spec.sampling}

@@ -157,8 +157,10 @@ def test_a_resume_after_sigkill_retries_the_killed_trial_and_finishes_the_count(
     assert rows[0]["origin"] == "baseline"
 
 
-def test_a_plant_that_kills_its_worker_fails_its_trials_not_the_study(tmp_path):
+@pytest.mark.parametrize("batch", [2, 4])  # (pass 43) 4 plants on 2 workers: a task of two, both "crashed"
+def test_a_plant_that_kills_its_worker_fails_its_trials_not_the_study(tmp_path, batch):
     spec = write_spec(tmp_path, 2)
+    spec.write_text(spec.read_text().replace("batch: 2", f"batch: {batch}"))
     p = subprocess.run(tune_cmd(spec, tmp_path / "o")[:-1] + ["2"], capture_output=True, text=True, timeout=600,
                        env={**os.environ, "GIMBALSIM_TEST_KILL_WORKER_AT": "1"})
     assert p.returncode == 3 and "no trial completed" in p.stderr, p.stderr  # every trial meets plant 1
@@ -166,7 +168,8 @@ def test_a_plant_that_kills_its_worker_fails_its_trials_not_the_study(tmp_path):
     assert [int(r["trial"]) for r in rows] == [0, 1]
     for r in rows:
         assert r["state"] == "FAIL" and r["reason"] == "plant stopped: crashed", r
-        assert r["plant0_status"] == "ok" and r["plant1_status"] == "crashed"
+        assert [r[f"plant{j}_status"] for j in range(batch)] == ["ok", "crashed"] + ["ok"] * (batch - 2), r
+        assert r["plants_ok"] == str(batch - 1), r
 
 
 def test_a_resume_of_another_spec_or_of_no_study_is_refused(tmp_path):
