@@ -1,6 +1,7 @@
 """A study's folder and the tuner's study file (out/study.db) before Optuna
 opens it: one sweep or tuner per folder (a lock held for the process's life),
-and a --resume only of this folder's own study, checked read-only."""
+and a --resume only of this folder's own study, checked read-only (read-write only to let SQLite roll back
+what a killed writer left)."""
 import contextlib
 import fcntl
 import os
@@ -34,8 +35,12 @@ def check_resumable(db, out, study_name):
     if not db.exists() or db.stat().st_size == 0:
         raise SpecError(f"{db}: {'empty' if db.exists() else 'missing'}: no study of {out} to resume; run without "
                         f"--resume into another --out")
+    # A tuner killed mid-write leaves a hot rollback journal beside the file; SQLite restores the study from
+    # it on the next open, which needs write access: read-only, every --resume was refused (pass 43).
+    journal = db.with_name(db.name + "-journal")
+    mode = "rw" if journal.is_file() and not journal.is_symlink() else "ro"
     try:
-        with contextlib.closing(sqlite3.connect(f"file:{db.resolve()}?mode=ro", uri=True)) as c:
+        with contextlib.closing(sqlite3.connect(f"file:{db.resolve()}?mode={mode}", uri=True)) as c:
             names = [r[0] for r in c.execute("SELECT study_name FROM studies")]
     except sqlite3.Error as e:
         raise SpecError(f"{db}: cannot open it as a study ({e}); use another --out") from None

@@ -172,6 +172,27 @@ def test_a_plant_that_kills_its_worker_fails_its_trials_not_the_study(tmp_path, 
         assert r["plants_ok"] == str(batch - 1), r
 
 
+def test_a_resume_after_a_kill_mid_write_rolls_the_study_back_and_goes_on(tmp_path):
+    # (pass 43) a tuner killed while writing study.db left SQLite's hot journal beside it; the resume's read-only
+    # check then refused the study ("attempt to write a readonly database") every time
+    spec = write_spec(tmp_path, 1)
+    out = tmp_path / "o"
+    assert subprocess.run(tune_cmd(spec, out), capture_output=True, text=True, timeout=600).returncode == 0
+    killed = ("import os, sqlite3\n"
+              f"c = sqlite3.connect({str(out / 'study.db')!r}, isolation_level=None)\n"
+              "c.execute('PRAGMA cache_size=2'); c.execute('BEGIN IMMEDIATE')\n"
+              "c.execute('CREATE TABLE pad(x)'); c.executemany('INSERT INTO pad VALUES (?)', [(b'x' * 1000,)] * 200)\n"
+              "os._exit(0)  # killed mid-transaction: pages already in the file, the journal hot\n")
+    subprocess.run([sys.executable, "-c", killed], check=True, timeout=60)
+    assert (out / "study.db-journal").stat().st_size > 0
+    p = subprocess.run(tune_cmd(write_spec(tmp_path, 2), out, "--resume"), capture_output=True, text=True,
+                       timeout=600)
+    assert p.returncode == 0, p.stderr
+    assert [int(r["trial"]) for r in trials(out)] == [0, 1] and not (out / "study.db-journal").exists()
+    with sqlite3.connect(out / "study.db") as c:
+        assert "pad" not in [r[0] for r in c.execute("SELECT name FROM sqlite_master")]  # the kill's write undone
+
+
 def test_a_resume_of_another_spec_or_of_no_study_is_refused(tmp_path):
     spec = write_spec(tmp_path, 1)
     out = tmp_path / "o"
