@@ -120,3 +120,18 @@ def test_a_spec_number_is_read_as_a_scene_file_number(text, tmp_path):
         taken = None
     assert (taken is not None) == cpp, (text, taken, p.stderr)
     assert taken is None or taken == float(text)
+
+
+SCRIPT_FLAGS = [("tools/hil/hil_speed.py", "--seconds"), ("tools/hil/worst_tick.py", "--seconds"),
+                ("tools/bench/perf_report.py", "--min-time"), ("tools/bench/sweep_scaling.py", "--duration"),
+                ("tools/bench/tick_parts.py", "--seconds"), ("tools/bench/compare_bench.py", "--min-time"),
+                ("tools/bench/sweep_scaling.py", "--samples"), ("tools/bench/loop_cost.py", "--reps")]
+
+
+@pytest.mark.parametrize("script,flag", SCRIPT_FLAGS)
+@pytest.mark.parametrize("text", ["0200", "2_00", "nan", "inf", " 2"])
+def test_the_bench_scripts_read_their_numbers_as_the_programs_do(script, flag, text):
+    # (pass 43) these scripts read numbers with float()/int(): 0200, 2_00, nan and inf were taken
+    p = subprocess.run([sys.executable, str(SOURCE / script), f"{flag}={text}"], capture_output=True, text=True,
+                       timeout=60)
+    assert p.returncode == 2 and f"argument {flag}" in p.stderr and "Traceback" not in p.stderr, (script, p.stderr)

@@ -35,8 +35,9 @@ def main():
     ap.add_argument("old")
     ap.add_argument("new")
     ap.add_argument("--filter", default="BM_(Rk4|Step)<")
-    ap.add_argument("--rounds", type=int, default=5)
-    ap.add_argument("--min-time", type=float, default=0.2, help="seconds per benchmark per pass")
+    ap.add_argument("--rounds", type=output_file.arg_whole(1, 10**6), default=5)
+    ap.add_argument("--min-time", type=output_file.arg_decimal(1e-3, 1e4), default=0.2,
+                    help="seconds per benchmark per pass")
     a = ap.parse_args()
     times = {"old": {}, "new": {}}
     for _ in range(a.rounds):

@@ -37,6 +37,7 @@ import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools" / "pages"))
+import output_file  # noqa: E402  (the one reading of a flag's number)
 import results_page  # noqa: E402
 
 sys.path.insert(0, str(ROOT / "tools" / "bench"))
@@ -157,10 +158,13 @@ def main():
     p.add_argument("--build", default="build", help="build directory (relative to the source tree)")
     p.add_argument("--baseline-bench", help="gimbalsim_bench built from an older commit (the 'before')")
     p.add_argument("--baseline-name", default="baseline", help="what the baseline is, e.g. its commit")
-    p.add_argument("--rounds", type=int, default=5, help="alternated passes of the benchmarks; MuJoCo repeats")
-    p.add_argument("--min-time", type=float, default=0.2, help="seconds per benchmark per pass")
+    p.add_argument("--rounds", type=output_file.arg_whole(1, 10**6), default=5,
+                   help="alternated passes of the benchmarks; MuJoCo repeats")
+    p.add_argument("--min-time", type=output_file.arg_decimal(1e-3, 1e4), default=0.2,
+                   help="seconds per benchmark per pass")
     p.add_argument("--rates", default="1000,2000,4000", help="control rates of the worst-case table [Hz]")
-    p.add_argument("--hil-long", type=float, default=20.0, help="seconds of the real-time wake-up run")
+    p.add_argument("--hil-long", type=output_file.arg_decimal(1e-3, 1e6), default=20.0,
+                   help="seconds of the real-time wake-up run")
     p.add_argument("--skip-hil", action="store_true", help="leave out section 4 (needs root for the namespace)")
     a = p.parse_args()
     if a.rounds < 1:

@@ -37,6 +37,7 @@ import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools" / "pages"))
+import output_file  # noqa: E402  (the one reading of a flag's number)
 from output_file import run_script, write_text  # noqa: E402  (the package's one writer)
 
 
@@ -186,11 +187,13 @@ def report(a, open_e, open_same, closed_e, closed_same, per_task):
 def main():
     ap = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--samples", type=int, default=200, help="open-loop samples")
-    ap.add_argument("--duration", type=float, default=0.5, help="sim.duration of each open-loop sample [s]")
-    ap.add_argument("--closed-samples", type=int, default=60, help="closed-loop units of the shipped budget")
-    ap.add_argument("--batch", type=int, default=5)
-    ap.add_argument("--noop-tasks", type=int, default=2000)
+    ap.add_argument("--samples", type=output_file.arg_whole(1, 10**7), default=200, help="open-loop samples")
+    ap.add_argument("--duration", type=output_file.arg_decimal(1e-3, 1e6), default=0.5,
+                    help="sim.duration of each open-loop sample [s]")
+    ap.add_argument("--closed-samples", type=output_file.arg_whole(1, 10**7), default=60,
+                    help="closed-loop units of the shipped budget")
+    ap.add_argument("--batch", type=output_file.arg_whole(1, 10**7), default=5)
+    ap.add_argument("--noop-tasks", type=output_file.arg_whole(1, 10**7), default=2000)
     ap.add_argument("--results", action="store_true", help="also write docs/results/sweep_scaling.md")
     a = ap.parse_args()
     for name, value, low in (("--samples", a.samples, 2), ("--closed-samples", a.closed_samples, 2),

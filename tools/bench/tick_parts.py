@@ -35,6 +35,7 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools", "hil"))
 import hil_speed  # noqa: E402  (its namespace, pair runner and summary parser)
+import output_file  # noqa: E402  (on the path hil_speed set: the one reading of a flag's number)
 
 # What firmware_sim's lockstep loop does per tick (firmware_sim/programs/lockstep_loop.cpp, lcm_bridge.cpp):
 # (part, benchmark whose median is one occurrence, occurrences per tick, minus this benchmark's median).
@@ -110,9 +111,10 @@ def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--build", default="build", help="build directory holding bin/ (relative to the source tree)")
-    p.add_argument("--reps", type=int, default=9, help="benchmark repetitions (medians)")
-    p.add_argument("--runs", type=int, default=3, help="lockstep runs per way (medians)")
-    p.add_argument("--seconds", type=float, default=10.0, help="simulated seconds per lockstep run")
+    p.add_argument("--reps", type=output_file.arg_whole(1, 10**6), default=9, help="benchmark repetitions (medians)")
+    p.add_argument("--runs", type=output_file.arg_whole(1, 10**6), default=3, help="lockstep runs per way (medians)")
+    p.add_argument("--seconds", type=output_file.arg_decimal(1e-3, 1e6), default=10.0,
+                   help="simulated seconds per lockstep run")
     p.add_argument("--results", action="store_true", help="also write docs/results/bench_tick.md")
     a = p.parse_args()
     if a.reps < 1 or a.runs < 1 or not 0.0 < a.seconds <= 3600.0:

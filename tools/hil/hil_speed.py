@@ -327,16 +327,17 @@ def page_body(text):
 def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--seconds", type=float, default=10.0, help="seconds per rate in the sweep")
+    p.add_argument("--seconds", type=output_file.arg_decimal(1e-3, 1e6), default=10.0,
+                   help="seconds per rate in the sweep")
     p.add_argument("--rates", default="1000,2000,4000,5000,8000,10000")
-    p.add_argument("--spin", type=float, default=0.0,
+    p.add_argument("--spin", type=output_file.arg_decimal(0, 1e6), default=0.0,
                    help="also sweep with --spin-us = this fraction of the period (0: only the plain sweep)")
-    p.add_argument("--lockstep-seconds", type=float, default=10.0)
-    p.add_argument("--long", type=float, default=60.0, help="seconds of the 1 kHz run")
-    p.add_argument("--chrt", type=int, default=60,
+    p.add_argument("--lockstep-seconds", type=output_file.arg_decimal(1e-3, 1e6), default=10.0)
+    p.add_argument("--long", type=output_file.arg_decimal(1e-3, 1e6), default=60.0, help="seconds of the 1 kHz run")
+    p.add_argument("--chrt", type=output_file.arg_whole(1, 99), default=60,
                    help="real-time runs: start both processes under SCHED_FIFO at this priority (chrt -f; the "
                         "firmware loop thread still raises itself to 80); 0 = SCHED_OTHER")
-    p.add_argument("--cpu", type=int, default=1,
+    p.add_argument("--cpu", type=output_file.arg_whole(-1, 4095), default=1,
                    help="CPU of firmware_sim's loop thread and of cyclictest's thread (-1: no pinning)")
     p.add_argument("--build", default="build", help="build directory holding bin/ (relative to the source tree)")
     p.add_argument("--skip-sweep", action="store_true")

@@ -51,6 +51,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import hil_speed  # noqa: E402  (run_pair reads hil_speed.BIN and hil_speed.CHRT when called)
+import output_file  # noqa: E402  (on the path hil_speed set: the one reading of a flag's number)
 from hil_speed import grab, load, run_pair  # noqa: E402
 
 ROOT = hil_speed.ROOT
@@ -265,11 +266,14 @@ def page_body(text):
 def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--seconds", type=float, default=100.0, help="simulated seconds per scene in lockstep (part A)")
-    p.add_argument("--realtime-seconds", type=float, default=100.0, help="seconds per real-time run (part B); 0 skips")
+    p.add_argument("--seconds", type=output_file.arg_decimal(1e-3, 1e6), default=100.0,
+                   help="simulated seconds per scene in lockstep (part A)")
+    p.add_argument("--realtime-seconds", type=output_file.arg_decimal(0, 1e6), default=100.0,
+                   help="seconds per real-time run (part B); 0 skips")
     p.add_argument("--realtime-scenes", default="paper_clearance,paper_both_spatial",
                    help="comma-separated scene names (tools/scenes/NAME.yaml) for part B")
-    p.add_argument("--cpu", type=int, default=1, help="part B: CPU of firmware_sim's loop thread (-1: no pinning)")
+    p.add_argument("--cpu", type=output_file.arg_whole(-1, 4095), default=1,
+                   help="part B: CPU of firmware_sim's loop thread (-1: no pinning)")
     p.add_argument("--build", default="build", help="build directory holding bin/ (relative to the source tree)")
     p.add_argument("--results", action="store_true", help="also write " + PAGE)
     a = p.parse_args()
