@@ -110,7 +110,8 @@ int mainImpl(int argc, char** argv) {
   double v_in = 0.05;
   app.add_option("--scenes", scenes, "scene directory");
   app.add_option("--csv", csv, "CSV of every run");
-  app.add_option("--duration", dur, "simulated time of each run [s]");
+  // kept as the text the scene reads, checked as every real flag is (pass 43: 00.05 ran)
+  app.add_option("--duration", dur, "simulated time of each run [s]")->type_name("FLOAT");
   app.add_option("--threads", threads, "runs in parallel (at most 2 on this machine)")
       ->check(gimbalsim::program::wholeNumber())
       ->check(CLI::Range(1, 2));
