@@ -4,6 +4,7 @@ is atomic (an existing page is untouched when the write fails); the index
 lists the pages."""
 import errno
 import os
+import pathlib
 import platform
 import re
 import subprocess
@@ -104,3 +105,27 @@ def test_dirty_ignores_the_results_folder_only(tmp_path):
     assert not results_page.commit(tmp_path).endswith("-dirty")
     (tmp_path / "tool.py").write_text("x = 2\n")
     assert results_page.commit(tmp_path).endswith("-dirty")
+
+
+@pytest.mark.parametrize("script", ["tools/pointing_study/pointing_page.py", "tools/paper/paper_page.py",
+                                    "tools/workprec/workprec_page.py"])
+def test_a_page_scripts_dir_is_read_from_where_the_user_stands(script, tmp_path):
+    # (pass 43) --dir was joined to the repository and a missing folder or file ended in a traceback (exit 1)
+    page = SOURCE / "docs" / "results" / {"pointing_page": "closed_loop_clearance.md", "paper_page": "paper.md",
+                                          "workprec_page": "workprec.md"}[pathlib.Path(script).stem]
+    before = page.read_bytes()
+    (tmp_path / "empty").mkdir()
+    for folder, said in (("nope", "argument --dir: nope: no such folder"),
+                         ("empty", f"{tmp_path / 'empty'}/")):
+        p = subprocess.run([sys.executable, str(SOURCE / script), "--dir", folder, "--command", "x"], cwd=tmp_path,
+                           capture_output=True, text=True, timeout=60)
+        assert p.returncode == 2 and said in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert page.read_bytes() == before  # refused before writing anything
+
+
+def test_the_pointing_page_ratio_is_na_over_no_figure():
+    # (pass 43) a run that never reached its track printed a bare nan as its ratio to the ideal
+    sys.path.insert(0, str(SOURCE / "tools" / "pointing_study"))
+    import pointing_page
+    assert pointing_page._ratio("nan", "1e-7") == "n/a" and pointing_page._ratio("2e-7", "nan") == "n/a"
+    assert pointing_page._ratio("2e-7", "0") == "n/a" and pointing_page._ratio("3e-7", "1e-7") == "3"

@@ -92,11 +92,32 @@ def page_arguments(doc, default_dir):
     regenerate command, and the start time and load its run script noted."""
     ap = argparse.ArgumentParser(
         allow_abbrev=False, description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--dir", default=default_dir)
+    # a folder the user names is where they stand, the default the repository's (pass 43: both from the repository,
+    # and a missing one a traceback); a study's run file missing in it is refused by name (run_files)
+    ap.add_argument("--dir", type=lambda text: text if text == default_dir else _study_folder(text),
+                    default=default_dir)
     ap.add_argument("--command", required=True)
     ap.add_argument("--t0")
     ap.add_argument("--load0")
     return ap
+
+
+def _study_folder(text):
+    """A --dir the user names, from where they stand (absolute: callers join it to ROOT)."""
+    path = pathlib.Path(text).absolute()
+    if not path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text}: no such folder (a study's output folder)")
+    return str(path)
+
+
+def run_file(folder, name):
+    """The text of a study's output `name` in `folder`; Refused (exit 2) naming it when it cannot be read."""
+    path = pathlib.Path(folder) / name
+    try:
+        return path.read_text()
+    except (OSError, UnicodeDecodeError) as e:
+        raise output_file.Refused(f"{path}: cannot be read ({getattr(e, 'strerror', None) or e}): "
+                                  "run the study first") from None
 
 
 def header(title, command, t0=None, load0=None, now=None):

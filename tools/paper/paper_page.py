@@ -55,10 +55,10 @@ def main():
     ap.add_argument("--set", action="append", default=[], help="the overrides given to both runs")
     a = ap.parse_args()
     d = ROOT / a.dir
-    summary = (d / "plot_summary.txt").read_text()
+    summary = results_page.run_file(d, "plot_summary.txt")
     runs = []
     for name in ("ideal", "clearance"):
-        s = json.loads((d / f"{name}.json").read_text())
+        s = json.loads(results_page.run_file(d, f"{name}.json"))
         runs.append(f"| {name} | {s['status']} | {s['t_end_s']:g} | {s['impacts']} | {s['substeps']} | "
                     f"{s['integrator']['step_s']:g} / {s['integrator']['substep_s']:g} | {s['wall_time_s']:.2f} |")
     out = ROOT / "docs" / "results"

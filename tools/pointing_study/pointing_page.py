@@ -8,6 +8,7 @@ DIR's summary.csv, config.txt and the tool's log.
     /usr/bin/python3 tools/pointing_study/pointing_page.py --dir out/pointing_study --command CMD [--t0 T --load0 L]
 """
 import csv
+import io
 import math
 import pathlib
 import sys
@@ -29,6 +30,12 @@ def _value(text):
         return math.nan
 
 
+def _ratio(text, of, digits=2):
+    """A figure over the ideal's, n/a where either has none (pass 43: a bare nan)."""
+    a, b = _value(text), _value(of)
+    return f"{a / b:.{digits}g}" if math.isfinite(a) and math.isfinite(b) and b > 0 else "n/a"
+
+
 def _rad(text, fmt=".2e"):
     """A figure [rad] as the page prints it: n/a where the run has none (its status says why)."""
     v = _value(text)
@@ -39,8 +46,7 @@ def main():
     ap = results_page.page_arguments(__doc__, "out/pointing_study")
     a = ap.parse_args()
     d = ROOT / a.dir
-    with open(d / "summary.csv", newline="") as f:
-        rows = list(csv.DictReader(f))
+    rows = list(csv.DictReader(io.StringIO(results_page.run_file(d, "summary.csv"), newline="")))
     log = (d / "study.log").read_text() if (d / "study.log").exists() else ""
     setup = next((line.lstrip("# ").strip() for line in log.splitlines() if line.startswith("# ")), "")
     config = (d / "config.txt").read_text().splitlines() if (d / "config.txt").exists() else []
@@ -86,9 +92,9 @@ def main():
                 if r is None:
                     cells.append("-")
                     continue
-                ratio = (f" ({float(r['rms_track_rad']) / float(ideal['rms_track_rad']):.3g}x)"
-                         if ideal is not None and r is not ideal and float(ideal["rms_track_rad"]) > 0 else "")
-                cells.append(f"{float(r['rms_track_rad']):.2e}{ratio}")
+                ratio = (f" ({_ratio(r['rms_track_rad'], ideal['rms_track_rad'], 3)}x)"
+                         if ideal is not None and r is not ideal and _value(ideal["rms_track_rad"]) > 0 else "")
+                cells.append(f"{_rad(r['rms_track_rad'])}{ratio}")
             md.append(f"| {sc} | " + " | ".join(cells) + " |")
         md.append("")
     ticks = 0
@@ -106,7 +112,7 @@ def main():
         worst = max(tracked, key=lambda r: int(r["controller_limited_track_ticks"]) / int(r["track_ticks"]))
         n_worst, of = int(worst["controller_limited_track_ticks"]), int(worst["track_ticks"])
         md += [(f"While tracking, a torque command sat at its limit in at most {n_worst} of {of} ticks "
-                f"({100 * n_worst / of:.2g} %, {worst['run']})" if n_worst else
+                f"({100 * n_worst / of:.3g} %, {worst['run']})" if n_worst else
                 "While tracking, no torque command sat at its limit") +
                f" in the {len(tracked)} runs that tracked; the rest of the column's ticks came before tracking "
                "(the slew and the hold).", ""]
@@ -126,9 +132,8 @@ def main():
         c = float(r["clearance_m"])
         rel = ("-", "-")
         ideal = ideals.get(sensors(r))
-        if ideal is not None and r is not ideal and float(ideal["peak_track_rad"]) > 0:
-            rel = (f"{float(r['peak_track_rad']) / float(ideal['peak_track_rad']):.2g}",
-                   f"{float(r['rms_track_rad']) / float(ideal['rms_track_rad']):.2g}")
+        if ideal is not None and r is not ideal:
+            rel = tuple(_ratio(r[k], ideal[k]) for k in ("peak_track_rad", "rms_track_rad"))
         status = r["status"] + (f" ({r['stop_reason']})" if r.get("stop_reason") else "")
         guard = " / ".join(f"{onset(r, j):.3f}" if math.isfinite(onset(r, j)) else "-" for j in range(2))
         md.append(f"| {r['run']} | {r['scene']} | {sensors(r)} | {r.get('loop_sensors') or '-'} | "

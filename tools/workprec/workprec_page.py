@@ -7,6 +7,7 @@ against our RK4 at the same steps, from out/workprec/workprec.csv and its log.
     /usr/bin/python3 tools/workprec/workprec_page.py --dir out/workprec --command CMD [--t0 T0 --load0 L]
 """
 import csv
+import io
 import pathlib
 import sys
 
@@ -19,8 +20,7 @@ MUJOCO = "MuJoCo"
 
 
 def load(path):
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
+    rows = list(csv.DictReader(io.StringIO(results_page.run_file(path.parent, path.name), newline="")))
     for r in rows:
         r["ok"] = r["ok"] in ("1", "true", "True")
         for k in ("h_s", "substep_s", "cpu_s_per_sim_s", "bore_err_max_rad", "substeps"):
