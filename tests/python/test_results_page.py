@@ -115,8 +115,11 @@ def test_a_page_scripts_dir_is_read_from_where_the_user_stands(script, tmp_path)
                                           "workprec_page": "workprec.md"}[pathlib.Path(script).stem]
     before = page.read_bytes()
     (tmp_path / "empty").mkdir()
+    default = "out/" + {"pointing_page": "pointing_study", "paper_page": "paper",
+                        "workprec_page": "workprec"}[pathlib.Path(script).stem]
+    (tmp_path / default).mkdir(parents=True)  # (pass 44) spelled as the default, it was the repository's
     for folder, said in (("nope", "argument --dir: nope: no such folder"),
-                         ("empty", f"{tmp_path / 'empty'}/")):
+                         ("empty", f"{tmp_path / 'empty'}/"), (default, f"{tmp_path / default}/")):
         p = subprocess.run([sys.executable, str(SOURCE / script), "--dir", folder, "--command", "x"], cwd=tmp_path,
                            capture_output=True, text=True, timeout=60)
         assert p.returncode == 2 and said in p.stderr and "Traceback" not in p.stderr, p.stderr

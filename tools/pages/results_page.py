@@ -94,8 +94,7 @@ def page_arguments(doc, default_dir):
         allow_abbrev=False, description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     # a folder the user names is where they stand, the default the repository's (pass 43: both from the repository,
     # and a missing one a traceback); a study's run file missing in it is refused by name (run_files)
-    ap.add_argument("--dir", type=lambda text: text if text == default_dir else _study_folder(text),
-                    default=default_dir)
+    ap.add_argument("--dir", type=_study_folder, default=str(ROOT / default_dir))
     ap.add_argument("--command", required=True)
     ap.add_argument("--t0")
     ap.add_argument("--load0")
@@ -103,7 +102,8 @@ def page_arguments(doc, default_dir):
 
 
 def _study_folder(text):
-    """A --dir the user names, from where they stand (absolute: callers join it to ROOT)."""
+    """A --dir the user names, from where they stand, whatever its spelling (pass 44: the default's spelling was
+    the repository's); absolute, so callers' ROOT / dir is it."""
     path = pathlib.Path(text).absolute()
     if not path.is_dir():
         raise argparse.ArgumentTypeError(f"{text}: no such folder (a study's output folder)")

@@ -55,6 +55,7 @@ def main():
     ap.add_argument("--set", action="append", default=[], help="the overrides given to both runs")
     a = ap.parse_args()
     d = ROOT / a.dir
+    shown = d.relative_to(ROOT) if d.is_relative_to(ROOT) else d  # the page names the repository's out/ as such
     summary = results_page.run_file(d, "plot_summary.txt")
     runs = []
     for name in ("ideal", "clearance"):
@@ -69,7 +70,7 @@ def main():
     overrides = ", ".join(f"`{s}`" for s in a.set) if a.set else "none (the scenes as committed)"
     body = f"""The paper's scene (You, Pan & Zhao 2010, section 4): `tools/scenes/paper_ideal.yaml` (ideal elevation
 joint) and `tools/scenes/paper_clearance.yaml` (radial clearance in joint 2), the same open-loop torques, simulated
-by `build/bin/gimbalsim simulate` and compared by `tools/paper/plot_paper.py` (all figures 6-18 in {a.dir}/plots/; the
+by `build/bin/gimbalsim simulate` and compared by `tools/paper/plot_paper.py` (all figures 6-18 in {shown}/plots/; the
 three below are copies at {DPI_TO} dpi). Overrides given to both runs: {overrides}.
 
 ## Headline figures
