@@ -64,6 +64,11 @@ def entry(spec, rows, index, phase):
                      f"{_pct(index.confidence)}")
     finite = [v for v in values if math.isfinite(v)]
     e["worst_with_figure_rad"] = max(finite) if finite else None
+    ends = [name for name, x in (("the upper bound", b.upper), ("the interval's upper end", b.high))
+            if math.isinf(x) and x > 0 and b.n_missing and b.n_missing < b.n]
+    if ends:  # null in summary.json: say why, as the estimate's note does (pass 44: a bare null)
+        e["bound_note"] = (f"{' and '.join(ends)} beyond every figure: on the {b.n_missing} of {b.n} units "
+                           "without one, counted as worst")
     if math.isinf(b.estimate):
         # The quantile falls on units without a figure (stopped, or a window they missed): they count as
         # worst, so the quantile is unbounded; say so, with the worst figure there is, never a bare n/a.

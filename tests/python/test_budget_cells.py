@@ -60,3 +60,12 @@ def test_every_unit_drawn_counts_crashed_and_refused_as_worst():
     assert e["requirement"]["fraction_meeting"] == 59 / 61
     strict = SimpleNamespace(name="ape", level=0.98, confidence=0.5, requirement=1.0)  # PASS over the 59 alone
     assert _budget.entry(Spec(), drawn, strict, "track")["requirement"]["verdict"].startswith("FAIL")
+
+
+def test_a_bound_beyond_every_figure_is_null_with_its_reason():
+    # (pass 44) one crashed unit of 4: the interval's upper end fell on it and summary.json said [0.57, null]
+    # with an empty note
+    e = _budget.entry(Spec(), rows(3, 1), index(0.5, 0.5), "track")
+    assert e["interval_rad"][0] is not None and e["interval_rad"][1] is None and e["n_missing"] == 1, e
+    assert "the interval's upper end beyond every figure: on the 1 of 4 units without one" in e["bound_note"], e
+    assert "bound_note" not in _budget.entry(Spec(), rows(59, 1), index(0.5), "track")  # every end a figure
