@@ -158,8 +158,20 @@ int mainImpl(int argc, char** argv) {
   }
   // An output folder named on the command line must exist (refused below); only the default one is made.
   // (--case writes no CSV: it makes no folder.)
+  // A refusal below leaves no folder it made (pass 44: an empty out/stress/ was left): removed if still empty
+  // when main returns before the runs start.
+  struct MadeFolder {
+    std::filesystem::path dir, top;  // the folder, and the outermost one made for it
+    bool keep = false;
+    ~MadeFolder() {
+      std::error_code ec;  // remove() refuses a folder that is not empty: only what is still empty goes
+      for (auto p = dir; !keep && !top.empty() && std::filesystem::remove(p, ec) && p != top;) p = p.parent_path();
+    }
+  } made;
   if (std::error_code ec; !app.count("--csv") && one_scene.empty()) {
-    std::filesystem::create_directories(std::filesystem::path(csv).parent_path(), ec);
+    made.dir = std::filesystem::path(csv).parent_path();
+    for (auto p = made.dir; !p.empty() && !std::filesystem::exists(p, ec); p = p.parent_path()) made.top = p;
+    std::filesystem::create_directories(made.dir, ec);
   }
   {
     std::vector<std::string> paths, outputs;
@@ -192,6 +204,7 @@ int mainImpl(int argc, char** argv) {
       return gimbalsim::program::refuse("gimbalsim_stress", "--duration " + dur + ": " + why);
     }
   }
+  made.keep = true;  // checked: the runs start
   if (!one_scene.empty()) {
     st::Case c{"case", one_scene, one_sets, {}};
     c.out = st::runCase(st::scenePath(scenes, one_scene), one_sets, b);
