@@ -135,3 +135,12 @@ def test_the_bench_scripts_read_their_numbers_as_the_programs_do(script, flag, t
     p = subprocess.run([sys.executable, str(SOURCE / script), f"{flag}={text}"], capture_output=True, text=True,
                        timeout=60)
     assert p.returncode == 2 and f"argument {flag}" in p.stderr and "Traceback" not in p.stderr, (script, p.stderr)
+
+
+@pytest.mark.parametrize("script", ["tools/hil/hil_speed.py", "tools/bench/perf_report.py"])
+@pytest.mark.parametrize("text", ["010", "1000,,2000", "1000,", "0x5", "-5", "0", " 5", "1_0"])
+def test_a_list_of_rates_is_read_item_by_item(script, text):
+    # (pass 44) hil_speed --rates took 010, ' 5', 1_0, -5 and 0, dropped an empty item, and 0x5 was a traceback
+    p = subprocess.run([sys.executable, str(SOURCE / script), f"--rates={text}"], capture_output=True, text=True,
+                       timeout=60)
+    assert p.returncode == 2 and "argument --rates" in p.stderr and "Traceback" not in p.stderr, (text, p.stderr)

@@ -162,7 +162,8 @@ def main():
                    help="alternated passes of the benchmarks; MuJoCo repeats")
     p.add_argument("--min-time", type=output_file.arg_decimal(1e-3, 1e4), default=0.2,
                    help="seconds per benchmark per pass")
-    p.add_argument("--rates", default="1000,2000,4000", help="control rates of the worst-case table [Hz]")
+    p.add_argument("--rates", type=output_file.arg_whole_list(1, 10**6), default="1000,2000,4000",
+                   help="control rates of the worst-case table [Hz]")
     p.add_argument("--hil-long", type=output_file.arg_decimal(1e-3, 1e6), default=20.0,
                    help="seconds of the real-time wake-up run")
     p.add_argument("--skip-hil", action="store_true", help="leave out section 4 (needs root for the namespace)")
@@ -183,12 +184,7 @@ def main():
             p.error(f"--baseline-bench {a.baseline_bench}: lists no BM_Rk4 benchmark; not a gimbalsim_bench")
     elif a.baseline_name != "baseline":
         p.error("--baseline-name names the --baseline-bench, which was not given")
-    try:
-        rates = [int(r) for r in a.rates.split(",")]
-    except ValueError:
-        rates = []
-    if not rates or min(rates) <= 0:
-        p.error(f"--rates {a.rates}: a comma-separated list of whole control rates above 0 [Hz]")
+    rates = a.rates
     if not a.hil_long > 0:
         p.error(f"--hil-long {a.hil_long}: must be above 0 s")
     t0, load0 = time.time(), open("/proc/loadavg").read()

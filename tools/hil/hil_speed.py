@@ -329,12 +329,13 @@ def main():
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--seconds", type=output_file.arg_decimal(1e-3, 1e6), default=10.0,
                    help="seconds per rate in the sweep")
-    p.add_argument("--rates", default="1000,2000,4000,5000,8000,10000")
+    p.add_argument("--rates", type=output_file.arg_whole_list(1, 10**6), default="1000,2000,4000,5000,8000,10000",
+                   help="control rates of the sweep [Hz]")
     p.add_argument("--spin", type=output_file.arg_decimal(0, 1e6), default=0.0,
                    help="also sweep with --spin-us = this fraction of the period (0: only the plain sweep)")
     p.add_argument("--lockstep-seconds", type=output_file.arg_decimal(1e-3, 1e6), default=10.0)
     p.add_argument("--long", type=output_file.arg_decimal(1e-3, 1e6), default=60.0, help="seconds of the 1 kHz run")
-    p.add_argument("--chrt", type=output_file.arg_whole(1, 99), default=60,
+    p.add_argument("--chrt", type=output_file.arg_whole(0, 99), default=60,
                    help="real-time runs: start both processes under SCHED_FIFO at this priority (chrt -f; the "
                         "firmware loop thread still raises itself to 80); 0 = SCHED_OTHER")
     p.add_argument("--cpu", type=output_file.arg_whole(-1, 4095), default=1,
@@ -364,7 +365,7 @@ def main():
     print(f"hil_speed: {os.cpu_count()} CPUs, kernel {os.uname().release}, load {' '.join(load())}; "
           f"real-time runs: controller and firmware_sim {'under ' + ' '.join(CHRT) if CHRT else 'SCHED_OTHER'} "
           "(firmware loop thread SCHED_FIFO 80)")
-    rates = [int(r) for r in a.rates.split(",") if r]
+    rates = a.rates
     if not a.skip_sweep:
         sweep(rates, a.seconds, 0.0)
         if a.spin > 0:

@@ -135,6 +135,18 @@ def arg_whole(lo, hi):
     return read
 
 
+def arg_whole_list(lo, hi):
+    """An argparse type: a comma-separated list of whole numbers, each as arg_whole(lo, hi) reads it; an empty
+    item ('1000,,2000') is refused, not dropped."""
+    one = arg_whole(lo, hi)
+
+    def read(text):
+        if "" in text.split(","):
+            raise argparse.ArgumentTypeError(f"an empty item in {text!r} (two commas in a row, or one at an end?)")
+        return [one(item) for item in text.split(",")]
+    return read
+
+
 def arg_decimal(lo, hi):
     """An argparse type: a plain finite decimal in [lo, hi], as the programs
     read their real flags (' 1', 'inf', '0x1' refused, and '1e-400', which
