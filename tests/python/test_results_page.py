@@ -132,3 +132,10 @@ def test_the_pointing_page_ratio_is_na_over_no_figure():
     import pointing_page
     assert pointing_page._ratio("nan", "1e-7") == "n/a" and pointing_page._ratio("2e-7", "nan") == "n/a"
     assert pointing_page._ratio("2e-7", "0") == "n/a" and pointing_page._ratio("3e-7", "1e-7") == "3"
+
+
+def test_a_page_scripts_empty_dir_is_refused(tmp_path):
+    # (pass 44) --dir '' was read as the current folder
+    p = subprocess.run([sys.executable, str(SOURCE / "tools/pointing_study/pointing_page.py"), "--dir", "",
+                        "--command", "x"], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2 and "argument --dir: an empty value" in p.stderr, p.stderr

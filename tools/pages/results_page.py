@@ -104,6 +104,8 @@ def page_arguments(doc, default_dir):
 def _study_folder(text):
     """A --dir the user names, from where they stand, whatever its spelling (pass 44: the default's spelling was
     the repository's); absolute, so callers' ROOT / dir is it."""
+    if not text:  # '' would be the current folder (pass 44): a value given must say something
+        raise argparse.ArgumentTypeError("an empty value (a study's output folder)")
     path = pathlib.Path(text).absolute()
     if not path.is_dir():
         raise argparse.ArgumentTypeError(f"{text}: no such folder (a study's output folder)")

@@ -35,7 +35,7 @@ namespace {
 // number ("" when it is). CLI11 converts "0x1p-13", " 5" and an empty list
 // item ("1e-4,,2e-4") and lets NaN through every range: checked here once,
 // for every FLOAT option of every program.
-std::string notPlainReal(const std::string& r) {
+std::string notPlainReal(const std::string& r, bool in_list) {
   double x = 0.0;
   switch (readPlainDecimal(r, x)) {
     case DecimalProblem::None: {
@@ -44,7 +44,9 @@ std::string notPlainReal(const std::string& r) {
       const bool leading_zero = r.size() > i + 1 && r[i] == '0' && r[i + 1] >= '0' && r[i + 1] <= '9';
       return leading_zero ? "'" + r + "' is not a number written without a leading zero" : "";
     }
-    case DecimalProblem::Empty: return "an empty value (two commas in a row, or one at the end?)";
+    // the list's hint only for a list (pass 44: a scalar's '' was asked about commas)
+    case DecimalProblem::Empty: return in_list ? "an empty value (two commas in a row, or one at the end?)"
+                                               : "an empty value";
     case DecimalProblem::NotDecimal: return "'" + r + "' is not a decimal number";
     case DecimalProblem::NotFinite: return "'" + r + "' is not a finite number";
     // 1e-400 reads as 0, which a duration takes for "run until stopped": a number too small is refused.
@@ -76,7 +78,9 @@ std::string badRealOption(const CLI::App& app) {
   for (const CLI::Option* opt : app.get_options()) {
     if (opt->get_type_name().find("FLOAT") == std::string::npos) continue;
     for (const std::string& r : opt->results()) {
-      if (std::string why = notPlainReal(r); !why.empty()) return opt->get_name() + ": " + why;
+      if (std::string why = notPlainReal(r, opt->get_items_expected_max() > 1); !why.empty()) {
+        return opt->get_name() + ": " + why;
+      }
     }
   }
   for (const CLI::App* sub : app.get_subcommands()) {
