@@ -375,3 +375,18 @@ def test_one_at_a_time_never_holds_a_lock_nobody_else_sees(tmp_path, monkeypatch
         with output_file.one_at_a_time(lock, "--out x"):
             pass
     assert lock.is_fifo()
+
+
+PARSED = sorted(str(p.relative_to(SOURCE)) for p in (SOURCE / "tools").rglob("*.py")
+                if "ArgumentParser(" in p.read_text() or "page_arguments(" in p.read_text())
+
+
+@pytest.mark.parametrize("script", PARSED + ["tools/bench/run_bench.sh", "tools/hil/run_hil_bench.sh"])
+def test_every_tools_script_answers_version_as_the_programs_do(script):
+    # (pass 44) the scripts with a parser and the two wrappers refused --version (exit 2)
+    import gimbalsim
+    cmd = (["bash"] if script.endswith(".sh") else [sys.executable]) + [str(SOURCE / script), "--version"]
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0 and p.stdout == f"{os.path.basename(script)} {gimbalsim.__version__}\n", \
+        (p.returncode, p.stdout, p.stderr)
+    assert len(PARSED) >= 20  # the glob found the scripts

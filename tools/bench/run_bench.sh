@@ -21,6 +21,7 @@ RESULTS=0 ARGS=() LIST=""
 for a in "$@"; do
   case "$a" in
     -h | --help) script_usage "${BASH_SOURCE[0]}" 2 9; exit 0 ;;
+    --version) script_version run_bench.sh; exit 0 ;;
     --results) RESULTS=1 ;;
     # the JSON is the script's to write (OUT=FILE), by the writer's rules; a listing is the bench's answer alone
     --benchmark_out=* | --benchmark_out_format=*) refuse "$a: the script writes the JSON; give OUT=FILE" ;;

@@ -46,6 +46,7 @@ while [ $# -gt 0 ]; do
     --no-plot) PLOT=0 ;;
     --port) value "$@"; PORT="$2"; shift ;;
     -h|--help) usage 0 ;;
+    --version) script_version run_hil_bench.sh; exit 0 ;;
     --) shift; EXTRA=("$@"); break ;;
     *) echo "run_hil_bench.sh: unknown argument '$1'" >&2; usage 2 ;;
   esac

@@ -39,6 +39,7 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
+import output_file  # noqa: E402  (add_version)
 from output_file import Refused, check_before_writing, open_output, plain_number, run_script, write_text  # noqa: E402
 URL = "udpm://239.255.76.67:7667?ttl=0"
 # What each run writes in its folder (--keep DIR/<gain set>/, else a temporary one).
@@ -50,6 +51,7 @@ OMEGA, DURATION, SETTLE_TOL = (1e-3, 1e6, False), (0.0, 1e9, True), (0.0, 10.0, 
 def parse_args():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    output_file.add_version(p)
     p.add_argument("--scene", default=os.path.join(ROOT, "tools/scenes/paper_clearance.yaml"))
     p.add_argument("--scene-set", action="append", default=[], help="scene override key=value (firmware_sim --set)")
     p.add_argument("--config", default=os.path.join(ROOT, "controllers/config/default.yaml"))

@@ -15,3 +15,10 @@ printf() { builtin printf "$@" 2>/dev/null || true; }
 console_tee() { tee -p "$@" | { cat 2>/dev/null || true; }; }
 # The script's header comment (lines $2-$3 of file $1) as its usage (--help), dropped if nobody reads it.
 script_usage() { { sed -n "$2,$3p" "$1" | sed 's/^# \{0,1\}//'; } 2>/dev/null || true; }
+# A script's --version answer: "<script> <version>", the top CMakeLists.txt's project() VERSION, as the programs
+# print theirs (docs/usage.md "Exit codes"; pass 44: the wrappers refused --version).
+script_version() {
+  local top
+  top="$(dirname "${BASH_SOURCE[0]}")/../../CMakeLists.txt"
+  echo "$1 $(sed -n 's/^project(gimbalsim VERSION \([0-9.]*\).*/\1/p' "$top")"
+}

@@ -15,6 +15,7 @@ import fcntl
 import importlib.util
 import os
 import pathlib
+import re
 import signal
 import stat
 import sys
@@ -122,6 +123,28 @@ def plain_number(text, where):
     if x is None:
         raise Refused(f"{where}: not a finite decimal number: {text!r}")
     return x
+
+
+class _Version(argparse.Action):
+    """--version, read when asked: a script copied without the repository still parses its arguments."""
+    def __init__(self, option_strings, dest, **kwargs):
+        super().__init__(option_strings, dest, nargs=0, help="print the script's name and version and exit")
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        try:
+            text = (pathlib.Path(__file__).resolve().parents[2] / "CMakeLists.txt").read_text()
+        except OSError:
+            text = ""
+        found = re.search(r"project\(gimbalsim VERSION ([0-9][0-9.]*)", text)
+        print(f"{parser.prog} {found.group(1) if found else 'unknown'}")  # on stdout, as argparse's own
+        parser.exit(0)
+
+
+def add_version(parser):
+    """--version: "<script> <version>" on stdout and exit 0, as every program and module answers
+    (docs/usage.md "Exit codes"; pass 44: the tools/ scripts refused it, exit 2). The version is the top
+    CMakeLists.txt's project() VERSION, the one the programs and the package print."""
+    parser.add_argument("--version", action=_Version)
 
 
 def arg_whole(lo, hi):

@@ -22,6 +22,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
+import output_file  # noqa: E402  (add_version)
 from output_file import Refused, check_before_writing, check_header, plain_number, run_script, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
 import numpy as np  # noqa: E402
 
@@ -157,6 +158,7 @@ def plot_clearance(summary, out):
 def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    output_file.add_version(p)
     p.add_argument("dir", nargs="?", default="out/pointing_study", help="the tool's --out directory")
     a = p.parse_args()
     if not os.path.isdir(a.dir):  # the study's folder is the input: said as such, not as an output's missing folder

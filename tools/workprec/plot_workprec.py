@@ -17,6 +17,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
+import output_file  # noqa: E402  (add_version)
 from output_file import (Refused, check_before_writing, check_figure_format, check_header, plain_number,  # noqa: E402
                          run_script, savefig)  # the package's one writer
 
@@ -61,6 +62,7 @@ def read(path):
 
 def main():
     ap = argparse.ArgumentParser(allow_abbrev=False, description=__doc__.splitlines()[0])
+    output_file.add_version(ap)
     ap.add_argument("csv", nargs="?", default="out/workprec/workprec.csv")
     ap.add_argument("--out", default=None, help="PNG path (default: beside the CSV)")
     a = ap.parse_args()
