@@ -100,5 +100,18 @@ TEST(StressCsv, OneRowPerRunWithTheVerdict) {
   EXPECT_NE(refused.find(",--set no. 1 'sim.duration=0.0025': refused,"), std::string::npos) << refused;
 }
 
+TEST(StressCsv, ARefusedRunHasNoFigures) {
+  // (pass 45) a refused run's figures were bare 0 (t_end_s 0, impacts 0, wall_s 0): nothing ran, so every
+  // column after the reason is nan, and the row has as many cells as the header.
+  Case r = fabricated("joint kinds", Verdict::Refused, "", "sc/paper_spatial2.yaml:51:1: unknown key");
+  r.out.run.t_end = 0.0;
+  const std::string csv = csvText({&r});
+  const std::string header = csv.substr(0, csv.find('\n'));
+  const std::string row = csv.substr(header.size() + 1, csv.size() - header.size() - 2);
+  EXPECT_EQ(std::count(row.begin(), row.end(), ','), std::count(header.begin(), header.end(), ',')) << csv;
+  const std::string figures = row.substr(row.find("unknown key,") + 12);
+  EXPECT_EQ(figures, "nan,nan,nan,nan,nan,nan,nan,nan,nan,nan,nan,nan,nan") << csv;
+}
+
 }  // namespace
 }  // namespace gimbalsim::stress

@@ -29,6 +29,12 @@ std::mutex g_print;
 void printCase(const Case& c) {
   std::lock_guard<std::mutex> lock(g_print);
   const Outcome& o = c.out;
+  if (o.verdict == Verdict::Refused) {  // nothing ran: no figures to print
+    std::printf("%-15s %-24s %-16s %s\n    %s\n", verdictName(o.verdict), c.group.c_str(), c.scene.c_str(),
+                joined(c.sets).c_str(), o.reason.c_str());
+    std::fflush(stdout);
+    return;
+  }
   std::printf("%-15s %-24s %-16s %-62s subst/s %8.3g  P %8.2g L %8.2g  Erise %8.2g  pen %8.2g m  %6.2f s\n",
               verdictName(o.verdict), c.group.c_str(), c.scene.c_str(), joined(c.sets).c_str(),
               o.substeps_per_second, o.momentum_rel_linear, o.momentum_rel_angular, o.energy_rise_rel,
