@@ -66,7 +66,8 @@ def test_symlinked_page_is_refused_and_its_target_untouched(tmp_path):
     target = tmp_path / "elsewhere.md"
     target.write_text("keep\n")
     (tmp_path / "study.md").symlink_to(target)
-    with pytest.raises(OSError, match="symbolic link"):
+    # (pass 45) a refusal of the writer's rules, exit 2 as every script's (it was an OSError: exit 4)
+    with pytest.raises(results_page.output_file.Refused, match="symbolic link"):
         results_page.write_page(tmp_path / "study.md", "A study", "cmd", "body", index=False)
     assert target.read_text() == "keep\n"
 
@@ -75,18 +76,55 @@ def test_command_line_writes_the_page_and_exits_4_on_a_failed_write(tmp_path):
     body = tmp_path / "body.md"
     body.write_text("Body text.\n")
     out = tmp_path / "results" / "x.md"
+    out.parent.mkdir()
     p = subprocess.run([sys.executable, str(WRITER), "--page", str(out), "--title", "X", "--command", "make x",
                         "--body", str(body), "--summary", "s"], capture_output=True, text=True)
     assert p.returncode == 0, p.stderr
     text = out.read_text()
     assert text.splitlines()[3] == "Regenerate: `make x`" and text.rstrip().endswith("Body text.")
     assert (out.parent / "README.md").exists()
-    # The page's folder is a file: nothing written, exit 4 naming the problem.
-    blocker = tmp_path / "blocker"
-    blocker.write_text("")
-    p = subprocess.run([sys.executable, str(WRITER), "--page", str(blocker / "x.md"), "--title", "X", "--command",
-                        "make x", "--body", str(body)], capture_output=True, text=True)
-    assert p.returncode == 4 and "results_page:" in p.stderr
+    # A folder that takes no file (read-only): nothing written, exit 4 naming the problem.
+    if os.geteuid() == 0 and subprocess.run(["unshare", "-m", "true"], capture_output=True).returncode != 0:
+        pytest.fail("root without `unshare -m`: no way to make a folder read-only here")
+    before = out.read_bytes()
+    cmd = [sys.executable, str(WRITER), "--page", str(out), "--title", "Y", "--command", "make y", "--body", str(body)]
+    if os.geteuid() == 0:  # root writes through modes: a read-only bind mount
+        cmd = ["unshare", "-m", "sh", "-c", 'mount --bind -o ro "$0" "$0" && exec "$@"', str(out.parent), *cmd]
+    else:
+        out.parent.chmod(0o555)
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True)
+    finally:
+        out.parent.chmod(0o755)
+    assert p.returncode == 4 and "results_page: " in p.stderr, (p.returncode, p.stderr)
+    assert out.read_bytes() == before
+
+
+def test_the_command_line_keeps_the_writers_rules(tmp_path):
+    # (pass 45) the page overwrote its own --body (exit 0), made a missing folder, a link page was exit 4, a
+    # missing --body a bare Errno with exit 4, a FIFO --body blocked: each is refused, exit 2, nothing written
+    body = tmp_path / "body.md"
+    body.write_text("Body text.\n")
+    (tmp_path / "target.md").write_text("keep\n")
+    (tmp_path / "link.md").symlink_to(tmp_path / "target.md")
+    os.mkfifo(tmp_path / "fifo.md")
+    (tmp_path / "notes").mkdir()
+    (tmp_path / "notes" / "README.md").write_text("my notes\n")
+    cases = [("body.md", "body.md", "the same file as the input"),
+             ("nodir/x.md", "body.md", "its directory nodir does not exist"),
+             ("link.md", "body.md", "symbolic link"),
+             ("x.md", "nosuch.md", "--body nosuch.md: cannot be read (No such file or directory)"),
+             ("x.md", "fifo.md", "--body fifo.md: not a regular file (a FIFO)"),
+             ("x.md", ".", "--body .: not a regular file (a folder)"),
+             ("notes/x.md", "body.md", "notes/README.md: not an index this writer made")]
+    listing = sorted(p.name for p in tmp_path.rglob("*"))
+    for page, src, said in cases:
+        p = subprocess.run([sys.executable, str(WRITER), "--page", page, "--title", "X", "--command", "make x",
+                            "--body", src], cwd=tmp_path, capture_output=True, text=True, timeout=20)
+        assert p.returncode == 2 and f"results_page: error: " in p.stderr and said in p.stderr, (page, src, p.stderr)
+        assert sorted(q.name for q in tmp_path.rglob("*")) == listing, (page, src)
+    assert body.read_text() == "Body text.\n" and (tmp_path / "target.md").read_text() == "keep\n"
+    assert (tmp_path / "notes" / "README.md").read_text() == "my notes\n"
 
 
 def test_dirty_ignores_the_results_folder_only(tmp_path):
@@ -139,3 +177,33 @@ def test_a_page_scripts_empty_dir_is_refused(tmp_path):
     p = subprocess.run([sys.executable, str(SOURCE / "tools/pointing_study/pointing_page.py"), "--dir", "",
                         "--command", "x"], cwd=tmp_path, capture_output=True, text=True, timeout=60)
     assert p.returncode == 2 and "argument --dir: an empty value" in p.stderr, p.stderr
+
+
+MEASURING = [("tools/hil/hil_speed.py", "bench_timing.md", []), ("tools/hil/worst_tick.py", "worst_tick.md", []),
+             ("tools/bench/perf_report.py", "performance.md", []),
+             ("tools/bench/loop_cost.py", "closed_loop_cost.md", ["--results"]),
+             ("tools/bench/tick_parts.py", "bench_tick.md", ["--results"]),
+             ("tools/bench/sweep_scaling.py", "sweep_scaling.md", ["--results"]),
+             ("tools/sweeps/budget_speed.py", "budget_speed.md", ["--results"])]
+
+
+@pytest.mark.parametrize("script,page,args", MEASURING, ids=[m[1] for m in MEASURING])
+def test_a_measuring_script_refuses_its_page_before_it_measures(script, page, args, tmp_path):
+    # (pass 45) a page that breaks the rules was found when written, after the measurements (exit 4, or a
+    # traceback where the script ended without run_script); each checks it before anything runs, exit 2
+    import shutil
+    from conftest import BIN
+    for part in ("tools", "docs/results"):
+        shutil.copytree(SOURCE / part, tmp_path / part, symlinks=True)
+    shutil.copytree(SOURCE / "python" / "gimbalsim", tmp_path / "python" / "gimbalsim",
+                    ignore=shutil.ignore_patterns("*.so", "__pycache__"))
+    shutil.copy(SOURCE / "CMakeLists.txt", tmp_path)
+    (tmp_path / "build").symlink_to(BIN.parent)
+    (tmp_path / "docs" / "results" / page).unlink(missing_ok=True)
+    (tmp_path / "docs" / "results" / page).symlink_to(tmp_path / "elsewhere.md")
+    args = args or (["--results", "--build", "build"] if "hil" in script else ["--build", "build"])
+    p = subprocess.run([sys.executable, str(tmp_path / script), *args], cwd=tmp_path, capture_output=True,
+                       text=True, timeout=120, env={**os.environ, "PYTHONPATH": str(BIN.parent / "python")})
+    assert p.returncode == 2 and f"docs/results/{page}: is a symbolic link" in p.stderr, (p.returncode, p.stderr)
+    assert "Traceback" not in p.stderr and not (tmp_path / "elsewhere.md").exists()
+    assert not (tmp_path / "out").exists(), "nothing measured"

@@ -80,6 +80,10 @@ def main():
     a = p.parse_args()
     if not 1 <= a.reps <= 1000:
         p.error("--reps must be in [1, 1000]")
+    sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
+    import results_page
+    if a.results:  # refused now, not after the measurements
+        results_page.check_page(os.path.join(ROOT, "docs/results/closed_loop_cost.md"))
     binary = os.path.join(ROOT, a.build, "bin", "gimbalsim_bench_loop")
     if not os.access(binary, os.X_OK):
         sys.exit(f"loop_cost: {binary} missing (it needs Google Benchmark): "
@@ -92,8 +96,6 @@ def main():
     print(body.getvalue(), end="")
     if not a.results:
         return
-    sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
-    import results_page
     c = med["paper_clearance"]
     results_page.write_page(os.path.join(ROOT, "docs/results/closed_loop_cost.md"),
                             "The in-process closed-loop tick against its stepping",
@@ -105,4 +107,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(output_file.run_script("loop_cost", main))

@@ -173,6 +173,7 @@ def main():
         p.error(f"--rounds {a.rounds}: at least 1")
     if not a.min_time > 0:
         p.error(f"--min-time {a.min_time}: must be above 0 s")
+    results_page.check_page(ROOT / "docs/results/performance.md")  # refused now, not after the measurements
     bench = str(ROOT / a.build / "bin/gimbalsim_bench")
     for f in (bench, str(ROOT / a.build / "bin/firmware_sim")):
         if not os.access(f, os.X_OK):
@@ -205,4 +206,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(output_file.run_script("perf_report", main))

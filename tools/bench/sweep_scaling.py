@@ -203,6 +203,9 @@ def main():
             ap.error(f"{name} must be a whole number in [{low}, 1000000]")
     if not 0.01 <= a.duration <= 100.0:
         ap.error("--duration must be in [0.01, 100] s")
+    if a.results:  # refused now, not after the measurements
+        import results_page
+        results_page.check_page(ROOT / "docs/results/sweep_scaling.md")
     t0, load0 = time.time(), open("/proc/loadavg").read()
     with tempfile.TemporaryDirectory() as d:
         d = pathlib.Path(d)
@@ -218,7 +221,6 @@ def main():
     if not (open_same and closed_same):
         sys.exit("sweep_scaling: the three ways of running a sweep wrote different rows: not a result to publish")
     if a.results:
-        import results_page
         command = "PYTHONPATH=build/python /usr/bin/python3 tools/bench/sweep_scaling.py " + " ".join(
             shlex.quote(x) for x in sys.argv[1:])
         results_page.write_page(ROOT / "docs/results/sweep_scaling.md", "Sweep scaling on Dask", command.strip(),

@@ -120,6 +120,10 @@ def main():
     a = p.parse_args()
     if a.reps < 1 or a.runs < 1 or not 0.0 < a.seconds <= 3600.0:
         p.error("--reps and --runs must be >= 1, --seconds in (0, 3600]")
+    sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
+    import results_page
+    if a.results:  # refused now, not after the measurements
+        results_page.check_page(os.path.join(ROOT, "docs/results/bench_tick.md"))
     os.environ.setdefault("GIMBALSIM_RESULTS_T0", str(time.time()))  # kept across the namespace's exec
     os.environ.setdefault("GIMBALSIM_RESULTS_LOAD0", open("/proc/loadavg").read())
     hil_speed.BIN = os.path.join(ROOT, a.build, "bin")
@@ -136,8 +140,6 @@ def main():
     no_truth = lockstep(a.seconds, a.runs, ["--truth-every", "1000"])
     report(med, shipped, no_truth, a.runs)
     if a.results:
-        sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
-        import results_page
         text = sys.stdout.copy.getvalue()
         sys.stdout = sys.stdout.out
         body = "\n".join(line for line in text.splitlines() if not line.startswith("tick_parts:")) + "\n"
@@ -153,4 +155,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(output_file.run_script("tick_parts", main))

@@ -347,6 +347,10 @@ def main():
     p.add_argument("--skip-long", action="store_true")
     p.add_argument("--results", action="store_true", help="also write docs/results/bench_timing.md")
     a = p.parse_args()
+    if a.results:  # refused now, not after the measurements
+        sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
+        import results_page
+        results_page.check_page(os.path.join(ROOT, "docs/results/bench_timing.md"))
     os.environ.setdefault("GIMBALSIM_RESULTS_T0", str(time.time()))  # kept across the namespace's exec
     os.environ.setdefault("GIMBALSIM_RESULTS_LOAD0", open("/proc/loadavg").read())
     global BIN
@@ -376,8 +380,6 @@ def main():
     if not a.skip_long:
         long_run(a.long)
     if a.results:
-        sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
-        import results_page
         command = "/usr/bin/python3 tools/hil/hil_speed.py " + " ".join(shlex.quote(x) for x in sys.argv[1:])
         text = sys.stdout.copy.getvalue()
         ratio = next((line.split("=", 1)[1].strip() for line in text.splitlines() if "firmware_sim / cyclictest" in line), "")
@@ -395,4 +397,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(output_file.run_script("hil_speed", main))

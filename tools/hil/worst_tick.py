@@ -278,6 +278,9 @@ def main():
     p.add_argument("--build", default="build", help="build directory holding bin/ (relative to the source tree)")
     p.add_argument("--results", action="store_true", help="also write " + PAGE)
     a = p.parse_args()
+    if a.results:  # refused now, not after the measurements
+        import results_page
+        results_page.check_page(os.path.join(ROOT, PAGE))
     os.environ.setdefault("GIMBALSIM_RESULTS_T0", str(time.time()))  # kept across the namespace's exec
     os.environ.setdefault("GIMBALSIM_RESULTS_LOAD0", open("/proc/loadavg").read())
     hil_speed.BIN = os.path.join(ROOT, a.build, "bin")
@@ -308,7 +311,6 @@ def main():
     line = summary(parts)
     print(f"\nworst_tick: {line}")
     if a.results:
-        import results_page
         command = "/usr/bin/python3 tools/hil/worst_tick.py " + " ".join(shlex.quote(x) for x in sys.argv[1:])
         results_page.write_page(os.path.join(ROOT, PAGE), TITLE, command.rstrip(), page_body(sys.stdout.copy.getvalue()),
                                 summary=line, t0=os.environ["GIMBALSIM_RESULTS_T0"],
@@ -318,4 +320,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(output_file.run_script("worst_tick", main))

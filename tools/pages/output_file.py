@@ -7,7 +7,7 @@ write_text, write_bytes, write_csv, savefig, check_outputs, OutputError
 (an OSError naming the file), and csv_number (the CSV convention's numbers).
 It also says how a script ends (run_script, Refused, check_before_writing)
 and how it reads what it is given (plain_number, underflowed, check_header,
-check_as_written, check_figure_format)."""
+check_as_written, check_figure_format, read_input)."""
 import argparse
 import contextlib
 import errno
@@ -211,6 +211,26 @@ def one_at_a_time(lock, what):
     finally:
         pathlib.Path(lock).unlink(missing_ok=True)
         os.close(fd)
+
+
+def read_input(path, what, limit=1 << 24):
+    """The UTF-8 text of the input file path (`what`: the flag that named it). Refused (exit 2) naming it when it is
+    missing or unreadable, no regular file (a FIFO would block, /dev/zero never end: pass 45), over `limit` bytes,
+    or not UTF-8. A link to a regular file is read: an input is never written."""
+    _not_empty(path, what)
+    try:
+        st = os.stat(path)
+        if not stat.S_ISREG(st.st_mode):
+            raise Refused(f"{what} {path}: not a regular file ({_writer._kind(st.st_mode)}); give a file")
+        if st.st_size > limit:
+            raise Refused(f"{what} {path}: {st.st_size} bytes, more than the {limit} this input may hold")
+        with open(path, "rb") as f:
+            raw = f.read(limit + 1)
+        return raw.decode("utf-8")
+    except OSError as e:
+        raise Refused(f"{what} {path}: cannot be read ({e.strerror or e})") from None
+    except UnicodeDecodeError as e:
+        raise Refused(f"{what} {path}: not UTF-8 text (byte {e.start})") from None
 
 
 def check_header(header, path):

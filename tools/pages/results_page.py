@@ -143,16 +143,29 @@ def header(title, command, t0=None, load0=None, now=None):
 def write_text(path, text):
     """Atomic write (tools/pages/output_file.py: a temporary beside it, synced, renamed when whole); raises
     OSError, the old file untouched."""
+    output_file.write_text(pathlib.Path(path), text)
+
+
+def check_page(path, index=True, inputs=()):
+    """The writer's rules for a page and its index (output_file.check_before_writing): Refused (exit 2) for a link,
+    a folder that does not exist, one of `inputs`, or a README.md beside it that is no index of this writer. A
+    study calls it before it measures: a page refused at the end would cost the run."""
     path = pathlib.Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    output_file.write_text(path, text)
+    index_path = path.parent / INDEX_NAME
+    output_file.check_before_writing([path, index_path if index else None], inputs)
+    if index and index_path.is_file() and MARK not in index_path.read_text(errors="replace")[:200]:
+        raise output_file.Refused(f"{index_path}: not an index this writer made; the page's index would replace "
+                                  "it: write the page into docs/results/ or a folder of its own")
 
 
-def write_page(path, title, command, body, summary="", t0=None, load0=None, index=True):
-    """Writes header + body to path atomically, then the index beside it (when index)."""
+def write_page(path, title, command, body, summary="", t0=None, load0=None, index=True, inputs=()):
+    """Writes header + body to path atomically, then the index beside it (when index). The writer's rules first
+    (output_file.check_before_writing: Refused, exit 2, nothing written): no link, no folder that does not
+    exist, none of `inputs`; and a README.md beside the page that is no results index is never replaced."""
     summary_line = f"<!-- summary: {' '.join(summary.split())} -->\n" if summary else ""
     text = header(title, command, t0, load0) + summary_line + "\n" + body.rstrip("\n") + "\n"
     path = pathlib.Path(path)
+    check_page(path, index, inputs)
     # The index is made (every other page read) before the page is written: a page that cannot be
     # indexed is no half-written study.
     index_text = make_index(path.parent, {path.name: text}) if index else None
@@ -230,9 +243,10 @@ def main(argv=None):
             return 0
         if not (a.page and a.title and a.command and a.body):
             ap.error("--page, --title, --command and --body are required (or --index alone)")
-        body = sys.stdin.read() if a.body == "-" else pathlib.Path(a.body).read_text()
-        write_page(a.page, a.title, a.command, body, a.summary, a.t0, a.load0)
-    except OSError as e:
+        body = sys.stdin.read() if a.body == "-" else output_file.read_input(a.body, "--body")
+        write_page(a.page, a.title, a.command, body, a.summary, a.t0, a.load0,
+                   inputs=[] if a.body == "-" else [a.body])
+    except OSError as e:  # a write that failed (the rules were checked first: output_file.Refused, exit 2)
         print(f"results_page: {e}", file=sys.stderr)
         return 4  # an output could not be written (as the C++ tools)
     print(f"results_page: wrote {a.page}")

@@ -321,7 +321,8 @@ def _run(a, build, spec_path, out):
     check_out(out)
     page = PAGES[spec_path.name][0] if a.results else None
     if a.results:
-        output_file.check_before_writing([page, page.parent / "README.md"])
+        import results_page
+        results_page.check_page(page)
     if a.out is None:
         out.parent.mkdir(exist_ok=True)  # the repository's out/, as the scripts of tools/ make it
     elif not out.parent.is_dir():
@@ -360,7 +361,6 @@ def _run_in(a, build, spec_path, out, work, plain, texts, tolerance, t0, load0, 
     work.rename(out)
     if not a.results:
         return 0
-    import results_page
     e = runs[0][0]["engine"]
     results_page.write_page(page, f"{spec_path.name} at its default sampling against a fine fixed setting",
                             "/usr/bin/python3 tools/sweeps/budget_speed.py " + shlex.join(sys.argv[1:]),
