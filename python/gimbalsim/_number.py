@@ -9,8 +9,13 @@ import re
 import sys
 
 _DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
-# a sign, no leading zero (C and CLI11 read 010 as octal 8), as program.hpp wholeNumber(); a range says the rest
-_WHOLE = re.compile(r"[+-]?(?:0|[1-9][0-9]{0,99})")
+_WHOLE = re.compile(r"[+-]?[0-9]{1,100}")  # a sign and digits (has_leading_zero and a range say the rest)
+
+
+def has_leading_zero(text):
+    """True when text, after an optional sign, starts with a 0 and another digit ('010', '+00.5'): C and CLI11
+    read a whole 010 as octal 8; whole and real flags refuse it alike (plain_decimal.hpp hasLeadingZero)."""
+    return re.match(r"[+-]?0[0-9]", text) is not None
 
 
 def plain_decimal(text):
@@ -41,7 +46,7 @@ def flag_decimal(text):
         return None, f"{text!r} is not a finite decimal number"
     if underflowed(text, x):
         return None, f"{text!r} is too small for a double (it would be read as 0 or lose its digits)"
-    if re.match(r"[+-]?0[0-9]", text):  # as a whole-number flag refuses 010 (program.cpp notPlainReal, pass 42)
+    if has_leading_zero(text):  # as a whole-number flag refuses 010 (pass 42: --duration 010 ran 10 s)
         return None, f"{text!r} is not a number written without a leading zero"
     return x, None
 
@@ -49,6 +54,6 @@ def flag_decimal(text):
 def plain_whole(text):
     """The int of a whole number written as one ('12', '-3', '+3'; not ' 3',
     '010', '1_0', '1e3', '0x3' or 101 digits); None otherwise."""
-    if not isinstance(text, str) or not _WHOLE.fullmatch(text):
+    if not isinstance(text, str) or not _WHOLE.fullmatch(text) or has_leading_zero(text):
         return None
     return int(text)

@@ -38,12 +38,8 @@ namespace {
 std::string notPlainReal(const std::string& r, bool in_list) {
   double x = 0.0;
   switch (readPlainDecimal(r, x)) {
-    case DecimalProblem::None: {
-      // as an INT flag refuses it (pass 42: --duration 010 ran 10 s where --truth-every 010 was refused)
-      const std::size_t i = !r.empty() && (r[0] == '+' || r[0] == '-') ? 1 : 0;
-      const bool leading_zero = r.size() > i + 1 && r[i] == '0' && r[i + 1] >= '0' && r[i + 1] <= '9';
-      return leading_zero ? "'" + r + "' is not a number written without a leading zero" : "";
-    }
+    // as an INT flag refuses it (pass 42: --duration 010 ran 10 s where --truth-every 010 was refused)
+    case DecimalProblem::None: return hasLeadingZero(r) ? "'" + r + "' is not a number written without a leading zero" : "";
     // the list's hint only for a list (pass 44: a scalar's '' was asked about commas)
     case DecimalProblem::Empty: return in_list ? "an empty value (two commas in a row, or one at the end?)"
                                                : "an empty value";

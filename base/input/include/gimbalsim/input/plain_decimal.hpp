@@ -14,6 +14,14 @@ namespace gimbalsim {
 
 enum class DecimalProblem { None, Empty, NotDecimal, NotFinite, Underflow };
 
+/// True when `text`, after an optional sign, starts with a 0 and another
+/// digit ("010", "+00.5"): no writer of ours writes one, and CLI11 reads a
+/// whole "010" as octal 8. Whole and real flags refuse it alike.
+inline bool hasLeadingZero(const std::string& text) {
+  const std::size_t i = !text.empty() && (text[0] == '+' || text[0] == '-') ? 1 : 0;
+  return text.size() > i + 1 && text[i] == '0' && text[i + 1] >= '0' && text[i + 1] <= '9';
+}
+
 /// Reads `text` into x; None when it is a plain finite decimal whose value
 /// the parse kept (1e-400 would read as 0: Underflow).
 inline DecimalProblem readPlainDecimal(const std::string& text, double& x) {

@@ -24,6 +24,7 @@
 #include <string>
 
 #include "gimbalsim/input/input_error.hpp"
+#include "gimbalsim/input/plain_decimal.hpp"
 #include "gimbalsim/program/stop_signal.hpp"
 
 namespace gimbalsim::program {
@@ -59,7 +60,7 @@ inline CLI::Validator wholeNumber() {
         std::size_t i = s.size() > 1 && (s[0] == '-' || s[0] == '+') ? 1 : 0;
         if (i == s.size()) return "'" + s + "' is not a whole number";
         // CLI11 then reads '010' as octal 8 (pass 36: --truth-csv every 8 ticks for 010)
-        if (s[i] == '0' && i + 1 < s.size()) return "'" + s + "' is not a whole number written without a leading zero";
+        if (hasLeadingZero(s)) return "'" + s + "' is not a whole number written without a leading zero";
         for (; i < s.size(); ++i) {
           if (s[i] < '0' || s[i] > '9') return "'" + s + "' is not a whole number";
         }
