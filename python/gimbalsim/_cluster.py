@@ -49,6 +49,13 @@ def warm_up(client, task, *args):
     return time.perf_counter() - t
 
 
+def rerun_alone(items, submit):
+    """After a task of several items killed its worker (KilledWorker): each item in a task of its own,
+    [(future, [item])], so only the one that kills its worker again is crashed (pass 43: its task's others were,
+    and the result changed with the worker count). [] for a task of one item: that item is the crash."""
+    return [(submit([it]), [it]) for it in items] if len(items) > 1 else []
+
+
 def crash_hook(index):
     """Kills this worker process when the test hook names index."""
     if os.environ.get(CRASH_HOOK) == str(index):

@@ -244,10 +244,9 @@ def _run_on_cluster(spec, todo, fd, journal, done, cluster, batch, progress):
                 results, t_task, worker = fut.result()
                 last_done[worker] = time.perf_counter()
             except KilledWorker:
-                if len(samples) > 1:  # which sample killed it? each runs alone, so only that one is crashed
-                    for i in samples:
-                        f = submit([i])
-                        samples_of[f] = [i]
+                if alone := _cluster.rerun_alone(samples, submit):
+                    for f, c in alone:
+                        samples_of[f] = c
                         tasks.add(f)
                     fut.release()
                     continue

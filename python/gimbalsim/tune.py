@@ -201,6 +201,9 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
         parallel = spec.parallel or n_workers
         chunk = max(1, math.ceil(spec.batch / max(1, n_workers)))
         in_flight = {}  # trial number -> (trial, futures, gains, t0)
+        # the scene goes in each task: scattered data would die with its workers
+        submit = lambda ctrl, items: (  # noqa: E731
+            client.submit(run_plants, spec.base, ctrl, spec.duration, items, pure=False), items)
         bar = tqdm(total=spec.trials, initial=min(finished, spec.trials), unit="trial", disable=not progress,
                    file=sys.stderr)
         while finished + len(in_flight) < spec.trials or in_flight:
@@ -221,9 +224,6 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
                     bar.update(1)
                     _write_trials(out, header, study, spec.input_files())
                     continue
-                # the scene goes in each task: scattered data would die with its workers
-                submit = lambda ctrl, items: (  # noqa: E731
-                    client.submit(run_plants, spec.base, ctrl, spec.duration, items, pure=False), items)
                 in_flight[trial.number] = (trial, [submit(ctrl, plants[k:k + chunk]) for k in
                                                    range(0, len(plants), chunk)], gains, time.perf_counter(), ctrl, [])
             wait([f for _, fs, *_ in in_flight.values() for f, _ in fs], return_when="FIRST_COMPLETED")
@@ -233,11 +233,10 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
                 for f, items in futs:
                     try:
                         results += f.result()
-                    except KilledWorker:  # a plant that kills its worker twice fails the trial, not the study;
-                        # which one? each runs alone again, so only it is crashed (pass 43: its task's others were)
-                        if len(items) > 1:
-                            again += [submit(ctrl, [it]) for it in items]
-                        else:
+                    except KilledWorker:  # a plant that kills its worker twice fails the trial, not the study
+                        alone = _cluster.rerun_alone(items, lambda c: submit(ctrl, c)[0])
+                        again += alone
+                        if not alone:
                             results.append({"plant": items[0][0], "ok": False, "stop_key": "crashed"})
                 if again:
                     in_flight[number] = (trial, again, gains, t0, ctrl, results)
