@@ -50,8 +50,7 @@ def main():
     ap.add_argument("--mujoco-dir")
     ap.add_argument("--no-mujoco", help="why there is no MuJoCo figure")
     ap.add_argument("--command", required=True)
-    ap.add_argument("--t0")
-    ap.add_argument("--load0")
+    results_page.add_start_arguments(ap)
     a = ap.parse_args()
     table, reps, ctx = bench_table(a.bench_json)
     md = ["Both parts below ran in one run of the command above on the machine in the header; medians and ratios "

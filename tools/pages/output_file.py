@@ -41,6 +41,8 @@ OutputError = _writer.OutputError
 check_outputs = _writer.check_outputs
 csv_number = _writer.csv_number
 underflowed = _number.underflowed
+flag_decimal = _number.flag_decimal  # (x, None) or (None, why), as the programs read a real flag
+plain_decimal = _number.plain_decimal
 
 open_output = _writer.open_output
 write_text = _writer.write_text
@@ -213,11 +215,20 @@ def one_at_a_time(lock, what):
         os.close(fd)
 
 
-def read_input(path, what, limit=1 << 24):
-    """The UTF-8 text of the input file path (`what`: the flag that named it). Refused (exit 2) naming it when it is
-    missing or unreadable, no regular file (a FIFO would block, /dev/zero never end: pass 45), over `limit` bytes,
-    or not UTF-8. A link to a regular file is read: an input is never written."""
+def read_input(path, what, limit=1 << 24, stdin=False):
+    """The UTF-8 text of the input file path (`what`: the flag that named it; stdin: '-' is the standard input,
+    under the same rules). Refused (exit 2) naming it when it is missing or unreadable, no regular file (a FIFO
+    would block, /dev/zero never end: pass 45), over `limit` bytes, or not UTF-8. A link to a regular file is read:
+    an input is never written."""
     _not_empty(path, what)
+    if stdin and path == "-":
+        raw = sys.stdin.buffer.read(limit + 1)
+        if len(raw) > limit:
+            raise Refused(f"{what} -: more than the {limit} bytes this input may hold")
+        try:
+            return raw.decode("utf-8")
+        except UnicodeDecodeError as e:
+            raise Refused(f"{what} -: not UTF-8 text (byte {e.start})") from None
     try:
         st = os.stat(path)
         if not stat.S_ISREG(st.st_mode):

@@ -97,9 +97,45 @@ def page_arguments(doc, default_dir):
     # and a missing one a traceback); a study's run file missing in it is refused by name (run_files)
     ap.add_argument("--dir", type=_study_folder, default=str(ROOT / default_dir))
     ap.add_argument("--command", required=True)
-    ap.add_argument("--t0")
-    ap.add_argument("--load0")
+    add_start_arguments(ap)
     return ap
+
+
+def add_start_arguments(ap):
+    """--t0 and --load0, as every page's writer takes them (pass 46: 'abc' a traceback at the end, 'nan' a page
+    saying "nan s wall")."""
+    ap.add_argument("--t0", type=_argument(start_time),
+                    help="the study's start, seconds since the epoch (date +%%s.%%N)")
+    ap.add_argument("--load0", type=_argument(start_load), help="/proc/loadavg at the study's start")
+
+
+def _argument(check):
+    def read(text):
+        try:
+            return check(text, where=None)  # argparse names the flag
+        except output_file.Refused as e:
+            raise argparse.ArgumentTypeError(str(e)) from None
+    return read
+
+
+def start_time(text, where="--t0"):
+    """A study's start as `date +%s.%N` writes it: a plain decimal of seconds since the epoch, not after now;
+    Refused naming `where` otherwise. The page's run time is measured from it."""
+    x, why = output_file.flag_decimal(text)
+    if why is None and not 0 < x <= time.time() + 60:
+        why = f"{text} is no start time (seconds since the epoch, date +%s.%N, not after now)"
+    if why:
+        raise output_file.Refused(f"{where}: {why}" if where else why)
+    return text
+
+
+def start_load(text, where="--load0"):
+    """/proc/loadavg as read at a study's start: its first three fields are the load averages."""
+    fields = str(text).split()
+    if len(fields) < 3 or any(output_file.plain_decimal(f) is None or float(f) < 0 for f in fields[:3]):
+        why = f"{text!r} is not /proc/loadavg (three load averages first)"
+        raise output_file.Refused(f"{where}: {why}" if where else why)
+    return text
 
 
 def _study_folder(text):
@@ -131,9 +167,9 @@ def header(title, command, t0=None, load0=None, now=None):
              f"- Date: {now.strftime('%Y-%m-%d %H:%M')} UTC"]
     run = []
     if t0 is not None:
-        run.append(f"{time.time() - float(t0):.0f} s wall")
+        run.append(f"{time.time() - float(start_time(t0)):.0f} s wall")
     if load0:
-        run.append(f"load average (1, 5, 15 min) {' '.join(str(load0).split()[:3])} at start, {loadavg()} at end")
+        run.append(f"load average (1, 5, 15 min) {' '.join(start_load(load0).split()[:3])} at start, {loadavg()} at end")
     else:
         run.append(f"load average (1, 5, 15 min) {loadavg()} at the end")
     lines.append("- Run: " + "; ".join(run))
@@ -151,11 +187,23 @@ def check_page(path, index=True, inputs=()):
     a folder that does not exist, one of `inputs`, or a README.md beside it that is no index of this writer. A
     study calls it before it measures: a page refused at the end would cost the run."""
     path = pathlib.Path(path)
-    index_path = path.parent / INDEX_NAME
-    output_file.check_before_writing([path, index_path if index else None], inputs)
-    if index and index_path.is_file() and MARK not in index_path.read_text(errors="replace")[:200]:
-        raise output_file.Refused(f"{index_path}: not an index this writer made; the page's index would replace "
-                                  "it: write the page into docs/results/ or a folder of its own")
+    output_file.check_before_writing([path, path.parent / INDEX_NAME if index else None], inputs)
+    if index:
+        _index_is_ours(path.parent / INDEX_NAME)
+
+
+def check_index(folder):
+    """The index's rules (Refused, exit 2): those of every output (output_file.check_before_writing), and a
+    README.md already there is one this writer made (pass 46: --index replaced a hand-written one)."""
+    index_path = pathlib.Path(folder) / INDEX_NAME
+    output_file.check_before_writing([index_path])
+    _index_is_ours(index_path)
+
+
+def _index_is_ours(index_path):
+    if index_path.is_file() and MARK not in index_path.read_text(errors="replace")[:200]:
+        raise output_file.Refused(f"{index_path}: not an index this writer made, and the index of the pages beside "
+                                  "it would replace it: move it, or write the page into a folder of its own")
 
 
 def write_page(path, title, command, body, summary="", t0=None, load0=None, index=True, inputs=()):
@@ -196,6 +244,7 @@ def read_header(path, text=None):
 
 def write_index(folder=RESULTS):
     folder = pathlib.Path(folder)
+    check_index(folder)
     write_text(folder / INDEX_NAME, make_index(folder))
 
 
@@ -233,17 +282,27 @@ def main(argv=None):
     ap.add_argument("--command", help="the command line that regenerates the page")
     ap.add_argument("--body", help="file with the page's body (Markdown); - for stdin")
     ap.add_argument("--summary", default="", help="one line for the index")
-    ap.add_argument("--t0", help="the study's start, seconds since the epoch (date +%%s.%%N)")
-    ap.add_argument("--load0", help="/proc/loadavg at the study's start")
+    add_start_arguments(ap)
     ap.add_argument("--index", action="store_true", help="only rewrite docs/results/README.md")
+    ap.add_argument("--check", action="store_true",
+                    help="only check that --page and its index may be written (exit 0) or not (exit 2): a run "
+                         "script asks before its study, so a refused page costs no run")
     a = ap.parse_args(argv)
+    given = [f for f in ("page", "title", "command", "body", "t0", "load0") if getattr(a, f) is not None]
+    if a.index and (given or a.check):
+        ap.error("--index rewrites the index alone: leave out " + ", ".join(f"--{f}" for f in given or ["check"]))
+    if a.check and (not a.page or len(given) > 1):
+        ap.error("--check takes --page alone")
     try:
-        if a.index and not a.page:
+        if a.index:
             write_index(RESULTS)
+            return 0
+        if a.check:
+            check_page(a.page)
             return 0
         if not (a.page and a.title and a.command and a.body):
             ap.error("--page, --title, --command and --body are required (or --index alone)")
-        body = sys.stdin.read() if a.body == "-" else output_file.read_input(a.body, "--body")
+        body = output_file.read_input(a.body, "--body", stdin=True)
         write_page(a.page, a.title, a.command, body, a.summary, a.t0, a.load0,
                    inputs=[] if a.body == "-" else [a.body])
     except OSError as e:  # a write that failed (the rules were checked first: output_file.Refused, exit 2)
