@@ -64,6 +64,8 @@ SIM=$BUILD/bin/gimbalsim
 OUT=out/paper
 out_folder run_paper.sh "$OUT/plots"
 trap 'out_folder_undo' EXIT  # a refused simulation leaves no folder it made
+# The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
+[ "$RESULTS" = 0 ] || /usr/bin/python3 tools/pages/results_page.py --check --page docs/results/paper.md
 
 echo "== [3/4] simulations${SETS[*]:+ (overrides: ${SETS[*]})}"
 "$SIM" simulate tools/scenes/paper_ideal.yaml ${SETS[@]+"${SETS[@]}"} \

@@ -86,8 +86,8 @@ def main():
         results_page.check_page(os.path.join(ROOT, "docs/results/closed_loop_cost.md"))
     binary = os.path.join(ROOT, a.build, "bin", "gimbalsim_bench_loop")
     if not os.access(binary, os.X_OK):
-        sys.exit(f"loop_cost: {binary} missing (it needs Google Benchmark): "
-                 f"cmake --build {a.build} -j2 --target gimbalsim_bench_loop")
+        raise output_file.Refused(f"{binary} missing (it needs Google Benchmark): "
+                                  f"cmake --build {a.build} -j2 --target gimbalsim_bench_loop")
     t0, load0 = str(time.time()), open("/proc/loadavg").read()
     med = run_benchmark(binary, a.reps)
     body = io.StringIO()

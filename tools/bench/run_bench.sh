@@ -43,6 +43,9 @@ case "$KEEP" in "" | /*) ;; *) KEEP="$PWD/$KEEP" ;; esac
 # the scenes the benchmarks load, a file named in a flag), whole or not at all
 INPUTS=("$BIN" "$ROOT"/tools/scenes/*.yaml ${ARGS[@]+"${ARGS[@]}"})
 [ -z "$KEEP" ] || /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check /dev/null "$KEEP" -- "${INPUTS[@]}" || exit $?
+# The page's rules before the measurements: a page refused at the end would cost the run.
+[ "$RESULTS" = 0 ] || /usr/bin/python3 "$ROOT/tools/pages/results_page.py" --check --page "$ROOT/docs/results/speed.md" ||
+  exit $?
 TEMPORARY=()  # removed whatever ends the script
 trap 'rm -f ${TEMPORARY[@]+"${TEMPORARY[@]}"}' EXIT
 OUT=$(mktemp /tmp/gimbalsim_bench.XXXXXX.json) && TEMPORARY+=("$OUT")

@@ -126,11 +126,14 @@ def main():
         results_page.check_page(os.path.join(ROOT, "docs/results/bench_tick.md"))
     os.environ.setdefault("GIMBALSIM_RESULTS_T0", str(time.time()))  # kept across the namespace's exec
     os.environ.setdefault("GIMBALSIM_RESULTS_LOAD0", open("/proc/loadavg").read())
+    if a.results:  # a start inherited from the environment (the namespace's exec) is checked now, not at the end
+        results_page.start_time(os.environ["GIMBALSIM_RESULTS_T0"], "GIMBALSIM_RESULTS_T0")
+        results_page.start_load(os.environ["GIMBALSIM_RESULTS_LOAD0"], "GIMBALSIM_RESULTS_LOAD0")
     hil_speed.BIN = os.path.join(ROOT, a.build, "bin")
     for t in ("firmware_sim", "pointing_controller", "gimbalsim_bench_tick"):
         if not os.access(os.path.join(hil_speed.BIN, t), os.X_OK):
-            sys.exit(f"tick_parts: {hil_speed.BIN}/{t} missing (gimbalsim_bench_tick needs Google Benchmark): "
-                     f"cmake --build {a.build} -j2 --target firmware_sim pointing_controller gimbalsim_bench_tick")
+            raise output_file.Refused(f"{hil_speed.BIN}/{t} missing (gimbalsim_bench_tick needs Google Benchmark): "
+                                      f"cmake --build {a.build} -j2 --target firmware_sim pointing_controller gimbalsim_bench_tick")
     hil_speed.enter_namespace()
     if a.results:
         sys.stdout = hil_speed.Tee(sys.stdout)

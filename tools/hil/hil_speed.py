@@ -353,12 +353,16 @@ def main():
         results_page.check_page(os.path.join(ROOT, "docs/results/bench_timing.md"))
     os.environ.setdefault("GIMBALSIM_RESULTS_T0", str(time.time()))  # kept across the namespace's exec
     os.environ.setdefault("GIMBALSIM_RESULTS_LOAD0", open("/proc/loadavg").read())
+    if a.results:  # a start inherited from the environment (the namespace's exec) is checked now, not at the end
+        results_page.start_time(os.environ["GIMBALSIM_RESULTS_T0"], "GIMBALSIM_RESULTS_T0")
+        results_page.start_load(os.environ["GIMBALSIM_RESULTS_LOAD0"], "GIMBALSIM_RESULTS_LOAD0")
     global BIN
     BIN = os.path.join(ROOT, a.build, "bin")
     CPU[0] = a.cpu
     for t in ("firmware_sim", "pointing_controller"):
         if not os.access(os.path.join(BIN, t), os.X_OK):
-            sys.exit(f"hil_speed: {BIN}/{t} missing: cmake --build build -j2 --target firmware_sim pointing_controller")
+            raise output_file.Refused(f"{BIN}/{t} missing: cmake --build {a.build} -j2 --target firmware_sim "
+                                      "pointing_controller")
     enter_namespace()
     if a.results:
         sys.stdout = Tee(sys.stdout)

@@ -283,17 +283,20 @@ def main():
         results_page.check_page(os.path.join(ROOT, PAGE))
     os.environ.setdefault("GIMBALSIM_RESULTS_T0", str(time.time()))  # kept across the namespace's exec
     os.environ.setdefault("GIMBALSIM_RESULTS_LOAD0", open("/proc/loadavg").read())
+    if a.results:  # a start inherited from the environment (the namespace's exec) is checked now, not at the end
+        results_page.start_time(os.environ["GIMBALSIM_RESULTS_T0"], "GIMBALSIM_RESULTS_T0")
+        results_page.start_load(os.environ["GIMBALSIM_RESULTS_LOAD0"], "GIMBALSIM_RESULTS_LOAD0")
     hil_speed.BIN = os.path.join(ROOT, a.build, "bin")
     hil_speed.CPU[0] = a.cpu
     for t in ("firmware_sim", "pointing_controller", "torque_replay"):
         if not os.access(os.path.join(hil_speed.BIN, t), os.X_OK):
-            sys.exit(f"worst_tick: {hil_speed.BIN}/{t} missing: cmake --build {a.build} -j2 "
-                     "--target firmware_sim pointing_controller torque_replay")
+            raise output_file.Refused(f"{hil_speed.BIN}/{t} missing: cmake --build {a.build} -j2 "
+                                      "--target firmware_sim pointing_controller torque_replay")
     names = sorted(os.path.basename(f)[:-len(".yaml")] for f in glob.glob(os.path.join(hil_speed.SCENES, "*.yaml")))
     rt_names = [x for x in a.realtime_scenes.split(",") if x] if a.realtime_seconds > 0 else []
     for x in rt_names:
         if x not in names:
-            sys.exit(f"worst_tick: --realtime-scenes: no tools/scenes/{x}.yaml")
+            raise output_file.Refused(f"--realtime-scenes: no tools/scenes/{x}.yaml")
     hil_speed.enter_namespace()  # re-runs sys.argv[0], this script, inside the namespace
     if a.results:
         sys.stdout = hil_speed.Tee(sys.stdout)

@@ -50,6 +50,9 @@ out_folder run_controller_floor.sh "$OUT"
 LOG=$(mktemp)  # the console log, saved into $OUT by the writer's rules
 trap 'rm -f "$LOG"; out_folder_undo' EXIT  # a refused run leaves no folder it made
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/floor.log" -- "$@"  # before any run
+# The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
+[ "$RESULTS" = 0 ] || /usr/bin/python3 "$ROOT/tools/pages/results_page.py" --check \
+  --page "$ROOT/docs/results/controller_floor.md"
 status=0
 "$BUILD/bin/gimbalsim_controller_floor" ${IDEAL[@]+"${IDEAL[@]}"} ${CLEARANCE[@]+"${CLEARANCE[@]}"} \
   --before-set pointing.accel_feedforward=inertial --before-set pointing.feedforward_lead=0 \

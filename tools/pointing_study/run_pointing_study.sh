@@ -45,6 +45,9 @@ trap 'rm -f "$LOG"; out_folder_undo' EXIT  # a refused run leaves no folder it m
 if [ -d "$OUT" ]; then
   /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}
 fi
+# The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
+[ "$RESULTS" = 0 ] || /usr/bin/python3 "$ROOT/tools/pages/results_page.py" --check \
+  --page "$ROOT/docs/results/closed_loop_clearance.md"
 # The default --out first: a --out among the arguments comes later and counts.
 # Clearance in the elevation joint, the azimuth joint, both; planar and spatial;
 # perfect, realistic and tracker sensors. An --ideal-scene, --clearance-scene or --sensors

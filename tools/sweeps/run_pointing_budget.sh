@@ -123,6 +123,8 @@ check_page_names() {  # the page, the index and this page's plots: regular files
   done
 }
 check_page_names "nothing run" || exit 2
+# and the writer's own rules for the page and its index (a hand-written README.md there is never replaced)
+/usr/bin/python3 tools/pages/results_page.py --check --page "$RESULTS/$PAGE.md"
 # One run at a time makes the pages: two would share out/<spec name>.new/, the page index and the plots.
 if [ ! -d "$RESULTS" ] || ! exec 9<"$RESULTS"; then
   echo "run_pointing_budget.sh: $ROOT/$RESULTS: no such folder, where the page goes; nothing run" >&2

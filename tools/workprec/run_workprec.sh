@@ -31,6 +31,8 @@ done
 out_folder run_workprec.sh out/workprec
 LOG=$(mktemp) && trap 'rm -f "$LOG"; out_folder_undo' EXIT  # the console log, saved by the writer's rules (not tee's)
 /usr/bin/python3 tools/pages/save_output.py --check "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
+# The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
+[ "$RESULTS" = 0 ] || /usr/bin/python3 tools/pages/results_page.py --check --page docs/results/workprec.md
 build/bin/gimbalsim_workprec --out out/workprec ${ARGS[@]+"${ARGS[@]}"} | console_tee "$LOG"
 /usr/bin/python3 tools/pages/save_output.py "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
 /usr/bin/python3 tools/workprec/plot_workprec.py out/workprec/workprec.csv --out out/workprec/workprec.png

@@ -1,0 +1,140 @@
+"""Issue 41 (pass 46), the results pages' writer and the scripts that call it: a page's start time and load
+are numbers the header can say (a bad one is refused, exit 2, never a traceback or "nan s wall"); the body
+on stdin is read as a file is; the index never replaces a hand-written README.md; every script that writes a
+page checks it before its study runs, and a missing program is a refusal (2), not a bug (1)."""
+import os
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+from conftest import BIN, SOURCE
+
+WRITER = SOURCE / "tools" / "pages" / "results_page.py"
+
+
+def _writer(*args, cwd, stdin=None):
+    return subprocess.run([sys.executable, str(WRITER), *args], cwd=cwd, input=stdin, capture_output=True,
+                          timeout=60)
+
+
+@pytest.mark.parametrize("flag,value,said", [("--t0", "abc", "'abc' is not a finite decimal number"),
+                                             ("--t0", "", "an empty value"),
+                                             ("--t0", "nan", "'nan' is not a finite decimal number"),
+                                             ("--t0", "1e300", "1e300 is no start time"),
+                                             ("--t0", "0", "0 is no start time"),
+                                             ("--load0", "abc", "'abc' is not /proc/loadavg"),
+                                             ("--load0", "0.5 nan 1", "'0.5 nan 1' is not /proc/loadavg")])
+def test_a_start_the_header_cannot_say_is_refused(tmp_path, flag, value, said):
+    # (pass 46) --t0 abc ended in a traceback after the rules were checked; nan wrote "Run: nan s wall"
+    (tmp_path / "b.md").write_text("body\n")
+    p = _writer("--page", "x.md", "--title", "T", "--command", "c", "--body", "b.md", f"{flag}={value}",
+                cwd=tmp_path)
+    err = p.stderr.decode()
+    assert p.returncode == 2 and f"argument {flag}: {said}" in err and "Traceback" not in err, err
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["b.md"]
+
+
+def test_a_start_as_the_run_scripts_note_it_is_taken(tmp_path):
+    (tmp_path / "b.md").write_text("body\n")
+    load = open("/proc/loadavg").read()
+    p = _writer("--page", "x.md", "--title", "T", "--command", "c", "--body", "b.md", "--t0", "1700000000.25",
+                "--load0", load, cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    run = [line for line in (tmp_path / "x.md").read_text().splitlines() if line.startswith("- Run: ")][0]
+    assert " s wall; load average (1, 5, 15 min) " + " ".join(load.split()[:3]) + " at start" in run, run
+
+
+def test_a_body_on_stdin_is_read_as_a_file_is(tmp_path):
+    # (pass 46) bytes that are not UTF-8 on stdin ended in a traceback (exit 1); from a file they were refused
+    p = _writer("--page", "x.md", "--title", "T", "--command", "c", "--body", "-", cwd=tmp_path, stdin=b"a\xffb")
+    err = p.stderr.decode()
+    assert p.returncode == 2 and "--body -: not UTF-8 text (byte 1)" in err and "Traceback" not in err, err
+    assert not list(tmp_path.iterdir())
+    p = _writer("--page", "x.md", "--title", "T", "--command", "c", "--body", "-", cwd=tmp_path, stdin=b"fine\n")
+    assert p.returncode == 0 and (tmp_path / "x.md").read_text().rstrip().endswith("fine"), p.stderr
+
+
+def test_the_index_never_replaces_a_hand_written_readme(tmp_path):
+    # (pass 46) --index replaced a README.md that --page refused; a README.md link was exit 4
+    sys.path.insert(0, str(SOURCE / "tools" / "pages"))
+    import results_page
+    (tmp_path / "README.md").write_text("my notes\n")
+    with pytest.raises(results_page.output_file.Refused, match="not an index this writer made"):
+        results_page.write_index(tmp_path)
+    assert (tmp_path / "README.md").read_text() == "my notes\n"
+    (tmp_path / "README.md").unlink()
+    (tmp_path / "README.md").symlink_to(tmp_path / "elsewhere.md")
+    with pytest.raises(results_page.output_file.Refused, match="symbolic link"):
+        results_page.write_index(tmp_path)
+    assert not (tmp_path / "elsewhere.md").exists()
+    (tmp_path / "README.md").unlink()
+    results_page.write_index(tmp_path)  # none there: made, and then it is ours to rewrite
+    results_page.write_index(tmp_path)
+    assert results_page.MARK in (tmp_path / "README.md").read_text()
+
+
+def test_check_and_index_take_their_own_flags_alone(tmp_path):
+    (tmp_path / "README.md").write_text("my notes\n")
+    p = _writer("--check", "--page", "x.md", cwd=tmp_path)
+    assert p.returncode == 2 and b"README.md: not an index this writer made" in p.stderr, p.stderr
+    (tmp_path / "README.md").unlink()
+    assert _writer("--check", "--page", "x.md", cwd=tmp_path).returncode == 0
+    assert not list(tmp_path.iterdir()), "--check writes nothing"
+    for args, said in ((["--index", "--page", "x.md"], b"--index rewrites the index alone: leave out --page"),
+                       (["--check", "--page", "x.md", "--title", "T"], b"--check takes --page alone")):
+        p = _writer(*args, cwd=tmp_path)
+        assert p.returncode == 2 and said in p.stderr, p.stderr
+
+
+@pytest.mark.parametrize("script", ["tools/hil/hil_speed.py", "tools/hil/worst_tick.py", "tools/bench/loop_cost.py",
+                                    "tools/bench/tick_parts.py"])
+def test_a_missing_program_is_a_refusal(tmp_path, script):
+    # (pass 46) sys.exit("... missing") was exit 1, the code for a bug; hil_speed's hint named build/ always
+    p = subprocess.run([sys.executable, str(SOURCE / script), "--build", "nosuch"], cwd=tmp_path,
+                       capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2 and "missing" in p.stderr and "cmake --build nosuch" in p.stderr, p.stderr
+
+
+def _repository(tmp_path):
+    """The tree the run scripts use, its build the one under test (no cmake: a stand-in that does nothing), and
+    a hand-written README.md in its docs/results/."""
+    repo = tmp_path / "repo"
+    shutil.copytree(SOURCE / "tools", repo / "tools", ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copytree(SOURCE / "python" / "gimbalsim", repo / "python" / "gimbalsim",
+                    ignore=shutil.ignore_patterns("__pycache__", "*.so"))
+    shutil.copy(SOURCE / "CMakeLists.txt", repo)
+    (repo / "docs" / "results").mkdir(parents=True)
+    (repo / "docs" / "results" / "README.md").write_text("my notes\n")
+    (repo / "build").symlink_to(BIN.parent)
+    fake = tmp_path / "fakebin"
+    fake.mkdir()
+    (fake / "cmake").write_text("#!/bin/sh\nexit 0\n")
+    (fake / "cmake").chmod(0o755)
+    return repo, dict(os.environ, PATH=f"{fake}:{os.environ['PATH']}")
+
+
+RUN_SCRIPTS = ["tools/stress/run_stress.sh", "tools/workprec/run_workprec.sh",
+               "tools/pointing_study/run_pointing_study.sh", "tools/pointing_study/run_controller_floor.sh",
+               "tools/run_paper.sh", "tools/bench/run_bench.sh", "tools/sweeps/run_pointing_budget.sh"]
+
+
+@pytest.mark.parametrize("script", RUN_SCRIPTS, ids=[s.split("/")[-1] for s in RUN_SCRIPTS])
+def test_a_run_script_checks_its_page_before_its_study(tmp_path, script):
+    # (pass 46) run_stress.sh --results ran the study, replaced the previous out/stress/stress.csv, and only then
+    # was its page refused; so did the other run scripts (the budget's checked links only)
+    repo, env = _repository(tmp_path)
+    previous = repo / "out" / "stress" / "stress.csv"
+    previous.parent.mkdir(parents=True)
+    previous.write_text("previous results\n")
+    args = [] if "budget" in script else ["--results"]  # the budget's script always writes its page
+    p = subprocess.run(["bash", str(repo / script), *args], cwd=tmp_path, env=env, capture_output=True,
+                       text=True, timeout=300)
+    assert p.returncode == 2 and "README.md: not an index this writer made" in p.stderr, (p.returncode, p.stderr)
+    assert previous.read_text() == "previous results\n"
+    assert (repo / "docs" / "results" / "README.md").read_text() == "my notes\n"
+    assert sorted(q.name for q in (repo / "docs" / "results").iterdir()) == ["README.md"]
+    assert sorted(q.name for q in (repo / "out").iterdir()) == ["stress"], "no study ran, no folder left"
+    for ran in ("ideal ", "TRUSTWORTHY", "BM_", "sample"):  # a study's, a benchmark's, a sweep's lines
+        assert ran not in p.stdout + p.stderr, (ran, p.stdout, p.stderr)
