@@ -227,7 +227,10 @@ def test_compare_verdicts_refuses_what_holds_no_stress_run(tmp_path):
     tool = SOURCE / "tools/stress/compare_verdicts.py"
     (tmp_path / "other.csv").write_text("a,b\n1,2\n")
     (tmp_path / "empty.csv").write_text("group,scene,sets,verdict\n")
-    (tmp_path / "one.csv").write_text("group,scene,sets,verdict\ng,paper_ideal,x,ok\n")
+    (tmp_path / "one.csv").write_text("group,scene,sets,verdict\ng,paper_ideal,x,TRUSTWORTHY\n")
+    # (pass 45) any text was compared as a verdict, and a run twice in one CSV was listed as in one CSV only
+    (tmp_path / "bogus.csv").write_text("group,scene,sets,verdict\ng,paper_ideal,x,BOGUS\n")
+    (tmp_path / "dup.csv").write_text("group,scene,sets,verdict\ng,paper_ideal,x,STOPPED\ng,paper_ideal,x,STOPPED\n")
     # (pass 30) a cut row was a TypeError, a FIFO blocked, a second verdict column was read silently, empty
     # verdicts compared as identical
     (tmp_path / "cut.csv").write_text("group,scene,sets,verdict\ng,paper_ideal\n")
@@ -240,7 +243,9 @@ def test_compare_verdicts_refuses_what_holds_no_stress_run(tmp_path):
                         ([tmp_path / "fifo.csv", tmp_path / "one.csv"], "fifo.csv: not a regular file"),
                         ([tmp_path / "other.csv"] * 2, "not a gimbalsim_stress CSV (no column group"),
                         ([tmp_path / "missing.csv", tmp_path / "one.csv"], "missing.csv: cannot read it"),
-                        ([tmp_path / "empty.csv"] * 2, "empty.csv: no runs: nothing to compare")):
+                        ([tmp_path / "empty.csv"] * 2, "empty.csv: no runs: nothing to compare"),
+                        ([tmp_path / "one.csv", tmp_path / "bogus.csv"], "bogus.csv:2: verdict 'BOGUS' is none"),
+                        ([tmp_path / "one.csv", tmp_path / "dup.csv"], "dup.csv:3: the run of line 2 again")):
         p = subprocess.run(["/usr/bin/python3", str(tool), *map(str, args)], capture_output=True, text=True, timeout=60)
         assert p.returncode == 2 and words in p.stderr and "Traceback" not in p.stderr, (args, p.stderr)
     p = subprocess.run(["/usr/bin/python3", str(tool), str(tmp_path / "one.csv"), str(tmp_path / "one.csv")],

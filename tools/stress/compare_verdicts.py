@@ -3,7 +3,8 @@
 run before and after a change): every run is matched by (group, scene, sets);
 prints the runs present in only one and the runs whose verdict differs.
 Exit 0 when both CSVs have the same runs with the same verdicts, 1 otherwise
-(as cmp), 2 when a file is not a stress CSV or holds no run.
+(as cmp), 2 when a file is not a stress CSV: no run, a run twice, a verdict
+the tool does not give.
 
     /usr/bin/python3 tools/stress/compare_verdicts.py BEFORE.csv AFTER.csv
 """
@@ -19,10 +20,12 @@ import output_file  # noqa: E402,F401  (its import keeps the console: a reader g
 
 
 COLUMNS = ("group", "scene", "sets", "verdict")
+VERDICTS = ("TRUSTWORTHY", "STOPPED", "SILENTLY_WRONG", "STOPPED_UNCLEAR", "REFUSED")  # stress_check.cpp verdictName
 
 
 def verdicts(path):
-    """(rows, Counter of (group, scene, sets, verdict)); Refused naming the file when it holds no stress runs."""
+    """(rows, set of (group, scene, sets, verdict)); Refused naming the file when it holds no stress runs, a run
+    twice, or a verdict the tool does not give."""
     try:
         if not stat.S_ISREG(os.stat(path).st_mode):  # a pipe would block, a device never end
             raise output_file.Refused(f"{path}: not a regular file (a pipe, a device or a folder)")
@@ -35,21 +38,26 @@ def verdicts(path):
             twice = sorted({c for c in header if header.count(c) > 1})
             if twice:
                 raise output_file.Refused(f"{path}:1: column {twice[0]} appears twice: which one is the run's?")
-            rows = []
+            rows, line_of = [], {}
             for r in reader:  # every row whole, with its verdict: a cut or edited row is no run
                 if None in r or None in r.values():
                     raise output_file.Refused(f"{path}:{reader.line_num}: not the header's {len(header)} fields")
                 if not r["verdict"]:
                     raise output_file.Refused(f"{path}:{reader.line_num}: no verdict")
+                if r["verdict"] not in VERDICTS:  # (pass 45: 'BOGUS' was compared as a verdict)
+                    raise output_file.Refused(f"{path}:{reader.line_num}: verdict {r['verdict']!r} is none the "
+                                              f"stress tool gives ({', '.join(VERDICTS)})")
+                run = tuple(r[c] for c in COLUMNS[:3])  # the grid makes each run once: a second is no run of it
+                if run in line_of:
+                    raise output_file.Refused(f"{path}:{reader.line_num}: the run of line {line_of[run]} again "
+                                              f"({' / '.join(run)})")
+                line_of[run] = reader.line_num
                 rows.append(r)
     except (OSError, UnicodeDecodeError, csv.Error) as e:
         raise output_file.Refused(f"{path}: cannot read it ({e})") from None
     if not rows:
         raise output_file.Refused(f"{path}: no runs: nothing to compare")
-    out = collections.Counter()
-    for r in rows:
-        out[tuple(r[c] for c in COLUMNS)] += 1
-    return rows, out
+    return rows, {tuple(r[c] for c in COLUMNS) for r in rows}
 
 
 def main():
@@ -61,10 +69,10 @@ def main():
     a = p.parse_args()
     (ra, a_), (rb, b) = verdicts(a.before), verdicts(a.after)
     only_a, only_b = a_ - b, b - a_
-    for (g, s, sets, v), n in sorted(only_a.items()):
-        print(f"before only: {v:15s} {g} / {s} / {sets}" + (f" (x{n})" if n > 1 else ""))
-    for (g, s, sets, v), n in sorted(only_b.items()):
-        print(f"after only:  {v:15s} {g} / {s} / {sets}" + (f" (x{n})" if n > 1 else ""))
+    for (g, s, sets, v) in sorted(only_a):
+        print(f"before only: {v:15s} {g} / {s} / {sets}")
+    for (g, s, sets, v) in sorted(only_b):
+        print(f"after only:  {v:15s} {g} / {s} / {sets}")
     count = lambda rows: collections.Counter(r["verdict"] for r in rows)  # noqa: E731
     print(f"before: {len(ra)} runs {dict(sorted(count(ra).items()))}")
     print(f"after:  {len(rb)} runs {dict(sorted(count(rb).items()))}")
