@@ -10,7 +10,7 @@ PKGS=(
   libcli11-dev libyaml-cpp-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-matplotlib python3-numpy python3-scipy python3-yaml
-  pybind11-dev python3-pybind11 python3-dev python3-pytest
+  pybind11-dev python3-pybind11 python3-dev python3-pytest python3-pyflakes
   python3-dask python3-distributed python3-optuna python3-psutil python3-tqdm
   python3-setuptools python3-wheel python3-build python3-venv python3-pip
   rt-tests clang-14 libclang-rt-14-dev

@@ -122,7 +122,7 @@ def test_the_command_line_keeps_the_writers_rules(tmp_path):
     for page, src, said in cases:
         p = subprocess.run([sys.executable, str(WRITER), "--page", page, "--title", "X", "--command", "make x",
                             "--body", src], cwd=tmp_path, capture_output=True, text=True, timeout=20)
-        assert p.returncode == 2 and f"results_page: error: " in p.stderr and said in p.stderr, (page, src, p.stderr)
+        assert p.returncode == 2 and "results_page: error: " in p.stderr and said in p.stderr, (page, src, p.stderr)
         assert sorted(q.name for q in tmp_path.rglob("*")) == listing, (page, src)
     assert body.read_text() == "Body text.\n" and (tmp_path / "target.md").read_text() == "keep\n"
     assert (tmp_path / "notes" / "README.md").read_text() == "my notes\n"

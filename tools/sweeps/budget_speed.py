@@ -48,6 +48,7 @@ import time
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools" / "pages"))
 import output_file  # noqa: E402  (how a script ends; the writer's rules)
+import results_page  # noqa: E402  (the page's writer)
 from output_file import Refused  # noqa: E402
 import unit_conditioning  # noqa: E402  (how well each unit's figure is defined)
 from budget_speed_specs import check_derived, derived_specs  # noqa: E402  (the default and fine runs' specs)
@@ -321,7 +322,6 @@ def _run(a, build, spec_path, out):
     check_out(out)
     page = PAGES[spec_path.name][0] if a.results else None
     if a.results:
-        import results_page
         results_page.check_page(page)
     if a.out is None:
         out.parent.mkdir(exist_ok=True)  # the repository's out/, as the scripts of tools/ make it
