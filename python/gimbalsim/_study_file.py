@@ -1,13 +1,17 @@
-"""A study's folder and the tuner's study file (out/study.db) before Optuna
-opens it: one sweep or tuner per folder (a lock held for the process's life),
-and a --resume only of this folder's own study, checked read-only (read-write only to let SQLite roll back
-what a killed writer left)."""
+"""A study's folder and the tuner's study file (out/study.db): one sweep or
+tuner per folder (a lock held for the process's life), a --resume only of
+this folder's own study, checked read-only before Optuna opens it
+(read-write only to let SQLite roll back what a killed writer left), and
+the opening itself (open_study)."""
 import contextlib
 import fcntl
 import os
 import sqlite3
 
-from ._errors import SpecError
+from ._errors import OutputError, SpecError
+
+STUDY_FILE = "study.db"
+STUDY_NAME = "gimbalsim.tune"
 
 _HELD = []  # the lock files of the studies this process holds, open until it ends
 
@@ -46,3 +50,54 @@ def check_resumable(db, out, study_name):
         raise SpecError(f"{db}: cannot open it as a study ({e}); use another --out") from None
     if study_name not in names:
         raise SpecError(f"{db}: not a study of {study_name} (it holds {names or 'no study'}); use another --out")
+
+
+def open_study(spec, out, resume, sampler):
+    """The study stored in out/study.db (Optuna's RDB storage on SQLite), its
+    folder checked (check_study_folder): created with the baseline as its
+    first trial, or, with resume, loaded; then trials left RUNNING by a killed
+    tuner are marked FAIL (`killed`) and queued again with the same gains."""
+    import optuna
+
+    db = out / STUDY_FILE
+    try:
+        out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
+    except OSError as e:
+        raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
+    import sqlalchemy.exc
+
+    hold(out)
+    existed = db.exists()
+    if resume:
+        check_resumable(db, out, STUDY_NAME)
+    try:
+        storage = optuna.storages.RDBStorage(f"sqlite:///{db.resolve()}")
+        study = optuna.create_study(storage=storage, study_name=STUDY_NAME, direction="minimize", sampler=sampler,
+                                    load_if_exists=True)
+    # RuntimeError: a study file of another Optuna version ("no longer compatible with the table schema")
+    except (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError, RuntimeError) as e:
+        if not existed:  # a new study not written (a full disk): exit 4 in main
+            raise
+        raise SpecError(f"{db}: cannot open it as a study ({str(e).splitlines()[0]}); use another --out") from None
+    try:  # a damaged file (a table dropped) opens, then fails on its first read
+        damaged = [t.number for t in study.get_trials(deepcopy=False)
+                   if t.state == optuna.trial.TrialState.COMPLETE and t.value is None]
+        fingerprint = study.user_attrs.get("fingerprint")
+    except (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError, RuntimeError, KeyError,
+            TypeError, ValueError) as e:
+        raise SpecError(f"{db}: cannot read it as a study ({str(e).splitlines()[0]}); use another --out") from None
+    if damaged:
+        raise SpecError(f"{db}: damaged: trial {damaged[0]} is complete without a value; use another --out")
+    if fingerprint is None:  # new (or killed before its fingerprint, the last step of its making)
+        if not study.trials:
+            study.enqueue_trial(spec.baseline, user_attrs={"origin": "baseline"})
+        study.set_user_attr("fingerprint", spec.fingerprint)
+    elif fingerprint != spec.fingerprint:
+        raise SpecError(f"{db} holds a study of another spec; --resume needs the same spec (the trial count "
+                        f"may differ)")
+    for t in study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,)):
+        storage.set_trial_user_attr(t._trial_id, "row", {"trial": t.number, "state": "FAIL", "reason": "killed",
+                                                        "origin": t.user_attrs.get("origin", ""), **t.params})
+        storage.set_trial_state_values(t._trial_id, optuna.trial.TrialState.FAIL)
+        study.enqueue_trial(t.params, user_attrs={"origin": f"retry of {t.number}"})
+    return study

@@ -44,13 +44,14 @@ import warnings
 import numpy as np
 
 import gimbalsim
-from . import _cluster, _study_file
+from . import _cluster
 from ._console import keep_console
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
 from ._closed_spec import plant_overrides
 from ._journal import fmt
 from ._output import check_output_names, json_text, output_set, savefig, write_csv, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
+from ._study_file import STUDY_FILE, open_study
 from ._tune_spec import METRICS, TuneSpec, fail_reason, suggest  # noqa: F401 (TuneSpec: the module's API)
 
 def run_plants(base, controller, duration, items):
@@ -99,8 +100,6 @@ def nested_yaml(values):
     return "\n".join(lines) + "\n"
 
 
-STUDY_FILE = "study.db"
-STUDY_NAME = "gimbalsim.tune"
 PLANT_FIGURES = ("max_truth_error_track_rad", "rms_truth_error_track_rad", "controller_limited_ticks", "ticks")
 # The study's files in --out, by the names its writers take; SQLite writes its journal beside the study.
 TRIALS, BEST, SUMMARY, PROGRESS = "trials.csv", "best.yaml", "summary.json", "progress.png"
@@ -117,57 +116,6 @@ def check_study_folder(spec, out, resume):
         raise SpecError(f"{out} already holds a study ({STUDY_FILE}, {TRIALS}): give --resume to continue it, "
                         f"or another --out")
     check_outputs_not_inputs([out / n for n in OUTPUTS], spec.input_files())
-
-
-def open_study(spec, out, resume, sampler):
-    """The study stored in out/study.db (Optuna's RDB storage on SQLite), its
-    folder checked (check_study_folder): created with the baseline as its
-    first trial, or, with resume, loaded; then trials left RUNNING by a killed
-    tuner are marked FAIL (`killed`) and queued again with the same gains."""
-    import optuna
-
-    db = out / STUDY_FILE
-    try:
-        out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
-    except OSError as e:
-        raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
-    import sqlalchemy.exc
-
-    _study_file.hold(out)
-    existed = db.exists()
-    if resume:
-        _study_file.check_resumable(db, out, STUDY_NAME)
-    try:
-        storage = optuna.storages.RDBStorage(f"sqlite:///{db.resolve()}")
-        study = optuna.create_study(storage=storage, study_name=STUDY_NAME, direction="minimize", sampler=sampler,
-                                    load_if_exists=True)
-    # RuntimeError: a study file of another Optuna version ("no longer compatible with the table schema")
-    except (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError, RuntimeError) as e:
-        if not existed:  # a new study not written (a full disk): exit 4 in main
-            raise
-        raise SpecError(f"{db}: cannot open it as a study ({str(e).splitlines()[0]}); use another --out") from None
-    try:  # a damaged file (a table dropped) opens, then fails on its first read
-        damaged = [t.number for t in study.get_trials(deepcopy=False)
-                   if t.state == optuna.trial.TrialState.COMPLETE and t.value is None]
-        fingerprint = study.user_attrs.get("fingerprint")
-    except (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError, RuntimeError, KeyError,
-            TypeError, ValueError) as e:
-        raise SpecError(f"{db}: cannot read it as a study ({str(e).splitlines()[0]}); use another --out") from None
-    if damaged:
-        raise SpecError(f"{db}: damaged: trial {damaged[0]} is complete without a value; use another --out")
-    if fingerprint is None:  # new (or killed before its fingerprint, the last step of its making)
-        if not study.trials:
-            study.enqueue_trial(spec.baseline, user_attrs={"origin": "baseline"})
-        study.set_user_attr("fingerprint", spec.fingerprint)
-    elif fingerprint != spec.fingerprint:
-        raise SpecError(f"{db} holds a study of another spec; --resume needs the same spec (the trial count "
-                        f"may differ)")
-    for t in study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,)):
-        storage.set_trial_user_attr(t._trial_id, "row", {"trial": t.number, "state": "FAIL", "reason": "killed",
-                                                        "origin": t.user_attrs.get("origin", ""), **t.params})
-        storage.set_trial_state_values(t._trial_id, optuna.trial.TrialState.FAIL)
-        study.enqueue_trial(t.params, user_attrs={"origin": f"retry of {t.number}"})
-    return study
 
 
 def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
@@ -250,7 +198,12 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
         _cluster.raise_if_interrupted()
     done = [t for t in study.trials if t.state == optuna.trial.TrialState.COMPLETE]
     rows = [t.user_attrs["row"] for t in study.trials if "row" in t.user_attrs]
-    if not done:
+    if not done:  # (pass 44) nothing was written: summary.json says so, with why (no best.yaml, no best)
+        reasons = sorted({r.get("reason") or "" for r in rows} - {""})
+        summary = {"best_trial": None, "best_score": None, "feasible": False, "best_gains": None,
+                   "trials": len(rows), "complete": 0, "feasible_trials": 0, "sampling": spec.sampling,
+                   "note": f"no trial completed ({len(rows)} failed): " + "; ".join(reasons[:5])}
+        write_text(out / SUMMARY, json_text(summary), spec.input_files())
         return None, rows
     feasible = [t for t in done if t.user_attrs["constraint"] <= 0.0]
     best = min(feasible or done, key=lambda t: t.value)
@@ -386,7 +339,8 @@ def _run(a, out):
         raise OutputError(f"cannot write the study {out / STUDY_FILE}: {str(e).splitlines()[0]}; free the space "
                           f"and run again with --resume") from None
     if summary is None:
-        print(f"tune: no trial completed ({len(rows)} failed); see {a.out}/trials.csv", file=sys.stderr)
+        print(f"tune: no trial completed ({len(rows)} failed); see {a.out}/trials.csv and summary.json",
+              file=sys.stderr)
         return EXIT_STOPPED
     print(f"tune: best trial {summary['best_trial']}: score {summary['best_score']:.3e} rad "
           f"({'feasible' if summary['feasible'] else 'no trial was feasible'}), gains {summary['best_gains']}; "

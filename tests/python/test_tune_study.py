@@ -4,6 +4,7 @@ OUT/study.db so that --resume continues it after a SIGKILL (the killed trial
 failed and run again, the numbering continued, the requested count reached),
 and a study folder never overwritten without --resume."""
 import csv
+import json
 import os
 import resource
 import signal
@@ -170,6 +171,12 @@ def test_a_plant_that_kills_its_worker_fails_its_trials_not_the_study(tmp_path, 
         assert r["state"] == "FAIL" and r["reason"] == "plant stopped: crashed", r
         assert [r[f"plant{j}_status"] for j in range(batch)] == ["ok", "crashed"] + ["ok"] * (batch - 2), r
         assert r["plants_ok"] == str(batch - 1), r
+    # (pass 44) no trial completed: no summary.json was written; it says so, with the reason, and no best
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert summary["best_trial"] is None and summary["best_score"] is None and summary["best_gains"] is None
+    assert summary["trials"] == 2 and summary["complete"] == 0
+    assert summary["note"] == "no trial completed (2 failed): plant stopped: crashed", summary
+    assert not (tmp_path / "o" / "best.yaml").exists()
 
 
 def test_a_resume_after_a_kill_mid_write_rolls_the_study_back_and_goes_on(tmp_path):
