@@ -138,3 +138,87 @@ def test_a_run_script_checks_its_page_before_its_study(tmp_path, script):
     assert sorted(q.name for q in (repo / "out").iterdir()) == ["stress"], "no study ran, no folder left"
     for ran in ("ideal ", "TRUSTWORTHY", "BM_", "sample"):  # a study's, a benchmark's, a sweep's lines
         assert ran not in p.stdout + p.stderr, (ran, p.stdout, p.stderr)
+
+
+def test_a_start_after_now_is_refused(tmp_path):
+    # (pass 47) a --t0 up to 60 s ahead was taken: the page said "Run: -55 s wall"
+    import time
+    (tmp_path / "b.md").write_text("body\n")
+    p = _writer("--page", "x.md", "--title", "T", "--command", "c", "--body", "b.md", "--t0",
+                f"{time.time() + 10:.3f}", cwd=tmp_path)
+    assert p.returncode == 2 and b"is no start time" in p.stderr, p.stderr
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["b.md"]
+
+
+@pytest.mark.parametrize("args,said", [(["--index", "--summary", "s"], "--index rewrites the index alone: leave out "
+                                                                        "--summary"),
+                                       (["--check", "--page", "x.md", "--summary", "s"], "leave out --summary"),
+                                       (["--check"], "--check needs --page P"),
+                                       (["--check", "--page", ""], "--page: an empty value")])
+def test_check_and_index_drop_no_flag_silently(tmp_path, args, said):
+    # (pass 47) --summary was taken and dropped by --index and --check; --check --page '' was "takes --page alone"
+    p = _writer(*args, cwd=tmp_path)
+    assert p.returncode == 2 and said.encode() in p.stderr, p.stderr
+    assert not list(tmp_path.iterdir())
+
+
+def _page_repository(tmp_path):
+    """A copy of the page scripts' tree: what they write into docs/results/ lands here."""
+    repo = tmp_path / "repo"
+    for part in ("tools", "docs/results"):
+        shutil.copytree(SOURCE / part, repo / part, ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copytree(SOURCE / "python" / "gimbalsim", repo / "python" / "gimbalsim",
+                    ignore=shutil.ignore_patterns("__pycache__", "*.so"))
+    shutil.copy(SOURCE / "CMakeLists.txt", repo)
+    return repo
+
+
+def _pages(repo):
+    return {p.name: p.read_bytes() for p in (repo / "docs" / "results").iterdir()}
+
+
+# (script, the study file it reads, the page it writes, the arguments around the study folder or file D)
+PAGE_SCRIPTS = {"workprec": ("tools/workprec/workprec_page.py", "workprec.csv", ["--dir", "D"]),
+                "pointing": ("tools/pointing_study/pointing_page.py", "summary.csv", ["--dir", "D"]),
+                "speed": ("tools/bench/speed_page.py", "bench.json", ["--bench-json", "D/bench.json", "--no-mujoco",
+                                                                       "test"])}
+
+
+@pytest.mark.parametrize("which", sorted(PAGE_SCRIPTS))
+@pytest.mark.parametrize("content,said", [("fifo", "not a regular file (a FIFO)"),
+                                          (b"a\xffb", "not UTF-8 text"),
+                                          ("no rows", "no rows: nothing to put on the page"),
+                                          ("missing", "No such file or directory")])
+def test_a_page_script_reads_its_study_by_the_rules_and_makes_no_page_of_nothing(tmp_path, which, content, said):
+    # (pass 47) a FIFO blocked, bytes that are not UTF-8 or a JSON '{}' were a traceback (exit 1), and a study with
+    # no rows replaced the committed page with empty tables
+    script, name, args = PAGE_SCRIPTS[which]
+    repo = _page_repository(tmp_path)
+    study = tmp_path / "study"
+    study.mkdir()
+    target = study / name
+    if content == "fifo":
+        os.mkfifo(target)
+    elif content == "no rows":
+        target.write_text({"workprec.csv": "scene,ok,h_s,substep_s,cpu_s_per_sim_s,bore_err_max_rad,substeps\n",
+                           "summary.csv": "run,scene,clearance_m,sensors\n",
+                           "bench.json": '{"context": {}, "benchmarks": []}'}[name])
+    elif content != "missing":
+        target.write_bytes(content)
+    before = _pages(repo)
+    p = subprocess.run([sys.executable, str(repo / script), *[a.replace("D", str(study)) for a in args],
+                        "--command", "c"], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2 and said in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert _pages(repo) == before
+
+
+def test_a_bench_json_that_is_not_google_benchmarks_is_refused(tmp_path):
+    repo = _page_repository(tmp_path)
+    for text, said in (("{}", "not Google Benchmark's JSON"), ("[1]", "not Google Benchmark's JSON"),
+                       ("{", "not as gimbalsim_bench writes them (JSONDecodeError"),
+                       ('{"benchmarks": [{"run_type": "aggregate"}]}', "not as gimbalsim_bench writes them (KeyError")):
+        (tmp_path / "b.json").write_text(text)
+        p = subprocess.run([sys.executable, str(repo / "tools/bench/speed_page.py"), "--bench-json", "b.json",
+                            "--no-mujoco", "test", "--command", "c"], cwd=tmp_path, capture_output=True, text=True,
+                           timeout=60)
+        assert p.returncode == 2 and said in p.stderr and "Traceback" not in p.stderr, (text, p.stderr)

@@ -21,7 +21,11 @@ import workprec_page  # noqa: E402
 
 
 def bench_table(path):
-    data = json.loads(pathlib.Path(path).read_text())
+    """The medians table of a Google Benchmark JSON (Refused, exit 2, for one that is not: pass 47)."""
+    data = json.loads(results_page.output_file.read_input(path, "--bench-json"))
+    if not isinstance(data, dict) or not isinstance(data.get("benchmarks"), list):
+        raise results_page.output_file.Refused(f"--bench-json {path}: not Google Benchmark's JSON (no list "
+                                               "'benchmarks')")
     rows = {}
     for r in data["benchmarks"]:
         if r.get("run_type") != "aggregate":
@@ -38,6 +42,8 @@ def bench_table(path):
         cv = row.get("cv")
         md.append(f"| {name} | {row.get('median', float('nan')):.1f} | {row.get('min', float('nan')):.1f} | "
                   f"{'' if cv is None else f'{cv:.1%}'} |")
+    if len(md) == 2:
+        raise results_page.no_rows(f"--bench-json {path}", "docs/results/speed.md")
     reps = next((r["reps"] for r in rows.values()), "")
     return "\n".join(md) + "\n", reps, ctx
 
@@ -52,7 +58,8 @@ def main():
     ap.add_argument("--command", required=True)
     results_page.add_start_arguments(ap)
     a = ap.parse_args()
-    table, reps, ctx = bench_table(a.bench_json)
+    with results_page.study_files(a.bench_json, "gimbalsim_bench"):
+        table, reps, ctx = bench_table(a.bench_json)
     md = ["Both parts below ran in one run of the command above on the machine in the header; medians and ratios "
           "are from this run only. The 2 cores are shared (see the load average above): absolute times move "
           "by tens of percent with the load, and on this VM even the ratios of one run move by up to a quarter "
@@ -68,9 +75,10 @@ def main():
           table, "## MuJoCo peer", ""]
     summary = ""
     if a.mujoco_dir:
-        rows = workprec_page.load(pathlib.Path(a.mujoco_dir) / "workprec.csv")
-        mj = workprec_page.mujoco_table(rows)
-        ratios = workprec_page.mujoco_ratios(rows)
+        with results_page.study_files(a.mujoco_dir, "gimbalsim_workprec"):
+            rows = workprec_page.load(pathlib.Path(a.mujoco_dir) / "workprec.csv")
+            mj = workprec_page.mujoco_table(rows)
+            ratios = workprec_page.mujoco_ratios(rows)
         if mj and ratios:
             med = statistics.median(ratios)
             summary = f"MuJoCo 2.2 RK4 step / ours: median {med:.2f} over {len(ratios)} step sizes"

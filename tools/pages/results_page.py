@@ -30,6 +30,7 @@ A page's header, in this order (tests/python/test_results_page.py checks it):
 pages themselves are outputs, not inputs). Nothing here edits README.md.
 """
 import argparse
+import contextlib
 import datetime
 import os
 import pathlib
@@ -122,7 +123,7 @@ def start_time(text, where="--t0"):
     """A study's start as `date +%s.%N` writes it: a plain decimal of seconds since the epoch, not after now;
     Refused naming `where` otherwise. The page's run time is measured from it."""
     x, why = output_file.flag_decimal(text)
-    if why is None and not 0 < x <= time.time() + 60:
+    if why is None and not 0 < x <= time.time():
         why = f"{text} is no start time (seconds since the epoch, date +%s.%N, not after now)"
     if why:
         raise output_file.Refused(f"{where}: {why}" if where else why)
@@ -149,14 +150,31 @@ def _study_folder(text):
     return str(path)
 
 
-def run_file(folder, name):
-    """The text of a study's output `name` in `folder`; Refused (exit 2) naming it when it cannot be read."""
+def run_file(folder, name, optional=False, limit=1 << 24):
+    """The text of a study's output `name` in `folder`, by output_file.read_input's rules (pass 47: a FIFO
+    blocked, a device never ended); "" for an optional one that is not there; Refused (exit 2) naming it."""
     path = pathlib.Path(folder) / name
+    if not os.path.lexists(path):
+        if optional:
+            return ""
+        raise output_file.Refused(f"{path}: cannot be read (No such file or directory): run the study first")
+    return output_file.read_input(str(path), "the study's output", limit)
+
+
+@contextlib.contextmanager
+def study_files(folder, writer):
+    """A page made from a study's outputs: one that is not as `writer` writes it (a key, a column or a number
+    missing, JSON that does not parse) is Refused (exit 2) naming the folder, never a traceback (pass 47)."""
     try:
-        return path.read_text()
-    except (OSError, UnicodeDecodeError) as e:
-        raise output_file.Refused(f"{path}: cannot be read ({getattr(e, 'strerror', None) or e}): "
-                                  "run the study first") from None
+        yield
+    except (KeyError, IndexError, TypeError, ValueError) as e:
+        raise output_file.Refused(f"{folder}: its outputs are not as {writer} writes them "
+                                  f"({type(e).__name__}: {e})") from None
+
+
+def no_rows(what, page):
+    """A study with no rows makes no page (pass 47: the committed page was replaced by empty tables)."""
+    return output_file.Refused(f"{what}: no rows: nothing to put on the page; {page} is kept as it was")
 
 
 def header(title, command, t0=None, load0=None, now=None):
@@ -281,29 +299,32 @@ def main(argv=None):
     ap.add_argument("--title")
     ap.add_argument("--command", help="the command line that regenerates the page")
     ap.add_argument("--body", help="file with the page's body (Markdown); - for stdin")
-    ap.add_argument("--summary", default="", help="one line for the index")
+    ap.add_argument("--summary", help="one line for the index")
     add_start_arguments(ap)
     ap.add_argument("--index", action="store_true", help="only rewrite docs/results/README.md")
     ap.add_argument("--check", action="store_true",
                     help="only check that --page and its index may be written (exit 0) or not (exit 2): a run "
                          "script asks before its study, so a refused page costs no run")
     a = ap.parse_args(argv)
-    given = [f for f in ("page", "title", "command", "body", "t0", "load0") if getattr(a, f) is not None]
+    given = [f for f in ("page", "title", "command", "body", "summary", "t0", "load0") if getattr(a, f) is not None]
     if a.index and (given or a.check):
         ap.error("--index rewrites the index alone: leave out " + ", ".join(f"--{f}" for f in given or ["check"]))
-    if a.check and (not a.page or len(given) > 1):
-        ap.error("--check takes --page alone")
+    if a.check and a.page is None:
+        ap.error("--check needs --page P: the page to check")
+    if a.check and len(given) > 1:
+        ap.error("--check takes --page alone: leave out " + ", ".join(f"--{f}" for f in given if f != "page"))
     try:
         if a.index:
             write_index(RESULTS)
             return 0
         if a.check:
+            output_file.check_before_writing([a.page], names=["--page"])  # '' is "an empty value", said as such
             check_page(a.page)
             return 0
         if not (a.page and a.title and a.command and a.body):
             ap.error("--page, --title, --command and --body are required (or --index alone)")
         body = output_file.read_input(a.body, "--body", stdin=True)
-        write_page(a.page, a.title, a.command, body, a.summary, a.t0, a.load0,
+        write_page(a.page, a.title, a.command, body, a.summary or "", a.t0, a.load0,
                    inputs=[] if a.body == "-" else [a.body])
     except OSError as e:  # a write that failed (the rules were checked first: output_file.Refused, exit 2)
         print(f"results_page: {e}", file=sys.stderr)

@@ -42,14 +42,14 @@ def _rad(text, fmt=".2e"):
     return format(v, fmt) if math.isfinite(v) else "n/a"
 
 
-def main():
-    ap = results_page.page_arguments(__doc__, "out/pointing_study")
-    a = ap.parse_args()
-    d = ROOT / a.dir
+def _page(d):
+    """The page's body (Markdown lines) and its index line, from the study in d."""
     rows = list(csv.DictReader(io.StringIO(results_page.run_file(d, "summary.csv"), newline="")))
-    log = (d / "study.log").read_text() if (d / "study.log").exists() else ""
+    if not rows:
+        raise results_page.no_rows(d / "summary.csv", "docs/results/closed_loop_clearance.md")
+    log = results_page.run_file(d, "study.log", optional=True)
     setup = next((line.lstrip("# ").strip() for line in log.splitlines() if line.startswith("# ")), "")
-    config = (d / "config.txt").read_text().splitlines() if (d / "config.txt").exists() else []
+    config = results_page.run_file(d, "config.txt", optional=True).splitlines()
     def sensors(r):
         return r.get("sensors", "perfect")
 
@@ -98,8 +98,8 @@ def main():
             md.append(f"| {sc} | " + " | ".join(cells) + " |")
         md.append("")
     ticks = 0
-    if (d / "pointing_error.csv").exists():
-        ticks = sum(1 for _ in open(d / "pointing_error.csv")) - 1
+    if text := results_page.run_file(d, "pointing_error.csv", optional=True, limit=1 << 28):
+        ticks = text.count("\n") - 1
     limited = [r for r in rows if ticks > 0 and int(r.get("controller_limited_ticks") or 0) > 0.1 * ticks]
     if limited and all(r.get("joints", "").endswith("/spatial") for r in limited):
         md += [f"In {len(limited)} of the {len(rows)} runs a torque command sits at its limit for more than 10 % "
@@ -155,6 +155,15 @@ def main():
                    f"up to {_rad(worst['peak_track_rad'], '.3g')} rad ({worst['run']})")
     else:
         summary = f"{len(rows)} runs"
+    return md, summary
+
+
+def main():
+    ap = results_page.page_arguments(__doc__, "out/pointing_study")
+    a = ap.parse_args()
+    d = ROOT / a.dir
+    with results_page.study_files(d, "gimbalsim_pointing_study"):
+        md, summary = _page(d)
     results_page.write_page(ROOT / "docs/results/closed_loop_clearance.md",
                             "Closed-loop pointing error against clearance", a.command, "\n".join(md),
                             summary=summary, t0=a.t0, load0=a.load0)

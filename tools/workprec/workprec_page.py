@@ -125,13 +125,17 @@ def main():
     ap = results_page.page_arguments(__doc__, "out/workprec")
     a = ap.parse_args()
     d = ROOT / a.dir
-    rows = load(d / "workprec.csv")
-    log = (d / "workprec.log").read_text() if (d / "workprec.log").exists() else ""
-    b = cheapest(rows, "paper_clearance", 1e-6)
-    summary = (f"paper_clearance to 1e-6 rad cheapest: {setting(b)}, {b['cpu_s_per_sim_s'] * 1e3:.3g} ms CPU "
-               f"per simulated s") if b else f"{len(rows)} points"
+    with results_page.study_files(d, "gimbalsim_workprec"):
+        rows = load(d / "workprec.csv")
+        if not rows:
+            raise results_page.no_rows(d / "workprec.csv", "docs/results/workprec.md")
+        log = results_page.run_file(d, "workprec.log", optional=True)
+        b = cheapest(rows, "paper_clearance", 1e-6)
+        summary = (f"paper_clearance to 1e-6 rad cheapest: {setting(b)}, {b['cpu_s_per_sim_s'] * 1e3:.3g} ms CPU "
+                   f"per simulated s") if b else f"{len(rows)} points"
+        text = body(rows, log, a.command)
     results_page.write_page(ROOT / "docs/results/workprec.md", "Run time against error (work-precision)",
-                            a.command, body(rows, log, a.command), summary=summary, t0=a.t0, load0=a.load0)
+                            a.command, text, summary=summary, t0=a.t0, load0=a.load0)
     print("workprec_page: wrote docs/results/workprec.md")
     return 0
 
