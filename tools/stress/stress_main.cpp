@@ -49,8 +49,9 @@ int report(const std::vector<const st::Case*>& all, double wall) {
   for (const auto& [k, n] : count) std::printf(" %s %d", k.c_str(), n);
   std::printf("\n");
   if (failures > 0) {
-    std::printf("\n*** %d FAILING RUN(S): finished without a diagnostic but wrong, or stopped unclearly ***\n",
-                failures);
+    const int refused = count["REFUSED"];  // (pass 46) a scene changed during the study: not "wrong"
+    std::printf("\n*** %d FAILING RUN(S): %d finished without a diagnostic but wrong, or stopped unclearly; "
+                "%d refused by their scene ***\n", failures, failures - refused, refused);
     for (const st::Case* c : all) {
       if (!st::acceptable(c->out.verdict)) {
         std::printf("  %s  %s --set %s\n    %s\n", st::verdictName(c->out.verdict), c->scene.c_str(),
@@ -225,7 +226,7 @@ int mainImpl(int argc, char** argv) {
         if (!o.empty()) outputs.push_back(o);
       }
     }
-    const auto stem = [](const std::string& scene) { return scene.find('/') == std::string::npos; };
+    const auto stem = st::isSceneStem;
     const bool need_scenes = one_scene.empty() ? !no_sweeps || !no_grid || (long_run && stem(long_scene)) : stem(one_scene);
     checkInputs(scenes, need_scenes, paths, sets, outputs);
   }

@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <cstdio>
+#include <filesystem>
 #include <mutex>
 #include <thread>
 
@@ -43,8 +44,13 @@ void printCase(const Case& c) {
   std::fflush(stdout);
 }
 
+bool isSceneStem(const std::string& scene) {
+  // a name with a file's extension is a path (pass 45: NAME.yaml was read as <scenes>/NAME.yaml.yaml)
+  return scene.find('/') == std::string::npos && std::filesystem::path(scene).extension() != ".yaml";
+}
+
 std::string scenePath(const std::string& scenes, const std::string& scene) {
-  return scene.find('/') == std::string::npos ? scenes + "/" + scene + ".yaml" : scene;
+  return isSceneStem(scene) ? scenes + "/" + scene + ".yaml" : scene;
 }
 
 void runCase(Case& c, const std::string& scenes, const Bounds& b) {

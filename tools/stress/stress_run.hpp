@@ -14,6 +14,8 @@ namespace gimbalsim::stress {
 
 /// A scene named by its stem (a file of the scenes folder) or by a path.
 std::string scenePath(const std::string& scenes, const std::string& scene);
+/// True for a stem: no '/' and no .yaml extension (anything else is a path).
+bool isSceneStem(const std::string& scene);
 
 /// Runs job(0 .. n-1) on at most `threads` threads (the caller's included).
 void parallel(std::size_t n, int threads, const std::function<void(std::size_t)>& job);
