@@ -25,7 +25,8 @@ def _writer(*args, cwd, stdin=None):
                                              ("--t0", "1e300", "1e300 is no start time"),
                                              ("--t0", "0", "0 is no start time"),
                                              ("--load0", "abc", "'abc' is not /proc/loadavg"),
-                                             ("--load0", "0.5 nan 1", "'0.5 nan 1' is not /proc/loadavg")])
+                                             ("--load0", "0.5 nan 1", "'0.5 nan 1' is not /proc/loadavg"),
+                                             ("--load0", "01 2 3", "'01 2 3' is not /proc/loadavg")])
 def test_a_start_the_header_cannot_say_is_refused(tmp_path, flag, value, said):
     # (pass 46) --t0 abc ended in a traceback after the rules were checked; nan wrote "Run: nan s wall"
     (tmp_path / "b.md").write_text("body\n")

@@ -133,7 +133,8 @@ def start_time(text, where="--t0"):
 def start_load(text, where="--load0"):
     """/proc/loadavg as read at a study's start: its first three fields are the load averages."""
     fields = str(text).split()
-    if len(fields) < 3 or any(output_file.plain_decimal(f) is None or float(f) < 0 for f in fields[:3]):
+    if len(fields) < 3 or any(output_file.plain_decimal(f) is None or float(f) < 0 or output_file.has_leading_zero(f)
+                              for f in fields[:3]):  # as the kernel writes them: 0.52, never 01
         why = f"{text!r} is not /proc/loadavg (three load averages first)"
         raise output_file.Refused(f"{where}: {why}" if where else why)
     return text
