@@ -212,6 +212,8 @@ int mainImpl(int argc, char** argv) {
                  ec.message().c_str());
     return kExitWrite;
   }
+  // (pass 45) two studies into one --out each wrote the folder's files: the second is refused
+  if (const std::string why = gimbalsim::io::holdOutputFolder(out_dir); !why.empty()) return refuse("--out", why);
   const std::filesystem::path dir(out_dir);
   try {
     std::vector<std::string> inputs{ideal_path};

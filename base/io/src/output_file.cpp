@@ -1,6 +1,7 @@
 #include "gimbalsim/io/output_file.hpp"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -214,6 +215,16 @@ std::string outputFolderProblem(const std::string& dir, bool named_by_user) {
   }
   if (std::filesystem::is_directory(dir, ec)) return "";
   return std::filesystem::exists(dir, ec) ? "not a folder" : "no such folder (create it first)";
+}
+
+std::string holdOutputFolder(const std::string& dir) {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return std::string("cannot open it: ") + std::strerror(errno);
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd);
+    return "another run is writing this folder; wait for it to end, or give another";
+  }
+  return "";  // fd stays open: the lock lasts as long as the process
 }
 
 }  // namespace gimbalsim::io

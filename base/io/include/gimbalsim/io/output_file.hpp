@@ -43,6 +43,12 @@ void checkOutputPaths(const std::vector<std::string>& outputs, const std::vector
 /// (create it first)", "not a folder", or the reason it could not be made).
 std::string outputFolderProblem(const std::string& dir, bool named_by_user);
 
+/// One writer per output folder: an exclusive lock on the folder itself
+/// (flock, no lock file among the outputs), held until the process ends,
+/// the same lock the Python sweeps and tuner take. Returns "" when held,
+/// else why not ("another run is writing this folder ...").
+std::string holdOutputFolder(const std::string& dir);
+
 /// One output being written. The constructor checks the path against the
 /// policy and against `inputs`, and creates the temporary
 /// "<dir>/.<name>.<pid>.<n>.tmp"; the destructor removes the temporary unless
