@@ -223,3 +223,110 @@ def test_a_bench_json_that_is_not_google_benchmarks_is_refused(tmp_path):
                             "--no-mujoco", "test", "--command", "c"], cwd=tmp_path, capture_output=True, text=True,
                            timeout=60)
         assert p.returncode == 2 and said in p.stderr and "Traceback" not in p.stderr, (text, p.stderr)
+
+
+@pytest.mark.parametrize("text,said", [('{"benchmarks": [1]}', "AttributeError"),
+                                       ('{"context": [], "benchmarks": [{"run_type": "aggregate", "run_name": '
+                                        '"BM_Y", "aggregate_name": "median", "cpu_time": 5, "repetitions": 3}, '
+                                        '{"run_type": "aggregate", "run_name": "BM_Y", "aggregate_name": "min", '
+                                        '"cpu_time": 4, "repetitions": 3}]}', "AttributeError"),
+                                       ('{"benchmarks": [{"run_type": "aggregate", "run_name": "BM_Y", '
+                                        '"aggregate_name": "mean", "cpu_time": 5, "repetitions": 3}]}', "'median'"),
+                                       ('{"benchmarks": [{"run_type": "aggregate", "run_name": "BM_Y", '
+                                        '"aggregate_name": "median", "cpu_time": NaN, "repetitions": 3}]}',
+                                        "cpu_time nan"),
+                                       ('{"benchmarks": [{"run_type": "aggregate", "run_name": "BM_Y", '
+                                        '"aggregate_name": "median", "cpu_time": 5}]}', "'repetitions'")])
+def test_a_bench_json_with_a_figure_missing_makes_no_page(tmp_path, text, said):
+    # (pass 48) items that were no objects were a traceback (exit 1); a median missing or a nan cpu_time wrote the
+    # page with bare nan figures and an empty repetition count
+    repo = _page_repository(tmp_path)
+    before = _pages(repo)
+    (tmp_path / "b.json").write_text(text)
+    p = subprocess.run([sys.executable, str(repo / "tools/bench/speed_page.py"), "--bench-json", "b.json",
+                        "--no-mujoco", "test", "--command", "c"], cwd=tmp_path, capture_output=True, text=True,
+                       timeout=60)
+    assert p.returncode == 2 and "not as gimbalsim_bench writes them" in p.stderr and said in p.stderr, p.stderr
+    assert "Traceback" not in p.stderr and _pages(repo) == before
+
+
+WORKPREC_HEADER = "scene,policy,h_s,substep_s,ok,cpu_s_per_sim_s,bore_err_max_rad,substeps,pareto\n"
+
+
+@pytest.mark.parametrize("row,said", [("paper_clearance,plain,0.001,2e-05,1,,1e-06,100,1\n", "column cpu_s_per_sim_s"),
+                                      ("paper_clearance,plain,0.001,2e-05,1,0,1e-06,100,1\n", "column cpu_s_per_sim_s"),
+                                      ("paper_clearance,plain,0.001,2e-05,1,0.5,abc,100,1\n", "column bore_err_max_rad")])
+def test_a_workprec_point_that_ran_without_its_figures_makes_no_page(tmp_path, row, said):
+    # (pass 48) a cell it could not read was nan, printed on the page and its index line; CPU 0 a ZeroDivisionError
+    repo = _page_repository(tmp_path)
+    before = _pages(repo)
+    (tmp_path / "study").mkdir()
+    (tmp_path / "study" / "workprec.csv").write_text(WORKPREC_HEADER + row)
+    p = subprocess.run([sys.executable, str(repo / "tools/workprec/workprec_page.py"), "--dir", "study", "--command",
+                        "c"], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2 and said in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert _pages(repo) == before
+
+
+def _paper_run(folder, summary="  max pointing error : 1.0e-03 rad\n"):
+    """A run folder as tools/run_paper.sh leaves it: the summaries paper_page reads and the three figures."""
+    from PIL import Image
+    (folder / "plots").mkdir(parents=True)
+    (folder / "plot_summary.txt").write_text(summary)
+    for name in ("ideal", "clearance"):
+        (folder / f"{name}.json").write_text('{"status": "ok", "t_end_s": 1, "impacts": 0, "substeps": 10, '
+                                             '"integrator": {"step_s": 0.001, "substep_s": 2e-05}, '
+                                             '"wall_time_s": 0.1}')
+    for png in ("fig17_pointing_error.png", "fig18_joint2_force.png", "fig06_eccentricity.png"):
+        Image.new("RGB", (110, 110), "white").save(folder / "plots" / png)
+
+
+@pytest.mark.parametrize("case,said", [("no figure line", "no rows: nothing to put on the page"),
+                                       ("third figure missing", "fig06_eccentricity.png: cannot be read"),
+                                       ("third figure no PNG", "not a figure plot_paper.py writes"),
+                                       ("third figure a FIFO", "not a regular file (a FIFO)"),
+                                       ("hand-written index", "not an index this writer made")])
+def test_the_paper_page_and_its_figures_are_one_set(tmp_path, case, said):
+    # (pass 48) two of the three committed figures were replaced, then the third was missing (a traceback), a FIFO
+    # (a hang) or the page refused: the committed page beside another run's figures
+    repo = _page_repository(tmp_path)
+    run = tmp_path / "run"
+    _paper_run(run, "" if case == "no figure line" else "  max pointing error : 1.0e-03 rad\n")
+    third = run / "plots" / "fig06_eccentricity.png"
+    if case != "no figure line" and case != "hand-written index":
+        third.unlink()
+        if case == "third figure no PNG":
+            third.write_text("no image")
+        elif case == "third figure a FIFO":
+            os.mkfifo(third)
+    if case == "hand-written index":
+        (repo / "docs" / "results" / "README.md").write_text("my notes\n")
+    before = _pages(repo)
+    p = subprocess.run([sys.executable, str(repo / "tools/paper/paper_page.py"), "--dir", str(run), "--command", "c"],
+                       cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2 and said in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert _pages(repo) == before
+    if case == "hand-written index":  # the same run with the index the writer's: page and figures together
+        (repo / "docs" / "results" / "README.md").unlink()
+        p = subprocess.run([sys.executable, str(repo / "tools/paper/paper_page.py"), "--dir", str(run), "--command",
+                            "c"], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+        assert p.returncode == 0, p.stderr
+        after = _pages(repo)
+        changed = sorted(n for n in after if after[n] != before.get(n))
+        assert changed == ["README.md", "paper.md", "paper_eccentricity.png", "paper_joint2_force.png",
+                           "paper_pointing.png"], changed
+
+
+def test_budget_speed_writes_the_shipped_budgets_page_only_from_the_shipped_spec(tmp_path):
+    # (pass 48) a 2-unit copy saved anywhere as pointing_budget.yaml replaced the shipped budget's page
+    from conftest import BIN
+    repo = _page_repository(tmp_path)
+    (repo / "build").symlink_to(BIN.parent)
+    (tmp_path / "copy").mkdir()
+    shutil.copy(SOURCE / "tools/sweeps/pointing_budget.yaml", tmp_path / "copy" / "pointing_budget.yaml")
+    before = _pages(repo)
+    p = subprocess.run([sys.executable, str(repo / "tools/sweeps/budget_speed.py"), "--spec",
+                        "copy/pointing_budget.yaml", "--results"], cwd=tmp_path, capture_output=True, text=True,
+                       timeout=60)
+    assert p.returncode == 2 and "--spec copy/pointing_budget.yaml is another file" in p.stderr, p.stderr
+    assert _pages(repo) == before and not (repo / "out").exists()

@@ -9,6 +9,7 @@ same script run; the load average at start and end is in the header).
 """
 import argparse
 import json
+import math
 import pathlib
 import statistics
 import sys
@@ -30,18 +31,21 @@ def bench_table(path):
     for r in data["benchmarks"]:
         if r.get("run_type") != "aggregate":
             continue
+        if not math.isfinite(r["cpu_time"]):  # (pass 48) a nan was printed as a measurement
+            raise ValueError(f"{r['run_name']} {r['aggregate_name']}: cpu_time {r['cpu_time']}")
         row = rows.setdefault(r["run_name"], {})
         row[r["aggregate_name"]] = r["cpu_time"]
         row["unit"] = r.get("time_unit", "ns")
-        row["reps"] = r.get("repetitions", "")
+        row["reps"] = r["repetitions"]
     ctx = data.get("context", {})
+    if not isinstance(ctx, dict):
+        raise AttributeError("'context' is no object")
     md = ["| benchmark | median CPU per call [ns] | min [ns] | cv |", "|---|---|---|---|"]
     for name, row in rows.items():
         if row.get("unit") != "ns":
             continue
-        cv = row.get("cv")
-        md.append(f"| {name} | {row.get('median', float('nan')):.1f} | {row.get('min', float('nan')):.1f} | "
-                  f"{'' if cv is None else f'{cv:.1%}'} |")
+        cv = row.get("cv")  # (pass 48) a median or min the JSON lacks is no figure: KeyError, refused
+        md.append(f"| {name} | {row['median']:.1f} | {row['min']:.1f} | {'' if cv is None else f'{cv:.1%}'} |")
     if len(md) == 2:
         raise results_page.no_rows(f"--bench-json {path}", "docs/results/speed.md")
     reps = next((r["reps"] for r in rows.values()), "")

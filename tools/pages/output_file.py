@@ -216,7 +216,7 @@ def one_at_a_time(lock, what):
         os.close(fd)
 
 
-def read_input(path, what, limit=1 << 24, stdin=False):
+def read_input(path, what, limit=1 << 24, stdin=False, binary=False):
     """The UTF-8 text of the input file path (`what`: the flag that named it; stdin: '-' is the standard input,
     under the same rules). Refused (exit 2) naming it when it is missing or unreadable, no regular file (a FIFO
     would block, /dev/zero never end: pass 45), over `limit` bytes, or not UTF-8. A link to a regular file is read:
@@ -238,7 +238,7 @@ def read_input(path, what, limit=1 << 24, stdin=False):
             raise Refused(f"{what} {path}: {st.st_size} bytes, more than the {limit} this input may hold")
         with open(path, "rb") as f:
             raw = f.read(limit + 1)
-        return raw.decode("utf-8")
+        return raw if binary else raw.decode("utf-8")
     except OSError as e:
         raise Refused(f"{what} {path}: cannot be read ({e.strerror or e})") from None
     except UnicodeDecodeError as e:

@@ -168,7 +168,7 @@ def study_files(folder, writer):
     missing, JSON that does not parse) is Refused (exit 2) naming the folder, never a traceback (pass 47)."""
     try:
         yield
-    except (KeyError, IndexError, TypeError, ValueError) as e:
+    except (KeyError, IndexError, TypeError, ValueError, AttributeError, ArithmeticError) as e:
         raise output_file.Refused(f"{folder}: its outputs are not as {writer} writes them "
                                   f"({type(e).__name__}: {e})") from None
 

@@ -15,7 +15,7 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools" / "pages"))
 import results_page  # noqa: E402
-from output_file import open_output, run_script  # noqa: E402  (the package's one writer)
+import output_file  # noqa: E402  (the package's one writer)
 
 # (figure of plot_paper.py, name under docs/results/, caption)
 FIGURES = [
@@ -29,15 +29,23 @@ FIGURES = [
 DPI_FROM, DPI_TO = 110, 80  # plot_paper.py saves at 110 dpi; the committed copies are 80 dpi
 
 
-def small_copy(src, dst):
-    """The PNG scaled to DPI_TO and reduced to a 64-colour palette, written atomically."""
-    from PIL import Image
-    im = Image.open(src).convert("RGB")
+def small_copy(src):
+    """The PNG src scaled to DPI_TO and reduced to a 64-colour palette, as PNG bytes: every copy is made before
+    anything is written (pass 48: two of three committed figures were replaced, then the third was missing).
+    src is read by the input rules (a FIFO, a device: refused); one that is no PNG is refused naming it."""
+    import io
+    from PIL import Image, UnidentifiedImageError
+    data = output_file.read_input(str(src), "the run's figure", binary=True)
+    try:
+        im = Image.open(io.BytesIO(data)).convert("RGB")
+    except (UnidentifiedImageError, OSError) as e:
+        raise output_file.Refused(f"{src}: not a figure plot_paper.py writes ({e})") from None
     w, h = im.size
     im = im.resize((round(w * DPI_TO / DPI_FROM), round(h * DPI_TO / DPI_FROM)), Image.LANCZOS)
     im = im.quantize(colors=64, method=Image.Quantize.MEDIANCUT)
-    with open_output(dst, "wb", inputs=[src]) as f:
-        im.save(f, format="PNG", optimize=True)
+    out = io.BytesIO()
+    im.save(out, format="PNG", optimize=True)
+    return out.getvalue()
 
 
 def summary_table(text):
@@ -65,9 +73,11 @@ def main():
                         f"{s['integrator']['step_s']:g} / {s['integrator']['substep_s']:g} | "
                         f"{s['wall_time_s']:.2f} |")
     out = ROOT / "docs" / "results"
-    figs = []
+    if not any(line for line in summary_table(summary).splitlines()[2:]):  # (pass 48) no page over nothing
+        raise results_page.no_rows(d / "plot_summary.txt", "docs/results/paper.md")
+    figs, copies = [], {}
     for src, dst, caption in FIGURES:
-        small_copy(d / "plots" / src, out / dst)
+        copies[out / dst] = small_copy(d / "plots" / src)
         figs.append(f"![{src.split('_')[0]}]({dst})\n\n{caption}\n")
     overrides = ", ".join(f"`{s}`" for s in a.set) if a.set else "none (the scenes as committed)"
     body = f"""The paper's scene (You, Pan & Zhao 2010, section 4): `tools/scenes/paper_ideal.yaml` (ideal elevation
@@ -88,6 +98,10 @@ three below are copies at {DPI_TO} dpi). Overrides given to both runs: {override
 
 {chr(10).join(figs)}"""
     first = next((line for line in summary.splitlines() if "max pointing error" in line), "")
+    results_page.check_page(out / "paper.md")
+    output_file.check_before_writing(copies, inputs=[d / "plots" / f[0] for f in FIGURES])
+    for dst, data in copies.items():  # one set with the page (run_script's whole_set): all of it or none
+        output_file.write_bytes(dst, data)
     results_page.write_page(out / "paper.md", "Paper scene: ideal joint against clearance joint", a.command, body,
                             summary=("max pointing error " + first.split(":", 1)[1].strip()) if first else "",
                             t0=a.t0, load0=a.load0)
@@ -96,4 +110,4 @@ three below are copies at {DPI_TO} dpi). Overrides given to both runs: {override
 
 
 if __name__ == "__main__":
-    sys.exit(run_script("paper_page", main))
+    sys.exit(output_file.run_script("paper_page", main, whole_set=True))

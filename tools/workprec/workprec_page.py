@@ -8,6 +8,7 @@ against our RK4 at the same steps, from out/workprec/workprec.csv and its log.
 """
 import csv
 import io
+import math
 import pathlib
 import sys
 
@@ -20,14 +21,18 @@ MUJOCO = "MuJoCo"
 
 
 def load(path):
+    """workprec.csv's points, its number cells as floats: a cell is a plain decimal or nan (a figure the point
+    has not), and a point that ran ok has a finite step, error and CPU time above 0, the figures the page shows;
+    anything else is no CSV gimbalsim_workprec wrote (pass 48: read as nan, and printed so on the page)."""
     rows = list(csv.DictReader(io.StringIO(results_page.run_file(path.parent, path.name), newline="")))
-    for r in rows:
+    for line, r in enumerate(rows, start=2):
         r["ok"] = r["ok"] in ("1", "true", "True")
         for k in ("h_s", "substep_s", "cpu_s_per_sim_s", "bore_err_max_rad", "substeps"):
-            try:
-                r[k] = float(r[k])
-            except (TypeError, ValueError):
-                r[k] = float("nan")
+            x = float("nan") if r[k] == "nan" else results_page.output_file.plain_decimal(r[k])
+            if x is None or (r["ok"] and k in ("h_s", "cpu_s_per_sim_s", "bore_err_max_rad") and not
+                             (math.isfinite(x) and (x > 0 or k == "bore_err_max_rad"))):
+                raise ValueError(f"{path}:{line}: column {k}: {r[k]!r} is no figure of a point that ran ok")
+            r[k] = x
     return rows
 
 
