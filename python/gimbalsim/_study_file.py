@@ -60,6 +60,8 @@ def open_study(spec, out, resume, sampler):
     import optuna
 
     db = out / STUDY_FILE
+    if resume and not out.is_dir():  # (pass 48) refused all the same, after it had made the folder
+        raise SpecError(f"{out}: no such folder: no study to resume; run without --resume")
     try:
         out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
     except OSError as e:

@@ -368,3 +368,11 @@ plants:
     assert r["state"] == "FAIL", r
     assert r["reason"].startswith(f"{len(refused)} of 6 plants refused: refused:initial.ecc ("), r
     assert "initial eccentricity exceeds the radial clearance" in r["reason"] and "not run" not in r["reason"], r
+
+
+def test_a_resume_into_a_missing_folder_makes_none(tmp_path):
+    # (pass 48) refused (exit 2), but the folder was made first and left behind, empty
+    p = subprocess.run(tune_cmd(write_spec(tmp_path, 1), tmp_path / "new", "--resume"), capture_output=True,
+                       text=True, timeout=120)
+    assert p.returncode == 2 and "new: no such folder: no study to resume" in p.stderr, p.stderr
+    assert not (tmp_path / "new").exists()

@@ -297,6 +297,10 @@ def main():
     spec_path = pathlib.Path(a.spec).resolve()
     if not spec_path.is_file():
         p.error(f"--spec {a.spec}: {'not a regular file' if spec_path.exists() else 'no such file'}")
+    # (pass 48) a copy named as a shipped budget (2 units, another profile) replaced the shipped budget's page
+    if a.results and spec_path != (ROOT / "tools" / "sweeps" / spec_path.name).resolve():
+        p.error(f"--results writes the page of the shipped {spec_path.name} in tools/sweeps/: --spec {a.spec} is "
+                "another file; leave out --results")
     out = pathlib.Path(os.path.abspath(a.out)) if a.out is not None else \
         ROOT / "out" / ("budget_speed" if spec_path == SHIPPED else f"budget_speed_{spec_path.stem}")
     if out == ROOT or out in spec_path.parents or ROOT / "docs" in [out, *out.parents]:
