@@ -12,6 +12,10 @@ import pytest
 from conftest import BIN, SOURCE
 
 WRITER = SOURCE / "tools" / "pages" / "results_page.py"
+POINTING_HEADER = ("run,scene,sensors,clearance_m,peak_track_rad,rms_track_rad,peak_run_rad,track_ticks,"
+                   "controller_limited_ticks,controller_limited_track_ticks,motor_limited_ticks,joints,max_tilt1_rad,"
+                   "max_tilt2_rad,play_onset1_s,play_onset2_s,loop_sensors,status,stop_reason,track_reason,"
+                   "onset_reason\n")  # the pointing study's summary.csv (study_run.cpp summaryCsv)
 
 
 def _writer(*args, cwd, stdin=None):
@@ -26,7 +30,10 @@ def _writer(*args, cwd, stdin=None):
                                              ("--t0", "0", "0 is no start time"),
                                              ("--load0", "abc", "'abc' is not /proc/loadavg"),
                                              ("--load0", "0.5 nan 1", "'0.5 nan 1' is not /proc/loadavg"),
-                                             ("--load0", "01 2 3", "'01 2 3' is not /proc/loadavg")])
+                                             ("--load0", "01 2 3", "'01 2 3' is not /proc/loadavg"),
+                                             # (pass 49) none of these is the kernel's 0.52
+                                             *[("--load0", f"{x} 0.10 0.10", f"'{x} 0.10 0.10' is not /proc/loadavg")
+                                               for x in ("1e-400", "-0", "+0.50", "1e3", "1" * 20, "0.5")]])
 def test_a_start_the_header_cannot_say_is_refused(tmp_path, flag, value, said):
     # (pass 46) --t0 abc ended in a traceback after the rules were checked; nan wrote "Run: nan s wall"
     (tmp_path / "b.md").write_text("body\n")
@@ -201,8 +208,8 @@ def test_a_page_script_reads_its_study_by_the_rules_and_makes_no_page_of_nothing
     if content == "fifo":
         os.mkfifo(target)
     elif content == "no rows":
-        target.write_text({"workprec.csv": "scene,ok,h_s,substep_s,cpu_s_per_sim_s,bore_err_max_rad,substeps\n",
-                           "summary.csv": "run,scene,clearance_m,sensors\n",
+        target.write_text({"workprec.csv": "scene,ok,h_s,substep_s,cpu_s_per_sim_s,bore_err_max_rad,substeps,pareto\n",
+                           "summary.csv": POINTING_HEADER,
                            "bench.json": '{"context": {}, "benchmarks": []}'}[name])
     elif content != "missing":
         target.write_bytes(content)
@@ -250,12 +257,12 @@ def test_a_bench_json_with_a_figure_missing_makes_no_page(tmp_path, text, said):
     assert "Traceback" not in p.stderr and _pages(repo) == before
 
 
-WORKPREC_HEADER = "scene,policy,h_s,substep_s,ok,cpu_s_per_sim_s,bore_err_max_rad,substeps,pareto\n"
+WORKPREC_HEADER = "scene,policy,sweep_key,h_s,substep_s,ok,cpu_s_per_sim_s,bore_err_max_rad,substeps,pareto\n"
 
 
-@pytest.mark.parametrize("row,said", [("paper_clearance,plain,0.001,2e-05,1,,1e-06,100,1\n", "column cpu_s_per_sim_s"),
-                                      ("paper_clearance,plain,0.001,2e-05,1,0,1e-06,100,1\n", "column cpu_s_per_sim_s"),
-                                      ("paper_clearance,plain,0.001,2e-05,1,0.5,abc,100,1\n", "column bore_err_max_rad")])
+@pytest.mark.parametrize("row,said", [("paper_clearance,plain,,0.001,2e-05,1,,1e-06,100,1\n", "cpu_s_per_sim_s"),
+                                      ("paper_clearance,plain,,0.001,2e-05,1,0,1e-06,100,1\n", "cpu_s_per_sim_s"),
+                                      ("paper_clearance,plain,,0.001,2e-05,1,0.5,abc,100,1\n", "bore_err_max_rad")])
 def test_a_workprec_point_that_ran_without_its_figures_makes_no_page(tmp_path, row, said):
     # (pass 48) a cell it could not read was nan, printed on the page and its index line; CPU 0 a ZeroDivisionError
     repo = _page_repository(tmp_path)

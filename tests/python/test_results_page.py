@@ -169,8 +169,9 @@ def test_the_pointing_page_ratio_is_na_over_no_figure():
     # (pass 43) a run that never reached its track printed a bare nan as its ratio to the ideal
     sys.path.insert(0, str(SOURCE / "tools" / "pointing_study"))
     import pointing_page
-    assert pointing_page._ratio("nan", "1e-7") == "n/a" and pointing_page._ratio("2e-7", "nan") == "n/a"
-    assert pointing_page._ratio("2e-7", "0") == "n/a" and pointing_page._ratio("3e-7", "1e-7") == "3"
+    nan = float("nan")
+    assert pointing_page._ratio(nan, 1e-7) == "n/a" and pointing_page._ratio(2e-7, nan) == "n/a"
+    assert pointing_page._ratio(2e-7, 0.0) == "n/a" and pointing_page._ratio(3e-7, 1e-7) == "3"
 
 
 def test_a_page_scripts_empty_dir_is_refused(tmp_path):

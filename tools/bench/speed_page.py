@@ -21,6 +21,20 @@ import results_page  # noqa: E402
 import workprec_page  # noqa: E402
 
 
+NS_PER = {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}  # Google Benchmark's time units
+
+
+def _ns(r):
+    """An aggregate's figure: a CPU time per call > 0 in ns (a spread, stddev, >= 0; cv a ratio >= 0, kept as is),
+    finite and in one of Google Benchmark's units (pass 49: a time <= 0 was printed, and a benchmark timed in us
+    dropped without a word; pass 48: a nan was printed as a measurement)."""
+    t, unit, what = r["cpu_time"], r.get("time_unit", "ns"), r["aggregate_name"]
+    spread = what in ("stddev", "cv")
+    if type(t) not in (int, float) or not math.isfinite(t) or t < 0 or (t == 0 and not spread) or unit not in NS_PER:
+        raise ValueError(f"{r['run_name']} {what}: cpu_time {t!r} {unit!r} (a time > 0 in ns, us, ms or s)")
+    return t if what == "cv" else t * NS_PER[unit]
+
+
 def bench_table(path):
     """The medians table of a Google Benchmark JSON (Refused, exit 2, for one that is not: pass 47)."""
     data = json.loads(results_page.output_file.read_input(path, "--bench-json"))
@@ -31,24 +45,22 @@ def bench_table(path):
     for r in data["benchmarks"]:
         if r.get("run_type") != "aggregate":
             continue
-        if not math.isfinite(r["cpu_time"]):  # (pass 48) a nan was printed as a measurement
-            raise ValueError(f"{r['run_name']} {r['aggregate_name']}: cpu_time {r['cpu_time']}")
         row = rows.setdefault(r["run_name"], {})
-        row[r["aggregate_name"]] = r["cpu_time"]
-        row["unit"] = r.get("time_unit", "ns")
+        row[r["aggregate_name"]] = _ns(r)
         row["reps"] = r["repetitions"]
+        if type(row["reps"]) is not int or row["reps"] < 1:  # (pass 49) null, 0 or -1 was printed as the count
+            raise ValueError(f"{r['run_name']}: repetitions {row['reps']!r} (a whole number >= 1)")
     ctx = data.get("context", {})
     if not isinstance(ctx, dict):
         raise AttributeError("'context' is no object")
     md = ["| benchmark | median CPU per call [ns] | min [ns] | cv |", "|---|---|---|---|"]
     for name, row in rows.items():
-        if row.get("unit") != "ns":
-            continue
         cv = row.get("cv")  # (pass 48) a median or min the JSON lacks is no figure: KeyError, refused
         md.append(f"| {name} | {row['median']:.1f} | {row['min']:.1f} | {'' if cv is None else f'{cv:.1%}'} |")
     if len(md) == 2:
         raise results_page.no_rows(f"--bench-json {path}", "docs/results/speed.md")
-    reps = next((r["reps"] for r in rows.values()), "")
+    counts = sorted({r["reps"] for r in rows.values()})
+    reps = f"{counts[0]}" if len(counts) == 1 else f"{counts[0]} to {counts[-1]}"
     return "\n".join(md) + "\n", reps, ctx
 
 

@@ -43,6 +43,7 @@ csv_number = _writer.csv_number
 underflowed = _number.underflowed
 flag_decimal = _number.flag_decimal  # (x, None) or (None, why), as the programs read a real flag
 plain_decimal = _number.plain_decimal
+plain_whole = _number.plain_whole
 has_leading_zero = _number.has_leading_zero
 
 open_output = _writer.open_output

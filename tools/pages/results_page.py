@@ -131,11 +131,11 @@ def start_time(text, where="--t0"):
 
 
 def start_load(text, where="--load0"):
-    """/proc/loadavg as read at a study's start: its first three fields are the load averages."""
+    """/proc/loadavg as read at a study's start: its first three fields are the load averages, as the kernel
+    writes them (digits, a point, two decimals: 0.52; pass 49 took 1e-400, -0, +0.5, 1e3 and 20 digits)."""
     fields = str(text).split()
-    if len(fields) < 3 or any(output_file.plain_decimal(f) is None or float(f) < 0 or output_file.has_leading_zero(f)
-                              for f in fields[:3]):  # as the kernel writes them: 0.52, never 01
-        why = f"{text!r} is not /proc/loadavg (three load averages first)"
+    if len(fields) < 3 or not all(re.fullmatch(r"(0|[1-9][0-9]{0,5})\.[0-9]{2}", f) for f in fields[:3]):
+        why = f"{text!r} is not /proc/loadavg (three load averages first, as 0.52)"
         raise output_file.Refused(f"{where}: {why}" if where else why)
     return text
 

@@ -7,7 +7,9 @@ printed, and three of its figures copied small into docs/results/
     /usr/bin/python3 tools/paper/paper_page.py --dir out/paper --command "bash tools/run_paper.sh --results" \\
         [--t0 T0 --load0 LOAD0] [--set key=value ...]
 """
+import argparse
 import json
+import math
 import pathlib
 import re
 import sys
@@ -27,6 +29,17 @@ FIGURES = [
      "Journal eccentricity in the bearing (paper fig. 6): impacts, then continuous contact."),
 ]
 DPI_FROM, DPI_TO = 110, 80  # plot_paper.py saves at 110 dpi; the committed copies are 80 dpi
+MAX_PIXELS = 4000 * 4000    # far above plot_paper.py's figures (about 1300 x 800)
+# The run summary's figures the page shows (gimbalsim simulate --summary): key -> (type, least value, > least?)
+RUN_FIGURES = {"t_end_s": (float, 0.0, False), "impacts": (int, 0, False), "substeps": (int, 0, False),
+               "wall_time_s": (float, 0.0, False)}
+
+
+def _override(text):
+    """--set as the runs took it: key=value (pass 49: any text was put on the page as an override)."""
+    if not re.fullmatch(r"[A-Za-z_]\w*(\.\w+)*=\S.*", text):
+        raise argparse.ArgumentTypeError(f"{text!r} is no override (key=value, as gimbalsim simulate --set takes)")
+    return text
 
 
 def small_copy(src):
@@ -36,9 +49,13 @@ def small_copy(src):
     import io
     from PIL import Image, UnidentifiedImageError
     data = output_file.read_input(str(src), "the run's figure", binary=True)
-    try:
-        im = Image.open(io.BytesIO(data)).convert("RGB")
-    except (UnidentifiedImageError, OSError) as e:
+    try:  # (pass 49) a JPEG named .png was taken; a decompression bomb was a traceback
+        im = Image.open(io.BytesIO(data))
+        if im.format != "PNG" or im.width * im.height > MAX_PIXELS:
+            raise OSError(f"a {im.format} image of {im.width} x {im.height} pixels; plot_paper.py writes PNG of "
+                          f"at most {MAX_PIXELS} pixels")
+        im = im.convert("RGB")
+    except (UnidentifiedImageError, Image.DecompressionBombError, OSError) as e:
         raise output_file.Refused(f"{src}: not a figure plot_paper.py writes ({e})") from None
     w, h = im.size
     im = im.resize((round(w * DPI_TO / DPI_FROM), round(h * DPI_TO / DPI_FROM)), Image.LANCZOS)
@@ -46,6 +63,27 @@ def small_copy(src):
     out = io.BytesIO()
     im.save(out, format="PNG", optimize=True)
     return out.getvalue()
+
+
+def run_summary(folder, name):
+    """gimbalsim simulate --summary's JSON, its shown figures checked (pass 49: NaN, -1, null and Infinity were put
+    on the page): a status, finite numbers in range, whole counts, and a step and sub-step above 0."""
+    where = f"{folder / name}"
+
+    def refuse(const):
+        raise ValueError(f"{const} is no JSON number")
+    s = json.loads(results_page.run_file(folder, name), parse_constant=refuse)
+    shown = [(k, s[k], *rule) for k, rule in RUN_FIGURES.items()]
+    shown += [(f"integrator.{k}", s["integrator"][k], float, 0.0, True) for k in ("step_s", "substep_s")]
+    if not isinstance(s["status"], str) or not s["status"]:
+        raise output_file.Refused(f"{where}: status {s['status']!r} is no run status")
+    for key, x, kind, least, above in shown:
+        number = type(x) is int or (kind is float and type(x) is float and math.isfinite(x))  # (1e400 reads as inf)
+        if not number or x < least or (above and x == least):
+            raise output_file.Refused(f"{where}: {key} {x!r} is no figure gimbalsim simulate writes (a "
+                                      f"{'whole number' if kind is int else 'finite number'} "
+                                      f"{'>' if above else '>='} {least:g})")
+    return s
 
 
 def summary_table(text):
@@ -60,7 +98,7 @@ def summary_table(text):
 
 def main():
     ap = results_page.page_arguments(__doc__, "out/paper")
-    ap.add_argument("--set", action="append", default=[], help="the overrides given to both runs")
+    ap.add_argument("--set", action="append", default=[], type=_override, help="the overrides given to both runs")
     a = ap.parse_args()
     d = ROOT / a.dir
     shown = d.relative_to(ROOT) if d.is_relative_to(ROOT) else d  # the page names the repository's out/ as such
@@ -68,13 +106,19 @@ def main():
     runs = []
     for name in ("ideal", "clearance"):
         with results_page.study_files(d / f"{name}.json", "gimbalsim simulate --summary"):
-            s = json.loads(results_page.run_file(d, f"{name}.json"))
+            s = run_summary(d, f"{name}.json")
             runs.append(f"| {name} | {s['status']} | {s['t_end_s']:g} | {s['impacts']} | {s['substeps']} | "
                         f"{s['integrator']['step_s']:g} / {s['integrator']['substep_s']:g} | "
                         f"{s['wall_time_s']:.2f} |")
     out = ROOT / "docs" / "results"
     if not any(line for line in summary_table(summary).splitlines()[2:]):  # (pass 48) no page over nothing
         raise results_page.no_rows(d / "plot_summary.txt", "docs/results/paper.md")
+    first = next((line for line in summary.splitlines() if "max pointing error" in line), "")
+    peak = first.split(":", 1)[1].split()[0] if ":" in first and first.split(":", 1)[1].split() else ""
+    if not first or (x := output_file.flag_decimal(peak)[0]) is None or x < 0:  # (pass 49) "x : y" made a page
+        raise output_file.Refused(f"{d / 'plot_summary.txt'}: no 'max pointing error : <rad>' line with a figure "
+                                  f">= 0 (got {first.strip()!r}): not as plot_paper.py writes it; "
+                                  "docs/results/paper.md is kept as it was")
     figs, copies = [], {}
     for src, dst, caption in FIGURES:
         copies[out / dst] = small_copy(d / "plots" / src)
@@ -97,13 +141,12 @@ three below are copies at {DPI_TO} dpi). Overrides given to both runs: {override
 ## Figures
 
 {chr(10).join(figs)}"""
-    first = next((line for line in summary.splitlines() if "max pointing error" in line), "")
     results_page.check_page(out / "paper.md")
     output_file.check_before_writing(copies, inputs=[d / "plots" / f[0] for f in FIGURES])
     for dst, data in copies.items():  # one set with the page (run_script's whole_set): all of it or none
         output_file.write_bytes(dst, data)
     results_page.write_page(out / "paper.md", "Paper scene: ideal joint against clearance joint", a.command, body,
-                            summary=("max pointing error " + first.split(":", 1)[1].strip()) if first else "",
+                            summary="max pointing error " + first.split(":", 1)[1].strip(),
                             t0=a.t0, load0=a.load0)
     print(f"paper_page: wrote {out / 'paper.md'} and {', '.join(f[1] for f in FIGURES)}")
     return 0

@@ -7,8 +7,6 @@ DIR's summary.csv, config.txt and the tool's log.
 
     /usr/bin/python3 tools/pointing_study/pointing_page.py --dir out/pointing_study --command CMD [--t0 T --load0 L]
 """
-import csv
-import io
 import math
 import pathlib
 import sys
@@ -16,35 +14,42 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools" / "pages"))
 import results_page  # noqa: E402
+import study_csv  # noqa: E402
 
 
-def _ticks(text):
-    """A tick count's cell: n/a where the run never reached the window it counts over (nan in summary.csv)."""
-    return "-" if text is None else "n/a" if text == "nan" else text
+RAD = study_csv.Column(0.0, math.pi, nan=True)  # an angle [rad]; nan: no figure (never tracked, no tick)
+TICKS = study_csv.Column(0, 10**12, whole=True)
+COLUMNS = {"clearance_m": study_csv.Column(0.0, 1.0), "peak_track_rad": RAD, "rms_track_rad": RAD,
+           "peak_run_rad": RAD, "track_ticks": TICKS, "controller_limited_ticks": TICKS,
+           # a count over the track window: nan where the run never reached it (track_reason says why)
+           "controller_limited_track_ticks": study_csv.Column(0, 10**12, whole=True, nan=True),
+           "max_tilt1_rad": RAD, "max_tilt2_rad": RAD,
+           "play_onset1_s": study_csv.Column(0.0, 1e9, nan=True), "play_onset2_s": study_csv.Column(0.0, 1e9, nan=True)}
 
 
-def _value(text):
-    try:
-        return float(text)
-    except (TypeError, ValueError):
-        return math.nan
+def _uncounted(x):
+    """A count over a window the run never reached (nan in summary.csv)."""
+    return isinstance(x, float) and math.isnan(x)
 
 
-def _ratio(text, of, digits=2):
+def _ticks(x):
+    """A tick count's cell: n/a where the run never reached the window it counts over."""
+    return "n/a" if _uncounted(x) else str(x)
+
+
+def _ratio(a, b, digits=2):
     """A figure over the ideal's, n/a where either has none (pass 43: a bare nan)."""
-    a, b = _value(text), _value(of)
     return f"{a / b:.{digits}g}" if math.isfinite(a) and math.isfinite(b) and b > 0 else "n/a"
 
 
-def _rad(text, fmt=".2e"):
+def _rad(v, fmt=".2e"):
     """A figure [rad] as the page prints it: n/a where the run has none (its status says why)."""
-    v = _value(text)
     return format(v, fmt) if math.isfinite(v) else "n/a"
 
 
 def _page(d):
     """The page's body (Markdown lines) and its index line, from the study in d."""
-    rows = list(csv.DictReader(io.StringIO(results_page.run_file(d, "summary.csv"), newline="")))
+    rows = study_csv.read_rows(d, "summary.csv", COLUMNS)
     if not rows:
         raise results_page.no_rows(d / "summary.csv", "docs/results/closed_loop_clearance.md")
     log = results_page.run_file(d, "study.log", optional=True)
@@ -55,17 +60,14 @@ def _page(d):
 
     def tilts(r):  # the tilts of the spatial joints ("-" for a joint that cannot tilt)
         kinds = r.get("joints", "").split("/")
-        return " / ".join(f"{float(r[f'max_tilt{j + 1}_rad']):.3g}" if j < len(kinds) and kinds[j] == "spatial"
+        return " / ".join(_rad(r[f'max_tilt{j + 1}_rad'], '.3g') if j < len(kinds) and kinds[j] == "spatial"
                           else "-" for j in range(2))
 
-    def onset(r, j):  # when axis j went onto the guard's gains [s]; NaN: never (or a summary from before the guard)
-        try:
-            return float(r.get(f"play_onset{j + 1}_s") or "nan")
-        except ValueError:
-            return float("nan")
+    def onset(r, j):  # when axis j went onto the guard's gains [s]; NaN: never
+        return r[f"play_onset{j + 1}_s"]
 
-    ideals = {sensors(r): r for r in rows if float(r["clearance_m"]) == 0.0}
-    scenes = list(dict.fromkeys(r["scene"] for r in rows if float(r["clearance_m"]) > 0.0))
+    ideals = {sensors(r): r for r in rows if r["clearance_m"] == 0.0}
+    scenes = list(dict.fromkeys(r["scene"] for r in rows if r["clearance_m"] > 0.0))
     md = ["`build/bin/gimbalsim_pointing_study` (tools/pointing_study/): the in-process closed loop (firmware model "
           "+ pointing controller, `controllers/config/default.yaml`, the truth of the lockstep bench) on "
           "`paper_ideal` and on " + ", ".join(f"`{sc}`" for sc in scenes) + " at each clearance "
@@ -76,7 +78,7 @@ def _page(d):
           "boresight tracker and gyro, noise 0, which the controller closes its loop on: docs/MODEL.md 11.7). "
           f"{setup[0].upper() + setup[1:] if setup else ''}.", ""]
     # Which bearing dominates: RMS while tracking at the largest clearance, per scene and sensors.
-    c_max = max((float(r["clearance_m"]) for r in rows), default=0.0)
+    c_max = max((r["clearance_m"] for r in rows), default=0.0)
     cases = list(dict.fromkeys(sensors(r) for r in rows))
     if len(scenes) > 1 and c_max > 0.0:
         md += [f"RMS truth pointing error while tracking at c = {c_max * 1e3:g} mm (ratio to the ideal joint with "
@@ -87,30 +89,30 @@ def _page(d):
             cells = []
             for cs in cases:
                 r = next((r for r in rows if r["scene"] == sc and sensors(r) == cs
-                          and float(r["clearance_m"]) in (0.0, c_max)), None)
+                          and r["clearance_m"] in (0.0, c_max)), None)
                 ideal = ideals.get(cs)
                 if r is None:
                     cells.append("-")
                     continue
                 ratio = (f" ({_ratio(r['rms_track_rad'], ideal['rms_track_rad'], 3)}x)"
-                         if ideal is not None and r is not ideal and _value(ideal["rms_track_rad"]) > 0 else "")
+                         if ideal is not None and r is not ideal and ideal["rms_track_rad"] > 0 else "")
                 cells.append(f"{_rad(r['rms_track_rad'])}{ratio}")
             md.append(f"| {sc} | " + " | ".join(cells) + " |")
         md.append("")
     ticks = 0
     if text := results_page.run_file(d, "pointing_error.csv", optional=True, limit=1 << 28):
         ticks = text.count("\n") - 1
-    limited = [r for r in rows if ticks > 0 and int(r.get("controller_limited_ticks") or 0) > 0.1 * ticks]
+    limited = [r for r in rows if ticks > 0 and r["controller_limited_ticks"] > 0.1 * ticks]
     if limited and all(r.get("joints", "").endswith("/spatial") for r in limited):
         md += [f"In {len(limited)} of the {len(rows)} runs a torque command sits at its limit for more than 10 % "
                f"of the {ticks} ticks (" + ", ".join(sorted({r['scene'] for r in limited})) + "): the controller, "
                "tuned for the rigid chain, limit-cycles. A spatial elevation journal's tilt lets shaft 1 turn about "
                "the azimuth axis against the antenna by up to 2c/L (backlash between the azimuth encoder and the "
                "antenna), so the azimuth loop drives the light shaft 1 alone across that play.", ""]
-    tracked = [r for r in rows if int(r.get("track_ticks") or 0) > 0 and r.get("controller_limited_track_ticks")]
+    tracked = [r for r in rows if r["track_ticks"] > 0 and not _uncounted(r["controller_limited_track_ticks"])]
     if tracked:  # the slew may saturate by design; the loop's own limit cycle would show while tracking
-        worst = max(tracked, key=lambda r: int(r["controller_limited_track_ticks"]) / int(r["track_ticks"]))
-        n_worst, of = int(worst["controller_limited_track_ticks"]), int(worst["track_ticks"])
+        worst = max(tracked, key=lambda r: r["controller_limited_track_ticks"] / r["track_ticks"])
+        n_worst, of = worst["controller_limited_track_ticks"], worst["track_ticks"]
         md += [(f"While tracking, a torque command sat at its limit in at most {n_worst} of {of} ticks "
                 f"({100 * n_worst / of:.3g} %, {worst['run']})" if n_worst else
                 "While tracking, no torque command sat at its limit") +
@@ -129,7 +131,7 @@ def _page(d):
            "| guard from, az / el [s] | plant |",
            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        c = float(r["clearance_m"])
+        c = r["clearance_m"]
         rel = ("-", "-")
         ideal = ideals.get(sensors(r))
         if ideal is not None and r is not ideal:
@@ -139,14 +141,14 @@ def _page(d):
         md.append(f"| {r['run']} | {r['scene']} | {sensors(r)} | {r.get('loop_sensors') or '-'} | "
                   f"{'-' if c == 0 else f'{c * 1e3:g}'} | "
                   f"{_rad(r['peak_track_rad'])} | {_rad(r['rms_track_rad'])} | {_rad(r['peak_run_rad'])} | "
-                  f"{rel[0]} | {rel[1]} | {r.get('controller_limited_ticks', '-')} / "
-                  f"{_ticks(r.get('controller_limited_track_ticks'))} | {tilts(r)} | {guard} | {status} |")
+                  f"{rel[0]} | {rel[1]} | {r['controller_limited_ticks']} / "
+                  f"{_ticks(r['controller_limited_track_ticks'])} | {tilts(r)} | {guard} | {status} |")
     md += ["", "Per tick: out/pointing_study/pointing_error.csv; figures: out/pointing_study/pointing_error_vs_time.png "
            "and pointing_error_vs_clearance.png (tools/pointing_study/plot_pointing_study.py).", ""]
     if config:
         md += ["Controller configuration in effect (config.txt):", "", "```", *config, "```", ""]
-    seen = [r for r in rows if math.isfinite(_value(r["peak_track_rad"]))]
-    worst = max(seen, key=lambda r: _value(r["peak_track_rad"])) if seen else None
+    seen = [r for r in rows if math.isfinite(r["peak_track_rad"])]
+    worst = max(seen, key=lambda r: r["peak_track_rad"]) if seen else None
     ideal = ideals.get("perfect")
     if worst is None:  # never a bare nan: what the runs did not reach is said
         summary = f"{len(rows)} runs; no run has a figure while tracking (each stopped or ended before it)"

@@ -6,8 +6,6 @@ against our RK4 at the same steps, from out/workprec/workprec.csv and its log.
 
     /usr/bin/python3 tools/workprec/workprec_page.py --dir out/workprec --command CMD [--t0 T0 --load0 L]
 """
-import csv
-import io
 import math
 import pathlib
 import sys
@@ -15,32 +13,42 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools" / "pages"))
 import results_page  # noqa: E402
+import study_csv  # noqa: E402
 
 TARGETS = (1e-3, 1e-6, 1e-9)
 MUJOCO = "MuJoCo"
 
 
+FIGURE = study_csv.Column(0.0, math.inf, nan=True)  # a figure >= 0; nan: one the point has not (it failed)
+COLUMNS = {"ok": study_csv.Column(flag=True), "pareto": study_csv.Column(flag=True), "h_s": FIGURE,
+           "substep_s": FIGURE, "cpu_s_per_sim_s": FIGURE, "bore_err_max_rad": FIGURE,
+           "substeps": study_csv.Column(0, 10**15, whole=True)}
+
+
 def load(path):
-    """workprec.csv's points, its number cells as floats: a cell is a plain decimal or nan (a figure the point
-    has not), and a point that ran ok has a finite step, error and CPU time above 0, the figures the page shows;
-    anything else is no CSV gimbalsim_workprec wrote (pass 48: read as nan, and printed so on the page)."""
-    rows = list(csv.DictReader(io.StringIO(results_page.run_file(path.parent, path.name), newline="")))
+    """workprec.csv's points by its writer's column rules (study_csv), and a point that ran ok has the figures the
+    page shows: a finite step, CPU time above 0, a finite error and, where its setting names one, a sub-step
+    above 0 (pass 48: read as nan and printed; pass 49: an error of -1 named cheapest, 1e-400 shown as 0)."""
+    rows = study_csv.read_rows(path.parent, path.name, COLUMNS)
     for line, r in enumerate(rows, start=2):
-        r["ok"] = r["ok"] in ("1", "true", "True")
-        for k in ("h_s", "substep_s", "cpu_s_per_sim_s", "bore_err_max_rad", "substeps"):
-            x = float("nan") if r[k] == "nan" else results_page.output_file.plain_decimal(r[k])
-            if x is None or (r["ok"] and k in ("h_s", "cpu_s_per_sim_s", "bore_err_max_rad") and not
-                             (math.isfinite(x) and (x > 0 or k == "bore_err_max_rad"))):
-                raise ValueError(f"{path}:{line}: column {k}: {r[k]!r} is no figure of a point that ran ok")
-            r[k] = x
+        if not r["ok"]:
+            continue
+        for k in ("h_s", "cpu_s_per_sim_s", "bore_err_max_rad") + (("substep_s",) if _shows_substep(r) else ()):
+            if not math.isfinite(r[k]) or (r[k] == 0 and k != "bore_err_max_rad"):
+                raise results_page.output_file.Refused(f"{path}:{line}: column {k}: {r[k]!r} is no figure of a "
+                                                       "point that ran ok")
     return rows
+
+
+def _shows_substep(r):
+    return not r["sweep_key"] and r["policy"] != "plain" and not r["policy"].startswith(MUJOCO)
 
 
 def setting(r):
     s = f"{r['policy']}, h = {r['h_s']:g} s"
     if r["sweep_key"]:
         s += f", {r['sweep_key'].removeprefix('sim.')} {r['sweep_value']}"
-    elif r["policy"] != "plain" and not r["policy"].startswith(MUJOCO):
+    elif _shows_substep(r):
         s += f", sub-step {r['substep_s']:g} s"
     return s
 
@@ -109,7 +117,7 @@ def body(rows, log, command):
            "| scene | setting | CPU ms per simulated s | max boresight error [rad] | RK4 sub-steps |",
            "|---|---|---|---|---|"]
     for s in scenes:
-        front = sorted((r for r in rows if r["scene"] == s and r["ok"] and r["pareto"] in ("1", "true", "True")),
+        front = sorted((r for r in rows if r["scene"] == s and r["ok"] and r["pareto"]),
                        key=lambda r: r["cpu_s_per_sim_s"])
         for r in front:
             md.append(f"| {s} | {setting(r)} | {r['cpu_s_per_sim_s'] * 1e3:.3g} | {r['bore_err_max_rad']:.2e} | "

@@ -1,0 +1,64 @@
+"""A study's CSV output read as its writer writes it, for the page scripts.
+
+A page is committed and quoted: it may show only what the study's program
+can have written. So each number column has the writer's rule (Column): a
+plain finite decimal, or a whole number, in the column's range, whose digits
+the parse kept, and 'nan' only in a column where the writer puts nan for a
+figure over nothing. Anything else (' 1e-3', '-1' for an error, '1e-400'
+read as 0, 'yes' for a flag) is Refused (exit 2) naming the file, line and
+column, and the committed page is kept (pass 49: each was taken, and shown).
+"""
+import csv
+import io
+import math
+
+import output_file
+import results_page
+
+
+class Column:
+    """A number column's rule: in [lo, hi]; whole: written as a whole number; nan: the writer writes nan here
+    (a figure the run has not); flag: exactly 0 or 1, read as a bool."""
+
+    def __init__(self, lo=-math.inf, hi=math.inf, nan=False, whole=False, flag=False):
+        self.lo, self.hi, self.nan, self.whole, self.flag = lo, hi, nan, whole, flag
+
+    def read(self, text, where):
+        if self.flag:
+            if text in ("0", "1"):
+                return text == "1"
+            raise output_file.Refused(f"{where}: {text!r} is no flag (its writer writes 0 or 1)")
+        if self.nan and text == "nan":
+            return math.nan
+        if self.whole:
+            x = output_file.plain_whole(text)
+            why = None if x is not None else f"{text!r} is no whole number"
+        else:
+            x, why = output_file.flag_decimal(text)
+        if why is None and not self.lo <= x <= self.hi:
+            why = f"{text} is outside [{self.lo:g}, {self.hi:g}]"
+        if why:
+            said = "nan where it has no figure, else " if self.nan else ""
+            raise output_file.Refused(f"{where}: {why} (its writer writes {said}a number in [{self.lo:g}, "
+                                      f"{self.hi:g}])")
+        return x
+
+
+def read_rows(folder, name, columns, limit=1 << 24):
+    """The rows of `folder`/`name` (dicts by the header's names), each cell of `columns` (name -> Column) read by
+    its rule; a column missing, a row longer or shorter than the header, or a cell its rule refuses is Refused
+    naming the file and line."""
+    path = f"{folder}/{name}"
+    reader = csv.DictReader(io.StringIO(results_page.run_file(folder, name, limit=limit), newline=""))
+    missing = [c for c in columns if c not in (reader.fieldnames or [])]
+    if missing:
+        raise output_file.Refused(f"{path}: no column {', '.join(missing)} (not as its study writes it)")
+    rows = []
+    for r in reader:
+        line = reader.line_num
+        if None in r or None in r.values():
+            raise output_file.Refused(f"{path}:{line}: {len(reader.fieldnames)} cells expected, as the header has")
+        for c, rule in columns.items():
+            r[c] = rule.read(r[c], f"{path}:{line}: column {c}")
+        rows.append(r)
+    return rows
