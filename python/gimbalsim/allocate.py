@@ -141,6 +141,8 @@ def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, pro
     inputs = a.input_files()
     fingerprint = out / FINGERPRINT
     _check_outputs(a, out, inputs)
+    if resume and not out.is_dir():  # (pass 49) it started afresh, as tune's --resume did not
+        raise SpecError(f"{out}: no such folder: no allocation to resume; run without --resume")
     if resume:
         if fingerprint.exists() and _held(fingerprint) != a.fingerprint:
             raise SpecError(f"{out} holds an allocation of another spec; --resume needs the same spec")

@@ -345,6 +345,8 @@ def _run(a, out):
     check_out_dir(a.out, a.spec)
     spec = SweepSpec(a.spec)
     until = until_of(a.until, a.max_samples, spec)
+    if a.resume and not out.is_dir():  # (pass 49) it started afresh, as tune's --resume did not
+        raise SpecError(f"{out}: no such folder: no sweep to resume; run without --resume")
     if a.check:  # every refusal of the run, in its order (sweep() calls check_start first), nothing written
         check_start(spec, out, a.resume, spec.input_files())
         take_design(spec, out, until)
