@@ -8,6 +8,7 @@
 
 #include "../test_util.hpp"
 #include "stress_check.hpp"
+#include "stress_grid.hpp"
 
 namespace gimbalsim::stress {
 namespace {
@@ -120,6 +121,14 @@ TEST(StressClassifier, VerdictsOfFabricatedRuns) {
 }
 
 // ---- a fast subset of the grid ----
+
+// (pass 49) --long-set sim.duration=60 listed the hour's sim.duration=3600 too, on the page and in the CSV.
+TEST(StressGrid, ALongSetKeyReplacesTheHoursOwn) {
+  const std::vector<std::string> sets = longCase("paper_clearance", {"sim.duration=60", "friction.law=none"}).sets;
+  EXPECT_EQ(sets, (std::vector<std::string>{"sim.output_interval=0.01", "sim.duration=60", "friction.law=none"}));
+  const std::vector<std::string> own = longCase("paper_clearance", {"friction.law=none"}).sets;
+  EXPECT_EQ(own, (std::vector<std::string>{"sim.duration=3600", "sim.output_interval=0.01", "friction.law=none"}));
+}
 
 TEST(StressGrid, PaperSceneTrustworthyAtDefaults) {
   EXPECT_TRUSTWORTHY(run("paper_clearance", {}));
