@@ -209,3 +209,16 @@ def test_a_measuring_script_refuses_its_page_before_it_measures(script, page, ar
     assert p.returncode == 2 and f"docs/results/{page}: is a symbolic link" in p.stderr, (p.returncode, p.stderr)
     assert "Traceback" not in p.stderr and not (tmp_path / "elsewhere.md").exists()
     assert not (tmp_path / "out").exists(), "nothing measured"
+
+
+@pytest.mark.parametrize("script", ["tools/hil/hil_speed.py", "tools/hil/worst_tick.py", "tools/bench/tick_parts.py"])
+@pytest.mark.parametrize("name,value", [("GIMBALSIM_RESULTS_T0", "abc"), ("GIMBALSIM_RESULTS_LOAD0", "1e3 1 1")])
+def test_a_start_inherited_from_the_environment_is_checked_before_measuring(script, name, value, tmp_path):
+    # (pass 46) the start a namespace's exec carries in the environment was read only when the page was written
+    from conftest import BIN
+    args = ["--results", "--build", str(BIN.parent)] + (["--skip-sweep", "--skip-long"] if "hil_speed" in script
+                                                        else [])
+    p = subprocess.run([sys.executable, str(SOURCE / script), *args], cwd=tmp_path, capture_output=True, text=True,
+                       timeout=60, env={**os.environ, name: value, "GIMBALSIM_SPEED_INSIDE": "1"})
+    assert p.returncode == 2 and f"error: {name}: " in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert "x real time" not in p.stdout, "nothing measured"

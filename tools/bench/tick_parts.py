@@ -30,7 +30,6 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools", "hil"))
@@ -122,13 +121,7 @@ def main():
         p.error("--reps and --runs must be >= 1, --seconds in (0, 3600]")
     sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
     import results_page
-    if a.results:  # refused now, not after the measurements
-        results_page.check_page(os.path.join(ROOT, "docs/results/bench_tick.md"))
-    os.environ.setdefault("GIMBALSIM_RESULTS_T0", str(time.time()))  # kept across the namespace's exec
-    os.environ.setdefault("GIMBALSIM_RESULTS_LOAD0", open("/proc/loadavg").read())
-    if a.results:  # a start inherited from the environment (the namespace's exec) is checked now, not at the end
-        results_page.start_time(os.environ["GIMBALSIM_RESULTS_T0"], "GIMBALSIM_RESULTS_T0")
-        results_page.start_load(os.environ["GIMBALSIM_RESULTS_LOAD0"], "GIMBALSIM_RESULTS_LOAD0")
+    t0, load0 = results_page.measured_start(os.path.join(ROOT, "docs/results/bench_tick.md"), a.results)
     hil_speed.BIN = os.path.join(ROOT, a.build, "bin")
     for t in ("firmware_sim", "pointing_controller", "gimbalsim_bench_tick"):
         if not os.access(os.path.join(hil_speed.BIN, t), os.X_OK):
@@ -153,7 +146,7 @@ def main():
                                 "\n\n".join(__doc__.split("\n\n")[:3]) + "\n\n" + body,
                                 summary=f"lockstep paper_ideal {x:.1f} x real time; firmware_sim thread CPU per tick "
                                         f"p50 {shipped[0][1]:g} us",
-                                t0=os.environ["GIMBALSIM_RESULTS_T0"], load0=os.environ["GIMBALSIM_RESULTS_LOAD0"])
+                                t0=t0, load0=load0)
         print("tick_parts: wrote docs/results/bench_tick.md")
 
 

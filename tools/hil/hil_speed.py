@@ -347,15 +347,8 @@ def main():
     p.add_argument("--skip-long", action="store_true")
     p.add_argument("--results", action="store_true", help="also write docs/results/bench_timing.md")
     a = p.parse_args()
-    if a.results:  # refused now, not after the measurements
-        sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
-        import results_page
-        results_page.check_page(os.path.join(ROOT, "docs/results/bench_timing.md"))
-    os.environ.setdefault("GIMBALSIM_RESULTS_T0", str(time.time()))  # kept across the namespace's exec
-    os.environ.setdefault("GIMBALSIM_RESULTS_LOAD0", open("/proc/loadavg").read())
-    if a.results:  # a start inherited from the environment (the namespace's exec) is checked now, not at the end
-        results_page.start_time(os.environ["GIMBALSIM_RESULTS_T0"], "GIMBALSIM_RESULTS_T0")
-        results_page.start_load(os.environ["GIMBALSIM_RESULTS_LOAD0"], "GIMBALSIM_RESULTS_LOAD0")
+    import results_page  # (on the path set above)
+    t0, load0 = results_page.measured_start(os.path.join(ROOT, "docs/results/bench_timing.md"), a.results)
     global BIN
     BIN = os.path.join(ROOT, a.build, "bin")
     CPU[0] = a.cpu
@@ -395,7 +388,7 @@ def main():
                                         if ratio else "") if x)
         results_page.write_page(os.path.join(ROOT, "docs/results/bench_timing.md"),
                                 "HIL bench timing against cyclictest", command, page_body(text), summary=summary,
-                                t0=os.environ["GIMBALSIM_RESULTS_T0"], load0=os.environ["GIMBALSIM_RESULTS_LOAD0"])
+                                t0=t0, load0=load0)
         sys.stdout = sys.stdout.out
         print("hil_speed: wrote docs/results/bench_timing.md")
 

@@ -47,7 +47,6 @@ import shlex
 import subprocess
 import sys
 import tempfile
-import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import hil_speed  # noqa: E402  (run_pair reads hil_speed.BIN and hil_speed.CHRT when called)
@@ -278,14 +277,8 @@ def main():
     p.add_argument("--build", default="build", help="build directory holding bin/ (relative to the source tree)")
     p.add_argument("--results", action="store_true", help="also write " + PAGE)
     a = p.parse_args()
-    if a.results:  # refused now, not after the measurements
-        import results_page
-        results_page.check_page(os.path.join(ROOT, PAGE))
-    os.environ.setdefault("GIMBALSIM_RESULTS_T0", str(time.time()))  # kept across the namespace's exec
-    os.environ.setdefault("GIMBALSIM_RESULTS_LOAD0", open("/proc/loadavg").read())
-    if a.results:  # a start inherited from the environment (the namespace's exec) is checked now, not at the end
-        results_page.start_time(os.environ["GIMBALSIM_RESULTS_T0"], "GIMBALSIM_RESULTS_T0")
-        results_page.start_load(os.environ["GIMBALSIM_RESULTS_LOAD0"], "GIMBALSIM_RESULTS_LOAD0")
+    import results_page  # (on the path hil_speed set)
+    t0, load0 = results_page.measured_start(os.path.join(ROOT, PAGE), a.results)
     hil_speed.BIN = os.path.join(ROOT, a.build, "bin")
     hil_speed.CPU[0] = a.cpu
     for t in ("firmware_sim", "pointing_controller", "torque_replay"):
@@ -316,8 +309,7 @@ def main():
     if a.results:
         command = "/usr/bin/python3 tools/hil/worst_tick.py " + " ".join(shlex.quote(x) for x in sys.argv[1:])
         results_page.write_page(os.path.join(ROOT, PAGE), TITLE, command.rstrip(), page_body(sys.stdout.copy.getvalue()),
-                                summary=line, t0=os.environ["GIMBALSIM_RESULTS_T0"],
-                                load0=os.environ["GIMBALSIM_RESULTS_LOAD0"])
+                                summary=line, t0=t0, load0=load0)
         sys.stdout = sys.stdout.out
         print(f"worst_tick: wrote {PAGE}")
 

@@ -140,6 +140,21 @@ def start_load(text, where="--load0"):
     return text
 
 
+def measured_start(page, results):
+    """(t0, load0) of a measuring script that runs itself again inside a network namespace: noted once in the
+    environment, so the exec keeps them. With `results`, its page is checked, and a start inherited from the
+    environment too, before anything is measured (pass 45: refused only at the end; pass 46: never checked)."""
+    if results:
+        check_page(page)
+    os.environ.setdefault("GIMBALSIM_RESULTS_T0", str(time.time()))
+    os.environ.setdefault("GIMBALSIM_RESULTS_LOAD0", open("/proc/loadavg").read())
+    t0, load0 = os.environ["GIMBALSIM_RESULTS_T0"], os.environ["GIMBALSIM_RESULTS_LOAD0"]
+    if results:
+        start_time(t0, "GIMBALSIM_RESULTS_T0")
+        start_load(load0, "GIMBALSIM_RESULTS_LOAD0")
+    return t0, load0
+
+
 def _study_folder(text):
     """A --dir the user names, from where they stand, whatever its spelling (pass 44: the default's spelling was
     the repository's); absolute, so callers' ROOT / dir is it."""
