@@ -128,6 +128,14 @@ TEST(StressGrid, ALongSetKeyReplacesTheHoursOwn) {
   EXPECT_EQ(sets, (std::vector<std::string>{"sim.output_interval=0.01", "sim.duration=60", "friction.law=none"}));
   const std::vector<std::string> own = longCase("paper_clearance", {"friction.law=none"}).sets;
   EXPECT_EQ(own, (std::vector<std::string>{"sim.duration=3600", "sim.output_interval=0.01", "friction.law=none"}));
+  // (pass 50) a key given twice was listed twice; an error named "--set #3", a place the user never wrote
+  const auto twice = longSets({"sim.duration=0.5", "friction.law=none", "sim.duration=0.3"});
+  ASSERT_EQ(twice.size(), 3u);
+  EXPECT_EQ(twice[0].first, "sim.output_interval=0.01");
+  EXPECT_EQ(twice[0].second, "the long run's own 'sim.output_interval=0.01'");
+  EXPECT_EQ(twice[1].second, "--long-set #2 'friction.law=none'");
+  EXPECT_EQ(twice[2].first, "sim.duration=0.3");
+  EXPECT_EQ(twice[2].second, "--long-set #3 'sim.duration=0.3'");
 }
 
 TEST(StressGrid, PaperSceneTrustworthyAtDefaults) {

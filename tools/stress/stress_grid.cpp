@@ -168,16 +168,29 @@ std::string walkedValue(const std::vector<std::string>& sets) {
   return "";
 }
 
-Case longCase(const std::string& scene, const std::vector<std::string>& long_sets) {
-  // The hour's own keys, unless --long-set gives one: a key listed twice (3600 and the user's 60) would say
-  // both on the page and in the CSV, where only the last acts.
+std::vector<std::pair<std::string, std::string>> longSets(const std::vector<std::string>& long_sets) {
+  // The hour's own keys unless --long-set gives them, then the user's, each key once (its last --long-set acts):
+  // a key listed twice (3600 and the user's 60) would say both on the page and in the CSV (pass 49, pass 50).
   const auto keyOf = [](const std::string& set) { return set.substr(0, set.find('=')); };
-  std::vector<std::string> sets;
+  const auto givenAfter = [&](std::size_t from, const std::string& set) {
+    return std::any_of(long_sets.begin() + static_cast<std::ptrdiff_t>(from), long_sets.end(),
+                       [&](const std::string& s) { return keyOf(s) == keyOf(set); });
+  };
+  std::vector<std::pair<std::string, std::string>> out;
   for (const char* own : {"sim.duration=3600", "sim.output_interval=0.01"}) {
-    const auto given = [&](const std::string& s) { return keyOf(s) == keyOf(own); };
-    if (std::none_of(long_sets.begin(), long_sets.end(), given)) sets.emplace_back(own);
+    if (!givenAfter(0, own)) out.emplace_back(own, std::string("the long run's own '") + own + "'");
   }
-  sets.insert(sets.end(), long_sets.begin(), long_sets.end());
+  for (std::size_t i = 0; i < long_sets.size(); ++i) {
+    if (!givenAfter(i + 1, long_sets[i])) {
+      out.emplace_back(long_sets[i], "--long-set #" + std::to_string(i + 1) + " '" + long_sets[i] + "'");
+    }
+  }
+  return out;
+}
+
+Case longCase(const std::string& scene, const std::vector<std::string>& long_sets) {
+  std::vector<std::string> sets;
+  for (const auto& [set, label] : longSets(long_sets)) sets.push_back(set);
   return {"long run", scene, sets, {}};
 }
 

@@ -7,6 +7,7 @@
 
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "stress_check.hpp"
@@ -60,6 +61,9 @@ Case walkCase(const Cell& cell, double h, const std::string& dur);
 /// The walked value of a run: its sim.substep or sim.substep_tol.
 std::string walkedValue(const std::vector<std::string>& sets);
 
+/// The one-hour run's overrides: its own, then --long-set's, each key once, with the place an error names
+/// ("--long-set #k 'key=value'", or "the long run's own 'key=value'").
+std::vector<std::pair<std::string, std::string>> longSets(const std::vector<std::string>& long_sets);
 /// The one-hour run (--long-run) with these overrides after its own.
 Case longCase(const std::string& scene, const std::vector<std::string>& long_sets);
 

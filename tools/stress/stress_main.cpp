@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "gimbalsim/input/input_error.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/program/program.hpp"
@@ -77,7 +78,8 @@ void printLong(const st::Case& c) {
 /// here, so a refusal names key and place), and an output that is an input.
 /// need_scenes: false when every scene that runs is given by path (--case, --long-scene).
 void checkInputs(const std::string& scenes, bool need_scenes, const std::vector<std::string>& scene_paths,
-                 const std::vector<std::vector<std::string>>& sets, const std::vector<std::string>& outputs) {
+                 const std::vector<std::vector<std::string>>& sets, const std::vector<std::vector<std::string>>& labels,
+                 const std::vector<std::string>& outputs) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (need_scenes && !fs::is_directory(scenes, ec)) throw gimbalsim::InputError("--scenes " + scenes + ": not a folder");
@@ -85,7 +87,14 @@ void checkInputs(const std::string& scenes, bool need_scenes, const std::vector<
   for (const auto& e : fs::directory_iterator(scenes, ec)) {
     if (e.path().extension() == ".yaml") inputs.push_back(e.path().string());
   }
-  for (std::size_t i = 0; i < scene_paths.size(); ++i) gimbalsim::loadScene(scene_paths[i], sets[i]);
+  for (std::size_t i = 0; i < scene_paths.size(); ++i) {
+    try {
+      gimbalsim::loadScene(scene_paths[i], sets[i]);
+    } catch (const gimbalsim::InputError& e) {  // an override named by the flag the user gave (pass 50: "--set #3")
+      if (labels[i].empty()) throw;
+      throw gimbalsim::InputError(gimbalsim::relabelledProblems(e, labels[i]));
+    }
+  }
   try {
     io::checkOutputPaths(outputs, inputs);
   } catch (const io::OutputError& e) {
@@ -213,14 +222,17 @@ int mainImpl(int argc, char** argv) {
   }
   {
     std::vector<std::string> paths, outputs;
-    std::vector<std::vector<std::string>> sets;
+    std::vector<std::vector<std::string>> sets, labels;  // labels: the places an error names ({}: --set's own)
     if (!one_scene.empty()) {
       paths.push_back(st::scenePath(scenes, one_scene));
       sets.push_back(one_sets);
+      labels.emplace_back();
     } else {
       if (long_run) {
         paths.push_back(st::scenePath(scenes, long_scene));
         sets.push_back(st::longCase(long_scene, long_sets).sets);
+        labels.emplace_back();
+        for (const auto& [set, label] : st::longSets(long_sets)) labels.back().push_back(label);
       }
       for (const std::string& o : {csv, page_body}) {
         if (!o.empty()) outputs.push_back(o);
@@ -228,7 +240,7 @@ int mainImpl(int argc, char** argv) {
     }
     const auto stem = st::isSceneStem;
     const bool need_scenes = one_scene.empty() ? !no_sweeps || !no_grid || (long_run && stem(long_scene)) : stem(one_scene);
-    checkInputs(scenes, need_scenes, paths, sets, outputs);
+    checkInputs(scenes, need_scenes, paths, sets, labels, outputs);
   }
   // Every sweep and grid run is paper_clearance with sim.duration = --duration:
   // a duration the scene refuses is refused here, once, naming the flag.
