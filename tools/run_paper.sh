@@ -33,7 +33,7 @@ cd "$ROOT"
 
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/run_paper.sh$(printf ' %q' "$@")"
-SETS=() RESULTS=0 PAGE_SETS=()
+SETS=() RESULTS=0
 for kv in "$@"; do
   case "$kv" in
     --results) RESULTS=1 ;;
@@ -41,7 +41,7 @@ for kv in "$@"; do
                echo "  the paper's scene with joint 2 ideal, planar and spatial clearance, plots in out/paper/plots/;"
                echo "  key=value overrides a scene key in every run; --results writes docs/results/paper.md"
                exit 0 ;;
-    *=*) SETS+=(--set "$kv"); PAGE_SETS+=(--set "$kv") ;;
+    *=*) SETS+=(--set "$kv") ;;
     *) echo "run_paper.sh: expected key=value scene overrides, got '$kv'" >&2
        echo "usage: bash tools/run_paper.sh [--results] [key=value ...]   (e.g. sim.duration=1)" >&2
        exit 2 ;;
@@ -91,6 +91,5 @@ echo "  summaries: $OUT/ideal.json $OUT/clearance.json $OUT/spatial.json"
 echo "  figures  : $OUT/plots/fig06_eccentricity.png ... fig19_joint_kinds.png"
 echo "  pointing : $OUT/plots/pointing_error.csv"
 if [ "$RESULTS" = 1 ]; then
-  /usr/bin/python3 tools/paper/paper_page.py --dir "$OUT" --command "$COMMAND" --t0 "$T0" --load0 "$LOAD0" \
-    ${PAGE_SETS[@]+"${PAGE_SETS[@]}"}
+  /usr/bin/python3 tools/paper/paper_page.py --dir "$OUT" --command "$COMMAND" --t0 "$T0" --load0 "$LOAD0"
 fi

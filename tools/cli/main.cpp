@@ -117,7 +117,11 @@ int mainImpl(int argc, char** argv) {
       integrator == "reference" ? gimbalsim::IntegratorKind::Reference : gimbalsim::IntegratorKind::Rk4, stop);
   const bool interrupted = r.stop.kind == gimbalsim::RunStop::Kind::Interrupted;
   if (interrupted) r.error += std::string(" by ") + gimbalsim::io::stopSignalName();
-  if (summary_file) summary_file->write(gimbalsim::io::runSummary(m, r, scene, integrator).dump(2) + "\n");
+  if (summary_file) {
+    nlohmann::json j = gimbalsim::io::runSummary(m, r, scene, integrator);
+    j["overrides"] = sets;  // the run's --set, in order: a page or a reader says what the run was given (pass 50)
+    summary_file->write(j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  }
   gimbalsim::io::CommitGroup outputs({&csv->file(), summary_file ? &*summary_file : nullptr});
   if (!outputs.commit()) {
     std::fprintf(stderr, "gimbalsim: error: %s\ngimbalsim: the run was stopped; no CSV and no summary written\n",

@@ -5,9 +5,8 @@ printed, and three of its figures copied small into docs/results/
 (paper_pointing.png is the one README.md links).
 
     /usr/bin/python3 tools/paper/paper_page.py --dir out/paper --command "bash tools/run_paper.sh --results" \\
-        [--t0 T0 --load0 LOAD0] [--set key=value ...]
+        [--t0 T0 --load0 LOAD0]
 """
-import argparse
 import json
 import math
 import pathlib
@@ -33,13 +32,6 @@ MAX_PIXELS = 4000 * 4000    # far above plot_paper.py's figures (about 1300 x 80
 # The run summary's figures the page shows (gimbalsim simulate --summary): key -> (type, least value, > least?)
 RUN_FIGURES = {"t_end_s": (float, 0.0, False), "impacts": (int, 0, False), "substeps": (int, 0, False),
                "wall_time_s": (float, 0.0, False)}
-
-
-def _override(text):
-    """--set as the runs took it: key=value (pass 49: any text was put on the page as an override)."""
-    if not re.fullmatch(r"[A-Za-z_]\w*(\.\w+)*=\S.*", text):
-        raise argparse.ArgumentTypeError(f"{text!r} is no override (key=value, as gimbalsim simulate --set takes)")
-    return text
 
 
 def small_copy(src):
@@ -77,6 +69,8 @@ def run_summary(folder, name):
     shown += [(f"integrator.{k}", s["integrator"][k], float, 0.0, True) for k in ("step_s", "substep_s")]
     if not isinstance(s["status"], str) or not s["status"]:
         raise output_file.Refused(f"{where}: status {s['status']!r} is no run status")
+    if not isinstance(s["overrides"], list) or not all(isinstance(x, str) and "=" in x for x in s["overrides"]):
+        raise output_file.Refused(f"{where}: overrides {s['overrides']!r} is no list of key=value")
     for key, x, kind, least, above in shown:
         number = type(x) is int or (kind is float and type(x) is float and math.isfinite(x))  # (1e400 reads as inf)
         if not number or x < least or (above and x == least):
@@ -84,6 +78,33 @@ def run_summary(folder, name):
                                       f"{'whole number' if kind is int else 'finite number'} "
                                       f"{'>' if above else '>='} {least:g})")
     return s
+
+
+NUMBER = r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?"
+
+
+def check_summary(text, path):
+    """plot_paper.py's figures as it prints them (pass 50: nan mm, = inf, -846.7 N, 99 rad (0.04122 deg) and
+    t = -1 s were put on the page): no nan or inf; every quantity in rad, deg, N, mm or s at least 0; an
+    angle at most pi rad (180 deg), its degrees those of its radians; the impacts a whole number."""
+    def refuse(line, why):
+        raise output_file.Refused(f"{path}: {why} in {line.strip()!r}: not as plot_paper.py writes it; "
+                                  "docs/results/paper.md is kept as it was")
+    for line in text.splitlines():
+        m = re.match(r"^\s{2,}(\S[^:]*?)\s*: (.+)$", line)
+        if not m or line.strip().startswith("wrote"):
+            continue
+        name, value = m.group(1).strip(), m.group(2)
+        if re.search(r"(?i)\b(nan|inf|infinity)\b", value):
+            refuse(line, "a figure that is no number")
+        for x, unit in re.findall(rf"({NUMBER})\s*(rad|deg|N|mm|s)\b", value):
+            if float(x) < 0 or (unit == "rad" and float(x) > math.pi) or (unit == "deg" and float(x) > 180):
+                refuse(line, f"{x} {unit} out of range")
+        for rad, deg in re.findall(rf"({NUMBER}) rad \(({NUMBER}) deg\)", value):  # both printed to 4 digits
+            if not math.isclose(math.degrees(float(rad)), float(deg), rel_tol=2e-3, abs_tol=1e-300):
+                refuse(line, f"{rad} rad is not {deg} deg")
+        if name == "impacts" and not re.match(r"[0-9]+ \(", value):
+            refuse(line, "an impact count that is no whole number")
 
 
 def summary_table(text):
@@ -98,21 +119,22 @@ def summary_table(text):
 
 def main():
     ap = results_page.page_arguments(__doc__, "out/paper")
-    ap.add_argument("--set", action="append", default=[], type=_override, help="the overrides given to both runs")
     a = ap.parse_args()
     d = ROOT / a.dir
     shown = d.relative_to(ROOT) if d.is_relative_to(ROOT) else d  # the page names the repository's out/ as such
     summary = results_page.run_file(d, "plot_summary.txt")
-    runs = []
+    runs, given = [], []
     for name in ("ideal", "clearance"):
         with results_page.study_files(d / f"{name}.json", "gimbalsim simulate --summary"):
             s = run_summary(d, f"{name}.json")
+            given.append(s["overrides"])
             runs.append(f"| {name} | {s['status']} | {s['t_end_s']:g} | {s['impacts']} | {s['substeps']} | "
                         f"{s['integrator']['step_s']:g} / {s['integrator']['substep_s']:g} | "
                         f"{s['wall_time_s']:.2f} |")
     out = ROOT / "docs" / "results"
     if not any(line for line in summary_table(summary).splitlines()[2:]):  # (pass 48) no page over nothing
         raise results_page.no_rows(d / "plot_summary.txt", "docs/results/paper.md")
+    check_summary(summary, d / "plot_summary.txt")
     first = next((line for line in summary.splitlines() if "max pointing error" in line), "")
     peak = first.split(":", 1)[1].split()[0] if ":" in first and first.split(":", 1)[1].split() else ""
     if not first or (x := output_file.flag_decimal(peak)[0]) is None or x < 0:  # (pass 49) "x : y" made a page
@@ -123,7 +145,11 @@ def main():
     for src, dst, caption in FIGURES:
         copies[out / dst] = small_copy(d / "plots" / src)
         figs.append(f"![{src.split('_')[0]}]({dst})\n\n{caption}\n")
-    overrides = ", ".join(f"`{s}`" for s in a.set) if a.set else "none (the scenes as committed)"
+    # what the runs were given, as their summaries say (pass 50: a --set here was any text, never compared)
+    if given[0] != given[1]:
+        raise output_file.Refused(f"{d}: ideal.json and clearance.json were given different overrides ({given[0]} "
+                                  f"and {given[1]}): not one run of tools/run_paper.sh")
+    overrides = ", ".join(f"`{x}`" for x in given[0]) if given[0] else "none (the scenes as committed)"
     body = f"""The paper's scene (You, Pan & Zhao 2010, section 4): `tools/scenes/paper_ideal.yaml` (ideal elevation
 joint) and `tools/scenes/paper_clearance.yaml` (radial clearance in joint 2), the same open-loop torques, simulated
 by `build/bin/gimbalsim simulate` and compared by `tools/paper/plot_paper.py` (all figures 6-18 in {shown}/plots/; the
