@@ -208,7 +208,7 @@ def test_a_page_script_reads_its_study_by_the_rules_and_makes_no_page_of_nothing
     if content == "fifo":
         os.mkfifo(target)
     elif content == "no rows":
-        target.write_text({"workprec.csv": "scene,ok,h_s,substep_s,cpu_s_per_sim_s,bore_err_max_rad,substeps,pareto\n",
+        target.write_text({"workprec.csv": WORKPREC_HEADER,
                            "summary.csv": POINTING_HEADER,
                            "bench.json": '{"context": {}, "benchmarks": []}'}[name])
     elif content != "missing":
@@ -257,7 +257,10 @@ def test_a_bench_json_with_a_figure_missing_makes_no_page(tmp_path, text, said):
     assert "Traceback" not in p.stderr and _pages(repo) == before
 
 
-WORKPREC_HEADER = "scene,policy,sweep_key,h_s,substep_s,ok,cpu_s_per_sim_s,bore_err_max_rad,substeps,pareto\n"
+WORKPREC_HEADER = ("scene,policy,sweep_key,h_s,substep_s,ok,cpu_s_per_sim_s,bore_err_max_rad,substeps,pareto,"
+                   "event_tol_s,repeats,bore_err_end_rad,theta1_err_max_rad,theta2_err_max_rad,peak_force_err_rel,"
+                   "momentum_drift_rel,impacts\n")
+WORKPREC_REST = ",1e-08,3,1e-07,1e-07,1e-07,0.01,1e-09,5"  # the columns after pareto, as a point that ran ok
 
 
 @pytest.mark.parametrize("row,said", [("paper_clearance,plain,,0.001,2e-05,1,,1e-06,100,1\n", "cpu_s_per_sim_s"),
@@ -268,7 +271,7 @@ def test_a_workprec_point_that_ran_without_its_figures_makes_no_page(tmp_path, r
     repo = _page_repository(tmp_path)
     before = _pages(repo)
     (tmp_path / "study").mkdir()
-    (tmp_path / "study" / "workprec.csv").write_text(WORKPREC_HEADER + row)
+    (tmp_path / "study" / "workprec.csv").write_text(WORKPREC_HEADER + row.rstrip("\n") + WORKPREC_REST + "\n")
     p = subprocess.run([sys.executable, str(repo / "tools/workprec/workprec_page.py"), "--dir", "study", "--command",
                         "c"], cwd=tmp_path, capture_output=True, text=True, timeout=60)
     assert p.returncode == 2 and said in p.stderr and "Traceback" not in p.stderr, p.stderr
@@ -283,7 +286,7 @@ def _paper_run(folder, summary="  max pointing error : 1.0e-03 rad\n"):
     for name in ("ideal", "clearance"):
         (folder / f"{name}.json").write_text('{"status": "ok", "t_end_s": 1, "impacts": 0, "substeps": 10, '
                                              '"integrator": {"step_s": 0.001, "substep_s": 2e-05}, '
-                                             '"wall_time_s": 0.1}')
+                                             '"wall_time_s": 0.1, "overrides": ["sim.duration=1"]}')
     for png in ("fig17_pointing_error.png", "fig18_joint2_force.png", "fig06_eccentricity.png"):
         Image.new("RGB", (110, 110), "white").save(folder / "plots" / png)
 

@@ -22,6 +22,8 @@ import workprec_page  # noqa: E402
 
 
 NS_PER = {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}  # Google Benchmark's time units
+MAX_NS = 1e15        # a call of 11 days: no benchmark of gimbalsim_bench's comes near
+MAX_REPS = 10**6     # run_bench.sh takes REPS in [2, 1000]
 
 
 def _ns(r):
@@ -30,9 +32,12 @@ def _ns(r):
     dropped without a word; pass 48: a nan was printed as a measurement)."""
     t, unit, what = r["cpu_time"], r.get("time_unit", "ns"), r["aggregate_name"]
     spread = what in ("stddev", "cv")
-    if type(t) not in (int, float) or not math.isfinite(t) or t < 0 or (t == 0 and not spread) or unit not in NS_PER:
-        raise ValueError(f"{r['run_name']} {what}: cpu_time {t!r} {unit!r} (a time > 0 in ns, us, ms or s)")
-    return t if what == "cv" else t * NS_PER[unit]
+    ns = t * NS_PER[unit] if type(t) in (int, float) and unit in NS_PER and what != "cv" else t
+    if type(t) not in (int, float) or not math.isfinite(t) or t < 0 or (t == 0 and not spread) or unit not in NS_PER \
+            or not ns <= MAX_NS:
+        raise ValueError(f"{r['run_name']} {what}: cpu_time {t!r} {unit!r} (a time > 0 in ns, us, ms or s, at most "
+                         f"{MAX_NS:g} ns)")
+    return ns
 
 
 def bench_table(path):
@@ -46,16 +51,21 @@ def bench_table(path):
         if r.get("run_type") != "aggregate":
             continue
         row = rows.setdefault(r["run_name"], {})
+        if r["aggregate_name"] in row:  # (pass 50) the last of two medians was shown
+            raise ValueError(f"{r['run_name']}: a second {r['aggregate_name']!r} aggregate")
         row[r["aggregate_name"]] = _ns(r)
         row["reps"] = r["repetitions"]
-        if type(row["reps"]) is not int or row["reps"] < 1:  # (pass 49) null, 0 or -1 was printed as the count
-            raise ValueError(f"{r['run_name']}: repetitions {row['reps']!r} (a whole number >= 1)")
+        if type(row["reps"]) is not int or not 1 <= row["reps"] <= MAX_REPS:  # (pass 49) null, 0 or -1 was shown
+            raise ValueError(f"{r['run_name']}: repetitions {row['reps']!r} (a whole number in [1, {MAX_REPS}])")
     ctx = data.get("context", {})
     if not isinstance(ctx, dict):
         raise AttributeError("'context' is no object")
     md = ["| benchmark | median CPU per call [ns] | min [ns] | cv |", "|---|---|---|---|"]
     for name, row in rows.items():
         cv = row.get("cv")  # (pass 48) a median or min the JSON lacks is no figure: KeyError, refused
+        if row["median"] < row["min"]:  # (pass 50) shown as measured
+            raise ValueError(f"{name}: min {row['min']} ns above its median {row['median']} ns")
+        name = name.replace("|", "\\|")  # a '|' in a name would split the table's row
         md.append(f"| {name} | {row['median']:.1f} | {row['min']:.1f} | {'' if cv is None else f'{cv:.1%}'} |")
     if len(md) == 2:
         raise results_page.no_rows(f"--bench-json {path}", "docs/results/speed.md")

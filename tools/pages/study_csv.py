@@ -44,21 +44,33 @@ class Column:
         return x
 
 
-def read_rows(folder, name, columns, limit=1 << 24):
+def read_rows(folder, name, columns, key=None, limit=1 << 24):
     """The rows of `folder`/`name` (dicts by the header's names), each cell of `columns` (name -> Column) read by
-    its rule; a column missing, a row longer or shorter than the header, or a cell its rule refuses is Refused
-    naming the file and line."""
+    its rule; Refused naming the file (and line): a byte-order mark or a carriage return (the project's CSV
+    writers write LF lines and no BOM), a column missing, a row longer or shorter than the header, a cell its
+    rule refuses, and the same `key` cell on two rows (pass 50: a BOM was a KeyError, CRLF and a run held
+    twice were taken)."""
     path = f"{folder}/{name}"
-    reader = csv.DictReader(io.StringIO(results_page.run_file(folder, name, limit=limit), newline=""))
-    missing = [c for c in columns if c not in (reader.fieldnames or [])]
+    text = results_page.run_file(folder, name, limit=limit)
+    if text.startswith("\ufeff") or "\r" in text:
+        cr_line = text[:text.find("\r")].count("\n") + 1
+        what = "a byte-order mark" if text.startswith("\ufeff") else f"a carriage return on line {cr_line}"
+        raise output_file.Refused(f"{path}: {what}: not as its study writes it (LF line ends, no byte-order mark)")
+    reader = csv.DictReader(io.StringIO(text, newline=""))
+    missing = [c for c in [*columns, *([key] if key else [])] if c not in (reader.fieldnames or [])]
     if missing:
         raise output_file.Refused(f"{path}: no column {', '.join(missing)} (not as its study writes it)")
-    rows = []
+    rows, seen = [], {}
     for r in reader:
         line = reader.line_num
         if None in r or None in r.values():
             raise output_file.Refused(f"{path}:{line}: {len(reader.fieldnames)} cells expected, as the header has")
         for c, rule in columns.items():
             r[c] = rule.read(r[c], f"{path}:{line}: column {c}")
+        if key is not None:
+            if r[key] in seen:
+                raise output_file.Refused(f"{path}:{line}: {key} {r[key]!r} again (line {seen[r[key]]}): its study "
+                                          "writes each once")
+            seen[r[key]] = line
         rows.append(r)
     return rows

@@ -20,7 +20,7 @@ import study_csv  # noqa: E402
 RAD = study_csv.Column(0.0, math.pi, nan=True)  # an angle [rad]; nan: no figure (never tracked, no tick)
 TICKS = study_csv.Column(0, 10**12, whole=True)
 COLUMNS = {"clearance_m": study_csv.Column(0.0, 1.0), "peak_track_rad": RAD, "rms_track_rad": RAD,
-           "peak_run_rad": RAD, "track_ticks": TICKS, "controller_limited_ticks": TICKS,
+           "peak_run_rad": RAD, "track_ticks": TICKS, "controller_limited_ticks": TICKS, "motor_limited_ticks": TICKS,
            # a count over the track window: nan where the run never reached it (track_reason says why)
            "controller_limited_track_ticks": study_csv.Column(0, 10**12, whole=True, nan=True),
            "max_tilt1_rad": RAD, "max_tilt2_rad": RAD,
@@ -49,12 +49,25 @@ def _rad(v, fmt=".2e"):
 
 def _page(d):
     """The page's body (Markdown lines) and its index line, from the study in d."""
-    rows = study_csv.read_rows(d, "summary.csv", COLUMNS)
+    rows = study_csv.read_rows(d, "summary.csv", COLUMNS, key="run")
     if not rows:
         raise results_page.no_rows(d / "summary.csv", "docs/results/closed_loop_clearance.md")
+    for line, r in enumerate(rows, start=2):  # the track's figures come with its ticks (pass 50: nan over 500 ticks)
+        tracked = [r["track_ticks"] > 0, math.isfinite(r["peak_track_rad"]), math.isfinite(r["rms_track_rad"]),
+                   not _uncounted(r["controller_limited_track_ticks"])]
+        if len(set(tracked)) > 1:
+            raise results_page.output_file.Refused(
+                f"{d / 'summary.csv'}:{line}: track_ticks {r['track_ticks']} with peak_track_rad "
+                f"{r['peak_track_rad']}, rms_track_rad {r['rms_track_rad']} and controller_limited_track_ticks "
+                f"{r['controller_limited_track_ticks']}: its study writes the track's figures exactly when it has "
+                "tracking ticks")
+    if not any(r["track_ticks"] > 0 for r in rows):  # (pass 50) the page's subject: a page of n/a replaced the study's
+        raise results_page.output_file.Refused(
+            f"{d / 'summary.csv'}: no run has a figure while tracking (each stopped or ended before it): nothing to "
+            "put on the page; docs/results/closed_loop_clearance.md is kept as it was")
     log = results_page.run_file(d, "study.log", optional=True)
     setup = next((line.lstrip("# ").strip() for line in log.splitlines() if line.startswith("# ")), "")
-    config = results_page.run_file(d, "config.txt", optional=True).splitlines()
+    config = results_page.run_file(d, "config.txt").splitlines()  # (pass 50) written by every study
     def sensors(r):
         return r.get("sensors", "perfect")
 
@@ -147,12 +160,9 @@ def _page(d):
            "and pointing_error_vs_clearance.png (tools/pointing_study/plot_pointing_study.py).", ""]
     if config:
         md += ["Controller configuration in effect (config.txt):", "", "```", *config, "```", ""]
-    seen = [r for r in rows if math.isfinite(r["peak_track_rad"])]
-    worst = max(seen, key=lambda r: r["peak_track_rad"]) if seen else None
+    worst = max((r for r in rows if r["track_ticks"] > 0), key=lambda r: r["peak_track_rad"])
     ideal = ideals.get("perfect")
-    if worst is None:  # never a bare nan: what the runs did not reach is said
-        summary = f"{len(rows)} runs; no run has a figure while tracking (each stopped or ended before it)"
-    elif ideal:
+    if ideal:
         summary = (f"{len(rows)} runs; peak error while tracking {_rad(ideal['peak_track_rad'], '.3g')} rad ideal, "
                    f"up to {_rad(worst['peak_track_rad'], '.3g')} rad ({worst['run']})")
     else:

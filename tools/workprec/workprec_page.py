@@ -20,9 +20,13 @@ MUJOCO = "MuJoCo"
 
 
 FIGURE = study_csv.Column(0.0, math.inf, nan=True)  # a figure >= 0; nan: one the point has not (it failed)
+COUNT = study_csv.Column(0, 10**15, whole=True)
+# every number column (points.cpp kCsvColumns; sweep_value is the policy table's text), as gimbalsim_workprec writes it
 COLUMNS = {"ok": study_csv.Column(flag=True), "pareto": study_csv.Column(flag=True), "h_s": FIGURE,
-           "substep_s": FIGURE, "cpu_s_per_sim_s": FIGURE, "bore_err_max_rad": FIGURE,
-           "substeps": study_csv.Column(0, 10**15, whole=True)}
+           "substep_s": FIGURE, "event_tol_s": FIGURE, "cpu_s_per_sim_s": FIGURE, "repeats": COUNT,
+           "bore_err_max_rad": FIGURE, "bore_err_end_rad": FIGURE, "theta1_err_max_rad": FIGURE,
+           "theta2_err_max_rad": FIGURE, "peak_force_err_rel": FIGURE, "momentum_drift_rel": FIGURE,
+           "substeps": COUNT, "impacts": COUNT}
 
 
 def load(path):
