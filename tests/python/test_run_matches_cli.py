@@ -17,6 +17,7 @@ CASES = [
     ("paper_both_spatial", {"sim.duration": 0.3, "structure.joint1": "planar"}),  # joint 1's and the per-end columns
 ]
 TIMES = {"wall_time_s", "step_time_s"}
+CLI_ONLY = {"overrides"}  # the command line's record of its --set; a Python scene's overrides are the caller's code
 
 
 def cli_run(name, overrides, tmp):
@@ -33,9 +34,10 @@ def test_csv_bytes_and_summary_equal_the_command_line(name, overrides, tmp):
     run = gimbalsim.simulate(gimbalsim.load_scene(scene_path(name), overrides))
     run.to_csv(tmp / "py.csv")
     assert (tmp / "py.csv").read_bytes() == cli_csv
-    strip = lambda s: {k: v for k, v in s.items() if k not in TIMES}
+    strip = lambda s: {k: v for k, v in s.items() if k not in TIMES | CLI_ONLY}
     py_summary = dict(run.summary, scene=cli_summary["scene"])
     assert strip(py_summary) == strip(cli_summary)
+    assert cli_summary["overrides"] == gimbalsim.as_overrides(overrides) and "overrides" not in run.summary
     assert run.rows.shape == (cli_summary["rows"], len(gimbalsim.COLUMNS))
     # The CSV's names are the columns' with the unit as a suffix (docs/usage.md "CSV files"): t -> t_s, bore_x.
     header = cli_csv.split(b"\n", 1)[0].decode().split(",")
