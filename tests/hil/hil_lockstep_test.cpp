@@ -336,6 +336,9 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
       // time that stands still or runs back: an edited file, not one run's ticks
       {write("back.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm\n0,0.001,0,0\n1,0.001,0,0\n"),
        "back.csv:3: sim_time_s 0.001 is not after the previous row's"},
+      // (pass 51) a row off its tick's time: found only when the plant reached it, blamed on the plant's rate
+      {write("uneven.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm\n0,0,0,0\n1,0.001,0,0\n2,0.0025,0,0\n3,0.003,0,0\n"),
+       "uneven.csv:4: column sim_time_s: 0.0025 is not tick 2's time"},
       // a plant's frozen rows carry FAULT_PLANT_FAULT (8): time standing still without it is an edit
       {write("still.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n0,0,0,0,0\n1,0.001,0,0,0\n2,0.001,0,0,4\n"),
        "still.csv:4: sim_time_s 0.001 is not after the previous row's"},

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -142,6 +143,18 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
                                  (t.frozen_rows > 0 ? " after the plant's stop (frozen rows before it)"
                                                     : " is not after the previous row's") +
                                  ": not one run's ticks in order");
+      }
+      // Tick k is at t_0 + k T (T from the first two rows), as the plant steps; a row carrying the stop may sit a
+      // sub-step on. Checked within the 1 us the replay compares statuses to (pass 51: an uneven row was found
+      // only when the plant reached it, blamed on its rate).
+      const double tick_s = t.t_s.size() >= 2 ? t.t_s[1] - t.t_s[0] : 0.0;
+      if (tick_s > 0.0 && (static_cast<long long>(faults) & kPlantFault) == 0 &&
+          std::fabs(t_s - (t.t_s[0] + static_cast<double>(rows) * tick_s)) > 1e-6) {
+        char step[32];
+        std::snprintf(step, sizeof step, "%.9g", tick_s);
+        throw std::runtime_error(name + ":" + std::to_string(n) + ": column sim_time_s: " + f[ct] + " is not tick " +
+                                 std::to_string(rows) + "'s time (the first rows step " + step +
+                                 " s): not one run's ticks, each a control period on");
       }
       t_prev = t_s;
       t.t_s.push_back(t_s);
