@@ -91,9 +91,9 @@ WORKPREC_HEADER = ("scene,policy,h_s,substep_s,event_tol_s,sweep_key,sweep_value
                    "momentum_drift_rel,substeps,impacts,pareto,note\n")  # points.cpp kCsvColumns
 
 
-def _point(policy="plain", substep="nan", ok="1", err="1e-07", substeps="100", repeats="3", impacts="5"):
-    return (f"paper_clearance,{policy},0.001,{substep},1e-08,,,{ok},0.5,{repeats},{err},1e-07,1e-07,1e-07,0.01,"
-            f"1e-09,{substeps},{impacts},1,\n")
+def _point(policy="plain", substep="nan", ok="1", err="1e-07", substeps="100", repeats="3", impacts="5", swept=","):
+    return (f"paper_clearance,{policy},0.001,{substep},1e-08,{swept},{ok},0.5,{repeats},{err},1e-07,1e-07,1e-07,"
+            f"0.01,1e-09,{substeps},{impacts},1,\n")
 
 
 @pytest.mark.parametrize("row,said", [
@@ -104,7 +104,10 @@ def _point(policy="plain", substep="nan", ok="1", err="1e-07", substeps="100", r
     (_point(substeps="1.5"), "column substeps: '1.5' is no whole number"),
     # (pass 50) columns the page does not show were not read at all
     (_point(repeats="banana"), "column repeats: 'banana' is no whole number"),
-    (_point(impacts="-1"), "column impacts: -1 is outside")])
+    (_point(impacts="-1"), "column impacts: -1 is outside"),
+    # (pass 51) a swept key's value was shown as the setting, whatever it was
+    (_point(swept="sim.substep_tol,banana"), "column sweep_value: 'banana' is not a finite decimal number"),
+    (_point(swept=",1e-6"), "column sweep_value: '1e-6' with no sweep_key")])
 def test_a_workprec_point_the_tool_cannot_write_is_refused(tmp_path, row, said):
     # (pass 49) an ok point with error -1 was named cheapest, 1e-400 shown as 0, an adaptive point's nan sub-step
     # put on the page and its index line; an ok cell '1 ' or 'yes' was a failed point without a word

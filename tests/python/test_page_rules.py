@@ -259,8 +259,8 @@ def test_a_bench_json_with_a_figure_missing_makes_no_page(tmp_path, text, said):
 
 WORKPREC_HEADER = ("scene,policy,sweep_key,h_s,substep_s,ok,cpu_s_per_sim_s,bore_err_max_rad,substeps,pareto,"
                    "event_tol_s,repeats,bore_err_end_rad,theta1_err_max_rad,theta2_err_max_rad,peak_force_err_rel,"
-                   "momentum_drift_rel,impacts\n")
-WORKPREC_REST = ",1e-08,3,1e-07,1e-07,1e-07,0.01,1e-09,5"  # the columns after pareto, as a point that ran ok
+                   "momentum_drift_rel,impacts,sweep_value\n")
+WORKPREC_REST = ",1e-08,3,1e-07,1e-07,1e-07,0.01,1e-09,5,"  # the columns after pareto, as a point that ran ok
 
 
 @pytest.mark.parametrize("row,said", [("paper_clearance,plain,,0.001,2e-05,1,,1e-06,100,1\n", "cpu_s_per_sim_s"),

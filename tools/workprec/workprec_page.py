@@ -21,6 +21,7 @@ MUJOCO = "MuJoCo"
 
 FIGURE = study_csv.Column(0.0, math.inf, nan=True)  # a figure >= 0; nan: one the point has not (it failed)
 COUNT = study_csv.Column(0, 10**15, whole=True)
+SWEPT = study_csv.Column(0.0, 1e6)  # a swept scene key's value (tools/workprec/policies.yaml: sim.substep_tol)
 # every number column (points.cpp kCsvColumns; sweep_value is the policy table's text), as gimbalsim_workprec writes it
 COLUMNS = {"ok": study_csv.Column(flag=True), "pareto": study_csv.Column(flag=True), "h_s": FIGURE,
            "substep_s": FIGURE, "event_tol_s": FIGURE, "cpu_s_per_sim_s": FIGURE, "repeats": COUNT,
@@ -35,6 +36,12 @@ def load(path):
     above 0 (pass 48: read as nan and printed; pass 49: an error of -1 named cheapest, 1e-400 shown as 0)."""
     rows = study_csv.read_rows(path.parent, path.name, COLUMNS)
     for line, r in enumerate(rows, start=2):
+        # a swept key's value is the policy table's number (pass 51: 'banana' was shown as the setting)
+        if r["sweep_key"]:
+            SWEPT.read(r["sweep_value"], f"{path}:{line}: column sweep_value")
+        elif r["sweep_value"]:
+            raise results_page.output_file.Refused(f"{path}:{line}: column sweep_value: {r['sweep_value']!r} with "
+                                                   "no sweep_key (its writer writes it empty)")
         if not r["ok"]:
             continue
         for k in ("h_s", "cpu_s_per_sim_s", "bore_err_max_rad") + (("substep_s",) if _shows_substep(r) else ()):
