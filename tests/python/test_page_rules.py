@@ -340,3 +340,23 @@ def test_budget_speed_writes_the_shipped_budgets_page_only_from_the_shipped_spec
                        timeout=60)
     assert p.returncode == 2 and "--spec copy/pointing_budget.yaml is another file" in p.stderr, p.stderr
     assert _pages(repo) == before and not (repo / "out").exists()
+
+
+def test_a_page_waits_while_another_writer_holds_the_results_folder(tmp_path):
+    # (pass 51) two page scripts at once: each indexed the other's old page, and the index lost an entry
+    import fcntl
+    import time
+    results = tmp_path / "results"
+    results.mkdir()
+    (tmp_path / "b.md").write_text("body\n")
+    fd = os.open(results, os.O_RDONLY | os.O_DIRECTORY)
+    fcntl.flock(fd, fcntl.LOCK_EX)  # as another writer holds it while it writes its page and the index
+    try:
+        p = subprocess.Popen([sys.executable, str(WRITER), "--page", str(results / "x.md"), "--title", "T",
+                              "--command", "c", "--body", "b.md"], cwd=tmp_path, stderr=subprocess.PIPE)
+        time.sleep(1.5)
+        assert p.poll() is None and not (results / "x.md").exists(), "written while another writer held the folder"
+    finally:
+        os.close(fd)
+    assert p.wait(timeout=60) == 0, p.stderr.read()
+    assert "[T](x.md)" in (results / "README.md").read_text()

@@ -32,6 +32,7 @@ pages themselves are outputs, not inputs). Nothing here edits README.md.
 import argparse
 import contextlib
 import datetime
+import fcntl
 import os
 import pathlib
 import platform
@@ -240,6 +241,27 @@ def _index_is_ours(index_path):
                                   "it would replace it: move it, or write the page into a folder of its own")
 
 
+@contextlib.contextmanager
+def _folder_held(folder, wait_s=60.0):
+    """The results folder held by one writer at a time (an flock on the folder itself: no file is made), so a
+    page and the index made from every page go in as one (pass 51: two page scripts at once each indexed the
+    other's old page). Waits up to wait_s, then Refused."""
+    fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+    try:
+        deadline = time.monotonic() + wait_s
+        while True:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                break
+            except BlockingIOError:
+                if time.monotonic() > deadline:
+                    raise output_file.Refused(f"{folder}: another writer has held it for {wait_s:g} s") from None
+                time.sleep(0.05)
+        yield
+    finally:
+        os.close(fd)  # (the lock goes with it)
+
+
 def write_page(path, title, command, body, summary="", t0=None, load0=None, index=True, inputs=()):
     """Writes header + body to path atomically, then the index beside it (when index). The writer's rules first
     (output_file.check_before_writing: Refused, exit 2, nothing written): no link, no folder that does not
@@ -248,12 +270,13 @@ def write_page(path, title, command, body, summary="", t0=None, load0=None, inde
     text = header(title, command, t0, load0) + summary_line + "\n" + body.rstrip("\n") + "\n"
     path = pathlib.Path(path)
     check_page(path, index, inputs)
-    # The index is made (every other page read) before the page is written: a page that cannot be
-    # indexed is no half-written study.
-    index_text = make_index(path.parent, {path.name: text}) if index else None
-    write_text(path, text)
-    if index:
-        write_text(path.parent / INDEX_NAME, index_text)
+    with _folder_held(path.parent) if index else contextlib.nullcontext():
+        # The index is made (every other page read) before the page is written: a page that cannot be
+        # indexed is no half-written study.
+        index_text = make_index(path.parent, {path.name: text}) if index else None
+        write_text(path, text)
+        if index:
+            write_text(path.parent / INDEX_NAME, index_text)
     return text
 
 
@@ -279,7 +302,8 @@ def read_header(path, text=None):
 def write_index(folder=RESULTS):
     folder = pathlib.Path(folder)
     check_index(folder)
-    write_text(folder / INDEX_NAME, make_index(folder))
+    with _folder_held(folder):
+        write_text(folder / INDEX_NAME, make_index(folder))
 
 
 def make_index(folder, pending=None):
