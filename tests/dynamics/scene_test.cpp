@@ -136,6 +136,9 @@ TEST(Scene, NonPhysicalValuesAreRefused) {
       {{"contact.clearance=-1e-4"}, "key 'contact.clearance': clearance must not be negative"},
       {{"contact.restitution=0"}, "key 'contact.restitution': must be in (0, 1], got 0"},
       {{"contact.restitution=1.01"}, "key 'contact.restitution': must be in (0, 1], got 1.01"},
+      // (pass 51) a 1e12 m bearing ran on to NaN, the clearance given lost to rounding in R - c
+      {{"contact.bearing_radius=1e12", "contact.clearance=5e-4"},
+       "key 'contact.bearing_radius': must be in (0, 10], got 1e+12"},
       {{"base.mass=.nan"}, "key 'base.mass': must be finite, got '.nan'"},
       {{"torque.tau1=.inf"}, "key 'torque.tau1': must be finite"},
       {{"torque.tau1=2e6"}, "key 'torque.tau1': must be in [-1e+06, 1e+06]"},

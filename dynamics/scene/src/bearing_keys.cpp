@@ -72,7 +72,8 @@ std::vector<BearingKey> bearingKeys(const Bearing& b) {
   using CP = ContactParams;
   return {
       bearingKey(b, K::number(c + "bearing_radius", "m", w + "R_i, bearing (on the parent body)",
-                              field(contact, &CP::bearing_radius), greater(0)),
+                              // (pass 51) 1e12 m ran to NaN, its clearance lost to rounding: a gimbal's bearing
+                              field(contact, &CP::bearing_radius), interval('(', 0, 10, ']')),
                  &CP::bearing_radius),
       bearingKey(b, K::number(c + "journal_radius", "m", w + "R_j, journal, < bearing_radius; or give " + c + "clearance",
                               field(contact, &CP::journal_radius),
