@@ -103,3 +103,22 @@ def open_study(spec, out, resume, sampler):
         storage.set_trial_state_values(t._trial_id, optuna.trial.TrialState.FAIL)
         study.enqueue_trial(t.params, user_attrs={"origin": f"retry of {t.number}"})
     return study
+
+
+def check_trials_held(study, trials_csv):
+    """On --resume, before trials.csv is written again from the study: every trial it records must be one
+    the study holds. A study.db that lost them (damaged, or replaced by another) would rewrite trials.csv
+    without them, the only record of the finished trials gone (pass 51: exit 4, "free the space");
+    refused (SpecError, exit 2), nothing written. A trials.csv that does not read is the study's to rewrite."""
+    import csv
+    try:
+        with open(trials_csv, newline="") as f:
+            recorded = {int(r["trial"]) for r in csv.DictReader(f) if (r.get("trial") or "").isdigit()}
+    except (OSError, UnicodeDecodeError, csv.Error, KeyError):
+        return
+    missing = sorted(recorded - {t.number for t in study.trials})
+    if missing:
+        shown = ", ".join(map(str, missing[:5])) + (" ..." if len(missing) > 5 else "")
+        raise SpecError(f"{trials_csv} records {len(missing)} trial(s) the study in {trials_csv.parent / 'study.db'} "
+                        f"does not hold ({shown}): the study file was damaged or replaced; trials.csv is kept (resume "
+                        "from the study.db that holds them)")

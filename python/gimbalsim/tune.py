@@ -51,7 +51,7 @@ from ._closed_spec import plant_overrides
 from ._journal import fmt
 from ._output import check_output_names, json_text, output_set, savefig, write_csv, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
-from ._study_file import STUDY_FILE, open_study
+from ._study_file import STUDY_FILE, check_trials_held, open_study
 from ._tune_spec import METRICS, TuneSpec, fail_reason, suggest  # noqa: F401 (TuneSpec: the module's API)
 
 def run_plants(base, controller, duration, items):
@@ -140,6 +140,7 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
         header = ["trial", "state", "origin", "score", "constraint", *gain_names, "plants_ok", "reason",
                   "wall_time"] + [f"plant{j}.{c}" for j in range(spec.batch) for c in ("status",) + PLANT_FIGURES]
         if resume:  # the kills marked, the rows of trials told before a kill but not yet written
+            check_trials_held(study, out / TRIALS)
             _write_trials(out, header, study, spec.input_files())
         # the requested count is of finished trials; a trial killed with the tuner is not one (its retry is)
         finished = sum(1 for t in study.trials if t.state.is_finished() and t.user_attrs.get("row", {}).get("reason")

@@ -3,6 +3,7 @@ trials.csv, trial 0 the configuration's own gains, the study stored in
 OUT/study.db so that --resume continues it after a SIGKILL (the killed trial
 failed and run again, the numbering continued, the requested count reached),
 and a study folder never overwritten without --resume."""
+import contextlib
 import csv
 import json
 import os
@@ -376,3 +377,17 @@ def test_a_resume_into_a_missing_folder_makes_none(tmp_path):
                        text=True, timeout=120)
     assert p.returncode == 2 and "new: no such folder: no study to resume" in p.stderr, p.stderr
     assert not (tmp_path / "new").exists()
+
+
+def test_a_resume_whose_study_lost_its_trials_keeps_trials_csv(tmp_path):
+    # (pass 51) study.db's trial rows gone: the resume rewrote trials.csv to its header (the only record of the
+    # finished trials lost), then ended 4 with "free the space"
+    spec = write_spec(tmp_path, 2)
+    assert subprocess.run(tune_cmd(spec, tmp_path / "o"), capture_output=True, timeout=300).returncode == 0
+    before = (tmp_path / "o" / "trials.csv").read_bytes()
+    with contextlib.closing(sqlite3.connect(tmp_path / "o" / "study.db")) as db:
+        db.execute("DELETE FROM trials")
+        db.commit()
+    p = subprocess.run(tune_cmd(spec, tmp_path / "o", "--resume"), capture_output=True, text=True, timeout=300)
+    assert p.returncode == 2 and "trials.csv records 2 trial(s) the study in" in p.stderr, p.stderr
+    assert (tmp_path / "o" / "trials.csv").read_bytes() == before
