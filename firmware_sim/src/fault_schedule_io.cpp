@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <map>
 #include <set>
 
 #include "gimbalsim/input/key_registry.hpp"
@@ -47,8 +48,10 @@ class Reader {
       problems_.push_back(origin_ + ": a fault schedule must be a mapping with keys seed and faults");
       return s;
     }
+    std::map<std::string, std::string> first;  // key -> where it was first given
     for (const auto& kv : root) {
       const std::string key = kv.first.Scalar();
+      if (givenTwice(first, key, "", kv.first.Mark())) continue;
       if (key == "seed") {
         convert(kv.second, "", "seed", [&](const YAML::Node& n) {
           const int v = asInt(n);
@@ -79,6 +82,16 @@ class Reader {
   std::vector<std::string> problems_;
 
  private:
+  /// A key given twice is a problem at its second place, as in a scene (yaml-cpp keeps one silently; pass 52:
+  /// a second seed or start was taken without a word).
+  bool givenTwice(std::map<std::string, std::string>& first, const std::string& key, const std::string& entry,
+                  const YAML::Mark& m) {
+    const auto [it, fresh] = first.try_emplace(key, place(origin_, m));
+    if (!fresh) problems_.push_back(place(origin_, m) + ": " + entry + "key '" + key + "': given twice (first at " +
+                                    it->second + ")");
+    return !fresh;
+  }
+
   template <class F>
   void convert(const YAML::Node& n, const std::string& entry, const std::string& key, F set) {
     try {
@@ -114,9 +127,11 @@ class Reader {
     entry = "fault #" + std::to_string(index) + " (" + faultTypeName(f.kind) + "): ";
     const std::string param = paramKey(f.kind);
     std::set<std::string> seen;
+    std::map<std::string, std::string> first;  // key -> where it was first given
     for (const auto& kv : e) {
       const std::string key = kv.first.Scalar();
       seen.insert(key);
+      if (givenTwice(first, key, entry, kv.first.Mark())) continue;
       const YAML::Node& n = kv.second;
       if (key == "type") continue;
       if (key == "axis" && (faultHasAxis(f.kind) || faultIsRamp(f.kind))) {

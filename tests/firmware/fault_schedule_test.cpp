@@ -97,6 +97,14 @@ TEST(FaultScheduleFile, RefusalsNameLineColumnEntryAndKey) {
       << refusal("faults:\n  - {type: gyro_bias_jump, bias: [1, 2]}\n");
   EXPECT_NE(refusal("seed: -1\n").find("f.yaml:1:7: key 'seed': must be >= 0"), std::string::npos) << refusal("seed: -1\n");
   EXPECT_NE(refusal("sead: 1\n").find("f.yaml:1:1: unknown key 'sead'"), std::string::npos);
+  // (pass 52) a key given twice: the last was kept without a word, where a scene refuses it at its second place
+  EXPECT_NE(refusal("seed: 1\nseed: 2\n").find("f.yaml:2:1: key 'seed': given twice (first at f.yaml:1:1)"),
+            std::string::npos)
+      << refusal("seed: 1\nseed: 2\n");
+  const std::string twice = refusal("faults:\n  - {type: status_drop, start: 1, start: 2}\n");
+  EXPECT_NE(twice.find("f.yaml:2:35: fault #1 (status_drop): key 'start': given twice (first at f.yaml:2:25)"),
+            std::string::npos)
+      << twice;
   EXPECT_NE(refusal("faults: {type: status_drop}\n").find("key 'faults': must be a list of faults"), std::string::npos);
   EXPECT_NE(refusal("faults: [\n").find("f.yaml:"), std::string::npos);
   EXPECT_NE(refusal("faults: [\n").find("not valid YAML"), std::string::npos);
