@@ -135,6 +135,8 @@ if ! flock -n 9; then
        "wait for it to end" >&2
   exit 2
 fi
+# The page writer takes the same lock for its page and index: held here for the run, it is told so.
+export GIMBALSIM_RESULTS_HELD="$(realpath "$RESULTS")"
 SHOWN=() resume=0 check=0  # the page's command regenerates it: the options given, less --resume
 for a in "${ARGS[@]+"${ARGS[@]}"}"; do
   case "$a" in --resume) resume=1 ;; --check) check=1 ;; *) SHOWN+=("$a") ;; esac
