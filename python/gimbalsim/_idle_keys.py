@@ -11,7 +11,8 @@ import re
 
 from ._closed_spec import CONTROLLER_PREFIX
 from ._idle_sensors import (ANTENNA_NOISE_KEYS, ANTENNA_SENSOR_KEYS, ANTENNA_TRACKER, NOISE_KEYS, TRUTH_ONLY, Span,
-                            idle_at_antenna, idle_in_sensors, open_at_antenna)
+                            _Given, idle_at_antenna, idle_in_sensors, open_at_antenna)
+from .indices import seconds
 
 # What a closed loop never reads, and what an open-loop run never reads.
 _NEVER_STALE = ("a study's closed loop delivers every status with the attitude of its own tick and injects no "
@@ -169,6 +170,8 @@ def idle_reason(key, values, dispersed, takes, closed, unread_ticks=TRUTH_ONLY):
                              dispersed, takes,
                              NOISE_KEYS + ANTENNA_NOISE_KEYS if key == "sensors.seed" else ())
     if why is None and closed:
+        why = _idle_after_the_run(key, values, dispersed, takes)
+    if why is None and closed:
         why = _for_every_value(idle_at_antenna, key, values, dispersed, takes) or \
             _for_every_value(functools.partial(_idle_play_guard, takes=takes), key, values, dispersed, takes)
     elif why is None and key.startswith(ANTENNA_SENSOR_KEYS):
@@ -176,6 +179,40 @@ def idle_reason(key, values, dispersed, takes, closed, unread_ticks=TRUTH_ONLY):
     if why is None and not closed and key.startswith("sensors."):
         why = "an open-loop run has no sensors (they act in a closed-loop sweep: name its controller)"
     return why
+
+
+# The profile's segments (dynamics/pointing/src/target_profile.cpp): a key shapes the reference only from the
+# start of its segment on, slew_start for the slew's keys, slew_start + slew_time + hold_time for the hold's
+# length and the track's keys; before it every value gives the same reference (profile.start always acts).
+_PROFILE = CONTROLLER_PREFIX + "profile."
+_SLEW_BEGINS = ("slew_start",)
+_TRACK_BEGINS = ("slew_start", "slew_time", "hold_time")
+_SEGMENT_BEGINS = {"slew_start": _SLEW_BEGINS, "slew_time": _SLEW_BEGINS, "slew_target": _SLEW_BEGINS,
+                   "hold_time": _TRACK_BEGINS, "track_rate": _TRACK_BEGINS, "track_ramp_time": _TRACK_BEGINS,
+                   "track_amplitude": _TRACK_BEGINS, "track_period": _TRACK_BEGINS}
+
+
+def _idle_after_the_run(key, values, dispersed, takes):
+    """Why a dispersed profile key cannot act: the segment it shapes begins,
+    for every value the study gives the keys that place it, after the run's
+    end (the controller, the truth's target and every figure read the
+    profile at the ticks alone). Dispersed only: a fixed value is a setting
+    compared with none (slew_start 10 runs as 0.5 does not)."""
+    begins_keys = _SEGMENT_BEGINS.get(key[len(_PROFILE):]) if key.startswith(_PROFILE) else None
+    if begins_keys is None or key not in dispersed:
+        return None
+    given = _Given(takes, values, dispersed)
+    try:
+        earliest = sum(given.span(_PROFILE + k)[0] for k in begins_keys)
+        duration = float(values["sim.duration"])
+    except (KeyError, TypeError, ValueError):
+        return None
+    if not earliest > duration * (1.0 + 1e-9):
+        return None
+    segment = "slew" if begins_keys == _SLEW_BEGINS else "track"
+    return (f"the {segment} it shapes begins at {seconds(earliest)} s at the earliest "
+            f"({' + '.join('profile.' + k for k in begins_keys)}, lowest values given), after the run's end at "
+            f"{seconds(duration)} s: every value runs the same reference")
 
 
 def refuse_idle_set(spec, entries, values, dispersed, takes, closed, runs, unread_ticks=TRUTH_ONLY):

@@ -22,6 +22,16 @@ REFUSALS = [
      "controller_set.azimuth.kp", "the controller refuses"),
     ("  rpe: {window: 0.05}", "  rpe: {}", "indices.rpe.window", "missing"),
     # keys a closed loop never reads: a dispersed value would be recorded, never act
+    # a profile key whose segment begins after the run's end, for every value drawn (the spec's profile: slew
+    # [0, 0.2), hold to 0.3 s, track after; the run ends at 0.5 s)
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.profile.hold_time: {uniform: [0.35, 0.6]}",
+     "parameters.controller.profile.hold_time", "the track it shapes begins at 0.55 s at the earliest"),
+    # ... judged with the lowest of each key that places the segment, dispersed or not
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}",
+     "  controller.profile.track_ramp_time: {uniform: [1.0, 8.0]}\n  controller.profile.hold_time: {choice: [0.4, 0.5]}",
+     "parameters.controller.profile.track_ramp_time", "the track it shapes begins at 0.6000000000000001 s at the earliest"),
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.profile.slew_start: {uniform: [0.6, 0.9]}",
+     "parameters.controller.profile.slew_start", "the slew it shapes begins at 0.6 s at the earliest"),
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.duration: {uniform: [0.4, 0.5]}",
      "parameters.sim.duration",
      "not read by this sweep's runs (every closed loop of a study runs one length: a sweep's set: sim.duration"),
@@ -310,6 +320,18 @@ def test_a_key_under_a_dispersed_setting_is_accepted_when_one_value_reads_it(tmp
     (tmp_path / "ok.yaml").write_text(text)
     assert [p.key for p in SweepSpec(tmp_path / "ok.yaml").parameters][-2:] == [
         "controller.azimuth.aw_gain", "controller.control.anti_windup"]
+
+
+@pytest.mark.parametrize("key,draws", [("profile.hold_time", "uniform: [0.2, 0.6]"),
+                                       ("profile.slew_start", "choice: [0.1, 0.7]"),
+                                       ("profile.track_ramp_time", "uniform: [0.5, 1.0]")])
+def test_a_profile_key_is_taken_when_one_value_reaches_its_segment_in_the_run(tmp_path, key, draws):
+    # the track begins at 0.4 s with hold_time 0.2, the slew at 0.1 s: inside the 0.5 s run
+    from gimbalsim.sweep import SweepSpec
+    text = SPEC.replace(f"set: {{sim.duration: {DURATION}}}", "set: {sim.duration: 0.5}")
+    text = text.replace("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", f"  controller.{key}: {{{draws}}}")
+    (tmp_path / "ok.yaml").write_text(text)
+    assert "controller." + key in {p.key for p in SweepSpec(tmp_path / "ok.yaml").parameters}
 
 
 @pytest.mark.parametrize("controller_set", [True, False])
