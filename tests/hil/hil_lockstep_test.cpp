@@ -336,6 +336,13 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
       // time that stands still or runs back: an edited file, not one run's ticks
       {write("back.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm\n0,0.001,0,0\n1,0.001,0,0\n"),
        "back.csv:3: sim_time_s 0.001 is not after the previous row's"},
+      // (pass 52) the tick's utime grows every tick in both modes, and is whole microseconds
+      {write("uback.csv", "utime_us,seq,tau1_Nm,tau2_Nm\n4000,0,0,0\n123,1,0,0\n6000,2,0,0\n"),
+       "uback.csv:3: column utime_us: 123 is not after the previous row's: not one run's ticks in order"},
+      {write("ustill.csv", "utime_us,seq,tau1_Nm,tau2_Nm\n4000,0,0,0\n4000,1,0,0\n"),
+       "ustill.csv:3: column utime_us: 4000 is not after the previous row's"},
+      {write("uhalf.csv", "utime_us,seq,tau1_Nm,tau2_Nm\n4000,0,0,0\n5000.5,1,0,0\n"),
+       "uhalf.csv:3: column utime_us: 5000.5 is not a whole number of microseconds"},
       // (pass 51) a row off its tick's time: found only when the plant reached it, blamed on the plant's rate
       {write("uneven.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm\n0,0,0,0\n1,0.001,0,0\n2,0.0025,0,0\n3,0.003,0,0\n"),
        "uneven.csv:4: column sim_time_s: 0.0025 is not tick 2's time"},
@@ -367,8 +374,8 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
   EXPECT_EQ(out.find("status -1"), std::string::npos) << out;
   // A run whose plant stopped (firmware_sim exit 3) is read whole, its frozen rows said (hil_replay: the stop).
   const std::string stopped = runCapture(
-      prog + "'" + write("stopped.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n0,0,0,0,0\n1,0.001,0,0,0\n"
-                                        "2,0.001,0,0,8\n3,0.001,0,0,8\n") + "' --lcm-url memq:// --idle-exit 0.2 2>&1",
+      prog + "'" + write("stopped.csv", "utime_us,seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n0,0,0,0,0,0\n"
+                                        "1000,1,0.001,0,0,0\n2000,2,0.001,0,0,8\n3000,3,0.001,0,0,8\n") + "' --lcm-url memq:// --idle-exit 0.2 2>&1",
       &st);
   EXPECT_EQ(WEXITSTATUS(st), 6) << stopped;  // no plant here: read, not refused
   EXPECT_NE(stopped.find("the recorded plant stopped after t = 0.001 s, its last good state (its last 2 rows are its "

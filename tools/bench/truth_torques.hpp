@@ -66,10 +66,10 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
   const bool empty_last = !line.empty() && line.back() == ',';  // getline drops an empty last field
   for (std::stringstream ss(line); std::getline(ss, line, ',');) header.push_back(line);
   if (empty_last) header.emplace_back();
-  int c1 = -1, c2 = -1, cs = -1, ct = -1, cf = -1;
+  int c1 = -1, c2 = -1, cs = -1, ct = -1, cf = -1, cu = -1;
   for (int j = 0; j < static_cast<int>(header.size()); ++j) {
     for (auto [column, at] : {std::pair{"tau1_Nm", &c1}, {"tau2_Nm", &c2}, {"seq", &cs}, {"sim_time_s", &ct},
-                              {"faults", &cf}}) {
+                              {"faults", &cf}, {"utime_us", &cu}}) {
       if (header[j] != column) continue;
       // Two columns of one name: which one the plant applied is not knowable, so neither is guessed.
       if (*at >= 0) throw std::runtime_error(name + ":1: column " + column + " appears twice");
@@ -81,6 +81,7 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
   }
   Torques t;
   double t_prev = -HUGE_VAL;  // [s] the previous row's sim_time_s (when the CSV has the column)
+  double utime_prev = -HUGE_VAL;  // [us] the previous row's utime_us (when the CSV has the column)
   // A cell as the writer writes it: a plain finite decimal, nothing lost to underflow (1e-400 read as 0).
   const auto number = [&](const std::vector<std::string>& f, int c, long long n) {
     double x = 0.0;
@@ -123,6 +124,18 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
     if (!(faults >= 0.0 && faults < 2147483648.0 && faults == std::floor(faults))) {
       throw std::runtime_error(name + ":" + std::to_string(n) + ": column faults: " + f[cf] +
                                " is not a set of fault bits");
+    }
+    // The tick's utime: simulated time in lockstep, the tick's deadline on the wall clock in real time; a
+    // whole number of microseconds that grows every tick either way, frozen rows included (the ticks go on).
+    if (cu >= 0) {
+      const double utime_us = number(f, cu, n);
+      if (!(utime_us > utime_prev && utime_us == std::floor(utime_us))) {
+        throw std::runtime_error(name + ":" + std::to_string(n) + ": column utime_us: " + f[cu] +
+                                 (utime_us == std::floor(utime_us) ? " is not after the previous row's"
+                                                                     : " is not a whole number of microseconds") +
+                                 ": not one run's ticks in order");
+      }
+      utime_prev = utime_us;
     }
     if ((static_cast<long long>(faults) & kPlantFault) != 0 && t.first_fault_row == static_cast<std::size_t>(-1)) {
       t.first_fault_row = t.tau1.size();
