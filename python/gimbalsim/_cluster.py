@@ -9,6 +9,7 @@ import logging
 import os
 import signal
 import sys
+import time
 import threading
 import warnings
 
@@ -106,6 +107,8 @@ def dask_client(workers=None, scheduler=None):
     except BaseException:
         # interrupted or failed: shut down without the cluster's own complaints
         logging.getLogger("distributed").setLevel(logging.CRITICAL)
+        with contextlib.suppress(Exception, Interrupted):  # a second signal ends the wait, not the shutdown
+            _let_starting_workers_start(cluster)
         with contextlib.suppress(Exception):
             client.close()
         with contextlib.suppress(Exception):
@@ -113,6 +116,27 @@ def dask_client(workers=None, scheduler=None):
         raise
     client.close()
     cluster.close()
+
+
+STARTING_WAIT_S = 10.0  # at most, for a worker replacing a dead one to finish its start before the cluster closes
+
+
+def _let_starting_workers_start(cluster):
+    """Waits (STARTING_WAIT_S at most) until no worker process is starting
+    and none has been for 0.3 s: Dask 2022.12 closing a worker inside its
+    start (a nanny replacing a worker a sample killed) closes it twice, and
+    the worker process prints Dask's AssertionError traceback on the way out."""
+    from distributed.core import Status
+    deadline, quiet_since = time.monotonic() + STARTING_WAIT_S, None
+    while time.monotonic() < deadline:
+        nannies = list(cluster.workers.values())
+        busy = any(getattr(n, "process", None) is None or n.process.status != Status.running for n in nannies
+                   if getattr(n, "status", None) == Status.running)
+        now = time.monotonic()
+        quiet_since = None if busy else quiet_since or now
+        if quiet_since is not None and now - quiet_since >= 0.3:
+            return
+        time.sleep(0.05)
 
 
 @contextlib.contextmanager

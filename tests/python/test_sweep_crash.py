@@ -5,8 +5,10 @@ is crashed: its batch is rerun one sample at a time."""
 import csv
 import json
 import os
+import signal
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -72,3 +74,44 @@ def test_a_sample_that_kills_its_worker_is_crashed_and_the_sweep_finishes(spec, 
     q = sweep(spec, out, "--workers", "1", "--resume")
     assert q.returncode == 0 and "0 to run" in q.stderr, q.stderr
     assert rows(out)[GUILTY]["status"] == "crashed"
+
+
+def _worker_processes(pid):
+    """The Dask worker processes (spawned children) of process pid, from every thread's children."""
+    kids = []
+    for task in os.listdir(f"/proc/{pid}/task"):
+        try:
+            kids += open(f"/proc/{pid}/task/{task}/children").read().split()
+        except OSError:
+            pass
+    found = set()
+    for kid in kids:
+        try:
+            if b"spawn_main" in open(f"/proc/{kid}/cmdline", "rb").read():
+                found.add(int(kid))
+        except OSError:
+            pass
+    return found
+
+
+@pytest.mark.parametrize("delay_s", [0.0, 0.6])
+def test_a_signal_while_a_killed_worker_is_replaced_prints_no_dask_traceback(spec, tmp_path, delay_s):
+    # pass 52's D: SIGTERM while the nanny starts the worker that replaces a killed one; Dask closed it
+    # inside its start, and the worker process printed an AssertionError traceback of Dask's
+    p = subprocess.Popen([sys.executable, "-m", "gimbalsim.sweep", str(spec), "--out", str(tmp_path / "o"),
+                          "--no-progress", "--workers", "1"], stderr=subprocess.PIPE, text=True,
+                         env={**os.environ, "GIMBALSIM_TEST_KILL_WORKER_AT": "1"})
+    first, deadline, sent = set(), time.monotonic() + 120, False
+    while time.monotonic() < deadline and p.poll() is None and not sent:
+        now = _worker_processes(p.pid)
+        if not first:
+            first = now
+        elif now and not now & first:  # the replacement has started
+            time.sleep(delay_s)
+            p.send_signal(signal.SIGTERM)
+            sent = True
+        time.sleep(0.01)
+    err = p.communicate(timeout=120)[1]
+    assert sent, err
+    assert p.returncode == 143 and "interrupted (SIGTERM)" in err, err
+    assert "Traceback" not in err and "AssertionError" not in err, err
