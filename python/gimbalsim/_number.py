@@ -8,7 +8,8 @@ import math
 import re
 import sys
 
-_DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+DECIMAL_PATTERN = r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"  # also to find one inside a text
+_DECIMAL = re.compile(DECIMAL_PATTERN)
 _WHOLE = re.compile(r"[+-]?[0-9]{1,100}")  # a sign and digits (has_leading_zero and a range say the rest)
 
 

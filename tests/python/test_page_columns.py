@@ -106,11 +106,11 @@ def _point(policy="plain", substep="nan", ok="1", err="1e-07", substeps="100", r
     (_point(repeats="banana"), "column repeats: 'banana' is no whole number"),
     (_point(impacts="-1"), "column impacts: -1 is outside"),
     # (pass 51) a swept key's value was shown as the setting, whatever it was
-    (_point(swept="sim.substep_tol,banana"), "column sweep_value: 'banana' is not a finite decimal number"),
+    (_point(swept="sim.substep_tol,banana"), "column sweep_value of sim.substep_tol: 'banana' is not a finite decimal number"),
     (_point(swept=",1e-6"), "column sweep_value: '1e-6' with no sweep_key"),
     # (pass 52) a value outside its key's range, and a key no policy sweeps
-    (_point(swept="sim.substep_tol,999999"), "column sweep_value: 999999 is outside sim.substep_tol's range (0, 1)"),
-    (_point(swept="sim.substep_tol,0"), "column sweep_value: 0 is outside sim.substep_tol's range (0, 1)"),
+    (_point(swept="sim.substep_tol,999999"), "column sweep_value of sim.substep_tol: 999999 is outside (0, 1)"),
+    (_point(swept="sim.substep_tol,0"), "column sweep_value of sim.substep_tol: 0 is outside (0, 1)"),
     (_point(swept="banana key,1e-6"), "column sweep_key: 'banana key' is no key the policy table sweeps")])
 def test_a_workprec_point_the_tool_cannot_write_is_refused(tmp_path, row, said):
     # (pass 49) an ok point with error -1 was named cheapest, 1e-400 shown as 0, an adaptive point's nan sub-step
@@ -180,8 +180,8 @@ def _png_claiming(path, width, height):
 @pytest.mark.parametrize("case,said", [
     ("jpeg", "a JPEG image"), ("large", "a PNG image of 5000 x 5000 pixels"), ("bomb", "decompression bomb"),
     ("json NaN", "NaN is no JSON number"), ("json Infinity", "Infinity is no JSON number"),
-    ("json -1", "impacts -1 is no figure"), ("json null", "substeps None is no figure"),
-    ("json 0 step", "integrator.step_s 0 is no figure"),
+    ("json -1", "impacts: -1 is outside [0, inf]"), ("json null", "substeps: None is no whole number"),
+    ("json 0 step", "integrator.step_s: 0 is outside (0, inf]"),
     ("summary x : y", "no 'max pointing error : <rad>' line"),
     # (pass 50) each of these was put on the page; the overrides were a --set of any text, never compared
     ("  clearance c : nan mm (from x)\n", "a figure that is no number"),

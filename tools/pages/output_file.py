@@ -45,6 +45,7 @@ flag_decimal = _number.flag_decimal  # (x, None) or (None, why), as the programs
 plain_decimal = _number.plain_decimal
 plain_whole = _number.plain_whole
 has_leading_zero = _number.has_leading_zero
+DECIMAL_PATTERN = _number.DECIMAL_PATTERN  # a plain decimal, as a regular expression's text
 
 open_output = _writer.open_output
 write_text = _writer.write_text

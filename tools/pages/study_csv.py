@@ -17,13 +17,27 @@ import results_page
 
 
 class Column:
-    """A number column's rule: in [lo, hi]; whole: written as a whole number; nan: the writer writes nan here
-    (a figure the run has not); flag: exactly 0 or 1, read as a bool."""
+    """A number column's rule: in [lo, hi] (open_lo, open_hi: that end excluded, as (0, 1)); whole: written as a
+    whole number; nan: the writer writes nan here (a figure the run has not); flag: exactly 0 or 1, read as a
+    bool."""
 
-    def __init__(self, lo=-math.inf, hi=math.inf, nan=False, whole=False, flag=False):
+    def __init__(self, lo=-math.inf, hi=math.inf, nan=False, whole=False, flag=False, open_lo=False, open_hi=False):
         self.lo, self.hi, self.nan, self.whole, self.flag = lo, hi, nan, whole, flag
+        self.open_lo, self.open_hi = open_lo, open_hi
+
+    def range_text(self):
+        return f"{'(' if self.open_lo else '['}{self.lo:g}, {self.hi:g}{')' if self.open_hi else ']'}"
+
+    def _outside(self, x):
+        return not ((self.lo < x if self.open_lo else self.lo <= x) and (x < self.hi if self.open_hi else x <= self.hi))
+
+    def _refuse(self, where, why):
+        said = "nan where it has no figure, else " if self.nan else ""
+        kind = "a whole number" if self.whole else "a number"
+        raise output_file.Refused(f"{where}: {why} (its writer writes {said}{kind} in {self.range_text()})")
 
     def read(self, text, where):
+        """The cell `text` by the rule; Refused naming `where` (file:line: column c)."""
         if self.flag:
             if text in ("0", "1"):
                 return text == "1"
@@ -35,12 +49,20 @@ class Column:
             why = None if x is not None else f"{text!r} is no whole number"
         else:
             x, why = output_file.flag_decimal(text)
-        if why is None and not self.lo <= x <= self.hi:
-            why = f"{text} is outside [{self.lo:g}, {self.hi:g}]"
+        if why is None and self._outside(x):
+            why = f"{text} is outside {self.range_text()}"
         if why:
-            said = "nan where it has no figure, else " if self.nan else ""
-            raise output_file.Refused(f"{where}: {why} (its writer writes {said}a number in [{self.lo:g}, "
-                                      f"{self.hi:g}])")
+            self._refuse(where, why)
+        return x
+
+    def value(self, x, where):
+        """A number already parsed (a JSON figure, whose type says whole or not) by the same rule: finite, whole
+        where the rule says, in range (pass 49: NaN, -1, null and Infinity of a run summary were shown)."""
+        number = type(x) is int or (not self.whole and type(x) is float and math.isfinite(x))  # 1e400 reads as inf
+        if not number:
+            self._refuse(where, f"{x!r} is no {'whole number' if self.whole else 'finite number'}")
+        if self._outside(x):
+            self._refuse(where, f"{x!r} is outside {self.range_text()}")
         return x
 
 

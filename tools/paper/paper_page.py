@@ -17,6 +17,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools" / "pages"))
 import results_page  # noqa: E402
 import output_file  # noqa: E402  (the package's one writer)
+import study_csv  # noqa: E402  (the writers' number rules)
 
 # (figure of plot_paper.py, name under docs/results/, caption)
 FIGURES = [
@@ -29,9 +30,14 @@ FIGURES = [
 ]
 DPI_FROM, DPI_TO = 110, 80  # plot_paper.py saves at 110 dpi; the committed copies are 80 dpi
 MAX_PIXELS = 4000 * 4000    # far above plot_paper.py's figures (about 1300 x 800)
-# The run summary's figures the page shows (gimbalsim simulate --summary): key -> (type, least value, > least?)
-RUN_FIGURES = {"t_end_s": (float, 0.0, False), "impacts": (int, 0, False), "substeps": (int, 0, False),
-               "wall_time_s": (float, 0.0, False)}
+# The run summary's figures the page shows (gimbalsim simulate --summary), by its writer's rules
+_COUNT, _STEP = study_csv.Column(0, whole=True), study_csv.Column(0.0, open_lo=True)
+RUN_FIGURES = {("t_end_s",): study_csv.Column(0.0), ("impacts",): _COUNT, ("substeps",): _COUNT,
+               ("wall_time_s",): study_csv.Column(0.0), ("integrator", "step_s"): _STEP,
+               ("integrator", "substep_s"): _STEP}
+# A figure as plot_paper.py prints it: '  name : value' (its 'wrote ...' lines are no figure)
+SUMMARY_LINE = re.compile(r"^\s{2,}(\S[^:]*?)\s*: (.+)$")
+NUMBER = output_file.DECIMAL_PATTERN
 
 
 def small_copy(src):
@@ -65,22 +71,26 @@ def run_summary(folder, name):
     def refuse(const):
         raise ValueError(f"{const} is no JSON number")
     s = json.loads(results_page.run_file(folder, name), parse_constant=refuse)
-    shown = [(k, s[k], *rule) for k, rule in RUN_FIGURES.items()]
-    shown += [(f"integrator.{k}", s["integrator"][k], float, 0.0, True) for k in ("step_s", "substep_s")]
     if not isinstance(s["status"], str) or not s["status"]:
         raise output_file.Refused(f"{where}: status {s['status']!r} is no run status")
     if not isinstance(s["overrides"], list) or not all(isinstance(x, str) and "=" in x for x in s["overrides"]):
         raise output_file.Refused(f"{where}: overrides {s['overrides']!r} is no list of key=value")
-    for key, x, kind, least, above in shown:
-        number = type(x) is int or (kind is float and type(x) is float and math.isfinite(x))  # (1e400 reads as inf)
-        if not number or x < least or (above and x == least):
-            raise output_file.Refused(f"{where}: {key} {x!r} is no figure gimbalsim simulate writes (a "
-                                      f"{'whole number' if kind is int else 'finite number'} "
-                                      f"{'>' if above else '>='} {least:g})")
+    for path, rule in RUN_FIGURES.items():
+        x = s
+        for k in path:
+            x = x[k]
+        rule.value(x, f"{where}: {'.'.join(path)}")
     return s
 
 
-NUMBER = r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?"
+def summary_lines(text):
+    """plot_paper.py's figures: [(line, name, value)] of its '  name : value' lines."""
+    found = []
+    for line in text.splitlines():
+        m = SUMMARY_LINE.match(line)
+        if m and not line.strip().startswith("wrote"):
+            found.append((line, m.group(1).strip(), m.group(2)))
+    return found
 
 
 def check_summary(text, path):
@@ -90,11 +100,7 @@ def check_summary(text, path):
     def refuse(line, why):
         raise output_file.Refused(f"{path}: {why} in {line.strip()!r}: not as plot_paper.py writes it; "
                                   "docs/results/paper.md is kept as it was")
-    for line in text.splitlines():
-        m = re.match(r"^\s{2,}(\S[^:]*?)\s*: (.+)$", line)
-        if not m or line.strip().startswith("wrote"):
-            continue
-        name, value = m.group(1).strip(), m.group(2)
+    for line, name, value in summary_lines(text):
         if re.search(r"(?i)\b(nan|inf|infinity)\b", value):
             refuse(line, "a figure that is no number")
         for x, unit in re.findall(rf"({NUMBER})\s*(rad|deg|N|mm|s)\b", value):
@@ -109,11 +115,7 @@ def check_summary(text, path):
 
 def summary_table(text):
     """plot_paper.py's '  name : value' lines as Markdown table rows."""
-    rows = []
-    for line in text.splitlines():
-        m = re.match(r"^\s{2,}(\S[^:]*?)\s*: (.+)$", line)
-        if m and not line.strip().startswith("wrote"):
-            rows.append(f"| {m.group(1).strip()} | {m.group(2).strip()} |")
+    rows = [f"| {name} | {value.strip()} |" for _, name, value in summary_lines(text)]
     return "| quantity | value |\n|---|---|\n" + "\n".join(rows) + "\n"
 
 

@@ -21,8 +21,8 @@ MUJOCO = "MuJoCo"
 
 FIGURE = study_csv.Column(0.0, math.inf, nan=True)  # a figure >= 0; nan: one the point has not (it failed)
 COUNT = study_csv.Column(0, 10**15, whole=True)
-SWEPT = study_csv.Column(0.0, 1e6)  # a swept scene key's value, then its key's own range (open at both ends)
-SWEPT_RANGES = {"sim.substep_tol": (0.0, 1.0)}  # the keys tools/workprec/policies.yaml sweeps (gimbalsim keys)
+# the keys tools/workprec/policies.yaml sweeps, each by its gimbalsim range
+SWEPT = {"sim.substep_tol": study_csv.Column(0.0, 1.0, open_lo=True, open_hi=True)}
 # every number column (points.cpp kCsvColumns; sweep_value is the policy table's text), as gimbalsim_workprec writes it
 COLUMNS = {"ok": study_csv.Column(flag=True), "pareto": study_csv.Column(flag=True), "h_s": FIGURE,
            "substep_s": FIGURE, "event_tol_s": FIGURE, "cpu_s_per_sim_s": FIGURE, "repeats": COUNT,
@@ -40,14 +40,11 @@ def load(path):
         # a swept key's value is the policy table's number (pass 51: 'banana' was shown as the setting)
         if r["sweep_key"]:
             where = f"{path}:{line}: column sweep_"
-            lo, hi = SWEPT_RANGES.get(r["sweep_key"], (None, None))
-            if lo is None:  # (pass 52) any text was taken as the key, and shown
+            rule = SWEPT.get(r["sweep_key"])
+            if rule is None:  # (pass 52) any text was taken as the key, and shown
                 raise results_page.output_file.Refused(f"{where}key: {r['sweep_key']!r} is no key the policy table "
-                                                       f"sweeps ({', '.join(SWEPT_RANGES)})")
-            x = SWEPT.read(r["sweep_value"], where + "value")
-            if not lo < x < hi:  # (pass 52) 999999 and 0 were shown as the tolerance
-                raise results_page.output_file.Refused(f"{where}value: {r['sweep_value']} is outside "
-                                                       f"{r['sweep_key']}'s range ({lo:g}, {hi:g})")
+                                                       f"sweeps ({', '.join(SWEPT)})")
+            rule.read(r["sweep_value"], f"{where}value of {r['sweep_key']}")  # (pass 52) 999999 and 0 were shown as the tolerance
         elif r["sweep_value"]:
             raise results_page.output_file.Refused(f"{path}:{line}: column sweep_value: {r['sweep_value']!r} with "
                                                    "no sweep_key (its writer writes it empty)")
