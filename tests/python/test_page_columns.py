@@ -86,6 +86,22 @@ def test_what_the_pointing_study_writes_makes_the_page(tmp_path):
     assert "azimuth.kp: 7344" in page
 
 
+@pytest.mark.parametrize("ticks,said", [(1000, True), (3000, False)])
+def test_the_pointing_page_counts_the_ticks_of_the_per_tick_csv(tmp_path, ticks, said):
+    # the limit-cycle paragraph: a spatial run whose torque sat at its limit in more than 10 % of the study's ticks,
+    # one per line of pointing_error.csv after its header (counted, not read whole)
+    repo = _page_repository(tmp_path)
+    spatial = ("paper_spatial2_c=0.1mm,paper_spatial2,perfect,0.0001,2e-06,1e-06,3e-06,500,200,0,0,ideal/spatial,"
+               "nan,nan,nan,nan,encoders,ok,,,\n")
+    _pointing_study(tmp_path, POINTING_HEADER + ROW + spatial)
+    (tmp_path / "d" / "pointing_error.csv").write_text("t_s,a\n" + "0,0\n" * ticks)
+    p = _run(repo, "tools/pointing_study/pointing_page.py", "--dir", "d", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    page = (repo / "docs" / "results" / "closed_loop_clearance.md").read_text()
+    assert (f"In 1 of the 2 runs a torque command sits at its limit for more than 10 % of the {ticks} ticks "
+            "(paper_spatial2)" in page) == said, page
+
+
 WORKPREC_HEADER = ("scene,policy,h_s,substep_s,event_tol_s,sweep_key,sweep_value,ok,cpu_s_per_sim_s,repeats,"
                    "bore_err_max_rad,bore_err_end_rad,theta1_err_max_rad,theta2_err_max_rad,peak_force_err_rel,"
                    "momentum_drift_rel,substeps,impacts,pareto,note\n")  # points.cpp kCsvColumns

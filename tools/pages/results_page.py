@@ -178,6 +178,12 @@ def run_file(folder, name, optional=False, limit=1 << 24):
     return output_file.read_input(str(path), "the study's output", limit)
 
 
+def run_file_lines(folder, name, limit):
+    """The line count of a study's output `name` by run_file's rules (counted, not held); 0 when it is not there."""
+    path = pathlib.Path(folder) / name
+    return output_file.count_lines(str(path), "the study's output", limit) if os.path.lexists(path) else 0
+
+
 @contextlib.contextmanager
 def study_files(folder, writer):
     """A page made from a study's outputs: one that is not as `writer` writes it (a key, a column or a number

@@ -112,9 +112,7 @@ def _page(d):
                 cells.append(f"{_rad(r['rms_track_rad'])}{ratio}")
             md.append(f"| {sc} | " + " | ".join(cells) + " |")
         md.append("")
-    ticks = 0
-    if text := results_page.run_file(d, "pointing_error.csv", optional=True, limit=1 << 28):
-        ticks = text.count("\n") - 1
+    ticks = max(results_page.run_file_lines(d, "pointing_error.csv", limit=1 << 28) - 1, 0)  # less the header
     limited = [r for r in rows if ticks > 0 and r["controller_limited_ticks"] > 0.1 * ticks]
     if limited and all(r.get("joints", "").endswith("/spatial") for r in limited):
         md += [f"In {len(limited)} of the {len(rows)} runs a torque command sits at its limit for more than 10 % "
