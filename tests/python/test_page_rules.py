@@ -236,7 +236,7 @@ def test_a_bench_json_that_is_not_google_benchmarks_is_refused(tmp_path):
                                        ('{"context": [], "benchmarks": [{"run_type": "aggregate", "run_name": '
                                         '"BM_Y", "aggregate_name": "median", "cpu_time": 5, "repetitions": 3}, '
                                         '{"run_type": "aggregate", "run_name": "BM_Y", "aggregate_name": "min", '
-                                        '"cpu_time": 4, "repetitions": 3}]}', "AttributeError"),
+                                        '"cpu_time": 4, "repetitions": 3}]}', "'context' is no object"),
                                        ('{"benchmarks": [{"run_type": "aggregate", "run_name": "BM_Y", '
                                         '"aggregate_name": "mean", "cpu_time": 5, "repetitions": 3}]}', "'median'"),
                                        ('{"benchmarks": [{"run_type": "aggregate", "run_name": "BM_Y", '

@@ -59,7 +59,7 @@ def bench_table(path):
             raise ValueError(f"{r['run_name']}: repetitions {row['reps']!r} (a whole number in [1, {MAX_REPS}])")
     ctx = data.get("context", {})
     if not isinstance(ctx, dict):
-        raise AttributeError("'context' is no object")
+        raise ValueError("'context' is no object (Google Benchmark writes one)")
     md = ["| benchmark | median CPU per call [ns] | min [ns] | cv |", "|---|---|---|---|"]
     for name, row in rows.items():
         cv = row.get("cv")  # (pass 48) a median or min the JSON lacks is no figure: KeyError, refused
