@@ -351,8 +351,8 @@ def test_an_interrupted_page_run_is_finished_by_resume_and_two_runs_are_refused(
     p = subprocess.run(["bash", script, "--spatial"], capture_output=True, text=True, timeout=60, env=env)
     assert p.returncode == 2 and "holds an interrupted budget" in p.stderr, p.stderr
     assert (root / "out/pointing_budget_spatial_tracker.new/results.partial.csv").is_file()
-    # the page is one run's at a time: a second run while the first holds docs/results is refused
-    fd = os.open(root / "docs/results", os.O_RDONLY)
+    # the page is one run's at a time: a second run while the first holds the script's lock is refused
+    fd = os.open(root / "tools/sweeps/run_pointing_budget.sh", os.O_RDONLY)
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         p = subprocess.run(["bash", script, "--spatial", "--resume"], capture_output=True, text=True, timeout=60,

@@ -251,11 +251,7 @@ def _index_is_ours(index_path):
 def _folder_held(folder, wait_s=60.0):
     """The results folder held by one writer at a time (an flock on the folder itself: no file is made), so a
     page and the index made from every page go in as one (pass 51: two page scripts at once each indexed the
-    other's old page). Waits up to wait_s, then Refused. A caller that holds it for its whole run says so in
-    GIMBALSIM_RESULTS_HELD (run_pointing_budget.sh): a second lock here would wait on the caller's own."""
-    if os.environ.get("GIMBALSIM_RESULTS_HELD") == os.path.realpath(folder):
-        yield
-        return
+    other's old page). Waits up to wait_s, then Refused."""
     fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
     try:
         deadline = time.monotonic() + wait_s

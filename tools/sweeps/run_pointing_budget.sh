@@ -125,18 +125,19 @@ check_page_names() {  # the page, the index and this page's plots: regular files
 check_page_names "nothing run" || exit 2
 # and the writer's own rules for the page and its index (a hand-written README.md there is never replaced)
 /usr/bin/python3 tools/pages/results_page.py --check --page "$RESULTS/$PAGE.md"
-# One run at a time makes the pages: two would share out/<spec name>.new/, the page index and the plots.
-if [ ! -d "$RESULTS" ] || ! exec 9<"$RESULTS"; then
+if [ ! -d "$RESULTS" ]; then
   echo "run_pointing_budget.sh: $ROOT/$RESULTS: no such folder, where the page goes; nothing run" >&2
   exit 2
 fi
+# One run of this script at a time: two would share out/<spec name>.new/ and this page's plots. Its lock is
+# on the script itself; the page writer locks docs/results only while it writes a page and the index, so
+# other pages can be made while a budget runs.
+exec 9<"$ROOT/tools/sweeps/run_pointing_budget.sh"
 if ! flock -n 9; then
   echo "run_pointing_budget.sh: another run_pointing_budget.sh is writing $ROOT/$RESULTS; nothing run:" \
        "wait for it to end" >&2
   exit 2
 fi
-# The page writer takes the same lock for its page and index: held here for the run, it is told so.
-export GIMBALSIM_RESULTS_HELD="$(realpath "$RESULTS")"
 SHOWN=() resume=0 check=0  # the page's command regenerates it: the options given, less --resume
 for a in "${ARGS[@]+"${ARGS[@]}"}"; do
   case "$a" in --resume) resume=1 ;; --check) check=1 ;; *) SHOWN+=("$a") ;; esac
