@@ -194,8 +194,8 @@ _SEGMENT_BEGINS = {"slew_start": _SLEW_BEGINS, "slew_time": _SLEW_BEGINS, "slew_
 
 def _idle_after_the_run(key, values, dispersed, takes):
     """Why a dispersed profile key cannot act: the segment it shapes begins,
-    for every value the study gives the keys that place it, after the run's
-    end (the controller, the truth's target and every figure read the
+    for every value the study gives the keys that place it, at or after the
+    run's end (the controller, the truth's target and every figure read the
     profile at the ticks alone). Dispersed only: a fixed value is a setting
     compared with none (slew_start 10 runs as 0.5 does not)."""
     begins_keys = _SEGMENT_BEGINS.get(key[len(_PROFILE):]) if key.startswith(_PROFILE) else None
@@ -207,12 +207,14 @@ def _idle_after_the_run(key, values, dispersed, takes):
         duration = float(values["sim.duration"])
     except (KeyError, TypeError, ValueError):
         return None
-    if not earliest > duration * (1.0 + 1e-9):
+    # at the segment's start the reference's angle is the one before it (continuous), and a command of the
+    # last tick acts after the run: a segment beginning at the run's end acts on nothing either (pass 53)
+    if not earliest >= duration * (1.0 - 1e-9):
         return None
     segment = "slew" if begins_keys == _SLEW_BEGINS else "track"
     return (f"the {segment} it shapes begins at {seconds(earliest)} s at the earliest "
-            f"({' + '.join('profile.' + k for k in begins_keys)}, lowest values given), after the run's end at "
-            f"{seconds(duration)} s: every value runs the same reference")
+            f"({' + '.join('profile.' + k for k in begins_keys)}, lowest values given), at or after the run's "
+            f"end at {seconds(duration)} s: every value runs the same reference")
 
 
 def refuse_idle_set(spec, entries, values, dispersed, takes, closed, runs, unread_ticks=TRUTH_ONLY):

@@ -32,6 +32,9 @@ REFUSALS = [
      "parameters.controller.profile.track_ramp_time", "the track it shapes begins at 0.6000000000000001 s at the earliest"),
     ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.profile.slew_start: {uniform: [0.6, 0.9]}",
      "parameters.controller.profile.slew_start", "the slew it shapes begins at 0.6 s at the earliest"),
+    # (pass 53) ... or at it: the last tick sees the angle before the segment, its command acts after the run
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.profile.slew_start: {uniform: [0.5, 0.9]}",
+     "parameters.controller.profile.slew_start", "the slew it shapes begins at 0.5 s at the earliest"),
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.duration: {uniform: [0.4, 0.5]}",
      "parameters.sim.duration",
      "not read by this sweep's runs (every closed loop of a study runs one length: a sweep's set: sim.duration"),
