@@ -342,7 +342,13 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
       {write("ustill.csv", "utime_us,seq,tau1_Nm,tau2_Nm\n4000,0,0,0\n4000,1,0,0\n"),
        "ustill.csv:3: column utime_us: 4000 is not after the previous row's"},
       {write("uhalf.csv", "utime_us,seq,tau1_Nm,tau2_Nm\n4000,0,0,0\n5000.5,1,0,0\n"),
-       "uhalf.csv:3: column utime_us: 5000.5 is not a whole number of microseconds"},
+       "uhalf.csv:3: column utime_us: 5000.5 is not a whole number of microseconds in [0, 2^53]"},
+      // (pass 53) beyond int64 on the last row, where no next row finds it
+      {write("uhuge.csv", "utime_us,seq,tau1_Nm,tau2_Nm\n4000,0,0,0\n1e23,1,0,0\n"),
+       "uhuge.csv:3: column utime_us: 1e23 is not a whole number of microseconds in [0, 2^53]"},
+      // (pass 53) any column twice, not only a torque: base_x_m twice and base_y_m gone was taken
+      {write("basex.csv", "seq,tau1_Nm,tau2_Nm,base_x_m,base_x_m\n0,0,0,0,0\n1,0,0,0,0\n"),
+       "basex.csv:1: column base_x_m appears twice"},
       // (pass 51) a row off its tick's time: found only when the plant reached it, blamed on the plant's rate
       {write("uneven.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm\n0,0,0,0\n1,0.001,0,0\n2,0.0025,0,0\n3,0.003,0,0\n"),
        "uneven.csv:4: column sim_time_s: 0.0025 is not tick 2's time"},

@@ -68,12 +68,13 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
   if (empty_last) header.emplace_back();
   int c1 = -1, c2 = -1, cs = -1, ct = -1, cf = -1, cu = -1;
   for (int j = 0; j < static_cast<int>(header.size()); ++j) {
+    // Any column twice: not the file firmware_sim wrote (pass 53: base_x_m twice, base_y_m gone, was taken).
+    for (int i = 0; i < j; ++i) {
+      if (header[i] == header[j]) throw std::runtime_error(name + ":1: column " + header[j] + " appears twice");
+    }
     for (auto [column, at] : {std::pair{"tau1_Nm", &c1}, {"tau2_Nm", &c2}, {"seq", &cs}, {"sim_time_s", &ct},
                               {"faults", &cf}, {"utime_us", &cu}}) {
-      if (header[j] != column) continue;
-      // Two columns of one name: which one the plant applied is not knowable, so neither is guessed.
-      if (*at >= 0) throw std::runtime_error(name + ":1: column " + column + " appears twice");
-      *at = j;
+      if (header[j] == column) *at = j;
     }
   }
   if (c1 < 0 || c2 < 0 || cs < 0) {
@@ -129,11 +130,14 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
     // whole number of microseconds that grows every tick either way, frozen rows included (the ticks go on).
     if (cu >= 0) {
       const double utime_us = number(f, cu, n);
-      if (!(utime_us > utime_prev && utime_us == std::floor(utime_us))) {
+      // (pass 53) in [0, 2^53]: a whole double, and far beyond any clock's (1e23 was taken as a last row)
+      if (!(utime_us >= 0.0 && utime_us <= 9007199254740992.0 && utime_us == std::floor(utime_us))) {
         throw std::runtime_error(name + ":" + std::to_string(n) + ": column utime_us: " + f[cu] +
-                                 (utime_us == std::floor(utime_us) ? " is not after the previous row's"
-                                                                     : " is not a whole number of microseconds") +
-                                 ": not one run's ticks in order");
+                                 " is not a whole number of microseconds in [0, 2^53]: not a time firmware_sim writes");
+      }
+      if (!(utime_us > utime_prev)) {
+        throw std::runtime_error(name + ":" + std::to_string(n) + ": column utime_us: " + f[cu] +
+                                 " is not after the previous row's: not one run's ticks in order");
       }
       utime_prev = utime_us;
     }
