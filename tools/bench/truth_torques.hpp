@@ -67,11 +67,14 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
   for (std::stringstream ss(line); std::getline(ss, line, ',');) header.push_back(line);
   if (empty_last) header.emplace_back();
   int c1 = -1, c2 = -1, cs = -1, ct = -1, cf = -1, cu = -1;
+  // Any column twice: not the file firmware_sim wrote (pass 53: base_x_m twice, base_y_m gone, was taken).
+  // Sorted, not compared pairwise: a 64 KiB header holds tens of thousands of names.
+  std::vector<std::string> sorted = header;
+  std::sort(sorted.begin(), sorted.end());
+  if (const auto twice = std::adjacent_find(sorted.begin(), sorted.end()); twice != sorted.end()) {
+    throw std::runtime_error(name + ":1: column " + *twice + " appears twice");
+  }
   for (int j = 0; j < static_cast<int>(header.size()); ++j) {
-    // Any column twice: not the file firmware_sim wrote (pass 53: base_x_m twice, base_y_m gone, was taken).
-    for (int i = 0; i < j; ++i) {
-      if (header[i] == header[j]) throw std::runtime_error(name + ":1: column " + header[j] + " appears twice");
-    }
     for (auto [column, at] : {std::pair{"tau1_Nm", &c1}, {"tau2_Nm", &c2}, {"seq", &cs}, {"sim_time_s", &ct},
                               {"faults", &cf}, {"utime_us", &cu}}) {
       if (header[j] == column) *at = j;
