@@ -91,7 +91,8 @@ class AllocationSpec:
         # The sweep part, checked at every value the scan tries (both ends among them; its refusals name the
         # spec's own lines). A refusal of a value (the scene's or controller's range, a phase the run does not
         # reach) holds over an interval of the key: a value bisected between two accepted ones is accepted too.
-        self._ends = [self.sweep_at(v, spec, body) for v in sorted(scan_values(self))]
+        scanned = sorted(scan_values(self))
+        self._ends = [self.sweep_at(v, spec, body, scanned) for v in scanned]
         closed = self._ends[0].closed
         if self.index not in [ix.name for ix in closed.indices]:
             spec.refuse("allocate.index", f"'{self.index}' is not among the spec's indices "
@@ -196,11 +197,12 @@ class AllocationSpec:
     def value_text(self, value):
         return str(int(value)) if self.is_int else repr(float(value))
 
-    def sweep_at(self, value, spec=None, body=None):
+    def sweep_at(self, value, spec=None, body=None, scanned=()):
         """The SweepSpec of one value. A refusal of the value itself is named,
         when checking (body: the allocate: section), at the range's line (the
-        scene's or controller's range, a phase its runs do not reach) or the
-        key's (a key the runs do not read), else as the sweep names it."""
+        scene's or controller's range, a phase its runs do not reach, a value
+        the runs do not read where others of the scan are read) or the key's
+        (a key the runs read at no value scanned), else as the sweep names it."""
         try:
             return SweepSpec(self.path, text=self.text_at(value))
         except SpecError as e:
@@ -208,8 +210,17 @@ class AllocationSpec:
                 raise
             point = f"{self.key} = {self.value_text(value)}: "  # a grid point's own refusal names it already
             why = _bare(e)
-            where = "key" if why.startswith(NOT_READ) else "range"
+            where = "key" if why.removeprefix(point).startswith(NOT_READ) and not any(self._read_at(v) for v in scanned if v != value) \
+                else "range"
             spec.refuse(f"allocate.{where}", why if why.startswith(point) else point + why, body[where])
+
+    def _read_at(self, value):
+        """Whether the runs read the key at this value (a slew_start past the run's end is read at none)."""
+        try:
+            SweepSpec(self.path, text=self.text_at(value))
+        except SpecError as e:
+            return not _bare(e).removeprefix(f"{self.key} = {self.value_text(value)}: ").startswith(NOT_READ)
+        return True
 
     def plain(self):
         return {"key": self.key, "unit": self.unit, "range": [self.lo, self.hi], "direction": self.direction,

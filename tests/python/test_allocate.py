@@ -197,17 +197,33 @@ def test_every_value_meets_says_the_limit_is_beyond_the_range(tmp_path):
     assert answer["runs_used"] == 3 * 8  # no bisection without a failing value
 
 
-def test_a_non_monotone_index_says_where(tmp_path):
-    # A 0.01 rad slew starting at slew_start: inside the window [0.2, 0.3) s the error is large, before it
-    # settled, after it not begun: the index rises then falls with slew_start.
-    text = (BASE.replace("profile.slew_target: [0.0, 0.0]", "profile.slew_target: [0.01, 0.0]")
+def slew_start_spec(tmp_path, duration):
+    """slew_start allocated over [0, 0.3] s: a 0.01 rad slew of 0.05 s, the run `duration` s long."""
+    text = (BASE.replace("sim.duration: 0.3", f"sim.duration: {duration}")
+            .replace("profile.slew_target: [0.0, 0.0]", "profile.slew_target: [0.01, 0.0]")
             .replace("profile.slew_start: 0.0, profile.slew_time: 0.1", "profile.slew_time: 0.05")
             .replace("parameters:\n", "parameters:\n  sensors.star_tracker_noise: {uniform: [0.0, 1.0e-5]}\n")
             .replace("samples: 8", "samples: 4"))
     text += ALLOCATE.format(requirement=2.0e-3, values=4).replace("sensors.star_tracker_noise",
                                                                   "controller.profile.slew_start") \
         .replace("[1.0e-5, 3.0e-4]", "[0.0, 0.3]").replace("level: 0.8", "level: 0.5")
-    spec = write_spec(tmp_path, text)
+    return text, write_spec(tmp_path, text)
+
+
+def test_a_range_reaching_past_the_run_is_refused_at_its_line(tmp_path):
+    # slew_start 0.3 in a 0.3 s run: the slew begins at the run's end, so that value runs what every later one
+    # would: the range reaches past where the key acts (it was refused at the key's line, as a key never read).
+    text, spec = slew_start_spec(tmp_path, 0.3)
+    p = run(spec, tmp_path / "out")
+    assert p.returncode == 2 and f"spec.yaml:{line_of(text, 'range:')}:" in p.stderr, p.stderr
+    assert "key 'allocate.range'" in p.stderr and "controller.profile.slew_start = 0.3: not read" in p.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_non_monotone_index_says_where(tmp_path):
+    # Inside the window [0.2, 0.3) s of a 0.35 s run the error is large while the slew settles, small before
+    # the slew and after it settled: the index rises then falls with slew_start.
+    text, spec = slew_start_spec(tmp_path, 0.35)
     p = run(spec, tmp_path / "out")
     answer = json.loads((tmp_path / "out" / "allocation.json").read_text())
     assert p.returncode == 0 and not answer["monotone"] and "not monotone" in p.stderr, p.stderr
