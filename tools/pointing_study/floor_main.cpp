@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <utility>
@@ -64,8 +65,9 @@ struct Row {
 /// the window and where the run ended, as the closed loop says it for the track.
 std::string afterSlewNotReached(double slew_end_s, double t_end_s) {
   if (t_end_s > slew_end_s) return "";
-  return "after-slew window [" + formatNumber(slew_end_s) + ", inf) s not reached: run ended at " +
-         formatNumber(t_end_s) + " s";
+  // Six significant digits, as the closed loop's track reason: a tick count times the period is 0.10200000000000001.
+  return "after-slew window [" + formatSignificant(slew_end_s, 6) + ", inf) s not reached: run ended at " +
+         formatSignificant(t_end_s, 6) + " s";
 }
 
 Row runOne(const firmware::PlantScene& ps, const ControllerConfig& c, double duration, std::string label) {
@@ -291,17 +293,17 @@ int mainImpl(int argc, char** argv) {
   const std::string sensors = overridden.empty() ? "perfect sensors" : "perfect sensors except " + overridden;
   std::printf("# %g s per run, tracking from %g s, slew ends at %g s; %s; truth pointing error\n", T,
               main_cfg.profile.trackStart(), main_cfg.profile.slewEnd(), sensors.c_str());
-  char setup[4096];  // the scene-sets come from the command line: bounded by it
-  std::snprintf(setup, sizeof setup,
-                "`build/bin/gimbalsim_controller_floor` (tools/pointing_study/floor_main.cpp): the in-process closed "
-                "loop with %s on `paper_ideal` and on `paper_clearance` at each clearance, %g s per run "
-                "(slew ends at %g s, tracking from %g s); the truth pointing error (boresight against the target's "
-                "line of sight). \"After the slew\" is [%g, %g] s: the hold, with the settling from the slew's end, "
-                "and the track; \"at\" is the time of its max. Goal: the ideal joint's figures at most 1/5 of the "
-                "first clearance's.\n\n",
-                sensors.c_str(), T, main_cfg.profile.slewEnd(), main_cfg.profile.trackStart(),
-                main_cfg.profile.slewEnd(), T);
-  std::string md = setup;
+  // The scenes as run, by their files' names (it named paper_ideal and paper_clearance whatever ran).
+  const auto stem = [](const std::string& path) { return std::filesystem::path(path).stem().string(); };
+  std::string md = "`build/bin/gimbalsim_controller_floor` (tools/pointing_study/floor_main.cpp): the in-process "
+                   "closed loop with " + sensors + " on `" + stem(ideal_path) + "` and on `" + stem(clearance_path) +
+                   "` at each clearance, " + formatSignificant(T, 6) + " s per run (slew ends at " +
+                   formatSignificant(main_cfg.profile.slewEnd(), 6) + " s, tracking from " +
+                   formatSignificant(main_cfg.profile.trackStart(), 6) +
+                   " s); the truth pointing error (boresight against the target's line of sight). \"After the slew\" "
+                   "is [" + formatSignificant(main_cfg.profile.slewEnd(), 6) + ", " + formatSignificant(T, 6) +
+                   "] s: the hold, with the settling from the slew's end, and the track; \"at\" is the time of its "
+                   "max. Goal: the ideal joint's figures at most 1/5 of the first clearance's.\n\n";
   bool all_ok = true;
   io::installStopHandlers();
   for (const auto& [name, cfg] : controllers) {
