@@ -48,11 +48,14 @@ class InvariantMonitor {
   double maxChange() const { return max_change_; }  ///< max |B(t) - B(0)| [J]
   double scale() const { return scale_; }           ///< max over rows of T + U, |W| [J]
   double finalChange() const { return b_last_ - b0_; }  ///< B(end) - B(0) [J]
-  /// max over rows of sum_i |p_i| (given), or of its lower bound |P(0)| + 2
+  /// max over rows of sum_i |p_i| (given), of its lower bound |P(0)| + 2
   /// m_base |v_base| (the base's momentum and the chain's, which carries the
-  /// rest of P) [N s]
+  /// rest of P), and of sum_i |l_i| / chainReach() (docs/MODEL.md 8.3) [N s]
   double linearScale() const { return lin_scale_; }
   double angularScale() const { return ang_scale_; }  ///< max over rows of sum |L_body| [N m s]
+  /// The farthest any chain body's centre of mass can lie from the base's (joint offsets plus centre-of-mass
+  /// offsets along the chain) [m]; 0 for a chain with none.
+  double chainReach() const { return reach_; }
   double maxDriftLinear() const { return drift_lin_; }   ///< max |P - P(0)| [N s]
   double maxDriftAngular() const { return drift_ang_; }  ///< max |L - L(0)| [N m s]
   double maxPenetration() const { return max_delta_; }   ///< over rows [m]
@@ -87,6 +90,7 @@ class InvariantMonitor {
   double b0_ = 0.0, b_min_ = 0.0, b_last_ = 0.0;
   double max_rise_ = 0.0, max_change_ = 0.0, scale_ = 0.0;
   double p0_ = 0.0, lin_scale_ = 0.0, ang_scale_ = 0.0, max_delta_ = 0.0;
+  double reach_ = 0.0;  ///< chainReach() [m]
   double P0_[3] = {0, 0, 0}, L0_[3] = {0, 0, 0};
   double drift_lin_ = 0.0, drift_ang_ = 0.0;
   bool finite_ = true;
