@@ -34,8 +34,10 @@ void markUnreached(const pointing::TargetProfile& p, ClosedLoopResult& r) {
     r.settle_reason = r.hold_end_reason;
   }
   if (!r.track_reason.empty()) r.max_joint_error_track = r.max_truth_error_track = r.rms_truth_error_track = kNaN;
-  if (r.ticks == 0) {  // a max over no tick is no figure, never 0
-    r.run_reason = r.ok ? "no tick ran" : "no tick before the run stopped: " + r.error;
+  // A max over no tick is no figure, never 0; nor is one over the first tick alone when the plant's first
+  // step from it failed (run_reason set there): its torque never acted, its state the initial one (pass 53).
+  if (r.ticks == 0 || !r.run_reason.empty()) {
+    if (r.run_reason.empty()) r.run_reason = r.ok ? "no tick ran" : "no tick before the run stopped: " + r.error;
     r.max_abs_tau.setConstant(kNaN), r.max_tilt.setConstant(kNaN), r.max_attitude_error = kNaN;
   }
 }
@@ -237,6 +239,7 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
       r.stop_status = fw.plantStatus();
       r.error = describeStop(ps.scene.model, fw.plantResult());  // the one message of a stopped step
       r.plant_stop = describePlantStop(ps.scene.model, fw.state().t, fw.plantResult());
+      if (k == 0) r.run_reason = "the plant's first step failed: " + r.error;
       fig.finish(r);
       return r;
     }

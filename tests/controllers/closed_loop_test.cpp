@@ -255,6 +255,19 @@ TEST(ClosedLoop, ARunStoppedBeforeItsFirstTickHasNoFigure) {
                                                        c.profile, opt);
   EXPECT_EQ(one.ticks, 1);
   EXPECT_TRUE(one.run_reason.empty() && one.max_abs_tau.allFinite() && std::isfinite(one.max_attitude_error));
+  // One tick recorded and the plant's step from it failed: its torque never acted, its state is the initial
+  // one, so no whole-run figure either (it reported max_abs_tau (0, 0) and attitude error 0, pass 53).
+  PointingController plain(c);
+  const ClosedLoopResult first = firmware::runClosedLoop(
+      firmware::PlantScene{test::scene("paper_clearance", {"sim.velocity_limit=1e-300", "initial.dtheta1=1e-299"}),
+                           {}},
+      plain, c.profile, opt);
+  EXPECT_FALSE(first.ok);
+  EXPECT_EQ(first.ticks, 1);
+  EXPECT_TRUE(std::isnan(first.max_abs_tau(0)) && std::isnan(first.max_abs_tau(1)) &&
+              std::isnan(first.max_attitude_error) && std::isnan(first.max_tilt(0)));
+  EXPECT_EQ(first.run_reason.rfind("the plant's first step failed: ", 0), 0u) << first.run_reason;
+  EXPECT_NE(first.run_reason.find("sim.velocity_limit"), std::string::npos) << first.run_reason;
 }
 
 // A run that ends before a window has no figure over it: NaN with the

@@ -87,7 +87,10 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
                   s.onset_reason.empty() ? "" : "; ", j + 1, r.ticks, r.ok ? "" : " (the run stopped)");
     s.onset_reason += why;
   }
-  if (s.err.empty()) s.peak_run = std::numeric_limits<double>::quiet_NaN();  // no tick: no peak, never 0
+  // The closed loop's rule for a whole-run figure: none over no tick, nor over the first tick alone of a run
+  // whose first step failed (it wrote 0, pass 53).
+  s.run_reason = r.run_reason;
+  if (!s.run_reason.empty()) s.peak_run = std::numeric_limits<double>::quiet_NaN();
   s.ok = r.ok;
   s.interrupted = r.interrupted;
   if (!r.ok) {

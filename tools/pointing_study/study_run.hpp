@@ -29,6 +29,7 @@ struct Study {
   /// [s] when each axis went onto its backlash guard's gains (NaN: never; controllers' play_guard.hpp)
   double play_onset[2] = {};
   std::string track_reason;  ///< why the track figures are NaN ("" if they have values)
+  std::string run_reason;    ///< why peak_run is NaN (the closed loop's run_reason; "" if it has a value)
   std::string onset_reason;  ///< why a play_onset is NaN ("" if both have values)
   bool ok = true;
   bool interrupted = false;  ///< a stop request ended it (ClosedLoopOptions::stop_requested): not a whole run
