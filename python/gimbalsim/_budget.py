@@ -9,6 +9,7 @@ import math
 from . import indices as ix
 
 INTERPRETATION = "ensemble of units, worst time in the phase"
+NO_FIGURE = "no unit has a figure the budget takes"  # a stopped unit's row may hold one: never taken
 
 
 def _json(x):
@@ -36,17 +37,25 @@ def column_values(spec, rows, metric):
 
 def missing_text(spec, rows, metric):
     """Why the units without a figure have none, counted: "1 crashed, 2
-    stopped (velocity_limit)"; a unit that ended ok missed the window."""
+    stopped (velocity_limit)"; a unit that ended ok missed the window. A
+    stopped unit whose row holds a figure for this phase (the stop came
+    after it) is said to, so the report never reads "no figure" beside a
+    row that has one (pass 54)."""
     header = spec.header()
     col, status = header.index(metric), header.index("status")
-    counts = collections.Counter()
+    counts, with_figure = collections.Counter(), collections.Counter()
     for r in rows:
         s = r[status]
-        if s == "ok" and r[col] not in ("", "nan"):
+        has_figure = r[col] not in ("", "nan")
+        if s == "ok" and has_figure:
             continue
-        counts["crashed" if s == "crashed" else "refused" if s.startswith("refused") else
-               "ran without a figure over the window" if s == "ok" else f"stopped ({s})"] += 1
-    return ", ".join(f"{n} {why}" for why, n in counts.items())
+        why = ("crashed" if s == "crashed" else "refused" if s.startswith("refused") else
+               "ran without a figure over the window" if s == "ok" else f"stopped ({s})")
+        counts[why] += 1
+        with_figure[why] += has_figure
+    return ", ".join(f"{n} {why}" + (f", {with_figure[why]} of them with a figure over this phase before the stop, "
+                                     "not used: a unit that stopped counts as worst" if with_figure[why] else "")
+                     for why, n in counts.items())
 
 
 def entry(spec, rows, index, phase):
@@ -57,8 +66,8 @@ def entry(spec, rows, index, phase):
          "confidence": index.confidence, "n": b.n, "n_missing": b.n_missing, "min_units": b.min_units,
          "supported": b.supported, "estimate_rad": _json(b.estimate), "upper_bound_rad": _json(b.upper),
          "interval_rad": [_json(b.low), _json(b.high)], "two_sided": not math.isnan(b.low), "note": b.reason}
-    if b.n and b.n_missing == b.n:  # no unit has a figure: say why they have none
-        e["note"] = f"{b.reason}: {missing_text(spec, rows, f'{index.name}_{phase}')}"
+    if b.n and b.n_missing == b.n:  # no unit has a figure the budget takes: say why they have none
+        e["note"] = f"{NO_FIGURE} (all {b.n} count as worst): {missing_text(spec, rows, f'{index.name}_{phase}')}"
     elif not b.supported:
         e["note"] = (f"not supported: n={b.n} < {b.min_units} needed for {_pct(index.level)} at "
                      f"{_pct(index.confidence)}")

@@ -69,3 +69,18 @@ def test_a_bound_beyond_every_figure_is_null_with_its_reason():
     assert e["interval_rad"][0] is not None and e["interval_rad"][1] is None and e["n_missing"] == 1, e
     assert "the interval's upper end beyond every figure: on the 1 of 4 units without one" in e["bound_note"], e
     assert "bound_note" not in _budget.entry(Spec(), rows(59, 1), index(0.5), "track")  # every end a figure
+
+
+def test_stopped_units_with_a_figure_before_the_stop_are_said_to_have_one():
+    # (pass 54) three units stopped after the phase: their rows hold its figure (0.0), and the note said
+    # "no unit has a figure (all 3 without one)" beside them. They still count as worst; the note says so.
+    drawn = [[str(i), "sim.velocity_limit", "0.0"] for i in range(3)]
+    e = _budget.entry(Spec(), drawn, index(0.9973), "track")
+    assert e["n"] == 3 and e["n_missing"] == 3 and e["estimate_rad"] is None
+    assert e["note"] == ("no unit has a figure the budget takes (all 3 count as worst): 3 stopped "
+                         "(sim.velocity_limit), 3 of them with a figure over this phase before the stop, not used: "
+                         "a unit that stopped counts as worst"), e["note"]
+    assert _budget.cell(e) == e["note"]
+    # a stop inside the phase leaves no figure in the row: nothing more is said
+    inside = [[str(i), "sim.velocity_limit", "nan"] for i in range(3)]
+    assert _budget.entry(Spec(), inside, index(0.9973), "track")["note"].endswith("3 stopped (sim.velocity_limit)")
