@@ -113,6 +113,13 @@ def _coverage_reason(rows, t_s, t_start, t_end, dt):
     if not t_end > t_start:  # a profile that gives the phase no time (profile.hold_time 0)
         return f"{phase} is empty"
     if len(rows) == 0:
+        inside = t_s[0] <= t_start and t_s[-1] > t_start  # the run went through it between two samples (pass 53)
+        if inside:
+            before, after = t_s[t_s <= t_start][-1], t_s[t_s > t_start][0]
+            return (f"no sample in {phase}: the run went through it between its samples at {seconds(before)} "
+                    f"and {seconds(after)} s")
+        if t_end <= t_s[0]:
+            return f"the run ({seconds(t_s[0])} to {seconds(t_s[-1])} s) began after {phase}"
         return f"the run ({seconds(t_s[0])} to {seconds(t_s[-1])} s) never reached {phase}"
     if not t_s[-1] > t_start + 1e-9:  # docs/usage.md: a figure over a window needs the last sample after its start
         return f"the run ended at {seconds(t_s[-1])} s, at the start of {phase}"

@@ -73,6 +73,17 @@ def test_a_phase_the_run_never_reached_is_nan_with_a_reason(call):
     assert "never reached" in v.reason
 
 
+def test_a_phase_between_two_samples_says_the_run_went_through_it():
+    # (pass 53) samples at 0, 1 and 2 s, the phase [1.2, 1.5) s: the run covered it, no sample lies in it;
+    # the reason said "never reached".
+    t, e = np.array([0.0, 1.0, 2.0]), np.array([1e-4, 2e-4, 3e-4])
+    v = indices.ape(t, e, 1.2, 1.5)
+    assert math.isnan(v.value)
+    assert v.reason == "no sample in the phase [1.2, 1.5) s: the run went through it between its samples at 1 and 2 s"
+    assert "began after the phase [-1, -0.5) s" in indices.ape(t, e, -1.0, -0.5).reason
+    assert "never reached the phase [2.5, 3) s" in indices.ape(t, e, 2.5, 3.0).reason
+
+
 def test_a_run_ending_inside_the_phase_is_nan():
     v = indices.ape(T, T, 3.0, 5.0)
     assert math.isnan(v.value) and "ended at 3.999 s" in v.reason
