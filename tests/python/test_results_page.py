@@ -222,3 +222,35 @@ def test_a_start_inherited_from_the_environment_is_checked_before_measuring(scri
                        timeout=60, env={**os.environ, name: value, "GIMBALSIM_SPEED_INSIDE": "1"})
     assert p.returncode == 2 and f"error: {name}: " in p.stderr and "Traceback" not in p.stderr, p.stderr
     assert "x real time" not in p.stdout, "nothing measured"
+
+
+def test_a_study_whose_clearance_runs_have_no_track_figure_says_so(tmp_path):
+    # (pass 53) every clearance run stopped before its track: the page's summary said "up to 2.06e-06 rad
+    # (ideal)", the ideal's own figure as the clearances' worst, and the clearance plot drew no clearance point
+    # with nothing said
+    import csv
+    from conftest import BIN, SCENES
+    sys.path.insert(0, str(SOURCE / "tools" / "pointing_study"))
+    import plot_pointing_study
+    import pointing_page
+    subprocess.run([str(BIN / "gimbalsim_pointing_study"), "--clearances", "1e-4", "--duration", "3.6", "--sensors",
+                    "perfect", "--out", str(tmp_path), "--ideal-scene", str(SCENES / "paper_ideal.yaml"),
+                    "--clearance-scene", str(SCENES / "paper_clearance.yaml")], check=True, capture_output=True,
+                   timeout=120)
+    with open(tmp_path / "summary.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert [r["run"] for r in rows] == ["ideal", "c=0.1mm"]
+    rows[1].update(peak_track_rad="nan", rms_track_rad="nan", track_ticks="0", controller_limited_track_ticks="nan",
+                   status="stop:sim.velocity_limit", stop_reason="the plant stopped after t = 3 s",
+                   track_reason="track window [3.5; inf) s not reached: run ended at 3 s")
+    with open(tmp_path / "summary.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]), lineterminator="\n")
+        w.writeheader()
+        w.writerows(rows)
+    summary = pointing_page._page(tmp_path)[1]
+    assert summary.endswith("rad ideal, no clearance run has a figure while tracking"), summary
+    texts = []
+    plot_pointing_study.savefig = lambda fig, out, dpi: texts.extend(t.get_text() for t in fig.axes[0].texts)
+    plot_pointing_study.plot_clearance(plot_pointing_study.read_summary(str(tmp_path / "summary.csv")),
+                                       str(tmp_path / "c.png"))
+    assert texts == ["no clearance run has a figure while tracking"], texts

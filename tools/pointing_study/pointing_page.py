@@ -158,11 +158,14 @@ def _page(d):
            "and pointing_error_vs_clearance.png (tools/pointing_study/plot_pointing_study.py).", ""]
     if config:
         md += ["Controller configuration in effect (config.txt):", "", "```", *config, "```", ""]
-    worst = max((r for r in rows if r["track_ticks"] > 0), key=lambda r: r["peak_track_rad"])
+    # the worst clearance run with a track figure: the ideal joint's is no bound of the clearance's (pass 53)
+    with_track = [r for r in rows if r["clearance_m"] > 0 and math.isfinite(r["peak_track_rad"])]
+    worst = max(with_track, key=lambda r: r["peak_track_rad"]) if with_track else None
     ideal = ideals.get("perfect")
     if ideal:
         summary = (f"{len(rows)} runs; peak error while tracking {_rad(ideal['peak_track_rad'], '.3g')} rad ideal, "
-                   f"up to {_rad(worst['peak_track_rad'], '.3g')} rad ({worst['run']})")
+                   + (f"up to {_rad(worst['peak_track_rad'], '.3g')} rad ({worst['run']})" if worst else
+                      "no clearance run has a figure while tracking"))
     else:
         summary = f"{len(rows)} runs"
     return md, summary
