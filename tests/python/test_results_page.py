@@ -224,7 +224,7 @@ def test_a_start_inherited_from_the_environment_is_checked_before_measuring(scri
     assert "x real time" not in p.stdout, "nothing measured"
 
 
-def test_a_study_whose_clearance_runs_have_no_track_figure_says_so(tmp_path):
+def test_a_study_whose_clearance_runs_have_no_track_figure_says_so(tmp_path, monkeypatch):
     # (pass 53) every clearance run stopped before its track: the page's summary said "up to 2.06e-06 rad
     # (ideal)", the ideal's own figure as the clearances' worst, and the clearance plot drew no clearance point
     # with nothing said
@@ -250,7 +250,8 @@ def test_a_study_whose_clearance_runs_have_no_track_figure_says_so(tmp_path):
     summary = pointing_page._page(tmp_path)[1]
     assert summary.endswith("rad ideal, no clearance run has a figure while tracking"), summary
     texts = []
-    plot_pointing_study.savefig = lambda fig, out, dpi: texts.extend(t.get_text() for t in fig.axes[0].texts)
+    monkeypatch.setattr(plot_pointing_study, "savefig",
+                        lambda fig, out, dpi: texts.extend(t.get_text() for t in fig.axes[0].texts))
     plot_pointing_study.plot_clearance(plot_pointing_study.read_summary(str(tmp_path / "summary.csv")),
                                        str(tmp_path / "c.png"))
     assert texts == ["no clearance run has a figure while tracking"], texts
