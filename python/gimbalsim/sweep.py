@@ -284,11 +284,20 @@ def _run_on_cluster(spec, todo, fd, journal, done, cluster, batch, progress):
 
 
 def _kept(out):
-    """Samples in the journal now (for the one line after an interruption)."""
+    """Samples in the journal now (for the one line after an interruption); None when there is no journal."""
     try:
         return max(0, (out / JOURNAL).read_bytes().count(b"\n") - 1)
     except OSError:
-        return 0
+        return None
+
+
+def _kept_and_next(out, first):
+    """What a stopped sweep kept and how to go on: "<first>" is what to do before running again. Without a
+    journal nothing is kept and a resume has nothing to resume (it said "0 samples kept in" a missing file)."""
+    n = _kept(out)
+    if n is None:
+        return f"nothing kept ({out / JOURNAL} was not written); {first}run again"
+    return f"{n} samples kept in {out / JOURNAL}; {first}run again with --resume"
 
 
 def main(argv=None):
@@ -331,12 +340,11 @@ def main(argv=None):
     if a.replay is not None:
         return replay.main(a.spec, a.replay, a.out, a.plot)
     out = pathlib.Path(a.out)
-    kept = lambda: f"{_kept(out)} samples kept in {out / JOURNAL}"  # noqa: E731
     return guarded_main("sweep", lambda: _run(a, out), {
         # a name refused at the end (a link made while the sweep ran): more space would not help
-        OutputRefused: lambda e: f"; {kept()}: move it out of --out and run again with --resume",
-        OutputError: lambda e: f"; {kept()}: free the space and run again with --resume",
-        Interrupted: lambda e: f": {kept()}; run again with --resume to finish"})
+        OutputRefused: lambda e: f"; {_kept_and_next(out, 'move it out of --out and ')}",
+        OutputError: lambda e: f"; {_kept_and_next(out, 'free the space and ')}",
+        Interrupted: lambda e: f": {_kept_and_next(out, '')} to finish"})
 
 
 def _run(a, out):

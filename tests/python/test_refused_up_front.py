@@ -166,6 +166,30 @@ def test_a_name_refused_at_the_end_does_not_say_free_the_space(tmp_path):
     assert "free the space" not in p.stderr and "move it out of --out and run again with --resume" in p.stderr
 
 
+# The sweep's own main, whose first write (the fingerprint) finds the disk full: no journal was written.
+FULL_AT_THE_FIRST_WRITE = """
+import errno, sys
+import gimbalsim.sweep as sw
+from gimbalsim._output import OutputError
+def full(path, text, inputs=()):
+    raise OutputError(f"{path}: could not be written: {__import__('os').strerror(errno.ENOSPC)}")
+sw.write_text = full
+sys.exit(sw.main(sys.argv[1:]))
+"""
+
+
+def test_a_sweep_stopped_before_its_journal_says_nothing_was_kept(tmp_path):
+    # (pass 53) it said "0 samples kept in o/results.partial.csv", a file that did not exist, and to --resume,
+    # which had nothing to resume
+    spec = spec_file(tmp_path / "s.yaml", SWEEP)
+    out = tmp_path / "o"
+    p = subprocess.run([sys.executable, "-c", FULL_AT_THE_FIRST_WRITE, str(spec), "--out", str(out), "--no-progress",
+                        "--workers", "1"], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 4 and "No space left on device" in p.stderr, p.stderr
+    assert f"nothing kept ({out / 'results.partial.csv'} was not written); free the space and run again" \
+        in p.stderr and "--resume" not in p.stderr and "samples kept" not in p.stderr, p.stderr
+
+
 @pytest.mark.parametrize("args, said", [
     (["--replay", "0", "--resume"], "--replay runs one sample in this process: not with --resume "),
     (["--replay", "0", "--workers", "2", "--batch", "3"], "not with --batch, --workers (flags of a sweep)"),
