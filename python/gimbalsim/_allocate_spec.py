@@ -210,8 +210,9 @@ class AllocationSpec:
                 raise
             point = f"{self.key} = {self.value_text(value)}: "  # a grid point's own refusal names it already
             why = _bare(e)
-            where = "key" if why.removeprefix(point).startswith(NOT_READ) and not any(self._read_at(v) for v in scanned if v != value) \
-                else "range"
+            never_read = why.removeprefix(point).startswith(NOT_READ) and \
+                not any(self._read_at(v) for v in scanned if v != value)
+            where = "key" if never_read else "range"
             spec.refuse(f"allocate.{where}", why if why.startswith(point) else point + why, body[where])
 
     def _read_at(self, value):

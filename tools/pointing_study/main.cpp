@@ -261,7 +261,8 @@ int mainImpl(int argc, char** argv) {
     std::printf("%-34s %-18s %11.3g %13s %13s %13s  %s\n", s.label.c_str(), s.scene.c_str(), s.clearance,
                 pointing::figureText(s.peak_track, s.track_reason, "%.4e").c_str(),
                 pointing::figureText(s.rms_track, s.track_reason, "%.4e").c_str(),
-                pointing::figureText(s.peak_run, s.run_reason.empty() ? "" : s.err.empty() ? "no tick" : "first step failed",
+                pointing::figureText(s.peak_run,
+                                     s.run_reason.empty() ? "" : s.err.empty() ? "no tick" : "first step failed",
                                      "%.4e").c_str(),
                 s.ok ? "ok" : ("stop: " + s.reason).c_str());
     std::fflush(stdout);
