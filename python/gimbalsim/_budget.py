@@ -58,6 +58,14 @@ def missing_text(spec, rows, metric):
                      for why, n in counts.items())
 
 
+def _stopped_with_figure(spec, rows, metric):
+    """Units that stopped whose row holds a figure for this phase (the stop came after it)."""
+    header = spec.header()
+    col, status = header.index(metric), header.index("status")
+    return sum(1 for r in rows if r[status] not in ("ok", "crashed") and not r[status].startswith("refused")
+               and r[col] not in ("", "nan"))
+
+
 def entry(spec, rows, index, phase):
     """One cell of the table: the index at its level over the units, as a dict."""
     values = column_values(spec, rows, f"{index.name}_{phase}")
@@ -83,6 +91,10 @@ def entry(spec, rows, index, phase):
         # worst, so the quantile is unbounded; say so, with the worst figure there is, never a bare n/a.
         e["estimate_note"] = (f"beyond every figure: it falls on the {b.n_missing} of {b.n} units without one "
                               f"({missing_text(spec, rows, f'{index.name}_{phase}')}), counted as worst")
+    unused = _stopped_with_figure(spec, rows, f"{index.name}_{phase}")
+    if unused and "estimate_note" not in e and b.n_missing < b.n:  # those notes give missing_text, which says it
+        e["unused_note"] = (f"{unused} of the {b.n_missing} units without a figure the budget takes stopped after "
+                            "this phase and hold its figure, not used: a unit that stopped counts as worst")
     if index.requirement is not None:
         v = ix.requirement_verdict(values, index.requirement, index.level, index.confidence)
         e["requirement"] = {"requirement_rad": v.requirement, "verdict": v.text, "n_meeting": v.n_meeting,
@@ -123,16 +135,19 @@ def _bound_text(x, e):
 
 
 def cell(e):
-    """The index as text: the estimate with its interval, or why there is none."""
+    """The index as text: the estimate with its interval, or why there is none; and, where stopped units
+    hold a figure of this phase the budget did not take, that (pass 55: said only where the quantile fell
+    on them)."""
+    unused = f"; {e['unused_note']}" if "unused_note" in e else ""
     if e["n_missing"] == e["n"]:
         return e["note"]  # no unit has a figure: no quantile to quote
     if not e["supported"]:
-        return f"{e['note']} (empirical {_pct(e['level'])} quantile: {_estimate_text(e)})"
+        return f"{e['note']} (empirical {_pct(e['level'])} quantile: {_estimate_text(e)}){unused}"
     lo, hi = e["interval_rad"]
     ci = f"[{_bound_text(lo, e)}, {_bound_text(hi, e)}]" if e["two_sided"] else "(one-sided only)"
     upper = e["upper_bound_rad"]
     return (f"{_estimate_text(e)}, {_pct(e['confidence'])} CI {ci}, upper bound "
-            f"{_bound_text(upper, e)}{' rad' if upper is not None else ''}")
+            f"{_bound_text(upper, e)}{' rad' if upper is not None else ''}{unused}")
 
 
 def verdict_text(e):

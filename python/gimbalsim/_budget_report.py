@@ -145,9 +145,11 @@ def body(spec, rows, entries, plots, engine):
         b = ix.quantile_bound(values, SUPPORTED_LEVEL, e["confidence"])
         # its own quantile (95 %), whose support is not the level's: said so, with its own count
         lower = (_budget.NO_FIGURE if b.n and b.n_missing == b.n
+                 else f"beyond every figure (on the {b.n_missing} of {b.n} units without one, counted as worst)"
+                 if b.supported and math.isinf(b.estimate)  # it printed a bare inf (pass 55)
                  else f"{b.estimate:.3g} [{b.low:.3g}, {b.high:.3g}]" if b.supported and math.isfinite(b.high)
                  else f"not supported at {100 * SUPPORTED_LEVEL:.4g} % (n={b.n} < {b.min_units})"
-                 if not b.supported else f"{b.estimate:.3g}")
+                 if not b.supported else f"{b.estimate:.3g} (the interval's upper end beyond every figure)")
         lines.append(f"| {e['index']} | {e['phase']} | {100 * e['level']:.4g} % | {e['n']} | {_budget.cell(e)} | "
                      f"{lower} | {_budget.verdict_text(e) or '-'} |")
     unsupported = [e for e in entries if not e["supported"]]
