@@ -19,7 +19,7 @@ namespace {
 
 /// Every figure over a window the run did not reach (or, for a figure at
 /// the window's end, whose end it did not reach) becomes NaN with the reason.
-void markUnreached(const pointing::TargetProfile& p, ClosedLoopResult& r) {
+void markUnreached(const pointing::TargetProfile& p, const Model& m, ClosedLoopResult& r) {
   using pointing::Segment;
   using pointing::WindowNeed;
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -38,14 +38,17 @@ void markUnreached(const pointing::TargetProfile& p, ClosedLoopResult& r) {
   // step from it failed (run_reason set there): its torque never acted, its state the initial one (pass 53).
   if (r.ticks == 0 || !r.run_reason.empty()) {
     if (r.run_reason.empty()) r.run_reason = r.ok ? "no tick ran" : "no tick before the run stopped: " + r.error;
-    r.max_abs_tau.setConstant(kNaN), r.max_tilt.setConstant(kNaN), r.max_attitude_error = kNaN;
+    r.max_abs_tau.setConstant(kNaN), r.max_attitude_error = kNaN;
+    // a joint that cannot tilt has tilt 0 by construction, whatever ran (docs/usage.md; pass 55)
+    for (int j = 0; j < 2; ++j) r.max_tilt(j) = m.jointKind(j) == ClearanceKind::Spatial ? kNaN : 0.0;
   }
 }
 
 /// Running figures of a run (ClosedLoopResult), fed one tick at a time.
 class Figures {
  public:
-  Figures(const pointing::TargetProfile& p, const ClosedLoopOptions& opt) : p_(p), opt_(opt), last_unsettled_(p.slewEnd()) {}
+  Figures(const pointing::TargetProfile& p, const Model& m, const ClosedLoopOptions& opt)
+      : p_(p), m_(m), opt_(opt), last_unsettled_(p.slewEnd()) {}
 
   void add(const TickRecord& rec, double period, bool controller_limited, bool motor_limited, ClosedLoopResult& r) {
     const double ej = (rec.ref.q - rec.theta_true).cwiseAbs().maxCoeff();
@@ -82,11 +85,12 @@ class Figures {
                         " rad before tracking started at " + formatNumber(p_.trackStart()) + " s";
     }
     if (n_track_ > 0) r.rms_truth_error_track = std::sqrt(sum_sq_ / static_cast<double>(n_track_));
-    markUnreached(p_, r);
+    markUnreached(p_, m_, r);
   }
 
  private:
   const pointing::TargetProfile& p_;
+  const Model& m_;
   const ClosedLoopOptions& opt_;
   double last_unsettled_;  ///< last hold time with the error outside the band
   bool hold_seen_ = false;
@@ -136,7 +140,7 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
   BenchTick<V> tick(ps, fc, opt.faults, &profile);
   Firmware<V>& fw = tick.firmware();
   const pointing::TruthObserver& observer = tick.observer();
-  Figures fig(profile, opt);
+  Figures fig(profile, ps.scene.model, opt);
   const double period = fc.control_period;
   // Refused before the loop: llround of a tick count beyond long long is undefined.
   if (!(opt.duration / period <= 1e12)) {
@@ -279,7 +283,7 @@ ClosedLoopResult runClosedLoop(const PlantScene& ps, contract::ControllerPort& c
     ClosedLoopResult r;
     r.ok = false;
     r.error = std::move(why);
-    markUnreached(profile, r);  // nothing ran: no figure has a value
+    markUnreached(profile, ps.scene.model, r);  // nothing ran: no figure has a value
     return r;
   }
   return dispatchVariant(ps.scene.model,

@@ -114,9 +114,10 @@ struct ClosedLoopResult {
   std::string slew_reason, hold_reason, hold_end_reason, track_reason;
   /// Why settle_time is NaN ("" when it has a value): the hold's end unreached, or never settled.
   std::string settle_reason;
-  /// Why the whole-run figures (max_abs_tau, max_attitude_error, max_tilt)
-  /// are NaN: no tick was recorded, or only the first and the plant's step
-  /// from it failed ("" when they have values).
+  /// Why the whole-run figures (max_abs_tau, max_attitude_error, a spatial
+  /// joint's max_tilt; one that cannot tilt keeps 0) are NaN: no tick was
+  /// recorded, or only the first and the plant's step from it failed ("" when
+  /// they have values).
   std::string run_reason;
   Vec2 max_abs_tau = Vec2::Zero();     ///< [N m] applied
   /// The two limits a torque meets (docs/usage.md "Torque limits"): ticks
