@@ -75,8 +75,11 @@ class IndexSpec:
 class ClosedLoopSpec:
     """The controller, its overrides, the phases and the indices of a closed-loop sweep."""
 
-    def __init__(self, spec, root, duration_s):
+    def __init__(self, spec, root, duration_s, varied=()):
+        """varied: the keys the study disperses or grids (a profile key among them moves the profile's phases,
+        so those are judged at each of its values, not at the base controller's: pass 55)."""
         node = root["controller"]
+        self.profile_varied = any(k.startswith("controller.profile.") for k in varied)
         self.controller_path = controller_path_of(spec, node)
         self.key_types = {k["key"]: k["type"] for k in gimbalsim.controller_keys()}
         sets = spec.known_mapping("controller_set", self.key_types, "controller (see `pointing_controller --keys`)")
@@ -157,6 +160,8 @@ class ClosedLoopSpec:
             for item in root["phases"].value:
                 items[item.value if isinstance(item.value, str) else next(iter(item.value))] = item
         for kind, name, message in self._unreached(self.controller, self.period_s):
+            if self.profile_varied and self.moves(name):
+                continue  # judged at each value (check_point, check_draws), not at a profile no sample runs
             if kind == "index":
                 spec.refuse(f"indices.{name}", message, root["indices"].value[name])
             where = items.get(name, duration_node)
@@ -171,6 +176,20 @@ class ClosedLoopSpec:
         period = self.check_period(spec, where, controller, node, note, steps)
         for _, _, message in self._unreached(controller, period):
             spec.refuse(where, note + message, node)
+
+    def moves(self, name):
+        """Whether phase or index `name` moves with the profile: a profile phase, or an index judged in one."""
+        profile_phases_named = {p for p, w in self.phases if w is None}
+        return name in profile_phases_named or (name in {ix.name for ix in self.indices} and bool(profile_phases_named))
+
+    def check_draws(self, spec, where, controllers, node):
+        """A dispersed profile key: refused at node (where) only for a phase or index that the runs miss at
+        every value tried (the key's range ends), since only then would every sample be NaN there."""
+        missed = [{(kind, name): message for kind, name, message in self._unreached(c, self.period_s)
+                   if self.moves(name)} for c in controllers]
+        for key in missed[0] if missed else ():
+            if all(key in m for m in missed[1:]):
+                spec.refuse(where, f"at every value tried (its range's ends): {missed[0][key]}", node)
 
     def check_period(self, spec, where, controller, node, note, steps):
         """The controller's period [s], refused at node (where) unless it ticks
@@ -216,7 +235,7 @@ class ClosedLoopSpec:
                                     f"{'before' if self.duration_s <= t0 + tol else 'inside'} phase '{name}' "
                                     f"[{seconds(t0)}, {seconds(t1)}) s: its indices would be NaN for every sample")
             end = self.duration_s if ends_with_run else t1
-            for ix in self.indices:
+            for ix in self.indices if end > t0 + tol else ():  # a phase the run misses is said above
                 need = (ix.window or 0.0) + (ix.separation or 0.0)
                 if need > end - t0 + tol:  # each term printed as given: their sum rounds (0.1 + 0.01)
                     given = f"the window {seconds(ix.window)} s" + \

@@ -121,7 +121,8 @@ class SweepSpec:
         # closed loop: controller keys are dispersed as controller.<key>, never confused with the scene's
         self.closed = None
         if "controller" in root:
-            self.closed = ClosedLoopSpec(spec, root, float(self.base.values()["sim.duration"]))
+            self.closed = ClosedLoopSpec(spec, root, float(self.base.values()["sim.duration"]),
+                                         [aliases.get(k, k) for k in [*params, *grid]])
         self.parameters = [parse_parameter(spec, "parameters", k, n, key_types) for k, n in params.items()]
         if not self.parameters and not self.grid:
             spec.refuse("parameters", "nothing is dispersed: give parameters or grid")
@@ -130,6 +131,7 @@ class SweepSpec:
         # Values the scene would refuse are refused now, at the spec's line.
         # A disk within a key is tried at the rim that key's ends give, with that key's value (dispersion.trials).
         for p in self.parameters:
+            drawn_profiles = []  # a dispersed profile key's controllers at its range's ends (check_draws)
             for trial in p.trials():
                 ctrl = {k[len(CONTROLLER_PREFIX):]: v for k, v in trial.items() if k.startswith(CONTROLLER_PREFIX)}
                 scene = {k: v for k, v in trial.items() if not k.startswith(CONTROLLER_PREFIX)}
@@ -138,9 +140,13 @@ class SweepSpec:
                     c = self.closed.load(spec, f"parameters.{p.key}", ctrl, p.node, note=note)
                     if "control.period" in ctrl:
                         self._check_period(spec, p, c)
+                    if any(k.startswith("profile.") for k in ctrl):
+                        drawn_profiles.append(c)
                 if scene and not self._refused_alone(scene, p):  # a within key's own value: refused at its line
                     self._try(spec, f"parameters.{p.key}", scene, p.node,
                               note + _within_note(p, trial, self.base.values()))
+            if drawn_profiles:
+                self.closed.check_draws(spec, f"parameters.{p.key}", drawn_profiles, p.node)
         # A grid point's controller reaches the phases as the spec's must (each value alone, as the scene's are
         # tried): every sample there would be NaN in a phase its runs end before.
         for (key, values), node in zip(self.grid, grid.values()):

@@ -35,6 +35,10 @@ REFUSALS = [
     # (pass 53) ... or at it: the last tick sees the angle before the segment, its command acts after the run
     ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.profile.slew_start: {uniform: [0.5, 0.9]}",
      "parameters.controller.profile.slew_start", "the slew it shapes begins at 0.5 s at the earliest"),
+    # (pass 55) a dispersed profile key is judged at its range's ends: refused where every value misses a phase
+    ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.profile.slew_time: {uniform: [1.0, 2.0]}",
+     "parameters.controller.profile.slew_time", "at every value tried (its range's ends): the run ends at "
+     "sim.duration 0.5 s, inside phase 'slew' [0, 1) s: its indices would be NaN for every sample"),
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.duration: {uniform: [0.4, 0.5]}",
      "parameters.sim.duration",
      "not read by this sweep's runs (every closed loop of a study runs one length: a sweep's set: sim.duration"),
@@ -335,6 +339,21 @@ def test_a_profile_key_is_taken_when_one_value_reaches_its_segment_in_the_run(tm
     text = text.replace("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", f"  controller.{key}: {{{draws}}}")
     (tmp_path / "ok.yaml").write_text(text)
     assert "controller." + key in {p.key for p in SweepSpec(tmp_path / "ok.yaml").parameters}
+
+
+@pytest.mark.parametrize("dispersion", ["parameters:\n  controller.profile.hold_time: {uniform: [0.1, 0.5]}\n",
+                                        "parameters:\n  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}\n"
+                                        "grid:\n  controller.profile.hold_time: [0.1, 0.5]\n"])
+def test_a_profile_phase_is_judged_at_the_values_the_runs_take(tmp_path, dispersion):
+    # (pass 55) the default controller's hold_time (1 s) ends the hold past the 1 s run, but every value the
+    # study gives ends it inside: it was refused as "NaN for every sample", judged at a profile no run uses
+    from gimbalsim.sweep import SweepSpec
+    from conftest import SCENES
+    (tmp_path / "ok.yaml").write_text(
+        f"scene: {SCENES}/paper_ideal.yaml\nset: {{sim.duration: 1.0}}\ncontroller: default\n"
+        "controller_set: {profile.slew_start: 0.1, profile.slew_time: 0.3}\nsamples: 2\nseed: 3\n"
+        f"{dispersion}phases: [hold]\nindices:\n  ape: {{}}\n")
+    assert SweepSpec(tmp_path / "ok.yaml").closed.phases == [("hold", None)]
 
 
 @pytest.mark.parametrize("controller_set", [True, False])
