@@ -247,7 +247,8 @@ def test_a_study_whose_clearance_runs_have_no_track_figure_says_so(tmp_path, mon
         w = csv.DictWriter(f, fieldnames=list(rows[0]), lineterminator="\n")
         w.writeheader()
         w.writerows(rows)
-    summary = pointing_page._page(tmp_path)[1]
+    md, summary = pointing_page._page(tmp_path)
+    assert f"Per tick: {tmp_path}/pointing_error.csv; figures: {tmp_path}/pointing_error_vs_time.png" in "\n".join(md)
     assert summary.endswith("rad ideal, no clearance run has a figure while tracking"), summary
     texts = []
     monkeypatch.setattr(plot_pointing_study, "savefig",

@@ -154,7 +154,9 @@ def _page(d):
                   f"{_rad(r['peak_track_rad'])} | {_rad(r['rms_track_rad'])} | {_rad(r['peak_run_rad'])} | "
                   f"{rel[0]} | {rel[1]} | {r['controller_limited_ticks']} / "
                   f"{_ticks(r['controller_limited_track_ticks'])} | {tilts(r)} | {guard} | {status} |")
-    md += ["", "Per tick: out/pointing_study/pointing_error.csv; figures: out/pointing_study/pointing_error_vs_time.png "
+    # the study's folder as read (--dir), in the repository's terms where it lies there (pass 55: always the default)
+    shown = d.relative_to(ROOT) if d.is_relative_to(ROOT) else d
+    md += ["", f"Per tick: {shown}/pointing_error.csv; figures: {shown}/pointing_error_vs_time.png "
            "and pointing_error_vs_clearance.png (tools/pointing_study/plot_pointing_study.py).", ""]
     if config:
         md += ["Controller configuration in effect (config.txt):", "", "```", *config, "```", ""]
