@@ -196,6 +196,11 @@ int mainImpl(int argc, char** argv) {
                                                           "--long-set or --duration)");
   }
   if (long_only) no_grid = no_sweeps = long_run = true;
+  // A study of nothing would exit 0 with a page and no result (pass 55): refused, naming the flags.
+  if (one_scene.empty() && no_grid && no_sweeps && !long_run) {
+    return gimbalsim::program::refuse("gimbalsim_stress", "--no-grid --no-sweeps: nothing left to run (add "
+                                                          "--long-run, or drop one of them)");
+  }
   // --duration is the sweeps' and the grid's: a run that has neither would ignore it.
   if (app.count("--duration") && (!one_scene.empty() || (no_sweeps && no_grid))) {
     return gimbalsim::program::refuse(
@@ -325,7 +330,7 @@ int mainImpl(int argc, char** argv) {
                  e.what());
     rest_refused = true;
   }
-  st::PageInput page{all, &cells, &rest, longc.empty() ? nullptr : &longc[0], v_in, dur, b};
+  st::PageInput page{all, &cells, &rest, longc.empty() ? nullptr : &longc[0], v_in, dur, csv, b};
   const std::string body = st::pageBody(page);
   if (md) std::cout << "\n" << body;
   if (!write(true, body)) return gimbalsim::program::kOutput;

@@ -1,6 +1,7 @@
 // The stress grid's Markdown: see stress_page.hpp.
 #include "stress_page.hpp"
 
+#include <cmath>
 #include <map>
 #include <sstream>
 
@@ -143,7 +144,7 @@ std::string pageBody(const PageInput& in) {
         "sub-step until the run is trustworthy; sim.duration = "
      << in.duration << " s, sim.step = 1 ms (2.5e-4 s in paper_spatial1 and paper_both_spatial), torques 5 / 10 "
      << "N m unless a run changes them. The CSV of every run "
-     << "is out/stress/stress.csv.\n\nTRUSTWORTHY: finished, no NaN, momentum drift below " << num(b.momentum_rel)
+     << "is " << in.csv_path << ".\n\nTRUSTWORTHY: finished, no NaN, momentum drift below " << num(b.momentum_rel)
      << " of its scale, the energy balance (kinetic + Hertz - torque work) never rising by more than "
      << num(b.energy_rel) << " of the energy scale (not an invariant with a spatial joint, so not checked there), "
      << "penetration below the limit. STOPPED: stopped with a "
@@ -155,7 +156,8 @@ std::string pageBody(const PageInput& in) {
   if (in.restitution != nullptr && !in.restitution->empty()) restitution(md, *in.restitution, in.v_in);
   if (in.long_run != nullptr) {
     const Outcome& o = in.long_run->out;
-    md << "### One simulated hour\n\n`" << in.long_run->scene << " " << joined(in.long_run->sets) << "`: **"
+    // its length is the --long-set's (pass 55: a 0.1 s run was headed "One simulated hour")
+    md << (std::fabs(o.run.t_end - 3600.0) < 1e-6 ? "### One simulated hour" : "### The long run") << "\n\n`" << in.long_run->scene << " " << joined(in.long_run->sets) << "`: **"
        << verdictName(o.verdict) << "**, " << num(o.run.t_end, 4) << " s simulated in " << num(o.run.wall_seconds, 3)
        << " s wall (" << num(o.run.step_seconds, 3) << " s stepping), " << o.run.stats.impacts << " impacts, "
        << num(o.substeps_per_second) << " sub-steps per simulated second, momentum drift P " << num(o.momentum_rel_linear)

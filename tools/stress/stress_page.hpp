@@ -19,6 +19,7 @@ struct PageInput {
   const Case* long_run = nullptr;       ///< the one-hour run, or null
   double v_in = 0.05;                   ///< restitution table's throw speed [m/s]
   std::string duration;                 ///< sim.duration of the grid [s]
+  std::string csv_path = "out/stress/stress.csv";  ///< where the runs' CSV went (--csv)
   Bounds bounds;
 };
 
