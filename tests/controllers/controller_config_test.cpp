@@ -97,6 +97,12 @@ TEST(ControllerConfig, BadValuesAreRefusedWithTheReason) {
   // ... checked where the law reads it: with the firmware's rates, a 5 ms period loads as it is
   EXPECT_EQ(refusal("control:\n  period: 0.005\n"), "(accepted)");
   EXPECT_NE(refusal("control:\n  period: 0.005\n  rate_source: difference\n").find("Nyquist"), std::string::npos);
+  // ... and the base's acceleration filter only by the inertial feed-forward: with the model's (the default),
+  // a 10 ms period was refused for that filter's default 50 Hz (pass 55)
+  EXPECT_EQ(refusal("control:\n  period: 0.01\n"), "(accepted)");
+  EXPECT_NE(refusal("control:\n  period: 0.01\npointing:\n  accel_feedforward: inertial\n")
+                .find("key 'pointing.base_accel_filter_hz': must be below the Nyquist frequency"),
+            std::string::npos);
   EXPECT_NE(refusal("profile:\n  track_period: [1, 0]\n").find("key 'profile.track_period': must be in [1e-06, 1e+09]"),
             std::string::npos);
   // The profile's ranges keep every torque finite: 1e300 rad, a 1e-300 s period gave NaN commands.

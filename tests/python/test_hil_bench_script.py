@@ -142,8 +142,11 @@ def test_a_configuration_the_controller_refuses_is_its_refusal_not_firmware_sims
     says = f"run_hil_bench.sh: pointing_controller refused --config {config} with control.period = 1/--rate = 1/1000 s,"
     assert says + " --duration 0.1 (exit 2, its message above); nothing run" in p.stderr, p.stderr
     assert "firmware_sim" not in p.stderr and not (tmp_path / "new").exists(), p.stderr
-    p = bench(tmp_path / "new", "--no-plot", "--duration", "0.1", "--rate", "10")  # the default config at 10 Hz
-    # (the rate filter is checked only where the law reads it, rate_source difference: pass 21's F8)
+    # the inertial feed-forward's filter at 10 Hz (each filter is checked only where the law reads it: the rate
+    # filter with rate_source difference, pass 21's F8; the base's with accel_feedforward inertial, pass 55)
+    inertial = tmp_path / "inertial.yaml"
+    inertial.write_text(CONTROLLER_CONFIG.read_text().replace("accel_feedforward: model", "accel_feedforward: inertial"))
+    p = bench(tmp_path / "new", "--no-plot", "--duration", "0.1", "--rate", "10", "--config", str(inertial))
     assert p.returncode == 2 and "key 'pointing.base_accel_filter_hz': must be below the Nyquist frequency" in \
         p.stderr, p.stderr
     assert "pointing_controller refused --config" in p.stderr and "1/--rate = 1/10 s" in p.stderr, p.stderr
