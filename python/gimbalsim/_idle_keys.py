@@ -9,6 +9,8 @@ import itertools
 import math
 import re
 
+import yaml
+
 from ._closed_spec import CONTROLLER_PREFIX
 from ._idle_sensors import (ANTENNA_NOISE_KEYS, ANTENNA_SENSOR_KEYS, ANTENNA_TRACKER, NOISE_KEYS, TRUTH_ONLY, Span,
                             _Given, idle_at_antenna, idle_in_sensors, open_at_antenna)
@@ -170,7 +172,7 @@ def idle_reason(key, values, dispersed, takes, closed, unread_ticks=TRUTH_ONLY):
                              dispersed, takes,
                              NOISE_KEYS + ANTENNA_NOISE_KEYS if key == "sensors.seed" else ())
     if why is None and closed:
-        why = _idle_after_the_run(key, values, dispersed, takes)
+        why = _idle_after_the_run(key, values, dispersed, takes) or _idle_motor_limit(key, values, dispersed, takes)
     if why is None and closed:
         why = _for_every_value(idle_at_antenna, key, values, dispersed, takes) or \
             _for_every_value(functools.partial(_idle_play_guard, takes=takes), key, values, dispersed, takes)
@@ -215,6 +217,35 @@ def _idle_after_the_run(key, values, dispersed, takes):
     return (f"the {segment} it shapes begins at {seconds(earliest)} s at the earliest "
             f"({' + '.join('profile.' + k for k in begins_keys)}, lowest values given), at or after the run's "
             f"end at {seconds(duration)} s: every value runs the same reference")
+
+
+def _pair(text):
+    """[a, b] (text or list) as two floats, or None."""
+    try:
+        v = yaml.safe_load(text) if isinstance(text, str) else text
+        return [float(v[0]), float(v[1])] if isinstance(v, list) and len(v) == 2 else None
+    except (yaml.YAMLError, TypeError, ValueError):
+        return None
+
+
+def _idle_motor_limit(key, values, dispersed, takes):
+    """Why torque.limit cannot act in a closed loop: the controller holds each axis's command at its own
+    azimuth/elevation.torque_limit (pid.cpp), and a study's loop has no fault schedule to add torque, so a
+    motor limit at or above those on both axes, for every value given, clips nothing (pass 55: every row
+    recorded its drawn limit, all else identical)."""
+    own_keys = [CONTROLLER_PREFIX + axis + ".torque_limit" for axis in ("azimuth", "elevation")]
+    if key != "torque.limit" or key not in dispersed or any(k in dispersed for k in own_keys):
+        return None
+    try:
+        own = [float(values[k]) for k in own_keys]
+    except (KeyError, TypeError, ValueError):
+        return None
+    given = takes.get(key)
+    limits = [_pair(v) for v in given] if isinstance(given, list) else [None]
+    if any(lim is None for lim in limits) or not all(lim[0] >= own[0] and lim[1] >= own[1] for lim in limits):
+        return None
+    return (f"every value given is at or above the controller's own command limits (azimuth/elevation.torque_limit "
+            f"{own[0]:g} / {own[1]:g} N m), which hold every command it sends: the motor limit clips nothing")
 
 
 def refuse_idle_set(spec, entries, values, dispersed, takes, closed, runs, unread_ticks=TRUTH_ONLY):

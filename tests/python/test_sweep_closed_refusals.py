@@ -39,6 +39,9 @@ REFUSALS = [
     ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.profile.slew_time: {uniform: [1.0, 2.0]}",
      "parameters.controller.profile.slew_time", "at every value tried (its range's ends): the run ends at "
      "sim.duration 0.5 s, inside phase 'slew' [0, 1) s: its indices would be NaN for every sample"),
+    # (pass 55) a motor limit above the controller's own on both axes, at every value: it clips nothing
+    ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  torque.limit: {choice: [[100.0, 100.0], [500.0, 500.0]]}",
+     "parameters.torque.limit", "every value given is at or above the controller's own command limits"),
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.duration: {uniform: [0.4, 0.5]}",
      "parameters.sim.duration",
      "not read by this sweep's runs (every closed loop of a study runs one length: a sweep's set: sim.duration"),
@@ -339,6 +342,14 @@ def test_a_profile_key_is_taken_when_one_value_reaches_its_segment_in_the_run(tm
     text = text.replace("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", f"  controller.{key}: {{{draws}}}")
     (tmp_path / "ok.yaml").write_text(text)
     assert "controller." + key in {p.key for p in SweepSpec(tmp_path / "ok.yaml").parameters}
+
+
+def test_a_motor_limit_below_the_controllers_on_one_axis_is_taken(tmp_path):
+    from gimbalsim.sweep import SweepSpec
+    text = SPEC.replace("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}",
+                        "  torque.limit: {choice: [[10.0, 100.0], [500.0, 500.0]]}")
+    (tmp_path / "ok.yaml").write_text(text)
+    assert "torque.limit" in {p.key for p in SweepSpec(tmp_path / "ok.yaml").parameters}
 
 
 @pytest.mark.parametrize("dispersion", ["parameters:\n  controller.profile.hold_time: {uniform: [0.1, 0.5]}\n",
