@@ -44,7 +44,7 @@ import warnings
 import numpy as np
 
 import gimbalsim
-from . import _cluster
+from . import _cluster, _study_file
 from ._console import keep_console
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
 from ._closed_spec import plant_overrides
@@ -302,6 +302,25 @@ def _trials_kept(out):
         return 0
 
 
+def _study_recorded(out):
+    """Whether out/study.db holds this tool's study (what --resume takes)."""
+    try:
+        _study_file.check_resumable(out / STUDY_FILE, out, _study_file.STUDY_NAME)
+    except SpecError:
+        return False
+    return True
+
+
+def _forget_unrecorded_study(out):
+    """Removes a new study's files when it was never recorded: the database, its journal, a trials.csv with
+    no trial."""
+    if _trials_kept(out):
+        return
+    for name in (STUDY_FILE, STUDY_FILE + "-journal", TRIALS):
+        with contextlib.suppress(FileNotFoundError):
+            (out / name).unlink()
+
+
 def _study_write_errors():
     """The exceptions of a failed write to the study's storage."""
     import optuna
@@ -337,8 +356,13 @@ def _run(a, out):
     try:
         summary, rows = tune(spec, out, a.workers, a.scheduler, not a.no_progress, a.resume)
     except study_write_errors as e:  # the study's file refused a write (a full disk): what was told is kept
-        raise OutputError(f"cannot write the study {out / STUDY_FILE}: {str(e).splitlines()[0]}; free the space "
-                          f"and run again with --resume") from None
+        why = f"cannot write the study {out / STUDY_FILE}: {str(e).splitlines()[0]}; free the space and "
+        if a.resume or _study_recorded(out):
+            raise OutputError(why + "run again with --resume") from None
+        # A new study that failed before it was recorded: its files are this run's and hold nothing a resume
+        # could take (a --resume and a plain run were both refused over them, pass 55); they go.
+        _forget_unrecorded_study(out)
+        raise OutputError(why + "run again (nothing was kept)") from None
     if summary is None:
         print(f"tune: no trial completed ({len(rows)} failed); see {a.out}/trials.csv and summary.json",
               file=sys.stderr)

@@ -391,3 +391,24 @@ def test_a_resume_whose_study_lost_its_trials_keeps_trials_csv(tmp_path):
     p = subprocess.run(tune_cmd(spec, tmp_path / "o", "--resume"), capture_output=True, text=True, timeout=300)
     assert p.returncode == 2 and "trials.csv records 2 trial(s) the study in" in p.stderr, p.stderr
     assert (tmp_path / "o" / "trials.csv").read_bytes() == before
+
+
+def _file_size_limit(size_bytes):
+    """A child's file-size limit, its signal ignored: a write past it fails with EFBIG (a full disk's stand-in)."""
+    def limit():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (size_bytes, size_bytes))
+    return limit
+
+
+def test_a_new_study_that_could_not_be_written_leaves_nothing_to_refuse(tmp_path):
+    # (pass 55) study.db failed before the study was recorded: the tuner said to run again with --resume, which
+    # was refused ("holds no study"), as was a plain run ("already holds a study"), over a partial study.db
+    spec = write_spec(tmp_path, 1)
+    p = subprocess.run(tune_cmd(spec, tmp_path / "o"), capture_output=True, text=True, timeout=300,
+                       preexec_fn=_file_size_limit(16 * 1024))
+    assert p.returncode == 4 and "cannot write the study" in p.stderr, p.stderr
+    assert "free the space and run again (nothing was kept)" in p.stderr and "--resume" not in p.stderr, p.stderr
+    assert sorted(f.name for f in (tmp_path / "o").iterdir()) == []
+    again = subprocess.run(tune_cmd(spec, tmp_path / "o"), capture_output=True, text=True, timeout=300)
+    assert again.returncode == 0, again.stderr
