@@ -230,7 +230,9 @@ class ClosedLoopSpec:
             if not ends_with_run and not first_tick < t1 - tol:
                 yield "tick", name, (f"phase '{name}' [{seconds(t0)}, {seconds(t1)}) s holds no control tick (one "
                                      f"every {seconds(period_s)} s): its indices would be NaN for every sample")
-            if self.duration_s <= t0 + tol or (not ends_with_run and self.duration_s < t1 - tol):
+            # the last tick's sample holds for its period, as gimbalsim.indices reads it (a phase ending 1e-7 s
+            # past the run was refused here while the indices gave it a value, pass 55)
+            if self.duration_s <= t0 + tol or (not ends_with_run and self.duration_s + period_s < t1 - tol):
                 yield "run", name, (f"the run ends at sim.duration {seconds(self.duration_s)} s, "
                                     f"{'before' if self.duration_s <= t0 + tol else 'inside'} phase '{name}' "
                                     f"[{seconds(t0)}, {seconds(t1)}) s: its indices would be NaN for every sample")

@@ -344,6 +344,21 @@ def test_a_profile_key_is_taken_when_one_value_reaches_its_segment_in_the_run(tm
     assert "controller." + key in {p.key for p in SweepSpec(tmp_path / "ok.yaml").parameters}
 
 
+@pytest.mark.parametrize("end,refused", [("0.5000001", False), ("0.501", False), ("0.5011", True)])
+def test_a_phase_ending_within_the_last_ticks_period_is_covered(tmp_path, end, refused):
+    # (pass 55) the run's last tick (0.5 s) holds for its period as gimbalsim.indices reads it: a phase ending
+    # 1e-7 s past the run was refused as "NaN for every sample" while the indices gave it a value
+    from gimbalsim.sweep import SpecError, SweepSpec
+    text = SPEC.replace(f"set: {{sim.duration: {DURATION}}}", "set: {sim.duration: 0.5}") \
+        .replace("{late: [0.4, 0.5]}", f"{{late: [0.4, {end}]}}")
+    (tmp_path / "s.yaml").write_text(text)
+    if refused:
+        with pytest.raises(SpecError, match="inside phase 'late'"):
+            SweepSpec(tmp_path / "s.yaml")
+    else:
+        assert SweepSpec(tmp_path / "s.yaml").closed.phases[-1] == ("late", (0.4, float(end)))
+
+
 def test_a_motor_limit_below_the_controllers_on_one_axis_is_taken(tmp_path):
     from gimbalsim.sweep import SweepSpec
     text = SPEC.replace("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}",
