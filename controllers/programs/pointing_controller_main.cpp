@@ -215,6 +215,9 @@ int run(int argc, char** argv) {
                  "its last command); check the configuration's ranges\n", h.notFinite(), h.answered());
     code = program::kStopped;
   }
+  // A plant that stopped (FAULT_PLANT_FAULT) ended the run there, whatever the statuses after it: the run
+  // stopped, as firmware_sim's own exit says (3), never a success.
+  if (code == program::kOk && !std::isnan(h.plantStoppedTime())) code = program::kStopped;
   if (log_out && !log_out->commit()) {
     std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", log_out->error().c_str());
     if (code == program::kOk) code = program::kOutput;

@@ -79,5 +79,21 @@ TEST(HilDuration, LockstepPlantWhoseControllerHasGoneSaysSoAndExitsSix) {
   EXPECT_NE(fw.find("commands: received 500"), std::string::npos) << "its summary\n" << fw;
 }
 
+// A plant that stops (here its velocity limit, at t = 0.5 s) ends the run for both: firmware_sim exits 3 and
+// so does its controller, which saw FAULT_PLANT_FAULT in the statuses after the stop (it exited 0, pass 55).
+TEST(HilDuration, LockstepPairWhosePlantStopsBothExitThree) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("plant_stops");
+  const std::string url = udpmUrl(7794), cfg = defaultControllerConfig();
+  const std::string body =
+      "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' --duration 0.8 >ctl.log 2>&1 &\nC=$!\n" +
+      "timeout 60 " + firmwareSim() + " " + scenePath("paper_clearance") + " --lockstep --duration 0.8 --profile " + cfg +
+      " --lcm-url '" + url + "' --start-timeout 20 --set sim.velocity_limit=0.001 >fw.log 2>&1\nrf=$?\nwait $C; rc=$?\n"
+      "echo \"rf $rf rc $rc\"\n[ $rf -eq 3 ] && [ $rc -eq 3 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log") << readFile(dir / "ctl.log");
+  const std::string ctl = readFile(dir / "ctl.log");
+  EXPECT_NE(ctl.find("pointing_controller: the plant stopped after t = 0.5"), std::string::npos) << ctl;
+}
+
 }  // namespace
 }  // namespace gimbalsim::hil

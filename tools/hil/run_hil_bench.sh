@@ -272,9 +272,10 @@ if [ "$LOG" = 1 ]; then
   "$BIN/gimbalsim_log2csv" bench.lcmlog --out-dir "$RUN"
 fi
 # A plant that stopped (exit 3) wrote its truth up to the stop: kept, as every script keeps such a run
-# (usage.md "Scripts in tools/"); the controller it left waiting was stopped by us (SIGTERM: 143, its log whole).
+# (usage.md "Scripts in tools/"); the controller it left waiting was stopped by us (SIGTERM: 143, its log whole)
+# or saw the stop in its statuses (3).
 [ "$rc" -eq 0 ] || [ "$rc" -eq 3 ] || failed "firmware_sim exited with $rc" "$rc"
-[ "$ctl_rc" -eq 0 ] || { [ "$rc" -eq 3 ] && [ "$ctl_rc" -eq 143 ]; } ||
+[ "$ctl_rc" -eq 0 ] || { [ "$rc" -eq 3 ] && { [ "$ctl_rc" -eq 143 ] || [ "$ctl_rc" -eq 3 ]; }; } ||
   failed "pointing_controller exited with $ctl_rc" "$ctl_rc"
 if [ "$PLOT" = 1 ]; then
   /usr/bin/python3 "$ROOT/tools/hil/plot_bench.py" truth.csv --out bench.png \
