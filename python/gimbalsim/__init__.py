@@ -16,8 +16,14 @@ import functools
 import json
 import numbers
 import os
+import sys
 
-import numpy as np
+from . import _errors
+
+if sys.argv[:1] == ["-m"]:  # a program of the package starting: a signal in the imports below says so
+    _errors.report_early_signals()
+
+import numpy as np  # noqa: E402 (after the handler: importing numpy and the extension takes most of a second)
 
 try:
     from . import _gimbalsim
@@ -27,7 +33,7 @@ except ImportError as e:  # a build folder whose extension was never built (only
         f"gimbalsim: the extension module _gimbalsim is not built in {_here} ({e}); build it with "
         "`cmake --build build -j2 --target gimbalsim_python` (build/ being that build folder), "
         "or install the package (docs/python_install.md)") from e
-from . import _output
+from . import _output  # noqa: E402
 from ._errors import OutputError, SceneError, SimulationStopped
 from ._gimbalsim import COLUMNS, Scene, Simulator, State
 
