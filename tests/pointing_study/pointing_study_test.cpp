@@ -191,9 +191,34 @@ TEST(PointingStudy, SeveralClearanceScenesAreLabelledByScene) {
   EXPECT_EQ(run("--quick --clearance-scene " GIMBALSIM_SCENES_DIR "/paper_clearance.yaml --out " + dir,
                 dir + "-twice.log"),
             2);
-  EXPECT_NE(slurp(dir + "-twice.log").find("'paper_clearance_c=0.25mm' (a scene or a clearance given twice)"),
+  EXPECT_NE(slurp(dir + "-twice.log").find("--clearance-scene: '" GIMBALSIM_SCENES_DIR "/paper_clearance.yaml' "
+                                           "given twice"),
             std::string::npos)
       << slurp(dir + "-twice.log");
+  // A scene is named by its file (as gimbalsim_controller_floor names it), not by its `name:` key: a modified
+  // copy read as the shipped scene, and two different files of one `name:` were "given twice" (pass 55).
+  const std::string copies = dir + "-copies";
+  std::filesystem::create_directories(copies + "/a");
+  std::filesystem::create_directories(copies + "/o");
+  std::filesystem::copy_file(GIMBALSIM_SCENES_DIR "/paper_clearance.yaml", copies + "/clr_stop.yaml",
+                             std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::copy_file(GIMBALSIM_SCENES_DIR "/paper_clearance.yaml", copies + "/a/paper_clearance.yaml",
+                             std::filesystem::copy_options::overwrite_existing);
+  EXPECT_EQ(run("--clearances 5e-4 --duration 0.1 --clearance-scene " + copies + "/clr_stop.yaml --out " + copies +
+                    "/o",
+                copies + ".log"),
+            0)
+      << slurp(copies + ".log");
+  const auto rc = gimbalsim::test::Csv::read(copies + "/o/summary.csv").records();
+  ASSERT_EQ(rc.size(), 3u);
+  EXPECT_EQ(rc[1].at("scene"), "paper_clearance");
+  EXPECT_EQ(rc[2].at("scene"), "clr_stop");
+  EXPECT_EQ(rc[2].at("run"), "clr_stop_c=0.5mm");
+  EXPECT_EQ(run("--quick --clearance-scene " + copies + "/a/paper_clearance.yaml --out " + dir, copies + "-same.log"),
+            2);
+  EXPECT_NE(slurp(copies + "-same.log").find("have the same file name, which names their runs; rename one"),
+            std::string::npos)
+      << slurp(copies + "-same.log");
 }
 
 }  // namespace

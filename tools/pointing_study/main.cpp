@@ -113,8 +113,22 @@ int mainImpl(int argc, char** argv) {
   struct Planned {
     firmware::PlantScene scene;
     double clearance = 0.0;  ///< [m], 0 for the ideal joint
-    std::string label, sensors;
+    std::string scene_name, label, sensors;
   };
+  // A scene is named by its file's stem, as gimbalsim_controller_floor names it: a modified copy keeps the
+  // shipped scene's `name:` and would read as the shipped scene (pass 55).
+  const auto stem = [](const std::string& path) { return std::filesystem::path(path).stem().string(); };
+  for (std::size_t i = 0; i < clearance_paths.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (stem(clearance_paths[i]) != stem(clearance_paths[j])) continue;
+      std::error_code ec;
+      const bool same = clearance_paths[i] == clearance_paths[j] ||
+                        std::filesystem::equivalent(clearance_paths[i], clearance_paths[j], ec);
+      return refuse("--clearance-scene", same ? "'" + clearance_paths[i] + "' given twice"
+                                              : "'" + clearance_paths[j] + "' and '" + clearance_paths[i] +
+                                                    "' have the same file name, which names their runs; rename one");
+    }
+  }
   std::vector<Planned> scenes;
   try {
     cfg = config_path.empty() ? loadControllerConfigText("", "the built-in default configuration", sets)
@@ -154,7 +168,8 @@ int mainImpl(int argc, char** argv) {
         labels.push_back("--scene-set #" + std::to_string(k + 1) + " '" + scene_sets[k] + "'");
       }
       const std::string suffix = cases.size() > 1 ? "_" + sensor_case : "";
-      scenes.push_back({firmware::loadPlantScene(ideal_path, base), 0.0, "ideal" + suffix, sensor_case});
+      scenes.push_back({firmware::loadPlantScene(ideal_path, base), 0.0, stem(ideal_path), "ideal" + suffix,
+                        sensor_case});
       for (const std::string& path : clearance_paths) {
         for (double c : clearances) {
           std::vector<std::string> s = base;
@@ -168,8 +183,8 @@ int mainImpl(int argc, char** argv) {
           }
           // One clearance scene keeps the short labels; several are told apart by scene name.
           std::string label = clearanceLabel(c);
-          if (clearance_paths.size() > 1) label = ps.scene.model.name + "_" + label;
-          scenes.push_back({std::move(ps), c, label + suffix, sensor_case});
+          if (clearance_paths.size() > 1) label = stem(path) + "_" + label;
+          scenes.push_back({std::move(ps), c, stem(path), label + suffix, sensor_case});
         }
       }
     }
@@ -183,7 +198,7 @@ int mainImpl(int argc, char** argv) {
     for (std::size_t j = 0; j < i; ++j) {
       if (scenes[i].label == scenes[j].label) {
         return refuse("--clearance-scene/--clearances", "two runs would both be '" + scenes[i].label +
-                                                            "' (a scene or a clearance given twice)");
+                                                            "' (a clearance given twice, or two its six significant digits do not tell apart)");
       }
     }
   }
@@ -252,7 +267,7 @@ int mainImpl(int argc, char** argv) {
   opt.stop_requested = gimbalsim::io::stopRequested;
   for (const Planned& p : scenes) {
     if (gimbalsim::io::stopRequested()) break;
-    runs.push_back(pointing_study::runOne(p.scene, cfg, opt, p.label, p.clearance, p.sensors));
+    runs.push_back(pointing_study::runOne(p.scene, cfg, opt, p.scene_name, p.label, p.clearance, p.sensors));
     if (runs.back().interrupted) {
       runs.pop_back();
       break;

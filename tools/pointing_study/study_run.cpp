@@ -56,10 +56,10 @@ std::string stopKey(const firmware::ClosedLoopResult& r) {
 }  // namespace
 
 Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const firmware::ClosedLoopOptions& opt,
-             std::string label, double clearance, std::string sensors) {
+             std::string scene_name, std::string label, double clearance, std::string sensors) {
   Study s;
   s.label = std::move(label);
-  s.scene = ps.scene.model.name;
+  s.scene = std::move(scene_name);
   s.joints = std::string(kindName(ps.scene.model.joint1_kind)) + "/" + kindName(ps.scene.model.joint2_kind);
   s.sensors = std::move(sensors);
   s.loop_sensors = loopSensors(ps, c);

@@ -38,8 +38,10 @@ struct Study {
 };
 
 /// Runs one closed loop of the study: the truth error per tick and the summary's figures.
+/// scene_name: the scene file's stem, as every table of the study names it (not its `name:` key).
 Study runOne(const firmware::PlantScene& ps, const controllers::ControllerConfig& c,
-             const firmware::ClosedLoopOptions& opt, std::string label, double clearance, std::string sensors);
+             const firmware::ClosedLoopOptions& opt, std::string scene_name, std::string label, double clearance,
+             std::string sensors);
 
 /// pointing_error.csv: t_s and each run's truth error column (a run that stopped has empty cells after).
 std::string timeSeriesCsv(const std::vector<Study>& runs, double period);
