@@ -85,6 +85,31 @@ TEST(StressPage, WalkTableShowsTheLargestTrustworthyValueAndEveryVerdict) {
   EXPECT_NE(md.find("| x1 (8.68e+09) | none  | none  | **0.0002** (5e+03/s) SST | none  |"), std::string::npos) << md;
 }
 
+// (pass 55) a study of the long run alone opened with the sweeps' and the walk's description, none of which ran.
+TEST(StressPage, TheOpeningNamesOnlyWhatRan) {
+  PageInput in;
+  in.duration = "1";
+  in.csv_path = "d/long.csv";
+  in.sweeps_ran = in.grid_ran = false;
+  const std::string alone = pageBody(in);
+  EXPECT_NE(alone.find("(tools/stress/): the long run alone (no sweep and no sub-step walk ran). The CSV of every "
+                       "run is d/long.csv."),
+            std::string::npos)
+      << alone;
+  EXPECT_EQ(alone.find("one parameter changed"), std::string::npos) << alone;
+  EXPECT_EQ(alone.find("sim.duration = 1 s"), std::string::npos) << alone;
+  in.sweeps_ran = true;
+  const std::string sweeps = pageBody(in);
+  EXPECT_NE(sweeps.find("with each friction law; sim.duration = 1 s"), std::string::npos) << sweeps;
+  EXPECT_EQ(sweeps.find("a walk down the sub-step"), std::string::npos) << sweeps;
+  in.grid_ran = true;
+  const std::string both = pageBody(in);
+  EXPECT_NE(both.find("with each friction law, and for each contact stiffness and clearance a walk down the sub-step "
+                      "until the run is trustworthy; sim.duration = 1 s"),
+            std::string::npos)
+      << both;
+}
+
 TEST(StressCsv, OneRowPerRunWithTheVerdict) {
   const Case a = fabricated("torque", Verdict::Stopped, "sim.max_substeps", "cap \"hit\"");
   const std::string csv = csvText({&a});

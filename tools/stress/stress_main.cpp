@@ -330,7 +330,7 @@ int mainImpl(int argc, char** argv) {
                  e.what());
     rest_refused = true;
   }
-  st::PageInput page{all, &cells, &rest, longc.empty() ? nullptr : &longc[0], v_in, dur, csv, b};
+  st::PageInput page{all, &cells, &rest, longc.empty() ? nullptr : &longc[0], v_in, dur, csv, b, !no_sweeps, !no_grid};
   const std::string body = st::pageBody(page);
   if (md) std::cout << "\n" << body;
   if (!write(true, body)) return gimbalsim::program::kOutput;

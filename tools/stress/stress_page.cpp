@@ -137,14 +137,22 @@ void restitution(std::ostringstream& md, const std::vector<RestitutionRow>& rest
 std::string pageBody(const PageInput& in) {
   std::ostringstream md;
   const Bounds& b = in.bounds;
-  md << "`build/bin/gimbalsim_stress` (tools/stress/): the paper scenes with one parameter changed at a time "
-        "and in pairs (contact stiffness, clearance, torques, restitution per damping law, friction law, step, "
-        "the adaptive policy's tolerance), every pair of joint kinds the scenes use (clearance in joint 1, in both, "
-        "spatial) with each friction law, and for each contact stiffness and clearance a walk down the "
-        "sub-step until the run is trustworthy; sim.duration = "
-     << in.duration << " s, sim.step = 1 ms (2.5e-4 s in paper_spatial1 and paper_both_spatial), torques 5 / 10 "
-     << "N m unless a run changes them. The CSV of every run "
-     << "is " << in.csv_path << ".\n\nTRUSTWORTHY: finished, no NaN, momentum drift below " << num(b.momentum_rel)
+  // The opening says what this study ran (pass 55: a long run alone was described as the sweeps and the walk).
+  md << "`build/bin/gimbalsim_stress` (tools/stress/): ";
+  if (in.sweeps_ran) {
+    md << "the paper scenes with one parameter changed at a time and in pairs (contact stiffness, clearance, "
+          "torques, restitution per damping law, friction law, step, the adaptive policy's tolerance), every pair "
+          "of joint kinds the scenes use (clearance in joint 1, in both, spatial) with each friction law"
+       << (in.grid_ran ? ", and " : "");
+  }
+  if (in.grid_ran) md << "for each contact stiffness and clearance a walk down the sub-step until the run is trustworthy";
+  if (in.sweeps_ran || in.grid_ran) {
+    md << "; sim.duration = " << in.duration << " s, sim.step = 1 ms (2.5e-4 s in paper_spatial1 and "
+       << "paper_both_spatial), torques 5 / 10 N m unless a run changes them.";
+  } else {
+    md << "the long run alone (no sweep and no sub-step walk ran).";
+  }
+  md << " The CSV of every run is " << in.csv_path << ".\n\nTRUSTWORTHY: finished, no NaN, momentum drift below " << num(b.momentum_rel)
      << " of its scale, the energy balance (kinetic + Hertz - torque work) never rising by more than "
      << num(b.energy_rel) << " of the energy scale (not an invariant with a spatial joint, so not checked there), "
      << "penetration below the limit. STOPPED: stopped with a "

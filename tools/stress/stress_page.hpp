@@ -21,6 +21,8 @@ struct PageInput {
   std::string duration;                 ///< sim.duration of the grid [s]
   std::string csv_path = "out/stress/stress.csv";  ///< where the runs' CSV went (--csv)
   Bounds bounds;
+  bool sweeps_ran = true;               ///< the one-at-a-time and pairwise sweeps ran (not --no-sweeps)
+  bool grid_ran = true;                 ///< the sub-step walk ran (not --no-grid)
 };
 
 /// One letter per verdict: T, S, W, U, R.
