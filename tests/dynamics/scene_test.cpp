@@ -256,6 +256,16 @@ TEST(Scene, JointKindsAndJoint1BearingDefaultToJoint2s) {
   EXPECT_NE(e.find("key 'contact.stiffness_scale': must be in (0, 1e+06], got 1e+300"), std::string::npos) << e;
   // A planar bearing has no length to check: its contact is in one plane.
   EXPECT_EQ(refusal(kGood, {"structure.joint2=planar", "contact.bearing_length=1e-300"}), "");
+  // (pass 55) flores at c_e = 1e-6 ended on a velocity limit at the first impact, 1e-300 in NaN: refused at the
+  // key that gave it; the other laws' chi stays bounded, and 1e-4 is flores' own smallest.
+  e = refusal(kGood, {"structure.joint2=planar", "contact.damping=flores", "contact.restitution=1e-6"});
+  EXPECT_NE(e.find("key 'contact.restitution': with contact.damping flores must be >= 1e-04, got 1e-06"),
+            std::string::npos)
+      << e;
+  e = refusal(kGood, {"structure.joint2=planar", "contact.damping=flores", "joint2.contact.restitution=1e-300"});
+  EXPECT_NE(e.find("key 'joint2.contact.restitution': with contact.damping flores"), std::string::npos) << e;
+  EXPECT_EQ(refusal(kGood, {"structure.joint2=planar", "contact.damping=flores", "contact.restitution=1e-4"}), "");
+  EXPECT_EQ(refusal(kGood, {"structure.joint2=planar", "contact.restitution=1e-6"}), "");
   e = refusal(kGood, {"structure.joint1=tilted"});
   EXPECT_NE(e.find("structure.joint1"), std::string::npos) << e;
 }

@@ -192,6 +192,15 @@ void checkBearing(const ContactParams& cb, const ContactParams* shared, int join
                    ") must be < bearing radius (" + formatNumber(cb.bearing_radius) + " m, " + bearing + ")");
     }
   }
+  // Flores' chi at a tiny c_e makes the contact stiffer than any sub-step of a step's work bound resolves:
+  // c_e = 1e-6 ended on sim.max_substeps at the paper scene's first impact, 1e-12 in NaN (pass 55).
+  const bool damping_own = !shared || cb.damping != shared->damping || cb.restitution != shared->restitution;
+  if (damping_own && cb.damping == DampingLaw::Flores && !(cb.restitution >= kFloresMinRestitution)) {
+    g.refuse(joint < 0 ? b.contact + "restitution" : givenAs(g, joint, "contact.", "restitution"),
+             "with contact.damping flores must be >= " + formatNumber(kFloresMinRestitution) + ", got " +
+                 formatNumber(cb.restitution) + ": its factor 1 + 8 (1 - c_e) / (5 c_e) on the elastic force "
+                 "needs more sub-steps than a step allows below it (docs/MODEL.md 5.2)");
+  }
   if ((!shared || cb.v_a != shared->v_a || cb.v_b != shared->v_b) && !(cb.v_b > cb.v_a)) {
     const std::string vb = joint < 0 ? b.friction + "v_b" : givenAs(g, joint, "friction.", "v_b");
     const std::string va = joint < 0 ? b.friction + "v_a" : givenAs(g, joint, "friction.", "v_a");

@@ -58,14 +58,18 @@ template <class V, int J>
 void jointContact(const Model& m, Data<V>& d, const State<V>& s) {
   if constexpr (V::kind(J) == ClearanceKind::Planar) {
     constexpr int E = PlanarGroup<V, J>::END;
-    clearanceContact<V, J>(m, d, s.q, s.v, s.v0[E], s.in_contact[E] ? s.friction_mode : 0);
+    clearanceContact<V, J>(m, d, s.q, s.v, s.in_contact[E] ? s.v0[E] : kOnsetNotLocated,
+                           s.in_contact[E] ? s.friction_mode : 0);
     addContactForces<V, J>(m, d);
   } else if constexpr (V::kind(J) == ClearanceKind::Spatial) {
     using G = SpatialGroup<V, J>;
     SpatialContact& out = d.spatial[J];
     const ContactParams& cp = m.bearing[J];
     spatialContact(cp, cp.bearing_length, s.q.template segment<5>(G::QG), s.v.template segment<5>(G::VG),
-                   G::toB(m, bearingBodyRate<V, J>(d)), {s.v0[G::END], s.v0[G::END + 1]}, out);
+                   G::toB(m, bearingBodyRate<V, J>(d)),
+                   {s.in_contact[G::END] ? s.v0[G::END] : kOnsetNotLocated,
+                    s.in_contact[G::END + 1] ? s.v0[G::END + 1] : kOnsetNotLocated},
+                   out);
     for (int i = 0; i < 2; ++i) {
       const SpatialEnd& se = out.end[i];
       ContactEval& c = d.contact[G::END + i];

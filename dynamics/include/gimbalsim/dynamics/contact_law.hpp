@@ -13,13 +13,22 @@ inline double hertzPower(double delta, double n) {
   return n == 1.5 ? delta * std::sqrt(delta) : std::pow(delta, n);
 }
 
+/// v0 of an end not in contact: a stage of a sub-step that crosses into the
+/// bearing before the onset is located (the sub-step is taken back).
+constexpr double kOnsetNotLocated = -1.0;
+
 /// Normal force F_n = K delta^n (1 + chi d(delta)/dt / v0) for delta > 0, else
 /// 0, never negative (no adhesion). delta [m], vn = d(delta)/dt [m/s], v0 the
-/// impact velocity [m/s], floored at c.v0_min. [N]
+/// impact velocity [m/s], floored at c.v0_min. With kOnsetNotLocated the
+/// stage's own |vn| is its onset speed: the previous impact's v0 (or 0, the
+/// floor) would scale the damping by an unrelated speed, and a small floor
+/// made that stage's force overflow before the locator could retake it.
 inline double normalForce(const ContactParams& c, double delta, double vn, double v0) {
   if (!(delta > 0.0)) return 0.0;
   double f = c.K * hertzPower(delta, c.exponent);
-  if (c.damping != DampingLaw::None) f *= 1.0 + c.chi * vn / std::fmax(v0, c.v0_min);
+  if (c.damping != DampingLaw::None) {
+    f *= 1.0 + c.chi * vn / std::fmax(v0 == kOnsetNotLocated ? std::fabs(vn) : v0, c.v0_min);
+  }
   return f > 0.0 ? f : 0.0;
 }
 

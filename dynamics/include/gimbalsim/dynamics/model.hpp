@@ -67,6 +67,9 @@ struct ContactParams {
 /// tilts at most atan(2c/L) = 0.46 rad, where contact at the two end planes
 /// is the model (the scene and the fault schedule's wear both hold to it).
 inline constexpr double kSpatialMinLengthInClearances = 4.0;
+/// The smallest c_e the flores law is run with: its chi = 8 (1 - c_e) / (5 c_e) multiplies the elastic force
+/// by up to 1 + chi while the surfaces press (docs/MODEL.md 5.2).
+inline constexpr double kFloresMinRestitution = 1e-4;
 
 /// Numerical settings of the fixed-step integrator.
 struct IntegratorParams {
