@@ -22,8 +22,12 @@ def test_a_torque_beyond_the_scenes_range_is_refused_not_stepped_into_nan():
     with pytest.raises(ValueError, match=r"torques row 1 is not finite and within \[-1e6, 1e6\] N m \(0, -2e\+06\)"):
         s.run([[0.0, 0.0], [0.0, -2e6]])
     assert s.t == 0.0  # nothing was stepped
-    with pytest.raises(gimbalsim.SimulationStopped, match="sim.velocity_limit"):
-        s.step(1e6, -1e6)  # the range's end is taken: the plant's own limit stops it, with its reason
+    # The range's end is taken: the plant's own limit stops it, with its reason, never NaN. Which limit is the
+    # contact's to say: 1e6 N m drives the journal 0.78 mm into a 0.5 mm bearing (sim.penetration_limit); it hit
+    # sim.velocity_limit while a stage entering the bearing took the damping's v0 from no impact (MODEL.md 5.3).
+    with pytest.raises(gimbalsim.SimulationStopped, match=r"\(limit: sim\.(penetration|velocity)_limit\)$") as e:
+        s.step(1e6, -1e6)
+    assert "nan" not in str(e.value).lower() and "non-finite" not in str(e.value), e.value
 
 
 def test_a_step_count_beyond_any_integer_names_n():
