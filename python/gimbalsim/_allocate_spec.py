@@ -210,17 +210,20 @@ class AllocationSpec:
                 raise
             point = f"{self.key} = {self.value_text(value)}: "  # a grid point's own refusal names it already
             why = _bare(e)
-            never_read = why.removeprefix(point).startswith(NOT_READ) and \
-                not any(self._read_at(v) for v in scanned if v != value)
+            never_read = self._not_read(e, value) and not any(self._read_at(v) for v in scanned if v != value)
             where = "key" if never_read else "range"
             spec.refuse(f"allocate.{where}", why if why.startswith(point) else point + why, body[where])
+
+    def _not_read(self, e, value):
+        """Whether the sweep's refusal e of this value says its runs do not read the key there."""
+        return _bare(e).removeprefix(f"{self.key} = {self.value_text(value)}: ").startswith(NOT_READ)
 
     def _read_at(self, value):
         """Whether the runs read the key at this value (a slew_start past the run's end is read at none)."""
         try:
             SweepSpec(self.path, text=self.text_at(value))
         except SpecError as e:
-            return not _bare(e).removeprefix(f"{self.key} = {self.value_text(value)}: ").startswith(NOT_READ)
+            return not self._not_read(e, value)
         return True
 
     def plain(self):

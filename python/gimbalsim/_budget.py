@@ -35,12 +35,10 @@ def column_values(spec, rows, metric):
     return [float(r[col]) if r[status] == "ok" and r[col] not in ("", "nan") else math.nan for r in rows]
 
 
-def missing_text(spec, rows, metric):
-    """Why the units without a figure have none, counted: "1 crashed, 2
-    stopped (velocity_limit)"; a unit that ended ok missed the window. A
-    stopped unit whose row holds a figure for this phase (the stop came
-    after it) is said to, so the report never reads "no figure" beside a
-    row that has one (pass 54)."""
+def _missing(spec, rows, metric):
+    """The units without a figure the budget takes, by why ("crashed",
+    "stopped (velocity_limit)", ...): a Counter, and a Counter of those whose
+    row holds a figure for this phase all the same (a stop that came after it)."""
     header = spec.header()
     col, status = header.index(metric), header.index("status")
     counts, with_figure = collections.Counter(), collections.Counter()
@@ -53,17 +51,19 @@ def missing_text(spec, rows, metric):
                "ran without a figure over the window" if s == "ok" else f"stopped ({s})")
         counts[why] += 1
         with_figure[why] += has_figure
+    return counts, with_figure
+
+
+def missing_text(spec, rows, metric):
+    """Why the units without a figure have none, counted: "1 crashed, 2
+    stopped (velocity_limit)"; a unit that ended ok missed the window. A
+    stopped unit whose row holds a figure for this phase (the stop came
+    after it) is said to, so the report never reads "no figure" beside a
+    row that has one (pass 54)."""
+    counts, with_figure = _missing(spec, rows, metric)
     return ", ".join(f"{n} {why}" + (f", {with_figure[why]} of them with a figure over this phase before the stop, "
                                      "not used: a unit that stopped counts as worst" if with_figure[why] else "")
                      for why, n in counts.items())
-
-
-def _stopped_with_figure(spec, rows, metric):
-    """Units that stopped whose row holds a figure for this phase (the stop came after it)."""
-    header = spec.header()
-    col, status = header.index(metric), header.index("status")
-    return sum(1 for r in rows if r[status] not in ("ok", "crashed") and not r[status].startswith("refused")
-               and r[col] not in ("", "nan"))
 
 
 def entry(spec, rows, index, phase):
@@ -91,7 +91,7 @@ def entry(spec, rows, index, phase):
         # worst, so the quantile is unbounded; say so, with the worst figure there is, never a bare n/a.
         e["estimate_note"] = (f"beyond every figure: it falls on the {b.n_missing} of {b.n} units without one "
                               f"({missing_text(spec, rows, f'{index.name}_{phase}')}), counted as worst")
-    unused = _stopped_with_figure(spec, rows, f"{index.name}_{phase}")
+    unused = sum(_missing(spec, rows, f"{index.name}_{phase}")[1].values())  # stopped after the phase
     if unused and "estimate_note" not in e and b.n_missing < b.n:  # those notes give missing_text, which says it
         e["unused_note"] = (f"{unused} of the {b.n_missing} units without a figure the budget takes stopped after "
                             "this phase and hold its figure, not used: a unit that stopped counts as worst")
