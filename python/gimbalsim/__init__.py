@@ -16,14 +16,12 @@ import functools
 import json
 import numbers
 import os
-import sys
 
-from . import _errors
+from ._errors import OutputError, SceneError, SimulationStopped, report_early_signals
 
-if sys.argv[:1] == ["-m"]:  # a program of the package starting: a signal in the imports below says so
-    _errors.report_early_signals()
+report_early_signals()  # `python3 -m gimbalsim.X` starting: a signal while numpy and the extension import says so
 
-import numpy as np  # noqa: E402 (after the handler: importing numpy and the extension takes most of a second)
+import numpy as np  # noqa: E402
 
 try:
     from . import _gimbalsim
@@ -34,7 +32,7 @@ except ImportError as e:  # a build folder whose extension was never built (only
         "`cmake --build build -j2 --target gimbalsim_python` (build/ being that build folder), "
         "or install the package (docs/python_install.md)") from e
 from . import _output  # noqa: E402
-from ._errors import OutputError, SceneError, SimulationStopped
+from ._arguments import real_argument as _real_argument, real_array as _real_array, real_number as _real_number
 from ._gimbalsim import COLUMNS, Scene, Simulator, State
 
 __version__ = _gimbalsim.__version__  # the one version string, also every program's --version
@@ -283,25 +281,6 @@ def Controller(config_path=None, overrides=None, sources=None):
     return _labelled_call(lambda: _gimbalsim.Controller(path, texts), texts, labels)
 
 
-def _real_array(values, name):
-    """values as a float array, refusing what numpy would take silently:
-    complex numbers (the imaginary part dropped), text ('1' parsed), bools
-    and objects (TypeError naming the argument)."""
-    a = np.asarray(values)
-    if a.dtype.kind not in "iuf":
-        raise TypeError(f"{name}: expected real numbers, got an array of {a.dtype} "
-                        f"({'the imaginary part would be dropped' if a.dtype.kind == 'c' else 'not numbers'})")
-    return a.astype(np.float64)
-
-
-def _real_number(value, name):
-    """A real, finite-or-not number argument (a bool, a complex or a text is
-    none: pybind11 raised a bare TypeError, or took True as 1)."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name}: expected a real number, got {type(value).__name__} {value!r}")
-    return float(value)
-
-
 _simulator_run, _simulator_step = Simulator.run, Simulator.step
 
 
@@ -378,15 +357,6 @@ class ClosedLoopRun:
     def __repr__(self):
         return f"<gimbalsim.ClosedLoopRun ok={self.ok} ticks={self.summary['ticks']}>"
 
-
-def _real_argument(value, name, hi):
-    """A number argument in (0, hi]: a bool, a string or NaN is no number of
-    it ("3" ran, True ran for 1 s, a NaN band gave a settling time of 0)."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name}: expected a number, got {type(value).__name__} {value!r}")
-    if not 0.0 < float(value) <= hi:
-        raise ValueError(f"{name} must be in (0, {hi:g}], got {float(value)!r}")
-    return float(value)
 
 
 def closed_loop(scene, controller_config, duration, settle_tol=1.0e-3, faults=None):

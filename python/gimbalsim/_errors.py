@@ -89,7 +89,10 @@ class NotReproduced(Exception):
 def report_early_signals():
     """SIGINT or SIGTERM while `python3 -m gimbalsim.X` imports, before the program
     installs its own handlers: one line and 128 + N (it exited 143 saying nothing,
-    pass 55). Nothing has been read or written yet, so nothing is kept."""
+    pass 55). Nothing has been read or written yet, so nothing is kept. A
+    library import (sys.argv[0] is not "-m" then) installs nothing."""
+    if sys.argv[:1] != ["-m"]:
+        return
     argv = sys.orig_argv
     at = next((i for i, a in enumerate(argv) if a.startswith("-m")), None)
     module = (argv[at][2:] or (argv[at + 1] if at + 1 < len(argv) else "")) if at is not None else ""
