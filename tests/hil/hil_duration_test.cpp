@@ -8,16 +8,24 @@
 namespace gimbalsim::hil {
 namespace {
 
+/// The script of a lockstep pair on url: pointing_controller (default config, ctl_flags) in the background,
+/// firmware_sim on scene (--lockstep, fw_flags) in front, each bounded by timeout; true (exit 0) when
+/// firmware_sim exited fw_exit and the controller ctl_exit. Logs: ctl.log, fw.log.
+std::string lockstepPair(const std::string& url, const std::string& ctl_flags, const std::string& scene,
+                         const std::string& fw_flags, int fw_exit, int ctl_exit) {
+  const std::string cfg = defaultControllerConfig();
+  return "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' " + ctl_flags +
+         " >ctl.log 2>&1 &\nC=$!\ntimeout 60 " + firmwareSim() + " " + scenePath(scene) + " --lockstep --profile " +
+         cfg + " --lcm-url '" + url + "' " + fw_flags + " >fw.log 2>&1\nrf=$?\nwait $C; rc=$?\necho \"rf $rf rc $rc\"\n" +
+         "[ $rf -eq " + std::to_string(fw_exit) + " ] && [ $rc -eq " + std::to_string(ctl_exit) + " ]";
+}
+
 TEST(HilDuration, LockstepPairWithTheSameDurationBothEndByThemselves) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
   TempDir dir("duration");
-  const std::string url = udpmUrl(7791), cfg = defaultControllerConfig();
   // No --idle-exit, no kill: each process must end on its own within the bound (timeout gives 124).
   const std::string body =
-      "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' --duration 1 >ctl.log 2>&1 &\nC=$!\n" +
-      "timeout 60 " + firmwareSim() + " " + scenePath("paper_clearance") + " --lockstep --duration 1 --profile " + cfg +
-      " --lcm-url '" + url + "' --start-timeout 20 >fw.log 2>&1\nrf=$?\nwait $C; rc=$?\necho \"rf $rf rc $rc\"\n"
-      "[ $rf -eq 0 ] && [ $rc -eq 0 ]";
+      lockstepPair(udpmUrl(7791), "--duration 1", "paper_clearance", "--duration 1 --start-timeout 20", 0, 0);
   ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log") << readFile(dir / "ctl.log");
   EXPECT_NE(readFile(dir / "ctl.log").find("answered 1000 statuses (last t = 0.999 s)"), std::string::npos)
       << readFile(dir / "ctl.log");
@@ -62,14 +70,11 @@ TEST(HilDuration, ControllerWhosePlantIsKilledSaysSoAndExitsSix) {
 TEST(HilDuration, LockstepPlantWhoseControllerHasGoneSaysSoAndExitsSix) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
   TempDir dir("controller_gone");
-  const std::string url = udpmUrl(7793), cfg = defaultControllerConfig();
   // The controller answers within --lockstep-timeout-ms until it ends: 250 ms,
   // as a loaded 2-core VM stalls a process for tens of ms (50 ms failed once).
-  const std::string body =
-      "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' --duration 0.5 >ctl.log 2>&1 &\nC=$!\n" +
-      "timeout 60 " + firmwareSim() + " " + scenePath("paper_ideal") + " --lockstep --duration 100 --profile " + cfg +
-      " --lcm-url '" + url + "' --lockstep-timeout-ms 250 --start-timeout 10 --truth-csv truth.csv >fw.log 2>&1\n"
-      "rf=$?\nwait $C; rc=$?\necho \"rf $rf rc $rc\"\n[ $rf -eq 6 ] && [ $rc -eq 0 ]";
+  const std::string body = lockstepPair(udpmUrl(7793), "--duration 0.5", "paper_ideal",
+                                        "--duration 100 --lockstep-timeout-ms 250 --start-timeout 10 "
+                                        "--truth-csv truth.csv", 6, 0);
   ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log") << readFile(dir / "ctl.log");
   const std::string fw = readFile(dir / "fw.log");
   EXPECT_NE(fw.find("firmware_sim: lockstep: no command answered the last 40 statuses (10 s of --lockstep-timeout-ms 250): "
@@ -84,12 +89,8 @@ TEST(HilDuration, LockstepPlantWhoseControllerHasGoneSaysSoAndExitsSix) {
 TEST(HilDuration, LockstepPairWhosePlantStopsBothExitThree) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
   TempDir dir("plant_stops");
-  const std::string url = udpmUrl(7794), cfg = defaultControllerConfig();
-  const std::string body =
-      "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' --duration 0.8 >ctl.log 2>&1 &\nC=$!\n" +
-      "timeout 60 " + firmwareSim() + " " + scenePath("paper_clearance") + " --lockstep --duration 0.8 --profile " + cfg +
-      " --lcm-url '" + url + "' --start-timeout 20 --set sim.velocity_limit=0.001 >fw.log 2>&1\nrf=$?\nwait $C; rc=$?\n"
-      "echo \"rf $rf rc $rc\"\n[ $rf -eq 3 ] && [ $rc -eq 3 ]";
+  const std::string body = lockstepPair(udpmUrl(7794), "--duration 0.8", "paper_clearance",
+                                        "--duration 0.8 --start-timeout 20 --set sim.velocity_limit=0.001", 3, 3);
   ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log") << readFile(dir / "ctl.log");
   const std::string ctl = readFile(dir / "ctl.log");
   EXPECT_NE(ctl.find("pointing_controller: the plant stopped after t = 0.5"), std::string::npos) << ctl;
