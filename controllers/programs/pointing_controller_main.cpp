@@ -191,10 +191,14 @@ int run(int argc, char** argv) {
         code = program::kStopped;
         break;
       }
+      // A plant that stopped (FAULT_PLANT_FAULT) and then ended ended the run as firmware_sim's own exit says
+      // (3): its going is the end of a stopped run, not a missing peer.
+      const bool stopped = !std::isnan(h.plantStoppedTime());
       std::fprintf(stderr, "pointing_controller: the plant has gone: no status for %g s (--plant-timeout) after "
                    "status %lld at t = %.3f s%s\n", o.plant_timeout, static_cast<long long>(h.lastSeq()), h.lastTime(),
-                   last_seq >= 0 ? ", before the end of --duration" : "");
-      code = program::kNoPeer;
+                   stopped ? ", after it had stopped (FAULT_PLANT_FAULT)"
+                           : last_seq >= 0 ? ", before the end of --duration" : "");
+      code = stopped ? program::kStopped : program::kNoPeer;
       break;
     }
   }

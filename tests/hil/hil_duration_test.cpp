@@ -96,5 +96,21 @@ TEST(HilDuration, LockstepPairWhosePlantStopsBothExitThree) {
   EXPECT_NE(ctl.find("pointing_controller: the plant stopped after t = 0.5"), std::string::npos) << ctl;
 }
 
+// The same stop with a controller that has no --duration: the plant ends at 0.8 s, the controller hears nothing
+// for --plant-timeout and ends as the stopped run it was (3), not as a bench whose plant went missing (6, pass 56).
+TEST(HilDuration, ControllerWithoutDurationWhosePlantStoppedAndEndedExitsThree) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("plant_stops_open");
+  const std::string url = udpmUrl(7796), cfg = defaultControllerConfig();
+  const std::string body =
+      "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' --plant-timeout 1 >ctl.log 2>&1 &\n"
+      "C=$!\ntimeout 60 " + firmwareSim() + " " + scenePath("paper_clearance") + " --lockstep --duration 0.8 --profile " +
+      cfg + " --lcm-url '" + url + "' --start-timeout 20 --set sim.velocity_limit=0.001 >fw.log 2>&1\nrf=$?\n"
+      "wait $C; rc=$?\necho \"rf $rf rc $rc\"\n[ $rf -eq 3 ] && [ $rc -eq 3 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log") << readFile(dir / "ctl.log");
+  const std::string ctl = readFile(dir / "ctl.log");
+  EXPECT_NE(ctl.find("after it had stopped (FAULT_PLANT_FAULT)"), std::string::npos) << ctl;
+}
+
 }  // namespace
 }  // namespace gimbalsim::hil
