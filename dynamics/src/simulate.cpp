@@ -201,7 +201,7 @@ RunResult run(const Model& m, const RunSpec& spec, const std::function<void(cons
     const Advance a = forEachRow(stepper, s, m.integrator.step, n_steps, out_every,
                                  [&](const State<V>& st, long long) { return emit(st); }, &in_step);
     if (a.ok) return;
-    if (kind == IntegratorKind::Reference) {
+    if (kind == IntegratorKind::Reference && a.step.ok()) {
       std::ostringstream os;
       os << "reference integration stopped before t = " << a.t_target << " s: " << a.failure;
       stopRun({RunStop::Kind::Reference, {}, "", s.t}, os.str());

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "gimbalsim/dynamics/reference_integrator.hpp"
+#include "gimbalsim/dynamics/simulate.hpp"
 #include "test_util.hpp"
 
 namespace gimbalsim {
@@ -120,6 +121,26 @@ TEST(Reference, Rk4MeetsTheReferenceWithClearanceInEitherJoint) {
       // 46 impacts in 0.1 s at four ends: the error falls at order 2.5 (as through
       // any Hertz onset) from 8e-3 at 2e-5 s to 2.6e-4 at 5e-6 s.
       test::scene("paper_both_spatial", {"friction.law=none", "contact.damping=none"}), 0.1, 1e-3);
+}
+
+// The scene's divergence limits bind the reference as they bind the RK4: the same run stops on the same key,
+// not a solution past the limit (pass 56: `simulate --integrator reference` ran on past both).
+TEST(Reference, StopsOnTheScenesVelocityAndPenetrationLimits) {
+  for (const IntegratorKind kind : {IntegratorKind::Rk4, IntegratorKind::Reference}) {
+    const RunResult v = simulate(test::scene("paper_clearance", {"sim.duration=0.3", "friction.law=coulomb_stick",
+                                                                "sim.velocity_limit=0.05"}),
+                                 [](const Row&) {}, kind);
+    EXPECT_FALSE(v.ok);
+    EXPECT_EQ(std::string(v.stop.key), "sim.velocity_limit") << v.error;
+    EXPECT_NE(v.error.find("sim.velocity_limit"), std::string::npos) << v.error;
+    // The first impact presses about 3e-8 m into the bearing: a limit of 1e-9 m is crossed there.
+    const RunResult p = simulate(test::scene("paper_clearance", {"sim.duration=0.3", "friction.law=coulomb_stick",
+                                                                "sim.penetration_limit=1e-9"}),
+                                 [](const Row&) {}, kind);
+    EXPECT_FALSE(p.ok);
+    EXPECT_EQ(std::string(p.stop.key), "sim.penetration_limit") << p.error;
+    EXPECT_NE(p.error.find("joint 2's bearing"), std::string::npos) << p.error;
+  }
 }
 
 }  // namespace

@@ -62,6 +62,9 @@ class ReferenceIntegrator {
                    "set-valued law with located stick/slip) or ambrosio for reference solutions";
         return false;
       }
+      // The scene's divergence limits hold for either integrator: a reference that ran past them would be
+      // a solution the RK4 refuses to give.
+      if (!withinLimits(toState(x1, t1))) return false;
       if constexpr (V::kContact) {
         if (switched(x1, t1)) {
           // Bisection on the dense output for the first switch in (t0, t1]:
@@ -109,6 +112,8 @@ class ReferenceIntegrator {
   long long frictionSwitches() const { return d_.stats.friction_switches; }
   /// Why advanceTo() returned false.
   const char* failure() const { return failure_; }
+  /// The limit (sim.velocity_limit, sim.penetration_limit) that stopped it; Ok when none did.
+  const StepResult& limit() const { return limit_; }
 
  private:
   using Stepper = boost::numeric::odeint::dense_output_runge_kutta<
@@ -155,6 +160,27 @@ class ReferenceIntegrator {
     for (int e = 0; e < V::NC; ++e) sw.started_in_contact[e] = mode_.in_contact[e];
     return sw;
   }
+  /// sim.velocity_limit and sim.penetration_limit (0: the bearing's clearance), as the RK4 checks them.
+  bool withinLimits(const State<V>& s) {
+    limit_ = checkState<V>(m_, s);
+    if (limit_.status == StepStatus::VelocityLimit) {
+      failure_ = "a velocity exceeded sim.velocity_limit";
+      return false;
+    }
+    limit_ = StepResult{};
+    if constexpr (V::kContact) {
+      const IntegratorParams& p = m_.integrator;
+      for (int e = 0; e < V::NC; ++e) {
+        const double cap = p.penetration_limit > 0.0 ? p.penetration_limit : m_.bearing[V::endJoint(e)].clearance;
+        const double delta = endGap<V>(m_, e, s.q, s.v).delta;
+        if (!(delta > cap)) continue;
+        limit_ = StepResult{StepStatus::PenetrationLimit, s.t, -1, -1, delta, V::endJoint(e)};
+        failure_ = "contact penetration exceeded sim.penetration_limit";
+        return false;
+      }
+    }
+    return true;
+  }
   static bool finite(const Vec& x) {
     for (double e : x) {
       if (!std::isfinite(e)) return false;
@@ -184,6 +210,7 @@ class ReferenceIntegrator {
   double pending_t_ = 0.0;       ///< [s]
   long long steps_ = 0;
   const char* failure_ = "";
+  StepResult limit_;  ///< the limit that stopped the run, Ok when none
 };
 
 }  // namespace gimbalsim

@@ -17,7 +17,7 @@ namespace gimbalsim {
 /// StepResult; the reference's own reason).
 struct Advance {
   bool ok = true;
-  StepResult step;               ///< the failed step (Rk4Stepper)
+  StepResult step;               ///< the failed step (Rk4Stepper); the scene limit that stopped the reference
   const char* failure = "";      ///< the reference's reason (ReferenceStepper)
   double t_target = 0.0;         ///< [s] where the advance was going
 };
@@ -52,6 +52,7 @@ class ReferenceStepper {
     a.t_target = static_cast<double>(k_to) * unit;
     a.ok = integ_.advanceTo(s, a.t_target);
     if (!a.ok) a.failure = integ_.failure();
+    if (!a.ok) a.step = integ_.limit();  // a scene limit reads as the RK4's does; Ok for the reference's own reasons
     return a;
   }
   long long impacts() const { return integ_.impacts(); }
