@@ -219,6 +219,25 @@ TEST(PointingStudy, SeveralClearanceScenesAreLabelledByScene) {
   EXPECT_NE(slurp(copies + "-same.log").find("have the same file name, which names their runs; rename one"),
             std::string::npos)
       << slurp(copies + "-same.log");
+  // One file under two names (a link) is one scene given twice: it ran twice (pass 56).
+  std::filesystem::remove_all(copies + "/odd");
+  std::filesystem::create_directories(copies + "/odd");
+  std::filesystem::remove(copies + "/link.yaml");
+  std::filesystem::create_symlink(GIMBALSIM_SCENES_DIR "/paper_clearance.yaml", copies + "/link.yaml");
+  EXPECT_EQ(run("--quick --clearance-scene " + copies + "/link.yaml --out " + copies + "/odd", copies + "-link.log"), 2);
+  EXPECT_NE(slurp(copies + "-link.log").find("link.yaml' are one file: the same scene given twice"), std::string::npos)
+      << slurp(copies + "-link.log");
+  // A file name names the runs and pointing_error.csv's columns: a comma or a newline in it would shift or split
+  // them (pass 56); refused before any run.
+  for (const std::string& name : {std::string("a,b"), std::string("line\nbreak"), std::string("q\"uote")}) {
+    const std::string odd = copies + "/" + name + ".yaml";
+    std::filesystem::copy_file(GIMBALSIM_SCENES_DIR "/paper_clearance.yaml", odd,
+                               std::filesystem::copy_options::overwrite_existing);
+    EXPECT_EQ(run("--quick --clearance-scene '" + odd + "' --out " + copies + "/odd", copies + "-odd.log"), 2) << name;
+    EXPECT_NE(slurp(copies + "-odd.log").find("may hold only letters, digits and . _ - +; rename it"), std::string::npos)
+        << slurp(copies + "-odd.log");
+    EXPECT_FALSE(std::filesystem::exists(copies + "/odd/pointing_error.csv")) << name;
+  }
 }
 
 }  // namespace

@@ -122,7 +122,9 @@ std::string notes(const std::vector<Row>& rows) {
 }
 
 std::string ratio(double a, double b) {
-  return std::isfinite(a) && std::isfinite(b) ? formatSignificant(a / b, 3) : "n/a (a window not reached)";
+  if (!std::isfinite(a) || !std::isfinite(b)) return "n/a (a window not reached)";
+  // A profile that never moves the antenna leaves both errors 0: no ratio to give (it printed -nan, pass 56).
+  return b > 0.0 ? formatSignificant(a / b, 3) : "n/a (the clearance run's error is 0)";
 }
 
 /// One controller's block: a row per scene, then the ratio ideal / first clearance.
@@ -235,6 +237,9 @@ int mainImpl(int argc, char** argv) {
     scenes.emplace_back("ideal", firmware::loadPlantScene(ideal_path, perfect));
   } catch (const InputError& e) {
     return refused(e, scene_labels);
+  }
+  if (const std::string why = idealSceneProblem(scenes.back().second.scene.model); !why.empty()) {
+    return program::refuse(kProgram, "--ideal-scene " + ideal_path + ": " + why);
   }
   for (double c : clearances) {
     std::vector<std::string> s = perfect;

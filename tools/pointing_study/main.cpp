@@ -9,7 +9,9 @@
 //   config.txt          the controller configuration in effect (key=value)
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cerrno>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -119,14 +121,28 @@ int mainImpl(int argc, char** argv) {
   // shipped scene's `name:` and would read as the shipped scene (pass 55).
   const auto stem = [](const std::string& path) { return std::filesystem::path(path).stem().string(); };
   for (std::size_t i = 0; i < clearance_paths.size(); ++i) {
+    // The stem names runs and pointing_error.csv's columns: a comma, quote or newline would shift or split
+    // them (pass 56), so a name is letters, digits and . _ - + only.
+    const std::string name = stem(clearance_paths[i]);
+    const auto bad = std::find_if(name.begin(), name.end(), [](unsigned char ch) {
+      return !(std::isalnum(ch) || ch == '.' || ch == '_' || ch == '-' || ch == '+');
+    });
+    if (name.empty() || bad != name.end()) {
+      return refuse("--clearance-scene", "'" + clearance_paths[i] + "': its file name names the runs and the "
+                    "columns of pointing_error.csv, so it may hold only letters, digits and . _ - +; rename it");
+    }
     for (std::size_t j = 0; j < i; ++j) {
-      if (stem(clearance_paths[i]) != stem(clearance_paths[j])) continue;
+      // One file under two names (a link) is the same scene given twice: it ran twice (pass 56).
       std::error_code ec;
       const bool same = clearance_paths[i] == clearance_paths[j] ||
                         std::filesystem::equivalent(clearance_paths[i], clearance_paths[j], ec);
-      return refuse("--clearance-scene", same ? "'" + clearance_paths[i] + "' given twice"
-                                              : "'" + clearance_paths[j] + "' and '" + clearance_paths[i] +
-                                                    "' have the same file name, which names their runs; rename one");
+      if (!same && stem(clearance_paths[i]) != stem(clearance_paths[j])) continue;
+      const std::string both = "'" + clearance_paths[j] + "' and '" + clearance_paths[i] + "'";
+      return refuse("--clearance-scene",
+                    !same                                      ? both + " have the same file name, which names their "
+                                                                        "runs; rename one"
+                    : clearance_paths[i] == clearance_paths[j] ? "'" + clearance_paths[i] + "' given twice"
+                                                               : both + " are one file: the same scene given twice");
     }
   }
   std::vector<Planned> scenes;
@@ -168,8 +184,18 @@ int mainImpl(int argc, char** argv) {
         labels.push_back("--scene-set #" + std::to_string(k + 1) + " '" + scene_sets[k] + "'");
       }
       const std::string suffix = cases.size() > 1 ? "_" + sensor_case : "";
+      // A --scene-set of a sensor key is said with the case, as gimbalsim_controller_floor says it: the runs
+      // were labelled "perfect" over noisy sensors (pass 56).
+      std::string sensors_said = sensor_case;
+      for (const std::string& kv : scene_sets) {
+        if (kv.rfind("sensors.", 0) != 0) continue;
+        sensors_said += (sensors_said == sensor_case ? " except " : " and ") + kv;
+      }
       scenes.push_back({firmware::loadPlantScene(ideal_path, base), 0.0, stem(ideal_path), "ideal" + suffix,
-                        sensor_case});
+                        sensors_said});
+      if (const std::string why = idealSceneProblem(scenes.back().scene.scene.model); !why.empty()) {
+        return refuse("--ideal-scene", ideal_path + ": " + why);
+      }
       for (const std::string& path : clearance_paths) {
         for (double c : clearances) {
           std::vector<std::string> s = base;
@@ -184,7 +210,7 @@ int mainImpl(int argc, char** argv) {
           // One clearance scene keeps the short labels; several are told apart by scene name.
           std::string label = clearanceLabel(c);
           if (clearance_paths.size() > 1) label = stem(path) + "_" + label;
-          scenes.push_back({std::move(ps), c, stem(path), label + suffix, sensor_case});
+          scenes.push_back({std::move(ps), c, stem(path), label + suffix, sensors_said});
         }
       }
     }

@@ -260,4 +260,15 @@ std::string sharedClearanceProblem(const Model& m, double c) {
   return "each bearing keeps its own jointN.contact.clearance, so contact.clearance acts on none";
 }
 
+std::string idealSceneProblem(const Model& m) {
+  std::string why;
+  const ClearanceKind kinds[2] = {m.joint1_kind, m.joint2_kind};
+  for (int j = 0; j < 2; ++j) {
+    if (kinds[j] == ClearanceKind::Ideal) continue;
+    why += std::string(why.empty() ? "" : " and ") + "structure.joint" + std::to_string(j + 1) + " is " +
+           kindName(kinds[j]);
+  }
+  return why.empty() ? "" : why + ": the ideal run needs both joints ideal (a scene like tools/scenes/paper_ideal.yaml)";
+}
+
 }  // namespace gimbalsim

@@ -45,6 +45,11 @@ void finishScene(Scene& sc, const std::string& origin, std::vector<std::string> 
 /// c refuses such a scene rather than record a clearance that never acted.
 std::string sharedClearanceProblem(const Model& m, double c);
 
+/// Why m cannot stand as a study's ideal run ("" when both joints are
+/// ideal): the joints with clearance, by key. A study that labels a run
+/// "ideal" refuses such a scene rather than compare the play against play.
+std::string idealSceneProblem(const Model& m);
+
 /// The scene keys (key_registry.hpp): what loadScene reads.
 const KeyTable<Scene>& sceneTable();
 
