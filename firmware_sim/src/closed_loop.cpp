@@ -155,6 +155,8 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
   contract::ControllerReport last;  // the controller's last report (what the record shows while no status comes)
   contract::Command cmd;
   const long long ticks = std::llround(opt.duration / period);
+  long long rejected_in_a_row = 0;  // commands the plant rejected since it last accepted one
+  Counters rejected_from;           // the counters before the first of them
   for (long long k = 0; k <= ticks; ++k) {
     // The bench tick k up to its messages, on lockstep's clock (utime = simulated time).
     const std::int64_t utime = std::llround(static_cast<double>(k) * period * 1e6);
@@ -249,7 +251,22 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
     }
     // The answer arrives while (lockstep: after) the plant advances and acts
     // from tick k + 1 (the bus).
-    if (delivered) fw.receive(cmd);
+    if (delivered) {
+      const Counters before = fw.counters();
+      fw.receive(cmd);
+      rejected_in_a_row = fw.counters().rejected > before.rejected ? rejected_in_a_row + 1 : 0;
+      if (rejected_in_a_row == 1) rejected_from = before;
+    }
+    if (rejected_in_a_row >= contract::kRejectedInARow) {  // where the lockstep bench ends the run (exit 3)
+      r.ok = false;
+      r.rejected_stop = true;
+      r.commands_rejected = fw.counters().rejected;
+      r.error = "the plant accepted none of the controller's last " + std::to_string(rejected_in_a_row) +
+                " commands (" + describe(commonestRejection(rejected_from, fw.counters())) +
+                "): stopped at t = " + formatNumber(r.t_end) + " s, as the lockstep bench stops";
+      fig.finish(r);
+      return r;
+    }
   }
   fig.finish(r);
   // A controller none of whose commands the plant took controlled nothing:
@@ -258,7 +275,7 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
   r.commands_rejected = n.rejected;
   if (n.received >= contract::kStatusesToJudge && n.rejected == n.received) {
     r.ok = false;
-    r.none_accepted = true;
+    r.rejected_stop = true;
     r.error = "the plant accepted none of the controller's " + std::to_string(n.received) + " commands (" +
               describe(commonestRejection(Counters{}, n)) + ")";
   }

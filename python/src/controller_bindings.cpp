@@ -106,8 +106,8 @@ pyb::dict resultDict(const ClosedLoopResult& r) {
   // Why it stopped, never "" when not ok: the limit's key, non_finite (no
   // setting causes it), or refused (nothing ran: runClosedLoop refuses only a
   // control.period that is no whole multiple of sim.step, closed_loop.hpp).
-  // none_accepted: the plant refused every command (the error says the commonest reason).
-  const char* stop = r.none_accepted                           ? "commands_rejected"
+  // rejected_stop: the plant refused every command (the error says the commonest reason).
+  const char* stop = r.rejected_stop                           ? "commands_rejected"
                      : r.stop_status == StepStatus::Ok         ? "refused:controller.control.period"
                      : r.stop_status == StepStatus::NonFinite ? "non_finite"
                                                               : limitKey(r.stop_status);

@@ -48,7 +48,7 @@ std::string errorColumn(const std::string& label) {
 
 /// The scene key of the limit that stopped a run, from its status (never its message's text).
 std::string stopKey(const firmware::ClosedLoopResult& r) {
-  if (r.none_accepted) return "commands_rejected";
+  if (r.rejected_stop) return "commands_rejected";
   if (r.stop_status == StepStatus::Ok) return "refused";
   return *limitKey(r.stop_status) ? limitKey(r.stop_status) : "non_finite";
 }

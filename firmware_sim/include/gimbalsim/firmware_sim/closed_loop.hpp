@@ -136,8 +136,9 @@ struct ClosedLoopResult {
   long long rejected_readings = 0;     ///< statuses whose reading the controller rejected (NaN or Inf)
   long long commands_rejected = 0;     ///< commands the plant rejected (firmware's checks: sanity range, NaN, ...)
   /// The plant accepted none of the controller's commands over kStatusesToJudge
-  /// answered statuses or more: the run did not control it (ok = false, error says why).
-  bool none_accepted = false;
+  /// answered statuses or more, or rejected kRejectedInARow in a row (where the
+  /// lockstep bench ends the run, exit 3): the run did not control it (ok = false, error says why).
+  bool rejected_stop = false;
   long long ticks = 0;
 };
 

@@ -39,6 +39,12 @@ enum Mode : std::int8_t { kModeOff = 0, kModeTorque = 1 };
 /// (pointing_controller exits 3; the in-process loop is not ok).
 inline constexpr long long kStatusesToJudge = 3;
 
+/// Commands the plant rejected in a row after which a run ends, stopped: the
+/// lockstep bench's count at its defaults (--start-timeout 30 s of
+/// --lockstep-timeout-ms 1000 per rejected answer), so the in-process loop
+/// ends where the bench does rather than report a run the plant mostly refused.
+inline constexpr long long kRejectedInARow = 30;
+
 /// A decoded command (gimbal_command_t without LCM).
 struct Command {
   std::int64_t utime = 0;       ///< [us]
