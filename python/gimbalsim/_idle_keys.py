@@ -164,8 +164,12 @@ def idle_reason(key, values, dispersed, takes, closed, unread_ticks=TRUTH_ONLY):
     cannot act in this study, or None. values: the scene's and (closed loop)
     the controller's (as controller.*), as text; unread_ticks: how many of
     the run's last ticks' measurements no figure reads (_idle_sensors)."""
+    # the restitution decides only the damping's keys: as a decider of every key, one drawn from a range
+    # would stop all judging
+    restitution = tuple(p + "contact.restitution" for p in ("", "joint1.", "joint2.")) \
+        if key.endswith(("contact.v0_min", "contact.damping")) else ()
     why = ALWAYS_IDLE.get(key) or (CLOSED_LOOP_IDLE if closed else OPEN_LOOP_IDLE).get(key) or \
-        _for_every_value(_idle_in_scene, key, values, dispersed, takes)
+        _for_every_value(_idle_in_scene, key, values, dispersed, takes, restitution)
     if why is None and closed:
         why = _for_every_value(_idle_in_controller_keys, key, values, dispersed, takes) or \
             _for_every_value(functools.partial(idle_in_sensors, takes=takes, unread_ticks=unread_ticks), key, values,
@@ -312,12 +316,25 @@ def _idle_in_scene(key, scene, dispersed):
     return _bearing_key_idle(key, joints, scene, dispersed)
 
 
-# Bearing keys read only under some laws: the law's key and which of its values read the key.
-_READ_UNDER = {"friction.mu": ("friction.law", lambda law: law != "none"),
-               "friction.v_a": ("friction.law", lambda law: law == "ambrosio"),
-               "friction.v_b": ("friction.law", lambda law: law == "ambrosio"),
-               "contact.restitution": ("contact.damping", lambda law: law != "none"),
-               "contact.v0_min": ("contact.damping", lambda law: law != "none")}
+def _inelastic(restitution):
+    """Every damping law's factor chi is 0 at c_e = 1 (dynamics/include/gimbalsim/dynamics/contact_law.hpp,
+    dampingFactor): the law and its v0 floor act only below it. A value that is no number reads (its own
+    check refuses it)."""
+    try:
+        return float(restitution) != 1.0
+    except (TypeError, ValueError):
+        return True
+
+
+# Bearing keys read only under some settings: each (setting, which of its values read the key) must hold.
+_DAMPED = ("contact.damping", lambda law: law != "none")
+_INELASTIC = ("contact.restitution", _inelastic)
+_READ_UNDER = {"friction.mu": [("friction.law", lambda law: law != "none")],
+               "friction.v_a": [("friction.law", lambda law: law == "ambrosio")],
+               "friction.v_b": [("friction.law", lambda law: law == "ambrosio")],
+               "contact.restitution": [_DAMPED],
+               "contact.v0_min": [_DAMPED, _INELASTIC],
+               "contact.damping": [_INELASTIC]}
 
 
 def _own_key(j, shared):
@@ -350,11 +367,14 @@ def _bearing_key_idle(key, joints, scene, dispersed):
             sets = f" (joint{j}.contact.clearance sets it)" if overriding[0].endswith("journal_radius") else ""
             why.append(f"overridden by {overriding[0]}{sets}")
             continue
-        law_key, reads = _READ_UNDER.get(shared, (None, None))
-        if law_key is None or any(d in (law_key, f"joint{j}.{law_key}") for d in dispersed):
+        # a setting dispersed from a range is not judged: it may read the key
+        unread = [(law_key, scene.get(f"joint{j}.{law_key}", scene.get(law_key)))
+                  for law_key, reads in _READ_UNDER.get(shared, ())
+                  if not any(d in (law_key, f"joint{j}.{law_key}") for d in dispersed)
+                  and not reads(scene.get(f"joint{j}.{law_key}", scene.get(law_key)))]
+        if not unread:
             return None
-        law = scene.get(f"joint{j}.{law_key}", scene.get(law_key))
-        if reads(law):
-            return None
-        why.append(f"joint {j}'s {law_key} is {law}")
+        law_key, law = unread[0]
+        why.append(f"joint {j}'s {law_key} is {law}" + (
+            " (every damping law's factor is 0 at c_e = 1: no law acts)" if law_key == _INELASTIC[0] else ""))
     return "on every joint with a bearing: " + "; ".join(why)

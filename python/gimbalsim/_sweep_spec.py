@@ -156,6 +156,13 @@ class SweepSpec:
                     self.closed.check_point(spec, f"grid.{key}", c, node, f"{key} = {v}: ", self._steps())
                 else:
                     self._try(spec, f"grid.{key}", {key: v}, node)
+        # A closed loop ticks whole control periods of whole steps: a step drawn from a range divides no period
+        # (pass 56: every sample was refused at its run, the spec accepted)
+        step = next((p for p in self.parameters if p.key == "sim.step"), None)
+        if self.closed is not None and step is not None and step.kind != "choice":
+            spec.refuse("parameters.sim.step", f"{step.kind}: a closed loop's sim.step is given as a choice of "
+                        "steps that divide control.period (a grid, or {choice: [...]}): a draw from a range divides "
+                        "none, and every sample would be refused", step.node)
         # The period every sample runs at, when none is dispersed: it must tick at one of the study's steps.
         period_key = CONTROLLER_PREFIX + "control.period"
         if self.closed is not None and period_key not in [p.key for p in self.parameters] + [k for k, _ in self.grid]:

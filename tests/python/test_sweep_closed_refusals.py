@@ -49,6 +49,10 @@ REFUSALS = [
      "parameters.torque.tau2", "the controller commands the torque"),
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.output_interval: {choice: [0.001, 0.01]}",
      "parameters.sim.output_interval", "the closed loop records every control period"),
+    # (pass 56) a step drawn from a range divides no control period: every sample was refused at its run
+    ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  sim.step: {uniform: [1.0e-4, 1.0e-3]}",
+     "parameters.sim.step", "uniform: a closed loop's sim.step is given as a choice of steps that divide "
+     "control.period"),
     # ... and the same keys under set: (scene keys given for every sample), whatever their value
     ("set: {sim.duration: 0.5}", "set: {sim.duration: 0.5, torque.tau1: 2.0}", "set.torque.tau1",
      "not read by this sweep's runs (the controller commands the torque): the value given would be recorded"),

@@ -85,6 +85,13 @@ BAD = [
      "parameters.contact.restitution", 8, "joint 2's contact.damping is none"),
     ("parameters:\n  friction.v_a: {uniform: [1.0e-5, 1.0e-4]}\n", "parameters.friction.v_a", 7,
      "joint 2's friction.law is coulomb"),
+    # every damping law's factor is 0 at restitution 1: the law and its v0 floor act on nothing (pass 56)
+    ("set: {contact.restitution: 1}\nparameters:\n  contact.v0_min: {loguniform: [1.0e-6, 1.0e-3]}\n",
+     "parameters.contact.v0_min", 8, "joint 2's contact.restitution is 1 (every damping law's factor is 0"),
+    ("set: {contact.restitution: 1}\ngrid:\n  contact.damping: [hunt_crossley, flores]\n",
+     "grid.contact.damping", 8, "joint 2's contact.restitution is 1"),
+    ("parameters:\n  contact.v0_min: {loguniform: [1.0e-6, 1.0e-3]}\n  contact.restitution: {choice: [1, 1.0]}\n",
+     "parameters.contact.v0_min", 7, "for every value of contact.restitution the study gives"),
     # a key given under set: that the runs never read, refused as the same key dispersed (the base is fixed)
     ("set: {structure.base: fixed, sim.momentum_tol: 1.0e-6}\n"
      "parameters:\n  contact.clearance: {uniform: [1.0e-4, 3.0e-4]}\n",
@@ -290,3 +297,12 @@ def test_a_batch_outside_its_range_is_refused_and_help_gives_the_range(batch, tm
     h = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", "--help"], capture_output=True, text=True,
                        timeout=60)
     assert f"samples per task, in [1, {MAX_SAMPLES}]" in " ".join(h.stdout.split()), h.stdout
+
+
+# The damping's keys act where some restitution given is below 1: a choice with one, a range, the scene's 0.95.
+@pytest.mark.parametrize("tail", ["  contact.restitution: {choice: [1, 0.9]}\n",
+                                  "  contact.restitution: {uniform: [0.9, 1.0]}\n", ""])
+def test_the_damping_floor_is_accepted_where_a_restitution_below_one_reads_it(tail, tmp_path):
+    from gimbalsim.sweep import SweepSpec
+    (tmp_path / "s.yaml").write_text(HEAD + "parameters:\n  contact.v0_min: {loguniform: [1.0e-6, 1.0e-3]}\n" + tail)
+    assert "contact.v0_min" in [p.key for p in SweepSpec(tmp_path / "s.yaml").parameters]
