@@ -113,6 +113,10 @@ def check_study_folder(spec, out, resume):
     trial was lost)."""
     check_output_names(out, "study", [out / n for n in OUTPUTS], [out], refuse=SpecError)  # a sweep's, an allocation's
     if not resume and ((out / STUDY_FILE).exists() or (out / TRIALS).exists()):
+        if (out / STUDY_FILE).exists() and not _study_recorded(out) and not _trials_kept(out):
+            # --resume would be refused too (pass 56): say what the file is, not a resume that cannot be
+            raise SpecError(f"{out / STUDY_FILE} holds no study of {_study_file.STUDY_NAME} (empty, or a tuner stopped before "
+                            f"it recorded one): nothing to resume; remove it, or use another --out")
         raise SpecError(f"{out} already holds a study ({STUDY_FILE}, {TRIALS}): give --resume to continue it, "
                         f"or another --out")
     check_outputs_not_inputs([out / n for n in OUTPUTS], spec.input_files())
@@ -340,21 +344,34 @@ def main(argv=None):
     a = ap.parse_args(argv)
     _cluster.raise_on_signals()
     out = pathlib.Path(a.out)
-    return guarded_main("tune", lambda: _run(a, out), {
-        Interrupted: lambda e: f": {_trials_kept(out)} finished trials kept in {out / 'trials.csv'}; the study is in "
-                               f"{out / STUDY_FILE}: run again with --resume to continue it"})
+    return guarded_main("tune", lambda: _run(a, out), {Interrupted: lambda e: _interrupted_note(out)})
+
+
+def _interrupted_note(out):
+    """How to go on after a signal: --resume where the study was recorded, else a plain run again."""
+    if _study_recorded(out):
+        return (f": {_trials_kept(out)} finished trials kept in {out / 'trials.csv'}; the study is in "
+                f"{out / STUDY_FILE}: run again with --resume to continue it")
+    return f": before the study was recorded, nothing kept in {out}: run again (without --resume)"
 
 
 def _run(a, out):
     """The study of the command line a, its line on the console; its exit
     code (what goes wrong is raised, for guarded_main's exit code)."""
     check_out_dir(a.out, a.spec)
+    made_before = (out / STUDY_FILE).exists()  # a study file this run did not make is never removed
     spec = TuneSpec(a.spec)
     if spec.sampling["overrides"]:  # said when the runs step otherwise than the scene is written
         print(f"tune: stepping (sampling: {spec.sampling['mode']}): {spec.sampling['why']}", file=sys.stderr)
     study_write_errors = _study_write_errors()
     try:
         summary, rows = tune(spec, out, a.workers, a.scheduler, not a.no_progress, a.resume)
+    except Interrupted:
+        # a signal before the new study was recorded leaves files no run takes (a --resume and a plain run were
+        # both refused over them, pass 56): they go, as after a failed write
+        if not a.resume and not made_before and not _study_recorded(out):
+            _forget_unrecorded_study(out)
+        raise
     except study_write_errors as e:  # the study's file refused a write (a full disk): what was told is kept
         why = f"cannot write the study {out / STUDY_FILE}: {str(e).splitlines()[0]}; free the space and "
         if a.resume or _study_recorded(out):
