@@ -60,3 +60,30 @@ def test_a_program_not_built_is_named_with_its_build_command(tmp, mode, program)
                         "20", *mode], capture_output=True, text=True, timeout=60)
     assert p.returncode == 2, (p.stdout, p.stderr)
     assert f"cmake --build build -j2 --target {program}" in p.stderr and "Traceback" not in p.stderr, p.stderr
+
+
+@pytest.mark.skipif(not _netns_available(), reason="needs a private network namespace (unshare -n: root)")
+@pytest.mark.parametrize("mode", [[], ["--in-process"]])
+def test_a_plant_stop_is_a_stopped_row_and_exit_3_in_both_modes(mode):
+    # the lockstep mode reported "run failed: firmware_sim exit 3" and exit 1 (pass 56); in process: a row, 3
+    p = subprocess.run([sys.executable, str(SOURCE / "tools" / "hil" / "tune_sweep.py"), "--bin", str(BIN), "--omega",
+                        "20", "--duration", "3.6", "--scene-set", "sim.velocity_limit=0.001", *mode],
+                       capture_output=True, text=True, timeout=300, cwd=SOURCE)
+    assert p.returncode == 3, (p.stdout, p.stderr)
+    assert "stopped: " in p.stdout and "run failed" not in p.stdout, p.stdout
+    assert "sim.velocity_limit" in p.stdout, p.stdout
+
+
+@pytest.mark.skipif(not _netns_available(), reason="needs a private network namespace (unshare -n: root)")
+def test_no_settling_is_na_with_its_reason_as_in_process():
+    # a band no run settles in: lockstep printed inf (pass 56), controller_sweep n/a with the reason
+    def settle_cell(*mode):
+        p = subprocess.run([sys.executable, str(SOURCE / "tools" / "hil" / "tune_sweep.py"), "--bin", str(BIN),
+                            "--omega", "20", "--duration", "3.6", "--settle-tol", "1e-9", *mode],
+                           capture_output=True, text=True, timeout=300, cwd=SOURCE)
+        assert p.returncode == 0, (p.stdout, p.stderr)
+        return p.stdout
+    for out in (settle_cell(), settle_cell("--in-process")):
+        assert "n/a" in out and "the joint error did not stay below settle_tol 1e-09 rad before tracking started at " \
+            "3.5 s" in out, out
+        assert " inf " not in out, out

@@ -42,6 +42,7 @@ sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
 import output_file  # noqa: E402  (add_version)
 from output_file import Refused, check_before_writing, open_output, run_script, write_text  # noqa: E402
 URL = "udpm://239.255.76.67:7667?ttl=0"
+STOPPED = 3  # the exit-code table's "the run stopped" (firmware_sim's, controller_sweep's)
 # What each run writes in its folder (--keep DIR/<gain set>/, else a temporary one).
 RUN_FILES = ("controller.yaml", "controller.csv", "truth.csv", "controller.log", "firmware.log")
 # The flags' ranges: controller_sweep's (--omega, --duration, --settle-tol), so both modes take the same values.
@@ -146,6 +147,10 @@ def run_lockstep(args, cfg, workdir):
         t0 = time.monotonic()  # bash, not sh: dash takes no descriptor above 9
         r = subprocess.run(["unshare", "-n", "bash", "-c", script], pass_fds=(c, f))
         wall = time.monotonic() - t0
+    if r.returncode == STOPPED:  # the plant stopped: a row that says so, as controller_sweep's (it was a failure)
+        with open(os.path.join(workdir, "firmware.log"), errors="replace") as f:
+            said = [line for line in f.read().splitlines() if "stopped after" in line]
+        return None, (said[-1].split(": ", 1)[-1] if said else "firmware_sim exit 3 (the plant stopped)"), STOPPED
     if r.returncode != 0:  # the logs' last lines, whole
         tails = []
         for name in ("firmware.log", "controller.log"):
@@ -153,8 +158,8 @@ def run_lockstep(args, cfg, workdir):
                 lines = f.read().splitlines()[-8:]
             if lines:
                 tails.append(f"{name}:\n    " + "\n    ".join(lines))
-        return None, f"firmware_sim exit {r.returncode}\n  " + "\n  ".join(tails)
-    return metrics(args, cfg, read_csv(ctl_csv), read_csv(truth_csv), duration, wall), ""
+        return None, f"firmware_sim exit {r.returncode}\n  " + "\n  ".join(tails), r.returncode
+    return metrics(args, cfg, read_csv(ctl_csv), read_csv(truth_csv), duration, wall), "", 0
 
 
 def metrics(args, cfg, ctl, truth, duration, wall):
@@ -174,12 +179,16 @@ def metrics(args, cfg, ctl, truth, duration, wall):
                 last_unsettled = float(row["t_s"]) + period
         elif row["segment"] == "track":
             max_err_track = e if math.isnan(max_err_track) else max(max_err_track, e)
-    settle = last_unsettled - slew_end if hold_seen and last_unsettled < track_start - 0.5 * period else math.inf
+    settle = last_unsettled - slew_end if hold_seen and last_unsettled < track_start - 0.5 * period else math.nan
     errs = [float(r["pointing_error_rad"]) for r in truth if int(r["seq"]) * period >= track_start - 0.5 * period]
     rms = math.sqrt(sum(e * e for e in errs) / len(errs)) if errs else math.nan
     tau1 = max(abs(float(r["tau1_Nm"])) for r in truth)
     tau2 = max(abs(float(r["tau2_Nm"])) for r in truth)
-    return dict(settle=settle, rms=rms, max_truth=max(errs) if errs else math.nan, max_err=max_err_track,
+    # no settling time is n/a with its reason, as controller_sweep says it (it printed inf, pass 56)
+    settle_why = "" if not math.isnan(settle) else (
+        f"the joint error did not stay below settle_tol {args.settle_tol:g} rad before tracking started at "
+        f"{track_start:g} s" if hold_seen else "no hold tick")
+    return dict(settle=settle, settle_why=settle_why, rms=rms, max_truth=max(errs) if errs else math.nan, max_err=max_err_track,
                 tau1=tau1, tau2=tau2, speed=duration / wall, answered=len(ctl))
 
 
@@ -253,22 +262,31 @@ def main():
     hdr = f"{'gain set':<34} {'settle_s':>9} {'rms_truth':>10} {'max_truth':>10} {'max_e_trk':>10} " \
           f"{'tau1max':>8} {'tau2max':>8} {'x_real':>7}"
     print(hdr)
-    failures = 0
+    failed, stopped = [], 0
     for (name, _), cfg, workdir in zip(sets, cfgs, folders):
         if workdir is not None:
             make_folder(args.keep)
             make_folder(workdir)
-            m, err = run_lockstep(args, cfg, workdir)
+            m, err, rc = run_lockstep(args, cfg, workdir)
         else:
             with tempfile.TemporaryDirectory(prefix="tune_sweep_") as workdir:
-                m, err = run_lockstep(args, cfg, workdir)
-        if m is None:
-            print(f"{name:<34} run failed: {err}")
-            failures += 1
+                m, err, rc = run_lockstep(args, cfg, workdir)
+        if rc == STOPPED:
+            print(f"{name:<34} stopped: {err}", flush=True)
+            stopped += 1
             continue
-        print(f"{name[:34]:<34} {m['settle']:>9.4g} {m['rms']:>10.3e} {m['max_truth']:>10.3e} {m['max_err']:>10.3e} "
-              f"{m['tau1']:>8.3g} {m['tau2']:>8.3g} {m['speed']:>7.2f}", flush=True)
-    return 1 if failures else 0
+        if m is None:
+            print(f"{name:<34} run failed: {err}", flush=True)
+            failed.append(rc)
+            continue
+        # a cell of one word (the columns split on blanks): the reason ends the row
+        settle, why = ("n/a", f"  (settle_s n/a: {m['settle_why']})") if m["settle_why"] else (f"{m['settle']:.4g}", "")
+        print(f"{name[:34]:<34} {settle:>9} {m['rms']:>10.3e} {m['max_truth']:>10.3e} {m['max_err']:>10.3e} "
+              f"{m['tau1']:>8.3g} {m['tau2']:>8.3g} {m['speed']:>7.2f}{why}", flush=True)
+    # the exit-code table's: a run that failed gives its own code (LCM 5, no peer 6), a plant stop 3
+    if failed:
+        return failed[0] if 2 <= failed[0] <= 8 else 1
+    return STOPPED if stopped else 0
 
 
 if __name__ == "__main__":
