@@ -21,6 +21,7 @@ def coverage(n, level, r, s):
     P(r <= Binomial(n, level) <= s - 1)."""
     if not (_is_count(n) and _is_number(level) and 0.0 < level < 1.0):  # 10**30 failed inside numpy
         raise ValueError(f"coverage: need a whole n in [0, 1e12] and 0 < level < 1, got n={n!r}, level={level!r}")
+    level = float(level)
     if not (_is_count(r, n + 1) and _is_count(s, n + 1) and r <= s):
         # r > s gave a negative probability, r = 1.5 a number for no order statistic
         raise ValueError(f"coverage: need ranks 0 <= r <= s <= n + 1, got r={r}, s={s}, n={n}")
@@ -64,12 +65,14 @@ def _check_question(level, confidence):
     for name, x in (("level", level), ("confidence", confidence)):
         if not (_is_number(x) and 0.5 <= x < 1.0):
             raise ValueError(f"{name} must lie in [0.5, 1), got {x!r} (level and confidence both)")
+    # as floats: a Fraction or a Decimal passed the check, then failed inside numpy (pass 56)
+    return float(level), float(confidence)
 
 
 def min_units(level, confidence):
     """Smallest n with P(max of n units >= the level-quantile) >= confidence:
     1 - level^n >= confidence."""
-    _check_question(level, confidence)  # level 1 divided by 0, confidence 0 said 0 units
+    level, confidence = _check_question(level, confidence)  # level 1 divided by 0, confidence 0 said 0 units
     return math.ceil(math.log(1.0 - confidence) / math.log(level))
 
 
@@ -107,7 +110,7 @@ def quantile_bound(values, level=LEVEL_3SIGMA, confidence=0.95):
     """The level-quantile of the per-unit values, with its order-statistics
     confidence bounds. NaN values count as +inf (a unit without a figure is
     never assumed good)."""
-    _check_question(level, confidence)
+    level, confidence = _check_question(level, confidence)
     x = _unit_figures(values)
     n = len(x)
     missing = int(np.count_nonzero(~np.isfinite(x)))
@@ -154,10 +157,11 @@ class Verdict:
 def requirement_verdict(values, requirement, level=LEVEL_3SIGMA, confidence=0.95):
     """PASS/FAIL of `requirement` [rad] with the probability that a unit meets it.
     NaN values count as not meeting it."""
-    _check_question(level, confidence)  # a verdict at level 0 would be PASS for anything
+    level, confidence = _check_question(level, confidence)  # a verdict at level 0 would be PASS for anything
     # NaN gave FAIL, inf PASS, and 0 (or -0) FAIL for every unit: no question a budget asks
     if not (_is_number(requirement) and math.isfinite(requirement) and requirement > 0.0):
         raise ValueError(f"requirement must be a finite angle > 0 rad, got {requirement!r}")
+    requirement = float(requirement)
     x = _unit_figures(values)
     n = len(x)
     k = int(np.count_nonzero(np.isfinite(x) & (x <= requirement)))

@@ -279,6 +279,18 @@ def test_a_verdict_at_a_degenerate_level_or_confidence_is_refused():
             indices.requirement_verdict([1e-6] * 100, requirement)
 
 
+def test_a_level_and_confidence_as_any_real_number_type_answer_as_their_floats():
+    # (pass 56) a Fraction passed the range check, then numpy raised a bare TypeError
+    from fractions import Fraction
+    figures = np.linspace(1e-6, 1e-5, 1200)
+    as_float = indices.requirement_verdict(figures, Fraction(1, 10**5), 0.9973, 0.95)
+    as_fraction = indices.requirement_verdict(figures, Fraction(1, 10**5), Fraction(9973, 10000), Fraction(95, 100))
+    assert (as_fraction.passed, as_fraction.lower) == (as_float.passed, as_float.lower)
+    assert indices.min_units(Fraction(9973, 10000), Fraction(95, 100)) == 1109
+    bound = indices.quantile_bound(figures, Fraction(9973, 10000), np.float32(0.95))
+    assert bound.estimate == indices.quantile_bound(figures, 0.9973, float(np.float32(0.95))).estimate
+
+
 def test_a_phase_the_run_covered_only_in_part_has_no_figure():
     late = T[T >= 1.0]  # the run began at 1 s, inside [0.5, 2)
     v = indices.ape(late, np.full(len(late), 1e-5), 0.5, 2.0)
