@@ -149,8 +149,20 @@ def record_inputs(spec, out, write):
 
     write(out / SPEC_COPY, spec.spec_text)
     spec_path = pathlib.Path(spec.spec_path).absolute()
-    # workdir: where a relative path of the spec fell back to (a replay from elsewhere looks there too)
+    # workdir: where a relative path of the spec fell back to (a replay from elsewhere looks there too);
+    # spec_sha256: the spec file as it was, which a replay compares (an allocation's value sweep runs a text
+    # made from its spec, never equal to the file: compared with the copy, it read as edited, pass 56)
     write(out / INPUTS, json.dumps({"spec": str(spec_path), "spec_folder": str(spec.spec_folder),
                                     "workdir": str(pathlib.Path.cwd()), "scene": str(spec.scene_path),
-                                    "fingerprints": fingerprints(spec)},
+                                    "spec_sha256": file_sha256(spec_path), "fingerprints": fingerprints(spec)},
                                    indent=2) + "\n")
+
+
+def file_sha256(path):
+    """The SHA-256 of a file's bytes (hex), or None when it cannot be read."""
+    import hashlib
+    try:
+        with open(path, "rb") as f:
+            return hashlib.sha256(f.read()).hexdigest()
+    except OSError:
+        return None

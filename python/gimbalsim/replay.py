@@ -138,6 +138,10 @@ def load(folder):
         if ran is not None and ran != spec.fingerprint:  # the copy was edited: it, not the original, is named
             print(f"replay: {copy} differs from the spec the sweep ran (its fingerprint {folder / 'spec.json'}): "
                   f"edited since the sweep; replaying from it as it is", file=sys.stderr)
+        elif inputs.get("spec_sha256") is not None:  # the file as the sweep read it, recorded
+            if original.is_file() and _provenance.file_sha256(original) != inputs["spec_sha256"]:
+                print(f"replay: {original} was edited since the sweep; replaying from the sweep's copy {copy}",
+                      file=sys.stderr)
         elif original.is_file() and original.read_text(encoding="utf-8") != spec.spec_text:
             # a comment edited in the copy leaves its fingerprint: which of the two changed is unknown
             print(f"replay: {original} differs from the sweep's copy {copy} (one of them was edited since the "

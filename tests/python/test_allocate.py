@@ -128,6 +128,27 @@ def test_outputs_are_written_and_name_the_bracket(bracketed):
         assert (out / v["folder"] / "results.csv").exists()
 
 
+def test_a_value_sweep_replays_without_calling_its_spec_edited(bracketed, tmp_path):
+    # (pass 56) a value's sweep runs a text made from the allocation spec: compared with the file, the replay
+    # said "one of them was edited" over an unedited spec
+    d, answer, _ = bracketed
+    folder = d / "out" / answer["values"][0]["folder"]
+    p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(folder), "--replay", "0", "--out",
+                        str(tmp_path / "run.csv")], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert "edited" not in p.stderr, p.stderr
+    spec = d / "spec.yaml"
+    text = spec.read_text()
+    try:  # the allocation spec edited since: said as it is
+        spec.write_text(text + "# a comment added\n")
+        p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(folder), "--replay", "0", "--out",
+                            str(tmp_path / "run2.csv")], capture_output=True, text=True, timeout=300)
+    finally:
+        spec.write_text(text)
+    assert p.returncode == 0, p.stderr
+    assert f"replay: {spec} was edited since the sweep; replaying from the sweep's copy" in p.stderr, p.stderr
+
+
 # ---- careless input: refused at its line, exit 2 ----
 
 def line_of(text, start):

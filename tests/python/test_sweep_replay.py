@@ -231,7 +231,8 @@ def test_changed_base_scene_is_refused_and_a_changed_spec_is_replayed_from_the_c
     (tmp_path / "s" / "spec.yaml").write_text(SPEC.replace("seed: 3", "seed: 4"))
     p = sweep(out, "--replay", 0, "--out", tmp_path / "run.csv")
     assert p.returncode == 0, p.stderr
-    assert f"differs from the sweep's copy {out / 'spec.yaml'} (one of them was edited" in p.stderr, p.stderr
+    assert f"{tmp_path / 's' / 'spec.yaml'} was edited since the sweep; replaying from the sweep's copy" \
+        in p.stderr, p.stderr
     scene.write_text(text.replace("restitution: 0.95", "restitution: 0.9"))
     assert fingerprint(gimbalsim.load_scene(scene, SET)) != rows_of(out / "results.csv")[0]["base_scene_sha256"]
     p = sweep(out, "--replay", 0, "--out", tmp_path / "run2.csv")
