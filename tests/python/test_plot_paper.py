@@ -102,3 +102,16 @@ def test_runs_or_summaries_given_swapped_are_refused_naming_the_flag(tmp):
     assert list(out.iterdir()) == []
     p = plot("--ideal", ideal, "--clearance", clear, "--ideal-summary", s_ideal, "--clearance-summary", s_clear, "--out", out)
     assert p.returncode == 0 and "(summary)" in p.stdout.split("peak contact force")[1].splitlines()[0], p.stderr
+
+
+def test_the_ideal_at_the_clearance_peak_is_only_read_inside_the_ideal_run(tmp):
+    # (pass 56) an ideal run that ended before the clearance peak gave "ideal X N at t = <past its end>":
+    # np.interp held its last value there
+    ideal, clear = simulate(tmp, "paper_ideal", 0.005), simulate(tmp, "paper_clearance", 0.1)
+    (tmp / "o").mkdir()
+    p = plot("--ideal", ideal, "--clearance", clear, "--clearance-summary", tmp / "paper_clearance.json",
+             "--out", tmp / "o")
+    assert p.returncode == 0, p.stderr
+    assert "vs ideal at the same time : n/a (the ideal run ended at 0.005 s, before the clearance peak at" \
+        in p.stdout, p.stdout
+    assert "-> ratio" not in p.stdout, p.stdout

@@ -239,7 +239,12 @@ def fig_joint_force(r, out_dir, written):
               f"{t_c[-1]:g} s): the joint-force peaks below cover different durations.")
     # The ideal joint force grows with the spin-up; compare also with the ideal
     # force at the moment of the clearance peak.
-    jf.f_i_at_pk = float(np.interp(jf.t_pk_c, t_i, ideal["joint2_force_N"])) if jf.t_pk_c is not None else None
+    # Only inside the ideal run: np.interp held its last value past its end (pass 56: a time it never reached).
+    jf.same_t_why = None
+    if jf.t_pk_c is not None and not t_i[0] <= jf.t_pk_c <= t_i[-1]:
+        jf.same_t_why = f"the ideal run ended at {t_i[-1]:.4g} s, before the clearance peak at {jf.t_pk_c:.4g} s"
+    jf.f_i_at_pk = float(np.interp(jf.t_pk_c, t_i, ideal["joint2_force_N"])) \
+        if jf.t_pk_c is not None and jf.same_t_why is None else None
     jf.ratio_same_t = jf.pk_c / jf.f_i_at_pk if jf.f_i_at_pk else None
 
     fig, axes = plt.subplots(1, 2, figsize=(15, 4.8), constrained_layout=True,
@@ -309,6 +314,8 @@ def print_summary(r, pk_fn, t_pk_fn, pe, jf, written, out_dir):
     if jf.ratio_same_t is not None:
         print(f"    vs ideal at the same time : ideal {jf.f_i_at_pk:.1f} N at t = {jf.t_pk_c:.4g} s "
               f"-> ratio {jf.ratio_same_t:.1f}")
+    elif jf.same_t_why is not None:
+        print(f"    vs ideal at the same time : n/a ({jf.same_t_why})")
     if pe.err_sp is not None:
         tilt = spatial_tilt(r.s_spatial)
         print(f"  spatial joint 2             : pointing error {float(pe.err_sp[-1]):.4g} rad at t = {t[-1]:.4g} s "
