@@ -12,16 +12,18 @@ Stepping, simulating and closed loops release the GIL: separate Simulators
 run in parallel threads; calls on one Simulator run one after the other.
 """
 
-import functools
-import json
-import numbers
-import os
+from ._early_signals import report_early_signals
 
-from ._errors import OutputError, SceneError, SimulationStopped, report_early_signals
+report_early_signals()  # `python3 -m gimbalsim.X` starting: a signal while the package imports says so
 
-report_early_signals()  # `python3 -m gimbalsim.X` starting: a signal while numpy and the extension import says so
+import functools  # noqa: E402
+import json  # noqa: E402
+import numbers  # noqa: E402
+import os  # noqa: E402
 
 import numpy as np  # noqa: E402
+
+from ._errors import OutputError, SceneError, SimulationStopped  # noqa: E402
 
 try:
     from . import _gimbalsim

@@ -4,8 +4,6 @@ the exit code of the project's exit-code table (docs/usage.md "Exit codes",
 the C++ programs' enum Exit in base/program/include/gimbalsim/program/
 program.hpp), which the mains of gimbalsim.sweep, gimbalsim.tune and the
 sweep's --replay run through (guarded_main)."""
-import contextlib
-import os
 import signal
 import sys
 
@@ -84,28 +82,6 @@ class SpecError(ValueError):
 class NotReproduced(Exception):
     """A replayed sample whose row differs from the recorded one; the message
     names the columns (exit EXIT_NOT_REPRODUCED)."""
-
-
-def report_early_signals():
-    """SIGINT or SIGTERM while `python3 -m gimbalsim.X` imports, before the program
-    installs its own handlers: one line and 128 + N (it exited 143 saying nothing,
-    pass 55). Nothing has been read or written yet, so nothing is kept. A
-    library import (sys.argv[0] is not "-m" then) installs nothing."""
-    if sys.argv[:1] != ["-m"]:
-        return
-    argv = sys.orig_argv
-    at = next((i for i, a in enumerate(argv) if a.startswith("-m")), None)
-    module = (argv[at][2:] or (argv[at + 1] if at + 1 < len(argv) else "")) if at is not None else ""
-    program = module.rpartition(".")[2] or "gimbalsim"
-
-    def handler(signum, frame):
-        with contextlib.suppress(OSError, ValueError):  # a console that has gone takes no line
-            sys.stderr.write(f"{program}: interrupted ({signal.Signals(signum).name}) while starting: nothing read "
-                             "or written\n")
-            sys.stderr.flush()
-        os._exit(signal_exit(signum))  # nothing to clean: no file is open yet
-    signal.signal(signal.SIGINT, handler)
-    signal.signal(signal.SIGTERM, handler)
 
 
 class NoCluster(Exception):
