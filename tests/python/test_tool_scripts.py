@@ -13,6 +13,7 @@ import pytest
 from conftest import BIN, SOURCE
 
 sys.path.insert(0, str(SOURCE / "tools" / "paper"))
+sys.path.insert(0, str(SOURCE / "tools" / "pointing_study"))
 from paper_data import REQUIRED  # noqa: E402
 
 BENCH = SOURCE / "tools" / "hil" / "plot_bench.py"
@@ -127,6 +128,18 @@ def study_dir(tmp):
     (d / "summary.csv").write_text("run,scene,clearance_m,status,rms_track_rad,peak_track_rad,track_ticks\n"
                                    "ideal,paper_ideal,0,ok,1e-6,2e-6,1\n")
     return d
+
+
+def test_pointing_study_plot_draws_the_first_sensor_set_against_time(tmp):
+    # (pass 56 follow-up) a --scene-set sensor key labels the sets "perfect except ...": with two sets the time
+    # plot drew only runs labelled "perfect", none, and refused the study
+    from plot_pointing_study import shown_in_time_plot
+    rows = [dict(run=run, scene=scene, sensors=sensors, clearance_m=c) for run, scene, sensors, c in (
+        ("ideal_perfect", "paper_ideal", "perfect except sensors.gyro_noise=1e-5", 0.0),
+        ("c=0.5mm_perfect", "paper_clearance", "perfect except sensors.gyro_noise=1e-5", 5e-4),
+        ("ideal_realistic", "paper_ideal", "realistic except sensors.gyro_noise=1e-5", 0.0),
+        ("c=0.5mm_realistic", "paper_clearance", "realistic except sensors.gyro_noise=1e-5", 5e-4))]
+    assert shown_in_time_plot(rows) == ["ideal_perfect", "c=0.5mm_perfect"]
 
 
 def test_pointing_study_plot_refuses_bad_cells_and_outputs(tmp):

@@ -89,11 +89,13 @@ def error_column(run):
 
 def shown_in_time_plot(summary):
     """Runs drawn against time: all of one scene and sensor set; else the ideal
-    joint and each scene's largest clearance, perfect sensors."""
+    joint and each scene's largest clearance, with the first sensor set the
+    study ran (perfect, or perfect except a --scene-set sensor key)."""
     groups = {(r["scene"], r.get("sensors", "perfect")) for r in summary if r["clearance_m"] > 0}
     if len(groups) <= 1 and len({r.get("sensors", "perfect") for r in summary}) <= 1:
         return [r["run"] for r in summary]
-    perfect = [r for r in summary if r.get("sensors", "perfect") == "perfect"]
+    first = summary[0].get("sensors", "perfect") if summary else "perfect"
+    perfect = [r for r in summary if r.get("sensors", "perfect") == first]
     shown = [r["run"] for r in perfect if r["clearance_m"] == 0]
     for scene in dict.fromkeys(r["scene"] for r in perfect if r["clearance_m"] > 0):
         runs = [r for r in perfect if r["scene"] == scene]
