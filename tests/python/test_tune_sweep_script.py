@@ -87,3 +87,14 @@ def test_no_settling_is_na_with_its_reason_as_in_process():
         assert "n/a" in out and "the joint error did not stay below settle_tol 1e-09 rad before tracking started at " \
             "3.5 s" in out, out
         assert " inf " not in out, out
+
+
+@pytest.mark.skipif(not _netns_available(), reason="needs a private network namespace (unshare -n: root)")
+def test_commands_rejected_in_a_row_are_a_stopped_row_naming_why():
+    # the bench ends a run whose every answer the plant rejects (torque.limit 1 N m: the slew's commands are
+    # beyond 10 x it); the row says that, not "the plant stopped"
+    p = subprocess.run([sys.executable, str(SOURCE / "tools" / "hil" / "tune_sweep.py"), "--bin", str(BIN), "--omega",
+                        "20", "--duration", "3.6", "--scene-set", "torque.limit=[1,1]"],
+                       capture_output=True, text=True, timeout=300, cwd=SOURCE)
+    assert p.returncode == 3, (p.stdout, p.stderr)
+    assert "stopped: lockstep: no valid command answered the last 10 statuses" in p.stdout, p.stdout

@@ -149,8 +149,9 @@ def run_lockstep(args, cfg, workdir):
         wall = time.monotonic() - t0
     if r.returncode == STOPPED:  # the plant stopped: a row that says so, as controller_sweep's (it was a failure)
         with open(os.path.join(workdir, "firmware.log"), errors="replace") as f:
-            said = [line for line in f.read().splitlines() if "stopped after" in line]
-        return None, (said[-1].split(": ", 1)[-1] if said else "firmware_sim exit 3 (the plant stopped)"), STOPPED
+            # a plant stop's line, or the lockstep's end over commands the plant rejected in a row
+            said = [line for line in f.read().splitlines() if "stopped after" in line or "no valid command" in line]
+        return None, (said[-1].split(": ", 1)[-1] if said else "firmware_sim exit 3 (the run stopped)"), STOPPED
     if r.returncode != 0:  # the logs' last lines, whole
         tails = []
         for name in ("firmware.log", "controller.log"):
