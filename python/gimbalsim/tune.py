@@ -350,8 +350,9 @@ def main(argv=None):
 def _interrupted_note(out):
     """How to go on after a signal: --resume where the study was recorded, else a plain run again."""
     if _study_recorded(out):
-        return (f": {_trials_kept(out)} finished trials kept in {out / 'trials.csv'}; the study is in "
-                f"{out / STUDY_FILE}: run again with --resume to continue it")
+        kept = _trials_kept(out)  # none yet: no trials.csv to name
+        return (f": {f'{kept} finished trials kept in ' + str(out / TRIALS) if kept else 'no trial finished yet'}; "
+                f"the study is in {out / STUDY_FILE}: run again with --resume to continue it")
     return f": before the study was recorded, nothing kept in {out}: run again (without --resume)"
 
 

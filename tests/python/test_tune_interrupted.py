@@ -41,3 +41,22 @@ def test_an_empty_study_file_is_named_for_what_it_is(tmp_path):
     assert "study.db holds no study of gimbalsim.tune (empty, or a tuner stopped before it recorded one): nothing " \
            "to resume; remove it, or use another --out" in p.stderr, p.stderr
     assert (tmp_path / "o" / "study.db").read_bytes() == b""  # not the tuner's to remove: it did not make it
+
+
+def test_a_signal_after_the_study_is_recorded_says_resume_and_counts_no_trial_as_none(tmp_path, monkeypatch, capsys):
+    spec = write_spec(tmp_path, 1)
+    out = tmp_path / "o"
+    real_open = gimbalsim.tune.open_study
+
+    def recorded_then_signalled(*args):
+        real_open(*args)
+        raise Interrupted(signal.SIGTERM)
+
+    monkeypatch.setattr(gimbalsim.tune, "open_study", recorded_then_signalled)
+    code = gimbalsim.tune.main([str(spec), "--out", str(out), "--workers", "1", "--no-progress"])
+    err = capsys.readouterr().err
+    assert code == 128 + signal.SIGTERM, err
+    # it said "0 finished trials kept in o/trials.csv", a file that did not exist
+    assert f"interrupted (SIGTERM): no trial finished yet; the study is in {out / 'study.db'}: run again with " \
+           "--resume to continue it" in err, err
+    assert (out / "study.db").is_file() and not (out / "trials.csv").exists()
