@@ -115,8 +115,8 @@ def check_study_folder(spec, out, resume):
     if not resume and ((out / STUDY_FILE).exists() or (out / TRIALS).exists()):
         if (out / STUDY_FILE).exists() and not _study_recorded(out) and not _trials_kept(out):
             # --resume would be refused too (pass 56): say what the file is, not a resume that cannot be
-            raise SpecError(f"{out / STUDY_FILE} holds no study of {_study_file.STUDY_NAME} (empty, or a tuner stopped before "
-                            f"it recorded one): nothing to resume; remove it, or use another --out")
+            raise SpecError(f"{out / STUDY_FILE} holds no study of {_study_file.STUDY_NAME} (empty, or a tuner "
+                            f"stopped before it recorded one): nothing to resume; remove it, or use another --out")
         raise SpecError(f"{out} already holds a study ({STUDY_FILE}, {TRIALS}): give --resume to continue it, "
                         f"or another --out")
     check_outputs_not_inputs([out / n for n in OUTPUTS], spec.input_files())

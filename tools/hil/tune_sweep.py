@@ -189,7 +189,8 @@ def metrics(args, cfg, ctl, truth, duration, wall):
     settle_why = "" if not math.isnan(settle) else (
         f"the joint error did not stay below settle_tol {args.settle_tol:g} rad before tracking started at "
         f"{track_start:g} s" if hold_seen else "no hold tick")
-    return dict(settle=settle, settle_why=settle_why, rms=rms, max_truth=max(errs) if errs else math.nan, max_err=max_err_track,
+    return dict(settle=settle, settle_why=settle_why, rms=rms, max_truth=max(errs) if errs else math.nan,
+                max_err=max_err_track,
                 tau1=tau1, tau2=tau2, speed=duration / wall, answered=len(ctl))
 
 
