@@ -6,6 +6,7 @@
 #include <poll.h>
 #include <sched.h>
 #include <sys/socket.h>
+#include <sys/time.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -151,6 +152,7 @@ LcmUrl parseLcmUrl(const std::string& given, std::string* why) {
       // LCM warns of a ttl it cannot read and keeps its own default: ttl=0 (the bench's "stay on this
       // host") mistyped would put the traffic on the network
       if (!(v == "0" || parseInt(v, 1, 255, &n))) return fail("ttl '" + v + "' is not a whole number in 0..255");
+      u.ttl = static_cast<int>(n);  // "0" leaves n at 0
     } else if (k == "transmit_only") {
       if (v != "true" && v != "false") return fail("transmit_only '" + v + "' is not true or false");
     } else if (k.empty() && !kv.empty()) {  // "&=5": an option that names nothing
@@ -164,7 +166,11 @@ LcmUrl parseLcmUrl(const std::string& given, std::string* why) {
 }
 
 UdpmReceiver::UdpmReceiver(const ReassemblyLimits& limits, ChannelFilter filter)
-    : rs_(limits, filter), kernel_channels_(filter.names()), buf_(kMaxDatagramBytes + 1) {}
+    : rs_(limits, filter),
+      kernel_channels_(filter.names()),
+      buf_(kBatch * (kMaxDatagramBytes + 1)),
+      len_(kBatch),
+      from_(kBatch) {}
 
 UdpmReceiver::~UdpmReceiver() {
   if (fd_ >= 0) ::close(fd_);
@@ -180,7 +186,8 @@ bool UdpmReceiver::open(const std::string& url, int recv_buf_bytes, std::string*
     fd_ = -1;
     return false;
   };
-  fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  // Blocking: waitDrain() blocks in recvmmsg itself (SO_RCVTIMEO); every other read says MSG_DONTWAIT.
+  fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
   if (fd_ < 0) return fail("socket");
   const int one = 1;
   if (setsockopt(fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) < 0) return fail("SO_REUSEADDR");
@@ -237,40 +244,65 @@ int UdpmReceiver::wait(int timeout_ms, std::int64_t spin_ns) noexcept {
   return r > 0 ? 1 : 0;
 }
 
-const Message* UdpmReceiver::readOne(bool* empty, std::int64_t* recv_utime) noexcept {
-  *empty = true;
-  if (fd_ < 0) return nullptr;
-  sockaddr_in from{};
-  iovec iov{buf_.data(), buf_.size()};
-  alignas(cmsghdr) char control[CMSG_SPACE(sizeof(std::uint32_t))];
-  msghdr msg{};
-  msg.msg_name = &from;
-  msg.msg_namelen = sizeof from;
-  msg.msg_iov = &iov;
-  msg.msg_iovlen = 1;
-  msg.msg_control = control;
-  msg.msg_controllen = sizeof control;
-  // MSG_TRUNC: the datagram's real length, so an oversized one is seen and counted.
-  const ssize_t n = ::recvmsg(fd_, &msg, MSG_DONTWAIT | MSG_TRUNC);
-  if (n < 0) {
-    if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) ++socket_errors_;
-    return nullptr;
+int UdpmReceiver::readBatch(int want, int block_ms) noexcept {
+  if (fd_ < 0) return 0;
+  if (block_ms > 0 && block_ms != rcvtimeo_ms_) {  // set once while the wait stays the same: no call per read
+    const timeval tv{block_ms / 1000, (block_ms % 1000) * 1000};
+    if (setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv) < 0) {
+      ++socket_errors_;
+      return -1;
+    }
+    rcvtimeo_ms_ = block_ms;
   }
-  *empty = false;
-  if (recv_utime) *recv_utime = realtimeUs();
-  for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
-    if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) {
-      std::uint32_t total = 0;  // cumulative for the socket
-      std::memcpy(&total, CMSG_DATA(c), sizeof total);
-      kernel_drops_ = total;
+  constexpr std::size_t kSlot = kMaxDatagramBytes + 1;
+  sockaddr_in from[kBatch];
+  iovec iov[kBatch];
+  alignas(cmsghdr) char control[kBatch][CMSG_SPACE(sizeof(std::uint32_t))];
+  mmsghdr hdr[kBatch];
+  for (int i = 0; i < want; ++i) {
+    from[i] = sockaddr_in{};
+    iov[i] = iovec{buf_.data() + static_cast<std::size_t>(i) * kSlot, kSlot};
+    hdr[i] = mmsghdr{};
+    hdr[i].msg_hdr.msg_name = &from[i];
+    hdr[i].msg_hdr.msg_namelen = sizeof from[i];
+    hdr[i].msg_hdr.msg_iov = &iov[i];
+    hdr[i].msg_hdr.msg_iovlen = 1;
+    hdr[i].msg_hdr.msg_control = control[i];
+    hdr[i].msg_hdr.msg_controllen = sizeof control[i];
+  }
+  // MSG_TRUNC: each datagram's real length, so an oversized one is seen and counted.
+  // MSG_WAITFORONE: block (up to SO_RCVTIMEO) for the first only, then take what is waiting.
+  const int flags = MSG_TRUNC | (block_ms > 0 ? MSG_WAITFORONE : MSG_DONTWAIT);
+  const int n = ::recvmmsg(fd_, hdr, static_cast<unsigned>(want), flags, nullptr);
+  if (n < 0) {
+    if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return 0;
+    ++socket_errors_;
+    return block_ms > 0 ? -1 : 0;
+  }
+  batch_utime_ = realtimeUs();
+  for (int i = 0; i < n; ++i) {
+    len_[static_cast<std::size_t>(i)] = hdr[i].msg_len;
+    from_[static_cast<std::size_t>(i)] = Source{from[i].sin_addr.s_addr, from[i].sin_port};
+    for (cmsghdr* c = CMSG_FIRSTHDR(&hdr[i].msg_hdr); c != nullptr; c = CMSG_NXTHDR(&hdr[i].msg_hdr, c)) {
+      if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) {
+        std::uint32_t total = 0;  // cumulative for the socket
+        std::memcpy(&total, CMSG_DATA(c), sizeof total);
+        kernel_drops_ = total;
+      }
     }
   }
-  if (static_cast<std::size_t>(n) > buf_.size()) {
+  return n;
+}
+
+const Message* UdpmReceiver::feedRead(int i, std::int64_t* recv_utime) noexcept {
+  constexpr std::size_t kSlot = kMaxDatagramBytes + 1;
+  const std::size_t k = static_cast<std::size_t>(i);
+  *recv_utime = batch_utime_;
+  if (len_[k] > kSlot) {
     rs_.count(Drop::Truncated);
     return nullptr;
   }
-  const Source src{from.sin_addr.s_addr, from.sin_port};
-  return rs_.feed(buf_.data(), static_cast<std::size_t>(n), src, monotonicNs());
+  return rs_.feed(buf_.data() + k * kSlot, len_[k], from_[k], monotonicNs());
 }
 
 std::string UdpmReceiver::summary() const {

@@ -5,9 +5,10 @@
 // caller's thread and fed to a bounded Reassembler. memq:// is LCM's
 // in-process provider: another process never hears anything on it, so the
 // receiver has no socket and delivers nothing. Other providers are refused.
-// Sending stays with liblcm's lcm_publish on the same URL.
+// Sending: udpm_sender.hpp, on the same URL.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -24,6 +25,7 @@ struct LcmUrl {
   std::uint32_t group = 0;   ///< multicast group, network byte order
   std::uint16_t port = 0;    ///< [-] host byte order
   int recv_buf_size = 0;     ///< [bytes] the URL's recv_buf_size option (0: not given)
+  int ttl = 0;               ///< [hops] multicast TTL of what is sent (LCM's default 0: this host only)
 };
 
 /// Parses `url`; on failure kind is Unsupported and *why says what is wrong.
@@ -72,25 +74,48 @@ class UdpmReceiver {
   /// peer on the same CPU runs at once (docs/bench.md "Lockstep speed").
   int wait(int timeout_ms, std::int64_t spin_ns = 0) noexcept;
 
-  /// Reads one waiting datagram without blocking. Returns the message it
-  /// completes or null; *empty is true when nothing was waiting (or on an error).
-  /// recv_utime: wall-clock receive time [us]. Allocation-free.
-  const Message* readOne(bool* empty, std::int64_t* recv_utime = nullptr) noexcept;
-
   /// Reads at most max_datagrams waiting datagrams and calls on(const Message&,
-  /// std::int64_t recv_utime) for each complete message. Returns the number of
-  /// datagrams read. The bound keeps a flood from starving the caller's other work.
+  /// std::int64_t recv_utime) for each complete message (recv_utime: wall-clock
+  /// receive time [us]). Returns the number of datagrams read. The bound keeps a
+  /// flood from starving the caller's other work. One system call (recvmmsg) per
+  /// kBatch datagrams, and none more to find the queue empty: a lockstep tick's
+  /// intake is one call. Allocation-free.
   template <class F>
   int drain(F&& on, int max_datagrams) {
     int read = 0;
-    for (; read < max_datagrams; ++read) {
-      bool empty = false;
-      std::int64_t t = 0;
-      const Message* m = readOne(&empty, &t);
-      if (empty) break;
-      if (m != nullptr) on(*m, t);
+    while (read < max_datagrams) {
+      const int want = std::min(kBatch, max_datagrams - read);
+      const int n = std::max(0, readBatch(want));
+      for (int i = 0; i < n; ++i) {
+        std::int64_t t = 0;
+        if (const Message* m = feedRead(i, &t)) on(*m, t);
+      }
+      read += n;
+      if (n < want) break;  // fewer than asked: nothing more was waiting (or an error)
     }
     return read;
+  }
+
+  /// wait() and drain() in one: blocks up to timeout_ms (after a spin of
+  /// spin_ns, as wait()) for the first datagram and reads it with those
+  /// already waiting in the same system call, so a lockstep turn's wait and
+  /// read cost one call, not two. Returns the datagrams read (0: timeout or a
+  /// signal), -1 on a socket error. Allocation-free.
+  template <class F>
+  int waitDrain(int timeout_ms, std::int64_t spin_ns, F&& on, int max_datagrams) {
+    if (fd_ < 0 || spin_ns > 0) {  // no socket (sleeps), or a spin first: wait() then a drain
+      const int w = wait(fd_ < 0 ? timeout_ms : 0, spin_ns);
+      if (w < 0) return -1;
+      if (w > 0 || fd_ < 0) return w > 0 ? drain(on, max_datagrams) : 0;
+    }
+    const int want = std::min(kBatch, max_datagrams);
+    const int n = readBatch(want, timeout_ms);
+    if (n <= 0) return n;
+    for (int i = 0; i < n; ++i) {
+      std::int64_t t = 0;
+      if (const Message* m = feedRead(i, &t)) on(*m, t);
+    }
+    return n == want && n < max_datagrams ? n + drain(on, max_datagrams - n) : n;
   }
 
   const ReassemblyCounters& counters() const noexcept { return rs_.counters(); }
@@ -114,7 +139,18 @@ class UdpmReceiver {
   int rcvbuf_ = 0;
   std::uint64_t socket_errors_ = 0;
   std::uint64_t kernel_drops_ = 0;
-  std::vector<std::uint8_t> buf_;
+  static constexpr int kBatch = 8;  ///< datagrams per recvmmsg
+  /// Reads up to `want` (<= kBatch) waiting datagrams; their count. With
+  /// block_ms > 0 it first blocks up to that long for one (0 on timeout or a
+  /// signal); -1 on a socket error then (never without blocking: 0).
+  int readBatch(int want, int block_ms = 0) noexcept;
+  int rcvtimeo_ms_ = -1;  ///< the socket's SO_RCVTIMEO as last set [ms] (-1: never)
+  /// Feeds datagram i of the last batch to the reassembler: the message it completes or null.
+  const Message* feedRead(int i, std::int64_t* recv_utime) noexcept;
+  std::vector<std::uint8_t> buf_;      ///< kBatch datagram buffers of kMaxDatagramBytes + 1 (a longer one is seen)
+  std::vector<std::size_t> len_;       ///< each datagram's real length (MSG_TRUNC)
+  std::vector<Source> from_;           ///< each datagram's sender
+  std::int64_t batch_utime_ = 0;       ///< when the last batch was read [us, CLOCK_REALTIME]
 };
 
 /// CLOCK_MONOTONIC [ns] (the reassembler's timeout clock).
