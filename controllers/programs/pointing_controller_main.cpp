@@ -16,7 +16,6 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <optional>
 #include <vector>
@@ -131,14 +130,13 @@ int run(int argc, char** argv) {
     csv = log_out->stream();
     StatusHandler::header(csv);
   }
-  lcm::LCM lcm(o.lcm_url);
-  if (!lcm.good()) {
-    std::fprintf(stderr, "pointing_controller: LCM could not start (url '%s'); in a fresh network namespace add a "
-                 "multicast route: ip link set lo up && ip route add 224.0.0.0/4 dev lo\n", o.lcm_url.c_str());
+  lcm_wire::UdpmSender tx;
+  if (std::string why; !tx.open(o.lcm_url, &why)) {
+    std::fprintf(stderr, "pointing_controller: LCM could not start: %s\n", why.c_str());
     return program::kNetwork;
   }
   const contract::Channels ch = contract::Channels::withPrefix(o.prefix);
-  StatusHandler h(c, lcm, ch, csv);
+  StatusHandler h(c, tx, ch, csv);
   lcm_wire::ReassemblyLimits lim;  // statuses, attitudes and antenna messages are < 1 kB
   lim.max_message_bytes = 4096;
   lcm_wire::UdpmReceiver rx(lim, lcm_wire::ChannelFilter({ch.status, ch.attitude, ch.antenna}));
@@ -160,13 +158,15 @@ int run(int argc, char** argv) {
   std::int64_t last_answer_ns = lcm_wire::monotonicNs();
   const std::int64_t spin_ns = std::llround(o.spin_us * 1e3);
   while (!io::stopRequested()) {
-    if (rx.wait(kPollMs, spin_ns) < 0) {
+    const long long before = h.answered();
+    // The wait and the read in one system call (a lockstep turn's cost is its count of calls).
+    if (rx.waitDrain(kPollMs, spin_ns, [&h](const lcm_wire::Message& m, std::int64_t) {
+          h.onMessage(m, lcm_wire::monotonicNs());
+        }, kDrainMax) < 0) {
       std::fprintf(stderr, "pointing_controller: receive failed (socket error)\n");
       code = program::kNetwork;
       break;
     }
-    const long long before = h.answered();
-    rx.drain([&h](const lcm_wire::Message& m, std::int64_t) { h.onMessage(m, lcm_wire::monotonicNs()); }, kDrainMax);
     const std::int64_t now = lcm_wire::monotonicNs();
     if (h.answered() > before) last_answer_ns = now;
     if (log_out && !log_out->ok()) {

@@ -1,7 +1,6 @@
 // pointing_controller's status handler: decodes each status into a stack
 // message (fixed-size arrays: no allocation), runs the controller's answer
-// and encodes into a preallocated buffer for LCM's raw publish (the typed
-// publish allocates on every call). Statuses are taken from one plant (the
+// and sends it through lcm_wire's sender (encoded in its preallocated slot). Statuses are taken from one plant (the
 // source of the first, until it has been silent for kRebindNs), so a spoofed
 // status cannot reset or steer the controller. One program's header: it
 // lives beside pointing_controller_main.cpp.
@@ -12,7 +11,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <lcm/lcm-cpp.hpp>
 #include <random>
 #include <string>
 
@@ -25,14 +23,15 @@
 #include "gimbalsim/gimbal_status_t.hpp"
 #include "gimbalsim/io/csv_format.hpp"
 #include "gimbalsim/lcm_wire/udpm_receiver.hpp"
+#include "gimbalsim/lcm_wire/udpm_sender.hpp"
 
 namespace gimbalsim::controllers {
 
 /// Answers statuses; everything it needs is allocated before the first one.
 class StatusHandler {
  public:
-  StatusHandler(const ControllerConfig& c, lcm::LCM& lcm, const contract::Channels& ch, std::FILE* csv)
-      : c_(c), lcm_(lcm), ch_(ch), csv_(csv) {}
+  StatusHandler(const ControllerConfig& c, lcm_wire::UdpmSender& tx, const contract::Channels& ch, std::FILE* csv)
+      : c_(c), tx_(tx), ch_(ch), csv_(csv) {}
 
   /// One received message; the channel says which handler. now_ns: CLOCK_MONOTONIC.
   void onMessage(const lcm_wire::Message& m, std::int64_t now_ns) {
@@ -88,8 +87,7 @@ class StatusHandler {
     if (std::isfinite(a.cmd.torque[0]) && std::isfinite(a.cmd.torque[1])) {
       gimbal_command_t cmd{};
       contract::copyFields<contract::CommandFields>(cmd, a.cmd);
-      const int n = cmd.encode(buf_.data(), 0, static_cast<int>(buf_.size()));
-      if (n < 0 || lcm_.publish(ch_.command, buf_.data(), static_cast<unsigned>(n)) != 0) ++publish_errors_;
+      if (!tx_.send(ch_.command, cmd)) ++publish_errors_;
       if (first_sent_seq_ < 0) first_sent_seq_ = a.cmd.seq;
     } else {
       ++not_finite_;  // never sent: NaN or Inf is no command (the plant would refuse it)
@@ -203,14 +201,13 @@ class StatusHandler {
   }
 
   const ControllerConfig& c_;
-  lcm::LCM& lcm_;
+  lcm_wire::UdpmSender& tx_;
   const contract::Channels& ch_;
   std::FILE* csv_;
   ControllerState state_;
   contract::Attitude attitude_{.seq = -1};  ///< the newest attitude message (seq -1: none yet)
   long long unpaired_ = 0;        ///< statuses without the attitude of their tick (gyro rate held)
   long long outage_statuses_ = 0; ///< statuses answered during a star tracker outage
-  std::array<std::uint8_t, 256> buf_{};  // a command encodes to well under 256 bytes
   static constexpr std::int64_t kRebindNs = 500000000;  ///< plant silent this long -> another may bind [ns]
   bool bound_ = false;
   lcm_wire::Source plant_;

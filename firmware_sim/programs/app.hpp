@@ -15,10 +15,6 @@
 #include "loop_stats.hpp"
 #include "tick_log.hpp"
 
-namespace lcm {
-class LCM;
-}
-
 namespace gimbalsim::firmware {
 
 /// The exit codes, named for firmware_sim: the project's table (docs/usage.md "Exit codes", mirrored in program.hpp).
@@ -93,7 +89,6 @@ struct RunSetup {
 
 /// The run's transport and files: LCM out and in, the truth CSV, the tick log.
 struct BenchPorts {
-  lcm::LCM& lcm;
   LcmBridge& bridge;
   TruthCsv& csv;
   TickLog& tick_log;  ///< --tick-log (filled by the loop thread, written after the run)

@@ -1,7 +1,5 @@
 #include "lcm_bridge.hpp"
 
-#include <lcm/lcm-cpp.hpp>
-
 #include "gimbalsim/gimbal_antenna_t.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
@@ -19,8 +17,8 @@ static_assert(int{kPlantFault} == int{gimbal_status_t::FAULT_PLANT_FAULT});
 static_assert(int{kLockstepTimeout} == int{gimbal_status_t::FAULT_LOCKSTEP_TIMEOUT});
 static_assert(kModeOff == gimbal_command_t::MODE_OFF && kModeTorque == gimbal_command_t::MODE_TORQUE);
 
-LcmBridge::LcmBridge(lcm::LCM& lcm, lcm_wire::UdpmReceiver& rx, Channels ch)
-    : lcm_(lcm), rx_(rx), ch_(std::move(ch)) {
+LcmBridge::LcmBridge(lcm_wire::UdpmSender& tx, lcm_wire::UdpmReceiver& rx, Channels ch)
+    : tx_(tx), rx_(rx), ch_(std::move(ch)) {
   for (auto& x : pub_seq_) x = -1;
 }
 
@@ -38,9 +36,8 @@ void LcmBridge::drain() {
 }
 
 bool LcmBridge::receive(int timeout_ms, std::int64_t spin_ns) {
-  const int w = rx_.wait(timeout_ms, spin_ns);
-  if (w > 0) drain();
-  return w >= 0;
+  return rx_.waitDrain(timeout_ms, spin_ns, [this](const lcm_wire::Message& m, std::int64_t) { onCommand(m); },
+                       kDrainMax) >= 0;
 }
 
 void LcmBridge::onCommand(const lcm_wire::Message& msg) {
@@ -67,7 +64,7 @@ void LcmBridge::onCommand(const lcm_wire::Message& msg) {
 void LcmBridge::publish(const Status& s) {
   gimbal_status_t o;
   copyFields<StatusFields>(o, s);
-  send(ch_.status, o);
+  tx_.stageMessage(ch_.status, o);
   const std::size_t i = static_cast<std::size_t>(s.seq) % kRoundTripSlots;
   pub_seq_[i] = s.seq;
   pub_ns_[i] = nowNs();
@@ -77,19 +74,19 @@ void LcmBridge::publish(const Status& s) {
 void LcmBridge::publish(const Truth& t) {
   gimbal_truth_t o;
   copyFields<TruthFields>(o, t);
-  send(ch_.truth, o);
+  tx_.stageMessage(ch_.truth, o);
 }
 
 void LcmBridge::publish(const Attitude& a) {
   gimbal_attitude_t o;
   copyFields<AttitudeFields>(o, a);
-  send(ch_.attitude, o);
+  tx_.stageMessage(ch_.attitude, o);
 }
 
 void LcmBridge::publish(const Antenna& a) {
   gimbal_antenna_t o;
   copyFields<AntennaFields>(o, a);
-  send(ch_.antenna, o);
+  tx_.stageMessage(ch_.antenna, o);
 }
 
 void LcmBridge::publishStats(std::int64_t utime, const LoopStats& st, bool realtime, bool lockstep) {
@@ -120,13 +117,9 @@ void LcmBridge::publishStats(std::int64_t utime, const LoopStats& st, bool realt
   o.commands_missed = last_status_.commands_missed;
   o.realtime = realtime ? 1 : 0;
   o.lockstep = lockstep ? 1 : 0;
-  send(ch_.loop_stats, o);
+  tx_.stageMessage(ch_.loop_stats, o);
 }
 
-template <class M>
-void LcmBridge::send(const std::string& channel, const M& msg) {
-  const int n = msg.encode(buf_, 0, sizeof buf_);
-  if (n < 0 || lcm_.publish(channel, buf_, static_cast<unsigned>(n)) != 0) ++publish_errors;
-}
+void LcmBridge::flush() noexcept { tx_.flush(); }
 
 }  // namespace gimbalsim::firmware

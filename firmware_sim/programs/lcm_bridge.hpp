@@ -2,9 +2,9 @@
 // (lcm_wire/udpm_receiver.hpp, not LCM's receive thread: see there why),
 // decodes gimbal_command_t and hands it, with its sender, to the loop's
 // command sink (app.hpp),
-// publishes status, attitude, truth and loop statistics from a preallocated buffer with
-// the raw publish (the typed one allocates on every call), and times the
-// status -> command round trip. Runs on the communication thread (real time)
+// stages status, attitude, truth and loop statistics in our sender
+// (lcm_wire/udpm_sender.hpp: a tick's messages go out in one system call at
+// flush()), and times the status -> command round trip. Runs on the communication thread (real time)
 // or the only thread (lockstep); the loop thread never calls it.
 #pragma once
 
@@ -13,6 +13,7 @@
 
 #include "app.hpp"
 #include "gimbalsim/lcm_wire/udpm_receiver.hpp"
+#include "gimbalsim/lcm_wire/udpm_sender.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/firmware_sim/histogram.hpp"
 
@@ -20,9 +21,9 @@ namespace gimbalsim::firmware {
 
 class LcmBridge {
  public:
-  /// Receives the command channel through `rx` (opened on the same URL as
-  /// `lcm`, filtering that channel); decoded commands go to the sink set.
-  LcmBridge(lcm::LCM& lcm, lcm_wire::UdpmReceiver& rx, Channels ch);
+  /// Receives the command channel through `rx` and sends through `tx` (both
+  /// opened on the one URL; rx filtering that channel); decoded commands go to the sink set.
+  LcmBridge(lcm_wire::UdpmSender& tx, lcm_wire::UdpmReceiver& rx, Channels ch);
 
   /// Where decoded commands go (null: none, each counted in dropped_in).
   void setSink(CommandSink* sink) noexcept { sink_ = sink; }
@@ -32,35 +33,35 @@ class LcmBridge {
 
   /// Reads the datagrams waiting (at most kDrainMax) into the inbound ring.
   void drain();
-  /// Waits up to timeout_ms for datagrams (busy-polling the first spin_ns),
-  /// then drain(). False on a socket error.
+  /// Waits up to timeout_ms for datagrams (busy-polling the first spin_ns)
+  /// and reads them, in one system call when one comes (UdpmReceiver::waitDrain).
+  /// False on a socket error.
   bool receive(int timeout_ms, std::int64_t spin_ns = 0);
   int fd() const noexcept { return rx_.fd(); }
   const lcm_wire::UdpmReceiver& receiver() const noexcept { return rx_; }
 
+  /// Each publish stages its message; flush() sends what is staged, in the
+  /// order staged (a full batch goes out by itself). A failure is counted in publishErrors().
   void publish(const Status& s);
   void publish(const Truth& t);
   void publish(const Attitude& a);
   void publish(const Antenna& a);
   void publishStats(std::int64_t utime, const LoopStats& st, bool realtime, bool lockstep);
+  void flush() noexcept;
 
   /// Status published -> command answering it received [us] (this thread only).
   Histogram roundtrip{10000};
   long long dropped_in = 0;  ///< commands the sink could not take (counted, never silent)
-  long long publish_errors = 0;
+  long long publishErrors() const noexcept { return tx_.errors(); }
 
  private:
   void onCommand(const lcm_wire::Message& msg);
   static constexpr int kDrainMax = 256;  ///< datagrams per drain(): a flood cannot starve publishing
-  template <class M>
-  void send(const std::string& channel, const M& msg);
-
-  lcm::LCM& lcm_;
+  lcm_wire::UdpmSender& tx_;
   lcm_wire::UdpmReceiver& rx_;
   Channels ch_;
   CommandSink* sink_ = nullptr;
   Status last_status_;
-  unsigned char buf_[2048];
   static constexpr std::size_t kRoundTripSlots = 1024;
   std::int64_t pub_seq_[kRoundTripSlots];  ///< seq of the status published in each slot (-1: answered)
   std::int64_t pub_ns_[kRoundTripSlots];   ///< when it was published [ns, CLOCK_MONOTONIC]

@@ -61,6 +61,7 @@ bool awaitAnswer(Run& r, FirmwareSink<V>& sink, const Firmware<V>& fw, std::int6
     if (first && now >= republish) {
       r.ports.bridge.publish(fw.attitude());
       r.ports.bridge.publish(fw.status());
+      r.ports.bridge.flush();
       republish = now + kRepublishNs;
     }
     const std::int64_t until = first ? std::min(deadline, republish) : deadline;
@@ -108,6 +109,7 @@ int run(Run& r) {
   Counters unanswered_from;          // the firmware's counters when the current run of timeouts began
   std::int64_t next_stats = wall0 + std::llround(o.stats_period * 1e9);
   warmUp(fw);
+  std::int64_t cpu_last_end = nowNs(CLOCK_THREAD_CPUTIME_ID);  // [ns] thread CPU at the end of the last tick's work
   // k = total is the run's end: the plant's state at T, sampled as every
   // tick (as the in-process closed loop does) but never stepped; only its
   // truth goes out, so the truth CSV holds t = 0 .. T.
@@ -115,7 +117,9 @@ int run(Run& r) {
     const bool end = k == total;
     TickTimes tt{};
     tt.wall_start = nowNs();
-    tt.cpu_start = nowNs(CLOCK_THREAD_CPUTIME_ID);  // the CPU span inside the wall span
+    // The thread's CPU span starts where the last tick's ended: it holds the command's intake (the wait's
+    // system calls, not the time asleep) and costs no clock read between the command and the status.
+    tt.cpu_start = cpu_last_end;
     // Lockstep's clock: utime is simulated time.
     const std::int64_t utime = std::llround(static_cast<double>(k) * period * 1e6);
     const TickMessages m = tick.sample(k, utime, k % o.truth_every == 0, extra);
@@ -123,18 +127,23 @@ int run(Run& r) {
     if (!end) r.ports.bridge.publish(*m.attitude);  // before the status, so a controller has it when the status comes
     if (m.antenna) r.ports.bridge.publish(*m.antenna);
     if (m.status && !end) r.ports.bridge.publish(*m.status);
+    r.ports.bridge.flush();  // what the controller answers, in one system call
     if (m.truth) {
+      // Sent apart, after: in the status's call it delayed the answer by its own send (docs/bench.md "Lockstep speed")
       r.ports.bridge.publish(*m.truth);
+      r.ports.bridge.flush();
       if (!r.ports.csv.write(*m.truth, m.antenna)) g_stop.store(true);  // a failed write stops the run (exit 4)
     }
     if (end) break;
     tt.cpu_step = nowNs(CLOCK_THREAD_CPUTIME_ID);
     tick.advance();
     tt.cpu_end = nowNs(CLOCK_THREAD_CPUTIME_ID);
+    cpu_last_end = tt.cpu_end;
     tt.wall_end = nowNs();
     account(r, fw, k, tt);
     if (nowNs() >= next_stats) {
       r.ports.bridge.publishStats(utime, r.report.stats, false, true);
+      r.ports.bridge.flush();
       next_stats = nowNs() + std::llround(o.stats_period * 1e9);
     }
     // A status dropped or still held by the fault schedule: nothing to answer, the next tick follows.
@@ -178,6 +187,7 @@ int run(Run& r) {
   r.report.wall_seconds = static_cast<double>(nowNs() - wall0) * 1e-9;
   r.report.pointing = tick.pointing();
   r.ports.bridge.publishStats(std::llround(static_cast<double>(fw.ticks()) * period * 1e6), r.report.stats, false, true);
+  r.ports.bridge.flush();
   return finish(r, outcomeOf(fw));
 }
 

@@ -10,7 +10,6 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
-#include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <string>
 #include <vector>
@@ -194,23 +193,22 @@ int runBench(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
     std::fprintf(stderr, "firmware_sim: idle CPUs held to %d us of wake-up latency while this runs (machine-wide, "
                  "/dev/cpu_dma_latency; --cpu-dma-latency-us -1 to not ask)\n", o.cpu_dma_latency_us);
   }
-  lcm::LCM lcm(o.lcm_url);
-  if (!lcm.good()) {
-    std::fprintf(stderr,
-                 "firmware_sim: error: LCM could not start with URL '%s' (check --lcm-url / LCM_DEFAULT_URL; "
-                 "udpm needs a multicast route, e.g. `ip route add 224.0.0.0/4 dev lo`)\n",
-                 o.lcm_url.c_str());
+  // Sending and receiving are ours (lcm_wire), not liblcm's: LCM 1.3.1's receive
+  // thread crashes on malformed fragments and queues 30 messages per subscription,
+  // and its publish costs a system call per message (udpm_sender.hpp).
+  lcm_wire::UdpmSender tx;
+  if (std::string why; !tx.open(o.lcm_url, &why)) {
+    std::fprintf(stderr, "firmware_sim: error: LCM could not start: %s (check --lcm-url / LCM_DEFAULT_URL)\n",
+                 why.c_str());
     return kExitLcm;
   }
-  // Receiving is ours (lcm_wire), not LCM's receive thread: LCM 1.3.1 crashes
-  // on malformed fragments and queues 30 messages per subscription.
   const Channels channels = Channels::withPrefix(o.prefix);
   lcm_wire::UdpmReceiver rx(LcmBridge::receiveLimits(), lcm_wire::ChannelFilter({channels.command}));
   if (std::string why; !rx.open(o.lcm_url, kRecvBufferBytes, &why)) {
     std::fprintf(stderr, "firmware_sim: error: cannot receive: %s\n", why.c_str());
     return kExitLcm;
   }
-  LcmBridge bridge(lcm, rx, channels);
+  LcmBridge bridge(tx, rx, channels);
 
   std::fprintf(stderr, "firmware_sim: scene '%s' (%s), %g Hz (%d RK4 steps of %g s per tick), %s, channels %s*\n",
                m.name.c_str(), variantName(m).c_str(), o.rate_hz, static_cast<int>(std::llround(c.control_period / m.integrator.step)),
@@ -225,7 +223,7 @@ int runBench(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
                   .worst_tick_us = budget.worst_tick_us,
                   .worst_tick_derivatives = static_cast<long long>(budget.steps_per_tick) * budget.substep_cap *
                                             budget.evals_per_substep},
-        .ports = {.lcm = lcm, .bridge = bridge, .csv = csv, .tick_log = tick_log},
+        .ports = {.bridge = bridge, .csv = csv, .tick_log = tick_log},
         .report = {}};
   // Say which target the truth pointing error is measured against.
   if (profile) {

@@ -164,8 +164,10 @@ int run(Run& r) {
       if (ob.has_attitude) bridge.publish(ob.attitude);  // before the status, so a controller has it when the status comes
       if (ob.has_antenna) bridge.publish(ob.antenna);
       if (ob.has_status) bridge.publish(ob.status);
+      bridge.flush();  // what a controller answers, in one system call; the truth after (as lockstep)
       if (ob.has_truth) {
         bridge.publish(ob.truth);
+        bridge.flush();
         // a failed write stops the run (exit 4)
         if (!r.ports.csv.write(ob.truth, ob.has_antenna ? &ob.antenna : nullptr)) g_stop.store(true);
       }
@@ -185,6 +187,7 @@ int run(Run& r) {
     }
     if (nowNs() >= next_stats) {
       bridge.publishStats(nowNs(CLOCK_REALTIME) / 1000, rep.stats, warned && rep.fifo, false);
+      bridge.flush();
       next_stats += std::llround(o.stats_period * 1e9);
     }
   }
@@ -194,6 +197,7 @@ int run(Run& r) {
   rep.pointing = tick.pointing();
   if (!warned) printWarnings(rep.rt_warnings);
   bridge.publishStats(nowNs(CLOCK_REALTIME) / 1000, rep.stats, rep.fifo, false);
+  bridge.flush();
   ::close(efd);
   return finish(r, outcomeOf(fw));
 }

@@ -134,9 +134,9 @@ void printExitSummary(const Run& r, const Outcome& out) {
                 static_cast<long long>(n.bus.commands_delayed), static_cast<long long>(n.bus.status_dropped),
                 static_cast<long long>(n.bus.status_delayed));
   }
-  if (st.dropped_out.load() > 0 || r.ports.bridge.dropped_in > 0 || r.ports.bridge.publish_errors > 0) {
+  if (st.dropped_out.load() > 0 || r.ports.bridge.dropped_in > 0 || r.ports.bridge.publishErrors() > 0) {
     std::printf("  lost: %lld outbound (ring full), %lld inbound (ring full), %lld publish errors\n",
-                static_cast<long long>(st.dropped_out.load()), r.ports.bridge.dropped_in, r.ports.bridge.publish_errors);
+                static_cast<long long>(st.dropped_out.load()), r.ports.bridge.dropped_in, r.ports.bridge.publishErrors());
   }
   std::printf("  receive: %s\n", r.ports.bridge.receiver().summary().c_str());
   std::printf("  peak memory (VmHWM) %ld kB\n", lcm_wire::peakRssKb());

@@ -3,11 +3,15 @@
 // One call of each benchmark is one occurrence of the part in a tick:
 //   BM_ClockRead/0, /1         CLOCK_MONOTONIC, CLOCK_THREAD_CPUTIME_ID
 //   BM_Encode<T>               one message into the send buffer
-//   BM_Publish<T>/peers        encode + LCM publish on a loopback-only udpm
-//                              URL with 0..2 receiving sockets on its port
-//                              (the plant's own, filtered to commands; a
-//                              controller's, filtered to status and attitude)
-//   BM_ReceiveCommand          a command sent, then poll + read + reassemble
+//   BM_Publish<T>/peers        encode + send of one message (lcm_wire's
+//                              sender, a system call of its own) on a
+//                              loopback-only udpm URL with 0..2 receiving
+//                              sockets on its port (the plant's own, filtered
+//                              to commands; a controller's, filtered to status
+//                              and attitude)
+//   BM_PublishTick/peers       a lockstep tick's attitude, status and truth
+//                              staged and sent in one system call (as firmware_sim)
+//   BM_ReceiveCommand          a command sent, then read (waitDrain) + reassemble
 //   BM_Tick/scene/truth        BenchTick::sample + advance: firmware, sensors,
 //                              the plant's step, and with truth = 1 the truth
 //                              with its pointing error (the difference: truth)
@@ -20,8 +24,6 @@
 // Scene files: GIMBALSIM_SCENE_DIR (environment), else tools/scenes from the working directory.
 // The URL: GIMBALSIM_BENCH_LCM_URL, else a ttl=0 group on port 7697.
 #include <benchmark/benchmark.h>
-
-#include <lcm/lcm-cpp.hpp>
 
 #include <cstdlib>
 #include <ctime>
@@ -39,6 +41,7 @@
 #include "gimbalsim/gimbal_status_t.hpp"
 #include "gimbalsim/gimbal_truth_t.hpp"
 #include "gimbalsim/lcm_wire/udpm_receiver.hpp"
+#include "gimbalsim/lcm_wire/udpm_sender.hpp"
 
 #ifndef GIMBALSIM_SCENE_DIR
 #define GIMBALSIM_SCENE_DIR "tools/scenes"
@@ -116,55 +119,84 @@ const std::string& channelOf() {
   return ch.command;
 }
 
+/// The sender firmware_sim has, or null with the benchmark skipped.
+std::unique_ptr<lcm_wire::UdpmSender> sender(benchmark::State& bs) {
+  auto tx = std::make_unique<lcm_wire::UdpmSender>();
+  if (std::string why; !tx->open(url(), &why)) {
+    bs.SkipWithError(("cannot send on " + url() + ": " + why).c_str());
+    return nullptr;
+  }
+  return tx;
+}
+
+/// The receiving sockets of a bench on the port: /1 the plant's own, /2 and a controller's.
+std::vector<std::unique_ptr<lcm_wire::UdpmReceiver>> peers(std::int64_t n) {
+  std::vector<std::unique_ptr<lcm_wire::UdpmReceiver>> p;
+  if (n >= 1) p.push_back(peer({channels().command}));
+  if (n >= 2) p.push_back(peer({channels().status, channels().attitude}));
+  return p;
+}
+
+/// What a peer let through is read, off the clock, so its buffer never fills.
+void drainPeers(benchmark::State& bs, std::vector<std::unique_ptr<lcm_wire::UdpmReceiver>>& ps) {
+  bs.PauseTiming();
+  for (auto& p : ps) p->drain([](const lcm_wire::Message&, std::int64_t) {}, 1024);
+  bs.ResumeTiming();
+}
+
 template <class T>
 void BM_Publish(benchmark::State& bs) {
-  lcm::LCM lcm(url());
-  if (!lcm.good()) {
-    bs.SkipWithError(("LCM cannot start on " + url()).c_str());
-    return;
-  }
-  std::vector<std::unique_ptr<lcm_wire::UdpmReceiver>> peers;
-  if (bs.range(0) >= 1) peers.push_back(peer({channels().command}));                       // the plant's own
-  if (bs.range(0) >= 2) peers.push_back(peer({channels().status, channels().attitude}));  // a controller's
+  const auto tx = sender(bs);
+  if (!tx) return;
+  auto ps = peers(bs.range(0));
   const T m = message<T>();
   const std::string& channel = channelOf<T>();
-  unsigned char buf[2048];
   long long sent = 0;
   for (auto _ : bs) {
-    const int n = m.encode(buf, 0, sizeof buf);
-    if (lcm.publish(channel, buf, static_cast<unsigned>(n)) != 0) {
+    if (!tx->send(channel, m)) {
       bs.SkipWithError("publish failed");
       break;
     }
-    if (++sent % 512 == 0) {  // what a peer let through is read, off the clock, so its buffer never fills
-      bs.PauseTiming();
-      for (auto& p : peers) p->drain([](const lcm_wire::Message&, std::int64_t) {}, 1024);
-      bs.ResumeTiming();
-    }
+    if (++sent % 512 == 0) drainPeers(bs, ps);
   }
 }
 BENCHMARK_TEMPLATE(BM_Publish, gimbal_status_t)->Arg(0)->Arg(1)->Arg(2);
 BENCHMARK_TEMPLATE(BM_Publish, gimbal_attitude_t)->Arg(2);
 BENCHMARK_TEMPLATE(BM_Publish, gimbal_truth_t)->Arg(2);
 
-void BM_ReceiveCommand(benchmark::State& bs) {
-  lcm::LCM lcm(url());
-  if (!lcm.good()) {
-    bs.SkipWithError(("LCM cannot start on " + url()).c_str());
-    return;
+void BM_PublishTick(benchmark::State& bs) {
+  const auto tx = sender(bs);
+  if (!tx) return;
+  auto ps = peers(bs.range(0));
+  const auto a = message<gimbal_attitude_t>();
+  const auto s = message<gimbal_status_t>();
+  const auto t = message<gimbal_truth_t>();
+  long long ticks = 0;
+  for (auto _ : bs) {
+    tx->stageMessage(channels().attitude, a);
+    tx->stageMessage(channels().status, s);
+    tx->stageMessage(channels().truth, t);
+    if (tx->flush() != 0) {
+      bs.SkipWithError("publish failed");
+      break;
+    }
+    if (++ticks % 256 == 0) drainPeers(bs, ps);
   }
+}
+BENCHMARK(BM_PublishTick)->Arg(2);
+
+void BM_ReceiveCommand(benchmark::State& bs) {
+  const auto tx = sender(bs);
+  if (!tx) return;
   auto rx = peer({channels().command});
   const gimbal_command_t c = message<gimbal_command_t>();
-  unsigned char buf[256];
-  const int n = c.encode(buf, 0, sizeof buf);
   long long got = 0;
   for (auto _ : bs) {
-    lcm.publish(channels().command, buf, static_cast<unsigned>(n));
-    if (rx->wait(100) <= 0) {
+    tx->send(channels().command, c);
+    if (rx->waitDrain(100, 0, [&got](const lcm_wire::Message&, std::int64_t) { ++got; }, 16) <= 0) {
       bs.SkipWithError("the command did not come back within 100 ms");
       break;
     }
-    rx->drain([&got](const lcm_wire::Message&, std::int64_t) { ++got; }, 16);
   }
   bs.counters["messages"] = static_cast<double>(got);
 }

@@ -16,12 +16,12 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <lcm/lcm-cpp.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "gimbalsim/lcm_wire/udpm_receiver.hpp"
+#include "gimbalsim/lcm_wire/udpm_sender.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
@@ -62,11 +62,11 @@ int mainImpl(int argc, char** argv) {
                  "last %zu rows are its frozen state): their commands are replayed, and the replayed plant must "
                  "have stopped there too\n", stop_s, t.frozen_rows);
   }
-  lcm::LCM lcm(url);
+  gimbalsim::lcm_wire::UdpmSender tx;
   const auto ch = gimbalsim::contract::Channels::withPrefix(prefix);
   gimbalsim::lcm_wire::UdpmReceiver rx({}, gimbalsim::lcm_wire::ChannelFilter({ch.status}));
-  if (std::string why; !lcm.good() || !rx.open(url, 1 << 20, &why)) {
-    std::fprintf(stderr, "torque_replay: network: %s\n", lcm.good() ? why.c_str() : "LCM could not start");
+  if (std::string why; !tx.open(url, &why) || !rx.open(url, 1 << 20, &why)) {
+    std::fprintf(stderr, "torque_replay: network: %s\n", why.c_str());
     return gimbalsim::program::kNetwork;
   }
   const auto last = static_cast<std::int64_t>(t.tau1.size()) - 2;  // the last status that has a next row
@@ -121,7 +121,7 @@ int mainImpl(int argc, char** argv) {
       c.mode = gimbalsim::gimbal_command_t::MODE_TORQUE;
       c.torque[0] = t.tau1[k + 1];
       c.torque[1] = t.tau2[k + 1];
-      sent = lcm.publish(ch.command, &c) == 0;  // a lost answer would stall the plant: stop and say so
+      sent = tx.send(ch.command, c);  // a lost answer would stall the plant: stop and say so
       answered = st.seq;
     }, 256);
     if (static_cast<double>(gimbalsim::lcm_wire::monotonicNs() - heard_ns) * 1e-9 > idle_exit) {
