@@ -31,7 +31,7 @@ import math
 import os
 import stat
 
-__all__ = ["OutputError", "OutputRefused", "check_outputs", "check_output_names", "open_output", "output_set",
+__all__ = ["OutputError", "OutputRefused", "output_failed", "what_to_do", "check_outputs", "check_output_names", "open_output", "output_set",
            "write_text", "write_bytes", "write_csv", "csv_text", "savefig", "figure_bytes", "open_append",
            "append_synced"]
 
@@ -46,6 +46,22 @@ class OutputRefused(OutputError):
     """An output refused by the rules before a byte was written (a link, a
     special file, an input or a missing folder under its name): freeing
     space does not help, moving the file away does."""
+
+
+def output_failed(message, cause):
+    """An OutputError of message, keeping the errno of the OSError cause: what to do next depends on it."""
+    e = OutputError(message)
+    e.errno = cause.errno
+    return e
+
+
+_NO_SPACE = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
+
+
+def what_to_do(e):
+    """The advice before "run again" for an OutputError e: more space helps only a full disk or quota (a folder
+    that cannot be made in /proc was told to "free the space")."""
+    return "free the space and " if getattr(e, "errno", None) in _NO_SPACE else "fix the cause and "
 
 
 _counter = itertools.count()  # the <n> of the temporaries' names (next() is atomic under the GIL)
@@ -194,7 +210,7 @@ def _create_temporary(path, binary):
         except FileExistsError:
             continue
         except OSError as e:
-            raise OutputError(f"{path}: cannot create a temporary in {folder}: {e.strerror or e}") from None
+            raise output_failed(f"{path}: cannot create a temporary in {folder}: {e.strerror or e}", e) from None
     raise OutputError(f"{path}: cannot create a temporary (100 names taken)")
 
 
@@ -272,7 +288,7 @@ def open_output(path, mode="w", inputs=()):
     except OutputError:
         raise
     except OSError as e:
-        raise OutputError(f"{path}: {stage}: {e.strerror or e}") from None
+        raise output_failed(f"{path}: {stage}: {e.strerror or e}", e) from None
     finally:
         if tmp is not None:
             _remove(tmp)
@@ -338,7 +354,7 @@ def open_append(path):
     except OSError as e:
         if e.errno == errno.ELOOP:
             raise OutputRefused(f"{path}: cannot open it to append: is a symbolic link; not written through") from None
-        raise OutputError(f"{path}: cannot open it to append: {e.strerror or e}") from None
+        raise output_failed(f"{path}: cannot open it to append: {e.strerror or e}", e) from None
     if not stat.S_ISREG(os.fstat(fd).st_mode):
         os.close(fd)
         raise OutputRefused(f"{path}: exists and is not a regular file; not written")
@@ -353,4 +369,4 @@ def append_synced(fd, data, path):
             data = data[os.write(fd, data):]
         os.fsync(fd)
     except OSError as e:
-        raise OutputError(f"{_text(path)}: write failed: {e.strerror or e}") from None
+        raise output_failed(f"{_text(path)}: write failed: {e.strerror or e}", e) from None

@@ -8,7 +8,8 @@ import fcntl
 import os
 import sqlite3
 
-from ._errors import OutputError, SpecError
+from ._errors import SpecError
+from ._output import output_failed
 
 STUDY_FILE = "study.db"
 STUDY_NAME = "gimbalsim.tune"
@@ -65,7 +66,7 @@ def open_study(spec, out, resume, sampler):
     try:
         out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
     except OSError as e:
-        raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
+        raise output_failed(f"cannot make the folder {out}: {e.strerror}", e) from None
     import sqlalchemy.exc
 
     hold(out)

@@ -50,7 +50,7 @@ from ._allocate_search import next_value, outcome, scan_values
 from ._allocate_spec import AllocationSpec
 from ._console import keep_console
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
-from ._output import OutputRefused, check_output_names, output_set, write_text
+from ._output import OutputRefused, check_output_names, output_failed, output_set, what_to_do, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
 from .sweep import FINGERPRINT as SWEEP_FINGERPRINT, RESULTS, finished_rows, output_paths, sweep
 
@@ -158,7 +158,7 @@ def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, pro
             out.mkdir(exist_ok=True)
             (out / VALUES).mkdir(exist_ok=True)
         except OSError as e:
-            raise OutputError(f"cannot make the folder {out / VALUES}: {e.strerror}") from None
+            raise output_failed(f"cannot make the folder {out / VALUES}: {e.strerror}", e) from None
         write_text(fingerprint, a.fingerprint, inputs)
         while (value := next_value(a, tried)) is not None:
             k = len(tried)
@@ -212,7 +212,7 @@ def main(argv=None):
     kept = f"finished values kept in {out / VALUES}"
     return guarded_main("allocate", lambda: _run(a, out), {
         OutputRefused: lambda e: f"; {kept}: move it out of --out and run again with --resume",
-        OutputError: lambda e: f"; {kept}: free the space and run again with --resume",
+        OutputError: lambda e: f"; {kept}: {what_to_do(e)}run again with --resume",
         Interrupted: lambda e: f": {kept}; run again with --resume to finish"})
 
 

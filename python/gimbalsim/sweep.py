@@ -48,7 +48,8 @@ from . import _budget, _budget_report, _cluster, _provenance, _study_file, repla
 from ._console import keep_console
 from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main  # noqa: F401 (SpecError: API)
 from ._journal import JOURNAL, csv_line, fmt, read_for_resume, read_journal, record_design  # noqa: F401 (API)
-from ._output import OutputRefused, append_synced, json_text, open_append, output_set, write_text
+from ._output import (OutputRefused, append_synced, json_text, open_append, output_failed, output_set, what_to_do,
+                      write_text)
 from ._sample import row_values, run_one, sample_alone  # noqa: F401 (sample_alone: API)
 from ._spec import check_out_dir
 from ._summary import plot, summarize
@@ -110,7 +111,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         try:
             out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
         except OSError as e:
-            raise OutputError(f"cannot make the folder {out}: {e.strerror}") from None
+            raise output_failed(f"cannot make the folder {out}: {e.strerror}", e) from None
         _study_file.hold(out)  # before the journal is read: another sweep may be writing it
         take_design(spec, out, until)  # the samples --until added before (a resume holds them, no more)
         # the journal's rows, and results.csv's too when a resume finds one (a finished sweep resumed)
@@ -196,7 +197,7 @@ def _plots(draw, out):
     except OutputError:
         raise
     except OSError as e:
-        raise OutputError(f"cannot write the plots in {out / PLOTS}: {e.strerror or e}") from None
+        raise output_failed(f"cannot write the plots in {out / PLOTS}: {e.strerror or e}", e) from None
 
 
 def write_report(spec, rows, summary, out, inputs=()):
@@ -343,7 +344,7 @@ def main(argv=None):
     return guarded_main("sweep", lambda: _run(a, out), {
         # a name refused at the end (a link made while the sweep ran): more space would not help
         OutputRefused: lambda e: f"; {_kept_and_next(out, 'move it out of --out and ')}",
-        OutputError: lambda e: f"; {_kept_and_next(out, 'free the space and ')}",
+        OutputError: lambda e: f"; {_kept_and_next(out, what_to_do(e))}",
         Interrupted: lambda e: f": {_kept_and_next(out, '')} to finish"})
 
 

@@ -170,9 +170,10 @@ def test_a_name_refused_at_the_end_does_not_say_free_the_space(tmp_path):
 FULL_AT_THE_FIRST_WRITE = """
 import errno, sys
 import gimbalsim.sweep as sw
-from gimbalsim._output import OutputError
-def full(path, text, inputs=()):
-    raise OutputError(f"{path}: could not be written: {__import__('os').strerror(errno.ENOSPC)}")
+from gimbalsim._output import output_failed
+def full(path, text, inputs=()):  # as the writer fails on a full disk: its errno kept
+    cause = OSError(errno.ENOSPC, __import__('os').strerror(errno.ENOSPC))
+    raise output_failed(f"{path}: could not be written: {cause.strerror}", cause)
 sw.write_text = full
 sys.exit(sw.main(sys.argv[1:]))
 """
@@ -189,6 +190,15 @@ def test_a_sweep_stopped_before_its_journal_says_nothing_was_kept(tmp_path):
     assert f"nothing kept ({out / 'results.partial.csv'} was not written); free the space and run again" \
         in p.stderr and "--resume" not in p.stderr and "samples kept" not in p.stderr, p.stderr
 
+
+
+def test_an_out_folder_that_cannot_be_made_is_not_told_to_free_space(tmp_path):
+    # (pass 58) /proc/sw cannot be made (no such file or directory): exit 4, and the advice was "free the space"
+    spec = spec_file(tmp_path / "s.yaml", SWEEP)
+    p = run("sweep", spec, "/proc/gimbalsim_sweep", "--workers", "1")
+    assert p.returncode == 4 and "cannot make the folder /proc/gimbalsim_sweep: No such file or directory" \
+        in p.stderr, p.stderr
+    assert "free the space" not in p.stderr and "fix the cause and run again" in p.stderr, p.stderr
 
 @pytest.mark.parametrize("args, said", [
     (["--replay", "0", "--resume"], "--replay runs one sample in this process: not with --resume "),

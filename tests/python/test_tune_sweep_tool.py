@@ -118,3 +118,12 @@ def test_keep_is_made_in_a_folder_that_exists_and_holds_whole_files(tmp):
     assert all(not (run / n).is_symlink() and (run / n).stat().st_size > 0 for n in os.listdir(run))
     assert "firmware_sim: scene 'paper_ideal'" in (run / "firmware.log").read_text()
     assert "pointing_controller: answered 3600 statuses" in (run / "controller.log").read_text()
+
+
+@pytest.mark.parametrize("keep", ["/proc/gimbalsim_keep", "/proc/self/gimbalsim_keep"])
+def test_a_keep_folder_that_cannot_be_made_is_an_output_failure_in_one_line(keep):
+    # pass 58: os.mkdir's FileNotFoundError ended the script in a traceback, exit 1 (the table: 4, one line)
+    p = sweep("--omega", "20", "--duration", "3.6", "--keep", keep)
+    assert p.returncode == 4, (p.returncode, p.stderr)
+    assert p.stderr.startswith(f"tune_sweep: error: --keep: cannot make the folder {keep}: ") and \
+        "Traceback" not in p.stderr and p.stderr.count("\n") == 1, p.stderr

@@ -40,7 +40,7 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
 import output_file  # noqa: E402  (add_version)
-from output_file import Refused, check_before_writing, open_output, run_script, write_text  # noqa: E402
+from output_file import OutputError, Refused, check_before_writing, open_output, run_script, write_text  # noqa: E402
 URL = "udpm://239.255.76.67:7667?ttl=0"
 STOPPED = 3  # the exit-code table's "the run stopped" (firmware_sim's, controller_sweep's)
 # What each run writes in its folder (--keep DIR/<gain set>/, else a temporary one).
@@ -59,10 +59,12 @@ def parse_args():
     p.add_argument("--set", action="append", default=[], help="controller override key=value for every run")
     p.add_argument("--omega", help="comma-separated closed-loop bandwidths [rad/s] (triple pole), each in "
                    "[0.001, 1e+06] (default: 5,10,20,40 without --gain-set)")
-    p.add_argument("--gain-set", action="append", default=[], help='explicit set, e.g. "azimuth.kp=1e4,elevation.kp=1e4"')
+    p.add_argument("--gain-set", action="append", default=[],
+                   help='explicit set, e.g. "azimuth.kp=1e4,elevation.kp=1e4"')
     p.add_argument("--duration", help="simulated seconds, in (0, 1e+09] (default: track start + 5 s)")
     p.add_argument("--settle-tol", default="1e-4", help="settling band on the joint error [rad], in (0, 10]")
-    p.add_argument("--bin", default=os.path.join(ROOT, "build/bin"), help="directory with firmware_sim, pointing_controller")
+    p.add_argument("--bin", default=os.path.join(ROOT, "build/bin"),
+                   help="directory with firmware_sim, pointing_controller")
     p.add_argument("--keep", help="keep each run's config and logs in this folder (made if missing, in a folder "
                    "that exists; lockstep only)")
     p.add_argument("--in-process", action="store_true", help="run controller_sweep (no LCM) instead")
@@ -198,7 +200,8 @@ def require_programs(args, names):
     """Each program in --bin, or exit 2 naming the command that builds it (never a traceback)."""
     missing = [n for n in names if not os.access(os.path.join(args.bin, n), os.X_OK)]
     if missing:
-        raise Refused(f"{', '.join(missing)} not built in {args.bin}: cmake --build build -j2 --target {' '.join(missing)}")
+        raise Refused(f"{', '.join(missing)} not built in {args.bin}: "
+                      f"cmake --build build -j2 --target {' '.join(missing)}")
 
 
 def keep_folders(args, sets):
@@ -229,11 +232,15 @@ def keep_folders(args, sets):
 
 
 def make_folder(path):
+    """A --keep folder made before its run; one that cannot be made (/proc/x, a full disk) is an output
+    failure (exit 4) naming it, before the run, as every output of the exit-code table."""
     try:
         os.mkdir(path)
     except FileExistsError:
         if os.path.islink(path) or not os.path.isdir(path):  # made since the check: refused, not written through
             raise Refused(f"--keep: {path}: no longer a folder (a link or a file was put there)") from None
+    except OSError as e:
+        raise OutputError(f"--keep: cannot make the folder {path}: {e.strerror}") from None
 
 
 def main():
@@ -251,7 +258,7 @@ def main():
                           f"takes --omega only and writes no run files)")
         return subprocess.run(cmd).returncode
     base = print_config(args, [])
-    track_start = float(base["profile.slew_start"]) + float(base["profile.slew_time"]) + float(base["profile.hold_time"])
+    track_start = sum(float(base[f"profile.{k}"]) for k in ("slew_start", "slew_time", "hold_time"))
     if args.duration is not None and args.duration <= track_start:  # every figure but the torques is the track's
         print(f"tune_sweep: error: --duration: track window [{track_start:g}, inf) s not reached: run ended at "
               f"{args.duration:g} s", file=sys.stderr)
