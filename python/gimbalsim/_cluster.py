@@ -18,6 +18,7 @@ from ._errors import Interrupted, NoCluster
 
 LOOPBACK = "127.0.0.1"
 ALLOWED_FAILURES = 1
+NEVER_S = 10 ** 9  # [s] a timeout that never ends a run (32 years)
 WORKERS_TIMEOUT_S = 60  # how long a scheduler named by --scheduler may go without a worker
 # Test hook, read in the worker: the sample (sweep) or plant (tune) whose
 # index it names kills its worker process, as a crash in the C++ core would.
@@ -67,13 +68,24 @@ def crash_hook(index):
 def dask_client(workers=None, scheduler=None):
     """Yields (client, number of workers)."""
     import dask
-    from distributed import Client, LocalCluster
 
     if scheduler:
         with _scheduler_client(scheduler) as client:
             yield client, len(client.scheduler_info()["workers"])
         return
     n = workers or os.cpu_count() or 1
+    # A worker absent from the scheduler lost-worker-timeout (15 s) after a death had its nanny closed for good
+    # by the cluster (SpecCluster, read at each death), never replaced: a sample killing each restarted worker
+    # of a loaded machine left none, and the study waited forever (pass 58). Each nanny restarts its own worker.
+    with dask.config.set({"distributed.deploy.lost-worker-timeout": NEVER_S}):
+        yield from _local_client(n)
+
+
+def _local_client(n):
+    """dask_client's local cluster of n worker processes (a generator dask_client yields from)."""
+    import dask
+    from distributed import Client, LocalCluster
+
     # Ctrl-C reaches the whole process group: worker processes started while
     # SIGINT is ignored keep ignoring it (no worker tracebacks); this process
     # takes it and shuts them down.

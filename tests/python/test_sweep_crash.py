@@ -115,3 +115,17 @@ def test_a_signal_while_a_killed_worker_is_replaced_prints_no_dask_traceback(spe
     assert sent, err
     assert p.returncode == 143 and "interrupted (SIGTERM)" in err, err
     assert "Traceback" not in err and "AssertionError" not in err, err
+
+
+def test_a_local_worker_absent_when_dask_gives_up_on_it_is_still_replaced(spec, tmp_path):
+    # pass 58: a worker absent from the scheduler lost-worker-timeout (15 s) after a death had its nanny closed
+    # for good; on a loaded machine each restart of a worker the crashing sample kills made that likely, and the
+    # study waited forever with no worker. A timeout of 0.1 s makes it certain: the sweep must still finish.
+    p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(spec), "--out", str(tmp_path / "o"),
+                        "--no-progress", "--workers", "1"], capture_output=True, text=True, timeout=120,
+                       env={**os.environ, "GIMBALSIM_TEST_KILL_WORKER_AT": "1",
+                            "DASK_DISTRIBUTED__DEPLOY__LOST_WORKER_TIMEOUT": "0.1s"})
+    assert p.returncode == 0, p.stderr
+    got = rows(tmp_path / "o")
+    assert len(got) == N and [r["status"] for r in got].count("crashed") == 1, got
+    assert got[1]["status"] == "crashed"
