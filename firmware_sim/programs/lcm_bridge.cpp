@@ -20,6 +20,7 @@ static_assert(kModeOff == gimbal_command_t::MODE_OFF && kModeTorque == gimbal_co
 LcmBridge::LcmBridge(lcm_wire::UdpmSender& tx, lcm_wire::UdpmReceiver& rx, Channels ch)
     : tx_(tx), rx_(rx), ch_(std::move(ch)) {
   for (auto& x : pub_seq_) x = -1;
+  for (auto& t : pub_ns_) t = 0;
 }
 
 lcm_wire::ReassemblyLimits LcmBridge::receiveLimits() {
@@ -67,7 +68,7 @@ void LcmBridge::publish(const Status& s) {
   tx_.stageMessage(ch_.status, o);
   const std::size_t i = static_cast<std::size_t>(s.seq) % kRoundTripSlots;
   pub_seq_[i] = s.seq;
-  pub_ns_[i] = nowNs();
+  unsent_slot_ = static_cast<int>(i);  // stamped when it is sent: the round trip starts at the wire, not here
   last_status_ = s;
 }
 
@@ -120,6 +121,12 @@ void LcmBridge::publishStats(std::int64_t utime, const LoopStats& st, bool realt
   tx_.stageMessage(ch_.loop_stats, o);
 }
 
-void LcmBridge::flush() noexcept { tx_.flush(); }
+void LcmBridge::flush() noexcept {
+  if (unsent_slot_ >= 0) {
+    pub_ns_[unsent_slot_] = nowNs();
+    unsent_slot_ = -1;
+  }
+  tx_.flush();
+}
 
 }  // namespace gimbalsim::firmware

@@ -64,7 +64,8 @@ class LcmBridge {
   Status last_status_;
   static constexpr std::size_t kRoundTripSlots = 1024;
   std::int64_t pub_seq_[kRoundTripSlots];  ///< seq of the status published in each slot (-1: answered)
-  std::int64_t pub_ns_[kRoundTripSlots];   ///< when it was published [ns, CLOCK_MONOTONIC]
+  std::int64_t pub_ns_[kRoundTripSlots];   ///< when it was sent (its flush) [ns, CLOCK_MONOTONIC]
+  int unsent_slot_ = -1;                   ///< the slot of a status staged and not yet flushed (-1: none)
 };
 
 /// A sink bound to the bridge for one scope (a loop's run).

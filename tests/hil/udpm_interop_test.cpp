@@ -172,5 +172,27 @@ TEST(UdpmInteropInNetns, OurSender) {
   EXPECT_EQ(n, 5);
 }
 
+// A host with no multicast route (a fresh network namespace): joining the group fails, and the reason
+// says how to add the route (the programs print it as their exit-5 line).
+TEST(UdpmInterop, NoMulticastRouteSaysHowToAddOne) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("noroute");
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  const int rc = runInNetns(dir, "ip route del 224.0.0.0/4 dev lo || exit 96\nGIMBALSIM_IN_NETNS_NO_ROUTE=1 '" + self +
+                                     "' --gtest_filter='UdpmNoRouteInNetns.*'");
+  EXPECT_EQ(rc, 0) << readFile(dir / "run.log");
+  EXPECT_NE(readFile(dir / "run.log").find("[  PASSED  ] 1 test"), std::string::npos) << readFile(dir / "run.log");
+}
+
+TEST(UdpmNoRouteInNetns, ReceiverOpen) {
+  if (std::getenv("GIMBALSIM_IN_NETNS_NO_ROUTE") == nullptr) GTEST_SKIP() << "runs inside a namespace with no route";
+  bio::UdpmReceiver rx(bio::ReassemblyLimits{}, bio::ChannelFilter({"A"}));
+  std::string why;
+  ASSERT_FALSE(rx.open(udpmUrl(7792), 1 << 20, &why));
+  EXPECT_NE(why.find("IP_ADD_MEMBERSHIP: No such device (no multicast route: ip link set lo up && "
+                     "ip route add 224.0.0.0/4 dev lo)"), std::string::npos) << why;
+  EXPECT_LT(rx.fd(), 0);  // closed on the failed step
+}
+
 }  // namespace
 }  // namespace gimbalsim::hil

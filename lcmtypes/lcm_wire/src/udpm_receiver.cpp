@@ -176,16 +176,23 @@ UdpmReceiver::~UdpmReceiver() {
   if (fd_ >= 0) ::close(fd_);
 }
 
+bool socketStepFailed(const LcmUrl& u, const char* step, int* fd, std::string* why) {
+  const int err = errno;
+  if (why) {
+    *why = "LCM URL '" + u.text + "': " + step + ": " + std::strerror(err);
+    // joining a group with no route to it (a fresh network namespace) fails here, not at the first send
+    if (err == ENODEV) *why += " (no multicast route: ip link set lo up && ip route add 224.0.0.0/4 dev lo)";
+  }
+  if (*fd >= 0) ::close(*fd);
+  *fd = -1;
+  return false;
+}
+
 bool UdpmReceiver::open(const std::string& url, int recv_buf_bytes, std::string* why) {
   const LcmUrl u = parseLcmUrl(url, why);
   if (u.kind == LcmUrl::Kind::InProcess) return true;
   if (u.kind != LcmUrl::Kind::Udpm) return false;
-  auto fail = [&](const char* what) {
-    if (why) *why = "LCM URL '" + u.text + "': " + what + ": " + std::strerror(errno);
-    if (fd_ >= 0) ::close(fd_);
-    fd_ = -1;
-    return false;
-  };
+  auto fail = [&](const char* step) { return socketStepFailed(u, step, &fd_, why); };
   // Blocking: waitDrain() blocks in recvmmsg itself (SO_RCVTIMEO); every other read says MSG_DONTWAIT.
   fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
   if (fd_ < 0) return fail("socket");

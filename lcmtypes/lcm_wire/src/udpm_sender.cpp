@@ -18,12 +18,7 @@ bool UdpmSender::open(const std::string& url, std::string* why) {
     return true;
   }
   if (u.kind != LcmUrl::Kind::Udpm) return false;
-  auto fail = [&](const char* what) {
-    if (why) *why = "LCM URL '" + u.text + "': " + what + ": " + std::strerror(errno);
-    if (fd_ >= 0) ::close(fd_);
-    fd_ = -1;
-    return false;
-  };
+  auto fail = [&](const char* step) { return socketStepFailed(u, step, &fd_, why); };
   fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
   if (fd_ < 0) return fail("socket");
   const int ttl = u.ttl, loop = 1;  // as liblcm: the URL's TTL, and this host's own listeners hear it

@@ -31,6 +31,11 @@ struct LcmUrl {
 /// Parses `url`; on failure kind is Unsupported and *why says what is wrong.
 LcmUrl parseLcmUrl(const std::string& url, std::string* why);
 
+/// The sender's and the receiver's open(), on a socket step that failed: closes
+/// *fd (sets -1), says in *why the URL, the step and errno's text (with how to
+/// add a multicast route when the host has none), and returns false.
+bool socketStepFailed(const LcmUrl& u, const char* step, int* fd, std::string* why);
+
 /// What is wrong with a --lcm-url value ("" when nothing): the programs'
 /// check of the flag, so a malformed URL is a bad argument (exit 2), never
 /// "the network could not start" (5).
@@ -86,10 +91,7 @@ class UdpmReceiver {
     while (read < max_datagrams) {
       const int want = std::min(kBatch, max_datagrams - read);
       const int n = std::max(0, readBatch(want));
-      for (int i = 0; i < n; ++i) {
-        std::int64_t t = 0;
-        if (const Message* m = feedRead(i, &t)) on(*m, t);
-      }
+      deliver(n, on);
       read += n;
       if (n < want) break;  // fewer than asked: nothing more was waiting (or an error)
     }
@@ -111,10 +113,7 @@ class UdpmReceiver {
     const int want = std::min(kBatch, max_datagrams);
     const int n = readBatch(want, timeout_ms);
     if (n <= 0) return n;
-    for (int i = 0; i < n; ++i) {
-      std::int64_t t = 0;
-      if (const Message* m = feedRead(i, &t)) on(*m, t);
-    }
+    deliver(n, on);
     return n == want && n < max_datagrams ? n + drain(on, max_datagrams - n) : n;
   }
 
@@ -147,6 +146,14 @@ class UdpmReceiver {
   int rcvtimeo_ms_ = -1;  ///< the socket's SO_RCVTIMEO as last set [ms] (-1: never)
   /// Feeds datagram i of the last batch to the reassembler: the message it completes or null.
   const Message* feedRead(int i, std::int64_t* recv_utime) noexcept;
+  /// Hands on(message, receive time [us]) each message the last batch's first n datagrams complete.
+  template <class F>
+  void deliver(int n, F& on) {
+    for (int i = 0; i < n; ++i) {
+      std::int64_t t = 0;
+      if (const Message* m = feedRead(i, &t)) on(*m, t);
+    }
+  }
   std::vector<std::uint8_t> buf_;      ///< kBatch datagram buffers of kMaxDatagramBytes + 1 (a longer one is seen)
   std::vector<std::size_t> len_;       ///< each datagram's real length (MSG_TRUNC)
   std::vector<Source> from_;           ///< each datagram's sender
