@@ -154,12 +154,7 @@ def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, pro
     with contextlib.ExitStack() as stack:
         # One cluster for every value's sweep (a local one starts for the first value to run).
         cluster = stack.enter_context(_cluster.dask_client(None, scheduler)) if scheduler else None
-        try:
-            out.mkdir(exist_ok=True)
-            (out / VALUES).mkdir(exist_ok=True)
-        except OSError as e:
-            raise output_failed(f"cannot make the folder {out / VALUES}: {e.strerror}", e) from None
-        write_text(fingerprint, a.fingerprint, inputs)
+        _start(out, fingerprint, a.fingerprint, inputs)
         while (value := next_value(a, tried)) is not None:
             k = len(tried)
             folder, sub = out / VALUES / str(k), a.sweep_at(value)
@@ -193,6 +188,34 @@ def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, pro
     return result, lines, runs, ran
 
 
+def _start(out, fingerprint, text, inputs):
+    """out/ and out/values/ made where missing, then the fingerprint written; a failure (exit 4) removes the
+    empty folders it made, so "nothing kept" holds and a plain run again is not refused over them."""
+    made = []
+    try:
+        for folder in (out, out / VALUES):
+            if not folder.is_dir():
+                try:
+                    folder.mkdir()
+                except OSError as e:
+                    raise output_failed(f"cannot make the folder {folder}: {e.strerror}", e) from None
+                made.append(folder)
+        write_text(fingerprint, text, inputs)
+    except BaseException:
+        for folder in reversed(made):
+            with contextlib.suppress(OSError):
+                folder.rmdir()
+        raise
+
+
+def _kept_and_next(out, first):
+    """What a stopped allocation kept and how to go on ("<first>" before running again): before its
+    fingerprint was written nothing is kept, and a --resume would be refused (no allocation to resume)."""
+    if not (out / FINGERPRINT).exists():
+        return f"nothing kept ({out / FINGERPRINT} was not written); {first}run again"
+    return f"finished values kept in {out / VALUES}; {first}run again with --resume"
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(allow_abbrev=False, prog="python3 -m gimbalsim.allocate", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -209,11 +232,10 @@ def main(argv=None):
         ap.error("--batch must be in [1, 10000000]")
     _cluster.raise_on_signals()
     out = pathlib.Path(a.out)
-    kept = f"finished values kept in {out / VALUES}"
     return guarded_main("allocate", lambda: _run(a, out), {
-        OutputRefused: lambda e: f"; {kept}: move it out of --out and run again with --resume",
-        OutputError: lambda e: f"; {kept}: {what_to_do(e)}run again with --resume",
-        Interrupted: lambda e: f": {kept}; run again with --resume to finish"})
+        OutputRefused: lambda e: f"; {_kept_and_next(out, 'move it out of --out and ')}",
+        OutputError: lambda e: f"; {_kept_and_next(out, what_to_do(e))}",
+        Interrupted: lambda e: f": {_kept_and_next(out, '')} to finish"})
 
 
 def _run(a, out):

@@ -329,3 +329,27 @@ def test_the_shipped_example_asks_the_issues_question():
     sweep = a.sweep_at(a.lo)
     assert sweep.scene_path.name == "paper_spatial2_tracker.yaml" and sweep.base.values()["structure.joint2"] == "spatial"
     assert sweep.samples >= indices.min_units(a.level, a.confidence)
+
+
+def test_an_out_that_cannot_be_made_keeps_nothing_and_says_so(tmp_path):
+    # (pass 59) it named out/values, said "finished values kept" and to --resume, which was then refused
+    spec = write_spec(tmp_path, BASE + ALLOCATE.format(requirement=REQUIREMENT, values=3))
+    p = run(spec, "/proc/gimbalsim_al")
+    assert p.returncode == 4, p.stderr
+    assert p.stderr == ("allocate: error: cannot make the folder /proc/gimbalsim_al: No such file or directory; "
+                        "nothing kept (/proc/gimbalsim_al/allocation_spec.json was not written); fix the cause and "
+                        "run again\n"), p.stderr
+
+
+def test_a_fingerprint_not_written_leaves_no_folder_to_refuse_the_next_run(tmp_path, capsys, monkeypatch):
+    import errno
+    from gimbalsim._output import output_failed
+
+    def full(path, text, inputs=()):  # as the writer fails on a full disk
+        raise output_failed(f"{path}: write failed: No space left on device", OSError(errno.ENOSPC, "full"))
+    monkeypatch.setattr(allocate, "write_text", full)
+    spec = write_spec(tmp_path, BASE + ALLOCATE.format(requirement=REQUIREMENT, values=3))
+    assert allocate.main([str(spec), "--out", str(tmp_path / "o"), "--workers", "1", "--no-progress"]) == 4
+    err = capsys.readouterr().err
+    assert "nothing kept" in err and "free the space and run again\n" in err and "--resume" not in err, err
+    assert not (tmp_path / "o").exists()  # the folders it made went: a plain run is not refused over them
