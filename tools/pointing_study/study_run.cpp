@@ -75,6 +75,9 @@ Study runOne(const firmware::PlantScene& ps, const ControllerConfig& c, const fi
   s.peak_track = r.max_truth_error_track;
   s.rms_track = r.rms_truth_error_track;
   s.track_reason = r.track_reason;
+  // The window's rule for its tick count too: a run ending at the track's start instant records that instant
+  // (its last state) but has not reached the window, and counts no track tick (pass 59: 1 beside "not reached").
+  if (!s.track_reason.empty()) s.track_ticks = 0;
   s.controller_limited_ticks = r.controller_limited_ticks;
   s.controller_limited_track = r.controller_limited_ticks_track;
   s.motor_limited_ticks = r.motor_limited_ticks;
