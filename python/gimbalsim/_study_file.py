@@ -4,12 +4,13 @@ this folder's own study, checked read-only before Optuna opens it
 (read-write only to let SQLite roll back what a killed writer left), and
 the opening itself (open_study)."""
 import contextlib
+import errno
 import fcntl
 import os
 import sqlite3
 
 from ._errors import SpecError
-from ._output import output_failed
+from ._output import output_failed, what_to_do
 
 STUDY_FILE = "study.db"
 STUDY_NAME = "gimbalsim.tune"
@@ -123,3 +124,25 @@ def check_trials_held(study, trials_csv):
         raise SpecError(f"{trials_csv} records {len(missing)} trial(s) the study in {trials_csv.parent / 'study.db'} "
                         f"does not hold ({shown}): the study file was damaged or replaced; trials.csv is kept (resume "
                         "from the study.db that holds them)")
+
+
+def write_failure(out, e, then):
+    """The OutputError (exit 4) of a write to out/study.db that failed with SQLite's error e, its advice
+    before `then`. SQLite names no system cause for a file it cannot open ("unable to open database file":
+    a read-only file system, a folder that refuses new files), so the system is asked, opening it as SQLite
+    would; "free the space" only where it opens (the write itself failed) or SQLite says the disk is full."""
+    path = out / STUDY_FILE
+    said = str(e).splitlines()[0]
+    cause = OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+    if "database or disk is full" not in said:
+        existed = os.path.lexists(path)
+        try:
+            os.close(os.open(path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC | os.O_NOFOLLOW, 0o666))
+            if not existed:
+                with contextlib.suppress(OSError):
+                    os.unlink(path)
+        except OSError as system:
+            cause = system
+            said += f" ({system.strerror})"
+    err = output_failed(f"cannot write the study {path}: {said}", cause)
+    return output_failed(f"{err}; {what_to_do(err)}{then}", cause)

@@ -36,6 +36,7 @@ mirrored in _errors.py): 0, 2 spec refused, 3 no trial completed, 4 an output no
 import argparse
 import contextlib
 import math
+import os
 import pathlib
 import sys
 import time
@@ -46,7 +47,7 @@ import numpy as np
 import gimbalsim
 from . import _cluster, _study_file
 from ._console import keep_console
-from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
+from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, SpecError, guarded_main
 from ._closed_spec import plant_overrides
 from ._journal import fmt
 from ._output import check_output_names, json_text, output_set, savefig, write_csv, write_text
@@ -321,8 +322,9 @@ def _forget_unrecorded_study(out):
     if _trials_kept(out):
         return
     for name in (STUDY_FILE, STUDY_FILE + "-journal", TRIALS):
-        with contextlib.suppress(FileNotFoundError):
-            (out / name).unlink()
+        if os.path.lexists(out / name):  # (pass 59) on a read-only file system even a missing one fails: EROFS
+            with contextlib.suppress(FileNotFoundError):
+                (out / name).unlink()
 
 
 def _study_write_errors():
@@ -374,13 +376,12 @@ def _run(a, out):
             _forget_unrecorded_study(out)
         raise
     except study_write_errors as e:  # the study's file refused a write (a full disk): what was told is kept
-        why = f"cannot write the study {out / STUDY_FILE}: {str(e).splitlines()[0]}; free the space and "
         if a.resume or _study_recorded(out):
-            raise OutputError(why + "run again with --resume") from None
+            raise _study_file.write_failure(out, e, "run again with --resume") from None
         # A new study that failed before it was recorded: its files are this run's and hold nothing a resume
         # could take (a --resume and a plain run were both refused over them, pass 55); they go.
         _forget_unrecorded_study(out)
-        raise OutputError(why + "run again (nothing was kept)") from None
+        raise _study_file.write_failure(out, e, "run again (nothing was kept)") from None
     if summary is None:
         print(f"tune: no trial completed ({len(rows)} failed); see {a.out}/trials.csv and summary.json",
               file=sys.stderr)
