@@ -134,6 +134,22 @@ def _idle_play_guard(key, values, dispersed, takes):
     return None
 
 
+def _feedforwards_alike(key, values, dispersed, takes):
+    """Why a dispersed pointing.accel_feedforward cannot act: in pointing.mode joint the inertial feed-forward
+    takes the profile's acceleration, as profile does (controllers/src/inertial_reference.cpp), so values that
+    are all inertial or profile run alike (pass 59: recorded as applied). Judged for every mode the study gives."""
+    mode_key = CONTROLLER_PREFIX + "pointing.mode"
+    modes = takes.get(mode_key) if mode_key in dispersed else [values.get(mode_key)]
+    given = takes.get(key) if key in dispersed else None
+    if key != CONTROLLER_PREFIX + "pointing.accel_feedforward" or not isinstance(given, list) or \
+            not isinstance(modes, list) or any(str(m) != "joint" for m in modes):
+        return None
+    if len(set(given)) < 2 or not set(given) <= {"inertial", "profile"}:
+        return None
+    return ("with pointing.mode joint the inertial feed-forward takes the profile's joint acceleration, as "
+            "profile does: every value given runs alike")
+
+
 def _idle_in_controller_keys(key, values, dispersed):
     """idle_in_controller on the study's controller.* names."""
     if not key.startswith(CONTROLLER_PREFIX):
@@ -179,7 +195,8 @@ def idle_reason(key, values, dispersed, takes, closed, unread_ticks=TRUTH_ONLY):
         why = _idle_after_the_run(key, values, dispersed, takes) or _idle_motor_limit(key, values, dispersed, takes)
     if why is None and closed:
         why = _for_every_value(idle_at_antenna, key, values, dispersed, takes) or \
-            _for_every_value(functools.partial(_idle_play_guard, takes=takes), key, values, dispersed, takes)
+            _for_every_value(functools.partial(_idle_play_guard, takes=takes), key, values, dispersed, takes) or \
+            _feedforwards_alike(key, values, dispersed, takes)
     elif why is None and key.startswith(ANTENNA_SENSOR_KEYS):
         why = "an open-loop run has no sensors (they act in a closed-loop sweep: name its controller)"
     if why is None and not closed and key.startswith("sensors."):
