@@ -59,12 +59,16 @@ class Until:
 
 def _open_end(e):
     """Why an index's interval has no upper end: too few units for its level
-    and confidence, or too few with a figure (a unit without one is worst)."""
+    and confidence, for a two-sided interval, or too few with a figure (a unit
+    without one is worst)."""
     if e["n_missing"] == e["n"]:  # (pass 38) said "too few units" where none had a figure
         return (f"the interval has no upper end: none of the {e['n']} units has a figure, and a unit without "
                 "one counts as worst")
     if e["n"] < e["min_units"]:
         return (f"the interval has no upper end: {e['n']} units are too few for the {100 * e['level']:g} % level "
                 f"at {100 * e['confidence']:g} % confidence (at least {e['min_units']})")
+    if e.get("two_sided") is False:  # (pass 59) enough units for the bound, too few for a two-sided interval
+        return (f"the interval has no upper end: {e['n']} units give only a one-sided bound at "
+                f"{100 * e['confidence']:g} % confidence (the two-sided interval the width needs takes more)")
     return (f"the interval has no upper end: {e['n_missing']} of {e['n']} units have no figure, and a unit without "
             "one counts as worst")

@@ -7,6 +7,7 @@ an --until over no figure and an allocation where no value has one give no
 traceback, no Infinity in JSON and no pick from a degenerate question.
 Each refusal is checked against the runs themselves."""
 import json
+import math
 import os
 import subprocess
 import sys
@@ -240,7 +241,7 @@ def test_a_fixed_guard_inertia_is_a_setting_the_run_reads(tmp_path, value):
     assert p.returncode == 0, p.stderr
 
 
-def test_an_open_upper_end_says_which_of_its_two_causes_it_has():
+def test_an_open_upper_end_says_which_of_its_causes_it_has():
     # (pass 31) six units, every one with a figure, were said to be "too few units have a figure"
     from gimbalsim import _until
     few = {"n": 6, "n_missing": 0, "min_units": 1109, "level": 0.9973, "confidence": 0.95}
@@ -249,6 +250,15 @@ def test_an_open_upper_end_says_which_of_its_two_causes_it_has():
     missing = {**few, "n": 2000, "n_missing": 500}
     assert "500 of 2000 units have no figure, and a unit without one counts as worst" in _until._open_end(missing)
     # (pass 38) four units, none with a figure, were said to be "too few" (their number was not the cause)
+    # (pass 59) eight units, all with a figure, enough for the bound but not for a two-sided interval, were
+    # said to lack figures ("0 of 8 units have no figure")
+    from gimbalsim import _ensemble
+    b = _ensemble.quantile_bound([1e-6 * (i + 1) for i in range(8)], 0.9, 0.5)
+    one_sided = {"n": b.n, "n_missing": b.n_missing, "min_units": b.min_units, "level": 0.9, "confidence": 0.5,
+                 "two_sided": not math.isnan(b.low)}
+    assert b.supported and math.isnan(b.high)
+    assert _until._open_end(one_sided) == ("the interval has no upper end: 8 units give only a one-sided bound at 50 % "
+                                           "confidence (the two-sided interval the width needs takes more)")
     none = {**few, "n": 4, "n_missing": 4}
     assert _until._open_end(none) == ("the interval has no upper end: none of the 4 units has a figure, and a unit "
                                       "without one counts as worst")
