@@ -357,5 +357,6 @@ def _scalar(n):
     if not math.isfinite(x):
         raise ValueError("it is beyond the largest double (1.8e308)")
     if underflowed(text, x):
-        raise ValueError("it underflows a double: give 0 or a magnitude of at least 2.2e-308")
+        raise ValueError("it underflows a double: give a magnitude of at least 2.2e-308, or 0 where the key "
+                         "takes it")
     return x

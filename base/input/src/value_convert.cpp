@@ -24,7 +24,8 @@ double asNumber(const YAML::Node& n) {
   if (!YAML::convert<double>::decode(n, x)) throw ConvertError{"expected a number, got '" + n.Scalar() + "'"};
   if (!std::isfinite(x)) throw ConvertError{"must be finite, got '" + n.Scalar() + "'"};
   if (underflowed(n.Scalar(), x)) {
-    throw ConvertError{"'" + n.Scalar() + "' underflows a double: give 0 or a magnitude of at least 2.2e-308"};
+    throw ConvertError{"'" + n.Scalar() +
+                       "' underflows a double: give a magnitude of at least 2.2e-308, or 0 where the key takes it"};
   }
   return x;
 }
