@@ -137,7 +137,12 @@ class ClosedLoopSpec:
                 spec.refuse(f"phases.{name}", "a phase's name is a lower-case identifier (it names columns)", item)
             t = window.plain()
             if not (isinstance(t, list) and len(t) == 2 and all(isinstance(v, (int, float)) and not isinstance(v, bool)
-                                                                and math.isfinite(v) for v in t) and 0 <= t[0] < t[1]):
+                                                                for v in t)):
+                spec.refuse(f"phases.{name}", f"expected [t0, t1], two times in s, got {t!r}", window)
+            if not all(math.isfinite(v) for v in t):  # (pass 60) [0.1, inf] was told "0 <= t0 < t1", which it meets
+                spec.refuse(f"phases.{name}", f"expected [t0, t1], two finite times in s, got {t!r} (a phase to the "
+                            "run's end ends at sim.duration)", window)
+            if not 0 <= t[0] < t[1]:
                 spec.refuse(f"phases.{name}", f"expected [t0, t1] in s with 0 <= t0 < t1, got {t!r}", window)
             phases.append((name, (float(t[0]), float(t[1]))))
         names = [p for p, _ in phases]

@@ -190,7 +190,12 @@ REFUSALS = [
      "expected a number"),
     ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [slew, cruise]", "phases", "unknown phase 'cruise'"),
     ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [{late: [6.0, 5.0]}]", "phases.late",
-     "expected [t0, t1]"),
+     "expected [t0, t1] in s with 0 <= t0 < t1, got [6.0, 5.0]"),
+    # (pass 60) an end that is not finite was told "0 <= t0 < t1", which [0.1, inf] meets
+    ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [{late: [0.1, .inf]}]", "phases.late",
+     "expected [t0, t1], two finite times in s, got [0.1, inf] (a phase to the run's end ends at sim.duration)"),
+    ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [{late: [0.1, .nan]}]", "phases.late",
+     "two finite times in s, got [0.1, nan]"),
     # a run that ends before or inside a phase, or a phase shorter than an index's window
     ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [slew, hold, track, {late: [5.0, 6.0]}]",
      "phases.late", "the run ends at sim.duration 0.5 s, before phase 'late' [5, 6) s"),
