@@ -47,6 +47,11 @@ def test_bench_plot_writes_and_refuses_bad_outputs(tmp, truth):
     assert "max after 2.5 s n/a (window [2.5, inf) s not reached: run ended at" in p.stdout, p.stdout
     p = run(BENCH, truth, "--out", tmp / "ok.png", "--after", "0")
     assert p.returncode == 0 and "max after 0 s" in p.stdout and "n/a" not in p.stdout, p.stdout
+    # (pass 61) a run ending at the window's start, its time summed tick by tick, has not passed it
+    summed = tmp / "summed.csv"
+    summed.write_text(TRUTH_HEADER + "0,0,0,0,0,1e-3,0\n0.0010000000000000002,0,0,0,0,2e-3,0\n")
+    p = run(BENCH, summed, "--out", tmp / "ok.png", "--after", "0.001")
+    assert p.returncode == 0 and "max after 0.001 s n/a (window [0.001, inf) s not reached" in p.stdout, p.stdout
     assert (tmp / "ok.png").stat().st_size > 1000
     refused(run(BENCH, truth, "--out", tmp / "missing" / "x.png"), "missing", "does not exist")
     refused(run(BENCH, truth, "--out", truth), "the same file as the input")
