@@ -103,9 +103,8 @@ int run(int argc, char** argv) {
     // No file: the built-in defaults (ControllerConfig's), never a path baked in at build time.
     c = o.config.empty() ? loadControllerConfigText("", "the built-in default configuration", o.sets)
                          : loadControllerConfig(o.config, o.sets);
-  } catch (const ConfigError& e) {
-    std::fprintf(stderr, "pointing_controller: configuration refused:\n%s\n", e.what());
-    return program::kRefused;
+  } catch (const ConfigError& e) {  // the exit-code table's form, as every program's (pass 61)
+    return program::refuse("pointing_controller", e);
   }
   // Whole control periods, as firmware_sim counts them: a duration between two is refused, never rounded.
   if (const std::string why = wholeMultipleProblem(o.duration, c.period, "the control period (control.period)");
