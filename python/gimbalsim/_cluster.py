@@ -68,6 +68,9 @@ def crash_hook(index):
 def dask_client(workers=None, scheduler=None):
     """Yields (client, number of workers)."""
     import dask
+    # distributed's defaults in dask.config before the set below: set over a config without them, its exit
+    # removed the whole "distributed" tree, and the next cluster of the process failed (KeyError 'comm')
+    import distributed  # noqa: F401
 
     if scheduler:
         with _scheduler_client(scheduler) as client:
