@@ -136,8 +136,8 @@ def _check_held_values(a, out):
         tried[value] = record(a, sub, _rows(sub, folder), value, k)
 
 
-def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, progress=True):
-    """Runs the search of a (an AllocationSpec) into out; (result, lines, runs, ran)."""
+def check_before_run(a, out, resume=False):
+    """Every refusal allocate() makes before its first run (exit 2, nothing written): --check stops here."""
     inputs = a.input_files()
     fingerprint = out / FINGERPRINT
     _check_outputs(a, out, inputs)
@@ -149,6 +149,13 @@ def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, pro
         _check_held_values(a, out)
     elif fingerprint.exists() or (out / VALUES).exists():
         raise SpecError(f"{out} already holds an allocation: give --resume to finish it, or another --out")
+
+
+def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, progress=True):
+    """Runs the search of a (an AllocationSpec) into out; (result, lines, runs, ran)."""
+    check_before_run(a, out, resume)
+    inputs = a.input_files()
+    fingerprint = out / FINGERPRINT
     tried, runs, ran = {}, 0, 0
     were_there = {k for k in range(a.values) if os.path.lexists(out / VALUES / str(k))}
     with contextlib.ExitStack() as stack:
@@ -224,6 +231,8 @@ def main(argv=None):
     ap.add_argument("--out", type=_cluster.path_text, required=True, help="output directory")
     _cluster.add_cluster_arguments(ap)
     ap.add_argument("--resume", action="store_true", help="finish an interrupted allocation in --out")
+    ap.add_argument("--check", action="store_true",
+                    help="check the spec and --out as a run would, run and write nothing (exit 0 or 2)")
     ap.add_argument("--batch", type=_cluster.whole_number, default=None,
                     help="samples per task (default: about 8 tasks per worker, at most 10)")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -241,6 +250,10 @@ def main(argv=None):
 def _run(a, out):
     check_out_dir(a.out, a.spec)
     spec = AllocationSpec(a.spec)
+    if a.check:
+        check_before_run(spec, out, a.resume)
+        print(f"allocate: {a.spec} and {out} checked; nothing run", file=sys.stderr)
+        return EXIT_OK
     result, lines, runs, ran = allocate(spec, out, a.workers, a.scheduler, a.resume, a.batch, not a.no_progress)
     for line in lines:
         print(f"allocate: {line}", file=sys.stderr)

@@ -5,20 +5,23 @@
 # docs/results/pointing_budget.md with its CDF plots beside it. With --spatial:
 # the budget with the bearing that tilts, pointing_budget_spatial.yaml (encoders
 # only) and pointing_budget_spatial_tracker.yaml (the loop at the antenna), into
-# out/<spec name>/ each and one page, docs/results/pointing_budget_spatial.md.
+# out/<spec name>/ each and one page, docs/results/pointing_budget_spatial.md. With --allocation:
+# the inverse question, the largest clearance of that bearing meeting 1e-4 rad (gimbalsim.allocate),
+# allocation_clearance_encoders.yaml and allocation_clearance.yaml, into out/<spec name>/ each and
+# docs/results/allocation.md with each allocation's plot beside it.
 # With SPEC (any spec, the shipped ones too): that budget, into
 # out/pointing_budget-<spec name>/ (or --out DIR); the project's pages are never touched.
 #
-#   bash tools/sweeps/run_pointing_budget.sh [--spatial] [sweep options]  # a shipped page
+#   bash tools/sweeps/run_pointing_budget.sh [--spatial | --allocation] [options]  # a shipped page
 #   bash tools/sweeps/run_pointing_budget.sh MY_SPEC [--out DIR] [sweep options, e.g. --workers 2]
 #
 # The package is the one in ${GIMBALSIM_BUILD:-build}/python (cmake --build build --target gimbalsim_python).
-# Options after SPEC go to python3 -m gimbalsim.sweep (its --help lists them); --help (-h) prints this
-# and --version the sweep's version, before anything runs. A refused spec or a failed run leaves the
-# previous results as they were: they are replaced only by a new folder the sweep completed. An
-# interrupted shipped budget keeps its samples in out/<spec name>.new/: the same command with --resume
-# finishes it. One run at a time writes docs/results/ (a second is refused, exit 2). The page and its plots
-# change together or not at all (exit 4 leaves them as they were). --check checks and runs nothing.
+# Options after SPEC go to python3 -m gimbalsim.sweep (gimbalsim.allocate with --allocation; its --help
+# lists them); --help (-h) prints this and --version the module's version, before anything runs. A refused
+# spec or a failed run leaves the previous results as they were: they are replaced only by a new folder the
+# run completed. An interrupted shipped page's run keeps its samples in out/<spec name>.new/: the same command
+# with --resume finishes it. One run at a time writes docs/results/ (a second is refused, exit 2). The page
+# and its plots change together or not at all (exit 4 leaves them as they were). --check checks, runs nothing.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -27,25 +30,42 @@ source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops noth
 PAGE=pointing_budget TITLE="Closed-loop pointing budget"
 SUMMARY="ECSS indices per phase over a bearing's tolerance, with order-statistics intervals"
 SPECS=(tools/sweeps/pointing_budget.yaml) HEADINGS=("")
-if [ "${1:-}" = --spatial ]; then
+# What each spec's run is: the module, the files of a whole run (the last one its report), what an
+# interrupted run has kept once it exists, and the exit codes that are answers (allocate: 3 is "no bracket").
+MODULE=sweep WHOLE=(results.csv summary.json report.md) STARTED=(results.partial.csv results.csv) ANSWERS=" 0 "
+FLAG=
+case "${1:-}" in
+  --spatial)
+    FLAG=$1 WHAT="spatial budgets"
+    PAGE=pointing_budget_spatial TITLE="Closed-loop pointing budget with the bearing that tilts"
+    SUMMARY="ECSS indices per phase over a tilting bearing's tolerance, encoders only and with the antenna's sensors"
+    SPECS=(tools/sweeps/pointing_budget_spatial.yaml tools/sweeps/pointing_budget_spatial_tracker.yaml) ;;
+  --allocation)
+    FLAG=$1 WHAT="allocations"
+    PAGE=allocation TITLE="Tolerance allocation: the largest clearance of the bearing that tilts"
+    SUMMARY="the largest elevation-bearing clearance for APE while tracking <= 1e-4 rad at 99.73 % (95 %),"
+    SUMMARY+=" encoders only and with the antenna's sensors"
+    SPECS=(tools/sweeps/allocation_clearance_encoders.yaml tools/sweeps/allocation_clearance.yaml)
+    MODULE=allocate WHOLE=(allocation.json allocation.csv allocation.md) STARTED=(allocation_spec.json)
+    ANSWERS=" 0 3 " ;;
+esac
+if [ -n "$FLAG" ]; then
   shift
-  PAGE=pointing_budget_spatial TITLE="Closed-loop pointing budget with the bearing that tilts"
-  SUMMARY="ECSS indices per phase over a tilting bearing's tolerance, encoders only and with the antenna's sensors"
-  SPECS=(tools/sweeps/pointing_budget_spatial.yaml tools/sweeps/pointing_budget_spatial_tracker.yaml)
   HEADINGS=("The loop on the encoders only" "The loop at the antenna (tracker and gyro on the antenna)")
-  if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then  # a spec where the sweep's options start
-    echo "run_pointing_budget.sh: --spatial runs the shipped spatial budgets; a spec ($1) runs alone:" \
+  if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then  # a spec where the module's options start
+    echo "run_pointing_budget.sh: $FLAG runs the shipped $WHAT; a spec ($1) runs alone:" \
       "run_pointing_budget.sh $1" >&2
     exit 2
   fi
 fi
+REPORT=${WHOLE[2]}
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 # --help and --version are the script's, answered before anything (they went to the sweep, which wrote
 # nothing, and the previous results were removed all the same).
 info=
 for a in "$@"; do case "$a" in -h | --help | --version) info=$a; break ;; esac; done
 if [ "$info" != "" ] && [ "$info" != --version ]; then
-  script_usage "${BASH_SOURCE[0]}" 2 21
+  script_usage "${BASH_SOURCE[0]}" 2 24
   exit 0
 fi
 SPEC=  # none: a shipped budget and its page
@@ -65,7 +85,7 @@ fi
   exit 2
 }
 if [ "$info" = --version ]; then
-  exec env PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep --version
+  exec env PYTHONPATH="$PACKAGE" /usr/bin/python3 -m "gimbalsim.$MODULE" --version
 fi
 
 if [ -n "$SPEC" ]; then
@@ -99,18 +119,26 @@ RESULTS=docs/results
 # only after both budgets had replaced the previous results).
 for spec in "${SPECS[@]}"; do
   # (a name in the checkout, whose out/ may not exist yet: --check writes nothing), with the options given
-  PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$spec" --out "$ROOT/budget-check-$$" --check \
+  PYTHONPATH="$PACKAGE" /usr/bin/python3 -m "gimbalsim.$MODULE" "$spec" --out "$ROOT/budget-check-$$" --check \
     "${ARGS[@]+"${ARGS[@]}"}"
 done
 own_plots() {  # this page's plots now in docs/results (by index: pointing_budget_* would match another page's)
   local spec index png
   for spec in "${SPECS[@]}"; do
+    if [ "$MODULE" = allocate ]; then  # one plot per allocation, <spec name>.png
+      png="$RESULTS/$(basename "${spec%.*}").png"
+      [ ! -e "$png" ] && [ ! -L "$png" ] || echo "$png"
+      continue
+    fi
     for index in ape rpe pde knowledge; do
       for png in "$RESULTS/$(basename "${spec%.*}")_${index}_"*; do
         case "$png" in *_cdf.png) [ ! -e "$png" ] && [ ! -L "$png" ] || echo "$png" ;; esac
       done
     done
   done
+}
+plot_links() {  # the sed script that turns a report's plot links into the copies' names beside the page
+  if [ "$MODULE" = allocate ]; then echo "s#](allocation.png)#]($1.png)#"; else echo "s#](plots/#]($1_#"; fi
 }
 check_page_names() {  # the page, the index and this page's plots: regular files or nothing, never a link
   local name
@@ -142,7 +170,7 @@ SHOWN=() resume=0 check=0  # the page's command regenerates it: the options give
 for a in "${ARGS[@]+"${ARGS[@]}"}"; do
   case "$a" in --resume) resume=1 ;; --check) check=1 ;; *) SHOWN+=("$a") ;; esac
 done
-COMMAND="bash tools/sweeps/run_pointing_budget.sh$([ "$PAGE" = pointing_budget ] || echo " --spatial")"
+COMMAND="bash tools/sweeps/run_pointing_budget.sh${FLAG:+ $FLAG}"
 [ "${#SHOWN[@]}" = 0 ] || COMMAND+=$(printf ' %q' "${SHOWN[@]}")  # (printf with no words prints '')
 # Each budget into a fresh folder first: the previous results go only once every budget of the page has
 # its own (a refused spec or a failed run leaves them all as they were, and an out/ made for it goes again).
@@ -171,7 +199,7 @@ restore() {
   local i kept=0
   if [ "$keep" = 1 ]; then  # any budget's work (a journal, or a finished budget beside an interrupted one)
     for i in "${!SPECS[@]}"; do
-      [ ! -e "${NEWS[$i]}/results.partial.csv" ] && [ ! -e "${NEWS[$i]}/results.csv" ] || kept=1
+      for f in "${STARTED[@]}"; do [ ! -e "${NEWS[$i]}/$f" ] || kept=1; done
     done
   fi
   for i in "${!SPECS[@]}"; do
@@ -197,15 +225,17 @@ restore() {
 trap restore EXIT
 keep=1
 for i in "${!SPECS[@]}"; do
-  PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "${SPECS[$i]}" --out "${NEWS[$i]}" --no-progress \
-    "${ARGS[@]+"${ARGS[@]}"}"
+  rc=0
+  PYTHONPATH="$PACKAGE" /usr/bin/python3 -m "gimbalsim.$MODULE" "${SPECS[$i]}" --out "${NEWS[$i]}" --no-progress \
+    "${ARGS[@]+"${ARGS[@]}"}" || rc=$?
+  case "$ANSWERS" in *" $rc "*) ;; *) exit "$rc" ;; esac
   # The previous results go only for a whole new folder: the sweep's results, summary and report, no journal
   # left (an option that makes the sweep answer and write nothing must not cost them).
-  for f in results.csv summary.json report.md; do
+  for f in "${WHOLE[@]}"; do
     new=${NEWS[$i]}
     if [ -L "$new" ] || [ ! -d "$new" ] || [ -L "$new/$f" ] || [ ! -f "$new/$f" ] || [ -e "$new/results.partial.csv" ]; then
-      echo "run_pointing_budget.sh: the sweep ended well but left no whole budget in $new (no $f, or its journal);" \
-           "the previous results left as they were" >&2
+      echo "run_pointing_budget.sh: gimbalsim.$MODULE ended well but left no whole budget in $new" \
+           "(no $f, or its journal); the previous results left as they were" >&2
       keep=0
       exit 1
     fi
@@ -220,9 +250,9 @@ for i in "${!SPECS[@]}"; do
   # headings one level down
   if [ -n "${HEADINGS[$i]}" ]; then
     printf '## %s\n\nSpec: `%s`\n\n' "${HEADINGS[$i]}" "${SPECS[$i]}" >> "$BODY"
-    sed -e "s#](plots/#](${name}_#" -e 's/^#\(#* \)/##\1/' "${NEWS[$i]}/report.md" >> "$BODY"
+    sed -e "$(plot_links "$name")" -e 's/^#\(#* \)/##\1/' "${NEWS[$i]}/$REPORT" >> "$BODY"
   else
-    sed "s#](plots/#](${name}_#" "${NEWS[$i]}/report.md" >> "$BODY"
+    sed "$(plot_links "$name")" "${NEWS[$i]}/$REPORT" >> "$BODY"
   fi
   printf '\n' >> "$BODY"
 done
@@ -233,6 +263,10 @@ BACKUP=$(mktemp -d "$RESULTS/.page_backup.XXXXXX")
 for png in $(own_plots); do mv "$png" "$BACKUP/"; done
 for i in "${!SPECS[@]}"; do
   name=$(basename "${SPECS[$i]%.*}")
+  if [ "$MODULE" = allocate ]; then
+    cp --remove-destination "${NEWS[$i]}/allocation.png" "$RESULTS/$name.png"
+    continue
+  fi
   for png in "${NEWS[$i]}"/plots/*_cdf.png; do
     [ -e "$png" ] || continue
     cp --remove-destination "$png" "$RESULTS/${name}_$(basename "$png")"  # a link made since: replaced, not followed
