@@ -55,12 +55,26 @@ def output_failed(message, cause):
     return e
 
 
+def make_folder(path):
+    """A run's own folder, made where missing (the folder it goes in was checked); True when this call made
+    it (what a failed start takes back). One that cannot be made is an OutputError (exit 4) with its cause."""
+    try:
+        path.mkdir()
+        return True
+    except FileExistsError:
+        if path.is_dir():  # there already, or made meanwhile: taken
+            return False
+        raise output_failed(f"cannot make the folder {path}: a file stands there", FileExistsError()) from None
+    except OSError as e:
+        raise output_failed(f"cannot make the folder {path}: {e.strerror}", e) from None
+
+
 _NO_SPACE = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
 
 
 def what_to_do(e):
-    """The advice before "run again" for an OutputError e: more space helps only a full disk or quota (a folder
-    that cannot be made in /proc was told to "free the space")."""
+    """The advice before "run again" for an OutputError or OSError e: more space helps only a full disk or quota
+    (a folder that cannot be made in /proc was told to "free the space")."""
     return "free the space and " if getattr(e, "errno", None) in _NO_SPACE else "fix the cause and "
 
 

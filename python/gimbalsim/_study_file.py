@@ -10,7 +10,7 @@ import os
 import sqlite3
 
 from ._errors import SpecError
-from ._output import output_failed, what_to_do
+from ._output import make_folder, output_failed, what_to_do
 
 STUDY_FILE = "study.db"
 STUDY_NAME = "gimbalsim.tune"
@@ -64,10 +64,7 @@ def open_study(spec, out, resume, sampler):
     db = out / STUDY_FILE
     if resume and not out.is_dir():  # (pass 48) refused all the same, after it had made the folder
         raise SpecError(f"{out}: no such folder: no study to resume; run without --resume")
-    try:
-        out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
-    except OSError as e:
-        raise output_failed(f"cannot make the folder {out}: {e.strerror}", e) from None
+    make_folder(out)
     import sqlalchemy.exc
 
     hold(out)
@@ -144,5 +141,4 @@ def write_failure(out, e, then):
         except OSError as system:
             cause = system
             said += f" ({system.strerror})"
-    err = output_failed(f"cannot write the study {path}: {said}", cause)
-    return output_failed(f"{err}; {what_to_do(err)}{then}", cause)
+    return output_failed(f"cannot write the study {path}: {said}; {what_to_do(cause)}{then}", cause)

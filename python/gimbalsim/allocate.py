@@ -50,7 +50,7 @@ from ._allocate_search import next_value, outcome, scan_values
 from ._allocate_spec import AllocationSpec
 from ._console import keep_console
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
-from ._output import OutputRefused, check_output_names, output_failed, output_set, what_to_do, write_text
+from ._output import OutputRefused, check_output_names, make_folder, output_set, what_to_do, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
 from .sweep import FINGERPRINT as SWEEP_FINGERPRINT, RESULTS, finished_rows, output_paths, sweep
 
@@ -201,11 +201,7 @@ def _start(out, fingerprint, text, inputs):
     made = []
     try:
         for folder in (out, out / VALUES):
-            if not folder.is_dir():
-                try:
-                    folder.mkdir()
-                except OSError as e:
-                    raise output_failed(f"cannot make the folder {folder}: {e.strerror}", e) from None
+            if make_folder(folder):
                 made.append(folder)
         write_text(fingerprint, text, inputs)
     except BaseException:

@@ -48,8 +48,8 @@ from . import _budget, _budget_report, _cluster, _provenance, _study_file, repla
 from ._console import keep_console
 from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main  # noqa: F401 (SpecError: API)
 from ._journal import JOURNAL, csv_line, fmt, read_for_resume, read_journal, record_design  # noqa: F401 (API)
-from ._output import (OutputRefused, append_synced, json_text, open_append, output_failed, output_set, what_to_do,
-                      write_text)
+from ._output import (OutputRefused, append_synced, json_text, make_folder, open_append, output_failed, output_set,
+                      what_to_do, write_text)
 from ._sample import row_values, run_one, sample_alone  # noqa: F401 (sample_alone: API)
 from ._spec import check_out_dir
 from ._summary import plot, summarize
@@ -108,10 +108,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         # first sample to run; either is kept for every round of --until.
         if cluster is None and scheduler:
             cluster = stack.enter_context(_cluster.dask_client(None, scheduler))
-        try:
-            out.mkdir(exist_ok=True)  # its own folder only: the one it goes in was checked
-        except OSError as e:
-            raise output_failed(f"cannot make the folder {out}: {e.strerror}", e) from None
+        make_folder(out)
         _study_file.hold(out)  # before the journal is read: another sweep may be writing it
         take_design(spec, out, until)  # the samples --until added before (a resume holds them, no more)
         # the journal's rows, and results.csv's too when a resume finds one (a finished sweep resumed)
