@@ -113,6 +113,28 @@ TEST(HostileInput, OneDocumentAndNoDuplicateKeys) {
   EXPECT_NE(dup.text.find("given twice (first at bad.yaml:2:3)"), std::string::npos) << dup.text;
 }
 
+// YAML text is printable UTF-8: yaml-cpp cut a value at a NUL (the run recorded
+// a name the file does not hold) and passed bytes that are not UTF-8 on to
+// Python, which could not decode them (a traceback, exit 1).
+TEST(HostileInput, TextThatIsNotPrintableUtf8IsRefusedWithItsPlace) {
+  const Problem latin1 = refusedOnce("sim:\n  duration: 1\nname: caf\xe9\n");
+  EXPECT_EQ(latin1.line, 3);
+  EXPECT_NE(latin1.text.find("bad.yaml:3:10: byte 0xe9 is not UTF-8 text"), std::string::npos) << latin1.text;
+  const Problem nul = refusedOnce(std::string("name: a\0b\n", 10));
+  EXPECT_NE(nul.text.find("bad.yaml:1:8: character U+0000 (a control character) is not YAML text"),
+            std::string::npos) << nul.text;
+  for (const char* bad : {"name: \xc0\xaf\n", "name: \xed\xa0\x80\n", "name: \xe2\x82\n", "name: a\x1b[0m\n"}) {
+    refusedOnce(bad);  // an overlong form, a surrogate, a sequence cut short, an escape sequence
+  }
+  const Problem set = refusedOnce("", {"name=a\x01"});
+  EXPECT_EQ(set.set_index, 1);
+  EXPECT_NE(set.text.find("U+0001"), std::string::npos) << set.text;
+  // UTF-8 text of every length is taken, tabs, CR LF and a byte-order mark too
+  const Scene s = loadSceneText("\xef\xbb\xbfname: caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x9b\xb0\r\nsim:\r\n  duration: 1\t\r\n",
+                                "good.yaml", {});
+  EXPECT_EQ(s.model.name, "caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x9b\xb0");
+}
+
 TEST(HostileInput, SetValuesGetTheSameBoundsWithTheirIndex) {
   const Problem alias = refusedOnce("", {"sim.duration=1", "sim.step=&a 1"});
   EXPECT_EQ(alias.set_index, 2);

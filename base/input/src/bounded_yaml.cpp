@@ -88,9 +88,57 @@ class Prescan : public YAML::EventHandler {
   int documents_ = 0;
 };
 
+/// The first character YAML does not take as text (YAML 1.2, 5.1: printable
+/// Unicode in UTF-8, tab and line breaks), refused with its line and column.
+/// Checked before yaml-cpp reads a byte: it cut a value at a NUL and passed
+/// bytes that are not UTF-8 on into names Python could not decode.
+void refuseUnprintable(const std::string& text) {
+  const auto* s = reinterpret_cast<const unsigned char*>(text.data());
+  const std::size_t n = text.size();
+  int line = 0, column = 0;
+  auto refuse = [&](std::size_t at, const std::string& msg) {
+    YAML::Mark mk;
+    mk.pos = static_cast<int>(at);
+    mk.line = line;
+    mk.column = column;
+    throw PrescanRefusal{mk, "", msg};
+  };
+  auto hex = [](unsigned v, int digits) {
+    static const char* d = "0123456789abcdef";
+    std::string h;
+    for (int k = digits - 1; k >= 0; --k) h += d[(v >> (4 * k)) & 0xF];
+    return h;
+  };
+  for (std::size_t i = 0; i < n;) {
+    const unsigned b = s[i];
+    int len = b < 0x80 ? 1 : (b >> 5) == 0x6 ? 2 : (b >> 4) == 0xE ? 3 : (b >> 3) == 0x1E ? 4 : 0;
+    unsigned cp = len == 1 ? b : len == 2 ? (b & 0x1F) : len == 3 ? (b & 0x0F) : (b & 0x07);
+    bool utf8 = len > 0 && i + len <= n;
+    for (int k = 1; utf8 && k < len; ++k) {
+      utf8 = (s[i + k] & 0xC0) == 0x80;
+      cp = (cp << 6) | (s[i + k] & 0x3F);
+    }
+    static constexpr unsigned kLeast[5] = {0, 0, 0x80, 0x800, 0x10000};  // shorter forms are not UTF-8
+    if (!utf8 || cp < kLeast[len] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) {
+      refuse(i, "byte 0x" + hex(b, 2) + " is not UTF-8 text: save the file as UTF-8");
+    }
+    const bool printable = cp == 0x09 || cp == 0x0A || cp == 0x0D || (cp >= 0x20 && cp <= 0x7E) || cp == 0x85 ||
+                           (cp >= 0xA0 && cp <= 0xD7FF) || (cp >= 0xE000 && cp <= 0xFFFD) || cp >= 0x10000;
+    if (!printable) refuse(i, "character U+" + hex(cp, 4) + " (a control character) is not YAML text");
+    if (cp == 0x0A) {
+      ++line;
+      column = 0;
+    } else {
+      ++column;
+    }
+    i += static_cast<std::size_t>(len);
+  }
+}
+
 }  // namespace
 
 YAML::Node loadBounded(const std::string& text) {
+  refuseUnprintable(text);
   std::istringstream in(text);
   YAML::Parser parser(in);
   Prescan scan;
