@@ -288,13 +288,17 @@ int mainImpl(int argc, char** argv) {
       return refuse("log '" + log_path + "' changed while read: " + lr.error());
     }
   }
-  int rc = cut_bytes > 0 ? program::kPartial : program::kOk;
+  // The channels' CSVs are one run's outputs: all of them under their names, or none (one left beside
+  // four lost ones was announced with the rest).
+  std::vector<io::OutputFile*> members;
+  for (auto& [ch, f] : files) members.push_back(f.get());
+  if (io::CommitGroup group(members); !group.commit()) {
+    std::fprintf(stderr, "gimbalsim_log2csv: error: %s; no CSV written\n", group.error().c_str());
+    return program::kOutput;  // a lost output outranks a cut input
+  }
+  const int rc = cut_bytes > 0 ? program::kPartial : program::kOk;
   for (auto& [ch, s] : sinks) {
     const long long rows = s->rows, bad = s->undecodable;
-    if (!files[ch]->commit()) {
-      std::fprintf(stderr, "gimbalsim_log2csv: error: %s\n", files[ch]->error().c_str());
-      rc = program::kOutput;  // a lost output outranks a cut input
-    }
     std::printf("%s (%s): %lld rows -> %s\n", ch.c_str(), typeName(selected[ch]), rows, paths[ch].c_str());
     if (bad > 0) {
       std::printf("  %lld message(s) on %s are not a %s (garbage, another type or trailing bytes): skipped\n", bad,

@@ -8,9 +8,12 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
+#include <vector>
 
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_truth_t.hpp"
@@ -392,6 +395,36 @@ TEST(Log2Csv, RefusesAMissingOutputFolderNamingIt) {
   EXPECT_EQ(WEXITSTATUS(st), 2) << msg;
   EXPECT_NE(msg.find("--out-dir '" + (dir / "missing/dir") + "': no such folder"), std::string::npos) << msg;
   EXPECT_FALSE(std::filesystem::exists(dir / "missing"));
+}
+
+// The channels' CSVs commit together: on a full disk, exit 4 and no CSV under any name (the small one was
+// left while the large one was lost, and all were announced as written). The disk is a 64 KiB tmpfs in a
+// private mount namespace.
+TEST(Log2Csv, AFullDiskLeavesNoCsvOfTheRun) {
+  if (std::system("unshare -m true 2>/dev/null") != 0) GTEST_SKIP() << "no private mount namespace here";
+  TempDir dir("log2csv_full_disk");
+  const std::string path = dir / "w.lcmlog";
+  {
+    lcm::LogFile log(path, "w");
+    ASSERT_TRUE(log.good());
+    std::vector<unsigned char> buf(65536);
+    gimbal_command_t c{};
+    int n = c.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    writeEvent(log, "GIMBAL_COMMAND", buf.data(), n, 1);  // one row: its CSV fits
+    gimbal_truth_t t{};
+    n = t.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    for (int k = 0; k < 2000; ++k) writeEvent(log, "GIMBAL_TRUTH", buf.data(), n, 2 + k);  // far more than 64 KiB
+  }
+  std::filesystem::create_directories(dir / "o");
+  int st = 0;
+  const std::string out = runCapture("unshare -m sh -c \"mount -t tmpfs -o size=64k tmpfs '" + (dir / "o") +
+                                         "' && " + kTool + " '" + path + "' --out-dir '" + (dir / "o") +
+                                         "'; rc=\\$?; ls -A '" + (dir / "o") + "'; exit \\$rc\"",
+                                     &st);
+  EXPECT_EQ(WEXITSTATUS(st), 4) << out;
+  EXPECT_NE(out.find("no CSV written"), std::string::npos) << out;
+  EXPECT_EQ(out.find(".csv\n"), std::string::npos) << "a CSV left on the full disk:\n" << out;
+  EXPECT_EQ(out.find("rows ->"), std::string::npos) << out;
 }
 
 }  // namespace
