@@ -288,7 +288,23 @@ _simulator_run, _simulator_step = Simulator.run, Simulator.step
 
 def _run(self, torques):
     """One step per row of torques (N, 2) [N m]; returns the (N, len(COLUMNS)) output rows after each step."""
+    _fits_in_memory(torques)
     return _simulator_run(self, _real_array(torques, "torques [N m]"))
+
+
+def _fits_in_memory(torques):
+    """MemoryError before any copy when the torques' float copy and the output rows would not fit in the
+    machine's free memory now: a broadcast view of 1e9 rows (16 bytes itself) grew the process until the kernel killed
+    it (the arrays are committed page by page, so allocating them never failed)."""
+    shape = np.shape(torques)
+    if len(shape) != 2:
+        return  # the binding names the shape it needs
+    need = shape[0] * (shape[1] + len(COLUMNS)) * 8
+    have = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    if need > have:
+        raise MemoryError(f"torques [N m]: {shape[0]} rows need {need / 1e9:.3g} GB (their float copy and "
+                          f"{len(COLUMNS)} output columns a row), more than the {have / 1e9:.3g} GB of memory "
+                          "free now: run them in parts (each run() goes on from where the last one ended)")
 
 
 def _step(self, tau1, tau2, n=1):
