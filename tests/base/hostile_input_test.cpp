@@ -135,6 +135,17 @@ TEST(HostileInput, TextThatIsNotPrintableUtf8IsRefusedWithItsPlace) {
   EXPECT_EQ(s.model.name, "caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x9b\xb0");
 }
 
+// A switch cannot be located closer than time is resolved at the run's end: such a tolerance ran, then
+// stopped blaming sim.max_event_iters (pass 62). A scene without clearance locates no switch.
+TEST(HostileInput, AnEventToleranceFinerThanTimeIsRefused) {
+  const Problem p = refusedOnce("", {"structure.joint2=planar", "sim.duration=4", "sim.event_tol=1e-300"});
+  EXPECT_EQ(p.key, "sim.event_tol");
+  EXPECT_NE(p.text.find("must be at least 7.105427357601002e-15 s: time is resolved no finer at 4 s"),
+            std::string::npos) << p.text;
+  EXPECT_NO_THROW(loadSceneText("", "ok.yaml", {"structure.joint2=planar", "sim.duration=4", "sim.event_tol=1e-14"}));
+  EXPECT_NO_THROW(loadSceneText("", "ok.yaml", {"sim.event_tol=1e-300"}));
+}
+
 TEST(HostileInput, SetValuesGetTheSameBoundsWithTheirIndex) {
   const Problem alias = refusedOnce("", {"sim.duration=1", "sim.step=&a 1"});
   EXPECT_EQ(alias.set_index, 2);

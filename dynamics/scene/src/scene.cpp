@@ -89,7 +89,8 @@ std::vector<SceneKey> keys() {
                 field(run, &RunSpec::output_interval), greater(0)),
       K::number("sim.substep", "s", "RK4 sub-step near and in contact, <= sim.step",
                 field(integ, &IntegratorParams::substep), greater(0)),
-      K::number("sim.event_tol", "s", "contact switch location tolerance, < sim.substep",
+      K::number("sim.event_tol", "s",
+                "contact switch location tolerance, < sim.substep, no finer than time at the run's end",
                 field(integ, &IntegratorParams::event_tol), greater(0)),
       K::integer("sim.max_substeps", "-",
                  "work-unit cap per step (0 = automatic: step/substep + room for 4 located switches and one "
@@ -176,6 +177,15 @@ void validate(const Scene& s, Given& g) {
              !(bytes <= RunBounds::kMaxOutputBytes)) {
     g.refuse("sim.duration", "would write up to " + formatNumber(bytes) + " bytes of CSV (more than " +
                                  formatNumber(RunBounds::kMaxOutputBytes) + "): shorten it or raise sim.output_interval");
+  }
+  const double end = std::max(s.run.duration, 1.0), finest = 8.0 * (std::nextafter(end, HUGE_VAL) - end);
+  if (s.model.hasClearance() && p.event_tol < p.substep && n_steps <= RunBounds::kMaxSteps &&
+      !(p.event_tol >= finest)) {
+    // 8 spacings of doubles at the run's end: below that, bisecting a switch's time stops shrinking its
+    // bracket, and the run stopped blaming sim.max_event_iters, which no value of it could help.
+    g.refuse("sim.event_tol", "must be at least " + formatNumber(finest) + " s: time is resolved no finer at " +
+                                  formatNumber(end) + " s (sim.duration), so no contact switch could be located "
+                                  "closer; raise it or shorten the run");
   }
   if (!(p.step / p.substep <= RunBounds::kMaxSubstepsPerStep)) {
     g.refuse("sim.substep", "gives " + formatNumber(p.step / p.substep) + " sub-steps per step, more than " +
