@@ -3,6 +3,7 @@ largest (or smallest) value of one design key at which a requirement holds
 at its level with its confidence, with the evidence at every value tried.
 
     python3 -m gimbalsim.allocate SPEC.yaml --out DIR [--workers N | --scheduler tcp://HOST:PORT] [--resume]
+    python3 -m gimbalsim.allocate SPEC.yaml --out DIR --check    # every refusal of a run, nothing run or written
 
 SPEC is a closed-loop sweep spec (scene, set, controller, samples, seed,
 parameters, phases, indices) with an `allocate:` section (_allocate_spec.py;
