@@ -33,6 +33,8 @@ class Node:
 
 MAX_SPEC_BYTES = 1 << 20  # a spec is a page of text; anything larger is a mistake
 MAX_SPEC_NODES = 100_000  # values after alias expansion
+# What YAML does not take as text (YAML 1.2, 5.1): every character but tab, line breaks and the printable ones.
+_UNPRINTABLE = re.compile("[^\t\n\r\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
 
 
 class Spec:
@@ -68,6 +70,12 @@ class Spec:
             column = e.start - (data.rfind(b"\n", 0, e.start) + 1) + 1
             raise SpecError(f"not UTF-8 text (byte 0x{data[e.start]:02x} at offset {e.start})", file=str(path),
                             line=line, column=column)
+        bad = _UNPRINTABLE.search(text)
+        if bad:  # PyYAML's refusal named an offset in "<unicode string>", on two lines (the C++ loader's rule)
+            line = text.count("\n", 0, bad.start()) + 1
+            column = bad.start() - (text.rfind("\n", 0, bad.start()) + 1) + 1
+            raise SpecError(f"character U+{ord(bad.group()):04X} (a control character) is not YAML text",
+                            file=str(path), line=line, column=column)
         self.source_text = text  # as read (a sweep keeps a copy)
         try:
             # The composer only: no object construction; values are built node by node below.

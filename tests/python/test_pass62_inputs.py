@@ -48,3 +48,15 @@ def test_run_refuses_more_rows_than_memory_holds_before_copying_them():
         sim.run(np.broadcast_to(np.zeros(2), (rows, 2)))
     assert sim.t == 0.0
     assert sim.run(np.zeros((3, 2))).shape == (3, len(gimbalsim.COLUMNS))  # in parts, it goes on
+
+
+@pytest.mark.parametrize("module, flags", [("sweep", ["--check"]), ("allocate", ["--check"]), ("tune", [])])
+def test_a_spec_with_a_control_character_is_refused_at_its_line_in_one_line(tmp_path, module, flags):
+    # PyYAML's refusal named an offset in "<unicode string>", on two lines (pass 63)
+    spec = tmp_path / "spec.yaml"
+    spec.write_bytes(b"scene: x.yaml\nsamples: 2\n#\x00x\nseed: 7\n")
+    p = subprocess.run([sys.executable, "-m", f"gimbalsim.{module}", str(spec), "--out", str(tmp_path / "o"), *flags],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2 and p.stderr == f"{module}: error: {spec}:3:2: character U+0000 (a control character) " \
+        "is not YAML text\n", p.stderr
+    assert not (tmp_path / "o").exists()
