@@ -227,14 +227,17 @@ int run(int argc, char** argv) {
   }
   // A run that ended before the track has no tracking figure: n/a with the reason, never 0.
   // No status at all is no run: "run ended at 0 s" would invent an end time.
-  const std::string track_error = pointing::figureText(
-      h.maxTrackError(),
+  std::string no_track_figure =
       h.answered() == 0 ? "no status answered"
                         : pointing::windowNotReached(pointing::profileWindow(c.profile, Segment::Track),
                                                      pointing::WindowNeed::Part,
                                                      std::isnan(h.plantStoppedTime()) ? h.lastTime()
-                                                                                      : h.lastGoodTime()),
-      "%.3e rad");
+                                                                                      : h.lastGoodTime());
+  if (no_track_figure.empty() && std::isnan(h.maxTrackError())) {
+    no_track_figure = "no reading accepted while tracking: " + std::to_string(h.trackStatuses()) +
+                      " status(es) there, each with a NaN or Inf";
+  }
+  const std::string track_error = pointing::figureText(h.maxTrackError(), no_track_figure, "%.3e rad");
   char last_t[48] = "n/a: none answered";  // a time of 0 for no status is a figure over nothing
   if (h.answered() > 0) std::snprintf(last_t, sizeof last_t, "%.3f s", h.lastTime());
   std::fprintf(stderr, "pointing_controller: answered %lld statuses (last t = %s), %lld with the command at its "

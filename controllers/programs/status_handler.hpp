@@ -108,7 +108,12 @@ class StatusHandler {
     if (out.star_outage) ++outage_statuses_;
     if (moving && (out.saturated[0] || out.saturated[1])) ++controller_limited_;
     if (moving && out.ref.segment == Segment::Track) {
-      max_track_error_ = std::max(max_track_error_, out.error.cwiseAbs().maxCoeff());
+      ++track_statuses_;
+      // A rejected reading (NaN or Inf) measured nothing: its error is no figure (a lone one printed 0).
+      if (!out.rejected) {
+        const double e = out.error.cwiseAbs().maxCoeff();
+        max_track_error_ = std::isnan(max_track_error_) ? e : std::max(max_track_error_, e);
+      }
     }
     if (csv_) log(st, meas, out, a.flags);
   }
@@ -160,7 +165,10 @@ class StatusHandler {
   bool acceptedAny() const { return accepted_any_; }
   double lastTime() const { return last_t_; }
   int faultsSeen() const { return faults_seen_; }
+  /// [rad] the largest |joint error| of an accepted reading while tracking; NaN before one.
   double maxTrackError() const { return max_track_error_; }
+  /// Statuses answered while tracking, accepted or rejected.
+  long long trackStatuses() const { return track_statuses_; }
   /// [s] the first status carrying FAULT_PLANT_FAULT (the plant's stop), NaN while it moves.
   double plantStoppedTime() const { return plant_stopped_t_; }
   /// [s] the time of the last status before FAULT_PLANT_FAULT (the plant's last good state); NaN before any.
@@ -222,7 +230,8 @@ class StatusHandler {
   long long not_finite_ = 0;            ///< answers not sent: a torque NaN or Inf
   std::int64_t first_sent_seq_ = -1;    ///< seq of the first command sent (-1: none yet)
   bool accepted_any_ = false;
-  double last_t_ = 0.0, max_track_error_ = 0.0, plant_stopped_t_ = std::nan(""), last_good_t_ = std::nan("");
+  long long track_statuses_ = 0;
+  double last_t_ = 0.0, max_track_error_ = std::nan(""), plant_stopped_t_ = std::nan(""), last_good_t_ = std::nan("");
   int faults_seen_ = 0;
 };
 
