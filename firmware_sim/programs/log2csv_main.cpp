@@ -109,7 +109,7 @@ class Sink {
       case Type::Unknown: break;
     }
   }
-  long long rows = 0, undecodable = 0;
+  long long rows = 0, undecodable = 0, non_finite = 0;
 
  private:
   /// Decodes the event as M and writes it with the field list D.
@@ -124,6 +124,10 @@ class Sink {
     const int n = m.decode(e.data, 0, size);
     if (n < 0 || n != size) {  // garbage, another type (fingerprint) or trailing bytes
       ++undecodable;
+      return;
+    }
+    if (!csv::allFinite<D>(m)) {  // no CSV cell holds it, and no program of the bench sends it
+      ++non_finite;
       return;
     }
     if (log_time_) std::fprintf(f_, "%lld,", static_cast<long long>(e.timestamp));
@@ -303,6 +307,10 @@ int mainImpl(int argc, char** argv) {
     if (bad > 0) {
       std::printf("  %lld message(s) on %s are not a %s (garbage, another type or trailing bytes): skipped\n", bad,
                   ch.c_str(), typeName(selected[ch]));
+    }
+    if (s->non_finite > 0) {
+      std::printf("  %lld message(s) on %s carry a NaN or Inf (no value a CSV cell holds; no bench program sends "
+                  "one): skipped\n", s->non_finite, ch.c_str());
     }
   }
   return rc;

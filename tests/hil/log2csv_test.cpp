@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <vector>
@@ -395,6 +396,34 @@ TEST(Log2Csv, RefusesAMissingOutputFolderNamingIt) {
   EXPECT_EQ(WEXITSTATUS(st), 2) << msg;
   EXPECT_NE(msg.find("--out-dir '" + (dir / "missing/dir") + "': no such folder"), std::string::npos) << msg;
   EXPECT_FALSE(std::filesystem::exists(dir / "missing"));
+}
+
+// A decoded message carrying a NaN or Inf is no row: a CSV cell holds no Inf, and a NaN needs its reason
+// (pass 63: crafted commands on the wire became rows "nan", "inf", "-inf"). Skipped, counted, said.
+TEST(Log2Csv, AMessageWithANonFiniteNumberIsSkippedAndCounted) {
+  TempDir dir("log2csv_non_finite");
+  const std::string path = dir / "w.lcmlog";
+  {
+    lcm::LogFile log(path, "w");
+    ASSERT_TRUE(log.good());
+    unsigned char buf[1024];
+    gimbal_command_t c{};
+    c.seq = 1;
+    c.mode = gimbal_command_t::MODE_TORQUE;
+    for (const double tau : {0.5, std::nan(""), std::numeric_limits<double>::infinity(), -0.25}) {
+      c.torque[1] = tau;
+      writeEvent(log, "GIMBAL_COMMAND", buf, c.encode(buf, 0, sizeof buf), 10);
+      ++c.seq;
+    }
+  }
+  std::filesystem::create_directories(dir / "o");
+  int st = 0;
+  const std::string out = runCapture(kTool + " '" + path + "' --out-dir '" + (dir / "o") + "'", &st);
+  ASSERT_EQ(st, 0) << out;
+  EXPECT_NE(out.find("GIMBAL_COMMAND (command): 2 rows"), std::string::npos) << out;
+  EXPECT_NE(out.find("2 message(s) on GIMBAL_COMMAND carry a NaN or Inf"), std::string::npos) << out;
+  EXPECT_EQ(readFile(dir / "o/w_GIMBAL_COMMAND.csv"),
+            "utime_us,seq,status_seq,mode,tau1_Nm,tau2_Nm\n0,1,0,1,0,0.5\n0,4,0,1,0,-0.25\n");
 }
 
 // The channels' CSVs commit together: on a full disk, exit 4 and no CSV under any name (the small one was

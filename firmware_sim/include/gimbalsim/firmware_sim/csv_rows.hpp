@@ -7,6 +7,7 @@
 // numbers are io::formatCsvNumber (a row round-trips exactly), integers %lld.
 #pragma once
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <type_traits>
@@ -62,6 +63,26 @@ void putFields(std::FILE* f, const M& m, int skip, const char* sep) {
       m);
 }
 }  // namespace detail
+
+/// Every number of m finite: what a bench message holds (a NaN or Inf is no CSV cell's value, and none of
+/// the project's programs sends one; one on the wire came from elsewhere).
+template <class D, class M>
+bool allFinite(const M& m) {
+  bool finite = true;
+  auto check = [&finite](const auto& x) {
+    if constexpr (std::is_floating_point_v<std::remove_cvref_t<decltype(x)>>) finite = finite && std::isfinite(x);
+  };
+  D::visit(
+      [&](Columns, const auto& x) {
+        if constexpr (std::is_array_v<std::remove_cvref_t<decltype(x)>>) {
+          for (const auto& v : x) check(v);
+        } else {
+          check(x);
+        }
+      },
+      m);
+  return finite;
+}
 
 /// One row of m (a firmware struct or the LCM type) as the field list D
 /// orders it; end = false leaves it open for continueRow().
