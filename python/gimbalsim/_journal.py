@@ -288,6 +288,14 @@ def read_journal(spec, path, header):
     return done, dropped, appendable
 
 
+def _utf8(chunk):
+    """A line's bytes as text, or None when they are not UTF-8."""
+    try:
+        return chunk.decode("utf-8")
+    except UnicodeDecodeError:
+        return None
+
+
 def _read_rows(spec, path, header, journal=True):
     """read_journal's answer, the 1-based line of each trusted row ({sample: line}) and the samples the file
     holds twice, differently (trusted in no file)."""
@@ -301,18 +309,23 @@ def _read_rows(spec, path, header, journal=True):
         data = path.read_bytes()
     except OSError as e:
         raise OutputError(f"cannot read the journal {path}: {e.strerror}")
-    lines = data.decode("utf-8", errors="replace").split("\n")
-    torn = lines.pop() != ""  # the text after the last newline: empty when the last write was whole
+    raw = data.split(b"\n")
+    torn = raw.pop() != b""  # the bytes after the last newline: none when the last write was whole
     if torn:
-        dropped["last line cut by an interruption"] = [len(lines) + 1]
-    if not lines:  # killed before the header was whole: nothing was journaled
+        dropped["last line cut by an interruption"] = [len(raw) + 1]
+    if not raw:  # killed before the header was whole: nothing was journaled
         return done, dropped, False, line_of, twice
-    if _parsed(lines[0]) != header:
+    # Line by line: a line that is not UTF-8 is no row the sweep wrote (decoded with replacement characters,
+    # one was trusted and written back with them: pass 63).
+    lines = [_utf8(chunk) for chunk in raw]
+    if lines[0] is None or _parsed(lines[0]) != header:
         raise SpecError(f"{path} was written by another spec (its header differs); use another --out")
     rows = []
     for number, line in enumerate(lines[1:], 2):
-        row = _parsed(line)
-        if row is None:
+        row = None if line is None else _parsed(line)
+        if line is None:
+            dropped.setdefault("not UTF-8 text", []).append(number)
+        elif row is None:
             dropped.setdefault("unreadable line", []).append(number)
         else:
             rows.append((number, row))

@@ -17,6 +17,7 @@ named; the time series is written all the same) (docs/python.md "Replay")."""
 import csv
 import json
 import pathlib
+import re
 import sys
 
 from . import _provenance
@@ -35,6 +36,9 @@ def _refuse(message):
     raise SpecError(message)
 
 
+_NOT_UTF8 = re.compile("[\udc80-\udcff]")  # the bytes that were not UTF-8, as surrogateescape reads them
+
+
 def _read_rows(folder):
     """(file, header, {sample: row}, {sample: "file:line" of its row}) of
     results.csv and the journal together: a resume with --until journals
@@ -44,7 +48,8 @@ def _read_rows(folder):
         path = folder / name
         if path.is_file():
             try:
-                with open(path, newline="", encoding="utf-8") as f:
+                # surrogateescape: a row that is not UTF-8 is refused on its own line (below), the others read
+                with open(path, newline="", encoding="utf-8", errors="surrogateescape") as f:
                     reader = csv.reader(f)
                     lines, ends = [], []
                     for r in reader:
@@ -59,10 +64,17 @@ def _read_rows(folder):
         _refuse(f"{folder} holds neither results.csv nor the journal {JOURNAL}: no sample to replay")
     source, header = found[0][0], found[0][1][0]
     rows, where = {}, {}
+    if any(_NOT_UTF8.search(cell) for cell in header):
+        _refuse(f"{source}:1: its header is not UTF-8 text: not a file the sweep wrote")
     for path, lines, ends in found:
         if lines[0] != header:
             _refuse(f"{path}: its columns are not those of {source}")
         for r, line in zip(lines[1:], ends[1:]):
+            if any(_NOT_UTF8.search(cell) for cell in r):  # no row the sweep wrote
+                if r and r[0].isdigit():
+                    where[int(r[0])] = f"{path}:{line}"
+                    rows[int(r[0])] = "not UTF-8"
+                continue
             if r and r[0].isdigit() and int(r[0]) not in rows:
                 rows[int(r[0])], where[int(r[0])] = r, f"{path}:{line}"
             elif r and r[0].isdigit() and r != rows[int(r[0])]:  # two different rows: which is the sweep's?
@@ -168,7 +180,7 @@ def replay(folder, i, out, plot_path=None):
         _refuse(str(e))
     source, header, rows, where = _read_rows(folder)
     take_recorded_design(folder, spec)  # the samples --until added: their draws are (seed, i) as any other's
-    whole = [r for r in rows.values() if r is not None]
+    whole = [r for r in rows.values() if isinstance(r, list)]
     refuse_rows_beyond_the_record(source, spec, whole, len(header))  # as a resume does
     if not 0 <= i < len(spec.design):
         _refuse(f"--replay {i}: outside the sweep's samples 0..{len(spec.design) - 1}")
@@ -178,6 +190,9 @@ def replay(folder, i, out, plot_path=None):
         _refuse(f"--replay {i}: sample {i} has no row in {folder} (results.csv, {JOURNAL}): not run yet, finish "
                 "the sweep with --resume")
     recorded = rows[i]
+    if recorded == "not UTF-8":
+        _refuse(f"{where[i]}: sample {i}'s row is not UTF-8 text: not a row the sweep wrote; --resume the sweep, "
+                "which drops such a row and runs its sample again")
     if recorded is None:  # (pass 34) the first of two was compared, and the study's two rows never said
         _refuse(f"{where[i]}: two different rows of sample {i}: no file the sweep writes; --resume the sweep, which "
                 "drops both and runs the sample again")

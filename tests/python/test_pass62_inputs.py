@@ -1,8 +1,10 @@
-"""Pass 62's findings from Python: a scene's text that is not printable UTF-8
-is a refusal at its line (a traceback, exit 1, from the sweep; a NUL cut the
-name short), and Simulator.run refuses more rows than memory can hold before
-copying them (a 16-byte broadcast view of 1e9 rows grew the interpreter
-until the kernel killed it)."""
+"""Passes 62 and 63 from Python: text that is not printable UTF-8 is a
+refusal at its line, in a scene (a traceback, exit 1, from the sweep; a NUL
+cut the name short) or a spec (PyYAML's offset, on two lines), and no row a
+sweep trusts (a resume kept one, written back with replacement characters);
+Simulator.run refuses more rows than memory can hold before copying them (a
+16-byte broadcast view of 1e9 rows grew the interpreter until the kernel
+killed it)."""
 import os
 import subprocess
 import sys
@@ -60,3 +62,28 @@ def test_a_spec_with_a_control_character_is_refused_at_its_line_in_one_line(tmp_
     assert p.returncode == 2 and p.stderr == f"{module}: error: {spec}:3:2: character U+0000 (a control character) " \
         "is not YAML text\n", p.stderr
     assert not (tmp_path / "o").exists()
+
+
+def test_a_row_that_is_not_utf8_is_no_row_the_sweep_wrote(tmp_path):
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(f"scene: {SCENES / 'paper_clearance.yaml'}\nset: {{sim.duration: 0.01}}\nsamples: 3\nseed: 1\n"
+                    "parameters:\n  friction.mu: {uniform: [0.1, 0.3]}\n")
+    out = tmp_path / "o"
+    sweep = [sys.executable, "-m", "gimbalsim.sweep"]
+    assert subprocess.run(sweep + [str(spec), "--out", str(out), "--workers", "1", "--no-progress"],
+                          capture_output=True, timeout=300).returncode == 0
+    results = out / "results.csv"
+    lines = results.read_bytes().split(b"\n")
+    lines[1] += b"\xe9"  # sample 0's row (line 2) ends in a Latin-1 byte
+    results.write_bytes(b"\n".join(lines))
+    p = subprocess.run(sweep + [str(out), "--replay", "1", "--out", str(tmp_path / "r1.csv")], capture_output=True,
+                       text=True, timeout=120)
+    assert p.returncode == 0, p.stderr  # the others' rows read as before (the whole file was refused)
+    p = subprocess.run(sweep + [str(out), "--replay", "0", "--out", str(tmp_path / "r0.csv")], capture_output=True,
+                       text=True, timeout=120)
+    assert p.returncode == 2 and f"{results}:2: sample 0's row is not UTF-8 text" in p.stderr, p.stderr
+    p = subprocess.run(sweep + [str(spec), "--out", str(out), "--resume", "--workers", "1", "--no-progress"],
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0 and f"dropped 1 row (not UTF-8 text) at {results} line 2" in p.stderr, p.stderr
+    results.read_bytes().decode("utf-8")  # whole again: no byte kept, none replaced
+    assert "\ufffd" not in results.read_text(encoding="utf-8")
