@@ -125,7 +125,7 @@ class StatusHandler {
         "ref_ddel[rad/s^2],meas_az[rad],meas_el[rad],rate_az[rad/s],rate_el[rad/s],err_az[rad],"
         "err_el[rad],tau_az[N m],tau_el[N m],tau_unsat_az[N m],tau_unsat_el[N m],faults[-],prof_az[rad],"
         "prof_el[rad],est_qw[-],est_qx[-],est_qy[-],est_qz[-],est_wx[rad/s],est_wy[rad/s],est_wz[rad/s],"
-        "star_outage[-],attitude_paired[-],stale[-],safe[-],suspect_az[-],suspect_el[-]";
+        "star_outage[-],attitude_paired[-],stale[-],safe[-],suspect_az[-],suspect_el[-],reason";
     std::string h, cell;
     for (const char* c = kCells;; ++c) {
       if (*c == ',' || *c == '\0') {
@@ -186,9 +186,11 @@ class StatusHandler {
     int n = io::formatCsvNumber(line, m.t);
     n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), ",%lld,%s", static_cast<long long>(st.seq),
                        describe(r.segment));
+    bool finite = true;  // a NaN or Inf is written nan, with its reason in the last column (the CSV convention)
     auto num = [&](double x) {
       line[n++] = ',';
-      n += io::formatCsvNumber(line + n, x);
+      finite = finite && std::isfinite(x);
+      n += io::formatCsvNumber(line + n, std::isfinite(x) ? x : std::nan(""));
     };
     auto flag = [&](int v) { n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), ",%d", v); };
     for (double x : {r.q(0), r.q(1), r.dq(0), r.dq(1), r.ddq(0), r.ddq(1), m.theta(0), m.theta(1), m.dtheta(0),
@@ -204,7 +206,10 @@ class StatusHandler {
                    f.encoder_suspect[1]}) {
       flag(b ? 1 : 0);
     }
-    line[n++] = '\n';
+    const char* reason = o.rejected ? "reading rejected (a NaN or Inf in it): the last command held"
+                         : finite   ? ""
+                                    : "a value computed from the reading is not finite (an overflow)";
+    n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), ",%s\n", reason);
     std::fwrite(line, 1, static_cast<std::size_t>(n), csv_);
   }
 

@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "gimbalsim/contract/channels.hpp"
@@ -44,6 +47,37 @@ TEST(StatusHandler, TheTrackingFigureIsOverAcceptedReadingsOnly) {
   feed(4001, 1.0);  // an accepted reading there: a figure, the joint error of that reading
   EXPECT_GT(h.maxTrackError(), 0.4);
   EXPECT_EQ(h.trackStatuses(), 2);
+}
+
+// --log-csv: a rejected reading's cells are nan with the reason beside them, never inf (pass 63: bare nan,
+// inf and -inf cells, which the CSV convention has no place for).
+TEST(StatusHandler, TheLogWritesNanWithItsReasonNeverInf) {
+  const ControllerConfig c = loadControllerConfig(test::defaultControllerConfig());
+  lcm_wire::UdpmSender tx;
+  std::FILE* f = std::tmpfile();
+  ASSERT_NE(f, nullptr);
+  StatusHandler::header(f);
+  StatusHandler h(c, tx, contract::Channels::withPrefix(""), f);
+  for (const auto& [seq, az] : std::vector<std::pair<long long, double>>{
+           {0, 0.0}, {1, std::numeric_limits<double>::infinity()}, {2, 1e308}, {3, 0.0}}) {
+    const std::vector<std::uint8_t> b = status(seq, az);
+    h.onStatus(b.data(), static_cast<int>(b.size()));
+  }
+  std::rewind(f);
+  std::vector<std::string> lines;
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, f)) lines.emplace_back(buf);
+  std::fclose(f);
+  ASSERT_EQ(lines.size(), 5u);
+  EXPECT_NE(lines[0].find(",suspect_el,reason\n"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[1].find(",\n"), std::string::npos) << "a whole reading has no reason: " << lines[1];
+  EXPECT_NE(lines[2].find(",nan,"), std::string::npos) << lines[2];
+  EXPECT_NE(lines[2].find(",reading rejected (a NaN or Inf in it): the last command held\n"), std::string::npos)
+      << lines[2];
+  // 1e308 is finite, but kp x 1e308 overflows the unlimited torque: nan, and why
+  EXPECT_NE(lines[3].find(",a value computed from the reading is not finite (an overflow)\n"), std::string::npos)
+      << lines[3];
+  for (const std::string& l : lines) EXPECT_EQ(l.find("inf"), std::string::npos) << l;
 }
 
 }  // namespace
