@@ -111,6 +111,7 @@ class Reader {
     const std::size_t before = problems_.size();
     FaultSpec f;
     f.line = e.Mark().line + 1;
+    f.column = e.Mark().column + 1;
     const YAML::Node type = e["type"];
     if (!type) {
       problems_.push_back(where + ": " + entry + "key 'type' is missing");
@@ -136,6 +137,7 @@ class Reader {
       if (key == "type") continue;
       if (key == "axis" && (faultHasAxis(f.kind) || faultIsRamp(f.kind))) {
         convert(n, entry, key, [&](const YAML::Node& v) { f.axis = static_cast<int>(asChoice(v, {"azimuth", "elevation"})); });
+        f.axis_line = n.Mark().line + 1, f.axis_column = n.Mark().column + 1;
       } else if (key == "start") {
         convert(n, entry, key, [&](const YAML::Node& v) {
           f.start = asNumber(v);
@@ -159,6 +161,7 @@ class Reader {
         });
       } else if (!param.empty() && key == param) {
         convert(n, entry, key, [&](const YAML::Node& v) { readParam(f, v); });
+        f.param_line = n.Mark().line + 1, f.param_column = n.Mark().column + 1;
       } else {
         std::string allowed = "type, start, end";
         if (faultHasAxis(f.kind) || faultIsRamp(f.kind)) allowed += ", axis";
@@ -268,8 +271,14 @@ std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const P
   int i = 0;
   for (const FaultSpec& f : s.faults) {
     ++i;
-    const std::string at = origin + ":" + std::to_string(f.line) + ": fault #" + std::to_string(i) + " (" +
-                           faultTypeName(f.kind) + "): ";
+    // Each refusal at its place (file:line:column): the entry's, or its axis's or parameter's value.
+    auto placeAt = [&](int line, int column) {
+      return origin + ":" + std::to_string(line) + ":" + std::to_string(column) + ": fault #" + std::to_string(i) +
+             " (" + faultTypeName(f.kind) + "): ";
+    };
+    const std::string at = placeAt(f.line, f.column);
+    const std::string at_axis = f.axis_line > 0 ? placeAt(f.axis_line, f.axis_column) : at;
+    const std::string at_param = f.param_line > 0 ? placeAt(f.param_line, f.param_column) : at;
     const bool tracker = f.kind == FaultKind::TrackerOutage || f.kind == FaultKind::TrackerBias ||
                          f.kind == FaultKind::TrackerDropout;
     if (tracker && !ps.sensors.antenna_sensors) {
@@ -279,7 +288,7 @@ std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const P
     if (!faultIsRamp(f.kind)) continue;
     if (f.axis >= 0 && m.jointKind(f.axis) == ClearanceKind::Ideal) {
       const std::string joint = "joint" + std::to_string(f.axis + 1);
-      out.push_back(at + "key 'axis': the " + (f.axis == 0 ? "azimuth" : "elevation") +
+      out.push_back(at_axis + "key 'axis': the " + (f.axis == 0 ? "azimuth" : "elevation") +
                     " joint is ideal (scene key structure." + joint + "): it has no bearing to act on");
       continue;
     }
@@ -294,14 +303,14 @@ std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const P
       const ContactParams& c = m.bearing[j];
       const std::string joint = "joint" + std::to_string(j + 1);
       if (f.kind == FaultKind::BearingWear && !(f.value > c.clearance && f.value < c.bearing_radius)) {
-        out.push_back(at + "key 'clearance': must be above " + joint + "'s clearance " + formatNumber(c.clearance) +
+        out.push_back(at_param + "key 'clearance': must be above " + joint + "'s clearance " + formatNumber(c.clearance) +
                       " m and below " + joint + ".contact.bearing_radius " + formatNumber(c.bearing_radius) +
                       " m, got " + formatNumber(f.value));
       }
       // Worn, a spatial bearing must stay long enough for its model, as the scene's own clearance must.
       if (f.kind == FaultKind::BearingWear && m.jointKind(j) == ClearanceKind::Spatial &&
           !(c.bearing_length >= kSpatialMinLengthInClearances * f.value)) {
-        out.push_back(at + "key 'clearance': a spatial bearing must be at least " +
+        out.push_back(at_param + "key 'clearance': a spatial bearing must be at least " +
                       formatNumber(kSpatialMinLengthInClearances) + " clearances long: " + joint +
                       ".contact.bearing_length " + formatNumber(c.bearing_length) + " m against " +
                       formatNumber(kSpatialMinLengthInClearances) + " x " +

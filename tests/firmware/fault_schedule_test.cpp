@@ -140,10 +140,22 @@ TEST(FaultScheduleFile, SceneChecksNameTheLineAndTheSceneKey) {
   const FaultSchedule wear = schedule("faults:\n  - {type: bearing_wear, start: 1, end: 2, clearance: 0.4e-3}\n");
   const auto on_ideal = checkFaultsAgainstScene(wear, test::plant("paper_ideal"), "w.yaml");
   ASSERT_EQ(on_ideal.size(), 1u);
-  EXPECT_NE(on_ideal[0].find("w.yaml:2: fault #1 (bearing_wear): needs a joint with clearance"), std::string::npos) << on_ideal[0];
+  // each at its place, the column too (pass 63): the entry's, or its parameter's value
+  EXPECT_NE(on_ideal[0].find("w.yaml:2:5: fault #1 (bearing_wear): needs a joint with clearance"), std::string::npos)
+      << on_ideal[0];
   const auto below = checkFaultsAgainstScene(wear, test::plant("paper_clearance"), "w.yaml");
   ASSERT_EQ(below.size(), 1u);
-  EXPECT_NE(below[0].find("key 'clearance': must be above joint2's clearance 0.0005"), std::string::npos) << below[0];
+  EXPECT_NE(below[0].find("w.yaml:2:55: fault #1 (bearing_wear): key 'clearance': must be above joint2's clearance "
+                          "0.0005"),
+            std::string::npos)
+      << below[0];
+  const FaultSchedule on_azimuth =
+      schedule("faults:\n  - type: bearing_wear\n    axis: azimuth\n    end: 2\n    clearance: 0.9e-3\n");
+  const auto ideal_axis = checkFaultsAgainstScene(on_azimuth, test::plant("paper_clearance"), "a.yaml");
+  ASSERT_EQ(ideal_axis.size(), 1u);
+  EXPECT_NE(ideal_axis[0].find("a.yaml:3:11: fault #1 (bearing_wear): key 'axis': the azimuth joint is ideal"),
+            std::string::npos)
+      << ideal_axis[0];
   const FaultSchedule rise = schedule("faults:\n  - {type: friction_rise, start: 1, mu: 0.5}\n");
   EXPECT_EQ(checkFaultsAgainstScene(rise, test::plant("paper_clearance", {"friction.law=none"}), "r.yaml").size(), 1u);
   EXPECT_TRUE(checkFaultsAgainstScene(rise, test::plant("paper_clearance"), "r.yaml").empty());
@@ -370,7 +382,7 @@ TEST(FaultSchedule, BearingFaultsAreCheckedAgainstTheBearingTheyActOn) {
   const PlantScene short_spatial = test::plant("paper_spatial2", {"contact.bearing_length=2.5e-3"});
   const auto too_short = checkFaultsAgainstScene(wear, short_spatial, "w.yaml");
   ASSERT_EQ(too_short.size(), 1u);
-  EXPECT_NE(too_short[0].find("w.yaml:2: fault #1 (bearing_wear): key 'clearance': a spatial bearing must be at least 4 "
+  EXPECT_NE(too_short[0].find("w.yaml:2:55: fault #1 (bearing_wear): key 'clearance': a spatial bearing must be at least 4 "
                               "clearances long: joint2.contact.bearing_length 0.0025 m against 4 x 0.0099 m"),
             std::string::npos)
       << too_short[0];

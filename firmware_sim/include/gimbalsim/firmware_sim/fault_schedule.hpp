@@ -84,6 +84,9 @@ struct FaultSpec {
   double value = 0.0;         ///< bias or sigma [rad], torque limit [N m], clearance [m], mu [-]
   Vec3 vector = Vec3::Zero(); ///< gyro bias jump [rad/s]; tracker bias [rad] (u, v, 0)
   int line = 0;               ///< line in the schedule file (0: built in code)
+  int column = 0;             ///< its column
+  /// Where its axis and its parameter's value are written (line 0: not given), for the scene's checks.
+  int axis_line = 0, axis_column = 0, param_line = 0, param_column = 0;
 };
 
 struct FaultSchedule {
