@@ -101,6 +101,7 @@ struct RunReport {
   std::vector<std::string> rt_warnings;
   double wall_seconds = 0.0;
   long long lockstep_timeouts = 0;
+  long long lockstep_rebinds = 0;  ///< bindings released: the bound controller silent while another answered
   double compute_seconds = 0.0;  ///< [s] wall time of the plant's own work (ticks, not the waits)
   PointingErrorStats pointing;   ///< the truth pointing error (copied from the tick at the end)
 };

@@ -150,6 +150,7 @@ int run(Run& r) {
     if (!m.status) continue;
 
     if (timeouts_in_a_row == 0) unanswered_from = fw.counters();
+    const std::int64_t foreign_before = fw.counters().by_reason[static_cast<int>(Rejection::WrongSource)];
     if (!awaitAnswer(r, sink, fw, fw.status().seq, spin_ns) && !g_stop.load()) {
       if (fw.status().seq == 0) {
         const std::string rejected = rejectedSince(unanswered_from, fw.counters());  // ending: may allocate
@@ -167,6 +168,14 @@ int run(Run& r) {
       }
       extra = kLockstepTimeout;
       ++r.report.lockstep_timeouts;
+      // The bound controller let --lockstep-timeout-ms pass while another source answered this status (a
+      // restarted controller, or one that a stranger's single command had locked out): the binding lapses
+      // here, as a watchdog trip ends it; counting the watchdog's ticks at one timeout each would outlast
+      // --start-timeout, and the plant stopped with the answering controller never accepted.
+      if (fw.counters().by_reason[static_cast<int>(Rejection::WrongSource)] > foreign_before) {
+        fw.releaseBinding();
+        ++r.report.lockstep_rebinds;
+      }
       // A controller that has gone would cost --lockstep-timeout-ms per tick for ever: after
       // --start-timeout without any answer, say so and end (the no-peer code).
       if (++timeouts_in_a_row * o.lockstep_timeout_ms * 1e-3 >= o.start_timeout_s) {

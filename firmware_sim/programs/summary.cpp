@@ -127,7 +127,11 @@ void printExitSummary(const Run& r, const Outcome& out) {
       std::printf("    rejected %lld: %s\n", static_cast<long long>(n.by_reason[i]), describe(static_cast<Rejection>(i)));
     }
   }
-  if (r.setup.o.lockstep) std::printf("  lockstep timeouts %lld\n", r.report.lockstep_timeouts);
+  if (r.setup.o.lockstep) {
+    std::printf("  lockstep timeouts %lld; bindings released %lld (the bound controller silent for "
+                "--lockstep-timeout-ms while another answered)\n",
+                r.report.lockstep_timeouts, r.report.lockstep_rebinds);
+  }
   if (r.setup.faults != nullptr) {
     std::printf("  scheduled faults: active in %lld ticks; commands dropped %lld, delayed %lld; statuses dropped %lld, delayed %lld\n",
                 static_cast<long long>(n.fault_ticks), static_cast<long long>(n.bus.commands_dropped),

@@ -119,5 +119,28 @@ TEST(HilWatchdog, ControllerKilledTripsWithinBoundHoldsSafeStateAndRecovers) {
   EXPECT_NE(readFile(dir / "ctl2.log").find("answered"), std::string::npos) << readFile(dir / "ctl2.log");
 }
 
+// Lockstep: a controller that ends and another that starts on the same bench. The first one's binding
+// lapses when it lets --lockstep-timeout-ms pass while the new one answers; the new one is accepted and the
+// run ends whole (pass 63: each rejected answer waited the timeout, the watchdog's 50 ticks would have taken
+// 50 s, and the plant stopped at --start-timeout with exit 3, "watchdog trips 0").
+TEST(HilWatchdog, LockstepTakesARestartedControllerOnceTheBoundOneHasGone) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("lockstep_restart");
+  const std::string url = udpmUrl(7739), cfg = defaultControllerConfig();
+  const std::string ctl = "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "'";
+  const std::string body =
+      "timeout 60 " + firmwareSim() + " " + scenePath("paper_ideal") + " --lockstep --duration 1 --profile " + cfg +
+      " --truth-csv truth.csv --lcm-url '" + url + "' >fw.log 2>&1 &\nF=$!\nsleep 0.5\n" + ctl +
+      " --duration 0.1 >ctl1.log 2>&1; r1=$?\nsleep 0.3\n" + ctl + " --duration 1 >ctl2.log 2>&1; r2=$?\n" +
+      "wait $F; rf=$?\necho \"r1 $r1 r2 $r2 rf $rf\"\n[ $r1 -eq 0 ] && [ $r2 -eq 0 ] && [ $rf -eq 0 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "fw.log")
+                                      << readFile(dir / "ctl2.log");
+  const std::string fw = readFile(dir / "fw.log");
+  EXPECT_NE(fw.find("bindings released 1 "), std::string::npos) << fw;
+  EXPECT_NE(fw.find("watchdog trips 0"), std::string::npos) << fw;
+  const Csv c = Csv::read(dir / "truth.csv");
+  EXPECT_EQ(c.rows.size(), 1001u);  // t = 0 .. 1 s: the run went to its end
+}
+
 }  // namespace
 }  // namespace gimbalsim::hil

@@ -45,6 +45,11 @@ class CommandGate {
     accepted_tick_ = tick;
   }
 
+  /// Ends the binding as a watchdog trip does: the next valid command binds afresh. For lockstep, whose
+  /// watchdog counts ticks that each wait --lockstep-timeout-ms: a bound controller that has gone while
+  /// another answers (restarted) would otherwise hold the plant past --start-timeout.
+  void release() noexcept { bound_ = false; }
+
   bool bound() const noexcept { return bound_; }
   SourceId source() const noexcept { return source_; }
   std::int64_t lastSeq() const noexcept { return bound_ ? last_seq_ : -1; }

@@ -182,6 +182,8 @@ class Firmware {
     w_A = obs_.v[V::NJ - 1].template head<3>();
   }
   const Counters& counters() const noexcept { return n_; }
+  /// The command binding ends (CommandGate::release): the next valid command binds afresh.
+  void releaseBinding() noexcept { gate_.release(); }
   const State<V>& state() const noexcept { return s_; }
   const Input& appliedInput() const noexcept { return u_; }
   std::int64_t ticks() const noexcept { return tick_; }
