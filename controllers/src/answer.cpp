@@ -47,9 +47,14 @@ Answer answerStatus(const ControllerConfig& c, ControllerState& s, const contrac
   }
   const Vec2 integral = s.integral;
   a.out = update(c, s, a.meas);
+  // A law that overflowed on a finite reading (an angle of 1e308) gives no command: its saturated torque
+  // carried the overflow's sign to the motor at full scale. Python's Controller.update refuses it too.
+  const bool overflowed = !a.out.rejected && !(a.out.tau_unsat.allFinite() && a.out.error.allFinite());
   if (a.flags.stale) {  // hold the last command from a fresh status (safe torque after hold_ticks); no integration
     s.integral = integral;
     for (int i = 0; i < 2; ++i) a.out.tau(i) = a.flags.safe ? 0.0 : s.monitor.hold_tau[i];
+  } else if (overflowed) {
+    a.out.tau.setConstant(std::numeric_limits<double>::quiet_NaN());  // never sent (the bench), refused (in process)
   } else {
     for (int i = 0; i < 2; ++i) s.monitor.hold_tau[i] = a.out.tau(i);
   }

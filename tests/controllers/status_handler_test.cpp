@@ -74,9 +74,11 @@ TEST(StatusHandler, TheLogWritesNanWithItsReasonNeverInf) {
   EXPECT_NE(lines[2].find(",nan,"), std::string::npos) << lines[2];
   EXPECT_NE(lines[2].find(",reading rejected (a NaN or Inf in it): the last command held\n"), std::string::npos)
       << lines[2];
-  // 1e308 is finite, but kp x 1e308 overflows the unlimited torque: nan, and why
+  // 1e308 is finite, but kp x 1e308 overflows the unlimited torque: nan, and why; and no command goes out
+  // (its saturated torque was sent at full scale: pass 64)
   EXPECT_NE(lines[3].find(",a value computed from the reading is not finite (an overflow)\n"), std::string::npos)
       << lines[3];
+  EXPECT_GE(h.notFinite(), 1);
   for (const std::string& l : lines) EXPECT_EQ(l.find("inf"), std::string::npos) << l;
 }
 
