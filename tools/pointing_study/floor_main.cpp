@@ -188,6 +188,12 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--duration", duration, "simulated time [s] (default: the profile's track start + 5 s)");
   app.add_option("--markdown", markdown_path, "also write the tables as Markdown to this file");
   if (const auto rc = program::parse(app, argc, argv, kProgram)) return *rc;
+  // Its own keys: a --scene-set of them was replaced by the program's value, silently (pass 64).
+  if (const std::string why = program::overrideOfOwnKey(
+          "--scene-set", scene_sets, {{"sim.duration", "--duration"}, {"contact.clearance", "--clearances"}});
+      !why.empty()) {
+    return program::refuse(kProgram, why);
+  }
   if (app.count("--duration") && !(duration > 0.0 && std::isfinite(duration))) {
     return program::refuse(kProgram, "--duration: must be a positive number of seconds");
   }

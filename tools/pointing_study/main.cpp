@@ -96,6 +96,12 @@ int mainImpl(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--quick", quick, "smoke run: track start + 0.5 s, clearances 0.25 and 0.5 mm (unless given)");
   if (const auto rc = program::parse(app, argc, argv, "gimbalsim_pointing_study")) return *rc;
+  // Its own keys: a --scene-set of them was replaced by the study's value, silently (pass 64).
+  if (const std::string why = program::overrideOfOwnKey(
+          "--scene-set", scene_sets, {{"sim.duration", "--duration"}, {"contact.clearance", "--clearances"}});
+      !why.empty()) {
+    return program::refuse("gimbalsim_pointing_study", why);
+  }
   if (app.count("--duration") && !(duration > 0.0 && std::isfinite(duration))) {
     return refuse("--duration", "must be a positive number of seconds, got " + formatNumber(duration));
   }

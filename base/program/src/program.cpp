@@ -190,4 +190,18 @@ int refuse(const char* program, const InputError& e) {
   return kRefused;
 }
 
+std::string overrideOfOwnKey(const char* flag, const std::vector<std::string>& overrides,
+                             const std::vector<std::pair<std::string, std::string>>& own) {
+  for (std::size_t k = 0; k < overrides.size(); ++k) {
+    const std::string key = overrides[k].substr(0, overrides[k].find('='));
+    for (const auto& [owned, by] : own) {
+      if (key == owned) {
+        return std::string(flag) + " #" + std::to_string(k + 1) + " '" + overrides[k] + "': this program sets " +
+               key + " itself (" + by + "): give it there";
+      }
+    }
+  }
+  return "";
+}
+
 }  // namespace gimbalsim::program

@@ -22,6 +22,8 @@
 #include <new>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "gimbalsim/input/input_error.hpp"
 #include "gimbalsim/input/plain_decimal.hpp"
@@ -82,6 +84,12 @@ int refuse(const char* program, const std::string& what);
 int unwritable(const char* program, const std::string& what);
 /// Every problem as "error: <problem>", then "<program>: refused, nothing run"; kRefused.
 int refuse(const char* program, const InputError& e);
+
+/// A program's key=value overrides (--scene-set) against the keys it sets itself, each with the flag that
+/// sets it ({"sim.duration", "--duration"}): "" when none is given, else the refusal naming the first
+/// override (#k) and the flag to use (a given sim.duration was replaced by the program's own, silently).
+std::string overrideOfOwnKey(const char* flag, const std::vector<std::string>& overrides,
+                             const std::vector<std::pair<std::string, std::string>>& own);
 
 /// Opens /dev/null on each of stdin, stdout and stderr that is closed: a
 /// program started with `>&-` would otherwise give descriptor 1 or 2 to the
