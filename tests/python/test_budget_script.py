@@ -332,6 +332,33 @@ def test_the_shipped_page_is_made_in_a_checkout_without_out(tmp_path):
     assert sorted(os.listdir(root)) == ["docs", "out", "python", "tools"], "no check folder left"
 
 
+def test_the_real_sweep_finishes_an_interrupted_page_run_on_resume(tmp_path):
+    # The specs' check took --resume too, of its own folder that never exists: every --resume was refused.
+    import sys
+    root = checkout_with_spec(tmp_path, SPEC)
+    new = root / "out" / "pointing_budget.new"
+    new.parent.mkdir()
+    p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(root / "tools/sweeps/pointing_budget.yaml"),
+                        "--out", str(new), "--workers", "1", "--no-progress"], capture_output=True, text=True,
+                       timeout=300)
+    assert p.returncode == 0, p.stderr
+    # as an interruption leaves it: the first sample's row in the journal, nothing else
+    rows = (new / "results.csv").read_text().splitlines(keepends=True)
+    shutil.rmtree(new)
+    new.mkdir()
+    (new / "results.partial.csv").write_text("".join(rows[:2]))
+    env = dict(os.environ, GIMBALSIM_BUILD=str(pathlib.Path(os.environ["PYTHONPATH"]).parent))
+    p = subprocess.run(["bash", str(root / "tools/sweeps/run_pointing_budget.sh"), "--resume", "--workers", "1"],
+                       capture_output=True, text=True, timeout=300, env=env)
+    assert p.returncode == 0, p.stderr
+    assert "2 samples, 1 already done, 1 to run" in p.stderr, p.stderr
+    assert (root / "out/pointing_budget/results.csv").read_text().splitlines()[:2] == \
+        [r.rstrip("\n") for r in rows[:2]]
+    assert not new.exists()
+    assert "Regenerate: `bash tools/sweeps/run_pointing_budget.sh --workers 1`" in \
+        (root / "docs/results/pointing_budget.md").read_text()
+
+
 def test_an_interrupted_page_run_is_finished_by_resume_and_two_runs_are_refused(tmp_path):
     # An interrupted budget's folder was removed by the script while the sweep said "run again with
     # --resume"; and two runs at once wrote the same page and index.

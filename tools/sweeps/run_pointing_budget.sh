@@ -117,10 +117,16 @@ RESULTS=docs/results
 # Everything checked before any budget runs, so a refusal costs nothing (exit 2): every spec (the second
 # was refused only after the first budget's run), the page and this page's plots (a link there was found
 # only after both budgets had replaced the previous results).
+# SHOWN: the options given less --resume and --check. The page's command regenerates it with them, and the
+# checks below take them (a --resume of the check's own folder, which never exists, would refuse every run).
+SHOWN=() resume=0 check=0
+for a in "${ARGS[@]+"${ARGS[@]}"}"; do
+  case "$a" in --resume) resume=1 ;; --check) check=1 ;; *) SHOWN+=("$a") ;; esac
+done
 for spec in "${SPECS[@]}"; do
-  # (a name in the checkout, whose out/ may not exist yet: --check writes nothing), with the options given
+  # (a name in the checkout, whose out/ may not exist yet: --check writes nothing)
   PYTHONPATH="$PACKAGE" /usr/bin/python3 -m "gimbalsim.$MODULE" "$spec" --out "$ROOT/budget-check-$$" --check \
-    "${ARGS[@]+"${ARGS[@]}"}"
+    "${SHOWN[@]+"${SHOWN[@]}"}"
 done
 own_plots() {  # this page's plots now in docs/results (by index: pointing_budget_* would match another page's)
   local spec index png
@@ -166,10 +172,6 @@ if ! flock -n 9; then
        "wait for it to end" >&2
   exit 2
 fi
-SHOWN=() resume=0 check=0  # the page's command regenerates it: the options given, less --resume
-for a in "${ARGS[@]+"${ARGS[@]}"}"; do
-  case "$a" in --resume) resume=1 ;; --check) check=1 ;; *) SHOWN+=("$a") ;; esac
-done
 COMMAND="bash tools/sweeps/run_pointing_budget.sh${FLAG:+ $FLAG}"
 [ "${#SHOWN[@]}" = 0 ] || COMMAND+=$(printf ' %q' "${SHOWN[@]}")  # (printf with no words prints '')
 # Each budget into a fresh folder first: the previous results go only once every budget of the page has
