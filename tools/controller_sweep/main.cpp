@@ -12,6 +12,7 @@
 
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/controllers/pointing_controller.hpp"
+#include "gimbalsim/input/input_error.hpp"
 #include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
 #include "gimbalsim/pointing/profile_windows.hpp"
@@ -46,8 +47,19 @@ int mainImpl(int argc, char** argv) {
       !why.empty()) {
     return program::refuse("controller_sweep", why);
   }
+  // The loaders number their overrides --set #k: the scene's are this program's --scene-set #k.
+  std::vector<std::string> scene_labels;
+  for (std::size_t k = 0; k < scene_sets.size(); ++k) {
+    scene_labels.push_back("--scene-set #" + std::to_string(k + 1) + " '" + scene_sets[k] + "'");
+  }
   try {
-    const firmware::PlantScene ps = firmware::loadPlantScene(scene_path, scene_sets);
+    const firmware::PlantScene ps = [&] {
+      try {
+        return firmware::loadPlantScene(scene_path, scene_sets);
+      } catch (const InputError& e) {
+        throw InputError(relabelledProblems(e, scene_labels));
+      }
+    }();
     const Model& m = ps.scene.model;
     const ControllerConfig base = loadControllerConfig(config_path, sets);
     if (opt.duration <= 0.0) opt.duration = base.profile.trackStart() + 5.0;
