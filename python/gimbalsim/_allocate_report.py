@@ -52,8 +52,9 @@ def table(a, tried):
     return out
 
 
-def answer_lines(a, tried, result, runs):
-    """The answer in words, one line each (the console and the page)."""
+def answer_lines(a, tried, result, runs, ran):
+    """The answer in words, one line each (the console and the page). ran: the runs made by this invocation
+    (a resume reads the others back: a page's wall time is this invocation's)."""
     what = f"{a.index} {a.phase} <= {a.requirement:.4g} rad at {100 * a.level:.4g} % with {100 * a.confidence:.4g} %"
     unit = f" {a.unit}" if a.unit else ""
     kind = result["outcome"]
@@ -80,7 +81,9 @@ def answer_lines(a, tried, result, runs):
     if result["breaks"]:
         lines.append("not monotone: " + "; ".join(b["text"] for b in result["breaks"]) +
                      (" (the bracket is read from the favourable end)" if kind == "bracket" else ""))
-    lines.append(f"{len(tried)} values, {runs} runs ({runs // max(1, len(tried))} units each, common random numbers)")
+    lines.append(f"{len(tried)} values, {runs} runs ({runs // max(1, len(tried))} units each, common random numbers)" +
+                 (f"; {ran} of them run by this invocation, the others read back from an earlier one" if ran < runs
+                  else ""))
     return lines
 
 
@@ -133,7 +136,7 @@ def write(a, tried, result, runs, ran, out, inputs, csv_name):
     rows = [header(a, csv_name)] + table(a, tried)
     write_csv(out / CSV, rows, inputs)
     _plot(a, tried, result, out / PLOT, inputs)
-    lines = answer_lines(a, tried, result, runs)
+    lines = answer_lines(a, tried, result, runs, ran)
     plain = {"allocation": a.plain(), "outcome": result["outcome"], "bracket": result["bracket"],
              "answer": result["answer"], "best": result["best"], "monotone": result["monotone"],
              **({"monotone_note": result["monotone_note"]} if "monotone_note" in result else {}),
@@ -148,7 +151,12 @@ def write(a, tried, result, runs, ran, out, inputs, csv_name):
     page = [f"# Allocation: the {a.direction} {a.key}", "", *[f"- {line}" for line in lines], "",
             f"Spec `{a.path}`; each value's sweep (its results.csv, report.md) in `values/<tried>/`.", "",
             "| " + " | ".join(rows[0]) + " |", "|" + "---|" * len(rows[0])]
-    page += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows[1:]]
+    # The CSV's cells as written; the page says n/a with its reason where the CSV holds nan (never a bare nan).
+    page += ["| " + " | ".join("n/a" if c == "nan" else str(c) for c in r) + " |" for r in rows[1:]]
+    reasons = sorted({r["note"] or "no figure" for r in tried.values()
+                      if any(math.isnan(r[k]) for k in ("fraction_lower_bound", "estimate", "low", "high", "upper"))})
+    if reasons:
+        page += ["", "n/a: " + "; ".join(reasons) + "."]
     page += ["", f"![the index's quantile against {a.key}]({PLOT})", ""]
     write_text(out / PAGE, "\n".join(page), inputs)
     write_text(out / JSON, json_text(plain), inputs)

@@ -209,6 +209,19 @@ def test_no_value_meets_says_so_with_the_best_value(tmp_path):
     assert best["estimate_rad"] == x[math.ceil(len(x) * LEVEL) - 1] and all(best["interval_rad"])
 
 
+def test_the_page_says_why_a_bound_is_missing_never_a_bare_nan(tmp_path):
+    # 12 units give no two-sided interval at 90 % with 60 %: the CSV holds nan, its page held "| nan |" alone.
+    text = (BASE + ALLOCATE.format(requirement=REQUIREMENT, values=3)).replace("level: 0.8", "level: 0.9") \
+        .replace("confidence: 0.5", "confidence: 0.6").replace("samples: 8", "samples: 12")
+    p = run(write_spec(tmp_path, text), tmp_path / "out")
+    assert p.returncode in (0, 3), p.stderr
+    assert ",nan," in (tmp_path / "out" / "allocation.csv").read_text()  # the CSV convention
+    page = (tmp_path / "out" / "allocation.md").read_text()
+    table = [line for line in page.splitlines() if line.startswith("| ")]
+    assert len(table) == 4 and not any("| nan |" in line for line in table), page
+    assert "| n/a |" in table[1] and "\nn/a: 12 units give only a one-sided bound at 60% confidence.\n" in page, page
+
+
 def test_every_value_meets_says_the_limit_is_beyond_the_range(tmp_path):
     spec = write_spec(tmp_path, BASE + ALLOCATE.format(requirement=1.0e-2, values=3))
     p = run(spec, tmp_path / "out")
@@ -282,6 +295,9 @@ def test_resume_does_not_rerun_finished_values(tmp_path, bracketed):
     answer = json.loads((out / "allocation.json").read_text())
     assert answer["bracket"] == bracketed[1]["bracket"] and answer["runs_used"] == 48
     assert answer["ran_this_invocation"] <= 48 - 8 * len(finished)
+    # the page's wall time is this invocation's: it says how many runs it made
+    assert f"48 runs (8 units each, common random numbers); {answer['ran_this_invocation']} of them run by this " \
+        "invocation, the others read back" in (out / "allocation.md").read_text()
 
 
 def test_units_without_a_figure_are_worst_and_never_a_nan_bound(tmp_path):
