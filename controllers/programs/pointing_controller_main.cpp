@@ -73,10 +73,10 @@ int run(int argc, char** argv) {
       ->check(program::within(0.0, 1e9));
   app.add_option("--idle-exit", o.idle_exit, "wait at most this many wall seconds for the first status, then exit 6 "
                                              "(no peer) (0 = wait forever)")
-      ->check(program::within(0.0, 1e9));
+      ->check(program::zeroOrWithin(0.1, 1e9));  // the loop reads its clock every 0.1 s at least (kPollMs)
   app.add_option("--plant-timeout", o.plant_timeout, "after the first status, this many wall seconds without one "
                                                      "mean the plant has gone: say so, exit 6 (0 = never)")
-      ->capture_default_str()->check(program::within(0.0, 1e9));
+      ->capture_default_str()->check(program::zeroOrWithin(0.1, 1e9));  // (1e-300 declared a live plant gone)
   app.add_option("--log-csv", o.log_csv, "write one row per status answered: reference, measurement, torque");
   app.add_option("--spin-us", o.spin_us, "busy-poll up to US for the next status before sleeping: a lockstep "
                                          "plant's next status comes within microseconds [us, at most 100000]")

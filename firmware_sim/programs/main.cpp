@@ -49,10 +49,11 @@ void addOptions(CLI::App& app, Options& o) {
   app.add_option("--duration", o.duration, "simulated seconds to run (0 = until SIGINT/SIGTERM)")
       ->capture_default_str()->check(program::within(0.0, 1e9));
   app.add_flag("--lockstep", o.lockstep, "lockstep: tick k+1 waits for the command answering status k");
+  // The waits are counted in the receive's whole milliseconds: a shorter one (1e-300) ran as no wait at all.
   app.add_option("--lockstep-timeout-ms", o.lockstep_timeout_ms, "lockstep: wait at most this for an answer [ms]")
-      ->capture_default_str()->check(program::within(0.0, 1e9, true));
+      ->capture_default_str()->check(program::within(1.0, 1e9));
   app.add_option("--start-timeout", o.start_timeout_s, "lockstep: wait at most this for the first answer [s]")
-      ->capture_default_str()->check(program::within(0.0, 1e6, true));
+      ->capture_default_str()->check(program::within(1e-3, 1e6));
   app.add_option("--truth-every", o.truth_every, "publish truth every N ticks")
       ->capture_default_str()->check(program::wholeNumber())->check(CLI::Range(1, 1000000000));
   app.add_option("--truth-csv", o.truth_csv, "write every truth message to this CSV file");

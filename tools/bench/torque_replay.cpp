@@ -42,7 +42,7 @@ int mainImpl(int argc, char** argv) {
       ->check(CLI::Validator(gimbalsim::lcm_wire::lcmUrlProblem, "URL"));
   app.add_option("--channel-prefix", prefix, "prefix of every channel name");
   app.add_option("--idle-exit", idle_exit, "wait at most this many wall seconds for a status, then exit 6")
-      ->capture_default_str()->check(gimbalsim::program::within(0.0, 1e6, true));
+      ->capture_default_str()->check(gimbalsim::program::within(0.1, 1e6));  // its clock read every 0.1 s at least
   if (const auto rc = gimbalsim::program::parse(app, argc, argv, "torque_replay")) return *rc;
   if (const std::string why = gimbalsim::lcm_wire::defaultLcmUrlProblem(url); !why.empty()) {
     return gimbalsim::program::refuse("torque_replay", why);

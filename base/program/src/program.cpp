@@ -129,6 +129,22 @@ CLI::Validator within(double lo, double hi, bool above_lo) {
       "NUMBER " + range);
 }
 
+CLI::Validator zeroOrWithin(double lo, double hi) {
+  char text[96];
+  std::snprintf(text, sizeof text, "0 or in [%g, %g]", lo, hi);
+  const std::string range = text;
+  const CLI::Validator in_range = within(lo, hi);
+  return CLI::Validator(
+      [=](std::string& s) -> std::string {
+        char* end = nullptr;
+        if (std::strtod(s.c_str(), &end) == 0.0 && end != s.c_str() && *end == '\0') return {};
+        std::string copy = s;
+        const std::string why = in_range(copy);  // "not a number" as within() says it; a range in this one's words
+        return why.empty() || why.rfind("must be", 0) != 0 ? why : "must be " + range + ", got " + s;
+      },
+      "NUMBER " + range);
+}
+
 std::optional<int> parse(CLI::App& app, int argc, char** argv, const char* program) {
   // Every program's --version: the one string of version.hpp, as "<program> <version>".
   app.set_version_flag("--version", std::string(program) + " " + kVersion);

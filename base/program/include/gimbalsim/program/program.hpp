@@ -75,6 +75,8 @@ inline CLI::Validator wholeNumber() {
 /// above_lo, said plainly ("--rate: must be > 0 and at most 1e+06, got 0").
 /// (parse() also refuses anything but a plain finite decimal number.)
 CLI::Validator within(double lo, double hi, bool above_lo = false);
+/// within(lo, hi), or exactly 0 (a wait's "never"): "must be 0 or in [0.1, 1e+09], got 1e-300".
+CLI::Validator zeroOrWithin(double lo, double hi);
 
 /// "<program>: error: <what>" and "<program>: refused, nothing run" on stderr; kRefused.
 int refuse(const char* program, const std::string& what);
