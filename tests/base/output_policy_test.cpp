@@ -63,6 +63,12 @@ TEST_F(OutputPolicy, AFolderTheUserNamedMustExistTheDefaultOneIsMade) {
   EXPECT_EQ(outputFolderProblem(missing, false), "");
   EXPECT_TRUE(fs::is_directory(missing));
   EXPECT_EQ(outputFolderProblem((dir_ / "file" / "sub").string(), false).rfind("cannot make it: ", 0), 0u);
+  // a link to a folder is refused, named or default (pass 66: log2csv --out-dir wrote through it)
+  fs::create_directory_symlink(missing, dir_ / "linked");
+  for (const bool named : {true, false}) {
+    EXPECT_EQ(outputFolderProblem((dir_ / "linked").string(), named),
+              "is a link (to " + missing + "): name the folder itself");
+  }
 }
 
 TEST_F(OutputPolicy, TheNameAppearsOnlyAtCommit) {

@@ -396,6 +396,14 @@ TEST(Log2Csv, RefusesAMissingOutputFolderNamingIt) {
   EXPECT_EQ(WEXITSTATUS(st), 2) << msg;
   EXPECT_NE(msg.find("--out-dir '" + (dir / "missing/dir") + "': no such folder"), std::string::npos) << msg;
   EXPECT_FALSE(std::filesystem::exists(dir / "missing"));
+  // nor written through a link (pass 66: the CSVs went wherever it pointed)
+  std::filesystem::create_directory(dir / "real");
+  std::filesystem::create_directory_symlink(dir / "real", dir / "link");
+  const std::string linked = runCapture(kTool + " '" + path + "' --out-dir '" + (dir / "link") + "'", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 2) << linked;
+  EXPECT_NE(linked.find("--out-dir '" + (dir / "link") + "': is a link (to " + (dir / "real") + ")"), std::string::npos)
+      << linked;
+  EXPECT_TRUE(std::filesystem::is_empty(dir / "real"));
 }
 
 // A decoded message carrying a NaN or Inf is no row: a CSV cell holds no Inf, and a NaN needs its reason

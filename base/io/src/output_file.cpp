@@ -209,6 +209,10 @@ void writeFilesTogether(const std::vector<std::pair<std::string, std::string>>& 
 
 std::string outputFolderProblem(const std::string& dir, bool named_by_user) {
   std::error_code ec;
+  // A linked folder writes wherever the link points (pass 66): named, never followed, as the package's --out.
+  if (std::filesystem::is_symlink(dir, ec)) {
+    return "is a link (to " + std::filesystem::read_symlink(dir, ec).string() + "): name the folder itself";
+  }
   if (!named_by_user && !std::filesystem::is_directory(dir, ec)) {
     std::filesystem::create_directories(dir, ec);
     if (ec) return "cannot make it: " + ec.message();

@@ -40,7 +40,8 @@ void checkOutputPaths(const std::vector<std::string>& outputs, const std::vector
 /// The output folder of a tool: one the user named must already exist (a
 /// typo must not scatter results into a new folder), the default one is
 /// made. Returns "" when dir is a folder now, else why not ("no such folder
-/// (create it first)", "not a folder", or the reason it could not be made).
+/// (create it first)", "not a folder", "is a link (to T): name the folder
+/// itself", or the reason it could not be made).
 std::string outputFolderProblem(const std::string& dir, bool named_by_user);
 
 /// One writer per output folder: an exclusive lock on the folder itself
