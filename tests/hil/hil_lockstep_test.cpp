@@ -364,6 +364,12 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
       {write("resumed.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n0,0,0,0,0\n1,0.001,0,0,0\n2,0.001,0,0,8\n"
                             "3,0.002,0,0,8\n"),
        "resumed.csv:5: sim_time_s 0.002 after the plant's stop (frozen rows before it): not one run's ticks"},
+      // (pass 66) the stop is latched: a flag on one row before the run's stop was taken for the stop, and
+      // the faithful replay then called "not reproduced" (exit 8)
+      {write("flagonce.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n0,0,0,0,0\n1,0.001,0,0,8\n2,0.002,0,0,0\n"),
+       "flagonce.csv:4: column faults: 0 lacks FAULT_PLANT_FAULT (8), latched from line 3 on: not one run's ticks"},
+      {write("moveson.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm,faults\n0,0,0,0,0\n1,0.001,0,0,8\n2,0.002,0,0,8\n"),
+       "moveson.csv:4: sim_time_s 0.002 moves on after the plant's stop (line 3): not one run's ticks in order"},
   };
   for (const auto& c : cases) {
     int st = 0;

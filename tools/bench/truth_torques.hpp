@@ -97,6 +97,7 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
     return x;
   };
   std::size_t rows = 0;  // data rows read: row k is tick k
+  long long first_fault_line = 0;  // the line of the first row carrying FAULT_PLANT_FAULT (0: none yet)
   for (long long n = 2; next(); ++n, ++rows) {
     if (rows >= kMaxRows) throw std::runtime_error(name + ": more than 2000000 rows");
     // Every row has the header's fields (counted by commas: getline drops an empty last one).
@@ -144,8 +145,18 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
       }
       utime_prev = utime_us;
     }
-    if ((static_cast<long long>(faults) & kPlantFault) != 0 && t.first_fault_row == static_cast<std::size_t>(-1)) {
+    const bool faulted = (static_cast<long long>(faults) & kPlantFault) != 0;
+    const bool after_stop = t.first_fault_row != static_cast<std::size_t>(-1);  // a row after the stop's own
+    // The stop is latched: every later row carries it, its time standing still (pass 66: a flag on one row
+    // before the run's stop was taken for the stop, and the faithful replay called "not reproduced").
+    if (after_stop && !faulted) {
+      throw std::runtime_error(name + ":" + std::to_string(n) + ": column faults: " + f[cf] + " lacks " +
+                               "FAULT_PLANT_FAULT (8), latched from line " + std::to_string(first_fault_line) +
+                               " on: not one run's ticks");
+    }
+    if (faulted && !after_stop) {
       t.first_fault_row = t.tau1.size();
+      first_fault_line = n;
     }
     if (ct >= 0) {
       const double t_s = number(f, ct, n);
@@ -158,10 +169,12 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
         t.tau2.push_back(number(f, c2, n));
         continue;
       }
-      if (!(t_s > t_prev) || t.frozen_rows > 0) {
+      if (!(t_s > t_prev) || t.frozen_rows > 0 || after_stop) {
         throw std::runtime_error(name + ":" + std::to_string(n) + ": sim_time_s " + f[ct] +
                                  (t.frozen_rows > 0 ? " after the plant's stop (frozen rows before it)"
-                                                    : " is not after the previous row's") +
+                                  : after_stop ? " moves on after the plant's stop (line " +
+                                                     std::to_string(first_fault_line) + ")"
+                                               : " is not after the previous row's") +
                                  ": not one run's ticks in order");
       }
       // Tick k is at t_0 + k T (T from the first two rows), as the plant steps; a row carrying the stop may sit a
