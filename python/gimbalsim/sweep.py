@@ -108,17 +108,29 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         # first sample to run; either is kept for every round of --until.
         if cluster is None and scheduler:
             cluster = stack.enter_context(_cluster.dask_client(None, scheduler))
-        make_folder(out)
+        made = make_folder(out)
         _study_file.hold(out)  # before the journal is read: another sweep may be writing it
         take_design(spec, out, until)  # the samples --until added before (a resume holds them, no more)
         # the journal's rows, and results.csv's too when a resume finds one (a finished sweep resumed)
         done, dropped_in, appendable = read_for_resume(spec, journal, results, header)
         dropped = {}
-        write(fingerprint, spec.fingerprint)
-        _provenance.record_inputs(spec, out, write)
-        if not appendable:
-            # The journal is never cut in place: its trusted rows go to a new file that replaces it whole.
-            write(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
+        # A start that fails before its journal exists keeps nothing, as it says (pass 66: a full disk left
+        # spec.json and spec.yaml in a folder the run had made): what it wrote new goes, and that folder.
+        started = [p for p in (fingerprint, out / _provenance.SPEC_COPY, out / _provenance.INPUTS) if not p.exists()]
+        try:
+            write(fingerprint, spec.fingerprint)
+            _provenance.record_inputs(spec, out, write)
+            if not appendable:
+                # The journal is never cut in place: its trusted rows go to a new file that replaces it whole.
+                write(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
+        except BaseException:
+            if not journal.exists():
+                for p in started:
+                    with contextlib.suppress(OSError):
+                        p.unlink()
+                if made:
+                    _remove_empty_folder(out)
+            raise
         for read_from, reasons in dropped_in:
             for why, numbers in reasons.items():
                 dropped[why] = dropped.get(why, []) + numbers

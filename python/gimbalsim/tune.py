@@ -316,15 +316,18 @@ def _study_recorded(out):
     return True
 
 
-def _forget_unrecorded_study(out):
+def _forget_unrecorded_study(out, folder_before=True):
     """Removes a new study's files when it was never recorded: the database, its journal, a trials.csv with
-    no trial."""
+    no trial; and the folder, emptied, when this run made it (not folder_before)."""
     if _trials_kept(out):
         return
     for name in (STUDY_FILE, STUDY_FILE + "-journal", TRIALS):
         if os.path.lexists(out / name):  # (pass 59) on a read-only file system even a missing one fails: EROFS
             with contextlib.suppress(FileNotFoundError):
                 (out / name).unlink()
+    if not folder_before:
+        with contextlib.suppress(OSError):
+            out.rmdir()
 
 
 def _study_write_errors():
@@ -363,6 +366,7 @@ def _run(a, out):
     code (what goes wrong is raised, for guarded_main's exit code)."""
     check_out_dir(a.out, a.spec)
     made_before = (out / STUDY_FILE).exists()  # a study file this run did not make is never removed
+    folder_before = os.path.lexists(out)  # a folder this run made goes with its files (pass 66: left empty)
     spec = TuneSpec(a.spec)
     if spec.sampling["overrides"]:  # said when the runs step otherwise than the scene is written
         print(f"tune: stepping (sampling: {spec.sampling['mode']}): {spec.sampling['why']}", file=sys.stderr)
@@ -373,15 +377,16 @@ def _run(a, out):
         # a signal before the new study was recorded leaves files no run takes (a --resume and a plain run were
         # both refused over them, pass 56): they go, as after a failed write
         if not a.resume and not made_before and not _study_recorded(out):
-            _forget_unrecorded_study(out)
+            _forget_unrecorded_study(out, folder_before)
         raise
     except study_write_errors as e:  # the study's file refused a write (a full disk): what was told is kept
         if a.resume or _study_recorded(out):
             raise _study_file.write_failure(out, e, "run again with --resume") from None
         # A new study that failed before it was recorded: its files are this run's and hold nothing a resume
         # could take (a --resume and a plain run were both refused over them, pass 55); they go.
-        _forget_unrecorded_study(out)
-        raise _study_file.write_failure(out, e, "run again (nothing was kept)") from None
+        failure = _study_file.write_failure(out, e, "run again (nothing was kept)")  # asks in the folder: first
+        _forget_unrecorded_study(out, folder_before)
+        raise failure from None
     if summary is None:
         print(f"tune: no trial completed ({len(rows)} failed); see {a.out}/trials.csv and summary.json",
               file=sys.stderr)

@@ -192,6 +192,25 @@ def test_a_sweep_stopped_before_its_journal_says_nothing_was_kept(tmp_path):
 
 
 
+FULL_AT_THE_INPUTS = FULL_AT_THE_FIRST_WRITE.replace("sw.write_text = full", """real = sw.write_text
+sw.write_text = lambda path, text, inputs=(): (full if path.name == "inputs.json" else real)(path, text, inputs)""")
+
+
+def test_a_sweep_whose_start_fails_takes_back_what_it_wrote(tmp_path):
+    # (pass 66) "nothing kept", yet spec.json and spec.yaml stayed in the folder the run had made
+    spec = spec_file(tmp_path / "s.yaml", SWEEP)
+    out = tmp_path / "o"
+    p = subprocess.run([sys.executable, "-c", FULL_AT_THE_INPUTS, str(spec), "--out", str(out), "--no-progress",
+                        "--workers", "1"], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 4 and "inputs.json: could not be written" in p.stderr, p.stderr
+    assert "nothing kept" in p.stderr and not out.exists(), sorted(os.listdir(out))
+    # a folder the user made stays, emptied of what the run wrote
+    out.mkdir()
+    p = subprocess.run([sys.executable, "-c", FULL_AT_THE_INPUTS, str(spec), "--out", str(out), "--no-progress",
+                        "--workers", "1"], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 4 and os.listdir(out) == [], sorted(os.listdir(out))
+
+
 def test_an_out_folder_that_cannot_be_made_is_not_told_to_free_space(tmp_path):
     # (pass 58) /proc/sw cannot be made (no such file or directory): exit 4, and the advice was "free the space"
     spec = spec_file(tmp_path / "s.yaml", SWEEP)
