@@ -94,9 +94,8 @@ int run(int argc, char** argv) {
     std::fputs((o.markdown ? keysMarkdown(all) : keysText(all)).c_str(), stdout);
     return program::kOk;
   }
-  if (!contract::Channels::validPrefix(o.prefix)) {
-    return program::refuse("pointing_controller",
-                           "--channel-prefix '" + o.prefix + "': only A-Z, 0-9 and '_' allowed");
+  if (const std::string why = contract::Channels::prefixProblem(o.prefix); !why.empty()) {
+    return program::refuse("pointing_controller", "--channel-prefix '" + o.prefix + "': " + why);
   }
   ControllerConfig c;
   try {

@@ -159,8 +159,8 @@ int mainImpl(int argc, char** argv) {
   app.add_flag("--list", list, "list the channels in the log with message counts and types, then exit");
   if (const auto rc = program::parse(app, argc, argv, "gimbalsim_log2csv")) return *rc;
   prefix_given = app.count("--channel-prefix") > 0;
-  if (prefix_given && !Channels::validPrefix(prefix)) {
-    return refuse("--channel-prefix '" + prefix + "': only A-Z, 0-9 and '_' allowed");
+  if (const std::string why = Channels::prefixProblem(prefix); prefix_given && !why.empty()) {
+    return refuse("--channel-prefix '" + prefix + "': " + why);
   }
   Type forced = Type::Unknown;
   if (!type_name.empty()) {
@@ -266,7 +266,7 @@ int mainImpl(int argc, char** argv) {
   std::map<std::string, std::string> paths;
   for (const auto& [ch, t] : selected) {
     // A channel name comes from the log: one such as "/../../x" would have named a file outside the folder.
-    if (out_file.empty() && !Channels::validPrefix(ch)) {
+    if (out_file.empty() && !Channels::upperSnake(ch)) {
       return refuse("--channel '" + ch + "': only A-Z, 0-9 and '_' can name its CSV file; give --out FILE");
     }
     const std::string path = !out_file.empty() ? out_file : (dir / (stem + "_" + ch + ".csv")).string();

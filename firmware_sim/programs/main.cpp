@@ -126,8 +126,8 @@ int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
       o.duration != 0.0 && !why.empty()) {
     return refuse("--duration " + CLI::detail::to_string(o.duration) + ": " + why);
   }
-  if (!Channels::validPrefix(o.prefix)) {
-    return refuse("--channel-prefix '" + o.prefix + "': only A-Z, 0-9 and '_' (channel names are UPPER_SNAKE)");
+  if (const std::string why = Channels::prefixProblem(o.prefix); !why.empty()) {
+    return refuse("--channel-prefix '" + o.prefix + "': " + why);
   }
   if (!o.profile.empty()) {
     try {

@@ -47,8 +47,8 @@ int mainImpl(int argc, char** argv) {
   if (const std::string why = gimbalsim::lcm_wire::defaultLcmUrlProblem(url); !why.empty()) {
     return gimbalsim::program::refuse("torque_replay", why);
   }
-  if (!gimbalsim::contract::Channels::validPrefix(prefix)) {
-    return refuse("torque_replay", "--channel-prefix '" + prefix + "': only A-Z, 0-9 and '_' allowed");
+  if (const std::string why = gimbalsim::contract::Channels::prefixProblem(prefix); !why.empty()) {
+    return refuse("torque_replay", "--channel-prefix '" + prefix + "': " + why);
   }
   Torques t;
   try {

@@ -3,6 +3,7 @@
 // several benches share one network: BENCH2_GIMBAL_COMMAND, ...
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace gimbalsim::contract {
@@ -34,11 +35,26 @@ struct Channels {
     return c;
   }
 
-  /// A prefix keeps the names UPPER_SNAKE: only A-Z, 0-9 and '_'.
-  static bool validPrefix(const std::string& prefix) {
-    for (char ch : prefix) {
-      const bool ok = (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '_';
-      if (!ok) return false;
+  /// LCM sends no channel name longer than this (LCM_MAX_CHANNEL_NAME_LENGTH): a longer one fails every publish.
+  static constexpr std::size_t kMaxChannelName = 63;
+
+  /// Why `prefix` cannot prefix the names ("" when it can): they stay UPPER_SNAKE (only A-Z, 0-9 and '_'),
+  /// and each within LCM's length (pass 66: a 50-character prefix lost every command and attitude message).
+  static std::string prefixProblem(const std::string& prefix) {
+    if (!upperSnake(prefix)) return "only A-Z, 0-9 and '_' allowed (channel names are UPPER_SNAKE)";
+    const std::size_t longest = std::string(kLoopStats).size();
+    if (prefix.size() + longest > kMaxChannelName) {
+      return "at most " + std::to_string(kMaxChannelName - longest) + " characters: LCM names no channel longer than " +
+             std::to_string(kMaxChannelName) + " (" + kLoopStats + " would have " +
+             std::to_string(prefix.size() + longest) + ")";
+    }
+    return "";
+  }
+  static bool validPrefix(const std::string& prefix) { return prefixProblem(prefix).empty(); }
+  /// Only A-Z, 0-9 and '_' (a channel name that can also name a file).
+  static bool upperSnake(const std::string& text) {
+    for (char ch : text) {
+      if (!((ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '_')) return false;
     }
     return true;
   }
