@@ -57,6 +57,13 @@ struct Options {
   bool print_config = false;
 };
 
+/// An OutputFile's "<path>: write failed" with the system's reason the writer kept (none: as it is).
+std::string withReason(const std::string& error, const char* reason) {
+  const std::string plain = "write failed";
+  const bool bare = error.size() >= plain.size() && error.compare(error.size() - plain.size(), plain.size(), plain) == 0;
+  return bare && *reason ? error + ": " + reason : error;
+}
+
 int run(int argc, char** argv) {
   CLI::App app{"Pointing controller: answers every gimbal status with a torque command over LCM"};
   Options o;
@@ -169,7 +176,7 @@ int run(int argc, char** argv) {
     if (h.answered() > before) last_answer_ns = now;
     if (log_out && !log_out->ok()) {
       std::fprintf(stderr, "pointing_controller: --log-csv %s: %s; stopping\n", o.log_csv.c_str(),
-                   log_out->error().empty() ? "write failed" : log_out->error().c_str());
+                   withReason(log_out->error().empty() ? "write failed" : log_out->error(), h.logFailure()).c_str());
       code = program::kOutput;
       break;
     }
@@ -221,7 +228,7 @@ int run(int argc, char** argv) {
   // stopped, as firmware_sim's own exit says (3), never a success.
   if (code == program::kOk && !std::isnan(h.plantStoppedTime())) code = program::kStopped;
   if (log_out && !log_out->commit()) {
-    std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", log_out->error().c_str());
+    std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", withReason(log_out->error(), h.logFailure()).c_str());
     if (code == program::kOk) code = program::kOutput;
   }
   // A run that ended before the track has no tracking figure: n/a with the reason, never 0.

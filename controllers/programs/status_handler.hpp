@@ -8,9 +8,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <string>
 
@@ -32,6 +34,9 @@ class StatusHandler {
  public:
   StatusHandler(const ControllerConfig& c, lcm_wire::UdpmSender& tx, const contract::Channels& ch, std::FILE* csv)
       : c_(c), tx_(tx), ch_(ch), csv_(csv) {}
+
+  /// The system's reason for the first failed --log-csv row ("" while none failed).
+  const char* logFailure() const noexcept { return log_errno_ != 0 ? std::strerror(log_errno_) : ""; }
 
   /// One received message; the channel says which handler. now_ns: CLOCK_MONOTONIC.
   void onMessage(const lcm_wire::Message& m, std::int64_t now_ns) {
@@ -210,13 +215,17 @@ class StatusHandler {
                          : finite   ? ""
                                     : "a value computed from the reading is not finite (an overflow)";
     n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), ",%s\n", reason);
-    std::fwrite(line, 1, static_cast<std::size_t>(n), csv_);
+    // The system's reason, kept at the failing write: the stream's flag alone loses it (pass 66: "write failed")
+    if (std::fwrite(line, 1, static_cast<std::size_t>(n), csv_) != static_cast<std::size_t>(n) && log_errno_ == 0) {
+      log_errno_ = errno != 0 ? errno : EIO;
+    }
   }
 
   const ControllerConfig& c_;
   lcm_wire::UdpmSender& tx_;
   const contract::Channels& ch_;
   std::FILE* csv_;
+  int log_errno_ = 0;  ///< errno of the first failed --log-csv write (0: none)
   ControllerState state_;
   contract::Attitude attitude_{.seq = -1};  ///< the newest attitude message (seq -1: none yet)
   long long unpaired_ = 0;        ///< statuses without the attitude of their tick (gyro rate held)

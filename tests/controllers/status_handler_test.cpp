@@ -3,8 +3,10 @@
 // "max |joint error| while tracking 0.000e+00 rad" (pass 63): a figure over nothing.
 #include <gtest/gtest.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <utility>
@@ -80,6 +82,21 @@ TEST(StatusHandler, TheLogWritesNanWithItsReasonNeverInf) {
       << lines[3];
   EXPECT_GE(h.notFinite(), 1);
   for (const std::string& l : lines) EXPECT_EQ(l.find("inf"), std::string::npos) << l;
+}
+
+// A --log-csv row that cannot be written keeps the system's reason (pass 66: "write failed" alone on a full disk).
+TEST(StatusHandler, AFailedLogRowKeepsTheSystemsReason) {
+  const ControllerConfig c = loadControllerConfig(test::defaultControllerConfig());
+  lcm_wire::UdpmSender tx;
+  std::FILE* f = std::fopen("/dev/full", "w");  // every write that reaches it: ENOSPC
+  ASSERT_NE(f, nullptr);
+  std::setvbuf(f, nullptr, _IONBF, 0);
+  StatusHandler h(c, tx, contract::Channels::withPrefix(""), f);
+  EXPECT_STREQ(h.logFailure(), "");
+  const std::vector<std::uint8_t> b = status(0, 0.0);
+  h.onStatus(b.data(), static_cast<int>(b.size()));
+  EXPECT_STREQ(h.logFailure(), std::strerror(ENOSPC));
+  std::fclose(f);
 }
 
 }  // namespace
