@@ -120,7 +120,10 @@ def test_a_bad_number_is_refused_naming_the_flag_not_what_the_script_made_of_it(
                        (["--port", "07815"], "without a leading zero, got '07815'"),
                        # (pass 36) passed by the script as 0 s, refused by pointing_controller under another name
                        (["--duration", "1e-400"], "run_hil_bench.sh: --duration: '1e-400' is too small for a double"),
-                       (["--rate", "+0"], "run_hil_bench.sh: --rate: must be in [0.001, 1e+06], got +0")):
+                       (["--rate", "+0"], "run_hil_bench.sh: --rate: must be in [0.001, 1e+06], got +0"),
+                       # (pass 66) awk read 10, firmware_sim refused it only after the controller had started
+                       (["--rate", "010"], "run_hil_bench.sh: --rate: '010' is not a number written without a "
+                                           "leading zero")):
         p = bench(tmp_path / "new", "--no-plot", *args)
         assert p.returncode == 2 and says in p.stderr and "control.period" not in p.stderr, p.stderr
         assert "firmware_sim" not in p.stderr and not (tmp_path / "new").exists(), p.stderr
@@ -259,3 +262,30 @@ def test_a_value_that_is_a_flag_is_a_missing_value_and_a_name_with_one_dash_is_a
     p = run("--duration", "0.2", "--no-plot", "--out", "-res", "--scene", "-sc.yaml", cwd=tmp_path)
     assert p.returncode == 0, p.stderr
     assert sorted(os.listdir(tmp_path / "-res")) == ["controller.csv", "controller.txt", "firmware.txt", "truth.csv"]
+
+
+def test_an_out_that_cannot_be_written_is_exit_4_said_by_the_script(tmp_path):
+    # (pass 66) mkdir and mktemp failed under set -e: exit 1, a bash line number, no message of the script's
+    p = bench("/proc/gimbalsim_bench", "--duration", "0.2", "--no-plot")
+    assert p.returncode == 4 and "run_hil_bench.sh: --out /proc/gimbalsim_bench: cannot make it" in p.stderr, p.stderr
+    p = bench("/proc/1", "--duration", "0.2", "--no-plot")  # a folder no file can be made in
+    assert p.returncode == 4 and "run_hil_bench.sh: --out /proc/1: cannot write in it" in p.stderr, p.stderr
+    assert "line " not in p.stderr, p.stderr
+
+
+def test_a_recorder_that_failed_ends_the_run_with_its_code(tmp_path):
+    # (pass 66) the recorder (its log on a full disk: exit 4) had ended; the script's own kill of it failed
+    # under set -e: exit 1, "kill: No such process". A stand-in recorder that fails the same way.
+    fake = tmp_path / "build" / "bin"
+    fake.mkdir(parents=True)
+    for name in ("firmware_sim", "pointing_controller", "gimbalsim_log2csv"):
+        (fake / name).symlink_to(BIN / name)
+    (fake / "gimbalsim_record").write_text("#!/bin/sh\necho 'gimbalsim_record: error: write failed: No space left "
+                                           "on device' >&2\nexit 4\n")
+    (fake / "gimbalsim_record").chmod(0o755)
+    (tmp_path / "o").mkdir()
+    (tmp_path / "o" / "truth.csv").write_text("previous\n")
+    p = bench(tmp_path / "o", "--duration", "0.2", "--no-plot", "--log", build=str(fake.parent))
+    assert p.returncode == 4 and "gimbalsim_record exited with 4; nothing in" in p.stderr, p.stderr
+    assert "No such process" not in p.stderr and sorted(os.listdir(tmp_path / "o")) == ["truth.csv"], p.stderr
+    assert (tmp_path / "o" / "truth.csv").read_text() == "previous\n"

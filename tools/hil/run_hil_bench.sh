@@ -60,6 +60,9 @@ number() {  # number FLAG VALUE LO HI: a plain decimal number in [LO, HI], else 
   # read as the programs read it (a sign allowed; 1e-400, which would read as 0, refused: usage.md "Exit codes")
   [[ "$2" =~ ^[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?$ ]] ||
     { echo "run_hil_bench.sh: $1: '$2' is not a plain decimal number" >&2; exit 2; }
+  # 010: awk reads 10, the programs refuse it (C would read octal 8): refused here, before anything starts
+  [[ ! "$2" =~ ^[-+]?0[0-9] ]] ||
+    { echo "run_hil_bench.sh: $1: '$2' is not a number written without a leading zero" >&2; exit 2; }
   ! awk -v x="$2" -v m="${2%%[eE]*}" 'BEGIN { v = x + 0; if (v < 0) v = -v
       exit !((v == 0 && m ~ /[1-9]/) || (v > 0 && v < 2.2250738585072014e-308)) }' ||
     { echo "run_hil_bench.sh: $1: '$2' is too small for a double (it would be read as 0 or lose its digits)" >&2
@@ -206,8 +209,16 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
     [ -z "$clash" ] || { echo "run_hil_bench.sh: ${outs[k]}: $clash; nothing run" >&2; exit 2; }
   done
   # A folder made for this run goes again if the run does not end well (a refused run leaves nothing).
-  [ "$OUT_GIVEN" = 1 ] || mkdir -p "$parent"  # the default out/bench: out/ is the project's
-  if [ ! -d "$OUT" ]; then mkdir "$OUT" && export GIMBALSIM_BENCH_MADE_OUT=1; fi
+  # A folder that cannot be made is an output not written (exit 4), said as such (set -e ended it with 1).
+  cannot_make() {
+    echo "run_hil_bench.sh: --out $OUT: cannot make $1 (the system's reason above); nothing run" >&2
+    exit 4
+  }
+  [ "$OUT_GIVEN" = 1 ] || mkdir -p "$parent" || cannot_make "$parent"  # the default out/bench: out/ is the project's
+  if [ ! -d "$OUT" ]; then
+    mkdir "$OUT" || cannot_make it
+    export GIMBALSIM_BENCH_MADE_OUT=1
+  fi
   OUT="$(cd "$OUT" && pwd)"
   export GIMBALSIM_BUILD="$BUILD"
   SCENE="$(realpath -- "$SCENE")" CONFIG="$(realpath -- "$CONFIG")"
@@ -229,7 +240,10 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
 fi
 
 # ---- inside the namespace: the run's files go to RUN, moved into OUT when it ended well
-RUN="$(mktemp -d "$OUT/.run.XXXXXX")"
+RUN="$(mktemp -d "$OUT/.run.XXXXXX")" ||
+  { echo "run_hil_bench.sh: --out $OUT: cannot write in it (the system's reason above); nothing run" >&2
+    [ "${GIMBALSIM_BENCH_MADE_OUT:-0}" != 1 ] || rmdir "$OUT" 2>/dev/null || true
+    exit 4; }
 cd "$RUN"
 pids=()
 ended_well=0
@@ -268,8 +282,12 @@ set -e
 ctl_rc=0
 wait "$CTL" 2>/dev/null || ctl_rc=$?
 if [ "$LOG" = 1 ]; then
-  sleep 0.2; kill -INT "$LOGGER"; wait "$LOGGER" 2>/dev/null || true
-  "$BIN/gimbalsim_log2csv" bench.lcmlog --out-dir "$RUN"
+  # The recorder may have ended already (its log could not be written: exit 4); its own code ends the run.
+  sleep 0.2; kill -INT "$LOGGER" 2>/dev/null || true
+  log_rc=0; wait "$LOGGER" 2>/dev/null || log_rc=$?
+  [ "$log_rc" -eq 0 ] || [ "$log_rc" -eq 130 ] || failed "gimbalsim_record exited with $log_rc" "$log_rc"
+  log_rc=0; "$BIN/gimbalsim_log2csv" bench.lcmlog --out-dir "$RUN" || log_rc=$?
+  [ "$log_rc" -eq 0 ] || failed "gimbalsim_log2csv exited with $log_rc" "$log_rc"
 fi
 # A plant that stopped (exit 3) wrote its truth up to the stop: kept, as every script keeps such a run
 # (usage.md "Scripts in tools/"); the controller it left waiting was stopped by us (SIGTERM: 143, its log whole)
