@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/dynamics/variant.hpp"
@@ -283,6 +285,27 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
 }
 
 }  // namespace
+
+std::string idleSceneOverride(const char* flag, const std::vector<std::string>& overrides) {
+  // What this loop never reads (python/gimbalsim/_idle_keys.py refuses the same in a sweep's or tuner's spec).
+  static const std::pair<const char*, const char*> kIdle[] = {
+      {"sim.output_interval", "the closed loop records every control period"},
+      {"torque.tau1", "the controller commands the torque"},
+      {"torque.tau2", "the controller commands the torque"},
+      {"sim.momentum_tol", "the closed loop checks no invariant: only an open-loop run stops on it"},
+      {"sim.energy_tol", "the closed loop checks no invariant: only an open-loop run stops on it"},
+      {"name", "the scene's label: no run reads it"}};
+  for (std::size_t k = 0; k < overrides.size(); ++k) {
+    const std::string key = overrides[k].substr(0, overrides[k].find('='));
+    for (const auto& [idle, why] : kIdle) {
+      if (key == idle) {
+        return std::string(flag) + " #" + std::to_string(k + 1) + " '" + overrides[k] + "': not read by the closed " +
+               "loop (" + why + "): the value would be recorded but never act";
+      }
+    }
+  }
+  return "";
+}
 
 std::string controlPeriodProblem(const PlantScene& ps, double control_period) {
   Config fc;

@@ -47,6 +47,10 @@ int mainImpl(int argc, char** argv) {
       !why.empty()) {
     return program::refuse("controller_sweep", why);
   }
+  // Keys the closed loop never reads: recorded with the runs, acting on none (pass 66: torque.tau1=1000 ran as 0).
+  if (const std::string why = firmware::idleSceneOverride("--scene-set", scene_sets); !why.empty()) {
+    return program::refuse("controller_sweep", why);
+  }
   // The loaders number their overrides --set #k: the scene's are this program's --scene-set #k.
   std::vector<std::string> scene_labels;
   for (std::size_t k = 0; k < scene_sets.size(); ++k) {

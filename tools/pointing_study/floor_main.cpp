@@ -194,6 +194,10 @@ int mainImpl(int argc, char** argv) {
       !why.empty()) {
     return program::refuse(kProgram, why);
   }
+  // Keys the closed loop never reads: recorded with the runs, acting on none (pass 66: torque.tau1=1000 ran as 0).
+  if (const std::string why = firmware::idleSceneOverride("--scene-set", scene_sets); !why.empty()) {
+    return program::refuse(kProgram, why);
+  }
   if (app.count("--duration") && !(duration > 0.0 && std::isfinite(duration))) {
     return program::refuse(kProgram, "--duration: must be a positive number of seconds");
   }

@@ -15,6 +15,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "gimbalsim/contract/controller_port.hpp"
 #include "gimbalsim/dynamics/step_result.hpp"
@@ -146,6 +147,13 @@ struct ClosedLoopResult {
 /// plant scene ps ("" when it can: a whole multiple of sim.step, as
 /// checkConfig wants); the tools refuse it before any run (exit 2).
 std::string controlPeriodProblem(const PlantScene& ps, double control_period);
+
+/// The first of `overrides` (key=value) that runClosedLoop never reads, as a
+/// refusal naming `flag` #k and why ("" when none): sim.output_interval (it
+/// records every control period), torque.tau1/tau2 (the controller commands
+/// the torque), sim.momentum_tol/energy_tol (no invariant is checked), name.
+/// A study's override of one would be recorded with its runs and never act.
+std::string idleSceneOverride(const char* flag, const std::vector<std::string>& overrides);
 
 /// Runs the controller on the plant for opt.duration (ticks 0 ..
 /// round(duration / period), the last one not stepped); the truth pointing
