@@ -156,7 +156,7 @@ def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     output_file.add_version(p)
-    p.add_argument("--build", default="build", help="build directory (relative to the source tree)")
+    output_file.add_build(p)
     p.add_argument("--baseline-bench", help="gimbalsim_bench built from an older commit (the 'before')")
     p.add_argument("--baseline-name", default="baseline", help="what the baseline is, e.g. its commit")
     p.add_argument("--rounds", type=output_file.arg_whole(1, 10**6), default=5,

@@ -121,7 +121,7 @@ def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     output_file.add_version(p)
-    p.add_argument("--build", default="build", help="build directory holding bin/ (relative to the source tree)")
+    output_file.add_build(p)
     p.add_argument("--reps", type=output_file.arg_whole(1, 10**6), default=9, help="benchmark repetitions (medians)")
     p.add_argument("--runs", type=output_file.arg_whole(1, 10**6), default=7,
                    help="lockstep runs per way, alternating (medians)")

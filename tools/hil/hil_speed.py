@@ -341,7 +341,7 @@ def main():
                         "firmware loop thread still raises itself to 80); 0 = SCHED_OTHER")
     p.add_argument("--cpu", type=output_file.arg_whole(-1, 4095), default=1,
                    help="CPU of firmware_sim's loop thread and of cyclictest's thread (-1: no pinning)")
-    p.add_argument("--build", default="build", help="build directory holding bin/ (relative to the source tree)")
+    output_file.add_build(p)
     p.add_argument("--skip-sweep", action="store_true")
     p.add_argument("--skip-lockstep", action="store_true")
     p.add_argument("--skip-long", action="store_true")

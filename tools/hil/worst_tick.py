@@ -274,7 +274,7 @@ def main():
                    help="comma-separated scene names (tools/scenes/NAME.yaml) for part B")
     p.add_argument("--cpu", type=output_file.arg_whole(-1, 4095), default=1,
                    help="part B: CPU of firmware_sim's loop thread (-1: no pinning)")
-    p.add_argument("--build", default="build", help="build directory holding bin/ (relative to the source tree)")
+    output_file.add_build(p)
     p.add_argument("--results", action="store_true", help="also write " + PAGE)
     a = p.parse_args()
     import results_page  # (on the path hil_speed set)

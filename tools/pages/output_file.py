@@ -152,6 +152,16 @@ def add_version(parser):
     parser.add_argument("--version", action=_Version)
 
 
+def add_build(parser, holding="bin/"):
+    """--build DIR: the build folder the script takes its programs (or package) from, as an absolute path.
+    A relative DIR is read where the user stands, as every path a script is given (docs/usage.md "Scripts in
+    tools/"; pass 66: it was read against the source tree); absent, the checkout's build/."""
+    root = pathlib.Path(__file__).resolve().parents[2]
+    parser.add_argument("--build", type=lambda text: os.path.abspath(text), default=str(root / "build"),
+                        help=f"build directory holding {holding} (default: the checkout's build/; a relative one "
+                             "is read where you stand)")
+
+
 def arg_whole(lo, hi):
     """An argparse type: a whole number in [lo, hi] written as one (no space,
     '_' or exponent), as the programs read their integer flags."""

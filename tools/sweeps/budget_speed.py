@@ -272,7 +272,7 @@ def main():
     p = argparse.ArgumentParser(allow_abbrev=False, description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     output_file.add_version(p)
-    p.add_argument("--build", default="build", help="build directory holding python/ (relative to the source tree)")
+    output_file.add_build(p, holding="python/")
     p.add_argument("--spec", default=str(SHIPPED), help="closed-loop sweep spec (default: the shipped budget)")
     p.add_argument("--workers", type=output_file.arg_whole(1, 4 * (os.cpu_count() or 1)), default=2,
                    help="local Dask workers of each run (as the sweep: 4 per core of this machine at most)")
@@ -291,7 +291,7 @@ def main():
         p.error("--results writes the page for the whole spec: leave out --samples")
     if a.results and pathlib.Path(a.spec).name not in PAGES:
         p.error(f"--results writes the page of a shipped budget ({', '.join(PAGES)}): leave it out for {a.spec}")
-    build = (ROOT / a.build) if not os.path.isabs(a.build) else pathlib.Path(a.build)
+    build = pathlib.Path(a.build)
     if not (build / "python" / "gimbalsim" / "__init__.py").is_file():
         p.error(f"no gimbalsim package in {build / 'python'}: cmake --build {a.build} -j2 --target gimbalsim_python")
     spec_path = pathlib.Path(a.spec).resolve()
