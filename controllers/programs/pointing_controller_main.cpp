@@ -60,7 +60,8 @@ struct Options {
 /// An OutputFile's "<path>: write failed" with the system's reason the writer kept (none: as it is).
 std::string withReason(const std::string& error, const char* reason) {
   const std::string plain = "write failed";
-  const bool bare = error.size() >= plain.size() && error.compare(error.size() - plain.size(), plain.size(), plain) == 0;
+  const bool bare =
+      error.size() >= plain.size() && error.compare(error.size() - plain.size(), plain.size(), plain) == 0;
   return bare && *reason ? error + ": " + reason : error;
 }
 
