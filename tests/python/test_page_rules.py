@@ -97,12 +97,15 @@ def test_check_and_index_take_their_own_flags_alone(tmp_path):
 
 
 @pytest.mark.parametrize("script", ["tools/hil/hil_speed.py", "tools/hil/worst_tick.py", "tools/bench/loop_cost.py",
-                                    "tools/bench/tick_parts.py"])
-def test_a_missing_program_is_a_refusal(tmp_path, script):
-    # (pass 46) sys.exit("... missing") was exit 1, the code for a bug; hil_speed's hint named build/ always
+                                    "tools/bench/tick_parts.py", "tools/sweeps/budget_speed.py",
+                                    "tools/bench/perf_report.py"])
+def test_a_missing_program_is_a_refusal_read_where_the_user_stands(tmp_path, script):
+    # (pass 46) sys.exit("... missing") was exit 1, the code for a bug; hil_speed's hint named build/ always.
+    # (pass 66) a relative --build was read against the source tree, not where the user stands.
     p = subprocess.run([sys.executable, str(SOURCE / script), "--build", "nosuch"], cwd=tmp_path,
                        capture_output=True, text=True, timeout=60)
-    assert p.returncode == 2 and "missing" in p.stderr and "cmake --build nosuch" in p.stderr, p.stderr
+    assert p.returncode == 2 and f"cmake --build {tmp_path / 'nosuch'} " in p.stderr, p.stderr
+    assert str(SOURCE / "nosuch") not in p.stderr and "Traceback" not in p.stderr, p.stderr
 
 
 def _repository(tmp_path):
