@@ -23,11 +23,19 @@ def _writer(*args, cwd, stdin=None):
                           timeout=60)
 
 
-@pytest.mark.parametrize("flag,value,said", [("--t0", "abc", "'abc' is not a finite decimal number"),
+DATE_WRITES = "is not as date +%s.%N writes a time (digits, a point, digits)"
+
+
+@pytest.mark.parametrize("flag,value,said", [("--t0", "abc", "'abc' " + DATE_WRITES),
                                              ("--t0", "", "an empty value"),
-                                             ("--t0", "nan", "'nan' is not a finite decimal number"),
-                                             ("--t0", "1e300", "1e300 is no start time"),
-                                             ("--t0", "0", "0 is no start time"),
+                                             ("--t0", "nan", "'nan' " + DATE_WRITES),
+                                             ("--t0", "1e300", "'1e300' " + DATE_WRITES),
+                                             ("--t0", "0", "'0' " + DATE_WRITES),
+                                             # (pass 67) a page said "Run: 796384552 s wall" for these
+                                             ("--t0", "1e9", "'1e9' " + DATE_WRITES),
+                                             ("--t0", "+1700000000", "'+1700000000' " + DATE_WRITES),
+                                             ("--t0", "1000000000", "1000000000 is no start time of a study run "
+                                                                    "on this machine"),
                                              ("--load0", "abc", "'abc' is not /proc/loadavg"),
                                              ("--load0", "0.5 nan 1", "'0.5 nan 1' is not /proc/loadavg"),
                                              ("--load0", "01 2 3", "'01 2 3' is not /proc/loadavg"),
@@ -47,7 +55,8 @@ def test_a_start_the_header_cannot_say_is_refused(tmp_path, flag, value, said):
 def test_a_start_as_the_run_scripts_note_it_is_taken(tmp_path):
     (tmp_path / "b.md").write_text("body\n")
     load = open("/proc/loadavg").read()
-    p = _writer("--page", "x.md", "--title", "T", "--command", "c", "--body", "b.md", "--t0", "1700000000.25",
+    import time
+    p = _writer("--page", "x.md", "--title", "T", "--command", "c", "--body", "b.md", "--t0", f"{time.time() - 5:.9f}",
                 "--load0", load, cwd=tmp_path)
     assert p.returncode == 0, p.stderr
     run = [line for line in (tmp_path / "x.md").read_text().splitlines() if line.startswith("- Run: ")][0]

@@ -121,11 +121,21 @@ def _argument(check):
 
 
 def start_time(text, where="--t0"):
-    """A study's start as `date +%s.%N` writes it: a plain decimal of seconds since the epoch, not after now;
-    Refused naming `where` otherwise. The page's run time is measured from it."""
-    x, why = output_file.flag_decimal(text)
-    if why is None and not 0 < x <= time.time():
-        why = f"{text} is no start time (seconds since the epoch, date +%s.%N, not after now)"
+    """A study's start as `date +%s.%N` writes it: digits, a point and digits (no sign, no exponent), seconds
+    since the epoch, not after now and not before this machine started (its study ran in this boot: pass 67,
+    1e9 made a page of a 25-year run). Refused naming `where` otherwise. The page's run time is measured from it."""
+    why = None
+    if str(text) == "":
+        why = "an empty value"
+    elif not re.fullmatch(r"[1-9][0-9]*(\.[0-9]+)?", str(text)):
+        why = f"{text!r} is not as date +%s.%N writes a time (digits, a point, digits)"
+    else:
+        x, now = float(text), time.time()
+        with open("/proc/uptime") as f:
+            booted = now - float(f.read().split()[0])
+        if not booted - 1.0 <= x <= now:
+            why = (f"{text} is no start time of a study run on this machine (date +%s.%N at its start: after the "
+                   f"machine started, {booted:.0f}, and not after now)")
     if why:
         raise output_file.Refused(f"{where}: {why}" if where else why)
     return text
