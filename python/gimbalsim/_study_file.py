@@ -1,8 +1,9 @@
 """A study's folder and the tuner's study file (out/study.db): one sweep or
 tuner per folder (a lock held for the process's life), a --resume only of
 this folder's own study, checked read-only before Optuna opens it
-(read-write only to let SQLite roll back what a killed writer left), and
-the opening itself (open_study)."""
+(read-write only to let SQLite roll back what a killed writer left), the
+opening itself (open_study), and forgetting a new study that recorded
+nothing (forget_unrecorded_study)."""
 import contextlib
 import errno
 import fcntl
@@ -14,6 +15,7 @@ from ._output import make_folder, output_failed, what_to_do
 
 STUDY_FILE = "study.db"
 STUDY_NAME = "gimbalsim.tune"
+TRIALS = "trials.csv"  # the tuner's record of its trials, one row each
 
 _HELD = []  # the lock files of the studies this process holds, open until it ends
 
@@ -142,3 +144,41 @@ def write_failure(out, e, then):
             cause = system
             said += f" ({system.strerror})"
     return output_failed(f"cannot write the study {path}: {said}; {what_to_do(cause)}{then}", cause)
+
+
+def trials_kept(out):
+    """How many trials out/trials.csv holds (0 when there is none)."""
+    try:
+        return max(0, (out / TRIALS).read_bytes().count(b"\n") - 1)
+    except OSError:
+        return 0
+
+
+def study_recorded(out):
+    """Whether out/study.db holds this tool's study (what --resume takes)."""
+    try:
+        check_resumable(out / STUDY_FILE, out, STUDY_NAME)
+    except SpecError:
+        return False
+    return True
+
+
+def forget_unrecorded_study(out, folder_before=True):
+    """Removes a new study's files when it was never recorded: the database, its journal, a trials.csv with
+    no trial; and the folder, emptied, when this run made it (not folder_before)."""
+    if trials_kept(out):
+        return
+    for name in (STUDY_FILE, STUDY_FILE + "-journal", TRIALS):
+        if os.path.lexists(out / name):  # (pass 59) on a read-only file system even a missing one fails: EROFS
+            with contextlib.suppress(FileNotFoundError):
+                (out / name).unlink()
+    if not folder_before:
+        with contextlib.suppress(OSError):
+            out.rmdir()
+
+
+def study_write_errors():
+    """The exceptions of a failed write to the study's storage."""
+    import optuna
+    import sqlalchemy.exc
+    return optuna.exceptions.StorageInternalError, sqlalchemy.exc.SQLAlchemyError

@@ -1,9 +1,12 @@
 """What a sweep refuses before it writes a byte (exit 2): the one path of
-the run and of --check (which then writes nothing). The sweep's output names
-live here too, as what is checked is what is written."""
+the run and of --check (which then writes nothing); and its first writes,
+taken back whole when they fail. The sweep's output names live here too, as
+what is checked is what is written."""
+import contextlib
+
 from . import _budget_report, _provenance
 from ._errors import SpecError
-from ._journal import DESIGN, JOURNAL, take_recorded_design
+from ._journal import DESIGN, JOURNAL, csv_line, take_recorded_design
 from ._output import check_output_names
 from ._spec import check_outputs_not_inputs
 from ._summary import plot_names
@@ -63,3 +66,33 @@ def take_design(spec, out, until):
     if until is not None and until.max_samples < len(spec.design):
         raise SpecError(f"--max-samples {until.max_samples} is below the {len(spec.design)} samples this sweep "
                         f"already grew to ({out / DESIGN}): give at least {len(spec.design)}")
+
+
+def write_start(spec, out, write, trusted_rows, appendable, made):
+    """The start's files: the fingerprint, the provenance and (unless the
+    journal can be appended to) a journal of the trusted rows, written whole
+    to a new file that replaces it. A start that fails before its journal
+    exists keeps nothing, as it says: what it wrote new goes, and the folder
+    if it made it (pass 66: a full disk left spec.json and spec.yaml behind)."""
+    journal = out / JOURNAL
+    started = [p for p in (out / FINGERPRINT, out / _provenance.SPEC_COPY, out / _provenance.INPUTS)
+               if not p.exists()]
+    try:
+        write(out / FINGERPRINT, spec.fingerprint)
+        _provenance.record_inputs(spec, out, write)
+        if not appendable:
+            write(journal, "".join(csv_line(r) for r in [spec.csv_header()] + trusted_rows))
+    except BaseException:
+        if not journal.exists():
+            for p in started:
+                with contextlib.suppress(OSError):
+                    p.unlink()
+            if made:
+                remove_empty_folder(out)
+        raise
+
+
+def remove_empty_folder(folder):
+    """folder removed if it is empty (a set that failed left nothing in it)."""
+    with contextlib.suppress(OSError):
+        folder.rmdir()

@@ -55,8 +55,9 @@ from ._spec import check_out_dir
 from ._summary import plot, summarize
 from ._until import Until
 from ._sweep_spec import MAX_SAMPLES, SweepSpec
-from ._sweep_start import (FINGERPRINT, PLOTS, REPORT, RESULTS, SUMMARY, check_output_folder, check_start,  # noqa: F401
-                           output_paths, take_design, until_of)  # (check_output_folder, output_paths: API, allocate.py)
+# FINGERPRINT, check_output_folder, output_paths: the API allocate.py reads the sweep's folder by
+from ._sweep_start import (FINGERPRINT, PLOTS, REPORT, RESULTS, SUMMARY, check_output_folder,  # noqa: F401
+                           check_start, output_paths, remove_empty_folder, take_design, until_of, write_start)
 
 
 # ---- one task (runs on a worker) ----
@@ -97,7 +98,6 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
     write = lambda path, text: write_text(path, text, inputs)  # noqa: E731
     journal = out / JOURNAL
     results = out / RESULTS
-    fingerprint = out / FINGERPRINT
     check_start(spec, out, resume, inputs)  # --check's own refusals
     engine, grown = {"ran_this_invocation": 0}, None
     if spec.sampling["overrides"]:  # said when the runs step otherwise than the scene is written
@@ -114,23 +114,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         # the journal's rows, and results.csv's too when a resume finds one (a finished sweep resumed)
         done, dropped_in, appendable = read_for_resume(spec, journal, results, header)
         dropped = {}
-        # A start that fails before its journal exists keeps nothing, as it says (pass 66: a full disk left
-        # spec.json and spec.yaml in a folder the run had made): what it wrote new goes, and that folder.
-        started = [p for p in (fingerprint, out / _provenance.SPEC_COPY, out / _provenance.INPUTS) if not p.exists()]
-        try:
-            write(fingerprint, spec.fingerprint)
-            _provenance.record_inputs(spec, out, write)
-            if not appendable:
-                # The journal is never cut in place: its trusted rows go to a new file that replaces it whole.
-                write(journal, "".join(csv_line(r) for r in [header] + [done[i] for i in sorted(done)]))
-        except BaseException:
-            if not journal.exists():
-                for p in started:
-                    with contextlib.suppress(OSError):
-                        p.unlink()
-                if made:
-                    _remove_empty_folder(out)
-            raise
+        write_start(spec, out, write, [done[i] for i in sorted(done)], appendable, made)
         for read_from, reasons in dropped_in:
             for why, numbers in reasons.items():
                 dropped[why] = dropped.get(why, []) + numbers
@@ -167,7 +151,7 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
     # every row, and --resume writes the whole set), nor the plots folder it made.
     plots_was_there = (out / PLOTS).exists()
     with contextlib.ExitStack() as report:
-        report.callback(lambda: plots_was_there or _remove_empty_folder(out / PLOTS))
+        report.callback(lambda: plots_was_there or remove_empty_folder(out / PLOTS))
         report.enter_context(output_set())
         write(results, "".join(csv_line(r) for r in [header] + rows))
         summary = summarize(spec, rows, engine)
@@ -180,12 +164,6 @@ def sweep(spec, out, workers=None, scheduler=None, resume=False, batch=None, pro
         write(out / SUMMARY, json_text(summary))
     journal.unlink()
     return summary
-
-
-def _remove_empty_folder(folder):
-    """folder removed if it is empty (a set that failed left nothing in it)."""
-    with contextlib.suppress(OSError):
-        folder.rmdir()
 
 
 def _merge(a, b):
@@ -326,7 +304,8 @@ def main(argv=None):
     ap.add_argument("--batch", type=_cluster.whole_number, default=None,
                     help=f"samples per task, in [1, {MAX_SAMPLES}] (default: about 8 tasks per worker, at most 10)")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
-    ap.add_argument("--check", action="store_true", help="check the spec and --out, run and write nothing (exit 0 or 2)")
+    ap.add_argument("--check", action="store_true",
+                    help="check the spec and --out, run and write nothing (exit 0 or 2)")
     ap.add_argument("--until", metavar="INDEX:PHASE:RELWIDTH",
                     help="closed loop: add batches of the spec's samples until the index's confidence interval in "
                          "the phase is at most RELWIDTH of its value (e.g. ape:track:0.2), or --max-samples")

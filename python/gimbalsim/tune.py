@@ -52,7 +52,8 @@ from ._closed_spec import plant_overrides
 from ._journal import fmt
 from ._output import check_output_names, json_text, output_set, savefig, write_csv, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
-from ._study_file import STUDY_FILE, check_trials_held, open_study
+from ._study_file import (STUDY_FILE, TRIALS, check_trials_held, forget_unrecorded_study, open_study, study_recorded,
+                          study_write_errors, trials_kept)
 from ._tune_spec import METRICS, TuneSpec, fail_reason, suggest  # noqa: F401 (TuneSpec: the module's API)
 
 def run_plants(base, controller, duration, items):
@@ -103,7 +104,7 @@ def nested_yaml(values):
 
 PLANT_FIGURES = ("max_truth_error_track_rad", "rms_truth_error_track_rad", "controller_limited_ticks", "ticks")
 # The study's files in --out, by the names its writers take; SQLite writes its journal beside the study.
-TRIALS, BEST, SUMMARY, PROGRESS = "trials.csv", "best.yaml", "summary.json", "progress.png"
+BEST, SUMMARY, PROGRESS = "best.yaml", "summary.json", "progress.png"
 OUTPUTS = (STUDY_FILE, STUDY_FILE + "-journal", TRIALS, BEST, SUMMARY, PROGRESS)
 
 
@@ -114,7 +115,7 @@ def check_study_folder(spec, out, resume):
     trial was lost)."""
     check_output_names(out, "study", [out / n for n in OUTPUTS], [out], refuse=SpecError)  # a sweep's, an allocation's
     if not resume and ((out / STUDY_FILE).exists() or (out / TRIALS).exists()):
-        if (out / STUDY_FILE).exists() and not _study_recorded(out) and not _trials_kept(out):
+        if (out / STUDY_FILE).exists() and not study_recorded(out) and not trials_kept(out):
             # --resume would be refused too (pass 56): say what the file is, not a resume that cannot be
             raise SpecError(f"{out / STUDY_FILE} holds no study of {_study_file.STUDY_NAME} (empty, or a tuner "
                             f"stopped before it recorded one): nothing to resume; remove it, or use another --out")
@@ -300,43 +301,6 @@ def _plot(out, rows, spec):
     savefig(fig, out / PROGRESS, spec.input_files(), dpi=110, close=True)
 
 
-def _trials_kept(out):
-    try:
-        return max(0, (out / TRIALS).read_bytes().count(b"\n") - 1)
-    except OSError:
-        return 0
-
-
-def _study_recorded(out):
-    """Whether out/study.db holds this tool's study (what --resume takes)."""
-    try:
-        _study_file.check_resumable(out / STUDY_FILE, out, _study_file.STUDY_NAME)
-    except SpecError:
-        return False
-    return True
-
-
-def _forget_unrecorded_study(out, folder_before=True):
-    """Removes a new study's files when it was never recorded: the database, its journal, a trials.csv with
-    no trial; and the folder, emptied, when this run made it (not folder_before)."""
-    if _trials_kept(out):
-        return
-    for name in (STUDY_FILE, STUDY_FILE + "-journal", TRIALS):
-        if os.path.lexists(out / name):  # (pass 59) on a read-only file system even a missing one fails: EROFS
-            with contextlib.suppress(FileNotFoundError):
-                (out / name).unlink()
-    if not folder_before:
-        with contextlib.suppress(OSError):
-            out.rmdir()
-
-
-def _study_write_errors():
-    """The exceptions of a failed write to the study's storage."""
-    import optuna
-    import sqlalchemy.exc
-    return optuna.exceptions.StorageInternalError, sqlalchemy.exc.SQLAlchemyError
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(allow_abbrev=False, prog="python3 -m gimbalsim.tune", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -354,8 +318,8 @@ def main(argv=None):
 
 def _interrupted_note(out):
     """How to go on after a signal: --resume where the study was recorded, else a plain run again."""
-    if _study_recorded(out):
-        kept = _trials_kept(out)  # none yet: no trials.csv to name
+    if study_recorded(out):
+        kept = trials_kept(out)  # none yet: no trials.csv to name
         return (f": {f'{kept} finished trials kept in ' + str(out / TRIALS) if kept else 'no trial finished yet'}; "
                 f"the study is in {out / STUDY_FILE}: run again with --resume to continue it")
     return f": before the study was recorded, nothing kept in {out}: run again (without --resume)"
@@ -370,22 +334,22 @@ def _run(a, out):
     spec = TuneSpec(a.spec)
     if spec.sampling["overrides"]:  # said when the runs step otherwise than the scene is written
         print(f"tune: stepping (sampling: {spec.sampling['mode']}): {spec.sampling['why']}", file=sys.stderr)
-    study_write_errors = _study_write_errors()
+    write_errors = study_write_errors()
     try:
         summary, rows = tune(spec, out, a.workers, a.scheduler, not a.no_progress, a.resume)
     except Interrupted:
         # a signal before the new study was recorded leaves files no run takes (a --resume and a plain run were
         # both refused over them, pass 56): they go, as after a failed write
-        if not a.resume and not made_before and not _study_recorded(out):
-            _forget_unrecorded_study(out, folder_before)
+        if not a.resume and not made_before and not study_recorded(out):
+            forget_unrecorded_study(out, folder_before)
         raise
-    except study_write_errors as e:  # the study's file refused a write (a full disk): what was told is kept
-        if a.resume or _study_recorded(out):
+    except write_errors as e:  # the study's file refused a write (a full disk): what was told is kept
+        if a.resume or study_recorded(out):
             raise _study_file.write_failure(out, e, "run again with --resume") from None
         # A new study that failed before it was recorded: its files are this run's and hold nothing a resume
         # could take (a --resume and a plain run were both refused over them, pass 55); they go.
         failure = _study_file.write_failure(out, e, "run again (nothing was kept)")  # asks in the folder: first
-        _forget_unrecorded_study(out, folder_before)
+        forget_unrecorded_study(out, folder_before)
         raise failure from None
     if summary is None:
         print(f"tune: no trial completed ({len(rows)} failed); see {a.out}/trials.csv and summary.json",
