@@ -57,14 +57,6 @@ struct Options {
   bool print_config = false;
 };
 
-/// An OutputFile's "<path>: write failed" with the system's reason the writer kept (none: as it is).
-std::string withReason(const std::string& error, const char* reason) {
-  const std::string plain = "write failed";
-  const bool bare =
-      error.size() >= plain.size() && error.compare(error.size() - plain.size(), plain.size(), plain) == 0;
-  return bare && *reason ? error + ": " + reason : error;
-}
-
 int run(int argc, char** argv) {
   CLI::App app{"Pointing controller: answers every gimbal status with a torque command over LCM"};
   Options o;
@@ -125,7 +117,6 @@ int run(int argc, char** argv) {
   // --log-csv: a temporary file renamed over the target at exit (also after
   // SIGINT/SIGTERM), never through a link, never over the configuration.
   std::optional<io::OutputFile> log_out;
-  std::FILE* csv = nullptr;
   if (!o.log_csv.empty()) {
     try {
       log_out.emplace(o.log_csv, o.config.empty() ? std::vector<std::string>{} : std::vector<std::string>{o.config});
@@ -133,8 +124,7 @@ int run(int argc, char** argv) {
       const std::string what = std::string("--log-csv: ") + e.what();
       return e.unwritable() ? program::unwritable("pointing_controller", what) : program::refuse("pointing_controller", what);
     }
-    csv = log_out->stream();
-    StatusHandler::header(csv);
+    log_out->write(StatusHandler::header());
   }
   lcm_wire::UdpmSender tx;
   if (std::string why; !tx.open(o.lcm_url, &why)) {
@@ -142,7 +132,7 @@ int run(int argc, char** argv) {
     return program::kNetwork;
   }
   const contract::Channels ch = contract::Channels::withPrefix(o.prefix);
-  StatusHandler h(c, tx, ch, csv);
+  StatusHandler h(c, tx, ch, log_out ? &*log_out : nullptr);
   lcm_wire::ReassemblyLimits lim;  // statuses, attitudes and antenna messages are < 1 kB
   lim.max_message_bytes = 4096;
   lcm_wire::UdpmReceiver rx(lim, lcm_wire::ChannelFilter({ch.status, ch.attitude, ch.antenna}));
@@ -176,8 +166,7 @@ int run(int argc, char** argv) {
     const std::int64_t now = lcm_wire::monotonicNs();
     if (h.answered() > before) last_answer_ns = now;
     if (log_out && !log_out->ok()) {
-      std::fprintf(stderr, "pointing_controller: --log-csv %s: %s; stopping\n", o.log_csv.c_str(),
-                   withReason(log_out->error().empty() ? "write failed" : log_out->error(), h.logFailure()).c_str());
+      std::fprintf(stderr, "pointing_controller: --log-csv %s; stopping\n", log_out->error().c_str());
       code = program::kOutput;
       break;
     }
@@ -229,7 +218,7 @@ int run(int argc, char** argv) {
   // stopped, as firmware_sim's own exit says (3), never a success.
   if (code == program::kOk && !std::isnan(h.plantStoppedTime())) code = program::kStopped;
   if (log_out && !log_out->commit()) {
-    std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", withReason(log_out->error(), h.logFailure()).c_str());
+    std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", log_out->error().c_str());
     if (code == program::kOk) code = program::kOutput;
   }
   // A run that ended before the track has no tracking figure: n/a with the reason, never 0.

@@ -8,13 +8,13 @@
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <random>
 #include <string>
+#include <string_view>
 
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/controllers/answer.hpp"
@@ -24,6 +24,7 @@
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
 #include "gimbalsim/io/csv_format.hpp"
+#include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/lcm_wire/udpm_receiver.hpp"
 #include "gimbalsim/lcm_wire/udpm_sender.hpp"
 
@@ -32,11 +33,10 @@ namespace gimbalsim::controllers {
 /// Answers statuses; everything it needs is allocated before the first one.
 class StatusHandler {
  public:
-  StatusHandler(const ControllerConfig& c, lcm_wire::UdpmSender& tx, const contract::Channels& ch, std::FILE* csv)
-      : c_(c), tx_(tx), ch_(ch), csv_(csv) {}
-
-  /// The system's reason for the first failed --log-csv row ("" while none failed).
-  const char* logFailure() const noexcept { return log_errno_ != 0 ? std::strerror(log_errno_) : ""; }
+  /// log: the --log-csv file (null: none), written row by row through its checked write (which keeps
+  /// the system's reason of a failure: pass 66 said "write failed" alone on a full disk).
+  StatusHandler(const ControllerConfig& c, lcm_wire::UdpmSender& tx, const contract::Channels& ch, io::OutputFile* log)
+      : c_(c), tx_(tx), ch_(ch), log_(log) {}
 
   /// One received message; the channel says which handler. now_ns: CLOCK_MONOTONIC.
   void onMessage(const lcm_wire::Message& m, std::int64_t now_ns) {
@@ -120,10 +120,11 @@ class StatusHandler {
         max_track_error_ = std::isnan(max_track_error_) ? e : std::max(max_track_error_, e);
       }
     }
-    if (csv_) log(st, meas, out, a.flags);
+    if (log_) log(st, meas, out, a.flags);
   }
 
-  static void header(std::FILE* f) {
+  /// The log's header line, newline included.
+  static std::string header() {
     // The cells as name[unit], written in the project's CSV names (io::csvNameOf: t_s, tau_az_Nm).
     static constexpr const char* kCells =
         "t[s],seq[-],segment[-],ref_az[rad],ref_el[rad],ref_daz[rad/s],ref_del[rad/s],ref_ddaz[rad/s^2],"
@@ -141,7 +142,7 @@ class StatusHandler {
         cell += *c;
       }
     }
-    std::fputs((h + "\n").c_str(), f);
+    return h + "\n";
   }
 
   /// The plant is the source of the first message; another source is taken
@@ -215,17 +216,13 @@ class StatusHandler {
                          : finite   ? ""
                                     : "a value computed from the reading is not finite (an overflow)";
     n += std::snprintf(line + n, sizeof line - static_cast<std::size_t>(n), ",%s\n", reason);
-    // The system's reason, kept at the failing write: the stream's flag alone loses it (pass 66: "write failed")
-    if (std::fwrite(line, 1, static_cast<std::size_t>(n), csv_) != static_cast<std::size_t>(n) && log_errno_ == 0) {
-      log_errno_ = errno != 0 ? errno : EIO;
-    }
+    log_->write(std::string_view(line, static_cast<std::size_t>(n)));  // a failure is kept, with its reason
   }
 
   const ControllerConfig& c_;
   lcm_wire::UdpmSender& tx_;
   const contract::Channels& ch_;
-  std::FILE* csv_;
-  int log_errno_ = 0;  ///< errno of the first failed --log-csv write (0: none)
+  io::OutputFile* log_;
   ControllerState state_;
   contract::Attitude attitude_{.seq = -1};  ///< the newest attitude message (seq -1: none yet)
   long long unpaired_ = 0;        ///< statuses without the attitude of their tick (gyro rate held)

@@ -3,7 +3,10 @@
 // "max |joint error| while tracking 0.000e+00 rad" (pass 63): a figure over nothing.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
 #include <cerrno>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -15,6 +18,7 @@
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
+#include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/lcm_wire/udpm_sender.hpp"
 #include "status_handler.hpp"
 #include "test_util.hpp"
@@ -51,25 +55,33 @@ TEST(StatusHandler, TheTrackingFigureIsOverAcceptedReadingsOnly) {
   EXPECT_EQ(h.trackStatuses(), 2);
 }
 
+// The --log-csv file, read back whole after its commit.
+std::vector<std::string> committedLines(io::OutputFile& log) {
+  EXPECT_TRUE(log.commit()) << log.error();
+  std::vector<std::string> lines;
+  std::FILE* f = std::fopen(log.path().c_str(), "r");
+  if (f == nullptr) return lines;
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, f)) lines.emplace_back(buf);
+  std::fclose(f);
+  std::remove(log.path().c_str());
+  return lines;
+}
+
 // --log-csv: a rejected reading's cells are nan with the reason beside them, never inf (pass 63: bare nan,
 // inf and -inf cells, which the CSV convention has no place for).
 TEST(StatusHandler, TheLogWritesNanWithItsReasonNeverInf) {
   const ControllerConfig c = loadControllerConfig(test::defaultControllerConfig());
   lcm_wire::UdpmSender tx;
-  std::FILE* f = std::tmpfile();
-  ASSERT_NE(f, nullptr);
-  StatusHandler::header(f);
-  StatusHandler h(c, tx, contract::Channels::withPrefix(""), f);
+  io::OutputFile log(::testing::TempDir() + "status_handler_log.csv");
+  log.write(StatusHandler::header());
+  StatusHandler h(c, tx, contract::Channels::withPrefix(""), &log);
   for (const auto& [seq, az] : std::vector<std::pair<long long, double>>{
            {0, 0.0}, {1, std::numeric_limits<double>::infinity()}, {2, 1e308}, {3, 0.0}}) {
     const std::vector<std::uint8_t> b = status(seq, az);
     h.onStatus(b.data(), static_cast<int>(b.size()));
   }
-  std::rewind(f);
-  std::vector<std::string> lines;
-  char buf[4096];
-  while (std::fgets(buf, sizeof buf, f)) lines.emplace_back(buf);
-  std::fclose(f);
+  const std::vector<std::string> lines = committedLines(log);
   ASSERT_EQ(lines.size(), 5u);
   EXPECT_NE(lines[0].find(",suspect_el,reason\n"), std::string::npos) << lines[0];
   EXPECT_NE(lines[1].find(",\n"), std::string::npos) << "a whole reading has no reason: " << lines[1];
@@ -84,19 +96,27 @@ TEST(StatusHandler, TheLogWritesNanWithItsReasonNeverInf) {
   for (const std::string& l : lines) EXPECT_EQ(l.find("inf"), std::string::npos) << l;
 }
 
-// A --log-csv row that cannot be written keeps the system's reason (pass 66: "write failed" alone on a full disk).
+// A --log-csv row that cannot be written keeps the system's reason (pass 66: "write failed" alone on a full
+// disk). A file size limit of 0 makes every write that reaches the file fail (EFBIG), as a full disk would.
 TEST(StatusHandler, AFailedLogRowKeepsTheSystemsReason) {
   const ControllerConfig c = loadControllerConfig(test::defaultControllerConfig());
   lcm_wire::UdpmSender tx;
-  std::FILE* f = std::fopen("/dev/full", "w");  // every write that reaches it: ENOSPC
-  ASSERT_NE(f, nullptr);
-  std::setvbuf(f, nullptr, _IONBF, 0);
-  StatusHandler h(c, tx, contract::Channels::withPrefix(""), f);
-  EXPECT_STREQ(h.logFailure(), "");
-  const std::vector<std::uint8_t> b = status(0, 0.0);
-  h.onStatus(b.data(), static_cast<int>(b.size()));
-  EXPECT_STREQ(h.logFailure(), std::strerror(ENOSPC));
-  std::fclose(f);
+  io::OutputFile log(::testing::TempDir() + "status_handler_full.csv");
+  StatusHandler h(c, tx, contract::Channels::withPrefix(""), &log);
+  rlimit before{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &before), 0);
+  void (*old_handler)(int) = std::signal(SIGXFSZ, SIG_IGN);  // the write fails with EFBIG, not the process
+  rlimit none = before;
+  none.rlim_cur = 0;
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &none), 0);
+  for (long long seq = 0; seq < 100 && log.ok(); ++seq) {  // rows past the stream's buffer: a write reaches the file
+    const std::vector<std::uint8_t> b = status(seq, 0.0);
+    h.onStatus(b.data(), static_cast<int>(b.size()));
+  }
+  ::setrlimit(RLIMIT_FSIZE, &before);
+  std::signal(SIGXFSZ, old_handler);
+  EXPECT_FALSE(log.ok());
+  EXPECT_NE(log.error().find(std::string("write failed: ") + std::strerror(EFBIG)), std::string::npos) << log.error();
 }
 
 }  // namespace
