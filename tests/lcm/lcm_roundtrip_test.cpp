@@ -250,7 +250,11 @@ TEST(Channels, PrefixAndNames) {
   EXPECT_FALSE(Channels::validPrefix("bench-2"));
   // every name within LCM's 63 characters (pass 66: a 50-character prefix lost every command)
   EXPECT_TRUE(Channels::validPrefix(std::string(46, 'A')));
-  EXPECT_EQ(Channels::withPrefix(std::string(46, 'A')).loop_stats.size(), Channels::kMaxChannelName);
+  const Channels longest = Channels::withPrefix(std::string(46, 'A'));
+  EXPECT_EQ(longest.loop_stats.size(), Channels::kMaxChannelName);
+  for (const std::string& name : {longest.command, longest.status, longest.truth, longest.attitude, longest.antenna}) {
+    EXPECT_LE(name.size(), Channels::kMaxChannelName) << name;
+  }
   EXPECT_EQ(Channels::prefixProblem(std::string(47, 'A')),
             "at most 46 characters: LCM names no channel longer than 63 (GIMBAL_LOOP_STATS would have 64)");
 }

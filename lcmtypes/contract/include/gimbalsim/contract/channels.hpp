@@ -3,8 +3,11 @@
 // several benches share one network: BENCH2_GIMBAL_COMMAND, ...
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
 #include <string>
+#include <string_view>
 
 namespace gimbalsim::contract {
 
@@ -15,6 +18,8 @@ struct Channels {
   static constexpr const char* kLoopStats = "GIMBAL_LOOP_STATS";   ///< gimbal_loop_stats_t
   static constexpr const char* kAttitude = "GIMBAL_ATTITUDE";      ///< gimbal_attitude_t
   static constexpr const char* kAntenna = "GIMBAL_ANTENNA";        ///< gimbal_antenna_t (scenes with sensors.antenna)
+  /// Every name above: what a prefix must leave within LCM's length.
+  static constexpr std::array<const char*, 6> kNames = {kCommand, kStatus, kTruth, kLoopStats, kAttitude, kAntenna};
 
   std::string command = kCommand;
   std::string status = kStatus;
@@ -42,11 +47,13 @@ struct Channels {
   /// and each within LCM's length (pass 66: a 50-character prefix lost every command and attitude message).
   static std::string prefixProblem(const std::string& prefix) {
     if (!upperSnake(prefix)) return "only A-Z, 0-9 and '_' allowed (channel names are UPPER_SNAKE)";
-    const std::size_t longest = std::string(kLoopStats).size();
-    if (prefix.size() + longest > kMaxChannelName) {
-      return "at most " + std::to_string(kMaxChannelName - longest) + " characters: LCM names no channel longer than " +
-             std::to_string(kMaxChannelName) + " (" + kLoopStats + " would have " +
-             std::to_string(prefix.size() + longest) + ")";
+    const std::string longest = *std::max_element(kNames.begin(), kNames.end(), [](const char* a, const char* b) {
+      return std::string_view(a).size() < std::string_view(b).size();
+    });
+    if (prefix.size() + longest.size() > kMaxChannelName) {
+      return "at most " + std::to_string(kMaxChannelName - longest.size()) +
+             " characters: LCM names no channel longer than " + std::to_string(kMaxChannelName) + " (" + longest +
+             " would have " + std::to_string(prefix.size() + longest.size()) + ")";
     }
     return "";
   }
