@@ -286,18 +286,22 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
 
 }  // namespace
 
-std::string idleSceneOverride(const char* flag, const std::vector<std::string>& overrides) {
-  // What this loop never reads (python/gimbalsim/_idle_keys.py refuses the same in a sweep's or tuner's spec).
-  static const std::pair<const char*, const char*> kIdle[] = {
+const std::vector<std::pair<std::string, std::string>>& closedLoopIdleSceneKeys() {
+  static const std::vector<std::pair<std::string, std::string>> kIdle = {
       {"sim.output_interval", "the closed loop records every control period"},
       {"torque.tau1", "the controller commands the torque"},
       {"torque.tau2", "the controller commands the torque"},
+      // only dynamics/src/simulate.cpp's InvariantMonitor reads them; this loop steps without one
       {"sim.momentum_tol", "the closed loop checks no invariant: only an open-loop run stops on it"},
       {"sim.energy_tol", "the closed loop checks no invariant: only an open-loop run stops on it"},
       {"name", "the scene's label: no run reads it"}};
+  return kIdle;
+}
+
+std::string idleSceneOverride(const char* flag, const std::vector<std::string>& overrides) {
   for (std::size_t k = 0; k < overrides.size(); ++k) {
     const std::string key = overrides[k].substr(0, overrides[k].find('='));
-    for (const auto& [idle, why] : kIdle) {
+    for (const auto& [idle, why] : closedLoopIdleSceneKeys()) {
       if (key == idle) {
         return std::string(flag) + " #" + std::to_string(k + 1) + " '" + overrides[k] + "': not read by the closed " +
                "loop (" + why + "): the value would be recorded but never act";

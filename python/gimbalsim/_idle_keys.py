@@ -11,6 +11,7 @@ import re
 
 import yaml
 
+from . import _gimbalsim
 from ._closed_spec import CONTROLLER_PREFIX
 from ._idle_sensors import (ANTENNA_NOISE_KEYS, ANTENNA_SENSOR_KEYS, ANTENNA_TRACKER, NOISE_KEYS, TRUTH_ONLY, Span,
                             _Given, idle_at_antenna, idle_in_sensors, open_at_antenna)
@@ -19,14 +20,11 @@ from .indices import seconds
 # What a closed loop never reads, and what an open-loop run never reads.
 _NEVER_STALE = ("a study's closed loop delivers every status with the attitude of its own tick and injects no "
                 "fault: no status is stale (the bench's --faults can make one)")
+# The scene keys the C++ closed loop never reads are its own list (firmware_sim closedLoopIdleSceneKeys,
+# which the study programs refuse too); a study adds the length it sets itself and the monitor's keys.
 CLOSED_LOOP_IDLE = {"sim.duration": "every closed loop of a study runs one length: a sweep's set: sim.duration, "
                                     "a tuner's duration:",
-                    "sim.output_interval": "the closed loop records every control period",
-                    "torque.tau1": "the controller commands the torque",
-                    "torque.tau2": "the controller commands the torque",
-                    # only dynamics/src/simulate.cpp's InvariantMonitor reads them; firmware_sim steps without one
-                    "sim.momentum_tol": "the closed loop checks no invariant: only an open-loop run stops on it",
-                    "sim.energy_tol": "the closed loop checks no invariant: only an open-loop run stops on it",
+                    **dict(_gimbalsim._closed_loop_idle_scene_keys()),
                     # firmware_sim/src/closed_loop.cpp answers every status with an attitude of the same tick, and a
                     # study's loop has no fault schedule to delay one: no status is ever stale
                     CONTROLLER_PREFIX + "monitor.stale_ticks": _NEVER_STALE,

@@ -280,6 +280,7 @@ void bindController(pyb::module_& m) {
   });
 
   m.def("_controller_keys", [] { return keyInfoList(controllerKeys()); });
+  m.def("_closed_loop_idle_scene_keys", [] { return firmware::closedLoopIdleSceneKeys(); });
   // What the controller's histories hold at a control period [s]: the star-tracker latency [s] at or beyond
   // which the attitude estimator drops every sample, and the boresight tracker's history in ticks
   // (gimbalsim/_idle_sensors.py: sensor keys that act on nothing).

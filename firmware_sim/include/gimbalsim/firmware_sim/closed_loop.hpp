@@ -15,6 +15,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gimbalsim/contract/controller_port.hpp"
@@ -148,11 +149,15 @@ struct ClosedLoopResult {
 /// checkConfig wants); the tools refuse it before any run (exit 2).
 std::string controlPeriodProblem(const PlantScene& ps, double control_period);
 
-/// The first of `overrides` (key=value) that runClosedLoop never reads, as a
-/// refusal naming `flag` #k and why ("" when none): sim.output_interval (it
-/// records every control period), torque.tau1/tau2 (the controller commands
+/// The scene keys runClosedLoop never reads, each with why: sim.output_interval
+/// (it records every control period), torque.tau1/tau2 (the controller commands
 /// the torque), sim.momentum_tol/energy_tol (no invariant is checked), name.
-/// A study's override of one would be recorded with its runs and never act.
+/// The one list: the study programs and the Python sweeps and tuner refuse these.
+const std::vector<std::pair<std::string, std::string>>& closedLoopIdleSceneKeys();
+
+/// The first of `overrides` (key=value) that runClosedLoop never reads
+/// (closedLoopIdleSceneKeys), as a refusal naming `flag` #k and why ("" when
+/// none). A study's override of one would be recorded with its runs and never act.
 std::string idleSceneOverride(const char* flag, const std::vector<std::string>& overrides);
 
 /// Runs the controller on the plant for opt.duration (ticks 0 ..
