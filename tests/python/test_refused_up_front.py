@@ -49,6 +49,12 @@ def run(module, spec, out, *args, env=None):
                            *args], capture_output=True, text=True, timeout=300, env=env)
 
 
+def run_patched(script, spec, out):
+    """The sweep's own main under a stand-in (script: Python that patches gimbalsim.sweep, then runs its main)."""
+    return subprocess.run([sys.executable, "-c", script, str(spec), "--out", str(out), "--no-progress", "--workers",
+                           "1"], capture_output=True, text=True, timeout=300)
+
+
 def spec_file(path, text, scene=SCENE, controller=CONTROLLER_CONFIG):
     path.write_text(text.format(scene=scene, controller=controller))
     return path
@@ -160,8 +166,7 @@ sys.exit(sw.main(sys.argv[1:]))
 def test_a_name_refused_at_the_end_does_not_say_free_the_space(tmp_path):
     spec = spec_file(tmp_path / "s.yaml", SWEEP)
     out = tmp_path / "o"
-    p = subprocess.run([sys.executable, "-c", LINK_DURING_THE_RUN, str(spec), "--out", str(out), "--no-progress",
-                        "--workers", "1"], capture_output=True, text=True, timeout=300)
+    p = run_patched(LINK_DURING_THE_RUN, spec, out)
     assert p.returncode == 4 and "summary.json: is a symbolic link" in p.stderr, p.stderr
     assert "free the space" not in p.stderr and "move it out of --out and run again with --resume" in p.stderr
 
@@ -184,8 +189,7 @@ def test_a_sweep_stopped_before_its_journal_says_nothing_was_kept(tmp_path):
     # which had nothing to resume
     spec = spec_file(tmp_path / "s.yaml", SWEEP)
     out = tmp_path / "o"
-    p = subprocess.run([sys.executable, "-c", FULL_AT_THE_FIRST_WRITE, str(spec), "--out", str(out), "--no-progress",
-                        "--workers", "1"], capture_output=True, text=True, timeout=300)
+    p = run_patched(FULL_AT_THE_FIRST_WRITE, spec, out)
     assert p.returncode == 4 and "No space left on device" in p.stderr, p.stderr
     assert f"nothing kept ({out / 'results.partial.csv'} was not written); free the space and run again" \
         in p.stderr and "--resume" not in p.stderr and "samples kept" not in p.stderr, p.stderr
@@ -200,14 +204,12 @@ def test_a_sweep_whose_start_fails_takes_back_what_it_wrote(tmp_path):
     # (pass 66) "nothing kept", yet spec.json and spec.yaml stayed in the folder the run had made
     spec = spec_file(tmp_path / "s.yaml", SWEEP)
     out = tmp_path / "o"
-    p = subprocess.run([sys.executable, "-c", FULL_AT_THE_INPUTS, str(spec), "--out", str(out), "--no-progress",
-                        "--workers", "1"], capture_output=True, text=True, timeout=300)
+    p = run_patched(FULL_AT_THE_INPUTS, spec, out)
     assert p.returncode == 4 and "inputs.json: could not be written" in p.stderr, p.stderr
     assert "nothing kept" in p.stderr and not out.exists(), sorted(os.listdir(out))
     # a folder the user made stays, emptied of what the run wrote
     out.mkdir()
-    p = subprocess.run([sys.executable, "-c", FULL_AT_THE_INPUTS, str(spec), "--out", str(out), "--no-progress",
-                        "--workers", "1"], capture_output=True, text=True, timeout=300)
+    p = run_patched(FULL_AT_THE_INPUTS, spec, out)
     assert p.returncode == 4 and os.listdir(out) == [], sorted(os.listdir(out))
 
 
