@@ -311,6 +311,17 @@ std::string idleSceneOverride(const char* flag, const std::vector<std::string>& 
   return "";
 }
 
+std::string idleSeedOverride(const char* flag, const std::vector<std::string>& overrides, bool any_noise) {
+  if (any_noise) return "";
+  for (std::size_t k = 0; k < overrides.size(); ++k) {
+    if (overrides[k].substr(0, overrides[k].find('=')) != "sensors.seed") continue;
+    return std::string(flag) + " #" + std::to_string(k + 1) + " '" + overrides[k] + "': no run of this study " +
+           "draws sensor noise (sensors.encoder_noise, rate_noise, gyro_noise, gyro_bias_walk, star_tracker_noise " +
+           "and the antenna's tracker_noise, antenna_gyro_noise are 0): the seed would be recorded but never act";
+  }
+  return "";
+}
+
 std::string controlPeriodProblem(const PlantScene& ps, double control_period) {
   Config fc;
   fc.control_period = control_period;

@@ -64,6 +64,11 @@ int mainImpl(int argc, char** argv) {
         throw InputError(relabelledProblems(e, scene_labels));
       }
     }();
+    // A seed with no noise to draw: recorded with the runs, acting on none.
+    if (const std::string why = firmware::idleSeedOverride("--scene-set", scene_sets, ps.sensors.anyNoise());
+        !why.empty()) {
+      return program::refuse("controller_sweep", why);
+    }
     const Model& m = ps.scene.model;
     const ControllerConfig base = loadControllerConfig(config_path, sets);
     if (opt.duration <= 0.0) opt.duration = base.profile.trackStart() + 5.0;

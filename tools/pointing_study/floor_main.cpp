@@ -276,6 +276,12 @@ int mainImpl(int argc, char** argv) {
       }
     }
   }
+  // A seed with no noise to draw: recorded with the runs, acting on none.
+  const bool any_noise =
+      std::any_of(scenes.begin(), scenes.end(), [](const auto& s) { return s.second.sensors.anyNoise(); });
+  if (const std::string why = firmware::idleSeedOverride("--scene-set", scene_sets, any_noise); !why.empty()) {
+    return program::refuse(kProgram, why);
+  }
   const double T = duration > 0.0 ? duration : main_cfg.profile.trackStart() + 5.0;
   if (const std::string why = wholeMultipleProblem(T, main_cfg.period, "the control period (control.period)");
       !why.empty()) {

@@ -244,6 +244,12 @@ int mainImpl(int argc, char** argv) {
       return refuse("--config/--set", why + " (run " + sc.label + ")");
     }
   }
+  // A seed with no noise to draw: recorded with the runs, acting on none.
+  const bool any_noise =
+      std::any_of(scenes.begin(), scenes.end(), [](const Planned& p) { return p.scene.sensors.anyNoise(); });
+  if (const std::string why = firmware::idleSeedOverride("--scene-set", scene_sets, any_noise); !why.empty()) {
+    return program::refuse("gimbalsim_pointing_study", why);
+  }
   firmware::ClosedLoopOptions opt;
   const double track_start = cfg.profile.trackStart();
   opt.duration = duration > 0.0 ? duration : track_start + (quick ? 0.5 : 5.0);

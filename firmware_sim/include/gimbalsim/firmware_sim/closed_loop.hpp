@@ -160,6 +160,11 @@ const std::vector<std::pair<std::string, std::string>>& closedLoopIdleSceneKeys(
 /// none). A study's override of one would be recorded with its runs and never act.
 std::string idleSceneOverride(const char* flag, const std::vector<std::string>& overrides);
 
+/// A `sensors.seed` among `overrides` when no run of the study draws sensor
+/// noise (any_noise false: SensorParams::anyNoise of every run), as a refusal
+/// naming `flag` #k ("" otherwise): the seed would be recorded and never act.
+std::string idleSeedOverride(const char* flag, const std::vector<std::string>& overrides, bool any_noise);
+
 /// Runs the controller on the plant for opt.duration (ticks 0 ..
 /// round(duration / period), the last one not stepped); the truth pointing
 /// error is against `profile` (the controller's target), whose segments

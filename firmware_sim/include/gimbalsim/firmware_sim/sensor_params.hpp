@@ -37,6 +37,12 @@ struct SensorParams {
   Vec3 antenna_gyro_bias = Vec3::Zero();  ///< antenna rate gyro bias, antenna frame [rad/s]
   double antenna_gyro_noise = 0.0;     ///< antenna rate gyro white noise sigma per sample [rad/s]
 
+  /// Whether any sensor draws noise (what sensors.seed seeds); a fault schedule's bursts have their own seed.
+  bool anyNoise() const {
+    return encoder_noise > 0.0 || rate_noise > 0.0 || star_tracker_noise > 0.0 || gyro_bias_walk > 0.0 ||
+           gyro_noise > 0.0 || (antenna_sensors && (tracker_noise > 0.0 || antenna_gyro_noise > 0.0));
+  }
+
   /// Longest star tracker (and boresight tracker) latency, in its own periods (fixed queue of samples in flight).
   static constexpr int kStarTrackerMaxLatencyPeriods = 8;
 };
