@@ -115,3 +115,20 @@ def test_the_ideal_at_the_clearance_peak_is_only_read_inside_the_ideal_run(tmp):
     assert "vs ideal at the same time : n/a (the ideal run ended at 0.005 s, before the clearance peak at" \
         in p.stdout, p.stdout
     assert "-> ratio" not in p.stdout, p.stdout
+
+
+def test_a_summary_holding_nan_is_refused_not_read_past(tmp):
+    # (pass 67 candidate) Python's json takes NaN; the figure fell back to the CSV's own counts with no word,
+    # yet gimbalsim never writes NaN in a summary (a figure it has not is null): it is no summary of a run.
+    ideal, clear = (simulate(tmp, s, 0.1) for s in ("paper_ideal", "paper_clearance"))
+    s_clear = tmp / "paper_clearance.json"
+    text = s_clear.read_text()
+    assert '"peak_contact_force_N"' in text
+    bad = tmp / "nan.json"
+    bad.write_text(text.replace('"peak_contact_force_N": ', '"peak_contact_force_N": NaN, "was": ', 1))
+    out = tmp / "plots"
+    out.mkdir()
+    p = plot("--ideal", ideal, "--clearance", clear, "--clearance-summary", bad, "--out", out)
+    assert p.returncode == 2 and f"{bad}: holds NaN, which is not JSON: not a run's summary as gimbalsim writes it" \
+        in p.stderr, p.stderr
+    assert "Traceback" not in p.stderr and list(out.iterdir()) == []

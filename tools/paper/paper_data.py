@@ -115,9 +115,12 @@ def load_summary(path):
         return {}
     if not os.path.isfile(path):
         raise InputError(f"{path}: " + ("not a regular file" if os.path.exists(path) else "no such file"))
+    def not_json(constant):  # Python's json takes NaN and Infinity; gimbalsim writes a non-finite figure as null
+        raise InputError(f"{path}: holds {constant}, which is not JSON: not a run's summary as gimbalsim writes it "
+                         "(a figure it has not is null)")
     try:
         with open(path) as f:
-            summary = json.load(f)
+            summary = json.load(f, parse_constant=not_json)
     except OSError as e:
         raise InputError(f"cannot read {path}: {e.strerror}")
     except (json.JSONDecodeError, UnicodeDecodeError) as e:
