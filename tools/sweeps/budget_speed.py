@@ -16,7 +16,9 @@ sim.substep or sim.substep_policy has no fine run and is refused). It compares
    index's requirement (an index without one: 1 % of the spec's largest, or
    gimbalsim's stated sampling tolerance when the spec gives none); each
    unit beyond it is nudged (unit_conditioning.py) to tell a figure the
-   loop does not define to the tolerance from one the sampling moved.
+   loop does not define to the tolerance from one the sampling moved, and
+   each one the nudges hold is run again at the fine sub-step / 2 and / 4
+   to tell a figure the fine run has not settled from one the sampling moved.
 
 Usage:
   /usr/bin/python3 tools/sweeps/budget_speed.py [--build build] [--workers 2] [--spec SPEC]
@@ -61,8 +63,6 @@ PAGES = {"pointing_budget.yaml": (ROOT / "docs" / "results" / "budget_speed.md",
 SHARE = 0.01  # of the requirement: how far a unit's figure may move
 MAX_PROBED = 200  # units beyond the tolerance nudged (four fine runs each) to see whether their figure is defined
 RUNS = ("default", "fine")  # what --out holds: each run's folder and the spec it ran
-
-
 
 
 class SweepFailed(Exception):
@@ -195,21 +195,29 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
         if probed and most_probed else {}
     judged = unit_conditioning.classify(found, spread)  # {key: (ill-defined, held, not judged)}
     ill = {k: v[0] for k, v in judged.items()}
+    # the units the nudges held, at finer fine sub-steps: a figure the fine run has not settled is no reference
+    held_units = sorted({u for v in judged.values() for u in v[1]})
+    settle = unit_conditioning.spreads(fine_spec, held_units[:most_probed], [c["key"] for c in found], r_f, workers,
+                                       refined=fine_substep) if held_units and most_probed else {}
+    settled = unit_conditioning.classify([{**c, "beyond": judged[c["key"]][1]} for c in found], settle)
+    unsettled = {k: v[0] for k, v in settled.items()}  # {key: units}; v[1]: settled, v[2]: not refined
     print("\nEach index (the budget's level and confidence) at the default against the fine run: its quantile "
           "estimate, the fine run's order-statistics interval, and the largest distance of a unit's figure "
           "from its fine figure, against the tolerance (1 % of the requirement). Ill-defined: of the units "
           "beyond it, those whose fine figure itself moves beyond the tolerance when the fine run starts its "
-          f"journal {unit_conditioning.NUDGE_M:g} m away (tools/sweeps/unit_conditioning.py).\n")
+          f"journal {unit_conditioning.NUDGE_M:g} m away (tools/sweeps/unit_conditioning.py). Unsettled: of "
+          "the others, those whose fine figure moves beyond the tolerance when the fine sub-step is divided by "
+          f"{' or '.join(map(str, unit_conditioning.REFINE))} (the fine run is no reference for them).\n")
     print("| index | default [rad] | fine [rad] | fine interval [rad] | within | largest unit distance [rad] "
-          "| tolerance [rad] | units beyond | of them ill-defined |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "| tolerance [rad] | units beyond | of them ill-defined | of the rest, unsettled |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     show = lambda x, end="open": end if not math.isfinite(x) else f"{x:.3e}"  # noqa: E731
     for c in found:
         print(f"| {c['key']} | {_estimate_text(c['est_a'])} | {_estimate_text(c['est_f'])} | "
               f"{'n/a (no figure)' if c['fine_none'] else '[' + show(c['low']) + ', ' + show(c['high']) + ']'} | "
               f"{WITHIN_TEXT[_category(c)]}"
               f" | {_distance_text(c['worst'], c['worst_unit'])} | {c['tol']:.0e} | {len(c['beyond'])} | "
-              f"{len(ill[c['key']])} |")
+              f"{len(ill[c['key']])} | {len(unsettled[c['key']])} |")
     keys_in = {k: [c["key"] for c in found if _category(c) == k] for k in WITHIN_TEXT}
     outside, unjudged, fine_none, nothing, inside = (keys_in[k] for k in
                                                      ("outside", "unjudged", "fine_none", "none", "inside"))
@@ -237,10 +245,23 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
               f"{'; units no nudge could judge (no figure in any run, or none made): ' if not_judged else ''}"
               f"{', '.join(not_judged)}"
               f"{'; not nudged: ' + '; '.join(reasons) if reasons else ''}.")
+    settled_to = [f"{k} ({len(v[1])} of {len(judged[k][1])})" for k, v in settled.items() if v[1]]
+    unrefined = [f"{k} ({len(v[2])})" for k, v in settled.items() if v[2]]
+    if held_to:
+        cut = f" (the first {most_probed} of {len(held_units)} units)" if len(held_units) > most_probed else ""
+        reasons = sorted({v for v in settle.values() if isinstance(v, str)})
+        print(f"Every unit the nudges held unsettled by the fine run (its fine figure moves beyond the tolerance at "
+              f"the fine sub-step / {' or / '.join(map(str, unit_conditioning.REFINE))}){cut}: "
+              f"{'no' if settled_to else 'yes' if not unrefined else 'n/a (no refinement could judge them)'}"
+              f"{'; units whose fine figure settled (the sampling moved them): ' if settled_to else ''}"
+              f"{', '.join(settled_to)}"
+              f"{'; units no refinement could judge: ' + ', '.join(unrefined) if unrefined else ''}"
+              f"{'; not refined: ' + '; '.join(reasons) if reasons else ''}.")
     if len(nothing) == len(found):
         return ratio, "not judged (no unit has a figure)"
-    return ratio, ("held" if not (outside or unjudged or fine_none or beyond) else
-                   "moved only where ill-defined" if not (outside or unjudged or held_to or not_judged) else "moved")
+    return ratio, ("held" if not (outside or unjudged or fine_none or beyond) else "moved" if
+                   outside or unjudged or not_judged or settled_to or unrefined else "moved only where ill-defined"
+                   + (" or unsettled by the fine run" if held_to else ""))
 
 
 def _times(r, more, less):

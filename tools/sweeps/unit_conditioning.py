@@ -12,13 +12,21 @@ that figure closer to a fine run's than the fine run holds to itself.
 
 The spread found is a lower bound of how ill-defined a figure is (four
 nudges need not find every branch), so a unit counts as ill-defined only
-where a nudge moved its figure beyond the tolerance."""
+where a nudge moved its figure beyond the tolerance.
+
+A figure the nudges hold may still be one the fine run has not settled:
+the same run at the fine sub-step divided by each of REFINE (the scene's
+own law) moves it beyond the tolerance. Then the fine run is no reference
+for that unit to the tolerance, and a distance from it says nothing of
+the sampling under test (refined=... in spreads)."""
+import functools
 import json
 import math
 import sys
 from concurrent.futures import ProcessPoolExecutor
 
 NUDGE_M = 1.0e-12  # [m] the journal centre's initial position, moved along u1 and u2
+REFINE = (2, 4)  # the fine run again at its sub-step divided by each: has it settled?
 DIRECTIONS = ((1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0))
 
 
@@ -74,6 +82,27 @@ def _nudged_figures(spec_path, unit, figure_keys):
     return out
 
 
+def _refined_figures(spec_path, unit, figure_keys, fine_substep):
+    """[{figure key: value or NaN}] of unit's fine run at fine_substep / k
+    for each k of REFINE, or a reason (text) when a run is refused."""
+    import gimbalsim
+    from gimbalsim._sample import run_one
+    from gimbalsim._sweep_spec import SweepSpec
+    spec = _SPEC.get(spec_path) or _SPEC.setdefault(spec_path, SweepSpec(spec_path))
+    values = spec.design.draw(unit)
+    out = []
+    for k in REFINE:
+        try:
+            r = run_one(spec.base, spec.closed, {**values, "sim.substep": fine_substep / k})
+        except gimbalsim.SceneError as e:
+            r = {"status": "refused", "reason": str(e)}
+        if str(r.get("status", "")).startswith("refused"):
+            return f"the fine sub-step / {k} is refused: {r.get('reason', '')}"
+        ok = r.get("status") == "ok"
+        out.append({key: float(r[key]) if ok and r.get(key) is not None else math.nan for key in figure_keys})
+    return out
+
+
 def _distance(x, y):
     """|x - y|; NaN when neither has a figure (nothing compared), inf when one has."""
     if math.isfinite(x) and math.isfinite(y):
@@ -81,15 +110,18 @@ def _distance(x, y):
     return math.nan if math.isfinite(x) == math.isfinite(y) else math.inf
 
 
-def spreads(spec_path, units, figure_keys, fine_rows, workers):
+def spreads(spec_path, units, figure_keys, fine_rows, workers, refined=None):
     """{unit: {figure key: largest |nudged - fine| [rad]}} (inf where a
     nudged run or the fine run has no figure), or {unit: reason} where no
     nudge could be made. fine_rows: {unit: row of the fine run's
-    results.csv}, whose columns are the figure keys with "_rad"."""
+    results.csv}, whose columns are the figure keys with "_rad". refined:
+    the fine sub-step [s]: the runs are the fine run's at it / REFINE
+    instead of the nudged ones (has the fine run settled the figure?)."""
     units = sorted(units)
+    probe = _nudged_figures if refined is None else functools.partial(_refined_figures, fine_substep=refined)
     # a few hundred runs at most, on this machine, for one page: a process pool, not a Dask cluster
     with ProcessPoolExecutor(max_workers=max(1, min(workers, len(units) or 1))) as pool:
-        found = list(pool.map(_nudged_figures, [str(spec_path)] * len(units), units, [figure_keys] * len(units)))
+        found = list(pool.map(probe, [str(spec_path)] * len(units), units, [figure_keys] * len(units)))
     result = {}
     for unit, runs in zip(units, found):
         if isinstance(runs, str):
