@@ -119,9 +119,11 @@ CLI::Validator within(double lo, double hi, bool above_lo) {
   const std::string range = text;
   return CLI::Validator(
       [=](std::string& s) -> std::string {
+        // A number no double holds: 1e-400 reads as 0 and was told "must be > 0" (pass 68)
+        if (double y = 0.0; readPlainDecimal(s, y) == DecimalProblem::Underflow) return notPlainReal(s, false);
         char* end = nullptr;
         const double x = std::strtod(s.c_str(), &end);
-        if (end == s.c_str()) return "'" + s + "' is not a number";  // the plain-number check says more after parsing
+        if (end == s.c_str()) return "'" + s + "' is not a number";
         if (!std::isfinite(x)) return "'" + s + "' is not a finite number";
         const bool ok = (above_lo ? x > lo : x >= lo) && x <= hi;
         return ok ? std::string() : "must be " + range + ", got " + s;
@@ -136,6 +138,7 @@ CLI::Validator zeroOrWithin(double lo, double hi) {
   const CLI::Validator in_range = within(lo, hi);
   return CLI::Validator(
       [=](std::string& s) -> std::string {
+        if (double y = 0.0; readPlainDecimal(s, y) == DecimalProblem::Underflow) return notPlainReal(s, false);
         char* end = nullptr;
         if (std::strtod(s.c_str(), &end) == 0.0 && end != s.c_str() && *end == '\0') return {};
         std::string copy = s;
