@@ -195,6 +195,20 @@ int mainImpl(int argc, char** argv) {
     return gimbalsim::program::refuse("gimbalsim_stress", "--set: only --case reads it (the study's runs take "
                                                           "--long-set or --duration)");
   }
+  if (one_scene.empty()) {
+    // Flags of the long run with no long run asked for were dropped without a word (pass 68), and the two
+    // long-run flags together ran one of them.
+    if (long_run && long_only) {
+      return gimbalsim::program::refuse("gimbalsim_stress", "--long-run and --long-run-only: give one (--long-run adds "
+                                                            "the hour to the study, --long-run-only runs it alone)");
+    }
+    for (const char* f : {"--long-scene", "--long-set"}) {
+      if (app.count(f) && !long_run && !long_only) {
+        return gimbalsim::program::refuse("gimbalsim_stress", std::string(f) + ": only the long run reads it; add "
+                                                              "--long-run or --long-run-only");
+      }
+    }
+  }
   if (long_only) no_grid = no_sweeps = long_run = true;
   // A study of nothing would exit 0 with a page and no result (pass 55): refused, naming the flags.
   if (one_scene.empty() && no_grid && no_sweeps && !long_run) {
