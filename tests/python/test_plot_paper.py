@@ -132,3 +132,27 @@ def test_a_summary_holding_nan_is_refused_not_read_past(tmp):
     assert p.returncode == 2 and f"{bad}: holds NaN, which is not JSON: not a run's summary as gimbalsim writes it" \
         in p.stderr, p.stderr
     assert "Traceback" not in p.stderr and list(out.iterdir()) == []
+
+
+def test_a_summary_figure_out_of_range_is_refused_at_its_key(tmp):
+    # (pass 68) a peak contact force of -5 N, and one at t = 1e308 s of a 0.1 s run, were printed as the run's peak;
+    # a figure given as text fell back to the CSV's samples without a word
+    import json
+    ideal, clear = (simulate(tmp, s, 0.1) for s in ("paper_ideal", "paper_clearance"))
+    summary = json.loads((tmp / "paper_clearance.json").read_text())
+    out = tmp / "plots"
+    out.mkdir()
+    for key, value, said in [("peak_contact_force_N", "-5.0", "a force below 0"),
+                             ("t_peak_contact_force_s", "1e308", "after the run's end at 0.1 s"),
+                             ("peak_contact_force_N", '"12"', "not a finite number"),
+                             ("peak_joint2_force_N", "1e400", "not a finite number"),  # json reads inf
+                             ("impacts", "1.5", "not a whole number")]:
+        bad = tmp / "bad.json"
+        bad.write_text(json.dumps({**summary, key: "VALUE"}).replace('"VALUE"', value))
+        p = plot("--ideal", ideal, "--clearance", clear, "--clearance-summary", bad, "--out", out)
+        assert p.returncode == 2 and f"--clearance-summary {bad}: {key} = " in p.stderr and said in p.stderr, \
+            (key, p.stderr)
+        assert "Traceback" not in p.stderr and list(out.iterdir()) == []
+    # the run's own summary, its figures in range, is read
+    p = plot("--ideal", ideal, "--clearance", clear, "--clearance-summary", tmp / "paper_clearance.json", "--out", out)
+    assert p.returncode == 0 and "(summary)" in p.stdout, p.stderr

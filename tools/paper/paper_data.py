@@ -170,6 +170,38 @@ def check_joint2(flag, path, cols, summary_flag, summary_path, summary, wanted):
                          f"the run of {flag} {path} has joint 2 {kind}: is it another run's summary?")
 
 
+# The summary's figures the page reads, each with what it must be (a summary not as gimbalsim writes it is refused
+# at its key: pass 68 printed a peak contact force of -5 N, and one at t = 1e308 s of a 0.5 s run).
+SUMMARY_FIGURES = {"clearance_m": "length", "continuous_contact_from_s": "time", "impacts": "count",
+                   "peak_contact_force_N": "force", "t_peak_contact_force_s": "time",
+                   "peak_joint2_force_N": "force", "t_peak_joint2_force_s": "time"}
+
+
+def check_summary_figures(flag, path, summary, cols):
+    """Refuses (InputError naming the flag, file and key) a figure of
+    SUMMARY_FIGURES that is not a finite number or null, a negative force,
+    length or count, or a time outside the run's [0, end] (cols: its CSV)."""
+    if not path:
+        return
+    end = max(float(cols["t_s"][-1]), 0.0)
+    final = summary.get("final_state")
+    if isinstance(final, dict) and isinstance(final.get("t"), (int, float)) and not isinstance(final["t"], bool):
+        end = max(end, float(final["t"]))  # a last output row before the end: the peak may lie after it
+    for key, kind in SUMMARY_FIGURES.items():
+        x = summary.get(key)
+        if x is None:
+            continue
+        where = f"{flag} {path}: {key} = {x!r}"
+        if isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x):
+            raise InputError(f"{where}: not a finite number (gimbalsim writes a number, or null when it has none)")
+        if kind == "count" and x != int(x):
+            raise InputError(f"{where}: not a whole number")
+        if x < 0.0:
+            raise InputError(f"{where}: a {kind} below 0")
+        if kind == "time" and x > end * (1.0 + 1e-9):
+            raise InputError(f"{where}: after the run's end at {end:g} s (is it another run's summary?)")
+
+
 def summary_number(summary, *keys):
     """First finite number found under any of the (possibly dotted) keys."""
     for key in keys:
