@@ -1,5 +1,5 @@
 // gimbalsim: command-line front end.
-//   gimbalsim simulate SCENE [--set key=value]... --out run.csv [--summary s.json]
+//   gimbalsim simulate SCENE [--set key=value]... --out run.csv [--summary s.json] [--check]
 //   gimbalsim keys [--markdown]
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -61,6 +61,10 @@ int mainImpl(int argc, char** argv) {
                   "rk4 (fixed step, sub-stepping, the product) or reference (adaptive Dormand-Prince 5(4), "
                   "tolerance 1e-12, for reference solutions)")
       ->check(CLI::IsMember({"rk4", "reference"}));
+  bool check_only = false;
+  sim->add_flag("--check", check_only,
+                "check the scene, its overrides and the output paths as a run would; run and write nothing "
+                "(exit 0 or 2)");
 
   auto* keys = app.add_subcommand("keys", "list every scene key with type, unit, default, check and meaning");
   bool markdown = false;
@@ -102,6 +106,11 @@ int mainImpl(int argc, char** argv) {
     gimbalsim::io::checkOutputPaths({out, summary}, {scene});
   } catch (const gimbalsim::io::OutputError& e) {
     return gimbalsim::program::refuse("gimbalsim", e.what());
+  }
+  // A script running several scenes checks them all first: a refusal then costs none of the runs before it.
+  if (check_only) {
+    std::printf("gimbalsim: %s: accepted (nothing run, nothing written)\n", scene.c_str());
+    return kOk;
   }
   try {  // a folder that takes no file (read-only, full): the exit-code table's "could not be written"
     csv.emplace(out, gimbalsim::io::outputColumns(m));

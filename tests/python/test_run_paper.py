@@ -1,0 +1,54 @@
+"""tools/run_paper.sh, the main job, in a copy of tools/ (its out/paper/ is
+the copy's; the build is the tests'): the previous set of runs stays whole
+when an override is refused by any scene or a run stops part-way."""
+import os
+import shutil
+import subprocess
+
+from conftest import BIN, SOURCE
+
+RUNS = ("ideal", "clearance", "spatial")
+
+
+def copy_of_tools(tmp_path):
+    """The script, what it sources and reads, with bootstrap.sh a no-op (the packages are the build's)."""
+    root = tmp_path / "repo"
+    (root / "tools").mkdir(parents=True)
+    for part in ("run_paper.sh", "lib", "scenes", "paper", "pages"):
+        src = SOURCE / "tools" / part
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, root / "tools" / part)
+    (root / "tools" / "bootstrap.sh").write_text("exit 0\n")
+    out = root / "out" / "paper"
+    out.mkdir(parents=True)
+    for run in RUNS:  # a previous set, as a reader would find it
+        (out / f"{run}.csv").write_text(f"previous {run}\n")
+        (out / f"{run}.json").write_text(f'{{"previous": "{run}"}}\n')
+    return root, out
+
+
+def run_paper(root, *overrides):
+    env = dict(os.environ, GIMBALSIM_BUILD=str(BIN.parent))
+    return subprocess.run(["bash", str(root / "tools" / "run_paper.sh"), *overrides], capture_output=True, text=True,
+                          timeout=600, env=env)
+
+
+def previous_set_kept(out):
+    return all((out / f"{run}.csv").read_text() == f"previous {run}\n" for run in RUNS) and \
+        sorted(p.name for p in out.iterdir()) == sorted(f"{run}.{ext}" for run in RUNS for ext in ("csv", "json"))
+
+
+def test_an_override_one_scene_refuses_runs_none(tmp_path):
+    # (pass 68) coulomb_stick, which the spatial scene refuses, came after the ideal and clearance runs had
+    # replaced theirs, and the exit said "refused, nothing run"
+    root, out = copy_of_tools(tmp_path)
+    p = run_paper(root, "sim.duration=0.1", "friction.law=coulomb_stick")
+    assert p.returncode == 2 and "key 'friction.law': coulomb_stick" in p.stderr, p.stderr
+    assert "refused, nothing run" in p.stderr and previous_set_kept(out), sorted(os.listdir(out))
+
+
+def test_a_run_that_stops_part_way_leaves_the_previous_set(tmp_path):
+    # the ideal scene runs whole, the clearance scene stops on sim.max_substeps: the set is not replaced in part
+    root, out = copy_of_tools(tmp_path)
+    p = run_paper(root, "sim.duration=0.1", "sim.max_substeps=2")
+    assert p.returncode == 3 and "more work in one step than sim.max_substeps allows" in p.stderr, p.stderr
+    assert previous_set_kept(out), sorted(os.listdir(out))
