@@ -234,6 +234,13 @@ std::optional<int> loadScenes(const Args& a, std::vector<Scene>& scenes) {
       return program::refuse("gimbalsim_workprec",
                              "scene " + scene + ": sim.duration / --peak-dt is more than 1e10 reference samples");
     }
+    // A point is --repeats runs of sim.duration / h steps each: 1e9 of them ran for hours (pass 68).
+    for (const double h : a.steps) {
+      if (!(scenes.back().run.duration / h <= 1e8)) {
+        return program::refuse("gimbalsim_workprec", "--steps " + formatNumber(h) + ": scene " + scene +
+                                                         "'s sim.duration / h is more than 1e8 steps per run");
+      }
+    }
   }
   return std::nullopt;
 }

@@ -23,6 +23,7 @@
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
+#include "gimbalsim/program/stop_signal.hpp"
 
 namespace gimbalsim::workprec {
 
@@ -61,7 +62,8 @@ void record(Trajectory& tr, const Row& r) {
 Trajectory rowsOf(const Scene& sc, IntegratorKind kind) {
   const Model& m = sc.model;
   Trajectory tr;
-  const RunResult res = simulate(sc, [&](const Row& r) { record(tr, r); }, kind);
+  // SIGINT/SIGTERM end a run inside its point (pass 68: a run of 1e9 steps went on after both)
+  const RunResult res = simulate(sc, [&](const Row& r) { record(tr, r); }, kind, [] { return io::stopRequested(); });
   tr.ok = res.ok;
   tr.error = res.error;
   tr.substeps = res.stats.substeps;
@@ -83,8 +85,11 @@ double cpuSecondsOfRunV(const Scene& sc) {
   u.tau = sc.run.torque;
   const long long n = std::llround(sc.run.duration / m.integrator.step);
   Rk4Stepper<V> rk4(m, d, u);
+  constexpr long long kChunk = 1 << 16;  // steps between two looks at a stop signal (the stepping is the same)
   const double t0 = threadCpuSeconds();
-  if (!rk4.advance(s, 0, n, m.integrator.step).ok) return -1.0;
+  for (long long k = 0; k < n; k += kChunk) {
+    if (io::stopRequested() || !rk4.advance(s, k, std::min(n, k + kChunk), m.integrator.step).ok) return -1.0;
+  }
   return threadCpuSeconds() - t0;
 }
 
@@ -109,6 +114,7 @@ void finePass(const Scene& sc, double dt, Reference& r) {
     const long long per_row = std::llround(sc.run.output_interval / dt);
     // Every dt a row of the one output loop (stepper.hpp).
     const Advance done = forEachRow(integ, s, dt, n, 1, [&](const State<V>&, long long k) {
+      if (io::stopRequested()) return false;
       if (const auto row = static_cast<std::size_t>(k / per_row); k % per_row == 0 && row < r.rows.bore.size()) {
         kinematics(m, d, s.q, s.v);
         r.self_consistency = std::max(r.self_consistency, angleBetween(boresight(m, d, s), r.rows.bore[row]));
@@ -141,6 +147,8 @@ void finePass(const Scene& sc, double dt, Reference& r) {
       return true;
     });
     if (!done.ok) throw std::runtime_error(std::string("reference (peak pass) stopped: ") + done.failure);
+    // a pass cut short by a signal is no reference: never cached
+    if (io::stopRequested()) throw std::runtime_error(std::string("interrupted by ") + io::stopSignalName());
   } else {
     (void)sc, (void)dt, (void)r;
   }
