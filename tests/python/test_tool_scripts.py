@@ -206,6 +206,10 @@ def test_workprec_plot_refuses_a_foreign_csv_and_its_own_input(tmp):
     refused(run(plot, bad), f"{bad}:2", "bore_err_max_rad")
     bad.write_text("a,b\n1,2\n")
     refused(run(plot, bad), "needs columns")
+    # a time or an error below 0 is none the tool writes: it was skipped without a word, or drawn at 1e-16
+    for row, column in (("A,fixed,1,1e-6,-1,1", "cpu_s_per_sim_s"), ("A,fixed,1,-1e-6,0.1,1", "bore_err_max_rad")):
+        bad.write_text("scene,policy,ok,bore_err_max_rad,cpu_s_per_sim_s,pareto\n" + row + "\n")
+        refused(run(plot, bad), f"{bad}:2: column {column}", "is below 0")
     assert not (tmp / "b.png").exists()
 
 

@@ -49,7 +49,11 @@ def read(path):
                     continue
                 err = plain_number(r["bore_err_max_rad"], f"{where}: column bore_err_max_rad")
                 cpu = plain_number(r["cpu_s_per_sim_s"], f"{where}: column cpu_s_per_sim_s")
-                if not cpu > 0:
+                # below 0 is no time or error gimbalsim_workprec writes (pass 68's follow-up: a -1 was skipped)
+                for name, x in (("cpu_s_per_sim_s", cpu), ("bore_err_max_rad", err)):
+                    if x < 0:
+                        raise Refused(f"{where}: column {name}: {x!r} is below 0")
+                if cpu == 0:  # a point too fast for the clock has no place on a log axis
                     continue
                 curves = scenes.setdefault(r["scene"], OrderedDict())
                 curves.setdefault(r["policy"], []).append((cpu, max(err, 1e-16), r["pareto"] == "1"))
