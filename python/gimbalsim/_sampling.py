@@ -72,8 +72,8 @@ def choose(mode, scene_values, given, closed, varied=()):
         return overrides, ("a planar joint 2 with Coulomb friction steps with its set-valued law (" +
                            ", ".join(f"{k} {v}" for k, v in overrides.items()) + "): the shipped budget's "
                            "indices within a 5 us fixed sub-step's intervals, its units' figures within "
-                           f"{TOLERANCE_RAD:g} rad but 52 of 13308 (at most 2.8e-6, 39 of them ill-defined or unsettled; "
-                           "docs/results/budget_speed.md); "
+                           f"{TOLERANCE_RAD:g} rad but 52 of 13308 (at most 2.8e-6, 39 of them ill-defined or "
+                           "unsettled; docs/results/budget_speed.md); "
                            "sampling: scene keeps the scene's")
     if j1 == "ideal" and j2 == "spatial" and law == "coulomb" and policy == "fixed":
         # the base's values are the samples' unless dispersed (pass 38: a sim.step set to the scene's own kept it)
