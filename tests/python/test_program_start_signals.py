@@ -11,10 +11,13 @@ import time
 
 import pytest
 
+# Short sleeps, not one long one: a signal landing between the interpreter's last check and the
+# sleep's system call does not wake that sleep (CI once waited out a sleep(60) so); the next check runs it.
 FAKE_NUMPY = """
 import pathlib, time
 pathlib.Path({flag!r}).write_text("importing")
-time.sleep(60)
+for _ in range(1200):
+    time.sleep(0.05)
 """
 
 
