@@ -53,13 +53,34 @@ def _position(values, scene, key):
 _SPEC = {}  # one checked spec per worker process and path
 
 
-def _nudged_figures(spec_path, unit, figure_keys):
-    """[{figure key: value or NaN}] of unit's four nudged runs, or a reason
-    (text) when the unit has no nudge to make."""
+def _runs(spec, values, figure_keys, overrides):
+    """[{figure key: value or NaN}] of the unit's fine run again under each
+    (label, {key: value}) of overrides, or a reason (text) naming the label
+    of the first run refused."""
     import gimbalsim
     from gimbalsim._sample import run_one
+    out = []
+    for label, keys in overrides:
+        try:
+            r = run_one(spec.base, spec.closed, {**values, **keys})
+        except gimbalsim.SceneError as e:
+            r = {"status": "refused", "reason": str(e)}
+        if str(r.get("status", "")).startswith("refused"):
+            return f"{label} is refused: {r.get('reason', '')}"
+        ok = r.get("status") == "ok"
+        out.append({k: float(r[k]) if ok and r.get(k) is not None else math.nan for k in figure_keys})
+    return out
+
+
+def _spec(spec_path):
     from gimbalsim._sweep_spec import SweepSpec
-    spec = _SPEC.get(spec_path) or _SPEC.setdefault(spec_path, SweepSpec(spec_path))
+    return _SPEC.get(spec_path) or _SPEC.setdefault(spec_path, SweepSpec(spec_path))
+
+
+def _nudged_figures(spec_path, unit, figure_keys):
+    """The unit's four nudged runs (_runs), or a reason (text) when the
+    unit has no nudge to make."""
+    spec = _spec(spec_path)
     values, scene = spec.design.draw(unit), spec.base.values()
     keys = _keys_in_effect(values, scene)
     if not keys:
@@ -68,39 +89,16 @@ def _nudged_figures(spec_path, unit, figure_keys):
         start = {k: _position(values, scene, k) for k in keys}
     except (KeyError, ValueError, TypeError):
         return f"no initial position of {', '.join(keys)} to nudge"
-    out = []
-    for dx, dy in DIRECTIONS:
-        nudged = {k: [x + dx * NUDGE_M, y + dy * NUDGE_M] for k, (x, y) in start.items()}
-        try:
-            r = run_one(spec.base, spec.closed, {**values, **nudged})
-        except gimbalsim.SceneError as e:
-            r = {"status": "refused", "reason": str(e)}
-        if str(r.get("status", "")).startswith("refused"):
-            return f"{', '.join(keys)} nudged by {NUDGE_M:g} m is refused: {r.get('reason', '')}"
-        ok = r.get("status") == "ok"
-        out.append({k: float(r[k]) if ok and r.get(k) is not None else math.nan for k in figure_keys})
-    return out
+    label = f"{', '.join(keys)} nudged by {NUDGE_M:g} m"
+    return _runs(spec, values, figure_keys, [(label, {k: [x + dx * NUDGE_M, y + dy * NUDGE_M]
+                                                      for k, (x, y) in start.items()}) for dx, dy in DIRECTIONS])
 
 
 def _refined_figures(spec_path, unit, figure_keys, fine_substep):
-    """[{figure key: value or NaN}] of unit's fine run at fine_substep / k
-    for each k of REFINE, or a reason (text) when a run is refused."""
-    import gimbalsim
-    from gimbalsim._sample import run_one
-    from gimbalsim._sweep_spec import SweepSpec
-    spec = _SPEC.get(spec_path) or _SPEC.setdefault(spec_path, SweepSpec(spec_path))
-    values = spec.design.draw(unit)
-    out = []
-    for k in REFINE:
-        try:
-            r = run_one(spec.base, spec.closed, {**values, "sim.substep": fine_substep / k})
-        except gimbalsim.SceneError as e:
-            r = {"status": "refused", "reason": str(e)}
-        if str(r.get("status", "")).startswith("refused"):
-            return f"the fine sub-step / {k} is refused: {r.get('reason', '')}"
-        ok = r.get("status") == "ok"
-        out.append({key: float(r[key]) if ok and r.get(key) is not None else math.nan for key in figure_keys})
-    return out
+    """The unit's fine run at fine_substep / k for each k of REFINE (_runs)."""
+    spec = _spec(spec_path)
+    return _runs(spec, spec.design.draw(unit), figure_keys,
+                 [(f"the fine sub-step / {k}", {"sim.substep": fine_substep / k}) for k in REFINE])
 
 
 def _distance(x, y):
@@ -149,6 +147,16 @@ def classify(found, spread):
         out[c["key"]] = ([u for u, d in moves.items() if d > c["tol"]], [u for u, d in moves.items() if d <= c["tol"]],
                          [u for u, d in moves.items() if math.isnan(d)])
     return out
+
+
+def verdict(claim, answer, named, skipped, reasons):
+    """One verdict line of budget_speed's page: "claim: answer; label: a, b;
+    ...; skipped: reason; reason.", each (label, items) of named and the
+    reasons a probe was not made shown only when there are any."""
+    parts = [answer] + [f"{label}: {', '.join(items)}" for label, items in named if items]
+    if reasons:
+        parts.append(f"{skipped}: {'; '.join(reasons)}")
+    return f"{claim}: {'; '.join(parts)}."
 
 
 if __name__ == "__main__":  # (pass 35) run as a script it took any arguments and did nothing, exit 0
