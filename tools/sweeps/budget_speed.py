@@ -239,24 +239,22 @@ def report(spec_name, spec, runs, fine_substep, workers, tolerance_default, fine
     if beyond:
         cut = f" (the first {most_probed} of {len(probed)} units nudged)" if len(probed) > most_probed else ""
         reasons = sorted({v for v in spread.values() if isinstance(v, str)})
-        print(f"Every unit beyond it ill-defined (its own fine figure moves beyond the tolerance when nudged){cut}: "
-              f"{'no' if held_to else 'yes' if not not_judged else 'n/a (no nudge could judge ' + few + ')'}"
-              f"{'; units whose fine figure held under every nudge: ' + ', '.join(held_to) if held_to else ''}"
-              f"{'; units no nudge could judge (no figure in any run, or none made): ' if not_judged else ''}"
-              f"{', '.join(not_judged)}"
-              f"{'; not nudged: ' + '; '.join(reasons) if reasons else ''}.")
+        print(unit_conditioning.verdict(
+            f"Every unit beyond it ill-defined (its own fine figure moves beyond the tolerance when nudged){cut}",
+            'no' if held_to else 'yes' if not not_judged else 'n/a (no nudge could judge ' + few + ')',
+            [("units whose fine figure held under every nudge", held_to),
+             ("units no nudge could judge (no figure in any run, or none made)", not_judged)], "not nudged", reasons))
     settled_to = [f"{k} ({len(v[1])} of {len(judged[k][1])})" for k, v in settled.items() if v[1]]
     unrefined = [f"{k} ({len(v[2])})" for k, v in settled.items() if v[2]]
     if held_to:
         cut = f" (the first {most_probed} of {len(held_units)} units)" if len(held_units) > most_probed else ""
         reasons = sorted({v for v in settle.values() if isinstance(v, str)})
-        print(f"Every unit the nudges held unsettled by the fine run (its fine figure moves beyond the tolerance at "
-              f"the fine sub-step / {' or / '.join(map(str, unit_conditioning.REFINE))}){cut}: "
-              f"{'no' if settled_to else 'yes' if not unrefined else 'n/a (no refinement could judge them)'}"
-              f"{'; units whose fine figure settled (the sampling moved them): ' if settled_to else ''}"
-              f"{', '.join(settled_to)}"
-              f"{'; units no refinement could judge: ' + ', '.join(unrefined) if unrefined else ''}"
-              f"{'; not refined: ' + '; '.join(reasons) if reasons else ''}.")
+        print(unit_conditioning.verdict(
+            "Every unit the nudges held unsettled by the fine run (its fine figure moves beyond the tolerance at the "
+            f"fine sub-step / {' or / '.join(map(str, unit_conditioning.REFINE))}){cut}",
+            'no' if settled_to else 'yes' if not unrefined else 'n/a (no refinement could judge them)',
+            [("units whose fine figure settled (the sampling moved them)", settled_to),
+             ("units no refinement could judge", unrefined)], "not refined", reasons))
     if len(nothing) == len(found):
         return ratio, "not judged (no unit has a figure)"
     return ratio, ("held" if not (outside or unjudged or fine_none or beyond) else "moved" if
