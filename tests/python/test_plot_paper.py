@@ -156,3 +156,17 @@ def test_a_summary_figure_out_of_range_is_refused_at_its_key(tmp):
     # the run's own summary, its figures in range, is read
     p = plot("--ideal", ideal, "--clearance", clear, "--clearance-summary", tmp / "paper_clearance.json", "--out", out)
     assert p.returncode == 0 and "(summary)" in p.stdout, p.stderr
+
+
+def test_a_run_cut_inside_its_last_number_is_refused(tmp):
+    # (pass 69) a CSV whose last line lost its end and three digits was read, the cut row plotted as data
+    ideal, clear = simulate(tmp, "paper_ideal", 0.1), simulate(tmp, "paper_clearance", 0.1)
+    lines = clear.read_bytes().split(b"\n")[:60]
+    cut = tmp / "cut.csv"
+    cut.write_bytes(b"\n".join(lines)[:-3])
+    out = tmp / "plots"
+    out.mkdir()
+    p = plot("--ideal", ideal, "--clearance", cut, "--out", out)
+    assert p.returncode == 2, p.stderr
+    assert f"{cut}:60: the last line has no line end" in p.stderr, p.stderr
+    assert list(out.iterdir()) == []

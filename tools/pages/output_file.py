@@ -283,7 +283,7 @@ def check_header(header, path):
 
 
 def check_as_written(raw, path, not_as_written):
-    """A CSV's bytes as the project writes them (no byte-order mark, LF line ends):
+    """A CSV's bytes as the project writes them (no byte-order mark, LF line ends, the last one too):
     Refused naming the line and `not_as_written` ("not as X writes ..."), since a
     mark would hide the first column's name and a CR would end every last cell."""
     if raw.startswith(b"\xef\xbb\xbf"):
@@ -293,6 +293,9 @@ def check_as_written(raw, path, not_as_written):
         line = raw.count(b"\n", 0, cr) + 1
         what = "ends in CR (CRLF line ends)" if raw[cr + 1:cr + 2] in (b"\n", b"") else "has a carriage return (CR)"
         raise Refused(f"{path}:{line}: {what}: {not_as_written}")
+    if raw and not raw.endswith(b"\n"):  # a file cut while written: its last number may be cut too (pass 69)
+        line = raw.count(b"\n") + 1
+        raise Refused(f"{path}:{line}: the last line has no line end (a file cut while written?): {not_as_written}")
 
 
 def check_figure_format(path):
