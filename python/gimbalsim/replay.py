@@ -174,6 +174,8 @@ def replay(folder, i, out, plot_path=None):
         _refuse(f"--plot {plot_path}: the same file as --out")
     plot_format = _figure_format(plot_path)
     inputs = spec.input_files() + [spec.original_spec]  # the spec the sweep ran from is an input, never an output
+    # and every file of the sweep's folder, whatever its name outside it (pass 69: a hard link of results.csv)
+    inputs += sorted(p for p in folder.iterdir() if p.is_file())
     try:  # before anything runs, as the command line: refused (exit 2)
         check_outputs([out, plot_path], inputs)
     except OutputError as e:

@@ -411,6 +411,20 @@ def test_the_spec_the_sweep_ran_from_is_never_an_output(swept):
     assert original.read_bytes() == before and not (swept.parent / "never.png").exists()
 
 
+@pytest.mark.parametrize("name", ["results.csv", "summary.json"])
+def test_a_hard_link_of_a_file_of_the_sweep_is_never_an_output(swept, tmp_path, name):
+    # (pass 69) --out inside the folder was refused, but a hard link of its results.csv or summary.json
+    # elsewhere was written over (a new file under the link's name, the study's own left as it was)
+    link = tmp_path / "link.csv"
+    os.link(swept / name, link)
+    before = (swept / name).read_bytes()
+    p = sweep(swept, "--replay", 1, "--out", link, "--plot", tmp_path / "never.png")
+    assert p.returncode == 2, p.stderr
+    assert "the same file as the input" in p.stderr and name in p.stderr, p.stderr
+    assert link.read_bytes() == before and os.path.samefile(link, swept / name)
+    assert not (tmp_path / "never.png").exists()
+
+
 def test_a_replayed_stop_is_said_in_the_runs_own_words():
     from gimbalsim.replay import _stop_text
     scene = gimbalsim.load_scene(SCENES / "paper_clearance.yaml", {"sim.velocity_limit": 0.05})
