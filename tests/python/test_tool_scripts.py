@@ -213,6 +213,27 @@ def test_workprec_plot_refuses_a_foreign_csv_and_its_own_input(tmp):
     assert not (tmp / "b.png").exists()
 
 
+def test_workprec_plot_finds_the_repositorys_csv_from_any_folder(tmp):
+    # (pass 69) its default CSV was out/workprec/ of the working folder, and a missing one was named by the
+    # folder of its PNG ("out/workprec/workprec.png: its directory out/workprec does not exist")
+    repo = tmp / "repo"
+    shutil.copytree(SOURCE / "tools" / "pages", repo / "tools" / "pages")
+    shutil.copytree(SOURCE / "python" / "gimbalsim", repo / "python" / "gimbalsim")  # the one writer's rules
+    (repo / "tools" / "workprec").mkdir(parents=True)
+    shutil.copy(SOURCE / "tools" / "workprec" / "plot_workprec.py", repo / "tools" / "workprec")
+    plot = repo / "tools" / "workprec" / "plot_workprec.py"
+    elsewhere = tmp / "elsewhere"
+    elsewhere.mkdir()
+    p = subprocess.run([sys.executable, str(plot)], capture_output=True, text=True, timeout=120, cwd=elsewhere)
+    refused(p, f"{repo / 'out' / 'workprec' / 'workprec.csv'}: no such file")
+    (repo / "out" / "workprec").mkdir(parents=True)
+    (repo / "out" / "workprec" / "workprec.csv").write_text(
+        "scene,policy,ok,bore_err_max_rad,cpu_s_per_sim_s,pareto\nA,fixed,1,1e-6,0.1,1\n")
+    p = subprocess.run([sys.executable, str(plot)], capture_output=True, text=True, timeout=120, cwd=elsewhere)
+    assert p.returncode == 0, p.stderr
+    assert (repo / "out" / "workprec" / "workprec.png").exists() and list(elsewhere.iterdir()) == []
+
+
 SET_WRITER = """
 import os, pathlib, signal, sys
 sys.path.insert(0, {pages!r})

@@ -4,7 +4,10 @@ against CPU time per simulated second, log-log, one panel per scene, one
 curve per policy (the MuJoCo peer is one more curve). Failed points are left
 out (the CSV keeps them with the reason).
 
-    /usr/bin/python3 tools/workprec/plot_workprec.py [out/workprec/workprec.csv] [--out out/workprec/workprec.png]
+    /usr/bin/python3 tools/workprec/plot_workprec.py [CSV] [--out PNG]
+
+CSV defaults to the repository's out/workprec/workprec.csv (where
+run_workprec.sh writes it), from any folder; PNG to beside the CSV.
 """
 import argparse
 import csv
@@ -67,13 +70,15 @@ def read(path):
 def main():
     ap = argparse.ArgumentParser(allow_abbrev=False, description=__doc__.splitlines()[0])
     output_file.add_version(ap)
-    ap.add_argument("csv", nargs="?", default="out/workprec/workprec.csv")
+    # the repository's, not the working folder's (pass 69: run from elsewhere it named a missing out/ folder)
+    default_csv = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "out", "workprec", "workprec.csv")
+    ap.add_argument("csv", nargs="?", default=os.path.normpath(default_csv))
     ap.add_argument("--out", default=None, help="PNG path (default: beside the CSV)")
     a = ap.parse_args()
     out = os.path.splitext(a.csv)[0] + ".png" if a.out is None else a.out  # --out '' is refused, not defaulted
+    scenes = read(a.csv)  # the input first: a missing CSV is named as such, not by its PNG's folder
     check_before_writing([out], [a.csv], names=["--out"])
     check_figure_format(out)
-    scenes = read(a.csv)
     if not scenes:
         raise Refused(f"{a.csv}: no successful points to plot")
     n = len(scenes)
