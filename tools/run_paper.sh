@@ -76,23 +76,40 @@ for run in "${RUNS[@]}"; do  # (what it says is said again by the run itself: sh
     --out "$OUT/${run%%:*}.csv" --summary "$OUT/${run%%:*}.json" --check 2>&1 >/dev/null) || {
     rc=$?; echo "$said" >&2; exit "$rc"; }
 done
-# The three runs replace the previous ones together: one that stops leaves the previous set as it was.
+# The three runs and their plots replace the previous ones together: a run that stops, or plots refused
+# (pass 69: structure.joint2=ideal ran, then the plot refused the runs it had already put in place), leaves
+# the previous set as it was.
 STAGE=$(mktemp -d "$OUT/.runs.XXXXXX")
 trap 'rm -rf "$STAGE"; out_folder_undo' EXIT
 for run in "${RUNS[@]}"; do
   "$SIM" simulate "tools/scenes/${run#*:}.yaml" ${SETS[@]+"${SETS[@]}"} \
     --out "$STAGE/${run%%:*}.csv" --summary "$STAGE/${run%%:*}.json"
 done
-for run in "${RUNS[@]}"; do mv -f "$STAGE/${run%%:*}.csv" "$STAGE/${run%%:*}.json" "$OUT/"; done
 
 echo "== [4/4] plots"
 LOG=$(mktemp) && trap 'rm -f "$LOG"; rm -rf "$STAGE"; out_folder_undo' EXIT
+mkdir "$STAGE/plots"
 /usr/bin/python3 tools/paper/plot_paper.py \
-  --ideal "$OUT/ideal.csv" --clearance "$OUT/clearance.csv" \
-  --ideal-summary "$OUT/ideal.json" --clearance-summary "$OUT/clearance.json" \
-  --spatial "$OUT/spatial.csv" --spatial-summary "$OUT/spatial.json" \
-  --out "$OUT/plots" | console_tee "$LOG"
-/usr/bin/python3 tools/pages/save_output.py "$LOG" "$OUT/plot_summary.txt" -- "$@"  # the writer's rules, not tee's
+  --ideal "$STAGE/ideal.csv" --clearance "$STAGE/clearance.csv" \
+  --ideal-summary "$STAGE/ideal.json" --clearance-summary "$STAGE/clearance.json" \
+  --spatial "$STAGE/spatial.csv" --spatial-summary "$STAGE/spatial.json" \
+  --out "$STAGE/plots" | sed -u "s#$STAGE/#$OUT/#g" | console_tee "$LOG"  # the names the files will have
+/usr/bin/python3 tools/pages/save_output.py "$LOG" "$STAGE/plot_summary.txt" -- "$@"  # the writer's rules, not tee's
+# Every name checked before the first move (renames replace files and links, never a folder).
+dests=("$OUT/plot_summary.txt")
+for run in "${RUNS[@]}"; do dests+=("$OUT/${run%%:*}.csv" "$OUT/${run%%:*}.json"); done
+for f in "$STAGE"/plots/*; do dests+=("$OUT/plots/${f##*/}"); done
+for d in "${dests[@]}"; do
+  if [ -d "$d" ] && [ ! -L "$d" ]; then
+    echo "run_paper.sh: $d is a folder where an output goes: move it away; the previous outputs are kept" >&2
+    exit 4
+  fi
+done
+for run in "${RUNS[@]}"; do
+  mv -fT "$STAGE/${run%%:*}.csv" "$OUT/${run%%:*}.csv"; mv -fT "$STAGE/${run%%:*}.json" "$OUT/${run%%:*}.json"
+done
+for f in "$STAGE"/plots/*; do mv -fT "$f" "$OUT/plots/${f##*/}"; done
+mv -fT "$STAGE/plot_summary.txt" "$OUT/plot_summary.txt"
 
 echo
 echo "Outputs (under $ROOT):"

@@ -17,6 +17,7 @@ def copy_of_tools(tmp_path):
     for part in ("run_paper.sh", "lib", "scenes", "paper", "pages"):
         src = SOURCE / "tools" / part
         (shutil.copytree if src.is_dir() else shutil.copy)(src, root / "tools" / part)
+    shutil.copytree(SOURCE / "python" / "gimbalsim", root / "python" / "gimbalsim")  # the plots' one writer
     (root / "tools" / "bootstrap.sh").write_text("exit 0\n")
     out = root / "out" / "paper"
     out.mkdir(parents=True)
@@ -51,4 +52,13 @@ def test_a_run_that_stops_part_way_leaves_the_previous_set(tmp_path):
     root, out = copy_of_tools(tmp_path)
     p = run_paper(root, "sim.duration=0.1", "sim.max_substeps=2")
     assert p.returncode == 3 and "more work in one step than sim.max_substeps allows" in p.stderr, p.stderr
+    assert previous_set_kept(out), sorted(os.listdir(out))
+
+
+def test_runs_the_plot_refuses_leave_the_previous_set(tmp_path):
+    # (pass 69) structure.joint2=ideal passes every scene's check and runs, then the plot refuses a clearance
+    # run without clearance: the three runs had replaced the previous ones before it, and the exit said 2
+    root, out = copy_of_tools(tmp_path)
+    p = run_paper(root, "sim.duration=0.1", "structure.joint2=ideal")
+    assert p.returncode == 2 and "joint 2 has no clearance" in p.stderr, p.stderr
     assert previous_set_kept(out), sorted(os.listdir(out))
