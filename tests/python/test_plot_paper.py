@@ -170,3 +170,24 @@ def test_a_run_cut_inside_its_last_number_is_refused(tmp):
     assert p.returncode == 2, p.stderr
     assert f"{cut}:60: the last line has no line end" in p.stderr, p.stderr
     assert list(out.iterdir()) == []
+
+
+def test_a_summary_of_another_run_is_refused(tmp):
+    # (pass 69) a summary of a run at another clearance, or of a shorter run, was read beside the CSV: it printed
+    # a "true" peak below the CSV's sampled maximum and the other run's impacts
+    ideal, clear = simulate(tmp, "paper_ideal", 0.1), simulate(tmp, "paper_clearance", 0.1)
+    other = tmp / "other"
+    other.mkdir()
+    run_cli("simulate", scene_path("paper_clearance"), "--set", "sim.duration=0.1", "--set", "contact.clearance=2e-4",
+            "--out", other / "c.csv", "--summary", other / "wider.json")
+    run_cli("simulate", scene_path("paper_clearance"), "--set", "sim.duration=0.05", "--out", other / "s.csv",
+            "--summary", other / "shorter.json")
+    out = tmp / "plots"
+    out.mkdir()
+    for summary, said in (("wider.json", "final_state.q.theta1"), ("shorter.json", "rows = 51, its CSV has 101")):
+        p = plot("--ideal", ideal, "--clearance", clear, "--clearance-summary", other / summary, "--out", out)
+        assert p.returncode == 2, p.stderr
+        assert f"--clearance-summary {other / summary}: {said}" in p.stderr and "another run's summary" in p.stderr
+    assert list(out.iterdir()) == []
+    p = plot("--ideal", ideal, "--clearance", clear, "--clearance-summary", tmp / "paper_clearance.json", "--out", out)
+    assert p.returncode == 0, p.stderr
