@@ -14,6 +14,7 @@ import threading
 import warnings
 
 from . import _number
+from ._early_signals import STOP_SIGNALS
 from ._errors import Interrupted, NoCluster
 
 LOOPBACK = "127.0.0.1"
@@ -89,14 +90,14 @@ def _local_client(n):
     import dask
     from distributed import Client, LocalCluster
 
-    # Ctrl-C reaches the whole process group: worker processes started while
-    # SIGINT is ignored keep ignoring it (no worker tracebacks); this process
-    # takes it and shuts them down.
+    # Ctrl-C (and a terminal's hangup) reaches the whole process group: worker processes started while
+    # SIGINT and SIGHUP are ignored keep ignoring them (no worker tracebacks, no worker killed under the
+    # shutdown); this process takes them and shuts the workers down.
     # the worker processes' own logging (set up at their start, from the environment): errors only,
     # not the INFO lines of a start after a killed cluster (stale lock files purged)
     os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
     main = threading.current_thread() is threading.main_thread()
-    handler = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    handlers = {s: signal.signal(s, signal.SIG_IGN) for s in (signal.SIGINT, signal.SIGHUP)} if main else {}
     try:
         # A task on a worker that dies twice raises KilledWorker (Dask's default:
         # four deaths), so a sample that kills its worker is retried once, then
@@ -115,8 +116,8 @@ def _local_client(n):
                                    silence_logs=logging.CRITICAL)
         client = Client(cluster)
     finally:
-        if main:
-            signal.signal(signal.SIGINT, handler)
+        for signum, handler in handlers.items():
+            signal.signal(signum, handler)
     try:
         yield client, n
     except BaseException:
@@ -196,7 +197,7 @@ class _DropInterrupted(logging.Filter):
 _DROP_INTERRUPTED = _DropInterrupted()
 
 
-_received = []  # every SIGINT / SIGTERM seen, in order
+_received = []  # every stop signal (STOP_SIGNALS) seen, in order
 
 
 def _quiet_unraisable(u):
@@ -211,13 +212,13 @@ _quiet_unraisable.default = sys.unraisablehook
 
 
 def raise_on_signals():
-    """SIGINT and SIGTERM raise Interrupted in the main thread (and no
+    """SIGINT, SIGTERM and SIGHUP raise Interrupted in the main thread (and no
     library's log repeats it on the console)."""
     def handler(signum, frame):
         _received.append(signum)
         raise Interrupted(signum)
-    signal.signal(signal.SIGINT, handler)
-    signal.signal(signal.SIGTERM, handler)
+    for signum in STOP_SIGNALS:
+        signal.signal(signum, handler)
     if sys.unraisablehook is not _quiet_unraisable:
         _quiet_unraisable.default = sys.unraisablehook
         sys.unraisablehook = _quiet_unraisable

@@ -21,7 +21,7 @@ EXIT_NOT_REPRODUCED = 8  # a replayed sample did not reproduce its recorded row 
 
 
 def signal_exit(signum):
-    """Stopped by signal N: 128 + N (130 SIGINT, 143 SIGTERM)."""
+    """Stopped by signal N: 128 + N (130 SIGINT, 143 SIGTERM, 129 SIGHUP)."""
     return 128 + signum
 
 
@@ -90,7 +90,7 @@ class NoCluster(Exception):
 
 
 class Interrupted(BaseException):
-    """SIGINT or SIGTERM: ``signum``; the program exits 128 + signum."""
+    """SIGINT, SIGTERM or SIGHUP: ``signum``; the program exits 128 + signum."""
 
     def __init__(self, signum):
         super().__init__(signal.Signals(signum).name)

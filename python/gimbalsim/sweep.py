@@ -32,7 +32,7 @@ A sample that kills its worker twice is recorded as `crashed` (its parameters,
 no figures) and the sweep goes on (a batch is split to find it).
 Exit codes (the project's table, docs/usage.md "Exit codes", mirrored in _errors.py): 0 done (crashed samples included),
 2 spec refused, 4 an output not written (the journal kept), 6 the --scheduler did not answer or had no worker
-(nothing written), 130 / 143 interrupted by SIGINT / SIGTERM (the journal kept).
+(nothing written), 130 / 143 / 129 interrupted by SIGINT / SIGTERM / SIGHUP (the journal kept).
 """
 import argparse
 import contextlib

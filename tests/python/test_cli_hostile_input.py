@@ -96,7 +96,7 @@ def test_a_failed_write_exits_4_naming_the_file_and_leaves_no_file(tmp):
     assert sorted(x.name for x in tmp.iterdir()) == ["o.csv"], "no temporary left"
 
 
-@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
 def test_signal_ends_the_run_after_a_whole_row(tmp, sig):
     out, summary = tmp / "o.csv", tmp / "s.json"
     proc = subprocess.Popen([str(BIN / "gimbalsim"), "simulate", str(IDEAL), "--set", "sim.duration=1e5",

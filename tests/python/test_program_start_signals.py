@@ -24,7 +24,7 @@ for _ in range(1200):
 # numpy, and json: the first module the package imported before its handler was in place (pass 56)
 @pytest.mark.parametrize("stand_in", ["numpy", "json"])
 @pytest.mark.parametrize("program", ["sweep", "tune", "allocate"])
-@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT, signal.SIGHUP])
 def test_a_signal_while_importing_is_named_and_exits_128_plus_n(tmp_path, program, sig, stand_in):
     fake = tmp_path / "fake" / stand_in
     fake.mkdir(parents=True)

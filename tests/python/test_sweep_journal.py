@@ -243,8 +243,8 @@ def all_gone(procs, timeout=60):
     return not alive
 
 
-@pytest.mark.parametrize("sig,group", [(signal.SIGINT, True), (signal.SIGTERM, False)],
-                         ids=["ctrl-c to the process group", "sigterm to the program"])
+@pytest.mark.parametrize("sig,group", [(signal.SIGINT, True), (signal.SIGTERM, False), (signal.SIGHUP, True)],
+                         ids=["ctrl-c to the process group", "sigterm to the program", "hangup to the process group"])
 def test_an_interrupted_sweep_says_one_line_and_keeps_its_journal(spec, tmp_path, sig, group):
     out = tmp_path / "o"
     proc = subprocess.Popen(sweep_cmd(spec, out, "--batch", "1", workers=2),

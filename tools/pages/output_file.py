@@ -35,6 +35,7 @@ def _standalone(name, file):
 _writer = _standalone("gimbalsim_output_writer", "_output.py")
 _console = _standalone("gimbalsim_console", "_console.py")
 _number = _standalone("gimbalsim_number", "_number.py")  # the one reading of a number given as text
+_signals = _standalone("gimbalsim_early_signals", "_early_signals.py")  # STOP_SIGNALS
 _console.keep_console()  # imported by a script: a reader gone stops nothing, its --help included
 
 OutputError = _writer.OutputError
@@ -97,12 +98,12 @@ def _stop(signum, frame):
 def run_script(program, main, whole_set=False):
     """main()'s exit code (None counts as 0); Refused is one line on stderr and
     exit 2, OutputError (a write that failed, nothing left under its name)
-    one line and exit 4, SIGINT or SIGTERM one line and 128 + the signal.
+    one line and exit 4, SIGINT, SIGTERM or SIGHUP one line and 128 + the signal.
     whole_set: the outputs are one set (a page's figures): a failure or a stop
     removes those already written, so no name holds part of a set. Anything
     else is a bug: a traceback and exit 1. A console whose reader is gone
     drops its lines (_console.ReaderGoneStream)."""
-    for signum in (signal.SIGINT, signal.SIGTERM):
+    for signum in _signals.STOP_SIGNALS:
         signal.signal(signum, _stop)
     _console.keep_console()  # (as at import: a test may have put its own streams since)
     code = None

@@ -22,8 +22,8 @@ void installStopHandlers(void (*also)()) noexcept {
   sa.sa_handler = onStopSignal;
   sigemptyset(&sa.sa_mask);
   sa.sa_flags = 0;
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  // SIGHUP too: a closed terminal or ssh session must leave whole outputs, not hidden temporaries (pass 70).
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
 }
 
 bool stopRequested() noexcept { return g_signal.load(std::memory_order_relaxed) != 0; }
@@ -36,6 +36,8 @@ const char* stopSignalName() noexcept {
       return "SIGINT";
     case SIGTERM:
       return "SIGTERM";
+    case SIGHUP:
+      return "SIGHUP";
     default:
       return "a signal";
   }
