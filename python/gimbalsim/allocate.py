@@ -34,7 +34,7 @@ Exit codes (docs/usage.md "Exit codes"): 0 a bracket, or every value
 meets (the limit lies beyond the range: said so); 3 no bracket: no value of
 the range meets the requirement, or the favourable end fails while a value
 further on meets (outputs written, the best value tried); 2 spec refused; 4 an
-output not written; 6 the --scheduler did not answer; 130 / 143 interrupted
+output not written; 6 the --scheduler did not answer; 130 / 143 / 129 interrupted (SIGINT / SIGTERM / SIGHUP)
 (finished values kept: --resume).
 """
 import argparse

@@ -30,8 +30,8 @@ DIR/progress.png. --resume continues the study in DIR: trials a killed tuner
 left running are marked FAIL and run again; without it a DIR holding a study
 is refused. Exit codes (the project's table, docs/usage.md "Exit codes",
 mirrored in _errors.py): 0, 2 spec refused, 3 no trial completed, 4 an output not written,
-6 the --scheduler did not answer or had no worker (nothing written), 130 / 143 / 129 interrupted by SIGINT / SIGTERM / SIGHUP
-(the study kept).
+6 the --scheduler did not answer or had no worker (nothing written), 130 / 143 / 129 interrupted by
+SIGINT / SIGTERM / SIGHUP (the study kept).
 """
 import argparse
 import contextlib
