@@ -170,7 +170,8 @@ class AllocationSpec:
             here = body.get(k)
             there = index_node is not None and isinstance(index_node.value, dict) and k in index_node.value
             if here is not None:
-                mine = (spec.number(f"allocate.{k}", here, 0.0, above=True) if k == "requirement" else
+                mine = (spec.number(f"allocate.{k}", here, 0.0, indices.MAX_REQUIREMENT_RAD, above=True)
+                        if k == "requirement" else
                         spec.number(f"allocate.{k}", here, 0.5, 1 - 1e-9))  # indices' question: [0.5, 1)
                 if there and mine != value:
                     spec.refuse(f"allocate.{k}", f"{mine!r} differs from indices.{self.index}.{k} {value!r} "

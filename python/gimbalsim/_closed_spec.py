@@ -18,7 +18,7 @@ import math
 
 import gimbalsim
 from . import _gimbalsim
-from .indices import LEVEL_3SIGMA, seconds
+from .indices import LEVEL_3SIGMA, MAX_REQUIREMENT_RAD, seconds
 
 PROFILE_PHASES = ("slew", "hold", "track")
 INDICES = ("ape", "rpe", "pde", "knowledge")
@@ -296,8 +296,9 @@ class ClosedLoopSpec:
                 if k in opts:
                     kw[k] = spec.number(f"{where}.{k}", opts[k], 0.5, 1 - 1e-9)  # indices._check_question
             if "requirement" in opts:
-                # 0 (or -0) rad: every unit fails, a verdict from no question
-                kw["requirement"] = spec.number(f"{where}.requirement", opts["requirement"], 0.0, above=True)
+                # 0 (or -0) rad: every unit fails; above pi every unit meets it: a verdict from no question
+                kw["requirement"] = spec.number(f"{where}.requirement", opts["requirement"], 0.0, MAX_REQUIREMENT_RAD,
+                                                above=True)
             out.append(IndexSpec(name, **kw))
         if not out:
             spec.refuse("indices", "no index named: give one or more of " + ", ".join(INDICES), root["indices"])

@@ -11,6 +11,9 @@ import numpy as np
 from scipy import stats
 
 LEVEL_3SIGMA = 0.9973  # the budget's default level: "3 sigma" in ECSS tables
+# [rad] no pointing error (the angle between two directions) exceeds pi: a larger requirement is met by every
+# unit whatever it does, a PASS from no question (1e308 passed and drew a blank CDF, pass 70)
+MAX_REQUIREMENT_RAD = math.pi
 
 
 # --- ensemble statistics ---------------------------------------------------
@@ -159,8 +162,8 @@ def requirement_verdict(values, requirement, level=LEVEL_3SIGMA, confidence=0.95
     NaN values count as not meeting it."""
     level, confidence = _check_question(level, confidence)  # a verdict at level 0 would be PASS for anything
     # NaN gave FAIL, inf PASS, and 0 (or -0) FAIL for every unit: no question a budget asks
-    if not (_is_number(requirement) and math.isfinite(requirement) and requirement > 0.0):
-        raise ValueError(f"requirement must be a finite angle > 0 rad, got {requirement!r}")
+    if not (_is_number(requirement) and math.isfinite(requirement) and 0.0 < requirement <= MAX_REQUIREMENT_RAD):
+        raise ValueError(f"requirement must be an angle in (0, pi] rad, got {requirement!r}")
     requirement = float(requirement)
     x = _unit_figures(values)
     n = len(x)

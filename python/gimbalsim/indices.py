@@ -31,8 +31,8 @@ import numpy as np
 
 # The ensemble statistics live in _ensemble.py; they are this module's API.
 from ._ensemble import (  # noqa: F401
-    LEVEL_3SIGMA, QuantileBound, Verdict, coverage, min_units, quantile_bound, requirement_verdict, _ranks,
-    _is_count, _is_number)
+    LEVEL_3SIGMA, MAX_REQUIREMENT_RAD, QuantileBound, Verdict, coverage, min_units, quantile_bound,
+    requirement_verdict, _ranks, _is_count, _is_number)
 
 
 @dataclass(frozen=True)

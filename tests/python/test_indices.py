@@ -210,7 +210,7 @@ def test_no_figure_at_all_is_no_quantile_and_bad_arguments_are_refused():
         indices.coverage(10, 1.5, 1, 4)
     with pytest.raises(ValueError, match="r <= s"):  # no order statistic has rank 1.5
         indices.coverage(10, 0.5, 1.5, 3.7)
-    with pytest.raises(ValueError, match="requirement must be a finite angle"):  # was a TypeError
+    with pytest.raises(ValueError, match="requirement must be an angle"):  # was a TypeError
         indices.requirement_verdict([1e-5] * 2000, "1e-4")
     with pytest.raises(ValueError, match=r"level must lie in \[0.5, 1\)"):  # two units gave PASS
         indices.requirement_verdict([1e-5] * 2, 1e-4, level=5e-324, confidence=0.5)
@@ -274,9 +274,11 @@ def test_a_verdict_at_a_degenerate_level_or_confidence_is_refused():
     for level, confidence in ((0.0, 0.95), (0.9973, 0.0), (1.0, 0.95), (0.9973, 1.0)):
         with pytest.raises(ValueError, match=r"must lie in \[0.5, 1\)"):
             indices.requirement_verdict([1e-6] * 100, 1e-3, level, confidence)
-    for requirement in (math.nan, math.inf, -1e-6, 0.0, -0.0):  # NaN gave FAIL, inf PASS, 0 FAIL: no question
-        with pytest.raises(ValueError, match="requirement must be a finite angle"):
+    # NaN gave FAIL, inf and 1e308 PASS, 0 FAIL: no question (no pointing error exceeds pi rad)
+    for requirement in (math.nan, math.inf, -1e-6, 0.0, -0.0, 1e308, math.pi * (1 + 1e-15)):
+        with pytest.raises(ValueError, match=r"requirement must be an angle in \(0, pi\] rad"):
             indices.requirement_verdict([1e-6] * 100, requirement)
+    assert indices.requirement_verdict([1e-6] * 100, math.pi, 0.5, 0.5).passed  # pi itself is a question
 
 
 def test_a_level_and_confidence_as_any_real_number_type_answer_as_their_floats():

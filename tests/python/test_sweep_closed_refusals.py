@@ -171,15 +171,20 @@ REFUSALS = [
      "parameters.initial.tilt2", "joint 2's bearing is planar: it cannot tilt"),
     ("  rpe: {window: 0.05}", "  rpe: {window: .nan}", "indices.rpe.window", "expected a finite number, got nan"),
     ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: .inf}",
-     "indices.ape.requirement", "expected a finite number"),
+     "indices.ape.requirement", "expected a number in (0.0, 3.141592653589793]"),
     ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: 1e400}",
      "indices.ape.requirement", "float '1e400' does not read: it is beyond the largest double"),  # (pass 38: 'inf')
     # a requirement of 0 or -0 rad: every unit fails, a verdict from no question
     ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: -0.0}",
-     "indices.ape.requirement", "expected a finite number > 0.0, got -0.0"),
+     "indices.ape.requirement", "expected a number in (0.0, 3.141592653589793], got -0.0"),
     # NaN is refused with the same range (it said ">= 0.0", a range that took 0)
     ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: .nan}",
-     "indices.ape.requirement", "expected a finite number > 0.0, got nan"),
+     "indices.ape.requirement", "expected a number in (0.0, 3.141592653589793], got nan"),
+    # above pi rad (no pointing error is larger) every unit meets it: PASS from no question (pass 70: 1e308)
+    ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: 1e308}",
+     "indices.ape.requirement", "expected a number in (0.0, 3.141592653589793], got 1e+308"),
+    ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 0.5, confidence: 0.5, requirement: 3.2}",
+     "indices.ape.requirement", "expected a number in (0.0, 3.141592653589793], got 3.2"),
     ("  rpe: {window: 0.05}", "  rpe: {window: 0.0505}", "indices.rpe.window", "whole number of control periods"),
     # the C++ keys' whole-multiple rule (relative 1e-12), not a looser one of the spec's own
     ("  rpe: {window: 0.05}", "  rpe: {window: 0.05000000001}", "indices.rpe.window",
