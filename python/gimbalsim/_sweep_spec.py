@@ -46,6 +46,12 @@ def _within_note(p, trial, scene):
     return f"disk: within {within}, fraction {fraction} of {within} {value} reaches {p.key} {trial[p.key]}: "
 
 
+def one_quantity(key):
+    """The field a scene key sets: a clearance is given as, and stored as, the journal radius
+    (bearing_radius - c), so contact.clearance and contact.journal_radius name one quantity."""
+    return key[:-len("clearance")] + "journal_radius" if key.endswith("contact.clearance") else key
+
+
 class SweepSpec:
     """A checked sweep spec: the base scene (file + set), the design, and a
     fingerprint that a resume must match."""
@@ -83,16 +89,19 @@ class SweepSpec:
         if "controller" in root:
             key_types.update(ctrl_types)
         grid = spec.known_mapping("grid", key_types, "scene")
-        # One key in one place, whatever its spelling (friction1.mu is joint1.friction.mu): two
-        # spellings would both be recorded while one value acts.
+        # One quantity in one place, whatever its spelling (friction1.mu is joint1.friction.mu, a clearance sets
+        # the journal radius): two would both be recorded while one value acts (set: contact.clearance beside a
+        # dispersed contact.journal_radius: the later spelling won silently, pass 70).
         aliases = gimbalsim.key_aliases()
-        seen = {}
-        for section, mapping in (("parameters", params), ("grid", grid)):
+        seen = {}  # quantity -> (where, the key as named there)
+        for section, mapping in (("set", sets), ("parameters", params), ("grid", grid)):
             for key, node in mapping.items():
-                canonical = aliases.get(key, key)
-                if canonical in seen:
-                    spec.refuse(f"{section}.{key}", f"the same key as {seen[canonical]}: give it in one place", node)
-                seen[canonical] = f"{section}.{key}"
+                named = aliases.get(key, key)
+                if one_quantity(named) in seen:
+                    where, other = seen[one_quantity(named)]
+                    same = "the same key as" if named == other else "the same quantity as"
+                    spec.refuse(f"{section}.{key}", f"{same} {where}: give it in one place", node)
+                seen[one_quantity(named)] = (f"{section}.{key}", named)
         self.grid = []
         for key, node in grid.items():
             if not isinstance(node.value, list) or not node.value:
