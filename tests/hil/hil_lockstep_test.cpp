@@ -192,6 +192,31 @@ TEST(HilLockstep, RealTimeRunReplayedInLockstepHasTheSameDynamicsAndWork) {
   }
   EXPECT_EQ(differing, 0);
   expectSameWorkPerTick(dir / "rt_ticks.csv", dir / "ls_ticks.csv", 2000);
+  EXPECT_NE(readFile(dir / "replay.log").find("the replayed plant's joint state matched the recorded one bit for bit "
+                                              "at "), std::string::npos) << readFile(dir / "replay.log");
+}
+
+// A run replayed onto another plant (here the ideal joint's): the torques were answered, the dynamics differed,
+// and the replay said "answered statuses 0..N", exit 0 (pass 70). Each truth message is compared with its row:
+// the first joint state off it stops the replay, not reproduced (8). The slew starts at 0.5 s.
+TEST(HilLockstep, TorqueReplayOntoAnotherSceneIsNotReproduced) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("replay_other_scene");
+  const std::string url = udpmUrl(7758), cfg = defaultControllerConfig();
+  const std::string fw = "timeout 60 " + firmwareSim() + " --duration 0.8 --profile " + cfg + " --lcm-url '" + url +
+                         "' --lockstep --start-timeout 10 ";
+  const std::string body =
+      "timeout 60 " + pointingController() + " " + cfg + " --lcm-url '" + url + "' --duration 0.8 --idle-exit 10 >ctl.log 2>&1 &\n"
+      "C=$!\n" + fw + scenePath("paper_clearance") + " --truth-csv rec.csv >rec.log 2>&1\nrf=$?; wait $C\ntimeout 60 '" +
+      std::string(GIMBALSIM_TORQUE_REPLAY) + "' rec.csv --lcm-url '" + url + "' --idle-exit 10 >replay.log 2>&1 &\n"
+      "R=$!\n" + fw + scenePath("paper_ideal") + " --lockstep-timeout-ms 2000 >rep.log 2>&1\nwait $R; rr=$?\n"
+      "echo \"rf $rf rr $rr\"\n[ $rf -eq 0 ] && [ $rr -eq 8 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "rec.log")
+                                      << readFile(dir / "replay.log");
+  EXPECT_NE(readFile(dir / "replay.log").find("where the recorded run's row has"), std::string::npos)
+      << readFile(dir / "replay.log");
+  EXPECT_NE(readFile(dir / "replay.log").find("the replayed plant does not follow the recorded run"),
+            std::string::npos) << readFile(dir / "replay.log");
 }
 
 // A truth CSV recorded at another control rate than the plant's: status k is

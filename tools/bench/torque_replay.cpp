@@ -8,9 +8,12 @@
 // the machine added to it. Answers status k with the torque of row k + 1 (a
 // command answering status k acts from tick k + 1); tick 0 ran before any
 // command in both runs. A status whose time is not its row's (sim_time_s: the
-// plant ticks at another control period) stops the replay. Exit 0 after
+// plant ticks at another control period) stops the replay, and so does a
+// truth message whose joint state is not its row's bit for bit (another
+// scene or --set: pass 70 found such a replay exit 0). Exit 0 after
 // answering the last status the CSV covers; 2 refused input, or a plant
-// ticking at another period; 5 network (a failed send too); 6 no plant within --idle-exit.
+// ticking at another period; 5 network (a failed send too); 6 no plant within --idle-exit;
+// 8 not reproduced.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdint>
@@ -25,6 +28,7 @@
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
+#include "gimbalsim/gimbal_truth_t.hpp"
 #include "gimbalsim/program/program.hpp"
 #include "truth_torques.hpp"
 
@@ -33,6 +37,29 @@ namespace {
 using gimbalsim::program::refuse;
 using gimbalsim::bench::readTorques;
 using gimbalsim::bench::Torques;
+// A truth message of the replayed plant against its row: the joint state must be the recorded one bit for bit
+// (the CSV's numbers round-trip exactly); the first that is not names the tick and the column.
+void compareTruth(const gimbalsim::lcm_wire::Message& m, const Torques& t, std::int64_t* compared,
+                  std::string* diverged) {
+  gimbalsim::gimbal_truth_t tr{};
+  if (tr.decode(m.data, 0, static_cast<int>(m.size)) != static_cast<int>(m.size)) return;
+  if (tr.seq < 0 || static_cast<std::size_t>(tr.seq) >= t.joint_state.size()) return;
+  const auto& row = t.joint_state[static_cast<std::size_t>(tr.seq)];
+  const double got[4] = {tr.joint_angle[0], tr.joint_angle[1], tr.joint_rate[0], tr.joint_rate[1]};
+  for (std::size_t i = 0; i < row.size(); ++i) {
+    if (got[i] != row[i]) {
+      char why[320];
+      std::snprintf(why, sizeof why, "truth %lld (t = %.9g s): %s %.17g where the recorded run's row has %.17g: the "
+                    "replayed plant does not follow the recorded run (another scene or --set?)",
+                    static_cast<long long>(tr.seq), tr.sim_time, gimbalsim::bench::kJointStateColumns[i], got[i],
+                    row[i]);
+      *diverged = why;
+      return;
+    }
+  }
+  ++*compared;
+}
+
 int mainImpl(int argc, char** argv) {
   CLI::App app{"torque_replay: answers a lockstep firmware_sim with the torques of a recorded run"};
   std::string truth, url, prefix;
@@ -64,7 +91,7 @@ int mainImpl(int argc, char** argv) {
   }
   gimbalsim::lcm_wire::UdpmSender tx;
   const auto ch = gimbalsim::contract::Channels::withPrefix(prefix);
-  gimbalsim::lcm_wire::UdpmReceiver rx({}, gimbalsim::lcm_wire::ChannelFilter({ch.status}));
+  gimbalsim::lcm_wire::UdpmReceiver rx({}, gimbalsim::lcm_wire::ChannelFilter({ch.status, ch.truth}));
   if (std::string why; !tx.open(url, &why) || !rx.open(url, 1 << 20, &why)) {
     std::fprintf(stderr, "torque_replay: network: %s\n", why.c_str());
     return gimbalsim::program::kNetwork;
@@ -74,12 +101,17 @@ int mainImpl(int argc, char** argv) {
   std::int64_t heard_ns = gimbalsim::lcm_wire::monotonicNs();
   bool sent = true;
   std::string mismatch;  // a status at another time than its row: another control period
-  std::string diverged;  // a status past the recorded stop without the plant's fault: another run
+  std::string diverged;  // a status past the recorded stop without the plant's fault, or a truth off its row
+  std::int64_t compared = 0;  // truths whose joint state matched its row
   while (answered < last && sent && mismatch.empty() && diverged.empty()) {
     if (rx.wait(100, 0) < 0) return gimbalsim::program::kNetwork;
     rx.drain([&](const gimbalsim::lcm_wire::Message& m, std::int64_t) {
-      gimbalsim::gimbal_status_t st{};
       if (!sent || !mismatch.empty() || !diverged.empty()) return;
+      if (m.channel == ch.truth) {
+        compareTruth(m, t, &compared, &diverged);
+        return;
+      }
+      gimbalsim::gimbal_status_t st{};
       if (st.decode(m.data, 0, static_cast<int>(m.size)) != static_cast<int>(m.size)) return;
       heard_ns = gimbalsim::lcm_wire::monotonicNs();
       if (st.seq <= answered || st.seq > last) return;  // a repeat (status 0 is re-sent until answered), or past the CSV
@@ -148,6 +180,14 @@ int mainImpl(int argc, char** argv) {
     return gimbalsim::program::kNetwork;
   }
   std::fprintf(stderr, "torque_replay: answered statuses 0..%lld from %s\n", static_cast<long long>(last), truth.c_str());
+  if (compared > 0) {
+    std::fprintf(stderr, "torque_replay: the replayed plant's joint state matched the recorded one bit for bit at "
+                 "%lld ticks\n", static_cast<long long>(compared));
+  } else {
+    std::fprintf(stderr, "torque_replay: warning: no truth compared (%s): the replayed dynamics were not checked "
+                 "against the recorded run\n", t.joint_state.empty() ? "the CSV has no theta and dtheta columns"
+                 : ("none heard on " + ch.truth).c_str());
+  }
   return gimbalsim::program::kOk;
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cerrno>
@@ -38,7 +39,14 @@ struct Torques {
   /// fails inside the tick leaves the state a sub-step on, so that row's time moves on before it freezes
   /// (pass 37): the stop is this row, not the first frozen one.
   std::size_t first_fault_row = static_cast<std::size_t>(-1);
+  /// Row k's true joint state (theta1_rad, theta2_rad, dtheta1_rad_per_s, dtheta2_rad_per_s: [rad], [rad/s]),
+  /// what a replay compares the replayed plant's truth with; empty when the CSV lacks any of the four.
+  std::vector<std::array<double, 4>> joint_state;
 };
+
+/// The joint-state columns of Torques::joint_state, in its order.
+inline constexpr std::array<const char*, 4> kJointStateColumns = {"theta1_rad", "theta2_rad", "dtheta1_rad_per_s",
+                                                                  "dtheta2_rad_per_s"};
 
 /// The two torque columns of a truth CSV written every tick (its seq column
 /// 0, 1, 2, ...; every cell a plain finite decimal), read from `in`; throws std::runtime_error naming `name`,
@@ -80,6 +88,13 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
       if (header[j] == column) *at = j;
     }
   }
+  std::array<int, 4> cq{-1, -1, -1, -1};  // the joint state's columns
+  for (int j = 0; j < static_cast<int>(header.size()); ++j) {
+    for (std::size_t i = 0; i < cq.size(); ++i) {
+      if (header[j] == kJointStateColumns[i]) cq[i] = j;
+    }
+  }
+  const bool has_state = std::none_of(cq.begin(), cq.end(), [](int c) { return c < 0; });
   if (c1 < 0 || c2 < 0 || cs < 0) {
     throw std::runtime_error(name + ":1: no seq, tau1_Nm and tau2_Nm columns (not a firmware_sim truth CSV)");
   }
@@ -145,6 +160,8 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
       }
       utime_prev = utime_us;
     }
+    if (has_state) t.joint_state.push_back({number(f, cq[0], n), number(f, cq[1], n), number(f, cq[2], n),
+                                            number(f, cq[3], n)});
     const bool faulted = (static_cast<long long>(faults) & kPlantFault) != 0;
     const bool after_stop = t.first_fault_row != static_cast<std::size_t>(-1);  // a row after the stop's own
     // The stop is latched: every later row carries it, its time standing still (pass 66: a flag on one row
