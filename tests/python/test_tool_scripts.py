@@ -126,6 +126,25 @@ def test_bench_plot_refuses_a_bad_cell_in_a_column_it_does_not_plot(tmp):
     assert not (tmp / "a.png").exists()
 
 
+def test_bench_plot_refuses_a_truth_csv_with_ticks_cut_out(tmp):
+    # (pass 70) rows cut out of a truth CSV (seq 0, 1, 3) were plotted as one run, a line drawn across the gap;
+    # a CSV of every N-th tick (--truth-every N) or a log begun late is one run and is plotted
+    header = "seq," + TRUTH_HEADER
+    good = tmp / "every2.csv"
+    good.write_text(header + "4,0,0,0,0,0,1e-3,0\n6,0.002,0,0,0,0,2e-3,0\n8,0.004,0,0,0,0,2e-3,0\n")
+    p = run(BENCH, good, "--out", tmp / "ok.png")
+    assert p.returncode == 0 and (tmp / "ok.png").exists(), p.stderr
+    cut = tmp / "cut.csv"
+    cut.write_text(header + "0,0,0,0,0,0,1e-3,0\n1,0.001,0,0,0,0,2e-3,0\n3,0.003,0,0,0,0,2e-3,0\n")
+    refused(run(BENCH, cut, "--out", tmp / "a.png"), f"{cut}:4: seq 3 after 1, where the rows before step by 1: "
+            "ticks cut out")
+    cut.write_text(header + "1,0,0,0,0,0,1e-3,0\n0,0.001,0,0,0,0,2e-3,0\n")
+    refused(run(BENCH, cut, "--out", tmp / "a.png"), f"{cut}:3: seq 0 after 1", "out of order")
+    cut.write_text(header + "0,0,0,0,0,0,1e-3,0\n1.5,0.001,0,0,0,0,2e-3,0\n")
+    refused(run(BENCH, cut, "--out", tmp / "a.png"), f"{cut}:3: column seq: 1.5 is not a tick number")
+    assert not (tmp / "a.png").exists()
+
+
 def study_dir(tmp):
     d = tmp / "study"
     d.mkdir()

@@ -110,7 +110,7 @@ def read(path):
             check_line(raw[at:eol].split(b","), header, f"{path}:{line}")  # refused, or a line the pass left to it
             at = eol + 1
         line += 1
-    wanted = NEEDED + (["injected_faults"] if "injected_faults" in header else [])
+    wanted = NEEDED + [c for c in ("injected_faults", "seq") if c in header]
     table = np.loadtxt(io.BytesIO(raw), delimiter=",", comments=None, skiprows=1, dtype=float, ndmin=2,
                        usecols=[header.index(c) for c in wanted])
     cols = {c: table[:, j] for j, c in enumerate(wanted)}
@@ -120,6 +120,7 @@ def read(path):
             bad = np.flatnonzero(~((cols[c] >= 0) & (cols[c] < 2**bits) & (cols[c] == np.floor(cols[c]))))
             if bad.size:
                 raise Refused(f"{path}:{bad[0] + 2}: column {c}: {cols[c][bad[0]]:g} is not a set of fault bits")
+    _check_every_tick_kept(cols, path)
     cols = _until_the_plant_stopped(cols)
     if (np.diff(cols["sim_time_s"]) <= 0).any():
         raise Refused(f"{path}:{int(np.argmax(np.diff(cols['sim_time_s']) <= 0)) + 3}: sim_time_s does not increase")
@@ -128,6 +129,26 @@ def read(path):
         value = cols["pointing_error_rad"][neg[0]]
         raise Refused(f"{path}:{neg[0] + 2}: column pointing_error_rad: {value:g} is negative")
     return cols
+
+
+def _check_every_tick_kept(cols, path):
+    """A truth CSV holds every N-th tick (--truth-every N, N from its first two rows; a log from a recorder
+    started late begins anywhere): seq steps by N on every row. A jump is a row cut out, and a plot over it
+    would draw a line across ticks nobody saw (pass 70); Refused naming the line."""
+    if "seq" not in cols:
+        return
+    seq = cols.pop("seq")
+    if ((seq < 0) | (seq != np.floor(seq))).any():
+        bad = int(np.flatnonzero((seq < 0) | (seq != np.floor(seq)))[0])
+        raise Refused(f"{path}:{bad + 2}: column seq: {seq[bad]:g} is not a tick number")
+    if len(seq) < 2:
+        return
+    step = np.diff(seq)
+    bad = np.flatnonzero(step != step[0])
+    if step[0] <= 0 or bad.size:
+        k = int(bad[0]) + 1 if step[0] > 0 else 1
+        raise Refused(f"{path}:{k + 2}: seq {seq[k]:.0f} after {seq[k - 1]:.0f}, where the rows before step by "
+                      f"{step[0]:.0f}: ticks cut out or out of order ({NOT_AS_WRITTEN}, every N-th tick)")
 
 
 PLANT_FAULT = 8  # gimbal_status_t.FAULT_PLANT_FAULT: the integration failed, the state frozen (latched)
