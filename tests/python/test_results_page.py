@@ -253,6 +253,6 @@ def test_a_study_whose_clearance_runs_have_no_track_figure_says_so(tmp_path, mon
     texts = []
     monkeypatch.setattr(plot_pointing_study, "savefig",
                         lambda fig, out, dpi: texts.extend(t.get_text() for t in fig.axes[0].texts))
-    plot_pointing_study.plot_clearance(plot_pointing_study.read_summary(str(tmp_path / "summary.csv")),
+    plot_pointing_study.plot_clearance(plot_pointing_study.read_summary(str(tmp_path)),
                                        str(tmp_path / "c.png"))
     assert texts == ["no clearance run has a figure while tracking"], texts

@@ -15,6 +15,7 @@ from conftest import BIN, SOURCE
 sys.path.insert(0, str(SOURCE / "tools" / "paper"))
 sys.path.insert(0, str(SOURCE / "tools" / "pointing_study"))
 from paper_data import REQUIRED  # noqa: E402
+from test_page_rules import POINTING_HEADER  # noqa: E402  (the study's summary.csv)
 
 BENCH = SOURCE / "tools" / "hil" / "plot_bench.py"
 STUDY = SOURCE / "tools" / "pointing_study" / "plot_pointing_study.py"
@@ -145,12 +146,18 @@ def test_bench_plot_refuses_a_truth_csv_with_ticks_cut_out(tmp):
     assert not (tmp / "a.png").exists()
 
 
+def study_row(run="ideal", scene="paper_ideal", c="0", status="ok", rms="1e-6", peak="2e-6", ticks="1",
+              limited_track="0", track_reason=""):
+    """A summary.csv row as gimbalsim_pointing_study writes it (POINTING_HEADER's columns)."""
+    return (f"{run},{scene},perfect,{c},{peak},{rms},3e-06,{ticks},0,{limited_track},0,ideal/ideal,nan,nan,nan,nan,"
+            f"encoders,{status},,{track_reason},\n")
+
+
 def study_dir(tmp):
     d = tmp / "study"
     d.mkdir()
     (d / "pointing_error.csv").write_text("t_s,error_ideal_rad\n0,1e-6\n0.001,2e-6\n")
-    (d / "summary.csv").write_text("run,scene,clearance_m,status,rms_track_rad,peak_track_rad,track_ticks\n"
-                                   "ideal,paper_ideal,0,ok,1e-6,2e-6,1\n")
+    (d / "summary.csv").write_text(POINTING_HEADER + study_row())
     return d
 
 
@@ -171,27 +178,42 @@ def test_pointing_study_plot_refuses_bad_cells_and_outputs(tmp):
     assert run(STUDY, d).returncode == 0
     # "nan" is the CSV convention's figure without a value (a run that never reached the track): a run
     # without one is left out of the plot, beside one that has it ...
-    (d / "summary.csv").write_text("run,scene,clearance_m,status,rms_track_rad,peak_track_rad,track_ticks,"
-                                   "track_reason\nideal,paper_ideal,0,ok,1e-6,2e-6,1,\n"
-                                   "c=0.1mm,paper_clearance,1e-4,ok,nan,nan,0,track window not reached\n")
+    (d / "summary.csv").write_text(POINTING_HEADER + study_row() + study_row(
+        "c=0.1mm", "paper_clearance", "1e-4", rms="nan", peak="nan", ticks="0", limited_track="nan",
+        track_reason="track window not reached"))
     p = run(STUDY, d)
     assert p.returncode == 0, p.stderr
     assert (d / "pointing_error_vs_clearance.png").exists()
     # ... but a study none of whose runs has one gets no plot (it drew two empty axes)
-    (d / "summary.csv").write_text("run,scene,clearance_m,status,rms_track_rad,peak_track_rad,track_ticks,"
-                                   "track_reason\nideal,paper_ideal,0,ok,nan,nan,0,track window [3.5; inf) s not "
-                                   "reached: run ended at 0.1 s\n")
+    (d / "summary.csv").write_text(POINTING_HEADER + study_row(
+        rms="nan", peak="nan", ticks="0", limited_track="nan",
+        track_reason="track window [3.5; inf) s not reached: run ended at 0.1 s"))
     refused(run(STUDY, d), "no run has a figure while tracking (track window [3.5; inf) s not reached")
-    (d / "summary.csv").write_text("run,scene,clearance_m,status,rms_track_rad,peak_track_rad,track_ticks\n"
-                                   "ideal,paper_ideal,0,ok,1e-6,2e-6,1\n")
+    (d / "summary.csv").write_text(POINTING_HEADER + study_row())
     (d / "pointing_error.csv").write_text("t_s,error_ideal_rad\n0,0\n0.001,0\n")
     refused(run(STUDY, d), "pointing_error.csv: no run drawn against time has a pointing error above 0")
     (d / "pointing_error.csv").write_text("t_s,error_ideal_rad\n0,1e-6\n0.001,2e-6\n")
-    (d / "summary.csv").write_text("run,scene,clearance_m,status,rms_track_rad,peak_track_rad,track_ticks\n"
-                                   "ideal,paper_ideal,zero,ok,1e-6,2e-6,1\n")
+    (d / "summary.csv").write_text(POINTING_HEADER + study_row(c="zero"))
     refused(run(STUDY, d), "summary.csv:2", "clearance_m")
     (d / "summary.csv").write_text("run,scene\nideal,paper_ideal\n")
-    refused(run(STUDY, d), "summary.csv", "needs columns")
+    refused(run(STUDY, d), "summary.csv", "no column")
+    # (pass 70) the page's rules: a negative or a NaN peak on a run that tracked, CRLF, a negative error in time
+    for text, said in [(POINTING_HEADER + study_row(peak="-2e-6"), "summary.csv:2: column peak_track_rad: -2e-6 is "
+                        "outside [0, 3.14159]"),
+                       (POINTING_HEADER + study_row(peak="nan"), "summary.csv:2: track_ticks 1 with peak_track_rad nan"),
+                       ((POINTING_HEADER + study_row()).replace("\n", "\r\n"), "a carriage return on line 1")]:
+        (d / "summary.csv").write_text(text)
+        refused(run(STUDY, d), said)
+    (d / "summary.csv").write_text(POINTING_HEADER + study_row())
+    for text, said in [("t_s,error_ideal_rad\n0,1e-6\n0.001,-2e-6\n", "pointing_error.csv:3: column error_ideal_rad: "
+                        "-2e-6 is outside [0, 3.14159]"),
+                       ("t_s,error_ideal_rad\r\n0,1e-6\r\n", "pointing_error.csv:1: ends in CR (CRLF line ends)"),
+                       ("t_s,error_ideal_rad\n0,1e-6\n0.001,2e-6", "pointing_error.csv:3: the last line has no line end"),
+                       ("t_s,error_ideal_rad\n0.001,1e-6\n0.001,2e-6\n", "pointing_error.csv:3: column t_s: does "
+                        "not increase")]:
+        (d / "pointing_error.csv").write_text(text)
+        refused(run(STUDY, d), said)
+    (d / "pointing_error.csv").write_text("t_s,error_ideal_rad\n0,1e-6\n0.001,2e-6\n")
     (d / "pointing_error_vs_time.png").unlink()
     os.symlink(tmp / "victim.png", d / "pointing_error_vs_time.png")
     refused(run(STUDY, d), "symbolic link")

@@ -13,7 +13,6 @@
 Usage: /usr/bin/python3 tools/pointing_study/plot_pointing_study.py [DIR]  (default out/pointing_study)
 """
 import argparse
-import csv
 import os
 import sys
 
@@ -22,63 +21,45 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import output_file  # noqa: E402  (add_version)
-from output_file import Refused, check_before_writing, check_header, plain_number, run_script, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
+from output_file import Refused, check_as_written, check_before_writing, check_header, run_script, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
 import numpy as np  # noqa: E402
+import pointing_page  # noqa: E402  (the summary's one reader: its writer's rules)
+import results_page  # noqa: E402
 
 
-SUMMARY_COLUMNS = ["run", "scene", "clearance_m", "status", "rms_track_rad", "peak_track_rad", "track_ticks"]
-SUMMARY_NUMBERS = ["clearance_m", "rms_track_rad", "peak_track_rad", "track_ticks"]
-
-
-def read_rows(path):
-    """The CSV's rows (header first); Refused naming the file when it cannot be read."""
-    if not os.path.isfile(path):
-        raise Refused(f"{path}: " + ("not a regular file" if os.path.exists(path) else
-                                     "not found (run gimbalsim_pointing_study --out DIR)"))
-    try:
-        with open(path, newline="") as f:
-            return list(csv.reader(f))
-    except OSError as e:
-        raise Refused(f"cannot read {path}: {e.strerror}")
-    except (csv.Error, UnicodeDecodeError) as e:
-        raise Refused(f"{path}: not a CSV file ({e})")
-
-
-def number(path, line, column, text):
-    if text in ("", "nan"):  # no value (the CSV convention: a figure over a window not reached, a stopped run)
-        return np.nan
-    return plain_number(text, f"{path}:{line}: column {column}")
-
-
-def read_series(path):
-    rows = read_rows(path)
+def read_series(folder):
+    """pointing_error.csv of the study in folder: t_s and each run's error [rad], as the study writes them (LF
+    lines, no byte-order mark, t_s >= 0 increasing, an error in [0, pi] or empty where that run had ended, or
+    nan); Refused naming file, line and column."""
+    path = os.path.join(folder, "pointing_error.csv")
+    raw = results_page.run_file(folder, "pointing_error.csv").encode()
+    check_as_written(raw, path, "not as gimbalsim_pointing_study writes it")
+    rows = [line.split(",") for line in raw.decode().split("\n")[:-1]]
     if len(rows) < 2:
         raise Refused(f"{path}: no data rows")
     head = rows[0]
     check_header(head, path)
+    rules = {h: (pointing_page.study_csv.Column(0.0) if j == 0 else pointing_page.RAD) for j, h in enumerate(head)}
     cols = {h: [] for h in head}
     for line, r in enumerate(rows[1:], start=2):
         if len(r) != len(head):
             raise Refused(f"{path}:{line}: {len(r)} fields, the header has {len(head)}")
-        for h, v in zip(head, r):
-            cols[h].append(number(path, line, h, v))
+        for j, (h, v) in enumerate(zip(head, r)):
+            cols[h].append(np.nan if v == "" and j > 0 else rules[h].read(v, f"{path}:{line}: column {h}"))
+    t = np.array(cols[head[0]])
+    if (np.diff(t) <= 0).any():
+        line = int(np.argmax(np.diff(t) <= 0)) + 3
+        raise Refused(f"{path}:{line}: column {head[0]}: does not increase")
     return head, {h: np.array(v) for h, v in cols.items()}
 
 
-def read_summary(path):
-    rows = read_rows(path)
-    if not rows or any(c not in rows[0] for c in SUMMARY_COLUMNS):
-        raise Refused(f"{path}: not the study's summary: needs columns {', '.join(SUMMARY_COLUMNS)}")
-    check_header(rows[0], path)
-    summary = [dict(zip(rows[0], r)) for r in rows[1:]]
-    for line, (r, raw) in enumerate(zip(summary, rows[1:]), start=2):
-        if len(raw) != len(rows[0]):
-            raise Refused(f"{path}:{line}: {len(raw)} fields, the header has {len(rows[0])}")
-        for c in SUMMARY_NUMBERS:
-            r[c] = number(path, line, c, r[c])
+def read_summary(folder):
+    """summary.csv of the study in folder, by pointing_page's rules (the page's reader); Refused when empty."""
+    summary = pointing_page.read_summary(folder)
     if not summary:
-        raise Refused(f"{path}: no runs")
+        raise Refused(f"{os.path.join(folder, 'summary.csv')}: no runs")
     return summary
 
 
@@ -173,8 +154,8 @@ def main():
     series, summary = os.path.join(a.dir, "pointing_error.csv"), os.path.join(a.dir, "summary.csv")
     outs = [os.path.join(a.dir, "pointing_error_vs_time.png"), os.path.join(a.dir, "pointing_error_vs_clearance.png")]
     check_before_writing(outs, [series, summary])
-    head, cols = read_series(series)
-    rows = read_summary(summary)
+    head, cols = read_series(a.dir)
+    rows = read_summary(a.dir)
     # Both figures are the tracking's: a study none of whose runs has a figure there draws two empty axes.
     if not any(r["status"] == "ok" and np.isfinite(r["rms_track_rad"]) for r in rows):
         why = next((r["track_reason"] for r in rows if r.get("track_reason")), "no run ended ok")

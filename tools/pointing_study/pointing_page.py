@@ -25,6 +25,7 @@ COLUMNS = {"clearance_m": study_csv.Column(0.0, 1.0), "peak_track_rad": RAD, "rm
            "controller_limited_track_ticks": study_csv.Column(0, 10**12, whole=True, nan=True),
            "max_tilt1_rad": RAD, "max_tilt2_rad": RAD,
            "play_onset1_s": study_csv.Column(0.0, 1e9, nan=True), "play_onset2_s": study_csv.Column(0.0, 1e9, nan=True)}
+TEXT_COLUMNS = ("scene", "status")  # read as written
 
 
 def _uncounted(x):
@@ -47,11 +48,16 @@ def _rad(v, fmt=".2e"):
     return format(v, fmt) if math.isfinite(v) else "n/a"
 
 
-def _page(d):
-    """The page's body (Markdown lines) and its index line, from the study in d."""
+def read_summary(d):
+    """The rows of the study's summary.csv in folder d by its writer's rules (COLUMNS, each run once, the text
+    columns there, the track's figures exactly where it has tracking ticks): the page's and the plots' one reader
+    (pass 70: the plot took a negative or NaN peak on an ok row, and CRLF). Refused naming file, line and column."""
+    d = pathlib.Path(d)
     rows = study_csv.read_rows(d, "summary.csv", COLUMNS, key="run")
-    if not rows:
-        raise results_page.no_rows(d / "summary.csv", "docs/results/closed_loop_clearance.md")
+    missing = [c for c in TEXT_COLUMNS if rows and c not in rows[0]]
+    if missing:
+        raise results_page.output_file.Refused(f"{d / 'summary.csv'}: no column {', '.join(missing)} (not as its "
+                                               "study writes it)")
     for line, r in enumerate(rows, start=2):  # the track's figures come with its ticks (pass 50: nan over 500 ticks)
         tracked = [r["track_ticks"] > 0, math.isfinite(r["peak_track_rad"]), math.isfinite(r["rms_track_rad"]),
                    not _uncounted(r["controller_limited_track_ticks"])]
@@ -61,6 +67,14 @@ def _page(d):
                 f"{r['peak_track_rad']}, rms_track_rad {r['rms_track_rad']} and controller_limited_track_ticks "
                 f"{r['controller_limited_track_ticks']}: its study writes the track's figures exactly when it has "
                 "tracking ticks")
+    return rows
+
+
+def _page(d):
+    """The page's body (Markdown lines) and its index line, from the study in d."""
+    rows = read_summary(d)
+    if not rows:
+        raise results_page.no_rows(d / "summary.csv", "docs/results/closed_loop_clearance.md")
     if not any(r["track_ticks"] > 0 for r in rows):  # (pass 50) the page's subject: a page of n/a replaced the study's
         raise results_page.output_file.Refused(
             f"{d / 'summary.csv'}: no run has a figure while tracking (each stopped or ended before it): nothing to "
