@@ -127,7 +127,11 @@ def _point(policy="plain", substep="nan", ok="1", err="1e-07", substeps="100", r
     # (pass 52) a value outside its key's range, and a key no policy sweeps
     (_point(swept="sim.substep_tol,999999"), "column sweep_value of sim.substep_tol: 999999 is outside (0, 1)"),
     (_point(swept="sim.substep_tol,0"), "column sweep_value of sim.substep_tol: 0 is outside (0, 1)"),
-    (_point(swept="banana key,1e-6"), "column sweep_key: 'banana key' is no key the policy table sweeps")])
+    (_point(swept="banana key,1e-6"), "column sweep_key: 'banana key' is no key the policy table sweeps"),
+    # (pass 69) one point twice (which would the page show?), nan in a column the page does not show
+    (_point() + _point(), "workprec.csv:3: the point of line 2 again"),
+    (_point().replace(",0.01,", ",nan,"), "column peak_force_err_rel: nan on a point that ran ok without the note"),
+    (_point().replace("1e-07,1e-07,1e-07,", "1e-07,nan,1e-07,"), "column bore_err_end_rad: nan is no figure")])
 def test_a_workprec_point_the_tool_cannot_write_is_refused(tmp_path, row, said):
     # (pass 49) an ok point with error -1 was named cheapest, 1e-400 shown as 0, an adaptive point's nan sub-step
     # put on the page and its index line; an ok cell '1 ' or 'yes' was a failed point without a word

@@ -15,6 +15,7 @@ from conftest import BIN, SOURCE
 sys.path.insert(0, str(SOURCE / "tools" / "paper"))
 sys.path.insert(0, str(SOURCE / "tools" / "pointing_study"))
 from paper_data import REQUIRED  # noqa: E402
+from test_page_columns import WORKPREC_HEADER  # noqa: E402  (gimbalsim_workprec's CSV)
 from test_page_rules import POINTING_HEADER  # noqa: E402  (the study's summary.csv)
 
 BENCH = SOURCE / "tools" / "hil" / "plot_bench.py"
@@ -236,21 +237,43 @@ def test_paper_plot_makes_no_folder_and_overwrites_no_input(tmp):
     assert sorted(p.name for p in tmp.iterdir()) == ["plots", "run.csv"]
 
 
+def workprec_point(scene="A", h="0.001", ok="1", cpu="0.1", err="1e-6", force="0.01", note="", policy="plain"):
+    """A workprec.csv row as gimbalsim_workprec writes it (WORKPREC_HEADER's columns)."""
+    return (f"{scene},{policy},{h},nan,1e-08,,,{ok},{cpu},3,{err},1e-07,1e-07,1e-07,{force},1e-09,100,5,1,{note}\n")
+
+
 def test_workprec_plot_refuses_a_foreign_csv_and_its_own_input(tmp):
     plot = SOURCE / "tools" / "workprec" / "plot_workprec.py"
     good = tmp / "w.csv"
-    good.write_text("scene,policy,ok,bore_err_max_rad,cpu_s_per_sim_s,pareto\nA,fixed,1,1e-6,0.1,1\n")
+    good.write_text(WORKPREC_HEADER + workprec_point())
     assert run(plot, good).returncode == 0 and (tmp / "w.png").exists()
     refused(run(plot, good, "--out", good), "the same file as the input")
     bad = tmp / "b.csv"
-    bad.write_text("scene,policy,ok,bore_err_max_rad,cpu_s_per_sim_s,pareto\nA,fixed,1,zz,0.1,1\n")
+    bad.write_text(WORKPREC_HEADER + workprec_point(err="zz"))
     refused(run(plot, bad), f"{bad}:2", "bore_err_max_rad")
     bad.write_text("a,b\n1,2\n")
-    refused(run(plot, bad), "needs columns")
+    refused(run(plot, bad), "no column")
     # a time or an error below 0 is none the tool writes: it was skipped without a word, or drawn at 1e-16
-    for row, column in (("A,fixed,1,1e-6,-1,1", "cpu_s_per_sim_s"), ("A,fixed,1,-1e-6,0.1,1", "bore_err_max_rad")):
-        bad.write_text("scene,policy,ok,bore_err_max_rad,cpu_s_per_sim_s,pareto\n" + row + "\n")
-        refused(run(plot, bad), f"{bad}:2: column {column}", "is below 0")
+    for row, column in ((workprec_point(cpu="-1"), "cpu_s_per_sim_s"), (workprec_point(err="-1e-6"),
+                                                                          "bore_err_max_rad")):
+        bad.write_text(WORKPREC_HEADER + row)
+        refused(run(plot, bad), f"{bad}:2: column {column}", "is outside [0, inf]")
+    # (pass 69) the page's rules, which the plot did not have: CRLF, a step or a CPU time of 0 on a point that ran
+    # ok, a negative error on a failed one, one point twice, nan in a column the plot does not draw
+    for text, said in [((WORKPREC_HEADER + workprec_point()).replace("\n", "\r\n"), "a carriage return"),
+                       (WORKPREC_HEADER + workprec_point(h="0"), f"{bad}:2: column h_s: 0.0 is no figure"),
+                       (WORKPREC_HEADER + workprec_point(cpu="0"), f"{bad}:2: column cpu_s_per_sim_s: 0.0 is no fig"),
+                       (WORKPREC_HEADER + workprec_point() + workprec_point(ok="0", err="-1"),
+                        f"{bad}:3: column bore_err_max_rad: -1 is outside"),
+                       (WORKPREC_HEADER + workprec_point() + workprec_point(cpu="0.2"),
+                        f"{bad}:3: the point of line 2 again"),
+                       (WORKPREC_HEADER + workprec_point(force="nan"), f"{bad}:2: column peak_force_err_rel: nan on")]:
+        bad.write_text(text)
+        refused(run(plot, bad), said)
+    # nan there is the writer's, with its note, where the reference has no contact
+    good.write_text(WORKPREC_HEADER + workprec_point(force="nan", note="peak_force_err_rel: no contact in the "
+                                                     "reference"))
+    assert run(plot, good).returncode == 0
     assert not (tmp / "b.png").exists()
 
 
@@ -261,15 +284,15 @@ def test_workprec_plot_finds_the_repositorys_csv_from_any_folder(tmp):
     shutil.copytree(SOURCE / "tools" / "pages", repo / "tools" / "pages")
     shutil.copytree(SOURCE / "python" / "gimbalsim", repo / "python" / "gimbalsim")  # the one writer's rules
     (repo / "tools" / "workprec").mkdir(parents=True)
-    shutil.copy(SOURCE / "tools" / "workprec" / "plot_workprec.py", repo / "tools" / "workprec")
+    for name in ("plot_workprec.py", "workprec_page.py"):  # the plot reads the CSV by the page's rules
+        shutil.copy(SOURCE / "tools" / "workprec" / name, repo / "tools" / "workprec")
     plot = repo / "tools" / "workprec" / "plot_workprec.py"
     elsewhere = tmp / "elsewhere"
     elsewhere.mkdir()
     p = subprocess.run([sys.executable, str(plot)], capture_output=True, text=True, timeout=120, cwd=elsewhere)
     refused(p, f"{repo / 'out' / 'workprec' / 'workprec.csv'}: no such file")
     (repo / "out" / "workprec").mkdir(parents=True)
-    (repo / "out" / "workprec" / "workprec.csv").write_text(
-        "scene,policy,ok,bore_err_max_rad,cpu_s_per_sim_s,pareto\nA,fixed,1,1e-6,0.1,1\n")
+    (repo / "out" / "workprec" / "workprec.csv").write_text(WORKPREC_HEADER + workprec_point())
     p = subprocess.run([sys.executable, str(plot)], capture_output=True, text=True, timeout=120, cwd=elsewhere)
     assert p.returncode == 0, p.stderr
     assert (repo / "out" / "workprec" / "workprec.png").exists() and list(elsewhere.iterdir()) == []

@@ -10,8 +10,8 @@ CSV defaults to the repository's out/workprec/workprec.csv (where
 run_workprec.sh writes it), from any folder; PNG to beside the CSV.
 """
 import argparse
-import csv
 import os
+import pathlib
 import sys
 from collections import OrderedDict
 
@@ -19,51 +19,31 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tools" / "pages"))
+sys.path.insert(0, str(ROOT / "tools" / "workprec"))
 import output_file  # noqa: E402  (add_version)
-from output_file import (Refused, check_before_writing, check_figure_format, check_header, plain_number,  # noqa: E402
-                         run_script, savefig)  # the package's one writer
+from output_file import Refused, check_before_writing, check_figure_format, run_script, savefig  # noqa: E402
+import workprec_page  # noqa: E402  (the CSV's one reader: its writer's rules, as the results page reads it)
 
-TARGETS = (1e-3, 1e-6, 1e-9)  # [rad], the targets the tool reports
-
-
-COLUMNS = ("ok", "bore_err_max_rad", "cpu_s_per_sim_s", "scene", "policy", "pareto")
+TARGETS = workprec_page.TARGETS  # [rad], the targets the tool reports
 
 
 def read(path):
-    """{scene: {policy: [(cpu, error, on the front)]}} of the successful points;
-    Refused naming the file and line of a row that is not the tool's."""
-    if not os.path.isfile(path):
-        raise Refused(f"{path}: " + ("not a regular file" if os.path.exists(path) else "no such file"))
+    """{scene: {policy: [(cpu, error, on the front)]}} of the points that ran ok, read by the results page's
+    rules (workprec_page.load; pass 69: the plot took CRLF, h_s 0, a negative error on a failed point and a point
+    twice, which the page refuses); Refused naming the file, line and column."""
+    if os.path.exists(path) and not os.path.isfile(path):
+        raise Refused(f"{path}: not a regular file")
+    if not os.path.lexists(path):
+        raise Refused(f"{path}: no such file")
     scenes = OrderedDict()
-    try:
-        with open(path, newline="") as f:
-            reader = csv.DictReader(f)
-            if reader.fieldnames is None or any(c not in reader.fieldnames for c in COLUMNS):
-                raise Refused(f"{path}: not gimbalsim_workprec's CSV: needs columns {', '.join(COLUMNS)}")
-            check_header(reader.fieldnames, path)
-            for r in reader:
-                where = f"{path}:{reader.line_num}"
-                if None in r or None in r.values():
-                    raise Refused(f"{where}: the row has not the header's {len(reader.fieldnames)} fields")
-                if r["ok"] not in ("0", "1"):
-                    raise Refused(f"{where}: column ok: expected 0 or 1, got {r['ok']!r}")
-                if r["ok"] != "1":
-                    continue
-                err = plain_number(r["bore_err_max_rad"], f"{where}: column bore_err_max_rad")
-                cpu = plain_number(r["cpu_s_per_sim_s"], f"{where}: column cpu_s_per_sim_s")
-                # below 0 is no time or error gimbalsim_workprec writes (pass 68's follow-up: a -1 was skipped)
-                for name, x in (("cpu_s_per_sim_s", cpu), ("bore_err_max_rad", err)):
-                    if x < 0:
-                        raise Refused(f"{where}: column {name}: {x!r} is below 0")
-                if cpu == 0:  # a point too fast for the clock has no place on a log axis
-                    continue
-                curves = scenes.setdefault(r["scene"], OrderedDict())
-                curves.setdefault(r["policy"], []).append((cpu, max(err, 1e-16), r["pareto"] == "1"))
-    except OSError as e:
-        raise Refused(f"cannot read {path}: {e.strerror}")
-    except (csv.Error, UnicodeDecodeError) as e:
-        raise Refused(f"{path}: not a CSV file ({e})")
+    for r in workprec_page.load(pathlib.Path(path)):
+        if r["ok"]:
+            curves = scenes.setdefault(r["scene"], OrderedDict())
+            # an error of exactly 0 (a point equal to the reference) has no place on a log axis: drawn at 1e-16
+            curves.setdefault(r["policy"], []).append((r["cpu_s_per_sim_s"], max(r["bore_err_max_rad"], 1e-16),
+                                                       r["pareto"]))
     return scenes
 
 
@@ -71,8 +51,7 @@ def main():
     ap = argparse.ArgumentParser(allow_abbrev=False, description=__doc__.splitlines()[0])
     output_file.add_version(ap)
     # the repository's, not the working folder's (pass 69: run from elsewhere it named a missing out/ folder)
-    default_csv = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "out", "workprec", "workprec.csv")
-    ap.add_argument("csv", nargs="?", default=os.path.normpath(default_csv))
+    ap.add_argument("csv", nargs="?", default=str(ROOT / "out" / "workprec" / "workprec.csv"))
     ap.add_argument("--out", default=None, help="PNG path (default: beside the CSV)")
     a = ap.parse_args()
     out = os.path.splitext(a.csv)[0] + ".png" if a.out is None else a.out  # --out '' is refused, not defaulted

@@ -31,12 +31,24 @@ COLUMNS = {"ok": study_csv.Column(flag=True), "pareto": study_csv.Column(flag=Tr
            "substeps": COUNT, "impacts": COUNT}
 
 
+SETTING = ("scene", "policy", "h_s", "substep_s", "event_tol_s", "sweep_key", "sweep_value")  # one point's identity
+ERRORS = ("bore_err_max_rad", "bore_err_end_rad", "theta1_err_max_rad", "theta2_err_max_rad")  # of every ok point
+NO_CONTACT = "peak_force_err_rel: no contact in the reference"  # points.cpp's note for its nan
+
+
 def load(path):
     """workprec.csv's points by its writer's column rules (study_csv), and a point that ran ok has the figures the
     page shows: a finite step, CPU time above 0, a finite error and, where its setting names one, a sub-step
     above 0 (pass 48: read as nan and printed; pass 49: an error of -1 named cheapest, 1e-400 shown as 0)."""
     rows = study_csv.read_rows(path.parent, path.name, COLUMNS)
+    seen = {}
     for line, r in enumerate(rows, start=2):
+        # (pass 69) one setting twice: which of two measurements would the page and the plot show?
+        point = tuple(repr(r[k]) for k in SETTING)
+        if point in seen:
+            raise results_page.output_file.Refused(f"{path}:{line}: the point of line {seen[point]} again (scene, "
+                                                   "policy, steps and swept value): its writer measures each once")
+        seen[point] = line
         # a swept key's value is the policy table's number (pass 51: 'banana' was shown as the setting)
         if r["sweep_key"]:
             where = f"{path}:{line}: column sweep_"
@@ -50,10 +62,14 @@ def load(path):
                                                    "no sweep_key (its writer writes it empty)")
         if not r["ok"]:
             continue
-        for k in ("h_s", "cpu_s_per_sim_s", "bore_err_max_rad") + (("substep_s",) if _shows_substep(r) else ()):
-            if not math.isfinite(r[k]) or (r[k] == 0 and k != "bore_err_max_rad"):
+        for k in ("h_s", "cpu_s_per_sim_s", *ERRORS) + (("substep_s",) if _shows_substep(r) else ()):
+            if not math.isfinite(r[k]) or (r[k] == 0 and k not in ERRORS):
                 raise results_page.output_file.Refused(f"{path}:{line}: column {k}: {r[k]!r} is no figure of a "
                                                        "point that ran ok")
+        # its writer leaves the force's error nan only where the reference has no contact, and says so (pass 69)
+        if math.isnan(r["peak_force_err_rel"]) and NO_CONTACT not in r["note"]:
+            raise results_page.output_file.Refused(f"{path}:{line}: column peak_force_err_rel: nan on a point that "
+                                                   f"ran ok without the note '{NO_CONTACT}'")
     return rows
 
 
