@@ -93,14 +93,21 @@ class SweepSpec:
         # the journal radius): two would both be recorded while one value acts (set: contact.clearance beside a
         # dispersed contact.journal_radius: the later spelling won silently, pass 70).
         aliases = gimbalsim.key_aliases()
-        seen = {}  # quantity -> (where, the key as named there)
+        seen, set_and_dispersed = {}, []  # quantity -> (where, the key as named there)
         for section, mapping in (("set", sets), ("parameters", params), ("grid", grid)):
             for key, node in mapping.items():
                 named = aliases.get(key, key)
                 if one_quantity(named) in seen:
                     where, other = seen[one_quantity(named)]
                     same = "the same key as" if named == other else "the same quantity as"
-                    spec.refuse(f"{section}.{key}", f"{same} {where}: give it in one place", node)
+                    why = (f"{section}.{key}", f"{same} {where}: give it in one place", node)
+                    if not (where.startswith("set.") and section != "set"):
+                        spec.refuse(*why)
+                    # a key under set and dispersed too: the draw acts (the set value is the base it replaces);
+                    # in another spelling the loader's order would pick one: refused, after the refusals of a key
+                    # that does not act, which say more
+                    if named != other:
+                        set_and_dispersed.append(why)
                 seen[one_quantity(named)] = (f"{section}.{key}", named)
         self.grid = []
         for key, node in grid.items():
@@ -137,6 +144,8 @@ class SweepSpec:
             spec.refuse("parameters", "nothing is dispersed: give parameters or grid")
         check_within(spec, "parameters", self.parameters, [k for k, _ in self.grid], self.base.values(), self.grid)
         self._refuse_keys_that_do_not_act(spec, grid)
+        for why in set_and_dispersed:
+            spec.refuse(*why)
         # Values the scene would refuse are refused now, at the spec's line.
         # A disk within a key is tried at the rim that key's ends give, with that key's value (dispersion.trials).
         for p in self.parameters:

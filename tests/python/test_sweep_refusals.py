@@ -116,12 +116,10 @@ BAD = [
     # one key in two spellings: both would be recorded while one value acts
     ("parameters:\n  friction1.mu: {uniform: [0.1, 0.2]}\ngrid:\n  joint1.friction.mu: [0.3, 0.4]\n",
      "grid.joint1.friction.mu", 9, "the same key as parameters.friction1.mu"),
-    # (pass 70) a clearance under set beside a dispersed journal radius: the later spelling won silently; a key
-    # both set and dispersed: the set value never acted; a clearance and a journal radius both inside set
+    # (pass 70) a clearance under set beside a dispersed journal radius: the later spelling won silently; a
+    # clearance and a journal radius both inside set
     ("set: {contact.clearance: 2.0e-4}\nparameters:\n  contact.journal_radius: {uniform: [9.7e-3, 9.9e-3]}\n",
      "parameters.contact.journal_radius", 8, "the same quantity as set.contact.clearance"),
-    ("set: {contact.clearance: 2.0e-4}\nparameters:\n  contact.clearance: {uniform: [1.0e-4, 3.0e-4]}\n",
-     "parameters.contact.clearance", 8, "the same key as set.contact.clearance"),
     ("set: {joint2.contact.journal_radius: 9.8e-3, joint2.contact.clearance: 2.0e-4}\n"
      "parameters:\n  friction.mu: {uniform: [0.1, 0.2]}\n",
      "set.joint2.contact.clearance", 6, "the same quantity as set.joint2.contact.journal_radius"),
