@@ -1,25 +1,20 @@
-"""The Python side's writer of files, with the rules of the C++ one
-(io::OutputFile, base/io/include/gimbalsim/io/output_file.hpp; docs/usage.md
-"Output files"): every file the package and tools/*.py write goes through here
-(Run.to_csv through the C++ writer itself).
+"""The Python side's writer of files, with the rules of the C++ one (io::OutputFile,
+base/io/include/gimbalsim/io/output_file.hpp; docs/usage.md "Output files"): every file the package and tools/*.py
+write goes through here (Run.to_csv through the C++ writer itself).
 
-- the path is checked first: an existing symbolic link or non-regular file
-  (a folder, a device, a FIFO) under the name is refused, so is a missing
-  folder, and so is an output that is the same file as one of the run's
-  inputs (st_dev/st_ino of the file or, before it exists, of its folder plus
-  its name, so a hard link or another spelling counts);
-- the content goes into a temporary of our own beside the name,
-  ".<name>.<pid>.<n>.tmp" (O_EXCL | O_NOFOLLOW: never an existing file or a
-  link's target), is flushed and synced (fsync), then renamed onto the name
-  (os.replace) and the folder synced: a file under the name is whole, even
-  after a power cut;
-- on any failure the temporary is removed and whatever was under the name
-  stays as it was; the failure is one OutputError naming the path and the
-  cause (exit 4 in the exit-code table, _errors.py); a path refused by the
+- the path is checked first: an existing symbolic link or non-regular file (a folder, a device, a FIFO) under the
+  name is refused, so is a missing folder, and so is an output that is the same file as one of the run's inputs
+  (st_dev/st_ino of the file or, before it exists, of its folder plus its name, so a hard link or another spelling
+  counts);
+- the content goes into a temporary of our own beside the name, ".<name>.<pid>.<n>.tmp" (O_EXCL | O_NOFOLLOW:
+  never an existing file or a link's target), is flushed and synced (fsync), then renamed onto the name
+  (os.replace) and the folder synced: a file under the name is whole, even after a power cut;
+- on any failure the temporary is removed and whatever was under the name stays as it was; the failure is one
+  OutputError naming the path and the cause (exit 4 in the exit-code table, _errors.py); a path refused by the
   first rule, before a byte was written, is its kind OutputRefused.
 
-Only the standard library: tools/pages/output_file.py loads this file from the
-source tree, without the built package.
+Only the standard library: tools/pages/output_file.py loads this file from the source tree, without the built
+package.
 """
 import contextlib
 import csv
@@ -29,7 +24,9 @@ import itertools
 import json
 import math
 import os
+import signal
 import stat
+import types
 
 __all__ = ["OutputError", "OutputRefused", "output_failed", "what_to_do", "check_outputs", "check_output_names", "open_output", "output_set",
            "write_text", "write_bytes", "write_csv", "csv_text", "savefig", "figure_bytes", "open_append",
@@ -246,26 +243,41 @@ def _sync_folder(path):
         os.close(fd)
 
 
-_sets = []  # the open output_set() blocks, innermost last: each the paths written while it is open
+_sets = []  # the open output_set() blocks, innermost last
+_HELD = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}  # _early_signals.STOP_SIGNALS, held while a set is renamed
 
 
 @contextlib.contextmanager
 def output_set():
-    """Outputs that appear together or not at all (a report, its plots, its
-    summary): every file written through open_output (so write_text, savefig
-    and the rest) while the block runs joins the set; a block that ends in an
-    exception (a failed write, an interruption) removes those already under
-    their names before the exception goes on. Yields the list of paths."""
-    written = []
-    _sets.append(written)
+    """Outputs that appear together or not at all (a report, its plots, its summary): each file open_output writes
+    in the block stays in its temporary; at the end all are renamed into place, the stop signals held back; an
+    exception removes them, the files under the names stay as they were (pass 69: SIGTERM amid a page's figures
+    left some names gone, the rest old). Yields the set (.committed: all in place); one inside another joins it."""
+    _sets.append(this := types.SimpleNamespace(pending=[], committed=False))  # pending: (temporary, name) pairs
     try:
-        yield written
+        yield this
     except BaseException:
-        for path in written:
-            _remove(path)
+        for tmp, _ in this.pending:
+            _remove(tmp)
         raise
     finally:
-        _sets.remove(written)
+        _sets.remove(this)
+    if _sets:
+        _sets[-1].pending += this.pending
+        return
+    held = signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
+    try:
+        for k, (tmp, path) in enumerate(this.pending):
+            try:
+                os.replace(tmp, path)
+                _sync_folder(path)
+            except OSError as e:
+                for rest, _ in this.pending[k:]:
+                    _remove(rest)
+                raise output_failed(f"{path}: rename failed: {e.strerror or e}", e) from None
+        this.committed = True
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, held)
 
 
 @contextlib.contextmanager
@@ -292,11 +304,13 @@ def open_output(path, mode="w", inputs=()):
             stage = "close failed"
         finally:
             f.close()
+        if _sets:  # one of a set: renamed with the others when the set ends
+            _sets[-1].pending.append((tmp, path))
+            tmp = None
+            return
         stage = "rename failed"
         os.replace(tmp, path)
         tmp = None
-        for written in _sets:
-            written.append(path)
         stage = "sync of its folder failed (the file is whole)"
         _sync_folder(path)
     except OutputError:

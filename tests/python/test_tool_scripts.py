@@ -317,15 +317,18 @@ sys.exit(run_script("writer", main, whole_set={whole}))
                                               ("stop", 143, "writer: interrupted (SIGTERM)")])
 @pytest.mark.parametrize("whole", [True, False])
 def test_a_set_of_outputs_is_whole_or_gone_and_a_stop_is_no_traceback(tmp_path, how, code, message, whole):
-    # plot_paper left four of its figures on a full disk, and on SIGTERM a temporary beside them
+    # plot_paper left four of its figures on a full disk, and on SIGTERM a temporary beside them; (pass 69) a
+    # SIGTERM amid its figures left the previous set part removed: a set's files wait in their temporaries
     script = tmp_path / "w.py"
     script.write_text(SET_WRITER.format(pages=str(SOURCE / "tools" / "pages"), whole=whole))
     (tmp_path / "out").mkdir()
+    for name in ("a.txt", "b.txt"):
+        (tmp_path / "out" / name).write_text("previous")
     p = subprocess.run([sys.executable, str(script), str(tmp_path / "out"), how], capture_output=True, text=True,
                        timeout=60)
     assert p.returncode == code and message in p.stderr and "Traceback" not in p.stderr, p.stderr
-    left = sorted(f.name for f in (tmp_path / "out").iterdir())
-    assert left == ([] if whole else ["a.txt", "b.txt"])  # no temporary either way
+    left = {f.name: f.read_text() for f in (tmp_path / "out").iterdir()}  # no temporary either way
+    assert left == ({"a.txt": "previous", "b.txt": "previous"} if whole else {"a.txt": "a", "b.txt": "b"})
 
 
 def test_compare_verdicts_refuses_what_holds_no_stress_run(tmp_path):

@@ -99,16 +99,16 @@ def run_script(program, main, whole_set=False):
     """main()'s exit code (None counts as 0); Refused is one line on stderr and
     exit 2, OutputError (a write that failed, nothing left under its name)
     one line and exit 4, SIGINT, SIGTERM or SIGHUP one line and 128 + the signal.
-    whole_set: the outputs are one set (a page's figures): a failure or a stop
-    removes those already written, so no name holds part of a set. Anything
+    whole_set: the outputs are one set (a page's figures): written together at
+    the end, so a failure or a stop leaves every name as it was. Anything
     else is a bug: a traceback and exit 1. A console whose reader is gone
     drops its lines (_console.ReaderGoneStream)."""
     for signum in _signals.STOP_SIGNALS:
         signal.signal(signum, _stop)
     _console.keep_console()  # (as at import: a test may have put its own streams since)
-    code = None
+    code, outputs = None, None
     try:
-        with _writer.output_set() if whole_set else contextlib.nullcontext():
+        with _writer.output_set() if whole_set else contextlib.nullcontext() as outputs:
             return main() or 0
     except Refused as e:
         print(f"{program}: error: {e}", file=sys.stderr)
@@ -117,7 +117,10 @@ def run_script(program, main, whole_set=False):
         print(f"{program}: error: {e}", file=sys.stderr)
         code = EXIT_OUTPUT
     except _Stopped as e:
-        print(f"{program}: interrupted ({e})" + ("; nothing kept" if whole_set else ""), file=sys.stderr)
+        # a signal held back while the set was renamed into place lands after it: the set is kept then
+        committed = outputs is not None and outputs.committed
+        kept = ("; the outputs were all written" if committed else "; nothing kept") if whole_set else ""
+        print(f"{program}: interrupted ({e}){kept}", file=sys.stderr)
         code = 128 + e.signum
     return code
 
