@@ -233,6 +233,25 @@ def test_every_value_meets_says_the_limit_is_beyond_the_range(tmp_path):
     assert answer["runs_used"] == 3 * 8  # no bisection without a failing value
 
 
+def test_a_verdict_over_figures_all_exactly_0_says_the_index_does_not_see_the_key(tmp_path):
+    # (pass 70) no noise and no motion: every unit's APE is 0 at every value tried, and the allocation said PASS
+    # for each, "the limit lies beyond the range", as if the key had been judged
+    text = (BASE.replace("set: {sim.duration: 0.3}", "set: {sim.duration: 0.3, sensors.star_tracker_noise: 0.0}")
+            .replace("sensors.seed: {choice: [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]}",
+                     "friction.mu: {uniform: [0.1, 0.3]}") +
+            ALLOCATE.format(requirement=REQUIREMENT, values=3).replace("sensors.star_tracker_noise",
+                                                                      "contact.restitution")
+            .replace("[1.0e-5, 3.0e-4]", "[0.3, 0.9]"))
+    p = run(write_spec(tmp_path, text), tmp_path / "out")
+    assert p.returncode == 0, p.stderr
+    said = ("every unit's ape late is exactly 0 rad at contact.restitution = 0.3, 0.6, 0.9 -: the index does not see "
+            "the key there")
+    assert said in p.stderr, p.stderr
+    answer = json.loads((tmp_path / "out" / "allocation.json").read_text())
+    assert all("every unit's ape late is exactly 0 rad" in v["note"] for v in answer["values"]), answer["values"]
+    assert said in (tmp_path / "out" / "allocation.md").read_text()
+
+
 def slew_start_spec(tmp_path, duration):
     """slew_start allocated over [0, 0.3] s: a 0.01 rad slew of 0.05 s, the run `duration` s long."""
     text = (BASE.replace("sim.duration: 0.3", f"sim.duration: {duration}")

@@ -84,3 +84,16 @@ def test_stopped_units_with_a_figure_before_the_stop_are_said_to_have_one():
     # a stop inside the phase leaves no figure in the row: nothing more is said
     inside = [[str(i), "sim.velocity_limit", "nan"] for i in range(3)]
     assert _budget.entry(Spec(), inside, index(0.9973), "track")["note"].endswith("3 stopped (sim.velocity_limit)")
+
+
+def test_a_verdict_over_figures_all_exactly_0_says_so():
+    # (pass 70) no motion and no noise: every unit's figure 0, and the budget said PASS with nothing beside it
+    zeros = [[str(i), "ok", "0"] for i in range(20)]
+    question = SimpleNamespace(name="ape", level=0.5, confidence=0.5, requirement=1e-4)
+    e = _budget.entry(Spec(), zeros, question, "track")
+    assert e["requirement"]["verdict"].startswith("PASS")
+    assert "every unit's figure is exactly 0 rad" in _budget.verdict_text(e), _budget.verdict_text(e)
+    # one unit with a figure above 0, or one without a figure: no such note
+    for last in (["19", "ok", "1e-9"], ["19", "stopped: sim.penetration_limit", "nan"]):
+        e = _budget.entry(Spec(), zeros[:19] + [last], question, "track")
+        assert "exactly 0" not in _budget.verdict_text(e), _budget.verdict_text(e)
