@@ -159,7 +159,8 @@ def body(spec, rows, entries, plots, engine):
                   f"(or `--until INDEX:PHASE:WIDTH --max-samples {need}`) would support them."]
     if engine.get("samples_per_s"):
         lines += ["", f"Speed: {engine['ran_this_invocation']} samples in {engine['elapsed_s']:.1f} s on "
-                  f"{engine['workers']} workers ({engine['samples_per_s']:.2f} samples/s)."]
+                  f"{engine['workers']} worker{'s' * (engine['workers'] != 1)} ({engine['samples_per_s']:.2f} "
+                  "samples/s)."]
     lines += ["", "## Distributions", ""]
     lines += [f"![{p.stem}]({p.name})" if p.parent.name != "plots" else f"![{p.stem}](plots/{p.name})"
               for p in plots]

@@ -376,8 +376,8 @@ def _run(a, out):
         rate = "n/a" if e["samples_per_s"] is None else f"{e['samples_per_s']:.1f}/s"
         # a crashed sample has no run time: none of the invocation's samples may have one
         mean = "n/a (every sample it ran crashed)" if e["mean_run_s"] is None else f"{e['mean_run_s'] * 1e3:.1f} ms"
-        print(f"sweep: {e['ran_this_invocation']} samples in {e['elapsed_s']:.1f} s on {e['workers']} workers "
-              f"({rate}); mean run {mean}, engine overhead {e['engine_overhead_per_sample_s'] * 1e3:.2f} ms per "
+        print(f"sweep: {e['ran_this_invocation']} samples in {e['elapsed_s']:.1f} s on {e['workers']} "
+              f"worker{'s' * (e['workers'] != 1)} ({rate}); mean run {mean}, engine overhead {e['engine_overhead_per_sample_s'] * 1e3:.2f} ms per "
               "sample", file=sys.stderr)
     return EXIT_OK
 

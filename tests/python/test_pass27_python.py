@@ -146,6 +146,7 @@ def test_a_sweep_whose_every_sample_crashed_ends_as_promised(tmp_path):
     # (the killed worker's own traceback, from Dask's nanny, is expected: the sweep's is not)
     assert p.returncode == 0 and "gimbalsim/sweep.py" not in p.stderr and "TypeError" not in p.stderr, p.stderr
     assert "mean run n/a (every sample it ran crashed)" in p.stderr, p.stderr
+    assert " s on 1 worker (" in p.stderr, p.stderr  # (pass 70) it said "on 1 workers"
     assert "(1 crashed)" in p.stderr or ": 1 crashed" in p.stderr, p.stderr  # the budget names why
     assert _strict_json(tmp_path / "out" / "summary.json")["engine"]["mean_run_s"] is None
 
