@@ -95,21 +95,20 @@ mkdir "$STAGE/plots"
   --spatial "$STAGE/spatial.csv" --spatial-summary "$STAGE/spatial.json" \
   --out "$STAGE/plots" | sed -u "s#$STAGE/#$OUT/#g" | console_tee "$LOG"  # the names the files will have
 /usr/bin/python3 tools/pages/save_output.py "$LOG" "$STAGE/plot_summary.txt" -- "$@"  # the writer's rules, not tee's
-# Every name checked before the first move (renames replace files and links, never a folder).
-dests=("$OUT/plot_summary.txt")
-for run in "${RUNS[@]}"; do dests+=("$OUT/${run%%:*}.csv" "$OUT/${run%%:*}.json"); done
-for f in "$STAGE"/plots/*; do dests+=("$OUT/plots/${f##*/}"); done
-for d in "${dests[@]}"; do
-  if [ -d "$d" ] && [ ! -L "$d" ]; then
-    echo "run_paper.sh: $d is a folder where an output goes: move it away; the previous outputs are kept" >&2
+# The staged files, each moved to the same name under $OUT; every name checked before the first move (renames
+# replace files and links, never a folder), and the stop signals held during the moves: all or none.
+staged=(plot_summary.txt)
+for run in "${RUNS[@]}"; do staged+=("${run%%:*}.csv" "${run%%:*}.json"); done
+for f in "$STAGE"/plots/*; do staged+=("plots/${f##*/}"); done
+for rel in "${staged[@]}"; do
+  if [ -d "$OUT/$rel" ] && [ ! -L "$OUT/$rel" ]; then
+    echo "run_paper.sh: $OUT/$rel is a folder where an output goes: move it away; the previous outputs are kept" >&2
     exit 4
   fi
 done
-for run in "${RUNS[@]}"; do
-  mv -fT "$STAGE/${run%%:*}.csv" "$OUT/${run%%:*}.csv"; mv -fT "$STAGE/${run%%:*}.json" "$OUT/${run%%:*}.json"
-done
-for f in "$STAGE"/plots/*; do mv -fT "$f" "$OUT/plots/${f##*/}"; done
-mv -fT "$STAGE/plot_summary.txt" "$OUT/plot_summary.txt"
+trap '' INT TERM HUP
+for rel in "${staged[@]}"; do mv -fT "$STAGE/$rel" "$OUT/$rel"; done
+trap - INT TERM HUP
 
 echo
 echo "Outputs (under $ROOT):"

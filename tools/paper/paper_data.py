@@ -177,27 +177,34 @@ SUMMARY_FIGURES = {"clearance_m": "length", "continuous_contact_from_s": "time",
                    "peak_joint2_force_N": "force", "t_peak_joint2_force_s": "time"}
 
 
-def check_summary_figures(flag, path, summary, cols):
-    """Refuses (InputError naming the flag, file and key) a figure of
-    SUMMARY_FIGURES that is not a finite number or null, a negative force,
-    length or count, or a time outside the run's [0, end] (cols: its CSV);
-    and a summary of another run: its row count, or its final state where
-    the CSV's last row is at the same time, not the CSV's (pass 69)."""
+def check_summary_is_the_runs(flag, path, summary, cols):
+    """Refuses (InputError naming the flag and file) a summary of another run than its CSV (cols): its row
+    count, or its final joint angles and base position where the CSV's last row is at its final time (pass 69)."""
     if not path:
         return
-    end = max(float(cols["t_s"][-1]), 0.0)
-    final = summary.get("final_state")
     rows = summary.get("rows")
     if isinstance(rows, int) and not isinstance(rows, bool) and rows != len(cols["t_s"]):
         raise InputError(f"{flag} {path}: rows = {rows}, its CSV has {len(cols['t_s'])}: another run's summary")
+    final = summary.get("final_state")
     q = final.get("q") if isinstance(final, dict) else None
     if isinstance(q, dict) and final.get("t") == float(cols["t_s"][-1]):
         for key, column in (("theta1", "theta1_rad"), ("theta2", "theta2_rad"), ("base_x", "base_x_m")):
             if isinstance(q.get(key), float) and q[key] != float(cols[column][-1]):
                 raise InputError(f"{flag} {path}: final_state.q.{key} = {q[key]!r}, its CSV's last {column} "
                                  f"{float(cols[column][-1])!r}: another run's summary")
-    if isinstance(final, dict) and isinstance(final.get("t"), (int, float)) and not isinstance(final["t"], bool):
-        end = max(end, float(final["t"]))  # a last output row before the end: the peak may lie after it
+
+
+def check_summary_figures(flag, path, summary, cols):
+    """Refuses (InputError naming the flag, file and key) a figure of
+    SUMMARY_FIGURES that is not a finite number or null, a negative force,
+    length or count, or a time outside the run's [0, end] (cols: its CSV)."""
+    if not path:
+        return
+    end = max(float(cols["t_s"][-1]), 0.0)
+    final = summary.get("final_state")
+    final_t = final.get("t") if isinstance(final, dict) else None
+    if isinstance(final_t, (int, float)) and not isinstance(final_t, bool):
+        end = max(end, float(final_t))  # a last output row before the end: the peak may lie after it
     for key, kind in SUMMARY_FIGURES.items():
         x = summary.get(key)
         if x is None:

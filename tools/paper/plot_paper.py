@@ -36,7 +36,8 @@ from output_file import Refused, check_before_writing, csv_number, open_output, 
 from plot_components import C_CLEAR, C_DIFF, C_IDEAL, COMPONENT_FIGURES, fig_components  # noqa: E402  (figs 8-16)
 from plot_joint_kinds import fig_joint_kinds, spatial_tilt  # noqa: E402  (fig 19)
 from paper_data import (InputError, angle_between, boresight, check_joint2, check_summary_figures,  # noqa: E402
-                        common_grid, contact_starts, continuous_contact_from, load_csv, load_summary, summary_number)
+                        check_summary_is_the_runs, common_grid, contact_starts, continuous_contact_from, load_csv,
+                        load_summary, summary_number)
 
 
 
@@ -73,13 +74,16 @@ def load_runs(a):
     check_joint2("--ideal", a.ideal, r.ideal, "--ideal-summary", a.ideal_summary, r.s_ideal, ["ideal"])
     check_joint2("--clearance", a.clearance, r.clear, "--clearance-summary", a.clearance_summary, r.s_clear,
                  ["planar", "spatial"])
-    check_summary_figures("--ideal-summary", a.ideal_summary, r.s_ideal, r.ideal)
-    check_summary_figures("--clearance-summary", a.clearance_summary, r.s_clear, r.clear)
+    for flag, path, summary, cols in (("--ideal-summary", a.ideal_summary, r.s_ideal, r.ideal),
+                                      ("--clearance-summary", a.clearance_summary, r.s_clear, r.clear)):
+        check_summary_is_the_runs(flag, path, summary, cols)
+        check_summary_figures(flag, path, summary, cols)
     r.ideal_g, r.clear_g, r.grid_note = common_grid(r.ideal, r.clear)
     if a.spatial:
         r.spatial, r.s_spatial = load_csv(a.spatial), load_summary(a.spatial_summary)
         check_joint2("--spatial", a.spatial, r.spatial, "--spatial-summary", a.spatial_summary, r.s_spatial,
                      ["spatial"])
+        check_summary_is_the_runs("--spatial-summary", a.spatial_summary, r.s_spatial, r.spatial)
         check_summary_figures("--spatial-summary", a.spatial_summary, r.s_spatial, r.spatial)
         ideal_s, r.spatial_g, _ = common_grid(r.ideal, r.spatial)
         if ideal_s["t_s"].shape != r.ideal_g["t_s"].shape:
