@@ -27,6 +27,7 @@
 
 #include "gimbalsim/program/program.hpp"
 #include "gimbalsim/contract/channels.hpp"
+#include "gimbalsim/contract/messages.hpp"
 #include "gimbalsim/controllers/answer.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/input/key_registry.hpp"
@@ -205,6 +206,13 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "pointing_controller: the plant accepted none of the commands answering %lld statuses (%lld "
                  "not sent: a torque NaN or Inf); the plant's summary says why it refused or lost the rest\n",
                  h.answered(), h.notFinite());
+    code = program::kStopped;
+  }
+  // A lockstep plant ends the run after kRejectedInARow answers it rejected (our last status the one before
+  // the last rejection): the refusal is the story, not the missing peer (pass 71: exit 6).
+  if (plant_went && h.rejectedInARow() >= contract::kRejectedInARow - 1) {
+    std::fprintf(stderr, "pointing_controller: the plant rejected our answers to its last %lld statuses and then "
+                 "ended the run: the plant's summary says why it refused them\n", h.rejectedInARow());
     code = program::kStopped;
   }
   // A tick answered with no command (NaN or Inf torque) left the plant on its

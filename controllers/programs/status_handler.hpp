@@ -106,6 +106,12 @@ class StatusHandler {
     ++answered_;
     last_t_ = meas.t;
     faults_seen_ |= st.faults;
+    // The plant rejected our last answer (the flag, its last accepted seq unchanged): counted in a row, for a
+    // lockstep plant that ends the run after contract::kRejectedInARow of them (pass 71).
+    const bool refused = (st.faults & gimbal_status_t::FAULT_COMMAND_REJECTED) != 0 && answered_ > 0 &&
+                         st.last_command_seq == prev_last_command_seq_;
+    rejected_in_a_row_ = refused ? rejected_in_a_row_ + 1 : 0;
+    prev_last_command_seq_ = st.last_command_seq;
     // A stopped plant's frozen state against a profile that moves on is no pointing it did: the figures stop.
     if ((st.faults & gimbal_status_t::FAULT_PLANT_FAULT) != 0 && std::isnan(plant_stopped_t_)) plant_stopped_t_ = meas.t;
     const bool moving = std::isnan(plant_stopped_t_);
@@ -169,6 +175,8 @@ class StatusHandler {
   long long notFinite() const { return not_finite_; }
   /// Whether the plant has reported accepting one of this controller's commands.
   bool acceptedAny() const { return accepted_any_; }
+  /// The last statuses in a row saying the plant rejected our answer to the one before.
+  long long rejectedInARow() const { return rejected_in_a_row_; }
   double lastTime() const { return last_t_; }
   int faultsSeen() const { return faults_seen_; }
   /// [rad] the largest |joint error| of an accepted reading while tracking; NaN before one.
@@ -241,6 +249,8 @@ class StatusHandler {
   long long not_finite_ = 0;            ///< answers not sent: a torque NaN or Inf
   std::int64_t first_sent_seq_ = -1;    ///< seq of the first command sent (-1: none yet)
   bool accepted_any_ = false;
+  long long rejected_in_a_row_ = 0;
+  std::int64_t prev_last_command_seq_ = -1;
   long long track_statuses_ = 0;
   double last_t_ = 0.0, max_track_error_ = std::nan(""), plant_stopped_t_ = std::nan(""), last_good_t_ = std::nan("");
   int faults_seen_ = 0;

@@ -8,6 +8,7 @@
 
 #include "app.hpp"
 #include "gimbalsim/contract/channels.hpp"
+#include "gimbalsim/contract/messages.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "lcm_bridge.hpp"
 #include "realtime.hpp"
@@ -85,6 +86,13 @@ int endWithoutAnswer(Run& r, const BenchTick<V>& tick, std::int64_t wall0, bool 
   return rejected_answers ? kExitPlantFault : kExitNoController;
 }
 
+/// Rejections the controller's own commands earn (not a stranger's, not garbage bytes): what ends a run after
+/// contract::kRejectedInARow answers in a row, as the in-process closed loop ends it.
+std::int64_t ownRejections(const Counters& c) noexcept {
+  return c.rejected - c.by_reason[static_cast<int>(Rejection::WrongSource)] -
+         c.by_reason[static_cast<int>(Rejection::Undecodable)];
+}
+
 /// The commands rejected since `before` (cumulative counters), with the most frequent reason; "" if none came.
 std::string rejectedSince(const Counters& before, const Counters& now) {
   const std::int64_t n = now.rejected - before.rejected;
@@ -106,7 +114,9 @@ int run(Run& r) {
   std::int32_t extra = 0;
   const std::int64_t spin_ns = std::llround(o.spin_us * 1e3);  // --spin-us: busy-poll for the answer
   long long timeouts_in_a_row = 0;  // lockstep timeouts since the last answer
+  long long rejected_in_a_row = 0;   // statuses in a row answered only by commands the plant rejected
   Counters unanswered_from;          // the firmware's counters when the current run of timeouts began
+  Counters rejected_from;            // ... when the current run of rejected answers began
   std::int64_t next_stats = wall0 + std::llround(o.stats_period * 1e9);
   warmUp(fw);
   std::int64_t cpu_last_end = nowNs(CLOCK_THREAD_CPUTIME_ID);  // [ns] thread CPU at the end of the last tick's work
@@ -151,7 +161,22 @@ int run(Run& r) {
 
     if (timeouts_in_a_row == 0) unanswered_from = fw.counters();
     const std::int64_t foreign_before = fw.counters().by_reason[static_cast<int>(Rejection::WrongSource)];
-    if (!awaitAnswer(r, sink, fw, fw.status().seq, spin_ns) && !g_stop.load()) {
+    const Counters before_answer = fw.counters();
+    const bool answered = awaitAnswer(r, sink, fw, fw.status().seq, spin_ns);
+    // Answered only by commands the plant rejected, kRejectedInARow statuses in a row: the controller controls
+    // nothing; the run ends there, exit 3, as the in-process loop ends it (pass 71: it ran on and exited 0).
+    if (answered || ownRejections(fw.counters()) == ownRejections(before_answer)) {
+      rejected_in_a_row = 0;
+    } else if (++rejected_in_a_row == 1) {
+      rejected_from = before_answer;
+    }
+    if (rejected_in_a_row >= contract::kRejectedInARow && !g_stop.load()) {
+      std::fprintf(stderr, "firmware_sim: lockstep: the plant accepted none of the controller's last %lld commands "
+                   "(%s): stopping at t = %.3f s, as the in-process closed loop stops\n", rejected_in_a_row,
+                   describe(commonestRejection(rejected_from, fw.counters())), static_cast<double>(fw.ticks()) * period);
+      return endWithoutAnswer(r, tick, wall0, true);
+    }
+    if (!answered && !g_stop.load()) {
       if (fw.status().seq == 0) {
         const std::string rejected = rejectedSince(unanswered_from, fw.counters());  // ending: may allocate
         if (rejected.empty()) {

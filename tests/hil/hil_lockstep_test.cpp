@@ -128,6 +128,28 @@ TEST(HilLockstep, EveryCommandRejectedStopsNamingTheReasonNotANoPeer) {
   EXPECT_EQ(log.find("is the controller running"), std::string::npos) << log;
 }
 
+// The first command accepted, then every answer rejected (beyond the sanity range as the slew starts): the bench
+// ran on for the whole --duration, both programs exiting 0 (pass 71), where the in-process loop stops after
+// kRejectedInARow. The plant now stops there too (3), and the controller says why the plant went (3, not 6).
+TEST(HilLockstep, RejectedAnswersInARowEndTheRunAsTheInProcessLoopDoes) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("lockstep_rejected_in_a_row");
+  const std::string url = udpmUrl(7759);
+  const std::string body = "timeout 60 " + pointingController() + " --set profile.slew_start=0 --lcm-url '" + url +
+                           "' --duration 0.3 --idle-exit 5 --plant-timeout 1 >ctl.log 2>&1 &\nC=$!\ntimeout 60 " +
+                           firmwareSim() + " " + scenePath("paper_clearance") + " --lockstep --duration 0.3 --lcm-url '" +
+                           url + "' --set 'torque.limit=[1e-3, 1e-3]' --torque-sanity 1 --lockstep-timeout-ms 1 "
+                           ">fw.log 2>&1\nrc=$?; wait $C; echo $? >ctl.rc; exit $rc";
+  const int rc = runInNetns(dir, body);
+  const std::string log = readFile(dir / "fw.log"), ctl = readFile(dir / "ctl.log");
+  EXPECT_EQ(rc, 3) << readFile(dir / "run.log") << log;
+  EXPECT_NE(log.find("the plant accepted none of the controller's last 30 commands (torque beyond the sanity "
+                     "range): stopping at t = 0.031 s"), std::string::npos) << log;
+  EXPECT_EQ(readFile(dir / "ctl.rc"), "3\n") << ctl;
+  EXPECT_NE(ctl.find("the plant rejected our answers to its last 29 statuses and then ended the run"),
+            std::string::npos) << ctl;
+}
+
 TEST(HilLockstep, TwoRunsGiveByteIdenticalTruthCsv) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
   TempDir dir("lockstep_identical");
