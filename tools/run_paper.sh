@@ -62,8 +62,19 @@ cmake --build "$BUILD" -j2 --target gimbalsim
 
 SIM=$BUILD/bin/gimbalsim
 OUT=out/paper
+if [ -L "$OUT" ]; then out_folder run_paper.sh "$OUT"; fi  # refused: a link where the runs go
 out_folder run_paper.sh "$OUT/plots"
 trap 'out_folder_undo' EXIT  # a refused simulation leaves no folder it made
+# Every output's name before anything runs (pass 71: a folder there cost the whole run, then exit 4; a link was
+# replaced without a word): a link or a folder under one is refused, exit 2, as the programs refuse theirs.
+for name in "$OUT"/{ideal,clearance,spatial}.{csv,json} "$OUT/plot_summary.txt" "$OUT"/plots/*; do
+  if [ -L "$name" ]; then why="a symbolic link; not written through"
+  elif [ -d "$name" ]; then why="a folder where an output goes"
+  else continue
+  fi
+  echo "run_paper.sh: $name is $why: move it away; nothing run" >&2
+  exit 2
+done
 # The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
 [ "$RESULTS" = 0 ] || /usr/bin/python3 tools/pages/results_page.py --check --page docs/results/paper.md
 
@@ -81,6 +92,10 @@ done
 # the previous set as it was.
 STAGE=$(mktemp -d "$OUT/.runs.XXXXXX")
 trap 'rm -rf "$STAGE"; out_folder_undo' EXIT
+# A stop signal waits for the program running to end its outputs (bash runs a trap once its foreground child
+# is done) before the exit removes the staging folder: it said "rename failed" on the way out (pass 71).
+stop_traps() { trap 'exit 130' INT; trap 'exit 143' TERM; trap 'exit 129' HUP; }
+stop_traps
 for run in "${RUNS[@]}"; do
   "$SIM" simulate "tools/scenes/${run#*:}.yaml" ${SETS[@]+"${SETS[@]}"} \
     --out "$STAGE/${run%%:*}.csv" --summary "$STAGE/${run%%:*}.json"
@@ -108,7 +123,7 @@ for rel in "${staged[@]}"; do
 done
 trap '' INT TERM HUP
 for rel in "${staged[@]}"; do mv -fT "$STAGE/$rel" "$OUT/$rel"; done
-trap - INT TERM HUP
+stop_traps
 
 echo
 echo "Outputs (under $ROOT):"

@@ -62,3 +62,29 @@ def test_runs_the_plot_refuses_leave_the_previous_set(tmp_path):
     p = run_paper(root, "sim.duration=0.1", "structure.joint2=ideal")
     assert p.returncode == 2 and "joint 2 has no clearance" in p.stderr, p.stderr
     assert previous_set_kept(out), sorted(os.listdir(out))
+
+
+def test_a_link_or_a_folder_under_an_output_name_is_refused_before_anything_runs(tmp_path):
+    # (pass 71) a folder under a figure's name cost the whole run, then exit 4; a link under plot_summary.txt or a
+    # figure was replaced without a word, while one under ideal.csv was refused; out/paper or out/paper/plots as
+    # a link had every output written through it
+    for case, make in [("figure folder", lambda out: (out / "plots" / "fig06_eccentricity.png").mkdir(parents=True)),
+                       ("summary link", lambda out: (out / "plot_summary.txt").symlink_to(out.parent / "elsewhere")),
+                       ("figure link", lambda out: ((out / "plots").mkdir(),
+                                                    (out / "plots" / "fig07_contact_force.png").symlink_to(
+                                                        out.parent / "elsewhere.png"))),
+                       ("plots link", lambda out: (out / "plots").symlink_to(out.parent, target_is_directory=True)),
+                       ("out link", None)]:
+        root, out = copy_of_tools(tmp_path / case.replace(" ", "_"))
+        if make is None:
+            real = out.parent / "real_paper"
+            out.rename(real)
+            out.symlink_to(real, target_is_directory=True)
+        else:
+            make(out)
+        p = run_paper(root, "sim.duration=0.1")
+        assert p.returncode == 2, (case, p.stderr)
+        assert ("a symbolic link; not written through" in p.stderr or "a folder where an output goes" in p.stderr) \
+            and "nothing run" in p.stderr, (case, p.stderr)
+        assert "== [3/4] simulations" not in p.stdout, (case, p.stdout)
+        assert not (out.parent / "elsewhere").exists() and not (out.parent / "elsewhere.png").exists(), case

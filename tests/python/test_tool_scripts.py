@@ -235,6 +235,12 @@ def test_paper_plot_makes_no_folder_and_overwrites_no_input(tmp):
     refused(run(PAPER, "--ideal", clash, "--clearance", csv, "--out", tmp / "plots"), "the same file as the input")
     refused(run(PAPER, "--ideal", csv, "--clearance", csv, "--out", tmp), f"{csv}", "not a table of numbers")
     assert sorted(p.name for p in tmp.iterdir()) == ["plots", "run.csv"]
+    # (pass 71) an --out that is a link to a folder had every figure written through it
+    (tmp / "elsewhere").mkdir()
+    (tmp / "link").symlink_to(tmp / "elsewhere", target_is_directory=True)
+    for out in (tmp / "link", f"{tmp / 'link'}/"):
+        refused(run(PAPER, "--ideal", csv, "--clearance", csv, "--out", out), "a symbolic link; not written through")
+    assert list((tmp / "elsewhere").iterdir()) == []
 
 
 def workprec_point(scene="A", h="0.001", ok="1", cpu="0.1", err="1e-6", force="0.01", note="", policy="plain"):

@@ -8,6 +8,12 @@ OUT_FOLDER_MADE=()  # the folders out_folder made, innermost first
 
 out_folder() {
   local script="$1" dir="$2" p="$2"
+  # The folder itself as a link: every output would be written through it, elsewhere (pass 71), as a program
+  # refuses an --out that is a link.
+  if [ -L "$dir" ]; then
+    echo "$script: $dir is a symbolic link; not written through: name the folder itself; nothing run" >&2
+    exit 2
+  fi
   while [ "$p" != "." ] && [ "$p" != "/" ]; do
     if { [ -e "$p" ] || [ -L "$p" ]; } && [ ! -d "$p" ]; then
       echo "$script: $p is not a folder (a file, or a link to nothing, where $dir goes): move it away; nothing run" >&2

@@ -343,6 +343,8 @@ def main(argv=None):
     a = parse_args(argv)
     if not os.path.isdir(a.out):  # no program makes a folder it is given (docs/usage.md "Output files")
         raise Refused(f"--out {a.out}: " + ("not a folder" if os.path.exists(a.out) else "no such folder (create it first)"))
+    if os.path.islink(a.out.rstrip("/") or "/"):  # (pass 71) its figures went through the link, elsewhere
+        raise Refused(f"--out {a.out}: a symbolic link; not written through: name the folder itself")
     inputs = [a.ideal, a.clearance, a.ideal_summary, a.clearance_summary, a.spatial, a.spatial_summary]
     check_before_writing(output_paths(a), inputs)
     try:
