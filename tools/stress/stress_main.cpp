@@ -162,11 +162,12 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--threads", threads, "runs in parallel (at most 2 on this machine)")
       ->check(gimbalsim::program::wholeNumber())
       ->check(CLI::Range(1, 2));
-  // A bound of 0 or below would call every run SILENTLY_WRONG (exit 1, "a bug").
-  app.add_option("--momentum-bound", b.momentum_rel, "relative momentum drift bound")
-      ->check(gimbalsim::program::within(0.0, 1.0, true));
-  app.add_option("--energy-bound", b.energy_rel, "relative energy rise bound")
-      ->check(gimbalsim::program::within(0.0, 1.0, true));
+  // A bound of 0 or below would call every run SILENTLY_WRONG (exit 1, "a bug"), and so would one below a
+  // double's round-off (pass 71: 1e-300 called a trustworthy run a bug): at least 1e-12 of the scale.
+  app.add_option("--momentum-bound", b.momentum_rel, "relative momentum drift bound, in [1e-12, 1]")
+      ->check(gimbalsim::program::within(1e-12, 1.0));
+  app.add_option("--energy-bound", b.energy_rel, "relative energy rise bound, in [1e-12, 1]")
+      ->check(gimbalsim::program::within(1e-12, 1.0));
   app.add_flag("--markdown", md, "print the results page's body (Markdown) to stdout");
   app.add_option("--page-body", page_body,
                  "write the results page's body (Markdown) to this file; tools/stress/run_stress.sh adds the "
