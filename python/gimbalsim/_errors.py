@@ -8,6 +8,7 @@ import signal
 import sys
 
 from ._console import console_stream
+from ._early_signals import STOP_SIGNALS
 from ._output import OutputError
 
 # The exit-code table, the same numbers as program.hpp's enum Exit (a test compares them).
@@ -132,6 +133,21 @@ def guarded_main(program, body, notes=None):
         return code
     finally:
         sys.stderr = stderr
+
+
+def exit_program(program, main):
+    """Runs `python3 -m gimbalsim.X`'s main() and exits with its code; a stop signal after it is ignored: the
+    interpreter's finalization puts the default action back on the signals it handled, and a SIGTERM landing
+    there ended a finished sweep with 143 and no line (pass 71). One landing after main()'s own handling, before
+    that, is said as guarded_main says it."""
+    try:
+        code = main()
+    except Interrupted as e:
+        print(f"{program}: interrupted ({e})", file=sys.stderr)
+        code = signal_exit(e.signum)
+    for signum in STOP_SIGNALS:
+        signal.signal(signum, signal.SIG_IGN)
+    sys.exit(code)
 
 
 def not_a_program(module):

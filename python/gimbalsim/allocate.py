@@ -50,7 +50,7 @@ from ._allocate_report import CSV, JSON, PAGE, PLOT, _text, record, write
 from ._allocate_search import next_value, outcome, scan_values
 from ._allocate_spec import AllocationSpec
 from ._console import keep_console
-from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, guarded_main
+from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, exit_program, guarded_main
 from ._output import OutputRefused, check_output_names, make_folder, output_set, what_to_do, write_text
 from ._spec import check_out_dir, check_outputs_not_inputs
 from .sweep import FINGERPRINT as SWEEP_FINGERPRINT, RESULTS, finished_rows, output_paths, sweep
@@ -260,4 +260,4 @@ def _run(a, out):
 
 if __name__ == "__main__":
     keep_console()  # a console whose reader is gone stops nothing, --help included
-    sys.exit(main())
+    exit_program("allocate", main)

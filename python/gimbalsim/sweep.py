@@ -46,7 +46,8 @@ import time
 import gimbalsim
 from . import _budget, _budget_report, _cluster, _provenance, _study_file, replay
 from ._console import keep_console
-from ._errors import EXIT_OK, Interrupted, OutputError, SpecError, guarded_main  # noqa: F401 (SpecError: API)
+from ._errors import (EXIT_OK, Interrupted, OutputError, SpecError, exit_program,  # noqa: F401 (SpecError: API)
+                      guarded_main)
 from ._journal import JOURNAL, csv_line, fmt, read_for_resume, read_journal, record_design  # noqa: F401 (API)
 from ._output import (OutputRefused, append_synced, json_text, make_folder, open_append, output_failed, output_set,
                       what_to_do, write_text)
@@ -377,11 +378,11 @@ def _run(a, out):
         # a crashed sample has no run time: none of the invocation's samples may have one
         mean = "n/a (every sample it ran crashed)" if e["mean_run_s"] is None else f"{e['mean_run_s'] * 1e3:.1f} ms"
         print(f"sweep: {e['ran_this_invocation']} samples in {e['elapsed_s']:.1f} s on {e['workers']} "
-              f"worker{'s' * (e['workers'] != 1)} ({rate}); mean run {mean}, engine overhead {e['engine_overhead_per_sample_s'] * 1e3:.2f} ms per "
-              "sample", file=sys.stderr)
+              f"worker{'s' * (e['workers'] != 1)} ({rate}); mean run {mean}, engine overhead "
+              f"{e['engine_overhead_per_sample_s'] * 1e3:.2f} ms per sample", file=sys.stderr)
     return EXIT_OK
 
 
 if __name__ == "__main__":
     keep_console()  # a console whose reader is gone stops nothing, --help included
-    sys.exit(main())
+    exit_program("sweep", main)

@@ -47,7 +47,7 @@ import numpy as np
 import gimbalsim
 from . import _cluster, _study_file
 from ._console import keep_console
-from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, SpecError, guarded_main
+from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, SpecError, exit_program, guarded_main
 from ._closed_spec import plant_overrides
 from ._journal import fmt
 from ._output import check_output_names, json_text, output_set, savefig, write_csv, write_text
@@ -363,4 +363,4 @@ def _run(a, out):
 
 if __name__ == "__main__":
     keep_console()  # a console whose reader is gone stops nothing, --help included
-    sys.exit(main())
+    exit_program("tune", main)

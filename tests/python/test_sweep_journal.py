@@ -263,6 +263,25 @@ def test_an_interrupted_sweep_says_one_line_and_keeps_its_journal(spec, tmp_path
     assert p.returncode == 0 and f"{kept} already done" in p.stderr, p.stderr
 
 
+def test_a_signal_after_the_sweep_has_finished_is_no_silent_143(spec, tmp_path):
+    # (pass 71) SIGTERM just after the last line: exit 143 and no word, every output written (the interpreter's
+    # finalization had put the default action back). Now ignored there: exit 0, or, landing before, said.
+    out, err_path = tmp_path / "o", tmp_path / "err.txt"
+    with open(err_path, "w") as err:
+        proc = subprocess.Popen(sweep_cmd(spec, out), stdout=subprocess.DEVNULL, stderr=err)
+        deadline = time.time() + 300
+        while " samples in " not in err_path.read_text() and proc.poll() is None and time.time() < deadline:
+            time.sleep(0.001)
+        time.sleep(0.01)  # into the interpreter's finalization, where the default action was back
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=60)
+    text = err_path.read_text()
+    assert "Traceback" not in text, text
+    assert proc.returncode == 0 or (proc.returncode == 143 and "sweep: interrupted (SIGTERM)" in text), \
+        (proc.returncode, text)
+    assert len(list(csv.reader((out / "results.csv").open()))) == N + 1
+
+
 def test_a_second_sweep_on_a_running_sweeps_folder_is_refused(spec, tmp_path):
     """Two sweeps on one folder would run samples twice into one journal and
     one of them die on the other's rename: the second is refused at once."""
