@@ -20,9 +20,9 @@ const KeyTable<PlantScene>& plantTable() {
 }
 
 PlantScene loadPlantSceneText(const std::string& yaml, const std::string& origin,
-                              const std::vector<std::string>& overrides) {
+                              const std::vector<std::string>& overrides, std::size_t printed) {
   std::vector<std::string> warnings;
-  PlantScene out = loadKeys<SceneError>(plantTable(), yaml, origin, overrides, &warnings);
+  PlantScene out = loadKeys<SceneError>(plantTable(), yaml, origin, overrides, &warnings, printed);
   finishScene(out.scene, origin, std::move(warnings));
   return out;
 }

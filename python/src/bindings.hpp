@@ -20,7 +20,8 @@ struct PyScene {
 
 /// Loads a plant scene from YAML text (empty: the defaults, then the
 /// overrides); a refusal becomes the Python SceneError.
-PyScene loadPyScene(const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides);
+PyScene loadPyScene(const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides,
+                    std::size_t printed = 0);
 
 /// Refuses (ValueError) a path holding a NUL byte: the C library would read
 /// only the part before it, a file the caller did not name. `what` names the argument.

@@ -33,8 +33,9 @@ PyScene load(const std::string& path, const std::vector<std::string>& overrides)
 /// The scene's every key as --set reads it back, then `overrides`: a new scene.
 PyScene replaced(const PyScene& s, const std::vector<std::string>& overrides) {
   std::vector<std::string> all = firmware::plantTable().values(s.plant);
+  const std::size_t printed = all.size();
   all.insert(all.end(), overrides.begin(), overrides.end());
-  return loadPyScene("", s.path, all);
+  return loadPyScene("", s.path, all, printed);
 }
 
 /// The column set of `names`, which must be the columns of some scene's
@@ -100,9 +101,10 @@ void checkPath(const std::string& path, const char* what) {
   }
 }
 
-PyScene loadPyScene(const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides) {
+PyScene loadPyScene(const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides,
+                    std::size_t printed) {
   try {
-    return PyScene{firmware::loadPlantSceneText(yaml, origin, overrides), origin};
+    return PyScene{firmware::loadPlantSceneText(yaml, origin, overrides, printed), origin};
   } catch (const InputError& e) {
     raiseSceneError(e);
   }
@@ -143,10 +145,12 @@ void bindScene(pyb::module_& m) {
       });
 
   m.def("_unpickle_scene", [](const std::string& path, const std::vector<std::string>& values) {
-    return loadPyScene("", path, values);
+    return loadPyScene("", path, values, values.size());
   });
   m.def("_load_scene", &load, pyb::arg("path"), pyb::arg("overrides"));
-  m.def("_load_scene_text", &loadPyScene, pyb::arg("yaml"), pyb::arg("origin"), pyb::arg("overrides"));
+  m.def("_load_scene_text", [](const std::string& yaml, const std::string& origin,
+                               const std::vector<std::string>& overrides) { return loadPyScene(yaml, origin, overrides); },
+        pyb::arg("yaml"), pyb::arg("origin"), pyb::arg("overrides"));
   m.def("_keys", [] { return keyInfoList(firmware::plantTable().info()); });
   m.def("_key_aliases", [] { return firmware::plantTable().aliases; });
   m.attr("COLUMNS") = [] {

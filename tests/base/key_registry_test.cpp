@@ -119,7 +119,7 @@ TEST(KeyRegistry, AKeyForBothJointsStillActsOnPrintedValues) {
             0);
   std::vector<std::string> again = printed;
   again.insert(again.end(), {"contact.clearance=3e-4", "friction.mu=0.3", "initial.ecc=[0, -5e-5]"});
-  const Scene b = loadSceneText("", "printed", again);
+  const Scene b = loadSceneText("", "printed", again, printed.size());
   EXPECT_NEAR(b.model.bearing[0].clearance, 2e-4, 1e-15) << "joint 1's own stays";
   EXPECT_NEAR(b.model.bearing[1].clearance, 3e-4, 1e-15) << "the override acts on joint 2";
   EXPECT_EQ(b.model.bearing[0].mu, 0.3);
@@ -171,6 +171,14 @@ TEST(KeyRegistry, AlternativeKeysAndDefaultPlaces) {
   // A --set of one form replaces the other given in the file.
   const Scene s = loadSceneText(good + "contact: {journal_radius: 9e-3}\n", "t.yaml", {"contact.clearance=1e-3"});
   EXPECT_NEAR(s.model.bearing[1].clearance, 1e-3, 1e-15);
+  // Both forms among the --set values: the later one was taken while the summary listed both (pass 71).
+  EXPECT_NE(refusal(good, {"contact.clearance=1e-4", "contact.journal_radius=9.5e-3"})
+                .find("--set #2 'contact.journal_radius=9.5e-3': key 'contact.journal_radius': sets the same field "
+                      "as 'contact.clearance', given before it: give one of them"),
+            std::string::npos);
+  // The same key twice: the later value (usage.md).
+  const Scene twice = loadSceneText(good, "t.yaml", {"contact.clearance=1e-4", "contact.clearance=2e-4"});
+  EXPECT_NEAR(twice.model.bearing[1].clearance, 2e-4, 1e-15);
   // A derived journal radius is refused under the key that was given.
   EXPECT_NE(refusal(good, {"contact.clearance=0.02"})
                 .find("--set #1 'contact.clearance=0.02': key 'contact.clearance': journal radius (the bearing radius "

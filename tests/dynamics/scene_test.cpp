@@ -401,7 +401,7 @@ TEST(Scene, ValuesListEveryOwnKeyGivenEvenWhereItEqualsTheSharedOne) {
   EXPECT_TRUE(std::any_of(v.begin(), v.end(), [](const std::string& kv) { return kv.rfind("joint1.friction.mu=", 0) == 0; }));
   std::vector<std::string> rebuilt = v;
   rebuilt.insert(rebuilt.end(), {"initial.ecc=[1e-4, 0]", "contact.clearance=3e-4", "friction.mu=0.1"});
-  const Scene sample = loadSceneText("", "values", rebuilt);
+  const Scene sample = loadSceneText("", "values", rebuilt, v.size());  // v: the printed values
   EXPECT_EQ(sample.run.initial.ecc[0], Vec2(1e-4, 0.0)) << "joint 1 follows the shared key";
   EXPECT_EQ(sample.run.initial.ecc[1], Vec2(0.0, 0.0)) << "joint 2 keeps its own";
   EXPECT_NEAR(sample.model.bearing[0].clearance, 3e-4, 1e-15);

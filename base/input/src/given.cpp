@@ -90,7 +90,7 @@ void flatten(const YAML::Node& n, const std::string& prefix, const std::string& 
 
 Given::Given(const TableWords& words, const std::vector<std::pair<std::string, std::string>>& keys,
              const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides,
-             const std::vector<std::pair<std::string, std::string>>& aliases)
+             const std::vector<std::pair<std::string, std::string>>& aliases, std::size_t printed)
     : impl_(std::make_unique<Impl>()) {
   impl_->origin = origin;
   auto& values = impl_->values;
@@ -158,6 +158,7 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
                            .problem("", "more than " + std::to_string(InputBounds::kMaxOverrides) + " --set values"));
     return;
   }
+  std::map<std::string, std::string> set_here;  // key -> its spelling, for the keys the user's overrides set
   for (std::size_t i = 0; i < overrides.size(); ++i) {
     const std::string& o = overrides[i];
     if (o.size() > InputBounds::kMaxSetBytes) {
@@ -188,8 +189,18 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
     }
     try {
       Value v{loadBounded(text), where, alias == alias_of.end() ? "" : spelled};
-      if (auto a = impl_->alternative.find(key); a != impl_->alternative.end()) values.erase(a->second);
-      values[key] = std::move(v);  // a later --set of either alternative wins
+      if (auto a = impl_->alternative.find(key); a != impl_->alternative.end()) {
+        // Both alternatives among the user's overrides: the later was taken while a summary listed both (pass
+        // 71). One replaces its alternative given in the file or among a scene's printed values.
+        if (const auto other = set_here.find(a->second); other != set_here.end()) {
+          problems.push_back(where.problem(spelled, "key '" + spelled + "': sets the same field as '" + other->second +
+                                                        "', given before it: give one of them"));
+          continue;
+        }
+        values.erase(a->second);
+      }
+      if (i >= printed) set_here[key] = spelled;
+      values[key] = std::move(v);  // a later --set of the same key wins
     } catch (const PrescanRefusal& r) {
       problems.push_back(where.problem(spelled, "key '" + spelled + "': " + r.msg));
     } catch (const YAML::Exception& e) {

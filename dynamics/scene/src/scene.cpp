@@ -249,9 +249,10 @@ std::string readSceneFile(const std::string& path) {
   return text;
 }
 
-Scene loadSceneText(const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides) {
+Scene loadSceneText(const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides,
+                    std::size_t printed) {
   std::vector<std::string> warnings;
-  Scene out = loadKeys<SceneError>(sceneTable(), yaml, origin, overrides, &warnings);
+  Scene out = loadKeys<SceneError>(sceneTable(), yaml, origin, overrides, &warnings, printed);
   finishScene(out, origin, std::move(warnings));
   return out;
 }

@@ -23,8 +23,9 @@ const KeyTable<PlantScene>& plantTable();
 /// Loads and validates a plant scene; `overrides` are "key=value" (--set),
 /// applied after the file. Throws SceneError naming key and place.
 PlantScene loadPlantScene(const std::string& path, const std::vector<std::string>& overrides = {});
-/// Same, from YAML text (`origin` names it in messages).
+/// Same, from YAML text (`origin` names it in messages); the first `printed` overrides are a scene's printed
+/// values (loadSceneText).
 PlantScene loadPlantSceneText(const std::string& yaml, const std::string& origin,
-                              const std::vector<std::string>& overrides = {});
+                              const std::vector<std::string>& overrides = {}, std::size_t printed = 0);
 
 }  // namespace gimbalsim::firmware

@@ -35,9 +35,11 @@ class Given {
   /// set one field: a --set of one drops the other, giving both is refused.
   /// aliases: (old spelling, key): the old spelling is read as the key (giving
   /// both in one file is refused; a --set of either wins) and named as spelled.
+  /// printed: the first overrides are a scene's printed values (Scene.replace, a pickled scene): an override
+  /// after them may replace their alternative; two alternatives among the rest are refused.
   Given(const TableWords& words, const std::vector<std::pair<std::string, std::string>>& keys,
         const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides,
-        const std::vector<std::pair<std::string, std::string>>& aliases = {});
+        const std::vector<std::pair<std::string, std::string>>& aliases = {}, std::size_t printed = 0);
   ~Given();
   Given(const Given&) = delete;
   Given& operator=(const Given&) = delete;

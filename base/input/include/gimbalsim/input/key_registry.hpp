@@ -95,12 +95,14 @@ struct KeyTable {
 };
 
 /// Loads YAML text and overrides onto a default Target; throws Error(problems).
+/// printed: the first overrides are a scene's printed values (Given).
 template <class Error, class Target>
 Target loadKeys(const KeyTable<Target>& table, const std::string& yaml, const std::string& origin,
-                const std::vector<std::string>& overrides, std::vector<std::string>* warnings = nullptr) {
+                const std::vector<std::string>& overrides, std::vector<std::string>* warnings = nullptr,
+                std::size_t printed = 0) {
   std::vector<std::pair<std::string, std::string>> names;
   for (const auto& k : table.keys) names.emplace_back(k.key, k.alternative);
-  Given given(table.words, names, yaml, origin, overrides, table.aliases);
+  Given given(table.words, names, yaml, origin, overrides, table.aliases, printed);
   if (given.unreadable()) throw Error(given.problems);
   Target t{};
   for (const auto& k : table.keys) given.apply(k.key, [&](const YAML::Node& n) { k.set(t, n); });

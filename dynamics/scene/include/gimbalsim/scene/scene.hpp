@@ -26,9 +26,10 @@ class SceneError : public InputError {
 /// --set), applied after the file. Throws SceneError.
 Scene loadScene(const std::string& path, const std::vector<std::string>& overrides = {});
 
-/// Same, from YAML text (`origin` names it in messages).
+/// Same, from YAML text (`origin` names it in messages); the first `printed` overrides are a scene's printed
+/// values (KeyTable::values), which a later override of an alternative key replaces.
 Scene loadSceneText(const std::string& yaml, const std::string& origin,
-                          const std::vector<std::string>& overrides = {});
+                          const std::vector<std::string>& overrides = {}, std::size_t printed = 0);
 
 /// The text of a scene file; throws SceneError "<path>: cannot open scene file: <why>".
 std::string readSceneFile(const std::string& path);
