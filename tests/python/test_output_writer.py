@@ -350,3 +350,9 @@ def test_the_package_has_no_import_cycle():
     assert "sweep" not in graph["replay"] and "tune" not in graph["replay"]
     assert cycles(graph) == []
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == [["a", "b", "c", "a"]]  # the check finds one
+
+
+def test_an_output_set_holds_back_the_programs_stop_signals():
+    # _output.py, loaded without the package, names the stop signals itself: the same set as the programs stop on
+    from gimbalsim import _early_signals, _output
+    assert _output._HELD == set(_early_signals.STOP_SIGNALS) == {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}
