@@ -380,6 +380,8 @@ TEST(HilLockstep, TorqueReplayRefusesWhatItCannotReplay) {
       // an editor's CRLF line ends or byte-order mark: not the file firmware_sim wrote
       {write("crlf.csv", "seq,tau1_Nm,tau2_Nm\r\n0,0,0\r\n1,0,0\r\n"), "crlf.csv:1: ends in CR (CRLF line ends)"},
       {write("bom.csv", "\xEF\xBB\xBFseq,tau1_Nm,tau2_Nm\n0,0,0\n1,0,0\n"), "bom.csv:1: starts with a byte-order mark"},
+      // (pass 72) cut while written: its last line without a line end ('16' cut to '1' would be replayed)
+      {write("cutend.csv", "seq,tau1_Nm,tau2_Nm\n0,0,0\n1,0,1"), "cutend.csv:3: the last line has no line end"},
       // time that stands still or runs back: an edited file, not one run's ticks
       {write("back.csv", "seq,sim_time_s,tau1_Nm,tau2_Nm\n0,0.001,0,0\n1,0.001,0,0\n"),
        "back.csv:3: sim_time_s 0.001 is not after the previous row's"},

@@ -64,6 +64,12 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
       throw std::runtime_error(name + ":" + std::to_string(lines) +
                                ": ends in CR (CRLF line ends): not as firmware_sim writes a truth CSV");
     }
+    // getline reached the end without a line end: a file cut while written, its last number maybe cut too
+    // (pass 72: '16' cut to '1' would be replayed; plot_bench refuses the same file)
+    if (in.eof()) {
+      throw std::runtime_error(name + ":" + std::to_string(lines) + ": the last line has no line end (a file cut "
+                               "while written?): not as firmware_sim writes a truth CSV");
+    }
     return true;
   };
   if (!next()) throw std::runtime_error(name + ": empty, no header");
