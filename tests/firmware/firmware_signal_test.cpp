@@ -46,6 +46,7 @@ void stopDuringARun(const std::string& sig_name, int expected_exit) {
                                             << "\n" << slurp(log);
   const std::string out = slurp(log);
   EXPECT_NE(out.find("commands: received"), std::string::npos) << "the exit summary\n" << out;
+  EXPECT_NE(out.find("firmware_sim: interrupted by SIG" + sig_name), std::string::npos) << out;  // (pass 72)
   EXPECT_TRUE(std::filesystem::exists(truth)) << "the truth CSV, whole up to the stop";
   for (const auto& entry : std::filesystem::directory_iterator(dir))
     EXPECT_NE(entry.path().filename().string().front(), '.') << "a temporary left: " << entry.path();
