@@ -94,8 +94,14 @@ STAGE=$(mktemp -d "$OUT/.runs.XXXXXX")
 trap 'rm -rf "$STAGE"; out_folder_undo' EXIT
 # A stop signal waits for the program running to end its outputs (bash runs a trap once its foreground child
 # is done) before the exit removes the staging folder: it said "rename failed" on the way out (pass 71).
-stop_traps() { trap 'exit 130' INT; trap 'exit 143' TERM; trap 'exit 129' HUP; }
-stop_traps
+stop_traps() {  # $1: what a stop leaves, said (pass 72: the last line was "wrote 14 figures", exit 143)
+  local sig code
+  for sig in INT:130 TERM:143 HUP:129; do
+    code=${sig#*:}
+    trap "echo \"run_paper.sh: interrupted (SIG${sig%:*}); $1\" >&2; exit $code" "${sig%:*}"
+  done
+}
+stop_traps "the previous outputs are kept"
 for run in "${RUNS[@]}"; do
   "$SIM" simulate "tools/scenes/${run#*:}.yaml" ${SETS[@]+"${SETS[@]}"} \
     --out "$STAGE/${run%%:*}.csv" --summary "$STAGE/${run%%:*}.json"
@@ -123,7 +129,7 @@ for rel in "${staged[@]}"; do
 done
 trap '' INT TERM HUP
 for rel in "${staged[@]}"; do mv -fT "$STAGE/$rel" "$OUT/$rel"; done
-stop_traps
+stop_traps "the new outputs are all in place"
 
 echo
 echo "Outputs (under $ROOT):"

@@ -88,3 +88,23 @@ def test_a_link_or_a_folder_under_an_output_name_is_refused_before_anything_runs
             and "nothing run" in p.stderr, (case, p.stderr)
         assert "== [3/4] simulations" not in p.stdout, (case, p.stdout)
         assert not (out.parent / "elsewhere").exists() and not (out.parent / "elsewhere.png").exists(), case
+
+
+def test_a_stop_during_the_runs_says_the_previous_set_is_kept(tmp_path):
+    # (pass 71) gimbalsim said "rename failed" as the script's exit removed the staging folder under it; (pass 72)
+    # nothing said what a stop had left
+    import signal
+    import time
+    root, out = copy_of_tools(tmp_path)
+    env = dict(os.environ, GIMBALSIM_BUILD=str(BIN.parent))
+    proc = subprocess.Popen(["bash", str(root / "tools" / "run_paper.sh"), "sim.duration=60"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=env, start_new_session=True)
+    deadline = time.time() + 120
+    while not list(out.glob(".runs.*/.ideal.csv.*")) and time.time() < deadline:  # the first run is writing
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 143, err
+    assert "run_paper.sh: interrupted (SIGTERM); the previous outputs are kept" in err, err
+    assert "rename failed" not in err, err
+    assert previous_set_kept(out), sorted(os.listdir(out))
