@@ -71,7 +71,6 @@ def idle_in_controller(key, values, dispersed):
     return None
 
 
-
 # The settings that switch other keys off.
 _DECIDERS = re.compile(r"structure\..*|sim\.substep_policy|(joint[12]\.)?(friction\.law|contact\.damping)|"
                        r"sensors\.(star_)?tracker_(outage|latency)|sensors\.antenna")
@@ -331,22 +330,25 @@ def _idle_in_scene(key, scene, dispersed):
     return _bearing_key_idle(key, joints, scene, dispersed)
 
 
-def _inelastic(restitution):
-    """Every damping law's factor chi is 0 at c_e = 1 (dynamics/include/gimbalsim/dynamics/contact_law.hpp,
-    dampingFactor): the law and its v0 floor act only below it. A value that is no number reads (its own
-    check refuses it)."""
-    try:
-        return float(restitution) != 1.0
-    except (TypeError, ValueError):
-        return True
+def _number_reads(test):
+    """A scene value (text) read as a number by test; a value that is no number reads (its own check refuses it)."""
+    def reads(text):
+        try:
+            return test(float(text))
+        except (TypeError, ValueError):
+            return True
+    return reads
 
 
 # Bearing keys read only under some settings: each (setting, which of its values read the key) must hold.
+# Every damping law's factor chi is 0 at c_e = 1 (dynamics/include/gimbalsim/dynamics/contact_law.hpp,
+# dampingFactor): the law and its v0 floor act only below it. At friction.mu 0 no law's velocities act (pass 72).
 _DAMPED = ("contact.damping", lambda law: law != "none")
-_INELASTIC = ("contact.restitution", _inelastic)
+_INELASTIC = ("contact.restitution", _number_reads(lambda restitution: restitution != 1.0))
+_FRICTION = ("friction.mu", _number_reads(lambda mu: mu > 0.0))
 _READ_UNDER = {"friction.mu": [("friction.law", lambda law: law != "none")],
-               "friction.v_a": [("friction.law", lambda law: law == "ambrosio")],
-               "friction.v_b": [("friction.law", lambda law: law == "ambrosio")],
+               "friction.v_a": [("friction.law", lambda law: law == "ambrosio"), _FRICTION],
+               "friction.v_b": [("friction.law", lambda law: law == "ambrosio"), _FRICTION],
                "contact.restitution": [_DAMPED],
                "contact.v0_min": [_DAMPED, _INELASTIC],
                "contact.damping": [_INELASTIC]}

@@ -102,6 +102,9 @@ BAD = [
     ("set: {friction.law: none, friction.mu: 0.3}\n"
      "parameters:\n  contact.clearance: {uniform: [1.0e-4, 3.0e-4]}\n",
      "set.friction.mu", 6, "joint 2's friction.law is none"),
+    # (pass 72) the law's velocities at friction.mu 0: no friction force, every row alike
+    ("set: {friction.law: ambrosio, friction.mu: 0.0}\nparameters:\n  friction.v_a: {uniform: [1.0e-5, 5.0e-5]}\n",
+     "parameters.friction.v_a", 8, "joint 2's friction.mu is 0"),
     # a vector on the grid: one text cell for it, two number cells for its applied_ value
     ("grid:\n  torque.limit: [[1, 1], [2, 2]]\n", "grid.torque.limit", 7, "a vec2 key is dispersed under parameters"),
     # the law dispersed too, but over values none of which reads the key
