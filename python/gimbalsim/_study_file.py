@@ -34,6 +34,14 @@ def hold(out):
     _HELD.append(fd)
 
 
+def refuse_if_running(out):
+    """hold's refusal before a folder's files are judged: a study another tuner is creating looked empty, and
+    the second tuner was told to remove it (pass 72). The lock is taken and let go at once (hold keeps it)."""
+    if os.path.isdir(out) and not os.path.islink(out):
+        hold(out)
+        os.close(_HELD.pop())
+
+
 def check_resumable(db, out, study_name):
     """--resume needs this folder's own study, read before anything writes
     to it: a missing, empty, linked or foreign file would become a new study

@@ -114,6 +114,7 @@ def check_study_folder(spec, out, resume):
     but a file or an input under any output's name (found at the end, every
     trial was lost)."""
     check_output_names(out, "study", [out / n for n in OUTPUTS], [out], refuse=SpecError)  # a sweep's, an allocation's
+    _study_file.refuse_if_running(out)
     if not resume and ((out / STUDY_FILE).exists() or (out / TRIALS).exists()):
         if (out / STUDY_FILE).exists() and not study_recorded(out) and not trials_kept(out):
             # --resume would be refused too (pass 56): say what the file is, not a resume that cannot be

@@ -314,6 +314,25 @@ gains:
 """
 
 
+def test_a_tuner_on_a_folder_another_is_starting_in_is_told_so(tmp_path):
+    # (pass 72) two tuners started together: the second found the first's study.db still empty and was told to
+    # remove it ("holds no study ... remove it"), the running tuner's live file
+    import fcntl
+    (tmp_path / "t.yaml").write_text(TUNE)
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "study.db").write_bytes(b"")  # as the first tuner has just made it
+    fd = os.open(out, os.O_RDONLY | os.O_DIRECTORY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)  # the first tuner's hold on the folder
+        p = subprocess.run([sys.executable, "-m", "gimbalsim.tune", str(tmp_path / "t.yaml"), "--out", str(out),
+                            "--no-progress", "--workers", "1"], capture_output=True, text=True, timeout=120)
+    finally:
+        os.close(fd)
+    assert p.returncode == 2 and "another sweep or tuner is running in this folder" in p.stderr, p.stderr
+    assert "remove it" not in p.stderr and (out / "study.db").exists()
+
+
 def test_a_signal_inside_a_librarys_cleanup_is_not_logged_again(capsys):
     """The race CI met: SIGINT landed in SQLAlchemy's connection reset (a
     finalizer), which logs the exception with its traceback through the
