@@ -35,7 +35,7 @@ def digest(folder):
 
 def test_a_users_spec_writes_its_own_folder_and_no_project_page(tmp_path):
     root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh",
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh",
                 "tools/pages/results_page.py", "docs/results/pointing_budget.md",
                 "docs/results/README.md"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
@@ -80,7 +80,7 @@ def test_a_refused_shipped_spec_leaves_the_previous_results(tmp_path):
     # The shipped budget regenerates out/pointing_budget/: a spec refused (or a run that fails)
     # must leave the previous results there, and write no page.
     root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh",
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh",
                 "tools/pages/results_page.py", "docs/results/pointing_budget.md"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(SOURCE / rel, root / rel)
@@ -111,7 +111,7 @@ def test_a_refused_spec_makes_no_out_folder(tmp_path):
     assert sorted(os.listdir(work)) == ["bad.yaml"]
     # the shipped budget's run too (in a copy of what it touches), out/ made for it and taken back
     root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh",
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh",
                 "tools/pages/results_page.py"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(SOURCE / rel, root / rel)
@@ -125,7 +125,7 @@ def checkout_with_spec(tmp_path, spec_text=None):
     """TMP/checkout: a copy of what the shipped budget's run touches, no out/; its spec the shipped one, or
     spec_text."""
     root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh",
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh",
                 "tools/sweeps/pointing_budget.yaml", "tools/pages/results_page.py",
                 "tools/pages/output_file.py", "python/gimbalsim/_output.py", "python/gimbalsim/_console.py",
                 "python/gimbalsim/_number.py", "python/gimbalsim/_early_signals.py",
@@ -447,3 +447,31 @@ def test_an_interrupted_page_run_keeps_a_finished_budget_and_a_failed_page_chang
     p = subprocess.run(["bash", script, "my.yaml", "--check"], cwd=work, capture_output=True, text=True, timeout=60,
                        env=env)
     assert p.returncode == 0 and os.listdir(work) == [], p.stderr
+
+
+def test_a_signal_to_the_script_alone_stops_its_sweep_too(tmp_path):
+    # (pass 72) TERM to the script (not its process group) ended it with 143 at once while its sweep ran on,
+    # orphaned, and rewrote --out afterwards
+    import signal
+    import time
+    work = tmp_path / "work"
+    work.mkdir()
+    (work / "s.yaml").write_text(SPEC.replace("samples: 2", "samples: 40").replace("sim.duration: 0.5",
+                                                                                 "sim.duration: 2.0"))
+    env = dict(os.environ, GIMBALSIM_BUILD=str(pathlib.Path(os.environ["PYTHONPATH"]).parent))
+    proc = subprocess.Popen(["bash", str(SOURCE / "tools/sweeps/run_pointing_budget.sh"), "s.yaml", "--out", "o",
+                             "--workers", "1", "--batch", "1"], cwd=work, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=env, start_new_session=True)
+    journal = work / "o" / "results.partial.csv"
+    deadline = time.time() + 300
+    while not (journal.exists() and journal.read_text().count("\n") >= 2) and time.time() < deadline:
+        assert proc.poll() is None, proc.communicate()
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)  # the script alone
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode in (143, -signal.SIGTERM), err  # (a shell says 143 for either)
+    time.sleep(1.0)  # an orphan would go on writing its journal
+    rows = journal.read_text().count("\n")
+    time.sleep(2.0)
+    assert journal.read_text().count("\n") == rows, "the sweep ran on after the script"
+    assert "interrupted" in err and rows >= 2, err  # its journal whole, for --resume

@@ -19,6 +19,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
+source "$ROOT/tools/lib/children.sh"  # stop_children
 
 MODE=lockstep DURATION=8 SCENE="$ROOT/tools/scenes/paper_clearance.yaml" CONFIG="$ROOT/controllers/config/default.yaml"
 RATE=1000 LOG=0 OUT="$ROOT/out/bench" OUT_GIVEN=0 PLOT=1 PORT=7667 EXTRA=()
@@ -245,10 +246,9 @@ RUN="$(mktemp -d "$OUT/.run.XXXXXX")" ||
     [ "${GIMBALSIM_BENCH_MADE_OUT:-0}" != 1 ] || rmdir "$OUT" 2>/dev/null || true
     exit 4; }
 cd "$RUN"
-pids=()
 ended_well=0
 cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  stop_children  # firmware_sim, the controller, the recorder: ended, their outputs whole, before RUN goes
   rm -rf "$RUN"
   [ "$ended_well" = 1 ] || [ "${GIMBALSIM_BENCH_MADE_OUT:-0}" != 1 ] || rmdir "$OUT" 2>/dev/null || true
 }
@@ -262,13 +262,13 @@ if [ "$LOG" = 1 ]; then
   # gimbalsim_record, not lcm-logger: LCM 1.3.1's lcm-logger drops messages
   # in fast lockstep on a loaded machine (30-message queue); same log format.
   "$BIN/gimbalsim_record" --lcm-url "$URL" bench.lcmlog &
-  LOGGER=$!; pids+=("$LOGGER")
+  LOGGER=$!
   sleep 0.3
 fi
 # The same --duration as the plant: both end by themselves (docs/bench.md "Two terminals").
 "$BIN/pointing_controller" "$CONFIG" --set control.period="$PERIOD" --lcm-url "$URL" --duration "$DURATION" --idle-exit 10 \
     --log-csv controller.csv 2>controller.txt &
-CTL=$!; pids+=("$CTL")
+CTL=$!
 sleep 0.2
 fw=("$BIN/firmware_sim" "$SCENE" --rate "$RATE" --duration "$DURATION" --profile "$CONFIG" --truth-csv truth.csv
     --lcm-url "$URL")

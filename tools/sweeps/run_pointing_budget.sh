@@ -26,6 +26,7 @@ set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
+source "$ROOT/tools/lib/children.sh"  # stop_children
 # The shipped pages: page name, its title and summary, then each spec with its section's heading (none for one).
 PAGE=pointing_budget TITLE="Closed-loop pointing budget"
 SUMMARY="ECSS indices per phase over a bearing's tolerance, with order-statistics intervals"
@@ -97,6 +98,7 @@ if [ -n "$SPEC" ]; then
   made_out=0
   if [ -n "$OUT" ] && [ ! -d out ]; then mkdir out && made_out=1; fi
   rc=0
+  trap stop_children EXIT  # a signal to the script alone: the sweep ends too, its journal whole
   PYTHONPATH="$PACKAGE" /usr/bin/python3 -m gimbalsim.sweep "$SPEC" ${OUT:+--out "$OUT"} --no-progress \
     "${ARGS[@]+"${ARGS[@]}"}" || rc=$?
   checked=0  # --check: nothing written, so no out/ left either
@@ -199,6 +201,7 @@ BACKUP=""       # the previous page's plots while the new ones go in
 keep=0          # 1 while the budgets run: an interruption keeps their folders for --resume
 restore() {
   local i kept=0
+  stop_children  # a sweep still running (the script alone was signalled): its journal whole before the folders
   if [ "$keep" = 1 ]; then  # any budget's work (a journal, or a finished budget beside an interrupted one)
     for i in "${!SPECS[@]}"; do
       for f in "${STARTED[@]}"; do [ ! -e "${NEWS[$i]}/$f" ] || kept=1; done
