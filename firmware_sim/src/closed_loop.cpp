@@ -311,6 +311,30 @@ std::string idleSceneOverride(const char* flag, const std::vector<std::string>& 
   return "";
 }
 
+std::string idleInEveryRun(const char* flag, const std::vector<std::string>& overrides,
+                           const std::vector<StudyScene>& runs, std::vector<std::string>* partly) {
+  for (std::size_t k = 0; k < overrides.size(); ++k) {
+    std::string why, scenes;
+    std::size_t idle_runs = 0;
+    for (const StudyScene& r : runs) {
+      const auto& idle = r.scene->idle_sets;
+      const auto it = std::find_if(idle.begin(), idle.end(),
+                                   [&](const auto& s) { return s.first == r.first_set + static_cast<int>(k); });
+      if (it == idle.end()) continue;
+      ++idle_runs;
+      if (why.find(it->second) == std::string::npos) why += (why.empty() ? "" : "; ") + it->second;
+      if (scenes.find("'" + r.name + "'") == std::string::npos) scenes += (scenes.empty() ? "'" : ", '") + r.name + "'";
+    }
+    if (idle_runs == 0) continue;
+    const std::string named = std::string(flag) + " #" + std::to_string(k + 1) + " '" + overrides[k] + "'";
+    if (idle_runs == runs.size()) {
+      return named + ": acts in no run of this study (" + why + "): the value would be recorded but never act";
+    }
+    partly->push_back(named + ": acts on nothing in the runs of " + scenes + " (" + why + ")");
+  }
+  return "";
+}
+
 std::string idleSeedOverride(const char* flag, const std::vector<std::string>& overrides, bool any_noise) {
   if (any_noise) return "";
   for (std::size_t k = 0; k < overrides.size(); ++k) {

@@ -22,7 +22,9 @@ const KeyTable<PlantScene>& plantTable() {
 PlantScene loadPlantSceneText(const std::string& yaml, const std::string& origin,
                               const std::vector<std::string>& overrides, std::size_t printed) {
   std::vector<std::string> warnings;
-  PlantScene out = loadKeys<SceneError>(plantTable(), yaml, origin, overrides, &warnings, printed);
+  std::vector<std::pair<int, std::string>> idle_sets;
+  PlantScene out = loadKeys<SceneError>(plantTable(), yaml, origin, overrides, &warnings, printed, &idle_sets);
+  out.scene.idle_sets = std::move(idle_sets);
   finishScene(out.scene, origin, std::move(warnings));
   return out;
 }

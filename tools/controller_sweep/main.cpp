@@ -64,6 +64,14 @@ int mainImpl(int argc, char** argv) {
         throw InputError(relabelledProblems(e, scene_labels));
       }
     }();
+    // A --scene-set the scene's joints leave idle (joint 1's friction on an ideal joint 1): every run would
+    // record it and none act (pass 72).
+    std::vector<std::string> partly_idle;  // one scene: idle in some runs is idle in all
+    if (const std::string why = firmware::idleInEveryRun("--scene-set", scene_sets, {{scene_path, &ps.scene, 1}},
+                                                         &partly_idle);
+        !why.empty()) {
+      return program::refuse("controller_sweep", why);
+    }
     // A seed with no noise to draw: recorded with the runs, acting on none.
     if (const std::string why = firmware::idleSeedOverride("--scene-set", scene_sets, ps.sensors.anyNoise());
         !why.empty()) {

@@ -268,6 +268,19 @@ int mainImpl(int argc, char** argv) {
                                            " [m] would never act: " + why);
     }
   }
+  const auto stem = [](const std::string& path) { return std::filesystem::path(path).stem().string(); };
+  // A --scene-set the scenes' joints leave idle: refused where it acts in no run, said where in some (pass 72).
+  const int first_scene_set = static_cast<int>(perfect.size() - scene_sets.size()) + 1;
+  std::vector<firmware::StudyScene> study_scenes;
+  for (const auto& [label, ps] : scenes) {
+    study_scenes.push_back({label == "ideal" ? stem(ideal_path) : stem(clearance_path), &ps.scene, first_scene_set});
+  }
+  std::vector<std::string> partly_idle;
+  if (const std::string why = firmware::idleInEveryRun("--scene-set", scene_sets, study_scenes, &partly_idle);
+      !why.empty()) {
+    return program::refuse(kProgram, why);
+  }
+  for (const std::string& w : partly_idle) std::fprintf(stderr, "%s: warning: %s\n", kProgram, w.c_str());
   const ControllerConfig& main_cfg = controllers.back().second;
   for (const auto& [label, ps] : scenes) {  // refused before any run: a period the plant cannot tick at
     for (const auto& [name, c] : controllers) {
@@ -315,7 +328,6 @@ int mainImpl(int argc, char** argv) {
   std::printf("# %g s per run, tracking from %g s, slew ends at %g s; %s; truth pointing error\n", T,
               main_cfg.profile.trackStart(), main_cfg.profile.slewEnd(), sensors.c_str());
   // The scenes as run, by their files' names (it named paper_ideal and paper_clearance whatever ran).
-  const auto stem = [](const std::string& path) { return std::filesystem::path(path).stem().string(); };
   std::string md = "`build/bin/gimbalsim_controller_floor` (tools/pointing_study/floor_main.cpp): the in-process "
                    "closed loop with " + sensors + " on `" + stem(ideal_path) + "` and on `" + stem(clearance_path) +
                    "` at each clearance, " + formatSignificant(T, 6) + " s per run (slew ends at " +

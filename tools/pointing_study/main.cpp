@@ -126,6 +126,7 @@ int mainImpl(int argc, char** argv) {
     firmware::PlantScene scene;
     double clearance = 0.0;  ///< [m], 0 for the ideal joint
     std::string scene_name, label, sensors;
+    int first_scene_set = 1;  ///< the loader's number of --scene-set #1 among this run's overrides
   };
   // A scene is named by its file's stem, as gimbalsim_controller_floor names it: a modified copy keeps the
   // shipped scene's `name:` and would read as the shipped scene (pass 55).
@@ -201,8 +202,9 @@ int mainImpl(int argc, char** argv) {
         if (kv.rfind("sensors.", 0) != 0) continue;
         sensors_said += (sensors_said == sensor_case ? " except " : " and ") + kv;
       }
+      const int first_scene_set = static_cast<int>(base.size() - scene_sets.size()) + 1;
       scenes.push_back({firmware::loadPlantScene(ideal_path, base), 0.0, stem(ideal_path), "ideal" + suffix,
-                        sensors_said});
+                        sensors_said, first_scene_set});
       if (const std::string why = idealSceneProblem(scenes.back().scene.scene.model); !why.empty()) {
         return refuse("--ideal-scene", ideal_path + ": " + why);
       }
@@ -220,7 +222,7 @@ int mainImpl(int argc, char** argv) {
           // One clearance scene keeps the short labels; several are told apart by scene name.
           std::string label = clearanceLabel(c);
           if (clearance_paths.size() > 1) label = stem(path) + "_" + label;
-          scenes.push_back({std::move(ps), c, stem(path), label + suffix, sensors_said});
+          scenes.push_back({std::move(ps), c, stem(path), label + suffix, sensors_said, first_scene_set});
         }
       }
     }
@@ -239,6 +241,16 @@ int mainImpl(int argc, char** argv) {
     }
   }
 
+  // A --scene-set the scenes' joints leave idle (joint 1's friction on an ideal joint 1): refused where it acts in
+  // no run, said where it acts in some (pass 72).
+  std::vector<firmware::StudyScene> study_scenes;
+  for (const Planned& p : scenes) study_scenes.push_back({p.scene_name, &p.scene.scene, p.first_scene_set});
+  std::vector<std::string> partly_idle;
+  if (const std::string why = firmware::idleInEveryRun("--scene-set", scene_sets, study_scenes, &partly_idle);
+      !why.empty()) {
+    return program::refuse("gimbalsim_pointing_study", why);
+  }
+  for (const std::string& w : partly_idle) std::fprintf(stderr, "gimbalsim_pointing_study: warning: %s\n", w.c_str());
   for (const auto& sc : scenes) {  // refused before any run: a period the plant cannot tick at
     if (const std::string why = firmware::controlPeriodProblem(sc.scene, cfg.period); !why.empty()) {
       return refuse("--config/--set", why + " (run " + sc.label + ")");

@@ -4,6 +4,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cctype>
 #include <map>
 #include <set>
@@ -240,20 +241,43 @@ std::string Given::named(const std::string& key) const {
   return it == impl_->values.end() || it->second.spelled.empty() ? key : it->second.spelled;
 }
 
-Problem Given::problemAt(const std::string& key, const std::string& msg) const {
+const Given::Place* Given::placeOf(const std::string& key, std::string* spelled) const {
   const auto& v = impl_->values;
-  if (const auto it = v.find(key); it != v.end()) return it->second.where.problem(named(key), "key '" + named(key) + "': " + msg);
-  if (const auto a = impl_->alternative.find(key); a != impl_->alternative.end()) {
-    if (const auto it = v.find(a->second); it != v.end()) {
-      return it->second.where.problem(named(a->second), "key '" + named(a->second) + "': " + msg);
-    }
+  std::string given = key;
+  if (v.find(key) == v.end()) {
+    const auto a = impl_->alternative.find(key);
+    if (a == impl_->alternative.end() || v.find(a->second) == v.end()) return nullptr;
+    given = a->second;
   }
+  *spelled = named(given);
+  return &v.find(given)->second.where;
+}
+
+Problem Given::problemAt(const std::string& key, const std::string& msg) const {
+  std::string spelled;
+  if (const Place* p = placeOf(key, &spelled)) return p->problem(spelled, "key '" + spelled + "': " + msg);
   return Place::inFile(impl_->origin).problem(key, "(default of " + key + "): key '" + key + "': " + msg);
 }
 
 void Given::refuse(const std::string& key, const std::string& msg) { problems.push_back(problemAt(key, msg)); }
 
 void Given::warn(const std::string& key, const std::string& msg) { warnings.push_back(problemAt(key, msg).text); }
+
+void Given::idle(const std::string& key, const std::string& msg) {
+  const std::string text = problemAt(key, msg).text;
+  // a key and its alternative (journal_radius, clearance) name one given value: said once
+  if (std::find(warnings.begin(), warnings.end(), text) != warnings.end()) return;
+  warnings.push_back(text);
+  std::string spelled;
+  if (const Place* p = placeOf(key, &spelled); p && p->set_index > 0) {
+    idle_sets.emplace_back(p->set_index, "key '" + spelled + "': " + msg);
+  }
+}
+
+void Given::idleIfSet(const std::string& key, const std::string& msg) {
+  std::string spelled;
+  if (const Place* p = placeOf(key, &spelled); p && p->set_index > 0) idle(key, msg);
+}
 
 bool loadDocument(const std::string& text, const std::string& origin, YAML::Node& out, Problem& why) {
   try {

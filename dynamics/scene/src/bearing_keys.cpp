@@ -265,13 +265,32 @@ void validateBearings(const Scene& s, Given& g) {
   // The shared bearing is checked as given; a joint's where it has clearance
   // and its own keys made it differ (named by the key that gave the value).
   checkBearing(s.both_joints.bearing, nullptr, -1, g);
+  // Keys the joint kinds leave idle. A scene file keeps its shared bearing keys when its joints are set ideal
+  // (an ideal twin): only a --set of one is said then.
+  const bool any_spatial =
+      m.jointKind(0) == ClearanceKind::Spatial || m.jointKind(1) == ClearanceKind::Spatial;
+  for (const BearingKey& k : bearingKeys(kShared)) {
+    if (!g.has(k.key.key)) continue;
+    if (!m.hasClearance()) {
+      g.idleIfSet(k.key.key, "no joint has clearance (structure.joint1, structure.joint2): no bearing, this value "
+                             "does not act");
+    } else if (k.suffix == "bearing_length" && !any_spatial) {
+      g.idle(k.key.key, "no joint's bearing is spatial (structure.joint1, structure.joint2): no journal tilts, "
+                        "this value does not act");
+    }
+  }
   bool adaptive_refused = false;
   for (int j = 0; j < 2; ++j) {
     const ContactParams& cb = m.bearing[j];
+    const std::string own_length = (j == 0 ? kJoint1 : kJoint2).contact + "bearing_length";
+    if (m.jointKind(j) == ClearanceKind::Planar && g.has(own_length)) {
+      g.idle(own_length, "joint " + std::to_string(j + 1) + "'s bearing is planar (structure.joint" +
+                             std::to_string(j + 1) + "): its journal cannot tilt, this value does not act");
+    }
     if (m.jointKind(j) == ClearanceKind::Ideal) {
       for (const BearingKey& k : jointBearingKeys(j)) {
         if (g.has(k.key.key)) {
-          g.warn(k.key.key, "joint " + std::to_string(j + 1) + " is ideal (structure.joint" + std::to_string(j + 1) +
+          g.idle(k.key.key, "joint " + std::to_string(j + 1) + " is ideal (structure.joint" + std::to_string(j + 1) +
                                 "): its bearing is not used");
         }
       }

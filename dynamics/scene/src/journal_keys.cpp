@@ -54,7 +54,7 @@ void checkInitialEcc(const Scene& s, Given& g) {
       // no clearance at all is the radii's refusal (checkBearing): said once, not again here
       if (c > 0.0 && ecc.norm() > c) g.refuse(key, "initial eccentricity exceeds the radial clearance of " + joint);
     } else if (ecc.norm() > 0.0 && key != warned && g.has(key) && (key != "initial.ecc" || !m.hasClearance())) {
-      g.warn(key, m.hasClearance() ? joint + " is ideal (structure.joint" + std::to_string(j + 1) +
+      g.idle(key, m.hasClearance() ? joint + " is ideal (structure.joint" + std::to_string(j + 1) +
                                          "): its journal has no eccentricity, this value does not act"
                                    : std::string("no joint has clearance (structure.joint1, structure.joint2): no "
                                                  "journal starts off centre, this value does not act"));
@@ -75,7 +75,7 @@ void checkInitialTilt(const Scene& s, Given& g) {
     if (!g.has(key) || tilt.norm() == 0.0) continue;
     const std::string joint = "joint " + std::to_string(j + 1);
     if (m.jointKind(j) != ClearanceKind::Spatial) {
-      g.warn(key, joint + "'s bearing is not spatial (structure.joint" + std::to_string(j + 1) +
+      g.idle(key, joint + "'s bearing is not spatial (structure.joint" + std::to_string(j + 1) +
                       "): its journal cannot tilt, this value does not act");
       continue;
     }

@@ -252,7 +252,9 @@ std::string readSceneFile(const std::string& path) {
 Scene loadSceneText(const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides,
                     std::size_t printed) {
   std::vector<std::string> warnings;
-  Scene out = loadKeys<SceneError>(sceneTable(), yaml, origin, overrides, &warnings, printed);
+  std::vector<std::pair<int, std::string>> idle_sets;
+  Scene out = loadKeys<SceneError>(sceneTable(), yaml, origin, overrides, &warnings, printed, &idle_sets);
+  out.idle_sets = std::move(idle_sets);
   finishScene(out, origin, std::move(warnings));
   return out;
 }

@@ -59,6 +59,8 @@ struct Scene {
     std::vector<std::string> own_keys;
   } both_joints;
   std::vector<std::string> warnings;  ///< accepted but suspicious (e.g. triangle inequality)
+  /// Each override (its 1-based number among the loader's) that acts on nothing in this scene, with why.
+  std::vector<std::pair<int, std::string>> idle_sets;
 };
 
 }  // namespace gimbalsim

@@ -160,6 +160,20 @@ const std::vector<std::pair<std::string, std::string>>& closedLoopIdleSceneKeys(
 /// none). A study's override of one would be recorded with its runs and never act.
 std::string idleSceneOverride(const char* flag, const std::vector<std::string>& overrides);
 
+/// One run of a study as idleInEveryRun sees it: the scene it ran (its file's name) and the loader's number
+/// (1-based) of the study's first `flag` value among the overrides that scene was loaded with.
+struct StudyScene {
+  std::string name;
+  const Scene* scene = nullptr;
+  int first_set = 1;
+};
+
+/// The study's `flag` values (key=value) that the scene loader found acting on nothing (Scene::idle_sets):
+/// a refusal naming the first one that acts in no run and why (it would be recorded with every run and act
+/// on none), else "". Each one idle in some runs only is told in *partly, naming those runs' scenes.
+std::string idleInEveryRun(const char* flag, const std::vector<std::string>& overrides,
+                           const std::vector<StudyScene>& runs, std::vector<std::string>* partly);
+
 /// A `sensors.seed` among `overrides` when no run of the study draws sensor
 /// noise (any_noise false: SensorParams::anyNoise of every run), as a refusal
 /// naming `flag` #k ("" otherwise): the seed would be recorded and never act.

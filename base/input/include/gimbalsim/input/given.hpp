@@ -55,12 +55,21 @@ class Given {
   /// its alternative was, named so; else "<origin>: (default of <key>)").
   void refuse(const std::string& key, const std::string& msg);
   void warn(const std::string& key, const std::string& msg);
+  /// A warning that key acts on nothing here; one given by a --set is recorded in idle_sets too (a study
+  /// refuses a --set that acts in none of its runs).
+  void idle(const std::string& key, const std::string& msg);
+  /// Same, only when a --set gave the key: a scene file keeps keys its structure leaves idle (an ideal twin).
+  void idleIfSet(const std::string& key, const std::string& msg);
 
   std::vector<Problem> problems;
   std::vector<std::string> warnings;
+  /// (1-based --set number, "key 'k': why") of each --set found acting on nothing.
+  std::vector<std::pair<int, std::string>> idle_sets;
 
  private:
   Problem problemAt(const std::string& key, const std::string& msg) const;
+  /// The place that gave key (or its alternative), with the key as spelled there; nullptr for a default.
+  const Place* placeOf(const std::string& key, std::string* spelled) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
   bool unreadable_ = false;

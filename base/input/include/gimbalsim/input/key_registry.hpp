@@ -95,11 +95,11 @@ struct KeyTable {
 };
 
 /// Loads YAML text and overrides onto a default Target; throws Error(problems).
-/// printed: the first overrides are a scene's printed values (Given).
+/// printed: the first overrides are a scene's printed values (Given); idle_sets: Given::idle_sets.
 template <class Error, class Target>
 Target loadKeys(const KeyTable<Target>& table, const std::string& yaml, const std::string& origin,
                 const std::vector<std::string>& overrides, std::vector<std::string>* warnings = nullptr,
-                std::size_t printed = 0) {
+                std::size_t printed = 0, std::vector<std::pair<int, std::string>>* idle_sets = nullptr) {
   std::vector<std::pair<std::string, std::string>> names;
   for (const auto& k : table.keys) names.emplace_back(k.key, k.alternative);
   Given given(table.words, names, yaml, origin, overrides, table.aliases, printed);
@@ -114,6 +114,7 @@ Target loadKeys(const KeyTable<Target>& table, const std::string& yaml, const st
   if (given.problems.empty() && table.validate) table.validate(t, given);
   if (!given.problems.empty()) throw Error(given.problems);
   if (warnings) *warnings = std::move(given.warnings);
+  if (idle_sets) *idle_sets = std::move(given.idle_sets);
   return t;
 }
 

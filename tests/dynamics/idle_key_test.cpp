@@ -1,0 +1,47 @@
+// A --set that the scene's joints leave idle is told apart from one that acts (Scene::idle_sets): the study
+// programs refuse one idle in every run. A scene file's own idle keys (an ideal twin's bearing) say nothing.
+#include <gtest/gtest.h>
+
+#include "test_util.hpp"
+
+namespace gimbalsim {
+namespace {
+
+int idleNumber(const Scene& s, const std::string& key) {
+  for (const auto& [number, why] : s.idle_sets) {
+    if (why.find("key '" + key + "'") != std::string::npos) return number;
+  }
+  return 0;
+}
+
+TEST(IdleKeys, EachSetTheJointsLeaveIdleIsNumberedWithWhy) {
+  // paper_clearance: joint 1 ideal, joint 2 planar.
+  const Scene s = test::scene("paper_clearance", {"contact.restitution=0.5", "joint1.friction.mu=0.2",
+                                                  "initial.tilt2=[1e-3, 0]", "contact.bearing_length=0.1",
+                                                  "joint2.contact.bearing_length=0.1", "initial.ecc1=[1e-5, 0]"});
+  EXPECT_EQ(idleNumber(s, "contact.restitution"), 0) << "acts on joint 2";
+  EXPECT_EQ(idleNumber(s, "joint1.friction.mu"), 2);
+  EXPECT_EQ(idleNumber(s, "initial.tilt2"), 3);
+  EXPECT_EQ(idleNumber(s, "contact.bearing_length"), 4);
+  EXPECT_EQ(idleNumber(s, "joint2.contact.bearing_length"), 5);
+  EXPECT_EQ(idleNumber(s, "initial.ecc1"), 6);
+  EXPECT_EQ(s.idle_sets.size(), 5u);
+  // An alias is named as spelled; a tilting bearing reads its length.
+  EXPECT_EQ(idleNumber(test::scene("paper_clearance", {"friction1.mu=0.2"}), "friction1.mu"), 1);
+  EXPECT_TRUE(test::scene("paper_spatial2", {"contact.bearing_length=0.1"}).idle_sets.empty());
+}
+
+TEST(IdleKeys, BothJointsIdealLeaveEveryBearingKeyIdleButOnlyASetIsSaid) {
+  const Scene file_only = test::scene("paper_ideal");
+  EXPECT_TRUE(file_only.idle_sets.empty());
+  EXPECT_EQ(file_only.warnings.size(), 1u) << "the base inertia's only";
+  // A clearance given as clearance replaces the file's journal radius: said once, as given.
+  const Scene s = test::scene("paper_ideal", {"sim.step=1e-3", "contact.clearance=1e-4", "friction.law=none"});
+  ASSERT_EQ(s.idle_sets.size(), 2u);
+  EXPECT_EQ(idleNumber(s, "contact.clearance"), 2);
+  EXPECT_NE(s.idle_sets[0].second.find("no joint has clearance"), std::string::npos) << s.idle_sets[0].second;
+  EXPECT_EQ(idleNumber(s, "friction.law"), 3);
+}
+
+}  // namespace
+}  // namespace gimbalsim
