@@ -10,7 +10,9 @@
 // command in both runs. A status whose time is not its row's (sim_time_s: the
 // plant ticks at another control period) stops the replay, and so does a
 // truth message whose joint state is not its row's bit for bit (another
-// scene or --set: pass 70 found such a replay exit 0). Exit 0 after
+// scene or --set: pass 70 found such a replay exit 0), as does a status saying the plant rejected the
+// last answer (the recorded torque acted in the recorded run: a plant that refuses it is another one;
+// the replay exited 6, "the plant has gone", after the plant ended the run on 30 of them). Exit 0 after
 // answering the last status the CSV covers; 2 refused input, or a plant
 // ticking at another period; 5 network (a failed send too); 6 no plant within --idle-exit;
 // 8 not reproduced.
@@ -103,6 +105,8 @@ int mainImpl(int argc, char** argv) {
   std::string mismatch;  // a status at another time than its row: another control period
   std::string diverged;  // a status past the recorded stop without the plant's fault, or a truth off its row
   std::int64_t compared = 0;  // truths whose joint state matched its row
+  std::int64_t asked_again = 0;  // the answered status heard again: a lockstep plant awaiting status 0's answer
+                                 // re-sends it (the rejection of an answer shows first in status 1's flags)
   while (answered < last && sent && mismatch.empty() && diverged.empty()) {
     if (rx.wait(100, 0) < 0) return gimbalsim::program::kNetwork;
     rx.drain([&](const gimbalsim::lcm_wire::Message& m, std::int64_t) {
@@ -114,8 +118,22 @@ int mainImpl(int argc, char** argv) {
       gimbalsim::gimbal_status_t st{};
       if (st.decode(m.data, 0, static_cast<int>(m.size)) != static_cast<int>(m.size)) return;
       heard_ns = gimbalsim::lcm_wire::monotonicNs();
+      if (st.seq == answered) ++asked_again;
       if (st.seq <= answered || st.seq > last) return;  // a repeat (status 0 is re-sent until answered), or past the CSV
       const auto k = static_cast<std::size_t>(st.seq);
+      // Our last answer (command seq - 1) rejected: the flag, and the plant's last accepted command not it.
+      if (answered >= 0 && (st.faults & gimbalsim::gimbal_status_t::FAULT_COMMAND_REJECTED) != 0 &&
+          st.last_command_seq != seq - 1) {
+        char why[320];
+        std::snprintf(why, sizeof why, "status %lld (t = %.9g s) says the plant rejected the answer to status %lld "
+                      "(row %lld's torques %.9g, %.9g N m), which acted in the recorded run: the replayed plant "
+                      "refuses what the recorded one took (its torque.limit, or another controller on the bus)",
+                      static_cast<long long>(st.seq), static_cast<double>(st.utime) * 1e-6,
+                      static_cast<long long>(answered), static_cast<long long>(answered + 1),
+                      t.tau1[static_cast<std::size_t>(answered) + 1], t.tau2[static_cast<std::size_t>(answered) + 1]);
+        diverged = why;
+        return;
+      }
       // The replayed plant stops where the recorded one did, and only there: a row from the recorded stop on
       // (its first row carrying FAULT_PLANT_FAULT) is answered by a status carrying it, a row before by one without.
       const bool stopped = (st.faults & gimbalsim::gimbal_status_t::FAULT_PLANT_FAULT) != 0;
@@ -155,8 +173,18 @@ int mainImpl(int argc, char** argv) {
       c.torque[1] = t.tau2[k + 1];
       sent = tx.send(ch.command, c);  // a lost answer would stall the plant: stop and say so
       answered = st.seq;
+      asked_again = 0;
     }, 256);
     if (static_cast<double>(gimbalsim::lcm_wire::monotonicNs() - heard_ns) * 1e-9 > idle_exit) {
+      if (answered >= 0 && asked_again > 0) {  // it went on asking for the answer we gave, then went
+        const auto row = static_cast<std::size_t>(answered) + 1;
+        std::fprintf(stderr, "torque_replay: not reproduced: the plant asked again for the answer to status %lld "
+                     "after it was sent (row %lld's torques %.9g, %.9g N m, which acted in the recorded run) and then "
+                     "ended the run: it did not take them (its summary says why: a torque.limit below them, or another "
+                     "controller on the bus)\n", static_cast<long long>(answered), static_cast<long long>(row),
+                     t.tau1[row], t.tau2[row]);
+        return gimbalsim::program::kNotReproduced;
+      }
       if (answered < 0) {  // not one status heard: no plant (the pointing controller's --idle-exit words)
         std::fprintf(stderr, "torque_replay: error: no status for %g s: no plant on %s\n", idle_exit, ch.status.c_str());
       } else {
