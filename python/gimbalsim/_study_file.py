@@ -8,7 +8,9 @@ import contextlib
 import errno
 import fcntl
 import os
+import re
 import sqlite3
+import sys
 
 from ._errors import SpecError
 from ._output import make_folder, output_failed, what_to_do
@@ -32,6 +34,42 @@ def hold(out):
         raise SpecError(f"{out}: another sweep or tuner is running in this folder; wait for it to end (then "
                         f"--resume), or use another --out") from None
     _HELD.append(fd)
+    _remove_dead_temporaries(out)
+
+
+# The temporaries every writer of ours makes beside a name (_output._create_temporary, io::OutputFile):
+# ".<name>.<pid>.<n>.tmp".
+_TEMPORARY = re.compile(r"\.(.+)\.([0-9]+)\.([0-9]+)\.tmp")
+
+
+def _alive(pid):
+    if pid <= 0:  # no process's (kill(0) would ask about our own group)
+        return False
+    try:
+        os.kill(pid, 0)
+    except (ProcessLookupError, OverflowError):
+        return False
+    except PermissionError:  # another user's process
+        return True
+    return True
+
+
+def _remove_dead_temporaries(out):
+    """A writer killed by SIGKILL (or a power cut) leaves its temporary (pass 72: .results.csv.<pid>.1.tmp
+    stayed through every --resume). With the folder held, a temporary of a process no longer running is
+    no one's: removed, and said. The folder and its subfolders one level down (a sweep's runs), no links."""
+    folders = [out] + [e.path for e in os.scandir(out) if e.is_dir(follow_symlinks=False)]
+    removed = []
+    for folder in folders:
+        for e in os.scandir(folder):
+            m = _TEMPORARY.fullmatch(e.name)
+            if m and e.is_file(follow_symlinks=False) and not _alive(int(m.group(2))):
+                with contextlib.suppress(FileNotFoundError):
+                    os.unlink(e.path)
+                    removed.append(os.path.relpath(e.path, out))
+    if removed:
+        shown = ", ".join(sorted(removed)[:5]) + (f" and {len(removed) - 5} more" if len(removed) > 5 else "")
+        print(f"{out}: removed {len(removed)} temporary file(s) a killed writer left: {shown}", file=sys.stderr)
 
 
 def refuse_if_running(out):
