@@ -37,6 +37,36 @@ TEST(TorqueReplay, OntoAnotherSceneIsNotReproduced) {
             std::string::npos) << readFile(dir / "replay.log");
 }
 
+// A run whose joints never moved (no torque) replayed onto a plant whose journal started elsewhere: the joint
+// state matched at every tick and the replay said so, exit 0 (pass 72: a clearance run onto the ideal scene).
+// Every state column is compared: the journal's eccentricity differs from tick 0, not reproduced (8).
+TEST(TorqueReplay, EveryStateColumnIsCompared) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("replay_state_columns");
+  const std::string url = udpmUrl(7761);
+  {
+    std::ofstream csv(dir / "zero.csv");
+    csv << "seq,sim_time_s,tau1_Nm,tau2_Nm\n";
+    for (int k = 0; k <= 60; ++k) csv << k << "," << k * 0.001 << ",0,0\n";
+  }
+  const std::string fw = "timeout 60 " + firmwareSim() + " " + scenePath("paper_clearance") +
+                         " --duration 0.06 --lcm-url '" + url + "' --lockstep --start-timeout 10 --lockstep-timeout-ms 2000";
+  const std::string replay = "timeout 60 '" + std::string(GIMBALSIM_TORQUE_REPLAY) + "' ";
+  const std::string body = replay + "zero.csv --lcm-url '" + url + "' >rec_replay.log 2>&1 &\nR=$!\n" + fw +
+                           " --set 'initial.ecc=[1e-4, 0]' --truth-csv rec.csv >rec.log 2>&1\nrf=$?; wait $R; r0=$?\n" +
+                           replay + "rec.csv --lcm-url '" + url + "' --idle-exit 5 >replay.log 2>&1 &\nR=$!\n" + fw +
+                           " >fw.log 2>&1\nwait $R; r=$?\necho \"rf $rf r0 $r0 r $r\"\n"
+                           "[ $rf -eq 0 ] && [ $r0 -eq 0 ] && [ $r -eq 8 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "rec.log")
+                                      << readFile(dir / "replay.log");
+  const Csv rec = Csv::read(dir / "rec.csv");
+  ASSERT_EQ(rec.rows.size(), 61u);
+  EXPECT_EQ(rec.rows.back()[rec.col("theta2_rad")], "0") << "the joints never moved";
+  EXPECT_NE(readFile(dir / "replay.log").find("torque_replay: not reproduced: truth 0 (t = 0 s): ecc2_x_m 0 where the "
+                                              "recorded run's row has 0.0001"),
+            std::string::npos) << readFile(dir / "replay.log");
+}
+
 // A truth CSV recorded at another control rate than the plant's: status k is
 // not row k's tick, so the replay stops at the first status that says so
 // (it answered tick k with the torque of another time, exit 0).

@@ -9,7 +9,7 @@
 // command answering status k acts from tick k + 1); tick 0 ran before any
 // command in both runs. A status whose time is not its row's (sim_time_s: the
 // plant ticks at another control period) stops the replay, and so does a
-// truth message whose joint state is not its row's bit for bit (another
+// truth message that is not its row's bit for bit, every state column (another
 // scene or --set: pass 70 found such a replay exit 0), as does a status saying the plant rejected the
 // last answer (the recorded torque acted in the recorded run: a plant that refuses it is another one;
 // the replay exited 6, "the plant has gone", after the plant ended the run on 30 of them). Exit 0 after
@@ -17,20 +17,25 @@
 // ticking at another period; 5 network (a failed send too); 6 no plant within --idle-exit;
 // 8 not reproduced.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "gimbalsim/lcm_wire/udpm_receiver.hpp"
 #include "gimbalsim/lcm_wire/udpm_sender.hpp"
 #include "gimbalsim/contract/channels.hpp"
+#include "gimbalsim/contract/messages.hpp"
 #include "gimbalsim/gimbal_command_t.hpp"
 #include "gimbalsim/gimbal_status_t.hpp"
 #include "gimbalsim/gimbal_truth_t.hpp"
+#include "gimbalsim/io/csv_format.hpp"
 #include "gimbalsim/program/program.hpp"
 #include "truth_torques.hpp"
 
@@ -39,28 +44,92 @@ namespace {
 using gimbalsim::program::refuse;
 using gimbalsim::bench::readTorques;
 using gimbalsim::bench::Torques;
-// A truth message of the replayed plant against its row: the joint state must be the recorded one bit for bit
-// (the CSV's numbers round-trip exactly); the first that is not names the tick and the column.
-void compareTruth(const gimbalsim::lcm_wire::Message& m, const Torques& t, std::int64_t* compared,
-                  std::string* diverged) {
+/// A truth message's columns as the truth CSV names them (TruthFields' order, as firmware_sim writes them), and
+/// its values.
+void truthColumns(gimbalsim::gimbal_truth_t& tr, std::vector<std::string>* names, std::vector<double>* values) {
+  names->clear();
+  values->clear();
+  gimbalsim::contract::TruthFields::visit(
+      [&](gimbalsim::contract::Columns cols, const auto& x) {
+        auto col = cols.begin();
+        const auto put = [&](double v) {
+          names->push_back(gimbalsim::io::csvNameOf(*col++));
+          values->push_back(v);
+        };
+        if constexpr (std::is_array_v<std::remove_cvref_t<decltype(x)>>) {
+          for (const auto& v : x) put(static_cast<double>(v));
+        } else {
+          put(static_cast<double>(x));
+        }
+      },
+      tr);
+}
+
+/// The truth columns a replay compares: the plant's state and what it makes of it. Not the tick's clock
+/// (utime_us: wall time in a real-time run) nor the status's fault flags (a real-time tick may miss its
+/// command; a replay never does), and not what the replay checks otherwise or sends itself: seq and
+/// sim_time_s (each status's time against its row, within the 1 us of a utime), tau1_Nm and tau2_Nm.
+std::vector<std::string> comparableColumns() {
   gimbalsim::gimbal_truth_t tr{};
-  if (tr.decode(m.data, 0, static_cast<int>(m.size)) != static_cast<int>(m.size)) return;
-  if (tr.seq < 0 || static_cast<std::size_t>(tr.seq) >= t.joint_state.size()) return;
-  const auto& row = t.joint_state[static_cast<std::size_t>(tr.seq)];
-  const double got[4] = {tr.joint_angle[0], tr.joint_angle[1], tr.joint_rate[0], tr.joint_rate[1]};
-  for (std::size_t i = 0; i < row.size(); ++i) {
-    if (got[i] != row[i]) {
-      char why[320];
-      std::snprintf(why, sizeof why, "truth %lld (t = %.9g s): %s %.17g where the recorded run's row has %.17g: the "
-                    "replayed plant does not follow the recorded run (another scene or --set?)",
-                    static_cast<long long>(tr.seq), tr.sim_time, gimbalsim::bench::kJointStateColumns[i], got[i],
-                    row[i]);
-      *diverged = why;
+  std::vector<std::string> names;
+  std::vector<double> values;
+  truthColumns(tr, &names, &values);
+  names.erase(std::remove_if(names.begin(), names.end(),
+                             [](const std::string& n) {
+                               return n == "utime_us" || n == "faults" || n == "seq" || n == "sim_time_s" ||
+                                      n == "tau1_Nm" || n == "tau2_Nm";
+                             }),
+              names.end());
+  return names;
+}
+
+// A truth message of the replayed plant against its row: every compared column bit for bit (the CSV's numbers
+// round-trip exactly), by the row's hash; the first that differs is named from the row read again.
+class TruthCheck {
+ public:
+  TruthCheck(const Torques& t, std::string path) : t_(t), path_(std::move(path)) {}
+
+  void check(const gimbalsim::lcm_wire::Message& m, std::int64_t* compared, std::string* diverged) {
+    gimbalsim::gimbal_truth_t tr{};
+    if (tr.decode(m.data, 0, static_cast<int>(m.size)) != static_cast<int>(m.size)) return;
+    if (tr.seq < 0 || static_cast<std::size_t>(tr.seq) >= t_.row_hash.size()) return;
+    const auto k = static_cast<std::size_t>(tr.seq);
+    truthColumns(tr, &names_, &values_);
+    picked_.clear();
+    for (const std::string& c : t_.compared_columns) {
+      picked_.push_back(values_[static_cast<std::size_t>(std::find(names_.begin(), names_.end(), c) - names_.begin())]);
+    }
+    if (gimbalsim::bench::valuesHash(picked_) == t_.row_hash[k]) {
+      ++*compared;
       return;
     }
+    std::string column = "a column";
+    double got = 0.0, want = 0.0;
+    try {
+      const std::vector<double> row = gimbalsim::bench::readRow(path_, k, t_.compared_columns);
+      for (std::size_t i = 0; i < row.size(); ++i) {
+        if (row[i] == picked_[i]) continue;
+        column = t_.compared_columns[i];
+        got = picked_[i];
+        want = row[i];
+        break;
+      }
+    } catch (const std::runtime_error& e) {
+      column = "a column (the row could not be read again: " + std::string(e.what()) + ")";
+    }
+    char why[512];
+    std::snprintf(why, sizeof why, "truth %lld (t = %.9g s): %s %.17g where the recorded run's row has %.17g: the "
+                  "replayed plant does not follow the recorded run (another scene or --set?)",
+                  static_cast<long long>(tr.seq), tr.sim_time, column.c_str(), got, want);
+    *diverged = why;
   }
-  ++*compared;
-}
+
+ private:
+  const Torques& t_;
+  std::string path_;
+  std::vector<std::string> names_;
+  std::vector<double> values_, picked_;
+};
 
 int mainImpl(int argc, char** argv) {
   CLI::App app{"torque_replay: answers a lockstep firmware_sim with the torques of a recorded run"};
@@ -81,7 +150,7 @@ int mainImpl(int argc, char** argv) {
   }
   Torques t;
   try {
-    t = readTorques(truth);
+    t = readTorques(truth, comparableColumns());
   } catch (const std::runtime_error& e) {
     return refuse("torque_replay", e.what());
   }
@@ -104,7 +173,8 @@ int mainImpl(int argc, char** argv) {
   bool sent = true;
   std::string mismatch;  // a status at another time than its row: another control period
   std::string diverged;  // a status past the recorded stop without the plant's fault, or a truth off its row
-  std::int64_t compared = 0;  // truths whose joint state matched its row
+  TruthCheck truth_check(t, truth);
+  std::int64_t compared = 0;  // truths that matched their rows
   std::int64_t asked_again = 0;  // the answered status heard again: a lockstep plant awaiting status 0's answer
                                  // re-sends it (the rejection of an answer shows first in status 1's flags)
   while (answered < last && sent && mismatch.empty() && diverged.empty()) {
@@ -112,7 +182,7 @@ int mainImpl(int argc, char** argv) {
     rx.drain([&](const gimbalsim::lcm_wire::Message& m, std::int64_t) {
       if (!sent || !mismatch.empty() || !diverged.empty()) return;
       if (m.channel == ch.truth) {
-        compareTruth(m, t, &compared, &diverged);
+        truth_check.check(m, &compared, &diverged);
         return;
       }
       gimbalsim::gimbal_status_t st{};
@@ -209,11 +279,12 @@ int mainImpl(int argc, char** argv) {
   }
   std::fprintf(stderr, "torque_replay: answered statuses 0..%lld from %s\n", static_cast<long long>(last), truth.c_str());
   if (compared > 0) {
-    std::fprintf(stderr, "torque_replay: the replayed plant's joint state matched the recorded one bit for bit at "
-                 "%lld ticks\n", static_cast<long long>(compared));
+    std::fprintf(stderr, "torque_replay: the replayed plant's truth (%zu columns: all the CSV holds but utime_us, "
+                 "seq, sim_time_s, tau1_Nm, tau2_Nm and faults) matched the recorded one bit for bit at %lld ticks\n", t.compared_columns.size(),
+                 static_cast<long long>(compared));
   } else {
     std::fprintf(stderr, "torque_replay: warning: no truth compared (%s): the replayed dynamics were not checked "
-                 "against the recorded run\n", t.joint_state.empty() ? "the CSV has no theta and dtheta columns"
+                 "against the recorded run\n", t.compared_columns.empty() ? "the CSV has none of the truth's columns"
                  : ("none heard on " + ch.truth).c_str());
   }
   return gimbalsim::program::kOk;

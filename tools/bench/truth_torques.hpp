@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cerrno>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -39,19 +40,30 @@ struct Torques {
   /// fails inside the tick leaves the state a sub-step on, so that row's time moves on before it freezes
   /// (pass 37): the stop is this row, not the first frozen one.
   std::size_t first_fault_row = static_cast<std::size_t>(-1);
-  /// Row k's true joint state (theta1_rad, theta2_rad, dtheta1_rad_per_s, dtheta2_rad_per_s: [rad], [rad/s]),
-  /// what a replay compares the replayed plant's truth with; empty when the CSV lacks any of the four.
-  std::vector<std::array<double, 4>> joint_state;
+  /// The columns a replay compares the replayed plant's truth with (those of parseTorques' `comparable` the
+  /// header holds, in its order), and row k's valuesHash of them: 8 bytes a row, where the values would take
+  /// some 400 (pass 72: the joint state alone let a clearance run replay onto the ideal scene).
+  std::vector<std::string> compared_columns;
+  std::vector<std::uint64_t> row_hash;
 };
 
-/// The joint-state columns of Torques::joint_state, in its order.
-inline constexpr std::array<const char*, 4> kJointStateColumns = {"theta1_rad", "theta2_rad", "dtheta1_rad_per_s",
-                                                                  "dtheta2_rad_per_s"};
+/// FNV-1a over the values' bits: equal values (as a round-trip CSV cell and the message carry them) hash alike
+/// (-0 as 0: the CSV writes both "0").
+inline std::uint64_t valuesHash(const std::vector<double>& values) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (double v : values) {
+    if (v == 0.0) v = 0.0;
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &v, sizeof bits);
+    for (int b = 0; b < 8; ++b) h = (h ^ ((bits >> (8 * b)) & 0xFF)) * 1099511628211ull;
+  }
+  return h;
+}
 
 /// The two torque columns of a truth CSV written every tick (its seq column
-/// 0, 1, 2, ...; every cell a plain finite decimal), read from `in`; throws std::runtime_error naming `name`,
-/// the line and the column.
-inline Torques parseTorques(std::istream& in, const std::string& name) {
+/// 0, 1, 2, ...; every cell a plain finite decimal), read from `in`, with each row's hash of the `comparable`
+/// columns it holds; throws std::runtime_error naming `name`, the line and the column.
+inline Torques parseTorques(std::istream& in, const std::string& name, const std::vector<std::string>& comparable = {}) {
   std::string line;
   long long lines = 0;
   // The file as firmware_sim writes it, as every reader of ours takes it: an editor's byte-order mark
@@ -94,17 +106,17 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
       if (header[j] == column) *at = j;
     }
   }
-  std::array<int, 4> cq{-1, -1, -1, -1};  // the joint state's columns
-  for (int j = 0; j < static_cast<int>(header.size()); ++j) {
-    for (std::size_t i = 0; i < cq.size(); ++i) {
-      if (header[j] == kJointStateColumns[i]) cq[i] = j;
-    }
-  }
-  const bool has_state = std::none_of(cq.begin(), cq.end(), [](int c) { return c < 0; });
   if (c1 < 0 || c2 < 0 || cs < 0) {
     throw std::runtime_error(name + ":1: no seq, tau1_Nm and tau2_Nm columns (not a firmware_sim truth CSV)");
   }
   Torques t;
+  std::vector<int> cq;  // the compared columns
+  for (int j = 0; j < static_cast<int>(header.size()); ++j) {
+    if (std::find(comparable.begin(), comparable.end(), header[j]) == comparable.end()) continue;
+    cq.push_back(j);
+    t.compared_columns.push_back(header[j]);
+  }
+  std::vector<double> compared;
   double t_prev = -HUGE_VAL;  // [s] the previous row's sim_time_s (when the CSV has the column)
   double utime_prev = -HUGE_VAL;  // [us] the previous row's utime_us (when the CSV has the column)
   // A cell as the writer writes it: a plain finite decimal, nothing lost to underflow (1e-400 read as 0).
@@ -166,8 +178,11 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
       }
       utime_prev = utime_us;
     }
-    if (has_state) t.joint_state.push_back({number(f, cq[0], n), number(f, cq[1], n), number(f, cq[2], n),
-                                            number(f, cq[3], n)});
+    if (!cq.empty()) {
+      compared.clear();
+      for (const int c : cq) compared.push_back(number(f, c, n));
+      t.row_hash.push_back(valuesHash(compared));
+    }
     const bool faulted = (static_cast<long long>(faults) & kPlantFault) != 0;
     const bool after_stop = t.first_fault_row != static_cast<std::size_t>(-1);  // a row after the stop's own
     // The stop is latched: every later row carries it, its time standing still (pass 66: a flag on one row
@@ -222,9 +237,37 @@ inline Torques parseTorques(std::istream& in, const std::string& name) {
   return t;
 }
 
+/// Row k's values of `columns` (a mismatch named after the fact: the rows keep only their hashes); throws
+/// std::runtime_error when the file no longer holds them.
+inline std::vector<double> readRow(const std::string& path, std::size_t k, const std::vector<std::string>& columns) {
+  std::ifstream in(path);
+  std::string line;
+  std::vector<std::string> header, fields;
+  const auto split = [&line](std::vector<std::string>& out) {
+    out.clear();
+    for (std::stringstream ss(line); std::getline(ss, line, ',');) out.push_back(line);
+  };
+  if (!std::getline(in, line)) throw std::runtime_error(path + ": no header");
+  split(header);
+  for (std::size_t n = 0; n <= k; ++n) {
+    if (!std::getline(in, line)) throw std::runtime_error(path + ": no row " + std::to_string(k));
+  }
+  split(fields);
+  std::vector<double> out;
+  for (const std::string& c : columns) {
+    const auto j = static_cast<std::size_t>(std::find(header.begin(), header.end(), c) - header.begin());
+    double x = 0.0;
+    if (j >= fields.size() || readPlainDecimal(fields[j], x) != DecimalProblem::None) {
+      throw std::runtime_error(path + ": row " + std::to_string(k) + " has no number in column " + c);
+    }
+    out.push_back(x);
+  }
+  return out;
+}
+
 /// parseTorques of the file at path. A pipe would block and a device
 /// (/dev/zero) never end: anything but a regular file is refused unopened.
-inline Torques readTorques(const std::string& path) {
+inline Torques readTorques(const std::string& path, const std::vector<std::string>& comparable = {}) {
   // Said as the other readers say it (base/input readFile): the path, what it is, the system's reason.
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) throw std::runtime_error(path + ": cannot open truth CSV: " + std::strerror(errno));
@@ -233,7 +276,7 @@ inline Torques readTorques(const std::string& path) {
   }
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open truth CSV: " + std::strerror(errno));
-  return parseTorques(in, path);
+  return parseTorques(in, path, comparable);
 }
 
 }  // namespace gimbalsim::bench
