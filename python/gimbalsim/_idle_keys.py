@@ -77,6 +77,9 @@ _DECIDERS = re.compile(r"structure\..*|sim\.substep_policy|(joint[12]\.)?(fricti
 _CONTROLLER_DECIDERS = {CONTROLLER_PREFIX + d for rules in CONTROLLER_READ_UNDER.values() for c in rules
                         for d, _ in (c if isinstance(c, list) else [c])} | {ANTENNA_TRACKER}
 _MAX_COMBINATIONS = 256  # of the deciders' values: beyond it nothing is judged
+# Numbers that decide a few keys only (_READ_UNDER): the keys (by their ends), the number's key.
+_NUMBER_DECIDERS = ((("contact.v0_min", "contact.damping"), "contact.restitution"),
+                    (("friction.v_a", "friction.v_b"), "friction.mu"))
 
 
 def _for_every_value(judge, key, values, dispersed, takes, own_deciders=()):
@@ -177,12 +180,12 @@ def idle_reason(key, values, dispersed, takes, closed, unread_ticks=TRUTH_ONLY):
     cannot act in this study, or None. values: the scene's and (closed loop)
     the controller's (as controller.*), as text; unread_ticks: how many of
     the run's last ticks' measurements no figure reads (_idle_sensors)."""
-    # the restitution decides only the damping's keys: as a decider of every key, one drawn from a range
-    # would stop all judging
-    restitution = tuple(p + "contact.restitution" for p in ("", "joint1.", "joint2.")) \
-        if key.endswith(("contact.v0_min", "contact.damping")) else ()
+    # the restitution decides only the damping's keys, friction.mu only Ambrosio's speeds (a grid of zeros
+    # recorded them as applied, pass 73): as deciders of every key, one drawn from a range would stop all judging
+    decider = next((d for ends, d in _NUMBER_DECIDERS if key.endswith(ends)), None)
+    own = tuple(p + decider for p in ("", "joint1.", "joint2.")) if decider else ()
     why = ALWAYS_IDLE.get(key) or (CLOSED_LOOP_IDLE if closed else OPEN_LOOP_IDLE).get(key) or \
-        _for_every_value(_idle_in_scene, key, values, dispersed, takes, restitution)
+        _for_every_value(_idle_in_scene, key, values, dispersed, takes, own)
     if why is None and closed:
         why = _for_every_value(_idle_in_controller_keys, key, values, dispersed, takes) or \
             _for_every_value(functools.partial(idle_in_sensors, takes=takes, unread_ticks=unread_ticks), key, values,

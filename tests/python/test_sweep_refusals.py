@@ -105,6 +105,13 @@ BAD = [
     # (pass 72) the law's velocities at friction.mu 0: no friction force, every row alike
     ("set: {friction.law: ambrosio, friction.mu: 0.0}\nparameters:\n  friction.v_a: {uniform: [1.0e-5, 5.0e-5]}\n",
      "parameters.friction.v_a", 8, "joint 2's friction.mu is 0"),
+    # (pass 73) ... and at friction.mu dispersed over zeros only (a grid, a choice): judged for each value
+    ("set: {friction.law: ambrosio}\ngrid:\n  friction.mu: [0.0]\nparameters:\n"
+     "  friction.v_a: {uniform: [1.0e-5, 5.0e-5]}\n",
+     "parameters.friction.v_a", 10, "joint 2's friction.mu is 0.0, for every value of friction.mu the study gives"),
+    ("set: {friction.law: ambrosio, friction.v_b: 1.0e-3}\nparameters:\n  friction.mu: {choice: [0.0, 0]}\n"
+     "  contact.restitution: {uniform: [0.5, 0.9]}\n",
+     "set.friction.v_b", 6, "for every value of friction.mu the study gives"),
     # a vector on the grid: one text cell for it, two number cells for its applied_ value
     ("grid:\n  torque.limit: [[1, 1], [2, 2]]\n", "grid.torque.limit", 7, "a vec2 key is dispersed under parameters"),
     # the law dispersed too, but over values none of which reads the key
