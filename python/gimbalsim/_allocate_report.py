@@ -20,15 +20,9 @@ def record(a, spec, rows, value, folder):
     bounds = {"estimate": b.estimate, "upper": b.upper, "low": b.low, "high": b.high}
     if b.n and b.n_missing == b.n:  # no unit has a figure: every one counts as worst, so does every bound (never NaN)
         bounds = dict.fromkeys(bounds, math.inf)
-    # (pass 70) every unit exactly 0: the index does not see the key here, and its PASS answers nothing
-    zero = ZERO_NOTE.format(index=a.index, phase=a.phase) if b.n and not b.n_missing and \
-        all(float(x) == 0.0 for x in figures) else ""
     return {"value": value, "folder": folder, "n": b.n, "n_missing": b.n_missing, **bounds,
-            "passed": v.passed, "n_meeting": v.n_meeting,
-            "fraction_lower_bound": v.lower, "note": "; ".join(t for t in (b.reason, v.reason, zero) if t)}
-
-
-ZERO_NOTE = "every unit's {index} {phase} is exactly 0 rad"
+            "passed": v.passed, "n_meeting": v.n_meeting, "all_zero": bool(v.note),
+            "fraction_lower_bound": v.lower, "note": "; ".join(t for t in (b.reason, v.reason, v.note) if t)}
 
 
 def _json(x):
@@ -84,9 +78,10 @@ def answer_lines(a, tried, result, runs, ran):
         lines = [f"{opening}; the best tried, {a.key} = {a.value_text(result['best'])}{unit}: {a.index} quantile "
                  f"{_text(b['estimate'])}, interval [{_text(b['low'])}, {_text(b['high'])}], upper bound "
                  f"{_text(b['upper'])}, {b['n_meeting']}/{b['n']} units meet it"]
-    zero = [v for v, r in sorted(tried.items()) if ZERO_NOTE.format(index=a.index, phase=a.phase) in r["note"]]
+    # (pass 70) the index does not see the key there, and its verdict answers nothing
+    zero = [v for v, r in sorted(tried.items()) if r["all_zero"]]
     if zero:
-        lines.append(f"{ZERO_NOTE.format(index=a.index, phase=a.phase)} at {a.key} = "
+        lines.append(f"every figure of {a.index} {a.phase} is exactly 0 rad at {a.key} = "
                      f"{', '.join(a.value_text(v) for v in zero)}{unit}: the index does not see the key there (no "
                      "motion in the phase? perfect sensors?), so its verdict there says nothing about the key")
     if result["breaks"]:

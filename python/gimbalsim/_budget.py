@@ -97,10 +97,7 @@ def entry(spec, rows, index, phase):
                             "this phase and hold its figure, not used: a unit that stopped counts as worst")
     if index.requirement is not None:
         v = ix.requirement_verdict(values, index.requirement, index.level, index.confidence)
-        # (pass 70) every unit exactly 0: a PASS that answers nothing about the units, said beside it
-        zero = "every unit's figure is exactly 0 rad (no motion in the phase? perfect sensors?)" \
-            if values and all(x == 0.0 for x in values) else ""
-        note = "; ".join(t for t in (v.reason, zero) if t)
+        note = "; ".join(t for t in (v.reason, v.note) if t)
         e["requirement"] = {"requirement_rad": v.requirement, "verdict": v.text, "n_meeting": v.n_meeting,
                             "fraction_meeting": v.fraction, "fraction_lower_bound": v.lower,
                             **({"verdict_note": note} if note else {})}

@@ -151,6 +151,7 @@ class Verdict:
     confidence: float
     passed: bool
     reason: str = ""       # why the ensemble cannot decide it (too few units, none): FAIL by default, never PASS
+    note: str = ""         # said beside the verdict: every figure there is exactly 0 rad, so it answers nothing
 
     @property
     def text(self):
@@ -175,5 +176,13 @@ def requirement_verdict(values, requirement, level=LEVEL_3SIGMA, confidence=0.95
               f"no unit has a figure (all {n} without one): none meets it" if not np.isfinite(x).any() else
               f"{n} units cannot show {level:.4%} at {confidence:.0%} confidence even if every one meets it: "
               f"at least {need} needed" if n < need else "")
+    # (pass 70, 73) figures all exactly 0, every unit's or those the units without one leave: a PASS on them
+    # says nothing about the units
+    with_figure = int(np.count_nonzero(np.isfinite(x)))
+    note = ""
+    if with_figure and not np.any(x[np.isfinite(x)] != 0.0):
+        note = ("every unit's figure is exactly 0 rad" if with_figure == n else
+                f"every figure is exactly 0 rad ({with_figure} of {n} units have one, the others count as worst)")
+        note += ": the verdict says nothing about the units (no motion in the phase? perfect sensors?)"
     return Verdict(float(requirement), n, k, k / n if n else float("nan"), lower, level,
-                   confidence, n > 0 and lower >= level, reason)
+                   confidence, n > 0 and lower >= level, reason, note)

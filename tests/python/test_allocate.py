@@ -244,11 +244,11 @@ def test_a_verdict_over_figures_all_exactly_0_says_the_index_does_not_see_the_ke
             .replace("[1.0e-5, 3.0e-4]", "[0.3, 0.9]"))
     p = run(write_spec(tmp_path, text), tmp_path / "out")
     assert p.returncode == 0, p.stderr
-    said = ("every unit's ape late is exactly 0 rad at contact.restitution = 0.3, 0.6, 0.9 -: the index does not see "
-            "the key there")
+    said = ("every figure of ape late is exactly 0 rad at contact.restitution = 0.3, 0.6, 0.9 -: the index does not "
+            "see the key there")
     assert said in p.stderr, p.stderr
     answer = json.loads((tmp_path / "out" / "allocation.json").read_text())
-    assert all("every unit's ape late is exactly 0 rad" in v["note"] for v in answer["values"]), answer["values"]
+    assert all("every unit's figure is exactly 0 rad" in v["note"] for v in answer["values"]), answer["values"]
     assert said in (tmp_path / "out" / "allocation.md").read_text()
 
 

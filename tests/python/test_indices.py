@@ -340,3 +340,13 @@ def test_a_phase_the_run_ends_at_and_mismatched_signals():
         indices.knowledge(T, np.zeros((len(T), 3)), np.zeros((1, 3)), 0.0, 1.0)
     with pytest.raises(ValueError, match="1-D"):
         indices.quantile_bound(np.ones((3, 2)), 0.5, 0.5)
+
+
+def test_a_verdict_over_figures_all_exactly_0_has_a_note():
+    # (pass 73) requirement_verdict([0] * 2000, 1e-4) gave PASS with nothing said: it answers nothing
+    v = indices.requirement_verdict([0.0] * 2000, 1e-4)
+    assert v.passed and v.note.startswith("every unit's figure is exactly 0 rad: the verdict says nothing"), v
+    v = indices.requirement_verdict([0.0] * 1999 + [float("nan")], 1e-4)
+    assert v.note.startswith("every figure is exactly 0 rad (1999 of 2000 units have one"), v
+    assert indices.requirement_verdict([0.0] * 1999 + [1e-9], 1e-4).note == ""
+    assert indices.requirement_verdict([float("nan")] * 3, 1e-4).note == ""  # no figure: its reason says so
