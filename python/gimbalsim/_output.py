@@ -24,6 +24,7 @@ import itertools
 import json
 import math
 import os
+import re
 import signal
 import stat
 import types
@@ -66,16 +67,15 @@ def make_folder(path):
         raise output_failed(f"cannot make the folder {path}: {e.strerror}", e) from None
 
 
-_NO_SPACE = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
-
-
 def what_to_do(e):
     """The advice before "run again" for an OutputError or OSError e: more space helps only a full disk or quota
     (a folder that cannot be made in /proc was told to "free the space")."""
-    return "free the space and " if getattr(e, "errno", None) in _NO_SPACE else "fix the cause and "
+    no_space = getattr(e, "errno", None) in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG)
+    return "free the space and " if no_space else "fix the cause and "
 
 
 _counter = itertools.count()  # the <n> of the temporaries' names (next() is atomic under the GIL)
+TEMPORARY = re.compile(r"\.(.+)\.([0-9]+)\.([0-9]+)\.tmp")  # a temporary's name, ".<name>.<pid>.<n>.tmp"
 
 
 def csv_number(x):

@@ -8,12 +8,11 @@ import contextlib
 import errno
 import fcntl
 import os
-import re
 import sqlite3
 import sys
 
 from ._errors import SpecError
-from ._output import make_folder, output_failed, what_to_do
+from ._output import TEMPORARY, make_folder, output_failed, what_to_do
 
 STUDY_FILE = "study.db"
 STUDY_NAME = "gimbalsim.tune"
@@ -37,10 +36,6 @@ def hold(out):
     _remove_dead_temporaries(out)
 
 
-# The temporaries every writer of ours makes beside a name (_output._create_temporary, io::OutputFile):
-# ".<name>.<pid>.<n>.tmp".
-_TEMPORARY = re.compile(r"\.(.+)\.([0-9]+)\.([0-9]+)\.tmp")
-
 
 def _alive(pid):
     if pid <= 0:  # no process's (kill(0) would ask about our own group)
@@ -62,7 +57,7 @@ def _remove_dead_temporaries(out):
     removed = []
     for folder in folders:
         for e in os.scandir(folder):
-            m = _TEMPORARY.fullmatch(e.name)
+            m = TEMPORARY.fullmatch(e.name)  # io::OutputFile names its temporaries alike
             if m and e.is_file(follow_symlinks=False) and not _alive(int(m.group(2))):
                 with contextlib.suppress(FileNotFoundError):
                     os.unlink(e.path)
