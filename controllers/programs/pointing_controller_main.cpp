@@ -208,9 +208,9 @@ int run(int argc, char** argv) {
                  h.answered(), h.notFinite());
     code = program::kStopped;
   }
-  // A lockstep plant ends the run after kRejectedInARow answers it rejected (our last status the one before
-  // the last rejection): the refusal is the story, not the missing peer (pass 71: exit 6).
-  if (plant_went && h.rejectedInARow() >= contract::kRejectedInARow - 1) {
+  // A lockstep plant ends the run after kRejectedInARow answers it rejected, or sooner when it waited
+  // --lockstep-timeout-ms for each of them: the refusal is the story, not the missing peer (pass 71, 73: exit 6).
+  if (plant_went && h.rejectedInARow() >= 1) {
     std::fprintf(stderr, "pointing_controller: the plant rejected our answers to its last %lld statuses and then "
                  "ended the run: the plant's summary says why it refused them\n", h.rejectedInARow());
     code = program::kStopped;

@@ -149,6 +149,25 @@ TEST(HilLockstep, RejectedAnswersInARowEndTheRunAsTheInProcessLoopDoes) {
             std::string::npos) << ctl;
 }
 
+// ... and when the plant waits --lockstep-timeout-ms for each rejected answer, it ends the run on the timeouts
+// before 30 of them: the controller said "the plant has gone" (6, pass 73) where the plant said why (3).
+TEST(HilLockstep, RejectedAnswersEndingARunOnItsTimeoutsAreAStopToo) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("lockstep_rejected_timeouts");
+  const std::string url = udpmUrl(7762);
+  const std::string body = "timeout 60 " + pointingController() + " --set profile.slew_start=0 --lcm-url '" + url +
+                           "' --duration 0.3 --idle-exit 5 --plant-timeout 2 >ctl.log 2>&1 &\nC=$!\ntimeout 60 " +
+                           firmwareSim() + " " + scenePath("paper_clearance") + " --lockstep --duration 0.3 --lcm-url '" +
+                           url + "' --set 'torque.limit=[1e-3, 1e-3]' --torque-sanity 1 --lockstep-timeout-ms 1000 "
+                           "--start-timeout 2 >fw.log 2>&1\nrc=$?; wait $C; echo $? >ctl.rc; exit $rc";
+  const int rc = runInNetns(dir, body);
+  const std::string log = readFile(dir / "fw.log"), ctl = readFile(dir / "ctl.log");
+  EXPECT_EQ(rc, 3) << readFile(dir / "run.log") << log;
+  EXPECT_NE(log.find("the plant rejected every one (torque beyond the sanity range)"), std::string::npos) << log;
+  EXPECT_EQ(readFile(dir / "ctl.rc"), "3\n") << ctl;
+  EXPECT_NE(ctl.find("the plant rejected our answers to its last "), std::string::npos) << ctl;
+}
+
 TEST(HilLockstep, TwoRunsGiveByteIdenticalTruthCsv) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
   TempDir dir("lockstep_identical");
