@@ -67,10 +67,22 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
     a.peak_dt = std::max(a.peak_dt, 1e-5);
   }
   // Counts derived from these (reference samples, rows) must fit a long long: refused with exit 2.
-  if (!(a.peak_dt > 0.0 && a.output_interval >= a.peak_dt && a.output_interval / a.peak_dt <= 1e9 &&
-        a.duration >= 0.0 && a.duration <= 1e6)) {
-    return program::refuse("gimbalsim_workprec",
-                           "need 0 < --peak-dt <= --output-interval <= 1e9 --peak-dt and 0 <= --duration <= 1e6 s");
+  // (--duration has its own range above; 0, the default, is the scenes' own)
+  if (!(a.peak_dt > 0.0 && a.output_interval >= a.peak_dt && a.output_interval / a.peak_dt <= 1e9)) {
+    return program::refuse("gimbalsim_workprec", "need 0 < --peak-dt <= --output-interval <= 1e9 --peak-dt");
+  }
+  // One point is one curve's run: a scene or step given twice ran twice, two identical rows (pass 73).
+  for (std::size_t i = 0; i < a.scenes.size(); ++i) {
+    if (std::find(a.scenes.begin(), a.scenes.begin() + static_cast<std::ptrdiff_t>(i), a.scenes[i]) !=
+        a.scenes.begin() + static_cast<std::ptrdiff_t>(i)) {
+      return program::refuse("gimbalsim_workprec", "--scenes: " + a.scenes[i] + " given twice");
+    }
+  }
+  for (std::size_t i = 0; i < a.steps.size(); ++i) {
+    if (std::find(a.steps.begin(), a.steps.begin() + static_cast<std::ptrdiff_t>(i), a.steps[i]) !=
+        a.steps.begin() + static_cast<std::ptrdiff_t>(i)) {
+      return program::refuse("gimbalsim_workprec", "--steps: " + formatNumber(a.steps[i]) + " given twice");
+    }
   }
   // Every point runs whole steps h (the scene's own rule): a duration or row spacing between two is
   // refused here, once, not recorded as every point refused.
