@@ -148,6 +148,12 @@ int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
       for (const std::string& p : problems) std::fprintf(stderr, "error: %s\n", p.c_str());
       return refuse("--faults " + o.faults + " refused for scene " + o.scene);
     }
+    const auto late = o.duration > 0.0 ? checkFaultsAgainstDuration(in.faults, o.duration, o.faults)
+                                       : std::vector<std::string>{};
+    if (!late.empty()) {
+      for (const std::string& p : late) std::fprintf(stderr, "error: %s\n", p.c_str());
+      return refuse("--faults " + o.faults + " refused for --duration " + formatNumber(o.duration));
+    }
   }
   const std::vector<std::string> inputs{o.scene, o.profile, o.faults};
   // A path no output may take (a link, a folder, an input, both outputs one file) or a tick log

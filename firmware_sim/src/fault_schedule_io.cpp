@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <map>
 #include <set>
 
@@ -263,6 +264,17 @@ FaultSchedule loadFaultSchedule(const std::string& path) {
   std::string why;
   if (!readFile(path, text, &why)) throw FaultScheduleError({path + ": cannot open fault schedule file: " + why});
   return loadFaultScheduleText(text, path);
+}
+
+std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, double duration, const std::string& origin) {
+  const auto first = std::min_element(s.faults.begin(), s.faults.end(),
+                                      [](const FaultSpec& a, const FaultSpec& b) { return a.start < b.start; });
+  if (first == s.faults.end() || !(first->start > duration)) return {};
+  const auto i = first - s.faults.begin() + 1;
+  return {origin + ":" + std::to_string(first->line) + ":" + std::to_string(first->column) + ": fault #" +
+          std::to_string(i) + " (" + faultTypeName(first->kind) + "), the first to start: key 'start': " +
+          formatNumber(first->start) + " s is after the run's end at " + formatNumber(duration) +
+          " s: every fault starts later, the schedule would act in no tick"};
 }
 
 std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const PlantScene& ps, const std::string& origin) {

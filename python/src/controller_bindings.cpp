@@ -301,7 +301,10 @@ void bindController(pyb::module_& m) {
         if (!faults.empty()) {
           try {
             schedule = firmware::loadFaultSchedule(faults);
-            const std::vector<std::string> bad = firmware::checkFaultsAgainstScene(schedule, s.plant, faults);
+            std::vector<std::string> bad = firmware::checkFaultsAgainstScene(schedule, s.plant, faults);
+            for (std::string& late : firmware::checkFaultsAgainstDuration(schedule, duration, faults)) {
+              bad.push_back(std::move(late));
+            }
             if (!bad.empty()) {
               std::vector<Problem> problems;
               for (const std::string& b : bad) problems.push_back(Problem{b, "", faults, 0, 0, 0});

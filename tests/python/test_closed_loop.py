@@ -99,6 +99,14 @@ def test_closed_loop_takes_a_fault_schedule(tmp):
     with pytest.raises(gimbalsim.SceneError) as e:
         gimbalsim.closed_loop(scene, ctrl, 1.0, faults=tmp / "bad.yaml")
     assert "bad.yaml:2:" in str(e.value) and "axis" in str(e.value)
+    # (pass 73) a schedule acting only after the run ran silently, ok, recorded with its faults
+    (tmp / "late.yaml").write_text("faults:\n  - {type: encoder_bias, axis: azimuth, start: 50.0, end: 60.0, "
+                                   "bias: 1.0e-2}\n  - {type: encoder_dropout, axis: elevation, start: 1.5}\n")
+    with pytest.raises(gimbalsim.SceneError) as e:
+        gimbalsim.closed_loop(scene, ctrl, 1.0, faults=tmp / "late.yaml")
+    assert ("late.yaml:3:5: fault #2 (encoder_dropout), the first to start: key 'start': 1.5 s is after the run's "
+            "end at 1 s: every fault starts later, the schedule would act in no tick") in str(e.value), str(e.value)
+    assert gimbalsim.closed_loop(scene, ctrl, 2.0, faults=tmp / "late.yaml").columns["injected_faults"].any()
 
 
 def test_closed_loop_run_to_csv_follows_the_convention_and_the_output_rules(tmp):
