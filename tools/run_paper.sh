@@ -65,16 +65,23 @@ OUT=out/paper
 if [ -L "$OUT" ]; then out_folder run_paper.sh "$OUT"; fi  # refused: a link where the runs go
 out_folder run_paper.sh "$OUT/plots"
 trap 'out_folder_undo' EXIT  # a refused simulation leaves no folder it made
-# Every output's name before anything runs (pass 71: a folder there cost the whole run, then exit 4; a link was
-# replaced without a word): a link or a folder under one is refused, exit 2, as the programs refuse theirs.
-for name in "$OUT"/{ideal,clearance,spatial}.{csv,json} "$OUT/plot_summary.txt" "$OUT"/plots/*; do
-  if [ -L "$name" ]; then why="a symbolic link; not written through"
-  elif [ -d "$name" ]; then why="a folder where an output goes"
-  else continue
-  fi
-  echo "run_paper.sh: $name is $why: move it away; nothing run" >&2
-  exit 2
-done
+# A link or a folder under an output's name (pass 71: a folder there cost the whole run, then exit 4; a link was
+# replaced without a word): refused as the programs refuse theirs, exit $1, saying what that leaves ($2).
+refuse_names_in_the_way() {
+  local code=$1 leaves=$2 name why
+  shift 2
+  for name in "$@"; do
+    if [ -L "$name" ]; then why="a symbolic link; not written through"
+    elif [ -d "$name" ]; then why="a folder where an output goes"
+    else continue
+    fi
+    echo "run_paper.sh: $name is $why: move it away; $leaves" >&2
+    exit "$code"
+  done
+}
+# Every output's name before anything runs, and again before the moves (one may have come meanwhile).
+refuse_names_in_the_way 2 "nothing run" "$OUT"/{ideal,clearance,spatial}.{csv,json} "$OUT/plot_summary.txt" \
+  "$OUT"/plots/*
 # The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
 [ "$RESULTS" = 0 ] || /usr/bin/python3 tools/pages/results_page.py --check --page docs/results/paper.md
 
@@ -116,17 +123,12 @@ mkdir "$STAGE/plots"
   --spatial "$STAGE/spatial.csv" --spatial-summary "$STAGE/spatial.json" \
   --out "$STAGE/plots" | sed -u "s#$STAGE/#$OUT/#g" | console_tee "$LOG"  # the names the files will have
 /usr/bin/python3 tools/pages/save_output.py "$LOG" "$STAGE/plot_summary.txt" -- "$@"  # the writer's rules, not tee's
-# The staged files, each moved to the same name under $OUT; every name checked before the first move (renames
-# replace files and links, never a folder), and the stop signals held during the moves: all or none.
+# The staged files, each moved to the same name under $OUT; every name checked before the first move, and the
+# stop signals held during the moves: all or none.
 staged=(plot_summary.txt)
 for run in "${RUNS[@]}"; do staged+=("${run%%:*}.csv" "${run%%:*}.json"); done
 for f in "$STAGE"/plots/*; do staged+=("plots/${f##*/}"); done
-for rel in "${staged[@]}"; do
-  if [ -d "$OUT/$rel" ] && [ ! -L "$OUT/$rel" ]; then
-    echo "run_paper.sh: $OUT/$rel is a folder where an output goes: move it away; the previous outputs are kept" >&2
-    exit 4
-  fi
-done
+refuse_names_in_the_way 4 "the previous outputs are kept" "${staged[@]/#/$OUT/}"
 trap '' INT TERM HUP
 for rel in "${staged[@]}"; do mv -fT "$STAGE/$rel" "$OUT/$rel"; done
 stop_traps "the new outputs are all in place"

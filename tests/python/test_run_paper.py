@@ -108,3 +108,22 @@ def test_a_stop_during_the_runs_says_the_previous_set_is_kept(tmp_path):
     assert "run_paper.sh: interrupted (SIGTERM); the previous outputs are kept" in err, err
     assert "rename failed" not in err, err
     assert previous_set_kept(out), sorted(os.listdir(out))
+
+
+def test_a_folder_put_under_an_output_name_during_the_runs_keeps_the_previous_set(tmp_path):
+    # the names are checked again before the moves: one folder come meanwhile, and nothing is moved (exit 4)
+    import time
+    root, out = copy_of_tools(tmp_path)
+    env = dict(os.environ, GIMBALSIM_BUILD=str(BIN.parent))
+    proc = subprocess.Popen(["bash", str(root / "tools" / "run_paper.sh")], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=env)
+    deadline = time.time() + 120
+    while not list(out.glob(".runs.*")) and time.time() < deadline:  # past the first check: the runs started
+        time.sleep(0.01)
+    (out / "plot_summary.txt").mkdir()
+    _, err = proc.communicate(timeout=600)
+    assert proc.returncode == 4, err
+    assert ("run_paper.sh: out/paper/plot_summary.txt is a folder where an output goes: move it away; the "
+            "previous outputs are kept") in err, err
+    (out / "plot_summary.txt").rmdir()
+    assert previous_set_kept(out), sorted(os.listdir(out))

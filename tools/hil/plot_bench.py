@@ -138,9 +138,9 @@ def _check_every_tick_kept(cols, path):
     if "seq" not in cols:
         return
     seq = cols.pop("seq")
-    if ((seq < 0) | (seq != np.floor(seq))).any():
-        bad = int(np.flatnonzero((seq < 0) | (seq != np.floor(seq)))[0])
-        raise Refused(f"{path}:{bad + 2}: column seq: {seq[bad]:g} is not a tick number")
+    not_ticks = np.flatnonzero((seq < 0) | (seq != np.floor(seq)))
+    if not_ticks.size:
+        raise Refused(f"{path}:{not_ticks[0] + 2}: column seq: {seq[not_ticks[0]]:g} is not a tick number")
     if len(seq) < 2:
         return
     step = np.diff(seq)
