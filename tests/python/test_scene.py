@@ -165,3 +165,14 @@ def test_replace_of_one_alternative_still_replaces_the_printed_other():
     again = scene.replace({"contact.clearance": 2.0e-4})
     radius = float(scene.values()["contact.bearing_radius"]) - 2.0e-4
     assert float(again.values()["contact.journal_radius"]) == pytest.approx(radius, rel=1e-12)
+
+
+def test_a_scenes_own_values_left_idle_are_not_warned_about_again_on_replace_or_unpickle():
+    # the ideal twin's bearing keys are its own (printed) values: a replace or an unpickle said 17 times that
+    # they do not act; a user's override that does not act is said once
+    ideal = gimbalsim.load_scene(scene_path("paper_ideal"))
+    assert len(ideal.warnings) == 1  # the base inertia's
+    for again in (ideal.replace(["sim.duration=0.5"]), pickle.loads(pickle.dumps(ideal))):
+        assert len(again.warnings) == 1 and "triangle inequality" in again.warnings[0], again.warnings
+    set_idle = ideal.replace(["contact.restitution=0.5"]).warnings
+    assert len(set_idle) == 2 and "key 'contact.restitution': no joint has clearance" in set_idle[1], set_idle

@@ -92,7 +92,7 @@ void flatten(const YAML::Node& n, const std::string& prefix, const std::string& 
 Given::Given(const TableWords& words, const std::vector<std::pair<std::string, std::string>>& keys,
              const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides,
              const std::vector<std::pair<std::string, std::string>>& aliases, std::size_t printed)
-    : impl_(std::make_unique<Impl>()) {
+    : impl_(std::make_unique<Impl>()), printed_(printed) {
   impl_->origin = origin;
   auto& values = impl_->values;
   YAML::Node root;
@@ -269,14 +269,14 @@ void Given::idle(const std::string& key, const std::string& msg) {
   if (std::find(warnings.begin(), warnings.end(), text) != warnings.end()) return;
   warnings.push_back(text);
   std::string spelled;
-  if (const Place* p = placeOf(key, &spelled); p && p->set_index > 0) {
+  if (const Place* p = placeOf(key, &spelled); p && p->set_index > static_cast<int>(printed_)) {
     idle_sets.emplace_back(p->set_index, "key '" + spelled + "': " + msg);
   }
 }
 
 void Given::idleIfSet(const std::string& key, const std::string& msg) {
   std::string spelled;
-  if (const Place* p = placeOf(key, &spelled); p && p->set_index > 0) idle(key, msg);
+  if (const Place* p = placeOf(key, &spelled); p && p->set_index > static_cast<int>(printed_)) idle(key, msg);
 }
 
 bool loadDocument(const std::string& text, const std::string& origin, YAML::Node& out, Problem& why) {

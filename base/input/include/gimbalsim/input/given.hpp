@@ -55,10 +55,11 @@ class Given {
   /// its alternative was, named so; else "<origin>: (default of <key>)").
   void refuse(const std::string& key, const std::string& msg);
   void warn(const std::string& key, const std::string& msg);
-  /// A warning that key acts on nothing here; one given by a --set is recorded in idle_sets too (a study
-  /// refuses a --set that acts in none of its runs).
+  /// A warning that key acts on nothing here; one given by a --set (not a printed value) is recorded in
+  /// idle_sets too (a study refuses a --set that acts in none of its runs).
   void idle(const std::string& key, const std::string& msg);
-  /// Same, only when a --set gave the key: a scene file keeps keys its structure leaves idle (an ideal twin).
+  /// Same, only when a --set gave the key: a scene file (or its printed values) keeps keys its structure leaves
+  /// idle (an ideal twin).
   void idleIfSet(const std::string& key, const std::string& msg);
 
   std::vector<Problem> problems;
@@ -73,6 +74,7 @@ class Given {
   struct Impl;
   std::unique_ptr<Impl> impl_;
   bool unreadable_ = false;
+  std::size_t printed_ = 0;  ///< the first overrides are a scene's printed values: its own, as a file's
 };
 
 }  // namespace gimbalsim
