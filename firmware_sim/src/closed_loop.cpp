@@ -323,14 +323,17 @@ std::string idleInEveryRun(const char* flag, const std::vector<std::string>& ove
       if (it == idle.end()) continue;
       ++idle_runs;
       if (why.find(it->second) == std::string::npos) why += (why.empty() ? "" : "; ") + it->second;
-      if (scenes.find("'" + r.name + "'") == std::string::npos) scenes += (scenes.empty() ? "'" : ", '") + r.name + "'";
+      // a scene without clearance (the ideal reference) has no bearing by design: not worth a warning
+      if (r.scene->model.hasClearance() && scenes.find("'" + r.name + "'") == std::string::npos) {
+        scenes += (scenes.empty() ? "'" : ", '") + r.name + "'";
+      }
     }
     if (idle_runs == 0) continue;
     const std::string named = std::string(flag) + " #" + std::to_string(k + 1) + " '" + overrides[k] + "'";
     if (idle_runs == runs.size()) {
       return named + ": acts in no run of this study (" + why + "): the value would be recorded but never act";
     }
-    partly->push_back(named + ": acts on nothing in the runs of " + scenes + " (" + why + ")");
+    if (!scenes.empty()) partly->push_back(named + ": acts on nothing in the runs of " + scenes + " (" + why + ")");
   }
   return "";
 }

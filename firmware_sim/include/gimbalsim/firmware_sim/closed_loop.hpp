@@ -170,7 +170,8 @@ struct StudyScene {
 
 /// The study's `flag` values (key=value) that the scene loader found acting on nothing (Scene::idle_sets):
 /// a refusal naming the first one that acts in no run and why (it would be recorded with every run and act
-/// on none), else "". Each one idle in some runs only is told in *partly, naming those runs' scenes.
+/// on none), else "". Each one idle in some runs only is told in *partly, naming those runs' scenes that have
+/// clearance (the ideal reference has no bearing by design).
 std::string idleInEveryRun(const char* flag, const std::vector<std::string>& overrides,
                            const std::vector<StudyScene>& runs, std::vector<std::string>* partly);
 
