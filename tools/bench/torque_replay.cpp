@@ -117,7 +117,7 @@ class TruthCheck {
     } catch (const std::runtime_error& e) {
       column = "a column (the row could not be read again: " + std::string(e.what()) + ")";
     }
-    char why[512];
+    char why[1024];  // the column, or why the row could not be read again (a path)
     std::snprintf(why, sizeof why, "truth %lld (t = %.9g s): %s %.17g where the recorded run's row has %.17g: the "
                   "replayed plant does not follow the recorded run (another scene or --set?)",
                   static_cast<long long>(tr.seq), tr.sim_time, column.c_str(), got, want);
@@ -194,7 +194,7 @@ int mainImpl(int argc, char** argv) {
       // Our last answer (command seq - 1) rejected: the flag, and the plant's last accepted command not it.
       if (answered >= 0 && (st.faults & gimbalsim::gimbal_status_t::FAULT_COMMAND_REJECTED) != 0 &&
           st.last_command_seq != seq - 1) {
-        char why[320];
+        char why[512];
         std::snprintf(why, sizeof why, "status %lld (t = %.9g s) says the plant rejected the answer to status %lld "
                       "(row %lld's torques %.9g, %.9g N m), which acted in the recorded run: the replayed plant "
                       "refuses what the recorded one took (its torque.limit, or another controller on the bus)",
