@@ -36,7 +36,6 @@ def hold(out):
     _remove_dead_temporaries(out)
 
 
-
 def _alive(pid):
     if pid <= 0:  # no process's (kill(0) would ask about our own group)
         return False
@@ -53,13 +52,18 @@ def _remove_dead_temporaries(out):
     """A writer killed by SIGKILL (or a power cut) leaves its temporary (pass 72: .results.csv.<pid>.1.tmp
     stayed through every --resume). With the folder held, a temporary of a process no longer running is
     no one's: removed, and said. The folder and its subfolders one level down (a sweep's runs), no links."""
-    folders = [out] + [e.path for e in os.scandir(out) if e.is_dir(follow_symlinks=False)]
+    def entries(folder):  # a folder we may not read holds nothing we could remove
+        try:
+            return list(os.scandir(folder))
+        except OSError:
+            return []
+    folders = [out] + [e.path for e in entries(out) if e.is_dir(follow_symlinks=False)]
     removed = []
     for folder in folders:
-        for e in os.scandir(folder):
+        for e in entries(folder):
             m = TEMPORARY.fullmatch(e.name)  # io::OutputFile names its temporaries alike
             if m and e.is_file(follow_symlinks=False) and not _alive(int(m.group(2))):
-                with contextlib.suppress(FileNotFoundError):
+                with contextlib.suppress(OSError):
                     os.unlink(e.path)
                     removed.append(os.path.relpath(e.path, out))
     if removed:
