@@ -279,7 +279,7 @@ int mainImpl(int argc, char** argv) {
   }
   std::fprintf(stderr, "torque_replay: answered statuses 0..%lld from %s\n", static_cast<long long>(last), truth.c_str());
   if (compared > 0) {
-    std::fprintf(stderr, "torque_replay: the replayed plant's truth (%zu columns: all the CSV holds but utime_us, "
+    std::fprintf(stderr, "torque_replay: the replayed plant's truth (%zu columns of its message: all but utime_us, "
                  "seq, sim_time_s, tau1_Nm, tau2_Nm and faults) matched the recorded one bit for bit at %lld ticks\n", t.compared_columns.size(),
                  static_cast<long long>(compared));
   } else {
