@@ -266,7 +266,8 @@ FaultSchedule loadFaultSchedule(const std::string& path) {
   return loadFaultScheduleText(text, path);
 }
 
-std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, double duration, const std::string& origin) {
+std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, double duration,
+                                                     const std::string& origin) {
   const auto first = std::min_element(s.faults.begin(), s.faults.end(),
                                       [](const FaultSpec& a, const FaultSpec& b) { return a.start < b.start; });
   if (first == s.faults.end() || !(first->start > duration)) return {};
