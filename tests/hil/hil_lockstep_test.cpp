@@ -40,6 +40,18 @@ std::string lockstepPair(const std::string& url, const std::string& prefix, doub
          truth + " --lcm-url '" + url + "'" + pfx + " --start-timeout 10" + fw_args + " >" + fw_log + " 2>&1";
 }
 
+/// Shell lines: a controller (`ctl_args` added) whose every command beyond 1 mN m the plant rejects
+/// (--torque-sanity 1 over torque.limit 1e-3 N m) beside firmware_sim in lockstep (`fw_args` added), both for
+/// `duration` s; logs to ctl.log and fw.log, the controller's exit code to ctl.rc, the plant's the shell's.
+std::string rejectingPair(const std::string& url, const char* duration, const std::string& ctl_args,
+                          const std::string& fw_args) {
+  return "timeout 60 " + pointingController() + " " + ctl_args + " --lcm-url '" + url + "' --duration " + duration +
+         " --idle-exit 5 >ctl.log 2>&1 &\nC=$!\ntimeout 60 " + firmwareSim() + " " + scenePath("paper_clearance") +
+         " --lockstep --duration " + duration + " --lcm-url '" + url +
+         "' --set 'torque.limit=[1e-3, 1e-3]' --torque-sanity 1 " + fw_args +
+         " >fw.log 2>&1\nrc=$?; wait $C; echo $? >ctl.rc; exit $rc";
+}
+
 /// Two --tick-log files of `ticks` rows: the same sub-steps and derivatives at
 /// every tick, and enough ticks in contact that the comparison means something.
 void expectSameWorkPerTick(const std::string& a, const std::string& b, size_t ticks) {
@@ -108,14 +120,10 @@ TEST(HilLockstep, ClearanceSlewCompletesAndPointingErrorConverges) {
 TEST(HilLockstep, EveryCommandRejectedStopsNamingTheReasonNotANoPeer) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
   TempDir dir("lockstep_rejected");
-  const std::string url = udpmUrl(7734);
-  const std::string body = "timeout 60 " + pointingController() + " " + defaultControllerConfig() +
-                           " --set 'profile.start=[0.5, 0.3]' --lcm-url '" + url +
-                           "' --duration 1 --idle-exit 5 --plant-timeout 1 >ctl.log 2>&1 &\nC=$!\ntimeout 60 " +
-                           firmwareSim() + " " + scenePath("paper_clearance") + " --lockstep --duration 1 --lcm-url '" +
-                           url + "' --set 'torque.limit=[0.001, 0.001]' --torque-sanity 1 --start-timeout 1 >fw.log 2>&1\n"
-                           "rc=$?; wait $C; echo $? >ctl.rc; exit $rc";
-  const int rc = runInNetns(dir, body);
+  const int rc = runInNetns(dir, rejectingPair(udpmUrl(7734), "1",
+                                               defaultControllerConfig() +
+                                                   " --set 'profile.start=[0.5, 0.3]' --plant-timeout 1",
+                                               "--start-timeout 1"));
   const std::string log = readFile(dir / "fw.log");
   // The controller too: the plant going away after refusing every answer is a stop (3), not a lost peer (6).
   const std::string ctl = readFile(dir / "ctl.log");
@@ -133,13 +141,8 @@ TEST(HilLockstep, EveryCommandRejectedStopsNamingTheReasonNotANoPeer) {
 TEST(HilLockstep, RejectedAnswersInARowEndTheRunAsTheInProcessLoopDoes) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
   TempDir dir("lockstep_rejected_in_a_row");
-  const std::string url = udpmUrl(7759);
-  const std::string body = "timeout 60 " + pointingController() + " --set profile.slew_start=0 --lcm-url '" + url +
-                           "' --duration 0.3 --idle-exit 5 --plant-timeout 1 >ctl.log 2>&1 &\nC=$!\ntimeout 60 " +
-                           firmwareSim() + " " + scenePath("paper_clearance") + " --lockstep --duration 0.3 --lcm-url '" +
-                           url + "' --set 'torque.limit=[1e-3, 1e-3]' --torque-sanity 1 --lockstep-timeout-ms 1 "
-                           ">fw.log 2>&1\nrc=$?; wait $C; echo $? >ctl.rc; exit $rc";
-  const int rc = runInNetns(dir, body);
+  const int rc = runInNetns(dir, rejectingPair(udpmUrl(7759), "0.3", "--set profile.slew_start=0 --plant-timeout 1",
+                                               "--lockstep-timeout-ms 1"));
   const std::string log = readFile(dir / "fw.log"), ctl = readFile(dir / "ctl.log");
   EXPECT_EQ(rc, 3) << readFile(dir / "run.log") << log;
   EXPECT_NE(log.find("the plant accepted none of the controller's last 30 commands (torque beyond the sanity "
@@ -154,13 +157,8 @@ TEST(HilLockstep, RejectedAnswersInARowEndTheRunAsTheInProcessLoopDoes) {
 TEST(HilLockstep, RejectedAnswersEndingARunOnItsTimeoutsAreAStopToo) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
   TempDir dir("lockstep_rejected_timeouts");
-  const std::string url = udpmUrl(7762);
-  const std::string body = "timeout 60 " + pointingController() + " --set profile.slew_start=0 --lcm-url '" + url +
-                           "' --duration 0.3 --idle-exit 5 --plant-timeout 2 >ctl.log 2>&1 &\nC=$!\ntimeout 60 " +
-                           firmwareSim() + " " + scenePath("paper_clearance") + " --lockstep --duration 0.3 --lcm-url '" +
-                           url + "' --set 'torque.limit=[1e-3, 1e-3]' --torque-sanity 1 --lockstep-timeout-ms 1000 "
-                           "--start-timeout 2 >fw.log 2>&1\nrc=$?; wait $C; echo $? >ctl.rc; exit $rc";
-  const int rc = runInNetns(dir, body);
+  const int rc = runInNetns(dir, rejectingPair(udpmUrl(7762), "0.3", "--set profile.slew_start=0 --plant-timeout 2",
+                                               "--lockstep-timeout-ms 1000 --start-timeout 2"));
   const std::string log = readFile(dir / "fw.log"), ctl = readFile(dir / "ctl.log");
   EXPECT_EQ(rc, 3) << readFile(dir / "run.log") << log;
   EXPECT_NE(log.find("the plant rejected every one (torque beyond the sanity range)"), std::string::npos) << log;
