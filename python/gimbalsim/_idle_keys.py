@@ -13,7 +13,7 @@ import yaml
 
 from . import _gimbalsim
 from ._closed_spec import CONTROLLER_PREFIX
-from ._idle_sensors import (ANTENNA_NOISE_KEYS, ANTENNA_SENSOR_KEYS, ANTENNA_TRACKER, NOISE_KEYS, TRUTH_ONLY, Span,
+from ._idle_sensors import (ANTENNA_NOISE_KEYS, ANTENNA_TRACKER, NOISE_KEYS, TRUTH_ONLY, Span,
                             _Given, idle_at_antenna, idle_in_sensors, open_at_antenna)
 from .indices import seconds
 
@@ -197,8 +197,6 @@ def idle_reason(key, values, dispersed, takes, closed, unread_ticks=TRUTH_ONLY):
         why = _for_every_value(idle_at_antenna, key, values, dispersed, takes) or \
             _for_every_value(functools.partial(_idle_play_guard, takes=takes), key, values, dispersed, takes) or \
             _feedforwards_alike(key, values, dispersed, takes)
-    elif why is None and key.startswith(ANTENNA_SENSOR_KEYS):
-        why = "an open-loop run has no sensors (they act in a closed-loop sweep: name its controller)"
     if why is None and not closed and key.startswith("sensors."):
         why = "an open-loop run has no sensors (they act in a closed-loop sweep: name its controller)"
     return why
@@ -367,9 +365,9 @@ def _bearing_key_idle(key, joints, scene, dispersed):
     """Why a bearing key (contact.*, friction.*, initial.ecc, or a joint's own
     jointJ.*) is read on no joint (None if it is read on one): on each joint
     with a bearing, a shared key is overridden by the joint's own value (in
-    the scene's values, which list every own key the scene or set gave, as a
-    sample's scene is loaded, or dispersed; a clearance is stored as the
-    journal radius), or the joint's law does not read it (friction.mu
+    the scene's values, which list every own key the scene or set gave, or
+    dispersed; a clearance and a journal radius give one value: either own
+    overrides either shared), or the joint's law does not read it (friction.mu
     under friction.law none). initial.ecc is joint j's unless initial.eccJ is
     given (dynamics/scene/src/bearing_keys.cpp, deriveBearings)."""
     m = re.fullmatch(r"(?:joint([12])\.)?((?:contact|friction)\..+|initial\.ecc)", key)
@@ -379,7 +377,8 @@ def _bearing_key_idle(key, joints, scene, dispersed):
     bearings = [j for j in ((own,) if own else (1, 2)) if joints[j] != "ideal"]
     if not bearings:
         return None  # the structure's rules say so
-    names = {shared, "contact.journal_radius"} if shared in ("contact.clearance", "contact.journal_radius") else {shared}
+    radius = ("contact.clearance", "contact.journal_radius")
+    names = set(radius) if shared in radius else {shared}
     why = []
     for j in bearings:
         overriding = sorted(_own_key(j, n) for n in names if _own_key(j, n) in scene or _own_key(j, n) in dispersed)

@@ -112,6 +112,10 @@ BAD = [
     ("set: {friction.law: ambrosio, friction.v_b: 1.0e-3}\nparameters:\n  friction.mu: {choice: [0.0, 0]}\n"
      "  contact.restitution: {uniform: [0.5, 0.9]}\n",
      "set.friction.v_b", 6, "for every value of friction.mu the study gives"),
+    # (pass 74) a shared journal radius under set where joint 2's own clearance is dispersed: recorded, acting
+    # on nothing (a clearance and a journal radius give one value)
+    ("set: {contact.journal_radius: 0.0095}\nparameters:\n  joint2.contact.clearance: {uniform: [1.0e-4, 3.0e-4]}\n",
+     "set.contact.journal_radius", 6, "overridden by joint2.contact.clearance"),
     # a vector on the grid: one text cell for it, two number cells for its applied_ value
     ("grid:\n  torque.limit: [[1, 1], [2, 2]]\n", "grid.torque.limit", 7, "a vec2 key is dispersed under parameters"),
     # the law dispersed too, but over values none of which reads the key
