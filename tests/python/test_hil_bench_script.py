@@ -121,6 +121,9 @@ def test_a_bad_number_is_refused_naming_the_flag_not_what_the_script_made_of_it(
                        # (pass 36) passed by the script as 0 s, refused by pointing_controller under another name
                        (["--duration", "1e-400"], "run_hil_bench.sh: --duration: '1e-400' is too small for a double"),
                        (["--rate", "+0"], "run_hil_bench.sh: --rate: must be in [0.001, 1e+06], got +0"),
+                       # (pass 74) 0 ran until a signal, and the signal removed the run with its folder
+                       (["--duration", "0"], "run_hil_bench.sh: --duration: must be above 0, got 0 (0 runs until"),
+                       (["--duration", "-0.0"], "run_hil_bench.sh: --duration: must be above 0, got -0.0"),
                        # (pass 66) awk read 10, firmware_sim refused it only after the controller had started
                        (["--rate", "010"], "run_hil_bench.sh: --rate: '010' is not a number written without a "
                                            "leading zero")):

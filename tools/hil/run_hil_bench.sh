@@ -73,6 +73,11 @@ number() {  # number FLAG VALUE LO HI: a plain decimal number in [LO, HI], else 
 }
 number --rate "$RATE" 0.001 1e+06  # firmware_sim's range; the controller's control.period = 1/--rate then fits too
 number --duration "$DURATION" 0 1e+09
+# 0 would run until a signal, and a run a signal ends keeps nothing: refused (the programs run open-ended by hand)
+awk -v x="$DURATION" 'BEGIN { exit !(x + 0 > 0) }' ||
+  { echo "run_hil_bench.sh: --duration: must be above 0, got $DURATION (0 runs until a signal, and a run a" \
+         "signal ends keeps nothing; for an open-ended bench run the two programs: docs/bench.md \"Two terminals\")" >&2
+    exit 2; }
 # no leading zero: LCM reads 07815 as octal (port 7) where the programs' receivers read 7815
 [[ "$PORT" =~ ^[1-9][0-9]*$ ]] && [ "${#PORT}" -le 5 ] && [ "$PORT" -ge 1 ] && [ "$PORT" -le 65535 ] ||
   { echo "run_hil_bench.sh: --port: must be a whole number in [1, 65535] without a leading zero, got '$PORT'" >&2
