@@ -67,6 +67,7 @@ def run_batch(base, closed, items):
     """A task: samples [(i, overrides)] in turn, the C++ runs with the GIL
     released. Returns ([row dict], seconds inside this task, which worker process ran it)."""
     t_task = time.perf_counter()
+    _cluster.keep_freed_memory()
     cache, rows = {}, []
     for i, overrides in items:
         t0 = time.perf_counter()

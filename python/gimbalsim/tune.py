@@ -58,6 +58,7 @@ from ._tune_spec import METRICS, TuneSpec, fail_reason, suggest  # noqa: F401 (T
 
 def run_plants(base, controller, duration, items):
     """A task: closed loops of one controller on plants [(j, overrides)]."""
+    _cluster.keep_freed_memory()
     out = []
     for j, overrides in items:
         t0 = time.perf_counter()
