@@ -43,5 +43,32 @@ TEST(IdleKeys, BothJointsIdealLeaveEveryBearingKeyIdleButOnlyASetIsSaid) {
   EXPECT_EQ(idleNumber(s, "friction.law"), 3);
 }
 
+TEST(IdleKeys, ASharedSetEveryJointWithABearingOverridesIsIdle) {
+  // paper_clearance's one bearing (joint 2) takes its own radius: the shared one acts nowhere, either spelling.
+  for (const char* own : {"joint2.contact.journal_radius=0.0095", "joint2.contact.clearance=3e-4"}) {
+    const Scene s = test::scene("paper_clearance", {"contact.clearance=2e-4", own});
+    EXPECT_EQ(idleNumber(s, "contact.clearance"), 1) << own;
+    EXPECT_EQ(s.idle_sets.size(), 1u) << own;
+  }
+  const Scene ecc = test::scene("paper_clearance", {"initial.ecc=[1e-5, 0]", "initial.ecc2=[2e-5, 0]"});
+  EXPECT_EQ(idleNumber(ecc, "initial.ecc"), 1);
+  const Scene mu = test::scene("paper_both_planar", {"friction.mu=0.3", "joint1.friction.mu=0.1",
+                                                     "joint2.friction.mu=0.2"});
+  EXPECT_EQ(idleNumber(mu, "friction.mu"), 1);
+  ASSERT_EQ(mu.idle_sets.size(), 1u);
+  EXPECT_NE(mu.idle_sets[0].second.find("joint1.friction.mu, joint2.friction.mu"), std::string::npos)
+      << mu.idle_sets[0].second;
+  // One joint taking the shared value is enough for it to act; a length acts on spatial joints only.
+  EXPECT_TRUE(test::scene("paper_both_planar", {"friction.mu=0.3", "joint2.friction.mu=0.2"}).idle_sets.empty());
+  EXPECT_TRUE(test::scene("paper_both_spatial", {"initial.ecc=[1e-5, 0]", "initial.ecc2=[2e-5, 0]"})
+                  .idle_sets.empty());
+  EXPECT_EQ(idleNumber(test::scene("paper_spatial2", {"contact.bearing_length=0.1",
+                                                      "joint2.contact.bearing_length=0.2"}),
+                       "contact.bearing_length"),
+            1);
+  // The file's own shared value overridden by a --set is the override the user asked for: nothing said.
+  EXPECT_TRUE(test::scene("paper_clearance", {"joint2.contact.clearance=3e-4"}).idle_sets.empty());
+}
+
 }  // namespace
 }  // namespace gimbalsim

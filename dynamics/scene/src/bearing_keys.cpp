@@ -167,6 +167,26 @@ bool ownKeyGiven(const Scene& s, const std::string& key) {
 
 namespace {
 
+/// The own keys that override shared key k on every joint it would act on
+/// (those with a bearing; a bearing length only on spatial ones), or "" if
+/// one joint takes the shared value. A clearance and a journal radius give
+/// one value: either own key overrides either shared one.
+std::string everyJointOverrides(const Model& m, const Given& g, const BearingKey& k) {
+  const bool radius = k.suffix == "clearance" || k.suffix == "journal_radius";
+  const bool friction = k.key.key.rfind(kShared.friction, 0) == 0;
+  std::string own_keys;
+  for (int j = 0; j < 2; ++j) {
+    const ClearanceKind kind = m.jointKind(j);
+    if (kind == ClearanceKind::Ideal || (k.suffix == "bearing_length" && kind != ClearanceKind::Spatial)) continue;
+    const Bearing& b = j == 0 ? kJoint1 : kJoint2;
+    std::string own = (friction ? b.friction : b.contact) + k.suffix;
+    if (radius) own = g.has(b.contact + "clearance") ? b.contact + "clearance" : b.contact + "journal_radius";
+    if (!g.has(own)) return "";
+    own_keys += (own_keys.empty() ? "" : ", ") + own;
+  }
+  return own_keys;
+}
+
 /// A bearing's radii and Ambrosio speeds: the shared one (joint < 0), or
 /// joint j's where its own keys made them differ from the shared ones.
 void checkBearing(const ContactParams& cb, const ContactParams* shared, int joint, Given& g) {
@@ -277,6 +297,8 @@ void validateBearings(const Scene& s, Given& g) {
     } else if (k.suffix == "bearing_length" && !any_spatial) {
       g.idle(k.key.key, "no joint's bearing is spatial (structure.joint1, structure.joint2): no journal tilts, "
                         "this value does not act");
+    } else if (const std::string own = everyJointOverrides(m, g, k); !own.empty()) {
+      g.idleIfSet(k.key.key, "every joint it would act on gives its own (" + own + "): this value does not act");
     }
   }
   bool adaptive_refused = false;

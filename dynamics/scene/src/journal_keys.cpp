@@ -61,6 +61,19 @@ void checkInitialEcc(const Scene& s, Given& g) {
       warned = key;
     }
   }
+  // the shared value overridden on every joint with a bearing by the joint's own
+  if (g.has("initial.ecc") && m.hasClearance()) {
+    std::string own_keys;
+    bool every = true;
+    for (int j = 0; j < 2; ++j) {
+      if (m.jointKind(j) == ClearanceKind::Ideal) continue;
+      every = every && g.has(kEccKeys[j]);
+      own_keys += std::string(own_keys.empty() ? "" : ", ") + kEccKeys[j];
+    }
+    if (every) {
+      g.idleIfSet("initial.ecc", "every joint with a bearing gives its own (" + own_keys + "): this value does not act");
+    }
+  }
 }
 
 /// Each spatial journal's initial tilt with its eccentricity: the journal's
