@@ -176,3 +176,14 @@ def test_a_scenes_own_values_left_idle_are_not_warned_about_again_on_replace_or_
         assert len(again.warnings) == 1 and "triangle inequality" in again.warnings[0], again.warnings
     set_idle = ideal.replace(["contact.restitution=0.5"]).warnings
     assert len(set_idle) == 2 and "key 'contact.restitution': no joint has clearance" in set_idle[1], set_idle
+
+
+def test_a_printed_default_or_a_value_said_at_load_is_not_warned_about_on_replace():
+    # a planar scene prints the bearing length it never gave: every replace said it does not act (pass 76);
+    # an idle key the user gave at load was said then, not again at each replace
+    planar = gimbalsim.load_scene(scene_path("paper_clearance"), {"joint1.friction.mu": 0.2})
+    said = [w for w in planar.warnings if "joint1.friction.mu" in w]
+    assert len(said) == 1, planar.warnings
+    again = planar.replace(["friction.mu=0.2"])
+    assert not [w for w in again.warnings if "bearing_length" in w or "joint1.friction.mu" in w], again.warnings
+    assert [w for w in planar.replace(["contact.bearing_length=0.1"]).warnings if "bearing_length" in w]

@@ -264,12 +264,16 @@ void Given::refuse(const std::string& key, const std::string& msg) { problems.pu
 void Given::warn(const std::string& key, const std::string& msg) { warnings.push_back(problemAt(key, msg).text); }
 
 void Given::idle(const std::string& key, const std::string& msg) {
+  std::string spelled;
+  const Place* p = placeOf(key, &spelled);
+  // a scene's printed values (Scene.replace, unpickling) are its own: what they leave idle was said at its
+  // load, and a default printed for a key the file never gave (a planar scene's bearing length) is no one's
+  if (p && p->set_index > 0 && p->set_index <= static_cast<int>(printed_)) return;
   const std::string text = problemAt(key, msg).text;
   // a key and its alternative (journal_radius, clearance) name one given value: said once
   if (std::find(warnings.begin(), warnings.end(), text) != warnings.end()) return;
   warnings.push_back(text);
-  std::string spelled;
-  if (const Place* p = placeOf(key, &spelled); p && p->set_index > static_cast<int>(printed_)) {
+  if (p && p->set_index > static_cast<int>(printed_)) {
     idle_sets.emplace_back(p->set_index, "key '" + spelled + "': " + msg);
   }
 }

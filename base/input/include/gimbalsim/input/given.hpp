@@ -55,8 +55,8 @@ class Given {
   /// its alternative was, named so; else "<origin>: (default of <key>)").
   void refuse(const std::string& key, const std::string& msg);
   void warn(const std::string& key, const std::string& msg);
-  /// A warning that key acts on nothing here; one given by a --set (not a printed value) is recorded in
-  /// idle_sets too (a study refuses a --set that acts in none of its runs).
+  /// A warning that key acts on nothing here (none for a printed value: said at the scene's load); one given by
+  /// a --set is recorded in idle_sets too (a study refuses a --set that acts in none of its runs).
   void idle(const std::string& key, const std::string& msg);
   /// Same, only when a --set gave the key: a scene file (or its printed values) keeps keys its structure leaves
   /// idle (an ideal twin).
