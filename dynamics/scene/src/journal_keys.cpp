@@ -71,7 +71,8 @@ void checkInitialEcc(const Scene& s, Given& g) {
       own_keys += std::string(own_keys.empty() ? "" : ", ") + kEccKeys[j];
     }
     if (every) {
-      g.idleIfSet("initial.ecc", "every joint with a bearing gives its own (" + own_keys + "): this value does not act");
+      g.idleIfSet("initial.ecc",
+                  "every joint with a bearing gives its own (" + own_keys + "): this value does not act");
     }
   }
 }
