@@ -11,6 +11,7 @@ import hashlib
 
 import gimbalsim
 from ._closed_spec import CONTROLLER_PREFIX
+from . import dispersion
 
 APPLIED = "applied."       # code name of a column: applied.<design column>
 DIFFERS = "applied_differs"  # the keys whose applied value is not the drawn one, space-separated
@@ -117,6 +118,9 @@ def applied(scene_values, drawn):
             text = scene_values.get(canonical, scene_values.get(_SHARED.get(canonical, "")))
             got = [None] if text is None else gimbalsim._typed(text, types.get(key, "string"))
             got = list(got) if isinstance(got, list) else [got]
+            if types.get(key) == "inertia":  # compared and written in the design's six-number spelling
+                want = dispersion.inertia6(want)
+                got = dispersion.inertia6([got[0:3], got[3:6], got[6:9]] if len(got) == 9 else got) or [None]
             ok = text is not None and len(got) == len(want) and all(_same(w, g) for w, g in zip(want, got))
             got = (got + [None] * len(want))[:len(want)]  # a column per drawn element, whatever was loaded
         values += got

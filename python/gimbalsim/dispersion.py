@@ -29,6 +29,10 @@ NUMERIC = ("number", "int")
 TAIL_SD = 4.8916
 NORMAL_TAIL = "1e-6 two-sided tail"
 DISTRIBUTIONS = ("uniform", "loguniform", "normal", "choice", "disk", "ball")
+# An inertia's row cells, in the six-number spelling the scene takes: each spelling of a choice ([Ixx, Iyy, Izz],
+# six numbers, a 3x3 matrix) has one column per entry, so a row has as many cells as its header (pass 76: a choice
+# of inertias wrote each as three cells under one column).
+INERTIA_PARTS = ("xx", "yy", "zz", "xy", "xz", "yz")
 
 
 class Parameter:
@@ -43,9 +47,13 @@ class Parameter:
             return [f"{self.key}[0]", f"{self.key}[1]"]
         if self.type == "vec3":
             return [f"{self.key}[0]", f"{self.key}[1]", f"{self.key}[2]"]
+        if self.type == "inertia":
+            return [f"{self.key}[{part}]" for part in INERTIA_PARTS]
         return [self.key]
 
     def row_values(self, value):
+        if self.type == "inertia":
+            return inertia6(value)
         return list(value) if isinstance(value, (list, tuple)) else [value]
 
     def draw(self, rng, context):
@@ -187,6 +195,11 @@ def parse_parameter(spec, section, key, node, key_types, known_as=SCENE_KEYS):
         if not isinstance(arg.value, list) or not arg.value:
             spec.refuse(where, "choice expects a non-empty list of values", arg)
         args = [spec.value(where, v) for v in arg.value]
+        if ktype == "inertia":
+            for v, v_node in zip(args, arg.value):
+                if inertia6(v) is None:
+                    spec.refuse(where, "choice: an inertia is [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz], "
+                                f"got {v!r}", v_node)
     elif kind == "ball":
         if ktype != "vec3":
             spec.refuse(where, f"ball needs a vec3 key; {key} is {ktype}", arg)
@@ -214,6 +227,21 @@ def parse_parameter(spec, section, key, node, key_types, known_as=SCENE_KEYS):
             spec.refuse(where, "disk: center must be [x, y]", arg)
         args = plain
     return Parameter(key, kind, args, ktype, node)
+
+
+def inertia6(v):
+    """An inertia in any spelling the scene takes as [Ixx, Iyy, Izz, Ixy, Ixz,
+    Iyz]; None for a value that is no inertia (or a 3x3 that is not symmetric)."""
+    if not isinstance(v, (list, tuple)):
+        return None
+    if len(v) == 3 and all(isinstance(row, (list, tuple)) and len(row) == 3 for row in v):
+        m = [[float(x) if _is_number(x) else math.nan for x in row] for row in v]
+        if any(m[r][c] != m[c][r] for r, c in ((0, 1), (0, 2), (1, 2))):
+            return None
+        return [m[0][0], m[1][1], m[2][2], m[0][1], m[0][2], m[1][2]]
+    if len(v) not in (3, 6) or not all(_is_number(x) for x in v):
+        return None
+    return [float(x) for x in v] + [0.0] * (6 - len(v))
 
 
 def _to_12_digits(v):
