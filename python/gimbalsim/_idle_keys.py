@@ -168,7 +168,8 @@ def takes_of(parameters, grid, aliases, prefix=""):
             return [str(v) for v in p.args]
         if p.kind in ("uniform", "loguniform", "normal"):
             ends = [float(v) for v in p.extremes()]
-            return Span(min(ends), max(ends))
+            # a range of width 0 draws its one value: judged as a choice of it (pass 76: friction.mu [0, 0])
+            return Span(min(ends), max(ends)) if p.spreads() else [str(ends[0])]
         return None
     takes = {prefix + aliases.get(p.key, p.key): taken(p) for p in parameters}
     takes.update({prefix + aliases.get(k, k): [str(v) for v in values] for k, values in grid})

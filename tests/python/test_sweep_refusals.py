@@ -109,6 +109,10 @@ BAD = [
     ("set: {friction.law: ambrosio}\ngrid:\n  friction.mu: [0.0]\nparameters:\n"
      "  friction.v_a: {uniform: [1.0e-5, 5.0e-5]}\n",
      "parameters.friction.v_a", 10, "joint 2's friction.mu is 0.0, for every value of friction.mu the study gives"),
+    # (pass 76) ... a range of width 0 is a choice of its one value
+    ("set: {friction.law: ambrosio}\nparameters:\n  friction.mu: {uniform: [0.0, 0.0]}\n"
+     "  friction.v_a: {uniform: [1.0e-5, 5.0e-5]}\n",
+     "parameters.friction.v_a", 9, "joint 2's friction.mu is 0.0, for every value of friction.mu the study gives"),
     ("set: {friction.law: ambrosio, friction.v_b: 1.0e-3}\nparameters:\n  friction.mu: {choice: [0.0, 0]}\n"
      "  contact.restitution: {uniform: [0.5, 0.9]}\n",
      "set.friction.v_b", 6, "for every value of friction.mu the study gives"),
