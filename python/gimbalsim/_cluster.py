@@ -305,6 +305,30 @@ def scheduler_address(text):
     return text
 
 
+class _StoreOnce(argparse._StoreAction):
+    """A flag that takes one value, refused when given twice: argparse keeps
+    the last silently (pass 76: `--out a --out b`, `--workers 1 --workers 2`),
+    as the C++ programs do not (CLI11 refuses)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        given = namespace.__dict__.setdefault("_given_once", set())
+        if option_string is not None and self.dest in given:
+            parser.error(f"{'/'.join(self.option_strings)}: given twice; it takes one value")
+        given.add(self.dest)
+        super().__call__(parser, namespace, values, option_string)
+
+
+def program_parser(prog, doc):
+    """The argument parser of the package's programs (sweep, tune, allocate):
+    no abbreviations, the module's doc as its description, and every flag
+    that takes one value refused when given twice."""
+    ap = argparse.ArgumentParser(allow_abbrev=False, prog=prog, description=doc,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.register("action", None, _StoreOnce)
+    ap.register("action", "store", _StoreOnce)
+    return ap
+
+
 def add_cluster_arguments(parser):
     g = parser.add_mutually_exclusive_group()
     g.add_argument("--workers", type=local_workers, default=None,

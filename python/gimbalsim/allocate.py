@@ -37,7 +37,6 @@ further on meets (outputs written, the best value tried); 2 spec refused; 4 an
 output not written; 6 the --scheduler did not answer; 130 / 143 / 129 interrupted (SIGINT / SIGTERM / SIGHUP)
 (finished values kept: --resume).
 """
-import argparse
 import contextlib
 import csv
 import os
@@ -221,8 +220,7 @@ def _kept_and_next(out, first):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(allow_abbrev=False, prog="python3 -m gimbalsim.allocate", description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = _cluster.program_parser("python3 -m gimbalsim.allocate", __doc__)
     ap.add_argument("--version", action="version", version="gimbalsim.allocate " + gimbalsim.__version__)
     ap.add_argument("spec", help="allocation spec (YAML): a closed-loop sweep spec with an allocate: section")
     ap.add_argument("--out", type=_cluster.path_text, required=True, help="output directory")

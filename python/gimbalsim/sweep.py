@@ -34,7 +34,6 @@ Exit codes (the project's table, docs/usage.md "Exit codes", mirrored in _errors
 2 spec refused, 4 an output not written (the journal kept), 6 the --scheduler did not answer or had no worker
 (nothing written), 130 / 143 / 129 interrupted by SIGINT / SIGTERM / SIGHUP (the journal kept).
 """
-import argparse
 import contextlib
 import math
 import os
@@ -291,8 +290,7 @@ def _kept_and_next(out, first):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(allow_abbrev=False, prog="python3 -m gimbalsim.sweep", description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = _cluster.program_parser("python3 -m gimbalsim.sweep", __doc__)
     ap.add_argument("--version", action="version", version="gimbalsim.sweep " + gimbalsim.__version__)
     ap.add_argument("spec", help="sweep spec (YAML); with --replay, the sweep's output directory")
     ap.add_argument("--out", type=_cluster.path_text, required=True,

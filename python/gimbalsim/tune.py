@@ -33,7 +33,6 @@ mirrored in _errors.py): 0, 2 spec refused, 3 no trial completed, 4 an output no
 6 the --scheduler did not answer or had no worker (nothing written), 130 / 143 / 129 interrupted by
 SIGINT / SIGTERM / SIGHUP (the study kept).
 """
-import argparse
 import contextlib
 import math
 import os
@@ -304,8 +303,7 @@ def _plot(out, rows, spec):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(allow_abbrev=False, prog="python3 -m gimbalsim.tune", description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = _cluster.program_parser("python3 -m gimbalsim.tune", __doc__)
     ap.add_argument("--version", action="version", version="gimbalsim.tune " + gimbalsim.__version__)
     ap.add_argument("spec", help="tuning spec (YAML)")
     ap.add_argument("--out", type=_cluster.path_text, required=True, help="output directory")

@@ -43,6 +43,9 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--settle-tol", opt.settle_tol, "settling band on the joint error [rad]")
       ->check(program::within(0.0, 10.0, true));
   if (const auto rc = program::parse(app, argc, argv, "controller_sweep")) return *rc;
+  if (const std::string why = program::repeatedValue("--omega", omegas); !why.empty()) {
+    return program::refuse("controller_sweep", why);
+  }
   if (const std::string why = program::overrideOfOwnKey("--scene-set", scene_sets, {{"sim.duration", "--duration"}});
       !why.empty()) {
     return program::refuse("controller_sweep", why);

@@ -28,7 +28,15 @@ usage() { script_usage "$0" 2 18; exit "${1:-0}"; }
 # and when it is another flag: `--out --no-plot` lost the flag, then dirname took '--no-plot' as its option
 # (exit 1). A value that starts with one - is a value (`--out -res` is the folder -res, `--duration -1` a
 # number refused as such); one that starts with -- is taken for a flag: a folder of that name is ./--name.
+# A flag of one value given twice is refused, as the programs refuse theirs: the last one was taken silently
+# (pass 76: `--duration 5 --duration 8`), and so was the last of --realtime and --lockstep.
+GIVEN=" "
+once() {
+  case "$GIVEN" in *" $1 "*) echo "run_hil_bench.sh: $1: given twice; it takes one value" >&2; exit 2 ;; esac
+  GIVEN="$GIVEN$1 "
+}
 value() {
+  once "$1"
   [ $# -ge 2 ] || { echo "run_hil_bench.sh: $1: needs a value" >&2; exit 2; }
   [ -n "$2" ] || { echo "run_hil_bench.sh: $1: an empty value" >&2; exit 2; }
   case "$2" in --*) echo "run_hil_bench.sh: $1: needs a value, got the flag $2 (a file or folder of that name: ./$2)" >&2
@@ -36,8 +44,8 @@ value() {
 }
 while [ $# -gt 0 ]; do
   case "$1" in
-    --realtime) MODE=realtime ;;
-    --lockstep) MODE=lockstep ;;
+    --realtime) once --realtime/--lockstep; MODE=realtime ;;
+    --lockstep) once --realtime/--lockstep; MODE=lockstep ;;
     --duration) value "$@"; DURATION="$2"; shift ;;
     --scene) value "$@"; SCENE="$2"; shift ;;
     --config) value "$@"; CONFIG="$2"; shift ;;

@@ -204,6 +204,9 @@ int mainImpl(int argc, char** argv) {
   for (double c : clearances) {
     if (!(c > 0.0 && std::isfinite(c))) return program::refuse(kProgram, "--clearances: each must be > 0 [m]");
   }
+  if (const std::string why = program::repeatedValue("--clearances", clearances); !why.empty()) {
+    return program::refuse(kProgram, why);
+  }
   auto load = [&](const std::vector<std::string>& extra) {
     std::vector<std::string> all = sets;
     all.insert(all.end(), extra.begin(), extra.end());

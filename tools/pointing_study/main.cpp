@@ -86,13 +86,11 @@ int mainImpl(int argc, char** argv) {
   app.add_option("--clearances", clearances, "radial clearances [m] (contact.clearance), comma-separated")
       ->delimiter(',');
   app.add_option("--duration", duration, "simulated time [s], whole control periods, at most 1e9 of them (default: the profile's track start + 5 s)");
-  app.add_option("--out", out_dir, "output directory (the last one given counts)")
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  app.add_option("--out", out_dir, "output directory");
   app.add_option("--sensors", sensors,
                  "perfect (the scene's), realistic (star tracker 2e-5 rad, gyro bias 1e-5 rad/s), tracker (perfect "
                  "with the antenna's tracker and gyro, noise 0), both (perfect and realistic) or all three")
       ->check(CLI::IsMember({"perfect", "realistic", "tracker", "both", "all"}))
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast)  // the last one given counts, as for --out
       ->capture_default_str();
   app.add_flag("--quick", quick, "smoke run: track start + 0.5 s, clearances 0.25 and 0.5 mm (unless given)");
   if (const auto rc = program::parse(app, argc, argv, "gimbalsim_pointing_study")) return *rc;

@@ -48,11 +48,16 @@ fi
 # The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
 [ "$RESULTS" = 0 ] || /usr/bin/python3 "$ROOT/tools/pages/results_page.py" --check \
   --page "$ROOT/docs/results/closed_loop_clearance.md"
-# The default --out first: a --out among the arguments comes later and counts.
 # Clearance in the elevation joint, the azimuth joint, both; planar and spatial;
-# perfect, realistic and tracker sensors. An --ideal-scene, --clearance-scene or --sensors
-# among the arguments replaces these (CLI11 keeps the last --sensors; --clearance-scene
-# lists add up, so the defaults are given only when none is).
+# perfect, realistic and tracker sensors. An --out, --ideal-scene, --clearance-scene or --sensors
+# among the arguments replaces these: the defaults are given only when none is (the study refuses a
+# flag of one value given twice, and --clearance-scene lists add up).
+defaults=()
+[ "$NAMED" = 1 ] || defaults+=(--out "$OUT")
+case " ${args[*]-} " in
+  *" --sensors"*) ;;
+  *) defaults+=(--sensors all) ;;
+esac
 scenes=(--ideal-scene "$ROOT/tools/scenes/paper_ideal.yaml")
 case " ${args[*]-} " in
   *" --ideal-scene"*) scenes=() ;;  # given twice, CLI11 refused "At Most 1 required"
@@ -63,8 +68,8 @@ case " ${args[*]-} " in
        scenes+=(--clearance-scene "$ROOT/tools/scenes/$s.yaml")
      done ;;
 esac
-"$BUILD/bin/gimbalsim_pointing_study" --out "$OUT" \
-  --sensors all ${scenes[@]+"${scenes[@]}"} ${args[@]+"${args[@]}"} | console_tee "$LOG" || status=$?
+"$BUILD/bin/gimbalsim_pointing_study" ${defaults[@]+"${defaults[@]}"} \
+  ${scenes[@]+"${scenes[@]}"} ${args[@]+"${args[@]}"} | console_tee "$LOG" || status=$?
 # Exit 3: a plant stopped; the results of the other runs are still written and plotted.
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}

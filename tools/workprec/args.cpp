@@ -71,18 +71,22 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
   if (!(a.peak_dt > 0.0 && a.output_interval >= a.peak_dt && a.output_interval / a.peak_dt <= 1e9)) {
     return program::refuse("gimbalsim_workprec", "need 0 < --peak-dt <= --output-interval <= 1e9 --peak-dt");
   }
-  // One point is one curve's run: a scene or step given twice ran twice, two identical rows (pass 73).
+  // One point is one curve's run: a scene or step given twice ran twice, two identical rows (pass 73); a scene
+  // is one file whatever its spelling (pass 76: paper_ideal and ./paper_ideal).
   for (std::size_t i = 0; i < a.scenes.size(); ++i) {
-    if (std::find(a.scenes.begin(), a.scenes.begin() + static_cast<std::ptrdiff_t>(i), a.scenes[i]) !=
-        a.scenes.begin() + static_cast<std::ptrdiff_t>(i)) {
-      return program::refuse("gimbalsim_workprec", "--scenes: " + a.scenes[i] + " given twice");
+    for (std::size_t j = 0; j < i; ++j) {
+      std::error_code ec;
+      if (a.scenes[i] == a.scenes[j] || std::filesystem::equivalent(scenePath(a, a.scenes[i]),
+                                                                    scenePath(a, a.scenes[j]), ec)) {
+        return program::refuse("gimbalsim_workprec", "--scenes: " + a.scenes[i] +
+                                                         (a.scenes[i] == a.scenes[j] ? "" : " (" + a.scenes[j] + ")") +
+                                                         " given twice");
+      }
     }
   }
-  for (std::size_t i = 0; i < a.steps.size(); ++i) {
-    if (std::find(a.steps.begin(), a.steps.begin() + static_cast<std::ptrdiff_t>(i), a.steps[i]) !=
-        a.steps.begin() + static_cast<std::ptrdiff_t>(i)) {
-      return program::refuse("gimbalsim_workprec", "--steps: " + formatNumber(a.steps[i]) + " given twice");
-    }
+  for (const auto& why : {program::repeatedValue("--steps", a.steps), program::repeatedValue("--policy",
+                                                                                            a.only_policies)}) {
+    if (!why.empty()) return program::refuse("gimbalsim_workprec", why);
   }
   // Every point runs whole steps h (the scene's own rule): a duration or row spacing between two is
   // refused here, once, not recorded as every point refused.
@@ -115,7 +119,7 @@ std::optional<int> parseArgs(int argc, char** argv, Args& a) {
   // The CSV is checked before anything runs: a link under its name, or the policy table or a scene
   // under it (it was overwritten with the results), is refused, not found at the end.
   std::vector<std::string> inputs{a.policies_path};
-  for (const std::string& scene : a.scenes) inputs.push_back(a.scenes_dir + "/" + scene + ".yaml");
+  for (const std::string& scene : a.scenes) inputs.push_back(scenePath(a, scene));
   try {
     gimbalsim::io::checkOutputPaths({a.out_dir + "/workprec.csv"}, inputs);
   } catch (const gimbalsim::io::OutputError& e) {

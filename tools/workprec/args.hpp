@@ -37,5 +37,7 @@ struct Args {
 /// Parses and checks argv into a: nullopt to go on, else the exit code
 /// (0 after --help, 2 for a refusal, printed).
 std::optional<int> parseArgs(int argc, char** argv, Args& a);
+/// The file of a --scenes name: <--scenes-dir>/<name>.yaml.
+inline std::string scenePath(const Args& a, const std::string& scene) { return a.scenes_dir + "/" + scene + ".yaml"; }
 
 }  // namespace gimbalsim::workprec

@@ -226,7 +226,7 @@ std::optional<int> loadScenes(const Args& a, std::vector<Scene>& scenes) {
   for (const std::string& scene : a.scenes) {
     const std::vector<std::string> base_sets = baseSets(a, scene);
     try {
-      scenes.push_back(loadScene(a.scenes_dir + "/" + scene + ".yaml", base_sets));
+      scenes.push_back(loadScene(scenePath(a, scene), base_sets));
     } catch (const InputError& e) {
       return refuseScene(a, scene, base_sets, e);
     }
@@ -248,7 +248,7 @@ std::optional<int> loadScenes(const Args& a, std::vector<Scene>& scenes) {
 /// Run: every curve of one scene (loaded by loadScenes).
 void measureScene(const Args& a, const std::string& scene, const Scene& base, std::vector<Point>& points,
                   Troubles& troubles) {
-  const std::string path = a.scenes_dir + "/" + scene + ".yaml";
+  const std::string path = scenePath(a, scene);
   const std::vector<std::string> base_sets = baseSets(a, scene);
   std::printf("\n[%s] %g s, %s, reference: ", scene.c_str(), base.run.duration,
               base.model.floating_base ? "floating base" : "fixed base");

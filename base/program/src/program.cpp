@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "gimbalsim/input/plain_decimal.hpp"
+#include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/program/version.hpp"
 
 namespace gimbalsim::program {
@@ -221,6 +222,28 @@ std::string overrideOfOwnKey(const char* flag, const std::vector<std::string>& o
     }
   }
   return "";
+}
+
+namespace {
+
+template <class T, class Name>
+std::string firstRepeat(const char* flag, const std::vector<T>& values, Name name) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (values[j] == values[i]) return std::string(flag) + ": " + name(values[i]) + " given twice";
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string repeatedValue(const char* flag, const std::vector<double>& values) {
+  return firstRepeat(flag, values, [](double v) { return formatNumber(v); });
+}
+
+std::string repeatedValue(const char* flag, const std::vector<std::string>& values) {
+  return firstRepeat(flag, values, [](const std::string& v) { return v; });
 }
 
 }  // namespace gimbalsim::program

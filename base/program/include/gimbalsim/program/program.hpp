@@ -93,6 +93,12 @@ int refuse(const char* program, const InputError& e);
 std::string overrideOfOwnKey(const char* flag, const std::vector<std::string>& overrides,
                              const std::vector<std::pair<std::string, std::string>>& own);
 
+/// A list flag's values (a run or a row per value): "" when none repeats, else "<flag>: <value> given twice"
+/// (pass 73, pass 76: `--omega 10,10.0` ran one bandwidth twice, two identical rows). Numbers are one value
+/// when equal as doubles (1e-4 and 0.0001); a list flag given twice is one list.
+std::string repeatedValue(const char* flag, const std::vector<double>& values);
+std::string repeatedValue(const char* flag, const std::vector<std::string>& values);
+
 /// Opens /dev/null on each of stdin, stdout and stderr that is closed: a
 /// program started with `>&-` would otherwise give descriptor 1 or 2 to the
 /// first file it opens (an output's temporary), and its console lines would
