@@ -49,6 +49,25 @@ def test_a_refused_run_changes_nothing_and_a_good_one_replaces_the_old_files(tmp
     assert rows[0].startswith("utime_us,seq,sim_time_s") and len(rows) == 1 + 201  # t = 0 .. 0.2 s every 1 ms
 
 
+def test_the_folder_of_a_run_whose_script_died_is_removed_by_the_next_run(tmp_path):
+    # (pass 76) a script killed where no trap runs (SIGKILL, a machine that stopped) left out/.run.XXXXXX, hundreds
+    # of MB, for good: a run's folder is named by its script's pid, and the next run removes the dead ones only
+    out = tmp_path / "bo"
+    dead_pid = 4194303  # above the kernel's pid_max limit (2^22): no process has it
+    (out / f".run.{dead_pid}.a1b2c3" / "sub").mkdir(parents=True)
+    (out / f".run.{dead_pid}.a1b2c3" / "sub" / "truth.csv").write_text("old run\n")
+    live = out / f".run.{os.getpid()}.d4e5f6"  # this test's own pid: alive
+    live.mkdir()
+    (out / ".run.notapid").mkdir()
+    (tmp_path / "elsewhere").mkdir()
+    (out / f".run.{dead_pid}.link").symlink_to(tmp_path / "elsewhere")
+    p = bench(out, "--duration", "0.2", "--no-plot")
+    assert p.returncode == 0, p.stderr
+    assert sorted(os.listdir(out)) == sorted([f".run.{dead_pid}.link", f".run.{os.getpid()}.d4e5f6", ".run.notapid",
+                                              "controller.csv", "controller.txt", "firmware.txt", "truth.csv"])
+    assert (tmp_path / "elsewhere").is_dir()
+
+
 def test_a_run_whose_plant_stopped_keeps_its_outputs_and_ends_with_3(tmp_path):
     # (pass 27) the plant's stop (exit 3) writes its truth up to the stop, which the script threw away: a
     # script keeps a stopped run's outputs and ends with 3 (usage.md "Scripts in tools/"); the plot shows

@@ -254,7 +254,15 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
 fi
 
 # ---- inside the namespace: the run's files go to RUN, moved into OUT when it ended well
-RUN="$(mktemp -d "$OUT/.run.XXXXXX")" ||
+# A run's folder is named by its script's pid: one whose script is dead (killed, SIGKILL or a machine that
+# stopped, where no trap runs) is the next run's to remove (pass 76: they stayed, hundreds of MB each).
+for stale in "$OUT"/.run.*.*; do
+  pid=${stale#"$OUT"/.run.} pid=${pid%%.*}
+  case "$pid" in '' | *[!0-9]*) continue ;; esac
+  [ -d "$stale" ] && [ ! -L "$stale" ] && [ ! -d "/proc/$pid" ] || continue  # (kill -0 fails for another user's)
+  rm -rf -- "$stale"
+done
+RUN="$(mktemp -d "$OUT/.run.$$.XXXXXX")" ||
   { echo "run_hil_bench.sh: --out $OUT: cannot write in it (the system's reason above); nothing run" >&2
     [ "${GIMBALSIM_BENCH_MADE_OUT:-0}" != 1 ] || rmdir "$OUT" 2>/dev/null || true
     exit 4; }
