@@ -512,3 +512,32 @@ def test_every_tools_script_answers_version_as_the_programs_do(script):
         (p.returncode, p.stdout, p.stderr)
     assert len(PARSED) >= 20  # the glob found the scripts
 
+
+
+@pytest.mark.parametrize("arg", ["--benchmark_filter=", "--benchmark_min_time="])
+def test_the_bench_script_refuses_nothing_after_a_flags_equals(arg, tmp_path):
+    # (pass 76) --benchmark_filter= ran every benchmark: nothing after '=' is refused, as by the programs
+    p = subprocess.run(["bash", str(SOURCE / "tools/bench/run_bench.sh"), arg], capture_output=True, text=True,
+                       timeout=60, cwd=tmp_path)
+    assert p.returncode == 2 and f"run_bench.sh: {arg}: nothing after its '='; nothing run" in p.stderr, p.stderr
+    assert os.listdir(tmp_path) == []
+
+
+def test_compare_bench_refuses_with_2_naming_the_side_before_timing_either(tmp_path):
+    # (pass 76) a binary that cannot run ended with 1 (the docstring says 2), NEW was checked only after OLD had
+    # been timed, and from outside the repository OLD was blamed for the scenes it could not find
+    script = str(SOURCE / "tools/bench/compare_bench.py")
+    ran = tmp_path / "old_ran"
+    old = tmp_path / "old.sh"
+    old.write_text(f"#!/bin/sh\ntouch '{ran}'\nexit 1\n")
+    old.chmod(0o755)
+    compare = lambda *args: subprocess.run([sys.executable, script, *map(str, args)], capture_output=True,  # noqa
+                                           text=True, timeout=300, cwd=tmp_path)
+    p = compare(old, tmp_path / "nosuch")
+    assert p.returncode == 2 and "NEW " in p.stderr and "no such program" in p.stderr, p.stderr
+    assert not ran.exists()
+    p = compare(old, BIN / "gimbalsim_bench")
+    assert p.returncode == 2 and f"OLD {old}: cannot run it" in p.stderr, p.stderr
+    p = compare(BIN / "gimbalsim_bench", BIN / "gimbalsim_bench", "--filter", "BM_Rk4<FloatingIdeal>", "--rounds", 1,
+                "--min-time", 0.01)
+    assert p.returncode == 0 and "BM_Rk4<FloatingIdeal> [ns]" in p.stdout, p.stderr

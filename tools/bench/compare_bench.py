@@ -20,13 +20,36 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(
 import output_file  # noqa: E402,F401  (its import keeps the console: a reader gone stops nothing)
 
 
-def one_pass(binary, flt, min_time):
-    cmd = [binary, f"--benchmark_filter={flt}", f"--benchmark_min_time={min_time}",
-           "--benchmark_format=json"]
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def refuse(why):
+    """Exit 2, as the docstring says, for a binary that cannot run or a side without a benchmark."""
+    print(f"compare_bench: {why}; nothing compared", file=sys.stderr)
+    sys.exit(2)
+
+
+def run(side, binary, args):
+    """binary's stdout, run where the benchmarks find their scenes (tools/scenes/ of this repository: a run from
+    elsewhere failed and blamed OLD)."""
     try:
-        out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+        return subprocess.run([binary, *args], check=True, capture_output=True, text=True, cwd=ROOT).stdout
     except (OSError, subprocess.CalledProcessError) as e:
-        sys.exit(f"compare_bench: cannot run {binary}: {e}")
+        told = (getattr(e, "stderr", "") or "").strip().splitlines()[-3:]
+        refuse(f"{side.upper()} {binary}: cannot run it ({e}){''.join(chr(10) + '  ' + t for t in told)}")
+
+
+def listed(side, binary, flt):
+    """The benchmarks binary holds that the filter matches (a dry run of both sides before any timing)."""
+    names = set(run(side, binary, [f"--benchmark_filter={flt}", "--benchmark_list_tests=true"]).split())
+    if not names:
+        refuse(f"{side.upper()} {binary}: no benchmark matches --filter {flt!r}")
+    return names
+
+
+def one_pass(side, binary, flt, min_time):
+    out = run(side, binary, [f"--benchmark_filter={flt}", f"--benchmark_min_time={min_time}",
+                             "--benchmark_format=json"])
     return {b["name"] + " [" + b["time_unit"] + "]": b["cpu_time"] for b in json.loads(out)["benchmarks"]}
 
 
@@ -40,15 +63,22 @@ def main():
     ap.add_argument("--min-time", type=output_file.arg_decimal(1e-3, 1e4), default=0.2,
                     help="seconds per benchmark per pass")
     a = ap.parse_args()
+    binaries = {side: os.path.abspath(getattr(a, side)) for side in ("old", "new")}
+    for side, binary in binaries.items():  # both checked before either is timed
+        if not (os.path.isfile(binary) and os.access(binary, os.X_OK)):
+            refuse(f"{side.upper()} {getattr(a, side)}: no such program (a gimbalsim_bench binary)")
+    held = {side: listed(side, binary, a.filter) for side, binary in binaries.items()}
+    if held["old"] != held["new"]:
+        refuse(f"missing on one side: {', '.join(sorted(held['old'] ^ held['new']))}")
     times = {"old": {}, "new": {}}
     for _ in range(a.rounds):
-        for side in ("old", "new"):
-            for name, t in one_pass(getattr(a, side), a.filter, a.min_time).items():
+        for side, binary in binaries.items():
+            for name, t in one_pass(side, binary, a.filter, a.min_time).items():
                 times[side].setdefault(name, []).append(t)
     names = sorted(set(times["old"]) | set(times["new"]))
     missing = [n for n in names if n not in times["old"] or n not in times["new"]]
     if missing:
-        sys.exit(f"compare_bench: missing on one side: {', '.join(missing)}")
+        refuse(f"missing on one side: {', '.join(missing)}")
     print(f"{'benchmark [unit]':50s} {'old':>10s} {'new':>10s} {'new/old':>8s}   (median CPU time of {a.rounds} rounds)")
     for n in names:
         o, w = statistics.median(times["old"][n]), statistics.median(times["new"][n])
