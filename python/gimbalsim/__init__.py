@@ -36,12 +36,13 @@ except ImportError as e:  # a build folder whose extension was never built (only
 from . import _output  # noqa: E402
 from ._arguments import real_argument as _real_argument, real_array as _real_array, real_number as _real_number
 from ._gimbalsim import COLUMNS, Scene, Simulator, State
+from ._scene_warnings import SceneWarning, warn_loaded as _warn_loaded  # noqa: E402
 
 __version__ = _gimbalsim.__version__  # the one version string, also every program's --version
 
 __all__ = [
     "COLUMNS", "Scene", "Simulator", "State", "Controller", "Run", "ClosedLoopRun",
-    "SceneError", "SimulationStopped", "OutputError",
+    "SceneError", "SceneWarning", "SimulationStopped", "OutputError",
     "load_scene", "load_scene_text", "keys", "key_aliases", "controller_keys", "simulate", "closed_loop",
     "format_value", "as_overrides",
 ]
@@ -144,25 +145,27 @@ def load_scene(path, overrides=None, sources=None):
     when given (a label, or (file, line) of a spec's entry)."""
     path = _input_path(path, "scene path")
     texts, labels = _overrides_and_labels(overrides, sources)
-    return _labelled_call(lambda: _gimbalsim._load_scene(path, texts), texts, labels)
+    return _warn_loaded(_labelled_call(lambda: _gimbalsim._load_scene(path, texts), texts, labels), texts, labels)
 
 
 def load_scene_text(yaml_text, origin="<text>", overrides=None, sources=None):
     """The same from YAML text; `origin` names it in messages."""
     texts, labels = _overrides_and_labels(overrides, sources)
-    return _labelled_call(lambda: _gimbalsim._load_scene_text(yaml_text, origin, texts), texts, labels)
+    scene = _labelled_call(lambda: _gimbalsim._load_scene_text(yaml_text, origin, texts), texts, labels)
+    return _warn_loaded(scene, texts, labels)
 
 
 def _replace(self, overrides, sources=None):
     """A new scene: this one's every value, then the overrides (dict or
     "key=value" list; sources as for load_scene)."""
     texts, labels = _overrides_and_labels(overrides, sources)
+    # _replaced lays the overrides after every value of this scene: their indices follow those
     try:
-        return self._replaced(texts)
+        scene = self._replaced(texts)
     except SceneError as e:
-        # _replaced lays the overrides after every value of this scene: their indices follow those
         base = [f"{k}={v}" for k, v in self.values().items()]
         raise _relabelled(e, base + texts, [f"{self.path}: {t.split('=', 1)[0]}" for t in base] + labels) from None
+    return _warn_loaded(scene, texts, labels, said=len(self.values()))
 
 
 def _scene_repr(self):

@@ -44,7 +44,7 @@ import pathlib
 import sys
 
 import gimbalsim
-from . import _cluster
+from . import _cluster, _scene_warnings
 from ._allocate_report import CSV, JSON, PAGE, PLOT, _text, record, write
 from ._allocate_search import next_value, outcome, scan_values
 from ._allocate_spec import AllocationSpec
@@ -235,6 +235,7 @@ def main(argv=None):
     if a.batch is not None and not 1 <= a.batch <= 10_000_000:
         ap.error("--batch must be in [1, 10000000]")
     _cluster.raise_on_signals()
+    _scene_warnings.quiet()
     out = pathlib.Path(a.out)
     return guarded_main("allocate", lambda: _run(a, out), {
         OutputRefused: lambda e: f"; {_kept_and_next(out, 'move it out of --out and ')}",

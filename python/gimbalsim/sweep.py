@@ -43,7 +43,7 @@ import sys
 import time
 
 import gimbalsim
-from . import _budget, _budget_report, _cluster, _provenance, _study_file, replay
+from . import _budget, _budget_report, _cluster, _provenance, _scene_warnings, _study_file, replay
 from ._console import keep_console
 from ._errors import (EXIT_OK, Interrupted, OutputError, SpecError, exit_program,  # noqa: F401 (SpecError: API)
                       guarded_main)
@@ -67,6 +67,7 @@ def run_batch(base, closed, items):
     released. Returns ([row dict], seconds inside this task, which worker process ran it)."""
     t_task = time.perf_counter()
     _cluster.keep_freed_memory()
+    _scene_warnings.quiet()
     cache, rows = {}, []
     for i, overrides in items:
         t0 = time.perf_counter()
@@ -326,6 +327,7 @@ def main(argv=None):
     if a.replay is None and a.plot is not None:
         ap.error("--plot goes with --replay (a sweep's plots are in --out/plots)")
     _cluster.raise_on_signals()
+    _scene_warnings.quiet()
     if a.replay is not None:
         return replay.main(a.spec, a.replay, a.out, a.plot)
     out = pathlib.Path(a.out)

@@ -44,7 +44,7 @@ import warnings
 import numpy as np
 
 import gimbalsim
-from . import _cluster, _study_file
+from . import _cluster, _scene_warnings, _study_file
 from ._console import keep_console
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, SpecError, exit_program, guarded_main
 from ._closed_spec import plant_overrides
@@ -58,6 +58,7 @@ from ._tune_spec import METRICS, TuneSpec, fail_reason, suggest  # noqa: F401 (T
 def run_plants(base, controller, duration, items):
     """A task: closed loops of one controller on plants [(j, overrides)]."""
     _cluster.keep_freed_memory()
+    _scene_warnings.quiet()
     out = []
     for j, overrides in items:
         t0 = time.perf_counter()
@@ -312,6 +313,7 @@ def main(argv=None):
     ap.add_argument("--no-progress", action="store_true")
     a = ap.parse_args(argv)
     _cluster.raise_on_signals()
+    _scene_warnings.quiet()
     out = pathlib.Path(a.out)
     return guarded_main("tune", lambda: _run(a, out), {Interrupted: lambda e: _interrupted_note(out)})
 

@@ -3,6 +3,7 @@ the command line makes is a SceneError naming the same key and place (an
 override named as the dict entry it was), and a pickled Scene is the same scene."""
 import pickle
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -187,3 +188,23 @@ def test_a_printed_default_or_a_value_said_at_load_is_not_warned_about_on_replac
     again = planar.replace(["friction.mu=0.2"])
     assert not [w for w in again.warnings if "bearing_length" in w or "joint1.friction.mu" in w], again.warnings
     assert [w for w in planar.replace(["contact.bearing_length=0.1"]).warnings if "bearing_length" in w]
+
+
+def test_a_value_that_does_not_act_is_a_python_warning_naming_the_callers_entry():
+    # (pass 76) the loader's warnings stayed in scene.warnings: Scene.replace and load_scene said nothing where the
+    # command line says "this value does not act" (docs/scene_keys.md: accepted with a warning)
+    both = {"contact.clearance": 2.0e-4, "joint2.contact.clearance": 3.0e-4}
+    base = gimbalsim.load_scene(CLEARANCE)
+    for call in (lambda: base.replace(both), lambda: gimbalsim.load_scene(CLEARANCE, both)):
+        with pytest.warns(gimbalsim.SceneWarning) as said:
+            call()
+        ours = [str(w.message) for w in said if "contact.clearance=" in str(w.message)]
+        assert ours == ["overrides['contact.clearance'] (contact.clearance=0.0002): key 'contact.clearance': every "
+                        "joint it would act on gives its own (joint2.contact.clearance): this value does not act"], \
+            [str(w.message) for w in said]
+    # what the scene itself gave was said at its load, not at each replace
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", gimbalsim.SceneWarning)
+        base.replace({"friction.mu": 0.2})
+    with pytest.warns(gimbalsim.SceneWarning, match="triangle inequality"):
+        gimbalsim.load_scene(CLEARANCE)
