@@ -67,14 +67,22 @@ out_folder run_paper.sh "$OUT/plots"
 trap 'out_folder_undo' EXIT  # a refused simulation leaves no folder it made
 # A link or a folder under an output's name (pass 71: a folder there cost the whole run, then exit 4; a link was
 # replaced without a word): refused as the programs refuse theirs, exit $1, saying what that leaves ($2).
+# An output that is the same file as an input scene (a hard link) is refused too, as the programs refuse theirs
+# (pass 76: plot_summary.txt was replaced without a word).
+RUNS=(ideal:paper_ideal clearance:paper_clearance spatial:paper_spatial2)  # output name:scene
 refuse_names_in_the_way() {
-  local code=$1 leaves=$2 name why
+  local code=$1 leaves=$2 name why run
   shift 2
   for name in "$@"; do
+    why=
     if [ -L "$name" ]; then why="a symbolic link; not written through"
     elif [ -d "$name" ]; then why="a folder where an output goes"
-    else continue
+    else
+      for run in "${RUNS[@]}"; do
+        [ ! "$name" -ef "tools/scenes/${run#*:}.yaml" ] || why="the same file as the input tools/scenes/${run#*:}.yaml"
+      done
     fi
+    [ -n "$why" ] || continue
     echo "run_paper.sh: $name is $why: move it away; $leaves" >&2
     exit "$code"
   done
@@ -86,7 +94,6 @@ refuse_names_in_the_way 2 "nothing run" "$OUT"/{ideal,clearance,spatial}.{csv,js
 [ "$RESULTS" = 0 ] || /usr/bin/python3 tools/pages/results_page.py --check --page docs/results/paper.md
 
 echo "== [3/4] simulations${SETS[*]:+ (overrides: ${SETS[*]})}"
-RUNS=(ideal:paper_ideal clearance:paper_clearance spatial:paper_spatial2)
 # Every scene takes the overrides before the first runs (pass 68: one the third scene refused came after the
 # first two runs had replaced theirs, and the exit said "nothing run").
 for run in "${RUNS[@]}"; do  # (what it says is said again by the run itself: shown only for a refusal)

@@ -90,6 +90,19 @@ def test_a_link_or_a_folder_under_an_output_name_is_refused_before_anything_runs
         assert not (out.parent / "elsewhere").exists() and not (out.parent / "elsewhere.png").exists(), case
 
 
+def test_an_output_that_is_an_input_scene_by_a_hard_link_is_refused_before_anything_runs(tmp_path):
+    # (pass 76) plot_summary.txt hard-linked to a scene the runs read was replaced without a word, where the
+    # programs refuse an output that is the same file as an input
+    root, out = copy_of_tools(tmp_path)
+    scene = root / "tools" / "scenes" / "paper_clearance.yaml"
+    os.link(scene, out / "plot_summary.txt")
+    p = run_paper(root, "sim.duration=0.1")
+    assert p.returncode == 2, p.stderr
+    assert "plot_summary.txt is the same file as the input tools/scenes/paper_clearance.yaml" in p.stderr and \
+        "nothing run" in p.stderr, p.stderr
+    assert "== [3/4] simulations" not in p.stdout and (out / "plot_summary.txt").samefile(scene)
+
+
 def test_a_stop_during_the_runs_says_the_previous_set_is_kept(tmp_path):
     # (pass 71) gimbalsim said "rename failed" as the script's exit removed the staging folder under it; (pass 72)
     # nothing said what a stop had left
