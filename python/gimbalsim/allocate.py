@@ -44,7 +44,7 @@ import pathlib
 import sys
 
 import gimbalsim
-from . import _cluster, _scene_warnings
+from . import _cluster, _scene_warnings, _study_file
 from ._allocate_report import CSV, JSON, PAGE, PLOT, _text, record, write
 from ._allocate_search import next_value, outcome, scan_values
 from ._allocate_spec import AllocationSpec
@@ -162,6 +162,9 @@ def allocate(a, out, workers=None, scheduler=None, resume=False, batch=None, pro
         # One cluster for every value's sweep (a local one starts for the first value to run).
         cluster = stack.enter_context(_cluster.dask_client(None, scheduler)) if scheduler else None
         _start(out, fingerprint, a.fingerprint, inputs)
+        # one allocation per folder, and what a killed writer left in it removed (pass 76: only its value
+        # sweeps' folders were held, so .allocation.csv.<pid>.1.tmp of a SIGKILLed allocation stayed)
+        _study_file.hold(out)
         while (value := next_value(a, tried)) is not None:
             k = len(tried)
             folder, sub = out / VALUES / str(k), a.sweep_at(value)

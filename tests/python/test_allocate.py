@@ -11,6 +11,8 @@ stream (sensors.seed)."""
 import csv
 import json
 import math
+import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -390,3 +392,22 @@ def test_a_fingerprint_not_written_leaves_no_folder_to_refuse_the_next_run(tmp_p
     err = capsys.readouterr().err
     assert "nothing kept" in err and "free the space and run again\n" in err and "--resume" not in err, err
     assert not (tmp_path / "o").exists()  # the folders it made went: a plain run is not refused over them
+
+
+def test_a_resume_removes_what_a_killed_writer_left_in_the_allocations_own_folder(tmp_path, bracketed):
+    # (pass 76) only the value sweeps' folders were cleaned: a SIGKILLed allocation's own temporaries stayed
+    out = tmp_path / "out"
+    shutil.copytree(bracketed[0] / "out", out)
+    spec = write_spec(tmp_path, BASE + ALLOCATE.format(requirement=REQUIREMENT, values=6))
+    p = subprocess.Popen([sys.executable, "-c", "pass"])
+    p.wait()
+    left = [out / f".allocation.csv.{p.pid}.1.tmp", out / "values" / f".x.{p.pid}.2.tmp"]
+    for f in left:
+        f.write_text("half a file")
+    live = out / f".allocation.json.{os.getpid()}.1.tmp"
+    live.write_text("a live writer's")
+    q = run(spec, out, "--resume")
+    assert q.returncode == 0, q.stderr
+    assert not any(f.exists() for f in left) and live.exists(), sorted(os.listdir(out))
+    assert f"removed 2 temporary file(s) a killed writer left: .allocation.csv.{p.pid}.1.tmp, " \
+        f"values/.x.{p.pid}.2.tmp" in q.stderr, q.stderr

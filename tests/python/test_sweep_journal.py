@@ -294,7 +294,7 @@ def test_a_second_sweep_on_a_running_sweeps_folder_is_refused(spec, tmp_path):
             p = subprocess.run(sweep_cmd(spec, out, *args), capture_output=True, text=True, timeout=120)
             assert p.returncode == 2, p.stderr
             assert "Traceback" not in p.stderr and (
-                "another sweep or tuner is running in this folder" in p.stderr or "already holds a sweep" in p.stderr)
+                "another sweep, tuner or allocation is running in this folder" in p.stderr or "already holds a sweep" in p.stderr)
     finally:
         _, err = first.communicate(timeout=300)
     assert first.returncode == 0, err
@@ -329,7 +329,7 @@ def test_a_tuner_on_a_folder_another_is_starting_in_is_told_so(tmp_path):
                             "--no-progress", "--workers", "1"], capture_output=True, text=True, timeout=120)
     finally:
         os.close(fd)
-    assert p.returncode == 2 and "another sweep or tuner is running in this folder" in p.stderr, p.stderr
+    assert p.returncode == 2 and "another sweep, tuner or allocation is running in this folder" in p.stderr, p.stderr
     assert "remove it" not in p.stderr and (out / "study.db").exists()
 
 

@@ -274,7 +274,7 @@ def test_a_second_tuner_on_a_running_study_is_refused(tmp_path):
         assert first.poll() is None, "the first tuner ended before the second could try"
         p = subprocess.run(tune_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=120)
         assert p.returncode == 2, p.stderr
-        assert "another sweep or tuner is running in this folder" in p.stderr and "Traceback" not in p.stderr
+        assert "another sweep, tuner or allocation is running in this folder" in p.stderr and "Traceback" not in p.stderr
     finally:
         _, err = first.communicate(timeout=600)
     assert first.returncode == 0, err
