@@ -318,14 +318,20 @@ class _StoreOnce(argparse._StoreAction):
         super().__call__(parser, namespace, values, option_string)
 
 
-def program_parser(prog, doc):
+def program_parser(module, doc, spec_help, out_help):
     """The argument parser of the package's programs (sweep, tune, allocate):
-    no abbreviations, the module's doc as its description, and every flag
-    that takes one value refused when given twice."""
-    ap = argparse.ArgumentParser(allow_abbrev=False, prog=prog, description=doc,
+    no abbreviations, the module's doc as its description, --version, the
+    spec, --out and the cluster's flags; every flag that takes one value is
+    refused when given twice."""
+    from . import __version__
+    ap = argparse.ArgumentParser(allow_abbrev=False, prog=f"python3 -m gimbalsim.{module}", description=doc,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.register("action", None, _StoreOnce)
     ap.register("action", "store", _StoreOnce)
+    ap.add_argument("--version", action="version", version=f"gimbalsim.{module} {__version__}")
+    ap.add_argument("spec", help=spec_help)
+    ap.add_argument("--out", type=path_text, required=True, help=out_help)
+    add_cluster_arguments(ap)
     return ap
 
 

@@ -223,11 +223,9 @@ def _kept_and_next(out, first):
 
 
 def main(argv=None):
-    ap = _cluster.program_parser("python3 -m gimbalsim.allocate", __doc__)
-    ap.add_argument("--version", action="version", version="gimbalsim.allocate " + gimbalsim.__version__)
-    ap.add_argument("spec", help="allocation spec (YAML): a closed-loop sweep spec with an allocate: section")
-    ap.add_argument("--out", type=_cluster.path_text, required=True, help="output directory")
-    _cluster.add_cluster_arguments(ap)
+    ap = _cluster.program_parser("allocate", __doc__,
+                                 "allocation spec (YAML): a closed-loop sweep spec with an allocate: section",
+                                 "output directory")
     ap.add_argument("--resume", action="store_true", help="finish an interrupted allocation in --out")
     ap.add_argument("--check", action="store_true",
                     help="check the spec and --out as a run would, run and write nothing (exit 0 or 2)")

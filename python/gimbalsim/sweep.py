@@ -42,7 +42,6 @@ import socket
 import sys
 import time
 
-import gimbalsim
 from . import _budget, _budget_report, _cluster, _provenance, _scene_warnings, _study_file, replay
 from ._console import keep_console
 from ._errors import (EXIT_OK, Interrupted, OutputError, SpecError, exit_program,  # noqa: F401 (SpecError: API)
@@ -291,16 +290,12 @@ def _kept_and_next(out, first):
 
 
 def main(argv=None):
-    ap = _cluster.program_parser("python3 -m gimbalsim.sweep", __doc__)
-    ap.add_argument("--version", action="version", version="gimbalsim.sweep " + gimbalsim.__version__)
-    ap.add_argument("spec", help="sweep spec (YAML); with --replay, the sweep's output directory")
-    ap.add_argument("--out", type=_cluster.path_text, required=True,
-                    help="output directory; with --replay, the time series CSV")
+    ap = _cluster.program_parser("sweep", __doc__, "sweep spec (YAML); with --replay, the sweep's output directory",
+                                 "output directory; with --replay, the time series CSV")
     ap.add_argument("--replay", type=_cluster.whole_number, default=None, metavar="I",
                     help="run sample I of the sweep in SPEC alone")
     ap.add_argument("--plot", type=_cluster.path_text, default=None,
                     help="with --replay: the plot (default: --out with .png)")
-    _cluster.add_cluster_arguments(ap)
     ap.add_argument("--resume", action="store_true", help="finish an interrupted sweep in --out")
     ap.add_argument("--batch", type=_cluster.whole_number, default=None,
                     help=f"samples per task, in [1, {MAX_SAMPLES}] (default: about 8 tasks per worker, at most 10)")

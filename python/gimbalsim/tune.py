@@ -304,11 +304,7 @@ def _plot(out, rows, spec):
 
 
 def main(argv=None):
-    ap = _cluster.program_parser("python3 -m gimbalsim.tune", __doc__)
-    ap.add_argument("--version", action="version", version="gimbalsim.tune " + gimbalsim.__version__)
-    ap.add_argument("spec", help="tuning spec (YAML)")
-    ap.add_argument("--out", type=_cluster.path_text, required=True, help="output directory")
-    _cluster.add_cluster_arguments(ap)
+    ap = _cluster.program_parser("tune", __doc__, "tuning spec (YAML)", "output directory")
     ap.add_argument("--resume", action="store_true", help="continue the study stored in --out")
     ap.add_argument("--no-progress", action="store_true")
     a = ap.parse_args(argv)
