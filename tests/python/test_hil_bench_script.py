@@ -15,7 +15,8 @@ SCRIPT = SOURCE / "tools" / "hil" / "run_hil_bench.sh"
 
 def bench(out, *args, build=None, cwd=None):
     env = {**os.environ, "GIMBALSIM_BUILD": build or str(BIN.parent)}  # the tests' build, never a build of its own
-    return subprocess.run(["bash", str(SCRIPT), "--out", str(out), "--port", "7741", *args], capture_output=True,
+    port = [] if "--port" in args else ["--port", "7741"]  # a port the test gives is the only one (a flag once)
+    return subprocess.run(["bash", str(SCRIPT), "--out", str(out), *port, *args], capture_output=True,
                           text=True, timeout=300, env=env, cwd=cwd)
 
 

@@ -20,7 +20,8 @@ import output_file  # noqa: E402
 
 def bench(*args, cwd=None):
     env = {**os.environ, "GIMBALSIM_BUILD": str(BIN.parent)}  # the tests' build, never a build of its own
-    return subprocess.run(["bash", str(SCRIPT), "--port", "7743", *map(str, args)], capture_output=True, text=True,
+    port = [] if "--port" in args else ["--port", "7743"]  # a port the test gives is the only one (a flag once)
+    return subprocess.run(["bash", str(SCRIPT), *port, *map(str, args)], capture_output=True, text=True,
                           timeout=300, env=env, cwd=cwd)
 
 
