@@ -30,8 +30,8 @@ def hold(out):
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except BlockingIOError:
         os.close(fd)
-        raise SpecError(f"{out}: another sweep, tuner or allocation is running in this folder; wait for it to end (then "
-                        f"--resume), or use another --out") from None
+        raise SpecError(f"{out}: another sweep, tuner or allocation is running in this folder; wait for it to end "
+                        f"(then --resume), or use another --out") from None
     _HELD.append(fd)
     _remove_dead_temporaries(out)
 

@@ -29,9 +29,9 @@ NUMERIC = ("number", "int")
 TAIL_SD = 4.8916
 NORMAL_TAIL = "1e-6 two-sided tail"
 DISTRIBUTIONS = ("uniform", "loguniform", "normal", "choice", "disk", "ball")
-# An inertia's row cells, in the six-number spelling the scene takes: each spelling of a choice ([Ixx, Iyy, Izz],
-# six numbers, a 3x3 matrix) has one column per entry, so a row has as many cells as its header (pass 76: a choice
-# of inertias wrote each as three cells under one column).
+# An inertia's row cells, in the six-number spelling the scene takes: either spelling of a choice ([Ixx, Iyy, Izz]
+# or six numbers) has one column per entry, so a row has as many cells as its header (pass 76: a choice of
+# inertias wrote each as three cells under one column).
 INERTIA_PARTS = ("xx", "yy", "zz", "xy", "xz", "yz")
 
 
@@ -230,7 +230,8 @@ def parse_parameter(spec, section, key, node, key_types, known_as=SCENE_KEYS):
 
 
 def inertia6(v):
-    """An inertia in any spelling the scene takes as [Ixx, Iyy, Izz, Ixy, Ixz,
+    """An inertia in any spelling the scene takes (three numbers, six, or the
+    3x3 matrix a scene prints for a loaded one) as [Ixx, Iyy, Izz, Ixy, Ixz,
     Iyz]; None for a value that is no inertia (or a 3x3 that is not symmetric)."""
     if not isinstance(v, (list, tuple)):
         return None
