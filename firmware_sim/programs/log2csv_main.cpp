@@ -159,6 +159,10 @@ int mainImpl(int argc, char** argv) {
   app.add_flag("--list", list, "list the channels in the log with message counts and types, then exit");
   if (const auto rc = program::parse(app, argc, argv, "gimbalsim_log2csv")) return *rc;
   prefix_given = app.count("--channel-prefix") > 0;
+  // (pass 78) a channel named twice was converted once: a value twice in a list flag is refused, as elsewhere
+  if (const std::string why = program::repeatedValue("--channel", channels); !why.empty()) {
+    return program::refuse("gimbalsim_log2csv", why);
+  }
   if (const std::string why = Channels::prefixProblem(prefix); prefix_given && !why.empty()) {
     return refuse("--channel-prefix '" + prefix + "': " + why);
   }

@@ -15,7 +15,7 @@ import time
 import threading
 import warnings
 
-from . import _number
+from . import _flags, _number
 from ._early_signals import STOP_SIGNALS
 from ._errors import Interrupted, NoCluster
 
@@ -305,19 +305,6 @@ def scheduler_address(text):
     return text
 
 
-class _StoreOnce(argparse._StoreAction):
-    """A flag that takes one value, refused when given twice: argparse keeps
-    the last silently (pass 76: `--out a --out b`, `--workers 1 --workers 2`),
-    as the C++ programs do not (CLI11 refuses)."""
-
-    def __call__(self, parser, namespace, values, option_string=None):
-        given = namespace.__dict__.setdefault("_given_once", set())
-        if option_string is not None and self.dest in given:
-            parser.error(f"{'/'.join(self.option_strings)}: given twice; it takes one value")
-        given.add(self.dest)
-        super().__call__(parser, namespace, values, option_string)
-
-
 def program_parser(module, doc, spec_help, out_help):
     """The argument parser of the package's programs (sweep, tune, allocate):
     no abbreviations, the module's doc as its description, --version, the
@@ -326,8 +313,7 @@ def program_parser(module, doc, spec_help, out_help):
     from . import __version__
     ap = argparse.ArgumentParser(allow_abbrev=False, prog=f"python3 -m gimbalsim.{module}", description=doc,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.register("action", None, _StoreOnce)
-    ap.register("action", "store", _StoreOnce)
+    _flags.one_value_each(ap)
     ap.add_argument("--version", action="version", version=f"gimbalsim.{module} {__version__}")
     ap.add_argument("spec", help=spec_help)
     ap.add_argument("--out", type=path_text, required=True, help=out_help)

@@ -514,6 +514,41 @@ def test_every_tools_script_answers_version_as_the_programs_do(script):
 
 
 
+@pytest.mark.parametrize("script", PARSED)
+def test_every_tools_parser_keeps_the_flag_rules(script):
+    # (pass 78) compare_bench.py took --rounds 2 --rounds 3 and --filter= (every benchmark ran): every script's
+    # parser starts with output_file.standard_flags (directly or through results_page.page_arguments)
+    text = (SOURCE / script).read_text()
+    assert "standard_flags(" in text or "page_arguments(" in text or script == "tools/pages/output_file.py", script
+
+
+@pytest.mark.parametrize("args,named", [(("--rounds", "2", "--rounds", "3"), "--rounds: given twice"),
+                                        (("--filter=",), "--filter: nothing after it")])
+def test_compare_bench_refuses_a_flag_twice_or_empty(args, named, tmp_path):
+    bench = BIN / "gimbalsim_bench"
+    p = subprocess.run([sys.executable, str(SOURCE / "tools/bench/compare_bench.py"), *args, str(bench), str(bench)],
+                       capture_output=True, text=True, timeout=60, cwd=tmp_path)
+    assert p.returncode == 2 and f"compare_bench.py: error: {named}" in p.stderr, (p.returncode, p.stderr)
+    assert "BM_" not in p.stdout  # nothing timed
+
+
+@pytest.mark.parametrize("flags,named", [(("--benchmark_filter=x", "--benchmark_filter=BM_Rk4"),
+                                          "--benchmark_filter: given twice"),
+                                         (("--benchmark_min_time=0x1",), "--benchmark_min_time: must be a plain"),
+                                         (("--benchmark_min_time=nan",), "--benchmark_min_time: must be a plain"),
+                                         (("--benchmark_repetitions=010",),
+                                          "--benchmark_repetitions: must be a whole")])
+def test_the_benchmarks_read_their_flags_as_the_programs_do(flags, named, tmp_path):
+    # (pass 78) a second filter won, 0x1 and 010 (ten repetitions) were taken, and min_time=nan never ended
+    p = subprocess.run([str(BIN / "gimbalsim_bench"), *flags], capture_output=True, text=True, timeout=60,
+                       cwd=tmp_path)
+    assert p.returncode == 2 and f"gimbalsim_bench: error: {named}" in p.stderr, (p.returncode, p.stderr)
+    p = subprocess.run(["bash", str(SOURCE / "tools/bench/run_bench.sh"), *flags], capture_output=True, text=True,
+                       timeout=60, cwd=tmp_path, env={**os.environ, "BENCH": str(BIN / "gimbalsim_bench")})
+    told = "the script sets it; give REPS=N" if "repetitions" in named else named  # the script's own flag
+    assert p.returncode == 2 and told in p.stderr, (p.returncode, p.stderr)
+
+
 @pytest.mark.parametrize("arg", ["--benchmark_filter=", "--benchmark_min_time="])
 def test_the_bench_script_refuses_nothing_after_a_flags_equals(arg, tmp_path):
     # (pass 76) --benchmark_filter= ran every benchmark: nothing after '=' is refused, as by the programs

@@ -55,7 +55,7 @@ def one_pass(side, binary, flt, min_time):
 
 def main():
     ap = argparse.ArgumentParser(allow_abbrev=False, description=__doc__.splitlines()[0])
-    output_file.add_version(ap)
+    output_file.standard_flags(ap)
     ap.add_argument("old")
     ap.add_argument("new")
     ap.add_argument("--filter", default="BM_(Rk4|Step)<")

@@ -73,7 +73,7 @@ def report(med, reps):
 def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(p)
+    output_file.standard_flags(p)
     output_file.add_build(p)
     p.add_argument("--reps", type=output_file.arg_whole(1, 10**6), default=9, help="benchmark repetitions (medians)")
     p.add_argument("--results", action="store_true", help="also write docs/results/closed_loop_cost.md")

@@ -155,7 +155,7 @@ def hil_section(a):
 def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(p)
+    output_file.standard_flags(p)
     output_file.add_build(p)
     p.add_argument("--baseline-bench", help="gimbalsim_bench built from an older commit (the 'before')")
     p.add_argument("--baseline-name", default="baseline", help="what the baseline is, e.g. its commit")

@@ -99,7 +99,7 @@ def bench_threads(scene, n, repeats):
 def main():
     ap = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(ap)
+    output_file.standard_flags(ap)
     ap.add_argument("--repeats", type=output_file.arg_whole(1, 1000), default=7, help="measurements per point (median)")
     ap.add_argument("--steps", type=output_file.arg_whole(1, 10**7), default=5000, help="steps per measurement")
     a = ap.parse_args()

@@ -77,7 +77,7 @@ def bench_table(path):
 def main():
     ap = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    results_page.output_file.add_version(ap)
+    results_page.output_file.standard_flags(ap)
     ap.add_argument("--bench-json", required=True)
     ap.add_argument("--mujoco-dir")
     ap.add_argument("--no-mujoco", help="why there is no MuJoCo figure")

@@ -187,7 +187,7 @@ def report(a, open_e, open_same, closed_e, closed_same, per_task):
 def main():
     ap = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(ap)
+    output_file.standard_flags(ap)
     ap.add_argument("--samples", type=output_file.arg_whole(1, 10**7), default=200, help="open-loop samples")
     ap.add_argument("--duration", type=output_file.arg_decimal(1e-3, 1e6), default=0.5,
                     help="sim.duration of each open-loop sample [s]")

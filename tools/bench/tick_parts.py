@@ -120,7 +120,7 @@ def report(med, shipped, no_truth, runs):
 def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(p)
+    output_file.standard_flags(p)
     output_file.add_build(p)
     p.add_argument("--reps", type=output_file.arg_whole(1, 10**6), default=9, help="benchmark repetitions (medians)")
     p.add_argument("--runs", type=output_file.arg_whole(1, 10**6), default=7,

@@ -327,7 +327,7 @@ def page_body(text):
 def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(p)
+    output_file.standard_flags(p)
     p.add_argument("--seconds", type=output_file.arg_decimal(1e-3, 1e6), default=10.0,
                    help="seconds per rate in the sweep")
     p.add_argument("--rates", type=output_file.arg_whole_list(1, 10**6), default="1000,2000,4000,5000,8000,10000",

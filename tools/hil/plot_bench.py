@@ -29,7 +29,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
-import output_file  # noqa: E402  (add_version)
+import output_file  # noqa: E402  (standard_flags)
 from output_file import (Refused, arg_decimal, check_as_written, check_before_writing, check_figure_format,  # noqa: E402
                          check_header, plain_number, run_script, savefig, underflowed)  # the package's one writer
 
@@ -184,7 +184,7 @@ def log_series(err):
 def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(p)
+    output_file.standard_flags(p)
     p.add_argument("truth", help="truth CSV (firmware_sim --truth-csv or gimbalsim_log2csv)")
     p.add_argument("--out", required=True, help="output image (.png, .pdf, .svg)")
     p.add_argument("--title", default="", help="figure title (default: the CSV path)")

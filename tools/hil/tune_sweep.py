@@ -39,7 +39,7 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "tools", "pages"))
-import output_file  # noqa: E402  (add_version)
+import output_file  # noqa: E402  (standard_flags)
 from output_file import OutputError, Refused, check_before_writing, open_output, run_script, write_text  # noqa: E402
 URL = "udpm://239.255.76.67:7667?ttl=0"
 STOPPED = 3  # the exit-code table's "the run stopped" (firmware_sim's, controller_sweep's)
@@ -52,7 +52,7 @@ OMEGA, DURATION, SETTLE_TOL = (1e-3, 1e6, False), (0.0, 1e9, True), (0.0, 10.0, 
 def parse_args():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(p)
+    output_file.standard_flags(p)
     p.add_argument("--scene", default=os.path.join(ROOT, "tools/scenes/paper_clearance.yaml"))
     p.add_argument("--scene-set", action="append", default=[], help="scene override key=value (firmware_sim --set)")
     p.add_argument("--config", default=os.path.join(ROOT, "controllers/config/default.yaml"))

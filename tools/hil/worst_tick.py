@@ -265,7 +265,7 @@ def page_body(text):
 def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(p)
+    output_file.standard_flags(p)
     p.add_argument("--seconds", type=output_file.arg_decimal(1e-3, 1e6), default=100.0,
                    help="simulated seconds per scene in lockstep (part A)")
     p.add_argument("--realtime-seconds", type=output_file.arg_decimal(0, 1e6), default=100.0,

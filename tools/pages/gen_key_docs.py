@@ -40,7 +40,7 @@ def replace_table(text, table):
 def main():
     p = argparse.ArgumentParser(allow_abbrev=False, description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(p)
+    output_file.standard_flags(p)
     p.add_argument("bin_dir", nargs="?", default=str(ROOT / "build" / "bin"),
                    help="the build's bin folder holding gimbalsim and pointing_controller (default build/bin)")
     bin_dir = pathlib.Path(p.parse_args().bin_dir)

@@ -36,6 +36,7 @@ _writer = _standalone("gimbalsim_output_writer", "_output.py")
 _console = _standalone("gimbalsim_console", "_console.py")
 _number = _standalone("gimbalsim_number", "_number.py")  # the one reading of a number given as text
 _signals = _standalone("gimbalsim_early_signals", "_early_signals.py")  # STOP_SIGNALS
+_flags = _standalone("gimbalsim_flags", "_flags.py")  # a flag of one value: once, never empty
 _console.keep_console()  # imported by a script: a reader gone stops nothing, its --help included
 
 OutputError = _writer.OutputError
@@ -149,10 +150,12 @@ class _Version(argparse.Action):
         parser.exit(0)
 
 
-def add_version(parser):
-    """--version: "<script> <version>" on stdout and exit 0, as every program and module answers
-    (docs/usage.md "Exit codes"; pass 44: the tools/ scripts refused it, exit 2). The version is the top
-    CMakeLists.txt's project() VERSION, the one the programs and the package print."""
+def standard_flags(parser):
+    """What every script's parser keeps, called first: --version ("<script> <version>" on stdout and exit 0,
+    as every program and module answers: docs/usage.md "Exit codes"; pass 44: the tools/ scripts refused it),
+    the version the top CMakeLists.txt's project() VERSION; and a flag of one value given once, never empty
+    (python/gimbalsim/_flags.py, as the package's programs)."""
+    _flags.one_value_each(parser)
     parser.add_argument("--version", action=_Version)
 
 

@@ -94,7 +94,7 @@ def page_arguments(doc, default_dir):
     regenerate command, and the start time and load its run script noted."""
     ap = argparse.ArgumentParser(
         allow_abbrev=False, description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(ap)
+    output_file.standard_flags(ap)
     # a folder the user names is where they stand, the default the repository's (pass 43: both from the repository,
     # and a missing one a traceback); a study's run file missing in it is refused by name (run_files)
     ap.add_argument("--dir", type=_study_folder, default=str(ROOT / default_dir))
@@ -350,7 +350,7 @@ def make_index(folder, pending=None):
 def main(argv=None):
     ap = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(ap)
+    output_file.standard_flags(ap)
     ap.add_argument("--page", help="the page to write (docs/results/NAME.md)")
     ap.add_argument("--title")
     ap.add_argument("--command", help="the command line that regenerates the page")

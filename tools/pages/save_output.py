@@ -21,7 +21,7 @@ import output_file  # noqa: E402  (the tools' writer, by path)
 
 def main():
     ap = argparse.ArgumentParser(allow_abbrev=False, description=__doc__.split("\n\n")[0])
-    output_file.add_version(ap)
+    output_file.standard_flags(ap)
     ap.add_argument("source", help="the temporary log to copy")
     ap.add_argument("dest", help="the log's name in the output folder")
     ap.add_argument("--check", action="store_true",

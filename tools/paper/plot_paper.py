@@ -31,7 +31,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
-import output_file  # noqa: E402  (add_version)
+import output_file  # noqa: E402  (standard_flags)
 from output_file import Refused, check_before_writing, csv_number, open_output, run_script, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
 from plot_components import C_CLEAR, C_DIFF, C_IDEAL, COMPONENT_FIGURES, fig_components  # noqa: E402  (figs 8-16)
 from plot_joint_kinds import fig_joint_kinds, spatial_tilt  # noqa: E402  (fig 19)
@@ -51,7 +51,7 @@ def save(fig, out_dir, name, written):
 def parse_args(argv):
     p = argparse.ArgumentParser(allow_abbrev=False, description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(p)
+    output_file.standard_flags(p)
     p.add_argument("--ideal", required=True, help="CSV of the ideal-joint run")
     p.add_argument("--clearance", required=True, help="CSV of the clearance-joint run")
     p.add_argument("--out", required=True, help="output directory for the PNGs")

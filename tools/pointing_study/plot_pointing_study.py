@@ -22,7 +22,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pages"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import output_file  # noqa: E402  (add_version)
+import output_file  # noqa: E402  (standard_flags)
 from output_file import Refused, check_as_written, check_before_writing, check_header, run_script, savefig  # noqa: E402  (the package's one writer, tools/pages/output_file.py)
 import numpy as np  # noqa: E402
 import pointing_page  # noqa: E402  (the summary's one reader: its writer's rules)
@@ -145,7 +145,7 @@ def plot_clearance(summary, out):
 def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(p)
+    output_file.standard_flags(p)
     p.add_argument("dir", nargs="?", default="out/pointing_study", help="the tool's --out directory")
     a = p.parse_args()
     if not os.path.isdir(a.dir):  # the study's folder is the input: said as such, not as an output's missing folder

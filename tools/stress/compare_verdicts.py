@@ -63,7 +63,7 @@ def verdicts(path):
 def main():
     p = argparse.ArgumentParser(allow_abbrev=False, description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(p)
+    output_file.standard_flags(p)
     p.add_argument("before")
     p.add_argument("after")
     a = p.parse_args()

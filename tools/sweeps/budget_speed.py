@@ -290,7 +290,7 @@ def check_out(out):
 def main():
     p = argparse.ArgumentParser(allow_abbrev=False, description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    output_file.add_version(p)
+    output_file.standard_flags(p)
     output_file.add_build(p, holding="python/")
     p.add_argument("--spec", default=str(SHIPPED), help="closed-loop sweep spec (default: the shipped budget)")
     p.add_argument("--workers", type=output_file.arg_whole(1, 4 * (os.cpu_count() or 1)), default=2,

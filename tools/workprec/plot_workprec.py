@@ -22,7 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools" / "pages"))
 sys.path.insert(0, str(ROOT / "tools" / "workprec"))
-import output_file  # noqa: E402  (add_version)
+import output_file  # noqa: E402  (standard_flags)
 from output_file import Refused, check_before_writing, check_figure_format, run_script, savefig  # noqa: E402
 import workprec_page  # noqa: E402  (the CSV's one reader: its writer's rules, as the results page reads it)
 
@@ -49,7 +49,7 @@ def read(path):
 
 def main():
     ap = argparse.ArgumentParser(allow_abbrev=False, description=__doc__.splitlines()[0])
-    output_file.add_version(ap)
+    output_file.standard_flags(ap)
     # the repository's, not the working folder's (pass 69: run from elsewhere it named a missing out/ folder)
     ap.add_argument("csv", nargs="?", default=str(ROOT / "out" / "workprec" / "workprec.csv"))
     ap.add_argument("--out", default=None, help="PNG path (default: beside the CSV)")
