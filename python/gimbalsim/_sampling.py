@@ -11,9 +11,9 @@ whose fastest accurate setting is its own. Over the whole shipped budget
 lies within the fine run's order-statistics interval and 52 of 13308 unit
 figures lie beyond TOLERANCE_RAD, at most 2.8e-6 rad; 33 of those 52 are
 not defined to it (the fine run itself moves them beyond it when the
-journal starts 1e-12 m away: tools/sweeps/unit_conditioning.py), 6 more
-are not settled by the fine run (its own figure moves beyond it at 2.5 or
-1.25 us), and 13 the sampling moved.
+journal starts 1e-12 m away: tools/sweeps/unit_conditioning.py), 9 more
+are not settled by the fine run (its own figure moves beyond it at 2.5,
+1.25 or 0.3125 us), and 10 the sampling moved.
 
 - a planar bearing in joint 2 alone (joint 1 ideal) with plain Coulomb
   friction under the fixed sub-step policy: its set-valued Coulomb law with
@@ -72,7 +72,7 @@ def choose(mode, scene_values, given, closed, varied=()):
         return overrides, ("a planar joint 2 with Coulomb friction steps with its set-valued law (" +
                            ", ".join(f"{k} {v}" for k, v in overrides.items()) + "): the shipped budget's "
                            "indices within a 5 us fixed sub-step's intervals, its units' figures within "
-                           f"{TOLERANCE_RAD:g} rad but 52 of 13308 (at most 2.8e-6, 39 of them ill-defined or "
+                           f"{TOLERANCE_RAD:g} rad but 52 of 13308 (at most 2.8e-6, 42 of them ill-defined or "
                            "unsettled; docs/results/budget_speed.md); "
                            "sampling: scene keeps the scene's")
     if j1 == "ideal" and j2 == "spatial" and law == "coulomb" and policy == "fixed":

@@ -17,7 +17,7 @@ sim.substep or sim.substep_policy has no fine run and is refused). It compares
    gimbalsim's stated sampling tolerance when the spec gives none); each
    unit beyond it is nudged (unit_conditioning.py) to tell a figure the
    loop does not define to the tolerance from one the sampling moved, and
-   each one the nudges hold is run again at the fine sub-step / 2 and / 4
+   each one the nudges hold is run again at the fine sub-step / 2, / 4 and / 16
    to tell a figure the fine run has not settled from one the sampling moved.
 
 Usage:
@@ -332,7 +332,8 @@ def _run(a, build, spec_path, out):
     names), then both runs into a fresh folder beside --out, which replaces
     it; a refusal or a failed run leaves --out as it was."""
     sys.path.insert(0, str(build / "python"))
-    from gimbalsim import _sampling
+    from gimbalsim import _sampling, _scene_warnings
+    _scene_warnings.quiet()  # as the sweeps it runs: they judge their keys; the scene's own warnings are simulate's
 
     t0, load0 = str(time.time()), open("/proc/loadavg").read()
     plain, texts, user_paths = derived_specs(spec_path, a.samples, a.fine_substep)
