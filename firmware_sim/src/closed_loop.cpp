@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <initializer_list>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -311,20 +312,50 @@ std::string idleSceneOverride(const char* flag, const std::vector<std::string>& 
   return "";
 }
 
+std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, double duration_s, bool antenna_loop) {
+  const auto one_of = [&](std::initializer_list<const char*> keys) {
+    return std::any_of(keys.begin(), keys.end(), [&](const char* k) { return key == std::string("sensors.") + k; });
+  };
+  if (key.rfind("sensors.tracker_", 0) == 0 || key.rfind("sensors.antenna_gyro_", 0) == 0) {
+    if (!sp.antenna_sensors) return "the run has no antenna sensor (sensors.antenna none): nothing reads it";
+    if (!antenna_loop) return "the controller does not close its loop at the antenna (antenna.tracker ignore)";
+  }
+  // (pass 78) an outage over the whole run takes no sample: what acts only through samples acts on nothing
+  const auto whole_run = [&](const Vec2& outage) {
+    return outage(1) > outage(0) && outage(0) <= 0.0 && outage(1) >= duration_s;
+  };
+  const auto covered = [&](const char* name, const Vec2& outage) {
+    return "sensors." + std::string(name) + "_outage [" + formatNumber(outage(0)) + ", " + formatNumber(outage(1)) +
+           "] s covers the whole run (" + formatNumber(duration_s) + " s): no sample of it is taken";
+  };
+  if (one_of({"star_tracker_noise", "star_tracker_rate", "star_tracker_latency"}) &&
+      whole_run(sp.star_tracker_outage)) {
+    return covered("star_tracker", sp.star_tracker_outage);
+  }
+  if (one_of({"tracker_noise", "tracker_bias", "tracker_rate", "tracker_latency"}) && whole_run(sp.tracker_outage)) {
+    return covered("tracker", sp.tracker_outage);
+  }
+  return "";
+}
+
 std::string idleInEveryRun(const char* flag, const std::vector<std::string>& overrides,
                            const std::vector<StudyScene>& runs, std::vector<std::string>* partly) {
   for (std::size_t k = 0; k < overrides.size(); ++k) {
+    const std::string key = overrides[k].substr(0, overrides[k].find('='));
     std::string why, scenes;
     std::size_t idle_runs = 0;
     for (const StudyScene& r : runs) {
       const auto& idle = r.scene->idle_sets;
       const auto it = std::find_if(idle.begin(), idle.end(),
                                    [&](const auto& s) { return s.first == r.first_set + static_cast<int>(k); });
-      if (it == idle.end()) continue;
+      const std::string sensor_why =
+          it != idle.end() || !r.sensors ? "" : sensorKeyIdle(key, *r.sensors, r.duration_s, r.antenna_loop);
+      if (it == idle.end() && sensor_why.empty()) continue;
       ++idle_runs;
-      if (why.find(it->second) == std::string::npos) why += (why.empty() ? "" : "; ") + it->second;
+      const std::string reason = it != idle.end() ? it->second : "key '" + key + "': " + sensor_why;
+      if (why.find(reason) == std::string::npos) why += (why.empty() ? "" : "; ") + reason;
       // a scene without clearance (the ideal reference) has no bearing by design: not worth a warning
-      if (r.scene->model.hasClearance() && scenes.find("'" + r.name + "'") == std::string::npos) {
+      if (it != idle.end() && r.scene->model.hasClearance() && scenes.find("'" + r.name + "'") == std::string::npos) {
         scenes += (scenes.empty() ? "'" : ", '") + r.name + "'";
       }
     }

@@ -67,14 +67,6 @@ int mainImpl(int argc, char** argv) {
         throw InputError(relabelledProblems(e, scene_labels));
       }
     }();
-    // A --scene-set the scene's joints leave idle (joint 1's friction on an ideal joint 1): every run would
-    // record it and none act (pass 72).
-    std::vector<std::string> partly_idle;  // one scene: idle in some runs is idle in all
-    if (const std::string why = firmware::idleInEveryRun("--scene-set", scene_sets, {{scene_path, &ps.scene, 1}},
-                                                         &partly_idle);
-        !why.empty()) {
-      return program::refuse("controller_sweep", why);
-    }
     // A seed with no noise to draw: recorded with the runs, acting on none.
     if (const std::string why = firmware::idleSeedOverride("--scene-set", scene_sets, ps.sensors.anyNoise());
         !why.empty()) {
@@ -96,6 +88,14 @@ int mainImpl(int argc, char** argv) {
             pointing::profileWindow(base.profile, pointing::Segment::Track), pointing::WindowNeed::Part, opt.duration);
         !why.empty()) {
       return program::refuse("controller_sweep", "--duration: " + why + " (the table's figures are over the track)");
+    }
+    // A --scene-set the scene's joints leave idle (joint 1's friction on an ideal joint 1): every run would
+    // record it and none act (pass 72); a sensor key too (pass 78).
+    std::vector<std::string> partly_idle;  // one scene: idle in some runs is idle in all
+    const firmware::StudyScene run{scene_path, &ps.scene, 1, &ps.sensors, opt.duration, base.antenna.use_tracker};
+    if (const std::string why = firmware::idleInEveryRun("--scene-set", scene_sets, {run}, &partly_idle);
+        !why.empty()) {
+      return program::refuse("controller_sweep", why);
     }
     // Each bandwidth's gains go through the configuration's own key checks
     // (--omega 1e300 gave kp = 5e601 and a NaN command): refused, nothing run.

@@ -272,18 +272,6 @@ int mainImpl(int argc, char** argv) {
     }
   }
   const auto stem = [](const std::string& path) { return std::filesystem::path(path).stem().string(); };
-  // A --scene-set the scenes' joints leave idle: refused where it acts in no run, said where in some (pass 72).
-  const int first_scene_set = static_cast<int>(perfect.size() - scene_sets.size()) + 1;
-  std::vector<firmware::StudyScene> study_scenes;
-  for (const auto& [label, ps] : scenes) {
-    study_scenes.push_back({label == "ideal" ? stem(ideal_path) : stem(clearance_path), &ps.scene, first_scene_set});
-  }
-  std::vector<std::string> partly_idle;
-  if (const std::string why = firmware::idleInEveryRun("--scene-set", scene_sets, study_scenes, &partly_idle);
-      !why.empty()) {
-    return program::refuse(kProgram, why);
-  }
-  for (const std::string& w : partly_idle) std::fprintf(stderr, "%s: warning: %s\n", kProgram, w.c_str());
   const ControllerConfig& main_cfg = controllers.back().second;
   for (const auto& [label, ps] : scenes) {  // refused before any run: a period the plant cannot tick at
     for (const auto& [name, c] : controllers) {
@@ -307,6 +295,23 @@ int mainImpl(int argc, char** argv) {
   if (const std::string why = afterSlewNotReached(main_cfg.profile.slewEnd(), T); !why.empty()) {
     return program::refuse(kProgram, "--duration: " + why + " (every figure of the table lies after the slew)");
   }
+  // A --scene-set the scenes' joints leave idle: refused where it acts in no run, said where in some (pass 72).
+  const int first_scene_set = static_cast<int>(perfect.size() - scene_sets.size()) + 1;
+  std::vector<firmware::StudyScene> study_scenes;
+  // ... and a sensor key they leave idle (the antenna's where no controller closes there, a sample's under an
+  // outage over the whole run)
+  const bool antenna_loop =
+      std::any_of(controllers.begin(), controllers.end(), [](const auto& c) { return c.second.antenna.use_tracker; });
+  for (const auto& [label, ps] : scenes) {
+    study_scenes.push_back({label == "ideal" ? stem(ideal_path) : stem(clearance_path), &ps.scene, first_scene_set,
+                            &ps.sensors, T, antenna_loop});
+  }
+  std::vector<std::string> partly_idle;
+  if (const std::string why = firmware::idleInEveryRun("--scene-set", scene_sets, study_scenes, &partly_idle);
+      !why.empty()) {
+    return program::refuse(kProgram, why);
+  }
+  for (const std::string& w : partly_idle) std::fprintf(stderr, "%s: warning: %s\n", kProgram, w.c_str());
   std::optional<io::OutputFile> md_out;
   if (!markdown_path.empty()) {
     std::vector<std::string> inputs{ideal_path, clearance_path};

@@ -239,16 +239,6 @@ int mainImpl(int argc, char** argv) {
     }
   }
 
-  // A --scene-set the scenes' joints leave idle (joint 1's friction on an ideal joint 1): refused where it acts in
-  // no run, said where it acts in some (pass 72).
-  std::vector<firmware::StudyScene> study_scenes;
-  for (const Planned& p : scenes) study_scenes.push_back({p.scene_name, &p.scene.scene, p.first_scene_set});
-  std::vector<std::string> partly_idle;
-  if (const std::string why = firmware::idleInEveryRun("--scene-set", scene_sets, study_scenes, &partly_idle);
-      !why.empty()) {
-    return program::refuse("gimbalsim_pointing_study", why);
-  }
-  for (const std::string& w : partly_idle) std::fprintf(stderr, "gimbalsim_pointing_study: warning: %s\n", w.c_str());
   for (const auto& sc : scenes) {  // refused before any run: a period the plant cannot tick at
     if (const std::string why = firmware::controlPeriodProblem(sc.scene, cfg.period); !why.empty()) {
       return refuse("--config/--set", why + " (run " + sc.label + ")");
@@ -272,6 +262,20 @@ int mainImpl(int argc, char** argv) {
       !why.empty()) {
     return refuse("--duration", why);
   }
+  // A --scene-set the scenes' joints leave idle (joint 1's friction on an ideal joint 1): refused where it acts in
+  // no run, said where it acts in some (pass 72).
+  std::vector<firmware::StudyScene> study_scenes;
+  // ... and a sensor key its runs leave idle (the antenna's without one, a sample's under a whole-run outage)
+  for (const Planned& p : scenes) {
+    study_scenes.push_back({p.scene_name, &p.scene.scene, p.first_scene_set, &p.scene.sensors, opt.duration,
+                            cfg.antenna.use_tracker});
+  }
+  std::vector<std::string> partly_idle;
+  if (const std::string why = firmware::idleInEveryRun("--scene-set", scene_sets, study_scenes, &partly_idle);
+      !why.empty()) {
+    return program::refuse("gimbalsim_pointing_study", why);
+  }
+  for (const std::string& w : partly_idle) std::fprintf(stderr, "gimbalsim_pointing_study: warning: %s\n", w.c_str());
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) {

@@ -166,9 +166,19 @@ struct StudyScene {
   std::string name;
   const Scene* scene = nullptr;
   int first_set = 1;
+  const SensorParams* sensors = nullptr;  ///< the run's sensors, for sensorKeyIdle (none: not judged)
+  double duration_s = 0.0;                ///< [s] the run's length
+  bool antenna_loop = false;              ///< the controller closes at the antenna given its sensors (antenna.tracker)
 };
 
-/// The study's `flag` values (key=value) that the scene loader found acting on nothing (Scene::idle_sets):
+/// Why the sensor key `key` acts on nothing in a closed-loop run of duration_s [s] on sensors sp ("" when it
+/// can act): an antenna key (sensors.tracker_*, antenna_gyro_*) where the run has no antenna sensor or its
+/// controller does not close at the antenna (antenna_loop false), or a key acting only through the star
+/// tracker's or boresight tracker's samples under an outage over the whole run (none is taken).
+std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, double duration_s, bool antenna_loop);
+
+/// The study's `flag` values (key=value) that the scene loader found acting on nothing (Scene::idle_sets), or
+/// sensorKeyIdle for a run whose sensors are given:
 /// a refusal naming the first one that acts in no run and why (it would be recorded with every run and act
 /// on none), else "". Each one idle in some runs only is told in *partly, naming those runs' scenes that have
 /// clearance (the ideal reference has no bearing by design).
