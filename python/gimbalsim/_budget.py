@@ -156,7 +156,8 @@ def verdict_text(e):
     if r is None:
         return ""
     return (f"{r['verdict']} against {r['requirement_rad']:.3g} rad: {r['n_meeting']}/{e['n']} units meet it, "
-            f"P(a unit meets it) >= {r['fraction_lower_bound']:.4f} at {_pct(e['confidence'])} "
+            + (f"P(a unit meets it) >= {r['fraction_lower_bound']:.4f}" if math.isfinite(r['fraction_lower_bound'])
+               else "no bound on P(a unit meets it)") + f" at {_pct(e['confidence'])} "
             f"(needs {e['level']:.4f})" + (f"; {r['verdict_note']}" if "verdict_note" in r else ""))
 
 

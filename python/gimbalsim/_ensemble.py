@@ -146,7 +146,7 @@ class Verdict:
     n: int
     n_meeting: int
     fraction: float        # n_meeting / n
-    lower: float           # Clopper-Pearson lower bound of the fraction at `confidence`
+    lower: float           # Clopper-Pearson lower bound of the fraction at `confidence` (NaN without a unit)
     level: float
     confidence: float
     passed: bool
@@ -169,7 +169,8 @@ def requirement_verdict(values, requirement, level=LEVEL_3SIGMA, confidence=0.95
     x = _unit_figures(values)
     n = len(x)
     k = int(np.count_nonzero(np.isfinite(x) & (x <= requirement)))
-    lower = 0.0 if k == 0 else float(stats.beta.ppf(1.0 - confidence, k, n - k + 1))
+    # (pass 78) no unit bounds no fraction: NaN with the reason below, not a bound of 0
+    lower = float("nan") if n == 0 else 0.0 if k == 0 else float(stats.beta.ppf(1.0 - confidence, k, n - k + 1))
     # Even with every unit meeting it, the lower bound is (1 - confidence)^(1/n): fewer units can never PASS.
     need = min_units(level, confidence)
     reason = ("no unit: nothing to judge" if n == 0 else

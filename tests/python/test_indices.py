@@ -257,6 +257,7 @@ def test_a_verdict_too_few_units_can_give_says_why():
     assert not v.passed and "500 units cannot show" in v.reason and "at least 1109 needed" in v.reason
     v = indices.requirement_verdict([], 1e-5)
     assert not v.passed and v.reason == "no unit: nothing to judge"
+    assert math.isnan(v.lower) and math.isnan(v.fraction)  # (pass 78) no unit bounds no fraction: not a bound of 0
     assert indices.requirement_verdict(np.zeros(1109), 1e-5).passed
     assert indices.requirement_verdict(np.zeros(1109), 1e-5).reason == ""
 
