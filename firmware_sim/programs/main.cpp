@@ -148,11 +148,13 @@ int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
       for (const std::string& p : problems) std::fprintf(stderr, "error: %s\n", p.c_str());
       return refuse("--faults " + o.faults + " refused for scene " + o.scene);
     }
-    const auto late = o.duration > 0.0 ? checkFaultsAgainstDuration(in.faults, o.duration, o.faults)
-                                       : std::vector<std::string>{};
+    // a run without --duration has no end: only its ticks can leave a fault idle
+    const auto late = checkFaultsAgainstDuration(in.faults, o.duration > 0.0 ? o.duration : kForever,
+                                                 1.0 / o.rate_hz, o.faults);
     if (!late.empty()) {
       for (const std::string& p : late) std::fprintf(stderr, "error: %s\n", p.c_str());
-      return refuse("--faults " + o.faults + " refused for --duration " + formatNumber(o.duration));
+      return refuse("--faults " + o.faults + " refused for --rate " + formatNumber(o.rate_hz) +
+                    (o.duration > 0.0 ? " and --duration " + formatNumber(o.duration) : std::string()));
     }
   }
   const std::vector<std::string> inputs{o.scene, o.profile, o.faults};

@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -266,8 +267,22 @@ FaultSchedule loadFaultSchedule(const std::string& path) {
   return loadFaultScheduleText(text, path);
 }
 
-std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, double duration,
+std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, double duration, double tick_period,
                                                      const std::string& origin) {
+  std::vector<std::string> out;
+  const double T = tick_period, tol = 1e-9 * tick_period;  // FaultClock::at's tick instants and tolerance
+  for (std::size_t i = 0; i < s.faults.size(); ++i) {
+    const FaultSpec& f = s.faults[i];
+    if (faultIsRamp(f.kind) || !(T > 0.0)) continue;
+    // FaultClock::at: active at tick k when start - tol <= k T < end - tol
+    const double k = std::max(0.0, std::ceil((f.start - tol) / T));
+    if (k * T < f.end - tol) continue;
+    out.push_back(origin + ":" + std::to_string(f.line) + ":" + std::to_string(f.column) + ": fault #" +
+                  std::to_string(i + 1) + " (" + faultTypeName(f.kind) + "): [" + formatNumber(f.start) + ", " +
+                  formatNumber(f.end) + ") s holds no tick (one every " + formatNumber(T) + " s; tick " +
+                  formatNumber(k) + " comes after its end): it would act in no tick");
+  }
+  if (!out.empty()) return out;
   const auto first = std::min_element(s.faults.begin(), s.faults.end(),
                                       [](const FaultSpec& a, const FaultSpec& b) { return a.start < b.start; });
   if (first == s.faults.end() || !(first->start > duration)) return {};

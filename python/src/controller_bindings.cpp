@@ -302,7 +302,8 @@ void bindController(pyb::module_& m) {
           try {
             schedule = firmware::loadFaultSchedule(faults);
             std::vector<std::string> bad = firmware::checkFaultsAgainstScene(schedule, s.plant, faults);
-            for (std::string& late : firmware::checkFaultsAgainstDuration(schedule, duration, faults)) {
+            const double period = c.config.period;
+            for (std::string& late : firmware::checkFaultsAgainstDuration(schedule, duration, period, faults)) {
               bad.push_back(std::move(late));
             }
             if (!bad.empty()) {

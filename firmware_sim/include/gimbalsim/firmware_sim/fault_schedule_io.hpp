@@ -34,9 +34,11 @@ FaultSchedule loadFaultScheduleText(const std::string& yaml, const std::string& 
 /// sensors): problems naming origin:line, the entry and the key; empty when fine.
 std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const PlantScene& ps, const std::string& origin);
 
-/// The check that needs the run's length [s]: a schedule whose every fault starts after the run's end would act
-/// in no tick while the run was recorded with it (pass 73); a run cut short of some of its faults is a run of
-/// the others. Problems as above, empty when fine.
-std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, double duration, const std::string& origin);
+/// The checks that need the run's length [s] and its tick period [s]: a schedule whose every fault starts after
+/// the run's end would act in no tick while the run was recorded with it (pass 73), and so would a fault (not a
+/// ramp, which holds from its start) whose [start, end) falls between two ticks (pass 78); a run cut short of
+/// some of its faults is a run of the others. Problems as above, empty when fine.
+std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, double duration, double tick_period,
+                                                    const std::string& origin);
 
 }  // namespace gimbalsim::firmware
