@@ -207,9 +207,16 @@ class AllocationSpec:
         try:
             return SweepSpec(self.path, text=self.text_at(value))
         except SpecError as e:
-            if spec is None or not (e.key or "").startswith("grid."):
+            if spec is None:
                 raise
             point = f"{self.key} = {self.value_text(value)}: "  # a grid point's own refusal names it already
+            if not (e.key or "").startswith("grid."):
+                # (pass 78) another key refused at this value alone (friction.v_a where friction.mu = 0) is this
+                # value's refusal: named at the range, not as if the key acted at no value the scan tries
+                if not any(self._accepted(v) for v in scanned if v != value):
+                    raise
+                spec.refuse("allocate.range", f"{point}key '{e.key}': {_bare(e)} (the scan's other values are "
+                            "accepted: give a range without this value)", body["range"])
             why = _bare(e)
             never_read = self._not_read(e, value) and not any(self._read_at(v) for v in scanned if v != value)
             where = "key" if never_read else "range"
@@ -218,6 +225,14 @@ class AllocationSpec:
     def _not_read(self, e, value):
         """Whether the sweep's refusal e of this value says its runs do not read the key there."""
         return _bare(e).removeprefix(f"{self.key} = {self.value_text(value)}: ").startswith(NOT_READ)
+
+    def _accepted(self, value):
+        """Whether the sweep of this value is accepted."""
+        try:
+            SweepSpec(self.path, text=self.text_at(value))
+        except SpecError:
+            return False
+        return True
 
     def _read_at(self, value):
         """Whether the runs read the key at this value (a slew_start past the run's end is read at none)."""

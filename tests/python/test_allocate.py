@@ -277,6 +277,22 @@ def test_a_range_reaching_past_the_run_is_refused_at_its_line(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
+def test_another_key_idle_at_one_value_of_the_range_is_refused_at_the_range(tmp_path):
+    # (pass 78) friction.v_a (ambrosio) is read wherever friction.mu > 0: a range from mu = 0 was refused at v_a's
+    # line as if v_a acted at no value tried; it acts at the scan's others, so the range's value 0 is what refuses
+    text = (f"scene: {SCENES}/paper_clearance.yaml\nset: {{sim.duration: 5.0, friction.law: ambrosio}}\n"
+            "controller: default\nsamples: 59\nseed: 39\nparameters:\n  friction.v_a: {uniform: [0.0001, 0.0009]}\n"
+            "phases: [track]\nindices: {ape: {}}\n"
+            "allocate: {key: friction.mu, range: [0.0, 0.3], direction: largest, index: ape, phase: track, "
+            "requirement: 1.0e-4, level: 0.95, confidence: 0.95, values: 3}\n")
+    spec = write_spec(tmp_path, text)
+    p = run(spec, tmp_path / "out", "--check")
+    assert p.returncode == 2 and f"spec.yaml:{line_of(text, 'allocate:')}:" in p.stderr, p.stderr
+    assert "key 'allocate.range': friction.mu = 0.0: key 'parameters.friction.v_a'" in p.stderr, p.stderr
+    p = run(write_spec(tmp_path, text.replace("[0.0, 0.3]", "[0.1, 0.3]"), "ok.yaml"), tmp_path / "out", "--check")
+    assert p.returncode == 0, p.stderr
+
+
 def test_a_non_monotone_index_says_where(tmp_path):
     # Inside the window [0.2, 0.3) s of a 0.35 s run the error is large while the slew settles, small before
     # the slew and after it settled: the index rises then falls with slew_start.
