@@ -135,6 +135,9 @@ class ClosedLoopSpec:
             name, window = next(iter(body.items()))
             if not name.isidentifier() or not name.islower():
                 spec.refuse(f"phases.{name}", "a phase's name is a lower-case identifier (it names columns)", item)
+            if name in PROFILE_PHASES:  # (pass 78) {track: [3.6, 3.9]} read as the profile's track in every report
+                spec.refuse(f"phases.{name}", f"'{name}' is the profile's own phase (give it bare, as {name}); name "
+                            "a window of your own otherwise", item)
             t = window.plain()
             if not (isinstance(t, list) and len(t) == 2 and all(isinstance(v, (int, float)) and not isinstance(v, bool)
                                                                 for v in t)):

@@ -194,6 +194,9 @@ REFUSALS = [
     ("  ape: {level: 0.5, confidence: 0.5, requirement: 1.0}", "  ape: {level: 1.5}", "indices.ape.level",
      "expected a number"),
     ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [slew, cruise]", "phases", "unknown phase 'cruise'"),
+    # (pass 78) a window of its own named as a profile phase: reported as the profile's track, its window unsaid
+    ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [{track: [0.36, 0.39]}]", "phases.track",
+     "'track' is the profile's own phase (give it bare, as track); name a window of your own otherwise"),
     ("phases: [slew, hold, track, {late: [0.4, 0.5]}]", "phases: [{late: [6.0, 5.0]}]", "phases.late",
      "expected [t0, t1] in s with 0 <= t0 < t1, got [6.0, 5.0]"),
     # (pass 60) an end that is not finite was told "0 <= t0 < t1", which [0.1, inf] meets
