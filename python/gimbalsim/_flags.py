@@ -16,7 +16,7 @@ class StoreOnce(argparse._StoreAction):
                 parser.error(f"{'/'.join(self.option_strings)}: given twice; it takes one value")
             given.add(self.dest)
             if values == "":
-                parser.error(f"{option_string}: nothing after it; it takes one value")
+                parser.error(f"{option_string}: an empty value; it takes one value")
         super().__call__(parser, namespace, values, option_string)
 
 

@@ -129,6 +129,7 @@ def checkout_with_spec(tmp_path, spec_text=None):
                 "tools/sweeps/pointing_budget.yaml", "tools/pages/results_page.py",
                 "tools/pages/output_file.py", "python/gimbalsim/_output.py", "python/gimbalsim/_console.py",
                 "python/gimbalsim/_number.py", "python/gimbalsim/_early_signals.py",
+                "python/gimbalsim/_flags.py",
                 "tools/lib/console.sh", "docs/results/pointing_budget.md", "docs/results/README.md"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(SOURCE / rel, root / rel)

@@ -523,7 +523,7 @@ def test_every_tools_parser_keeps_the_flag_rules(script):
 
 
 @pytest.mark.parametrize("args,named", [(("--rounds", "2", "--rounds", "3"), "--rounds: given twice"),
-                                        (("--filter=",), "--filter: nothing after it")])
+                                        (("--filter=",), "--filter: an empty value")])
 def test_compare_bench_refuses_a_flag_twice_or_empty(args, named, tmp_path):
     bench = BIN / "gimbalsim_bench"
     p = subprocess.run([sys.executable, str(SOURCE / "tools/bench/compare_bench.py"), *args, str(bench), str(bench)],
