@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <initializer_list>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -286,99 +285,6 @@ ClosedLoopResult run(const PlantScene& ps, contract::ControllerPort& ctrl, const
 }
 
 }  // namespace
-
-const std::vector<std::pair<std::string, std::string>>& closedLoopIdleSceneKeys() {
-  static const std::vector<std::pair<std::string, std::string>> kIdle = {
-      {"sim.output_interval", "the closed loop records every control period"},
-      {"torque.tau1", "the controller commands the torque"},
-      {"torque.tau2", "the controller commands the torque"},
-      // only dynamics/src/simulate.cpp's InvariantMonitor reads them; this loop steps without one
-      {"sim.momentum_tol", "the closed loop checks no invariant: only an open-loop run stops on it"},
-      {"sim.energy_tol", "the closed loop checks no invariant: only an open-loop run stops on it"},
-      {"name", "the scene's label: no run reads it"}};
-  return kIdle;
-}
-
-std::string idleSceneOverride(const char* flag, const std::vector<std::string>& overrides) {
-  for (std::size_t k = 0; k < overrides.size(); ++k) {
-    const std::string key = overrides[k].substr(0, overrides[k].find('='));
-    for (const auto& [idle, why] : closedLoopIdleSceneKeys()) {
-      if (key == idle) {
-        return std::string(flag) + " #" + std::to_string(k + 1) + " '" + overrides[k] + "': not read by the closed " +
-               "loop (" + why + "): the value would be recorded but never act";
-      }
-    }
-  }
-  return "";
-}
-
-std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, double duration_s, bool antenna_loop) {
-  const auto one_of = [&](std::initializer_list<const char*> keys) {
-    return std::any_of(keys.begin(), keys.end(), [&](const char* k) { return key == std::string("sensors.") + k; });
-  };
-  if (key.rfind("sensors.tracker_", 0) == 0 || key.rfind("sensors.antenna_gyro_", 0) == 0) {
-    if (!sp.antenna_sensors) return "the run has no antenna sensor (sensors.antenna none): nothing reads it";
-    if (!antenna_loop) return "the controller does not close its loop at the antenna (antenna.tracker ignore)";
-  }
-  // (pass 78) an outage over the whole run takes no sample: what acts only through samples acts on nothing
-  const auto whole_run = [&](const Vec2& outage) {
-    return outage(1) > outage(0) && outage(0) <= 0.0 && outage(1) >= duration_s;
-  };
-  const auto covered = [&](const char* name, const Vec2& outage) {
-    return "sensors." + std::string(name) + "_outage [" + formatNumber(outage(0)) + ", " + formatNumber(outage(1)) +
-           "] s covers the whole run (" + formatNumber(duration_s) + " s): no sample of it is taken";
-  };
-  if (one_of({"star_tracker_noise", "star_tracker_rate", "star_tracker_latency"}) &&
-      whole_run(sp.star_tracker_outage)) {
-    return covered("star_tracker", sp.star_tracker_outage);
-  }
-  if (one_of({"tracker_noise", "tracker_bias", "tracker_rate", "tracker_latency"}) && whole_run(sp.tracker_outage)) {
-    return covered("tracker", sp.tracker_outage);
-  }
-  return "";
-}
-
-std::string idleInEveryRun(const char* flag, const std::vector<std::string>& overrides,
-                           const std::vector<StudyScene>& runs, std::vector<std::string>* partly) {
-  for (std::size_t k = 0; k < overrides.size(); ++k) {
-    const std::string key = overrides[k].substr(0, overrides[k].find('='));
-    std::string why, scenes;
-    std::size_t idle_runs = 0;
-    for (const StudyScene& r : runs) {
-      const auto& idle = r.scene->idle_sets;
-      const auto it = std::find_if(idle.begin(), idle.end(),
-                                   [&](const auto& s) { return s.first == r.first_set + static_cast<int>(k); });
-      const std::string sensor_why =
-          it != idle.end() || !r.sensors ? "" : sensorKeyIdle(key, *r.sensors, r.duration_s, r.antenna_loop);
-      if (it == idle.end() && sensor_why.empty()) continue;
-      ++idle_runs;
-      const std::string reason = it != idle.end() ? it->second : "key '" + key + "': " + sensor_why;
-      if (why.find(reason) == std::string::npos) why += (why.empty() ? "" : "; ") + reason;
-      // a scene without clearance (the ideal reference) has no bearing by design: not worth a warning
-      if (it != idle.end() && r.scene->model.hasClearance() && scenes.find("'" + r.name + "'") == std::string::npos) {
-        scenes += (scenes.empty() ? "'" : ", '") + r.name + "'";
-      }
-    }
-    if (idle_runs == 0) continue;
-    const std::string named = std::string(flag) + " #" + std::to_string(k + 1) + " '" + overrides[k] + "'";
-    if (idle_runs == runs.size()) {
-      return named + ": acts in no run of this study (" + why + "): the value would be recorded but never act";
-    }
-    if (!scenes.empty()) partly->push_back(named + ": acts on nothing in the runs of " + scenes + " (" + why + ")");
-  }
-  return "";
-}
-
-std::string idleSeedOverride(const char* flag, const std::vector<std::string>& overrides, bool any_noise) {
-  if (any_noise) return "";
-  for (std::size_t k = 0; k < overrides.size(); ++k) {
-    if (overrides[k].substr(0, overrides[k].find('=')) != "sensors.seed") continue;
-    return std::string(flag) + " #" + std::to_string(k + 1) + " '" + overrides[k] + "': no run of this study " +
-           "draws sensor noise (sensors.encoder_noise, rate_noise, gyro_noise, gyro_bias_walk, star_tracker_noise " +
-           "and the antenna's tracker_noise, antenna_gyro_noise are 0): the seed would be recorded but never act";
-  }
-  return "";
-}
 
 std::string controlPeriodProblem(const PlantScene& ps, double control_period) {
   Config fc;

@@ -18,6 +18,7 @@
 #include "gimbalsim/controllers/pointing_controller.hpp"
 #include "gimbalsim/controllers/tracker_fusion.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
+#include "gimbalsim/firmware_sim/study_idle.hpp"
 #include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 #include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/pointing/profile_windows.hpp"

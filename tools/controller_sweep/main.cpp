@@ -15,6 +15,7 @@
 #include "gimbalsim/input/input_error.hpp"
 #include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
+#include "gimbalsim/firmware_sim/study_idle.hpp"
 #include "gimbalsim/pointing/profile_windows.hpp"
 #include "gimbalsim/program/program.hpp"
 

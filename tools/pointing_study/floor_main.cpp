@@ -24,6 +24,7 @@
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/controllers/pointing_controller.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
+#include "gimbalsim/firmware_sim/study_idle.hpp"
 #include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/pointing/profile_windows.hpp"

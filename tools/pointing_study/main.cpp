@@ -21,6 +21,7 @@
 
 #include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
+#include "gimbalsim/firmware_sim/study_idle.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/io/output_file.hpp"
