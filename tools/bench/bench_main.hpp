@@ -11,6 +11,7 @@
 #include <string>
 
 #include "gimbalsim/input/plain_decimal.hpp"
+#include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/program/program.hpp"
 #include "gimbalsim/program/version.hpp"
 
@@ -29,11 +30,6 @@ inline std::string benchmarkFlagProblem(int argc, char** argv) {
                                     {"--benchmark_min_warmup_time", 0.0, 1e4, false},
                                     {"--benchmark_repetitions", 1.0, 1e6, true},
                                     {"--benchmark_v", 0.0, 10.0, true}};
-  const auto g = [](double x) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", x);
-    return std::string(text);
-  };
   std::set<std::string> given;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -41,7 +37,7 @@ inline std::string benchmarkFlagProblem(int argc, char** argv) {
     const std::size_t eq = arg.find('=');
     const std::string flag = arg.substr(0, eq);
     if (!given.insert(flag).second) return flag + ": given twice; it takes one value";
-    if (eq != std::string::npos && eq + 1 == arg.size()) return flag + ": nothing after its '='";
+    if (eq != std::string::npos && eq + 1 == arg.size()) return flag + ": an empty value after the '='";
     for (const Number& n : kNumbers) {
       if (flag != n.name) continue;
       const std::string text = eq == std::string::npos ? "" : arg.substr(eq + 1);
@@ -50,8 +46,7 @@ inline std::string benchmarkFlagProblem(int argc, char** argv) {
                          (!n.whole || text.find_first_not_of("+0123456789") == std::string::npos);
       if (!plain || x < n.lo || x > n.hi) {
         return flag + ": must be a " + (n.whole ? "whole number" : "plain decimal number") + " in [" +
-               g(n.lo) + ", " + g(n.hi) + "] after its '=', got '" + text +
-               "'";
+               formatNumber(n.lo) + ", " + formatNumber(n.hi) + "] after its '=', got '" + text + "'";
       }
     }
   }

@@ -27,7 +27,7 @@ for a in "$@"; do
     --benchmark_out=* | --benchmark_out_format=*) refuse "$a: the script writes the JSON; give OUT=FILE" ;;
     --benchmark_repetitions* | --benchmark_report_aggregates_only*) refuse "$a: the script sets it; give REPS=N" ;;
     # nothing after '=' is refused, as the programs refuse it (--benchmark_filter= ran every benchmark)
-    --*=) refuse "$a: nothing after its '='" ;;
+    --*=) refuse "$a: an empty value after the '='" ;;
     --benchmark_list_tests*) LIST=$a ;;
     *) ARGS+=("$a") ;;
   esac
