@@ -171,7 +171,7 @@ int run(int argc, char** argv) {
       code = program::kOutput;
       break;
     }
-    if (last_seq >= 0 && h.answered() > 0 && h.lastSeq() >= last_seq) break;
+    if (h.runEnded(last_seq)) break;
     const double idle = static_cast<double>(now - last_answer_ns) * 1e-9;  // [s] wall time since the last status
     if (h.answered() == 0 && o.idle_exit > 0.0 && idle >= o.idle_exit) {
       std::fprintf(stderr, "pointing_controller: no status for %g s, exiting: no plant on %s\n", o.idle_exit,
@@ -264,8 +264,9 @@ int run(int argc, char** argv) {
   std::fprintf(stderr, "pointing_controller: fault monitor: %lld stale statuses (%lld with safe torque), %lld statuses "
                "missing, encoder suspect %lld times on azimuth, %lld on elevation\n",
                mon.stale_statuses, mon.safe_statuses, mon.missing_statuses, mon.suspect_onsets[0], mon.suspect_onsets[1]);
-  std::fprintf(stderr, "pointing_controller: receive: %s; %lld from another source than the plant (ignored); peak "
-               "memory (VmHWM) %ld kB\n", rx.summary().c_str(), h.foreign(), lcm_wire::peakRssKb());
+  std::fprintf(stderr, "pointing_controller: receive: %s; %lld from another source than the plant (ignored), %lld "
+               "rebinds to another plant source; peak memory (VmHWM) %ld kB\n", rx.summary().c_str(), h.foreign(),
+               h.rebinds(), lcm_wire::peakRssKb());
   // Stopped by SIGINT/SIGTERM, --log-csv whole: 128 + the signal.
   return code == program::kOk && io::stopRequested() ? io::stopExitCode() : code;
 }

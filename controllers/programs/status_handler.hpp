@@ -1,8 +1,7 @@
 // pointing_controller's status handler: decodes each status into a stack
 // message (fixed-size arrays: no allocation), runs the controller's answer
-// and sends it through lcm_wire's sender (encoded in its preallocated slot). Statuses are taken from one plant (the
-// source of the first, until it has been silent for kRebindNs), so a spoofed
-// status cannot reset or steer the controller. One program's header: it
+// and sends it through lcm_wire's sender (encoded in its preallocated slot). Statuses are taken from one plant
+// (plant_binding.hpp), so a spoofed status cannot reset or steer the controller. One program's header: it
 // lives beside pointing_controller_main.cpp.
 #pragma once
 
@@ -27,6 +26,7 @@
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/lcm_wire/udpm_receiver.hpp"
 #include "gimbalsim/lcm_wire/udpm_sender.hpp"
+#include "plant_binding.hpp"
 
 namespace gimbalsim::controllers {
 
@@ -36,14 +36,23 @@ class StatusHandler {
   /// log: the --log-csv file (null: none), written row by row through its checked write (which keeps
   /// the system's reason of a failure: pass 66 said "write failed" alone on a full disk).
   StatusHandler(const ControllerConfig& c, lcm_wire::UdpmSender& tx, const contract::Channels& ch, io::OutputFile* log)
-      : c_(c), tx_(tx), ch_(ch), log_(log) {}
+      : c_(c), tx_(tx), ch_(ch), log_(log), binding_(c.period) {}
 
   /// One received message; the channel says which handler. now_ns: CLOCK_MONOTONIC.
   void onMessage(const lcm_wire::Message& m, std::int64_t now_ns) {
-    if (!fromPlant(m.source, now_ns)) return;
     const int size = static_cast<int>(m.size);  // bounded by the receiver's limit
-    if (m.channel == ch_.status) onStatus(m.data, size);
-    else if (m.channel == ch_.attitude) onAttitude(m.data, size);
+    if (m.channel == ch_.status) {
+      gimbal_status_t st{};
+      const bool decoded = st.decode(m.data, 0, size) == size;  // the seq is the binding's evidence
+      if (!binding_.accept(m.source, decoded, st.seq, now_ns)) return;
+      if (binding_.rebound()) startAfresh();
+      if (decoded) answer(st);
+      else ++undecodable_;
+      return;
+    }
+    if (!binding_.accept(m.source, false, 0, now_ns)) return;
+    if (binding_.rebound()) startAfresh();
+    if (m.channel == ch_.attitude) onAttitude(m.data, size);
     else if (m.channel == ch_.antenna) onAntenna(m.data, size);
   }
 
@@ -76,6 +85,10 @@ class StatusHandler {
       ++undecodable_;  // garbage, another type or trailing bytes on the status channel
       return;
     }
+    answer(st);
+  }
+
+  void answer(const gimbal_status_t& st) {
     if (st.seq < last_status_seq_) {  // the plant restarted: start the controller afresh
       state_ = ControllerState{};
       ++restarts_;
@@ -151,24 +164,19 @@ class StatusHandler {
     return h + "\n";
   }
 
-  /// The plant is the source of the first message; another source is taken
-  /// only after the bound one has been silent for kRebindNs (a restarted plant).
-  bool fromPlant(lcm_wire::Source src, std::int64_t now_ns) {
-    if (bound_ && !(src == plant_) && now_ns - plant_heard_ns_ < kRebindNs) {
-      ++foreign_;
-      return false;
-    }
-    bound_ = true;
-    plant_ = src;
-    plant_heard_ns_ = now_ns;
-    return true;
-  }
-
   long long answered() const { return answered_; }
+  /// The run of a controller whose last status is last_seq has ended: that status (or a later one, the one
+  /// before it lost) answered, from a plant whose stream has shown (or exactly last_seq: a one-status run).
+  bool runEnded(std::int64_t last_seq) const {
+    return last_seq >= 0 && answered_ > 0 && last_status_seq_ >= last_seq &&
+           (last_status_seq_ == last_seq || binding_.streamShown());
+  }
   /// Statuses answered with the command held at this controller's own limit (azimuth/elevation.torque_limit), either axis.
   long long controllerLimited() const { return controller_limited_; }
   std::int64_t lastSeq() const { return last_status_seq_; }
-  long long foreign() const { return foreign_; }
+  long long foreign() const { return binding_.foreign(); }
+  /// Times another source took the binding from the one bound (plant_binding.hpp).
+  long long rebinds() const { return binding_.rebinds(); }
   long long plantRestarts() const { return restarts_; }
   long long undecodable() const { return undecodable_; }
   long long publishErrors() const { return publish_errors_; }
@@ -193,6 +201,15 @@ class StatusHandler {
   long long rejectedReadings() const { return state_.rejected_readings; }
 
  private:
+  /// Another source took the binding: what the one before it said is no state of this plant.
+  void startAfresh() {
+    state_ = ControllerState{};
+    attitude_ = contract::Attitude{.seq = -1};
+    last_status_seq_ = -1;
+    prev_last_command_seq_ = -1;
+    rejected_in_a_row_ = 0;
+  }
+
   void log(const gimbal_status_t& st, const Measurement& m, const ControlOutput& o, const MonitorFlags& f) {
     const ProfileSample& r = o.ref;
     // One line in a fixed buffer (no allocation on the answer path); doubles as io::formatCsvNumber.
@@ -235,11 +252,7 @@ class StatusHandler {
   contract::Attitude attitude_{.seq = -1};  ///< the newest attitude message (seq -1: none yet)
   long long unpaired_ = 0;        ///< statuses without the attitude of their tick (gyro rate held)
   long long outage_statuses_ = 0; ///< statuses answered during a star tracker outage
-  static constexpr std::int64_t kRebindNs = 500000000;  ///< plant silent this long -> another may bind [ns]
-  bool bound_ = false;
-  lcm_wire::Source plant_;
-  std::int64_t plant_heard_ns_ = 0;
-  long long foreign_ = 0;  ///< messages from another source than the bound plant (ignored)
+  PlantBinding binding_;
   /// Commands are numbered from a random base per process (below 2^60, room for 2^60 commands): two
   /// controllers on one plant never share seqs, so each tells its own acceptances from the other's.
   std::int64_t next_seq_ = static_cast<std::int64_t>(std::random_device{}() & 0xFFFFFu) << 40;

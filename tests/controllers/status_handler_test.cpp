@@ -119,5 +119,76 @@ TEST(StatusHandler, AFailedLogRowKeepsTheSystemsReason) {
   EXPECT_NE(log.error().find(std::string("write failed: ") + std::strerror(EFBIG)), std::string::npos) << log.error();
 }
 
+// ---- The plant it answers (plant_binding.hpp): pass 78 saw a spoofed status that arrived before the plant's
+// first one hold the controller for good (a stranger repeating it every 10 ms was never silent 0.5 s).
+
+struct Bus {
+  const ControllerConfig c = loadControllerConfig(test::defaultControllerConfig());  // period 1 ms
+  lcm_wire::UdpmSender tx;
+  contract::Channels ch = contract::Channels::withPrefix("");
+  StatusHandler h{c, tx, ch, nullptr};
+  void status(lcm_wire::Source from, long long seq, std::int64_t now_ns) {
+    const std::vector<std::uint8_t> b = controllers::status(seq, 0.0);
+    h.onMessage(lcm_wire::Message{ch.status, b.data(), b.size(), from, false}, now_ns);
+  }
+};
+constexpr lcm_wire::Source kPlant{0x0100007f, 4000}, kStranger{0x0100007f, 5000};
+constexpr long long kMaxSeq = std::numeric_limits<std::int64_t>::max();
+constexpr std::int64_t kMs = 1000000;
+
+TEST(StatusHandler, AStrangerHeardFirstLosesTheControllerToThePlantsStream) {
+  Bus b;
+  b.status(kStranger, kMaxSeq, 0);  // first heard: bound
+  // Its seq is past a 1.6 s run's last status (1599), but a lone status is no plant's stream: the run goes on
+  // (pass 78's CI: the controller answered the spoof, ended its run and left the plant to its watchdog).
+  EXPECT_FALSE(b.h.runEnded(1599));
+  for (long long k = 1; k <= 100; ++k) {
+    b.status(kPlant, 400 + k, k * kMs);
+    if (k % 10 == 0) b.status(kStranger, kMaxSeq, k * kMs);  // the spoof repeats every 10 ms
+  }
+  EXPECT_EQ(b.h.rebinds(), 1);
+  EXPECT_EQ(b.h.lastSeq(), 500) << "the plant's statuses are answered";
+  EXPECT_EQ(b.h.plantRestarts(), 0) << "a rebind starts afresh; it is no restart of the plant";
+  // Taken after kStreak consecutive statuses and 20 ms (5 periods, at least 20 ms) without one from the stranger,
+  // at the plant's status 20: its statuses 1 .. 19 were refused, then the stranger's spoofs at 20 .. 100 ms.
+  EXPECT_EQ(b.h.answered(), 2 + 81);  // the stranger's spoofs at 0 and 10 ms, the plant's 20 .. 100
+  EXPECT_EQ(b.h.foreign(), 19 + 9);
+  EXPECT_FALSE(b.h.runEnded(1599));
+  EXPECT_TRUE(b.h.runEnded(500)) << "the plant's stream reached the last status";
+  EXPECT_TRUE(b.h.runEnded(499)) << "or passed it (the last one lost)";
+}
+
+TEST(StatusHandler, AOneStatusRunEndsOnItsOnlyStatus) {
+  Bus b;
+  b.status(kPlant, 0, 0);
+  EXPECT_TRUE(b.h.runEnded(0));
+  EXPECT_FALSE(b.h.runEnded(1));
+}
+
+TEST(StatusHandler, ALivingPlantKeepsTheControllerAgainstAStrangersStream) {
+  Bus b;
+  long long stranger_seq = 0;
+  for (long long k = 0; k < 1000; ++k) {
+    b.status(kPlant, k, k * kMs);
+    for (int j = 0; j < 20; ++j) b.status(kStranger, stranger_seq++, k * kMs + j * 40000);  // 20 kHz, consecutive
+  }
+  EXPECT_EQ(b.h.rebinds(), 0);
+  EXPECT_EQ(b.h.foreign(), 20000);
+  EXPECT_EQ(b.h.lastSeq(), 999);
+  EXPECT_EQ(b.h.answered(), 1000);
+}
+
+TEST(StatusHandler, ARestartedPlantOnAnotherPortIsTakenOnceItsStreamShows) {
+  Bus b;
+  for (long long k = 0; k < 50; ++k) b.status(kPlant, k, k * kMs);
+  // The plant's process ends; a new one (another port) numbers from 0, 5 ms later.
+  for (long long k = 0; k < 100; ++k) b.status(kStranger, k, (55 + k) * kMs);
+  EXPECT_EQ(b.h.rebinds(), 1);
+  EXPECT_EQ(b.h.lastSeq(), 99);
+  // 20 ms after the old plant's last consecutive status (49 ms), with kStreak of the new one: its status 14 at 69 ms
+  EXPECT_EQ(b.h.foreign(), 14);
+  EXPECT_EQ(b.h.answered(), 50 + 86);
+}
+
 }  // namespace
 }  // namespace gimbalsim::controllers

@@ -92,6 +92,7 @@ TEST(HilAttack, LockstepRunUnderAttackEqualsACleanRun) {
   const std::string ctl = readFile(dir / "attacked.ctl");
   EXPECT_GT(number(ctl, "(\\d+) from another source than the plant"), 0) << ctl;
   EXPECT_EQ(number(ctl, "(\\d+) plant restarts"), 0) << ctl;
+  EXPECT_EQ(number(ctl, "(\\d+) rebinds to another plant source"), 0) << "a living plant never loses it: " << ctl;
   EXPECT_EQ(bad.at("missed"), clean.at("missed"));
   EXPECT_EQ(bad.at("watchdog_trips"), 0);
   EXPECT_EQ(bad.at("lockstep_timeouts"), 0);
@@ -220,7 +221,10 @@ TEST(HilAttack, RealTimeStrangerThatCommandsFirstLosesThePlantWhenItsBindingLaps
   EXPECT_GT(stale, 0) << "the stranger never held the plant: the test proves nothing";
   EXPECT_GT(foreign, 0) << "the controller or the stranger was refused as the other's source";
   EXPECT_EQ(stale + foreign, count("rejected")) << "no other refusal";
-  EXPECT_EQ(number(ctl, "(\\d+) plant restarts"), 0) << "the stranger's statuses were ignored";
+  EXPECT_EQ(number(ctl, "(\\d+) plant restarts"), 0) << "the stranger's statuses never reset the controller";
+  // The controller binds to the first source it hears: the plant, or (a race the stranger wins now and then:
+  // CI on pass 78's fixes) a spoofed status, which it then leaves for the plant's stream within about 20 ms.
+  EXPECT_LE(number(ctl, "(\\d+) rebinds to another plant source"), 1) << ctl;
 
   const Csv c = Csv::read(dir / "truth.csv");
   ASSERT_EQ(c.rows.size(), 1601u);  // t = 0 .. 1.6 s
