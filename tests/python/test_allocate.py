@@ -289,6 +289,7 @@ def test_another_key_idle_at_one_value_of_the_range_is_refused_at_the_range(tmp_
     p = run(spec, tmp_path / "out", "--check")
     assert p.returncode == 2 and f"spec.yaml:{line_of(text, 'allocate:')}:" in p.stderr, p.stderr
     assert "key 'allocate.range': friction.mu = 0.0: key 'parameters.friction.v_a'" in p.stderr, p.stderr
+    assert "for every value of" not in p.stderr, "mu is one value there, not the study's several: " + p.stderr
     p = run(write_spec(tmp_path, text.replace("[0.0, 0.3]", "[0.1, 0.3]"), "ok.yaml"), tmp_path / "out", "--check")
     assert p.returncode == 0, p.stderr
 
