@@ -153,6 +153,12 @@ class TuneSpec:
                     spec.refuse(f"plants.{p.key}", f"{p.end_note(trial[p.key])}the scene refuses {what}: "
                                 f"{e.problems[0]['text']}", p.node)
         self.plants = Design(params, [], self.batch, self.seed, self.base.values())
+        # (pass 78) plants that cannot differ are one plant scored batch times, as a sweep refuses its samples
+        if self.batch > 1 and not any(p.spreads() for p in params):
+            what = ("each plant key takes one value (a range of width 0 or narrower than 1e-12 of its ends, a "
+                    "radius of 0, a choice of one)" if params else "no plant key is dispersed")
+            spec.refuse("batch", f"{what}: the {self.batch} plants are one plant, which each trial's percentile "
+                        f"would count {self.batch} times; give batch: 1, or a plant key that spreads", root["batch"])
         # Trial 0 is the baseline: the configuration's own gains, which the ranges must hold.
         own = self.controller.values()
         self.baseline = {}

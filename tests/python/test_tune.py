@@ -77,6 +77,19 @@ def test_tuning_spec_refusals_name_the_key(change, key, tmp_path):
     assert p.returncode == 2 and f"key '{key}'" in p.stderr and "t.yaml:" in p.stderr, p.stderr
 
 
+@pytest.mark.parametrize("plants,why", [
+    ("plants: {}\n", "no plant key is dispersed: the 2 plants are one plant"),
+    ("plants:\n  contact.clearance: {uniform: [2.0e-4, 2.0e-4]}\n", "each plant key takes one value"),
+])
+def test_plants_that_cannot_differ_are_refused_at_the_batch(plants, why, tmp_path):
+    # (pass 78) every trial was scored over copies of one plant, its percentile counting it `batch` times
+    text = SPEC.split("plants:")[0] + plants
+    (tmp_path / "t.yaml").write_text(text)
+    p = tune(tmp_path / "t.yaml", tmp_path / "o", "--workers", "1")
+    assert p.returncode == 2 and "key 'batch'" in p.stderr and why in p.stderr, p.stderr
+    assert not (tmp_path / "o").exists()
+
+
 @pytest.mark.parametrize("change,key,why", [
     (("metric: max_track", "metric: [max_track]"), "objective.metric", "expected a name"),
     (("max_saturation: 0.0", "max_saturation: {a: 1}"), "max_saturation", "expected a number"),

@@ -21,7 +21,7 @@ from conftest import CONTROLLER_CONFIG, SCENES
 
 CLEARANCE = 3.0e-4
 DURATION = 3.7
-# One plant value (a choice of one): the test computes the plants' runs itself.
+# Plants that differ a little (a batch of one plant is refused): the test computes each plant's runs itself.
 SPEC = f"""
 scene: {SCENES}/paper_clearance.yaml
 controller: {CONTROLLER_CONFIG}
@@ -35,7 +35,7 @@ gains:
   azimuth.kp: {{loguniform: [5000, 80000]}}
   elevation.kd: {{uniform: [300, 3000]}}
 plants:
-  contact.clearance: {{choice: [{CLEARANCE}]}}
+  contact.clearance: {{uniform: [{CLEARANCE * 0.9}, {CLEARANCE}]}}
 """
 GAINS = ("azimuth.kp", "elevation.kd")
 COLUMN = {"azimuth.kp": "azimuth_kp_Nm_per_rad", "elevation.kd": "elevation_kd_Nms_per_rad"}  # trials.csv
@@ -59,10 +59,10 @@ def trials(out):
         return list(csv.DictReader(f))
 
 
-def direct(gains, stepping):
+def direct(gains, stepping, clearance):
     """The plant's closed loop through the Python API, with these gains over the configuration, stepped as the
-    tuner steps it (stepping: its sampling overrides, _sampling.py)."""
-    scene = gimbalsim.load_scene(SCENES / "paper_clearance.yaml", {"contact.clearance": CLEARANCE, **stepping})
+    tuner steps it (stepping: its sampling overrides, _sampling.py), at this clearance [m]."""
+    scene = gimbalsim.load_scene(SCENES / "paper_clearance.yaml", {"contact.clearance": clearance, **stepping})
     return gimbalsim.closed_loop(scene, gimbalsim.Controller(CONTROLLER_CONFIG, gains), DURATION).summary
 
 
@@ -76,16 +76,20 @@ def test_trials_hold_each_plant_and_trial_0_is_the_configuration(tmp_path):
     assert rows[0]["origin"] == "baseline"
     assert [float(rows[0][COLUMN[g]]) for g in GAINS] == [float(own[g]) for g in GAINS]
     from gimbalsim._tune_spec import TuneSpec
-    stepping = TuneSpec(spec).sampling["overrides"]
-    baseline = direct({}, stepping)  # the configuration as it is: no gain laid over it
-    for j in range(2):
-        assert rows[0][f"plant{j}_status"] == "ok"
-        assert [float(rows[0][f"plant{j}_{c}"]) for c in FIGURES] == [float(baseline[c]) for c in FIGURES]
+    tuned = TuneSpec(spec)
+    stepping = tuned.sampling["overrides"]
+    clearances = [tuned.plants.draw(j)["contact.clearance"] for j in range(2)]  # each plant's, from the seed
+    assert clearances[0] != clearances[1] and all(CLEARANCE * 0.9 <= c <= CLEARANCE for c in clearances)
     r = rows[2]
     assert [float(r[COLUMN[g]]) for g in GAINS] != [float(own[g]) for g in GAINS]
-    s = direct({g: float(r[COLUMN[g]]) for g in GAINS}, stepping)
-    for j in range(2):
-        assert [float(r[f"plant{j}_{c}"]) for c in FIGURES] == [float(s[c]) for c in FIGURES]
+    for j, clearance in enumerate(clearances):
+        baseline = direct({}, stepping, clearance)  # the configuration as it is: no gain laid over it
+        assert rows[0][f"plant{j}_status"] == "ok"
+        assert [float(rows[0][f"plant{j}_{c}"]) for c in FIGURES] == [float(baseline[c]) for c in FIGURES]
+        tuned_run = direct({g: float(r[COLUMN[g]]) for g in GAINS}, stepping, clearance)
+        assert [float(r[f"plant{j}_{c}"]) for c in FIGURES] == [float(tuned_run[c]) for c in FIGURES]
+    # the plants differ in what they measure, not only in their label
+    assert rows[0]["plant0_max_truth_error_track_rad"] != rows[0]["plant1_max_truth_error_track_rad"]
 
 
 def test_a_study_folder_is_not_overwritten_without_resume(tmp_path):
@@ -326,7 +330,7 @@ objective: {{metric: max_track, percentile: 90}}
 gains:
   control.period: {{choice: [0.001, 0.0015, 0.0007]}}
 plants:
-  contact.clearance: {{choice: [{CLEARANCE}]}}
+  contact.clearance: {{uniform: [{CLEARANCE * 0.9}, {CLEARANCE}]}}
 """)
     p = subprocess.run(tune_cmd(spec, tmp_path / "o"), capture_output=True, text=True, timeout=600)
     assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
