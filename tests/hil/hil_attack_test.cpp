@@ -222,9 +222,11 @@ TEST(HilAttack, RealTimeStrangerThatCommandsFirstLosesThePlantWhenItsBindingLaps
   EXPECT_GT(foreign, 0) << "the controller or the stranger was refused as the other's source";
   EXPECT_EQ(stale + foreign, count("rejected")) << "no other refusal";
   EXPECT_EQ(number(ctl, "(\\d+) plant restarts"), 0) << "the stranger's statuses never reset the controller";
-  // The controller binds to the first source it hears: the plant, or (a race the stranger wins now and then:
-  // CI on pass 78's fixes) a spoofed status, which it then leaves for the plant's stream within about 20 ms.
-  EXPECT_LE(number(ctl, "(\\d+) rebinds to another plant source"), 1) << ctl;
+  // The controller binds to the first source it hears, the plant or (a race the stranger wins now and then:
+  // CI on pass 78's fixes) a spoof, provisionally until two of the plant's statuses in a row show its stream;
+  // another's status takes a provisional binding. One spoof per 10 ms against a status per 1 ms: at most
+  // one spoof lands before the plant's stream shows, so at most 3 rebinds (plant, stranger, plant).
+  EXPECT_LE(number(ctl, "(\\d+) rebinds to another plant source"), 3) << ctl;
 
   const Csv c = Csv::read(dir / "truth.csv");
   ASSERT_EQ(c.rows.size(), 1601u);  // t = 0 .. 1.6 s
