@@ -18,6 +18,7 @@ key: dispersion.Design's common random numbers).
 """
 import json
 import math
+import re
 
 import gimbalsim
 from . import indices
@@ -215,12 +216,20 @@ class AllocationSpec:
                 # value's refusal: named at the range, not as if the key acted at no value the scan tries
                 if not any(self._accepted(v) for v in scanned if v != value):
                     raise
-                spec.refuse("allocate.range", f"{point}key '{e.key}': {_bare(e)} (the scan's other values are "
-                            "accepted: give a range without this value)", body["range"])
+                spec.refuse("allocate.range", f"{point}key '{e.key}': {self._at_this_value(_bare(e))} (the scan's "
+                            "other values are accepted: give a range without this value)", body["range"])
             why = _bare(e)
             never_read = self._not_read(e, value) and not any(self._read_at(v) for v in scanned if v != value)
             where = "key" if never_read else "range"
             spec.refuse(f"allocate.{where}", why if why.startswith(point) else point + why, body[where])
+
+    def _at_this_value(self, why):
+        """A refusal of the sweep at one value, read in the scan's terms: that sweep gives the key one value,
+        so its "for every value of KEY the study gives" is not the allocation's (the scan gives others)."""
+        def without_key(m):
+            rest = [k for k in m.group(1).split(", ") if k != self.key]
+            return f", for every value of {', '.join(rest)} the study gives" if rest else ""
+        return re.sub(r", for every value of ([^()]*?) the study gives", without_key, why)
 
     def _not_read(self, e, value):
         """Whether the sweep's refusal e of this value says its runs do not read the key there."""

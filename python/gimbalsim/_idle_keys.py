@@ -99,9 +99,7 @@ def _for_every_value(judge, key, values, dispersed, takes, own_deciders=()):
         why = judge(key, {**values, **dict(zip(deciders, combination))}, rest)
         if why is None:
             return None
-    # a decider that takes one value (an allocation's scanned value) is a setting: no "every value" of it
-    several = [k for k, v in zip(deciders, lists) if len(v) > 1]
-    return f"{why}, for every value of {', '.join(several)} the study gives" if several else why
+    return f"{why}, for every value of {', '.join(deciders)} the study gives"
 
 
 def _idle_play_guard(key, values, dispersed, takes):
