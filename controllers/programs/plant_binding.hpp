@@ -20,7 +20,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <utility>
 
 #include "gimbalsim/lcm_wire/udpm_reassembler.hpp"
 
