@@ -522,6 +522,29 @@ def test_every_tools_parser_keeps_the_flag_rules(script):
     assert "standard_flags(" in text or "page_arguments(" in text or script == "tools/pages/output_file.py", script
 
 
+MODULES = sorted(str(p.relative_to(SOURCE)) for p in (SOURCE / "tools").rglob("*.py"))
+
+
+@pytest.mark.parametrize("script", [m for m in MODULES if m not in PARSED])
+def test_every_tools_module_run_as_a_program_is_refused(script):
+    # (pass 79) budget_speed_specs.py ended in a traceback (exit 1), and five other modules of the scripts
+    # (paper_data.py, plot_components.py, plot_joint_kinds.py, study_csv.py, output_file.py) took any argument,
+    # did nothing and exited 0: a module run alone says what to run instead, exit 2, as unit_conditioning.py
+    p = subprocess.run([sys.executable, str(SOURCE / script), "--bogus"], capture_output=True, text=True,
+                       timeout=60)
+    assert p.returncode == 2 and "not a program" in p.stderr and "Traceback" not in p.stderr, \
+        (p.returncode, p.stderr)
+    assert len(MODULES) > len(PARSED) >= 20  # the glob found the scripts and the modules
+
+
+@pytest.mark.parametrize("script", PARSED)
+def test_every_tools_script_refuses_an_unknown_flag(script):
+    # the scripts with a parser: an unknown flag is exit 2, as in every program (usage.md's exit codes)
+    p = subprocess.run([sys.executable, str(SOURCE / script), "--bogus-flag-79"], capture_output=True, text=True,
+                       timeout=60)
+    assert p.returncode == 2 and "Traceback" not in p.stderr, (p.returncode, p.stderr)
+
+
 @pytest.mark.parametrize("args,named", [(("--rounds", "2", "--rounds", "3"), "--rounds: given twice"),
                                         (("--filter=",), "--filter: an empty value")])
 def test_compare_bench_refuses_a_flag_twice_or_empty(args, named, tmp_path):

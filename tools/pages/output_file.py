@@ -314,3 +314,9 @@ def check_figure_format(path):
     supported = FigureCanvasAgg(Figure()).get_supported_filetypes()
     if fmt not in supported:
         raise Refused(f"{path}: '.{fmt}' is not a figure format (one of {', '.join('.' + f for f in sorted(supported))})")
+
+
+if __name__ == "__main__":  # (pass 79) run alone it took any arguments, did nothing and exited 0
+    print("output_file.py: error: a module of the tools' Python scripts, not a program: "
+          "run the script that writes the file", file=sys.stderr)
+    sys.exit(2)

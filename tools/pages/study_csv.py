@@ -8,6 +8,7 @@ figure over nothing. Anything else (' 1e-3', '-1' for an error, '1e-400'
 read as 0, 'yes' for a flag) is Refused (exit 2) naming the file, line and
 column, and the committed page is kept (pass 49: each was taken, and shown).
 """
+import sys
 import csv
 import io
 import math
@@ -96,3 +97,9 @@ def read_rows(folder, name, columns, key=None, limit=1 << 24):
             seen[r[key]] = line
         rows.append(r)
     return rows
+
+
+if __name__ == "__main__":  # (pass 79) run alone it took any arguments, did nothing and exited 0
+    print("study_csv.py: error: a module of the page scripts (tools/*/*_page.py), not a program: "
+          "run the study's page script", file=sys.stderr)
+    sys.exit(2)

@@ -289,3 +289,9 @@ def continuous_contact_from(cols):
         return None
     last_out = int(np.flatnonzero(~inside)[-1])
     return float(cols["t_s"][last_out + 1])
+
+
+if __name__ == "__main__":  # (pass 79) run alone it took any arguments, did nothing and exited 0
+    print("paper_data.py: error: a module of tools/paper/plot_paper.py, not a program: "
+          "run plot_paper.py, which reads the runs through it", file=sys.stderr)
+    sys.exit(2)

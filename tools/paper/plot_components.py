@@ -1,5 +1,6 @@
 """Figs 8-16 of the main job (tools/paper/plot_paper.py): one row per component,
 ideal | clearance | clearance - ideal, with SI prefixes chosen per panel."""
+import sys
 import math
 
 import numpy as np
@@ -104,3 +105,9 @@ COMPONENT_FIGURES = [
      [("ddtheta1_rad_per_s2", "d\u00b2\u03b8\u2081/dt\u00b2"), ("ddtheta2_rad_per_s2", "d\u00b2\u03b8\u2082/dt\u00b2")],
      "rad/s\u00b2", 1.0, False, True),
 ]
+
+
+if __name__ == "__main__":  # (pass 79) run alone it took any arguments, did nothing and exited 0
+    print("plot_components.py: error: a module of tools/paper/plot_paper.py, not a program: "
+          "run plot_paper.py, which draws these figures", file=sys.stderr)
+    sys.exit(2)

@@ -1,6 +1,8 @@
 """Fig 19 of the main job (tools/paper/plot_paper.py --spatial): the paper's scene
 with joint 2 ideal, planar and spatial clearance (the journal may tilt):
 pointing error against the ideal joint, mid-plane eccentricity, largest tilt."""
+import sys
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -43,3 +45,9 @@ def fig_joint_kinds(save, t, err_planar, err_spatial, clear, spatial, s_spatial,
     ax2.grid(True, alpha=0.3)
     ax2.legend(loc="lower right", fontsize=8)
     save(fig, "fig19_joint_kinds.png")
+
+
+if __name__ == "__main__":  # (pass 79) run alone it took any arguments, did nothing and exited 0
+    print("plot_joint_kinds.py: error: a module of tools/paper/plot_paper.py, not a program: "
+          "run plot_paper.py --spatial, which draws this figure", file=sys.stderr)
+    sys.exit(2)

@@ -5,8 +5,14 @@ read and checked as the sweep reads it before anything runs."""
 import json
 import math
 import pathlib
+import sys
 
-from output_file import Refused
+if __name__ == "__main__":  # (pass 79) run alone it ended in a traceback (its imports are budget_speed.py's)
+    print("budget_speed_specs.py: error: a module of tools/sweeps/budget_speed.py, not a program: run "
+          "budget_speed.py, which derives these specs", file=sys.stderr)
+    sys.exit(2)
+
+from output_file import Refused  # noqa: E402 (tools/pages, on the path budget_speed.py sets)
 
 FINE_KEYS = ("sim.substep", "sim.substep_policy")  # what the fine run sets: a spec may not set or disperse them
 
