@@ -204,8 +204,15 @@ class Reader {
       }
       return x;
     };
+    // (pass 79) a bias of 0 changes no reading: the fault would be flagged as injected and act on nothing
+    auto nonzero = [](bool acts, const char* what) {
+      if (!acts) throw ConvertError{std::string(what) + " adds nothing: the fault would act on nothing"};
+    };
     switch (f.kind) {
-      case FaultKind::EncoderBias: f.value = within(asNumber(v), -kMaxEncoderBias, kMaxEncoderBias, " rad"); break;
+      case FaultKind::EncoderBias:
+        f.value = within(asNumber(v), -kMaxEncoderBias, kMaxEncoderBias, " rad");
+        nonzero(f.value != 0.0, "a bias of 0");
+        break;
       case FaultKind::EncoderNoise:
         f.value = asNumber(v);
         if (!(f.value > 0.0 && f.value <= kMaxEncoderBias)) {
@@ -224,10 +231,12 @@ class Reader {
       case FaultKind::GyroBiasJump:
         f.vector = asVector<3>(v, "[x, y, z] in rad/s");
         for (int i = 0; i < 3; ++i) within(f.vector(i), -kMaxGyroBiasJump, kMaxGyroBiasJump, " rad/s (each axis)");
+        nonzero(f.vector.any(), "a bias of 0 on every axis");
         break;
       case FaultKind::TrackerBias: {
         const Vec2 b = asVector<2>(v, "[u, v] in rad");
         for (int i = 0; i < 2; ++i) within(b(i), -kMaxTrackerBias, kMaxTrackerBias, " rad (each axis)");
+        nonzero(b.any(), "a bias of 0 on both axes");
         f.vector << b, 0.0;
         break;
       }
@@ -313,6 +322,17 @@ std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const P
       out.push_back(at + "the scene has no tracker to act on (scene key sensors.antenna is none)");
       continue;
     }
+    // (pass 79) a limit at or above the motor's drops nothing: the fault would be flagged and act on nothing
+    if (f.kind == FaultKind::TorqueLimit) {
+      for (int j = 0; j < 2; ++j) {
+        if ((f.axis == j || f.axis < 0) && !(f.value < ps.scene.run.torque_limit(j))) {
+          out.push_back(at_param + "key 'limit': " + formatNumber(f.value) + " N m is not below the " +
+                        (j == 0 ? "azimuth" : "elevation") + " motor's limit (scene key torque.limit, " +
+                        formatNumber(ps.scene.run.torque_limit(j)) + " N m): the limit would not drop");
+          break;
+        }
+      }
+    }
     if (!faultIsRamp(f.kind)) continue;
     if (f.axis >= 0 && m.jointKind(f.axis) == ClearanceKind::Ideal) {
       const std::string joint = "joint" + std::to_string(f.axis + 1);
@@ -346,6 +366,9 @@ std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const P
       }
       if (f.kind == FaultKind::FrictionRise && c.friction == FrictionLaw::None) {
         out.push_back(at + "needs a friction law on " + joint + " (scene key " + joint + ".friction.law is none)");
+      } else if (f.kind == FaultKind::FrictionRise && f.value == c.mu) {  // (pass 79) a rise to where it is
+        out.push_back(at_param + "key 'mu': " + formatNumber(f.value) + " is " + joint + "'s friction.mu already: " +
+                      "the fault would change nothing");
       }
     }
   }

@@ -154,6 +154,34 @@ TEST(FaultScheduleFile, SceneChecksNameTheLineAndTheSceneKey) {
   EXPECT_TRUE(checkFaultsAgainstScene(rise, test::plant("paper_clearance"), "r.yaml").empty());
 }
 
+// (pass 79) A fault whose parameter changes nothing ran and was flagged as injected in every tick of its window:
+// a bias of 0, a torque limit at or above the motor's, a friction rise to the scene's own mu.
+TEST(FaultScheduleFile, AFaultThatWouldChangeNothingIsRefused) {
+  for (const char* entry : {"{type: encoder_bias, axis: elevation, bias: 0}", "{type: gyro_bias_jump, bias: [0, 0, 0]}",
+                            "{type: tracker_bias, bias: [0.0, -0.0]}"}) {
+    const std::string why = refusal(std::string("faults:\n  - ") + entry + "\n");
+    EXPECT_NE(why.find("key 'bias': a bias of 0"), std::string::npos) << entry << ": " << why;
+    EXPECT_NE(why.find("the fault would act on nothing"), std::string::npos) << why;
+  }
+  EXPECT_EQ(refusal("faults:\n  - {type: gyro_bias_jump, bias: [0, 0, 1e-6]}\n"), "") << "one axis acts";
+  const PlantScene clearance = test::plant("paper_clearance", {"torque.limit=[20, 10]"});
+  const auto limit = checkFaultsAgainstScene(
+      schedule("faults:\n  - {type: torque_limit, axis: elevation, start: 1, end: 2, limit: 10}\n"), clearance, "l.yaml");
+  ASSERT_EQ(limit.size(), 1u);
+  EXPECT_NE(limit[0].find("l.yaml:2:68: fault #1 (torque_limit): key 'limit': 10 N m is not below the elevation "
+                          "motor's limit (scene key torque.limit, 10 N m)"),
+            std::string::npos)
+      << limit[0];
+  EXPECT_TRUE(checkFaultsAgainstScene(
+                  schedule("faults:\n  - {type: torque_limit, axis: azimuth, start: 1, end: 2, limit: 10}\n"),
+                  clearance, "l.yaml")
+                  .empty());
+  const auto rise = checkFaultsAgainstScene(schedule("faults:\n  - {type: friction_rise, start: 1, mu: 0.25}\n"),
+                                            test::plant("paper_clearance"), "r.yaml");
+  ASSERT_EQ(rise.size(), 1u);
+  EXPECT_NE(rise[0].find("key 'mu': 0.25 is joint2's friction.mu already"), std::string::npos) << rise[0];
+}
+
 /// Runs the bench scene with a constant command (answered every tick) and
 /// the schedule; statuses, truths and the delivered flags per tick.
 struct Trace {
