@@ -214,8 +214,12 @@ class AllocationSpec:
             if not (e.key or "").startswith("grid."):
                 # (pass 78) another key refused at this value alone (friction.v_a where friction.mu = 0) is this
                 # value's refusal: named at the range, not as if the key acted at no value the scan tries
-                if not any(self._accepted(v) for v in scanned if v != value):
-                    raise
+                others = [v for v in scanned if v != value]
+                if not any(self._accepted(v) for v in others):
+                    # (pass 79) the scan's other values are refused too: their refusal is the spec's problem
+                    # (friction.v_a >= the scene's v_b), not this value's own (v_a idle where mu = 0)
+                    e = next((x for x in map(self._refusal_at, others) if x is not None), e)
+                    raise SpecError(self._at_this_value(_bare(e)), e.key, e.file, e.line, e.column) from None
                 spec.refuse("allocate.range", f"{point}key '{e.key}': {self._at_this_value(_bare(e))} (the scan's "
                             "other values are accepted: give a range without this value)", body["range"])
             why = _bare(e)
@@ -235,13 +239,17 @@ class AllocationSpec:
         """Whether the sweep's refusal e of this value says its runs do not read the key there."""
         return _bare(e).removeprefix(f"{self.key} = {self.value_text(value)}: ").startswith(NOT_READ)
 
-    def _accepted(self, value):
-        """Whether the sweep of this value is accepted."""
+    def _refusal_at(self, value):
+        """The sweep's refusal of this value, or None when it is accepted."""
         try:
             SweepSpec(self.path, text=self.text_at(value))
-        except SpecError:
-            return False
-        return True
+        except SpecError as e:
+            return e
+        return None
+
+    def _accepted(self, value):
+        """Whether the sweep of this value is accepted."""
+        return self._refusal_at(value) is None
 
     def _read_at(self, value):
         """Whether the runs read the key at this value (a slew_start past the run's end is read at none)."""

@@ -294,6 +294,19 @@ def test_another_key_idle_at_one_value_of_the_range_is_refused_at_the_range(tmp_
     assert p.returncode == 0, p.stderr
 
 
+def test_a_problem_of_every_value_is_told_not_one_values_own(tmp_path):
+    # (pass 79) with friction.v_a drawn at or above the scene's v_b (1 mm/s), every value of the scan is refused by
+    # the scene; the refusal told mu = 0's own (v_a idle there, "for every value of friction.mu the study gives")
+    text = (f"scene: {SCENES}/paper_clearance.yaml\nset: {{sim.duration: 5.0, friction.law: ambrosio}}\n"
+            "controller: default\nsamples: 59\nseed: 39\nparameters:\n  friction.v_a: {uniform: [1.0e-3, 2.0e-3]}\n"
+            "phases: [track]\nindices: {ape: {}}\n"
+            "allocate: {key: friction.mu, range: [0.0, 0.3], direction: largest, index: ape, phase: track, "
+            "requirement: 1.0e-4, level: 0.95, confidence: 0.95, values: 3}\n")
+    p = run(write_spec(tmp_path, text), tmp_path / "out", "--check")
+    assert p.returncode == 2 and f"spec.yaml:{line_of(text, 'friction.v_a')}:" in p.stderr, p.stderr
+    assert "must be > friction.v_a" in p.stderr and "for every value of" not in p.stderr, p.stderr
+
+
 def test_a_non_monotone_index_says_where(tmp_path):
     # Inside the window [0.2, 0.3) s of a 0.35 s run the error is large while the slew settles, small before
     # the slew and after it settled: the index rises then falls with slew_start.
