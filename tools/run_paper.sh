@@ -18,8 +18,9 @@
 #   bash tools/run_paper.sh sim.duration=1                 # 1 s instead of 5 s
 #   bash tools/run_paper.sh sim.duration=2 friction.mu=0.1
 #
-# GIMBALSIM_BUILD=DIR uses that build folder instead of build/ (CI: the
-# tests' build-tests/, whose gimbalsim the test command has just built).
+# GIMBALSIM_BUILD=DIR uses that build folder, already configured, instead of build/
+# (read where you stand; CI: the tests' build-tests/, whose gimbalsim the test
+# command has just built).
 #
 # --results also writes docs/results/paper.md (headline figures; header by
 # tools/pages/results_page.py) and three of the figures, small, into docs/results/
@@ -29,6 +30,18 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
 source "$ROOT/tools/lib/out_folder.sh"  # the script's own out/ folder, or a refusal
+# A GIMBALSIM_BUILD the user names is read where the user stands, as every path they give, and must be a build
+# already configured: the script configures only its own build/ (a name missing here was configured inside the
+# checkout, read against the repository).
+if [ -n "${GIMBALSIM_BUILD:-}" ]; then
+  BUILD=$(realpath -ms -- "$GIMBALSIM_BUILD")  # the name as given, made absolute
+  [ -f "$BUILD/CMakeCache.txt" ] || {
+    echo "run_paper.sh: GIMBALSIM_BUILD=$GIMBALSIM_BUILD: $BUILD is not a configured build (no CMakeCache.txt);" \
+      "configure it (cmake -S $ROOT -B $BUILD) or leave GIMBALSIM_BUILD unset for $ROOT/build; nothing run" >&2
+    exit 2; }
+else
+  BUILD=$ROOT/build
+fi
 cd "$ROOT"
 
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
@@ -51,7 +64,6 @@ done
 echo "== [1/4] packages (tools/bootstrap.sh)"
 bash tools/bootstrap.sh
 
-BUILD=${GIMBALSIM_BUILD:-build}
 echo "== [2/4] Release build in $BUILD/"
 if [ -f "$BUILD/CMakeCache.txt" ]; then
   echo "$BUILD/ already configured: not reconfiguring"

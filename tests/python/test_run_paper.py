@@ -140,3 +140,25 @@ def test_a_folder_put_under_an_output_name_during_the_runs_keeps_the_previous_se
             "previous outputs are kept") in err, err
     (out / "plot_summary.txt").rmdir()
     assert previous_set_kept(out), sorted(os.listdir(out))
+
+
+def test_a_relative_build_is_read_where_the_user_stands(tmp_path):
+    # (pass 80) a relative GIMBALSIM_BUILD was read against the repository: the user's own build was never used,
+    # and a name missing there was configured inside the checkout
+    root, out = copy_of_tools(tmp_path)
+    here = tmp_path / "here"
+    here.mkdir()
+    (here / "mybuild").symlink_to(BIN.parent, target_is_directory=True)
+    (root / "mybuild").mkdir()  # the same name in the repository, not a build: never read
+    env = dict(os.environ, GIMBALSIM_BUILD="mybuild")
+    p = subprocess.run(["bash", str(root / "tools" / "run_paper.sh"), "sim.duration=0.1"], capture_output=True,
+                       text=True, timeout=600, env=env, cwd=here)
+    assert p.returncode == 0, p.stderr
+    assert f"Release build in {here / 'mybuild'}/" in p.stdout and (out / "ideal.json").read_text() != \
+        '{"previous": "ideal"}\n', p.stdout
+    env["GIMBALSIM_BUILD"] = "nowhere"  # missing where the user stands: refused, nothing configured anywhere
+    p = subprocess.run(["bash", str(root / "tools" / "run_paper.sh"), "sim.duration=0.1"], capture_output=True,
+                       text=True, timeout=600, env=env, cwd=here)
+    assert p.returncode == 2 and f"GIMBALSIM_BUILD=nowhere: {here / 'nowhere'} is not a configured build" in \
+        p.stderr, p.stderr
+    assert not (here / "nowhere").exists() and not (root / "nowhere").exists() and "[3/4]" not in p.stdout
