@@ -206,6 +206,36 @@ def test_a_study_with_no_figure_while_tracking_ends_as_the_study_did(tmp_path):
     assert "no plot (the study ran, exit 0)" in p.stderr, p.stderr
 
 
+def test_a_study_with_nothing_to_plot_leaves_no_previous_figure_beside_its_results(tmp_path):
+    # (pass 80) the previous study's figures stood beside the new CSVs as if they were theirs
+    folder = tmp_path / "work/out/pointing_study"
+    folder.mkdir(parents=True)
+    for fig in ("pointing_error_vs_time.png", "pointing_error_vs_clearance.png"):
+        (folder / fig).write_bytes(b"the previous study's figure")
+    p = _run(tmp_path, "study", "--quick", "--sensors", "perfect", "--clearance-scene",
+             str(SOURCE / "tools/scenes/paper_clearance.yaml"), "--duration", "1")
+    assert p.returncode == 0 and "removed the previous study's" in p.stderr, p.stderr
+    assert sorted(f.name for f in folder.glob("*.png")) == [], sorted(os.listdir(folder))
+
+
+@pytest.mark.parametrize("planted", ["link", "folder"])
+def test_a_figure_name_the_plot_would_refuse_costs_no_run(tmp_path, planted):
+    # (pass 80) a link under a figure's name was refused by the plot after the study had replaced its CSVs, and
+    # the script, taking the refusal for "nothing to plot", ended 0 with the previous figure beside them
+    folder = tmp_path / "work/out/pointing_study"
+    folder.mkdir(parents=True)
+    victim = tmp_path / "victim.txt"
+    victim.write_text("victim\n")
+    (folder / "pointing_error.csv").write_text("the previous study's series\n")
+    figure = folder / "pointing_error_vs_time.png"
+    figure.symlink_to(victim) if planted == "link" else figure.mkdir()
+    p = _run(tmp_path, "study", "--quick", "--sensors", "perfect", "--clearance-scene",
+             str(SOURCE / "tools/scenes/paper_clearance.yaml"))
+    assert p.returncode == 2 and "pointing_error_vs_time.png" in p.stderr, p.stderr
+    assert (folder / "pointing_error.csv").read_text() == "the previous study's series\n"
+    assert victim.read_text() == "victim\n" and not (folder / "summary.csv").exists()
+
+
 def test_a_study_with_no_figure_while_tracking_keeps_the_page(tmp_path):
     # (pass 26) every run stopped: the page's summary read "peak error while tracking nan rad ideal"; (pass 50) the
     # committed page was then replaced by one of n/a in every tracking cell: no page, the study's own exit

@@ -147,6 +147,8 @@ def main():
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     output_file.standard_flags(p)
     p.add_argument("dir", nargs="?", default="out/pointing_study", help="the tool's --out directory")
+    p.add_argument("--check", action="store_true",
+                   help="check the figures' names alone (before the study runs) and write nothing")
     a = p.parse_args()
     if not os.path.isdir(a.dir):  # the study's folder is the input: said as such, not as an output's missing folder
         raise Refused(f"{a.dir}: " + ("not a folder" if os.path.exists(a.dir) else "no such folder") +
@@ -154,6 +156,8 @@ def main():
     series, summary = os.path.join(a.dir, "pointing_error.csv"), os.path.join(a.dir, "summary.csv")
     outs = [os.path.join(a.dir, "pointing_error_vs_time.png"), os.path.join(a.dir, "pointing_error_vs_clearance.png")]
     check_before_writing(outs, [series, summary])
+    if a.check:
+        return 0
     head, cols = read_series(a.dir)
     rows = read_summary(a.dir)
     # Both figures are the tracking's: a study none of whose runs has a figure there draws two empty axes.

@@ -41,9 +41,13 @@ if [ "$NAMED" = 0 ]; then  # the script's own default folder; a named one must e
   out_folder run_pointing_study.sh "$OUT"
 fi
 trap 'rm -f "$LOG"; out_folder_undo' EXIT  # a refused run leaves no folder it made
-# The log's name is checked before the study runs: a refused one costs no run and no output.
+# The log's and the figures' names are checked before the study runs: a refused one costs no run and no output
+# (pass 80: a link under a figure's name was refused only after the study had replaced its CSVs, and taken for a
+# study with nothing to plot).
+PLOT=("$ROOT/tools/pointing_study/plot_pointing_study.py" "$OUT")
 if [ -d "$OUT" ]; then
   /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}
+  /usr/bin/python3 "${PLOT[@]}" --check
 fi
 # The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
 [ "$RESULTS" = 0 ] || /usr/bin/python3 "$ROOT/tools/pages/results_page.py" --check \
@@ -74,16 +78,24 @@ esac
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
 /usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}
 plotted=0
-/usr/bin/python3 "$ROOT/tools/pointing_study/plot_pointing_study.py" "$OUT" || plotted=$?
+/usr/bin/python3 "${PLOT[@]}" || plotted=$?
 # A study with no figure while tracking (every run stopped, or each ended before it) leaves the plot nothing
-# to draw: it refuses (2), and the script ends as the study did, not as a refusal after everything ran; any
-# other failure is the plot's own.
+# to draw: it refuses (2), and the script ends as the study did, not as a refusal after everything ran. The
+# previous study's figures would stand beside these results as theirs: removed (their names were checked).
+# A figure's name that the plot refuses now (one came during the study) is exit 4, as an output not written.
 if [ "$plotted" -ne 0 ]; then
-  if [ "$plotted" -eq 2 ]; then
-    echo "run_pointing_study.sh: no plot (the study ran, exit $status); its outputs and log are in $OUT" >&2
-  else
-    exit "$plotted"
+  if [ "$plotted" -ne 2 ]; then exit "$plotted"; fi
+  if ! /usr/bin/python3 "${PLOT[@]}" --check 2>/dev/null; then
+    echo "run_pointing_study.sh: the figures were not written (the plot refused their names, above); the" \
+      "study's outputs and log are in $OUT" >&2
+    exit 4
   fi
+  for fig in pointing_error_vs_time.png pointing_error_vs_clearance.png; do
+    if [ -f "$OUT/$fig" ] && [ ! -L "$OUT/$fig" ]; then
+      rm -f -- "$OUT/$fig" && echo "run_pointing_study.sh: removed the previous study's $OUT/$fig" >&2
+    fi
+  done
+  echo "run_pointing_study.sh: no plot (the study ran, exit $status); its outputs and log are in $OUT" >&2
 fi
 if [ "$RESULTS" = 1 ]; then
   # As the plot: a study with no figure while tracking gets no page (the committed one is kept, said by the page
