@@ -143,11 +143,17 @@ def open_study(spec, out, resume, sampler):
     elif fingerprint != spec.fingerprint:
         raise SpecError(f"{db} holds a study of another spec; --resume needs the same spec (the trial count "
                         f"may differ)")
+    gain_names = [p.key for p in spec.gains]
     for t in study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,)):
+        # Its gains: those drawn, or those it was queued with (a baseline or a retry killed before it drew them).
+        gains = {**t.system_attrs.get("fixed_params", {}), **t.params}
         storage.set_trial_user_attr(t._trial_id, "row", {"trial": t.number, "state": "FAIL", "reason": "killed",
-                                                        "origin": t.user_attrs.get("origin", ""), **t.params})
+                                                        "origin": t.user_attrs.get("origin", ""), **gains})
         storage.set_trial_state_values(t._trial_id, optuna.trial.TrialState.FAIL)
-        study.enqueue_trial(t.params, user_attrs={"origin": f"retry of {t.number}"})
+        # (pass 80) one killed before its gains were drawn has none to run again: a new proposal takes its place,
+        # never one called its retry
+        if all(k in gains for k in gain_names):
+            study.enqueue_trial({k: gains[k] for k in gain_names}, user_attrs={"origin": f"retry of {t.number}"})
     return study
 
 

@@ -135,15 +135,18 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     # constant_liar and constraints_func are marked experimental in Optuna 3.1: used knowingly.
     warnings.filterwarnings("ignore", category=optuna.exceptions.ExperimentalWarning)
-    sampler = optuna.samplers.TPESampler(
-        seed=spec.seed, constant_liar=True, n_startup_trials=max(1, min(10, spec.trials // 3)),
-        constraints_func=lambda t: (t.user_attrs.get("constraint", 1.0),))
+    def sampler(seed):
+        return optuna.samplers.TPESampler(
+            seed=seed, constant_liar=True, n_startup_trials=max(1, min(10, spec.trials // 3)),
+            constraints_func=lambda t: (t.user_attrs.get("constraint", 1.0),))
     check_study_folder(spec, out, resume)
     with contextlib.ExitStack() as stack:
         # A named scheduler is reached before the study is made: one that does not answer (exit 6) leaves
         # --out as it was, not a study the next run would want resumed.
         named = stack.enter_context(_cluster.dask_client(None, scheduler)) if scheduler else None
-        study = open_study(spec, out, resume, sampler)
+        study = open_study(spec, out, resume, sampler(spec.seed))
+        if resume:  # (pass 80) the spec's seed again replayed the first run's draws: finished gains proposed anew
+            study.sampler = sampler(int(np.random.SeedSequence([spec.seed, len(study.trials)]).generate_state(1)[0]))
         gain_names = [p.key for p in spec.gains]
         header = ["trial", "state", "origin", "score", "constraint", *gain_names, "plants_ok", "reason",
                   "wall_time"] + [f"plant{j}.{c}" for j in range(spec.batch) for c in ("status",) + PLANT_FIGURES]

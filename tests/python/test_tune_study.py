@@ -125,7 +125,7 @@ def test_a_gain_range_without_the_configurations_value_is_refused_at_its_line(tm
     assert not (tmp_path / "o").exists()
 
 
-def running_trial(db):
+def running_trial(db, gains=len(GAINS)):
     """The number of a RUNNING trial with its gains drawn, after a finished one, read from the study, or None."""
     try:
         with sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=1) as c:
@@ -134,7 +134,7 @@ def running_trial(db):
                                    "ON p.trial_id = t.trial_id GROUP BY t.number").fetchall())
     except sqlite3.Error:
         return None
-    running = [n for n, s in states.items() if s == "RUNNING" and drawn.get(n) == len(GAINS)]
+    running = [n for n, s in states.items() if s == "RUNNING" and drawn.get(n) == gains]
     return running[0] if running and "COMPLETE" in states.values() else None
 
 
@@ -161,6 +161,47 @@ def test_a_resume_after_sigkill_retries_the_killed_trial_and_finishes_the_count(
     assert [retry[0][COLUMN[g]] for g in GAINS] == [dead[COLUMN[g]] for g in GAINS]
     assert sum(r["state"] == "COMPLETE" for r in rows) == 4
     assert rows[0]["origin"] == "baseline"
+
+
+def test_a_resume_proposes_no_finished_gains_again(tmp_path):
+    # (pass 80) the resumed sampler, seeded with the spec's seed alone, replayed the first run's random draws: a
+    # new trial ran the gains of a finished one, bit for bit (12 trials: 4 drawn at random before TPE; one gain,
+    # as found: the first TPE proposal after the retry drew the killed trial's gains again)
+    spec = write_spec(tmp_path, 12)
+    spec.write_text(spec.read_text().replace("seed: 3", "seed: 1").replace("  elevation.kd: {uniform: [300, 3000]}\n",
+                                                                           ""))
+    out = tmp_path / "o"
+    proc = subprocess.Popen(tune_cmd(spec, out), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    t0 = time.time()
+    while (killed := running_trial(out / "study.db", gains=1)) is None or killed < 4:
+        assert proc.poll() is None and time.time() - t0 < 300, "no trial 4 running"
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.communicate(timeout=60)
+    spec.write_text(spec.read_text().replace("trials: 12", "trials: 7"))  # the count may differ on a resume
+    p = subprocess.run(tune_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    rows = trials(out)
+    runs = [r[COLUMN["azimuth.kp"]] for r in rows if r["origin"] != f"retry of {killed}"]
+    assert len(rows) > killed + 2 and len(set(runs)) == len(runs), \
+        [(r["trial"], r["origin"], r[COLUMN["azimuth.kp"]]) for r in rows][killed:]
+
+
+def test_a_trial_killed_before_its_gains_were_drawn_gets_no_retry(tmp_path):
+    # (pass 80) its retry was queued with no gains: a fresh proposal called "retry of N"
+    import optuna
+    spec = write_spec(tmp_path, 2)
+    out = tmp_path / "o"
+    assert subprocess.run(tune_cmd(spec, out), capture_output=True, timeout=600).returncode == 0
+    study = optuna.load_study(study_name="gimbalsim.tune", storage=f"sqlite:///{out / 'study.db'}")
+    left = study.ask().number  # a tuner killed right after it asked: RUNNING, no gains drawn
+    spec.write_text(spec.read_text().replace("trials: 2", "trials: 3"))
+    p = subprocess.run(tune_cmd(spec, out, "--resume"), capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr
+    rows = trials(out)
+    assert rows[left]["state"] == "FAIL" and rows[left]["reason"] == "killed", rows[left]
+    assert [r["origin"] for r in rows] == ["baseline", "", "", ""] and rows[-1]["state"] == "COMPLETE", rows
 
 
 @pytest.mark.parametrize("batch", [2, 4])  # (pass 43) 4 plants on 2 workers: a task of two, both "crashed"
