@@ -34,7 +34,8 @@ class PlantBinding {
 
   /// control_period_s: the controller's period [s], the interval of a real-time plant's statuses.
   explicit PlantBinding(double control_period_s)
-      : stale_ns_(std::max(kMinStaleNs, static_cast<std::int64_t>(std::llround(kStalePeriods * control_period_s * 1e9)))) {}
+      : stale_ns_(std::max(kMinStaleNs,
+                           static_cast<std::int64_t>(std::llround(kStalePeriods * control_period_s * 1e9)))) {}
 
   /// Whether a message from src is taken. has_seq: a decoded status, whose seq is seq. now_ns: CLOCK_MONOTONIC.
   /// A true return that binds another source than before is told by rebound() (the caller starts afresh).

@@ -20,6 +20,16 @@ const std::vector<std::pair<std::string, std::string>>& closedLoopIdleSceneKeys(
   return kIdle;
 }
 
+const std::vector<std::pair<std::string, std::string>>& closedLoopIdleControllerKeys() {
+  // closed_loop.cpp answers every status with an attitude of the same tick, and a study has no fault schedule
+  static const std::string kNeverStale =
+      "a study's closed loop delivers every status with the attitude of its own tick and injects no fault: no "
+      "status is stale (the bench's --faults can make one)";
+  static const std::vector<std::pair<std::string, std::string>> kIdle = {{"monitor.stale_ticks", kNeverStale},
+                                                                         {"monitor.hold_ticks", kNeverStale}};
+  return kIdle;
+}
+
 std::string idleSceneOverride(const char* flag, const std::vector<std::string>& overrides) {
   for (std::size_t k = 0; k < overrides.size(); ++k) {
     const std::string key = overrides[k].substr(0, overrides[k].find('='));

@@ -18,42 +18,22 @@ from ._idle_sensors import (ANTENNA_NOISE_KEYS, ANTENNA_TRACKER, NOISE_KEYS, TRU
 from .indices import seconds
 
 # What a closed loop never reads, and what an open-loop run never reads.
-_NEVER_STALE = ("a study's closed loop delivers every status with the attitude of its own tick and injects no "
-                "fault: no status is stale (the bench's --faults can make one)")
-# The scene keys the C++ closed loop never reads are its own list (firmware_sim closedLoopIdleSceneKeys,
-# which the study programs refuse too); a study adds the length it sets itself and the monitor's keys.
+# The scene keys and controller keys the C++ closed loop never reads are its own lists (firmware_sim
+# closedLoopIdleSceneKeys, closedLoopIdleControllerKeys), which the study programs refuse too; a study adds the
+# length it sets itself.
 CLOSED_LOOP_IDLE = {"sim.duration": "every closed loop of a study runs one length: a sweep's set: sim.duration, "
                                     "a tuner's duration:",
                     **dict(_gimbalsim._closed_loop_idle_scene_keys()),
-                    # firmware_sim/src/closed_loop.cpp answers every status with an attitude of the same tick, and a
-                    # study's loop has no fault schedule to delay one: no status is ever stale
-                    CONTROLLER_PREFIX + "monitor.stale_ticks": _NEVER_STALE,
-                    CONTROLLER_PREFIX + "monitor.hold_ticks": _NEVER_STALE}
+                    **{CONTROLLER_PREFIX + k: why for k, why in _gimbalsim._closed_loop_idle_controller_keys()}}
 OPEN_LOOP_IDLE = {"torque.limit": "the firmware's motor limit: an open-loop run applies the scene's torques as "
                   "they are"}
 # Read by no run of either kind.
 ALWAYS_IDLE = {"name": "the scene's label: no run reads it"}
 
-# Controller keys read only under settings of others (controllers/src/pid.cpp, inertial_reference.cpp,
-# model_feedforward.cpp): key (or prefix ending in ".") -> conditions that must all hold; a condition is
-# (that key, the values that read it), or a list of such, any one of which will do.
-_INERTIAL = ("pointing.mode", ("inertial",))
-_MODEL = ("pointing.accel_feedforward", ("model",))
-CONTROLLER_READ_UNDER = {
-    "control.rate_filter_hz": [("control.rate_source", ("difference",))],
-    "pointing.target": [_INERTIAL],
-    "pointing.fixed_direction": [_INERTIAL, ("pointing.target", ("fixed",))],
-    "pointing.base_accel_filter_hz": [_INERTIAL, ("pointing.accel_feedforward", ("inertial",))],
-    "gimbal.azimuth_inertia_cos2": [("pointing.accel_feedforward", ("profile", "inertial"))],
-    # the joint axes: the inertial mode's IK, or the model feed-forward's plant
-    "gimbal.joint1_axis": [[_INERTIAL, _MODEL]],
-    "gimbal.joint2_axis": [[_INERTIAL, _MODEL]],
-    # the boresight only by the IK: the plant's dynamics (reducedDynamics: crba, rnea) never read it
-    "gimbal.boresight": [_INERTIAL],
-    "azimuth.aw_gain": [("control.anti_windup", ("back_calculation",))],
-    "elevation.aw_gain": [("control.anti_windup", ("back_calculation",))],
-    "plant.": [_MODEL],
-}
+# Controller keys read only under settings of others: the controller library's one table
+# (controllers/src/key_use.cpp), key (or prefix ending in ".") -> conditions that must all hold; a condition is a
+# list of (that key, the values that read it), any one of which will do.
+CONTROLLER_READ_UNDER = _gimbalsim._controller_read_rules()
 
 
 def idle_in_controller(key, values, dispersed):
@@ -61,8 +41,7 @@ def idle_in_controller(key, values, dispersed):
     one of its conditions holds for no value the configuration has (a decider
     in `dispersed` is not judged)."""
     rules = CONTROLLER_READ_UNDER.get(key) or CONTROLLER_READ_UNDER.get(key[:key.find(".") + 1], [])
-    for condition in rules:
-        alternatives = condition if isinstance(condition, list) else [condition]
+    for alternatives in rules:
         if any(d in dispersed or str(values.get(d)) in reading for d, reading in alternatives):
             continue
         return "the controller reads it only with " + " or with ".join(
@@ -75,7 +54,7 @@ def idle_in_controller(key, values, dispersed):
 _DECIDERS = re.compile(r"structure\..*|sim\.substep_policy|(joint[12]\.)?(friction\.law|contact\.damping)|"
                        r"sensors\.(star_)?tracker_(outage|latency)|sensors\.antenna")
 _CONTROLLER_DECIDERS = {CONTROLLER_PREFIX + d for rules in CONTROLLER_READ_UNDER.values() for c in rules
-                        for d, _ in (c if isinstance(c, list) else [c])} | {ANTENNA_TRACKER}
+                        for d, _ in c} | {ANTENNA_TRACKER}
 _MAX_COMBINATIONS = 256  # of the deciders' values: beyond it nothing is judged
 # Numbers that decide a few keys only (_READ_UNDER): the keys (by their ends), the number's key.
 _NUMBER_DECIDERS = ((("contact.v0_min", "contact.damping"), "contact.restitution"),

@@ -15,6 +15,7 @@
 #include "key_dicts.hpp"
 #include "gimbalsim/controllers/attitude_estimator.hpp"
 #include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/controllers/key_use.hpp"
 #include "gimbalsim/controllers/pointing_controller.hpp"
 #include "gimbalsim/controllers/tracker_fusion.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
@@ -282,6 +283,23 @@ void bindController(pyb::module_& m) {
 
   m.def("_controller_keys", [] { return keyInfoList(controllerKeys()); });
   m.def("_closed_loop_idle_scene_keys", [] { return firmware::closedLoopIdleSceneKeys(); });
+  m.def("_closed_loop_idle_controller_keys", [] { return firmware::closedLoopIdleControllerKeys(); });
+  // key -> [[(deciding key, (values that read it)), ...] per condition] (gimbalsim/_idle_keys.py)
+  m.def("_controller_read_rules", [] {
+    pyb::dict rules;
+    for (const KeyReadRule& r : controllerReadRules()) {
+      pyb::list conditions;
+      for (const auto& condition : r.conditions) {
+        pyb::list settings;
+        for (const ReadingSetting& s : condition) {
+          settings.append(pyb::make_tuple(s.key, pyb::tuple(pyb::cast(s.values))));
+        }
+        conditions.append(settings);
+      }
+      rules[pyb::str(r.key)] = conditions;
+    }
+    return rules;
+  });
   // What the controller's histories hold at a control period [s]: the star-tracker latency [s] at or beyond
   // which the attitude estimator drops every sample, and the boresight tracker's history in ticks
   // (gimbalsim/_idle_sensors.py: sensor keys that act on nothing).

@@ -15,6 +15,7 @@
 #include "gimbalsim/input/input_error.hpp"
 #include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
+#include "gimbalsim/controllers/key_use.hpp"
 #include "gimbalsim/firmware_sim/study_idle.hpp"
 #include "gimbalsim/pointing/profile_windows.hpp"
 #include "gimbalsim/program/program.hpp"
@@ -95,6 +96,12 @@ int mainImpl(int argc, char** argv) {
     std::vector<std::string> partly_idle;  // one scene: idle in some runs is idle in all
     const firmware::StudyScene run{scene_path, &ps.scene, 1, &ps.sensors, opt.duration, base.antenna.use_tracker};
     if (const std::string why = firmware::idleInEveryRun("--scene-set", scene_sets, {run}, &partly_idle);
+        !why.empty()) {
+      return program::refuse("controller_sweep", why);
+    }
+    // A --set the loop never reads would be recorded with the table and act on nothing (pass 80).
+    if (const std::string why = idleControllerOverride("--set", sets, base, ps.sensors.antenna_sensors,
+                                                       firmware::closedLoopIdleControllerKeys());
         !why.empty()) {
       return program::refuse("controller_sweep", why);
     }

@@ -24,6 +24,7 @@
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/controllers/pointing_controller.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
+#include "gimbalsim/controllers/key_use.hpp"
 #include "gimbalsim/firmware_sim/study_idle.hpp"
 #include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/io/output_file.hpp"
@@ -279,6 +280,24 @@ int mainImpl(int argc, char** argv) {
       if (const std::string why = firmware::controlPeriodProblem(ps, c.period); !why.empty()) {
         return program::refuse(kProgram, "--set " + why + " (run " + label + ", controller " + name + ")");
       }
+    }
+  }
+  // A --set no controller reads (or a --before-set the "before" one does not) would be recorded as in effect
+  // and act on nothing (pass 80).
+  const bool any_antenna_sensor =
+      std::any_of(scenes.begin(), scenes.end(), [](const auto& s) { return s.second.sensors.antenna_sensors; });
+  const auto idle = [&](const char* flag, const std::vector<std::string>& given, const ControllerConfig& c) {
+    return idleControllerOverride(flag, given, c, any_antenna_sensor, firmware::closedLoopIdleControllerKeys());
+  };
+  std::string why_set;  // a --set is in both controllers: refused when neither reads it
+  for (const auto& [name, c] : controllers) {
+    why_set = idle("--set", sets, c);
+    if (why_set.empty()) break;
+  }
+  if (!why_set.empty()) return program::refuse(kProgram, why_set);
+  if (!before_sets.empty()) {
+    if (const std::string why = idle("--before-set", before_sets, controllers.front().second); !why.empty()) {
+      return program::refuse(kProgram, why);
     }
   }
   // A seed with no noise to draw: recorded with the runs, acting on none.

@@ -21,6 +21,7 @@
 
 #include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
+#include "gimbalsim/controllers/key_use.hpp"
 #include "gimbalsim/firmware_sim/study_idle.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/input/key_registry.hpp"
@@ -244,6 +245,14 @@ int mainImpl(int argc, char** argv) {
     if (const std::string why = firmware::controlPeriodProblem(sc.scene, cfg.period); !why.empty()) {
       return refuse("--config/--set", why + " (run " + sc.label + ")");
     }
+  }
+  // A --set the loop never reads would be recorded in config.txt as in effect (pass 80).
+  const bool any_antenna_sensor =
+      std::any_of(scenes.begin(), scenes.end(), [](const Planned& p) { return p.scene.sensors.antenna_sensors; });
+  if (const std::string why = idleControllerOverride("--set", sets, cfg, any_antenna_sensor,
+                                                     firmware::closedLoopIdleControllerKeys());
+      !why.empty()) {
+    return program::refuse("gimbalsim_pointing_study", why);
   }
   // A seed with no noise to draw: recorded with the runs, acting on none.
   const bool any_noise =

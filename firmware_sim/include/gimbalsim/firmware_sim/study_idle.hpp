@@ -18,6 +18,11 @@ namespace gimbalsim::firmware {
 /// The one list: the study programs and the Python sweeps and tuner refuse these.
 const std::vector<std::pair<std::string, std::string>>& closedLoopIdleSceneKeys();
 
+/// The controller keys runClosedLoop never lets act, each with why: monitor.stale_ticks and hold_ticks (every
+/// status carries the attitude of its own tick and no fault delays one: none is ever stale). The one list: the
+/// study programs and the Python sweeps and tuner refuse these.
+const std::vector<std::pair<std::string, std::string>>& closedLoopIdleControllerKeys();
+
 /// The first of `overrides` (key=value) that runClosedLoop never reads
 /// (closedLoopIdleSceneKeys), as a refusal naming `flag` #k and why ("" when
 /// none). A study's override of one would be recorded with its runs and never act.
