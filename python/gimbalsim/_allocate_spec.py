@@ -93,6 +93,7 @@ class AllocationSpec:
         # spec's own lines). A refusal of a value (the scene's or controller's range, a phase the run does not
         # reach) holds over an interval of the key: a value bisected between two accepted ones is accepted too.
         scanned = sorted(scan_values(self))
+        self._refusals = {}  # value -> the sweep's refusal of it (None: accepted), each value checked once
         self._ends = [self.sweep_at(v, spec, body, scanned) for v in scanned]
         closed = self._ends[0].closed
         if self.index not in [ix.name for ix in closed.indices]:
@@ -240,12 +241,14 @@ class AllocationSpec:
         return _bare(e).removeprefix(f"{self.key} = {self.value_text(value)}: ").startswith(NOT_READ)
 
     def _refusal_at(self, value):
-        """The sweep's refusal of this value, or None when it is accepted."""
-        try:
-            SweepSpec(self.path, text=self.text_at(value))
-        except SpecError as e:
-            return e
-        return None
+        """The sweep's refusal of this value, or None when it is accepted (checked once per value)."""
+        if value not in self._refusals:
+            try:
+                SweepSpec(self.path, text=self.text_at(value))
+                self._refusals[value] = None
+            except SpecError as e:
+                self._refusals[value] = e
+        return self._refusals[value]
 
     def _accepted(self, value):
         """Whether the sweep of this value is accepted."""
@@ -253,11 +256,8 @@ class AllocationSpec:
 
     def _read_at(self, value):
         """Whether the runs read the key at this value (a slew_start past the run's end is read at none)."""
-        try:
-            SweepSpec(self.path, text=self.text_at(value))
-        except SpecError as e:
-            return not self._not_read(e, value)
-        return True
+        e = self._refusal_at(value)
+        return e is None or not self._not_read(e, value)
 
     def plain(self):
         return {"key": self.key, "unit": self.unit, "range": [self.lo, self.hi], "direction": self.direction,

@@ -166,7 +166,8 @@ TEST(FaultScheduleFile, AFaultThatWouldChangeNothingIsRefused) {
   EXPECT_EQ(refusal("faults:\n  - {type: gyro_bias_jump, bias: [0, 0, 1e-6]}\n"), "") << "one axis acts";
   const PlantScene clearance = test::plant("paper_clearance", {"torque.limit=[20, 10]"});
   const auto limit = checkFaultsAgainstScene(
-      schedule("faults:\n  - {type: torque_limit, axis: elevation, start: 1, end: 2, limit: 10}\n"), clearance, "l.yaml");
+      schedule("faults:\n  - {type: torque_limit, axis: elevation, start: 1, end: 2, limit: 10}\n"), clearance,
+      "l.yaml");
   ASSERT_EQ(limit.size(), 1u);
   EXPECT_NE(limit[0].find("l.yaml:2:68: fault #1 (torque_limit): key 'limit': 10 N m is not below the elevation "
                           "motor's limit (scene key torque.limit, 10 N m)"),
