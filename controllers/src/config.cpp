@@ -1,5 +1,10 @@
 #include "gimbalsim/controllers/config.hpp"
 
+#include <cmath>
+#include <numbers>
+
+#include "gimbalsim/controllers/model_feedforward.hpp"
+#include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/pointing/profile_keys.hpp"
 
 namespace gimbalsim::controllers {
@@ -157,8 +162,49 @@ std::vector<Key<ControllerConfig>> keys() {
   return v;
 }
 
+/// Why the model feed-forward's arithmetic cannot honour these mass properties ("" when it can): at some joint
+/// angles the joints' reduced inertia H* = Mqq - Mqb Mbb^-1 Mbq is not finite, or its smallest eigenvalue is
+/// under 1e-12 of Mqq's largest entry, where double rounding leaves it under 4 significant digits (a base far
+/// too light for its shafts): the computed torque H* ddq + c* would be rounding (pass 81: 1e9 kg shafts on a
+/// 1e-6 kg base sent a NaN torque mid-slew).
+std::string plantModelProblem(const ControllerConfig& c) {
+  const Model m = plantModel(c.plant, c.gimbal.joint1_axis, c.gimbal.joint2_axis, c.gimbal.boresight);
+  constexpr int kGrid = 12;  // joint angles over a turn each
+  for (int i = 0; i < kGrid; ++i) {
+    for (int j = 0; j < kGrid; ++j) {
+      const Vec2 q(2.0 * std::numbers::pi * i / kGrid, 2.0 * std::numbers::pi * j / kGrid);
+      const ReducedDynamics r = reducedDynamics(m, q, Vec2::Zero(), Vec3::Zero());
+      const double a = r.H(0, 0), d = r.H(1, 1), b = 0.5 * (r.H(0, 1) + r.H(1, 0));
+      const double smallest = 0.5 * (a + d) - std::hypot(0.5 * (a - d), b);
+      if (!(r.H.allFinite() && r.A.allFinite() && smallest >= 1e-12 * r.joint_scale)) {
+        const std::string at = "the model feed-forward's joint inertia at q = (" + formatNumber(q(0)) + ", " +
+                               formatNumber(q(1)) + ") rad ";
+        if (!(r.H.allFinite() && r.A.allFinite())) return at + "is not finite: give mass properties the model can hold";
+        return at + "has its smallest eigenvalue " + formatNumber(smallest) + " kg m^2 under 1e-12 of Mqq's largest "
+               "entry " + formatNumber(r.joint_scale) + " kg m^2: rounding leaves it under 4 significant digits (a "
+               "base far too light for its shafts); give mass properties within a few orders of each other";
+      }
+    }
+  }
+  return "";
+}
+
 /// Checks across keys (every key has passed its own check).
 void validate(const ControllerConfig& c, Given& g) {
+  if (c.accel_feedforward == AccelFeedForward::Model) {  // the only reader of plant.*
+    if (const std::string why = plantModelProblem(c); !why.empty()) {
+      std::string key = "plant.base_mass";  // named where the user gave one of the plant's keys
+      for (const char* k : {"plant.base_mass", "plant.base_inertia", "plant.shaft1_mass", "plant.shaft1_com",
+                            "plant.shaft1_inertia", "plant.shaft2_mass", "plant.shaft2_com", "plant.shaft2_inertia",
+                            "plant.joint1_position", "plant.joint2_position"}) {
+        if (g.has(k)) {
+          key = k;
+          break;
+        }
+      }
+      g.refuse(key, why);
+    }
+  }
   // Where the law reads it (pid.cpp): a period it never filters at is no reason to refuse (a 5 ms period
   // was refusable only by a key a study then refused as unread).
   if (c.rate_source == RateSource::Difference && !(c.rate_filter_hz < 0.5 / c.period)) {

@@ -72,6 +72,7 @@ ReducedDynamics reducedDynamics(const Model& m, const Vec2& q, const Vec2& dq, c
   r.c = C.tail<2>() - Mbq.transpose() * y;
   r.A = F.Y.topRows<3>();
   r.a0 = y.head<3>();
+  r.joint_scale = d.M.bottomRightCorner<2, 2>().cwiseAbs().maxCoeff();
   return r;
 }
 

@@ -63,6 +63,26 @@ TEST(ControllerConfig, PlantKeysRebuildTheFeedForwardModelAndAreChecked) {
             std::string::npos);
 }
 
+// (pass 81) mass properties each within range whose model feed-forward is rounding: 1e9 kg shafts 1.7 km out on a
+// 1e-6 kg base ran, and the controller's torque turned NaN mid-slew. Refused under the model feed-forward alone
+// (no other reads plant.*); a light base whose reduced inertia still keeps its digits is accepted.
+TEST(ControllerConfig, APlantModelWhoseFeedForwardIsRoundingIsRefused) {
+  const std::vector<std::string> extreme{"plant.shaft2_mass=1e9",        "plant.shaft2_com=[1000,1000,1000]",
+                                         "plant.shaft1_mass=1e9",        "plant.joint2_position=[1000,1000,1000]",
+                                         "plant.joint1_position=[1000,1000,1000]", "plant.base_mass=1e-6",
+                                         "plant.base_inertia=[1e-9,1e-9,1e-9]"};
+  const std::string why = refusal("", extreme);
+  EXPECT_NE(why.find("key 'plant.base_mass': the model feed-forward's joint inertia at q = (0, 0) rad has its "
+                     "smallest eigenvalue"),
+            std::string::npos)
+      << why;
+  EXPECT_NE(why.find("under 4 significant digits"), std::string::npos) << why;
+  std::vector<std::string> unread = extreme;
+  unread.push_back("pointing.accel_feedforward=profile");
+  EXPECT_NO_THROW(loadControllerConfigText("", "cfg.yaml", unread));
+  EXPECT_NO_THROW(loadControllerConfigText("", "cfg.yaml", {"plant.base_mass=1e-6", "plant.base_inertia=[1e-9,1e-9,1e-9]"}));
+}
+
 TEST(ControllerConfig, UnknownKeyNamesFileLineAndKey) {
   const std::string msg = refusal("azimuth:\n  kp: 1\n  kq: 2\n");
   EXPECT_NE(msg.find("cfg.yaml:3:3: unknown key 'azimuth.kq'"), std::string::npos) << msg;

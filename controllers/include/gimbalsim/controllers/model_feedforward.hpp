@@ -46,6 +46,7 @@ struct ReducedDynamics {
   Vec2 c = Vec2::Zero();                         ///< c* [N m]
   Eigen::Matrix<double, 3, 2> A = Eigen::Matrix<double, 3, 2>::Zero();  ///< X's angular rows [-]
   Vec3 a0 = Vec3::Zero();                        ///< y's angular rows [rad/s^2]
+  double joint_scale = 0.0;  ///< [kg m^2] the largest entry of Mqq, which H* is the base's reaction short of
 };
 
 /// H*, c* and the base's angular response at joint angles q [rad], joint rates
