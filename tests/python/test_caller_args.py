@@ -47,3 +47,29 @@ def test_a_number_stays_a_number_beside_a_file_of_its_name(tmp_path, arg, made):
     for name in ("1", "0.5", "1e-3", "paper_ideal"):
         (tmp_path / name).write_text("x\n")
     assert abs_arg(tmp_path, arg) == made.format(c=tmp_path)
+
+
+def test_run_workprec_checks_its_figure_before_the_sweep(tmp_path):
+    # (pass 81) a link under out/workprec/workprec.png was refused by the plot after the sweep had replaced
+    # workprec.csv and its log (exit 2, "nothing run"): the figure's name is checked with the log's, before
+    import os
+    import shutil
+    from conftest import BIN
+    root = tmp_path / "repo"
+    shutil.copytree(SOURCE / "tools", root / "tools")
+    shutil.copytree(SOURCE / "python" / "gimbalsim", root / "python" / "gimbalsim")  # the one writer
+    (root / "tools" / "bootstrap.sh").write_text("exit 0\n")
+    (root / "build").symlink_to(BIN.parent, target_is_directory=True)
+    fake = tmp_path / "fakebin"
+    fake.mkdir()
+    (fake / "cmake").write_text("#!/bin/sh\nexit 0\n")
+    (fake / "cmake").chmod(0o755)
+    out = root / "out" / "workprec"
+    out.mkdir(parents=True)
+    (out / "workprec.csv").write_text("the previous sweep\n")
+    (out / "workprec.png").symlink_to(tmp_path / "victim.png")
+    p = subprocess.run(["bash", str(root / "tools/workprec/run_workprec.sh"), "--quick", "--scenes", "paper_ideal",
+                        "--no-mujoco"], capture_output=True, text=True, timeout=300, cwd=tmp_path,
+                       env=dict(os.environ, PATH=f"{fake}:{os.environ['PATH']}"))
+    assert p.returncode == 2 and "workprec.png" in p.stderr and "symbolic link" in p.stderr, p.stderr
+    assert (out / "workprec.csv").read_text() == "the previous sweep\n" and not (tmp_path / "victim.png").exists()

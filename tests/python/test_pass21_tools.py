@@ -218,7 +218,7 @@ def test_a_study_with_nothing_to_plot_leaves_no_previous_figure_beside_its_resul
     assert sorted(f.name for f in folder.glob("*.png")) == [], sorted(os.listdir(folder))
 
 
-@pytest.mark.parametrize("planted", ["link", "folder"])
+@pytest.mark.parametrize("planted", ["link", "folder", "input"])
 def test_a_figure_name_the_plot_would_refuse_costs_no_run(tmp_path, planted):
     # (pass 80) a link under a figure's name was refused by the plot after the study had replaced its CSVs, and
     # the script, taking the refusal for "nothing to plot", ended 0 with the previous figure beside them
@@ -228,10 +228,12 @@ def test_a_figure_name_the_plot_would_refuse_costs_no_run(tmp_path, planted):
     victim.write_text("victim\n")
     (folder / "pointing_error.csv").write_text("the previous study's series\n")
     figure = folder / "pointing_error_vs_time.png"
-    figure.symlink_to(victim) if planted == "link" else figure.mkdir()
-    p = _run(tmp_path, "study", "--quick", "--sensors", "perfect", "--clearance-scene",
-             str(SOURCE / "tools/scenes/paper_clearance.yaml"))
+    scene = tmp_path / "myscene.yaml"  # (pass 81) a figure hard-linked to an input scene was written over
+    scene.write_text((SOURCE / "tools/scenes/paper_clearance.yaml").read_text())
+    {"link": lambda: figure.symlink_to(victim), "folder": figure.mkdir, "input": lambda: os.link(scene, figure)}[planted]()
+    p = _run(tmp_path, "study", "--quick", "--sensors", "perfect", "--clearance-scene", str(scene))
     assert p.returncode == 2 and "pointing_error_vs_time.png" in p.stderr, p.stderr
+    assert scene.samefile(figure) if planted == "input" else True
     assert (folder / "pointing_error.csv").read_text() == "the previous study's series\n"
     assert victim.read_text() == "victim\n" and not (folder / "summary.csv").exists()
 

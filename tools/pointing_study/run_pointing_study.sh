@@ -46,8 +46,10 @@ trap 'rm -f "$LOG"; out_folder_undo' EXIT  # a refused run leaves no folder it m
 # study with nothing to plot).
 PLOT=("$ROOT/tools/pointing_study/plot_pointing_study.py" "$OUT")
 if [ -d "$OUT" ]; then
-  /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}
-  /usr/bin/python3 "${PLOT[@]}" --check
+  for name in study.log pointing_error_vs_time.png pointing_error_vs_clearance.png; do  # (pass 81: a figure
+    # hard-linked to an input scene was written over) every argument naming a file is an input
+    /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/$name" -- ${args[@]+"${args[@]}"}
+  done
 fi
 # The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
 [ "$RESULTS" = 0 ] || /usr/bin/python3 "$ROOT/tools/pages/results_page.py" --check \

@@ -30,7 +30,11 @@ for a in ${ARGS[@]+"${ARGS[@]}"}; do
 done
 out_folder run_workprec.sh out/workprec
 LOG=$(mktemp) && trap 'rm -f "$LOG"; out_folder_undo' EXIT  # the console log, saved by the writer's rules (not tee's)
-/usr/bin/python3 tools/pages/save_output.py --check "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
+# The log's and the figure's names before the sweep (pass 81: a link under workprec.png was refused by the plot
+# after the sweep had replaced workprec.csv and its log): a refused name costs no run and no output.
+for name in workprec.log workprec.png; do
+  /usr/bin/python3 tools/pages/save_output.py --check "$LOG" "out/workprec/$name" -- ${ARGS[@]+"${ARGS[@]}"}
+done
 # The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
 [ "$RESULTS" = 0 ] || /usr/bin/python3 tools/pages/results_page.py --check --page docs/results/workprec.md
 build/bin/gimbalsim_workprec --out out/workprec ${ARGS[@]+"${ARGS[@]}"} | console_tee "$LOG"
