@@ -211,7 +211,14 @@ def test_pointing_study_plot_refuses_bad_cells_and_outputs(tmp):
                        ("t_s,error_ideal_rad\r\n0,1e-6\r\n", "pointing_error.csv:1: ends in CR (CRLF line ends)"),
                        ("t_s,error_ideal_rad\n0,1e-6\n0.001,2e-6", "pointing_error.csv:3: the last line has no line end"),
                        ("t_s,error_ideal_rad\n0.001,1e-6\n0.001,2e-6\n", "pointing_error.csv:3: column t_s: does "
-                        "not increase")]:
+                        "not increase"),
+                       # (pass 81) a gap, a nan and a negative zero, none of which the study writes, were drawn
+                       ("t_s,error_ideal_rad\n0,1e-6\n0.001,\n0.002,2e-6\n", "pointing_error.csv:4: column "
+                        "error_ideal_rad: a value after the run's end (its empty cell on line 3)"),
+                       ("t_s,error_ideal_rad\n0,1e-6\n0.001,nan\n", "pointing_error.csv:3: column error_ideal_rad: "
+                        "'nan' is"),
+                       ("t_s,error_ideal_rad\n0,-0\n0.001,2e-6\n", "pointing_error.csv:2: column error_ideal_rad: "
+                        "'-0' is a negative zero")]:
         (d / "pointing_error.csv").write_text(text)
         refused(run(STUDY, d), said)
     (d / "pointing_error.csv").write_text("t_s,error_ideal_rad\n0,1e-6\n0.001,2e-6\n")

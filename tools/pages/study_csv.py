@@ -50,6 +50,8 @@ class Column:
             why = None if x is not None else f"{text!r} is no whole number"
         else:
             x, why = output_file.flag_decimal(text)
+        if why is None and x == 0 and text.startswith("-"):  # the project's writers never write -0 (usage.md)
+            why = f"{text!r} is a negative zero"
         if why is None and self._outside(x):
             why = f"{text} is outside {self.range_text()}"
         if why:

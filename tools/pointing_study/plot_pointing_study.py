@@ -13,6 +13,7 @@
 Usage: /usr/bin/python3 tools/pointing_study/plot_pointing_study.py [DIR]  (default out/pointing_study)
 """
 import argparse
+import math
 import os
 import sys
 
@@ -31,8 +32,8 @@ import results_page  # noqa: E402
 
 def read_series(folder):
     """pointing_error.csv of the study in folder: t_s and each run's error [rad], as the study writes them (LF
-    lines, no byte-order mark, t_s >= 0 increasing, an error in [0, pi] or empty where that run had ended, or
-    nan); Refused naming file, line and column."""
+    lines, no byte-order mark, t_s >= 0 increasing, an error in [0, pi], never nan nor -0, or empty from where
+    that run had ended to the last line); Refused naming file, line and column."""
     path = os.path.join(folder, "pointing_error.csv")
     raw = results_page.run_file(folder, "pointing_error.csv").encode()
     check_as_written(raw, path, "not as gimbalsim_pointing_study writes it")
@@ -41,13 +42,22 @@ def read_series(folder):
         raise Refused(f"{path}: no data rows")
     head = rows[0]
     check_header(head, path)
-    rules = {h: (pointing_page.study_csv.Column(0.0) if j == 0 else pointing_page.RAD) for j, h in enumerate(head)}
-    cols = {h: [] for h in head}
+    # (pass 81) every error a tick gave, no nan: an ended run's cells are empty, from its end to the last line
+    error = pointing_page.study_csv.Column(0.0, math.pi)
+    rules = {h: (pointing_page.study_csv.Column(0.0) if j == 0 else error) for j, h in enumerate(head)}
+    cols, ended = {h: [] for h in head}, {}
     for line, r in enumerate(rows[1:], start=2):
         if len(r) != len(head):
             raise Refused(f"{path}:{line}: {len(r)} fields, the header has {len(head)}")
         for j, (h, v) in enumerate(zip(head, r)):
-            cols[h].append(np.nan if v == "" and j > 0 else rules[h].read(v, f"{path}:{line}: column {h}"))
+            if v == "" and j > 0:
+                ended.setdefault(h, line)
+                cols[h].append(np.nan)
+                continue
+            if h in ended:
+                raise Refused(f"{path}:{line}: column {h}: a value after the run's end (its empty cell on line "
+                              f"{ended[h]}): not as gimbalsim_pointing_study writes it")
+            cols[h].append(rules[h].read(v, f"{path}:{line}: column {h}"))
     t = np.array(cols[head[0]])
     if (np.diff(t) <= 0).any():
         line = int(np.argmax(np.diff(t) <= 0)) + 3
