@@ -5,7 +5,7 @@ quantile with its interval against the key (allocation.png)."""
 import math
 
 from . import _budget, indices
-from ._output import csv_number, json_text, savefig, write_csv, write_text
+from ._output import csv_number, csv_text, json_text, savefig, write_csv, write_text
 
 CSV, JSON, PAGE, PLOT = "allocation.csv", "allocation.json", "allocation.md", "allocation.png"
 
@@ -20,9 +20,14 @@ def record(a, spec, rows, value, folder):
     bounds = {"estimate": b.estimate, "upper": b.upper, "low": b.low, "high": b.high}
     if b.n and b.n_missing == b.n:  # no unit has a figure: every one counts as worst, so does every bound (never NaN)
         bounds = dict.fromkeys(bounds, math.inf)
+    # (pass 81) a bound beyond every figure was null with an empty note: say why beside it
+    beyond = [name for name, x in (("estimate", bounds["estimate"]), ("interval end", bounds["high"]),
+                                   ("upper bound", bounds["upper"])) if math.isinf(x)]
+    why_beyond = (f"{', '.join(beyond)} beyond every figure: {b.n_missing} of {b.n} units have no figure "
+                  f"(stopped, failed or not reached) and count as worst") if beyond else ""
     return {"value": value, "folder": folder, "n": b.n, "n_missing": b.n_missing, **bounds,
-            "passed": v.passed, "n_meeting": v.n_meeting, "all_zero": bool(v.note),
-            "fraction_lower_bound": v.lower, "note": "; ".join(t for t in (b.reason, v.reason, v.note) if t)}
+            "passed": v.passed, "n_meeting": v.n_meeting, "all_zero": bool(v.note), "fraction_lower_bound": v.lower,
+            "note": "; ".join(t for t in (why_beyond, b.reason, v.reason, v.note) if t)}
 
 
 def _json(x):
@@ -38,7 +43,7 @@ def _text(x):
 def header(a, csv_name):
     key = csv_name(a.key.replace(".", "_"), a.unit)
     return ["tried", key, "verdict", "n", "n_missing", "n_meeting", "fraction_lower_bound", "estimate_rad",
-            "interval_low_rad", "interval_high_rad", "upper_bound_rad", "requirement_rad"]
+            "interval_low_rad", "interval_high_rad", "upper_bound_rad", "requirement_rad", "note"]
 
 
 def table(a, tried):
@@ -48,7 +53,8 @@ def table(a, tried):
     for value, r in sorted(tried.items()):
         out.append([r["folder"], a.value_text(value), "PASS" if r["passed"] else "FAIL", r["n"], r["n_missing"],
                     r["n_meeting"], csv_number(r["fraction_lower_bound"])] +
-                   [csv_number(r[k]) for k in ("estimate", "low", "high", "upper")] + [csv_number(a.requirement)])
+                   [csv_number(r[k]) for k in ("estimate", "low", "high", "upper")] + [csv_number(a.requirement)] +
+                   [csv_text(r["note"])])
     return out
 
 

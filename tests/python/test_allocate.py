@@ -379,10 +379,14 @@ allocate: {{key: contact.clearance, range: [2.0e-6, 8.0e-4], direction: largest,
     assert first["value"] == 2.0e-6 and first["verdict"] == "FAIL"
     assert all(not math.isfinite(x) for _, x in figures(out / first["folder"] / "results.csv"))  # no unit has one
     assert first["n_missing"] == 4 and first["upper_bound_rad"] is None and first["estimate_rad"] is None
+    # (pass 81) each null said why beside it (the note was empty), in the JSON and in the table
+    assert first["note"].startswith("estimate, interval end, upper bound beyond every figure: 4 of 4 units have "
+                                    "no figure"), first
     with open(out / "allocation.csv") as f:
         table = list(csv.DictReader(f))
     assert [r[k] for r in table[:1] for k in ("estimate_rad", "interval_low_rad", "interval_high_rad",
                                                 "upper_bound_rad")] == ["inf"] * 4
+    assert table[0]["note"] == first["note"].replace(",", ";"), table[0]
     assert "nan" not in (out / "allocation.csv").read_text() and "nan" not in p.stderr
     assert answer["best"] == min((v for v in answer["values"][1:]), key=lambda v: v["upper_bound_rad"])["value"]
 
