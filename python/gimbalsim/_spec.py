@@ -84,6 +84,8 @@ class Spec:
             mark = getattr(e, "problem_mark", None)
             raise SpecError(f"not valid YAML: {getattr(e, 'problem', e)}", file=str(path),
                             line=mark.line + 1 if mark else None, column=mark.column + 1 if mark else None)
+        except _Unexpanded as e:
+            raise SpecError(str(e), file=str(path), line=e.mark.line + 1, column=e.mark.column + 1) from None
         except RecursionError:  # the composer recurses per level: 1000 brackets reach Python's limit first
             raise SpecError("nested too deeply (more than 16 levels)", file=str(path)) from None
         if tree is None or not isinstance(tree, yaml.MappingNode):
@@ -311,11 +313,29 @@ def _shown(v):
     return text if len(text) <= 60 else text[:57] + "..."
 
 
+class _Unexpanded(Exception):
+    """An anchor or an alias in a spec, at its mark (refused as the scene loader refuses them)."""
+
+    def __init__(self, mark, what):
+        super().__init__(what)
+        self.mark = mark
+
+
 class SpecLoader(yaml.SafeLoader):
     """YAML 1.2's core schema for numbers, as the scene loader reads them:
     `1e-4` is a number (YAML 1.1 wants `1.0e-4`), `010` is ten, `1:20` and
     `1_000` are names. Dates, merge keys (`<<`) and `=` are not resolved: a
-plain `2024-01-01` is a name."""
+plain `2024-01-01` is a name. Anchors and aliases are refused, as the
+scene loader refuses them (pass 81: a spec's alias copied one key's
+distribution to another)."""
+
+    def compose_node(self, parent, index):
+        event = self.peek_event()
+        if isinstance(event, yaml.AliasEvent):
+            raise _Unexpanded(event.start_mark, "aliases (*name) are not accepted: write the value out")
+        if getattr(event, "anchor", None) is not None:
+            raise _Unexpanded(event.start_mark, "anchors (&name) are not accepted: write the value out")
+        return super().compose_node(parent, index)
 
 
 SpecLoader.yaml_implicit_resolvers = {

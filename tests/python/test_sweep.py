@@ -303,7 +303,15 @@ def test_missing_or_malformed_specs_are_refused(tmp_path):
                                      "e: &v [*w, *w, *w, *w, *w, *w, *w, *w, *w, *w]\n"
                                      "f: [*v, *v, *v, *v, *v, *v, *v, *v, *v, *v]\n")
     p = run_sweep(tmp_path / "c.yaml", tmp_path / "o", check=False)
-    assert p.returncode == 2 and "values" in p.stderr
+    assert p.returncode == 2 and "c.yaml:1:4: anchors (&name) are not accepted: write the value out" in p.stderr, \
+        p.stderr
+    # (pass 81) an alias copied one key's distribution to another and the sweep ran: refused as the scene
+    # loader refuses it, at the alias
+    spec = (f"scene: {SCENES}/paper_clearance.yaml\nsamples: 2\nseed: 1\nparameters:\n"
+            "  friction.mu: {uniform: [0.2, 0.3]}\n  contact.restitution: *u\n")
+    (tmp_path / "d.yaml").write_text(spec)
+    p = run_sweep(tmp_path / "d.yaml", tmp_path / "o", check=False)
+    assert p.returncode == 2 and "d.yaml:6:24: aliases (*name) are not accepted" in p.stderr, p.stderr
 
 
 def test_the_keys_the_docs_call_required_are_the_ones_the_spec_needs(tmp_path):
