@@ -295,10 +295,8 @@ int mainImpl(int argc, char** argv) {
     if (why_set.empty()) break;
   }
   if (!why_set.empty()) return program::refuse(kProgram, why_set);
-  if (!before_sets.empty()) {
-    if (const std::string why = idle("--before-set", before_sets, controllers.front().second); !why.empty()) {
-      return program::refuse(kProgram, why);
-    }
+  if (const std::string why = idle("--before-set", before_sets, controllers.front().second); !why.empty()) {
+    return program::refuse(kProgram, why);
   }
   // A seed with no noise to draw: recorded with the runs, acting on none.
   const bool any_noise =
