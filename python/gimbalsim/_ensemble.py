@@ -22,9 +22,9 @@ def coverage(n, level, r, s):
     """Exact probability that [X_(r), X_(s)] (1-based order statistics of n
     independent units, X_(0) = -inf, X_(n+1) = +inf) contains the level-quantile:
     P(r <= Binomial(n, level) <= s - 1)."""
-    if not (_is_count(n) and _is_number(level) and 0.0 < level < 1.0):  # 10**30 failed inside numpy
-        raise ValueError(f"coverage: need a whole n in [0, 1e12] and 0 < level < 1, got n={n!r}, level={level!r}")
-    level = float(level)
+    if not _is_count(n):  # 10**30 failed inside numpy
+        raise ValueError(f"coverage: need a whole n in [0, 1e12], got n={n!r}")
+    level = _check_level("level", level)  # 0.3 gave a probability for no budget's question (pass 82)
     if not (_is_count(r, n + 1) and _is_count(s, n + 1) and r <= s):
         # r > s gave a negative probability, r = 1.5 a number for no order statistic
         raise ValueError(f"coverage: need ranks 0 <= r <= s <= n + 1, got r={r}, s={s}, n={n}")
@@ -65,11 +65,15 @@ def _check_question(level, confidence):
     """A budget's question: a quantile at or above the median (ECSS: 68.27 %,
     95.45 %, 99.73 %) at a confidence at least even. Below, a level of 5e-324
     was a question of nothing, and two units could PASS it."""
-    for name, x in (("level", level), ("confidence", confidence)):
-        if not (_is_number(x) and 0.5 <= x < 1.0):
-            raise ValueError(f"{name} must lie in [0.5, 1), got {x!r} (level and confidence both)")
-    # as floats: a Fraction or a Decimal passed the check, then failed inside numpy (pass 56)
-    return float(level), float(confidence)
+    return _check_level("level", level), _check_level("confidence", confidence)
+
+
+def _check_level(name, x):
+    """A level or a confidence in [0.5, 1), as a float: a Fraction or a Decimal
+    passed the check, then failed inside numpy (pass 56)."""
+    if not (_is_number(x) and 0.5 <= x < 1.0):
+        raise ValueError(f"{name} must lie in [0.5, 1), got {x!r} (level and confidence both)")
+    return float(x)
 
 
 def min_units(level, confidence):

@@ -208,6 +208,9 @@ def test_no_figure_at_all_is_no_quantile_and_bad_arguments_are_refused():
         indices.coverage(10, 0.5, 6, 4)
     with pytest.raises(ValueError, match="level"):
         indices.coverage(10, 1.5, 1, 4)
+    for level in (0.3, 1e-300, 0.0):  # a quantile below the median is no budget's question, here as in quantile_bound
+        with pytest.raises(ValueError, match=r"level must lie in \[0.5, 1\), got"):
+            indices.coverage(10, level, 1, 2)
     with pytest.raises(ValueError, match="r <= s"):  # no order statistic has rank 1.5
         indices.coverage(10, 0.5, 1.5, 3.7)
     with pytest.raises(ValueError, match="requirement must be an angle"):  # was a TypeError
