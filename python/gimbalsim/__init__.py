@@ -34,10 +34,12 @@ except ImportError as e:  # a build folder whose extension was never built (only
         "`cmake --build build -j2 --target gimbalsim_python` (build/ being that build folder), "
         "or install the package (docs/python_install.md)") from e
 from . import _output  # noqa: E402
-from ._arguments import real_argument as _real_argument, real_array as _real_array, real_number as _real_number
+from ._arguments import real_argument as _real_argument  # noqa: E402
+from . import _checked_methods  # noqa: E402
 from ._gimbalsim import COLUMNS, Scene, Simulator, State
 from ._scene_warnings import SceneWarning, warn_loaded as _warn_loaded  # noqa: E402
 
+_checked_methods.install()  # number arguments checked before the binding converts them
 __version__ = _gimbalsim.__version__  # the one version string, also every program's --version
 
 __all__ = [
@@ -284,39 +286,6 @@ def Controller(config_path=None, overrides=None, sources=None):
     path = "" if config_path is None else _input_path(config_path, "controller configuration path")
     texts, labels = _overrides_and_labels(overrides, sources)
     return _labelled_call(lambda: _gimbalsim.Controller(path, texts), texts, labels)
-
-
-_simulator_run, _simulator_step = Simulator.run, Simulator.step
-
-
-def _run(self, torques):
-    """One step per row of torques (N, 2) [N m]; returns the (N, len(COLUMNS)) output rows after each step."""
-    _fits_in_memory(torques)
-    return _simulator_run(self, _real_array(torques, "torques [N m]"))
-
-
-def _fits_in_memory(torques):
-    """MemoryError before any copy when the torques' float copy and the output rows would not fit in the
-    machine's free memory now: a broadcast view of 1e9 rows (16 bytes itself) grew the process until the kernel killed
-    it (the arrays are committed page by page, so allocating them never failed)."""
-    shape = np.shape(torques)
-    if len(shape) != 2:
-        return  # the binding names the shape it needs
-    need = shape[0] * (shape[1] + len(COLUMNS)) * 8
-    have = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    if need > have:
-        raise MemoryError(f"torques [N m]: {shape[0]} rows need {need / 1e9:.3g} GB (their float copy and "
-                          f"{len(COLUMNS)} output columns a row), more than the {have / 1e9:.3g} GB of memory "
-                          "free now: run them in parts (each run() goes on from where the last one ended)")
-
-
-def _step(self, tau1, tau2, n=1):
-    """Advance n steps with joint torques tau1, tau2 [N m] held; raises
-    SimulationStopped on numerical trouble (the state is then the last good one)."""
-    return _simulator_step(self, _real_number(tau1, "tau1 [N m]"), _real_number(tau2, "tau2 [N m]"), n)
-
-
-Simulator.run, Simulator.step = _run, _step  # checked here, before the C++ binding converts them
 
 
 def _unpickle_scene(path, values):

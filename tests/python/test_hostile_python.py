@@ -467,6 +467,18 @@ def test_controller_update_gives_no_command_from_a_non_finite_or_overflowing_inp
     assert all(math.isfinite(x) for x in out["tau"])
 
 
+@pytest.mark.parametrize("kwargs,name", [({"t": True}, "t [s]"), ({"theta1": True}, "theta1 [rad]"),
+                                         ({"dtheta2": "0.1"}, "dtheta2 [rad/s]"), ({"theta2": 1 + 2j}, "theta2 [rad]"),
+                                         ({"gyro": [0.0, False, 0.0]}, "gyro[1] [rad/s]")])
+def test_controller_update_refuses_a_bool_or_a_text_as_a_measurement(kwargs, name):
+    # (pass 82) update(True, 0, 0) ran as t = 1 s and commanded 50 N m; Simulator.step refuses True as a torque
+    c = gimbalsim.Controller(None, {})
+    with pytest.raises(TypeError, match=rf"^{re.escape(name)}: expected a real number"):
+        c.update(**{"t": 0.0, "theta1": 0.1, "theta2": 0.2, **kwargs})
+    out = c.update(np.float64(0.0), 0.1, 0, gyro=(0, 0.0, np.float32(0.0)))  # numbers of any real type still run
+    assert all(math.isfinite(x) for x in out["tau"])
+
+
 @pytest.mark.parametrize("module", ["gimbalsim.dispersion", "gimbalsim.indices", "gimbalsim.replay", "gimbalsim"])
 def test_a_library_module_run_as_a_program_is_refused(module):
     # (pass 39) `python3 -m gimbalsim.indices --bogus` took any argument, did nothing and exited 0 (usage.md: an

@@ -1,0 +1,61 @@
+"""The methods of the extension's Simulator and Controller whose number
+arguments are checked in Python before the binding converts them: pybind11
+takes a bool as 1.0 (True ran as t = 1 s, pass 82) and numpy drops a
+complex's imaginary part. install() puts them in place."""
+import os
+
+import numpy as np
+
+from . import _gimbalsim
+from ._gimbalsim import COLUMNS
+from ._arguments import real_array as _real_array, real_number as _real_number
+
+_simulator_run, _simulator_step = _gimbalsim.Simulator.run, _gimbalsim.Simulator.step
+
+
+def _run(self, torques):
+    """One step per row of torques (N, 2) [N m]; returns the (N, len(COLUMNS)) output rows after each step."""
+    _fits_in_memory(torques)
+    return _simulator_run(self, _real_array(torques, "torques [N m]"))
+
+
+def _fits_in_memory(torques):
+    """MemoryError before any copy when the torques' float copy and the output rows would not fit in the
+    machine's free memory now: a broadcast view of 1e9 rows (16 bytes itself) grew the process until the kernel killed
+    it (the arrays are committed page by page, so allocating them never failed)."""
+    shape = np.shape(torques)
+    if len(shape) != 2:
+        return  # the binding names the shape it needs
+    need = shape[0] * (shape[1] + len(COLUMNS)) * 8
+    have = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    if need > have:
+        raise MemoryError(f"torques [N m]: {shape[0]} rows need {need / 1e9:.3g} GB (their float copy and "
+                          f"{len(COLUMNS)} output columns a row), more than the {have / 1e9:.3g} GB of memory "
+                          "free now: run them in parts (each run() goes on from where the last one ended)")
+
+
+def _step(self, tau1, tau2, n=1):
+    """Advance n steps with joint torques tau1, tau2 [N m] held; raises
+    SimulationStopped on numerical trouble (the state is then the last good one)."""
+    return _simulator_step(self, _real_number(tau1, "tau1 [N m]"), _real_number(tau2, "tau2 [N m]"), n)
+
+
+_controller_update = _gimbalsim.Controller.update
+
+
+def _update(self, t, theta1, theta2, dtheta1=0.0, dtheta2=0.0, gyro=None):
+    """One control period: time [s], encoder angles [rad], rates [rad/s], base rate gyro [rad/s] (base frame;
+    None = no sample); returns the command tau [N m] and what it saw. True is no time or angle (it ran as
+    t = 1 s and commanded 50 N m, pass 82), as it is no torque of Simulator.step."""
+    given = {"t [s]": t, "theta1 [rad]": theta1, "theta2 [rad]": theta2,
+             "dtheta1 [rad/s]": dtheta1, "dtheta2 [rad/s]": dtheta2}
+    t, theta1, theta2, dtheta1, dtheta2 = (_real_number(v, name) for name, v in given.items())
+    if gyro is not None:
+        gyro = [_real_number(g, f"gyro[{i}] [rad/s]") for i, g in enumerate(gyro)]
+    return _controller_update(self, t, theta1, theta2, dtheta1, dtheta2, gyro)
+
+
+def install():
+    """The checked methods in place of the binding's (called once, by the package)."""
+    _gimbalsim.Simulator.run, _gimbalsim.Simulator.step = _run, _step
+    _gimbalsim.Controller.update = _update
