@@ -311,7 +311,13 @@ void bindController(pyb::module_& m) {
   m.def(
       "_closed_loop",
       [](const PyScene& s, const PyController& c, double duration, double settle_tol, const std::string& faults) {
-        if (!(duration > 0.0 && duration < 1e9)) throw pyb::value_error("duration must be in (0, 1e9) s");
+        // (0, 1e9] as closed_loop and controller_sweep --duration say (1e9 itself was refused, pass 82)
+        if (!(duration > 0.0 && duration <= 1e9)) throw pyb::value_error("duration [s] must be in (0, 1e+09]");
+        // 1e8 s at 1 ms ran on, growing the process towards 30 TB of ticks (pass 82)
+        const std::size_t rows = rowsFitInMemory(
+            std::floor(duration / c.config.period + 0.5) + 1.0, Ticks::kN,
+            "closed_loop (duration " + formatNumber(duration) + " s at control.period " +
+                formatNumber(c.config.period) + " s; controller_sweep streams its ticks)");
         ClosedLoopOptions opt;
         opt.duration = duration;
         opt.settle_tol = settle_tol;
@@ -336,6 +342,7 @@ void bindController(pyb::module_& m) {
           opt.faults = &schedule;
         }
         Ticks ticks;
+        ticks.data.reserve(rows * Ticks::kN);  // no doubling on the way: the bound above holds
         ClosedLoopResult r;
         {
           pyb::gil_scoped_release nogil;

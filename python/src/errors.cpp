@@ -1,6 +1,9 @@
 #include "errors.hpp"
 
+#include <cstdio>
 #include <sstream>
+
+#include <unistd.h>
 
 namespace gimbalsim::py {
 
@@ -35,6 +38,21 @@ void raiseStopped(const StepResult& r, const std::string& message, pyb::dict ext
   pyb::object ex = cls(message, r.key(), describe(r.status), r.time);
   for (auto item : extra) pyb::setattr(ex, item.first, item.second);
   raise("SimulationStopped", ex);
+}
+
+std::size_t rowsFitInMemory(double rows, int columns, const std::string& what) {
+  const double need_bytes = rows * columns * sizeof(double) * 2.0;
+  const double have_bytes =
+      static_cast<double>(sysconf(_SC_AVPHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+  if (!(need_bytes <= have_bytes)) {
+    char text[600];
+    std::snprintf(text, sizeof text,
+                  "%s: %.0f rows need %.3g GB (%d columns a row, twice), more than the %.3g GB of memory free now",
+                  what.c_str(), rows, need_bytes / 1e9, columns, have_bytes / 1e9);
+    PyErr_SetString(PyExc_MemoryError, text);
+    throw pyb::error_already_set();
+  }
+  return static_cast<std::size_t>(rows);
 }
 
 }  // namespace gimbalsim::py

@@ -16,4 +16,10 @@ namespace gimbalsim::py {
 /// `message` is the text; `extra` entries become attributes (e.g. outputs, steps_done).
 [[noreturn]] void raiseStopped(const StepResult& r, const std::string& message, pybind11::dict extra = {});
 
+/// The number of rows a run will hold in memory (`rows` of `columns` doubles, kept twice: the records, then the
+/// numpy array made from them), after checking that they fit in the memory free now; raises MemoryError naming the
+/// gigabytes and `what` (the call and its size) otherwise. Pages are committed as they are written, so a run that
+/// would not fit never failed to allocate: it grew the process until the kernel killed it.
+std::size_t rowsFitInMemory(double rows, int columns, const std::string& what);
+
 }  // namespace gimbalsim::py

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -12,6 +13,7 @@
 #include "errors.hpp"
 #include "key_dicts.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
+#include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/run_output/run_output.hpp"
 
@@ -170,7 +172,14 @@ void bindScene(pyb::module_& m) {
             throw pyb::value_error("integrator 'reference': " + why);
           }
         }
+        // the rows of sim.duration at sim.output_interval, and the initial one
+        const RunSpec& run = s.scene().run;
+        const std::size_t n_rows = rowsFitInMemory(
+            std::ceil(run.duration / run.output_interval) + 1.0, kNumColumns,
+            "simulate (sim.duration " + formatNumber(run.duration) + " s at sim.output_interval " +
+                formatNumber(run.output_interval) + " s; gimbalsim simulate --out streams its rows)");
         std::vector<double> rows;
+        rows.reserve(n_rows * kNumColumns);  // no doubling on the way: the bound above holds
         RunResult r;
         {
           pyb::gil_scoped_release nogil;

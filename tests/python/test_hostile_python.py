@@ -450,6 +450,22 @@ def test_closed_loop_arguments_out_of_range_or_of_another_type_are_refused(kwarg
     assert message in str(e.value), str(e.value)
 
 
+def test_closed_loop_takes_the_range_it_states_and_refuses_what_memory_cannot_hold():
+    # (pass 82) 1e9 s, inside the stated (0, 1e+09], was refused as outside "(0, 1e9)"; 1e8 s at 1 ms then ran on,
+    # growing the process towards 30 TB of ticks
+    with pytest.raises(MemoryError, match=r"^closed_loop \(duration 1e\+09 s at control.period 0.001 s.*\): "
+                                          r"1000000000001 rows need [0-9.e+]+ GB .* more than the [0-9.e+]+ GB of "
+                                          r"memory free now"):
+        gimbalsim.closed_loop(scene(), gimbalsim.Controller(CONTROLLER_CONFIG), 1e9)
+    # the same for simulate: 1e5 s at 1 ms is 1e8 rows of 58 columns, 93 GB (the CSV bound allows it)
+    if os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE") > 93e9:
+        pytest.skip("this machine has 93 GB free: the run would fit")
+    with pytest.raises(MemoryError, match=r"^simulate \(sim.duration 1e\+05 s .*\): 100000001 rows need [0-9.]+ GB"):
+        gimbalsim.simulate(scene(overrides={"sim.duration": 1e5}))
+    with pytest.raises(ValueError, match=r"duration \[s\] must be in \(0, 1e\+09\], got 1000000001"):
+        gimbalsim.closed_loop(scene(), gimbalsim.Controller(CONTROLLER_CONFIG), 1e9 + 1)
+
+
 def test_controller_update_gives_no_command_from_a_non_finite_or_overflowing_input():
     # gyro 1e308 overflowed the law into tau (nan, nan), returned as a command
     c = gimbalsim.Controller(None, {})
