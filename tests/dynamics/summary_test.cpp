@@ -192,5 +192,31 @@ TEST(Summary, ThePeakForceOfBothIntegratorsAgrees) {
   EXPECT_EQ(b.stats.impacts, a.stats.impacts);
 }
 
+TEST(Summary, NoDriftOverNoStepAndNoRelativeDriftOverNoScale) {
+  // (pass 82) a run stopped in its first step gave angular_relative 0.0 over a scale of 0
+  const Scene stopped = test::scene("paper_clearance", {"sim.duration=0.01", "sim.velocity_limit=1e-300"});
+  const RunResult r = simulate(stopped, [](const Row&) {}, IntegratorKind::Rk4);
+  ASSERT_FALSE(r.ok);
+  const nlohmann::json d = io::runSummary(stopped.model, r, "s.yaml", "rk4")["momentum_drift"];
+  for (const char* k : {"linear_max_abs_Ns", "angular_max_abs_Nms", "angular_scale_Nms", "angular_relative"}) {
+    EXPECT_TRUE(d[k].is_null()) << k << ": " << d.dump();
+  }
+  EXPECT_EQ(d["reason"], "the run stopped in its first step: no drift over no step") << d.dump();
+  // nothing turns: no torque, no initial rate
+  const Scene still = test::scene("paper_ideal", {"sim.duration=0.01", "torque.tau1=0", "torque.tau2=0"});
+  const RunResult s = simulate(still, [](const Row&) {}, IntegratorKind::Rk4);
+  ASSERT_TRUE(s.ok) << s.error;
+  const nlohmann::json e = io::runSummary(still.model, s, "s.yaml", "rk4")["momentum_drift"];
+  ASSERT_EQ(e["angular_scale_Nms"].get<double>(), 0.0) << e.dump();
+  EXPECT_TRUE(e["angular_relative"].is_null()) << e.dump();
+  EXPECT_NE(e["reason"].get<std::string>().find("scale is 0 (nothing turned)"), std::string::npos) << e.dump();
+  // a run that turned has its relative drift
+  const Scene moving = test::scene("paper_ideal", {"sim.duration=0.01"});
+  const nlohmann::json m =
+      io::runSummary(moving.model, simulate(moving, [](const Row&) {}, IntegratorKind::Rk4), "s.yaml", "rk4");
+  EXPECT_LT(m["momentum_drift"]["angular_relative"].get<double>(), 1e-9) << m.dump();
+  EXPECT_FALSE(m["momentum_drift"].contains("reason"));
+}
+
 }  // namespace
 }  // namespace gimbalsim

@@ -164,6 +164,24 @@ TEST(StressGrid, StiffContactWithControlPeriodSubstepStopsNamingTheLimit) {
   EXPECT_TRUSTWORTHY(run("paper_clearance", {"contact.stiffness_scale=100"}));
 }
 
+TEST(StressGrid, ARunStoppedInItsFirstStepHasNoRateDriftOrEnergyFigure) {
+  // (pass 82) sub-steps/s, drifts and energy figures of a run that completed no step were 0, read as "held"
+  const Outcome o = run("paper_clearance", {"sim.velocity_limit=1e-300"}, "0.01");
+  EXPECT_STOPPED_ON(o, "sim.velocity_limit");
+  ASSERT_EQ(o.run.t_end, 0.0);
+  for (double figure : {o.substeps_per_second, o.momentum_rel_linear, o.momentum_rel_angular, o.energy_rise_rel,
+                        o.energy_change_rel, o.energy_final_rel}) {
+    EXPECT_TRUE(std::isnan(figure)) << figure;
+  }
+  EXPECT_NE(o.reason.find("no sub-step rate, momentum drift or energy figure: the run stopped in its first step"),
+            std::string::npos)
+      << o.reason;
+  EXPECT_EQ(o.max_penetration, 0.0) << "the initial state's, seen";
+  const Outcome ok = run("paper_clearance", {}, "0.01");  // a run that stepped keeps its figures
+  EXPECT_GT(ok.substeps_per_second, 0.0);
+  EXPECT_LE(ok.momentum_rel_angular, 1e-9);
+}
+
 TEST(StressGrid, SoftContactUnderLargeTorqueStopsOnPenetration) {
   // x0.01 stiffness, x20 torques: the journal sinks deeper than the clearance.
   EXPECT_STOPPED_ON(run("paper_clearance", {"contact.stiffness_scale=0.01", "torque.tau1=100", "torque.tau2=200"}),

@@ -67,6 +67,14 @@ Outcome classify(const Scene& sc, const RunResult& run, const EnergyMonitor& e, 
   if (!run.ok) {
     o.verdict = namesALimit(run.stop) ? Verdict::Stopped : Verdict::StoppedUnclear;
     o.reason = run.error;
+    if (!(run.t_end > 0.0)) {
+      // Stopped in its first step: a rate, drift or energy figure over no step is none (it read as 0, held,
+      // pass 82); the penetration stays, seen at the initial state.
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      o.substeps_per_second = o.momentum_rel_linear = o.momentum_rel_angular = nan;
+      o.energy_rise_rel = o.energy_change_rel = o.energy_final_rel = nan;
+      o.reason += "; no sub-step rate, momentum drift or energy figure: the run stopped in its first step (no good state after t = 0 s)";
+    }
     return o;
   }
   std::string why;

@@ -28,6 +28,24 @@ namespace {
 nlohmann::json valueOrNull(bool present, double x) {
   return present ? nlohmann::json(x) : nlohmann::json(nullptr);
 }
+/// The momentum drift over the run. A drift needs a step, a relative one a scale: over a run stopped in its first
+/// step, or one in which nothing turned, they are null with the reason (0 read as "held", pass 82).
+nlohmann::json momentumDrift(const RunResult& r) {
+  nlohmann::json d = {{"linear_max_abs_Ns", r.max_drift_linear},
+                      {"angular_max_abs_Nms", r.max_drift_angular},
+                      {"angular_scale_Nms", r.momentum_scale},
+                      {"angular_relative", nullptr}};
+  if (!(r.t_end > 0.0)) {
+    for (const char* k : {"linear_max_abs_Ns", "angular_max_abs_Nms", "angular_scale_Nms"}) d[k] = nullptr;
+    d["reason"] = "the run stopped in its first step: no drift over no step";
+  } else if (!(r.momentum_scale > 0.0)) {
+    d["reason"] = "angular_relative: the angular momentum scale is 0 (nothing turned): no relative drift";
+  } else {
+    d["angular_relative"] = r.max_drift_angular / r.momentum_scale;
+  }
+  return d;
+}
+
 }  // namespace
 
 nlohmann::json runSummary(const Model& m, const RunResult& r, const std::string& scene,
@@ -58,11 +76,7 @@ nlohmann::json runSummary(const Model& m, const RunResult& r, const std::string&
        valueOrNull(m.hasClearance() && r.in_contact_at_end && st.last_onset_time >= 0, st.last_onset_time)},
       {"final_state",
        {{"t", r.t_end}, {"q", named(coordinateNamesQ(m), r.final_q)}, {"v", named(coordinateNamesV(m), r.final_v)}}},
-      {"momentum_drift",
-       {{"linear_max_abs_Ns", r.max_drift_linear},
-        {"angular_max_abs_Nms", r.max_drift_angular},
-        {"angular_scale_Nms", r.momentum_scale},
-        {"angular_relative", r.momentum_scale > 0 ? r.max_drift_angular / r.momentum_scale : 0.0}}},
+      {"momentum_drift", momentumDrift(r)},
       {"wall_time_s", r.wall_seconds},
       {"step_time_s", r.step_seconds},
       {"integrator", {{"kind", integrator_kind}, {"step_s", m.integrator.step}}}};
