@@ -225,7 +225,12 @@ int run(int argc, char** argv) {
   // A plant that stopped (FAULT_PLANT_FAULT) ended the run there, whatever the statuses after it: the run
   // stopped, as firmware_sim's own exit says (3), never a success.
   if (code == program::kOk && !std::isnan(h.plantStoppedTime())) code = program::kStopped;
-  if (log_out && !log_out->commit()) {
+  if (log_out && h.answered() == 0) {
+    // No status, no run: the log would hold its header alone, over the previous run's (pass 82).
+    log_out.reset();
+    std::fprintf(stderr, "pointing_controller: --log-csv: nothing written (no status answered): %s is as it was\n",
+                 o.log_csv.c_str());
+  } else if (log_out && !log_out->commit()) {
     std::fprintf(stderr, "pointing_controller: --log-csv: %s\n", log_out->error().c_str());
     if (code == program::kOk) code = program::kOutput;
   }

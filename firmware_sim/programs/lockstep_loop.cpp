@@ -189,6 +189,7 @@ int run(Run& r) {
                        "firmware_sim: lockstep: no valid command answered status 0 within --start-timeout %g s: %s\n",
                        o.start_timeout_s, rejected.c_str());
         }
+        r.report.unanswered_start = true;
         return endWithoutAnswer(r, tick, wall0, !rejected.empty());
       }
       extra = kLockstepTimeout;

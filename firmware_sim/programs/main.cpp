@@ -249,6 +249,15 @@ int runBench(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
                  faults.faults.size(), static_cast<unsigned long long>(faults.seed));
   }
   const int rc = o.lockstep ? runLockstep(r) : runRealtime(r);
+  if (r.report.unanswered_start) {
+    // No controller took part: the outputs would hold tick 0 alone, over the previous run's (pass 82).
+    for (const auto& [flag, path] : {std::pair{"--truth-csv", o.truth_csv}, {"--tick-log", o.tick_log}}) {
+      if (path.empty()) continue;
+      std::fprintf(stderr, "firmware_sim: %s: nothing written (no command answered status 0): %s is as it was\n",
+                   flag, path.c_str());
+    }
+    return rc;
+  }
   // The outputs appear together or not at all (a failed write leaves neither under its name).
   io::CommitGroup outputs({csv.file(), tick_log.file()});
   if (std::string why; !tick_log.writeRows(&why) || !outputs.commit()) {
