@@ -30,18 +30,8 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
 source "$ROOT/tools/lib/out_folder.sh"  # the script's own out/ folder, or a refusal
-# A GIMBALSIM_BUILD the user names is read where the user stands, as every path they give, and must be a build
-# already configured: the script configures only its own build/ (a name missing here was configured inside the
-# checkout, read against the repository).
-if [ -n "${GIMBALSIM_BUILD:-}" ]; then
-  BUILD=$(realpath -ms -- "$GIMBALSIM_BUILD")  # the name as given, made absolute
-  [ -f "$BUILD/CMakeCache.txt" ] || {
-    echo "run_paper.sh: GIMBALSIM_BUILD=$GIMBALSIM_BUILD: $BUILD is not a configured build (no CMakeCache.txt);" \
-      "configure it (cmake -S $ROOT -B $BUILD) or leave GIMBALSIM_BUILD unset for $ROOT/build; nothing run" >&2
-    exit 2; }
-else
-  BUILD=$ROOT/build
-fi
+source "$ROOT/tools/lib/build_dir.sh"  # BUILD: GIMBALSIM_BUILD where the user stands, or build/
+build_dir run_paper.sh
 cd "$ROOT"
 
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)

@@ -28,7 +28,7 @@ def _run(tmp_path, which, *args, root=SOURCE):
         (build / "bin" / program).symlink_to(BIN / program)
     (fake / "cmake").write_text("#!/bin/sh\nexit 0\n")
     (fake / "cmake").chmod(0o755)
-    env = dict(os.environ, BUILD_DIR=str(build), PATH=f"{fake}:{os.environ['PATH']}")
+    env = dict(os.environ, GIMBALSIM_BUILD=str(build), PATH=f"{fake}:{os.environ['PATH']}")
     return subprocess.run(["bash", str(root / script), *args], cwd=work, env=env, capture_output=True, text=True,
                           timeout=300)
 

@@ -146,7 +146,7 @@ def test_a_closed_console_is_no_output_and_changes_no_exit_code(tmp_path):
     (fake / "cmake").chmod(0o755)
     floor = (f"bash '{SOURCE}/tools/pointing_study/run_controller_floor.sh' --clearances 1e-4 --duration 0.4 "
              "--set profile.slew_time=0.1 --set profile.slew_start=0 --set profile.hold_time=0.05")
-    env = {"BUILD_DIR": str(build), "PATH": f"{fake}:{os.environ['PATH']}"}
+    env = {"GIMBALSIM_BUILD": str(build), "PATH": f"{fake}:{os.environ['PATH']}"}
     log = tmp_path / "out" / "controller_floor" / "floor.log"
     for redirect in (">/dev/full", ">&-"):
         if log.exists():

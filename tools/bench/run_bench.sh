@@ -2,7 +2,8 @@
 # Runs gimbalsim_bench with repetitions and prints one line per benchmark:
 # median and minimum CPU time per call [ns] (plus the per-call counters).
 #   tools/bench/run_bench.sh [--results] [--benchmark_filter=REGEX] [other benchmark flags]
-# Environment: BENCH (binary, default the repository's build/bin/gimbalsim_bench), REPS (default 5),
+# Environment: BENCH (binary, default BUILD/bin/gimbalsim_bench, BUILD the repository's build/ or
+# GIMBALSIM_BUILD=DIR, configured, read where you stand), REPS (default 5),
 # OUT (keep the JSON there, written by the writer's rules; else a temporary, removed at the end).
 # --results: also measures MuJoCo's RK4 against ours (gimbalsim_workprec on
 # paper_ideal_valid_inertia, MUJOCO_REPEATS runs per point, default 5) and
@@ -14,13 +15,15 @@ T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/bench/run_bench.sh$(printf ' %q' "$@")"
 for v in REPS MUJOCO_REPEATS; do [ -n "${!v:-}" ] && COMMAND="$v=${!v} $COMMAND"; done
 refuse() { echo "run_bench.sh: $1; nothing run" >&2; exit 2; }
-BIN=${BENCH:-$ROOT/build/bin/gimbalsim_bench}  # the repository's build wherever the user stands
+source "$ROOT/tools/lib/build_dir.sh"  # BUILD: GIMBALSIM_BUILD where the user stands, or build/
+build_dir run_bench.sh
+BIN=${BENCH:-$BUILD/bin/gimbalsim_bench}
 # BENCH and OUT are read where the user stands; the benchmarks read the repository's scenes (tools/scenes/)
 case "$BIN" in /*) ;; *) BIN="$PWD/$BIN" ;; esac
 RESULTS=0 ARGS=() LIST=""
 for a in "$@"; do
   case "$a" in
-    -h | --help) script_usage "${BASH_SOURCE[0]}" 2 9; exit 0 ;;
+    -h | --help) script_usage "${BASH_SOURCE[0]}" 2 10; exit 0 ;;
     --version) script_version run_bench.sh; exit 0 ;;
     --results) RESULTS=1 ;;
     # the JSON is the script's to write (OUT=FILE), by the writer's rules; a listing is the bench's answer alone
@@ -32,7 +35,7 @@ for a in "$@"; do
     *) ARGS+=("$a") ;;
   esac
 done
-[ -f "$BIN" ] && [ -x "$BIN" ] || refuse "BENCH=$BIN: no such program (build it: cmake --build build --target gimbalsim_bench)"
+[ -f "$BIN" ] && [ -x "$BIN" ] || refuse "BENCH=$BIN: no such program (build it: cmake --build $BUILD --target gimbalsim_bench)"
 if [ -n "$LIST" ]; then cd "$ROOT"; exec "$BIN" "$LIST"; fi
 REPS=${REPS:-5}
 # a whole number as the programs read one: a sign allowed, no leading zero (C reads 010 as octal 8)
@@ -80,11 +83,11 @@ for name, row in rows.items():
 PY
 [ -z "$KEEP" ] || /usr/bin/python3 tools/pages/save_output.py "$OUT" "$KEEP" -- "${INPUTS[@]}"  # the writer's rules
 [ "$RESULTS" = 1 ] || exit 0
-MJ=(--no-mujoco "this build has no MuJoCo peer: Debian's libmujoco-dev and libqhull-dev were not installed when build/ was configured (apt-get install libmujoco-dev libqhull-dev, then reconfigure)")
-if grep -q '^mujoco_DIR:PATH=/' build/CMakeCache.txt 2>/dev/null; then  # found at configure time
+MJ=(--no-mujoco "this build has no MuJoCo peer: Debian's libmujoco-dev and libqhull-dev were not installed when $BUILD was configured (apt-get install libmujoco-dev libqhull-dev, then reconfigure)")
+if grep -q '^mujoco_DIR:PATH=/' "$BUILD/CMakeCache.txt" 2>/dev/null; then  # found at configure time
   mkdir -p out/speed/mujoco
   LOG=$(mktemp) && TEMPORARY+=("$LOG")
-  build/bin/gimbalsim_workprec --scenes paper_ideal_valid_inertia --policy plain --steps 1e-2,5e-3,2e-3,1e-3 \
+  "$BUILD/bin/gimbalsim_workprec" --scenes paper_ideal_valid_inertia --policy plain --steps 1e-2,5e-3,2e-3,1e-3 \
     --repeats "${MUJOCO_REPEATS:-5}" --out out/speed/mujoco | console_tee "$LOG"
   /usr/bin/python3 tools/pages/save_output.py "$LOG" out/speed/mujoco/workprec.log  # the writer's rules, not tee's
   MJ=(--mujoco-dir out/speed/mujoco)

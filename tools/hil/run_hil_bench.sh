@@ -91,13 +91,10 @@ awk -v x="$DURATION" 'BEGIN { exit !(x + 0 > 0) }' ||
   { echo "run_hil_bench.sh: --port: must be a whole number in [1, 65535] without a leading zero, got '$PORT'" >&2
     exit 2; }
 PERIOD=$(awk -v r="$RATE" 'BEGIN { printf "%.17g", 1.0 / r }')
-# A GIMBALSIM_BUILD the user names is read where the user stands, as every path they give, and never
-# built; the default is the checkout's build/, built when a program is missing.
-case "${GIMBALSIM_BUILD:-}" in
-  "") BUILD="$ROOT/build" ;;
-  /*) BUILD="$GIMBALSIM_BUILD" ;;
-  *) BUILD="$PWD/$GIMBALSIM_BUILD" ;;
-esac
+# A GIMBALSIM_BUILD the user names is never built; the default is the checkout's build/, built when a program
+# is missing.
+source "$ROOT/tools/lib/build_dir.sh"  # BUILD: GIMBALSIM_BUILD where the user stands, or build/
+build_dir run_hil_bench.sh reads
 BIN="$BUILD/bin"
 # Every file a run may leave in --out (bench_*.csv: gimbalsim_log2csv's, one per channel).
 OUTPUTS=(truth.csv controller.csv controller.txt firmware.txt bench.lcmlog bench.png)

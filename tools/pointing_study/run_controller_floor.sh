@@ -5,14 +5,16 @@
 # feed-forward: constant reduced inertias, no lead) into out/controller_floor/;
 # --results also writes docs/results/controller_floor.md with the stamped header
 # (tools/pages/results_page.py). Other arguments go to the tool (an --ideal-scene or
-# --clearance-scene among them replaces the script's). BUILD_DIR overrides build/.
+# --clearance-scene among them replaces the script's). GIMBALSIM_BUILD=DIR takes that build, already
+# configured, instead of build/ (read where you stand).
 #
 #   bash tools/pointing_study/run_controller_floor.sh --results   # the committed page
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
 source "$ROOT/tools/lib/out_folder.sh"  # the script's own out/ folder, or a refusal
-BUILD="${BUILD_DIR:-$ROOT/build}"
+source "$ROOT/tools/lib/build_dir.sh"  # BUILD: GIMBALSIM_BUILD where the user stands, or build/
+build_dir run_controller_floor.sh
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/pointing_study/run_controller_floor.sh$(printf ' %q' "$@")"
 # The page only when asked: a trial with other arguments never replaces the project's page.

@@ -4,14 +4,16 @@
 # gimbalsim_pointing_study (configuring build/ if needed), runs it and plots.
 # Arguments go to the tool (e.g. --clearances 0.2e-3,0.5e-3 --duration 6
 # --set KEY=VALUE --scene-set KEY=VALUE --out DIR; an --ideal-scene replaces the
-# script's). BUILD_DIR overrides build/.
+# script's). GIMBALSIM_BUILD=DIR takes that
+# build, already configured, instead of build/ (read where you stand).
 # --results also writes docs/results/closed_loop_clearance.md
 # (tools/pointing_study/pointing_page.py).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
 source "$ROOT/tools/lib/out_folder.sh"  # the script's own out/ folder, or a refusal
-BUILD="${BUILD_DIR:-$ROOT/build}"
+source "$ROOT/tools/lib/build_dir.sh"  # BUILD: GIMBALSIM_BUILD where the user stands, or build/
+build_dir run_pointing_study.sh
 T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/pointing_study/run_pointing_study.sh$(printf ' %q' "$@")"
 OUT="out/pointing_study" RESULTS=0 NAMED=0

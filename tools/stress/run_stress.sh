@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The numerical stability stress grid end to end: builds gimbalsim_stress
-# (Release, build/), runs it with the arguments given (e.g. --long-run,
+# (Release, build/; GIMBALSIM_BUILD=DIR takes that build, configured, read
+# where you stand), runs it with the arguments given (e.g. --long-run,
 # --duration 0.5, --threads 1), writes out/stress/stress.csv and, with
 # --results, the page docs/results/stress.md (header by tools/pages/results_page.py).
 #
@@ -13,6 +14,8 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
 source "$ROOT/tools/lib/out_folder.sh"  # the script's own out/ folder, or a refusal
+source "$ROOT/tools/lib/build_dir.sh"  # BUILD: GIMBALSIM_BUILD where the user stands, or build/
+build_dir run_stress.sh
 CALLER=$PWD  # the user's folder: a relative path they give is theirs, not the repository's
 cd "$ROOT"
 source "$ROOT/tools/lib/caller_args.sh"  # abs_arg
@@ -33,11 +36,11 @@ for a in "$@"; do
     *) ARGS+=("$(abs_arg "$a")") ;;
   esac
 done
-[ -f build/CMakeCache.txt ] || cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j2 --target gimbalsim_stress >/dev/null
+[ -f "$BUILD/CMakeCache.txt" ] || cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$BUILD" -j2 --target gimbalsim_stress >/dev/null
 # --help and --version are the program's answer alone: no run, no log saved over the previous one.
 for a in ${ARGS[@]+"${ARGS[@]}"}; do
-  case "$a" in -h | --help | --version) exec build/bin/gimbalsim_stress "$a" ;; esac
+  case "$a" in -h | --help | --version) exec "$BUILD/bin/gimbalsim_stress" "$a" ;; esac
 done
 out_folder run_stress.sh out/stress
 status=0
@@ -45,7 +48,7 @@ LOG=$(mktemp) && trap 'rm -f "$LOG"; out_folder_undo' EXIT  # the console log, s
 /usr/bin/python3 tools/pages/save_output.py --check "$LOG" out/stress/stress.log -- ${ARGS[@]+"${ARGS[@]}"}
 # The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
 [ "$RESULTS" = 0 ] || /usr/bin/python3 tools/pages/results_page.py --check --page docs/results/stress.md
-build/bin/gimbalsim_stress --csv out/stress/stress.csv --page-body out/stress/page_body.md ${ARGS[@]+"${ARGS[@]}"} \
+"$BUILD/bin/gimbalsim_stress" --csv out/stress/stress.csv --page-body out/stress/page_body.md ${ARGS[@]+"${ARGS[@]}"} \
   | console_tee "$LOG" || status=$?
 if [ "$status" -eq 0 ] || [ "$status" -eq 1 ]; then  # a grid that ran (1: some case failed), never a refusal
   /usr/bin/python3 tools/pages/save_output.py "$LOG" out/stress/stress.log -- ${ARGS[@]+"${ARGS[@]}"}

@@ -75,12 +75,9 @@ if [ "$PAGE" = pointing_budget ] && [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then
   shift
 fi
 ARGS=("$@")
-# A GIMBALSIM_BUILD the user names is read where the user stands, as every path they give; the default is the checkout's.
-if [ -n "${GIMBALSIM_BUILD:-}" ]; then
-  PACKAGE="$(realpath -m "$GIMBALSIM_BUILD")/python"
-else
-  PACKAGE="$ROOT/build/python"
-fi
+source "$ROOT/tools/lib/build_dir.sh"  # BUILD: GIMBALSIM_BUILD where the user stands, or build/
+build_dir run_pointing_budget.sh reads
+PACKAGE=$BUILD/python
 [ -f "$PACKAGE/gimbalsim/__init__.py" ] || {
   echo "run_pointing_budget.sh: no gimbalsim package in $PACKAGE: cmake --build build -j2 --target gimbalsim_python" >&2
   exit 2

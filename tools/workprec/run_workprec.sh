@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Work-precision sweep end to end: builds gimbalsim_workprec (Release, build/),
+# Work-precision sweep end to end: builds gimbalsim_workprec (Release, build/;
+# GIMBALSIM_BUILD=DIR takes that build, configured, read where you stand),
 # runs it (arguments are passed through, e.g. --quick, --scenes paper_ideal,
 # --repeats 5), writes out/workprec/workprec.csv and its log, and plots
 # out/workprec/workprec.png with /usr/bin/python3 (Debian's matplotlib).
@@ -12,6 +13,8 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 source "$ROOT/tools/lib/console.sh"  # a console whose reader is gone stops nothing
 source "$ROOT/tools/lib/out_folder.sh"  # the script's own out/ folder, or a refusal
+source "$ROOT/tools/lib/build_dir.sh"  # BUILD: GIMBALSIM_BUILD where the user stands, or build/
+build_dir run_workprec.sh
 CALLER=$PWD  # the user's folder: a relative path they give is theirs, not the repository's
 cd "$ROOT"
 source "$ROOT/tools/lib/caller_args.sh"  # abs_arg
@@ -22,11 +25,11 @@ for a in "$@"; do
   if [ "$a" = --results ]; then RESULTS=1; else ARGS+=("$(abs_arg "$a")"); fi
 done
 bash tools/bootstrap.sh
-[ -f build/CMakeCache.txt ] || cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j2 --target gimbalsim_workprec >/dev/null
+[ -f "$BUILD/CMakeCache.txt" ] || cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$BUILD" -j2 --target gimbalsim_workprec >/dev/null
 # --help and --version are the program's answer alone: no run, no log saved over the previous one, no plot.
 for a in ${ARGS[@]+"${ARGS[@]}"}; do
-  case "$a" in -h | --help | --version) exec build/bin/gimbalsim_workprec "$a" ;; esac
+  case "$a" in -h | --help | --version) exec "$BUILD/bin/gimbalsim_workprec" "$a" ;; esac
 done
 out_folder run_workprec.sh out/workprec
 LOG=$(mktemp) && trap 'rm -f "$LOG"; out_folder_undo' EXIT  # the console log, saved by the writer's rules (not tee's)
@@ -37,7 +40,7 @@ for name in workprec.log workprec.png; do
 done
 # The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
 [ "$RESULTS" = 0 ] || /usr/bin/python3 tools/pages/results_page.py --check --page docs/results/workprec.md
-build/bin/gimbalsim_workprec --out out/workprec ${ARGS[@]+"${ARGS[@]}"} | console_tee "$LOG"
+"$BUILD/bin/gimbalsim_workprec" --out out/workprec ${ARGS[@]+"${ARGS[@]}"} | console_tee "$LOG"
 /usr/bin/python3 tools/pages/save_output.py "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
 /usr/bin/python3 tools/workprec/plot_workprec.py out/workprec/workprec.csv --out out/workprec/workprec.png
 if [ "$RESULTS" = 1 ]; then
