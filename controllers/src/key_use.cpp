@@ -44,11 +44,17 @@ std::string joined(const std::vector<std::string>& words, const char* between) {
   return text;
 }
 
-}  // namespace
+using KeyValues = std::map<std::string, std::string>;
 
-std::string controllerKeyIdle(const ControllerConfig& c, const std::string& key, bool scene_has_antenna_sensor) {
-  std::map<std::string, std::string> value;
+/// Every key of the configuration with its value as text (configValues), by key.
+KeyValues valuesByKey(const ControllerConfig& c) {
+  KeyValues value;
   for (const std::string& kv : configValues(c)) value[kv.substr(0, kv.find('='))] = kv.substr(kv.find('=') + 1);
+  return value;
+}
+
+/// controllerKeyIdle on the configuration's values, read once by the caller for all its keys.
+std::string keyIdle(KeyValues& value, const std::string& key, bool scene_has_antenna_sensor) {
   if (key.rfind("antenna.", 0) == 0) {  // tracker_fusion.cpp: the antenna's keys act where the loop closes there
     if (!scene_has_antenna_sensor) {
       return "the scene's sensors.antenna is none: no sensor on the antenna, the loop closes on the encoders";
@@ -74,12 +80,20 @@ std::string controllerKeyIdle(const ControllerConfig& c, const std::string& key,
   return "";
 }
 
+}  // namespace
+
+std::string controllerKeyIdle(const ControllerConfig& c, const std::string& key, bool scene_has_antenna_sensor) {
+  KeyValues value = valuesByKey(c);
+  return keyIdle(value, key, scene_has_antenna_sensor);
+}
+
 std::string idleControllerOverride(const char* flag, const std::vector<std::string>& overrides,
                                    const ControllerConfig& c, bool scene_has_antenna_sensor,
                                    const std::vector<std::pair<std::string, std::string>>& never_read) {
+  KeyValues value = valuesByKey(c);
   for (std::size_t k = 0; k < overrides.size(); ++k) {
     const std::string key = overrides[k].substr(0, overrides[k].find('='));
-    std::string why = controllerKeyIdle(c, key, scene_has_antenna_sensor);
+    std::string why = keyIdle(value, key, scene_has_antenna_sensor);
     for (const auto& [idle, because] : never_read) {
       if (why.empty() && key == idle) why = because;
     }
