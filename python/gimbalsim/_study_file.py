@@ -101,11 +101,12 @@ def check_resumable(db, out, study_name):
         raise SpecError(f"{db}: not a study of {study_name} (it holds {names or 'no study'}); use another --out")
 
 
-def open_study(spec, out, resume, sampler):
+def open_study(spec, out, resume):
     """The study stored in out/study.db (Optuna's RDB storage on SQLite), its
     folder checked (check_study_folder): created with the baseline as its
     first trial, or, with resume, loaded; then trials left RUNNING by a killed
-    tuner are marked FAIL (`killed`) and queued again with the same gains."""
+    tuner are marked FAIL (`killed`) and queued again with the same gains.
+    Its sampler is the caller's to set (seeded by what the study holds)."""
     import optuna
 
     db = out / STUDY_FILE
@@ -120,7 +121,7 @@ def open_study(spec, out, resume, sampler):
         check_resumable(db, out, STUDY_NAME)
     try:
         storage = optuna.storages.RDBStorage(f"sqlite:///{db.resolve()}")
-        study = optuna.create_study(storage=storage, study_name=STUDY_NAME, direction="minimize", sampler=sampler,
+        study = optuna.create_study(storage=storage, study_name=STUDY_NAME, direction="minimize",
                                     load_if_exists=True)
     # RuntimeError: a study file of another Optuna version ("no longer compatible with the table schema")
     except (sqlalchemy.exc.SQLAlchemyError, optuna.exceptions.StorageInternalError, RuntimeError) as e:

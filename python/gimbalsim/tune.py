@@ -144,9 +144,11 @@ def tune(spec, out, workers=None, scheduler=None, progress=True, resume=False):
         # A named scheduler is reached before the study is made: one that does not answer (exit 6) leaves
         # --out as it was, not a study the next run would want resumed.
         named = stack.enter_context(_cluster.dask_client(None, scheduler)) if scheduler else None
-        study = open_study(spec, out, resume, sampler(spec.seed))
-        if resume:  # (pass 80) the spec's seed again replayed the first run's draws: finished gains proposed anew
-            study.sampler = sampler(int(np.random.SeedSequence([spec.seed, len(study.trials)]).generate_state(1)[0]))
+        study = open_study(spec, out, resume)
+        # A resumed study's sampler is seeded by the spec's seed and the trials held (pass 80: the spec's seed
+        # again replayed the first run's draws, finished gains proposed anew).
+        seed = int(np.random.SeedSequence([spec.seed, len(study.trials)]).generate_state(1)[0]) if resume else spec.seed
+        study.sampler = sampler(seed)
         gain_names = [p.key for p in spec.gains]
         header = ["trial", "state", "origin", "score", "constraint", *gain_names, "plants_ok", "reason",
                   "wall_time"] + [f"plant{j}.{c}" for j in range(spec.batch) for c in ("status",) + PLANT_FIGURES]

@@ -15,7 +15,7 @@ def test_a_signal_before_the_study_is_recorded_leaves_nothing_and_says_run_again
     spec = write_spec(tmp_path, 1)
     out = tmp_path / "o"
 
-    def opened_then_signalled(spec_, out_, resume, sampler):
+    def opened_then_signalled(spec_, out_, resume):
         out_.mkdir(exist_ok=True)
         (out_ / "study.db").write_bytes(b"")  # SQLite had made the file, not yet the study
         raise Interrupted(signal.SIGTERM)
