@@ -33,7 +33,7 @@ except ImportError as e:  # a build folder whose extension was never built (only
         f"gimbalsim: the extension module _gimbalsim is not built in {_here} ({e}); build it with "
         "`cmake --build build -j2 --target gimbalsim_python` (build/ being that build folder), "
         "or install the package (docs/python_install.md)") from e
-from . import _output  # noqa: E402
+from . import _csv_cells, _output  # noqa: E402
 from ._arguments import real_argument as _real_argument  # noqa: E402
 from . import _checked_methods  # noqa: E402
 from ._gimbalsim import COLUMNS, Scene, Simulator, State
@@ -342,7 +342,7 @@ class ClosedLoopRun:
             inputs = (inputs,)
         inputs = self.inputs + tuple(_check_path(p, "input path") for p in inputs)
         names = [_gimbalsim.csv_name(n, _TICK_UNITS.get(n, "rad")) for n in self.columns]
-        _output.write_csv(path, [names] + [[_output.csv_number(x) for x in row] for row in self.rows], inputs)
+        _output.write_csv(path, [names] + [[_csv_cells.csv_number(x) for x in row] for row in self.rows], inputs)
 
     def __repr__(self):
         return f"<gimbalsim.ClosedLoopRun ok={self.ok} ticks={self.summary['ticks']}>"

@@ -5,7 +5,8 @@ quantile with its interval against the key (allocation.png)."""
 import math
 
 from . import _budget, indices
-from ._output import csv_number, csv_text, json_text, savefig, write_csv, write_text
+from ._csv_cells import csv_number, csv_text
+from ._output import json_text, savefig, write_csv, write_text
 
 CSV, JSON, PAGE, PLOT = "allocation.csv", "allocation.json", "allocation.md", "allocation.png"
 

@@ -10,7 +10,7 @@ import math
 from . import _provenance
 from ._closed_sample import load_sample
 from ._errors import OutputError, SpecError
-from ._output import csv_number, csv_text
+from ._csv_cells import csv_number, csv_text
 from ._sweep_spec import MAX_SAMPLES
 
 JOURNAL = "results.partial.csv"  # the sweep's rows as they arrive (appended and synced per task)

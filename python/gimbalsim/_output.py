@@ -22,16 +22,21 @@ import errno
 import io
 import itertools
 import json
-import math
 import os
 import re
 import signal
+import sys
 import stat
 import types
 
-__all__ = ["OutputError", "OutputRefused", "output_failed", "what_to_do", "check_outputs", "check_output_names", "open_output", "output_set",
-           "write_text", "write_bytes", "write_csv", "csv_text", "savefig", "figure_bytes", "open_append",
-           "append_synced"]
+try:
+    from ._csv_cells import csv_text
+except ImportError:  # loaded by path (tools/pages/output_file.py), which has loaded the cells' file first
+    from gimbalsim_csv_cells import csv_text
+
+__all__ = ["OutputError", "OutputRefused", "output_failed", "what_to_do", "check_outputs", "check_output_names",
+           "open_output", "output_set", "write_text", "write_bytes", "write_csv", "savefig", "figure_bytes",
+           "open_append", "append_synced"]
 
 
 class OutputError(OSError):
@@ -76,28 +81,6 @@ def what_to_do(e):
 
 _counter = itertools.count()  # the <n> of the temporaries' names (next() is atomic under the GIL)
 TEMPORARY = re.compile(r"\.(.+)\.([0-9]+)\.([0-9]+)\.tmp")  # a temporary's name, ".<name>.<pid>.<n>.tmp"
-
-
-def csv_number(x):
-    """A number as the CSV convention writes it (io/csv_format.hpp): the
-    shortest text that reads back as the same double, integers as integers,
-    never -0, nan for no value."""
-    x = float(x)
-    if math.isnan(x):
-        return "nan"
-    if x == 0.0:
-        return "0"
-    if x.is_integer() and abs(x) < 1e15:
-        return str(int(x))
-    return repr(x)
-
-
-def csv_text(text):
-    """A text cell as the CSV convention writes it (io::csvTextCell): unquoted,
-    ',' as ';', '"' as "'", '#' as "no. " (numpy reads no quotes and takes '#'
-    for a comment), a line break as a space."""
-    return (str(text).replace(",", ";").replace('"', "'").replace("#", "no. ")
-            .replace("\r", " ").replace("\n", " "))
 
 
 def _text(path):
@@ -173,7 +156,19 @@ def check_outputs(outputs, inputs=()):
             inp = _text(inp)
             if me is not None and _identity(inp) == me:
                 raise OutputRefused(f"{out}: the same file as the input {inp}; not overwritten")
+        for program in _running_program():  # an input of every run (pass 84: a program's --out replaced it)
+            if me is not None and _identity(program) == me:
+                raise OutputRefused(f"{out}: the same file as this program ({program}); not overwritten")
         seen.append((out, me))
+
+
+def _running_program():
+    """The files the running process is: the interpreter and the script or module it runs (argv[0], when it is
+    a file: not "-c" or the interactive interpreter's "")."""
+    files = [sys.executable] if sys.executable else []
+    if sys.argv and sys.argv[0] and os.path.isfile(sys.argv[0]):
+        files.append(sys.argv[0])
+    return files
 
 
 # The names that show a folder holds a tool's outputs: a tool writing into another's folder would mix their files.

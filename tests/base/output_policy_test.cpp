@@ -71,6 +71,17 @@ TEST_F(OutputPolicy, AFolderTheUserNamedMustExistTheDefaultOneIsMade) {
   }
 }
 
+TEST_F(OutputPolicy, TheRunningProgramIsAnInputOfEveryRun) {
+  // (pass 84) `gimbalsim simulate --out <its own executable>` replaced the program, exit 0
+  const std::string self = fs::canonical("/proc/self/exe").string();
+  try {
+    checkOutputPaths({self});
+    FAIL() << "the program's own file was accepted as an output";
+  } catch (const OutputError& e) {
+    EXPECT_EQ(std::string(e.what()), self + ": the same file as this program (the executable running); not overwritten");
+  }
+}
+
 TEST_F(OutputPolicy, TheNameAppearsOnlyAtCommit) {
   const std::string p = path("run.csv");
   {

@@ -127,7 +127,8 @@ def checkout_with_spec(tmp_path, spec_text=None):
     root = tmp_path / "checkout"
     for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh", "tools/lib/build_dir.sh",
                 "tools/sweeps/pointing_budget.yaml", "tools/pages/results_page.py",
-                "tools/pages/output_file.py", "python/gimbalsim/_output.py", "python/gimbalsim/_console.py",
+                "tools/pages/output_file.py", "python/gimbalsim/_output.py", "python/gimbalsim/_csv_cells.py",
+                "python/gimbalsim/_console.py",
                 "python/gimbalsim/_number.py", "python/gimbalsim/_early_signals.py",
                 "python/gimbalsim/_flags.py",
                 "tools/lib/console.sh", "docs/results/pointing_budget.md", "docs/results/README.md"):

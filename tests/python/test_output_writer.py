@@ -12,6 +12,8 @@ import os
 import re
 import signal
 import stat
+import subprocess
+import sys
 
 import pytest
 
@@ -81,6 +83,20 @@ def test_an_output_that_is_an_input_is_refused_by_any_spelling(tmp_path):
         _output.check_outputs([tmp_path / "new.csv", tmp_path / "." / "new.csv"])
     _output.write_text(tmp_path / "other.yaml", "fine\n", inputs=[scene, None, ""])
     assert leftovers(tmp_path, {"scene.yaml", "hard.yaml", "other.yaml"}) == []
+
+
+def test_the_running_program_is_an_input_of_every_run(tmp_path):
+    # (pass 84) a program's --out naming its own executable replaced it (exit 0); here the interpreter's script
+    script = tmp_path / "mine.py"
+    script.write_text("import sys\nfrom gimbalsim import _output\n"
+                      "try:\n    _output.write_text(sys.argv[0], 'csv\\n')\nexcept _output.OutputError as e:\n"
+                      "    print(e)\n")
+    p = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=60)
+    assert p.stdout == f"{script}: the same file as this program ({script}); not overwritten\n", (p.stdout, p.stderr)
+    assert script.read_text().startswith("import sys")
+    real = os.path.realpath(sys.executable)
+    with pytest.raises(_output.OutputError, match=r"the same file as this program"):
+        _output.check_outputs([real])
 
 
 def test_a_missing_folder_is_refused_not_made(tmp_path):

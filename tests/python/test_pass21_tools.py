@@ -141,7 +141,7 @@ def _repository_copy(tmp_path):
     repo = tmp_path / "repo"
     shutil.copytree(SOURCE / "tools", repo / "tools", ignore=shutil.ignore_patterns("__pycache__"))
     (repo / "python" / "gimbalsim").mkdir(parents=True)
-    for module in ("_output.py", "_console.py", "_number.py", "_early_signals.py", "_flags.py"):
+    for module in ("_output.py", "_csv_cells.py", "_console.py", "_number.py", "_early_signals.py", "_flags.py"):
         shutil.copy(SOURCE / "python" / "gimbalsim" / module, repo / "python" / "gimbalsim" / module)
     (repo / "docs" / "results").mkdir(parents=True)
     return repo

@@ -32,6 +32,7 @@ def _standalone(name, file):
     return sys.modules[name]
 
 
+_cells = _standalone("gimbalsim_csv_cells", "_csv_cells.py")  # the CSV convention's cells, which the writer reads
 _writer = _standalone("gimbalsim_output_writer", "_output.py")
 _console = _standalone("gimbalsim_console", "_console.py")
 _number = _standalone("gimbalsim_number", "_number.py")  # the one reading of a number given as text
@@ -41,7 +42,7 @@ _console.keep_console()  # imported by a script: a reader gone stops nothing, it
 
 OutputError = _writer.OutputError
 check_outputs = _writer.check_outputs
-csv_number = _writer.csv_number
+csv_number = _cells.csv_number
 underflowed = _number.underflowed
 flag_decimal = _number.flag_decimal  # (x, None) or (None, why), as the programs read a real flag
 plain_decimal = _number.plain_decimal

@@ -83,6 +83,10 @@ void checkOutputPaths(const std::vector<std::string>& outputs, const std::vector
         throw OutputError(out + ": the same file as the input " + in + "; not overwritten");
       }
     }
+    // The running program is an input of every run: `gimbalsim simulate --out <itself>` replaced it (pass 84).
+    if (Identity self; identify("/proc/self/exe", self) && self == id) {
+      throw OutputError(out + ": the same file as this program (the executable running); not overwritten");
+    }
     seen.emplace_back(out, id);
   }
 }
