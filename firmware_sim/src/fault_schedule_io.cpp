@@ -294,12 +294,14 @@ std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, doub
   if (!out.empty()) return out;
   const auto first = std::min_element(s.faults.begin(), s.faults.end(),
                                       [](const FaultSpec& a, const FaultSpec& b) { return a.start < b.start; });
-  if (first == s.faults.end() || !(first->start > duration)) return {};
+  // The run's last tick ends it: a fault from there on takes no step (a motor failure at the end was flagged as
+  // injected and changed nothing, pass 84).
+  if (first == s.faults.end() || first->start < duration - tol) return {};
   const auto i = first - s.faults.begin() + 1;
   return {origin + ":" + std::to_string(first->line) + ":" + std::to_string(first->column) + ": fault #" +
           std::to_string(i) + " (" + faultTypeName(first->kind) + "), the first to start: key 'start': " +
-          formatNumber(first->start) + " s is after the run's end at " + formatNumber(duration) +
-          " s: every fault starts later, the schedule would act in no tick"};
+          formatNumber(first->start) + " s is at or after the run's end at " + formatNumber(duration) +
+          " s: every fault starts there or later, the schedule would act in no step"};
 }
 
 std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const PlantScene& ps, const std::string& origin) {

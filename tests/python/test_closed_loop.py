@@ -104,9 +104,14 @@ def test_closed_loop_takes_a_fault_schedule(tmp):
                                    "bias: 1.0e-2}\n  - {type: encoder_dropout, axis: elevation, start: 1.5}\n")
     with pytest.raises(gimbalsim.SceneError) as e:
         gimbalsim.closed_loop(scene, ctrl, 1.0, faults=tmp / "late.yaml")
-    assert ("late.yaml:3:5: fault #2 (encoder_dropout), the first to start: key 'start': 1.5 s is after the run's "
-            "end at 1 s: every fault starts later, the schedule would act in no tick") in str(e.value), str(e.value)
+    assert ("late.yaml:3:5: fault #2 (encoder_dropout), the first to start: key 'start': 1.5 s is at or after the "
+            "run's end at 1 s: every fault starts there or later, the schedule would act in no step") in str(e.value), \
+        str(e.value)
     assert gimbalsim.closed_loop(scene, ctrl, 2.0, faults=tmp / "late.yaml").columns["injected_faults"].any()
+    # (pass 84) a fault from the run's last tick on took no step, flagged as injected all the same
+    with pytest.raises(gimbalsim.SceneError, match="key 'start': 1.5 s is at or after the run's end at 1.5 s"):
+        gimbalsim.closed_loop(scene, ctrl, 1.5, faults=tmp / "late.yaml")
+    assert gimbalsim.closed_loop(scene, ctrl, 1.501, faults=tmp / "late.yaml").columns["injected_faults"].any()
 
 
 def test_closed_loop_run_to_csv_follows_the_convention_and_the_output_rules(tmp):
