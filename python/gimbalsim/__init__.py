@@ -222,6 +222,7 @@ class Run:
     the limit, as on the command line."""
 
     def __init__(self, rows, summary, scene=None):
+        rows.flags.writeable = False  # the run's record: an edit in place changed what to_csv wrote (pass 84)
         self.rows = rows
         self.summary = summary
         self.scene = scene
@@ -316,6 +317,8 @@ class ClosedLoopRun:
 
     def __init__(self, summary, columns, inputs=()):
         self.summary = summary
+        for column in columns.values():
+            column.flags.writeable = False  # the run's record, as Run's rows
         self.columns = columns
         self.inputs = tuple(inputs)  # the files the run read: to_csv never writes over one
 
@@ -327,7 +330,9 @@ class ClosedLoopRun:
     def rows(self):
         """The ticks as an (N, columns) array, in the order of ``columns``
         (stacked once, on first use)."""
-        return np.column_stack([np.asarray(v, dtype=float) for v in self.columns.values()])
+        rows = np.column_stack([np.asarray(v, dtype=float) for v in self.columns.values()])
+        rows.flags.writeable = False
+        return rows
 
     def to_csv(self, path, inputs=()):
         """Writes the ticks by the project's CSV convention (docs/usage.md

@@ -466,6 +466,19 @@ def test_closed_loop_takes_the_range_it_states_and_refuses_what_memory_cannot_ho
         gimbalsim.closed_loop(scene(), gimbalsim.Controller(CONTROLLER_CONFIG), 1e9 + 1)
 
 
+def test_a_runs_record_cannot_be_edited_in_place():
+    # (pass 84) Run.columns share Run.rows' memory: an in-place edit (an unwrapped angle, a mistyped index) changed
+    # what to_csv wrote as the run, inf and a bare nan included
+    run = gimbalsim.simulate(scene(overrides={"sim.duration": 0.01}))
+    loop = gimbalsim.closed_loop(scene(), gimbalsim.Controller(CONTROLLER_CONFIG), 0.01)
+    for array in (run.rows, run.columns["theta1"], loop.rows, loop.columns["ref1"]):
+        with pytest.raises(ValueError, match="read-only"):
+            array[..., 1] = math.inf
+    edited = run.columns["theta1"].copy()  # a copy is the user's own to edit
+    edited[1] = 0.5
+    assert run.columns["theta1"][1] != 0.5
+
+
 def test_controller_update_gives_no_command_from_a_non_finite_or_overflowing_input():
     # gyro 1e308 overflowed the law into tau (nan, nan), returned as a command
     c = gimbalsim.Controller(None, {})

@@ -31,7 +31,7 @@ Check interval(char open, double lo, double hi, char close) {
 Check nonZero() {
   // Bounded above too: a length that overflows (1e200 per component)
   // normalises to a zero vector, a direction nobody asked for.
-  return {"non-zero, each component within 1e12", "", [](std::span<const double> v) {
+  return {"of length at least 1e-12, each component within 1e12", "", [](std::span<const double> v) {
             double s = 0.0;
             for (double x : v) {
               if (!(std::abs(x) <= 1e12)) return false;
