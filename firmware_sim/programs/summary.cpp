@@ -53,7 +53,11 @@ void printExitSummary(const Run& r, const Outcome& out) {
                 describeStopWhen(out.last_good_s, out.plant).c_str());
   }
   const PointingErrorStats& pe = r.report.pointing;
-  if (pe.n > 0) {
+  if (pe.n > 0 && out.plant_fault && !(out.last_good_s > 0.0)) {
+    // Whole-run figures need a step the plant completed (usage.md): over t = 0 alone they printed 0 (pass 83).
+    std::printf("  truth pointing error [rad] against %s: n/a (the plant's first step failed: no step completed)\n",
+                r.setup.profile ? "the profile" : "the boresight at t = 0 (no --profile)");
+  } else if (pe.n > 0) {
     std::printf("  truth pointing error [rad] against %s: max %.3e, RMS %.3e, final %.3e",
                 r.setup.profile ? "the profile" : "the boresight at t = 0 (no --profile)", pe.max_rad,
                 std::sqrt(pe.sum_sq / static_cast<double>(pe.n)), pe.last_rad);
