@@ -46,10 +46,10 @@ def test_bench_value_flag_with_an_empty_value_is_refused_naming_it(tmp_path, fla
 def test_bench_relative_faults_after_dashdash_is_read_where_the_user_stands(tmp_path):
     (tmp_path / "hb").mkdir()
     (tmp_path / "myfaults.yaml").write_bytes((SOURCE / "tools" / "faults" / "demo.yaml").read_bytes())
-    p = bench("--out", "hb", "--duration", "0.2", "--no-plot", "--", "--faults", "myfaults.yaml", cwd=tmp_path)
+    p = bench("--out", "hb", "--duration", "0.3", "--no-plot", "--", "--faults", "myfaults.yaml", cwd=tmp_path)
     assert p.returncode == 0, p.stderr
     assert (tmp_path / "hb" / "truth.csv").is_file()
-    p = bench("--out", "hb", "--duration", "0.2", "--no-plot", "--", "--faults=myfaults.yaml", cwd=tmp_path)
+    p = bench("--out", "hb", "--duration", "0.3", "--no-plot", "--", "--faults=myfaults.yaml", cwd=tmp_path)
     assert p.returncode == 0, p.stderr
 
 
