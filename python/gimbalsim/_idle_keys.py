@@ -58,7 +58,7 @@ _CONTROLLER_DECIDERS = {CONTROLLER_PREFIX + d for rules in CONTROLLER_READ_UNDER
 _MAX_COMBINATIONS = 256  # of the deciders' values: beyond it nothing is judged
 # Numbers that decide a few keys only (_READ_UNDER): the keys (by their ends), the number's key.
 _NUMBER_DECIDERS = ((("contact.v0_min", "contact.damping"), "contact.restitution"),
-                    (("friction.v_a", "friction.v_b"), "friction.mu"))
+                    (("friction.v_a", "friction.v_b", "friction.law"), "friction.mu"))
 
 
 def _for_every_value(judge, key, values, dispersed, takes, own_deciders=()):
@@ -328,6 +328,7 @@ _DAMPED = ("contact.damping", lambda law: law != "none")
 _INELASTIC = ("contact.restitution", _number_reads(lambda restitution: restitution != 1.0))
 _FRICTION = ("friction.mu", _number_reads(lambda mu: mu > 0.0))
 _READ_UNDER = {"friction.mu": [("friction.law", lambda law: law != "none")],
+               "friction.law": [_FRICTION],  # at friction.mu 0 every law gives no force (pass 84: a grid of laws)
                "friction.v_a": [("friction.law", lambda law: law == "ambrosio"), _FRICTION],
                "friction.v_b": [("friction.law", lambda law: law == "ambrosio"), _FRICTION],
                "contact.restitution": [_DAMPED],

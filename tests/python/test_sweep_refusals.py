@@ -105,6 +105,9 @@ BAD = [
     # (pass 72) the law's velocities at friction.mu 0: no friction force, every row alike
     ("set: {friction.law: ambrosio, friction.mu: 0.0}\nparameters:\n  friction.v_a: {uniform: [1.0e-5, 5.0e-5]}\n",
      "parameters.friction.v_a", 8, "joint 2's friction.mu is 0"),
+    # (pass 84) ... and the law itself: at friction.mu 0 every law gives no force, coulomb and ambrosio rows alike
+    ("set: {friction.mu: 0.0}\ngrid:\n  friction.law: [coulomb, ambrosio]\n",
+     "grid.friction.law", 8, "joint 2's friction.mu is 0"),
     # (pass 73) ... and at friction.mu dispersed over zeros only (a grid, a choice): judged for each value
     ("set: {friction.law: ambrosio}\ngrid:\n  friction.mu: [0.0]\nparameters:\n"
      "  friction.v_a: {uniform: [1.0e-5, 5.0e-5]}\n",
@@ -113,9 +116,13 @@ BAD = [
     ("set: {friction.law: ambrosio}\nparameters:\n  friction.mu: {uniform: [0.0, 0.0]}\n"
      "  friction.v_a: {uniform: [1.0e-5, 5.0e-5]}\n",
      "parameters.friction.v_a", 9, "joint 2's friction.mu is 0.0, for every value of friction.mu the study gives"),
-    ("set: {friction.law: ambrosio, friction.v_b: 1.0e-3}\nparameters:\n  friction.mu: {choice: [0.0, 0]}\n"
+    ("set: {friction.v_b: 1.0e-3}\nparameters:\n  friction.mu: {choice: [0.0, 0]}\n"
      "  contact.restitution: {uniform: [0.5, 0.9]}\n",
      "set.friction.v_b", 6, "for every value of friction.mu the study gives"),
+    # the law itself is read by no run at those values either (pass 84)
+    ("set: {friction.law: ambrosio}\nparameters:\n  friction.mu: {choice: [0.0, 0]}\n"
+     "  contact.restitution: {uniform: [0.5, 0.9]}\n",
+     "set.friction.law", 6, "for every value of friction.mu the study gives"),
     # (pass 74) a shared journal radius under set where joint 2's own clearance is dispersed: recorded, acting
     # on nothing (a clearance and a journal radius give one value)
     ("set: {contact.journal_radius: 0.0095}\nparameters:\n  joint2.contact.clearance: {uniform: [1.0e-4, 3.0e-4]}\n",
