@@ -51,3 +51,22 @@ def test_a_named_build_is_read_where_the_user_stands(tmp_path, script):
     assert p.returncode == 0 and f"Usage: {build}/bin/{program} " in p.stdout, (p.returncode, p.stdout[:300], p.stderr)
     # the one cmake call built the named build's program, never the checkout's build/
     assert (tmp_path / "cmake.log").read_text() == f"cmake --build {build} -j2 --target {program}\n"
+
+
+def test_the_python_scripts_read_gimbalsim_build_too(tmp_path):
+    # (pass 83, 84) py_bench.py imported the package before reading a flag (a traceback, exit 1), tune_sweep.py
+    # and the --build of the others took the checkout's build/ whatever GIMBALSIM_BUILD said
+    env = dict(os.environ, GIMBALSIM_BUILD="nowhere")
+    env.pop("PYTHONPATH", None)
+    for script, said in (("tools/bench/py_bench.py", f"py_bench.py: error: no gimbalsim package in {tmp_path}/nowhere/"
+                                                      "python: cmake --build"),
+                         ("tools/hil/tune_sweep.py", f"tune_sweep: error: controller_sweep not built in {tmp_path}/"
+                                                      "nowhere/bin")):
+        args = ["--in-process", "--omega", "20", "--duration", "4"] if "tune" in script else ["--repeats", "1"]
+        p = subprocess.run(["/usr/bin/python3", str(SOURCE / script), *args], cwd=tmp_path, env=env,
+                           capture_output=True, text=True, timeout=60)
+        assert p.returncode == 2 and p.stderr.startswith(said), (script, p.returncode, p.stderr)
+    env["GIMBALSIM_BUILD"] = str(BIN.parent)  # the tests' build: its package runs
+    p = subprocess.run(["/usr/bin/python3", str(SOURCE / "tools/bench/py_bench.py"), "--repeats", "1", "--steps", "2"],
+                       cwd=tmp_path, env=env, capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0 and "paper_clearance" in p.stdout, (p.returncode, p.stderr)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Per-call cost of the Python package against the C++ step (issue 11's figures).
 
-    PYTHONPATH=build/python /usr/bin/python3 tools/bench/py_bench.py [--repeats 7]
+    /usr/bin/python3 tools/bench/py_bench.py [--repeats 7] [--build DIR]   (the package of DIR/python)
 
 For each scene: the C++ step (one Simulator.step(n=N) call, N large: the call's
 overhead spread over N steps), Simulator.step(n=1) called N times from Python,
@@ -18,11 +18,12 @@ import time
 
 import numpy as np
 
-import gimbalsim
 import os
 import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "pages"))
-import output_file  # noqa: E402,F401  (its import keeps the console: a reader gone stops nothing)
+import output_file  # noqa: E402  (its import keeps the console: a reader gone stops nothing)
+
+gimbalsim = None  # the --build's package, imported once the flags are read (it was imported first: a traceback)
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
@@ -102,7 +103,14 @@ def main():
     output_file.standard_flags(ap)
     ap.add_argument("--repeats", type=output_file.arg_whole(1, 1000), default=7, help="measurements per point (median)")
     ap.add_argument("--steps", type=output_file.arg_whole(1, 10**7), default=5000, help="steps per measurement")
+    output_file.add_build(ap, holding="python/")
     a = ap.parse_args()
+    return output_file.run_script("py_bench.py", lambda: measure(a))
+
+
+def measure(a):
+    global gimbalsim
+    gimbalsim = output_file.import_package(a.build)
     print(f"medians of {a.repeats} repeats, {a.steps} steps each; times per step [us]")
     print(f"{'scene':<16} {'variant':<28} {'C++ step':>9} {'py step':>9} {'ratio':>8} {'batch':>9} {'ratio':>8} "
           f"{'step(n=0)':>9} {'output()':>9}")
@@ -114,4 +122,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -2,7 +2,7 @@
 """Scaling of gimbalsim.sweep on this machine, its engine's overhead per
 sample, and what it predicts for a bigger cluster.
 
-    PYTHONPATH=build/python /usr/bin/python3 tools/bench/sweep_scaling.py [--samples 200] [--duration 0.5]
+    /usr/bin/python3 tools/bench/sweep_scaling.py [--samples 200] [--duration 0.5] [--build DIR]
         [--closed-samples 60] [--results]
 
 (--results also writes docs/results/sweep_scaling.md through tools/pages/results_page.py.)
@@ -196,7 +196,12 @@ def main():
     ap.add_argument("--batch", type=output_file.arg_whole(1, 10**7), default=5)
     ap.add_argument("--noop-tasks", type=output_file.arg_whole(1, 10**7), default=2000)
     ap.add_argument("--results", action="store_true", help="also write docs/results/sweep_scaling.md")
+    output_file.add_build(ap, holding="python/")
     a = ap.parse_args()
+    try:  # the sweeps it times run the --build's package (PYTHONPATH alone was read: GIMBALSIM_BUILD ignored)
+        output_file.import_package(a.build)
+    except output_file.Refused as e:
+        ap.error(str(e))
     for name, value, low in (("--samples", a.samples, 2), ("--closed-samples", a.closed_samples, 2),
                              ("--batch", a.batch, 1), ("--noop-tasks", a.noop_tasks, 1)):
         if not low <= value <= 1_000_000:
@@ -221,7 +226,7 @@ def main():
     if not (open_same and closed_same):
         sys.exit("sweep_scaling: the three ways of running a sweep wrote different rows: not a result to publish")
     if a.results:
-        command = "PYTHONPATH=build/python /usr/bin/python3 tools/bench/sweep_scaling.py " + " ".join(
+        command = "/usr/bin/python3 tools/bench/sweep_scaling.py " + " ".join(
             shlex.quote(x) for x in sys.argv[1:])
         results_page.write_page(ROOT / "docs/results/sweep_scaling.md", "Sweep scaling on Dask", command.strip(),
                                 text, summary=f"{open_e[WAYS[1]]['samples_per_s']:.1f} samples/s on 2 workers, "

@@ -63,8 +63,9 @@ def parse_args():
                    help='explicit set, e.g. "azimuth.kp=1e4,elevation.kp=1e4"')
     p.add_argument("--duration", help="simulated seconds, in (0, 1e+09] (default: track start + 5 s)")
     p.add_argument("--settle-tol", default="1e-4", help="settling band on the joint error [rad], in (0, 10]")
-    p.add_argument("--bin", default=os.path.join(ROOT, "build/bin"),
-                   help="directory with firmware_sim, pointing_controller")
+    p.add_argument("--bin", default=os.path.join(output_file.default_build(), "bin"),
+                   help="directory with firmware_sim, pointing_controller (default: GIMBALSIM_BUILD's bin/, else "
+                        "the checkout's build/bin)")
     p.add_argument("--keep", help="keep each run's config and logs in this folder (made if missing, in a folder "
                    "that exists; lockstep only)")
     p.add_argument("--in-process", action="store_true", help="run controller_sweep (no LCM) instead")

@@ -41,8 +41,9 @@ def main():
     p = argparse.ArgumentParser(allow_abbrev=False, description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     output_file.standard_flags(p)
-    p.add_argument("bin_dir", nargs="?", default=str(ROOT / "build" / "bin"),
-                   help="the build's bin folder holding gimbalsim and pointing_controller (default build/bin)")
+    p.add_argument("bin_dir", nargs="?", default=os.path.join(output_file.default_build(), "bin"),
+                   help="the build's bin folder holding gimbalsim and pointing_controller (default: GIMBALSIM_BUILD's "
+                        "bin/, else build/bin)")
     bin_dir = pathlib.Path(p.parse_args().bin_dir)
     updates = []  # every table read and checked before the first document is written: a refusal costs nothing
     for doc, cmd in DOCS:

@@ -160,14 +160,34 @@ def standard_flags(parser):
     parser.add_argument("--version", action=_Version)
 
 
+def default_build():
+    """The build folder a script uses when not told: GIMBALSIM_BUILD, read where the user stands, as the shell
+    scripts read it (tools/lib/build_dir.sh; pass 83: the Python scripts ignored it), else the checkout's build/."""
+    named = os.environ.get("GIMBALSIM_BUILD", "")
+    return os.path.abspath(named) if named else str(pathlib.Path(__file__).resolve().parents[2] / "build")
+
+
 def add_build(parser, holding="bin/"):
     """--build DIR: the build folder the script takes its programs (or package) from, as an absolute path.
     A relative DIR is read where the user stands, as every path a script is given (docs/usage.md "Scripts in
-    tools/"; pass 66: it was read against the source tree); absent, the checkout's build/."""
-    root = pathlib.Path(__file__).resolve().parents[2]
-    parser.add_argument("--build", type=lambda text: os.path.abspath(text), default=str(root / "build"),
-                        help=f"build directory holding {holding} (default: the checkout's build/; a relative one "
-                             "is read where you stand)")
+    tools/"; pass 66: it was read against the source tree); absent, default_build()."""
+    parser.add_argument("--build", type=lambda text: os.path.abspath(text), default=default_build(),
+                        help=f"build directory holding {holding} (default: GIMBALSIM_BUILD, else the checkout's "
+                             "build/; a relative one is read where you stand)")
+
+
+def import_package(build):
+    """The gimbalsim package of the build folder, imported (a script that uses it takes it from --build, never
+    from whatever PYTHONPATH holds); Refused naming the command that builds it when it is not there."""
+    python = pathlib.Path(build) / "python"
+    if not (python / "gimbalsim" / "__init__.py").is_file():
+        raise Refused(f"no gimbalsim package in {python}: cmake --build {build} -j2 --target gimbalsim_python")
+    sys.path.insert(0, str(python))
+    os.environ["PYTHONPATH"] = os.pathsep.join(filter(None, [str(python), os.environ.get("PYTHONPATH", "")]))
+    try:
+        return importlib.import_module("gimbalsim")
+    except ImportError as e:  # its Python files without the extension: the package says what to build
+        raise Refused(str(e)) from None
 
 
 def arg_whole(lo, hi):
