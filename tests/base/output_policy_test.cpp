@@ -78,7 +78,8 @@ TEST_F(OutputPolicy, TheRunningProgramIsAnInputOfEveryRun) {
     checkOutputPaths({self});
     FAIL() << "the program's own file was accepted as an output";
   } catch (const OutputError& e) {
-    EXPECT_EQ(std::string(e.what()), self + ": the same file as this program (the executable running); not overwritten");
+    EXPECT_EQ(std::string(e.what()),
+              self + ": the same file as this program (the executable running); not overwritten");
   }
 }
 

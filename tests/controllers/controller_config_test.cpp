@@ -202,7 +202,8 @@ TEST(ControllerConfig, PointingKeysLoadAndAreChecked) {
   // A boresight along the elevation axis: no joint turns it in elevation (the tracker map divided by 0).
   EXPECT_NE(refused({"gimbal.boresight=[0, -2, 0]"}).find("key 'gimbal.boresight': must not be parallel to gimbal.joint2_axis"),
             std::string::npos);
-  EXPECT_NE(refused({"pointing.fixed_direction=[0, 0, 0]"}).find("must be of length at least 1e-12"), std::string::npos);
+  EXPECT_NE(refused({"pointing.fixed_direction=[0, 0, 0]"}).find("must be of length at least 1e-12"),
+            std::string::npos);
   // (pass 83) a short non-zero vector was refused as "must be non-zero": the message names the bound
   EXPECT_NE(refused({"gimbal.boresight=[1e-13, 0, 0]"}).find("must be of length at least 1e-12, each component "
                                                              "within 1e12, got [1e-13, 0, 0]"),

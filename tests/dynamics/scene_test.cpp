@@ -148,7 +148,8 @@ TEST(Scene, NonPhysicalValuesAreRefused) {
       {{"initial.theta2=-1e20"}, "key 'initial.theta2': must be in [-1000, 1000]"},
       {{"torque.limit=[1e300, 1]"}, "key 'torque.limit': must be in (0, 1e+06]"},
       // an overflowing direction normalised to a zero vector
-      {{"geometry.boresight=[1e200, 1e200, 0]"}, "key 'geometry.boresight': boresight must be of length at least 1e-12, each component within 1e12"},
+      {{"geometry.boresight=[1e200, 1e200, 0]"},
+       "key 'geometry.boresight': boresight must be of length at least 1e-12, each component within 1e12"},
       // 1e-400 parses to 0 (or a subnormal): a value nobody wrote
       {{"contact.restitution=1e-400"}, "key 'contact.restitution': '1e-400' underflows a double"},
       {{"initial.theta1=4e-320"}, "key 'initial.theta1': '4e-320' underflows a double"},

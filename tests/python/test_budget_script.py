@@ -35,7 +35,8 @@ def digest(folder):
 
 def test_a_users_spec_writes_its_own_folder_and_no_project_page(tmp_path):
     root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh", "tools/lib/build_dir.sh",
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh",
+                "tools/lib/build_dir.sh",
                 "tools/pages/results_page.py", "docs/results/pointing_budget.md",
                 "docs/results/README.md"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
@@ -80,7 +81,8 @@ def test_a_refused_shipped_spec_leaves_the_previous_results(tmp_path):
     # The shipped budget regenerates out/pointing_budget/: a spec refused (or a run that fails)
     # must leave the previous results there, and write no page.
     root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh", "tools/lib/build_dir.sh",
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh",
+                "tools/lib/build_dir.sh",
                 "tools/pages/results_page.py", "docs/results/pointing_budget.md"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(SOURCE / rel, root / rel)
@@ -111,7 +113,8 @@ def test_a_refused_spec_makes_no_out_folder(tmp_path):
     assert sorted(os.listdir(work)) == ["bad.yaml"]
     # the shipped budget's run too (in a copy of what it touches), out/ made for it and taken back
     root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh", "tools/lib/build_dir.sh",
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh",
+                "tools/lib/build_dir.sh",
                 "tools/pages/results_page.py"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(SOURCE / rel, root / rel)
@@ -125,7 +128,8 @@ def checkout_with_spec(tmp_path, spec_text=None):
     """TMP/checkout: a copy of what the shipped budget's run touches, no out/; its spec the shipped one, or
     spec_text."""
     root = tmp_path / "checkout"
-    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh", "tools/lib/build_dir.sh",
+    for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh",
+                "tools/lib/build_dir.sh",
                 "tools/sweeps/pointing_budget.yaml", "tools/pages/results_page.py",
                 "tools/pages/output_file.py", "python/gimbalsim/_output.py", "python/gimbalsim/_csv_cells.py",
                 "python/gimbalsim/_console.py",

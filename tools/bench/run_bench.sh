@@ -35,7 +35,8 @@ for a in "$@"; do
     *) ARGS+=("$a") ;;
   esac
 done
-[ -f "$BIN" ] && [ -x "$BIN" ] || refuse "BENCH=$BIN: no such program (build it: cmake --build $BUILD --target gimbalsim_bench)"
+[ -f "$BIN" ] && [ -x "$BIN" ] ||
+  refuse "BENCH=$BIN: no such program (build it: cmake --build $BUILD --target gimbalsim_bench)"
 if [ -n "$LIST" ]; then cd "$ROOT"; exec "$BIN" "$LIST"; fi
 REPS=${REPS:-5}
 # a whole number as the programs read one: a sign allowed, no leading zero (C reads 010 as octal 8)
@@ -83,7 +84,8 @@ for name, row in rows.items():
 PY
 [ -z "$KEEP" ] || /usr/bin/python3 tools/pages/save_output.py "$OUT" "$KEEP" -- "${INPUTS[@]}"  # the writer's rules
 [ "$RESULTS" = 1 ] || exit 0
-MJ=(--no-mujoco "this build has no MuJoCo peer: Debian's libmujoco-dev and libqhull-dev were not installed when $BUILD was configured (apt-get install libmujoco-dev libqhull-dev, then reconfigure)")
+NO_MJ="this build has no MuJoCo peer: Debian's libmujoco-dev and libqhull-dev were not installed when $BUILD"
+MJ=(--no-mujoco "$NO_MJ was configured (apt-get install libmujoco-dev libqhull-dev, then reconfigure)")
 if grep -q '^mujoco_DIR:PATH=/' "$BUILD/CMakeCache.txt" 2>/dev/null; then  # found at configure time
   mkdir -p out/speed/mujoco
   LOG=$(mktemp) && TEMPORARY+=("$LOG")

@@ -73,7 +73,8 @@ Outcome classify(const Scene& sc, const RunResult& run, const EnergyMonitor& e, 
       const double nan = std::numeric_limits<double>::quiet_NaN();
       o.substeps_per_second = o.momentum_rel_linear = o.momentum_rel_angular = nan;
       o.energy_rise_rel = o.energy_change_rel = o.energy_final_rel = nan;
-      o.reason += "; no sub-step rate, momentum drift or energy figure: the run stopped in its first step (no good state after t = 0 s)";
+      o.reason += "; no sub-step rate, momentum drift or energy figure: the run stopped in its first step (no good "
+                  "state after t = 0 s)";
     }
     return o;
   }
