@@ -296,16 +296,37 @@ int mainImpl(int argc, char** argv) {
       return refuse("log '" + log_path + "' changed while read: " + lr.error());
     }
   }
+  // A channel none of whose messages decodes as its type (a wrong --type, or garbage) would give a CSV of a
+  // header only, read as "the bench sent nothing": a channel named by --channel is refused, as one not in the
+  // log is; one found by its name gets no CSV, and the console says why.
+  std::vector<io::OutputFile*> members;
+  std::vector<std::string> empty;
+  for (const auto& [ch, s] : sinks) {
+    if (s->rows > 0) {
+      members.push_back(files[ch].get());
+      continue;
+    }
+    const std::string why = "none of its " + std::to_string(counts[ch]) + " message(s) is a whole, finite " +
+                            typeName(selected[ch]) + " (" + std::to_string(s->undecodable) + " not one, " +
+                            std::to_string(s->non_finite) + " with a NaN or Inf)";
+    if (!channels.empty() || sinks.size() == 1) {
+      const std::string named = channels.empty() ? "channel '" : "--channel '";
+      return refuse(named + ch + "': " + why + (forced != Type::Unknown ? ": is --type right?" : "") +
+                    "; nothing written");
+    }
+    empty.push_back(ch + ": " + why + "; no CSV written for it");
+  }
+  if (members.empty()) return refuse("no channel of the log has a message to convert; nothing written");
   // The channels' CSVs are one run's outputs: all of them under their names, or none (one left beside
   // four lost ones was announced with the rest).
-  std::vector<io::OutputFile*> members;
-  for (auto& [ch, f] : files) members.push_back(f.get());
   if (io::CommitGroup group(members); !group.commit()) {
     std::fprintf(stderr, "gimbalsim_log2csv: error: %s; no CSV written\n", group.error().c_str());
     return program::kOutput;  // a lost output outranks a cut input
   }
   const int rc = cut_bytes > 0 ? program::kPartial : program::kOk;
+  for (const std::string& line : empty) std::printf("%s\n", line.c_str());
   for (auto& [ch, s] : sinks) {
+    if (s->rows == 0) continue;
     const long long rows = s->rows, bad = s->undecodable;
     std::printf("%s (%s): %lld rows -> %s\n", ch.c_str(), typeName(selected[ch]), rows, paths[ch].c_str());
     if (bad > 0) {

@@ -248,6 +248,42 @@ TEST(Log2Csv, SkipsAndCountsUndecodableMessagesOnAChannel) {
             "-0.3333333333333333\n");  // the shortest round trip
 }
 
+// A channel none of whose messages decodes as its type gave a CSV of a header only, exit 0 (read as "the
+// bench sent nothing"): named by --channel it is refused and nothing is written; found by its name it gets
+// no CSV, and the console says why.
+TEST(Log2Csv, AChannelWithNoDecodableMessageGivesNoEmptyCsv) {
+  TempDir dir("log2csv_no_rows");
+  const std::string path = dir / "w.lcmlog";
+  {
+    lcm::LogFile log(path, "w");
+    ASSERT_TRUE(log.good());
+    unsigned char buf[1024];
+    gimbal_command_t c{};
+    c.mode = gimbal_command_t::MODE_TORQUE;
+    writeEvent(log, "GIMBAL_COMMAND", buf, c.encode(buf, 0, sizeof buf), 10);
+    const char junk[] = "not a status";
+    writeEvent(log, "GIMBAL_STATUS", junk, sizeof junk, 11);
+  }
+  const std::string out = dir / "as_truth.csv";
+  std::ofstream(out) << "old\n";
+  int st = 0;
+  std::string msg = runCapture(kTool + " '" + path + "' --channel GIMBAL_COMMAND --type truth --out '" + out + "'", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 2) << msg;
+  EXPECT_NE(msg.find("--channel 'GIMBAL_COMMAND': none of its 1 message(s) is a whole, finite truth"),
+            std::string::npos) << msg;
+  EXPECT_NE(msg.find("is --type right?"), std::string::npos) << msg;
+  EXPECT_EQ(readFile(out), "old\n");
+
+  std::filesystem::create_directories(dir / "o");
+  msg = runCapture(kTool + " '" + path + "' --out-dir '" + (dir / "o") + "'", &st);
+  EXPECT_EQ(WEXITSTATUS(st), 0) << msg;
+  EXPECT_NE(msg.find("GIMBAL_COMMAND (command): 1 rows"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("GIMBAL_STATUS: none of its 1 message(s) is a whole, finite status (1 not one, 0 with a NaN or "
+                     "Inf); no CSV written for it"), std::string::npos) << msg;
+  EXPECT_TRUE(std::filesystem::exists(dir / "o/w_GIMBAL_COMMAND.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "o/w_GIMBAL_STATUS.csv"));
+}
+
 // A channel name comes from the log: "/../../x" would have named a CSV outside the output folder.
 TEST(Log2Csv, AChannelNameThatCannotNameAFileIsRefused) {
   TempDir dir("log2csv_channel_path");
