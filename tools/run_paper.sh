@@ -131,7 +131,8 @@ mkdir "$STAGE/plots"
   --ideal-summary "$STAGE/ideal.json" --clearance-summary "$STAGE/clearance.json" \
   --spatial "$STAGE/spatial.csv" --spatial-summary "$STAGE/spatial.json" \
   --out "$STAGE/plots" | sed -u "s#$STAGE/#$OUT/#g" | console_tee "$LOG"  # the names the files will have
-/usr/bin/python3 tools/pages/save_output.py "$LOG" "$STAGE/plot_summary.txt" -- "$@"  # the writer's rules, not tee's
+/usr/bin/python3 tools/pages/save_output.py --as run_paper.sh \
+  "$LOG" "$STAGE/plot_summary.txt" -- "$@"  # the writer's rules, not tee's
 # The staged files, each moved to the same name under $OUT; every name checked before the first move, and the
 # stop signals held during the moves: all or none.
 staged=(plot_summary.txt)

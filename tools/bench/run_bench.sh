@@ -48,7 +48,8 @@ case "$KEEP" in "" | /*) ;; *) KEEP="$PWD/$KEEP" ;; esac
 # OUT by the writer's rules, checked before the run: never through a link, never over an input (the program,
 # the scenes the benchmarks load, a file named in a flag), whole or not at all
 INPUTS=("$BIN" "$ROOT"/tools/scenes/*.yaml ${ARGS[@]+"${ARGS[@]}"})
-[ -z "$KEEP" ] || /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check /dev/null "$KEEP" -- "${INPUTS[@]}" || exit $?
+[ -z "$KEEP" ] || /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --as run_bench.sh \
+  --check /dev/null "$KEEP" -- "${INPUTS[@]}" || exit $?
 # The page's rules before the measurements: a page refused at the end would cost the run.
 [ "$RESULTS" = 0 ] || /usr/bin/python3 "$ROOT/tools/pages/results_page.py" --check --page "$ROOT/docs/results/speed.md" ||
   exit $?
@@ -82,7 +83,8 @@ for name, row in rows.items():
     extra = " ".join(f"{k}={v:g}" for k, v in row.get("counters", {}).items())
     print(f"{name:48s} {row.get('median', float('nan')):12.1f} {row.get('min', float('nan')):12.1f} {extra}")
 PY
-[ -z "$KEEP" ] || /usr/bin/python3 tools/pages/save_output.py "$OUT" "$KEEP" -- "${INPUTS[@]}"  # the writer's rules
+[ -z "$KEEP" ] || /usr/bin/python3 tools/pages/save_output.py --as run_bench.sh \
+  "$OUT" "$KEEP" -- "${INPUTS[@]}"  # the writer's rules
 [ "$RESULTS" = 1 ] || exit 0
 NO_MJ="this build has no MuJoCo peer: Debian's libmujoco-dev and libqhull-dev were not installed when $BUILD"
 MJ=(--no-mujoco "$NO_MJ was configured (apt-get install libmujoco-dev libqhull-dev, then reconfigure)")
@@ -91,7 +93,8 @@ if grep -q '^mujoco_DIR:PATH=/' "$BUILD/CMakeCache.txt" 2>/dev/null; then  # fou
   LOG=$(mktemp) && TEMPORARY+=("$LOG")
   "$BUILD/bin/gimbalsim_workprec" --scenes paper_ideal_valid_inertia --policy plain --steps 1e-2,5e-3,2e-3,1e-3 \
     --repeats "${MUJOCO_REPEATS:-5}" --out out/speed/mujoco | console_tee "$LOG"
-  /usr/bin/python3 tools/pages/save_output.py "$LOG" out/speed/mujoco/workprec.log  # the writer's rules, not tee's
+  /usr/bin/python3 tools/pages/save_output.py --as run_bench.sh \
+    "$LOG" out/speed/mujoco/workprec.log  # the writer's rules, not tee's
   MJ=(--mujoco-dir out/speed/mujoco)
 fi
 /usr/bin/python3 tools/bench/speed_page.py --bench-json "$OUT" "${MJ[@]}" --command "$COMMAND" --t0 "$T0" --load0 "$LOAD0"

@@ -26,6 +26,8 @@ def main():
     ap.add_argument("dest", help="the log's name in the output folder")
     ap.add_argument("--check", action="store_true",
                     help="only check DEST (before the program runs: a refused log costs no run); SOURCE unread")
+    ap.add_argument("--as", dest="caller", default="save_output.py", metavar="SCRIPT",
+                    help="the script whose log this is: its name heads every refusal (the user ran it, not this)")
     ap.add_argument("args", nargs="*", help="the script's arguments, after --: each naming a file is an input")
     a = ap.parse_args()
     inputs = [p for arg in a.args for p in (arg, arg.partition("=")[2]) if p and os.path.isfile(p)]
@@ -39,7 +41,7 @@ def main():
         except OSError as e:
             raise output_file.Refused(f"{a.source}: cannot read the log: {e.strerror}") from None
         output_file.write_text(a.dest, text, inputs)
-    return output_file.run_script("save_output.py", save)
+    return output_file.run_script(a.caller, save)
 
 
 if __name__ == "__main__":

@@ -51,7 +51,8 @@ done
 out_folder run_controller_floor.sh "$OUT"
 LOG=$(mktemp)  # the console log, saved into $OUT by the writer's rules
 trap 'rm -f "$LOG"; out_folder_undo' EXIT  # a refused run leaves no folder it made
-/usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/floor.log" -- "$@"  # before any run
+/usr/bin/python3 "$ROOT/tools/pages/save_output.py" --as run_controller_floor.sh \
+  --check "$LOG" "$OUT/floor.log" -- "$@"  # before any run
 # The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
 [ "$RESULTS" = 0 ] || /usr/bin/python3 "$ROOT/tools/pages/results_page.py" --check \
   --page "$ROOT/docs/results/controller_floor.md"
@@ -61,7 +62,7 @@ status=0
   --markdown "$OUT/body.md" "$@" | console_tee "$LOG" || status=$?
 # Exit 3: a plant stopped; the program wrote its outputs, and the log goes beside them (as the study's script).
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
-/usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/floor.log" -- "$@"
+/usr/bin/python3 "$ROOT/tools/pages/save_output.py" --as run_controller_floor.sh "$LOG" "$OUT/floor.log" -- "$@"
 [ "$RESULTS" = 1 ] || exit "$status"
 /usr/bin/python3 "$ROOT/tools/pages/results_page.py" --page "$ROOT/docs/results/controller_floor.md" \
   --title "Controller floor against the bearing" \

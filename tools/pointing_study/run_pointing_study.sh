@@ -50,7 +50,8 @@ PLOT=("$ROOT/tools/pointing_study/plot_pointing_study.py" "$OUT")
 if [ -d "$OUT" ]; then
   for name in study.log pointing_error_vs_time.png pointing_error_vs_clearance.png; do  # (pass 81: a figure
     # hard-linked to an input scene was written over) every argument naming a file is an input
-    /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --check "$LOG" "$OUT/$name" -- ${args[@]+"${args[@]}"}
+    /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --as run_pointing_study.sh \
+      --check "$LOG" "$OUT/$name" -- ${args[@]+"${args[@]}"}
   done
 fi
 # The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
@@ -80,7 +81,8 @@ esac
   ${scenes[@]+"${scenes[@]}"} ${args[@]+"${args[@]}"} | console_tee "$LOG" || status=$?
 # Exit 3: a plant stopped; the results of the other runs are still written and plotted.
 if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
-/usr/bin/python3 "$ROOT/tools/pages/save_output.py" "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}
+/usr/bin/python3 "$ROOT/tools/pages/save_output.py" --as run_pointing_study.sh \
+  "$LOG" "$OUT/study.log" -- ${args[@]+"${args[@]}"}
 plotted=0
 /usr/bin/python3 "${PLOT[@]}" || plotted=$?
 # A study with no figure while tracking (every run stopped, or each ended before it) leaves the plot nothing

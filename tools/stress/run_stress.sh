@@ -45,13 +45,14 @@ done
 out_folder run_stress.sh out/stress
 status=0
 LOG=$(mktemp) && trap 'rm -f "$LOG"; out_folder_undo' EXIT  # the console log, saved by the writer's rules (not tee's)
-/usr/bin/python3 tools/pages/save_output.py --check "$LOG" out/stress/stress.log -- ${ARGS[@]+"${ARGS[@]}"}
+/usr/bin/python3 tools/pages/save_output.py --as run_stress.sh \
+  --check "$LOG" out/stress/stress.log -- ${ARGS[@]+"${ARGS[@]}"}
 # The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
 [ "$RESULTS" = 0 ] || /usr/bin/python3 tools/pages/results_page.py --check --page docs/results/stress.md
 "$BUILD/bin/gimbalsim_stress" --csv out/stress/stress.csv --page-body out/stress/page_body.md ${ARGS[@]+"${ARGS[@]}"} \
   | console_tee "$LOG" || status=$?
 if [ "$status" -eq 0 ] || [ "$status" -eq 1 ]; then  # a grid that ran (1: some case failed), never a refusal
-  /usr/bin/python3 tools/pages/save_output.py "$LOG" out/stress/stress.log -- ${ARGS[@]+"${ARGS[@]}"}
+  /usr/bin/python3 tools/pages/save_output.py --as run_stress.sh "$LOG" out/stress/stress.log -- ${ARGS[@]+"${ARGS[@]}"}
 fi
 if [ "$RESULTS" = 1 ] && [ -f out/stress/page_body.md ] && { [ "$status" -eq 0 ] || [ "$status" -eq 1 ]; }; then
   summary=$(grep -m1 -o '^\*\*[^*]*\*\*' out/stress/page_body.md | tr -d '*')

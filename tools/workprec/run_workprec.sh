@@ -36,12 +36,14 @@ LOG=$(mktemp) && trap 'rm -f "$LOG"; out_folder_undo' EXIT  # the console log, s
 # The log's and the figure's names before the sweep (pass 81: a link under workprec.png was refused by the plot
 # after the sweep had replaced workprec.csv and its log): a refused name costs no run and no output.
 for name in workprec.log workprec.png; do
-  /usr/bin/python3 tools/pages/save_output.py --check "$LOG" "out/workprec/$name" -- ${ARGS[@]+"${ARGS[@]}"}
+  /usr/bin/python3 tools/pages/save_output.py --as run_workprec.sh \
+    --check "$LOG" "out/workprec/$name" -- ${ARGS[@]+"${ARGS[@]}"}
 done
 # The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
 [ "$RESULTS" = 0 ] || /usr/bin/python3 tools/pages/results_page.py --check --page docs/results/workprec.md
 "$BUILD/bin/gimbalsim_workprec" --out out/workprec ${ARGS[@]+"${ARGS[@]}"} | console_tee "$LOG"
-/usr/bin/python3 tools/pages/save_output.py "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
+/usr/bin/python3 tools/pages/save_output.py --as run_workprec.sh \
+  "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
 /usr/bin/python3 tools/workprec/plot_workprec.py out/workprec/workprec.csv --out out/workprec/workprec.png
 if [ "$RESULTS" = 1 ]; then
   /usr/bin/python3 tools/workprec/workprec_page.py --dir out/workprec --command "$COMMAND" --t0 "$T0" --load0 "$LOAD0"
