@@ -34,7 +34,7 @@ except ImportError as e:  # a build folder whose extension was never built (only
         "`cmake --build build -j2 --target gimbalsim_python` (build/ being that build folder), "
         "or install the package (docs/python_install.md)") from e
 from . import _csv_cells, _output  # noqa: E402
-from ._arguments import real_argument as _real_argument  # noqa: E402
+from ._arguments import real_argument as _real_argument, scene_argument as _scene_argument  # noqa: E402
 from . import _checked_methods  # noqa: E402
 from ._gimbalsim import COLUMNS, Scene, Simulator, State
 from ._scene_warnings import SceneWarning, warn_loaded as _warn_loaded  # noqa: E402
@@ -251,7 +251,10 @@ class Run:
 
 def simulate(scene, integrator="rk4"):
     """Runs the scene's constant torques for sim.duration (as `gimbalsim simulate`)."""
-    rows, summary = _gimbalsim._simulate(scene, integrator)
+    if not isinstance(integrator, str):  # pybind11's own refusal lists signatures, not the choice
+        raise TypeError(f"simulate: integrator must be 'rk4' or 'reference', got {type(integrator).__name__} "
+                        f"{integrator!r}")
+    rows, summary = _gimbalsim._simulate(_scene_argument(scene, "simulate"), integrator)
     return Run(rows, json.loads(summary), scene)
 
 
@@ -366,6 +369,7 @@ def closed_loop(scene, controller_config, duration, settle_tol=1.0e-3, faults=No
     if not isinstance(ctrl, _gimbalsim.Controller):
         ctrl = Controller(controller_config)
     faults = "" if faults is None else _input_path(faults, "fault schedule path")
-    summary, columns = _gimbalsim._closed_loop(scene, ctrl, duration, settle_tol, faults)
+    summary, columns = _gimbalsim._closed_loop(_scene_argument(scene, "closed_loop"), ctrl, duration, settle_tol,
+                                               faults)
     read = [p for p in (scene.path, ctrl.path, faults) if p]
     return ClosedLoopRun(summary, columns, read)

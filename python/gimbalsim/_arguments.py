@@ -5,6 +5,8 @@ import numbers
 
 import numpy as np
 
+from . import _gimbalsim
+
 
 def real_array(values, name):
     """values as a float array, refusing what numpy would take silently:
@@ -33,3 +35,11 @@ def real_argument(value, name, hi):
     if not 0.0 < float(value) <= hi:
         raise ValueError(f"{name} must be in (0, {hi:g}], got {float(value)!r}")
     return float(value)
+
+
+def scene_argument(scene, who):
+    """A Scene, or a TypeError saying how to get one (pybind11's own listed the binding's signatures)."""
+    if not isinstance(scene, _gimbalsim.Scene):
+        raise TypeError(f"{who}: scene must be a gimbalsim.Scene (gimbalsim.load_scene(path)), "
+                        f"got {type(scene).__name__} {scene!r:.80}")
+    return scene

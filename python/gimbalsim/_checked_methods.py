@@ -8,9 +8,15 @@ import numpy as np
 
 from . import _gimbalsim
 from ._gimbalsim import COLUMNS
-from ._arguments import real_array as _real_array, real_number as _real_number
+from ._arguments import real_array as _real_array, real_number as _real_number, scene_argument as _scene_argument
 
-_simulator_run, _simulator_step = _gimbalsim.Simulator.run, _gimbalsim.Simulator.step
+_simulator_init, _simulator_run, _simulator_step = (_gimbalsim.Simulator.__init__, _gimbalsim.Simulator.run,
+                                                    _gimbalsim.Simulator.step)
+
+
+def _init(self, scene):
+    """A simulator at the scene's initial state (scene: a gimbalsim.Scene)."""
+    _simulator_init(self, _scene_argument(scene, "Simulator"))
 
 
 def _run(self, torques):
@@ -57,5 +63,5 @@ def _update(self, t, theta1, theta2, dtheta1=0.0, dtheta2=0.0, gyro=None):
 
 def install():
     """The checked methods in place of the binding's (called once, by the package)."""
-    _gimbalsim.Simulator.run, _gimbalsim.Simulator.step = _run, _step
+    _gimbalsim.Simulator.__init__, _gimbalsim.Simulator.run, _gimbalsim.Simulator.step = _init, _run, _step
     _gimbalsim.Controller.update = _update

@@ -450,6 +450,23 @@ def test_closed_loop_arguments_out_of_range_or_of_another_type_are_refused(kwarg
     assert message in str(e.value), str(e.value)
 
 
+@pytest.mark.parametrize("call,message", [
+    (lambda: gimbalsim.simulate(None), "simulate: scene must be a gimbalsim.Scene (gimbalsim.load_scene(path)), "
+                                       "got NoneType None"),
+    (lambda: gimbalsim.simulate(str(scene_path("paper_ideal"))), "simulate: scene must be a gimbalsim.Scene"),
+    (lambda: gimbalsim.Simulator("paper_ideal.yaml"), "Simulator: scene must be a gimbalsim.Scene"),
+    (lambda: gimbalsim.closed_loop({}, gimbalsim.Controller(), 0.01), "closed_loop: scene must be a gimbalsim.Scene"),
+    (lambda: gimbalsim.simulate(scene(), integrator=None), "simulate: integrator must be 'rk4' or 'reference', "
+                                                           "got NoneType None"),
+    (lambda: gimbalsim.simulate(scene(), b"rk4"), "integrator must be 'rk4' or 'reference', got bytes b'rk4'"),
+])
+def test_a_whole_run_call_names_the_argument_of_the_wrong_type(call, message):
+    # (pass 84) pybind11's own TypeError listed the binding's signatures ("incompatible function arguments")
+    with pytest.raises(TypeError) as e:
+        call()
+    assert message in str(e.value) and "incompatible" not in str(e.value), str(e.value)
+
+
 def test_closed_loop_takes_the_range_it_states_and_refuses_what_memory_cannot_hold():
     # (pass 82) 1e9 s, inside the stated (0, 1e+09], was refused as outside "(0, 1e9)"; 1e8 s at 1 ms then ran on,
     # growing the process towards 30 TB of ticks
