@@ -13,6 +13,7 @@
 // (--page-body, or --markdown to stdout): stress_page.hpp. The page with its
 // header is written by tools/stress/run_stress.sh; this program never edits
 // README.md.
+#include <cmath>
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -281,8 +282,13 @@ int mainImpl(int argc, char** argv) {
     st::Case c{"case", one_scene, one_sets, {}};
     c.out = st::runCase(st::scenePath(scenes, one_scene), one_sets, b);
     st::printCase(c);
-    std::printf("impacts %lld, sub-steps %lld, energy balance change %.3g (final %.3g) of scale\n",
-                c.out.run.stats.impacts, c.out.run.stats.substeps, c.out.energy_change_rel, c.out.energy_final_rel);
+    std::printf("impacts %lld, sub-steps %lld, ", c.out.run.stats.impacts, c.out.run.stats.substeps);
+    if (std::isnan(c.out.energy_change_rel)) {  // a bare "nan (final nan)" read as a figure (pass 84)
+      std::printf("energy balance change n/a (the run stopped in its first step: no good state after t = 0 s)\n");
+    } else {
+      std::printf("energy balance change %.3g (final %.3g) relative to the energy scale\n", c.out.energy_change_rel,
+                  c.out.energy_final_rel);
+    }
     return st::acceptable(c.out.verdict) ? 0 : 1;
   }
   // SIGINT/SIGTERM: cases running finish, the rest are skipped, the CSV holds the whole cases.
