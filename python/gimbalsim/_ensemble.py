@@ -44,7 +44,7 @@ class QuantileBound:
     low: float             # two-sided interval [low, high], or NaN
     high: float
     supported: bool        # n is large enough for the one-sided bound at this confidence
-    reason: str            # why a figure is NaN
+    reason: str            # why a figure is NaN, or +inf (it falls on a unit without a figure)
 
     @property
     def min_units(self):
@@ -138,6 +138,12 @@ def quantile_bound(values, level=LEVEL_3SIGMA, confidence=0.95):
                   f"confidence (at least {min_units(level, confidence)} are needed)")
     elif not two_sided:
         reason = f"{n} units give only a one-sided bound at {confidence:.0%} confidence"
+    worst = [name for name, v in (("estimate", estimate), ("upper bound", upper), ("interval's high end", high))
+             if v == np.inf]  # an inf with no word read as a figure seen (pass 84)
+    if worst:
+        why = (f"the {' and the '.join(worst)} {'falls' if len(worst) == 1 else 'fall'} on the {missing} unit(s) "
+               "without a finite figure, counted as worst (+inf)")
+        reason = f"{reason}; {why}" if reason else why
     return QuantileBound(n, missing, level, confidence, estimate, upper, s if supported else 0,
                          low, high, supported, reason)
 

@@ -333,6 +333,19 @@ def test_a_phase_begun_by_the_runs_first_sample_and_an_empty_signal():
     assert indices.quantile_bound([math.nan] * 3000).reason.startswith("no unit has a figure")
 
 
+def test_a_bound_that_falls_on_a_unit_without_a_figure_says_so():
+    # (pass 84) the upper bound came out inf with an empty reason, read as a figure seen
+    b = indices.quantile_bound([1e-4, math.inf], 0.5, 0.5)
+    assert b.upper == math.inf and b.reason == ("the upper bound and the interval's high end fall on the 1 unit(s) "
+                                                "without a finite figure, counted as worst (+inf)"), b
+    b = indices.quantile_bound([1e-4, 2e-4, math.nan], 0.5, 0.5)
+    assert b.upper == 2e-4 and b.high == math.inf and b.reason.startswith("the interval's high end falls on"), b
+    b = indices.quantile_bound([1e-4] * 3 + [math.nan], 0.5, 0.9)
+    assert b.reason == ("4 units give only a one-sided bound at 90% confidence; the upper bound falls on the 1 unit(s) "
+                        "without a finite figure, counted as worst (+inf)"), b
+    assert indices.quantile_bound([1e-4, 2e-4], 0.5, 0.5).reason == ""  # every figure seen: nothing to say
+
+
 def test_a_phase_the_run_ends_at_and_mismatched_signals():
     # The last sample at the phase's start: no figure (docs/usage.md "Figures over a window"), open-ended or not.
     t = T[T <= 2.5]
