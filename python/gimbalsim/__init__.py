@@ -292,14 +292,22 @@ def Controller(config_path=None, overrides=None, sources=None):
     return _labelled_call(lambda: _gimbalsim.Controller(path, texts), texts, labels)
 
 
+def _unpickled(path, values, what):
+    """A pickle's file name and values, refused when one holds a NUL byte (the name is an input of every output
+    the object's runs write; a pickle is anyone's bytes)."""
+    for i, v in enumerate(values):
+        _check_path(v, f"the pickled {what}'s value #{i + 1}")
+    return (_check_path(path, f"the pickled {what}'s file name") if path else path), values
+
+
 def _unpickle_scene(path, values):
     """A pickled Scene: its values loaded again (checked as any scene)."""
-    return _gimbalsim._unpickle_scene(path, values)
+    return _gimbalsim._unpickle_scene(*_unpickled(path, values, "scene"))
 
 
 def _unpickle_controller(path, values):
     """A pickled Controller: its values loaded again (checked as any configuration)."""
-    return _gimbalsim._unpickle_controller(path, values)
+    return _gimbalsim._unpickle_controller(*_unpickled(path, values, "controller"))
 
 
 # The closed loop's tick columns that are not angles [rad] (to_csv names them by unit).

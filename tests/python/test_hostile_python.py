@@ -312,6 +312,10 @@ def test_a_path_with_a_nul_is_refused_everywhere(tmp_path):
         "_load_scene": lambda: gimbalsim._gimbalsim._load_scene(good + "\0x", []),
         "_write_csv": lambda: gimbalsim._gimbalsim._write_csv(str(tmp_path / "out.csv") + "\0x", run.rows, [], list(run.columns)),
         "_Controller": lambda: gimbalsim._gimbalsim.Controller(str(CONTROLLER_CONFIG) + "\0x", []),
+        # (pass 84) a pickle is anyone's bytes: its file name labels the scene and is an input of its outputs
+        "unpickled scene name": lambda: gimbalsim._unpickle_scene("/x\0y.yaml", s.__reduce__()[1][1]),
+        "unpickled scene value": lambda: gimbalsim._unpickle_scene(good, ["name=a\0b"]),
+        "unpickled controller": lambda: gimbalsim._unpickle_controller("c\0.yaml", []),
     }
     for name, call in calls.items():
         with pytest.raises(ValueError, match="NUL"):
