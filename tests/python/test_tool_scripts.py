@@ -588,6 +588,21 @@ def test_the_bench_script_refuses_nothing_after_a_flags_equals(arg, tmp_path):
     assert os.listdir(tmp_path) == []
 
 
+@pytest.mark.parametrize("variable,command", [
+    ("REPS", ["bash", "tools/bench/run_bench.sh"]), ("OUT", ["bash", "tools/bench/run_bench.sh"]),
+    ("BENCH", ["bash", "tools/bench/run_bench.sh"]), ("MUJOCO_REPEATS", ["bash", "tools/bench/run_bench.sh"]),
+    ("GIMBALSIM_BUILD", ["bash", "tools/bench/run_bench.sh"]), ("GIMBALSIM_BUILD", ["bash", "tools/run_paper.sh"]),
+    ("GIMBALSIM_BUILD", [sys.executable, "tools/bench/py_bench.py"]),
+])
+def test_a_variable_set_to_nothing_is_refused_as_an_empty_flag_value(variable, command, tmp_path):
+    # (pass 84) REPS= ran 5 repetitions and OUT= kept no JSON: an empty value was taken as none given
+    command = [c if c.startswith(("bash", "/")) else str(SOURCE / c) for c in command]
+    p = subprocess.run(command, capture_output=True, text=True, timeout=60, cwd=tmp_path,
+                       env={**os.environ, variable: ""})
+    assert p.returncode == 2 and f"{variable}=: an empty value" in p.stderr and "nothing run" in p.stderr, p.stderr
+    assert os.listdir(tmp_path) == []
+
+
 def test_compare_bench_refuses_with_2_naming_the_side_before_timing_either(tmp_path):
     # (pass 76) a binary that cannot run ended with 1 (the docstring says 2), NEW was checked only after OLD had
     # been timed, and from outside the repository OLD was blamed for the scenes it could not find

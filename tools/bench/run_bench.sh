@@ -15,6 +15,9 @@ T0=$(date +%s.%N) LOAD0=$(cat /proc/loadavg)
 COMMAND="bash tools/bench/run_bench.sh$(printf ' %q' "$@")"
 for v in REPS MUJOCO_REPEATS; do [ -n "${!v:-}" ] && COMMAND="$v=${!v} $COMMAND"; done
 refuse() { echo "run_bench.sh: $1; nothing run" >&2; exit 2; }
+for v in BENCH REPS OUT MUJOCO_REPEATS; do  # set but empty is no value (OUT= kept no JSON, REPS= ran 5)
+  [ "${!v+set}" != set ] || [ -n "${!v}" ] || refuse "$v=: an empty value (unset it for the default)"
+done
 source "$ROOT/tools/lib/build_dir.sh"  # BUILD: GIMBALSIM_BUILD where the user stands, or build/
 build_dir run_bench.sh
 BIN=${BENCH:-$BUILD/bin/gimbalsim_bench}

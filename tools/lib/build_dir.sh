@@ -5,9 +5,14 @@
 # script that builds, already configured: a script configures only its own
 # build/ (a missing name was configured inside the checkout, pass 80). A
 # script that only reads a named build ("reads") checks what it reads itself.
-# Unset: the checkout's build/.
+# Unset: the checkout's build/; set but empty: refused (exit 2), as an empty flag value is.
 build_dir() {
   local script="$1" mode="${2:-builds}"
+  if [ "${GIMBALSIM_BUILD+set}" = set ] && [ -z "$GIMBALSIM_BUILD" ]; then  # a name left out is no folder
+    echo "$script: GIMBALSIM_BUILD=: an empty value; name a build folder, or unset it for $ROOT/build;" \
+      "nothing run" >&2
+    exit 2
+  fi
   if [ -z "${GIMBALSIM_BUILD:-}" ]; then
     BUILD=$ROOT/build
     return

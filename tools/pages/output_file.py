@@ -163,7 +163,11 @@ def standard_flags(parser):
 def default_build():
     """The build folder a script uses when not told: GIMBALSIM_BUILD, read where the user stands, as the shell
     scripts read it (tools/lib/build_dir.sh; pass 83: the Python scripts ignored it), else the checkout's build/."""
-    named = os.environ.get("GIMBALSIM_BUILD", "")
+    named = os.environ.get("GIMBALSIM_BUILD")
+    if named == "":  # set but empty: refused as the shell scripts refuse it, an empty flag value alike
+        print(f"{os.path.basename(sys.argv[0])}: error: GIMBALSIM_BUILD=: an empty value; name a build folder, "
+              "or unset it for the checkout's build/; nothing run", file=sys.stderr)
+        sys.exit(2)
     return os.path.abspath(named) if named else str(pathlib.Path(__file__).resolve().parents[2] / "build")
 
 
