@@ -281,6 +281,9 @@ int mainImpl(int argc, char** argv) {
   if (const std::string why = lcm_wire::defaultLcmUrlProblem(o.lcm_url); !why.empty()) {
     return program::refuse("firmware_sim", why);
   }
+  if (!o.lockstep && o.cpu >= 0) {  // a CPU the process may not use is the user's slip, not the OS's refusal
+    if (const std::string why = cpuProblem(o.cpu); !why.empty()) return program::refuse("firmware_sim", why);
+  }
   if (o.lockstep) {  // one thread, no deadlines: the real-time set-up is not done
     for (const char* flag : {"--rt-priority", "--cpu"}) {
       if (app.count(flag) > 0) std::fprintf(stderr, "firmware_sim: warning: %s applies to real time only; ignored in lockstep\n", flag);

@@ -80,6 +80,18 @@ std::vector<std::string> setUpRealtimeThread(int priority, int cpu, std::size_t 
   return warnings;
 }
 
+std::string cpuProblem(int cpu) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return {};  // unknown: the pin itself warns if refused
+  if (cpu < CPU_SETSIZE && CPU_ISSET(cpu, &set)) return {};
+  std::string allowed;
+  for (int c = 0; c < CPU_SETSIZE; ++c) {
+    if (CPU_ISSET(c, &set)) allowed += (allowed.empty() ? "" : ",") + std::to_string(c);
+  }
+  return "--cpu " + std::to_string(cpu) + ": not a CPU this process may run on (it may use CPU " + allowed + ")";
+}
+
 std::string keepOffCpu(int cpu) {
   cpu_set_t set;
   CPU_ZERO(&set);

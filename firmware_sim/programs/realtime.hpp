@@ -38,6 +38,10 @@ class CpuLatencyRequest {
 /// Returns the warnings; *fifo says whether SCHED_FIFO was granted.
 std::vector<std::string> setUpRealtimeThread(int priority, int cpu, std::size_t stack_bytes, bool* fifo);
 
+/// Why `cpu` cannot take the loop thread (not one this process may run on: the CPUs it may use are
+/// named), or empty.
+std::string cpuProblem(int cpu);
+
 /// For the calling thread: every CPU it may run on except `cpu`, so its
 /// system calls and the network work they start (loopback delivery runs in
 /// softirq on the sender's CPU) stay off the loop thread's CPU. Empty on
