@@ -2,8 +2,6 @@
 arguments are checked in Python before the binding converts them: pybind11
 takes a bool as 1.0 (True ran as t = 1 s, pass 82) and numpy drops a
 complex's imaginary part. install() puts them in place."""
-import os
-
 import numpy as np
 
 from . import _gimbalsim
@@ -28,16 +26,13 @@ def _run(self, torques):
 def _fits_in_memory(torques):
     """MemoryError before any copy when the torques' float copy and the output rows would not fit in the
     machine's free memory now: a broadcast view of 1e9 rows (16 bytes itself) grew the process until the kernel killed
-    it (the arrays are committed page by page, so allocating them never failed)."""
+    it (the arrays are committed page by page, so allocating them never failed). The whole-run calls' check."""
     shape = np.shape(torques)
     if len(shape) != 2:
         return  # the binding names the shape it needs
-    need = shape[0] * (shape[1] + len(COLUMNS)) * 8
-    have = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    if need > have:
-        raise MemoryError(f"torques [N m]: {shape[0]} rows need {need / 1e9:.3g} GB (their float copy and "
-                          f"{len(COLUMNS)} output columns a row), more than the {have / 1e9:.3g} GB of memory "
-                          "free now: run them in parts (each run() goes on from where the last one ended)")
+    _gimbalsim._fits_in_memory(float(shape[0]) * (shape[1] + len(COLUMNS)) * 8, f"torques [N m]: {shape[0]} rows",
+                               f"their float copy and {len(COLUMNS)} output columns a row",
+                               ": run them in parts (each run() goes on from where the last one ended)")
 
 
 def _step(self, tau1, tau2, n=1):

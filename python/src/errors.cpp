@@ -40,18 +40,22 @@ void raiseStopped(const StepResult& r, const std::string& message, pyb::dict ext
   raise("SimulationStopped", ex);
 }
 
-std::size_t rowsFitInMemory(double rows, int columns, const std::string& what) {
-  const double need_bytes = rows * columns * sizeof(double) * 2.0;
+void fitsInMemory(double need_bytes, const std::string& subject, const std::string& detail, const std::string& tail) {
   const double have_bytes =
       static_cast<double>(sysconf(_SC_AVPHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
-  if (!(need_bytes <= have_bytes)) {
-    char text[600];
-    std::snprintf(text, sizeof text,
-                  "%s: %.0f rows need %.3g GB (%d columns a row, twice), more than the %.3g GB of memory free now",
-                  what.c_str(), rows, need_bytes / 1e9, columns, have_bytes / 1e9);
-    PyErr_SetString(PyExc_MemoryError, text);
-    throw pyb::error_already_set();
-  }
+  if (need_bytes <= have_bytes) return;
+  char text[900];
+  std::snprintf(text, sizeof text, "%s need %.3g GB (%s), more than the %.3g GB of memory free now%s", subject.c_str(),
+                need_bytes / 1e9, detail.c_str(), have_bytes / 1e9, tail.c_str());
+  PyErr_SetString(PyExc_MemoryError, text);
+  throw pyb::error_already_set();
+}
+
+std::size_t rowsFitInMemory(double rows, int columns, const std::string& what) {
+  char subject[64], detail[64];
+  std::snprintf(subject, sizeof subject, ": %.0f rows", rows);
+  std::snprintf(detail, sizeof detail, "%d columns a row, twice", columns);
+  fitsInMemory(rows * columns * sizeof(double) * 2.0, what + subject, detail, "");
   return static_cast<std::size_t>(rows);
 }
 

@@ -16,6 +16,10 @@ namespace gimbalsim::py {
 /// `message` is the text; `extra` entries become attributes (e.g. outputs, steps_done).
 [[noreturn]] void raiseStopped(const StepResult& r, const std::string& message, pybind11::dict extra = {});
 
+/// Raises MemoryError, "<subject> need X GB (<detail>), more than the Y GB of memory free now<tail>", unless
+/// need_bytes fit in the memory free now (the one check of the Python API's whole-run calls and Simulator.run).
+void fitsInMemory(double need_bytes, const std::string& subject, const std::string& detail, const std::string& tail);
+
 /// The number of rows a run will hold in memory (`rows` of `columns` doubles, kept twice: the records, then the
 /// numpy array made from them), after checking that they fit in the memory free now; raises MemoryError naming the
 /// gigabytes and `what` (the call and its size) otherwise. Pages are committed as they are written, so a run that
