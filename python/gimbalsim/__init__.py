@@ -37,6 +37,7 @@ from . import _csv_cells, _output  # noqa: E402
 from ._arguments import real_argument as _real_argument, scene_argument as _scene_argument  # noqa: E402
 from . import _checked_methods  # noqa: E402
 from ._gimbalsim import COLUMNS, Scene, Simulator, State
+from ._record import Columns as _Columns, frozen as _frozen  # noqa: E402
 from ._scene_warnings import SceneWarning, warn_loaded as _warn_loaded  # noqa: E402
 
 _checked_methods.install()  # number arguments checked before the binding converts them
@@ -201,18 +202,6 @@ def controller_keys():
     return _gimbalsim._controller_keys()
 
 
-class _Columns(dict):
-    """A run's columns by name; a name of COLUMNS its scene does not write
-    says so (a joint without clearance has no joint-1 columns, a joint that
-    is not spatial no tilt)."""
-
-    def __missing__(self, name):
-        if name in COLUMNS:
-            raise KeyError(f"{name!r}: not a column of this run (its scene's joints have none; "
-                           f"Scene.columns lists what it writes)")
-        raise KeyError(name)
-
-
 class Run:
     """A whole run: ``rows`` (N, len(COLUMNS)), ``columns`` (dict of numpy
     arrays named as its scene's ``Scene.columns``: the CSV columns without
@@ -222,12 +211,22 @@ class Run:
     the limit, as on the command line."""
 
     def __init__(self, rows, summary, scene=None):
-        rows.flags.writeable = False  # the run's record: an edit in place changed what to_csv wrote (pass 84)
-        self.rows = rows
         self.summary = summary
         self.scene = scene
-        names = scene.columns if scene is not None else COLUMNS
-        self.columns = _Columns({name: rows[:, COLUMNS.index(name)] for name in names})
+        self.__setstate__({"_rows": rows, "summary": summary, "scene": scene})
+
+    def __setstate__(self, state):  # an unpickled run is read-only too (numpy unpickles a writeable array)
+        self.__dict__.update(state, _rows=_frozen(state["_rows"]))
+        names = self.scene.columns if self.scene is not None else COLUMNS
+        self._columns = _Columns({name: self._rows[:, COLUMNS.index(name)] for name in names})
+
+    def __getstate__(self):
+        return {k: v for k, v in self.__dict__.items() if k != "_columns"}
+
+    # The run's record, read-only: an edit in place, or a new array under the name, was written by to_csv as the
+    # run (passes 84, 86).
+    rows = property(lambda self: self._rows, doc="the output rows, (N, len(COLUMNS)), read-only")
+    columns = property(lambda self: self._columns, doc="the columns by name (views of rows), read-only")
 
     @property
     def ok(self):
@@ -328,10 +327,15 @@ class ClosedLoopRun:
 
     def __init__(self, summary, columns, inputs=()):
         self.summary = summary
-        for column in columns.values():
-            column.flags.writeable = False  # the run's record, as Run's rows
-        self.columns = columns
-        self.inputs = tuple(inputs)  # the files the run read: to_csv never writes over one
+        self.__setstate__({"summary": summary, "_columns": columns, "inputs": tuple(inputs)})
+
+    def __setstate__(self, state):  # the run's record, read-only as Run's (an unpickled one too)
+        self.__dict__.update(state, _columns=_Columns({k: _frozen(v) for k, v in state["_columns"].items()}))
+
+    def __getstate__(self):
+        return {k: v for k, v in self.__dict__.items() if k != "rows"}  # rows: stacked again on first use
+
+    columns = property(lambda self: self._columns, doc="the ticks' columns by name, read-only")
 
     @property
     def ok(self):
@@ -341,9 +345,7 @@ class ClosedLoopRun:
     def rows(self):
         """The ticks as an (N, columns) array, in the order of ``columns``
         (stacked once, on first use)."""
-        rows = np.column_stack([np.asarray(v, dtype=float) for v in self.columns.values()])
-        rows.flags.writeable = False
-        return rows
+        return _frozen(np.column_stack([np.asarray(v, dtype=float) for v in self.columns.values()]))
 
     def to_csv(self, path, inputs=()):
         """Writes the ticks by the project's CSV convention (docs/usage.md

@@ -498,6 +498,22 @@ def test_a_runs_record_cannot_be_edited_in_place():
     edited = run.columns["theta1"].copy()  # a copy is the user's own to edit
     edited[1] = 0.5
     assert run.columns["theta1"][1] != 0.5
+    # (pass 86) numpy let the flag be set back on an array owning its data, a column be replaced by a new array
+    # and the attributes be assigned: each was written by to_csv as the run
+    for array in (run.rows, run.columns["theta1"], loop.rows, loop.columns["ref1"]):
+        with pytest.raises(ValueError, match="cannot set WRITEABLE flag"):
+            array.flags.writeable = True
+    for columns in (run.columns, loop.columns):
+        for edit in (lambda c: c.__setitem__("theta1", np.zeros(3)), lambda c: c.update(x=1), lambda c: c.pop("t"),
+                     lambda c: c.clear(), lambda c: c.setdefault("x", 1), lambda c: c.__delitem__("t")):
+            with pytest.raises(TypeError, match="read-only: edit a copy"):
+                edit(columns)
+    for obj, name in ((run, "rows"), (run, "columns"), (loop, "columns")):
+        with pytest.raises(AttributeError):
+            setattr(obj, name, None)
+    for a, b in ((run, pickle.loads(pickle.dumps(run))), (loop, pickle.loads(pickle.dumps(loop)))):
+        assert not b.rows.flags.writeable and not next(iter(b.columns.values())).flags.writeable  # unpickled too
+        assert list(b.columns) == list(a.columns) and np.array_equal(a.rows, b.rows, equal_nan=True)
 
 
 def test_controller_update_gives_no_command_from_a_non_finite_or_overflowing_input():
