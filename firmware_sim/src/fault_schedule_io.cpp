@@ -295,13 +295,19 @@ std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, doub
   const auto first = std::min_element(s.faults.begin(), s.faults.end(),
                                       [](const FaultSpec& a, const FaultSpec& b) { return a.start < b.start; });
   // The run's last tick ends it: a fault from there on takes no step (a motor failure at the end was flagged as
-  // injected and changed nothing, pass 84).
-  if (first == s.faults.end() || first->start < duration - tol) return {};
+  // injected and changed nothing, pass 84), and so does one whose first tick is that one (a start inside the
+  // last period, pass 86).
+  if (first == s.faults.end()) return {};
+  const double first_tick_s = T > 0.0 ? std::max(0.0, std::ceil((first->start - tol) / T)) * T : first->start;
+  if (first_tick_s < duration - tol) return {};
   const auto i = first - s.faults.begin() + 1;
+  const std::string when = first->start >= duration - tol
+                               ? " s is at or after the run's end at " + formatNumber(duration) + " s"
+                               : " s: its first tick is the run's last, at " + formatNumber(duration) +
+                                     " s (one every " + formatNumber(T) + " s), which ends the run and takes no step";
   return {origin + ":" + std::to_string(first->line) + ":" + std::to_string(first->column) + ": fault #" +
           std::to_string(i) + " (" + faultTypeName(first->kind) + "), the first to start: key 'start': " +
-          formatNumber(first->start) + " s is at or after the run's end at " + formatNumber(duration) +
-          " s: every fault starts there or later, the schedule would act in no step"};
+          formatNumber(first->start) + when + ": every fault starts there or later, the schedule would act in no step"};
 }
 
 std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const PlantScene& ps, const std::string& origin) {

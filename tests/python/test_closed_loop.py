@@ -112,6 +112,12 @@ def test_closed_loop_takes_a_fault_schedule(tmp):
     with pytest.raises(gimbalsim.SceneError, match="key 'start': 1.5 s is at or after the run's end at 1.5 s"):
         gimbalsim.closed_loop(scene, ctrl, 1.5, faults=tmp / "late.yaml")
     assert gimbalsim.closed_loop(scene, ctrl, 1.501, faults=tmp / "late.yaml").columns["injected_faults"].any()
+    # (pass 86) and so did one starting inside the last period: its first tick is the run's last
+    (tmp / "last.yaml").write_text("faults:\n  - {type: encoder_bias, axis: azimuth, start: 1.4995, bias: 1.0e-2}\n")
+    with pytest.raises(gimbalsim.SceneError, match=r"key 'start': 1.4995 s: its first tick is the run's last, at 1.5 s "
+                                                   r"\(one every 0.001 s\), which ends the run and takes no step"):
+        gimbalsim.closed_loop(scene, ctrl, 1.5, faults=tmp / "last.yaml")
+    assert gimbalsim.closed_loop(scene, ctrl, 1.501, faults=tmp / "last.yaml").columns["injected_faults"].any()
 
 
 def test_closed_loop_run_to_csv_follows_the_convention_and_the_output_rules(tmp):
