@@ -245,14 +245,15 @@ def check_out_dir(out, spec_path):
     if not out.exists() and not parent.is_dir():
         raise SpecError(f"--out {out}: the folder it goes in, {parent}, does not exist (create it first)")
     # e.g. an allocation's values/<i>/: its own sweep's, not the user's
-    refuse_inside_tool_folder("--out", out, out.absolute().parents)
+    refuse_inside_tool_folder("--out", out)
 
 
-def refuse_inside_tool_folder(flag, path, folders):
-    """path (given as flag) refused (SpecError, exit 2) when one of folders
-    (path's folder and its ancestors) is a tool's output folder (_INSIDE):
+def refuse_inside_tool_folder(flag, path):
+    """path (given as flag) refused (SpecError, exit 2) when one of its folders
+    (its folder and their ancestors) is a tool's output folder (_INSIDE):
     a sweep's, tune's or allocate's --out, or a replay's --out and --plot."""
-    for folder in folders:
+    # where path really goes, '..' and links resolved: walked as named, DIR/../x was refused as inside DIR
+    for folder in pathlib.Path(path).resolve().parents:
         held = next((what for what, names in _INSIDE if all((folder / n).exists() for n in names)), None)
         if held is not None:
             raise SpecError(f"{flag} {path}: lies inside {held} ({folder}), whose files and folders are its own; "

@@ -94,7 +94,7 @@ def _check_output(path, folder, what):
     if not p.absolute().parent.is_dir():
         _refuse(f"{what} {path}: the folder it goes in, {p.absolute().parent}, does not exist (create it first)")
     # another sweep's, an allocation's or a tuning study's files: never written over by a replay
-    refuse_inside_tool_folder(what, path, [p.absolute().parent, *p.absolute().parent.parents])
+    refuse_inside_tool_folder(what, path)
     return p
 
 

@@ -5,6 +5,7 @@ control period, and a closed stderr (`2>&1 | head -1`).
 
 The runs are cheap: test_allocate.py's scene (the antenna holds still for 0.3 s)."""
 import math
+import shutil
 import subprocess
 import sys
 
@@ -142,6 +143,41 @@ def test_a_replay_output_inside_another_tools_folder_is_refused(tmp_path, swept,
     assert target.read_text() == "theirs\n" and not (tmp_path / "mine.csv").exists()
     if flag == "--plot":
         assert given["--plot"].read_bytes() == b"theirs"
+
+
+# ---- a relative --out is where it really goes: '../x' from inside a study's folder is outside it ----
+
+STANDING = [("sweep", "a sweep"), ("replay", "a sweep"), ("allocate", "an allocation"), ("tune", "a tuning study")]
+
+
+@pytest.mark.parametrize("program,what", STANDING, ids=[p for p, _ in STANDING])
+def test_a_relative_out_is_read_from_where_it_leads_not_from_the_folder_one_stands_in(tmp_path, swept, program, what):
+    # DIR/../x was walked upward as named: DIR, a study, refused it as lying inside (the absolute path was taken)
+    study = tmp_path / "study"
+    shutil.copytree(swept, study)  # a real sweep: replay reads it; the marks are all the other tools look for
+    for mark in {"allocate": ["allocation_spec.json"], "tune": ["study.db"]}.get(program, []):
+        (study / mark).write_text("{}")
+    # tune has no --check: a spec it refuses stops it after --out was checked, before anything runs
+    spec = write_spec(tmp_path, {"sweep": SWEEP, "allocate": BASE + ALLOCATE, "tune": "trials: 2\n"}.get(program, ""))
+    before = sorted(p.name for p in study.rglob("*"))
+
+    def run(out):
+        args = ([str(study), "--replay", "0"] if program == "replay" else [str(spec), "--workers", "1"]) + \
+            ["--out", out] + (["--check"] if program in ("sweep", "allocate") else [])
+        module = "sweep" if program == "replay" else program
+        return subprocess.run([sys.executable, "-m", f"gimbalsim.{module}", *args], capture_output=True, text=True,
+                              timeout=120, cwd=study)
+
+    outside = run("../x.csv" if program == "replay" else "../x")
+    assert "lies inside" not in outside.stderr, outside.stderr
+    assert outside.returncode == (2 if program == "tune" else 0), outside.stderr
+    if program == "replay":
+        assert (tmp_path / "x.csv").is_file()
+    inside = run("./x.csv" if program == "replay" else "./x")  # truly inside: still refused, nothing written
+    assert inside.returncode == 2, inside.stderr
+    assert ("inside the sweep's folder" if program == "replay" else f"lies inside {what} ({study})") in inside.stderr, \
+        inside.stderr
+    assert sorted(p.name for p in study.rglob("*")) == before
 
 
 # ---- D8 (class 4): an RPE window of one control period holds one tick: 0 by construction ----
