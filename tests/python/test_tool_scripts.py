@@ -579,6 +579,37 @@ def test_the_benchmarks_read_their_flags_as_the_programs_do(flags, named, tmp_pa
     assert p.returncode == 2 and told in p.stderr, (p.returncode, p.stderr)
 
 
+@pytest.mark.parametrize("program,filter_", [("gimbalsim_bench", "^BM_ForwardDynamics<FixedIdeal>$"),
+                                             ("gimbalsim_bench_loop", "NOTHING"), ("gimbalsim_bench_tick", "NOTHING")])
+def test_a_benchmarks_json_is_written_by_the_writers_rules(program, filter_, tmp_path):
+    # (pass 86) --benchmark_out was the library's: it wrote over a scene the benchmarks read, through a link, over
+    # the program itself, an empty file when nothing ran and a file beside a refused run
+    shutil.copytree(SOURCE / "tools/scenes", tmp_path / "tools/scenes")
+    shutil.copy(BIN / program, tmp_path / program)
+    scene = tmp_path / "tools/scenes/paper_ideal.yaml"
+    (tmp_path / "target.json").write_text("keep")
+    (tmp_path / "link.json").symlink_to("target.json")
+    before = {p: p.read_bytes() for p in (scene, tmp_path / program)}
+
+    def bench(out, *more):
+        return subprocess.run([str(tmp_path / program), f"--benchmark_filter={filter_}", "--benchmark_min_time=0.001",
+                               f"--benchmark_out={out}", *more], capture_output=True, text=True, timeout=60,
+                              cwd=tmp_path)
+    for out, named in ((scene, "the same file as the input"), ("link.json", "is a symbolic link"),
+                       (tmp_path / program, "the same file as this program")):
+        p = bench(out)
+        assert p.returncode == 2 and named in p.stderr and "refused, nothing run" in p.stderr, p.stderr
+    assert all(p.read_bytes() == b for p, b in before.items()) and (tmp_path / "target.json").read_text() == "keep"
+    p = subprocess.run([str(tmp_path / program), "--benchmark_filter=NOTHING", "--benchmark_out=none.json"],
+                       capture_output=True, text=True, timeout=60, cwd=tmp_path)
+    assert p.returncode == 0 and "no benchmark ran: none.json not written" in p.stderr, p.stderr
+    assert not (tmp_path / "none.json").exists()
+    if filter_ != "NOTHING":  # a run that ran is written whole, as the library writes it
+        p = bench("good.json", "--benchmark_out_format=json")
+        assert p.returncode == 0, p.stderr
+        assert '"name": "BM_ForwardDynamics<FixedIdeal>"' in (tmp_path / "good.json").read_text()
+
+
 @pytest.mark.parametrize("arg", ["--benchmark_filter=", "--benchmark_min_time="])
 def test_the_bench_script_refuses_nothing_after_a_flags_equals(arg, tmp_path):
     # (pass 76) --benchmark_filter= ran every benchmark: nothing after '=' is refused, as by the programs

@@ -6,12 +6,21 @@
 
 #include <benchmark/benchmark.h>
 
+#include <unistd.h>
+
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
 #include <set>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "gimbalsim/input/plain_decimal.hpp"
 #include "gimbalsim/input/value_format.hpp"
+#include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/program/program.hpp"
 #include "gimbalsim/program/version.hpp"
 
@@ -53,6 +62,57 @@ inline std::string benchmarkFlagProblem(int argc, char** argv) {
   return {};
 }
 
+/// --benchmark_out=PATH by the writer's rules (pass 86: the library wrote through a link, over a scene the
+/// benchmarks read, over the program itself, and left a file behind a refused run): the library writes a private
+/// temporary, copied onto PATH through io::OutputFile (checked before any benchmark runs) when the run ends.
+class BenchmarkOut {
+ public:
+  /// Rewrites argv's --benchmark_out to the temporary; throws io::OutputError for a PATH the rules refuse.
+  BenchmarkOut(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+      const std::string arg = argv[i];
+      if (arg.rfind("--benchmark_out=", 0) != 0) continue;
+      std::vector<std::string> inputs;  // the scenes the benchmarks load: $GIMBALSIM_SCENE_DIR, else tools/scenes
+      const char* scenes = std::getenv("GIMBALSIM_SCENE_DIR");
+      std::error_code ec;
+      for (const auto& e : std::filesystem::directory_iterator(scenes && *scenes ? scenes : "tools/scenes", ec)) {
+        inputs.push_back(e.path());
+      }
+      out_ = std::make_unique<io::OutputFile>(arg.substr(16), inputs);  // the program itself is always an input
+      char name[] = "/tmp/gimbalsim_bench_out.XXXXXX";
+      const int fd = mkstemp(name);
+      if (fd < 0) throw io::OutputError("a temporary for --benchmark_out: cannot be made in /tmp", true);
+      close(fd);
+      temporary_ = name;
+      flag_ = "--benchmark_out=" + temporary_;
+      argv[i] = flag_.data();
+    }
+  }
+  ~BenchmarkOut() {
+    if (!temporary_.empty()) std::remove(temporary_.c_str());
+  }
+  BenchmarkOut(const BenchmarkOut&) = delete;
+  BenchmarkOut& operator=(const BenchmarkOut&) = delete;
+
+  /// After the run: the library's file onto PATH ("" when done or not asked), or why not. No benchmark run
+  /// writes nothing (the library left an empty file, read as a result).
+  std::string publish(std::size_t ran) {
+    if (!out_) return {};
+    if (ran == 0) return "no benchmark ran: " + out_->path() + " not written";
+    std::ifstream in(temporary_, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    if (!in || !out_->write(bytes.str()) || !out_->commit()) {
+      return out_->error().empty() ? out_->path() + ": cannot be written" : out_->error();
+    }
+    return {};
+  }
+
+ private:
+  std::unique_ptr<io::OutputFile> out_;
+  std::string temporary_, flag_;
+};
+
 inline int benchmarkMain(const char* name, int argc, char** argv) {
   return program::guardedMain(name, [&] {
     for (int i = 1; i < argc; ++i) {
@@ -62,10 +122,20 @@ inline int benchmarkMain(const char* name, int argc, char** argv) {
       }
     }
     if (const std::string why = benchmarkFlagProblem(argc, argv); !why.empty()) return program::refuse(name, why);
+    std::unique_ptr<BenchmarkOut> out;
+    try {
+      out = std::make_unique<BenchmarkOut>(argc, argv);
+    } catch (const io::OutputError& e) {
+      return e.unwritable() ? program::unwritable(name, e.what()) : program::refuse(name, e.what());
+    }
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return static_cast<int>(program::kRefused);
-    benchmark::RunSpecifiedBenchmarks();
+    const std::size_t ran = benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
+    if (const std::string why = out->publish(ran); !why.empty()) {
+      std::fprintf(stderr, "%s: %s\n", name, why.c_str());
+      if (ran > 0) return static_cast<int>(program::kOutput);
+    }
     return static_cast<int>(program::kOk);
   });
 }
