@@ -88,6 +88,8 @@ class TuneSpec:
         self.percentile = _percentile(spec, obj["percentile"]) if "percentile" in obj else 99.0
 
         scene_types = {k["key"]: k["type"] for k in gimbalsim.keys()}
+        # the old spellings too (friction1.mu is joint1.friction.mu), as the sweep's spec reads them
+        scene_types.update({old: scene_types[key] for old, key in gimbalsim.key_aliases().items()})
         sets = spec.known_mapping("set", scene_types, "scene", gimbalsim.key_aliases())
         set_values = {k: spec.value(f"set.{k}", n) for k, n in sets.items()}
         try:
@@ -141,6 +143,11 @@ class TuneSpec:
         if not self.gains:
             spec.refuse("gains", "no gain to tune", root["gains"])
         plants = spec.mapping("plants", root["plants"]) if "plants" in root else {}
+        aliases, spelled = gimbalsim.key_aliases(), {}
+        for k, n in plants.items():  # two spellings of one key: both drawn, one acting (set: refuses it alike)
+            if aliases.get(k, k) in spelled:
+                spec.refuse(f"plants.{k}", f"the same key as plants.{spelled[aliases.get(k, k)]}: give it once", n)
+            spelled[aliases.get(k, k)] = k
         params = [parse_parameter(spec, "plants", k, n, scene_types) for k, n in plants.items()]
         check_within(spec, "plants", params, [], self.base.values())
         self._refuse_keys_that_do_not_act(spec, params, sets, csets)

@@ -244,3 +244,47 @@ def test_set_keys_the_tuned_loop_reads_are_taken(tmp_path):
     (tmp_path / "t.yaml").write_text(SPEC.replace("max_saturation: 0.0", "max_saturation: 0.0\nset: {friction.mu: "
                                                   "0.2}\ncontroller_set: {azimuth.ki: 10.0}"))
     assert TuneSpec(tmp_path / "t.yaml").controller_set == {"azimuth.ki": 10.0}
+
+
+OLD_SPELLINGS = f"""
+scene: {SCENES}/paper_both_planar.yaml
+controller: default
+controller_set: {{profile.slew_start: 0.0, profile.slew_time: 0.05, profile.hold_time: 0.02}}
+duration: 0.1
+trials: 1
+seed: 1
+batch: 1
+max_saturation: 0.5
+set: {{contact1.clearance: 2.0e-4}}
+gains:
+  azimuth.kp: {{loguniform: [500, 80000]}}
+plants:
+  friction1.mu: {{uniform: [0.15, 0.15]}}
+"""
+
+
+def test_plants_and_set_take_a_keys_old_spelling_as_the_sweep_does(tmp_path):
+    # (docs/python.md: the tuner's plants are scene keys in the sweep's syntax, which reads either spelling)
+    # friction1.mu under plants and contact1.clearance under set were "not a key of the scene", exit 2
+    new = OLD_SPELLINGS.replace("contact1.", "joint1.contact.").replace("friction1.", "joint1.friction.")
+    for name, text in (("old", OLD_SPELLINGS), ("new", new)):
+        (tmp_path / f"{name}.yaml").write_text(text)
+        p = tune(tmp_path / f"{name}.yaml", tmp_path / name, "--workers", "1")
+        assert p.returncode == 0, p.stderr
+    from gimbalsim.tune import TuneSpec
+    old_spec = TuneSpec(tmp_path / "old.yaml")
+    values = old_spec.base.replace(old_spec.plants.draw(0)).values()
+    clearance = float(values["contact.bearing_radius"]) - float(values["joint1.contact.journal_radius"])
+    assert clearance == pytest.approx(2.0e-4, rel=1e-9) and float(values["joint1.friction.mu"]) == 0.15
+    assert values == TuneSpec(tmp_path / "new.yaml").base.replace({"joint1.friction.mu": 0.15}).values()
+    with open(tmp_path / "old" / "trials.csv") as f, open(tmp_path / "new" / "trials.csv") as g:
+        old_rows, new_rows = list(csv.DictReader(f)), list(csv.DictReader(g))
+    assert [r["score"] for r in old_rows] == [r["score"] for r in new_rows] and old_rows[0]["plant0_status"] == "ok"
+
+
+def test_plants_refuse_one_key_in_two_spellings(tmp_path):
+    from gimbalsim.tune import SpecError, TuneSpec
+    (tmp_path / "t.yaml").write_text(OLD_SPELLINGS + "  joint1.friction.mu: {uniform: [0.1, 0.2]}\n")
+    with pytest.raises(SpecError) as e:
+        TuneSpec(tmp_path / "t.yaml")
+    assert e.value.key == "plants.joint1.friction.mu" and "the same key as plants.friction1.mu" in str(e.value)
