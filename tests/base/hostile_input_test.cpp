@@ -126,6 +126,13 @@ TEST(HostileInput, TextThatIsNotPrintableUtf8IsRefusedWithItsPlace) {
   for (const char* bad : {"name: \xc0\xaf\n", "name: \xed\xa0\x80\n", "name: \xe2\x82\n", "name: a\x1b[0m\n"}) {
     refusedOnce(bad);  // an overlong form, a surrogate, a sequence cut short, an escape sequence
   }
+  // (pass 86) a quoted scalar's escapes made control characters after the text check: an escape sequence that
+  // set the terminal's title and cleared it, a NUL that cut the name
+  for (const char* escaped : {"name: \"\\e]0;pwned\\a\\e[2J\"\n", "name: \"a\\u0000x\"\n", "name: \"a\\nb\"\n",
+                              "name: \"a\\x85b\"\n", "name: \"a\\x7f\"\n"}) {
+    const Problem p = refusedOnce(escaped);
+    EXPECT_NE(p.text.find("(a control character, from an escape) at position"), std::string::npos) << p.text;
+  }
   const Problem set = refusedOnce("", {"name=a\x01"});
   EXPECT_EQ(set.set_index, 1);
   EXPECT_NE(set.text.find("U+0001"), std::string::npos) << set.text;

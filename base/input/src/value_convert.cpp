@@ -4,6 +4,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "gimbalsim/input/underflow.hpp"
 
@@ -78,7 +79,20 @@ Mat3 asInertia(const YAML::Node& n) {
 
 std::string asString(const YAML::Node& n) {
   if (!n.IsScalar()) throw ConvertError{"expected a string"};
-  return n.Scalar();
+  // The file's bytes are checked as text, but a quoted scalar's escapes ("\e]0;x\a", "\u0000") make control
+  // characters after it: printed raw they set a terminal's title or cleared it, a NUL cut the name (pass 86).
+  const std::string& s = n.Scalar();
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    const bool c1 = c == 0xC2 && i + 1 < s.size() && static_cast<unsigned char>(s[i + 1]) < 0xA0;  // U+0080..9F
+    if ((c < 0x20 && c != '\t') || c == 0x7F || c1) {
+      char code[8];
+      std::snprintf(code, sizeof code, "%04X", c1 ? static_cast<unsigned char>(s[i + 1]) : c);
+      throw ConvertError{"character U+" + std::string(code) + " (a control character, from an escape) at position " +
+                         std::to_string(i) + ": no text a name or label holds"};
+    }
+  }
+  return s;
 }
 
 std::size_t asChoice(const YAML::Node& n, const std::vector<std::string>& names) {
