@@ -57,7 +57,10 @@ void printExitSummary(const Run& r, const Outcome& out) {
     // Whole-run figures need a step the plant completed (usage.md): over t = 0 alone they printed 0 (pass 83).
     std::printf("  truth pointing error [rad] against %s: n/a (the plant's first step failed: no step completed)\n",
                 r.setup.profile ? "the profile" : "the boresight at t = 0 (no --profile)");
-  } else if (pe.n > 0) {
+  } else if (pe.n == 0) {  // stopped before its first tick: said, not left out (pass 86)
+    std::printf("  truth pointing error [rad] against %s: n/a (no tick ran)\n",
+                r.setup.profile ? "the profile" : "the boresight at t = 0 (no --profile)");
+  } else {
     std::printf("  truth pointing error [rad] against %s: max %.3e, RMS %.3e, final %.3e",
                 r.setup.profile ? "the profile" : "the boresight at t = 0 (no --profile)", pe.max_rad,
                 std::sqrt(pe.sum_sq / static_cast<double>(pe.n)), pe.last_rad);
@@ -99,7 +102,9 @@ void printExitSummary(const Run& r, const Outcome& out) {
                 r.setup.worst_tick_us > 0 ? 100.0 * st.stepping_cpu.max() / r.setup.worst_tick_us : 0.0,
                 static_cast<long long>(st.stepping_cpu_max_tick.load()), st.stepping_cpu_max_substeps.load());
   }
-  if (r.setup.worst_tick_derivatives > 0) {
+  if (r.setup.worst_tick_derivatives > 0 && out.ticks == 0) {  // a max over no tick is none (pass 86: it said 0)
+    std::printf("  stepping per tick, derivative evaluations: n/a (no tick ran)\n");
+  } else if (r.setup.worst_tick_derivatives > 0) {
     std::printf("  stepping per tick, derivative evaluations: max %lld of the bound's %lld (%.1f %%)\n",
                 out.counters.max_derivatives_in_tick, r.setup.worst_tick_derivatives,
                 100.0 * static_cast<double>(out.counters.max_derivatives_in_tick) /
