@@ -22,9 +22,39 @@ def real_array(values, name):
 def real_number(value, name):
     """A real, finite-or-not number argument (a bool, a complex or a text is
     none: pybind11 raised a bare TypeError, or took True as 1)."""
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iuf":
+        value = value.item()  # np.array(0.5) is a number as np.float64(0.5) is
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name}: expected a real number, got {type(value).__name__} {value!r}")
     return float(value)
+
+
+def real_list(values, name):
+    """A 1-D sequence of real numbers as a list of floats (real_array's refusals; a number or a table is no list:
+    ValueError naming the argument and its shape, where pybind11 dumped its signatures)."""
+    a = real_array(values, name)
+    if a.ndim != 1:
+        raise ValueError(f"{name}: expected a list of real numbers, got an array of shape {a.shape}")
+    return a.tolist()
+
+
+def flag_list(values, name):
+    """A sequence of True/False as a list of bools: pybind11 took any number (1, 2.5) and None as a flag."""
+    try:
+        flags = list(values)
+    except TypeError:  # a bare True or a 0-d array is no list of flags
+        raise TypeError(f"{name}: expected a list of True/False, got {type(values).__name__} {values!r:.80}") from None
+    for i, f in enumerate(flags):
+        if not isinstance(f, (bool, np.bool_)):
+            raise TypeError(f"{name}[{i}]: expected True or False, got {type(f).__name__} {f!r:.80}")
+    return [bool(f) for f in flags]
+
+
+def whole_number(value, name):
+    """An int (numpy's too), not a bool or a float: pybind11 took True as 1 and refused 1.0 naming no argument."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name}: expected a whole number, got {type(value).__name__} {value!r:.80}")
+    return int(value)
 
 
 def real_argument(value, name, hi):

@@ -7,6 +7,7 @@ import numpy as np
 from . import _gimbalsim
 from ._gimbalsim import COLUMNS
 from ._arguments import real_array as _real_array, real_number as _real_number, scene_argument as _scene_argument
+from ._arguments import flag_list as _flag_list, real_list as _real_list, whole_number as _whole_number
 
 _simulator_init, _simulator_run, _simulator_step = (_gimbalsim.Simulator.__init__, _gimbalsim.Simulator.run,
                                                     _gimbalsim.Simulator.step)
@@ -56,7 +57,25 @@ def _update(self, t, theta1, theta2, dtheta1=0.0, dtheta2=0.0, gyro=None):
     return _controller_update(self, t, theta1, theta2, dtheta1, dtheta2, gyro)
 
 
+_state_init = _gimbalsim.State.__init__
+
+
+def _state(self, variant, t, q, v, in_contact=(), v0=(), friction_mode=0, vt_floor=0.0, h_next=0.0):
+    """A checkpoint from its fields (a pickle calls this too), checked as a scene is (ValueError naming the field);
+    a field of the wrong type is a TypeError naming it: numpy dropped a complex q's imaginary part, pybind11
+    took friction_mode=True as 1 and a contact flag 2.5 as True."""
+    if not isinstance(variant, str):
+        raise TypeError(f"State.variant: expected a variant name, got {type(variant).__name__} {variant!r:.80}")
+    friction_mode = _whole_number(friction_mode, "State.friction_mode")
+    if not -2**31 <= friction_mode < 2**31:  # past C's int, pybind11 listed its signatures
+        raise ValueError(f"State.friction_mode = {friction_mode}: must be -1, 0 or 1")
+    _state_init(self, variant, _real_number(t, "State.t"), _real_list(q, "State.q"), _real_list(v, "State.v"),
+                _flag_list(in_contact, "State.in_contact"), _real_list(v0, "State.v0"), friction_mode,
+                _real_number(vt_floor, "State.vt_floor"), _real_number(h_next, "State.h_next"))
+
+
 def install():
     """The checked methods in place of the binding's (called once, by the package)."""
+    _gimbalsim.State.__init__ = _state
     _gimbalsim.Simulator.__init__, _gimbalsim.Simulator.run, _gimbalsim.Simulator.step = _init, _run, _step
     _gimbalsim.Controller.update = _update

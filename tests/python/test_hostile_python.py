@@ -256,6 +256,47 @@ class _Crafted:
                                  f["friction_mode"], f["vt_floor"], f["h_next"])
 
 
+# (field change, the field named): values numpy or pybind11 took silently (a complex q's imaginary part dropped,
+# friction_mode True as 1, a contact flag 1 or 2.5 as True) or refused naming no field (friction_mode 1.0)
+MISTYPED_STATES = [
+    ({"q": np.array(good_fields()["q"]) + 50j}, "State.q"),
+    ({"v": np.array(good_fields()["v"]) + 1e3j}, "State.v"),
+    ({"v0": [0.0 + 1j]}, "State.v0"),
+    ({"t": 0.0 + 1e-3j}, "State.t"),
+    ({"h_next": True}, "State.h_next"),
+    ({"friction_mode": True}, "State.friction_mode"),
+    ({"friction_mode": 1.0}, "State.friction_mode"),
+    ({"in_contact": [1]}, "State.in_contact[0]"),
+    ({"in_contact": [2.5]}, "State.in_contact[0]"),
+    ({"in_contact": False}, "State.in_contact"),
+    ({"variant": None}, "State.variant"),
+]
+
+
+@pytest.mark.parametrize("change,field", MISTYPED_STATES, ids=[f"{m[1]}-{i}" for i, m in enumerate(MISTYPED_STATES)])
+def test_a_state_field_of_the_wrong_type_is_refused_naming_it(change, field):
+    fields = {**good_fields(), **change}
+    with pytest.raises(TypeError, match=rf"^{re.escape(field)}: expected"):
+        gimbalsim.State(**fields)
+    with pytest.raises(TypeError, match=rf"^{re.escape(field)}: expected"):  # a foreign pickle alike
+        pickle.loads(pickle.dumps(_Crafted(fields)))
+
+
+def test_a_state_of_numpy_values_still_round_trips():
+    sim = gimbalsim.Simulator(scene())
+    sim.step(1.0, 2.0, n=3)
+    st = sim.state
+    fields = dict(variant=st.variant, t=np.float64(st.t), q=np.array(st.q), v=np.array(st.v),
+                  in_contact=np.array(st.in_contact, dtype=bool), v0=np.array(st.v0),
+                  friction_mode=np.int64(st.friction_mode), vt_floor=np.array(st.vt_floor), h_next=st.h_next)
+    made = gimbalsim.State(**fields)
+    for copy in [made] + [pickle.loads(pickle.dumps(st, protocol)) for protocol in range(pickle.HIGHEST_PROTOCOL + 1)]:
+        assert (copy.t, list(copy.q), list(copy.v), copy.in_contact, copy.v0, copy.friction_mode) == \
+            (st.t, list(st.q), list(st.v), st.in_contact, st.v0, st.friction_mode)
+    sim.state = made
+    assert sim.t == st.t
+
+
 def test_a_restored_time_near_the_limit_steps_on():
     s = scene()
     sim = gimbalsim.Simulator(s)
