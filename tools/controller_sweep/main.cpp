@@ -105,6 +105,17 @@ int mainImpl(int argc, char** argv) {
         !why.empty()) {
       return program::refuse("controller_sweep", why);
     }
+    // The sweep sets each axis's kp, ki and kd from --omega: a --set of one was overwritten, the row the same as
+    // without it (pass 86).
+    for (std::size_t k = 0; k < sets.size(); ++k) {
+      std::string key = sets[k].substr(0, sets[k].find('='));
+      key.erase(key.find_last_not_of(" \t") + 1);
+      for (const char* gain : {"azimuth.kp", "azimuth.ki", "azimuth.kd", "elevation.kp", "elevation.ki", "elevation.kd"}) {
+        if (key != gain) continue;
+        return program::refuse("controller_sweep", "--set #" + std::to_string(k + 1) + " '" + sets[k] + "': the sweep "
+                               "sets " + key + " from each --omega (triple-pole gains): the value would act on no run");
+      }
+    }
     // Each bandwidth's gains go through the configuration's own key checks
     // (--omega 1e300 gave kp = 5e601 and a NaN command): refused, nothing run.
     std::vector<ControllerConfig> configs;
