@@ -296,6 +296,14 @@ def _utf8(chunk):
         return None
 
 
+def whole_lines(data):
+    """A study file's bytes as its whole lines (each ended by a newline) and the bytes after the last newline:
+    a last line cut by an interruption (b"" when the last write was whole). The one rule of a resume and a
+    replay: a cut line is no row the sweep wrote, its sample runs again."""
+    lines = data.split(b"\n")
+    return lines, lines.pop()
+
+
 def _read_rows(spec, path, header, journal=True):
     """read_journal's answer, the 1-based line of each trusted row ({sample: line}) and the samples the file
     holds twice, differently (trusted in no file)."""
@@ -309,9 +317,8 @@ def _read_rows(spec, path, header, journal=True):
         data = path.read_bytes()
     except OSError as e:
         raise OutputError(f"cannot read the journal {path}: {e.strerror}")
-    raw = data.split(b"\n")
-    torn = raw.pop() != b""  # the bytes after the last newline: none when the last write was whole
-    if torn:
+    raw, cut = whole_lines(data)
+    if cut:
         dropped["last line cut by an interruption"] = [len(raw) + 1]
     if not raw:  # killed before the header was whole: nothing was journaled
         return done, dropped, False, line_of, twice

@@ -15,6 +15,7 @@ reproduced, 2 refused, 3 reproduced, but the sample's run stopped (its status
 names why), 4 an output not written, 8 the row did not reproduce (the columns
 named; the time series is written all the same) (docs/python.md "Replay")."""
 import csv
+import io
 import json
 import pathlib
 import re
@@ -23,7 +24,7 @@ import sys
 from . import _provenance
 from ._errors import (EXIT_INTERNAL, EXIT_OK, EXIT_REFUSED, EXIT_STOPPED, NotReproduced, OutputError, SpecError,
                       guarded_main)
-from ._journal import JOURNAL, refuse_rows_beyond_the_record, take_recorded_design
+from ._journal import JOURNAL, refuse_rows_beyond_the_record, take_recorded_design, whole_lines
 from ._output import check_outputs, figure_bytes, write_bytes
 from ._sample import sample_alone
 from ._spec import refuse_inside_tool_folder
@@ -42,24 +43,30 @@ _NOT_UTF8 = re.compile("[\udc80-\udcff]")  # the bytes that were not UTF-8, as s
 def _read_rows(folder):
     """(file, header, {sample: row}, {sample: "file:line" of its row}) of
     results.csv and the journal together: a resume with --until journals
-    rows that an earlier results.csv lacks."""
-    found = []
+    rows that an earlier results.csv lacks. A last line cut by an
+    interruption is read by the resume's rule (_journal.whole_lines): no row,
+    its sample "cut" when no file holds a whole row of it."""
+    found, cuts = [], []
     for name in ("results.csv", JOURNAL):
         path = folder / name
         if path.is_file():
             try:
+                whole, cut = whole_lines(path.read_bytes())
                 # surrogateescape: a row that is not UTF-8 is refused on its own line (below), the others read
-                with open(path, newline="", encoding="utf-8", errors="surrogateescape") as f:
-                    reader = csv.reader(f)
-                    lines, ends = [], []
-                    for r in reader:
-                        lines.append(r)
-                        ends.append(reader.line_num)
+                text = b"".join(line + b"\n" for line in whole).decode("utf-8", errors="surrogateescape")
+                reader = csv.reader(io.StringIO(text, newline=""))
+                lines, ends = [], []
+                for r in reader:
+                    lines.append(r)
+                    ends.append(reader.line_num)
             except (OSError, UnicodeDecodeError, csv.Error) as e:  # csv.Error: a line over the field limit
                 _refuse(f"{path}: cannot read it ({e})")
             if not lines:
                 _refuse(f"{path} is empty: the sweep wrote nothing yet")
             found.append((path, lines, ends))
+            sample = re.match(rb"([0-9]{1,18}),", cut)  # the cut row's sample, when its first cell is whole
+            if sample:
+                cuts.append((int(sample[1]), f"{path}:{len(whole) + 1}"))
     if not found:
         _refuse(f"{folder} holds neither results.csv nor the journal {JOURNAL}: no sample to replay")
     source, header = found[0][0], found[0][1][0]
@@ -80,6 +87,9 @@ def _read_rows(folder):
             elif r and r[0].isdigit() and r != rows[int(r[0])]:  # two different rows: which is the sweep's?
                 where[int(r[0])] += f" and {path}:{line}"
                 rows[int(r[0])] = None
+    for sample, line in cuts:  # a whole row of the sample elsewhere is the one a resume keeps
+        if sample not in rows:
+            rows[sample], where[sample] = "cut", line
     return source, header, rows, where
 
 
@@ -195,6 +205,9 @@ def replay(folder, i, out, plot_path=None):
     if recorded == "not UTF-8":
         _refuse(f"{where[i]}: sample {i}'s row is not UTF-8 text: not a row the sweep wrote; --resume the sweep, "
                 "which drops such a row and runs its sample again")
+    if recorded == "cut":  # compared, it blamed the simulation (exit 8) for the interruption's cut
+        _refuse(f"{where[i]}: sample {i}'s row is not whole (its last line, cut by an interruption): not a row the "
+                f"sweep wrote; --resume the sweep, which drops it and runs the sample again")
     if recorded is None:  # (pass 34) the first of two was compared, and the study's two rows never said
         _refuse(f"{where[i]}: two different rows of sample {i}: no file the sweep writes; --resume the sweep, which "
                 "drops both and runs the sample again")

@@ -199,6 +199,23 @@ def test_replay_from_the_journal_alone(swept, tmp_path):
     assert p.returncode == 2 and "holds neither results.csv nor the journal" in p.stderr, p.stderr
 
 
+def test_a_last_row_cut_by_an_interruption_is_refused_as_not_whole_as_a_resume_drops_it(swept, tmp_path):
+    # (bug) the replay read the cut row (its fingerprint cut short, every column there), ran the sample and blamed
+    # the simulation (exit 8, outputs written); the resume's rule (_journal.whole_lines) drops the line
+    copy = tmp_path / "copy"
+    shutil.copytree(swept, copy)
+    text = (copy / "results.csv").read_text()
+    (copy / "results.csv").unlink()
+    (copy / "results.partial.csv").write_text(text[:text.index("\n", text.index("\n2,") + 1) - 40])  # sample 2 cut
+    p = sweep(copy, "--replay", 2, "--out", tmp_path / "run.csv")
+    assert p.returncode == 2, p.stderr
+    assert "results.partial.csv:4: sample 2's row is not whole (its last line, cut by an interruption)" in p.stderr \
+        and "--resume" in p.stderr, p.stderr
+    assert not (tmp_path / "run.csv").exists() and not (tmp_path / "run.png").exists()
+    p = sweep(copy, "--replay", 1, "--out", tmp_path / "run.csv")  # the whole rows before it are the sweep's
+    assert p.returncode == 0 and "reproduces its row of" in p.stderr, p.stderr
+
+
 @pytest.mark.parametrize("case", ["out_of_range", "negative", "out_is_results", "out_is_journal_name",
                                   "out_is_folder", "out_folder_missing", "no_sweep_folder", "not_a_sweep",
                                   "plot_is_out"])
