@@ -34,7 +34,8 @@ except ImportError as e:  # a build folder whose extension was never built (only
         "`cmake --build build -j2 --target gimbalsim_python` (build/ being that build folder), "
         "or install the package (docs/python_install.md)") from e
 from . import _csv_cells, _output  # noqa: E402
-from ._arguments import real_argument as _real_argument, scene_argument as _scene_argument  # noqa: E402
+from ._arguments import checked_sources as _checked_sources, real_argument as _real_argument  # noqa: E402
+from ._arguments import scene_argument as _scene_argument  # noqa: E402
 from . import _checked_methods  # noqa: E402
 from ._gimbalsim import COLUMNS, Scene, Simulator, State
 from ._record import Columns as _Columns, frozen as _frozen  # noqa: E402
@@ -55,6 +56,8 @@ def format_value(value, key="?"):
     """A Python value as the text `--set key=value` accepts: numbers in the
     shortest form that reads back exactly, strings as they are, lists (or
     numpy arrays) for vectors."""
+    if isinstance(value, np.ndarray) and value.ndim == 0:  # np.array(0.01) is a number, as np.float64 is
+        return format_value(value.item(), key)
     if isinstance(value, (bool, np.bool_)):
         return "true" if value else "false"
     if isinstance(value, numbers.Integral):
@@ -79,7 +82,7 @@ def _overrides_and_labels(overrides, sources=None):
     for a dict entry and "overrides[i]" for a list item."""
     if overrides is None:
         return [], []
-    sources = sources or {}
+    sources = _checked_sources(sources)
     if isinstance(overrides, dict):
         texts = [f"{k}={format_value(v, k)}" for k, v in overrides.items()]
         return texts, [sources.get(k, f"overrides[{k!r}]") for k in overrides]

@@ -2,6 +2,7 @@
 take silently (a bool as 1, a text parsed, a complex's imaginary part
 dropped) is a TypeError naming the argument."""
 import numbers
+import os
 
 import numpy as np
 
@@ -73,3 +74,20 @@ def scene_argument(scene, who):
         raise TypeError(f"{who}: scene must be a gimbalsim.Scene (gimbalsim.load_scene(path)), "
                         f"got {type(scene).__name__} {scene!r:.80}")
     return scene
+
+
+def checked_sources(sources):
+    """load_scene's sources: {key: a label, or (file, line) of a spec}; another entry is a TypeError naming its key
+    (a line that is no whole number ended a refusal as int()'s bare "invalid literal")."""
+    if sources is None:
+        return {}
+    if not isinstance(sources, dict):
+        raise TypeError(f"sources: expected a dict {{key: label or (file, line)}}, got {type(sources).__name__}")
+    for key, label in sources.items():
+        if isinstance(label, str):
+            continue
+        if not (isinstance(label, tuple) and len(label) == 2 and isinstance(label[0], (str, os.PathLike))
+                and isinstance(label[1], numbers.Integral) and not isinstance(label[1], (bool, np.bool_))):
+            raise TypeError(f"sources[{key!r}]: a source is a label (a str) or a (file, line) pair, the line a whole "
+                            f"number; got {type(label).__name__} {label!r:.80}")
+    return sources

@@ -53,7 +53,7 @@ def _update(self, t, theta1, theta2, dtheta1=0.0, dtheta2=0.0, gyro=None):
              "dtheta1 [rad/s]": dtheta1, "dtheta2 [rad/s]": dtheta2}
     t, theta1, theta2, dtheta1, dtheta2 = (_real_number(v, name) for name, v in given.items())
     if gyro is not None:
-        gyro = [_real_number(g, f"gyro[{i}] [rad/s]") for i, g in enumerate(gyro)]
+        gyro = [_real_number(g, f"gyro[{i}] [rad/s]") for i, g in enumerate(_three(gyro, "gyro [rad/s]"))]
     return _controller_update(self, t, theta1, theta2, dtheta1, dtheta2, gyro)
 
 
@@ -72,6 +72,20 @@ def _state(self, variant, t, q, v, in_contact=(), v0=(), friction_mode=0, vt_flo
     _state_init(self, variant, _real_number(t, "State.t"), _real_list(q, "State.q"), _real_list(v, "State.v"),
                 _flag_list(in_contact, "State.in_contact"), _real_list(v0, "State.v0"), friction_mode,
                 _real_number(vt_floor, "State.vt_floor"), _real_number(h_next, "State.h_next"))
+
+
+def _three(values, name):
+    """values, a sequence of 3 (x, y, z): a number, a 0-d array or another length got numpy's "iteration over a
+    0-d array" or pybind11's signatures, naming no argument."""
+    try:
+        n = None if isinstance(values, (str, bytes)) else len(values)
+    except TypeError:  # a number, a 0-d array
+        n = None
+    if n is None:
+        raise TypeError(f"{name}: expected 3 real numbers (x, y, z), got {type(values).__name__} {values!r:.80}")
+    if n != 3:
+        raise ValueError(f"{name}: expected 3 real numbers (x, y, z), got {n}")
+    return values
 
 
 def install():

@@ -440,6 +440,33 @@ def test_a_dict_override_is_named_as_the_dict_entry():
     assert "overrides[1] (sim.step=-1)" in str(e.value) and "--set" not in str(e.value), str(e.value)
 
 
+def test_a_0d_array_override_is_its_number_and_a_bad_source_is_named_by_its_key():
+    # np.array(0.01) got numpy's "iteration over a 0-d array", naming no key; np.float64(0.01) ran
+    given = scene(overrides={"sim.duration": np.array(0.01)})
+    assert given.values() == scene(overrides={"sim.duration": 0.01}).values()
+    assert gimbalsim.Controller(None, {"azimuth.kp": np.array(900.0)}).values()["azimuth.kp"] == 900.0
+    with pytest.raises(TypeError, match=r"^override 'sim.duration': cannot use a complex"):
+        scene(overrides={"sim.duration": np.array(0.01 + 1j)})
+    # a (file, line) whose line is no whole number got int()'s bare "invalid literal" once the override was refused
+    path = scene_path("paper_clearance")
+    for source in (("x.yaml", "notint"), ("x.yaml",), 12, ("x.yaml", True)):
+        with pytest.raises(TypeError, match=r"^sources\['sim.duration'\]: a source is a label \(a str\) or a "
+                                            r"\(file, line\) pair"):
+            gimbalsim.load_scene(path, {"sim.duration": -1}, sources={"sim.duration": source})
+    with pytest.raises(gimbalsim.SceneError, match=r"x.yaml:12 \(sim.duration=-1\)"):
+        gimbalsim.load_scene(path, {"sim.duration": -1}, sources={"sim.duration": ("x.yaml", 12)})
+
+
+@pytest.mark.parametrize("gyro,error,why", [(np.array(0.0), TypeError, "got ndarray"), (0.0, TypeError, "got float"),
+                                            ([0, 0], ValueError, "got 2"), (np.zeros(4), ValueError, "got 4")])
+def test_controller_update_refuses_a_gyro_that_is_not_three_numbers_naming_it(gyro, error, why):
+    # a 0-d array got numpy's "iteration over a 0-d array", a short list pybind11's signatures: neither named gyro
+    c = gimbalsim.Controller(None, {})
+    with pytest.raises(error, match=rf"^gyro \[rad/s\]: expected 3 real numbers \(x, y, z\), {why}"):
+        c.update(0.0, 0.1, 0.2, gyro=gyro)
+    assert all(math.isfinite(x) for x in c.update(0.0, 0.1, 0.2, gyro=np.zeros(3))["tau"])
+
+
 SWEEP_HEAD = f"scene: {SCENES}/paper_clearance.yaml\nsamples: 3\nseed: 1\n"
 
 
