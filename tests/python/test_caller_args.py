@@ -73,3 +73,22 @@ def test_run_workprec_checks_its_figure_before_the_sweep(tmp_path):
                        env=dict(os.environ, PATH=f"{fake}:{os.environ['PATH']}"))
     assert p.returncode == 2 and "workprec.png" in p.stderr and "symbolic link" in p.stderr, p.stderr
     assert (out / "workprec.csv").read_text() == "the previous sweep\n" and not (tmp_path / "victim.png").exists()
+
+
+def test_run_workprec_saves_its_log_and_clears_its_figure_when_the_sweep_exits_3(tmp_path):
+    # (pass 86) a scene without a reference (exit 3) ended the script at the pipe: the new CSV stood beside the
+    # previous run's log and figure
+    import os
+    from conftest import BIN
+    out = SOURCE / "out" / "workprec"
+    env = dict(os.environ, GIMBALSIM_BUILD=str(BIN.parent))
+    args = ["--scenes", "paper_ideal", "--duration", "0.02", "--repeats", "1", "--no-mujoco", "--policy", "plain"]
+    p = subprocess.run(["bash", str(SOURCE / "tools/workprec/run_workprec.sh"), *args, "--steps", "0.01,0.005"],
+                       capture_output=True, text=True, timeout=300, cwd=tmp_path, env=env)
+    assert p.returncode == 0 and (out / "workprec.png").is_file(), p.stderr
+    p = subprocess.run(["bash", str(SOURCE / "tools/workprec/run_workprec.sh"), *args, "--steps", "0.01",
+                        "--set", "initial.dtheta1=1", "--set", "sim.velocity_limit=0.5"],
+                       capture_output=True, text=True, timeout=300, cwd=tmp_path, env=env)
+    assert p.returncode == 3, p.stderr
+    assert "reference run failed" in (out / "workprec.log").read_text()  # this run's log, not the previous one
+    assert not (out / "workprec.png").exists() and "removed the previous run's out/workprec/workprec.png" in p.stderr

@@ -41,10 +41,26 @@ for name in workprec.log workprec.png; do
 done
 # The page's rules before the study: a page refused at the end would cost the run and the previous outputs.
 [ "$RESULTS" = 0 ] || /usr/bin/python3 tools/pages/results_page.py --check --page docs/results/workprec.md
-"$BUILD/bin/gimbalsim_workprec" --out out/workprec ${ARGS[@]+"${ARGS[@]}"} | console_tee "$LOG"
+status=0
+"$BUILD/bin/gimbalsim_workprec" --out out/workprec ${ARGS[@]+"${ARGS[@]}"} | console_tee "$LOG" || status=$?
+# Exit 3 (a scene without a reference): its CSV is written, so are its log and figure (pass 86: the script
+# ended there, the new CSV beside the previous run's log and figure).
+if [ "$status" -ne 0 ] && [ "$status" -ne 3 ]; then exit "$status"; fi
 /usr/bin/python3 tools/pages/save_output.py --as run_workprec.sh \
   "$LOG" out/workprec/workprec.log -- ${ARGS[@]+"${ARGS[@]}"}
-/usr/bin/python3 tools/workprec/plot_workprec.py out/workprec/workprec.csv --out out/workprec/workprec.png
-if [ "$RESULTS" = 1 ]; then
-  /usr/bin/python3 tools/workprec/workprec_page.py --dir out/workprec --command "$COMMAND" --t0 "$T0" --load0 "$LOAD0"
+plotted=0
+/usr/bin/python3 tools/workprec/plot_workprec.py out/workprec/workprec.csv --out out/workprec/workprec.png || plotted=$?
+if [ "$plotted" -ne 0 ]; then
+  [ "$plotted" -eq 2 ] && [ "$status" -eq 3 ] || exit "$plotted"
+  # No point to plot: the previous figure would stand beside these results as theirs (its name was checked).
+  if [ -f out/workprec/workprec.png ] && [ ! -L out/workprec/workprec.png ]; then
+    rm -f out/workprec/workprec.png && echo "run_workprec.sh: removed the previous run's out/workprec/workprec.png" >&2
+  fi
+  echo "run_workprec.sh: no plot (the sweep ran, exit $status); its CSV and log are in out/workprec" >&2
 fi
+if [ "$RESULTS" = 1 ] && [ "$plotted" -eq 0 ]; then
+  /usr/bin/python3 tools/workprec/workprec_page.py --dir out/workprec --command "$COMMAND" --t0 "$T0" --load0 "$LOAD0"
+elif [ "$RESULTS" = 1 ]; then
+  echo "run_workprec.sh: no page either: docs/results/workprec.md is kept as it was" >&2
+fi
+exit "$status"
