@@ -240,7 +240,9 @@ class Run:
         byte for byte, by the command line's output rules (OSError): its
         folder must exist; a link, a non-file or the run's scene file is refused."""
         inputs = [self.scene.path] if self.scene is not None else []
-        _gimbalsim._write_csv(_check_path(path, "output path"), self.rows, inputs, list(self.columns))
+        path = _check_path(path, "output path")
+        _output.check_outputs([path], inputs)  # the script running too, which the C++ writer cannot see (pass 85)
+        _gimbalsim._write_csv(path, self.rows, inputs, list(self.columns))
 
     def __repr__(self):
         scene = self.summary.get("scene") or (self.scene.path if self.scene is not None else "?")

@@ -150,15 +150,11 @@ def check_outputs(outputs, inputs=()):
         for other, theirs in seen:
             if theirs == me:
                 raise OutputRefused(f"{out}: the same file as another output ({other})")
-        for inp in inputs:
-            if inp is None or inp == "":
-                continue
-            inp = _text(inp)
+        # The running program is an input of every run (pass 84: a program's --out replaced it).
+        named = [(_text(i), f"the input {_text(i)}") for i in inputs if i is not None and i != ""]
+        for inp, what in named + [(p, f"this program ({p})") for p in _running_program()]:
             if me is not None and _identity(inp) == me:
-                raise OutputRefused(f"{out}: the same file as the input {inp}; not overwritten")
-        for program in _running_program():  # an input of every run (pass 84: a program's --out replaced it)
-            if me is not None and _identity(program) == me:
-                raise OutputRefused(f"{out}: the same file as this program ({program}); not overwritten")
+                raise OutputRefused(f"{out}: the same file as {what}; not overwritten")
         seen.append((out, me))
 
 

@@ -97,6 +97,14 @@ def test_the_running_program_is_an_input_of_every_run(tmp_path):
     real = os.path.realpath(sys.executable)
     with pytest.raises(_output.OutputError, match=r"the same file as this program"):
         _output.check_outputs([real])
+    # (pass 85) Run.to_csv wrote through the C++ writer, which sees the interpreter but not the script it runs
+    scene = os.path.join(os.environ["GIMBALSIM_SOURCE_DIR"], "tools/scenes/planar_ideal.yaml")
+    script.write_text("import sys, warnings, gimbalsim\nwarnings.simplefilter('ignore')\n"
+                      f"run = gimbalsim.simulate(gimbalsim.load_scene({scene!r}, {{'sim.duration': 0.01}}))\n"
+                      "try:\n    run.to_csv(sys.argv[0])\nexcept OSError as e:\n    print(e)\n")
+    p = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=60)
+    assert p.stdout == f"{script}: the same file as this program ({script}); not overwritten\n", (p.stdout, p.stderr)
+    assert script.read_text().startswith("import sys")
 
 
 def test_a_missing_folder_is_refused_not_made(tmp_path):
