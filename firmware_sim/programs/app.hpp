@@ -104,7 +104,7 @@ struct RunReport {
   long long lockstep_rebinds = 0;  ///< bindings released: the bound controller silent while another answered
   double compute_seconds = 0.0;  ///< [s] wall time of the plant's own work (ticks, not the waits)
   PointingErrorStats pointing;   ///< the truth pointing error (copied from the tick at the end)
-  bool unanswered_start = false;  ///< lockstep: ended at status 0, which no command answered: no run, no output
+  bool unanswered_start = false;  ///< lockstep: ended at status 0, which no command reached: no run, no output
 };
 
 /// Everything a loop needs, in three named parts.

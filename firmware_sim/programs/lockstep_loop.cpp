@@ -189,7 +189,9 @@ int run(Run& r) {
                        "firmware_sim: lockstep: no valid command answered status 0 within --start-timeout %g s: %s\n",
                        o.start_timeout_s, rejected.c_str());
         }
-        r.report.unanswered_start = true;
+        // No peer: no run, no output (pass 82). A controller whose every answer was rejected took part: its
+        // run stopped (exit 3) and its outputs hold what ran (pass 86: they were left as the previous run's).
+        r.report.unanswered_start = rejected.empty();
         return endWithoutAnswer(r, tick, wall0, !rejected.empty());
       }
       extra = kLockstepTimeout;

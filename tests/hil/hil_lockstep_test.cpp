@@ -120,10 +120,11 @@ TEST(HilLockstep, ClearanceSlewCompletesAndPointingErrorConverges) {
 TEST(HilLockstep, EveryCommandRejectedStopsNamingTheReasonNotANoPeer) {
   GIMBALSIM_HIL_REQUIRE_NETNS();
   TempDir dir("lockstep_rejected");
+  std::ofstream(dir / "truth.csv") << "the previous run\n";
   const int rc = runInNetns(dir, rejectingPair(udpmUrl(7734), "1",
                                                defaultControllerConfig() +
                                                    " --set 'profile.start=[0.5, 0.3]' --plant-timeout 1",
-                                               "--start-timeout 1"));
+                                               "--start-timeout 1 --truth-csv truth.csv"));
   const std::string log = readFile(dir / "fw.log");
   // The controller too: the plant going away after refusing every answer is a stop (3), not a lost peer (6).
   const std::string ctl = readFile(dir / "ctl.log");
@@ -133,6 +134,9 @@ TEST(HilLockstep, EveryCommandRejectedStopsNamingTheReasonNotANoPeer) {
   EXPECT_NE(log.find("no valid command answered status 0 within --start-timeout 1 s: "), std::string::npos) << log;
   EXPECT_NE(log.find("the plant rejected every one (torque beyond the sanity range)"), std::string::npos) << log;
   EXPECT_EQ(log.find("is the controller running"), std::string::npos) << log;
+  // (pass 86) a controller took part: its stopped run's truth holds what ran, not the previous run's
+  EXPECT_EQ(log.find("nothing written"), std::string::npos) << log;
+  EXPECT_EQ(readFile(dir / "truth.csv").rfind("utime_us,seq,sim_time_s,", 0), 0u) << readFile(dir / "truth.csv");
 }
 
 // The first command accepted, then every answer rejected (beyond the sanity range as the slew starts): the bench
