@@ -10,6 +10,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "gimbalsim/program/program.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/firmware_sim/plant_scene.hpp"
+#include "gimbalsim/firmware_sim/study_idle.hpp"
 #include "gimbalsim/dynamics/simulate.hpp"
 #include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 #include "gimbalsim/input/key_registry.hpp"
@@ -95,6 +97,26 @@ struct Inputs {
   FaultSchedule faults;
 };
 
+/// The first --set the bench never reads, or "": it would be recorded with the run and act on nothing (pass 86:
+/// torque.tau1, sim.duration and a tracker's noise without a tracker ran silently). The name is printed: read.
+std::string idleBenchOverride(const Options& o, const SensorParams& sensors) {
+  const double duration_s = o.duration > 0.0 ? o.duration : std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < o.sets.size(); ++k) {
+    const std::string key = o.sets[k].substr(0, o.sets[k].find('='));
+    std::string why = key == "sim.duration" ? "firmware_sim runs --duration (or until stopped)" : "";
+    for (const auto& [idle, reason] : closedLoopIdleSceneKeys()) {
+      if (key == idle && key != "name") why = reason;
+    }
+    if (why.empty()) why = sensorKeyIdle(key, sensors, duration_s, true);
+    if (why.empty() && key == "sensors.seed" && !sensors.anyNoise()) why = "the scene's sensors draw no noise";
+    if (!why.empty()) {
+      return "--set #" + std::to_string(k + 1) + " '" + o.sets[k] + "': not read by the bench (" + why +
+             "): the value would be recorded but never act";
+    }
+  }
+  return "";
+}
+
 /// Loads and checks the inputs and opens the outputs; kExitOk, or the refusal's code (nothing run).
 int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
   try {
@@ -105,6 +127,7 @@ int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
   }
   const Scene& scene = in.plant.scene;
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  if (const std::string why = idleBenchOverride(o, in.plant.sensors); !why.empty()) return refuse(why);
 
   Config& c = in.c;
   c.control_period = 1.0 / o.rate_hz;
