@@ -82,6 +82,19 @@ def test_bench_plot_draws_no_invented_floor_for_an_error_of_exactly_0(tmp):
     assert not (tmp / "n.png").exists()
 
 
+def test_bench_plot_gives_no_figure_for_a_plant_stopped_in_its_first_step(tmp):
+    # (pass 86) one row at t = 0 gave "end 0.000e+00 rad" and "0 throughout", where firmware_sim says n/a
+    truth = tmp / "first_step.csv"
+    p = subprocess.run([str(BIN / "firmware_sim"), str(SOURCE / "tools/scenes/paper_clearance.yaml"), "--set",
+                        "initial.dtheta1=5", "--set", "sim.velocity_limit=1", "--duration", "0.01", "--lcm-url",
+                        "memq://", "--truth-csv", str(truth)], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 3 and "the plant's first step failed" in p.stdout, (p.stdout, p.stderr)
+    p = run(BENCH, truth, "--out", tmp / "first_step.png")
+    assert p.returncode == 0, p.stderr
+    assert "pointing error: n/a (the plant's first step failed: no step completed)" in p.stdout, p.stdout
+    assert "end 0.000e+00" not in p.stdout and "0 throughout" not in p.stdout, p.stdout
+
+
 def test_bench_plot_refuses_bad_input_naming_the_line(tmp):
     bad = tmp / "bad.csv"
     bad.write_text(TRUTH_HEADER + "0,0,0,0,0,1e-3,0\n0.001,0,x,0,0,2e-3,0\n")

@@ -259,11 +259,15 @@ def main():
     # sim_time_s sums the period tick by tick (0.6000000000000004 for tick 600): a row within a millionth of a
     # tick of the start is at it, so a run ending there has not passed it (pass 61: a figure over that row alone)
     tol = 1e-6 * (float(np.median(np.diff(t))) if len(t) > 1 else 0.0)
-    if t[-1] > a.after + tol:
-        tail = f"max after {a.after:g} s {err[t >= a.after - tol].max():.3e} rad"
+    if "stopped_at" in c and not c["stopped_at"] > 0.0:  # t = 0 alone is no run's figure (firmware_sim: n/a)
+        print("  pointing error: n/a (the plant's first step failed: no step completed)")
+        note = ""
     else:
-        tail = f"max after {a.after:g} s n/a (window [{a.after:g}, inf) s not reached: run ended at {t[-1]:g} s)"
-    print(f"  pointing error: end {err[-1]:.3e} rad, {tail}")
+        if t[-1] > a.after + tol:
+            tail = f"max after {a.after:g} s {err[t >= a.after - tol].max():.3e} rad"
+        else:
+            tail = f"max after {a.after:g} s n/a (window [{a.after:g}, inf) s not reached: run ended at {t[-1]:g} s)"
+        print(f"  pointing error: end {err[-1]:.3e} rad, {tail}")
     if note:
         print(f"  pointing error {note}")
     frozen = c.get("frozen_rows", 0)  # each carries FAULT_PLANT_FAULT: counted, though not drawn
