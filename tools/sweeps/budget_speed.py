@@ -311,8 +311,6 @@ def main():
     if a.results and pathlib.Path(a.spec).name not in PAGES:
         p.error(f"--results writes the page of a shipped budget ({', '.join(PAGES)}): leave it out for {a.spec}")
     build = pathlib.Path(a.build)
-    if not (build / "python" / "gimbalsim" / "__init__.py").is_file():
-        p.error(f"no gimbalsim package in {build / 'python'}: cmake --build {a.build} -j2 --target gimbalsim_python")
     spec_path = pathlib.Path(a.spec).resolve()
     if not spec_path.is_file():
         p.error(f"--spec {a.spec}: {'not a regular file' if spec_path.exists() else 'no such file'}")
@@ -331,7 +329,7 @@ def _run(a, build, spec_path, out):
     """Everything checked (the specs by the sweep's --check, --out, the page's
     names), then both runs into a fresh folder beside --out, which replaces
     it; a refusal or a failed run leaves --out as it was."""
-    sys.path.insert(0, str(build / "python"))
+    output_file.import_package(build)  # the package of --build, or a refusal naming the command that builds it
     from gimbalsim import _sampling, _scene_warnings
     _scene_warnings.quiet()  # as the sweeps it runs: they judge their keys; the scene's own warnings are simulate's
 
