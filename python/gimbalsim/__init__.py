@@ -335,10 +335,11 @@ class ClosedLoopRun:
         self.__setstate__({"summary": summary, "_columns": columns, "inputs": tuple(inputs)})
 
     def __setstate__(self, state):  # the run's record, read-only as Run's (an unpickled one too)
-        self.__dict__.update(state, _columns=_Columns({k: _frozen(v) for k, v in state["_columns"].items()}))
+        self.__dict__.update(state, _columns=_Columns({k: _frozen(v) for k, v in state["_columns"].items()}),
+                             _rows=None)
 
     def __getstate__(self):
-        return {k: v for k, v in self.__dict__.items() if k != "rows"}  # rows: stacked again on first use
+        return {k: v for k, v in self.__dict__.items() if k != "_rows"}  # rows: stacked again on first use
 
     columns = property(lambda self: self._columns, doc="the ticks' columns by name, read-only")
 
@@ -346,11 +347,13 @@ class ClosedLoopRun:
     def ok(self):
         return self.summary["ok"]
 
-    @functools.cached_property
+    @property
     def rows(self):
         """The ticks as an (N, columns) array, in the order of ``columns``
-        (stacked once, on first use)."""
-        return _frozen(np.column_stack([np.asarray(v, dtype=float) for v in self.columns.values()]))
+        (stacked once, on first use); read-only, as is the attribute (a cached_property took another, pass 87)."""
+        if self._rows is None:
+            self._rows = _frozen(np.column_stack([np.asarray(v, dtype=float) for v in self.columns.values()]))
+        return self._rows
 
     def to_csv(self, path, inputs=()):
         """Writes the ticks by the project's CSV convention (docs/usage.md
