@@ -70,5 +70,25 @@ TEST(IdleKeys, ASharedSetEveryJointWithABearingOverridesIsIdle) {
   EXPECT_TRUE(test::scene("paper_clearance", {"joint2.contact.clearance=3e-4"}).idle_sets.empty());
 }
 
+// (pass 88) friction.mu under friction.law none, and v_a, v_b under coulomb, ran recorded as applied.
+TEST(IdleKeys, AFrictionKeyTheBearingsLawDoesNotReadIsIdle) {
+  const Scene none = test::scene("paper_clearance", {"friction.law=none", "friction.mu=3"});
+  EXPECT_EQ(idleNumber(none, "friction.mu"), 2);
+  ASSERT_EQ(none.idle_sets.size(), 1u);
+  EXPECT_NE(none.idle_sets[0].second.find("joint 2: its friction.law is none"), std::string::npos)
+      << none.idle_sets[0].second;
+  const Scene coulomb = test::scene("paper_clearance", {"friction.v_b=0.3", "friction.v_a=0.1"});
+  EXPECT_EQ(idleNumber(coulomb, "friction.v_b"), 1);
+  EXPECT_EQ(idleNumber(coulomb, "friction.v_a"), 2);
+  EXPECT_EQ(idleNumber(test::scene("paper_clearance", {"friction.mu=0", "friction.law=ambrosio"}), "friction.law"), 2);
+  EXPECT_EQ(idleNumber(test::scene("paper_both_planar", {"joint1.friction.law=none", "joint1.friction.mu=0.3"}),
+                       "joint1.friction.mu"),
+            2);
+  // Read: Ambrosio's thresholds under ambrosio, a law with friction, a shared key one joint still reads.
+  EXPECT_TRUE(test::scene("paper_clearance", {"friction.law=ambrosio", "friction.v_b=0.3"}).idle_sets.empty());
+  EXPECT_TRUE(test::scene("paper_clearance", {"friction.law=coulomb_stick", "friction.mu=0.3"}).idle_sets.empty());
+  EXPECT_TRUE(test::scene("paper_both_planar", {"joint1.friction.law=none", "friction.mu=0.3"}).idle_sets.empty());
+}
+
 }  // namespace
 }  // namespace gimbalsim

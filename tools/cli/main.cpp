@@ -85,19 +85,19 @@ int mainImpl(int argc, char** argv) {
     return kOk;
   }
 
-  // A scene file's sensors.* load (one file serves the bench), but a --set of one would be recorded with the run
-  // and act on nothing: no open-loop run reads a sensor (pass 86).
-  for (std::size_t k = 0; k < sets.size(); ++k) {
-    if (sets[k].rfind("sensors.", 0) != 0) continue;
-    return gimbalsim::program::refuse("gimbalsim", "--set #" + std::to_string(k + 1) + " '" + sets[k] + "': an "
-                                      "open-loop run reads no sensor (firmware_sim and the closed loop do): the value "
-                                      "would be recorded but never act");
-  }
   gimbalsim::Scene loaded;
   try {
     loaded = gimbalsim::firmware::loadPlantScene(scene, sets).scene;  // sensors.* accepted, unused here
   } catch (const gimbalsim::InputError& e) {
     return gimbalsim::program::refuse("gimbalsim", e);
+  }
+  // A scene file's sensors.* load (one file serves the bench), but a --set of one, checked as any key, would be
+  // recorded with the run and act on nothing: no open-loop run reads a sensor (pass 86).
+  for (std::size_t k = 0; k < sets.size(); ++k) {
+    if (sets[k].rfind("sensors.", 0) != 0) continue;
+    return gimbalsim::program::refuse("gimbalsim", "--set #" + std::to_string(k + 1) + " '" + sets[k] + "': an "
+                                      "open-loop run reads no sensor (firmware_sim and the closed loop do): the value "
+                                      "would be recorded but never act");
   }
   for (const auto& w : loaded.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const gimbalsim::Model& m = loaded.model;

@@ -336,6 +336,7 @@ void validateBearings(const Scene& s, Given& g) {
                     "joint 1 only: use coulomb or ambrosio with these joint kinds");
     }
   }
+  idleFrictionKeys(s, g);
   checkInitialEcc(s, g);
   checkSpatialLength(s, g);
   checkInitialTilt(s, g);

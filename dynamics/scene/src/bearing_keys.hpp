@@ -32,6 +32,8 @@ bool ownKeyGiven(const Scene& s, const std::string& key);
 /// Each journal's initial eccentricity, then tilt, against its own bearing (journal_keys.cpp).
 void checkInitialEcc(const Scene& s, Given& g);
 void checkInitialTilt(const Scene& s, Given& g);
+/// A --set friction key no bearing's law reads, said to act on nothing (friction_keys.cpp).
+void idleFrictionKeys(const Scene& s, Given& g);
 /// Each journal's eccentricity from initial.ecc unless its own key was given.
 void deriveJournals(Scene& s, const Given& g);
 
