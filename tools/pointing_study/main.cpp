@@ -181,10 +181,11 @@ int mainImpl(int argc, char** argv) {
         base = kTrackerSensors;
         for (const std::string& kv : base) labels.push_back("--sensors tracker '" + kv + "'");
       }
+      const std::size_t case_keys = base.size();  // the case's own; a key two --scene-set give takes the later
       for (std::size_t k = 0; k < scene_sets.size(); ++k) {
         // A case's own key set again would relabel the runs: sensors=tracker with the tracker switched off.
         const std::string key = scene_sets[k].substr(0, scene_sets[k].find('='));
-        for (std::size_t b = 0; b < base.size(); ++b) {
+        for (std::size_t b = 0; b < case_keys; ++b) {  // (pass 88: not the --scene-set before it)
           if (base[b].substr(0, base[b].find('=')) == key) {
             return refuse("--scene-set", "#" + std::to_string(k + 1) + " '" + scene_sets[k] + "' sets " + key +
                                              ", which " + labels[b] + " sets: the runs would be labelled '" +
