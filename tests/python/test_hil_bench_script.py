@@ -8,6 +8,8 @@ import re
 import subprocess
 import time
 
+import pytest
+
 from conftest import BIN, CONTROLLER_CONFIG, SOURCE
 
 SCRIPT = SOURCE / "tools" / "hil" / "run_hil_bench.sh"
@@ -312,3 +314,15 @@ def test_a_recorder_that_failed_ends_the_run_with_its_code(tmp_path):
     assert p.returncode == 4 and "gimbalsim_record exited with 4; nothing in" in p.stderr, p.stderr
     assert "No such process" not in p.stderr and sorted(os.listdir(tmp_path / "o")) == ["truth.csv"], p.stderr
     assert (tmp_path / "o" / "truth.csv").read_text() == "previous\n"
+
+
+@pytest.mark.parametrize("flag", [["--lcm-url", "udpm://239.255.76.67:7667?ttl=0"], ["--channel-prefix", "B2_"],
+                                  ["--channel-prefix=B2_"]])
+def test_a_flag_after_dashdash_that_would_split_the_pair_is_refused(tmp_path, flag):
+    # (pass 88) --channel-prefix after -- went to firmware_sim alone: the controller never heard it, exit 6 after
+    # firmware_sim's --start-timeout (30 s)
+    t0 = time.monotonic()
+    p = run("--duration", "0.2", "--out", "ob", "--no-plot", "--", *flag, cwd=tmp_path)
+    says = f"run_hil_bench.sh: {flag[0].split('=')[0]} after --: the script sets it for firmware_sim: "
+    assert p.returncode == 2 and says in p.stderr and "use --port; nothing run" in p.stderr, p.stderr
+    assert time.monotonic() - t0 < 5 and not (tmp_path / "ob").exists(), p.stderr

@@ -147,6 +147,8 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
       --profile) use="it is --config's file (the controller's config defines the pointing error for both); use --config" ;;
       --truth-csv) use="it is truth.csv in --out; use --out" ;;
       --lcm-url) use="the run's udpm URL with ttl=0; use --port" ;;
+      # (pass 88) a prefix for firmware_sim alone split the pair: the controller never heard it
+      --channel-prefix) use="both processes must share it, and the run's own --port keeps benches apart; use --port" ;;
       --rate | --duration) use="use $a before --" ;;
       --lockstep) use="lockstep is the default; --realtime before -- for real time" ;;
       *) use= ;;
