@@ -460,7 +460,14 @@ def test_the_tools_numbers_have_ranges_the_code_honours(tmp_path):
              ("tools/hil/plot_bench.py", ["x.csv", "--out", "x.png", "--after", "-1"], "must be in [0, 1e+09]"),
              ("tools/hil/plot_bench.py", ["x.csv", "--out", "x.png", "--after", " 1"], "not a finite decimal"),
              ("tools/hil/plot_bench.py", ["x.csv", "--out", "x.png", "--after", "1e-400"], "too small for a double"),
-             ("tools/hil/plot_bench.py", ["x.csv", "--out", "x.png", "--after", "5e-324"], "too small for a double")]
+             ("tools/hil/plot_bench.py", ["x.csv", "--out", "x.png", "--after", "5e-324"], "too small for a double"),
+             # (pass 88) each ran until a program refused it mid-study (exit 1, or 0 with no real-time run)
+             ("tools/hil/hil_speed.py", ["--cpu", "4095"], "must be -1 (no pinning) or a CPU this process may run on"),
+             ("tools/hil/worst_tick.py", ["--cpu", "4095"], "must be -1 (no pinning) or a CPU this process may run"),
+             ("tools/hil/hil_speed.py", ["--spin", "1000"], "--spin: must be in [0, 1], got 1000"),
+             ("tools/hil/hil_speed.py", ["--rates", "5", "--spin", "1"], "past firmware_sim's --spin-us bound"),
+             ("tools/hil/hil_speed.py", ["--rates", "1000,1000"], "1000 given twice in '1000,1000'"),
+             ("tools/hil/worst_tick.py", ["--realtime-seconds", "1e-300"], "0 (skip) or at least 0.001")]
     for tool, args, words in cases:
         p = subprocess.run(["/usr/bin/python3", str(SOURCE / tool), *args], cwd=tmp_path, capture_output=True,
                            text=True, timeout=60, env={**os.environ, "PYTHONPATH": str(BIN.parent / "python")})

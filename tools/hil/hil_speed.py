@@ -332,14 +332,14 @@ def main():
                    help="seconds per rate in the sweep")
     p.add_argument("--rates", type=output_file.arg_whole_list(1, 10**6), default="1000,2000,4000,5000,8000,10000",
                    help="control rates of the sweep [Hz]")
-    p.add_argument("--spin", type=output_file.arg_decimal(0, 1e6), default=0.0,
-                   help="also sweep with --spin-us = this fraction of the period (0: only the plain sweep)")
+    p.add_argument("--spin", type=output_file.arg_decimal(0, 1), default=0.0,  # at most the period, firmware's 0.1 s
+                   help="also sweep with --spin-us = this fraction of the period, in [0, 1] (0: only the plain sweep)")
     p.add_argument("--lockstep-seconds", type=output_file.arg_decimal(1e-3, 1e6), default=10.0)
     p.add_argument("--long", type=output_file.arg_decimal(1e-3, 1e6), default=60.0, help="seconds of the 1 kHz run")
     p.add_argument("--chrt", type=output_file.arg_whole(0, 99), default=60,
                    help="real-time runs: start both processes under SCHED_FIFO at this priority (chrt -f; the "
                         "firmware loop thread still raises itself to 80); 0 = SCHED_OTHER")
-    p.add_argument("--cpu", type=output_file.arg_whole(-1, 4095), default=1,
+    p.add_argument("--cpu", type=output_file.arg_cpu, default=1,
                    help="CPU of firmware_sim's loop thread and of cyclictest's thread (-1: no pinning)")
     output_file.add_build(p)
     p.add_argument("--skip-sweep", action="store_true")
@@ -347,6 +347,9 @@ def main():
     p.add_argument("--skip-long", action="store_true")
     p.add_argument("--results", action="store_true", help="also write docs/results/bench_timing.md")
     a = p.parse_args()
+    if a.spin * 1e6 / min(a.rates) > 1e5:  # firmware_sim --spin-us takes [0, 100000]: refused before any run
+        p.error(f"--spin {a.spin:g} of the {1 / min(a.rates):g} s period (--rates {min(a.rates)}) is "
+                f"{a.spin / min(a.rates):g} s, past firmware_sim's --spin-us bound of 0.1 s")
     import results_page  # (on the path set above)
     t0, load0 = results_page.measured_start(os.path.join(ROOT, "docs/results/bench_timing.md"), a.results)
     global BIN

@@ -272,11 +272,13 @@ def main():
                    help="seconds per real-time run (part B); 0 skips")
     p.add_argument("--realtime-scenes", default="paper_clearance,paper_both_spatial",
                    help="comma-separated scene names (tools/scenes/NAME.yaml) for part B")
-    p.add_argument("--cpu", type=output_file.arg_whole(-1, 4095), default=1,
+    p.add_argument("--cpu", type=output_file.arg_cpu, default=1,
                    help="part B: CPU of firmware_sim's loop thread (-1: no pinning)")
     output_file.add_build(p)
     p.add_argument("--results", action="store_true", help="also write " + PAGE)
     a = p.parse_args()
+    if 0 < a.realtime_seconds < 1e-3:  # (pass 88: 1e-300 passed) no firmware_sim --duration is shorter than a tick
+        p.error(f"--realtime-seconds: 0 (skip) or at least 0.001 (one 1 kHz tick), got {a.realtime_seconds:g}")
     import results_page  # (on the path hil_speed set)
     t0, load0 = results_page.measured_start(os.path.join(ROOT, PAGE), a.results)
     hil_speed.BIN = os.path.join(ROOT, a.build, "bin")

@@ -213,8 +213,23 @@ def arg_whole_list(lo, hi):
     def read(text):
         if "" in text.split(","):
             raise argparse.ArgumentTypeError(f"an empty item in {text!r} (two commas in a row, or one at an end?)")
-        return [one(item) for item in text.split(",")]
+        values = [one(item) for item in text.split(",")]
+        twice = next((v for i, v in enumerate(values) if v in values[:i]), None)
+        if twice is not None:  # (pass 88) --rates 1000,1000 ran the rate twice, as no program takes a list
+            raise argparse.ArgumentTypeError(f"{twice} given twice in {text!r}")
+        return values
     return read
+
+
+def arg_cpu(text):
+    """An argparse type: -1 (no pinning) or a CPU this process may run on, as firmware_sim --cpu reads it (pass 88:
+    --cpu 99 on a 2-core machine ran until a program refused it, exit 1 or 0)."""
+    n = _number.plain_whole(text)
+    allowed = sorted(os.sched_getaffinity(0))
+    if n is None or (n != -1 and n not in allowed):
+        raise argparse.ArgumentTypeError(f"must be -1 (no pinning) or a CPU this process may run on "
+                                         f"({', '.join(map(str, allowed))}), got {text!r}")
+    return n
 
 
 def arg_decimal(lo, hi):
