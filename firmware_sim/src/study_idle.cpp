@@ -59,6 +59,15 @@ std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, double
     return "sensors." + std::string(name) + "_outage [" + formatNumber(outage(0)) + ", " + formatNumber(outage(1)) +
            "] s covers the whole run (" + formatNumber(duration_s) + " s): no sample of it is taken";
   };
+  // (pass 88) an outage from the run's end on holds no sample: it was recorded as the runs' sensors
+  const auto after_end = [&](const char* name, const Vec2& outage) {
+    return "sensors." + std::string(name) + "_outage [" + formatNumber(outage(0)) + ", " + formatNumber(outage(1)) +
+           "] s starts at or after the run's end (" + formatNumber(duration_s) + " s): no sample falls in it";
+  };
+  if (key == "sensors.star_tracker_outage" && sp.star_tracker_outage(0) >= duration_s) {
+    return after_end("star_tracker", sp.star_tracker_outage);
+  }
+  if (key == "sensors.tracker_outage" && sp.tracker_outage(0) >= duration_s) return after_end("tracker", sp.tracker_outage);
   if (one_of({"star_tracker_noise", "star_tracker_rate", "star_tracker_latency"}) &&
       whole_run(sp.star_tracker_outage)) {
     return covered("star_tracker", sp.star_tracker_outage);
