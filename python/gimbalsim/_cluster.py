@@ -315,7 +315,7 @@ def program_parser(module, doc, spec_help, out_help):
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     _flags.one_value_each(ap)
     ap.add_argument("--version", action="version", version=f"gimbalsim.{module} {__version__}")
-    ap.add_argument("spec", help=spec_help)
+    ap.add_argument("spec", type=path_text, help=spec_help)  # '' read the folder one stands in (pass 87)
     ap.add_argument("--out", type=path_text, required=True, help=out_help)
     add_cluster_arguments(ap)
     return ap

@@ -148,6 +148,8 @@ class Spec:
         current directory."""
         if not isinstance(node.value, str):
             self.refuse(name, "expected a file path", node)
+        if not node.value.strip():  # '' named the spec's own folder: "is a folder" (pass 87)
+            self.refuse(name, f"an empty path {node.value!r}: name a file", node)
         p = pathlib.Path(node.value)
         workdir = [self.workdir / p] if self.workdir is not None else []
         for candidate in ([p] if p.is_absolute() else [self.folder / p, *workdir, pathlib.Path.cwd() / p]):

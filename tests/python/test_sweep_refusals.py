@@ -338,3 +338,17 @@ def test_the_damping_floor_is_accepted_where_a_restitution_below_one_reads_it(ta
     from gimbalsim.sweep import SweepSpec
     (tmp_path / "s.yaml").write_text(HEAD + "parameters:\n  contact.v0_min: {loguniform: [1.0e-6, 1.0e-3]}\n" + tail)
     assert "contact.v0_min" in [p.key for p in SweepSpec(tmp_path / "s.yaml").parameters]
+
+
+@pytest.mark.parametrize("module", ["sweep", "tune", "allocate"])
+def test_an_empty_spec_or_path_is_refused_not_read_as_the_folder_one_stands_in(module, tmp_path):
+    # (pass 87) "" read the current folder: a replay of the sweep one stood in, "a folder" for a spec or a scene
+    p = subprocess.run([sys.executable, "-m", f"gimbalsim.{module}", "", "--out", "x"], capture_output=True,
+                       text=True, timeout=60, cwd=tmp_path)
+    assert p.returncode == 2 and "argument spec: an empty path" in p.stderr, p.stderr
+    spec = tmp_path / "s.yaml"
+    spec.write_text('scene: ""\nsamples: 2\nseed: 1\nparameters:\n  contact.clearance: {uniform: [1.0e-4, 2.0e-4]}\n')
+    p = subprocess.run([sys.executable, "-m", "gimbalsim.sweep", str(spec), "--out", "o", "--check"],
+                       capture_output=True, text=True, timeout=60, cwd=tmp_path)
+    assert p.returncode == 2 and "key 'scene': an empty path '': name a file" in p.stderr, p.stderr
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["s.yaml"]
