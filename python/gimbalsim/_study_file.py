@@ -36,6 +36,21 @@ def hold(out):
     _remove_dead_temporaries(out)
 
 
+def refuse_if_held(out):
+    """--check: the refusal hold() would make, the lock taken and let go at once (pass 87: --check --resume said
+    nothing while another run held the folder, which the run itself refused)."""
+    if not os.path.isdir(out):
+        return
+    fd = os.open(out, os.O_RDONLY | os.O_DIRECTORY | getattr(os, "O_CLOEXEC", 0))
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        raise SpecError(f"{out}: another sweep, tuner or allocation is running in this folder; wait for it to end "
+                        f"(then --resume), or use another --out") from None
+    finally:
+        os.close(fd)  # closing lets the lock go
+
+
 def _alive(pid):
     if pid <= 0:  # no process's (kill(0) would ask about our own group)
         return False

@@ -424,3 +424,18 @@ def test_a_sample_journaled_twice_differently_keeps_neither_row(spec, tmp_path):
     assert "dropped 2 journal rows (sample journaled twice, differently)" in p.stderr and "lines 6, 8" in p.stderr, \
         p.stderr
     assert "23 already done, 1 to run" in p.stderr and marked_samples(out) == set(range(N)) - {4}
+
+
+def test_check_makes_the_refusal_of_a_folder_another_run_holds(spec, tmp_path):
+    # (pass 87) --check --resume said nothing (exit 0) while the run itself refused the held folder
+    import fcntl
+    out = tmp_path / "o"
+    out.mkdir()
+    fd = os.open(out, os.O_RDONLY | os.O_DIRECTORY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)  # another run's hold on the folder
+        p = subprocess.run(sweep_cmd(spec, out, "--check", "--resume"), capture_output=True, text=True, timeout=120)
+    finally:
+        os.close(fd)
+    assert p.returncode == 2 and "another sweep, tuner or allocation is running in this folder" in p.stderr, p.stderr
+    assert list(out.iterdir()) == []
