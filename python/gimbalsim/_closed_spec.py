@@ -240,12 +240,15 @@ class ClosedLoopSpec:
                                      f"every {seconds(period_s)} s): its indices would be NaN for every sample")
             # the last tick's sample holds for its period, as gimbalsim.indices reads it (a phase ending 1e-7 s
             # past the run was refused here while the indices gave it a value, pass 55)
-            if self.duration_s <= t0 + tol or (not ends_with_run and self.duration_s + period_s < t1 - tol):
+            # A run whose last tick is the phase's first has not passed its start either (pass 87: a track from
+            # 0.2999 s of a 0.3 s run gave every sample NaN)
+            if self.duration_s <= first_tick + tol or (not ends_with_run and self.duration_s + period_s < t1 - tol):
                 # the track as the profile has it, [t0, inf): its end here is only the run's own (pass 61)
                 shown = "inf" if ends_with_run else seconds(t1)
-                yield "run", name, (f"the run ends at sim.duration {seconds(self.duration_s)} s, "
-                                    f"{'before' if self.duration_s <= t0 + tol else 'inside'} phase '{name}' "
-                                    f"[{seconds(t0)}, {shown}) s: its indices would be NaN for every sample")
+                where = "before" if self.duration_s <= t0 + tol else \
+                    "at the first control tick of" if self.duration_s <= first_tick + tol else "inside"
+                yield "run", name, (f"the run ends at sim.duration {seconds(self.duration_s)} s, {where} phase "
+                                    f"'{name}' [{seconds(t0)}, {shown}) s: its indices would be NaN for every sample")
             end = self.duration_s if ends_with_run else t1
             for ix in self.indices if end > t0 + tol else ():  # a phase the run misses is said above
                 need = (ix.window or 0.0) + (ix.separation or 0.0)

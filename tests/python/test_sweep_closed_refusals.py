@@ -289,6 +289,14 @@ def test_a_run_ending_before_the_profiles_track_is_refused_at_its_duration(tmp_p
     assert e.value.line == text.split("\n").index("set: {sim.duration: 0.3}") + 1
     (tmp_path / "ok.yaml").write_text(text.replace("sim.duration: 0.3", "sim.duration: 0.32"))
     assert [p for p, _ in SweepSpec(tmp_path / "ok.yaml").closed.phases] == ["slew", "hold", "track"]
+    # (pass 87) a track starting inside the last period: its first tick is the run's last, no figure either
+    late = text.replace("profile.slew_start: 0.0,", "profile.slew_start: 0.0005,")  # the track from 0.3005 s
+    (tmp_path / "last.yaml").write_text(late.replace("sim.duration: 0.3", "sim.duration: 0.301"))
+    with pytest.raises(SpecError) as e:
+        SweepSpec(tmp_path / "last.yaml")
+    assert "at the first control tick of phase 'track'" in str(e.value), str(e.value)
+    (tmp_path / "ok.yaml").write_text(late.replace("sim.duration: 0.3", "sim.duration: 0.302"))
+    assert [p for p, _ in SweepSpec(tmp_path / "ok.yaml").closed.phases] == ["slew", "hold", "track"]
 
 
 def test_an_empty_profile_phase_is_refused_when_named_and_left_out_otherwise(tmp_path):
