@@ -172,8 +172,12 @@ int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
       return refuse("--faults " + o.faults + " refused for scene " + o.scene);
     }
     // a run without --duration has no end: only its ticks can leave a fault idle
-    const auto late = checkFaultsAgainstDuration(in.faults, o.duration > 0.0 ? o.duration : kForever,
-                                                 1.0 / o.rate_hz, o.faults);
+    auto late = checkFaultsAgainstDuration(in.faults, o.duration > 0.0 ? o.duration : kForever, 1.0 / o.rate_hz,
+                                           o.faults);
+    if (late.empty()) {
+      late = checkFaultsAgainstSamples(in.faults, in.plant.sensors, o.duration > 0.0 ? o.duration : kForever,
+                                       1.0 / o.rate_hz, o.faults);
+    }
     if (!late.empty()) {
       for (const std::string& p : late) std::fprintf(stderr, "error: %s\n", p.c_str());
       return refuse("--faults " + o.faults + " refused for --rate " + formatNumber(o.rate_hz) +

@@ -331,6 +331,9 @@ void bindController(pyb::module_& m) {
             for (std::string& late : firmware::checkFaultsAgainstDuration(schedule, duration, period, faults)) {
               bad.push_back(std::move(late));
             }
+            if (bad.empty()) {
+              bad = firmware::checkFaultsAgainstSamples(schedule, s.plant.sensors, duration, period, faults);
+            }
             if (!bad.empty()) {
               std::vector<Problem> problems;
               for (const std::string& b : bad) problems.push_back(Problem{b, "", faults, 0, 0, 0});

@@ -118,6 +118,13 @@ def test_closed_loop_takes_a_fault_schedule(tmp):
                                                    r"\(one every 0.001 s\), which ends the run and takes no step"):
         gimbalsim.closed_loop(scene, ctrl, 1.5, faults=tmp / "last.yaml")
     assert gimbalsim.closed_loop(scene, ctrl, 1.501, faults=tmp / "last.yaml").columns["injected_faults"].any()
+    # (pass 87) a star tracker outage between two of its 10 Hz samples dropped none, flagged as injected
+    (tmp / "gap.yaml").write_text("faults:\n  - {type: star_tracker_outage, start: 0.11, end: 0.19}\n")
+    with pytest.raises(gimbalsim.SceneError, match=r"\[0.11, 0.19\) s takes and delivers no star tracker sample "
+                                                   r"\(one every 0.1 s"):
+        gimbalsim.closed_loop(scene, ctrl, 0.3, faults=tmp / "gap.yaml")
+    (tmp / "gap.yaml").write_text("faults:\n  - {type: star_tracker_outage, start: 0.09, end: 0.11}\n")
+    assert gimbalsim.closed_loop(scene, ctrl, 0.3, faults=tmp / "gap.yaml").columns["injected_faults"].any()
 
 
 def test_closed_loop_run_to_csv_follows_the_convention_and_the_output_rules(tmp):

@@ -13,6 +13,7 @@
 #include "gimbalsim/input/input_error.hpp"
 #include "gimbalsim/scene/scene.hpp"
 #include "gimbalsim/firmware_sim/fault_schedule.hpp"
+#include "gimbalsim/firmware_sim/sensor_params.hpp"
 #include "gimbalsim/firmware_sim/plant_scene.hpp"
 
 namespace gimbalsim::firmware {
@@ -40,5 +41,10 @@ std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const P
 /// some of its faults is a run of the others. Problems as above, empty when fine.
 std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, double duration, double tick_period,
                                                     const std::string& origin);
+
+/// Each star tracker outage that takes and delivers no sample of the scene's tracker in its ticks (up to the run's
+/// end): it would change nothing but its flag (fault_samples.cpp).
+std::vector<std::string> checkFaultsAgainstSamples(const FaultSchedule& s, const SensorParams& p, double duration,
+                                                   double tick_period, const std::string& origin);
 
 }  // namespace gimbalsim::firmware
