@@ -67,7 +67,9 @@ std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, double
   if (key == "sensors.star_tracker_outage" && sp.star_tracker_outage(0) >= duration_s) {
     return after_end("star_tracker", sp.star_tracker_outage);
   }
-  if (key == "sensors.tracker_outage" && sp.tracker_outage(0) >= duration_s) return after_end("tracker", sp.tracker_outage);
+  if (key == "sensors.tracker_outage" && sp.tracker_outage(0) >= duration_s) {
+    return after_end("tracker", sp.tracker_outage);
+  }
   if (one_of({"star_tracker_noise", "star_tracker_rate", "star_tracker_latency"}) &&
       whole_run(sp.star_tracker_outage)) {
     return covered("star_tracker", sp.star_tracker_outage);

@@ -267,7 +267,8 @@ TEST(Log2Csv, AChannelWithNoDecodableMessageGivesNoEmptyCsv) {
   const std::string out = dir / "as_truth.csv";
   std::ofstream(out) << "old\n";
   int st = 0;
-  std::string msg = runCapture(kTool + " '" + path + "' --channel GIMBAL_COMMAND --type truth --out '" + out + "'", &st);
+  std::string msg =
+      runCapture(kTool + " '" + path + "' --channel GIMBAL_COMMAND --type truth --out '" + out + "'", &st);
   EXPECT_EQ(WEXITSTATUS(st), 2) << msg;
   EXPECT_NE(msg.find("--channel 'GIMBAL_COMMAND': none of its 1 message(s) is a whole, finite truth"),
             std::string::npos) << msg;

@@ -110,7 +110,8 @@ int mainImpl(int argc, char** argv) {
     for (std::size_t k = 0; k < sets.size(); ++k) {
       std::string key = sets[k].substr(0, sets[k].find('='));
       key.erase(key.find_last_not_of(" \t") + 1);
-      for (const char* gain : {"azimuth.kp", "azimuth.ki", "azimuth.kd", "elevation.kp", "elevation.ki", "elevation.kd"}) {
+      for (const char* gain :
+           {"azimuth.kp", "azimuth.ki", "azimuth.kd", "elevation.kp", "elevation.ki", "elevation.kd"}) {
         if (key != gain) continue;
         return program::refuse("controller_sweep", "--set #" + std::to_string(k + 1) + " '" + sets[k] + "': the sweep "
                                "sets " + key + " from each --omega (triple-pole gains): the value would act on no run");

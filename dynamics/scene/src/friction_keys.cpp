@@ -33,7 +33,9 @@ void idleFrictionKeys(const Scene& s, Given& g) {
       const std::string own = "joint" + std::to_string(j + 1) + ".friction." + suffix;
       const std::string why = notRead(m.bearing[j], suffix);
       if (g.has(own)) {
-        if (!why.empty()) g.idleIfSet(own, joint + "'s bearing does not read it (" + why + "): this value does not act");
+        if (!why.empty()) {
+          g.idleIfSet(own, joint + "'s bearing does not read it (" + why + "): this value does not act");
+        }
         continue;
       }
       shared_taken = true;
