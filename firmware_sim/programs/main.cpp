@@ -99,15 +99,17 @@ struct Inputs {
 
 /// The first --set the bench never reads, or "": it would be recorded with the run and act on nothing (pass 86:
 /// torque.tau1, sim.duration and a tracker's noise without a tracker ran silently). The name is printed: read.
-std::string idleBenchOverride(const Options& o, const SensorParams& sensors) {
+std::string idleBenchOverride(const Options& o, const Inputs& in) {
   const double duration_s = o.duration > 0.0 ? o.duration : std::numeric_limits<double>::infinity();
+  const SensorParams& sensors = in.plant.sensors;
   for (std::size_t k = 0; k < o.sets.size(); ++k) {
     const std::string key = o.sets[k].substr(0, o.sets[k].find('='));
-    std::string why = key == "sim.duration" ? "firmware_sim runs --duration (or until stopped)" : "";
-    for (const auto& [idle, reason] : closedLoopIdleSceneKeys()) {
-      if (key == idle && key != "name") why = reason;
-    }
-    if (why.empty()) why = sensorKeyIdle(key, sensors, duration_s, true);
+    // the name is printed in the summary: read
+    std::string why = key == "sim.duration" ? "firmware_sim runs --duration (or until stopped)"
+                      : key == "name"       ? ""
+                                            : closedLoopIdleSceneKey(key);
+    if (why.empty()) why = sensorKeyIdle(key, sensors, duration_s, true, in.plant.scene.model.floating_base,
+                                         in.faults.has(FaultKind::GyroBiasJump));
     if (why.empty() && key == "sensors.seed" && !sensors.anyNoise()) why = "the scene's sensors draw no noise";
     if (!why.empty()) {
       return "--set #" + std::to_string(k + 1) + " '" + o.sets[k] + "': not read by the bench (" + why +
@@ -127,7 +129,6 @@ int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
   }
   const Scene& scene = in.plant.scene;
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  if (const std::string why = idleBenchOverride(o, in.plant.sensors); !why.empty()) return refuse(why);
 
   Config& c = in.c;
   c.control_period = 1.0 / o.rate_hz;
@@ -184,6 +185,8 @@ int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
                     (o.duration > 0.0 ? " and --duration " + formatNumber(o.duration) : std::string()));
     }
   }
+  // after the schedule: its gyro_bias_jump makes the star tracker's keys act on a fixed base
+  if (const std::string why = idleBenchOverride(o, in); !why.empty()) return refuse(why);
   const std::vector<std::string> inputs{o.scene, o.profile, o.faults};
   // A path no output may take (a link, a folder, an input, both outputs one file) or a tick log
   // the run cannot hold is refused (exit 2); a folder that takes no file could not be written (4).

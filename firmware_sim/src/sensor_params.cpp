@@ -75,6 +75,16 @@ std::vector<Key<SensorParams>> sensorKeys() {
   };
 }
 
+std::string starTrackerRedundant(const SensorParams& sp, bool floating_base, bool gyro_fault) {
+  if (floating_base || gyro_fault || sp.star_tracker_noise > 0.0 || sp.gyro_noise > 0.0 || sp.gyro_bias_walk > 0.0 ||
+      sp.gyro_bias.any()) {
+    return "";
+  }
+  return "on a fixed base (scene key structure.base fixed) the star tracker reads the identity and the gyro, "
+         "perfect (sensors.gyro_noise, gyro_bias, gyro_bias_walk 0), zero: with sensors.star_tracker_noise 0 an "
+         "estimator propagates the attitude exactly without a star tracker sample";
+}
+
 void validateSensors(const SensorParams& sp, Given& g, const std::string& prefix) {
   if (!(sp.star_tracker_latency * sp.star_tracker_rate < SensorParams::kStarTrackerMaxLatencyPeriods)) {
     g.refuse(prefix + "star_tracker_latency",

@@ -30,23 +30,32 @@ const std::vector<std::pair<std::string, std::string>>& closedLoopIdleController
   return kIdle;
 }
 
+std::string closedLoopIdleSceneKey(const std::string& key) {
+  for (const auto& [idle, why] : closedLoopIdleSceneKeys()) {
+    if (key == idle) return why;
+  }
+  return "";
+}
+
 std::string idleSceneOverride(const char* flag, const std::vector<std::string>& overrides) {
   for (std::size_t k = 0; k < overrides.size(); ++k) {
-    const std::string key = overrides[k].substr(0, overrides[k].find('='));
-    for (const auto& [idle, why] : closedLoopIdleSceneKeys()) {
-      if (key == idle) {
-        return std::string(flag) + " #" + std::to_string(k + 1) + " '" + overrides[k] + "': not read by the closed " +
-               "loop (" + why + "): the value would be recorded but never act";
-      }
+    if (const std::string why = closedLoopIdleSceneKey(overrides[k].substr(0, overrides[k].find('=')));
+        !why.empty()) {
+      return std::string(flag) + " #" + std::to_string(k + 1) + " '" + overrides[k] + "': not read by the closed " +
+             "loop (" + why + "): the value would be recorded but never act";
     }
   }
   return "";
 }
 
-std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, double duration_s, bool antenna_loop) {
+std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, double duration_s, bool antenna_loop,
+                          bool floating_base, bool gyro_fault) {
   const auto one_of = [&](std::initializer_list<const char*> keys) {
     return std::any_of(keys.begin(), keys.end(), [&](const char* k) { return key == std::string("sensors.") + k; });
   };
+  if (one_of({"star_tracker_outage", "star_tracker_rate", "star_tracker_latency"})) {
+    if (std::string why = starTrackerRedundant(sp, floating_base, gyro_fault); !why.empty()) return why;
+  }
   if (key.rfind("sensors.tracker_", 0) == 0 || key.rfind("sensors.antenna_gyro_", 0) == 0) {
     if (!sp.antenna_sensors) return "the run has no antenna sensor (sensors.antenna none): nothing reads it";
     if (!antenna_loop) return "the controller does not close its loop at the antenna (antenna.tracker ignore)";
@@ -91,7 +100,8 @@ std::string idleInEveryRun(const char* flag, const std::vector<std::string>& ove
       const auto it = std::find_if(idle.begin(), idle.end(),
                                    [&](const auto& s) { return s.first == r.first_set + static_cast<int>(k); });
       const std::string sensor_why =
-          it != idle.end() || !r.sensors ? "" : sensorKeyIdle(key, *r.sensors, r.duration_s, r.antenna_loop);
+          it != idle.end() || !r.sensors ? "" : sensorKeyIdle(key, *r.sensors, r.duration_s, r.antenna_loop,
+                                                                     r.scene->model.floating_base, false);
       if (it == idle.end() && sensor_why.empty()) continue;
       ++idle_runs;
       const std::string reason = it != idle.end() ? it->second : "key '" + key + "': " + sensor_why;

@@ -14,7 +14,8 @@ import yaml
 from . import _gimbalsim
 from ._closed_spec import CONTROLLER_PREFIX
 from ._idle_sensors import (ANTENNA_NOISE_KEYS, ANTENNA_TRACKER, NOISE_KEYS, TRUTH_ONLY, Span,
-                            _Given, idle_at_antenna, idle_in_sensors, open_at_antenna)
+                            _Given, idle_at_antenna, idle_in_sensors, idle_on_fixed_base,
+                            open_at_antenna)
 from .indices import seconds
 
 # What a closed loop never reads, and what an open-loop run never reads.
@@ -170,7 +171,8 @@ def idle_reason(key, values, dispersed, takes, closed, unread_ticks=TRUTH_ONLY):
         why = _for_every_value(_idle_in_controller_keys, key, values, dispersed, takes) or \
             _for_every_value(functools.partial(idle_in_sensors, takes=takes, unread_ticks=unread_ticks), key, values,
                              dispersed, takes,
-                             NOISE_KEYS + ANTENNA_NOISE_KEYS if key == "sensors.seed" else ())
+                             NOISE_KEYS + ANTENNA_NOISE_KEYS if key == "sensors.seed" else ()) or \
+            _for_every_value(idle_on_fixed_base, key, values, dispersed, takes)
     if why is None and closed:
         why = _idle_after_the_run(key, values, dispersed, takes) or _idle_motor_limit(key, values, dispersed, takes)
     if why is None and closed:

@@ -44,6 +44,26 @@ NOISE_KEYS = ("sensors.encoder_noise", "sensors.rate_noise", "sensors.gyro_noise
 ANTENNA_NOISE_KEYS = ("sensors.tracker_noise", "sensors.antenna_gyro_noise")
 
 
+# On a fixed base the star tracker reads the identity and a perfect gyro zero: without star tracker noise the
+# estimator propagates the attitude exactly without a star tracker sample (firmware_sim: starTrackerRedundant).
+_PERFECT_ATTITUDE = ("sensors.star_tracker_noise", "sensors.gyro_noise", "sensors.gyro_bias_walk",
+                     "sensors.gyro_bias")
+
+
+def idle_on_fixed_base(key, values, dispersed):
+    """Why a key acting only through the star tracker's samples acts on
+    nothing: a fixed base with a perfect gyro and star tracker (their keys
+    given, all 0); else None."""
+    if key not in _STAR_SAMPLE_KEYS + ("sensors.star_tracker_outage", "sensors.star_tracker_latency") or \
+            str(values.get("structure.base", "floating")) != "fixed" or set(_PERFECT_ATTITUDE) & dispersed:
+        return None
+    if any(float(x) != 0.0 for k in _PERFECT_ATTITUDE for x in str(values.get(k, "0")).strip("[]").split(",")):
+        return None
+    return ("on a fixed base (structure.base fixed) the star tracker reads the identity and the gyro, perfect "
+            "(sensors.gyro_noise, gyro_bias, gyro_bias_walk 0), zero: with sensors.star_tracker_noise 0 the "
+            "estimator propagates the attitude exactly without a star tracker sample")
+
+
 def idle_in_sensors(key, values, dispersed, takes=None, unread_ticks=TRUTH_ONLY):
     """Why a key that acts through the star tracker's or the boresight
     tracker's samples cannot act: an outage over the whole run [0,

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "controllers/closed_loop_util.hpp"
 #include "gimbalsim/controllers/config.hpp"
@@ -252,6 +253,28 @@ TEST(FaultResponse, StarTrackerOutageIsFlaggedByTheControllerOnEveryTickOfIt) {
   EXPECT_EQ(w.outage_out, 0);
   EXPECT_EQ(w.r.star_outage_ticks, 1000);
   EXPECT_LT(w.err_during, 1e-4);  // the estimate coasts on the gyro: measured 5.0e-6 rad
+}
+
+// Why the fault check refuses a star tracker outage on a fixed base with perfect attitude sensors (pass 89): the
+// estimate stays exact without a sample, so the truth does not move by a bit; with gyro noise it does.
+TEST(FaultResponse, StarTrackerOutageOnAFixedBaseActsOnlyThroughAnImperfectGyro) {
+  const std::string outage = one("{type: star_tracker_outage, start: 0.5, end: 1.5}");
+  const firmware::FaultSchedule f = firmware::loadFaultScheduleText(outage, "test");
+  auto trace = [&](const std::vector<std::string>& sets, bool with_outage) {
+    ClosedLoopOptions opt;
+    opt.duration = 2.0;
+    opt.faults = with_outage ? &f : nullptr;
+    std::vector<double> error;  // [rad] truth pointing error, then attitude knowledge error, per tick
+    runClosedLoop(test::plant("paper_ideal", sets), defaults(), opt, [&](const TickRecord& k) {
+      error.push_back(k.truth_error);
+      error.push_back(k.attitude_error);
+    });
+    return error;
+  };
+  const std::vector<std::string> perfect{"structure.base=fixed"};
+  const std::vector<std::string> noisy{"structure.base=fixed", "sensors.gyro_noise=1e-4"};
+  EXPECT_EQ(trace(perfect, true), trace(perfect, false));
+  EXPECT_NE(trace(noisy, true), trace(noisy, false));
 }
 
 TEST(FaultResponse, GyroBiasJumpIsLearntByTheEstimator) {

@@ -154,6 +154,32 @@ TEST(FaultScheduleFile, SceneChecksNameTheLineAndTheSceneKey) {
   EXPECT_TRUE(checkFaultsAgainstScene(rise, test::plant("paper_clearance"), "r.yaml").empty());
 }
 
+// (pass 89) On a fixed base the star tracker reads the identity and a perfect gyro zero: an outage changed no
+// estimate while it was flagged as injected. Noise or a bias on either sensor, or a gyro_bias_jump in the same
+// schedule, and it can act (fault_response_test.cpp shows both).
+TEST(FaultScheduleFile, AStarTrackerOutageOnAFixedBaseWithPerfectSensorsIsRefused) {
+  const FaultSchedule outage = schedule("faults:\n  - {type: star_tracker_outage, start: 1, end: 2}\n");
+  const auto fixed = checkFaultsAgainstScene(outage, test::plant("paper_ideal", {"structure.base=fixed"}), "o.yaml");
+  ASSERT_EQ(fixed.size(), 1u);
+  EXPECT_NE(fixed[0].find("o.yaml:2:5: fault #1 (star_tracker_outage): on a fixed base (scene key structure.base "
+                          "fixed)"),
+            std::string::npos)
+      << fixed[0];
+  EXPECT_NE(fixed[0].find("change no estimate"), std::string::npos) << fixed[0];
+  EXPECT_TRUE(checkFaultsAgainstScene(outage, test::plant("paper_ideal"), "o.yaml").empty());
+  for (const char* imperfect : {"sensors.gyro_noise=1e-6", "sensors.gyro_bias=[0, 1e-6, 0]",
+                                "sensors.gyro_bias_walk=1e-7", "sensors.star_tracker_noise=1e-5"}) {
+    EXPECT_TRUE(
+        checkFaultsAgainstScene(outage, test::plant("paper_ideal", {"structure.base=fixed", imperfect}), "o.yaml")
+            .empty())
+        << imperfect;
+  }
+  const FaultSchedule with_jump = schedule("faults:\n  - {type: star_tracker_outage, start: 1, end: 2}\n"
+                                           "  - {type: gyro_bias_jump, start: 0.5, bias: [0, 0, 1e-5]}\n");
+  EXPECT_TRUE(
+      checkFaultsAgainstScene(with_jump, test::plant("paper_ideal", {"structure.base=fixed"}), "o.yaml").empty());
+}
+
 // (pass 79) A fault whose parameter changes nothing ran and was flagged as injected in every tick of its window:
 // a bias of 0, a torque limit at or above the motor's, a friction rise to the scene's own mu.
 TEST(FaultScheduleFile, AFaultThatWouldChangeNothingIsRefused) {

@@ -100,3 +100,35 @@ def test_the_last_ticks_sample_moves_the_estimate_there_and_nothing_the_truth_re
     assert np.array_equal(quiet[:, :3], noisy[:, :3])  # the truth, every tick
     assert np.array_equal(quiet[:-1, 3:], noisy[:-1, 3:])  # the estimate before the last tick
     assert not np.array_equal(quiet[-1, 3:], noisy[-1, 3:])
+
+
+# (pass 89) On a fixed base the star tracker reads the identity and a perfect gyro zero: its outage, rate and
+# latency and the estimator's gains change no estimate (the C++ fault check refuses such an outage too).
+FIXED = {"scene": scene_path("paper_ideal"), "outage": "structure.base: fixed"}
+ON_A_FIXED_BASE = [("parameters:\n  sensors.star_tracker_rate: {choice: [5, 10]}", "", True),
+                   ("parameters:\n  sensors.star_tracker_outage: {choice: [[0.1, 0.2], [0.2, 0.3]]}", "", True),
+                   ("parameters:\n  controller.estimator.k_p: {uniform: [0.2, 0.6]}", "", True),
+                   ("parameters:\n  sensors.star_tracker_rate: {choice: [5, 10]}", ", sensors.gyro_noise: 1.0e-4",
+                    False)]
+
+
+@pytest.mark.parametrize("dispersion,gyro,refused", ON_A_FIXED_BASE, ids=[str(i) for i in range(len(ON_A_FIXED_BASE))])
+def test_a_star_tracker_key_on_a_fixed_base_with_perfect_sensors_is_refused(tmp_path, dispersion, gyro, refused):
+    base = {**FIXED, "outage": FIXED["outage"] + gyro}
+    spec = write_spec(tmp_path, SPEC.format(**base, dispersion=dispersion, indices="ape: {}, knowledge: {}"))
+    p = check(spec, tmp_path / "out")
+    assert p.returncode == (2 if refused else 0), p.stderr
+    if refused:
+        assert "on a fixed base (structure.base fixed) the star tracker reads the identity" in p.stderr, p.stderr
+
+
+def test_a_star_tracker_outage_fault_on_a_fixed_base_is_refused_unless_the_gyro_can_drift(tmp_path):
+    faults = tmp_path / "outage.yaml"
+    faults.write_text("faults:\n  - {type: star_tracker_outage, start: 0.1, end: 0.3}\n")
+    ctrl = gimbalsim.Controller(None, {})
+    fixed = {"sim.duration": 0.5, "structure.base": "fixed"}
+    with pytest.raises(gimbalsim.SceneError, match=r"outage.yaml:2:5: fault #1 \(star_tracker_outage\): on a fixed "
+                                                   r"base .* the outage would be flagged and change no estimate"):
+        gimbalsim.closed_loop(gimbalsim.load_scene(scene_path("paper_ideal"), fixed), ctrl, 0.5, faults=faults)
+    noisy = gimbalsim.load_scene(scene_path("paper_ideal"), {**fixed, "sensors.gyro_noise": 1.0e-4})
+    assert gimbalsim.closed_loop(noisy, ctrl, 0.5, faults=faults).columns["injected_faults"].any()

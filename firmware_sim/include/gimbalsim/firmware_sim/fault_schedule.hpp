@@ -93,6 +93,9 @@ struct FaultSchedule {
   std::uint64_t seed = 1;        ///< seeds every probabilistic fault and every noise burst
   std::vector<FaultSpec> faults;
   bool empty() const noexcept { return faults.empty(); }
+  bool has(FaultKind k) const noexcept {
+    return std::any_of(faults.begin(), faults.end(), [k](const FaultSpec& f) { return f.kind == k; });
+  }
 };
 
 /// What the faults active at one tick do (the sum of the active entries:

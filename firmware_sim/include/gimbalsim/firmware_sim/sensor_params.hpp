@@ -3,6 +3,7 @@
 // the scene file's sensors.* keys, read by loadPlantScene (plant_scene.hpp).
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "gimbalsim/dynamics/spatial.hpp"
@@ -49,6 +50,11 @@ struct SensorParams {
 
 /// The sensors.* keys (without the prefix), bound to SensorParams.
 std::vector<Key<SensorParams>> sensorKeys();
+
+/// Why the star tracker tells an estimator nothing, or "" when it can: on a fixed base (floating_base false) it
+/// reads the identity and a perfect gyro (no noise, bias or bias walk; gyro_fault false: no fault schedule's
+/// gyro_bias_jump) reads zero, so without star tracker noise the attitude propagates exactly without it (pass 89).
+std::string starTrackerRedundant(const SensorParams& sp, bool floating_base, bool gyro_fault);
 
 /// Checks across the sensor keys (each key has passed its own check); names keys with `prefix`.
 void validateSensors(const SensorParams& sp, Given& g, const std::string& prefix);

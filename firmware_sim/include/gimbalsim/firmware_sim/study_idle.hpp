@@ -23,6 +23,9 @@ const std::vector<std::pair<std::string, std::string>>& closedLoopIdleSceneKeys(
 /// study programs and the Python sweeps and tuner refuse these.
 const std::vector<std::pair<std::string, std::string>>& closedLoopIdleControllerKeys();
 
+/// Why runClosedLoop never reads the scene key `key` (closedLoopIdleSceneKeys), or "" when it reads it.
+std::string closedLoopIdleSceneKey(const std::string& key);
+
 /// The first of `overrides` (key=value) that runClosedLoop never reads
 /// (closedLoopIdleSceneKeys), as a refusal naming `flag` #k and why ("" when
 /// none). A study's override of one would be recorded with its runs and never act.
@@ -42,8 +45,11 @@ struct StudyScene {
 /// Why the sensor key `key` acts on nothing in a closed-loop run of duration_s [s] on sensors sp ("" when it
 /// can act): an antenna key (sensors.tracker_*, antenna_gyro_*) where the run has no antenna sensor or its
 /// controller does not close at the antenna (antenna_loop false), or a key acting only through the star
-/// tracker's or boresight tracker's samples under an outage over the whole run (none is taken).
-std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, double duration_s, bool antenna_loop);
+/// tracker's or boresight tracker's samples under an outage over the whole run (none is taken), or where the
+/// star tracker tells nothing (starTrackerRedundant: a fixed base, a perfect gyro; gyro_fault: a fault schedule's
+/// gyro_bias_jump).
+std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, double duration_s, bool antenna_loop,
+                          bool floating_base, bool gyro_fault);
 
 /// The study's `flag` values (key=value) that the scene loader found acting on nothing (Scene::idle_sets), or
 /// sensorKeyIdle for a run whose sensors are given:
