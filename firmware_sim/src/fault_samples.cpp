@@ -15,7 +15,6 @@ std::vector<std::string> checkFaultsAgainstSamples(const FaultSchedule& s, const
   std::vector<std::string> out;
   const double T = tick_period, tol = 1e-9 * tick_period, P = 1.0 / p.star_tracker_rate;
   if (!(T > 0.0) || !(P > 0.0)) return out;
-  const auto tickAtOrAfter = [&](double t) { return std::ceil((t - tol) / T) * T; };
   for (std::size_t i = 0; i < s.faults.size(); ++i) {
     const FaultSpec& f = s.faults[i];
     const double end = std::min(f.end, duration);  // the run's last tick takes no step
@@ -24,7 +23,9 @@ std::vector<std::string> checkFaultsAgainstSamples(const FaultSchedule& s, const
     bool acts = false;
     const double j0 = std::max(0.0, std::floor((f.start - p.star_tracker_latency) / P) - 1.0);
     for (double j = j0; !acts && j * P <= end + P; ++j) {  // a few samples: the window is at most P + T long
-      for (const double t : {tickAtOrAfter(j * P), tickAtOrAfter(j * P + p.star_tracker_latency)}) {
+      const double taken = firstTickAtOrAfter(j * P, T) * T;
+      const double delivered = firstTickAtOrAfter(j * P + p.star_tracker_latency, T) * T;
+      for (const double t : {taken, delivered}) {
         acts = acts || (t >= f.start - tol && t < end - tol);
       }
     }

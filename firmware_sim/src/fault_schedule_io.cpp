@@ -284,7 +284,7 @@ std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, doub
     const FaultSpec& f = s.faults[i];
     if (faultIsRamp(f.kind) || !(T > 0.0)) continue;
     // FaultClock::at: active at tick k when start - tol <= k T < end - tol
-    const double k = std::max(0.0, std::ceil((f.start - tol) / T));
+    const double k = firstTickAtOrAfter(f.start, T);
     if (k * T < f.end - tol) continue;
     out.push_back(origin + ":" + std::to_string(f.line) + ":" + std::to_string(f.column) + ": fault #" +
                   std::to_string(i + 1) + " (" + faultTypeName(f.kind) + "): [" + formatNumber(f.start) + ", " +
@@ -298,7 +298,7 @@ std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, doub
   // injected and changed nothing, pass 84), and so does one whose first tick is that one (a start inside the
   // last period, pass 86).
   if (first == s.faults.end()) return {};
-  const double first_tick_s = T > 0.0 ? std::max(0.0, std::ceil((first->start - tol) / T)) * T : first->start;
+  const double first_tick_s = T > 0.0 ? firstTickAtOrAfter(first->start, T) * T : first->start;
   if (first_tick_s < duration - tol) return {};
   const auto i = first - s.faults.begin() + 1;
   const std::string when = first->start >= duration - tol

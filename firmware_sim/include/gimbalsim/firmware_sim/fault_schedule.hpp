@@ -98,6 +98,12 @@ struct FaultSchedule {
   }
 };
 
+/// The first tick k (as a double) whose instant k T is at or after t [s], with FaultClock::at's tolerance
+/// (1e-9 T): where a fault starting at t first acts, or where a sample due at t is taken or delivered.
+inline double firstTickAtOrAfter(double t, double T) noexcept {
+  return std::max(0.0, std::ceil((t - 1e-9 * T) / T));
+}
+
 /// What the faults active at one tick do (the sum of the active entries:
 /// biases add, noise sigmas add in quadrature, limits take the lowest,
 /// delays the longest; ramps take the last entry of their kind).
