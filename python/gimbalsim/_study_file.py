@@ -21,10 +21,15 @@ TRIALS = "trials.csv"  # the tuner's record of its trials, one row each
 _HELD = []  # the lock files of the studies this process holds, open until it ends
 
 
-def hold(out):
+def hold(out, keep=True):
     """One sweep or tuner per folder: an exclusive lock on the folder itself
     (no lock file left among the outputs) for the life of the process; a
-    second one on the same folder is refused (exit 2) before it reads or writes."""
+    second one on the same folder is refused (exit 2) before it reads or writes.
+    keep False (--check): the same refusal, the lock let go at once and a folder
+    not made yet held by no one (pass 87: --check --resume said nothing while
+    another run held the folder, which the run itself refused)."""
+    if not keep and not os.path.isdir(out):
+        return
     fd = os.open(out, os.O_RDONLY | os.O_DIRECTORY | getattr(os, "O_CLOEXEC", 0))
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -32,23 +37,11 @@ def hold(out):
         os.close(fd)
         raise SpecError(f"{out}: another sweep, tuner or allocation is running in this folder; wait for it to end "
                         f"(then --resume), or use another --out") from None
+    if not keep:
+        os.close(fd)  # closing lets the lock go
+        return
     _HELD.append(fd)
     _remove_dead_temporaries(out)
-
-
-def refuse_if_held(out):
-    """--check: the refusal hold() would make, the lock taken and let go at once (pass 87: --check --resume said
-    nothing while another run held the folder, which the run itself refused)."""
-    if not os.path.isdir(out):
-        return
-    fd = os.open(out, os.O_RDONLY | os.O_DIRECTORY | getattr(os, "O_CLOEXEC", 0))
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except BlockingIOError:
-        raise SpecError(f"{out}: another sweep, tuner or allocation is running in this folder; wait for it to end "
-                        f"(then --resume), or use another --out") from None
-    finally:
-        os.close(fd)  # closing lets the lock go
 
 
 def _alive(pid):

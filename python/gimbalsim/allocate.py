@@ -248,7 +248,7 @@ def _run(a, out):
     check_out_dir(a.out, a.spec)
     spec = AllocationSpec(a.spec)
     if a.check:
-        _study_file.refuse_if_held(out)  # another run's folder: refused, as the run refuses it
+        _study_file.hold(out, keep=False)  # another run's folder: refused, as the run refuses it
         check_before_run(spec, out, a.resume)
         print(f"allocate: {a.spec} and {out} checked; nothing run", file=sys.stderr)
         return EXIT_OK

@@ -342,7 +342,7 @@ def _run(a, out):
     if a.resume and not out.is_dir():  # (pass 49) it started afresh, as tune's --resume did not
         raise SpecError(f"{out}: no such folder: no sweep to resume; run without --resume")
     if a.check:  # every refusal of the run, in its order (sweep() calls check_start first), nothing written
-        _study_file.refuse_if_held(out)
+        _study_file.hold(out, keep=False)
         check_start(spec, out, a.resume, spec.input_files())
         take_design(spec, out, until)
         return EXIT_OK
