@@ -4,6 +4,7 @@
 // one table row: settling time, tracking errors, peak torque.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <array>
 
 #include <cstdio>
 #include <string>
@@ -26,6 +27,10 @@ using firmware::ClosedLoopOptions;
 using firmware::ClosedLoopResult;
 
 namespace {
+
+// The keys the sweep sets from each --omega: each axis's triple-pole gains (a --set of one is refused).
+constexpr std::array<const char*, 2> kAxisPrefixes{"azimuth.", "elevation."};
+constexpr std::array<const char*, 3> kGainKeys{"kp", "ki", "kd"};
 
 int mainImpl(int argc, char** argv) {
   CLI::App app{"In-process gain sweep of the pointing controller on a scene"};
@@ -110,9 +115,10 @@ int mainImpl(int argc, char** argv) {
     for (std::size_t k = 0; k < sets.size(); ++k) {
       std::string key = sets[k].substr(0, sets[k].find('='));
       key.erase(key.find_last_not_of(" \t") + 1);
-      for (const char* gain :
-           {"azimuth.kp", "azimuth.ki", "azimuth.kd", "elevation.kp", "elevation.ki", "elevation.kd"}) {
-        if (key != gain) continue;
+      for (const char* axis : kAxisPrefixes) {
+        const auto gain = std::find_if(kGainKeys.begin(), kGainKeys.end(),
+                                       [&](const char* g) { return key == std::string(axis) + g; });
+        if (gain == kGainKeys.end()) continue;
         return program::refuse("controller_sweep", "--set #" + std::to_string(k + 1) + " '" + sets[k] + "': the sweep "
                                "sets " + key + " from each --omega (triple-pole gains): the value would act on no run");
       }
@@ -127,9 +133,10 @@ int mainImpl(int argc, char** argv) {
       std::vector<std::pair<std::string, std::string>> gains;  // (key, its label)
       for (int i = 0; i < 2; ++i) {
         const AxisGains g = triplePoleGains(base.axis[i].inertia, w, base.axis[i].torque_limit, base.axis[i].aw_gain);
-        const std::string axis = i == 0 ? "azimuth." : "elevation.";
-        for (const auto& [key, v] : {std::pair{"kp", g.kp}, {"ki", g.ki}, {"kd", g.kd}}) {
-          const std::string value = formatNumber(v);  // reads back as the same gain
+        const std::string axis = kAxisPrefixes[i];
+        const double values[] = {g.kp, g.ki, g.kd};  // kGainKeys' order
+        for (std::size_t j = 0; j < kGainKeys.size(); ++j) {
+          const std::string key = kGainKeys[j], value = formatNumber(values[j]);  // reads back as the same gain
           with_gains.push_back(axis + key + "=" + value);
           labels.push_back("--omega " + formatNumber(w) + " gives " + axis + key + " = " + value);
           gains.emplace_back(axis + key, labels.back());
