@@ -214,28 +214,30 @@ void writeEvent(lcm::LogFile& log, const std::string& channel, const void* data,
   ASSERT_EQ(log.writeEvent(&e), 0);
 }
 
+/// One message encoded and written as an event (channel, timestamp [us]).
+template <class Message>
+void writeMessage(lcm::LogFile& log, const std::string& channel, const Message& m, int64_t t) {
+  std::vector<unsigned char> buf(static_cast<std::size_t>(m.getEncodedSize()));
+  writeEvent(log, channel, buf.data(), m.encode(buf.data(), 0, static_cast<int>(buf.size())), t);
+}
+
 TEST(Log2Csv, SkipsAndCountsUndecodableMessagesOnAChannel) {
   TempDir dir("log2csv_garbage");
   const std::string path = dir / "w.lcmlog";
   {
     lcm::LogFile log(path, "w");
     ASSERT_TRUE(log.good());
-    unsigned char buf[1024];
-    auto write = [&](const std::string& ch, const void* data, int n, int64_t t) { writeEvent(log, ch, data, n, t); };
     gimbal_command_t c{};
     c.seq = 3;
     c.status_seq = 2;
     c.mode = gimbal_command_t::MODE_TORQUE;
     c.torque[0] = 0.1;
     c.torque[1] = -1.0 / 3.0;
-    const int n = c.encode(buf, 0, sizeof buf);
-    write("GIMBAL_COMMAND", buf, n, 10);
+    writeMessage(log, "GIMBAL_COMMAND", c, 10);
     const char junk[] = "not a command";
-    write("GIMBAL_COMMAND", junk, sizeof junk, 11);
-    gimbal_truth_t t{};
-    const int nt = t.encode(buf, 0, sizeof buf);
-    write("GIMBAL_COMMAND", buf, nt, 12);  // a wrong type on the command channel
-    write("OTHER_STUFF", junk, sizeof junk, 13);
+    writeEvent(log, "GIMBAL_COMMAND", junk, sizeof junk, 11);
+    writeMessage(log, "GIMBAL_COMMAND", gimbal_truth_t{}, 12);  // a wrong type on the command channel
+    writeEvent(log, "OTHER_STUFF", junk, sizeof junk, 13);
   }
   int st = 0;
   std::filesystem::create_directories(dir / "o");
@@ -257,10 +259,9 @@ TEST(Log2Csv, AChannelWithNoDecodableMessageGivesNoEmptyCsv) {
   {
     lcm::LogFile log(path, "w");
     ASSERT_TRUE(log.good());
-    unsigned char buf[1024];
     gimbal_command_t c{};
     c.mode = gimbal_command_t::MODE_TORQUE;
-    writeEvent(log, "GIMBAL_COMMAND", buf, c.encode(buf, 0, sizeof buf), 10);
+    writeMessage(log, "GIMBAL_COMMAND", c, 10);
     const char junk[] = "not a status";
     writeEvent(log, "GIMBAL_STATUS", junk, sizeof junk, 11);
   }
@@ -292,9 +293,7 @@ TEST(Log2Csv, AChannelNameThatCannotNameAFileIsRefused) {
   {
     lcm::LogFile log(path, "w");
     ASSERT_TRUE(log.good());
-    unsigned char buf[512];
-    gimbal_truth_t t{};
-    writeEvent(log, "/../../escape_GIMBAL_TRUTH", buf, t.encode(buf, 0, sizeof buf), 1);
+    writeMessage(log, "/../../escape_GIMBAL_TRUTH", gimbal_truth_t{}, 1);
   }
   std::filesystem::create_directories(dir / "rec_");  // so that rec_/../../escape... resolves
   int st = 0;
@@ -451,13 +450,12 @@ TEST(Log2Csv, AMessageWithANonFiniteNumberIsSkippedAndCounted) {
   {
     lcm::LogFile log(path, "w");
     ASSERT_TRUE(log.good());
-    unsigned char buf[1024];
     gimbal_command_t c{};
     c.seq = 1;
     c.mode = gimbal_command_t::MODE_TORQUE;
     for (const double tau : {0.5, std::nan(""), std::numeric_limits<double>::infinity(), -0.25}) {
       c.torque[1] = tau;
-      writeEvent(log, "GIMBAL_COMMAND", buf, c.encode(buf, 0, sizeof buf), 10);
+      writeMessage(log, "GIMBAL_COMMAND", c, 10);
       ++c.seq;
     }
   }
