@@ -109,7 +109,7 @@ std::string idleBenchOverride(const Options& o, const Inputs& in) {
                       : key == "name"       ? ""
                                             : closedLoopIdleSceneKey(key);
     if (why.empty()) why = sensorKeyIdle(key, sensors, duration_s, true, in.plant.scene.model.floating_base,
-                                         in.faults.has(FaultKind::GyroBiasJump));
+                                         gyroJumpActsBefore(in.faults, duration_s, duration_s, 1.0 / o.rate_hz));
     if (why.empty() && key == "sensors.seed" && !sensors.anyNoise()) why = "the scene's sensors draw no noise";
     if (!why.empty()) {
       return "--set #" + std::to_string(k + 1) + " '" + o.sets[k] + "': not read by the bench (" + why +
@@ -176,7 +176,7 @@ int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
     auto late = checkFaultsAgainstDuration(in.faults, o.duration > 0.0 ? o.duration : kForever, 1.0 / o.rate_hz,
                                            o.faults);
     if (late.empty()) {
-      late = checkFaultsAgainstSamples(in.faults, in.plant.sensors, o.duration > 0.0 ? o.duration : kForever,
+      late = checkFaultsAgainstSamples(in.faults, in.plant, o.duration > 0.0 ? o.duration : kForever,
                                        1.0 / o.rate_hz, o.faults);
     }
     if (!late.empty()) {

@@ -330,11 +330,6 @@ std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const P
       out.push_back(at + "the scene has no tracker to act on (scene key sensors.antenna is none)");
       continue;
     }
-    if (f.kind == FaultKind::StarTrackerOutage) {
-      const std::string why = starTrackerRedundant(ps.sensors, m.floating_base, s.has(FaultKind::GyroBiasJump));
-      if (!why.empty()) out.push_back(at + why + " (and no gyro_bias_jump in this schedule): the outage would be "
-                                             "flagged and change no estimate");
-    }
     // (pass 79) a limit at or above the motor's drops nothing: the fault would be flagged and act on nothing
     if (f.kind == FaultKind::TorqueLimit) {
       for (int j = 0; j < 2; ++j) {

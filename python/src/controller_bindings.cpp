@@ -332,7 +332,7 @@ void bindController(pyb::module_& m) {
               bad.push_back(std::move(late));
             }
             if (bad.empty()) {
-              bad = firmware::checkFaultsAgainstSamples(schedule, s.plant.sensors, duration, period, faults);
+              bad = firmware::checkFaultsAgainstSamples(schedule, s.plant, duration, period, faults);
             }
             if (!bad.empty()) {
               std::vector<Problem> problems;

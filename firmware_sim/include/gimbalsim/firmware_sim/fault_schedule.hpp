@@ -93,9 +93,6 @@ struct FaultSchedule {
   std::uint64_t seed = 1;        ///< seeds every probabilistic fault and every noise burst
   std::vector<FaultSpec> faults;
   bool empty() const noexcept { return faults.empty(); }
-  bool has(FaultKind k) const noexcept {
-    return std::any_of(faults.begin(), faults.end(), [k](const FaultSpec& f) { return f.kind == k; });
-  }
 };
 
 /// The first tick k (as a double) whose instant k T is at or after t [s], with FaultClock::at's tolerance

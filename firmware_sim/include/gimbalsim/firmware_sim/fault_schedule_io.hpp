@@ -43,8 +43,14 @@ std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, doub
                                                     const std::string& origin);
 
 /// Each star tracker outage that takes and delivers no sample of the scene's tracker in its ticks (up to the run's
-/// end): it would change nothing but its flag (fault_samples.cpp).
-std::vector<std::string> checkFaultsAgainstSamples(const FaultSchedule& s, const SensorParams& p, double duration,
+/// end), or whose samples tell nothing (starTrackerRedundant: a fixed base, perfect attitude sensors and no
+/// gyro_bias_jump acting before the outage's first sample after it): it would change nothing but its flag
+/// (fault_samples.cpp).
+std::vector<std::string> checkFaultsAgainstSamples(const FaultSchedule& s, const PlantScene& ps, double duration,
                                                    double tick_period, const std::string& origin);
+
+/// Whether a gyro_bias_jump of s takes a step in a run of duration [s] at tick_period [s] and starts before
+/// t_before [s]: a jump moves the estimate from its start on (the star tracker then corrects it).
+bool gyroJumpActsBefore(const FaultSchedule& s, double t_before, double duration, double tick_period);
 
 }  // namespace gimbalsim::firmware
