@@ -314,9 +314,20 @@ int mainImpl(int argc, char** argv) {
   if (!o.lockstep && o.cpu >= 0) {  // a CPU the process may not use is the user's slip, not the OS's refusal
     if (const std::string why = cpuProblem(o.cpu); !why.empty()) return program::refuse("firmware_sim", why);
   }
-  if (o.lockstep) {  // one thread, no deadlines: the real-time set-up is not done
-    for (const char* flag : {"--rt-priority", "--cpu"}) {
-      if (app.count(flag) > 0) std::fprintf(stderr, "firmware_sim: warning: %s applies to real time only; ignored in lockstep\n", flag);
+  // A flag of the other mode would be recorded with the run and act on nothing (pass 91: lockstep warned and
+  // ran, real time took the lockstep waits silently): refused. Lockstep runs one thread, no deadlines, no
+  // real-time set-up (--rt-priority 0, SCHED_OTHER, is what it does).
+  if (o.lockstep && app.count("--cpu") > 0) {
+    return program::refuse("firmware_sim", "--cpu applies to real time only: lockstep runs one thread unpinned");
+  }
+  if (o.lockstep && app.count("--rt-priority") > 0 && o.rt_priority != 0) {
+    return program::refuse("firmware_sim", "--rt-priority " + std::to_string(o.rt_priority) +
+                                               ": applies to real time only: lockstep runs SCHED_OTHER (0)");
+  }
+  for (const char* flag : {"--lockstep-timeout-ms", "--start-timeout"}) {
+    if (!o.lockstep && app.count(flag) > 0) {
+      return program::refuse("firmware_sim", std::string(flag) + " applies to lockstep only (--lockstep): a real-time "
+                                                                 "run waits for no answer");
     }
   }
   // sigaction without SA_RESTART: a blocking wait returns at once (EINTR); the loops see g_stop.
