@@ -106,9 +106,13 @@ std::string idleInEveryRun(const char* flag, const std::vector<std::string>& ove
       ++idle_runs;
       const std::string reason = it != idle.end() ? it->second : "key '" + key + "': " + sensor_why;
       if (why.find(reason) == std::string::npos) why += (why.empty() ? "" : "; ") + reason;
-      // a scene without clearance (the ideal reference) has no bearing by design: not worth a warning
-      if (it != idle.end() && r.scene->model.hasClearance() && scenes.find("'" + r.name + "'") == std::string::npos) {
-        scenes += (scenes.empty() ? "'" : ", '") + r.name + "'";
+      // a scene without clearance (the ideal reference) has no bearing by design: not worth a warning; a sensor
+      // key idle in some runs is, named with their sensors (pass 91: the perfect runs of --sensors both)
+      const bool scene_idle = it != idle.end();
+      const std::string run =
+          "'" + r.name + "'" + (scene_idle || r.sensors_label.empty() ? "" : " (" + r.sensors_label + ")");
+      if ((!scene_idle || r.scene->model.hasClearance()) && scenes.find(run) == std::string::npos) {
+        scenes += (scenes.empty() ? "" : ", ") + run;
       }
     }
     if (idle_runs == 0) continue;

@@ -196,16 +196,9 @@ int mainImpl(int argc, char** argv) {
         labels.push_back("--scene-set #" + std::to_string(k + 1) + " '" + scene_sets[k] + "'");
       }
       const std::string suffix = cases.size() > 1 ? "_" + sensor_case : "";
-      // A --scene-set of a sensor key is said with the case, as gimbalsim_controller_floor says it: the runs
-      // were labelled "perfect" over noisy sensors (pass 56).
-      std::string sensors_said = sensor_case;
-      for (const std::string& kv : scene_sets) {
-        if (kv.rfind("sensors.", 0) != 0) continue;
-        sensors_said += (sensors_said == sensor_case ? " except " : " and ") + kv;
-      }
       const int first_scene_set = static_cast<int>(base.size() - scene_sets.size()) + 1;
       scenes.push_back({firmware::loadPlantScene(ideal_path, base), 0.0, stem(ideal_path), "ideal" + suffix,
-                        sensors_said, first_scene_set});
+                        sensor_case, first_scene_set});  // its sensor --scene-set keys are said below
       if (const std::string why = idealSceneProblem(scenes.back().scene.scene.model); !why.empty()) {
         return refuse("--ideal-scene", ideal_path + ": " + why);
       }
@@ -223,7 +216,7 @@ int mainImpl(int argc, char** argv) {
           // One clearance scene keeps the short labels; several are told apart by scene name.
           std::string label = clearanceLabel(c);
           if (clearance_paths.size() > 1) label = stem(path) + "_" + label;
-          scenes.push_back({std::move(ps), c, stem(path), label + suffix, sensors_said, first_scene_set});
+          scenes.push_back({std::move(ps), c, stem(path), label + suffix, sensor_case, first_scene_set});
         }
       }
     }
@@ -279,7 +272,23 @@ int mainImpl(int argc, char** argv) {
   // ... and a sensor key its runs leave idle (the antenna's without one, a sample's under a whole-run outage)
   for (const Planned& p : scenes) {
     study_scenes.push_back({p.scene_name, &p.scene.scene, p.first_scene_set, &p.scene.sensors, opt.duration,
-                            cfg.antenna.use_tracker});
+                            cfg.antenna.use_tracker, cases.size() > 1 ? p.sensors : ""});
+  }
+  // A --scene-set of a sensor key is said with the case, as gimbalsim_controller_floor says it (the runs were
+  // labelled "perfect" over noisy sensors, pass 56), where it acts: a key idle in a case's runs is not said
+  // with them (pass 91: the perfect runs of --sensors both on a fixed base, "perfect except star_tracker_rate")
+  for (Planned& p : scenes) {
+    const std::string sensor_case = p.sensors;
+    for (const std::string& kv : scene_sets) {
+      const std::string key = kv.substr(0, kv.find('='));
+      if (key.rfind("sensors.", 0) != 0 ||
+          !firmware::sensorKeyIdle(key, p.scene.sensors, opt.duration, cfg.antenna.use_tracker,
+                                   p.scene.scene.model.floating_base, false)
+               .empty()) {
+        continue;
+      }
+      p.sensors += (p.sensors == sensor_case ? " except " : " and ") + kv;
+    }
   }
   std::vector<std::string> partly_idle;
   if (const std::string why = firmware::idleInEveryRun("--scene-set", scene_sets, study_scenes, &partly_idle);

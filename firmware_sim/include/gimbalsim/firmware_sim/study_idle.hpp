@@ -40,6 +40,7 @@ struct StudyScene {
   const SensorParams* sensors = nullptr;  ///< the run's sensors, for sensorKeyIdle (none: not judged)
   double duration_s = 0.0;                ///< [s] the run's length
   bool antenna_loop = false;              ///< the controller closes at the antenna given its sensors (antenna.tracker)
+  std::string sensors_label;              ///< the run's sensors as the study labels them ("" one kind)
 };
 
 /// Why the sensor key `key` acts on nothing in a closed-loop run of duration_s [s] on sensors sp ("" when it
@@ -55,7 +56,7 @@ std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, double
 /// sensorKeyIdle for a run whose sensors are given:
 /// a refusal naming the first one that acts in no run and why (it would be recorded with every run and act
 /// on none), else "". Each one idle in some runs only is told in *partly, naming those runs' scenes that have
-/// clearance (the ideal reference has no bearing by design).
+/// clearance (the ideal reference has no bearing by design), or, for a sensor key, the runs with their sensors.
 std::string idleInEveryRun(const char* flag, const std::vector<std::string>& overrides,
                            const std::vector<StudyScene>& runs, std::vector<std::string>* partly);
 
