@@ -153,6 +153,17 @@ void validate(const Scene& s, Given& g) {
       }
     }
   }
+  // A fixed base never moves: its mass and inertia never enter, joint 1's place on it only shifts the whole
+  // gimbal (no gravity) and no momentum drift is checked (pass 91: a --set of them ran with no word; the Python
+  // sweeps' _idle_keys.py rules say the same)
+  if (!m.floating_base) {
+    for (const char* key : {"base.mass", "base.inertia"}) {
+      g.idleIfSet(key, "structure.base is fixed: the base never moves, this value does not act");
+    }
+    g.idleIfSet("geometry.joint1_position", "structure.base is fixed: joint 1's place on it only shifts the whole "
+                                            "gimbal, no figure changes");
+    g.idleIfSet("sim.momentum_tol", "structure.base is fixed: no momentum drift is checked, this value does not act");
+  }
   const IntegratorParams& p = m.integrator;
   scene_keys::validateBearings(s, g);
   if (!(p.substep <= p.step)) g.refuse("sim.substep", "must be in (0, sim.step]");
