@@ -467,7 +467,13 @@ def test_the_tools_numbers_have_ranges_the_code_honours(tmp_path):
              ("tools/hil/hil_speed.py", ["--spin", "1000"], "--spin: must be in [0, 1], got 1000"),
              ("tools/hil/hil_speed.py", ["--rates", "5", "--spin", "1"], "past firmware_sim's --spin-us bound"),
              ("tools/hil/hil_speed.py", ["--rates", "1000,1000"], "1000 given twice in '1000,1000'"),
-             ("tools/hil/worst_tick.py", ["--realtime-seconds", "1e-300"], "0 (skip) or at least 0.001")]
+             ("tools/hil/worst_tick.py", ["--realtime-seconds", "1e-300"], "0 (skip) or at least 0.001"),
+             # (pass 91) a scene given twice started the study; NAME.yaml was looked up as NAME.yaml.yaml
+             ("tools/hil/worst_tick.py", ["--realtime-scenes", "paper_ideal,paper_ideal"],
+              "'paper_ideal' given twice in 'paper_ideal,paper_ideal'"),
+             ("tools/hil/worst_tick.py", ["--realtime-scenes", "paper_ideal.yaml"],
+              "'paper_ideal.yaml': give the scene's name without .yaml"),
+             ("tools/hil/worst_tick.py", ["--realtime-scenes", "paper_ideal,,paper_clearance"], "an empty item")]
     for tool, args, words in cases:
         p = subprocess.run(["/usr/bin/python3", str(SOURCE / tool), *args], cwd=tmp_path, capture_output=True,
                            text=True, timeout=60, env={**os.environ, "PYTHONPATH": str(BIN.parent / "python")})
@@ -587,15 +593,23 @@ def test_compare_bench_refuses_a_flag_twice_or_empty(args, named, tmp_path):
                                          (("--benchmark_min_time=0x1",), "--benchmark_min_time: must be a plain"),
                                          (("--benchmark_min_time=nan",), "--benchmark_min_time: must be a plain"),
                                          (("--benchmark_repetitions=010",),
-                                          "--benchmark_repetitions: must be a whole")])
+                                          "--benchmark_repetitions: must be a whole"),
+                                         (("--benchmark_out_format=bogus",),
+                                          "--benchmark_out_format: must be one of console, json, csv"),
+                                         (("--benchmark_time_unit=yr",), "--benchmark_time_unit: must be one of ns"),
+                                         (("--benchmark_enable_random_interleaving=maybe",),
+                                          "--benchmark_enable_random_interleaving: must be one of true, false"),
+                                         (("--benchmark_context=foo",), "--benchmark_context: must be KEY=VALUE")])
 def test_the_benchmarks_read_their_flags_as_the_programs_do(flags, named, tmp_path):
-    # (pass 78) a second filter won, 0x1 and 010 (ten repetitions) were taken, and min_time=nan never ended
+    # (pass 78) a second filter won, 0x1 and 010 (ten repetitions) were taken, and min_time=nan never ended;
+    # (pass 91) a format or time unit outside its choice printed the usage and exited 0, a bool took "maybe"
     p = subprocess.run([str(BIN / "gimbalsim_bench"), *flags], capture_output=True, text=True, timeout=60,
                        cwd=tmp_path)
     assert p.returncode == 2 and f"gimbalsim_bench: error: {named}" in p.stderr, (p.returncode, p.stderr)
     p = subprocess.run(["bash", str(SOURCE / "tools/bench/run_bench.sh"), *flags], capture_output=True, text=True,
                        timeout=60, cwd=tmp_path, env={**os.environ, "BENCH": str(BIN / "gimbalsim_bench")})
-    told = "the script sets it; give REPS=N" if "repetitions" in named else named  # the script's own flag
+    told = "the script sets it; give REPS=N" if "repetitions" in named else \
+        "the script writes the JSON" if "out_format" in named else named  # the script's own flags
     assert p.returncode == 2 and told in p.stderr, (p.returncode, p.stderr)
 
 

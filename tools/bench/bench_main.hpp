@@ -8,6 +8,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -39,6 +40,22 @@ inline std::string benchmarkFlagProblem(int argc, char** argv) {
                                     {"--benchmark_min_warmup_time", 0.0, 1e4, false},
                                     {"--benchmark_repetitions", 1.0, 1e6, true},
                                     {"--benchmark_v", 0.0, 10.0, true}};
+  struct Choice {
+    const char* name;
+    std::vector<const char*> values;
+    bool bare_is_true;  ///< a bool flag: given without '=' it is true
+  };
+  static const std::vector<Choice> kChoices = {
+      {"--benchmark_format", {"console", "json", "csv"}, false},
+      {"--benchmark_out_format", {"console", "json", "csv"}, false},
+      {"--benchmark_time_unit", {"ns", "us", "ms", "s"}, false},
+      {"--benchmark_color", {"true", "false", "auto"}, true},
+      {"--benchmark_counters_tabular", {"true", "false"}, true},
+      {"--benchmark_enable_random_interleaving", {"true", "false"}, true},
+      {"--benchmark_report_aggregates_only", {"true", "false"}, true},
+      {"--benchmark_display_aggregates_only", {"true", "false"}, true},
+      {"--benchmark_list_tests", {"true", "false"}, true},
+      {"--benchmark_dry_run", {"true", "false"}, true}};
   std::set<std::string> given;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -47,9 +64,22 @@ inline std::string benchmarkFlagProblem(int argc, char** argv) {
     const std::string flag = arg.substr(0, eq);
     if (!given.insert(flag).second) return flag + ": given twice; it takes one value";
     if (eq != std::string::npos && eq + 1 == arg.size()) return flag + ": an empty value after the '='";
+    const std::string value = eq == std::string::npos ? "" : arg.substr(eq + 1);
+    // (pass 91) a value outside a choice printed the usage and exited 0 with nothing run, a bool took any word
+    for (const Choice& c : kChoices) {
+      if (flag != c.name || (c.bare_is_true && eq == std::string::npos)) continue;
+      if (std::find(c.values.begin(), c.values.end(), value) == c.values.end()) {
+        std::string list;
+        for (const char* v : c.values) list += (list.empty() ? "" : ", ") + std::string(v);
+        return flag + ": must be one of " + list + " after its '=', got '" + value + "'";
+      }
+    }
+    if (flag == "--benchmark_context" && (value.empty() || value.find('=') == std::string::npos)) {
+      return flag + ": must be KEY=VALUE[,KEY=VALUE...] after its '=', got '" + value + "'";
+    }
     for (const Number& n : kNumbers) {
       if (flag != n.name) continue;
-      const std::string text = eq == std::string::npos ? "" : arg.substr(eq + 1);
+      const std::string& text = value;
       double x = 0.0;
       const bool plain = readPlainDecimal(text, x) == DecimalProblem::None && !hasLeadingZero(text) &&
                          (!n.whole || text.find_first_not_of("+0123456789") == std::string::npos);
