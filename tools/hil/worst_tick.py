@@ -262,6 +262,16 @@ def page_body(text):
     return "\n".join(out) + "\n"
 
 
+def shipped_scene(name):
+    """An argparse type: the name of a scene in tools/scenes (NAME for tools/scenes/NAME.yaml; pass 91: a name
+    given with its .yaml was looked up as NAME.yaml.yaml)."""
+    if name.endswith(".yaml"):
+        raise argparse.ArgumentTypeError(f"{name!r}: give the scene's name without .yaml (tools/scenes/NAME.yaml)")
+    if not os.path.isfile(os.path.join(hil_speed.SCENES, name + ".yaml")):
+        raise argparse.ArgumentTypeError(f"no tools/scenes/{name}.yaml")
+    return name
+
+
 def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -270,7 +280,8 @@ def main():
                    help="simulated seconds per scene in lockstep (part A)")
     p.add_argument("--realtime-seconds", type=output_file.arg_decimal(0, 1e6), default=100.0,
                    help="seconds per real-time run (part B); 0 skips")
-    p.add_argument("--realtime-scenes", default="paper_clearance,paper_both_spatial",
+    p.add_argument("--realtime-scenes", type=output_file.arg_list(shipped_scene),
+                   default="paper_clearance,paper_both_spatial",
                    help="comma-separated scene names (tools/scenes/NAME.yaml) for part B")
     p.add_argument("--cpu", type=output_file.arg_cpu, default=1,
                    help="part B: CPU of firmware_sim's loop thread (-1: no pinning)")
@@ -288,10 +299,7 @@ def main():
             raise output_file.Refused(f"{hil_speed.BIN}/{t} missing: cmake --build {a.build} -j2 "
                                       "--target firmware_sim pointing_controller torque_replay")
     names = sorted(os.path.basename(f)[:-len(".yaml")] for f in glob.glob(os.path.join(hil_speed.SCENES, "*.yaml")))
-    rt_names = [x for x in a.realtime_scenes.split(",") if x] if a.realtime_seconds > 0 else []
-    for x in rt_names:
-        if x not in names:
-            raise output_file.Refused(f"--realtime-scenes: no tools/scenes/{x}.yaml")
+    rt_names = a.realtime_scenes if a.realtime_seconds > 0 else []
     hil_speed.enter_namespace()  # re-runs sys.argv[0], this script, inside the namespace
     if a.results:
         sys.stdout = hil_speed.Tee(sys.stdout)

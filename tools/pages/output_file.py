@@ -205,20 +205,23 @@ def arg_whole(lo, hi):
     return read
 
 
-def arg_whole_list(lo, hi):
-    """An argparse type: a comma-separated list of whole numbers, each as arg_whole(lo, hi) reads it; an empty
-    item ('1000,,2000') is refused, not dropped."""
-    one = arg_whole(lo, hi)
-
+def arg_list(one):
+    """An argparse type: a comma-separated list, each item as the type `one` reads it; an empty item
+    ('1000,,2000') is refused, not dropped, and so is an item given twice."""
     def read(text):
         if "" in text.split(","):
             raise argparse.ArgumentTypeError(f"an empty item in {text!r} (two commas in a row, or one at an end?)")
         values = [one(item) for item in text.split(",")]
         twice = next((v for i, v in enumerate(values) if v in values[:i]), None)
         if twice is not None:  # (pass 88) --rates 1000,1000 ran the rate twice, as no program takes a list
-            raise argparse.ArgumentTypeError(f"{twice} given twice in {text!r}")
+            raise argparse.ArgumentTypeError(f"{twice!r} given twice in {text!r}")
         return values
     return read
+
+
+def arg_whole_list(lo, hi):
+    """An argparse type: a comma-separated list of whole numbers, each as arg_whole(lo, hi) reads it (arg_list)."""
+    return arg_list(arg_whole(lo, hi))
 
 
 def arg_cpu(text):
