@@ -2,6 +2,9 @@
 // programs refuse one idle in every run. A scene file's own idle keys (an ideal twin's bearing) say nothing.
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 #include "test_util.hpp"
 
 namespace gimbalsim {
@@ -29,6 +32,22 @@ TEST(IdleKeys, EachSetTheJointsLeaveIdleIsNumberedWithWhy) {
   // An alias is named as spelled; a tilting bearing reads its length.
   EXPECT_EQ(idleNumber(test::scene("paper_clearance", {"friction1.mu=0.2"}), "friction1.mu"), 1);
   EXPECT_TRUE(test::scene("paper_spatial2", {"contact.bearing_length=0.1"}).idle_sets.empty());
+}
+
+// (pass 91) a fixed base never moves: a --set of its mass or inertia ran with no word, the run unchanged
+TEST(IdleKeys, AFixedBaseLeavesItsBodyJoint1PlaceAndMomentumTolIdle) {
+  const std::vector<std::string> sets{"structure.base=fixed", "base.mass=500", "base.inertia=[10, 10, 10]",
+                                      "geometry.joint1_position=[0, 0, 1]", "sim.momentum_tol=1e-6"};
+  const Scene fixed = test::scene("paper_clearance", sets);
+  for (int k = 2; k <= 5; ++k) {
+    EXPECT_EQ(idleNumber(fixed, sets[k - 1].substr(0, sets[k - 1].find('='))), k) << sets[k - 1];
+  }
+  EXPECT_EQ(fixed.idle_sets.size(), 4u);
+  EXPECT_NE(fixed.idle_sets[0].second.find("structure.base is fixed"), std::string::npos) << fixed.idle_sets[0].second;
+  std::vector<std::string> floating = sets;
+  floating[0] = "structure.base=floating";
+  EXPECT_TRUE(test::scene("paper_clearance", floating).idle_sets.empty());
+  EXPECT_TRUE(test::scene("paper_clearance", {"structure.base=fixed"}).idle_sets.empty()) << "the file's own say nothing";
 }
 
 TEST(IdleKeys, BothJointsIdealLeaveEveryBearingKeyIdleButOnlyASetIsSaid) {
