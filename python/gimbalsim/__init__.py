@@ -214,11 +214,10 @@ class Run:
     the limit, as on the command line."""
 
     def __init__(self, rows, summary, scene=None):
-        self.summary = summary
-        self.scene = scene
-        self.__setstate__({"_rows": rows, "summary": summary, "scene": scene})
+        self.__setstate__({"_rows": rows, "summary": summary, "_scene": scene})
 
     def __setstate__(self, state):  # an unpickled run is read-only too (numpy unpickles a writeable array)
+        state = {("_scene" if k == "scene" else k): v for k, v in state.items()}  # "scene": a pickle of before
         self.__dict__.update(state, _rows=_frozen(state["_rows"]))
         names = self.scene.columns if self.scene is not None else COLUMNS
         self._columns = _Columns({name: self._rows[:, COLUMNS.index(name)] for name in names})
@@ -230,6 +229,8 @@ class Run:
     # run (passes 84, 86).
     rows = property(lambda self: self._rows, doc="the output rows, (N, len(COLUMNS)), read-only")
     columns = property(lambda self: self._columns, doc="the columns by name (views of rows), read-only")
+    # to_csv never writes over the scene's file: another Scene (None) under the name let it (pass 90)
+    scene = property(lambda self: self._scene, doc="the Scene it ran, read-only")
 
     @property
     def ok(self):
@@ -332,9 +333,10 @@ class ClosedLoopRun:
 
     def __init__(self, summary, columns, inputs=()):
         self.summary = summary
-        self.__setstate__({"summary": summary, "_columns": columns, "inputs": tuple(inputs)})
+        self.__setstate__({"summary": summary, "_columns": columns, "_inputs": tuple(inputs)})
 
     def __setstate__(self, state):  # the run's record, read-only as Run's (an unpickled one too)
+        state = {("_inputs" if k == "inputs" else k): v for k, v in state.items()}  # "inputs": a pickle of before
         self.__dict__.update(state, _columns=_Columns({k: _frozen(v) for k, v in state["_columns"].items()}),
                              _rows=None)
 
@@ -342,6 +344,8 @@ class ClosedLoopRun:
         return {k: v for k, v in self.__dict__.items() if k != "_rows"}  # rows: stacked again on first use
 
     columns = property(lambda self: self._columns, doc="the ticks' columns by name, read-only")
+    # the files the run read, which to_csv never writes over (emptied, they let it: pass 90)
+    inputs = property(lambda self: self._inputs, doc="the run's scene, controller and fault files, read-only")
 
     @property
     def ok(self):

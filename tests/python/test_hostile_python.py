@@ -7,8 +7,10 @@ loop gone NaN is a stop with its reason; values are typed and objects print
 usefully; an override's problem names the override, not "--set #k"."""
 import math
 import os
+import pathlib
 import pickle
 import re
+import shutil
 import subprocess
 import sys
 import textwrap
@@ -555,7 +557,7 @@ def test_closed_loop_takes_the_range_it_states_and_refuses_what_memory_cannot_ho
         gimbalsim.closed_loop(scene(), gimbalsim.Controller(CONTROLLER_CONFIG), 1e9 + 1)
 
 
-def test_a_runs_record_cannot_be_edited_in_place():
+def test_a_runs_record_cannot_be_edited_in_place(tmp_path):
     # (pass 84) Run.columns share Run.rows' memory: an in-place edit (an unwrapped angle, a mistyped index) changed
     # what to_csv wrote as the run, inf and a bare nan included
     run = gimbalsim.simulate(scene(overrides={"sim.duration": 0.01}))
@@ -576,12 +578,28 @@ def test_a_runs_record_cannot_be_edited_in_place():
                      lambda c: c.clear(), lambda c: c.setdefault("x", 1), lambda c: c.__delitem__("t")):
             with pytest.raises(TypeError, match="read-only: edit a copy"):
                 edit(columns)
-    for obj, name in ((run, "rows"), (run, "columns"), (loop, "columns"), (loop, "rows")):  # loop's rows: pass 87
+    # (pass 90) the files to_csv never writes over: another scene, or no inputs, under the name let it
+    for obj, name in ((run, "rows"), (run, "columns"), (loop, "columns"), (loop, "rows"), (run, "scene"),
+                      (loop, "inputs")):  # loop's rows: pass 87
         with pytest.raises(AttributeError):
             setattr(obj, name, None)
     for a, b in ((run, pickle.loads(pickle.dumps(run))), (loop, pickle.loads(pickle.dumps(loop)))):
         assert not b.rows.flags.writeable and not next(iter(b.columns.values())).flags.writeable  # unpickled too
         assert list(b.columns) == list(a.columns) and np.array_equal(a.rows, b.rows, equal_nan=True)
+        for name in ("scene", "inputs"):
+            if hasattr(a, name):
+                assert getattr(b, name) is not None
+                with pytest.raises(AttributeError):
+                    setattr(b, name, None)
+    # written over copies: a regression must not write over the repository's files
+    shutil.copy(scene_path("paper_clearance"), tmp_path / "s.yaml")
+    shutil.copy(CONTROLLER_CONFIG, tmp_path / "c.yaml")
+    mine = gimbalsim.load_scene(tmp_path / "s.yaml", {"sim.duration": 0.01})
+    for r, path in ((pickle.loads(pickle.dumps(gimbalsim.simulate(mine))), tmp_path / "s.yaml"),
+                    (gimbalsim.closed_loop(mine, gimbalsim.Controller(tmp_path / "c.yaml"), 0.01), tmp_path / "c.yaml")):
+        with pytest.raises(OSError, match="input"):
+            r.to_csv(path)
+    assert (tmp_path / "c.yaml").read_bytes() == pathlib.Path(CONTROLLER_CONFIG).read_bytes()
 
 
 def test_controller_update_gives_no_command_from_a_non_finite_or_overflowing_input():
