@@ -140,8 +140,10 @@ def check_outputs(outputs, inputs=()):
     each on its own, then each against the outputs before it and against
     every input (same file: device and inode). Paths as str or os.PathLike;
     empty ones (None, "") are skipped. Raises OutputError."""
-    seen = []
+    seen, running = [], None
     for out in outputs:
+        if running is None:  # once, and only when there is an output to check
+            running = _running_program()
         if out is None or out == "":
             continue
         out = _text(out)
@@ -151,20 +153,27 @@ def check_outputs(outputs, inputs=()):
             if theirs == me:
                 raise OutputRefused(f"{out}: the same file as another output ({other})")
         # The running program is an input of every run (pass 84: a program's --out replaced it).
-        named = [(_text(i), f"the input {_text(i)}") for i in inputs if i is not None and i != ""]
-        for inp, what in named + [(p, f"this program ({p})") for p in _running_program()]:
-            if me is not None and _identity(inp) == me:
+        named = [(_identity(_text(i)), f"the input {_text(i)}") for i in inputs if i is not None and i != ""]
+        for theirs, what in named + running:
+            if me is not None and theirs == me:
                 raise OutputRefused(f"{out}: the same file as {what}; not overwritten")
         seen.append((out, me))
 
 
 def _running_program():
-    """The files the running process is: the interpreter and the script or module it runs (argv[0], when it is
-    a file: not "-c" or the interactive interpreter's "")."""
+    """The files the running process is: the interpreter, argv[0] when a file (not "-c" or ""), every module
+    loaded (pass 90: a log written over output_file.py, which the tool had loaded, broke every later run)."""
     files = [sys.executable] if sys.executable else []
     if sys.argv and sys.argv[0] and os.path.isfile(sys.argv[0]):
         files.append(sys.argv[0])
-    return files
+    files += [f for m in list(sys.modules.values()) if isinstance(f := getattr(m, "__file__", None), str)]
+    for f in files:  # a module's file is stat'ed once: a sweep checks outputs thousands of times
+        if f not in _RUNNING:
+            _RUNNING[f] = (_identity(f), f"this program ({f})")
+    return [_RUNNING[f] for f in dict.fromkeys(files)]
+
+
+_RUNNING = {}  # path -> (identity, what), _running_program's
 
 
 # The names that show a folder holds a tool's outputs: a tool writing into another's folder would mix their files.

@@ -273,3 +273,28 @@ def test_run_stress_refused_by_its_program_leaves_no_folder_it_made(tmp_path):
     p = subprocess.run(["bash", str(repo / "tools/stress/run_stress.sh"), "--duration", "-1"], cwd=tmp_path,
                        env=env, capture_output=True, text=True, timeout=120)
     assert p.returncode == 2 and (repo / "out").is_dir() and not list((repo / "out").iterdir()), p.stderr
+
+
+def test_save_output_reads_only_a_regular_log_and_never_writes_over_a_module_it_runs(tmp_path):
+    # (pass 90) a FIFO as SOURCE blocked, /dev/zero was read until memory ran out, "" was read as a folder; a
+    # DEST naming output_file.py, which the helper had loaded, was written over it (every later run broke)
+    repo = tmp_path / "repo"  # a copy: a regression must not write over the checkout's own module
+    for f in ["tools/pages/save_output.py", "tools/pages/output_file.py"] + \
+            [f"python/gimbalsim/{m}.py" for m in ("_output", "_csv_cells", "_console", "_number", "_early_signals",
+                                                  "_flags")]:
+        (repo / f).parent.mkdir(parents=True, exist_ok=True)
+        (repo / f).write_bytes((SOURCE / f).read_bytes())
+    tool = repo / "tools/pages/save_output.py"
+    os.mkfifo(tmp_path / "fifo")
+    (tmp_path / "log.tmp").write_text("the log\n")
+    cases = [(["fifo", "out.log"], "fifo: not a regular file"), (["/dev/zero", "out.log"], "not a regular file"),
+             (["", "out.log"], "SOURCE: an empty path"),
+             (["log.tmp", str(repo / "tools/pages/output_file.py")], "the same file as this program"),
+             (["log.tmp", str(repo / "python/gimbalsim/_output.py")], "the same file as this program")]
+    for args, words in cases:
+        p = subprocess.run(["/usr/bin/python3", str(tool), *args], cwd=tmp_path, capture_output=True, text=True,
+                           timeout=20)
+        assert p.returncode == 2 and words in p.stderr, (args, p.returncode, p.stderr)
+    assert not (tmp_path / "out.log").exists()
+    p = subprocess.run(["/usr/bin/python3", str(tool), "log.tmp", "out.log"], cwd=tmp_path, timeout=20)
+    assert p.returncode == 0 and (tmp_path / "out.log").read_text() == "the log\n"

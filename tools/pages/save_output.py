@@ -13,6 +13,7 @@ a hard-linked scene."""
 import argparse
 import os
 import pathlib
+import stat
 import sys
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
@@ -36,8 +37,14 @@ def main():
         output_file.check_before_writing([a.dest], inputs, ["DEST"])
         if a.check:
             return 0
+        # (pass 90) a FIFO blocked, /dev/zero was read until memory ran out, "" was read as a folder
+        if not a.source:
+            raise output_file.Refused("SOURCE: an empty path; name the log to copy")
         try:
-            text = pathlib.Path(a.source).read_text(encoding="utf-8", errors="replace")
+            with open(a.source, "rb", buffering=0, opener=lambda p, f: os.open(p, f | os.O_NONBLOCK)) as f:
+                if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
+                    raise output_file.Refused(f"{a.source}: not a regular file: a log is one")
+                text = f.read().decode("utf-8", errors="replace")
         except OSError as e:
             raise output_file.Refused(f"{a.source}: cannot read the log: {e.strerror}") from None
         output_file.write_text(a.dest, text, inputs)
