@@ -35,6 +35,8 @@ MAX_SPEC_BYTES = 1 << 20  # a spec is a page of text; anything larger is a mista
 MAX_SPEC_NODES = 100_000  # values after alias expansion
 # What YAML does not take as text (YAML 1.2, 5.1): every character but tab, line breaks and the printable ones.
 _UNPRINTABLE = re.compile("[^\t\n\r\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+# Escapes ("\e]0;x\a", "\u0000") make what the text check never sees (pass 90); C++ asString's set
+_CONTROL = re.compile("[\x00-\x08\x0a-\x1f\x7f-\x9f]")
 
 
 class Spec:
@@ -112,6 +114,7 @@ class Spec:
                     raise SpecError("a mapping key must be a plain name", key=key, file=str(self.path),
                                     line=k.start_mark.line + 1, column=k.start_mark.column + 1)
                 name = k.value
+                self._no_control(name, key, k)
                 if name in out:
                     raise SpecError("given twice", key=f"{key}.{name}" if key else name, file=str(self.path),
                                     line=k.start_mark.line + 1, column=k.start_mark.column + 1)
@@ -123,6 +126,7 @@ class Spec:
             if n.tag != _SEQ:
                 raise SpecError(f"a list tagged {n.tag}", key=key, file=str(self.path), line=line, column=col)
             return Node([self._convert(v, key, depth + 1) for v in n.value], line, col)
+        self._no_control(n.value, key, n)
         try:
             return Node(_scalar(n), line, col)
         except (ValueError, yaml.YAMLError) as e:
@@ -130,6 +134,12 @@ class Spec:
             shown = n.value if len(n.value) <= 40 else f"{n.value[:40]}... ({len(n.value)} characters)"
             raise SpecError(f"{n.tag.rsplit(':', 1)[-1]} '{shown}' does not read: {e}", key=key,
                             file=str(self.path), line=line, column=col)
+
+    def _no_control(self, text, key, n):
+        if bad := _CONTROL.search(text):
+            at = Node(None, n.start_mark.line + 1, n.start_mark.column + 1)
+            self.refuse(key, f"character U+{ord(bad.group()):04X} (a control character, from an escape) at "
+                        f"position {bad.start()}: no text a spec holds", at)
 
     def refuse(self, key, message, node=None):
         raise SpecError(message, key=key, file=str(self.path), line=node.line if node else None,
@@ -217,12 +227,9 @@ class Spec:
         """A key's value as `--set` takes it: a number, a name, true/false, or a
         vector (a list of numbers); None, mappings and nested lists are refused."""
         v = node.value
-        if isinstance(v, list):
-            if not v or not all(_is_number(e.value) for e in v):
-                self.refuse(name, f"expected a number, a name or a list of numbers, got {_shown(node.plain())}",
-                            node)
+        if isinstance(v, list) and v and all(_is_number(e.value) for e in v):
             return node.plain()
-        if v is None or isinstance(v, dict):
+        if v is None or isinstance(v, (dict, list)):
             self.refuse(name, f"expected a number, a name or a list of numbers, got {_shown(node.plain())}", node)
         return v
 

@@ -132,3 +132,19 @@ def test_a_star_tracker_outage_fault_on_a_fixed_base_is_refused_unless_the_gyro_
         gimbalsim.closed_loop(gimbalsim.load_scene(scene_path("paper_ideal"), fixed), ctrl, 0.5, faults=faults)
     noisy = gimbalsim.load_scene(scene_path("paper_ideal"), {**fixed, "sensors.gyro_noise": 1.0e-4})
     assert gimbalsim.closed_loop(noisy, ctrl, 0.5, faults=faults).columns["injected_faults"].any()
+
+
+# (pass 90) a YAML escape in the spec's own text made a control character: refused for another reason, with the
+# raw bytes printed (ESC]0;...BEL set the terminal's title, ESC[2J cleared it, a NUL cut the refusal)
+ESCAPES = [('scene: "a\\e]0;pwned\\a.yaml"\nsamples: 2\n', "scene", "001B"),
+           (f'scene: {scene_path("paper_clearance")}\nsamples: 2\nset: {{name: "a\\u0000b"}}\n', "set.name", "0000"),
+           (f'scene: {scene_path("paper_clearance")}\nsamples: 2\nphases: ["\\e[2J"]\n', "phases", "001B"),
+           (f'scene: {scene_path("paper_clearance")}\nsamples: 2\n"x\\x85y": 1\n', "", "0085")]
+
+
+@pytest.mark.parametrize("text,key,code", ESCAPES, ids=[str(i) for i in range(len(ESCAPES))])
+def test_a_control_character_from_an_escape_in_a_spec_is_refused_at_its_place(tmp_path, text, key, code):
+    p = check(write_spec(tmp_path, text), tmp_path / "out")
+    assert p.returncode == 2 and f"character U+{code} (a control character, from an escape)" in p.stderr, p.stderr
+    assert f"key '{key}'" in p.stderr or not key, p.stderr
+    assert not any(c in p.stderr for c in "\x00\x1b\x07\x85"), repr(p.stderr)
