@@ -189,6 +189,20 @@ TEST(FaultScheduleFile, AStarTrackerOutageOnAFixedBaseWithPerfectSensorsIsRefuse
   }
 }
 
+// (pass 90) A sample taken in an outage is lost only if it would have been delivered within the run: an outage
+// whose one sample falls due after the run's end (latency 0.15 s) changed nothing but its flag.
+TEST(FaultScheduleFile, AStarTrackerOutageWhoseSampleWouldArriveAfterTheRunIsRefused) {
+  const std::string outage = "faults:\n  - {type: star_tracker_outage, start: 0.86, end: 0.95}\n";
+  const auto check = [&](const char* latency) {  // 1 s at 1 kHz, a 10 Hz tracker: the sample at 0.9 s is in it
+    return checkFaultsAgainstSamples(schedule(outage), test::plant("paper_ideal", {latency}), 1.0, 1e-3, "o.yaml");
+  };
+  const auto late = check("sensors.star_tracker_latency=0.15");
+  ASSERT_EQ(late.size(), 1u);
+  EXPECT_NE(late[0].find("[0.86, 0.95) s takes and delivers no star tracker sample"), std::string::npos) << late[0];
+  EXPECT_TRUE(check("sensors.star_tracker_latency=0.1").empty()) << "due at 1.0 s, the run's last tick: kept";
+  EXPECT_TRUE(check("sensors.star_tracker_latency=0").empty());
+}
+
 // (pass 79) A fault whose parameter changes nothing ran and was flagged as injected in every tick of its window:
 // a bias of 0, a torque limit at or above the motor's, a friction rise to the scene's own mu.
 TEST(FaultScheduleFile, AFaultThatWouldChangeNothingIsRefused) {
