@@ -77,6 +77,17 @@ def test_the_shipped_page_cannot_be_sent_elsewhere(tmp_path):
         assert not (tmp_path / "x").exists()
 
 
+def test_a_spec_after_an_option_is_told_to_go_first(tmp_path):
+    # (pass 90) `--check my.yaml` went to the shipped budget's sweeps: "unrecognized arguments: my.yaml"
+    env = dict(os.environ, GIMBALSIM_BUILD=str(pathlib.Path(os.environ["PYTHONPATH"]).parent))
+    (tmp_path / "my.yaml").write_text(SPEC)
+    for args in (["--check", "my.yaml"], ["--spatial", "--check", "my.yaml"]):
+        p = subprocess.run(["bash", str(SOURCE / "tools/sweeps/run_pointing_budget.sh"), *args], cwd=tmp_path,
+                           capture_output=True, text=True, timeout=60, env=env)
+        assert p.returncode == 2 and "my.yaml: a spec goes first, before the options" in p.stderr, (args, p.stderr)
+        assert "unrecognized" not in p.stderr and not (tmp_path / "out").exists()
+
+
 def test_a_refused_shipped_spec_leaves_the_previous_results(tmp_path):
     # The shipped budget regenerates out/pointing_budget/: a spec refused (or a run that fails)
     # must leave the previous results there, and write no page.

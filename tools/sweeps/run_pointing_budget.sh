@@ -74,6 +74,19 @@ if [ "$PAGE" = pointing_budget ] && [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then
   SPEC=$1
   shift
 fi
+# A spec after an option (--check c1.yaml) went to the shipped budget's sweeps: "unrecognized arguments" (pass 90)
+if [ -z "$SPEC" ]; then
+  for a in "$@"; do
+    case "$a" in
+      -*) ;;
+      *.yaml | *.yml) [ ! -f "$a" ] || {
+        echo "run_pointing_budget.sh: $a: a spec goes first, before the options: run_pointing_budget.sh $a" \
+          "[options]; nothing run" >&2
+        exit 2
+      } ;;
+    esac
+  done
+fi
 ARGS=("$@")
 source "$ROOT/tools/lib/build_dir.sh"  # BUILD: GIMBALSIM_BUILD where the user stands, or build/
 build_dir run_pointing_budget.sh reads
