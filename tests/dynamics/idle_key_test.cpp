@@ -47,7 +47,8 @@ TEST(IdleKeys, AFixedBaseLeavesItsBodyJoint1PlaceAndMomentumTolIdle) {
   std::vector<std::string> floating = sets;
   floating[0] = "structure.base=floating";
   EXPECT_TRUE(test::scene("paper_clearance", floating).idle_sets.empty());
-  EXPECT_TRUE(test::scene("paper_clearance", {"structure.base=fixed"}).idle_sets.empty()) << "the file's own say nothing";
+  EXPECT_TRUE(test::scene("paper_clearance", {"structure.base=fixed"}).idle_sets.empty())
+      << "the file's own say nothing";
 }
 
 TEST(IdleKeys, BothJointsIdealLeaveEveryBearingKeyIdleButOnlyASetIsSaid) {

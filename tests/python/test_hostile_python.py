@@ -595,8 +595,9 @@ def test_a_runs_record_cannot_be_edited_in_place(tmp_path):
     shutil.copy(scene_path("paper_clearance"), tmp_path / "s.yaml")
     shutil.copy(CONTROLLER_CONFIG, tmp_path / "c.yaml")
     mine = gimbalsim.load_scene(tmp_path / "s.yaml", {"sim.duration": 0.01})
+    loop_copy = gimbalsim.closed_loop(mine, gimbalsim.Controller(tmp_path / "c.yaml"), 0.01)
     for r, path in ((pickle.loads(pickle.dumps(gimbalsim.simulate(mine))), tmp_path / "s.yaml"),
-                    (gimbalsim.closed_loop(mine, gimbalsim.Controller(tmp_path / "c.yaml"), 0.01), tmp_path / "c.yaml")):
+                    (loop_copy, tmp_path / "c.yaml")):
         with pytest.raises(OSError, match="input"):
             r.to_csv(path)
     assert (tmp_path / "c.yaml").read_bytes() == pathlib.Path(CONTROLLER_CONFIG).read_bytes()
