@@ -108,8 +108,8 @@ std::string idleBenchOverride(const Options& o, const Inputs& in) {
     std::string why = key == "sim.duration" ? "firmware_sim runs --duration (or until stopped)"
                       : key == "name"       ? ""
                                             : closedLoopIdleSceneKey(key);
-    if (why.empty()) why = sensorKeyIdle(key, sensors, duration_s, true, in.plant.scene.model.floating_base,
-                                         gyroJumpActsBefore(in.faults, duration_s, duration_s, 1.0 / o.rate_hz));
+    const SensorRun run{duration_s, 1.0 / o.rate_hz, true, in.plant.scene.model.floating_base, &in.faults};
+    if (why.empty()) why = sensorKeyIdle(key, sensors, run);
     if (why.empty() && key == "sensors.seed" && !sensors.anyNoise()) why = "the scene's sensors draw no noise";
     if (!why.empty()) {
       return "--set #" + std::to_string(k + 1) + " '" + o.sets[k] + "': not read by the bench (" + why +

@@ -4,6 +4,7 @@
 #include <initializer_list>
 #include <string>
 
+#include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 #include "gimbalsim/input/value_format.hpp"
 
 namespace gimbalsim::firmware {
@@ -48,17 +49,31 @@ std::string idleSceneOverride(const char* flag, const std::vector<std::string>& 
   return "";
 }
 
-std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, double duration_s, bool antenna_loop,
-                          bool floating_base, bool gyro_fault) {
+std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, const SensorRun& run) {
+  const double duration_s = run.duration_s, T = run.period_s;
   const auto one_of = [&](std::initializer_list<const char*> keys) {
     return std::any_of(keys.begin(), keys.end(), [&](const char* k) { return key == std::string("sensors.") + k; });
   };
-  if (one_of({"star_tracker_outage", "star_tracker_rate", "star_tracker_latency"})) {
-    if (std::string why = starTrackerRedundant(sp, floating_base, gyro_fault); !why.empty()) return why;
+  const Vec2& star_outage = sp.star_tracker_outage;
+  const bool outage_key = key == "sensors.star_tracker_outage" && star_outage(1) > star_outage(0);
+  if (outage_key || one_of({"star_tracker_rate", "star_tracker_latency"})) {
+    // a gyro jump matters where it acts by the outage's next sample (pass 93), or anywhere for a rate or latency
+    const double jump_by =
+        outage_key && T > 0.0 ? starSampleDeliveredFrom(sp, star_outage(1) + T, T) + T : duration_s;
+    const bool jump = run.faults != nullptr && T > 0.0 && gyroJumpActsBefore(*run.faults, jump_by, duration_s, T);
+    if (std::string why = starTrackerRedundant(sp, run.floating_base, jump); !why.empty()) return why;
+  }
+  // (pass 93) an outage between two samples, or whose samples fall due after the run, holds none: as the fault's
+  if (outage_key && T > 0.0 && star_outage(0) < duration_s &&
+      !starOutageDropsASample(sp, star_outage(0), star_outage(1), true, duration_s, T)) {
+    return "sensors.star_tracker_outage [" + formatNumber(star_outage(0)) + ", " + formatNumber(star_outage(1)) +
+           "] s takes and delivers no star tracker sample (one every " + formatNumber(1.0 / sp.star_tracker_rate) +
+           " s, sensors.star_tracker_rate; latency " + formatNumber(sp.star_tracker_latency) +
+           " s): it would change nothing but its flag";
   }
   if (key.rfind("sensors.tracker_", 0) == 0 || key.rfind("sensors.antenna_gyro_", 0) == 0) {
     if (!sp.antenna_sensors) return "the run has no antenna sensor (sensors.antenna none): nothing reads it";
-    if (!antenna_loop) return "the controller does not close its loop at the antenna (antenna.tracker ignore)";
+    if (!run.antenna_loop) return "the controller does not close its loop at the antenna (antenna.tracker ignore)";
   }
   // (pass 78) an outage over the whole run takes no sample: what acts only through samples acts on nothing
   const auto whole_run = [&](const Vec2& outage) {
@@ -99,9 +114,9 @@ std::string idleInEveryRun(const char* flag, const std::vector<std::string>& ove
       const auto& idle = r.scene->idle_sets;
       const auto it = std::find_if(idle.begin(), idle.end(),
                                    [&](const auto& s) { return s.first == r.first_set + static_cast<int>(k); });
+      const SensorRun sensor_run{r.duration_s, r.period_s, r.antenna_loop, r.scene->model.floating_base, nullptr};
       const std::string sensor_why =
-          it != idle.end() || !r.sensors ? "" : sensorKeyIdle(key, *r.sensors, r.duration_s, r.antenna_loop,
-                                                                     r.scene->model.floating_base, false);
+          it != idle.end() || !r.sensors ? "" : sensorKeyIdle(key, *r.sensors, sensor_run);
       if (it == idle.end() && sensor_why.empty()) continue;
       ++idle_runs;
       const std::string reason = it != idle.end() ? it->second : "key '" + key + "': " + sensor_why;

@@ -320,9 +320,12 @@ int mainImpl(int argc, char** argv) {
   // outage over the whole run)
   const bool antenna_loop =
       std::any_of(controllers.begin(), controllers.end(), [](const auto& c) { return c.second.antenna.use_tracker; });
+  // the star tracker's samples are judged at the controllers' one period (not at all when they differ)
+  const bool one_period = std::all_of(controllers.begin(), controllers.end(),
+                                      [&](const auto& c) { return c.second.period == main_cfg.period; });
   for (const auto& [label, ps] : scenes) {
     study_scenes.push_back({label == "ideal" ? stem(ideal_path) : stem(clearance_path), &ps.scene, first_scene_set,
-                            &ps.sensors, T, antenna_loop});
+                            &ps.sensors, T, antenna_loop, "", one_period ? main_cfg.period : 0.0});
   }
   std::vector<std::string> partly_idle;
   if (const std::string why = firmware::idleInEveryRun("--scene-set", scene_sets, study_scenes, &partly_idle);

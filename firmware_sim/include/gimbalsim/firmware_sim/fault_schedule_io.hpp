@@ -53,4 +53,13 @@ std::vector<std::string> checkFaultsAgainstSamples(const FaultSchedule& s, const
 /// t_before [s]: a jump moves the estimate from its start on (the star tracker then corrects it).
 bool gyroJumpActsBefore(const FaultSchedule& s, double t_before, double duration, double tick_period);
 
+/// The tick [s] at which the first star tracker sample belonging to t [s] or later is delivered.
+double starSampleDeliveredFrom(const SensorParams& p, double t, double tick_period);
+
+/// Whether a star tracker outage from start to end [s] ([start, end) for a fault, [start, end] with
+/// end_inclusive for the scene key sensors.star_tracker_outage) takes a sample that would be delivered within a
+/// run of duration [s], or drops one due in it; false: it would change nothing but its flag.
+bool starOutageDropsASample(const SensorParams& p, double start, double end, bool end_inclusive, double duration,
+                            double tick_period);
+
 }  // namespace gimbalsim::firmware

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "gimbalsim/firmware_sim/fault_schedule.hpp"
 #include "gimbalsim/firmware_sim/sensor_params.hpp"
 #include "gimbalsim/scene/scene.hpp"
 
@@ -41,16 +42,25 @@ struct StudyScene {
   double duration_s = 0.0;                ///< [s] the run's length
   bool antenna_loop = false;              ///< the controller closes at the antenna given its sensors (antenna.tracker)
   std::string sensors_label;              ///< the run's sensors as the study labels them ("" one kind)
+  double period_s = 0.0;                  ///< [s] its control period (0: samples not judged)
+};
+
+/// What sensorKeyIdle needs of a run besides its sensors.
+struct SensorRun {
+  double duration_s = 0.0;               ///< [s] the run's length
+  double period_s = 0.0;                 ///< [s] its tick (0: the star tracker's samples are not judged)
+  bool antenna_loop = false;             ///< the controller closes at the antenna (antenna.tracker)
+  bool floating_base = true;             ///< structure.base floating
+  const FaultSchedule* faults = nullptr;  ///< the bench's --faults (a study has none)
 };
 
 /// Why the sensor key `key` acts on nothing in a closed-loop run of duration_s [s] on sensors sp ("" when it
 /// can act): an antenna key (sensors.tracker_*, antenna_gyro_*) where the run has no antenna sensor or its
 /// controller does not close at the antenna (antenna_loop false), or a key acting only through the star
-/// tracker's or boresight tracker's samples under an outage over the whole run (none is taken), or where the
-/// star tracker tells nothing (starTrackerRedundant: a fixed base, a perfect gyro; gyro_fault: a fault schedule's
-/// gyro_bias_jump).
-std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, double duration_s, bool antenna_loop,
-                          bool floating_base, bool gyro_fault);
+/// tracker's or boresight tracker's samples under an outage over the whole run (none is taken), a star tracker
+/// outage that takes and delivers no sample, or where the star tracker tells nothing (starTrackerRedundant: a
+/// fixed base, a perfect gyro, no gyro_bias_jump in run.faults acting by the outage's next sample).
+std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, const SensorRun& run);
 
 /// The study's `flag` values (key=value) that the scene loader found acting on nothing (Scene::idle_sets), or
 /// sensorKeyIdle for a run whose sensors are given:
