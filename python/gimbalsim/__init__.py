@@ -240,7 +240,7 @@ class Run:
         """Writes the CSV `gimbalsim simulate --out` writes for the same scene,
         byte for byte, by the command line's output rules (OSError): its
         folder must exist; a link, a non-file or the run's scene file is refused."""
-        inputs = [self.scene.path] if self.scene is not None else []
+        inputs = [self.scene._file or self.scene.path] if self.scene is not None else []  # absolute: pass 92
         path = _check_path(path, "output path")
         _output.check_outputs([path], inputs)  # the script running too, which the C++ writer cannot see (pass 85)
         _gimbalsim._write_csv(path, self.rows, inputs, list(self.columns))
@@ -305,14 +305,15 @@ def _unpickled(path, values, what):
     return (_check_path(path, f"the pickled {what}'s file name") if path else path), values
 
 
-def _unpickle_scene(path, values):
-    """A pickled Scene: its values loaded again (checked as any scene)."""
-    return _gimbalsim._unpickle_scene(*_unpickled(path, values, "scene"))
+def _unpickle_scene(path, values, file=""):
+    """A pickled Scene: its values loaded again (checked as any scene); file: its absolute path (none before)."""
+    return _gimbalsim._unpickle_scene(*_unpickled(path, values, "scene"), _check_path(file, "the pickled file"))
 
 
-def _unpickle_controller(path, values):
+def _unpickle_controller(path, values, file=""):
     """A pickled Controller: its values loaded again (checked as any configuration)."""
-    return _gimbalsim._unpickle_controller(*_unpickled(path, values, "controller"))
+    return _gimbalsim._unpickle_controller(*_unpickled(path, values, "controller"),
+                                           _check_path(file, "the pickled file"))
 
 
 # The closed loop's tick columns that are not angles [rad] (to_csv names them by unit).
@@ -393,5 +394,6 @@ def closed_loop(scene, controller_config, duration, settle_tol=1.0e-3, faults=No
     faults = "" if faults is None else _input_path(faults, "fault schedule path")
     summary, columns = _gimbalsim._closed_loop(_scene_argument(scene, "closed_loop"), ctrl, duration, settle_tol,
                                                faults)
-    read = [p for p in (scene.path, ctrl.path, faults) if p]
+    # absolute, taken when each was loaded: relative, a chdir before to_csv let it write over them (pass 92)
+    read = [p for p in (scene._file or scene.path, ctrl._file, faults and os.path.abspath(faults)) if p]
     return ClosedLoopRun(summary, columns, read)

@@ -15,6 +15,9 @@ namespace gimbalsim::py {
 struct PyScene {
   firmware::PlantScene plant;
   std::string path;
+  /// The file's absolute path, taken when it was loaded ("" for a text's scene): the input a run's to_csv never
+  /// writes over, wherever the caller stands by then (pass 92: a relative path read after a chdir let it).
+  std::string file;
   const Scene& scene() const { return plant.scene; }
 };
 
@@ -22,6 +25,9 @@ struct PyScene {
 /// overrides); a refusal becomes the Python SceneError.
 PyScene loadPyScene(const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides,
                     std::size_t printed = 0);
+
+/// path made absolute against the current folder (as given when that fails).
+std::string absoluteFile(const std::string& path);
 
 /// Refuses (ValueError) a path holding a NUL byte: the C library would read
 /// only the part before it, a file the caller did not name. `what` names the argument.

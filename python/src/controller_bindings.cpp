@@ -31,6 +31,7 @@ struct PyController {
   controllers::ControllerConfig config;
   controllers::ControllerState state;
   std::string path;  ///< "" = the built-in defaults (= controllers/config/default.yaml)
+  std::string file;  ///< path made absolute when loaded: a run's to_csv input wherever one stands (PyScene::file)
   double last_t = -1.0;  ///< [s] the last update's time since the last reset (-1: none)
 };
 
@@ -52,7 +53,7 @@ PyController loadController(const std::string& path, const std::vector<std::stri
   checkPath(path, "controller configuration path");
   try {
     if (path.empty()) return {loadControllerConfigText("", "the built-in default configuration", overrides), {}, ""};
-    return {loadControllerConfig(path, overrides), {}, path};
+    return {loadControllerConfig(path, overrides), {}, path, absoluteFile(path)};
   } catch (const InputError& e) {
     raiseSceneError(e);
   }
@@ -200,6 +201,7 @@ void bindController(pyb::module_& m) {
                             "`pointing_controller --keys`) and its update law with its memory")
       .def(pyb::init(&loadController), pyb::arg("path"), pyb::arg("overrides"))
       .def_property_readonly("path", [](const PyController& c) { return c.path; })
+      .def_property_readonly("_file", [](const PyController& c) { return c.file; }, "that file's absolute path")
       .def_property_readonly("period", [](const PyController& c) { return c.config.period; },
                              "control.period [s]")
       .def_property_readonly(
@@ -272,12 +274,14 @@ void bindController(pyb::module_& m) {
       // to 5): the values are loaded again, so an unpickled controller is checked.
       .def("__reduce__", [](const PyController& c) {
         return pyb::make_tuple(pyb::module_::import("gimbalsim").attr("_unpickle_controller"),
-                               pyb::make_tuple(c.path, configValues(c.config)));
+                               pyb::make_tuple(c.path, configValues(c.config), c.file));
       });
 
-  m.def("_unpickle_controller", [](const std::string& path, const std::vector<std::string>& values) {
+  m.def("_unpickle_controller", [](const std::string& path, const std::vector<std::string>& values,
+                                    const std::string& file) {
     PyController c = loadController("", values);
     c.path = path;
+    c.file = file;
     return c;
   });
 

@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 
 #include "bindings.hpp"
@@ -26,7 +27,7 @@ namespace {
 PyScene load(const std::string& path, const std::vector<std::string>& overrides) {
   checkPath(path, "scene path");
   try {
-    return PyScene{firmware::loadPlantScene(path, overrides), path};
+    return PyScene{firmware::loadPlantScene(path, overrides), path, absoluteFile(path)};
   } catch (const InputError& e) {
     raiseSceneError(e);
   }
@@ -37,7 +38,9 @@ PyScene replaced(const PyScene& s, const std::vector<std::string>& overrides) {
   std::vector<std::string> all = firmware::plantTable().values(s.plant);
   const std::size_t printed = all.size();
   all.insert(all.end(), overrides.begin(), overrides.end());
-  return loadPyScene("", s.path, all, printed);
+  PyScene out = loadPyScene("", s.path, all, printed);
+  out.file = s.file;
+  return out;
 }
 
 /// The column set of `names`, which must be the columns of some scene's
@@ -96,6 +99,12 @@ std::vector<std::string> nonDefault(const PyScene& s) {
 
 }  // namespace
 
+std::string absoluteFile(const std::string& path) {
+  std::error_code ec;
+  const std::filesystem::path p = std::filesystem::absolute(path, ec);
+  return ec ? path : p.lexically_normal().string();
+}
+
 void checkPath(const std::string& path, const char* what) {
   if (path.find('\0') != std::string::npos) {
     throw pyb::value_error(std::string(what) + " holds a NUL byte at position " + std::to_string(path.find('\0')) +
@@ -106,7 +115,7 @@ void checkPath(const std::string& path, const char* what) {
 PyScene loadPyScene(const std::string& yaml, const std::string& origin, const std::vector<std::string>& overrides,
                     std::size_t printed) {
   try {
-    return PyScene{firmware::loadPlantSceneText(yaml, origin, overrides, printed), origin};
+    return PyScene{firmware::loadPlantSceneText(yaml, origin, overrides, printed), origin, ""};
   } catch (const InputError& e) {
     raiseSceneError(e);
   }
@@ -115,6 +124,7 @@ PyScene loadPyScene(const std::string& yaml, const std::string& origin, const st
 void bindScene(pyb::module_& m) {
   pyb::class_<PyScene>(m, "Scene", "A validated scene: the physics (Model) and how to run it (RunSpec)")
       .def_property_readonly("path", [](const PyScene& s) { return s.path; }, "the file it was loaded from")
+      .def_property_readonly("_file", [](const PyScene& s) { return s.file; }, "that file's absolute path")
       .def_property_readonly("name", [](const PyScene& s) { return s.scene().model.name; })
       .def_property_readonly("variant", [](const PyScene& s) { return variantName(s.scene().model); },
                              "the compiled variant it runs as, e.g. floating_ideal_planar_friction")
@@ -143,11 +153,14 @@ void bindScene(pyb::module_& m) {
       // are loaded again, so an unpickled scene is checked as a loaded one.
       .def("__reduce__", [](const PyScene& s) {
         return pyb::make_tuple(pyb::module_::import("gimbalsim").attr("_unpickle_scene"),
-                               pyb::make_tuple(s.path, firmware::plantTable().values(s.plant)));
+                               pyb::make_tuple(s.path, firmware::plantTable().values(s.plant), s.file));
       });
 
-  m.def("_unpickle_scene", [](const std::string& path, const std::vector<std::string>& values) {
-    return loadPyScene("", path, values, values.size());
+  m.def("_unpickle_scene", [](const std::string& path, const std::vector<std::string>& values,
+                               const std::string& file) {
+    PyScene s = loadPyScene("", path, values, values.size());
+    s.file = file;
+    return s;
   });
   m.def("_load_scene", &load, pyb::arg("path"), pyb::arg("overrides"));
   m.def("_load_scene_text", [](const std::string& yaml, const std::string& origin,

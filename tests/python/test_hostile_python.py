@@ -647,3 +647,25 @@ def test_a_model_no_double_solves_is_refused_naming_a_key():
     with pytest.raises(gimbalsim.SceneError, match="the model's first row is not finite") as e:
         gimbalsim.load_scene(scene_path("paper_spatial2"), {"shaft2.mass": "1e9", "shaft2.com": "[1000, 0, 0]"})
     assert e.value.key == "shaft2.mass"
+
+
+def test_to_csv_never_writes_over_the_runs_inputs_after_a_change_of_folder(tmp_path, monkeypatch):
+    # (pass 92) the scene's, controller's and fault schedule's paths were kept as typed ('s.yaml'): after a chdir
+    # the input check read them in the new folder, and to_csv wrote over all three
+    a, b = tmp_path / "A", tmp_path / "B"
+    a.mkdir(), b.mkdir()
+    shutil.copy(scene_path("paper_clearance"), a / "s.yaml")
+    shutil.copy(CONTROLLER_CONFIG, a / "c.yaml")
+    (a / "f.yaml").write_text("faults:\n  - {type: encoder_bias, axis: azimuth, start: 0.1, bias: 1.0e-3}\n")
+    before = {n: (a / n).read_bytes() for n in ("s.yaml", "c.yaml", "f.yaml")}
+    monkeypatch.chdir(a)
+    run = gimbalsim.simulate(gimbalsim.load_scene("s.yaml", {"sim.duration": 0.01}))
+    loop = gimbalsim.closed_loop(gimbalsim.load_scene("s.yaml"), gimbalsim.Controller("c.yaml"), 0.3, faults="f.yaml")
+    monkeypatch.chdir(b)
+    for r, name in ((run, "s.yaml"), (pickle.loads(pickle.dumps(run)), "s.yaml"), (loop, "s.yaml"),
+                    (loop, "c.yaml"), (loop, "f.yaml"), (pickle.loads(pickle.dumps(loop)), "c.yaml")):
+        for path in (a / name, f"../A/{name}"):
+            with pytest.raises(OSError, match="the same file as the input"):
+                r.to_csv(path)
+    assert {n: (a / n).read_bytes() for n in before} == before
+    assert run.scene.path == "s.yaml"  # the path as given stays what it says
