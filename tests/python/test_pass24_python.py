@@ -148,3 +148,21 @@ def test_a_control_character_from_an_escape_in_a_spec_is_refused_at_its_place(tm
     assert p.returncode == 2 and f"character U+{code} (a control character, from an escape)" in p.stderr, p.stderr
     assert f"key '{key}'" in p.stderr or not key, p.stderr
     assert not any(c in p.stderr for c in "\x00\x1b\x07\x85"), repr(p.stderr)
+
+
+# (pass 93) an outage between two samples of the 10 Hz star tracker takes and drops none: it acted on nothing but
+# its flag (the bench refuses the same window as a fault and as a --set)
+GAPS = [('sensors.star_tracker_outage: "[0.25, 0.28]"', "", True),
+        ("", "parameters:\n  sensors.star_tracker_outage: {choice: [[0.25, 0.28], [0.31, 0.39]]}", True),
+        ("", "parameters:\n  sensors.star_tracker_outage: {choice: [[0.25, 0.28], [0.15, 0.25]]}", False)]
+
+
+@pytest.mark.parametrize("fixed,dispersion,refused", GAPS, ids=[str(i) for i in range(len(GAPS))])
+def test_an_outage_holding_no_sample_is_refused(tmp_path, fixed, dispersion, refused):
+    base = {"scene": scene_path("paper_clearance"), "outage": fixed or "sensors.star_tracker_noise: 1.0e-5"}
+    spec = write_spec(tmp_path, SPEC.format(**base, dispersion=dispersion or "parameters:\n  friction.mu: "
+                                            "{uniform: [0.15, 0.35]}", indices="ape: {}"))
+    p = check(spec, tmp_path / "out")
+    assert p.returncode == (2 if refused else 0), p.stderr
+    if refused:
+        assert "takes and drops no sample a figure of the run reads" in p.stderr, p.stderr
