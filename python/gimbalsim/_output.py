@@ -164,9 +164,9 @@ def _running_program():
     """The files the running process is: the interpreter, argv[0] when a file (not "-c" or ""), every module
     loaded (pass 90: a log written over output_file.py, which the tool had loaded, broke every later run)."""
     files = [sys.executable] if sys.executable else []
-    if sys.argv and sys.argv[0] and os.path.isfile(sys.argv[0]):
-        files.append(sys.argv[0])
-    files += [f for m in list(sys.modules.values()) if isinstance(f := getattr(m, "__file__", None), str)]
+    files += [sys.argv[0]] if sys.argv and sys.argv[0] and os.path.isfile(sys.argv[0]) else []
+    files += [f for m in list(sys.modules.values()) for a in ("__file__", "__cached__")  # .pyc too (pass 92)
+              if isinstance(f := getattr(m, a, None), str)]
     for f in files:  # a module's file is stat'ed once: a sweep checks outputs thousands of times
         if f not in _RUNNING:
             _RUNNING[f] = (_identity(f), f"this program ({f})")

@@ -296,5 +296,24 @@ def test_save_output_reads_only_a_regular_log_and_never_writes_over_a_module_it_
                            timeout=20)
         assert p.returncode == 2 and words in p.stderr, (args, p.returncode, p.stderr)
     assert not (tmp_path / "out.log").exists()
+    # (pass 92) and the compiled file of a module it runs (--check: a regression writes nothing)
+    cached = subprocess.run(["/usr/bin/python3", "-c", "import argparse; print(argparse.__cached__)"],
+                            capture_output=True, text=True).stdout.strip()
+    if os.path.isfile(cached):
+        p = subprocess.run(["/usr/bin/python3", str(tool), "--check", "log.tmp", cached], cwd=tmp_path,
+                           capture_output=True, text=True, timeout=20)
+        assert p.returncode == 2 and "the same file as this program" in p.stderr, p.stderr
     p = subprocess.run(["/usr/bin/python3", str(tool), "log.tmp", "out.log"], cwd=tmp_path, timeout=20)
     assert p.returncode == 0 and (tmp_path / "out.log").read_text() == "the log\n"
+
+
+def test_save_output_copies_a_log_larger_than_its_memory(tmp_path):
+    # (pass 92) SOURCE was read whole: a large log ended in a MemoryError traceback (or met the OOM killer)
+    source = tmp_path / "big.log"
+    with open(source, "wb") as f:
+        f.truncate(200 << 20)  # sparse: 200 MiB of NUL costs no disk until copied
+    p = subprocess.run(["bash", "-c", f"ulimit -v 120000; exec /usr/bin/python3 "
+                        f"{SOURCE / 'tools/pages/save_output.py'} big.log out.log"], cwd=tmp_path,
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
+    assert (tmp_path / "out.log").stat().st_size == 200 << 20

@@ -11,6 +11,7 @@ no output. `| tee "$OUT/x.log"` opened the name before the program had
 checked anything: a refused run emptied a previous log, a link's target or
 a hard-linked scene."""
 import argparse
+import io
 import os
 import pathlib
 import stat
@@ -41,13 +42,15 @@ def main():
         if not a.source:
             raise output_file.Refused("SOURCE: an empty path; name the log to copy")
         try:
-            with open(a.source, "rb", buffering=0, opener=lambda p, f: os.open(p, f | os.O_NONBLOCK)) as f:
-                if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
-                    raise output_file.Refused(f"{a.source}: not a regular file: a log is one")
-                text = f.read().decode("utf-8", errors="replace")
+            source = open(a.source, "rb", opener=lambda p, f: os.open(p, f | os.O_NONBLOCK))
         except OSError as e:
             raise output_file.Refused(f"{a.source}: cannot read the log: {e.strerror}") from None
-        output_file.write_text(a.dest, text, inputs)
+        with source, io.TextIOWrapper(source, encoding="utf-8", errors="replace") as text:
+            if not stat.S_ISREG(os.fstat(source.fileno()).st_mode):
+                raise output_file.Refused(f"{a.source}: not a regular file: a log is one")
+            with output_file.open_output(a.dest, "w", inputs) as out:  # (pass 92) a chunk at a time, not whole
+                for chunk in iter(lambda: text.read(1 << 20), ""):
+                    out.write(chunk)
     return output_file.run_script(a.caller, save)
 
 
