@@ -282,6 +282,10 @@ def write_page(path, title, command, body, summary="", t0=None, load0=None, inde
     """Writes header + body to path atomically, then the index beside it (when index). The writer's rules first
     (output_file.check_before_writing: Refused, exit 2, nothing written): no link, no folder that does not
     exist, none of `inputs`; and a README.md beside the page that is no results index is never replaced."""
+    for what, given in (("the title", title), ("the command", command), ("the summary", summary), ("the body", body)):
+        if bad := re.search("[\x00-\x08\x0b-\x1f\x7f-\x9f]", given):  # (pass 92: ESC]0;..BEL titled the terminal)
+            raise output_file.Refused(f"{what}: character U+{ord(bad.group()):04X} (a control character) at "
+                                      f"position {bad.start()}: a page holds none")
     summary_line = f"<!-- summary: {' '.join(summary.split())} -->\n" if summary else ""
     text = header(title, command, t0, load0) + summary_line + "\n" + body.rstrip("\n") + "\n"
     path = pathlib.Path(path)
