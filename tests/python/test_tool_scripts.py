@@ -599,7 +599,12 @@ def test_compare_bench_refuses_a_flag_twice_or_empty(args, named, tmp_path):
                                          (("--benchmark_time_unit=yr",), "--benchmark_time_unit: must be one of ns"),
                                          (("--benchmark_enable_random_interleaving=maybe",),
                                           "--benchmark_enable_random_interleaving: must be one of true, false"),
-                                         (("--benchmark_context=foo",), "--benchmark_context: must be KEY=VALUE")])
+                                         (("--benchmark_context=foo",), "--benchmark_context: must be KEY=VALUE"),
+                                         # (pass 93) a key twice was taken; '[' ran nothing and exited 0
+                                         (("--benchmark_context=a=1,a=2",),
+                                          "--benchmark_context: must be KEY=VALUE[,KEY=VALUE...], each"),
+                                         (("--benchmark_filter=[",),
+                                          "--benchmark_filter: '[' is not a regular expression")])
 def test_the_benchmarks_read_their_flags_as_the_programs_do(flags, named, tmp_path):
     # (pass 78) a second filter won, 0x1 and 010 (ten repetitions) were taken, and min_time=nan never ended;
     # (pass 91) a format or time unit outside its choice printed the usage and exited 0, a bool took "maybe"

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -74,8 +75,26 @@ inline std::string benchmarkFlagProblem(int argc, char** argv) {
         return flag + ": must be one of " + list + " after its '=', got '" + value + "'";
       }
     }
-    if (flag == "--benchmark_context" && (value.empty() || value.find('=') == std::string::npos)) {
-      return flag + ": must be KEY=VALUE[,KEY=VALUE...] after its '=', got '" + value + "'";
+    if (flag == "--benchmark_context") {  // (pass 93) an empty key or item, a key twice were taken or "unrecognized"
+      std::set<std::string> keys;
+      std::stringstream items(value);
+      std::string item;
+      while (std::getline(items, item, ',')) {
+        const std::size_t at = item.find('=');
+        if (at == std::string::npos || at == 0 || !keys.insert(item.substr(0, at)).second) {
+          return flag + ": must be KEY=VALUE[,KEY=VALUE...], each KEY once and not empty, got '" + value + "'";
+        }
+      }
+      if (keys.empty() || value.back() == ',') {
+        return flag + ": must be KEY=VALUE[,KEY=VALUE...], each KEY once and not empty, got '" + value + "'";
+      }
+    }
+    if (flag == "--benchmark_filter") {  // (pass 93) '[' printed "Could not compile", ran nothing and exited 0
+      try {
+        std::regex(value, std::regex::extended);
+      } catch (const std::regex_error& e) {
+        return flag + ": '" + value + "' is not a regular expression (" + e.what() + ")";
+      }
     }
     for (const Number& n : kNumbers) {
       if (flag != n.name) continue;
