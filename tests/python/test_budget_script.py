@@ -81,10 +81,11 @@ def test_a_spec_after_an_option_is_told_to_go_first(tmp_path):
     # (pass 90) `--check my.yaml` went to the shipped budget's sweeps: "unrecognized arguments: my.yaml"
     env = dict(os.environ, GIMBALSIM_BUILD=str(pathlib.Path(os.environ["PYTHONPATH"]).parent))
     (tmp_path / "my.yaml").write_text(SPEC)
-    for args in (["--check", "my.yaml"], ["--spatial", "--check", "my.yaml"]):
+    (tmp_path / "my.txt").write_text(SPEC)  # (pass 93) a spec not named .yaml went to the sweeps all the same
+    for args in (["--check", "my.yaml"], ["--spatial", "--check", "my.yaml"], ["--check", "my.txt"]):
         p = subprocess.run(["bash", str(SOURCE / "tools/sweeps/run_pointing_budget.sh"), *args], cwd=tmp_path,
                            capture_output=True, text=True, timeout=60, env=env)
-        assert p.returncode == 2 and "my.yaml: a spec goes first, before the options" in p.stderr, (args, p.stderr)
+        assert p.returncode == 2 and f"{args[-1]}: a spec goes first, before the options" in p.stderr, (args, p.stderr)
         assert "unrecognized" not in p.stderr and not (tmp_path / "out").exists()
 
 

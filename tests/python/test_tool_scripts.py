@@ -473,7 +473,8 @@ def test_the_tools_numbers_have_ranges_the_code_honours(tmp_path):
               "'paper_ideal' given twice in 'paper_ideal,paper_ideal'"),
              ("tools/hil/worst_tick.py", ["--realtime-scenes", "paper_ideal.yaml"],
               "'paper_ideal.yaml': give the scene's name without .yaml"),
-             ("tools/hil/worst_tick.py", ["--realtime-scenes", "paper_ideal,,paper_clearance"], "an empty item")]
+             ("tools/hil/worst_tick.py", ["--realtime-scenes", "paper_ideal,,paper_clearance"], "an empty item"),
+             ("tools/hil/worst_tick.py", ["--realtime-scenes", "./paper_ideal,paper_ideal"], "not a path")]
     for tool, args, words in cases:
         p = subprocess.run(["/usr/bin/python3", str(SOURCE / tool), *args], cwd=tmp_path, capture_output=True,
                            text=True, timeout=60, env={**os.environ, "PYTHONPATH": str(BIN.parent / "python")})

@@ -267,6 +267,8 @@ def shipped_scene(name):
     given with its .yaml was looked up as NAME.yaml.yaml)."""
     if name.endswith(".yaml"):
         raise argparse.ArgumentTypeError(f"{name!r}: give the scene's name without .yaml (tools/scenes/NAME.yaml)")
+    if "/" in name or name.startswith("."):  # (pass 93) ./NAME ran NAME twice, ../x a file outside tools/scenes
+        raise argparse.ArgumentTypeError(f"{name!r}: a scene's name in tools/scenes (NAME for NAME.yaml), not a path")
     if not os.path.isfile(os.path.join(hil_speed.SCENES, name + ".yaml")):
         raise argparse.ArgumentTypeError(f"no tools/scenes/{name}.yaml")
     return name

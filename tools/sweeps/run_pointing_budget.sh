@@ -79,7 +79,7 @@ if [ -z "$SPEC" ]; then
   for a in "$@"; do
     case "$a" in
       -*) ;;
-      *.yaml | *.yml) [ ! -f "$a" ] || {
+      *) [ ! -f "$a" ] || {  # (pass 93: a spec not named .yaml went to the sweeps too)
         echo "run_pointing_budget.sh: $a: a spec goes first, before the options: run_pointing_budget.sh $a" \
           "[options]; nothing run" >&2
         exit 2
