@@ -68,12 +68,16 @@ std::vector<std::string> checkFaultsAgainstSamples(const FaultSchedule& s, const
     // (pass 87) an outage between two 10 Hz samples dropped none: only its flag changed, recorded as injected.
     // A fault from the run's end on is a run cut short of it (checkFaultsAgainstDuration).
     if (f.start >= duration - tol || starOutageDropsASample(p, f.start, f.end, false, duration, T)) continue;
-    out.push_back(at + "[" + formatNumber(f.start) + ", " + formatNumber(f.end) +
-                  ") s takes and delivers no star tracker sample (one every " + formatNumber(P) +
-                  " s, sensors.star_tracker_rate; latency " + formatNumber(p.star_tracker_latency) +
-                  " s): it would change nothing but its flag");
+    out.push_back(at + starOutageHoldsNoSample(p, f.start, f.end, false));
   }
   return out;
+}
+
+std::string starOutageHoldsNoSample(const SensorParams& p, double start, double end, bool end_inclusive) {
+  return "[" + formatNumber(start) + ", " + formatNumber(end) + (end_inclusive ? "]" : ")") +
+         " s takes and delivers no star tracker sample (one every " + formatNumber(1.0 / p.star_tracker_rate) +
+         " s, sensors.star_tracker_rate; latency " + formatNumber(p.star_tracker_latency) +
+         " s): it would change nothing but its flag";
 }
 
 }  // namespace gimbalsim::firmware

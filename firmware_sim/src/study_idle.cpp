@@ -66,10 +66,7 @@ std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, const 
   // (pass 93) an outage between two samples, or whose samples fall due after the run, holds none: as the fault's
   if (outage_key && T > 0.0 && star_outage(0) < duration_s &&
       !starOutageDropsASample(sp, star_outage(0), star_outage(1), true, duration_s, T)) {
-    return "sensors.star_tracker_outage [" + formatNumber(star_outage(0)) + ", " + formatNumber(star_outage(1)) +
-           "] s takes and delivers no star tracker sample (one every " + formatNumber(1.0 / sp.star_tracker_rate) +
-           " s, sensors.star_tracker_rate; latency " + formatNumber(sp.star_tracker_latency) +
-           " s): it would change nothing but its flag";
+    return "sensors.star_tracker_outage " + starOutageHoldsNoSample(sp, star_outage(0), star_outage(1), true);
   }
   if (key.rfind("sensors.tracker_", 0) == 0 || key.rfind("sensors.antenna_gyro_", 0) == 0) {
     if (!sp.antenna_sensors) return "the run has no antenna sensor (sensors.antenna none): nothing reads it";
@@ -114,9 +111,7 @@ std::string idleInEveryRun(const char* flag, const std::vector<std::string>& ove
       const auto& idle = r.scene->idle_sets;
       const auto it = std::find_if(idle.begin(), idle.end(),
                                    [&](const auto& s) { return s.first == r.first_set + static_cast<int>(k); });
-      const SensorRun sensor_run{r.duration_s, r.period_s, r.antenna_loop, r.scene->model.floating_base, nullptr};
-      const std::string sensor_why =
-          it != idle.end() || !r.sensors ? "" : sensorKeyIdle(key, *r.sensors, sensor_run);
+      const std::string sensor_why = it != idle.end() || !r.sensors ? "" : sensorKeyIdle(key, *r.sensors, r.run);
       if (it == idle.end() && sensor_why.empty()) continue;
       ++idle_runs;
       const std::string reason = it != idle.end() ? it->second : "key '" + key + "': " + sensor_why;

@@ -99,8 +99,9 @@ int mainImpl(int argc, char** argv) {
     // A --scene-set the scene's joints leave idle (joint 1's friction on an ideal joint 1): every run would
     // record it and none act (pass 72); a sensor key too (pass 78).
     std::vector<std::string> partly_idle;  // one scene: idle in some runs is idle in all
-    const firmware::StudyScene run{scene_path, &ps.scene, 1, &ps.sensors, opt.duration, base.antenna.use_tracker,
-                                   "", base.period};
+    const firmware::StudyScene run{
+        scene_path, &ps.scene, 1, &ps.sensors,
+        {opt.duration, base.period, base.antenna.use_tracker, ps.scene.model.floating_base, nullptr}, ""};
     if (const std::string why = firmware::idleInEveryRun("--scene-set", scene_sets, {run}, &partly_idle);
         !why.empty()) {
       return program::refuse("controller_sweep", why);

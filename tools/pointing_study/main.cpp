@@ -271,19 +271,21 @@ int mainImpl(int argc, char** argv) {
   std::vector<firmware::StudyScene> study_scenes;
   // ... and a sensor key its runs leave idle (the antenna's without one, a sample's under a whole-run outage)
   for (const Planned& p : scenes) {
-    study_scenes.push_back({p.scene_name, &p.scene.scene, p.first_scene_set, &p.scene.sensors, opt.duration,
-                            cfg.antenna.use_tracker, cases.size() > 1 ? p.sensors : "", cfg.period});
+    const firmware::SensorRun run{opt.duration, cfg.period, cfg.antenna.use_tracker,
+                                  p.scene.scene.model.floating_base, nullptr};
+    study_scenes.push_back({p.scene_name, &p.scene.scene, p.first_scene_set, &p.scene.sensors, run,
+                            cases.size() > 1 ? p.sensors : ""});
   }
   // A --scene-set of a sensor key is said with the case, as gimbalsim_controller_floor says it (the runs were
   // labelled "perfect" over noisy sensors, pass 56), where it acts: a key idle in a case's runs is not said
   // with them (pass 91: the perfect runs of --sensors both on a fixed base, "perfect except star_tracker_rate")
-  for (Planned& p : scenes) {
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    Planned& p = scenes[i];
     const std::string sensor_case = p.sensors;
-    const firmware::SensorRun run{opt.duration, cfg.period, cfg.antenna.use_tracker,
-                                  p.scene.scene.model.floating_base, nullptr};
     for (const std::string& kv : scene_sets) {
       const std::string key = kv.substr(0, kv.find('='));
-      if (key.rfind("sensors.", 0) != 0 || !firmware::sensorKeyIdle(key, p.scene.sensors, run).empty()) continue;
+      if (key.rfind("sensors.", 0) != 0) continue;
+      if (!firmware::sensorKeyIdle(key, p.scene.sensors, study_scenes[i].run).empty()) continue;
       p.sensors += (p.sensors == sensor_case ? " except " : " and ") + kv;
     }
   }

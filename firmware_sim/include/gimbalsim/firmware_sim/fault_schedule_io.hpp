@@ -62,4 +62,8 @@ double starSampleDeliveredFrom(const SensorParams& p, double t, double tick_peri
 bool starOutageDropsASample(const SensorParams& p, double start, double end, bool end_inclusive, double duration,
                             double tick_period);
 
+/// Why a star tracker outage from start to end [s] (closed as starOutageDropsASample's end_inclusive) is refused
+/// when it drops no sample: "[start, end) s takes and delivers no star tracker sample (...)".
+std::string starOutageHoldsNoSample(const SensorParams& p, double start, double end, bool end_inclusive);
+
 }  // namespace gimbalsim::firmware

@@ -32,19 +32,6 @@ std::string closedLoopIdleSceneKey(const std::string& key);
 /// none). A study's override of one would be recorded with its runs and never act.
 std::string idleSceneOverride(const char* flag, const std::vector<std::string>& overrides);
 
-/// One run of a study as idleInEveryRun sees it: the scene it ran (its file's name) and the loader's number
-/// (1-based) of the study's first `flag` value among the overrides that scene was loaded with.
-struct StudyScene {
-  std::string name;
-  const Scene* scene = nullptr;
-  int first_set = 1;
-  const SensorParams* sensors = nullptr;  ///< the run's sensors, for sensorKeyIdle (none: not judged)
-  double duration_s = 0.0;                ///< [s] the run's length
-  bool antenna_loop = false;              ///< the controller closes at the antenna given its sensors (antenna.tracker)
-  std::string sensors_label;              ///< the run's sensors as the study labels them ("" one kind)
-  double period_s = 0.0;                  ///< [s] its control period (0: samples not judged)
-};
-
 /// What sensorKeyIdle needs of a run besides its sensors.
 struct SensorRun {
   double duration_s = 0.0;               ///< [s] the run's length
@@ -52,6 +39,17 @@ struct SensorRun {
   bool antenna_loop = false;             ///< the controller closes at the antenna (antenna.tracker)
   bool floating_base = true;             ///< structure.base floating
   const FaultSchedule* faults = nullptr;  ///< the bench's --faults (a study has none)
+};
+
+/// One run of a study as idleInEveryRun sees it: the scene it ran (its file's name) and the loader's number
+/// (1-based) of the study's first `flag` value among the overrides that scene was loaded with.
+struct StudyScene {
+  std::string name;
+  const Scene* scene = nullptr;
+  int first_set = 1;
+  const SensorParams* sensors = nullptr;  ///< the run's sensors, for sensorKeyIdle (none: not judged)
+  SensorRun run;                          ///< its length, control period, loop and base, for sensorKeyIdle
+  std::string sensors_label;              ///< the run's sensors as the study labels them ("" one kind)
 };
 
 /// Why the sensor key `key` acts on nothing in a closed-loop run of duration_s [s] on sensors sp ("" when it
