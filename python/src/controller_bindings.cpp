@@ -52,7 +52,9 @@ namespace {
 PyController loadController(const std::string& path, const std::vector<std::string>& overrides) {
   checkPath(path, "controller configuration path");
   try {
-    if (path.empty()) return {loadControllerConfigText("", "the built-in default configuration", overrides), {}, ""};
+    if (path.empty()) {
+      return {loadControllerConfigText("", "the built-in default configuration", overrides), {}, "", ""};
+    }
     return {loadControllerConfig(path, overrides), {}, path, absoluteFile(path)};
   } catch (const InputError& e) {
     raiseSceneError(e);
