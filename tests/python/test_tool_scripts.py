@@ -605,7 +605,16 @@ def test_compare_bench_refuses_a_flag_twice_or_empty(args, named, tmp_path):
                                          (("--benchmark_context=a=1,a=2",),
                                           "--benchmark_context: must be KEY=VALUE[,KEY=VALUE...], each"),
                                          (("--benchmark_filter=[",),
-                                          "--benchmark_filter: '[' is not a regular expression")])
+                                          "--benchmark_filter: '[' is not a regular expression"),
+                                         # (pass 95) counters aborted the run (SIGABRT); --v=abc, a word and a later
+                                         # version's flag got the library's "unrecognized"; a bare string flag too
+                                         (("--benchmark_perf_counters=CYCLES",),
+                                          "--benchmark_perf_counters: this build's Google Benchmark"),
+                                         (("--v=abc",), "--v: must be a whole number in [0, 10]"),
+                                         (("--v=1", "--v=2"), "--v: given twice"),
+                                         (("positional",), "'positional': not a flag of this program"),
+                                         (("--benchmark_dry_run=true",), "'--benchmark_dry_run=true': not a flag"),
+                                         (("--benchmark_filter",), "--benchmark_filter: takes a value after its '='")])
 def test_the_benchmarks_read_their_flags_as_the_programs_do(flags, named, tmp_path):
     # (pass 78) a second filter won, 0x1 and 010 (ten repetitions) were taken, and min_time=nan never ended;
     # (pass 91) a format or time unit outside its choice printed the usage and exited 0, a bool took "maybe"
@@ -642,7 +651,9 @@ def test_a_benchmarks_json_is_written_by_the_writers_rules(program, filter_, tmp
     assert all(p.read_bytes() == b for p, b in before.items()) and (tmp_path / "target.json").read_text() == "keep"
     p = subprocess.run([str(tmp_path / program), "--benchmark_filter=NOTHING", "--benchmark_out=none.json"],
                        capture_output=True, text=True, timeout=60, cwd=tmp_path)
-    assert p.returncode == 0 and "no benchmark ran: none.json not written" in p.stderr, p.stderr
+    # (pass 95) a filter that matched none exited 0, as if it had measured: refused, as run_bench.sh refuses it
+    assert p.returncode == 2 and "no benchmark ran: none.json not written" in p.stderr, p.stderr
+    assert f"{program}: error: --benchmark_filter matched none of this program's benchmarks" in p.stderr, p.stderr
     assert not (tmp_path / "none.json").exists()
     if filter_ != "NOTHING":  # a run that ran is written whole, as the library writes it
         p = bench("good.json", "--benchmark_out_format=json")

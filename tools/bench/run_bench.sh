@@ -30,7 +30,8 @@ for a in "$@"; do
     --version) script_version run_bench.sh; exit 0 ;;
     --results) RESULTS=1 ;;
     # the JSON is the script's to write (OUT=FILE), by the writer's rules; a listing is the bench's answer alone
-    --benchmark_out=* | --benchmark_out_format=*) refuse "$a: the script writes the JSON; give OUT=FILE" ;;
+    --benchmark_out | --benchmark_out=* | --benchmark_out_format*)
+      refuse "$a: the script writes the JSON; give OUT=FILE" ;;
     --benchmark_repetitions* | --benchmark_report_aggregates_only*) refuse "$a: the script sets it; give REPS=N" ;;
     # nothing after '=' is refused, as the programs refuse it (--benchmark_filter= ran every benchmark)
     --*=) refuse "$a: an empty value after the '='" ;;
