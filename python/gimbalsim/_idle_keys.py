@@ -14,8 +14,9 @@ import yaml
 from . import _gimbalsim
 from ._closed_spec import CONTROLLER_PREFIX
 from ._idle_sensors import (ANTENNA_NOISE_KEYS, ANTENNA_TRACKER, NOISE_KEYS, TRUTH_ONLY, Span,
-                            _delivered, _Given, idle_at_antenna, idle_in_sensors, idle_on_fixed_base,
+                            _Given, idle_at_antenna, idle_in_sensors, idle_on_fixed_base,
                             open_at_antenna)
+from ._idle_outage import OUTAGE_DECIDERS, idle_outage
 from .indices import seconds
 
 # What a closed loop never reads, and what an open-loop run never reads.
@@ -130,22 +131,6 @@ def _feedforwards_alike(key, values, dispersed, takes):
             "profile does: every value given runs alike")
 
 
-def _idle_outage(key, values, dispersed, unread):
-    """(pass 93) Why an outage key acts on nothing: with its tracker's rate, latency, the control period and the
-    run's length fixed, it takes or drops no sample delivered while a figure can read it (_delivered)."""
-    sensor = {"sensors.star_tracker_outage": "star_tracker", "sensors.tracker_outage": "tracker"}.get(key)
-    keys = (f"sensors.{sensor}_rate", CONTROLLER_PREFIX + "control.period", f"sensors.{sensor}_latency", "sim.duration")
-    if sensor is None or set(keys) & dispersed or not all(k in values for k in (keys[0], keys[1], keys[3])):
-        return None
-    start, end = (float(x) for x in str(values[key]).strip("[]").split(","))
-    rate, period, latency, duration = (float(values.get(k, 0.0)) for k in keys)
-    n = _delivered(0.0, 0.0, duration, rate, period, latency, unread, most=10**6) if duration * rate <= 1e5 else None
-    if not end > start or n is None or _delivered(start, end, duration, rate, period, latency, unread, n + 1) != n:
-        return None
-    return (f"{key} [{seconds(start)}, {seconds(end)}] s takes and drops no sample a figure of the run reads (one "
-            f"every {seconds(1.0 / rate)} s, latency {seconds(latency)} s): it would change nothing but its flag")
-
-
 def _idle_in_controller_keys(key, values, dispersed):
     """idle_in_controller on the study's controller.* names."""
     if not key.startswith(CONTROLLER_PREFIX):
@@ -189,7 +174,8 @@ def idle_reason(key, values, dispersed, takes, closed, unread_ticks=TRUTH_ONLY):
                              dispersed, takes,
                              NOISE_KEYS + ANTENNA_NOISE_KEYS if key == "sensors.seed" else ()) or \
             _for_every_value(idle_on_fixed_base, key, values, dispersed, takes) or \
-            _for_every_value(functools.partial(_idle_outage, unread=unread_ticks), key, values, dispersed, takes)
+            _for_every_value(functools.partial(idle_outage, unread=unread_ticks), key, values, dispersed, takes,
+                             OUTAGE_DECIDERS.get(key, ()))
     if why is None and closed:
         why = _idle_after_the_run(key, values, dispersed, takes) or _idle_motor_limit(key, values, dispersed, takes)
     if why is None and closed:

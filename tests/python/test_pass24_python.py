@@ -154,7 +154,12 @@ def test_a_control_character_from_an_escape_in_a_spec_is_refused_at_its_place(tm
 # its flag (the bench refuses the same window as a fault and as a --set)
 GAPS = [('sensors.star_tracker_outage: "[0.25, 0.28]"', "", True),
         ("", "parameters:\n  sensors.star_tracker_outage: {choice: [[0.25, 0.28], [0.31, 0.39]]}", True),
-        ("", "parameters:\n  sensors.star_tracker_outage: {choice: [[0.25, 0.28], [0.15, 0.25]]}", False)]
+        ("", "parameters:\n  sensors.star_tracker_outage: {choice: [[0.25, 0.28], [0.15, 0.25]]}", False),
+        # (pass 94) idle at every rate a choice gives (samples at 0.3 s and 0.333 s) was taken; at 4 Hz, 0.25 s is
+        ('sensors.star_tracker_outage: "[0.21, 0.29]"', "parameters:\n  sensors.star_tracker_rate: {choice: [10, 3.0]}",
+         True),
+        ('sensors.star_tracker_outage: "[0.21, 0.29]"', "parameters:\n  sensors.star_tracker_rate: {choice: [10, 4.0]}",
+         False)]
 
 
 @pytest.mark.parametrize("fixed,dispersion,refused", GAPS, ids=[str(i) for i in range(len(GAPS))])
