@@ -128,8 +128,10 @@ TEST(HostileInput, TextThatIsNotPrintableUtf8IsRefusedWithItsPlace) {
   }
   // (pass 86) a quoted scalar's escapes made control characters after the text check: an escape sequence that
   // set the terminal's title and cleared it, a NUL that cut the name
+  // (pass 94) and a line separator that split a printed line, the bidi controls that reordered it
   for (const char* escaped : {"name: \"\\e]0;pwned\\a\\e[2J\"\n", "name: \"a\\u0000x\"\n", "name: \"a\\nb\"\n",
-                              "name: \"a\\x85b\"\n", "name: \"a\\x7f\"\n"}) {
+                              "name: \"a\\x85b\"\n", "name: \"a\\x7f\"\n", "name: \"a\\u2028b\"\n",
+                              "name: \"a\\u202eb\"\n", "name: \"a\\u2066b\"\n", "name: \"a\\u200fb\"\n"}) {
     const Problem p = refusedOnce(escaped);
     EXPECT_NE(p.text.find("(a control character, from an escape) at position"), std::string::npos) << p.text;
   }

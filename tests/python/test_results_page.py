@@ -259,11 +259,13 @@ def test_a_study_whose_clearance_runs_have_no_track_figure_says_so(tmp_path, mon
 
 
 @pytest.mark.parametrize("field", ["title", "command", "summary", "body"])
-def test_a_control_character_in_a_page_is_refused(tmp_path, field):
-    # (pass 92) --title "a ESC]0;pwn BEL b" landed in the page and the index: cat set the terminal's title
+@pytest.mark.parametrize("bad,code", [("\x1b]0;pwn\x07", "001B"), ("\u2028", "2028"), ("\u202e", "202E")])
+def test_a_control_character_in_a_page_is_refused(tmp_path, field, bad, code):
+    # (pass 92) --title "a ESC]0;pwn BEL b" landed in the page and the index: cat set the terminal's title;
+    # (pass 94) a line separator split it, a right-to-left override reversed it
     page = tmp_path / "p.md"
     texts = {"title": "A study", "command": "cmd", "summary": "one line", "body": "| a |\n"}
-    texts[field] = "a\x1b]0;pwn\x07b" if field != "body" else "| a |\n\x1b[2J\n"
-    with pytest.raises(results_page.output_file.Refused, match=rf"the {field}: character U\+001B \(a control"):
+    texts[field] = f"a{bad}b" if field != "body" else f"| a |\n{bad}\n"
+    with pytest.raises(results_page.output_file.Refused, match=rf"the {field}: character U\+{code} \(a control"):
         results_page.write_page(page, texts["title"], texts["command"], texts["body"], texts["summary"], index=False)
     assert not page.exists()
