@@ -380,12 +380,13 @@ class ClosedLoopRun:
 
 
 
-def closed_loop(scene, controller_config, duration, settle_tol=1.0e-3, faults=None):
+def closed_loop(scene, controller_config, duration, settle_tol=1.0e-3, faults=None, _study=False):
     """The project's controller closed on the scene's plant in one process
     (firmware model + controller, as the bench in lockstep): the same numbers
     as the C++ in-process closed loop. controller_config is a Controller or a
     configuration file path; faults a fault schedule file (as firmware_sim
-    --faults; its flags in columns["injected_faults"])."""
+    --faults; its flags in columns["injected_faults"]). An outage the scene sets
+    that acts on nothing is refused (SceneError), as firmware_sim refuses it."""
     duration = _real_argument(duration, "duration [s]", 1e9)
     settle_tol = _real_argument(settle_tol, "settle_tol [rad]", 10.0)  # as controller_sweep --settle-tol
     ctrl = controller_config
@@ -393,7 +394,7 @@ def closed_loop(scene, controller_config, duration, settle_tol=1.0e-3, faults=No
         ctrl = Controller(controller_config)
     faults = "" if faults is None else _input_path(faults, "fault schedule path")
     summary, columns = _gimbalsim._closed_loop(_scene_argument(scene, "closed_loop"), ctrl, duration, settle_tol,
-                                               faults)
+                                               faults, not _study)  # a study judged its units (python.md)
     # absolute, taken when each was loaded: relative, a chdir before to_csv let it write over them (pass 92)
     read = [p for p in (scene._file or scene.path, ctrl._file, faults and os.path.abspath(faults)) if p]
     return ClosedLoopRun(summary, columns, read)

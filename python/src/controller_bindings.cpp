@@ -49,6 +49,22 @@ using firmware::TickRecord;
 
 namespace {
 
+/// (pass 94) An outage the scene sets that acts on nothing (a fixed base with perfect sensors, between two samples,
+/// a tracker the run lacks) ran silently, where firmware_sim refuses the same --set: refused as sensorKeyIdle says.
+void refuseIdleOutages(const PyScene& s, const ControllerConfig& c, double duration,
+                       const firmware::FaultSchedule* faults) {
+  const firmware::SensorParams& sp = s.plant.sensors;
+  const firmware::SensorRun run{duration, c.period, c.antenna.use_tracker, s.scene().model.floating_base, faults};
+  for (const auto& [key, window] : {std::pair{"sensors.star_tracker_outage", sp.star_tracker_outage},
+                                    std::pair{"sensors.tracker_outage", sp.tracker_outage}}) {
+    if (!(window(1) > window(0))) continue;  // none set
+    if (const std::string why = firmware::sensorKeyIdle(key, sp, run); !why.empty()) {
+      const std::string text = s.path + ": key '" + key + "': " + why + " (firmware_sim refuses it as a --set)";
+      raiseSceneError(InputError({Problem{text, key, s.path, 0, 0, 0}}));
+    }
+  }
+}
+
 PyController loadController(const std::string& path, const std::vector<std::string>& overrides) {
   checkPath(path, "controller configuration path");
   try {
@@ -316,7 +332,8 @@ void bindController(pyb::module_& m) {
 
   m.def(
       "_closed_loop",
-      [](const PyScene& s, const PyController& c, double duration, double settle_tol, const std::string& faults) {
+      [](const PyScene& s, const PyController& c, double duration, double settle_tol, const std::string& faults,
+         bool refuse_idle) {
         // (0, 1e9] as closed_loop and controller_sweep --duration say (1e9 itself was refused, pass 82)
         if (!(duration > 0.0 && duration <= 1e9)) throw pyb::value_error("duration [s] must be in (0, 1e+09]");
         // 1e8 s at 1 ms ran on, growing the process towards 30 TB of ticks (pass 82)
@@ -350,6 +367,7 @@ void bindController(pyb::module_& m) {
           }
           opt.faults = &schedule;
         }
+        if (refuse_idle) refuseIdleOutages(s, c.config, duration, faults.empty() ? nullptr : &schedule);
         Ticks ticks;
         ticks.data.reserve(rows * Ticks::kN);  // no doubling on the way: the bound above holds
         ClosedLoopResult r;
@@ -371,7 +389,8 @@ void bindController(pyb::module_& m) {
         }
         return pyb::make_tuple(summary, cols);
       },
-      pyb::arg("scene"), pyb::arg("controller"), pyb::arg("duration"), pyb::arg("settle_tol"), pyb::arg("faults"));
+      pyb::arg("scene"), pyb::arg("controller"), pyb::arg("duration"), pyb::arg("settle_tol"), pyb::arg("faults"),
+      pyb::arg("refuse_idle"));
 }
 
 }  // namespace gimbalsim::py

@@ -127,6 +127,21 @@ def test_closed_loop_takes_a_fault_schedule(tmp):
     assert gimbalsim.closed_loop(scene, ctrl, 0.3, faults=tmp / "gap.yaml").columns["injected_faults"].any()
 
 
+@pytest.mark.parametrize("overrides,named", [
+    ({"structure.base": "fixed", "sensors.star_tracker_outage": [0.25, 0.55]}, "on a fixed base"),
+    ({"sensors.star_tracker_outage": [0.21, 0.29]}, r"\[0.21, 0.29\] s takes and delivers no star tracker sample"),
+    ({"sensors.tracker_outage": [0.2, 0.3]}, "the run has no antenna sensor")])
+def test_closed_loop_refuses_an_outage_of_the_scene_that_acts_on_nothing(overrides, named):
+    # (pass 94) the scene's own outage ran silently where firmware_sim refuses the same --set (and the same window
+    # as a fault, above): a fixed base with perfect sensors, a window between two samples, a tracker the run lacks
+    scene = gimbalsim.load_scene(scene_path("paper_clearance"), overrides)
+    with pytest.raises(gimbalsim.SceneError, match=rf"key 'sensors.(star_)?tracker_outage': .*{named}.* \(firmware_sim "
+                                                   r"refuses it as a --set\)"):
+        gimbalsim.closed_loop(scene, gimbalsim.Controller(None), 1.0)
+    acting = gimbalsim.load_scene(scene_path("paper_clearance"), {"sensors.star_tracker_outage": [0.21, 0.31]})
+    assert gimbalsim.closed_loop(acting, gimbalsim.Controller(None), 1.0).columns["star_outage"].any()
+
+
 def test_closed_loop_run_to_csv_follows_the_convention_and_the_output_rules(tmp):
     from test_csv_convention import check_convention
 
