@@ -165,6 +165,8 @@ def _status_wrong(spec, status, reason, figures):
     """Why a row's status, with its reason (closed loop) and figures
     ({metric: text}), is none the sweep writes, or None: a refusal or a
     crash (no reason but the refusal's), ok, or one of its stops."""
+    if any(part != part.strip() for part in reason.split(" | ")):  # (pass 94) "... s " was kept as the sweep's
+        return "reason has white space at an end of a part: the sweep writes none"
     if status.startswith("refused:") or status == "crashed":
         return "reason is not empty in a crashed sample's row" if status == "crashed" and reason else None
     if spec.closed is None:

@@ -178,6 +178,9 @@ def test_each_closed_loop_status_has_the_shape_the_sweep_writes(closed_ref):
     # a stop: its message first, every figure written
     assert "reason is not a stopped row's" in why(spec, ok, status="non_finite", reason="ape_track: x")
     assert "a figure is empty" in why(spec, stopped, max_tilt1_rad="")
+    # (pass 94) a hand-edited reason with a space at its end was kept as the sweep's own
+    assert "reason has white space at an end of a part" in why(spec, stopped, reason=message + " ")
+    assert "reason has white space at an end of a part" in why(spec, stopped, reason=" " + message)
     # ok: the reason names only its nan indices; a stop's message is no ok row's
     assert "reason is not an ok row's" in why(spec, stopped, status="ok", reason=message, ape_slew_rad="0.1",
                                                ape_track_rad="0.1")
