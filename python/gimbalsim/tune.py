@@ -70,7 +70,7 @@ def run_plants(base, controller, duration, items):
                         "wall_time": 0.0})  # (pass 40) a keyless refusal was "refused:None"
             continue
         try:
-            s = gimbalsim.closed_loop(scene, controller, duration).summary
+            s = gimbalsim.closed_loop(scene, controller, duration, _study=True).summary  # judged with the spec
         except (gimbalsim.SceneError, ValueError) as e:  # the run's arguments refused: FAIL, not a crash
             out.append({"plant": j, "ok": False, "stop_key": f"refused:{getattr(e, 'key', None) or 'duration'}",
                         "error": str(e), "wall_time": 0.0})

@@ -269,3 +269,18 @@ def test_a_control_character_in_a_page_is_refused(tmp_path, field, bad, code):
     with pytest.raises(results_page.output_file.Refused, match=rf"the {field}: character U\+{code} \(a control"):
         results_page.write_page(page, texts["title"], texts["command"], texts["body"], texts["summary"], index=False)
     assert not page.exists()
+
+
+@pytest.mark.parametrize("field", ["title", "command"])
+def test_a_line_feed_in_a_pages_title_or_command_is_refused(tmp_path, field):
+    # (pass 96) --title $'T\n<!-- summary: forged -->\n# Second' forged the page's summary line (read by the index)
+    # and a second heading; the body's lines and the summary's (folded into one) are theirs
+    page = tmp_path / "p.md"
+    texts = {"title": "A study", "command": "cmd", "summary": "one\nline", "body": "| a |\n| b |\n"}
+    texts[field] = "T\n<!-- summary: forged -->\n# Second"
+    with pytest.raises(results_page.output_file.Refused, match=rf"the {field}: character U\+000A \(a control"):
+        results_page.write_page(page, texts["title"], texts["command"], texts["body"], texts["summary"], index=False)
+    assert not page.exists()
+    texts[field] = "one line"
+    results_page.write_page(page, texts["title"], texts["command"], texts["body"], texts["summary"], index=False)
+    assert "<!-- summary: one line -->" in page.read_text()

@@ -283,8 +283,10 @@ def write_page(path, title, command, body, summary="", t0=None, load0=None, inde
     (output_file.check_before_writing: Refused, exit 2, nothing written): no link, no folder that does not
     exist, none of `inputs`; and a README.md beside the page that is no results index is never replaced."""
     for what, given in (("the title", title), ("the command", command), ("the summary", summary), ("the body", body)):
-        # (pass 92: ESC]0;..BEL titled the terminal; pass 94: U+2028 split a line, U+202E reversed it)
-        if bad := re.search("[\x00-\x08\x0b-\x1f\x7f-\x9f\u200e\u200f\u2028-\u202e\u2066-\u2069]", given):
+        # (pass 92: ESC]0;..BEL titled the terminal; pass 94: U+2028 split a line, U+202E reversed it; pass 96: a
+        # line feed in the title or command forged a summary line and a heading; the summary's are folded)
+        lf = "" if what in ("the body", "the summary") else "\x0a"
+        if bad := re.search(f"[\x00-\x08{lf}\x0b-\x1f\x7f-\x9f\u200e\u200f\u2028-\u202e\u2066-\u2069]", given):
             raise output_file.Refused(f"{what}: character U+{ord(bad.group()):04X} (a control character) at "
                                       f"position {bad.start()}: a page holds none")
     summary_line = f"<!-- summary: {' '.join(summary.split())} -->\n" if summary else ""
