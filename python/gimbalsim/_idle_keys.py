@@ -174,8 +174,8 @@ def idle_reason(key, values, dispersed, takes, closed, unread_ticks=TRUTH_ONLY):
                              dispersed, takes,
                              NOISE_KEYS + ANTENNA_NOISE_KEYS if key == "sensors.seed" else ()) or \
             _for_every_value(idle_on_fixed_base, key, values, dispersed, takes) or \
-            _for_every_value(functools.partial(idle_outage, unread=unread_ticks), key, values, dispersed, takes,
-                             OUTAGE_DECIDERS.get(key, ()))
+            _for_every_value(functools.partial(idle_outage, unread=unread_ticks, takes=takes), key, values, dispersed,
+                             takes, OUTAGE_DECIDERS.get(key, ()))
     if why is None and closed:
         why = _idle_after_the_run(key, values, dispersed, takes) or _idle_motor_limit(key, values, dispersed, takes)
     if why is None and closed:

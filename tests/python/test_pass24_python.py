@@ -163,7 +163,16 @@ GAPS = [('sensors.star_tracker_outage: "[0.25, 0.28]"', "", True),
         ('sensors.star_tracker_outage: "[0.21, 0.29]"', "parameters:\n  sensors.star_tracker_rate: {choice: [10, 3.0]}",
          True),
         ('sensors.star_tracker_outage: "[0.21, 0.29]"', "parameters:\n  sensors.star_tracker_rate: {choice: [10, 4.0]}",
-         False)]
+         False),
+        # (pass 96) and at every rate of a range: from 5 to 6 Hz samples fall in [0.167, 0.2] and [0.333, 0.4] s
+        ('sensors.star_tracker_outage: "[0.21, 0.29]"', "parameters:\n  sensors.star_tracker_rate: {uniform: [5, 6]}",
+         True),
+        ('sensors.star_tracker_outage: "[0.21, 0.29]"', "parameters:\n  sensors.star_tracker_rate: {uniform: [4, 6]}",
+         False),
+        ('sensors.star_tracker_outage: "[0.21, 0.29]"',
+         "parameters:\n  sensors.star_tracker_latency: {uniform: [0, 0.005]}", True),
+        ('sensors.star_tracker_outage: "[0.21, 0.29]"',
+         "parameters:\n  sensors.star_tracker_latency: {uniform: [0, 0.05]}", False)]
 
 
 @pytest.mark.parametrize("fixed,dispersion,refused", GAPS, ids=[str(i) for i in range(len(GAPS))])
