@@ -64,13 +64,22 @@ std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, const 
     if (std::string why = starTrackerRedundant(sp, run.floating_base, jump); !why.empty()) return why;
   }
   // (pass 93) an outage between two samples, or whose samples fall due after the run, holds none: as the fault's
-  if (outage_key && T > 0.0 && star_outage(0) < duration_s &&
-      !starOutageDropsASample(sp, star_outage(0), star_outage(1), true, duration_s, T)) {
-    return "sensors.star_tracker_outage " + starOutageHoldsNoSample(sp, star_outage(0), star_outage(1), true);
+  const auto holds_none = [&](const SampledSensor& s, const Vec2& outage) {
+    return T > 0.0 && outage(1) > outage(0) && outage(0) < duration_s &&
+           !windowHoldsASample(s, WindowActsOn::Both, outage(0), outage(1), true, duration_s, T);
+  };
+  if (outage_key && holds_none(starTrackerSampling(sp), star_outage)) {
+    return "sensors.star_tracker_outage " +
+           windowHoldsNoSample(starTrackerSampling(sp), WindowActsOn::Both, star_outage(0), star_outage(1), true);
   }
   if (key.rfind("sensors.tracker_", 0) == 0 || key.rfind("sensors.antenna_gyro_", 0) == 0) {
     if (!sp.antenna_sensors) return "the run has no antenna sensor (sensors.antenna none): nothing reads it";
     if (!run.antenna_loop) return "the controller does not close its loop at the antenna (antenna.tracker ignore)";
+  }
+  // (pass 97) and the boresight tracker's, as the star tracker's
+  if (key == "sensors.tracker_outage" && holds_none(boresightTrackerSampling(sp), sp.tracker_outage)) {
+    return "sensors.tracker_outage " + windowHoldsNoSample(boresightTrackerSampling(sp), WindowActsOn::Both,
+                                                           sp.tracker_outage(0), sp.tracker_outage(1), true);
   }
   // (pass 78) an outage over the whole run takes no sample: what acts only through samples acts on nothing
   const auto whole_run = [&](const Vec2& outage) {

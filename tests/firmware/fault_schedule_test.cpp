@@ -203,6 +203,37 @@ TEST(FaultScheduleFile, AStarTrackerOutageWhoseSampleWouldArriveAfterTheRunIsRef
   EXPECT_TRUE(check("sensors.star_tracker_latency=0").empty());
 }
 
+// (pass 97) The boresight tracker's window faults between two of its 100 Hz samples (0.01 and 0.02 s) touched
+// none, flagged as injected all the same, as the star tracker's outage did (pass 87): an outage or a dropout drops
+// no delivery there, a bias biases no reading taken; each refused, naming what it misses, and each taken once the
+// window holds a take (the outage, the bias) or a delivery (the outage, the dropout).
+TEST(FaultScheduleFile, ABoresightTrackerWindowBetweenTwoSamplesIsRefused) {
+  const PlantScene ps =
+      test::plant("paper_spatial2_tracker", {"sensors.tracker_rate=100", "sensors.tracker_latency=0.005"});
+  const auto check = [&](const std::string& entry) {  // 0.1 s at 1 kHz: takes at 0.01 k, deliveries 5 ms later
+    return checkFaultsAgainstSamples(schedule("faults:\n  - " + entry + "\n"), ps, 0.1, 1e-3, "o.yaml");
+  };
+  const auto outage = check("{type: tracker_outage, start: 0.016, end: 0.019}");
+  ASSERT_EQ(outage.size(), 1u);
+  EXPECT_NE(outage[0].find("fault #1 (tracker_outage): [0.016, 0.019) s takes and delivers no boresight tracker "
+                           "sample (one every 0.01 s, sensors.tracker_rate; latency 0.005 s)"),
+            std::string::npos)
+      << outage[0];
+  const auto dropout = check("{type: tracker_dropout, start: 0.011, end: 0.014}");
+  ASSERT_EQ(dropout.size(), 1u);
+  EXPECT_NE(dropout[0].find("s has no delivery of a boresight tracker sample"), std::string::npos) << dropout[0];
+  const auto bias = check("{type: tracker_bias, start: 0.011, end: 0.019, bias: [1e-3, 0]}");
+  ASSERT_EQ(bias.size(), 1u);
+  EXPECT_NE(bias[0].find("s takes no boresight tracker sample"), std::string::npos) << bias[0];
+  // a take at 0.02 s (the outage, the bias), a delivery at 0.015 s (the outage, the dropout): they act
+  EXPECT_TRUE(check("{type: tracker_outage, start: 0.016, end: 0.021}").empty());
+  EXPECT_TRUE(check("{type: tracker_outage, start: 0.011, end: 0.016}").empty());
+  EXPECT_TRUE(check("{type: tracker_dropout, start: 0.014, end: 0.016}").empty());
+  EXPECT_TRUE(check("{type: tracker_bias, start: 0.019, end: 0.021, bias: [1e-3, 0]}").empty());
+  EXPECT_EQ(check("{type: tracker_bias, start: 0.011, end: 0.016, bias: [1e-3, 0]}").size(), 1u)
+      << "a delivery but no take in it: the bias reaches no reading";
+}
+
 // (pass 79) A fault whose parameter changes nothing ran and was flagged as injected in every tick of its window:
 // a bias of 0, a torque limit at or above the motor's, a friction rise to the scene's own mu.
 TEST(FaultScheduleFile, AFaultThatWouldChangeNothingIsRefused) {

@@ -130,7 +130,10 @@ def test_closed_loop_takes_a_fault_schedule(tmp):
 @pytest.mark.parametrize("overrides,named", [
     ({"structure.base": "fixed", "sensors.star_tracker_outage": [0.25, 0.55]}, "on a fixed base"),
     ({"sensors.star_tracker_outage": [0.21, 0.29]}, r"\[0.21, 0.29\] s takes and delivers no star tracker sample"),
-    ({"sensors.tracker_outage": [0.2, 0.3]}, "the run has no antenna sensor")])
+    ({"sensors.tracker_outage": [0.2, 0.3]}, "the run has no antenna sensor"),
+    # (pass 97) and the boresight tracker's between two of its samples (100 Hz: 0.01 and 0.02 s)
+    ({"sensors.antenna": "tracker_gyro", "sensors.tracker_rate": 100, "sensors.tracker_outage": [0.011, 0.019]},
+     r"\[0.011, 0.019\] s takes and delivers no boresight tracker sample")])
 def test_closed_loop_refuses_an_outage_of_the_scene_that_acts_on_nothing(overrides, named):
     # (pass 94) the scene's own outage ran silently where firmware_sim refuses the same --set (and the same window
     # as a fault, above): a fixed base with perfect sensors, a window between two samples, a tracker the run lacks

@@ -42,10 +42,11 @@ std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const P
 std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, double duration, double tick_period,
                                                     const std::string& origin);
 
-/// Each star tracker outage that takes and delivers no sample of the scene's tracker in its ticks (up to the run's
-/// end), or whose samples tell nothing (starTrackerRedundant: a fixed base, perfect attitude sensors and no
-/// gyro_bias_jump acting before the outage's first sample after it): it would change nothing but its flag
-/// (fault_samples.cpp).
+/// Each fault on a sampled sensor that touches none of its samples in its ticks (up to the run's end): a star
+/// tracker or boresight tracker outage that takes and delivers none, a tracker_bias that biases no reading taken,
+/// a tracker_dropout with no reading due; or a star tracker outage whose samples tell nothing
+/// (starTrackerRedundant: a fixed base, perfect attitude sensors and no gyro_bias_jump acting before the
+/// outage's first sample after it): it would change nothing but its flag (fault_samples.cpp).
 std::vector<std::string> checkFaultsAgainstSamples(const FaultSchedule& s, const PlantScene& ps, double duration,
                                                    double tick_period, const std::string& origin);
 
@@ -56,14 +57,30 @@ bool gyroJumpActsBefore(const FaultSchedule& s, double t_before, double duration
 /// The tick [s] at which the first star tracker sample belonging to t [s] or later is delivered.
 double starSampleDeliveredFrom(const SensorParams& p, double t, double tick_period);
 
-/// Whether a star tracker outage from start to end [s] ([start, end) for a fault, [start, end] with
-/// end_inclusive for the scene key sensors.star_tracker_outage) takes a sample that would be delivered within a
-/// run of duration [s], or drops one due in it; false: it would change nothing but its flag.
-bool starOutageDropsASample(const SensorParams& p, double start, double end, bool end_inclusive, double duration,
-                            double tick_period);
+/// A sensor sampled as sample_schedule.hpp takes and delivers: sample j belongs to j / rate [s], is taken at
+/// the first tick at or after it and delivered at the first tick at or after j / rate + latency.
+struct SampledSensor {
+  const char* name;      ///< "star tracker", "boresight tracker"
+  const char* rate_key;  ///< its scene keys' prefix: "sensors.star_tracker", "sensors.tracker"
+  double rate = 0.0;     ///< [Hz]
+  double latency = 0.0;  ///< [s]
+};
+SampledSensor starTrackerSampling(const SensorParams& p);
+SampledSensor boresightTrackerSampling(const SensorParams& p);
 
-/// Why a star tracker outage from start to end [s] (closed as starOutageDropsASample's end_inclusive) is refused
-/// when it drops no sample: "[start, end) s takes and delivers no star tracker sample (...)".
-std::string starOutageHoldsNoSample(const SensorParams& p, double start, double end, bool end_inclusive);
+/// What a window of a sampled sensor acts on: the samples taken in it (an outage loses them, a bias biases them),
+/// the deliveries due in it (an outage or a dropout drops them), or both.
+enum class WindowActsOn { Takes, Deliveries, Both };
+
+/// Whether a window from start to end [s] ([start, end) for a fault, [start, end] with end_inclusive for a
+/// scene key's outage) holds a sample taken in it that would be delivered within a run of duration [s], or a
+/// delivery due in it, as `acts` asks; false: it would change nothing but its flag.
+bool windowHoldsASample(const SampledSensor& s, WindowActsOn acts, double start, double end, bool end_inclusive,
+                        double duration, double tick_period);
+
+/// Why such a window is refused: "[start, end) s takes and delivers no star tracker sample (one every P s,
+/// sensors.star_tracker_rate; latency L s): it would change nothing but its flag".
+std::string windowHoldsNoSample(const SampledSensor& s, WindowActsOn acts, double start, double end,
+                                bool end_inclusive);
 
 }  // namespace gimbalsim::firmware
