@@ -270,6 +270,24 @@ def test_a_tick_log_after_dashdash_that_is_an_input_or_given_twice_is_refused_be
     assert sorted(os.listdir(tmp_path)) == ["f.yaml", "ob", "sc.yaml"] and not os.listdir(tmp_path / "ob")
 
 
+def test_a_tick_log_over_a_program_or_script_the_bench_runs_is_refused(tmp_path):
+    # (pass 97) --tick-log $GIMBALSIM_BUILD/bin/pointing_controller replaced the controller with a 1.4 kB CSV
+    # (exit 0): the programs and scripts the bench runs are inputs. A build of links to them, so that a failure
+    # here meets firmware_sim's refusal to write through a link, never the build itself.
+    (tmp_path / "build" / "bin").mkdir(parents=True)
+    for t in ("firmware_sim", "pointing_controller", "gimbalsim_log2csv", "gimbalsim_record"):
+        (tmp_path / "build" / "bin" / t).symlink_to(BIN / t)
+    env = {**os.environ, "GIMBALSIM_BUILD": str(tmp_path / "build")}
+    for target, named in ((tmp_path / "build" / "bin" / "pointing_controller", "the program"),
+                          (tmp_path / "build" / "bin" / "gimbalsim_record", "the program")):
+        p = subprocess.run(["bash", str(SCRIPT), "--port", "7741", "--duration", "0.2", "--out", "ob", "--no-plot",
+                            "--", "--tick-log", str(target)], capture_output=True, text=True, timeout=60, env=env,
+                           cwd=tmp_path)
+        assert p.returncode == 2 and f"the same file as the input {named}" in p.stderr, (target, p.stderr)
+        assert "nothing run" in p.stderr and "firmware_sim:" not in p.stderr, p.stderr
+    assert not (tmp_path / "ob").exists() or not os.listdir(tmp_path / "ob")
+
+
 def test_a_value_that_is_a_flag_is_a_missing_value_and_a_name_with_one_dash_is_a_name(tmp_path):
     # --out --no-plot ended in dirname's "unrecognized option '--no-plot'" (exit 1)
     for args, says in ((["--out", "--no-plot"], "--out: needs a value, got the flag --no-plot"),

@@ -138,6 +138,11 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
   # Arguments after -- are the user's: a flag the script sets itself is refused up front (firmware_sim's
   # "At Most 1" came only after the controller had started), naming what to use instead (docs/bench.md).
   inputs=("--scene" "$SCENE" "--config" "$CONFIG")
+  # (pass 97) and the programs and scripts it runs: a --tick-log over pointing_controller replaced it with a CSV
+  for t in firmware_sim pointing_controller gimbalsim_log2csv gimbalsim_record; do
+    inputs+=("the program" "$BIN/$t")
+  done
+  inputs+=("the script" "${BASH_SOURCE[0]}" "the script" "$ROOT/tools/hil/plot_bench.py")
   outs=()   # the outputs the user names after -- (label, absolute path): the --tick-log
   files=()  # every file flag after -- (flag, as given, absolute path)
   for ((i = 0; i < ${#EXTRA[@]}; i++)); do
