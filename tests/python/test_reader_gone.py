@@ -77,7 +77,12 @@ def test_the_benchmark_script_refuses_as_programs_do(tmp_path):
                            (f"OUT=real.json REPS=2 {bench} bash {script} --benchmark_filter=NOTHING", "matched none"),
                            (f"{bench} bash {script} --benchmark_out=x.json", "give OUT=FILE"),
                            # (pass 95) the space form was "given twice" (the script's own) and named no OUT
-                           (f"{bench} bash {script} --benchmark_out x.json", "--benchmark_out: the script writes")):
+                           (f"{bench} bash {script} --benchmark_out x.json", "--benchmark_out: the script writes"),
+                           # (pass 97) a listing dropped every other flag unchecked; =false ran the whole suite once
+                           (f"{bench} bash {script} --benchmark_list_tests=true --bogus", "'--bogus': not a flag"),
+                           (f"OUT=x.json {bench} bash {script} --benchmark_list_tests", "a listing runs nothing"),
+                           (f"REPS=2 {bench} bash {script} --benchmark_list_tests=false --benchmark_filter=NOTHING",
+                            "--benchmark_filter matched none")):
         p = subprocess.run(["bash", "-c", command], cwd=tmp_path, capture_output=True, text=True, timeout=300)
         assert p.returncode == (0 if words is None else 2) and (words is None or words in p.stderr), (command, p.stderr)
     assert (tmp_path / "real.json").read_text() == "{}\n" and not (tmp_path / "x.json").exists()

@@ -35,13 +35,17 @@ for a in "$@"; do
     --benchmark_repetitions* | --benchmark_report_aggregates_only*) refuse "$a: the script sets it; give REPS=N" ;;
     # nothing after '=' is refused, as the programs refuse it (--benchmark_filter= ran every benchmark)
     --*=) refuse "$a: an empty value after the '='" ;;
-    --benchmark_list_tests*) LIST=$a ;;
+    # (pass 97) a listing took the other flags unchecked, and =false ran the whole suite once, OUT unwritten
+    --benchmark_list_tests | --benchmark_list_tests=true) LIST=$a ;;
     *) ARGS+=("$a") ;;
   esac
 done
 [ -f "$BIN" ] && [ -x "$BIN" ] ||
   refuse "BENCH=$BIN: no such program (build it: cmake --build $BUILD --target gimbalsim_bench)"
-if [ -n "$LIST" ]; then cd "$ROOT"; exec "$BIN" "$LIST"; fi
+if [ -n "$LIST" ]; then  # the bench's answer alone: what it would run, by the same flags
+  for v in REPS OUT; do [ -z "${!v:-}" ] || refuse "$v=${!v}: a listing runs nothing and writes no JSON"; done
+  cd "$ROOT"; exec "$BIN" "$LIST" ${ARGS[@]+"${ARGS[@]}"}
+fi
 REPS=${REPS:-5}
 # a whole number as the programs read one: a sign allowed, no leading zero (C reads 010 as octal 8)
 [[ "$REPS" =~ ^[+]?[1-9][0-9]{0,3}$ ]] && [ "${REPS#+}" -ge 2 ] && [ "${REPS#+}" -le 1000 ] ||
