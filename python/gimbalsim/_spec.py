@@ -35,8 +35,8 @@ MAX_SPEC_BYTES = 1 << 20  # a spec is a page of text; anything larger is a mista
 MAX_SPEC_NODES = 100_000  # values after alias expansion
 # What YAML does not take as text (YAML 1.2, 5.1): every character but tab, line breaks and the printable ones.
 _UNPRINTABLE = re.compile("[^\t\n\r\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
-# Escapes ("\e]0;x\a", "\u0000") make what the text check never sees (pass 90); U+2028, bidi controls (pass 94)
-_CONTROL = re.compile("[\x00-\x08\x0a-\x1f\x7f-\x9f\u200e\u200f\u2028-\u202e\u2066-\u2069]")
+# Escapes ("\e]0;x\a", "\u0000") make what the text check never sees (pass 90); U+2028, bidi marks (pass 94, 97)
+_CONTROL = re.compile("[\x00-\x08\x0a-\x1f\x7f-\x9f\u061c\u200e\u200f\u2028-\u202e\u2066-\u2069]")
 
 
 class Spec:

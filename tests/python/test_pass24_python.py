@@ -143,7 +143,8 @@ ESCAPES = [('scene: "a\\e]0;pwned\\a.yaml"\nsamples: 2\n', "scene", "001B"),
            # (pass 94) a line separator split the refusal, a right-to-left override reversed it
            (f'scene: {scene_path("paper_clearance")}\nsamples: 2\nparameters:\n  "friction.mu\\u2028": '
             '{uniform: [0.1, 0.2]}\n', "", "2028"),
-           (f'scene: {scene_path("paper_clearance")}\nsamples: 2\nphases: ["a\\u202eb"]\n', "phases", "202E")]
+           (f'scene: {scene_path("paper_clearance")}\nsamples: 2\nphases: ["a\\u202eb"]\n', "phases", "202E"),
+           (f'scene: {scene_path("paper_clearance")}\nsamples: 2\nphases: ["a\\u061cb"]\n', "phases", "061C")]
 
 
 @pytest.mark.parametrize("text,key,code", ESCAPES, ids=[str(i) for i in range(len(ESCAPES))])
@@ -151,7 +152,7 @@ def test_a_control_character_from_an_escape_in_a_spec_is_refused_at_its_place(tm
     p = check(write_spec(tmp_path, text), tmp_path / "out")
     assert p.returncode == 2 and f"character U+{code} (a control character, from an escape)" in p.stderr, p.stderr
     assert f"key '{key}'" in p.stderr or not key, p.stderr
-    assert not any(c in p.stderr for c in "\x00\x1b\x07\x85\u2028\u202e"), repr(p.stderr)
+    assert not any(c in p.stderr for c in "\x00\x1b\x07\x85\u2028\u202e\u061c"), repr(p.stderr)
 
 
 # (pass 93) an outage between two samples of the 10 Hz star tracker takes and drops none: it acted on nothing but

@@ -259,7 +259,8 @@ def test_a_study_whose_clearance_runs_have_no_track_figure_says_so(tmp_path, mon
 
 
 @pytest.mark.parametrize("field", ["title", "command", "summary", "body"])
-@pytest.mark.parametrize("bad,code", [("\x1b]0;pwn\x07", "001B"), ("\u2028", "2028"), ("\u202e", "202E")])
+@pytest.mark.parametrize("bad,code", [("\x1b]0;pwn\x07", "001B"), ("\u2028", "2028"), ("\u202e", "202E"),
+                                      ("\u061c", "061C")])
 def test_a_control_character_in_a_page_is_refused(tmp_path, field, bad, code):
     # (pass 92) --title "a ESC]0;pwn BEL b" landed in the page and the index: cat set the terminal's title;
     # (pass 94) a line separator split it, a right-to-left override reversed it

@@ -286,7 +286,7 @@ def write_page(path, title, command, body, summary="", t0=None, load0=None, inde
         # (pass 92: ESC]0;..BEL titled the terminal; pass 94: U+2028 split a line, U+202E reversed it; pass 96: a
         # line feed in the title or command forged a summary line and a heading; the summary's are folded)
         lf = "" if what in ("the body", "the summary") else "\x0a"
-        if bad := re.search(f"[\x00-\x08{lf}\x0b-\x1f\x7f-\x9f\u200e\u200f\u2028-\u202e\u2066-\u2069]", given):
+        if bad := re.search(f"[\x00-\x08{lf}\x0b-\x1f\x7f-\x9f\u061c\u200e\u200f\u2028-\u202e\u2066-\u2069]", given):
             raise output_file.Refused(f"{what}: character U+{ord(bad.group()):04X} (a control character) at "
                                       f"position {bad.start()}: a page holds none")
     summary_line = f"<!-- summary: {' '.join(summary.split())} -->\n" if summary else ""

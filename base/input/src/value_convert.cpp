@@ -85,14 +85,15 @@ std::string asString(const YAML::Node& n) {
   for (std::size_t i = 0; i < s.size(); ++i) {
     const auto c = static_cast<unsigned char>(s[i]);
     const bool c1 = c == 0xC2 && i + 1 < s.size() && static_cast<unsigned char>(s[i + 1]) < 0xA0;  // U+0080..9F
-    // (pass 94) U+2028/2029 split a printed line, U+200E/F, 202A-E, 2066-9 reorder it (bidi controls)
+    // (pass 94) U+2028/2029 split a printed line, U+061C, 200E/F, 202A-E, 2066-9 reorder it (bidi controls)
     unsigned cp = 0;  // the code point of a three-byte sequence U+2000..2FFF (lead byte E2)
     if (c == 0xE2 && i + 2 < s.size()) {
       const auto b1 = static_cast<unsigned char>(s[i + 1]), b2 = static_cast<unsigned char>(s[i + 2]);
       cp = 0x2000u + ((b1 & 0x3Fu) << 6) + (b2 & 0x3Fu);
     }
-    const bool layout =
-        cp == 0x200E || cp == 0x200F || (cp >= 0x2028 && cp <= 0x202E) || (cp >= 0x2066 && cp <= 0x2069);
+    if (c == 0xD8 && i + 1 < s.size() && static_cast<unsigned char>(s[i + 1]) == 0x9C) cp = 0x061C;  // (pass 97)
+    const bool layout = cp == 0x061C || cp == 0x200E || cp == 0x200F || (cp >= 0x2028 && cp <= 0x202E) ||
+                        (cp >= 0x2066 && cp <= 0x2069);
     if ((c < 0x20 && c != '\t') || c == 0x7F || c1 || layout) {
       char code[8];
       std::snprintf(code, sizeof code, "%04X", layout ? cp : c1 ? static_cast<unsigned char>(s[i + 1]) : c);
