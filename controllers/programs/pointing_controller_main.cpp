@@ -30,6 +30,7 @@
 #include "gimbalsim/contract/messages.hpp"
 #include "gimbalsim/controllers/answer.hpp"
 #include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/controllers/key_use.hpp"
 #include "gimbalsim/input/key_registry.hpp"
 #include "gimbalsim/pointing/profile_windows.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
@@ -105,6 +106,12 @@ int run(int argc, char** argv) {
                          : loadControllerConfig(o.config, o.sets);
   } catch (const ConfigError& e) {  // the exit-code table's form, as every program's (pass 61)
     return program::refuse("pointing_controller", e);
+  }
+  // (pass 97) a --set this configuration reads in no run (control.rate_filter_hz without rate_source difference)
+  // was taken, --print-config showing it in effect: refused as the studies refuse it (the plant's antenna sensor
+  // is the plant's to say: taken as present)
+  if (const std::string why = idleControllerOverride("--set", o.sets, c, true, {}); !why.empty()) {
+    return program::refuse("pointing_controller", why);
   }
   // Whole control periods, as firmware_sim counts them: a duration between two is refused, never rounded.
   if (const std::string why = wholeMultipleProblem(o.duration, c.period, "the control period (control.period)");
