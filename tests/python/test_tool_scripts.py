@@ -467,6 +467,9 @@ def test_the_tools_numbers_have_ranges_the_code_honours(tmp_path):
              ("tools/hil/hil_speed.py", ["--spin", "1000"], "--spin: must be in [0, 1], got 1000"),
              ("tools/hil/hil_speed.py", ["--rates", "5", "--spin", "1"], "past firmware_sim's --spin-us bound"),
              ("tools/hil/hil_speed.py", ["--rates", "1000,1000"], "1000 given twice in '1000,1000'"),
+             # (pass 99) a rate firmware_sim cannot tick at ended in exit 1 after measuring the others
+             ("tools/hil/hil_speed.py", ["--rates", "1000,333"], "--rates 333: paper_clearance ticks a whole number"),
+             ("tools/hil/hil_speed.py", ["--rates", "60000"], "--rates 60000: paper_clearance ticks a whole number"),
              ("tools/hil/worst_tick.py", ["--realtime-seconds", "1e-300"], "0 (skip) or at least 0.001"),
              # (pass 91) a scene given twice started the study; NAME.yaml was looked up as NAME.yaml.yaml
              ("tools/hil/worst_tick.py", ["--realtime-scenes", "paper_ideal,paper_ideal"],
