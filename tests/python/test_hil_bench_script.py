@@ -5,6 +5,7 @@ written the refusal through the link), and a run that ends well replaces
 the previous run's files whole."""
 import os
 import re
+import shutil
 import subprocess
 import time
 
@@ -286,6 +287,19 @@ def test_a_tick_log_over_a_program_or_script_the_bench_runs_is_refused(tmp_path)
         assert p.returncode == 2 and f"the same file as the input {named}" in p.stderr, (target, p.stderr)
         assert "nothing run" in p.stderr and "firmware_sim:" not in p.stderr, p.stderr
     assert not (tmp_path / "ob").exists() or not os.listdir(tmp_path / "ob")
+    # (pass 99) and the scripts: itself, the plot, the libraries it sources (console.sh became a CSV, and every run
+    # after died with exit 127); from a copy of the tools, so that a failure writes over the copy
+    shutil.copytree(SOURCE / "tools", tmp_path / "repo" / "tools", symlinks=True)
+    shutil.copytree(SOURCE / "controllers" / "config", tmp_path / "repo" / "controllers" / "config")
+    script = tmp_path / "repo" / "tools" / "hil" / "run_hil_bench.sh"
+    for target in ("tools/hil/run_hil_bench.sh", "tools/hil/plot_bench.py", "tools/lib/console.sh",
+                   "tools/lib/children.sh", "tools/lib/build_dir.sh"):
+        before = (tmp_path / "repo" / target).read_bytes()
+        p = subprocess.run(["bash", str(script), "--port", "7741", "--duration", "0.2", "--out", "ob", "--no-plot",
+                            "--", "--tick-log", str(tmp_path / "repo" / target)], capture_output=True, text=True,
+                           timeout=60, env=env, cwd=tmp_path)
+        assert p.returncode == 2 and "the same file as the input the script" in p.stderr, (target, p.stderr)
+        assert (tmp_path / "repo" / target).read_bytes() == before, target
 
 
 def test_a_value_that_is_a_flag_is_a_missing_value_and_a_name_with_one_dash_is_a_name(tmp_path):

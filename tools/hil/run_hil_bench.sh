@@ -143,6 +143,7 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
     inputs+=("the program" "$BIN/$t")
   done
   inputs+=("the script" "${BASH_SOURCE[0]}" "the script" "$ROOT/tools/hil/plot_bench.py")
+  for f in "$ROOT"/tools/lib/*.sh; do inputs+=("the script" "$f"); done  # (pass 99) the libraries it sources
   outs=()   # the outputs the user names after -- (label, absolute path): the --tick-log
   files=()  # every file flag after -- (flag, as given, absolute path)
   for ((i = 0; i < ${#EXTRA[@]}; i++)); do
