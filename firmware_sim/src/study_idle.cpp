@@ -107,13 +107,14 @@ std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, const 
   if (one_of({"tracker_noise", "tracker_bias", "tracker_rate", "tracker_latency"}) && whole_run(sp.tracker_outage)) {
     return covered("tracker", sp.tracker_outage);
   }
-  // (pass 97) a latency that delivers even the first sample (at 0 s) after the run's end: none arrives, and what
-  // acts only through the samples acts on nothing (the latency itself acts: without it they would arrive)
+  // (pass 97) a latency that delivers even the first sample (at 0 s) at the run's last tick or after (pass 99: at
+  // it, no command answers it) lets none act, and what acts only through the samples acts on nothing (the latency
+  // itself acts: without it they would arrive)
   const auto none_arrives = [&](const SampledSensor& s) {
     const double first = T > 0.0 ? firstTickAtOrAfter(s.latency, T) * T : s.latency;
-    if (!(first > duration_s + 1e-9 * (T > 0.0 ? T : first))) return std::string();
+    if (!(first >= duration_s - 1e-9 * (T > 0.0 ? T : first))) return std::string();
     return std::string(s.rate_key) + "_latency " + formatNumber(s.latency) + " s delivers the first " + s.name +
-           " sample after the run's end (" + formatNumber(duration_s) + " s): none arrives";
+           " sample at the run's last tick or after (" + formatNumber(duration_s) + " s): none acts";
   };
   if (one_of({"star_tracker_noise", "star_tracker_rate"})) return none_arrives(starTrackerSampling(sp));
   if (one_of({"tracker_noise", "tracker_bias", "tracker_rate"})) return none_arrives(boresightTrackerSampling(sp));
