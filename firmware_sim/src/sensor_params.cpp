@@ -99,13 +99,13 @@ void validateSensors(const SensorParams& sp, Given& g, const std::string& prefix
                                              formatNumber(SensorParams::kStarTrackerMaxLatencyPeriods / sp.tracker_rate) +
                                              " s at " + formatNumber(sp.tracker_rate) + " Hz)");
   }
-  if (!(sp.tracker_outage(1) >= sp.tracker_outage(0))) {
-    g.refuse(prefix + "tracker_outage", "end must be >= start, got [" + formatNumber(sp.tracker_outage(0)) + ", " +
-                                           formatNumber(sp.tracker_outage(1)) + "]");
-  }
-  if (!(sp.star_tracker_outage(1) >= sp.star_tracker_outage(0))) {
-    g.refuse(prefix + "star_tracker_outage", "end must be >= start, got [" + formatNumber(sp.star_tracker_outage(0)) +
-                                                ", " + formatNumber(sp.star_tracker_outage(1)) + "]");
+  // end > start, or [0, 0] for none: (pass 98) [0.2, 0.2] was none too, recorded as an outage and never flagged
+  for (const auto& [name, w] : {std::pair{"tracker_outage", sp.tracker_outage},
+                                std::pair{"star_tracker_outage", sp.star_tracker_outage}}) {
+    if (!(w(1) > w(0) || (w(0) == 0.0 && w(1) == 0.0))) {
+      g.refuse(prefix + name, "end must be > start ([0, 0] for none), got [" + formatNumber(w(0)) + ", " +
+                                  formatNumber(w(1)) + "]");
+    }
   }
 }
 
