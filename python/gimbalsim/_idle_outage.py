@@ -3,7 +3,7 @@ tracker's outage window that takes and drops no sample a figure of the run
 reads, judged at each value of its sampling a study gives (_idle_keys)."""
 
 from ._closed_spec import CONTROLLER_PREFIX
-from ._idle_sensors import _delivered, _Given
+from ._idle_sensors import _delivered, _Given, _last_acting_tick, _outage_ticks, _tick_at_or_after
 from .indices import seconds
 
 # (pass 94) an outage holding no sample at every rate a choice gives was taken: its sampling decides it
@@ -41,20 +41,21 @@ def idle_outage(key, values, dispersed, unread, takes=None):
 
 
 def _no_sample_in(start, end, duration, spans, unread):
-    """Whether, for every rate, control period and latency within spans ((lo, hi) each), no sample that can act
-    is taken or falls due in the outage [start, end]: sample j (at j / rate) is taken within a period after it
-    and falls due latency later, rounded up to a tick; one that may touch the outage acts (in doubt: acts)."""
-    (r_lo, r_hi), (t_lo, t_hi), (l_lo, l_hi) = spans
-    if not (0.0 < r_lo and 0.0 < t_lo and 0.0 <= l_lo):
-        return False
-    late = duration - unread * t_lo + 1e-9 * duration  # beyond it, past the last acting tick at any period
-    if late * r_hi > 1e6:
-        return False  # too many samples to go through: not judged
+    """Whether, for every rate and latency within spans ((lo, hi) each) at a fixed control period, no sample that
+    can act is taken or falls due in the outage [start, end]: sample j (at j / rate) is taken at the first tick at
+    or after it and falls due at the first at or after j / rate + latency (sample_schedule.hpp), each a range of
+    ticks over the spans; one whose ranges meet the outage's ticks acts (in doubt: acts). A period drawn from a
+    range is not judged."""
+    (r_lo, r_hi), (period, t_hi), (l_lo, l_hi) = spans
+    if not (0.0 < r_lo and 0.0 < period == t_hi and 0.0 <= l_lo) or duration * r_hi > 1e6:
+        return False  # not judged (too many samples to go through)
+    first, last = _outage_ticks(start, end, period)
+    acting = _last_acting_tick(duration, period, unread)
     j = 0
-    while j / r_hi <= late:
-        take_lo, take_hi = (0.0, 0.0) if j == 0 else (j / r_hi, j / r_lo + t_hi)
-        due_lo, due_hi = take_lo + l_lo, take_hi + l_hi + t_hi
-        if due_lo <= late and (take_lo <= end and take_hi >= start or due_lo <= end and due_hi >= start):
+    while _tick_at_or_after(j / r_hi, period) <= acting:
+        take = _tick_at_or_after(j / r_hi, period), _tick_at_or_after(j / r_lo, period)
+        due = _tick_at_or_after(j / r_hi + l_lo, period), _tick_at_or_after(j / r_lo + l_hi, period)
+        if due[0] <= acting and take[0] <= last and take[1] >= first or due[0] <= min(last, acting) and due[1] >= first:
             return False
         j += 1
     return True

@@ -173,12 +173,21 @@ GAPS = [('sensors.star_tracker_outage: "[0.25, 0.28]"', "", True),
         ('sensors.star_tracker_outage: "[0.21, 0.29]"',
          "parameters:\n  sensors.star_tracker_latency: {uniform: [0, 0.005]}", True),
         ('sensors.star_tracker_outage: "[0.21, 0.29]"',
-         "parameters:\n  sensors.star_tracker_latency: {uniform: [0, 0.05]}", False)]
+         "parameters:\n  sensors.star_tracker_latency: {uniform: [0, 0.05]}", False),
+        # (pass 98) the boresight tracker's (100 Hz): from 95 Hz its second sample is taken at 0.011 s at the
+        # latest, due at 0.012 s at the latest with 1 ms of latency; the tick-wide bound took both
+        ('sensors.tracker_outage: "[0.012, 0.018]"', "parameters:\n  sensors.tracker_rate: {uniform: [95, 100]}",
+         True),
+        ('sensors.tracker_outage: "[0.012, 0.018]", sensors.tracker_rate: 100',
+         "parameters:\n  sensors.tracker_latency: {uniform: [0, 0.001]}", True),
+        ('sensors.tracker_outage: "[0.012, 0.018]", sensors.tracker_rate: 100',
+         "parameters:\n  sensors.tracker_latency: {uniform: [0, 0.0025]}", False)]
 
 
 @pytest.mark.parametrize("fixed,dispersion,refused", GAPS, ids=[str(i) for i in range(len(GAPS))])
 def test_an_outage_holding_no_sample_is_refused(tmp_path, fixed, dispersion, refused):
-    base = {"scene": scene_path("paper_clearance"), "outage": fixed or "sensors.star_tracker_noise: 1.0e-5"}
+    scene = "paper_spatial2_tracker" if "sensors.tracker_" in fixed + dispersion else "paper_clearance"
+    base = {"scene": scene_path(scene), "outage": fixed or "sensors.star_tracker_noise: 1.0e-5"}
     spec = write_spec(tmp_path, SPEC.format(**base, dispersion=dispersion or "parameters:\n  friction.mu: "
                                             "{uniform: [0.15, 0.35]}", indices="ape: {}"))
     p = check(spec, tmp_path / "out")
