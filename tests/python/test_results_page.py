@@ -272,6 +272,19 @@ def test_a_control_character_in_a_page_is_refused(tmp_path, field, bad, code):
     assert not page.exists()
 
 
+def test_a_summary_cannot_end_its_comment_and_a_title_cannot_end_its_link(tmp_path):
+    # (pass 98) --summary 'x --> # forged' closed the page's hidden summary comment (the rest showed as text), and a
+    # title with ']' closed the index's link text early
+    page = tmp_path / "p.md"
+    for bad in ("x --> # forged", "a <!-- b"):
+        with pytest.raises(results_page.output_file.Refused, match="the summary: '-->' or '<!--' would end or open"):
+            results_page.write_page(page, "T", "cmd", "| a |\n", bad, index=False)
+    assert not page.exists()
+    results_page.write_page(page, "Gains [rad] ](x.md)", "cmd", "| a |\n", "one line")
+    index = (tmp_path / "README.md").read_text()
+    assert "- [Gains \\[rad\\] \\](x.md)](p.md): one line" in index, index
+
+
 @pytest.mark.parametrize("field", ["title", "command"])
 def test_a_line_feed_in_a_pages_title_or_command_is_refused(tmp_path, field):
     # (pass 96) --title $'T\n<!-- summary: forged -->\n# Second' forged the page's summary line (read by the index)

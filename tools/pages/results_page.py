@@ -283,16 +283,16 @@ def write_page(path, title, command, body, summary="", t0=None, load0=None, inde
     (output_file.check_before_writing: Refused, exit 2, nothing written): no link, no folder that does not
     exist, none of `inputs`; and a README.md beside the page that is no results index is never replaced."""
     for what, given in (("the title", title), ("the command", command), ("the summary", summary), ("the body", body)):
-        # (pass 92: ESC]0;..BEL titled the terminal; pass 94: U+2028 split a line, U+202E reversed it; pass 96: a
-        # line feed in the title or command forged a summary line and a heading; the summary's are folded)
+        # (passes 92, 94, 96: ESC]0;..BEL, U+2028, U+202E, a title's line feed forging a summary; a summary's fold)
         lf = "" if what in ("the body", "the summary") else "\x0a"
         if bad := re.search(f"[\x00-\x08{lf}\x0b-\x1f\x7f-\x9f\u061c\u200e\u200f\u2028-\u202e\u2066-\u2069]", given):
             raise output_file.Refused(f"{what}: character U+{ord(bad.group()):04X} (a control character) at "
                                       f"position {bad.start()}: a page holds none")
+    if "-->" in summary or "<!--" in summary:  # (pass 98) it ended the summary's hidden comment: the rest showed
+        raise output_file.Refused("the summary: '-->' or '<!--' would end or open the page's hidden comment")
     summary_line = f"<!-- summary: {' '.join(summary.split())} -->\n" if summary else ""
     text = header(title, command, t0, load0) + summary_line + "\n" + body.rstrip("\n") + "\n"
-    path = pathlib.Path(path)
-    check_page(path, index, inputs)
+    check_page(path := pathlib.Path(path), index, inputs)
     with _folder_held(path.parent) if index else contextlib.nullcontext():
         # The index is made (every other page read) before the page is written: a page that cannot be
         # indexed is no half-written study.
@@ -342,7 +342,7 @@ def make_index(folder, pending=None):
         if h is None:
             continue
         title, command, com, date, summary = h
-        rows.append(f"- [{title}]({p.name}): {summary + ' ' if summary else ''}"
+        rows.append("- [" + re.sub(r"([][])", r"\\\1", title) + f"]({p.name}): {summary + ' ' if summary else ''}"
                     f"({date}, {com}; `{command}`)")
     text = "\n".join([
         MARK, "# Results", "",
