@@ -292,6 +292,11 @@ def test_a_tick_log_over_a_program_or_script_the_bench_runs_is_refused(tmp_path)
     shutil.copytree(SOURCE / "tools", tmp_path / "repo" / "tools", symlinks=True)
     shutil.copytree(SOURCE / "controllers" / "config", tmp_path / "repo" / "controllers" / "config")
     script = tmp_path / "repo" / "tools" / "hil" / "run_hil_bench.sh"
+    # (pass 101) and the interpreter it runs plot_bench.py with (its link only: a failure meets the link rule)
+    p = subprocess.run(["bash", str(script), "--port", "7741", "--duration", "0.2", "--out", "ob", "--no-plot", "--",
+                        "--tick-log", "/usr/bin/python3"], capture_output=True, text=True, timeout=60, env=env,
+                       cwd=tmp_path)
+    assert p.returncode == 2 and "the same file as the input the interpreter /usr/bin/python3" in p.stderr, p.stderr
     for target in ("tools/hil/run_hil_bench.sh", "tools/hil/plot_bench.py", "tools/lib/console.sh",
                    "tools/lib/children.sh", "tools/lib/build_dir.sh"):
         before = (tmp_path / "repo" / target).read_bytes()

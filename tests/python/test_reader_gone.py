@@ -5,6 +5,7 @@ run's. The C++ programs were killed by SIGPIPE (141, no CSV), plot_bench.py
 ended in a BrokenPipeError traceback (1, its figure removed), and
 run_hil_bench.sh was killed with its outputs never moved into --out."""
 import os
+import shutil
 import subprocess
 
 from conftest import BIN, SOURCE, scene_path
@@ -58,6 +59,22 @@ def test_the_benchmark_script_runs_from_anywhere_and_leaves_no_temporary(tmp_pat
                 "--benchmark_filter=BM_Rk4 --benchmark_min_time=0.01", tmp_path)
     assert code == 0
     assert not {x for x in set(os.listdir("/tmp")) - before if x.startswith("gimbalsim_bench.")}
+
+
+def test_the_benchmark_scripts_out_is_never_a_script_it_runs(tmp_path):
+    # (pass 101) OUT=tools/lib/console.sh replaced the library the script sources with the JSON (the next run a
+    # syntax error), OUT=run_bench.sh the script itself (exit 0): from a copy, so that a failure writes over it
+    for part in ("tools", "python"):
+        shutil.copytree(SOURCE / part, tmp_path / "repo" / part, symlinks=True)
+    script = tmp_path / "repo" / "tools" / "bench" / "run_bench.sh"
+    for target in ("tools/lib/console.sh", "tools/bench/run_bench.sh", "tools/pages/save_output.py"):
+        before = (tmp_path / "repo" / target).read_bytes()
+        p = subprocess.run(["bash", str(script), "--benchmark_filter=BM_ForwardDynamics<FixedIdeal>$",
+                            "--benchmark_min_time=0.01"], capture_output=True, text=True, timeout=120, cwd=tmp_path,
+                           env={**os.environ, "BENCH": str(BIN / "gimbalsim_bench"), "REPS": "2",
+                                "OUT": str(tmp_path / "repo" / target)})
+        assert p.returncode == 2 and "the same file as the input" in p.stderr, (target, p.stderr)
+        assert (tmp_path / "repo" / target).read_bytes() == before, target
 
 
 def test_the_benchmark_script_refuses_as_programs_do(tmp_path):

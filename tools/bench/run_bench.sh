@@ -55,7 +55,9 @@ KEEP=${OUT:-}
 case "$KEEP" in "" | /*) ;; *) KEEP="$PWD/$KEEP" ;; esac
 # OUT by the writer's rules, checked before the run: never through a link, never over an input (the program,
 # the scenes the benchmarks load, a file named in a flag), whole or not at all
-INPUTS=("$BIN" "$ROOT"/tools/scenes/*.yaml ${ARGS[@]+"${ARGS[@]}"})
+# (pass 101) and the scripts it runs: OUT over itself or tools/lib/console.sh replaced them with the JSON
+INPUTS=("$BIN" "$ROOT"/tools/scenes/*.yaml ${ARGS[@]+"${ARGS[@]}"} "${BASH_SOURCE[0]}" "$ROOT"/tools/lib/*.sh
+  "$ROOT"/tools/bench/*.py "$ROOT"/tools/pages/*.py "$BASH")
 [ -z "$KEEP" ] || /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --as run_bench.sh \
   --check /dev/null "$KEEP" -- "${INPUTS[@]}" || exit $?
 # The page's rules before the measurements: a page refused at the end would cost the run.

@@ -144,6 +144,7 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
   done
   inputs+=("the script" "${BASH_SOURCE[0]}" "the script" "$ROOT/tools/hil/plot_bench.py")
   for f in "$ROOT"/tools/lib/*.sh; do inputs+=("the script" "$f"); done  # (pass 99) the libraries it sources
+  inputs+=("the interpreter" /usr/bin/python3 "the interpreter" "$BASH")  # (pass 101) plot_bench's, its own
   outs=()   # the outputs the user names after -- (label, absolute path): the --tick-log
   files=()  # every file flag after -- (flag, as given, absolute path)
   for ((i = 0; i < ${#EXTRA[@]}; i++)); do
