@@ -275,6 +275,16 @@ int mainImpl(int argc, char** argv) {
                                   p.scene.scene.model.floating_base, nullptr};
     study_scenes.push_back({p.scene_name, &p.scene.scene, p.first_scene_set, &p.scene.sensors, run,
                             cases.size() > 1 ? p.sensors : ""});
+    // (pass 101) a --scene-set leaving the realistic case's own keys acting on nothing (its star tracker noise
+    // under a latency that lets no sample act) ran labelled 'realistic' without its sensors
+    for (const std::string& kv : p.sensors == "realistic" ? kRealisticSensors : std::vector<std::string>{}) {
+      const std::string key = kv.substr(0, kv.find('='));
+      if (const std::string why = firmware::sensorKeyIdle(key, p.scene.sensors, run); !why.empty()) {
+        return refuse("--scene-set", "leaves --sensors realistic's " + key + " acting on nothing in the runs of '" +
+                                         p.scene_name + "' (" + why + "): they would be labelled 'realistic' "
+                                         "without its sensors");
+      }
+    }
   }
   // A --scene-set of a sensor key is said with the case, as gimbalsim_controller_floor says it (the runs were
   // labelled "perfect" over noisy sensors, pass 56), where it acts: a key idle in a case's runs is not said
