@@ -202,6 +202,14 @@ int mainImpl(int argc, char** argv) {
     return gimbalsim::program::refuse("gimbalsim_stress", "--set: only --case reads it (the study's runs take "
                                                           "--long-set or --duration)");
   }
+  // (pass 101) a sensor key was "unknown key (see `gimbalsim keys`)", which lists it: refused as simulate does
+  for (std::size_t k = 0; k < one_sets.size(); ++k) {
+    if (one_sets[k].rfind("sensors.", 0) != 0) continue;
+    return gimbalsim::program::refuse("gimbalsim_stress", "--set #" + std::to_string(k + 1) + " '" + one_sets[k] +
+                                                              "': an open-loop run reads no sensor (firmware_sim and "
+                                                              "the closed loop do): the value would be recorded but "
+                                                              "never act");
+  }
   if (one_scene.empty()) {
     // Flags of the long run with no long run asked for were dropped without a word (pass 68), and the two
     // long-run flags together ran one of them.
