@@ -276,9 +276,14 @@ def test_a_summary_cannot_end_its_comment_and_a_title_cannot_end_its_link(tmp_pa
     # (pass 98) --summary 'x --> # forged' closed the page's hidden summary comment (the rest showed as text), and a
     # title with ']' closed the index's link text early
     page = tmp_path / "p.md"
-    for bad in ("x --> # forged", "a <!-- b"):
-        with pytest.raises(results_page.output_file.Refused, match="the summary: '-->' or '<!--' would end or open"):
+    for bad, mark in (("x --> # forged", "-->"), ("a <!-- b", "<!--"), ("a --!> b", "--!>")):
+        with pytest.raises(results_page.output_file.Refused, match=f"the summary: '{mark}' would end or open"):
             results_page.write_page(page, "T", "cmd", "| a |\n", bad, index=False)
+    # (pass 100) and the title (a '<!--' in the index hid every entry after it), the command's code span
+    for title, command, named in (("T <!-- x", "cmd", "the title: '<!--'"), ("T", "x` <!-- y", "the command: '<!--'"),
+                                  ("T", "echo `date`", "the command: '`'")):
+        with pytest.raises(results_page.output_file.Refused, match=named):
+            results_page.write_page(page, title, command, "| a |\n", "s", index=False)
     assert not page.exists()
     results_page.write_page(page, "Gains [rad] ](x.md)", "cmd", "| a |\n", "one line")
     index = (tmp_path / "README.md").read_text()

@@ -288,8 +288,10 @@ def write_page(path, title, command, body, summary="", t0=None, load0=None, inde
         if bad := re.search(f"[\x00-\x08{lf}\x0b-\x1f\x7f-\x9f\u061c\u200e\u200f\u2028-\u202e\u2066-\u2069]", given):
             raise output_file.Refused(f"{what}: character U+{ord(bad.group()):04X} (a control character) at "
                                       f"position {bad.start()}: a page holds none")
-    if "-->" in summary or "<!--" in summary:  # (pass 98) it ended the summary's hidden comment: the rest showed
-        raise output_file.Refused("the summary: '-->' or '<!--' would end or open the page's hidden comment")
+        # (passes 98, 100) a comment's or the command's code span's ends in the header: the rest showed, or hid
+        if bad := next((m for m in ("<!--", "-->", "--!>", "`")[:{"the body": 0, "the command": 4}.get(what, 3)]
+                        if m in given), None):
+            raise output_file.Refused(f"{what}: '{bad}' would end or open a comment or code span of the page")
     summary_line = f"<!-- summary: {' '.join(summary.split())} -->\n" if summary else ""
     text = header(title, command, t0, load0) + summary_line + "\n" + body.rstrip("\n") + "\n"
     check_page(path := pathlib.Path(path), index, inputs)
@@ -336,9 +338,7 @@ def make_index(folder, pending=None):
     rank = lambda p: (ORDER.index(p.stem) if p.stem in ORDER else len(ORDER), p.name)  # noqa: E731
     names = {p.name for p in folder.glob("*.md")} | set(pending)
     for p in sorted((folder / n for n in names), key=rank):
-        if p.name == INDEX_NAME:
-            continue
-        h = read_header(p, pending.get(p.name))
+        h = None if p.name == INDEX_NAME else read_header(p, pending.get(p.name))
         if h is None:
             continue
         title, command, com, date, summary = h
