@@ -104,9 +104,9 @@ class SweepSpec:
                     if not (where.startswith("set.") and section != "set"):
                         spec.refuse(*why)
                     # a key under set and dispersed too: the draw acts (the set value is the base it replaces);
-                    # in another spelling the loader's order would pick one: refused, after the refusals of a key
-                    # that does not act, which say more
-                    if named != other:
+                    # in another spelling (pass 100: friction1.mu beside joint1.friction.mu, one canonical name) the
+                    # loader's order would pick one: refused, after the refusals of a key that does not act
+                    if where.split(".", 1)[1] != key:
                         set_and_dispersed.append(why)
                 seen[one_quantity(named)] = (f"{section}.{key}", named)
         self.grid = []

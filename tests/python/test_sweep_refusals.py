@@ -141,6 +141,9 @@ BAD = [
     # one key in two spellings: both would be recorded while one value acts
     ("parameters:\n  friction1.mu: {uniform: [0.1, 0.2]}\ngrid:\n  joint1.friction.mu: [0.3, 0.4]\n",
      "grid.joint1.friction.mu", 9, "the same key as parameters.friction1.mu"),
+    # (pass 100) and one spelling under set, the other dispersed: the loader's order picked one
+    ("set: {structure.joint1: planar, joint1.friction.mu: 0.3}\nparameters:\n  friction1.mu: {uniform: [0.15, 0.35]}\n",
+     "parameters.friction1.mu", 8, "the same key as set.joint1.friction.mu: give it in one place"),
     # (pass 70) a clearance under set beside a dispersed journal radius: the later spelling won silently; a
     # clearance and a journal radius both inside set
     ("set: {contact.clearance: 2.0e-4}\nparameters:\n  contact.journal_radius: {uniform: [9.7e-3, 9.9e-3]}\n",
