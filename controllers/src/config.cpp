@@ -210,12 +210,6 @@ void validate(const ControllerConfig& c, Given& g) {
   if (c.rate_source == RateSource::Difference && !(c.rate_filter_hz < 0.5 / c.period)) {
     g.refuse("control.rate_filter_hz", "must be below the Nyquist frequency 1/(2 control.period)");
   }
-  // (pass 99) the inertial feed-forward is the inertial mode's (inertial_reference.cpp): in joint mode it ran as
-  // profile, torques bit for bit the same, recorded as in effect
-  if (c.accel_feedforward == AccelFeedForward::Inertial && c.pointing_mode == PointingMode::Joint) {
-    g.refuse(g.has("pointing.accel_feedforward") ? "pointing.accel_feedforward" : "pointing.mode",
-             "pointing.accel_feedforward inertial needs pointing.mode inertial (in joint mode it runs as profile)");
-  }
   // Read only by the inertial feed-forward (inertial_reference.cpp): with the model's, a 10 ms period was
   // refused for this key's default, and giving it was refused as unread (pass 55).
   if (c.accel_feedforward == AccelFeedForward::Inertial && !(c.base_accel_filter_hz < 0.5 / c.period)) {

@@ -123,12 +123,6 @@ TEST(ControllerConfig, BadValuesAreRefusedWithTheReason) {
   EXPECT_NE(refusal("control:\n  period: 0.01\npointing:\n  accel_feedforward: inertial\n")
                 .find("key 'pointing.base_accel_filter_hz': must be below the Nyquist frequency"),
             std::string::npos);
-  // (pass 99) the inertial feed-forward in joint mode ran as profile, bit for bit, recorded as in effect
-  EXPECT_NE(refusal("pointing:\n  mode: joint\n  accel_feedforward: inertial\n")
-                .find("key 'pointing.accel_feedforward': pointing.accel_feedforward inertial needs pointing.mode "
-                      "inertial (in joint mode it runs as profile)"),
-            std::string::npos);
-  EXPECT_EQ(refusal("pointing:\n  mode: joint\n  accel_feedforward: profile\n"), "(accepted)");
   EXPECT_NE(refusal("profile:\n  track_period: [1, 0]\n").find("key 'profile.track_period': must be in [1e-06, 1e+09]"),
             std::string::npos);
   // The profile's ranges keep every torque finite: 1e300 rad, a 1e-300 s period gave NaN commands.
