@@ -70,7 +70,8 @@ std::vector<Key<ControllerConfig>> keys() {
       "acceleration; inertial: each shaft's inertial angular acceleration about its joint, from the IK's second "
       "derivative (its curvature, the base's rate and angular acceleration), times the inertias azimuth.inertia, "
       "elevation.inertia, gimbal.azimuth_inertia_cos2; model: the computed torque of the free-floating plant's "
-      "rigid-body model (plant.*), the base's reaction predicted by it",
+      "rigid-body model (plant.*), the base's reaction predicted by it; inertial needs pointing.mode inertial (in "
+      "joint mode it would run as profile: refused by the programs, closed_loop and the studies' specs)",
       field(&ControllerConfig::accel_feedforward),
       {{"profile", AccelFeedForward::Profile},
        {"inertial", AccelFeedForward::Inertial},

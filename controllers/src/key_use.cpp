@@ -87,22 +87,36 @@ std::string controllerKeyIdle(const ControllerConfig& c, const std::string& key,
   return keyIdle(value, key, scene_has_antenna_sensor);
 }
 
+std::string controllerValueRunsAsAnother(const ControllerConfig& c) {
+  // (pass 99) inertial_reference.cpp: the joint law feeds forward the profile's acceleration whatever the value
+  if (c.pointing_mode == PointingMode::Joint && c.accel_feedforward == AccelFeedForward::Inertial) {
+    return "pointing.accel_feedforward inertial runs as profile with pointing.mode joint (the inertial "
+           "feed-forward is the inertial mode's; the joint law takes the profile's joint acceleration)";
+  }
+  return "";
+}
+
 std::string idleControllerOverride(const char* flag, const std::vector<std::string>& overrides,
                                    const ControllerConfig& c, bool scene_has_antenna_sensor,
                                    const std::vector<std::pair<std::string, std::string>>& never_read) {
   KeyValues value = valuesByKey(c);
+  const std::string runs_as = controllerValueRunsAsAnother(c);
+  std::string deciding;  // the last override of a key that makes runs_as
   for (std::size_t k = 0; k < overrides.size(); ++k) {
     const std::string key = overrides[k].substr(0, overrides[k].find('='));
+    const std::string named = std::string(flag) + " #" + std::to_string(k + 1) + " '" + overrides[k] + "'";
     std::string why = keyIdle(value, key, scene_has_antenna_sensor);
     for (const auto& [idle, because] : never_read) {
       if (why.empty() && key == idle) why = because;
     }
     if (!why.empty()) {
-      return std::string(flag) + " #" + std::to_string(k + 1) + " '" + overrides[k] + "': not read by these runs (" +
-             why + "): the value would be recorded but never act";
+      return named + ": not read by these runs (" + why + "): the value would be recorded but never act";
     }
+    if (key == "pointing.accel_feedforward" || key == "pointing.mode") deciding = named;
   }
-  return "";
+  if (runs_as.empty()) return "";
+  return (deciding.empty() ? std::string("the controller configuration") : deciding) + ": " + runs_as +
+         ": the value would be recorded but act as another";
 }
 
 }  // namespace gimbalsim::controllers

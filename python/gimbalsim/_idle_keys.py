@@ -36,6 +36,7 @@ ALWAYS_IDLE = {"name": "the scene's label: no run reads it"}
 # (controllers/src/key_use.cpp), key (or prefix ending in ".") -> conditions that must all hold; a condition is a
 # list of (that key, the values that read it), any one of which will do.
 CONTROLLER_READ_UNDER = _gimbalsim._controller_read_rules()
+FEEDFORWARD_KEY = CONTROLLER_PREFIX + "pointing.accel_feedforward"
 
 
 def idle_in_controller(key, values, dispersed):
@@ -116,19 +117,23 @@ def _idle_play_guard(key, values, dispersed, takes):
 
 
 def _feedforwards_alike(key, values, dispersed, takes):
-    """Why a dispersed pointing.accel_feedforward cannot act: in pointing.mode joint the inertial feed-forward
-    takes the profile's acceleration, as profile does (controllers/src/inertial_reference.cpp), so values that
-    are all inertial or profile run alike (pass 59: recorded as applied). Judged for every mode the study gives."""
+    """Why pointing.accel_feedforward's value inertial cannot act as given: in pointing.mode joint the inertial
+    feed-forward takes the profile's acceleration, as profile does (controllers/src/inertial_reference.cpp):
+    recorded as inertial, run as profile (pass 59 dispersed, pass 99 set; pointing_controller refuses it as
+    key_use.cpp's controllerValueRunsAsAnother). Judged for every mode the study gives."""
     mode_key = CONTROLLER_PREFIX + "pointing.mode"
+    if key != FEEDFORWARD_KEY:
+        return None
     modes = takes.get(mode_key) if mode_key in dispersed else [values.get(mode_key)]
-    given = takes.get(key) if key in dispersed else None
-    if key != CONTROLLER_PREFIX + "pointing.accel_feedforward" or not isinstance(given, list) or \
-            not isinstance(modes, list) or any(str(m) != "joint" for m in modes):
+    given = takes.get(key) if key in dispersed else [values.get(key)]
+    if not isinstance(given, list) or not isinstance(modes, list) or any(str(m) != "joint" for m in modes) or \
+            "inertial" not in given:
         return None
-    if len(set(given)) < 2 or not set(given) <= {"inertial", "profile"}:
-        return None
-    return ("with pointing.mode joint the inertial feed-forward takes the profile's joint acceleration, as "
-            "profile does: every value given runs alike")
+    if set(given) == {"inertial", "profile"}:
+        return ("with pointing.mode joint the inertial feed-forward takes the profile's joint acceleration, as "
+                "profile does: every value given runs alike")
+    return ("with pointing.mode joint the inertial feed-forward takes the profile's joint acceleration: "
+            "inertial runs as profile")
 
 
 def _idle_in_controller_keys(key, values, dispersed):
@@ -252,16 +257,24 @@ def _idle_motor_limit(key, values, dispersed, takes):
             f"{own[0]:g} / {own[1]:g} N m), which hold every command it sends: the motor limit clips nothing")
 
 
-def refuse_idle_set(spec, entries, values, dispersed, takes, closed, runs, unread_ticks=TRUTH_ONLY):
+def refuse_idle_set(spec, entries, values, dispersed, takes, closed, runs, unread_ticks=TRUTH_ONLY, controller=None):
     """A key given under set: or controller_set: [(where, canonical key, node)]
     that the runs never read: refused at its line as the dispersed key is
     (whatever its value: it would be recorded in the fingerprint and act on
     nothing). Judged with the loaded values; a key also dispersed is judged
-    as dispersed."""
+    as dispersed. controller: (where, node) of the controller file, refused
+    when its own values run as others (_feedforwards_alike)."""
     for where, key, node in entries:
         why = None if key in dispersed else idle_reason(key, values, dispersed, takes, closed, unread_ticks)
         if why is not None:
             spec.refuse(where, f"not read by {runs} ({why}): the value given would be recorded but never act", node)
+    # the feed-forward from the controller file: refused at the set mode's line, else at the file's
+    if controller is not None and FEEDFORWARD_KEY not in dispersed | {key for _, key, _ in entries}:
+        if (why := _feedforwards_alike(FEEDFORWARD_KEY, values, dispersed, takes)) is not None:
+            where, _, node = next((e for e in entries if e[1] == CONTROLLER_PREFIX + "pointing.mode"),
+                                  (controller[0], None, controller[1]))
+            spec.refuse(where, f"the configuration's values would be recorded as given and act as others in {runs} "
+                        f"({why})", node)
 
 
 def _idle_in_scene(key, scene, dispersed):

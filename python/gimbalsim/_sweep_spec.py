@@ -258,7 +258,7 @@ class SweepSpec:
         if self.closed is not None:
             fixed += [(f"controller_set.{k}", CONTROLLER_PREFIX + k, n) for k, n in self.closed.set_nodes.items()]
         refuse_idle_set(spec, fixed, values, dispersed_keys, takes, self.closed is not None, "this sweep's runs",
-                        unread)
+                        unread, ("controller", spec.root.value["controller"]) if self.closed is not None else None)
 
     def _plant(self, overrides):
         """Scene overrides as a sample's scene is loaded with them (_closed_sample.load_sample)."""

@@ -201,7 +201,8 @@ class TuneSpec:
         # set: and controller_set: alike (set: sim.duration too: the tuner's duration: is every run's length)
         refuse_idle_set(spec, [(f"set.{k}", aliases.get(k, k), n) for k, n in sets.items()] +
                         [(f"controller_set.{k}", CONTROLLER_PREFIX + k, n) for k, n in csets.items()],
-                        values, dispersed, takes, True, "the tuned loop")
+                        values, dispersed, takes, True, "the tuned loop",
+                        controller=("controller", spec.root.value["controller"]))
 
     def input_files(self):
         """The files the study reads (spec, scene, controller configuration):

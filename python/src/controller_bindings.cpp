@@ -65,6 +65,16 @@ void refuseIdleOutages(const PyScene& s, const ControllerConfig& c, double durat
   }
 }
 
+/// (pass 99) A value recorded as given that runs as another (pointing.mode joint with accel_feedforward inertial
+/// ran as profile), where pointing_controller refuses it: refused naming the feed-forward key.
+void refuseValueRunningAsAnother(const PyController& c) {
+  if (const std::string why = controllerValueRunsAsAnother(c.config); !why.empty()) {
+    const std::string where = c.path.empty() ? std::string("the controller configuration") : c.path;
+    const std::string text = where + ": key 'pointing.accel_feedforward': " + why + " (pointing_controller refuses it)";
+    raiseSceneError(InputError({Problem{text, "pointing.accel_feedforward", c.path, 0, 0, 0}}));
+  }
+}
+
 PyController loadController(const std::string& path, const std::vector<std::string>& overrides) {
   checkPath(path, "controller configuration path");
   try {
@@ -367,7 +377,10 @@ void bindController(pyb::module_& m) {
           }
           opt.faults = &schedule;
         }
-        if (refuse_idle) refuseIdleOutages(s, c.config, duration, faults.empty() ? nullptr : &schedule);
+        if (refuse_idle) {
+          refuseIdleOutages(s, c.config, duration, faults.empty() ? nullptr : &schedule);
+          refuseValueRunningAsAnother(c);
+        }
         Ticks ticks;
         ticks.data.reserve(rows * Ticks::kN);  // no doubling on the way: the bound above holds
         ClosedLoopResult r;

@@ -65,5 +65,25 @@ TEST(KeyUse, AnOverrideIsNamedByItsFlagAndCount) {
   EXPECT_EQ(idleControllerOverride("--set", {"azimuth.kp=100"}, c, false, {{"monitor.hold_ticks", "why"}}), "");
 }
 
+// (pass 99) the joint law feeds forward the profile's acceleration: 'inertial' there ran as profile, recorded
+TEST(KeyUse, TheInertialFeedForwardInJointModeIsRefusedNamingItsSet) {
+  const auto joint_inertial = config({"pointing.mode=joint", "pointing.accel_feedforward=inertial"});
+  EXPECT_NE(controllerValueRunsAsAnother(joint_inertial).find("runs as profile"), std::string::npos);
+  EXPECT_EQ(controllerValueRunsAsAnother(config({"pointing.mode=joint", "pointing.accel_feedforward=profile"})), "");
+  EXPECT_EQ(controllerValueRunsAsAnother(config({"pointing.accel_feedforward=inertial"})), "");
+  const std::string why = idleControllerOverride(
+      "--set", {"azimuth.kp=100", "pointing.mode=joint", "pointing.accel_feedforward=inertial"}, joint_inertial, false,
+      {});
+  EXPECT_EQ(why.rfind("--set #3 'pointing.accel_feedforward=inertial': pointing.accel_feedforward inertial runs as "
+                      "profile with pointing.mode joint",
+                      0),
+            0u)
+      << why;
+  // no override names it: the configuration (a file) is
+  EXPECT_EQ(idleControllerOverride("--set", {"azimuth.kp=100"}, joint_inertial, false, {})
+                .rfind("the controller configuration: ", 0),
+            0u);
+}
+
 }  // namespace
 }  // namespace gimbalsim::controllers

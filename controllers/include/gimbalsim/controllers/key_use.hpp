@@ -33,8 +33,14 @@ const std::vector<KeyReadRule>& controllerReadRules();
 /// antenna (a scene with an antenna sensor, and antenna.tracker use).
 std::string controllerKeyIdle(const ControllerConfig& c, const std::string& key, bool scene_has_antenna_sensor);
 
+/// Why c holds a value that runs as another one ("" when none does): pointing.accel_feedforward inertial
+/// with pointing.mode joint runs as profile.
+std::string controllerValueRunsAsAnother(const ControllerConfig& c);
+
 /// The first of `overrides` ("key=value", given with `flag`) that c reads in no run, or "" when each is read:
-/// by controllerKeyIdle, or named in `never_read` (key, why: what the caller's loop never reads).
+/// by controllerKeyIdle, or named in `never_read` (key, why: what the caller's loop never reads); else, when c
+/// holds a value that runs as another (controllerValueRunsAsAnother), the last override of its keys, or the
+/// configuration itself when none is.
 std::string idleControllerOverride(const char* flag, const std::vector<std::string>& overrides,
                                    const ControllerConfig& c, bool scene_has_antenna_sensor,
                                    const std::vector<std::pair<std::string, std::string>>& never_read);
