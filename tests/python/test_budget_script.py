@@ -37,7 +37,7 @@ def test_a_users_spec_writes_its_own_folder_and_no_project_page(tmp_path):
     root = tmp_path / "checkout"
     for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh",
                 "tools/lib/build_dir.sh",
-                "tools/pages/results_page.py", "docs/results/pointing_budget.md",
+                "tools/pages/results_page.py", "tools/pages/results_index.py", "docs/results/pointing_budget.md",
                 "docs/results/README.md"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(SOURCE / rel, root / rel)
@@ -95,7 +95,7 @@ def test_a_refused_shipped_spec_leaves_the_previous_results(tmp_path):
     root = tmp_path / "checkout"
     for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh",
                 "tools/lib/build_dir.sh",
-                "tools/pages/results_page.py", "docs/results/pointing_budget.md"):
+                "tools/pages/results_page.py", "tools/pages/results_index.py", "docs/results/pointing_budget.md"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(SOURCE / rel, root / rel)
     (root / "tools/sweeps/pointing_budget.yaml").write_text(SPEC.replace("samples: 2", "samples: 2\nsampels: 3"))
@@ -127,7 +127,7 @@ def test_a_refused_spec_makes_no_out_folder(tmp_path):
     root = tmp_path / "checkout"
     for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh",
                 "tools/lib/build_dir.sh",
-                "tools/pages/results_page.py"):
+                "tools/pages/results_page.py", "tools/pages/results_index.py"):
         (root / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(SOURCE / rel, root / rel)
     (root / "tools/sweeps/pointing_budget.yaml").write_text(SPEC.replace("samples: 2", "samples: 2\nsampels: 3"))
@@ -142,7 +142,7 @@ def checkout_with_spec(tmp_path, spec_text=None):
     root = tmp_path / "checkout"
     for rel in ("tools/sweeps/run_pointing_budget.sh", "tools/lib/console.sh", "tools/lib/children.sh",
                 "tools/lib/build_dir.sh",
-                "tools/sweeps/pointing_budget.yaml", "tools/pages/results_page.py",
+                "tools/sweeps/pointing_budget.yaml", "tools/pages/results_page.py", "tools/pages/results_index.py",
                 "tools/pages/output_file.py", "python/gimbalsim/_output.py", "python/gimbalsim/_csv_cells.py",
                 "python/gimbalsim/_console.py",
                 "python/gimbalsim/_number.py", "python/gimbalsim/_early_signals.py",
