@@ -45,9 +45,7 @@ Usage:
 (header by tools/pages/results_page.py: machine, commit, date, load at start and end).
 """
 import argparse
-import io
 import os
-import shlex
 import time
 import re
 import statistics
@@ -273,57 +271,6 @@ def long_run(seconds):
     print(f"[load after: {' '.join(load())}]")
 
 
-class Tee(io.TextIOBase):
-    """Writes to the terminal and keeps a copy (the page's body)."""
-
-    def __init__(self, out):
-        self.out, self.copy = out, io.StringIO()
-
-    def write(self, s):
-        self.copy.write(s)
-        return self.out.write(s)
-
-    def flush(self):
-        self.out.flush()
-
-
-PREAMBLE = """`tools/hil/hil_speed.py`: firmware_sim + pointing_controller over LCM udpm (ttl=0) in a private network
-namespace, paper_clearance with the controller; figures parsed from firmware_sim's exit summary. Real-time runs:
-both processes under `chrt -f 60`, firmware_sim's loop thread SCHED_FIFO 80 pinned to `--cpu`, the controller
-and firmware_sim's communication thread on the other CPUs. The machine's floor:
-cyclictest (Debian's rt-tests) at the same period, priority and CPU, half of its time just before and half just
-after each firmware_sim run; ratio = firmware_sim / cyclictest (1 = the machine's own floor). Lateness = wake-up
-lateness of the loop thread; "sustains" = zero overruns and lateness p99 below 10 % of the period. The kernel is
-not PREEMPT_RT and the 2 cores are shared (load average in the header): single multi-millisecond stalls of the VM
-land in one run or another, so p99.9 and max swing between runs; quote medians and ratios, not tails.
-"""
-
-
-def page_body(text):
-    """The printed report as Markdown: tables kept, the long run's indented lines in a code block."""
-    out, mode = [PREAMBLE], None
-    for line in text.splitlines():
-        kind = "table" if line.startswith("|") else "code" if line.startswith("  ") or line.startswith(
-            "firmware_sim:") else "text" if line.strip() else None
-        if kind is None:
-            continue
-        if kind != mode:
-            if mode == "code":
-                out.append("```")
-            out.append("")
-            if kind == "code":
-                out.append("```")
-        if kind == "text" and line.startswith("("):  # (i), (ii), (iii): a section each
-            out += ["", "### " + line.strip()]
-            mode = "heading"
-            continue
-        out.append(line if kind != "text" else line.strip())
-        mode = kind
-    if mode == "code":
-        out.append("```")
-    return "\n".join(out) + "\n"
-
-
 def main():
     p = argparse.ArgumentParser(
         allow_abbrev=False, description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -354,6 +301,7 @@ def main():
         p.error(f"--rates {bad[0]}: paper_clearance ticks a whole number of its 1 ms steps, or one step of 1/rate for "
                 "a multiple of 1 kHz up to 50 kHz (its 1 ms output interval, its 20 us contact sub-step)")
     import results_page  # (on the path set above)
+    import timing_page  # (beside this script)
     t0, load0 = results_page.measured_start(os.path.join(ROOT, "docs/results/bench_timing.md"), a.results)
     global BIN
     BIN, CPU[0] = os.path.join(ROOT, a.build, "bin"), a.cpu
@@ -362,7 +310,7 @@ def main():
             raise output_file.Refused(f"{BIN}/{t} missing: cmake --build {a.build} -j2 --target firmware_sim "
                                       "pointing_controller")
     enter_namespace()
-    sys.stdout = Tee(sys.stdout) if a.results else sys.stdout
+    sys.stdout = timing_page.Tee(sys.stdout) if a.results else sys.stdout
     if a.chrt > 0:
         if subprocess.run(["chrt", "-f", str(a.chrt), "true"], capture_output=True).returncode == 0:
             CHRT.extend(["chrt", "-f", str(a.chrt)])
@@ -380,18 +328,8 @@ def main():
     if not a.skip_long:
         long_run(a.long)
     if a.results:
-        command = "/usr/bin/python3 tools/hil/hil_speed.py " + " ".join(shlex.quote(x) for x in sys.argv[1:])
-        text = sys.stdout.copy.getvalue()
-        ratio = next((line.split("=", 1)[1].strip() for line in text.splitlines() if "firmware_sim / cyclictest" in line), "")
-        best = next((line.split("):", 1)[1].split("[")[0].strip() for line in text.splitlines()
-                     if line.startswith("highest rate sustained (plain")), "")
-        best = best if best[:1].isdigit() else best.removesuffix(" Hz")
-        summary = "; ".join(x for x in (f"highest rate sustained: {best}" if best else "",
-                                        f"1 kHz run, firmware_sim / cyclictest lateness p50 / p99 / p99.9 / max = {ratio}"
-                                        if ratio else "") if x)
-        results_page.write_page(os.path.join(ROOT, "docs/results/bench_timing.md"),
-                                "HIL bench timing against cyclictest", command, page_body(text), summary=summary,
-                                t0=t0, load0=load0)
+        timing_page.write(os.path.join(ROOT, "docs/results/bench_timing.md"), sys.argv[1:], sys.stdout.copy.getvalue(),
+                          t0, load0)
         sys.stdout = sys.stdout.out
         print("hil_speed: wrote docs/results/bench_timing.md")
 
