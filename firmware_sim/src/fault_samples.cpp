@@ -4,6 +4,7 @@
 // perfect gyro could tell the estimate what a star tracker outage withholds.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 #include "gimbalsim/input/value_format.hpp"
@@ -63,6 +64,28 @@ std::string windowHoldsNoSample(const SampledSensor& s, WindowActsOn acts, doubl
          formatNumber(s.latency) + " s): it would change nothing but its flag";
 }
 
+namespace {
+
+/// A fault kind whose window acts only through a sampled sensor's samples: the sensor (the star tracker's, else
+/// the boresight tracker's) and what of its samples the window acts on.
+struct SampledWindow {
+  bool star;
+  WindowActsOn acts;
+};
+
+/// (pass 97) an outage loses takes and deliveries, a bias biases takes, a dropout loses deliveries.
+std::optional<SampledWindow> sampledWindowOf(FaultKind kind) {
+  switch (kind) {
+    case FaultKind::StarTrackerOutage: return SampledWindow{true, WindowActsOn::Both};
+    case FaultKind::TrackerOutage: return SampledWindow{false, WindowActsOn::Both};
+    case FaultKind::TrackerBias: return SampledWindow{false, WindowActsOn::Takes};
+    case FaultKind::TrackerDropout: return SampledWindow{false, WindowActsOn::Deliveries};
+    default: return std::nullopt;
+  }
+}
+
+}  // namespace
+
 std::vector<std::string> checkFaultsAgainstSamples(const FaultSchedule& s, const PlantScene& ps, double duration,
                                                    double tick_period, const std::string& origin) {
   std::vector<std::string> out;
@@ -71,15 +94,12 @@ std::vector<std::string> checkFaultsAgainstSamples(const FaultSchedule& s, const
   if (!(T > 0.0)) return out;
   for (std::size_t i = 0; i < s.faults.size(); ++i) {
     const FaultSpec& f = s.faults[i];
-    const bool star = f.kind == FaultKind::StarTrackerOutage;
     // (pass 97) the boresight tracker's window faults between two of its samples acted on none, as the star
-    // tracker's did (pass 87); an outage loses takes and deliveries, a bias biases takes, a dropout deliveries
-    const WindowActsOn acts = f.kind == FaultKind::TrackerBias      ? WindowActsOn::Takes
-                              : f.kind == FaultKind::TrackerDropout ? WindowActsOn::Deliveries
-                                                                    : WindowActsOn::Both;
-    const bool tracker = f.kind == FaultKind::TrackerOutage || f.kind == FaultKind::TrackerBias ||
-                         f.kind == FaultKind::TrackerDropout;
-    if (!star && !(tracker && p.antenna_sensors)) continue;  // a tracker's without one: checkFaultsAgainstScene
+    // tracker's did (pass 87)
+    const std::optional<SampledWindow> window = sampledWindowOf(f.kind);
+    if (!window || !(window->star || p.antenna_sensors)) continue;  // a tracker's without one: checkFaultsAgainstScene
+    const bool star = window->star;
+    const WindowActsOn acts = window->acts;
     const std::string at = origin + ":" + std::to_string(f.line) + ":" + std::to_string(f.column) + ": fault #" +
                            std::to_string(i + 1) + " (" + faultTypeName(f.kind) + "): ";
     // (pass 89) on a fixed base with perfect sensors the estimate is exact without a sample, unless a gyro bias
