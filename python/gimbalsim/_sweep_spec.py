@@ -8,6 +8,7 @@ from . import _provenance, _sampling
 from ._closed_spec import CONTROLLER_PREFIX, ClosedLoopSpec, plant_overrides
 from ._idle_keys import idle_reason, refuse_idle_set, takes_of
 from ._idle_sensors import KNOWLEDGE, KNOWLEDGE_AT_THE_END, TRUTH_ONLY
+from ._one_quantity import quantities_given_twice
 from ._spec import Spec
 from .indices import seconds
 from .dispersion import Design, check_within, design_size, parse_parameter
@@ -44,12 +45,6 @@ def _within_note(p, trial, scene):
     within, fraction = p.args["within"], p.args["fraction"]
     value = trial[within] if within in trial else f"{scene.get(within)} (the scene's)"
     return f"disk: within {within}, fraction {fraction} of {within} {value} reaches {p.key} {trial[p.key]}: "
-
-
-def one_quantity(key):
-    """The field a scene key sets: a clearance is given as, and stored as, the journal radius
-    (bearing_radius - c), so contact.clearance and contact.journal_radius name one quantity."""
-    return key[:-len("clearance")] + "journal_radius" if key.endswith("contact.clearance") else key
 
 
 class SweepSpec:
@@ -89,26 +84,12 @@ class SweepSpec:
         if "controller" in root:
             key_types.update(ctrl_types)
         grid = spec.known_mapping("grid", key_types, "scene")
-        # One quantity in one place, whatever its spelling (friction1.mu is joint1.friction.mu, a clearance sets
-        # the journal radius): two would both be recorded while one value acts (set: contact.clearance beside a
-        # dispersed contact.journal_radius: the later spelling won silently, pass 70).
+        # One quantity in one place, whatever its spelling (_one_quantity.py)
         aliases = gimbalsim.key_aliases()
-        seen, set_and_dispersed = {}, []  # quantity -> (where, the key as named there)
-        for section, mapping in (("set", sets), ("parameters", params), ("grid", grid)):
-            for key, node in mapping.items():
-                named = aliases.get(key, key)
-                if one_quantity(named) in seen:
-                    where, other = seen[one_quantity(named)]
-                    same = "the same key as" if named == other else "the same quantity as"
-                    why = (f"{section}.{key}", f"{same} {where}: give it in one place", node)
-                    if not (where.startswith("set.") and section != "set"):
-                        spec.refuse(*why)
-                    # a key under set and dispersed too: the draw acts (the set value is the base it replaces);
-                    # in another spelling (pass 100: friction1.mu beside joint1.friction.mu, one canonical name) the
-                    # loader's order would pick one: refused, after the refusals of a key that does not act
-                    if where.split(".", 1)[1] != key:
-                        set_and_dispersed.append(why)
-                seen[one_quantity(named)] = (f"{section}.{key}", named)
+        twice, set_and_dispersed = quantities_given_twice((("set", sets), ("parameters", params), ("grid", grid)),
+                                                          aliases)
+        if twice:
+            spec.refuse(*twice[0])
         self.grid = []
         for key, node in grid.items():
             if not isinstance(node.value, list) or not node.value:

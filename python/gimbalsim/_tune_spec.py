@@ -8,6 +8,7 @@ import gimbalsim
 from . import _gimbalsim, _sampling
 from ._closed_spec import CONTROLLER_PREFIX, controller_path_of, plant_overrides
 from ._idle_keys import idle_reason, refuse_idle_set, takes_of
+from ._one_quantity import quantities_given_twice
 from ._spec import Spec
 from .dispersion import CONTROLLER_KEYS, Design, check_within, parse_parameter
 from .indices import seconds
@@ -143,14 +144,16 @@ class TuneSpec:
         if not self.gains:
             spec.refuse("gains", "no gain to tune", root["gains"])
         plants = spec.mapping("plants", root["plants"]) if "plants" in root else {}
-        aliases, spelled = gimbalsim.key_aliases(), {}
-        for k, n in plants.items():  # two spellings of one key: both drawn, one acting (set: refuses it alike)
-            if aliases.get(k, k) in spelled:
-                spec.refuse(f"plants.{k}", f"the same key as plants.{spelled[aliases.get(k, k)]}: give it once", n)
-            spelled[aliases.get(k, k)] = k
+        # one quantity in one place, whatever its spelling, as a sweep's spec (pass 102: set: beside plants: in
+        # another spelling was taken, the set value recorded and never acting)
+        twice, set_and_dispersed = quantities_given_twice((("set", sets), ("plants", plants)), gimbalsim.key_aliases())
+        if twice:
+            spec.refuse(*twice[0])
         params = [parse_parameter(spec, "plants", k, n, scene_types) for k, n in plants.items()]
         check_within(spec, "plants", params, [], self.base.values())
         self._refuse_keys_that_do_not_act(spec, params, sets, csets)
+        for why in set_and_dispersed:
+            spec.refuse(*why)
         for p in params:  # each end alone; a disk within a dispersed key at the rim each of its ends gives
             for trial in p.trials():
                 try:

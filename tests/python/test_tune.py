@@ -151,6 +151,12 @@ def test_plants_that_cannot_differ_are_refused_at_the_batch(plants, why, tmp_pat
     (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}\n  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}",
       "initial.ecc: {disk: {within: contact.clearance}}\nset: {contact.journal_radius: 9.0e-3}"),
      "plants.initial.ecc", "not dispersed"),
+    # (pass 102) one quantity in two places, as a sweep refuses it: the set value was recorded and never acted
+    (("max_saturation: 0.0", "max_saturation: 0.0\nset: {contact.journal_radius: 9.0e-3}"),
+     "plants.contact.clearance", "the same quantity as set.contact.journal_radius: give it in one place"),
+    (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "contact.clearance: {uniform: [1.0e-4, 8.0e-4]}\n  "
+      "contact.journal_radius: {uniform: [9.2e-3, 9.9e-3]}"),
+     "plants.contact.journal_radius", "the same quantity as plants.contact.clearance: give it in one place"),
 ])
 def test_tuning_spec_values_that_crashed_are_refused_before_anything_runs(change, key, why, tmp_path):
     (tmp_path / "t.yaml").write_text(SPEC.replace(*change))
@@ -288,3 +294,18 @@ def test_plants_refuse_one_key_in_two_spellings(tmp_path):
     with pytest.raises(SpecError) as e:
         TuneSpec(tmp_path / "t.yaml")
     assert e.value.key == "plants.joint1.friction.mu" and "the same key as plants.friction1.mu" in str(e.value)
+
+
+@pytest.mark.parametrize("set_key,plant_key", [("joint1.contact.journal_radius: 0.0098", "contact1.clearance"),
+                                               ("friction1.mu: 0.2", "joint1.friction.mu"),
+                                               ("joint1.contact.clearance: 2.0e-4", "contact1.clearance")])
+def test_one_quantity_under_set_and_plants_in_two_spellings_is_refused(set_key, plant_key, tmp_path):
+    # (pass 102) the sweep refused these pairs, the tuner ran them: the set value recorded, the plants' acting
+    lo, hi = ("0.1", "0.3") if "mu" in plant_key else ("1.0e-4", "3.0e-4")
+    spec = SPEC.replace("paper_clearance.yaml", "paper_both_planar.yaml").replace(
+        "  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", f"  {plant_key}: {{uniform: [{lo}, {hi}]}}") + \
+        f"set: {{{set_key}}}\n"
+    (tmp_path / "t.yaml").write_text(spec)
+    p = tune(tmp_path / "t.yaml", tmp_path / "o", "--workers", "1")
+    assert p.returncode == 2 and f"key 'plants.{plant_key}'" in p.stderr, p.stderr
+    assert "give it in one place" in p.stderr and not (tmp_path / "o").exists(), p.stderr
