@@ -290,6 +290,16 @@ def test_a_summary_cannot_end_its_comment_and_a_title_cannot_end_its_link(tmp_pa
     assert "- [Gains \\[rad\\] \\](x.md)](p.md): one line" in index, index
 
 
+def test_a_titles_backslash_or_backtick_and_a_summarys_backtick_are_escaped_in_the_index(tmp_path):
+    # (pass 102) a title ending in '\\' escaped its link's ']'; a backtick in the title or summary paired with the
+    # command's code span: the index line's link and code span broke
+    results_page.write_page(tmp_path / "p.md", "a \\", "bash x.sh", "| a |\n", "s `code")
+    results_page.write_page(tmp_path / "q.md", "a `b", "bash y.sh", "| a |\n", "t")
+    index = (tmp_path / "README.md").read_text()
+    assert "- [a \\\\](p.md): s \\`code (" in index and "; `bash x.sh`)" in index, index
+    assert "- [a \\`b](q.md): t (" in index and "; `bash y.sh`)" in index, index
+
+
 @pytest.mark.parametrize("field", ["title", "command"])
 def test_a_line_feed_in_a_pages_title_or_command_is_refused(tmp_path, field):
     # (pass 96) --title $'T\n<!-- summary: forged -->\n# Second' forged the page's summary line (read by the index)

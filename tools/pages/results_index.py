@@ -92,8 +92,10 @@ def make_index(folder, pending=None):
         if h is None:
             continue
         title, command, com, date, summary = h
-        rows.append("- [" + re.sub(r"([][])", r"\\\1", title) + f"]({p.name}): {summary + ' ' if summary else ''}"
-                    f"({date}, {com}; `{command}`)")
+        # (passes 98, 102) a title's bracket or trailing backslash ended its link; a backtick in a title or summary
+        # paired with the command's code span: escaped as Markdown reads them
+        title, summary = re.sub(r"([][\\`])", r"\\\1", title), re.sub(r"([\\`])", r"\\\1", summary)
+        rows.append(f"- [{title}]({p.name}): {summary + ' ' if summary else ''}({date}, {com}; `{command}`)")
     text = "\n".join([
         MARK, "# Results", "",
         "Regenerate: `/usr/bin/python3 tools/pages/results_page.py --index` (each page: the command at its top)", "",
