@@ -3,7 +3,8 @@ into a temporary SOURCE, outside every output folder) written to DEST by the
 one writer's rules (output_file.py): never through a link, never over an
 input, whole or not at all (a temporary and a rename: a hard link to DEST
 keeps its content). The ARGs are the script's own arguments: each that names
-a file (itself, or after '=' in --flag=path) is one of the run's inputs, so
+a file (itself, after '=' in --flag=path, or glued to a short option, -fpath)
+is one of the run's inputs, so
 a log named as a scene or a configuration is refused (exit 2), never
 written over it. --check runs the same checks and writes nothing: a script
 runs it before its program, so a log that would be refused costs no run and
@@ -14,6 +15,7 @@ import argparse
 import io
 import os
 import pathlib
+import re
 import stat
 import sys
 
@@ -32,7 +34,9 @@ def main():
                     help="the script whose log this is: its name heads every refusal (the user ran it, not this)")
     ap.add_argument("args", nargs="*", help="the script's arguments, after --: each naming a file is an input")
     a = ap.parse_args()
-    inputs = [p for arg in a.args for p in (arg, arg.partition("=")[2]) if p and os.path.isfile(p)]
+    # (pass 102) a path glued to a short option (-sscene.yaml) too
+    inputs = [p for arg in a.args for p in (arg, arg.partition("=")[2], arg[2:] if re.match(r"-[A-Za-z].", arg) else "")
+              if p and os.path.isfile(p)]
 
     def save():
         output_file.check_before_writing([a.dest], inputs, ["DEST"])
