@@ -50,6 +50,8 @@ def _no_sample_in(start, end, duration, spans, unread):
     if not (0.0 < r_lo and 0.0 < period == t_hi and 0.0 <= l_lo) or duration * r_hi > 1e6:
         return False  # not judged (too many samples to go through)
     first, last = _outage_ticks(start, end, period)
+    if first > last:  # (pass 104) between two ticks: no sample is taken or falls due in it, at any rate or latency
+        return True
     acting = _last_acting_tick(duration, period, unread)
     j = 0
     while _tick_at_or_after(j / r_hi, period) <= acting:

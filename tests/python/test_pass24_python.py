@@ -181,7 +181,12 @@ GAPS = [('sensors.star_tracker_outage: "[0.25, 0.28]"', "", True),
         ('sensors.tracker_outage: "[0.012, 0.018]", sensors.tracker_rate: 100',
          "parameters:\n  sensors.tracker_latency: {uniform: [0, 0.001]}", True),
         ('sensors.tracker_outage: "[0.012, 0.018]", sensors.tracker_rate: 100',
-         "parameters:\n  sensors.tracker_latency: {uniform: [0, 0.0025]}", False)]
+         "parameters:\n  sensors.tracker_latency: {uniform: [0, 0.0025]}", False),
+        # (pass 104) a window between two 1 ms ticks holds no tick: nothing is taken or due in it at any rate
+        ('sensors.tracker_outage: "[0.0123, 0.0127]"', "parameters:\n  sensors.tracker_rate: {uniform: [1000, 2000]}",
+         True),
+        ('sensors.star_tracker_outage: "[0.2003, 0.2007]"',
+         "parameters:\n  sensors.star_tracker_rate: {uniform: [5, 20]}", True)]
 
 
 @pytest.mark.parametrize("fixed,dispersion,refused", GAPS, ids=[str(i) for i in range(len(GAPS))])
