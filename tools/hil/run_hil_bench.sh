@@ -145,6 +145,10 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
   inputs+=("the script" "${BASH_SOURCE[0]}" "the script" "$ROOT/tools/hil/plot_bench.py")
   for f in "$ROOT"/tools/lib/*.sh; do inputs+=("the script" "$f"); done  # (pass 99) the libraries it sources
   inputs+=("the interpreter" /usr/bin/python3 "the interpreter" "$BASH")  # (pass 101) plot_bench's, its own
+  # (pass 103) and every other program it runs: a --tick-log over /usr/bin/dash (its sh) or unshare was taken
+  for c in env sh unshare ip mktemp mv rm mkdir cat sed awk tee sleep kill realpath dirname basename head; do
+    p=$(type -P "$c") && inputs+=("the program" "$p")
+  done
   outs=()   # the outputs the user names after -- (label, absolute path): the --tick-log
   files=()  # every file flag after -- (flag, as given, absolute path)
   for ((i = 0; i < ${#EXTRA[@]}; i++)); do
