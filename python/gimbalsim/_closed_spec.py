@@ -48,6 +48,17 @@ def controller_path_of(spec, node):
     return None if node.value == "default" else spec.path_of("controller", node)
 
 
+def ticks_too_many(duration_s, period_s):
+    """Why a closed loop of duration_s at period_s would not fit in this machine's free memory (closed_loop's own
+    MemoryError, asked before any sample: pass 104, 1e5 s passed --check and every sample ended in a traceback),
+    or None."""
+    try:
+        _gimbalsim._closed_loop_fits_in_memory(duration_s, period_s)
+    except MemoryError as e:
+        return f"{e}: every sample would be refused"
+    return None
+
+
 def profile_phases(controller, duration_s):
     """The profile's phases {name: (t0, t1)} [s] for a run of duration_s:
     the controller's own windows (Controller.windows, the closed loop's own
@@ -94,6 +105,10 @@ class ClosedLoopSpec:
             spec.refuse("set.sim.duration" if "set" in root else "scene",
                         f"the closed loop runs whole control periods: sim.duration {seconds(duration_s)} s {why}",
                         root.get("set") or root["scene"])
+        if why := ticks_too_many(duration_s, self.period_s):  # (pass 104) each sample's closed loop in memory
+            given = root["set"].value.get("sim.duration") if "set" in root and isinstance(root["set"].value, dict) \
+                else None
+            spec.refuse("set.sim.duration" if given else "scene", why, given or root["scene"])
         self.phases = self._phases(spec, root)
         self.indices = self._indices(spec, root)
         self._check_reached(spec, root)
@@ -216,6 +231,8 @@ class ClosedLoopSpec:
         if why:
             spec.refuse(where, f"{note}sim.duration {seconds(self.duration_s)} s with control.period "
                         f"{seconds(period)} s {why}: every sample would be refused", node)
+        if why := ticks_too_many(self.duration_s, period):  # (pass 104) each sample's closed loop in memory
+            spec.refuse(where, f"{note}{why}", node)
         return period
 
     def _unreached(self, controller, period_s):

@@ -6,7 +6,7 @@ import math
 
 import gimbalsim
 from . import _gimbalsim, _sampling
-from ._closed_spec import CONTROLLER_PREFIX, controller_path_of, plant_overrides
+from ._closed_spec import CONTROLLER_PREFIX, controller_path_of, plant_overrides, ticks_too_many
 from ._idle_keys import idle_reason, refuse_idle_set, takes_of
 from ._one_quantity import quantities_given_twice
 from ._spec import Spec
@@ -114,6 +114,8 @@ class TuneSpec:
         why = _gimbalsim._whole_multiple_problem(self.duration, period, "control.period")
         if why:  # the C++ keys' own rule (isWholeMultiple)
             spec.refuse("duration", f"must be a whole number of control periods: {why}", root["duration"])
+        if why := ticks_too_many(self.duration, period):  # (pass 104) each trial's closed loops in memory
+            spec.refuse("duration", why, root["duration"])
         # The score is over the profile's track (Controller.windows, the closed loop's own boundaries):
         # a run that ends before it would score NaN for every trial.
         track_start, track_end = self.controller.windows[METRIC_WINDOWS[self.metric]]

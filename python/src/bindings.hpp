@@ -36,6 +36,10 @@ void checkPath(const std::string& path, const char* what);
 void bindScene(pybind11::module_& m);       ///< Scene, load_scene, keys, simulate, write_csv
 void bindSimulator(pybind11::module_& m);   ///< State, Simulator
 void bindController(pybind11::module_& m);  ///< Controller, closed_loop
+void bindStudyRules(pybind11::module_& m);  ///< the studies' key rules (_controller_read_rules, ...)
+
+/// The columns of a closed loop's ticks (closed_loop's memory bound counts them).
+int closedLoopColumns();
 
 }  // namespace gimbalsim::py
 

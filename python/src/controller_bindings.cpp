@@ -13,11 +13,9 @@
 #include "bindings.hpp"
 #include "errors.hpp"
 #include "key_dicts.hpp"
-#include "gimbalsim/controllers/attitude_estimator.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/controllers/key_use.hpp"
 #include "gimbalsim/controllers/pointing_controller.hpp"
-#include "gimbalsim/controllers/tracker_fusion.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
 #include "gimbalsim/firmware_sim/study_idle.hpp"
 #include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
@@ -223,6 +221,8 @@ void guardNonFinite(const Ticks& ticks, pyb::dict& summary) {
 
 }  // namespace
 
+int closedLoopColumns() { return Ticks::kN; }
+
 void bindController(pyb::module_& m) {
   pyb::class_<PyController>(m, "Controller",
                             "The project's pointing controller: its configuration (the keys of "
@@ -311,33 +311,6 @@ void bindController(pyb::module_& m) {
     c.path = path;
     c.file = file;
     return c;
-  });
-
-  m.def("_controller_keys", [] { return keyInfoList(controllerKeys()); });
-  m.def("_closed_loop_idle_scene_keys", [] { return firmware::closedLoopIdleSceneKeys(); });
-  m.def("_closed_loop_idle_controller_keys", [] { return firmware::closedLoopIdleControllerKeys(); });
-  // key -> [[(deciding key, (values that read it)), ...] per condition] (gimbalsim/_idle_keys.py)
-  m.def("_controller_read_rules", [] {
-    pyb::dict rules;
-    for (const KeyReadRule& r : controllerReadRules()) {
-      pyb::list conditions;
-      for (const auto& condition : r.conditions) {
-        pyb::list settings;
-        for (const ReadingSetting& s : condition) {
-          settings.append(pyb::make_tuple(s.key, pyb::tuple(pyb::cast(s.values))));
-        }
-        conditions.append(settings);
-      }
-      rules[pyb::str(r.key)] = conditions;
-    }
-    return rules;
-  });
-  // What the controller's histories hold at a control period [s]: the star-tracker latency [s] at or beyond
-  // which the attitude estimator drops every sample, and the boresight tracker's history in ticks
-  // (gimbalsim/_idle_sensors.py: sensor keys that act on nothing).
-  m.def("_sample_histories", [](double control_period) {
-    if (!(control_period > 0.0 && std::isfinite(control_period))) throw pyb::value_error("control period must be > 0 s");
-    return pyb::make_tuple(historySpan(AttitudeEstimatorParams{}, control_period), TrackerFusionState::kSize);
   });
 
   m.def(

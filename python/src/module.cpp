@@ -11,6 +11,7 @@ PYBIND11_MODULE(_gimbalsim, m) {
   gimbalsim::py::bindScene(m);
   gimbalsim::py::bindSimulator(m);
   gimbalsim::py::bindController(m);
+  gimbalsim::py::bindStudyRules(m);
   m.attr("__version__") = gimbalsim::program::kVersion;  // the programs' --version string
   // The CSV convention's column names, the C++ writers' own rule (sweep and tune use it).
   m.def("csv_name", [](const std::string& name, const std::string& unit) { return gimbalsim::io::csvName(name, unit); },

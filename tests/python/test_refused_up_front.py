@@ -232,3 +232,19 @@ def test_a_flag_that_would_be_ignored_is_refused(tmp_path, args, said):
     p = run("sweep", spec, tmp_path / "out", *args)
     assert p.returncode == 2 and said in p.stderr and "Traceback" not in p.stderr, p.stderr
     assert names(tmp_path) == ["s.yaml"]
+
+
+@pytest.mark.parametrize("module,change,key", [
+    ("sweep", ("set: {{sim.duration: 0.5}}",
+               "set: {{sim.duration: 1.0e5, sim.step: 1.0e-4, sim.output_interval: 0.01}}"), "set.sim.duration"),
+    ("tune", ("duration: 3.7", "duration: 1.0e5\nset: {{sim.step: 1.0e-4}}"), "duration")])
+def test_a_closed_loop_too_long_for_memory_is_refused_at_its_line(module, change, key, tmp_path):
+    # (pass 104) 1e5 s passed --check; every sample then ended in closed_loop's MemoryError (a traceback, exit 1),
+    # leaving the study's first files (here 1e9 ticks of 0.1 ms: 450 GB, more than any machine of ours holds)
+    text = (CLOSED if module == "sweep" else TUNE).replace(*change)
+    spec = spec_file(tmp_path / "s.yaml", text + "controller_set: {{control.period: 1.0e-4}}\n"
+                     if module == "tune" else text.replace("controller_set: {{", "controller_set: {{control.period: "
+                                                                                  "1.0e-4, "))
+    p = run(module, spec, tmp_path / "o", "--workers", "1")
+    assert p.returncode == 2 and f"key '{key}'" in p.stderr and "every sample would be refused" in p.stderr, p.stderr
+    assert "Traceback" not in p.stderr and not (tmp_path / "o").exists()
