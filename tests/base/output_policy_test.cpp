@@ -83,6 +83,24 @@ TEST_F(OutputPolicy, TheRunningProgramIsAnInputOfEveryRun) {
   }
 }
 
+TEST_F(OutputPolicy, TheLibrariesTheProgramRunsAreInputsOfEveryRun) {
+  // (pass 105) `gimbalsim simulate --out <a loaded libyaml-cpp>` replaced it, and every later run failed to start;
+  // here only checked (checkOutputPaths writes nothing), on the C library this test has loaded
+  std::ifstream maps("/proc/self/maps");
+  std::string libc;
+  for (std::string line; libc.empty() && std::getline(maps, line);) {
+    if (line.find("/libc.so") != std::string::npos) libc = line.substr(line.find('/'));
+  }
+  ASSERT_FALSE(libc.empty()) << "no libc among the mapped files";
+  try {
+    checkOutputPaths({libc});
+    FAIL() << "a loaded library was accepted as an output";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("a library this program runs; not overwritten"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST_F(OutputPolicy, TheNameAppearsOnlyAtCommit) {
   const std::string p = path("run.csv");
   {

@@ -9,7 +9,9 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <memory>
+#include <set>
 
 namespace gimbalsim::io {
 
@@ -44,6 +46,22 @@ bool identify(const std::string& path, Identity& id) {
   if (::stat(dirOf(path).c_str(), &st) != 0) return false;
   id = {st.st_dev, st.st_ino, baseOf(path)};
   return true;
+}
+
+/// The file of this process's code that id is ("" when none): the executable, the loader and every shared
+/// library mapped (/proc/self/maps). (pass 105) --out over a loaded libyaml-cpp replaced it; every later run of
+/// every program failed to start.
+std::string mappedCodeFile(const Identity& id) {
+  std::ifstream maps("/proc/self/maps");
+  std::set<std::string> paths;
+  for (std::string line; std::getline(maps, line);) {
+    const auto slash = line.find('/');
+    if (slash != std::string::npos) paths.insert(line.substr(slash));
+  }
+  for (const std::string& path : paths) {
+    if (Identity mapped; identify(path, mapped) && mapped.name.empty() && mapped == id) return path;
+  }
+  return "";
 }
 
 /// The checks of one output path on its own; throws OutputError.
@@ -86,6 +104,9 @@ void checkOutputPaths(const std::vector<std::string>& outputs, const std::vector
     // The running program is an input of every run: `gimbalsim simulate --out <itself>` replaced it (pass 84).
     if (Identity self; identify("/proc/self/exe", self) && self == id) {
       throw OutputError(out + ": the same file as this program (the executable running); not overwritten");
+    }
+    if (const std::string code = mappedCodeFile(id); !code.empty()) {
+      throw OutputError(out + ": the same file as " + code + ", a library this program runs; not overwritten");
     }
     seen.emplace_back(out, id);
   }
