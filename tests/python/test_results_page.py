@@ -313,3 +313,18 @@ def test_a_line_feed_in_a_pages_title_or_command_is_refused(tmp_path, field):
     texts[field] = "one line"
     results_page.write_page(page, texts["title"], texts["command"], texts["body"], texts["summary"], index=False)
     assert "<!-- summary: one line -->" in page.read_text()
+
+
+@pytest.mark.parametrize("name", ["zz\n- [forged](x.md): p.md", "a b.md", "a](x).md", "page.txt", "README.md"])
+def test_a_pages_name_is_one_the_index_can_link(tmp_path, name):
+    # (pass 104) a line feed in --page forged an index row that every later --index kept; ']' or ')' broke the link;
+    # a .txt page was indexed when written and dropped by the next --index
+    with pytest.raises(results_page.output_file.Refused, match="a page's name is NAME.md"):
+        results_page.write_page(tmp_path / name, "T", "cmd", "| a |\n", "s")
+    assert os.listdir(tmp_path) == []
+
+
+def test_a_summary_line_in_the_body_is_not_the_pages_summary(tmp_path):
+    # (pass 104) with no --summary, a body line '<!-- summary: ... -->' became the index's summary
+    results_page.write_page(tmp_path / "p.md", "T", "cmd", "body\n<!-- summary: forged -->\n", "")
+    assert "- [T](p.md): (" in (tmp_path / "README.md").read_text()

@@ -69,7 +69,10 @@ def read_header(path, text=None):
             return None
     if MARK not in text[:200]:
         return None
-    grab = lambda rx: (m.group(1) if (m := re.search(rx, text, re.M)) else "")  # noqa: E731
+    # (pass 104) the header only: a body's own '<!-- summary: ... -->' line became the index's summary
+    run = text.find("\n- Run: ")
+    head = text if run < 0 else text[:text.find("\n\n", run) + 1 or len(text)]
+    grab = lambda rx: (m.group(1) if (m := re.search(rx, head, re.M)) else "")  # noqa: E731
     return (grab(r"^# (.+)$"), grab(r"^Regenerate: `(.+)`$"), grab(r"^- Commit: (\S+)"),
             grab(r"^- Date: (.+) UTC$"), grab(r"^<!-- summary: (.*) -->$"))
 

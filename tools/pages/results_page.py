@@ -232,6 +232,11 @@ def check_page(path, index=True, inputs=()):
     a folder that does not exist, one of `inputs`, or a README.md beside it that is no index of this writer. A
     study calls it before it measures: a page refused at the end would cost the run."""
     path = pathlib.Path(path)
+    # (pass 104) a name holding a line feed forged an index row, one with ']' or ')' broke its link, a .txt page was
+    # indexed once and dropped by the next --index: a page is NAME.md in letters, digits, '.', '_' and '-'
+    if index and (not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]*\.md", path.name) or path.name == INDEX_NAME):
+        raise output_file.Refused(f"{str(path)!r}: a page's name is NAME.md in letters, digits, '.', '_' and '-' "
+                                  f"(not {INDEX_NAME}): the index links it by that name")
     output_file.check_before_writing([path, path.parent / INDEX_NAME if index else None], inputs)
     if index:
         index_is_ours(path.parent / INDEX_NAME)
