@@ -59,7 +59,7 @@ case "$KEEP" in "" | /*) ;; *) KEEP="$PWD/$KEEP" ;; esac
 INPUTS=("$BIN" "$ROOT"/tools/scenes/*.yaml ${ARGS[@]+"${ARGS[@]}"} "${BASH_SOURCE[0]}" "$ROOT"/tools/lib/*.sh
   "$ROOT"/tools/bench/*.py "$ROOT"/tools/pages/*.py "$BASH" /usr/bin/python3)
 # (pass 103) and every other program it runs: OUT=/usr/bin/mktemp was taken
-for c in env sh mktemp tee rm mkdir grep dirname date cat; do p=$(type -P "$c") && INPUTS+=("$p"); done
+for c in env sh mktemp tee rm mkdir grep dirname date cat python3 bash; do p=$(type -P "$c") && INPUTS+=("$p"); done
 [ -z "$KEEP" ] || /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --as run_bench.sh \
   --check /dev/null "$KEEP" -- "${INPUTS[@]}" || exit $?
 # The page's rules before the measurements: a page refused at the end would cost the run.

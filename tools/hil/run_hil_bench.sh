@@ -146,7 +146,8 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
   for f in "$ROOT"/tools/lib/*.sh; do inputs+=("the script" "$f"); done  # (pass 99) the libraries it sources
   inputs+=("the interpreter" /usr/bin/python3 "the interpreter" "$BASH")  # (pass 101) plot_bench's, its own
   # (pass 103) and every other program it runs: a --tick-log over /usr/bin/dash (its sh) or unshare was taken
-  for c in env sh unshare ip mktemp mv rm mkdir cat sed awk tee sleep kill realpath dirname basename head; do
+  for c in env sh unshare ip mktemp mv rm mkdir cat sed awk tee sleep kill realpath dirname basename head \
+    python3 bash; do
     p=$(type -P "$c") && inputs+=("the program" "$p")
   done
   outs=()   # the outputs the user names after -- (label, absolute path): the --tick-log
