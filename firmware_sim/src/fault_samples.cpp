@@ -54,6 +54,18 @@ bool windowHoldsASample(const SampledSensor& s, WindowActsOn acts, double start,
   return false;
 }
 
+bool windowLosesEverySample(const SampledSensor& s, double start, double end, double duration, double tick_period) {
+  const double T = tick_period, tol = 1e-9 * tick_period, P = 1.0 / s.rate;
+  if (!(T > 0.0) || !(P > 0.0) || !(end > start) || duration / P > 1e6) return false;
+  const auto in_outage = [&](double t) { return t >= start - tol && t <= end + tol; };
+  for (double j = 0.0; j * P < duration; ++j) {
+    const double taken = firstTickAtOrAfter(j * P, T) * T;
+    const double delivered = firstTickAtOrAfter(j * P + s.latency, T) * T;
+    if (delivered < duration - tol && !in_outage(taken) && !in_outage(delivered)) return false;  // this one acts
+  }
+  return true;
+}
+
 std::string windowHoldsNoSample(const SampledSensor& s, WindowActsOn acts, double start, double end,
                                 bool end_inclusive) {
   const char* what = acts == WindowActsOn::Both ? " s takes and delivers no " : acts == WindowActsOn::Takes

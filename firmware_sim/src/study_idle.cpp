@@ -107,6 +107,25 @@ std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, const 
   if (one_of({"tracker_noise", "tracker_bias", "tracker_rate", "tracker_latency"}) && whole_run(sp.tracker_outage)) {
     return covered("tracker", sp.tracker_outage);
   }
+  // (passes 103, 105) and one over every sample the run takes, short of its end (a 0.2 Hz tracker's one sample
+  // at 0 s in [0, 3.99] of a 4 s run): the noise and bias act on none (a rate or a latency decides which samples
+  // the window holds: it acts)
+  const auto loses_all = [&](const SampledSensor& s, const char* name, const Vec2& outage) {
+    if (!windowLosesEverySample(s, outage(0), outage(1), duration_s, T)) return std::string();
+    return "sensors." + std::string(name) + "_outage [" + formatNumber(outage(0)) + ", " + formatNumber(outage(1)) +
+           "] s takes or drops every " + s.name + " sample that would act in the run (one every " +
+           formatNumber(1.0 / s.rate) + " s, latency " + formatNumber(s.latency) + " s): none acts";
+  };
+  if (one_of({"star_tracker_noise"})) {
+    if (std::string why = loses_all(starTrackerSampling(sp), "star_tracker", sp.star_tracker_outage); !why.empty()) {
+      return why;
+    }
+  }
+  if (one_of({"tracker_noise", "tracker_bias"})) {
+    if (std::string why = loses_all(boresightTrackerSampling(sp), "tracker", sp.tracker_outage); !why.empty()) {
+      return why;
+    }
+  }
   // (pass 97) a latency that delivers even the first sample (at 0 s) at the run's last tick or after (pass 99: at
   // it, no command answers it) lets none act, and what acts only through the samples acts on nothing (the latency
   // itself acts: without it they would arrive)

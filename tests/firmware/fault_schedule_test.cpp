@@ -612,5 +612,17 @@ TEST(FaultInjection, ARunWithEveryFaultIsRepeatableAndAllocatesNothingPerTick) {
   }
 }
 
+// (passes 103, 105) an outage short of the run's end may still lose every sample that would act: a 10 Hz star
+// tracker in a 0.2 s run acts through its samples at 0 and 0.1 s (the one at 0.2 s, the last tick, answers none)
+TEST(FaultSamples, AnOutageLosesEverySampleOnlyWhenNoneThatActsIsLeft) {
+  const SampledSensor star{"star tracker", "sensors.star_tracker", 10.0, 0.0};
+  EXPECT_TRUE(windowLosesEverySample(star, 0.0, 0.15, 0.2, 1e-3));
+  EXPECT_FALSE(windowLosesEverySample(star, 0.0, 0.05, 0.2, 1e-3));   // the sample at 0.1 s acts
+  EXPECT_FALSE(windowLosesEverySample(star, 0.05, 0.2, 0.2, 1e-3));   // the one at 0 s acts
+  const SampledSensor late{"star tracker", "sensors.star_tracker", 10.0, 0.05};  // due at 0.05 and 0.15 s
+  EXPECT_TRUE(windowLosesEverySample(late, 0.04, 0.06, 0.12, 1e-3));  // 0.1 s taken, due 0.15 s: after the run
+  EXPECT_FALSE(windowLosesEverySample(star, 0.0, 0.15, 0.2, 0.0));    // no period: not judged
+}
+
 }  // namespace
 }  // namespace gimbalsim::firmware

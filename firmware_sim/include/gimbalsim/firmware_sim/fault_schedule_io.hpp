@@ -78,6 +78,11 @@ enum class WindowActsOn { Takes, Deliveries, Both };
 bool windowHoldsASample(const SampledSensor& s, WindowActsOn acts, double start, double end, bool end_inclusive,
                         double duration, double tick_period);
 
+/// Whether an outage [start, end] [s] (inclusive, as a scene key's) loses every sample of s that would act in a
+/// run of duration [s] at tick_period [s]: each taken or delivered in it, or delivered at the run's last tick or
+/// after (no command answers it). False when not judged (no period, more than 1e6 samples).
+bool windowLosesEverySample(const SampledSensor& s, double start, double end, double duration, double tick_period);
+
 /// Why such a window is refused: "[start, end) s takes and delivers no star tracker sample (one every P s,
 /// sensors.star_tracker_rate; latency L s): it would change nothing but its flag".
 std::string windowHoldsNoSample(const SampledSensor& s, WindowActsOn acts, double start, double end,
