@@ -150,6 +150,11 @@ int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
       o.duration != 0.0 && !why.empty()) {
     return refuse("--duration " + CLI::detail::to_string(o.duration) + ": " + why);
   }
+  // (pass 103) statistics go out at most once a tick: 1e-9 s was taken and ran as one tick
+  if (o.stats_period < c.control_period * (1.0 - 1e-9)) {
+    return refuse("--stats-period " + CLI::detail::to_string(o.stats_period) + ": below one control period (1 / " +
+                  "--rate = " + formatNumber(c.control_period) + " s); the statistics go out at most once a tick");
+  }
   if (const std::string why = Channels::prefixProblem(o.prefix); !why.empty()) {
     return refuse("--channel-prefix '" + o.prefix + "': " + why);
   }
