@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "gimbalsim/dynamics/integrator.hpp"
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
 #include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/scene/scene.hpp"
 
@@ -115,7 +116,7 @@ Outcome classify(const Scene& sc, const RunResult& run, const EnergyMonitor& e, 
 Outcome runCase(const std::string& scene_path, const std::vector<std::string>& sets, const Bounds& b) {
   Scene sc;
   try {
-    sc = loadScene(scene_path, sets);
+    sc = firmware::loadPlantScene(scene_path, sets).scene;  // a sensors: section read, unused (open loop)
   } catch (const InputError& err) {
     Outcome o;
     o.verdict = Verdict::Refused;

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "gimbalsim/firmware_sim/plant_scene.hpp"
 #include "gimbalsim/input/input_error.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/scene/scene.hpp"
@@ -90,7 +91,7 @@ void checkInputs(const std::string& scenes, bool need_scenes, const std::vector<
   }
   for (std::size_t i = 0; i < scene_paths.size(); ++i) {
     try {
-      const gimbalsim::Scene sc = gimbalsim::loadScene(scene_paths[i], sets[i]);
+      const gimbalsim::Scene sc = gimbalsim::firmware::loadPlantScene(scene_paths[i], sets[i]).scene;
       // a --case's --set the scene leaves idle is said, as gimbalsim simulate says it (pass 93: base.mass on a
       // fixed base was printed as applied with no word)
       for (const std::string& w : sc.warnings) {
@@ -128,13 +129,13 @@ void checkStudyRuns(const std::string& scenes, const std::string& dur, bool swee
   std::map<std::string, bool> read;  // scene file -> loaded bare
   for (const st::Case& c : runs) {
     if (const std::string path = st::scenePath(scenes, c.scene); !read[path]) {
-      gimbalsim::loadScene(path);  // throws InputError naming the file, key and line
+      gimbalsim::firmware::loadPlantScene(path);  // throws InputError naming the file, key and line
       read[path] = true;
     }
   }
   for (const st::Case& c : runs) {
     try {
-      gimbalsim::loadScene(st::scenePath(scenes, c.scene), c.sets);
+      gimbalsim::firmware::loadPlantScene(st::scenePath(scenes, c.scene), c.sets);
     } catch (const gimbalsim::InputError& e) {
       std::vector<std::string> texts;
       for (const std::string& p : e.problems()) {
@@ -203,12 +204,15 @@ int mainImpl(int argc, char** argv) {
                                                           "--long-set or --duration)");
   }
   // (pass 101) a sensor key was "unknown key (see `gimbalsim keys`)", which lists it: refused as simulate does
-  for (std::size_t k = 0; k < one_sets.size(); ++k) {
-    if (one_sets[k].rfind("sensors.", 0) != 0) continue;
-    return gimbalsim::program::refuse("gimbalsim_stress", "--set #" + std::to_string(k + 1) + " '" + one_sets[k] +
-                                                              "': an open-loop run reads no sensor (firmware_sim and "
-                                                              "the closed loop do): the value would be recorded but "
-                                                              "never act");
+  // (pass 105: --long-set alike)
+  for (const auto& [flag, given] : {std::pair{"--set", &one_sets}, std::pair{"--long-set", &long_sets}}) {
+    for (std::size_t k = 0; k < given->size(); ++k) {
+      if ((*given)[k].rfind("sensors.", 0) != 0) continue;
+      return gimbalsim::program::refuse("gimbalsim_stress", std::string(flag) + " #" + std::to_string(k + 1) + " '" +
+                                                                (*given)[k] + "': an open-loop run reads no sensor "
+                                                                "(firmware_sim and the closed loop do): the value "
+                                                                "would be recorded but never act");
+    }
   }
   if (one_scene.empty()) {
     // Flags of the long run with no long run asked for were dropped without a word (pass 68), and the two
@@ -279,9 +283,10 @@ int mainImpl(int argc, char** argv) {
   // Every sweep and grid run is paper_clearance with sim.duration = --duration:
   // a duration the scene refuses is refused here, once, naming the flag.
   if (one_scene.empty() && (!no_sweeps || !no_grid)) {
-    gimbalsim::loadScene(st::scenePath(scenes, "paper_clearance"));  // the file's own fault is not --duration's
+    // the file's own fault is not --duration's
+    gimbalsim::firmware::loadPlantScene(st::scenePath(scenes, "paper_clearance"));
     try {
-      gimbalsim::loadScene(st::scenePath(scenes, "paper_clearance"), {"sim.duration=" + dur});
+      gimbalsim::firmware::loadPlantScene(st::scenePath(scenes, "paper_clearance"), {"sim.duration=" + dur});
     } catch (const gimbalsim::InputError& e) {
       std::string why = e.problems().empty() ? e.what() : e.problems().front();
       const auto at = why.find("': ");  // drop the "--set #1 '...'" place: the flag is named instead
