@@ -305,9 +305,11 @@ def test_save_output_reads_only_a_regular_log_and_never_writes_over_a_module_it_
         assert p.returncode == 2 and "the same file as this program" in p.stderr, p.stderr
     # (pass 102) an input glued to a short option, as a script may pass it (-sscene.yaml), was written over
     (tmp_path / "sc.yaml").write_text("name: x\n")
-    p = subprocess.run(["/usr/bin/python3", str(tool), "log.tmp", "sc.yaml", "--", "-ssc.yaml"], cwd=tmp_path,
-                       capture_output=True, text=True, timeout=20)
-    assert p.returncode == 2 and (tmp_path / "sc.yaml").read_text() == "name: x\n", p.stderr
+    # (pass 104) and in a comma list, a key=path value, a cluster of short options
+    for arg in ("-ssc.yaml", "--scenes=a.yaml,sc.yaml", "scene=sc.yaml", "-vssc.yaml", "a.yaml,sc.yaml"):
+        p = subprocess.run(["/usr/bin/python3", str(tool), "log.tmp", "sc.yaml", "--", arg], cwd=tmp_path,
+                           capture_output=True, text=True, timeout=20)
+        assert p.returncode == 2 and (tmp_path / "sc.yaml").read_text() == "name: x\n", (arg, p.stderr)
     p = subprocess.run(["/usr/bin/python3", str(tool), "log.tmp", "out.log"], cwd=tmp_path, timeout=20)
     assert p.returncode == 0 and (tmp_path / "out.log").read_text() == "the log\n"
 

@@ -3,8 +3,8 @@ into a temporary SOURCE, outside every output folder) written to DEST by the
 one writer's rules (output_file.py): never through a link, never over an
 input, whole or not at all (a temporary and a rename: a hard link to DEST
 keeps its content). The ARGs are the script's own arguments: each that names
-a file (itself, after '=' in --flag=path, or glued to a short option, -fpath)
-is one of the run's inputs, so
+a file (itself, after '=' in --flag=path, an item of a comma list, or glued
+to a short option or a cluster of them, -fpath) is one of the run's inputs, so
 a log named as a scene or a configuration is refused (exit 2), never
 written over it. --check runs the same checks and writes nothing: a script
 runs it before its program, so a log that would be refused costs no run and
@@ -23,6 +23,15 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import output_file  # noqa: E402  (the tools' writer, by path)
 
 
+def _paths_in(arg):
+    """What in one argument may name a file: itself, the value after '=' and each item of a comma list in it
+    (--scenes=a.yaml,x.yaml, key=path), and a path glued to a short option or a cluster of them (-sx.yaml,
+    -vsx.yaml: passes 102, 104)."""
+    value = arg.partition("=")[2]
+    glued = [arg[k:] for k in range(2, len(arg)) if re.fullmatch(r"-[A-Za-z]+", arg[:k])] if arg[:1] == "-" else []
+    return [arg, value, *value.split(","), *arg.split(","), *glued]
+
+
 def main():
     ap = argparse.ArgumentParser(allow_abbrev=False, description=__doc__.split("\n\n")[0])
     output_file.standard_flags(ap)
@@ -34,9 +43,7 @@ def main():
                     help="the script whose log this is: its name heads every refusal (the user ran it, not this)")
     ap.add_argument("args", nargs="*", help="the script's arguments, after --: each naming a file is an input")
     a = ap.parse_args()
-    # (pass 102) a path glued to a short option (-sscene.yaml) too
-    inputs = [p for arg in a.args for p in (arg, arg.partition("=")[2], arg[2:] if re.match(r"-[A-Za-z].", arg) else "")
-              if p and os.path.isfile(p)]
+    inputs = [p for arg in a.args for p in _paths_in(arg) if p and os.path.isfile(p)]
 
     def save():
         output_file.check_before_writing([a.dest], inputs, ["DEST"])
