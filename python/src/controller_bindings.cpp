@@ -340,6 +340,21 @@ void bindController(pyb::module_& m) {
             if (bad.empty()) {
               bad = firmware::checkFaultsAgainstSamples(schedule, s.plant, duration, period, faults);
             }
+            // (pass 104) a limit at or above the controller's own holds no command the controller sends
+            for (std::size_t i = 0; i < schedule.faults.size() && bad.empty(); ++i) {
+              const firmware::FaultSpec& f = schedule.faults[i];
+              for (int j = 0; j < 2 && f.kind == firmware::FaultKind::TorqueLimit; ++j) {
+                const double own = c.config.axis[static_cast<std::size_t>(j)].torque_limit;
+                if ((f.axis == j || f.axis < 0) && !(f.value < own)) {
+                  bad.push_back(faults + ":" + std::to_string(f.param_line > 0 ? f.param_line : f.line) + ": fault #" +
+                                std::to_string(i + 1) + " (torque_limit): key 'limit': " + formatNumber(f.value) +
+                                " N m is not below the controller's own " + (j == 0 ? "azimuth" : "elevation") +
+                                ".torque_limit (" + formatNumber(own) + " N m), which holds every command: the limit "
+                                "would clip nothing");
+                  break;
+                }
+              }
+            }
             if (!bad.empty()) {
               std::vector<Problem> problems;
               for (const std::string& b : bad) problems.push_back(Problem{b, "", faults, 0, 0, 0});

@@ -217,3 +217,17 @@ def test_the_antenna_tracker_is_recorded_only_when_the_scene_has_one():
     size = np.hypot(run.columns["tracker_u"], run.columns["tracker_v"])
     assert run.columns["truth_error"].max() > 1e-4
     assert np.abs(size - run.columns["truth_error"]).max() < 1e-12  # perfect, 1 kHz: the pointing error
+
+
+@pytest.mark.parametrize("limit,refused", [(60, True), (50, True), (40, False)])
+def test_a_torque_limit_fault_at_or_above_the_controllers_own_is_refused(tmp_path, limit, refused):
+    # (pass 104) a 60 N m (or 50) motor limit on an axis the controller holds at 50 N m clipped nothing, flagged
+    # as injected in 800 ticks
+    fault = f"{{type: torque_limit, axis: azimuth, start: 0.1, end: 0.3, limit: {limit}}}"
+    (tmp_path / "f.yaml").write_text(f"seed: 1\nfaults:\n  - {fault}\n")
+    scene, ctrl = gimbalsim.load_scene(scene_path("paper_clearance")), gimbalsim.Controller()
+    if not refused:
+        assert gimbalsim.closed_loop(scene, ctrl, 0.4, faults=tmp_path / "f.yaml").summary["ok"]
+        return
+    with pytest.raises(gimbalsim.SceneError, match="not below the controller's own azimuth.torque_limit"):
+        gimbalsim.closed_loop(scene, ctrl, 0.4, faults=tmp_path / "f.yaml")
