@@ -74,7 +74,7 @@ class Reader {
         int i = 0;
         for (const YAML::Node& e : kv.second) readFault(e, ++i, s.faults);
       } else {
-        problems_.push_back(place(origin_, kv.first.Mark()) + ": unknown key '" + shownText(key) +
+        problems_.push_back(place(origin_, kv.first.Mark()) + ": unknown key '" + key +
                             "' (a fault schedule has seed and faults; docs/bench.md \"Fault schedule\")");
       }
     }
@@ -169,7 +169,7 @@ class Reader {
         if (faultHasAxis(f.kind) || faultIsRamp(f.kind)) allowed += ", axis";
         if (!faultIsRamp(f.kind)) allowed += ", probability";
         if (!param.empty()) allowed += ", " + param;
-        problems_.push_back(place(origin_, kv.first.Mark()) + ": " + entry + "unknown key '" + shownText(key) + "' (" +
+        problems_.push_back(place(origin_, kv.first.Mark()) + ": " + entry + "unknown key '" + key + "' (" +
                             faultTypeName(f.kind) + " takes " + allowed + ")");
       }
     }

@@ -12,7 +12,6 @@
 #include "bounded_yaml.hpp"
 #include "gimbalsim/input/input_bounds.hpp"
 #include "gimbalsim/input/value_convert.hpp"
-#include "gimbalsim/input/value_format.hpp"
 
 namespace gimbalsim {
 
@@ -136,7 +135,7 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
     values.emplace(key, std::move(v));
   }
   auto unknown = [&](const Place& where, const std::string& key) {
-    problems.push_back(where.problem(key, "unknown key '" + shownText(key) + "' (see " + words.see + ")"));
+    problems.push_back(where.problem(key, "unknown key '" + key + "' (see " + words.see + ")"));
   };
   const std::string& only = words.section;
   const auto is_section = [&](const std::string& name) {  // a prefix of a known key: "contact" of "contact.mu"

@@ -69,33 +69,4 @@ std::string join(const std::vector<std::string>& parts, const std::string& sep) 
   return out;
 }
 
-std::string shownText(const std::string& s) {
-  // (pass 103) an unknown key holding U+202E was printed raw: the rest of the terminal's line ran backwards
-  std::string out;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    unsigned cp = 0;
-    std::size_t len = 1;
-    if (c == 0xE2 && i + 2 < s.size()) {  // U+2000..2FFF
-      const auto b1 = static_cast<unsigned char>(s[i + 1]), b2 = static_cast<unsigned char>(s[i + 2]);
-      cp = 0x2000u + ((b1 & 0x3Fu) << 6) + (b2 & 0x3Fu);
-      len = 3;
-    } else if (c == 0xD8 && i + 1 < s.size() && static_cast<unsigned char>(s[i + 1]) == 0x9C) {
-      cp = 0x061C;
-      len = 2;
-    }
-    const bool layout = cp == 0x061C || cp == 0x200E || cp == 0x200F || (cp >= 0x2028 && cp <= 0x202E) ||
-                        (cp >= 0x2066 && cp <= 0x2069);
-    if (layout) {
-      char code[12];
-      std::snprintf(code, sizeof code, "<U+%04X>", cp);
-      out += code;
-      i += len - 1;
-    } else {
-      out += s[i];
-    }
-  }
-  return out;
-}
-
 }  // namespace gimbalsim

@@ -19,9 +19,6 @@ std::string formatSignificant(double x, int digits);
 std::string formatList(std::span<const double> v);  ///< "[a, b, c]"
 std::string formatInertia(const Mat3& I);           ///< diagonal, 6-list or 3x3, as asInertia reads it
 std::string join(const std::vector<std::string>& parts, const std::string& sep);
-/// Text as a message may print it: each character that splits or reorders a printed line (U+2028/9, the bidi
-/// controls U+061C, U+200E/F, U+202A..E, U+2066..9) as <U+XXXX>, the rest as given.
-std::string shownText(const std::string& s);
 
 /// The one rule for a time that must be whole steps (a duration, a row
 /// interval, a control period): value / unit within a relative 1e-12 of a
