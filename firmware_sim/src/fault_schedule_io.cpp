@@ -74,7 +74,7 @@ class Reader {
         int i = 0;
         for (const YAML::Node& e : kv.second) readFault(e, ++i, s.faults);
       } else {
-        problems_.push_back(place(origin_, kv.first.Mark()) + ": unknown key '" + key +
+        problems_.push_back(place(origin_, kv.first.Mark()) + ": unknown key '" + shownText(key) +
                             "' (a fault schedule has seed and faults; docs/bench.md \"Fault schedule\")");
       }
     }
@@ -89,8 +89,10 @@ class Reader {
   bool givenTwice(std::map<std::string, std::string>& first, const std::string& key, const std::string& entry,
                   const YAML::Mark& m) {
     const auto [it, fresh] = first.try_emplace(key, place(origin_, m));
-    if (!fresh) problems_.push_back(place(origin_, m) + ": " + entry + "key '" + key + "': given twice (first at " +
-                                    it->second + ")");
+    if (!fresh) {
+      problems_.push_back(place(origin_, m) + ": " + entry + "key '" + shownText(key) + "': given twice (first at " +
+                          it->second + ")");
+    }
     return !fresh;
   }
 
@@ -99,7 +101,7 @@ class Reader {
     try {
       set(n);
     } catch (const ConvertError& e) {
-      problems_.push_back(place(origin_, n.Mark()) + ": " + entry + "key '" + key + "': " + e.msg);
+      problems_.push_back(place(origin_, n.Mark()) + ": " + entry + "key '" + shownText(key) + "': " + e.msg);
     }
   }
 
@@ -169,7 +171,7 @@ class Reader {
         if (faultHasAxis(f.kind) || faultIsRamp(f.kind)) allowed += ", axis";
         if (!faultIsRamp(f.kind)) allowed += ", probability";
         if (!param.empty()) allowed += ", " + param;
-        problems_.push_back(place(origin_, kv.first.Mark()) + ": " + entry + "unknown key '" + key + "' (" +
+        problems_.push_back(place(origin_, kv.first.Mark()) + ": " + entry + "unknown key '" + shownText(key) + "' (" +
                             faultTypeName(f.kind) + " takes " + allowed + ")");
       }
     }
@@ -177,7 +179,7 @@ class Reader {
       problems_.push_back(where + ": " + entry + "key 'axis' is missing (azimuth or elevation)");
     }
     if (!param.empty() && !seen.count(param)) {
-      problems_.push_back(where + ": " + entry + "key '" + param + "' is missing");
+      problems_.push_back(where + ": " + entry + "key '" + shownText(param) + "' is missing");
     }
     if (f.kind == FaultKind::BearingWear && !seen.count("end")) {
       problems_.push_back(where + ": " + entry + "key 'end' is missing (the wear grows over [start, end])");

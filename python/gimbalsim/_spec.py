@@ -5,12 +5,11 @@ import os
 import pathlib
 import re
 import stat
-import sys
 
 import yaml
 
 from ._errors import SpecError  # defined beside the exit-code table (_errors.py)
-from ._number import underflowed
+from ._spec_yaml import MAP, SEQ, STANDARD_TAGS, SpecLoader, Unexpanded, scalar
 
 
 class Node:
@@ -33,10 +32,11 @@ class Node:
 
 MAX_SPEC_BYTES = 1 << 20  # a spec is a page of text; anything larger is a mistake
 MAX_SPEC_NODES = 100_000  # values after alias expansion
-# What YAML does not take as text (YAML 1.2, 5.1): every character but tab, line breaks and the printable ones.
-_UNPRINTABLE = re.compile("[^\t\n\r\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
-# Escapes ("\e]0;x\a", "\u0000") make what the text check never sees (pass 90); U+2028, bidi marks (pass 94, 97)
-_CONTROL = re.compile("[\x00-\x08\x0a-\x1f\x7f-\x9f\u061c\u200e\u200f\u2028-\u202e\u2066-\u2069]")
+# What splits or reorders a displayed line: refused anywhere in a spec, comments too (pass 105), and what YAML does
+# not take as text (YAML 1.2, 5.1); in a value, what escapes ("\e]0;x\a", "\u0000") make (pass 90, 94, 97).
+_LAYOUT = "\x85\u061c\u200e\u200f\u2028-\u202e\u2066-\u2069"
+_UNPRINTABLE = re.compile(f"[^\t\n\r\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]|[{_LAYOUT}]")
+_CONTROL = re.compile(f"[\x00-\x08\x0a-\x1f\x7f-\x9f{_LAYOUT}]")
 
 
 class Spec:
@@ -76,7 +76,9 @@ class Spec:
         if bad:  # PyYAML's refusal named an offset in "<unicode string>", on two lines (the C++ loader's rule)
             line = text.count("\n", 0, bad.start()) + 1
             column = bad.start() - (text.rfind("\n", 0, bad.start()) + 1) + 1
-            raise SpecError(f"character U+{ord(bad.group()):04X} (a control character) is not YAML text",
+            why = ("splits or reorders the line an editor shows (refused anywhere in a file, comments too)"
+                   if re.fullmatch(f"[{_LAYOUT}]", bad.group()) else "(a control character) is not YAML text")
+            raise SpecError(f"character U+{ord(bad.group()):04X} {why}",
                             file=str(path), line=line, column=column)
         self.source_text = text  # as read (a sweep keeps a copy)
         try:
@@ -86,7 +88,7 @@ class Spec:
             mark = getattr(e, "problem_mark", None)
             raise SpecError(f"not valid YAML: {getattr(e, 'problem', e)}", file=str(path),
                             line=mark.line + 1 if mark else None, column=mark.column + 1 if mark else None)
-        except _Unexpanded as e:
+        except Unexpanded as e:
             raise SpecError(str(e), file=str(path), line=e.mark.line + 1, column=e.mark.column + 1) from None
         except RecursionError:  # the composer recurses per level: 1000 brackets reach Python's limit first
             raise SpecError("nested too deeply (more than 16 levels)", file=str(path)) from None
@@ -102,11 +104,11 @@ class Spec:
             raise SpecError(f"more than {MAX_SPEC_NODES} values", key=key, file=str(self.path), line=line, column=col)
         if depth > 16:
             raise SpecError("nested too deeply", key=key, file=str(self.path), line=line, column=col)
-        if n.tag not in _STANDARD_TAGS:
+        if n.tag not in STANDARD_TAGS:
             raise SpecError(f"unsupported tag {n.tag} (a spec takes numbers, names, lists and mappings)",
                             key=key, file=str(self.path), line=line, column=col)
         if isinstance(n, yaml.MappingNode):
-            if n.tag != _MAP:
+            if n.tag != MAP:
                 raise SpecError(f"a mapping tagged {n.tag}", key=key, file=str(self.path), line=line, column=col)
             out = {}
             for k, v in n.value:
@@ -123,12 +125,12 @@ class Spec:
                 out[name] = Node(child.value, child_line, child_col)
             return Node(out, line, col)
         if isinstance(n, yaml.SequenceNode):
-            if n.tag != _SEQ:
+            if n.tag != SEQ:
                 raise SpecError(f"a list tagged {n.tag}", key=key, file=str(self.path), line=line, column=col)
             return Node([self._convert(v, key, depth + 1) for v in n.value], line, col)
         self._no_control(n.value, key, n)
         try:
-            return Node(_scalar(n), line, col)
+            return Node(scalar(n), line, col)
         except (ValueError, yaml.YAMLError) as e:
             # a long text is cut, visibly: '1000...' is not the 1e39 its first 40 digits read as (pass 42)
             shown = n.value if len(n.value) <= 40 else f"{n.value[:40]}... ({len(n.value)} characters)"
@@ -321,80 +323,3 @@ def _shown(v):
         return "a list" if not v else "[" + ", ".join(_shown(getattr(e, "value", e)) for e in v)[:60] + "]"
     text = repr(v)
     return text if len(text) <= 60 else text[:57] + "..."
-
-
-class _Unexpanded(Exception):
-    """An anchor or an alias in a spec, at its mark (refused as the scene loader refuses them)."""
-
-    def __init__(self, mark, what):
-        super().__init__(what)
-        self.mark = mark
-
-
-class SpecLoader(yaml.SafeLoader):
-    """YAML 1.2's core schema for numbers, as the scene loader reads them:
-    `1e-4` is a number (YAML 1.1 wants `1.0e-4`), `010` is ten, `1:20` and
-    `1_000` are names. Dates, merge keys (`<<`) and `=` are not resolved: a
-plain `2024-01-01` is a name. Anchors and aliases are refused, as the
-scene loader refuses them (pass 81: a spec's alias copied one key's
-distribution to another)."""
-
-    def compose_node(self, parent, index):
-        event = self.peek_event()
-        if isinstance(event, yaml.AliasEvent):
-            raise _Unexpanded(event.start_mark, "aliases (*name) are not accepted: write the value out")
-        if getattr(event, "anchor", None) is not None:
-            raise _Unexpanded(event.start_mark, "anchors (&name) are not accepted: write the value out")
-        return super().compose_node(parent, index)
-
-
-SpecLoader.yaml_implicit_resolvers = {
-    first: [(tag, rx) for tag, rx in resolvers
-            if tag not in ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float", "tag:yaml.org,2002:timestamp",
-                           "tag:yaml.org,2002:merge", "tag:yaml.org,2002:value")]
-    for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()}
-_INT_RE = re.compile(r"^[-+]?[0-9]+$")
-_FLOAT_RE = re.compile(r"^(?:[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?"
-                       r"|[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$")
-SpecLoader.add_implicit_resolver("tag:yaml.org,2002:int", _INT_RE, list("-+0123456789"))
-SpecLoader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT_RE, list("-+0123456789."))
-
-_MAP, _SEQ, _STR = "tag:yaml.org,2002:map", "tag:yaml.org,2002:seq", "tag:yaml.org,2002:str"
-_STANDARD_TAGS = {_MAP, _SEQ, _STR, "tag:yaml.org,2002:int", "tag:yaml.org,2002:float",
-                  "tag:yaml.org,2002:bool", "tag:yaml.org,2002:null"}
-_BOOLS = {"yes": True, "no": False, "true": True, "false": False, "on": True, "off": False}
-
-
-def _scalar(n):
-    """A scalar by its (resolved or explicit) standard tag; anything else was
-    refused before. ValueError when the text does not read as its tag."""
-    text = n.value
-    if n.tag == _STR:
-        return text
-    if n.tag == "tag:yaml.org,2002:null":
-        if text not in ("", "~", "null", "Null", "NULL"):
-            raise ValueError("not a null")
-        return None
-    if n.tag == "tag:yaml.org,2002:bool":
-        if text.lower() not in _BOOLS:
-            raise ValueError("not true or false")
-        return _BOOLS[text.lower()]
-    if n.tag == "tag:yaml.org,2002:int":
-        if not _INT_RE.match(text):
-            raise ValueError("not a whole number")
-        n = int(text)  # (pass 39) one past any double ended in math's OverflowError, a traceback
-        if abs(n) > sys.float_info.max:
-            raise ValueError("it is beyond the largest double (1.8e308)")
-        return n
-    if not _FLOAT_RE.match(text):  # an explicit !!float on something else
-        raise ValueError("not a number")
-    special = {".inf": math.inf, "+.inf": math.inf, "-.inf": -math.inf, ".nan": math.nan}
-    if text.lower() in special:
-        return special[text.lower()]
-    x = float(text)  # a number the text names and the double lost is refused as the scene loader refuses it
-    if not math.isfinite(x):
-        raise ValueError("it is beyond the largest double (1.8e308)")
-    if underflowed(text, x):
-        raise ValueError("it underflows a double: give a magnitude of at least 2.2e-308, or 0 where the key "
-                         "takes it")
-    return x

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "gimbalsim/controllers/config.hpp"
+#include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/scene/scene.hpp"
 
 namespace gimbalsim {
@@ -143,6 +144,52 @@ TEST(HostileInput, TextThatIsNotPrintableUtf8IsRefusedWithItsPlace) {
   const Scene s = loadSceneText("\xef\xbb\xbfname: caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x9b\xb0\r\nsim:\r\n  duration: 1\t\r\n",
                                 "good.yaml", {});
   EXPECT_EQ(s.model.name, "caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x9b\xb0");
+}
+
+// (pass 103) an unknown key holding U+202E (right-to-left override, from a quoted key's escape) was printed raw:
+// the terminal's line ran backwards from it; it is named by its code point, and only a well-formed character is
+// (the first try read 0xE2 and any two bytes as U+2xxx, and the fuzzer caught a key no longer printed as given)
+TEST(HostileInput, AnUnknownKeysLayoutCharacterIsShownByItsCodePoint) {
+  const Problem p = refusedOnce("contact:\n  \"resti\\u202etution\": 0.5\n");
+  EXPECT_NE(p.text.find("unknown key 'contact.resti<U+202E>tution'"), std::string::npos) << p.text;
+  EXPECT_EQ(p.text.find("\u202e"), std::string::npos) << p.text;
+  // every message that names a key shows it so, a key given twice too (that check comes before the unknown one)
+  const Problem twice = refusedOnce("contact:\n  \"a\\u202e\": 1\n  \"a\\u202e\": 2\n");
+  EXPECT_NE(twice.text.find("key 'contact.a<U+202E>': given twice"), std::string::npos) << twice.text;
+  const Problem set = refusedOnce("", {"contact.a\u2066b=1"});
+  EXPECT_EQ(set.text.find("\u2066"), std::string::npos) << set.text;
+  EXPECT_NE(set.text.find("--set #1 'contact.a<U+2066>b=1'"), std::string::npos) << set.text;
+  EXPECT_EQ(shownText("a\u2028b\u061cc\u2066d\u00e9\u20ac"), "a<U+2028>b<U+061C>c<U+2066>d\u00e9\u20ac");
+  // (pass 107) a refused value's echo too: "got '10<U+202E>'" where the raw character reversed the line, an escape
+  // sequence that would clear the terminal
+  for (const char* value : {"\"10\\u202e\"", "\"1\\e[2J\"", "\"1\\x85\""}) {
+    const Problem echo = refusedOnce(std::string("shaft1:\n  mass: ") + value + "\n");
+    EXPECT_NE(echo.text.find("expected a number, got '1"), std::string::npos) << echo.text;
+    EXPECT_EQ(echo.text.find_first_of("\x1b"), std::string::npos) << echo.text;
+    EXPECT_EQ(echo.text.find("\u202e"), std::string::npos) << echo.text;
+    EXPECT_EQ(echo.text.find("\u0085"), std::string::npos) << echo.text;
+  }
+  for (const std::string& malformed : {std::string("\xe2zl"), std::string("k\xe2\x80"), std::string("\xe2\x80\x2e"),
+                                       std::string("\xd8"), std::string("\xe2\xc0\xae"), std::string("\xc2")}) {
+    EXPECT_EQ(shownText(malformed), malformed);  // not a character: every byte as given
+  }
+  EXPECT_EQ(shownText(std::string("\xe2\0l\x1b\xc2\x85", 6)), "\xe2<U+0000>l<U+001B><U+0085>");  // controls too
+}
+
+// (pass 105) a layout character in a comment: "# was<U+2028>  restitution: 0.2" shows a line "restitution: 0.2" in
+// an editor that the loader reads as part of the comment (the run used 0.95); U+202E reorders a comment's display.
+// Refused anywhere in a file, at its line and column; the controller file goes through the same reader.
+TEST(HostileInput, ALayoutCharacterInACommentIsRefusedAtItsPlace) {
+  const Problem split = refusedOnce("contact:\n  restitution: 0.95  # was\u2028  restitution: 0.2\n");
+  EXPECT_EQ(split.line, 2);
+  EXPECT_NE(split.text.find("bad.yaml:2:"), std::string::npos) << split.text;
+  EXPECT_NE(split.text.find("U+2028 splits or reorders the line"), std::string::npos) << split.text;
+  for (const char* mark : {"\u202e", "\u2029", "\u061c", "\u200f", "\u2067"}) {
+    const Problem p = refusedOnce(std::string("# a comment ") + mark + "\nname: x\n");
+    EXPECT_EQ(p.line, 1) << p.text;
+    EXPECT_NE(p.text.find("splits or reorders the line"), std::string::npos) << p.text;
+  }
+  EXPECT_THROW(controllers::loadControllerConfigText("# gains\u202e\n", "c.yaml", {}), controllers::ConfigError);
 }
 
 // A switch cannot be located closer than time is resolved at the run's end: such a tolerance ran, then

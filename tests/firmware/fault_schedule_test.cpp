@@ -97,6 +97,16 @@ TEST(FaultScheduleFile, RefusalsNameLineColumnEntryAndKey) {
       << refusal("faults:\n  - {type: gyro_bias_jump, bias: [1, 2]}\n");
   EXPECT_NE(refusal("seed: -1\n").find("f.yaml:1:7: key 'seed': must be >= 0"), std::string::npos) << refusal("seed: -1\n");
   EXPECT_NE(refusal("sead: 1\n").find("f.yaml:1:1: unknown key 'sead'"), std::string::npos);
+  // (pass 107) a key holding U+202E was printed raw (the line ran backwards): raw in the file it is refused at its
+  // place; from a quoted key's escape it is shown by its code point, in the schedule's and a fault's unknown keys
+  const std::string raw = refusal("note\u202e: 1\n");
+  EXPECT_NE(raw.find("f.yaml:1:5: character U+202e splits or reorders the line"), std::string::npos) << raw;
+  for (const std::string& text : {std::string("\"no\\u202ete\": 1\n"),
+                                   std::string("faults:\n  - {type: status_drop, \"no\\u202ete\": 1}\n")}) {
+    const std::string shown = refusal(text);
+    EXPECT_NE(shown.find("unknown key 'no<U+202E>te'"), std::string::npos) << shown;
+    EXPECT_EQ(shown.find("\u202e"), std::string::npos) << shown;
+  }
   // (pass 52) a key given twice: the last was kept without a word, where a scene refuses it at its second place
   EXPECT_NE(refusal("seed: 1\nseed: 2\n").find("f.yaml:2:1: key 'seed': given twice (first at f.yaml:1:1)"),
             std::string::npos)

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/scene/scene.hpp"
 
 namespace gimbalsim::fuzz {
@@ -45,7 +46,8 @@ inline void checkRefusal(const InputError& e, const std::string& origin) {
       if (p.file != origin || p.text.rfind(origin, 0) != 0) fail("file place not first", p);
       if (p.line > 0 && p.text.rfind(origin + ":" + std::to_string(p.line) + ":", 0) != 0) fail("line not printed", p);
     }
-    if (!p.key.empty() && p.text.find("'" + p.key + "'") == std::string::npos) fail("key not printed", p);
+    // as shownText prints it: a character that splits or reorders the line as <U+XXXX>, every other byte as given
+    if (!p.key.empty() && p.text.find("'" + shownText(p.key) + "'") == std::string::npos) fail("key not printed", p);
   }
 }
 

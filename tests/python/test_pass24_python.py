@@ -155,6 +155,17 @@ def test_a_control_character_from_an_escape_in_a_spec_is_refused_at_its_place(tm
     assert not any(c in p.stderr for c in "\x00\x1b\x07\x85\u2028\u202e\u061c"), repr(p.stderr)
 
 
+# (pass 105) a line separator in a comment showed an editor a line "mu: 0.9" the spec never held; PyYAML (YAML 1.1)
+# reads U+2028 as a line break where the scene loader does not: refused anywhere in a spec, at its line and column
+@pytest.mark.parametrize("mark", ["\u2028", "\u202e", "\u061c", "\u2066"])
+def test_a_layout_character_in_a_spec_comment_is_refused_at_its_place(tmp_path, mark):
+    text = f'scene: {scene_path("paper_clearance")}\nsamples: 2  # two{mark}  samples: 9\n'
+    p = check(write_spec(tmp_path, text), tmp_path / "out")
+    assert p.returncode == 2 and f":2:18: character U+{ord(mark):04X} splits or reorders the line" in p.stderr, \
+        p.stderr
+    assert mark not in p.stderr, repr(p.stderr)
+
+
 # (pass 93) an outage between two samples of the 10 Hz star tracker takes and drops none: it acted on nothing but
 # its flag (the bench refuses the same window as a fault and as a --set)
 GAPS = [('sensors.star_tracker_outage: "[0.25, 0.28]"', "", True),

@@ -12,6 +12,7 @@
 #include "bounded_yaml.hpp"
 #include "gimbalsim/input/input_bounds.hpp"
 #include "gimbalsim/input/value_convert.hpp"
+#include "gimbalsim/input/value_format.hpp"
 
 namespace gimbalsim {
 
@@ -37,7 +38,7 @@ struct Given::Place {
   }
 
   std::string str() const {
-    if (set_index > 0) return "--set #" + std::to_string(set_index) + " '" + set_text + "'";
+    if (set_index > 0) return "--set #" + std::to_string(set_index) + " '" + shownText(set_text) + "'";
     if (line > 0) return file + ":" + std::to_string(line) + ":" + std::to_string(column);
     return file;
   }
@@ -81,8 +82,8 @@ void flatten(const YAML::Node& n, const std::string& prefix, const std::string& 
     } else if (const auto [it, fresh] = out.try_emplace(full, Value{kv.second, place(origin, kv.first.Mark()), ""});
                !fresh) {
       problems.push_back(place(origin, kv.first.Mark())
-                             .problem(full, "key '" + full + "': given twice (first at " + it->second.where.str() +
-                                                ")"));
+                             .problem(full, "key '" + shownText(full) + "': given twice (first at " +
+                                                it->second.where.str() + ")"));
     }
   }
 }
@@ -126,7 +127,7 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
       const Value& later = alias_first ? k->second : v;
       const Value& first = alias_first ? v : k->second;
       const std::string name = later.spelled.empty() ? key : later.spelled;
-      problems.push_back(later.where.problem(name, "key '" + name + "': given twice (as '" +
+      problems.push_back(later.where.problem(name, "key '" + shownText(name) + "': given twice (as '" +
                                                       (first.spelled.empty() ? key : first.spelled) + "' at " +
                                                       first.where.str() + "; " + alias + " is another name of " +
                                                       key + ")"));
@@ -135,7 +136,7 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
     values.emplace(key, std::move(v));
   }
   auto unknown = [&](const Place& where, const std::string& key) {
-    problems.push_back(where.problem(key, "unknown key '" + key + "' (see " + words.see + ")"));
+    problems.push_back(where.problem(key, "unknown key '" + shownText(key) + "' (see " + words.see + ")"));
   };
   const std::string& only = words.section;
   const auto is_section = [&](const std::string& name) {  // a prefix of a known key: "contact" of "contact.mu"
@@ -179,7 +180,8 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
     if (!text.empty() && (std::isspace(static_cast<unsigned char>(text.front())) ||
                           std::isspace(static_cast<unsigned char>(text.back())))) {
       // YAML drops the blank of "key= 0.1" silently, where every program's flags refuse ' 0.1'
-      problems.push_back(where.problem(spelled, "key '" + spelled + "': a blank around the value: write key=value"));
+      problems.push_back(
+          where.problem(spelled, "key '" + shownText(spelled) + "': a blank around the value: write key=value"));
       continue;
     }
     const auto alias = alias_of.find(spelled);
@@ -194,8 +196,8 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
         // Both alternatives among the user's overrides: the later was taken while a summary listed both (pass
         // 71). One replaces its alternative given in the file or among a scene's printed values.
         if (const auto other = set_here.find(a->second); other != set_here.end()) {
-          problems.push_back(where.problem(spelled, "key '" + spelled + "': sets the same field as '" + other->second +
-                                                        "', given before it: give one of them"));
+          problems.push_back(where.problem(spelled, "key '" + shownText(spelled) + "': sets the same field as '" +
+                                                        other->second + "', given before it: give one of them"));
           continue;
         }
         values.erase(a->second);
@@ -203,18 +205,19 @@ Given::Given(const TableWords& words, const std::vector<std::pair<std::string, s
       if (i >= printed) set_here[key] = spelled;
       values[key] = std::move(v);  // a later --set of the same key wins
     } catch (const PrescanRefusal& r) {
-      problems.push_back(where.problem(spelled, "key '" + spelled + "': " + r.msg));
+      problems.push_back(where.problem(spelled, "key '" + shownText(spelled) + "': " + r.msg));
     } catch (const YAML::Exception& e) {
-      problems.push_back(where.problem(spelled, "key '" + spelled + "': value is not valid YAML: " + e.msg));
+      problems.push_back(where.problem(spelled, "key '" + shownText(spelled) + "': value is not valid YAML: " + e.msg));
     } catch (const std::exception& e) {
-      problems.push_back(where.problem(spelled, "key '" + spelled + "': value not readable as YAML: " + e.what()));
+      problems.push_back(
+          where.problem(spelled, "key '" + shownText(spelled) + "': value not readable as YAML: " + e.what()));
     }
   }
   std::set<std::string> seen;
   for (const auto& [key, alt] : keys) {
     if (seen.count(alt) && has(key) && has(alt)) {
-      problems.push_back(values[key].where.problem(named(key), "key '" + named(key) + "': give it or '" + named(alt) +
-                                                                         "', not both"));
+      problems.push_back(values[key].where.problem(named(key), "key '" + shownText(named(key)) + "': give it or '" +
+                                                                         named(alt) + "', not both"));
     }
     seen.insert(key);
   }
@@ -230,9 +233,9 @@ void Given::apply(const std::string& key, const std::function<void(const YAML::N
   try {
     set(it->second.node);
   } catch (const ConvertError& e) {
-    problems.push_back(it->second.where.problem(named(key), "key '" + named(key) + "': " + e.msg));
+    problems.push_back(it->second.where.problem(named(key), "key '" + shownText(named(key)) + "': " + e.msg));
   } catch (const YAML::Exception& e) {
-    problems.push_back(it->second.where.problem(named(key), "key '" + named(key) + "': " + e.msg));
+    problems.push_back(it->second.where.problem(named(key), "key '" + shownText(named(key)) + "': " + e.msg));
   }
 }
 
@@ -255,7 +258,7 @@ const Given::Place* Given::placeOf(const std::string& key, std::string* spelled)
 
 Problem Given::problemAt(const std::string& key, const std::string& msg) const {
   std::string spelled;
-  if (const Place* p = placeOf(key, &spelled)) return p->problem(spelled, "key '" + spelled + "': " + msg);
+  if (const Place* p = placeOf(key, &spelled)) return p->problem(spelled, "key '" + shownText(spelled) + "': " + msg);
   return Place::inFile(impl_->origin).problem(key, "(default of " + key + "): key '" + key + "': " + msg);
 }
 
@@ -274,7 +277,7 @@ void Given::idle(const std::string& key, const std::string& msg) {
   if (std::find(warnings.begin(), warnings.end(), text) != warnings.end()) return;
   warnings.push_back(text);
   if (p && p->set_index > static_cast<int>(printed_)) {
-    idle_sets.emplace_back(p->set_index, "key '" + spelled + "': " + msg);
+    idle_sets.emplace_back(p->set_index, "key '" + shownText(spelled) + "': " + msg);
   }
 }
 
@@ -288,7 +291,7 @@ bool loadDocument(const std::string& text, const std::string& origin, YAML::Node
     out = loadBounded(text);
     return true;
   } catch (const PrescanRefusal& r) {
-    why = place(origin, r.mark).problem(r.key, (r.key.empty() ? "" : "key '" + r.key + "': ") + r.msg);
+    why = place(origin, r.mark).problem(r.key, (r.key.empty() ? "" : "key '" + shownText(r.key) + "': ") + r.msg);
   } catch (const YAML::Exception& e) {
     why = place(origin, e.mark).problem("", "not valid YAML: " + e.msg);
   } catch (const std::exception& e) {

@@ -14,7 +14,8 @@ namespace {
 
 /// What a value is, for a refusal that says what it got, also when that is nothing or no scalar.
 std::string got(const YAML::Node& n) {
-  return n.IsScalar() ? "'" + n.Scalar() + "'" : n.IsMap() ? "a map" : n.IsSequence() ? "a list" : "no value";
+  if (n.IsScalar()) return "'" + shownText(n.Scalar()) + "'";
+  return n.IsMap() ? "a map" : n.IsSequence() ? "a list" : "no value";
 }
 
 }  // namespace
@@ -22,10 +23,10 @@ std::string got(const YAML::Node& n) {
 double asNumber(const YAML::Node& n) {
   if (!n.IsScalar()) throw ConvertError{"expected a number, got " + got(n)};
   double x;
-  if (!YAML::convert<double>::decode(n, x)) throw ConvertError{"expected a number, got '" + n.Scalar() + "'"};
-  if (!std::isfinite(x)) throw ConvertError{"must be finite, got '" + n.Scalar() + "'"};
+  if (!YAML::convert<double>::decode(n, x)) throw ConvertError{"expected a number, got " + got(n)};
+  if (!std::isfinite(x)) throw ConvertError{"must be finite, got " + got(n)};
   if (underflowed(n.Scalar(), x)) {
-    throw ConvertError{"'" + n.Scalar() +
+    throw ConvertError{"'" + shownText(n.Scalar()) +
                        "' underflows a double: give a magnitude of at least 2.2e-308, or 0 where the key takes it"};
   }
   return x;
@@ -36,10 +37,10 @@ int asInt(const YAML::Node& n) {
   const std::string& t = n.IsScalar() ? n.Scalar() : std::string();
   const std::size_t sign = !t.empty() && (t[0] == '+' || t[0] == '-') ? 1 : 0;
   if (sign == t.size() || t.find_first_not_of("0123456789", sign) != std::string::npos) {
-    throw ConvertError{"expected a whole number (digits only), got '" + t + "'"};
+    throw ConvertError{"expected a whole number (digits only), got " + got(n)};
   }
   const double x = asNumber(n);
-  if (std::fabs(x) > 1e9) throw ConvertError{"must be a whole number within [-1e9, 1e9], got '" + t + "'"};
+  if (std::fabs(x) > 1e9) throw ConvertError{"must be a whole number within [-1e9, 1e9], got " + got(n)};
   return static_cast<int>(x);
 }
 
@@ -83,20 +84,11 @@ std::string asString(const YAML::Node& n) {
   // characters after it: printed raw they set a terminal's title or cleared it, a NUL cut the name (pass 86).
   const std::string& s = n.Scalar();
   for (std::size_t i = 0; i < s.size(); ++i) {
-    const auto c = static_cast<unsigned char>(s[i]);
-    const bool c1 = c == 0xC2 && i + 1 < s.size() && static_cast<unsigned char>(s[i + 1]) < 0xA0;  // U+0080..9F
-    // (pass 94) U+2028/2029 split a printed line, U+061C, 200E/F, 202A-E, 2066-9 reorder it (bidi controls)
-    unsigned cp = 0;  // the code point of a three-byte sequence U+2000..2FFF (lead byte E2)
-    if (c == 0xE2 && i + 2 < s.size()) {
-      const auto b1 = static_cast<unsigned char>(s[i + 1]), b2 = static_cast<unsigned char>(s[i + 2]);
-      cp = 0x2000u + ((b1 & 0x3Fu) << 6) + (b2 & 0x3Fu);
-    }
-    if (c == 0xD8 && i + 1 < s.size() && static_cast<unsigned char>(s[i + 1]) == 0x9C) cp = 0x061C;  // (pass 97)
-    const bool layout = cp == 0x061C || cp == 0x200E || cp == 0x200F || (cp >= 0x2028 && cp <= 0x202E) ||
-                        (cp >= 0x2066 && cp <= 0x2069);
-    if ((c < 0x20 && c != '\t') || c == 0x7F || c1 || layout) {
+    // (pass 94, 97) and U+2028/2029 that split a printed line, the bidi controls that reorder it
+    std::size_t bytes = 1;
+    if (const auto cp = unprintableAt(s, i, &bytes)) {
       char code[8];
-      std::snprintf(code, sizeof code, "%04X", layout ? cp : c1 ? static_cast<unsigned char>(s[i + 1]) : c);
+      std::snprintf(code, sizeof code, "%04X", *cp);
       throw ConvertError{"character U+" + std::string(code) + " (a control character, from an escape) at position " +
                          std::to_string(i) + ": no text a name or label holds"};
     }

@@ -69,4 +69,49 @@ std::string join(const std::vector<std::string>& parts, const std::string& sep) 
   return out;
 }
 
+bool isLayoutCodePoint(unsigned cp) {
+  return cp == 0x0085 || cp == 0x061C || cp == 0x200E || cp == 0x200F || (cp >= 0x2028 && cp <= 0x202E) ||
+         (cp >= 0x2066 && cp <= 0x2069);
+}
+
+std::optional<unsigned> unprintableAt(const std::string& s, std::size_t i, std::size_t* bytes) {
+  // Only a well-formed sequence is decoded: pass 103's first try read 0xE2 and any two bytes as U+2xxx.
+  const auto at = [&](std::size_t k) { return k < s.size() ? static_cast<unsigned char>(s[k]) : 0u; };
+  const auto continuation = [](unsigned b) { return b >= 0x80 && b <= 0xBF; };
+  *bytes = 1;
+  if (i >= s.size()) return std::nullopt;
+  if ((at(i) < 0x20 && at(i) != '\t') || at(i) == 0x7F) return at(i);
+  unsigned cp = 0;
+  if (at(i) == 0xC2 && at(i + 1) >= 0x80 && at(i + 1) <= 0x9F) {  // C1: U+0080..9F
+    *bytes = 2;
+    return at(i + 1);
+  }
+  if (at(i) == 0xD8 && at(i + 1) == 0x9C) {
+    cp = 0x061C;
+  } else if (at(i) == 0xE2 && continuation(at(i + 1)) && continuation(at(i + 2))) {  // U+2000..2FFF
+    cp = 0x2000u + ((at(i + 1) & 0x3Fu) << 6) + (at(i + 2) & 0x3Fu);
+  }
+  if (!isLayoutCodePoint(cp)) return std::nullopt;
+  *bytes = cp == 0x061C ? 2 : 3;
+  return cp;
+}
+
+std::string shownText(const std::string& s) {
+  // (pass 103, 107) an unknown key or a refused value holding U+202E (from a quoted scalar's escape) was printed
+  // raw: the rest of the terminal's line ran backwards from it
+  std::string out;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    std::size_t bytes = 1;
+    if (const auto cp = unprintableAt(s, i, &bytes)) {
+      char code[12];
+      std::snprintf(code, sizeof code, "<U+%04X>", *cp);
+      out += code;
+      i += bytes - 1;
+    } else {
+      out += s[i];
+    }
+  }
+  return out;
+}
+
 }  // namespace gimbalsim

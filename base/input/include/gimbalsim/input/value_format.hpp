@@ -2,6 +2,7 @@
 // whole-multiple rule for times given in steps.
 #pragma once
 
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -19,6 +20,14 @@ std::string formatSignificant(double x, int digits);
 std::string formatList(std::span<const double> v);  ///< "[a, b, c]"
 std::string formatInertia(const Mat3& I);           ///< diagonal, 6-list or 3x3, as asInertia reads it
 std::string join(const std::vector<std::string>& parts, const std::string& sep);
+/// A character that splits or reorders a displayed line: U+0085, U+2028/9 and the bidi controls U+061C, U+200E/F,
+/// U+202A..E, U+2066..9. Shown in a file, the line an editor displays is not the one a program reads.
+bool isLayoutCodePoint(unsigned cp);
+/// A character no message prints raw, at s[i]: a control character but tab (C0, DEL, C1) or isLayoutCodePoint
+/// (well-formed UTF-8 only): its code point, and its length in *bytes.
+std::optional<unsigned> unprintableAt(const std::string& s, std::size_t i, std::size_t* bytes);
+/// Text as a message may print it: each unprintableAt as <U+XXXX>, every other byte as given.
+std::string shownText(const std::string& s);
 
 /// The one rule for a time that must be whole steps (a duration, a row
 /// interval, a control period): value / unit within a relative 1e-12 of a
