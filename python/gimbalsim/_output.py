@@ -34,7 +34,7 @@ try:
 except ImportError:  # loaded by path (tools/pages/output_file.py), which has loaded the cells' file first
     from gimbalsim_csv_cells import csv_text
 
-__all__ = ["OutputError", "OutputRefused", "output_failed", "what_to_do", "check_outputs", "check_output_names",
+__all__ = ["OutputError", "OutputRefused", "output_failed", "what_to_do", "check_outputs",
            "open_output", "output_set", "write_text", "write_bytes", "write_csv", "savefig", "figure_bytes",
            "open_append", "append_synced"]
 
@@ -131,8 +131,19 @@ def _check_one(path):
         raise OutputRefused(f"{path}: is a symbolic link; not written through (give its target)")
     if st is not None and not stat.S_ISREG(st.st_mode):
         raise OutputRefused(f"{path}: exists and is not a regular file ({_kind(st.st_mode)}); not written")
+    if st is not None and st.st_mode & 0o111 and (folder := _program_folder_on_path(path)):
+        raise OutputRefused(f"{path}: an executable file in {folder}, a folder on PATH (a program anything run by "
+                            f"name may be); not overwritten")
     if not os.path.isdir(_folder(path)):
         raise OutputRefused(f"{path}: its directory {_folder(path)} does not exist")
+
+
+def _program_folder_on_path(path):
+    """The folder of $PATH holding path ("" the current one), or None. (pass 103, 107) the scripts' lists of the
+    programs they run by name always missed one (realpath, rmdir)."""
+    here = _identity(_folder(path) + "/.")
+    return next((e or "." for e in os.environ.get("PATH", "").split(":")
+                 if here is not None and _identity((e or ".") + "/.") == here), None)
 
 
 def check_outputs(outputs, inputs=()):
@@ -174,37 +185,6 @@ def _running_program():
 
 
 _RUNNING = {}  # path -> (identity, what), _running_program's
-
-
-# The names that show a folder holds a tool's outputs: a tool writing into another's folder would mix their files.
-TOOL_FILES = {"sweep": ("a sweep", ("results.csv", "results.partial.csv", "design.json")),
-              "study": ("a tuning study", ("study.db", "trials.csv")),
-              "allocation": ("an allocation", ("allocation_spec.json", "allocation.json", "values"))}
-
-
-def check_output_names(out, tool, files=(), folders=(), refuse=OutputRefused):
-    """Refuses (raises refuse naming the path), before anything runs, as found
-    at the end the run's work would be lost: a folder out holding another
-    tool's outputs (TOOL_FILES; tool: this run's key there), and under any
-    of the run's output names an existing symbolic link or anything but its
-    kind (files: regular files; folders, listed outer first: folders)."""
-    out = _text(out)
-    for other, (what, names) in TOOL_FILES.items():
-        held = [n for n in names if os.path.lexists(os.path.join(out, n))]
-        if other != tool and held:
-            raise refuse(f"{out} holds {what} ({', '.join(held)}): give the {tool} another --out")
-    for path, folder in [(_text(p), True) for p in folders] + [(_text(p), False) for p in files]:
-        try:
-            st = os.lstat(path)
-        except (FileNotFoundError, NotADirectoryError):  # made when written (a file on the way: its folder's refusal)
-            continue
-        want = "a folder" if folder else "a file"
-        if stat.S_ISLNK(st.st_mode):
-            raise refuse(f"{path}: a symbolic link where this run writes {want} of its outputs; never written "
-                         "through one: remove it, or use another --out")
-        if not (stat.S_ISDIR(st.st_mode) if folder else stat.S_ISREG(st.st_mode)):
-            raise refuse(f"{path}: not {'a folder' if folder else 'a regular file'} ({_kind(st.st_mode)}) where this "
-                         f"run writes {want} of its outputs: remove it, or use another --out")
 
 
 def _create_temporary(path, binary):

@@ -7,7 +7,7 @@ import contextlib
 from . import _budget_report, _provenance
 from ._errors import SpecError
 from ._journal import DESIGN, JOURNAL, csv_line, take_recorded_design
-from ._output import check_output_names
+from ._output_names import check_output_names
 from ._spec import check_outputs_not_inputs
 from ._summary import plot_names
 from ._sweep_spec import MAX_SAMPLES

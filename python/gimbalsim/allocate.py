@@ -50,7 +50,8 @@ from ._allocate_search import next_value, outcome, scan_values
 from ._allocate_spec import AllocationSpec
 from ._console import keep_console
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, OutputError, SpecError, exit_program, guarded_main
-from ._output import OutputRefused, check_output_names, make_folder, output_set, what_to_do, write_text
+from ._output import OutputRefused, make_folder, output_set, what_to_do, write_text
+from ._output_names import check_output_names
 from ._spec import check_out_dir, check_outputs_not_inputs
 from .sweep import FINGERPRINT as SWEEP_FINGERPRINT, RESULTS, finished_rows, output_paths, sweep
 

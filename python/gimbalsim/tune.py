@@ -49,7 +49,8 @@ from ._console import keep_console
 from ._errors import EXIT_OK, EXIT_STOPPED, Interrupted, SpecError, exit_program, guarded_main
 from ._closed_spec import plant_overrides
 from ._journal import fmt
-from ._output import check_output_names, json_text, output_set, savefig, write_csv, write_text
+from ._output import json_text, output_set, savefig, write_csv, write_text
+from ._output_names import check_output_names
 from ._spec import check_out_dir, check_outputs_not_inputs
 from ._study_file import (STUDY_FILE, TRIALS, check_trials_held, forget_unrecorded_study, open_study, study_recorded,
                           study_write_errors, trials_kept)

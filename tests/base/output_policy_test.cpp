@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -99,6 +100,28 @@ TEST_F(OutputPolicy, TheLibrariesTheProgramRunsAreInputsOfEveryRun) {
     EXPECT_NE(std::string(e.what()).find("a library this program runs; not overwritten"), std::string::npos)
         << e.what();
   }
+}
+
+// (pass 103, 107) the scripts' lists of the programs they run by name always missed one (realpath, rmdir, then
+// replaced by a benchmark's JSON): an executable file in a folder on PATH is refused; the same file outside PATH,
+// a file without an execute bit and a new name in that folder are taken
+TEST_F(OutputPolicy, AnExecutableFileInAFolderOnPathIsRefused) {
+  fs::create_directories(dir_ / "bin");
+  for (const char* name : {"bin/prog", "bin/data", "tool"}) std::ofstream(dir_ / name) << "#!/bin/sh\n";
+  fs::permissions(dir_ / "bin/prog", fs::perms::owner_all | fs::perms::group_exec | fs::perms::others_exec);
+  fs::permissions(dir_ / "tool", fs::perms::owner_all);
+  const std::string old_path = std::getenv("PATH") ? std::getenv("PATH") : "";
+  ::setenv("PATH", ("/nowhere::" + (dir_ / "bin" / ".").string() + ":/usr/bin").c_str(), 1);
+  try {
+    checkOutputPaths({path("bin/prog")});
+    ADD_FAILURE() << "an executable on PATH was accepted as an output";
+  } catch (const OutputError& e) {
+    EXPECT_EQ(std::string(e.what()), path("bin/prog") + ": an executable file in " + (dir_ / "bin" / ".").string() +
+                                         ", a folder on PATH (a program anything run by name may be); not overwritten");
+  }
+  EXPECT_NO_THROW(checkOutputPaths({path("bin/data"), path("tool"), path("bin/new")}));
+  ::setenv("PATH", old_path.c_str(), 1);
+  EXPECT_EQ(read(path("bin/prog")), "#!/bin/sh\n");
 }
 
 TEST_F(OutputPolicy, TheNameAppearsOnlyAtCommit) {

@@ -299,13 +299,16 @@ def test_a_tick_log_over_a_program_or_script_the_bench_runs_is_refused(tmp_path)
     assert p.returncode == 2 and "the same file as the input the interpreter /usr/bin/python3" in p.stderr, p.stderr
     # (pass 103) and the other programs it runs from PATH (its sh was dash: a --tick-log over it was taken); a copy
     # first on PATH, so that a failure writes over the copy
+    # (pass 107) rmdir, which no list of them held: every executable file in a folder on PATH is refused
     (tmp_path / "path").mkdir()
-    shutil.copy(shutil.which("sh"), tmp_path / "path" / "sh")
-    p = subprocess.run(["bash", str(script), "--port", "7741", "--duration", "0.2", "--out", "ob", "--no-plot", "--",
-                        "--tick-log", str(tmp_path / "path" / "sh")], capture_output=True, text=True, timeout=60,
-                       env={**env, "PATH": f"{tmp_path / 'path'}:{os.environ['PATH']}"}, cwd=tmp_path)
-    assert p.returncode == 2 and "the same file as the input the program" in p.stderr, p.stderr
-    assert (tmp_path / "path" / "sh").read_bytes() == open(shutil.which("sh"), "rb").read()
+    for program in ("sh", "rmdir"):
+        shutil.copy(shutil.which(program), tmp_path / "path" / program)
+        p = subprocess.run(["bash", str(script), "--port", "7741", "--duration", "0.2", "--out", "ob", "--no-plot",
+                            "--", "--tick-log", str(tmp_path / "path" / program)], capture_output=True, text=True,
+                           timeout=60, env={**env, "PATH": f"{tmp_path / 'path'}:{os.environ['PATH']}"}, cwd=tmp_path)
+        assert p.returncode == 2 and f"an executable file in {tmp_path / 'path'}, a folder on PATH" in p.stderr, \
+            p.stderr
+        assert (tmp_path / "path" / program).read_bytes() == open(shutil.which(program), "rb").read()
     for target in ("tools/hil/run_hil_bench.sh", "tools/hil/plot_bench.py", "tools/lib/console.sh",
                    "tools/lib/children.sh", "tools/lib/build_dir.sh"):
         before = (tmp_path / "repo" / target).read_bytes()

@@ -85,7 +85,7 @@ def test_an_output_that_is_an_input_is_refused_by_any_spelling(tmp_path):
     assert leftovers(tmp_path, {"scene.yaml", "hard.yaml", "other.yaml"}) == []
 
 
-def test_the_running_program_is_an_input_of_every_run(tmp_path):
+def test_the_running_program_is_an_input_of_every_run(tmp_path, monkeypatch):
     # (pass 84) a program's --out naming its own executable replaced it (exit 0); here the interpreter's script
     script = tmp_path / "mine.py"
     script.write_text("import sys\nfrom gimbalsim import _output\n"
@@ -95,8 +95,10 @@ def test_the_running_program_is_an_input_of_every_run(tmp_path):
     assert p.stdout == f"{script}: the same file as this program ({script}); not overwritten\n", (p.stdout, p.stderr)
     assert script.read_text().startswith("import sys")
     real = os.path.realpath(sys.executable)
+    monkeypatch.setenv("PATH", "/nowhere")  # in a folder on PATH it is refused as an executable there first
     with pytest.raises(_output.OutputError, match=r"the same file as this program"):
         _output.check_outputs([real])
+    monkeypatch.undo()
     # (pass 85) Run.to_csv wrote through the C++ writer, which sees the interpreter but not the script it runs
     scene = os.path.join(os.environ["GIMBALSIM_SOURCE_DIR"], "tools/scenes/planar_ideal.yaml")
     script.write_text("import sys, warnings, gimbalsim\nwarnings.simplefilter('ignore')\n"
@@ -105,6 +107,28 @@ def test_the_running_program_is_an_input_of_every_run(tmp_path):
     p = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=60)
     assert p.stdout == f"{script}: the same file as this program ({script}); not overwritten\n", (p.stdout, p.stderr)
     assert script.read_text().startswith("import sys")
+
+
+def test_an_executable_file_in_a_folder_on_path_is_refused(tmp_path, monkeypatch):
+    # (pass 103, 107) the scripts' lists of the programs they run by name always missed one (realpath, rmdir,
+    # then replaced by a benchmark's JSON); the same file outside PATH, without an execute bit, or a new name: taken
+    (tmp_path / "bin").mkdir()
+    for name in ("bin/prog", "bin/data", "tool"):
+        (tmp_path / name).write_text("#!/bin/sh\n")
+    os.chmod(tmp_path / "bin/prog", 0o755)
+    os.chmod(tmp_path / "tool", 0o755)
+    monkeypatch.setenv("PATH", f"/nowhere::{tmp_path / 'bin'}/:/usr/bin")
+    with pytest.raises(_output.OutputRefused, match=rf"bin/prog: an executable file in {tmp_path / 'bin'}/, a "
+                                                   r"folder on PATH \(a program anything run by name may be\); "
+                                                   r"not overwritten"):
+        _output.write_text(tmp_path / "bin/prog", "x\n")
+    assert (tmp_path / "bin/prog").read_text() == "#!/bin/sh\n"
+    for taken in ("bin/data", "tool", "bin/new"):
+        _output.write_text(tmp_path / taken, "x\n")
+        assert (tmp_path / taken).read_text() == "x\n"
+    monkeypatch.chdir(tmp_path / "bin")  # an empty entry of PATH is the current folder
+    with pytest.raises(_output.OutputRefused, match=r"prog: an executable file in \., a folder on PATH"):
+        _output.write_text("prog", "x\n")
 
 
 def test_a_missing_folder_is_refused_not_made(tmp_path):

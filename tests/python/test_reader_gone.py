@@ -80,17 +80,21 @@ def test_the_benchmark_scripts_out_is_never_a_script_it_runs(tmp_path):
 def test_the_benchmark_scripts_out_is_never_a_program_it_runs(tmp_path):
     # (pass 103) OUT=/usr/bin/mktemp was taken: the programs the script runs from PATH are inputs too (here a copy
     # first on PATH, so that a failure writes over the copy)
+    # (pass 107) and realpath, which tools/lib/build_dir.sh runs and no list held: every executable file in a
+    # folder on PATH is refused
     (tmp_path / "bin").mkdir()
-    shutil.copy(shutil.which("mktemp"), tmp_path / "bin" / "mktemp")
-    before = (tmp_path / "bin" / "mktemp").read_bytes()
-    p = subprocess.run(["bash", str(SOURCE / "tools" / "bench" / "run_bench.sh"),
-                        "--benchmark_filter=BM_ForwardDynamics<FixedIdeal>$", "--benchmark_min_time=0.01"],
-                       capture_output=True, text=True, timeout=120, cwd=tmp_path,
-                       env={**os.environ, "BENCH": str(BIN / "gimbalsim_bench"), "REPS": "2",
-                            "PATH": f"{tmp_path / 'bin'}:{os.environ['PATH']}",
-                            "OUT": str(tmp_path / "bin" / "mktemp")})
-    assert p.returncode == 2 and "the same file as the input" in p.stderr, p.stderr
-    assert (tmp_path / "bin" / "mktemp").read_bytes() == before
+    for program in ("mktemp", "realpath"):
+        shutil.copy(shutil.which(program), tmp_path / "bin" / program)
+        before = (tmp_path / "bin" / program).read_bytes()
+        p = subprocess.run(["bash", str(SOURCE / "tools" / "bench" / "run_bench.sh"),
+                            "--benchmark_filter=BM_ForwardDynamics<FixedIdeal>$", "--benchmark_min_time=0.01"],
+                           capture_output=True, text=True, timeout=120, cwd=tmp_path,
+                           env={**os.environ, "BENCH": str(BIN / "gimbalsim_bench"), "REPS": "2",
+                                "PATH": f"{tmp_path / 'bin'}:{os.environ['PATH']}",
+                                "OUT": str(tmp_path / "bin" / program)})
+        assert p.returncode == 2 and f"an executable file in {tmp_path / 'bin'}, a folder on PATH" in p.stderr, \
+            p.stderr
+        assert (tmp_path / "bin" / program).read_bytes() == before
 
 
 def test_the_benchmark_script_refuses_as_programs_do(tmp_path):

@@ -58,8 +58,8 @@ case "$KEEP" in "" | /*) ;; *) KEEP="$PWD/$KEEP" ;; esac
 # (pass 101) and the scripts it runs: OUT over itself or tools/lib/console.sh replaced them with the JSON
 INPUTS=("$BIN" "$ROOT"/tools/scenes/*.yaml ${ARGS[@]+"${ARGS[@]}"} "${BASH_SOURCE[0]}" "$ROOT"/tools/lib/*.sh
   "$ROOT"/tools/bench/*.py "$ROOT"/tools/pages/*.py "$BASH" /usr/bin/python3)
-# (pass 103) and every other program it runs: OUT=/usr/bin/mktemp was taken
-for c in env sh mktemp tee rm mkdir grep dirname date cat python3 bash; do p=$(type -P "$c") && INPUTS+=("$p"); done
+# (pass 103, 107) every program it runs by name (OUT=/usr/bin/mktemp, realpath): the writer refuses an executable
+# file in a folder on PATH
 [ -z "$KEEP" ] || /usr/bin/python3 "$ROOT/tools/pages/save_output.py" --as run_bench.sh \
   --check /dev/null "$KEEP" -- "${INPUTS[@]}" || exit $?
 # The page's rules before the measurements: a page refused at the end would cost the run.

@@ -145,11 +145,6 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
   inputs+=("the script" "${BASH_SOURCE[0]}" "the script" "$ROOT/tools/hil/plot_bench.py")
   for f in "$ROOT"/tools/lib/*.sh; do inputs+=("the script" "$f"); done  # (pass 99) the libraries it sources
   inputs+=("the interpreter" /usr/bin/python3 "the interpreter" "$BASH")  # (pass 101) plot_bench's, its own
-  # (pass 103) and every other program it runs: a --tick-log over /usr/bin/dash (its sh) or unshare was taken
-  for c in env sh unshare ip mktemp mv rm mkdir cat sed awk tee sleep kill realpath dirname basename head \
-    python3 bash; do
-    p=$(type -P "$c") && inputs+=("the program" "$p")
-  done
   outs=()   # the outputs the user names after -- (label, absolute path): the --tick-log
   files=()  # every file flag after -- (flag, as given, absolute path)
   for ((i = 0; i < ${#EXTRA[@]}; i++)); do
@@ -231,6 +226,16 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
     for ((j = 0; j < ${#inputs[@]} && ${#clash} == 0; j += 2)); do
       ! same "$o" "${inputs[j + 1]}" || clash="the same file as the input ${inputs[j]} ${inputs[j + 1]}; not overwritten"
     done
+    # (pass 103, 107) and every program it runs by name (/usr/bin/dash as sh, unshare, rmdir): an executable file
+    # in a folder on PATH is refused, as the writer refuses it (a list of them always missed one)
+    if [ -z "$clash" ] && [ -f "$o" ] && [ -x "$o" ]; then
+      IFS=: read -ra on_path <<< "$PATH"
+      o_dir=$(cd -- "$(dirname -- "$o")" && pwd -P)
+      for p in "${on_path[@]}"; do
+        [ "$(cd -- "${p:-.}" 2>/dev/null && pwd -P)" != "$o_dir" ] || clash="an executable file in ${p:-.}, a folder"
+      done
+      [ -z "$clash" ] || clash+=" on PATH (a program anything run by name may be); not overwritten"
+    fi
     [ -z "$clash" ] || { echo "run_hil_bench.sh: ${outs[k]}: $clash; nothing run" >&2; exit 2; }
   done
   # A folder made for this run goes again if the run does not end well (a refused run leaves nothing).

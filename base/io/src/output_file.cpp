@@ -5,8 +5,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -64,6 +66,25 @@ std::string mappedCodeFile(const Identity& id) {
   return "";
 }
 
+/// The folder of $PATH that holds path, when path is an executable file there ("" else): a program anything run by
+/// name finds. (pass 103, 107) the scripts' lists of the programs they run by name always missed one (realpath, rmdir).
+std::string programFolderOnPath(const std::string& path, const struct stat& st) {
+  const char* env = std::getenv("PATH");
+  struct stat folder {};
+  if (!env || (st.st_mode & 0111) == 0 || ::stat(dirOf(path).c_str(), &folder) != 0) return "";
+  const std::string list = env;
+  for (std::size_t start = 0; start <= list.size();) {
+    const std::size_t end = std::min(list.find(':', start), list.size());
+    const std::string entry = end > start ? list.substr(start, end - start) : ".";  // "" is the current folder
+    struct stat on_path {};
+    if (::stat(entry.c_str(), &on_path) == 0 && on_path.st_dev == folder.st_dev && on_path.st_ino == folder.st_ino) {
+      return entry;
+    }
+    start = end + 1;
+  }
+  return "";
+}
+
 /// The checks of one output path on its own; throws OutputError.
 void checkOne(const std::string& path) {
   if (path.empty()) throw OutputError("output path is empty");
@@ -74,6 +95,10 @@ void checkOne(const std::string& path) {
   if (::lstat(path.c_str(), &st) == 0) {
     if (S_ISLNK(st.st_mode)) throw OutputError(path + ": is a symbolic link; not written through (give its target)");
     if (!S_ISREG(st.st_mode)) throw OutputError(path + ": exists and is not a regular file; not written");
+    if (const std::string folder = programFolderOnPath(path, st); !folder.empty()) {
+      throw OutputError(path + ": an executable file in " + folder + ", a folder on PATH (a program anything run by "
+                        "name may be); not overwritten");
+    }
   } else if (errno != ENOENT) {
     throw OutputError(path + ": " + std::strerror(errno));
   }
