@@ -104,9 +104,27 @@ def entry(spec, rows, index, phase):
     return e
 
 
+def grid_points(spec, rows):
+    """[(label, rows)]: a budget per grid point, "key=value, ..." (pass 106: every point gets the same draws, so
+    pooled, each unit drawn counted once per point: 2 units read n=24 and PASS); [("", rows)] for one point."""
+    keys = spec.design.grid_keys
+    header = spec.header()
+    points = {}  # in the grid's order, as the rows come
+    for r in rows:
+        points.setdefault(", ".join(f"{k}={r[header.index(k)]}" for k in keys), []).append(r)
+    return list(points.items()) if len(points) > 1 else [("", rows)]
+
+
+def rows_of(spec, rows, e):
+    """The rows of an entry's grid point (every row when it names none)."""
+    return dict(grid_points(spec, rows))[e["grid_point"]] if e.get("grid_point") else rows
+
+
 def table(spec, rows):
-    """Every index of the spec in every phase: [entry]."""
-    return [entry(spec, rows, index, phase) for phase, _ in spec.closed.phases for index in spec.closed.indices]
+    """Every index of the spec in every phase: [entry]; per grid point, each naming it (grid_point)."""
+    return [{**entry(spec, point_rows, index, phase), **({"grid_point": point} if point else {})}
+            for point, point_rows in grid_points(spec, rows)
+            for phase, _ in spec.closed.phases for index in spec.closed.indices]
 
 
 def relative_width(e):
@@ -165,6 +183,7 @@ def console_lines(entries):
     lines = [f"budget ({INTERPRETATION}):"]
     for e in entries:
         v = verdict_text(e)
-        lines.append(f"  {e['index']} {e['phase']} at {_pct(e['level'])}: {cell(e)}; n={e['n']}"
+        point = f" [{e['grid_point']}]" if e.get("grid_point") else ""
+        lines.append(f"  {e['index']} {e['phase']}{point} at {_pct(e['level'])}: {cell(e)}; n={e['n']}"
                      + (f"; {v}" if v else ""))
     return lines

@@ -57,19 +57,27 @@ def cdf_plots(spec, rows, entries, out_dir, prefix="", inputs=()):
     written = []
     for e in entries:
         metric = f"{e['index']}_{e['phase']}"
-        values = np.array(_budget.column_values(spec, rows, metric))
-        x = np.sort(values[np.isfinite(values)])
-        if not len(x):
+        if cdf_name(metric, prefix) in (w.name for w in written):  # one plot per metric, a curve per grid point
             continue
-        # Over every unit drawn, as the budget: the k without a figure count worst, so the curve stops at (n-k)/n.
-        n, k = len(values), len(values) - len(x)
-        label = f"{n} units" + (f", {k} without a figure (counted worst)" if k else "")
+        curves = []  # one per grid point, its own budget's units
+        for point, point_rows in _budget.grid_points(spec, rows):
+            values = np.array(_budget.column_values(spec, point_rows, metric))
+            x = np.sort(values[np.isfinite(values)])
+            # Over every unit drawn, as the budget: the k without a figure count worst; the curve stops at (n-k)/n.
+            n, k = len(values), len(values) - len(x)
+            label = (f"{point}: " if point else "") + f"{n} units" + (f", {k} without a figure (counted worst)"
+                                                                     if k else "")
+            curves += [(x, n, label)] if len(x) else []
+        if not curves:
+            continue
         fig, ax = plt.subplots(figsize=(6, 4))
-        ax.step(x, np.arange(1, len(x) + 1) / n, where="post", label=label)
+        for x, n, label in curves:
+            ax.step(x, np.arange(1, len(x) + 1) / n, where="post", label=label)
+        x = np.sort(np.concatenate([c[0] for c in curves]))
         ax.axhline(e["level"], ls=":", c="gray", label=f"level {100 * e['level']:.4g} %")
         if "requirement" in e:
-            ax.axvline(e["requirement"]["requirement_rad"], c="r", ls="--",
-                       label=f"requirement ({e['requirement']['verdict']})")
+            ax.axvline(e["requirement"]["requirement_rad"], c="r", ls="--", label="requirement" if len(curves) > 1
+                       else f"requirement ({e['requirement']['verdict']})")
         ax.set_xscale("log" if x[0] > 0 else "linear")
         ax.set_xlabel(f"{metric} [rad] (worst time in the phase, per unit)")
         ax.set_ylabel("fraction of units")
@@ -141,7 +149,7 @@ def body(spec, rows, entries, plots, engine):
     lines += ["| index | phase | level | n | value [rad] (CI at confidence) | "
               f"at {100 * SUPPORTED_LEVEL:.4g} % [rad] (CI) | requirement |", "|---|---|---|---|---|---|---|"]
     for e in entries:
-        values = _budget.column_values(spec, rows, f"{e['index']}_{e['phase']}")
+        values = _budget.column_values(spec, _budget.rows_of(spec, rows, e), f"{e['index']}_{e['phase']}")
         b = ix.quantile_bound(values, SUPPORTED_LEVEL, e["confidence"])
         # its own quantile (95 %), whose support is not the level's: said so, with its own count
         lower = (_budget.NO_FIGURE if b.n and b.n_missing == b.n
@@ -150,12 +158,13 @@ def body(spec, rows, entries, plots, engine):
                  else f"{b.estimate:.3g} [{b.low:.3g}, {b.high:.3g}]" if b.supported and math.isfinite(b.high)
                  else f"not supported at {100 * SUPPORTED_LEVEL:.4g} % (n={b.n} < {b.min_units})"
                  if not b.supported else f"{b.estimate:.3g} (the interval's upper end beyond every figure)")
-        lines.append(f"| {e['index']} | {e['phase']} | {100 * e['level']:.4g} % | {e['n']} | {_budget.cell(e)} | "
+        phase = e["phase"] + (f" ({e['grid_point']})" if e.get("grid_point") else "")  # a budget per grid point
+        lines.append(f"| {e['index']} | {phase} | {100 * e['level']:.4g} % | {e['n']} | {_budget.cell(e)} | "
                      f"{lower} | {_budget.verdict_text(e) or '-'} |")
     unsupported = [e for e in entries if not e["supported"]]
     if unsupported:
         need = max(e["min_units"] for e in unsupported)
-        lines += ["", f"Some quantiles are not supported by {len(rows)} units: `samples: {need}` in the spec "
+        lines += ["", f"Some quantiles are not supported by {unsupported[0]['n']} units: `samples: {need}` in the spec "
                   f"(or `--until INDEX:PHASE:WIDTH --max-samples {need}`) would support them."]
     if engine.get("samples_per_s"):
         lines += ["", f"Speed: {engine['ran_this_invocation']} samples in {engine['elapsed_s']:.1f} s on "
@@ -168,11 +177,12 @@ def body(spec, rows, entries, plots, engine):
     ranked = 0
     for e in entries:
         metric = f"{e['index']}_{e['phase']}"
-        d = drivers(spec, rows, metric)
+        d = drivers(spec, _budget.rows_of(spec, rows, e), metric)
         if not d:
             continue
         ranked += 1
-        lines.append(f"- {metric}: Spearman rank correlation " +
+        lines.append(f"- {metric}" + (f" ({e['grid_point']})" if e.get("grid_point") else "") +
+                     ": Spearman rank correlation " +
                      ", ".join(f"{name} {rho:+.2f}" for name, rho in d))
     if not ranked:  # said, never an empty section
         lines.append("- no rank correlation: it needs a dispersed column with at least 3 units holding different "
