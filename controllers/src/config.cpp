@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "gimbalsim/controllers/key_use.hpp"
 #include "gimbalsim/controllers/model_feedforward.hpp"
 #include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/pointing/profile_keys.hpp"
@@ -190,6 +191,17 @@ std::string plantModelProblem(const ControllerConfig& c) {
   return "";
 }
 
+/// Where a value that runs as another was decided: the later override of the two keys, else the feed-forward's
+/// place in the file (the mode's when the feed-forward is the default).
+void placeValueRunningAsAnother(ControllerConfig& c, const Given& g) {
+  const std::string why = controllerValueRunsAsAnother(c);
+  if (why.empty()) return;
+  const Problem feedforward = g.problemAt("pointing.accel_feedforward", why), mode = g.problemAt("pointing.mode", why);
+  const bool mode_decides = mode.set_index > feedforward.set_index ||
+                            (feedforward.set_index == 0 && feedforward.line == 0 && mode.line > 0);
+  c.runs_as_another = mode_decides ? mode : feedforward;
+}
+
 /// Checks across keys (every key has passed its own check).
 void validate(const ControllerConfig& c, Given& g) {
   if (c.accel_feedforward == AccelFeedForward::Model) {  // the only reader of plant.*
@@ -229,7 +241,9 @@ void validate(const ControllerConfig& c, Given& g) {
 
 const KeyTable<ControllerConfig>& controllerTable() {
   static const KeyTable<ControllerConfig> table{
-      {"a controller configuration", "controller configuration file", "`pointing_controller --keys`, docs/controller_keys.md", ""}, keys(), validate, {}, {}};
+      {"a controller configuration", "controller configuration file",
+       "`pointing_controller --keys`, docs/controller_keys.md", ""},
+      keys(), validate, placeValueRunningAsAnother, {}};
   return table;
 }
 

@@ -115,7 +115,8 @@ std::string idleControllerOverride(const char* flag, const std::vector<std::stri
     if (key == "pointing.accel_feedforward" || key == "pointing.mode") deciding = named;
   }
   if (runs_as.empty()) return "";
-  return (deciding.empty() ? std::string("the controller configuration") : deciding) + ": " + runs_as +
+  // (pass 104, 107) given in the file: named at its line there, not "the controller configuration"
+  return (deciding.empty() ? c.runs_as_another.text : deciding + ": " + runs_as) +
          ": the value would be recorded but act as another";
 }
 

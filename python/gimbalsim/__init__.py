@@ -287,14 +287,13 @@ _gimbalsim.Controller.values = _controller_values
 
 
 def Controller(config_path=None, overrides=None, sources=None):
-    """The project's pointing controller with the configuration at config_path
-    (None: the built-in defaults, = controllers/config/default.yaml) and
-    overrides (dict of controller keys, as
-    `pointing_controller --set`; sources as for load_scene). Raises SceneError
-    for a refused configuration."""
+    """The project's pointing controller with the configuration at config_path (None: the built-in defaults,
+    = controllers/config/default.yaml) and overrides (dict of controller keys, as `pointing_controller --set`;
+    sources as for load_scene). Raises SceneError for a refused configuration."""
     path = "" if config_path is None else _input_path(config_path, "controller configuration path")
     texts, labels = _overrides_and_labels(overrides, sources)
-    return _labelled_call(lambda: _gimbalsim.Controller(path, texts), texts, labels)
+    named = [f"{label[0]}:{label[1]}" if isinstance(label, tuple) else label for label in labels]  # closed_loop's
+    return _labelled_call(lambda: _gimbalsim.Controller(path, texts, named), texts, labels)
 
 
 def _unpickled(path, values, what):

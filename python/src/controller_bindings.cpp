@@ -31,6 +31,7 @@ struct PyController {
   std::string path;  ///< "" = the built-in defaults (= controllers/config/default.yaml)
   std::string file;  ///< path made absolute when loaded: a run's to_csv input wherever one stands (PyScene::file)
   double last_t = -1.0;  ///< [s] the last update's time since the last reset (-1: none)
+  std::vector<std::string> labels;  ///< each override as the caller named it ("overrides['key']"; none: --set #k)
 };
 
 }  // namespace gimbalsim::py
@@ -66,20 +67,21 @@ void refuseIdleOutages(const PyScene& s, const ControllerConfig& c, double durat
 /// (pass 99) A value recorded as given that runs as another (pointing.mode joint with accel_feedforward inertial
 /// ran as profile), where pointing_controller refuses it: refused naming the feed-forward key.
 void refuseValueRunningAsAnother(const PyController& c) {
-  if (const std::string why = controllerValueRunsAsAnother(c.config); !why.empty()) {
-    const std::string where = c.path.empty() ? std::string("the controller configuration") : c.path;
-    const std::string text = where + ": key 'pointing.accel_feedforward': " + why + " (pointing_controller refuses it)";
-    raiseSceneError(InputError({Problem{text, "pointing.accel_feedforward", c.path, 0, 0, 0}}));
+  if (!controllerValueRunsAsAnother(c.config).empty()) {  // (pass 106) named where it was given, as a load's problem
+    Problem p = c.config.runs_as_another;
+    p.text = relabelledProblems(InputError({p}), c.labels).front() + " (pointing_controller refuses it)";
+    raiseSceneError(InputError({p}));
   }
 }
 
-PyController loadController(const std::string& path, const std::vector<std::string>& overrides) {
+PyController loadController(const std::string& path, const std::vector<std::string>& overrides,
+                            const std::vector<std::string>& labels) {
   checkPath(path, "controller configuration path");
   try {
     if (path.empty()) {
-      return {loadControllerConfigText("", "the built-in default configuration", overrides), {}, "", ""};
+      return {loadControllerConfigText("", "the built-in default configuration", overrides), {}, "", "", -1.0, labels};
     }
-    return {loadControllerConfig(path, overrides), {}, path, absoluteFile(path)};
+    return {loadControllerConfig(path, overrides), {}, path, absoluteFile(path), -1.0, labels};
   } catch (const InputError& e) {
     raiseSceneError(e);
   }
@@ -227,7 +229,8 @@ void bindController(pyb::module_& m) {
   pyb::class_<PyController>(m, "Controller",
                             "The project's pointing controller: its configuration (the keys of "
                             "`pointing_controller --keys`) and its update law with its memory")
-      .def(pyb::init(&loadController), pyb::arg("path"), pyb::arg("overrides"))
+      .def(pyb::init(&loadController), pyb::arg("path"), pyb::arg("overrides"),
+           pyb::arg("labels") = std::vector<std::string>{})
       .def_property_readonly("path", [](const PyController& c) { return c.path; })
       .def_property_readonly("_file", [](const PyController& c) { return c.file; }, "that file's absolute path")
       .def_property_readonly("period", [](const PyController& c) { return c.config.period; },
@@ -307,7 +310,7 @@ void bindController(pyb::module_& m) {
 
   m.def("_unpickle_controller", [](const std::string& path, const std::vector<std::string>& values,
                                     const std::string& file) {
-    PyController c = loadController("", values);
+    PyController c = loadController("", values, {});
     c.path = path;
     c.file = file;
     return c;

@@ -79,10 +79,21 @@ TEST(KeyUse, TheInertialFeedForwardInJointModeIsRefusedNamingItsSet) {
                       0),
             0u)
       << why;
-  // no override names it: the configuration (a file) is
-  EXPECT_EQ(idleControllerOverride("--set", {"azimuth.kp=100"}, joint_inertial, false, {})
-                .rfind("the controller configuration: ", 0),
-            0u);
+  // (pass 104, 107) no override names it: the file's line does (it said "the controller configuration")
+  const auto in_file = loadControllerConfigText("pointing:\n  mode: joint\n  accel_feedforward: inertial\n", "c.yaml");
+  const std::string file_why = idleControllerOverride("--set", {"azimuth.kp=100"}, in_file, false, {});
+  EXPECT_EQ(file_why.rfind("c.yaml:3:3: key 'pointing.accel_feedforward': pointing.accel_feedforward inertial runs "
+                           "as profile",
+                           0),
+            0u)
+      << file_why;
+  EXPECT_EQ(in_file.runs_as_another.line, 3);
+  // the mode given last (an override over the file's feed-forward) is where it was decided
+  const auto mode_set = loadControllerConfigText("pointing:\n  accel_feedforward: inertial\n", "c.yaml",
+                                                 {"azimuth.kp=1", "pointing.mode=joint"});
+  EXPECT_EQ(mode_set.runs_as_another.set_index, 2);
+  EXPECT_EQ(mode_set.runs_as_another.key, "pointing.mode");
+  EXPECT_EQ(config({"pointing.mode=joint"}).runs_as_another.text, "");
 }
 
 }  // namespace

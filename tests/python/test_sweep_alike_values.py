@@ -95,6 +95,21 @@ def test_closed_loop_refuses_inertial_in_joint_mode_a_study_runs_it():
         gimbalsim.closed_loop(scene, joint, 0.01)
     assert "pointing.accel_feedforward inertial runs as profile" in str(e.value), str(e.value)
     assert gimbalsim.closed_loop(scene, joint, 0.01, _study=True).summary["ticks"] > 0
+    # (pass 106) named where it was given: the later override (it named the built-in configuration, no field set)
+    assert str(e.value).startswith("overrides['pointing.accel_feedforward']: key 'pointing.accel_feedforward': "), \
+        str(e.value)
+    assert (e.value.problems[0]["key"], e.value.problems[0]["set_index"]) == ("pointing.accel_feedforward", 2)
+
+
+def test_closed_loop_names_the_controller_files_line_for_inertial_in_joint_mode(tmp_path):
+    import gimbalsim
+    from test_sweep_closed import SCENES
+    config = tmp_path / "c.yaml"
+    config.write_text("pointing:\n  mode: joint\n  accel_feedforward: inertial\n")
+    with pytest.raises(gimbalsim.SceneError) as e:  # (pass 106) it named the file with no line
+        gimbalsim.closed_loop(gimbalsim.load_scene(f"{SCENES}/paper_ideal.yaml"), gimbalsim.Controller(config), 0.01)
+    assert str(e.value).startswith(f"{config}:3:3: key 'pointing.accel_feedforward': "), str(e.value)
+    assert (e.value.problems[0]["file"], e.value.problems[0]["line"]) == (str(config), 3)
 
 
 def test_the_tuner_refuses_inertial_in_joint_mode_at_its_line(tmp_path):

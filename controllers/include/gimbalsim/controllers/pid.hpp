@@ -12,6 +12,7 @@
 #include "gimbalsim/controllers/model_feedforward.hpp"
 #include "gimbalsim/controllers/play_guard.hpp"
 #include "gimbalsim/controllers/tracker_fusion.hpp"
+#include "gimbalsim/input/input_error.hpp"
 #include "gimbalsim/pointing/target_profile.hpp"
 
 namespace gimbalsim::controllers {
@@ -94,6 +95,10 @@ struct ControllerConfig {
   AttitudeEstimatorParams estimator;     ///< k_p, k_i are keys; the rest its defaults
   MonitorConfig monitor;                 ///< what counts as a stale status or a suspect encoder (fault_monitor.hpp)
   TrackerFusionParams antenna;           ///< the antenna tracker in the position loop (tracker_fusion.hpp)
+  /// Set at load (config.cpp): where a value that runs as another (key_use.hpp controllerValueRunsAsAnother) was
+  /// given, as the loader names a place (file:line:column, or the override); empty text when none. (pass 104,
+  /// 106, 107) its refusals said "the controller configuration", naming neither the file nor the line.
+  Problem runs_as_another;
 };
 
 /// The base attitude sensors of the same tick (contract::Attitude, as the controller uses it).

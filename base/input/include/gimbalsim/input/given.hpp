@@ -61,6 +61,9 @@ class Given {
   /// Same, only when a --set gave the key: a scene file (or its printed values) keeps keys its structure leaves
   /// idle (an ideal twin).
   void idleIfSet(const std::string& key, const std::string& msg);
+  /// The problem refuse() would record, not recorded: for a value judged after the load (a controller's value
+  /// that runs as another is refused by the runs, not by the file).
+  Problem problemAt(const std::string& key, const std::string& msg) const;
 
   std::vector<Problem> problems;
   std::vector<std::string> warnings;
@@ -68,7 +71,6 @@ class Given {
   std::vector<std::pair<int, std::string>> idle_sets;
 
  private:
-  Problem problemAt(const std::string& key, const std::string& msg) const;
   /// The place that gave key (or its alternative), with the key as spelled there; nullptr for a default.
   const Place* placeOf(const std::string& key, std::string* spelled) const;
   struct Impl;
