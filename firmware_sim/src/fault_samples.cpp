@@ -54,10 +54,16 @@ bool windowHoldsASample(const SampledSensor& s, WindowActsOn acts, double start,
   return false;
 }
 
-bool windowLosesEverySample(const SampledSensor& s, double start, double end, double duration, double tick_period) {
+bool outagesLoseEverySample(const SampledSensor& s, const std::vector<OutageWindow>& outages, double duration,
+                            double tick_period) {
   const double T = tick_period, tol = 1e-9 * tick_period, P = 1.0 / s.rate;
-  if (!(T > 0.0) || !(P > 0.0) || !(end > start) || duration / P > 1e6) return false;
-  const auto in_outage = [&](double t) { return t >= start - tol && t <= end + tol; };
+  const bool any = std::any_of(outages.begin(), outages.end(), [](const OutageWindow& w) { return w.end > w.start; });
+  if (!(T > 0.0) || !(P > 0.0) || !any || duration / P > 1e6) return false;
+  const auto in_outage = [&](double t) {  // a fault's [start, end) as FaultClock::at reads it
+    return std::any_of(outages.begin(), outages.end(), [&](const OutageWindow& w) {
+      return w.end > w.start && t >= w.start - tol && (w.end_inclusive ? t <= w.end + tol : t < w.end - tol);
+    });
+  };
   for (double j = 0.0; j * P < duration; ++j) {
     const double taken = firstTickAtOrAfter(j * P, T) * T;
     const double delivered = firstTickAtOrAfter(j * P + s.latency, T) * T;

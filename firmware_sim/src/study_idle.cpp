@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 #include "gimbalsim/firmware_sim/fault_schedule_io.hpp"
 #include "gimbalsim/input/value_format.hpp"
@@ -110,19 +111,38 @@ std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, const 
   // (passes 103, 105) and one over every sample the run takes, short of its end (a 0.2 Hz tracker's one sample
   // at 0 s in [0, 3.99] of a 4 s run): the noise and bias act on none (a rate or a latency decides which samples
   // the window holds: it acts)
-  const auto loses_all = [&](const SampledSensor& s, const char* name, const Vec2& outage) {
-    if (!windowLosesEverySample(s, outage(0), outage(1), duration_s, T)) return std::string();
-    return "sensors." + std::string(name) + "_outage [" + formatNumber(outage(0)) + ", " + formatNumber(outage(1)) +
-           "] s takes or drops every " + s.name + " sample that would act in the run (one every " +
-           formatNumber(1.0 / s.rate) + " s, latency " + formatNumber(s.latency) + " s): none acts";
+  // (passes 103, 107) with the bench's --faults outages of the sensor too (every one certain: probability 1)
+  const auto loses_all = [&](const SampledSensor& s, const char* name, const Vec2& outage, FaultKind kind) {
+    std::vector<OutageWindow> outages;
+    std::vector<std::string> named;
+    if (outage(1) > outage(0)) {
+      outages.push_back({outage(0), outage(1), true});
+      named.push_back("sensors." + std::string(name) + "_outage [" + formatNumber(outage(0)) + ", " +
+                      formatNumber(outage(1)) + "] s");
+    }
+    for (std::size_t i = 0; run.faults != nullptr && i < run.faults->faults.size(); ++i) {
+      const FaultSpec& f = run.faults->faults[i];
+      if (f.kind != kind || f.probability < 1.0 || !(f.end > f.start)) continue;
+      outages.push_back({f.start, f.end, false});
+      named.push_back("fault #" + std::to_string(i + 1) + " (" + faultTypeName(kind) + ") [" + formatNumber(f.start) +
+                      ", " + formatNumber(f.end) + ") s");
+    }
+    if (!outagesLoseEverySample(s, outages, duration_s, T)) return std::string();
+    return join(named, " and ") + (named.size() > 1 ? " take or drop" : " takes or drops") + " every " + s.name +
+           " sample that would act in the run (one every " + formatNumber(1.0 / s.rate) + " s, latency " +
+           formatNumber(s.latency) + " s): none acts";
   };
   if (one_of({"star_tracker_noise"})) {
-    if (std::string why = loses_all(starTrackerSampling(sp), "star_tracker", sp.star_tracker_outage); !why.empty()) {
+    if (std::string why = loses_all(starTrackerSampling(sp), "star_tracker", sp.star_tracker_outage,
+                                    FaultKind::StarTrackerOutage);
+        !why.empty()) {
       return why;
     }
   }
   if (one_of({"tracker_noise", "tracker_bias"})) {
-    if (std::string why = loses_all(boresightTrackerSampling(sp), "tracker", sp.tracker_outage); !why.empty()) {
+    if (std::string why =
+            loses_all(boresightTrackerSampling(sp), "tracker", sp.tracker_outage, FaultKind::TrackerOutage);
+        !why.empty()) {
       return why;
     }
   }

@@ -276,13 +276,18 @@ int mainImpl(int argc, char** argv) {
     study_scenes.push_back({p.scene_name, &p.scene.scene, p.first_scene_set, &p.scene.sensors, run,
                             cases.size() > 1 ? p.sensors : ""});
     // (pass 101) a --scene-set leaving the realistic case's own keys acting on nothing (its star tracker noise
-    // under a latency that lets no sample act) ran labelled 'realistic' without its sensors
-    for (const std::string& kv : p.sensors == "realistic" ? kRealisticSensors : std::vector<std::string>{}) {
+    // under a latency that lets no sample act) ran labelled 'realistic' without its sensors; (pass 103) the tracker
+    // case's under a tracker outage over every sample, labelled 'tracker' (its loop on the antenna: judged so)
+    const bool tracker = p.sensors == "tracker";
+    const std::vector<std::string> none;
+    firmware::SensorRun own_run = run;
+    own_run.antenna_loop = own_run.antenna_loop || tracker;
+    for (const std::string& kv : p.sensors == "realistic" ? kRealisticSensors : tracker ? kTrackerSensors : none) {
       const std::string key = kv.substr(0, kv.find('='));
-      if (const std::string why = firmware::sensorKeyIdle(key, p.scene.sensors, run); !why.empty()) {
-        return refuse("--scene-set", "leaves --sensors realistic's " + key + " acting on nothing in the runs of '" +
-                                         p.scene_name + "' (" + why + "): they would be labelled 'realistic' "
-                                         "without its sensors");
+      if (const std::string why = firmware::sensorKeyIdle(key, p.scene.sensors, own_run); !why.empty()) {
+        return refuse("--scene-set", "leaves --sensors " + p.sensors + "'s " + key + " acting on nothing in the runs "
+                                         "of '" + p.scene_name + "' (" + why + "): they would be labelled '" +
+                                         p.sensors + "' without its sensors");
       }
     }
   }

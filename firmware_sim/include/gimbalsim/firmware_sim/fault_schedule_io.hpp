@@ -78,10 +78,22 @@ enum class WindowActsOn { Takes, Deliveries, Both };
 bool windowHoldsASample(const SampledSensor& s, WindowActsOn acts, double start, double end, bool end_inclusive,
                         double duration, double tick_period);
 
-/// Whether an outage [start, end] [s] (inclusive, as a scene key's) loses every sample of s that would act in a
-/// run of duration [s] at tick_period [s]: each taken or delivered in it, or delivered at the run's last tick or
-/// after (no command answers it). False when not judged (no period, more than 1e6 samples).
-bool windowLosesEverySample(const SampledSensor& s, double start, double end, double duration, double tick_period);
+/// An outage of a sampled sensor: [start, end] [s] for a scene key's (end_inclusive), [start, end) for a fault's.
+struct OutageWindow {
+  double start = 0.0, end = 0.0;
+  bool end_inclusive = true;
+};
+
+/// Whether the outages together lose every sample of s that would act in a run of duration [s] at tick_period
+/// [s]: each taken or delivered in one of them, or delivered at the run's last tick or after (no command answers
+/// it). False when not judged (no outage, no period, more than 1e6 samples).
+bool outagesLoseEverySample(const SampledSensor& s, const std::vector<OutageWindow>& outages, double duration,
+                            double tick_period);
+/// The same for one scene key's outage [start, end].
+inline bool windowLosesEverySample(const SampledSensor& s, double start, double end, double duration,
+                                   double tick_period) {
+  return outagesLoseEverySample(s, {{start, end, true}}, duration, tick_period);
+}
 
 /// Why such a window is refused: "[start, end) s takes and delivers no star tracker sample (one every P s,
 /// sensors.star_tracker_rate; latency L s): it would change nothing but its flag".
