@@ -100,7 +100,9 @@ class TruthCheck {
       picked_.push_back(values_[static_cast<std::size_t>(std::find(names_.begin(), names_.end(), c) - names_.begin())]);
     }
     if (gimbalsim::bench::valuesHash(picked_) == t_.row_hash[k]) {
-      ++*compared;
+      if (matched_.empty()) matched_.assign(t_.row_hash.size(), 0);
+      *compared += matched_[k] ? 0 : 1;  // a truth heard twice is one row compared
+      matched_[k] = 1;
       return;
     }
     std::string column = "a column";
@@ -124,9 +126,29 @@ class TruthCheck {
     *diverged = why;
   }
 
+  /// The rows no truth was compared with, as ranges ("499..500"), at most five of them named.
+  std::string unmatchedRows() const {
+    std::string out;
+    int named = 0, more = 0;
+    const auto unmatched = [&](std::size_t k) { return matched_.empty() || !matched_[k]; };
+    for (std::size_t k = 0; k < t_.row_hash.size(); ++k) {
+      if (!unmatched(k)) continue;
+      std::size_t end = k;
+      while (end + 1 < t_.row_hash.size() && unmatched(end + 1)) ++end;
+      if (named++ < 5) {
+        out += (named > 1 ? ", " : "") + std::to_string(k) + (end > k ? ".." + std::to_string(end) : "");
+      } else {
+        ++more;
+      }
+      k = end;
+    }
+    return more ? out + " and " + std::to_string(more) + " more" : out;
+  }
+
  private:
   const Torques& t_;
   std::string path_;
+  std::vector<char> matched_;  // per row: a truth of the replayed plant matched it
   std::vector<std::string> names_;
   std::vector<double> values_, picked_;
 };
@@ -277,11 +299,27 @@ int mainImpl(int argc, char** argv) {
                  static_cast<long long>(answered));
     return gimbalsim::program::kNetwork;
   }
+  // (pass 105) the plant publishes the truth of its last ticks after the last answer: heard for up to 1 s more
+  // (it said "at 499 ticks" of a 501-row CSV, not which rows it had not compared)
+  const auto rows = static_cast<std::int64_t>(t.row_hash.size());
+  for (const std::int64_t until_ns = gimbalsim::lcm_wire::monotonicNs() + 1'000'000'000LL;
+       compared > 0 && compared < rows && diverged.empty() && gimbalsim::lcm_wire::monotonicNs() < until_ns;) {
+    if (rx.wait(100, 0) < 0) break;
+    rx.drain([&](const gimbalsim::lcm_wire::Message& m, std::int64_t) {
+      if (m.channel == ch.truth && diverged.empty()) truth_check.check(m, &compared, &diverged);
+    }, 256);
+  }
+  if (!diverged.empty()) {
+    std::fprintf(stderr, "torque_replay: not reproduced: %s\n", diverged.c_str());
+    return gimbalsim::program::kNotReproduced;
+  }
   std::fprintf(stderr, "torque_replay: answered statuses 0..%lld from %s\n", static_cast<long long>(last), truth.c_str());
   if (compared > 0) {
     std::fprintf(stderr, "torque_replay: the replayed plant's truth (%zu columns of its message: all but utime_us, "
-                 "seq, sim_time_s, tau1_Nm, tau2_Nm and faults) matched the recorded one bit for bit at %lld ticks\n", t.compared_columns.size(),
-                 static_cast<long long>(compared));
+                 "seq, sim_time_s, tau1_Nm, tau2_Nm and faults) matched the recorded one bit for bit at %lld of the "
+                 "%lld rows%s\n", t.compared_columns.size(), static_cast<long long>(compared),
+                 static_cast<long long>(rows), compared == rows ? "" : ("; no truth heard for rows " +
+                 truth_check.unmatchedRows() + ": not compared (the plant ended first, or the bus lost them)").c_str());
   } else {
     std::fprintf(stderr, "torque_replay: warning: no truth compared (%s): the replayed dynamics were not checked "
                  "against the recorded run\n", t.compared_columns.empty() ? "the CSV has none of the truth's columns"
