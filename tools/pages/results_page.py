@@ -231,10 +231,12 @@ def check_page(path, index=True, inputs=()):
     """The writer's rules for a page and its index (output_file.check_before_writing): Refused (exit 2) for a link,
     a folder that does not exist, one of `inputs`, or a README.md beside it that is no index of this writer. A
     study calls it before it measures: a page refused at the end would cost the run."""
-    path = pathlib.Path(path)
+    given, path = os.fspath(path), pathlib.Path(path)
     # (pass 104) a name holding a line feed forged an index row, one with ']' or ')' broke its link, a .txt page was
-    # indexed once and dropped by the next --index: a page is NAME.md in letters, digits, '.', '_' and '-'
-    if index and (not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]*\.md", path.name) or path.name == INDEX_NAME):
+    # indexed once and dropped by the next --index: a page is NAME.md in letters, digits, '.', '_' and '-'; (pass
+    # 106) 'x.md/' names a folder, and pathlib, dropping the '/', wrote the file x.md
+    if index and (given.endswith("/") or not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]*\.md", path.name) or
+                  path.name == INDEX_NAME):
         raise output_file.Refused(f"{str(path)!r}: a page's name is NAME.md in letters, digits, '.', '_' and '-' "
                                   f"(not {INDEX_NAME}): the index links it by that name")
     output_file.check_before_writing([path, path.parent / INDEX_NAME if index else None], inputs)
@@ -258,7 +260,8 @@ def write_page(path, title, command, body, summary="", t0=None, load0=None, inde
             raise output_file.Refused(f"{what}: '{bad}' would end or open a comment or code span of the page")
     summary_line = f"<!-- summary: {' '.join(summary.split())} -->\n" if summary else ""
     text = header(title, command, t0, load0) + summary_line + "\n" + body.rstrip("\n") + "\n"
-    check_page(path := pathlib.Path(path), index, inputs)
+    check_page(path, index, inputs)
+    path = pathlib.Path(path)
     with folder_held(path.parent) if index else contextlib.nullcontext():
         # The index is made (every other page read) before the page is written: a page that cannot be
         # indexed is no half-written study.
