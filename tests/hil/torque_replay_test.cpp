@@ -67,6 +67,33 @@ TEST(TorqueReplay, EveryStateColumnIsCompared) {
             std::string::npos) << readFile(dir / "replay.log");
 }
 
+// (pass 109) a plant that ended before the recording did: the replay said "the plant has gone" (6) and nothing of
+// the rows it had compared; it names them, and the rows whose truth never came
+TEST(TorqueReplay, APlantThatEndsFirstLeavesTheRowsNotComparedNamed) {
+  GIMBALSIM_HIL_REQUIRE_NETNS();
+  TempDir dir("replay_plant_first");
+  const std::string url = udpmUrl(7763);
+  {
+    std::ofstream csv(dir / "zero.csv");
+    csv << "seq,sim_time_s,tau1_Nm,tau2_Nm\n";
+    for (int k = 0; k <= 60; ++k) csv << k << "," << k * 0.001 << ",0,0\n";
+  }
+  // a truth CSV of 61 rows recorded first (zero torques), then replayed onto a plant that runs 0.03 s of it
+  const std::string replay = "timeout 60 '" + std::string(GIMBALSIM_TORQUE_REPLAY) + "' ";
+  const std::string fw = "timeout 60 " + firmwareSim() + " " + scenePath("paper_ideal") + " --lcm-url '" + url +
+                         "' --lockstep --start-timeout 10 ";
+  const std::string body = replay + "zero.csv --lcm-url '" + url + "' >rec_replay.log 2>&1 &\nR=$!\n" + fw +
+                           "--duration 0.06 --truth-csv rec.csv >rec.log 2>&1\nwait $R; r0=$?\n" + replay +
+                           "rec.csv --lcm-url '" + url + "' --idle-exit 1 >replay.log 2>&1 &\nR=$!\n" + fw +
+                           "--duration 0.03 >fw.log 2>&1\nwait $R; r=$?\necho \"r0 $r0 r $r\"\n"
+                           "[ $r0 -eq 0 ] && [ $r -eq 6 ]";
+  ASSERT_EQ(runInNetns(dir, body), 0) << readFile(dir / "run.log") << readFile(dir / "replay.log");
+  const std::string log = readFile(dir / "replay.log");
+  EXPECT_NE(log.find("the plant has gone"), std::string::npos) << log;
+  EXPECT_NE(log.find(" of the 61 rows; no truth heard for rows "), std::string::npos) << log;
+  EXPECT_NE(log.find("..60: not compared"), std::string::npos) << log;
+}
+
 // A truth CSV recorded at another control rate than the plant's: status k is
 // not row k's tick, so the replay stops at the first status that says so
 // (it answered tick k with the torque of another time, exit 0).

@@ -199,6 +199,22 @@ int mainImpl(int argc, char** argv) {
   std::int64_t compared = 0;  // truths that matched their rows
   std::int64_t asked_again = 0;  // the answered status heard again: a lockstep plant awaiting status 0's answer
                                  // re-sends it (the rejection of an answer shows first in status 1's flags)
+  const auto rows = static_cast<std::int64_t>(t.row_hash.size());
+  // The truths compared out of the CSV's rows, the rest named (pass 105: "at 499 ticks" of 501 rows said neither;
+  // pass 109: a plant that ended first said nothing of them)
+  const auto say_compared = [&] {
+    if (compared > 0) {
+      std::fprintf(stderr, "torque_replay: the replayed plant's truth (%zu columns of its message: all but "
+                   "utime_us, seq, sim_time_s, tau1_Nm, tau2_Nm and faults) matched the recorded one bit for bit at "
+                   "%lld of the %lld rows%s\n", t.compared_columns.size(), static_cast<long long>(compared),
+                   static_cast<long long>(rows), compared == rows ? "" : ("; no truth heard for rows " +
+                   truth_check.unmatchedRows() + ": not compared (the plant ended first, or the bus lost them)").c_str());
+    } else {
+      std::fprintf(stderr, "torque_replay: warning: no truth compared (%s): the replayed dynamics were not checked "
+                   "against the recorded run\n", t.compared_columns.empty() ? "the CSV has none of the truth's "
+                   "columns" : ("none heard on " + ch.truth).c_str());
+    }
+  };
   while (answered < last && sent && mismatch.empty() && diverged.empty()) {
     if (rx.wait(100, 0) < 0) return gimbalsim::program::kNetwork;
     rx.drain([&](const gimbalsim::lcm_wire::Message& m, std::int64_t) {
@@ -282,6 +298,7 @@ int mainImpl(int argc, char** argv) {
       } else {
         std::fprintf(stderr, "torque_replay: error: the plant has gone: no status for %g s after status %lld\n",
                      idle_exit, static_cast<long long>(answered));
+        say_compared();
       }
       return gimbalsim::program::kNoPeer;
     }
@@ -300,8 +317,6 @@ int mainImpl(int argc, char** argv) {
     return gimbalsim::program::kNetwork;
   }
   // (pass 105) the plant publishes the truth of its last ticks after the last answer: heard for up to 1 s more
-  // (it said "at 499 ticks" of a 501-row CSV, not which rows it had not compared)
-  const auto rows = static_cast<std::int64_t>(t.row_hash.size());
   for (const std::int64_t until_ns = gimbalsim::lcm_wire::monotonicNs() + 1'000'000'000LL;
        compared > 0 && compared < rows && diverged.empty() && gimbalsim::lcm_wire::monotonicNs() < until_ns;) {
     if (rx.wait(100, 0) < 0) break;
@@ -314,17 +329,7 @@ int mainImpl(int argc, char** argv) {
     return gimbalsim::program::kNotReproduced;
   }
   std::fprintf(stderr, "torque_replay: answered statuses 0..%lld from %s\n", static_cast<long long>(last), truth.c_str());
-  if (compared > 0) {
-    std::fprintf(stderr, "torque_replay: the replayed plant's truth (%zu columns of its message: all but utime_us, "
-                 "seq, sim_time_s, tau1_Nm, tau2_Nm and faults) matched the recorded one bit for bit at %lld of the "
-                 "%lld rows%s\n", t.compared_columns.size(), static_cast<long long>(compared),
-                 static_cast<long long>(rows), compared == rows ? "" : ("; no truth heard for rows " +
-                 truth_check.unmatchedRows() + ": not compared (the plant ended first, or the bus lost them)").c_str());
-  } else {
-    std::fprintf(stderr, "torque_replay: warning: no truth compared (%s): the replayed dynamics were not checked "
-                 "against the recorded run\n", t.compared_columns.empty() ? "the CSV has none of the truth's columns"
-                 : ("none heard on " + ch.truth).c_str());
-  }
+  say_compared();
   return gimbalsim::program::kOk;
 }
 
