@@ -278,6 +278,13 @@ FaultSchedule loadFaultSchedule(const std::string& path) {
   return loadFaultScheduleText(text, path);
 }
 
+int torqueLimitClipsNothingOn(const FaultSpec& f, const Vec2& limit_Nm) {
+  for (int j = 0; j < 2 && f.kind == FaultKind::TorqueLimit; ++j) {
+    if ((f.axis == j || f.axis < 0) && !(f.value < limit_Nm(j))) return j;
+  }
+  return -1;
+}
+
 std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, double duration, double tick_period,
                                                      const std::string& origin) {
   std::vector<std::string> out;
@@ -333,15 +340,10 @@ std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const P
       continue;
     }
     // (pass 79) a limit at or above the motor's drops nothing: the fault would be flagged and act on nothing
-    if (f.kind == FaultKind::TorqueLimit) {
-      for (int j = 0; j < 2; ++j) {
-        if ((f.axis == j || f.axis < 0) && !(f.value < ps.scene.run.torque_limit(j))) {
-          out.push_back(at_param + "key 'limit': " + formatNumber(f.value) + " N m is not below the " +
-                        (j == 0 ? "azimuth" : "elevation") + " motor's limit (scene key torque.limit, " +
-                        formatNumber(ps.scene.run.torque_limit(j)) + " N m): the limit would not drop");
-          break;
-        }
-      }
+    if (const int j = torqueLimitClipsNothingOn(f, ps.scene.run.torque_limit); j >= 0) {
+      out.push_back(at_param + "key 'limit': " + formatNumber(f.value) + " N m is not below the " +
+                    (j == 0 ? "azimuth" : "elevation") + " motor's limit (scene key torque.limit, " +
+                    formatNumber(ps.scene.run.torque_limit(j)) + " N m): the limit would not drop");
     }
     if (!faultIsRamp(f.kind)) continue;
     if (f.axis >= 0 && m.jointKind(f.axis) == ClearanceKind::Ideal) {

@@ -5,6 +5,9 @@
 
 #include <pybind11/pybind11.h>
 
+#include <cstddef>
+#include <string>
+
 #include "gimbalsim/firmware_sim/plant_scene.hpp"
 #include "guarded_caster.hpp"
 
@@ -38,8 +41,9 @@ void bindSimulator(pybind11::module_& m);   ///< State, Simulator
 void bindController(pybind11::module_& m);  ///< Controller, closed_loop
 void bindStudyRules(pybind11::module_& m);  ///< the studies' key rules (_controller_read_rules, ...)
 
-/// The columns of a closed loop's ticks (closed_loop's memory bound counts them).
-int closedLoopColumns();
+/// The rows of a closed loop's ticks over duration [s] at control_period [s], refused (MemoryError) when they would
+/// not fit in memory (pass 82: 1e8 s at 1 ms grew towards 30 TB); note: said after the run's length.
+std::size_t closedLoopRowsFit(double duration, double control_period, const std::string& note);
 
 }  // namespace gimbalsim::py
 

@@ -67,8 +67,7 @@ void refuseIdleOutages(const PyScene& s, const ControllerConfig& c, double durat
 /// (pass 99) A value recorded as given that runs as another (pointing.mode joint with accel_feedforward inertial
 /// ran as profile), where pointing_controller refuses it: refused naming the feed-forward key.
 void refuseValueRunningAsAnother(const PyController& c) {
-  if (!controllerValueRunsAsAnother(c.config).empty()) {  // (pass 106) named where it was given, as a load's problem
-    Problem p = c.config.runs_as_another;
+  if (Problem p = c.config.runs_as_another; !p.text.empty()) {  // (pass 106) named where given, as a load's problem
     p.text = relabelledProblems(InputError({p}), c.labels).front() + " (pointing_controller refuses it)";
     raiseSceneError(InputError({p}));
   }
@@ -223,7 +222,11 @@ void guardNonFinite(const Ticks& ticks, pyb::dict& summary) {
 
 }  // namespace
 
-int closedLoopColumns() { return Ticks::kN; }
+std::size_t closedLoopRowsFit(double duration, double control_period, const std::string& note) {
+  return rowsFitInMemory(std::floor(duration / control_period + 0.5) + 1.0, Ticks::kN,
+                         "closed_loop (duration " + formatNumber(duration) + " s at control.period " +
+                             formatNumber(control_period) + " s" + note + ")");
+}
 
 void bindController(pyb::module_& m) {
   pyb::class_<PyController>(m, "Controller",
@@ -322,11 +325,8 @@ void bindController(pyb::module_& m) {
          bool refuse_idle) {
         // (0, 1e9] as closed_loop and controller_sweep --duration say (1e9 itself was refused, pass 82)
         if (!(duration > 0.0 && duration <= 1e9)) throw pyb::value_error("duration [s] must be in (0, 1e+09]");
-        // 1e8 s at 1 ms ran on, growing the process towards 30 TB of ticks (pass 82)
-        const std::size_t rows = rowsFitInMemory(
-            std::floor(duration / c.config.period + 0.5) + 1.0, Ticks::kN,
-            "closed_loop (duration " + formatNumber(duration) + " s at control.period " +
-                formatNumber(c.config.period) + " s; controller_sweep streams its ticks)");
+        const std::size_t rows =
+            closedLoopRowsFit(duration, c.config.period, "; controller_sweep streams its ticks");
         ClosedLoopOptions opt;
         opt.duration = duration;
         opt.settle_tol = settle_tol;
@@ -344,18 +344,15 @@ void bindController(pyb::module_& m) {
               bad = firmware::checkFaultsAgainstSamples(schedule, s.plant, duration, period, faults);
             }
             // (pass 104) a limit at or above the controller's own holds no command the controller sends
+            const Vec2 own(c.config.axis[0].torque_limit, c.config.axis[1].torque_limit);
             for (std::size_t i = 0; i < schedule.faults.size() && bad.empty(); ++i) {
               const firmware::FaultSpec& f = schedule.faults[i];
-              for (int j = 0; j < 2 && f.kind == firmware::FaultKind::TorqueLimit; ++j) {
-                const double own = c.config.axis[static_cast<std::size_t>(j)].torque_limit;
-                if ((f.axis == j || f.axis < 0) && !(f.value < own)) {
-                  bad.push_back(faults + ":" + std::to_string(f.param_line > 0 ? f.param_line : f.line) + ": fault #" +
-                                std::to_string(i + 1) + " (torque_limit): key 'limit': " + formatNumber(f.value) +
-                                " N m is not below the controller's own " + (j == 0 ? "azimuth" : "elevation") +
-                                ".torque_limit (" + formatNumber(own) + " N m), which holds every command: the limit "
-                                "would clip nothing");
-                  break;
-                }
+              if (const int j = firmware::torqueLimitClipsNothingOn(f, own); j >= 0) {
+                bad.push_back(faults + ":" + std::to_string(f.param_line > 0 ? f.param_line : f.line) + ": fault #" +
+                              std::to_string(i + 1) + " (torque_limit): key 'limit': " + formatNumber(f.value) +
+                              " N m is not below the controller's own " + (j == 0 ? "azimuth" : "elevation") +
+                              ".torque_limit (" + formatNumber(own(j)) + " N m), which holds every command: the "
+                              "limit would clip nothing");
               }
             }
             if (!bad.empty()) {

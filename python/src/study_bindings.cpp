@@ -52,9 +52,7 @@ void bindStudyRules(pyb::module_& m) {
   // every sample ended in closed_loop's MemoryError (a traceback, exit 1)
   m.def("_closed_loop_fits_in_memory", [](double duration, double control_period) {
     if (!(duration > 0.0 && control_period > 0.0)) throw pyb::value_error("duration and period must be > 0 s");
-    rowsFitInMemory(std::floor(duration / control_period + 0.5) + 1.0, closedLoopColumns(),
-                    "closed_loop (duration " + formatNumber(duration) + " s at control.period " +
-                        formatNumber(control_period) + " s)");
+    closedLoopRowsFit(duration, control_period, "");
   });
 }
 

@@ -50,20 +50,21 @@ bool identify(const std::string& path, Identity& id) {
   return true;
 }
 
-/// The file of this process's code that id is ("" when none): the executable, the loader and every shared
-/// library mapped (/proc/self/maps). (pass 105) --out over a loaded libyaml-cpp replaced it; every later run of
-/// every program failed to start.
-std::string mappedCodeFile(const Identity& id) {
+/// The files of this process's code: the executable, the loader and every shared library mapped
+/// (/proc/self/maps), each with its identity. (pass 105) --out over a loaded libyaml-cpp replaced it; every later
+/// run of every program failed to start.
+std::vector<std::pair<std::string, Identity>> mappedCodeFiles() {
   std::ifstream maps("/proc/self/maps");
   std::set<std::string> paths;
   for (std::string line; std::getline(maps, line);) {
     const auto slash = line.find('/');
     if (slash != std::string::npos) paths.insert(line.substr(slash));
   }
+  std::vector<std::pair<std::string, Identity>> out;
   for (const std::string& path : paths) {
-    if (Identity mapped; identify(path, mapped) && mapped.name.empty() && mapped == id) return path;
+    if (Identity mapped; identify(path, mapped) && mapped.name.empty()) out.emplace_back(path, mapped);
   }
-  return "";
+  return out;
 }
 
 /// The folder of $PATH that holds path, when path is an executable file there ("" else): a program anything run by
@@ -111,7 +112,7 @@ void checkOne(const std::string& path) {
 }  // namespace
 
 void checkOutputPaths(const std::vector<std::string>& outputs, const std::vector<std::string>& inputs) {
-  std::vector<std::pair<std::string, Identity>> seen;
+  std::vector<std::pair<std::string, Identity>> seen, code;
   for (const std::string& out : outputs) {
     if (out.empty()) continue;
     checkOne(out);
@@ -130,8 +131,10 @@ void checkOutputPaths(const std::vector<std::string>& outputs, const std::vector
     if (Identity self; identify("/proc/self/exe", self) && self == id) {
       throw OutputError(out + ": the same file as this program (the executable running); not overwritten");
     }
-    if (const std::string code = mappedCodeFile(id); !code.empty()) {
-      throw OutputError(out + ": the same file as " + code + ", a library this program runs; not overwritten");
+    if (code.empty()) code = mappedCodeFiles();  // read once per call, and only when there is an output
+    for (const auto& [path, mapped] : code) {
+      if (mapped == id) throw OutputError(out + ": the same file as " + path + ", a library this program runs; not "
+                                          "overwritten");
     }
     seen.emplace_back(out, id);
   }

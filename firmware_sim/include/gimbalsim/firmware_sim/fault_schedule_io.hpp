@@ -35,6 +35,10 @@ FaultSchedule loadFaultScheduleText(const std::string& yaml, const std::string& 
 /// sensors): problems naming origin:line, the entry and the key; empty when fine.
 std::vector<std::string> checkFaultsAgainstScene(const FaultSchedule& s, const PlantScene& ps, const std::string& origin);
 
+/// The first axis (0 azimuth, 1 elevation) a torque_limit fault acts on whose limit_Nm(axis) [N m] (the motor's,
+/// the controller's) it is not below: there it clips nothing. -1 when it clips on each, or is no torque_limit.
+int torqueLimitClipsNothingOn(const FaultSpec& f, const Vec2& limit_Nm);
+
 /// The checks that need the run's length [s] and its tick period [s]: a schedule whose every fault starts after
 /// the run's end would act in no tick while the run was recorded with it (pass 73), and so would a fault (not a
 /// ramp, which holds from its start) whose [start, end) falls between two ticks (pass 78); a run cut short of
