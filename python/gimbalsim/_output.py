@@ -131,19 +131,27 @@ def _check_one(path):
         raise OutputRefused(f"{path}: is a symbolic link; not written through (give its target)")
     if st is not None and not stat.S_ISREG(st.st_mode):
         raise OutputRefused(f"{path}: exists and is not a regular file ({_kind(st.st_mode)}); not written")
-    if st is not None and st.st_mode & 0o111 and (folder := _program_folder_on_path(path)):
-        raise OutputRefused(f"{path}: an executable file in {folder}, a folder on PATH (a program anything run by "
-                            f"name may be); not overwritten")
+    if st is not None and st.st_mode & 0o111 and (where := _program_on_path(path, st)):
+        raise OutputRefused(f"{path}: an executable file {where} (a program anything run by name may be); not "
+                            "overwritten")
     if not os.path.isdir(_folder(path)):
         raise OutputRefused(f"{path}: its directory {_folder(path)} does not exist")
 
 
-def _program_folder_on_path(path):
-    """The folder of $PATH holding path ("" the current one), or None. (pass 103, 107) the scripts' lists of the
-    programs they run by name always missed one (realpath, rmdir)."""
+def _program_on_path(path, st):
+    """Where anything run by name finds the executable file path as a program ("in F, a folder on PATH", or "run
+    as F/name on PATH": a link or a hard link there), or None. (pass 103, 107) the scripts' lists of the programs
+    they run by name always missed one; (pass 108) a link in a PATH folder made a file elsewhere a program."""
     here = _identity(_folder(path) + "/.")
-    return next((e or "." for e in os.environ.get("PATH", "").split(":")
-                 if here is not None and _identity((e or ".") + "/.") == here), None)
+    for entry in [e or "." for e in os.environ.get("PATH", "").split(":")]:
+        if here is not None and _identity(entry + "/.") == here:
+            return f"in {entry}, a folder on PATH"
+        with contextlib.suppress(OSError), os.scandir(entry) as names:
+            for e in names:
+                with contextlib.suppress(OSError):
+                    if not e.is_dir() and os.stat(e.path)[1:3] == (st.st_ino, st.st_dev):
+                        return f"run as {e.path} on PATH"
+    return None
 
 
 def check_outputs(outputs, inputs=()):

@@ -120,6 +120,15 @@ TEST_F(OutputPolicy, AnExecutableFileInAFolderOnPathIsRefused) {
                                          ", a folder on PATH (a program anything run by name may be); not overwritten");
   }
   EXPECT_NO_THROW(checkOutputPaths({path("bin/data"), path("tool"), path("bin/new")}));
+  // (pass 108) a link (or a hard link) in a PATH folder makes a file elsewhere a program run by that name
+  fs::create_symlink("../tool", dir_ / "bin" / "link");
+  try {
+    checkOutputPaths({path("tool")});
+    ADD_FAILURE() << "an executable linked from a PATH folder was accepted as an output";
+  } catch (const OutputError& e) {
+    EXPECT_EQ(std::string(e.what()), path("tool") + ": an executable file run as " + (dir_ / "bin" / ".").string() +
+                                         "/link on PATH (a program anything run by name may be); not overwritten");
+  }
   ::setenv("PATH", old_path.c_str(), 1);
   EXPECT_EQ(read(path("bin/prog")), "#!/bin/sh\n");
 }

@@ -1,5 +1,6 @@
 #include "gimbalsim/io/output_file.hpp"
 
+#include <dirent.h>
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/stat.h>
@@ -67,9 +68,11 @@ std::vector<std::pair<std::string, Identity>> mappedCodeFiles() {
   return out;
 }
 
-/// The folder of $PATH that holds path, when path is an executable file there ("" else): a program anything run by
-/// name finds. (pass 103, 107) the scripts' lists of the programs they run by name always missed one (realpath, rmdir).
-std::string programFolderOnPath(const std::string& path, const struct stat& st) {
+/// Where anything run by name finds the executable file path (stat st) as a program: "in F, a folder on PATH",
+/// or "run as F/name on PATH" (a link or a hard link to it there); "" when it is none. (pass 103, 107) the
+/// scripts' lists of the programs they run by name always missed one (realpath, rmdir); (pass 108) a link in a
+/// PATH folder made a file elsewhere a program.
+std::string programOnPath(const std::string& path, const struct stat& st) {
   const char* env = std::getenv("PATH");
   struct stat folder {};
   if (!env || (st.st_mode & 0111) == 0 || ::stat(dirOf(path).c_str(), &folder) != 0) return "";
@@ -77,11 +80,18 @@ std::string programFolderOnPath(const std::string& path, const struct stat& st) 
   for (std::size_t start = 0; start <= list.size();) {
     const std::size_t end = std::min(list.find(':', start), list.size());
     const std::string entry = end > start ? list.substr(start, end - start) : ".";  // "" is the current folder
-    struct stat on_path {};
-    if (::stat(entry.c_str(), &on_path) == 0 && on_path.st_dev == folder.st_dev && on_path.st_ino == folder.st_ino) {
-      return entry;
-    }
     start = end + 1;
+    struct stat on_path {};
+    if (::stat(entry.c_str(), &on_path) != 0) continue;
+    if (on_path.st_dev == folder.st_dev && on_path.st_ino == folder.st_ino) return "in " + entry + ", a folder on PATH";
+    const std::unique_ptr<DIR, int (*)(DIR*)> dir(::opendir(entry.c_str()), ::closedir);
+    for (const dirent* e = dir ? ::readdir(dir.get()) : nullptr; e != nullptr; e = ::readdir(dir.get())) {
+      struct stat named {};
+      if (e->d_type != DT_DIR && ::stat((entry + "/" + e->d_name).c_str(), &named) == 0 &&
+          named.st_dev == st.st_dev && named.st_ino == st.st_ino) {
+        return "run as " + entry + "/" + e->d_name + " on PATH";
+      }
+    }
   }
   return "";
 }
@@ -96,9 +106,9 @@ void checkOne(const std::string& path) {
   if (::lstat(path.c_str(), &st) == 0) {
     if (S_ISLNK(st.st_mode)) throw OutputError(path + ": is a symbolic link; not written through (give its target)");
     if (!S_ISREG(st.st_mode)) throw OutputError(path + ": exists and is not a regular file; not written");
-    if (const std::string folder = programFolderOnPath(path, st); !folder.empty()) {
-      throw OutputError(path + ": an executable file in " + folder + ", a folder on PATH (a program anything run by "
-                        "name may be); not overwritten");
+    if (const std::string where = programOnPath(path, st); !where.empty()) {
+      throw OutputError(path + ": an executable file " + where + " (a program anything run by name may be); not "
+                        "overwritten");
     }
   } else if (errno != ENOENT) {
     throw OutputError(path + ": " + std::strerror(errno));
