@@ -40,6 +40,7 @@ from . import _checked_methods  # noqa: E402
 from ._gimbalsim import COLUMNS, Scene, Simulator, State
 from ._record import Columns as _Columns, frozen as _frozen  # noqa: E402
 from ._scene_warnings import SceneWarning, warn_loaded as _warn_loaded  # noqa: E402
+from ._spec import shown_text as _shown_text  # noqa: E402
 
 _checked_methods.install()  # number arguments checked before the binding converts them
 __version__ = _gimbalsim.__version__  # the one version string, also every program's --version
@@ -93,9 +94,8 @@ def _overrides_and_labels(overrides, sources=None):
 
 
 def _relabelled(error, texts, labels):
-    """SceneError `error` with each "--set #k 'text'" (the command line's place
-    of an override) replaced by the override's own label: "overrides['key']
-    (text)" or "spec.yaml:LINE (text)", whose file and line then fill the
+    """SceneError `error` with each "--set #k 'text'" (the command line's place of an override) replaced by the
+    override's own label: "overrides['key'] (text)" or "spec.yaml:LINE (text)", whose file and line then fill the
     problem's fields."""
     message = str(error)
     problems = []
@@ -107,7 +107,8 @@ def _relabelled(error, texts, labels):
             if isinstance(label, tuple):
                 p["file"], p["line"] = str(label[0]), int(label[1])
                 label = f"{label[0]}:{label[1]}"
-            old, new = f"--set #{k} '{texts[k - 1]}'", f"{label} ({texts[k - 1]})"
+            shown = _shown_text(texts[k - 1])  # as the C++ place shows it (pass 108: it was not relabelled)
+            old, new = f"--set #{k} '{shown}'", f"{label} ({shown})"
             p["text"] = p["text"].replace(old, new, 1)
             p["source"] = label
             message = message.replace(old, new)

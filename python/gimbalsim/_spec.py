@@ -39,6 +39,11 @@ _UNPRINTABLE = re.compile(f"[^\t\n\r\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010
 _CONTROL = re.compile(f"[\x00-\x08\x0a-\x1f\x7f-\x9f{_LAYOUT}]")
 
 
+def shown_text(text):
+    """text as a refusal may print it: each _CONTROL character as <U+XXXX> (the C++ shownText's rule)."""
+    return _CONTROL.sub(lambda m: f"<U+{ord(m.group()):04X}>", text)
+
+
 class Spec:
     """A spec file: ``root`` (a Node), ``path``, and ``refuse(key, message,
     node)`` raising SpecError at the node's position. Its paths are read

@@ -100,7 +100,7 @@ TEST(FaultScheduleFile, RefusalsNameLineColumnEntryAndKey) {
   // (pass 107) a key holding U+202E was printed raw (the line ran backwards): raw in the file it is refused at its
   // place; from a quoted key's escape it is shown by its code point, in the schedule's and a fault's unknown keys
   const std::string raw = refusal("note\u202e: 1\n");
-  EXPECT_NE(raw.find("f.yaml:1:5: character U+202e splits or reorders the line"), std::string::npos) << raw;
+  EXPECT_NE(raw.find("f.yaml:1:5: character U+202E splits or reorders the line"), std::string::npos) << raw;
   for (const std::string& text : {std::string("\"no\\u202ete\": 1\n"),
                                    std::string("faults:\n  - {type: status_drop, \"no\\u202ete\": 1}\n")}) {
     const std::string shown = refusal(text);

@@ -166,6 +166,19 @@ def test_a_layout_character_in_a_spec_comment_is_refused_at_its_place(tmp_path, 
     assert mark not in p.stderr, repr(p.stderr)
 
 
+# (pass 108) an override holding such a character was refused with the command line's place ("--set #1 ..."):
+# the shown text no longer matched the one the relabelling looked for
+def test_an_override_holding_a_layout_character_is_named_as_the_caller_gave_it():
+    with pytest.raises(gimbalsim.SceneError) as e:
+        gimbalsim.load_scene(scene_path("paper_clearance"), {"sim.step": "1\u202e"})
+    assert str(e.value).startswith("overrides['sim.step'] (sim.step=1<U+202E>): key 'sim.step': character U+202E"), \
+        str(e.value)
+    with pytest.raises(gimbalsim.SceneError) as e:
+        gimbalsim.Controller(None, {"bad\u202e": 1})
+    assert "(bad<U+202E>=1): unknown key 'bad<U+202E>'" in str(e.value) and "--set #" not in str(e.value), str(e.value)
+    assert "\u202e" not in str(e.value).split(" (", 1)[1], str(e.value)
+
+
 # (pass 93) an outage between two samples of the 10 Hz star tracker takes and drops none: it acted on nothing but
 # its flag (the bench refuses the same window as a fault and as a --set)
 GAPS = [('sensors.star_tracker_outage: "[0.25, 0.28]"', "", True),

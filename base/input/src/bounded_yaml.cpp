@@ -6,6 +6,7 @@
 #include <yaml-cpp/eventhandler.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <sstream>
 #include <vector>
@@ -128,8 +129,10 @@ void refuseUnprintable(const std::string& text) {
     if (!printable) refuse(i, "character U+" + hex(cp, 4) + " (a control character) is not YAML text");
     // (pass 105) in a comment too: "# was<U+2028>  restitution: 0.2" shows a line the loader never reads
     if (isLayoutCodePoint(cp)) {
-      refuse(i, "character U+" + hex(cp, 4) + " splits or reorders the line an editor shows (refused anywhere in a "
-                "file, comments too)");
+      char code[8];
+      std::snprintf(code, sizeof code, "%04X", cp);  // U+202E, as every other message names one
+      refuse(i, "character U+" + std::string(code) + " splits or reorders the line an editor shows (refused "
+                "anywhere in a file, comments too)");
     }
     if (cp == 0x0A) {
       ++line;
