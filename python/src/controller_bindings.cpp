@@ -347,8 +347,10 @@ void bindController(pyb::module_& m) {
             const Vec2 own(c.config.axis[0].torque_limit, c.config.axis[1].torque_limit);
             for (std::size_t i = 0; i < schedule.faults.size() && bad.empty(); ++i) {
               const firmware::FaultSpec& f = schedule.faults[i];
-              if (const int j = firmware::torqueLimitClipsNothingOn(f, own); j >= 0) {
-                bad.push_back(faults + ":" + std::to_string(f.param_line > 0 ? f.param_line : f.line) + ": fault #" +
+              if (const int j = firmware::torqueLimitClipsNothingOn(f, own); j >= 0) {  // (pass 108) its column too
+                const bool at_limit = f.param_line > 0;
+                bad.push_back(faults + ":" + std::to_string(at_limit ? f.param_line : f.line) + ":" +
+                              std::to_string(at_limit ? f.param_column : f.column) + ": fault #" +
                               std::to_string(i + 1) + " (torque_limit): key 'limit': " + formatNumber(f.value) +
                               " N m is not below the controller's own " + (j == 0 ? "azimuth" : "elevation") +
                               ".torque_limit (" + formatNumber(own(j)) + " N m), which holds every command: the "

@@ -229,5 +229,9 @@ def test_a_torque_limit_fault_at_or_above_the_controllers_own_is_refused(tmp_pat
     if not refused:
         assert gimbalsim.closed_loop(scene, ctrl, 0.4, faults=tmp_path / "f.yaml").summary["ok"]
         return
-    with pytest.raises(gimbalsim.SceneError, match="not below the controller's own azimuth.torque_limit"):
+    with pytest.raises(gimbalsim.SceneError, match="not below the controller's own azimuth.torque_limit") as e:
         gimbalsim.closed_loop(scene, ctrl, 0.4, faults=tmp_path / "f.yaml")
+    # (pass 108) at its line and column, as every other fault refusal: the limit's value, after "  - "
+    column = len("  - ") + fault.index("limit:") + len("limit: ") + 1
+    assert str(e.value).startswith(f"{tmp_path / 'f.yaml'}:3:{column}: fault #1 (torque_limit): key 'limit'"), \
+        str(e.value)
