@@ -315,12 +315,14 @@ def test_a_line_feed_in_a_pages_title_or_command_is_refused(tmp_path, field):
     assert "<!-- summary: one line -->" in page.read_text()
 
 
-@pytest.mark.parametrize("name", ["zz\n- [forged](x.md): p.md", "a b.md", "a](x).md", "page.txt", "README.md", "x.md/"])
+@pytest.mark.parametrize("name", ["zz\n- [forged](x.md): p.md", "a b.md", "a](x).md", "page.txt", "README.md", "x.md/",
+                                  "x.md/."])
 def test_a_pages_name_is_one_the_index_can_link(tmp_path, name):
     # (pass 104) a line feed in --page forged an index row that every later --index kept; ']' or ')' broke the link;
     # a .txt page was indexed when written and dropped by the next --index; (pass 106) x.md/ was written as x.md
-    with pytest.raises(results_page.output_file.Refused, match="a page's name is NAME.md"):
+    with pytest.raises(results_page.output_file.Refused, match="a page's name is NAME.md") as e:
         results_page.write_page(f"{tmp_path}/{name}", "T", "cmd", "| a |\n", "s")
+    assert repr(f"{tmp_path}/{name}") in str(e.value), str(e.value)  # named as given (pass 108: the '/' was dropped)
     assert os.listdir(tmp_path) == []
 
 

@@ -233,11 +233,11 @@ def check_page(path, index=True, inputs=()):
     study calls it before it measures: a page refused at the end would cost the run."""
     given, path = os.fspath(path), pathlib.Path(path)
     # (pass 104) a name holding a line feed forged an index row, one with ']' or ')' broke its link, a .txt page was
-    # indexed once and dropped by the next --index: a page is NAME.md in letters, digits, '.', '_' and '-'; (pass
-    # 106) 'x.md/' names a folder, and pathlib, dropping the '/', wrote the file x.md
-    if index and (given.endswith("/") or not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]*\.md", path.name) or
-                  path.name == INDEX_NAME):
-        raise output_file.Refused(f"{str(path)!r}: a page's name is NAME.md in letters, digits, '.', '_' and '-' "
+    # indexed once and dropped by the next --index: a page is NAME.md in letters, digits, '.', '_' and '-'; (passes
+    # 106, 108) 'x.md/' or 'x.md/.' names a folder, and pathlib, dropping the '/' or '/.', wrote the file x.md
+    if index and (os.path.basename(given) != path.name or path.name == INDEX_NAME or
+                  not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]*\.md", path.name)):
+        raise output_file.Refused(f"{given!r}: a page's name is NAME.md in letters, digits, '.', '_' and '-' "
                                   f"(not {INDEX_NAME}): the index links it by that name")
     output_file.check_before_writing([path, path.parent / INDEX_NAME if index else None], inputs)
     if index:
