@@ -209,10 +209,14 @@ int run(int argc, char** argv) {
   // The same when the plant went away after refusing every answer (a lockstep
   // plant ends so): the refusal is the story, not the missing peer.
   const bool plant_went = code == program::kNoPeer && h.answered() > 0;
-  if ((code == program::kOk || plant_went) && h.answered() >= kStatusesToJudge && !h.acceptedAny()) {
-    std::fprintf(stderr, "pointing_controller: the plant accepted none of the commands answering %lld statuses (%lld "
+  // (pass 103) and one that took fewer than it takes to judge, the rest refused (a 10-tick run, t = 0's taken)
+  const long long refused = h.answered() - h.accepted() - 1;  // the last answer's fate shows in no status
+  if ((code == program::kOk || plant_went) && h.answered() >= kStatusesToJudge &&
+      (!h.acceptedAny() || (h.accepted() < kStatusesToJudge && refused >= kStatusesToJudge))) {
+    std::fprintf(stderr, "pointing_controller: the plant accepted %s of the commands answering %lld statuses (%lld "
                  "not sent: a torque NaN or Inf); the plant's summary says why it refused or lost the rest\n",
-                 h.answered(), h.notFinite());
+                 h.acceptedAny() ? ("only " + std::to_string(h.accepted())).c_str() : "none", h.answered(),
+                 h.notFinite());
     code = program::kStopped;
   }
   // A lockstep plant ends the run after kRejectedInARow answers it rejected, or sooner when it waited

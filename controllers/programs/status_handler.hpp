@@ -114,6 +114,7 @@ class StatusHandler {
     // the same base would read the first's acceptances as its own: pass 33).
     if (first_sent_seq_ >= 0 && st.last_command_seq >= first_sent_seq_ && st.last_command_seq < next_seq_) {
       accepted_any_ = true;
+      if (st.last_command_seq != last_accepted_seq_) ++accepted_, last_accepted_seq_ = st.last_command_seq;
     }
     // Bookkeeping after the answer is on its way.
     ++answered_;
@@ -183,6 +184,8 @@ class StatusHandler {
   long long notFinite() const { return not_finite_; }
   /// Whether the plant has reported accepting one of this controller's commands.
   bool acceptedAny() const { return accepted_any_; }
+  /// Our commands the plant's statuses show it took (the last answer's shows in a status that may never come).
+  long long accepted() const { return accepted_; }
   /// The last statuses in a row saying the plant rejected our answer to the one before.
   long long rejectedInARow() const { return rejected_in_a_row_; }
   double lastTime() const { return last_t_; }
@@ -262,6 +265,8 @@ class StatusHandler {
   long long not_finite_ = 0;            ///< answers not sent: a torque NaN or Inf
   std::int64_t first_sent_seq_ = -1;    ///< seq of the first command sent (-1: none yet)
   bool accepted_any_ = false;
+  long long accepted_ = 0;
+  std::int64_t last_accepted_seq_ = -1;
   long long rejected_in_a_row_ = 0;
   std::int64_t prev_last_command_seq_ = -1;
   long long track_statuses_ = 0;

@@ -30,6 +30,23 @@ TEST(CommandRejection, ARunWhoseEveryCommandThePlantRejectedIsNotOk) {
   EXPECT_EQ(r.error, "the plant accepted none of the controller's 20 commands (torque beyond the sanity range)");
 }
 
+// (pass 103) a run too short for 30 in a row whose plant took only t = 0's command (the profile's rest) and
+// rejected the 9 after it (a track of 1000 rad at 1 MHz, the controller's limit 1e6 N m) ended "ok" with figures
+// of a run the controller never acted on; below kStatusesToJudge rejected it is not judged
+TEST(CommandRejection, AShortRunWhosePlantTookFewerThanItTakesToJudgeIsNotOk) {
+  const ControllerConfig c = defaultConfig(
+      {"profile.slew_start=0", "profile.slew_time=1e-6", "profile.hold_time=0", "profile.track_amplitude=[1000, 1000]",
+       "profile.track_period=[1e-6, 1e-6]", "azimuth.torque_limit=1e6", "elevation.torque_limit=1e6"});
+  ClosedLoopOptions opt;
+  opt.duration = 0.01;
+  const ClosedLoopResult r = runClosedLoop(test::scene("paper_ideal"), c, opt);
+  EXPECT_FALSE(r.ok);
+  EXPECT_TRUE(r.rejected_stop);
+  EXPECT_EQ(r.error, "the plant accepted only 1 of the controller's 10 commands (torque beyond the sanity range)");
+  opt.duration = 0.003;  // 1 taken, 2 rejected: too few to judge
+  EXPECT_TRUE(runClosedLoop(test::scene("paper_ideal"), c, opt).ok);
+}
+
 // A plant that rejects the commands in a row ends the run where the lockstep bench ends it (exit 3 after
 // kRejectedInARow), not "ok" over a run it mostly refused (pass 56: torque.limit 1 N m, a 50 N m slew
 // command rejected for seconds, ok in process, exit 3 on the bench).
