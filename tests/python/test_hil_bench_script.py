@@ -37,6 +37,24 @@ def test_a_link_under_an_output_name_is_refused_before_anything_runs(tmp_path):
     assert (tmp_path / "victim.txt").read_text() == "victim\n" and sorted(os.listdir(out)) == ["controller.txt"]
 
 
+def test_an_output_in_out_that_is_a_program_on_path_is_refused_before_anything_runs(tmp_path, monkeypatch):
+    # (pass 111) truth.csv in --out, an executable that a folder on PATH holds or a link there names, was replaced
+    # by the run's CSV (exit 0): the script moves its outputs into --out itself
+    out = tmp_path / "bo"
+    out.mkdir()
+    (tmp_path / "path").mkdir()
+    shutil.copy(shutil.which("true"), out / "truth.csv")
+    (tmp_path / "path" / "truthtool").symlink_to(out / "truth.csv")
+    before = (out / "truth.csv").read_bytes()
+    for on_path, says in ((tmp_path / "path", f"run as {tmp_path / 'path'}/truthtool on PATH"),
+                          (out, f"in {out}, a folder on PATH")):
+        monkeypatch.setenv("PATH", f"{on_path}:{os.environ['PATH']}")
+        p = bench(out, "--duration", "0.2", "--no-plot")
+        assert p.returncode == 2 and f"truth.csv: an output that is an executable file {says}" in p.stderr, p.stderr
+        assert (out / "truth.csv").read_bytes() == before and sorted(os.listdir(out)) == ["truth.csv"]
+        monkeypatch.undo()
+
+
 def test_a_refused_run_changes_nothing_and_a_good_one_replaces_the_old_files(tmp_path):
     out = tmp_path / "bo"
     out.mkdir()

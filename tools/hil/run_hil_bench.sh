@@ -191,9 +191,29 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
   done
   # An output that is one of the inputs (same device and inode: a hard link or ./truth.csv counts) is refused
   # before anything runs (usage.md "Output files"): the scene, the config, and a --faults file after --.
+  # (passes 103, 107, 111) an executable file anything run by name finds (in a folder on PATH, or named by a link
+  # or a hard link in one) is no output, as the writer refuses it: "in F, a folder on PATH" or "run as F/N on PATH"
+  program_on_path() {
+    [ -f "$1" ] && [ -x "$1" ] || return 1
+    local dirs p e dir
+    IFS=: read -ra dirs <<< "$PATH"
+    dir=$(cd -- "$(dirname -- "$1")" && pwd -P)
+    for p in "${dirs[@]}"; do
+      [ "$(cd -- "${p:-.}" 2>/dev/null && pwd -P)" != "$dir" ] || { echo "in ${p:-.}, a folder on PATH"; return 0; }
+    done
+    for p in "${dirs[@]}"; do
+      for e in "${p:-.}"/*; do [ ! "$e" -ef "$1" ] || { echo "run as $e on PATH"; return 0; }; done
+    done
+    return 1
+  }
   for f in "${OUTPUTS[@]}" "$OUT"/bench_*.csv; do
     f="$OUT/${f#"$OUT"/}"
     [ -e "$f" ] || continue
+    if where=$(program_on_path "$f"); then
+      echo "run_hil_bench.sh: $f: an output that is an executable file $where (a program anything run by name" \
+           "may be); nothing run" >&2
+      exit 2
+    fi
     for ((i = 0; i < ${#inputs[@]}; i += 2)); do
       if [ "$f" -ef "${inputs[i + 1]}" ]; then
         echo "run_hil_bench.sh: $f: an output that is the input ${inputs[i]} ${inputs[i + 1]} (same file); nothing run" >&2
@@ -226,15 +246,9 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
     for ((j = 0; j < ${#inputs[@]} && ${#clash} == 0; j += 2)); do
       ! same "$o" "${inputs[j + 1]}" || clash="the same file as the input ${inputs[j]} ${inputs[j + 1]}; not overwritten"
     done
-    # (pass 103, 107) and every program it runs by name (/usr/bin/dash as sh, unshare, rmdir): an executable file
-    # in a folder on PATH is refused, as the writer refuses it (a list of them always missed one)
-    if [ -z "$clash" ] && [ -f "$o" ] && [ -x "$o" ]; then
-      IFS=: read -ra on_path <<< "$PATH"
-      o_dir=$(cd -- "$(dirname -- "$o")" && pwd -P)
-      for p in "${on_path[@]}"; do
-        [ "$(cd -- "${p:-.}" 2>/dev/null && pwd -P)" != "$o_dir" ] || clash="an executable file in ${p:-.}, a folder"
-      done
-      [ -z "$clash" ] || clash+=" on PATH (a program anything run by name may be); not overwritten"
+    # (pass 103, 107) and every program it runs by name (/usr/bin/dash as sh, unshare, rmdir)
+    if [ -z "$clash" ] && where=$(program_on_path "$o"); then
+      clash="an executable file $where (a program anything run by name may be); not overwritten"
     fi
     [ -z "$clash" ] || { echo "run_hil_bench.sh: ${outs[k]}: $clash; nothing run" >&2; exit 2; }
   done
