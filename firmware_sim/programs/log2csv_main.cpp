@@ -26,6 +26,7 @@
 #include "gimbalsim/program/program.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/firmware_sim/csv_rows.hpp"
+#include "gimbalsim/input/value_format.hpp"
 #include "gimbalsim/io/output_file.hpp"
 #include "gimbalsim/gimbal_antenna_t.hpp"
 #include "gimbalsim/gimbal_attitude_t.hpp"
@@ -213,15 +214,18 @@ int mainImpl(int argc, char** argv) {
                  log_path.c_str(), static_cast<unsigned long long>(cut_bytes),
                  static_cast<unsigned long long>(cut_offset), whole_events, program::kPartial);
   }
+  // A channel name is anyone's bytes on the bus (gimbalsim_record keeps them): shown, never printed raw (pass 111:
+  // U+202E and an escape sequence reached the terminal from --list and this refusal)
   auto present = [&] {
     std::string s;
-    for (const auto& [ch, n] : counts) s += (s.empty() ? "" : ", ") + ch;
+    for (const auto& [ch, n] : counts) s += (s.empty() ? "" : ", ") + shownText(ch);
     return s.empty() ? std::string("none: the log has no events") : s;
   };
   if (list) {
     for (const auto& [ch, n] : counts) {
       const Type t = typeOfChannel(ch);
-      std::printf("%-32s %10lld  %s\n", ch.c_str(), n, t == Type::Unknown ? "(not a gimbalsim channel)" : typeName(t));
+      std::printf("%-32s %10lld  %s\n", shownText(ch).c_str(), n,
+                  t == Type::Unknown ? "(not a gimbalsim channel)" : typeName(t));
     }
     return cut_bytes > 0 ? program::kPartial : program::kOk;
   }

@@ -308,6 +308,26 @@ TEST(Log2Csv, AChannelNameThatCannotNameAFileIsRefused) {
   EXPECT_EQ(WEXITSTATUS(st), 0) << named;  // with a file named by the user it converts
 }
 
+// (pass 111) a channel name is anyone's bytes on the bus, which gimbalsim_record keeps: --list and the refusal
+// naming the log's channels printed U+202E and an escape sequence raw to the terminal
+TEST(Log2Csv, ALogsChannelNamesAreShownNeverPrintedRaw) {
+  TempDir dir("log2csv_channel_shown");
+  const std::string path = dir / "rec.lcmlog";
+  {
+    lcm::LogFile log(path, "w");
+    ASSERT_TRUE(log.good());
+    writeMessage(log, "EVIL\u202e\x1b[2J", gimbal_truth_t{}, 1);
+  }
+  int st = 0;
+  for (const std::string& args : {std::string(" --list"), std::string("")}) {
+    const std::string out = runCapture(kTool + " '" + path + "'" + args + " 2>&1", &st);
+    EXPECT_EQ(WEXITSTATUS(st), args.empty() ? 2 : 0) << out;
+    EXPECT_NE(out.find("EVIL<U+202E><U+001B>[2J"), std::string::npos) << out;
+    EXPECT_EQ(out.find("\x1b"), std::string::npos) << out;
+    EXPECT_EQ(out.find("\u202e"), std::string::npos) << out;
+  }
+}
+
 }  // namespace
 }  // namespace gimbalsim::hil
 
