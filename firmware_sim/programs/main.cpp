@@ -316,6 +316,14 @@ int mainImpl(int argc, char** argv) {
   if (const std::string why = lcm_wire::defaultLcmUrlProblem(o.lcm_url); !why.empty()) {
     return program::refuse("firmware_sim", why);
   }
+  // (pass 111) the watchdog counts whole ticks: 1e-9 ms ran as one tick (1 ms), 1.5 as two, without a word
+  if (app.count("--watchdog-ms") > 0 && !isWholeMultiple(o.watchdog_ms * 1e-3, 1.0 / o.rate_hz)) {
+    const double tick_ms = 1e3 / o.rate_hz, k = std::floor(o.watchdog_ms / tick_ms);
+    return program::refuse("firmware_sim", "--watchdog-ms " + formatNumber(o.watchdog_ms) + ": not a whole number "
+                           "of control periods (" + formatNumber(tick_ms) + " ms at --rate " + formatNumber(o.rate_hz) +
+                           "), which the watchdog counts: " + (k >= 1 ? formatNumber(k * tick_ms) + " or " : "") +
+                           formatNumber((k + 1) * tick_ms) + " ms");
+  }
   if (!o.lockstep && o.cpu >= 0) {  // a CPU the process may not use is the user's slip, not the OS's refusal
     if (const std::string why = cpuProblem(o.cpu); !why.empty()) return program::refuse("firmware_sim", why);
   }

@@ -301,19 +301,28 @@ std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, doub
                   formatNumber(k) + " comes after its end): it would act in no tick");
   }
   if (!out.empty()) return out;
-  const auto first = std::min_element(s.faults.begin(), s.faults.end(),
-                                      [](const FaultSpec& a, const FaultSpec& b) { return a.start < b.start; });
+  // The tick from which a fault changes a step: its first; a ramp's next (it holds the scene's own value at its
+  // first tick: a friction_rise from 0.199 s of a 0.2 s run was "active in 2 ticks" and changed none, pass 111).
+  const auto acting_s = [&](const FaultSpec& f) {
+    return T > 0.0 ? (firstTickAtOrAfter(f.start, T) + (faultIsRamp(f.kind) ? 1.0 : 0.0)) * T : f.start;
+  };
+  const auto first = std::min_element(s.faults.begin(), s.faults.end(), [&](const FaultSpec& a, const FaultSpec& b) {
+    return acting_s(a) < acting_s(b);
+  });
   // The run's last tick ends it: a fault from there on takes no step (a motor failure at the end was flagged as
   // injected and changed nothing, pass 84), and so does one whose first tick is that one (a start inside the
   // last period, pass 86).
   if (first == s.faults.end()) return {};
-  const double first_tick_s = T > 0.0 ? firstTickAtOrAfter(first->start, T) * T : first->start;
-  if (first_tick_s < duration - tol) return {};
+  if (acting_s(*first) < duration - tol) return {};
   const auto i = first - s.faults.begin() + 1;
+  const bool ramp = faultIsRamp(first->kind) && first->start < duration - tol;
   const std::string when = first->start >= duration - tol
                                ? " s is at or after the run's end at " + formatNumber(duration) + " s"
-                               : " s: its first tick is the run's last, at " + formatNumber(duration) +
-                                     " s (one every " + formatNumber(T) + " s), which ends the run and takes no step";
+                               : std::string(ramp ? " s: a ramp holds the scene's value at its first tick, and its "
+                                                    "next is the run's last, at "
+                                                  : " s: its first tick is the run's last, at ") +
+                                     formatNumber(duration) + " s (one every " + formatNumber(T) +
+                                     " s), which ends the run and takes no step";
   return {origin + ":" + std::to_string(first->line) + ":" + std::to_string(first->column) + ": fault #" +
           std::to_string(i) + " (" + faultTypeName(first->kind) + "), the first to start: key 'start': " +
           formatNumber(first->start) + when + ": every fault starts there or later, the schedule would act in no step"};
