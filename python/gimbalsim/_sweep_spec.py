@@ -152,7 +152,8 @@ class SweepSpec:
             for v in values:
                 if key.startswith(CONTROLLER_PREFIX):
                     c = self.closed.load(spec, f"grid.{key}", {key[len(CONTROLLER_PREFIX):]: v}, node)
-                    self.closed.check_point(spec, f"grid.{key}", c, node, f"{key} = {v}: ", self._steps())
+                    drawn = any(p.key.startswith(CONTROLLER_PREFIX + "profile.") for p in self.parameters)
+                    self.closed.check_point(spec, f"grid.{key}", c, node, f"{key} = {v}: ", self._steps(), drawn)
                 else:
                     self._try(spec, f"grid.{key}", {key: v}, node)
         # A closed loop ticks whole control periods of whole steps: a step drawn from a range divides no period
