@@ -215,16 +215,16 @@ int mainImpl(int argc, char** argv) {
                  static_cast<unsigned long long>(cut_offset), whole_events, program::kPartial);
   }
   // A channel name is anyone's bytes on the bus (gimbalsim_record keeps them): shown, never printed raw (pass 111:
-  // U+202E and an escape sequence reached the terminal from --list and this refusal)
+  // U+202E and an escape sequence reached the terminal from --list and this refusal; pass 113: 0x9B, a tab)
   auto present = [&] {
     std::string s;
-    for (const auto& [ch, n] : counts) s += (s.empty() ? "" : ", ") + shownText(ch);
+    for (const auto& [ch, n] : counts) s += (s.empty() ? "" : ", ") + shownText(ch, true);
     return s.empty() ? std::string("none: the log has no events") : s;
   };
   if (list) {
     for (const auto& [ch, n] : counts) {
       const Type t = typeOfChannel(ch);
-      std::printf("%-32s %10lld  %s\n", shownText(ch).c_str(), n,
+      std::printf("%-32s %10lld  %s\n", shownText(ch, true).c_str(), n,
                   t == Type::Unknown ? "(not a gimbalsim channel)" : typeName(t));
     }
     return cut_bytes > 0 ? program::kPartial : program::kOk;

@@ -169,11 +169,15 @@ TEST(HostileInput, AnUnknownKeysLayoutCharacterIsShownByItsCodePoint) {
     EXPECT_EQ(echo.text.find("\u202e"), std::string::npos) << echo.text;
     EXPECT_EQ(echo.text.find("\u0085"), std::string::npos) << echo.text;
   }
-  for (const std::string& malformed : {std::string("\xe2zl"), std::string("k\xe2\x80"), std::string("\xe2\x80\x2e"),
-                                       std::string("\xd8"), std::string("\xe2\xc0\xae"), std::string("\xc2")}) {
-    EXPECT_EQ(shownText(malformed), malformed);  // not a character: every byte as given
-  }
-  EXPECT_EQ(shownText(std::string("\xe2\0l\x1b\xc2\x85", 6)), "\xe2<U+0000>l<U+001B><U+0085>");  // controls too
+  // not a character: never decoded as one (the first try read 0xE2 and any two bytes as U+2xxx), each byte shown
+  EXPECT_EQ(shownText("\xe2zl"), "<0xE2>zl");
+  EXPECT_EQ(shownText("k\xe2\x80"), "k<0xE2><0x80>");
+  EXPECT_EQ(shownText("\xe2\x80\x2e"), "<0xE2><0x80>.");
+  EXPECT_EQ(shownText("\xe2\xc0\xae"), "<0xE2><0xC0><0xAE>");
+  EXPECT_EQ(shownText(std::string("\xe2\0l\x1b\xc2\x85", 6)), "<0xE2><U+0000>l<U+001B><U+0085>");  // controls too
+  // (pass 113) a byte that is not UTF-8 (0x9B is CSI to an 8-bit terminal), an overlong form: by its value
+  EXPECT_EQ(shownText("a\x9b\xc0\x8a\xff\t\xc3\xa9"), "a<0x9B><0xC0><0x8A><0xFF>\t\xc3\xa9");
+  EXPECT_EQ(shownText("a\tb", true), "a<U+0009>b");
 }
 
 // (pass 105) a layout character in a comment: "# was<U+2028>  restitution: 0.2" shows a line "restitution: 0.2" in

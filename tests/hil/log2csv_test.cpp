@@ -317,12 +317,15 @@ TEST(Log2Csv, ALogsChannelNamesAreShownNeverPrintedRaw) {
     lcm::LogFile log(path, "w");
     ASSERT_TRUE(log.good());
     writeMessage(log, "EVIL\u202e\x1b[2J", gimbal_truth_t{}, 1);
+    writeMessage(log, std::string("RAW\x9b\tX\xc0\x8a"), gimbal_truth_t{}, 2);  // (pass 113) not UTF-8, a tab
   }
   int st = 0;
   for (const std::string& args : {std::string(" --list"), std::string("")}) {
     const std::string out = runCapture(kTool + " '" + path + "'" + args + " 2>&1", &st);
     EXPECT_EQ(WEXITSTATUS(st), args.empty() ? 2 : 0) << out;
     EXPECT_NE(out.find("EVIL<U+202E><U+001B>[2J"), std::string::npos) << out;
+    EXPECT_NE(out.find("RAW<0x9B><U+0009>X<0xC0><0x8A>"), std::string::npos) << out;
+    EXPECT_EQ(out.find('\x9b'), std::string::npos) << out;
     EXPECT_EQ(out.find("\x1b"), std::string::npos) << out;
     EXPECT_EQ(out.find("\u202e"), std::string::npos) << out;
   }

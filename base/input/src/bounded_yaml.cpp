@@ -112,25 +112,16 @@ void refuseUnprintable(const std::string& text) {
     return h;
   };
   for (std::size_t i = 0; i < n;) {
-    const unsigned b = s[i];
-    int len = b < 0x80 ? 1 : (b >> 5) == 0x6 ? 2 : (b >> 4) == 0xE ? 3 : (b >> 3) == 0x1E ? 4 : 0;
-    unsigned cp = len == 1 ? b : len == 2 ? (b & 0x1F) : len == 3 ? (b & 0x0F) : (b & 0x07);
-    bool utf8 = len > 0 && i + len <= n;
-    for (int k = 1; utf8 && k < len; ++k) {
-      utf8 = (s[i + k] & 0xC0) == 0x80;
-      cp = (cp << 6) | (s[i + k] & 0x3F);
-    }
-    static constexpr unsigned kLeast[5] = {0, 0, 0x80, 0x800, 0x10000};  // shorter forms are not UTF-8
-    if (!utf8 || cp < kLeast[len] || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) {
-      refuse(i, "byte 0x" + hex(b, 2) + " is not UTF-8 text: save the file as UTF-8");
-    }
+    unsigned cp = 0;
+    const std::size_t len = utf8At(text, i, &cp);  // 0: not UTF-8 (a shorter form, a surrogate, a cut sequence)
+    if (len == 0) refuse(i, "byte 0x" + hex(s[i], 2) + " is not UTF-8 text: save the file as UTF-8");
     const bool printable = cp == 0x09 || cp == 0x0A || cp == 0x0D || (cp >= 0x20 && cp <= 0x7E) || cp == 0x85 ||
                            (cp >= 0xA0 && cp <= 0xD7FF) || (cp >= 0xE000 && cp <= 0xFFFD) || cp >= 0x10000;
-    if (!printable) refuse(i, "character U+" + hex(cp, 4) + " (a control character) is not YAML text");
+    char code[8];
+    std::snprintf(code, sizeof code, "%04X", cp);  // U+202E, as every message names one
+    if (!printable) refuse(i, "character U+" + std::string(code) + " (a control character) is not YAML text");
     // (pass 105) in a comment too: "# was<U+2028>  restitution: 0.2" shows a line the loader never reads
     if (isLayoutCodePoint(cp)) {
-      char code[8];
-      std::snprintf(code, sizeof code, "%04X", cp);  // U+202E, as every other message names one
       refuse(i, "character U+" + std::string(code) + " splits or reorders the line an editor shows (refused "
                 "anywhere in a file, comments too)");
     }
@@ -140,7 +131,7 @@ void refuseUnprintable(const std::string& text) {
     } else {
       ++column;
     }
-    i += static_cast<std::size_t>(len);
+    i += len;
   }
 }
 

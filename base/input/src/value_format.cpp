@@ -74,42 +74,55 @@ bool isLayoutCodePoint(unsigned cp) {
          (cp >= 0x2066 && cp <= 0x2069);
 }
 
-std::optional<unsigned> unprintableAt(const std::string& s, std::size_t i, std::size_t* bytes) {
+std::size_t utf8At(const std::string& s, std::size_t i, unsigned* cp) {
   // Only a well-formed sequence is decoded: pass 103's first try read 0xE2 and any two bytes as U+2xxx.
   const auto at = [&](std::size_t k) { return k < s.size() ? static_cast<unsigned char>(s[k]) : 0u; };
-  const auto continuation = [](unsigned b) { return b >= 0x80 && b <= 0xBF; };
-  *bytes = 1;
-  if (i >= s.size()) return std::nullopt;
-  if ((at(i) < 0x20 && at(i) != '\t') || at(i) == 0x7F) return at(i);
-  unsigned cp = 0;
-  if (at(i) == 0xC2 && at(i + 1) >= 0x80 && at(i + 1) <= 0x9F) {  // C1: U+0080..9F
-    *bytes = 2;
-    return at(i + 1);
+  const unsigned b = at(i);
+  const std::size_t n = i >= s.size() ? 0
+                        : b < 0x80         ? 1
+                        : (b >> 5) == 0x6  ? 2
+                        : (b >> 4) == 0xE  ? 3
+                        : (b >> 3) == 0x1E ? 4
+                                           : 0;
+  if (n == 0 || i + n > s.size()) return 0;
+  unsigned c = n == 1 ? b : n == 2 ? (b & 0x1Fu) : n == 3 ? (b & 0x0Fu) : (b & 0x07u);
+  for (std::size_t k = 1; k < n; ++k) {
+    if ((at(i + k) & 0xC0u) != 0x80u) return 0;
+    c = (c << 6) | (at(i + k) & 0x3Fu);
   }
-  if (at(i) == 0xD8 && at(i + 1) == 0x9C) {
-    cp = 0x061C;
-  } else if (at(i) == 0xE2 && continuation(at(i + 1)) && continuation(at(i + 2))) {  // U+2000..2FFF
-    cp = 0x2000u + ((at(i + 1) & 0x3Fu) << 6) + (at(i + 2) & 0x3Fu);
-  }
-  if (!isLayoutCodePoint(cp)) return std::nullopt;
-  *bytes = cp == 0x061C ? 2 : 3;
-  return cp;
+  static constexpr unsigned kLeast[5] = {0, 0, 0x80, 0x800, 0x10000};  // a shorter form is not UTF-8
+  if (c < kLeast[n] || c > 0x10FFFF || (c >= 0xD800 && c <= 0xDFFF)) return 0;
+  *cp = c;
+  return n;
 }
 
-std::string shownText(const std::string& s) {
+std::optional<unsigned> unprintableAt(const std::string& s, std::size_t i, std::size_t* bytes) {
+  unsigned cp = 0;
+  *bytes = 1;
+  const std::size_t n = utf8At(s, i, &cp);
+  if (n == 0) return std::nullopt;
+  *bytes = n;
+  const bool control = (cp < 0x20 && cp != '\t') || (cp >= 0x7F && cp <= 0x9F);  // C0 but tab, DEL, C1
+  if (control || isLayoutCodePoint(cp)) return cp;
+  return std::nullopt;
+}
+
+std::string shownText(const std::string& s, bool tab_shown) {
   // (pass 103, 107) an unknown key or a refused value holding U+202E (from a quoted scalar's escape) was printed
-  // raw: the rest of the terminal's line ran backwards from it
+  // raw: the rest of the terminal's line ran backwards from it; (pass 113) a log's channel name, anyone's bytes,
+  // printed 0x9B (CSI to an 8-bit terminal) raw: a byte that is not UTF-8 is shown as <0xHH>
   std::string out;
   for (std::size_t i = 0; i < s.size(); ++i) {
     std::size_t bytes = 1;
-    if (const auto cp = unprintableAt(s, i, &bytes)) {
-      char code[12];
-      std::snprintf(code, sizeof code, "<U+%04X>", *cp);
-      out += code;
-      i += bytes - 1;
-    } else {
-      out += s[i];
+    unsigned cp = 0;
+    char code[12] = "";
+    if (const auto c = unprintableAt(s, i, &bytes); c || (tab_shown && s[i] == '\t')) {
+      std::snprintf(code, sizeof code, "<U+%04X>", c ? *c : 0x09u);
+    } else if (utf8At(s, i, &cp) == 0) {
+      std::snprintf(code, sizeof code, "<0x%02X>", static_cast<unsigned char>(s[i]));
     }
+    out += code[0] != '\0' ? std::string(code) : s.substr(i, bytes);
+    i += bytes - 1;
   }
   return out;
 }

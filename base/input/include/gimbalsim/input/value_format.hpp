@@ -23,11 +23,15 @@ std::string join(const std::vector<std::string>& parts, const std::string& sep);
 /// A character that splits or reorders a displayed line: U+0085, U+2028/9 and the bidi controls U+061C, U+200E/F,
 /// U+202A..E, U+2066..9. Shown in a file, the line an editor displays is not the one a program reads.
 bool isLayoutCodePoint(unsigned cp);
+/// The length of the well-formed UTF-8 character at s[i] (1 for ASCII), its code point in *cp; 0 when the bytes
+/// there are none (a stray continuation byte, an overlong form, a surrogate, a sequence cut short).
+std::size_t utf8At(const std::string& s, std::size_t i, unsigned* cp);
 /// A character no message prints raw, at s[i]: a control character but tab (C0, DEL, C1) or isLayoutCodePoint
 /// (well-formed UTF-8 only): its code point, and its length in *bytes.
 std::optional<unsigned> unprintableAt(const std::string& s, std::size_t i, std::size_t* bytes);
-/// Text as a message may print it: each unprintableAt as <U+XXXX>, every other byte as given.
-std::string shownText(const std::string& s);
+/// Text as a message may print it: each unprintableAt as <U+XXXX> (a tab too with tab_shown: a column's text),
+/// each byte that is not UTF-8 as <0xHH>, every other character as given.
+std::string shownText(const std::string& s, bool tab_shown = false);
 
 /// The one rule for a time that must be whole steps (a duration, a row
 /// interval, a control period): value / unit within a relative 1e-12 of a
