@@ -122,7 +122,7 @@ std::string idleBenchOverride(const Options& o, const Inputs& in) {
 /// Loads and checks the inputs and opens the outputs; kExitOk, or the refusal's code (nothing run).
 int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
   try {
-    in.plant = loadPlantScene(o.scene, o.sets);
+    in.plant = loadPlantScene(o.scene, closedLoopOverrides(o.sets));
   } catch (const InputError& e) {
     for (const std::string& p : e.problems()) std::fprintf(stderr, "error: %s\n", p.c_str());
     return refuse("scene " + o.scene + " refused");

@@ -1,3 +1,6 @@
+#include <cstdlib>
+#include <cmath>
+
 #include "gimbalsim/firmware_sim/plant_scene.hpp"
 
 namespace gimbalsim::firmware {
@@ -31,6 +34,20 @@ PlantScene loadPlantSceneText(const std::string& yaml, const std::string& origin
 
 PlantScene loadPlantScene(const std::string& path, const std::vector<std::string>& overrides) {
   return loadPlantSceneText(readSceneFile(path), path, overrides);
+}
+
+std::vector<std::string> closedLoopOverrides(std::vector<std::string> overrides) {
+  std::string step;
+  for (const std::string& kv : overrides) {
+    if (kv.rfind("sim.output_interval=", 0) == 0) return overrides;
+    if (kv.rfind("sim.step=", 0) == 0) step = kv.substr(9);
+  }
+  char* end = nullptr;
+  const double h = step.empty() ? 0.0 : std::strtod(step.c_str(), &end);
+  if (!step.empty() && end != nullptr && *end == '\0' && std::isfinite(h) && h > 0.0) {
+    overrides.push_back("sim.output_interval=" + step);
+  }
+  return overrides;
 }
 
 }  // namespace gimbalsim::firmware

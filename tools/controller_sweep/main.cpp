@@ -69,7 +69,7 @@ int mainImpl(int argc, char** argv) {
   try {
     const firmware::PlantScene ps = [&] {
       try {
-        return firmware::loadPlantScene(scene_path, scene_sets);
+        return firmware::loadPlantScene(scene_path, firmware::closedLoopOverrides(scene_sets));
       } catch (const InputError& e) {
         throw InputError(relabelledProblems(e, scene_labels));
       }

@@ -119,7 +119,7 @@ int mainImpl(int argc, char** argv) {
     return refused(e, controller_labels);
   }
   try {
-    scenes.emplace_back("ideal", firmware::loadPlantScene(ideal_path, perfect));
+    scenes.emplace_back("ideal", firmware::loadPlantScene(ideal_path, firmware::closedLoopOverrides(perfect)));
   } catch (const InputError& e) {
     return refused(e, scene_labels);
   }
@@ -134,7 +134,7 @@ int mainImpl(int argc, char** argv) {
     std::vector<std::string> labels = scene_labels;
     labels.push_back("--clearances " + formatNumber(c));
     try {
-      scenes.emplace_back(label, firmware::loadPlantScene(clearance_path, s));
+      scenes.emplace_back(label, firmware::loadPlantScene(clearance_path, firmware::closedLoopOverrides(s)));
     } catch (const InputError& e) {
       return refused(e, labels);
     }

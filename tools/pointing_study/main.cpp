@@ -197,8 +197,8 @@ int mainImpl(int argc, char** argv) {
       }
       const std::string suffix = cases.size() > 1 ? "_" + sensor_case : "";
       const int first_scene_set = static_cast<int>(base.size() - scene_sets.size()) + 1;
-      scenes.push_back({firmware::loadPlantScene(ideal_path, base), 0.0, stem(ideal_path), "ideal" + suffix,
-                        sensor_case, first_scene_set});  // its sensor --scene-set keys are said below
+      scenes.push_back({firmware::loadPlantScene(ideal_path, firmware::closedLoopOverrides(base)), 0.0,
+                        stem(ideal_path), "ideal" + suffix, sensor_case, first_scene_set});  // sensor keys: below
       if (const std::string why = idealSceneProblem(scenes.back().scene.scene.model); !why.empty()) {
         return refuse("--ideal-scene", ideal_path + ": " + why);
       }
@@ -208,7 +208,7 @@ int mainImpl(int argc, char** argv) {
           s.push_back("contact.clearance=" + formatNumber(c));
           labels.resize(base.size());
           labels.push_back("--clearances " + formatNumber(c) + " [m]");
-          firmware::PlantScene ps = firmware::loadPlantScene(path, s);
+          firmware::PlantScene ps = firmware::loadPlantScene(path, firmware::closedLoopOverrides(s));
           if (const std::string why = sharedClearanceProblem(ps.scene.model, c); !why.empty()) {
             return refuse("--clearance-scene/--clearances",
                           path + ": --clearances " + formatNumber(c) + " [m] would never act: " + why);

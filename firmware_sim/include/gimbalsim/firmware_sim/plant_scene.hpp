@@ -23,6 +23,11 @@ const KeyTable<PlantScene>& plantTable();
 /// Loads and validates a plant scene; `overrides` are "key=value" (--set),
 /// applied after the file. Throws SceneError naming key and place.
 PlantScene loadPlantScene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// The overrides a closed loop's scene loads with: one that changes sim.step (to a positive number) takes
+/// sim.output_interval = that step unless it gives one, as the Python sweeps do. The loop never reads the
+/// interval; the scene's own refused the new step, and a --set of it was refused as unread (pass 113).
+std::vector<std::string> closedLoopOverrides(std::vector<std::string> overrides);
 /// Same, from YAML text (`origin` names it in messages); the first `printed` overrides are a scene's printed
 /// values (loadSceneText).
 PlantScene loadPlantSceneText(const std::string& yaml, const std::string& origin,
