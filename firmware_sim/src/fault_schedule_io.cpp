@@ -315,7 +315,9 @@ std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, doub
   if (first == s.faults.end()) return {};
   if (acting_s(*first) < duration - tol) return {};
   const auto i = first - s.faults.begin() + 1;
-  const bool ramp = faultIsRamp(first->kind) && first->start < duration - tol;
+  // a ramp whose first tick comes before the last: its next is the last (pass 112: one inside the last period
+  // was said so too)
+  const bool ramp = faultIsRamp(first->kind) && acting_s(*first) - T < duration - tol;
   const std::string when = first->start >= duration - tol
                                ? " s is at or after the run's end at " + formatNumber(duration) + " s"
                                : std::string(ramp ? " s: a ramp holds the scene's value at its first tick, and its "
