@@ -45,8 +45,11 @@ def test_an_output_in_out_that_is_a_program_on_path_is_refused_before_anything_r
     (tmp_path / "path").mkdir()
     shutil.copy(shutil.which("true"), out / "truth.csv")
     (tmp_path / "path" / "truthtool").symlink_to(out / "truth.csv")
+    (tmp_path / "hidden").mkdir()  # (pass 113) a dot-named link: the glob skipped it
+    (tmp_path / "hidden" / ".hid").symlink_to(out / "truth.csv")
     before = (out / "truth.csv").read_bytes()
     for on_path, says in ((tmp_path / "path", f"run as {tmp_path / 'path'}/truthtool on PATH"),
+                          (tmp_path / "hidden", f"run as {tmp_path / 'hidden'}/.hid on PATH"),
                           (out, f"in {out}, a folder on PATH")):
         monkeypatch.setenv("PATH", f"{on_path}:{os.environ['PATH']}")
         p = bench(out, "--duration", "0.2", "--no-plot")

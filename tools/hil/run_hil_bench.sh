@@ -201,8 +201,10 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
     for p in "${dirs[@]}"; do
       [ "$(cd -- "${p:-.}" 2>/dev/null && pwd -P)" != "$dir" ] || { echo "in ${p:-.}, a folder on PATH"; return 0; }
     done
-    for p in "${dirs[@]}"; do
-      for e in "${p:-.}"/*; do [ ! "$e" -ef "$1" ] || { echo "run as $e on PATH"; return 0; }; done
+    for p in "${dirs[@]}"; do  # (pass 113) a dot-named link too: '*' alone skipped .hid
+      for e in "${p:-.}"/* "${p:-.}"/.[!.]* "${p:-.}"/..?*; do
+        [ ! "$e" -ef "$1" ] || { echo "run as $e on PATH"; return 0; }
+      done
     done
     return 1
   }
