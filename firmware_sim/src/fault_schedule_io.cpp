@@ -315,8 +315,7 @@ std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, doub
   if (first == s.faults.end()) return {};
   if (acting_s(*first) < duration - tol) return {};
   const auto i = first - s.faults.begin() + 1;
-  // a ramp whose first tick comes before the last: its next is the last (pass 112: one inside the last period
-  // was said so too)
+  // a ramp whose first tick comes before the last: its next is (pass 112: one inside the last period said so too)
   const bool ramp = faultIsRamp(first->kind) && acting_s(*first) - T < duration - tol;
   const std::string when = first->start >= duration - tol
                                ? " s is at or after the run's end at " + formatNumber(duration) + " s"

@@ -129,7 +129,8 @@ def test_an_executable_file_in_a_folder_on_path_is_refused(tmp_path, monkeypatch
     # (pass 108) a link in a PATH folder makes a file elsewhere a program run by that name
     (tmp_path / "bin" / "link").symlink_to("../tool")
     os.chmod(tmp_path / "tool", 0o755)  # the writer's file has no execute bit
-    with pytest.raises(_output.OutputRefused, match=rf"tool: an executable file run as {tmp_path / 'bin'}/link on PATH"):
+    with pytest.raises(_output.OutputRefused, match=rf"tool: an executable file run as {tmp_path / 'bin'}/link on "
+                                                   "PATH"):
         _output.write_text(tmp_path / "tool", "y\n")
     assert (tmp_path / "tool").read_text() == "x\n"
     monkeypatch.chdir(tmp_path / "bin")  # an empty entry of PATH is the current folder

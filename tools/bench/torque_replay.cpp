@@ -208,7 +208,8 @@ int mainImpl(int argc, char** argv) {
                    "utime_us, seq, sim_time_s, tau1_Nm, tau2_Nm and faults) matched the recorded one bit for bit at "
                    "%lld of the %lld rows%s\n", t.compared_columns.size(), static_cast<long long>(compared),
                    static_cast<long long>(rows), compared == rows ? "" : ("; no truth heard for rows " +
-                   truth_check.unmatchedRows() + ": not compared (the plant ended first, or the bus lost them)").c_str());
+                   truth_check.unmatchedRows() + ": not compared (the plant ended first, or the bus lost them)")
+                                                                           .c_str());
     } else {
       std::fprintf(stderr, "torque_replay: warning: no truth compared (%s): the replayed dynamics were not checked "
                    "against the recorded run\n", t.compared_columns.empty() ? "the CSV has none of the truth's "
@@ -328,7 +329,8 @@ int mainImpl(int argc, char** argv) {
     std::fprintf(stderr, "torque_replay: not reproduced: %s\n", diverged.c_str());
     return gimbalsim::program::kNotReproduced;
   }
-  std::fprintf(stderr, "torque_replay: answered statuses 0..%lld from %s\n", static_cast<long long>(last), truth.c_str());
+  std::fprintf(stderr, "torque_replay: answered statuses 0..%lld from %s\n", static_cast<long long>(last),
+               truth.c_str());
   say_compared();
   return gimbalsim::program::kOk;
 }
