@@ -119,7 +119,8 @@ parameters: {{contact.clearance: {{uniform: [1.0e-4, 8.0e-4]}}}}
 
 def _spec():
     header = ["sample", "contact.clearance", "status", "reason", "ape_track", "knowledge_track"]
-    return SimpleNamespace(header=lambda: header, design=SimpleNamespace(columns=lambda: ["contact.clearance"]),
+    return SimpleNamespace(header=lambda: header,
+                           design=SimpleNamespace(columns=lambda: ["contact.clearance"], grid_keys=[]),
                            closed=SimpleNamespace(metrics=lambda: ["ape_track", "knowledge_track"]))
 
 

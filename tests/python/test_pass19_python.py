@@ -20,7 +20,7 @@ from gimbalsim import _budget_report
 
 def _spec():
     header = ["sample", "friction.mu", "status", "reason", "ape_track"]
-    return SimpleNamespace(header=lambda: header, design=SimpleNamespace(columns=lambda: ["friction.mu"]),
+    return SimpleNamespace(header=lambda: header, design=SimpleNamespace(columns=lambda: ["friction.mu"], grid_keys=[]),
                            closed=SimpleNamespace(metrics=lambda: ["ape_track"]))
 
 
