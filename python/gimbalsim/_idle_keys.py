@@ -13,9 +13,9 @@ import yaml
 
 from . import _gimbalsim
 from ._closed_spec import CONTROLLER_PREFIX
-from ._idle_sensors import (ANTENNA_NOISE_KEYS, ANTENNA_TRACKER, NOISE_KEYS, TRUTH_ONLY, Span,
-                            _Given, idle_at_antenna, idle_in_sensors, idle_on_fixed_base,
-                            open_at_antenna)
+from ._idle_antenna import ANTENNA_TRACKER, idle_at_antenna, open_at_antenna
+from ._idle_estimate import idle_estimate
+from ._idle_sensors import ANTENNA_NOISE_KEYS, NOISE_KEYS, TRUTH_ONLY, Span, _Given, idle_in_sensors, idle_on_fixed_base
 from ._idle_outage import OUTAGE_DECIDERS, idle_outage
 from .indices import seconds
 
@@ -179,6 +179,8 @@ def idle_reason(key, values, dispersed, takes, closed, unread_ticks=TRUTH_ONLY):
                              dispersed, takes,
                              NOISE_KEYS + ANTENNA_NOISE_KEYS if key == "sensors.seed" else ()) or \
             _for_every_value(idle_on_fixed_base, key, values, dispersed, takes) or \
+            _for_every_value(functools.partial(idle_estimate, truth_only=unread_ticks == TRUTH_ONLY), key, values,
+                             dispersed, takes) or \
             _for_every_value(functools.partial(idle_outage, unread=unread_ticks, takes=takes), key, values, dispersed,
                              takes, OUTAGE_DECIDERS.get(key, ()))
     if why is None and closed:

@@ -9,13 +9,9 @@ import math
 
 from . import _gimbalsim
 from ._closed_spec import CONTROLLER_PREFIX
+from ._idle_antenna import idle_at_antenna
+from ._idle_estimate import idle_estimate
 from .indices import seconds
-
-# The antenna's sensors (MODEL.md 11.6) and the controller's loop at the antenna (MODEL.md 11.7): they act
-# only together, a scene with sensors.antenna tracker_gyro and a controller with antenna.tracker use.
-ANTENNA_SENSOR_KEYS = ("sensors.antenna", "sensors.tracker_")
-_ANTENNA_CONTROLLER = CONTROLLER_PREFIX + "antenna."
-ANTENNA_TRACKER = CONTROLLER_PREFIX + "antenna.tracker"
 
 # Keys that act only through the star tracker's samples: idle when none is delivered in the run.
 _STAR_SAMPLE_KEYS = ("sensors.star_tracker_noise", "sensors.star_tracker_rate",
@@ -76,14 +72,15 @@ def idle_in_sensors(key, values, dispersed, takes=None, unread_ticks=TRUTH_ONLY)
     if key == "sensors.seed":
         # the noises that act: the star tracker's and the antenna's only where their samples do
         def acts(k):
-            return idle_in_sensors(k, values, dispersed, takes, unread_ticks) is None
-        noises = tuple(k for k in NOISE_KEYS if k != "sensors.star_tracker_noise" or acts(k)) + \
+            return idle_in_sensors(k, values, dispersed, takes, unread_ticks) is None and \
+                idle_estimate(k, values, dispersed, unread_ticks == TRUTH_ONLY) is None
+        noises = tuple(k for k in NOISE_KEYS if acts(k)) + \
             tuple(k for k in ANTENNA_NOISE_KEYS if idle_at_antenna(k, values, dispersed) is None and acts(k))
         if set(noises) & dispersed or any(float(values.get(k, 0.0)) != 0.0 for k in noises):
             return None
-        idle = "" if "sensors.star_tracker_noise" in noises else \
-            " (sensors.star_tracker_noise acts on nothing: no star tracker sample acts in the run)"
-        return "every sensor noise (" + ", ".join(noises) + ") is 0" + idle + ": nothing random to seed"
+        idle = [k for k in NOISE_KEYS if k not in noises]
+        return "every sensor noise (" + ", ".join(noises) + ") is 0" + \
+            (f" ({', '.join(idle)} act on nothing a figure reads)" if idle else "") + ": nothing random to seed"
     for sensor, name, sample_keys in (("star_tracker", "star tracker", _STAR_SAMPLE_KEYS),
                                       ("tracker", "boresight tracker", _TRACKER_SAMPLE_KEYS)):
         outage, latency_key = f"sensors.{sensor}_outage", f"sensors.{sensor}_latency"
@@ -372,26 +369,3 @@ def _last_acting_tick(duration, period, unread):
     index over a phase that holds the last tick; KNOWLEDGE, one; TRUTH_ONLY,
     two: the command of tick k acts on the truth from tick k + 2)."""
     return round(duration / period) - unread
-
-
-def idle_at_antenna(key, values, dispersed):
-    """Why an antenna sensor key (sensors.antenna*, sensors.tracker_*) or a
-    controller antenna.* key cannot act: the loop does not close at the
-    antenna (open_at_antenna; the key itself decides nothing)."""
-    if not key.startswith(ANTENNA_SENSOR_KEYS + (_ANTENNA_CONTROLLER,)):
-        return None
-    return open_at_antenna(values, dispersed, key)
-
-
-def open_at_antenna(values, dispersed, deciding=None):
-    """Why the loop does not close at the antenna, or None when it does (or
-    may: a decider dispersed): it closes only with the scene's
-    sensors.antenna tracker_gyro and the controller's antenna.tracker use.
-    deciding: a decider not judged here (the key being judged)."""
-    if deciding != "sensors.antenna" and "sensors.antenna" not in dispersed and \
-            str(values.get("sensors.antenna", "none")) != "tracker_gyro":
-        return "the scene's sensors.antenna is none: no sensor on the antenna, the loop closes on the encoders"
-    if deciding != ANTENNA_TRACKER and ANTENNA_TRACKER not in dispersed and \
-            str(values.get(ANTENNA_TRACKER, "use")) != "use":
-        return "the controller's antenna.tracker is ignore: it reads no antenna sensor"
-    return None

@@ -141,6 +141,18 @@ REFUSALS = [
      ("set: {sim.duration: 0.5, sensors.tracker_noise: 1.0e-3, sensors.antenna_gyro_noise: 1.0e-4}",
       "  sensors.seed: {choice: [1, 2]}"),
      "parameters.sensors.seed", "is 0: nothing random to seed"),
+    # (pass 112) joint pointing with the profile's feed-forward and no loop at the antenna: the attitude estimate
+    # reaches no command; without a knowledge index the attitude sensors' and the estimator's keys act on nothing
+    (("  knowledge: {requirement: 1.0e-12}", "controller_set: {",
+      "  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}"),
+     ("", "controller_set: {pointing.mode: joint, pointing.accel_feedforward: profile, ",
+      "  sensors.gyro_noise: {uniform: [0.0, 1.0e-2]}"),
+     "parameters.sensors.gyro_noise", "the attitude estimate reaches no command; only the knowledge index reads it"),
+    (("  knowledge: {requirement: 1.0e-12}", "controller_set: {",
+      "  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}"),
+     ("", "controller_set: {pointing.mode: joint, pointing.accel_feedforward: profile, ",
+      "  controller.estimator.k_i: {uniform: [0.0, 1.0]}"),
+     "parameters.controller.estimator.k_i", "pointing.mode joint with pointing.accel_feedforward profile"),
     # the scene's label: no run reads it
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  name: {choice: [a, b]}", "parameters.name",
      "the scene's label: no run reads it"),
@@ -346,6 +358,24 @@ def test_the_antenna_sensors_are_taken_where_the_loop_closes_at_the_antenna(tmp_
     keys = [p.key for p in SweepSpec(tmp_path / "ok.yaml").parameters]
     assert {"sensors.tracker_noise", "sensors.antenna_gyro_bias", "controller.antenna.bandwidth",
             "sensors.seed"} <= set(keys), keys
+
+
+@pytest.mark.parametrize("knowledge,controller_set", [
+    (True, "controller_set: {pointing.mode: joint, pointing.accel_feedforward: profile, "),  # the estimate's index
+    (False, "controller_set: {pointing.mode: joint, pointing.accel_feedforward: model, "),  # the base's rate
+    (False, "controller_set: {pointing.mode: inertial, pointing.accel_feedforward: profile, "),  # the references
+    (False, "controller_set: {pointing.accel_feedforward: profile, ")])  # inertial pointing, the default
+def test_the_attitude_estimates_keys_are_taken_where_a_figure_or_a_command_reads_them(tmp_path, knowledge,
+                                                                                      controller_set):
+    from gimbalsim.sweep import SweepSpec
+    text = SPEC.replace("controller_set: {", controller_set)
+    text = text if knowledge else text.replace("  knowledge: {requirement: 1.0e-12}", "")
+    text = text.replace("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}",
+                        "  sensors.gyro_noise: {uniform: [0.0, 1.0e-2]}\n"
+                        "  controller.estimator.k_i: {uniform: [0.0, 1.0]}")
+    (tmp_path / "ok.yaml").write_text(text)
+    keys = {p.key for p in SweepSpec(tmp_path / "ok.yaml").parameters}
+    assert {"sensors.star_tracker_noise", "sensors.gyro_noise", "controller.estimator.k_i"} <= keys, keys
 
 
 def test_a_key_under_a_dispersed_setting_is_accepted_when_one_value_reads_it(tmp_path):

@@ -131,6 +131,10 @@ def test_plants_that_cannot_differ_are_refused_at_the_batch(plants, why, tmp_pat
      "plants.sensors.tracker_noise", "the scene's sensors.antenna is none: no sensor on the antenna"),
     (("max_saturation: 0.0", "max_saturation: 0.0\nset: {sensors.star_tracker_outage: [0, 1.0e9]}"),
      "plants.sensors.star_tracker_noise", "covers the whole run"),
+    # (pass 112) joint pointing with the profile's feed-forward: the truth objective never reads the estimate
+    (("max_saturation: 0.0", "max_saturation: 0.0\n"
+      "controller_set: {pointing.mode: joint, pointing.accel_feedforward: profile}"),
+     "plants.sensors.star_tracker_noise", "the attitude estimate reaches no command"),
     # the closed loop checks no invariant: a plant's tolerance acts on nothing
     (("contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "sim.momentum_tol: {choice: [0.0, 1.0e-300]}"),
      "plants.sim.momentum_tol", "not read by the tuned loop (the closed loop checks no invariant"),
