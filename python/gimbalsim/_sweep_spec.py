@@ -47,6 +47,11 @@ def _within_note(p, trial, scene):
     return f"disk: within {within}, fraction {fraction} of {within} {value} reaches {p.key} {trial[p.key]}: "
 
 
+def _one_value(v):
+    """A grid value as one point: a number whatever its spelling, a name as written."""
+    return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else v
+
+
 class SweepSpec:
     """A checked sweep spec: the base scene (file + set), the design, and a
     fingerprint that a resume must match."""
@@ -97,7 +102,13 @@ class SweepSpec:
             if key_types.get(key) in ("vec2", "vec3", "inertia"):  # its cell was one text, its applied_ cells numbers
                 spec.refuse(f"grid.{key}", f"a {key_types[key]} key is dispersed under parameters: "
                             "({choice: [...]}); a grid point holds numbers and names", node)
-            self.grid.append((key, [spec.value(f"grid.{key}", v) for v in node.value]))
+            values = [spec.value(f"grid.{key}", v) for v in node.value]
+            # (pass 114) a point given twice ran its units twice into one budget (0.0 and -0.0, 2000 and 2000.0 one)
+            for j, v in enumerate(values):
+                if (i := next(i for i, w in enumerate(values) if _one_value(w) == _one_value(v))) < j:
+                    spec.refuse(f"grid.{key}", f"{v!r} given twice (items {i + 1} and {j + 1}): a grid point runs "
+                                "once, and twice its units would count twice in its budget", node.value[j])
+            self.grid.append((key, values))
         # counted before anything is built or tried: a grid can multiply to more than memory holds
         size = design_size(self.grid, self.samples)
         if size > MAX_SAMPLES:

@@ -10,6 +10,11 @@ from test_sweep_closed import DURATION, SPEC
 REFUSALS = [
     ("controller_set: {profile.slew_start: 0.0,", "controller_set: {nope.key: 1,", "controller_set.nope.key",
      "not a key of the controller"),
+    # (pass 114) a grid point given twice ran its units twice into one pooled budget, in any spelling of it
+    (("phases: [", "phases: ["), ("grid:\nphases: [", "  controller.elevation.kp: [2000.0, 3000.0, 2000]\nphases: ["),
+     "grid.controller.elevation.kp", "2000 given twice (items 1 and 3): a grid point runs once"),
+    (("phases: [", "phases: ["), ("grid:\nphases: [", "  sensors.gyro_noise: [0.0, -0.0]\nphases: ["),
+     "grid.sensors.gyro_noise", "-0.0 given twice (items 1 and 2)"),
     ("  controller.azimuth.kp: {uniform: [2000.0, 4000.0]}", "  controller.nope: {uniform: [1.0, 2.0]}",
      "parameters.controller.nope", "not a key of the controller configuration"),
     (("phases: [", "phases: ["), ("grid:\nphases: [", "  controller.azimuth.kpp: [2000.0, 4000.0]\nphases: ["),
