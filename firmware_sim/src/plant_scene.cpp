@@ -38,15 +38,18 @@ PlantScene loadPlantScene(const std::string& path, const std::vector<std::string
 
 std::vector<std::string> closedLoopOverrides(std::vector<std::string> overrides) {
   std::string step;
+  bool interval = false, duration = false;
   for (const std::string& kv : overrides) {
-    if (kv.rfind("sim.output_interval=", 0) == 0) return overrides;
+    interval = interval || kv.rfind("sim.output_interval=", 0) == 0;
+    duration = duration || kv.rfind("sim.duration=", 0) == 0;
     if (kv.rfind("sim.step=", 0) == 0) step = kv.substr(9);
   }
   char* end = nullptr;
   const double h = step.empty() ? 0.0 : std::strtod(step.c_str(), &end);
-  if (!step.empty() && end != nullptr && *end == '\0' && std::isfinite(h) && h > 0.0) {
-    overrides.push_back("sim.output_interval=" + step);
-  }
+  if (step.empty() || end == nullptr || *end != '\0' || !std::isfinite(h) || !(h > 0.0)) return overrides;
+  if (!interval) overrides.push_back("sim.output_interval=" + step);
+  // The program's own length (--duration) runs; the scene's is never read, and one step always divides it.
+  if (!duration) overrides.push_back("sim.duration=" + step);
   return overrides;
 }
 

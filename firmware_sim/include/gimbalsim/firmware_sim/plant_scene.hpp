@@ -25,8 +25,9 @@ const KeyTable<PlantScene>& plantTable();
 PlantScene loadPlantScene(const std::string& path, const std::vector<std::string>& overrides = {});
 
 /// The overrides a closed loop's scene loads with: one that changes sim.step (to a positive number) takes
-/// sim.output_interval = that step unless it gives one, as the Python sweeps do. The loop never reads the
-/// interval; the scene's own refused the new step, and a --set of it was refused as unread (pass 113).
+/// sim.output_interval = that step unless it gives one, as the Python sweeps do, and sim.duration = that step.
+/// The loop reads neither (it records every period and runs the program's --duration); the scene's own
+/// refused the new step (passes 113, 115), and a --set of them is refused as unread.
 std::vector<std::string> closedLoopOverrides(std::vector<std::string> overrides);
 /// Same, from YAML text (`origin` names it in messages); the first `printed` overrides are a scene's printed
 /// values (loadSceneText).
