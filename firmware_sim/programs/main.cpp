@@ -182,7 +182,7 @@ int loadInputs(const Options& o, Inputs& in, TruthCsv& csv, TickLog& tick_log) {
                                            o.faults);
     if (late.empty()) {
       late = checkFaultsAgainstSamples(in.faults, in.plant, o.duration > 0.0 ? o.duration : kForever,
-                                       1.0 / o.rate_hz, o.faults);
+                                       1.0 / o.rate_hz, o.faults, false);
     }
     if (!late.empty()) {
       for (const std::string& p : late) std::fprintf(stderr, "error: %s\n", p.c_str());

@@ -34,9 +34,10 @@ SampledSensor boresightTrackerSampling(const SensorParams& p) {
 }
 
 bool windowHoldsASample(const SampledSensor& s, WindowActsOn acts, double start, double end, bool end_inclusive,
-                        double duration, double tick_period) {
+                        double duration, double tick_period, bool last_tick_acts) {
   const double T = tick_period, tol = 1e-9 * tick_period, P = 1.0 / s.rate;
   const double last = std::min(end, duration);  // the run's last tick takes no step
+  const double acting = last_tick_acts ? duration : duration - T;  // the last delivery that can act
   // a window longer than a period and a tick holds a take or a delivery (pass 87's judgement is for short ones)
   if (!(T > 0.0) || !(P > 0.0) || last - start > P + T) return true;
   const auto inside = [&](double t) {
@@ -49,7 +50,7 @@ bool windowHoldsASample(const SampledSensor& s, WindowActsOn acts, double start,
     const double delivered = firstTickAtOrAfter(j * P + s.latency, T) * T;
     // a sample taken in the window matters only if it would be delivered within the run (pass 90: its one
     // sample, 0.15 s late, fell due after the run's end); one due in it, if deliveries are what it drops
-    if ((takes && inside(taken) && delivered <= duration + tol) || (deliveries && inside(delivered))) return true;
+    if (delivered <= acting + tol && ((takes && inside(taken)) || (deliveries && inside(delivered)))) return true;
   }
   return false;
 }
@@ -105,7 +106,8 @@ std::optional<SampledWindow> sampledWindowOf(FaultKind kind) {
 }  // namespace
 
 std::vector<std::string> checkFaultsAgainstSamples(const FaultSchedule& s, const PlantScene& ps, double duration,
-                                                   double tick_period, const std::string& origin) {
+                                                   double tick_period, const std::string& origin,
+                                                   bool last_tick_acts) {
   std::vector<std::string> out;
   const SensorParams& p = ps.sensors;
   const double T = tick_period, tol = 1e-9 * tick_period;
@@ -136,7 +138,10 @@ std::vector<std::string> checkFaultsAgainstSamples(const FaultSchedule& s, const
     // (pass 87) an outage between two 10 Hz samples dropped none: only its flag changed, recorded as injected.
     // A fault from the run's end on is a run cut short of it (checkFaultsAgainstDuration).
     const SampledSensor sensor = star ? starTrackerSampling(p) : boresightTrackerSampling(p);
-    if (f.start >= duration - tol || windowHoldsASample(sensor, acts, f.start, f.end, false, duration, T)) continue;
+    if (f.start >= duration - tol ||
+        windowHoldsASample(sensor, acts, f.start, f.end, false, duration, T, last_tick_acts)) {
+      continue;
+    }
     out.push_back(at + windowHoldsNoSample(sensor, acts, f.start, f.end, false));
   }
   return out;

@@ -67,7 +67,7 @@ std::string sensorKeyIdle(const std::string& key, const SensorParams& sp, const 
   // (pass 93) an outage between two samples, or whose samples fall due after the run, holds none: as the fault's
   const auto holds_none = [&](const SampledSensor& s, const Vec2& outage) {
     return T > 0.0 && outage(1) > outage(0) && outage(0) < duration_s &&
-           !windowHoldsASample(s, WindowActsOn::Both, outage(0), outage(1), true, duration_s, T);
+           !windowHoldsASample(s, WindowActsOn::Both, outage(0), outage(1), true, duration_s, T, run.last_tick_acts);
   };
   if (outage_key && holds_none(starTrackerSampling(sp), star_outage)) {
     return "sensors.star_tracker_outage " +

@@ -53,7 +53,8 @@ namespace {
 void refuseIdleOutages(const PyScene& s, const ControllerConfig& c, double duration,
                        const firmware::FaultSchedule* faults) {
   const firmware::SensorParams& sp = s.plant.sensors;
-  const firmware::SensorRun run{duration, c.period, c.antenna.use_tracker, s.scene().model.floating_base, faults};
+  const firmware::SensorRun run{duration, c.period, c.antenna.use_tracker, s.scene().model.floating_base, faults,
+                                true};  // its last row records the estimate
   for (const auto& [key, window] : {std::pair{"sensors.star_tracker_outage", sp.star_tracker_outage},
                                     std::pair{"sensors.tracker_outage", sp.tracker_outage}}) {
     if (!(window(1) > window(0))) continue;  // none set
@@ -341,7 +342,7 @@ void bindController(pyb::module_& m) {
               bad.push_back(std::move(late));
             }
             if (bad.empty()) {
-              bad = firmware::checkFaultsAgainstSamples(schedule, s.plant, duration, period, faults);
+              bad = firmware::checkFaultsAgainstSamples(schedule, s.plant, duration, period, faults, true);
             }
             // (pass 104) a limit at or above the controller's own holds no command the controller sends
             const Vec2 own(c.config.axis[0].torque_limit, c.config.axis[1].torque_limit);

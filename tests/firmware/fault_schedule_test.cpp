@@ -171,7 +171,7 @@ TEST(FaultScheduleFile, SceneChecksNameTheLineAndTheSceneKey) {
 TEST(FaultScheduleFile, AStarTrackerOutageOnAFixedBaseWithPerfectSensorsIsRefused) {
   const PlantScene fixed = test::plant("paper_ideal", {"structure.base=fixed"});
   const auto check = [](const std::string& yaml, const PlantScene& ps) {
-    return checkFaultsAgainstSamples(schedule(yaml), ps, 0.5, 1e-3, "o.yaml");  // 0.5 s at 1 kHz, 10 Hz tracker
+    return checkFaultsAgainstSamples(schedule(yaml), ps, 0.5, 1e-3, "o.yaml", false);  // 0.5 s at 1 kHz, 10 Hz tracker
   };
   const std::string outage = "faults:\n  - {type: star_tracker_outage, start: 0.1, end: 0.2}\n";
   const auto refused = check(outage, fixed);
@@ -203,14 +203,17 @@ TEST(FaultScheduleFile, AStarTrackerOutageOnAFixedBaseWithPerfectSensorsIsRefuse
 // whose one sample falls due after the run's end (latency 0.15 s) changed nothing but its flag.
 TEST(FaultScheduleFile, AStarTrackerOutageWhoseSampleWouldArriveAfterTheRunIsRefused) {
   const std::string outage = "faults:\n  - {type: star_tracker_outage, start: 0.86, end: 0.95}\n";
-  const auto check = [&](const char* latency) {  // 1 s at 1 kHz, a 10 Hz tracker: the sample at 0.9 s is in it
-    return checkFaultsAgainstSamples(schedule(outage), test::plant("paper_ideal", {latency}), 1.0, 1e-3, "o.yaml");
+  const auto check = [&](const char* latency, bool last_tick_acts = false) {  // 1 s at 1 kHz, a 10 Hz tracker:
+    return checkFaultsAgainstSamples(schedule(outage), test::plant("paper_ideal", {latency}), 1.0, 1e-3, "o.yaml",
+                                     last_tick_acts);  // the sample at 0.9 s is taken in it
   };
   const auto late = check("sensors.star_tracker_latency=0.15");
   ASSERT_EQ(late.size(), 1u);
   EXPECT_NE(late[0].find("[0.86, 0.95) s takes and delivers no star tracker sample"), std::string::npos) << late[0];
-  EXPECT_TRUE(check("sensors.star_tracker_latency=0.1").empty()) << "due at 1.0 s, the run's last tick: kept";
   EXPECT_TRUE(check("sensors.star_tracker_latency=0").empty());
+  // the 0.8 s sample falls due at 0.9 s, in it: dropped (its own, due at 1.0 s, the run's last tick, aside)
+  EXPECT_TRUE(check("sensors.star_tracker_latency=0.1").empty());
+  EXPECT_EQ(check("sensors.star_tracker_latency=0.15", true).size(), 1u) << "due after the run, in closed_loop too";
 }
 
 // (pass 97) The boresight tracker's window faults between two of its 100 Hz samples (0.01 and 0.02 s) touched
@@ -221,7 +224,7 @@ TEST(FaultScheduleFile, ABoresightTrackerWindowBetweenTwoSamplesIsRefused) {
   const PlantScene ps =
       test::plant("paper_spatial2_tracker", {"sensors.tracker_rate=100", "sensors.tracker_latency=0.005"});
   const auto check = [&](const std::string& entry) {  // 0.1 s at 1 kHz: takes at 0.01 k, deliveries 5 ms later
-    return checkFaultsAgainstSamples(schedule("faults:\n  - " + entry + "\n"), ps, 0.1, 1e-3, "o.yaml");
+    return checkFaultsAgainstSamples(schedule("faults:\n  - " + entry + "\n"), ps, 0.1, 1e-3, "o.yaml", false);
   };
   const auto outage = check("{type: tracker_outage, start: 0.016, end: 0.019}");
   ASSERT_EQ(outage.size(), 1u);
@@ -242,6 +245,17 @@ TEST(FaultScheduleFile, ABoresightTrackerWindowBetweenTwoSamplesIsRefused) {
   EXPECT_TRUE(check("{type: tracker_bias, start: 0.019, end: 0.021, bias: [1e-3, 0]}").empty());
   EXPECT_EQ(check("{type: tracker_bias, start: 0.011, end: 0.016, bias: [1e-3, 0]}").size(), 1u)
       << "a delivery but no take in it: the bias reaches no reading";
+  // (pass 103) its one take, at 0.09 s, falls due at 0.1 s, the run's last tick: on the bench no command answers
+  // it; closed_loop's last row records the estimate it moves
+  const PlantScene late =
+      test::plant("paper_spatial2_tracker", {"sensors.tracker_rate=100", "sensors.tracker_latency=0.01"});
+  const auto bias_at_the_end = [&](bool last_tick_acts) {
+    return checkFaultsAgainstSamples(schedule("faults:\n  - {type: tracker_bias, start: 0.085, end: 0.095, "
+                                              "bias: [1e-3, 0]}\n"),
+                                     late, 0.1, 1e-3, "o.yaml", last_tick_acts);
+  };
+  EXPECT_EQ(bias_at_the_end(false).size(), 1u);
+  EXPECT_TRUE(bias_at_the_end(true).empty());
 }
 
 // (pass 79) A fault whose parameter changes nothing ran and was flagged as injected in every tick of its window:

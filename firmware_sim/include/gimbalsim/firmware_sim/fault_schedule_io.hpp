@@ -51,8 +51,10 @@ std::vector<std::string> checkFaultsAgainstDuration(const FaultSchedule& s, doub
 /// a tracker_dropout with no reading due; or a star tracker outage whose samples tell nothing
 /// (starTrackerRedundant: a fixed base, perfect attitude sensors and no gyro_bias_jump acting before the
 /// outage's first sample after it): it would change nothing but its flag (fault_samples.cpp).
+/// last_tick_acts as windowHoldsASample's.
 std::vector<std::string> checkFaultsAgainstSamples(const FaultSchedule& s, const PlantScene& ps, double duration,
-                                                   double tick_period, const std::string& origin);
+                                                   double tick_period, const std::string& origin,
+                                                   bool last_tick_acts);
 
 /// Whether a gyro_bias_jump of s takes a step in a run of duration [s] at tick_period [s] and starts before
 /// t_before [s]: a jump moves the estimate from its start on (the star tracker then corrects it).
@@ -78,9 +80,11 @@ enum class WindowActsOn { Takes, Deliveries, Both };
 
 /// Whether a window from start to end [s] ([start, end) for a fault, [start, end] with end_inclusive for a
 /// scene key's outage) holds a sample taken in it that would be delivered within a run of duration [s], or a
-/// delivery due in it, as `acts` asks; false: it would change nothing but its flag.
+/// delivery due in it, as `acts` asks; false: it would change nothing but its flag. last_tick_acts: a delivery
+/// at the run's last tick acts (closed_loop's last row records the estimate); on the bench and in the studies
+/// no command answers it (pass 103).
 bool windowHoldsASample(const SampledSensor& s, WindowActsOn acts, double start, double end, bool end_inclusive,
-                        double duration, double tick_period);
+                        double duration, double tick_period, bool last_tick_acts);
 
 /// An outage of a sampled sensor: [start, end] [s] for a scene key's (end_inclusive), [start, end) for a fault's.
 struct OutageWindow {

@@ -39,6 +39,7 @@ struct SensorRun {
   bool antenna_loop = false;             ///< the controller closes at the antenna (antenna.tracker)
   bool floating_base = true;             ///< structure.base floating
   const FaultSchedule* faults = nullptr;  ///< the bench's --faults (a study has none)
+  bool last_tick_acts = false;            ///< closed_loop: its last row records the estimate (windowHoldsASample)
 };
 
 /// One run of a study as idleInEveryRun sees it: the scene it ran (its file's name) and the loader's number
