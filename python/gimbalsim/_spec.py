@@ -35,7 +35,7 @@ MAX_SPEC_NODES = 100_000  # values after alias expansion
 # What splits or reorders a displayed line: refused anywhere in a spec, comments too (pass 105), and what YAML does
 # not take as text (YAML 1.2, 5.1); in a value, what escapes ("\e]0;x\a", "\u0000") make (pass 90, 94, 97).
 _LAYOUT = "\x85\u061c\u200e\u200f\u2028-\u202e\u2066-\u2069"
-_UNPRINTABLE = re.compile(f"[^\t\n\r\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]|[{_LAYOUT}]")
+_UNPRINTABLE = re.compile(f"[^\t\n\r\x20-\x7e\x85\xa0-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]|[{_LAYOUT}]|\r(?!\n)")
 _CONTROL = re.compile(f"[\x00-\x08\x0a-\x1f\x7f-\x9f{_LAYOUT}]")
 
 
@@ -82,7 +82,10 @@ class Spec:
             line = text.count("\n", 0, bad.start()) + 1
             column = bad.start() - (text.rfind("\n", 0, bad.start()) + 1) + 1
             why = ("splits or reorders the line an editor shows (refused anywhere in a file, comments too)"
-                   if re.fullmatch(f"[{_LAYOUT}]", bad.group()) else "(a control character) is not YAML text")
+                   if re.fullmatch(f"[{_LAYOUT}]", bad.group()) else
+                   "without a line feed after it (a lone carriage return) splits the line an editor shows for one "
+                   "reader and not another (refused anywhere in a file, comments too)" if bad.group() == "\r" else
+                   "(a control character) is not YAML text")
             raise SpecError(f"character U+{ord(bad.group()):04X} {why}",
                             file=str(path), line=line, column=column)
         self.source_text = text  # as read (a sweep keeps a copy)

@@ -194,6 +194,11 @@ TEST(HostileInput, ALayoutCharacterInACommentIsRefusedAtItsPlace) {
     EXPECT_NE(p.text.find("splits or reorders the line"), std::string::npos) << p.text;
   }
   EXPECT_THROW(controllers::loadControllerConfigText("# gains\u202e\n", "c.yaml", {}), controllers::ConfigError);
+  // (pass 114) a lone carriage return: PyYAML reads a line break there, this loader a comment; CR LF lines stay
+  const Problem cr = refusedOnce("contact:\n  restitution: 0.95  # was\r  restitution: 0.2\n");
+  EXPECT_EQ(cr.line, 2);
+  EXPECT_NE(cr.text.find("U+000D without a line feed after it"), std::string::npos) << cr.text;
+  EXPECT_NO_THROW(loadSceneText("contact:\r\n  restitution: 0.95  # was\r\n", "ok.yaml", {}));
 }
 
 // A switch cannot be located closer than time is resolved at the run's end: such a tolerance ran, then

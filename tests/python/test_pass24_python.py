@@ -166,6 +166,18 @@ def test_a_layout_character_in_a_spec_comment_is_refused_at_its_place(tmp_path, 
     assert mark not in p.stderr, repr(p.stderr)
 
 
+# (pass 114) a lone carriage return in a comment: PyYAML broke the line there and applied "samples: 9", which an
+# editor (and the scene loader) showed inside the comment; a CR LF file stays a file
+def test_a_lone_carriage_return_is_refused_at_its_place_and_crlf_lines_are_taken(tmp_path):
+    text = f'scene: {scene_path("paper_clearance")}\nsamples: 2  # two\rsamples: 9\n'
+    p = check(write_spec(tmp_path, text), tmp_path / "out")
+    assert p.returncode == 2 and ":2:18: character U+000D without a line feed after it" in p.stderr, p.stderr
+    text = (f'scene: {scene_path("paper_clearance")}\nsamples: 2\nseed: 1\nparameters:\n'
+            '  contact.clearance: {uniform: [1.0e-4, 2.0e-4]}\n').replace("\n", "\r\n")
+    p = check(write_spec(tmp_path, text), tmp_path / "out")
+    assert p.returncode == 0, p.stderr
+
+
 # (pass 108) an override holding such a character was refused with the command line's place ("--set #1 ..."):
 # the shown text no longer matched the one the relabelling looked for
 def test_an_override_holding_a_layout_character_is_named_as_the_caller_gave_it():

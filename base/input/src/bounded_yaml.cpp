@@ -120,6 +120,11 @@ void refuseUnprintable(const std::string& text) {
     char code[8];
     std::snprintf(code, sizeof code, "%04X", cp);  // U+202E, as every message names one
     if (!printable) refuse(i, "character U+" + std::string(code) + " (a control character) is not YAML text");
+    // (pass 114) a carriage return without a line feed: PyYAML breaks the line there, yaml-cpp and editors may not
+    if (cp == 0x0D && (i + 1 >= n || s[i + 1] != 0x0A)) {
+      refuse(i, "character U+000D without a line feed after it (a lone carriage return) splits the line an editor "
+                "shows for one reader and not another (refused anywhere in a file, comments too)");
+    }
     // (pass 105) in a comment too: "# was<U+2028>  restitution: 0.2" shows a line the loader never reads
     if (isLayoutCodePoint(cp)) {
       refuse(i, "character U+" + std::string(code) + " splits or reorders the line an editor shows (refused "
