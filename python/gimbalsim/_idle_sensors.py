@@ -79,8 +79,8 @@ def idle_in_sensors(key, values, dispersed, takes=None, unread_ticks=TRUTH_ONLY)
         if set(noises) & dispersed or any(float(values.get(k, 0.0)) != 0.0 for k in noises):
             return None
         idle = [k for k in NOISE_KEYS if k not in noises]
-        return "every sensor noise (" + ", ".join(noises) + ") is 0" + \
-            (f" ({', '.join(idle)} act on nothing a figure reads)" if idle else "") + ": nothing random to seed"
+        idle = f" ({', '.join(idle)} {'acts' if len(idle) == 1 else 'act'} on nothing a figure reads)" if idle else ""
+        return "every sensor noise (" + ", ".join(noises) + ") is 0" + idle + ": nothing random to seed"
     for sensor, name, sample_keys in (("star_tracker", "star tracker", _STAR_SAMPLE_KEYS),
                                       ("tracker", "boresight tracker", _TRACKER_SAMPLE_KEYS)):
         outage, latency_key = f"sensors.{sensor}_outage", f"sensors.{sensor}_latency"
