@@ -131,14 +131,14 @@ def _check_one(path):
         raise OutputRefused(f"{path}: is a symbolic link; not written through (give its target)")
     if st is not None and not stat.S_ISREG(st.st_mode):
         raise OutputRefused(f"{path}: exists and is not a regular file ({_kind(st.st_mode)}); not written")
-    if st is not None and st.st_mode & 0o111 and (where := _program_on_path(path, st)):
+    if st is not None and st.st_mode & 0o111 and (where := program_on_path(path, st)):
         raise OutputRefused(f"{path}: an executable file {where} (a program anything run by name may be); not "
                             "overwritten")
     if not os.path.isdir(_folder(path)):
         raise OutputRefused(f"{path}: its directory {_folder(path)} does not exist")
 
 
-def _program_on_path(path, st):
+def program_on_path(path, st):
     """Where anything run by name finds the executable file path as a program ("in F, a folder on PATH", or "run
     as F/name on PATH": a link or a hard link there), or None. (pass 103, 107) the scripts' lists of the programs
     they run by name always missed one; (pass 108) a link in a PATH folder made a file elsewhere a program."""

@@ -193,20 +193,11 @@ if [ "${GIMBALSIM_BENCH_INSIDE:-0}" != 1 ]; then
   # before anything runs (usage.md "Output files"): the scene, the config, and a --faults file after --.
   # (passes 103, 107, 111) an executable file anything run by name finds (in a folder on PATH, or named by a link
   # or a hard link in one) is no output, as the writer refuses it: "in F, a folder on PATH" or "run as F/N on PATH"
-  program_on_path() {
+  program_on_path() {  # the writer's rule itself (pass 113: a copy of it here missed a dot-named link)
     [ -f "$1" ] && [ -x "$1" ] || return 1
-    local dirs p e dir
-    IFS=: read -ra dirs <<< "$PATH"
-    dir=$(cd -- "$(dirname -- "$1")" && pwd -P)
-    for p in "${dirs[@]}"; do
-      [ "$(cd -- "${p:-.}" 2>/dev/null && pwd -P)" != "$dir" ] || { echo "in ${p:-.}, a folder on PATH"; return 0; }
-    done
-    for p in "${dirs[@]}"; do  # (pass 113) a dot-named link too: '*' alone skipped .hid
-      for e in "${p:-.}"/* "${p:-.}"/.[!.]* "${p:-.}"/..?*; do
-        [ ! "$e" -ef "$1" ] || { echo "run as $e on PATH"; return 0; }
-      done
-    done
-    return 1
+    /usr/bin/python3 -c 'import os, sys; sys.path.insert(0, sys.argv[1]); import output_file
+where = output_file.program_on_path(sys.argv[2], os.stat(sys.argv[2])); print(where or ""); sys.exit(not where)' \
+      "$ROOT/tools/pages" "$1"
   }
   for f in "${OUTPUTS[@]}" "$OUT"/bench_*.csv; do
     f="$OUT/${f#"$OUT"/}"

@@ -55,6 +55,7 @@ write_text = _writer.write_text
 write_bytes = _writer.write_bytes
 write_csv = _writer.write_csv
 savefig = _writer.savefig
+program_on_path = _writer.program_on_path  # the rule, for the shell scripts' own outputs (run_hil_bench.sh)
 
 # ---- how a script of tools/ ends: the exit-code table of docs/usage.md ----
 
