@@ -50,12 +50,13 @@ const Case kCases[] = {
 void BM_ClosedLoop(benchmark::State& bs) {
   const Case& k = kCases[bs.range(0)];
   bs.SetLabel(k.label);
+  // a scene that does not load refuses the run (exit 2), as gimbalsim_bench's do
+  const char* dir = std::getenv("GIMBALSIM_SCENE_DIR");
+  const std::string scene = std::string(dir && *dir ? dir : GIMBALSIM_SCENE_DIR) + "/" + k.scene + ".yaml";
+  const firmware::PlantScene ps = firmware::loadPlantScene(scene, k.overrides);
+  const controllers::ControllerConfig c =
+      controllers::loadControllerConfigText("", "the built-in default configuration", {});
   try {
-    const char* dir = std::getenv("GIMBALSIM_SCENE_DIR");
-    const firmware::PlantScene ps =
-        firmware::loadPlantScene(std::string(dir && *dir ? dir : GIMBALSIM_SCENE_DIR) + "/" + k.scene + ".yaml", k.overrides);
-    const controllers::ControllerConfig c =
-        controllers::loadControllerConfigText("", "the built-in default configuration", {});
     firmware::ClosedLoopCost cost;
     firmware::ClosedLoopOptions opt;
     opt.duration = 8.5;
@@ -64,7 +65,7 @@ void BM_ClosedLoop(benchmark::State& bs) {
       controllers::PointingController controller(c);
       const firmware::ClosedLoopResult r = firmware::runClosedLoop(ps, controller, c.profile, opt);
       if (!r.ok) {
-        bs.SkipWithError(r.error.c_str());
+        bench::fail(bs, r.error, program::kStopped);
         return;
       }
     }
@@ -74,7 +75,7 @@ void BM_ClosedLoop(benchmark::State& bs) {
     bs.counters["tick_work_us"] = 1e6 * (cost.total_s - cost.step_s) / ticks;
     bs.counters["work_per_step"] = (cost.total_s - cost.step_s) / cost.step_s;
   } catch (const std::exception& e) {
-    bs.SkipWithError(e.what());
+    bench::fail(bs, e.what(), program::kInternal);
   }
 }
 BENCHMARK(BM_ClosedLoop)->DenseRange(0, 3)->ArgName("scene")->Iterations(1)->Unit(benchmark::kMillisecond);

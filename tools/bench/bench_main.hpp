@@ -179,6 +179,26 @@ class BenchmarkOut {
   std::string temporary_, flag_;
 };
 
+/// The benchmarks that failed (their rows say ERROR OCCURRED): the run ends with the first one's code, never 0
+/// (pass 117: rows of errors exited 0). A scene that does not load is thrown instead: refused (exit 2).
+struct Failures {
+  int count = 0;
+  int code = 0;
+  std::string first;
+};
+inline Failures& failures() {
+  static Failures f;
+  return f;
+}
+inline void fail(benchmark::State& bs, const std::string& why, program::Exit code) {
+  Failures& f = failures();
+  if (f.count++ == 0) {
+    f.code = code;
+    f.first = why;
+  }
+  bs.SkipWithError(why.c_str());
+}
+
 inline int benchmarkMain(const char* name, int argc, char** argv) {
   return program::guardedMain(name, [&] {
     for (int i = 1; i < argc; ++i) {
@@ -201,6 +221,11 @@ inline int benchmarkMain(const char* name, int argc, char** argv) {
     if (const std::string why = out->publish(ran); !why.empty()) {
       std::fprintf(stderr, "%s: %s\n", name, why.c_str());
       if (ran > 0) return static_cast<int>(program::kOutput);
+    }
+    if (const Failures& f = failures(); f.count > 0) {
+      std::fprintf(stderr, "%s: %d benchmark%s failed (ERROR OCCURRED above), the first: %s\n", name, f.count,
+                   f.count == 1 ? "" : "s", f.first.c_str());
+      return f.code;
     }
     // (pass 95) a filter that matched none ran nothing and exited 0, as if measured; run_bench.sh refused it
     if (ran == 0) return program::refuse(name, "--benchmark_filter matched none of this program's benchmarks");

@@ -123,7 +123,7 @@ const std::string& channelOf() {
 std::unique_ptr<lcm_wire::UdpmSender> sender(benchmark::State& bs) {
   auto tx = std::make_unique<lcm_wire::UdpmSender>();
   if (std::string why; !tx->open(url(), &why)) {
-    bs.SkipWithError(("cannot send on " + url() + ": " + why).c_str());
+    bench::fail(bs, "cannot send on " + url() + ": " + why, program::kNetwork);
     return nullptr;
   }
   return tx;
@@ -154,7 +154,7 @@ void BM_Publish(benchmark::State& bs) {
   long long sent = 0;
   for (auto _ : bs) {
     if (!tx->send(channel, m)) {
-      bs.SkipWithError("publish failed");
+      bench::fail(bs, "publish failed", program::kNetwork);
       break;
     }
     if (++sent % 512 == 0) drainPeers(bs, ps);
@@ -177,7 +177,7 @@ void BM_PublishTick(benchmark::State& bs) {
     tx->stageMessage(channels().status, s);
     tx->stageMessage(channels().truth, t);
     if (tx->flush() != 0) {
-      bs.SkipWithError("publish failed");
+      bench::fail(bs, "publish failed", program::kNetwork);
       break;
     }
     if (++ticks % 256 == 0) drainPeers(bs, ps);
@@ -194,7 +194,7 @@ void BM_ReceiveCommand(benchmark::State& bs) {
   for (auto _ : bs) {
     tx->send(channels().command, c);
     if (rx->waitDrain(100, 0, [&got](const lcm_wire::Message&, std::int64_t) { ++got; }, 16) <= 0) {
-      bs.SkipWithError("the command did not come back within 100 ms");
+      bench::fail(bs, "the command did not come back within 100 ms", program::kNetwork);
       break;
     }
   }
@@ -212,15 +212,15 @@ struct Tick {
 
 template <class F>
 void withTick(benchmark::State& bs, const std::string& scene, F&& body) {
+  const Tick t(scene);  // a scene that does not load refuses the run (exit 2), as gimbalsim_bench's do
   try {
-    const Tick t(scene);
     dispatchVariant(t.ps.scene.model, [&](auto tag) {
       using V = decltype(tag);
       auto tick = std::make_unique<firmware::BenchTick<V>>(t.ps, t.c, nullptr, nullptr);
       body(*tick);
     });
   } catch (const std::exception& e) {
-    bs.SkipWithError(e.what());
+    bench::fail(bs, e.what(), program::kInternal);
   }
   bs.SetLabel(scene);
 }
