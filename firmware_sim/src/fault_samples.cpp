@@ -36,13 +36,12 @@ SampledSensor boresightTrackerSampling(const SensorParams& p) {
 bool windowHoldsASample(const SampledSensor& s, WindowActsOn acts, double start, double end, bool end_inclusive,
                         double duration, double tick_period, bool last_tick_acts) {
   const double T = tick_period, tol = 1e-9 * tick_period, P = 1.0 / s.rate;
-  const double last = std::min(end, duration);  // the run's last tick takes no step
+  const double last = std::min(end, duration);
   const double acting = last_tick_acts ? duration : duration - T;  // the last delivery that can act
   // a window longer than a period and a tick holds a take or a delivery (pass 87's judgement is for short ones)
   if (!(T > 0.0) || !(P > 0.0) || last - start > P + T) return true;
-  const auto inside = [&](double t) {
-    return t >= start - tol && (end_inclusive && end <= duration ? t <= end + tol : t < last - tol);
-  };
+  // (pass 116) a window past the run's end holds its last tick's sample too: closed_loop records what it moves
+  const auto inside = [&](double t) { return t >= start - tol && (end_inclusive ? t <= end + tol : t < end - tol); };
   const bool takes = acts != WindowActsOn::Deliveries, deliveries = acts != WindowActsOn::Takes;
   const double j0 = std::max(0.0, std::floor((start - s.latency) / P) - 1.0);
   for (double j = j0; j * P <= last + P; ++j) {  // a few samples

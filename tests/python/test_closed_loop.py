@@ -145,6 +145,21 @@ def test_closed_loop_refuses_an_outage_of_the_scene_that_acts_on_nothing(overrid
     assert gimbalsim.closed_loop(acting, gimbalsim.Controller(None), 1.0).columns["star_outage"].any()
 
 
+def test_closed_loop_takes_an_outage_whose_one_sample_is_at_the_last_tick(tmp):
+    # (pass 116) an outage running past the run's end whose one sample (1 Hz) is at the last tick was refused as
+    # changing nothing but its flag: in process the last row records the estimate that sample moves
+    base = {"sensors.star_tracker_rate": 1.0, "sensors.star_tracker_noise": 1e-4}
+    ctrl = gimbalsim.Controller(None)
+    free = gimbalsim.closed_loop(gimbalsim.load_scene(scene_path("paper_clearance"), base), ctrl, 1.0)
+    out = gimbalsim.closed_loop(gimbalsim.load_scene(scene_path("paper_clearance"),
+                                                     {**base, "sensors.star_tracker_outage": [0.5, 1.5]}), ctrl, 1.0)
+    assert out.columns["attitude_error"][-1] != free.columns["attitude_error"][-1]
+    assert out.columns["attitude_error"][-2] == free.columns["attitude_error"][-2]
+    (tmp / "late.yaml").write_text("faults:\n  - {type: star_tracker_outage, start: 0.5, end: 2.0}\n")
+    scene = gimbalsim.load_scene(scene_path("paper_clearance"), base)
+    assert gimbalsim.closed_loop(scene, ctrl, 1.0, faults=tmp / "late.yaml").columns["injected_faults"].any()
+
+
 def test_closed_loop_run_to_csv_follows_the_convention_and_the_output_rules(tmp):
     from test_csv_convention import check_convention
 
