@@ -290,7 +290,9 @@ def test_save_output_reads_only_a_regular_log_and_never_writes_over_a_module_it_
     cases = [(["fifo", "out.log"], "fifo: not a regular file"), (["/dev/zero", "out.log"], "not a regular file"),
              (["", "out.log"], "SOURCE: an empty path"),
              (["log.tmp", str(repo / "tools/pages/output_file.py")], "the same file as this program"),
-             (["log.tmp", str(repo / "python/gimbalsim/_output.py")], "the same file as this program")]
+             (["log.tmp", str(repo / "python/gimbalsim/_output.py")], "the same file as this program"),
+             # (pass 116) the log itself as DEST was renamed over its own SOURCE
+             (["log.tmp", "log.tmp"], "log.tmp: the same file as the input log.tmp")]
     for args, words in cases:
         p = subprocess.run(["/usr/bin/python3", str(tool), *args], cwd=tmp_path, capture_output=True, text=True,
                            timeout=20)

@@ -46,7 +46,9 @@ def main():
     inputs = [p for arg in a.args for p in _paths_in(arg) if p and os.path.isfile(p)]
 
     def save():
-        output_file.check_before_writing([a.dest], inputs, ["DEST"])
+        # (pass 116) the log itself is an input too: DEST naming SOURCE was renamed over it
+        source = [a.source] if not a.check and a.source and os.path.isfile(a.source) else []
+        output_file.check_before_writing([a.dest], inputs + source, ["DEST"])
         if a.check:
             return 0
         # (pass 90) a FIFO blocked, /dev/zero was read until memory ran out, "" was read as a folder
