@@ -221,6 +221,13 @@ int mainImpl(int argc, char** argv) {
       return gimbalsim::program::refuse("gimbalsim_stress", "--long-run and --long-run-only: give one (--long-run adds "
                                                             "the hour to the study, --long-run-only runs it alone)");
     }
+    // (pass 117) and the two skips beside the mode that runs neither, accepted as if they did something
+    for (const char* f : {"--no-grid", "--no-sweeps"}) {
+      if (app.count(f) && long_only) {
+        return gimbalsim::program::refuse("gimbalsim_stress", std::string(f) + ": --long-run-only runs neither the "
+                                                              "grid nor the sweeps; give one of the two");
+      }
+    }
     for (const char* f : {"--long-scene", "--long-set"}) {
       if (app.count(f) && !long_run && !long_only) {
         return gimbalsim::program::refuse("gimbalsim_stress", std::string(f) + ": only the long run reads it; add "
