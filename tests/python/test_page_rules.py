@@ -115,6 +115,10 @@ def test_a_missing_program_is_a_refusal_read_where_the_user_stands(tmp_path, scr
                        capture_output=True, text=True, timeout=60)
     assert p.returncode == 2 and f"cmake --build {tmp_path / 'nosuch'} " in p.stderr, p.stderr
     assert str(SOURCE / "nosuch") not in p.stderr and "Traceback" not in p.stderr, p.stderr
+    # (pass 119) --build= was read as the folder the user stands in, whose bin/ would have run
+    p = subprocess.run([sys.executable, str(SOURCE / script), "--build="], cwd=tmp_path, capture_output=True,
+                       text=True, timeout=60)
+    assert p.returncode == 2 and "argument --build: an empty value: name the build folder" in p.stderr, p.stderr
 
 
 def _repository(tmp_path):

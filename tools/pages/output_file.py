@@ -176,7 +176,11 @@ def add_build(parser, holding="bin/"):
     """--build DIR: the build folder the script takes its programs (or package) from, as an absolute path.
     A relative DIR is read where the user stands, as every path a script is given (docs/usage.md "Scripts in
     tools/"; pass 66: it was read against the source tree); absent, default_build()."""
-    parser.add_argument("--build", type=lambda text: os.path.abspath(text), default=default_build(),
+    def folder(text):  # (pass 119) --build= was read as the current folder, and its programs run
+        if not text:
+            raise argparse.ArgumentTypeError("an empty value: name the build folder")
+        return os.path.abspath(text)
+    parser.add_argument("--build", type=folder, default=default_build(),
                         help=f"build directory holding {holding} (default: GIMBALSIM_BUILD, else the checkout's "
                              "build/; a relative one is read where you stand)")
 
