@@ -312,6 +312,9 @@ def test_save_output_reads_only_a_regular_log_and_never_writes_over_a_module_it_
         p = subprocess.run(["/usr/bin/python3", str(tool), "log.tmp", "sc.yaml", "--", arg], cwd=tmp_path,
                            capture_output=True, text=True, timeout=20)
         assert p.returncode == 2 and (tmp_path / "sc.yaml").read_text() == "name: x\n", (arg, p.stderr)
+    p = subprocess.run(["/usr/bin/python3", str(tool), "--check", "log.tmp", "log.tmp"], cwd=tmp_path,
+                       capture_output=True, text=True, timeout=20)  # (pass 118) --check says so too
+    assert p.returncode == 2 and "log.tmp: the same file as the input log.tmp" in p.stderr, p.stderr
     p = subprocess.run(["/usr/bin/python3", str(tool), "log.tmp", "out.log"], cwd=tmp_path, timeout=20)
     assert p.returncode == 0 and (tmp_path / "out.log").read_text() == "the log\n"
 

@@ -46,8 +46,8 @@ def main():
     inputs = [p for arg in a.args for p in _paths_in(arg) if p and os.path.isfile(p)]
 
     def save():
-        # (pass 116) the log itself is an input too: DEST naming SOURCE was renamed over it
-        source = [a.source] if not a.check and a.source and os.path.isfile(a.source) else []
+        # (passes 116, 118) the log itself is an input too, --check alike: DEST naming SOURCE was renamed over it
+        source = [a.source] if a.source and os.path.isfile(a.source) else []
         output_file.check_before_writing([a.dest], inputs + source, ["DEST"])
         if a.check:
             return 0
