@@ -91,6 +91,21 @@ int run(int argc, char** argv) {
   if (const std::string why = lcm_wire::defaultLcmUrlProblem(o.lcm_url); !why.empty()) {
     return program::refuse("pointing_controller", why);
   }
+  // (pass 119) what a listing mode never reads was taken without a word (--keys --log-csv /proc/x.csv, exit 0;
+  // --markdown alone started a controller)
+  if (o.markdown && !o.keys) return program::refuse("pointing_controller", "--markdown: only --keys reads it");
+  const char* const run_flags[] = {"--lcm-url", "--channel-prefix", "--duration", "--idle-exit", "--plant-timeout",
+                                   "--log-csv", "--spin-us"};
+  for (const char* f : run_flags) {  // --print-config judges a --duration against the period (run_hil_bench.sh)
+    if ((o.keys || (o.print_config && std::string(f) != "--duration")) && app.count(f) > 0) {
+      return program::refuse("pointing_controller", std::string(f) + ": " + (o.keys ? "--keys" : "--print-config") +
+                                                        " prints and exits; it runs no controller");
+    }
+  }
+  if (o.keys && (o.print_config || !o.config.empty() || !o.sets.empty())) {
+    return program::refuse("pointing_controller", "--keys lists the keys of every configuration: a configuration, "
+                                                  "--set or --print-config beside it is not read");
+  }
   if (o.keys) {
     const std::vector<KeyInfo> all = controllerKeys();
     std::fputs((o.markdown ? keysMarkdown(all) : keysText(all)).c_str(), stdout);

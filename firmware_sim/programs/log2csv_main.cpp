@@ -160,6 +160,13 @@ int mainImpl(int argc, char** argv) {
   app.add_flag("--list", list, "list the channels in the log with message counts and types, then exit");
   if (const auto rc = program::parse(app, argc, argv, "gimbalsim_log2csv")) return *rc;
   prefix_given = app.count("--channel-prefix") > 0;
+  // (pass 119) flags the chosen mode never reads were taken without a word (--list --out /proc/x.csv: exit 0)
+  for (const char* f : {"--out", "--out-dir", "--log-time", "--channel", "--channel-prefix", "--type"}) {
+    if (list && app.count(f) > 0) return refuse(std::string(f) + ": --list prints every channel and writes nothing");
+  }
+  if (app.count("--out") > 0 && app.count("--out-dir") > 0) {
+    return refuse("--out and --out-dir: give one (--out names the one channel's file, --out-dir the folder of each)");
+  }
   // (pass 78) a channel named twice was converted once: a value twice in a list flag is refused, as elsewhere
   if (const std::string why = program::repeatedValue("--channel", channels); !why.empty()) {
     return program::refuse("gimbalsim_log2csv", why);
