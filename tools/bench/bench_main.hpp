@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <regex>
 #include <set>
@@ -199,7 +200,23 @@ inline void fail(benchmark::State& bs, const std::string& why, program::Exit cod
   bs.SkipWithError(why.c_str());
 }
 
-inline int benchmarkMain(const char* name, int argc, char** argv) {
+/// Whether the run's --benchmark_filter selects the benchmark `full_name` (Google Benchmark's rule: an extended
+/// regular expression searched in the name, a leading '-' negating it; none or "all": every one).
+inline bool filterSelects(int argc, char** argv, const std::string& full_name) {
+  std::string filter = "all";
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]).rfind("--benchmark_filter=", 0) == 0) filter = std::string(argv[i]).substr(19);
+  }
+  if (filter.empty() || filter == "all") return true;
+  const bool negative = filter[0] == '-';
+  return std::regex_search(full_name, std::regex(negative ? filter.substr(1) : filter, std::regex::extended)) !=
+         negative;
+}
+
+/// prepare(argc, argv): run before any benchmark, after the flags are read; what it throws (a scene that does not
+/// load) refuses the run before anything runs (pass 119: bench_tick ran its LCM parts, then refused).
+inline int benchmarkMain(const char* name, int argc, char** argv,
+                         const std::function<void(int, char**)>& prepare = {}) {
   return program::guardedMain(name, [&] {
     for (int i = 1; i < argc; ++i) {
       if (std::string(argv[i]) == "--version") {
@@ -214,6 +231,7 @@ inline int benchmarkMain(const char* name, int argc, char** argv) {
     } catch (const io::OutputError& e) {
       return e.unwritable() ? program::unwritable(name, e.what()) : program::refuse(name, e.what());
     }
+    if (prepare) prepare(argc, argv);
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return static_cast<int>(program::kRefused);
     const std::size_t ran = benchmark::RunSpecifiedBenchmarks();
