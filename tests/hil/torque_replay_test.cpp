@@ -247,6 +247,9 @@ TEST(TorqueReplay, RefusesWhatItCannotReplay) {
       // blanks and hex are no number the writer writes (strtod took " 5" and "0x10")
       {write("blank.csv", "seq,tau1_Nm,tau2_Nm\n0, 5,0\n1,0,0\n"), "blank.csv:2: column tau1_Nm: not a finite number"},
       {write("hex.csv", "seq,tau1_Nm,tau2_Nm\n0,0x10,0\n1,0,0\n"), "hex.csv:2: column tau1_Nm: not a finite number"},
+      // (pass 121) a leading zero, which no writer writes (a hand edit), was read as 10
+      {write("lead.csv", "seq,tau1_Nm,tau2_Nm\n0,0,0\n1,-010,0\n"),
+       "lead.csv:3: column tau1_Nm: '-010' has a leading zero: not a number as the CSV writer writes it"},
       // a row cut short or too long is no row of the run (it was replayed as far as it went)
       {write("cut.csv", "seq,tau1_Nm,tau2_Nm,energy_J\n0,0,0,1\n1,0,0\n"), "cut.csv:3: 3 fields, the header has 4"},
       {write("seqhex.csv", "seq,tau1_Nm,tau2_Nm\n0,0,0\n0x1,0,0\n"), "seqhex.csv:3: seq '0x1' is not a tick number"},

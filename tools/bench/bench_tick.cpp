@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "bench_main.hpp"
+#include "gimbalsim/input/input_error.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/firmware_sim/bench_tick.hpp"
 #include "gimbalsim/firmware_sim/plant_scene.hpp"
@@ -245,6 +246,11 @@ BENCHMARK(BM_Tick)->ArgsProduct({{0, 1}, {0, 1}})->ArgNames({"scene", "truth"});
 int main(int argc, char** argv) {
   // the scenes of the BM_Tick runs the filter selects load before any part runs
   return gimbalsim::bench::benchmarkMain("gimbalsim_bench_tick", argc, argv, [](int n, char** v) {
+    // (pass 121) a malformed URL is a bad argument (2), as every program's --lcm-url, not a row of errors (5)
+    if (const char* given = std::getenv("GIMBALSIM_BENCH_LCM_URL"); given != nullptr) {
+      const std::string why = *given ? gimbalsim::lcm_wire::lcmUrlProblem(given) : "set to nothing";
+      if (!why.empty()) throw gimbalsim::InputError("GIMBALSIM_BENCH_LCM_URL '" + std::string(given) + "': " + why);
+    }
     for (int scene = 0; scene < 2; ++scene) {
       for (int truth = 0; truth < 2; ++truth) {
         const std::string run = "BM_Tick/scene:" + std::to_string(scene) + "/truth:" + std::to_string(truth);

@@ -123,6 +123,10 @@ inline Torques parseTorques(std::istream& in, const std::string& name, const std
   const auto number = [&](const std::vector<std::string>& f, int c, long long n) {
     double x = 0.0;
     const DecimalProblem p = c < static_cast<int>(f.size()) ? readPlainDecimal(f[c], x) : DecimalProblem::Empty;
+    if (p == DecimalProblem::None && hasLeadingZero(f[c])) {  // (pass 121) 010: no writer writes one
+      throw std::runtime_error(name + ":" + std::to_string(n) + ": column " + header[c] + ": '" + f[c] +
+                               "' has a leading zero: not a number as the CSV writer writes it");
+    }
     if (p != DecimalProblem::None) {
       throw std::runtime_error(name + ":" + std::to_string(n) + ": column " + header[c] + ": not a finite number" +
                                (p == DecimalProblem::Underflow ? " (it underflows a double)" : ""));
