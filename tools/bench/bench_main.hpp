@@ -231,7 +231,12 @@ inline int benchmarkMain(const char* name, int argc, char** argv,
     } catch (const io::OutputError& e) {
       return e.unwritable() ? program::unwritable(name, e.what()) : program::refuse(name, e.what());
     }
-    if (prepare) prepare(argc, argv);
+    // --help and --benchmark_list_tests run no benchmark: they need no scene
+    const bool runs = std::none_of(argv + 1, argv + argc, [](const char* a) {
+      const std::string arg = a;
+      return arg.rfind("--help", 0) == 0 || arg == "--benchmark_list_tests" || arg == "--benchmark_list_tests=true";
+    });
+    if (prepare && runs) prepare(argc, argv);
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return static_cast<int>(program::kRefused);
     const std::size_t ran = benchmark::RunSpecifiedBenchmarks();
