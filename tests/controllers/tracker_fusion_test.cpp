@@ -29,7 +29,7 @@ Mat3 antennaInBase(const Vec2& theta) {
 TEST(TrackerFusion, AReadingMapsBackToTheJointOffsetThatMadeIt) {
   const pointing::TrackerAxes ax = pointing::trackerAxes(k2, bs);
   const Mat3 R_WB = Eigen::AngleAxisd(0.2, Vec3(1, 2, 3).normalized()).toRotationMatrix();
-  for (const Vec2 theta : {Vec2(0.0, 0.0), Vec2(0.5, 0.3), Vec2(-2.0, 1.0), Vec2(1.0, -1.2)}) {
+  for (const Vec2& theta : {Vec2(0.0, 0.0), Vec2(0.5, 0.3), Vec2(-2.0, 1.0), Vec2(1.0, -1.2)}) {
     const Vec2 delta(3.0e-4, -2.0e-4);  // [rad] where the antenna is, from where it should be
     const Vec3 target_W = R_WB * antennaInBase(theta) * bs;
     const Vec2 reading = pointing::trackerReading(ax, R_WB * antennaInBase(theta + delta), target_W);
