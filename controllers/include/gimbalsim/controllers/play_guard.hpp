@@ -31,14 +31,6 @@ struct PlayGuardState {
 /// g = kd Ts / J, whose roots have |z| = sqrt(g) (0.71 a tick at g = 0.5) and
 /// which is unstable beyond g = 1.
 inline constexpr double kPlayRateGain = 0.5;
-/// Without the antenna's sensors (antennaHeard false) the law inside the
-/// play sees only the motor, and a softer rate gain lets the antenna wander
-/// less across the hidden play (docs/MODEL.md 11.5: paper_both_spatial at
-/// 0.8 mm 3.3e-2 -> 2.8e-2 rad RMS). The light side under the chain's kp
-/// stays stable down to about 0.31 (|z| 0.98 at 0.375, 0.96 at 0.5). With
-/// the antenna's sensors 0.5 stays: it acts only while the loop at the
-/// antenna is not engaged (paper_both_spatial, 0.8 mm: 1.7e-4 against 6.4e-4).
-inline constexpr double kPlayRateGainEncoders = 0.375;
 /// Evidence counts only for commands above this fraction of the torque limit:
 /// below it the rate change is within what the chain's coupling explains.
 inline constexpr double kPlayEvidenceTorque = 0.01;
