@@ -26,7 +26,8 @@ std::vector<Key<AxisGains>> gainKeys() {
                 interval('[', 0.0, 1e6, ']')),
       K::number("play_inertia", "kg m^2",
                 "inertia on the motor's side of a play in this axis's drive: inside the play the rate gain is "
-                "at most 0.5 play_inertia / control.period (0: no backlash guard)",
+                "at most 0.5 play_inertia / control.period with the antenna's sensors heard, 0.375 without "
+                "(0: no backlash guard)",
                 field(&AxisGains::play_inertia), interval('[', 0.0, 1e6, ']')),
   };
 }

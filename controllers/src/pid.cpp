@@ -79,6 +79,7 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
   out.load_offset = loadOffset(c.antenna, k1, k2, bs, s.fusion, tick, Ts, out.ref.q - meas.theta, meas.theta(1));
   Vec2 w_load = Vec2::Zero();
   const bool have_load_rate = loadRate(c.antenna, k1, k2, bs, s.fusion, tick, meas.theta, out.omega_B_est, w_load);
+  const double kappa_play = antennaHeard(c.antenna, s.fusion) ? kPlayRateGain : kPlayRateGainEncoders;
   for (int i = 0; i < 2; ++i) {
     const AxisGains& g = c.axis[i];
     double w = meas.dtheta(i);
@@ -104,7 +105,7 @@ ControlOutput update(const ControllerConfig& c, ControllerState& s, const Measur
     const double kp = play_gains ? 3.0 * g.inertia * wa * wa : g.kp;
     const double ki = play_gains ? g.inertia * wa * wa * wa : g.ki;
     const double kd = play_gains ? 3.0 * g.inertia * wa
-                      : in_play && !at_antenna ? std::min(g.kd, kPlayRateGain * g.play_inertia / Ts) : g.kd;
+                      : in_play && !at_antenna ? std::min(g.kd, kappa_play * g.play_inertia / Ts) : g.kd;
     const double w_chain = at_antenna ? w_load(i) : w;
     const double tau_motor = at_antenna ? c.antenna.motor_damping * (w_load(i) - w) : 0.0;
     const double e = out.ref.q(i) - meas.theta(i) - out.load_offset(i);

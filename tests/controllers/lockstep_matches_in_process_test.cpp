@@ -128,5 +128,16 @@ TEST(LockstepMatchesInProcess, TheLoopAtTheAntennaIsTheSameOverLcm) {
   EXPECT_LE(rms, 5e-4) << "the loop at the antenna held the tilting journal (encoders only: 1.2e-2 rad)";
 }
 
+// Encoders only on two tilting journals (paper_both_spatial, its 0.5 mm): no
+// antenna message reaches the controller, so the guard's encoder-only rate
+// gain acts over LCM as in process, and the bench holds the same 2c/L target.
+TEST(LockstepMatchesInProcess, TheGuardOnEncodersAloneIsTheSameOverLcm) {
+  if (std::system("unshare -n true >/dev/null 2>&1") != 0) GTEST_SKIP() << "unshare -n not permitted here";
+  double rms = 0.0;
+  expectLockstepEqualsInProcess("", "", "paper_both_spatial", 8.5, &rms);
+  EXPECT_GT(rms, 0.0);
+  EXPECT_LE(rms, 2.0 * 5e-4 / 0.05) << "encoders only: within 2c/L of one journal (c = 0.5 mm, L = 0.05 m)";
+}
+
 }  // namespace
 }  // namespace gimbalsim::controllers

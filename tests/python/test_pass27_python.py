@@ -200,9 +200,10 @@ indices: {{ape: {{}}}}
 """
 
 
-# off the antenna's loop the guard caps the rate gain at 0.5 J / Ts: kd itself from 2 kd Ts = 2.1 kg m^2 up
+# off the antenna's loop the guard caps the rate gain at 0.375 J / Ts: kd itself from kd Ts / 0.375 = 2.8 kg m^2 up
 @pytest.mark.parametrize("settings,values,refused", [("sim.duration: 0.5", "[0.0, 20.0]", True),
-                                                     ("sim.duration: 0.5", "[2.2, 1.0e6]", True),
+                                                     ("sim.duration: 0.5", "[2.9, 1.0e6]", True),
+                                                     ("sim.duration: 0.5", "[2.2, 1.0e6]", False),
                                                      ("sim.duration: 0.5", "[0.0, 0.5]", False),
                                                      ("sim.duration: 0.5, sensors.antenna: tracker_gyro",
                                                       "[0.0, 20.0]", False)])
@@ -214,7 +215,7 @@ def test_a_guard_inertia_whose_cap_is_kd_is_refused(tmp_path, settings, values, 
         assert "key 'grid.controller.elevation.play_inertia'" in p.stderr and "kd itself" in p.stderr, p.stderr
 
 
-@pytest.mark.parametrize("value,same", [(20.0, True), (0.5, False)])
+@pytest.mark.parametrize("value,same", [(20.0, True), (2.9, True), (2.2, False), (0.5, False)])
 def test_the_guard_changes_nothing_where_its_cap_is_kd_even_where_the_play_shows(value, same):
     # paper_spatial2: the elevation journal tilts and the guard sees the play (its onset recorded) at every value
     scene = gimbalsim.load_scene(scene_path("paper_spatial2"), {"sim.duration": 0.6})

@@ -65,6 +65,12 @@ struct TrackerFusionState {
 /// implausible one is counted and left out.
 void noteAntennaReading(TrackerFusionState& s, const contract::Antenna& antenna) noexcept;
 
+/// Whether the loop has heard the antenna's own sensors (a gyro sample or a
+/// tracker reading folded in) and uses them (antenna.tracker use).
+inline bool antennaHeard(const TrackerFusionParams& p, const TrackerFusionState& s) noexcept {
+  return p.use_tracker && (s.gyro_seq >= 0 || s.measured);
+}
+
 /// The joint corrections dtheta [rad] whose rotation has the reading's (u, v)
 /// components at elevation theta2 (the tracker's axes from the controller's
 /// gimbal: k1_B azimuth, base frame; k2_S1 elevation; boresight_S2; unit).
