@@ -86,13 +86,12 @@ def _for_every_value(judge, key, values, dispersed, takes, own_deciders=()):
 
 def _idle_play_guard(key, values, dispersed, takes):
     """Why a dispersed <axis>.play_inertia cannot act: off the antenna's
-    loop the guard only lowers the axis's rate gain to min(kd, 0.375
-    play_inertia / Ts) (play_guard.hpp kPlayRateGainEncoders), kd itself for
-    every value given that is 0 (no guard) or at least kd Ts / 0.375: those
-    values all run alike. Judged with kd and the period fixed and two values or
-    more (a fixed value is a setting: 5 runs as 0 does, not as the default
-    0.1); whether a smaller value acts is the run's motion (the guard's
-    evidence), not the configuration's: not judged."""
+    loop the guard only lowers the axis's rate gain to min(kd, g play_inertia
+    / Ts) (g: play_guard.hpp's kPlayRateGainEncoders, read from the module), kd
+    itself for every value given that is 0 (no guard) or at least kd Ts / g: those
+    values all run alike. Judged with kd and the period fixed and two values or more (a fixed value is a
+    setting: 5 runs as 0 does, not as the default 0.1); whether a smaller value acts is the run's motion
+    (the guard's evidence), not the configuration's: not judged."""
     axis = next((a for a in ("azimuth", "elevation") if key == f"{CONTROLLER_PREFIX}{a}.play_inertia"), None)
     kd_key, period_key = f"{CONTROLLER_PREFIX}{axis}.kd", CONTROLLER_PREFIX + "control.period"
     if axis is None or open_at_antenna(values, dispersed) is None or {kd_key, period_key} & dispersed:
@@ -107,9 +106,10 @@ def _idle_play_guard(key, values, dispersed, takes):
         return None
     if not isinstance(t, Span) and len(set(given)) < 2:
         return None
-    floor = kd * period / 0.375
+    gain = _gimbalsim._PLAY_RATE_GAIN_ENCODERS
+    floor = kd * period / gain
     if all(lo == hi == 0.0 or lo >= floor * (1.0 + 1e-9) for lo, hi in given):  # (not at the floor: rounding)
-        return (f"the loop does not close at the antenna, where the guard only caps the rate gain at 0.375 "
+        return (f"the loop does not close at the antenna, where the guard only caps the rate gain at {gain:g} "
                 f"play_inertia / control.period; at {kd_key} {kd!r} N m s/rad and {period_key} {period!r} s that "
                 f"cap is kd itself from play_inertia {floor!r} kg m^2 up, and 0 turns the guard off: every value "
                 "given steps with kd")

@@ -12,6 +12,7 @@
 #include "gimbalsim/controllers/attitude_estimator.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/controllers/key_use.hpp"
+#include "gimbalsim/controllers/play_guard.hpp"
 #include "gimbalsim/controllers/tracker_fusion.hpp"
 #include "gimbalsim/firmware_sim/study_idle.hpp"
 #include "gimbalsim/input/value_format.hpp"
@@ -54,6 +55,9 @@ void bindStudyRules(pyb::module_& m) {
     if (!(duration > 0.0 && control_period > 0.0)) throw pyb::value_error("duration and period must be > 0 s");
     closedLoopRowsFit(duration, control_period, "");
   });
+  // The backlash guard's rate gain inside the play on the encoders alone [-] (x play_inertia / Ts): the idle rule of
+  // a dispersed play_inertia (gimbalsim/_idle_keys.py) reads the controller's own constant, never a copy
+  m.attr("_PLAY_RATE_GAIN_ENCODERS") = kPlayRateGainEncoders;
 }
 
 }  // namespace gimbalsim::py
