@@ -26,21 +26,22 @@ two accurate steppings of the loop part by that much.
   adaptive policy at ADAPTIVE_TOL;
 - a spatial bearing in joint 2 alone (the bearing that tilts) with plain
   Coulomb friction under the fixed sub-step policy, the loop on the
-  encoders (no antenna sensor): fixed sub-steps of SPATIAL_SUBSTEP_S, when the
-  scene's are finer. There no unit figure is defined to TOLERANCE_RAD at any
-  sub-step: the loop is chaotic (a 1e-12 m nudge of the journal moves a
-  figure by 1e-4 rad, and 20, 10, 5 and 2.5 us do not converge unit by
-  unit), so the tolerance is the budget's: every index of the shipped
-  spatial budget within a 5 us fixed sub-step's order-statistics interval
-  (tools/sweeps/budget_speed.py, docs/results/budget_speed_spatial.md);
+  encoders or at the antenna (sensors.antenna none or tracker_gyro): fixed
+  sub-steps of SPATIAL_SUBSTEP_S, when the scene's are finer. There no unit
+  figure is defined to TOLERANCE_RAD at any sub-step: the loop is chaotic
+  (on the encoders a 1e-12 m nudge of the journal moves a figure by 1e-4
+  rad; at the antenna the scene's own 2e-5 s sub-step lies up to 4.2e-5 rad
+  from a 5 us one, as 8e-5 s does), so the tolerance is the budget's:
+  every index of each shipped spatial budget within a 5 us fixed sub-step's
+  order-statistics interval (tools/sweeps/budget_speed.py,
+  docs/results/budget_speed_spatial.md and budget_speed_spatial_tracker.md);
 - every other scene (ideal joints, both joints with clearance, a bearing in
-  joint 1, the antenna loop on a spatial bearing, a smooth law) keeps its own
-  stepping: no cheaper setting has been judged there (the Ambrosio law
-  changes the physics).
+  joint 1, a smooth law) keeps its own stepping: no cheaper setting has
+  been judged there (the Ambrosio law changes the physics).
 
 Nothing is chosen when the spec itself sets or disperses a key the choice
 would change (the user asked for that stepping), on a spatial bearing when
-it disperses sim.step or sensors.antenna (set, their value decides), or in
+it disperses sim.step (set, its value decides), or in
 open loop (its figures include contact forces the tolerance does not speak
 for). Each "why" says what decided.
 """
@@ -82,21 +83,18 @@ def choose(mode, scene_values, given, closed, varied=()):
     if j1 == "ideal" and j2 == "spatial" and law == "coulomb" and policy == "fixed":
         # the base's values are the samples' unless dispersed (pass 38: a sim.step set to the scene's own kept it)
         own = "the scene's own stepping (a spatial joint 2 with Coulomb friction: "
-        if {"sensors.antenna", "sim.step"} & set(varied):
-            keys = ", ".join(sorted({"sensors.antenna", "sim.step"} & set(varied)))
-            return {}, own + f"the spec disperses {keys}; the {SPATIAL_SUBSTEP_S} s sub-step is judged at one)"
-        if scene_values.get("sensors.antenna") != "none":
-            return {}, own + "the loop at the antenna, where no cheaper setting has been judged)"
+        if "sim.step" in varied:
+            return {}, own + f"the spec disperses sim.step; the {SPATIAL_SUBSTEP_S} s sub-step is judged at one)"
         if float(scene_values.get("sim.substep", "0")) >= float(SPATIAL_SUBSTEP_S):
             return {}, own + f"its sim.substep is no finer than {SPATIAL_SUBSTEP_S} s)"
         if float(scene_values.get("sim.step", "0")) < float(SPATIAL_SUBSTEP_S):  # a sub-step fits in a step
             return {}, own + f"its sim.step is finer than the {SPATIAL_SUBSTEP_S} s sub-step)"
         overrides = {"sim.substep": SPATIAL_SUBSTEP_S}
-        return overrides, (f"a spatial joint 2 with Coulomb friction, the loop on the encoders, steps with fixed "
-                           f"sub-steps of {SPATIAL_SUBSTEP_S} s: the shipped spatial budget's indices within a 5 us "
-                           "fixed sub-step's intervals; its unit figures are defined to no 1e-6 rad at any "
-                           "sub-step (a chaotic loop; docs/results/budget_speed_spatial.md); sampling: scene "
-                           "keeps the scene's")
+        return overrides, (f"a spatial joint 2 with Coulomb friction steps with fixed sub-steps of "
+                           f"{SPATIAL_SUBSTEP_S} s: the shipped spatial budgets' indices (on the encoders, at the "
+                           "antenna) within a 5 us fixed sub-step's intervals; its unit figures are defined to no "
+                           "1e-6 rad at any sub-step (a chaotic loop; docs/results/budget_speed_spatial.md, "
+                           "budget_speed_spatial_tracker.md); sampling: scene keeps the scene's")
     return {}, (f"the scene's own stepping (joints {j1}/{j2}, {law_key} {law}, sim.substep_policy {policy}: "
                 "no cheaper setting has been judged there)")
 

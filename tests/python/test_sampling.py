@@ -61,15 +61,16 @@ def test_auto_chooses_the_adaptive_set_valued_law_only_for_a_planar_joint_2_with
     assert _sampling.choose("auto", auto, set(), closed=False)[0] == {}
 
 
-def test_auto_coarsens_a_spatial_joint_2_on_the_encoders_only(tmp_path):
+def test_auto_coarsens_a_spatial_joint_2_on_the_encoders_and_at_the_antenna(tmp_path):
     spatial = BUDGET.replace("paper_clearance.yaml", "paper_spatial2.yaml")
-    spec = _spec(tmp_path, spatial)
-    assert spec.sampling["overrides"] == {"sim.substep": _sampling.SPATIAL_SUBSTEP_S}, spec.sampling
-    assert spec.base.values()["sim.substep"] == "8e-05" and spec.base.values()["friction.law"] == "coulomb"
-    # not judged: the loop on the antenna's tracker, a bearing in joint 1, a scene finer than asked is not made finer
-    for name, text in [("tracker", spatial.replace("set: {sim.duration: 5.0}",
-                                                   "set: {sim.duration: 5.0, sensors.antenna: tracker_gyro}")),
-                       ("joint1", BUDGET.replace("paper_clearance.yaml", "paper_spatial1.yaml")),
+    tracker = spatial.replace("set: {sim.duration: 5.0}", "set: {sim.duration: 5.0, sensors.antenna: tracker_gyro}")
+    for name, text in [("encoders", spatial), ("tracker", tracker),
+                       ("either", spatial + "grid:\n  sensors.antenna: [none, tracker_gyro]\n")]:
+        spec = _spec(tmp_path, text, f"{name}.yaml")
+        assert spec.sampling["overrides"] == {"sim.substep": _sampling.SPATIAL_SUBSTEP_S}, (name, spec.sampling)
+        assert spec.base.values()["sim.substep"] == "8e-05" and spec.base.values()["friction.law"] == "coulomb"
+    # not judged: a bearing in joint 1; a scene finer than asked is not made finer
+    for name, text in [("joint1", BUDGET.replace("paper_clearance.yaml", "paper_spatial1.yaml")),
                        # (pass 37) a step finer than the sub-step auto would take: refused as no file's value
                        ("step", spatial.replace("set: {sim.duration: 5.0}",
                                                 "set: {sim.duration: 5.0, sim.step: 5.0e-5}")),
@@ -93,9 +94,10 @@ def test_a_spatial_step_the_spec_gives_is_judged_by_its_value(tmp_path):
     text = spatial + "grid:\n  sim.step: [5.0e-4, 1.0e-3]\n"
     sampling = _spec(tmp_path, text, "grid.yaml").sampling
     assert sampling["overrides"] == {} and "the spec disperses sim.step" in sampling["why"], sampling
-    text = spatial.replace("set: {sim.duration: 5.0}", "set: {sim.duration: 5.0, sensors.antenna: tracker_gyro}")
+    text = spatial.replace("set: {sim.duration: 5.0}",
+                           "set: {sim.duration: 5.0, sim.step: 5.0e-5, sensors.antenna: tracker_gyro}")
     sampling = _spec(tmp_path, text, "tracker.yaml").sampling
-    assert sampling["overrides"] == {} and "the loop at the antenna" in sampling["why"], sampling
+    assert sampling["overrides"] == {} and "finer than the 8e-05 s sub-step" in sampling["why"], sampling
 
 
 def test_a_sampling_mode_not_known_is_refused_at_its_line(tmp_path):

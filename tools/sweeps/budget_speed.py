@@ -28,7 +28,8 @@ Usage:
 for the whole spec). --nudge N nudges at most N units (default 200).
 --results also writes the shipped budget's page (tools/pages/results_page.py):
 docs/results/budget_speed.md for tools/sweeps/pointing_budget.yaml,
-budget_speed_spatial.md for pointing_budget_spatial.yaml; the runs stay in
+budget_speed_spatial.md for pointing_budget_spatial.yaml,
+budget_speed_spatial_tracker.md for pointing_budget_spatial_tracker.yaml; the runs stay in
 --out (default: the repository's out/budget_speed, or out/budget_speed_<spec
 name> for another spec; each run's folder and the spec it ran).
 """
@@ -59,7 +60,9 @@ SHIPPED = ROOT / "tools" / "sweeps" / "pointing_budget.yaml"
 # The shipped budgets this tool writes a page for, each with its wall-time target on 2 workers (issue 40):
 # {spec name: (page, target [s], target [samples/s])}
 PAGES = {"pointing_budget.yaml": (ROOT / "docs" / "results" / "budget_speed.md", 60.0, 18.0),
-         "pointing_budget_spatial.yaml": (ROOT / "docs" / "results" / "budget_speed_spatial.md", 300.0, 3.7)}
+         "pointing_budget_spatial.yaml": (ROOT / "docs" / "results" / "budget_speed_spatial.md", 300.0, 3.7),
+         "pointing_budget_spatial_tracker.yaml": (ROOT / "docs" / "results" / "budget_speed_spatial_tracker.md",
+                                                  300.0, 3.7)}
 SHARE = 0.01  # of the requirement: how far a unit's figure may move
 MAX_PROBED = 200  # units beyond the tolerance nudged (four fine runs each) to see whether their figure is defined
 RUNS = ("default", "fine")  # what --out holds: each run's folder and the spec it ran
