@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "bench_main.hpp"
+#include "scene_once.hpp"
 #include "gimbalsim/controllers/config.hpp"
 #include "gimbalsim/controllers/pointing_controller.hpp"
 #include "gimbalsim/firmware_sim/closed_loop.hpp"
@@ -48,16 +49,16 @@ const Case kCases[] = {
     {"paper_spatial2", {}, "paper_spatial2"},
 };
 
-firmware::PlantScene plantOf(const Case& k) {
+const firmware::PlantScene& plantOf(const Case& k) {
   const char* dir = std::getenv("GIMBALSIM_SCENE_DIR");
-  return firmware::loadPlantScene(std::string(dir && *dir ? dir : GIMBALSIM_SCENE_DIR) + "/" + k.scene + ".yaml",
-                                  k.overrides);
+  return bench::plantSceneOnce(std::string(dir && *dir ? dir : GIMBALSIM_SCENE_DIR) + "/" + k.scene + ".yaml",
+                               k.overrides);
 }
 
 void BM_ClosedLoop(benchmark::State& bs) {
   const Case& k = kCases[bs.range(0)];
   bs.SetLabel(k.label);
-  const firmware::PlantScene ps = plantOf(k);  // loaded before any case ran (main): it loads
+  const firmware::PlantScene& ps = plantOf(k);  // loaded before any case ran (main): the same object
   const controllers::ControllerConfig c =
       controllers::loadControllerConfigText("", "the built-in default configuration", {});
   try {

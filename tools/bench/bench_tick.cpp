@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "bench_main.hpp"
+#include "scene_once.hpp"
 #include "gimbalsim/input/input_error.hpp"
 #include "gimbalsim/contract/channels.hpp"
 #include "gimbalsim/firmware_sim/bench_tick.hpp"
@@ -206,9 +207,10 @@ BENCHMARK(BM_ReceiveCommand);
 /// The tick of a shipped scene as firmware_sim's lockstep loop builds it
 /// (no profile: the target is the boresight at t = 0).
 struct Tick {
-  firmware::PlantScene ps;
+  const firmware::PlantScene& ps;  // loaded once, by main's prepare (scene_once.hpp)
   firmware::Config c;
-  explicit Tick(const std::string& scene) : ps(firmware::loadPlantScene(env("GIMBALSIM_SCENE_DIR", GIMBALSIM_SCENE_DIR) + "/" + scene + ".yaml", {})) {}
+  explicit Tick(const std::string& scene)
+      : ps(bench::plantSceneOnce(env("GIMBALSIM_SCENE_DIR", GIMBALSIM_SCENE_DIR) + "/" + scene + ".yaml", {})) {}
 };
 
 template <class F>
