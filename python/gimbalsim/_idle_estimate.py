@@ -25,5 +25,5 @@ def idle_estimate(key, values, dispersed, truth_only):
     if mode != "joint" or feedforward == "model" or at_antenna is None:
         return None
     return (f"the controller's pointing.mode joint with pointing.accel_feedforward {feedforward} and no loop at "
-            f"the antenna ({at_antenna.split(':')[0]}): the attitude estimate reaches no command; only the knowledge "
+            f"the antenna ({at_antenna}): the attitude estimate reaches no command; only the knowledge "
             "index reads it, and the study has none")

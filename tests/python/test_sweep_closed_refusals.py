@@ -157,7 +157,9 @@ REFUSALS = [
       "  sensors.star_tracker_noise: {uniform: [0.0, 2.0e-5]}"),
      ("", "controller_set: {pointing.mode: joint, pointing.accel_feedforward: profile, ",
       "  controller.estimator.k_i: {uniform: [0.0, 1.0]}"),
-     "parameters.controller.estimator.k_i", "pointing.mode joint with pointing.accel_feedforward profile"),
+     "parameters.controller.estimator.k_i", "pointing.mode joint with pointing.accel_feedforward profile and no "
+     "loop at the antenna (the scene's sensors.antenna is none: no sensor on the antenna, the loop closes on the "
+     "encoders): the attitude estimate reaches no command"),
     # the scene's label: no run reads it
     ("  contact.clearance: {uniform: [1.0e-4, 8.0e-4]}", "  name: {choice: [a, b]}", "parameters.name",
      "the scene's label: no run reads it"),
