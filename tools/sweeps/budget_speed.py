@@ -26,10 +26,8 @@ Usage:
 
 --samples N runs only the spec's first N of its samples (a quick look; the page is
 for the whole spec). --nudge N nudges at most N units (default 200).
---results also writes the shipped budget's page (tools/pages/results_page.py):
-docs/results/budget_speed.md for tools/sweeps/pointing_budget.yaml,
-budget_speed_spatial.md for pointing_budget_spatial.yaml,
-budget_speed_spatial_tracker.md for pointing_budget_spatial_tracker.yaml; the runs stay in
+--results also writes the shipped budget's page (tools/pages/results_page.py),
+docs/results/budget_speed*.md: --help names each (PAGES); the runs stay in
 --out (default: the repository's out/budget_speed, or out/budget_speed_<spec
 name> for another spec; each run's folder and the spec it ran).
 """
