@@ -2,8 +2,9 @@
 "Sampling"): sampling: auto steps a planar joint 2 with Coulomb friction
 with its set-valued law under the adaptive policy, and keeps every figure
 the sweep reads within the stated tolerance of a fine run's (a 5 us fixed
-sub-step of the scene's own plain Coulomb law, an independent solution); it
-never changes a scene it has no cheaper accurate setting for, nor one whose
+sub-step of the scene's own plain Coulomb law, an independent solution); a
+spatial joint 2 with coarser fixed sub-steps, the antenna loop's median
+figure within the tolerance; it never changes a scene it has no cheaper accurate setting for, nor one whose
 stepping the spec gives; sampling: scene runs the scene as written."""
 import json
 import math
@@ -45,6 +46,30 @@ def test_auto_keeps_every_figure_within_the_tolerance_of_a_fine_run(tmp_path, un
         assert abs(got[k] - ref[k]) <= _sampling.TOLERANCE_RAD, (k, got[k], ref[k])
 
 
+TRACKER = (SOURCE / "tools/sweeps/pointing_budget_spatial_tracker.yaml").read_text() \
+    .replace("../scenes/", f"{SOURCE}/tools/scenes/")
+
+
+# At the antenna the spatial budget's figures are defined but no sub-step holds every one to the tolerance:
+# its stated tolerance is the median's. Units 0-7 (AMD EPYC VM), figures within 1e-6 rad of the 5 us run's:
+# 60 % at 8e-5 s (56 % over the budget's 13308), 47 % at 1.6e-4 s and 42 % at 3.2e-4 s (its median 1.7e-6).
+def test_auto_keeps_the_median_antenna_loop_figure_within_the_tolerance_of_a_fine_run(tmp_path):
+    auto = _spec(tmp_path, TRACKER)
+    assert auto.sampling["overrides"] == {"sim.substep": _sampling.SPATIAL_SUBSTEP_S}, auto.sampling
+    fine = _spec(tmp_path, TRACKER.replace("tracker_gyro}", "tracker_gyro, sim.substep: 5.0e-6}"), "fine.yaml")
+    assert fine.sampling["overrides"] == {} and fine.base.values()["sim.substep"] == "5e-06"
+    distances = []
+    for unit in range(8):
+        values = auto.design.draw(unit)
+        got, ref = run_one(auto.base, auto.closed, values), run_one(fine.base, fine.closed, values)
+        assert got["status"] == ref["status"] == "ok", (unit, got, ref)
+        keys = [k for k in ref if k.split("_")[0] in FIGURES]
+        assert len(keys) == 12 and not any(math.isnan(ref[k]) for k in keys), (unit, ref)
+        distances += [abs(got[k] - ref[k]) for k in keys]
+    within = sum(d <= _sampling.TOLERANCE_RAD for d in distances)
+    assert within > len(distances) / 2, (within, len(distances), sorted(distances)[len(distances) // 2])
+
+
 def test_auto_chooses_the_adaptive_set_valued_law_only_for_a_planar_joint_2_with_coulomb(tmp_path):
     auto = _spec(tmp_path, BUDGET).base.values()
     assert (auto["friction.law"], auto["sim.substep_policy"]) == ("coulomb_stick", "adaptive")
@@ -59,6 +84,11 @@ def test_auto_chooses_the_adaptive_set_valued_law_only_for_a_planar_joint_2_with
         assert (values["friction.law"], values["sim.substep_policy"], values["sim.substep"]) == \
             ("coulomb", "fixed", "2e-05"), (name, spec.sampling)
     assert _sampling.choose("auto", auto, set(), closed=False)[0] == {}
+    # ideal joints: the scene's own 1 ms RK4 step, nothing cheaper judged
+    ideal = "\n".join(line for line in BUDGET.replace("paper_clearance.yaml", "paper_ideal.yaml").split("\n")
+                      if not line.lstrip().startswith(("contact.", "friction.", "initial.")))
+    spec = _spec(tmp_path, ideal, "ideal.yaml")
+    assert spec.sampling["overrides"] == {} and "joints ideal/ideal" in spec.sampling["why"], spec.sampling
 
 
 def test_auto_coarsens_a_spatial_joint_2_on_the_encoders_and_at_the_antenna(tmp_path):
