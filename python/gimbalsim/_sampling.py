@@ -32,9 +32,10 @@ two accurate steppings of the loop part by that much.
   within a 5 us fixed sub-step's order-statistics interval
   (tools/sweeps/budget_speed.py, docs/results/budget_speed_spatial.md and
   budget_speed_spatial_tracker.md), not TOLERANCE_RAD per unit. On the
-  encoders no unit figure is defined to it (the loop is chaotic: a 1e-12 m
-  nudge of the journal moves a figure by 1e-4 rad). At the antenna the
-  figures are defined (the nudges hold them) but the scene's own 2e-5 s
+  encoders the hold and track figures are not defined to it (the loop is
+  chaotic there: a 1e-12 m nudge of the journal moves them by up to
+  1.7e-4 rad); the slew's are, though 5 us does not settle all of them.
+  At the antenna the figures are defined (the nudges hold them) but the scene's own 2e-5 s
   does not hold them either: over the tracker budget's 1109 units APE
   while tracking lies from the 5 us run's a median 1.1e-6 rad away (max
   1.2e-4) at 2e-5 s and 4.1e-6 (max 1.3e-4) at 8e-5 s, whose 99.73 %
