@@ -35,11 +35,12 @@ two accurate steppings of the loop part by that much.
   encoders the hold and track figures are not defined to it (the loop is
   chaotic there: a 1e-12 m nudge of the journal moves them by up to
   1.7e-4 rad); the slew's are, though 5 us does not settle all of them.
-  At the antenna the figures are defined (the nudges hold them) but the scene's own 2e-5 s
-  does not hold them either: over the tracker budget's 1109 units APE
-  while tracking lies from the 5 us run's a median 1.1e-6 rad away (max
-  1.2e-4) at 2e-5 s and 4.1e-6 (max 1.3e-4) at 8e-5 s, whose 99.73 %
-  quantiles read up to 4 % high (APE tracking 2.71e-4 against 2.65e-4 rad).
+  At the antenna the figures are defined (the nudges hold them) but the
+  scene's own 2e-5 s does not hold them either: over the tracker budget's
+  1109 units APE while tracking lies from the 5 us run's a median 1.1e-6
+  rad away (max 1.2e-4) at 2e-5 s and 4.1e-6 (max 1.3e-4) at 8e-5 s,
+  whose 99.73 % quantiles read up to 4 % high (APE tracking 2.71e-4
+  against 2.65e-4 rad).
   There the median figure is held as well: more than half the figures
   within TOLERANCE_RAD of the fine run's (56 % of the tracker budget's
   13308; test_sampling.py holds it on 8 units, where 1.6e-4 s fails it);

@@ -4,8 +4,9 @@ with its set-valued law under the adaptive policy, and keeps every figure
 the sweep reads within the stated tolerance of a fine run's (a 5 us fixed
 sub-step of the scene's own plain Coulomb law, an independent solution); a
 spatial joint 2 with coarser fixed sub-steps, the antenna loop's median
-figure within the tolerance; it never changes a scene it has no cheaper accurate setting for, nor one whose
-stepping the spec gives; sampling: scene runs the scene as written."""
+figure within the tolerance; it never changes a scene it has no cheaper
+accurate setting for, nor one whose stepping the spec gives; sampling:
+scene runs the scene as written."""
 import json
 import math
 
