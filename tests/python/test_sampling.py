@@ -26,6 +26,17 @@ def _spec(tmp_path, text, name="spec.yaml"):
     return SweepSpec(write_spec(tmp_path, text, name))
 
 
+def _figures(auto, fine, unit):
+    """[(key, auto's figure, fine's figure)]: the 12 figures of one unit run under both specs' stepping."""
+    values = auto.design.draw(unit)
+    assert values == fine.design.draw(unit)
+    got, ref = run_one(auto.base, auto.closed, values), run_one(fine.base, fine.closed, values)
+    assert got["status"] == ref["status"] == "ok", (unit, got, ref)
+    keys = [k for k in ref if k.split("_")[0] in FIGURES]
+    assert len(keys) == 12 and not any(math.isnan(ref[k]) for k in keys), (unit, ref)
+    return [(k, got[k], ref[k]) for k in keys]
+
+
 # Units of the shipped budget whose figures moved by more than the tolerance at a looser setting
 # (substep_tol 1e-7: unit 0's rpe_track by 1.4e-6 rad; 1e-3: unit 5's ape_slew by 2.6e-6 rad). Over its
 # first 24 units, 1e-8 to 1e-10 kept every figure within 8.7e-7 rad, the scene's own 2e-5 s within 8.1e-7.
@@ -36,15 +47,8 @@ def test_auto_keeps_every_figure_within_the_tolerance_of_a_fine_run(tmp_path, un
     fine = _spec(tmp_path, BUDGET.replace("set: {sim.duration: 5.0}", "set: {sim.duration: 5.0, sim.substep: 5.0e-6}"),
                  "fine.yaml")
     assert fine.sampling["overrides"] == {} and fine.base.values()["friction.law"] == "coulomb"
-    values = auto.design.draw(unit)
-    assert values == fine.design.draw(unit)
-    got, ref = run_one(auto.base, auto.closed, values), run_one(fine.base, fine.closed, values)
-    assert got["status"] == ref["status"] == "ok", (got, ref)
-    keys = [k for k in ref if k.split("_")[0] in FIGURES]
-    assert len(keys) == 12
-    for k in keys:
-        assert not math.isnan(ref[k]), k
-        assert abs(got[k] - ref[k]) <= _sampling.TOLERANCE_RAD, (k, got[k], ref[k])
+    for k, got, ref in _figures(auto, fine, unit):
+        assert abs(got - ref) <= _sampling.TOLERANCE_RAD, (k, got, ref)
 
 
 TRACKER = (SOURCE / "tools/sweeps/pointing_budget_spatial_tracker.yaml").read_text() \
@@ -59,14 +63,7 @@ def test_auto_keeps_the_median_antenna_loop_figure_within_the_tolerance_of_a_fin
     assert auto.sampling["overrides"] == {"sim.substep": _sampling.SPATIAL_SUBSTEP_S}, auto.sampling
     fine = _spec(tmp_path, TRACKER.replace("tracker_gyro}", "tracker_gyro, sim.substep: 5.0e-6}"), "fine.yaml")
     assert fine.sampling["overrides"] == {} and fine.base.values()["sim.substep"] == "5e-06"
-    distances = []
-    for unit in range(8):
-        values = auto.design.draw(unit)
-        got, ref = run_one(auto.base, auto.closed, values), run_one(fine.base, fine.closed, values)
-        assert got["status"] == ref["status"] == "ok", (unit, got, ref)
-        keys = [k for k in ref if k.split("_")[0] in FIGURES]
-        assert len(keys) == 12 and not any(math.isnan(ref[k]) for k in keys), (unit, ref)
-        distances += [abs(got[k] - ref[k]) for k in keys]
+    distances = [abs(got - ref) for unit in range(8) for _, got, ref in _figures(auto, fine, unit)]
     within = sum(d <= _sampling.TOLERANCE_RAD for d in distances)
     assert within > len(distances) / 2, (within, len(distances), sorted(distances)[len(distances) // 2])
 
